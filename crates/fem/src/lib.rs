@@ -1,0 +1,42 @@
+//! # signorini-fem
+//!
+//! Finite-element matrices for one-dimensional dynamic contact problems:
+//! the P1 bar of SPEC §2.1 with every mass treatment of the
+//! mass-redistribution literature ([`BarMass`]), symmetric banded storage
+//! ([`SymBand`]) and its LDLᵀ factorisation ([`BandLdlt`]), done once per run
+//! and applied in place.
+//!
+//! Architecture invariant: no IO, no time stepping, no contact logic; only
+//! matrices, vectors and their algebra. Usable on its own.
+
+mod band;
+mod bar;
+
+pub use band::{BandLdlt, SymBand};
+pub use bar::{Bar, BarMass, RightEnd};
+
+/// Errors of this crate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FemError {
+    /// A parameter outside its allowed range.
+    #[error("invalid {field} = {value}: allowed {allowed}")]
+    Invalid {
+        /// The parameter's name.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// A mass variant name that does not exist.
+    #[error("unknown mass variant {0:?}: allowed std, lumped, mod, mod1, mod2, mod3, transfer, singular")]
+    UnknownMass(String),
+    /// The factorisation met a non-positive pivot.
+    #[error("matrix is not positive definite (pivot {pivot} = {value})")]
+    NotPositiveDefinite {
+        /// Index of the failing pivot.
+        pivot: usize,
+        /// Its value.
+        value: f64,
+    },
+}
