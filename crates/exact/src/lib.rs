@@ -1,1 +1,85 @@
+//! # signorini-exact
+//!
+//! Closed-form solutions of the one-dimensional impact benchmarks of SPEC §5,
+//! usable on their own (no dependency on any other crate of the workspace).
+//!
+//! Each benchmark implements [`ExactSolution`]: the displacement `u`, the
+//! strain `u_x`, the velocity `u_t`, the contact force `λ(t) = c² u_x(0, t)`
+//! (≤ 0), the energy, and — because `u_x`, `u_t` jump across characteristic
+//! lines — the positions of those lines at time `t` ([`ExactSolution::kinks`]),
+//! so that error integrals can split elements there and stay exact.
+//!
+//! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
+//! meshes or schemes.
 
+mod dirichlet;
+
+pub use dirichlet::BarDirichlet;
+
+/// Point values of an exact solution (one-sided where a kink passes: the
+/// values of the piece that contains `x` in its closure, ties broken towards
+/// the larger `x`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fields {
+    /// Displacement `u(x, t)`.
+    pub u: f64,
+    /// Strain `u_x(x, t)`.
+    pub ux: f64,
+    /// Velocity `u_t(x, t)`.
+    pub ut: f64,
+}
+
+/// The boundary condition at `x = L` of an exact bar solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FarEnd {
+    /// `u(L, t) = 0`.
+    Clamped,
+    /// `u_x(L, t) = 0`.
+    Free,
+}
+
+/// An exact solution of the bar problem `u_tt - c² u_xx = f` on `(0, L)` with
+/// Signorini contact at `x = 0`.
+pub trait ExactSolution: Send + Sync {
+    /// Benchmark name (as used on the command line).
+    fn name(&self) -> &str;
+    /// Bar length `L`.
+    fn length(&self) -> f64;
+    /// Wave speed `c`.
+    fn wave_speed(&self) -> f64 {
+        1.0
+    }
+    /// Condition at `x = L`.
+    fn far_end(&self) -> FarEnd;
+    /// Obstacle position `g` (contact when `u(0, t) = g`).
+    fn gap(&self) -> f64 {
+        0.0
+    }
+    /// Uniform body force `f` (constant in space and time) of the problem.
+    fn body_force(&self) -> f64 {
+        0.0
+    }
+    /// Polynomial degree of `u(·, t)` in `x` between two kinks.
+    fn degree_x(&self) -> usize;
+    /// `u`, `u_x`, `u_t` at `(x, t)`.
+    fn fields(&self, x: f64, t: f64) -> Fields;
+    /// `u(x_i, t)` for many points at one time (implementations hoist the
+    /// time-dependent work out of the loop).
+    fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
+        for (x, o) in xs.iter().zip(out.iter_mut()) {
+            *o = self.fields(*x, t).u;
+        }
+    }
+    /// Contact force `λ(t) = c² u_x(0, t) ≤ 0`, right-continuous in `t`.
+    fn lambda(&self, t: f64) -> f64;
+    /// Energy `∫ (u_t² + c² u_x²)/2 - f u dx`, conserved.
+    fn energy(&self) -> f64;
+    /// Positions in `(0, L)` where `u_x` or `u_t` may jump at time `t`,
+    /// sorted increasingly, appended to `out` after clearing it. Between two
+    /// consecutive kinks `u(·, t)` is a polynomial of degree [`Self::degree_x`].
+    fn kinks(&self, t: f64, out: &mut Vec<f64>);
+    /// Period in time, when the motion is periodic.
+    fn period(&self) -> Option<f64> {
+        None
+    }
+}
