@@ -9,12 +9,18 @@
 //! lines — the positions of those lines at time `t` ([`ExactSolution::kinks`]),
 //! so that error integrals can split elements there and stay exact.
 //!
+//! Benchmarks: [`BarDirichlet`] (`bar-dirichlet`, SPEC §5.1) and
+//! [`BarNeumannGravity`] (`bar-neumann-gravity`, the falling bar under
+//! gravity, SPEC §5.2, built exactly for any data).
+//!
 //! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
 //! meshes or schemes.
 
 mod dirichlet;
+mod neumann;
 
 pub use dirichlet::BarDirichlet;
+pub use neumann::{BarNeumannGravity, Event, EventKind, NeumannError};
 
 /// Point values of an exact solution (one-sided where a kink passes: the
 /// values of the piece that contains `x` in its closure, ties broken towards

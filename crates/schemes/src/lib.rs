@@ -1,1 +1,199 @@
+//! # signorini-schemes
+//!
+//! Time integrators for the semi-discrete contact problem
+//!
+//! ```text
+//! M U'' + K U = F - λ e_c,    lo <= u_c <= hi,   λ >= 0 ⊥ ... (SPEC §3, §4)
+//! ```
+//!
+//! (bar notation: `λ = c² u_x(0, t) <= 0` enters as `-λ e_0`; a lower bound is
+//! pushed up by `-λ >= 0`). Every scheme solves, each step, `A x = b + μ e_c`
+//! with one matrix `A` factorised once ([`signorini_fem::BandLdlt`]) and the
+//! closed-form projection of [`signorini_contact::Projection`]; the hot loop
+//! allocates nothing.
+//!
+//! * [`OneStep`]: Newmark(β, γ) (2017 paper eq. (30)) and the θ-method
+//!   (eq. (32)) in momentum form `P = M V`, `R = M A`, so a massless contact
+//!   node (the MOD mass family) needs no special case.
+//! * [`PaoliSchatzman`]: the two-step scheme with restitution `e` (eq. (34)),
+//!   started by one [`OneStep`] Newmark(β, 1/2) step.
+//!
+//! [`SchemeSpec`] names the presets of SPEC §4 and builds a boxed
+//! [`Stepper`]; the time loop itself lives in `signorini-run`.
+//!
+//! Architecture invariant: no IO, no exact solutions; depends on
+//! `signorini-fem` (matrices, factorisation) and `signorini-contact`.
 
+mod onestep;
+mod paoli;
+mod spec;
+
+pub use onestep::{OneStep, OneStepParams};
+pub use paoli::PaoliSchatzman;
+pub use spec::SchemeSpec;
+
+use signorini_contact::ContactError;
+use signorini_fem::{FemError, SymBand};
+
+/// Errors of this crate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SchemeError {
+    /// A parameter outside its allowed range.
+    #[error("invalid {field} = {value}: allowed {allowed}")]
+    Invalid {
+        /// The parameter's name.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// An unknown scheme name.
+    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, newmark(BETA,GAMMA), theta(THETA), ps(E) or ps(E,BETA)")]
+    UnknownScheme(String),
+    /// Vectors or matrices of inconsistent sizes.
+    #[error("size mismatch: {what} has {got} entries, expected {expected}")]
+    Size {
+        /// Which input.
+        what: &'static str,
+        /// Its size.
+        got: usize,
+        /// The expected size.
+        expected: usize,
+    },
+    /// A massless node that is not the contact dof 0, or similar structure errors.
+    #[error("unsupported structure: {0}")]
+    Structure(&'static str),
+    /// The scheme's matrix could not be factorised.
+    #[error("factorisation failed: {0}")]
+    Factor(#[from] FemError),
+    /// The contact projection could not be set up.
+    #[error("contact: {0}")]
+    Contact(#[from] ContactError),
+    /// The state became non-finite (NaN or infinity).
+    #[error("state became non-finite at step {step} (t = {time})")]
+    NonFinite {
+        /// The step that produced it.
+        step: usize,
+        /// Its time.
+        time: f64,
+    },
+}
+
+/// Bounds on the contact dof: `lo <= u_c <= hi` (`hi = +∞` for a one-sided
+/// obstacle at gap `lo`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// Lower bound (obstacle position `g`, or the lower stop `g1`).
+    pub lo: f64,
+    /// Upper bound (`+∞`, or the upper stop `g2`).
+    pub hi: f64,
+}
+
+impl Bounds {
+    /// A one-sided obstacle at `gap`.
+    pub fn obstacle(gap: f64) -> Self {
+        Self { lo: gap, hi: f64::INFINITY }
+    }
+}
+
+/// The semi-discrete problem a scheme integrates (scheme-agnostic).
+#[derive(Clone, Debug)]
+pub struct Dynamics {
+    /// Mass matrix `M` (row/column `contact_dof` zero when the node is massless).
+    pub mass: SymBand,
+    /// Stiffness matrix `K`.
+    pub stiffness: SymBand,
+    /// Steady load vector `F` (time-independent).
+    pub load: Vec<f64>,
+    /// The contact dof `c`.
+    pub contact_dof: usize,
+    /// Whether the contact dof carries no mass (then it must be dof 0 and
+    /// evolves quasi-statically: `(K U)_c = F_c - λ`).
+    pub massless_contact: bool,
+    /// Bounds on `u_c`.
+    pub bounds: Bounds,
+}
+
+impl Dynamics {
+    /// Number of unknowns.
+    pub fn n(&self) -> usize {
+        self.mass.n()
+    }
+
+    /// Checks sizes and structure.
+    pub fn validate(&self) -> Result<(), SchemeError> {
+        let n = self.n();
+        for (what, got) in [("stiffness", self.stiffness.n()), ("load", self.load.len())] {
+            if got != n {
+                return Err(SchemeError::Size { what, got, expected: n });
+            }
+        }
+        if self.contact_dof >= n {
+            return Err(SchemeError::Size { what: "contact dof", got: self.contact_dof, expected: n });
+        }
+        if self.massless_contact && self.contact_dof != 0 {
+            return Err(SchemeError::Structure("a massless contact node must be dof 0"));
+        }
+        signorini_contact::check_bounds(self.bounds.lo, self.bounds.hi)?;
+        Ok(())
+    }
+
+    /// First massive dof (massless contact node, if any, is dof 0).
+    pub(crate) fn massive_start(&self) -> usize {
+        usize::from(self.massless_contact)
+    }
+}
+
+/// The initial state `U^0`, `V^0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Initial {
+    /// Displacement.
+    pub u: Vec<f64>,
+    /// Velocity.
+    pub v: Vec<f64>,
+}
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepReport {
+    /// Index of the new time level.
+    pub n: usize,
+    /// Its time `t_n = n dt`.
+    pub t: f64,
+    /// The contact force the step produced and the time it belongs to
+    /// (`t_{n}` for Newmark/θ; `t_{n-1}` for Paoli–Schatzman with a massive
+    /// contact node, `t_n` with a massless one), or `None` for a start step
+    /// whose force is not part of the scheme's sequence.
+    pub lambda: Option<(f64, f64)>,
+    /// Whether the constraint was active.
+    pub active: signorini_contact::Active,
+}
+
+/// A time integrator: one step at a time (the loop lives in the runner).
+pub trait Stepper: Send {
+    /// Human-readable name with parameters.
+    fn label(&self) -> String;
+    /// Time step.
+    fn dt(&self) -> f64;
+    /// Index `n` of the current time level.
+    fn level(&self) -> usize;
+    /// Current time `n dt`.
+    fn time(&self) -> f64 {
+        self.level() as f64 * self.dt()
+    }
+    /// Current displacement `U^n`.
+    fn displacement(&self) -> &[f64];
+    /// Advances one step.
+    fn step(&mut self) -> Result<StepReport, SchemeError>;
+    /// The scheme's natural discrete energy and the time it belongs to
+    /// (`t_n` for one-step schemes, `t_{n-1/2}` for Paoli–Schatzman), with
+    /// the load potential `-Fᵀ U`. `None` before the first step of a
+    /// two-step scheme.
+    fn energy(&mut self) -> Option<(f64, f64)>;
+}
+
+/// `true` if every entry is finite (used for blow-up checks outside the hot loop).
+pub fn all_finite(x: &[f64]) -> bool {
+    x.iter().all(|v| v.is_finite())
+}

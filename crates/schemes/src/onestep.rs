@@ -1,0 +1,227 @@
+//! One-step schemes in momentum form (SPEC §4.1, §4.2).
+//!
+//! With `P = M V`, `R = M A` and a contact force `λ^{n+1}` at `t_{n+1}`:
+//!
+//! ```text
+//! (M + a dt² K) U^{n+1} = M U^n + dt P^n + b dt² R^n + a dt² (F - λ^{n+1} e_c)
+//! R^{n+1} = F - K U^{n+1} - λ^{n+1} e_c            (R_c := 0 for a massless node)
+//! P^{n+1} = P^n + dt ((1-γ) R^n + γ R^{n+1})
+//! ```
+//!
+//! * Newmark(β, γ) (2017 paper eq. (30)): `a = β`, `b = 1/2 - β`.
+//! * θ-method (eq. (32)): `a = θ²`, `b = θ(1-θ)`, `γ = θ`.
+//!
+//! The contact condition `lo <= u_c^{n+1} <= hi` is solved by the closed-form
+//! projection with `μ = -a dt² λ^{n+1}`. A massless contact node needs no
+//! special case: its row of `M` is zero, so its row of the step is the
+//! quasi-static equilibrium `(K U^{n+1})_c = F_c - λ^{n+1}`.
+//!
+//! Energy `E^n = ½ Pᵀ M⁺ P + ½ Uᵀ K U - Fᵀ U` (`M⁺P` on the massive dofs).
+
+use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
+use signorini_contact::Projection;
+use signorini_fem::BandLdlt;
+
+/// Coefficients of a one-step scheme (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OneStepParams {
+    /// Weight `a` of the new acceleration in the displacement update (`β`, or `θ²`).
+    pub a_new: f64,
+    /// Weight `b` of the old acceleration (`1/2 - β`, or `θ(1-θ)`).
+    pub a_old: f64,
+    /// Weight `γ` of the new acceleration in the velocity update (`γ`, or `θ`).
+    pub gamma: f64,
+}
+
+impl OneStepParams {
+    /// Newmark(β, γ).
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Self { a_new: beta, a_old: 0.5 - beta, gamma }
+    }
+    /// θ-method.
+    pub fn theta(theta: f64) -> Self {
+        Self { a_new: theta * theta, a_old: theta * (1.0 - theta), gamma: theta }
+    }
+}
+
+/// Newmark / θ-method integrator with exact contact projection.
+pub struct OneStep {
+    label: String,
+    prm: OneStepParams,
+    dt: f64,
+    n: usize,
+    dy: Dynamics,
+    a: BandLdlt,
+    proj: Projection,
+    /// Factor of the mass matrix on the massive dofs (energy, velocity).
+    m_massive: BandLdlt,
+    u: Vec<f64>,
+    mom: Vec<f64>,
+    r: Vec<f64>,
+    rhs: Vec<f64>,
+    ku: Vec<f64>,
+    scratch: Vec<f64>,
+    u_c_prev: f64,
+    lambda: f64,
+}
+
+impl OneStep {
+    /// Sets up the scheme: factorises `M + a dt² K` and the massive block of
+    /// `M`, and computes `P^0 = M V^0`, `R^0 = F - K U^0` (`λ^0 = 0`).
+    pub fn new(label: String, dy: Dynamics, prm: OneStepParams, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+        dy.validate()?;
+        let n = dy.n();
+        for (what, v) in [("initial displacement", &init.u), ("initial velocity", &init.v)] {
+            if v.len() != n {
+                return Err(SchemeError::Size { what, got: v.len(), expected: n });
+            }
+        }
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
+        }
+        let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, prm.a_new * dt * dt);
+        let a = a_mat.factor()?;
+        let c = dy.contact_dof;
+        let mut w = vec![0.0; n];
+        w[c] = 1.0;
+        a.solve_in_place(&mut w);
+        let proj = Projection::new(c, w)?;
+        let m_massive = dy.mass.trailing(dy.massive_start()).factor()?;
+        let mut mom = vec![0.0; n];
+        dy.mass.mul_vec(&init.v, &mut mom);
+        let mut ku = vec![0.0; n];
+        dy.stiffness.mul_vec(&init.u, &mut ku);
+        let mut r: Vec<f64> = dy.load.iter().zip(&ku).map(|(f, k)| f - k).collect();
+        if dy.massless_contact {
+            r[c] = 0.0;
+            mom[c] = 0.0;
+        }
+        Ok(Self {
+            label,
+            prm,
+            dt,
+            n: 0,
+            u: init.u.clone(),
+            mom,
+            r,
+            rhs: vec![0.0; n],
+            ku,
+            scratch: vec![0.0; n],
+            u_c_prev: init.u[c],
+            lambda: 0.0,
+            a,
+            proj,
+            m_massive,
+            dy,
+        })
+    }
+
+    /// Momentum `P^n = M V^n`.
+    pub fn momentum(&self) -> &[f64] {
+        &self.mom
+    }
+
+    /// `R^n = M A^n`.
+    pub fn mass_acceleration(&self) -> &[f64] {
+        &self.r
+    }
+
+    /// The contact force `λ^n` of the last step.
+    pub fn lambda(&self) -> f64 {
+        self.lambda
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> OneStepParams {
+        self.prm
+    }
+
+    /// The problem.
+    pub fn dynamics(&self) -> &Dynamics {
+        &self.dy
+    }
+
+    /// Velocity `V^n`: `M⁻¹ P` on the massive dofs; a massless contact node
+    /// reports `(u_c^n - u_c^{n-1})/dt` (0 before the first step).
+    pub fn velocity(&mut self, out: &mut [f64]) {
+        let s = self.dy.massive_start();
+        out[s..].copy_from_slice(&self.mom[s..]);
+        self.m_massive.solve_in_place(&mut out[s..]);
+        if s == 1 {
+            out[0] = if self.n == 0 { 0.0 } else { (self.u[0] - self.u_c_prev) / self.dt };
+        }
+    }
+
+    /// Gives back the factorisation and projection (to start a two-step scheme
+    /// with the same matrix).
+    pub(crate) fn into_parts(self) -> (Dynamics, BandLdlt, Projection, BandLdlt) {
+        (self.dy, self.a, self.proj, self.m_massive)
+    }
+}
+
+impl Stepper for OneStep {
+    fn label(&self) -> String {
+        self.label.clone()
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn level(&self) -> usize {
+        self.n
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn step(&mut self) -> Result<StepReport, SchemeError> {
+        let dt = self.dt;
+        let dt2 = dt * dt;
+        let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
+        let c = self.dy.contact_dof;
+        // b = M U^n + dt P^n + b dt² R^n + a dt² F
+        self.dy.mass.mul_vec(&self.u, &mut self.rhs);
+        for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.dy.load) {
+            *b += dt * p + ao * r + an * f;
+        }
+        self.a.solve_in_place(&mut self.rhs);
+        let pr = self.proj.project(&mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi);
+        let lambda = -pr.mu / an;
+        self.u_c_prev = self.u[c];
+        std::mem::swap(&mut self.u, &mut self.rhs);
+        self.n += 1;
+        let t = self.time();
+        if !(self.u[c].is_finite() && lambda.is_finite()) {
+            return Err(SchemeError::NonFinite { step: self.n, time: t });
+        }
+        self.lambda = lambda;
+        // R^{n+1} = F - K U^{n+1} - λ e_c;  P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})
+        self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
+        for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.dy.load).zip(&self.ku) {
+            let rn = f - k;
+            *p += dt * ((1.0 - g) * *r + g * rn);
+            *r = rn;
+        }
+        // The contact row: the force term (or, massless, R_c = P_c = 0).
+        if self.dy.massless_contact {
+            self.r[c] = 0.0;
+            self.mom[c] = 0.0;
+        } else {
+            self.r[c] -= lambda;
+            self.mom[c] -= dt * g * lambda;
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active: pr.active })
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        let s = self.dy.massive_start();
+        self.scratch[s..].copy_from_slice(&self.mom[s..]);
+        self.m_massive.solve_in_place(&mut self.scratch[s..]);
+        let kin: f64 = self.mom[s..].iter().zip(&self.scratch[s..]).map(|(p, v)| p * v).sum();
+        let pot = self.dy.stiffness.quad_form(&self.u);
+        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+    }
+}
