@@ -1,1 +1,125 @@
-fn main(){}
+//! `cargo xtask <study>`: the reproducible studies of signorini.
+//!
+//! * `convergence`: sweep dx at a fixed dx/dt for each (scheme, mass) pair;
+//!   write one CSV error curve per pair, `rates.csv`, `oscillation.csv`, and
+//!   print the rates as a Markdown table. Defaults: the papers' study.
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use signorini_fem::BarMass;
+use signorini_run::study::{self, StudyConfig};
+use signorini_run::Benchmark;
+use signorini_schemes::SchemeSpec;
+use std::fs::File;
+use std::io::{BufWriter, IsTerminal};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "Reproducible studies of signorini")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Convergence study: error norms against dx at fixed dx/dt, and their rates.
+    Convergence(ConvergenceArgs),
+}
+
+#[derive(clap::Args)]
+struct ConvergenceArgs {
+    /// Benchmark with an exact solution.
+    #[arg(long, default_value = "bar-dirichlet")]
+    benchmark: String,
+    /// Schemes, comma-separated: presets or newmark(B,G), theta(T), ps(E[,B]).
+    #[arg(long, default_value = "newmark-cn,newmark-i,newmark-ii,backward-euler,ps-e0,ps-e0.5,ps-e1")]
+    schemes: Vec<String>,
+    /// Mass treatments, comma-separated (std, lumped, mod, mod1, mod2, mod3, transfer, singular).
+    #[arg(long, value_delimiter = ',', default_value = "std,mod")]
+    masses: Vec<String>,
+    /// Numbers of elements m, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640")]
+    levels: Vec<usize>,
+    /// dx/dt (default: the benchmark's, 10 for bar-dirichlet).
+    #[arg(long)]
+    ratio: Option<f64>,
+    /// Horizon T (default: the benchmark's, 3 for bar-dirichlet).
+    #[arg(long = "t-end")]
+    t_end: Option<f64>,
+    /// Output folder (default out/convergence/<benchmark>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.cmd {
+        Cmd::Convergence(a) => convergence(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn convergence(a: ConvergenceArgs) -> Result<(), String> {
+    let benchmark: Benchmark = a.benchmark.parse().map_err(|e| format!("--benchmark: {e}"))?;
+    // Schemes may contain commas inside parentheses: split on ',' outside them.
+    let schemes = split_schemes(&a.schemes).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| format!("--schemes: {e}"))).collect::<Result<Vec<_>, _>>()?;
+    let masses = a.masses.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| format!("--masses: {e}"))).collect::<Result<Vec<_>, _>>()?;
+    let (ratio0, t0) = benchmark.default_ratio_and_horizon();
+    let cfg = StudyConfig { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio.unwrap_or(ratio0), t_end: a.t_end.unwrap_or(t0) };
+    cfg.validate().map_err(|e| e.to_string())?;
+    let out = a.out.unwrap_or_else(|| PathBuf::from("out/convergence").join(benchmark.name()));
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+
+    let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
+    let bar = ProgressBar::with_draw_target(Some(total), if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    let start = std::time::Instant::now();
+    let results = study::sweep(&cfg, &|| bar.inc(1)).map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+
+    let create = |name: &str| -> Result<BufWriter<File>, String> {
+        let p = out.join(name);
+        File::create(&p).map(BufWriter::new).map_err(|e| format!("cannot write {}: {e}", p.display()))
+    };
+    for r in &results {
+        r.write_csv(create(&r.file_name())?).map_err(|e| e.to_string())?;
+    }
+    study::write_rates(create("rates.csv")?, &results).map_err(|e| e.to_string())?;
+    study::write_oscillation(create("oscillation.csv")?, &results).map_err(|e| e.to_string())?;
+    println!(
+        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}\n\nLeast-squares rates of the error against dx (CSV: {}).\n",
+        cfg.benchmark,
+        cfg.ratio,
+        cfg.t_end,
+        cfg.levels,
+        out.display()
+    );
+    print!("{}", study::markdown_table(&results));
+    println!("\n{} runs in {wall:.1} s", total);
+    Ok(())
+}
+
+/// Joins pieces that clap split inside parentheses, e.g. `newmark(0.25` + `0.5)`.
+fn split_schemes(raw: &[String]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for piece in raw.iter().flat_map(|s| s.split(',')) {
+        match out.last_mut() {
+            Some(last) if last.matches('(').count() > last.matches(')').count() => {
+                last.push(',');
+                last.push_str(piece.trim());
+            }
+            _ => out.push(piece.trim().to_string()),
+        }
+    }
+    out.retain(|s| !s.is_empty());
+    out
+}

@@ -450,7 +450,10 @@ fn march(u0: f64, g: f64, l: f64, horizon: f64) -> (Vec<Piece>, Vec<Event>, f64)
                 contact = false;
                 just_took_off = true;
             } else {
-                push_piece(&mut p, t, -eta_in, -inc.slope, gl);
+                // Anchor H so that z(t) = u0 + H(t) + H(t − 2L) = 0 holds to
+                // round-off during the whole contact (instead of inheriting
+                // the O(ε t V) error of the impact time).
+                push_piece(&mut p, t, -eta_in, -inc.slope, gl, Some(-u0 - inc.h_at(s_in)));
                 let w_end = window_end(&p, j, t, two_l).min(horizon);
                 let dt = w_end - t;
                 if inc.slope > 0.0 && q0 + 2.0 * inc.slope * dt > 0.0 {
@@ -469,7 +472,7 @@ fn march(u0: f64, g: f64, l: f64, horizon: f64) -> (Vec<Piece>, Vec<Event>, f64)
                 }
             }
         } else {
-            push_piece(&mut p, t, eta_in - gl, inc.slope, gl);
+            push_piece(&mut p, t, eta_in - gl, inc.slope, gl, None);
             let w_end = window_end(&p, j, t, two_l).min(horizon);
             let dt = w_end - t;
             let a0 = p.last().map_or(0.0, |c| c.h_at(t)) + inc.h_at(s_in) + u0;
@@ -520,12 +523,13 @@ fn window_end(p: &[Piece], j: usize, t: f64, two_l: f64) -> f64 {
 
 /// Starts a new piece of `η` at `t` (value `eta`, slope `slope`), replacing a
 /// piece that would start at `t` too, and merging with the previous piece if
-/// it is the same linear function (free fall copies itself). `H` stays
-/// continuous.
-fn push_piece(p: &mut Vec<Piece>, t: f64, eta: f64, slope: f64, gl: f64) {
-    let mut h = None;
+/// it is the same linear function (free fall copies itself). `H(t)` is
+/// `h_anchor` if given, else `H` is continued continuously.
+fn push_piece(p: &mut Vec<Piece>, t: f64, eta: f64, slope: f64, gl: f64, h_anchor: Option<f64>) {
+    let mut h = h_anchor;
     if p.len() > 1 && p.last().is_some_and(|c| c.s == t) {
-        h = p.pop().map(|c| c.h);
+        let popped = p.pop().map(|c| c.h);
+        h = h.or(popped);
     }
     let Some(last) = p.last() else { return };
     let tol = 1e-13 * (eta.abs() + gl);
@@ -576,13 +580,19 @@ impl ExactSolution for BarNeumannGravity {
 
     /// `u`, `u_x`, `u_t` at `(x, t)`; `x` is clamped to `[0, L]`; NaN for
     /// `t` outside `[0, t_max]` (± the slack of the module docs) or NaN `x`.
+    /// On a kink, the values of the piece on the larger-`x` side; at `x = L`,
+    /// the values right-continuous in `t` (`u_x(L, t) = 0` exactly).
     fn fields(&self, x: f64, t: f64) -> Fields {
         if !self.t_ok(t) || x.is_nan() {
             return Fields { u: f64::NAN, ux: f64::NAN, ut: f64::NAN };
         }
         let x = x.clamp(0.0, self.l);
         let (s1, s2) = (t - x, t + x - 2.0 * self.l);
-        let p1 = &self.pieces[find_left(&self.pieces, s1)];
+        // Ties towards larger x: β(s1⁻) and β(s2⁺). At x = L there is no
+        // larger x: both arguments equal t − L and take the same
+        // (right-continuous) piece, so that u_x(L, t) = 0 exactly.
+        let k1 = if x < self.l { find_left(&self.pieces, s1) } else { find_right(&self.pieces, s1) };
+        let p1 = &self.pieces[k1];
         let p2 = &self.pieces[find_right(&self.pieces, s2)];
         let (e1, e2) = (p1.eta_at(s1), p2.eta_at(s2));
         Fields {
@@ -613,7 +623,7 @@ impl ExactSolution for BarNeumannGravity {
             }
             let x = x.clamp(0.0, l);
             let (s1, s2) = (t - x, t + x - two_l);
-            k1 = seek_left(p, k1, s1);
+            k1 = if x < l { seek_left(p, k1, s1) } else { seek_right(p, k1, s1) };
             k2 = seek_right(p, k2, s2);
             *o = u0 + half_g * x * (x - two_l) + p[k1].h_at(s1) + p[k2].h_at(s2);
         }

@@ -242,12 +242,18 @@ impl BandLdlt {
         let l = &self.l[..n];
         let inv_d = &self.inv_d[..n];
         let b = &mut b[..n];
+        // The running value stays in a register: the loop-carried dependency
+        // is one fused multiply-add, not a store/load round trip.
+        let mut prev = b[0];
         for i in 1..n {
-            b[i] -= l[i] * b[i - 1];
+            prev = b[i] - l[i] * prev;
+            b[i] = prev;
         }
-        b[n - 1] *= inv_d[n - 1];
+        let mut next = b[n - 1] * inv_d[n - 1];
+        b[n - 1] = next;
         for i in (0..n - 1).rev() {
-            b[i] = b[i] * inv_d[i] - l[i + 1] * b[i + 1];
+            next = b[i] * inv_d[i] - l[i + 1] * next;
+            b[i] = next;
         }
     }
 

@@ -1,1 +1,25 @@
+//! # signorini-run
+//!
+//! The layer between the numerical crates and the command-line tools:
+//!
+//! * [`problem`]: a P1 bar problem (mesh, mass treatment, obstacle, load,
+//!   initial data) and the built-in [`Benchmark`]s with exact solutions;
+//! * [`runner`]: the time loop ([`run`]) and the [`Observer`] trait — norms,
+//!   CSV series and progress are observers, so nothing is stored unless an
+//!   observer stores it; blow-ups stop the run with the step and time;
+//! * [`observers`]: [`NormObserver`] (exact error norms while stepping) and
+//!   [`SeriesWriter`] (CSV time series, flushed as it goes);
+//! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
+//!   in parallel, and their rates.
+//!
+//! Architecture invariant: writes only to the `std::io::Write` it is given;
+//! opening files and terminals is the CLI's and xtask's job.
 
+pub mod observers;
+pub mod problem;
+pub mod runner;
+pub mod study;
+
+pub use observers::{NormObserver, SeriesWriter};
+pub use problem::{BarProblem, Benchmark};
+pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};

@@ -1,0 +1,92 @@
+//! Cost per (dof × step) of `newmark-cn` with `mod` mass on `bar-dirichlet`:
+//! (a) stepping only, (b) stepping with every error norm of SPEC §6 (L², H¹
+//! split at kinks, λ, energy), next to (floor) a bare hand-written
+//! tridiagonal solve of the same size with precomputed factors.
+//!
+//! `cargo bench -p signorini-run --bench step`; divan prints the time per
+//! iteration (one iteration = `STEPS` steps) and the throughput in
+//! dof-steps/s. The README records the ratios (a)/floor and (b)/floor.
+
+use divan::counter::ItemsCount;
+use divan::Bencher;
+use signorini_fem::BarMass;
+use signorini_run::{run, Benchmark, NormObserver, RunConfig};
+use signorini_schemes::{SchemeSpec, Stepper};
+
+fn main() {
+    divan::main();
+}
+
+const SIZES: [usize; 3] = [100, 1000, 10000];
+
+/// Steps per iteration: about 2·10⁶ dof-steps per sample.
+fn steps(m: usize) -> usize {
+    (2_000_000 / m).max(10)
+}
+
+fn setup(m: usize) -> (Box<dyn Stepper>, Vec<f64>, f64, Box<dyn signorini_exact::ExactSolution>) {
+    let b = Benchmark::BarDirichlet;
+    let exact = b.exact(3.0).unwrap();
+    let p = b.problem(exact.as_ref(), m, BarMass::Mod).unwrap();
+    let dt = p.bar.h() / 10.0;
+    let s = SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }.build(p.dynamics(), dt, &p.initial).unwrap();
+    (s, p.initial.u, dt, exact)
+}
+
+#[divan::bench(args = SIZES)]
+fn a_stepping(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    bencher
+        .counter(ItemsCount::new(m * n))
+        .with_inputs(|| setup(m))
+        .bench_local_values(|(mut s, _, _, _)| {
+            for _ in 0..n {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+#[divan::bench(args = SIZES)]
+fn b_stepping_with_all_norms(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    bencher
+        .counter(ItemsCount::new(m * n))
+        .with_inputs(|| setup(m))
+        .bench_local_values(|(mut s, u0, dt, exact)| {
+            let mut norms = NormObserver::new(exact.as_ref(), m, signorini_norms::VNorm::H1Seminorm, dt);
+            let cfg = RunConfig::new(dt, dt * n as f64).unwrap();
+            run(s.as_mut(), &u0, &cfg, &mut [&mut norms]).unwrap();
+            divan::black_box(norms.report());
+        });
+}
+
+/// The floor: forward/backward sweeps of a factored tridiagonal system
+/// (`l` sub-diagonal of L, `inv_d` inverse pivots), written out by hand.
+#[divan::bench(args = SIZES)]
+fn floor_tridiagonal_solve(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    let l: Vec<f64> = (0..m).map(|i| if i == 0 { 0.0 } else { -0.3 - 1e-6 * i as f64 }).collect();
+    let inv_d: Vec<f64> = (0..m).map(|i| 0.5 + 1e-6 * i as f64).collect();
+    bencher
+        .counter(ItemsCount::new(m * n))
+        .with_inputs(|| (0..m).map(|i| (i as f64).sin()).collect::<Vec<f64>>())
+        .bench_local_values(|mut b| {
+            for _ in 0..n {
+                let (l, inv_d, b) = (&l[..m], &inv_d[..m], &mut b[..m]);
+                let mut prev = b[0];
+                for i in 1..m {
+                    prev = b[i] - l[i] * prev;
+                    b[i] = prev;
+                }
+                let mut next = b[m - 1] * inv_d[m - 1];
+                b[m - 1] = next;
+                for i in (0..m - 1).rev() {
+                    next = b[i] * inv_d[i] - l[i + 1] * next;
+                    b[i] = next;
+                }
+                divan::black_box(&mut *b);
+            }
+            b
+        });
+}

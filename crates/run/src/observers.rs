@@ -1,0 +1,94 @@
+//! Observers: exact error norms and CSV time series.
+
+use crate::{Observer, RunError, Sample};
+use signorini_exact::ExactSolution;
+use signorini_norms::{ErrorNorms, NormReport, VNorm};
+use std::io::Write;
+
+/// Accumulates the error norms of SPEC §6 while stepping (no history).
+pub struct NormObserver<'a> {
+    norms: ErrorNorms<'a>,
+    dt: f64,
+}
+
+impl<'a> NormObserver<'a> {
+    /// For a mesh of `elements` elements and time step `dt`.
+    pub fn new(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm, dt: f64) -> Self {
+        Self { norms: ErrorNorms::new(exact, elements, vnorm), dt }
+    }
+
+    /// The norms so far.
+    pub fn report(&self) -> NormReport {
+        self.norms.report(self.dt)
+    }
+}
+
+impl Observer for NormObserver<'_> {
+    fn wants_energy(&self) -> bool {
+        true
+    }
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        self.norms.add_displacement(s.t, s.u);
+        if let Some((t, l)) = s.lambda {
+            self.norms.add_lambda(t, l);
+        }
+        if let Some((t, e)) = s.energy {
+            self.norms.add_energy(t, e);
+        }
+        Ok(())
+    }
+}
+
+/// Writes a CSV time series of the contact dof every `every` levels:
+/// columns `n,t,u_contact,lambda_t,lambda,energy_t,energy` (empty cells
+/// where a value does not exist at that level). Flushed every 1024 rows and
+/// at the end, also when the run stops early.
+pub struct SeriesWriter<W: Write> {
+    out: csv::Writer<W>,
+    every: usize,
+    contact_dof: usize,
+    rows: usize,
+    with_energy: bool,
+}
+
+impl<W: Write> SeriesWriter<W> {
+    /// The columns, in order.
+    pub const HEADER: [&'static str; 7] = ["n", "t", "u_contact", "lambda_t", "lambda", "energy_t", "energy"];
+
+    /// A writer (header written at once).
+    pub fn new(w: W, every: usize, contact_dof: usize, with_energy: bool) -> Result<Self, RunError> {
+        let mut out = csv::Writer::from_writer(w);
+        out.write_record(Self::HEADER).map_err(|e| RunError::Output(e.to_string()))?;
+        Ok(Self { out, every: every.max(1), contact_dof, rows: 0, with_energy })
+    }
+}
+
+impl<W: Write> Observer for SeriesWriter<W> {
+    fn wants_energy(&self) -> bool {
+        self.with_energy
+    }
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        if s.n % self.every != 0 {
+            return Ok(());
+        }
+        let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+        let rec = [
+            s.n.to_string(),
+            format!("{:e}", s.t),
+            format!("{:e}", s.u[self.contact_dof]),
+            opt(s.lambda.map(|l| l.0)),
+            opt(s.lambda.map(|l| l.1)),
+            opt(s.energy.map(|e| e.0)),
+            opt(s.energy.map(|e| e.1)),
+        ];
+        self.out.write_record(&rec).map_err(|e| RunError::Output(e.to_string()))?;
+        self.rows += 1;
+        if self.rows % 1024 == 0 {
+            self.out.flush().map_err(|e| RunError::Output(e.to_string()))?;
+        }
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<(), RunError> {
+        self.out.flush().map_err(|e| RunError::Output(e.to_string()))
+    }
+}

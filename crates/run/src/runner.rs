@@ -1,0 +1,200 @@
+//! The time loop and its observers.
+
+use signorini_fem::FemError;
+use signorini_schemes::{SchemeError, Stepper};
+use std::time::Instant;
+
+/// Errors of a run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// A parameter outside its allowed range.
+    #[error("invalid {field} = {value}: allowed {allowed}")]
+    Invalid {
+        /// The parameter's name.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// An unknown benchmark name.
+    #[error("unknown benchmark {0:?}: allowed bar-dirichlet")]
+    UnknownBenchmark(String),
+    /// The mesh or matrices could not be built.
+    #[error(transparent)]
+    Fem(#[from] FemError),
+    /// The scheme could not be built or failed.
+    #[error(transparent)]
+    Scheme(SchemeError),
+    /// The state became non-finite: the run stopped there.
+    #[error("run blew up: non-finite state at step {step} (t = {time}); output written so far is kept")]
+    BlowUp {
+        /// The step.
+        step: usize,
+        /// Its time.
+        time: f64,
+    },
+    /// The energy grew beyond the configured bound: the run stopped there.
+    #[error("run blew up: energy {energy} exceeds {limit} x |E(0)| at step {step} (t = {time}); output written so far is kept")]
+    EnergyGrowth {
+        /// The step.
+        step: usize,
+        /// Its time.
+        time: f64,
+        /// The energy reached.
+        energy: f64,
+        /// The configured growth factor.
+        limit: f64,
+    },
+    /// An observer failed to write its output.
+    #[error("output: {0}")]
+    Output(String),
+}
+
+impl From<SchemeError> for RunError {
+    fn from(e: SchemeError) -> Self {
+        match e {
+            SchemeError::NonFinite { step, time } => RunError::BlowUp { step, time },
+            e => RunError::Scheme(e),
+        }
+    }
+}
+
+/// Time step, horizon and safety limits of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunConfig {
+    /// Time step `dt` (> 0, finite).
+    pub dt: f64,
+    /// Horizon `T` (> 0, finite); the run takes `ceil(T/dt)` steps.
+    pub t_end: f64,
+    /// Stop when `|E_h| > limit · max(|E_h(0)|, 1e-300)` (checked only when an
+    /// observer asks for the energy). `None`: no check.
+    pub energy_growth_limit: Option<f64>,
+}
+
+impl RunConfig {
+    /// A validated configuration (energy growth bound 1e6).
+    pub fn new(dt: f64, t_end: f64) -> Result<Self, RunError> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(RunError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
+        }
+        if !(t_end > 0.0 && t_end.is_finite()) {
+            return Err(RunError::Invalid { field: "T", value: t_end, allowed: "finite and > 0" });
+        }
+        if t_end / dt > 1e10 {
+            return Err(RunError::Invalid { field: "T/dt", value: t_end / dt, allowed: "at most 1e10 steps" });
+        }
+        Ok(Self { dt, t_end, energy_growth_limit: Some(1e6) })
+    }
+
+    /// Number of steps `N = ceil(T/dt)` (to a relative 1e-9, so `T = N dt`
+    /// up to rounding gives exactly `N`).
+    pub fn steps(&self) -> usize {
+        let r = self.t_end / self.dt;
+        (r - 1e-9 * r.max(1.0)).ceil().max(1.0) as usize
+    }
+}
+
+/// What observers see at each time level.
+#[derive(Clone, Copy, Debug)]
+pub struct Sample<'a> {
+    /// Time level `n`.
+    pub n: usize,
+    /// `t_n`.
+    pub t: f64,
+    /// Displacement at the unknowns at `t_n`.
+    pub u: &'a [f64],
+    /// Contact force produced by the step that reached `t_n`, and its time.
+    pub lambda: Option<(f64, f64)>,
+    /// The scheme's discrete energy and its time (when an observer wants it).
+    pub energy: Option<(f64, f64)>,
+    /// Whether the constraint was active in that step.
+    pub active: bool,
+}
+
+/// Something that watches a run: norms, CSV sinks, progress.
+pub trait Observer {
+    /// Whether this observer needs the discrete energy (it costs a solve).
+    fn wants_energy(&self) -> bool {
+        false
+    }
+    /// Called at `t_0` and after every step.
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError>;
+    /// Called once at the end, also when the run stops early.
+    fn finish(&mut self) -> Result<(), RunError> {
+        Ok(())
+    }
+}
+
+/// Summary of a finished run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken.
+    pub steps: usize,
+    /// Final time.
+    pub t_end: f64,
+    /// Steps in which the constraint was active.
+    pub contact_steps: usize,
+    /// Wall-clock time of the loop, seconds.
+    pub wall_s: f64,
+}
+
+/// Runs `stepper` to `cfg.t_end`, feeding every observer at `t_0` (with the
+/// initial displacement `u0`) and after each step. On a blow-up or an
+/// observer error, every observer is finished (flushed) before the error is
+/// returned.
+pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<RunSummary, RunError> {
+    let start = Instant::now();
+    let result = run_inner(stepper, u0, cfg, observers);
+    let mut fin = Ok(());
+    for o in observers.iter_mut() {
+        let r = o.finish();
+        if fin.is_ok() {
+            fin = r;
+        }
+    }
+    let (steps, contact_steps) = result?;
+    fin?;
+    Ok(RunSummary { steps, t_end: stepper.time(), contact_steps, wall_s: start.elapsed().as_secs_f64() })
+}
+
+fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<(usize, usize), RunError> {
+    if (cfg.dt - stepper.dt()).abs() > 1e-15 * cfg.dt {
+        return Err(RunError::Invalid { field: "dt", value: cfg.dt, allowed: "the stepper's own dt" });
+    }
+    let want_energy = observers.iter().any(|o| o.wants_energy());
+    let total = cfg.steps();
+    let mut emit = |s: Sample<'_>| -> Result<(), RunError> {
+        for o in observers.iter_mut() {
+            o.observe(&s)?;
+        }
+        Ok(())
+    };
+    let level0_energy = if want_energy && stepper.level() == 0 { stepper.energy() } else { None };
+    emit(Sample { n: 0, t: 0.0, u: u0, lambda: None, energy: level0_energy, active: false })?;
+    let mut reference_energy = level0_energy.map(|e| e.1);
+    // A two-step scheme arrives at level 1 already (its start step).
+    if stepper.level() == 1 {
+        let energy = if want_energy { stepper.energy() } else { None };
+        reference_energy = reference_energy.or(energy.map(|e| e.1));
+        emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false })?;
+    }
+    let mut contact_steps = 0;
+    while stepper.level() < total {
+        let rep = stepper.step()?;
+        let energy = if want_energy { stepper.energy() } else { None };
+        if let (Some(limit), Some((_, e))) = (cfg.energy_growth_limit, energy) {
+            let e0 = *reference_energy.get_or_insert(e);
+            if !e.is_finite() {
+                return Err(RunError::BlowUp { step: rep.n, time: rep.t });
+            }
+            if e.abs() > limit * e0.abs().max(1e-300) {
+                return Err(RunError::EnergyGrowth { step: rep.n, time: rep.t, energy: e, limit });
+            }
+        }
+        let active = rep.active != signorini_contact::Active::None;
+        contact_steps += usize::from(active);
+        emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active })?;
+    }
+    Ok((stepper.level(), contact_steps))
+}

@@ -1,0 +1,252 @@
+//! Convergence studies: sweep the mesh at a fixed `dx/dt`, for each
+//! (scheme, mass) pair, in parallel; rates of every norm.
+//!
+//! Output formats (a contract with users' scripts; change only by adding):
+//! * per configuration, `<scheme>_<mass>.csv` with columns [`LEVEL_COLUMNS`];
+//! * `rates.csv` with columns `scheme,mass,norm,lsq_rate,last_rate`;
+//! * `oscillation.csv` with columns `scheme,mass,m,lambda_tv_ratio`.
+
+use crate::{run, Benchmark, NormObserver, RunConfig, RunError};
+use rayon::prelude::*;
+use signorini_exact::ExactSolution;
+use signorini_fem::BarMass;
+use signorini_norms::NormReport;
+use signorini_schemes::SchemeSpec;
+use std::io::Write;
+use std::time::Instant;
+
+/// Columns of a per-configuration CSV.
+pub const LEVEL_COLUMNS: [&str; 12] =
+    ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s"];
+
+/// The norms whose rates are reported, in column order.
+pub const NORMS: [&str; 7] = ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy"];
+
+/// Value of a named norm (one of [`NORMS`]).
+pub fn norm_value(r: &NormReport, name: &str) -> f64 {
+    match name {
+        "linf_l2_u" => r.linf_l2_u,
+        "l2_l2_u" => r.l2_l2_u,
+        "linf_v_u" => r.linf_v_u,
+        "l2_v_u" => r.l2_v_u,
+        "l2_lambda" => r.l2_lambda,
+        "linf_energy" => r.linf_energy,
+        "l2_energy" => r.l2_energy,
+        _ => f64::NAN,
+    }
+}
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct StudyConfig {
+    /// The benchmark.
+    pub benchmark: Benchmark,
+    /// Schemes.
+    pub schemes: Vec<SchemeSpec>,
+    /// Mass treatments.
+    pub masses: Vec<BarMass>,
+    /// Numbers of elements `m`, increasing.
+    pub levels: Vec<usize>,
+    /// `dx/dt`.
+    pub ratio: f64,
+    /// Horizon `T`.
+    pub t_end: f64,
+}
+
+impl StudyConfig {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), RunError> {
+        if !(self.ratio > 0.0 && self.ratio.is_finite()) {
+            return Err(RunError::Invalid { field: "ratio", value: self.ratio, allowed: "dx/dt finite and > 0" });
+        }
+        RunConfig::new(1.0, self.t_end)?;
+        if let Some(&m) = self.levels.iter().find(|&&m| m < 2) {
+            return Err(RunError::Invalid { field: "levels", value: m as f64, allowed: "every m >= 2" });
+        }
+        if self.levels.is_empty() || self.schemes.is_empty() || self.masses.is_empty() {
+            return Err(RunError::Invalid { field: "levels/schemes/masses", value: 0.0, allowed: "at least one of each" });
+        }
+        for s in &self.schemes {
+            s.validate().map_err(RunError::Scheme)?;
+        }
+        Ok(())
+    }
+}
+
+/// One run of a sweep.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelResult {
+    /// Elements.
+    pub m: usize,
+    /// `dx = L/m`.
+    pub dx: f64,
+    /// `dt = dx / ratio`.
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// The norms.
+    pub norms: NormReport,
+    /// Wall time of the run (set-up and loop), seconds.
+    pub wall_s: f64,
+}
+
+/// All levels of one (scheme, mass) pair.
+#[derive(Clone, Debug)]
+pub struct ConfigResult {
+    /// The scheme.
+    pub scheme: SchemeSpec,
+    /// The mass treatment.
+    pub mass: BarMass,
+    /// One entry per level, in the order of [`StudyConfig::levels`].
+    pub levels: Vec<LevelResult>,
+}
+
+/// Runs one level: builds the problem and scheme, steps to `t_end` with the
+/// norm observer.
+pub fn run_level(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64) -> Result<LevelResult, RunError> {
+    let start = Instant::now();
+    let problem = benchmark.problem(exact, m, mass)?;
+    let dx = problem.bar.h();
+    let dt = dx / ratio;
+    let cfg = RunConfig::new(dt, t_end)?;
+    let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
+    let mut norms = NormObserver::new(exact, m, problem.vnorm(), dt);
+    let summary = run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?;
+    Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64() })
+}
+
+/// Runs the whole study in parallel (rayon's pool; finest levels first for
+/// load balance). `tick` is called after each finished run.
+pub fn sweep(cfg: &StudyConfig, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigResult>, RunError> {
+    cfg.validate()?;
+    let exact = cfg.benchmark.exact(cfg.t_end)?;
+    let mut jobs: Vec<(usize, usize, usize)> = Vec::new();
+    for (si, _) in cfg.schemes.iter().enumerate() {
+        for (mi, _) in cfg.masses.iter().enumerate() {
+            for (li, _) in cfg.levels.iter().enumerate() {
+                jobs.push((si, mi, li));
+            }
+        }
+    }
+    jobs.sort_by_key(|&(_, _, li)| std::cmp::Reverse(cfg.levels[li]));
+    let done: Vec<((usize, usize, usize), LevelResult)> = jobs
+        .par_iter()
+        .map(|&(si, mi, li)| {
+            let r = run_level(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end);
+            tick();
+            r.map(|r| ((si, mi, li), r))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut out = Vec::new();
+    for (si, scheme) in cfg.schemes.iter().enumerate() {
+        for (mi, mass) in cfg.masses.iter().enumerate() {
+            let mut levels: Vec<(usize, LevelResult)> = done.iter().filter(|(k, _)| k.0 == si && k.1 == mi).map(|(k, r)| (k.2, *r)).collect();
+            levels.sort_by_key(|(li, _)| *li);
+            out.push(ConfigResult { scheme: *scheme, mass: *mass, levels: levels.into_iter().map(|(_, r)| r).collect() });
+        }
+    }
+    Ok(out)
+}
+
+/// Rates of one norm over a sweep.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rate {
+    /// Least-squares slope of `log e` against `log dx` over all levels.
+    pub lsq: f64,
+    /// `log(e_{k-1}/e_k) / log(dx_{k-1}/dx_k)` for the last two levels.
+    pub last: f64,
+}
+
+/// Rates of `e(dx)` (pairs `(dx, e)`); levels with a non-positive or
+/// non-finite error are skipped; NaN with fewer than two usable levels.
+pub fn rate(points: &[(f64, f64)]) -> Rate {
+    let pts: Vec<(f64, f64)> = points.iter().filter(|(d, e)| *d > 0.0 && *e > 0.0 && e.is_finite()).map(|(d, e)| (d.ln(), e.ln())).collect();
+    if pts.len() < 2 {
+        return Rate { lsq: f64::NAN, last: f64::NAN };
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let (a, b) = (pts[pts.len() - 2], pts[pts.len() - 1]);
+    Rate { lsq: sxy / sxx, last: (a.1 - b.1) / (a.0 - b.0) }
+}
+
+impl ConfigResult {
+    /// File name of its CSV: `<scheme>_<mass>.csv`.
+    pub fn file_name(&self) -> String {
+        format!("{}_{}.csv", self.scheme, self.mass)
+    }
+
+    /// Rate of a named norm.
+    pub fn rate(&self, norm: &str) -> Rate {
+        let pts: Vec<(f64, f64)> = self.levels.iter().map(|l| (l.dx, norm_value(&l.norms, norm))).collect();
+        rate(&pts)
+    }
+
+    /// The λ oscillation indicator at the finest level.
+    pub fn lambda_tv_ratio(&self) -> f64 {
+        self.levels.last().map_or(f64::NAN, |l| l.norms.lambda_tv_ratio)
+    }
+
+    /// Writes the per-level CSV.
+    pub fn write_csv<W: Write>(&self, w: W) -> Result<(), RunError> {
+        let mut out = csv::Writer::from_writer(w);
+        let io = |e: csv::Error| RunError::Output(e.to_string());
+        out.write_record(LEVEL_COLUMNS).map_err(io)?;
+        for l in &self.levels {
+            let mut rec = vec![l.m.to_string(), fmt(l.dx), fmt(l.dt), l.steps.to_string()];
+            rec.extend(NORMS.iter().map(|n| fmt(norm_value(&l.norms, n))));
+            rec.push(format!("{:.6}", l.wall_s));
+            out.write_record(&rec).map_err(io)?;
+        }
+        out.flush().map_err(|e| RunError::Output(e.to_string()))
+    }
+}
+
+fn fmt(x: f64) -> String {
+    format!("{x:.10e}")
+}
+
+/// Writes `rates.csv`: `scheme,mass,norm,lsq_rate,last_rate`.
+pub fn write_rates<W: Write>(w: W, results: &[ConfigResult]) -> Result<(), RunError> {
+    let mut out = csv::Writer::from_writer(w);
+    let io = |e: csv::Error| RunError::Output(e.to_string());
+    out.write_record(["scheme", "mass", "norm", "lsq_rate", "last_rate"]).map_err(io)?;
+    for r in results {
+        for n in NORMS {
+            let rt = r.rate(n);
+            out.write_record([r.scheme.to_string(), r.mass.to_string(), n.to_string(), format!("{:.4}", rt.lsq), format!("{:.4}", rt.last)]).map_err(io)?;
+        }
+    }
+    out.flush().map_err(|e| RunError::Output(e.to_string()))
+}
+
+/// Writes `oscillation.csv`: `scheme,mass,m,lambda_tv_ratio` for every level.
+pub fn write_oscillation<W: Write>(w: W, results: &[ConfigResult]) -> Result<(), RunError> {
+    let mut out = csv::Writer::from_writer(w);
+    let io = |e: csv::Error| RunError::Output(e.to_string());
+    out.write_record(["scheme", "mass", "m", "lambda_tv_ratio"]).map_err(io)?;
+    for r in results {
+        for l in &r.levels {
+            out.write_record([r.scheme.to_string(), r.mass.to_string(), l.m.to_string(), format!("{:.4}", l.norms.lambda_tv_ratio)]).map_err(io)?;
+        }
+    }
+    out.flush().map_err(|e| RunError::Output(e.to_string()))
+}
+
+/// The rates as a Markdown table: one row per (scheme, mass), the
+/// least-squares rate of each norm, and the λ oscillation indicator at the
+/// finest level.
+pub fn markdown_table(results: &[ConfigResult]) -> String {
+    let mut s = String::from("| scheme | mass | L∞(L²) | L²(L²) | L∞(V) | L²(V) | L²(λ) | L∞(E) | L²(E) | λ TV ratio |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
+    for r in results {
+        s.push_str(&format!("| {} | {} |", r.scheme, r.mass));
+        for n in NORMS {
+            s.push_str(&format!(" {:.2} |", r.rate(n).lsq));
+        }
+        s.push_str(&format!(" {:.1} |\n", r.lambda_tv_ratio()));
+    }
+    s
+}
