@@ -90,13 +90,19 @@ impl SymBand {
         }
     }
 
+    /// The `k`-th sub-diagonal as a vector of length `n`: entry `i` is
+    /// `A[i][i-k]` (zero for `i < k`). `k = 0` is the diagonal.
+    pub fn diagonal(&self, k: usize) -> Vec<f64> {
+        (0..self.n).map(|i| if i >= k && k <= self.p { self.data[i * (self.p + 1) + k] } else { 0.0 }).collect()
+    }
+
     /// `y = A x`.
     #[track_caller]
     #[inline]
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         assert!(x.len() == self.n && y.len() == self.n, "length mismatch");
         match self.p {
-            1 => self.mul_vec_p::<1>(x, y),
+            1 if self.n >= 2 => self.mul_vec_tridiag(x, y),
             3 => self.mul_vec_p::<3>(x, y),
             _ => self.mul_vec_generic(x, y),
         }
@@ -145,6 +151,17 @@ impl SymBand {
             }
             y[i] += s;
         }
+    }
+
+    fn mul_vec_tridiag(&self, x: &[f64], y: &mut [f64]) {
+        let n = self.n;
+        let d = &self.data[..2 * n];
+        let (x, y) = (&x[..n], &mut y[..n]);
+        y[0] = d[0] * x[0] + d[3] * x[1];
+        for i in 1..n - 1 {
+            y[i] = d[2 * i + 1] * x[i - 1] + d[2 * i] * x[i] + d[2 * i + 3] * x[i + 1];
+        }
+        y[n - 1] = d[2 * n - 1] * x[n - 2] + d[2 * n - 2] * x[n - 1];
     }
 
     fn mul_vec_p<const P: usize>(&self, x: &[f64], y: &mut [f64]) {
@@ -221,6 +238,49 @@ impl BandLdlt {
     /// The pivots `D`.
     pub fn pivots(&self) -> &[f64] {
         &self.d
+    }
+
+    /// Half-bandwidth.
+    pub fn half_bandwidth(&self) -> usize {
+        self.p
+    }
+
+    /// For a tridiagonal factor (`p = 1`): the sub-diagonal of `L`
+    /// (`l[i] = L[i][i-1]`, `l[0] = 0`) and the inverse pivots `1/D`, for
+    /// callers that fuse their own work into the sweeps. `None` otherwise.
+    pub fn tridiagonal_factors(&self) -> Option<(&[f64], &[f64])> {
+        (self.p == 1).then(|| (&self.l[..self.n], &self.inv_d[..]))
+    }
+
+    /// `bᵀ A⁻¹ b = ‖L⁻¹ b‖²_{D⁻¹}`: one forward sweep, no scratch, `b` untouched.
+    pub fn inverse_quad_form(&self, b: &[f64]) -> f64 {
+        assert_eq!(b.len(), self.n, "length mismatch");
+        let n = self.n;
+        if n == 0 {
+            return 0.0;
+        }
+        if self.p == 1 {
+            let (l, inv_d, b) = (&self.l[..n], &self.inv_d[..n], &b[..n]);
+            let mut prev = b[0];
+            let mut s = prev * prev * inv_d[0];
+            for i in 1..n {
+                prev = b[i] - l[i] * prev;
+                s += prev * prev * inv_d[i];
+            }
+            return s;
+        }
+        let mut y = b.to_vec();
+        let p = self.p;
+        let mut s = 0.0;
+        for i in 0..n {
+            let mut v = y[i];
+            for k in 1..=p.min(i) {
+                v -= self.l[i * p + k - 1] * y[i - k];
+            }
+            y[i] = v;
+            s += v * v * self.inv_d[i];
+        }
+        s
     }
 
     /// Solves `A x = b` in place (`b` becomes `x`). Allocates nothing.

@@ -39,16 +39,42 @@ pub struct SpaceErrors {
 }
 
 /// Exact space integration of `u_h - u` for P1 nodal values on a uniform mesh.
+///
+/// Per call: one batch evaluation of the exact solution at the nodes (and
+/// element midpoints for degree 2), a branch-free pass over the elements,
+/// and, for the few elements a kink crosses, the unsplit contribution is
+/// replaced by the sum over the pieces.
 pub struct SpaceIntegrator<'a> {
     exact: &'a dyn ExactSolution,
     length: f64,
-    elements: usize,
+    h: f64,
     vnorm: VNorm,
     degree: usize,
+    nodes: Vec<f64>,
+    mids: Vec<f64>,
+    ex_nodes: Vec<f64>,
+    ex_mids: Vec<f64>,
     kinks: Vec<f64>,
+    ends: Vec<f64>,
     pts: Vec<f64>,
     uh: Vec<f64>,
     ex: Vec<f64>,
+}
+
+/// `(∫e², ∫e'²)` of the polynomial of degree `d` (1 or 2) with values `e` at
+/// `d + 1` equispaced points of an interval of length `len`.
+#[inline(always)]
+fn piece(d: usize, len: f64, e: &[f64]) -> (f64, f64) {
+    if d == 1 {
+        let (e0, e1) = (e[0], e[1]);
+        (len * (e0 * e0 + e0 * e1 + e1 * e1) / 3.0, (e1 - e0) * (e1 - e0) / len)
+    } else {
+        let (e0, em, e1) = (e[0], e[1], e[2]);
+        (
+            len / 30.0 * (4.0 * (e0 * e0 + e1 * e1) + 16.0 * em * em + 4.0 * em * (e0 + e1) - 2.0 * e0 * e1),
+            (7.0 * (e0 * e0 + e1 * e1) + 16.0 * em * em - 16.0 * em * (e0 + e1) + 2.0 * e0 * e1) / (3.0 * len),
+        )
+    }
 }
 
 impl<'a> SpaceIntegrator<'a> {
@@ -58,17 +84,27 @@ impl<'a> SpaceIntegrator<'a> {
     pub fn new(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm) -> Self {
         let degree = exact.degree_x().max(1);
         assert!(degree <= 2, "exact solutions of degree {degree} > 2 in x are not supported");
-        let cap = (elements + 8) * degree + 1;
+        assert!(elements >= 1, "need at least one element");
+        let length = exact.length();
+        let m = elements;
+        let h = length / m as f64;
+        let nodes: Vec<f64> = (0..=m).map(|i| if i == m { length } else { i as f64 * h }).collect();
+        let mids: Vec<f64> = if degree == 2 { nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect() } else { Vec::new() };
         Self {
             exact,
-            length: exact.length(),
-            elements,
+            length,
+            h,
             vnorm,
             degree,
+            ex_nodes: vec![0.0; nodes.len()],
+            ex_mids: vec![0.0; mids.len()],
+            nodes,
+            mids,
             kinks: Vec::with_capacity(16),
-            pts: Vec::with_capacity(cap),
-            uh: Vec::with_capacity(cap),
-            ex: Vec::with_capacity(cap),
+            ends: Vec::with_capacity(16),
+            pts: Vec::with_capacity(64),
+            uh: Vec::with_capacity(64),
+            ex: Vec::with_capacity(64),
         }
     }
 
@@ -76,71 +112,121 @@ impl<'a> SpaceIntegrator<'a> {
     /// (`m + 1` values, or `m` for a clamped end whose last value is 0).
     #[track_caller]
     pub fn errors(&mut self, t: f64, u: &[f64]) -> SpaceErrors {
-        let m = self.elements;
+        let m = self.nodes.len() - 1;
         assert!(u.len() == m || u.len() == m + 1, "need m or m+1 nodal values");
-        let node_u = |i: usize| if i < u.len() { u[i] } else { 0.0 };
-        let h = self.length / m as f64;
-        self.exact.kinks(t, &mut self.kinks);
-        self.pts.clear();
-        self.uh.clear();
-        let d = self.degree;
-        let mut kink = self.kinks.iter().copied().peekable();
-        for e in 0..m {
-            let (a, b) = (e as f64 * h, if e + 1 == m { self.length } else { (e + 1) as f64 * h });
-            let (ua, ub) = (node_u(e), node_u(e + 1));
-            let interp = |x: f64| ua + (ub - ua) * ((x - a) / h);
-            let mut p = a;
-            self.pts.push(a);
-            self.uh.push(ua);
-            loop {
-                while kink.peek().is_some_and(|&k| k <= p) {
-                    kink.next();
-                }
-                let q = match kink.peek() {
-                    Some(&k) if k < b => k,
-                    _ => b,
-                };
-                if d == 2 {
-                    let mid = 0.5 * (p + q);
-                    self.pts.push(mid);
-                    self.uh.push(interp(mid));
-                }
-                if q == b {
-                    break;
-                }
-                self.pts.push(q);
-                self.uh.push(interp(q));
-                p = q;
+        let u_last = if u.len() == m + 1 { u[m] } else { 0.0 };
+        let node_u = |i: usize| if i < m { u[i] } else { u_last };
+        let (h, d) = (self.h, self.degree);
+        self.exact.u_at(t, &self.nodes, &mut self.ex_nodes);
+        if d == 2 {
+            self.exact.u_at(t, &self.mids, &mut self.ex_mids);
+        }
+        // Unsplit element sums (the kinked elements are corrected below).
+        let (mut l2, mut semi) = (0.0, 0.0);
+        let ex = &self.ex_nodes[..=m];
+        let err = |i: usize| node_u(i) - ex[i];
+        if m == 1 {
+            let e = [err(0), 0.5 * (node_u(0) + node_u(1)) - self.ex_mids.first().copied().unwrap_or(0.0), err(1)];
+            let e = if d == 1 { [e[0], e[2], 0.0] } else { e };
+            (l2, semi) = piece(d, h, &e[..=d]);
+        } else if d == 1 {
+            let mut e0 = err(0);
+            // Interior nodes 1..m-1 straight from u; the last node separately.
+            for (ui, xi) in u[1..m].iter().zip(&ex[1..m]) {
+                let e1 = ui - xi;
+                l2 += e0 * e0 + e0 * e1 + e1 * e1;
+                semi += (e1 - e0) * (e1 - e0);
+                e0 = e1;
+            }
+            let e1 = err(m);
+            l2 += e0 * e0 + e0 * e1 + e1 * e1;
+            semi += (e1 - e0) * (e1 - e0);
+            l2 *= h / 3.0;
+            semi /= h;
+        } else {
+            for j in 0..m {
+                let (ua, ub) = (node_u(j), node_u(j + 1));
+                let e = [ua - ex[j], 0.5 * (ua + ub) - self.ex_mids[j], ub - ex[j + 1]];
+                let (a, b) = piece(2, h, &e);
+                l2 += a;
+                semi += b;
             }
         }
-        self.pts.push(self.length);
-        self.uh.push(node_u(m));
-        self.ex.resize(self.pts.len(), 0.0);
-        self.exact.u_at(t, &self.pts, &mut self.ex);
-        let (mut l2, mut semi) = (0.0, 0.0);
-        let np = self.pts.len();
-        let err = |i: usize| self.uh[i] - self.ex[i];
-        let mut i = 0;
-        while i + d < np {
-            let len = self.pts[i + d] - self.pts[i];
-            if len > 0.0 {
-                if d == 1 {
-                    let (e0, e1) = (err(i), err(i + 1));
-                    l2 += len * (e0 * e0 + e0 * e1 + e1 * e1) / 3.0;
-                    semi += (e1 - e0) * (e1 - e0) / len;
-                } else {
-                    let (e0, em, e1) = (err(i), err(i + 1), err(i + 2));
-                    l2 += len / 30.0 * (4.0 * (e0 * e0 + e1 * e1) + 16.0 * em * em + 4.0 * em * (e0 + e1) - 2.0 * e0 * e1);
-                    semi += (7.0 * (e0 * e0 + e1 * e1) + 16.0 * em * em - 16.0 * em * (e0 + e1) + 2.0 * e0 * e1) / (3.0 * len);
-                }
+        // Elements crossed by kinks: replace their contribution.
+        self.exact.kinks(t, &mut self.kinks);
+        let mut k = 0;
+        while k < self.kinks.len() {
+            // The element containing the kink: nodes[j] <= x < nodes[j+1]
+            // (the division can round across a node, so settle it exactly).
+            let x0 = self.kinks[k];
+            let mut j = ((x0 / h) as usize).min(m - 1);
+            while j + 1 < m && self.nodes[j + 1] <= x0 {
+                j += 1;
             }
-            i += d;
+            while j > 0 && self.nodes[j] > x0 {
+                j -= 1;
+            }
+            let (a, b) = (self.nodes[j], self.nodes[j + 1]);
+            if !(x0 < b) {
+                k += 1; // at or beyond L: not inside any element
+                continue;
+            }
+            // Piece ends: a, the kinks strictly inside (a, b), b.
+            self.ends.clear();
+            self.ends.push(a);
+            while k < self.kinks.len() && self.kinks[k] < b {
+                let x = self.kinks[k];
+                if x > *self.ends.last().unwrap_or(&a) {
+                    self.ends.push(x);
+                }
+                k += 1;
+            }
+            if self.ends.len() == 1 {
+                continue; // kink on a node: no split needed
+            }
+            self.ends.push(b);
+            let (ua, ub) = (node_u(j), node_u(j + 1));
+            let (xa, xb) = (self.ex_nodes[j], self.ex_nodes[j + 1]);
+            // Remove the unsplit contribution.
+            let e_whole = if d == 1 { [ua - xa, ub - xb, 0.0] } else { [ua - xa, 0.5 * (ua + ub) - self.ex_mids[j], ub - xb] };
+            let (wa, wb) = piece(d, h, &e_whole[..=d]);
+            l2 -= wa;
+            semi -= wb;
+            // Sample points of the pieces (with midpoints for degree 2).
+            self.pts.clear();
+            self.pts.push(a);
+            for w in self.ends.windows(2) {
+                if d == 2 {
+                    self.pts.push(0.5 * (w[0] + w[1]));
+                }
+                self.pts.push(w[1]);
+            }
+            self.uh.clear();
+            self.uh.extend(self.pts.iter().map(|x| ua + (ub - ua) * ((x - a) / h)));
+            self.ex.resize(self.pts.len(), 0.0);
+            self.exact.u_at(t, &self.pts, &mut self.ex);
+            let mut i = 0;
+            while i + d < self.pts.len() {
+                let len = self.pts[i + d] - self.pts[i];
+                if len > 0.0 {
+                    let e: [f64; 3] = std::array::from_fn(|q| if q <= d { self.uh[i + q] - self.ex[i + q] } else { 0.0 });
+                    let (pa, pb) = piece(d, len, &e[..=d]);
+                    l2 += pa;
+                    semi += pb;
+                }
+                i += d;
+            }
         }
         let v = match self.vnorm {
             VNorm::H1Seminorm => semi,
             VNorm::H1Full => semi + l2,
         };
         SpaceErrors { l2: l2.max(0.0).sqrt(), v: v.max(0.0).sqrt() }
+    }
+
+    /// Length of the domain.
+    pub fn length(&self) -> f64 {
+        self.length
     }
 }
 

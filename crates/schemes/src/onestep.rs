@@ -60,9 +60,60 @@ pub struct OneStep {
     r: Vec<f64>,
     rhs: Vec<f64>,
     ku: Vec<f64>,
-    scratch: Vec<f64>,
     u_c_prev: f64,
     lambda: f64,
+    /// Diagonals of M and K for the fused tridiagonal path (bar).
+    tri: Option<Tridiagonals>,
+}
+
+/// `M` and `K` as (diagonal, sub-diagonal) pairs; `sub[i] = A[i][i-1]`.
+struct Tridiagonals {
+    md: Vec<f64>,
+    ms: Vec<f64>,
+    kd: Vec<f64>,
+    ks: Vec<f64>,
+}
+
+/// `y_i = (A x)_i + c_i` for a tridiagonal `A` given by its diagonal `d` and
+/// sub-diagonal `s` (`s[i] = A[i][i-1]`), with `c_i` from a closure; the
+/// interior loop is branch-free over equal-length slices so it vectorises.
+#[inline(always)]
+fn tri_apply(d: &[f64], s: &[f64], x: &[f64], mut c: impl FnMut(usize, f64)) {
+    let n = x.len();
+    let (d, s) = (&d[..n], &s[..n]);
+    c(0, d[0] * x[0] + s[1] * x[1]);
+    let it = x[..n - 2].iter().zip(&x[1..n - 1]).zip(&x[2..]).zip(&s[1..n - 1]).zip(&d[1..n - 1]).zip(&s[2..]);
+    for (k, (((((xl, xc), xr), sl), dc), sr)) in it.enumerate() {
+        c(k + 1, sl * xl + dc * xc + sr * xr);
+    }
+    c(n - 1, s[n - 1] * x[n - 2] + d[n - 1] * x[n - 1]);
+}
+
+/// Solves `(M + a dt² K) x = M u + c0 p + c1 r + c2 f` with the tridiagonal
+/// factor `(l, inv_d)` of the matrix, the right-hand side computed inside the
+/// forward sweep (`m_d`, `m_s`: diagonal and sub-diagonal of `M`).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn forward_backward_fused(l: &[f64], inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) {
+    let n = u.len();
+    let (l, inv_d, m_d, m_s, p, r, f, out) = (&l[..n], &inv_d[..n], &m_d[..n], &m_s[..n], &p[..n], &r[..n], &f[..n], &mut out[..n]);
+    let extra = |i: usize| c[0] * p[i] + c[1] * r[i] + c[2] * f[i];
+    let mut prev = m_d[0] * u[0] + m_s[1] * u[1] + extra(0);
+    out[0] = prev;
+    let it = u[..n - 2].iter().zip(&u[1..n - 1]).zip(&u[2..]).zip(&m_s[1..n - 1]).zip(&m_d[1..n - 1]).zip(&m_s[2..]);
+    let it = it.zip(p[1..n - 1].iter().zip(&r[1..n - 1]).zip(&f[1..n - 1])).zip(l[1..n - 1].iter().zip(out[1..n - 1].iter_mut()));
+    for (((((((ul, uc), ur), sl), dc), sr), ((pi, ri), fi)), (li, oi)) in it {
+        let b = sl * ul + dc * uc + sr * ur + c[0] * pi + c[1] * ri + c[2] * fi;
+        prev = b - li * prev;
+        *oi = prev;
+    }
+    let b_last = m_s[n - 1] * u[n - 2] + m_d[n - 1] * u[n - 1] + extra(n - 1);
+    let mut next = (b_last - l[n - 1] * prev) * inv_d[n - 1];
+    out[n - 1] = next;
+    for ((o, li1), di) in out[..n - 1].iter_mut().rev().zip(l[1..].iter().rev()).zip(inv_d[..n - 1].iter().rev()) {
+        next = *o * di - li1 * next;
+        *o = next;
+    }
 }
 
 impl OneStep {
@@ -96,7 +147,14 @@ impl OneStep {
             r[c] = 0.0;
             mom[c] = 0.0;
         }
+        let tri = (a.half_bandwidth() == 1 && n >= 2).then(|| Tridiagonals {
+            md: dy.mass.diagonal(0),
+            ms: dy.mass.diagonal(1),
+            kd: dy.stiffness.diagonal(0),
+            ks: dy.stiffness.diagonal(1),
+        });
         Ok(Self {
+            tri,
             label,
             prm,
             dt,
@@ -106,7 +164,6 @@ impl OneStep {
             r,
             rhs: vec![0.0; n],
             ku,
-            scratch: vec![0.0; n],
             u_c_prev: init.u[c],
             lambda: 0.0,
             a,
@@ -182,11 +239,17 @@ impl Stepper for OneStep {
         let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
         let c = self.dy.contact_dof;
         // b = M U^n + dt P^n + b dt² R^n + a dt² F
-        self.dy.mass.mul_vec(&self.u, &mut self.rhs);
-        for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.dy.load) {
-            *b += dt * p + ao * r + an * f;
+        if let (Some(t), Some((l, inv_d))) = (&self.tri, self.a.tridiagonal_factors()) {
+            // Bar: b is assembled inside the forward sweep, whose loop-carried
+            // dependency leaves the core idle enough to do it for free.
+            forward_backward_fused(l, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.dy.load, [dt, ao, an], &mut self.rhs);
+        } else {
+            self.dy.mass.mul_vec(&self.u, &mut self.rhs);
+            for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.dy.load) {
+                *b += dt * p + ao * r + an * f;
+            }
+            self.a.solve_in_place(&mut self.rhs);
         }
-        self.a.solve_in_place(&mut self.rhs);
         let pr = self.proj.project(&mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi);
         let lambda = -pr.mu / an;
         self.u_c_prev = self.u[c];
@@ -198,11 +261,20 @@ impl Stepper for OneStep {
         }
         self.lambda = lambda;
         // R^{n+1} = F - K U^{n+1} - λ e_c;  P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})
-        self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
-        for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.dy.load).zip(&self.ku) {
-            let rn = f - k;
-            *p += dt * ((1.0 - g) * *r + g * rn);
-            *r = rn;
+        if let Some(t) = &self.tri {
+            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.dy.load[..]);
+            tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
+                let rn = f[i] - ku;
+                mom[i] += dt * ((1.0 - g) * r[i] + g * rn);
+                r[i] = rn;
+            });
+        } else {
+            self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
+            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.dy.load).zip(&self.ku) {
+                let rn = f - k;
+                *p += dt * ((1.0 - g) * *r + g * rn);
+                *r = rn;
+            }
         }
         // The contact row: the force term (or, massless, R_c = P_c = 0).
         if self.dy.massless_contact {
@@ -217,9 +289,7 @@ impl Stepper for OneStep {
 
     fn energy(&mut self) -> Option<(f64, f64)> {
         let s = self.dy.massive_start();
-        self.scratch[s..].copy_from_slice(&self.mom[s..]);
-        self.m_massive.solve_in_place(&mut self.scratch[s..]);
-        let kin: f64 = self.mom[s..].iter().zip(&self.scratch[s..]).map(|(p, v)| p * v).sum();
+        let kin = self.m_massive.inverse_quad_form(&self.mom[s..]);
         let pot = self.dy.stiffness.quad_form(&self.u);
         let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
         Some((self.time(), 0.5 * kin + 0.5 * pot - load))
