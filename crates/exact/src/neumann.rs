@@ -68,14 +68,64 @@
 //!   negative;
 //! * a **take-off** happens where `q` jumps above 0 at a breakpoint of the
 //!   incoming wave, or where `q` crosses 0 linearly (a smooth take-off);
-//! * events within `1e-11·L` of a breakpoint are snapped onto it (this matters
-//!   in commensurate cases such as `g = 1/9`, where events land exactly on
-//!   breakpoints; exact-neumann.md §2.4). A contact of zero length (an impact
-//!   snapped onto a breakpoint at which `q` jumps above 0) is dropped.
+//! * events that coincide with a breakpoint of the incoming wave up to
+//!   round-off are snapped onto it. This matters in commensurate cases such
+//!   as `g = 1/9` (`T1 = 3L`), where events land exactly on breakpoints
+//!   (exact-neumann.md §2.4), and for `T1 = 2L`, where impacts are also
+//!   tangential (`z' = 0`), so that their time is only determined to
+//!   `O(√ε)`: a root is snapped when `z` stays within round-off of 0 between
+//!   it and the breakpoint. A contact of zero length (an impact on a
+//!   breakpoint at which `q` jumps above 0) is dropped.
 //!
-//! The number of pieces grows with time (for `g = 0.11`, by one per impact in
-//! each window of length `2L`; exact-neumann.md §2.5), so construction costs
-//! `O((t_max/L)²)` in the worst case — a few milliseconds for `t_max = 1000 L`.
+//! Three devices keep round-off from accumulating from bounce to bounce
+//! (which would otherwise break the commensurate coincidences after a few
+//! hundred `L`): breakpoint times are stored as `origin + k·2L` (an event
+//! time carried over `k` windows) and evaluated with one rounding; at a
+//! window start that is a carried-over breakpoint the incoming values are
+//! taken exactly instead of evaluating the piece at the rounded `t − 2L`;
+//! and `z` is tracked on its own (0 in contact, advanced by its quadratic in
+//! flight) and used to anchor `H` at each new piece.
+//!
+//! # Resolution in `f64`: the largest `t_max`
+//!
+//! Events can come arbitrarily close to earlier breakpoints, and whether an
+//! impact lies just before or just after a jump of `q` decides the rest of
+//! the motion. Below some scale the solution therefore cannot be built in
+//! `f64` at all. The construction snaps an event onto a breakpoint within
+//! `1e-11·L`; if the distance was more than round-off (a genuine
+//! near-coincidence, not a commensurate one), the events are no longer
+//! resolved from that time on, and a `t_max` beyond it is rejected with
+//! [`NeumannError::Unresolved`], whose `t_limit` is the largest `t_max` that
+//! can be built. This happens:
+//!
+//! * for the paper's `g = 0.11` (`T1/L = 3.0151`): every contact lasts `2L`
+//!   and the flights tend to `6L` (exact-neumann.md §2.5), so each impact
+//!   lands just after a cluster of earlier breakpoints (carried over by
+//!   `8L`), with gaps shrinking by about 0.45 per bounce (`1.8e-2`, `6.2e-3`,
+//!   …, `2e-11`). The impact near `t = 227.05` is `7e-12` after a breakpoint:
+//!   `t_max ≤ 225.04`. (With a fixed snapping tolerance instead, the
+//!   computed motion turns chaotic near `t ≈ 430`.)
+//! * in the chaotic regimes, e.g. `T1/L = 2.5`: the third contact (at
+//!   `t ≈ 14.40 L`) lasts only `0.095 L`, then short contacts and flights
+//!   proliferate exponentially (74 events by `t = 50 L`, 15 000 by `200 L`)
+//!   and the shortest piece shrinks as fast: `t_max ≤ 198 L`. `T1/L = 1.58`,
+//!   `1.9`, `3.5` behave alike (`t_max ≤ 175 L`, `167 L`, `274 L`). The
+//!   identities (contact conditions, energy, parallelogram) still hold to
+//!   round-off there, and the leapfrog of exact-neumann.md §2.6 converges to
+//!   this solution.
+//! * never for `T1 = mL`, `m ≥ 2` an integer (periodic, period `4(m+1)L`,
+//!   a fixed number of pieces per period: 5 for `m = 3`, exact-neumann.md
+//!   §2.4), checked to `t_max = 1000 L` for `L = 0.3, 0.7, 1, 3.3`.
+//!
+//! # Complexity
+//!
+//! The number of pieces of `β` grows with `t_max`: by a fixed number per
+//! period in the commensurate cases, by one per impact in each window of
+//! length `2L` for `g = 0.11` (`O((t_max/L)²)`, about 1 650 pieces at
+//! `t_max = 225`),
+//! and for `T1 ≤ L` quadratically too (about `t_max²/16` for `T1 = 0.05 L`).
+//! It is capped at [`BarNeumannGravity::MAX_PIECES`]
+//! ([`NeumannError::TooComplex`]).
 //!
 //! # Special cases (exact-neumann.md §2.3–§2.5)
 //!
@@ -84,7 +134,7 @@
 //!   `3 + 8k`, take-offs at `5 + 8k`.
 //! * [`BarNeumannGravity::paper`]: `u0 = 1/2`, `g = 0.11`, `L = 1` (the
 //!   paper's data); first impact `T1 = 10/√11`, every contact lasts `2L`, not
-//!   periodic.
+//!   periodic; `t_max ≤ 225.04` (see "Resolution").
 //!
 //! # Domain of evaluation
 //!
@@ -100,8 +150,19 @@ use std::fmt;
 use crate::{ExactSolution, FarEnd, Fields};
 
 /// Relative distance (in units of `L`) below which an event is snapped onto
-/// a breakpoint of the incoming wave (exact-neumann.md §2.2).
+/// a breakpoint of the incoming wave (exact-neumann.md §2.2). A snap by more
+/// than round-off ([`ROUNDOFF_T`]) marks the solution unresolved from there.
 const SNAP: f64 = 1e-11;
+
+/// Round-off level of times, relative to `|t| + L`: an event snapped onto a
+/// breakpoint from farther than this is a genuine near-coincidence, no
+/// longer resolved in `f64` (breakpoint times carry one rounding, event
+/// times a few).
+const ROUNDOFF_T: f64 = 8.0 * f64::EPSILON;
+
+/// Round-off level of the height `z` of the lower end, relative to
+/// `u0 + g L²`.
+const ROUNDOFF_Z: f64 = 64.0 * f64::EPSILON;
 
 /// Relative slack (in units of `t_max + L`) accepted beyond `[0, t_max]`.
 const T_SLACK: f64 = 1e-9;
@@ -121,30 +182,55 @@ pub enum NeumannError {
     Length(f64),
     /// The time horizon `t_max` must be finite and `>= 0`.
     TimeHorizon(f64),
+    /// The time horizon `t_max` is too long for these data: the profile `β`
+    /// would need more than [`BarNeumannGravity::MAX_PIECES`] linear pieces.
+    TooComplex {
+        /// The requested horizon.
+        t_max: f64,
+        /// About the largest `t_max` that fits.
+        t_limit: f64,
+    },
+    /// The time horizon `t_max` is too long for these data: beyond
+    /// `t_limit`, events come closer to earlier breakpoints than `f64` can
+    /// resolve (they accumulate, as for `g = 0.11` near `t ≈ 227`, or
+    /// proliferate; see the module docs, "Resolution"), so the solution can
+    /// no longer be built exactly.
+    Unresolved {
+        /// The requested horizon.
+        t_max: f64,
+        /// About the largest `t_max` that can be built exactly.
+        t_limit: f64,
+    },
 }
 
 impl NeumannError {
     /// Name of the offending parameter (`"u0"`, `"g"`, `"length"`, `"t_max"`).
+    #[must_use]
     pub fn field(&self) -> &'static str {
         match self {
             Self::InitialHeight(_) => "u0",
             Self::Gravity(_) => "g",
             Self::Length(_) => "length",
-            Self::TimeHorizon(_) => "t_max",
+            Self::TimeHorizon(_) | Self::TooComplex { .. } | Self::Unresolved { .. } => "t_max",
         }
     }
 
     /// The rejected value.
+    #[must_use]
     pub fn value(&self) -> f64 {
         match *self {
             Self::InitialHeight(v) | Self::Gravity(v) | Self::Length(v) | Self::TimeHorizon(v) => v,
+            Self::TooComplex { t_max, .. } | Self::Unresolved { t_max, .. } => t_max,
         }
     }
 
     /// The allowed range, in words.
+    #[must_use]
     pub fn allowed(&self) -> &'static str {
         match self {
             Self::TimeHorizon(_) => "finite and >= 0",
+            Self::TooComplex { .. } => "short enough for the exact profile to fit in MAX_PIECES = 2^22 pieces",
+            Self::Unresolved { .. } => "short enough for the events to be resolved in f64",
             _ => "finite and > 0",
         }
     }
@@ -152,6 +238,13 @@ impl NeumannError {
 
 impl fmt::Display for NeumannError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Self::TooComplex { t_max, t_limit } | Self::Unresolved { t_max, t_limit } = *self {
+            return write!(
+                f,
+                "bar-neumann-gravity: invalid t_max = {t_max} (must be {}: t_max <= {t_limit} for these data)",
+                self.allowed()
+            );
+        }
         write!(
             f,
             "bar-neumann-gravity: invalid {} = {} (must be {})",
@@ -186,14 +279,45 @@ pub struct Event {
 /// One linear piece of `η` (see the module docs) on `[s, next piece's s)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Piece {
-    /// Start of the piece.
+    /// Start of the piece (`= stamp.time(2L)`).
     s: f64,
+    /// How `s` was made: an event time shifted by a number of `2L`.
+    stamp: Stamp,
     /// `η(s)`.
     eta: f64,
     /// `H(s)`.
     h: f64,
     /// Slope of `η`: `+g/2` (β has slope `g`) or `−g/2` (β constant).
     slope: f64,
+}
+
+/// A breakpoint time written as `origin + k·2L` (an event time, or `−2L`,
+/// and the number of windows it has been carried over), evaluated with a
+/// single rounding. Summing `2L` window after window would let commensurate
+/// coincidences (events exactly on breakpoints, e.g. `T1 = mL`) drift apart
+/// by `O(k)` ulps; this keeps them within a few ulps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Stamp {
+    origin: f64,
+    k: u32,
+}
+
+impl Stamp {
+    #[inline]
+    fn at(t: f64) -> Self {
+        Self { origin: t, k: 0 }
+    }
+
+    #[inline]
+    fn time(self, two_l: f64) -> f64 {
+        f64::from(self.k).mul_add(two_l, self.origin)
+    }
+
+    /// The same breakpoint carried over one window.
+    #[inline]
+    fn next(self) -> Self {
+        Self { origin: self.origin, k: self.k.saturating_add(1) }
+    }
 }
 
 impl Piece {
@@ -206,6 +330,45 @@ impl Piece {
     fn h_at(&self, s: f64) -> f64 {
         let r = s - self.s;
         self.h + r * (self.eta + 0.5 * self.slope * r)
+    }
+}
+
+/// The two pieces of `β` seen from a point at time `t` (that of `t − x` and
+/// that of `t + x − 2L`), in the form used to evaluate `u` on the whole cell
+/// they define (one quadratic in `x`).
+#[derive(Clone, Copy, Debug)]
+struct Cell {
+    /// `u0 + H(s_{k1}) + H(s_{k2})`.
+    a: f64,
+    /// `t − s_{k1}`: `r1 = t − x − s_{k1} = c1 − x`.
+    c1: f64,
+    e1: f64,
+    hs1: f64,
+    /// `t − 2L − s_{k2}`: `r2 = t + x − 2L − s_{k2} = c2 + x`.
+    c2: f64,
+    e2: f64,
+    hs2: f64,
+}
+
+impl Cell {
+    #[inline]
+    fn new(p1: &Piece, p2: &Piece, u0: f64, t: f64, two_l: f64) -> Self {
+        Self {
+            a: u0 + p1.h + p2.h,
+            c1: t - p1.s,
+            e1: p1.eta,
+            hs1: 0.5 * p1.slope,
+            c2: (t - two_l) - p2.s,
+            e2: p2.eta,
+            hs2: 0.5 * p2.slope,
+        }
+    }
+
+    /// `u = u0 + (g/2) x (x − 2L) + H(t − x) + H(t + x − 2L)`.
+    #[inline]
+    fn u(&self, x: f64, half_g: f64, two_l: f64) -> f64 {
+        let (r1, r2) = (self.c1 - x, self.c2 + x);
+        self.a + half_g * x * (x - two_l) + r1 * (self.e1 + self.hs1 * r1) + r2 * (self.e2 + self.hs2 * r2)
     }
 }
 
@@ -269,12 +432,20 @@ pub struct BarNeumannGravity {
 }
 
 impl BarNeumannGravity {
+    /// Largest number of linear pieces of `β` a solution may hold (`2^22`,
+    /// 192 MiB); a longer `t_max` is rejected with
+    /// [`NeumannError::TooComplex`].
+    pub const MAX_PIECES: usize = 1 << 22;
+
     /// The bar of length `length`, released from rest at height `u0` under
     /// gravity `g`, for times in `[0, t_max]`.
     ///
     /// # Errors
     /// [`NeumannError`] naming the first parameter out of range: `u0`, `g`,
-    /// `length` must be finite and `> 0`, `t_max` finite and `>= 0`.
+    /// `length` must be finite and `> 0`, `t_max` finite and `>= 0`;
+    /// [`NeumannError::Unresolved`] if the events are not resolved in `f64`
+    /// up to `t_max + 2L`, [`NeumannError::TooComplex`] if the profile would
+    /// need more than [`Self::MAX_PIECES`] pieces (module docs).
     pub fn new(u0: f64, g: f64, length: f64, t_max: f64) -> Result<Self, NeumannError> {
         Self::build("bar-neumann-gravity-custom", u0, g, length, t_max)
     }
@@ -283,7 +454,9 @@ impl BarNeumannGravity {
     /// `L = 1`, exactly periodic with period 16 (exact-neumann.md §2.4).
     ///
     /// # Errors
-    /// [`NeumannError::TimeHorizon`] if `t_max` is not finite or is negative.
+    /// [`NeumannError::TimeHorizon`] if `t_max` is not finite or is negative,
+    /// [`NeumannError::Unresolved`] or [`NeumannError::TooComplex`] if it is
+    /// too long (see [`Self::new`]).
     pub fn periodic(t_max: f64) -> Result<Self, NeumannError> {
         let mut s = Self::build("bar-neumann-gravity", 0.5, 1.0 / 9.0, 1.0, t_max)?;
         s.period = Some(16.0);
@@ -294,7 +467,9 @@ impl BarNeumannGravity {
     /// `L = 1`; not periodic (exact-neumann.md §2.5).
     ///
     /// # Errors
-    /// [`NeumannError::TimeHorizon`] if `t_max` is not finite or is negative.
+    /// [`NeumannError::TimeHorizon`] if `t_max` is not finite or is negative,
+    /// [`NeumannError::Unresolved`] or [`NeumannError::TooComplex`] if it is
+    /// too long (see [`Self::new`]).
     pub fn paper(t_max: f64) -> Result<Self, NeumannError> {
         Self::build("bar-neumann-gravity-0.11", 0.5, 0.11, 1.0, t_max)
     }
@@ -314,7 +489,15 @@ impl BarNeumannGravity {
             return Err(NeumannError::TimeHorizon(t_max));
         }
         let horizon = t_max + 2.0 * l;
-        let (pieces, events, built) = march(u0, g, l, horizon);
+        let Built { pieces, events, reached, unresolved } = march(u0, g, l, horizon);
+        // Everything built (up to t_max + 2L) must be exact.
+        if unresolved < horizon {
+            return Err(NeumannError::Unresolved { t_max, t_limit: (unresolved - 2.0 * l).max(0.0) });
+        }
+        if pieces.len() > Self::MAX_PIECES {
+            return Err(NeumannError::TooComplex { t_max, t_limit: (reached - 2.0 * l).max(0.0) });
+        }
+        let built = reached;
         let slack = T_SLACK * (t_max + l);
         // Commensurate case T1 = m L, m >= 2 an integer: period 4 (m + 1) L.
         let m = (2.0 * u0 / g).sqrt() / l;
@@ -334,21 +517,25 @@ impl BarNeumannGravity {
     }
 
     /// Initial height `u0`.
+    #[must_use]
     pub fn u0(&self) -> f64 {
         self.u0
     }
 
     /// Gravity `g` (the body force is `−g`).
+    #[must_use]
     pub fn gravity(&self) -> f64 {
         self.g
     }
 
     /// End `t_max` of the time interval the solution was built for.
+    #[must_use]
     pub fn t_max(&self) -> f64 {
         self.t_max
     }
 
     /// Time of the first impact, `T1 = √(2 u0 / g)`.
+    #[must_use]
     pub fn first_impact(&self) -> f64 {
         (2.0 * self.u0 / self.g).sqrt()
     }
@@ -356,6 +543,7 @@ impl BarNeumannGravity {
     /// The impacts and take-offs found on `[0, t_max + 2L]`, in time order,
     /// alternating and starting with an impact (a last impact may have no
     /// take-off before `t_max + 2L`).
+    #[must_use]
     pub fn events(&self) -> &[Event] {
         &self.events
     }
@@ -372,6 +560,7 @@ impl BarNeumannGravity {
 
     /// Whether the lower end is in contact at `t`, i.e. `t` lies in a contact
     /// interval `[impact, take-off)` (false outside the evaluation window).
+    #[must_use]
     pub fn in_contact(&self, t: f64) -> bool {
         if !self.t_ok(t) {
             return false;
@@ -387,8 +576,25 @@ impl BarNeumannGravity {
         self.pieces.iter().skip(1).map(|p| p.s)
     }
 
+    /// Length of the shortest linear piece of `β` (between two consecutive
+    /// [`Self::breakpoints`]), or `+∞` if there are none: the finest time
+    /// scale of the solution. It can be as small as the snapping scale
+    /// `1e-11·L` (module docs, "Resolution").
+    #[must_use]
+    pub fn shortest_piece(&self) -> f64 {
+        self.pieces.windows(2).skip(1).map(|w| w[1].s - w[0].s).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Number of linear pieces of `β` on `[−2L, t_max + 2L]` (the cost of the
+    /// construction; at most [`Self::MAX_PIECES`]).
+    #[must_use]
+    pub fn piece_count(&self) -> usize {
+        self.pieces.len()
+    }
+
     /// The right-continuous profile `β(s)` of the wave leaving `x = 0`, for
     /// `s ∈ [−2L, t_max]` (0 on `[−2L, 0)`; NaN outside).
+    #[must_use]
     pub fn beta(&self, s: f64) -> f64 {
         if !(s >= -2.0 * self.l && s <= self.t_hi) {
             return f64::NAN;
@@ -401,7 +607,9 @@ impl BarNeumannGravity {
     /// free, equal to the contact force if it is clamped (right-continuous).
     fn q(&self, t: f64) -> f64 {
         let two_l = 2.0 * self.l;
-        let k = self.pieces.partition_point(|p| p.s + two_l <= t).saturating_sub(1);
+        // The same test as the construction's, so that λ switches exactly at
+        // the events.
+        let k = self.pieces.partition_point(|p| p.stamp.next().time(two_l) <= t).saturating_sub(1);
         2.0 * self.pieces[k].eta_at(t - two_l) - self.g * self.l
     }
 
@@ -411,34 +619,78 @@ impl BarNeumannGravity {
     }
 }
 
-/// Builds the pieces of `η` on `[−2L, horizon]` and the events; returns also
-/// the time reached (`>= horizon` unless the march stalled, which does not
-/// happen in practice).
-fn march(u0: f64, g: f64, l: f64, horizon: f64) -> (Vec<Piece>, Vec<Event>, f64) {
+/// Result of the march.
+struct Built {
+    pieces: Vec<Piece>,
+    events: Vec<Event>,
+    /// Time reached (`>= horizon` unless stopped early).
+    reached: f64,
+    /// First time at which an event had to be snapped onto a breakpoint from
+    /// farther than round-off (`+∞` if never): from there on the events are
+    /// not resolved in `f64`.
+    unresolved: f64,
+}
+
+/// Records a snap by `d` at time `t` if it is more than round-off.
+#[inline]
+fn note_snap(unresolved: &mut f64, d: f64, t: f64, l: f64) {
+    if d > ROUNDOFF_T * (t.abs() + l) {
+        *unresolved = unresolved.min(t);
+    }
+}
+
+/// Builds the pieces of `η` on `[−2L, horizon]` and the events
+/// (exact-neumann.md §2.2; see the module docs). Stops early past
+/// `BarNeumannGravity::MAX_PIECES` pieces.
+fn march(u0: f64, g: f64, l: f64, horizon: f64) -> Built {
+    let max_pieces = BarNeumannGravity::MAX_PIECES;
     let two_l = 2.0 * l;
     let gl = g * l;
     let snap = SNAP * l;
     // q has slope ±g: a time snap of `snap` is a q snap of `g·snap`.
     let tol_q = g * snap;
+    // Round-off level of z = u0 + H(t) + H(t − 2L) (H is of the size of u).
+    let tol_z0 = ROUNDOFF_Z * (u0 + g * l * l);
+    // Bound on |q| (the impact speed √(2 u0 g) plus what a window adds).
+    let v_max = (2.0 * u0 * g).sqrt() + 2.0 * gl;
     let half_g = 0.5 * g;
     // β = 0 on [−2L, 0): η(s) = −g (s + L)/2, H(−2L) = 0.
-    let mut p = vec![Piece { s: -two_l, eta: half_g * l, h: 0.0, slope: -half_g }];
+    let mut p = vec![Piece { s: -two_l, stamp: Stamp::at(-two_l), eta: half_g * l, h: 0.0, slope: -half_g }];
     let mut ev: Vec<Event> = Vec::new();
+    let mut unresolved = f64::INFINITY;
     let mut t = 0.0_f64;
+    let mut ts = Stamp::at(0.0); // t = ts.time(2L)
+    // z(t) = u0 + H(t) + H(t − 2L), tracked on its own (exactly 0 in
+    // contact, advanced by its local quadratic in flight) and used to anchor
+    // H at each new piece: round-off then cannot accumulate in z from one
+    // bounce to the next (it would make tangential impacts, e.g. for
+    // T1 = 2L, drift by O(√(k ε))).
+    let mut z_cur = u0;
     let mut contact = false;
     let mut just_took_off = false;
     let mut j = 0_usize; // incoming piece: the one containing t − 2L
     let mut stall = 0_u32;
-    while t < horizon {
-        while j + 1 < p.len() && p[j + 1].s + two_l <= t {
+    while t < horizon && p.len() <= max_pieces {
+        while j + 1 < p.len() && p[j + 1].stamp.next().time(two_l) <= t {
             j += 1;
         }
         let inc = p[j];
         let s_in = t - two_l;
-        let eta_in = inc.eta_at(s_in);
+        // At a window start that is the incoming breakpoint carried over
+        // (the usual case), take its values exactly: evaluating the piece at
+        // the rounded t − 2L would add O(slope · ulp(t)) to η at every
+        // window, an error that accumulates from bounce to bounce.
+        let (eta_in, h_in) = if ts == inc.stamp.next() { (inc.eta, inc.h) } else { (inc.eta_at(s_in), inc.h_at(s_in)) };
+        // Round-off level of z at this time: its size, and the uncertainty
+        // of t times the largest speed.
+        let tol_z = tol_z0 + ROUNDOFF_T * (t.abs() + l) * v_max;
         let q0 = 2.0 * eta_in - gl;
         let t_start = t;
         if contact {
+            // Near-degenerate q at a breakpoint (q ≈ 0 there): snapped to 0.
+            if q0.abs() <= tol_q {
+                note_snap(&mut unresolved, q0.abs() / g, t, l);
+            }
             if q0 > tol_q || (q0 >= -tol_q && inc.slope > 0.0) {
                 // Take-off at t (q jumps above 0 at a breakpoint, or is ~0
                 // and increasing).
@@ -453,47 +705,90 @@ fn march(u0: f64, g: f64, l: f64, horizon: f64) -> (Vec<Piece>, Vec<Event>, f64)
                 // Anchor H so that z(t) = u0 + H(t) + H(t − 2L) = 0 holds to
                 // round-off during the whole contact (instead of inheriting
                 // the O(ε t V) error of the impact time).
-                push_piece(&mut p, t, -eta_in, -inc.slope, gl, Some(-u0 - inc.h_at(s_in)));
-                let w_end = window_end(&p, j, t, two_l).min(horizon);
+                push_piece(&mut p, t, ts, -eta_in, -inc.slope, false, Some(-u0 - h_in));
+                let (in_end, end_stamp, at_bp) = window_end(&p, j, ts, two_l);
+                let snap_end = at_bp && in_end <= horizon;
+                let (w_end, w_stamp) = if in_end <= horizon { (in_end, end_stamp) } else { (horizon, Stamp::at(horizon)) };
                 let dt = w_end - t;
                 if inc.slope > 0.0 && q0 + 2.0 * inc.slope * dt > 0.0 {
                     // Smooth take-off: q crosses 0 linearly inside the window.
                     let r = -q0 / (2.0 * inc.slope);
-                    if dt - r <= snap {
-                        t = w_end; // on the breakpoint: decided at the next step
+                    if dt - r <= snap && snap_end {
+                        note_snap(&mut unresolved, dt - r, w_end, l);
+                        (t, ts) = (w_end, w_stamp); // on the breakpoint: decided at the next step
                     } else {
                         t += r;
+                        ts = Stamp::at(t);
                         ev.push(Event { time: t, kind: EventKind::TakeOff });
                         contact = false;
                         just_took_off = true;
                     }
                 } else {
-                    t = w_end;
+                    (t, ts) = (w_end, w_stamp);
                 }
             }
         } else {
-            push_piece(&mut p, t, eta_in - gl, inc.slope, gl, None);
-            let w_end = window_end(&p, j, t, two_l).min(horizon);
+            // Free fall copies itself: the incoming piece is the current one.
+            let self_copy = j + 1 == p.len();
+            push_piece(&mut p, t, ts, eta_in - gl, inc.slope, self_copy, Some(z_cur - u0 - h_in));
+            let (in_end, end_stamp, at_bp) = window_end(&p, j, ts, two_l);
+            let snap_end = at_bp && in_end <= horizon;
+            let (w_end, w_stamp) = if in_end <= horizon { (in_end, end_stamp) } else { (horizon, Stamp::at(horizon)) };
             let dt = w_end - t;
-            let a0 = p.last().map_or(0.0, |c| c.h_at(t)) + inc.h_at(s_in) + u0;
-            let hit = impact_root(a0, q0, inc.slope, dt).and_then(|r| {
-                if r <= snap {
-                    // Right after a take-off z rises: a root at 0 is spurious.
-                    (!just_took_off).then_some(t)
-                } else if dt - r <= snap {
-                    Some(w_end)
-                } else {
-                    Some(t + r)
+            let a0 = z_cur;
+            let hit = match impact_root(a0, q0, inc.slope, dt) {
+                Some(r) => {
+                    let z = |r: f64| a0 + r * (q0 + inc.slope * r);
+                    let a2 = inc.slope;
+                    let vertex = -q0 / (2.0 * a2);
+                    // Largest z on [0, r] and smallest z on [r, dt]: the
+                    // crossing is within round-off of the window start (end)
+                    // if z stays within tol_z of 0 before (after) it. This
+                    // also catches tangential contacts, whose time is only
+                    // determined to O(√ε) (e.g. T1 = 2L).
+                    let z_max_before = if vertex > 0.0 && vertex < r { z(vertex) } else { a0.max(0.0) };
+                    let z_min_after = if vertex > r && vertex < dt { z(vertex) } else { z(dt) };
+                    let graze = a2 > 0.0 && vertex > r && vertex < dt && z(vertex) >= -tol_z;
+                    if just_took_off && r <= snap {
+                        // z rises right after a take-off: a root at ~0 is spurious.
+                        None
+                    } else if !just_took_off && z_max_before <= tol_z {
+                        Some(t)
+                    } else if r <= snap {
+                        note_snap(&mut unresolved, r, t, l);
+                        Some(t)
+                    } else if snap_end && z_min_after >= -tol_z && !graze {
+                        Some(w_end)
+                    } else if snap_end && dt - r <= snap {
+                        note_snap(&mut unresolved, dt - r, w_end, l);
+                        Some(w_end)
+                    } else if graze {
+                        None // touches 0 within round-off and rises again
+                    } else {
+                        Some(t + r)
+                    }
                 }
-            });
+                None => None,
+            };
             match hit {
                 Some(ti) => {
+                    ts = if ti == t {
+                        ts
+                    } else if ti == w_end {
+                        w_stamp
+                    } else {
+                        Stamp::at(ti)
+                    };
                     t = ti;
                     ev.push(Event { time: t, kind: EventKind::Impact });
                     contact = true;
                     just_took_off = false;
+                    z_cur = 0.0;
                 }
-                None => t = w_end,
+                None => {
+                    z_cur = a0 + dt * (q0 + inc.slope * dt);
+                    (t, ts) = (w_end, w_stamp);
+                }
             }
         }
         if t > t_start {
@@ -506,38 +801,43 @@ fn march(u0: f64, g: f64, l: f64, horizon: f64) -> (Vec<Piece>, Vec<Event>, f64)
             }
         }
     }
-    (p, ev, t)
+    Built { pieces: p, events: ev, reached: t, unresolved }
 }
 
 /// End of the window starting at `t` on which the incoming piece `j` stays
 /// the same: its end shifted by `2L` (if `j` is the last piece, it extends
 /// at least to `t`, hence the window to `t + 2L`).
+///
+/// Returns the end, its stamp, and whether it is a breakpoint of the incoming
+/// wave (where `q` may jump, so that events may snap onto it).
 #[inline]
-fn window_end(p: &[Piece], j: usize, t: f64, two_l: f64) -> f64 {
-    if j + 1 < p.len() {
-        p[j + 1].s + two_l
-    } else {
-        t + two_l
+fn window_end(p: &[Piece], j: usize, t: Stamp, two_l: f64) -> (f64, Stamp, bool) {
+    match p.get(j + 1) {
+        Some(q) => (q.stamp.next().time(two_l), q.stamp.next(), true),
+        None => (t.next().time(two_l), t.next(), false),
     }
 }
 
 /// Starts a new piece of `η` at `t` (value `eta`, slope `slope`), replacing a
-/// piece that would start at `t` too, and merging with the previous piece if
-/// it is the same linear function (free fall copies itself). `H(t)` is
-/// `h_anchor` if given, else `H` is continued continuously.
-fn push_piece(p: &mut Vec<Piece>, t: f64, eta: f64, slope: f64, gl: f64, h_anchor: Option<f64>) {
+/// piece that would start at `t` too. With `self_copy` (free mode copying
+/// the current piece itself, as in free fall), the piece is merged with the
+/// previous one when it is the same linear function up to round-off. Other
+/// near-coincidences are kept as breakpoints: merging them would drop the
+/// breakpoints onto which later events must snap (the accumulating events of
+/// `g = 0.11`). `H(t)` is `h_anchor` if given, else `H` is continued.
+fn push_piece(p: &mut Vec<Piece>, t: f64, stamp: Stamp, eta: f64, slope: f64, self_copy: bool, h_anchor: Option<f64>) {
     let mut h = h_anchor;
     if p.len() > 1 && p.last().is_some_and(|c| c.s == t) {
         let popped = p.pop().map(|c| c.h);
         h = h.or(popped);
     }
     let Some(last) = p.last() else { return };
-    let tol = 1e-13 * (eta.abs() + gl);
-    if last.slope == slope && (last.eta_at(t) - eta).abs() <= tol {
+    let tol = 1e-13 * (eta.abs() + 2.0 * slope.abs());
+    if self_copy && last.slope == slope && (last.eta_at(t) - eta).abs() <= tol {
         return;
     }
     let h = h.unwrap_or_else(|| last.h_at(t));
-    p.push(Piece { s: t, eta, h, slope });
+    p.push(Piece { s: t, stamp, eta, h, slope });
 }
 
 /// First downward root `r ∈ [0, dt]` of `z(r) = a0 + a1 r + a2 r²`
@@ -586,26 +886,28 @@ impl ExactSolution for BarNeumannGravity {
         if !self.t_ok(t) || x.is_nan() {
             return Fields { u: f64::NAN, ux: f64::NAN, ut: f64::NAN };
         }
-        let x = x.clamp(0.0, self.l);
-        let (s1, s2) = (t - x, t + x - 2.0 * self.l);
+        let (l, two_l) = (self.l, 2.0 * self.l);
+        let x = x.clamp(0.0, l);
+        let (s1, s2) = (t - x, t + x - two_l);
         // Ties towards larger x: β(s1⁻) and β(s2⁺). At x = L there is no
         // larger x: both arguments equal t − L and take the same
         // (right-continuous) piece, so that u_x(L, t) = 0 exactly.
-        let k1 = if x < self.l { find_left(&self.pieces, s1) } else { find_right(&self.pieces, s1) };
-        let p1 = &self.pieces[k1];
-        let p2 = &self.pieces[find_right(&self.pieces, s2)];
-        let (e1, e2) = (p1.eta_at(s1), p2.eta_at(s2));
-        Fields {
-            u: self.u0 + 0.5 * self.g * x * (x - 2.0 * self.l) + p1.h_at(s1) + p2.h_at(s2),
-            ux: self.g * (x - self.l) + e2 - e1,
-            ut: e1 + e2,
-        }
+        let k1 = if x < l { find_left(&self.pieces, s1) } else { find_right(&self.pieces, s1) };
+        let k2 = find_right(&self.pieces, s2);
+        let c = Cell::new(&self.pieces[k1], &self.pieces[k2], self.u0, t, two_l);
+        let (r1, r2) = (c.c1 - x, c.c2 + x);
+        let e1 = c.e1 + 2.0 * c.hs1 * r1;
+        // At x = L both arguments are t − L (same piece): same value.
+        let e2 = if x < l { c.e2 + 2.0 * c.hs2 * r2 } else { e1 };
+        Fields { u: c.u(x, 0.5 * self.g, two_l), ux: self.g * (x - l) + e2 - e1, ut: e1 + e2 }
     }
 
-    /// `u(x_i, t)` for all `i`, in `O(n + pieces)` when the points are sorted
-    /// increasingly (the pieces are walked monotonically from one point to
-    /// the next; unsorted points are still handled correctly, only slower).
-    /// Same conventions as `fields` (clamping, NaN).
+    /// `u(x_i, t)` for all `i` (up to the shorter of `xs`, `out`), with the
+    /// conventions of `fields` (clamping, NaN). Points are meant to be sorted
+    /// increasingly: the points are processed in runs that share one cell
+    /// (one pair of pieces of `β`, i.e. one quadratic in `x`), and the pieces
+    /// are walked monotonically from one run to the next, so the cost is
+    /// `O(n + pieces)`. Unsorted points give the same values, only slower.
     fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
         if !self.t_ok(t) {
             out.iter_mut().take(xs.len()).for_each(|o| *o = f64::NAN);
@@ -613,19 +915,41 @@ impl ExactSolution for BarNeumannGravity {
         }
         let (l, two_l, half_g, u0) = (self.l, 2.0 * self.l, 0.5 * self.g, self.u0);
         let p = &self.pieces[..];
-        let x0 = xs.first().map_or(0.0, |x| x.clamp(0.0, l));
-        let mut k1 = find_left(p, t - x0);
-        let mut k2 = find_right(p, t + x0 - two_l);
-        for (&x, o) in xs.iter().zip(out.iter_mut()) {
+        let n = xs.len().min(out.len());
+        let first = xs.iter().find(|x| !x.is_nan()).map_or(0.0, |x| x.clamp(0.0, l));
+        let mut k1 = find_left(p, t - first);
+        let mut k2 = find_right(p, t + first - two_l);
+        let mut i = 0;
+        while i < n {
+            let x = xs[i].clamp(0.0, l);
             if x.is_nan() {
-                *o = f64::NAN;
+                out[i] = f64::NAN;
+                i += 1;
                 continue;
             }
-            let x = x.clamp(0.0, l);
+            // The cell of x, as `fields` finds it.
             let (s1, s2) = (t - x, t + x - two_l);
             k1 = if x < l { seek_left(p, k1, s1) } else { seek_right(p, k1, s1) };
             k2 = seek_right(p, k2, s2);
-            *o = u0 + half_g * x * (x - two_l) + p[k1].h_at(s1) + p[k2].h_at(s2);
+            let c = Cell::new(&p[k1], &p[k2], u0, t, two_l);
+            out[i] = c.u(x, half_g, two_l);
+            i += 1;
+            // Extend the run while `fields` would pick the same cell: the
+            // same tests as `find_left`/`find_right`, so that `u_at` and
+            // `fields` agree to the last bit (x = L takes the path above).
+            let lo1 = if k1 > 0 { p[k1].s } else { f64::NEG_INFINITY };
+            let hi1 = p.get(k1 + 1).map_or(f64::INFINITY, |q| q.s);
+            let lo2 = if k2 > 0 { p[k2].s } else { f64::NEG_INFINITY };
+            let hi2 = p.get(k2 + 1).map_or(f64::INFINITY, |q| q.s);
+            while i < n {
+                let x = xs[i].clamp(0.0, l);
+                let (s1, s2) = (t - x, t + x - two_l);
+                if !(x < l && s1 > lo1 && s1 <= hi1 && s2 >= lo2 && s2 < hi2) {
+                    break; // also for NaN
+                }
+                out[i] = c.u(x, half_g, two_l);
+                i += 1;
+            }
         }
     }
 

@@ -237,7 +237,7 @@ fn paper_data_events() {
     for w in flights.windows(2) {
         assert!(w[0] > 6.0 && w[1] > 6.0 && w[1] < w[0], "{flights:?}");
     }
-    // First flight = 3 T1 - 2... (derived from t3): check the first one.
+    // The first flight lasts t3 − T1 − 2L.
     assert_close("first flight", flights[0], t3 - t1 - 2.0, 1e-12);
 }
 
@@ -328,11 +328,67 @@ fn parallelogram_identity() {
         eprintln!("{}: parallelogram defect on [0, 34]: {d:.2e}", s.name());
         assert!(d <= 1e-13, "{}: parallelogram defect {d:e}", s.name());
     }
-    // Long horizon: the bounded representation keeps the defect small.
-    let s = BarNeumannGravity::paper(400.0).unwrap();
-    let d = parallelogram_defect(&s, 4000, 20);
-    eprintln!("{}: parallelogram defect on [0, 400]: {d:.2e}", s.name());
-    assert!(d <= 1e-13, "paper, t <= 400: parallelogram defect {d:e}");
+}
+
+/// Max over `n` times in `[0, t_max]` of the contact-condition residual
+/// (`u(0) ≥ 0`, `u(0) = 0` where `λ < 0`, relative to `u0 + g L²`; away
+/// from breakpoints `u_x(0) ≤ 0` and `λ = u_x(0)`, relative to
+/// `√(2 u0 g) + g L`), of the energy error relative to `g (u0 + g L²) L`,
+/// and of the parallelogram defect relative to `u0 + g L²`.
+fn long_run_identities(s: &BarNeumannGravity, n: usize) -> (f64, f64, f64) {
+    let (l, g, t_max) = (s.length(), s.gravity(), s.t_max());
+    let scale = s.u0() + g * l * l;
+    let v_scale = (2.0 * s.u0() * g).sqrt() + g * l;
+    let (mut worst, mut en) = (0.0_f64, 0.0_f64);
+    let mut buf = Vec::new();
+    let bp: Vec<f64> = s.breakpoints().collect();
+    for it in 0..n {
+        let t = t_max * (it as f64 + 0.37) / n as f64;
+        let (f0, lam) = (s.fields(0.0, t), s.lambda(t));
+        assert!(lam <= 0.0);
+        let mut w = (-f0.u).max(0.0) / scale;
+        if lam < 0.0 {
+            w = w.max(f0.u.abs() / scale);
+        }
+        let k = bp.partition_point(|&b| b < t);
+        let near = [k.wrapping_sub(1), k].iter().any(|&i| bp.get(i).is_some_and(|&b| (t - b).abs() < 1e-9 * l));
+        if !near {
+            w = w.max(f0.ux.max(0.0) / v_scale).max((lam - f0.ux).abs() / v_scale);
+        }
+        worst = worst.max(w);
+        if it % 8 == 0 {
+            // Relative to g (u0 + g L²) L: the terms of the integrand have
+            // that size even when the energy g u0 L is much smaller.
+            en = en.max((energy_at(s, t, &mut buf) - s.energy()).abs() / (g * scale * l));
+        }
+    }
+    (worst, en, parallelogram_defect(s, n / 20, 8) / scale)
+}
+
+#[test]
+fn long_horizons_keep_the_identities() {
+    // The stamps, exact carry-over and z tracking of the construction keep
+    // round-off from accumulating (module docs): checked on long runs.
+    let cases = [
+        BarNeumannGravity::periodic(2000.0).unwrap(),
+        BarNeumannGravity::paper(225.0).unwrap(),
+        BarNeumannGravity::new(0.3 * 1.96 / 2.0, 0.3, 0.7, 700.0).unwrap(), // T1 = 2L
+        BarNeumannGravity::new(0.5, 1.0, 1.0, 2000.0).unwrap(),             // T1 = L
+        BarNeumannGravity::new(3.125, 1.0, 1.0, 190.0).unwrap(),            // chaotic
+    ];
+    for s in &cases {
+        let (w, e, d) = long_run_identities(s, 4000);
+        eprintln!(
+            "T1/L = {:.3}, t_max = {}: {} pieces; contact residual {w:.1e}, energy {e:.1e}, parallelogram {d:.1e} (relative)",
+            s.first_impact() / s.length(),
+            s.t_max(),
+            s.piece_count()
+        );
+        // Absolute times carry ulp(t) ≈ 2e-16 t, so u is only consistent to
+        // O(ε t/L) relative (measured: 5e-12 at t = 2000 L for T1 = L).
+        let tol = 1e-13 + 1e-14 * s.t_max() / s.length();
+        assert!(w <= tol && e <= 1e-10 && d <= tol, "T1/L = {}: {w:e} {e:e} {d:e}", s.first_impact() / s.length());
+    }
 }
 
 /// `∫_0^L (u_t² + u_x²)/2 + g u dx`, split at the kinks, 3-point
@@ -404,7 +460,7 @@ fn boundary_and_contact_conditions() {
         );
         assert!(min_u0 >= -1e-14, "{}: min u(0,t) = {min_u0:e}", s.name());
         assert!(max_prod <= 1e-14, "{}: |u(0) λ| = {max_prod:e}", s.name());
-        assert!(max_ul_x <= 1e-15, "{}: |u_x(L,t)| = {max_ul_x:e}", s.name());
+        assert!(max_ul_x == 0.0, "{}: |u_x(L,t)| = {max_ul_x:e}", s.name());
         assert!(max_ut_c <= 1e-14, "{}: |u_t(0,t)|, |u(0,t)| in contact = {max_ut_c:e}", s.name());
         assert!(max_lam_ux <= 1e-14, "{}: |λ − u_x(0,t)| = {max_lam_ux:e}", s.name());
     }
@@ -487,7 +543,8 @@ fn kinks_split_u_into_quadratics() {
         }
         assert!(max_third <= 1e-14, "{}: u_x not affine between kinks: {max_third:e}", s.name());
     }
-    // u_x jumps across a kink: at t = 4 (g = 1/9), kinks at 1/... x = 1 (t − 3): none inside; at 3.5, x = 0.5.
+    // At t = 3.5 (g = 1/9) the only kink is the line x = t − 3 from the first
+    // impact: u_x jumps across it, u does not.
     let s = BarNeumannGravity::periodic(10.0).unwrap();
     s.kinks(3.5, &mut k);
     assert_eq!(k.len(), 1);
@@ -580,6 +637,64 @@ fn invalid_parameters_are_rejected() {
 }
 
 #[test]
+fn resolution_limits() {
+    // g = 0.11: the impacts accumulate onto earlier breakpoints; the one near
+    // t = 227.05 lies 7e-12 after a breakpoint (module docs, "Resolution").
+    let e = BarNeumannGravity::paper(2000.0).unwrap_err();
+    let NeumannError::Unresolved { t_max, t_limit } = e else { panic!("{e:?}") };
+    assert_eq!(t_max, 2000.0);
+    assert!((t_limit - 225.0457).abs() < 1e-3, "{t_limit}");
+    assert_eq!((e.field(), e.value()), ("t_max", 2000.0));
+    let msg = e.to_string();
+    assert!(msg.contains("t_max = 2000") && msg.contains("225.04") && msg.contains("resolved"), "{msg}");
+    // ... and up to t_limit it can be built, every contact lasting 2L.
+    let s = BarNeumannGravity::paper(t_limit).unwrap();
+    assert!(s.takeoffs().zip(s.impacts()).all(|(o, i)| (o - i - 2.0).abs() < 1e-12));
+    assert!(s.shortest_piece() > 1e-11 && s.shortest_piece() < 1e-10);
+    // The chaotic regime T1/L = 2.5.
+    let e = BarNeumannGravity::new(3.125, 1.0, 1.0, 400.0).unwrap_err();
+    let NeumannError::Unresolved { t_limit, .. } = e else { panic!("{e:?}") };
+    assert!((t_limit - 198.1).abs() < 0.1, "{t_limit}");
+    // The commensurate cases are never unresolved, and stay periodic.
+    let s = BarNeumannGravity::periodic(2000.0).unwrap();
+    let mut d = 0.0_f64;
+    for it in 0..=200 {
+        let t = 1980.0 + it as f64 * 0.1 + 1e-3;
+        for ix in 0..=10 {
+            let x = ix as f64 / 10.0;
+            d = d.max((s.fields(x, t).u - s.fields(x, t - 1968.0).u).abs());
+        }
+    }
+    assert!(d <= 1e-12, "g = 1/9, 123 periods later: {d:e}");
+    for m in [2.0_f64, 3.0, 5.0] {
+        let (g, l) = (0.3, 0.7);
+        let s = BarNeumannGravity::new(g * (m * l).powi(2) / 2.0, g, l, 700.0).unwrap();
+        let p = s.period().unwrap();
+        let mut d = 0.0_f64;
+        for it in 0..=100 {
+            let t = 650.0 + it as f64 * 0.17;
+            for ix in 0..=10 {
+                let x = l * ix as f64 / 10.0;
+                let k = (t / p).floor();
+                d = d.max((s.fields(x, t).u - s.fields(x, t - k * p).u).abs());
+            }
+        }
+        assert!(d <= 1e-11, "m = {m}: {d:e}");
+    }
+}
+
+/// `T1 = 0.05 L`: O(t²) pieces, 2^22 reached near t = 8200 (about a second
+/// in the optimised test build, 200 MB).
+#[test]
+fn too_complex_profiles_are_rejected() {
+    let e = BarNeumannGravity::new(0.00125, 1.0, 1.0, 10_000.0).unwrap_err();
+    let NeumannError::TooComplex { t_max, t_limit } = e else { panic!("{e:?}") };
+    assert_eq!(t_max, 10_000.0);
+    assert!(t_limit > 5000.0 && t_limit < 10_000.0, "{t_limit}");
+    assert!(e.to_string().contains("pieces"), "{e}");
+}
+
+#[test]
 fn beta_profile_has_slopes_zero_or_g() {
     for s in [BarNeumannGravity::periodic(40.0).unwrap(), BarNeumannGravity::paper(40.0).unwrap(), BarNeumannGravity::new(0.01, 1.0, 1.0, 40.0).unwrap()] {
         let g = s.gravity();
@@ -617,6 +732,14 @@ proptest! {
             let (f0, lam) = (s.fields(0.0, t), s.lambda(t));
             prop_assert!(f0.u >= -1e-14 * scale && lam <= 0.0);
             prop_assert!((f0.u * lam).abs() <= 1e-14 * scale * g * (t + l));
+            // 0 <= u(0,t) ⊥ u_x(0,t) <= 0 with λ = u_x(0,t), away from the
+            // breakpoints (where u_x(0,·) jumps). With the parallelogram
+            // identity, Neumann end and initial data this characterises the
+            // (unique) solution.
+            if s.breakpoints().all(|b| (t - b).abs() > 1e-9 * l) {
+                prop_assert!(f0.ux <= 1e-14 * g * (t + l), "u_x(0, {}) = {}", t, f0.ux);
+                prop_assert!((lam - f0.ux).abs() <= 1e-14 * g * (t + l), "λ {} vs u_x(0) {}", lam, f0.ux);
+            }
             prop_assert!(s.fields(l, t).ux.abs() <= 1e-14 * g * (t + l));
             s.u_at(t, &xs, &mut out);
             for (x, o) in xs.iter().zip(&out) {
@@ -638,8 +761,8 @@ proptest! {
 /// the homogeneous wave equation), ghost node at L, and
 /// `u_0^{n+1} = max(0, 2 u_1^n − u_0^{n−1} − g h²)` at x = 0. Returns the max
 /// nodal difference to the exact solution on [0, t_end], separately on the
-/// two sub-lattices `i + n` even and odd.
-fn leapfrog_vs_exact(s: &BarNeumannGravity, n: usize, t_end: f64) -> [f64; 2] {
+/// two sub-lattices `i + n` even and odd, comparing every `stride`-th step.
+fn leapfrog_vs_exact(s: &BarNeumannGravity, n: usize, t_end: f64, stride: usize) -> [f64; 2] {
     let (l, g, u0) = (s.length(), s.gravity(), s.u0());
     let h = l / n as f64;
     let gh2 = g * h * h;
@@ -650,17 +773,18 @@ fn leapfrog_vs_exact(s: &BarNeumannGravity, n: usize, t_end: f64) -> [f64; 2] {
     let mut next = vec![0.0; n + 1];
     let mut ex = vec![0.0; n + 1];
     let mut worst = [0.0_f64; 2];
-    for step in 1..steps {
+    for step in 2..=steps {
         next[0] = (2.0 * cur[1] - prev[0] - gh2).max(0.0);
-        for i in 1..n {
-            next[i] = cur[i + 1] + cur[i - 1] - prev[i] - gh2;
+        for ((nx, w), pv) in next[1..n].iter_mut().zip(cur.windows(3)).zip(&prev[1..n]) {
+            *nx = w[2] + w[0] - pv - gh2;
         }
         next[n] = 2.0 * cur[n - 1] - prev[n] - gh2;
-        let t = (step + 1) as f64 * h;
-        s.u_at(t, &xs, &mut ex);
-        for i in 0..=n {
-            let p = (i + step + 1) % 2;
-            worst[p] = worst[p].max((next[i] - ex[i]).abs());
+        if step % stride == 0 || step == steps {
+            s.u_at(step as f64 * h, &xs, &mut ex);
+            for (i, (a, b)) in next.iter().zip(&ex).enumerate() {
+                let p = (i + step) % 2;
+                worst[p] = worst[p].max((a - b).abs());
+            }
         }
         std::mem::swap(&mut prev, &mut cur);
         std::mem::swap(&mut cur, &mut next);
@@ -668,83 +792,107 @@ fn leapfrog_vs_exact(s: &BarNeumannGravity, n: usize, t_end: f64) -> [f64; 2] {
     worst
 }
 
-#[test]
-fn leapfrog_paper_data_converges() {
-    // exact-neumann.md §2.6 reports max nodal differences on [0, 20] of
-    // 1.2e-3, 1.5e-3, 6.3e-4, 2.9e-4 for N = 1000, 2000, 4000, 8000.
+// exact-neumann.md §2.6 reports, for g = 0.11, max nodal differences on
+// [0, 20] of 1.2e-3, 1.5e-3, 6.3e-4, 2.9e-4, 2.0e-4, 6.2e-5 for N = dt⁻¹ =
+// 1000, 2000, 4000, 8000, 16000, 32000 (order about 1, not monotone: the
+// events fall between grid times). The error is a displaced wave that
+// persists over many steps, so comparing every few steps finds the same max
+// (checked: identical to 4 digits with strides 1, 4 and 16 up to N = 8000).
+const LEAPFROG_BANDS: [(usize, usize, f64, f64); 5] = [
+    (1000, 1, 1.15e-3, 1.30e-3),
+    (2000, 4, 1.45e-3, 1.60e-3),
+    (4000, 8, 6.0e-4, 6.7e-4),
+    (8000, 16, 2.7e-4, 3.0e-4),
+    (16000, 32, 1.8e-4, 2.2e-4),
+];
+
+fn check_leapfrog_bands(range: std::ops::Range<usize>) -> Vec<f64> {
     let s = BarNeumannGravity::paper(20.0).unwrap();
     let mut errs = Vec::new();
-    for (n, lo, hi) in [(1000, 0.8e-3, 1.6e-3), (2000, 1.0e-3, 2.0e-3), (4000, 4.0e-4, 9.0e-4)] {
-        let w = leapfrog_vs_exact(&s, n, 20.0);
+    for &(n, stride, lo, hi) in &LEAPFROG_BANDS[range] {
+        let w = leapfrog_vs_exact(&s, n, 20.0, stride);
         let e = w[0].max(w[1]);
         eprintln!("leapfrog g = 0.11, N = {n}: max nodal difference {e:.3e} (sub-lattices {:.3e}, {:.3e})", w[0], w[1]);
         assert!(e > lo && e < hi, "N = {n}: {e:e} not in [{lo:e}, {hi:e}]");
         errs.push(e);
     }
-    assert!(errs[2] < errs[0] / 1.5);
+    errs
+}
+
+#[test]
+fn leapfrog_paper_data_converges() {
+    let e = check_leapfrog_bands(0..3);
+    // Roughly first order over the doubling 1000 -> 4000 (the 2000 value is
+    // above the 1000 one, as in §2.6).
+    assert!(e[2] < e[0] / 1.8, "{e:?}");
+}
+
+// The finer meshes of §2.6 (N = 8000, 16000: 2.85e-4, 1.99e-4, matching the
+// reference numbers to 3 digits) take seconds; they are not part of the suite.
+
+#[test]
+fn leapfrog_chaotic_regime_converges() {
+    // T1/L = 2.5: the third contact (t ≈ 14.40) lasts only 0.095 and short
+    // contacts follow (module docs, "Complexity"). The leapfrog converges
+    // to the closed form there too (measured on [0, 20]: 1.78e-2, 1.10e-2,
+    // 5.38e-3 for N = 500, 1000, 2000).
+    let s = BarNeumannGravity::new(3.125, 1.0, 1.0, 20.0).unwrap();
+    let ev: Vec<f64> = s.events().iter().map(|e| e.time).collect();
+    assert_close("third impact", ev[4], 14.4047, 1e-4);
+    assert_close("third contact", ev[5] - ev[4], 0.0953, 1e-4);
+    let mut e = Vec::new();
+    for (n, lo, hi) in [(500, 1.6e-2, 2.0e-2), (2000, 4.8e-3, 6.0e-3)] {
+        let w = leapfrog_vs_exact(&s, n, 20.0, 2);
+        let m = w[0].max(w[1]);
+        eprintln!("leapfrog T1/L = 2.5, N = {n}: max nodal difference {m:.3e}");
+        assert!(m > lo && m < hi, "N = {n}: {m:e}");
+        e.push(m);
+    }
+    assert!(e[1] < e[0] / 3.0);
 }
 
 #[test]
 fn leapfrog_g_one_ninth_sublattice_is_exact() {
-    // All events on the grid (N = 40): on one sub-lattice the leapfrog
-    // reproduces the closed form to round-off (§2.6: 9e-11 up to t = 40).
+    // All events on the grid (N = 40, 80): on one sub-lattice the leapfrog
+    // reproduces the closed form to round-off (§2.6: 9e-11 up to t = 40 for
+    // N = 40). On the other one the boundary rule's take-off defect is O(h)
+    // per bounce (measured 0.24 at N = 40 and 0.12 at N = 80 on [0, 40]).
     let s = BarNeumannGravity::periodic(40.0).unwrap();
-    let w = leapfrog_vs_exact(&s, 40, 40.0);
-    eprintln!("leapfrog g = 1/9, N = 40: sub-lattices {:.3e}, {:.3e}", w[0], w[1]);
-    let (good, bad) = (w[0].min(w[1]), w[0].max(w[1]));
-    assert!(good <= 1e-9, "exact sub-lattice: {good:e}");
-    assert!(bad > 1e-4, "the other sub-lattice carries the O(h) take-off defect: {bad:e}");
+    let mut bad = Vec::new();
+    for n in [40, 80] {
+        let w = leapfrog_vs_exact(&s, n, 40.0, 1);
+        eprintln!("leapfrog g = 1/9, N = {n}: sub-lattices {:.3e}, {:.3e}", w[0], w[1]);
+        let (good, b) = (w[0].min(w[1]), w[0].max(w[1]));
+        assert!(good <= 1e-9, "N = {n}, exact sub-lattice: {good:e}");
+        bad.push(b);
+    }
+    let ratio = bad[0] / bad[1];
+    assert!(bad[0] > 0.1 && (1.8..2.2).contains(&ratio), "O(h) sub-lattice: {bad:?}");
 }
-#[test]
-fn zz_timing() {
-    let s = BarNeumannGravity::paper(20.0).unwrap();
-    let n = 4000;
-    let xs: Vec<f64> = (0..=n).map(|i| i as f64 / n as f64).collect();
-    let mut ex = vec![0.0; n + 1];
-    let t0 = std::time::Instant::now();
-    let mut acc = 0.0;
-    for step in 0..80000 {
-        s.u_at(step as f64 / n as f64, &xs, &mut ex);
-        acc += ex[17];
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// Eight decades of u0, g and L, up to t = 60 L (or the resolution limit):
+    /// the contact conditions, energy and parallelogram identity, and the
+    /// event structure. Tolerances: round-off relative to the natural scales
+    /// (see `long_run_identities`), growing like ε t/L for the time-resolution
+    /// effects; the energy quadrature also accumulates ulp(t)-misplacements
+    /// of the (up to thousands of) kinks.
+    #[test]
+    fn wide_parameter_ranges(lu0 in -6.0f64..2.0, lg in -4.0f64..3.0, ll in -3.0f64..3.0) {
+        let (u0, g, l) = (10f64.powf(lu0), 10f64.powf(lg), 10f64.powf(ll));
+        let s = match BarNeumannGravity::new(u0, g, l, 60.0 * l) {
+            Ok(s) => s,
+            Err(NeumannError::Unresolved { t_limit, .. }) => BarNeumannGravity::new(u0, g, l, t_limit).unwrap(),
+            Err(e) => panic!("{e}"),
+        };
+        prop_assert!(s.fields(0.5 * l, s.t_max()).u.is_finite());
+        let (w, e, d) = long_run_identities(&s, 400);
+        let tol = 1e-13 + 1e-14 * s.t_max() / l;
+        prop_assert!(w <= tol && e <= 10.0 * tol && d <= tol, "T1/L {}: {:e} {:e} {:e}", s.first_impact() / l, w, e, d);
+        for (k, e) in s.events().iter().enumerate() {
+            prop_assert_eq!(e.kind, if k % 2 == 0 { EventKind::Impact } else { EventKind::TakeOff });
+        }
+        prop_assert!(s.events().windows(2).all(|w| w[0].time < w[1].time));
+        prop_assert!(s.shortest_piece() >= 1e-11 * l);
     }
-    eprintln!("u_at: {:?} {acc}", t0.elapsed());
-    let t0 = std::time::Instant::now();
-    for n in [1000usize, 2000, 4000, 8000] {
-        for stride in [1usize, 4, 16] {
-            let t0 = std::time::Instant::now();
-            let w = leapfrog_strided(&s, n, 20.0, stride);
-            eprintln!("N={n} stride={stride}: {:.4e} {:.4e}  {:?}", w[0], w[1], t0.elapsed());
-        }
-    }
-    eprintln!("{:?}", t0.elapsed());
-}
-fn leapfrog_strided(s: &BarNeumannGravity, n: usize, t_end: f64, stride: usize) -> [f64; 2] {
-    let (l, g, u0) = (s.length(), s.gravity(), s.u0());
-    let h = l / n as f64;
-    let gh2 = g * h * h;
-    let steps = (t_end / h).round() as usize;
-    let xs: Vec<f64> = (0..=n).map(|i| if i == n { l } else { i as f64 * h }).collect();
-    let mut prev = vec![u0; n + 1];
-    let mut cur = vec![u0 - gh2 / 2.0; n + 1];
-    let mut next = vec![0.0; n + 1];
-    let mut ex = vec![0.0; n + 1];
-    let mut worst = [0.0_f64; 2];
-    for step in 1..steps {
-        next[0] = (2.0 * cur[1] - prev[0] - gh2).max(0.0);
-        for i in 1..n {
-            next[i] = cur[i + 1] + cur[i - 1] - prev[i] - gh2;
-        }
-        next[n] = 2.0 * cur[n - 1] - prev[n] - gh2;
-        if (step + 1) % stride == 0 {
-        let t = (step + 1) as f64 * h;
-        s.u_at(t, &xs, &mut ex);
-        for i in 0..=n {
-            let p = (i + step + 1) % 2;
-            worst[p] = worst[p].max((next[i] - ex[i]).abs());
-        }
-        }
-        std::mem::swap(&mut prev, &mut cur);
-        std::mem::swap(&mut cur, &mut next);
-    }
-    worst
 }
