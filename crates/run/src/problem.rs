@@ -1,7 +1,7 @@
 //! Bar problems and the built-in benchmarks.
 
 use crate::RunError;
-use signorini_exact::{BarDirichlet, ExactSolution, FarEnd};
+use signorini_exact::{BarDirichlet, BarNeumannGravity, ExactSolution, FarEnd};
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_norms::VNorm;
 use signorini_schemes::{Bounds, Dynamics, Initial};
@@ -72,31 +72,49 @@ impl BarProblem {
 pub enum Benchmark {
     /// `bar-dirichlet`: SPEC §5.1.
     BarDirichlet,
+    /// `bar-neumann-gravity`: the falling bar, `u0 = 1/2`, `g = 1/9`, `L = 1`
+    /// (exactly periodic, period 16; SPEC §5.2, exact-neumann.md §2.4).
+    BarNeumannGravity,
+    /// `bar-neumann-gravity-0.11`: the paper's data `g = 0.11` (not periodic;
+    /// exact closed form up to `t ≈ 225`).
+    BarNeumannGravityPaper,
 }
 
 impl Benchmark {
     /// Every benchmark.
-    pub const ALL: [Benchmark; 1] = [Benchmark::BarDirichlet];
+    pub const ALL: [Benchmark; 3] = [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity, Benchmark::BarNeumannGravityPaper];
 
     /// Its name.
     pub fn name(self) -> &'static str {
         match self {
             Benchmark::BarDirichlet => "bar-dirichlet",
+            Benchmark::BarNeumannGravity => "bar-neumann-gravity",
+            Benchmark::BarNeumannGravityPaper => "bar-neumann-gravity-0.11",
         }
     }
 
-    /// The study defaults of the papers: (dx/dt, T).
+    /// The study defaults: (dx/dt, T). The papers' ratios (10 for the
+    /// Dirichlet bar, 1 for the falling bar); horizons of one period (3) and
+    /// of two impacts (16: one period for g = 1/9; impacts at 3.02 and 11.08
+    /// for g = 0.11).
     pub fn default_ratio_and_horizon(self) -> (f64, f64) {
         match self {
             Benchmark::BarDirichlet => (10.0, 3.0),
+            Benchmark::BarNeumannGravity | Benchmark::BarNeumannGravityPaper => (1.0, 16.0),
         }
     }
 
-    /// The exact solution, valid on `[0, t_end]`.
-    pub fn exact(self, _t_end: f64) -> Result<Box<dyn ExactSolution>, RunError> {
-        Ok(match self {
-            Benchmark::BarDirichlet => Box::new(BarDirichlet),
-        })
+    /// The exact solution, valid on `[0, t_end]` (the falling bar is built
+    /// event by event up to `t_end`; see [`BarNeumannGravity`] for its limits).
+    pub fn exact(self, t_end: f64) -> Result<Box<dyn ExactSolution>, RunError> {
+        let neumann = |r: Result<BarNeumannGravity, signorini_exact::NeumannError>| -> Result<Box<dyn ExactSolution>, RunError> {
+            r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(|e| RunError::Exact(e.to_string()))
+        };
+        match self {
+            Benchmark::BarDirichlet => Ok(Box::new(BarDirichlet)),
+            Benchmark::BarNeumannGravity => neumann(BarNeumannGravity::periodic(t_end)),
+            Benchmark::BarNeumannGravityPaper => neumann(BarNeumannGravity::paper(t_end)),
+        }
     }
 
     /// The discrete problem on `m` elements with a mass treatment, initial

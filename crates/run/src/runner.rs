@@ -18,8 +18,11 @@ pub enum RunError {
         allowed: &'static str,
     },
     /// An unknown benchmark name.
-    #[error("unknown benchmark {0:?}: allowed bar-dirichlet")]
+    #[error("unknown benchmark {0:?}: allowed bar-dirichlet, bar-neumann-gravity, bar-neumann-gravity-0.11")]
     UnknownBenchmark(String),
+    /// The exact solution cannot be built for these parameters or horizon.
+    #[error("exact solution: {0}")]
+    Exact(String),
     /// The mesh or matrices could not be built.
     #[error(transparent)]
     Fem(#[from] FemError),

@@ -141,9 +141,10 @@ proptest! {
     /// dropped averaged row (checked here; it is not sign-definite).
     #[test]
     fn paoli_schatzman_energy_identity(m in 2usize..30, mass_i in 0usize..6, e in 0.0f64..=1.0, beta in 0.25f64..0.5,
-                                       cfl in 0.05f64..20.0, amp in 0.01f64..1.0, seed in 0.1f64..3.0, force in -0.5f64..0.5) {
+                                       cfl in 0.05f64..20.0, amp in 0.01f64..1.0, seed in 0.1f64..3.0, force in -0.5f64..0.5, free in proptest::bool::ANY) {
         let mass = MASSES[mass_i];
-        let dy = dynamics(m, mass, 0.0, RightEnd::Clamped, force);
+        let end = if free { RightEnd::Free } else { RightEnd::Clamped };
+        let dy = dynamics(m, mass, 0.0, end, force);
         let (k, mm, f, n) = (dy.stiffness.clone(), dy.mass.clone(), dy.load.clone(), dy.n());
         let dt = cfl / m as f64;
         let mut s = PaoliSchatzman::new("ps".into(), dy, beta, e, dt, &initial(n, amp, seed, 0.0)).unwrap();
