@@ -18,16 +18,22 @@
 //! * [`PaoliSchatzman`]: the two-step scheme with restitution `e` (eq. (34)),
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
 //!
+//! * [`Reduced`]: the massless contact node eliminated (`u_0 = max(u_1, g)`),
+//!   with the hybrid Crank–Nicolson/midpoint scheme of the weighted-mass paper
+//!   (energy never increases) or Crank–Nicolson on the reduced ODE.
+//!
 //! [`SchemeSpec`] names the presets of SPEC §4 and builds a boxed
 //! [`Stepper`]; the time loop itself lives in `signorini-run`.
 //!
 //! Architecture invariant: no IO, no exact solutions; depends on
 //! `signorini-fem` (matrices, factorisation) and `signorini-contact`.
 
+mod hybrid;
 mod onestep;
 mod paoli;
 mod spec;
 
+pub use hybrid::{Reduced, ReducedLaw};
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use spec::SchemeSpec;
@@ -49,7 +55,7 @@ pub enum SchemeError {
         allowed: &'static str,
     },
     /// An unknown scheme name.
-    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, newmark(BETA,GAMMA), theta(THETA), ps(E) or ps(E,BETA)")]
+    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, newmark(BETA,GAMMA), theta(THETA), ps(E) or ps(E,BETA)")]
     UnknownScheme(String),
     /// Vectors or matrices of inconsistent sizes.
     #[error("size mismatch: {what} has {got} entries, expected {expected}")]
@@ -60,6 +66,14 @@ pub enum SchemeError {
         got: usize,
         /// The expected size.
         expected: usize,
+    },
+    /// The scheme cannot use this mass treatment.
+    #[error("scheme {scheme} needs {needs}")]
+    MassNotSupported {
+        /// The scheme.
+        scheme: String,
+        /// What it needs, in words.
+        needs: &'static str,
     },
     /// A massless node that is not the contact dof 0, or similar structure errors.
     #[error("unsupported structure: {0}")]

@@ -1,6 +1,6 @@
 //! Scheme names, parameters and their allowed ranges.
 
-use crate::{Dynamics, Initial, OneStep, OneStepParams, PaoliSchatzman, SchemeError, Stepper};
+use crate::{Dynamics, Initial, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
 use std::fmt;
 use std::str::FromStr;
 
@@ -26,6 +26,9 @@ pub enum SchemeSpec {
         /// β of the two-step average (1/4 by default).
         beta: f64,
     },
+    /// A scheme on the reduced formulation of a massless contact node
+    /// (`hybrid`, `reduced-cn`); needs a massless-node mass.
+    Reduced(ReducedLaw),
 }
 
 impl SchemeSpec {
@@ -39,6 +42,15 @@ impl SchemeSpec {
         ("ps-e0.5", SchemeSpec::PaoliSchatzman { restitution: 0.5, beta: 0.25 }),
         ("ps-e1", SchemeSpec::PaoliSchatzman { restitution: 1.0, beta: 0.25 }),
     ];
+
+    /// The schemes on the reduced formulation (massless contact node only).
+    pub const REDUCED: [(&'static str, SchemeSpec); 2] =
+        [("hybrid", SchemeSpec::Reduced(ReducedLaw::Hybrid)), ("reduced-cn", SchemeSpec::Reduced(ReducedLaw::CrankNicolson))];
+
+    /// Every named scheme: the presets, then the reduced ones.
+    pub fn named() -> impl Iterator<Item = (&'static str, SchemeSpec)> {
+        Self::PRESETS.into_iter().chain(Self::REDUCED)
+    }
 
     /// Checks every parameter against its allowed range.
     pub fn validate(&self) -> Result<(), SchemeError> {
@@ -54,7 +66,13 @@ impl SchemeSpec {
                 check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
                 check("beta", beta, beta > 0.0 && beta <= 0.5, "(0, 1/2]")
             }
+            SchemeSpec::Reduced(_) => Ok(()),
         }
+    }
+
+    /// Whether the scheme needs a massless contact node.
+    pub fn needs_massless_node(&self) -> bool {
+        matches!(self, SchemeSpec::Reduced(_))
     }
 
     /// Whether the scheme is a two-step scheme (started by one one-step step).
@@ -70,6 +88,7 @@ impl SchemeSpec {
             SchemeSpec::Newmark { beta, gamma } => Box::new(OneStep::new(label, dy, OneStepParams::newmark(beta, gamma), dt, init)?),
             SchemeSpec::Theta { theta } => Box::new(OneStep::new(label, dy, OneStepParams::theta(theta), dt, init)?),
             SchemeSpec::PaoliSchatzman { restitution, beta } => Box::new(PaoliSchatzman::new(label, dy, beta, restitution, dt, init)?),
+            SchemeSpec::Reduced(law) => Box::new(Reduced::new(label, dy, law, dt, init)?),
         })
     }
 }
@@ -77,13 +96,15 @@ impl SchemeSpec {
 impl fmt::Display for SchemeSpec {
     /// The preset name when it is one, else `newmark(β,γ)`, `theta(θ)`, `ps(e,β)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let Some((name, _)) = Self::PRESETS.iter().find(|(_, s)| s == self) {
+        if let Some((name, _)) = Self::named().find(|(_, s)| s == self) {
             return f.write_str(name);
         }
         match self {
             SchemeSpec::Newmark { beta, gamma } => write!(f, "newmark({beta},{gamma})"),
             SchemeSpec::Theta { theta } => write!(f, "theta({theta})"),
             SchemeSpec::PaoliSchatzman { restitution, beta } => write!(f, "ps({restitution},{beta})"),
+            SchemeSpec::Reduced(ReducedLaw::Hybrid) => f.write_str("hybrid"),
+            SchemeSpec::Reduced(ReducedLaw::CrankNicolson) => f.write_str("reduced-cn"),
         }
     }
 }
@@ -94,8 +115,8 @@ impl FromStr for SchemeSpec {
     /// The parameters are validated.
     fn from_str(s: &str) -> Result<Self, SchemeError> {
         let s = s.trim();
-        if let Some((_, spec)) = Self::PRESETS.iter().find(|(n, _)| *n == s) {
-            return Ok(*spec);
+        if let Some((_, spec)) = Self::named().find(|(n, _)| *n == s) {
+            return Ok(spec);
         }
         let unknown = || SchemeError::UnknownScheme(s.to_string());
         let (head, rest) = s.split_once('(').ok_or_else(unknown)?;
