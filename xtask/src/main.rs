@@ -1,8 +1,14 @@
 //! `cargo xtask <study>`: the reproducible studies of signorini.
 //!
 //! * `convergence`: sweep dx at a fixed dx/dt for each (scheme, mass) pair;
-//!   write one CSV error curve per pair, `rates.csv`, `oscillation.csv`, and
-//!   print the rates as a Markdown table. Defaults: the papers' study.
+//!   write one CSV error curve per pair, `rates.csv`, `oscillation.csv`,
+//!   log-log plots, and print the rates as a Markdown table. Defaults: the
+//!   papers' study.
+//! * `weighted`: the weighted-mass-redistribution study (mod1/mod2/mod3 ×
+//!   newmark-cn, backward-euler, ps-e1, hybrid): figure runs, phase errors,
+//!   energy loss and convergence.
+
+mod weighted;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -12,7 +18,8 @@ use signorini_run::Benchmark;
 use signorini_schemes::SchemeSpec;
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal};
-use std::path::PathBuf;
+use signorini_plot::{line_chart, Chart, Scale, Series};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -26,6 +33,8 @@ struct Cli {
 enum Cmd {
     /// Convergence study: error norms against dx at fixed dx/dt, and their rates.
     Convergence(ConvergenceArgs),
+    /// Weighted mass redistribution and the hybrid scheme: figure runs, phase shift, energy, rates.
+    Weighted(weighted::Args),
 }
 
 #[derive(clap::Args)]
@@ -57,6 +66,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.cmd {
         Cmd::Convergence(a) => convergence(a),
+        Cmd::Weighted(a) => weighted::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -76,25 +86,8 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     let cfg = StudyConfig { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio.unwrap_or(ratio0), t_end: a.t_end.unwrap_or(t0) };
     cfg.validate().map_err(|e| e.to_string())?;
     let out = a.out.unwrap_or_else(|| PathBuf::from("out/convergence").join(benchmark.name()));
-    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
 
-    let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
-    let bar = ProgressBar::with_draw_target(Some(total), if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
-    let start = std::time::Instant::now();
-    let results = study::sweep(&cfg, &|| bar.inc(1)).map_err(|e| e.to_string())?;
-    bar.finish_and_clear();
-    let wall = start.elapsed().as_secs_f64();
-
-    let create = |name: &str| -> Result<BufWriter<File>, String> {
-        let p = out.join(name);
-        File::create(&p).map(BufWriter::new).map_err(|e| format!("cannot write {}: {e}", p.display()))
-    };
-    for r in &results {
-        r.write_csv(create(&r.file_name())?).map_err(|e| e.to_string())?;
-    }
-    study::write_rates(create("rates.csv")?, &results).map_err(|e| e.to_string())?;
-    study::write_oscillation(create("oscillation.csv")?, &results).map_err(|e| e.to_string())?;
+    let results = run_study(&cfg, &out)?;
     println!(
         "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}\n\nLeast-squares rates of the error against dx (CSV: {}).\n",
         cfg.benchmark,
@@ -103,9 +96,45 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
         cfg.levels,
         out.display()
     );
-    print!("{}", study::markdown_table(&results));
-    println!("\n{} runs in {wall:.1} s", total);
+    print!("{}", study::markdown_table(&results.0));
+    println!("\n{} runs in {:.1} s", results.0.iter().map(|r| r.levels.len()).sum::<usize>(), results.1);
     Ok(())
+}
+
+/// Creates a file in `dir` for writing.
+pub(crate) fn create(dir: &Path, name: &str) -> Result<BufWriter<File>, String> {
+    let p = dir.join(name);
+    File::create(&p).map(BufWriter::new).map_err(|e| format!("cannot write {}: {e}", p.display()))
+}
+
+/// Runs a sweep with a progress bar on a terminal and writes its CSVs and
+/// log-log plots into `out`; returns the results and the wall time.
+pub(crate) fn run_study(cfg: &StudyConfig, out: &Path) -> Result<(Vec<study::ConfigResult>, f64), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
+    let bar = ProgressBar::with_draw_target(Some(total), if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    let start = std::time::Instant::now();
+    let results = study::sweep(cfg, &|| bar.inc(1)).map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    for r in &results {
+        r.write_csv(create(out, &r.file_name())?).map_err(|e| e.to_string())?;
+    }
+    study::write_rates(create(out, "rates.csv")?, &results).map_err(|e| e.to_string())?;
+    study::write_oscillation(create(out, "oscillation.csv")?, &results).map_err(|e| e.to_string())?;
+    for norm in ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"] {
+        let series: Vec<Series> = results
+            .iter()
+            .map(|r| Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false })
+            .collect();
+        let chart = Chart { title: &format!("{}: {norm} against dx (dx/dt = {})", cfg.benchmark, cfg.ratio), x_label: "dx", y_label: norm, scale: Scale::LogLog, size: (900, 600) };
+        match line_chart(&chart, &series) {
+            Ok(svg) => std::fs::write(out.join(format!("plot_{norm}.svg")), svg).map_err(|e| e.to_string())?,
+            Err(e) => eprintln!("warning: plot of {norm} skipped: {e}"),
+        }
+    }
+    Ok((results, wall))
 }
 
 /// Joins pieces that clap split inside parentheses, e.g. `newmark(0.25` + `0.5)`.

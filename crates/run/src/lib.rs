@@ -9,17 +9,19 @@
 //!   observer stores it; blow-ups stop the run with the step and time;
 //! * [`observers`]: [`NormObserver`] (exact error norms while stepping) and
 //!   [`SeriesWriter`] (CSV time series, flushed as it goes);
+//! * [`analysis`]: contact events and phase errors from recorded histories;
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
 //!
 //! Architecture invariant: writes only to the `std::io::Write` it is given;
 //! opening files and terminals is the CLI's and xtask's job.
 
+pub mod analysis;
 pub mod observers;
 pub mod problem;
 pub mod runner;
 pub mod study;
 
-pub use observers::{NormObserver, SeriesWriter};
+pub use observers::{History, NormObserver, Record, SeriesWriter};
 pub use problem::{BarProblem, Benchmark};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};

@@ -92,3 +92,47 @@ impl<W: Write> Observer for SeriesWriter<W> {
         self.out.flush().map_err(|e| RunError::Output(e.to_string()))
     }
 }
+
+/// One recorded level of a [`History`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Record {
+    /// Level `n`.
+    pub n: usize,
+    /// `t_n`.
+    pub t: f64,
+    /// Displacement of the contact dof at `t_n`.
+    pub u_contact: f64,
+    /// Contact force and its time, if the step produced one.
+    pub lambda: Option<(f64, f64)>,
+    /// Discrete energy and its time, if computed.
+    pub energy: Option<(f64, f64)>,
+    /// Whether the constraint was active in the step that reached `t_n`.
+    pub active: bool,
+}
+
+/// Stores the contact-dof history of a run in memory (for studies that
+/// post-process it: events, phase errors, plots). Stores nothing else.
+#[derive(Clone, Debug, Default)]
+pub struct History {
+    /// The records, one per level.
+    pub records: Vec<Record>,
+    contact_dof: usize,
+    with_energy: bool,
+}
+
+impl History {
+    /// Records the contact dof `contact_dof`, with energies if `with_energy`.
+    pub fn new(contact_dof: usize, with_energy: bool) -> Self {
+        Self { records: Vec::new(), contact_dof, with_energy }
+    }
+}
+
+impl Observer for History {
+    fn wants_energy(&self) -> bool {
+        self.with_energy
+    }
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        self.records.push(Record { n: s.n, t: s.t, u_contact: s.u[self.contact_dof], lambda: s.lambda, energy: s.energy, active: s.active });
+        Ok(())
+    }
+}
