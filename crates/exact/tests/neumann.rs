@@ -750,7 +750,11 @@ proptest! {
             prop_assert_eq!(e.kind, if k % 2 == 0 { EventKind::Impact } else { EventKind::TakeOff });
         }
         prop_assert!(s.events().windows(2).all(|w| w[0].time < w[1].time));
-        prop_assert!((s.impacts().next().unwrap() - s.first_impact()).abs() <= 1e-12 * s.first_impact());
+        // The first impact may lie beyond t_max (slow falls): then no event is built.
+        match s.impacts().next() {
+            Some(t1) => prop_assert!((t1 - s.first_impact()).abs() <= 1e-12 * s.first_impact()),
+            None => prop_assert!(s.first_impact() > t_max),
+        }
     }
 }
 
