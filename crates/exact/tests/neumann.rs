@@ -751,7 +751,8 @@ proptest! {
         }
         prop_assert!(s.events().windows(2).all(|w| w[0].time < w[1].time));
         // The first impact may lie beyond t_max (slow falls): then no event is built.
-        match s.impacts().next() {
+        let first = s.impacts().next();
+        match first {
             Some(t1) => prop_assert!((t1 - s.first_impact()).abs() <= 1e-12 * s.first_impact()),
             None => prop_assert!(s.first_impact() > t_max),
         }
