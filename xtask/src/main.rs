@@ -7,7 +7,10 @@
 //! * `weighted`: the weighted-mass-redistribution study (mod1/mod2/mod3 ×
 //!   newmark-cn, backward-euler, ps-e1, hybrid): figure runs, phase errors,
 //!   energy loss and convergence.
+//! * `beam`: the beam between two stops — the paper's figures 2–8, wall
+//!   times against the paper's, the exact stability limit, self-convergence.
 
+mod beam;
 mod weighted;
 
 use clap::{Parser, Subcommand};
@@ -35,6 +38,8 @@ enum Cmd {
     Convergence(ConvergenceArgs),
     /// Weighted mass redistribution and the hybrid scheme: figure runs, phase shift, energy, rates.
     Weighted(weighted::Args),
+    /// The beam between two stops: the paper's seven scenes, timings, stability limit, self-convergence.
+    Beam(beam::Args),
 }
 
 #[derive(clap::Args)]
@@ -67,6 +72,7 @@ fn main() -> ExitCode {
     let result = match cli.cmd {
         Cmd::Convergence(a) => convergence(a),
         Cmd::Weighted(a) => weighted::run(a),
+        Cmd::Beam(a) => beam::run_beam(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,16 +4,22 @@
 //! the P1 bar of SPEC §2.1 with every mass treatment of the
 //! mass-redistribution literature ([`BarMass`]), symmetric banded storage
 //! ([`SymBand`]) and its LDLᵀ factorisation ([`BandLdlt`]), done once per run
-//! and applied in place.
+//! and applied in place; the Hermite-cubic beam of SPEC §2.2 ([`Beam`]) and
+//! the largest generalized eigenvalue of `(K, M)`
+//! ([`max_generalized_eigenvalue`]) that fixes exact stability limits.
 //!
 //! Architecture invariant: no IO, no time stepping, no contact logic; only
 //! matrices, vectors and their algebra. Usable on its own.
 
 mod band;
 mod bar;
+pub mod beam;
+mod eigen;
 
 pub use band::{BandLdlt, SymBand};
 pub use bar::{Bar, BarMass, RightEnd};
+pub use beam::Beam;
+pub use eigen::max_generalized_eigenvalue;
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

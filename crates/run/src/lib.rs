@@ -9,6 +9,8 @@
 //!   observer stores it; blow-ups stop the run with the step and time;
 //! * [`observers`]: [`NormObserver`] (exact error norms while stepping) and
 //!   [`SeriesWriter`] (CSV time series, flushed as it goes);
+//! * [`beam`]: the beam between two stops (the pipe of Dumont & Paoli, its
+//!   scenes, the exact stability limit);
 //! * [`analysis`]: contact events and phase errors from recorded histories;
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
@@ -17,6 +19,7 @@
 //! opening files and terminals is the CLI's and xtask's job.
 
 pub mod analysis;
+pub mod beam;
 pub mod observers;
 pub mod problem;
 pub mod runner;

@@ -55,6 +55,7 @@ impl BarProblem {
             contact_dof: 0,
             massless_contact: self.mass.massless_contact_node(),
             bounds: Bounds::obstacle(self.gap),
+            forcing: None,
         }
     }
 

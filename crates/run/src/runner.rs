@@ -49,6 +49,16 @@ pub enum RunError {
         /// The configured growth factor.
         limit: f64,
     },
+    /// A conditionally stable run beyond its stability limit.
+    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of this β-scheme (the paper's bound gives {paper_limit:.6e}); use a smaller dt, β = 1/2, or force the run")]
+    Unstable {
+        /// The time step asked for.
+        dt: f64,
+        /// The exact critical time step.
+        limit: f64,
+        /// The critical time step from the paper's upper bound of κ_h.
+        paper_limit: f64,
+    },
     /// An observer failed to write its output.
     #[error("output: {0}")]
     Output(String),
@@ -113,6 +123,9 @@ pub struct Sample<'a> {
     pub energy: Option<(f64, f64)>,
     /// Whether the constraint was active in that step.
     pub active: bool,
+    /// Work of the time-dependent load and of the contact force so far, when
+    /// the scheme tracks it.
+    pub work: Option<(f64, f64)>,
 }
 
 /// Something that watches a run: norms, CSV sinks, progress.
@@ -174,13 +187,13 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
         Ok(())
     };
     let level0_energy = if want_energy && stepper.level() == 0 { stepper.energy() } else { None };
-    emit(Sample { n: 0, t: 0.0, u: u0, lambda: None, energy: level0_energy, active: false })?;
+    emit(Sample { n: 0, t: 0.0, u: u0, lambda: None, energy: level0_energy, active: false, work: None })?;
     let mut reference_energy = level0_energy.map(|e| e.1);
     // A two-step scheme arrives at level 1 already (its start step).
     if stepper.level() == 1 {
         let energy = if want_energy { stepper.energy() } else { None };
         reference_energy = reference_energy.or(energy.map(|e| e.1));
-        emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false })?;
+        emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false, work: stepper.work() })?;
     }
     let mut contact_steps = 0;
     while stepper.level() < total {
@@ -197,7 +210,7 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
         }
         let active = rep.active != signorini_contact::Active::None;
         contact_steps += usize::from(active);
-        emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active })?;
+        emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active, work: stepper.work() })?;
     }
     Ok((stepper.level(), contact_steps))
 }

@@ -111,6 +111,62 @@ impl Bounds {
     }
 }
 
+/// A time profile `s(t)` of a separable load `F(t) = shape · s(t)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TimeProfile {
+    /// `s(t) = amplitude · sin(omega t)`.
+    Sine {
+        /// Amplitude.
+        amplitude: f64,
+        /// Angular frequency (rad/s).
+        omega: f64,
+    },
+}
+
+impl TimeProfile {
+    /// `s(t)`.
+    pub fn value(&self, t: f64) -> f64 {
+        match *self {
+            TimeProfile::Sine { amplitude, omega } => amplitude * (omega * t).sin(),
+        }
+    }
+
+    /// The exact mean `1/(t1 - t0) ∫ s` over `[t0, t1]` (SPEC §4.4's `f^n`),
+    /// written without cancellation: `A sin(ω t_mid) sin(ω δ/2) / (ω δ/2)`.
+    pub fn mean(&self, t0: f64, t1: f64) -> f64 {
+        match *self {
+            TimeProfile::Sine { amplitude, omega } => {
+                let half = 0.5 * omega * (t1 - t0);
+                let sinc = if half.abs() < 1e-8 { 1.0 - half * half / 6.0 } else { half.sin() / half };
+                amplitude * (omega * 0.5 * (t0 + t1)).sin() * sinc
+            }
+        }
+    }
+}
+
+/// A separable time-dependent load `F(t) = shape · s(t)` (on top of the steady load).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Forcing {
+    /// The spatial load vector.
+    pub shape: Vec<f64>,
+    /// Its time profile.
+    pub time: TimeProfile,
+}
+
+/// How the contact condition on `u_c` is enforced.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactLaw {
+    /// Exactly, by the projection of SPEC §3 (`lo <= u_c <= hi`).
+    Projection,
+    /// Penalty / normal compliance: a spring of stiffness `stiffness` (per
+    /// unit `ρS`) acts outside `[lo, hi]`: force `κ (lo - u)⁺ - κ (u - hi)⁺`,
+    /// solved exactly each step as a piecewise-linear scalar equation.
+    Penalty {
+        /// Spring stiffness `κ` (> 0), in the scaled equation's units.
+        stiffness: f64,
+    },
+}
+
 /// The semi-discrete problem a scheme integrates (scheme-agnostic).
 #[derive(Clone, Debug)]
 pub struct Dynamics {
@@ -127,6 +183,8 @@ pub struct Dynamics {
     pub massless_contact: bool,
     /// Bounds on `u_c`.
     pub bounds: Bounds,
+    /// Time-dependent load added to `load`, if any.
+    pub forcing: Option<Forcing>,
 }
 
 impl Dynamics {
@@ -150,7 +208,21 @@ impl Dynamics {
             return Err(SchemeError::Structure("a massless contact node must be dof 0"));
         }
         signorini_contact::check_bounds(self.bounds.lo, self.bounds.hi)?;
+        if let Some(f) = &self.forcing {
+            if f.shape.len() != n {
+                return Err(SchemeError::Size { what: "forcing shape", got: f.shape.len(), expected: n });
+            }
+        }
         Ok(())
+    }
+
+    /// `F(t)` = steady load + forcing at `t`, into `out`.
+    pub fn load_at(&self, t: f64, out: &mut [f64]) {
+        out.copy_from_slice(&self.load);
+        if let Some(f) = &self.forcing {
+            let s = f.time.value(t);
+            out.iter_mut().zip(&f.shape).for_each(|(o, g)| *o += s * g);
+        }
     }
 
     /// First massive dof (massless contact node, if any, is dof 0).
@@ -205,6 +277,12 @@ pub trait Stepper: Send {
     /// the load potential `-Fᵀ U`. `None` before the first step of a
     /// two-step scheme.
     fn energy(&mut self) -> Option<(f64, f64)>;
+    /// Work done so far by the time-dependent load and by the contact force
+    /// (schemes that keep the discrete energy balance `ΔE = W_f + W_c`), if
+    /// the scheme tracks it.
+    fn work(&self) -> Option<(f64, f64)> {
+        None
+    }
 }
 
 /// `true` if every entry is finite (used for blow-up checks outside the hot loop).

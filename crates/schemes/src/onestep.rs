@@ -16,10 +16,16 @@
 //! special case: its row of `M` is zero, so its row of the step is the
 //! quasi-static equilibrium `(K U^{n+1})_c = F_c - λ^{n+1}`.
 //!
-//! Energy `E^n = ½ Pᵀ M⁺ P + ½ Uᵀ K U - Fᵀ U` (`M⁺P` on the massive dofs).
+//! Energy `E^n = ½ Pᵀ M⁺ P + ½ Uᵀ K U - Fᵀ U` (`M⁺P` on the massive dofs;
+//! `F` the steady load; plus the spring energy with a penalty law).
+//!
+//! With [`ContactLaw::Penalty`] the contact force is a spring outside
+//! `[lo, hi]`, `N(u_c) = κ (lo - u_c)⁺ - κ (u_c - hi)⁺`: `u_c^{n+1} = y_c + a dt² w_c N(u_c^{n+1})`
+//! is solved exactly branch by branch (SPEC §3), `λ = -N`. A time-dependent
+//! load ([`crate::Forcing`]) enters as its value `F(t_{n+1})`.
 
-use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
-use signorini_contact::Projection;
+use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
+use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear, Projection};
 use signorini_fem::BandLdlt;
 
 /// Coefficients of a one-step scheme (see the module docs).
@@ -62,6 +68,13 @@ pub struct OneStep {
     ku: Vec<f64>,
     u_c_prev: f64,
     lambda: f64,
+    law: ContactLaw,
+    /// `F(t_n)` (the steady load when there is no forcing).
+    f: Vec<f64>,
+    /// `U^n` before the step (kept only with a forcing, for its work).
+    u_prev: Vec<f64>,
+    work_f: f64,
+    work_c: f64,
     /// Diagonals of M and K for the fused tridiagonal path (bar).
     tri: Option<Tridiagonals>,
 }
@@ -142,7 +155,9 @@ impl OneStep {
         dy.mass.mul_vec(&init.v, &mut mom);
         let mut ku = vec![0.0; n];
         dy.stiffness.mul_vec(&init.u, &mut ku);
-        let mut r: Vec<f64> = dy.load.iter().zip(&ku).map(|(f, k)| f - k).collect();
+        let mut f = vec![0.0; n];
+        dy.load_at(0.0, &mut f);
+        let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, k)| f - k).collect();
         if dy.massless_contact {
             r[c] = 0.0;
             mom[c] = 0.0;
@@ -155,6 +170,11 @@ impl OneStep {
         });
         Ok(Self {
             tri,
+            law: ContactLaw::Projection,
+            u_prev: if dy.forcing.is_some() { init.u.clone() } else { Vec::new() },
+            work_f: 0.0,
+            work_c: 0.0,
+            f,
             label,
             prm,
             dt,
@@ -171,6 +191,17 @@ impl OneStep {
             m_massive,
             dy,
         })
+    }
+
+    /// Uses `law` for the contact dof instead of the projection.
+    pub fn with_contact_law(mut self, law: ContactLaw) -> Result<Self, SchemeError> {
+        if let ContactLaw::Penalty { stiffness } = law {
+            if !(stiffness > 0.0 && stiffness.is_finite()) {
+                return Err(SchemeError::Invalid { field: "penalty stiffness", value: stiffness, allowed: "finite and > 0" });
+            }
+        }
+        self.law = law;
+        Ok(self)
     }
 
     /// Momentum `P^n = M V^n`.
@@ -209,10 +240,9 @@ impl OneStep {
         }
     }
 
-    /// Gives back the factorisation and projection (to start a two-step scheme
-    /// with the same matrix).
-    pub(crate) fn into_parts(self) -> (Dynamics, BandLdlt, Projection, BandLdlt) {
-        (self.dy, self.a, self.proj, self.m_massive)
+    /// Gives back the problem (to start a two-step scheme).
+    pub(crate) fn into_dynamics(self) -> Dynamics {
+        self.dy
     }
 }
 
@@ -238,20 +268,32 @@ impl Stepper for OneStep {
         let dt2 = dt * dt;
         let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
         let c = self.dy.contact_dof;
+        if self.dy.forcing.is_some() {
+            self.u_prev.copy_from_slice(&self.u);
+            self.dy.load_at((self.n + 1) as f64 * dt, &mut self.f);
+        }
         // b = M U^n + dt P^n + b dt² R^n + a dt² F
         if let (Some(t), Some((l, inv_d))) = (&self.tri, self.a.tridiagonal_factors()) {
             // Bar: b is assembled inside the forward sweep, whose loop-carried
             // dependency leaves the core idle enough to do it for free.
-            forward_backward_fused(l, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.dy.load, [dt, ao, an], &mut self.rhs);
+            forward_backward_fused(l, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs);
         } else {
             self.dy.mass.mul_vec(&self.u, &mut self.rhs);
-            for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.dy.load) {
+            for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.f) {
                 *b += dt * p + ao * r + an * f;
             }
             self.a.solve_in_place(&mut self.rhs);
         }
-        let pr = self.proj.project(&mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi);
-        let lambda = -pr.mu / an;
+        let (lambda, active) = match self.law {
+            ContactLaw::Projection => {
+                let pr = self.proj.project(&mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi);
+                (-pr.mu / an, pr.active)
+            }
+            ContactLaw::Penalty { stiffness } => {
+                let (force, active) = penalty_solve(&self.proj, &mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi, stiffness, an)?;
+                (-force, active)
+            }
+        };
         self.u_c_prev = self.u[c];
         std::mem::swap(&mut self.u, &mut self.rhs);
         self.n += 1;
@@ -259,10 +301,18 @@ impl Stepper for OneStep {
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
+        self.work_c += -0.5 * (self.lambda + lambda) * (self.u[c] - self.u_c_prev);
+        if let Some(fo) = &self.dy.forcing {
+            // Work of the forcing over the step, ½ (F^n + F^{n+1})ᵀ(U^{n+1} - U^n)
+            // (the form of the Newmark-CN energy identity).
+            let (s0, s1) = (fo.time.value((self.n - 1) as f64 * dt), fo.time.value(self.n as f64 * dt));
+            let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
+            self.work_f += 0.5 * (s0 + s1) * gdu;
+        }
         self.lambda = lambda;
         // R^{n+1} = F - K U^{n+1} - λ e_c;  P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})
         if let Some(t) = &self.tri {
-            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.dy.load[..]);
+            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
             tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
                 let rn = f[i] - ku;
                 mom[i] += dt * ((1.0 - g) * r[i] + g * rn);
@@ -270,7 +320,7 @@ impl Stepper for OneStep {
             });
         } else {
             self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
-            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.dy.load).zip(&self.ku) {
+            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
                 let rn = f - k;
                 *p += dt * ((1.0 - g) * *r + g * rn);
                 *r = rn;
@@ -284,7 +334,15 @@ impl Stepper for OneStep {
             self.r[c] -= lambda;
             self.mom[c] -= dt * g * lambda;
         }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active: pr.active })
+        Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active })
+    }
+
+    /// Work of the time-dependent load and of the contact force, by the
+    /// trapezoid rule (for Newmark-CN with the projection, `ΔE = W_f + W_c`
+    /// exactly; with a penalty law, `E` includes the spring energy and the
+    /// balance shows what the scheme does not conserve).
+    fn work(&self) -> Option<(f64, f64)> {
+        Some((self.work_f, self.work_c))
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {
@@ -292,6 +350,41 @@ impl Stepper for OneStep {
         let kin = self.m_massive.inverse_quad_form(&self.mom[s..]);
         let pot = self.dy.stiffness.quad_form(&self.u);
         let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
-        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+        let spring = match self.law {
+            ContactLaw::Projection => 0.0,
+            ContactLaw::Penalty { stiffness } => {
+                let uc = self.u[self.dy.contact_dof];
+                let (a, b) = ((self.dy.bounds.lo - uc).max(0.0), (uc - self.dy.bounds.hi).max(0.0));
+                0.5 * stiffness * (a * a + b * b)
+            }
+        };
+        Some((self.time(), 0.5 * kin + 0.5 * pot - load + spring))
     }
+}
+
+/// The penalty step: `x = y_c + W N(x)` with `N(x) = κ(lo - x)⁺ - κ(x - hi)⁺`
+/// and `W = a dt² w_c`, solved exactly; then `U = y + a dt² N w`. Returns `N`.
+fn penalty_solve(proj: &Projection, y: &mut [f64], lo: f64, hi: f64, kappa: f64, an: f64) -> Result<(f64, Active), SchemeError> {
+    let c = proj.dof();
+    let mut breaks = [0.0; 2];
+    let mut branches = [(0.0, 0.0); 3];
+    let mut nb = 0;
+    if lo.is_finite() {
+        breaks[nb] = lo;
+        branches[nb] = (kappa * lo, -kappa);
+        nb += 1;
+    }
+    branches[nb] = (0.0, 0.0);
+    if hi.is_finite() {
+        breaks[nb] = hi;
+        branches[nb + 1] = (kappa * hi, -kappa);
+        nb += 1;
+    }
+    let law = PiecewiseLinear { breaks: &breaks[..nb], branches: &branches[..=nb] };
+    let (x, force) = solve_piecewise_linear(y[c], an * proj.wc(), law)?;
+    if force == 0.0 {
+        return Ok((0.0, Active::None));
+    }
+    proj.apply(y, an * force, x);
+    Ok((force, if force > 0.0 { Active::Lower } else { Active::Upper }))
 }

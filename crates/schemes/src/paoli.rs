@@ -9,7 +9,16 @@
 //!
 //! i.e. `u_c^{n+1} ∈ [(1+e) lo - e u_c^{n-1}, (1+e) hi - e u_c^{n-1}]`, one
 //! projection per step with the same matrix `A = M + β dt² K` as Newmark(β, ·),
-//! `μ = -dt² λ^n`. `U^1` comes from one Newmark(β, 1/2) step (same matrix).
+//! `μ = -dt² λ^n`. `U^1` comes from one Newmark(β, 1/2) step (Newmark(1/4,
+//! 1/2) when β = 0, which the β-scheme allows with a massive contact node:
+//! then `A = M`).
+//!
+//! A time-dependent load enters through exact time averages (SPEC §4.4):
+//! `G^n = β f^{n+1} + (1-2β) f^n + β f^{n-1}`, `f^k = 1/dt ∫_{t_k}^{t_{k+1}} F`.
+//! The scheme accumulates the work of that load, `W_f = Σ ½ G^nᵀ(U^{n+1} - U^{n-1})`,
+//! and of the contact force, `W_c = Σ -½ λ^n (u_c^{n+1} - u_c^{n-1})`, so that
+//! (massive contact node) `E^{n+1/2} - E^{1/2} = W_f + W_c` exactly — the
+//! discrete energy balance of the beam driven by its support.
 //!
 //! Massless contact node: row `c` of `M` vanishes and the papers project
 //! `K U^n`, `K U^{n-1}` on the orthogonal of `ker M`; row `c` is then the
@@ -40,20 +49,48 @@ pub struct PaoliSchatzman {
     rhs: Vec<f64>,
     tmp: Vec<f64>,
     ktmp: Vec<f64>,
+    work_forcing: f64,
+    work_contact: f64,
 }
 
 impl PaoliSchatzman {
     /// Sets up the scheme and takes the start step (one Newmark(β, 1/2)
-    /// step, so the returned scheme is at level 1).
+    /// step, so the returned scheme is at level 1). `β = 0` needs a massive
+    /// contact node.
     pub fn new(label: String, dy: Dynamics, beta: f64, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
-        let mut start = OneStep::new(label.clone(), dy, OneStepParams::newmark(beta, 0.5), dt, init)?;
-        let n = start.dynamics().n();
-        let u_prev = init.u.clone();
+        if beta == 0.0 && dy.massless_contact {
+            return Err(SchemeError::Invalid { field: "beta", value: beta, allowed: "(0, 1/2] with a massless contact node (β = 0 makes the step matrix M singular)" });
+        }
+        let start_beta = if beta > 0.0 { beta } else { 0.25 };
+        let mut start = OneStep::new(label.clone(), dy, OneStepParams::newmark(start_beta, 0.5), dt, init)?;
         let first = start.step()?;
         debug_assert_eq!(first.n, 1);
         let u = start.displacement().to_vec();
-        let (dy, a, proj, _) = start.into_parts();
-        Ok(Self { label, beta, restitution, dt, n: 1, dy, a, proj, u_prev, u, rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n] })
+        let dy = start.into_dynamics();
+        let n = dy.n();
+        let a = dy.mass.lin_comb(1.0, &dy.stiffness, beta * dt * dt).factor()?;
+        let c = dy.contact_dof;
+        let mut w = vec![0.0; n];
+        w[c] = 1.0;
+        a.solve_in_place(&mut w);
+        let proj = Projection::new(c, w)?;
+        Ok(Self {
+            label,
+            beta,
+            restitution,
+            dt,
+            n: 1,
+            dy,
+            a,
+            proj,
+            u_prev: init.u.clone(),
+            u,
+            rhs: vec![0.0; n],
+            tmp: vec![0.0; n],
+            ktmp: vec![0.0; n],
+            work_forcing: 0.0,
+            work_contact: 0.0,
+        })
     }
 
     /// `U^{n-1}`.
@@ -106,9 +143,19 @@ impl Stepper for PaoliSchatzman {
         for ((b, f), k) in self.rhs.iter_mut().zip(&self.dy.load).zip(&self.ktmp) {
             *b += dt2 * (f - k);
         }
+        // Time-dependent load: G^n = shape · (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
+        let g_coef = self.dy.forcing.as_ref().map(|f| {
+            let (dt, n) = (self.dt, self.n as f64);
+            let m = |k: f64| f.time.mean(k * dt, (k + 1.0) * dt);
+            beta * m(n + 1.0) + (1.0 - 2.0 * beta) * m(n) + beta * m(n - 1.0)
+        });
+        if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
+            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * gc * g);
+        }
         if self.dy.massless_contact {
             // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
-            self.rhs[c] = beta * dt2 * self.dy.load[c];
+            let fc = self.dy.load[c] + self.dy.forcing.as_ref().map_or(0.0, |f| f.shape[c] * f.time.value((self.n + 1) as f64 * self.dt));
+            self.rhs[c] = beta * dt2 * fc;
         }
         self.a.solve_in_place(&mut self.rhs);
         let up_c = self.u_prev[c];
@@ -128,7 +175,18 @@ impl Stepper for PaoliSchatzman {
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
+        // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs`.
+        if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
+            self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
+        }
+        self.work_contact += -0.5 * lambda * (self.u[c] - self.rhs[c]);
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, lambda)), active: pr.active })
+    }
+
+    /// Work of the time-dependent load and of the contact force since
+    /// `t_{1/2}` (see the module docs).
+    fn work(&self) -> Option<(f64, f64)> {
+        Some((self.work_forcing, self.work_contact))
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {

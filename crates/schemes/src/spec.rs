@@ -19,7 +19,9 @@ pub enum SchemeSpec {
         /// θ.
         theta: f64,
     },
-    /// Paoli–Schatzman, restitution e ∈ [0, 1], β ∈ (0, 1/2].
+    /// Paoli–Schatzman / β-scheme, restitution e ∈ [0, 1], β ∈ [0, 1/2]
+    /// (β = 0 only with a massive contact node; β < 1/2 is conditionally
+    /// stable: dt < 2/sqrt((1-2β) κ_h)).
     PaoliSchatzman {
         /// Restitution coefficient e.
         restitution: f64,
@@ -64,7 +66,7 @@ impl SchemeSpec {
             SchemeSpec::Theta { theta } => check("theta", theta, (0.5..=1.0).contains(&theta), "[1/2, 1]"),
             SchemeSpec::PaoliSchatzman { restitution, beta } => {
                 check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
-                check("beta", beta, beta > 0.0 && beta <= 0.5, "(0, 1/2]")
+                check("beta", beta, (0.0..=0.5).contains(&beta), "[0, 1/2] (β = 0 needs a massive contact node)")
             }
             SchemeSpec::Reduced(_) => Ok(()),
         }

@@ -23,6 +23,7 @@ fn dynamics(m: usize, mass: BarMass, gap: f64, end: RightEnd, force: f64) -> Dyn
         contact_dof: 0,
         massless_contact: mass.massless_contact_node(),
         bounds: Bounds::obstacle(gap),
+        forcing: None,
     }
 }
 

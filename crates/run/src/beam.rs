@@ -1,0 +1,160 @@
+//! The beam between two stops (SPEC §1.2, §8; Dumont & Paoli): a steel pipe
+//! clamped to a support vibrating as `φ(t) = A sin(ω t)`, its tip rattling
+//! between stops at `g1 <= ũ(L, t) <= g2`.
+//!
+//! Lifting `u = ũ - h(x) φ(t)`, `h(x) = 1 - 2y² + 4/3 y³ - 1/3 y⁴`, `y = x/L`,
+//! makes the clamping homogeneous; then `u_tt + k² u_xxxx = f` with
+//! `f = -h φ'' - k² h'''' φ = (A ω² h(x) + 8 A k²/L⁴) sin(ω t)` (the paper's
+//! `(20 h + 1.6 k²/L⁴) sin(10 t)` for `A = 0.2`, `ω = 10`), `u(·,0) = 0`,
+//! `u_t(·,0) = -A ω h`. Since `h(L) = 0`, the tip of `u` is the physical tip.
+
+use crate::RunError;
+use signorini_fem::{max_generalized_eigenvalue, Beam};
+use signorini_schemes::{Bounds, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
+
+/// The pipe of the paper and its support motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pipe {
+    /// Length `L` (m).
+    pub length: f64,
+    /// `k² = EI/(ρS)` (m⁴ s⁻²).
+    pub k2: f64,
+    /// Mass per unit length `ρS` (kg/m), to convert a spring in N/m.
+    pub rho_s: f64,
+    /// Lower and upper stops `g1 < 0 < g2` (m).
+    pub stops: (f64, f64),
+    /// Support amplitude `A` (m) and angular frequency `ω` (rad/s).
+    pub support: (f64, f64),
+}
+
+impl Pipe {
+    /// SPEC §1.2: L = 1.501 m, k² = 282.84, stops ±0.1 m, φ = 0.2 sin(10 t);
+    /// tube of 1 cm outer diameter, 0.5 mm wall, ρ = 8000 kg/m³.
+    pub fn paper() -> Self {
+        let (d, e) = (0.01_f64, 0.0005_f64);
+        let area = std::f64::consts::PI / 4.0 * (d * d - (d - 2.0 * e).powi(2));
+        Self { length: 1.501, k2: 282.84, rho_s: 8000.0 * area, stops: (-0.1, 0.1), support: (0.2, 10.0) }
+    }
+
+    /// The lifting function `h(x)` and its derivative.
+    pub fn lifting(&self, x: f64) -> (f64, f64) {
+        let l = self.length;
+        let y = x / l;
+        (1.0 - 2.0 * y * y + 4.0 / 3.0 * y.powi(3) - y.powi(4) / 3.0, (-4.0 * y + 4.0 * y * y - 4.0 / 3.0 * y.powi(3)) / l)
+    }
+
+    /// The semi-discrete problem on `j` elements and its initial state.
+    pub fn dynamics(&self, j: usize) -> Result<(Beam, Dynamics, Initial), RunError> {
+        let beam = Beam::new(self.length, j, self.k2)?;
+        let (a, w) = self.support;
+        let l4 = self.length.powi(4);
+        let shape = beam.load(|x| a * w * w * self.lifting(x).0 + 8.0 * a * self.k2 / l4);
+        let n = beam.dofs();
+        let dy = Dynamics {
+            mass: beam.mass(),
+            stiffness: beam.stiffness(),
+            load: vec![0.0; n],
+            contact_dof: beam.tip_dof(),
+            massless_contact: false,
+            bounds: Bounds { lo: self.stops.0, hi: self.stops.1 },
+            forcing: Some(Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }),
+        };
+        let v = beam.interpolate(|x| -a * w * self.lifting(x).0, |x| -a * w * self.lifting(x).1);
+        Ok((beam, dy, Initial { u: vec![0.0; n], v }))
+    }
+}
+
+/// How a beam scene enforces the stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BeamContact {
+    /// The β-scheme with the exact projection (Paoli–Schatzman, e = 0).
+    Projection {
+        /// β ∈ [0, 1/2].
+        beta: f64,
+    },
+    /// Normal compliance: a spring of `stiffness` N/m outside the stops,
+    /// Newmark β = 1/4 (γ = 1/2).
+    Penalty {
+        /// Spring stiffness in N/m.
+        stiffness: f64,
+    },
+}
+
+/// A run of the beam between stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BeamScene {
+    /// Name (`fig2` … `fig8` for the paper's figures).
+    pub name: &'static str,
+    /// Elements `J`.
+    pub elements: usize,
+    /// Time step (s).
+    pub dt: f64,
+    /// Horizon (s).
+    pub t_end: f64,
+    /// Contact treatment.
+    pub contact: BeamContact,
+    /// The paper's Scilab run time (s, 1.1 GHz machine, 2003), if any.
+    pub paper_seconds: Option<f64>,
+}
+
+impl BeamScene {
+    /// The paper's figures 2–8 (SPEC §8.1), J = 19, T = 2 s.
+    pub const PAPER: [BeamScene; 7] = [
+        BeamScene { name: "fig2", elements: 19, dt: 5e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(18.24) },
+        BeamScene { name: "fig3", elements: 19, dt: 5e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(173.71) },
+        BeamScene { name: "fig4", elements: 19, dt: 1e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(870.45) },
+        BeamScene { name: "fig5", elements: 19, dt: 5e-6, t_end: 2.0, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: Some(241.17) },
+        BeamScene { name: "fig6", elements: 19, dt: 1e-6, t_end: 2.0, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: Some(1187.9) },
+        BeamScene { name: "fig7", elements: 19, dt: 5e-7, t_end: 2.0, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: Some(2426.4) },
+        BeamScene { name: "fig8", elements: 19, dt: 1e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.25 }, paper_seconds: Some(859.38) },
+    ];
+}
+
+/// The stability limit of the β-scheme on a beam (SPEC §4.4, §8.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StabilityLimit {
+    /// `κ_h`, the largest generalized eigenvalue of `(K, M)`.
+    pub kappa: f64,
+    /// The exact critical time step `2 / sqrt((1 - 2β) κ_h)` (∞ for β = 1/2).
+    pub dt_critical: f64,
+    /// The same from the paper's appendix bound (5.2), `κ ≤ 24·420·19²/37 · k²/h⁴`.
+    pub dt_paper: f64,
+}
+
+/// `κ_h` and the critical time steps for β.
+pub fn stability_limit(beam: &Beam, beta: f64) -> Result<StabilityLimit, RunError> {
+    let (k, m) = (beam.stiffness(), beam.mass());
+    let (kappa, _) = max_generalized_eigenvalue(&k, &m, beam.element_kappa_bound() * (1.0 + 1e-3), 1_000_000)?;
+    let paper = 24.0 * 420.0 * 361.0 / 37.0 * beam.k2 / beam.h().powi(4);
+    let dt = |kap: f64| if beta >= 0.5 { f64::INFINITY } else { 2.0 / ((1.0 - 2.0 * beta) * kap).sqrt() };
+    Ok(StabilityLimit { kappa, dt_critical: dt(kappa), dt_paper: dt(paper) })
+}
+
+/// Builds the integrator of a scene. A conditionally stable β-scheme with
+/// `dt` at or beyond the exact limit is refused (with both limits in the
+/// message) unless `force` is set.
+pub fn build(pipe: &Pipe, scene: &BeamScene, force: bool) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
+    if !(scene.dt > 0.0 && scene.dt.is_finite()) {
+        return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
+    }
+    let (beam, dy, init) = pipe.dynamics(scene.elements)?;
+    let stepper: Box<dyn Stepper> = match scene.contact {
+        BeamContact::Projection { beta } => {
+            if !(0.0..=0.5).contains(&beta) {
+                return Err(RunError::Invalid { field: "beta", value: beta, allowed: "[0, 1/2]" });
+            }
+            if beta < 0.5 && !force {
+                let lim = stability_limit(&beam, beta)?;
+                if scene.dt >= lim.dt_critical {
+                    return Err(RunError::Unstable { dt: scene.dt, limit: lim.dt_critical, paper_limit: lim.dt_paper });
+                }
+            }
+            Box::new(PaoliSchatzman::new(format!("beta-scheme({beta})"), dy, beta, 0.0, scene.dt, &init)?)
+        }
+        BeamContact::Penalty { stiffness } => {
+            let kappa = stiffness / pipe.rho_s;
+            Box::new(OneStep::new("newmark-cn+penalty".into(), dy, OneStepParams::newmark(0.25, 0.5), scene.dt, &init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
+        }
+    };
+    Ok((stepper, init, beam))
+}
