@@ -166,12 +166,13 @@ impl SymBand {
 
     fn mul_vec_p<const P: usize>(&self, x: &[f64], y: &mut [f64]) {
         let n = self.n;
-        if n <= P {
+        if n <= 2 * P {
             return self.mul_vec_generic(x, y);
         }
-        // Row i: sum_k A[i][i-k] x[i-k] + sum_k A[i+k][i] x[i+k].
-        let d = &self.data;
-        for i in 0..n {
+        // Row i: sum_k A[i][i-k] x[i-k] + sum_k A[i+k][i] x[i+k]; the rows
+        // P..n-P have every neighbour, so their loop is branch-free.
+        let d = &self.data[..n * (P + 1)];
+        let row = |i: usize| -> f64 {
             let mut s = d[i * (P + 1)] * x[i];
             for k in 1..=P {
                 if i >= k {
@@ -180,6 +181,19 @@ impl SymBand {
                 if i + k < n {
                     s += d[(i + k) * (P + 1) + k] * x[i + k];
                 }
+            }
+            s
+        };
+        for i in (0..P).chain(n - P..n) {
+            y[i] = row(i);
+        }
+        let x = &x[..n];
+        for i in P..n - P {
+            let xs = &x[i - P..=i + P];
+            let dr = &d[i * (P + 1)..(i + P + 1) * (P + 1)];
+            let mut s = dr[0] * xs[P];
+            for k in 1..=P {
+                s += dr[k] * xs[P - k] + dr[k * (P + 1) + k] * xs[P + k];
             }
             y[i] = s;
         }
@@ -214,7 +228,16 @@ impl SymBand {
             }
         }
         let inv_d = d.iter().map(|x| 1.0 / x).collect();
-        Ok(BandLdlt { n, p, l, d, inv_d })
+        // Transposed copy for the backward sweep: lt[i*p + k-1] = L[i+k][i].
+        let mut lt = vec![0.0; n * p.max(1)];
+        for i in 0..n {
+            for k in 1..=p {
+                if i + k < n {
+                    lt[i * p + k - 1] = l[(i + k) * p + k - 1];
+                }
+            }
+        }
+        Ok(BandLdlt { n, p, l, lt, d, inv_d })
     }
 }
 
@@ -225,6 +248,7 @@ pub struct BandLdlt {
     n: usize,
     p: usize,
     l: Vec<f64>,
+    lt: Vec<f64>,
     d: Vec<f64>,
     inv_d: Vec<f64>,
 }
@@ -319,20 +343,60 @@ impl BandLdlt {
 
     fn solve_p<const P: usize>(&self, b: &mut [f64]) {
         let n = self.n;
-        for i in 0..n {
+        if n <= P {
+            return self.solve_generic(b);
+        }
+        let (l, lt, inv_d, b) = (&self.l[..n * P], &self.lt[..n * P], &self.inv_d[..n], &mut b[..n]);
+        for i in 1..P {
             let mut s = b[i];
-            for k in 1..=P.min(i) {
-                s -= self.l[i * P + k - 1] * b[i - k];
+            for k in 1..=i {
+                s -= l[i * P + k - 1] * b[i - k];
             }
             b[i] = s;
         }
-        for i in (0..n).rev() {
-            let mut s = b[i] * self.inv_d[i];
-            for k in 1..=P {
-                if i + k < n {
-                    s -= self.l[(i + k) * P + k - 1] * b[i + k];
-                }
+        // Rows with P predecessors: fixed trip count, contiguous row of L.
+        // The last P results stay in registers (`win[k-1]` = y[i-k]), the
+        // farthest terms are subtracted first, so the loop-carried dependency
+        // is a single fused multiply-add, with no store-to-load round trip.
+        let mut win = [0.0; P];
+        for k in 1..=P {
+            win[k - 1] = b[P - k];
+        }
+        for i in P..n {
+            let row = &l[i * P..i * P + P];
+            let mut s = b[i];
+            for k in (1..=P).rev() {
+                s -= row[k - 1] * win[k - 1];
             }
+            for k in (1..P).rev() {
+                win[k] = win[k - 1];
+            }
+            win[0] = s;
+            b[i] = s;
+        }
+        for i in (n - P..n).rev() {
+            let mut s = b[i] * inv_d[i];
+            for k in 1..n - i {
+                s -= lt[i * P + k - 1] * b[i + k];
+            }
+            b[i] = s;
+        }
+        // Rows with P successors: the transposed copy keeps the column
+        // contiguous; the window holds x[i+k] in registers.
+        let mut win = [0.0; P];
+        for k in 1..=P {
+            win[k - 1] = b[n - P - 1 + k];
+        }
+        for i in (0..n - P).rev() {
+            let col = &lt[i * P..i * P + P];
+            let mut s = b[i] * inv_d[i];
+            for k in (1..=P).rev() {
+                s -= col[k - 1] * win[k - 1];
+            }
+            for k in (1..P).rev() {
+                win[k] = win[k - 1];
+            }
+            win[0] = s;
             b[i] = s;
         }
     }

@@ -90,3 +90,31 @@ fn floor_tridiagonal_solve(bencher: Bencher, m: usize) {
             b
         });
 }
+
+/// The beam's step (β-scheme, J = 19, dt = 1e-6): ns per step.
+#[divan::bench]
+fn beam_beta_scheme_step(bencher: Bencher) {
+    use signorini_run::beam::{build, BeamContact, BeamScene, Pipe};
+    let scene = BeamScene { name: "bench", elements: 19, dt: 1e-6, t_end: 1.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None };
+    bencher.counter(ItemsCount::new(10_000usize)).with_inputs(|| build(&Pipe::paper(), &scene, false).unwrap().0).bench_local_values(|mut s| {
+        for _ in 0..10_000 {
+            divan::black_box(s.step().unwrap());
+        }
+        s
+    });
+}
+
+/// The banded solve alone (half-bandwidth 3, n = 38): ns per solve.
+#[divan::bench]
+fn beam_band_solve(bencher: Bencher) {
+    let b = signorini_fem::Beam::new(1.501, 19, 282.84).unwrap();
+    let f = b.mass().lin_comb(1.0, &b.stiffness(), 0.25e-12).factor().unwrap();
+    let rhs: Vec<f64> = (0..38).map(|i| (i as f64).sin()).collect();
+    bencher.counter(ItemsCount::new(10_000usize)).with_inputs(|| vec![0.0; 38]).bench_local_values(|mut x| {
+        for _ in 0..10_000 {
+            x.copy_from_slice(&rhs);
+            f.solve_in_place(divan::black_box(&mut x));
+        }
+        x
+    });
+}

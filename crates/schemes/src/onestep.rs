@@ -75,6 +75,8 @@ pub struct OneStep {
     u_prev: Vec<f64>,
     work_f: f64,
     work_c: f64,
+    /// The forcing's time profile at t_n (so one evaluation per step).
+    s_now: f64,
     /// Diagonals of M and K for the fused tridiagonal path (bar).
     tri: Option<Tridiagonals>,
 }
@@ -174,6 +176,7 @@ impl OneStep {
             u_prev: if dy.forcing.is_some() { init.u.clone() } else { Vec::new() },
             work_f: 0.0,
             work_c: 0.0,
+            s_now: dy.forcing.as_ref().map_or(0.0, |f| f.time.value(0.0)),
             f,
             label,
             prm,
@@ -268,10 +271,16 @@ impl Stepper for OneStep {
         let dt2 = dt * dt;
         let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
         let c = self.dy.contact_dof;
-        if self.dy.forcing.is_some() {
+        let s_next = if let Some(fo) = &self.dy.forcing {
             self.u_prev.copy_from_slice(&self.u);
-            self.dy.load_at((self.n + 1) as f64 * dt, &mut self.f);
-        }
+            let s1 = fo.time.value((self.n + 1) as f64 * dt);
+            for ((f, l), g) in self.f.iter_mut().zip(&self.dy.load).zip(&fo.shape) {
+                *f = l + s1 * g;
+            }
+            s1
+        } else {
+            0.0
+        };
         // b = M U^n + dt P^n + b dt² R^n + a dt² F
         if let (Some(t), Some((l, inv_d))) = (&self.tri, self.a.tridiagonal_factors()) {
             // Bar: b is assembled inside the forward sweep, whose loop-carried
@@ -305,9 +314,9 @@ impl Stepper for OneStep {
         if let Some(fo) = &self.dy.forcing {
             // Work of the forcing over the step, ½ (F^n + F^{n+1})ᵀ(U^{n+1} - U^n)
             // (the form of the Newmark-CN energy identity).
-            let (s0, s1) = (fo.time.value((self.n - 1) as f64 * dt), fo.time.value(self.n as f64 * dt));
             let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
-            self.work_f += 0.5 * (s0 + s1) * gdu;
+            self.work_f += 0.5 * (self.s_now + s_next) * gdu;
+            self.s_now = s_next;
         }
         self.lambda = lambda;
         // R^{n+1} = F - K U^{n+1} - λ e_c;  P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})

@@ -51,6 +51,9 @@ pub struct PaoliSchatzman {
     ktmp: Vec<f64>,
     work_forcing: f64,
     work_contact: f64,
+    /// Means of the forcing's time profile over [t_{n-1}, t_n], [t_n, t_{n+1}]
+    /// (rolled each step, so one new mean per step).
+    means: [f64; 2],
 }
 
 impl PaoliSchatzman {
@@ -90,7 +93,17 @@ impl PaoliSchatzman {
             ktmp: vec![0.0; n],
             work_forcing: 0.0,
             work_contact: 0.0,
-        })
+            means: [0.0; 2],
+        }
+        .with_means())
+    }
+
+    fn with_means(mut self) -> Self {
+        if let Some(f) = &self.dy.forcing {
+            let dt = self.dt;
+            self.means = [f.time.mean(0.0, dt), f.time.mean(dt, 2.0 * dt)];
+        }
+        self
     }
 
     /// `U^{n-1}`.
@@ -146,8 +159,10 @@ impl Stepper for PaoliSchatzman {
         // Time-dependent load: G^n = shape · (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
         let g_coef = self.dy.forcing.as_ref().map(|f| {
             let (dt, n) = (self.dt, self.n as f64);
-            let m = |k: f64| f.time.mean(k * dt, (k + 1.0) * dt);
-            beta * m(n + 1.0) + (1.0 - 2.0 * beta) * m(n) + beta * m(n - 1.0)
+            let next = f.time.mean((n + 1.0) * dt, (n + 2.0) * dt);
+            let g = beta * next + (1.0 - 2.0 * beta) * self.means[1] + beta * self.means[0];
+            self.means = [self.means[1], next];
+            g
         });
         if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
             self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * gc * g);
