@@ -1,0 +1,398 @@
+//! Scene files: TOML descriptions of a bar or beam run.
+//!
+//! ```toml
+//! [bar]                        # or [beam]
+//! benchmark = "bar-dirichlet"  # initial data, geometry and exact solution from a benchmark
+//! elements = 80
+//! mass = "mod"
+//! scheme = "newmark-cn"
+//! ratio = 10.0                 # dx/dt (or dt = ...)
+//! t_end = 3.0
+//!
+//! [output]
+//! every = 1                    # a series row every k steps
+//! snapshots_every = 0          # u(x) every k steps (0: none)
+//! plots = true
+//! ```
+//!
+//! Without a benchmark a bar gives `length`, `wave_speed`, `far_end`
+//! ("clamped" or "free"), `gap`, `body_force`, and `initial_displacement` /
+//! `initial_velocity` as a number, an expression in `x` (evalexpr syntax:
+//! `0.5 * (1 - x)`, `math::sin(pi * x)`) or a table `[[x0, u0], [x1, u1], …]`
+//! (piecewise linear). Every key is checked: unknown keys are rejected and
+//! each value is range-checked with the allowed range in the message.
+
+use serde::Deserialize;
+use signorini_fem::{Bar, BarMass, RightEnd};
+use signorini_run::beam::{BeamContact, BeamScene, Pipe};
+use signorini_run::{BarProblem, Benchmark};
+use signorini_schemes::SchemeSpec;
+use std::fmt;
+
+/// A scene error: which field, what is wrong, what is allowed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// The TOML itself (message includes line and column).
+    #[error("scene file: {0}")]
+    Toml(String),
+    /// A value out of its range or inconsistent with others.
+    #[error("{field}: {message}")]
+    Field {
+        /// Dotted path of the field (`bar.dt`).
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+}
+
+fn field(f: &str, m: impl fmt::Display) -> SceneError {
+    SceneError::Field { field: f.to_string(), message: m.to_string() }
+}
+
+/// The whole scene file.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// A bar problem.
+    pub bar: Option<BarToml>,
+    /// A beam between two stops.
+    pub beam: Option<BeamToml>,
+    /// Outputs.
+    #[serde(default)]
+    pub output: OutputToml,
+}
+
+/// `[bar]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BarToml {
+    /// Built-in benchmark.
+    pub benchmark: Option<String>,
+    /// Length L (> 0).
+    pub length: Option<f64>,
+    /// Wave speed c (> 0).
+    pub wave_speed: Option<f64>,
+    /// "clamped" or "free".
+    pub far_end: Option<String>,
+    /// Obstacle position g.
+    pub gap: Option<f64>,
+    /// Uniform body force f.
+    pub body_force: Option<f64>,
+    /// u0(x).
+    pub initial_displacement: Option<FieldToml>,
+    /// v0(x).
+    pub initial_velocity: Option<FieldToml>,
+    /// Elements m (>= 2).
+    pub elements: usize,
+    /// Mass treatment.
+    #[serde(default = "default_mass")]
+    pub mass: String,
+    /// Scheme.
+    #[serde(default = "default_scheme")]
+    pub scheme: String,
+    /// Time step.
+    pub dt: Option<f64>,
+    /// dx/dt (alternative to dt).
+    pub ratio: Option<f64>,
+    /// Horizon.
+    pub t_end: Option<f64>,
+}
+
+fn default_mass() -> String {
+    "std".into()
+}
+fn default_scheme() -> String {
+    "newmark-cn".into()
+}
+
+/// An initial field: a number, an expression in `x`, or a table.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum FieldToml {
+    /// Constant.
+    Number(f64),
+    /// Expression in `x`.
+    Expr(String),
+    /// Piecewise-linear table of `[x, value]` pairs, x increasing.
+    Table(Vec<[f64; 2]>),
+}
+
+/// `[beam]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BeamToml {
+    /// A paper scene (fig2 … fig8) to start from; the other keys override it.
+    pub scene: Option<String>,
+    /// Elements J (>= 1).
+    pub elements: Option<usize>,
+    /// Time step (s).
+    pub dt: Option<f64>,
+    /// Horizon (s).
+    pub t_end: Option<f64>,
+    /// "projection" or "penalty".
+    pub contact: Option<String>,
+    /// β of the β-scheme, in [0, 1/2].
+    pub beta: Option<f64>,
+    /// Penalty spring stiffness (N/m, > 0).
+    pub penalty_stiffness: Option<f64>,
+    /// Lower and upper stops (m), g1 < g2.
+    pub stops: Option<[f64; 2]>,
+    /// Support amplitude (m) and angular frequency (rad/s).
+    pub support: Option<[f64; 2]>,
+    /// Run a conditionally stable β-scheme beyond its limit anyway.
+    #[serde(default)]
+    pub force: bool,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OutputToml {
+    /// A series row every `every` steps (>= 1).
+    #[serde(default = "one")]
+    pub every: usize,
+    /// A snapshot of u(x) every k steps (0: none).
+    #[serde(default)]
+    pub snapshots_every: usize,
+    /// Write SVG plots.
+    #[serde(default = "yes")]
+    pub plots: bool,
+}
+
+fn one() -> usize {
+    1
+}
+fn yes() -> bool {
+    true
+}
+
+impl Default for OutputToml {
+    fn default() -> Self {
+        Self { every: 1, snapshots_every: 0, plots: true }
+    }
+}
+
+/// A validated bar scene.
+pub struct BarRun {
+    /// The problem.
+    pub problem: BarProblem,
+    /// The benchmark, if the scene uses one (exact solution available).
+    pub benchmark: Option<Benchmark>,
+    /// The scheme.
+    pub scheme: SchemeSpec,
+    /// Time step.
+    pub dt: f64,
+    /// Horizon.
+    pub t_end: f64,
+}
+
+/// A validated scene.
+pub enum Scene {
+    /// A bar.
+    Bar(Box<BarRun>),
+    /// A beam between stops.
+    Beam {
+        /// The pipe.
+        pipe: Pipe,
+        /// The run.
+        scene: BeamScene,
+        /// Forced beyond the stability limit.
+        force: bool,
+    },
+}
+
+fn positive(name: &str, v: f64) -> Result<f64, SceneError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(field(name, format!("{v} is not allowed: finite and > 0")))
+    }
+}
+
+fn finite(name: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(field(name, format!("{v} is not allowed: a finite number")))
+    }
+}
+
+/// An initial field as a function of x.
+pub enum InitialField {
+    /// Constant.
+    Number(f64),
+    /// Compiled expression.
+    Expr(evalexpr::Node<evalexpr::DefaultNumericTypes>),
+    /// Table.
+    Table(Vec<[f64; 2]>),
+}
+
+impl InitialField {
+    fn compile(name: &str, f: &FieldToml) -> Result<Self, SceneError> {
+        Ok(match f {
+            FieldToml::Number(v) => InitialField::Number(finite(name, *v)?),
+            FieldToml::Expr(s) => {
+                let tree = evalexpr::build_operator_tree(s).map_err(|e| field(name, format!("expression {s:?}: {e}")))?;
+                // Evaluate once so that errors surface here with the field's name.
+                let mut ctx = evalexpr::HashMapContext::<evalexpr::DefaultNumericTypes>::new();
+                use evalexpr::ContextWithMutableVariables;
+                for (k, v) in [("x", 0.0), ("pi", std::f64::consts::PI)] {
+                    ctx.set_value(k.into(), evalexpr::Value::Float(v)).map_err(|e| field(name, e))?;
+                }
+                tree.eval_number_with_context(&ctx).map_err(|e| field(name, format!("expression {s:?} (a number in x, e.g. \"0.5 * (1 - x)\" or \"math::sin(pi * x)\"): {e}")))?;
+                InitialField::Expr(tree)
+            }
+            FieldToml::Table(t) => {
+                if t.is_empty() || t.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) || t.windows(2).any(|w| w[1][0] <= w[0][0]) {
+                    return Err(field(name, "a table needs at least one [x, value] pair, finite values and strictly increasing x"));
+                }
+                InitialField::Table(t.clone())
+            }
+        })
+    }
+
+    /// The value at x (NaN if an expression fails to evaluate, caught by the problem's finiteness check).
+    pub fn eval(&self, x: f64) -> f64 {
+        match self {
+            InitialField::Number(v) => *v,
+            InitialField::Expr(tree) => {
+                let mut ctx = evalexpr::HashMapContext::<evalexpr::DefaultNumericTypes>::new();
+                use evalexpr::ContextWithMutableVariables;
+                if ctx.set_value("x".into(), evalexpr::Value::Float(x)).is_err() || ctx.set_value("pi".into(), evalexpr::Value::Float(std::f64::consts::PI)).is_err() {
+                    return f64::NAN;
+                }
+                tree.eval_number_with_context(&ctx).unwrap_or(f64::NAN)
+            }
+            InitialField::Table(t) => {
+                if x <= t[0][0] {
+                    return t[0][1];
+                }
+                for w in t.windows(2) {
+                    if x <= w[1][0] {
+                        let s = (x - w[0][0]) / (w[1][0] - w[0][0]);
+                        return w[0][1] + s * (w[1][1] - w[0][1]);
+                    }
+                }
+                t[t.len() - 1][1]
+            }
+        }
+    }
+}
+
+impl SceneFile {
+    /// Parses a scene (TOML syntax, unknown keys, types).
+    pub fn parse(text: &str) -> Result<Self, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError::Toml(e.to_string()))
+    }
+
+    /// Checks every value and builds the scene.
+    pub fn validate(&self) -> Result<Scene, SceneError> {
+        if self.output.every == 0 {
+            return Err(field("output.every", "0 is not allowed: an integer >= 1"));
+        }
+        match (&self.bar, &self.beam) {
+            (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b)?))),
+            (None, Some(b)) => validate_beam(b),
+            _ => Err(field("bar/beam", "give exactly one of the tables [bar] and [beam]")),
+        }
+    }
+}
+
+fn validate_bar(b: &BarToml) -> Result<BarRun, SceneError> {
+    let mass: BarMass = b.mass.parse().map_err(|e| field("bar.mass", e))?;
+    let scheme: SchemeSpec = b.scheme.parse().map_err(|e| field("bar.scheme", e))?;
+    if scheme.needs_massless_node() && !mass.massless_contact_node() {
+        return Err(field("bar.mass", format!("scheme {scheme} needs a massless contact node: mod, mod1, mod2, mod3, transfer or singular (got {mass})")));
+    }
+    if b.elements < 2 {
+        return Err(field("bar.elements", format!("{} is not allowed: an integer >= 2", b.elements)));
+    }
+    let (problem, benchmark, default_t) = match &b.benchmark {
+        Some(name) => {
+            for (k, given) in [("length", b.length.is_some()), ("wave_speed", b.wave_speed.is_some()), ("far_end", b.far_end.is_some()), ("gap", b.gap.is_some()), ("body_force", b.body_force.is_some()), ("initial_displacement", b.initial_displacement.is_some()), ("initial_velocity", b.initial_velocity.is_some())] {
+                if given {
+                    return Err(field(&format!("bar.{k}"), "comes from the benchmark: remove it, or remove `benchmark`"));
+                }
+            }
+            let bench: Benchmark = name.parse().map_err(|e| field("bar.benchmark", e))?;
+            let t = bench.default_ratio_and_horizon().1;
+            let t_end = b.t_end.unwrap_or(t);
+            let exact = bench.exact(positive("bar.t_end", t_end)?).map_err(|e| field("bar.t_end", e))?;
+            let p = bench.problem(exact.as_ref(), b.elements, mass).map_err(|e| field("bar", e))?;
+            (p, Some(bench), t)
+        }
+        None => {
+            let length = positive("bar.length", b.length.unwrap_or(1.0))?;
+            let c = positive("bar.wave_speed", b.wave_speed.unwrap_or(1.0))?;
+            let end = match b.far_end.as_deref().unwrap_or("clamped") {
+                "clamped" => RightEnd::Clamped,
+                "free" => RightEnd::Free,
+                other => return Err(field("bar.far_end", format!("{other:?} is not allowed: \"clamped\" or \"free\""))),
+            };
+            let gap = finite("bar.gap", b.gap.unwrap_or(0.0))?;
+            let f = finite("bar.body_force", b.body_force.unwrap_or(0.0))?;
+            let u0 = InitialField::compile("bar.initial_displacement", b.initial_displacement.as_ref().ok_or_else(|| field("bar.initial_displacement", "required without a benchmark"))?)?;
+            let v0 = InitialField::compile("bar.initial_velocity", b.initial_velocity.as_ref().unwrap_or(&FieldToml::Number(0.0)))?;
+            let bar = Bar::new(length, b.elements, c, end).map_err(|e| field("bar", e))?;
+            let p = BarProblem::new(bar, mass, gap, f, |x| u0.eval(x), |x| v0.eval(x)).map_err(|e| field("bar", e))?;
+            (p, None, 1.0)
+        }
+    };
+    let dt = match (b.dt, b.ratio) {
+        (Some(dt), None) => positive("bar.dt", dt)?,
+        (None, Some(r)) => problem.bar.h() / positive("bar.ratio", r)?,
+        (None, None) => return Err(field("bar.dt", "give dt or ratio (= dx/dt)")),
+        (Some(_), Some(_)) => return Err(field("bar.ratio", "give dt or ratio, not both")),
+    };
+    let t_end = positive("bar.t_end", b.t_end.unwrap_or(default_t))?;
+    if t_end / dt > 1e9 {
+        return Err(field("bar.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
+    }
+    Ok(BarRun { problem, benchmark, scheme, dt, t_end })
+}
+
+fn validate_beam(b: &BeamToml) -> Result<Scene, SceneError> {
+    let base = match &b.scene {
+        Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
+        None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
+    };
+    let elements = b.elements.unwrap_or(base.elements);
+    if elements < 1 {
+        return Err(field("beam.elements", "0 is not allowed: an integer >= 1"));
+    }
+    let dt = positive("beam.dt", b.dt.unwrap_or(base.dt))?;
+    let t_end = positive("beam.t_end", b.t_end.unwrap_or(base.t_end))?;
+    if t_end / dt > 1e9 {
+        return Err(field("beam.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
+    }
+    let contact = match b.contact.as_deref() {
+        None => match base.contact {
+            BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
+            BeamContact::Penalty { stiffness } => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(stiffness) },
+        },
+        Some("projection") => BeamContact::Projection { beta: b.beta.unwrap_or(0.5) },
+        Some("penalty") => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(1e8) },
+        Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\""))),
+    };
+    match contact {
+        BeamContact::Projection { beta } if !(0.0..=0.5).contains(&beta) => return Err(field("beam.beta", format!("{beta} is not allowed: [0, 1/2]"))),
+        BeamContact::Penalty { stiffness } => {
+            positive("beam.penalty_stiffness", stiffness)?;
+        }
+        _ => {}
+    }
+    let mut pipe = Pipe::paper();
+    if let Some([g1, g2]) = b.stops {
+        if !(g1.is_finite() && g2.is_finite() && g1 < g2) {
+            return Err(field("beam.stops", format!("[{g1}, {g2}] is not allowed: finite, g1 < g2")));
+        }
+        if !(g1 <= 0.0 && g2 >= 0.0) {
+            return Err(field("beam.stops", format!("[{g1}, {g2}] is not allowed: the tip starts at 0, so g1 <= 0 <= g2")));
+        }
+        pipe.stops = (g1, g2);
+    }
+    if let Some([a, w]) = b.support {
+        pipe.support = (finite("beam.support", a)?, positive("beam.support", w)?);
+    }
+    Ok(Scene::Beam { pipe, scene: BeamScene { name: "scene", elements, dt, t_end, contact, paper_seconds: base.paper_seconds }, force: b.force })
+}

@@ -1,0 +1,151 @@
+//! The `signorini` command end to end: scenes run in a temporary folder, CSV
+//! checked; bad inputs give the right exit code and a message naming the
+//! field; the scene parser never panics.
+
+use proptest::prelude::*;
+use signorini_cli::scene::SceneFile;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+}
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes")
+}
+
+fn write_scene(dir: &Path, text: &str) -> PathBuf {
+    let p = dir.join("scene.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn bar_scene_end_to_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = bin().args(["run", scenes().join("bar-dirichlet.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rd = csv::Reader::from_path(out.join("series.csv")).unwrap();
+    let header: Vec<String> = rd.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(header, ["n", "t", "u_contact", "lambda_t", "lambda", "energy_t", "energy", "u_contact_exact", "lambda_exact", "energy_exact"]);
+    let rows: Vec<csv::StringRecord> = rd.records().collect::<Result<_, _>>().unwrap();
+    assert_eq!(rows.len(), 2401); // levels 0..=2400 (T = 3, dt = 1/800)
+    // Exact columns: u(0, 0) = 1/2, E = 1/8; the node never goes below the obstacle.
+    assert_eq!(&rows[0][7], "5.000000000000e-1");
+    for r in &rows {
+        assert!(r[2].parse::<f64>().unwrap() >= 0.0);
+        assert_eq!(r[9].parse::<f64>().unwrap(), 0.125);
+    }
+    // The norms equal those of the convergence study's m = 80 level.
+    let mut nr = csv::Reader::from_path(out.join("norms.csv")).unwrap();
+    let n = nr.records().next().unwrap().unwrap();
+    let cli_linf: f64 = n[4].parse().unwrap();
+    let study = signorini_run::study::run_level(
+        signorini_run::Benchmark::BarDirichlet,
+        &signorini_exact::BarDirichlet,
+        "newmark-cn".parse().unwrap(),
+        "mod".parse().unwrap(),
+        80,
+        10.0,
+        3.0,
+    )
+    .unwrap();
+    assert!((cli_linf - study.norms.linf_l2_u).abs() <= 1e-9 * study.norms.linf_l2_u, "{cli_linf} vs {}", study.norms.linf_l2_u);
+    // Snapshots every 400 steps: levels 0, 400, …, 2400, 81 nodes each.
+    let snaps = csv::Reader::from_path(out.join("snapshots.csv")).unwrap().records().count();
+    assert_eq!(snaps, 7 * 81);
+    for svg in ["u_contact.svg", "lambda.svg", "energy.svg"] {
+        assert!(std::fs::read_to_string(out.join(svg)).unwrap().starts_with("<svg"), "{svg}");
+    }
+}
+
+#[test]
+fn beam_scene_end_to_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("beam");
+    let o = bin().args(["run", scenes().join("beam-fig2.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<csv::StringRecord> = csv::Reader::from_path(out.join("series.csv")).unwrap().records().collect::<Result<_, _>>().unwrap();
+    assert_eq!(rows.len(), 4001); // every 10th of 40 000 steps, plus level 0
+    assert!(rows.iter().all(|r| r[2].parse::<f64>().unwrap().abs() <= 0.1));
+    assert!(out.join("tip.svg").exists());
+}
+
+#[test]
+fn every_shipped_scene_is_valid() {
+    for e in std::fs::read_dir(scenes()).unwrap() {
+        let p = e.unwrap().path();
+        let o = bin().args(["check", p.to_str().unwrap()]).output().unwrap();
+        assert!(o.status.success(), "{}: {}", p.display(), String::from_utf8_lossy(&o.stderr));
+        assert!(String::from_utf8_lossy(&o.stdout).contains("stability"));
+    }
+}
+
+/// (scene text, exit code, words the message must contain)
+fn check_rejects(text: &str, code: i32, words: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_scene(dir.path(), text);
+    let o = bin().args(["run", p.to_str().unwrap(), "--out", dir.path().join("o").to_str().unwrap()]).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "{text}\n{err}");
+    for w in words {
+        assert!(err.contains(w), "message {err:?} lacks {w:?}");
+    }
+}
+
+#[test]
+fn bad_inputs_name_the_field_and_range() {
+    let ok = "[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\n";
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\ncolour = 3\n", 2, &["unknown field", "colour", "line 5"]);
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\ndt = -0.1\n", 2, &["bar.dt", "> 0"]);
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 1\nratio = 10.0\n", 2, &["bar.elements", ">= 2"]);
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\nscheme = \"hybrid\"\n", 2, &["bar.mass", "massless"]);
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\nscheme = \"ps(1.5)\"\n", 2, &["bar.scheme", "[0, 1]"]);
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\nlength = 2.0\n", 2, &["bar.length", "benchmark"]);
+    check_rejects("[bar]\nelements = 10\ndt = 0.01\ninitial_displacement = \"1 - \"\n", 2, &["bar.initial_displacement"]);
+    check_rejects("[bar]\nelements = 10\ndt = 0.01\ninitial_displacement = -1.0\n", 2, &["initial u(0)", "obstacle"]);
+    check_rejects("[beam]\nscene = \"fig8\"\ndt = 2e-5\n", 1, &["stability limit", "1.75"]);
+    check_rejects("[beam]\ncontact = \"glue\"\n", 2, &["beam.contact", "projection"]);
+    check_rejects("[output]\nevery = 1\n", 2, &["[bar]", "[beam]"]);
+    check_rejects(&format!("{ok}[output]\nevery = 0\n"), 2, &["output.every", ">= 1"]);
+    check_rejects("[bar\n", 2, &["scene file", "line 1"]);
+    let o = bin().args(["run", "/nonexistent/scene.toml"]).output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+}
+
+#[test]
+fn list_and_check_print_ranges_and_limits() {
+    let o = bin().arg("list").output().unwrap();
+    let s = String::from_utf8_lossy(&o.stdout);
+    for w in ["newmark-cn", "hybrid", "mod3", "bar-neumann-gravity", "fig8", "θ ∈ [1/2, 1]"] {
+        assert!(s.contains(w), "list lacks {w}");
+    }
+    let o = bin().args(["check", scenes().join("beam-fig8.toml").to_str().unwrap()]).output().unwrap();
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("critical dt = 1.752926e-5") && s.contains("below it"), "{s}");
+}
+
+proptest! {
+    /// Any text: parse and validate return a value or an error, never panic.
+    #[test]
+    fn parser_never_panics(text in "\\PC{0,200}") {
+        if let Ok(f) = SceneFile::parse(&text) {
+            let _ = f.validate();
+        }
+    }
+
+    /// Well-formed scenes with arbitrary numbers: validation never panics.
+    #[test]
+    fn validation_never_panics(el in any::<i64>(), dt in any::<f64>(), t in any::<f64>(), gap in any::<f64>(), beta in any::<f64>(), every in any::<i64>()) {
+        let bar = format!("[bar]\nlength = 1.0\nelements = {}\ndt = {dt:?}\nt_end = {t:?}\ngap = {gap:?}\ninitial_displacement = \"1 - x\"\n[output]\nevery = {}\n", el.unsigned_abs() % 100, every.unsigned_abs() % 5);
+        if let Ok(f) = SceneFile::parse(&bar.replace("inf", "1e400").replace("NaN", "nan")) {
+            let _ = f.validate();
+        }
+        let beam = format!("[beam]\nelements = {}\ndt = {dt:?}\nbeta = {beta:?}\nt_end = 1.0\n", el.unsigned_abs() % 50);
+        if let Ok(f) = SceneFile::parse(&beam) {
+            let _ = f.validate();
+        }
+    }
+}
