@@ -7,11 +7,15 @@
 //! * `weighted`: the weighted-mass-redistribution study (mod1/mod2/mod3 ×
 //!   newmark-cn, backward-euler, ps-e1, hybrid): figure runs, phase errors,
 //!   energy loss and convergence.
+//! * `work-precision`: error against wall time; `stress`: long runs at
+//!   extreme dx/dt with random data.
 //! * `beam`: the beam between two stops — the paper's figures 2–8, wall
 //!   times against the paper's, the exact stability limit, self-convergence.
 
 mod beam;
+mod stress;
 mod weighted;
+mod wp;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -40,6 +44,11 @@ enum Cmd {
     Weighted(weighted::Args),
     /// The beam between two stops: the paper's seven scenes, timings, stability limit, self-convergence.
     Beam(beam::Args),
+    /// Work–precision: error reached against wall time per scheme and mass.
+    #[command(name = "work-precision")]
+    WorkPrecision(wp::Args),
+    /// Stability stress: long runs, extreme dx/dt, random data; energy drift and blow-ups.
+    Stress(stress::Args),
 }
 
 #[derive(clap::Args)]
@@ -73,6 +82,8 @@ fn main() -> ExitCode {
         Cmd::Convergence(a) => convergence(a),
         Cmd::Weighted(a) => weighted::run(a),
         Cmd::Beam(a) => beam::run_beam(a),
+        Cmd::WorkPrecision(a) => wp::run_wp(a),
+        Cmd::Stress(a) => stress::run_stress(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

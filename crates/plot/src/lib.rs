@@ -124,3 +124,54 @@ mod tests {
         assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false }]).is_err());
     }
 }
+
+/// A heat map: `values[row][col]` drawn as coloured cells (blue = low,
+/// red = high, on a log10 scale when `log` is set; grey = NaN, black = +∞
+/// meaning "blew up"), with row and column labels.
+pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64>], log: bool, size: (u32, u32)) -> Result<String, String> {
+    let tr = |v: f64| if log { v.abs().max(1e-300).log10() } else { v };
+    let finite: Vec<f64> = values.iter().flatten().copied().filter(|v| v.is_finite()).map(tr).collect();
+    let (lo, hi) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+    let (lo, hi) = if finite.is_empty() { (0.0, 1.0) } else if hi > lo { (lo, hi) } else { (lo - 1.0, hi + 1.0) };
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        let err = |e: &dyn std::fmt::Display| e.to_string();
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let (nr, nc) = (rows.len(), cols.len());
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(160)
+            .build_cartesian_2d(0.0..nc as f64, 0.0..nr as f64)
+            .map_err(|e| err(&e))?;
+        let (cl, rl) = (cols.to_vec(), rows.to_vec());
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(nc)
+            .y_labels(nr)
+            .x_label_formatter(&|x| cl.get(x.floor() as usize).cloned().unwrap_or_default())
+            .y_label_formatter(&|y| rl.get(y.floor() as usize).cloned().unwrap_or_default())
+            .draw()
+            .map_err(|e| err(&e))?;
+        for (r, row) in values.iter().enumerate() {
+            for (c, v) in row.iter().enumerate() {
+                let color = if v.is_nan() {
+                    RGBColor(180, 180, 180)
+                } else if v.is_infinite() {
+                    RGBColor(0, 0, 0)
+                } else {
+                    let s = ((tr(*v) - lo) / (hi - lo)).clamp(0.0, 1.0);
+                    RGBColor((255.0 * s) as u8, (80.0 * (1.0 - (2.0 * s - 1.0).abs())) as u8, (255.0 * (1.0 - s)) as u8)
+                };
+                chart
+                    .draw_series(std::iter::once(Rectangle::new([(c as f64, r as f64), (c as f64 + 1.0, r as f64 + 1.0)], color.filled())))
+                    .map_err(|e| err(&e))?;
+            }
+        }
+        root.present().map_err(|e| err(&e))?;
+    }
+    Ok(svg)
+}
