@@ -27,7 +27,7 @@ use signorini_run::beam::{build as build_beam, stability_limit, BeamContact};
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
 use signorini_run::{run, NormObserver, Observer, RunConfig, RunError, Sample};
 use std::fs::File;
-use std::io::BufWriter;
+use std::io::LineWriter;
 use std::path::Path;
 
 /// Errors of the command.
@@ -50,15 +50,18 @@ pub fn load(path: &Path) -> Result<Scene, CliError> {
     Ok(SceneFile::parse(&text)?.validate()?)
 }
 
-fn create(dir: &Path, name: &str) -> Result<BufWriter<File>, CliError> {
+/// Output files are line-buffered: the csv writer hands over chunks that
+/// may end mid-record, and `LineWriter` passes on only whole lines, so a run
+/// that is killed leaves a file that ends with a complete record.
+fn create(dir: &Path, name: &str) -> Result<LineWriter<File>, CliError> {
     let p = dir.join(name);
-    File::create(&p).map(BufWriter::new).map_err(|e| CliError::Io(format!("cannot write {}: {e}", p.display())))
+    File::create(&p).map(LineWriter::new).map_err(|e| CliError::Io(format!("cannot write {}: {e}", p.display())))
 }
 
 /// CSV rows of the contact dof, flushed every 1024 rows, with exact columns
 /// when an exact solution is given; keeps a decimated copy for plots.
 struct SeriesCsv<'a> {
-    out: csv::Writer<BufWriter<File>>,
+    out: csv::Writer<LineWriter<File>>,
     every: usize,
     dof: usize,
     exact: Option<&'a dyn ExactSolution>,
@@ -109,7 +112,7 @@ impl Observer for SeriesCsv<'_> {
 
 /// `u(x)` every k steps: `n,t,x,u`.
 struct Snapshots {
-    out: csv::Writer<BufWriter<File>>,
+    out: csv::Writer<LineWriter<File>>,
     every: usize,
     nodes: Vec<f64>,
 }
