@@ -168,7 +168,7 @@ pub fn run(a: Args) -> Result<(), String> {
         let ev = events(&r.records);
         let (to_err, im_err) = (ev.first_takeoff.map(|t| t - 2.0), ev.second_impact.map(|t| t - 4.0));
         let linf = linf_error(&r.records, 30.0, |t| ex.fields(0.0, t).u);
-        let e_at = |t: f64| r.records.iter().filter_map(|x| x.energy).filter(|e| e.0 <= t + 1e-9).last().map_or(f64::NAN, |e| e.1);
+        let e_at = |t: f64| r.records.iter().rev().filter_map(|x| x.energy).find(|e| e.0 <= t + 1e-9).map_or(f64::NAN, |e| e.1);
         let (e1, e3, e30) = (e_at(r.dt), e_at(3.0), e_at(30.0));
         let f = |x: f64| format!("{x:.6e}");
         let fo = |x: Option<f64>| x.map_or(String::new(), f);

@@ -104,27 +104,6 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
     Ok(svg)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn renders_svg_with_legend_and_skips_bad_points() {
-        let s = vec![
-            Series { label: "numerical".into(), points: vec![(0.0, 0.5), (1.0, f64::NAN), (2.0, -0.1)], reference: false },
-            Series { label: "exact".into(), points: vec![(0.0, 0.5), (2.0, 0.0)], reference: true },
-        ];
-        let c = Chart { title: "u(0,t)", x_label: "t", y_label: "u", scale: Scale::Linear, size: (640, 400) };
-        let svg = line_chart(&c, &s).unwrap();
-        assert!(svg.starts_with("<svg") && svg.contains("numerical") && svg.contains("exact") && svg.contains("u(0,t)"));
-        let log = Chart { scale: Scale::LogLog, ..c };
-        let curve = Series { label: "error".into(), points: vec![(0.1, 1e-2), (0.05, 5e-3), (0.0, 1.0)], reference: false };
-        assert!(line_chart(&log, &[curve]).unwrap().contains("error"));
-        // Every point invalid on log axes: an error, not a panic.
-        assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false }]).is_err());
-    }
-}
-
 /// A heat map: `values[row][col]` drawn as coloured cells (blue = low,
 /// red = high, on a log10 scale when `log` is set; grey = NaN, black = +∞
 /// meaning "blew up"), with row and column labels.
@@ -174,4 +153,25 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
         root.present().map_err(|e| err(&e))?;
     }
     Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_svg_with_legend_and_skips_bad_points() {
+        let s = vec![
+            Series { label: "numerical".into(), points: vec![(0.0, 0.5), (1.0, f64::NAN), (2.0, -0.1)], reference: false },
+            Series { label: "exact".into(), points: vec![(0.0, 0.5), (2.0, 0.0)], reference: true },
+        ];
+        let c = Chart { title: "u(0,t)", x_label: "t", y_label: "u", scale: Scale::Linear, size: (640, 400) };
+        let svg = line_chart(&c, &s).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("numerical") && svg.contains("exact") && svg.contains("u(0,t)"));
+        let log = Chart { scale: Scale::LogLog, ..c };
+        let curve = Series { label: "error".into(), points: vec![(0.1, 1e-2), (0.05, 5e-3), (0.0, 1.0)], reference: false };
+        assert!(line_chart(&log, &[curve]).unwrap().contains("error"));
+        // Every point invalid on log axes: an error, not a panic.
+        assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false }]).is_err());
+    }
 }
