@@ -3,7 +3,7 @@
 //! and keeps what its observers wrote.
 
 use signorini::fem::{Bar, BarMass, FemError, RightEnd};
-use signorini::run::{run, BarProblem, Benchmark, RunConfig, RunError, SeriesWriter};
+use signorini::run::{run, BarProblem, Benchmark, RunConfig, RunError, SeriesColumns, SeriesWriter};
 use signorini::schemes::{SchemeError, SchemeSpec, StepReport, Stepper};
 
 fn field_of(e: &SchemeError) -> &'static str {
@@ -104,7 +104,7 @@ fn blow_up_stops_with_step_and_time_and_keeps_output() {
     let mut buf = Vec::new();
     let mut s = Failing { n: 0, u: vec![0.0; 3] };
     {
-        let mut w = SeriesWriter::new(&mut buf, 1, 0, true).unwrap();
+        let mut w = SeriesWriter::new(&mut buf, 1, 0, SeriesColumns::default()).unwrap();
         let e = run(&mut s, &[0.0; 3], &RunConfig::new(0.1, 10.0).unwrap(), &mut [&mut w]).unwrap_err();
         assert!(matches!(e, RunError::BlowUp { step: 5, time } if (time - 0.5).abs() < 1e-12), "{e:?}");
         assert!(e.to_string().contains("step 5"));

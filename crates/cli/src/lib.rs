@@ -21,11 +21,10 @@
 pub mod scene;
 
 use scene::{BarRun, Scene, SceneFile};
-use signorini_exact::ExactSolution;
 use signorini_plot::{line_chart, Chart, Scale, Series};
 use signorini_run::beam::{build as build_beam, stability_limit, BeamContact};
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
-use signorini_run::{run, NormObserver, Observer, RunConfig, RunError, Sample};
+use signorini_run::{run, NormObserver, Observer, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
 use std::fs::File;
 use std::io::LineWriter;
 use std::path::Path;
@@ -58,55 +57,23 @@ fn create(dir: &Path, name: &str) -> Result<LineWriter<File>, CliError> {
     File::create(&p).map(LineWriter::new).map_err(|e| CliError::Io(format!("cannot write {}: {e}", p.display())))
 }
 
-/// CSV rows of the contact dof, flushed every 1024 rows, with exact columns
-/// when an exact solution is given; keeps a decimated copy for plots.
-struct SeriesCsv<'a> {
-    out: csv::Writer<LineWriter<File>>,
+/// A decimated copy of the contact-dof history for the plots, and the
+/// largest |u_c| over every level.
+struct PlotData {
     every: usize,
     dof: usize,
-    exact: Option<&'a dyn ExactSolution>,
-    rows: usize,
-    plot_every: usize,
-    plot: Vec<(f64, f64, Option<(f64, f64)>, Option<(f64, f64)>)>,
-    with_energy: bool,
-    /// max |u_contact| over every level.
+    points: Vec<(f64, f64, Option<(f64, f64)>, Option<(f64, f64)>)>,
     max_abs: f64,
 }
 
-impl Observer for SeriesCsv<'_> {
-    fn wants_energy(&self) -> bool {
-        self.with_energy
-    }
+impl Observer for PlotData {
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
         let u = s.u[self.dof];
         self.max_abs = self.max_abs.max(u.abs());
-        if s.n % self.plot_every == 0 {
-            self.plot.push((s.t, u, s.lambda, s.energy));
-        }
-        if s.n % self.every != 0 {
-            return Ok(());
-        }
-        let f = |x: f64| format!("{x:.12e}");
-        let o = |x: Option<f64>| x.map_or(String::new(), f);
-        let mut rec = vec![s.n.to_string(), f(s.t), f(u), o(s.lambda.map(|l| l.0)), o(s.lambda.map(|l| l.1))];
-        if self.with_energy {
-            rec.push(o(s.energy.map(|e| e.0)));
-            rec.push(o(s.energy.map(|e| e.1)));
-        }
-        if let Some(ex) = self.exact {
-            rec.push(f(ex.fields(0.0, s.t).u));
-            rec.push(o(s.lambda.map(|l| ex.lambda(l.0))));
-            rec.push(f(ex.energy()));
-        }
-        self.out.write_record(&rec).map_err(|e| RunError::Output(e.to_string()))?;
-        self.rows += 1;
-        if self.rows % 1024 == 0 {
-            self.out.flush().map_err(|e| RunError::Output(e.to_string()))?;
+        if s.n % self.every == 0 {
+            self.points.push((s.t, u, s.lambda, s.energy));
         }
         Ok(())
-    }
-    fn finish(&mut self) -> Result<(), RunError> {
-        self.out.flush().map_err(|e| RunError::Output(e.to_string()))
     }
 }
 
@@ -181,19 +148,19 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, show_progres
             let (mut stepper, init, beam) = build_beam(pipe, scene, *force)?;
             let cfg = RunConfig::new(scene.dt, scene.t_end)?;
             let steps = cfg.steps();
-            let mut w = csv::Writer::from_writer(create(out, "series.csv")?);
-            w.write_record(["n", "t_s", "tip_m", "lambda_t", "lambda"]).map_err(|e| CliError::Io(e.to_string()))?;
-            let mut series = SeriesCsv { out: w, every: scene_file.output.every, dof: beam.tip_dof(), exact: None, rows: 0, plot_every: (steps / 20_000).max(1), plot: Vec::new(), with_energy: false, max_abs: 0.0 };
+            let cols = SeriesColumns { t: "t_s", u: "tip_m", energy: false, exact: None };
+            let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, beam.tip_dof(), cols)?;
+            let mut data = PlotData { every: (steps / 20_000).max(1), dof: beam.tip_dof(), points: Vec::new(), max_abs: 0.0 };
             let mut prog = progress(steps, show_progress);
             let start = std::time::Instant::now();
-            let res = run(stepper.as_mut(), &init.u, &cfg, &mut [&mut series, &mut prog]);
+            let res = run(stepper.as_mut(), &init.u, &cfg, &mut [&mut series, &mut data, &mut prog]);
             let wall = start.elapsed().as_secs_f64();
-            if scene_file.output.plots && !series.plot.is_empty() {
-                let pts: Vec<(f64, f64)> = series.plot.iter().map(|p| (p.0, p.1)).collect();
+            if scene_file.output.plots && !data.points.is_empty() {
+                let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
                 plot(out, "tip.svg", "tip of the beam ũ(L,t)", "ũ(L,t) (m)", pts, None)?;
             }
             let s = res?;
-            let max = series.max_abs;
+            let max = data.max_abs;
             Ok(Summary { lines: vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m (stops {:?})", s.steps, s.contact_steps, pipe.stops)] })
         }
     }
@@ -208,13 +175,9 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, show_progress: bool) -> Res
     let mut stepper = b.scheme.build(p.dynamics(), b.dt, &p.initial).map_err(RunError::from)?;
     let cfg = RunConfig::new(b.dt, b.t_end)?;
     let steps = cfg.steps();
-    let mut header = vec!["n", "t", "u_contact", "lambda_t", "lambda", "energy_t", "energy"];
-    if exact.is_some() {
-        header.extend(["u_contact_exact", "lambda_exact", "energy_exact"]);
-    }
-    let mut w = csv::Writer::from_writer(create(out, "series.csv")?);
-    w.write_record(&header).map_err(|e| CliError::Io(e.to_string()))?;
-    let mut series = SeriesCsv { out: w, every: file.output.every, dof: 0, exact: exact.as_deref(), rows: 0, plot_every: (steps / 20_000).max(1), plot: Vec::new(), with_energy: true, max_abs: 0.0 };
+    let cols = SeriesColumns { exact: exact.as_deref(), ..SeriesColumns::default() };
+    let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, 0, cols)?;
+    let mut data = PlotData { every: (steps / 20_000).max(1), dof: 0, points: Vec::new(), max_abs: 0.0 };
     let mut norms = exact.as_deref().map(|e| NormObserver::new(e, p.bar.elements, p.vnorm(), b.dt));
     let mut snaps = if file.output.snapshots_every > 0 {
         let mut w = csv::Writer::from_writer(create(out, "snapshots.csv")?);
@@ -226,7 +189,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, show_progress: bool) -> Res
     let mut prog = progress(steps, show_progress);
     let start = std::time::Instant::now();
     let res = {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut prog];
+        let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
         if let Some(n) = norms.as_mut() {
             obs.push(n);
         }
@@ -236,13 +199,13 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, show_progress: bool) -> Res
         run(stepper.as_mut(), &p.initial.u, &cfg, &mut obs)
     };
     let wall = start.elapsed().as_secs_f64();
-    if file.output.plots && !series.plot.is_empty() {
-        let t_max = series.plot.last().map_or(0.0, |p| p.0);
+    if file.output.plots && !data.points.is_empty() {
+        let t_max = data.points.last().map_or(0.0, |p| p.0);
         let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=2000).map(|i| t_max * i as f64 / 2000.0).map(|t| (t, f(t))).collect() };
         let ex = exact.as_deref();
-        plot(out, "u_contact.svg", "u(0,t)", "u(0,t)", series.plot.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)))?;
-        plot(out, "lambda.svg", "contact force λ(t)", "λ", series.plot.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))))?;
-        plot(out, "energy.svg", "discrete energy", "E", series.plot.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())))?;
+        plot(out, "u_contact.svg", "u(0,t)", "u(0,t)", data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)))?;
+        plot(out, "lambda.svg", "contact force λ(t)", "λ", data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))))?;
+        plot(out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())))?;
     }
     let s = res?;
     let mut lines = vec![format!("{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps", file.bar.as_ref().and_then(|b| b.benchmark.clone()).unwrap_or_else(|| "bar".into()), p.bar.elements, p.mass, b.scheme, b.dt, s.steps, s.contact_steps)];

@@ -39,48 +39,78 @@ impl Observer for NormObserver<'_> {
     }
 }
 
+/// Which columns a [`SeriesWriter`] writes.
+#[derive(Clone, Copy)]
+pub struct SeriesColumns<'a> {
+    /// Name of the time column (`t`, or `t_s` with units).
+    pub t: &'static str,
+    /// Name of the contact-dof column (`u_contact`, or `tip_m`).
+    pub u: &'static str,
+    /// Write `energy_t,energy` (the observer then asks for energies).
+    pub energy: bool,
+    /// Write `u_contact_exact,lambda_exact,energy_exact` from this solution.
+    pub exact: Option<&'a dyn ExactSolution>,
+}
+
+impl Default for SeriesColumns<'_> {
+    /// `n,t,u_contact,lambda_t,lambda,energy_t,energy`.
+    fn default() -> Self {
+        Self { t: "t", u: "u_contact", energy: true, exact: None }
+    }
+}
+
 /// Writes a CSV time series of the contact dof every `every` levels:
-/// columns `n,t,u_contact,lambda_t,lambda,energy_t,energy` (empty cells
-/// where a value does not exist at that level). Flushed every 1024 rows and
-/// at the end, also when the run stops early.
-pub struct SeriesWriter<W: Write> {
+/// `n,<t>,<u>,lambda_t,lambda`, then `energy_t,energy` and
+/// `u_contact_exact,lambda_exact,energy_exact` when asked (empty cells where a
+/// value does not exist at that level). Flushed every 1024 rows and at the
+/// end, also when the run stops early.
+pub struct SeriesWriter<'a, W: Write> {
     out: csv::Writer<W>,
     every: usize,
     contact_dof: usize,
     rows: usize,
-    with_energy: bool,
+    cols: SeriesColumns<'a>,
 }
 
-impl<W: Write> SeriesWriter<W> {
-    /// The columns, in order.
+impl<'a, W: Write> SeriesWriter<'a, W> {
+    /// The default columns, in order.
     pub const HEADER: [&'static str; 7] = ["n", "t", "u_contact", "lambda_t", "lambda", "energy_t", "energy"];
 
     /// A writer (header written at once).
-    pub fn new(w: W, every: usize, contact_dof: usize, with_energy: bool) -> Result<Self, RunError> {
+    pub fn new(w: W, every: usize, contact_dof: usize, cols: SeriesColumns<'a>) -> Result<Self, RunError> {
         let mut out = csv::Writer::from_writer(w);
-        out.write_record(Self::HEADER).map_err(|e| RunError::Output(e.to_string()))?;
-        Ok(Self { out, every: every.max(1), contact_dof, rows: 0, with_energy })
+        let mut header = vec!["n", cols.t, cols.u, "lambda_t", "lambda"];
+        if cols.energy {
+            header.extend(["energy_t", "energy"]);
+        }
+        if cols.exact.is_some() {
+            header.extend(["u_contact_exact", "lambda_exact", "energy_exact"]);
+        }
+        out.write_record(&header).map_err(|e| RunError::Output(e.to_string()))?;
+        Ok(Self { out, every: every.max(1), contact_dof, rows: 0, cols })
     }
 }
 
-impl<W: Write> Observer for SeriesWriter<W> {
+impl<W: Write> Observer for SeriesWriter<'_, W> {
     fn wants_energy(&self) -> bool {
-        self.with_energy
+        self.cols.energy
     }
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
         if s.n % self.every != 0 {
             return Ok(());
         }
-        let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
-        let rec = [
-            s.n.to_string(),
-            format!("{:e}", s.t),
-            format!("{:e}", s.u[self.contact_dof]),
-            opt(s.lambda.map(|l| l.0)),
-            opt(s.lambda.map(|l| l.1)),
-            opt(s.energy.map(|e| e.0)),
-            opt(s.energy.map(|e| e.1)),
-        ];
+        let f = |x: f64| format!("{x:.12e}");
+        let o = |x: Option<f64>| x.map_or(String::new(), f);
+        let mut rec = vec![s.n.to_string(), f(s.t), f(s.u[self.contact_dof]), o(s.lambda.map(|l| l.0)), o(s.lambda.map(|l| l.1))];
+        if self.cols.energy {
+            rec.push(o(s.energy.map(|e| e.0)));
+            rec.push(o(s.energy.map(|e| e.1)));
+        }
+        if let Some(ex) = self.cols.exact {
+            rec.push(f(ex.fields(0.0, s.t).u));
+            rec.push(o(s.lambda.map(|l| ex.lambda(l.0))));
+            rec.push(f(ex.energy()));
+        }
         self.out.write_record(&rec).map_err(|e| RunError::Output(e.to_string()))?;
         self.rows += 1;
         if self.rows % 1024 == 0 {
