@@ -19,7 +19,7 @@ mod eigen;
 pub use band::{BandLdlt, SymBand};
 pub use bar::{Bar, BarMass, RightEnd};
 pub use beam::Beam;
-pub use eigen::max_generalized_eigenvalue;
+pub use eigen::{max_generalized_eigenvalue, max_generalized_eigenvalue_auto};
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

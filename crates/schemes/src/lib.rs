@@ -55,7 +55,7 @@ pub enum SchemeError {
         allowed: &'static str,
     },
     /// An unknown scheme name.
-    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, newmark(BETA,GAMMA), theta(THETA), ps(E) or ps(E,BETA)")]
+    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P) or penalty-cd(GAMMA_P)")]
     UnknownScheme(String),
     /// Vectors or matrices of inconsistent sizes.
     #[error("size mismatch: {what} has {got} entries, expected {expected}")]
@@ -84,6 +84,14 @@ pub enum SchemeError {
     /// The contact projection could not be set up.
     #[error("contact: {0}")]
     Contact(#[from] ContactError),
+    /// An explicit scheme asked to run at or beyond its stability limit.
+    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of this explicit scheme (2/sqrt(κ_max) of the pencil (K + penalty, M))")]
+    Unstable {
+        /// The time step asked for.
+        dt: f64,
+        /// The exact critical time step.
+        limit: f64,
+    },
     /// The state became non-finite (NaN or infinity).
     #[error("state became non-finite at step {step} (t = {time})")]
     NonFinite {

@@ -294,6 +294,9 @@ impl Stepper for OneStep {
             self.a.solve_in_place(&mut self.rhs);
         }
         let (lambda, active) = match self.law {
+            ContactLaw::Projection if an == 0.0 => {
+                return Err(SchemeError::Structure("an explicit step (β = 0) cannot use the projection: use a penalty law"));
+            }
             ContactLaw::Projection => {
                 let pr = self.proj.project(&mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi);
                 (-pr.mu / an, pr.active)

@@ -1,6 +1,6 @@
 //! Scheme names, parameters and their allowed ranges.
 
-use crate::{Dynamics, Initial, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
+use crate::{ContactLaw, Dynamics, Initial, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
 use std::fmt;
 use std::str::FromStr;
 
@@ -31,6 +31,17 @@ pub enum SchemeSpec {
     /// A scheme on the reduced formulation of a massless contact node
     /// (`hybrid`, `reduced-cn`); needs a massless-node mass.
     Reduced(ReducedLaw),
+    /// Penalised contact `λ = γ_P K_cc min(0, u_c - g)` (for the P1 bar
+    /// `K_00 = c²/h`: the GetFEM demo's `(γ_P/h) min(0, u_0 - g)` at c = 1),
+    /// with Newmark-CN solved exactly per step (`explicit = false`) or the
+    /// explicit central difference (β = 0, γ = 1/2; needs a massive contact
+    /// node and dt below the exact CFL limit of `(K + κ e_c e_cᵀ, M)`).
+    Penalty {
+        /// `γ_P` (> 0).
+        gamma_p: f64,
+        /// Explicit central difference instead of Newmark-CN.
+        explicit: bool,
+    },
 }
 
 impl SchemeSpec {
@@ -49,9 +60,13 @@ impl SchemeSpec {
     pub const REDUCED: [(&'static str, SchemeSpec); 2] =
         [("hybrid", SchemeSpec::Reduced(ReducedLaw::Hybrid)), ("reduced-cn", SchemeSpec::Reduced(ReducedLaw::CrankNicolson))];
 
-    /// Every named scheme: the presets, then the reduced ones.
+    /// Penalty presets (γ_P = 10).
+    pub const PENALTY: [(&'static str, SchemeSpec); 2] =
+        [("penalty-cn", SchemeSpec::Penalty { gamma_p: 10.0, explicit: false }), ("penalty-cd", SchemeSpec::Penalty { gamma_p: 10.0, explicit: true })];
+
+    /// Every named scheme: the presets, the reduced ones, the penalty ones.
     pub fn named() -> impl Iterator<Item = (&'static str, SchemeSpec)> {
-        Self::PRESETS.into_iter().chain(Self::REDUCED)
+        Self::PRESETS.into_iter().chain(Self::REDUCED).chain(Self::PENALTY)
     }
 
     /// Checks every parameter against its allowed range.
@@ -69,7 +84,13 @@ impl SchemeSpec {
                 check("beta", beta, (0.0..=0.5).contains(&beta), "[0, 1/2] (β = 0 needs a massive contact node)")
             }
             SchemeSpec::Reduced(_) => Ok(()),
+            SchemeSpec::Penalty { gamma_p, .. } => check("gamma_p", gamma_p, gamma_p > 0.0, "finite and > 0"),
         }
+    }
+
+    /// Whether the scheme needs a massive contact node (explicit schemes).
+    pub fn needs_massive_node(&self) -> bool {
+        matches!(self, SchemeSpec::Penalty { explicit: true, .. })
     }
 
     /// Whether the scheme needs a massless contact node.
@@ -91,6 +112,24 @@ impl SchemeSpec {
             SchemeSpec::Theta { theta } => Box::new(OneStep::new(label, dy, OneStepParams::theta(theta), dt, init)?),
             SchemeSpec::PaoliSchatzman { restitution, beta } => Box::new(PaoliSchatzman::new(label, dy, beta, restitution, dt, init)?),
             SchemeSpec::Reduced(law) => Box::new(Reduced::new(label, dy, law, dt, init)?),
+            SchemeSpec::Penalty { gamma_p, explicit } => {
+                if explicit && dy.massless_contact {
+                    return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped)" });
+                }
+                let c = dy.contact_dof;
+                let kappa = gamma_p * dy.stiffness.get(c, c);
+                if explicit {
+                    let mut k = dy.stiffness.clone();
+                    k.add(c, c, kappa);
+                    let kmax = signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?;
+                    let limit = 2.0 / kmax.sqrt();
+                    if !(dt < limit) {
+                        return Err(SchemeError::Unstable { dt, limit });
+                    }
+                }
+                let prm = if explicit { OneStepParams::newmark(0.0, 0.5) } else { OneStepParams::newmark(0.25, 0.5) };
+                Box::new(OneStep::new(label, dy, prm, dt, init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
+            }
         })
     }
 }
@@ -107,6 +146,8 @@ impl fmt::Display for SchemeSpec {
             SchemeSpec::PaoliSchatzman { restitution, beta } => write!(f, "ps({restitution},{beta})"),
             SchemeSpec::Reduced(ReducedLaw::Hybrid) => f.write_str("hybrid"),
             SchemeSpec::Reduced(ReducedLaw::CrankNicolson) => f.write_str("reduced-cn"),
+            SchemeSpec::Penalty { gamma_p, explicit: false } => write!(f, "penalty({gamma_p})"),
+            SchemeSpec::Penalty { gamma_p, explicit: true } => write!(f, "penalty-cd({gamma_p})"),
         }
     }
 }
@@ -129,6 +170,8 @@ impl FromStr for SchemeSpec {
             ("theta", [theta]) => SchemeSpec::Theta { theta: *theta },
             ("ps", [e]) => SchemeSpec::PaoliSchatzman { restitution: *e, beta: 0.25 },
             ("ps", [e, beta]) => SchemeSpec::PaoliSchatzman { restitution: *e, beta: *beta },
+            ("penalty", [g]) => SchemeSpec::Penalty { gamma_p: *g, explicit: false },
+            ("penalty-cd", [g]) => SchemeSpec::Penalty { gamma_p: *g, explicit: true },
             _ => return Err(unknown()),
         };
         spec.validate()?;

@@ -62,10 +62,20 @@ fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
 /// for Newmark(β, γ) (θ-method through its Newmark-like coefficients, with
 /// its own identity when `theta` is given).
 fn check_one_step(dy: Dynamics, prm: OneStepParams, theta: Option<f64>, dt: f64, init: &Initial, steps: usize) -> Result<usize, TestCaseError> {
+    check_one_step_with(dy, prm, theta, dt, init, steps, None)
+}
+
+/// As [`check_one_step`], with a contact law other than the projection; for
+/// a penalty law also checks the force law at every step.
+fn check_one_step_with(dy: Dynamics, prm: OneStepParams, theta: Option<f64>, dt: f64, init: &Initial, steps: usize, law: Option<signorini_schemes::ContactLaw>) -> Result<usize, TestCaseError> {
     let (k, mm) = (dy.stiffness.clone(), dy.mass.clone());
     let f = dy.load.clone();
     let n = dy.n();
+    let gap = dy.bounds.lo;
     let mut s = OneStep::new("t".into(), dy, prm, dt, init).unwrap();
+    if let Some(l) = law {
+        s = s.with_contact_law(l).unwrap();
+    }
     let (mut v0, mut v1) = (vec![0.0; n], vec![0.0; n]);
     let mut contacts = 0;
     // A massless node's initial value need not be its equilibrium: the first
@@ -86,6 +96,12 @@ fn check_one_step(dy: Dynamics, prm: OneStepParams, theta: Option<f64>, dt: f64,
         s.velocity(&mut v1);
         let l1 = s.lambda();
         let e1 = s.energy().unwrap().1;
+        // The identities are for the mechanical energy: remove the spring's.
+        let spring = |u: f64| match law {
+            Some(signorini_schemes::ContactLaw::Penalty { stiffness }) => 0.5 * stiffness * (gap - u).max(0.0).powi(2),
+            _ => 0.0,
+        };
+        let (e0, e1) = (e0 - spring(u0[0]), e1 - spring(u1[0]));
         let (du, dv) = (diff(&u1, &u0), diff(&v1, &v0));
         let mut kdu = vec![0.0; n];
         k.mul_vec(&du, &mut kdu);
@@ -107,8 +123,17 @@ fn check_one_step(dy: Dynamics, prm: OneStepParams, theta: Option<f64>, dt: f64,
         };
         let scale = rounding_scale(&k, &mm, &[&u0, &u1], &[&v0, &v1], &[e0, e1]);
         prop_assert!(((e1 - e0) - rhs).abs() <= 1e-11 * scale, "ΔE = {} but identity gives {} (scale {})", e1 - e0, rhs, scale);
-        // The constraint holds exactly.
-        prop_assert!(u1[0] >= s.dynamics().bounds.lo);
+        match law {
+            // The constraint holds exactly.
+            None => prop_assert!(u1[0] >= s.dynamics().bounds.lo),
+            // The penalty force is the spring law of the new displacement
+            // (rounding: κ(g - u) cancels, a few ulps of κ|u|).
+            Some(signorini_schemes::ContactLaw::Penalty { stiffness }) => {
+                let want = stiffness * (u1[0] - gap).min(0.0);
+                prop_assert!((l1 - want).abs() <= 1e-14 * stiffness * (1.0 + u1[0].abs() + gap.abs()), "λ {} vs law {}", l1, want);
+            }
+            Some(_) => {}
+        }
     }
     Ok(contacts)
 }
@@ -301,4 +326,52 @@ fn reduced_crank_nicolson_is_newmark_cn_with_a_massless_node() {
             assert!(contacts > 20, "{mass}: {contacts} contact steps");
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Penalised contact (Newmark-CN solved exactly per step, or the explicit
+    /// central difference below its exact CFL limit): the Newmark identity
+    /// of SPEC §7 holds with λ the penalty force, and the force is the law
+    /// λ = γ_P K_00 min(0, u_0 - g) of the new displacement.
+    #[test]
+    fn penalty_energy_identity_and_law(m in 2usize..25, massive in proptest::bool::ANY, gamma_p in 0.1f64..100.0, explicit in proptest::bool::ANY,
+                                       cfl in 0.05f64..0.95, amp in 0.01f64..1.0, seed in 0.1f64..3.0, gap in -0.3f64..0.0) {
+        let mass = if massive { BarMass::Std } else { BarMass::Lumped };
+        let dy = dynamics(m, mass, gap, RightEnd::Clamped, 0.0);
+        let kappa = gamma_p * dy.stiffness.get(0, 0);
+        let (prm, dt) = if explicit {
+            let mut k = dy.stiffness.clone();
+            k.add(0, 0, kappa);
+            let kmax = signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass).unwrap();
+            (OneStepParams::newmark(0.0, 0.5), cfl * 2.0 / kmax.sqrt())
+        } else {
+            (OneStepParams::newmark(0.25, 0.5), cfl * 20.0 / m as f64)
+        };
+        let init = initial(dy.n(), amp, seed, gap);
+        check_one_step_with(dy, prm, None, dt, &init, 60, Some(signorini_schemes::ContactLaw::Penalty { stiffness: kappa }))?;
+    }
+}
+
+#[test]
+fn explicit_penalty_refuses_steps_beyond_its_cfl_limit() {
+    use signorini_schemes::{SchemeError, SchemeSpec};
+    let dy = dynamics(20, BarMass::Lumped, 0.0, RightEnd::Clamped, 0.0);
+    let init = initial(dy.n(), 0.3, 1.0, 0.0);
+    let spec: SchemeSpec = "penalty-cd(10)".parse().unwrap();
+    // Lumped P1 bar with a spring 10 c²/h at node 0: κ_max from the eigen solver.
+    let mut k = dy.stiffness.clone();
+    k.add(0, 0, 10.0 * dy.stiffness.get(0, 0));
+    let limit = 2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass).unwrap().sqrt();
+    assert!(limit > 0.01 && limit < 0.05, "{limit}");
+    match spec.build(dy.clone(), limit * 1.001, &init) {
+        Err(SchemeError::Unstable { dt, limit: l }) => assert!((l - limit).abs() < 1e-12 && dt > l),
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("accepted beyond the CFL limit"),
+    }
+    assert!(spec.build(dy, limit * 0.999, &init).is_ok());
+    let massless = dynamics(20, BarMass::Mod, 0.0, RightEnd::Clamped, 0.0);
+    assert!(matches!(spec.build(massless, 1e-4, &init), Err(SchemeError::MassNotSupported { .. })));
+    assert!(matches!("penalty(0)".parse::<SchemeSpec>(), Err(SchemeError::Invalid { field: "gamma_p", .. })));
 }
