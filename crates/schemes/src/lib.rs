@@ -29,11 +29,13 @@
 //! `signorini-fem` (matrices, factorisation) and `signorini-contact`.
 
 mod hybrid;
+mod moreau;
 mod onestep;
 mod paoli;
 mod spec;
 
 pub use hybrid::{Reduced, ReducedLaw};
+pub use moreau::MoreauJean;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use spec::SchemeSpec;
@@ -55,7 +57,7 @@ pub enum SchemeError {
         allowed: &'static str,
     },
     /// An unknown scheme name.
-    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P) or penalty-cd(GAMMA_P)")]
+    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P), penalty-cd(GAMMA_P), taylor-flanagan, moreau-jean or moreau-jean(THETA,E)")]
     UnknownScheme(String),
     /// Vectors or matrices of inconsistent sizes.
     #[error("size mismatch: {what} has {got} entries, expected {expected}")]

@@ -1,6 +1,6 @@
 //! Scheme names, parameters and their allowed ranges.
 
-use crate::{ContactLaw, Dynamics, Initial, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
+use crate::{ContactLaw, Dynamics, Initial, MoreauJean, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
 use std::fmt;
 use std::str::FromStr;
 
@@ -42,6 +42,13 @@ pub enum SchemeSpec {
         /// Explicit central difference instead of Newmark-CN.
         explicit: bool,
     },
+    /// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1].
+    MoreauJean {
+        /// θ.
+        theta: f64,
+        /// Newton restitution coefficient e.
+        restitution: f64,
+    },
 }
 
 impl SchemeSpec {
@@ -60,13 +67,39 @@ impl SchemeSpec {
     pub const REDUCED: [(&'static str, SchemeSpec); 2] =
         [("hybrid", SchemeSpec::Reduced(ReducedLaw::Hybrid)), ("reduced-cn", SchemeSpec::Reduced(ReducedLaw::CrankNicolson))];
 
-    /// Penalty presets (γ_P = 10).
-    pub const PENALTY: [(&'static str, SchemeSpec); 2] =
-        [("penalty-cn", SchemeSpec::Penalty { gamma_p: 10.0, explicit: false }), ("penalty-cd", SchemeSpec::Penalty { gamma_p: 10.0, explicit: true })];
+    /// The schemes users compare against (SPEC §4.6): penalty presets
+    /// (γ_P = 10) and Taylor–Flanagan.
+    pub const PEERS: [(&'static str, SchemeSpec); 4] = [
+        ("penalty-cn", SchemeSpec::Penalty { gamma_p: 10.0, explicit: false }),
+        ("penalty-cd", SchemeSpec::Penalty { gamma_p: 10.0, explicit: true }),
+        // Taylor–Flanagan: the explicit central difference whose contact
+        // force at t_n puts u_c^{n+1} exactly on the obstacle — the two-step
+        // Paoli–Schatzman form with β = 0, e = 0 (with lumped mass the
+        // correction touches the contact node only, as in the original).
+        ("taylor-flanagan", SchemeSpec::PaoliSchatzman { restitution: 0.0, beta: 0.0 }),
+        ("moreau-jean", SchemeSpec::MoreauJean { theta: 0.5, restitution: 0.0 }),
+    ];
 
-    /// Every named scheme: the presets, the reduced ones, the penalty ones.
+    /// Every named scheme: the presets, the reduced ones, the peers.
     pub fn named() -> impl Iterator<Item = (&'static str, SchemeSpec)> {
-        Self::PRESETS.into_iter().chain(Self::REDUCED).chain(Self::PENALTY)
+        Self::PRESETS.into_iter().chain(Self::REDUCED).chain(Self::PEERS)
+    }
+
+    /// The exact CFL limit `2/sqrt(κ_max)` of an explicit scheme on `dy`
+    /// (`None` for implicit schemes): the pencil is `(K, M)`, with the
+    /// penalty spring added to `K` for `penalty-cd`.
+    pub fn cfl_limit(&self, dy: &Dynamics) -> Result<Option<f64>, SchemeError> {
+        let c = dy.contact_dof;
+        let k = match *self {
+            SchemeSpec::Penalty { gamma_p, explicit: true } => {
+                let mut k = dy.stiffness.clone();
+                k.add(c, c, gamma_p * dy.stiffness.get(c, c));
+                k
+            }
+            SchemeSpec::PaoliSchatzman { beta, .. } if beta == 0.0 => dy.stiffness.clone(),
+            _ => return Ok(None),
+        };
+        Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
     }
 
     /// Checks every parameter against its allowed range.
@@ -85,12 +118,25 @@ impl SchemeSpec {
             }
             SchemeSpec::Reduced(_) => Ok(()),
             SchemeSpec::Penalty { gamma_p, .. } => check("gamma_p", gamma_p, gamma_p > 0.0, "finite and > 0"),
+            SchemeSpec::MoreauJean { theta, restitution } => {
+                check("theta", theta, (0.5..=1.0).contains(&theta), "[1/2, 1]")?;
+                check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")
+            }
         }
     }
 
     /// Whether the scheme needs a massive contact node (explicit schemes).
     pub fn needs_massive_node(&self) -> bool {
-        matches!(self, SchemeSpec::Penalty { explicit: true, .. })
+        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. }) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
+    }
+
+    fn check_cfl(&self, dy: &Dynamics, dt: f64) -> Result<(), SchemeError> {
+        if let Some(limit) = self.cfl_limit(dy)? {
+            if !(dt < limit) {
+                return Err(SchemeError::Unstable { dt, limit });
+            }
+        }
+        Ok(())
     }
 
     /// Whether the scheme needs a massless contact node.
@@ -110,7 +156,13 @@ impl SchemeSpec {
         Ok(match *self {
             SchemeSpec::Newmark { beta, gamma } => Box::new(OneStep::new(label, dy, OneStepParams::newmark(beta, gamma), dt, init)?),
             SchemeSpec::Theta { theta } => Box::new(OneStep::new(label, dy, OneStepParams::theta(theta), dt, init)?),
-            SchemeSpec::PaoliSchatzman { restitution, beta } => Box::new(PaoliSchatzman::new(label, dy, beta, restitution, dt, init)?),
+            SchemeSpec::PaoliSchatzman { restitution, beta } => {
+                if beta == 0.0 && dy.massless_contact {
+                    return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped) when β = 0" });
+                }
+                self.check_cfl(&dy, dt)?;
+                Box::new(PaoliSchatzman::new(label, dy, beta, restitution, dt, init)?)
+            }
             SchemeSpec::Reduced(law) => Box::new(Reduced::new(label, dy, law, dt, init)?),
             SchemeSpec::Penalty { gamma_p, explicit } => {
                 if explicit && dy.massless_contact {
@@ -118,18 +170,11 @@ impl SchemeSpec {
                 }
                 let c = dy.contact_dof;
                 let kappa = gamma_p * dy.stiffness.get(c, c);
-                if explicit {
-                    let mut k = dy.stiffness.clone();
-                    k.add(c, c, kappa);
-                    let kmax = signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?;
-                    let limit = 2.0 / kmax.sqrt();
-                    if !(dt < limit) {
-                        return Err(SchemeError::Unstable { dt, limit });
-                    }
-                }
+                self.check_cfl(&dy, dt)?;
                 let prm = if explicit { OneStepParams::newmark(0.0, 0.5) } else { OneStepParams::newmark(0.25, 0.5) };
                 Box::new(OneStep::new(label, dy, prm, dt, init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
             }
+            SchemeSpec::MoreauJean { theta, restitution } => Box::new(MoreauJean::new(label, dy, theta, restitution, dt, init)?),
         })
     }
 }
@@ -148,6 +193,7 @@ impl fmt::Display for SchemeSpec {
             SchemeSpec::Reduced(ReducedLaw::CrankNicolson) => f.write_str("reduced-cn"),
             SchemeSpec::Penalty { gamma_p, explicit: false } => write!(f, "penalty({gamma_p})"),
             SchemeSpec::Penalty { gamma_p, explicit: true } => write!(f, "penalty-cd({gamma_p})"),
+            SchemeSpec::MoreauJean { theta, restitution } => write!(f, "moreau-jean({theta},{restitution})"),
         }
     }
 }
@@ -172,6 +218,7 @@ impl FromStr for SchemeSpec {
             ("ps", [e, beta]) => SchemeSpec::PaoliSchatzman { restitution: *e, beta: *beta },
             ("penalty", [g]) => SchemeSpec::Penalty { gamma_p: *g, explicit: false },
             ("penalty-cd", [g]) => SchemeSpec::Penalty { gamma_p: *g, explicit: true },
+            ("moreau-jean", [t, e]) => SchemeSpec::MoreauJean { theta: *t, restitution: *e },
             _ => return Err(unknown()),
         };
         spec.validate()?;

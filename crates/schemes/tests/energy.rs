@@ -375,3 +375,81 @@ fn explicit_penalty_refuses_steps_beyond_its_cfl_limit() {
     assert!(matches!(spec.build(massless, 1e-4, &init), Err(SchemeError::MassNotSupported { .. })));
     assert!(matches!("penalty(0)".parse::<SchemeSpec>(), Err(SchemeError::Invalid { field: "gamma_p", .. })));
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Moreau–Jean, θ = 1/2: ΔE = p (v_c^n + v_c^{n+1})/2 exactly (steady
+    /// load in E); by the complementarity p (v_c^{n+1} + e v_c^n) = 0 this is
+    /// (1-e)/2 p v_c^n: zero for e = 1, ≤ 0 when the node approaches
+    /// (v_c^n ≤ 0) — but positive when the predicted-active node already
+    /// separates (v_c^n > 0) and the impulse stops it: a measured gain.
+    #[test]
+    fn moreau_jean_energy_identity(m in 2usize..25, massive in proptest::bool::ANY, e in 0.0f64..=1.0, cfl in 0.05f64..20.0,
+                                   amp in 0.01f64..1.0, seed in 0.1f64..3.0, gap in -0.3f64..0.0, force in -0.5f64..0.5, free in proptest::bool::ANY) {
+        let mass = if massive { BarMass::Std } else { BarMass::Lumped };
+        let end = if free { RightEnd::Free } else { RightEnd::Clamped };
+        let dy = dynamics(m, mass, gap, end, force);
+        let (k, mm) = (dy.stiffness.clone(), dy.mass.clone());
+        let mut s = signorini_schemes::MoreauJean::new("mj".into(), dy, 0.5, e, cfl / m as f64, &initial(m + usize::from(free), amp, seed, gap)).unwrap();
+        let mut e0 = s.energy().unwrap().1;
+        for _ in 0..60 {
+            let v0 = s.velocity()[0];
+            s.step().unwrap();
+            let (v1, p) = (s.velocity()[0], s.impulse());
+            let e1 = s.energy().unwrap().1;
+            let rhs = p * (v0 + v1) / 2.0;
+            let scale = rounding_scale(&k, &mm, &[s.displacement()], &[s.velocity()], &[e0, e1]);
+            prop_assert!(((e1 - e0) - rhs).abs() <= 1e-11 * scale, "ΔE {} vs {}", e1 - e0, rhs);
+            prop_assert!((rhs - 0.5 * (1.0 - e) * p * v0).abs() <= 1e-12 * scale, "complementarity: {} vs {}", rhs, 0.5 * (1.0 - e) * p * v0);
+            if v0 <= 0.0 {
+                prop_assert!(rhs <= 1e-12 * scale, "an approaching impact gained energy {}", rhs);
+            }
+            e0 = e1;
+        }
+    }
+}
+
+/// Taylor–Flanagan (`ps(0, 0)`, lumped mass, dt below the exact CFL limit):
+/// the contact correction moves the contact node only, puts it exactly on
+/// the obstacle, and the central-difference energy
+/// E^{n+1/2} = ½VᵀMV + ½ U^nᵀ K U^{n+1} obeys ΔE = -λ^n (u_0^{n+1} - u_0^{n-1})/2 ≤ 0.
+#[test]
+fn taylor_flanagan_corrects_the_contact_node_only_and_dissipates() {
+    use signorini_schemes::SchemeSpec;
+    let dy = dynamics(30, BarMass::Lumped, 0.0, RightEnd::Clamped, 0.0);
+    let (k, n) = (dy.stiffness.clone(), dy.n());
+    let spec: SchemeSpec = "taylor-flanagan".parse().unwrap();
+    let limit = spec.cfl_limit(&dy).unwrap().unwrap();
+    // Lumped P1 bar: κ_max → 4c²/h² as m grows, so dt_c ≈ h/c.
+    assert!((limit * 30.0 - 1.0).abs() < 0.01, "CFL limit {limit}");
+    let init = Initial { u: (0..n).map(|i| 0.5 * (1.0 - i as f64 / 30.0)).collect(), v: vec![-0.3; n] };
+    let mut s = PaoliSchatzman::new("tf".into(), dy, 0.0, 0.0, 0.9 * limit, &init).unwrap();
+    let mut e_prev = s.energy().unwrap().1;
+    let mut contacts = 0;
+    for _ in 0..600 {
+        let um = s.previous_displacement().to_vec();
+        let u0 = s.displacement().to_vec();
+        let rep = s.step().unwrap();
+        let u1 = s.displacement().to_vec();
+        let (_, lam) = rep.lambda.unwrap();
+        if lam != 0.0 {
+            contacts += 1;
+            assert_eq!(u1[0], 0.0);
+            // Nodes 1.. follow the free central-difference update exactly.
+            let mut ku = vec![0.0; n];
+            k.mul_vec(&u0, &mut ku);
+            let mm = s.dynamics().mass.get(1, 1);
+            let dt2 = (0.9 * limit) * (0.9 * limit);
+            let free1 = 2.0 * u0[1] - um[1] - dt2 * ku[1] / mm;
+            assert!((u1[1] - free1).abs() <= 1e-14, "node 1 moved by the correction: {} vs {}", u1[1], free1);
+        }
+        let e = s.energy().unwrap().1;
+        let rhs = -0.5 * lam * (u1[0] - um[0]);
+        assert!(((e - e_prev) - rhs).abs() <= 1e-13, "ΔE {} vs {}", e - e_prev, rhs);
+        assert!(rhs <= 1e-15);
+        e_prev = e;
+    }
+    assert!(contacts > 10, "{contacts}");
+    assert!(matches!("taylor-flanagan".parse::<SchemeSpec>().unwrap().build(dynamics(10, BarMass::Mod, 0.0, RightEnd::Clamped, 0.0), 1e-3, &initial(10, 0.1, 1.0, 0.0)), Err(signorini_schemes::SchemeError::MassNotSupported { .. })));
+}

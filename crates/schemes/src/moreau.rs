@@ -1,0 +1,141 @@
+//! Moreau–Jean time stepping (SPEC §4.6; the scheme of Siconos): a θ-scheme
+//! on velocities with Newton's impact law at the velocity level,
+//!
+//! ```text
+//! M (V^{n+1} - V^n) + dt K (U^n + θ dt V^{n+θ}) = dt F + p e_c,
+//! U^{n+1} = U^n + dt V^{n+θ},   V^{n+θ} = (1-θ) V^n + θ V^{n+1},
+//! if the contact is predicted active (u_c^n + dt/2 v_c^n <= g):
+//!     0 <= v_c^{n+1} + e v_c^n  ⊥  p >= 0,   else p = 0,
+//! ```
+//!
+//! i.e. `(M + θ²dt²K) V^{n+1} = M V^n - dt K U^n - θ(1-θ) dt² K V^n + dt F + p e_c`,
+//! one solve and the closed-form projection on `v_c^{n+1}`. The impulse `p`
+//! is reported as the mean force `λ = -p/dt` at `t_{n+1}`. The constraint
+//! holds at the velocity level only: `u_c` may dip below `g` by O(dt·v).
+//!
+//! Energy (θ = 1/2, steady F): `ΔE = p (v_c^n + v_c^{n+1})/2 = (1-e)/2 p v_c^n`
+//! (by the complementarity): zero for e = 1, `≤ 0` for an approaching node,
+//! but a gain when the predicted-active node is already separating
+//! (`v_c^n > 0`) and the impulse holds it — the velocity-level law's price.
+
+use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
+use signorini_contact::{Active, Projection};
+use signorini_fem::BandLdlt;
+
+/// The Moreau–Jean scheme.
+pub struct MoreauJean {
+    label: String,
+    theta: f64,
+    restitution: f64,
+    dt: f64,
+    n: usize,
+    dy: Dynamics,
+    a: BandLdlt,
+    proj: Projection,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    rhs: Vec<f64>,
+    tmp: Vec<f64>,
+    ktmp: Vec<f64>,
+    impulse: f64,
+}
+
+impl MoreauJean {
+    /// Sets up the scheme (needs a massive contact node; θ ∈ [1/2, 1], e ∈ [0, 1]).
+    pub fn new(label: String, dy: Dynamics, theta: f64, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+        dy.validate()?;
+        if dy.massless_contact {
+            return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the impact law acts on its velocity" });
+        }
+        if dy.bounds.hi.is_finite() {
+            return Err(SchemeError::Structure("Moreau–Jean here handles a one-sided obstacle"));
+        }
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
+        }
+        let n = dy.n();
+        for (what, v) in [("initial displacement", &init.u), ("initial velocity", &init.v)] {
+            if v.len() != n {
+                return Err(SchemeError::Size { what, got: v.len(), expected: n });
+            }
+        }
+        let a = dy.mass.lin_comb(1.0, &dy.stiffness, theta * theta * dt * dt).factor()?;
+        let c = dy.contact_dof;
+        let mut w = vec![0.0; n];
+        w[c] = 1.0;
+        a.solve_in_place(&mut w);
+        let proj = Projection::new(c, w)?;
+        Ok(Self { label, theta, restitution, dt, n: 0, a, proj, u: init.u.clone(), v: init.v.clone(), rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n], impulse: 0.0, dy })
+    }
+
+    /// Velocity `V^n`.
+    pub fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    /// The impulse `p` of the last step.
+    pub fn impulse(&self) -> f64 {
+        self.impulse
+    }
+}
+
+impl Stepper for MoreauJean {
+    fn label(&self) -> String {
+        self.label.clone()
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn level(&self) -> usize {
+        self.n
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn step(&mut self) -> Result<StepReport, SchemeError> {
+        let (dt, th) = (self.dt, self.theta);
+        let c = self.dy.contact_dof;
+        // rhs = M V - dt K (U + θ(1-θ) dt V) + dt F
+        self.dy.mass.mul_vec(&self.v, &mut self.rhs);
+        for ((t, u), v) in self.tmp.iter_mut().zip(&self.u).zip(&self.v) {
+            *t = u + th * (1.0 - th) * dt * v;
+        }
+        self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
+        for ((b, k), f) in self.rhs.iter_mut().zip(&self.ktmp).zip(&self.dy.load) {
+            *b += dt * (f - k);
+        }
+        self.a.solve_in_place(&mut self.rhs);
+        let (vc, uc) = (self.v[c], self.u[c]);
+        let predicted_active = uc + 0.5 * dt * vc <= self.dy.bounds.lo;
+        let (p, active) = if predicted_active {
+            let pr = self.proj.project(&mut self.rhs, -self.restitution * vc, f64::INFINITY);
+            (pr.mu, pr.active)
+        } else {
+            (0.0, Active::None)
+        };
+        // U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}); V^{n+1}.
+        for ((u, v), vn) in self.u.iter_mut().zip(self.v.iter_mut()).zip(&self.rhs) {
+            *u += dt * ((1.0 - th) * *v + th * vn);
+            *v = *vn;
+        }
+        self.impulse = p;
+        self.n += 1;
+        let t = self.time();
+        let lambda = -p / dt;
+        if !(self.u[c].is_finite() && lambda.is_finite()) {
+            return Err(SchemeError::NonFinite { step: self.n, time: t });
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active })
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        let kin = self.dy.mass.quad_form(&self.v);
+        let pot = self.dy.stiffness.quad_form(&self.u);
+        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+    }
+}
