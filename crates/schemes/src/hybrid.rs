@@ -53,6 +53,11 @@ pub enum ReducedLaw {
     Hybrid,
     /// Crank–Nicolson on the reduced ODE (the paper's Lemma 3.1 scheme).
     CrankNicolson,
+    /// The explicit central difference (Newmark β = 0, γ = 1/2) on the
+    /// reduced ODE: the contact node is quasi-static (`u_0 = max(u_1 + a, g)`
+    /// at every step, as in GetFEM's demo), the rest explicit with `M*`;
+    /// conditionally stable, dt < 2/sqrt(κ_max(K*, M*)).
+    CentralDifference,
 }
 
 /// A scheme on the reduced formulation of a massless contact node.
@@ -79,6 +84,8 @@ pub struct Reduced {
     rhs: Vec<f64>,
     tmp: Vec<f64>,
     lambda: f64,
+    /// `A^n` (reduced), for the explicit central difference.
+    acc: Vec<f64>,
 }
 
 impl Reduced {
@@ -116,7 +123,8 @@ impl Reduced {
         let k_star = dy.stiffness.trailing(1);
         let mut k_free = k_star.clone();
         k_free.add(0, 0, -k);
-        let a = m_star.lin_comb(1.0, &k_free, dt * dt / 4.0).factor()?;
+        let explicit = law == ReducedLaw::CentralDifference;
+        let a = m_star.lin_comb(1.0, &k_free, if explicit { 0.0 } else { dt * dt / 4.0 }).factor()?;
         let mut w = vec![0.0; n - 1];
         w[0] = 1.0;
         a.solve_in_place(&mut w);
@@ -143,9 +151,13 @@ impl Reduced {
             rhs: vec![0.0; n - 1],
             tmp: vec![0.0; n - 1],
             lambda: 0.0,
+            acc: vec![0.0; n - 1],
             dy,
         };
         s.equilibrate();
+        if explicit {
+            s.update_acceleration();
+        }
         Ok(s)
     }
 
@@ -155,6 +167,57 @@ impl Reduced {
         self.u[0] = (self.u[1] + self.a_shift).max(self.dy.bounds.lo);
         self.lambda = self.k * w.min(0.0);
         w
+    }
+
+    /// `A = M*⁻¹ (F' - K'U + k (-w)⁺ e_1)` (explicit central difference).
+    fn update_acceleration(&mut self) {
+        let w = self.u[1] - self.g_hat;
+        self.k_free.mul_vec(&self.u[1..], &mut self.acc);
+        for (a, f) in self.acc.iter_mut().zip(&self.f_eff) {
+            *a = f - *a;
+        }
+        self.acc[0] += self.k * (-w).max(0.0);
+        self.a.solve_in_place(&mut self.acc);
+    }
+
+    fn step_central_difference(&mut self) -> Result<StepReport, SchemeError> {
+        let dt = self.dt;
+        // U^{n+1} = U^n + dt V^n + dt²/2 A^n; V^{n+1} = V^n + dt/2 (A^n + A^{n+1}).
+        for ((u, v), a) in self.u[1..].iter_mut().zip(&mut self.v).zip(&self.acc) {
+            *u += dt * *v + 0.5 * dt * dt * a;
+            *v += 0.5 * dt * a;
+        }
+        let w_new = self.equilibrate();
+        self.update_acceleration();
+        for (v, a) in self.v.iter_mut().zip(&self.acc) {
+            *v += 0.5 * dt * a;
+        }
+        self.n += 1;
+        let t = self.time();
+        if !(self.u[1].is_finite() && self.lambda.is_finite()) {
+            return Err(SchemeError::NonFinite { step: self.n, time: t });
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lambda)), active: if w_new < 0.0 { Active::Lower } else { Active::None } })
+    }
+
+    /// `K' = K* - k e_1 e_1ᵀ` (stiffness with the contact node following node 1).
+    pub fn free_stiffness(&self) -> &SymBand {
+        &self.k_free
+    }
+
+    /// `M*` (the mass matrix without node 0).
+    pub fn reduced_mass(&self) -> &SymBand {
+        &self.m_star
+    }
+
+    /// The current contact force `λ = k min(w, 0)`.
+    pub fn lambda_now(&self) -> f64 {
+        self.lambda
+    }
+
+    /// `F' = F* + F_0 e_1`.
+    pub fn reduced_load(&self) -> &[f64] {
+        &self.f_eff
     }
 
     /// The contact part `N'(x)` of the law, `x = w^{n+1}`, given `w^n`
@@ -170,6 +233,8 @@ impl Reduced {
                 let c = h2 * (-wn).max(0.0);
                 ([0.0], [(c, -h2), (c, 0.0)])
             }
+            // Not used: the explicit scheme needs no scalar solve.
+            ReducedLaw::CentralDifference => ([0.0], [(0.0, 0.0), (0.0, 0.0)]),
         }
     }
 
@@ -218,6 +283,9 @@ impl Stepper for Reduced {
     }
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
+        if self.law == ReducedLaw::CentralDifference {
+            return self.step_central_difference();
+        }
         let dt = self.dt;
         let q = dt * dt / 4.0;
         let wn = self.u[1] - self.g_hat;

@@ -69,7 +69,7 @@ impl SchemeSpec {
 
     /// The schemes users compare against (SPEC §4.6): penalty presets
     /// (γ_P = 10) and Taylor–Flanagan.
-    pub const PEERS: [(&'static str, SchemeSpec); 4] = [
+    pub const PEERS: [(&'static str, SchemeSpec); 5] = [
         ("penalty-cn", SchemeSpec::Penalty { gamma_p: 10.0, explicit: false }),
         ("penalty-cd", SchemeSpec::Penalty { gamma_p: 10.0, explicit: true }),
         // Taylor–Flanagan: the explicit central difference whose contact
@@ -78,6 +78,7 @@ impl SchemeSpec {
         // correction touches the contact node only, as in the original).
         ("taylor-flanagan", SchemeSpec::PaoliSchatzman { restitution: 0.0, beta: 0.0 }),
         ("moreau-jean", SchemeSpec::MoreauJean { theta: 0.5, restitution: 0.0 }),
+        ("cd-massless", SchemeSpec::Reduced(ReducedLaw::CentralDifference)),
     ];
 
     /// Every named scheme: the presets, the reduced ones, the peers.
@@ -97,6 +98,12 @@ impl SchemeSpec {
                 k
             }
             SchemeSpec::PaoliSchatzman { beta, .. } if beta == 0.0 => dy.stiffness.clone(),
+            SchemeSpec::Reduced(ReducedLaw::CentralDifference) if dy.massless_contact && c == 0 => {
+                // The reduced pencil (K*, M*): in contact the node is fixed and
+                // node 1 feels the whole first element.
+                let (k, m) = (dy.stiffness.trailing(1), dy.mass.trailing(1));
+                return Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &m)?.sqrt()));
+            }
             _ => return Ok(None),
         };
         Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
@@ -163,7 +170,12 @@ impl SchemeSpec {
                 self.check_cfl(&dy, dt)?;
                 Box::new(PaoliSchatzman::new(label, dy, beta, restitution, dt, init)?)
             }
-            SchemeSpec::Reduced(law) => Box::new(Reduced::new(label, dy, law, dt, init)?),
+            SchemeSpec::Reduced(law) => {
+                if law == ReducedLaw::CentralDifference {
+                    self.check_cfl(&dy, dt)?;
+                }
+                Box::new(Reduced::new(label, dy, law, dt, init)?)
+            }
             SchemeSpec::Penalty { gamma_p, explicit } => {
                 if explicit && dy.massless_contact {
                     return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped)" });
@@ -191,6 +203,7 @@ impl fmt::Display for SchemeSpec {
             SchemeSpec::PaoliSchatzman { restitution, beta } => write!(f, "ps({restitution},{beta})"),
             SchemeSpec::Reduced(ReducedLaw::Hybrid) => f.write_str("hybrid"),
             SchemeSpec::Reduced(ReducedLaw::CrankNicolson) => f.write_str("reduced-cn"),
+            SchemeSpec::Reduced(ReducedLaw::CentralDifference) => f.write_str("cd-massless"),
             SchemeSpec::Penalty { gamma_p, explicit: false } => write!(f, "penalty({gamma_p})"),
             SchemeSpec::Penalty { gamma_p, explicit: true } => write!(f, "penalty-cd({gamma_p})"),
             SchemeSpec::MoreauJean { theta, restitution } => write!(f, "moreau-jean({theta},{restitution})"),

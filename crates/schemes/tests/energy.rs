@@ -453,3 +453,42 @@ fn taylor_flanagan_corrects_the_contact_node_only_and_dissipates() {
     assert!(contacts > 10, "{contacts}");
     assert!(matches!("taylor-flanagan".parse::<SchemeSpec>().unwrap().build(dynamics(10, BarMass::Mod, 0.0, RightEnd::Clamped, 0.0), 1e-3, &initial(10, 0.1, 1.0, 0.0)), Err(signorini_schemes::SchemeError::MassNotSupported { .. })));
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Explicit central difference with a quasi-static massless contact node
+    /// (`cd-massless`, below its exact CFL limit): on the reduced system the
+    /// Newmark identity with β = 0, γ = 1/2 holds for E = ½VᵀM*V + ½UᵀK'U - F'ᵀU
+    /// with λ = -k(-w)⁺ the contact force on node 1.
+    #[test]
+    fn central_difference_massless_identity(m in 3usize..25, mass_i in 0usize..6, cfl in 0.05f64..0.95, amp in 0.01f64..1.0,
+                                            seed in 0.1f64..3.0, gap in -0.3f64..0.0, force in -0.5f64..0.5) {
+        use signorini_schemes::SchemeSpec;
+        let dy = dynamics(m, MASSLESS[mass_i], gap, RightEnd::Clamped, force);
+        let spec: SchemeSpec = "cd-massless".parse().unwrap();
+        let dt = cfl * spec.cfl_limit(&dy).unwrap().unwrap();
+        let init = initial(dy.n(), amp, seed, gap);
+        let mut s = Reduced::new("cd".into(), dy, ReducedLaw::CentralDifference, dt, &init).unwrap();
+        let (kf, ms, f) = (s.free_stiffness().clone(), s.reduced_mass().clone(), s.reduced_load().to_vec());
+        let energy = |s: &Reduced| {
+            let u = &s.displacement()[1..];
+            0.5 * ms.quad_form(s.velocity()) + 0.5 * kf.quad_form(u) - dot(&f, u)
+        };
+        let lam = |r: &signorini_schemes::StepReport| r.lambda.map_or(0.0, |l| l.1);
+        let mut l0 = s.lambda_now();
+        for _ in 0..60 {
+            let (u0, v0, e0) = (s.displacement()[1..].to_vec(), s.velocity().to_vec(), energy(&s));
+            let r = s.step().unwrap();
+            let (u1, v1, e1) = (s.displacement()[1..].to_vec(), s.velocity().to_vec(), energy(&s));
+            let l1 = lam(&r);
+            let (du, dv) = (diff(&u1, &u0), diff(&v1, &v0));
+            let mut kdu = vec![0.0; du.len()];
+            kf.mul_vec(&du, &mut kdu);
+            let rhs = -du[0] * 0.5 * (l0 + l1) - 0.25 * dt * dot(&dv, &kdu) - 0.25 * dt * dv[0] * (l1 - l0);
+            let scale = rounding_scale(&kf, &ms, &[&u0, &u1], &[&v0, &v1], &[e0, e1]);
+            prop_assert!(((e1 - e0) - rhs).abs() <= 1e-11 * scale, "ΔE {} vs {}", e1 - e0, rhs);
+            l0 = l1;
+        }
+    }
+}
