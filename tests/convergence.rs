@@ -23,6 +23,7 @@ fn coarse(benchmark: Benchmark) -> Vec<ConfigResult> {
         levels: vec![10, 20, 40, 80],
         ratio,
         t_end,
+        norms: Default::default(),
     };
     sweep(&cfg, &|| {}).unwrap()
 }

@@ -20,6 +20,7 @@ mod wp;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use signorini_fem::BarMass;
+use signorini_norms::NormKind;
 use signorini_run::study::{self, StudyConfig};
 use signorini_run::Benchmark;
 use signorini_schemes::SchemeSpec;
@@ -71,9 +72,15 @@ struct ConvergenceArgs {
     /// Horizon T (default: the benchmark's, 3 for bar-dirichlet).
     #[arg(long = "t-end")]
     t_end: Option<f64>,
-    /// Output folder (default out/convergence/<benchmark>).
+    /// Output folder (default out/convergence/<benchmark>, or
+    /// out/convergence/<benchmark>-getfem-norms with --norms getfem).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Error measure: exact (kink-split, SPEC §6) or getfem (errors of the
+    /// nodal interpolant, relative to the reference's norms, as GetFEM's
+    /// 1D dynamic-contact demo computes them).
+    #[arg(long, default_value = "exact")]
+    norms: String,
 }
 
 fn main() -> ExitCode {
@@ -100,17 +107,24 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     let schemes = split_schemes(&a.schemes).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| format!("--schemes: {e}"))).collect::<Result<Vec<_>, _>>()?;
     let masses = a.masses.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| format!("--masses: {e}"))).collect::<Result<Vec<_>, _>>()?;
     let (ratio0, t0) = benchmark.default_ratio_and_horizon();
-    let cfg = StudyConfig { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio.unwrap_or(ratio0), t_end: a.t_end.unwrap_or(t0) };
+    let norms = match a.norms.as_str() {
+        "exact" => NormKind::Exact,
+        "getfem" => NormKind::GetfemInterpolated,
+        other => return Err(format!("--norms {other:?}: allowed exact or getfem")),
+    };
+    let cfg = StudyConfig { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio.unwrap_or(ratio0), t_end: a.t_end.unwrap_or(t0), norms };
     cfg.validate().map_err(|e| e.to_string())?;
-    let out = a.out.unwrap_or_else(|| PathBuf::from("out/convergence").join(benchmark.name()));
+    let folder = if norms == NormKind::Exact { benchmark.name().to_string() } else { format!("{}-getfem-norms", benchmark.name()) };
+    let out = a.out.unwrap_or_else(|| PathBuf::from("out/convergence").join(folder));
 
     let results = run_study(&cfg, &out)?;
     println!(
-        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}\n\nLeast-squares rates of the error against dx (CSV: {}).\n",
+        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n",
         cfg.benchmark,
         cfg.ratio,
         cfg.t_end,
         cfg.levels,
+        if cfg.norms == NormKind::Exact { "" } else { " — GetFEM-demo norms: errors of the nodal interpolant, relative" },
         out.display()
     );
     print!("{}", study::markdown_table(&results.0));

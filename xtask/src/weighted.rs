@@ -180,7 +180,7 @@ pub fn run(a: Args) -> Result<(), String> {
     phase.flush().map_err(|e| e.to_string())?;
     energy.flush().map_err(|e| e.to_string())?;
     // Convergence of every (scheme, weight) pair, as `cargo xtask convergence`.
-    let cfg = StudyConfig { benchmark: Benchmark::BarDirichlet, schemes, masses: MASSES.to_vec(), levels: vec![10, 20, 40, 80, 160, 320, 640], ratio: 10.0, t_end: 3.0 };
+    let cfg = StudyConfig { benchmark: Benchmark::BarDirichlet, schemes, masses: MASSES.to_vec(), levels: vec![10, 20, 40, 80, 160, 320, 640], ratio: 10.0, t_end: 3.0, norms: Default::default() };
     let (results, _) = run_study(&cfg, &a.out.join("convergence"))?;
     println!("# Weighted mass redistribution (bar-dirichlet; output in {})\n", a.out.display());
     println!("## Phase: events of the contact node (resolution dt; exact take-off 2, next impact 4)\n\n{md_phase}");

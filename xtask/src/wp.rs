@@ -65,7 +65,7 @@ pub fn run_wp(a: Args) -> Result<(), String> {
         let (ratio, t_end) = benchmark.default_ratio_and_horizon();
         for scheme in &schemes {
             let ok: Vec<BarMass> = masses.iter().copied().filter(|m| !scheme.needs_massless_node() || m.massless_contact_node()).collect();
-            let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end };
+            let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end, norms: Default::default() };
             for r in study::sweep(&cfg, &|| {}).map_err(|e| e.to_string())? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, ratio, t_end)?;

@@ -146,3 +146,32 @@ fn error_norms_accumulate_lambda_energy_and_tv() {
     assert!((r.lambda_tv_ratio - 1.4).abs() < 1e-14);
     assert_eq!(r.linf_energy, 2.5);
 }
+
+#[test]
+fn getfem_style_norms_are_relative_interpolation_errors() {
+    use signorini_norms::NormKind;
+    let k = Kinked { a: 0.37, p: 1, square: false };
+    let m = 5;
+    let interp: Vec<f64> = (0..=m).map(|i| (i as f64 / m as f64 - 0.37).abs()).collect();
+    // u_h = I_h u: zero error (the kink inside an element is not seen).
+    let mut n = ErrorNorms::with_kind(&k, m, VNorm::H1Full, NormKind::GetfemInterpolated);
+    n.add_displacement(0.0, &interp);
+    n.add_lambda(1.5, -0.5);
+    n.add_energy(1.5, 2.0);
+    let r = n.report(0.1);
+    assert_eq!((r.linf_l2_u, r.linf_v_u, r.l2_lambda, r.linf_energy), (0.0, 0.0, 0.0, 0.0));
+    // u_h = 0, λ_h = 0, E_h = 0: every relative error is exactly 1.
+    let mut z = ErrorNorms::with_kind(&k, m, VNorm::H1Full, NormKind::GetfemInterpolated);
+    for t in [0.0, 0.5] {
+        z.add_displacement(t, &vec![0.0; m + 1]);
+    }
+    z.add_lambda(1.5, 0.0);
+    z.add_energy(1.5, 0.0);
+    let r = z.report(0.1);
+    for v in [r.linf_l2_u, r.l2_l2_u, r.linf_v_u, r.l2_v_u, r.l2_lambda, r.linf_energy, r.l2_energy] {
+        assert!((v - 1.0).abs() < 1e-15, "{v}");
+    }
+    // The exact norms of the same u_h = I_h u are not zero (the kink).
+    let mut x = ErrorNorms::new(&k, m, VNorm::H1Full);
+    assert!(x.add_displacement(0.0, &interp).l2 > 1e-3);
+}

@@ -2,7 +2,7 @@
 
 use crate::{Observer, RunError, Sample};
 use signorini_exact::ExactSolution;
-use signorini_norms::{ErrorNorms, NormReport, VNorm};
+use signorini_norms::{ErrorNorms, NormKind, NormReport, VNorm};
 use std::io::Write;
 
 /// Accumulates the error norms of SPEC §6 while stepping (no history).
@@ -14,7 +14,12 @@ pub struct NormObserver<'a> {
 impl<'a> NormObserver<'a> {
     /// For a mesh of `elements` elements and time step `dt`.
     pub fn new(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm, dt: f64) -> Self {
-        Self { norms: ErrorNorms::new(exact, elements, vnorm), dt }
+        Self::with_kind(exact, elements, vnorm, dt, NormKind::Exact)
+    }
+
+    /// With a choice of error measure.
+    pub fn with_kind(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm, dt: f64, kind: NormKind) -> Self {
+        Self { norms: ErrorNorms::with_kind(exact, elements, vnorm, kind), dt }
     }
 
     /// The norms so far.

@@ -10,7 +10,7 @@ use crate::{run, Benchmark, NormObserver, RunConfig, RunError};
 use rayon::prelude::*;
 use signorini_exact::ExactSolution;
 use signorini_fem::BarMass;
-use signorini_norms::NormReport;
+use signorini_norms::{NormKind, NormReport};
 use signorini_schemes::SchemeSpec;
 use std::io::Write;
 use std::time::Instant;
@@ -51,6 +51,8 @@ pub struct StudyConfig {
     pub ratio: f64,
     /// Horizon `T`.
     pub t_end: f64,
+    /// Error measure (exact by default; GetFEM-demo style on request).
+    pub norms: NormKind,
 }
 
 impl StudyConfig {
@@ -104,13 +106,19 @@ pub struct ConfigResult {
 /// Runs one level: builds the problem and scheme, steps to `t_end` with the
 /// norm observer.
 pub fn run_level(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64) -> Result<LevelResult, RunError> {
+    run_level_with(benchmark, exact, scheme, mass, m, ratio, t_end, NormKind::Exact)
+}
+
+/// [`run_level`] with a choice of error measure.
+#[allow(clippy::too_many_arguments)]
+pub fn run_level_with(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
     let start = Instant::now();
     let problem = benchmark.problem(exact, m, mass)?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let cfg = RunConfig::new(dt, t_end)?;
     let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
-    let mut norms = NormObserver::new(exact, m, problem.vnorm(), dt);
+    let mut norms = NormObserver::with_kind(exact, m, problem.vnorm(), dt, kind);
     let summary = run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?;
     Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64() })
 }
@@ -132,7 +140,7 @@ pub fn sweep(cfg: &StudyConfig, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigRe
     let done: Vec<((usize, usize, usize), LevelResult)> = jobs
         .par_iter()
         .map(|&(si, mi, li)| {
-            let r = run_level(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end);
+            let r = run_level_with(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end, cfg.norms);
             tick();
             r.map(|r| ((si, mi, li), r))
         })
