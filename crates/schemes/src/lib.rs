@@ -30,12 +30,14 @@
 
 mod hybrid;
 mod moreau;
+mod nitsche;
 mod onestep;
 mod paoli;
 mod spec;
 
 pub use hybrid::{Reduced, ReducedLaw};
 pub use moreau::MoreauJean;
+pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use spec::SchemeSpec;
@@ -57,7 +59,7 @@ pub enum SchemeError {
         allowed: &'static str,
     },
     /// An unknown scheme name.
-    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P), penalty-cd(GAMMA_P), taylor-flanagan, moreau-jean or moreau-jean(THETA,E)")]
+    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P), penalty-cd(GAMMA_P), taylor-flanagan, moreau-jean, moreau-jean(THETA,E), cd-massless, nitsche-cn or nitsche(GAMMA0,THETA)")]
     UnknownScheme(String),
     /// Vectors or matrices of inconsistent sizes.
     #[error("size mismatch: {what} has {got} entries, expected {expected}")]

@@ -1,6 +1,6 @@
 //! Scheme names, parameters and their allowed ranges.
 
-use crate::{ContactLaw, Dynamics, Initial, MoreauJean, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
+use crate::{ContactLaw, Dynamics, Initial, MoreauJean, Nitsche, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, Stepper};
 use std::fmt;
 use std::str::FromStr;
 
@@ -42,6 +42,13 @@ pub enum SchemeSpec {
         /// Explicit central difference instead of Newmark-CN.
         explicit: bool,
     },
+    /// Nitsche's method with Newmark-CN: γ = γ_0 c²/h (γ_0 > 0), θ ∈ [-1, 1].
+    Nitsche {
+        /// γ_0.
+        gamma0: f64,
+        /// θ (1: symmetric, 0: incomplete, -1: skew-symmetric).
+        theta: f64,
+    },
     /// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1].
     MoreauJean {
         /// θ.
@@ -69,7 +76,7 @@ impl SchemeSpec {
 
     /// The schemes users compare against (SPEC §4.6): penalty presets
     /// (γ_P = 10) and Taylor–Flanagan.
-    pub const PEERS: [(&'static str, SchemeSpec); 5] = [
+    pub const PEERS: [(&'static str, SchemeSpec); 6] = [
         ("penalty-cn", SchemeSpec::Penalty { gamma_p: 10.0, explicit: false }),
         ("penalty-cd", SchemeSpec::Penalty { gamma_p: 10.0, explicit: true }),
         // Taylor–Flanagan: the explicit central difference whose contact
@@ -79,6 +86,7 @@ impl SchemeSpec {
         ("taylor-flanagan", SchemeSpec::PaoliSchatzman { restitution: 0.0, beta: 0.0 }),
         ("moreau-jean", SchemeSpec::MoreauJean { theta: 0.5, restitution: 0.0 }),
         ("cd-massless", SchemeSpec::Reduced(ReducedLaw::CentralDifference)),
+        ("nitsche-cn", SchemeSpec::Nitsche { gamma0: 10.0, theta: 1.0 }),
     ];
 
     /// Every named scheme: the presets, the reduced ones, the peers.
@@ -125,6 +133,10 @@ impl SchemeSpec {
             }
             SchemeSpec::Reduced(_) => Ok(()),
             SchemeSpec::Penalty { gamma_p, .. } => check("gamma_p", gamma_p, gamma_p > 0.0, "finite and > 0"),
+            SchemeSpec::Nitsche { gamma0, theta } => {
+                check("gamma0", gamma0, gamma0 > 0.0, "finite and > 0")?;
+                check("theta", theta, (-1.0..=1.0).contains(&theta), "[-1, 1]")
+            }
             SchemeSpec::MoreauJean { theta, restitution } => {
                 check("theta", theta, (0.5..=1.0).contains(&theta), "[1/2, 1]")?;
                 check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")
@@ -187,6 +199,7 @@ impl SchemeSpec {
                 Box::new(OneStep::new(label, dy, prm, dt, init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
             }
             SchemeSpec::MoreauJean { theta, restitution } => Box::new(MoreauJean::new(label, dy, theta, restitution, dt, init)?),
+            SchemeSpec::Nitsche { gamma0, theta } => Box::new(Nitsche::new(label, dy, 0.25, 0.5, gamma0, theta, dt, init)?),
         })
     }
 }
@@ -207,6 +220,7 @@ impl fmt::Display for SchemeSpec {
             SchemeSpec::Penalty { gamma_p, explicit: false } => write!(f, "penalty({gamma_p})"),
             SchemeSpec::Penalty { gamma_p, explicit: true } => write!(f, "penalty-cd({gamma_p})"),
             SchemeSpec::MoreauJean { theta, restitution } => write!(f, "moreau-jean({theta},{restitution})"),
+            SchemeSpec::Nitsche { gamma0, theta } => write!(f, "nitsche({gamma0},{theta})"),
         }
     }
 }
@@ -232,6 +246,7 @@ impl FromStr for SchemeSpec {
             ("penalty", [g]) => SchemeSpec::Penalty { gamma_p: *g, explicit: false },
             ("penalty-cd", [g]) => SchemeSpec::Penalty { gamma_p: *g, explicit: true },
             ("moreau-jean", [t, e]) => SchemeSpec::MoreauJean { theta: *t, restitution: *e },
+            ("nitsche", [g, t]) => SchemeSpec::Nitsche { gamma0: *g, theta: *t },
             _ => return Err(unknown()),
         };
         spec.validate()?;

@@ -492,3 +492,67 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Nitsche + Crank–Nicolson: ΔE = -ΔUᵀ(N^n + N^{n+1})/2 for
+    /// E = ½VᵀMV + ½UᵀK_N U - FᵀU, N the Nitsche force vector (any θ, any
+    /// mass; a massless node from its second step, as for Newmark).
+    #[test]
+    fn nitsche_energy_identity(m in 2usize..25, mass_i in 0usize..6, gamma0 in 2.0f64..1000.0, theta in prop_oneof![Just(1.0), Just(0.0), Just(-1.0)],
+                               cfl in 0.05f64..20.0, amp in 0.01f64..1.0, seed in 0.1f64..3.0, gap in -0.3f64..0.0, force in -0.5f64..0.5) {
+        let dy = dynamics(m, MASSES[mass_i], gap, RightEnd::Clamped, force);
+        let mm = dy.mass.clone();
+        let init = initial(dy.n(), amp, seed, gap);
+        let Ok(mut s) = signorini_schemes::Nitsche::new("n".into(), dy, 0.25, 0.5, gamma0, theta, cfl / m as f64, &init) else {
+            // Parameters for which the step matrix is not definite: a typed error, tested elsewhere.
+            return Ok(());
+        };
+        let kn = s.nitsche_stiffness().clone();
+        let n = m;
+        if MASSES[mass_i].massless_contact_node() {
+            s.step().unwrap();
+        }
+        let mut v = vec![0.0; n];
+        for _ in 0..50 {
+            let (u0, n0) = (s.displacement().to_vec(), s.force_vector());
+            let e0 = s.energy().unwrap().1;
+            s.step().unwrap();
+            let (u1, n1) = (s.displacement().to_vec(), s.force_vector());
+            let e1 = s.energy().unwrap().1;
+            let rhs = -0.5 * ((u1[0] - u0[0]) * (n0[0] + n1[0]) + (u1[1] - u0[1]) * (n0[1] + n1[1]));
+            s.velocity(&mut v);
+            // The Nitsche terms carry γ = γ_0 k (k = c²/h = m): rounding of
+            // their quadratic forms scales with γ |u|².
+            let umax = u0.iter().chain(&u1).fold(0.0f64, |a, b| a.max(b.abs()));
+            let scale = rounding_scale(&kn, &mm, &[&u0, &u1], &[&v], &[e0, e1]).max(gamma0 * n as f64 * umax * umax);
+            prop_assert!(((e1 - e0) - rhs).abs() <= 1e-11 * scale, "ΔE {} vs {}", e1 - e0, rhs);
+        }
+    }
+}
+
+/// As γ_0 grows, Nitsche's solution tends to the exactly projected one
+/// (with a massless contact node, where Crank–Nicolson does not chatter and
+/// the comparison is not blurred by chaos).
+#[test]
+fn nitsche_tends_to_the_projection() {
+    let dy = dynamics(20, BarMass::Mod, 0.0, RightEnd::Clamped, 0.0);
+    let n = dy.n();
+    let init = Initial { u: (0..n).map(|i| 0.5 * (1.0 - i as f64 / 20.0)).collect(), v: vec![0.0; n] };
+    let mut proj = OneStep::new("cn".into(), dy.clone(), OneStepParams::newmark(0.25, 0.5), 0.005, &init).unwrap();
+    for _ in 0..300 {
+        proj.step().unwrap();
+    }
+    let mut last = f64::INFINITY;
+    for g0 in [1e2, 1e4, 1e6] {
+        let mut s = signorini_schemes::Nitsche::new("n".into(), dy.clone(), 0.25, 0.5, g0, 1.0, 0.005, &init).unwrap();
+        for _ in 0..300 {
+            s.step().unwrap();
+        }
+        let d = s.displacement().iter().zip(proj.displacement()).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(d < last, "γ0 = {g0}: {d} not below {last}");
+        last = d;
+    }
+    assert!(last < 1e-4, "{last}");
+}

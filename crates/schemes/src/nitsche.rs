@@ -1,0 +1,227 @@
+//! Nitsche's method for the Signorini condition at the contact node
+//! (Chouly–Hild–Renard), with Newmark(β, γ) in time (SPEC §4.6).
+//!
+//! With `σ(v) = c² v_x(0) = k (v_1 - v_0)` (`k = c²/h = -K_01`), `γ = γ_0 k`
+//! (`γ_0 c²/h`) and `θ ∈ [-1, 1]`, the semi-discrete problem is
+//!
+//! ```text
+//! M U'' + (K - (θ/γ) d dᵀ) U + (1/γ) min(0, qᵀU - γ g) (θ d + γ e_0) = F,
+//! d = k (e_1 - e_0)  (σ(v) = dᵀv),   q = d + γ e_0  (P_γ(u) = σ(u) + γ (u_0 - g)),
+//! ```
+//!
+//! consistent because `min(0, P_γ(u)) = σ(u) = λ` for the exact solution.
+//! Each Newmark step is one solve with `A = M + β dt² K_N` and the exact
+//! solution of a scalar piecewise-linear equation in `s = qᵀU^{n+1}`:
+//! `s = s_y - W min(0, s - γ g)`, `W = β dt² qᵀA⁻¹r`, `r = (θ d + γ e_0)/γ`.
+//! The reported contact force is `λ = min(0, P_γ(u^{n+1}))` at `t_{n+1}`.
+//!
+//! Energy: with `E = ½VᵀMV + ½UᵀK_N U - FᵀU` and `N^n` the Nitsche force
+//! vector, the Newmark identity holds with `λ e_0` replaced by `N`; for
+//! Crank–Nicolson, `ΔE = -ΔUᵀ(N^n + N^{n+1})/2` (tested). For θ = 1 the
+//! force derives from the potential `(1/2γ) min(0, qᵀU - γg)²`.
+
+use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
+use signorini_contact::Active;
+use signorini_fem::{BandLdlt, SymBand};
+
+/// Nitsche + Newmark integrator on the P1 bar.
+pub struct Nitsche {
+    label: String,
+    beta: f64,
+    gamma_t: f64,
+    dt: f64,
+    n: usize,
+    dy: Dynamics,
+    k_n: SymBand,
+    a: BandLdlt,
+    m_massive: BandLdlt,
+    q: [f64; 2],
+    r: [f64; 2],
+    gamma_n: f64,
+    /// `A⁻¹ r` and `W`.
+    ar: Vec<f64>,
+    w: f64,
+    u: Vec<f64>,
+    mom: Vec<f64>,
+    acc_r: Vec<f64>,
+    rhs: Vec<f64>,
+    ku: Vec<f64>,
+    force: f64,
+}
+
+impl Nitsche {
+    /// Sets up the scheme: Newmark(β, γ) (β ∈ (0, 1/2], γ ∈ [1/2, 2β]),
+    /// Nitsche parameters γ_0 > 0 and θ ∈ [-1, 1]. The contact node must be
+    /// dof 0, the end of one P1 element, with a one-sided obstacle.
+    pub fn new(label: String, dy: Dynamics, beta: f64, gamma_t: f64, gamma0: f64, theta: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+        dy.validate()?;
+        let n = dy.n();
+        if dy.contact_dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
+            return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
+        }
+        if dy.bounds.hi.is_finite() {
+            return Err(SchemeError::Structure("Nitsche here handles a one-sided obstacle"));
+        }
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
+        }
+        let k = -dy.stiffness.get(0, 1);
+        let gamma_n = gamma0 * k;
+        // K_N = K - (θ/γ) d dᵀ on dofs 0, 1.
+        let mut k_n = dy.stiffness.clone();
+        let c = theta / gamma_n * k * k;
+        k_n.add(0, 0, -c);
+        k_n.add(1, 1, -c);
+        k_n.add(0, 1, c);
+        let a = dy.mass.lin_comb(1.0, &k_n, beta * dt * dt).factor().map_err(|_| SchemeError::Invalid {
+            field: "gamma0",
+            value: gamma0,
+            allowed: "large enough that K - (θ/γ) d dᵀ keeps the step matrix positive definite (γ_0 > θ c² suffices)",
+        })?;
+        let m_massive = dy.mass.trailing(dy.massive_start()).factor()?;
+        // q = d + γ e_0, r = (θ d + γ e_0)/γ on dofs (0, 1).
+        let q = [-k + gamma_n, k];
+        let r = [(-theta * k + gamma_n) / gamma_n, theta * k / gamma_n];
+        let mut ar = vec![0.0; n];
+        ar[0] = r[0];
+        ar[1] = r[1];
+        a.solve_in_place(&mut ar);
+        let w = beta * dt * dt * (q[0] * ar[0] + q[1] * ar[1]);
+        if !(1.0 + w > 0.0) {
+            return Err(SchemeError::Invalid { field: "theta", value: theta, allowed: "a value for which the Nitsche step is solvable (θ = 1 always is)" });
+        }
+        let mut mom = vec![0.0; n];
+        dy.mass.mul_vec(&init.v, &mut mom);
+        let mut s = Self {
+            label,
+            beta,
+            gamma_t,
+            dt,
+            n: 0,
+            k_n,
+            a,
+            m_massive,
+            q,
+            r,
+            gamma_n,
+            ar,
+            w,
+            u: init.u.clone(),
+            mom,
+            acc_r: vec![0.0; n],
+            rhs: vec![0.0; n],
+            ku: vec![0.0; n],
+            force: 0.0,
+            dy,
+        };
+        if s.dy.massless_contact {
+            s.mom[0] = 0.0;
+        }
+        s.update_r();
+        Ok(s)
+    }
+
+    fn p_gamma(&self) -> f64 {
+        self.q[0] * self.u[0] + self.q[1] * self.u[1] - self.gamma_n * self.dy.bounds.lo
+    }
+
+    /// `R = F - K_N U - N(U)`, `N = min(0, P_γ) r`; R_0 = 0 for a massless node.
+    fn update_r(&mut self) {
+        self.k_n.mul_vec(&self.u, &mut self.ku);
+        for ((r, f), k) in self.acc_r.iter_mut().zip(&self.dy.load).zip(&self.ku) {
+            *r = f - k;
+        }
+        self.force = self.p_gamma().min(0.0);
+        self.acc_r[0] -= self.force * self.r[0];
+        self.acc_r[1] -= self.force * self.r[1];
+        if self.dy.massless_contact {
+            self.acc_r[0] = 0.0;
+        }
+    }
+
+    /// The Nitsche force vector `N(U^n)` (entries 0 and 1; zero elsewhere).
+    pub fn force_vector(&self) -> [f64; 2] {
+        [self.force * self.r[0], self.force * self.r[1]]
+    }
+
+    /// `K_N = K - (θ/γ) d dᵀ`.
+    pub fn nitsche_stiffness(&self) -> &SymBand {
+        &self.k_n
+    }
+
+    /// Velocity `V^n` (massive dofs; a massless node reports 0).
+    pub fn velocity(&self, out: &mut [f64]) {
+        let s = self.dy.massive_start();
+        out[s..].copy_from_slice(&self.mom[s..]);
+        self.m_massive.solve_in_place(&mut out[s..]);
+        if s == 1 {
+            out[0] = 0.0;
+        }
+    }
+}
+
+impl Stepper for Nitsche {
+    fn label(&self) -> String {
+        self.label.clone()
+    }
+
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn level(&self) -> usize {
+        self.n
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn step(&mut self) -> Result<StepReport, SchemeError> {
+        let dt = self.dt;
+        let (an, ao, g) = (self.beta * dt * dt, (0.5 - self.beta) * dt * dt, self.gamma_t);
+        // b = M U + dt P + (1/2 - β) dt² R + β dt² F;  A U = b - β dt² N(U).
+        self.dy.mass.mul_vec(&self.u, &mut self.rhs);
+        for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.acc_r).zip(&self.dy.load) {
+            *b += dt * p + ao * r + an * f;
+        }
+        self.a.solve_in_place(&mut self.rhs);
+        let gg = self.gamma_n * self.dy.bounds.lo;
+        let s_y = self.q[0] * self.rhs[0] + self.q[1] * self.rhs[1];
+        // s = s_y - W min(0, s - γg): free branch if s_y >= γg.
+        let s = if s_y >= gg { s_y } else { (s_y + self.w * gg) / (1.0 + self.w) };
+        let nf = (s - gg).min(0.0);
+        if nf != 0.0 {
+            for (y, ar) in self.rhs.iter_mut().zip(&self.ar) {
+                *y -= an * nf * ar;
+            }
+        }
+        std::mem::swap(&mut self.u, &mut self.rhs);
+        // P^{n+1} = P^n + dt ((1-γ) R^n + γ R^{n+1}).
+        // The old R into the (now free) rhs buffer: no allocation.
+        let mut r_old = std::mem::take(&mut self.rhs);
+        r_old.copy_from_slice(&self.acc_r);
+        self.update_r();
+        for ((p, ro), rn) in self.mom.iter_mut().zip(&r_old).zip(&self.acc_r) {
+            *p += dt * ((1.0 - g) * ro + g * rn);
+        }
+        self.rhs = r_old;
+        if self.dy.massless_contact {
+            self.mom[0] = 0.0;
+        }
+        self.n += 1;
+        let t = self.time();
+        if !(self.u[0].is_finite() && self.force.is_finite()) {
+            return Err(SchemeError::NonFinite { step: self.n, time: t });
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t, self.force)), active: if self.force < 0.0 { Active::Lower } else { Active::None } })
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        let s = self.dy.massive_start();
+        let kin = self.m_massive.inverse_quad_form(&self.mom[s..]);
+        let pot = self.k_n.quad_form(&self.u);
+        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+    }
+}
