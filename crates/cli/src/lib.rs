@@ -275,10 +275,16 @@ pub fn list() -> String {
     use signorini_schemes::SchemeSpec;
     let mut s = String::from("schemes (bar):\n");
     for (name, spec) in SchemeSpec::named() {
-        let note = if spec.needs_massless_node() { "  [massless-node masses only]" } else { "" };
+        let note = if spec.needs_massless_node() {
+            "  [massless-node masses only]"
+        } else if spec.needs_massive_node() {
+            "  [std or lumped only]"
+        } else {
+            ""
+        };
         s.push_str(&format!("  {name:<16} {spec:?}{note}\n"));
     }
-    s.push_str("  newmark(BETA,GAMMA)  β ∈ (0, 1/2], γ ∈ [1/2, 2β]\n  theta(THETA)         θ ∈ [1/2, 1]\n  ps(E) / ps(E,BETA)   e ∈ [0, 1], β ∈ [0, 1/2] (default 1/4; β = 0 needs a massive contact node)\n");
+    s.push_str("  newmark(BETA,GAMMA)  β ∈ (0, 1/2], γ ∈ [1/2, 2β]\n  theta(THETA)         θ ∈ [1/2, 1]\n  ps(E) / ps(E,BETA)   e ∈ [0, 1], β ∈ [0, 1/2] (default 1/4; β = 0 needs a massive contact node)\n  penalty(G) / penalty-cd(G)   γ_P > 0 (penalty-cd: explicit, CFL-checked)\n  moreau-jean(THETA,E)         θ ∈ [1/2, 1], e ∈ [0, 1]\n  nitsche(GAMMA0,THETA)        γ_0 > 0, θ ∈ [-1, 1]\n");
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");
     s.push_str("benchmarks (bar, with exact solutions): bar-dirichlet, bar-neumann-gravity (g = 1/9), bar-neumann-gravity-0.11 (T <= 225)\n");
     s.push_str("beam scenes: fig2 fig3 fig4 (β = 1/2, projection), fig5 fig6 fig7 (penalty 1e8 N/m), fig8 (β = 1/4); contact = \"projection\" (β ∈ [0, 1/2]) or \"penalty\" (stiffness > 0 N/m)\n");

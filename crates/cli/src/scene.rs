@@ -304,6 +304,9 @@ fn validate_bar(b: &BarToml) -> Result<BarRun, SceneError> {
     if scheme.needs_massless_node() && !mass.massless_contact_node() {
         return Err(field("bar.mass", format!("scheme {scheme} needs a massless contact node: mod, mod1, mod2, mod3, transfer or singular (got {mass})")));
     }
+    if scheme.needs_massive_node() && mass.massless_contact_node() {
+        return Err(field("bar.mass", format!("scheme {scheme} needs a massive contact node: std or lumped (got {mass})")));
+    }
     if b.elements < 2 {
         return Err(field("bar.elements", format!("{} is not allowed: an integer >= 2", b.elements)));
     }

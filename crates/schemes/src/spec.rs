@@ -144,6 +144,21 @@ impl SchemeSpec {
         }
     }
 
+    /// Whether the scheme can run with a mass treatment whose contact node
+    /// is massless (`massless = true`) or massive.
+    pub fn accepts_massless_node(&self, massless: bool) -> bool {
+        if massless {
+            !self.needs_massive_node()
+        } else {
+            !self.needs_massless_node()
+        }
+    }
+
+    /// Whether the scheme is explicit (conditionally stable, CFL-limited).
+    pub fn is_explicit(&self) -> bool {
+        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::Reduced(ReducedLaw::CentralDifference)) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
+    }
+
     /// Whether the scheme needs a massive contact node (explicit schemes).
     pub fn needs_massive_node(&self) -> bool {
         matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. }) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
