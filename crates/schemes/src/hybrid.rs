@@ -266,21 +266,7 @@ impl Reduced {
 }
 
 impl Stepper for Reduced {
-    fn label(&self) -> String {
-        self.label.clone()
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn level(&self) -> usize {
-        self.n
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
+    stepper_accessors!();
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         if self.law == ReducedLaw::CentralDifference {

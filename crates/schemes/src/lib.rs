@@ -28,6 +28,25 @@
 //! Architecture invariant: no IO, no exact solutions; depends on
 //! `signorini-fem` (matrices, factorisation) and `signorini-contact`.
 
+/// The accessors every stepper implements the same way, from its fields
+/// `label`, `dt`, `n` (level) and `u` (displacement).
+macro_rules! stepper_accessors {
+    () => {
+        fn label(&self) -> String {
+            self.label.clone()
+        }
+        fn dt(&self) -> f64 {
+            self.dt
+        }
+        fn level(&self) -> usize {
+            self.n
+        }
+        fn displacement(&self) -> &[f64] {
+            &self.u
+        }
+    };
+}
+
 mod hybrid;
 mod moreau;
 mod nitsche;

@@ -80,21 +80,7 @@ impl MoreauJean {
 }
 
 impl Stepper for MoreauJean {
-    fn label(&self) -> String {
-        self.label.clone()
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn level(&self) -> usize {
-        self.n
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
+    stepper_accessors!();
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let (dt, th) = (self.dt, self.theta);

@@ -161,21 +161,7 @@ impl Nitsche {
 }
 
 impl Stepper for Nitsche {
-    fn label(&self) -> String {
-        self.label.clone()
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn level(&self) -> usize {
-        self.n
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
+    stepper_accessors!();
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let dt = self.dt;

@@ -123,21 +123,7 @@ impl PaoliSchatzman {
 }
 
 impl Stepper for PaoliSchatzman {
-    fn label(&self) -> String {
-        self.label.clone()
-    }
-
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    fn level(&self) -> usize {
-        self.n
-    }
-
-    fn displacement(&self) -> &[f64] {
-        &self.u
-    }
+    stepper_accessors!();
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let dt2 = self.dt * self.dt;
