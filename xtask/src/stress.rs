@@ -139,7 +139,7 @@ pub fn run_stress(a: Args) -> Result<(), String> {
         }
     }
     let cols: Vec<String> = ratios.iter().map(|r| format!("dx/dt={r}")).collect();
-    let svg = heat_map(&format!("max relative energy drift over {} steps (log10; black: blow-up)", a.steps), &rows, &cols, &grid, true, (900, 40 + 28 * rows.len() as u32))?;
+    let svg = heat_map(&format!("max relative energy drift over {} steps (log10, blue low, red high; black: blow-up; grey: refused, beyond the CFL limit)", a.steps), &rows, &cols, &grid, true, (900, 40 + 28 * rows.len() as u32))?;
     std::fs::write(a.out.join("stress.svg"), svg).map_err(|e| e.to_string())?;
     println!("# Stress: {} steps per run, {} elements, free bar thrown at the obstacle with random data\n\n{md}", a.steps, a.elements);
     Ok(())

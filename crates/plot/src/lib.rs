@@ -118,21 +118,25 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
         let err = |e: &dyn std::fmt::Display| e.to_string();
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let (nr, nc) = (rows.len(), cols.len());
+        // Segmented axes put one label at the centre of each cell.
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
             .margin(10)
             .x_label_area_size(40)
             .y_label_area_size(160)
-            .build_cartesian_2d(0.0..nc as f64, 0.0..nr as f64)
+            .build_cartesian_2d((0..nc).into_segmented(), (0..nr).into_segmented())
             .map_err(|e| err(&e))?;
-        let (cl, rl) = (cols.to_vec(), rows.to_vec());
+        let label = |names: &[String], v: &SegmentValue<usize>| match v {
+            SegmentValue::CenterOf(i) => names.get(*i).cloned().unwrap_or_default(),
+            _ => String::new(),
+        };
         chart
             .configure_mesh()
             .disable_mesh()
             .x_labels(nc)
             .y_labels(nr)
-            .x_label_formatter(&|x| cl.get(x.floor() as usize).cloned().unwrap_or_default())
-            .y_label_formatter(&|y| rl.get(y.floor() as usize).cloned().unwrap_or_default())
+            .x_label_formatter(&|v| label(cols, v))
+            .y_label_formatter(&|v| label(rows, v))
             .draw()
             .map_err(|e| err(&e))?;
         for (r, row) in values.iter().enumerate() {
@@ -145,9 +149,8 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
                     let s = ((tr(*v) - lo) / (hi - lo)).clamp(0.0, 1.0);
                     RGBColor((255.0 * s) as u8, (80.0 * (1.0 - (2.0 * s - 1.0).abs())) as u8, (255.0 * (1.0 - s)) as u8)
                 };
-                chart
-                    .draw_series(std::iter::once(Rectangle::new([(c as f64, r as f64), (c as f64 + 1.0, r as f64 + 1.0)], color.filled())))
-                    .map_err(|e| err(&e))?;
+                let corners = [(SegmentValue::Exact(c), SegmentValue::Exact(r)), (SegmentValue::Exact(c + 1), SegmentValue::Exact(r + 1))];
+                chart.draw_series(std::iter::once(Rectangle::new(corners, color.filled()))).map_err(|e| err(&e))?;
             }
         }
         root.present().map_err(|e| err(&e))?;
