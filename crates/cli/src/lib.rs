@@ -230,9 +230,17 @@ pub fn check(scene: &Scene) -> Result<String, CliError> {
         Scene::Bar(b) => {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
             let dofs = b.problem.bar.dofs();
+            let stability = match b.scheme.cfl_limit(&b.problem.dynamics()).map_err(RunError::from)? {
+                None => "unconditionally stable (implicit scheme)".to_string(),
+                Some(limit) => format!(
+                    "explicit scheme: exact CFL limit dt < {limit:.6e}; dt = {:e} is {}",
+                    b.dt,
+                    if b.dt < limit { "below it" } else { "BEYOND it: the run will be refused" }
+                ),
+            };
             format!(
                 "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
-                 stability: unconditionally stable (implicit scheme)\n\
+                 stability: {stability}\n\
                  cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
                 b.problem.bar.elements, dofs, b.problem.mass, b.scheme, b.dt, b.t_end, steps, (dofs * steps) as f64, 1e-8 * (dofs * steps) as f64
             )

@@ -125,6 +125,11 @@ fn list_and_check_print_ranges_and_limits() {
     let o = bin().args(["check", scenes().join("beam-fig8.toml").to_str().unwrap()]).output().unwrap();
     let s = String::from_utf8_lossy(&o.stdout);
     assert!(s.contains("critical dt = 1.752926e-5") && s.contains("below it"), "{s}");
+    // An explicit bar scheme: the exact CFL limit (lumped P1 bar, m = 10, spring 10 c²/h).
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_scene(dir.path(), "[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 0.5\nmass = \"lumped\"\nscheme = \"penalty-cd\"\n");
+    let s = String::from_utf8_lossy(&bin().args(["check", p.to_str().unwrap()]).output().unwrap().stdout).to_string();
+    assert!(s.contains("exact CFL limit dt < 4.254380e-2") && s.contains("BEYOND"), "{s}");
 }
 
 proptest! {
