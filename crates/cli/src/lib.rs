@@ -6,13 +6,16 @@
 //! and other tools can call them; `src/main.rs` is only argument parsing.
 //!
 //! Output files of `signorini run` (a contract: columns only ever added):
-//! * bar: `series.csv` — `n,t,u_contact,lambda_t,lambda,energy_t,energy`, plus
+//! * bar: `series.csv` — `n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy`, plus
 //!   `u_contact_exact,lambda_exact,energy_exact` when the scene uses a
 //!   benchmark; `norms.csv` (benchmark only) — one row with the columns of the
 //!   convergence study (`m,dx,dt,steps,linf_l2_u,…,l2_energy,wall_s`);
 //!   `snapshots.csv` (`n,t,x,u`) when `output.snapshots_every > 0`;
 //!   `u_contact.svg`, `lambda.svg`, `energy.svg` (numerical against exact).
-//! * beam: `series.csv` — `n,t_s,tip_m,lambda_t,lambda`; `tip.svg`.
+//! * beam: `series.csv` — `n,t_s,tip_m,v_tip_m_s,lambda_t,lambda`; `tip.svg`.
+//!
+//! `v_contact` / `v_tip_m_s` is the backward difference of the contact dof
+//! over the last step (empty at n = 0).
 //!
 //! Every file is flushed as the run goes (every 1024 rows) and at the end,
 //! also when a run blows up, so an interrupted run leaves valid CSV up to its
@@ -148,7 +151,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, show_progres
             let (mut stepper, init, beam) = build_beam(pipe, scene, *force)?;
             let cfg = RunConfig::new(scene.dt, scene.t_end)?;
             let steps = cfg.steps();
-            let cols = SeriesColumns { t: "t_s", u: "tip_m", energy: false, exact: None };
+            let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None };
             let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, beam.tip_dof(), cols)?;
             let mut data = PlotData { every: (steps / 20_000).max(1), dof: beam.tip_dof(), points: Vec::new(), max_abs: 0.0 };
             let mut prog = progress(steps, show_progress);

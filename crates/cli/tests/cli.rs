@@ -29,15 +29,20 @@ fn bar_scene_end_to_end() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut rd = csv::Reader::from_path(out.join("series.csv")).unwrap();
     let header: Vec<String> = rd.headers().unwrap().iter().map(String::from).collect();
-    assert_eq!(header, ["n", "t", "u_contact", "lambda_t", "lambda", "energy_t", "energy", "u_contact_exact", "lambda_exact", "energy_exact"]);
+    assert_eq!(header, ["n", "t", "u_contact", "v_contact", "lambda_t", "lambda", "energy_t", "energy", "u_contact_exact", "lambda_exact", "energy_exact"]);
     let rows: Vec<csv::StringRecord> = rd.records().collect::<Result<_, _>>().unwrap();
     assert_eq!(rows.len(), 2401); // levels 0..=2400 (T = 3, dt = 1/800)
     // Exact columns: u(0, 0) = 1/2, E = 1/8; the node never goes below the obstacle.
-    assert_eq!(&rows[0][7], "5.000000000000e-1");
+    assert_eq!(&rows[0][8], "5.000000000000e-1");
     for r in &rows {
         assert!(r[2].parse::<f64>().unwrap() >= 0.0);
-        assert_eq!(r[9].parse::<f64>().unwrap(), 0.125);
+        assert_eq!(r[10].parse::<f64>().unwrap(), 0.125);
     }
+    // The velocity column is the backward difference of u_contact.
+    let (u1, u2, t1, t2): (f64, f64, f64, f64) = (rows[99][2].parse().unwrap(), rows[100][2].parse().unwrap(), rows[99][1].parse().unwrap(), rows[100][1].parse().unwrap());
+    let v: f64 = rows[100][3].parse().unwrap();
+    assert!((v - (u2 - u1) / (t2 - t1)).abs() <= 1e-9 * (1.0 + v.abs()), "{v}");
+    assert_eq!(&rows[0][3], "");
     // The norms equal those of the convergence study's m = 80 level.
     let mut nr = csv::Reader::from_path(out.join("norms.csv")).unwrap();
     let n = nr.records().next().unwrap().unwrap();
@@ -169,5 +174,5 @@ fn killed_run_leaves_valid_csv() {
     assert!(text.ends_with('\n'), "file ends mid-record");
     let rows: Vec<csv::StringRecord> = csv::Reader::from_reader(text.as_bytes()).records().collect::<Result<_, _>>().unwrap();
     assert!(rows.len() > 1000, "only {} rows before the kill", rows.len());
-    assert!(rows.iter().all(|r| r.len() == 5 && r[2].parse::<f64>().is_ok()));
+    assert!(rows.iter().all(|r| r.len() == 6 && r[2].parse::<f64>().is_ok()));
 }

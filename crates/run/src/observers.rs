@@ -51,6 +51,11 @@ pub struct SeriesColumns<'a> {
     pub t: &'static str,
     /// Name of the contact-dof column (`u_contact`, or `tip_m`).
     pub u: &'static str,
+    /// Name of its velocity column (`v_contact`, or `v_tip_m_s`): the
+    /// backward difference `(u_c^n - u_c^{n-1})/dt` over the last step
+    /// (the velocity SPEC §4 prescribes for a massless node; for a massive
+    /// one an O(dt) estimate of the scheme's own velocity). Empty at n = 0.
+    pub v: &'static str,
     /// Write `energy_t,energy` (the observer then asks for energies).
     pub energy: bool,
     /// Write `u_contact_exact,lambda_exact,energy_exact` from this solution.
@@ -58,14 +63,14 @@ pub struct SeriesColumns<'a> {
 }
 
 impl Default for SeriesColumns<'_> {
-    /// `n,t,u_contact,lambda_t,lambda,energy_t,energy`.
+    /// `n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy`.
     fn default() -> Self {
-        Self { t: "t", u: "u_contact", energy: true, exact: None }
+        Self { t: "t", u: "u_contact", v: "v_contact", energy: true, exact: None }
     }
 }
 
 /// Writes a CSV time series of the contact dof every `every` levels:
-/// `n,<t>,<u>,lambda_t,lambda`, then `energy_t,energy` and
+/// `n,<t>,<u>,<v>,lambda_t,lambda`, then `energy_t,energy` and
 /// `u_contact_exact,lambda_exact,energy_exact` when asked (empty cells where a
 /// value does not exist at that level). Flushed every 1024 rows and at the
 /// end, also when the run stops early.
@@ -75,16 +80,18 @@ pub struct SeriesWriter<'a, W: Write> {
     contact_dof: usize,
     rows: usize,
     cols: SeriesColumns<'a>,
+    /// `(t, u_c)` of the previous level, for the velocity.
+    prev: Option<(f64, f64)>,
 }
 
 impl<'a, W: Write> SeriesWriter<'a, W> {
     /// The default columns, in order.
-    pub const HEADER: [&'static str; 7] = ["n", "t", "u_contact", "lambda_t", "lambda", "energy_t", "energy"];
+    pub const HEADER: [&'static str; 8] = ["n", "t", "u_contact", "v_contact", "lambda_t", "lambda", "energy_t", "energy"];
 
     /// A writer (header written at once).
     pub fn new(w: W, every: usize, contact_dof: usize, cols: SeriesColumns<'a>) -> Result<Self, RunError> {
         let mut out = csv::Writer::from_writer(w);
-        let mut header = vec!["n", cols.t, cols.u, "lambda_t", "lambda"];
+        let mut header = vec!["n", cols.t, cols.u, cols.v, "lambda_t", "lambda"];
         if cols.energy {
             header.extend(["energy_t", "energy"]);
         }
@@ -92,7 +99,7 @@ impl<'a, W: Write> SeriesWriter<'a, W> {
             header.extend(["u_contact_exact", "lambda_exact", "energy_exact"]);
         }
         out.write_record(&header).map_err(|e| RunError::Output(e.to_string()))?;
-        Ok(Self { out, every: every.max(1), contact_dof, rows: 0, cols })
+        Ok(Self { out, every: every.max(1), contact_dof, rows: 0, cols, prev: None })
     }
 }
 
@@ -101,12 +108,15 @@ impl<W: Write> Observer for SeriesWriter<'_, W> {
         self.cols.energy
     }
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        let u = s.u[self.contact_dof];
+        let v = self.prev.map(|(t0, u0)| (u - u0) / (s.t - t0));
+        self.prev = Some((s.t, u));
         if s.n % self.every != 0 {
             return Ok(());
         }
         let f = |x: f64| format!("{x:.12e}");
         let o = |x: Option<f64>| x.map_or(String::new(), f);
-        let mut rec = vec![s.n.to_string(), f(s.t), f(s.u[self.contact_dof]), o(s.lambda.map(|l| l.0)), o(s.lambda.map(|l| l.1))];
+        let mut rec = vec![s.n.to_string(), f(s.t), f(u), o(v), o(s.lambda.map(|l| l.0)), o(s.lambda.map(|l| l.1))];
         if self.cols.energy {
             rec.push(o(s.energy.map(|e| e.0)));
             rec.push(o(s.energy.map(|e| e.1)));
