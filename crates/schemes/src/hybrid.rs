@@ -68,7 +68,6 @@ pub struct Reduced {
     n: usize,
     dy: Dynamics,
     m_star: SymBand,
-    k_star: SymBand,
     a: BandLdlt,
     /// `K' = K* - k e_1 e_1ᵀ`.
     k_free: SymBand,
@@ -120,8 +119,8 @@ impl Reduced {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
         let m_star = dy.mass.trailing(1);
-        let k_star = dy.stiffness.trailing(1);
-        let mut k_free = k_star.clone();
+        // K' = K* - k e_1 e_1ᵀ, K* the stiffness without node 0.
+        let mut k_free = dy.stiffness.trailing(1);
         k_free.add(0, 0, -k);
         let explicit = law == ReducedLaw::CentralDifference;
         let a = m_star.lin_comb(1.0, &k_free, if explicit { 0.0 } else { dt * dt / 4.0 }).factor()?;
@@ -138,7 +137,6 @@ impl Reduced {
             dt,
             n: 0,
             m_star,
-            k_star,
             k_free,
             a,
             w,
@@ -259,10 +257,6 @@ impl Reduced {
         0.5 * self.m_star.quad_form(&self.v) + 0.5 * self.k_free.quad_form(us) - f + 0.5 * self.k * wm * wm
     }
 
-    /// `K*` (the stiffness without node 0).
-    pub fn reduced_stiffness(&self) -> &SymBand {
-        &self.k_star
-    }
 }
 
 impl Stepper for Reduced {

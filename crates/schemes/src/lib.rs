@@ -315,8 +315,3 @@ pub trait Stepper: Send {
         None
     }
 }
-
-/// `true` if every entry is finite (used for blow-up checks outside the hot loop).
-pub fn all_finite(x: &[f64]) -> bool {
-    x.iter().all(|v| v.is_finite())
-}

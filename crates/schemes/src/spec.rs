@@ -178,11 +178,6 @@ impl SchemeSpec {
         matches!(self, SchemeSpec::Reduced(_))
     }
 
-    /// Whether the scheme is a two-step scheme (started by one one-step step).
-    pub fn is_two_step(&self) -> bool {
-        matches!(self, SchemeSpec::PaoliSchatzman { .. })
-    }
-
     /// Builds the integrator for a problem, time step and initial state.
     pub fn build(&self, dy: Dynamics, dt: f64, init: &Initial) -> Result<Box<dyn Stepper>, SchemeError> {
         self.validate()?;
