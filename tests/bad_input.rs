@@ -4,7 +4,7 @@
 
 use signorini::fem::{Bar, BarMass, FemError, RightEnd};
 use signorini::run::{run, BarProblem, Benchmark, RunConfig, RunError, SeriesColumns, SeriesWriter};
-use signorini::schemes::{SchemeError, SchemeSpec, StepReport, Stepper};
+use signorini::schemes::{Dynamics, SchemeError, SchemeSpec, StepReport, Stepper};
 
 fn field_of(e: &SchemeError) -> &'static str {
     match e {
@@ -61,17 +61,26 @@ fn mesh_time_and_problem_parameters_out_of_range() {
     assert_eq!(field_of(&e), "dt");
 }
 
+/// T must be a whole number of steps: counted exactly (also at 1e9 steps),
+/// refused otherwise (dt > T, or T/dt = 2.5) with a typed error.
 #[test]
-fn steps_cover_the_horizon() {
+fn steps_cover_the_horizon_exactly() {
     assert_eq!(RunConfig::new(1.0 / 6400.0, 3.0).unwrap().steps(), 19200);
-    assert_eq!(RunConfig::new(0.4, 1.0).unwrap().steps(), 3);
     assert_eq!(RunConfig::new(0.1, 0.3).unwrap().steps(), 3);
+    assert_eq!(RunConfig::new(1e-9, 1.0).unwrap().steps(), 1_000_000_000);
+    assert_eq!(RunConfig::new(3e-9, 3.0).unwrap().steps(), 1_000_000_000);
+    for (dt, t) in [(0.4, 1.0), (2.0, 1.0), (1.0 / 3.0, 1.1)] {
+        let e = RunConfig::new(dt, t).unwrap_err();
+        assert!(matches!(e, RunError::Horizon { .. }), "{e:?}");
+        assert!(e.to_string().contains("whole number of steps"), "{e}");
+    }
 }
 
 /// A stepper whose state turns NaN at step 5.
 struct Failing {
     n: usize,
     u: Vec<f64>,
+    dy: Dynamics,
 }
 
 impl Stepper for Failing {
@@ -86,6 +95,9 @@ impl Stepper for Failing {
     }
     fn displacement(&self) -> &[f64] {
         &self.u
+    }
+    fn dynamics(&self) -> &Dynamics {
+        &self.dy
     }
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         self.n += 1;
@@ -102,7 +114,9 @@ impl Stepper for Failing {
 #[test]
 fn blow_up_stops_with_step_and_time_and_keeps_output() {
     let mut buf = Vec::new();
-    let mut s = Failing { n: 0, u: vec![0.0; 3] };
+    let bar = Bar::new(1.0, 3, 1.0, RightEnd::Clamped).unwrap();
+    let dy = BarProblem::new(bar, BarMass::Std, 0.0, 0.0, |_| 0.0, |_| 0.0).unwrap().dynamics();
+    let mut s = Failing { n: 0, u: vec![0.0; 3], dy };
     {
         let mut w = SeriesWriter::new(&mut buf, 1, 0, SeriesColumns::default()).unwrap();
         let e = run(&mut s, &[0.0; 3], &RunConfig::new(0.1, 10.0).unwrap(), &mut [&mut w]).unwrap_err();

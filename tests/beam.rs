@@ -2,9 +2,7 @@
 //! penalty law, stability refusal, and the paper's first impact.
 
 use proptest::prelude::*;
-use signorini::fem::Beam;
 use signorini::run::beam::{build, stability_limit, BeamContact, BeamScene, Pipe};
-use signorini::run::RunError;
 use signorini::schemes::{Bounds, ContactLaw, Forcing, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
 
 fn scene(dt: f64, t_end: f64, contact: BeamContact) -> BeamScene {
@@ -24,7 +22,7 @@ proptest! {
         let pipe = Pipe { stops: (-gap, 0.8 * gap), support: (amp, omega), ..Pipe::paper() };
         let (beam, dy, init) = pipe.dynamics(j).unwrap();
         let lim = stability_limit(&beam, beta).unwrap();
-        let dt = if beta < 0.5 { cfl * lim.dt_critical } else { cfl * 2e-4 };
+        let dt = if beta < 0.5 { cfl * lim.dt_sufficient } else { cfl * 2e-4 };
         let tip = beam.tip_dof();
         let mut s = PaoliSchatzman::new("beta".into(), dy, beta, 0.0, dt, &init).unwrap();
         let e_half = s.energy().unwrap().1;
@@ -75,30 +73,7 @@ fn penalty_force_law() {
     ));
 }
 
-/// β = 1/4, J = 19: κ_h = 2.6035e10, exact limit 1.7529e-5 s (the paper's
-/// bound gives 3.3469e-6 s, which the paper prints); beyond it the run is
-/// refused with both numbers, unless forced.
-#[test]
-fn stability_limit_refusal() {
-    let pipe = Pipe::paper();
-    let beam = Beam::new(pipe.length, 19, pipe.k2).unwrap();
-    let lim = stability_limit(&beam, 0.25).unwrap();
-    assert!((lim.kappa / 2.603_530_158_7e10 - 1.0).abs() < 1e-9, "{}", lim.kappa);
-    assert!((lim.dt_critical - 2.0 / (0.5 * lim.kappa).sqrt()).abs() < 1e-18);
-    assert!((lim.dt_paper - 3.3469e-6).abs() < 1e-10, "paper bound {}", lim.dt_paper);
-    let too_big = scene(2e-5, 0.01, BeamContact::Projection { beta: 0.25 });
-    match build(&pipe, &too_big, false) {
-        Err(RunError::Unstable { dt, limit, paper_limit }) => {
-            assert_eq!(dt, 2e-5);
-            assert!((limit - lim.dt_critical).abs() < 1e-15 && (paper_limit - lim.dt_paper).abs() < 1e-15);
-        }
-        Err(e) => panic!("unexpected {e}"),
-        Ok(_) => panic!("an unstable run was accepted"),
-    }
-    assert!(build(&pipe, &too_big, true).is_ok());
-    assert!(build(&pipe, &scene(1.7e-5, 0.01, BeamContact::Projection { beta: 0.25 }), false).is_ok());
-    assert!(matches!(build(&pipe, &scene(1e-5, 0.01, BeamContact::Projection { beta: 0.7 }), false), Err(RunError::Invalid { field: "beta", .. })));
-}
+// The β-scheme's stability limit and its refusal: tests/stability.rs.
 
 /// Fig. 2 data (β = 1/2, dt = 5e-5): the tip never leaves [-0.1, 0.1] and
 /// first touches the upper stop at t = 0.0878 s, as every finer run does.

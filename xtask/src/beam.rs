@@ -4,7 +4,9 @@
 //! * `<scene>_tip.csv` (`t_s,tip_m`: the physical tip displacement ũ(L,t),
 //!   decimated to at most 20 000 rows) and `<scene>_tip.svg`;
 //! * `scenes.csv`: `scene,contact,beta,dt_s,steps,impacts,contact_episodes,first_impacts_s,max_abs_tip_minus_gap_m,energy_start,energy_end,work_support,work_contact,balance_residual,wall_s,paper_s,speedup`;
-//! * `stability.csv`: `J,beta,kappa_h,dt_critical_s,dt_paper_bound_s`;
+//! * `stability.csv`: `J,beta,kappa_h,dt_critical_s,dt_paper_bound_s,dt_sufficient_exact_kappa_s`
+//!   (exact limit, `inf` for β >= 1/4; the paper's sufficient condition (3.1)
+//!   with its κ bound, and with the exact κ_h);
 //! * `self_convergence.csv`: `dt_s,linf_tip_error_before_impact_m,rate_before_impact,linf_tip_error_m,rate`:
 //!   the tip against a run with dt/64 (β = 1/2, projection), on [0, 0.085] s
 //!   (before the first impact, at 0.0878 s) and on [0, 0.2] s (the first
@@ -113,12 +115,13 @@ pub fn run_beam(a: Args) -> Result<(), String> {
     // Stability limits.
     let (beam, _, _) = pipe.dynamics(19).map_err(|e| e.to_string())?;
     let mut st = csv::Writer::from_writer(create(&a.out, "stability.csv")?);
-    st.write_record(["J", "beta", "kappa_h", "dt_critical_s", "dt_paper_bound_s"]).map_err(|e| e.to_string())?;
-    let mut md_stab = String::from("| β | κ_h (J = 19) | exact critical dt | from the paper's bound |\n|---|---|---|---|\n");
-    for beta in [0.0, 0.25, 0.4] {
+    st.write_record(["J", "beta", "kappa_h", "dt_critical_s", "dt_paper_bound_s", "dt_sufficient_exact_kappa_s"]).map_err(|e| e.to_string())?;
+    let mut md_stab = String::from("| β | κ_h (J = 19) | exact critical dt | paper's sufficient (3.1), exact κ_h | paper's (3.1) with its κ bound |\n|---|---|---|---|---|\n");
+    for beta in [0.0, 0.1, 0.2, 0.25, 0.4, 0.5] {
         let l = stability_limit(&beam, beta).map_err(|e| e.to_string())?;
-        st.write_record([19.to_string(), beta.to_string(), format!("{:.10e}", l.kappa), format!("{:.10e}", l.dt_critical), format!("{:.10e}", l.dt_paper)]).map_err(|e| e.to_string())?;
-        md_stab.push_str(&format!("| {beta} | {:.6e} | {:.6e} s | {:.6e} s |\n", l.kappa, l.dt_critical, l.dt_paper));
+        st.write_record([19.to_string(), beta.to_string(), format!("{:.10e}", l.kappa), format!("{:.10e}", l.dt_critical), format!("{:.10e}", l.dt_paper), format!("{:.10e}", l.dt_sufficient)]).map_err(|e| e.to_string())?;
+        let crit = if l.dt_critical.is_finite() { format!("{:.6e} s", l.dt_critical) } else { "∞ (unconditionally stable)".into() };
+        md_stab.push_str(&format!("| {beta} | {:.6e} | {crit} | {:.6e} s | {:.6e} s |\n", l.kappa, l.dt_sufficient, l.dt_paper));
     }
     st.flush().map_err(|e| e.to_string())?;
     // Scenes.
@@ -183,9 +186,9 @@ pub fn run_beam(a: Args) -> Result<(), String> {
         w.flush().map_err(|e| e.to_string())?;
         let stops: Vec<Series> = [pipe.stops.0, pipe.stops.1]
             .iter()
-            .map(|g| Series { label: format!("stop {g} m"), points: vec![(0.0, *g), (scene.t_end, *g)], reference: true })
+            .map(|g| Series { label: format!("stop {g} m"), points: vec![(0.0, *g), (scene.t_end, *g)], reference: true, style: Default::default() })
             .collect();
-        let mut series = vec![Series { label: "ũ(L,t)".into(), points: r.tip.series.clone(), reference: false }];
+        let mut series = vec![Series { label: "ũ(L,t)".into(), points: r.tip.series.clone(), reference: false, style: Default::default() }];
         series.extend(stops);
         let title = format!("{}: tip of the pipe, {contact}, β = {beta}, dt = {:e} s", scene.name, scene.dt);
         let svg = line_chart(&Chart { title: &title, x_label: "t (s)", y_label: "ũ(L,t) (m)", scale: Scale::Linear, size: (1000, 450) }, &series)?;

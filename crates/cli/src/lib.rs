@@ -134,9 +134,9 @@ pub struct Summary {
 }
 
 fn plot(dir: &Path, name: &str, title: &str, y: &str, num: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>) -> Result<(), CliError> {
-    let mut s = vec![Series { label: "numerical".into(), points: num, reference: false }];
+    let mut s = vec![Series { label: "numerical".into(), points: num, reference: false, style: Default::default() }];
     if let Some(e) = exact {
-        s.push(Series { label: "exact".into(), points: e, reference: true });
+        s.push(Series { label: "exact".into(), points: e, reference: true, style: Default::default() });
     }
     let svg = line_chart(&Chart { title, x_label: "t", y_label: y, scale: Scale::Linear, size: (900, 450) }, &s).map_err(CliError::Io)?;
     std::fs::write(dir.join(name), svg).map_err(|e| CliError::Io(e.to_string()))
@@ -234,9 +234,10 @@ pub fn check(scene: &Scene) -> Result<String, CliError> {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
             let dofs = b.problem.bar.dofs();
             let stability = match b.scheme.cfl_limit(&b.problem.dynamics()).map_err(RunError::from)? {
-                None => "unconditionally stable (implicit scheme)".to_string(),
+                None => "unconditionally stable".to_string(),
                 Some(limit) => format!(
-                    "explicit scheme: exact CFL limit dt < {limit:.6e}; dt = {:e} is {}",
+                    "conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is {}",
+                    b.scheme.stability_rule().unwrap_or(""),
                     b.dt,
                     if b.dt < limit { "below it" } else { "BEYOND it: the run will be refused" }
                 ),
@@ -257,15 +258,19 @@ pub fn check(scene: &Scene) -> Result<String, CliError> {
             };
             let lim = stability_limit(&beam_, beta)?;
             let stab = match scene.contact {
-                BeamContact::Projection { beta } if beta < 0.5 => format!(
-                    "conditionally stable (β = {beta}): κ_h = {:.6e}, exact critical dt = {:.6e} s (the paper's bound gives {:.6e} s); dt = {:e} is {}",
+                BeamContact::Projection { beta } if beta < 0.25 => format!(
+                    "conditionally stable (β = {beta} < 1/4): κ_h = {:.6e}, exact critical dt = 2/sqrt((1-4β) κ_h) = {:.6e} s (the paper's sufficient condition (3.1) gives {:.6e} s; with its κ bound {:.6e} s); dt = {:e} is {}",
                     lim.kappa,
                     lim.dt_critical,
+                    lim.dt_sufficient,
                     lim.dt_paper,
                     scene.dt,
                     if scene.dt < lim.dt_critical { "below it" } else if *force { "BEYOND it (forced)" } else { "BEYOND it: the run will be refused" }
                 ),
-                BeamContact::Projection { .. } => format!("unconditionally stable (β = 1/2); κ_h = {:.6e}", lim.kappa),
+                BeamContact::Projection { beta } => format!(
+                    "unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)",
+                    lim.kappa, lim.dt_sufficient
+                ),
                 BeamContact::Penalty { .. } => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
             };
             format!(

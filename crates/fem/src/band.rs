@@ -37,6 +37,19 @@ impl SymBand {
         self.p
     }
 
+    /// The sum of all entries `Σ_ij A_ij` (`1ᵀ A 1`; for a mass matrix of
+    /// translational dofs, the total mass carried by them).
+    pub fn total(&self) -> f64 {
+        let mut s = 0.0;
+        for i in 0..self.n {
+            for k in 0..=self.p.min(i) {
+                let v = self.data[i * (self.p + 1) + k];
+                s += if k == 0 { v } else { 2.0 * v };
+            }
+        }
+        s
+    }
+
     #[inline]
     fn idx(&self, i: usize, j: usize) -> Option<usize> {
         let (i, j) = if i >= j { (i, j) } else { (j, i) };

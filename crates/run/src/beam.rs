@@ -110,15 +110,35 @@ impl BeamScene {
     ];
 }
 
-/// The stability limit of the β-scheme on a beam (SPEC §4.4, §8.3).
+/// The stability limit of the β-scheme on a beam (docs/theory.md, "Stability").
+///
+/// Splitting the two-step scheme's discrete energy exactly shows it is
+/// unconditionally stable for β >= 1/4 (the projection only removes energy)
+/// and, for β < 1/4, stable iff `dt < 2 / sqrt((1 - 4β) κ_h)`. The paper's
+/// condition (3.1), `dt < 2 sqrt((1 - α)/(κ_h (1 - 2β)))` (α → 0), is a
+/// sufficient condition of its proof, not a limit: it is reported, never
+/// enforced.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StabilityLimit {
     /// `κ_h`, the largest generalized eigenvalue of `(K, M)`.
     pub kappa: f64,
-    /// The exact critical time step `2 / sqrt((1 - 2β) κ_h)` (∞ for β = 1/2).
+    /// The exact critical time step: `2 / sqrt((1 - 4β) κ_h)` for β < 1/4,
+    /// `∞` for β >= 1/4.
     pub dt_critical: f64,
-    /// The same from the paper's appendix bound (5.2), `κ ≤ 24·420·19²/37 · k²/h⁴`.
+    /// The paper's sufficient condition (3.1) with α → 0 and the exact
+    /// `κ_h`: `2 / sqrt((1 - 2β) κ_h)` (∞ for β = 1/2).
+    pub dt_sufficient: f64,
+    /// The paper's sufficient condition (3.1) with its appendix upper bound
+    /// (5.2) of `κ_h`, `κ̄ = 24·420·19²/37 · k²/h⁴` (the paper's
+    /// 3.3469e-6 s for J = 19, β = 1/4).
     pub dt_paper: f64,
+}
+
+/// The exact critical time step of the two-step β-scheme on a pencil whose
+/// largest generalized eigenvalue is `kappa`: `2 / sqrt((1 - 4β) κ)` for
+/// β < 1/4, `∞` otherwise.
+pub fn beta_scheme_critical_dt(beta: f64, kappa: f64) -> f64 {
+    signorini_schemes::beta_scheme_critical_dt(beta, kappa)
 }
 
 /// `κ_h` and the critical time steps for β.
@@ -126,13 +146,13 @@ pub fn stability_limit(beam: &Beam, beta: f64) -> Result<StabilityLimit, RunErro
     let (k, m) = (beam.stiffness(), beam.mass());
     let (kappa, _) = max_generalized_eigenvalue(&k, &m, beam.element_kappa_bound() * (1.0 + 1e-3), 1_000_000)?;
     let paper = 24.0 * 420.0 * 361.0 / 37.0 * beam.k2 / beam.h().powi(4);
-    let dt = |kap: f64| if beta >= 0.5 { f64::INFINITY } else { 2.0 / ((1.0 - 2.0 * beta) * kap).sqrt() };
-    Ok(StabilityLimit { kappa, dt_critical: dt(kappa), dt_paper: dt(paper) })
+    let sufficient = |kap: f64| if beta >= 0.5 { f64::INFINITY } else { 2.0 / ((1.0 - 2.0 * beta) * kap).sqrt() };
+    Ok(StabilityLimit { kappa, dt_critical: beta_scheme_critical_dt(beta, kappa), dt_sufficient: sufficient(kappa), dt_paper: sufficient(paper) })
 }
 
-/// Builds the integrator of a scene. A conditionally stable β-scheme with
-/// `dt` at or beyond the exact limit is refused (with both limits in the
-/// message) unless `force` is set.
+/// Builds the integrator of a scene. A β-scheme with β < 1/4 (conditionally
+/// stable) and `dt` at or beyond the exact limit is refused (with the limit
+/// and the paper's sufficient bound in the message) unless `force` is set.
 pub fn build(pipe: &Pipe, scene: &BeamScene, force: bool) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
     if !(scene.dt > 0.0 && scene.dt.is_finite()) {
         return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
@@ -143,10 +163,10 @@ pub fn build(pipe: &Pipe, scene: &BeamScene, force: bool) -> Result<(Box<dyn Ste
             if !(0.0..=0.5).contains(&beta) {
                 return Err(RunError::Invalid { field: "beta", value: beta, allowed: "[0, 1/2]" });
             }
-            if beta < 0.5 && !force {
+            if beta < 0.25 && !force {
                 let lim = stability_limit(&beam, beta)?;
                 if scene.dt >= lim.dt_critical {
-                    return Err(RunError::Unstable { dt: scene.dt, limit: lim.dt_critical, paper_limit: lim.dt_paper });
+                    return Err(RunError::Unstable { dt: scene.dt, beta, limit: lim.dt_critical, paper_limit: lim.dt_sufficient });
                 }
             }
             Box::new(PaoliSchatzman::new(format!("beta-scheme({beta})"), dy, beta, 0.0, scene.dt, &init)?)

@@ -2,6 +2,7 @@
 
 use signorini_fem::FemError;
 use signorini_schemes::{SchemeError, Stepper};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Errors of a run.
@@ -38,7 +39,7 @@ pub enum RunError {
         time: f64,
     },
     /// The energy grew beyond the configured bound: the run stopped there.
-    #[error("run blew up: energy {energy} exceeds {limit} x |E(0)| at step {step} (t = {time}); output written so far is kept")]
+    #[error("run blew up: energy {energy} exceeds {limit} x the energy scale {scale} (max of |E(0)| and the loads' energy over the horizon) at step {step} (t = {time}); output written so far is kept")]
     EnergyGrowth {
         /// The step.
         step: usize,
@@ -48,16 +49,36 @@ pub enum RunError {
         energy: f64,
         /// The configured growth factor.
         limit: f64,
+        /// The energy scale it multiplies.
+        scale: f64,
     },
     /// A conditionally stable run beyond its stability limit.
-    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of this β-scheme (the paper's bound gives {paper_limit:.6e}); use a smaller dt, β = 1/2, or force the run")]
+    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of the β-scheme with β = {beta} < 1/4 (2/sqrt((1-4β) κ_h); the paper's sufficient condition (3.1) gives {paper_limit:.6e}); use a smaller dt or β >= 1/4 (unconditionally stable), or force the run")]
     Unstable {
         /// The time step asked for.
         dt: f64,
+        /// β.
+        beta: f64,
         /// The exact critical time step.
         limit: f64,
-        /// The critical time step from the paper's upper bound of κ_h.
+        /// The paper's sufficient condition (3.1) with the exact κ_h.
         paper_limit: f64,
+    },
+    /// The horizon is not a whole number of steps.
+    #[error("t_end = {t_end} is not a whole number of steps of dt = {dt} (T/dt = {}): the run would end at {} instead; choose T = N·dt (e.g. t_end = {} or {}), or dt = T/N (e.g. dt = {})", t_end / dt, (t_end / dt).ceil() * dt, ((t_end / dt).floor().max(1.0)) * dt, (t_end / dt).ceil() * dt, t_end / (t_end / dt).ceil())]
+    Horizon {
+        /// The horizon asked for.
+        t_end: f64,
+        /// The time step.
+        dt: f64,
+    },
+    /// The run was interrupted (SIGINT/SIGTERM): what was written is kept.
+    #[error("interrupted at step {step} (t = {time}); output written so far is kept")]
+    Interrupted {
+        /// The last step completed.
+        step: usize,
+        /// Its time.
+        time: f64,
     },
     /// An observer failed to write its output.
     #[error("output: {0}")]
@@ -74,19 +95,33 @@ impl From<SchemeError> for RunError {
 }
 
 /// Time step, horizon and safety limits of a run.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct RunConfig {
     /// Time step `dt` (> 0, finite).
     pub dt: f64,
-    /// Horizon `T` (> 0, finite); the run takes `ceil(T/dt)` steps.
+    /// Horizon `T` (> 0, finite, a whole number of steps: `T = N dt`).
     pub t_end: f64,
-    /// Stop when `|E_h| > limit · max(|E_h(0)|, 1e-300)` (checked only when an
-    /// observer asks for the energy). `None`: no check.
+    /// Stop when `|E_h| > limit · S`, with the scale `S = max(|E_h(0)|,
+    /// `[`load_energy_scale`](signorini_schemes::Dynamics::load_energy_scale)`(T))`
+    /// (checked only when an observer asks for the energy). `None`: no check.
     pub energy_growth_limit: Option<f64>,
+    /// A flag (set by a signal handler) that stops the run cleanly at the
+    /// next step with [`RunError::Interrupted`].
+    pub interrupt: Option<&'static AtomicBool>,
+}
+
+/// Relative tolerance (in steps) within which `T/dt` counts as a whole number.
+fn whole_steps(t_end: f64, dt: f64) -> Option<usize> {
+    let r = t_end / dt;
+    let n = r.round();
+    (n >= 1.0 && (r - n).abs() <= 1e-9_f64.max(16.0 * f64::EPSILON * r)).then_some(n as usize)
 }
 
 impl RunConfig {
-    /// A validated configuration (energy growth bound 1e6).
+    /// A validated configuration (energy growth bound 1e6). `T` must be a
+    /// whole number of steps (to a relative 1e-9 or 16 ulps): a run never
+    /// goes past `T`, where exact solutions may not be defined, and never
+    /// silently stops short of it.
     pub fn new(dt: f64, t_end: f64) -> Result<Self, RunError> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(RunError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
@@ -97,14 +132,21 @@ impl RunConfig {
         if t_end / dt > 1e10 {
             return Err(RunError::Invalid { field: "T/dt", value: t_end / dt, allowed: "at most 1e10 steps" });
         }
-        Ok(Self { dt, t_end, energy_growth_limit: Some(1e6) })
+        if whole_steps(t_end, dt).is_none() {
+            return Err(RunError::Horizon { t_end, dt });
+        }
+        Ok(Self { dt, t_end, energy_growth_limit: Some(1e6), interrupt: None })
     }
 
-    /// Number of steps `N = ceil(T/dt)` (to a relative 1e-9, so `T = N dt`
-    /// up to rounding gives exactly `N`).
+    /// With an interrupt flag.
+    pub fn with_interrupt(mut self, flag: &'static AtomicBool) -> Self {
+        self.interrupt = Some(flag);
+        self
+    }
+
+    /// Number of steps `N = T/dt` (a whole number, checked by [`new`](Self::new)).
     pub fn steps(&self) -> usize {
-        let r = self.t_end / self.dt;
-        (r - 1e-9 * r.max(1.0)).ceil().max(1.0) as usize
+        whole_steps(self.t_end, self.dt).unwrap_or_else(|| (self.t_end / self.dt).ceil().max(1.0) as usize)
     }
 }
 
@@ -174,12 +216,17 @@ pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &m
     Ok(RunSummary { steps, t_end: stepper.time(), contact_steps, wall_s: start.elapsed().as_secs_f64() })
 }
 
+/// How often (in steps) the runner checks the whole state for non-finite
+/// values; the steppers check the contact dof every step.
+const FINITE_CHECK_EVERY: usize = 64;
+
 fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<(usize, usize), RunError> {
     if (cfg.dt - stepper.dt()).abs() > 1e-15 * cfg.dt {
         return Err(RunError::Invalid { field: "dt", value: cfg.dt, allowed: "the stepper's own dt" });
     }
     let want_energy = observers.iter().any(|o| o.wants_energy());
     let total = cfg.steps();
+    let load_scale = stepper.dynamics().load_energy_scale(cfg.t_end);
     let mut emit = |s: Sample<'_>| -> Result<(), RunError> {
         for o in observers.iter_mut() {
             o.observe(&s)?;
@@ -193,19 +240,28 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
     if stepper.level() == 1 {
         let energy = if want_energy { stepper.energy() } else { None };
         reference_energy = reference_energy.or(energy.map(|e| e.1));
+        check_finite(stepper.displacement(), 1, stepper.time())?;
         emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false, work: stepper.work() })?;
     }
     let mut contact_steps = 0;
     while stepper.level() < total {
+        if let Some(flag) = cfg.interrupt {
+            if flag.load(Ordering::Relaxed) {
+                return Err(RunError::Interrupted { step: stepper.level(), time: stepper.time() });
+            }
+        }
         let rep = stepper.step()?;
+        if rep.n % FINITE_CHECK_EVERY == 0 || rep.n == total {
+            check_finite(stepper.displacement(), rep.n, rep.t)?;
+        }
         let energy = if want_energy { stepper.energy() } else { None };
         if let (Some(limit), Some((_, e))) = (cfg.energy_growth_limit, energy) {
-            let e0 = *reference_energy.get_or_insert(e);
             if !e.is_finite() {
                 return Err(RunError::BlowUp { step: rep.n, time: rep.t });
             }
-            if e.abs() > limit * e0.abs().max(1e-300) {
-                return Err(RunError::EnergyGrowth { step: rep.n, time: rep.t, energy: e, limit });
+            let scale = reference_energy.get_or_insert(e).abs().max(load_scale);
+            if e.abs() > limit * scale {
+                return Err(RunError::EnergyGrowth { step: rep.n, time: rep.t, energy: e, limit, scale });
             }
         }
         let active = rep.active != signorini_contact::Active::None;
@@ -213,4 +269,12 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
         emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active, work: stepper.work() })?;
     }
     Ok((stepper.level(), contact_steps))
+}
+
+fn check_finite(u: &[f64], step: usize, time: f64) -> Result<(), RunError> {
+    if u.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(RunError::BlowUp { step, time })
+    }
 }

@@ -44,6 +44,9 @@ macro_rules! stepper_accessors {
         fn displacement(&self) -> &[f64] {
             &self.u
         }
+        fn dynamics(&self) -> &crate::Dynamics {
+            &self.dy
+        }
     };
 }
 
@@ -108,12 +111,16 @@ pub enum SchemeError {
     #[error("contact: {0}")]
     Contact(#[from] ContactError),
     /// An explicit scheme asked to run at or beyond its stability limit.
-    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of this explicit scheme (2/sqrt(κ_max) of the pencil (K + penalty, M))")]
+    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of {scheme}: {rule}")]
     Unstable {
         /// The time step asked for.
         dt: f64,
         /// The exact critical time step.
         limit: f64,
+        /// The scheme.
+        scheme: String,
+        /// How the limit is computed for this scheme, in words.
+        rule: &'static str,
     },
     /// The state became non-finite (NaN or infinity).
     #[error("state became non-finite at step {step} (t = {time})")]
@@ -123,6 +130,21 @@ pub enum SchemeError {
         /// Its time.
         time: f64,
     },
+}
+
+/// The exact critical time step of the two-step β-scheme (Paoli–Schatzman's
+/// linear part) on a pencil whose largest generalized eigenvalue is `kappa`:
+/// `2 / sqrt((1 - 4β) κ)` for β < 1/4 (`2/sqrt(κ)` at β = 0, the central
+/// difference), `∞` for β >= 1/4 (unconditionally stable: the discrete
+/// energy splits into a nonnegative quadratic form, and the projection only
+/// removes energy). With a massless node (`κ = ∞`) every β < 1/4 is unstable
+/// (limit 0): the massless row's recurrence has a root of modulus > 1.
+pub fn beta_scheme_critical_dt(beta: f64, kappa: f64) -> f64 {
+    if beta >= 0.25 {
+        f64::INFINITY
+    } else {
+        2.0 / ((1.0 - 4.0 * beta) * kappa).sqrt()
+    }
 }
 
 /// Bounds on the contact dof: `lo <= u_c <= hi` (`hi = +∞` for a one-sided
@@ -159,6 +181,13 @@ impl TimeProfile {
     pub fn value(&self, t: f64) -> f64 {
         match *self {
             TimeProfile::Sine { amplitude, omega } => amplitude * (omega * t).sin(),
+        }
+    }
+
+    /// `max_t |s(t)|`.
+    pub fn max_abs(&self) -> f64 {
+        match *self {
+            TimeProfile::Sine { amplitude, .. } => amplitude.abs(),
         }
     }
 
@@ -256,6 +285,24 @@ impl Dynamics {
         }
     }
 
+    /// An energy scale of the loads over a horizon `T`, never zero when a
+    /// load is: the kinetic energy `(f T)² / (2 m)` that the largest total
+    /// load `f = Σ|F_i| + max|s|·Σ|shape_i|` gives the total mass
+    /// `m = Σ_ij M_ij` in free flight over `T`. The runner's energy-growth
+    /// guard uses `max(|E(0)|, this)`, so a system that starts at rest
+    /// (E(0) = 0) under a load is not reported as a blow-up.
+    pub fn load_energy_scale(&self, t_end: f64) -> f64 {
+        let mut f: f64 = self.load.iter().map(|x| x.abs()).sum();
+        if let Some(fo) = &self.forcing {
+            f += fo.time.max_abs() * fo.shape.iter().map(|x| x.abs()).sum::<f64>();
+        }
+        let m = self.mass.total();
+        if f == 0.0 || !(m > 0.0) {
+            return 0.0;
+        }
+        (f * t_end).powi(2) / (2.0 * m)
+    }
+
     /// First massive dof (massless contact node, if any, is dof 0).
     pub(crate) fn massive_start(&self) -> usize {
         usize::from(self.massless_contact)
@@ -301,6 +348,8 @@ pub trait Stepper: Send {
     }
     /// Current displacement `U^n`.
     fn displacement(&self) -> &[f64];
+    /// The semi-discrete problem being integrated.
+    fn dynamics(&self) -> &Dynamics;
     /// Advances one step.
     fn step(&mut self) -> Result<StepReport, SchemeError>;
     /// The scheme's natural discrete energy and the time it belongs to

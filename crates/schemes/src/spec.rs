@@ -20,8 +20,8 @@ pub enum SchemeSpec {
         theta: f64,
     },
     /// Paoli–Schatzman / β-scheme, restitution e ∈ [0, 1], β ∈ [0, 1/2]
-    /// (β = 0 only with a massive contact node; β < 1/2 is conditionally
-    /// stable: dt < 2/sqrt((1-2β) κ_h)).
+    /// (β >= 1/4 is unconditionally stable; β < 1/4 needs a massive contact
+    /// node and dt < 2/sqrt((1-4β) κ_h)).
     PaoliSchatzman {
         /// Restitution coefficient e.
         restitution: f64,
@@ -94,27 +94,48 @@ impl SchemeSpec {
         Self::PRESETS.into_iter().chain(Self::REDUCED).chain(Self::PEERS)
     }
 
-    /// The exact CFL limit `2/sqrt(κ_max)` of an explicit scheme on `dy`
-    /// (`None` for implicit schemes): the pencil is `(K, M)`, with the
-    /// penalty spring added to `K` for `penalty-cd`.
+    /// The exact stability limit of a conditionally stable scheme on `dy`
+    /// (`None` for unconditionally stable ones): `2/sqrt(κ_max)` of the
+    /// scheme's pencil for the explicit ones (`(K + κ e_c e_cᵀ, M)` for
+    /// `penalty-cd`, `(K, M)` for Taylor–Flanagan, the reduced `(K*, M*)` for
+    /// `cd-massless`), and `2/sqrt((1 - 4β) κ_max)` of `(K, M)` for the
+    /// Paoli–Schatzman β-scheme with 0 < β < 1/4 (0 with a massless node:
+    /// always unstable).
     pub fn cfl_limit(&self, dy: &Dynamics) -> Result<Option<f64>, SchemeError> {
         let c = dy.contact_dof;
-        let k = match *self {
+        match *self {
             SchemeSpec::Penalty { gamma_p, explicit: true } => {
                 let mut k = dy.stiffness.clone();
                 k.add(c, c, gamma_p * dy.stiffness.get(c, c));
-                k
+                Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
             }
-            SchemeSpec::PaoliSchatzman { beta, .. } if beta == 0.0 => dy.stiffness.clone(),
+            SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => {
+                if dy.massless_contact {
+                    return Ok(Some(0.0));
+                }
+                let kappa = signorini_fem::max_generalized_eigenvalue_auto(&dy.stiffness, &dy.mass)?;
+                Ok(Some(crate::beta_scheme_critical_dt(beta, kappa)))
+            }
             SchemeSpec::Reduced(ReducedLaw::CentralDifference) if dy.massless_contact && c == 0 => {
                 // The reduced pencil (K*, M*): in contact the node is fixed and
                 // node 1 feels the whole first element.
                 let (k, m) = (dy.stiffness.trailing(1), dy.mass.trailing(1));
-                return Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &m)?.sqrt()));
+                Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &m)?.sqrt()))
             }
-            _ => return Ok(None),
-        };
-        Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
+            _ => Ok(None),
+        }
+    }
+
+    /// How [`cfl_limit`](Self::cfl_limit) is computed for this scheme, in
+    /// words (`None` for unconditionally stable schemes).
+    pub fn stability_rule(&self) -> Option<&'static str> {
+        match *self {
+            SchemeSpec::Penalty { explicit: true, .. } => Some("explicit central difference with a penalty spring: 2/sqrt(κ_max) of the pencil (K + κ e_c e_cᵀ, M)"),
+            SchemeSpec::PaoliSchatzman { beta, .. } if beta == 0.0 => Some("explicit central difference (β = 0): 2/sqrt(κ_max) of the pencil (K, M)"),
+            SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => Some("two-step β-scheme with β < 1/4: 2/sqrt((1 - 4β) κ_max) of the pencil (K, M); β >= 1/4 is unconditionally stable"),
+            SchemeSpec::Reduced(ReducedLaw::CentralDifference) => Some("explicit central difference with a quasi-static massless node: 2/sqrt(κ_max) of the reduced pencil (K*, M*) without the contact node"),
+            _ => None,
+        }
     }
 
     /// Checks every parameter against its allowed range.
@@ -129,7 +150,7 @@ impl SchemeSpec {
             SchemeSpec::Theta { theta } => check("theta", theta, (0.5..=1.0).contains(&theta), "[1/2, 1]"),
             SchemeSpec::PaoliSchatzman { restitution, beta } => {
                 check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
-                check("beta", beta, (0.0..=0.5).contains(&beta), "[0, 1/2] (β = 0 needs a massive contact node)")
+                check("beta", beta, (0.0..=0.5).contains(&beta), "[0, 1/2] (β < 1/4 needs a massive contact node and is conditionally stable)")
             }
             SchemeSpec::Reduced(_) => Ok(()),
             SchemeSpec::Penalty { gamma_p, .. } => check("gamma_p", gamma_p, gamma_p > 0.0, "finite and > 0"),
@@ -159,15 +180,16 @@ impl SchemeSpec {
         matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::Reduced(ReducedLaw::CentralDifference)) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
     }
 
-    /// Whether the scheme needs a massive contact node (explicit schemes).
+    /// Whether the scheme needs a massive contact node (explicit schemes,
+    /// Moreau–Jean, the β-scheme with β < 1/4).
     pub fn needs_massive_node(&self) -> bool {
-        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. }) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
+        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. }) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta < 0.25)
     }
 
     fn check_cfl(&self, dy: &Dynamics, dt: f64) -> Result<(), SchemeError> {
         if let Some(limit) = self.cfl_limit(dy)? {
             if !(dt < limit) {
-                return Err(SchemeError::Unstable { dt, limit });
+                return Err(SchemeError::Unstable { dt, limit, scheme: self.to_string(), rule: self.stability_rule().unwrap_or("") });
             }
         }
         Ok(())
@@ -186,8 +208,8 @@ impl SchemeSpec {
             SchemeSpec::Newmark { beta, gamma } => Box::new(OneStep::new(label, dy, OneStepParams::newmark(beta, gamma), dt, init)?),
             SchemeSpec::Theta { theta } => Box::new(OneStep::new(label, dy, OneStepParams::theta(theta), dt, init)?),
             SchemeSpec::PaoliSchatzman { restitution, beta } => {
-                if beta == 0.0 && dy.massless_contact {
-                    return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped) when β = 0" });
+                if beta < 0.25 && dy.massless_contact {
+                    return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped) when β < 1/4 (with a massless node the β-scheme is unstable for every dt)" });
                 }
                 self.check_cfl(&dy, dt)?;
                 Box::new(PaoliSchatzman::new(label, dy, beta, restitution, dt, init)?)

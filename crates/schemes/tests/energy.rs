@@ -374,7 +374,7 @@ fn explicit_penalty_refuses_steps_beyond_its_cfl_limit() {
     let limit = 2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass).unwrap().sqrt();
     assert!(limit > 0.01 && limit < 0.05, "{limit}");
     match spec.build(dy.clone(), limit * 1.001, &init) {
-        Err(SchemeError::Unstable { dt, limit: l }) => assert!((l - limit).abs() < 1e-12 && dt > l),
+        Err(SchemeError::Unstable { dt, limit: l, .. }) => assert!((l - limit).abs() < 1e-12 && dt > l),
         Err(e) => panic!("{e}"),
         Ok(_) => panic!("accepted beyond the CFL limit"),
     }
