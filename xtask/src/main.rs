@@ -26,7 +26,7 @@ use signorini_run::Benchmark;
 use signorini_schemes::SchemeSpec;
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal};
-use signorini_plot::{line_chart, Chart, Scale, Series};
+use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -157,7 +157,11 @@ pub(crate) fn run_study(cfg: &StudyConfig, out: &Path) -> Result<(Vec<study::Con
     for norm in ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"] {
         let series: Vec<Series> = results
             .iter()
-            .map(|r| Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false })
+            .map(|r| {
+                // Colour by scheme, marker and dash by mass.
+                let style = Style { group: cfg.schemes.iter().position(|s| *s == r.scheme), variant: cfg.masses.iter().position(|m| *m == r.mass) };
+                Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false, style }
+            })
             .collect();
         let chart = Chart { title: &format!("{}: {norm} against dx (dx/dt = {})", cfg.benchmark, cfg.ratio), x_label: "dx", y_label: norm, scale: Scale::LogLog, size: (900, 600) };
         match line_chart(&chart, &series) {

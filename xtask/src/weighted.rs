@@ -95,7 +95,7 @@ fn plot(dir: &Path, scheme: &str, runs: &[&FigureRun], what: &str, t_max: f64) -
     };
     let mut series: Vec<Series> = runs
         .iter()
-        .map(|r| Series { label: r.mass.to_string(), points: r.records.iter().filter_map(pick).filter(|p| p.0 <= t_max).collect(), reference: false })
+        .map(|r| Series { label: r.mass.to_string(), points: r.records.iter().filter_map(pick).filter(|p| p.0 <= t_max).collect(), reference: false, style: Default::default() })
         .collect();
     let n = 3000;
     let exact: Vec<(f64, f64)> = (0..=n)
@@ -111,7 +111,7 @@ fn plot(dir: &Path, scheme: &str, runs: &[&FigureRun], what: &str, t_max: f64) -
             )
         })
         .collect();
-    series.push(Series { label: "exact".into(), points: exact, reference: true });
+    series.push(Series { label: "exact".into(), points: exact, reference: true, style: Default::default() });
     let m = runs.first().map_or(0, |r| r.m);
     let dt = runs.first().map_or(0.0, |r| r.dt);
     let title = format!("{scheme}: {what}, dx = 1/{m}, dt = {dt}");

@@ -91,7 +91,7 @@ pub fn run_wp(a: Args) -> Result<(), String> {
         keys.dedup();
         let series: Vec<Series> = keys
             .iter()
-            .map(|(s, m)| Series { label: format!("{s} {m}"), points: pts.iter().filter(|p| &p.scheme.to_string() == s && &p.mass.to_string() == m).map(|p| (p.wall, p.err)).collect(), reference: false })
+            .map(|(s, m)| Series { label: format!("{s} {m}"), points: pts.iter().filter(|p| &p.scheme.to_string() == s && &p.mass.to_string() == m).map(|p| (p.wall, p.err)).collect(), reference: false, style: Default::default() })
             .collect();
         let svg = line_chart(&Chart { title: &format!("{benchmark}: error against wall time"), x_label: "wall time (s)", y_label: "L²(0,T;L²) error", scale: Scale::LogLog, size: (1000, 650) }, &series)?;
         std::fs::write(a.out.join(format!("{benchmark}.svg")), svg).map_err(|e| e.to_string())?;

@@ -4,9 +4,19 @@
 //! against exact) and log-log error curves. Returns the SVG as a `String`;
 //! writing it is the caller's business.
 //!
+//! Line charts keep every series distinguishable: a series' colour comes
+//! from its [`Style::group`] (a palette of twelve colours, the first seven
+//! Okabe–Ito's colour-blind-safe set) and its marker and dash pattern from
+//! its [`Style::variant`]. The legend sits to the right of the plotting
+//! area, never over the data. Logarithmic axes are labelled at decades
+//! (10⁻³, 10⁻², …), with unlabelled minor grid lines between them.
+//!
 //! Architecture invariant: no IO, no numerics; depends only on plotters.
 
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// One curve.
 #[derive(Clone, Debug)]
@@ -17,6 +27,19 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Draw dashed-looking (thin, grey) — used for exact solutions.
     pub reference: bool,
+    /// Colour and marker; the default picks the colour by position.
+    pub style: Style,
+}
+
+/// How a series is drawn: its colour comes from `group`, its marker and
+/// dash pattern from `variant`, so that series sharing a group (e.g. one
+/// scheme) share a colour and differ by marker (e.g. the mass).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Style {
+    /// Palette index; `None`: the series' position in the chart.
+    pub group: Option<usize>,
+    /// Marker and dash index; `None`: a solid line without markers.
+    pub variant: Option<usize>,
 }
 
 /// Axis scaling.
@@ -39,14 +62,215 @@ pub struct Chart<'a> {
     pub y_label: &'a str,
     /// Axes.
     pub scale: Scale,
-    /// Size in pixels.
+    /// Size in pixels of the chart without its legend; the legend widens
+    /// the canvas to the right (and lengthens it if it has many entries).
     pub size: (u32, u32),
 }
 
-const COLORS: [RGBColor; 6] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40), RGBColor(44, 160, 44), RGBColor(148, 103, 189), RGBColor(255, 127, 14), RGBColor(140, 86, 75)];
+/// Twelve colours: Okabe and Ito's seven colour-blind-safe colours (black
+/// last), then five of Paul Tol's muted scheme.
+const PALETTE: [RGBColor; 12] = [
+    RGBColor(0, 114, 178),   // blue
+    RGBColor(213, 94, 0),    // vermillion
+    RGBColor(0, 158, 115),   // bluish green
+    RGBColor(204, 121, 167), // reddish purple
+    RGBColor(230, 159, 0),   // orange
+    RGBColor(86, 180, 233),  // sky blue
+    RGBColor(0, 0, 0),       // black
+    RGBColor(136, 34, 85),   // wine
+    RGBColor(153, 153, 51),  // olive
+    RGBColor(51, 34, 136),   // indigo
+    RGBColor(68, 170, 153),  // teal
+    RGBColor(140, 86, 75),   // brown
+];
 
-/// Renders the series as an SVG document. Errors only if plotters fails
-/// (reported as text).
+/// Colour of reference curves (exact solutions, stops).
+const REFERENCE_GREY: RGBColor = RGBColor(90, 90, 90);
+
+/// Marker shapes, in the order variants take them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Marker {
+    Circle,
+    HollowSquare,
+    TriangleUp,
+    HollowDiamond,
+    Cross,
+    HollowTriangleDown,
+    Plus,
+    Square,
+}
+
+const MARKERS: [Marker; 8] = [Marker::Circle, Marker::HollowSquare, Marker::TriangleUp, Marker::HollowDiamond, Marker::Cross, Marker::HollowTriangleDown, Marker::Plus, Marker::Square];
+
+/// Line patterns, in the order variants take them: `(dash, gap)` in pixels.
+const DASHES: [Option<(i32, i32)>; 4] = [None, Some((8, 4)), Some((2, 3)), Some((14, 4))];
+
+/// Marker half-size in pixels.
+const MARKER_R: i32 = 4;
+
+/// How one series is drawn.
+#[derive(Clone, Copy, Debug)]
+struct Look {
+    color: RGBColor,
+    width: u32,
+    marker: Option<Marker>,
+    dash: Option<(i32, i32)>,
+}
+
+impl Look {
+    /// The look of the `index`-th series of a chart.
+    fn of(series: &Series, index: usize) -> Look {
+        if series.reference {
+            return Look { color: REFERENCE_GREY, width: 1, marker: None, dash: None };
+        }
+        let group = series.style.group.unwrap_or(index);
+        let (marker, dash) = match series.style.variant {
+            Some(v) => (Some(MARKERS[v % MARKERS.len()]), DASHES[v % DASHES.len()]),
+            // Past the palette's length, position-styled series change dash.
+            None => (None, DASHES[(index / PALETTE.len()) % DASHES.len()]),
+        };
+        Look { color: PALETTE[group % PALETTE.len()], width: 2, marker, dash }
+    }
+
+    fn line(&self) -> ShapeStyle {
+        ShapeStyle { color: self.color.to_rgba(), filled: false, stroke_width: self.width }
+    }
+}
+
+/// Draws `marker` centred on `at` in `area`'s coordinates.
+fn draw_marker<DB: DrawingBackend, CT: CoordTranslate>(area: &DrawingArea<DB, CT>, at: CT::From, marker: Marker, color: RGBColor) -> Result<(), String>
+where
+    CT::From: Clone,
+{
+    let r = MARKER_R;
+    let fill = color.filled();
+    let stroke = ShapeStyle { color: color.to_rgba(), filled: false, stroke_width: 2 };
+    let white = WHITE.filled();
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let hollow = |outline: Vec<(i32, i32)>| -> Result<(), String> {
+        area.draw(&(EmptyElement::at(at.clone()) + Polygon::new(outline.clone(), white))).map_err(e)?;
+        let mut closed = outline;
+        closed.push(closed[0]);
+        area.draw(&(EmptyElement::at(at.clone()) + PathElement::new(closed, stroke))).map_err(e)
+    };
+    let strokes = |a: [(i32, i32); 2], b: [(i32, i32); 2]| -> Result<(), String> {
+        area.draw(&(EmptyElement::at(at.clone()) + PathElement::new(a.to_vec(), stroke) + PathElement::new(b.to_vec(), stroke))).map_err(e)
+    };
+    match marker {
+        Marker::Circle => area.draw(&(EmptyElement::at(at.clone()) + Circle::new((0, 0), r, fill))).map_err(e),
+        Marker::Square => area.draw(&(EmptyElement::at(at.clone()) + Rectangle::new([(-r, -r), (r, r)], fill))).map_err(e),
+        Marker::TriangleUp => area.draw(&(EmptyElement::at(at.clone()) + Polygon::new(vec![(0, -r - 1), (r + 1, r), (-r - 1, r)], fill))).map_err(e),
+        Marker::HollowSquare => hollow(vec![(-r, -r), (r, -r), (r, r), (-r, r)]),
+        Marker::HollowDiamond => hollow(vec![(0, -r - 1), (r + 1, 0), (0, r + 1), (-r - 1, 0)]),
+        Marker::HollowTriangleDown => hollow(vec![(0, r + 1), (r + 1, -r), (-r - 1, -r)]),
+        Marker::Cross => strokes([(-r, -r), (r, r)], [(-r, r), (r, -r)]),
+        Marker::Plus => strokes([(-r - 1, 0), (r + 1, 0)], [(0, -r - 1), (0, r + 1)]),
+    }
+}
+
+/// Tick positions of a logarithmic axis over `[lo, hi]` (`0 < lo < hi`):
+/// labelled (major) and unlabelled (minor) values.
+#[derive(Clone, Debug, PartialEq)]
+struct LogTicks {
+    major: Vec<f64>,
+    minor: Vec<f64>,
+}
+
+/// At most this many labelled decades on one axis.
+const MAX_DECADE_LABELS: usize = 9;
+
+/// Decade ticks over `[lo, hi]`; when fewer than three decades fit, the
+/// 1-2-5 values, then every integer mantissa; every tenth of the range
+/// (in log) as a last resort.
+fn log_ticks(lo: f64, hi: f64) -> LogTicks {
+    let inside = |v: &f64| *v >= lo * (1.0 - 1e-9) && *v <= hi * (1.0 + 1e-9);
+    let (k0, k1) = ((lo.log10() - 1e-9).floor() as i32, (hi.log10() + 1e-9).ceil() as i32);
+    let with = |mantissas: &[f64]| -> Vec<f64> { (k0..=k1).flat_map(|k| mantissas.iter().map(move |m| m * 10f64.powi(k))).filter(inside).collect() };
+    let decades = with(&[1.0]);
+    if decades.len() >= 3 {
+        let step = decades.len().div_ceil(MAX_DECADE_LABELS);
+        let (major, skipped): (Vec<(usize, f64)>, Vec<(usize, f64)>) = decades.iter().copied().enumerate().partition(|(i, _)| i % step == 0);
+        let mut minor: Vec<f64> = skipped.into_iter().map(|(_, v)| v).collect();
+        if step == 1 {
+            minor.extend(with(&[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]));
+        }
+        return LogTicks { major: major.into_iter().map(|(_, v)| v).collect(), minor };
+    }
+    for (labelled, rest) in [(&[1.0, 2.0, 5.0][..], &[3.0, 4.0, 6.0, 7.0, 8.0, 9.0][..]), (&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0][..], &[][..])] {
+        let major = with(labelled);
+        if major.len() >= 3 {
+            return LogTicks { major, minor: with(rest) };
+        }
+    }
+    let ratio = hi / lo;
+    LogTicks { major: (0..=4).map(|i| lo * ratio.powf(i as f64 / 4.0)).collect(), minor: vec![] }
+}
+
+/// `10⁻³`, `2×10⁻³`, `1.37×10⁻³`: a positive tick value in scientific
+/// notation with a superscript exponent.
+fn format_log_tick(v: f64) -> String {
+    let mut k = v.log10().floor() as i32;
+    let mut m = v / 10f64.powi(k);
+    if m >= 9.9995 {
+        m /= 10.0;
+        k += 1;
+    }
+    let sup: String = k.to_string().chars().map(|c| match c {
+        '-' => '⁻',
+        d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'][d.to_digit(10).unwrap_or(0) as usize],
+    }).collect();
+    if (m - 1.0).abs() < 5e-4 {
+        format!("10{sup}")
+    } else if (m - m.round()).abs() < 5e-4 {
+        format!("{}×10{sup}", m.round())
+    } else {
+        let mantissa = format!("{m:.2}");
+        format!("{}×10{sup}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+    }
+}
+
+/// Legend text size (plotters' units) and the layout of an entry.
+const LEGEND_FONT: u32 = 15;
+const LEGEND_ROW: i32 = 20;
+const LEGEND_SAMPLE: i32 = 34;
+const LEGEND_PAD: i32 = 12;
+/// A generous width per character of the legend font, in pixels.
+const LEGEND_CHAR_W: i32 = 8;
+
+/// Width in pixels of the legend column for these labels.
+fn legend_width(series: &[Series]) -> u32 {
+    let chars = series.iter().map(|s| s.label.chars().count()).max().unwrap_or(0) as i32;
+    (2 * LEGEND_PAD + LEGEND_SAMPLE + 8 + LEGEND_CHAR_W * chars + LEGEND_PAD) as u32
+}
+
+/// Draws the legend in `area`, a column right of the plot, its first entry
+/// at height `top` (pixels from the column's top).
+fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, series: &[Series], top: i32) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (w, _) = area.dim_in_pixel();
+    let x0 = LEGEND_PAD;
+    let bottom = top + LEGEND_ROW * series.len() as i32 + 4;
+    area.draw(&Rectangle::new([(x0 - 6, top - 4), (w as i32 - 4, bottom)], ShapeStyle { color: RGBColor(160, 160, 160).to_rgba(), filled: false, stroke_width: 1 })).map_err(e)?;
+    let font = TextStyle::from(("sans-serif", LEGEND_FONT).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, s) in series.iter().enumerate() {
+        let look = Look::of(s, i);
+        let y = top + LEGEND_ROW * i as i32 + LEGEND_ROW / 2;
+        let sample = vec![(x0, y), (x0 + LEGEND_SAMPLE, y)];
+        match look.dash {
+            None => area.draw(&PathElement::new(sample, look.line())).map_err(e)?,
+            Some((dash, gap)) => area.draw(&DashedPathElement::new(sample, dash, gap, look.line())).map_err(e)?,
+        }
+        if let Some(m) = look.marker {
+            draw_marker(area, (x0 + LEGEND_SAMPLE / 2, y), m, look.color)?;
+        }
+        area.draw(&Text::new(s.label.clone(), (x0 + LEGEND_SAMPLE + 8, y), font.clone())).map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Renders the series as an SVG document: the chart of `chart.size` and,
+/// to its right, the legend. Errors only if no point can be drawn or
+/// plotters fails (reported as text).
 pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String> {
     let keep = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (chart.scale == Scale::Linear || (p.0 > 0.0 && p.1 > 0.0));
     let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.points.iter().copied().filter(keep)).collect();
@@ -54,15 +278,15 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
         return Err("nothing to plot: no finite points".into());
     }
     let (mut x0, mut x1, mut y0, mut y1) = all.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |(a, b, c, d), p| (a.min(p.0), b.max(p.0), c.min(p.1), d.max(p.1)));
-    if x1 <= x0 {
-        x1 = x0 + 1.0;
-    }
-    if y1 <= y0 {
-        let pad = if y0 == 0.0 { 1.0 } else { 0.1 * y0.abs() };
-        y0 -= pad;
-        y1 += pad;
-    }
     if chart.scale == Scale::Linear {
+        if x1 <= x0 {
+            x1 = x0 + 1.0;
+        }
+        if y1 <= y0 {
+            let pad = if y0 == 0.0 { 1.0 } else { 0.1 * y0.abs() };
+            y0 -= pad;
+            y1 += pad;
+        }
         let pad = 0.05 * (y1 - y0);
         y0 -= pad;
         y1 += pad;
@@ -72,32 +296,56 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
         y0 /= 1.5;
         y1 *= 1.5;
     }
+    let legend_w = legend_width(series);
+    let title_h = 36;
+    let legend_h = title_h + 12 + LEGEND_ROW * series.len() as i32 + 16;
+    let size = (chart.size.0 + legend_w, chart.size.1.max(legend_h as u32));
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, chart.size).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         let err = |e: &dyn std::fmt::Display| e.to_string();
         root.fill(&WHITE).map_err(|e| err(&e))?;
-        let mut b = ChartBuilder::on(&root);
-        b.caption(chart.title, ("sans-serif", 20)).margin(12).x_label_area_size(40).y_label_area_size(70);
+        let body = root.titled(chart.title, ("sans-serif", 20)).map_err(|e| err(&e))?;
+        let (plot, legend) = body.split_horizontally(chart.size.0);
+        let mut b = ChartBuilder::on(&plot);
+        b.margin(12).x_label_area_size(40).y_label_area_size(80);
+        let label_font = ("sans-serif", 15);
+        let log_label = |v: &f64| format_log_tick(*v);
         macro_rules! draw {
-            ($ctx:expr) => {{
+            ($ctx:expr, $log:expr) => {{
                 let mut ctx = $ctx;
-                ctx.configure_mesh().x_desc(chart.x_label).y_desc(chart.y_label).draw().map_err(|e| err(&e))?;
-                for (i, s) in series.iter().enumerate() {
-                    let color = if s.reference { RGBColor(90, 90, 90) } else { COLORS[i % COLORS.len()] };
-                    let style = ShapeStyle { color: color.to_rgba(), filled: false, stroke_width: if s.reference { 1 } else { 2 } };
-                    let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
-                    ctx.draw_series(LineSeries::new(pts, style))
-                        .map_err(|e| err(&e))?
-                        .label(s.label.clone())
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                let mut mesh = ctx.configure_mesh();
+                mesh.x_desc(chart.x_label).y_desc(chart.y_label).label_style(label_font).axis_desc_style(label_font).light_line_style(RGBColor(235, 235, 235));
+                if $log {
+                    mesh.x_label_formatter(&log_label).y_label_formatter(&log_label);
                 }
-                ctx.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(|e| err(&e))?;
+                mesh.draw().map_err(|e| err(&e))?;
+                for (i, s) in series.iter().enumerate() {
+                    let look = Look::of(s, i);
+                    let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
+                    match look.dash {
+                        None => ctx.draw_series(LineSeries::new(pts.iter().copied(), look.line())).map(|_| ()),
+                        Some((dash, gap)) => ctx.draw_series(DashedLineSeries::new(pts.iter().copied(), dash, gap, look.line())).map(|_| ()),
+                    }
+                    .map_err(|e| err(&e))?;
+                    if let Some(m) = look.marker {
+                        for p in &pts {
+                            draw_marker(ctx.plotting_area(), *p, m, look.color)?;
+                        }
+                    }
+                }
+                let top = ctx.plotting_area().get_pixel_range().1.start - legend.get_base_pixel().1;
+                draw_legend(&legend, series, top.max(0))?;
             }};
         }
         match chart.scale {
-            Scale::Linear => draw!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(&e))?),
-            Scale::LogLog => draw!(b.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()).map_err(|e| err(&e))?),
+            Scale::Linear => draw!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(&e))?, false),
+            Scale::LogLog => {
+                let (tx, ty) = (log_ticks(x0, x1), log_ticks(y0, y1));
+                let xs = (x0..x1).log_scale().with_key_points(tx.major).with_light_points(tx.minor);
+                let ys = (y0..y1).log_scale().with_key_points(ty.major).with_light_points(ty.minor);
+                draw!(b.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?, true)
+            }
         }
         root.present().map_err(|e| err(&e))?;
     }
@@ -165,16 +413,16 @@ mod tests {
     #[test]
     fn renders_svg_with_legend_and_skips_bad_points() {
         let s = vec![
-            Series { label: "numerical".into(), points: vec![(0.0, 0.5), (1.0, f64::NAN), (2.0, -0.1)], reference: false },
-            Series { label: "exact".into(), points: vec![(0.0, 0.5), (2.0, 0.0)], reference: true },
+            Series { label: "numerical".into(), points: vec![(0.0, 0.5), (1.0, f64::NAN), (2.0, -0.1)], reference: false, style: Style::default() },
+            Series { label: "exact".into(), points: vec![(0.0, 0.5), (2.0, 0.0)], reference: true, style: Style::default() },
         ];
         let c = Chart { title: "u(0,t)", x_label: "t", y_label: "u", scale: Scale::Linear, size: (640, 400) };
         let svg = line_chart(&c, &s).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("numerical") && svg.contains("exact") && svg.contains("u(0,t)"));
         let log = Chart { scale: Scale::LogLog, ..c };
-        let curve = Series { label: "error".into(), points: vec![(0.1, 1e-2), (0.05, 5e-3), (0.0, 1.0)], reference: false };
+        let curve = Series { label: "error".into(), points: vec![(0.1, 1e-2), (0.05, 5e-3), (0.0, 1.0)], reference: false, style: Style::default() };
         assert!(line_chart(&log, &[curve]).unwrap().contains("error"));
         // Every point invalid on log axes: an error, not a panic.
-        assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false }]).is_err());
+        assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false, style: Style::default() }]).is_err());
     }
 }
