@@ -59,13 +59,12 @@ fn test_vectors_g_one_ninth() {
     for (t, l) in lam {
         assert_close(&format!("lambda({t})"), s.lambda(t), l, 1e-12);
     }
+    // E = g u0 L = (1/9)(1/2)(1) by hand; `energy_is_conserved` integrates it.
     assert_close("energy", s.energy(), 1.0 / 18.0, 1e-15);
-    assert_eq!(s.name(), "bar-neumann-gravity");
-    assert_eq!(s.period(), Some(16.0));
-    assert_eq!(s.far_end(), FarEnd::Free);
-    assert_eq!(s.degree_x(), 2);
-    assert_eq!(s.length(), 1.0);
-    assert_eq!(s.body_force(), -G9);
+    // The other accessors (period, far end, degree, body force, length) are
+    // checked by the properties they declare: `periodicity_sixteen_not_eight`,
+    // `boundary_and_contact_conditions`, `kinks_split_u_into_quadratics`,
+    // `parallelogram_identity`.
 }
 
 // ---------------------------------------------------------------------------
@@ -114,6 +113,61 @@ fn table_m3(x: f64, t: f64) -> (f64, f64, f64, f64) {
     }
 }
 
+/// The explicit phases of §2.3 for any data: free fall on `[0, T1)`, the
+/// first contact h1 on `[T1, T1 + 2L)` (the incoming wave is still 0 there,
+/// so this holds for any `T1`), and, when `2 <= T1/L <= 6.7` (where the
+/// second-impact formula was checked), the first flight h2 up to `t3`.
+/// `None` beyond; times down to `-1e-9` continue the free fall.
+fn first_phases(s: &BarNeumannGravity, x: f64, t: f64) -> Option<(f64, f64, f64)> {
+    let (u0, g, l) = (s.u0(), s.gravity(), s.length());
+    let t1 = (2.0 * u0 / g).sqrt();
+    let v = g * t1;
+    let ratio = t1 / l;
+    if t < t1 {
+        return Some((u0 - g * t * t / 2.0, 0.0, -g * t));
+    }
+    if t < t1 + 2.0 * l {
+        return Some(h1(x, t - t1, v, g, l));
+    }
+    if (2.0..=6.7).contains(&ratio) {
+        let m = ratio.floor();
+        let t3 = 4.0 * (m + 1.0) * l - (t1 * t1 - (8.0 * m + 4.0) * l * t1 + (8.0 * m * m + 8.0 * m + 4.0) * l * l).sqrt();
+        if t < t3 {
+            return Some(h2(x, t - t1 - 2.0 * l, v, g, l));
+        }
+    }
+    None
+}
+
+/// Max deviations `(|Δu|, |Δu_x|, |Δu_t|)` from [`first_phases`] over
+/// `n_t × (n_x + 1)` points of `[0, t_max] × [0, L]` (derivatives away from
+/// the kinks and the event times), relative to `u0 + g L² + V L` and
+/// `V + g L`; and the number of points compared.
+fn first_phases_deviation(s: &BarNeumannGravity, n_t: usize, n_x: usize) -> (f64, f64, usize) {
+    let (u0, g, l) = (s.u0(), s.gravity(), s.length());
+    let t1 = (2.0 * u0 / g).sqrt();
+    let v = g * t1;
+    let (scale, v_scale) = (u0 + g * l * l + v * l, v + g * l);
+    let mut buf = Vec::new();
+    let (mut wu, mut wd, mut n) = (0.0_f64, 0.0_f64, 0);
+    for it in 0..=n_t {
+        // The last sample is t_max itself (the last piece built).
+        let t = if it == n_t { s.t_max() } else { s.t_max() * (it as f64 + 0.29) / n_t as f64 };
+        let near_event = [t1, t1 + 2.0 * l].iter().any(|e| (t - e).abs() <= 1e-9 * (t1 + l));
+        for ix in 0..=n_x {
+            let x = l * ix as f64 / n_x as f64;
+            let Some((u, ux, ut)) = first_phases(s, x, t) else { continue };
+            let f = s.fields(x, t);
+            wu = wu.max((f.u - u).abs() / scale);
+            n += 1;
+            if !near_event && kink_distance(s, x, t, &mut buf).max(if x == l { l } else { 0.0 }) > 1e-9 * l {
+                wd = wd.max((f.ux - ux).abs() / v_scale).max((f.ut - ut).abs() / v_scale);
+            }
+        }
+    }
+    (wu, wd, n)
+}
+
 #[test]
 fn periodic_table_of_section_2_4() {
     let s = BarNeumannGravity::periodic(48.0).unwrap();
@@ -154,20 +208,24 @@ fn periodic_table_of_section_2_4() {
 #[test]
 fn periodicity_sixteen_not_eight() {
     let s = BarNeumannGravity::periodic(82.0).unwrap();
+    // The declared period is 4 (T1 + L) with T1 = sqrt(2 u0 / g) = 3 (§2.4),
+    // and the solution repeats with it (and not with half of it).
+    let p = s.period().expect("g = 1/9 is periodic");
+    assert_close("period 4 (T1 + L)", p, 4.0 * ((2.0 * 0.5 / G9).sqrt() + 1.0), 1e-12);
     let mut buf = Vec::new();
     let (mut d16, mut d16_deriv, mut d8) = (0.0_f64, 0.0_f64, 0.0_f64);
     for it in 0..=640 {
         let t = it as f64 * 0.1 + 0.0123;
         for ix in 0..=50 {
             let x = ix as f64 / 50.0;
-            let (a, b, c) = (s.fields(x, t), s.fields(x, t + 16.0), s.fields(x, t + 8.0));
+            let (a, b, c) = (s.fields(x, t), s.fields(x, t + p), s.fields(x, t + p / 2.0));
             d16 = d16.max((a.u - b.u).abs());
             if kink_distance(&s, x, t, &mut buf) > 1e-9 {
                 d16_deriv = d16_deriv.max((a.ux - b.ux).abs()).max((a.ut - b.ut).abs());
             }
             d8 = d8.max((a.u - c.u).abs());
         }
-        assert_close("lambda period", s.lambda(t), s.lambda(t + 16.0), 1e-13);
+        assert_close("lambda period", s.lambda(t), s.lambda(t + p), 1e-13);
     }
     eprintln!("period 16: max |Δu| {d16:.2e}, |Δu_x|,|Δu_t| {d16_deriv:.2e}; shift 8: max |Δu| {d8:.3}");
     assert!(d16 <= 1e-13 && d16_deriv <= 1e-13, "period 16: {d16:e} {d16_deriv:e}");
@@ -299,10 +357,12 @@ proptest! {
 // Defining identities (§2.6).
 
 /// Max over a sweep of the parallelogram defect
-/// `u(x,t+h) + u(x,t−h) − u(x+h,t) − u(x−h,t) + g h²` (exact: `= h² f = −g h²`).
+/// `u(x,t+h) + u(x,t−h) − u(x+h,t) − u(x−h,t) − h² f` (exact: the sum is
+/// `h² f`), with `f` the declared [`ExactSolution::body_force`]: a wrong
+/// declared force (e.g. `+g`) leaves a defect of `2 g h²`.
 fn parallelogram_defect(s: &BarNeumannGravity, n_t: usize, n_x: usize) -> f64 {
     let l = s.length();
-    let g = s.gravity();
+    let f = s.body_force();
     let t_max = s.t_max();
     let mut worst = 0.0_f64;
     for it in 0..n_t {
@@ -313,7 +373,7 @@ fn parallelogram_defect(s: &BarNeumannGravity, n_t: usize, n_x: usize) -> f64 {
                 if x < h || x + h > l || t < h || t + h > t_max {
                     continue;
                 }
-                let d = s.fields(x, t + h).u + s.fields(x, t - h).u - s.fields(x + h, t).u - s.fields(x - h, t).u + g * h * h;
+                let d = s.fields(x, t + h).u + s.fields(x, t - h).u - s.fields(x + h, t).u - s.fields(x - h, t).u - f * h * h;
                 worst = worst.max(d.abs());
             }
         }
@@ -431,6 +491,7 @@ fn boundary_and_contact_conditions() {
     for s in [BarNeumannGravity::periodic(34.0).unwrap(), BarNeumannGravity::paper(34.0).unwrap()] {
         let bp: Vec<f64> = s.breakpoints().collect();
         let (mut min_u0, mut max_ul_x, mut max_ut_c, mut max_prod, mut max_lam_ux) = (f64::MAX, 0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
+        let mut max_ul = 0.0_f64;
         let mut n_contact = 0;
         for it in 0..=34_000 {
             let t = it as f64 * 0.001;
@@ -439,7 +500,8 @@ fn boundary_and_contact_conditions() {
             assert!(lam <= 0.0, "lambda({t}) = {lam}");
             min_u0 = min_u0.min(f0.u);
             max_prod = max_prod.max((f0.u * lam).abs());
-            max_ul_x = max_ul_x.max(s.fields(1.0, t).ux.abs());
+            max_ul_x = max_ul_x.max(s.fields(s.length(), t).ux.abs());
+            max_ul = max_ul.max(s.fields(s.length(), t).u.abs());
             let near_bp = bp.iter().any(|&b| (t - b).abs() < 1e-9 || (t - 2.0 - b).abs() < 1e-9);
             if s.in_contact(t) && !near_bp {
                 n_contact += 1;
@@ -461,6 +523,10 @@ fn boundary_and_contact_conditions() {
         assert!(min_u0 >= -1e-14, "{}: min u(0,t) = {min_u0:e}", s.name());
         assert!(max_prod <= 1e-14, "{}: |u(0) λ| = {max_prod:e}", s.name());
         assert!(max_ul_x == 0.0, "{}: |u_x(L,t)| = {max_ul_x:e}", s.name());
+        // The declared far end is the condition that holds: free (u_x(L) = 0),
+        // not clamped (u(L, t) moves).
+        assert_eq!(s.far_end(), FarEnd::Free);
+        assert!(max_ul > 0.4, "{}: u(L, t) should move, max |u(L,t)| = {max_ul}", s.name());
         assert!(max_ut_c <= 1e-14, "{}: |u_t(0,t)|, |u(0,t)| in contact = {max_ut_c:e}", s.name());
         assert!(max_lam_ux <= 1e-14, "{}: |λ − u_x(0,t)| = {max_lam_ux:e}", s.name());
     }
@@ -517,12 +583,22 @@ fn derivatives_match_finite_differences() {
     }
 }
 
+/// The `(n-1)`-th forward difference of `n` equispaced values.
+fn finite_difference(v: &[f64]) -> f64 {
+    let mut w = v.to_vec();
+    while w.len() > 1 {
+        w = w.windows(2).map(|p| p[1] - p[0]).collect();
+    }
+    w[0]
+}
+
 #[test]
 fn kinks_split_u_into_quadratics() {
     let mut k = Vec::new();
     for s in [BarNeumannGravity::periodic(34.0).unwrap(), BarNeumannGravity::paper(34.0).unwrap()] {
         let l = s.length();
-        let mut max_third = 0.0_f64;
+        let d = s.degree_x();
+        let (mut max_third, mut max_high, mut max_top) = (0.0_f64, 0.0_f64, 0.0_f64);
         for it in 0..=3400 {
             let t = it as f64 * 0.01 + 1e-3;
             s.kinks(t, &mut k);
@@ -537,11 +613,18 @@ fn kinks_split_u_into_quadratics() {
                 if b - a > 1e-6 {
                     let p: Vec<f64> = (1..=3).map(|i| s.fields(a + (b - a) * i as f64 / 4.0, t).ux).collect();
                     max_third = max_third.max((p[0] - 2.0 * p[1] + p[2]).abs());
+                    // u is a polynomial of the declared degree d between
+                    // kinks: its (d+1)-th difference vanishes, its d-th not
+                    // everywhere (the norm integrator samples d + 1 points).
+                    let u: Vec<f64> = (0..=d + 1).map(|i| s.fields(a + (b - a) * (i as f64 + 0.5) / (d as f64 + 2.0), t).u).collect();
+                    max_high = max_high.max(finite_difference(&u).abs());
+                    max_top = max_top.max(finite_difference(&u[..=d]).abs());
                 }
                 a = b;
             }
         }
         assert!(max_third <= 1e-14, "{}: u_x not affine between kinks: {max_third:e}", s.name());
+        assert!(max_high <= 1e-14 && max_top > 1e-4, "{}: degree {d}: difference of order {} {max_high:e}, of order {d} {max_top:e}", s.name(), d + 1);
     }
     // At t = 3.5 (g = 1/9) the only kink is the line x = t − 3 from the first
     // impact: u_x jumps across it, u does not.
@@ -597,10 +680,16 @@ fn outside_the_time_window_is_nan_not_panic() {
         assert!(o.iter().all(|v| v.is_nan()));
         assert!(!s.in_contact(t));
     }
-    // Round-off slack at both ends of [0, t_max].
-    assert!(s.fields(0.5, 10.0 + 1e-12).u.is_finite());
-    assert!(s.fields(0.5, -1e-12).u.is_finite());
-    assert!(s.fields(0.5, 10.0).u.is_finite());
+    // Round-off slack at both ends of [0, t_max]: the values of the first
+    // and last pieces, continued (free fall before t = 0; the first flight,
+    // h2 of §2.3, at t_max = 10 < t3 = 11.03).
+    for (t, x) in [(10.0 + 1e-12, 0.5), (-1e-12, 0.5), (10.0, 0.5), (10.0, 0.0), (10.0 + 1e-12, 1.0), (-1e-12, 0.0)] {
+        let (u, ux, ut) = first_phases(&s, x, t).expect("t in the free fall or the first flight");
+        let f = s.fields(x, t);
+        assert_close(&format!("u({x}, {t})"), f.u, u, 1e-14);
+        assert_close(&format!("u_x({x}, {t})"), f.ux, ux, 1e-14);
+        assert_close(&format!("u_t({x}, {t})"), f.ut, ut, 1e-14);
+    }
     assert!(s.fields(f64::NAN, 3.0).u.is_nan());
     // t_max = 0 is allowed.
     let z = BarNeumannGravity::periodic(0.0).unwrap();
@@ -721,6 +810,8 @@ proptest! {
         let scale = u0 + g * l * l;
         let d = parallelogram_defect(&s, 150, 12);
         prop_assert!(d <= 1e-13 * scale, "parallelogram defect {:e} (scale {})", d, scale);
+        let (wu, wd, _) = first_phases_deviation(&s, 150, 12);
+        prop_assert!(wu <= 1e-13 && wd <= 1e-12, "first phases of §2.3: |Δu| {:e}, |Δu_x|,|Δu_t| {:e}", wu, wd);
         let mut buf = Vec::new();
         let mut xs: Vec<f64> = (0..=64).map(|i| l * i as f64 / 64.0).collect();
         xs[64] = l;
@@ -890,7 +981,17 @@ proptest! {
             Err(NeumannError::Unresolved { t_limit, .. }) => BarNeumannGravity::new(u0, g, l, t_limit).unwrap(),
             Err(e) => panic!("{e}"),
         };
-        prop_assert!(s.fields(0.5 * l, s.t_max()).u.is_finite());
+        // The free fall, first contact and first flight in closed form
+        // (§2.3), wherever [0, t_max] reaches them, t_max itself included.
+        let (wu, wd, n) = first_phases_deviation(&s, 200, 16);
+        prop_assert!(n > 0 && wu <= 1e-13 && wd <= 1e-12, "T1/L {}: first phases |Δu| {:e}, |Δu_x|,|Δu_t| {:e}", s.first_impact() / l, wu, wd);
+        // At t_max, whatever the phase: the energy g u0 L and the contact conditions.
+        let mut buf = Vec::new();
+        let e_end = energy_at(&s, s.t_max(), &mut buf);
+        let scale = u0 + g * l * l;
+        prop_assert!((e_end - s.energy()).abs() <= 1e-12 * g * scale * l, "energy at t_max: {} vs {}", e_end, s.energy());
+        let (f_end, lam_end) = (s.fields(0.0, s.t_max()), s.lambda(s.t_max()));
+        prop_assert!(f_end.u >= -1e-13 * scale && lam_end <= 0.0 && (f_end.u * lam_end).abs() <= 1e-12 * scale * (g * s.t_max() + (2.0 * u0 * g).sqrt()));
         let (w, e, d) = long_run_identities(&s, 400);
         let tol = 1e-13 + 1e-14 * s.t_max() / l;
         prop_assert!(w <= tol && e <= 10.0 * tol && d <= tol, "T1/L {}: {:e} {:e} {:e}", s.first_impact() / l, w, e, d);
