@@ -105,13 +105,13 @@ fn run_scene(pipe: &Pipe, scene: &BeamScene, force: bool, t_end: f64, max_rows: 
 
 /// Runs the study.
 pub fn run_beam(a: Args) -> Result<(), String> {
-    std::fs::create_dir_all(&a.out).map_err(|e| format!("cannot create {}: {e}", a.out.display()))?;
     let pipe = Pipe::paper();
     let scenes: Vec<BeamScene> = a
         .scenes
         .iter()
         .map(|n| BeamScene::PAPER.iter().find(|s| s.name == n.trim()).copied().ok_or_else(|| format!("--scenes: unknown scene {n:?}: allowed fig2 … fig8")))
         .collect::<Result<_, _>>()?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("cannot create {}: {e}", a.out.display()))?;
     // Stability limits.
     let (beam, _, _) = pipe.dynamics(19).map_err(|e| e.to_string())?;
     let mut st = csv::Writer::from_writer(create(&a.out, "stability.csv")?);

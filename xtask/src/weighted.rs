@@ -33,7 +33,7 @@ pub struct Args {
     out: PathBuf,
     /// Horizon of the figure runs (the paper's figures show [0, 3]; the
     /// phase and energy tables use 3 and 30).
-    #[arg(long = "t-end", default_value_t = 30.0)]
+    #[arg(long = "t-end", default_value_t = 30.0, allow_negative_numbers = true)]
     t_end: f64,
 }
 
@@ -128,6 +128,10 @@ fn plot(dir: &Path, scheme: &str, runs: &[&FigureRun], what: &str, t_max: f64) -
 pub fn run(a: Args) -> Result<(), String> {
     if !(a.t_end >= 4.5 && a.t_end.is_finite()) {
         return Err(format!("--t-end {}: allowed finite and >= 4.5 (the second impact is at t = 4)", a.t_end));
+    }
+    // Everything is checked before a file is created.
+    for (_, dt) in RESOLUTIONS {
+        RunConfig::new(dt, a.t_end).map_err(|e| format!("--t-end: {e}"))?;
     }
     let (series_dir, plots_dir) = (a.out.join("series"), a.out.join("plots"));
     for d in [&a.out, &series_dir, &plots_dir] {

@@ -111,8 +111,8 @@ pub struct Bar {
 impl Bar {
     /// A validated bar.
     pub fn new(length: f64, elements: usize, wave_speed: f64, right_end: RightEnd) -> Result<Self, FemError> {
-        if elements < 2 {
-            return Err(FemError::Invalid { field: "m", value: elements as f64, allowed: "an integer >= 2" });
+        if !(2..=crate::MAX_ELEMENTS).contains(&elements) {
+            return Err(FemError::Invalid { field: "m", value: elements as f64, allowed: "an integer in [2, 2^40] (sizes beyond are not addressable; memory runs out long before)" });
         }
         if !(length > 0.0 && length.is_finite()) {
             return Err(FemError::Invalid { field: "length", value: length, allowed: "finite and > 0" });

@@ -21,6 +21,12 @@ pub use bar::{Bar, BarMass, RightEnd};
 pub use beam::Beam;
 pub use eigen::{max_generalized_eigenvalue, max_generalized_eigenvalue_auto};
 
+/// The largest number of elements a mesh accepts (2^40): beyond it sizes
+/// such as `2 (m + 1)` are no longer safely addressable. Memory runs out
+/// long before; the command-line tools refuse sizes beyond the machine's
+/// memory with an estimate before building anything.
+pub const MAX_ELEMENTS: usize = 1 << 40;
+
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FemError {

@@ -65,7 +65,7 @@ pub enum RunError {
         paper_limit: f64,
     },
     /// The horizon is not a whole number of steps.
-    #[error("t_end = {t_end} is not a whole number of steps of dt = {dt} (T/dt = {}): the run would end at {} instead; choose T = N·dt (e.g. t_end = {} or {}), or dt = T/N (e.g. dt = {})", t_end / dt, (t_end / dt).ceil() * dt, ((t_end / dt).floor().max(1.0)) * dt, (t_end / dt).ceil() * dt, t_end / (t_end / dt).ceil())]
+    #[error("t_end = {t_end} is not a whole number of steps of dt = {dt} (T/dt = {}): the run would end at {} instead; choose T = N·dt (e.g. t_end = {} or {}), or dt = T/N (e.g. dt = {})", t_end / dt, sig12((t_end / dt).ceil() * dt), sig12((t_end / dt).floor().max(1.0) * dt), sig12((t_end / dt).ceil() * dt), sig12(t_end / (t_end / dt).ceil()))]
     Horizon {
         /// The horizon asked for.
         t_end: f64,
@@ -83,6 +83,12 @@ pub enum RunError {
     /// An observer failed to write its output.
     #[error("output: {0}")]
     Output(String),
+}
+
+/// `x` rounded to 12 significant digits (for messages: `2.94`, not
+/// `2.9400000000000004`).
+fn sig12(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
 }
 
 impl From<SchemeError> for RunError {

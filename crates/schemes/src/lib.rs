@@ -122,6 +122,18 @@ pub enum SchemeError {
         /// How the limit is computed for this scheme, in words.
         rule: &'static str,
     },
+    /// A penalty so stiff that the step's scalar contact equation loses
+    /// every digit in floating point (its spring dwarfs the structure's own
+    /// compliance at the contact dof by more than 1e12).
+    #[error("{field} = {value:e} makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the structure at the contact dof, so the step's contact equation has no digits left); usable range: 0 < {field} <= {max:.3e}")]
+    PenaltyTooStiff {
+        /// The parameter (`gamma_p`, `penalty stiffness`).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// The largest usable value for this mesh and dt.
+        max: f64,
+    },
     /// The state became non-finite (NaN or infinity).
     #[error("state became non-finite at step {step} (t = {time})")]
     NonFinite {

@@ -202,6 +202,13 @@ impl OneStep {
             if !(stiffness > 0.0 && stiffness.is_finite()) {
                 return Err(SchemeError::Invalid { field: "penalty stiffness", value: stiffness, allowed: "finite and > 0" });
             }
+            // The step solves x = y_c + W κ (lo - x)⁺ with W = a dt² w_c:
+            // beyond κ W = 1e12 the branch tests are decided by rounding.
+            let w = self.prm.a_new * self.dt * self.dt * self.proj.wc();
+            let max = PENALTY_CONDITION_MAX / w;
+            if w > 0.0 && stiffness > max {
+                return Err(SchemeError::PenaltyTooStiff { field: "penalty stiffness", value: stiffness, max });
+            }
         }
         self.law = law;
         Ok(self)
@@ -359,6 +366,9 @@ impl Stepper for OneStep {
         Some((self.time(), 0.5 * kin + 0.5 * pot - load + spring))
     }
 }
+
+/// The largest `κ W` of a penalty step (see [`OneStep::with_contact_law`]).
+const PENALTY_CONDITION_MAX: f64 = 1e12;
 
 /// The penalty step: `x = y_c + W N(x)` with `N(x) = κ(lo - x)⁺ - κ(x - hi)⁺`
 /// and `W = a dt² w_c`, solved exactly; then `U = y + a dt² N w`. Returns `N`.

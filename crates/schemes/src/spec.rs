@@ -228,7 +228,12 @@ impl SchemeSpec {
                 let kappa = gamma_p * dy.stiffness.get(c, c);
                 self.check_cfl(&dy, dt)?;
                 let prm = if explicit { OneStepParams::newmark(0.0, 0.5) } else { OneStepParams::newmark(0.25, 0.5) };
-                Box::new(OneStep::new(label, dy, prm, dt, init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
+                let step = OneStep::new(label, dy, prm, dt, init)?;
+                Box::new(step.with_contact_law(ContactLaw::Penalty { stiffness: kappa }).map_err(|e| match e {
+                    // In the scheme's own parameter: κ = γ_P K_cc.
+                    SchemeError::PenaltyTooStiff { max, .. } => SchemeError::PenaltyTooStiff { field: "gamma_p", value: gamma_p, max: max * gamma_p / kappa },
+                    e => e,
+                })?)
             }
             SchemeSpec::MoreauJean { theta, restitution } => Box::new(MoreauJean::new(label, dy, theta, restitution, dt, init)?),
             SchemeSpec::Nitsche { gamma0, theta } => Box::new(Nitsche::new(label, dy, 0.25, 0.5, gamma0, theta, dt, init)?),
