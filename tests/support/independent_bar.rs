@@ -369,11 +369,11 @@ impl BarMatrices {
 // ---------------------------------------------------------------------------
 // Quadrature of the space errors
 
-/// 4-point Gauss–Lobatto nodes on `[0, 1]` and weights (exact to degree 5).
+/// 4-point Gauss–Lobatto nodes `(1 ∓ 1/√5)/2` (and the ends) on `[0, 1]`, weights (exact to degree 5).
 const LOBATTO: [(f64, f64); 4] = [
     (0.0, 1.0 / 12.0),
-    (0.276_393_202_250_021_03, 5.0 / 12.0),
-    (0.723_606_797_749_978_97, 5.0 / 12.0),
+    (0.276_393_202_250_021, 5.0 / 12.0),
+    (0.723_606_797_749_978_9, 5.0 / 12.0),
     (1.0, 1.0 / 12.0),
 ];
 
