@@ -1,7 +1,6 @@
 //! The beam between two stops: exact constraint, discrete energy balance
 //! recomputed from the trajectory (support load and works summed here), the
-//! lifted data,
-//! penalty law, stability refusal, and the paper's first impact.
+//! lifted data, penalty law, and the paper's first impact.
 
 use proptest::prelude::*;
 use signorini::fem::SymBand;
