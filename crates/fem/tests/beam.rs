@@ -38,10 +38,10 @@ fn hand_assemble(j_elems: usize, elem: [[f64; 4]; 4]) -> Mat<f64> {
         (node >= 1).then(|| 2 * (node - 1) + (a % 2))
     };
     for e in 0..j_elems {
-        for a in 0..4 {
-            for b in 0..4 {
+        for (a, row) in elem.iter().enumerate() {
+            for (b, v) in row.iter().enumerate() {
                 if let (Some(i), Some(j)) = (dof(e, a), dof(e, b)) {
-                    out[(i, j)] += elem[a][b];
+                    out[(i, j)] += v;
                 }
             }
         }

@@ -456,7 +456,6 @@ impl Observer for Counting {
 
 #[test]
 fn every_observer_is_finished_once_on_success_and_on_each_stop() {
-    // (fault, energy sequence, expected result as the number of levels observed)
     fn flat(_: usize) -> f64 {
         1.0
     }
@@ -464,7 +463,9 @@ fn every_observer_is_finished_once_on_success_and_on_each_stop() {
         if n < 50 { 1.0 } else { 1e9 }
     }
     let cfg = RunConfig::new(0.01, 1.0).unwrap();
-    let cases: [(Option<(usize, Fault)>, fn(usize) -> f64, usize); 4] =
+    // (fault, energy sequence, levels observed; 101 = ran to the end)
+    type Case = (Option<(usize, Fault)>, fn(usize) -> f64, usize);
+    let cases: [Case; 4] =
         [(None, flat, 101), (Some((30, Fault::NanState)), flat, 30), (Some((30, Fault::SchemeNonFinite)), flat, 30), (None, jump, 50)];
     for (fault, e, observed) in cases {
         let mut s = Scripted::new(dynamics([0.0; 2], None), 0.01, 0, e);
