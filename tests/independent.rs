@@ -264,3 +264,25 @@ fn regenerate_stored_values() {
     std::fs::create_dir_all(p.parent().unwrap()).unwrap();
     std::fs::write(&p, reference::stored_text(&reference::stored_rows())).unwrap();
 }
+
+/// Paoli–Schatzman reports its force at the level `t_n = n·dt` computed
+/// from the index, like every other time level — not as `t_{n+1} − dt`,
+/// which rounds below exact levels (1.9999999999999998 for t = 2 at
+/// m = 160) and there evaluated the exact force just before take-off
+/// (an l2_lambda error of 8e-3 at m = 160 before the fix).
+#[test]
+fn ps_force_times_are_exact_levels() {
+    for scheme in [Scheme::PaoliSchatzman { e: 0.0 }, Scheme::PaoliSchatzman { e: 0.5 }] {
+        let mut s = library_stepper(scheme, Mass::Std, 160, 0.0);
+        let dt = s.dt();
+        let mut off = 0;
+        while s.time() < 3.0 - 0.5 * dt {
+            let rep = s.step().unwrap();
+            if let Some((t, _)) = rep.lambda {
+                let want = (rep.n - 1) as f64 * dt;
+                off += usize::from(t.to_bits() != want.to_bits());
+            }
+        }
+        assert_eq!(off, 0, "{}: {off} force times are not n·dt", scheme.name());
+    }
+}

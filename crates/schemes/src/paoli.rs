@@ -171,7 +171,9 @@ impl Stepper for PaoliSchatzman {
         let (lambda, t_lambda) = if self.dy.massless_contact {
             (-pr.mu / (beta * dt2), t)
         } else {
-            (-pr.mu / dt2, t - self.dt)
+            // t_{n} computed from its index, as every time level is: `t - dt`
+            // can round below an exact level (1.9999999999999998 for 2).
+            (-pr.mu / dt2, (self.n - 1) as f64 * self.dt)
         };
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
