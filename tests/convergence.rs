@@ -1,5 +1,5 @@
 //! Coarse convergence check (m ≤ 80, dx/dt = 10, T = 3 on bar-dirichlet):
-//! the qualitative findings of the mass-redistribution papers (SPEC §6) as
+//! the qualitative findings of the mass-redistribution papers (docs/theory.md §6.8) as
 //! rate bands. The full study (m up to 640) is `cargo xtask convergence`.
 //!
 //! Bands: the measured least-squares rates at these levels (see README) are

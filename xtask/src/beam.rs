@@ -1,4 +1,4 @@
-//! `cargo xtask beam`: the beam between two stops (Dumont & Paoli; SPEC §8).
+//! `cargo xtask beam`: the beam between two stops (Dumont & Paoli; docs/theory.md §8).
 //!
 //! Outputs (folder `out/beam/` by default):
 //! * `<scene>_tip.csv` (`t_s,tip_m`: the physical tip displacement ũ(L,t),

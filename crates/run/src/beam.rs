@@ -1,4 +1,4 @@
-//! The beam between two stops (SPEC §1.2, §8; Dumont & Paoli): a steel pipe
+//! The beam between two stops (docs/theory.md §1.2, §8; Dumont & Paoli): a steel pipe
 //! clamped to a support vibrating as `φ(t) = A sin(ω t)`, its tip rattling
 //! between stops at `g1 <= ũ(L, t) <= g2`.
 //!
@@ -28,7 +28,7 @@ pub struct Pipe {
 }
 
 impl Pipe {
-    /// SPEC §1.2: L = 1.501 m, k² = 282.84, stops ±0.1 m, φ = 0.2 sin(10 t);
+    /// docs/theory.md §1.2: L = 1.501 m, k² = 282.84, stops ±0.1 m, φ = 0.2 sin(10 t);
     /// tube of 1 cm outer diameter, 0.5 mm wall, ρ = 8000 kg/m³.
     pub fn paper() -> Self {
         let (d, e) = (0.01_f64, 0.0005_f64);
@@ -98,7 +98,7 @@ pub struct BeamScene {
 }
 
 impl BeamScene {
-    /// The paper's figures 2–8 (SPEC §8.1), J = 19, T = 2 s.
+    /// The paper's figures 2–8 (docs/theory.md §8.1), J = 19, T = 2 s.
     pub const PAPER: [BeamScene; 7] = [
         BeamScene { name: "fig2", elements: 19, dt: 5e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(18.24) },
         BeamScene { name: "fig3", elements: 19, dt: 5e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(173.71) },
