@@ -76,7 +76,7 @@ struct ConvergenceArgs {
     /// out/convergence/<benchmark>-getfem-norms with --norms getfem).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Error measure: exact (kink-split, SPEC §6) or getfem (errors of the
+    /// Error measure: exact (kink-split, docs/theory.md §6.1) or getfem (errors of the
     /// nodal interpolant, relative to the reference's norms, as GetFEM's
     /// 1D dynamic-contact demo computes them).
     #[arg(long, default_value = "exact")]

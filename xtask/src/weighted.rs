@@ -1,5 +1,6 @@
 //! `cargo xtask weighted`: the weighted-mass-redistribution study
-//! (weighted-mass-redistribution.txt; SPEC §2.1, §4.5).
+//! (the weighted mass-redistribution paper, docs/theory.md §9; masses §2.1.2,
+//! schemes §4.5).
 //!
 //! Outputs (folder `out/weighted/` by default):
 //! * `series/<scheme>_<mass>_m<M>.csv`: time series on [0, T] of the contact
@@ -8,10 +9,12 @@
 //! * `phase.csv`: `scheme,mass,m,dt,takeoff,takeoff_error,impact2,impact2_error,u0_linf_0_30`
 //!   (exact take-off at t = 2, next impact at t = 4);
 //! * `energy.csv`: `scheme,mass,m,dt,energy_1,energy_3,energy_30,initial_loss,dissipated_3,dissipated_30`:
-//!   `energy_1` is E_h after the first step (which moves the massless node to
-//!   its equilibrium: `initial_loss = 1/8 - energy_1 = h/8`, a property of the
-//!   mass treatment, not of the scheme); `dissipated_T = energy_1 - E_h(T)` is
-//!   what the time scheme itself lost by T;
+//!   `energy_1` is E_h after the first step, which moves the massless node to
+//!   its equilibrium: `initial_loss = 1/8 - energy_1` is h/8 plus a
+//!   scheme-dependent O(dt²/h) term (docs/theory.md §7.7); `dissipated_T =
+//!   energy_1 - E_h(T)`. For `ps-e1`, `energy_1` is `E^{1/2}`, which has lost
+//!   only about 3h/32: the other h/32 goes at `E^{3/2}` and so shows up in
+//!   `dissipated_T`;
 //! * `convergence/`: the same files as `cargo xtask convergence` for the
 //!   (scheme, weight) pairs.
 

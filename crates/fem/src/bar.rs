@@ -1,4 +1,4 @@
-//! The P1 bar of SPEC §2.1: uniform mesh of `m` elements on `[0, L]`, node 0
+//! The P1 bar of docs/theory.md §2.1: uniform mesh of `m` elements on `[0, L]`, node 0
 //! is the contact node, node `m` is either clamped (removed from the unknowns)
 //! or free.
 //!
@@ -19,7 +19,7 @@ pub enum RightEnd {
     Free,
 }
 
-/// The mass treatments of SPEC §2.1.
+/// The mass treatments of docs/theory.md §2.1.2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BarMass {
     /// Consistent mass.

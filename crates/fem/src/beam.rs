@@ -1,4 +1,4 @@
-//! Hermite-cubic Euler–Bernoulli beam (SPEC §1.2, §2.2): `u_tt + k² u_xxxx = f`
+//! Hermite-cubic Euler–Bernoulli beam (docs/theory.md §1.2, §2.2): `u_tt + k² u_xxxx = f`
 //! on `(0, L)`, clamped at `x = 0` (both dofs of node 0 removed), `J`
 //! elements, two dofs per node (value, slope): `2J` unknowns, banded with
 //! half-bandwidth 3. Unknown `2(j-1)` is the value at node `j`, `2(j-1)+1`

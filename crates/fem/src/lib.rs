@@ -1,10 +1,10 @@
 //! # signorini-fem
 //!
 //! Finite-element matrices for one-dimensional dynamic contact problems:
-//! the P1 bar of SPEC §2.1 with every mass treatment of the
+//! the P1 bar of docs/theory.md §2.1 with every mass treatment of the
 //! mass-redistribution literature ([`BarMass`]), symmetric banded storage
 //! ([`SymBand`]) and its LDLᵀ factorisation ([`BandLdlt`]), done once per run
-//! and applied in place; the Hermite-cubic beam of SPEC §2.2 ([`Beam`]) and
+//! and applied in place; the Hermite-cubic beam of docs/theory.md §2.2 ([`Beam`]) and
 //! the largest generalized eigenvalue of `(K, M)`
 //! ([`max_generalized_eigenvalue`]) that fixes exact stability limits.
 //!

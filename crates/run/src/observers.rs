@@ -5,7 +5,7 @@ use signorini_exact::ExactSolution;
 use signorini_norms::{ErrorNorms, NormKind, NormReport, VNorm};
 use std::io::Write;
 
-/// Accumulates the error norms of SPEC §6 while stepping (no history).
+/// Accumulates the error norms of docs/theory.md §6 while stepping (no history).
 pub struct NormObserver<'a> {
     norms: ErrorNorms<'a>,
     dt: f64,
@@ -53,7 +53,7 @@ pub struct SeriesColumns<'a> {
     pub u: &'static str,
     /// Name of its velocity column (`v_contact`, or `v_tip_m_s`): the
     /// backward difference `(u_c^n - u_c^{n-1})/dt` over the last step
-    /// (the velocity SPEC §4 prescribes for a massless node; for a massive
+    /// (the velocity docs/theory.md §2.1.3 reports for a massless node; for a massive
     /// one an O(dt) estimate of the scheme's own velocity). Empty at n = 0.
     pub v: &'static str,
     /// Write `energy_t,energy` (the observer then asks for energies).

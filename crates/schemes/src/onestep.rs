@@ -1,4 +1,4 @@
-//! One-step schemes in momentum form (SPEC §4.1, §4.2).
+//! One-step schemes in momentum form (docs/theory.md §4.1, §4.2).
 //!
 //! With `P = M V`, `R = M A` and a contact force `λ^{n+1}` at `t_{n+1}`:
 //!
@@ -21,7 +21,7 @@
 //!
 //! With [`ContactLaw::Penalty`] the contact force is a spring outside
 //! `[lo, hi]`, `N(u_c) = κ (lo - u_c)⁺ - κ (u_c - hi)⁺`: `u_c^{n+1} = y_c + a dt² w_c N(u_c^{n+1})`
-//! is solved exactly branch by branch (SPEC §3), `λ = -N`. A time-dependent
+//! is solved exactly branch by branch (docs/theory.md §3), `λ = -N`. A time-dependent
 //! load ([`crate::Forcing`]) enters as its value `F(t_{n+1})`.
 
 use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};

@@ -1,4 +1,4 @@
-//! Discrete energy identities of SPEC §7 as property tests over random
+//! Discrete energy identities of docs/theory.md §7 as property tests over random
 //! initial data, meshes, time steps and obstacle positions, with the standard
 //! mass and with massless contact nodes.
 //!
@@ -58,7 +58,7 @@ fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
 }
 
-/// Runs a one-step scheme and checks, at every step, the identity of SPEC §7
+/// Runs a one-step scheme and checks, at every step, the identity of docs/theory.md §7.1
 /// for Newmark(β, γ) (θ-method through its Newmark-like coefficients, with
 /// its own identity when `theta` is given).
 fn check_one_step(dy: Dynamics, prm: OneStepParams, theta: Option<f64>, dt: f64, init: &Initial, steps: usize) -> Result<usize, TestCaseError> {
@@ -341,7 +341,7 @@ proptest! {
 
     /// Penalised contact (Newmark-CN solved exactly per step, or the explicit
     /// central difference below its exact CFL limit): the Newmark identity
-    /// of SPEC §7 holds with λ the penalty force, and the force is the law
+    /// of docs/theory.md §7.5 holds with λ the penalty force, and the force is the law
     /// λ = γ_P K_00 min(0, u_0 - g) of the new displacement.
     #[test]
     fn penalty_energy_identity_and_law(m in 2usize..25, massive in proptest::bool::ANY, gamma_p in 0.1f64..100.0, explicit in proptest::bool::ANY,
