@@ -21,6 +21,8 @@
 //! also when a run blows up, so an interrupted run leaves valid CSV up to its
 //! last complete row.
 
+#[cfg(feature = "fuzz")]
+pub mod fuzz;
 pub mod scene;
 
 use scene::{BarRun, Scene, SceneFile};
