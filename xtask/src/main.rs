@@ -11,8 +11,10 @@
 //!   extreme dx/dt with random data.
 //! * `beam`: the beam between two stops — the paper's figures 2–8, wall
 //!   times against the paper's, the exact stability limit, self-convergence.
+//! * `fuzz`: the scene reader and validator on generated and mutated scenes.
 
 mod beam;
+mod fuzz;
 mod stress;
 mod weighted;
 mod wp;
@@ -50,6 +52,8 @@ enum Cmd {
     WorkPrecision(wp::Args),
     /// Stability stress: long runs, extreme dx/dt, random data; energy drift and blow-ups.
     Stress(stress::Args),
+    /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
+    Fuzz(fuzz::Args),
 }
 
 #[derive(clap::Args)]
@@ -91,6 +95,7 @@ fn main() -> ExitCode {
         Cmd::Beam(a) => beam::run_beam(a),
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
+        Cmd::Fuzz(a) => fuzz::run_fuzz(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -31,6 +31,8 @@
 //! The output folder must not hold another run's files (any of
 //! [`OUTPUT_FILES`]): `run` refuses it unless asked to `clean` them first.
 
+#[cfg(feature = "fuzz")]
+pub mod fuzz;
 pub mod scene;
 
 use scene::{BarRun, OutputToml, Scene, SceneFile};

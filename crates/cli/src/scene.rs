@@ -117,7 +117,26 @@ pub enum FieldToml {
     /// Expression in `x`.
     Expr(String),
     /// Piecewise-linear table of `[x, value]` pairs, x increasing.
-    Table(Vec<[f64; 2]>),
+    Table(#[serde(deserialize_with = "pairs")] Vec<[f64; 2]>),
+}
+
+/// Exactly two numbers (serde's fixed-size arrays would drop extra items).
+fn exact_pair<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    let v: Vec<f64> = Deserialize::deserialize(d)?;
+    <[f64; 2]>::try_from(v.as_slice()).map_err(|_| serde::de::Error::custom(format!("{} numbers are not allowed: exactly two, [a, b]", v.len())))
+}
+
+/// `[[x, u], …]`, each pair exactly two numbers.
+fn pairs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
+    #[derive(Deserialize)]
+    struct Pair(#[serde(deserialize_with = "exact_pair")] [f64; 2]);
+    let v: Vec<Pair> = Deserialize::deserialize(d)?;
+    Ok(v.into_iter().map(|p| p.0).collect())
+}
+
+/// An optional pair of exactly two numbers.
+fn optional_pair<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    exact_pair(d).map(Some)
 }
 
 /// `[beam]`.
@@ -139,8 +158,10 @@ pub struct BeamToml {
     /// Penalty spring stiffness (N/m, > 0).
     pub penalty_stiffness: Option<f64>,
     /// Lower and upper stops (m), g1 < g2.
+    #[serde(default, deserialize_with = "optional_pair")]
     pub stops: Option<[f64; 2]>,
     /// Support amplitude (m) and angular frequency (rad/s).
+    #[serde(default, deserialize_with = "optional_pair")]
     pub support: Option<[f64; 2]>,
     /// Run a conditionally stable β-scheme beyond its limit anyway.
     #[serde(default)]
@@ -336,6 +357,9 @@ pub fn real_literals(expr: &str) -> String {
     out
 }
 
+/// The longest expression accepted (characters).
+pub const MAX_EXPRESSION_CHARS: usize = 1000;
+
 /// An initial field as a function of x.
 pub enum InitialField {
     /// Constant.
@@ -351,8 +375,13 @@ impl InitialField {
         Ok(match f {
             FieldToml::Number(v) => InitialField::Number(finite(name, *v)?),
             FieldToml::Expr(s) => {
+                // evalexpr parses and evaluates recursively: a cap on the
+                // length keeps the nesting far from the stack's limit.
+                if s.chars().count() > MAX_EXPRESSION_CHARS {
+                    return Err(field(name, format!("an expression of {} characters is not allowed: at most {MAX_EXPRESSION_CHARS} (use a table [[x, u], …] for long data)", s.chars().count())));
+                }
                 let s = &real_literals(s);
-                let tree = evalexpr::build_operator_tree(s).map_err(|e| field(name, format!("expression {s:?}: {e}")))?;
+                let tree = evalexpr::build_operator_tree(s).map_err(|e| field(name, format!("expression {s:?}: {e} (allowed: a number in x, e.g. \"0.5 * (1 - x)\" or \"math::sin(pi * x)\")")))?;
                 // Evaluate once so that errors surface here with the field's name.
                 let mut ctx = evalexpr::HashMapContext::<evalexpr::DefaultNumericTypes>::new();
                 use evalexpr::ContextWithMutableVariables;
@@ -427,6 +456,12 @@ impl SceneFile {
     }
 }
 
+/// Of the keys a document gives, the one whose value is furthest from 1 in
+/// scale (the likeliest cause of an overflow in a product of them).
+fn extreme_key(given: &[(&'static str, Option<f64>)]) -> Option<&'static str> {
+    given.iter().filter_map(|(k, v)| v.map(|v| (*k, v.abs().log10().abs()))).filter(|(_, s)| s.is_finite()).max_by(|a, b| a.1.total_cmp(&b.1)).map(|(k, _)| k)
+}
+
 /// A run configuration for `dt` and `t_end`, the horizon's error on `t_end`.
 fn horizon(prefix: &str, dt: f64, t_end: f64) -> Result<(), SceneError> {
     match RunConfig::new(dt, t_end) {
@@ -436,11 +471,14 @@ fn horizon(prefix: &str, dt: f64, t_end: f64) -> Result<(), SceneError> {
     }
 }
 
-/// Which field a scheme's construction error belongs to.
-fn scheme_error(e: SchemeError) -> SceneError {
+/// Which field a scheme's construction error belongs to; an overflow is
+/// put on `overflow_key`.
+fn scheme_error(e: SchemeError, overflow_key: &str) -> SceneError {
     match e {
         SchemeError::Unstable { .. } => field("bar.dt", e),
         SchemeError::MassNotSupported { .. } => field("bar.mass", e),
+        e @ SchemeError::Factor(_) => field("bar", format!("{e}: the step matrix of these data is not usable; allowed: data whose matrices are finite and positive definite")),
+        e @ SchemeError::NonFinite { .. } => field(overflow_key, format!("{e}: the data overflow in the scheme's start; allowed: data whose first step is finite")),
         e => field("bar.scheme", e),
     }
 }
@@ -474,6 +512,9 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
         }
         None => {
             let length = positive("bar.length", b.length.unwrap_or(1.0))?;
+            if length > 1e150 {
+                return Err(field("bar.length", format!("{length:e} is not allowed: at most 1e150 (products of lengths must stay finite)")));
+            }
             let c = positive("bar.wave_speed", b.wave_speed.unwrap_or(1.0))?;
             let end = match b.far_end.as_deref().unwrap_or("clamped") {
                 "clamped" => RightEnd::Clamped,
@@ -484,8 +525,26 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
             let f = finite("bar.body_force", b.body_force.unwrap_or(0.0))?;
             let u0 = InitialField::compile("bar.initial_displacement", b.initial_displacement.as_ref().ok_or_else(|| field("bar.initial_displacement", "required without a benchmark"))?)?;
             let v0 = InitialField::compile("bar.initial_velocity", b.initial_velocity.as_ref().unwrap_or(&FieldToml::Number(0.0)))?;
+            // The stiffness entries are c² m / L.
+            let k = c * c * b.elements as f64 / length;
+            if !(k.is_finite() && k >= f64::MIN_POSITIVE && (length / b.elements as f64) >= f64::MIN_POSITIVE) {
+                let key = extreme_key(&[("bar.wave_speed", b.wave_speed), ("bar.length", b.length)]).unwrap_or("bar.elements");
+                return Err(field(key, format!("wave_speed = {c:e}, length = {length:e}, elements = {}: the stiffness c² m / L or the element size L / m leaves the floating-point range; allowed: 2.2e-308 <= c² m / L < 1.8e308 and L / m >= 2.2e-308", b.elements)));
+            }
             let bar = Bar::new(length, b.elements, c, end).map_err(|e| field("bar", e))?;
-            let p = BarProblem::new(bar, mass, gap, f, |x| u0.eval(x), |x| v0.eval(x)).map_err(|e| field("bar", e))?;
+            // The first node where a field is not finite, to name its key.
+            let bad = std::cell::Cell::new(None);
+            let at = |key: &'static str, fld: &InitialField, x: f64| {
+                let v = fld.eval(x);
+                if !v.is_finite() && bad.get().is_none() {
+                    bad.set(Some((key, x, v)));
+                }
+                v
+            };
+            let p = BarProblem::new(bar, mass, gap, f, |x| at("bar.initial_displacement", &u0, x), |x| at("bar.initial_velocity", &v0, x)).map_err(|e| match bad.get() {
+                Some((key, x, v)) => field(key, format!("{v} at the node x = {x} is not allowed: a value finite at every node")),
+                None => field("bar", e),
+            })?;
             (p, None, 1.0)
         }
     };
@@ -500,7 +559,16 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
         return Err(field("bar.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
     }
     horizon("bar", dt, t_end)?;
-    scheme.build(problem.dynamics(), dt, &problem.initial).map_err(scheme_error)?;
+    // M + β dt² K must keep M's digits: (c dt / h)² below 1e15.
+    let r = problem.bar.wave_speed * dt / problem.bar.h();
+    if !(r * r <= 1e15) {
+        let key = extreme_key(&[("bar.wave_speed", b.wave_speed), ("bar.ratio", b.ratio), ("bar.dt", b.dt), ("bar.length", b.length)]).unwrap_or("bar.dt");
+        return Err(field(key, format!("c dt / h = {r:e}: the step matrix M + β dt² K loses the mass to rounding; allowed: c dt / h <= 3.2e7")));
+    }
+    // An overflow comes from an extreme number (beyond 1e100) if one is given.
+    let numbers = [("bar.body_force", b.body_force), ("bar.gap", b.gap), ("bar.length", b.length), ("bar.wave_speed", b.wave_speed), ("bar.dt", b.dt), ("bar.ratio", b.ratio)];
+    let overflow_key = extreme_key(&numbers).filter(|k| numbers.iter().any(|(n, v)| n == k && v.is_some_and(|v| !(1e-100..=1e100).contains(&v.abs())))).unwrap_or("bar");
+    scheme.build(problem.dynamics(), dt, &problem.initial).map_err(|e| scheme_error(e, overflow_key))?;
     Ok(BarRun { problem, benchmark, scheme, dt, t_end })
 }
 
@@ -520,6 +588,9 @@ fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
         return Err(field("beam.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
     }
     horizon("beam", dt, t_end)?;
+    if dt > 1e100 {
+        return Err(field("beam.dt", format!("{dt:e} is not allowed: at most 1e100 (dt² enters the step matrix)")));
+    }
     let contact = match b.contact.as_deref() {
         None => match base.contact {
             BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
@@ -559,6 +630,10 @@ fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
     }
     if let Some([a, w]) = b.support {
         pipe.support = (finite("beam.support", a)?, positive("beam.support", w)?);
+        // The lifted load is A ω² h(x) + 8 A k²/L⁴, its velocity A ω h(x).
+        if !(a * w * w).is_finite() {
+            return Err(field("beam.support", format!("[{a}, {w}] is not allowed: A ω² must be finite (< 1.8e308)")));
+        }
     }
     let scene = BeamScene { name: "scene", elements, dt, t_end, contact, paper_seconds: base.paper_seconds };
     build_beam(&pipe, &scene, b.force).map_err(|e| match e {
@@ -571,6 +646,7 @@ fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
             // The scheme sees κ = k/(ρS): back to N/m.
             field("beam.penalty_stiffness", format!("{k:e} N/m makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the beam at its tip); usable range: 0 < penalty_stiffness <= {:.3e} N/m", max * pipe.rho_s))
         }
+        e @ RunError::BlowUp { .. } => field("beam", format!("{e}: the data overflow in the first step; allowed: data whose first step is finite")),
         e => field("beam", e),
     })?;
     Ok(Scene::Beam { pipe, scene, force: b.force })

@@ -1,9 +1,7 @@
 //! The `signorini` command end to end: scenes run in a temporary folder, CSV
 //! checked; bad inputs give the right exit code and a message naming the
-//! field; the scene parser never panics.
+//! field (the scene reader's fuzzing is tests/fuzz.rs).
 
-use proptest::prelude::*;
-use signorini_cli::scene::SceneFile;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -145,27 +143,4 @@ fn list_and_check_print_ranges_and_limits() {
     assert!(s.contains("exact limit dt < 4.254380e-2") && s.contains("below it"), "{s}");
 }
 
-proptest! {
-    /// Any text: parse and validate return a value or an error, never panic.
-    #[test]
-    fn parser_never_panics(text in "\\PC{0,200}") {
-        if let Ok(f) = SceneFile::parse(&text) {
-            let _ = f.validate();
-        }
-    }
-
-    /// Well-formed scenes with arbitrary numbers: validation never panics.
-    #[test]
-    fn validation_never_panics(el in any::<i64>(), dt in any::<f64>(), t in any::<f64>(), gap in any::<f64>(), beta in any::<f64>(), every in any::<i64>()) {
-        let bar = format!("[bar]\nlength = 1.0\nelements = {}\ndt = {dt:?}\nt_end = {t:?}\ngap = {gap:?}\ninitial_displacement = \"1 - x\"\n[output]\nevery = {}\n", el.unsigned_abs() % 100, every.unsigned_abs() % 5);
-        if let Ok(f) = SceneFile::parse(&bar.replace("inf", "1e400").replace("NaN", "nan")) {
-            let _ = f.validate();
-        }
-        let beam = format!("[beam]\nelements = {}\ndt = {dt:?}\nbeta = {beta:?}\nt_end = 1.0\n", el.unsigned_abs() % 50);
-        if let Ok(f) = SceneFile::parse(&beam) {
-            let _ = f.validate();
-        }
-    }
-}
-
-// Interrupted and killed runs: tests/reliability.rs.
+// Interrupted and killed runs: tests/reliability.rs; the reader's fuzzing: tests/fuzz.rs.

@@ -111,7 +111,7 @@ pub enum SchemeError {
     #[error("contact: {0}")]
     Contact(#[from] ContactError),
     /// An explicit scheme asked to run at or beyond its stability limit.
-    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of {scheme}: {rule}")]
+    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of {scheme} ({rule}): allowed dt < {limit:.6e}")]
     Unstable {
         /// The time step asked for.
         dt: f64,
