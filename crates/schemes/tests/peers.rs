@@ -7,7 +7,9 @@
 //! the scheme's equations step by step, its contact law from the positions,
 //! the energy and its identity. Gaps are nonzero and a body force acts (these
 //! schemes take the steady load only: they ignore a time-dependent one).
-//! Tolerance `1e-11` of the largest term, as in `energy.rs`.
+//! Tolerance `1e-11` of the largest term, as in `energy.rs` (measured at
+//! most 1e-14), except Nitsche's `1e-11 γ₀` (measured at most 6e-13 γ₀: its
+//! contact step amplifies rounding by `1 + W ~ γ₀`).
 
 mod common;
 
@@ -20,20 +22,6 @@ const TOL: f64 = 1e-11;
 
 const MASSES: [BarMass; 8] = BarMass::ALL;
 const MASSLESS: [BarMass; 6] = [BarMass::Mod, BarMass::Mod1, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
-
-/// As in `energy.rs`: `g = 0.3 φ` above the origin, `φ |f|/2` below it, so a
-/// clamped bar at rest under the body force `f < 0` would press on the obstacle.
-fn gap_of(phi: f64, body: f64) -> f64 {
-    if phi > 0.0 {
-        0.3 * phi
-    } else {
-        0.5 * phi * body.abs()
-    }
-}
-
-fn gap_strategy() -> impl Strategy<Value = f64> {
-    prop_oneof![-0.9f64..-0.1, 0.1f64..0.9]
-}
 
 // ---------------------------------------------------------------- Nitsche
 
@@ -275,7 +263,28 @@ proptest! {
         let mut s = spec.build(dy, dt, &init).unwrap();
         let traj = record(s.as_mut(), steps_for(dt, 60));
         let st = check_moreau_jean(&o, theta, e, &init, &traj);
-        prop_assert!(st.impulses > 0 && st.predicted > 0, "{}: impulses {}, predicted-active steps {}", spec, st.impulses, st.predicted);
+        // A large step can carry the node through a contact phase without
+        // an impulse (the free velocity already satisfies the law): require
+        // predicted-active steps here, impulses in the deterministic test below.
+        prop_assert!(st.predicted > 0, "{}: impulses {}, predicted-active steps {}", spec, st.impulses, st.predicted);
+    }
+}
+
+/// A contact-heavy Moreau–Jean run (the bar falls onto an obstacle at 0.1 and
+/// bounces, e = ½ and e = 0, θ = ½ and 0.8), so the checks above are known to
+/// see many impulses.
+#[test]
+fn moreau_jean_contact_heavy_runs() {
+    for (theta, e) in [(0.5, 0.5), (0.5, 0.0), (0.8, 0.5)] {
+        for mass in [BarMass::Std, BarMass::Lumped] {
+            let (dy, o) = bar_scene(10, mass, false, 0.1, -2.0, None);
+            let init = approaching(10, 10, 0.1, 0.3, 1.0, 0.0, 1.0);
+            let mut s = SchemeSpec::MoreauJean { theta, restitution: e }.build(dy, 0.05, &init).unwrap();
+            let traj = record(s.as_mut(), 200);
+            let st = check_moreau_jean(&o, theta, e, &init, &traj);
+            assert!(st.impulses > 10, "θ = {theta}, e = {e}, {mass}: {} impulses", st.impulses);
+            println!("moreau-jean({theta},{e}) {mass}: residual {:.1e}, energy {:.1e}, {} impulses, {} predicted", st.residual.ratio, st.energy.ratio, st.impulses, st.predicted);
+        }
     }
 }
 

@@ -386,6 +386,33 @@ pub fn steps_for(dt: f64, min: usize) -> usize {
     min.max((0.1 / dt).ceil() as usize)
 }
 
+/// A nonzero gap of either sign, as a fraction `φ ∈ ±[0.1, 0.9]` for [`gap_of`].
+pub fn gap_strategy() -> impl proptest::strategy::Strategy<Value = f64> {
+    proptest::prop_oneof![-0.9f64..-0.1, 0.1f64..0.9]
+}
+
+/// The gap for a fraction `φ`: `g = 0.3 φ` above the origin, `g = φ |f|/2`
+/// below it, so that a clamped bar at rest under the body force `f < 0`
+/// (tip at `f/2`) would press on the obstacle: even a dissipative scheme
+/// with a huge step meets it.
+pub fn gap_of(phi: f64, body: f64) -> f64 {
+    if phi > 0.0 {
+        0.3 * phi
+    } else {
+        0.5 * phi * body.abs()
+    }
+}
+
+/// The contact force vector `λ e_c` of the one-step schemes with a point
+/// contact (for [`check_one_step`]).
+pub fn point_force(n: usize, c: usize) -> impl Fn(usize, &[f64], f64) -> Vec<f64> {
+    move |_, _, lambda| {
+        let mut f = vec![0.0; n];
+        f[c] = lambda;
+        f
+    }
+}
+
 /// A recorded run: the displacement at every level from `first` on, and
 /// each step's report.
 pub struct Traj {
