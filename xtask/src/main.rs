@@ -67,16 +67,16 @@ struct ConvergenceArgs {
     #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640")]
     levels: Vec<usize>,
     /// dx/dt (default: the benchmark's, 10 for bar-dirichlet).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     ratio: Option<f64>,
     /// Horizon T (default: the benchmark's, 3 for bar-dirichlet).
-    #[arg(long = "t-end")]
+    #[arg(long = "t-end", allow_negative_numbers = true)]
     t_end: Option<f64>,
     /// Output folder (default out/convergence/<benchmark>, or
     /// out/convergence/<benchmark>-getfem-norms with --norms getfem).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Error measure: exact (kink-split, SPEC §6) or getfem (errors of the
+    /// Error measure: exact (kink-split, docs/theory.md §6.1) or getfem (errors of the
     /// nodal interpolant, relative to the reference's norms, as GetFEM's
     /// 1D dynamic-contact demo computes them).
     #[arg(long, default_value = "exact")]
@@ -114,6 +114,8 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     };
     let cfg = StudyConfig { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio.unwrap_or(ratio0), t_end: a.t_end.unwrap_or(t0), norms };
     cfg.validate().map_err(|e| e.to_string())?;
+    // The sweep runs as many levels at once as there are cores.
+    fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
     let folder = if norms == NormKind::Exact { benchmark.name().to_string() } else { format!("{}-getfem-norms", benchmark.name()) };
     let out = a.out.unwrap_or_else(|| PathBuf::from("out/convergence").join(folder));
 
@@ -129,6 +131,17 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     );
     print!("{}", study::markdown_table(&results.0));
     println!("\n{} runs in {:.1} s", results.0.iter().map(|r| r.levels.len()).sum::<usize>(), results.1);
+    Ok(())
+}
+
+/// Refuses `copies` runs of `elements` elements at once beyond the
+/// machine's available memory (the estimate of `signorini check`).
+pub(crate) fn fits_memory(flag: &str, elements: usize, copies: usize) -> Result<(), String> {
+    let need = signorini_cli::scene::memory_estimate(elements, false) * copies.max(1) as f64;
+    let have = signorini_cli::scene::Limits::machine().max_memory;
+    if need > have {
+        return Err(format!("{flag}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", signorini_cli::scene::bytes(need), signorini_cli::scene::bytes(have)));
+    }
     Ok(())
 }
 

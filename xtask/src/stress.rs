@@ -74,6 +74,14 @@ impl Observer for Energy {
 
 /// Runs the study.
 pub fn run_stress(a: Args) -> Result<(), String> {
+    // Everything is checked before a file is created.
+    if !(1..=1_000_000_000).contains(&a.steps) {
+        return Err(format!("--steps {}: allowed 1 ..= 1e9", a.steps));
+    }
+    if !(2..=signorini_fem::MAX_ELEMENTS).contains(&a.elements) {
+        return Err(format!("--elements {}: allowed an integer >= 2", a.elements));
+    }
+    crate::fits_memory("--elements", a.elements, 1)?;
     std::fs::create_dir_all(&a.out).map_err(|e| e.to_string())?;
     let ratios = [0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0];
     // Every mass treatment (mod1 is mod under another name).

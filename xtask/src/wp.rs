@@ -56,8 +56,16 @@ fn time_stepping(b: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, rati
 
 /// Runs the study.
 pub fn run_wp(a: Args) -> Result<(), String> {
-    std::fs::create_dir_all(&a.out).map_err(|e| e.to_string())?;
     let schemes: Vec<SchemeSpec> = SchemeSpec::named().map(|(_, s)| s).collect();
+    // Everything is checked before a file is created.
+    for benchmark in [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity] {
+        let (ratio, t_end) = benchmark.default_ratio_and_horizon();
+        for r in [ratio, ratio.max(10.0)] {
+            StudyConfig { benchmark, schemes: schemes.clone(), masses: vec![BarMass::Std], levels: a.levels.clone(), ratio: r, t_end, norms: Default::default() }.validate().map_err(|e| format!("--levels: {e}"))?;
+        }
+    }
+    crate::fits_memory("--levels", a.levels.iter().copied().max().unwrap_or(0), 1)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| e.to_string())?;
     // Every mass treatment (mod1 is mod under another name).
     let masses: Vec<BarMass> = BarMass::ALL.into_iter().filter(|m| *m != BarMass::Mod1).collect();
     let mut points = Vec::new();

@@ -17,20 +17,34 @@
 //! `v_contact` / `v_tip_m_s` is the backward difference of the contact dof
 //! over the last step (empty at n = 0).
 //!
-//! Every file is flushed as the run goes (every 1024 rows) and at the end,
-//! also when a run blows up, so an interrupted run leaves valid CSV up to its
-//! last complete row.
+//! * beam with `output.snapshots_every > 0`: `snapshots.csv` — `n,t_s,x_m,u_m`,
+//!   the absolute displacement `ũ(x, t) = u(x, t) + h(x) φ(t)` at the nodes
+//!   (`x = 0` is the support, `ũ = φ`).
+//!
+//! Rows go out whole (one write call per block of complete rows, every
+//! 64 KiB or 1024 rows and at the end), also when a run blows up or is
+//! interrupted (SIGINT/SIGTERM: the run stops at the next step, writes what
+//! it holds and its plots, exits 130). A SIGKILL can cut the write in
+//! flight: every newline-terminated line is then a complete row, and a
+//! reader drops a last line without a newline.
+//!
+//! The output folder must not hold another run's files (any of
+//! [`OUTPUT_FILES`]): `run` refuses it unless asked to `clean` them first.
 
 pub mod scene;
 
-use scene::{BarRun, Scene, SceneFile};
+use scene::{BarRun, OutputToml, Scene, SceneFile};
 use signorini_plot::{line_chart, Chart, Scale, Series};
 use signorini_run::beam::{build as build_beam, stability_limit, BeamContact};
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
-use signorini_run::{run, NormObserver, Observer, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
+use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
 use std::fs::File;
-use std::io::LineWriter;
+use std::io::Write;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+/// Every file `signorini run` writes.
+pub const OUTPUT_FILES: [&str; 7] = ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg"];
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]
@@ -44,20 +58,73 @@ pub enum CliError {
     /// Files.
     #[error("{0}")]
     Io(String),
+    /// The output folder holds another run's files.
+    #[error("output folder {dir} holds files of an earlier run ({files}): pass --clean to remove them first, or choose another --out")]
+    Stale {
+        /// The folder.
+        dir: String,
+        /// The files found.
+        files: String,
+    },
+    /// The output would not fit on the disk.
+    #[error("the run would write about {need} into {dir}, which has {free} free: write fewer rows (output.every, output.snapshots_every), shorten t_end, or pass --no-disk-check")]
+    Disk {
+        /// Estimated output size.
+        need: String,
+        /// Free space.
+        free: String,
+        /// The folder.
+        dir: String,
+    },
+    /// The run stopped early (blow-up, interrupt); notes on what was still
+    /// written (plots skipped) follow the error.
+    #[error("{error}{}", notes.iter().map(|n| format!("\nnote: {n}")).collect::<String>())]
+    Stopped {
+        /// Why the run stopped.
+        error: RunError,
+        /// What happened to the outputs.
+        notes: Vec<String>,
+    },
 }
 
-/// Reads and validates a scene file.
-pub fn load(path: &Path) -> Result<Scene, CliError> {
+impl CliError {
+    /// The process exit code: 2 for an invalid scene or command (nothing
+    /// was run), 130 for an interrupted run, 1 for a run that failed.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Scene(_) | CliError::Stale { .. } | CliError::Disk { .. } => 2,
+            CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } => 130,
+            _ => 1,
+        }
+    }
+}
+
+/// How `run_scene` runs.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RunOptions {
+    /// Draw a progress bar with an ETA on stderr.
+    pub progress: bool,
+    /// Remove an earlier run's files from the output folder first.
+    pub clean: bool,
+    /// Skip the free-space check.
+    pub no_disk_check: bool,
+    /// Stop cleanly when this flag is set (by a signal handler).
+    pub interrupt: Option<&'static AtomicBool>,
+}
+
+/// Reads and validates a scene file within `limits`.
+pub fn load(path: &Path, limits: &scene::Limits) -> Result<(SceneFile, Scene), CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| CliError::Io(format!("cannot read {}: {e}", path.display())))?;
-    Ok(SceneFile::parse(&text)?.validate()?)
+    let file = SceneFile::parse(&text)?;
+    let scene = file.validate_with(limits)?;
+    Ok((file, scene))
 }
 
-/// Output files are line-buffered: the csv writer hands over chunks that
-/// may end mid-record, and `LineWriter` passes on only whole lines, so a run
-/// that is killed leaves a file that ends with a complete record.
-fn create(dir: &Path, name: &str) -> Result<LineWriter<File>, CliError> {
+/// Output files are opened unbuffered: the writers ([`RowSink`]) buffer
+/// whole rows themselves and hand each block over with one write call.
+fn create(dir: &Path, name: &str) -> Result<File, CliError> {
     let p = dir.join(name);
-    File::create(&p).map(LineWriter::new).map_err(|e| CliError::Io(format!("cannot write {}: {e}", p.display())))
+    File::create(&p).map_err(|e| CliError::Io(format!("cannot write {}: {e}", p.display())))
 }
 
 /// A decimated copy of the contact-dof history for the plots, and the
@@ -80,11 +147,23 @@ impl Observer for PlotData {
     }
 }
 
-/// `u(x)` every k steps: `n,t,x,u`.
+/// The displacement at the nodes every k steps: `n,t,x,u` (bar) or
+/// `n,t_s,x_m,u_m` (beam, absolute).
 struct Snapshots {
-    out: csv::Writer<LineWriter<File>>,
+    out: RowSink<File>,
     every: usize,
-    nodes: Vec<f64>,
+    /// `(x, unknown holding u(x) or None where u = 0, lifting h(x))`.
+    nodes: Vec<(f64, Option<usize>, f64)>,
+    /// The support motion `φ(t) = A sin(ω t)` (beam), added as `h(x) φ(t)`.
+    support: Option<(f64, f64)>,
+}
+
+impl Snapshots {
+    fn new(dir: &Path, header: &str, every: usize, nodes: Vec<(f64, Option<usize>, f64)>, support: Option<(f64, f64)>) -> Result<Self, CliError> {
+        let mut out = RowSink::new(create(dir, "snapshots.csv")?);
+        out.row(|b| b.write_all(header.as_bytes()))?;
+        Ok(Self { out, every, nodes, support })
+    }
 }
 
 impl Observer for Snapshots {
@@ -92,11 +171,15 @@ impl Observer for Snapshots {
         if s.n % self.every != 0 {
             return Ok(());
         }
-        for (i, x) in self.nodes.iter().enumerate() {
-            let u = s.u.get(i).copied().unwrap_or(0.0); // clamped end: u = 0
-            self.out.write_record([s.n.to_string(), format!("{:.12e}", s.t), format!("{x:.12e}"), format!("{u:.12e}")]).map_err(|e| RunError::Output(e.to_string()))?;
+        let phi = self.support.map_or(0.0, |(a, w)| a * (w * s.t).sin());
+        for &(x, dof, h) in &self.nodes {
+            let u = dof.and_then(|i| s.u.get(i).copied()).unwrap_or(0.0) + h * phi;
+            self.out.row(|b| write!(b, "{},{:.12e},{x:.12e},{u:.12e}", s.n, s.t))?;
         }
-        self.out.flush().map_err(|e| RunError::Output(e.to_string()))
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<(), RunError> {
+        self.out.flush()
     }
 }
 
@@ -108,6 +191,7 @@ struct Progress {
 
 impl Observer for Progress {
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        // Cheap (an atomic store); indicatif redraws at most 20 times a second.
         if s.n % self.every == 0 {
             self.bar.set_position(s.n as u64);
         }
@@ -122,8 +206,8 @@ impl Observer for Progress {
 fn progress(total: usize, show: bool) -> Progress {
     let target = if show { indicatif::ProgressDrawTarget::stderr() } else { indicatif::ProgressDrawTarget::hidden() };
     let bar = indicatif::ProgressBar::with_draw_target(Some(total as u64), target);
-    bar.set_style(indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
-    Progress { bar, every: (total / 200).max(1) }
+    bar.set_style(indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {elapsed} elapsed, ETA {eta}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    Progress { bar, every: (total / 10_000).max(1) }
 }
 
 /// What a run did.
@@ -133,63 +217,155 @@ pub struct Summary {
     pub lines: Vec<String>,
 }
 
-fn plot(dir: &Path, name: &str, title: &str, y: &str, num: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>) -> Result<(), CliError> {
+/// Writes one plot; a plot never fails a run: a problem becomes a note.
+/// Non-finite points are left out (a blown-up run plots what was finite).
+fn plot(notes: &mut Vec<String>, dir: &Path, name: &str, title: &str, y: &str, num: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>) {
+    let finite = |v: Vec<(f64, f64)>| -> Vec<(f64, f64)> { v.into_iter().filter(|p| p.0.is_finite() && p.1.is_finite()).collect() };
+    let num = finite(num);
+    if num.is_empty() {
+        notes.push(format!("{name} not written: no finite point to plot"));
+        return;
+    }
     let mut s = vec![Series { label: "numerical".into(), points: num, reference: false, style: Default::default() }];
     if let Some(e) = exact {
-        s.push(Series { label: "exact".into(), points: e, reference: true, style: Default::default() });
+        s.push(Series { label: "exact".into(), points: finite(e), reference: true, style: Default::default() });
     }
-    let svg = line_chart(&Chart { title, x_label: "t", y_label: y, scale: Scale::Linear, size: (900, 450) }, &s).map_err(CliError::Io)?;
-    std::fs::write(dir.join(name), svg).map_err(|e| CliError::Io(e.to_string()))
+    let written = line_chart(&Chart { title, x_label: "t", y_label: y, scale: Scale::Linear, size: (900, 450) }, &s).and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
+    if let Err(e) = written {
+        notes.push(format!("{name} not written: {e}"));
+    }
 }
 
-/// Runs a validated scene, writing into `out`.
-pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, show_progress: bool) -> Result<Summary, CliError> {
-    std::fs::create_dir_all(out).map_err(|e| CliError::Io(format!("cannot create {}: {e}", out.display())))?;
+/// Bytes of one CSV row of `cols` numeric cells (`{:.12e}`: at most 20
+/// characters and a comma) after a step counter of up to 10 digits.
+fn row_bytes(cols: usize) -> f64 {
+    11.0 + 21.0 * cols as f64
+}
+
+/// The size of what a run of `scene` writes (bytes), estimated from its
+/// row counts (the plots are bounded: 20 000 points each).
+pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
+    let (steps, series_cols, nodes) = match scene {
+        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 }, b.problem.bar.elements as f64 + 1.0),
+        Scene::Beam { scene, .. } => (scene.t_end / scene.dt, 5, scene.elements as f64 + 1.0),
+    };
+    let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
+    let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
+    let plots = if output.plots { 4.0 * 2e6 } else { 0.0 };
+    series + snaps + plots
+}
+
+/// Free bytes on the file system holding `dir` (or its nearest existing
+/// ancestor), if the system says.
+pub fn free_space(dir: &Path) -> Option<f64> {
+    use std::os::unix::ffi::OsStrExt;
+    let mut p = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    while !p.exists() {
+        p = p.parent().filter(|q| !q.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    }
+    let c = std::ffi::CString::new(p.as_os_str().as_bytes()).ok()?;
+    let mut st = std::mem::MaybeUninit::<libc::statvfs>::uninit();
+    // SAFETY: `c` is a valid NUL-terminated path and `st` a writable statvfs.
+    let rc = unsafe { libc::statvfs(c.as_ptr(), st.as_mut_ptr()) };
+    if rc != 0 {
+        return None;
+    }
+    // SAFETY: statvfs returned 0, so it filled `st`.
+    let st = unsafe { st.assume_init() };
+    Some(st.f_bavail as f64 * st.f_frsize as f64)
+}
+
+/// Refuses an output folder holding another run's files, or removes them
+/// (`clean`); then creates the folder. Files that are not the run's own are
+/// never touched.
+fn prepare_output(out: &Path, clean: bool) -> Result<(), CliError> {
+    let stale: Vec<&str> = OUTPUT_FILES.iter().copied().filter(|f| out.join(f).exists()).collect();
+    if !stale.is_empty() {
+        if !clean {
+            return Err(CliError::Stale { dir: out.display().to_string(), files: stale.join(", ") });
+        }
+        for f in stale {
+            std::fs::remove_file(out.join(f)).map_err(|e| CliError::Io(format!("cannot remove {}: {e}", out.join(f).display())))?;
+        }
+    }
+    std::fs::create_dir_all(out).map_err(|e| CliError::Io(format!("cannot create {}: {e}", out.display())))
+}
+
+/// Runs a validated scene, writing into `out` (see the module docs for the
+/// files, the folder rule and interrupts).
+pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
+    if !opts.no_disk_check {
+        let need = output_estimate(scene, &scene_file.output);
+        if let Some(free) = free_space(out) {
+            if need > free {
+                return Err(CliError::Disk { need: scene::bytes(need), free: scene::bytes(free), dir: out.display().to_string() });
+            }
+        }
+    }
+    prepare_output(out, opts.clean)?;
     match scene {
-        Scene::Bar(b) => run_bar(b, scene_file, out, show_progress),
+        Scene::Bar(b) => run_bar(b, scene_file, out, opts),
         Scene::Beam { pipe, scene, force } => {
             let (mut stepper, init, beam) = build_beam(pipe, scene, *force)?;
-            let cfg = RunConfig::new(scene.dt, scene.t_end)?;
+            let mut cfg = RunConfig::new(scene.dt, scene.t_end)?;
+            cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None };
             let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, beam.tip_dof(), cols)?;
             let mut data = PlotData { every: (steps / 20_000).max(1), dof: beam.tip_dof(), points: Vec::new(), max_abs: 0.0 };
-            let mut prog = progress(steps, show_progress);
+            let mut snaps = if scene_file.output.snapshots_every > 0 {
+                // Node i at x = i h; its value unknown is 2(i - 1); node 0 is clamped to the support.
+                let nodes = (0..=scene.elements).map(|i| (i as f64 * beam.h(), i.checked_sub(1).map(|k| 2 * k), pipe.lifting(i as f64 * beam.h()).0)).collect();
+                Some(Snapshots::new(out, "n,t_s,x_m,u_m", scene_file.output.snapshots_every, nodes, Some(pipe.support))?)
+            } else {
+                None
+            };
+            let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = run(stepper.as_mut(), &init.u, &cfg, &mut [&mut series, &mut data, &mut prog]);
+            let res = {
+                let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
+                if let Some(s) = snaps.as_mut() {
+                    obs.push(s);
+                }
+                run(stepper.as_mut(), &init.u, &cfg, &mut obs)
+            };
             let wall = start.elapsed().as_secs_f64();
-            if scene_file.output.plots && !data.points.is_empty() {
+            let mut notes = Vec::new();
+            if scene_file.output.plots {
                 let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
-                plot(out, "tip.svg", "tip of the beam ũ(L,t)", "ũ(L,t) (m)", pts, None)?;
+                plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", "ũ(L,t) (m)", pts, None);
             }
-            let s = res?;
+            let s = res.map_err(|error| CliError::Stopped { error, notes: notes.clone() })?;
             let max = data.max_abs;
-            Ok(Summary { lines: vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m (stops {:?})", s.steps, s.contact_steps, pipe.stops)] })
+            let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m (stops {:?})", s.steps, s.contact_steps, pipe.stops)];
+            lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
+            lines.push(format!("wrote {}", out.display()));
+            Ok(Summary { lines })
         }
     }
 }
 
-fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, show_progress: bool) -> Result<Summary, CliError> {
+fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
     let p = &b.problem;
     let exact = match b.benchmark {
         Some(bench) => Some(bench.exact(b.t_end)?),
         None => None,
     };
     let mut stepper = b.scheme.build(p.dynamics(), b.dt, &p.initial).map_err(RunError::from)?;
-    let cfg = RunConfig::new(b.dt, b.t_end)?;
+    let mut cfg = RunConfig::new(b.dt, b.t_end)?;
+    cfg.interrupt = opts.interrupt;
     let steps = cfg.steps();
     let cols = SeriesColumns { exact: exact.as_deref(), ..SeriesColumns::default() };
     let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, 0, cols)?;
     let mut data = PlotData { every: (steps / 20_000).max(1), dof: 0, points: Vec::new(), max_abs: 0.0 };
     let mut norms = exact.as_deref().map(|e| NormObserver::new(e, p.bar.elements, p.vnorm(), b.dt));
     let mut snaps = if file.output.snapshots_every > 0 {
-        let mut w = csv::Writer::from_writer(create(out, "snapshots.csv")?);
-        w.write_record(["n", "t", "x", "u"]).map_err(|e| CliError::Io(e.to_string()))?;
-        Some(Snapshots { out: w, every: file.output.snapshots_every, nodes: (0..=p.bar.elements).map(|i| p.bar.node(i)).collect() })
+        let nodes = (0..=p.bar.elements).map(|i| (p.bar.node(i), (i < p.bar.dofs()).then_some(i), 0.0)).collect();
+        Some(Snapshots::new(out, "n,t,x,u", file.output.snapshots_every, nodes, None)?)
     } else {
         None
     };
-    let mut prog = progress(steps, show_progress);
+    let mut prog = progress(steps, opts.progress);
     let start = std::time::Instant::now();
     let res = {
         let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
@@ -202,15 +378,17 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, show_progress: bool) -> Res
         run(stepper.as_mut(), &p.initial.u, &cfg, &mut obs)
     };
     let wall = start.elapsed().as_secs_f64();
-    if file.output.plots && !data.points.is_empty() {
+    let mut notes = Vec::new();
+    if file.output.plots {
         let t_max = data.points.last().map_or(0.0, |p| p.0);
         let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=2000).map(|i| t_max * i as f64 / 2000.0).map(|t| (t, f(t))).collect() };
         let ex = exact.as_deref();
-        plot(out, "u_contact.svg", "u(0,t)", "u(0,t)", data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)))?;
-        plot(out, "lambda.svg", "contact force λ(t)", "λ", data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))))?;
-        plot(out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())))?;
+        plot(&mut notes, out, "u_contact.svg", "u(0,t)", "u(0,t)", data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)));
+        plot(&mut notes, out, "lambda.svg", "contact force λ(t)", "λ", data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))));
+        plot(&mut notes, out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
     }
-    let s = res?;
+    // A run that stopped early has no norms over [0, T]: no norms.csv.
+    let s = res.map_err(|error| CliError::Stopped { error, notes: notes.clone() })?;
     let mut lines = vec![format!("{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps", file.bar.as_ref().and_then(|b| b.benchmark.clone()).unwrap_or_else(|| "bar".into()), p.bar.elements, p.mass, b.scheme, b.dt, s.steps, s.contact_steps)];
     if let Some(n) = norms {
         let r = n.report();
@@ -223,24 +401,29 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, show_progress: bool) -> Res
         w.flush().map_err(|e| CliError::Io(e.to_string()))?;
         lines.push(format!("errors: L∞(L²) {:.4e}, L²(L²) {:.4e}, L∞(V) {:.4e}, L²(λ) {:.4e}, L∞(E) {:.4e}; λ TV ratio {:.2}", r.linf_l2_u, r.l2_l2_u, r.linf_v_u, r.l2_lambda, r.linf_energy, r.lambda_tv_ratio));
     }
+    lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
     lines.push(format!("wrote {}", out.display()));
     Ok(Summary { lines })
 }
 
-/// `signorini check`: what a run would do, its stability and cost.
-pub fn check(scene: &Scene) -> Result<String, CliError> {
-    Ok(match scene {
+/// `signorini check`: what a run would do, its stability, memory, output
+/// size (against the free space of `out`) and cost.
+pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliError> {
+    let (elements, is_beam) = match scene {
+        Scene::Bar(b) => (b.problem.bar.elements, false),
+        Scene::Beam { scene, .. } => (scene.elements, true),
+    };
+    let need = output_estimate(scene, &file.output);
+    let free = free_space(out).map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", scene::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
+    let resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", scene::bytes(scene::memory_estimate(elements, is_beam)), scene::bytes(need), out.display());
+    let text = match scene {
         Scene::Bar(b) => {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
             let dofs = b.problem.bar.dofs();
             let stability = match b.scheme.cfl_limit(&b.problem.dynamics()).map_err(RunError::from)? {
                 None => "unconditionally stable".to_string(),
-                Some(limit) => format!(
-                    "conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is {}",
-                    b.scheme.stability_rule().unwrap_or(""),
-                    b.dt,
-                    if b.dt < limit { "below it" } else { "BEYOND it: the run will be refused" }
-                ),
+                // Validation refuses a dt at or beyond the limit.
+                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is below it", b.scheme.stability_rule().unwrap_or(""), b.dt),
             };
             format!(
                 "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
@@ -283,7 +466,8 @@ pub fn check(scene: &Scene) -> Result<String, CliError> {
                 4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
             )
         }
-    })
+    };
+    Ok(text + &resources)
 }
 
 /// `signorini list`.

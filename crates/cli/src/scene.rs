@@ -18,15 +18,18 @@
 //! Without a benchmark a bar gives `length`, `wave_speed`, `far_end`
 //! ("clamped" or "free"), `gap`, `body_force`, and `initial_displacement` /
 //! `initial_velocity` as a number, an expression in `x` (evalexpr syntax:
-//! `0.5 * (1 - x)`, `math::sin(pi * x)`) or a table `[[x0, u0], [x1, u1], …]`
-//! (piecewise linear). Every key is checked: unknown keys are rejected and
-//! each value is range-checked with the allowed range in the message.
+//! `0.5 * (1 - x)`, `math::sin(pi * x)`; evaluated in floating point: `1/2`
+//! is 0.5) or a table `[[x0, u0], [x1, u1], …]` (piecewise linear). Every
+//! key is checked: unknown keys are rejected, each value is range-checked
+//! with the allowed range in the message, a key that would not act in this
+//! scene is refused, and the integrator is built once (so a scene that
+//! validates also starts).
 
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
-use signorini_run::beam::{BeamContact, BeamScene, Pipe};
-use signorini_run::{BarProblem, Benchmark};
-use signorini_schemes::SchemeSpec;
+use signorini_run::beam::{build as build_beam, BeamContact, BeamScene, Pipe};
+use signorini_run::{BarProblem, Benchmark, RunConfig, RunError};
+use signorini_schemes::{SchemeError, SchemeSpec};
 use std::fmt;
 
 /// A scene error: which field, what is wrong, what is allowed.
@@ -201,6 +204,71 @@ pub enum Scene {
     },
 }
 
+/// What a scene must fit in, checked before anything large is allocated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Memory a run may use (bytes). Default: the machine's available
+    /// memory (`MemAvailable` of /proc/meminfo; 8 GiB where unknown).
+    pub max_memory: f64,
+}
+
+impl Limits {
+    /// The machine's available memory.
+    pub fn machine() -> Self {
+        Self { max_memory: mem_available().unwrap_or(8.0 * GIB) }
+    }
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+fn mem_available() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+/// Bytes a run needs per element, measured (peak resident set of
+/// `signorini run` at m = 2e6 and J = 1e6: 228 and 582 bytes per element)
+/// with a margin for the schemes that keep more vectors.
+const BYTES_PER_BAR_ELEMENT: f64 = 320.0;
+const BYTES_PER_BEAM_ELEMENT: f64 = 800.0;
+/// What any run needs besides its mesh (plot buffers, the exact solution).
+const BYTES_BASE: f64 = 32.0 * 1024.0 * 1024.0;
+
+/// The memory (bytes) a bar (`beam = false`) or beam run on `elements`
+/// elements needs, estimated before allocating it.
+pub fn memory_estimate(elements: usize, beam: bool) -> f64 {
+    BYTES_BASE + elements as f64 * if beam { BYTES_PER_BEAM_ELEMENT } else { BYTES_PER_BAR_ELEMENT }
+}
+
+/// Human-readable bytes.
+pub fn bytes(b: f64) -> String {
+    match b {
+        b if b >= 1e12 => format!("{:.1} TB", b / 1e12),
+        b if b >= 1e9 => format!("{:.1} GB", b / 1e9),
+        b if b >= 1e6 => format!("{:.1} MB", b / 1e6),
+        b if b >= 1e3 => format!("{:.1} kB", b / 1e3),
+        b => format!("{b:.0} B"),
+    }
+}
+
+fn fits(name: &str, elements: usize, beam: bool, limits: &Limits) -> Result<(), SceneError> {
+    let need = memory_estimate(elements, beam);
+    if need > limits.max_memory {
+        let most = ((limits.max_memory - BYTES_BASE) / (need - BYTES_BASE) * elements as f64).max(0.0).floor();
+        return Err(field(
+            name,
+            format!(
+                "{elements} elements need about {} of memory, beyond the cap of {} (the machine's available memory unless --max-memory is given): at most {most:.0} elements fit",
+                bytes(need),
+                bytes(limits.max_memory)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn positive(name: &str, v: f64) -> Result<f64, SceneError> {
     if v > 0.0 && v.is_finite() {
         Ok(v)
@@ -215,6 +283,57 @@ fn finite(name: &str, v: f64) -> Result<f64, SceneError> {
     } else {
         Err(field(name, format!("{v} is not allowed: a finite number")))
     }
+}
+
+/// The expression with every integer literal written as a real (`1` →
+/// `1.0`), so that it evaluates in floating point: `1/2` is 0.5, not the
+/// integer division's 0 (evalexpr types a literal without a dot or an
+/// exponent as an integer). Digits inside identifiers (`x2`) are left alone.
+pub fn real_literals(expr: &str) -> String {
+    let b = expr.as_bytes();
+    let mut out = String::with_capacity(expr.len() + 8);
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        let in_word = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+        if c.is_ascii_digit() && !in_word {
+            let start = i;
+            let mut real = false;
+            while i < b.len() && b[i].is_ascii_digit() {
+                i += 1;
+            }
+            if i < b.len() && b[i] == b'.' {
+                real = true;
+                i += 1;
+                while i < b.len() && b[i].is_ascii_digit() {
+                    i += 1;
+                }
+            }
+            if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
+                let mut j = i + 1;
+                if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
+                    j += 1;
+                }
+                if j < b.len() && b[j].is_ascii_digit() {
+                    real = true;
+                    i = j;
+                    while i < b.len() && b[i].is_ascii_digit() {
+                        i += 1;
+                    }
+                }
+            }
+            out.push_str(&expr[start..i]);
+            if !real {
+                out.push_str(".0");
+            }
+        } else {
+            // Copy one whole UTF-8 character.
+            let len = expr[i..].chars().next().map_or(1, char::len_utf8);
+            out.push_str(&expr[i..i + len]);
+            i += len;
+        }
+    }
+    out
 }
 
 /// An initial field as a function of x.
@@ -232,6 +351,7 @@ impl InitialField {
         Ok(match f {
             FieldToml::Number(v) => InitialField::Number(finite(name, *v)?),
             FieldToml::Expr(s) => {
+                let s = &real_literals(s);
                 let tree = evalexpr::build_operator_tree(s).map_err(|e| field(name, format!("expression {s:?}: {e}")))?;
                 // Evaluate once so that errors surface here with the field's name.
                 let mut ctx = evalexpr::HashMapContext::<evalexpr::DefaultNumericTypes>::new();
@@ -285,20 +405,47 @@ impl SceneFile {
         toml::from_str(text).map_err(|e| SceneError::Toml(e.to_string()))
     }
 
-    /// Checks every value and builds the scene.
+    /// Checks every value and builds the scene, within the machine's
+    /// available memory.
     pub fn validate(&self) -> Result<Scene, SceneError> {
+        self.validate_with(&Limits::machine())
+    }
+
+    /// Checks every value and builds the scene: sizes against `limits`
+    /// before anything large is allocated, then the integrator itself (so
+    /// that a scene that validates also starts: `check` and `run` refuse
+    /// the same things).
+    pub fn validate_with(&self, limits: &Limits) -> Result<Scene, SceneError> {
         if self.output.every == 0 {
             return Err(field("output.every", "0 is not allowed: an integer >= 1"));
         }
         match (&self.bar, &self.beam) {
-            (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b)?))),
-            (None, Some(b)) => validate_beam(b),
+            (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b, limits)?))),
+            (None, Some(b)) => validate_beam(b, limits),
             _ => Err(field("bar/beam", "give exactly one of the tables [bar] and [beam]")),
         }
     }
 }
 
-fn validate_bar(b: &BarToml) -> Result<BarRun, SceneError> {
+/// A run configuration for `dt` and `t_end`, the horizon's error on `t_end`.
+fn horizon(prefix: &str, dt: f64, t_end: f64) -> Result<(), SceneError> {
+    match RunConfig::new(dt, t_end) {
+        Ok(_) => Ok(()),
+        Err(e @ RunError::Horizon { .. }) => Err(field(&format!("{prefix}.t_end"), e)),
+        Err(e) => Err(field(&format!("{prefix}.dt"), e)),
+    }
+}
+
+/// Which field a scheme's construction error belongs to.
+fn scheme_error(e: SchemeError) -> SceneError {
+    match e {
+        SchemeError::Unstable { .. } => field("bar.dt", e),
+        SchemeError::MassNotSupported { .. } => field("bar.mass", e),
+        e => field("bar.scheme", e),
+    }
+}
+
+fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
     let mass: BarMass = b.mass.parse().map_err(|e| field("bar.mass", e))?;
     let scheme: SchemeSpec = b.scheme.parse().map_err(|e| field("bar.scheme", e))?;
     if scheme.needs_massless_node() && !mass.massless_contact_node() {
@@ -310,6 +457,7 @@ fn validate_bar(b: &BarToml) -> Result<BarRun, SceneError> {
     if b.elements < 2 {
         return Err(field("bar.elements", format!("{} is not allowed: an integer >= 2", b.elements)));
     }
+    fits("bar.elements", b.elements, false, limits)?;
     let (problem, benchmark, default_t) = match &b.benchmark {
         Some(name) => {
             for (k, given) in [("length", b.length.is_some()), ("wave_speed", b.wave_speed.is_some()), ("far_end", b.far_end.is_some()), ("gap", b.gap.is_some()), ("body_force", b.body_force.is_some()), ("initial_displacement", b.initial_displacement.is_some()), ("initial_velocity", b.initial_velocity.is_some())] {
@@ -351,10 +499,12 @@ fn validate_bar(b: &BarToml) -> Result<BarRun, SceneError> {
     if t_end / dt > 1e9 {
         return Err(field("bar.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
     }
+    horizon("bar", dt, t_end)?;
+    scheme.build(problem.dynamics(), dt, &problem.initial).map_err(scheme_error)?;
     Ok(BarRun { problem, benchmark, scheme, dt, t_end })
 }
 
-fn validate_beam(b: &BeamToml) -> Result<Scene, SceneError> {
+fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
     let base = match &b.scene {
         Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
         None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
@@ -363,11 +513,13 @@ fn validate_beam(b: &BeamToml) -> Result<Scene, SceneError> {
     if elements < 1 {
         return Err(field("beam.elements", "0 is not allowed: an integer >= 1"));
     }
+    fits("beam.elements", elements, true, limits)?;
     let dt = positive("beam.dt", b.dt.unwrap_or(base.dt))?;
     let t_end = positive("beam.t_end", b.t_end.unwrap_or(base.t_end))?;
     if t_end / dt > 1e9 {
         return Err(field("beam.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
     }
+    horizon("beam", dt, t_end)?;
     let contact = match b.contact.as_deref() {
         None => match base.contact {
             BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
@@ -384,6 +536,17 @@ fn validate_beam(b: &BeamToml) -> Result<Scene, SceneError> {
         }
         _ => {}
     }
+    // Every key acts or is refused: β belongs to the projection's β-scheme,
+    // the stiffness to the penalty (whose Newmark scheme has β = 1/4).
+    match contact {
+        BeamContact::Penalty { .. } if b.beta.is_some() => {
+            return Err(field("beam.beta", "acts only with contact = \"projection\" (the β-scheme); the penalty contact integrates with Newmark β = 1/4: remove beta, or set contact = \"projection\""));
+        }
+        BeamContact::Projection { .. } if b.penalty_stiffness.is_some() => {
+            return Err(field("beam.penalty_stiffness", "acts only with contact = \"penalty\": remove it, or set contact = \"penalty\""));
+        }
+        _ => {}
+    }
     let mut pipe = Pipe::paper();
     if let Some([g1, g2]) = b.stops {
         if !(g1.is_finite() && g2.is_finite() && g1 < g2) {
@@ -397,5 +560,18 @@ fn validate_beam(b: &BeamToml) -> Result<Scene, SceneError> {
     if let Some([a, w]) = b.support {
         pipe.support = (finite("beam.support", a)?, positive("beam.support", w)?);
     }
-    Ok(Scene::Beam { pipe, scene: BeamScene { name: "scene", elements, dt, t_end, contact, paper_seconds: base.paper_seconds }, force: b.force })
+    let scene = BeamScene { name: "scene", elements, dt, t_end, contact, paper_seconds: base.paper_seconds };
+    build_beam(&pipe, &scene, b.force).map_err(|e| match e {
+        RunError::Unstable { .. } => field("beam.dt", e),
+        RunError::Scheme(SchemeError::PenaltyTooStiff { max, .. }) => {
+            let k = match contact {
+                BeamContact::Penalty { stiffness } => stiffness,
+                BeamContact::Projection { .. } => f64::NAN,
+            };
+            // The scheme sees κ = k/(ρS): back to N/m.
+            field("beam.penalty_stiffness", format!("{k:e} N/m makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the beam at its tip); usable range: 0 < penalty_stiffness <= {:.3e} N/m", max * pipe.rho_s))
+        }
+        e => field("beam", e),
+    })?;
+    Ok(Scene::Beam { pipe, scene, force: b.force })
 }

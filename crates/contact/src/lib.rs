@@ -1,7 +1,7 @@
 //! # signorini-contact
 //!
 //! One implicit step of every scheme with a single contact dof `c` reduces to
-//! (SPEC §3, Dumont–Paoli Lemma 4.1):
+//! (docs/theory.md §3, Dumont–Paoli Lemma 4.1):
 //!
 //! ```text
 //! find x, μ:  A x = b + μ e_c,   lo <= x_c <= hi,
@@ -175,7 +175,7 @@ impl PiecewiseLinear<'_> {
 /// Solves `x = y_c + w_c N(x)` exactly for a piecewise-linear `N` by testing
 /// each branch: on branch `k`, `x = (y_c + w_c a_k)/(1 - w_c b_k)`, accepted if
 /// it lies in the branch (closed interval). For a continuous non-increasing
-/// `N` (every contact law of SPEC §3/§4) the solution exists and is unique;
+/// `N` (every contact law of docs/theory.md §3, §4.5, §4.6) the solution exists and is unique;
 /// returns `(x, N(x))`.
 pub fn solve_piecewise_linear(yc: f64, wc: f64, law: PiecewiseLinear<'_>) -> Result<(f64, f64), ContactError> {
     debug_assert_eq!(law.branches.len(), law.breaks.len() + 1);

@@ -1,4 +1,4 @@
-//! Benchmark `bar-dirichlet` (SPEC §5.1; exact-neumann.md §1): `L = 1`,
+//! Benchmark `bar-dirichlet` (docs/theory.md §5.1): `L = 1`,
 //! `c = 1`, `f = 0`, `u0 = (1 - x)/2`, `v0 = 0`, `u(1, t) = 0`. Periodic with
 //! period 3: approach on `[0, 1)`, contact on `[1, 2)`, flight on `[2, 3)`.
 //! Piecewise affine in `(x, t)`; kinks on `x = τ` and `x = 1 - τ`.

@@ -1,6 +1,6 @@
 //! # signorini-exact
 //!
-//! Closed-form solutions of the one-dimensional impact benchmarks of SPEC §5,
+//! Closed-form solutions of the one-dimensional impact benchmarks of docs/theory.md §5,
 //! usable on their own (no dependency on any other crate of the workspace).
 //!
 //! Each benchmark implements [`ExactSolution`]: the displacement `u`, the
@@ -9,9 +9,9 @@
 //! lines — the positions of those lines at time `t` ([`ExactSolution::kinks`]),
 //! so that error integrals can split elements there and stay exact.
 //!
-//! Benchmarks: [`BarDirichlet`] (`bar-dirichlet`, SPEC §5.1) and
+//! Benchmarks: [`BarDirichlet`] (`bar-dirichlet`, docs/theory.md §5.1) and
 //! [`BarNeumannGravity`] (`bar-neumann-gravity`, the falling bar under
-//! gravity, SPEC §5.2, built exactly for any data).
+//! gravity, docs/theory.md §5.2, built exactly for any data).
 //!
 //! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
 //! meshes or schemes.

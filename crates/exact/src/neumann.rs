@@ -1,4 +1,4 @@
-//! Benchmark `bar-neumann-gravity` (SPEC §5.2; exact-neumann.md §2): an
+//! Benchmark `bar-neumann-gravity` (docs/theory.md §5.2): an
 //! elastic bar `[0, L]` (wave speed `c = 1`, density 1) released from rest
 //! at height `u0 > 0` above a rigid floor, falling under gravity `g > 0`,
 //! bouncing on the floor at its lower end `x = 0` and free at `x = L`:
@@ -9,11 +9,11 @@
 //! u(x, 0) = u0,   u_t(x, 0) = 0.
 //! ```
 //!
-//! The body force is `f = −g` (exact-neumann.md §2.1: the paper's
+//! The body force is `f = −g` (docs/theory.md §5.2.1: the paper's
 //! `f = −(g + u_x(0, t))` is the load functional with the Dirac mass of the
 //! contact reaction left out).
 //!
-//! # Closed form (exact-neumann.md §2.2)
+//! # Closed form (docs/theory.md §5.2.2)
 //!
 //! ```text
 //! u(x, t)   = u0 − g t²/2 + B(t − x) + B(t + x − 2L)
@@ -55,7 +55,7 @@
 //! `η` is piecewise linear with slopes `±g/2`, `H` piecewise quadratic; each
 //! piece stores its start `s_k`, `η(s_k)`, `H(s_k)` and its slope.
 //!
-//! # Event-driven construction (exact-neumann.md §2.2)
+//! # Event-driven construction (docs/theory.md §5.2.2)
 //!
 //! The profile is built once, at construction, on `[−2L, t_max + 2L]`, by a
 //! march in windows on which the incoming wave `η(· − 2L)` is a single linear
@@ -71,7 +71,7 @@
 //! * events that coincide with a breakpoint of the incoming wave up to
 //!   round-off are snapped onto it. This matters in commensurate cases such
 //!   as `g = 1/9` (`T1 = 3L`), where events land exactly on breakpoints
-//!   (exact-neumann.md §2.4), and for `T1 = 2L`, where impacts are also
+//!   (docs/theory.md §5.2.4), and for `T1 = 2L`, where impacts are also
 //!   tangential (`z' = 0`), so that their time is only determined to
 //!   `O(√ε)`: a root is snapped when `z` stays within round-off of 0 between
 //!   it and the breakpoint. A contact of zero length (an impact on a
@@ -99,7 +99,7 @@
 //! can be built. This happens:
 //!
 //! * for the paper's `g = 0.11` (`T1/L = 3.0151`): every contact lasts `2L`
-//!   and the flights tend to `6L` (exact-neumann.md §2.5), so each impact
+//!   and the flights tend to `6L` (docs/theory.md §5.2.5), so each impact
 //!   lands just after a cluster of earlier breakpoints (carried over by
 //!   `8L`), with gaps shrinking by about 0.45 per bounce (`1.8e-2`, `6.2e-3`,
 //!   …, `2e-11`). The impact near `t = 227.05` is `7e-12` after a breakpoint:
@@ -111,11 +111,11 @@
 //!   and the shortest piece shrinks as fast: `t_max ≤ 198 L`. `T1/L = 1.58`,
 //!   `1.9`, `3.5` behave alike (`t_max ≤ 175 L`, `167 L`, `274 L`). The
 //!   identities (contact conditions, energy, parallelogram) still hold to
-//!   round-off there, and the leapfrog of exact-neumann.md §2.6 converges to
+//!   round-off there, and the leapfrog of docs/theory.md §5.2.6 converges to
 //!   this solution.
 //! * never for `T1 = mL`, `m ≥ 2` an integer (periodic, period `4(m+1)L`,
-//!   a fixed number of pieces per period: 5 for `m = 3`, exact-neumann.md
-//!   §2.4), checked to `t_max = 1000 L` for `L = 0.3, 0.7, 1, 3.3`.
+//!   a fixed number of pieces per period: 5 for `m = 3`, docs/theory.md
+//!   §5.2.4), checked to `t_max = 1000 L` for `L = 0.3, 0.7, 1, 3.3`.
 //!
 //! # Complexity
 //!
@@ -127,7 +127,7 @@
 //! It is capped at [`BarNeumannGravity::MAX_PIECES`]
 //! ([`NeumannError::TooComplex`]).
 //!
-//! # Special cases (exact-neumann.md §2.3–§2.5)
+//! # Special cases (docs/theory.md §5.2.3–§5.2.5)
 //!
 //! * [`BarNeumannGravity::periodic`]: `u0 = 1/2`, `g = 1/9`, `L = 1`, hence
 //!   `T1 = √(2u0/g) = 3L`; exactly periodic with period `16`, impacts at
@@ -150,7 +150,7 @@ use std::fmt;
 use crate::{ExactSolution, FarEnd, Fields};
 
 /// Relative distance (in units of `L`) below which an event is snapped onto
-/// a breakpoint of the incoming wave (exact-neumann.md §2.2). A snap by more
+/// a breakpoint of the incoming wave (docs/theory.md §5.2.2). A snap by more
 /// than round-off ([`ROUNDOFF_T`]) marks the solution unresolved from there.
 const SNAP: f64 = 1e-11;
 
@@ -451,7 +451,7 @@ impl BarNeumannGravity {
     }
 
     /// The main benchmark `bar-neumann-gravity`: `u0 = 1/2`, `g = 1/9`,
-    /// `L = 1`, exactly periodic with period 16 (exact-neumann.md §2.4).
+    /// `L = 1`, exactly periodic with period 16 (docs/theory.md §5.2.4).
     ///
     /// # Errors
     /// [`NeumannError::TimeHorizon`] if `t_max` is not finite or is negative,
@@ -464,7 +464,7 @@ impl BarNeumannGravity {
     }
 
     /// The paper's data, `bar-neumann-gravity-0.11`: `u0 = 1/2`, `g = 0.11`,
-    /// `L = 1`; not periodic (exact-neumann.md §2.5).
+    /// `L = 1`; not periodic (docs/theory.md §5.2.5).
     ///
     /// # Errors
     /// [`NeumannError::TimeHorizon`] if `t_max` is not finite or is negative,
@@ -640,7 +640,7 @@ fn note_snap(unresolved: &mut f64, d: f64, t: f64, l: f64) {
 }
 
 /// Builds the pieces of `η` on `[−2L, horizon]` and the events
-/// (exact-neumann.md §2.2; see the module docs). Stops early past
+/// (docs/theory.md §5.2.2; see the module docs). Stops early past
 /// `BarNeumannGravity::MAX_PIECES` pieces.
 fn march(u0: f64, g: f64, l: f64, horizon: f64) -> Built {
     let max_pieces = BarNeumannGravity::MAX_PIECES;
@@ -841,7 +841,7 @@ fn push_piece(p: &mut Vec<Piece>, t: f64, stamp: Stamp, eta: f64, slope: f64, se
 }
 
 /// First downward root `r ∈ [0, dt]` of `z(r) = a0 + a1 r + a2 r²`
-/// (`a2 = ±g/2 ≠ 0`), if any; cancellation-free (exact-neumann.md §2.2).
+/// (`a2 = ±g/2 ≠ 0`), if any; cancellation-free (docs/theory.md §5.2.2).
 #[inline]
 fn impact_root(a0: f64, a1: f64, a2: f64, dt: f64) -> Option<f64> {
     if a0 <= 0.0 && a1 <= 0.0 && !(a1 == 0.0 && a2 > 0.0) {

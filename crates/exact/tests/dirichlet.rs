@@ -1,5 +1,5 @@
 //! `bar-dirichlet` against values computed independently of the crate's
-//! piecewise table: the hand-derived test vectors of exact-neumann.md §1, and
+//! piecewise table: the hand-derived test vectors of docs/theory.md §5.1, and
 //! an oracle written here from the reflection rules of the wave equation
 //! (Riemann invariants carried along the characteristics, reflected at the
 //! clamped end, and at the contact end by the Signorini rule), marched in

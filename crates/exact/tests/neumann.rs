@@ -1,7 +1,7 @@
 //! `bar-neumann-gravity` (the falling bar under gravity) against
-//! exact-neumann.md §2: the exact test vectors of §2.7, the explicit phases
-//! of §2.3 and the periodic table of §2.4, the event formulas, the defining
-//! identities of §2.6 (parallelogram identity, energy, boundary and contact
+//! docs/theory.md §5.2: the exact test vectors of §5.2.7, the explicit phases
+//! of §5.2.3 and the periodic table of §5.2.4, the event formulas, the defining
+//! identities of §5.2.6 (parallelogram identity, energy, boundary and contact
 //! conditions, derivatives), and an independent numerical solution (the
 //! CFL = 1 leapfrog of §2.6).
 
@@ -888,7 +888,7 @@ fn leapfrog_vs_exact(s: &BarNeumannGravity, n: usize, t_end: f64, stride: usize)
     worst
 }
 
-// exact-neumann.md §2.6 reports, for g = 0.11, max nodal differences on
+// docs/theory.md §5.2.6 reports, for g = 0.11, max nodal differences on
 // [0, 20] of 1.2e-3, 1.5e-3, 6.3e-4, 2.9e-4, 2.0e-4, 6.2e-5 for N = dt⁻¹ =
 // 1000, 2000, 4000, 8000, 16000, 32000 (order about 1, not monotone: the
 // events fall between grid times). The error is a displaced wave that

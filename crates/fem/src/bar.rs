@@ -1,4 +1,4 @@
-//! The P1 bar of SPEC §2.1: uniform mesh of `m` elements on `[0, L]`, node 0
+//! The P1 bar of docs/theory.md §2.1: uniform mesh of `m` elements on `[0, L]`, node 0
 //! is the contact node, node `m` is either clamped (removed from the unknowns)
 //! or free.
 //!
@@ -19,7 +19,7 @@ pub enum RightEnd {
     Free,
 }
 
-/// The mass treatments of SPEC §2.1.
+/// The mass treatments of docs/theory.md §2.1.2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BarMass {
     /// Consistent mass.
@@ -111,8 +111,8 @@ pub struct Bar {
 impl Bar {
     /// A validated bar.
     pub fn new(length: f64, elements: usize, wave_speed: f64, right_end: RightEnd) -> Result<Self, FemError> {
-        if elements < 2 {
-            return Err(FemError::Invalid { field: "m", value: elements as f64, allowed: "an integer >= 2" });
+        if !(2..=crate::MAX_ELEMENTS).contains(&elements) {
+            return Err(FemError::Invalid { field: "m", value: elements as f64, allowed: "an integer in [2, 2^40] (sizes beyond are not addressable; memory runs out long before)" });
         }
         if !(length > 0.0 && length.is_finite()) {
             return Err(FemError::Invalid { field: "length", value: length, allowed: "finite and > 0" });

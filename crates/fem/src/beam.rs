@@ -1,4 +1,4 @@
-//! Hermite-cubic Euler–Bernoulli beam (SPEC §1.2, §2.2): `u_tt + k² u_xxxx = f`
+//! Hermite-cubic Euler–Bernoulli beam (docs/theory.md §1.2, §2.2): `u_tt + k² u_xxxx = f`
 //! on `(0, L)`, clamped at `x = 0` (both dofs of node 0 removed), `J`
 //! elements, two dofs per node (value, slope): `2J` unknowns, banded with
 //! half-bandwidth 3. Unknown `2(j-1)` is the value at node `j`, `2(j-1)+1`
@@ -54,8 +54,8 @@ pub fn hermite(s: f64, h: f64) -> [f64; 4] {
 impl Beam {
     /// A validated beam.
     pub fn new(length: f64, elements: usize, k2: f64) -> Result<Self, FemError> {
-        if elements < 1 {
-            return Err(FemError::Invalid { field: "J", value: elements as f64, allowed: "an integer >= 1" });
+        if !(1..=crate::MAX_ELEMENTS).contains(&elements) {
+            return Err(FemError::Invalid { field: "J", value: elements as f64, allowed: "an integer in [1, 2^40] (sizes beyond are not addressable; memory runs out long before)" });
         }
         if !(length > 0.0 && length.is_finite()) {
             return Err(FemError::Invalid { field: "length", value: length, allowed: "finite and > 0" });

@@ -1,5 +1,5 @@
 //! The largest generalized eigenvalue `κ_h` of a symmetric-definite pencil
-//! `(K, M)` (SPEC §4.4, §8.3): it fixes the exact stability limit of the
+//! `(K, M)` (docs/theory.md §2.3, §4.4, §4.7): it fixes the exact stability limit of the
 //! conditionally stable schemes.
 //!
 //! Method: shift-invert iteration `x ← (σM − K)⁻¹ M x` with a shift `σ`

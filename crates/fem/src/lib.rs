@@ -1,10 +1,10 @@
 //! # signorini-fem
 //!
 //! Finite-element matrices for one-dimensional dynamic contact problems:
-//! the P1 bar of SPEC §2.1 with every mass treatment of the
+//! the P1 bar of docs/theory.md §2.1 with every mass treatment of the
 //! mass-redistribution literature ([`BarMass`]), symmetric banded storage
 //! ([`SymBand`]) and its LDLᵀ factorisation ([`BandLdlt`]), done once per run
-//! and applied in place; the Hermite-cubic beam of SPEC §2.2 ([`Beam`]) and
+//! and applied in place; the Hermite-cubic beam of docs/theory.md §2.2 ([`Beam`]) and
 //! the largest generalized eigenvalue of `(K, M)`
 //! ([`max_generalized_eigenvalue`]) that fixes exact stability limits.
 //!
@@ -20,6 +20,12 @@ pub use band::{BandLdlt, SymBand};
 pub use bar::{Bar, BarMass, RightEnd};
 pub use beam::Beam;
 pub use eigen::{max_generalized_eigenvalue, max_generalized_eigenvalue_auto};
+
+/// The largest number of elements a mesh accepts (2^40): beyond it sizes
+/// such as `2 (m + 1)` are no longer safely addressable. Memory runs out
+/// long before; the command-line tools refuse sizes beyond the machine's
+/// memory with an estimate before building anything.
+pub const MAX_ELEMENTS: usize = 1 << 40;
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -1,13 +1,24 @@
 //! Tests of the P1 bar matrices and the banded factorisation.
 //!
+//! Matrices are compared entry by entry with dense matrices assembled by
+//! hand from docs/theory.md §2.1; eigenvalues with a dense faer solve and,
+//! for the std and lumped masses, with the closed-form spectrum.
+//!
 //! Tolerances: entries are sums of at most a few terms of size h, so exact
 //! identities are checked to 1e-13 relative; factor/solve residuals against a
-//! dense faer oracle to 1e-12 relative (condition numbers here are < 1e4).
+//! dense faer oracle to 1e-12 relative (condition numbers here are < 1e4);
+//! κ_h to 1e-11 (the iteration stops at a relative change of 1e-15, and the
+//! dense solve carries a few ulps of ‖C‖); the smallest eigenvalue, of size
+//! c²/L² against a matrix norm c²/h², to 1e-9 relative.
 
+mod common;
+
+use common::{assert_matrix_eq, close, generalized_eigenvalues, trailing};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use proptest::prelude::*;
-use signorini_fem::{Bar, BarMass, FemError, RightEnd, SymBand};
+use signorini_fem::{max_generalized_eigenvalue, max_generalized_eigenvalue_auto, Bar, BarMass, FemError, RightEnd, SymBand};
+use std::f64::consts::PI;
 
 fn bar(m: usize, right_end: RightEnd) -> Bar {
     Bar::new(1.0, m, 1.0, right_end).unwrap()
@@ -84,26 +95,177 @@ fn stiffness_annihilates_constants_on_free_bar() {
     assert!((k.quad_form(&x) - 1.7 * 1.7 * 2.5).abs() < 1e-12);
 }
 
-#[test]
-fn matrices_are_symmetric_and_positive_definite_on_free_dofs() {
-    for end in [RightEnd::Clamped, RightEnd::Free] {
-        let b = bar(12, end);
-        let k = b.stiffness();
-        for v in BarMass::ALL {
-            let mm = b.mass(v);
-            let dm = dense(&mm);
-            assert_eq!(dm, dm.transpose().to_owned(), "{v}");
-            // M is positive definite on the dofs that carry mass.
-            let start = usize::from(v.massless_contact_node());
-            let eig = dense(&mm.trailing(start)).self_adjoint_eigenvalues(Side::Lower).unwrap();
-            assert!(eig[0] > 0.0, "{v} {end:?}: min eigenvalue {}", eig[0]);
-            assert!(mm.trailing(start).factor().is_ok());
+/// Mass entry `(i, j)` on all `m + 1` nodes, by hand from docs/theory.md
+/// §2.1.2: element `e` (on `[eh, (e+1)h]`, density weight `w_e`) adds
+/// `w_e h/6 [2 1; 1 2]` (consistent) or `w_e h/2 [1 0; 0 1]` (lumped) to
+/// nodes `e, e+1`; `transfer` then adds `M00 + M01` to `M11` and `singular`
+/// sets `M11 = 7h/12`, both zeroing row and column 0.
+fn hand_mass(variant: BarMass, m: usize, h: f64, i: usize, j: usize) -> f64 {
+    let mf = m as f64;
+    let w = |e: isize| -> f64 {
+        if e < 0 || e >= m as isize {
+            return 0.0; // no element there
         }
-        let eig = dense(&k).self_adjoint_eigenvalues(Side::Lower).unwrap();
-        match end {
-            RightEnd::Clamped => assert!(eig[0] > 0.0),
-            // Free-free: exactly one zero eigenvalue (rigid motion), then positive.
-            RightEnd::Free => assert!(eig[0].abs() < 1e-12 && eig[1] > 1e-3),
+        match (variant, e) {
+            (BarMass::Mod | BarMass::Mod1 | BarMass::Mod2 | BarMass::Mod3, 0) => 0.0,
+            (BarMass::Mod2, _) => mf / (mf - 1.0),
+            (BarMass::Mod3, 1) => 2.0,
+            _ => 1.0,
+        }
+    };
+    let (lo, hi) = (i.min(j), i.max(j));
+    if matches!(variant, BarMass::Transfer | BarMass::Singular) {
+        if lo == 0 {
+            return 0.0;
+        }
+        if (i, j) == (1, 1) {
+            // Consistent M11 = 2h/3 (m >= 2: node 1 has two elements, or one if m = 1).
+            let m11 = (w(0) + w(1)) * h / 3.0;
+            return if variant == BarMass::Transfer { m11 + h / 3.0 + h / 6.0 } else { 7.0 * h / 12.0 };
+        }
+    }
+    let lumped = variant == BarMass::Lumped;
+    match hi - lo {
+        0 => (w(i as isize - 1) + w(i as isize)) * h * if lumped { 0.5 } else { 1.0 / 3.0 },
+        1 if !lumped => w(lo as isize) * h / 6.0,
+        _ => 0.0,
+    }
+}
+
+/// Stiffness entry `(i, j)` on all nodes: `c²/h [1 -1; -1 1]` per element.
+fn hand_stiffness(m: usize, h: f64, c: f64, i: usize, j: usize) -> f64 {
+    let k = c * c / h;
+    match i.abs_diff(j) {
+        0 => k * f64::from(u8::from(i > 0) + u8::from(i < m)),
+        1 => -k,
+        _ => 0.0,
+    }
+}
+
+/// The hand-built dense matrix on the unknowns (node `m` dropped when clamped).
+fn hand_dense(b: &Bar, entry: impl Fn(usize, usize) -> f64) -> Mat<f64> {
+    Mat::from_fn(b.dofs(), b.dofs(), entry)
+}
+
+fn test_bars() -> Vec<Bar> {
+    let mut out = Vec::new();
+    for end in [RightEnd::Clamped, RightEnd::Free] {
+        for m in [2usize, 3, 4, 9, 25] {
+            // L and c different from 1 so that a wrong power of h or c shows.
+            out.push(Bar::new(2.5, m, 1.7, end).unwrap());
+        }
+    }
+    out
+}
+
+#[test]
+fn bar_matrices_equal_hand_assembled_dense_matrices() {
+    for b in test_bars() {
+        let (m, h, c) = (b.elements, b.h(), b.wave_speed);
+        let k = hand_dense(&b, |i, j| hand_stiffness(m, h, c, i, j));
+        assert_matrix_eq(&b.stiffness(), &k, 1e-14, &format!("K, m = {m}, {:?}", b.right_end));
+        for v in BarMass::ALL {
+            let mm = hand_dense(&b, |i, j| hand_mass(v, m, h, i, j));
+            assert_matrix_eq(&b.mass(v), &mm, 1e-14, &format!("M {v}, m = {m}, {:?}", b.right_end));
+        }
+    }
+    // A few entries written out, for the reader (m = 4, L = 2.5, h = 0.625).
+    let b = Bar::new(2.5, 4, 1.7, RightEnd::Clamped).unwrap();
+    let h = 0.625;
+    assert!(close(b.mass(BarMass::Std).get(0, 0), h / 3.0, 1e-15));
+    assert!(close(b.mass(BarMass::Lumped).get(2, 2), h, 1e-15));
+    assert!(close(b.mass(BarMass::Mod2).get(1, 1), 4.0 / 3.0 * h / 3.0, 1e-15));
+    assert!(close(b.mass(BarMass::Transfer).get(1, 1), 7.0 * h / 6.0, 1e-15));
+    assert!(close(b.stiffness().get(3, 3), 2.0 * 1.7 * 1.7 / h, 1e-15));
+}
+
+/// Closed-form spectrum of the std and lumped P1 bar, free at `x = 0`
+/// (the contact node is an unknown) and clamped or free at `x = L`: with
+/// `u_i = cos(iθ)` every row holds (the row of a free end is half an
+/// interior row), and the far end fixes `θ`: `cos(mθ) = 0` when clamped,
+/// `θ_k = (2k-1)π/(2m)`, `k = 1..m`; `sin(mθ) = 0` when free,
+/// `θ_k = kπ/m`, `k = 0..m`. Then
+/// lumped: `κ = (4c²/h²) sin²(θ/2)`; consistent: `κ = (6c²/h²)(1 - cos θ)/(2 + cos θ)`.
+fn closed_form_spectrum(b: &Bar, variant: BarMass) -> Vec<f64> {
+    let (m, h, c) = (b.elements as f64, b.h(), b.wave_speed);
+    let thetas: Vec<f64> = match b.right_end {
+        RightEnd::Clamped => (1..=b.elements).map(|k| (2.0 * k as f64 - 1.0) * PI / (2.0 * m)).collect(),
+        RightEnd::Free => (0..=b.elements).map(|k| k as f64 * PI / m).collect(),
+    };
+    let c2h2 = c * c / (h * h);
+    thetas
+        .into_iter()
+        .map(|th| match variant {
+            BarMass::Lumped => 4.0 * c2h2 * (0.5 * th).sin().powi(2),
+            BarMass::Std => 6.0 * c2h2 * (1.0 - th.cos()) / (2.0 + th.cos()),
+            _ => unreachable!("no closed form for {variant}"),
+        })
+        .collect()
+}
+
+/// The pencil whose `κ_h` the schemes use: `(K, M)` for a massive contact
+/// node, the reduced `(K*, M*)` (node 0 removed) for a massless one.
+fn pencils(b: &Bar, v: BarMass) -> (SymBand, SymBand, Mat<f64>, Mat<f64>) {
+    let (m, h, c) = (b.elements, b.h(), b.wave_speed);
+    let kd = hand_dense(b, |i, j| hand_stiffness(m, h, c, i, j));
+    let md = hand_dense(b, |i, j| hand_mass(v, m, h, i, j));
+    let start = usize::from(v.massless_contact_node());
+    (b.stiffness().trailing(start), b.mass(v).trailing(start), trailing(&kd, start), trailing(&md, start))
+}
+
+#[test]
+fn kappa_h_matches_dense_faer_and_closed_forms() {
+    for b in test_bars() {
+        for v in BarMass::ALL {
+            let what = format!("{v}, m = {}, {:?}", b.elements, b.right_end);
+            let (k, mm, kd, md) = pencils(&b, v);
+            let dense = generalized_eigenvalues(&kd, &md);
+            let (lo, hi) = (dense[0], *dense.last().unwrap());
+            let auto = max_generalized_eigenvalue_auto(&k, &mm).unwrap();
+            assert!(close(auto, hi, 1e-11), "{what}: κ_h = {auto}, dense faer {hi}");
+            let (shifted, _) = max_generalized_eigenvalue(&k, &mm, 1.001 * hi, 1_000_000).unwrap();
+            assert!(close(shifted, hi, 1e-11), "{what}: κ_h (shift-invert) = {shifted}, dense faer {hi}");
+            // A shift below κ_h must be refused (σM - K not positive definite).
+            assert!(max_generalized_eigenvalue(&k, &mm, 0.999 * hi, 10).is_err(), "{what}");
+            if matches!(v, BarMass::Std | BarMass::Lumped) {
+                let want = closed_form_spectrum(&b, v);
+                assert_eq!(want.len(), dense.len(), "{what}");
+                let top = *want.last().unwrap();
+                assert!(close(hi, top, 1e-12), "{what}: κ_h dense {hi}, closed form {top}");
+                assert!(close(auto, top, 1e-11), "{what}: κ_h {auto}, closed form {top}");
+                for (i, (d, w)) in dense.iter().zip(&want).enumerate() {
+                    assert!((d - w).abs() <= 1e-12 * top, "{what}: eigenvalue {i}: dense {d}, closed form {w}");
+                }
+                match b.right_end {
+                    // Smallest: θ_1 = π/(2m), positive.
+                    RightEnd::Clamped => assert!(close(lo, want[0], 1e-9) && lo > 0.0, "{what}: smallest {lo} vs {}", want[0]),
+                    // Free-free: the rigid motion (0), then θ_1 = π/m.
+                    RightEnd::Free => {
+                        assert!(lo.abs() <= 1e-12 * top, "{what}: smallest {lo}");
+                        assert!(close(dense[1], want[1], 1e-9), "{what}: second {} vs {}", dense[1], want[1]);
+                    }
+                }
+            } else {
+                // The massive part is positive definite: smallest > 0.
+                assert!(lo > 0.0, "{what}: smallest {lo}");
+            }
+        }
+    }
+    // The lumped free-free bar's κ_h is exactly 4c²/h² (θ = π: nodes alternate).
+    let b = Bar::new(2.5, 9, 1.7, RightEnd::Free).unwrap();
+    let kappa = max_generalized_eigenvalue_auto(&b.stiffness(), &b.mass(BarMass::Lumped)).unwrap();
+    assert!(close(kappa, 4.0 * 1.7 * 1.7 / (b.h() * b.h()), 1e-12), "{kappa}");
+}
+
+#[test]
+fn massless_variants_make_the_full_mass_singular() {
+    for b in test_bars() {
+        for v in BarMass::ALL.into_iter().filter(|v| v.massless_contact_node()) {
+            assert!(matches!(b.mass(v).factor(), Err(FemError::NotPositiveDefinite { pivot: 0, .. })), "{v}");
+            assert!(b.mass(v).trailing(1).factor().is_ok(), "{v}");
+        }
+        for v in [BarMass::Std, BarMass::Lumped] {
+            assert!(b.mass(v).factor().is_ok(), "{v}");
         }
     }
 }

@@ -1,6 +1,6 @@
 //! # signorini-norms
 //!
-//! Error norms of SPEC §6 for a P1 displacement on a uniform mesh of `[0, L]`
+//! Error norms of docs/theory.md §6 for a P1 displacement on a uniform mesh of `[0, L]`
 //! against an [`ExactSolution`], accumulated while stepping — no history is
 //! stored.
 //!
@@ -20,7 +20,7 @@
 
 use signorini_exact::ExactSolution;
 
-/// Which norm is the `V` norm of SPEC §6.
+/// Which norm is the `V` norm of docs/theory.md §6.1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VNorm {
     /// `|u|_{H¹} = ‖u_x‖_{L²}` (Dirichlet end: it is a norm on V).
@@ -79,7 +79,7 @@ fn piece(d: usize, len: f64, e: &[f64]) -> (f64, f64) {
 
 impl<'a> SpaceIntegrator<'a> {
     /// For a uniform mesh of `elements` elements on `[0, exact.length()]`.
-    /// Exact solutions of degree up to 2 in `x` are supported (all of SPEC §5).
+    /// Exact solutions of degree up to 2 in `x` are supported (all of docs/theory.md §5).
     #[track_caller]
     pub fn new(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm) -> Self {
         let degree = exact.degree_x().max(1);
@@ -262,7 +262,7 @@ impl TimeNorm {
     }
 }
 
-/// Every error norm of SPEC §6 for one run.
+/// Every error norm of docs/theory.md §6 for one run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NormReport {
     /// `L∞(0,T; L²)` of `u_h - u`.
@@ -315,7 +315,7 @@ pub struct ErrorNorms<'a> {
 /// Which error measure an [`ErrorNorms`] accumulates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum NormKind {
-    /// The exact norms of SPEC §6 (elements split at the kinks).
+    /// The exact norms of docs/theory.md §6.1 (elements split at the kinks).
     #[default]
     Exact,
     /// What GetFEM's 1D dynamic-contact demo computes: the error against the

@@ -175,3 +175,174 @@ fn getfem_style_norms_are_relative_interpolation_errors() {
     let mut x = ErrorNorms::new(&k, m, VNorm::H1Full);
     assert!(x.add_displacement(0.0, &interp).l2 > 1e-3);
 }
+
+// ---------------------------------------------------------------------------
+// Elements crossed by two (or more) kinks, against an independent adaptive
+// quadrature of the same integrals, which uses the exact strain `u_x` (the
+// integrator uses only values of `u`).
+
+/// `∫_a^b f` by adaptive Simpson with Richardson's correction: each
+/// interval is halved at least 8 times, then until the halves agree with the
+/// whole to `15 tol` per unit length. Simpson samples the interval ends, so
+/// a jump of `f` anywhere inside an interval changes the halves' sum and
+/// keeps it splitting, down to an interval of length ~1e-15: the integral is
+/// accurate to rounding whatever the kinks (a Gauss rule, blind near the
+/// ends, can accept an interval whose jump lies between its end and first node).
+fn adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    struct Q<'f> {
+        f: &'f dyn Fn(f64) -> f64,
+        tol: f64,
+    }
+    impl Q<'_> {
+        /// Midpoint, f there, Simpson on [a, b].
+        fn simpson(&self, a: f64, fa: f64, b: f64, fb: f64) -> (f64, f64, f64) {
+            let m = 0.5 * (a + b);
+            let fm = (self.f)(m);
+            (m, fm, (b - a) / 6.0 * (fa + 4.0 * fm + fb))
+        }
+        #[allow(clippy::too_many_arguments)]
+        fn rec(&self, a: f64, fa: f64, b: f64, fb: f64, m: f64, fm: f64, whole: f64, depth: u32) -> f64 {
+            let (lm, flm, l) = self.simpson(a, fa, m, fm);
+            let (rm, frm, r) = self.simpson(m, fm, b, fb);
+            let diff = l + r - whole;
+            if depth >= 60 || (depth >= 8 && diff.abs() <= 15.0 * self.tol * (b - a)) {
+                l + r + diff / 15.0
+            } else {
+                self.rec(a, fa, m, fm, lm, flm, l, depth + 1) + self.rec(m, fm, b, fb, rm, frm, r, depth + 1)
+            }
+        }
+    }
+    let q = Q { f, tol };
+    let (fa, fb) = (f(a), f(b));
+    let (m, fm, whole) = q.simpson(a, fa, b, fb);
+    q.rec(a, fa, b, fb, m, fm, whole, 0)
+}
+
+/// `(∫(u_h - u)², ∫(u_h' - u_x)²)` over `[0, L]` by [`adaptive`], element by
+/// element, with `u_h` the P1 function of `nodal` (`m` values: the last node is 0).
+fn reference(exact: &dyn ExactSolution, m: usize, nodal: &[f64], t: f64) -> (f64, f64) {
+    let l = exact.length();
+    let h = l / m as f64;
+    let node = |i: usize| nodal.get(i).copied().unwrap_or(0.0);
+    let (mut l2, mut semi) = (0.0, 0.0);
+    for j in 0..m {
+        let (a, b) = (j as f64 * h, (j + 1) as f64 * h);
+        let (ua, ub) = (node(j), node(j + 1));
+        let slope = (ub - ua) / h;
+        let uh = move |x: f64| ua + slope * (x - a);
+        l2 += adaptive(&|x| (uh(x) - exact.fields(x, t).u).powi(2), a, b, 1e-15);
+        semi += adaptive(&|x| (slope - exact.fields(x, t).ux).powi(2), a, b, 1e-15);
+    }
+    (l2, semi)
+}
+
+/// Kinks of `exact` at `t` per element of a mesh of `m` elements.
+fn kinks_per_element(exact: &dyn ExactSolution, m: usize, t: f64) -> Vec<usize> {
+    let mut k = Vec::new();
+    exact.kinks(t, &mut k);
+    let h = exact.length() / m as f64;
+    (0..m).map(|j| k.iter().filter(|&&x| x > j as f64 * h && x < (j + 1) as f64 * h).count()).collect()
+}
+
+#[test]
+fn bar_dirichlet_with_both_kinks_in_one_element() {
+    use signorini_exact::BarDirichlet;
+    let exact = BarDirichlet;
+    // Contact phase (t in [1, 2)): τ = t - 1, kinks at τ and 1 - τ, both real
+    // (u = -x/2, then -τ/2, then (x-1)/2). With m = 3 both lie in the middle
+    // element [1/3, 2/3] for τ in (1/3, 2/3); with m = 5 in [0.4, 0.6] for
+    // τ in (0.4, 0.6).
+    for (m, t) in [(3usize, 1.4), (3, 1.35), (3, 1.45), (3, 1.55), (3, 1.62), (5, 1.45), (5, 1.58)] {
+        assert!(kinks_per_element(&exact, m, t).contains(&2), "m = {m}, t = {t}: set-up must put two kinks in one element");
+        for pert in [[0.0; 3], [0.01, -0.02, 0.03]] {
+            // u_h = nodal interpolant + a perturbation (clamped: m values).
+            let h = 1.0 / m as f64;
+            let u: Vec<f64> = (0..m).map(|i| exact.fields(i as f64 * h, t).u + pert[i % 3]).collect();
+            let (l2, semi) = reference(&exact, m, &u, t);
+            let mut s = SpaceIntegrator::new(&exact, m, VNorm::H1Seminorm);
+            let e = s.errors(t, &u);
+            assert!((e.l2 - l2.sqrt()).abs() <= 1e-12 * l2.sqrt(), "m = {m}, t = {t}, {pert:?}: L2 {} vs quadrature {}", e.l2, l2.sqrt());
+            assert!((e.v - semi.sqrt()).abs() <= 1e-12 * semi.sqrt(), "m = {m}, t = {t}, {pert:?}: H1 {} vs quadrature {}", e.v, semi.sqrt());
+        }
+    }
+    // By hand, m = 3, t = 1.4, u_h = I_h u: the error vanishes outside
+    // [1/3, 2/3]; inside, u_h = -1/6 and e = u_h - u is x/2 - 1/6 on
+    // [1/3, 0.4], 1/30 on [0.4, 0.6], 1/3 - x/2 on [0.6, 2/3]:
+    // ∫e² = 2 (1/15)(1/30)²/3 + 0.2 (1/30)² = 11/40500, ∫e'² = 2 (1/15)(1/4) = 1/30.
+    let u: Vec<f64> = (0..3).map(|i| exact.fields(i as f64 / 3.0, 1.4).u).collect();
+    let e = SpaceIntegrator::new(&exact, 3, VNorm::H1Seminorm).errors(1.4, &u);
+    assert!((e.l2 - (11.0f64 / 40500.0).sqrt()).abs() <= 1e-13, "L2 {} vs {}", e.l2, (11.0f64 / 40500.0).sqrt());
+    assert!((e.v - (1.0f64 / 30.0).sqrt()).abs() <= 1e-13, "H1 {} vs {}", e.v, (1.0f64 / 30.0).sqrt());
+}
+
+/// `u(x) = Σ c_k (x - a_k)|x - a_k|^(p-1)` (p = 1: kinks of `u`; p = 2: of `u_x`).
+struct ManyKinks {
+    at: Vec<f64>,
+    coef: Vec<f64>,
+    p: usize,
+}
+
+impl ExactSolution for ManyKinks {
+    fn name(&self) -> &str {
+        "many-kinks"
+    }
+    fn length(&self) -> f64 {
+        1.0
+    }
+    fn far_end(&self) -> FarEnd {
+        FarEnd::Free
+    }
+    fn degree_x(&self) -> usize {
+        self.p
+    }
+    fn fields(&self, x: f64, _t: f64) -> Fields {
+        let (mut u, mut ux) = (0.0, 0.0);
+        for (a, c) in self.at.iter().zip(&self.coef) {
+            let d = x - a;
+            if self.p == 1 {
+                u += c * d.abs();
+                ux += c * if d >= 0.0 { 1.0 } else { -1.0 };
+            } else {
+                u += c * d * d.abs();
+                ux += 2.0 * c * d.abs();
+            }
+        }
+        Fields { u, ux, ut: 0.0 }
+    }
+    fn lambda(&self, _t: f64) -> f64 {
+        0.0
+    }
+    fn energy(&self) -> f64 {
+        0.0
+    }
+    fn kinks(&self, _t: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(&self.at);
+    }
+}
+
+#[test]
+fn two_and_three_kinks_in_one_element_of_degree_one_and_two() {
+    // m = 4: element [0.25, 0.5] holds the kinks; another kink alone in [0.75, 1].
+    let cases: [(&[f64], &[f64]); 4] = [
+        (&[0.3, 0.45], &[1.0, -2.0]),
+        (&[0.26, 0.31, 0.49], &[0.7, -1.5, 2.0]),
+        (&[0.3, 0.45, 0.8], &[1.0, 1.0, -0.5]),
+        (&[0.3, 0.301], &[1.0, -1.0]),
+    ];
+    for p in [1usize, 2] {
+        for (at, coef) in cases {
+            let exact = ManyKinks { at: at.to_vec(), coef: coef.to_vec(), p };
+            let m = 4;
+            assert!(kinks_per_element(&exact, m, 0.0)[1] >= 2);
+            let u = [0.1, -0.3, 0.25, 0.0, -0.2];
+            let (l2, semi) = reference(&exact, m, &u, 0.0);
+            for vnorm in [VNorm::H1Seminorm, VNorm::H1Full] {
+                let e = SpaceIntegrator::new(&exact, m, vnorm).errors(0.0, &u);
+                let v2 = if vnorm == VNorm::H1Full { semi + l2 } else { semi };
+                assert!((e.l2 - l2.sqrt()).abs() <= 1e-12 * l2.sqrt(), "p = {p}, kinks {at:?}: L2 {} vs quadrature {}", e.l2, l2.sqrt());
+                assert!((e.v - v2.sqrt()).abs() <= 1e-12 * v2.sqrt(), "p = {p}, kinks {at:?}, {vnorm:?}: V {} vs quadrature {}", e.v, v2.sqrt());
+            }
+        }
+    }
+}

@@ -1,5 +1,5 @@
 //! Cost per (dof × step) of `newmark-cn` with `mod` mass on `bar-dirichlet`:
-//! (a) stepping only, (b) stepping with every error norm of SPEC §6 (L², H¹
+//! (a) stepping only, (b) stepping with every error norm of docs/theory.md §6 (L², H¹
 //! split at kinks, λ, energy), next to (floor) a bare hand-written
 //! tridiagonal solve of the same size with precomputed factors.
 //!

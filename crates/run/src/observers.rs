@@ -5,7 +5,7 @@ use signorini_exact::ExactSolution;
 use signorini_norms::{ErrorNorms, NormKind, NormReport, VNorm};
 use std::io::Write;
 
-/// Accumulates the error norms of SPEC §6 while stepping (no history).
+/// Accumulates the error norms of docs/theory.md §6 while stepping (no history).
 pub struct NormObserver<'a> {
     norms: ErrorNorms<'a>,
     dt: f64,
@@ -53,7 +53,7 @@ pub struct SeriesColumns<'a> {
     pub u: &'static str,
     /// Name of its velocity column (`v_contact`, or `v_tip_m_s`): the
     /// backward difference `(u_c^n - u_c^{n-1})/dt` over the last step
-    /// (the velocity SPEC §4 prescribes for a massless node; for a massive
+    /// (the velocity docs/theory.md §2.1.3 reports for a massless node; for a massive
     /// one an O(dt) estimate of the scheme's own velocity). Empty at n = 0.
     pub v: &'static str,
     /// Write `energy_t,energy` (the observer then asks for energies).
@@ -69,16 +69,81 @@ impl Default for SeriesColumns<'_> {
     }
 }
 
+/// A CSV sink that hands its writer **whole rows only**: rows are formatted
+/// into a reused buffer (no allocation once it has grown) and passed on with
+/// one `write_all` when it holds 64 KiB or 1024 rows, and at
+/// [`flush`](Self::flush). On a file opened without buffering each hand-over
+/// is one `write` call ending at a row boundary, so a run stopped by a
+/// signal it handles (SIGINT/SIGTERM: the CLI flushes) leaves only complete
+/// rows. A SIGKILL (or a full disk) can still cut the `write` in flight:
+/// then every newline-terminated line is a complete row and only the last
+/// line can be partial — a reader drops a last line without `\n`.
+pub struct RowSink<W: Write> {
+    out: W,
+    buf: Vec<u8>,
+    pending: usize,
+}
+
+impl<W: Write> RowSink<W> {
+    const BYTES: usize = 64 * 1024;
+    const ROWS: usize = 1024;
+
+    /// A sink writing to `out`.
+    pub fn new(out: W) -> Self {
+        Self { out, buf: Vec::with_capacity(Self::BYTES + 1024), pending: 0 }
+    }
+
+    /// Appends one row: `fill` writes its fields (comma-separated, without
+    /// the final newline) into the buffer.
+    pub fn row(&mut self, fill: impl FnOnce(&mut Vec<u8>) -> std::io::Result<()>) -> Result<(), RunError> {
+        let mark = self.buf.len();
+        if let Err(e) = fill(&mut self.buf) {
+            self.buf.truncate(mark);
+            return Err(RunError::Output(e.to_string()));
+        }
+        self.buf.push(b'\n');
+        self.pending += 1;
+        if self.buf.len() >= Self::BYTES || self.pending >= Self::ROWS {
+            self.hand_over()?;
+        }
+        Ok(())
+    }
+
+    fn hand_over(&mut self) -> Result<(), RunError> {
+        if !self.buf.is_empty() {
+            self.out.write_all(&self.buf).map_err(|e| RunError::Output(e.to_string()))?;
+            self.buf.clear();
+        }
+        self.pending = 0;
+        Ok(())
+    }
+
+    /// Hands over the rows held and flushes the writer.
+    pub fn flush(&mut self) -> Result<(), RunError> {
+        self.hand_over()?;
+        self.out.flush().map_err(|e| RunError::Output(e.to_string()))
+    }
+}
+
+/// Writes `x` as `{:.12e}`, or nothing for `None` (an empty cell).
+fn cell(buf: &mut Vec<u8>, x: Option<f64>) -> std::io::Result<()> {
+    buf.push(b',');
+    match x {
+        Some(x) => write!(buf, "{x:.12e}"),
+        None => Ok(()),
+    }
+}
+
 /// Writes a CSV time series of the contact dof every `every` levels:
 /// `n,<t>,<u>,<v>,lambda_t,lambda`, then `energy_t,energy` and
 /// `u_contact_exact,lambda_exact,energy_exact` when asked (empty cells where a
-/// value does not exist at that level). Flushed every 1024 rows and at the
-/// end, also when the run stops early.
+/// value does not exist at that level). Rows go out whole through a
+/// [`RowSink`] (every 64 KiB or 1024 rows, and at the end, also when the run
+/// stops early); no allocation per row.
 pub struct SeriesWriter<'a, W: Write> {
-    out: csv::Writer<W>,
+    out: RowSink<W>,
     every: usize,
     contact_dof: usize,
-    rows: usize,
     cols: SeriesColumns<'a>,
     /// `(t, u_c)` of the previous level, for the velocity.
     prev: Option<(f64, f64)>,
@@ -90,7 +155,6 @@ impl<'a, W: Write> SeriesWriter<'a, W> {
 
     /// A writer (header written at once).
     pub fn new(w: W, every: usize, contact_dof: usize, cols: SeriesColumns<'a>) -> Result<Self, RunError> {
-        let mut out = csv::Writer::from_writer(w);
         let mut header = vec!["n", cols.t, cols.u, cols.v, "lambda_t", "lambda"];
         if cols.energy {
             header.extend(["energy_t", "energy"]);
@@ -98,8 +162,10 @@ impl<'a, W: Write> SeriesWriter<'a, W> {
         if cols.exact.is_some() {
             header.extend(["u_contact_exact", "lambda_exact", "energy_exact"]);
         }
-        out.write_record(&header).map_err(|e| RunError::Output(e.to_string()))?;
-        Ok(Self { out, every: every.max(1), contact_dof, rows: 0, cols, prev: None })
+        let mut out = RowSink::new(w);
+        out.row(|b| b.write_all(header.join(",").as_bytes()))?;
+        out.flush()?;
+        Ok(Self { out, every: every.max(1), contact_dof, cols, prev: None })
     }
 }
 
@@ -114,27 +180,28 @@ impl<W: Write> Observer for SeriesWriter<'_, W> {
         if s.n % self.every != 0 {
             return Ok(());
         }
-        let f = |x: f64| format!("{x:.12e}");
-        let o = |x: Option<f64>| x.map_or(String::new(), f);
-        let mut rec = vec![s.n.to_string(), f(s.t), f(u), o(v), o(s.lambda.map(|l| l.0)), o(s.lambda.map(|l| l.1))];
-        if self.cols.energy {
-            rec.push(o(s.energy.map(|e| e.0)));
-            rec.push(o(s.energy.map(|e| e.1)));
-        }
-        if let Some(ex) = self.cols.exact {
-            rec.push(f(ex.fields(0.0, s.t).u));
-            rec.push(o(s.lambda.map(|l| ex.lambda(l.0))));
-            rec.push(f(ex.energy()));
-        }
-        self.out.write_record(&rec).map_err(|e| RunError::Output(e.to_string()))?;
-        self.rows += 1;
-        if self.rows % 1024 == 0 {
-            self.out.flush().map_err(|e| RunError::Output(e.to_string()))?;
-        }
-        Ok(())
+        let cols = self.cols;
+        self.out.row(|b| {
+            write!(b, "{}", s.n)?;
+            cell(b, Some(s.t))?;
+            cell(b, Some(u))?;
+            cell(b, v)?;
+            cell(b, s.lambda.map(|l| l.0))?;
+            cell(b, s.lambda.map(|l| l.1))?;
+            if cols.energy {
+                cell(b, s.energy.map(|e| e.0))?;
+                cell(b, s.energy.map(|e| e.1))?;
+            }
+            if let Some(ex) = cols.exact {
+                cell(b, Some(ex.fields(0.0, s.t).u))?;
+                cell(b, s.lambda.map(|l| ex.lambda(l.0)))?;
+                cell(b, Some(ex.energy()))?;
+            }
+            Ok(())
+        })
     }
     fn finish(&mut self) -> Result<(), RunError> {
-        self.out.flush().map_err(|e| RunError::Output(e.to_string()))
+        self.out.flush()
     }
 }
 

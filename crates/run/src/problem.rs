@@ -8,7 +8,7 @@ use signorini_schemes::{Bounds, Dynamics, Initial};
 use std::fmt;
 use std::str::FromStr;
 
-/// A P1 bar with Signorini contact at `x = 0` (SPEC §1.1, §2.1).
+/// A P1 bar with Signorini contact at `x = 0` (docs/theory.md §1.1, §2.1).
 #[derive(Clone, Debug)]
 pub struct BarProblem {
     /// Geometry, wave speed, far end.
@@ -59,7 +59,7 @@ impl BarProblem {
         }
     }
 
-    /// The `V` norm of SPEC §6 for this far end.
+    /// The `V` norm of docs/theory.md §6.1 for this far end.
     pub fn vnorm(&self) -> VNorm {
         match self.bar.right_end {
             RightEnd::Clamped => VNorm::H1Seminorm,
@@ -68,13 +68,13 @@ impl BarProblem {
     }
 }
 
-/// The built-in benchmarks with exact solutions (SPEC §5).
+/// The built-in benchmarks with exact solutions (docs/theory.md §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Benchmark {
-    /// `bar-dirichlet`: SPEC §5.1.
+    /// `bar-dirichlet`: docs/theory.md §5.1.
     BarDirichlet,
     /// `bar-neumann-gravity`: the falling bar, `u0 = 1/2`, `g = 1/9`, `L = 1`
-    /// (exactly periodic, period 16; SPEC §5.2, exact-neumann.md §2.4).
+    /// (exactly periodic, period 16; docs/theory.md §5.2.4).
     BarNeumannGravity,
     /// `bar-neumann-gravity-0.11`: the paper's data `g = 0.11` (not periodic;
     /// exact closed form up to `t ≈ 225`).

@@ -39,7 +39,7 @@ pub enum RunError {
         time: f64,
     },
     /// The energy grew beyond the configured bound: the run stopped there.
-    #[error("run blew up: energy {energy} exceeds {limit} x the energy scale {scale} (max of |E(0)| and the loads' energy over the horizon) at step {step} (t = {time}); output written so far is kept")]
+    #[error("run blew up: energy {energy} exceeds {limit} x the energy scale {scale} (max of |E(0)|, the loads' energy over the horizon and ½ m (max|U⁰|/T)²) at step {step} (t = {time}); output written so far is kept")]
     EnergyGrowth {
         /// The step.
         step: usize,
@@ -65,7 +65,7 @@ pub enum RunError {
         paper_limit: f64,
     },
     /// The horizon is not a whole number of steps.
-    #[error("t_end = {t_end} is not a whole number of steps of dt = {dt} (T/dt = {}): the run would end at {} instead; choose T = N·dt (e.g. t_end = {} or {}), or dt = T/N (e.g. dt = {})", t_end / dt, (t_end / dt).ceil() * dt, ((t_end / dt).floor().max(1.0)) * dt, (t_end / dt).ceil() * dt, t_end / (t_end / dt).ceil())]
+    #[error("t_end = {t_end} is not a whole number of steps of dt = {dt} (T/dt = {}): the run would end at {} instead; choose T = N·dt (e.g. t_end = {} or {}), or dt = T/N (e.g. dt = {})", t_end / dt, sig12((t_end / dt).ceil() * dt), sig12((t_end / dt).floor().max(1.0) * dt), sig12((t_end / dt).ceil() * dt), sig12(t_end / (t_end / dt).ceil()))]
     Horizon {
         /// The horizon asked for.
         t_end: f64,
@@ -85,6 +85,12 @@ pub enum RunError {
     Output(String),
 }
 
+/// `x` rounded to 12 significant digits (for messages: `2.94`, not
+/// `2.9400000000000004`).
+fn sig12(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
+}
+
 impl From<SchemeError> for RunError {
     fn from(e: SchemeError) -> Self {
         match e {
@@ -102,7 +108,8 @@ pub struct RunConfig {
     /// Horizon `T` (> 0, finite, a whole number of steps: `T = N dt`).
     pub t_end: f64,
     /// Stop when `|E_h| > limit · S`, with the scale `S = max(|E_h(0)|,
-    /// `[`load_energy_scale`](signorini_schemes::Dynamics::load_energy_scale)`(T))`
+    /// `[`load_energy_scale`](signorini_schemes::Dynamics::load_energy_scale)`(T),
+    /// ½ m (max|U⁰|/T)²)` (never zero unless the data and loads are)
     /// (checked only when an observer asks for the energy). `None`: no check.
     pub energy_growth_limit: Option<f64>,
     /// A flag (set by a signal handler) that stops the run cleanly at the
@@ -226,7 +233,7 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
     }
     let want_energy = observers.iter().any(|o| o.wants_energy());
     let total = cfg.steps();
-    let load_scale = stepper.dynamics().load_energy_scale(cfg.t_end);
+    let load_scale = stepper.dynamics().load_energy_scale(cfg.t_end).max(data_energy_scale(stepper.dynamics().mass.total(), u0, cfg.t_end));
     let mut emit = |s: Sample<'_>| -> Result<(), RunError> {
         for o in observers.iter_mut() {
             o.observe(&s)?;
@@ -269,6 +276,19 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
         emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active, work: stepper.work() })?;
     }
     Ok((stepper.level(), contact_steps))
+}
+
+/// `½ m (max|U⁰| / T)²`: the kinetic energy of moving the total mass `m`
+/// by the data's largest displacement over the horizon. It keeps the
+/// energy guard's scale positive when `E(0) = 0` without loads (a displaced
+/// free bar at rest: a rigid translation has no energy) — rounding then
+/// cannot pass for growth.
+fn data_energy_scale(mass: f64, u0: &[f64], t_end: f64) -> f64 {
+    let umax = u0.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    if !(mass > 0.0) || !umax.is_finite() {
+        return 0.0;
+    }
+    0.5 * mass * (umax / t_end).powi(2)
 }
 
 fn check_finite(u: &[f64], step: usize, time: f64) -> Result<(), RunError> {

@@ -61,12 +61,27 @@ impl StudyConfig {
         if !(self.ratio > 0.0 && self.ratio.is_finite()) {
             return Err(RunError::Invalid { field: "ratio", value: self.ratio, allowed: "dx/dt finite and > 0" });
         }
-        RunConfig::new(1.0, self.t_end)?;
         if let Some(&m) = self.levels.iter().find(|&&m| m < 2) {
             return Err(RunError::Invalid { field: "levels", value: m as f64, allowed: "every m >= 2" });
         }
         if self.levels.is_empty() || self.schemes.is_empty() || self.masses.is_empty() {
             return Err(RunError::Invalid { field: "levels/schemes/masses", value: 0.0, allowed: "at least one of each" });
+        }
+        // A rate needs two distinct levels; a repeated level adds nothing.
+        let mut sorted = self.levels.clone();
+        sorted.sort_unstable();
+        if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+            return Err(RunError::Invalid { field: "levels", value: w[0] as f64, allowed: "distinct values (this one is repeated)" });
+        }
+        if self.levels.len() < 2 {
+            return Err(RunError::Invalid { field: "levels", value: self.levels[0] as f64, allowed: "at least two distinct levels: a rate from one level is meaningless" });
+        }
+        if let Some(&m) = self.levels.iter().find(|&&m| m > signorini_fem::MAX_ELEMENTS) {
+            return Err(RunError::Invalid { field: "levels", value: m as f64, allowed: "every m <= 2^40" });
+        }
+        // Every level runs a whole number of steps (both benchmarks have L = 1).
+        for &m in &self.levels {
+            RunConfig::new(1.0 / m as f64 / self.ratio, self.t_end)?;
         }
         for s in &self.schemes {
             s.validate().map_err(RunError::Scheme)?;

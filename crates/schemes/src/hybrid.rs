@@ -1,4 +1,4 @@
-//! Schemes on the reduced formulation of a massless contact node (SPEC §4.5,
+//! Schemes on the reduced formulation of a massless contact node (docs/theory.md §4.5,
 //! weighted-mass paper §3 and §5).
 //!
 //! With row/column 0 of `M` zero, node 0 is in quasi-static equilibrium

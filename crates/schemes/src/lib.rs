@@ -3,7 +3,7 @@
 //! Time integrators for the semi-discrete contact problem
 //!
 //! ```text
-//! M U'' + K U = F - λ e_c,    lo <= u_c <= hi,   λ >= 0 ⊥ ... (SPEC §3, §4)
+//! M U'' + K U = F - λ e_c,    lo <= u_c <= hi,   λ >= 0 ⊥ ... (docs/theory.md §3, §4)
 //! ```
 //!
 //! (bar notation: `λ = c² u_x(0, t) <= 0` enters as `-λ e_0`; a lower bound is
@@ -22,7 +22,7 @@
 //!   with the hybrid Crank–Nicolson/midpoint scheme of the weighted-mass paper
 //!   (energy never increases) or Crank–Nicolson on the reduced ODE.
 //!
-//! [`SchemeSpec`] names the presets of SPEC §4 and builds a boxed
+//! [`SchemeSpec`] names the presets of docs/theory.md §4.8 and builds a boxed
 //! [`Stepper`]; the time loop itself lives in `signorini-run`.
 //!
 //! Architecture invariant: no IO, no exact solutions; depends on
@@ -122,6 +122,18 @@ pub enum SchemeError {
         /// How the limit is computed for this scheme, in words.
         rule: &'static str,
     },
+    /// A penalty so stiff that the step's scalar contact equation loses
+    /// every digit in floating point (its spring dwarfs the structure's own
+    /// compliance at the contact dof by more than 1e12).
+    #[error("{field} = {value:e} makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the structure at the contact dof, so the step's contact equation has no digits left); usable range: 0 < {field} <= {max:.3e}")]
+    PenaltyTooStiff {
+        /// The parameter (`gamma_p`, `penalty stiffness`).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// The largest usable value for this mesh and dt.
+        max: f64,
+    },
     /// The state became non-finite (NaN or infinity).
     #[error("state became non-finite at step {step} (t = {time})")]
     NonFinite {
@@ -191,7 +203,7 @@ impl TimeProfile {
         }
     }
 
-    /// The exact mean `1/(t1 - t0) ∫ s` over `[t0, t1]` (SPEC §4.4's `f^n`),
+    /// The exact mean `1/(t1 - t0) ∫ s` over `[t0, t1]` (docs/theory.md §4.3's `f^n`),
     /// written without cancellation: `A sin(ω t_mid) sin(ω δ/2) / (ω δ/2)`.
     pub fn mean(&self, t0: f64, t1: f64) -> f64 {
         match *self {
@@ -216,7 +228,7 @@ pub struct Forcing {
 /// How the contact condition on `u_c` is enforced.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ContactLaw {
-    /// Exactly, by the projection of SPEC §3 (`lo <= u_c <= hi`).
+    /// Exactly, by the projection of docs/theory.md §3 (`lo <= u_c <= hi`).
     Projection,
     /// Penalty / normal compliance: a spring of stiffness `stiffness` (per
     /// unit `ρS`) acts outside `[lo, hi]`: force `κ (lo - u)⁺ - κ (u - hi)⁺`,

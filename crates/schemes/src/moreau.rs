@@ -1,4 +1,4 @@
-//! Moreau–Jean time stepping (SPEC §4.6; the scheme of Siconos): a θ-scheme
+//! Moreau–Jean time stepping (docs/theory.md §4.6.4; the scheme of Siconos): a θ-scheme
 //! on velocities with Newton's impact law at the velocity level,
 //!
 //! ```text

@@ -1,5 +1,5 @@
 //! Nitsche's method for the Signorini condition at the contact node
-//! (Chouly–Hild–Renard), with Newmark(β, γ) in time (SPEC §4.6).
+//! (Chouly–Hild–Renard), with Newmark(β, γ) in time (docs/theory.md §4.6.2).
 //!
 //! With `σ(v) = c² v_x(0) = k (v_1 - v_0)` (`k = c²/h = -K_01`), `γ = γ_0 k`
 //! (`γ_0 c²/h`) and `θ ∈ [-1, 1]`, the semi-discrete problem is

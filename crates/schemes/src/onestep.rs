@@ -1,4 +1,4 @@
-//! One-step schemes in momentum form (SPEC §4.1, §4.2).
+//! One-step schemes in momentum form (docs/theory.md §4.1, §4.2).
 //!
 //! With `P = M V`, `R = M A` and a contact force `λ^{n+1}` at `t_{n+1}`:
 //!
@@ -21,7 +21,7 @@
 //!
 //! With [`ContactLaw::Penalty`] the contact force is a spring outside
 //! `[lo, hi]`, `N(u_c) = κ (lo - u_c)⁺ - κ (u_c - hi)⁺`: `u_c^{n+1} = y_c + a dt² w_c N(u_c^{n+1})`
-//! is solved exactly branch by branch (SPEC §3), `λ = -N`. A time-dependent
+//! is solved exactly branch by branch (docs/theory.md §3), `λ = -N`. A time-dependent
 //! load ([`crate::Forcing`]) enters as its value `F(t_{n+1})`.
 
 use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
@@ -202,6 +202,13 @@ impl OneStep {
             if !(stiffness > 0.0 && stiffness.is_finite()) {
                 return Err(SchemeError::Invalid { field: "penalty stiffness", value: stiffness, allowed: "finite and > 0" });
             }
+            // The step solves x = y_c + W κ (lo - x)⁺ with W = a dt² w_c:
+            // beyond κ W = 1e12 the branch tests are decided by rounding.
+            let w = self.prm.a_new * self.dt * self.dt * self.proj.wc();
+            let max = PENALTY_CONDITION_MAX / w;
+            if w > 0.0 && stiffness > max {
+                return Err(SchemeError::PenaltyTooStiff { field: "penalty stiffness", value: stiffness, max });
+            }
         }
         self.law = law;
         Ok(self)
@@ -359,6 +366,9 @@ impl Stepper for OneStep {
         Some((self.time(), 0.5 * kin + 0.5 * pot - load + spring))
     }
 }
+
+/// The largest `κ W` of a penalty step (see [`OneStep::with_contact_law`]).
+const PENALTY_CONDITION_MAX: f64 = 1e12;
 
 /// The penalty step: `x = y_c + W N(x)` with `N(x) = κ(lo - x)⁺ - κ(x - hi)⁺`
 /// and `W = a dt² w_c`, solved exactly; then `U = y + a dt² N w`. Returns `N`.

@@ -1,6 +1,6 @@
-//! Paoli–Schatzman two-step scheme with restitution (SPEC §4.3, 2017 paper
+//! Paoli–Schatzman two-step scheme with restitution (docs/theory.md §4.3, 2017 paper
 //! eq. (34)); with `e = 0` and two-sided bounds it is the β-scheme of the
-//! beam between stops (SPEC §4.4).
+//! beam between stops (docs/theory.md §4.4).
 //!
 //! ```text
 //! M (U^{n+1} - 2U^n + U^{n-1})/dt² + K (β U^{n+1} + (1-2β) U^n + β U^{n-1}) = F - λ^n e_c
@@ -13,7 +13,7 @@
 //! 1/2) when β = 0, which the β-scheme allows with a massive contact node:
 //! then `A = M`).
 //!
-//! A time-dependent load enters through exact time averages (SPEC §4.4):
+//! A time-dependent load enters through exact time averages (docs/theory.md §4.3):
 //! `G^n = β f^{n+1} + (1-2β) f^n + β f^{n-1}`, `f^k = 1/dt ∫_{t_k}^{t_{k+1}} F`.
 //! The scheme accumulates the work of that load, `W_f = Σ ½ G^nᵀ(U^{n+1} - U^{n-1})`,
 //! and of the contact force, `W_c = Σ -½ λ^n (u_c^{n+1} - u_c^{n-1})`, so that
@@ -25,7 +25,7 @@
 //! quasi-static equilibrium at `t_{n+1}`, `(K U^{n+1})_c = F_c - λ_{n+1}`,
 //! and the reported force belongs to `t_{n+1}` (`μ = -β dt² λ_{n+1}`).
 //!
-//! Energy at half steps (for any β; SPEC §4.3 is the case β = 1/4):
+//! Energy at half steps (for any β; docs/theory.md §4.3, balance §7.3):
 //! `E^{n+1/2} = ½ VᵀMV + ½ (β - 1/4) dt² VᵀKV + ½ ŪᵀKŪ - FᵀŪ`,
 //! `V = (U^{n+1} - U^n)/dt`, `Ū = (U^n + U^{n+1})/2`.
 
@@ -171,7 +171,9 @@ impl Stepper for PaoliSchatzman {
         let (lambda, t_lambda) = if self.dy.massless_contact {
             (-pr.mu / (beta * dt2), t)
         } else {
-            (-pr.mu / dt2, t - self.dt)
+            // t_{n} computed from its index, as every time level is: `t - dt`
+            // can round below an exact level (1.9999999999999998 for 2).
+            (-pr.mu / dt2, (self.n - 1) as f64 * self.dt)
         };
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });

@@ -4,7 +4,7 @@ use crate::{ContactLaw, Dynamics, Initial, MoreauJean, Nitsche, OneStep, OneStep
 use std::fmt;
 use std::str::FromStr;
 
-/// A time scheme with its parameters (SPEC §4).
+/// A time scheme with its parameters (docs/theory.md §4; names: §4.8).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SchemeSpec {
     /// Newmark(β, γ), contact at `t_{n+1}`; β ∈ (0, 1/2], γ ∈ [1/2, 2β].
@@ -59,7 +59,7 @@ pub enum SchemeSpec {
 }
 
 impl SchemeSpec {
-    /// The presets of SPEC §4, in the order of the papers' tables.
+    /// The presets of docs/theory.md §4.8, in the order of the papers' tables.
     pub const PRESETS: [(&'static str, SchemeSpec); 7] = [
         ("newmark-cn", SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }),
         ("newmark-i", SchemeSpec::Newmark { beta: 0.5, gamma: 1.0 }),
@@ -74,7 +74,7 @@ impl SchemeSpec {
     pub const REDUCED: [(&'static str, SchemeSpec); 2] =
         [("hybrid", SchemeSpec::Reduced(ReducedLaw::Hybrid)), ("reduced-cn", SchemeSpec::Reduced(ReducedLaw::CrankNicolson))];
 
-    /// The schemes users compare against (SPEC §4.6): penalty presets
+    /// The schemes users compare against (docs/theory.md §4.6): penalty presets
     /// (γ_P = 10) and Taylor–Flanagan.
     pub const PEERS: [(&'static str, SchemeSpec); 6] = [
         ("penalty-cn", SchemeSpec::Penalty { gamma_p: 10.0, explicit: false }),
@@ -228,7 +228,12 @@ impl SchemeSpec {
                 let kappa = gamma_p * dy.stiffness.get(c, c);
                 self.check_cfl(&dy, dt)?;
                 let prm = if explicit { OneStepParams::newmark(0.0, 0.5) } else { OneStepParams::newmark(0.25, 0.5) };
-                Box::new(OneStep::new(label, dy, prm, dt, init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
+                let step = OneStep::new(label, dy, prm, dt, init)?;
+                Box::new(step.with_contact_law(ContactLaw::Penalty { stiffness: kappa }).map_err(|e| match e {
+                    // In the scheme's own parameter: κ = γ_P K_cc.
+                    SchemeError::PenaltyTooStiff { max, .. } => SchemeError::PenaltyTooStiff { field: "gamma_p", value: gamma_p, max: max * gamma_p / kappa },
+                    e => e,
+                })?)
             }
             SchemeSpec::MoreauJean { theta, restitution } => Box::new(MoreauJean::new(label, dy, theta, restitution, dt, init)?),
             SchemeSpec::Nitsche { gamma0, theta } => Box::new(Nitsche::new(label, dy, 0.25, 0.5, gamma0, theta, dt, init)?),
