@@ -1,0 +1,625 @@
+//! Oracles shared by the scheme tests, independent of the code under test.
+//!
+//! * The P1 bar (every mass treatment) and the Hermite beam matrices are
+//!   assembled here, dense (`Vec<Vec<f64>>`), from the element matrices of
+//!   docs/theory.md §2.1–§2.2; the schemes are fed the `signorini-fem`
+//!   matrices, and every quantity a test checks (residuals of the scheme's
+//!   equations, energies, work of the loads) is recomputed from the recorded
+//!   displacements with the matrices built here, never read from a scheme's
+//!   `energy()` or `work()`.
+//! * Solves on the massive block and the largest generalized eigenvalue of a
+//!   pencil go through faer's dense Cholesky and symmetric eigensolver (not
+//!   the banded LDLᵀ nor the shift-invert iteration of `signorini-fem`).
+//! * The sine profile's value and exact mean over a step are written here from
+//!   the antiderivative (`A (cos ωt₀ − cos ωt₁)/(ω (t₁ − t₀))`), not in the
+//!   code's cancellation-free sinc form.
+
+#![allow(dead_code)]
+
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use signorini_fem::{Bar, BarMass, Beam, RightEnd, SymBand};
+use signorini_schemes::{Bounds, Dynamics, Forcing, Initial, StepReport, Stepper, TimeProfile};
+
+/// A dense square matrix, row by row.
+pub type Dense = Vec<Vec<f64>>;
+
+/// The `n × n` zero matrix.
+pub fn zeros(n: usize) -> Dense {
+    vec![vec![0.0; n]; n]
+}
+
+/// `a x`.
+pub fn mul(a: &Dense, x: &[f64]) -> Vec<f64> {
+    a.iter().map(|row| dot(row, x)).collect()
+}
+
+/// `xᵀ a x`.
+pub fn quad(a: &Dense, x: &[f64]) -> f64 {
+    dot(x, &mul(a, x))
+}
+
+/// `xᵀ a y`.
+pub fn bilin(a: &Dense, x: &[f64], y: &[f64]) -> f64 {
+    dot(x, &mul(a, y))
+}
+
+/// `xᵀ y`.
+pub fn dot(x: &[f64], y: &[f64]) -> f64 {
+    assert_eq!(x.len(), y.len(), "length mismatch");
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+/// `x − y`.
+pub fn sub(x: &[f64], y: &[f64]) -> Vec<f64> {
+    x.iter().zip(y).map(|(a, b)| a - b).collect()
+}
+
+/// `Σ cᵢ xᵢ` over equal-length vectors.
+pub fn lin(terms: &[(f64, &[f64])]) -> Vec<f64> {
+    let n = terms[0].1.len();
+    (0..n).map(|i| terms.iter().map(|(c, x)| c * x[i]).sum()).collect()
+}
+
+/// Largest absolute entry.
+pub fn max_abs(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+/// The infinity norm (largest absolute row sum).
+pub fn norm_inf(a: &Dense) -> f64 {
+    a.iter().map(|r| r.iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
+}
+
+/// `a + s b`.
+pub fn mat_add(a: &Dense, s: f64, b: &Dense) -> Dense {
+    a.iter().zip(b).map(|(ra, rb)| ra.iter().zip(rb).map(|(x, y)| x + s * y).collect()).collect()
+}
+
+/// The trailing block from row/column `s` on.
+pub fn trailing(a: &Dense, s: usize) -> Dense {
+    a[s..].iter().map(|r| r[s..].to_vec()).collect()
+}
+
+/// The unit vector `e_i` of length `n`.
+pub fn unit(n: usize, i: usize) -> Vec<f64> {
+    let mut e = vec![0.0; n];
+    e[i] = 1.0;
+    e
+}
+
+fn to_faer(a: &Dense) -> Mat<f64> {
+    Mat::from_fn(a.len(), a.len(), |i, j| a[i][j])
+}
+
+/// A dense Cholesky factor (faer) of a symmetric positive definite matrix.
+pub struct Chol(faer::linalg::solvers::Llt<f64>);
+
+impl Chol {
+    /// Factorises `a` (panics if it is not positive definite).
+    pub fn new(a: &Dense) -> Self {
+        Chol(to_faer(a).llt(Side::Lower).expect("SPD matrix"))
+    }
+
+    /// `a⁻¹ b`.
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let x = self.0.solve(Mat::from_fn(b.len(), 1, |i, _| b[i]));
+        (0..b.len()).map(|i| x[(i, 0)]).collect()
+    }
+}
+
+/// The largest eigenvalue of the symmetric pencil `(k, m)` (`m` SPD): that
+/// of `L⁻¹ k L⁻ᵀ` with `m = L Lᵀ`, by faer's dense symmetric eigensolver.
+pub fn kappa_max(k: &Dense, m: &Dense) -> f64 {
+    let n = m.len();
+    let l = to_faer(m).llt(Side::Lower).expect("M is SPD").L().to_owned();
+    let mut linv = Mat::<f64>::identity(n, n);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), linv.as_mut(), faer::Par::Seq);
+    let c = &linv * to_faer(k) * linv.transpose();
+    let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
+    *c.self_adjoint_eigenvalues(Side::Lower).expect("symmetric eigenvalues").last().unwrap()
+}
+
+/// The smallest eigenvalue of a symmetric matrix.
+pub fn min_eigenvalue(a: &Dense) -> f64 {
+    to_faer(a).self_adjoint_eigenvalues(Side::Lower).expect("symmetric eigenvalues")[0]
+}
+
+/// Asserts that a `SymBand` given to a scheme holds the matrix built here
+/// (to rounding), so a failure below points at the scheme, not the input.
+pub fn assert_same(what: &str, band: &SymBand, dense: &Dense) {
+    let n = dense.len();
+    assert_eq!(band.n(), n, "{what}: size");
+    let scale = norm_inf(dense).max(1e-300);
+    for i in 0..n {
+        for j in 0..n {
+            assert!((band.get(i, j) - dense[i][j]).abs() <= 1e-14 * scale, "{what}[{i}][{j}] = {} but the test assembles {}", band.get(i, j), dense[i][j]);
+        }
+    }
+}
+
+/// P1 bar on `[0, 1]`, wave speed 1, `m` elements (docs/theory.md §2.1):
+/// `(M, K)` on the unknowns (nodes `0..=m`, node `m` dropped when clamped).
+/// Element mass `w_j (h/6)[2 1; 1 2]` (consistent) or `w_j (h/2) I`
+/// (lumped), element stiffness `(1/h)[1 −1; −1 1]`; the density weights and
+/// the node-level changes of §2.1.2's table.
+pub fn bar_matrices(m: usize, mass: BarMass, free: bool) -> (Dense, Dense) {
+    let h = 1.0 / m as f64;
+    let mf = m as f64;
+    let w = |j: usize| -> f64 {
+        match mass {
+            BarMass::Std | BarMass::Lumped | BarMass::Transfer | BarMass::Singular => 1.0,
+            BarMass::Mod | BarMass::Mod1 => if j == 0 { 0.0 } else { 1.0 },
+            BarMass::Mod2 => if j == 0 { 0.0 } else { mf / (mf - 1.0) },
+            BarMass::Mod3 => match j {
+                0 => 0.0,
+                1 => 2.0,
+                _ => 1.0,
+            },
+        }
+    };
+    let nodes = m + 1;
+    let (mut mm, mut kk) = (zeros(nodes), zeros(nodes));
+    for j in 0..m {
+        let me = if mass == BarMass::Lumped { [[h / 2.0, 0.0], [0.0, h / 2.0]] } else { [[2.0 * h / 6.0, h / 6.0], [h / 6.0, 2.0 * h / 6.0]] };
+        let ke = [[1.0 / h, -1.0 / h], [-1.0 / h, 1.0 / h]];
+        for a in 0..2 {
+            for b in 0..2 {
+                mm[j + a][j + b] += w(j) * me[a][b];
+                kk[j + a][j + b] += ke[a][b];
+            }
+        }
+    }
+    match mass {
+        BarMass::Transfer => {
+            let moved = mm[0][0] + mm[0][1];
+            mm[1][1] += moved;
+            zero_row_col(&mut mm, 0);
+        }
+        BarMass::Singular => {
+            zero_row_col(&mut mm, 0);
+            mm[1][1] = 7.0 * h / 12.0;
+        }
+        _ => {}
+    }
+    let n = if free { nodes } else { m };
+    let cut = |a: Dense| -> Dense { a[..n].iter().map(|r| r[..n].to_vec()).collect() };
+    (cut(mm), cut(kk))
+}
+
+fn zero_row_col(a: &mut Dense, i: usize) {
+    for k in 0..a.len() {
+        a[i][k] = 0.0;
+        a[k][i] = 0.0;
+    }
+}
+
+/// The load of a uniform body force `f` on the P1 bar (`∫ f φ_i`, exact):
+/// `f h` at interior nodes, `f h/2` at nodes 0 and `m`.
+pub fn bar_uniform_load(m: usize, free: bool, f: f64) -> Vec<f64> {
+    let h = 1.0 / m as f64;
+    let n = if free { m + 1 } else { m };
+    (0..n).map(|i| if i == 0 || i == m { 0.5 * f * h } else { f * h }).collect()
+}
+
+/// The Hermite-cubic beam on `[0, length]`, `j` elements, `k² = k2`, unit
+/// `ρS`, clamped at 0 (docs/theory.md §2.2): `(M, K)` on the `2j` unknowns.
+pub fn beam_matrices(j: usize, length: f64, k2: f64) -> (Dense, Dense) {
+    let h = length / j as f64;
+    let h2 = h * h;
+    let me = [[156.0, 22.0 * h, 54.0, -13.0 * h], [22.0 * h, 4.0 * h2, 13.0 * h, -3.0 * h2], [54.0, 13.0 * h, 156.0, -22.0 * h], [-13.0 * h, -3.0 * h2, -22.0 * h, 4.0 * h2]];
+    let ke = [[12.0, 6.0 * h, -12.0, 6.0 * h], [6.0 * h, 4.0 * h2, -6.0 * h, 2.0 * h2], [-12.0, -6.0 * h, 12.0, -6.0 * h], [6.0 * h, 2.0 * h2, -6.0 * h, 4.0 * h2]];
+    let all = 2 * (j + 1);
+    let (mut mm, mut kk) = (zeros(all), zeros(all));
+    for e in 0..j {
+        for a in 0..4 {
+            for b in 0..4 {
+                mm[2 * e + a][2 * e + b] += h / 420.0 * me[a][b];
+                kk[2 * e + a][2 * e + b] += k2 / (h * h2) * ke[a][b];
+            }
+        }
+    }
+    (trailing(&mm, 2), trailing(&kk, 2))
+}
+
+/// The sine profile `A sin(ω t)` of a forcing, written independently.
+#[derive(Clone, Copy, Debug)]
+pub struct Sine {
+    /// Amplitude `A`.
+    pub amp: f64,
+    /// Angular frequency `ω`.
+    pub omega: f64,
+}
+
+impl Sine {
+    /// `A sin(ω t)`.
+    pub fn at(&self, t: f64) -> f64 {
+        self.amp * (self.omega * t).sin()
+    }
+
+    /// The exact mean over `[t0, t1]`, from the antiderivative.
+    pub fn mean(&self, t0: f64, t1: f64) -> f64 {
+        self.amp * ((self.omega * t0).cos() - (self.omega * t1).cos()) / (self.omega * (t1 - t0))
+    }
+
+    /// The profile as the library's type.
+    pub fn profile(&self) -> TimeProfile {
+        TimeProfile::Sine { amplitude: self.amp, omega: self.omega }
+    }
+}
+
+/// What a test knows of the semi-discrete problem, built independently of
+/// the `Dynamics` the scheme is given: `M U'' + K U = F_s + shape·s(t) − λ e_c`.
+#[derive(Clone, Debug)]
+pub struct Oracle {
+    /// Mass matrix.
+    pub m: Dense,
+    /// Stiffness matrix.
+    pub k: Dense,
+    /// Steady load `F_s`.
+    pub load: Vec<f64>,
+    /// Time-dependent load `shape · s(t)`, if any.
+    pub forcing: Option<(Vec<f64>, Sine)>,
+    /// Contact dof.
+    pub c: usize,
+    /// Whether the contact dof carries no mass.
+    pub massless: bool,
+    /// Bounds on `u_c`.
+    pub lo: f64,
+    /// Upper bound (`+∞` for one obstacle).
+    pub hi: f64,
+}
+
+impl Oracle {
+    /// Number of unknowns.
+    pub fn n(&self) -> usize {
+        self.m.len()
+    }
+
+    /// The time-dependent part `shape · s(t)` (zero without forcing).
+    pub fn forcing_at(&self, t: f64) -> Vec<f64> {
+        match &self.forcing {
+            Some((shape, s)) => shape.iter().map(|g| g * s.at(t)).collect(),
+            None => vec![0.0; self.n()],
+        }
+    }
+
+    /// `F(t) = F_s + shape · s(t)`.
+    pub fn load_at(&self, t: f64) -> Vec<f64> {
+        self.load.iter().zip(self.forcing_at(t)).map(|(a, b)| a + b).collect()
+    }
+
+    /// The forcing's exact mean over `[t0, t1]` (zero without forcing).
+    pub fn forcing_mean(&self, t0: f64, t1: f64) -> Vec<f64> {
+        match &self.forcing {
+            Some((shape, s)) => shape.iter().map(|g| g * s.mean(t0, t1)).collect(),
+            None => vec![0.0; self.n()],
+        }
+    }
+
+    /// First massive dof.
+    pub fn massive_start(&self) -> usize {
+        usize::from(self.massless)
+    }
+
+    /// `(M_ss)⁻¹ P` on the massive dofs, `V_c = 0` on a massless node (whose
+    /// velocity terms cancel from the identities once it is in equilibrium,
+    /// docs/theory.md §7.7).
+    pub fn velocity(&self, chol: &Chol, p: &[f64]) -> Vec<f64> {
+        let s = self.massive_start();
+        let mut v = vec![0.0; self.n()];
+        v[s..].copy_from_slice(&chol.solve(&p[s..]));
+        v
+    }
+
+    /// The Cholesky factor of the massive block of `M`.
+    pub fn mass_chol(&self) -> Chol {
+        Chol::new(&trailing(&self.m, self.massive_start()))
+    }
+}
+
+/// A bar scene: `m` elements, a mass treatment, the far end, an obstacle at
+/// `gap`, a uniform body force and an optional forcing. Returns the
+/// `Dynamics` built from `signorini-fem` (what the schemes run on) and the
+/// test's own `Oracle` (checked equal to rounding).
+pub fn bar_scene(m: usize, mass: BarMass, free: bool, gap: f64, body: f64, forcing: Option<(Vec<f64>, Sine)>) -> (Dynamics, Oracle) {
+    let bar = Bar::new(1.0, m, 1.0, if free { RightEnd::Free } else { RightEnd::Clamped }).unwrap();
+    let (mm, kk) = bar_matrices(m, mass, free);
+    let load = bar_uniform_load(m, free, body);
+    let dy = Dynamics {
+        mass: bar.mass(mass),
+        stiffness: bar.stiffness(),
+        load: bar.load(|_| body),
+        contact_dof: 0,
+        massless_contact: mass.massless_contact_node(),
+        bounds: Bounds::obstacle(gap),
+        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }),
+    };
+    assert_same("bar mass", &dy.mass, &mm);
+    assert_same("bar stiffness", &dy.stiffness, &kk);
+    for (a, b) in dy.load.iter().zip(&load) {
+        assert!((a - b).abs() <= 1e-15 * (1.0 + b.abs()), "bar load {a} vs {b}");
+    }
+    let o = Oracle { m: mm, k: kk, load, forcing, c: 0, massless: mass.massless_contact_node(), lo: gap, hi: f64::INFINITY };
+    (dy, o)
+}
+
+/// A beam scene: `j` Hermite elements on `[0, 1]`, `k² = k2`, the tip
+/// between stops `[lo, hi]`, no steady load, forcing `shape · s(t)`.
+pub fn beam_scene(j: usize, k2: f64, lo: f64, hi: f64, shape: Vec<f64>, s: Sine) -> (Dynamics, Oracle) {
+    let beam = Beam::new(1.0, j, k2).unwrap();
+    let (mm, kk) = beam_matrices(j, 1.0, k2);
+    let n = 2 * j;
+    let dy = Dynamics {
+        mass: beam.mass(),
+        stiffness: beam.stiffness(),
+        load: vec![0.0; n],
+        contact_dof: 2 * j - 2,
+        massless_contact: false,
+        bounds: Bounds { lo, hi },
+        forcing: Some(Forcing { shape: shape.clone(), time: s.profile() }),
+    };
+    assert_eq!(dy.stiffness.half_bandwidth(), 3, "the beam must take the banded (non-tridiagonal) path");
+    assert_same("beam mass", &dy.mass, &mm);
+    assert_same("beam stiffness", &dy.stiffness, &kk);
+    let o = Oracle { m: mm, k: kk, load: vec![0.0; n], forcing: Some((shape, s)), c: 2 * j - 2, massless: false, lo, hi };
+    (dy, o)
+}
+
+/// Smooth initial data for a bar whose contact node starts `offset` above
+/// the obstacle `gap` and moves towards it at speed `speed`, with a smooth
+/// perturbation `(amp/seed²)(1 − cos(seed x))` of the displacement (its
+/// curvature, hence the elastic force near node 0, is at most `amp`) and
+/// `amp sin(seed x)` of the velocity. With `speed >= 0.5`, `amp <= 0.5`,
+/// `offset <= 0.02` and loads below 0.25 the node reaches the obstacle
+/// before `t = 0.1` (see [`steps_for`]).
+pub fn approaching(n: usize, m: usize, gap: f64, offset: f64, speed: f64, amp: f64, seed: f64) -> Initial {
+    let x = |i: usize| i as f64 / m as f64;
+    let u = (0..n).map(|i| gap + offset + amp / (seed * seed) * (1.0 - (seed * x(i)).cos())).collect();
+    let v = (0..n).map(|i| -speed + amp * (seed * x(i)).sin()).collect();
+    Initial { u, v }
+}
+
+/// The number of steps of size `dt` to run: at least `min`, and enough to
+/// reach `t = 0.1`, by which [`approaching`] data have met the obstacle.
+pub fn steps_for(dt: f64, min: usize) -> usize {
+    min.max((0.1 / dt).ceil() as usize)
+}
+
+/// A nonzero gap of either sign, as a fraction `φ ∈ ±[0.1, 0.9]` for [`gap_of`].
+pub fn gap_strategy() -> impl proptest::strategy::Strategy<Value = f64> {
+    proptest::prop_oneof![-0.9f64..-0.1, 0.1f64..0.9]
+}
+
+/// The gap for a fraction `φ`: `g = 0.3 φ` above the origin, `g = φ |f|/2`
+/// below it, so that a clamped bar at rest under the body force `f < 0`
+/// (tip at `f/2`) would press on the obstacle: even a dissipative scheme
+/// with a huge step meets it.
+pub fn gap_of(phi: f64, body: f64) -> f64 {
+    if phi > 0.0 {
+        0.3 * phi
+    } else {
+        0.5 * phi * body.abs()
+    }
+}
+
+/// The contact force vector `λ e_c` of the one-step schemes with a point
+/// contact (for [`check_one_step`]).
+pub fn point_force(n: usize, c: usize) -> impl Fn(usize, &[f64], f64) -> Vec<f64> {
+    move |_, _, lambda| {
+        let mut f = vec![0.0; n];
+        f[c] = lambda;
+        f
+    }
+}
+
+/// A recorded run: the displacement at every level from `first` on, and
+/// each step's report.
+pub struct Traj {
+    /// Time step.
+    pub dt: f64,
+    /// Level of `u[0]`.
+    pub first: usize,
+    /// `U` at levels `first, first + 1, …`.
+    pub u: Vec<Vec<f64>>,
+    /// `reports[i]` produced level `first + i + 1`.
+    pub reports: Vec<StepReport>,
+}
+
+impl Traj {
+    /// `U` at level `n`.
+    pub fn at(&self, n: usize) -> &[f64] {
+        &self.u[n - self.first]
+    }
+
+    /// The last level.
+    pub fn last(&self) -> usize {
+        self.first + self.u.len() - 1
+    }
+
+    /// The contact force by level: the step producing level `n` must report
+    /// its force at time `t_{n − lag}` (docs/theory.md §4: lag 0 for the
+    /// one-step schemes, 1 for Paoli–Schatzman with a massive contact node),
+    /// which is where it is placed. Levels no step reports are `None`.
+    pub fn lambdas(&self, lag: usize) -> Vec<Option<f64>> {
+        let mut out = vec![None; self.last() + 1];
+        for (i, r) in self.reports.iter().enumerate() {
+            let n = self.first + i + 1;
+            assert_eq!(r.n, n, "report level");
+            let (t, l) = r.lambda.expect("every step reports its contact force");
+            let want = (n - lag) as f64 * self.dt;
+            assert!((t - want).abs() <= 1e-9 * self.dt, "step to level {n}: λ reported at t = {t}, the documented level is t_{} = {want}", n - lag);
+            out[n - lag] = Some(l);
+        }
+        out
+    }
+
+    /// Number of steps whose report says a bound was active.
+    pub fn active_steps(&self) -> usize {
+        self.reports.iter().filter(|r| r.active != signorini_contact::Active::None).count()
+    }
+}
+
+/// Runs `steps` steps and records the trajectory (panics on a scheme error).
+pub fn record(s: &mut dyn Stepper, steps: usize) -> Traj {
+    let first = s.level();
+    let mut u = vec![s.displacement().to_vec()];
+    let mut reports = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        let r = s.step().unwrap_or_else(|e| panic!("{}: {e}", s.label()));
+        reports.push(r);
+        u.push(s.displacement().to_vec());
+    }
+    Traj { dt: s.dt(), first, u, reports }
+}
+
+/// The largest `|lhs − rhs| / scale` seen, to quote and to assert on.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Worst {
+    /// Largest ratio.
+    pub ratio: f64,
+}
+
+impl Worst {
+    /// Records `|err| / scale` and asserts it is at most `tol`.
+    #[track_caller]
+    pub fn check(&mut self, what: &str, err: f64, scale: f64, tol: f64) {
+        let r = err.abs() / scale.max(1e-300);
+        assert!(r <= tol, "{what}: mismatch {err:e} is {r:e} of the scale {scale:e} (tolerance {tol:e})");
+        self.ratio = self.ratio.max(r);
+    }
+}
+
+/// Coefficients of a one-step scheme in momentum form (docs/theory.md §4.1,
+/// §4.2): `M ΔU = dt Pⁿ + dt² (b Rⁿ + a R̃ⁿ⁺¹)`, `Pⁿ⁺¹ = Pⁿ + dt ((1 − γ) Rⁿ + γ Rⁿ⁺¹)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Coefs {
+    /// `a` (β, or θ²).
+    pub a: f64,
+    /// `b` (½ − β, or θ(1 − θ)).
+    pub b: f64,
+    /// `γ` (or θ).
+    pub gamma: f64,
+    /// The energy identity: Newmark's (§7.1) or the θ-method's (§7.2).
+    pub theta_identity: bool,
+}
+
+impl Coefs {
+    /// Newmark(β, γ).
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Self { a: beta, b: 0.5 - beta, gamma, theta_identity: false }
+    }
+
+    /// θ-method.
+    pub fn theta(theta: f64) -> Self {
+        Self { a: theta * theta, b: theta * (1.0 - theta), gamma: theta, theta_identity: true }
+    }
+}
+
+/// What [`check_one_step`] measured.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct OneStepStats {
+    /// Worst residual of the displacement update.
+    pub residual: Worst,
+    /// Worst mismatch of the energy identity.
+    pub energy: Worst,
+}
+
+/// Checks a one-step run (Newmark, θ-method, penalty, Nitsche) against the
+/// scheme's equations in momentum form with the test's matrices: `k` is the
+/// stiffness the scheme uses (`K`, or Nitsche's `K_N`), `force(n, Uⁿ, λⁿ)`
+/// the contact force vector `Cⁿ` at level `n` (`λ⁰ = 0`). With
+/// `Rⁿ = F(tₙ) − K Uⁿ − Cⁿ` (`R_c := 0` for a massless node) and
+/// `P⁰ = M V⁰`, at every step
+///
+/// * the update residual `M ΔU − dt Pⁿ − dt² (b Rⁿ + a R̃ⁿ⁺¹)` vanishes
+///   (`R̃` without the massless zeroing: that row is the node's equilibrium);
+/// * the energy `E = ½ VᵀMV + ½ UᵀKU − F_sᵀU`, `V = M⁺P`, obeys Newmark's
+///   identity (§7.1, written for a general load `G = F_f − C`)
+///   `ΔE = (½−γ) ΔUᵀKΔU + dt(β−γ/2) ΔVᵀKΔU + ΔUᵀ((1−γ)Gⁿ + γGⁿ⁺¹) − dt(β−γ/2) ΔVᵀ[G]`,
+///   or the θ-method's `ΔE = (½−θ)(ΔVᵀMΔV + ΔUᵀKΔU) + ΔUᵀ((1−θ)Gⁿ + θGⁿ⁺¹)`
+///   (from the first step on with a massless node, §7.7).
+pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &Traj, force: impl Fn(usize, &[f64], f64) -> Vec<f64>, tol: f64) -> OneStepStats {
+    assert_eq!(traj.first, 0);
+    let (dt, n, c) = (traj.dt, o.n(), o.c);
+    let lambdas = traj.lambdas(0);
+    let chol = o.mass_chol();
+    let (nm, nk) = (norm_inf(&o.m), norm_inf(k));
+    let lam = |l: usize| if l == 0 { 0.0 } else { lambdas[l].unwrap() };
+    let cvec = |l: usize| force(l, traj.at(l), lam(l));
+    // R̃ (unzeroed) and R (massless row zeroed) at level l.
+    let r_full = |l: usize| -> Vec<f64> {
+        let (f, ku, cv) = (o.load_at(l as f64 * dt), mul(k, traj.at(l)), cvec(l));
+        (0..n).map(|i| f[i] - ku[i] - cv[i]).collect()
+    };
+    let zero_c = |mut r: Vec<f64>| {
+        if o.massless {
+            r[c] = 0.0;
+        }
+        r
+    };
+    let energy = |u: &[f64], v: &[f64]| 0.5 * quad(&o.m, v) + 0.5 * quad(k, u) - dot(&o.load, u);
+    let g_vec = |l: usize| sub(&o.forcing_at(l as f64 * dt), &cvec(l));
+    let mut st = OneStepStats::default();
+    let mut p = mul(&o.m, &init.v);
+    let mut r = zero_c(r_full(0));
+    for l in 0..traj.last() {
+        let (u0, u1) = (traj.at(l), traj.at(l + 1));
+        let du = sub(u1, u0);
+        let r1_full = r_full(l + 1);
+        // The displacement update.
+        let lhs = mul(&o.m, &du);
+        let res: Vec<f64> = (0..n).map(|i| lhs[i] - dt * p[i] - dt * dt * (cf.b * r[i] + cf.a * r1_full[i])).collect();
+        let scale = nm * (max_abs(u0) + max_abs(u1)) + dt * max_abs(&p) + dt * dt * (cf.b.abs() * max_abs(&r) + cf.a * (max_abs(&r1_full) + nk * max_abs(u1)));
+        st.residual.check(&format!("update residual at step {l}→{}", l + 1), max_abs(&res), scale, tol);
+        // The momentum update, and the energy identity.
+        let r1 = zero_c(r1_full);
+        let p1: Vec<f64> = (0..n).map(|i| p[i] + dt * ((1.0 - cf.gamma) * r[i] + cf.gamma * r1[i])).collect();
+        let (v0, v1) = (o.velocity(&chol, &p), o.velocity(&chol, &p1));
+        if l >= usize::from(o.massless) {
+            let (e0, e1) = (energy(u0, &v0), energy(u1, &v1));
+            let dv = sub(&v1, &v0);
+            let kdu = mul(k, &du);
+            let (g0, g1) = (g_vec(l), g_vec(l + 1));
+            let g = cf.gamma;
+            let terms = if cf.theta_identity {
+                let th = g;
+                vec![(0.5 - th) * (quad(&o.m, &dv) + dot(&du, &kdu)), dot(&du, &lin(&[(1.0 - th, &g0), (th, &g1)]))]
+            } else {
+                let beta = cf.a;
+                vec![
+                    (0.5 - g) * dot(&du, &kdu),
+                    dt * (beta - g / 2.0) * dot(&dv, &kdu),
+                    dot(&du, &lin(&[(1.0 - g, &g0), (g, &g1)])),
+                    -dt * (beta - g / 2.0) * dot(&dv, &sub(&g1, &g0)),
+                ]
+            };
+            let rhs: f64 = terms.iter().sum();
+            let scale = terms.iter().fold(e0.abs().max(e1.abs()), |s, t| s.max(t.abs()))
+                .max(nk * max_abs(u0).max(max_abs(u1)).powi(2))
+                .max(nm * max_abs(&v0).max(max_abs(&v1)).powi(2));
+            st.energy.check(&format!("energy identity at step {l}→{} (ΔE = {:e}, identity {:e})", l + 1, e1 - e0, rhs), (e1 - e0) - rhs, scale, tol);
+        }
+        p = p1;
+        r = r1;
+    }
+    st
+}
+
+/// Checks the projection's contact conditions at every level of a one-step
+/// run: `lo <= u_c <= hi`, `λ <= 0` on `lo`, `λ >= 0` on `hi`, `λ = 0`
+/// strictly inside. Returns the number of levels with `λ ≠ 0`.
+pub fn check_projection(o: &Oracle, traj: &Traj) -> usize {
+    let lambdas = traj.lambdas(0);
+    let mut active = 0;
+    for l in 1..=traj.last() {
+        let (u, lam) = (traj.at(l)[o.c], lambdas[l].unwrap());
+        assert!(u >= o.lo && u <= o.hi, "level {l}: u_c = {u} outside [{}, {}]", o.lo, o.hi);
+        if lam != 0.0 {
+            active += 1;
+            let on = if lam < 0.0 { o.lo } else { o.hi };
+            assert_eq!(u, on, "level {l}: λ = {lam} but u_c = {u} is not on the bound {on}");
+        }
+    }
+    active
+}
