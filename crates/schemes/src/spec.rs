@@ -204,6 +204,11 @@ impl SchemeSpec {
     pub fn build(&self, dy: Dynamics, dt: f64, init: &Initial) -> Result<Box<dyn Stepper>, SchemeError> {
         self.validate()?;
         let label = self.to_string();
+        // These schemes take the steady load only: refuse a time-dependent
+        // one rather than ignore it.
+        if dy.forcing.is_some() && matches!(self, SchemeSpec::MoreauJean { .. } | SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {
+            return Err(SchemeError::Structure("this scheme takes a steady load only: a time-dependent forcing needs newmark, theta, ps, or penalty"));
+        }
         Ok(match *self {
             SchemeSpec::Newmark { beta, gamma } => Box::new(OneStep::new(label, dy, OneStepParams::newmark(beta, gamma), dt, init)?),
             SchemeSpec::Theta { theta } => Box::new(OneStep::new(label, dy, OneStepParams::theta(theta), dt, init)?),

@@ -559,3 +559,19 @@ fn cd_massless_cfl_limit_is_the_reduced_pencils() {
         }
     }
 }
+
+/// Moreau–Jean, Nitsche and the reduced schemes take a steady load only:
+/// a time-dependent forcing is refused, not ignored.
+#[test]
+fn schemes_without_forcing_refuse_a_time_dependent_load() {
+    for (name, mass) in [("moreau-jean", BarMass::Std), ("nitsche-cn", BarMass::Std), ("hybrid", BarMass::Mod), ("reduced-cn", BarMass::Mod), ("cd-massless", BarMass::Mod)] {
+        let (dy, _) = bar_scene(10, mass, false, 0.0, 0.0, Some((vec![1.0; 10], Sine { amp: 1.0, omega: 3.0 })));
+        let init = Initial { u: vec![0.1; 10], v: vec![0.0; 10] };
+        let spec: SchemeSpec = name.parse().unwrap();
+        match spec.build(dy, 0.01, &init) {
+            Err(SchemeError::Structure(m)) => assert!(m.contains("steady load"), "{name}: {m}"),
+            Err(e) => panic!("{name}: {e}"),
+            Ok(_) => panic!("{name}: a time-dependent load was accepted and would be ignored"),
+        }
+    }
+}
