@@ -18,6 +18,10 @@
 //! [`solve_piecewise_linear`]: `x_c = y_c + w_c N(x_c)` is tested branch by
 //! branch, no Newton iterations.
 //!
+//! With several constrained dofs, [`MultiProjection`] solves the same
+//! problem exactly (box-constrained complementarity on the Delassus matrix
+//! `C A⁻¹ Cᵀ`, principal pivoting with finite termination).
+//!
 //! Architecture invariant: works on slices; knows nothing of meshes,
 //! matrices or time. Usable on its own with any linear solver.
 
@@ -46,6 +50,29 @@ pub enum ContactError {
     /// The scalar law has no solution (not monotone).
     #[error("the piecewise-linear contact law has no solution on any branch (law not monotone, or w_c too large)")]
     NoBranch,
+    /// Several contacts: the number of influence columns (or a column's
+    /// length) does not match.
+    #[error("{dofs} constrained dofs need as many influence columns A⁻¹ e_c of equal length (got {columns})")]
+    Columns {
+        /// Constrained dofs.
+        dofs: usize,
+        /// Columns (or the offending length).
+        columns: usize,
+    },
+    /// Several contacts: a dof constrained twice.
+    #[error("dof {0} is constrained twice: give each dof one pair of bounds")]
+    DuplicateDof(usize),
+    /// Several contacts: the Delassus matrix (or a block of it) is not
+    /// positive definite (A is not, or the columns are not A⁻¹ e_c).
+    #[error("the Delassus matrix C A⁻¹ Cᵀ is not positive definite (is A positive definite, and are the columns A⁻¹ e_c?)")]
+    NotPositiveDefinite,
+    /// Several contacts: pivoting did not terminate (only rounding on a
+    /// nearly singular Delassus matrix can cause it).
+    #[error("the multi-contact solve did not terminate in {iterations} pivots (Delassus matrix nearly singular?)")]
+    NoConvergence {
+        /// Pivots made.
+        iterations: usize,
+    },
 }
 
 /// The result of one projection: the multiplier and which bound is active.
@@ -56,6 +83,9 @@ pub struct Projected {
     /// Which bound, if any, holds `x_c`.
     pub active: Active,
 }
+
+mod multi;
+pub use multi::{MultiProjected, MultiProjection};
 
 /// Which bound is active after a projection.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,0 +1,303 @@
+//! The step's contact problem with several constrained dofs (docs/theory.md
+//! §3): find `x`, `μ` with
+//!
+//! ```text
+//! A x = b + Σ_i μ_i e_{c_i},   lo_i <= x_{c_i} <= hi_i,
+//! μ_i = 0 inside,  μ_i >= 0 at lo_i,  μ_i <= 0 at hi_i     (i = 1..k)
+//! ```
+//!
+//! for `A` symmetric positive definite: the minimiser of `½ xᵀAx − bᵀx` over
+//! the box. With `y = A⁻¹ b` and the influence columns `W_j = A⁻¹ e_{c_j}`
+//! (computed once by the caller, who owns the factorisation), the contact
+//! values are `z = y_c + D μ` with the constant Delassus matrix
+//! `D_ij = (W_j)_{c_i}` (k × k, SPD), and the problem is a box-constrained
+//! linear complementarity problem in `μ`. It is solved exactly, with finite
+//! termination, by principal pivoting on the status of each dof (free, at
+//! its lower or at its upper bound): block pivots (every infeasible dof
+//! changes status at once, the primal–dual active-set step) while they
+//! reduce the number of infeasible dofs, then Murty's least-index single
+//! pivots, which terminate for every P-matrix — `D` is SPD. Each pivot
+//! solves `D_SS μ_S = bound_S − y_S` on the active set `S` by a dense
+//! Cholesky factorisation in preallocated storage: no allocation per step.
+//! Then `x = y + Σ μ_j W_j` and `x_{c_i}` is set to its bound exactly.
+
+use crate::{Active, ContactError};
+
+/// The outcome of one multi-contact solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MultiProjected {
+    /// Pivoting iterations (linear solves on the active set).
+    pub iterations: usize,
+    /// Dofs at a bound.
+    pub active: usize,
+    /// The complementarity residual: the largest bound violation of a free
+    /// dof and the largest wrong-signed multiplier times its `D_ii`
+    /// (both in units of displacement; zero up to rounding).
+    pub residual: f64,
+}
+
+/// The exact solver for `k` constrained dofs, holding the influence columns
+/// and the Delassus matrix.
+#[derive(Clone, Debug)]
+pub struct MultiProjection {
+    dofs: Vec<usize>,
+    /// `W_j = A⁻¹ e_{c_j}`, column after column (`k · n`).
+    columns: Vec<f64>,
+    n: usize,
+    /// `D` (k × k, row-major).
+    delassus: Vec<f64>,
+    // Work storage (no allocation per solve).
+    status: Vec<Active>,
+    mu: Vec<f64>,
+    z: Vec<f64>,
+    set: Vec<usize>,
+    chol: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+/// Iterations of block pivoting without progress before single pivots.
+const BLOCK_TRIES: usize = 3;
+
+impl MultiProjection {
+    /// `columns[j]` must be `A⁻¹ e_{dofs[j]}` for the SPD matrix `A` of the
+    /// step; dofs distinct and in range.
+    pub fn new(dofs: Vec<usize>, columns: Vec<Vec<f64>>) -> Result<Self, ContactError> {
+        let k = dofs.len();
+        if k == 0 || columns.len() != k {
+            return Err(ContactError::Columns { dofs: k, columns: columns.len() });
+        }
+        let n = columns[0].len();
+        for (j, &c) in dofs.iter().enumerate() {
+            if c >= n {
+                return Err(ContactError::DofOutOfRange { dof: c, n });
+            }
+            if columns[j].len() != n {
+                return Err(ContactError::Columns { dofs: k, columns: columns[j].len() });
+            }
+            if dofs[..j].contains(&c) {
+                return Err(ContactError::DuplicateDof(c));
+            }
+        }
+        let mut delassus = vec![0.0; k * k];
+        for i in 0..k {
+            for j in 0..k {
+                // Symmetrised: (A⁻¹)_{c_i c_j} computed twice by the caller.
+                delassus[i * k + j] = 0.5 * (columns[j][dofs[i]] + columns[i][dofs[j]]);
+            }
+        }
+        let mut chol = delassus.clone();
+        if !cholesky(&mut chol, k) {
+            return Err(ContactError::NotPositiveDefinite);
+        }
+        let flat = columns.into_iter().flatten().collect();
+        Ok(Self { dofs, columns: flat, n, delassus, status: vec![Active::None; k], mu: vec![0.0; k], z: vec![0.0; k], set: Vec::with_capacity(k), chol, rhs: vec![0.0; k] })
+    }
+
+    /// The constrained dofs, in the order of the bounds and multipliers.
+    pub fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+
+    /// `D_ij = (A⁻¹)_{c_i c_j}`.
+    pub fn delassus(&self, i: usize, j: usize) -> f64 {
+        self.delassus[i * self.dofs.len() + j]
+    }
+
+    /// The multipliers of the last solve, in dof order.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.mu
+    }
+
+    /// Which bound holds each dof after the last solve.
+    pub fn status(&self) -> &[Active] {
+        &self.status
+    }
+
+    /// Turns the unconstrained solution `y = A⁻¹ b` (in place) into the
+    /// constrained one. `lo[i] = -∞` or `hi[i] = +∞` give one-sided bounds;
+    /// bounds must satisfy `lo <= hi` (checked in debug builds). The
+    /// multipliers and statuses are then in [`multipliers`](Self::multipliers)
+    /// and [`status`](Self::status).
+    #[track_caller]
+    pub fn project(&mut self, y: &mut [f64], lo: &[f64], hi: &[f64]) -> Result<MultiProjected, ContactError> {
+        let k = self.dofs.len();
+        assert_eq!(y.len(), self.n, "y");
+        assert!(lo.len() == k && hi.len() == k, "bounds");
+        debug_assert!(lo.iter().zip(hi).all(|(l, h)| l <= h), "bounds");
+        // Start from the previous statuses (warm start: contact sets change
+        // little from step to step) but only where still meaningful.
+        for i in 0..k {
+            let yc = y[self.dofs[i]];
+            if (self.status[i] == Active::Lower && !lo[i].is_finite()) || (self.status[i] == Active::Upper && !hi[i].is_finite()) {
+                self.status[i] = Active::None;
+            }
+            if self.status[i] == Active::None {
+                if yc < lo[i] {
+                    self.status[i] = Active::Lower;
+                } else if yc > hi[i] {
+                    self.status[i] = Active::Upper;
+                }
+            }
+        }
+        let scale = (0..k).map(|i| y[self.dofs[i]].abs().max(finite_or_zero(lo[i]).abs()).max(finite_or_zero(hi[i]).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
+        let tol = 64.0 * f64::EPSILON * scale;
+        let max_iter = 4 * k * k + 64;
+        let (mut best, mut fails, mut single) = (usize::MAX, 0, false);
+        for it in 1..=max_iter {
+            self.solve_on_status(y, lo, hi)?;
+            let infeasible = self.infeasible(lo, hi, tol, single);
+            if infeasible == 0 {
+                let residual = self.apply(y, lo, hi);
+                return Ok(MultiProjected { iterations: it, active: self.status.iter().filter(|s| **s != Active::None).count(), residual });
+            }
+            if !single {
+                if infeasible < best {
+                    best = infeasible;
+                    fails = 0;
+                } else {
+                    fails += 1;
+                    if fails >= BLOCK_TRIES {
+                        single = true;
+                    }
+                }
+            }
+        }
+        Err(ContactError::NoConvergence { iterations: max_iter })
+    }
+
+    /// `μ_S` from `D_SS μ_S = bound_S − y_S`, `μ = 0` off `S`; then `z`.
+    fn solve_on_status(&mut self, y: &[f64], lo: &[f64], hi: &[f64]) -> Result<(), ContactError> {
+        let k = self.dofs.len();
+        self.set.clear();
+        self.set.extend((0..k).filter(|&i| self.status[i] != Active::None));
+        let s = self.set.len();
+        for (a, &i) in self.set.iter().enumerate() {
+            let bound = if self.status[i] == Active::Lower { lo[i] } else { hi[i] };
+            self.rhs[a] = bound - y[self.dofs[i]];
+            for (b, &j) in self.set.iter().enumerate() {
+                self.chol[a * s + b] = self.delassus[i * k + j];
+            }
+        }
+        if !cholesky(&mut self.chol[..s * s], s) {
+            return Err(ContactError::NotPositiveDefinite);
+        }
+        cholesky_solve(&self.chol[..s * s], s, &mut self.rhs[..s]);
+        self.mu.iter_mut().for_each(|m| *m = 0.0);
+        for (a, &i) in self.set.iter().enumerate() {
+            self.mu[i] = self.rhs[a];
+        }
+        for i in 0..k {
+            let mut zi = y[self.dofs[i]];
+            for &j in &self.set {
+                zi += self.delassus[i * k + j] * self.mu[j];
+            }
+            self.z[i] = zi;
+        }
+        Ok(())
+    }
+
+    /// Counts the infeasible dofs and changes their status: all of them
+    /// (block pivot), or only the first (`single`: Murty's least index).
+    fn infeasible(&mut self, lo: &[f64], hi: &[f64], tol: f64, single: bool) -> usize {
+        let k = self.dofs.len();
+        let mut count = 0;
+        for i in 0..k {
+            let d = self.delassus[i * k + i];
+            let next = match self.status[i] {
+                Active::None if self.z[i] < lo[i] - tol => Some(Active::Lower),
+                Active::None if self.z[i] > hi[i] + tol => Some(Active::Upper),
+                Active::Lower if self.mu[i] * d < -tol => Some(Active::None),
+                Active::Upper if self.mu[i] * d > tol => Some(Active::None),
+                _ => None,
+            };
+            if let Some(s) = next {
+                if !single || count == 0 {
+                    self.status[i] = s;
+                }
+                count += 1;
+            }
+        }
+        count
+    }
+
+    /// `x = y + Σ μ_j W_j`, bounds set exactly; returns the residual.
+    fn apply(&mut self, y: &mut [f64], lo: &[f64], hi: &[f64]) -> f64 {
+        let k = self.dofs.len();
+        for &j in &self.set {
+            let mu = self.mu[j];
+            let col = &self.columns[j * self.n..(j + 1) * self.n];
+            for (yi, wi) in y.iter_mut().zip(col) {
+                *yi += mu * wi;
+            }
+        }
+        let mut residual = 0.0_f64;
+        for i in 0..k {
+            let d = self.delassus[i * k + i];
+            match self.status[i] {
+                Active::Lower => {
+                    y[self.dofs[i]] = lo[i];
+                    residual = residual.max((-self.mu[i] * d).max(0.0));
+                }
+                Active::Upper => {
+                    y[self.dofs[i]] = hi[i];
+                    residual = residual.max((self.mu[i] * d).max(0.0));
+                }
+                Active::None => {
+                    let zi = y[self.dofs[i]];
+                    residual = residual.max((lo[i] - zi).max(zi - hi[i]).max(0.0));
+                }
+            }
+        }
+        residual
+    }
+}
+
+fn finite_or_zero(x: f64) -> f64 {
+    if x.is_finite() {
+        x
+    } else {
+        0.0
+    }
+}
+
+/// In-place dense Cholesky `L Lᵀ` of an `s × s` row-major SPD matrix (the
+/// lower triangle holds `L`); false if a pivot is not positive.
+fn cholesky(a: &mut [f64], s: usize) -> bool {
+    for j in 0..s {
+        let mut d = a[j * s + j];
+        for p in 0..j {
+            d -= a[j * s + p] * a[j * s + p];
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j * s + j] = d;
+        for i in j + 1..s {
+            let mut v = a[i * s + j];
+            for p in 0..j {
+                v -= a[i * s + p] * a[j * s + p];
+            }
+            a[i * s + j] = v / d;
+        }
+    }
+    true
+}
+
+/// Solves `L Lᵀ x = b` in place with the factor of [`cholesky`].
+fn cholesky_solve(l: &[f64], s: usize, b: &mut [f64]) {
+    for i in 0..s {
+        let mut v = b[i];
+        for p in 0..i {
+            v -= l[i * s + p] * b[p];
+        }
+        b[i] = v / l[i * s + i];
+    }
+    for i in (0..s).rev() {
+        let mut v = b[i];
+        for p in i + 1..s {
+            v -= l[p * s + i] * b[p];
+        }
+        b[i] = v / l[i * s + i];
+    }
+}
