@@ -139,6 +139,11 @@ impl MultiProjection {
                 }
             }
         }
+        // Nothing violated and nothing held: every obstacle costs a bound check.
+        if self.status.iter().all(|s| *s == Active::None) {
+            self.mu.iter_mut().for_each(|m| *m = 0.0);
+            return Ok(MultiProjected { iterations: 0, active: 0, residual: 0.0 });
+        }
         let scale = (0..k).map(|i| y[self.dofs[i]].abs().max(finite_or_zero(lo[i]).abs()).max(finite_or_zero(hi[i]).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
         let tol = 64.0 * f64::EPSILON * scale;
         let max_iter = 4 * k * k + 64;
