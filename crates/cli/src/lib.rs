@@ -337,7 +337,10 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
                 plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", "ũ(L,t) (m)", pts, None);
             }
-            let s = res.map_err(|error| CliError::Stopped { error, notes: notes.clone() })?;
+            let s = match res {
+                Ok(s) => s,
+                Err(error) => return Err(CliError::Stopped { error, notes }),
+            };
             let max = data.max_abs;
             let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m (stops {:?})", s.steps, s.contact_steps, pipe.stops)];
             lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
@@ -390,7 +393,10 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         plot(&mut notes, out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
     }
     // A run that stopped early has no norms over [0, T]: no norms.csv.
-    let s = res.map_err(|error| CliError::Stopped { error, notes: notes.clone() })?;
+    let s = match res {
+        Ok(s) => s,
+        Err(error) => return Err(CliError::Stopped { error, notes }),
+    };
     let mut lines = vec![format!("{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps", file.bar.as_ref().and_then(|b| b.benchmark.clone()).unwrap_or_else(|| "bar".into()), p.bar.elements, p.mass, b.scheme, b.dt, s.steps, s.contact_steps)];
     if let Some(n) = norms {
         let r = n.report();
