@@ -73,6 +73,9 @@ pub enum ContactError {
         /// Pivots made.
         iterations: usize,
     },
+    /// A compliance that is negative or not finite.
+    #[error("invalid compliance {0}: allowed finite and >= 0")]
+    Compliance(f64),
 }
 
 /// The result of one projection: the multiplier and which bound is active.

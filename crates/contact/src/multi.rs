@@ -44,8 +44,11 @@ pub struct MultiProjection {
     /// `W_j = A⁻¹ e_{c_j}`, column after column (`k · n`).
     columns: Vec<f64>,
     n: usize,
-    /// `D` (k × k, row-major).
+    /// `D` (k × k, row-major), plus the compliance on its diagonal.
     delassus: Vec<f64>,
+    /// Per-dof compliance `c_i >= 0` (0: a rigid bound; see
+    /// [`MultiProjection::with_compliance`]).
+    compliance: Vec<f64>,
     // Work storage (no allocation per solve).
     status: Vec<Active>,
     mu: Vec<f64>,
@@ -90,7 +93,34 @@ impl MultiProjection {
             return Err(ContactError::NotPositiveDefinite);
         }
         let flat = columns.into_iter().flatten().collect();
-        Ok(Self { dofs, columns: flat, n, delassus, status: vec![Active::None; k], mu: vec![0.0; k], z: vec![0.0; k], set: Vec::with_capacity(k), chol, rhs: vec![0.0; k] })
+        Ok(Self { dofs, columns: flat, n, delassus, compliance: vec![0.0; k], status: vec![Active::None; k], mu: vec![0.0; k], z: vec![0.0; k], set: Vec::with_capacity(k), chol, rhs: vec![0.0; k] })
+    }
+
+    /// Makes the bounds compliant: dof `i` may pass its bound by `c_i μ_i`,
+    ///
+    /// ```text
+    /// lo_i <= x_{c_i} + c_i μ_i <= hi_i   (complementary to μ_i),
+    /// ```
+    ///
+    /// which is a spring law: outside `[lo_i, hi_i]` the multiplier is
+    /// `μ_i = (lo_i − x_{c_i})/c_i` (or `(hi_i − x_{c_i})/c_i`), a spring of
+    /// stiffness `1/c_i` in the units of `μ` (a penalty step with force
+    /// `N = κ (lo − x)⁺ − κ (x − hi)⁺` and `μ = a N` has `c = 1/(a κ)`).
+    /// The problem stays a box LCP, on `D + diag(c)` (SPD), solved by the
+    /// same pivoting. `c_i = 0` keeps dof `i` rigid.
+    pub fn with_compliance(mut self, compliance: Vec<f64>) -> Result<Self, ContactError> {
+        let k = self.dofs.len();
+        if compliance.len() != k {
+            return Err(ContactError::Columns { dofs: k, columns: compliance.len() });
+        }
+        if let Some(&bad) = compliance.iter().find(|c| !(c.is_finite() && **c >= 0.0)) {
+            return Err(ContactError::Compliance(bad));
+        }
+        for (i, c) in compliance.iter().enumerate() {
+            self.delassus[i * k + i] += c - self.compliance[i];
+        }
+        self.compliance = compliance;
+        Ok(self)
     }
 
     /// The constrained dofs, in the order of the bounds and multipliers.
@@ -98,9 +128,14 @@ impl MultiProjection {
         &self.dofs
     }
 
-    /// `D_ij = (A⁻¹)_{c_i c_j}`.
+    /// `D_ij = (A⁻¹)_{c_i c_j}` (without the compliance).
     pub fn delassus(&self, i: usize, j: usize) -> f64 {
-        self.delassus[i * self.dofs.len() + j]
+        let d = self.delassus[i * self.dofs.len() + j];
+        if i == j {
+            d - self.compliance[i]
+        } else {
+            d
+        }
     }
 
     /// The multipliers of the last solve, in dof order.
@@ -225,7 +260,7 @@ impl MultiProjection {
         count
     }
 
-    /// `x = y + Σ μ_j W_j`, bounds set exactly; returns the residual.
+    /// `x = y + Σ μ_j W_j`, rigid bounds set exactly; returns the residual.
     fn apply(&mut self, y: &mut [f64], lo: &[f64], hi: &[f64]) -> f64 {
         let k = self.dofs.len();
         for &j in &self.set {
@@ -238,6 +273,17 @@ impl MultiProjection {
         let mut residual = 0.0_f64;
         for i in 0..k {
             let d = self.delassus[i * k + i];
+            let ci = self.compliance[i];
+            if ci > 0.0 {
+                // A spring: x_c + c μ is what the bounds hold.
+                let zi = y[self.dofs[i]] + ci * self.mu[i];
+                residual = residual.max(match self.status[i] {
+                    Active::Lower => (-self.mu[i] * d).max(0.0).max((zi - lo[i]).abs()),
+                    Active::Upper => (self.mu[i] * d).max(0.0).max((zi - hi[i]).abs()),
+                    Active::None => (lo[i] - zi).max(zi - hi[i]).max(0.0),
+                });
+                continue;
+            }
             match self.status[i] {
                 Active::Lower => {
                     y[self.dofs[i]] = lo[i];

@@ -196,3 +196,84 @@ fn one_dof_equals_the_closed_form() {
         }
     }
 }
+
+/// The spring law by enumeration, independent of the Delassus form: for
+/// each assignment of springs (off, lower engaged, upper engaged) solve the
+/// stiffened system `(A + Σ κ_i e e ᵀ) x = b + Σ κ_i bound_i e` and keep the
+/// one whose engaged springs are stretched and whose others are inside.
+fn brute_force_springs(a: &[Vec<f64>], b: &[f64], dofs: &[usize], lo: &[f64], hi: &[f64], kappa: &[f64]) -> Vec<f64> {
+    let k = dofs.len();
+    for code in 0..3usize.pow(k as u32) {
+        let st: Vec<usize> = (0..k).map(|i| code / 3usize.pow(i as u32) % 3).collect();
+        if (0..k).any(|i| (st[i] == 1 && !lo[i].is_finite()) || (st[i] == 2 && !hi[i].is_finite())) {
+            continue;
+        }
+        let mut m = a.to_vec();
+        let mut r = b.to_vec();
+        for i in (0..k).filter(|&i| st[i] != 0) {
+            let bound = if st[i] == 1 { lo[i] } else { hi[i] };
+            m[dofs[i]][dofs[i]] += kappa[i];
+            r[dofs[i]] += kappa[i] * bound;
+        }
+        let x = solve(&m, &r);
+        let tol = 1e-9;
+        if (0..k).all(|i| {
+            let xc = x[dofs[i]];
+            match st[i] {
+                0 => xc >= lo[i] - tol && xc <= hi[i] + tol,
+                1 => xc <= lo[i] + tol,
+                _ => xc >= hi[i] - tol,
+            }
+        }) {
+            return x;
+        }
+    }
+    panic!("no spring assignment is consistent");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// Compliant bounds (`with_compliance`, c = 1/κ) are the penalty law:
+    /// the solve equals the brute-force spring solution, and each
+    /// multiplier is the spring force `κ (lo − x)⁺ − κ (x − hi)⁺`.
+    #[test]
+    fn compliance_is_the_spring_law(
+        n in 3usize..16, p in 1usize..4, gram in any::<bool>(),
+        vals in prop::collection::vec(-1.0f64..1.0, 64),
+        picks in prop::collection::vec(0usize..1000, 1..7),
+        codes in prop::collection::vec((0u8..3, -1.0f64..0.5, 0.0f64..1.0, -2.0f64..4.0), 6),
+        b in prop::collection::vec(-3.0f64..3.0, 16),
+    ) {
+        let a = spd(n, p, &vals, gram);
+        let b = &b[..n];
+        let mut dofs: Vec<usize> = picks.iter().map(|q| q % n).collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        let k = dofs.len();
+        let (lo, hi): (Vec<f64>, Vec<f64>) = codes[..k].iter().map(|&(c, x, w, _)| bounds_of(c, x, w)).unzip();
+        let kappa: Vec<f64> = codes[..k].iter().map(|c| 10f64.powf(c.3)).collect();
+        let x_ref = brute_force_springs(&a, b, &dofs, &lo, &hi, &kappa);
+        let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| solve(&a, &(0..n).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>())).collect();
+        let mut mp = MultiProjection::new(dofs.clone(), cols).unwrap().with_compliance(kappa.iter().map(|k| 1.0 / k).collect()).unwrap();
+        let mut x = solve(&a, b);
+        let rep = mp.project(&mut x, &lo, &hi).unwrap();
+        let scale = x_ref.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        let err = x.iter().zip(&x_ref).fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
+        prop_assert!(err <= 1e-10 * scale, "x differs by {err:e} (k = {k}, {} iterations)", rep.iterations);
+        for (i, &c) in dofs.iter().enumerate() {
+            let spring = kappa[i] * (lo[i] - x[c]).max(0.0) - kappa[i] * (x[c] - hi[i]).max(0.0);
+            let m = mp.multipliers()[i];
+            prop_assert!((m - spring).abs() <= 1e-9 * (1.0 + kappa[i]) * scale, "μ_{i} = {m}, spring {spring}");
+        }
+    }
+}
+
+#[test]
+fn bad_compliance_is_a_typed_error() {
+    let a = vec![vec![2.0, -1.0, 0.0], vec![-1.0, 2.0, -1.0], vec![0.0, -1.0, 2.0]];
+    let col = |c: usize| solve(&a, &(0..3).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>());
+    let mp = || MultiProjection::new(vec![0, 2], vec![col(0), col(2)]).unwrap();
+    assert_eq!(mp().with_compliance(vec![1.0, -1.0]).unwrap_err(), ContactError::Compliance(-1.0));
+    assert_eq!(mp().with_compliance(vec![f64::NAN, 1.0]).unwrap_err().to_string(), "invalid compliance NaN: allowed finite and >= 0");
+    assert!(matches!(mp().with_compliance(vec![1.0]).unwrap_err(), ContactError::Columns { .. }));
+}
