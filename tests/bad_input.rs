@@ -109,6 +109,12 @@ impl Stepper for Failing {
     fn energy(&mut self) -> Option<(f64, f64)> {
         Some((self.time(), 1.0))
     }
+    fn contact_forces(&self) -> &[f64] {
+        &[-1.0]
+    }
+    fn contact_status(&self) -> &[signorini::contact::Active] {
+        &[signorini::contact::Active::Lower]
+    }
 }
 
 #[test]

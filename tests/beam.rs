@@ -189,7 +189,7 @@ fn lifted_data_of_the_paper_pipe() {
             assert!((g - x).abs() <= 1e-12 * x.abs().max(1e-3), "J = {j}: shape[{i}] = {g}, by hand {x}");
         }
         assert!(dy.load.iter().all(|&x| x == 0.0));
-        assert_eq!(dy.bounds, Bounds { lo: -0.1, hi: 0.1 });
+        assert_eq!(dy.contact().bounds, Bounds { lo: -0.1, hi: 0.1 });
     }
 }
 
@@ -199,8 +199,8 @@ fn lifted_data_of_the_paper_pipe() {
 fn penalty_force_law() {
     let pipe = Pipe::paper();
     let (_, dy, init) = pipe.dynamics(19).unwrap();
-    let tip = dy.contact_dof;
-    let Bounds { lo, hi } = dy.bounds;
+    let tip = dy.contact().dof;
+    let Bounds { lo, hi } = dy.contact().bounds;
     let kappa = 1e8 / pipe.rho_s;
     let mut s = OneStep::new("pen".into(), dy, OneStepParams::newmark(0.25, 0.5), 5e-6, &init).unwrap().with_contact_law(ContactLaw::Penalty { stiffness: kappa }).unwrap();
     let mut max_excess: f64 = 0.0;

@@ -10,7 +10,7 @@
 
 use crate::RunError;
 use signorini_fem::{max_generalized_eigenvalue, Beam};
-use signorini_schemes::{Bounds, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
 
 /// The pipe of the paper and its support motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,9 +54,7 @@ impl Pipe {
             mass: beam.mass(),
             stiffness: beam.stiffness(),
             load: vec![0.0; n],
-            contact_dof: beam.tip_dof(),
-            massless_contact: false,
-            bounds: Bounds { lo: self.stops.0, hi: self.stops.1 },
+            contacts: vec![Contact::new(beam.tip_dof(), Bounds { lo: self.stops.0, hi: self.stops.1 }, false)],
             forcing: Some(Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }),
         };
         let v = beam.interpolate(|x| -a * w * self.lifting(x).0, |x| -a * w * self.lifting(x).1);

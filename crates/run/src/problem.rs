@@ -4,7 +4,7 @@ use crate::RunError;
 use signorini_exact::{BarDirichlet, BarNeumannGravity, ExactSolution, FarEnd};
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_norms::VNorm;
-use signorini_schemes::{Bounds, Dynamics, Initial};
+use signorini_schemes::{Bounds, Contact, Dynamics, Initial};
 use std::fmt;
 use std::str::FromStr;
 
@@ -52,9 +52,7 @@ impl BarProblem {
             mass: self.bar.mass(self.mass),
             stiffness: self.bar.stiffness(),
             load: self.bar.load(|_| f),
-            contact_dof: 0,
-            massless_contact: self.mass.massless_contact_node(),
-            bounds: Bounds::obstacle(self.gap),
+            contacts: vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())],
             forcing: None,
         }
     }

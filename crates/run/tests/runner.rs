@@ -15,7 +15,7 @@
 use signorini_contact::Active;
 use signorini_fem::{Bar, BarMass, RightEnd, SymBand};
 use signorini_run::{run, BarProblem, History, Observer, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
-use signorini_schemes::{Bounds, Dynamics, Forcing, SchemeError, SchemeSpec, StepReport, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, SchemeError, SchemeSpec, StepReport, Stepper, TimeProfile};
 
 /// What a [`Scripted`] stepper does at a step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,6 +83,12 @@ impl Stepper for Scripted {
         let poison: f64 = self.u.iter().map(|x| 0.0 * x).sum();
         Some((self.time(), (self.energy)(self.n) + poison))
     }
+    fn contact_forces(&self) -> &[f64] {
+        &[0.0]
+    }
+    fn contact_status(&self) -> &[Active] {
+        &[Active::None]
+    }
 }
 
 /// Two unknowns, `M = [1 0.25; 0.25 1]` (total mass 2.5), `K = [2 -1; -1 2]`,
@@ -96,7 +102,7 @@ fn dynamics(load: [f64; 2], forcing: Option<Forcing>) -> Dynamics {
     stiffness.set(0, 0, 2.0);
     stiffness.set(1, 1, 2.0);
     stiffness.set(1, 0, -1.0);
-    Dynamics { mass, stiffness, load: load.to_vec(), contact_dof: 0, massless_contact: false, bounds: Bounds::obstacle(0.0), forcing }
+    Dynamics { mass, stiffness, load: load.to_vec(), contacts: vec![Contact::new(0, Bounds::obstacle(0.0), false)], forcing }
 }
 
 /// An observer that wants energies and records nothing.

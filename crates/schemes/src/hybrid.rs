@@ -85,6 +85,8 @@ pub struct Reduced {
     lambda: f64,
     /// `A^n` (reduced), for the explicit central difference.
     acc: Vec<f64>,
+    lams: [f64; 1],
+    acts: [Active; 1],
 }
 
 impl Reduced {
@@ -94,13 +96,16 @@ impl Reduced {
     pub fn new(label: String, dy: Dynamics, law: ReducedLaw, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         let n = dy.n();
-        if !dy.massless_contact {
+        if dy.k() > 1 {
+            return Err(SchemeError::Structure("the reduced schemes (hybrid, reduced-cn, cd-massless) eliminate one massless contact node at dof 0; several contacts: use newmark, theta, ps, penalty or moreau-jean"));
+        }
+        if !dy.massless_contact() {
             return Err(SchemeError::MassNotSupported {
                 scheme: label,
                 needs: "a massless contact node (mass mod, mod1, mod2, mod3, transfer or singular)",
             });
         }
-        if dy.bounds.hi.is_finite() {
+        if dy.contact().bounds.hi.is_finite() {
             return Err(SchemeError::Structure("the reduced schemes handle a one-sided obstacle only"));
         }
         if n < 2 {
@@ -127,7 +132,7 @@ impl Reduced {
         let mut w = vec![0.0; n - 1];
         w[0] = 1.0;
         a.solve_in_place(&mut w);
-        let g = dy.bounds.lo;
+        let g = dy.contact().bounds.lo;
         let a_shift = dy.load[0] / k;
         let mut f_eff = dy.load[1..].to_vec();
         f_eff[0] += dy.load[0];
@@ -150,6 +155,8 @@ impl Reduced {
             tmp: vec![0.0; n - 1],
             lambda: 0.0,
             acc: vec![0.0; n - 1],
+            lams: [0.0],
+            acts: [Active::None],
             dy,
         };
         s.equilibrate();
@@ -162,7 +169,7 @@ impl Reduced {
     /// `u_0 = max(u_1 + a, g)` and the force that holds it.
     fn equilibrate(&mut self) -> f64 {
         let w = self.u[1] - self.g_hat;
-        self.u[0] = (self.u[1] + self.a_shift).max(self.dy.bounds.lo);
+        self.u[0] = (self.u[1] + self.a_shift).max(self.dy.contact().bounds.lo);
         self.lambda = self.k * w.min(0.0);
         w
     }
@@ -263,9 +270,22 @@ impl Stepper for Reduced {
     stepper_accessors!();
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
-        if self.law == ReducedLaw::CentralDifference {
-            return self.step_central_difference();
-        }
+        let r = if self.law == ReducedLaw::CentralDifference { self.step_central_difference()? } else { self.step_implicit()? };
+        self.lams[0] = self.lambda;
+        self.acts[0] = r.active;
+        Ok(r)
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        let kin = self.m_star.quad_form(&self.v);
+        let pot = self.dy.stiffness.quad_form(&self.u);
+        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+    }
+}
+
+impl Reduced {
+    fn step_implicit(&mut self) -> Result<StepReport, SchemeError> {
         let dt = self.dt;
         let q = dt * dt / 4.0;
         let wn = self.u[1] - self.g_hat;
@@ -306,12 +326,5 @@ impl Stepper for Reduced {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         Ok(StepReport { n: self.n, t, lambda: Some((t, self.lambda)), active: if w_new < 0.0 { Active::Lower } else { Active::None } })
-    }
-
-    fn energy(&mut self) -> Option<(f64, f64)> {
-        let kin = self.m_star.quad_form(&self.v);
-        let pot = self.dy.stiffness.quad_form(&self.u);
-        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
-        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
     }
 }

@@ -29,7 +29,8 @@
 //! `signorini-fem` (matrices, factorisation) and `signorini-contact`.
 
 /// The accessors every stepper implements the same way, from its fields
-/// `label`, `dt`, `n` (level) and `u` (displacement).
+/// `label`, `dt`, `n` (level), `u` (displacement), `dy` (the problem),
+/// `lams` and `acts` (per-contact force and status of the last step).
 macro_rules! stepper_accessors {
     () => {
         fn label(&self) -> String {
@@ -47,11 +48,18 @@ macro_rules! stepper_accessors {
         fn dynamics(&self) -> &crate::Dynamics {
             &self.dy
         }
+        fn contact_forces(&self) -> &[f64] {
+            &self.lams
+        }
+        fn contact_status(&self) -> &[signorini_contact::Active] {
+            &self.acts
+        }
     };
 }
 
 mod hybrid;
 mod moreau;
+mod multi;
 mod nitsche;
 mod onestep;
 mod paoli;
@@ -239,22 +247,45 @@ pub enum ContactLaw {
     },
 }
 
+/// One constrained dof: `lo <= u_dof <= hi`, with the contact law's
+/// per-contact parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// The constrained dof.
+    pub dof: usize,
+    /// Its bounds.
+    pub bounds: Bounds,
+    /// Whether the dof carries no mass (its rows of `M` are zero; it then
+    /// evolves quasi-statically: `(K U)_c = F_c - λ`).
+    pub massless: bool,
+    /// The restitution coefficient of this contact, overriding the scheme's
+    /// (Paoli–Schatzman, Moreau–Jean); `None`: the scheme's.
+    pub restitution: Option<f64>,
+    /// The penalty stiffness of this stop, overriding the law's; `None`:
+    /// the law's.
+    pub stiffness: Option<f64>,
+}
+
+impl Contact {
+    /// A contact with the scheme's restitution and stiffness.
+    pub fn new(dof: usize, bounds: Bounds, massless: bool) -> Self {
+        Self { dof, bounds, massless, restitution: None, stiffness: None }
+    }
+}
+
 /// The semi-discrete problem a scheme integrates (scheme-agnostic).
 #[derive(Clone, Debug)]
 pub struct Dynamics {
-    /// Mass matrix `M` (row/column `contact_dof` zero when the node is massless).
+    /// Mass matrix `M` (rows/columns of massless contacts zero).
     pub mass: SymBand,
     /// Stiffness matrix `K`.
     pub stiffness: SymBand,
     /// Steady load vector `F` (time-independent).
     pub load: Vec<f64>,
-    /// The contact dof `c`.
-    pub contact_dof: usize,
-    /// Whether the contact dof carries no mass (then it must be dof 0 and
-    /// evolves quasi-statically: `(K U)_c = F_c - λ`).
-    pub massless_contact: bool,
-    /// Bounds on `u_c`.
-    pub bounds: Bounds,
+    /// The constrained dofs (at least one), in stop order. With one, every
+    /// scheme uses the closed-form projection; with several, the exact
+    /// multi-contact solve ([`signorini_contact::MultiProjection`]).
+    pub contacts: Vec<Contact>,
     /// Time-dependent load added to `load`, if any.
     pub forcing: Option<Forcing>,
 }
@@ -265,7 +296,24 @@ impl Dynamics {
         self.mass.n()
     }
 
-    /// Checks sizes and structure.
+    /// The first contact (the only one of a single-contact problem).
+    pub fn contact(&self) -> &Contact {
+        &self.contacts[0]
+    }
+
+    /// Number of contacts.
+    pub fn k(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// Whether the contacts are massless (all of them; see [`validate`](Self::validate)).
+    pub fn massless_contact(&self) -> bool {
+        self.contacts.first().is_some_and(|c| c.massless)
+    }
+
+    /// Checks sizes and structure: at least one contact, distinct dofs in
+    /// range, valid bounds, every contact massless or every one massive,
+    /// and a massless contact's rows of `M` zero.
     pub fn validate(&self) -> Result<(), SchemeError> {
         let n = self.n();
         for (what, got) in [("stiffness", self.stiffness.n()), ("load", self.load.len())] {
@@ -273,13 +321,41 @@ impl Dynamics {
                 return Err(SchemeError::Size { what, got, expected: n });
             }
         }
-        if self.contact_dof >= n {
-            return Err(SchemeError::Size { what: "contact dof", got: self.contact_dof, expected: n });
+        if self.contacts.is_empty() {
+            return Err(SchemeError::Structure("at least one contact is needed"));
         }
-        if self.massless_contact && self.contact_dof != 0 {
-            return Err(SchemeError::Structure("a massless contact node must be dof 0"));
+        let massless = self.contacts[0].massless;
+        for (i, c) in self.contacts.iter().enumerate() {
+            if c.dof >= n {
+                return Err(SchemeError::Size { what: "contact dof", got: c.dof, expected: n });
+            }
+            if self.contacts[..i].iter().any(|d| d.dof == c.dof) {
+                return Err(SchemeError::Contact(signorini_contact::ContactError::DuplicateDof(c.dof)));
+            }
+            if c.massless != massless {
+                return Err(SchemeError::Structure("every contact must be massless, or every one massive (one mass treatment for all contact nodes)"));
+            }
+            if c.massless {
+                let p = self.mass.half_bandwidth();
+                if (c.dof.saturating_sub(p)..(c.dof + p + 1).min(n)).any(|j| self.mass.get(c.dof, j) != 0.0) {
+                    return Err(SchemeError::Structure("a massless contact's row of M must be zero"));
+                }
+            }
+            signorini_contact::check_bounds(c.bounds.lo, c.bounds.hi)?;
+            if let Some(e) = c.restitution {
+                if !(0.0..=1.0).contains(&e) {
+                    return Err(SchemeError::Invalid { field: "restitution", value: e, allowed: "[0, 1]" });
+                }
+            }
+            if let Some(k) = c.stiffness {
+                if !(k > 0.0 && k.is_finite()) {
+                    return Err(SchemeError::Invalid { field: "penalty stiffness", value: k, allowed: "finite and > 0" });
+                }
+            }
         }
-        signorini_contact::check_bounds(self.bounds.lo, self.bounds.hi)?;
+        if self.contacts.len() == 1 && massless && self.contacts[0].dof != 0 {
+            return Err(SchemeError::Structure("a single massless contact node must be dof 0"));
+        }
         if let Some(f) = &self.forcing {
             if f.shape.len() != n {
                 return Err(SchemeError::Size { what: "forcing shape", got: f.shape.len(), expected: n });
@@ -315,9 +391,25 @@ impl Dynamics {
         (f * t_end).powi(2) / (2.0 * m)
     }
 
-    /// First massive dof (massless contact node, if any, is dof 0).
+    /// First massive dof of a single-contact problem (its massless contact
+    /// node, if any, is dof 0).
     pub(crate) fn massive_start(&self) -> usize {
-        usize::from(self.massless_contact)
+        usize::from(self.massless_contact() && self.k() == 1)
+    }
+
+    /// The factor of `M` on the massive dofs, for kinetic energies and
+    /// velocities: the trailing block past a massless dof 0 (one contact),
+    /// or `M` with a unit diagonal on every massless contact row (several:
+    /// those rows and columns are zero, so the unit entries decouple).
+    pub(crate) fn massive_factor(&self) -> Result<signorini_fem::BandLdlt, SchemeError> {
+        if self.k() == 1 || !self.massless_contact() {
+            return Ok(self.mass.trailing(self.massive_start()).factor()?);
+        }
+        let mut m = self.mass.clone();
+        for c in &self.contacts {
+            m.set(c.dof, c.dof, 1.0);
+        }
+        Ok(m.factor()?)
     }
 }
 
@@ -337,12 +429,14 @@ pub struct StepReport {
     pub n: usize,
     /// Its time `t_n = n dt`.
     pub t: f64,
-    /// The contact force the step produced and the time it belongs to
+    /// Contact 0's force (every contact's: [`Stepper::contact_forces`]):
+    /// the contact force the step produced and the time it belongs to
     /// (`t_{n}` for Newmark/θ; `t_{n-1}` for Paoli–Schatzman with a massive
     /// contact node, `t_n` with a massless one), or `None` for a start step
     /// whose force is not part of the scheme's sequence.
     pub lambda: Option<(f64, f64)>,
-    /// Whether the constraint was active.
+    /// Whether the constraint of contact 0 was active (every contact's
+    /// status: [`Stepper::contact_status`]).
     pub active: signorini_contact::Active,
 }
 
@@ -364,6 +458,12 @@ pub trait Stepper: Send {
     fn dynamics(&self) -> &Dynamics;
     /// Advances one step.
     fn step(&mut self) -> Result<StepReport, SchemeError>;
+    /// The force `λ_i` of every contact after the last step, in contact
+    /// order, at the time of the report's `lambda` (the report holds
+    /// contact 0's); zeros before the first step.
+    fn contact_forces(&self) -> &[f64];
+    /// Which bound holds each contact after the last step.
+    fn contact_status(&self) -> &[signorini_contact::Active];
     /// The scheme's natural discrete energy and the time it belongs to
     /// (`t_n` for one-step schemes, `t_{n-1/2}` for Paoli–Schatzman), with
     /// the load potential `-Fᵀ U`. `None` before the first step of a

@@ -18,6 +18,7 @@
 //! but a gain when the predicted-active node is already separating
 //! (`v_c^n > 0`) and the impulse holds it — the velocity-level law's price.
 
+use crate::multi::MultiSolve;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -38,17 +39,21 @@ pub struct MoreauJean {
     tmp: Vec<f64>,
     ktmp: Vec<f64>,
     impulse: f64,
+    lams: Vec<f64>,
+    acts: Vec<Active>,
+    /// Several contacts: the exact solve on the velocities.
+    multi: Option<MultiSolve>,
 }
 
 impl MoreauJean {
     /// Sets up the scheme (needs a massive contact node; θ ∈ [1/2, 1], e ∈ [0, 1]).
     pub fn new(label: String, dy: Dynamics, theta: f64, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
-        if dy.massless_contact {
+        if dy.massless_contact() {
             return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the impact law acts on its velocity" });
         }
-        if dy.bounds.hi.is_finite() {
-            return Err(SchemeError::Structure("Moreau–Jean here handles a one-sided obstacle"));
+        if dy.k() == 1 && dy.contact().bounds.hi.is_finite() {
+            return Err(SchemeError::Structure("Moreau–Jean here handles a one-sided obstacle (two-sided stops: as two contacts, or ps)"));
         }
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
@@ -60,17 +65,57 @@ impl MoreauJean {
             }
         }
         let a = dy.mass.lin_comb(1.0, &dy.stiffness, theta * theta * dt * dt).factor()?;
-        let c = dy.contact_dof;
+        let c = dy.contact().dof;
+        let k = dy.k();
+        let multi = if k > 1 { Some(MultiSolve::new(&dy, &a)?) } else { None };
         let mut w = vec![0.0; n];
         w[c] = 1.0;
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
-        Ok(Self { label, theta, restitution, dt, n: 0, a, proj, u: init.u.clone(), v: init.v.clone(), rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n], impulse: 0.0, dy })
+        Ok(Self { label, theta, restitution, dt, n: 0, a, proj, u: init.u.clone(), v: init.v.clone(), rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n], impulse: 0.0, lams: vec![0.0; k], acts: vec![Active::None; k], multi, dy })
     }
 
     /// Velocity `V^n`.
     pub fn velocity(&self) -> &[f64] {
         &self.v
+    }
+
+    /// Several contacts: each contact predicted active at its lower
+    /// (upper) stop, `u_c + dt/2 v_c <= lo` (`>= hi`), gets Newton's law
+    /// `v_c^{n+1} >= -e_i v_c^n` (`<=`); the others are free; one exact
+    /// solve for all (`rhs` holds the unconstrained `V^{n+1}`).
+    fn finish_multi(&mut self) -> Result<StepReport, SchemeError> {
+        let (dt, th) = (self.dt, self.theta);
+        let ms = self.multi.as_mut().expect("several contacts");
+        for (i, ct) in self.dy.contacts.iter().enumerate() {
+            let (vc, uc) = (self.v[ct.dof], self.u[ct.dof]);
+            let e = ct.restitution.unwrap_or(self.restitution);
+            let pred = uc + 0.5 * dt * vc;
+            ms.lo[i] = if pred <= ct.bounds.lo { -e * vc } else { f64::NEG_INFINITY };
+            ms.hi[i] = if pred >= ct.bounds.hi { -e * vc } else { f64::INFINITY };
+            if ms.lo[i] > ms.hi[i] {
+                // Both stops predicted active (a gap below dt/2 v): the lower wins.
+                ms.hi[i] = f64::INFINITY;
+            }
+        }
+        let (mu, st) = ms.solve(&mut self.rhs)?;
+        for (i, (&m, &a)) in mu.iter().zip(st).enumerate() {
+            self.lams[i] = -m / dt;
+            self.acts[i] = a;
+        }
+        for ((u, v), vn) in self.u.iter_mut().zip(self.v.iter_mut()).zip(&self.rhs) {
+            *u += dt * ((1.0 - th) * *v + th * vn);
+            *v = *vn;
+        }
+        self.impulse = -self.lams[0] * dt;
+        self.n += 1;
+        let t = self.time();
+        for (ct, lam) in self.dy.contacts.iter().zip(&self.lams) {
+            if !(self.u[ct.dof].is_finite() && lam.is_finite()) {
+                return Err(SchemeError::NonFinite { step: self.n, time: t });
+            }
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
     }
 
     /// The impulse `p` of the last step.
@@ -84,7 +129,7 @@ impl Stepper for MoreauJean {
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let (dt, th) = (self.dt, self.theta);
-        let c = self.dy.contact_dof;
+        let c = self.dy.contact().dof;
         // rhs = M V - dt K (U + θ(1-θ) dt V) + dt F
         self.dy.mass.mul_vec(&self.v, &mut self.rhs);
         for ((t, u), v) in self.tmp.iter_mut().zip(&self.u).zip(&self.v) {
@@ -95,10 +140,14 @@ impl Stepper for MoreauJean {
             *b += dt * (f - k);
         }
         self.a.solve_in_place(&mut self.rhs);
+        if self.multi.is_some() {
+            return self.finish_multi();
+        }
         let (vc, uc) = (self.v[c], self.u[c]);
-        let predicted_active = uc + 0.5 * dt * vc <= self.dy.bounds.lo;
+        let predicted_active = uc + 0.5 * dt * vc <= self.dy.contact().bounds.lo;
         let (p, active) = if predicted_active {
-            let pr = self.proj.project(&mut self.rhs, -self.restitution * vc, f64::INFINITY);
+            let e = self.dy.contact().restitution.unwrap_or(self.restitution);
+            let pr = self.proj.project(&mut self.rhs, -e * vc, f64::INFINITY);
             (pr.mu, pr.active)
         } else {
             (0.0, Active::None)
@@ -115,6 +164,7 @@ impl Stepper for MoreauJean {
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
+        (self.lams[0], self.acts[0]) = (lambda, active);
         Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active })
     }
 

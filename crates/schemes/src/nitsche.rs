@@ -47,6 +47,8 @@ pub struct Nitsche {
     rhs: Vec<f64>,
     ku: Vec<f64>,
     force: f64,
+    lams: [f64; 1],
+    acts: [Active; 1],
 }
 
 impl Nitsche {
@@ -56,10 +58,13 @@ impl Nitsche {
     pub fn new(label: String, dy: Dynamics, beta: f64, gamma_t: f64, gamma0: f64, theta: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         let n = dy.n();
-        if dy.contact_dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
+        if dy.k() > 1 {
+            return Err(SchemeError::Structure("Nitsche's method is formulated here at the bar's end node 0 (its flux σ = c² u_x(0) is one element's); several contacts: use newmark, theta, ps, penalty or moreau-jean"));
+        }
+        if dy.contact().dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
             return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
         }
-        if dy.bounds.hi.is_finite() {
+        if dy.contact().bounds.hi.is_finite() {
             return Err(SchemeError::Structure("Nitsche here handles a one-sided obstacle"));
         }
         if !(dt > 0.0 && dt.is_finite()) {
@@ -112,9 +117,11 @@ impl Nitsche {
             rhs: vec![0.0; n],
             ku: vec![0.0; n],
             force: 0.0,
+            lams: [0.0],
+            acts: [Active::None],
             dy,
         };
-        if s.dy.massless_contact {
+        if s.dy.massless_contact() {
             s.mom[0] = 0.0;
         }
         s.update_r();
@@ -122,7 +129,7 @@ impl Nitsche {
     }
 
     fn p_gamma(&self) -> f64 {
-        self.q[0] * self.u[0] + self.q[1] * self.u[1] - self.gamma_n * self.dy.bounds.lo
+        self.q[0] * self.u[0] + self.q[1] * self.u[1] - self.gamma_n * self.dy.contact().bounds.lo
     }
 
     /// `R = F - K_N U - N(U)`, `N = min(0, P_γ) r`; R_0 = 0 for a massless node.
@@ -134,7 +141,7 @@ impl Nitsche {
         self.force = self.p_gamma().min(0.0);
         self.acc_r[0] -= self.force * self.r[0];
         self.acc_r[1] -= self.force * self.r[1];
-        if self.dy.massless_contact {
+        if self.dy.massless_contact() {
             self.acc_r[0] = 0.0;
         }
     }
@@ -172,7 +179,7 @@ impl Stepper for Nitsche {
             *b += dt * p + ao * r + an * f;
         }
         self.a.solve_in_place(&mut self.rhs);
-        let gg = self.gamma_n * self.dy.bounds.lo;
+        let gg = self.gamma_n * self.dy.contact().bounds.lo;
         let s_y = self.q[0] * self.rhs[0] + self.q[1] * self.rhs[1];
         // s = s_y - W min(0, s - γg): free branch if s_y >= γg.
         let s = if s_y >= gg { s_y } else { (s_y + self.w * gg) / (1.0 + self.w) };
@@ -192,7 +199,7 @@ impl Stepper for Nitsche {
             *p += dt * ((1.0 - g) * ro + g * rn);
         }
         self.rhs = r_old;
-        if self.dy.massless_contact {
+        if self.dy.massless_contact() {
             self.mom[0] = 0.0;
         }
         self.n += 1;
@@ -200,7 +207,9 @@ impl Stepper for Nitsche {
         if !(self.u[0].is_finite() && self.force.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, self.force)), active: if self.force < 0.0 { Active::Lower } else { Active::None } })
+        let active = if self.force < 0.0 { Active::Lower } else { Active::None };
+        (self.lams[0], self.acts[0]) = (self.force, active);
+        Ok(StepReport { n: self.n, t, lambda: Some((t, self.force)), active })
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {

@@ -24,6 +24,7 @@
 //! is solved exactly branch by branch (docs/theory.md §3), `λ = -N`. A time-dependent
 //! load ([`crate::Forcing`]) enters as its value `F(t_{n+1})`.
 
+use crate::multi::MultiSolve;
 use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear, Projection};
 use signorini_fem::BandLdlt;
@@ -79,6 +80,17 @@ pub struct OneStep {
     s_now: f64,
     /// Diagonals of M and K for the fused tridiagonal path (bar).
     tri: Option<Tridiagonals>,
+    /// Per-contact force and status of the last step.
+    lams: Vec<f64>,
+    acts: Vec<Active>,
+    /// The forces of the step before (several contacts: for the work).
+    prev_lams: Vec<f64>,
+    /// Several contacts: the exact solve (None with one contact, or for an
+    /// explicit step, which needs none), the contact displacements before
+    /// the step, the penalty stiffness of each stop.
+    multi: Option<MultiSolve>,
+    uc_prev: Vec<f64>,
+    kappas: Vec<f64>,
 }
 
 /// `M` and `K` as (diagonal, sub-diagonal) pairs; `sub[i] = A[i][i-1]`.
@@ -147,12 +159,14 @@ impl OneStep {
         }
         let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, prm.a_new * dt * dt);
         let a = a_mat.factor()?;
-        let c = dy.contact_dof;
+        let c = dy.contact().dof;
+        let k = dy.k();
+        let multi = if k > 1 && prm.a_new > 0.0 { Some(MultiSolve::new(&dy, &a)?) } else { None };
         let mut w = vec![0.0; n];
         w[c] = 1.0;
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
-        let m_massive = dy.mass.trailing(dy.massive_start()).factor()?;
+        let m_massive = dy.massive_factor()?;
         let mut mom = vec![0.0; n];
         dy.mass.mul_vec(&init.v, &mut mom);
         let mut ku = vec![0.0; n];
@@ -160,9 +174,9 @@ impl OneStep {
         let mut f = vec![0.0; n];
         dy.load_at(0.0, &mut f);
         let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, k)| f - k).collect();
-        if dy.massless_contact {
-            r[c] = 0.0;
-            mom[c] = 0.0;
+        for ct in dy.contacts.iter().filter(|ct| ct.massless) {
+            r[ct.dof] = 0.0;
+            mom[ct.dof] = 0.0;
         }
         let tri = (a.half_bandwidth() == 1 && n >= 2).then(|| Tridiagonals {
             md: dy.mass.diagonal(0),
@@ -171,6 +185,12 @@ impl OneStep {
             ks: dy.stiffness.diagonal(1),
         });
         Ok(Self {
+            lams: vec![0.0; k],
+            prev_lams: vec![0.0; k],
+            acts: vec![Active::None; k],
+            multi,
+            uc_prev: dy.contacts.iter().map(|ct| init.u[ct.dof]).collect(),
+            kappas: Vec::new(),
             tri,
             law: ContactLaw::Projection,
             u_prev: if dy.forcing.is_some() { init.u.clone() } else { Vec::new() },
@@ -196,18 +216,44 @@ impl OneStep {
         })
     }
 
-    /// Uses `law` for the contact dof instead of the projection.
+    /// Uses `law` for the contacts instead of the projection. A penalty
+    /// law's stiffness is contact 0's; another stop without its own
+    /// ([`crate::Contact::stiffness`]) gets it scaled by `K_cc / K_00` (so
+    /// `penalty(γ_P)` puts `γ_P K_cc` at every stop).
     pub fn with_contact_law(mut self, law: ContactLaw) -> Result<Self, SchemeError> {
+        let mut law = law;
         if let ContactLaw::Penalty { stiffness } = law {
             if !(stiffness > 0.0 && stiffness.is_finite()) {
                 return Err(SchemeError::Invalid { field: "penalty stiffness", value: stiffness, allowed: "finite and > 0" });
             }
+            let an = self.prm.a_new * self.dt * self.dt;
+            // A stop without its own stiffness: the law's, scaled by its
+            // stiffness diagonal relative to contact 0's (γ_P K_cc per stop).
+            let k0 = self.dy.stiffness.get(self.dy.contacts[0].dof, self.dy.contacts[0].dof);
+            let n_contacts = self.dy.k();
+            self.kappas = self
+                .dy
+                .contacts
+                .iter()
+                .map(|c| c.stiffness.unwrap_or(if n_contacts == 1 || !(k0 > 0.0) { stiffness } else { stiffness * self.dy.stiffness.get(c.dof, c.dof) / k0 }))
+                .collect();
             // The step solves x = y_c + W κ (lo - x)⁺ with W = a dt² w_c:
             // beyond κ W = 1e12 the branch tests are decided by rounding.
-            let w = self.prm.a_new * self.dt * self.dt * self.proj.wc();
-            let max = PENALTY_CONDITION_MAX / w;
-            if w > 0.0 && stiffness > max {
-                return Err(SchemeError::PenaltyTooStiff { field: "penalty stiffness", value: stiffness, max });
+            for (i, &kappa) in self.kappas.iter().enumerate() {
+                let wc = match &self.multi {
+                    Some(m) => m.diagonal(i),
+                    None => self.proj.influence()[self.dy.contacts[i].dof],
+                };
+                let w = an * wc;
+                let max = PENALTY_CONDITION_MAX / w;
+                if w > 0.0 && kappa > max {
+                    let field = if self.dy.contacts[i].stiffness.is_some() { "stop stiffness" } else { "penalty stiffness" };
+                    return Err(SchemeError::PenaltyTooStiff { field, value: kappa, max });
+                }
+            }
+            law = ContactLaw::Penalty { stiffness: self.kappas[0] };
+            if let Some(m) = self.multi.take() {
+                self.multi = Some(m.with_springs(&self.kappas, an)?);
             }
         }
         self.law = law;
@@ -247,7 +293,84 @@ impl OneStep {
         self.m_massive.solve_in_place(&mut out[s..]);
         if s == 1 {
             out[0] = if self.n == 0 { 0.0 } else { (self.u[0] - self.u_c_prev) / self.dt };
+        } else if self.dy.k() > 1 && self.dy.massless_contact() {
+            for (ct, up) in self.dy.contacts.iter().zip(&self.uc_prev) {
+                out[ct.dof] = if self.n == 0 { 0.0 } else { (self.u[ct.dof] - up) / self.dt };
+            }
         }
+    }
+
+    /// The rest of a step with several contacts, from the unconstrained
+    /// `y` in `rhs`: the contact solve, then the update of `R` and `P`.
+    fn finish_multi(&mut self, an: f64, dt: f64, g: f64, s_next: f64) -> Result<StepReport, SchemeError> {
+        match self.law {
+            ContactLaw::Projection if an == 0.0 => {
+                return Err(SchemeError::Structure("an explicit step (β = 0) cannot use the projection: use a penalty law"));
+            }
+            ContactLaw::Projection | ContactLaw::Penalty { .. } if an > 0.0 => {
+                let ms = self.multi.as_mut().expect("built for an implicit step");
+                for (i, ct) in self.dy.contacts.iter().enumerate() {
+                    (ms.lo[i], ms.hi[i]) = (ct.bounds.lo, ct.bounds.hi);
+                }
+                let (mu, st) = ms.solve(&mut self.rhs)?;
+                for (i, (&m, &a)) in mu.iter().zip(st).enumerate() {
+                    self.lams[i] = -m / an;
+                    self.acts[i] = a;
+                }
+            }
+            _ => {
+                // Explicit penalty: the springs act at the new positions.
+                for (i, ct) in self.dy.contacts.iter().enumerate() {
+                    let (x, kappa) = (self.rhs[ct.dof], self.kappas[i]);
+                    let force = kappa * (ct.bounds.lo - x).max(0.0) - kappa * (x - ct.bounds.hi).max(0.0);
+                    self.lams[i] = -force;
+                    self.acts[i] = if force > 0.0 {
+                        Active::Lower
+                    } else if force < 0.0 {
+                        Active::Upper
+                    } else {
+                        Active::None
+                    };
+                }
+            }
+        }
+        for (up, ct) in self.uc_prev.iter_mut().zip(&self.dy.contacts) {
+            *up = self.u[ct.dof];
+        }
+        std::mem::swap(&mut self.u, &mut self.rhs);
+        self.n += 1;
+        let t = self.time();
+        let mut work = 0.0;
+        for (i, ct) in self.dy.contacts.iter().enumerate() {
+            let (lam, x) = (self.lams[i], self.u[ct.dof]);
+            if !(x.is_finite() && lam.is_finite()) {
+                return Err(SchemeError::NonFinite { step: self.n, time: t });
+            }
+            work += -0.5 * (self.prev_lams[i] + lam) * (x - self.uc_prev[i]);
+        }
+        self.work_c += work;
+        if let Some(fo) = &self.dy.forcing {
+            let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
+            self.work_f += 0.5 * (self.s_now + s_next) * gdu;
+            self.s_now = s_next;
+        }
+        self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
+        for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
+            let rn = f - k;
+            *p += dt * ((1.0 - g) * *r + g * rn);
+            *r = rn;
+        }
+        for (ct, &lam) in self.dy.contacts.iter().zip(&self.lams) {
+            if ct.massless {
+                self.r[ct.dof] = 0.0;
+                self.mom[ct.dof] = 0.0;
+            } else {
+                self.r[ct.dof] -= lam;
+                self.mom[ct.dof] -= dt * g * lam;
+            }
+        }
+        self.prev_lams.copy_from_slice(&self.lams);
+        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
     }
 
     /// Gives back the problem (to start a two-step scheme).
@@ -263,7 +386,7 @@ impl Stepper for OneStep {
         let dt = self.dt;
         let dt2 = dt * dt;
         let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
-        let c = self.dy.contact_dof;
+        let c = self.dy.contact().dof;
         let s_next = if let Some(fo) = &self.dy.forcing {
             self.u_prev.copy_from_slice(&self.u);
             let s1 = fo.time.value((self.n + 1) as f64 * dt);
@@ -286,16 +409,19 @@ impl Stepper for OneStep {
             }
             self.a.solve_in_place(&mut self.rhs);
         }
+        if self.dy.k() > 1 {
+            return self.finish_multi(an, dt, g, s_next);
+        }
         let (lambda, active) = match self.law {
             ContactLaw::Projection if an == 0.0 => {
                 return Err(SchemeError::Structure("an explicit step (β = 0) cannot use the projection: use a penalty law"));
             }
             ContactLaw::Projection => {
-                let pr = self.proj.project(&mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi);
+                let pr = self.proj.project(&mut self.rhs, self.dy.contacts[0].bounds.lo, self.dy.contacts[0].bounds.hi);
                 (-pr.mu / an, pr.active)
             }
             ContactLaw::Penalty { stiffness } => {
-                let (force, active) = penalty_solve(&self.proj, &mut self.rhs, self.dy.bounds.lo, self.dy.bounds.hi, stiffness, an)?;
+                let (force, active) = penalty_solve(&self.proj, &mut self.rhs, self.dy.contacts[0].bounds.lo, self.dy.contacts[0].bounds.hi, stiffness, an)?;
                 (-force, active)
             }
         };
@@ -332,13 +458,15 @@ impl Stepper for OneStep {
             }
         }
         // The contact row: the force term (or, massless, R_c = P_c = 0).
-        if self.dy.massless_contact {
+        if self.dy.contacts[0].massless {
             self.r[c] = 0.0;
             self.mom[c] = 0.0;
         } else {
             self.r[c] -= lambda;
             self.mom[c] -= dt * g * lambda;
         }
+        self.lams[0] = lambda;
+        self.acts[0] = active;
         Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active })
     }
 
@@ -358,9 +486,14 @@ impl Stepper for OneStep {
         let spring = match self.law {
             ContactLaw::Projection => 0.0,
             ContactLaw::Penalty { stiffness } => {
-                let uc = self.u[self.dy.contact_dof];
-                let (a, b) = ((self.dy.bounds.lo - uc).max(0.0), (uc - self.dy.bounds.hi).max(0.0));
-                0.5 * stiffness * (a * a + b * b)
+                let kappa = |i: usize| if self.kappas.is_empty() { stiffness } else { self.kappas[i] };
+                let mut e = 0.0;
+                for (i, ct) in self.dy.contacts.iter().enumerate() {
+                    let uc = self.u[ct.dof];
+                    let (a, b) = ((ct.bounds.lo - uc).max(0.0), (uc - ct.bounds.hi).max(0.0));
+                    e += 0.5 * kappa(i) * (a * a + b * b);
+                }
+                e
             }
         };
         Some((self.time(), 0.5 * kin + 0.5 * pot - load + spring))

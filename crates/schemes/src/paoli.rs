@@ -29,9 +29,10 @@
 //! `E^{n+1/2} = ½ VᵀMV + ½ (β - 1/4) dt² VᵀKV + ½ ŪᵀKŪ - FᵀŪ`,
 //! `V = (U^{n+1} - U^n)/dt`, `Ū = (U^n + U^{n+1})/2`.
 
+use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
-use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
-use signorini_contact::Projection;
+use crate::{Bounds, Dynamics, Initial, SchemeError, StepReport, Stepper};
+use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
 
 /// The Paoli–Schatzman scheme.
@@ -54,6 +55,10 @@ pub struct PaoliSchatzman {
     /// Means of the forcing's time profile over [t_{n-1}, t_n], [t_n, t_{n+1}]
     /// (rolled each step, so one new mean per step).
     means: [f64; 2],
+    lams: Vec<f64>,
+    acts: Vec<Active>,
+    /// Several contacts: the exact solve.
+    multi: Option<MultiSolve>,
 }
 
 impl PaoliSchatzman {
@@ -61,7 +66,7 @@ impl PaoliSchatzman {
     /// step, so the returned scheme is at level 1). `β = 0` needs a massive
     /// contact node.
     pub fn new(label: String, dy: Dynamics, beta: f64, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
-        if beta == 0.0 && dy.massless_contact {
+        if beta == 0.0 && dy.massless_contact() {
             return Err(SchemeError::Invalid { field: "beta", value: beta, allowed: "(0, 1/2] with a massless contact node (β = 0 makes the step matrix M singular)" });
         }
         let start_beta = if beta > 0.0 { beta } else { 0.25 };
@@ -72,7 +77,9 @@ impl PaoliSchatzman {
         let dy = start.into_dynamics();
         let n = dy.n();
         let a = dy.mass.lin_comb(1.0, &dy.stiffness, beta * dt * dt).factor()?;
-        let c = dy.contact_dof;
+        let c = dy.contact().dof;
+        let k = dy.k();
+        let multi = if k > 1 { Some(MultiSolve::new(&dy, &a)?) } else { None };
         let mut w = vec![0.0; n];
         w[c] = 1.0;
         a.solve_in_place(&mut w);
@@ -94,6 +101,9 @@ impl PaoliSchatzman {
             work_forcing: 0.0,
             work_contact: 0.0,
             means: [0.0; 2],
+            lams: vec![0.0; k],
+            acts: vec![Active::None; k],
+            multi,
         }
         .with_means())
     }
@@ -104,6 +114,42 @@ impl PaoliSchatzman {
             self.means = [f.time.mean(0.0, dt), f.time.mean(dt, 2.0 * dt)];
         }
         self
+    }
+
+    /// The rest of a step with several contacts (each with its own
+    /// restitution), from the unconstrained `U^{n+1}` in `rhs`.
+    fn finish_multi(&mut self, g_coef: Option<f64>) -> Result<StepReport, SchemeError> {
+        let dt2 = self.dt * self.dt;
+        let ms = self.multi.as_mut().expect("several contacts");
+        for (i, ct) in self.dy.contacts.iter().enumerate() {
+            let e = ct.restitution.unwrap_or(self.restitution);
+            let up = self.u_prev[ct.dof];
+            ms.lo[i] = if ct.bounds.lo.is_finite() { (1.0 + e) * ct.bounds.lo - e * up } else { f64::NEG_INFINITY };
+            ms.hi[i] = if ct.bounds.hi.is_finite() { (1.0 + e) * ct.bounds.hi - e * up } else { f64::INFINITY };
+        }
+        ms.solve(&mut self.rhs)?;
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.rhs);
+        self.n += 1;
+        let t = self.time();
+        let ms = self.multi.as_ref().expect("several contacts");
+        let (mu, st) = (ms.multipliers(), ms.status());
+        let (scale, t_lambda) = if self.dy.massless_contact() { (self.beta * dt2, t) } else { (dt2, (self.n - 1) as f64 * self.dt) };
+        let mut work = 0.0;
+        for (i, ct) in self.dy.contacts.iter().enumerate() {
+            let lam = -mu[i] / scale;
+            if !(self.u[ct.dof].is_finite() && lam.is_finite()) {
+                return Err(SchemeError::NonFinite { step: self.n, time: t });
+            }
+            work += -0.5 * lam * (self.u[ct.dof] - self.rhs[ct.dof]);
+            self.lams[i] = lam;
+            self.acts[i] = st[i];
+        }
+        self.work_contact += work;
+        if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
+            self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, self.lams[0])), active: self.acts[0] })
     }
 
     /// `U^{n-1}`.
@@ -128,8 +174,8 @@ impl Stepper for PaoliSchatzman {
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let dt2 = self.dt * self.dt;
         let beta = self.beta;
-        let e = self.restitution;
-        let c = self.dy.contact_dof;
+        let e = self.dy.contact().restitution.unwrap_or(self.restitution);
+        let c = self.dy.contact().dof;
         // rhs = M (2U^n - U^{n-1}) - dt² K ((1-2β) U^n + β U^{n-1}) + dt² F
         for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
             *t = 2.0 * u - up;
@@ -153,22 +199,30 @@ impl Stepper for PaoliSchatzman {
         if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
             self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * gc * g);
         }
-        if self.dy.massless_contact {
+        if self.dy.massless_contact() {
             // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
-            let fc = self.dy.load[c] + self.dy.forcing.as_ref().map_or(0.0, |f| f.shape[c] * f.time.value((self.n + 1) as f64 * self.dt));
-            self.rhs[c] = beta * dt2 * fc;
+            let s1 = self.dy.forcing.as_ref().map(|f| f.time.value((self.n + 1) as f64 * self.dt));
+            for ct in &self.dy.contacts {
+                let c = ct.dof;
+                let fc = self.dy.load[c] + self.dy.forcing.as_ref().map_or(0.0, |f| f.shape[c] * s1.unwrap_or(0.0));
+                self.rhs[c] = beta * dt2 * fc;
+            }
         }
         self.a.solve_in_place(&mut self.rhs);
+        if self.multi.is_some() {
+            return self.finish_multi(g_coef);
+        }
         let up_c = self.u_prev[c];
-        let lo = (1.0 + e) * self.dy.bounds.lo - e * up_c;
-        let hi = if self.dy.bounds.hi.is_finite() { (1.0 + e) * self.dy.bounds.hi - e * up_c } else { f64::INFINITY };
+        let Bounds { lo, hi } = self.dy.contact().bounds;
+        let lo = (1.0 + e) * lo - e * up_c;
+        let hi = if hi.is_finite() { (1.0 + e) * hi - e * up_c } else { f64::INFINITY };
         let pr = self.proj.project(&mut self.rhs, lo, hi);
         // Rotate: U^{n-1} <- U^n <- U^{n+1}.
         std::mem::swap(&mut self.u_prev, &mut self.u);
         std::mem::swap(&mut self.u, &mut self.rhs);
         self.n += 1;
         let t = self.time();
-        let (lambda, t_lambda) = if self.dy.massless_contact {
+        let (lambda, t_lambda) = if self.dy.massless_contact() {
             (-pr.mu / (beta * dt2), t)
         } else {
             // t_{n} computed from its index, as every time level is: `t - dt`
@@ -183,6 +237,7 @@ impl Stepper for PaoliSchatzman {
             self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
         }
         self.work_contact += -0.5 * lambda * (self.u[c] - self.rhs[c]);
+        (self.lams[0], self.acts[0]) = (lambda, pr.active);
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, lambda)), active: pr.active })
     }
 

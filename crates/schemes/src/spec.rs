@@ -102,21 +102,24 @@ impl SchemeSpec {
     /// Paoli–Schatzman β-scheme with 0 < β < 1/4 (0 with a massless node:
     /// always unstable).
     pub fn cfl_limit(&self, dy: &Dynamics) -> Result<Option<f64>, SchemeError> {
-        let c = dy.contact_dof;
+        let c = dy.contact().dof;
         match *self {
             SchemeSpec::Penalty { gamma_p, explicit: true } => {
                 let mut k = dy.stiffness.clone();
-                k.add(c, c, gamma_p * dy.stiffness.get(c, c));
+                for ct in &dy.contacts {
+                    let kappa = ct.stiffness.unwrap_or(gamma_p * dy.stiffness.get(ct.dof, ct.dof));
+                    k.add(ct.dof, ct.dof, kappa);
+                }
                 Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
             }
             SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => {
-                if dy.massless_contact {
+                if dy.massless_contact() {
                     return Ok(Some(0.0));
                 }
                 let kappa = signorini_fem::max_generalized_eigenvalue_auto(&dy.stiffness, &dy.mass)?;
                 Ok(Some(crate::beta_scheme_critical_dt(beta, kappa)))
             }
-            SchemeSpec::Reduced(ReducedLaw::CentralDifference) if dy.massless_contact && c == 0 => {
+            SchemeSpec::Reduced(ReducedLaw::CentralDifference) if dy.massless_contact() && c == 0 && dy.k() == 1 => {
                 // The reduced pencil (K*, M*): in contact the node is fixed and
                 // node 1 feels the whole first element.
                 let (k, m) = (dy.stiffness.trailing(1), dy.mass.trailing(1));
@@ -213,7 +216,7 @@ impl SchemeSpec {
             SchemeSpec::Newmark { beta, gamma } => Box::new(OneStep::new(label, dy, OneStepParams::newmark(beta, gamma), dt, init)?),
             SchemeSpec::Theta { theta } => Box::new(OneStep::new(label, dy, OneStepParams::theta(theta), dt, init)?),
             SchemeSpec::PaoliSchatzman { restitution, beta } => {
-                if beta < 0.25 && dy.massless_contact {
+                if beta < 0.25 && dy.massless_contact() {
                     return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped) when β < 1/4 (with a massless node the β-scheme is unstable for every dt)" });
                 }
                 self.check_cfl(&dy, dt)?;
@@ -226,17 +229,17 @@ impl SchemeSpec {
                 Box::new(Reduced::new(label, dy, law, dt, init)?)
             }
             SchemeSpec::Penalty { gamma_p, explicit } => {
-                if explicit && dy.massless_contact {
+                if explicit && dy.massless_contact() {
                     return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped)" });
                 }
-                let c = dy.contact_dof;
+                let c = dy.contact().dof;
                 let kappa = gamma_p * dy.stiffness.get(c, c);
                 self.check_cfl(&dy, dt)?;
                 let prm = if explicit { OneStepParams::newmark(0.0, 0.5) } else { OneStepParams::newmark(0.25, 0.5) };
                 let step = OneStep::new(label, dy, prm, dt, init)?;
                 Box::new(step.with_contact_law(ContactLaw::Penalty { stiffness: kappa }).map_err(|e| match e {
                     // In the scheme's own parameter: κ = γ_P K_cc.
-                    SchemeError::PenaltyTooStiff { max, .. } => SchemeError::PenaltyTooStiff { field: "gamma_p", value: gamma_p, max: max * gamma_p / kappa },
+                    SchemeError::PenaltyTooStiff { field: "penalty stiffness", value, max } => SchemeError::PenaltyTooStiff { field: "gamma_p", value: gamma_p, max: max * gamma_p / value },
                     e => e,
                 })?)
             }

@@ -140,7 +140,7 @@ fn nitsche_refuses_invalid_parameters_naming_the_field() {
         assert!(matches!(Nitsche::new("n".into(), dy.clone(), 0.25, 0.5, 10.0, 1.0, dt, &init), Err(SchemeError::Invalid { field: "dt", .. })), "dt = {dt}");
     }
     let mut two_sided = dy;
-    two_sided.bounds = Bounds { lo: -0.1, hi: 0.1 };
+    two_sided.contacts[0].bounds = Bounds { lo: -0.1, hi: 0.1 };
     assert!(matches!(Nitsche::new("n".into(), two_sided, 0.25, 0.5, 10.0, 1.0, 0.01, &init), Err(SchemeError::Structure(_))));
 }
 

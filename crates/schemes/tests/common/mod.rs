@@ -19,7 +19,7 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use signorini_fem::{Bar, BarMass, Beam, RightEnd, SymBand};
-use signorini_schemes::{Bounds, Dynamics, Forcing, Initial, StepReport, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, StepReport, Stepper, TimeProfile};
 
 /// A dense square matrix, row by row.
 pub type Dense = Vec<Vec<f64>>;
@@ -330,9 +330,7 @@ pub fn bar_scene(m: usize, mass: BarMass, free: bool, gap: f64, body: f64, forci
         mass: bar.mass(mass),
         stiffness: bar.stiffness(),
         load: bar.load(|_| body),
-        contact_dof: 0,
-        massless_contact: mass.massless_contact_node(),
-        bounds: Bounds::obstacle(gap),
+        contacts: vec![Contact::new(0, Bounds::obstacle(gap), mass.massless_contact_node())],
         forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }),
     };
     assert_same("bar mass", &dy.mass, &mm);
@@ -354,9 +352,7 @@ pub fn beam_scene(j: usize, k2: f64, lo: f64, hi: f64, shape: Vec<f64>, s: Sine)
         mass: beam.mass(),
         stiffness: beam.stiffness(),
         load: vec![0.0; n],
-        contact_dof: 2 * j - 2,
-        massless_contact: false,
-        bounds: Bounds { lo, hi },
+        contacts: vec![Contact::new(2 * j - 2, Bounds { lo, hi }, false)],
         forcing: Some(Forcing { shape: shape.clone(), time: s.profile() }),
     };
     assert_eq!(dy.stiffness.half_bandwidth(), 3, "the beam must take the banded (non-tridiagonal) path");
