@@ -182,6 +182,125 @@ impl Bar {
         mm
     }
 
+    /// Mass matrix on all `m + 1` nodes with a contact at each node of
+    /// `nodes` (sorted or not, distinct): the mass treatment generalised
+    /// from the one contact node 0 of [`Bar::mass_all_nodes`] (identical
+    /// for `nodes = [0]`). For the massless family every contact node
+    /// carries no mass:
+    ///
+    /// * `mod`/`mod1`: every element next to a contact node carries no mass;
+    /// * `mod2`: the same, the other elements weighted `m/(m - z)` (`z`
+    ///   elements emptied), so the total mass is kept;
+    /// * `mod3`: each emptied element's mass goes to the next element away
+    ///   from its contact node (refused if that element is missing or
+    ///   emptied too);
+    /// * `transfer`: consistent mass, then each contact node's row sum moves
+    ///   to its neighbours' diagonals (all of it at an end node, half to
+    ///   each side inside; refused for two adjacent contact nodes);
+    /// * `singular` (GetFEM's type 2): end nodes only (0 and, with a free
+    ///   end, `m`): the neighbour's diagonal becomes `7h/12`;
+    ///
+    /// and `std`/`lumped` are unchanged. Refused too: a contact node out of
+    /// range, and any node that is not a contact node left without mass.
+    pub fn mass_all_nodes_with_contacts(&self, variant: BarMass, nodes: &[usize]) -> Result<SymBand, FemError> {
+        let m = self.elements;
+        let refuse = |why: &'static str, node: usize| Err(FemError::MassAtContacts { mass: variant.name(), node, why });
+        if let Some(&bad) = nodes.iter().find(|&&i| i > m) {
+            return refuse("a contact node beyond the last node m", bad);
+        }
+        if nodes == [0] || !variant.massless_contact_node() {
+            return Ok(self.mass_all_nodes(variant));
+        }
+        let is_contact = |i: usize| nodes.contains(&i);
+        let h = self.h();
+        let mut mm = match variant {
+            BarMass::Transfer | BarMass::Singular => self.mass_all_nodes(BarMass::Std),
+            _ => {
+                // Element weights: 0 next to a contact node.
+                let mut w = vec![1.0; m];
+                let emptied: Vec<(usize, usize)> = nodes.iter().flat_map(|&i| [(i.wrapping_sub(1), i), (i, i)]).filter(|&(j, _)| j < m).collect();
+                for &(j, _) in &emptied {
+                    w[j] = 0.0;
+                }
+                let z = w.iter().filter(|x| **x == 0.0).count();
+                if z >= m {
+                    return refuse("every element would be emptied", nodes[0]);
+                }
+                match variant {
+                    BarMass::Mod2 => {
+                        let s = m as f64 / (m - z) as f64;
+                        w.iter_mut().filter(|x| **x != 0.0).for_each(|x| *x = s);
+                    }
+                    BarMass::Mod3 => {
+                        for &(j, i) in &emptied {
+                            // The next element away from node i.
+                            let next = if j == i { j + 1 } else { j.wrapping_sub(1) };
+                            if next >= m || w[next] == 0.0 {
+                                return refuse("mod3 moves an emptied element's mass to the next element away from the contact node, which is missing or emptied too (contact nodes at least 3 elements apart, 2 from an end)", i);
+                            }
+                            w[next] += 1.0;
+                        }
+                    }
+                    _ => {}
+                }
+                let mut mm = SymBand::zeros(m + 1, 1);
+                for (j, wj) in w.iter().enumerate() {
+                    let wh = wj * h;
+                    mm.add(j, j, wh / 3.0);
+                    mm.add(j + 1, j + 1, wh / 3.0);
+                    mm.add(j, j + 1, wh / 6.0);
+                }
+                mm
+            }
+        };
+        match variant {
+            BarMass::Transfer => {
+                if let Some(&i) = nodes.iter().find(|&&i| (i > 0 && is_contact(i - 1)) || is_contact(i + 1)) {
+                    return refuse("transfer moves a contact node's mass to its neighbours, which must not be contact nodes", i);
+                }
+                let moves: Vec<(usize, f64)> = nodes
+                    .iter()
+                    .flat_map(|&i| {
+                        let row = mm.get(i, i) + if i > 0 { mm.get(i, i - 1) } else { 0.0 } + if i < m { mm.get(i, i + 1) } else { 0.0 };
+                        let sides: Vec<usize> = [i.wrapping_sub(1), i + 1].into_iter().filter(|&j| j <= m).collect();
+                        let share = row / sides.len() as f64;
+                        sides.into_iter().map(move |j| (j, share))
+                    })
+                    .collect();
+                for (j, v) in moves {
+                    mm.add(j, j, v);
+                }
+                for &i in nodes {
+                    mm.zero_row_col(i);
+                }
+            }
+            BarMass::Singular => {
+                if let Some(&i) = nodes.iter().find(|&&i| i != 0 && i != m) {
+                    return refuse("singular (GetFEM's type 2) is defined at an end node only", i);
+                }
+                for &i in nodes {
+                    mm.zero_row_col(i);
+                    mm.set(if i == 0 { 1 } else { m - 1 }, if i == 0 { 1 } else { m - 1 }, 7.0 * h / 12.0);
+                }
+            }
+            _ => {}
+        }
+        if let Some(i) = (0..=m).find(|&i| !is_contact(i) && !(mm.get(i, i) > 0.0)) {
+            return refuse("it would leave a node that is not a contact node without mass", i);
+        }
+        Ok(mm)
+    }
+
+    /// Mass matrix on the unknowns with contacts at `nodes` (see
+    /// [`Bar::mass_all_nodes_with_contacts`]); a clamped far end's node `m`
+    /// cannot be a contact node.
+    pub fn mass_with_contacts(&self, variant: BarMass, nodes: &[usize]) -> Result<SymBand, FemError> {
+        if let Some(&bad) = nodes.iter().find(|&&i| i >= self.dofs()) {
+            return Err(FemError::MassAtContacts { mass: variant.name(), node: bad, why: "a contact node must be an unknown (the clamped end node m is not)" });
+        }
+        Ok(self.restrict(self.mass_all_nodes_with_contacts(variant, nodes)?))
+    }
+
     /// Stiffness matrix on all `m + 1` nodes.
     pub fn stiffness_all_nodes(&self) -> SymBand {
         let m = self.elements;

@@ -40,6 +40,16 @@ pub enum FemError {
         /// The allowed range, in words.
         allowed: &'static str,
     },
+    /// A mass treatment that does not generalise to these contact nodes.
+    #[error("mass {mass} with a contact at node {node}: refused, {why}")]
+    MassAtContacts {
+        /// The mass treatment.
+        mass: &'static str,
+        /// The node concerned.
+        node: usize,
+        /// Why, in words.
+        why: &'static str,
+    },
     /// A mass variant name that does not exist.
     #[error("unknown mass variant {0:?}: allowed std, lumped, mod, mod1, mod2, mod3, transfer, singular")]
     UnknownMass(String),

@@ -8,6 +8,7 @@
 //! `(20 h + 1.6 k²/L⁴) sin(10 t)` for `A = 0.2`, `ω = 10`), `u(·,0) = 0`,
 //! `u_t(·,0) = -A ω h`. Since `h(L) = 0`, the tip of `u` is the physical tip.
 
+use crate::problem::{check_stops, contacts_of, Stop};
 use crate::RunError;
 use signorini_fem::{max_generalized_eigenvalue, Beam};
 use signorini_schemes::{Bounds, Contact, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
@@ -59,6 +60,27 @@ impl Pipe {
         };
         let v = beam.interpolate(|x| -a * w * self.lifting(x).0, |x| -a * w * self.lifting(x).1);
         Ok((beam, dy, Initial { u: vec![0.0; n], v }))
+    }
+}
+
+/// The displacement unknown of beam node `node` (`1..=J`; node 0 is
+/// clamped): `2 (node - 1)`.
+pub fn node_dof(beam: &Beam, node: usize) -> Option<usize> {
+    (1..=beam.elements).contains(&node).then(|| 2 * (node - 1))
+}
+
+impl Pipe {
+    /// The semi-discrete problem with the contact list `stops` (on the
+    /// displacement `u = ũ − hφ` at each stop's node, as the paper's
+    /// problem (P) constrains it; `h(L) = 0`, so at the tip it is the
+    /// physical displacement) instead of the tip's two stops. Refused,
+    /// naming `stop.<i>.<field>`: nodes outside `1..=J`, `lo > hi`, two
+    /// stops on one node, an initial state (`u = 0`) outside a stop.
+    pub fn dynamics_with_stops(&self, j: usize, stops: &[Stop]) -> Result<(Beam, Dynamics, Initial), RunError> {
+        let (beam, mut dy, init) = self.dynamics(j)?;
+        check_stops(stops, &init.u, |node| node_dof(&beam, node))?;
+        dy.contacts = contacts_of(stops, |node| 2 * (node - 1), false);
+        Ok((beam, dy, init))
     }
 }
 
@@ -201,10 +223,23 @@ pub fn build(pipe: &Pipe, scene: &BeamScene, force: bool) -> Result<(Box<dyn Ste
 /// As [`build`], with the units in which a [`BeamContact::Penalty`]
 /// stiffness is read (ignored by the projection).
 pub fn build_with_units(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
+    build_with_stops(pipe, scene, force, units, None)
+}
+
+/// As [`build_with_units`], with the contact list `stops` instead of the
+/// tip's two stops when given ([`Pipe::dynamics_with_stops`]); a stop's
+/// own penalty stiffness is read in `units` too.
+pub fn build_with_stops(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
     if !(scene.dt > 0.0 && scene.dt.is_finite()) {
         return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
     }
-    let (beam, dy, init) = pipe.dynamics(scene.elements)?;
+    let (beam, mut dy, init) = match stops {
+        None => pipe.dynamics(scene.elements)?,
+        Some(stops) => pipe.dynamics_with_stops(scene.elements, stops)?,
+    };
+    for c in &mut dy.contacts {
+        c.stiffness = c.stiffness.map(|k| units.kappa(k, pipe.rho_s));
+    }
     let stepper: Box<dyn Stepper> = match scene.contact {
         BeamContact::Projection { beta } => {
             if !(0.0..=0.5).contains(&beta) {

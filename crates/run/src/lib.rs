@@ -26,5 +26,5 @@ pub mod runner;
 pub mod study;
 
 pub use observers::{History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
-pub use problem::{BarProblem, Benchmark};
+pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};

@@ -8,7 +8,81 @@ use signorini_schemes::{Bounds, Contact, Dynamics, Initial};
 use std::fmt;
 use std::str::FromStr;
 
-/// A P1 bar with Signorini contact at `x = 0` (docs/theory.md §1.1, §2.1).
+/// A point stop at a mesh node: `lo <= u(node) <= hi` (either bound may be
+/// infinite), with its own restitution (Paoli–Schatzman, Moreau–Jean) and
+/// penalty stiffness when given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stop {
+    /// The node (bar: `0..=m`; beam: `1..=J`, its displacement dof).
+    pub node: usize,
+    /// Lower bound (`-∞`: none).
+    pub lo: f64,
+    /// Upper bound (`+∞`: none).
+    pub hi: f64,
+    /// Restitution coefficient of this stop (`None`: the scheme's).
+    pub restitution: Option<f64>,
+    /// Penalty stiffness of this stop (`None`: the law's).
+    pub stiffness: Option<f64>,
+}
+
+impl Stop {
+    /// A stop with the scheme's restitution and stiffness.
+    pub fn new(node: usize, lo: f64, hi: f64) -> Self {
+        Self { node, lo, hi, restitution: None, stiffness: None }
+    }
+}
+
+/// Checks a list of stops against the unknowns' displacements `u` at
+/// `dof(node)`: bounds ordered and not NaN, distinct nodes, the initial state
+/// inside, per-stop parameters in range. Errors name `stop.<i>.<field>`.
+pub(crate) fn check_stops(stops: &[Stop], u: &[f64], dof: impl Fn(usize) -> Option<usize>) -> Result<(), RunError> {
+    if stops.is_empty() {
+        return Err(RunError::Stop { index: 0, field: "node", value: f64::NAN, allowed: "at least one stop".into() });
+    }
+    for (i, st) in stops.iter().enumerate() {
+        let bad = |field: &'static str, value: f64, allowed: String| Err(RunError::Stop { index: i, field, value, allowed });
+        let Some(d) = dof(st.node) else {
+            return bad("node", st.node as f64, "a node that is an unknown (not a clamped end)".into());
+        };
+        if st.lo.is_nan() || st.lo == f64::INFINITY {
+            return bad("lo", st.lo, "a number or -inf (no lower bound)".into());
+        }
+        if st.hi.is_nan() || st.hi == f64::NEG_INFINITY {
+            return bad("hi", st.hi, "a number or +inf (no upper bound)".into());
+        }
+        if st.lo > st.hi {
+            return bad("lo", st.lo, format!("<= hi = {}", st.hi));
+        }
+        if let Some(j) = stops[..i].iter().position(|o| o.node == st.node) {
+            return bad("node", st.node as f64, format!("a node without another stop (stop.{j} is at node {} already)", st.node));
+        }
+        if !(st.lo <= u[d] && u[d] <= st.hi) {
+            return bad("lo", st.lo, format!("a stop that the initial state satisfies: u = {} at node {} is outside [{}, {}]", u[d], st.node, st.lo, st.hi));
+        }
+        if let Some(e) = st.restitution {
+            if !(0.0..=1.0).contains(&e) {
+                return bad("restitution", e, "[0, 1]".into());
+            }
+        }
+        if let Some(k) = st.stiffness {
+            if !(k > 0.0 && k.is_finite()) {
+                return bad("stiffness", k, "finite and > 0".into());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The schemes' contact list for `stops` at `dof(node)`.
+pub(crate) fn contacts_of(stops: &[Stop], dof: impl Fn(usize) -> usize, massless: bool) -> Vec<Contact> {
+    stops
+        .iter()
+        .map(|st| Contact { dof: dof(st.node), bounds: Bounds { lo: st.lo, hi: st.hi }, massless, restitution: st.restitution, stiffness: st.stiffness })
+        .collect()
+}
+
+/// A P1 bar with Signorini contact at `x = 0` (docs/theory.md §1.1, §2.1),
+/// or at a list of stops.
 #[derive(Clone, Debug)]
 pub struct BarProblem {
     /// Geometry, wave speed, far end.
@@ -21,6 +95,10 @@ pub struct BarProblem {
     pub body_force: f64,
     /// Initial displacement and velocity at the unknowns.
     pub initial: Initial,
+    /// Stops at nodes replacing the obstacle at `x = 0` when not empty (see
+    /// [`BarProblem::with_stops`]); the mass treatment then applies at
+    /// every stop's node ([`Bar::mass_with_contacts`]).
+    pub stops: Vec<Stop>,
 }
 
 impl BarProblem {
@@ -42,12 +120,37 @@ impl BarProblem {
         if u[0] < gap {
             return Err(RunError::Invalid { field: "initial u(0)", value: u[0], allowed: "at or above the obstacle position gap" });
         }
-        Ok(Self { bar, mass, gap, body_force, initial: Initial { u, v } })
+        Ok(Self { bar, mass, gap, body_force, initial: Initial { u, v }, stops: Vec::new() })
+    }
+
+    /// The same bar with the contact list `stops` (in stop order) instead of
+    /// the obstacle at `x = 0` (`gap` is then unused). Refused, naming
+    /// `stop.<i>.<field>`: a node that is not an unknown, `lo > hi`, two
+    /// stops on one node, an initial state outside a stop, per-stop
+    /// parameters out of range; and a mass treatment that does not
+    /// generalise to these nodes ([`Bar::mass_all_nodes_with_contacts`]).
+    pub fn with_stops(mut self, stops: Vec<Stop>) -> Result<Self, RunError> {
+        let n = self.bar.dofs();
+        check_stops(&stops, &self.initial.u, |node| (node < n).then_some(node))?;
+        let nodes: Vec<usize> = stops.iter().map(|s| s.node).collect();
+        self.bar.mass_with_contacts(self.mass, &nodes)?;
+        self.stops = stops;
+        Ok(self)
     }
 
     /// The semi-discrete system for the schemes.
     pub fn dynamics(&self) -> Dynamics {
         let f = self.body_force;
+        if !self.stops.is_empty() {
+            let nodes: Vec<usize> = self.stops.iter().map(|s| s.node).collect();
+            return Dynamics {
+                mass: self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"),
+                stiffness: self.bar.stiffness(),
+                load: self.bar.load(|_| f),
+                contacts: contacts_of(&self.stops, |node| node, self.mass.massless_contact_node()),
+                forcing: None,
+            };
+        }
         Dynamics {
             mass: self.bar.mass(self.mass),
             stiffness: self.bar.stiffness(),

@@ -18,6 +18,18 @@ pub enum RunError {
         /// The allowed range, in words.
         allowed: &'static str,
     },
+    /// A stop (or an obstacle at a node) that cannot be used.
+    #[error("invalid stop.{index}.{field} = {value}: allowed {allowed}")]
+    Stop {
+        /// The stop's index in the list.
+        index: usize,
+        /// Its field.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed, in words.
+        allowed: String,
+    },
     /// An unknown benchmark name.
     #[error("unknown benchmark {0:?}: allowed bar-dirichlet, bar-neumann-gravity, bar-neumann-gravity-0.11")]
     UnknownBenchmark(String),
@@ -170,8 +182,13 @@ pub struct Sample<'a> {
     pub lambda: Option<(f64, f64)>,
     /// The scheme's discrete energy and its time (when an observer wants it).
     pub energy: Option<(f64, f64)>,
-    /// Whether the constraint was active in that step.
+    /// Whether a constraint was active in that step (any contact).
     pub active: bool,
+    /// Every contact's force from that step, in contact order, at the time
+    /// of `lambda` (zeros at the start levels).
+    pub forces: &'a [f64],
+    /// Which bound holds each contact after that step.
+    pub status: &'a [signorini_contact::Active],
     /// Work of the time-dependent load and of the contact force so far, when
     /// the scheme tracks it.
     pub work: Option<(f64, f64)>,
@@ -241,14 +258,16 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
         Ok(())
     };
     let level0_energy = if want_energy && stepper.level() == 0 { stepper.energy() } else { None };
-    emit(Sample { n: 0, t: 0.0, u: u0, lambda: None, energy: level0_energy, active: false, work: None })?;
+    let k = stepper.dynamics().k();
+    let (zero_forces, free) = (vec![0.0; k], vec![signorini_contact::Active::None; k]);
+    emit(Sample { n: 0, t: 0.0, u: u0, lambda: None, energy: level0_energy, active: false, work: None, forces: &zero_forces, status: &free })?;
     let mut reference_energy = level0_energy.map(|e| e.1);
     // A two-step scheme arrives at level 1 already (its start step).
     if stepper.level() == 1 {
         let energy = if want_energy { stepper.energy() } else { None };
         reference_energy = reference_energy.or(energy.map(|e| e.1));
         check_finite(stepper.displacement(), 1, stepper.time())?;
-        emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false, work: stepper.work() })?;
+        emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false, work: stepper.work(), forces: &zero_forces, status: &free })?;
     }
     let mut contact_steps = 0;
     while stepper.level() < total {
@@ -271,9 +290,9 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
                 return Err(RunError::EnergyGrowth { step: rep.n, time: rep.t, energy: e, limit, scale });
             }
         }
-        let active = rep.active != signorini_contact::Active::None;
+        let active = if k == 1 { rep.active != signorini_contact::Active::None } else { stepper.contact_status().iter().any(|a| *a != signorini_contact::Active::None) };
         contact_steps += usize::from(active);
-        emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active, work: stepper.work() })?;
+        emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active, work: stepper.work(), forces: stepper.contact_forces(), status: stepper.contact_status() })?;
     }
     Ok((stepper.level(), contact_steps))
 }
