@@ -51,6 +51,10 @@ pub struct MultiProjection {
     compliance: Vec<f64>,
     // Work storage (no allocation per solve).
     status: Vec<Active>,
+    /// Statuses that are not `Active::None`.
+    held: usize,
+    /// Whether `mu` may hold nonzeros.
+    dirty: bool,
     mu: Vec<f64>,
     z: Vec<f64>,
     set: Vec<usize>,
@@ -93,7 +97,7 @@ impl MultiProjection {
             return Err(ContactError::NotPositiveDefinite);
         }
         let flat = columns.into_iter().flatten().collect();
-        Ok(Self { dofs, columns: flat, n, delassus, compliance: vec![0.0; k], status: vec![Active::None; k], mu: vec![0.0; k], z: vec![0.0; k], set: Vec::with_capacity(k), chol, rhs: vec![0.0; k] })
+        Ok(Self { dofs, columns: flat, n, delassus, compliance: vec![0.0; k], status: vec![Active::None; k], held: 0, dirty: false, mu: vec![0.0; k], z: vec![0.0; k], set: Vec::with_capacity(k), chol, rhs: vec![0.0; k] })
     }
 
     /// Makes the bounds compliant: dof `i` may pass its bound by `c_i μ_i`,
@@ -143,6 +147,13 @@ impl MultiProjection {
         &self.mu
     }
 
+    /// The dofs (indices into [`dofs`](Self::dofs)) with a nonzero
+    /// multiplier after the last solve, in increasing order (empty when
+    /// nothing was violated or held).
+    pub fn active_set(&self) -> &[usize] {
+        &self.set
+    }
+
     /// Which bound holds each dof after the last solve.
     pub fn status(&self) -> &[Active] {
         &self.status
@@ -159,6 +170,24 @@ impl MultiProjection {
         assert_eq!(y.len(), self.n, "y");
         assert!(lo.len() == k && hi.len() == k, "bounds");
         debug_assert!(lo.iter().zip(hi).all(|(l, h)| l <= h), "bounds");
+        // Nothing held from the last solve: one branch-free pass of bound
+        // checks decides whether anything is violated (an inactive obstacle
+        // costs that check and nothing else).
+        if self.held == 0 {
+            let mut violated = false;
+            for (&c, (l, h)) in self.dofs.iter().zip(lo.iter().zip(hi)) {
+                let yc = y[c];
+                violated |= (yc < *l) | (yc > *h);
+            }
+            if !violated {
+                if self.dirty {
+                    self.mu.iter_mut().for_each(|m| *m = 0.0);
+                    self.dirty = false;
+                }
+                self.set.clear();
+                return Ok(MultiProjected { iterations: 0, active: 0, residual: 0.0 });
+            }
+        }
         // Start from the previous statuses (warm start: contact sets change
         // little from step to step) but only where still meaningful.
         for i in 0..k {
@@ -174,11 +203,16 @@ impl MultiProjection {
                 }
             }
         }
-        // Nothing violated and nothing held: every obstacle costs a bound check.
-        if self.status.iter().all(|s| *s == Active::None) {
-            self.mu.iter_mut().for_each(|m| *m = 0.0);
+        self.held = self.status.iter().filter(|s| **s != Active::None).count();
+        if self.held == 0 {
+            if self.dirty {
+                self.mu.iter_mut().for_each(|m| *m = 0.0);
+                self.dirty = false;
+            }
+            self.set.clear();
             return Ok(MultiProjected { iterations: 0, active: 0, residual: 0.0 });
         }
+        self.dirty = true;
         let scale = (0..k).map(|i| y[self.dofs[i]].abs().max(finite_or_zero(lo[i]).abs()).max(finite_or_zero(hi[i]).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
         let tol = 64.0 * f64::EPSILON * scale;
         let max_iter = 4 * k * k + 64;
@@ -188,7 +222,8 @@ impl MultiProjection {
             let infeasible = self.infeasible(lo, hi, tol, single);
             if infeasible == 0 {
                 let residual = self.apply(y, lo, hi);
-                return Ok(MultiProjected { iterations: it, active: self.status.iter().filter(|s| **s != Active::None).count(), residual });
+                self.held = self.set.len();
+                return Ok(MultiProjected { iterations: it, active: self.held, residual });
             }
             if !single {
                 if infeasible < best {

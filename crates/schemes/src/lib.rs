@@ -464,6 +464,12 @@ pub trait Stepper: Send {
     fn contact_forces(&self) -> &[f64];
     /// Which bound holds each contact after the last step.
     fn contact_status(&self) -> &[signorini_contact::Active];
+    /// Several contacts: the steps whose contact solve pivoted (something
+    /// violated or held) and their pivots (linear solves on the active
+    /// set) so far; `None` for a single contact (closed form).
+    fn contact_pivots(&self) -> Option<(u64, u64)> {
+        None
+    }
     /// The scheme's natural discrete energy and the time it belongs to
     /// (`t_n` for one-step schemes, `t_{n-1/2}` for Paoli–Schatzman), with
     /// the load potential `-Fᵀ U`. `None` before the first step of a

@@ -127,6 +127,10 @@ impl MoreauJean {
 impl Stepper for MoreauJean {
     stepper_accessors!();
 
+    fn contact_pivots(&self) -> Option<(u64, u64)> {
+        self.multi.as_ref().map(|m| (m.pivoting_solves, m.pivots))
+    }
+
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let (dt, th) = (self.dt, self.theta);
         let c = self.dy.contact().dof;

@@ -14,6 +14,9 @@ pub(crate) struct MultiSolve {
     /// Bounds of the current step (filled by the scheme).
     pub lo: Vec<f64>,
     pub hi: Vec<f64>,
+    /// Solves that pivoted (something violated or held) and their pivots.
+    pub pivoting_solves: u64,
+    pub pivots: u64,
 }
 
 impl MultiSolve {
@@ -31,7 +34,7 @@ impl MultiSolve {
             })
             .collect();
         let k = dofs.len();
-        Ok(Self { mp: MultiProjection::new(dofs, columns)?, lo: vec![0.0; k], hi: vec![0.0; k] })
+        Ok(Self { mp: MultiProjection::new(dofs, columns)?, lo: vec![0.0; k], hi: vec![0.0; k], pivoting_solves: 0, pivots: 0 })
     }
 
     /// Springs instead of rigid bounds: contact `i` has stiffness `kappa[i]`
@@ -52,6 +55,11 @@ impl MultiSolve {
         self.mp.multipliers()
     }
 
+    /// The contacts with a nonzero multiplier after the last solve.
+    pub fn active_set(&self) -> &[usize] {
+        self.mp.active_set()
+    }
+
     /// The statuses of the last solve.
     pub fn status(&self) -> &[Active] {
         self.mp.status()
@@ -60,7 +68,11 @@ impl MultiSolve {
     /// Solves in place with the bounds in `lo`, `hi`; returns the
     /// multipliers and statuses.
     pub fn solve(&mut self, y: &mut [f64]) -> Result<(&[f64], &[Active]), SchemeError> {
-        self.mp.project(y, &self.lo, &self.hi)?;
+        let r = self.mp.project(y, &self.lo, &self.hi)?;
+        if r.iterations > 0 {
+            self.pivoting_solves += 1;
+            self.pivots += r.iterations as u64;
+        }
         Ok((self.mp.multipliers(), self.mp.status()))
     }
 }

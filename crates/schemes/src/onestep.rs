@@ -85,11 +85,15 @@ pub struct OneStep {
     acts: Vec<Active>,
     /// The forces of the step before (several contacts: for the work).
     prev_lams: Vec<f64>,
+    /// Several contacts: those with a nonzero force after the last step
+    /// (capacity k: no allocation while stepping).
+    touched: Vec<usize>,
+    /// `marked[i]`: contact `i` is in `touched`.
+    marked: Vec<bool>,
     /// Several contacts: the exact solve (None with one contact, or for an
     /// explicit step, which needs none), the contact displacements before
     /// the step, the penalty stiffness of each stop.
     multi: Option<MultiSolve>,
-    uc_prev: Vec<f64>,
     kappas: Vec<f64>,
 }
 
@@ -161,7 +165,15 @@ impl OneStep {
         let a = a_mat.factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
-        let multi = if k > 1 && prm.a_new > 0.0 { Some(MultiSolve::new(&dy, &a)?) } else { None };
+        let multi = if k > 1 && prm.a_new > 0.0 {
+            let mut ms = MultiSolve::new(&dy, &a)?;
+            for (i, ct) in dy.contacts.iter().enumerate() {
+                (ms.lo[i], ms.hi[i]) = (ct.bounds.lo, ct.bounds.hi);
+            }
+            Some(ms)
+        } else {
+            None
+        };
         let mut w = vec![0.0; n];
         w[c] = 1.0;
         a.solve_in_place(&mut w);
@@ -187,9 +199,10 @@ impl OneStep {
         Ok(Self {
             lams: vec![0.0; k],
             prev_lams: vec![0.0; k],
+            touched: Vec::with_capacity(k),
+            marked: vec![false; k],
             acts: vec![Active::None; k],
             multi,
-            uc_prev: dy.contacts.iter().map(|ct| init.u[ct.dof]).collect(),
             kappas: Vec::new(),
             tri,
             law: ContactLaw::Projection,
@@ -294,33 +307,52 @@ impl OneStep {
         if s == 1 {
             out[0] = if self.n == 0 { 0.0 } else { (self.u[0] - self.u_c_prev) / self.dt };
         } else if self.dy.k() > 1 && self.dy.massless_contact() {
-            for (ct, up) in self.dy.contacts.iter().zip(&self.uc_prev) {
-                out[ct.dof] = if self.n == 0 { 0.0 } else { (self.u[ct.dof] - up) / self.dt };
+            // `rhs` holds U^{n-1} between steps (see `finish_multi`).
+            for ct in &self.dy.contacts {
+                out[ct.dof] = if self.n == 0 { 0.0 } else { (self.u[ct.dof] - self.rhs[ct.dof]) / self.dt };
             }
         }
     }
 
     /// The rest of a step with several contacts, from the unconstrained
     /// `y` in `rhs`: the contact solve, then the update of `R` and `P`.
+    /// Only the contacts with a force now or at the step before are
+    /// visited (an inactive obstacle costs the solver's bound check).
     fn finish_multi(&mut self, an: f64, dt: f64, g: f64, s_next: f64) -> Result<StepReport, SchemeError> {
+        // `touched`: contacts whose force was nonzero at the step before.
+        let mut touched = std::mem::take(&mut self.touched);
         match self.law {
             ContactLaw::Projection if an == 0.0 => {
+                self.touched = touched;
                 return Err(SchemeError::Structure("an explicit step (β = 0) cannot use the projection: use a penalty law"));
             }
             ContactLaw::Projection | ContactLaw::Penalty { .. } if an > 0.0 => {
                 let ms = self.multi.as_mut().expect("built for an implicit step");
-                for (i, ct) in self.dy.contacts.iter().enumerate() {
-                    (ms.lo[i], ms.hi[i]) = (ct.bounds.lo, ct.bounds.hi);
+                ms.solve(&mut self.rhs)?;
+                let (mu, st) = (ms.multipliers(), ms.status());
+                for &i in ms.active_set() {
+                    if !self.marked[i] {
+                        self.marked[i] = true;
+                        touched.push(i);
+                    }
                 }
-                let (mu, st) = ms.solve(&mut self.rhs)?;
-                for (i, (&m, &a)) in mu.iter().zip(st).enumerate() {
-                    self.lams[i] = -m / an;
-                    self.acts[i] = a;
+                for &i in &touched {
+                    self.lams[i] = -mu[i] / an;
+                    self.acts[i] = st[i];
                 }
             }
             _ => {
                 // Explicit penalty: the springs act at the new positions.
                 for (i, ct) in self.dy.contacts.iter().enumerate() {
+                    let (x, kappa) = (self.rhs[ct.dof], self.kappas[i]);
+                    let force = kappa * (ct.bounds.lo - x).max(0.0) - kappa * (x - ct.bounds.hi).max(0.0);
+                    if force != 0.0 && !self.marked[i] {
+                        self.marked[i] = true;
+                        touched.push(i);
+                    }
+                }
+                for &i in &touched {
+                    let ct = &self.dy.contacts[i];
                     let (x, kappa) = (self.rhs[ct.dof], self.kappas[i]);
                     let force = kappa * (ct.bounds.lo - x).max(0.0) - kappa * (x - ct.bounds.hi).max(0.0);
                     self.lams[i] = -force;
@@ -334,19 +366,23 @@ impl OneStep {
                 }
             }
         }
-        for (up, ct) in self.uc_prev.iter_mut().zip(&self.dy.contacts) {
-            *up = self.u[ct.dof];
-        }
+        // After the swap `rhs` holds U^n until the next step (the previous
+        // contact displacements, for the work and a massless velocity).
         std::mem::swap(&mut self.u, &mut self.rhs);
         self.n += 1;
         let t = self.time();
         let mut work = 0.0;
-        for (i, ct) in self.dy.contacts.iter().enumerate() {
-            let (lam, x) = (self.lams[i], self.u[ct.dof]);
+        let c0 = self.dy.contacts[0].dof;
+        if !(self.u[c0].is_finite() && self.lams[0].is_finite()) {
+            return Err(SchemeError::NonFinite { step: self.n, time: t });
+        }
+        for &i in &touched {
+            let c = self.dy.contacts[i].dof;
+            let (lam, x) = (self.lams[i], self.u[c]);
             if !(x.is_finite() && lam.is_finite()) {
                 return Err(SchemeError::NonFinite { step: self.n, time: t });
             }
-            work += -0.5 * (self.prev_lams[i] + lam) * (x - self.uc_prev[i]);
+            work += -0.5 * (self.prev_lams[i] + lam) * (x - self.rhs[c]);
         }
         self.work_c += work;
         if let Some(fo) = &self.dy.forcing {
@@ -354,22 +390,44 @@ impl OneStep {
             self.work_f += 0.5 * (self.s_now + s_next) * gdu;
             self.s_now = s_next;
         }
-        self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
-        for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
-            let rn = f - k;
-            *p += dt * ((1.0 - g) * *r + g * rn);
-            *r = rn;
-        }
-        for (ct, &lam) in self.dy.contacts.iter().zip(&self.lams) {
-            if ct.massless {
-                self.r[ct.dof] = 0.0;
-                self.mom[ct.dof] = 0.0;
-            } else {
-                self.r[ct.dof] -= lam;
-                self.mom[ct.dof] -= dt * g * lam;
+        if let Some(t) = &self.tri {
+            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
+            tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
+                let rn = f[i] - ku;
+                mom[i] += dt * ((1.0 - g) * r[i] + g * rn);
+                r[i] = rn;
+            });
+        } else {
+            self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
+            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
+                let rn = f - k;
+                *p += dt * ((1.0 - g) * *r + g * rn);
+                *r = rn;
             }
         }
-        self.prev_lams.copy_from_slice(&self.lams);
+        if self.dy.massless_contact() {
+            for ct in &self.dy.contacts {
+                self.r[ct.dof] = 0.0;
+                self.mom[ct.dof] = 0.0;
+            }
+        } else {
+            for &i in &touched {
+                let (c, lam) = (self.dy.contacts[i].dof, self.lams[i]);
+                self.r[c] -= lam;
+                self.mom[c] -= dt * g * lam;
+            }
+        }
+        // Keep for the next step only the contacts that now carry a force.
+        for &i in &touched {
+            self.prev_lams[i] = self.lams[i];
+        }
+        let (lams, acts, marked) = (&self.lams, &self.acts, &mut self.marked);
+        touched.retain(|&i| {
+            let keep = lams[i] != 0.0 || acts[i] != Active::None;
+            marked[i] = keep;
+            keep
+        });
+        self.touched = touched;
         Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
     }
 
@@ -381,6 +439,10 @@ impl OneStep {
 
 impl Stepper for OneStep {
     stepper_accessors!();
+
+    fn contact_pivots(&self) -> Option<(u64, u64)> {
+        self.multi.as_ref().map(|m| (m.pivoting_solves, m.pivots))
+    }
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let dt = self.dt;

@@ -57,8 +57,12 @@ pub struct PaoliSchatzman {
     means: [f64; 2],
     lams: Vec<f64>,
     acts: Vec<Active>,
-    /// Several contacts: the exact solve.
+    /// Several contacts: the exact solve, the contacts whose bounds move
+    /// (restitution > 0), those with a force after the last step.
     multi: Option<MultiSolve>,
+    moving: Vec<usize>,
+    touched: Vec<usize>,
+    marked: Vec<bool>,
 }
 
 impl PaoliSchatzman {
@@ -79,7 +83,16 @@ impl PaoliSchatzman {
         let a = dy.mass.lin_comb(1.0, &dy.stiffness, beta * dt * dt).factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
-        let multi = if k > 1 { Some(MultiSolve::new(&dy, &a)?) } else { None };
+        let multi = if k > 1 {
+            let mut ms = MultiSolve::new(&dy, &a)?;
+            for (i, ct) in dy.contacts.iter().enumerate() {
+                (ms.lo[i], ms.hi[i]) = (ct.bounds.lo, ct.bounds.hi);
+            }
+            Some(ms)
+        } else {
+            None
+        };
+        let moving: Vec<usize> = if k > 1 { (0..k).filter(|&i| dy.contacts[i].restitution.unwrap_or(restitution) != 0.0).collect() } else { Vec::new() };
         let mut w = vec![0.0; n];
         w[c] = 1.0;
         a.solve_in_place(&mut w);
@@ -104,6 +117,9 @@ impl PaoliSchatzman {
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
             multi,
+            moving,
+            touched: Vec::with_capacity(k),
+            marked: vec![false; k],
         }
         .with_means())
     }
@@ -117,11 +133,14 @@ impl PaoliSchatzman {
     }
 
     /// The rest of a step with several contacts (each with its own
-    /// restitution), from the unconstrained `U^{n+1}` in `rhs`.
+    /// restitution), from the unconstrained `U^{n+1}` in `rhs`. Bounds move
+    /// only for contacts with `e > 0`; only contacts with a force now or at
+    /// the step before are visited.
     fn finish_multi(&mut self, g_coef: Option<f64>) -> Result<StepReport, SchemeError> {
         let dt2 = self.dt * self.dt;
         let ms = self.multi.as_mut().expect("several contacts");
-        for (i, ct) in self.dy.contacts.iter().enumerate() {
+        for &i in &self.moving {
+            let ct = &self.dy.contacts[i];
             let e = ct.restitution.unwrap_or(self.restitution);
             let up = self.u_prev[ct.dof];
             ms.lo[i] = if ct.bounds.lo.is_finite() { (1.0 + e) * ct.bounds.lo - e * up } else { f64::NEG_INFINITY };
@@ -134,18 +153,35 @@ impl PaoliSchatzman {
         let t = self.time();
         let ms = self.multi.as_ref().expect("several contacts");
         let (mu, st) = (ms.multipliers(), ms.status());
+        for &i in ms.active_set() {
+            if !self.marked[i] {
+                self.marked[i] = true;
+                self.touched.push(i);
+            }
+        }
         let (scale, t_lambda) = if self.dy.massless_contact() { (self.beta * dt2, t) } else { (dt2, (self.n - 1) as f64 * self.dt) };
+        let c0 = self.dy.contacts[0].dof;
+        if !self.u[c0].is_finite() {
+            return Err(SchemeError::NonFinite { step: self.n, time: t });
+        }
         let mut work = 0.0;
-        for (i, ct) in self.dy.contacts.iter().enumerate() {
+        for &i in &self.touched {
+            let c = self.dy.contacts[i].dof;
             let lam = -mu[i] / scale;
-            if !(self.u[ct.dof].is_finite() && lam.is_finite()) {
+            if !(self.u[c].is_finite() && lam.is_finite()) {
                 return Err(SchemeError::NonFinite { step: self.n, time: t });
             }
-            work += -0.5 * lam * (self.u[ct.dof] - self.rhs[ct.dof]);
+            work += -0.5 * lam * (self.u[c] - self.rhs[c]);
             self.lams[i] = lam;
             self.acts[i] = st[i];
         }
         self.work_contact += work;
+        let (lams, acts, marked) = (&self.lams, &self.acts, &mut self.marked);
+        self.touched.retain(|&i| {
+            let keep = lams[i] != 0.0 || acts[i] != Active::None;
+            marked[i] = keep;
+            keep
+        });
         if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
             self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
         }
@@ -170,6 +206,10 @@ impl PaoliSchatzman {
 
 impl Stepper for PaoliSchatzman {
     stepper_accessors!();
+
+    fn contact_pivots(&self) -> Option<(u64, u64)> {
+        self.multi.as_ref().map(|m| (m.pivoting_solves, m.pivots))
+    }
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let dt2 = self.dt * self.dt;
