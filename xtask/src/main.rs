@@ -15,6 +15,7 @@
 
 mod beam;
 mod fuzz;
+mod obstacles;
 mod stress;
 mod weighted;
 mod wp;
@@ -47,6 +48,9 @@ enum Cmd {
     Weighted(weighted::Args),
     /// The beam between two stops: the paper's seven scenes, timings, stability limit, self-convergence.
     Beam(beam::Args),
+    /// The beam between obstacles along its whole length (problem (P)): feasibility, self-convergence in dt and J, energy balance.
+    #[command(name = "beam-obstacles")]
+    BeamObstacles(obstacles::Args),
     /// Work–precision: error reached against wall time per scheme and mass.
     #[command(name = "work-precision")]
     WorkPrecision(wp::Args),
@@ -93,6 +97,7 @@ fn main() -> ExitCode {
         Cmd::Convergence(a) => convergence(a),
         Cmd::Weighted(a) => weighted::run(a),
         Cmd::Beam(a) => beam::run_beam(a),
+        Cmd::BeamObstacles(a) => obstacles::run_obstacles(a),
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),

@@ -71,6 +71,8 @@ pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use spec::SchemeSpec;
+/// The status of a contact (re-exported from signorini-contact).
+pub use signorini_contact::Active;
 
 use signorini_contact::ContactError;
 use signorini_fem::{FemError, SymBand};

@@ -1,0 +1,273 @@
+//! `cargo xtask beam-obstacles`: the beam paper's general problem (P) —
+//! the pipe of Dumont & Paoli between longitudinal obstacles `-g <= u(x) <= g`
+//! at every node (the convex set K_h at the nodes), integrated by the
+//! β-scheme with the exact multi-contact solve. Checks feasibility at every
+//! step, measures self-convergence in dt (J fixed) and in J (dt fixed) of
+//! the tip trajectory and of the displacement at the nodes every mesh
+//! shares, and the discrete energy balance residual
+//! `E^{N-1/2} - E^{1/2} - (W_support + W_contact)`.
+//!
+//! Outputs (`--out`, default `out/beam-obstacles`): `dt.csv`, `j.csv` (one
+//! row per run, the reference last), `rates.csv`, `dt.svg`, `j.svg`
+//! (log-log errors), `tip.svg` (the reference tip trajectory against ±g).
+
+use crate::create;
+use signorini_plot::{line_chart, Chart, Scale, Series};
+use signorini_run::beam::{build_with_stops, node_dof, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::study::rate;
+use signorini_run::{run, Observer, RunConfig, RunError, Sample, Stop};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Arguments of `cargo xtask beam-obstacles`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Output folder.
+    #[arg(long, default_value = "out/beam-obstacles")]
+    out: PathBuf,
+    /// Obstacles at -g and +g (m) along the whole beam.
+    #[arg(long, default_value_t = 0.05)]
+    gap: f64,
+    /// β of the β-scheme (>= 1/4: unconditionally stable).
+    #[arg(long, default_value_t = 0.25)]
+    beta: f64,
+    /// Horizon (s): long enough for several impacts, short enough that the
+    /// vibro-impact motion has not become sensitive to rounding.
+    #[arg(long = "t-end", default_value_t = 0.2)]
+    t_end: f64,
+    /// Time steps of the dt study (s), J fixed at --j; each must divide the
+    /// first (coarsest), the reference is the last divided by 4.
+    #[arg(long, value_delimiter = ',', default_value = "1e-4,5e-5,2.5e-5,1.25e-5,6.25e-6")]
+    dts: Vec<f64>,
+    /// Elements of the dt study.
+    #[arg(long, default_value_t = 20)]
+    j: usize,
+    /// Meshes of the J study (each a multiple of the first), dt fixed at
+    /// --j-dt; the reference is the last times 2.
+    #[arg(long, value_delimiter = ',', default_value = "5,10,20,40,80")]
+    js: Vec<usize>,
+    /// Time step of the J study (s).
+    #[arg(long = "j-dt", default_value_t = 1e-5)]
+    j_dt: f64,
+}
+
+/// Records, at every `every`-th level, the displacement at the nodes
+/// `x = i L / base` (i = 1..=base), and the largest bound violation.
+struct Probe {
+    dofs: Vec<usize>,
+    every: usize,
+    samples: Vec<Vec<f64>>,
+    gap: f64,
+    node_dofs: Vec<usize>,
+    max_violation: f64,
+    contact_steps: usize,
+    max_active: usize,
+    first_contact: Option<f64>,
+}
+
+impl Observer for Probe {
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        if s.n % self.every == 0 {
+            self.samples.push(self.dofs.iter().map(|&d| s.u[d]).collect());
+        }
+        let mut worst = 0.0_f64;
+        for &d in &self.node_dofs {
+            worst = worst.max(s.u[d].abs() - self.gap);
+        }
+        self.max_violation = self.max_violation.max(worst);
+        let active = s.status.iter().filter(|a| **a != signorini_schemes::Active::None).count();
+        self.contact_steps += usize::from(active > 0);
+        if active > 0 && self.first_contact.is_none() {
+            self.first_contact = Some(s.t);
+        }
+        self.max_active = self.max_active.max(active);
+        Ok(())
+    }
+}
+
+struct RunOut {
+    steps: usize,
+    /// Per sampled level, the probe values (the tip last).
+    samples: Vec<Vec<f64>>,
+    max_violation: f64,
+    balance: f64,
+    energy_scale: f64,
+    contact_steps: usize,
+    max_active: usize,
+    first_contact: Option<f64>,
+    pivots: (u64, u64),
+    wall: f64,
+}
+
+/// One run on `j` elements at `dt`, sampling the nodes `x = i L / base`
+/// every `every` steps.
+fn run_one(a: &Args, j: usize, dt: f64, base: usize, every: usize) -> Result<RunOut, String> {
+    let pipe = Pipe::paper();
+    let scene = BeamScene { name: "beam-obstacles", elements: j, dt, t_end: a.t_end, contact: BeamContact::Projection { beta: a.beta }, paper_seconds: None };
+    let stops: Vec<Stop> = (1..=j).map(|i| Stop::new(i, -a.gap, a.gap)).collect();
+    let start = Instant::now();
+    let (mut stepper, init, beam) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&stops)).map_err(|e| format!("J = {j}, dt = {dt}: {e}"))?;
+    let cfg = RunConfig::new(dt, a.t_end).map_err(|e| e.to_string())?;
+    let dofs: Vec<usize> = (1..=base).map(|i| node_dof(&beam, i * j / base).expect("a node")).collect();
+    let node_dofs: Vec<usize> = (1..=j).map(|i| node_dof(&beam, i).expect("a node")).collect();
+    let mut probe = Probe { dofs, every, samples: Vec::new(), gap: a.gap, node_dofs, max_violation: 0.0, contact_steps: 0, max_active: 0, first_contact: None };
+    let e0 = stepper.energy().map(|e| e.1).unwrap_or(0.0);
+    let w0 = stepper.work().unwrap_or((0.0, 0.0));
+    run(stepper.as_mut(), &init.u, &cfg, &mut [&mut probe]).map_err(|e| format!("J = {j}, dt = {dt}: {e}"))?;
+    let e1 = stepper.energy().map(|e| e.1).unwrap_or(0.0);
+    let w1 = stepper.work().unwrap_or((0.0, 0.0));
+    let balance = (e1 - e0) - ((w1.0 - w0.0) + (w1.1 - w0.1));
+    let energy_scale = e0.abs().max(e1.abs()).max((w1.0 - w0.0).abs());
+    Ok(RunOut {
+        steps: cfg.steps(),
+        samples: probe.samples,
+        max_violation: probe.max_violation,
+        balance,
+        energy_scale,
+        contact_steps: probe.contact_steps,
+        max_active: probe.max_active,
+        first_contact: probe.first_contact,
+        pivots: stepper.contact_pivots().unwrap_or((0, 0)),
+        wall: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// (tip L∞ error, tip RMS error, all-probes L∞ error) against the
+/// reference over the first `n` samples.
+fn errors(r: &RunOut, reference: &RunOut, n: usize) -> (f64, f64, f64) {
+    let (mut tip_max, mut tip_sq, mut all_max) = (0.0_f64, 0.0, 0.0_f64);
+    let n = n.min(r.samples.len()).min(reference.samples.len());
+    for (s, q) in r.samples.iter().zip(&reference.samples).take(n) {
+        let tip = (s[s.len() - 1] - q[q.len() - 1]).abs();
+        tip_max = tip_max.max(tip);
+        tip_sq += tip * tip;
+        for (x, y) in s.iter().zip(q) {
+            all_max = all_max.max((x - y).abs());
+        }
+    }
+    (tip_max, (tip_sq / n.max(1) as f64).sqrt(), all_max)
+}
+
+const HEADER: &str = "pre_impact_tip_linf_err_m,tip_linf_err_m,tip_rms_err_m,nodes_linf_err_m,max_violation_m,contact_steps,max_active,pivoting_steps,pivots_per_pivoting_step,energy_balance_residual,relative_balance_residual,wall_s";
+
+fn row(r: &RunOut, pre: Option<f64>, e: Option<(f64, f64, f64)>) -> String {
+    let (a, b, c) = e.map_or((String::new(), String::new(), String::new()), |e| (format!("{:.6e}", e.0), format!("{:.6e}", e.1), format!("{:.6e}", e.2)));
+    let p = pre.map_or(String::new(), |p| format!("{p:.6e}"));
+    format!(
+        "{p},{a},{b},{c},{:.3e},{},{},{},{:.3},{:.3e},{:.3e},{:.3}",
+        r.max_violation,
+        r.contact_steps,
+        r.max_active,
+        r.pivots.0,
+        r.pivots.1 as f64 / r.pivots.0.max(1) as f64,
+        r.balance,
+        r.balance / r.energy_scale.max(f64::MIN_POSITIVE),
+        r.wall
+    )
+}
+
+fn validate(a: &Args) -> Result<(), String> {
+    if !(a.gap > 0.0 && a.gap.is_finite()) {
+        return Err(format!("--gap {}: allowed finite and > 0", a.gap));
+    }
+    if !(0.25..=0.5).contains(&a.beta) {
+        return Err(format!("--beta {}: allowed [0.25, 0.5] (unconditionally stable)", a.beta));
+    }
+    if !(a.t_end > 0.0 && a.t_end <= 10.0) {
+        return Err(format!("--t-end {}: allowed (0, 10] s", a.t_end));
+    }
+    if a.dts.len() < 2 || a.dts.iter().any(|d| !(*d > 0.0 && d.is_finite())) {
+        return Err(format!("--dts {:?}: allowed at least two positive time steps", a.dts));
+    }
+    for d in &a.dts {
+        let q = a.dts[0] / d;
+        if (q - q.round()).abs() > 1e-9 * q || RunConfig::new(*d, a.t_end).is_err() {
+            return Err(format!("--dts: {d} must divide the first, {}, and --t-end {} a whole number of times", a.dts[0], a.t_end));
+        }
+    }
+    if a.js.len() < 2 || a.js.iter().any(|j| *j == 0 || j % a.js[0] != 0 || *j > 2000) || !(2..=2000).contains(&a.j) {
+        return Err(format!("--js {:?} / --j {}: allowed multiples of the first, each in [1, 2000] (and --j in [2, 2000])", a.js, a.j));
+    }
+    if RunConfig::new(a.j_dt, a.t_end).is_err() || RunConfig::new(a.j_dt, a.dts[0]).is_err() {
+        return Err(format!("--j-dt {}: must divide --t-end and the coarsest dt a whole number of times", a.j_dt));
+    }
+    Ok(())
+}
+
+/// Runs the study.
+pub fn run_obstacles(a: Args) -> Result<(), String> {
+    validate(&a)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("cannot create {}: {e}", a.out.display()))?;
+    let coarse = a.dts[0];
+    let base = a.js[0];
+    // dt study: J fixed, samples at the coarsest dt's levels.
+    let dt_ref = a.dts[a.dts.len() - 1] / 4.0;
+    let every = |dt: f64| (coarse / dt).round() as usize;
+    let probes_j = if a.j % base == 0 { base } else { 1 };
+    let reference = run_one(&a, a.j, dt_ref, probes_j, every(dt_ref))?;
+    let mut f = create(&a.out, "dt.csv")?;
+    writeln!(f, "j,dt_s,steps,{HEADER}").map_err(|e| e.to_string())?;
+    // Samples strictly before the reference's first contact.
+    let pre_samples = |r: &RunOut| r.first_contact.map_or(usize::MAX, |t| (t / coarse - 1e-9).ceil() as usize);
+    let mut dt_pts = (Vec::new(), Vec::new(), Vec::new());
+    for &dt in &a.dts {
+        let r = run_one(&a, a.j, dt, probes_j, every(dt))?;
+        let e = errors(&r, &reference, usize::MAX);
+        let pre = errors(&r, &reference, pre_samples(&reference)).0;
+        dt_pts.0.push((dt, e.0));
+        dt_pts.1.push((dt, e.2));
+        dt_pts.2.push((dt, pre));
+        writeln!(f, "{},{dt:e},{},{}", a.j, r.steps, row(&r, Some(pre), Some(e))).map_err(|e| e.to_string())?;
+        eprintln!("dt = {dt:e}: tip error {:.3e} (before the first impact {pre:.3e}), max violation {:.1e}, balance {:.1e}", e.0, r.max_violation, r.balance);
+    }
+    writeln!(f, "{},{dt_ref:e},{},{}", a.j, reference.steps, row(&reference, None, None)).map_err(|e| e.to_string())?;
+    // J study: dt fixed, samples at the coarsest dt's levels, nodes x = iL/base.
+    let j_ref = 2 * a.js[a.js.len() - 1];
+    let every_j = (coarse / a.j_dt).round() as usize;
+    let reference_j = run_one(&a, j_ref, a.j_dt, base, every_j)?;
+    let mut g = create(&a.out, "j.csv")?;
+    writeln!(g, "j,dt_s,steps,{HEADER}").map_err(|e| e.to_string())?;
+    let mut j_pts = (Vec::new(), Vec::new(), Vec::new());
+    for &j in &a.js {
+        let r = run_one(&a, j, a.j_dt, base, every_j)?;
+        let e = errors(&r, &reference_j, usize::MAX);
+        let pre = errors(&r, &reference_j, pre_samples(&reference_j)).0;
+        let h = Pipe::paper().length / j as f64;
+        j_pts.0.push((h, e.0));
+        j_pts.1.push((h, e.2));
+        j_pts.2.push((h, pre));
+        writeln!(g, "{j},{:e},{},{}", a.j_dt, r.steps, row(&r, Some(pre), Some(e))).map_err(|e| e.to_string())?;
+        eprintln!("J = {j}: tip error {:.3e} (before the first impact {pre:.3e}), max violation {:.1e}, balance {:.1e}", e.0, r.max_violation, r.balance);
+    }
+    writeln!(g, "{j_ref},{:e},{},{}", a.j_dt, reference_j.steps, row(&reference_j, None, None)).map_err(|e| e.to_string())?;
+    let mut r = create(&a.out, "rates.csv")?;
+    writeln!(r, "study,error,lsq_rate,last_rate").map_err(|e| e.to_string())?;
+    for (study, err, pts) in [("dt", "pre_impact_tip_linf", &dt_pts.2), ("dt", "tip_linf", &dt_pts.0), ("dt", "nodes_linf", &dt_pts.1), ("j", "pre_impact_tip_linf", &j_pts.2), ("j", "tip_linf", &j_pts.0), ("j", "nodes_linf", &j_pts.1)] {
+        let q = rate(pts);
+        writeln!(r, "{study},{err},{:.3},{:.3}", q.lsq, q.last).map_err(|e| e.to_string())?;
+        eprintln!("rate in {study} ({err}): {:.2} (least squares), {:.2} (last two)", q.lsq, q.last);
+    }
+    let plot = |name: &str, title: &str, x: &str, pts: &(Vec<(f64, f64)>, Vec<(f64, f64)>, Vec<(f64, f64)>)| -> Result<(), String> {
+        let series = [
+            Series { label: "tip, L∞ in time".into(), points: pts.0.clone(), reference: false, style: Default::default() },
+            Series { label: "probe nodes, L∞".into(), points: pts.1.clone(), reference: false, style: Default::default() },
+            Series { label: "tip, before the first impact".into(), points: pts.2.clone(), reference: false, style: Default::default() },
+        ];
+        let svg = line_chart(&Chart { title, x_label: x, y_label: "error against the reference (m)", scale: Scale::LogLog, size: (640, 420) }, &series)?;
+        std::fs::write(a.out.join(name), svg).map_err(|e| e.to_string())
+    };
+    plot("dt.svg", "beam-obstacles: self-convergence in dt", "dt (s)", &dt_pts)?;
+    plot("j.svg", "beam-obstacles: self-convergence in J", "h = L/J (m)", &j_pts)?;
+    let tip: Vec<(f64, f64)> = reference_j.samples.iter().enumerate().map(|(n, s)| (n as f64 * coarse, s[s.len() - 1])).collect();
+    let t = a.t_end;
+    let series = [
+        Series { label: format!("tip, J = {j_ref}, dt = {:e}", a.j_dt), points: tip, reference: false, style: Default::default() },
+        Series { label: format!("obstacle +{}", a.gap), points: vec![(0.0, a.gap), (t, a.gap)], reference: true, style: Default::default() },
+        Series { label: format!("obstacle -{}", a.gap), points: vec![(0.0, -a.gap), (t, -a.gap)], reference: true, style: Default::default() },
+    ];
+    let svg = line_chart(&Chart { title: "beam-obstacles: tip displacement u(L, t)", x_label: "t (s)", y_label: "u (m)", scale: Scale::Linear, size: (720, 420) }, &series)?;
+    std::fs::write(a.out.join("tip.svg"), svg).map_err(|e| e.to_string())?;
+    eprintln!("wrote {}", a.out.display());
+    Ok(())
+}
