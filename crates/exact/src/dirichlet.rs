@@ -14,7 +14,7 @@ pub struct BarDirichlet;
 
 /// Phase (0 approach, 1 contact, 2 flight) and time inside it.
 #[inline]
-fn phase(t: f64) -> (u8, f64) {
+pub(crate) fn phase(t: f64) -> (u8, f64) {
     let tp = t.rem_euclid(3.0);
     let p = tp.floor();
     // rem_euclid can return 3.0 for tiny negative t; fold it back.
@@ -26,8 +26,15 @@ fn phase(t: f64) -> (u8, f64) {
 
 #[inline]
 fn eval(p: u8, tau: f64, x: f64) -> Fields {
-    let a = x < tau; // reached by the line leaving x = 0 at the phase start
-    let b = x + tau < 1.0; // not yet reached by the line leaving x = 1
+    // a: reached by the line leaving x = 0 at the phase start;
+    // b: not yet reached by the line leaving x = 1.
+    eval_zone(p, tau, x, x < tau, x + tau < 1.0)
+}
+
+/// The fields at `x` in the zone `(a, b)` of phase `p`, `tau` into it
+/// (`a`: left of the line `x = τ`; `b`: left of the line `x = 1 - τ`).
+#[inline]
+pub(crate) fn eval_zone(p: u8, tau: f64, x: f64, a: bool, b: bool) -> Fields {
     let f = |u: f64, ux: f64, ut: f64| Fields { u, ux, ut };
     match (p, a, b) {
         (0, false, _) => f((1.0 - x) / 2.0, -0.5, 0.0),

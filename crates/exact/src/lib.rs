@@ -9,17 +9,21 @@
 //! lines — the positions of those lines at time `t` ([`ExactSolution::kinks`]),
 //! so that error integrals can split elements there and stay exact.
 //!
-//! Benchmarks: [`BarDirichlet`] (`bar-dirichlet`, docs/theory.md §5.1) and
+//! Benchmarks: [`BarDirichlet`] (`bar-dirichlet`, docs/theory.md §5.1),
 //! [`BarNeumannGravity`] (`bar-neumann-gravity`, the falling bar under
-//! gravity, docs/theory.md §5.2, built exactly for any data).
+//! gravity, docs/theory.md §5.2, built exactly for any data) and
+//! [`BarMirrored`] (`bar-mirrored`, the Dirichlet bar mirrored onto `[0, 2]`
+//! between two stops, docs/theory.md §5.4).
 //!
 //! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
 //! meshes or schemes.
 
 mod dirichlet;
+mod mirrored;
 mod neumann;
 
 pub use dirichlet::BarDirichlet;
+pub use mirrored::BarMirrored;
 pub use neumann::{BarNeumannGravity, Event, EventKind, NeumannError};
 
 /// Point values of an exact solution (one-sided where a kink passes: the
@@ -40,12 +44,14 @@ pub struct Fields {
 pub enum FarEnd {
     /// `u(L, t) = 0`.
     Clamped,
-    /// `u_x(L, t) = 0`.
+    /// Not clamped: `u_x(L, t) = 0`, or ([`BarMirrored`]) a stop at `x = L`
+    /// that holds it only while in contact. Its `V` norm is the full `H¹` one.
     Free,
 }
 
 /// An exact solution of the bar problem `u_tt - c² u_xx = f` on `(0, L)` with
-/// Signorini contact at `x = 0`.
+/// Signorini contact at `x = 0` (and, for [`BarMirrored`], a second stop at
+/// `x = L`).
 pub trait ExactSolution: Send + Sync {
     /// Benchmark name (as used on the command line).
     fn name(&self) -> &str;

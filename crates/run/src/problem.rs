@@ -1,7 +1,7 @@
 //! Bar problems and the built-in benchmarks.
 
 use crate::RunError;
-use signorini_exact::{BarDirichlet, BarNeumannGravity, ExactSolution, FarEnd};
+use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution, FarEnd};
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_norms::VNorm;
 use signorini_schemes::{Bounds, Contact, Dynamics, Initial};
@@ -180,11 +180,16 @@ pub enum Benchmark {
     /// `bar-neumann-gravity-0.11`: the paper's data `g = 0.11` (not periodic;
     /// exact closed form up to `t ≈ 225`).
     BarNeumannGravityPaper,
+    /// `bar-mirrored`: the Dirichlet bar mirrored onto `[0, 2]`, a free bar
+    /// between the stops `u(0) >= 0` and `u(2) <= 0` (docs/theory.md §5.4).
+    /// Its level `m` is the number of elements on `[0, 1]`: the problem has
+    /// `2m` elements, so `dx = 1/m` as for `bar-dirichlet` at level `m`.
+    BarMirrored,
 }
 
 impl Benchmark {
     /// Every benchmark.
-    pub const ALL: [Benchmark; 3] = [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity, Benchmark::BarNeumannGravityPaper];
+    pub const ALL: [Benchmark; 4] = [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity, Benchmark::BarNeumannGravityPaper, Benchmark::BarMirrored];
 
     /// Its name.
     pub fn name(self) -> &'static str {
@@ -192,16 +197,17 @@ impl Benchmark {
             Benchmark::BarDirichlet => "bar-dirichlet",
             Benchmark::BarNeumannGravity => "bar-neumann-gravity",
             Benchmark::BarNeumannGravityPaper => "bar-neumann-gravity-0.11",
+            Benchmark::BarMirrored => "bar-mirrored",
         }
     }
 
     /// The study defaults: (dx/dt, T). The papers' ratios (10 for the
-    /// Dirichlet bar, 1 for the falling bar); horizons of one period (3) and
-    /// of two impacts (16: one period for g = 1/9; impacts at 3.02 and 11.08
-    /// for g = 0.11).
+    /// Dirichlet bar and its mirror image, 1 for the falling bar); horizons
+    /// of one period (3) and of two impacts (16: one period for g = 1/9;
+    /// impacts at 3.02 and 11.08 for g = 0.11).
     pub fn default_ratio_and_horizon(self) -> (f64, f64) {
         match self {
-            Benchmark::BarDirichlet => (10.0, 3.0),
+            Benchmark::BarDirichlet | Benchmark::BarMirrored => (10.0, 3.0),
             Benchmark::BarNeumannGravity | Benchmark::BarNeumannGravityPaper => (1.0, 16.0),
         }
     }
@@ -214,20 +220,33 @@ impl Benchmark {
         };
         match self {
             Benchmark::BarDirichlet => Ok(Box::new(BarDirichlet)),
+            Benchmark::BarMirrored => Ok(Box::new(BarMirrored)),
             Benchmark::BarNeumannGravity => neumann(BarNeumannGravity::periodic(t_end)),
             Benchmark::BarNeumannGravityPaper => neumann(BarNeumannGravity::paper(t_end)),
         }
     }
 
-    /// The discrete problem on `m` elements with a mass treatment, initial
-    /// data interpolated from the exact solution at `t = 0`.
+    /// The discrete problem at level `m` with a mass treatment, initial
+    /// data interpolated from the exact solution at `t = 0`: `m` elements on
+    /// `[0, L]`, except `bar-mirrored`, which has `2m` elements on `[0, 2]`
+    /// (so `dx = 1/m`, as for `bar-dirichlet` at level `m`) and the stops
+    /// `u_0 >= 0` and `u_{2m} <= 0`, in that order, with the mass treatment
+    /// at both ([`Bar::mass_with_contacts`]).
     pub fn problem(self, exact: &dyn ExactSolution, m: usize, mass: BarMass) -> Result<BarProblem, RunError> {
         let end = match exact.far_end() {
             FarEnd::Clamped => RightEnd::Clamped,
             FarEnd::Free => RightEnd::Free,
         };
-        let bar = Bar::new(exact.length(), m, exact.wave_speed(), end)?;
-        BarProblem::new(bar, mass, exact.gap(), exact.body_force(), |x| exact.fields(x, 0.0).u, |x| exact.fields(x, 0.0).ut)
+        let elements = match self {
+            Benchmark::BarMirrored => m.checked_mul(2).ok_or(RunError::Invalid { field: "m", value: m as f64, allowed: "2m elements addressable" })?,
+            _ => m,
+        };
+        let bar = Bar::new(exact.length(), elements, exact.wave_speed(), end)?;
+        let p = BarProblem::new(bar, mass, exact.gap(), exact.body_force(), |x| exact.fields(x, 0.0).u, |x| exact.fields(x, 0.0).ut)?;
+        match self {
+            Benchmark::BarMirrored => p.with_stops(vec![Stop::new(0, exact.gap(), f64::INFINITY), Stop::new(elements, f64::NEG_INFINITY, -exact.gap())]),
+            _ => Ok(p),
+        }
     }
 }
 

@@ -31,7 +31,7 @@ pub enum RunError {
         allowed: String,
     },
     /// An unknown benchmark name.
-    #[error("unknown benchmark {0:?}: allowed bar-dirichlet, bar-neumann-gravity, bar-neumann-gravity-0.11")]
+    #[error("unknown benchmark {0:?}: allowed bar-dirichlet, bar-neumann-gravity, bar-neumann-gravity-0.11, bar-mirrored")]
     UnknownBenchmark(String),
     /// The exact solution cannot be built for these parameters or horizon.
     #[error("exact solution: {0}")]

@@ -268,6 +268,31 @@ pub struct Oracle {
     pub lo: f64,
     /// Upper bound (`+∞` for one obstacle).
     pub hi: f64,
+    /// Every constrained dof, in contact order (the first is `c`, `lo`,
+    /// `hi`); every one massless when `massless`.
+    pub stops: Vec<OStop>,
+}
+
+/// One constrained dof as the test knows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OStop {
+    /// The dof.
+    pub dof: usize,
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound.
+    pub hi: f64,
+    /// Its own restitution, if any.
+    pub e: Option<f64>,
+    /// Its own penalty stiffness, if any.
+    pub kappa: Option<f64>,
+}
+
+impl OStop {
+    /// A stop with the scheme's restitution and stiffness.
+    pub fn new(dof: usize, lo: f64, hi: f64) -> Self {
+        Self { dof, lo, hi, e: None, kappa: None }
+    }
 }
 
 impl Oracle {
@@ -297,24 +322,39 @@ impl Oracle {
         }
     }
 
-    /// First massive dof.
-    pub fn massive_start(&self) -> usize {
-        usize::from(self.massless)
+    /// The dofs that carry mass: all but the massless contacts.
+    pub fn massive_dofs(&self) -> Vec<usize> {
+        (0..self.n()).filter(|i| !(self.massless && self.stops.iter().any(|st| st.dof == *i))).collect()
     }
 
     /// `(M_ss)⁻¹ P` on the massive dofs, `V_c = 0` on a massless node (whose
     /// velocity terms cancel from the identities once it is in equilibrium,
     /// docs/theory.md §7.7).
     pub fn velocity(&self, chol: &Chol, p: &[f64]) -> Vec<f64> {
-        let s = self.massive_start();
+        let s = self.massive_dofs();
+        let ps: Vec<f64> = s.iter().map(|&i| p[i]).collect();
         let mut v = vec![0.0; self.n()];
-        v[s..].copy_from_slice(&chol.solve(&p[s..]));
+        for (&i, x) in s.iter().zip(chol.solve(&ps)) {
+            v[i] = x;
+        }
         v
     }
 
     /// The Cholesky factor of the massive block of `M`.
     pub fn mass_chol(&self) -> Chol {
-        Chol::new(&trailing(&self.m, self.massive_start()))
+        let s = self.massive_dofs();
+        Chol::new(&s.iter().map(|&i| s.iter().map(|&j| self.m[i][j]).collect()).collect())
+    }
+
+    /// The contact force vector `Σ λ_i e_{c_i}` for the forces `lams` in
+    /// contact order.
+    pub fn force_vector(&self, lams: &[f64]) -> Vec<f64> {
+        assert_eq!(lams.len(), self.stops.len(), "one force per contact");
+        let mut f = vec![0.0; self.n()];
+        for (st, l) in self.stops.iter().zip(lams) {
+            f[st.dof] += l;
+        }
+        f
     }
 }
 
@@ -338,7 +378,7 @@ pub fn bar_scene(m: usize, mass: BarMass, free: bool, gap: f64, body: f64, forci
     for (a, b) in dy.load.iter().zip(&load) {
         assert!((a - b).abs() <= 1e-15 * (1.0 + b.abs()), "bar load {a} vs {b}");
     }
-    let o = Oracle { m: mm, k: kk, load, forcing, c: 0, massless: mass.massless_contact_node(), lo: gap, hi: f64::INFINITY };
+    let o = Oracle { m: mm, k: kk, load, forcing, c: 0, massless: mass.massless_contact_node(), lo: gap, hi: f64::INFINITY, stops: vec![OStop::new(0, gap, f64::INFINITY)] };
     (dy, o)
 }
 
@@ -358,7 +398,7 @@ pub fn beam_scene(j: usize, k2: f64, lo: f64, hi: f64, shape: Vec<f64>, s: Sine)
     assert_eq!(dy.stiffness.half_bandwidth(), 3, "the beam must take the banded (non-tridiagonal) path");
     assert_same("beam mass", &dy.mass, &mm);
     assert_same("beam stiffness", &dy.stiffness, &kk);
-    let o = Oracle { m: mm, k: kk, load: vec![0.0; n], forcing: Some((shape, s)), c: 2 * j - 2, massless: false, lo, hi };
+    let o = Oracle { m: mm, k: kk, load: vec![0.0; n], forcing: Some((shape, s)), c: 2 * j - 2, massless: false, lo, hi, stops: vec![OStop::new(2 * j - 2, lo, hi)] };
     (dy, o)
 }
 
@@ -420,6 +460,8 @@ pub struct Traj {
     pub u: Vec<Vec<f64>>,
     /// `reports[i]` produced level `first + i + 1`.
     pub reports: Vec<StepReport>,
+    /// Every contact's force after each step (`forces[i]` with `reports[i]`).
+    pub forces: Vec<Vec<f64>>,
 }
 
 impl Traj {
@@ -450,6 +492,18 @@ impl Traj {
         out
     }
 
+    /// Every contact's force by level, placed like [`Traj::lambdas`]
+    /// (`None` where no step reports one).
+    pub fn all_forces(&self, lag: usize) -> Vec<Option<Vec<f64>>> {
+        let mut out = vec![None; self.last() + 1];
+        for (i, (r, f)) in self.reports.iter().zip(&self.forces).enumerate() {
+            let n = self.first + i + 1;
+            assert_eq!(r.lambda.map(|l| l.1), Some(f[0]), "step to level {n}: the report's λ is contact 0's force");
+            out[n - lag] = Some(f.clone());
+        }
+        out
+    }
+
     /// Number of steps whose report says a bound was active.
     pub fn active_steps(&self) -> usize {
         self.reports.iter().filter(|r| r.active != signorini_contact::Active::None).count()
@@ -461,12 +515,14 @@ pub fn record(s: &mut dyn Stepper, steps: usize) -> Traj {
     let first = s.level();
     let mut u = vec![s.displacement().to_vec()];
     let mut reports = Vec::with_capacity(steps);
+    let mut forces = Vec::with_capacity(steps);
     for _ in 0..steps {
         let r = s.step().unwrap_or_else(|e| panic!("{}: {e}", s.label()));
         reports.push(r);
+        forces.push(s.contact_forces().to_vec());
         u.push(s.displacement().to_vec());
     }
-    Traj { dt: s.dt(), first, u, reports }
+    Traj { dt: s.dt(), first, u, reports, forces }
 }
 
 /// The largest `|lhs − rhs| / scale` seen, to quote and to assert on.
@@ -513,12 +569,16 @@ impl Coefs {
 }
 
 /// What [`check_one_step`] measured.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct OneStepStats {
     /// Worst residual of the displacement update.
     pub residual: Worst,
     /// Worst mismatch of the energy identity.
     pub energy: Worst,
+    /// At every level: the energy `E` recomputed here, and the work of the
+    /// time-dependent load and of the contact forces accumulated from level
+    /// 0 (trapezoid, `Σ ½ ΔUᵀ(Gⁿ + Gⁿ⁺¹)` split by origin).
+    pub path: Vec<(f64, f64, f64)>,
 }
 
 /// Checks a one-step run (Newmark, θ-method, penalty, Nitsche) against the
@@ -537,7 +597,7 @@ pub struct OneStepStats {
 ///   (from the first step on with a massless node, §7.7).
 pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &Traj, force: impl Fn(usize, &[f64], f64) -> Vec<f64>, tol: f64) -> OneStepStats {
     assert_eq!(traj.first, 0);
-    let (dt, n, c) = (traj.dt, o.n(), o.c);
+    let (dt, n) = (traj.dt, o.n());
     let lambdas = traj.lambdas(0);
     let chol = o.mass_chol();
     let (nm, nk) = (norm_inf(&o.m), norm_inf(k));
@@ -550,7 +610,9 @@ pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &T
     };
     let zero_c = |mut r: Vec<f64>| {
         if o.massless {
-            r[c] = 0.0;
+            for st in &o.stops {
+                r[st.dof] = 0.0;
+            }
         }
         r
     };
@@ -559,6 +621,8 @@ pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &T
     let mut st = OneStepStats::default();
     let mut p = mul(&o.m, &init.v);
     let mut r = zero_c(r_full(0));
+    let (mut wf, mut wc) = (0.0, 0.0);
+    st.path.push((energy(traj.at(0), &o.velocity(&chol, &p)), 0.0, 0.0));
     for l in 0..traj.last() {
         let (u0, u1) = (traj.at(l), traj.at(l + 1));
         let du = sub(u1, u0);
@@ -572,6 +636,10 @@ pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &T
         let r1 = zero_c(r1_full);
         let p1: Vec<f64> = (0..n).map(|i| p[i] + dt * ((1.0 - cf.gamma) * r[i] + cf.gamma * r1[i])).collect();
         let (v0, v1) = (o.velocity(&chol, &p), o.velocity(&chol, &p1));
+        let t = |l: usize| l as f64 * dt;
+        wf += 0.5 * dot(&du, &lin(&[(1.0, &o.forcing_at(t(l))), (1.0, &o.forcing_at(t(l + 1)))]));
+        wc -= 0.5 * dot(&du, &lin(&[(1.0, &cvec(l)), (1.0, &cvec(l + 1))]));
+        st.path.push((energy(u1, &v1), wf, wc));
         if l >= usize::from(o.massless) {
             let (e0, e1) = (energy(u0, &v0), energy(u1, &v1));
             let dv = sub(&v1, &v0);
@@ -603,19 +671,266 @@ pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &T
 }
 
 /// Checks the projection's contact conditions at every level of a one-step
-/// run: `lo <= u_c <= hi`, `λ <= 0` on `lo`, `λ >= 0` on `hi`, `λ = 0`
-/// strictly inside. Returns the number of levels with `λ ≠ 0`.
+/// run, for every contact: `lo <= u_c <= hi`, `λ <= 0` on `lo`, `λ >= 0` on
+/// `hi`, `λ = 0` strictly inside (the bound itself, not a rounding of it).
+/// Returns the number of levels with some `λ ≠ 0`.
 pub fn check_projection(o: &Oracle, traj: &Traj) -> usize {
-    let lambdas = traj.lambdas(0);
+    let _ = traj.lambdas(0);
+    let forces = traj.all_forces(0);
     let mut active = 0;
     for l in 1..=traj.last() {
-        let (u, lam) = (traj.at(l)[o.c], lambdas[l].unwrap());
-        assert!(u >= o.lo && u <= o.hi, "level {l}: u_c = {u} outside [{}, {}]", o.lo, o.hi);
-        if lam != 0.0 {
-            active += 1;
-            let on = if lam < 0.0 { o.lo } else { o.hi };
-            assert_eq!(u, on, "level {l}: λ = {lam} but u_c = {u} is not on the bound {on}");
+        let f = forces[l].as_ref().unwrap();
+        for (st, &lam) in o.stops.iter().zip(f) {
+            let u = traj.at(l)[st.dof];
+            assert!(u >= st.lo && u <= st.hi, "level {l}: u_{} = {u} outside [{}, {}]", st.dof, st.lo, st.hi);
+            if lam != 0.0 {
+                let on = if lam < 0.0 { st.lo } else { st.hi };
+                assert_eq!(u, on, "level {l}: λ = {lam} at dof {} but u = {u} is not on the bound {on}", st.dof);
+            }
         }
+        active += usize::from(f.iter().any(|x| *x != 0.0));
     }
     active
+}
+
+/// What [`check_ps`] measured.
+#[derive(Default, Debug)]
+pub struct PsStats {
+    /// Worst residual of the two-step equation (and the start step).
+    pub residual: Worst,
+    /// Worst mismatch of the half-step energy balance.
+    pub energy: Worst,
+    /// Levels where some force is nonzero.
+    pub active: usize,
+    /// Levels with a nonzero force, per contact.
+    pub active_per_contact: Vec<usize>,
+}
+
+/// Checks a Paoli–Schatzman run (docs/theory.md §4.3–§4.4, §7.3) with the
+/// test's matrices, from the recorded displacements (`U⁰` = the initial
+/// data, the run starting at level 1) and reported forces, for every
+/// contact `i` (dof `c_i`, bounds `[lo_i, hi_i]`, restitution `e_i` = its
+/// own or the scheme's `e`):
+///
+/// * the start step: rows off the contacts of one Newmark(β, ½) step (β = ¼
+///   when β = 0) with the load `F(t₁)`; each contact row a force of the
+///   right sign;
+/// * every step: `M(Uⁿ⁺¹ − 2Uⁿ + Uⁿ⁻¹) + dt² K(βUⁿ⁺¹ + (1−2β)Uⁿ + βUⁿ⁻¹) = dt² (F_s + Gⁿ − Σ λ_iⁿ e_{c_i})`,
+///   `Gⁿ = shape·(β fⁿ⁺¹ + (1−2β) fⁿ + β fⁿ⁻¹)`, `fᵏ` the exact mean over
+///   `[t_k, t_{k+1}]` (massless nodes: row `c_i` is `(K Uⁿ⁺¹)_{c_i} = F_{c_i}(t_{n+1}) − λ_{i,n+1}`);
+/// * the constraint `lo_i <= (u_{c_i}ⁿ⁺¹ + e_i u_{c_i}ⁿ⁻¹)/(1+e_i) <= hi_i`,
+///   complementary to `λ_i` (`u_{c_i}ⁿ⁺¹ = (1+e_i) lo_i − e_i u_{c_i}ⁿ⁻¹` when `λ_i < 0`);
+/// * the half-step energy balance
+///   `E^{n+½} − E^{n−½} = ½ Gⁿᵀ(Uⁿ⁺¹ − Uⁿ⁻¹) − Σ ½ λ_iⁿ (u_{c_i}ⁿ⁺¹ − u_{c_i}ⁿ⁻¹)`, each
+///   contact term being the paper's (35) with a gap, `(1+e_i)/2 λ_iⁿ (u_{c_i}ⁿ⁻¹ − bound)`
+///   (massless nodes: `+ ½ ρ_{c_i} (u_{c_i}ⁿ⁺¹ − u_{c_i}ⁿ⁻¹)` with `ρ_{c_i}` the dropped row's residual).
+pub fn check_ps(o: &Oracle, beta: f64, e: f64, init: &Initial, traj: &Traj) -> PsStats {
+    const TOL: f64 = 1e-11;
+    assert_eq!(traj.first, 1, "Paoli–Schatzman starts at level 1");
+    let (dt, n) = (traj.dt, o.n());
+    let dt2 = dt * dt;
+    let is_contact = |i: usize| o.stops.iter().any(|st| st.dof == i);
+    let u = |l: usize| -> &[f64] { if l == 0 { &init.u } else { traj.at(l) } };
+    let lag = if o.massless { 0 } else { 1 };
+    let _ = traj.lambdas(lag);
+    let forces = traj.all_forces(lag);
+    let (nm, nk) = (norm_inf(&o.m), norm_inf(&o.k));
+    let mut st = PsStats { active_per_contact: vec![0; o.stops.len()], ..PsStats::default() };
+    // The start step.
+    {
+        let bs = if beta > 0.0 { beta } else { 0.25 };
+        let mut r0 = sub(&o.load_at(0.0), &mul(&o.k, u(0)));
+        if o.massless {
+            for s in &o.stops {
+                r0[s.dof] = 0.0;
+            }
+        }
+        let mv0 = mul(&o.m, &init.v);
+        let lhs = mul(&mat_add(&o.m, bs * dt2, &o.k), u(1));
+        let rhs = lin(&[(1.0, &mul(&o.m, u(0))), (dt, &mv0), ((0.5 - bs) * dt2, &r0), (bs * dt2, &o.load_at(dt))]);
+        let res = sub(&lhs, &rhs);
+        let scale = (nm + bs * dt2 * nk) * max_abs(u(1)) + nm * max_abs(u(0)) + dt * max_abs(&mv0) + dt2 * (max_abs(&r0) + max_abs(&o.load_at(dt)));
+        for i in (0..n).filter(|&i| !is_contact(i)) {
+            st.residual.check(&format!("start step, row {i}"), res[i], scale, TOL);
+        }
+        // Row c_i: μ = res >= 0 pushes up from lo, <= 0 down from hi.
+        for s in &o.stops {
+            let uc = u(1)[s.dof];
+            assert!(uc >= s.lo && uc <= s.hi, "start step: u_{} = {uc} outside the bounds", s.dof);
+            if res[s.dof].abs() > TOL * scale {
+                assert_eq!(uc, if res[s.dof] > 0.0 { s.lo } else { s.hi }, "start step: a force {} off the bound at dof {}", res[s.dof], s.dof);
+            }
+        }
+    }
+    let mean = |k: usize| o.forcing_mean(k as f64 * dt, (k + 1) as f64 * dt);
+    let energy = |l: usize| -> (f64, f64) {
+        // E^{l+½} and a rounding scale for it.
+        let v: Vec<f64> = sub(u(l + 1), u(l)).iter().map(|x| x / dt).collect();
+        let ub = lin(&[(0.5, u(l)), (0.5, u(l + 1))]);
+        let terms = [0.5 * quad(&o.m, &v), 0.5 * (beta - 0.25) * dt2 * quad(&o.k, &v), 0.5 * quad(&o.k, &ub), -dot(&o.load, &ub)];
+        let scale = nm * max_abs(&v).powi(2) + nk * (max_abs(&ub).powi(2) + dt2 * max_abs(&v).powi(2)) + max_abs(&o.load) * max_abs(&ub) * n as f64;
+        (terms.iter().sum(), scale)
+    };
+    for l in 1..traj.last() {
+        let (um, u0, u1) = (u(l - 1), u(l), u(l + 1));
+        let g = lin(&[(beta, &mean(l + 1)), (1.0 - 2.0 * beta, &mean(l)), (beta, &mean(l - 1))]);
+        let avg = lin(&[(beta, u1), (1.0 - 2.0 * beta, u0), (beta, um)]);
+        let kavg = mul(&o.k, &avg);
+        let macc = mul(&o.m, &lin(&[(1.0, u1), (-2.0, u0), (1.0, um)]));
+        // The forces of this step and the level they belong to.
+        let lam_level = if o.massless { l + 1 } else { l };
+        let lams = forces[lam_level].clone().unwrap_or_else(|| panic!("no force reported for level {lam_level}"));
+        let lam_max = max_abs(&lams);
+        let mut res: Vec<f64> = (0..n).map(|i| macc[i] + dt2 * (kavg[i] - o.load[i] - g[i])).collect();
+        let scale = nm * (max_abs(u1) + 2.0 * max_abs(u0) + max_abs(um)) + dt2 * (nk * (max_abs(u1) + max_abs(u0) + max_abs(um)) + max_abs(&o.load) + max_abs(&g) + lam_max);
+        let f1 = o.load_at((l + 1) as f64 * dt);
+        let ku1 = mul(&o.k, u1);
+        for (s, &lam) in o.stops.iter().zip(&lams) {
+            if o.massless {
+                res[s.dof] = dt2 * (ku1[s.dof] - f1[s.dof] + lam);
+            } else {
+                res[s.dof] += dt2 * lam;
+            }
+        }
+        st.residual.check(&format!("two-step residual at step {l}→{}", l + 1), max_abs(&res), scale, TOL);
+        let ((e0, s0), (e1, s1)) = (energy(l - 1), energy(l));
+        let d2u = sub(u1, um);
+        let work = 0.5 * dot(&g, &d2u);
+        let mut contact = 0.0;
+        let mut cscale = 0.0f64;
+        for (i, (s, &lam)) in o.stops.iter().zip(&lams).enumerate() {
+            // The restitution constraint and its complementarity.
+            let ei = s.e.unwrap_or(e);
+            let (ucm, uc1) = (um[s.dof], u1[s.dof]);
+            let lo_e = if s.lo.is_finite() { (1.0 + ei) * s.lo - ei * ucm } else { f64::NEG_INFINITY };
+            let hi_e = if s.hi.is_finite() { (1.0 + ei) * s.hi - ei * ucm } else { f64::INFINITY };
+            let fin = |x: f64| if x.is_finite() { x.abs() } else { 0.0 };
+            let tol_c = 1e-14 * (fin(s.lo) + ucm.abs() + uc1.abs() + fin(s.hi));
+            assert!(uc1 >= lo_e - tol_c && uc1 <= hi_e + tol_c, "step {l}, dof {}: u^(n+1) = {uc1} outside [{lo_e}, {hi_e}] (e = {ei})", s.dof);
+            if lam != 0.0 {
+                st.active_per_contact[i] += 1;
+                let (on, sign_ok) = if lam < 0.0 { (lo_e, s.lo.is_finite()) } else { (hi_e, s.hi.is_finite()) };
+                assert!(sign_ok, "step {l}, dof {}: λ = {lam} pushes towards a missing bound", s.dof);
+                assert!((uc1 - on).abs() <= tol_c, "step {l}, dof {}: λ = {lam} but u^(n+1) = {uc1} is not (1+e)·bound − e·u^(n−1) = {on} (e = {ei})", s.dof);
+            }
+            // Its term of the half-step energy balance.
+            contact += if o.massless {
+                let rho_c = kavg[s.dof] - o.load[s.dof] - g[s.dof];
+                0.5 * rho_c * d2u[s.dof]
+            } else {
+                let general = -0.5 * lam * d2u[s.dof];
+                if lam != 0.0 {
+                    let bound = if lam < 0.0 { s.lo } else { s.hi };
+                    let paper = 0.5 * (1.0 + ei) * lam * (ucm - bound);
+                    st.energy.check(&format!("step {l}, dof {}: contact work vs (1+e)/2 λ (u^(n−1) − bound)", s.dof), general - paper, s0.max(s1).max(general.abs()), TOL);
+                }
+                general
+            };
+            cscale = cscale.max(contact.abs());
+        }
+        st.active += usize::from(lams.iter().any(|x| *x != 0.0));
+        let scale = s0.max(s1).max(work.abs()).max(cscale);
+        st.energy.check(&format!("half-step energy balance at step {l}→{} (ΔE = {:e}, work {work:e}, contact {contact:e})", l + 1, e1 - e0), (e1 - e0) - work - contact, scale, TOL);
+    }
+    st
+}
+
+/// A bar scene with several stops (`stops[i].dof` is a node; the mass
+/// treatment at every stop's node): `std`, `lumped` (unchanged matrices) or
+/// `mod` (every element next to a stop's node carries no mass), assembled
+/// here from the element matrices, and checked equal to what
+/// `Bar::mass_with_contacts` gives the scheme.
+pub fn bar_stops_scene(m: usize, mass: BarMass, free: bool, stops: &[OStop], body: f64, forcing: Option<(Vec<f64>, Sine)>) -> (Dynamics, Oracle) {
+    assert!(matches!(mass, BarMass::Std | BarMass::Lumped | BarMass::Mod), "the oracle builds std, lumped and mod at several nodes");
+    let bar = Bar::new(1.0, m, 1.0, if free { RightEnd::Free } else { RightEnd::Clamped }).unwrap();
+    let nodes: Vec<usize> = stops.iter().map(|s| s.dof).collect();
+    let (mut mm, kk) = bar_matrices(m, if mass == BarMass::Mod { BarMass::Std } else { mass }, free);
+    if mass == BarMass::Mod {
+        let h = 1.0 / m as f64;
+        for j in (0..m).filter(|&j| nodes.contains(&j) || nodes.contains(&(j + 1))) {
+            // Remove element j's consistent mass.
+            for (a, b, v) in [(j, j, h / 3.0), (j + 1, j + 1, h / 3.0), (j, j + 1, h / 6.0), (j + 1, j, h / 6.0)] {
+                if a < mm.len() && b < mm.len() {
+                    mm[a][b] -= v;
+                }
+            }
+        }
+        for &i in &nodes {
+            for k in 0..mm.len() {
+                assert!(mm[i][k].abs() < 1e-15 && mm[k][i].abs() < 1e-15, "node {i} keeps mass");
+                mm[i][k] = 0.0;
+                mm[k][i] = 0.0;
+            }
+        }
+    }
+    let load = bar_uniform_load(m, free, body);
+    let massless = mass.massless_contact_node();
+    let dy = Dynamics {
+        mass: bar.mass_with_contacts(mass, &nodes).unwrap(),
+        stiffness: bar.stiffness(),
+        load: bar.load(|_| body),
+        contacts: stops.iter().map(|s| Contact { dof: s.dof, bounds: Bounds { lo: s.lo, hi: s.hi }, massless, restitution: s.e, stiffness: s.kappa }).collect(),
+        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }),
+    };
+    assert_same("bar mass at the stops", &dy.mass, &mm);
+    assert_same("bar stiffness", &dy.stiffness, &kk);
+    let s0 = stops[0];
+    let o = Oracle { m: mm, k: kk, load, forcing, c: s0.dof, massless, lo: s0.lo, hi: s0.hi, stops: stops.to_vec() };
+    (dy, o)
+}
+
+/// Checks a Moreau–Jean run (θ = ½, steady load; docs/theory.md §4.6.4)
+/// with several contacts from the recorded displacements and forces, the
+/// velocities rebuilt here (`V^{n+1} = 2ΔU/dt − Vⁿ` from `V⁰`): the
+/// momentum equation `M(Vⁿ⁺¹ − Vⁿ) + dt K(Uⁿ + Uⁿ⁺¹)/2 = dt F + Σ p_i e_{c_i}`
+/// (`p_i = −λ_i dt`), Newton's law at every predicted-active stop
+/// (`u + dt/2 v <= lo`: `v⁺ + e v >= 0`, `p >= 0`, complementary; at `hi`
+/// the mirror image), `p_i = 0` elsewhere, and `ΔE = Σ p_i (v_iⁿ + v_iⁿ⁺¹)/2`.
+/// Returns the worst residual and energy ratios and the impulses per stop.
+pub fn check_moreau_jean(o: &Oracle, e: f64, init: &Initial, traj: &Traj) -> (Worst, Worst, Vec<usize>) {
+    const TOL: f64 = 1e-11;
+    let dt = traj.dt;
+            let all = traj.all_forces(0);
+            let (nm, nk) = (norm_inf(&o.m), norm_inf(&o.k));
+            let energy = |u: &[f64], v: &[f64]| 0.5 * quad(&o.m, v) + 0.5 * quad(&o.k, u) - dot(&o.load, u);
+            let (mut res_w, mut en_w, mut active) = (Worst::default(), Worst::default(), vec![0usize; o.stops.len()]);
+            let mut v = init.v.clone();
+            for l in 0..traj.last() {
+                let (u0, u1) = (traj.at(l), traj.at(l + 1));
+                // θ = ½: U^{n+1} = U^n + dt (Vⁿ + Vⁿ⁺¹)/2.
+                let v1: Vec<f64> = (0..o.n()).map(|i| 2.0 * (u1[i] - u0[i]) / dt - v[i]).collect();
+                let f = all[l + 1].as_ref().unwrap();
+                let p: Vec<f64> = f.iter().map(|lam| -lam * dt).collect();
+                // M (V^{n+1} − Vⁿ) + dt K (Uⁿ + U^{n+1})/2 = dt F + Σ p_i e_i.
+                let mdv = mul(&o.m, &sub(&v1, &v));
+                let kmid = mul(&o.k, &lin(&[(0.5, u0), (0.5, u1)]));
+                let pv = o.force_vector(&p);
+                let res: Vec<f64> = (0..o.n()).map(|i| mdv[i] + dt * (kmid[i] - o.load[i]) - pv[i]).collect();
+                let scale = nm * (max_abs(&v1) + max_abs(&v)) + dt * (nk * (max_abs(u0) + max_abs(u1)) + max_abs(&o.load)) + max_abs(&p);
+                res_w.check(&format!("e = {e}: momentum residual at step {l}"), max_abs(&res), scale, TOL);
+                for (i, s) in o.stops.iter().enumerate() {
+                    let ei = s.e.unwrap_or(e);
+                    let (uc, vc, vc1, pi) = (u0[s.dof], v[s.dof], v1[s.dof], p[i]);
+                    let pred = uc + 0.5 * dt * vc;
+                    let vtol = 1e-9 * (vc.abs() + vc1.abs() + 1.0);
+                    let (down, up) = (pred <= s.lo, pred >= s.hi && !(pred <= s.lo));
+                    if down {
+                        assert!(vc1 + ei * vc >= -vtol && pi >= 0.0, "step {l}, stop {i}: v^(n+1) = {vc1}, −e vⁿ = {}, p = {pi}", -ei * vc);
+                        assert!((pi * (vc1 + ei * vc)).abs() <= vtol * (pi.abs() + 1e-300), "step {l}, stop {i}: p = {pi} with v^(n+1) + e vⁿ = {}", vc1 + ei * vc);
+                    } else if up {
+                        assert!(vc1 + ei * vc <= vtol && pi <= 0.0, "step {l}, stop {i}: v^(n+1) = {vc1}, p = {pi} at the upper bound");
+                        assert!((pi * (vc1 + ei * vc)).abs() <= vtol * (pi.abs() + 1e-300));
+                    } else {
+                        assert_eq!(pi, 0.0, "step {l}, stop {i}: an impulse while not predicted active");
+                    }
+                    active[i] += usize::from(pi != 0.0);
+                }
+                // ΔE = Σ p_i (v_iⁿ + v_iⁿ⁺¹)/2.
+                let (e0, e1) = (energy(u0, &v), energy(u1, &v1));
+                let rhs: f64 = o.stops.iter().zip(&p).map(|(s, pi)| pi * 0.5 * (v[s.dof] + v1[s.dof])).sum();
+                let escale = e0.abs().max(e1.abs()).max(rhs.abs()).max(nm * max_abs(&v1).powi(2)).max(nk * max_abs(u1).powi(2));
+                en_w.check(&format!("e = {e}: energy identity at step {l}"), (e1 - e0) - rhs, escale, TOL);
+                v = v1;
+            }
+    (res_w, en_w, active)
 }
