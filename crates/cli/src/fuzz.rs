@@ -1177,10 +1177,40 @@ fn contact_picks(tw: u32, p_stops: f64, p_obstacle: f64) -> BoxedStrategy<Contac
     (maybe(p_stops, prop::collection::vec(stop_pick(tw), 1..4).boxed()), maybe(p_obstacle, obstacle_pick(tw)), form(), maybe(if tw > 0 { 0.05 } else { 0.0 }, Just(true).boxed()).prop_map(|b| b.is_some())).boxed()
 }
 
-/// A custom bar whose every value is valid (the scheme unconditionally
-/// stable), with `[[stop]]` and/or `[obstacle]`: the documents in which the
-/// contacts' own answer decides.
+/// A custom bar or a paper beam whose every value is valid (the scheme
+/// unconditionally stable), with `[[stop]]` and/or `[obstacle]`: the
+/// documents in which the contacts' own answer decides.
 fn contact_documents(cfg: Config) -> BoxedStrategy<Doc> {
+    prop_oneof![2 => contact_bar_documents(cfg), 1 => contact_beam_documents(cfg)].boxed()
+}
+
+fn contact_beam_documents(cfg: Config) -> BoxedStrategy<Doc> {
+    (pick(&FIGURES), maybe(0.5, (1u32..=64).boxed()), maybe(0.4, pick(&["\"projection\"", "\"penalty\""])), contact_picks(0, 0.7, 0.5), any::<bool>())
+        .prop_map(move |(figure, elements, contact, contacts, crlf)| {
+            let beam = BeamPicks {
+                scene: Some(val(format!("\"{figure}\""), Class::Good)),
+                elements: elements.map(|j| val(j.to_string(), Class::Good)),
+                dt: None,
+                t_end: None,
+                contact: contact.map(|c| val(c, Class::Good)),
+                beta: None,
+                stiffness: None,
+                stops: None,
+                support: None,
+                force: None,
+                extra: Vec::new(),
+            };
+            let ctx = beam_ctx(&beam);
+            let (stop_tables, obstacle_table, structure) = assemble_contacts(contacts, &ctx);
+            let mut tables = vec![Table { name: "beam".into(), entries: assemble_beam(beam, cfg), form: Form::Header }];
+            tables.extend(obstacle_table);
+            tables.extend(stop_tables);
+            Doc { tables, structure, known_fields: Vec::new(), length: 1.0, crlf }
+        })
+        .boxed()
+}
+
+fn contact_bar_documents(cfg: Config) -> BoxedStrategy<Doc> {
     let schemes: Vec<(&str, Node, bool)> = SCHEMES.iter().copied().filter(|s| !s.2).collect();
     // Massive masses half the time (a massless one is refused with [obstacle]).
     let masses: Vec<&str> = MASSIVE.iter().cycle().take(MASSLESS.len()).chain(&MASSLESS).copied().collect();
