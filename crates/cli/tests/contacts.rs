@@ -318,3 +318,34 @@ fn check_reports_snapping_and_obstacles() {
     assert!(bin().args(["run", q.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap().status.success());
     assert!(std::fs::read_to_string(out.join("series.csv")).unwrap().starts_with("n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy\n"));
 }
+
+/// With the beam's penalty contact, `penalty_stiffness` (N/m) is the spring
+/// of every stop that gives none of its own (not the library's default of
+/// the first stop's spring scaled by the stiffness diagonal): the run equals
+/// one built here with that spring at each stop explicitly.
+#[test]
+fn beam_penalty_stiffness_is_every_stops_spring() {
+    use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
+    let text = "[beam]\nscene = \"fig5\"\nelements = 20\nt_end = 0.15\npenalty_stiffness = 2e8\n[[stop]]\nx = 0.7505\nlo = -0.03\nhi = 0.03\n[[stop]]\nx = 1.501\nlo = -0.1\nhi = 0.1\nstiffness = 1e7\n[output]\nevery = 100\n";
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("s.toml");
+    std::fs::write(&p, text).unwrap();
+    let out = dir.path().join("o");
+    let o = bin().args(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (header, rows) = series(&out);
+    let scene = BeamScene { name: "test", elements: 20, dt: 5e-6, t_end: 0.15, contact: BeamContact::Penalty { stiffness: 2e8 }, paper_seconds: None };
+    let stops = [Stop { node: 10, lo: -0.03, hi: 0.03, restitution: None, stiffness: Some(2e8) }, Stop { node: 20, lo: -0.1, hi: 0.1, restitution: None, stiffness: Some(1e7) }];
+    let (mut s, _, _) = build_with_stops(&Pipe::paper(), &scene, false, PenaltyUnits::NewtonPerMetre, Some(&stops)).unwrap();
+    let (c0, c1) = (col(&header, "u_c0"), col(&header, "u_c1"));
+    let mut touched = false;
+    for (k, r) in rows.iter().enumerate().skip(1) {
+        while s.level() < 100 * k {
+            s.step().unwrap();
+        }
+        let (mid, tip) = (s.displacement()[18], s.displacement()[38]);
+        assert!((r[c0].unwrap() - mid).abs() <= 1e-12 && (r[c1].unwrap() - tip).abs() <= 1e-12, "row {k}: ({:?}, {:?}) against ({mid}, {tip})", r[c0], r[c1]);
+        touched |= tip.abs() > 0.1;
+    }
+    assert!(touched, "the tip reaches its stop");
+}
