@@ -326,7 +326,7 @@ fn check_reports_snapping_and_obstacles() {
 #[test]
 fn beam_penalty_stiffness_is_every_stops_spring() {
     use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
-    let text = "[beam]\nscene = \"fig5\"\nelements = 20\nt_end = 0.15\npenalty_stiffness = 2e8\n[[stop]]\nx = 0.7505\nlo = -0.03\nhi = 0.03\n[[stop]]\nx = 1.501\nlo = -0.1\nhi = 0.1\nstiffness = 1e7\n[output]\nevery = 100\n";
+    let text = "[beam]\nscene = \"fig5\"\nelements = 20\nt_end = 0.15\npenalty_stiffness = 2e8\n[[stop]]\nx = 0.7505\nlo = -0.03\nhi = 0.03\nstiffness = 1e7\n[[stop]]\nx = 1.501\nlo = -0.1\nhi = 0.1\n[output]\nevery = 100\n";
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("s.toml");
     std::fs::write(&p, text).unwrap();
@@ -335,7 +335,7 @@ fn beam_penalty_stiffness_is_every_stops_spring() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (header, rows) = series(&out);
     let scene = BeamScene { name: "test", elements: 20, dt: 5e-6, t_end: 0.15, contact: BeamContact::Penalty { stiffness: 2e8 }, paper_seconds: None };
-    let stops = [Stop { node: 10, lo: -0.03, hi: 0.03, restitution: None, stiffness: Some(2e8) }, Stop { node: 20, lo: -0.1, hi: 0.1, restitution: None, stiffness: Some(1e7) }];
+    let stops = [Stop { node: 10, lo: -0.03, hi: 0.03, restitution: None, stiffness: Some(1e7) }, Stop { node: 20, lo: -0.1, hi: 0.1, restitution: None, stiffness: Some(2e8) }];
     let (mut s, _, _) = build_with_stops(&Pipe::paper(), &scene, false, PenaltyUnits::NewtonPerMetre, Some(&stops)).unwrap();
     let (c0, c1) = (col(&header, "u_c0"), col(&header, "u_c1"));
     let mut touched = false;
