@@ -20,6 +20,12 @@
 //! * beam with `output.snapshots_every > 0`: `snapshots.csv` — `n,t_s,x_m,u_m`,
 //!   the absolute displacement `ũ(x, t) = u(x, t) + h(x) φ(t)` at the nodes
 //!   (`x = 0` is the support, `ũ = φ`).
+//! * with `[[stop]]` / `[obstacle]` (only then), `series.csv` appends per
+//!   contact, in contact order, `u_c<i>,lambda_<i>,active_<i>` (`active`:
+//!   `-1` lower bound, `1` upper, `0` free); `u_contact` and `lambda` are
+//!   contact 0's (the beam's `tip_m` stays the tip); `lambda.svg` (bar and
+//!   beam) shows every contact's force: one line each up to 12 contacts,
+//!   else a heat map of contacts against time.
 //!
 //! Rows go out whole (one write call per block of complete rows, every
 //! 64 KiB or 1024 rows and at the end), also when a run blows up or is
