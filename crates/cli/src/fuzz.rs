@@ -7,9 +7,14 @@
 //!   headers, inline tables or dotted keys), every key of [`crate::scene`]
 //!   with a value drawn from valid, boundary, out-of-range and wrong-type
 //!   pools (NaN, ±inf, 0, 2^63 - 1, strings for numbers, arrays of the wrong
-//!   length, random expression tokens), unknown and duplicate keys. The
-//!   generator knows the class of each value it writes ([`Class`]) and so
-//!   what the reader must answer.
+//!   length, random expression tokens), unknown and duplicate keys; and
+//!   `[[stop]]` lists and `[obstacle]` tables (valid stops at nodes, stops off
+//!   the mesh or on clamped nodes, duplicates, bad bounds, per-stop keys the
+//!   scheme does not use, obstacles that fail, are not finite or exclude the
+//!   initial state), classified against what the rest of the document makes
+//!   certain (mesh, initial state, scheme, mass). The generator knows the
+//!   class of each value it writes ([`Class`]) and so what the reader must
+//!   answer.
 //! * [`mutations`] applies byte-level edits to the shipped scenes.
 //!
 //! [`check_doc`] and [`check_text`] run `parse` and `validate` under
@@ -17,8 +22,9 @@
 //! 1. no panic;
 //! 2. a parse error is `SceneError::Toml` with a line number (or a `Field`);
 //! 3. a validation error is `SceneError::Field` whose `field` is a dotted
-//!    path of the grammar (`bar.dt`, `beam.stops`, `output.every`, a table,
-//!    or `bar/beam`) whose table is in the document, that names a key the
+//!    path of the grammar (`bar.dt`, `beam.stops`, `output.every`,
+//!    `stop.<i>.<key>`, `obstacle.lo`, a table, or `bar/beam`) whose table
+//!    (stop entry) is in the document, that names a key the
 //!    document gives when it says the value "is not allowed", and whose
 //!    message states what is allowed ([`states_allowed`]);
 //! 4. for [`documents`] only: a file with a wrong type parses to an error, any
