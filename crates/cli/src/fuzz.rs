@@ -1073,7 +1073,7 @@ enum XPick {
     Zero,
     /// `x = L`: the bar's far end (refused if clamped), the beam's tip.
     End,
-    /// A position that is no mesh node of any generated mesh (0.7071067 L).
+    /// A position that is no mesh node of any generated mesh (0.4142136 L).
     NotNode,
     /// Refused whatever the mesh (non-finite, outside [0, L]).
     Invalid(&'static str),
@@ -1428,7 +1428,7 @@ fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<Table>, Opti
             }
             XPick::NotNode => {
                 valid = false;
-                entries.push(("x".into(), val(toml_f64(0.707_106_7 * l), Class::Bad(vec![key("x")]))));
+                entries.push(("x".into(), val(toml_f64(0.414_213_6 * l), Class::Bad(vec![key("x")]))));
             }
             XPick::Invalid(t) => {
                 valid = false;
@@ -1457,7 +1457,7 @@ fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<Table>, Opti
                 (None, None)
             }
         };
-        let one_sided = !hi.is_some_and(|h| !h.contains("inf"));
+        let one_sided = hi.is_none_or(|h| h.contains("inf"));
         for (k, v) in [("lo", lo), ("hi", hi)] {
             if let Some(v) = v {
                 entries.push((k.into(), val(v, Class::Good)));
@@ -1540,8 +1540,8 @@ fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<Table>, Opti
     // A massless-node mass with any [obstacle] is refused before its values are read.
     if !ctx.beam && ctx.massless && obstacle_table.is_some() {
         classes.push(bad(&["bar.mass"]));
-    } else if ctx.certain && !ctx.beam {
-        if all_valid {
+    } else if ctx.certain && !ctx.beam && all_valid {
+        {
             let k = if with_obstacle { 2 } else { sites.len() };
             if ctx.massless && k == 1 && !sites[0].0 {
                 classes.push(bad(&["bar.mass"]));

@@ -979,7 +979,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         }
     };
     let contacts = if multi {
-        let bar = problem.bar.clone();
+        let bar = problem.bar;
         let mesh = NodeMesh { length: bar.length, elements: bar.elements, unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
         let rules = KeyRules {
             restitution: if matches!(scheme, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
