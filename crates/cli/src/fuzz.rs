@@ -7,9 +7,14 @@
 //!   headers, inline tables or dotted keys), every key of [`crate::scene`]
 //!   with a value drawn from valid, boundary, out-of-range and wrong-type
 //!   pools (NaN, ±inf, 0, 2^63 - 1, strings for numbers, arrays of the wrong
-//!   length, random expression tokens), unknown and duplicate keys. The
-//!   generator knows the class of each value it writes ([`Class`]) and so
-//!   what the reader must answer.
+//!   length, random expression tokens), unknown and duplicate keys; and
+//!   `[[stop]]` lists and `[obstacle]` tables (valid stops at nodes, stops off
+//!   the mesh or on clamped nodes, duplicates, bad bounds, per-stop keys the
+//!   scheme does not use, obstacles that fail, are not finite or exclude the
+//!   initial state), classified against what the rest of the document makes
+//!   certain (mesh, initial state, scheme, mass). The generator knows the
+//!   class of each value it writes ([`Class`]) and so what the reader must
+//!   answer.
 //! * [`mutations`] applies byte-level edits to the shipped scenes.
 //!
 //! [`check_doc`] and [`check_text`] run `parse` and `validate` under
@@ -17,8 +22,9 @@
 //! 1. no panic;
 //! 2. a parse error is `SceneError::Toml` with a line number (or a `Field`);
 //! 3. a validation error is `SceneError::Field` whose `field` is a dotted
-//!    path of the grammar (`bar.dt`, `beam.stops`, `output.every`, a table,
-//!    or `bar/beam`) whose table is in the document, that names a key the
+//!    path of the grammar (`bar.dt`, `beam.stops`, `output.every`,
+//!    `stop.<i>.<key>`, `obstacle.lo`, a table, or `bar/beam`) whose table
+//!    (stop entry) is in the document, that names a key the
 //!    document gives when it says the value "is not allowed", and whose
 //!    message states what is allowed ([`states_allowed`]);
 //! 4. for [`documents`] only: a file with a wrong type parses to an error, any
@@ -144,6 +150,8 @@ pub enum Form {
     Inline,
     /// `bar.key = value` lines at the top level.
     Dotted,
+    /// `[[stop]]` then `key = value` lines: one item of an array of tables.
+    ArrayItem,
 }
 
 /// One table of a generated document.
@@ -210,8 +218,9 @@ impl Doc {
                     let items: Vec<String> = t.entries.iter().map(|(k, v)| format!("{k} = {}", v.toml)).collect();
                     top += &format!("{} = {{ {} }}{nl}", t.name, items.join(", "));
                 }
-                Form::Header => {
-                    headers += &format!("# the {} table{nl}[{}]{nl}", t.name, t.name);
+                Form::Header | Form::ArrayItem => {
+                    let header = if t.form == Form::Header { format!("[{}]", t.name) } else { format!("[[{}]]", t.name) };
+                    headers += &format!("# the {} table{nl}{header}{nl}", t.name);
                     for (k, v) in &t.entries {
                         headers += &format!("{k} = {}{nl}", v.toml);
                     }
@@ -310,12 +319,7 @@ fn good_expressions(float_expressions: bool) -> Vec<Written> {
         ("1", |_| 1.0),
     ];
     if float_expressions {
-        v.extend([
-            ("1/2", (|_| 0.5) as Exact),
-            ("3/4", |_| 0.75),
-            ("2^-1", |_| 0.5),
-            ("x + 1/2", |x| x + 0.5),
-        ]);
+        v.extend([("1/2", (|_| 0.5) as Exact), ("3/4", |_| 0.75), ("2^-1", |_| 0.5), ("x + 1/2", |x| x + 0.5)]);
     }
     v
 }
@@ -347,14 +351,55 @@ fn good_tables() -> Vec<Written> {
 
 /// Expressions that do not build, evaluate or stay finite at x = 0 (integer
 /// literals are reals: "9223372036854775807 + 1" is a valid 9.2e18).
-const BROKEN_EXPRESSIONS: [&str; 16] =
-    ["", "(", ")", "x +", "(x", "x)", "math::sin(", "math::nosuch(x)", "y", "1 2", "\\\"text\\\"", "x = 3", "a = 3; a", "1 % 0", "math::sin()", "true"];
+const BROKEN_EXPRESSIONS: [&str; 16] = ["", "(", ")", "x +", "(x", "x)", "math::sin(", "math::nosuch(x)", "y", "1 2", "\\\"text\\\"", "x = 3", "a = 3; a", "1 % 0", "math::sin()", "true"];
 /// Expressions that evaluate at x = 0 but are not finite at some node.
 const NON_FINITE_EXPRESSIONS: [&str; 6] = ["1.0/0", "math::ln(x)", "1 / x", "math::sqrt(x - 1000)", "math::pow(2, 100000)", "1e308 * 10"];
 /// Tokens of random expressions.
 const TOKENS: [&str; 44] = [
-    "x", "x", "pi", "0", "1", "2", "0.5", "-1", "1e308", "1e-308", "9223372036854775807", "-", "+", "*", "/", "^", "%", "(", "(", ")", ")", ",", "math::sin", "math::ln", "math::sqrt", "math::pow",
-    "math::abs", "math::floor", "min", "max", "if", "true", "==", "<", "&&", "!", "\\\"s\\\"", ";", "=", "y", "()", "math::exp", "floor", "2.5e3",
+    "x",
+    "x",
+    "pi",
+    "0",
+    "1",
+    "2",
+    "0.5",
+    "-1",
+    "1e308",
+    "1e-308",
+    "9223372036854775807",
+    "-",
+    "+",
+    "*",
+    "/",
+    "^",
+    "%",
+    "(",
+    "(",
+    ")",
+    ")",
+    ",",
+    "math::sin",
+    "math::ln",
+    "math::sqrt",
+    "math::pow",
+    "math::abs",
+    "math::floor",
+    "min",
+    "max",
+    "if",
+    "true",
+    "==",
+    "<",
+    "&&",
+    "!",
+    "\\\"s\\\"",
+    ";",
+    "=",
+    "y",
+    "()",
+    "math::exp",
+    "floor",
+    "2.5e3",
 ];
 
 /// An initial field (`bar.initial_displacement` or `bar.initial_velocity`):
@@ -374,8 +419,7 @@ fn initial_field(key: &'static str, cfg: Config, tw: u32) -> BoxedStrategy<Field
     let non_finite = pool_owned(quoted(&NON_FINITE_EXPRESSIONS), bad(&on_node)).prop_map(|v| (v, None));
     // Integer division: today "-1/2" is 0; checked for its value only when float_expressions.
     let int_div = if cfg.float_expressions { None } else { Some(pool_owned(quoted(&INTEGER_DIVISIONS), unknown(&[path, "bar"])).prop_map(|v| (v, None))) };
-    let random_tokens = (prop::collection::vec(pick(&TOKENS), 1..12), any::<bool>())
-        .prop_map(move |(toks, spaced)| (val(format!("\"{}\"", toks.join(if spaced { " " } else { "" })), unknown(&[path, "bar"])), None));
+    let random_tokens = (prop::collection::vec(pick(&TOKENS), 1..12), any::<bool>()).prop_map(move |(toks, spaced)| (val(format!("\"{}\"", toks.join(if spaced { " " } else { "" })), unknown(&[path, "bar"])), None));
     // Deep nesting: the parser must not overflow the stack (the test thread has 2 MiB).
     let nested = (1usize..300, any::<bool>()).prop_map(move |(d, balanced)| {
         let close = if balanced { d } else { d - 1 };
@@ -661,7 +705,13 @@ fn bar_picks(cfg: Config, tw: u32) -> BoxedStrategy<BarPicks> {
         (maybe(0.9, u0), maybe(0.5, v0), maybe(if tw > 0 { 0.97 } else { 1.0 }, elements.boxed()), maybe(0.7, mass.boxed()), maybe(0.7, scheme.boxed()), step, t_end, extra, any::<bool>()),
     )
         .prop_map(|((with_benchmark, benchmark, length, wave_speed, far_end, gap, body_force), (u0, v0, elements, mass, scheme, step, t_end, extra, geometry_with_benchmark))| {
-            let geo = |o: Option<Value>| if with_benchmark && !geometry_with_benchmark { None } else { o };
+            let geo = |o: Option<Value>| {
+                if with_benchmark && !geometry_with_benchmark {
+                    None
+                } else {
+                    o
+                }
+            };
             BarPicks {
                 benchmark: if with_benchmark { benchmark } else { None },
                 length: if with_benchmark && !geometry_with_benchmark { None } else { length },
@@ -986,7 +1036,13 @@ fn assemble_beam(p: BeamPicks, cfg: Config) -> Vec<(String, Value)> {
         entries.push(("contact".into(), c));
     }
     // A key the effective contact does not use (§2: every key acts or is refused).
-    let ignored = |key: &str| if cfg.refuse_ignored_keys { Class::Bad(vec![key.to_string()]) } else { Class::Unknown(vec![key.to_string()]) };
+    let ignored = |key: &str| {
+        if cfg.refuse_ignored_keys {
+            Class::Bad(vec![key.to_string()])
+        } else {
+            Class::Unknown(vec![key.to_string()])
+        }
+    };
     if let Some(mut b) = p.beta.clone() {
         if b.class != Class::Type && penalty == Some(true) {
             b.class = ignored("beam.beta");
@@ -1006,6 +1062,499 @@ fn assemble_beam(p: BeamPicks, cfg: Config) -> Vec<(String, Value)> {
     }
     entries.extend(p.extra);
     entries
+}
+
+// -------------------------------------------------------------- contacts --
+
+/// Where a generated `[[stop]]` sits.
+#[derive(Clone, Debug)]
+enum XPick {
+    /// `x = 0`: the bar's contact node 0 (the beam's clamped node: refused).
+    Zero,
+    /// `x = L`: the bar's far end (refused if clamped), the beam's tip.
+    End,
+    /// A position that is no mesh node of any generated mesh (0.4142136 L).
+    NotNode,
+    /// Refused whatever the mesh (non-finite, outside [0, L]).
+    Invalid(&'static str),
+    /// A wrong type, or no `x` at all: a parse error.
+    WrongType(Option<&'static str>),
+}
+
+/// A per-stop number (`restitution`, `stiffness`): in range, out of range,
+/// or of the wrong type.
+#[derive(Clone, Debug)]
+enum Num {
+    Good(&'static str),
+    Invalid(&'static str),
+    WrongType(&'static str),
+}
+
+/// A generated `[[stop]]` entry.
+#[derive(Clone, Debug)]
+struct StopPick {
+    x: XPick,
+    /// `Ok(choice)`: valid bounds (which depend on where the stop is);
+    /// `Err((lo, hi, field))`: bounds refused whatever the mesh, naming `field`.
+    bounds: Result<usize, (Option<&'static str>, Option<&'static str>, &'static str)>,
+    restitution: Option<Num>,
+    stiffness: Option<Num>,
+    /// An unknown key (a parse error).
+    unknown_key: bool,
+}
+
+/// A generated `[obstacle]`.
+#[derive(Clone, Debug)]
+enum ObstaclePick {
+    /// Valid bounds for every valid initial state (choice of lo, hi).
+    Good(usize, usize),
+    /// Refused whatever the mesh: `(lo, hi, field)`.
+    Invalid(Option<&'static str>, Option<&'static str>, &'static str),
+    /// A bound above every valid initial displacement (bar: u0 <= 16 on
+    /// [0, 4]; beam: u = 0): refused naming `obstacle.lo` when the initial
+    /// state is known.
+    AboveStart,
+    /// A wrong type or an unknown key.
+    WrongType(Option<&'static str>, Option<&'static str>, bool),
+}
+
+/// The `[[stop]]` list and `[obstacle]` of a document, and how `[obstacle]` is written.
+type ContactPicks = (Option<Vec<StopPick>>, Option<ObstaclePick>, Form, bool);
+
+fn stop_pick(tw: u32) -> BoxedStrategy<StopPick> {
+    let x = oneof![
+        6 => Just(XPick::Zero),
+        6 => Just(XPick::End),
+        1 => Just(XPick::NotNode),
+        2 => pick(&["nan", "inf", "-inf", "-1.0", "1e9", "-1e-3"]).prop_map(XPick::Invalid),
+        tw => pick(&[Some("\"0\""), Some("true"), Some("[0.0]"), None]).prop_map(XPick::WrongType),
+    ];
+    let bounds = prop_oneof![
+        8 => (0usize..4).prop_map(Ok),
+        3 => pick(&[
+            (Some("nan"), None, "lo"),
+            (Some("inf"), Some("1.0"), "lo"),
+            (None, Some("nan"), "hi"),
+            (Some("-1.0"), Some("-inf"), "hi"),
+            (Some("1.0"), Some("0.0"), "lo"),
+            (None, None, "lo"),
+            (Some("-inf"), None, "lo"),
+            (None, Some("inf"), "hi"),
+            (Some("-inf"), Some("inf"), "lo"),
+        ])
+        .prop_map(Err),
+    ];
+    let num = |good: &'static [&'static str], invalid: &'static [&'static str]| -> BoxedStrategy<Num> {
+        oneof![3 => pick(good).prop_map(Num::Good), 1 => pick(invalid).prop_map(Num::Invalid), tw => pick(&["true", "\"0.5\"", "[1.0]"]).prop_map(Num::WrongType)]
+    };
+    let restitution = num(&["0.5", "0.0", "1", "1.0"], &["1.5", "-0.1", "nan", "inf"]);
+    let stiffness = num(&["10.0", "1e3"], &["0.0", "-1.0", "nan", "inf", "-0.0"]);
+    (x, bounds, maybe(0.25, restitution), maybe(0.25, stiffness), maybe(if tw > 0 { 0.1 } else { 0.0 }, Just(true).boxed()))
+        .prop_map(|(x, bounds, restitution, stiffness, unknown)| StopPick { x, bounds, restitution, stiffness, unknown_key: unknown.is_some() })
+        .boxed()
+}
+
+fn obstacle_pick(tw: u32) -> BoxedStrategy<ObstaclePick> {
+    oneof![
+        6 => (0usize..4, 0usize..4).prop_map(|(a, b)| ObstaclePick::Good(a, b)),
+        3 => pick(&[
+            (Some("nan"), None, "obstacle.lo"),
+            (Some("inf"), None, "obstacle.lo"),
+            (None, Some("-inf"), "obstacle.hi"),
+            (Some("\"(\""), None, "obstacle.lo"),
+            (Some("\"math::ln(x - 100)\""), None, "obstacle.lo"),
+            (None, Some("\"y + 1\""), "obstacle.hi"),
+            (Some("1.0"), Some("0.0"), "obstacle.lo"),
+            (Some("\"1 + x\""), Some("\"x\""), "obstacle.lo"),
+            (None, None, "obstacle"),
+            (Some("-inf"), None, "obstacle.lo"),
+            (Some("-inf"), Some("inf"), "obstacle.lo"),
+            (Some("[]"), None, "obstacle.lo"),
+            (Some("[[1.0, 0.0], [0.5, 0.0]]"), None, "obstacle.lo"),
+        ])
+        .prop_map(|(lo, hi, f)| ObstaclePick::Invalid(lo, hi, f)),
+        1 => Just(ObstaclePick::AboveStart),
+        tw => pick(&[(Some("true"), None, false), (Some("[[0.0]]"), None, false), (None, Some("{ a = 1 }"), false), (Some("-1.0"), None, true)]).prop_map(|(lo, hi, u)| ObstaclePick::WrongType(lo, hi, u)),
+    ]
+}
+
+/// Contacts with probabilities `p_stops`, `p_obstacle`.
+fn contact_picks(tw: u32, p_stops: f64, p_obstacle: f64) -> BoxedStrategy<ContactPicks> {
+    (maybe(p_stops, prop::collection::vec(stop_pick(tw), 1..4).boxed()), maybe(p_obstacle, obstacle_pick(tw)), form(), maybe(if tw > 0 { 0.05 } else { 0.0 }, Just(true).boxed()).prop_map(|b| b.is_some())).boxed()
+}
+
+/// A custom bar or a paper beam whose every value is valid (the scheme
+/// unconditionally stable), with `[[stop]]` and/or `[obstacle]`: the
+/// documents in which the contacts' own answer decides.
+fn contact_documents(cfg: Config) -> BoxedStrategy<Doc> {
+    prop_oneof![2 => contact_bar_documents(cfg), 1 => contact_beam_documents(cfg)].boxed()
+}
+
+fn contact_beam_documents(cfg: Config) -> BoxedStrategy<Doc> {
+    (pick(&FIGURES), maybe(0.5, (1u32..=64).boxed()), maybe(0.4, pick(&["\"projection\"", "\"penalty\""])), contact_picks(0, 0.7, 0.5), any::<bool>())
+        .prop_map(move |(figure, elements, contact, contacts, crlf)| {
+            let beam = BeamPicks {
+                scene: Some(val(format!("\"{figure}\""), Class::Good)),
+                elements: elements.map(|j| val(j.to_string(), Class::Good)),
+                dt: None,
+                t_end: None,
+                contact: contact.map(|c| val(c, Class::Good)),
+                beta: None,
+                stiffness: None,
+                stops: None,
+                support: None,
+                force: None,
+                extra: Vec::new(),
+            };
+            let ctx = beam_ctx(&beam);
+            let (stop_tables, obstacle_table, structure) = assemble_contacts(contacts, &ctx);
+            let mut tables = vec![Table { name: "beam".into(), entries: assemble_beam(beam, cfg), form: Form::Header }];
+            tables.extend(obstacle_table);
+            tables.extend(stop_tables);
+            Doc { tables, structure, known_fields: Vec::new(), length: 1.0, crlf }
+        })
+        .boxed()
+}
+
+fn contact_bar_documents(cfg: Config) -> BoxedStrategy<Doc> {
+    let schemes: Vec<(&str, Node, bool)> = SCHEMES.iter().copied().filter(|s| !s.2).collect();
+    // Massive masses half the time (a massless one is refused with [obstacle]).
+    let masses: Vec<&str> = MASSIVE.iter().cycle().take(MASSLESS.len()).chain(&MASSLESS).copied().collect();
+    ((pow2(-1, 2), proptest::sample::select(good_expressions(cfg.float_expressions)), any::<bool>(), pow2(2, 6), pick(&masses), pick(&schemes), pow2(4, 10), 1u32..200), contact_picks(0, 0.6, 0.5), any::<bool>())
+        .prop_map(|((l, (expr, f), free, m, mass, (scheme, node, cond), k, n), contacts, crlf)| {
+            let bar = BarPicks {
+                benchmark: None,
+                length: Some((val(toml_f64(2f64.powi(l)), Class::Good), l)),
+                wave_speed: None,
+                far_end: Some(val(if free { "\"free\"" } else { "\"clamped\"" }, Class::Good)),
+                gap: None,
+                body_force: None,
+                u0: Some((val(format!("\"{expr}\""), Class::Good), Some(f))),
+                v0: None,
+                elements: Some((val(format!("{}", 1u32 << m), Class::Good), Some(m))),
+                mass: Some(val(format!("\"{mass}\""), Class::Good)),
+                scheme: Some((val(format!("\"{scheme}\""), Class::Good), node, cond)),
+                step: Step::Dt(k),
+                t_end: TEnd::Steps(n),
+                extra: Vec::new(),
+            };
+            let ctx = bar_ctx(&bar);
+            let (stop_tables, obstacle_table, mut structure) = assemble_contacts(contacts, &ctx);
+            let (entries, s, known, length) = assemble_bar(bar);
+            structure.extend(s);
+            let mut tables = vec![Table { name: "bar".into(), entries, form: Form::Header }];
+            tables.extend(obstacle_table);
+            tables.extend(stop_tables);
+            Doc { tables, structure, known_fields: known, length, crlf }
+        })
+        .boxed()
+}
+
+/// What a document's contacts can rely on: the table they go with and,
+/// where the document makes it certain, the mesh, the initial state and
+/// which per-stop keys the scheme uses.
+#[derive(Clone, Debug, Default)]
+struct ContactCtx {
+    /// A beam (else a bar, or both/none: refused anyway).
+    beam: bool,
+    /// Every fact below is known (else the contacts' answer is not predicted).
+    certain: bool,
+    /// Bar: benchmark given (stops refused, naming the table).
+    benchmark: bool,
+    /// Bar: `gap` given (refused with stops).
+    gap: bool,
+    /// Beam: `stops` given (refused with stops).
+    beam_stops: bool,
+    /// Length (bar: 2^e or 1; beam: 1.501).
+    length: f64,
+    /// Bar: the far end is free (node m is an unknown).
+    free_end: bool,
+    /// Bar: a massless-node mass.
+    massless: bool,
+    /// The scheme has a restitution law (bar: ps, taylor-flanagan,
+    /// moreau-jean; beam: the projection).
+    restitution_acts: bool,
+    /// The scheme is a penalty.
+    stiffness_acts: bool,
+    /// Bar: the scheme takes one contact only, at node 0, one-sided
+    /// (hybrid, reduced-cn, cd-massless, nitsche).
+    single_only: bool,
+    /// Bar: Moreau–Jean (one contact must be one-sided).
+    moreau: bool,
+}
+
+/// An integer as TOML reads it (`0x10`, `1_6`, `+8`).
+fn toml_count(text: &str) -> Option<u64> {
+    let v: toml::Table = toml::from_str(&format!("v = {text}")).ok()?;
+    v.get("v")?.as_integer().and_then(|i| u64::try_from(i).ok())
+}
+
+fn bar_ctx(p: &BarPicks) -> ContactCtx {
+    let good = |v: &Value| v.class == Class::Good;
+    let length = match &p.length {
+        None => Some(1.0),
+        Some((v, e)) if good(v) => Some(2f64.powi(*e)),
+        _ => None,
+    };
+    let free_end = match &p.far_end {
+        None => Some(false),
+        Some(v) if good(v) => Some(v.toml.contains("free")),
+        _ => None,
+    };
+    let m = p.elements.as_ref().filter(|(v, _)| good(v)).and_then(|(v, _)| toml_count(&v.toml));
+    let mass = match &p.mass {
+        None => Some("std".to_string()),
+        Some(v) if good(v) => Some(v.toml.trim_matches('"').to_string()),
+        _ => None,
+    };
+    let scheme = match &p.scheme {
+        None => Some("newmark-cn".to_string()),
+        Some((v, _, _)) if good(v) => Some(v.toml.trim_matches('"').to_string()),
+        _ => None,
+    };
+    let u0_good = p.u0.as_ref().is_some_and(|(v, _)| good(v));
+    let s = scheme.clone().unwrap_or_default();
+    ContactCtx {
+        beam: false,
+        certain: p.benchmark.is_none() && p.gap.is_none() && length.is_some() && free_end.is_some() && m.is_some_and(|m| m >= 4) && mass.is_some() && scheme.is_some() && u0_good,
+        benchmark: p.benchmark.is_some(),
+        gap: p.gap.is_some(),
+        beam_stops: false,
+        length: length.unwrap_or(1.0),
+        free_end: free_end.unwrap_or(false),
+        massless: mass.as_deref().is_some_and(|m| MASSLESS.contains(&m)),
+        restitution_acts: s.starts_with("ps") || s == "taylor-flanagan" || s.starts_with("moreau-jean"),
+        stiffness_acts: s.starts_with("penalty"),
+        single_only: ["hybrid", "reduced-cn", "cd-massless"].contains(&s.as_str()) || s.starts_with("nitsche"),
+        moreau: s.starts_with("moreau-jean"),
+    }
+}
+
+fn beam_ctx(p: &BeamPicks) -> ContactCtx {
+    let figure = p.scene.as_ref().filter(|v| v.class == Class::Good).map(|v| v.toml.trim_matches('"').to_string());
+    let contact_given = p.contact.as_ref().filter(|v| v.class == Class::Good).map(|v| v.toml.trim_matches('"').to_string());
+    let penalty = match (&p.contact, &contact_given) {
+        (_, Some(c)) => Some(c == "penalty"),
+        (None, None) => Some(figure.as_deref().is_some_and(|f| PENALTY_FIGURES.contains(&f))),
+        (Some(_), None) => None,
+    };
+    ContactCtx { beam: true, certain: penalty.is_some(), beam_stops: p.stops.is_some(), length: 1.501, restitution_acts: penalty == Some(false), stiffness_acts: penalty == Some(true), ..ContactCtx::default() }
+}
+
+/// Valid bounds for a stop at `x` (choice `c`): they hold every valid
+/// initial state (bar: u0(0) in [0, 1], |u0| <= 16 on [0, 4]; beam: u = 0).
+fn good_stop_bounds(beam: bool, x: &XPick, c: usize) -> (Option<&'static str>, Option<&'static str>) {
+    match (beam, x) {
+        (true, _) => [(Some("-0.1"), Some("0.1")), (Some("-0.1"), None), (None, Some("0.05")), (Some("-inf"), Some("0.1"))][c % 4],
+        (false, XPick::Zero) => [(Some("0.0"), None), (Some("-0.25"), Some("2.0")), (Some("-1"), None), (Some("0"), Some("inf"))][c % 4],
+        (false, _) => [(Some("-20.0"), Some("20.0")), (Some("-20.0"), None), (None, Some("20")), (Some("-1e3"), Some("1e3"))][c % 4],
+    }
+}
+
+/// Valid `[obstacle]` bounds (choices `a`, `b`; at least one finite).
+fn good_obstacle_bounds(beam: bool, a: usize, b: usize) -> (Option<&'static str>, Option<&'static str>) {
+    let (los, his): (&[Option<&str>], &[Option<&str>]) = if beam {
+        (&[Some("-0.1"), Some("\"-0.1 - 0.01 * x\""), Some("[[0.0, -0.2], [2.0, -0.1]]"), None], &[Some("0.1"), Some("\"0.1 + x^2\""), Some("inf"), None])
+    } else {
+        (&[Some("-20.0"), Some("\"-20 - x\""), Some("[[0.0, -20.0], [8.0, -30.0]]"), Some("-inf")], &[Some("20.0"), Some("\"20 + math::abs(x)\""), None, Some("inf")])
+    };
+    let (lo, hi) = (los[a % 4], his[b % 4]);
+    let finite = |v: Option<&str>| v.is_some_and(|t| !t.contains("inf"));
+    if finite(lo) || finite(hi) {
+        (lo, hi)
+    } else {
+        (los[0], hi)
+    }
+}
+
+/// The `[[stop]]` tables, the `[obstacle]` table and the classes they add,
+/// for a document whose contacts go with `ctx`.
+fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<Table>, Option<Table>, Vec<Class>) {
+    let (stops, obstacle, obstacle_form, stop_inline) = picks;
+    let stops = stops.unwrap_or_default();
+    let mut classes = Vec::new();
+    if stops.is_empty() && obstacle.is_none() {
+        return (Vec::new(), None, classes);
+    }
+    let table = if stops.is_empty() { "obstacle" } else { "stop" };
+    // Every field a contact error may name, for the answers not predicted.
+    let mut broad: Vec<String> = ["stop", "obstacle", "obstacle.lo", "obstacle.hi"].map(String::from).to_vec();
+    if ctx.beam {
+        broad.extend(["beam", "beam.stops", "beam.dt", "beam.penalty_stiffness", "beam.beta"].map(String::from));
+    } else {
+        broad.extend(["bar", "bar.gap", "bar.mass", "bar.scheme", "bar.dt", "bar.ratio", "bar.t_end", "bar.length", "bar.elements", "bar.initial_displacement", "bar.wave_speed"].map(String::from));
+    }
+    for i in 0..stops.len() {
+        broad.extend(["x", "lo", "hi", "restitution", "stiffness"].map(|k| format!("stop.{i}.{k}")));
+    }
+    if ctx.benchmark {
+        classes.push(bad(&[table]));
+    }
+    if ctx.gap {
+        classes.push(bad(&["bar.gap"]));
+    }
+    if ctx.beam_stops {
+        classes.push(bad(&["beam.stops"]));
+    }
+    if !ctx.certain {
+        classes.push(Class::Unknown(broad.clone()));
+    }
+    let l = ctx.length;
+    let mut tables = Vec::new();
+    // Nodes of the valid stops (for duplicates and the schemes' rules): (node is 0, one-sided).
+    let mut sites: Vec<(bool, bool)> = Vec::new();
+    let mut seen: Vec<&'static str> = Vec::new();
+    for (i, st) in stops.iter().enumerate() {
+        let key = |k: &str| format!("stop.{i}.{k}");
+        let mut entries: Vec<(String, Value)> = Vec::new();
+        let mut valid = true;
+        let x_name = match &st.x {
+            XPick::Zero => "zero",
+            XPick::End => "end",
+            _ => "other",
+        };
+        match &st.x {
+            XPick::Zero | XPick::End => {
+                let text = if matches!(st.x, XPick::Zero) { "0.0".to_string() } else { toml_f64(l) };
+                let clamped = if ctx.beam { matches!(st.x, XPick::Zero) } else { matches!(st.x, XPick::End) && !ctx.free_end };
+                let class = if clamped || seen.contains(&x_name) {
+                    valid = false;
+                    Class::Bad(vec![key("x")])
+                } else {
+                    Class::Good
+                };
+                seen.push(x_name);
+                entries.push(("x".into(), val(text, class)));
+            }
+            XPick::NotNode => {
+                valid = false;
+                entries.push(("x".into(), val(toml_f64(0.414_213_6 * l), Class::Bad(vec![key("x")]))));
+            }
+            XPick::Invalid(t) => {
+                valid = false;
+                entries.push(("x".into(), val(*t, Class::Bad(vec![key("x")]))));
+            }
+            XPick::WrongType(Some(t)) => entries.push(("x".into(), val(*t, Class::Type))),
+            XPick::WrongType(None) => {
+                // No x at all: a missing field is a parse error.
+                entries.push(("lo".into(), val("0.0", Class::Type)));
+            }
+        }
+        let (lo, hi) = match st.bounds {
+            Ok(c) => good_stop_bounds(ctx.beam, &st.x, c),
+            Err((lo, hi, f)) => {
+                valid = false;
+                if lo.is_none() && hi.is_none() {
+                    // No bound at all: nothing to hold the class.
+                    classes.push(Class::Bad(vec![key(f)]));
+                }
+                let class = Class::Bad(vec![key(f)]);
+                for (k, v) in [("lo", lo), ("hi", hi)] {
+                    if let Some(v) = v {
+                        entries.push((k.into(), val(v, class.clone())));
+                    }
+                }
+                (None, None)
+            }
+        };
+        let one_sided = hi.is_none_or(|h| h.contains("inf"));
+        for (k, v) in [("lo", lo), ("hi", hi)] {
+            if let Some(v) = v {
+                entries.push((k.into(), val(v, Class::Good)));
+            }
+        }
+        for (k, num, acts) in [("restitution", &st.restitution, ctx.restitution_acts), ("stiffness", &st.stiffness, ctx.stiffness_acts)] {
+            match num {
+                None => {}
+                Some(Num::Good(v)) => {
+                    let v = if k == "stiffness" && ctx.beam { "1e8" } else { v };
+                    let class = if acts {
+                        Class::Good
+                    } else {
+                        valid = false;
+                        Class::Bad(vec![key(k)])
+                    };
+                    entries.push((k.into(), val(v, class)));
+                }
+                Some(Num::Invalid(v)) => {
+                    valid = false;
+                    entries.push((k.into(), val(*v, Class::Bad(vec![key(k)]))));
+                }
+                Some(Num::WrongType(v)) => entries.push((k.into(), val(*v, Class::Type))),
+            }
+        }
+        if st.unknown_key {
+            entries.push(("node".into(), val("3", Class::Type)));
+        }
+        if valid && matches!(st.x, XPick::Zero | XPick::End) {
+            sites.push((matches!(st.x, XPick::Zero), one_sided));
+        }
+        tables.push(Table { name: "stop".into(), entries, form: Form::ArrayItem });
+    }
+    if stop_inline && !tables.is_empty() {
+        // `stop = { … }`: a table where an array of tables is expected.
+        tables[0].form = Form::Inline;
+        classes.push(Class::Type);
+    }
+    let mut obstacle_table = None;
+    let mut with_obstacle = false;
+    if let Some(ob) = obstacle {
+        let mut entries: Vec<(String, Value)> = Vec::new();
+        let push = |entries: &mut Vec<(String, Value)>, lo: Option<&'static str>, hi: Option<&'static str>, class: Class| {
+            for (k, v) in [("lo", lo), ("hi", hi)] {
+                if let Some(v) = v {
+                    entries.push((k.into(), val(v, class.clone())));
+                }
+            }
+        };
+        match ob {
+            ObstaclePick::Good(a, b) => {
+                let (lo, hi) = good_obstacle_bounds(ctx.beam, a, b);
+                push(&mut entries, lo, hi, Class::Good);
+                with_obstacle = true;
+            }
+            ObstaclePick::Invalid(lo, hi, f) => {
+                // The field names its table's key: the table itself when empty.
+                classes.push(Class::Bad(vec![f.to_string()]));
+                push(&mut entries, lo, hi, Class::Bad(vec![f.to_string()]));
+            }
+            ObstaclePick::AboveStart => {
+                let lo = if ctx.beam { "0.05" } else { "100.0" };
+                let known = ctx.beam || ctx.certain;
+                // A stop's bounds may not meet it: then the stop is named.
+                let mut fields = vec!["obstacle.lo".to_string()];
+                fields.extend((0..stops.len()).flat_map(|i| [format!("stop.{i}.lo"), format!("stop.{i}.hi")]));
+                push(&mut entries, Some(lo), None, if known { Class::Bad(fields) } else { Class::Unknown(broad.clone()) });
+            }
+            ObstaclePick::WrongType(lo, hi, unknown_key) => {
+                push(&mut entries, lo, hi, Class::Type);
+                if unknown_key {
+                    entries.push(("g".into(), val("1.0", Class::Type)));
+                }
+            }
+        }
+        obstacle_table = Some(Table { name: "obstacle".into(), entries, form: obstacle_form });
+    }
+    // Valid contacts refused by the bar's scheme or mass (the beam takes any set).
+    let all_valid = sites.len() == stops.len() && (obstacle_table.is_none() || with_obstacle);
+    // A massless-node mass with any [obstacle] is refused before its values are read.
+    if !ctx.beam && ctx.massless && obstacle_table.is_some() {
+        classes.push(bad(&["bar.mass"]));
+    } else if ctx.certain && !ctx.beam && all_valid {
+        {
+            let k = if with_obstacle { 2 } else { sites.len() };
+            if ctx.massless && k == 1 && !sites[0].0 {
+                classes.push(bad(&["bar.mass"]));
+            }
+            if ctx.single_only && (k > 1 || !sites[0].0 || !sites[0].1) {
+                classes.push(bad(&["bar.scheme", "bar.mass"]));
+            }
+            if ctx.moreau && k == 1 && !sites[0].1 {
+                classes.push(bad(&["bar.scheme"]));
+            }
+        }
+    }
+    (tables, obstacle_table, classes)
 }
 
 // ---------------------------------------------------------------- output --
@@ -1048,7 +1597,7 @@ fn form() -> BoxedStrategy<Form> {
 /// in four may hold wrong types, unknown or duplicate keys (which stop the
 /// reader at parsing), the others only values of the right type.
 pub fn documents(cfg: Config) -> BoxedStrategy<Doc> {
-    prop_oneof![3 => documents_with(cfg, 0), 1 => documents_with(cfg, 1)].boxed()
+    prop_oneof![3 => documents_with(cfg, 0), 1 => documents_with(cfg, 1), 1 => contact_documents(cfg)].boxed()
 }
 
 /// Documents; `tw` is the weight of wrong-type options (0: none).
@@ -1062,12 +1611,20 @@ fn documents_with(cfg: Config, tw: u32) -> BoxedStrategy<Doc> {
         beam_picks(cfg, tw),
         (maybe(0.5, output_entries(tw)), form(), form(), form()),
         (maybe(rare, pick(&["foo", "Bar", "outputs", "bar.extra"])), maybe(rare, any::<Index>().boxed()), any::<bool>(), any::<Index>()),
+        contact_picks(tw, 0.25, 0.15),
     )
-        .prop_map(move |((has_bar, has_beam), bar, beam, (output, f_bar, f_beam, f_out), (unknown_table, duplicate, crlf, order))| {
+        .prop_map(move |((has_bar, has_beam), bar, beam, (output, f_bar, f_beam, f_out), (unknown_table, duplicate, crlf, order), contacts)| {
             let mut tables = Vec::new();
             let mut structure = Vec::new();
             let mut known = Vec::new();
             let mut length = 1.0;
+            // The contacts go with the bar (also with both tables: refused anyway) or the beam.
+            let ctx = if has_beam && !has_bar { beam_ctx(&beam) } else { bar_ctx(&bar) };
+            let (stop_tables, obstacle_table, contact_classes) = assemble_contacts(contacts, &ctx);
+            structure.extend(contact_classes);
+            if let Some(t) = obstacle_table {
+                tables.push(t);
+            }
             if has_bar {
                 let (entries, s, k, l) = assemble_bar(bar);
                 structure.extend(s);
@@ -1104,6 +1661,8 @@ fn documents_with(cfg: Config, tw: u32) -> BoxedStrategy<Doc> {
                 let k = order.index(tables.len());
                 tables.rotate_left(k);
             }
+            // The stops after the rotation: their order is their index.
+            tables.extend(stop_tables);
             Doc { tables, structure, known_fields: known, length, crlf }
         })
         .boxed()
@@ -1118,8 +1677,42 @@ pub fn mutations(scenes: Vec<String>) -> BoxedStrategy<String> {
 
 fn mutated(scenes: Vec<String>) -> BoxedStrategy<String> {
     const INSERTS: [&str; 36] = [
-        "0", "9", ".", "e", "-", "+", "_", "\"", "'", "[", "]", "{", "}", "=", ",", "\n", "\r\n", "#", "\\", "x", " ", "nan", "inf", "-inf", "1e400", "9223372036854775807", "18446744073709551615",
-        "[bar]\n", "[beam]\n", "[output]\n", "\u{0}", "\u{feff}", "é", "\"\"\"", "1979-05-27T07:32:00Z", "[[bar]]\n",
+        "0",
+        "9",
+        ".",
+        "e",
+        "-",
+        "+",
+        "_",
+        "\"",
+        "'",
+        "[",
+        "]",
+        "{",
+        "}",
+        "=",
+        ",",
+        "\n",
+        "\r\n",
+        "#",
+        "\\",
+        "x",
+        " ",
+        "nan",
+        "inf",
+        "-inf",
+        "1e400",
+        "9223372036854775807",
+        "18446744073709551615",
+        "[bar]\n",
+        "[beam]\n",
+        "[output]\n",
+        "\u{0}",
+        "\u{feff}",
+        "é",
+        "\"\"\"",
+        "1979-05-27T07:32:00Z",
+        "[[bar]]\n",
     ];
     #[derive(Clone, Debug)]
     enum Op {
@@ -1263,6 +1856,26 @@ fn given(file: &SceneFile, path: &str) -> Option<bool> {
             }
         }
         "output" if OUTPUT_KEYS.contains(&key) => true,
+        "stop" => {
+            let (i, key) = key.split_once('.')?;
+            let st = file.stop.get(i.parse::<usize>().ok()?)?;
+            match key {
+                "x" => true,
+                "lo" => st.lo.is_some(),
+                "hi" => st.hi.is_some(),
+                "restitution" => st.restitution.is_some(),
+                "stiffness" => st.stiffness.is_some(),
+                _ => return None,
+            }
+        }
+        "obstacle" => {
+            let o = file.obstacle.as_ref()?;
+            match key {
+                "lo" => o.lo.is_some(),
+                "hi" => o.hi.is_some(),
+                _ => return None,
+            }
+        }
         _ => return None,
     })
 }
@@ -1277,6 +1890,8 @@ fn check_validation_error(file: &SceneFile, e: &SceneError, cfg: Config) -> Resu
         "bar" => file.bar.is_some(),
         "beam" => file.beam.is_some(),
         "output" => true,
+        "stop" => !file.stop.is_empty(),
+        "obstacle" => file.obstacle.is_some(),
         "" => return Err("empty field path".into()),
         path => match given(file, path) {
             None => return Err(format!("field {path:?} is not a key of the scene grammar, or its table is not in the document")),
@@ -1291,7 +1906,7 @@ fn check_validation_error(file: &SceneFile, e: &SceneError, cfg: Config) -> Resu
     if !tables_ok {
         return Err(format!("field {field:?} names a table the document does not have (or bar/beam when exactly one is given)"));
     }
-    let is_expression_key = field == "bar.initial_displacement" || field == "bar.initial_velocity";
+    let is_expression_key = ["bar.initial_displacement", "bar.initial_velocity", "obstacle.lo", "obstacle.hi"].contains(&field.as_str());
     let exempt = !cfg.expression_errors && is_expression_key && message.starts_with("expression ");
     if !exempt && !states_allowed(message) {
         return Err(format!("{field}: the message does not state what is allowed (\"not allowed: <what is>\", or one of {ALLOWED_WORDS:?}): {message:?}"));
@@ -1372,7 +1987,9 @@ pub fn check_doc(doc: &Doc, cfg: Config) -> Result<(), String> {
 /// The initial displacement and velocity of an accepted custom bar against
 /// the generator's functions at the nodes x_i = L i / m.
 fn check_known_fields(doc: &Doc, scene: &Scene) -> Result<(), String> {
-    let Scene::Bar(run) = scene else { return Ok(()) };
+    let Scene::Bar(run) = scene else {
+        return Ok(());
+    };
     let p = &run.problem;
     let m = p.bar.elements as f64;
     for (which, f) in &doc.known_fields {

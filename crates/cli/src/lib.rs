@@ -20,6 +20,12 @@
 //! * beam with `output.snapshots_every > 0`: `snapshots.csv` — `n,t_s,x_m,u_m`,
 //!   the absolute displacement `ũ(x, t) = u(x, t) + h(x) φ(t)` at the nodes
 //!   (`x = 0` is the support, `ũ = φ`).
+//! * with `[[stop]]` / `[obstacle]` (only then), `series.csv` appends per
+//!   contact, in contact order, `u_c<i>,lambda_<i>,active_<i>` (`active`:
+//!   `-1` lower bound, `1` upper, `0` free); `u_contact` and `lambda` are
+//!   contact 0's (the beam's `tip_m` stays the tip); `lambda.svg` (bar and
+//!   beam) shows every contact's force: one line each up to 12 contacts,
+//!   else a heat map of contacts against time.
 //!
 //! Rows go out whole (one write call per block of complete rows, every
 //! 64 KiB or 1024 rows and at the end), also when a run blows up or is
@@ -35,9 +41,9 @@
 pub mod fuzz;
 pub mod scene;
 
-use scene::{BarRun, OutputToml, Scene, SceneFile};
-use signorini_plot::{line_chart, Chart, Scale, Series};
-use signorini_run::beam::{build as build_beam, stability_limit, BeamContact};
+use scene::{BarRun, ContactSet, OutputToml, Scene, SceneFile};
+use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
+use signorini_run::beam::{build_with_stops, stability_limit, BeamContact, PenaltyUnits};
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
 use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
 use std::fs::File;
@@ -136,16 +142,115 @@ struct PlotData {
     dof: usize,
     points: Vec<(f64, f64, Option<(f64, f64)>, Option<(f64, f64)>)>,
     max_abs: f64,
+    /// Several contacts: every contact's force.
+    forces: Option<ForcePlot>,
+}
+
+impl PlotData {
+    fn new(steps: usize, dof: usize, contacts: Option<&ContactSet>) -> Self {
+        let every = (steps / 20_000).max(1);
+        let forces = contacts.map(|c| {
+            let k = c.sites.len();
+            if k <= MAX_FORCE_LINES {
+                ForcePlot::Lines { t: Vec::new(), f: vec![Vec::new(); k] }
+            } else {
+                ForcePlot::Map { steps: steps.max(1), cells: vec![0.0; k * MAP_BINS] }
+            }
+        });
+        Self { every, dof, points: Vec::new(), max_abs: 0.0, forces }
+    }
+}
+
+/// Contacts beyond which the force plot is a heat map, not one line each.
+const MAX_FORCE_LINES: usize = 12;
+/// Time bins of the force heat map.
+const MAP_BINS: usize = 60;
+
+/// Every contact's force for `lambda.svg`: one line per contact (at the
+/// decimated levels), or, beyond [`MAX_FORCE_LINES`] contacts, the force of
+/// largest magnitude of each contact in each of [`MAP_BINS`] time bins.
+enum ForcePlot {
+    Lines { t: Vec<f64>, f: Vec<Vec<f64>> },
+    Map { steps: usize, cells: Vec<f64> },
 }
 
 impl Observer for PlotData {
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
         let u = s.u[self.dof];
         self.max_abs = self.max_abs.max(u.abs());
-        if s.n % self.every == 0 {
+        let keep = s.n % self.every == 0;
+        if keep {
             self.points.push((s.t, u, s.lambda, s.energy));
         }
+        match (&mut self.forces, s.lambda) {
+            (Some(ForcePlot::Lines { t, f }), Some((tl, _))) if keep => {
+                t.push(tl);
+                for (line, v) in f.iter_mut().zip(s.forces) {
+                    line.push(*v);
+                }
+            }
+            (Some(ForcePlot::Map { steps, cells }), Some(_)) => {
+                let bin = (s.n.min(*steps) * MAP_BINS / (*steps + 1)).min(MAP_BINS - 1);
+                for (i, v) in s.forces.iter().enumerate() {
+                    if let Some(c) = cells.get_mut(i * MAP_BINS + bin) {
+                        if v.abs() > c.abs() || v.is_nan() {
+                            *c = *v;
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
         Ok(())
+    }
+}
+
+/// A contact's name in plots: `λ_<i> (stop.<j>, x = …)` or `λ_<i> (obstacle, x = …)`.
+fn contact_label(set: &ContactSet, i: usize) -> String {
+    let site = &set.sites[i];
+    match site.stop {
+        Some((j, _)) => format!("λ_{i} (stop.{j}, x = {})", site.x),
+        None => format!("λ_{i} (obstacle, x = {})", site.x),
+    }
+}
+
+/// `lambda.svg` with several contacts: one line per contact, or a heat map
+/// of every contact's force (rows) over time (columns) beyond
+/// [`MAX_FORCE_LINES`] contacts.
+fn plot_forces(notes: &mut Vec<String>, dir: &Path, set: &ContactSet, forces: &ForcePlot, t_end: f64, unit: &str) {
+    let name = "lambda.svg";
+    let written = match forces {
+        ForcePlot::Lines { t, f } => {
+            let series: Vec<Series> = f
+                .iter()
+                .enumerate()
+                .map(|(i, line)| Series {
+                    label: contact_label(set, i),
+                    points: t.iter().copied().zip(line.iter().copied()).filter(|p| p.0.is_finite() && p.1.is_finite()).collect(),
+                    reference: false,
+                    style: Style { group: Some(i), variant: None },
+                })
+                .collect();
+            if series.iter().all(|s| s.points.is_empty()) {
+                notes.push(format!("{name} not written: no finite point to plot"));
+                return;
+            }
+            let y = format!("λ_i{unit}");
+            line_chart(&Chart { title: "contact forces λ_i(t) (<= 0 at a lower bound, >= 0 at an upper one)", x_label: "t", y_label: &y, scale: Scale::Linear, size: (900, 450) }, &series)
+        }
+        ForcePlot::Map { cells, .. } => {
+            let k = set.sites.len();
+            let label_every = k.div_ceil(100);
+            let rows: Vec<String> = (0..k).map(|i| if i % label_every == 0 { format!("{i}: x = {:.4}", set.sites[i].x) } else { String::new() }).collect();
+            let cols: Vec<String> = (0..MAP_BINS).map(|b| if b % 10 == 0 { format!("{:.3}", t_end * b as f64 / MAP_BINS as f64) } else { String::new() }).collect();
+            let values: Vec<Vec<f64>> = cells.chunks(MAP_BINS).map(<[f64]>::to_vec).collect();
+            let height = (120 + 14 * k).clamp(400, 2400) as u32;
+            heat_map(&format!("contact forces λ_i{unit}: contact i (rows) against t (columns); blue lowest, red highest (largest |λ_i| in each time bin)"), &rows, &cols, &values, false, (1100, height))
+        }
+    }
+    .and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
+    if let Err(e) = written {
+        notes.push(format!("{name} not written: {e}"));
     }
 }
 
@@ -247,9 +352,10 @@ fn row_bytes(cols: usize) -> f64 {
 /// The size of what a run of `scene` writes (bytes), estimated from its
 /// row counts (the plots are bounded: 20 000 points each).
 pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
+    let per_contact = |c: &Option<ContactSet>| 3 * c.as_ref().map_or(0, |c| c.sites.len());
     let (steps, series_cols, nodes) = match scene {
-        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 }, b.problem.bar.elements as f64 + 1.0),
-        Scene::Beam { scene, .. } => (scene.t_end / scene.dt, 5, scene.elements as f64 + 1.0),
+        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.elements as f64 + 1.0),
+        Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
     };
     let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
     let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
@@ -307,14 +413,15 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
     prepare_output(out, opts.clean)?;
     match scene {
         Scene::Bar(b) => run_bar(b, scene_file, out, opts),
-        Scene::Beam { pipe, scene, force } => {
-            let (mut stepper, init, beam) = build_beam(pipe, scene, *force)?;
+        Scene::Beam { pipe, scene, force, contacts } => {
+            let (mut stepper, init, beam) = build_with_stops(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()))?;
             let mut cfg = RunConfig::new(scene.dt, scene.t_end)?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
-            let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None };
+            let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
+            let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None, contacts: dofs.as_deref() };
             let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, beam.tip_dof(), cols)?;
-            let mut data = PlotData { every: (steps / 20_000).max(1), dof: beam.tip_dof(), points: Vec::new(), max_abs: 0.0 };
+            let mut data = PlotData::new(steps, beam.tip_dof(), contacts.as_ref());
             let mut snaps = if scene_file.output.snapshots_every > 0 {
                 // Node i at x = i h; its value unknown is 2(i - 1); node 0 is clamped to the support.
                 let nodes = (0..=scene.elements).map(|i| (i as f64 * beam.h(), i.checked_sub(1).map(|k| 2 * k), pipe.lifting(i as f64 * beam.h()).0)).collect();
@@ -336,13 +443,20 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             if scene_file.output.plots {
                 let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
                 plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", "ũ(L,t) (m)", pts, None);
+                if let (Some(set), Some(f)) = (contacts, &data.forces) {
+                    plot_forces(&mut notes, out, set, f, scene.t_end, " (scaled equation: force / ρS, m² s⁻²)");
+                }
             }
             let s = match res {
                 Ok(s) => s,
                 Err(error) => return Err(CliError::Stopped { error, notes }),
             };
             let max = data.max_abs;
-            let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m (stops {:?})", s.steps, s.contact_steps, pipe.stops)];
+            let stops = match contacts {
+                Some(c) => format!("{} contacts", c.sites.len()),
+                None => format!("stops {:?}", pipe.stops),
+            };
+            let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m ({stops})", s.steps, s.contact_steps)];
             lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
             lines.push(format!("wrote {}", out.display()));
             Ok(Summary { lines })
@@ -360,9 +474,12 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     let mut cfg = RunConfig::new(b.dt, b.t_end)?;
     cfg.interrupt = opts.interrupt;
     let steps = cfg.steps();
-    let cols = SeriesColumns { exact: exact.as_deref(), ..SeriesColumns::default() };
-    let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, 0, cols)?;
-    let mut data = PlotData { every: (steps / 20_000).max(1), dof: 0, points: Vec::new(), max_abs: 0.0 };
+    // With stops, u_contact / lambda are contact 0's (the first stop).
+    let dofs: Option<Vec<usize>> = b.contacts.as_ref().map(|c| c.stops.iter().map(|st| st.node).collect());
+    let dof0 = dofs.as_ref().map_or(0, |d| d[0]);
+    let cols = SeriesColumns { exact: exact.as_deref(), contacts: dofs.as_deref(), ..SeriesColumns::default() };
+    let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, dof0, cols)?;
+    let mut data = PlotData::new(steps, dof0, b.contacts.as_ref());
     let mut norms = exact.as_deref().map(|e| NormObserver::new(e, p.bar.elements, p.vnorm(), b.dt));
     let mut snaps = if file.output.snapshots_every > 0 {
         let nodes = (0..=p.bar.elements).map(|i| (p.bar.node(i), (i < p.bar.dofs()).then_some(i), 0.0)).collect();
@@ -388,8 +505,17 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         let t_max = data.points.last().map_or(0.0, |p| p.0);
         let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=2000).map(|i| t_max * i as f64 / 2000.0).map(|t| (t, f(t))).collect() };
         let ex = exact.as_deref();
-        plot(&mut notes, out, "u_contact.svg", "u(0,t)", "u(0,t)", data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)));
-        plot(&mut notes, out, "lambda.svg", "contact force λ(t)", "λ", data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))));
+        match (&b.contacts, &data.forces) {
+            (Some(set), Some(f)) => {
+                let title = format!("u at contact 0 (x = {})", set.sites[0].x);
+                plot(&mut notes, out, "u_contact.svg", &title, "u", data.points.iter().map(|p| (p.0, p.1)).collect(), None);
+                plot_forces(&mut notes, out, set, f, b.t_end, "");
+            }
+            _ => {
+                plot(&mut notes, out, "u_contact.svg", "u(0,t)", "u(0,t)", data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)));
+                plot(&mut notes, out, "lambda.svg", "contact force λ(t)", "λ", data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))));
+            }
+        }
         plot(&mut notes, out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
     }
     // A run that stopped early has no norms over [0, T]: no norms.csv.
@@ -397,7 +523,16 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         Ok(s) => s,
         Err(error) => return Err(CliError::Stopped { error, notes }),
     };
-    let mut lines = vec![format!("{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps", file.bar.as_ref().and_then(|b| b.benchmark.clone()).unwrap_or_else(|| "bar".into()), p.bar.elements, p.mass, b.scheme, b.dt, s.steps, s.contact_steps)];
+    let mut lines = vec![format!(
+        "{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps",
+        file.bar.as_ref().and_then(|b| b.benchmark.clone()).unwrap_or_else(|| "bar".into()),
+        p.bar.elements,
+        p.mass,
+        b.scheme,
+        b.dt,
+        s.steps,
+        s.contact_steps
+    )];
     if let Some(n) = norms {
         let r = n.report();
         let mut w = csv::Writer::from_writer(create(out, "norms.csv")?);
@@ -417,13 +552,17 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
 /// `signorini check`: what a run would do, its stability, memory, output
 /// size (against the free space of `out`) and cost.
 pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliError> {
-    let (elements, is_beam) = match scene {
-        Scene::Bar(b) => (b.problem.bar.elements, false),
-        Scene::Beam { scene, .. } => (scene.elements, true),
+    let (elements, is_beam, unknowns, contacts) = match scene {
+        Scene::Bar(b) => (b.problem.bar.elements, false, b.problem.bar.dofs(), &b.contacts),
+        Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
     };
     let need = output_estimate(scene, &file.output);
     let free = free_space(out).map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", scene::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
-    let resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", scene::bytes(scene::memory_estimate(elements, is_beam)), scene::bytes(need), out.display());
+    let memory = scene::memory_estimate(elements, is_beam) + scene::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
+    let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", scene::bytes(memory), scene::bytes(need), out.display());
+    if let Some(c) = contacts {
+        resources = format!("\n{}{resources}", c.describe());
+    }
     let text = match scene {
         Scene::Bar(b) => {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
@@ -437,10 +576,18 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                 "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
                  stability: {stability}\n\
                  cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
-                b.problem.bar.elements, dofs, b.problem.mass, b.scheme, b.dt, b.t_end, steps, (dofs * steps) as f64, 1e-8 * (dofs * steps) as f64
+                b.problem.bar.elements,
+                dofs,
+                b.problem.mass,
+                b.scheme,
+                b.dt,
+                b.t_end,
+                steps,
+                (dofs * steps) as f64,
+                1e-8 * (dofs * steps) as f64
             )
         }
-        Scene::Beam { pipe, scene, force } => {
+        Scene::Beam { pipe, scene, force, .. } => {
             let (_, _, beam_) = pipe.dynamics(scene.elements).map(|(b, d, i)| (d, i, b))?;
             let steps = RunConfig::new(scene.dt, scene.t_end)?.steps();
             let beta = match scene.contact {
@@ -456,12 +603,17 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                     lim.dt_sufficient,
                     lim.dt_paper,
                     scene.dt,
-                    if scene.dt < lim.dt_critical { "below it" } else if *force { "BEYOND it (forced)" } else { "BEYOND it: the run will be refused" }
+                    if scene.dt < lim.dt_critical {
+                        "below it"
+                    } else if *force {
+                        "BEYOND it (forced)"
+                    } else {
+                        "BEYOND it: the run will be refused"
+                    }
                 ),
-                BeamContact::Projection { beta } => format!(
-                    "unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)",
-                    lim.kappa, lim.dt_sufficient
-                ),
+                BeamContact::Projection { beta } => {
+                    format!("unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)", lim.kappa, lim.dt_sufficient)
+                }
                 BeamContact::Penalty { .. } => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
             };
             format!(
@@ -496,5 +648,6 @@ pub fn list() -> String {
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");
     s.push_str("benchmarks (bar, with exact solutions): bar-dirichlet, bar-neumann-gravity (g = 1/9), bar-neumann-gravity-0.11 (T <= 225)\n");
     s.push_str("beam scenes: fig2 fig3 fig4 (β = 1/2, projection), fig5 fig6 fig7 (penalty 1e8 N/m), fig8 (β = 1/4); contact = \"projection\" (β ∈ [0, 1/2]) or \"penalty\" (stiffness > 0 N/m)\n");
+    s.push_str("several contacts (bar or beam): [[stop]] x (a mesh node), lo, hi, restitution ∈ [0, 1] (ps, moreau-jean, beam projection), stiffness > 0 (penalty); [obstacle] lo, hi (number, expression in x or table)\n");
     s
 }

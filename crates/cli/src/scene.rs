@@ -24,11 +24,32 @@
 //! with the allowed range in the message, a key that would not act in this
 //! scene is refused, and the integrator is built once (so a scene that
 //! validates also starts).
+//!
+//! Several contacts (bar or beam): a list of point stops and/or bounds at
+//! every node replace the default contact (the bar's obstacle at x = 0 with
+//! `gap`, the beam's tip stops `stops = [g1, g2]`, which are then refused):
+//!
+//! ```toml
+//! [[stop]]            # one table per stop, in contact order
+//! x = 0.0             # a mesh node (to 1e-9·L)
+//! lo = 0.0            # lower bound (optional; -inf: none)
+//! hi = 0.05           # upper bound (optional; at least one finite bound)
+//! restitution = 0.5   # ps / moreau-jean (bar), projection (beam) only
+//! stiffness = 1e3     # penalty only (bar: scaled units; beam: N/m)
+//!
+//! [obstacle]          # lo(x) <= u(x) <= hi(x) at every unknown node
+//! lo = "-0.1"         # number, expression in x or table (-inf: none)
+//! hi = 0.1
+//! ```
+//!
+//! A node with both a stop and the obstacle gets the intersection of their
+//! bounds. Contact order (the series' `u_c<i>` columns): the stops as
+//! listed, then the obstacle's other nodes by increasing x.
 
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
-use signorini_run::beam::{build as build_beam, BeamContact, BeamScene, Pipe};
-use signorini_run::{BarProblem, Benchmark, RunConfig, RunError};
+use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
 use signorini_schemes::{SchemeError, SchemeSpec};
 use std::fmt;
 
@@ -63,6 +84,38 @@ pub struct SceneFile {
     /// Outputs.
     #[serde(default)]
     pub output: OutputToml,
+    /// `[[stop]]`: point stops at mesh nodes (replace the default contact).
+    #[serde(default)]
+    pub stop: Vec<StopToml>,
+    /// `[obstacle]`: bounds at every unknown node's displacement.
+    pub obstacle: Option<ObstacleToml>,
+}
+
+/// `[[stop]]`: a point stop `lo <= u(x) <= hi` at a mesh node.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StopToml {
+    /// Position: a mesh node, to a relative 1e-9 of the length.
+    pub x: f64,
+    /// Lower bound (`-inf`: none).
+    pub lo: Option<f64>,
+    /// Upper bound (`+inf`: none).
+    pub hi: Option<f64>,
+    /// Restitution coefficient of this stop, in [0, 1] (schemes with a
+    /// restitution law only).
+    pub restitution: Option<f64>,
+    /// Penalty stiffness of this stop, > 0 (penalty contact only).
+    pub stiffness: Option<f64>,
+}
+
+/// `[obstacle]`: `lo(x) <= u(x) <= hi(x)` at every unknown node.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ObstacleToml {
+    /// Lower bound: a number (`-inf`: none), an expression in x or a table.
+    pub lo: Option<FieldToml>,
+    /// Upper bound: a number (`+inf`: none), an expression in x or a table.
+    pub hi: Option<FieldToml>,
 }
 
 /// `[bar]`.
@@ -208,6 +261,95 @@ pub struct BarRun {
     pub dt: f64,
     /// Horizon.
     pub t_end: f64,
+    /// The contacts of `[[stop]]` / `[obstacle]` (`None`: the obstacle at
+    /// x = 0); the problem holds them as its stops.
+    pub contacts: Option<ContactSet>,
+}
+
+/// One contact of a scene with `[[stop]]` / `[obstacle]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Site {
+    /// The mesh node (bar: `0..=m`; beam: `1..=J`).
+    pub node: usize,
+    /// The node's position.
+    pub x: f64,
+    /// The `[[stop]]` entry it comes from (its index and `x` as written).
+    pub stop: Option<(usize, f64)>,
+    /// The obstacle's `(lo, hi)` at the node, where `[obstacle]` applies.
+    pub obstacle: Option<(f64, f64)>,
+    /// Whether the stop gave its own `stiffness`.
+    pub own_stiffness: bool,
+}
+
+/// The contacts of a scene with `[[stop]]` / `[obstacle]`, in contact
+/// order (the series' `u_c<i>` order): the stops as listed, then the
+/// obstacle's other nodes by increasing x.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSet {
+    /// The stops as the problem takes them (bounds intersected with the
+    /// obstacle's where both apply).
+    pub stops: Vec<Stop>,
+    /// Where each comes from, in the same order.
+    pub sites: Vec<Site>,
+}
+
+impl ContactSet {
+    /// The field a library error on contact `index` belongs to:
+    /// `stop.<i>.<field>`, or `obstacle.lo` / `obstacle.hi` with the node's x.
+    fn field_of(&self, index: usize, what: &str) -> (String, String) {
+        let Some(site) = self.sites.get(index) else {
+            return ("stop".into(), String::new());
+        };
+        match site.stop {
+            Some((i, _)) => (format!("stop.{i}.{}", if what == "node" { "x" } else { what }), String::new()),
+            None => (format!("obstacle.{}", if what == "hi" { "hi" } else { "lo" }), format!(" (at the node x = {})", site.x)),
+        }
+    }
+
+    /// One line per stop and a summary of the obstacle's nodes, for `check`.
+    pub fn describe(&self) -> String {
+        let bound = |v: f64| {
+            if v.is_finite() {
+                format!("{v}")
+            } else {
+                "none".into()
+            }
+        };
+        let mut s = format!("contacts: {} (series columns u_c<i>, lambda_<i>, active_<i> in this order)", self.sites.len());
+        let mut obstacle_only = Vec::new();
+        for (i, (site, st)) in self.sites.iter().zip(&self.stops).enumerate() {
+            match site.stop {
+                Some((j, x)) => {
+                    s += &format!(
+                        "\n  {i}: stop.{j} x = {x} snapped to node {} (x = {}): lo = {}, hi = {}{}",
+                        site.node,
+                        site.x,
+                        bound(st.lo),
+                        bound(st.hi),
+                        if site.obstacle.is_some() { " (intersected with [obstacle])" } else { "" }
+                    )
+                }
+                None => obstacle_only.push((i, site, st)),
+            }
+        }
+        if let (Some(first), Some(last)) = (obstacle_only.first(), obstacle_only.last()) {
+            let (lo_min, lo_max) = obstacle_only.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.2.lo), b.max(p.2.lo)));
+            let (hi_min, hi_max) = obstacle_only.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.2.hi), b.max(p.2.hi)));
+            s += &format!(
+                "\n  {}..={}: [obstacle] at {} nodes, x = {} … {}: lo in [{}, {}], hi in [{}, {}]",
+                first.0,
+                last.0,
+                obstacle_only.len(),
+                first.1.x,
+                last.1.x,
+                bound(lo_min),
+                bound(lo_max),
+                bound(hi_min),
+                bound(hi_max)
+            );
+        }
+        s
+    }
 }
 
 /// A validated scene.
@@ -222,6 +364,9 @@ pub enum Scene {
         scene: BeamScene,
         /// Forced beyond the stability limit.
         force: bool,
+        /// The contacts of `[[stop]]` / `[obstacle]` (`None`: the tip's
+        /// two stops).
+        contacts: Option<ContactSet>,
     },
 }
 
@@ -261,6 +406,41 @@ const BYTES_BASE: f64 = 32.0 * 1024.0 * 1024.0;
 /// elements needs, estimated before allocating it.
 pub fn memory_estimate(elements: usize, beam: bool) -> f64 {
     BYTES_BASE + elements as f64 * if beam { BYTES_PER_BEAM_ELEMENT } else { BYTES_PER_BAR_ELEMENT }
+}
+
+/// The memory (bytes) the multi-contact solve holds for `k > 1` contacts
+/// on `unknowns` unknowns: the influence columns `A⁻¹ e_c` (`8 k n`) and
+/// the Delassus matrix with its Cholesky storage (`16 k²`); 0 for one
+/// contact (its column is in the per-element estimate).
+pub fn contact_memory(k: usize, unknowns: usize) -> f64 {
+    if k <= 1 {
+        return 0.0;
+    }
+    let k = k as f64;
+    8.0 * k * unknowns as f64 + 16.0 * k * k
+}
+
+/// Refuses `k` contacts on `unknowns` unknowns whose solve would not fit
+/// beside the mesh, naming `name`.
+fn contacts_fit(name: &str, k: usize, unknowns: usize, elements: usize, beam: bool, limits: &Limits) -> Result<(), SceneError> {
+    let mesh = memory_estimate(elements, beam);
+    let solve = contact_memory(k, unknowns);
+    if mesh + solve > limits.max_memory {
+        let room = (limits.max_memory - mesh).max(0.0);
+        let n = unknowns as f64;
+        // The largest k with 8 k n + 16 k² <= room.
+        let most = ((-8.0 * n + (64.0 * n * n + 64.0 * room).sqrt()) / 32.0).floor().max(0.0);
+        return Err(field(
+            name,
+            format!(
+                "{k} contacts on {unknowns} unknowns need about {} for the multi-contact solve (8·k·n bytes of influence columns A⁻¹e_c, 16·k² of the Delassus matrix and its factor) besides {} for the mesh, beyond the cap of {} (the machine's available memory unless --max-memory is given): at most {most:.0} contacts fit at this mesh; allowed: fewer contacts or elements",
+                bytes(solve),
+                bytes(mesh),
+                bytes(limits.max_memory)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Human-readable bytes.
@@ -428,6 +608,183 @@ impl InitialField {
     }
 }
 
+/// The relative tolerance (of the length) within which a stop's `x` is a node.
+pub const NODE_TOLERANCE: f64 = 1e-9;
+
+/// The nodes a scene's contacts may use.
+struct NodeMesh<'a> {
+    /// Length of the bar or beam.
+    length: f64,
+    /// Elements (nodes `0..=elements`, at `x(i)`).
+    elements: usize,
+    /// The nodes that are unknowns (a clamped node cannot be a contact).
+    unknown: std::ops::RangeInclusive<usize>,
+    /// Node positions.
+    x: &'a dyn Fn(usize) -> f64,
+}
+
+/// Which per-stop keys act with the scene's scheme: `Err(why)` refuses the key.
+struct KeyRules {
+    restitution: Result<(), String>,
+    stiffness: Result<(), String>,
+}
+
+/// One bound of `[obstacle]`, `None` where it is absent or is the number
+/// `none` (`-inf` for lo, `+inf` for hi).
+fn obstacle_bound(name: &str, f: Option<&FieldToml>, none: f64) -> Result<Option<InitialField>, SceneError> {
+    match f {
+        None => Ok(None),
+        Some(FieldToml::Number(v)) if *v == none => Ok(None),
+        Some(FieldToml::Number(v)) if !v.is_finite() => Err(field(name, format!("{v} is not allowed: a finite number, an expression or table in x, or {none} (no bound)"))),
+        Some(f) => InitialField::compile(name, f).map(Some),
+    }
+}
+
+/// The contacts of `[[stop]]` and `[obstacle]` on `mesh`, checked against
+/// the initial displacement `u0(node)`: every error names its field
+/// (`stop.<i>.<key>`, `obstacle.lo`/`obstacle.hi` with the node's x).
+fn contact_set(stops: &[StopToml], obstacle: Option<&ObstacleToml>, mesh: &NodeMesh<'_>, u0: &dyn Fn(usize) -> f64, rules: &KeyRules) -> Result<ContactSet, SceneError> {
+    let (l, m) = (mesh.length, mesh.elements);
+    let tol = NODE_TOLERANCE * l;
+    let h = l / m as f64;
+    let (first, last) = (*mesh.unknown.start(), *mesh.unknown.end());
+    let mut sites: Vec<Site> = Vec::with_capacity(stops.len());
+    let mut list: Vec<Stop> = Vec::with_capacity(stops.len());
+    for (i, st) in stops.iter().enumerate() {
+        let key = |k: &str| format!("stop.{i}.{k}");
+        let x = st.x;
+        if !x.is_finite() || x < -tol || x > l + tol {
+            return Err(field(&key("x"), format!("{x} is not allowed: the position of a mesh node, in [0, {l}]")));
+        }
+        let node = ((x / h).round().max(0.0) as usize).min(m);
+        if (x - (mesh.x)(node)).abs() > tol {
+            let below = ((x / h).floor().max(0.0) as usize).min(m);
+            let above = (below + 1).min(m);
+            return Err(field(
+                &key("x"),
+                format!(
+                    "{x} is not allowed: a mesh node, within {NODE_TOLERANCE:e}·L = {tol:e} (nodes x = i L/{m}); the nearest nodes are x = {} (node {below}) and x = {} (node {above})",
+                    (mesh.x)(below),
+                    (mesh.x)(above)
+                ),
+            ));
+        }
+        if !mesh.unknown.contains(&node) {
+            return Err(field(&key("x"), format!("{x} is not allowed: node {node} is clamped (no displacement to bound); allowed: the nodes {first}..={last}, x = {} to {}", (mesh.x)(first), (mesh.x)(last))));
+        }
+        if let Some(p) = sites.iter().position(|s| s.node == node) {
+            return Err(field(&key("x"), format!("{x} is not allowed: it snaps to node {node}, where stop.{p} is already; allowed: one stop per node (give lo and hi in one stop)")));
+        }
+        let lo = match st.lo {
+            None => f64::NEG_INFINITY,
+            Some(v) if v.is_nan() || v == f64::INFINITY => return Err(field(&key("lo"), format!("{v} is not allowed: a number, or -inf (no lower bound)"))),
+            Some(v) => v,
+        };
+        let hi = match st.hi {
+            None => f64::INFINITY,
+            Some(v) if v.is_nan() || v == f64::NEG_INFINITY => return Err(field(&key("hi"), format!("{v} is not allowed: a number, or +inf (no upper bound)"))),
+            Some(v) => v,
+        };
+        if !lo.is_finite() && !hi.is_finite() {
+            return match (st.lo, st.hi) {
+                (Some(v), _) => Err(field(&key("lo"), format!("{v} without a finite hi is not allowed: at least one finite bound (a finite lo, or a finite hi)"))),
+                (None, Some(v)) => Err(field(&key("hi"), format!("{v} without a finite lo is not allowed: at least one finite bound (a finite hi, or a finite lo)"))),
+                (None, None) => Err(field(&key("lo"), "give lo and/or hi: a stop needs at least one finite bound")),
+            };
+        }
+        if lo > hi {
+            return Err(field(&key("lo"), format!("{lo} is not allowed: lo <= hi = {hi}")));
+        }
+        if let Some(e) = st.restitution {
+            if let Err(why) = &rules.restitution {
+                return Err(field(&key("restitution"), why));
+            }
+            if !(0.0..=1.0).contains(&e) {
+                return Err(field(&key("restitution"), format!("{e} is not allowed: [0, 1]")));
+            }
+        }
+        if let Some(k) = st.stiffness {
+            if let Err(why) = &rules.stiffness {
+                return Err(field(&key("stiffness"), why));
+            }
+            if !(k > 0.0 && k.is_finite()) {
+                return Err(field(&key("stiffness"), format!("{k} is not allowed: finite and > 0")));
+            }
+        }
+        sites.push(Site { node, x: (mesh.x)(node), stop: Some((i, x)), obstacle: None, own_stiffness: st.stiffness.is_some() });
+        list.push(Stop { node, lo, hi, restitution: st.restitution, stiffness: st.stiffness });
+    }
+    if let Some(ob) = obstacle {
+        if ob.lo.is_none() && ob.hi.is_none() {
+            return Err(field("obstacle", "give lo and/or hi (a number, an expression in x or a table)"));
+        }
+        let lo_f = obstacle_bound("obstacle.lo", ob.lo.as_ref(), f64::NEG_INFINITY)?;
+        let hi_f = obstacle_bound("obstacle.hi", ob.hi.as_ref(), f64::INFINITY)?;
+        if lo_f.is_none() && hi_f.is_none() {
+            let name = if ob.lo.is_some() { "obstacle.lo" } else { "obstacle.hi" };
+            return Err(field(name, "-inf / +inf alone is not a bound: give at least one finite bound (lo or hi)"));
+        }
+        let at = |name: &str, f: &Option<InitialField>, x: f64, none: f64| -> Result<f64, SceneError> {
+            match f {
+                None => Ok(none),
+                Some(f) => {
+                    let v = f.eval(x);
+                    if v.is_finite() {
+                        Ok(v)
+                    } else {
+                        Err(field(name, format!("{v} at the node x = {x} is not allowed: a value finite at every node (for no bound give the number {none}, not an expression)")))
+                    }
+                }
+            }
+        };
+        for node in first..=last {
+            let x = (mesh.x)(node);
+            let lo = at("obstacle.lo", &lo_f, x, f64::NEG_INFINITY)?;
+            let hi = at("obstacle.hi", &hi_f, x, f64::INFINITY)?;
+            if lo > hi {
+                return Err(field("obstacle.lo", format!("lo({x}) = {lo} is not allowed: lo(x) <= hi(x) = {hi} at every node")));
+            }
+            match sites.iter().position(|s| s.node == node) {
+                Some(p) => {
+                    // A stop there: the intersection of both.
+                    let (st, i) = (&mut list[p], sites[p].stop.map_or(p, |s| s.0));
+                    if st.lo > hi {
+                        return Err(field(&format!("stop.{i}.lo"), format!("{} is not allowed: above obstacle.hi = {hi} at its node x = {x}; allowed: bounds that meet the obstacle's (the two are intersected)", st.lo)));
+                    }
+                    if st.hi < lo {
+                        return Err(field(&format!("stop.{i}.hi"), format!("{} is not allowed: below obstacle.lo = {lo} at its node x = {x}; allowed: bounds that meet the obstacle's (the two are intersected)", st.hi)));
+                    }
+                    st.lo = st.lo.max(lo);
+                    st.hi = st.hi.min(hi);
+                    sites[p].obstacle = Some((lo, hi));
+                }
+                None => {
+                    sites.push(Site { node, x, stop: None, obstacle: Some((lo, hi)), own_stiffness: false });
+                    list.push(Stop::new(node, lo, hi));
+                }
+            }
+        }
+    }
+    // The initial state inside every contact's bounds, the violated bound named.
+    for (site, st) in sites.iter().zip(&list) {
+        let u = u0(site.node);
+        if !(st.lo <= u && u <= st.hi) {
+            let (which, bound, side) = if u < st.lo { ("lo", st.lo, "below") } else { ("hi", st.hi, "above") };
+            // The stop's own bound if it is the one violated, else the obstacle's.
+            let own = site.stop.filter(|(i, _)| (if which == "lo" { stops[*i].lo } else { stops[*i].hi }) == Some(bound));
+            let name = match own {
+                Some((i, _)) => format!("stop.{i}.{which}"),
+                None => format!("obstacle.{which}"),
+            };
+            return Err(field(
+                &name,
+                format!("{bound} at x = {} (node {}) is not allowed: the initial displacement u0 = {u} is {side} it; allowed: bounds the initial state satisfies, lo <= u0(x) <= hi", site.x, site.node),
+            ));
+        }
+    }
+    Ok(ContactSet { stops: list, sites })
+}
+
 impl SceneFile {
     /// Parses a scene (TOML syntax, unknown keys, types).
     pub fn parse(text: &str) -> Result<Self, SceneError> {
@@ -449,8 +806,8 @@ impl SceneFile {
             return Err(field("output.every", "0 is not allowed: an integer >= 1"));
         }
         match (&self.bar, &self.beam) {
-            (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b, limits)?))),
-            (None, Some(b)) => validate_beam(b, limits),
+            (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b, &self.stop, self.obstacle.as_ref(), limits)?))),
+            (None, Some(b)) => validate_beam(b, &self.stop, self.obstacle.as_ref(), limits),
             _ => Err(field("bar/beam", "give exactly one of the tables [bar] and [beam]")),
         }
     }
@@ -484,7 +841,47 @@ fn scheme_error(e: SchemeError, overflow_key: &str) -> SceneError {
     }
 }
 
-fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
+/// The table a scene-level contact error names: `stop` when `[[stop]]` is
+/// given, else `obstacle`.
+fn contacts_table(stops: &[StopToml]) -> &'static str {
+    if stops.is_empty() {
+        "obstacle"
+    } else {
+        "stop"
+    }
+}
+
+/// A library error on a scene's contacts, named by the contact's field.
+fn contact_error(e: RunError, set: &ContactSet, table: &str) -> SceneError {
+    match e {
+        RunError::Stop { index, field: f, value, allowed } => {
+            let (name, at) = set.field_of(index, f);
+            field(&name, format!("{value}{at}: allowed {allowed}"))
+        }
+        RunError::Fem(e @ signorini_fem::FemError::MassAtContacts { .. }) => {
+            field(&format!("{table}.mass"), format!("{e}; allowed: std or lumped (any contact nodes), or contact nodes this treatment supports (README, \"Several contacts\")"))
+        }
+        e => field(table, e),
+    }
+}
+
+/// The stop a "stop stiffness" error is about: the first contact whose
+/// stiffness is `value` (in the scheme's units `kappa(stiffness)`).
+fn stiff_stop(set: &ContactSet, value: f64, kappa: impl Fn(f64) -> f64) -> Option<&Site> {
+    set.stops.iter().zip(&set.sites).find(|(st, _)| st.stiffness.is_some_and(|k| kappa(k) == value)).map(|(_, site)| site)
+}
+
+/// The softest own stop stiffness of `set` (its stop index and value).
+fn softest_stop(set: &ContactSet) -> Option<(usize, f64)> {
+    set.stops.iter().zip(&set.sites).filter(|(_, site)| site.own_stiffness).filter_map(|(st, site)| Some((site.stop?.0, st.stiffness?))).min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The message of a spring too soft for floating point.
+fn too_soft(e: impl fmt::Display) -> String {
+    format!("{e}: a spring this soft has a compliance 1/(β dt² κ) beyond the floating-point range; allowed: stiffness with β dt² κ >= 2.2e-308 (κ in the scaled equation)")
+}
+
+fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, limits: &Limits) -> Result<BarRun, SceneError> {
     let mass: BarMass = b.mass.parse().map_err(|e| field("bar.mass", e))?;
     let scheme: SchemeSpec = b.scheme.parse().map_err(|e| field("bar.scheme", e))?;
     if scheme.needs_massless_node() && !mass.massless_contact_node() {
@@ -497,9 +894,34 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
         return Err(field("bar.elements", format!("{} is not allowed: an integer >= 2", b.elements)));
     }
     fits("bar.elements", b.elements, false, limits)?;
-    let (problem, benchmark, default_t) = match &b.benchmark {
+    // Several contacts: [[stop]] / [obstacle] replace the obstacle at x = 0.
+    let multi = !stops.is_empty() || obstacle.is_some();
+    if multi {
+        if b.benchmark.is_some() {
+            return Err(field(contacts_table(stops), "a benchmark brings its own obstacle and exact solution: remove [[stop]] and [obstacle], or remove benchmark"));
+        }
+        if b.gap.is_some() {
+            return Err(field("bar.gap", "acts only without [[stop]] and [obstacle], which replace the obstacle at x = 0: remove it (that obstacle is the stop x = 0, lo = gap)"));
+        }
+        if obstacle.is_some() && mass.massless_contact_node() {
+            return Err(field("bar.mass", format!("{mass} takes the mass off every contact node, and [obstacle] makes every node one: allowed std or lumped with [obstacle]")));
+        }
+        // Every unknown node with [obstacle] (m + 1 at most), else one per stop.
+        let unknowns = b.elements.saturating_add(1);
+        let k = if obstacle.is_some() { unknowns } else { stops.len() };
+        contacts_fit(contacts_table(stops), k, unknowns, b.elements, false, limits)?;
+    }
+    let (mut problem, benchmark, default_t) = match &b.benchmark {
         Some(name) => {
-            for (k, given) in [("length", b.length.is_some()), ("wave_speed", b.wave_speed.is_some()), ("far_end", b.far_end.is_some()), ("gap", b.gap.is_some()), ("body_force", b.body_force.is_some()), ("initial_displacement", b.initial_displacement.is_some()), ("initial_velocity", b.initial_velocity.is_some())] {
+            for (k, given) in [
+                ("length", b.length.is_some()),
+                ("wave_speed", b.wave_speed.is_some()),
+                ("far_end", b.far_end.is_some()),
+                ("gap", b.gap.is_some()),
+                ("body_force", b.body_force.is_some()),
+                ("initial_displacement", b.initial_displacement.is_some()),
+                ("initial_velocity", b.initial_velocity.is_some()),
+            ] {
                 if given {
                     return Err(field(&format!("bar.{k}"), "comes from the benchmark: remove it, or remove `benchmark`"));
                 }
@@ -522,7 +944,8 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
                 "free" => RightEnd::Free,
                 other => return Err(field("bar.far_end", format!("{other:?} is not allowed: \"clamped\" or \"free\""))),
             };
-            let gap = finite("bar.gap", b.gap.unwrap_or(0.0))?;
+            // With stops the obstacle at x = 0 is unused: a gap no state is below.
+            let gap = if multi { -f64::MAX } else { finite("bar.gap", b.gap.unwrap_or(0.0))? };
             let f = finite("bar.body_force", b.body_force.unwrap_or(0.0))?;
             let u0 = InitialField::compile("bar.initial_displacement", b.initial_displacement.as_ref().ok_or_else(|| field("bar.initial_displacement", "required without a benchmark"))?)?;
             let v0 = InitialField::compile("bar.initial_velocity", b.initial_velocity.as_ref().unwrap_or(&FieldToml::Number(0.0)))?;
@@ -530,7 +953,13 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
             let k = c * c * b.elements as f64 / length;
             if !(k.is_finite() && k >= f64::MIN_POSITIVE && (length / b.elements as f64) >= f64::MIN_POSITIVE) {
                 let key = extreme_key(&[("bar.wave_speed", b.wave_speed), ("bar.length", b.length)]).map_or("bar.elements", |(k, _)| k);
-                return Err(field(key, format!("wave_speed = {c:e}, length = {length:e}, elements = {}: the stiffness c² m / L or the element size L / m leaves the floating-point range; allowed: 2.2e-308 <= c² m / L < 1.8e308 and L / m >= 2.2e-308", b.elements)));
+                return Err(field(
+                    key,
+                    format!(
+                        "wave_speed = {c:e}, length = {length:e}, elements = {}: the stiffness c² m / L or the element size L / m leaves the floating-point range; allowed: 2.2e-308 <= c² m / L < 1.8e308 and L / m >= 2.2e-308",
+                        b.elements
+                    ),
+                ));
             }
             let bar = Bar::new(length, b.elements, c, end).map_err(|e| field("bar", e))?;
             // The first node where a field is not finite, to name its key.
@@ -548,6 +977,31 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
             })?;
             (p, None, 1.0)
         }
+    };
+    let contacts = if multi {
+        let bar = problem.bar;
+        let mesh = NodeMesh { length: bar.length, elements: bar.elements, unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
+        let rules = KeyRules {
+            restitution: if matches!(scheme, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
+                Ok(())
+            } else {
+                Err(format!("acts only with a scheme that has a restitution law (ps…, taylor-flanagan, moreau-jean), not {scheme}: remove it, or choose such a scheme"))
+            },
+            stiffness: if matches!(scheme, SchemeSpec::Penalty { .. }) {
+                Ok(())
+            } else {
+                Err(format!("acts only with a penalty scheme (penalty-cn, penalty(G), penalty-cd, penalty-cd(G)), not {scheme}: remove it, or choose one"))
+            },
+        };
+        let u0 = problem.initial.u.clone();
+        let set = contact_set(stops, obstacle, &mesh, &|i| u0[i], &rules)?;
+        if set.stops.len() == 1 && mass.massless_contact_node() && set.stops[0].node != 0 {
+            return Err(field("bar.mass", format!("{mass} with one contact needs it at node 0 (x = 0), not node {}: allowed std or lumped, or the stop at x = 0", set.stops[0].node)));
+        }
+        problem = problem.with_stops(set.stops.clone()).map_err(|e| contact_error(e, &set, "bar"))?;
+        Some(set)
+    } else {
+        None
     };
     let dt = match (b.dt, b.ratio) {
         (Some(dt), None) => positive("bar.dt", dt)?,
@@ -569,11 +1023,23 @@ fn validate_bar(b: &BarToml, limits: &Limits) -> Result<BarRun, SceneError> {
     // An overflow comes from an extreme number (beyond 1e100) if one is given.
     let numbers = [("bar.body_force", b.body_force), ("bar.gap", b.gap), ("bar.length", b.length), ("bar.wave_speed", b.wave_speed), ("bar.dt", b.dt), ("bar.ratio", b.ratio)];
     let overflow_key = extreme_key(&numbers).filter(|(_, scale)| *scale > 100.0).map_or("bar", |(k, _)| k);
-    scheme.build(problem.dynamics(), dt, &problem.initial).map_err(|e| scheme_error(e, overflow_key))?;
-    Ok(BarRun { problem, benchmark, scheme, dt, t_end })
+    scheme.build(problem.dynamics(), dt, &problem.initial).map_err(|e| match (e, &contacts) {
+        (SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }, Some(set)) => {
+            let name = stiff_stop(set, value, |k| k).and_then(|s| s.stop).map_or("stop".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
+            field(&name, format!("{value:e} makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the step matrix at its node); usable range: 0 < stiffness <= {max:.3e}"))
+        }
+        (e @ SchemeError::Structure(_), Some(_)) => field("bar.scheme", format!("{e}; allowed: a scheme that takes this contact set")),
+        (e @ SchemeError::Contact(signorini_contact::ContactError::Compliance(_)), Some(set)) => {
+            // The softest spring: a stop's own, or the scheme's γ_P K_cc.
+            let name = softest_stop(set).filter(|&(_, k)| k < 1e-100).map_or("bar.scheme".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
+            field(&name, too_soft(e))
+        }
+        (e, _) => scheme_error(e, overflow_key),
+    })?;
+    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts })
 }
 
-fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
+fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, limits: &Limits) -> Result<Scene, SceneError> {
     let base = match &b.scene {
         Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
         None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
@@ -619,6 +1085,15 @@ fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
         }
         _ => {}
     }
+    // Several contacts: [[stop]] / [obstacle] replace the tip's two stops.
+    let multi = !stops.is_empty() || obstacle.is_some();
+    if multi {
+        if b.stops.is_some() {
+            return Err(field("beam.stops", "acts only without [[stop]] and [obstacle], which replace the tip's stops: remove it (the tip's stops are the stop x = L, lo = g1, hi = g2)"));
+        }
+        let k = if obstacle.is_some() { elements } else { stops.len() };
+        contacts_fit(contacts_table(stops), k, elements.saturating_mul(2), elements, true, limits)?;
+    }
     let mut pipe = Pipe::paper();
     if let Some([g1, g2]) = b.stops {
         if !(g1.is_finite() && g2.is_finite() && g1 < g2) {
@@ -637,8 +1112,53 @@ fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
         }
     }
     let scene = BeamScene { name: "scene", elements, dt, t_end, contact, paper_seconds: base.paper_seconds };
-    build_beam(&pipe, &scene, b.force).map_err(|e| match e {
+    let contacts = if multi {
+        let l = pipe.length;
+        let mesh = NodeMesh { length: l, elements, unknown: 1..=elements, x: &|i| l * i as f64 / elements as f64 };
+        let rules = KeyRules {
+            restitution: match contact {
+                BeamContact::Projection { .. } => Ok(()),
+                BeamContact::Penalty { .. } => Err("acts only with contact = \"projection\" (the β-scheme's impact law); the penalty contact has none: remove it, or set contact = \"projection\"".to_string()),
+            },
+            stiffness: match contact {
+                BeamContact::Penalty { .. } => Ok(()),
+                BeamContact::Projection { .. } => Err("acts only with contact = \"penalty\" (N/m, like penalty_stiffness): remove it, or set contact = \"penalty\"".to_string()),
+            },
+        };
+        // The lifted displacement u = ũ - hφ starts at 0.
+        let mut set = contact_set(stops, obstacle, &mesh, &|_| 0.0, &rules)?;
+        // beam.penalty_stiffness is every stop's spring (N/m) unless it gives its own.
+        if let BeamContact::Penalty { stiffness } = contact {
+            for st in &mut set.stops {
+                st.stiffness = st.stiffness.or(Some(stiffness));
+            }
+        }
+        Some(set)
+    } else {
+        None
+    };
+    let rho_s = pipe.rho_s;
+    build_with_stops(&pipe, &scene, b.force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice())).map_err(|e| match e {
         RunError::Unstable { .. } => field("beam.dt", e),
+        RunError::Scheme(SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }) if contacts.is_some() => {
+            let own = contacts.as_ref().and_then(|set| stiff_stop(set, value, |k| PenaltyUnits::NewtonPerMetre.kappa(k, rho_s))).filter(|s| s.own_stiffness).and_then(|s| s.stop);
+            let (name, k) = match own {
+                Some((i, _)) => (format!("stop.{i}.stiffness"), value * rho_s),
+                None => ("beam.penalty_stiffness".to_string(), value * rho_s),
+            };
+            field(&name, format!("{k:e} N/m makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the beam at its node); usable range: 0 < stiffness <= {:.3e} N/m", max * rho_s))
+        }
+        e @ RunError::Stop { .. } if contacts.is_some() => contacts.as_ref().map_or_else(|| field("beam", "unreachable"), |set| contact_error(e, set, "beam")),
+        e @ RunError::Scheme(SchemeError::Structure(_)) if contacts.is_some() => field("beam", format!("{e}; allowed: a contact set the beam's scheme takes")),
+        e @ RunError::Scheme(SchemeError::Contact(signorini_contact::ContactError::Compliance(_))) if contacts.is_some() => {
+            // The softest spring: a stop's own, or penalty_stiffness.
+            let default = match contact {
+                BeamContact::Penalty { stiffness } if contacts.as_ref().is_some_and(|c| c.sites.iter().any(|s| !s.own_stiffness)) => stiffness,
+                _ => f64::INFINITY,
+            };
+            let name = contacts.as_ref().and_then(softest_stop).filter(|&(_, k)| k < default).map_or("beam.penalty_stiffness".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
+            field(&name, too_soft(e))
+        }
         RunError::Scheme(SchemeError::PenaltyTooStiff { max, .. }) => {
             let k = match contact {
                 BeamContact::Penalty { stiffness } => stiffness,
@@ -650,5 +1170,5 @@ fn validate_beam(b: &BeamToml, limits: &Limits) -> Result<Scene, SceneError> {
         e @ RunError::BlowUp { .. } => field("beam", format!("{e}: the data overflow in the first step; allowed: data whose first step is finite")),
         e => field("beam", e),
     })?;
-    Ok(Scene::Beam { pipe, scene, force: b.force })
+    Ok(Scene::Beam { pipe, scene, force: b.force, contacts })
 }

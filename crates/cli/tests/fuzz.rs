@@ -8,7 +8,7 @@
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::TestRunner;
 use signorini_cli::fuzz::{self, Config, Outcome};
-use signorini_cli::scene::SceneError;
+use signorini_cli::scene::{Scene, SceneError};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -40,10 +40,21 @@ fn generator_reaches_every_answer() {
     let mut runner = TestRunner::deterministic();
     let docs = fuzz::documents(Config::TODAY);
     let mut answers: BTreeMap<String, u32> = BTreeMap::new();
+    // Documents with [[stop]] or [obstacle]: (with the bar, with the beam) accepted.
+    let mut contacts_accepted = (0, 0);
     let n = 4000;
     for _ in 0..n {
-        let text = docs.new_tree(&mut runner).unwrap().current().render();
+        let doc = docs.new_tree(&mut runner).unwrap().current();
+        let text = doc.render();
+        let with_contacts = doc.tables.iter().any(|t| t.name == "stop" || t.name == "obstacle");
         let answer = match fuzz::run_reader(&text, Config::TODAY).unwrap() {
+            Outcome::Parsed(_, Some(Ok(scene))) if with_contacts => {
+                match scene {
+                    Scene::Bar(_) => contacts_accepted.0 += 1,
+                    Scene::Beam { .. } => contacts_accepted.1 += 1,
+                }
+                "accepted".to_string()
+            }
             Outcome::ParseError(_) => "parse error".to_string(),
             Outcome::Parsed(_, None) => "not validated".to_string(),
             Outcome::Parsed(_, Some(Ok(_))) => "accepted".to_string(),
@@ -57,9 +68,45 @@ fn generator_reaches_every_answer() {
     // fewer random documents pass than parse errors (measured 8.7 %).
     assert!(share("accepted") > 0.05 && share("parse error") > 0.1 && share("parse error") < 0.5, "{answers:?}");
     for field in [
-        "bar/beam", "output.every", "bar", "bar.benchmark", "bar.length", "bar.wave_speed", "bar.far_end", "bar.gap", "bar.body_force", "bar.initial_displacement", "bar.initial_velocity", "bar.elements",
-        "bar.mass", "bar.scheme", "bar.dt", "bar.ratio", "bar.t_end", "beam.scene", "beam.elements", "beam.dt", "beam.t_end", "beam.contact", "beam.beta", "beam.penalty_stiffness", "beam.stops", "beam.support",
+        "bar/beam",
+        "output.every",
+        "bar",
+        "bar.benchmark",
+        "bar.length",
+        "bar.wave_speed",
+        "bar.far_end",
+        "bar.gap",
+        "bar.body_force",
+        "bar.initial_displacement",
+        "bar.initial_velocity",
+        "bar.elements",
+        "bar.mass",
+        "bar.scheme",
+        "bar.dt",
+        "bar.ratio",
+        "bar.t_end",
+        "beam.scene",
+        "beam.elements",
+        "beam.dt",
+        "beam.t_end",
+        "beam.contact",
+        "beam.beta",
+        "beam.penalty_stiffness",
+        "beam.stops",
+        "beam.support",
+        "stop",
+        "stop.0.x",
+        "stop.0.lo",
+        "stop.0.hi",
+        "stop.0.restitution",
+        "stop.0.stiffness",
+        "stop.1.x",
+        "obstacle",
+        "obstacle.lo",
+        "obstacle.hi",
     ] {
         assert!(answers.contains_key(field), "no document refused naming {field}: {answers:?}");
     }
+    // Valid stops and obstacles are accepted, with the bar and with the beam.
+    assert!(contacts_accepted.0 >= 10 && contacts_accepted.1 >= 10, "documents with contacts accepted (bar, beam): {contacts_accepted:?}");
 }

@@ -25,6 +25,6 @@ pub mod problem;
 pub mod runner;
 pub mod study;
 
-pub use observers::{History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
+pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
 pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};

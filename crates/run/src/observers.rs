@@ -60,12 +60,18 @@ pub struct SeriesColumns<'a> {
     pub energy: bool,
     /// Write `u_contact_exact,lambda_exact,energy_exact` from this solution.
     pub exact: Option<&'a dyn ExactSolution>,
+    /// Append, for the contacts at these dofs (in contact order, the
+    /// order of [`Sample::forces`]), `u_c<i>,lambda_<i>,active_<i>`: the
+    /// dof's displacement, the contact's force (at `lambda_t`) and which
+    /// bound holds it (`-1` lower, `1` upper, `0` none; see [`active_code`]). `lambda_<i>` and
+    /// `active_<i>` are empty where `lambda` is (the start levels).
+    pub contacts: Option<&'a [usize]>,
 }
 
 impl Default for SeriesColumns<'_> {
     /// `n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy`.
     fn default() -> Self {
-        Self { t: "t", u: "u_contact", v: "v_contact", energy: true, exact: None }
+        Self { t: "t", u: "u_contact", v: "v_contact", energy: true, exact: None, contacts: None }
     }
 }
 
@@ -134,10 +140,24 @@ fn cell(buf: &mut Vec<u8>, x: Option<f64>) -> std::io::Result<()> {
     }
 }
 
+/// The `active_<i>` code of a contact status: `-1` at the lower bound,
+/// `1` at the upper bound, `0` free. The contact force `λ` (the stress,
+/// entering the equations as `−λ e_c`) is `<= 0` at a lower bound and
+/// `>= 0` at an upper one: a nonzero `λ_i` has the sign of `active_i`.
+pub fn active_code(a: signorini_contact::Active) -> i8 {
+    match a {
+        signorini_contact::Active::Lower => -1,
+        signorini_contact::Active::Upper => 1,
+        signorini_contact::Active::None => 0,
+    }
+}
+
 /// Writes a CSV time series of the contact dof every `every` levels:
 /// `n,<t>,<u>,<v>,lambda_t,lambda`, then `energy_t,energy` and
-/// `u_contact_exact,lambda_exact,energy_exact` when asked (empty cells where a
-/// value does not exist at that level). Rows go out whole through a
+/// `u_contact_exact,lambda_exact,energy_exact` when asked, then
+/// `u_c<i>,lambda_<i>,active_<i>` for every contact when asked (see
+/// [`SeriesColumns::contacts`]; empty cells where a value does not exist
+/// at that level). Rows go out whole through a
 /// [`RowSink`] (every 64 KiB or 1024 rows, and at the end, also when the run
 /// stops early); no allocation per row.
 pub struct SeriesWriter<'a, W: Write> {
@@ -155,12 +175,15 @@ impl<'a, W: Write> SeriesWriter<'a, W> {
 
     /// A writer (header written at once).
     pub fn new(w: W, every: usize, contact_dof: usize, cols: SeriesColumns<'a>) -> Result<Self, RunError> {
-        let mut header = vec!["n", cols.t, cols.u, cols.v, "lambda_t", "lambda"];
+        let mut header: Vec<String> = ["n", cols.t, cols.u, cols.v, "lambda_t", "lambda"].map(String::from).to_vec();
         if cols.energy {
-            header.extend(["energy_t", "energy"]);
+            header.extend(["energy_t", "energy"].map(String::from));
         }
         if cols.exact.is_some() {
-            header.extend(["u_contact_exact", "lambda_exact", "energy_exact"]);
+            header.extend(["u_contact_exact", "lambda_exact", "energy_exact"].map(String::from));
+        }
+        for i in 0..cols.contacts.map_or(0, <[usize]>::len) {
+            header.extend([format!("u_c{i}"), format!("lambda_{i}"), format!("active_{i}")]);
         }
         let mut out = RowSink::new(w);
         out.row(|b| b.write_all(header.join(",").as_bytes()))?;
@@ -196,6 +219,17 @@ impl<W: Write> Observer for SeriesWriter<'_, W> {
                 cell(b, Some(ex.fields(0.0, s.t).u))?;
                 cell(b, s.lambda.map(|l| ex.lambda(l.0)))?;
                 cell(b, Some(ex.energy()))?;
+            }
+            if let Some(dofs) = cols.contacts {
+                for (i, &d) in dofs.iter().enumerate() {
+                    cell(b, s.u.get(d).copied())?;
+                    let stepped = s.lambda.is_some();
+                    cell(b, s.forces.get(i).copied().filter(|_| stepped))?;
+                    match s.status.get(i).filter(|_| stepped) {
+                        Some(a) => write!(b, ",{}", active_code(*a))?,
+                        None => b.push(b','),
+                    }
+                }
             }
             Ok(())
         })
