@@ -237,8 +237,14 @@ pub fn build_with_stops(pipe: &Pipe, scene: &BeamScene, force: bool, units: Pena
         None => pipe.dynamics(scene.elements)?,
         Some(stops) => pipe.dynamics_with_stops(scene.elements, stops)?,
     };
+    // A stop's own spring is read in `units`; a stop without one gets the
+    // scene's spring as is (a physical N/m spring, not scaled by K_cc).
+    let scene_kappa = match scene.contact {
+        BeamContact::Penalty { stiffness } => Some(units.kappa(stiffness, pipe.rho_s)),
+        BeamContact::Projection { .. } => None,
+    };
     for c in &mut dy.contacts {
-        c.stiffness = c.stiffness.map(|k| units.kappa(k, pipe.rho_s));
+        c.stiffness = c.stiffness.map(|k| units.kappa(k, pipe.rho_s)).or(if stops.is_some() { scene_kappa } else { None });
     }
     let stepper: Box<dyn Stepper> = match scene.contact {
         BeamContact::Projection { beta } => {
@@ -293,6 +299,27 @@ mod tests {
             worst = worst.max(s.displacement()[beam.tip_dof()].abs() - 0.1);
         }
         worst
+    }
+
+    /// A stop without its own stiffness gets the scene's spring as is (N/m,
+    /// like the tip's), not scaled by its stiffness diagonal: the same run
+    /// as with every stop's stiffness given explicitly.
+    #[test]
+    fn stops_without_stiffness_get_the_scene_spring() {
+        let pipe = Pipe::paper();
+        let scene = BeamScene { name: "test", elements: 19, dt: 5e-6, t_end: 0.02, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: None };
+        let stops = [Stop::new(19, -0.1, 0.1), Stop::new(10, -0.002, 0.002)];
+        let given: Vec<Stop> = stops.iter().map(|s| Stop { stiffness: Some(1e8), ..*s }).collect();
+        let (mut a, _, _) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&stops)).unwrap();
+        let (mut b, _, _) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&given)).unwrap();
+        let mut engaged = false;
+        for _ in 0..4000 {
+            a.step().unwrap();
+            b.step().unwrap();
+            engaged |= a.contact_forces()[1] != 0.0;
+            assert_eq!(a.displacement(), b.displacement());
+        }
+        assert!(engaged, "the mid-span stop must act for the test to mean anything");
     }
 
     /// The unscaled reading is a spring ρS times (8.4×) softer, so the tip
