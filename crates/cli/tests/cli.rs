@@ -144,3 +144,30 @@ fn list_and_check_print_ranges_and_limits() {
 }
 
 // Interrupted and killed runs: tests/reliability.rs; the reader's fuzzing: tests/fuzz.rs.
+
+/// `bar-mirrored` through the CLI: norms.csv's `m` is the study's level (m
+/// elements per half-bar, 2m in all), and its L²-type norms are √2 times
+/// the single-contact bar's stored study values at the same level
+/// (data/reference/bar-dirichlet, written by the convergence study on one
+/// contact: not this code path).
+#[test]
+fn bar_mirrored_scene_reports_the_study_level_and_the_mirror_norms() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let scene = write_scene(dir.path(), "[bar]\nbenchmark = \"bar-mirrored\"\nelements = 20\nmass = \"mod\"\nscheme = \"newmark-cn\"\nratio = 10.0\nt_end = 3.0\n");
+    let o = bin().args(["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut nr = csv::Reader::from_path(out.join("norms.csv")).unwrap();
+    let nh = nr.headers().unwrap().clone();
+    let got = nr.records().next().unwrap().unwrap();
+    assert_eq!(&got[0], "20", "norms.csv m");
+    let stored = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/reference/bar-dirichlet/newmark-cn_mod.csv");
+    let mut sr = csv::Reader::from_path(stored).unwrap();
+    let sh = sr.headers().unwrap().clone();
+    let want = sr.records().map(Result::unwrap).find(|r| &r[0] == "20").expect("level 20");
+    for col in ["linf_l2_u", "l2_l2_u"] {
+        let (i, j) = (sh.iter().position(|c| c == col).unwrap(), nh.iter().position(|c| c == col).unwrap());
+        let (w, g): (f64, f64) = (want[i].parse().unwrap(), got[j].parse().unwrap());
+        assert!((g / (std::f64::consts::SQRT_2 * w) - 1.0).abs() <= 1e-8, "{col}: mirrored {g:e}, √2 × single {:e}", std::f64::consts::SQRT_2 * w);
+    }
+}
