@@ -166,6 +166,17 @@ impl MultiProjection {
     /// and [`status`](Self::status).
     #[track_caller]
     pub fn project(&mut self, y: &mut [f64], lo: &[f64], hi: &[f64]) -> Result<MultiProjected, ContactError> {
+        Ok(self.project_capped(y, lo, hi, usize::MAX)?.expect("no cap"))
+    }
+
+    /// [`project`](Self::project), giving up (`Ok(None)`, `y` untouched) as
+    /// soon as a pivot would hold more than `cap` dofs at their bounds — for
+    /// callers that solve large active sets another way (a reduced banded
+    /// solve costs O(n) per pivot where the dense active block costs
+    /// O(s³)). The statuses reached are then in [`status`](Self::status), a
+    /// starting guess for that other solve.
+    #[track_caller]
+    pub fn project_capped(&mut self, y: &mut [f64], lo: &[f64], hi: &[f64], cap: usize) -> Result<Option<MultiProjected>, ContactError> {
         let k = self.dofs.len();
         assert_eq!(y.len(), self.n, "y");
         assert!(lo.len() == k && hi.len() == k, "bounds");
@@ -185,7 +196,7 @@ impl MultiProjection {
                     self.dirty = false;
                 }
                 self.set.clear();
-                return Ok(MultiProjected { iterations: 0, active: 0, residual: 0.0 });
+                return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0 }));
             }
         }
         // Start from the previous statuses (warm start: contact sets change
@@ -210,7 +221,7 @@ impl MultiProjection {
                 self.dirty = false;
             }
             self.set.clear();
-            return Ok(MultiProjected { iterations: 0, active: 0, residual: 0.0 });
+            return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0 }));
         }
         self.dirty = true;
         let scale = (0..k).map(|i| y[self.dofs[i]].abs().max(finite_or_zero(lo[i]).abs()).max(finite_or_zero(hi[i]).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
@@ -218,12 +229,14 @@ impl MultiProjection {
         let max_iter = 4 * k * k + 64;
         let (mut best, mut fails, mut single) = (usize::MAX, 0, false);
         for it in 1..=max_iter {
-            self.solve_on_status(y, lo, hi)?;
+            if !self.solve_on_status(y, lo, hi, cap)? {
+                return Ok(None);
+            }
             let infeasible = self.infeasible(lo, hi, tol, single);
             if infeasible == 0 {
                 let residual = self.apply(y, lo, hi);
                 self.held = self.set.len();
-                return Ok(MultiProjected { iterations: it, active: self.held, residual });
+                return Ok(Some(MultiProjected { iterations: it, active: self.held, residual }));
             }
             if !single {
                 if infeasible < best {
@@ -241,11 +254,15 @@ impl MultiProjection {
     }
 
     /// `μ_S` from `D_SS μ_S = bound_S − y_S`, `μ = 0` off `S`; then `z`.
-    fn solve_on_status(&mut self, y: &[f64], lo: &[f64], hi: &[f64]) -> Result<(), ContactError> {
+    /// `false` (nothing solved) when `S` holds more than `cap` dofs.
+    fn solve_on_status(&mut self, y: &[f64], lo: &[f64], hi: &[f64], cap: usize) -> Result<bool, ContactError> {
         let k = self.dofs.len();
         self.set.clear();
         self.set.extend((0..k).filter(|&i| self.status[i] != Active::None));
         let s = self.set.len();
+        if s > cap {
+            return Ok(false);
+        }
         for (a, &i) in self.set.iter().enumerate() {
             let bound = if self.status[i] == Active::Lower { lo[i] } else { hi[i] };
             self.rhs[a] = bound - y[self.dofs[i]];
@@ -268,7 +285,25 @@ impl MultiProjection {
             }
             self.z[i] = zi;
         }
-        Ok(())
+        Ok(true)
+    }
+
+    /// Sets the statuses (the warm start of the next solve) after a solve
+    /// made elsewhere (see [`project_capped`](Self::project_capped)); the
+    /// multipliers are zeroed.
+    #[track_caller]
+    pub fn set_status(&mut self, status: &[Active]) {
+        assert_eq!(status.len(), self.dofs.len(), "status");
+        self.status.copy_from_slice(status);
+        self.held = status.iter().filter(|s| **s != Active::None).count();
+        self.mu.iter_mut().for_each(|m| *m = 0.0);
+        self.dirty = false;
+        self.set.clear();
+    }
+
+    /// The compliance of dof `i` (0: rigid).
+    pub fn compliance(&self, i: usize) -> f64 {
+        self.compliance[i]
     }
 
     /// Counts the infeasible dofs and changes their status: all of them

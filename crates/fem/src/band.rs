@@ -241,12 +241,31 @@ impl SymBand {
         }
     }
 
+    /// Copies `other` (same size and bandwidth) into `self` without allocating.
+    #[track_caller]
+    pub fn copy_from(&mut self, other: &SymBand) {
+        assert!(self.n == other.n && self.p == other.p, "size mismatch");
+        self.data.copy_from_slice(&other.data);
+    }
+
     /// Banded LDLᵀ factorisation (no pivoting). Fails with
     /// [`FemError::NotPositiveDefinite`] if a pivot is not positive and finite.
     pub fn factor(&self) -> Result<BandLdlt, FemError> {
         let (n, p) = (self.n, self.p);
-        let mut l = vec![0.0; n * p.max(1)];
-        let mut d = vec![0.0; n];
+        let mut out = BandLdlt { n, p, l: vec![0.0; n * p.max(1)], lt: vec![0.0; n * p.max(1)], d: vec![0.0; n], inv_d: vec![0.0; n] };
+        self.factor_into(&mut out)?;
+        Ok(out)
+    }
+
+    /// [`factor`](Self::factor) into the storage of an existing factor of
+    /// the same size and bandwidth: no allocation (for factorisations
+    /// repeated in a loop).
+    #[track_caller]
+    pub fn factor_into(&self, out: &mut BandLdlt) -> Result<(), FemError> {
+        let (n, p) = (self.n, self.p);
+        assert!(out.n == n && out.p == p, "size mismatch");
+        let (l, d) = (&mut out.l, &mut out.d);
+        l.iter_mut().for_each(|x| *x = 0.0);
         // l[i*p + k-1] = L[i][i-k], k = 1..=p.
         for j in 0..n {
             let mut dj = self.get(j, j);
@@ -269,17 +288,16 @@ impl SymBand {
                 l[i * p + (i - j) - 1] = s / dj;
             }
         }
-        let inv_d = d.iter().map(|x| 1.0 / x).collect();
+        for (inv, x) in out.inv_d.iter_mut().zip(d.iter()) {
+            *inv = 1.0 / x;
+        }
         // Transposed copy for the backward sweep: lt[i*p + k-1] = L[i+k][i].
-        let mut lt = vec![0.0; n * p.max(1)];
         for i in 0..n {
             for k in 1..=p {
-                if i + k < n {
-                    lt[i * p + k - 1] = l[(i + k) * p + k - 1];
-                }
+                out.lt[i * p + k - 1] = if i + k < n { l[(i + k) * p + k - 1] } else { 0.0 };
             }
         }
-        Ok(BandLdlt { n, p, l, lt, d, inv_d })
+        Ok(())
     }
 }
 

@@ -64,10 +64,11 @@ impl MoreauJean {
                 return Err(SchemeError::Size { what, got: v.len(), expected: n });
             }
         }
-        let a = dy.mass.lin_comb(1.0, &dy.stiffness, theta * theta * dt * dt).factor()?;
+        let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, theta * theta * dt * dt);
+        let a = a_mat.factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
-        let multi = if k > 1 { Some(MultiSolve::new(&dy, &a)?) } else { None };
+        let multi = if k > 1 { Some(MultiSolve::new(&dy, &a)?.with_banded(a_mat)?) } else { None };
         let mut w = vec![0.0; n];
         w[c] = 1.0;
         a.solve_in_place(&mut w);

@@ -166,7 +166,7 @@ impl OneStep {
         let c = dy.contact().dof;
         let k = dy.k();
         let multi = if k > 1 && prm.a_new > 0.0 {
-            let mut ms = MultiSolve::new(&dy, &a)?;
+            let mut ms = MultiSolve::new(&dy, &a)?.with_banded(a_mat.clone())?;
             for (i, ct) in dy.contacts.iter().enumerate() {
                 (ms.lo[i], ms.hi[i]) = (ct.bounds.lo, ct.bounds.hi);
             }

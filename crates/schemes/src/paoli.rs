@@ -80,11 +80,12 @@ impl PaoliSchatzman {
         let u = start.displacement().to_vec();
         let dy = start.into_dynamics();
         let n = dy.n();
-        let a = dy.mass.lin_comb(1.0, &dy.stiffness, beta * dt * dt).factor()?;
+        let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, beta * dt * dt);
+        let a = a_mat.factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
         let multi = if k > 1 {
-            let mut ms = MultiSolve::new(&dy, &a)?;
+            let mut ms = MultiSolve::new(&dy, &a)?.with_banded(a_mat)?;
             for (i, ct) in dy.contacts.iter().enumerate() {
                 (ms.lo[i], ms.hi[i]) = (ct.bounds.lo, ct.bounds.hi);
             }
