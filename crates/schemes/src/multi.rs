@@ -194,9 +194,8 @@ impl Banded {
                     self.x[c] = if self.status[i] == Active::Lower { lo[i] } else { hi[i] };
                 }
             }
-            // A rigid dof's neighbour rows must not see the bound twice:
-            // the column of a fixed dof was moved to the right-hand side
-            // above, and zeroed in `work`.
+            // The fixed dofs' columns went to the right-hand side above;
+            // their rows and columns are now those of the identity.
             self.work.factor_into(&mut self.fac).map_err(|_| SchemeError::Contact(ContactError::NotPositiveDefinite))?;
             self.fac.solve_in_place(&mut self.x);
             // Multipliers μ_i = (A x − b)_{c_i} on the active set.
@@ -231,7 +230,6 @@ impl Banded {
             }
             if count == 0 {
                 y.copy_from_slice(&self.x);
-                self.set.retain(|&i| self.mu[i] != 0.0 || self.status[i] != Active::None);
                 return Ok(it);
             }
             if !single {
