@@ -12,11 +12,8 @@ use signorini_exact::{BarDirichlet, ExactSolution, FarEnd};
 
 const TOL: f64 = 1e-15;
 
-/// Time (and space) step of the oracle's lattice: `1/64`, dyadic, so every
-/// event of this benchmark (impacts and take-offs at integer times) and
-/// every value (multiples of 1/2) is represented exactly.
-const CELLS_PER_UNIT: usize = 64;
-const DELTA: f64 = 1.0 / CELLS_PER_UNIT as f64;
+mod common;
+use common::{CELLS_PER_UNIT, DELTA};
 
 /// The d'Alembert solution of `u_tt = u_xx` on `(0, 1)`, `u(1, t) = 0`,
 /// `0 <= u(0, t) ⊥ u_x(0, t) <= 0`, `u(x, 0) = (1 - x)/2`, `u_t(x, 0) = 0`,
@@ -101,19 +98,7 @@ impl Oracle {
     fn u(&self, x: f64, t: f64) -> f64 {
         let k = Self::cell(t);
         let z = self.z[k] + (t - k as f64 * DELTA) * self.z_rate[k];
-        let mut pts = vec![0.0, x];
-        let lo = ((-t) / DELTA).floor() as i64;
-        let hi = ((x + t) / DELTA).ceil() as i64;
-        for j in lo..=hi {
-            let line = j as f64 * DELTA;
-            for p in [line - t, line + t] {
-                if p > 0.0 && p < x {
-                    pts.push(p);
-                }
-            }
-        }
-        pts.sort_by(f64::total_cmp);
-        z + pts.windows(2).map(|w| (w[1] - w[0]) * self.derivatives(0.5 * (w[0] + w[1]), t).0).sum::<f64>()
+        z + common::lattice_integral(x, t, |xi| self.derivatives(xi, t).0)
     }
 
     /// `λ(t) = u_x(0, t)` (right-continuous: the cell starting at `t`).

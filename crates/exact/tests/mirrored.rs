@@ -17,8 +17,8 @@
 use proptest::prelude::*;
 use signorini_exact::{BarDirichlet, BarMirrored, ExactSolution, FarEnd};
 
-const CELLS_PER_UNIT: usize = 64;
-const DELTA: f64 = 1.0 / CELLS_PER_UNIT as f64;
+mod common;
+use common::{CELLS_PER_UNIT, DELTA};
 /// Cells in the bar's length 2 (the travel time from one end to the other).
 const CROSS: usize = 2 * CELLS_PER_UNIT;
 
@@ -99,19 +99,7 @@ impl TwoStops {
     fn u(&self, x: f64, t: f64) -> f64 {
         let k = Self::cell(t);
         let z = self.z0[k] + (t - k as f64 * DELTA) * self.z0_rate[k];
-        let mut pts = vec![0.0, x];
-        let lo = ((-t) / DELTA).floor() as i64;
-        let hi = ((x + t) / DELTA).ceil() as i64;
-        for j in lo..=hi {
-            let line = j as f64 * DELTA;
-            for p in [line - t, line + t] {
-                if p > 0.0 && p < x {
-                    pts.push(p);
-                }
-            }
-        }
-        pts.sort_by(f64::total_cmp);
-        z + pts.windows(2).map(|w| (w[1] - w[0]) * self.derivatives(0.5 * (w[0] + w[1]), t).0).sum::<f64>()
+        z + common::lattice_integral(x, t, |xi| self.derivatives(xi, t).0)
     }
 
     /// `u(2, t)` as marched at the right end.
