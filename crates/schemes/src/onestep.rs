@@ -385,26 +385,8 @@ impl OneStep {
             work += -0.5 * (self.prev_lams[i] + lam) * (x - self.rhs[c]);
         }
         self.work_c += work;
-        if let Some(fo) = &self.dy.forcing {
-            let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
-            self.work_f += 0.5 * (self.s_now + s_next) * gdu;
-            self.s_now = s_next;
-        }
-        if let Some(t) = &self.tri {
-            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
-            tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
-                let rn = f[i] - ku;
-                mom[i] += dt * ((1.0 - g) * r[i] + g * rn);
-                r[i] = rn;
-            });
-        } else {
-            self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
-            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
-                let rn = f - k;
-                *p += dt * ((1.0 - g) * *r + g * rn);
-                *r = rn;
-            }
-        }
+        self.add_forcing_work(s_next);
+        self.update_acceleration_and_momentum(dt, g);
         if self.dy.massless_contact() {
             for ct in &self.dy.contacts {
                 self.r[ct.dof] = 0.0;
@@ -429,6 +411,40 @@ impl OneStep {
         });
         self.touched = touched;
         Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+    }
+
+    /// Work of the forcing over the step just taken, `½ (F^n + F^{n+1})ᵀ(U^{n+1} - U^n)`
+    /// (the form of the Newmark-CN energy identity); `s_next` is the
+    /// profile at `t_{n+1}`.
+    #[inline]
+    fn add_forcing_work(&mut self, s_next: f64) {
+        if let Some(fo) = &self.dy.forcing {
+            let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
+            self.work_f += 0.5 * (self.s_now + s_next) * gdu;
+            self.s_now = s_next;
+        }
+    }
+
+    /// `R^{n+1} = F - K U^{n+1}` and `P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})`
+    /// before the contact forces are applied (fused on the bar's
+    /// tridiagonal path).
+    #[inline(always)]
+    fn update_acceleration_and_momentum(&mut self, dt: f64, g: f64) {
+        if let Some(t) = &self.tri {
+            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
+            tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
+                let rn = f[i] - ku;
+                mom[i] += dt * ((1.0 - g) * r[i] + g * rn);
+                r[i] = rn;
+            });
+        } else {
+            self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
+            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
+                let rn = f - k;
+                *p += dt * ((1.0 - g) * *r + g * rn);
+                *r = rn;
+            }
+        }
     }
 
     /// Gives back the problem (to start a two-step scheme).
@@ -495,30 +511,9 @@ impl Stepper for OneStep {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         self.work_c += -0.5 * (self.lambda + lambda) * (self.u[c] - self.u_c_prev);
-        if let Some(fo) = &self.dy.forcing {
-            // Work of the forcing over the step, ½ (F^n + F^{n+1})ᵀ(U^{n+1} - U^n)
-            // (the form of the Newmark-CN energy identity).
-            let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
-            self.work_f += 0.5 * (self.s_now + s_next) * gdu;
-            self.s_now = s_next;
-        }
+        self.add_forcing_work(s_next);
         self.lambda = lambda;
-        // R^{n+1} = F - K U^{n+1} - λ e_c;  P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})
-        if let Some(t) = &self.tri {
-            let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
-            tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
-                let rn = f[i] - ku;
-                mom[i] += dt * ((1.0 - g) * r[i] + g * rn);
-                r[i] = rn;
-            });
-        } else {
-            self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
-            for (((p, r), f), k) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku) {
-                let rn = f - k;
-                *p += dt * ((1.0 - g) * *r + g * rn);
-                *r = rn;
-            }
-        }
+        self.update_acceleration_and_momentum(dt, g);
         // The contact row: the force term (or, massless, R_c = P_c = 0).
         if self.dy.contacts[0].massless {
             self.r[c] = 0.0;
