@@ -74,11 +74,7 @@ impl ExactSolution for BarMirrored {
     }
     /// The force at `x = 0` (the one at `x = 2` is its opposite).
     fn lambda(&self, t: f64) -> f64 {
-        if phase(t).0 == 1 {
-            -0.5
-        } else {
-            0.0
-        }
+        crate::BarDirichlet.lambda(t)
     }
     fn energy(&self) -> f64 {
         0.25
