@@ -32,6 +32,11 @@ fn solve(a: &[Vec<f64>], b: &[f64]) -> Vec<f64> {
     x
 }
 
+/// The influence column `A⁻¹ e_c`.
+fn column(a: &[Vec<f64>], c: usize) -> Vec<f64> {
+    solve(a, &(0..a.len()).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>())
+}
+
 fn matvec(a: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
     a.iter().map(|r| r.iter().zip(x).map(|(p, q)| p * q).sum()).collect()
 }
@@ -68,9 +73,9 @@ fn spd(n: usize, p: usize, vals: &[f64], gram: bool) -> Vec<Vec<f64>> {
 
 /// The exact solution by enumeration: `(x, μ)`.
 fn brute_force(a: &[Vec<f64>], b: &[f64], dofs: &[usize], lo: &[f64], hi: &[f64]) -> (Vec<f64>, Vec<f64>) {
-    let (n, k) = (b.len(), dofs.len());
+    let k = dofs.len();
     let y = solve(a, b);
-    let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| solve(a, &(0..n).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>())).collect();
+    let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| column(a, c)).collect();
     let d = |i: usize, j: usize| cols[j][dofs[i]];
     for code in 0..3usize.pow(k as u32) {
         let st: Vec<usize> = (0..k).map(|i| code / 3usize.pow(i as u32) % 3).collect();
@@ -133,7 +138,7 @@ proptest! {
         let k = dofs.len();
         let (lo, hi): (Vec<f64>, Vec<f64>) = codes[..k].iter().map(|&(c, x, w)| bounds_of(c, x, w)).unzip();
         let (x_ref, mu_ref) = brute_force(&a, b, &dofs, &lo, &hi);
-        let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| solve(&a, &(0..n).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>())).collect();
+        let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| column(&a, c)).collect();
         let mut mp = MultiProjection::new(dofs.clone(), cols).unwrap();
         if warm {
             // A first solve with other data leaves statuses behind (warm start).
@@ -167,7 +172,7 @@ proptest! {
 #[test]
 fn bad_input_is_a_typed_error() {
     let a = vec![vec![2.0, -1.0, 0.0], vec![-1.0, 2.0, -1.0], vec![0.0, -1.0, 2.0]];
-    let col = |c: usize| solve(&a, &(0..3).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>());
+    let col = |c: usize| column(&a, c);
     assert_eq!(MultiProjection::new(vec![0, 0], vec![col(0), col(0)]).unwrap_err(), ContactError::DuplicateDof(0));
     assert_eq!(MultiProjection::new(vec![0, 5], vec![col(0), col(2)]).unwrap_err(), ContactError::DofOutOfRange { dof: 5, n: 3 });
     assert!(matches!(MultiProjection::new(vec![0, 2], vec![col(0)]).unwrap_err(), ContactError::Columns { .. }));
@@ -253,7 +258,7 @@ proptest! {
         let (lo, hi): (Vec<f64>, Vec<f64>) = codes[..k].iter().map(|&(c, x, w, _)| bounds_of(c, x, w)).unzip();
         let kappa: Vec<f64> = codes[..k].iter().map(|c| 10f64.powf(c.3)).collect();
         let x_ref = brute_force_springs(&a, b, &dofs, &lo, &hi, &kappa);
-        let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| solve(&a, &(0..n).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>())).collect();
+        let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| column(&a, c)).collect();
         let mut mp = MultiProjection::new(dofs.clone(), cols).unwrap().with_compliance(kappa.iter().map(|k| 1.0 / k).collect()).unwrap();
         let mut x = solve(&a, b);
         let rep = mp.project(&mut x, &lo, &hi).unwrap();
@@ -271,7 +276,7 @@ proptest! {
 #[test]
 fn bad_compliance_is_a_typed_error() {
     let a = vec![vec![2.0, -1.0, 0.0], vec![-1.0, 2.0, -1.0], vec![0.0, -1.0, 2.0]];
-    let col = |c: usize| solve(&a, &(0..3).map(|i| f64::from(u8::from(i == c))).collect::<Vec<_>>());
+    let col = |c: usize| column(&a, c);
     let mp = || MultiProjection::new(vec![0, 2], vec![col(0), col(2)]).unwrap();
     assert_eq!(mp().with_compliance(vec![1.0, -1.0]).unwrap_err(), ContactError::Compliance(-1.0));
     assert_eq!(mp().with_compliance(vec![f64::NAN, 1.0]).unwrap_err().to_string(), "invalid compliance NaN: allowed finite and >= 0");
