@@ -71,17 +71,22 @@ fn spd(n: usize, p: usize, vals: &[f64], gram: bool) -> Vec<Vec<f64>> {
     }
 }
 
+/// Every status assignment (0 free, 1 at the lower bound, 2 at the upper)
+/// of `lo.len()` dofs, except those holding an infinite bound: 3^k of them.
+fn statuses<'a>(lo: &'a [f64], hi: &'a [f64]) -> impl Iterator<Item = Vec<usize>> + 'a {
+    let k = lo.len();
+    (0..3usize.pow(k as u32))
+        .map(move |code| (0..k).map(|i| code / 3usize.pow(i as u32) % 3).collect::<Vec<usize>>())
+        .filter(move |st| !(0..k).any(|i| (st[i] == 1 && !lo[i].is_finite()) || (st[i] == 2 && !hi[i].is_finite())))
+}
+
 /// The exact solution by enumeration: `(x, μ)`.
 fn brute_force(a: &[Vec<f64>], b: &[f64], dofs: &[usize], lo: &[f64], hi: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let k = dofs.len();
     let y = solve(a, b);
     let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| column(a, c)).collect();
     let d = |i: usize, j: usize| cols[j][dofs[i]];
-    for code in 0..3usize.pow(k as u32) {
-        let st: Vec<usize> = (0..k).map(|i| code / 3usize.pow(i as u32) % 3).collect();
-        if (0..k).any(|i| (st[i] == 1 && !lo[i].is_finite()) || (st[i] == 2 && !hi[i].is_finite())) {
-            continue;
-        }
+    for st in statuses(lo, hi) {
         let s: Vec<usize> = (0..k).filter(|&i| st[i] != 0).collect();
         let mut mu = vec![0.0; k];
         if !s.is_empty() {
@@ -208,11 +213,7 @@ fn one_dof_equals_the_closed_form() {
 /// one whose engaged springs are stretched and whose others are inside.
 fn brute_force_springs(a: &[Vec<f64>], b: &[f64], dofs: &[usize], lo: &[f64], hi: &[f64], kappa: &[f64]) -> Vec<f64> {
     let k = dofs.len();
-    for code in 0..3usize.pow(k as u32) {
-        let st: Vec<usize> = (0..k).map(|i| code / 3usize.pow(i as u32) % 3).collect();
-        if (0..k).any(|i| (st[i] == 1 && !lo[i].is_finite()) || (st[i] == 2 && !hi[i].is_finite())) {
-            continue;
-        }
+    for st in statuses(lo, hi) {
         let mut m = a.to_vec();
         let mut r = b.to_vec();
         for i in (0..k).filter(|&i| st[i] != 0) {
