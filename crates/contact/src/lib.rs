@@ -88,7 +88,7 @@ pub struct Projected {
 }
 
 mod multi;
-pub use multi::{MultiProjected, MultiProjection};
+pub use multi::{MultiProjected, MultiProjection, PivotRule};
 
 /// Which bound is active after a projection.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

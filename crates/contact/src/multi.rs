@@ -65,6 +65,73 @@ pub struct MultiProjection {
 /// Iterations of block pivoting without progress before single pivots.
 const BLOCK_TRIES: usize = 3;
 
+/// The pivoting rule of the exact box-complementarity solvers, shared by
+/// [`MultiProjection`] (pivots on the Delassus matrix) and any other solve
+/// of the same problem on the same statuses (e.g. a reduced banded one):
+/// block pivots — every infeasible dof changes status at once — while they
+/// reduce the number of infeasible dofs, then, after three
+/// passes without progress, Murty's least-index single pivots, which
+/// terminate for every P-matrix.
+#[derive(Clone, Copy, Debug)]
+pub struct PivotRule {
+    best: usize,
+    fails: usize,
+    single: bool,
+    tol: f64,
+}
+
+impl PivotRule {
+    /// A rule for one solve, its tolerance `64 ε` times the largest
+    /// `|y_c|`, `|lo|`, `|hi|` (finite bounds) of `(y_c, lo, hi)`.
+    pub fn new(values: impl Iterator<Item = (f64, f64, f64)>) -> Self {
+        let scale = values.map(|(y, l, h)| y.abs().max(finite_or_zero(l).abs()).max(finite_or_zero(h).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
+        Self { best: usize::MAX, fails: 0, single: false, tol: 64.0 * f64::EPSILON * scale }
+    }
+
+    /// The pivots allowed before a solve gives up, for `k` dofs.
+    pub fn max_iterations(k: usize) -> usize {
+        4 * k * k + 64
+    }
+
+    /// One pass over the dofs after a solve on the current statuses:
+    /// `zm(i)` gives dof `i`'s contact value `z_i` (what the bounds hold)
+    /// and its multiplier scaled to a displacement (`μ_i D_ii`). Changes
+    /// the statuses of the infeasible dofs (all of them, or the first
+    /// one) and returns how many were infeasible (0: solved).
+    pub fn pass(&mut self, status: &mut [Active], lo: &[f64], hi: &[f64], zm: impl Fn(usize) -> (f64, f64)) -> usize {
+        let tol = self.tol;
+        let mut count = 0;
+        for i in 0..status.len() {
+            let (z, md) = zm(i);
+            let next = match status[i] {
+                Active::None if z < lo[i] - tol => Some(Active::Lower),
+                Active::None if z > hi[i] + tol => Some(Active::Upper),
+                Active::Lower if md < -tol => Some(Active::None),
+                Active::Upper if md > tol => Some(Active::None),
+                _ => None,
+            };
+            if let Some(st) = next {
+                if !self.single || count == 0 {
+                    status[i] = st;
+                }
+                count += 1;
+            }
+        }
+        if count > 0 && !self.single {
+            if count < self.best {
+                self.best = count;
+                self.fails = 0;
+            } else {
+                self.fails += 1;
+                if self.fails >= BLOCK_TRIES {
+                    self.single = true;
+                }
+            }
+        }
+        count
+    }
+}
+
 impl MultiProjection {
     /// `columns[j]` must be `A⁻¹ e_{dofs[j]}` for the SPD matrix `A` of the
     /// step; dofs distinct and in range.
@@ -224,30 +291,17 @@ impl MultiProjection {
             return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0 }));
         }
         self.dirty = true;
-        let scale = (0..k).map(|i| y[self.dofs[i]].abs().max(finite_or_zero(lo[i]).abs()).max(finite_or_zero(hi[i]).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
-        let tol = 64.0 * f64::EPSILON * scale;
-        let max_iter = 4 * k * k + 64;
-        let (mut best, mut fails, mut single) = (usize::MAX, 0, false);
+        let mut rule = PivotRule::new((0..k).map(|i| (y[self.dofs[i]], lo[i], hi[i])));
+        let max_iter = PivotRule::max_iterations(k);
         for it in 1..=max_iter {
             if !self.solve_on_status(y, lo, hi, cap)? {
                 return Ok(None);
             }
-            let infeasible = self.infeasible(lo, hi, tol, single);
-            if infeasible == 0 {
+            let (z, mu, delassus) = (&self.z, &self.mu, &self.delassus);
+            if rule.pass(&mut self.status, lo, hi, |i| (z[i], mu[i] * delassus[i * k + i])) == 0 {
                 let residual = self.apply(y, lo, hi);
                 self.held = self.set.len();
                 return Ok(Some(MultiProjected { iterations: it, active: self.held, residual }));
-            }
-            if !single {
-                if infeasible < best {
-                    best = infeasible;
-                    fails = 0;
-                } else {
-                    fails += 1;
-                    if fails >= BLOCK_TRIES {
-                        single = true;
-                    }
-                }
             }
         }
         Err(ContactError::NoConvergence { iterations: max_iter })
@@ -304,30 +358,6 @@ impl MultiProjection {
     /// The compliance of dof `i` (0: rigid).
     pub fn compliance(&self, i: usize) -> f64 {
         self.compliance[i]
-    }
-
-    /// Counts the infeasible dofs and changes their status: all of them
-    /// (block pivot), or only the first (`single`: Murty's least index).
-    fn infeasible(&mut self, lo: &[f64], hi: &[f64], tol: f64, single: bool) -> usize {
-        let k = self.dofs.len();
-        let mut count = 0;
-        for i in 0..k {
-            let d = self.delassus[i * k + i];
-            let next = match self.status[i] {
-                Active::None if self.z[i] < lo[i] - tol => Some(Active::Lower),
-                Active::None if self.z[i] > hi[i] + tol => Some(Active::Upper),
-                Active::Lower if self.mu[i] * d < -tol => Some(Active::None),
-                Active::Upper if self.mu[i] * d > tol => Some(Active::None),
-                _ => None,
-            };
-            if let Some(s) = next {
-                if !single || count == 0 {
-                    self.status[i] = s;
-                }
-                count += 1;
-            }
-        }
-        count
     }
 
     /// `x = y + Σ μ_j W_j`, rigid bounds set exactly; returns the residual.

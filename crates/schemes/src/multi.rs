@@ -4,7 +4,7 @@
 //! bound buffers, shared by every scheme that takes several contacts.
 
 use crate::{Dynamics, SchemeError};
-use signorini_contact::{Active, ContactError, MultiProjection};
+use signorini_contact::{Active, ContactError, MultiProjection, PivotRule};
 use signorini_fem::{BandLdlt, SymBand};
 
 /// `y ← y + Σ μ_i A⁻¹ e_{c_i}` with `lo_i <= y_{c_i} <= hi_i` (or the spring
@@ -156,10 +156,8 @@ impl Banded {
         let p = self.a.half_bandwidth();
         let n = self.a.n();
         self.a.mul_vec(y, &mut self.b);
-        let scale = (0..k).map(|i| y[self.dofs[i]].abs().max(fin(lo[i]).abs()).max(fin(hi[i]).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
-        let tol = 64.0 * f64::EPSILON * scale;
-        let max_iter = 4 * k * k + 64;
-        let (mut best, mut fails, mut single) = (usize::MAX, 0, false);
+        let mut rule = PivotRule::new((0..k).map(|i| (y[self.dofs[i]], lo[i], hi[i])));
+        let max_iter = PivotRule::max_iterations(k);
         for it in 1..=max_iter {
             // The reduced system: rows of active rigid dofs replaced by
             // x_c = bound; active springs add 1/c to the diagonal.
@@ -208,51 +206,15 @@ impl Banded {
                 }
                 self.mu[i] = r;
             }
-            // Feasibility and signs; block pivots while they help, then
-            // least-index single pivots.
-            let mut count = 0;
-            for i in 0..k {
-                let z = self.x[self.dofs[i]] + self.compliance[i] * self.mu[i];
-                let (m, d) = (self.mu[i], self.diag[i]);
-                let next = match self.status[i] {
-                    Active::None if z < lo[i] - tol => Some(Active::Lower),
-                    Active::None if z > hi[i] + tol => Some(Active::Upper),
-                    Active::Lower if m * d < -tol => Some(Active::None),
-                    Active::Upper if m * d > tol => Some(Active::None),
-                    _ => None,
-                };
-                if let Some(st) = next {
-                    if !single || count == 0 {
-                        self.status[i] = st;
-                    }
-                    count += 1;
-                }
-            }
-            if count == 0 {
+            // Feasibility and signs: the same pivoting rule as the
+            // Delassus pivots.
+            let (x, mu, dofs, comp, diag) = (&self.x, &self.mu, &self.dofs, &self.compliance, &self.diag);
+            if rule.pass(&mut self.status, lo, hi, |i| (x[dofs[i]] + comp[i] * mu[i], mu[i] * diag[i])) == 0 {
                 y.copy_from_slice(&self.x);
                 return Ok(it);
             }
-            if !single {
-                if count < best {
-                    best = count;
-                    fails = 0;
-                } else {
-                    fails += 1;
-                    if fails >= 3 {
-                        single = true;
-                    }
-                }
-            }
         }
         Err(SchemeError::Contact(ContactError::NoConvergence { iterations: max_iter }))
-    }
-}
-
-fn fin(x: f64) -> f64 {
-    if x.is_finite() {
-        x
-    } else {
-        0.0
     }
 }
 
