@@ -167,6 +167,10 @@ fn row(r: &RunOut, pre: Option<f64>, e: Option<(f64, f64, f64)>) -> String {
     )
 }
 
+/// Error points of a study: (tip L∞, probe nodes L∞, tip before the first
+/// impact), each against the study's abscissa (dt or h).
+type Points = (Vec<(f64, f64)>, Vec<(f64, f64)>, Vec<(f64, f64)>);
+
 fn validate(a: &Args) -> Result<(), String> {
     if !(a.gap > 0.0 && a.gap.is_finite()) {
         return Err(format!("--gap {}: allowed finite and > 0", a.gap));
@@ -206,41 +210,36 @@ pub fn run_obstacles(a: Args) -> Result<(), String> {
     let every = |dt: f64| (coarse / dt).round() as usize;
     let probes_j = if a.j % base == 0 { base } else { 1 };
     let reference = run_one(&a, a.j, dt_ref, probes_j, every(dt_ref))?;
-    let mut f = create(&a.out, "dt.csv")?;
-    writeln!(f, "j,dt_s,steps,{HEADER}").map_err(|e| e.to_string())?;
     // Samples strictly before the reference's first contact.
     let pre_samples = |r: &RunOut| r.first_contact.map_or(usize::MAX, |t| (t / coarse - 1e-9).ceil() as usize);
-    let mut dt_pts = (Vec::new(), Vec::new(), Vec::new());
-    for &dt in &a.dts {
-        let r = run_one(&a, a.j, dt, probes_j, every(dt))?;
-        let e = errors(&r, &reference, usize::MAX);
-        let pre = errors(&r, &reference, pre_samples(&reference)).0;
-        dt_pts.0.push((dt, e.0));
-        dt_pts.1.push((dt, e.2));
-        dt_pts.2.push((dt, pre));
-        writeln!(f, "{},{dt:e},{},{}", a.j, r.steps, row(&r, Some(pre), Some(e))).map_err(|e| e.to_string())?;
-        eprintln!("dt = {dt:e}: tip error {:.3e} (before the first impact {pre:.3e}), max violation {:.1e}, balance {:.1e}", e.0, r.max_violation, r.balance);
-    }
-    writeln!(f, "{},{dt_ref:e},{},{}", a.j, reference.steps, row(&reference, None, None)).map_err(|e| e.to_string())?;
+    // One study: each case (J, dt, its abscissa) against `reference`, a row
+    // of `file` each, then the reference's row; the error points
+    // (tip L∞, probes L∞, tip before the first impact) against the abscissa.
+    let study = |file: &str, reference: &RunOut, (j_ref, dt_ref): (usize, f64), cases: &[(usize, f64, f64)], probes: usize| -> Result<Points, String> {
+        let mut f = create(&a.out, file)?;
+        writeln!(f, "j,dt_s,steps,{HEADER}").map_err(|e| e.to_string())?;
+        let mut pts = (Vec::new(), Vec::new(), Vec::new());
+        for &(j, dt, x) in cases {
+            let r = run_one(&a, j, dt, probes, every(dt))?;
+            let e = errors(&r, reference, usize::MAX);
+            let pre = errors(&r, reference, pre_samples(reference)).0;
+            pts.0.push((x, e.0));
+            pts.1.push((x, e.2));
+            pts.2.push((x, pre));
+            writeln!(f, "{j},{dt:e},{},{}", r.steps, row(&r, Some(pre), Some(e))).map_err(|e| e.to_string())?;
+            eprintln!("J = {j}, dt = {dt:e}: tip error {:.3e} (before the first impact {pre:.3e}), max violation {:.1e}, balance {:.1e}", e.0, r.max_violation, r.balance);
+        }
+        writeln!(f, "{j_ref},{dt_ref:e},{},{}", reference.steps, row(reference, None, None)).map_err(|e| e.to_string())?;
+        Ok(pts)
+    };
+    // dt study: J fixed; the reference's row last.
+    let dt_cases: Vec<(usize, f64, f64)> = a.dts.iter().map(|&dt| (a.j, dt, dt)).collect();
+    let dt_pts = study("dt.csv", &reference, (a.j, dt_ref), &dt_cases, probes_j)?;
     // J study: dt fixed, samples at the coarsest dt's levels, nodes x = iL/base.
     let j_ref = 2 * a.js[a.js.len() - 1];
-    let every_j = (coarse / a.j_dt).round() as usize;
-    let reference_j = run_one(&a, j_ref, a.j_dt, base, every_j)?;
-    let mut g = create(&a.out, "j.csv")?;
-    writeln!(g, "j,dt_s,steps,{HEADER}").map_err(|e| e.to_string())?;
-    let mut j_pts = (Vec::new(), Vec::new(), Vec::new());
-    for &j in &a.js {
-        let r = run_one(&a, j, a.j_dt, base, every_j)?;
-        let e = errors(&r, &reference_j, usize::MAX);
-        let pre = errors(&r, &reference_j, pre_samples(&reference_j)).0;
-        let h = Pipe::paper().length / j as f64;
-        j_pts.0.push((h, e.0));
-        j_pts.1.push((h, e.2));
-        j_pts.2.push((h, pre));
-        writeln!(g, "{j},{:e},{},{}", a.j_dt, r.steps, row(&r, Some(pre), Some(e))).map_err(|e| e.to_string())?;
-        eprintln!("J = {j}: tip error {:.3e} (before the first impact {pre:.3e}), max violation {:.1e}, balance {:.1e}", e.0, r.max_violation, r.balance);
-    }
-    writeln!(g, "{j_ref},{:e},{},{}", a.j_dt, reference_j.steps, row(&reference_j, None, None)).map_err(|e| e.to_string())?;
+    let reference_j = run_one(&a, j_ref, a.j_dt, base, every(a.j_dt))?;
+    let j_cases: Vec<(usize, f64, f64)> = a.js.iter().map(|&j| (j, a.j_dt, Pipe::paper().length / j as f64)).collect();
+    let j_pts = study("j.csv", &reference_j, (j_ref, a.j_dt), &j_cases, base)?;
     let mut r = create(&a.out, "rates.csv")?;
     writeln!(r, "study,error,lsq_rate,last_rate").map_err(|e| e.to_string())?;
     for (study, err, pts) in [("dt", "pre_impact_tip_linf", &dt_pts.2), ("dt", "tip_linf", &dt_pts.0), ("dt", "nodes_linf", &dt_pts.1), ("j", "pre_impact_tip_linf", &j_pts.2), ("j", "tip_linf", &j_pts.0), ("j", "nodes_linf", &j_pts.1)] {
@@ -248,7 +247,7 @@ pub fn run_obstacles(a: Args) -> Result<(), String> {
         writeln!(r, "{study},{err},{:.3},{:.3}", q.lsq, q.last).map_err(|e| e.to_string())?;
         eprintln!("rate in {study} ({err}): {:.2} (least squares), {:.2} (last two)", q.lsq, q.last);
     }
-    let plot = |name: &str, title: &str, x: &str, pts: &(Vec<(f64, f64)>, Vec<(f64, f64)>, Vec<(f64, f64)>)| -> Result<(), String> {
+    let plot = |name: &str, title: &str, x: &str, pts: &Points| -> Result<(), String> {
         let series = [
             Series { label: "tip, L∞ in time".into(), points: pts.0.clone(), reference: false, style: Default::default() },
             Series { label: "probe nodes, L∞".into(), points: pts.1.clone(), reference: false, style: Default::default() },
