@@ -542,13 +542,13 @@ impl Stepper for OneStep {
         let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
         let spring = match self.law {
             ContactLaw::Projection => 0.0,
-            ContactLaw::Penalty { stiffness } => {
-                let kappa = |i: usize| if self.kappas.is_empty() { stiffness } else { self.kappas[i] };
+            // `kappas` is set with the penalty law (`with_contact_law`).
+            ContactLaw::Penalty { .. } => {
                 let mut e = 0.0;
                 for (i, ct) in self.dy.contacts.iter().enumerate() {
                     let uc = self.u[ct.dof];
                     let (a, b) = ((ct.bounds.lo - uc).max(0.0), (uc - ct.bounds.hi).max(0.0));
-                    e += 0.5 * kappa(i) * (a * a + b * b);
+                    e += 0.5 * self.kappas[i] * (a * a + b * b);
                 }
                 e
             }
