@@ -36,7 +36,7 @@ fn pipe_scene() -> (signorini::schemes::Dynamics, Oracle, Initial) {
     let ostops: Vec<OStop> = stops.iter().map(|s| OStop::new(2 * (s.node - 1), s.lo, s.hi)).collect();
     assert_eq!(dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi)).collect::<Vec<_>>(), ostops.iter().map(|s| (s.dof, s.lo, s.hi)).collect::<Vec<_>>());
     let f = dy.forcing.as_ref().unwrap();
-    let (signorini::schemes::TimeProfile::Sine { amplitude, omega },) = (f.time,);
+    let signorini::schemes::TimeProfile::Sine { amplitude, omega } = f.time.clone() else { panic!("the pipe's forcing is a sine") };
     let s0 = ostops[0];
     let o = Oracle { m: mm, k: kk, load: vec![0.0; dy.n()], forcing: Some((f.shape.clone(), Sine { amp: amplitude, omega })), c: s0.dof, massless: false, lo: s0.lo, hi: s0.hi, stops: ostops };
     (dy, o, init)

@@ -63,6 +63,7 @@ mod multi;
 mod nitsche;
 mod onestep;
 mod paoli;
+mod profile;
 mod spec;
 
 pub use hybrid::{Reduced, ReducedLaw};
@@ -70,6 +71,7 @@ pub use moreau::MoreauJean;
 pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
+pub use profile::TimeProfile;
 pub use spec::SchemeSpec;
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
@@ -183,46 +185,6 @@ impl Bounds {
     /// A one-sided obstacle at `gap`.
     pub fn obstacle(gap: f64) -> Self {
         Self { lo: gap, hi: f64::INFINITY }
-    }
-}
-
-/// A time profile `s(t)` of a separable load `F(t) = shape · s(t)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TimeProfile {
-    /// `s(t) = amplitude · sin(omega t)`.
-    Sine {
-        /// Amplitude.
-        amplitude: f64,
-        /// Angular frequency (rad/s).
-        omega: f64,
-    },
-}
-
-impl TimeProfile {
-    /// `s(t)`.
-    pub fn value(&self, t: f64) -> f64 {
-        match *self {
-            TimeProfile::Sine { amplitude, omega } => amplitude * (omega * t).sin(),
-        }
-    }
-
-    /// `max_t |s(t)|`.
-    pub fn max_abs(&self) -> f64 {
-        match *self {
-            TimeProfile::Sine { amplitude, .. } => amplitude.abs(),
-        }
-    }
-
-    /// The exact mean `1/(t1 - t0) ∫ s` over `[t0, t1]` (docs/theory.md §4.3's `f^n`),
-    /// written without cancellation: `A sin(ω t_mid) sin(ω δ/2) / (ω δ/2)`.
-    pub fn mean(&self, t0: f64, t1: f64) -> f64 {
-        match *self {
-            TimeProfile::Sine { amplitude, omega } => {
-                let half = 0.5 * omega * (t1 - t0);
-                let sinc = if half.abs() < 1e-8 { 1.0 - half * half / 6.0 } else { half.sin() / half };
-                amplitude * (omega * 0.5 * (t0 + t1)).sin() * sinc
-            }
-        }
     }
 }
 
