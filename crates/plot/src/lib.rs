@@ -352,6 +352,59 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
     Ok(svg)
 }
 
+/// A scatter chart (bifurcation diagrams, impact maps): every point of
+/// every series a dot of radius `radius` pixels (1 for diagrams of 10⁵
+/// points), no lines, linear axes, a legend when there is more than one
+/// series. A large diagram stays a few MB: one `<circle>` per point. Errors
+/// only if no point is finite or plotters fails (as text).
+pub fn scatter(chart: &Chart<'_>, series: &[Series], radius: u32) -> Result<String, String> {
+    let keep = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.points.iter().copied().filter(keep)).collect();
+    if all.is_empty() {
+        return Err("nothing to plot: no finite points".into());
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = all.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |(a, b, c, d), p| (a.min(p.0), b.max(p.0), c.min(p.1), d.max(p.1)));
+    let widen = |lo: &mut f64, hi: &mut f64| {
+        if *hi <= *lo {
+            let pad = if *lo == 0.0 { 1.0 } else { 0.1 * lo.abs() };
+            *lo -= pad;
+            *hi += pad;
+        }
+        let pad = 0.03 * (*hi - *lo);
+        *lo -= pad;
+        *hi += pad;
+    };
+    widen(&mut x0, &mut x1);
+    widen(&mut y0, &mut y1);
+    let legend = series.len() > 1;
+    let legend_w = if legend { legend_width(series) } else { 0 };
+    let title_h = 36;
+    let legend_h = title_h + 12 + LEGEND_ROW * series.len() as i32 + 16;
+    let size = (chart.size.0 + legend_w, chart.size.1.max(if legend { legend_h as u32 } else { 0 }));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        let err = |e: &dyn std::fmt::Display| e.to_string();
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let body = root.titled(chart.title, ("sans-serif", 20)).map_err(|e| err(&e))?;
+        let (plot, legend_area) = body.split_horizontally(chart.size.0);
+        let mut ctx = ChartBuilder::on(&plot).margin(12).x_label_area_size(40).y_label_area_size(80).build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(&e))?;
+        let label_font = ("sans-serif", 15);
+        ctx.configure_mesh().x_desc(chart.x_label).y_desc(chart.y_label).label_style(label_font).axis_desc_style(label_font).light_line_style(RGBColor(235, 235, 235)).draw().map_err(|e| err(&e))?;
+        for (i, s) in series.iter().enumerate() {
+            let color = Look::of(s, i).color;
+            ctx.draw_series(s.points.iter().copied().filter(keep).map(|p| Circle::new(p, radius, color.filled()))).map_err(|e| err(&e))?;
+        }
+        if legend {
+            let top = ctx.plotting_area().get_pixel_range().1.start - legend_area.get_base_pixel().1;
+            let dots: Vec<Series> = series.iter().map(|s| Series { style: Style { variant: Some(0), ..s.style }, ..s.clone() }).collect();
+            draw_legend(&legend_area, &dots, top.max(0))?;
+        }
+        root.present().map_err(|e| err(&e))?;
+    }
+    Ok(svg)
+}
+
 /// A heat map: `values[row][col]` drawn as coloured cells (blue = low,
 /// red = high, on a log10 scale when `log` is set; grey = NaN, black = +∞
 /// meaning "blew up"), with row and column labels.
@@ -424,5 +477,17 @@ mod tests {
         assert!(line_chart(&log, &[curve]).unwrap().contains("error"));
         // Every point invalid on log axes: an error, not a panic.
         assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false, style: Style::default() }]).is_err());
+    }
+
+    #[test]
+    fn scatter_draws_one_dot_per_finite_point() {
+        let pts = vec![(1.6, 0.1), (1.7, -0.2), (1.8, f64::NAN), (1.9, 0.05)];
+        let c = Chart { title: "bifurcation", x_label: "ω", y_label: "x", scale: Scale::Linear, size: (640, 400) };
+        let one = scatter(&c, &[Series { label: "x".into(), points: pts.clone(), reference: false, style: Style::default() }], 1).unwrap();
+        assert_eq!(one.matches("<circle").count(), 3, "three finite points, three dots");
+        let two = vec![Series { label: "stop 0".into(), points: pts.clone(), reference: false, style: Style::default() }, Series { label: "stop 1".into(), points: vec![(0.0, 0.0)], reference: false, style: Style::default() }];
+        let svg = scatter(&c, &two, 2).unwrap();
+        assert!(svg.contains("stop 1"), "a legend with several series");
+        assert!(scatter(&c, &[Series { label: "x".into(), points: vec![(f64::NAN, 0.0)], reference: false, style: Style::default() }], 1).is_err());
     }
 }
