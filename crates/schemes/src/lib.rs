@@ -71,7 +71,7 @@ pub use moreau::MoreauJean;
 pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
-pub use profile::TimeProfile;
+pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, SplitMix64, TimeProfile, MAX_RANDOM_COUNT};
 pub use spec::SchemeSpec;
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
