@@ -772,3 +772,71 @@ fn bad_parameters_are_refused_with_the_field_named() {
         assert!(ImpactOscillator::new(p).is_ok(), "{p:?}");
     }
 }
+
+/// Highest point of the free RK4 motion strictly inside `(τ, τ + T)` from
+/// `(g, -rV)`: the largest sample, refined by the parabola through it and
+/// its neighbours.
+fn rk4_interior_max(p: &OscillatorParams, tau: f64, v: f64) -> f64 {
+    let t = TAU / p.forcing_frequency;
+    let n = 20000;
+    let h = t / n as f64;
+    let (mut x, mut u) = (p.gap, -p.restitution * v);
+    let mut xs = Vec::with_capacity(n);
+    for i in 0..n {
+        (x, u) = rk4(p, tau + i as f64 * h, x, u, h, true);
+        xs.push(x);
+    }
+    let mut best = f64::NEG_INFINITY;
+    for i in 1..n - 2 {
+        let (a, b, c) = (xs[i - 1], xs[i], xs[i + 1]);
+        if b >= a && b >= c {
+            let den = a - 2.0 * b + c;
+            let top = if den < 0.0 {
+                b - (c - a) * (c - a) / (8.0 * den)
+            } else {
+                b
+            };
+            best = best.max(top);
+        }
+    }
+    best
+}
+
+#[test]
+fn a_penetration_between_samples_is_found() {
+    // Between Ω = 0.8 (the V > 0 root crosses the stop) and Ω = 0.9
+    // (admissible), the interior maximum of that root's motion passes
+    // through g. Bisect Ω (RK4 maxima) until it exceeds g by < 1e-7, far
+    // less than the gap between the dense samples can show.
+    let root = |w: f64| {
+        let o = osc(reference(w))
+            .period1_roots()
+            .into_iter()
+            .find(|o| o.impact_velocity > 0.0)
+            .unwrap();
+        (
+            o,
+            rk4_interior_max(&reference(w), o.impact_time, o.impact_velocity) - 0.2,
+        )
+    };
+    let (mut lo, mut hi) = (0.8, 0.9);
+    assert!(root(lo).1 > 0.0 && root(hi).1 < 0.0);
+    let mut excess = root(lo).1;
+    while excess > 1e-7 {
+        let mid = 0.5 * (lo + hi);
+        let e = root(mid).1;
+        if e > 0.0 {
+            (lo, excess) = (mid, e);
+        } else {
+            hi = mid;
+        }
+        assert!(hi - lo > 1e-14, "bisection stalled");
+    }
+    let (o, e) = root(lo);
+    assert!(e > 0.0 && e <= 1e-7);
+    assert!(
+        matches!(o.admissibility, Admissibility::Penetrates { height, .. } if height >= 0.2),
+        "Ω = {lo}: RK4 exceeds g by {e:e} but {:?}",
+        o.admissibility
+    );
+}
