@@ -35,7 +35,8 @@ fn pipe_scene() -> (signorini::schemes::Dynamics, Oracle, Initial) {
     // Node i's displacement is unknown 2(i − 1) (node 0 is clamped).
     let ostops: Vec<OStop> = stops.iter().map(|s| OStop::new(2 * (s.node - 1), s.lo, s.hi)).collect();
     assert_eq!(dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi)).collect::<Vec<_>>(), ostops.iter().map(|s| (s.dof, s.lo, s.hi)).collect::<Vec<_>>());
-    let f = dy.forcing.as_ref().unwrap();
+    assert_eq!(dy.forcing.len(), 1, "the pipe's forcing is one term");
+    let f = &dy.forcing[0];
     let signorini::schemes::TimeProfile::Sine { amplitude, omega } = f.time.clone() else { panic!("the pipe's forcing is a sine") };
     let s0 = ostops[0];
     let o = Oracle { m: mm, k: kk, load: vec![0.0; dy.n()], forcing: Some((f.shape.clone(), Sine { amp: amplitude, omega })), c: s0.dof, massless: false, lo: s0.lo, hi: s0.hi, stops: ostops };
@@ -96,7 +97,7 @@ fn pipe_with_a_support_plate_every_scheme() {
     // Moreau–Jean takes a steady load only: the pipe in free vibration from
     // its initial velocity, between the same stops.
     let mut steady = dy.clone();
-    steady.forcing = None;
+    steady.forcing.clear();
     let mut o2 = o.clone();
     o2.forcing = None;
     let init2 = Initial { u: init.u.clone(), v: init.v.iter().map(|v| 3.0 * v).collect() };

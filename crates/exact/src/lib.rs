@@ -15,16 +15,27 @@
 //! [`BarMirrored`] (`bar-mirrored`, the Dirichlet bar mirrored onto `[0, 2]`
 //! between two stops, docs/theory.md §5.4).
 //!
+//! Besides the bar benchmarks: [`ImpactOscillator`], the forced impact
+//! oscillator `m x'' + c x' + k x = F cos Ωt` below a rigid stop with
+//! Newton's restitution law — its exact flow between impacts, its period-1
+//! orbits with their Floquet multipliers, and its grazing frequencies
+//! (see the `oscillator` module docs for the derivations).
+//!
 //! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
 //! meshes or schemes.
 
 mod dirichlet;
 mod mirrored;
 mod neumann;
+mod oscillator;
 
 pub use dirichlet::BarDirichlet;
 pub use mirrored::BarMirrored;
 pub use neumann::{BarNeumannGravity, Event, EventKind, NeumannError};
+pub use oscillator::{
+    Admissibility, ImpactOscillator, Multiplier, OscillatorError, OscillatorParams, Period1Orbit,
+    State,
+};
 
 /// Point values of an exact solution (one-sided where a kink passes: the
 /// values of the piece that contains `x` in its closure, ties broken towards

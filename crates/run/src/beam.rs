@@ -56,7 +56,8 @@ impl Pipe {
             stiffness: beam.stiffness(),
             load: vec![0.0; n],
             contacts: vec![Contact::new(beam.tip_dof(), Bounds { lo: self.stops.0, hi: self.stops.1 }, false)],
-            forcing: Some(Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }),
+            forcing: vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }],
+            damping: None,
         };
         let v = beam.interpolate(|x| -a * w * self.lifting(x).0, |x| -a * w * self.lifting(x).1);
         Ok((beam, dy, Initial { u: vec![0.0; n], v }))

@@ -12,6 +12,11 @@
 //! * [`beam`]: the beam between two stops (the pipe of Dumont & Paoli, its
 //!   scenes, the exact stability limit);
 //! * [`analysis`]: contact events and phase errors from recorded histories;
+//! * [`vibro`]: vibro-impact analysis observers — impacts per contact
+//!   ([`ImpactObserver`]: time, forcing phase, pre-impact velocity,
+//!   impulse), the stroboscopic Poincaré section ([`PoincareObserver`]) and
+//!   the window statistics of a run ([`Summary`]), built together from a
+//!   [`VibroConfig`];
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
 //!
@@ -24,7 +29,9 @@ pub mod observers;
 pub mod problem;
 pub mod runner;
 pub mod study;
+pub mod vibro;
 
 pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
 pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};
+pub use vibro::{forcing_phase, response_period, Crossing, Impact, ImpactObserver, ImpactStats, Piece, PoincareObserver, PoincarePoint, Summary, Vibro, VibroConfig, WindowObserver};

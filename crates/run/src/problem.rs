@@ -148,7 +148,8 @@ impl BarProblem {
                 stiffness: self.bar.stiffness(),
                 load: self.bar.load(|_| f),
                 contacts: contacts_of(&self.stops, |node| node, self.mass.massless_contact_node()),
-                forcing: None,
+                forcing: Vec::new(),
+                damping: None,
             };
         }
         Dynamics {
@@ -156,7 +157,8 @@ impl BarProblem {
             stiffness: self.bar.stiffness(),
             load: self.bar.load(|_| f),
             contacts: vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())],
-            forcing: None,
+            forcing: Vec::new(),
+            damping: None,
         }
     }
 

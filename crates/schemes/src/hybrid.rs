@@ -95,6 +95,9 @@ impl Reduced {
     /// obstacle.
     pub fn new(label: String, dy: Dynamics, law: ReducedLaw, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
+        if dy.damping.is_some() {
+            return Err(SchemeError::Structure(crate::spec::DAMPING_SCHEMES));
+        }
         let n = dy.n();
         if dy.k() > 1 {
             return Err(SchemeError::Structure("the reduced schemes (hybrid, reduced-cn, cd-massless) eliminate one massless contact node at dof 0; several contacts: use newmark, theta, ps, penalty or moreau-jean"));

@@ -71,7 +71,7 @@ pub use moreau::MoreauJean;
 pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
-pub use profile::TimeProfile;
+pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, SplitMix64, TimeProfile, MAX_RANDOM_COUNT};
 pub use spec::SchemeSpec;
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
@@ -188,7 +188,8 @@ impl Bounds {
     }
 }
 
-/// A separable time-dependent load `F(t) = shape · s(t)` (on top of the steady load).
+/// A separable time-dependent load term `shape · s(t)` (on top of the steady
+/// load; [`Dynamics::forcing`] sums several).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Forcing {
     /// The spatial load vector.
@@ -250,8 +251,14 @@ pub struct Dynamics {
     /// scheme uses the closed-form projection; with several, the exact
     /// multi-contact solve ([`signorini_contact::MultiProjection`]).
     pub contacts: Vec<Contact>,
-    /// Time-dependent load added to `load`, if any.
-    pub forcing: Option<Forcing>,
+    /// Time-dependent loads added to `load`: `F(t) = load + Σ_j shape_j s_j(t)`
+    /// (empty: the steady load only).
+    pub forcing: Vec<Forcing>,
+    /// Viscous damping matrix `C` (symmetric, positive semi-definite, half-bandwidth
+    /// at most `M`'s; rows of massless contacts zero): `M U'' + C U' + K U = F - Σ λ_i e_{c_i}`.
+    /// `None`: undamped. Taken by [`OneStep`] (implicit steps), [`PaoliSchatzman`]
+    /// and [`MoreauJean`]; [`Reduced`] and [`Nitsche`] refuse it.
+    pub damping: Option<SymBand>,
 }
 
 impl Dynamics {
@@ -320,18 +327,63 @@ impl Dynamics {
         if self.contacts.len() == 1 && massless && self.contacts[0].dof != 0 {
             return Err(SchemeError::Structure("a single massless contact node must be dof 0"));
         }
-        if let Some(f) = &self.forcing {
+        for f in &self.forcing {
             if f.shape.len() != n {
                 return Err(SchemeError::Size { what: "forcing shape", got: f.shape.len(), expected: n });
+            }
+        }
+        if let Some(c) = &self.damping {
+            if c.n() != n {
+                return Err(SchemeError::Size { what: "damping matrix", got: c.n(), expected: n });
+            }
+            let (p, pm) = (c.half_bandwidth(), self.mass.half_bandwidth());
+            if p > pm {
+                return Err(SchemeError::Size { what: "damping half-bandwidth (at most the mass matrix's, so the step matrix keeps its band)", got: p, expected: pm });
+            }
+            for i in 0..n {
+                for j in i.saturating_sub(p)..=i {
+                    let v = c.get(i, j);
+                    if !v.is_finite() {
+                        return Err(SchemeError::Invalid { field: "damping entry", value: v, allowed: "finite" });
+                    }
+                }
+                let d = c.get(i, i);
+                if d < 0.0 {
+                    return Err(SchemeError::Invalid { field: "damping diagonal", value: d, allowed: ">= 0 (C positive semi-definite)" });
+                }
+            }
+            for ct in self.contacts.iter().filter(|ct| ct.massless) {
+                if (ct.dof.saturating_sub(p)..(ct.dof + p + 1).min(n)).any(|j| c.get(ct.dof, j) != 0.0) {
+                    return Err(SchemeError::Structure("a massless contact's row of the damping matrix C must be zero (the node has no velocity of its own)"));
+                }
             }
         }
         Ok(())
     }
 
+    /// The step matrix `M + c_coef C + k_coef K` (`M + k_coef K` exactly as
+    /// before when undamped; `C` widened to `M`'s band).
+    pub(crate) fn step_matrix(&self, c_coef: f64, k_coef: f64) -> SymBand {
+        let a = self.mass.lin_comb(1.0, &self.stiffness, k_coef);
+        match &self.damping {
+            None => a,
+            Some(c) => {
+                let (n, p) = (a.n(), a.half_bandwidth());
+                let mut w = SymBand::zeros(n, p);
+                for i in 0..n {
+                    for j in i.saturating_sub(c.half_bandwidth())..=i {
+                        w.set(i, j, c.get(i, j));
+                    }
+                }
+                a.lin_comb(1.0, &w, c_coef)
+            }
+        }
+    }
+
     /// `F(t)` = steady load + forcing at `t`, into `out`.
     pub fn load_at(&self, t: f64, out: &mut [f64]) {
         out.copy_from_slice(&self.load);
-        if let Some(f) = &self.forcing {
+        for f in &self.forcing {
             let s = f.time.value(t);
             out.iter_mut().zip(&f.shape).for_each(|(o, g)| *o += s * g);
         }
@@ -339,13 +391,13 @@ impl Dynamics {
 
     /// An energy scale of the loads over a horizon `T`, never zero when a
     /// load is: the kinetic energy `(f T)² / (2 m)` that the largest total
-    /// load `f = Σ|F_i| + max|s|·Σ|shape_i|` gives the total mass
+    /// load `f = Σ|F_i| + Σ_j max|s_j|·Σ_i|shape_{j,i}|` gives the total mass
     /// `m = Σ_ij M_ij` in free flight over `T`. The runner's energy-growth
     /// guard uses `max(|E(0)|, this)`, so a system that starts at rest
     /// (E(0) = 0) under a load is not reported as a blow-up.
     pub fn load_energy_scale(&self, t_end: f64) -> f64 {
         let mut f: f64 = self.load.iter().map(|x| x.abs()).sum();
-        if let Some(fo) = &self.forcing {
+        for fo in &self.forcing {
             f += fo.time.max_abs() * fo.shape.iter().map(|x| x.abs()).sum::<f64>();
         }
         let m = self.mass.total();
@@ -443,6 +495,13 @@ pub trait Stepper: Send {
     /// (schemes that keep the discrete energy balance `ΔE = W_f + W_c`), if
     /// the scheme tracks it.
     fn work(&self) -> Option<(f64, f64)> {
+        None
+    }
+    /// Energy dissipated so far by the damping force `C U'` (in the form
+    /// that closes the scheme's discrete balance `ΔE = W_f + W_c - D`;
+    /// 0 without damping), if the scheme tracks it (those that report
+    /// [`work`](Self::work)).
+    fn dissipation(&self) -> Option<f64> {
         None
     }
 }

@@ -13,6 +13,10 @@
 //! is reported as the mean force `λ = -p/dt` at `t_{n+1}`. The constraint
 //! holds at the velocity level only: `u_c` may dip below `g` by O(dt·v).
 //!
+//! Damping ([`crate::Dynamics::damping`]) acts on the same mid-velocity,
+//! `+ dt C V^{n+θ}` on the left: the step matrix is `M + θ dt C + θ² dt² K`
+//! and the right-hand side gains `- (1-θ) dt C V^n`.
+//!
 //! Energy (θ = 1/2, steady F): `ΔE = p (v_c^n + v_c^{n+1})/2 = (1-e)/2 p v_c^n`
 //! (by the complementarity): zero for e = 1, `≤ 0` for an approaching node,
 //! but a gain when the predicted-active node is already separating
@@ -64,7 +68,7 @@ impl MoreauJean {
                 return Err(SchemeError::Size { what, got: v.len(), expected: n });
             }
         }
-        let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, theta * theta * dt * dt);
+        let a_mat = dy.step_matrix(theta * dt, theta * theta * dt * dt);
         let a = a_mat.factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
@@ -143,6 +147,12 @@ impl Stepper for MoreauJean {
         self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
         for ((b, k), f) in self.rhs.iter_mut().zip(&self.ktmp).zip(&self.dy.load) {
             *b += dt * (f - k);
+        }
+        if let Some(cm) = &self.dy.damping {
+            // - (1-θ) dt C V^n
+            cm.mul_vec(&self.v, &mut self.ktmp);
+            let w = (1.0 - th) * dt;
+            self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b -= w * k);
         }
         self.a.solve_in_place(&mut self.rhs);
         if self.multi.is_some() {

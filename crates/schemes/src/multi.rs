@@ -253,7 +253,7 @@ mod tests {
         for (n, p, springs, seed) in [(200, 1, false, 1), (200, 1, true, 2), (120, 3, false, 3), (120, 3, true, 4)] {
             let a = matrix(n, p, seed);
             let contacts: Vec<Contact> = (0..n).map(|i| Contact::new(i, if i % 3 == 0 { Bounds { lo: -0.2, hi: 0.3 } } else { Bounds::obstacle(-0.1) }, false)).collect();
-            let dy = Dynamics { mass: a.clone(), stiffness: a.clone(), load: vec![0.0; n], contacts, forcing: None };
+            let dy = Dynamics { mass: a.clone(), stiffness: a.clone(), load: vec![0.0; n], contacts, forcing: Vec::new(), damping: None };
             let fac = a.factor().unwrap();
             let build = |banded: bool| {
                 let mut ms = MultiSolve::new(&dy, &fac).unwrap();

@@ -57,6 +57,9 @@ impl Nitsche {
     /// dof 0, the end of one P1 element, with a one-sided obstacle.
     pub fn new(label: String, dy: Dynamics, beta: f64, gamma_t: f64, gamma0: f64, theta: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
+        if dy.damping.is_some() {
+            return Err(SchemeError::Structure(crate::spec::DAMPING_SCHEMES));
+        }
         let n = dy.n();
         if dy.k() > 1 {
             return Err(SchemeError::Structure("Nitsche's method is formulated here at the bar's end node 0 (its flux σ = c² u_x(0) is one element's); several contacts: use newmark, theta, ps, penalty or moreau-jean"));

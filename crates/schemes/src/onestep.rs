@@ -22,7 +22,31 @@
 //! With [`ContactLaw::Penalty`] the contact force is a spring outside
 //! `[lo, hi]`, `N(u_c) = κ (lo - u_c)⁺ - κ (u_c - hi)⁺`: `u_c^{n+1} = y_c + a dt² w_c N(u_c^{n+1})`
 //! is solved exactly branch by branch (docs/theory.md §3), `λ = -N`. A time-dependent
-//! load ([`crate::Forcing`]) enters as its value `F(t_{n+1})`.
+//! load (the terms of [`crate::Dynamics::forcing`]) enters as its value `F(t_{n+1})`.
+//!
+//! ## Damping
+//!
+//! With a damping matrix `C` ([`crate::Dynamics::damping`]) the step solves
+//! Newmark's `M A^{n+1} + C V^{n+1} + K U^{n+1} = F^{n+1} - λ^{n+1} e_c` with
+//! `U^{n+1} = Ũ + a dt² A^{n+1}`, `V^{n+1} = Ṽ + γ dt A^{n+1}` and the
+//! predictors `Ũ = U^n + dt V^n + b dt² A^n`, `Ṽ = V^n + (1-γ) dt A^n`:
+//!
+//! ```text
+//! (M + γ dt C + a dt² K) U^{n+1} = M U^n + dt P^n + b dt² R^n + C (γ dt Ũ - a dt² Ṽ) + a dt² (F - λ^{n+1} e_c)
+//! A^{n+1} = (U^{n+1} - Ũ)/(a dt²),   V^{n+1} = Ṽ + γ dt A^{n+1}
+//! R^{n+1} = F - K U^{n+1} - C V^{n+1} - λ^{n+1} e_c,   P^{n+1} as above
+//! ```
+//!
+//! (`M Ũ` in its momentum form; the velocity and acceleration vectors are
+//! kept besides `P`, `R` because `C` acts on `V`, not on `M V`; they are 0
+//! on massless contact dofs, whose rows of `C` must vanish). The contact
+//! solve is unchanged (`μ = -a dt² λ`). The damping does the work
+//! `D = Σ ½ (C V^n + C V^{n+1})ᵀ (U^{n+1} - U^n)` (trapezoid, like the
+//! forcing's), so that for Newmark-CN `ΔE = W_f + W_c - D` exactly: `D =
+//! Σ dt V̄ᵀ C V̄ >= 0` with `V̄ = (U^{n+1} - U^n)/dt`. An explicit step
+//! (`a = 0`) refuses damping (its step would need a solve with `M + γ dt C`);
+//! undamped problems take exactly the arithmetic they took before damping
+//! existed (and the fused tridiagonal path, which damped ones do not).
 
 use crate::multi::MultiSolve;
 use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
@@ -76,8 +100,14 @@ pub struct OneStep {
     u_prev: Vec<f64>,
     work_f: f64,
     work_c: f64,
-    /// The forcing's time profile at t_n (so one evaluation per step).
-    s_now: f64,
+    /// Work of the damping force so far (see the module docs).
+    work_d: f64,
+    /// Each forcing term's time profile at t_n (so one evaluation per step)
+    /// and at t_{n+1} (filled by the step).
+    s_now: Vec<f64>,
+    s_next: Vec<f64>,
+    /// With damping: the velocity and acceleration vectors and scratch.
+    damp: Option<Damped>,
     /// Diagonals of M and K for the fused tridiagonal path (bar).
     tri: Option<Tridiagonals>,
     /// Per-contact force and status of the last step.
@@ -95,6 +125,19 @@ pub struct OneStep {
     /// the step, the penalty stiffness of each stop.
     multi: Option<MultiSolve>,
     kappas: Vec<f64>,
+}
+
+/// The state a damped step needs besides `P`, `R` (module docs, "Damping").
+struct Damped {
+    /// `V^n`, `A^n` (zero on massless contact dofs).
+    vel: Vec<f64>,
+    acc: Vec<f64>,
+    /// The predictors `Ũ`, `Ṽ` of the step.
+    ut: Vec<f64>,
+    vt: Vec<f64>,
+    /// `C V^n`, and scratch for `C x`.
+    cv: Vec<f64>,
+    cx: Vec<f64>,
 }
 
 /// `M` and `K` as (diagonal, sub-diagonal) pairs; `sub[i] = A[i][i-1]`.
@@ -161,7 +204,10 @@ impl OneStep {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
-        let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, prm.a_new * dt * dt);
+        if dy.damping.is_some() && prm.a_new == 0.0 {
+            return Err(SchemeError::Structure("an explicit step (β = 0) does not take damping (its step would need a solve with M + γ dt C): use an implicit one (newmark, theta, penalty-cn) or ps"));
+        }
+        let a_mat = dy.step_matrix(prm.gamma * dt, prm.a_new * dt * dt);
         let a = a_mat.factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
@@ -185,12 +231,30 @@ impl OneStep {
         dy.stiffness.mul_vec(&init.u, &mut ku);
         let mut f = vec![0.0; n];
         dy.load_at(0.0, &mut f);
-        let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, k)| f - k).collect();
+        let mut damp = None;
+        let mut r: Vec<f64> = if let Some(cm) = &dy.damping {
+            let mut cv = vec![0.0; n];
+            cm.mul_vec(&init.v, &mut cv);
+            let r = f.iter().zip(&ku).zip(&cv).map(|((f, k), c)| f - k - c).collect();
+            damp = Some(Damped { vel: init.v.clone(), acc: vec![0.0; n], ut: vec![0.0; n], vt: vec![0.0; n], cv, cx: vec![0.0; n] });
+            r
+        } else {
+            f.iter().zip(&ku).map(|(f, k)| f - k).collect()
+        };
         for ct in dy.contacts.iter().filter(|ct| ct.massless) {
             r[ct.dof] = 0.0;
             mom[ct.dof] = 0.0;
         }
-        let tri = (a.half_bandwidth() == 1 && n >= 2).then(|| Tridiagonals {
+        if let Some(d) = &mut damp {
+            // A^0 = M⁻¹ R^0 on the massive dofs (zero on massless contact rows).
+            let s = dy.massive_start();
+            d.acc[s..].copy_from_slice(&r[s..]);
+            m_massive.solve_in_place(&mut d.acc[s..]);
+            for ct in dy.contacts.iter().filter(|ct| ct.massless) {
+                (d.acc[ct.dof], d.vel[ct.dof]) = (0.0, 0.0);
+            }
+        }
+        let tri = (a.half_bandwidth() == 1 && n >= 2 && damp.is_none()).then(|| Tridiagonals {
             md: dy.mass.diagonal(0),
             ms: dy.mass.diagonal(1),
             kd: dy.stiffness.diagonal(0),
@@ -206,10 +270,13 @@ impl OneStep {
             kappas: Vec::new(),
             tri,
             law: ContactLaw::Projection,
-            u_prev: if dy.forcing.is_some() { init.u.clone() } else { Vec::new() },
+            u_prev: if dy.forcing.is_empty() { Vec::new() } else { init.u.clone() },
             work_f: 0.0,
             work_c: 0.0,
-            s_now: dy.forcing.as_ref().map_or(0.0, |f| f.time.value(0.0)),
+            work_d: 0.0,
+            s_now: dy.forcing.iter().map(|f| f.time.value(0.0)).collect(),
+            s_next: vec![0.0; dy.forcing.len()],
+            damp,
             f,
             label,
             prm,
@@ -318,7 +385,7 @@ impl OneStep {
     /// `y` in `rhs`: the contact solve, then the update of `R` and `P`.
     /// Only the contacts with a force now or at the step before are
     /// visited (an inactive obstacle costs the solver's bound check).
-    fn finish_multi(&mut self, an: f64, dt: f64, g: f64, s_next: f64) -> Result<StepReport, SchemeError> {
+    fn finish_multi(&mut self, an: f64, dt: f64, g: f64) -> Result<StepReport, SchemeError> {
         // `touched`: contacts whose force was nonzero at the step before.
         let mut touched = std::mem::take(&mut self.touched);
         match self.law {
@@ -385,7 +452,8 @@ impl OneStep {
             work += -0.5 * (self.prev_lams[i] + lam) * (x - self.rhs[c]);
         }
         self.work_c += work;
-        self.add_forcing_work(s_next);
+        self.add_forcing_work();
+        self.damped_kinematics(an, dt, g);
         self.update_acceleration_and_momentum(dt, g);
         if self.dy.massless_contact() {
             for ct in &self.dy.contacts {
@@ -414,15 +482,34 @@ impl OneStep {
     }
 
     /// Work of the forcing over the step just taken, `½ (F^n + F^{n+1})ᵀ(U^{n+1} - U^n)`
-    /// (the form of the Newmark-CN energy identity); `s_next` is the
-    /// profile at `t_{n+1}`.
+    /// (the form of the Newmark-CN energy identity), term by term; `s_next`
+    /// holds each profile at `t_{n+1}`.
     #[inline]
-    fn add_forcing_work(&mut self, s_next: f64) {
-        if let Some(fo) = &self.dy.forcing {
+    fn add_forcing_work(&mut self) {
+        for (j, fo) in self.dy.forcing.iter().enumerate() {
             let gdu: f64 = fo.shape.iter().zip(&self.u).zip(&self.u_prev).map(|((g, u1), u0)| g * (u1 - u0)).sum();
-            self.work_f += 0.5 * (self.s_now + s_next) * gdu;
-            self.s_now = s_next;
+            self.work_f += 0.5 * (self.s_now[j] + self.s_next[j]) * gdu;
+            self.s_now[j] = self.s_next[j];
         }
+    }
+
+    /// With damping, once `U^{n+1}` is in `u` (and `U^n` in `rhs`):
+    /// `A^{n+1} = (U^{n+1} - Ũ)/(a dt²)`, `V^{n+1} = Ṽ + γ dt A^{n+1}`,
+    /// `C V^{n+1}`, and the damping work `½ (C V^n + C V^{n+1})ᵀ (U^{n+1} - U^n)`.
+    #[inline]
+    fn damped_kinematics(&mut self, an: f64, dt: f64, g: f64) {
+        let (Some(d), Some(cm)) = (&mut self.damp, &self.dy.damping) else { return };
+        for ((((a, v), u1), ut), vt) in d.acc.iter_mut().zip(d.vel.iter_mut()).zip(&self.u).zip(&d.ut).zip(&d.vt) {
+            *a = (u1 - ut) / an;
+            *v = vt + g * dt * *a;
+        }
+        for ct in self.dy.contacts.iter().filter(|ct| ct.massless) {
+            (d.acc[ct.dof], d.vel[ct.dof]) = (0.0, 0.0);
+        }
+        cm.mul_vec(&d.vel, &mut d.cx);
+        let w: f64 = d.cv.iter().zip(&d.cx).zip(&self.u).zip(&self.rhs).map(|(((c0, c1), u1), u0)| (c0 + c1) * (u1 - u0)).sum();
+        self.work_d += 0.5 * w;
+        std::mem::swap(&mut d.cv, &mut d.cx);
     }
 
     /// `R^{n+1} = F - K U^{n+1}` and `P^{n+1} = P^n + dt((1-γ) R^n + γ R^{n+1})`
@@ -430,7 +517,15 @@ impl OneStep {
     /// tridiagonal path).
     #[inline(always)]
     fn update_acceleration_and_momentum(&mut self, dt: f64, g: f64) {
-        if let Some(t) = &self.tri {
+        if let Some(d) = &self.damp {
+            // R^{n+1} = F - K U^{n+1} - C V^{n+1} (`cv` holds C V^{n+1}).
+            self.dy.stiffness.mul_vec(&self.u, &mut self.ku);
+            for ((((p, r), f), k), cv) in self.mom.iter_mut().zip(self.r.iter_mut()).zip(&self.f).zip(&self.ku).zip(&d.cv) {
+                let rn = f - k - cv;
+                *p += dt * ((1.0 - g) * *r + g * rn);
+                *r = rn;
+            }
+        } else if let Some(t) = &self.tri {
             let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
             tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
                 let rn = f[i] - ku;
@@ -465,16 +560,23 @@ impl Stepper for OneStep {
         let dt2 = dt * dt;
         let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
         let c = self.dy.contact().dof;
-        let s_next = if let Some(fo) = &self.dy.forcing {
+        if let Some((first, rest)) = self.dy.forcing.split_first() {
+            // F = load + s_0 shape_0 + s_1 shape_1 + ... (one term: as before).
             self.u_prev.copy_from_slice(&self.u);
-            let s1 = fo.time.value((self.n + 1) as f64 * dt);
-            for ((f, l), g) in self.f.iter_mut().zip(&self.dy.load).zip(&fo.shape) {
+            let t1 = (self.n + 1) as f64 * dt;
+            for (s, fo) in self.s_next.iter_mut().zip(&self.dy.forcing) {
+                *s = fo.time.value(t1);
+            }
+            let s1 = self.s_next[0];
+            for ((f, l), g) in self.f.iter_mut().zip(&self.dy.load).zip(&first.shape) {
                 *f = l + s1 * g;
             }
-            s1
-        } else {
-            0.0
-        };
+            for (fo, &sj) in rest.iter().zip(&self.s_next[1..]) {
+                for (f, g) in self.f.iter_mut().zip(&fo.shape) {
+                    *f += sj * g;
+                }
+            }
+        }
         // b = M U^n + dt P^n + b dt² R^n + a dt² F
         if let (Some(t), Some((l, inv_d))) = (&self.tri, self.a.tridiagonal_factors()) {
             // Bar: b is assembled inside the forward sweep, whose loop-carried
@@ -485,10 +587,20 @@ impl Stepper for OneStep {
             for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.f) {
                 *b += dt * p + ao * r + an * f;
             }
+            if let (Some(d), Some(cm)) = (&mut self.damp, &self.dy.damping) {
+                // + C (γ dt Ũ - a dt² Ṽ), Ũ = U + dt V + b dt² A, Ṽ = V + (1-γ) dt A.
+                for (((((ut, vt), x), u), v), a) in d.ut.iter_mut().zip(d.vt.iter_mut()).zip(d.cx.iter_mut()).zip(&self.u).zip(&d.vel).zip(&d.acc) {
+                    *ut = u + dt * v + ao * a;
+                    *vt = v + (1.0 - g) * dt * a;
+                    *x = g * dt * *ut - an * *vt;
+                }
+                cm.mul_vec(&d.cx, &mut self.ku);
+                self.rhs.iter_mut().zip(&self.ku).for_each(|(b, k)| *b += k);
+            }
             self.a.solve_in_place(&mut self.rhs);
         }
         if self.dy.k() > 1 {
-            return self.finish_multi(an, dt, g, s_next);
+            return self.finish_multi(an, dt, g);
         }
         let (lambda, active) = match self.law {
             ContactLaw::Projection if an == 0.0 => {
@@ -511,8 +623,9 @@ impl Stepper for OneStep {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         self.work_c += -0.5 * (self.lambda + lambda) * (self.u[c] - self.u_c_prev);
-        self.add_forcing_work(s_next);
+        self.add_forcing_work();
         self.lambda = lambda;
+        self.damped_kinematics(an, dt, g);
         self.update_acceleration_and_momentum(dt, g);
         // The contact row: the force term (or, massless, R_c = P_c = 0).
         if self.dy.contacts[0].massless {
@@ -533,6 +646,12 @@ impl Stepper for OneStep {
     /// balance shows what the scheme does not conserve).
     fn work(&self) -> Option<(f64, f64)> {
         Some((self.work_f, self.work_c))
+    }
+
+    /// `D = Σ ½ (C V^n + C V^{n+1})ᵀ (U^{n+1} - U^n)` (0 undamped): for
+    /// Newmark-CN with the projection, `ΔE = W_f + W_c - D` exactly.
+    fn dissipation(&self) -> Option<f64> {
+        Some(self.work_d)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {

@@ -28,6 +28,20 @@
 //! Energy at half steps (for any β; docs/theory.md §4.3, balance §7.3):
 //! `E^{n+1/2} = ½ VᵀMV + ½ (β - 1/4) dt² VᵀKV + ½ ŪᵀKŪ - FᵀŪ`,
 //! `V = (U^{n+1} - U^n)/dt`, `Ū = (U^n + U^{n+1})/2`.
+//!
+//! Several forcing terms (`F(t) = load + Σ_j shape_j s_j(t)`) each enter
+//! with their own exact means, `G^n = Σ_j shape_j (β m_j^{n+1} + (1-2β) m_j^n + β m_j^{n-1})`.
+//!
+//! Damping ([`crate::Dynamics::damping`]) enters centred,
+//!
+//! ```text
+//! M (U^{n+1} - 2U^n + U^{n-1})/dt² + C (U^{n+1} - U^{n-1})/(2 dt) + K (β U^{n+1} + (1-2β) U^n + β U^{n-1}) = G^n - λ^n e_c
+//! ```
+//!
+//! so the step matrix is `M + dt/2 C + β dt² K` (the contact solve and the
+//! restitution law unchanged), and the balance becomes
+//! `E^{n+1/2} - E^{1/2} = W_f + W_c - D` with
+//! `D = Σ (U^{n+1} - U^{n-1})ᵀ C (U^{n+1} - U^{n-1}) / (4 dt) >= 0`.
 
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
@@ -52,9 +66,13 @@ pub struct PaoliSchatzman {
     ktmp: Vec<f64>,
     work_forcing: f64,
     work_contact: f64,
-    /// Means of the forcing's time profile over [t_{n-1}, t_n], [t_n, t_{n+1}]
-    /// (rolled each step, so one new mean per step).
-    means: [f64; 2],
+    /// Work of the damping force since `t_{1/2}` (module docs).
+    work_damping: f64,
+    /// Per forcing term, the means of its time profile over [t_{n-1}, t_n],
+    /// [t_n, t_{n+1}] (rolled each step, so one new mean per step).
+    means: Vec<[f64; 2]>,
+    /// Per forcing term, its coefficient `β m^{n+1} + (1-2β) m^n + β m^{n-1}` of the step.
+    g_coefs: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
     /// Several contacts: the exact solve, the contacts whose bounds move
@@ -80,7 +98,7 @@ impl PaoliSchatzman {
         let u = start.displacement().to_vec();
         let dy = start.into_dynamics();
         let n = dy.n();
-        let a_mat = dy.mass.lin_comb(1.0, &dy.stiffness, beta * dt * dt);
+        let a_mat = dy.step_matrix(0.5 * dt, beta * dt * dt);
         let a = a_mat.factor()?;
         let c = dy.contact().dof;
         let k = dy.k();
@@ -98,6 +116,7 @@ impl PaoliSchatzman {
         w[c] = 1.0;
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
+        let terms = dy.forcing.len();
         Ok(Self {
             label,
             beta,
@@ -114,7 +133,9 @@ impl PaoliSchatzman {
             ktmp: vec![0.0; n],
             work_forcing: 0.0,
             work_contact: 0.0,
-            means: [0.0; 2],
+            work_damping: 0.0,
+            means: vec![[0.0; 2]; terms],
+            g_coefs: vec![0.0; terms],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
             multi,
@@ -126,18 +147,32 @@ impl PaoliSchatzman {
     }
 
     fn with_means(mut self) -> Self {
-        if let Some(f) = &self.dy.forcing {
-            let dt = self.dt;
-            self.means = [f.time.mean(0.0, dt), f.time.mean(dt, 2.0 * dt)];
+        let dt = self.dt;
+        for (m, f) in self.means.iter_mut().zip(&self.dy.forcing) {
+            *m = [f.time.mean(0.0, dt), f.time.mean(dt, 2.0 * dt)];
         }
         self
+    }
+
+    /// Work of the forcing terms over the step just taken, `½ G^nᵀ(U^{n+1} - U^{n-1})`
+    /// (`U^{n+1}` in `u`, `U^{n-1}` in `rhs`), and of the damping.
+    fn add_step_work(&mut self) {
+        for (f, gc) in self.dy.forcing.iter().zip(&self.g_coefs) {
+            self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
+        }
+        if let Some(cm) = &self.dy.damping {
+            for ((t, a), b) in self.tmp.iter_mut().zip(&self.u).zip(&self.rhs) {
+                *t = a - b;
+            }
+            self.work_damping += cm.quad_form(&self.tmp) / (4.0 * self.dt);
+        }
     }
 
     /// The rest of a step with several contacts (each with its own
     /// restitution), from the unconstrained `U^{n+1}` in `rhs`. Bounds move
     /// only for contacts with `e > 0`; only contacts with a force now or at
     /// the step before are visited.
-    fn finish_multi(&mut self, g_coef: Option<f64>) -> Result<StepReport, SchemeError> {
+    fn finish_multi(&mut self) -> Result<StepReport, SchemeError> {
         let dt2 = self.dt * self.dt;
         let ms = self.multi.as_mut().expect("several contacts");
         for &i in &self.moving {
@@ -183,9 +218,7 @@ impl PaoliSchatzman {
             marked[i] = keep;
             keep
         });
-        if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
-            self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
-        }
+        self.add_step_work();
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, self.lams[0])), active: self.acts[0] })
     }
 
@@ -229,29 +262,36 @@ impl Stepper for PaoliSchatzman {
         for ((b, f), k) in self.rhs.iter_mut().zip(&self.dy.load).zip(&self.ktmp) {
             *b += dt2 * (f - k);
         }
-        // Time-dependent load: G^n = shape · (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
-        let g_coef = self.dy.forcing.as_ref().map(|f| {
+        // + dt/2 C U^{n-1} (damping, centred).
+        if let Some(cm) = &self.dy.damping {
+            cm.mul_vec(&self.u_prev, &mut self.ktmp);
+            let half = 0.5 * self.dt;
+            self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b += half * k);
+        }
+        // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
+        for ((f, m), gc) in self.dy.forcing.iter().zip(self.means.iter_mut()).zip(self.g_coefs.iter_mut()) {
             let (dt, n) = (self.dt, self.n as f64);
             let next = f.time.mean((n + 1.0) * dt, (n + 2.0) * dt);
-            let g = beta * next + (1.0 - 2.0 * beta) * self.means[1] + beta * self.means[0];
-            self.means = [self.means[1], next];
-            g
-        });
-        if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
-            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * gc * g);
+            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
+            *m = [m[1], next];
+            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * *gc * g);
         }
         if self.dy.massless_contact() {
             // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
-            let s1 = self.dy.forcing.as_ref().map(|f| f.time.value((self.n + 1) as f64 * self.dt));
+            let t1 = (self.n + 1) as f64 * self.dt;
             for ct in &self.dy.contacts {
                 let c = ct.dof;
-                let fc = self.dy.load[c] + self.dy.forcing.as_ref().map_or(0.0, |f| f.shape[c] * s1.unwrap_or(0.0));
+                // `load + 0.0` without forcing, `load + term_0` with one: as before.
+                let mut fc = self.dy.load[c] + self.dy.forcing.first().map_or(0.0, |f| f.shape[c] * f.time.value(t1));
+                for f in self.dy.forcing.iter().skip(1) {
+                    fc += f.shape[c] * f.time.value(t1);
+                }
                 self.rhs[c] = beta * dt2 * fc;
             }
         }
         self.a.solve_in_place(&mut self.rhs);
         if self.multi.is_some() {
-            return self.finish_multi(g_coef);
+            return self.finish_multi();
         }
         let up_c = self.u_prev[c];
         let Bounds { lo, hi } = self.dy.contact().bounds;
@@ -274,9 +314,7 @@ impl Stepper for PaoliSchatzman {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs`.
-        if let (Some(gc), Some(f)) = (g_coef, &self.dy.forcing) {
-            self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
-        }
+        self.add_step_work();
         self.work_contact += -0.5 * lambda * (self.u[c] - self.rhs[c]);
         (self.lams[0], self.acts[0]) = (lambda, pr.active);
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, lambda)), active: pr.active })
@@ -286,6 +324,12 @@ impl Stepper for PaoliSchatzman {
     /// `t_{1/2}` (see the module docs).
     fn work(&self) -> Option<(f64, f64)> {
         Some((self.work_forcing, self.work_contact))
+    }
+
+    /// `D = Σ (U^{n+1} - U^{n-1})ᵀ C (U^{n+1} - U^{n-1}) / (4 dt)` since
+    /// `t_{1/2}` (0 undamped): `E^{n+1/2} - E^{1/2} = W_f + W_c - D`.
+    fn dissipation(&self) -> Option<f64> {
+        Some(self.work_damping)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {

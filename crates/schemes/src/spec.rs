@@ -4,6 +4,9 @@ use crate::{ContactLaw, Dynamics, Initial, MoreauJean, Nitsche, OneStep, OneStep
 use std::fmt;
 use std::str::FromStr;
 
+/// The refusal of a damping matrix by the schemes that do not take one.
+pub(crate) const DAMPING_SCHEMES: &str = "this scheme takes no damping matrix: damping needs newmark, theta, ps, penalty-cn or moreau-jean";
+
 /// A time scheme with its parameters (docs/theory.md §4; names: §4.8).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SchemeSpec {
@@ -209,8 +212,16 @@ impl SchemeSpec {
         let label = self.to_string();
         // These schemes take the steady load only: refuse a time-dependent
         // one rather than ignore it.
-        if dy.forcing.is_some() && matches!(self, SchemeSpec::MoreauJean { .. } | SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {
+        if !dy.forcing.is_empty() && matches!(self, SchemeSpec::MoreauJean { .. } | SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {
             return Err(SchemeError::Structure("this scheme takes a steady load only: a time-dependent forcing needs newmark, theta, ps, or penalty"));
+        }
+        if dy.damping.is_some() {
+            if matches!(self, SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {
+                return Err(SchemeError::Structure(DAMPING_SCHEMES));
+            }
+            if matches!(self, SchemeSpec::Penalty { explicit: true, .. }) {
+                return Err(SchemeError::Structure("penalty-cd is explicit and takes no damping (its step would need a solve with M + dt/2 C): use penalty-cn, newmark, theta, ps or moreau-jean"));
+            }
         }
         Ok(match *self {
             SchemeSpec::Newmark { beta, gamma } => Box::new(OneStep::new(label, dy, OneStepParams::newmark(beta, gamma), dt, init)?),

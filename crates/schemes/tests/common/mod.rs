@@ -371,7 +371,8 @@ pub fn bar_scene(m: usize, mass: BarMass, free: bool, gap: f64, body: f64, forci
         stiffness: bar.stiffness(),
         load: bar.load(|_| body),
         contacts: vec![Contact::new(0, Bounds::obstacle(gap), mass.massless_contact_node())],
-        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }),
+        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect(),
+        damping: None,
     };
     assert_same("bar mass", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
@@ -393,7 +394,8 @@ pub fn beam_scene(j: usize, k2: f64, lo: f64, hi: f64, shape: Vec<f64>, s: Sine)
         stiffness: beam.stiffness(),
         load: vec![0.0; n],
         contacts: vec![Contact::new(2 * j - 2, Bounds { lo, hi }, false)],
-        forcing: Some(Forcing { shape: shape.clone(), time: s.profile() }),
+        forcing: vec![Forcing { shape: shape.clone(), time: s.profile() }],
+        damping: None,
     };
     assert_eq!(dy.stiffness.half_bandwidth(), 3, "the beam must take the banded (non-tridiagonal) path");
     assert_same("beam mass", &dy.mass, &mm);
@@ -870,7 +872,8 @@ pub fn bar_stops_scene(m: usize, mass: BarMass, free: bool, stops: &[OStop], bod
         stiffness: bar.stiffness(),
         load: bar.load(|_| body),
         contacts: stops.iter().map(|s| Contact { dof: s.dof, bounds: Bounds { lo: s.lo, hi: s.hi }, massless, restitution: s.e, stiffness: s.kappa }).collect(),
-        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }),
+        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect(),
+        damping: None,
     };
     assert_same("bar mass at the stops", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
