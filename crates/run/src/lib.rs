@@ -26,6 +26,7 @@
 pub mod analysis;
 pub mod beam;
 pub mod observers;
+pub mod oscillator;
 pub mod problem;
 pub mod runner;
 pub mod study;
