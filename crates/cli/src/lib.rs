@@ -39,7 +39,9 @@
 
 #[cfg(feature = "fuzz")]
 pub mod fuzz;
+pub mod excitation;
 pub mod scene;
+pub mod sweep;
 
 use scene::{BarRun, ContactSet, OutputToml, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
@@ -52,7 +54,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 /// Every file `signorini run` writes.
-pub const OUTPUT_FILES: [&str; 7] = ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg"];
+pub const OUTPUT_FILES: [&str; 13] = ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg"];
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]
@@ -60,6 +62,9 @@ pub enum CliError {
     /// The scene is invalid.
     #[error(transparent)]
     Scene(#[from] scene::SceneError),
+    /// A sweep's options, shards or folder.
+    #[error(transparent)]
+    Sweep(#[from] sweep::SweepError),
     /// The run failed (blow-up, instability, …).
     #[error(transparent)]
     Run(#[from] RunError),
@@ -100,7 +105,7 @@ impl CliError {
     /// was run), 130 for an interrupted run, 1 for a run that failed.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Scene(_) | CliError::Stale { .. } | CliError::Disk { .. } => 2,
+            CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } => 2,
             CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } => 130,
             _ => 1,
         }
@@ -311,10 +316,16 @@ impl Observer for Progress {
 }
 
 fn progress(total: usize, show: bool) -> Progress {
+    Progress { bar: progress_bar(total as u64, show, "steps"), every: (total / 10_000).max(1) }
+}
+
+/// A progress bar with an ETA on stderr (hidden unless `show`).
+pub(crate) fn progress_bar(total: u64, show: bool, unit: &str) -> indicatif::ProgressBar {
     let target = if show { indicatif::ProgressDrawTarget::stderr() } else { indicatif::ProgressDrawTarget::hidden() };
-    let bar = indicatif::ProgressBar::with_draw_target(Some(total as u64), target);
-    bar.set_style(indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {elapsed} elapsed, ETA {eta}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
-    Progress { bar, every: (total / 10_000).max(1) }
+    let bar = indicatif::ProgressBar::with_draw_target(Some(total), target);
+    let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}");
+    bar.set_style(indicatif::ProgressStyle::with_template(&template).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    bar
 }
 
 /// What a run did.
@@ -356,6 +367,7 @@ pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
     let (steps, series_cols, nodes) = match scene {
         Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.elements as f64 + 1.0),
         Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
+        Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 8, 1.0),
     };
     let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
     let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
@@ -413,6 +425,43 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
     prepare_output(out, opts.clean)?;
     match scene {
         Scene::Bar(b) => run_bar(b, scene_file, out, opts),
+        Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
+            let (dy, init) = osc.dynamics()?;
+            let mut stepper = scheme.build(dy, *dt, &init).map_err(RunError::from)?;
+            let mut cfg = RunConfig::new(*dt, *t_end)?;
+            cfg.interrupt = opts.interrupt;
+            let steps = cfg.steps();
+            let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
+            let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, 0, cols)?;
+            let mut data = PlotData::new(steps, 0, None);
+            let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), 0, *dt, *t_end, *omega)?;
+            let mut prog = progress(steps, opts.progress);
+            let start = std::time::Instant::now();
+            let res = {
+                let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
+                if let Some(v) = vib.as_mut() {
+                    obs.push(&mut v.vibro);
+                }
+                run(stepper.as_mut(), &init.u, &cfg, &mut obs)
+            };
+            let wall = start.elapsed().as_secs_f64();
+            let mut notes = Vec::new();
+            if scene_file.output.plots {
+                plot(&mut notes, out, "x.svg", "oscillator displacement x(t)", "x", data.points.iter().map(|p| (p.0, p.1)).collect(), None);
+            }
+            let mut lines = Vec::new();
+            if let Some(v) = vib {
+                lines.extend(v.finish(scene_file.output.plots, &mut notes)?);
+            }
+            let s = match res {
+                Ok(s) => s,
+                Err(error) => return Err(CliError::Stopped { error, notes }),
+            };
+            lines.insert(0, format!("oscillator ({scheme}, dt = {dt:e}): {} steps in {wall:.3} s, {} contact steps; max |x| = {:.6}", s.steps, s.contact_steps, data.max_abs));
+            lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
+            lines.push(format!("wrote {}", out.display()));
+            Ok(Summary { lines })
+        }
         Scene::Beam { pipe, scene, force, contacts } => {
             let (mut stepper, init, beam) = build_with_stops(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()))?;
             let mut cfg = RunConfig::new(scene.dt, scene.t_end)?;
@@ -429,12 +478,16 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             } else {
                 None
             };
+            let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), beam.tip_dof(), scene.dt, scene.t_end, Some(pipe.support.1))?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
             let res = {
                 let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
                 if let Some(s) = snaps.as_mut() {
                     obs.push(s);
+                }
+                if let Some(v) = vib.as_mut() {
+                    obs.push(&mut v.vibro);
                 }
                 run(stepper.as_mut(), &init.u, &cfg, &mut obs)
             };
@@ -447,6 +500,10 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                     plot_forces(&mut notes, out, set, f, scene.t_end, " (scaled equation: force / ρS, m² s⁻²)");
                 }
             }
+            let analysis_lines = match vib {
+                Some(v) => v.finish(scene_file.output.plots, &mut notes)?,
+                None => Vec::new(),
+            };
             let s = match res {
                 Ok(s) => s,
                 Err(error) => return Err(CliError::Stopped { error, notes }),
@@ -457,6 +514,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 None => format!("stops {:?}", pipe.stops),
             };
             let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m ({stops})", s.steps, s.contact_steps)];
+            lines.extend(analysis_lines);
             lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
             lines.push(format!("wrote {}", out.display()));
             Ok(Summary { lines })
@@ -487,12 +545,16 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     } else {
         None
     };
+    let mut vib = Analysis::new(file, out, stepper.dynamics(), dof0, b.dt, b.t_end, None)?;
     let mut prog = progress(steps, opts.progress);
     let start = std::time::Instant::now();
     let res = {
         let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
         if let Some(n) = norms.as_mut() {
             obs.push(n);
+        }
+        if let Some(v) = vib.as_mut() {
+            obs.push(&mut v.vibro);
         }
         if let Some(s) = snaps.as_mut() {
             obs.push(s);
@@ -518,6 +580,10 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         }
         plot(&mut notes, out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
     }
+    let analysis_lines = match vib {
+        Some(v) => v.finish(file.output.plots, &mut notes)?,
+        None => Vec::new(),
+    };
     // A run that stopped early has no norms over [0, T]: no norms.csv.
     let s = match res {
         Ok(s) => s,
@@ -533,6 +599,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         s.steps,
         s.contact_steps
     )];
+    lines.extend(analysis_lines);
     if let Some(n) = norms {
         let r = n.report();
         let mut w = csv::Writer::from_writer(create(out, "norms.csv")?);
@@ -557,6 +624,7 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
     let (elements, is_beam, unknowns, contacts) = match scene {
         Scene::Bar(b) => (b.problem.bar.elements, false, b.problem.bar.dofs(), &b.contacts),
         Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
+        Scene::Oscillator { .. } => (1, false, 1, &None),
     };
     let need = output_estimate(scene, &file.output);
     let free = free_space(out).map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", scene::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
@@ -628,6 +696,24 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                 4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
             )
         }
+        Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
+            let steps = RunConfig::new(*dt, *t_end)?.steps();
+            let (dy, _) = osc.dynamics()?;
+            let stability = match scheme.cfl_limit(&dy).map_err(RunError::from)? {
+                None => "unconditionally stable".to_string(),
+                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e}; dt = {dt:e} is below it"),
+            };
+            let wn = (osc.stiffness / osc.mass).sqrt();
+            format!(
+                "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
+                osc.mass,
+                osc.stiffness,
+                osc.damping_ratio,
+                osc.stop,
+                osc.restitution,
+                omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
+            )
+        }
     };
     Ok(text + &resources)
 }
@@ -652,4 +738,143 @@ pub fn list() -> String {
     s.push_str("beam scenes: fig2 fig3 fig4 (β = 1/2, projection), fig5 fig6 fig7 (penalty 1e8 N/m), fig8 (β = 1/4); contact = \"projection\" (β ∈ [0, 1/2]) or \"penalty\" (stiffness > 0 N/m)\n");
     s.push_str("several contacts (bar or beam): [[stop]] x (a mesh node), lo, hi, restitution ∈ [0, 1] (ps, moreau-jean, beam projection), stiffness > 0 (penalty); [obstacle] lo, hi (number, expression in x or table)\n");
     s
+}
+
+/// The analysis observers a scene's `[output]` asks for (`impacts`,
+/// `poincare`, `summary`), writing `impacts.csv` / `poincare.csv` as they
+/// go and `summary.csv`, `impact_map.svg`, `poincare.svg` at the end.
+struct Analysis {
+    vibro: signorini_run::vibro::Vibro<File, File>,
+    out: std::path::PathBuf,
+    summary: bool,
+}
+
+impl Analysis {
+    fn new(file: &SceneFile, out: &Path, dy: &signorini_schemes::Dynamics, tip: usize, dt: f64, t_end: f64, omega: Option<f64>) -> Result<Option<Self>, CliError> {
+        use signorini_run::vibro::{Piece, VibroConfig};
+        let o = &file.output;
+        if !(o.impacts || o.poincare || o.summary) {
+            return Ok(None);
+        }
+        if o.poincare && omega.is_none() {
+            return Err(scene::SceneError::Field { field: "output.poincare".into(), message: "needs a periodic forcing (the oscillator's [forcing], a beam's support): remove it".into() }.into());
+        }
+        // The transient is in forcing periods (seconds without a forcing).
+        let record_from = omega.map_or(o.transient, |w| o.transient * std::f64::consts::TAU / w);
+        let mut cfg = VibroConfig::for_dynamics(dy, dt, omega, record_from, tip)?;
+        cfg.t_end = Some(t_end);
+        let impacts = if o.impacts {
+            let mut f = create(out, "impacts.csv")?;
+            f.write_all(format!("{}\n", signorini_run::vibro::ImpactObserver::<File>::HEADER).as_bytes()).map_err(|e| CliError::Io(e.to_string()))?;
+            Piece::Csv(f)
+        } else if o.summary {
+            Piece::Memory
+        } else {
+            Piece::Off
+        };
+        let poincare = if o.poincare {
+            let mut f = create(out, "poincare.csv")?;
+            f.write_all(format!("{}\n", signorini_run::vibro::PoincareObserver::<File>::HEADER).as_bytes()).map_err(|e| CliError::Io(e.to_string()))?;
+            Piece::Csv(f)
+        } else {
+            Piece::Off
+        };
+        let vibro = cfg.build(impacts, poincare, o.summary)?;
+        Ok(Some(Self { vibro, out: out.to_path_buf(), summary: o.summary }))
+    }
+
+    /// Writes `summary.csv` and the plots; lines for the terminal.
+    fn finish(self, plots: bool, notes: &mut Vec<String>) -> Result<Vec<String>, CliError> {
+        let mut lines = Vec::new();
+        let s = self.vibro.summary();
+        if self.summary {
+            let mut buf = format!("{}\n", signorini_run::vibro::Summary::csv_header()).into_bytes();
+            s.write_row(&mut buf).map_err(|e| CliError::Io(e.to_string()))?;
+            buf.push(b'\n');
+            std::fs::write(self.out.join("summary.csv"), buf).map_err(|e| CliError::Io(e.to_string()))?;
+            if let Some(st) = s.impacts {
+                lines.push(format!("impacts in the record window: {} ({:.4} per period), mean impulse {:.4e}, impact power {:.4e}", st.count, st.per_period, st.mean_impulse, st.power));
+            }
+            if let Some((n, p)) = s.poincare {
+                lines.push(match p {
+                    Some(p) => format!("response: period-{p} over {n} Poincaré samples"),
+                    None => format!("response: not periodic over {n} Poincaré samples"),
+                });
+            }
+        }
+        if plots {
+            if let Some(im) = &self.vibro.impacts {
+                let mut by_stop: Vec<Series> = Vec::new();
+                for i in im.impacts() {
+                    while by_stop.len() <= i.stop {
+                        by_stop.push(Series { label: format!("stop {}", by_stop.len()), points: vec![], reference: false, style: Style::default() });
+                    }
+                    by_stop[i.stop].points.push((i.phase, i.velocity));
+                }
+                by_stop.retain(|s| !s.points.is_empty());
+                let chart = Chart { title: "impact map: pre-impact velocity against forcing phase", x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
+                match signorini_plot::scatter(&chart, &by_stop, 2) {
+                    Ok(svg) => std::fs::write(self.out.join("impact_map.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
+                    Err(e) => notes.push(format!("impact_map.svg not written: {e}")),
+                }
+            }
+            if let Some(p) = &self.vibro.poincare {
+                let pts: Vec<(f64, f64)> = p.points().iter().map(|q| (q.displacement, q.velocity)).collect();
+                let chart = Chart { title: "Poincaré section: (displacement, velocity) at the forcing period", x_label: "displacement", y_label: "velocity", scale: Scale::Linear, size: (700, 600) };
+                match signorini_plot::scatter(&chart, &[Series { label: "section".into(), points: pts, reference: false, style: Style::default() }], 3) {
+                    Ok(svg) => std::fs::write(self.out.join("poincare.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
+                    Err(e) => notes.push(format!("poincare.svg not written: {e}")),
+                }
+            }
+        }
+        Ok(lines)
+    }
+}
+
+/// A scene's integrator, ready to run: the stepper, its initial
+/// displacement, and the dof read as "the tip" (the oscillator's dof, the
+/// beam's tip, the bar's contact end — contact 0).
+pub struct Built {
+    /// The integrator.
+    pub stepper: Box<dyn signorini_schemes::Stepper>,
+    /// `U⁰`.
+    pub u0: Vec<f64>,
+    /// The tip dof.
+    pub tip: usize,
+}
+
+/// Builds a validated scene's integrator, from the scene's own initial
+/// state or from `start` (a displacement and velocity of the scheme's
+/// unknowns, e.g. the last run's final state in a followed sweep).
+pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
+    let init = |own: signorini_schemes::Initial| -> Result<signorini_schemes::Initial, CliError> {
+        match start {
+            None => Ok(own),
+            Some((u, v)) if u.len() == own.u.len() && v.len() == own.v.len() => Ok(signorini_schemes::Initial { u: u.clone(), v: v.clone() }),
+            Some((u, _)) => Err(CliError::Io(format!("a start state of {} unknowns for a scene of {}", u.len(), own.u.len()))),
+        }
+    };
+    match scene {
+        Scene::Oscillator { osc, scheme, dt, .. } => {
+            let (dy, own) = osc.dynamics()?;
+            let i = init(own)?;
+            let stepper = scheme.build(dy, *dt, &i).map_err(RunError::from)?;
+            Ok(Built { stepper, u0: i.u, tip: 0 })
+        }
+        Scene::Bar(b) => {
+            let p = &b.problem;
+            let i = init(p.initial.clone())?;
+            let dy = p.dynamics();
+            let tip = dy.contacts[0].dof;
+            let stepper = b.scheme.build(dy, b.dt, &i).map_err(RunError::from)?;
+            Ok(Built { stepper, u0: i.u, tip })
+        }
+        Scene::Beam { pipe, scene, force, contacts } => {
+            if start.is_some() {
+                return Err(CliError::Io("a beam run does not start from another run's state yet (--follow takes oscillator and bar scenes)".into()));
+            }
+            let (stepper, i, beam) = build_with_stops(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()))?;
+            Ok(Built { stepper, u0: i.u, tip: beam.tip_dof() })
+        }
+    }
 }

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use signorini_cli::scene::Limits;
+use signorini_cli::sweep::{Axis, Sweep, SweepOptions};
 use signorini_cli::{check, list, run_scene, CliError, RunOptions};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -48,6 +49,86 @@ enum Cmd {
     },
     /// List schemes, masses, benchmarks and beam scenes with their ranges.
     List,
+    /// Sweep one numeric scene field over a grid: Poincaré samples, impacts, statistics and a bifurcation diagram.
+    Sweep {
+        /// The scene (TOML).
+        scene: PathBuf,
+        /// Dotted path of the swept field, e.g. forcing.omega, support.amplitude, stop.0.hi.
+        #[arg(long)]
+        param: String,
+        /// First value.
+        #[arg(long, allow_hyphen_values = true)]
+        from: f64,
+        /// Last value (may be below --from: a downward sweep).
+        #[arg(long, allow_hyphen_values = true)]
+        to: f64,
+        /// Number of runs (>= 1).
+        #[arg(long)]
+        count: usize,
+        /// Logarithmic spacing (both bounds > 0).
+        #[arg(long)]
+        log: bool,
+        /// A second swept field, for a two-parameter map (run r: value r mod count of --param, r div count of --param2).
+        #[arg(long, requires_all = ["from2", "to2", "count2"])]
+        param2: Option<String>,
+        /// First value of --param2.
+        #[arg(long, allow_hyphen_values = true, requires = "param2")]
+        from2: Option<f64>,
+        /// Last value of --param2.
+        #[arg(long, allow_hyphen_values = true, requires = "param2")]
+        to2: Option<f64>,
+        /// Number of values of --param2.
+        #[arg(long, requires = "param2")]
+        count2: Option<usize>,
+        /// Logarithmic spacing of --param2.
+        #[arg(long, requires = "param2")]
+        log2: bool,
+        /// Forcing periods before the record window.
+        #[arg(long, default_value_t = 100.0)]
+        transient: f64,
+        /// Forcing periods recorded.
+        #[arg(long, default_value_t = 10.0)]
+        record: f64,
+        /// Forcing phase of the Poincaré section, in [0, 2π).
+        #[arg(long, default_value_t = 0.0)]
+        phase: f64,
+        /// Start each run from the previous run's final state (continuation: hysteresis).
+        #[arg(long)]
+        follow: bool,
+        /// Run only the I-th of N blocks of runs (I from 0), for `signorini merge`.
+        #[arg(long, value_parser = parse_shard)]
+        shard: Option<(usize, usize)>,
+        /// Continue an interrupted sweep in --out without recomputing its runs.
+        #[arg(long)]
+        resume: bool,
+        /// Threads (default: all cores); the output does not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Output folder (default out/<scene file stem>-sweep).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Memory cap per run, as for `run`.
+        #[arg(long, value_parser = parse_bytes)]
+        max_memory: Option<f64>,
+    },
+    /// Merge the folders of a sharded sweep into the files of the unsharded one.
+    Merge {
+        /// The shard folders.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+/// `I/N`.
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s.split_once('/').ok_or_else(|| format!("{s:?}: I/N, e.g. 3/16 (I from 0 to N - 1)"))?;
+    match (i.trim().parse::<usize>(), n.trim().parse::<usize>()) {
+        (Ok(i), Ok(n)) if n >= 1 && i < n => Ok((i, n)),
+        _ => Err(format!("{s:?}: I/N with N >= 1 and 0 <= I < N, e.g. 3/16")),
+    }
 }
 
 /// `4G`, `512M`, `100k` (powers of 1024) or a plain number of bytes.
@@ -103,6 +184,26 @@ fn main() -> ExitCode {
             let (file, s) = signorini_cli::load(&scene, &limits(max_memory))?;
             let out = out.unwrap_or_else(|| default_out(&scene));
             println!("{}", check(&s, &file, &out)?);
+            Ok(())
+        }
+        Cmd::Sweep { scene, param, from, to, count, log, param2, from2, to2, count2, log2, transient, record, phase, follow, shard, resume, threads, out, max_memory } => {
+            let text = std::fs::read_to_string(&scene).map_err(|e| CliError::Io(format!("cannot read {}: {e}", scene.display())))?;
+            let second = match (param2, from2, to2, count2) {
+                (Some(param), Some(from), Some(to), Some(count)) => Some(Axis { param, from, to, count, log: log2 }),
+                _ => None,
+            };
+            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, follow, shard, resume, threads, progress: std::io::stderr().is_terminal(), interrupt: interrupt_flag() };
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
+            let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
+            for l in signorini_cli::sweep::run(&sweep, &out)? {
+                println!("{l}");
+            }
+            Ok(())
+        }
+        Cmd::Merge { shards, out } => {
+            for l in signorini_cli::sweep::merge(&shards, &out)? {
+                println!("{l}");
+            }
             Ok(())
         }
         Cmd::Run { scene, out, clean, no_disk_check, max_memory } => {

@@ -49,6 +49,8 @@
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use crate::excitation::{ExcitationToml, Table};
+use signorini_run::oscillator::Oscillator;
 use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
 use signorini_schemes::{SchemeError, SchemeSpec};
 use std::fmt;
@@ -89,6 +91,47 @@ pub struct SceneFile {
     pub stop: Vec<StopToml>,
     /// `[obstacle]`: bounds at every unknown node's displacement.
     pub obstacle: Option<ObstacleToml>,
+    /// A one-degree-of-freedom impact oscillator.
+    pub oscillator: Option<OscillatorToml>,
+    /// `[forcing]`: the oscillator's load `F cos(Ω t)` (or another profile).
+    pub forcing: Option<ExcitationToml>,
+    /// `[support]`: the beam's support motion φ(t).
+    pub support: Option<ExcitationToml>,
+    /// `[load]`: a time-dependent distributed or nodal load (bar, beam).
+    pub load: Option<ExcitationToml>,
+    /// The scene file's folder (for files the scene names); not a key.
+    #[serde(skip)]
+    pub base: Option<std::path::PathBuf>,
+}
+
+/// `[oscillator]`: `m x'' + c x' + k x = F(t)`, `x <= stop`, `c = 2 ζ sqrt(k m)`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OscillatorToml {
+    /// Mass m (> 0).
+    pub mass: f64,
+    /// Stiffness k (>= 0).
+    pub stiffness: f64,
+    /// Damping ratio ζ (>= 0; default 0).
+    #[serde(default)]
+    pub damping_ratio: f64,
+    /// The stop: x <= stop.
+    pub stop: f64,
+    /// Restitution r in [0, 1] (default 0).
+    #[serde(default)]
+    pub restitution: f64,
+    /// x(0) (default 0).
+    #[serde(default)]
+    pub initial_displacement: f64,
+    /// x'(0) (default 0).
+    #[serde(default)]
+    pub initial_velocity: f64,
+    /// Time step.
+    pub dt: f64,
+    /// Horizon.
+    pub t_end: f64,
+    /// Scheme (default `ps(r, 0.25)`: Paoli–Schatzman with e = restitution).
+    pub scheme: Option<String>,
 }
 
 /// `[[stop]]`: a point stop `lo <= u(x) <= hi` at a mesh node.
@@ -234,6 +277,21 @@ pub struct OutputToml {
     /// Write SVG plots.
     #[serde(default = "yes")]
     pub plots: bool,
+    /// `impacts.csv` (every impact) and `impact_map.svg`.
+    #[serde(default)]
+    pub impacts: bool,
+    /// `poincare.csv`: stroboscopic samples at the forcing period after the
+    /// transient, and `poincare.svg` (needs a periodic forcing).
+    #[serde(default)]
+    pub poincare: bool,
+    /// `summary.csv`: impact statistics, RMS contact force, max |tip|, the
+    /// response period (over the record window).
+    #[serde(default)]
+    pub summary: bool,
+    /// Forcing periods before the record window of poincare / summary
+    /// (default 0; without a periodic forcing: seconds).
+    #[serde(default)]
+    pub transient: f64,
 }
 
 fn one() -> usize {
@@ -245,7 +303,7 @@ fn yes() -> bool {
 
 impl Default for OutputToml {
     fn default() -> Self {
-        Self { every: 1, snapshots_every: 0, plots: true }
+        Self { every: 1, snapshots_every: 0, plots: true, impacts: false, poincare: false, summary: false, transient: 0.0 }
     }
 }
 
@@ -356,6 +414,19 @@ impl ContactSet {
 pub enum Scene {
     /// A bar.
     Bar(Box<BarRun>),
+    /// The one-degree-of-freedom impact oscillator.
+    Oscillator {
+        /// Its data (load included).
+        osc: Oscillator,
+        /// The scheme.
+        scheme: SchemeSpec,
+        /// Time step.
+        dt: f64,
+        /// Horizon.
+        t_end: f64,
+        /// The forcing frequency (Poincaré section, impact phases).
+        omega: Option<f64>,
+    },
     /// A beam between stops.
     Beam {
         /// The pipe.
@@ -368,6 +439,20 @@ pub enum Scene {
         /// two stops).
         contacts: Option<ContactSet>,
     },
+}
+
+impl Scene {
+    /// What a sweep needs of the scene's clock: the forcing frequency `Ω`
+    /// (the Poincaré section and impact phases), the time step, and the key
+    /// of its horizon (which a sweep sets to `transient + record` forcing
+    /// periods). `None` without a periodic forcing.
+    pub fn sweep_clock(&self) -> Option<(f64, f64, &'static str)> {
+        match self {
+            Scene::Oscillator { omega, dt, .. } => omega.map(|w| (w, *dt, "oscillator.t_end")),
+            Scene::Beam { pipe, scene, .. } => Some((pipe.support.1, scene.dt, "beam.t_end")),
+            Scene::Bar(_) => None,
+        }
+    }
 }
 
 /// What a scene must fit in, checked before anything large is allocated.
@@ -791,6 +876,11 @@ impl SceneFile {
         toml::from_str(text).map_err(|e| SceneError::Toml(e.to_string()))
     }
 
+    /// A scene from a parsed TOML document (unknown keys, types).
+    pub fn from_table(doc: toml::Table) -> Result<Self, SceneError> {
+        toml::Value::Table(doc).try_into().map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))
+    }
+
     /// Checks every value and builds the scene, within the machine's
     /// available memory.
     pub fn validate(&self) -> Result<Scene, SceneError> {
@@ -805,11 +895,82 @@ impl SceneFile {
         if self.output.every == 0 {
             return Err(field("output.every", "0 is not allowed: an integer >= 1"));
         }
+        if !(self.output.transient >= 0.0 && self.output.transient.is_finite()) {
+            return Err(field("output.transient", format!("{} is not allowed: finite and >= 0 (forcing periods)", self.output.transient)));
+        }
+        if self.output.transient > 0.0 && !(self.output.poincare || self.output.summary || self.output.impacts) {
+            return Err(field("output.transient", "acts only with output.poincare, output.summary or output.impacts: remove it, or ask for one"));
+        }
+        if let Some(o) = &self.oscillator {
+            if self.bar.is_some() || self.beam.is_some() {
+                return Err(field("oscillator", "give exactly one of the tables [bar], [beam] and [oscillator]"));
+            }
+            return self.validate_oscillator(o);
+        }
+        if self.forcing.is_some() {
+            return Err(field("forcing", "acts only with [oscillator] (a bar or a beam takes [load], a beam also [support])"));
+        }
         match (&self.bar, &self.beam) {
             (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b, &self.stop, self.obstacle.as_ref(), limits)?))),
             (None, Some(b)) => validate_beam(b, &self.stop, self.obstacle.as_ref(), limits),
-            _ => Err(field("bar/beam", "give exactly one of the tables [bar] and [beam]")),
+            _ => Err(field("bar/beam", "give exactly one of the tables [bar], [beam] and [oscillator]")),
         }
+    }
+
+    fn validate_oscillator(&self, o: &OscillatorToml) -> Result<Scene, SceneError> {
+        if !self.stop.is_empty() || self.obstacle.is_some() {
+            return Err(field(contacts_table(&self.stop), "acts only with [bar] or [beam]: the oscillator's stop is oscillator.stop"));
+        }
+        for (k, t) in [("support", self.support.is_some()), ("load", self.load.is_some())] {
+            if t {
+                return Err(field(k, "acts only with [bar] or [beam]: the oscillator's load is [forcing]"));
+            }
+        }
+        if self.output.snapshots_every > 0 {
+            return Err(field("output.snapshots_every", "acts only with [bar] or [beam] (the oscillator has one dof): remove it"));
+        }
+        let exc = self.forcing.as_ref().map(|f| f.build(Table::Forcing, self.base.as_deref())).transpose()?;
+        let osc = Oscillator {
+            mass: o.mass,
+            stiffness: o.stiffness,
+            damping_ratio: o.damping_ratio,
+            stop: o.stop,
+            restitution: o.restitution,
+            x0: o.initial_displacement,
+            v0: o.initial_velocity,
+            load: exc.as_ref().map(|e| e.profile.clone()),
+        };
+        osc.validate().map_err(|e| match e {
+            RunError::Invalid { field: f, value, allowed } => field(f, format!("{value} is not allowed: {allowed}")),
+            e => field("oscillator", e),
+        })?;
+        let scheme = match &o.scheme {
+            None => osc.default_scheme(),
+            Some(name) => {
+                let spec: SchemeSpec = name.parse().map_err(|e| field("oscillator.scheme", e))?;
+                if spec.needs_massless_node() {
+                    return Err(field("oscillator.scheme", format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: ps, newmark, theta, moreau-jean or penalty")));
+                }
+                if o.restitution != 0.0 && !matches!(spec, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
+                    return Err(field("oscillator.restitution", format!("{} acts only with a scheme that has an impact law (ps, moreau-jean); {spec} has none: set restitution = 0, or choose ps", o.restitution)));
+                }
+                spec
+            }
+        };
+        let dt = positive("oscillator.dt", o.dt)?;
+        let t_end = positive("oscillator.t_end", o.t_end)?;
+        if t_end / dt > 1e10 {
+            return Err(field("oscillator.dt", format!("{dt} gives {:.3e} steps: at most 1e10", t_end / dt)));
+        }
+        horizon("oscillator", dt, t_end)?;
+        osc.stepper(Some(scheme), dt).map_err(|e| match e {
+            RunError::Scheme(e @ SchemeError::Unstable { .. }) => field("oscillator.dt", e),
+            RunError::Scheme(e @ (SchemeError::Factor(_) | SchemeError::NonFinite { .. })) => field("oscillator", format!("{e}: allowed: data whose step matrix is finite and positive definite")),
+            RunError::Scheme(e) => field("oscillator.scheme", e),
+            e @ RunError::BlowUp { .. } => field("oscillator", format!("{e}: the data overflow in the first step; allowed: data whose first step is finite")),
+            e => field("oscillator", e),
+        })?;
+        Ok(Scene::Oscillator { omega: exc.and_then(|e| e.omega), osc, scheme, dt, t_end })
     }
 }
 

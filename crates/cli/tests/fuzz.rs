@@ -52,6 +52,7 @@ fn generator_reaches_every_answer() {
                 match scene {
                     Scene::Bar(_) => contacts_accepted.0 += 1,
                     Scene::Beam { .. } => contacts_accepted.1 += 1,
+                    Scene::Oscillator { .. } => unreachable!("contacts are refused with [oscillator]"),
                 }
                 "accepted".to_string()
             }

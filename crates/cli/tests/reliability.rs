@@ -166,7 +166,7 @@ fn expressions_are_real_valued() {
         let text = format!("[bar]\nelements = 4\ndt = 0.05\ngap = -1.0\ninitial_displacement = \"{expr}\"\n");
         let got = SceneFile::parse(&text).unwrap().validate().map(|s| match s {
             Scene::Bar(b) => b.problem.initial.u[0],
-            Scene::Beam { .. } => unreachable!(),
+            Scene::Beam { .. } | Scene::Oscillator { .. } => unreachable!(),
         });
         match got {
             Ok(u) => assert!((u - want).abs() < 1e-15, "{expr}: u(0) = {u}, want {want}"),

@@ -1,0 +1,879 @@
+//! Parameter sweeps of a scene (`signorini sweep`) and the merge of their
+//! shards (`signorini merge`).
+//!
+//! A sweep runs one scene many times, each with one numeric field — named by
+//! its dotted path in the scene document, `forcing.omega`, `support.amplitude`,
+//! `stop.0.hi` — set to a value of a linear or logarithmic grid, and reads
+//! each run as vibro-impact papers do: stroboscopic (Poincaré) samples at the
+//! forcing period after a transient, the impacts, and summary statistics.
+//! The horizon of every run is `transient + record` forcing periods (rounded
+//! to whole steps), replacing the scene's `t_end`.
+//!
+//! Output folder (a contract; columns only ever added):
+//! * `sweep.csv` — `param,run,t,displacement,velocity,phase`: one row per
+//!   Poincaré sample at `t = (k + phase/2π)·2π/Ω` (k integer, time from the
+//!   run's start, `phase` the section's forcing phase, `--phase`, default 0)
+//!   in the record window: the oscillator's displacement, the beam's tip,
+//!   the bar's contact end;
+//! * `summary.csv` — one row per run: `param,run,` then the statistics of
+//!   [`signorini_run::vibro`] (`impacts,impacts_per_period,…,period`), then
+//!   `steps,status` (`ok`, or why the run stopped: a blow-up keeps the rows
+//!   of the sweep going);
+//! * `impacts.csv` — `param,run,stop,t,phase,velocity,impulse,duration`: the
+//!   impacts of the record window (the data of the impact map);
+//! * `bifurcation.svg` (Poincaré displacement against the parameter) and
+//!   `impact_map.svg` (pre-impact velocity against forcing phase);
+//! * `sweep.toml` — the manifest: the sweep's id (a hash of the scene text
+//!   and every option that changes a number), its options, and with
+//!   `--shard I/N` the shard.
+//!
+//! Rows are written in run order, whatever the number of threads: runs go
+//! in batches, each batch in parallel, and a batch's rows are written in
+//! order when all of it is done, so the files always hold a whole prefix
+//! of runs (`--resume` continues after it). `--shard I/N` runs the I-th of
+//! N contiguous blocks of runs; [`merge`] concatenates the shards' files in
+//! order into exactly the files of the unsharded sweep.
+
+use crate::scene::{Limits, Scene, SceneError, SceneFile};
+use crate::CliError;
+use signorini_run::vibro::{Piece, Summary, VibroConfig};
+use signorini_run::{Observer, RunConfig, RunError, Sample};
+use rayon::prelude::*;
+use signorini_plot::{scatter, Chart, Scale, Series, Style};
+use std::fmt::Write as _;
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+/// Header of `sweep.csv`.
+pub const SWEEP_COLUMNS: &str = "param,run,t,displacement,velocity,phase";
+/// Header of `impacts.csv` in a sweep folder.
+pub const IMPACT_COLUMNS: &str = "param,run,stop,t,phase,velocity,impulse,duration";
+/// The files a sweep writes.
+pub const SWEEP_FILES: [&str; 6] = ["sweep.csv", "summary.csv", "impacts.csv", "bifurcation.svg", "impact_map.svg", "sweep.toml"];
+
+/// What a sweep's command line gave that is wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SweepError {
+    /// An option out of range.
+    #[error("--{option}: {message}")]
+    Option {
+        /// The option (`count`, `from`, `shard`, …).
+        option: &'static str,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// The parameter path names no numeric field of the scene.
+    #[error("--param {path}: {message}")]
+    Param {
+        /// The path given.
+        path: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// The scene with a swept value is invalid.
+    #[error("--param {path} = {value}: {error}")]
+    Value {
+        /// The path.
+        path: String,
+        /// The value.
+        value: f64,
+        /// The scene's error.
+        error: SceneError,
+    },
+    /// The scene cannot be swept (no periodic forcing to sample at).
+    #[error("{0}")]
+    Scene(String),
+    /// Shards that do not make one sweep, or a folder to resume that is not this sweep's.
+    #[error("{0}")]
+    Folder(String),
+}
+
+/// A second axis of a two-parameter map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// Dotted path of the field.
+    pub param: String,
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Number of values (>= 1).
+    pub count: usize,
+    /// Logarithmic spacing.
+    pub log: bool,
+}
+
+/// The value `i` of `count` on `[from, to]`, linear or logarithmic, the
+/// ends exact.
+fn grid(from: f64, to: f64, count: usize, log: bool, i: usize) -> f64 {
+    if count == 1 || i == 0 {
+        return from;
+    }
+    if i + 1 == count {
+        return to;
+    }
+    let s = i as f64 / (count - 1) as f64;
+    if log {
+        from * (to / from).powf(s)
+    } else {
+        from + (to - from) * s
+    }
+}
+
+/// Checks one axis' range.
+fn check_axis(suffix: &'static str, from: f64, to: f64, count: usize, log: bool) -> Result<(), SweepError> {
+    let name = |o: &'static str| -> &'static str {
+        match (o, suffix) {
+            ("count", "") => "count",
+            ("from", "") => "from",
+            ("to", "") => "to",
+            ("count", _) => "count2",
+            ("from", _) => "from2",
+            _ => "to2",
+        }
+    };
+    let opt = |option, message: String| Err(SweepError::Option { option, message });
+    if count == 0 {
+        return opt(name("count"), "0 is not allowed: an integer >= 1".into());
+    }
+    if !from.is_finite() {
+        return opt(name("from"), format!("{from} is not allowed: a finite number"));
+    }
+    if !to.is_finite() {
+        return opt(name("to"), format!("{to} is not allowed: a finite number"));
+    }
+    if log && !(from > 0.0) {
+        return opt(name("from"), format!("{from} is not allowed with --log: > 0"));
+    }
+    if log && !(to > 0.0) {
+        return opt(name("to"), format!("{to} is not allowed with --log: > 0"));
+    }
+    Ok(())
+}
+
+/// The options of a sweep.
+#[derive(Clone, Debug)]
+pub struct SweepOptions {
+    /// Dotted path of the swept field.
+    pub param: String,
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Number of runs (>= 1).
+    pub count: usize,
+    /// Logarithmic spacing (both bounds > 0).
+    pub log: bool,
+    /// A second swept field (a two-parameter map): run `r` takes value
+    /// `r mod count` of the first axis and `r div count` of this one.
+    pub second: Option<Axis>,
+    /// Forcing periods before the record window (>= 0).
+    pub transient: f64,
+    /// Forcing periods recorded (> 0).
+    pub record: f64,
+    /// Forcing phase of the Poincaré section, in [0, 2π).
+    pub phase: f64,
+    /// Start each run from the previous run's final state.
+    pub follow: bool,
+    /// Run only the `I`-th (0-based) of `N` blocks: `(I, N)`.
+    pub shard: Option<(usize, usize)>,
+    /// Continue a folder that holds a prefix of this sweep's runs.
+    pub resume: bool,
+    /// Threads (None: rayon's default, all cores).
+    pub threads: Option<usize>,
+    /// Progress bar on stderr.
+    pub progress: bool,
+    /// Stop cleanly when set (keeps whole runs written).
+    pub interrupt: Option<&'static AtomicBool>,
+}
+
+impl SweepOptions {
+    /// A sweep of `param` over `[from, to]` with `count` runs and the
+    /// defaults: linear, 100 transient periods, 10 recorded, phase 0.
+    pub fn new(param: &str, from: f64, to: f64, count: usize) -> Self {
+        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, follow: false, shard: None, resume: false, threads: None, progress: false, interrupt: None }
+    }
+
+    /// Checks the options (not the path: [`Sweep::new`] does, on the scene).
+    pub fn validate(&self) -> Result<(), SweepError> {
+        let opt = |option, message: String| Err(SweepError::Option { option, message });
+        check_axis("", self.from, self.to, self.count, self.log)?;
+        if let Some(a) = &self.second {
+            check_axis("2", a.from, a.to, a.count, a.log)?;
+            if a.param == self.param {
+                return Err(SweepError::Param { path: a.param.clone(), message: "--param2 names the same field as --param: a map needs two fields".into() });
+            }
+        }
+        let total = self.total();
+        if total > 100_000_000 {
+            return opt("count", format!("{total} runs are not allowed: at most 1e8 per sweep"));
+        }
+        if !(self.transient >= 0.0 && self.transient.is_finite()) {
+            return opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", self.transient));
+        }
+        if !(self.record > 0.0 && self.record.is_finite()) {
+            return opt("record", format!("{} is not allowed: forcing periods, finite and > 0", self.record));
+        }
+        if !(self.phase >= 0.0 && self.phase < std::f64::consts::TAU) {
+            return opt("phase", format!("{} is not allowed: a forcing phase in [0, 2π)", self.phase));
+        }
+        if let Some((i, n)) = self.shard {
+            if n == 0 || i >= n {
+                return opt("shard", format!("{i}/{n} is not allowed: I/N with N >= 1 and 0 <= I < N"));
+            }
+            if n > total {
+                return opt("shard", format!("{i}/{n} is not allowed: at most as many shards as runs ({total})"));
+            }
+            if self.follow {
+                return opt("shard", "is not allowed with --follow: a followed sweep is one sequence of runs, each starting from the last one's state".into());
+            }
+        }
+        if self.threads == Some(0) {
+            return opt("threads", "0 is not allowed: an integer >= 1".into());
+        }
+        Ok(())
+    }
+
+    /// Number of runs: `count`, times `count2` for a map.
+    pub fn total(&self) -> usize {
+        self.count.saturating_mul(self.second.as_ref().map_or(1, |a| a.count))
+    }
+
+    /// The values of run `r`: on the first axis `from + (to − from)
+    /// i/(count − 1)` (or `from (to/from)^(i/(count − 1))` with `--log`; the
+    /// last value is `to` exactly) with `i = r mod count`, and on the
+    /// second axis likewise with `r div count`.
+    pub fn value(&self, r: usize) -> (f64, Option<f64>) {
+        let i = r % self.count;
+        let p = grid(self.from, self.to, self.count, self.log, i);
+        (p, self.second.as_ref().map(|a| grid(a.from, a.to, a.count, a.log, r / self.count)))
+    }
+
+    /// The runs of this shard (all runs without one): block `I` of `N`
+    /// contiguous blocks, `[I·total/N, (I+1)·total/N)`.
+    pub fn runs(&self) -> std::ops::Range<usize> {
+        let total = self.total();
+        match self.shard {
+            None => 0..total,
+            Some((i, n)) => (i * total / n)..((i + 1) * total / n),
+        }
+    }
+}
+
+/// FNV-1a (64 bit): a stable, portable hash for sweep ids.
+fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// Sets the numeric field at `path` in a scene document to `value`.
+/// Segments are keys, or array indices (`stop.0.hi`). The parent must
+/// exist; an existing value must be a number; an integer field takes only
+/// integral values.
+pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), SweepError> {
+    let err = |m: String| SweepError::Param { path: path.into(), message: m };
+    let segs: Vec<&str> = path.split('.').collect();
+    if segs.iter().any(|s| s.is_empty()) {
+        return Err(err("a dotted path of keys and array indices, e.g. forcing.omega, support.amplitude, stop.0.hi".into()));
+    }
+    let (last, parents) = segs.split_last().ok_or_else(|| err("empty".into()))?;
+    let mut here = toml::Value::Table(std::mem::take(doc));
+    let result = (|| {
+        let mut cur = &mut here;
+        let mut walked = String::new();
+        for s in parents {
+            let name = if walked.is_empty() { s.to_string() } else { format!("{walked}.{s}") };
+            let hint = keys_hint(cur, &walked);
+            cur = step(cur, s).ok_or_else(|| err(format!("{name} is not in the scene{hint}")))?;
+            walked = name;
+        }
+        let table = match cur {
+            toml::Value::Table(t) => t,
+            toml::Value::Array(a) => {
+                let i: usize = last.parse().map_err(|_| err(format!("{walked} is a list: the next segment is an index 0..{}", a.len())))?;
+                let len = a.len();
+                let slot = a.get_mut(i).ok_or_else(|| err(format!("{walked} has {len} entries: index {i} is out of range")))?;
+                return put(slot, value, path);
+            }
+            _ => return Err(err(format!("{walked} is a value, not a table"))),
+        };
+        match table.get_mut(*last) {
+            Some(slot) => put(slot, value, path),
+            None => {
+                // A key the scene leaves at its default: validation decides.
+                table.insert(last.to_string(), toml::Value::Float(value));
+                Ok(())
+            }
+        }
+    })();
+    if let toml::Value::Table(t) = here {
+        *doc = t;
+    }
+    result
+}
+
+fn step<'a>(v: &'a mut toml::Value, seg: &str) -> Option<&'a mut toml::Value> {
+    match v {
+        toml::Value::Table(t) => t.get_mut(seg),
+        toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(move |i| a.get_mut(i)),
+        _ => None,
+    }
+}
+
+fn keys_hint(v: &toml::Value, walked: &str) -> String {
+    match v {
+        toml::Value::Table(t) if !t.is_empty() => {
+            let keys: Vec<&str> = t.keys().map(String::as_str).collect();
+            format!(" ({} has: {})", if walked.is_empty() { "the scene" } else { walked }, keys.join(", "))
+        }
+        _ => String::new(),
+    }
+}
+
+fn put(slot: &mut toml::Value, value: f64, path: &str) -> Result<(), SweepError> {
+    let err = |m: String| SweepError::Param { path: path.into(), message: m };
+    match slot {
+        toml::Value::Float(_) => *slot = toml::Value::Float(value),
+        toml::Value::Integer(_) => {
+            if value.fract() != 0.0 || value.abs() > 9.0e15 {
+                return Err(err(format!("an integer field: {value} is not allowed (sweep integral values only)")));
+            }
+            *slot = toml::Value::Integer(value as i64);
+        }
+        other => return Err(err(format!("names a {} value, not a number", other.type_str()))),
+    }
+    Ok(())
+}
+
+/// One run's results, as rows.
+#[derive(Clone, Debug, Default)]
+pub struct RunRows {
+    /// `sweep.csv` rows (without `param,run,`): `t,displacement,velocity,phase`.
+    pub poincare: Vec<[f64; 4]>,
+    /// `impacts.csv` rows (without `param,run,`): stop, then `t,phase,velocity,impulse,duration`.
+    pub impacts: Vec<(usize, [f64; 5])>,
+    /// The statistics columns of `summary.csv`, already formatted.
+    pub summary: String,
+    /// Steps taken.
+    pub steps: usize,
+    /// `ok` or why the run stopped.
+    pub status: String,
+    /// The final state (for `--follow`): displacement and velocity.
+    pub state: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// A validated sweep of a scene.
+pub struct Sweep {
+    opts: SweepOptions,
+    doc: toml::Table,
+    id: String,
+    limits: Limits,
+    scene_name: String,
+    base: Option<PathBuf>,
+}
+
+impl Sweep {
+    /// Checks the options and the path, and the scene at the first and
+    /// last values (so a sweep fails before it runs, not at run 900).
+    pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, CliError> {
+        opts.validate()?;
+        let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
+        let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow);
+        if let Some(a) = &opts.second {
+            key += &format!("|{}|{:016x}|{:016x}|{}|{}", a.param, a.from.to_bits(), a.to.to_bits(), a.count, a.log);
+        }
+        h = fnv1a(key.as_bytes(), h);
+        let sweep = Self { id: format!("{h:016x}"), opts, doc, limits, scene_name: scene_name.into(), base };
+        let last = sweep.opts.total() - 1;
+        for r in [0, last] {
+            sweep.scene(sweep.opts.value(r))?;
+        }
+        Ok(sweep)
+    }
+
+    /// A sweep of the scene file `path` (its text `text`): files the scene
+    /// names are found next to it.
+    pub fn from_file(path: &Path, text: &str, opts: SweepOptions, limits: Limits) -> Result<Self, CliError> {
+        let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
+        Self::new(text, &name, path.parent().map(Path::to_path_buf), opts, limits)
+    }
+
+    /// The sweep's id (hash of the scene text and the options that change numbers).
+    pub fn id(&self) -> &str {
+        &self.id
+    }
+
+    /// The options.
+    pub fn options(&self) -> &SweepOptions {
+        &self.opts
+    }
+
+    /// The scene document with the swept field(s) at `value`.
+    pub fn document(&self, value: (f64, Option<f64>)) -> Result<toml::Table, SweepError> {
+        let mut doc = self.doc.clone();
+        set_path(&mut doc, &self.opts.param, value.0)?;
+        if let (Some(a), Some(v)) = (&self.opts.second, value.1) {
+            set_path(&mut doc, &a.param, v)?;
+        }
+        Ok(doc)
+    }
+
+    /// The validated scene at `value`, its horizon set to the sweep's.
+    pub fn scene(&self, value: (f64, Option<f64>)) -> Result<(SceneFile, Scene, Plan), CliError> {
+        let path = match (&self.opts.second, value.1) {
+            (Some(a), Some(v)) => format!("{} = {}, --param2 {} = {v}", self.opts.param, value.0, a.param),
+            _ => self.opts.param.clone(),
+        };
+        let bad = |e: SceneError| SweepError::Value { path: path.clone(), value: value.0, error: e };
+        let doc = self.document(value)?;
+        let parse = |doc: toml::Table| -> Result<SceneFile, SweepError> {
+            let mut f = SceneFile::from_table(doc).map_err(bad)?;
+            f.base = self.base.clone();
+            Ok(f)
+        };
+        let file = parse(doc.clone())?;
+        let scene = file.validate_with(&self.limits).map_err(bad)?;
+        let (omega, dt, key) = scene.sweep_clock().ok_or_else(|| SweepError::Scene(format!("{}: a sweep samples the response at the forcing period, and this scene has no periodic forcing (an oscillator's [forcing], a beam's support motion)", self.scene_name)))?;
+        let period = std::f64::consts::TAU / omega;
+        let total = self.opts.transient + self.opts.record;
+        let steps = (total * period / dt).round().max(1.0);
+        let t_end = steps * dt;
+        let mut doc = doc;
+        set_path(&mut doc, key, t_end).map_err(|e| SweepError::Scene(format!("cannot set the horizon {key}: {e}")))?;
+        let file = parse(doc)?;
+        let scene = file.validate_with(&self.limits).map_err(bad)?;
+        Ok((file, scene, Plan { omega, dt, t_end, record_from: self.opts.transient * period, phase: self.opts.phase }))
+    }
+
+    /// The manifest text.
+    fn manifest(&self, shard: Option<(usize, usize)>) -> String {
+        let o = &self.opts;
+        let mut s = String::new();
+        let _ = writeln!(s, "# signorini sweep manifest: merge checks that shards share the id");
+        let _ = writeln!(s, "id = \"{}\"", self.id);
+        let _ = writeln!(s, "scene = {:?}", self.scene_name);
+        let _ = writeln!(s, "param = {:?}", o.param);
+        let _ = writeln!(s, "from = {:?}\nto = {:?}\ncount = {}\nlog = {}", o.from, o.to, o.count, o.log);
+        if let Some(a) = &o.second {
+            let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", a.param, a.from, a.to, a.count, a.log);
+        }
+        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nfollow = {}", o.transient, o.record, o.phase, o.follow);
+        if let Some((i, n)) = shard {
+            let r = o.runs();
+            let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{}, {}]", r.start, r.end);
+        }
+        s
+    }
+}
+
+/// What a run needs to know of the sweep's clock.
+#[derive(Clone, Copy, Debug)]
+pub struct Plan {
+    /// Forcing angular frequency Ω.
+    pub omega: f64,
+    /// Time step.
+    pub dt: f64,
+    /// Horizon (whole steps).
+    pub t_end: f64,
+    /// Start of the record window.
+    pub record_from: f64,
+    /// Poincaré section phase.
+    pub phase: f64,
+}
+
+fn io(p: &Path, e: std::io::Error) -> CliError {
+    CliError::Io(format!("{}: {e}", p.display()))
+}
+
+/// The rows of one run, formatted: `param,run,<values>[,param2]`.
+fn rows_text(value: (f64, Option<f64>), run: usize, r: &RunRows) -> (String, String, String) {
+    let (p, p2) = value;
+    let tail = p2.map_or(String::new(), |v| format!(",{v}"));
+    let mut sw = String::new();
+    for row in &r.poincare {
+        let _ = writeln!(sw, "{p},{run},{},{},{},{}{tail}", row[0], row[1], row[2], row[3]);
+    }
+    let mut im = String::new();
+    for (stop, v) in &r.impacts {
+        let _ = writeln!(im, "{p},{run},{stop},{},{},{},{},{}{tail}", v[0], v[1], v[2], v[3], v[4]);
+    }
+    let su = format!("{p},{run},{},{},{}{tail}\n", r.summary, r.steps, r.status);
+    (sw, im, su)
+}
+
+/// The headers of `sweep.csv`, `impacts.csv`, `summary.csv` (`,param2` last for a map).
+fn headers(map: bool) -> [(&'static str, String); 3] {
+    let tail = if map { ",param2" } else { "" };
+    [("sweep.csv", format!("{SWEEP_COLUMNS}{tail}")), ("impacts.csv", format!("{IMPACT_COLUMNS}{tail}")), ("summary.csv", format!("{}{tail}", summary_header()))]
+}
+
+/// Reads the complete lines of a file (a last line without its newline,
+/// cut by a kill, is dropped).
+fn complete_lines(p: &Path) -> Result<Vec<String>, CliError> {
+    let text = std::fs::read_to_string(p).map_err(|e| io(p, e))?;
+    Ok(text.split_inclusive('\n').filter(|l| l.ends_with('\n')).map(|l| l.trim_end_matches('\n').to_string()).collect())
+}
+
+/// The run index (second column) of a data row.
+fn run_of(line: &str) -> Option<usize> {
+    line.split(',').nth(1)?.parse().ok()
+}
+
+/// The open output files of a sweep.
+struct Outputs {
+    sweep: File,
+    impacts: File,
+    summary: File,
+}
+
+impl Outputs {
+    fn append(dir: &Path, name: &str) -> Result<File, CliError> {
+        let p = dir.join(name);
+        OpenOptions::new().append(true).open(&p).map_err(|e| io(&p, e))
+    }
+}
+
+/// Runs a sweep into `dir` with `simulate(run index, value, scene, plan,
+/// start state)` doing each run; returns lines for the terminal.
+pub fn run_sweep<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<Vec<String>, CliError>
+where
+    F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
+{
+    let o = &sweep.opts;
+    let runs = o.runs();
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    let manifest = sweep.manifest(o.shard);
+    let mpath = dir.join("sweep.toml");
+    let mut first = runs.start;
+    let mut state: Option<(Vec<f64>, Vec<f64>)> = None;
+    if o.resume {
+        let old = std::fs::read_to_string(&mpath).map_err(|e| io(&mpath, e))?;
+        if old != manifest {
+            return Err(SweepError::Folder(format!("--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out", dir.display(), manifest_id(&old).unwrap_or("?"), sweep.id)).into());
+        }
+        let summary = complete_lines(&dir.join("summary.csv"))?;
+        let done: Vec<usize> = summary.iter().skip(1).filter_map(|l| run_of(l)).collect();
+        // The prefix of runs whose summary row is complete.
+        let mut next = runs.start;
+        for r in &done {
+            if *r == next {
+                next += 1;
+            }
+        }
+        first = next;
+        for (name, header) in headers(o.second.is_some()) {
+            let p = dir.join(name);
+            let lines = complete_lines(&p)?;
+            let mut text = header + "\n";
+            for l in lines.iter().skip(1).filter(|l| run_of(l).is_some_and(|r| r < first)) {
+                text.push_str(l);
+                text.push('\n');
+            }
+            std::fs::write(&p, text).map_err(|e| io(&p, e))?;
+        }
+        if o.follow && first > runs.start {
+            state = read_state(&dir.join("follow_state.txt"))?;
+        }
+    } else {
+        if let Some(f) = SWEEP_FILES.iter().find(|f| dir.join(f).exists()) {
+            return Err(SweepError::Folder(format!("{} holds a sweep's files ({f}): pass --resume to continue that sweep, or choose another --out", dir.display())).into());
+        }
+        std::fs::write(&mpath, &manifest).map_err(|e| io(&mpath, e))?;
+        for (name, header) in headers(o.second.is_some()) {
+            let p = dir.join(name);
+            std::fs::write(&p, header + "\n").map_err(|e| io(&p, e))?;
+        }
+    }
+    let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: Outputs::append(dir, "impacts.csv")?, summary: Outputs::append(dir, "summary.csv")? };
+    let pool = {
+        let mut b = rayon::ThreadPoolBuilder::new();
+        if let Some(t) = o.threads {
+            b = b.num_threads(t);
+        }
+        b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
+    };
+    let batch = if o.follow { 1 } else { (4 * pool.current_num_threads()).max(1) };
+    let bar = crate::progress_bar(runs.len() as u64, o.progress, "runs");
+    bar.set_position((first - runs.start) as u64);
+    let start = std::time::Instant::now();
+    let mut failed = 0usize;
+    let mut next = first;
+    let mut interrupted = false;
+    while next < runs.end {
+        if o.interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+            interrupted = true;
+            break;
+        }
+        let end = (next + batch).min(runs.end);
+        let results: Vec<(usize, (f64, Option<f64>), Result<RunRows, CliError>)> = pool.install(|| {
+            (next..end)
+                .into_par_iter()
+                .map(|i| {
+                    let v = o.value(i);
+                    // A followed map restarts from the scene's own state on each row.
+                    let start = if i % o.count == 0 { None } else { state.as_ref() };
+                    let r = sweep.scene(v).map(|(_, scene, plan)| simulate(&scene, &plan, start));
+                    bar.inc(1);
+                    (i, v, r)
+                })
+                .collect()
+        });
+        let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
+        for (i, v, r) in results {
+            let rows = r?;
+            if rows.status == "interrupted" {
+                interrupted = true;
+                break;
+            }
+            failed += usize::from(rows.status != "ok");
+            let (a, b, c) = rows_text(v, i, &rows);
+            sw.push_str(&a);
+            im.push_str(&b);
+            su.push_str(&c);
+            next = i + 1;
+            if o.follow {
+                state = rows.state.clone();
+            }
+        }
+        out.sweep.write_all(sw.as_bytes()).map_err(|e| io(&dir.join("sweep.csv"), e))?;
+        out.impacts.write_all(im.as_bytes()).map_err(|e| io(&dir.join("impacts.csv"), e))?;
+        if o.follow {
+            write_state(&dir.join("follow_state.txt"), state.as_ref())?;
+        }
+        out.summary.write_all(su.as_bytes()).map_err(|e| io(&dir.join("summary.csv"), e))?;
+        if interrupted {
+            break;
+        }
+    }
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    if interrupted {
+        return Err(CliError::Io(format!("interrupted after {} of {} runs (whole runs kept in {}); continue with --resume", next - runs.start, runs.len(), dir.display())));
+    }
+    let mut lines = vec![format!("{} runs in {wall:.3} s ({} of them stopped early: see summary.csv's status)", runs.len() - (first - runs.start), failed)];
+    if o.shard.is_none() {
+        lines.extend(plots(dir)?);
+    }
+    lines.push(format!("wrote {}", dir.display()));
+    Ok(lines)
+}
+
+fn manifest_id(text: &str) -> Option<&str> {
+    text.lines().find_map(|l| l.strip_prefix("id = \"")).and_then(|r| r.strip_suffix('"'))
+}
+
+fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), CliError> {
+    let mut s = String::new();
+    if let Some((u, v)) = state {
+        let join = |x: &[f64]| x.iter().map(|a| format!("{a:?}")).collect::<Vec<_>>().join(",");
+        let _ = writeln!(s, "{}\n{}", join(u), join(v));
+    }
+    std::fs::write(p, s).map_err(|e| io(p, e))
+}
+
+fn read_state(p: &Path) -> Result<Option<(Vec<f64>, Vec<f64>)>, CliError> {
+    let text = std::fs::read_to_string(p).map_err(|e| io(p, e))?;
+    let mut lines = text.lines();
+    let parse = |l: Option<&str>| -> Option<Vec<f64>> { l.map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()) };
+    Ok(match (parse(lines.next()), parse(lines.next())) {
+        (Some(u), Some(v)) if !u.is_empty() && u.len() == v.len() => Some((u, v)),
+        _ => None,
+    })
+}
+
+/// `summary.csv`'s header.
+pub fn summary_header() -> String {
+    format!("param,run,{},steps,status", signorini_run::vibro::Summary::csv_header())
+}
+
+/// Draws `bifurcation.svg` and `impact_map.svg` from the folder's CSVs.
+fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
+    let mut notes = Vec::new();
+    let col = |l: &str, i: usize| l.split(',').nth(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(f64::NAN);
+    let sweep = complete_lines(&dir.join("sweep.csv"))?;
+    let pts: Vec<(f64, f64)> = sweep.iter().skip(1).map(|l| (col(l, 0), col(l, 3))).collect();
+    let chart = Chart { title: "bifurcation diagram: Poincaré displacement", x_label: "parameter", y_label: "displacement", scale: Scale::Linear, size: (900, 600) };
+    let radius = if pts.len() > 20_000 { 1 } else { 2 };
+    match scatter(&chart, &[Series { label: "Poincaré samples".into(), points: pts, reference: false, style: Style::default() }], radius) {
+        Ok(svg) => std::fs::write(dir.join("bifurcation.svg"), svg).map_err(|e| io(&dir.join("bifurcation.svg"), e))?,
+        Err(e) => notes.push(format!("note: bifurcation.svg not written: {e}")),
+    }
+    let impacts = complete_lines(&dir.join("impacts.csv"))?;
+    let mut by_stop: Vec<Series> = Vec::new();
+    for l in impacts.iter().skip(1) {
+        let stop = col(l, 2);
+        let k = if stop.is_finite() && stop >= 0.0 { stop as usize } else { 0 };
+        while by_stop.len() <= k {
+            by_stop.push(Series { label: format!("stop {}", by_stop.len()), points: vec![], reference: false, style: Style::default() });
+        }
+        by_stop[k].points.push((col(l, 4), col(l, 5)));
+    }
+    by_stop.retain(|s| !s.points.is_empty());
+    let chart = Chart { title: "impact map: pre-impact velocity against forcing phase", x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
+    let n: usize = by_stop.iter().map(|s| s.points.len()).sum();
+    match scatter(&chart, &by_stop, if n > 20_000 { 1 } else { 2 }) {
+        Ok(svg) => std::fs::write(dir.join("impact_map.svg"), svg).map_err(|e| io(&dir.join("impact_map.svg"), e))?,
+        Err(e) => notes.push(format!("note: impact_map.svg not written: {e} (no impacts in the record windows)")),
+    }
+    Ok(notes)
+}
+
+/// Merges shard folders into `out`: the files an unsharded sweep writes,
+/// byte for byte. Refuses shards of different sweeps (ids), missing or
+/// repeated shards, and incomplete ones.
+pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
+    let bad = |m: String| CliError::from(SweepError::Folder(m));
+    if shards.is_empty() {
+        return Err(bad("merge: give the shard folders".into()));
+    }
+    let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String)> = Vec::new();
+    for d in shards {
+        let p = d.join("sweep.toml");
+        let text = std::fs::read_to_string(&p).map_err(|e| io(&p, e))?;
+        let id = manifest_id(&text).ok_or_else(|| bad(format!("{}: no sweep id", p.display())))?.to_string();
+        let pair = |key: &str| -> Option<(usize, usize)> {
+            let l = text.lines().find_map(|l| l.strip_prefix(&format!("{key} = [")))?;
+            let (a, b) = l.trim_end_matches(']').split_once(',')?;
+            Some((a.trim().parse().ok()?, b.trim().parse().ok()?))
+        };
+        let (i, n) = pair("shard").ok_or_else(|| bad(format!("{} is not a shard (no shard = [I, N] in its sweep.toml)", d.display())))?;
+        let (r0, r1) = pair("runs").ok_or_else(|| bad(format!("{}: no runs range", p.display())))?;
+        found.push((i, n, r0, r1, d, id));
+    }
+    let (id0, n0) = (found[0].5.clone(), found[0].1);
+    if let Some(f) = found.iter().find(|f| f.5 != id0) {
+        return Err(bad(format!("{} belongs to sweep {}, {} to sweep {}: shards of different sweeps are not merged", f.4.display(), f.5, found[0].4.display(), id0)));
+    }
+    if let Some(f) = found.iter().find(|f| f.1 != n0) {
+        return Err(bad(format!("{} is a shard of {} and {} of {}: not one sharding", f.4.display(), f.1, found[0].4.display(), n0)));
+    }
+    found.sort_by_key(|f| f.0);
+    for (k, f) in found.iter().enumerate() {
+        if f.0 != k {
+            let what = if k > 0 && found[k - 1].0 == f.0 { format!("shard {} is given twice", f.0) } else { format!("shard {k} of {n0} is missing") };
+            return Err(bad(format!("merge: {what}")));
+        }
+    }
+    if found.len() != n0 {
+        return Err(bad(format!("merge: shard {} of {n0} is missing ({} given)", found.len(), found.len())));
+    }
+    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    if let Some(f) = SWEEP_FILES.iter().find(|f| out.join(f).exists()) {
+        return Err(bad(format!("{} holds a sweep's files ({f}): choose another --out", out.display())));
+    }
+    let map = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?.lines().any(|l| l.starts_with("param2 = "));
+    for (name, header) in headers(map) {
+        let mut text = header + "\n";
+        for f in &found {
+            let lines = complete_lines(&f.4.join(name))?;
+            if name == "summary.csv" {
+                let runs: Vec<usize> = lines.iter().skip(1).filter_map(|l| run_of(l)).collect();
+                if runs != (f.2..f.3).collect::<Vec<_>>() {
+                    return Err(bad(format!("{}: holds runs {}..{} of {}..{}: finish it (--resume) before merging", f.4.display(), runs.first().copied().unwrap_or(f.2), runs.last().map_or(f.2, |r| r + 1), f.2, f.3)));
+                }
+            }
+            for l in lines.iter().skip(1) {
+                text.push_str(l);
+                text.push('\n');
+            }
+        }
+        std::fs::write(out.join(name), text).map_err(|e| io(&out.join(name), e))?;
+    }
+    // The unsharded manifest: the shard's without its shard lines.
+    let text = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
+    let unsharded: String = text.lines().filter(|l| !l.starts_with("shard = ") && !l.starts_with("runs = ")).map(|l| format!("{l}\n")).collect();
+    std::fs::write(out.join("sweep.toml"), unsharded).map_err(|e| io(&out.join("sweep.toml"), e))?;
+    let mut lines = vec![format!("merged {n0} shards of sweep {id0}")];
+    lines.extend(plots(out)?);
+    lines.push(format!("wrote {}", out.display()));
+    Ok(lines)
+}
+
+/// Runs a sweep into `dir` (see the module docs).
+pub fn run(sweep: &Sweep, dir: &Path) -> Result<Vec<String>, CliError> {
+    let interrupt = sweep.opts.interrupt;
+    let follow = sweep.opts.follow;
+    run_sweep(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt))
+}
+
+/// Keeps the last two displacement vectors (for a followed sweep's final
+/// velocity, their backward difference).
+struct LastTwo {
+    prev: Vec<f64>,
+    last: Vec<f64>,
+    t: f64,
+}
+
+impl Observer for LastTwo {
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        std::mem::swap(&mut self.prev, &mut self.last);
+        self.last.copy_from_slice(s.u);
+        self.t = s.t;
+        Ok(())
+    }
+}
+
+/// A cell of free text for a CSV row: quoted, quotes doubled, one line.
+fn text_cell(s: &str) -> String {
+    format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
+}
+
+/// One run of a sweep: the Poincaré samples and impacts of the record
+/// window, the statistics, and (with `follow`) the final state, its
+/// velocity the backward difference over the last step. A run that cannot
+/// be built or stops early gives its reason as the status, and what it
+/// recorded before.
+pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
+    let empty = || {
+        let mut buf = Vec::new();
+        let _ = Summary { impacts: None, rms_force: None, max_abs_tip: None, poincare: None }.write_row(&mut buf);
+        String::from_utf8_lossy(&buf).into_owned()
+    };
+    let fail = |e: &dyn std::fmt::Display| RunRows { summary: empty(), status: text_cell(&e.to_string()), ..RunRows::default() };
+    let mut built = match crate::build(scene, start) {
+        Ok(b) => b,
+        Err(e) => return fail(&e),
+    };
+    let cfg = VibroConfig::for_dynamics(built.stepper.dynamics(), plan.dt, Some(plan.omega), plan.record_from, built.tip).map(|mut c| {
+        c.t_end = Some(plan.t_end);
+        c
+    });
+    let mut vib = match cfg.and_then(|c| c.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)) {
+        Ok(v) => v,
+        Err(e) => return fail(&e),
+    };
+    let n = built.u0.len();
+    let mut last = LastTwo { prev: vec![0.0; if follow { n } else { 0 }], last: vec![0.0; if follow { n } else { 0 }], t: 0.0 };
+    let mut rc = match RunConfig::new(plan.dt, plan.t_end) {
+        Ok(c) => c,
+        Err(e) => return fail(&e),
+    };
+    rc.interrupt = interrupt;
+    let res = {
+        let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
+        if follow {
+            obs.push(&mut last);
+        }
+        signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
+    };
+    let (steps, status) = match &res {
+        Ok(s) => (s.steps, "ok".to_string()),
+        Err(RunError::Interrupted { .. }) => (0, "interrupted".to_string()),
+        Err(e) => (built.stepper.level(), text_cell(&e.to_string())),
+    };
+    let poincare = vib.poincare.as_ref().map_or_else(Vec::new, |p| p.points().iter().map(|q| [q.t, q.displacement, q.velocity, plan.phase]).collect());
+    let impacts = vib.impacts.as_ref().map_or_else(Vec::new, |o| o.impacts().iter().filter(|i| i.t >= plan.record_from).map(|i| (i.stop, [i.t, i.phase, i.velocity, i.impulse, i.duration])).collect());
+    let mut buf = Vec::new();
+    let _ = vib.summary().write_row(&mut buf);
+    let state = (follow && res.is_ok()).then(|| {
+        let v = last.last.iter().zip(&last.prev).map(|(a, b)| (a - b) / plan.dt).collect();
+        (last.last.clone(), v)
+    });
+    RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps, status, state }
+}

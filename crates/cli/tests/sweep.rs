@@ -1,0 +1,185 @@
+//! `signorini sweep` and `signorini merge` end to end: shards merged equal
+//! the unsharded sweep byte for byte (separate processes), the thread count
+//! changes nothing, an interrupted sweep resumes to the same files, and bad
+//! options are refused naming the option.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+}
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes")
+}
+
+/// The shipped oscillator scene at a coarser dt (fast tests).
+fn scene(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(scenes().join("oscillator.toml")).unwrap().replace("dt = 1e-3", "dt = 4e-3");
+    let p = dir.join("osc.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const FILES: [&str; 6] = ["sweep.csv", "summary.csv", "impacts.csv", "sweep.toml", "bifurcation.svg", "impact_map.svg"];
+
+fn sweep(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut c = bin();
+    c.args(["sweep", scene.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "30", "--record", "6", "--out", out.to_str().unwrap()]);
+    c.args(extra);
+    c.output().unwrap()
+}
+
+fn ok(o: &std::process::Output) {
+    assert!(o.status.success(), "{}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+}
+
+fn same_files(a: &Path, b: &Path, files: &[&str]) {
+    for f in files {
+        let (x, y) = (std::fs::read(a.join(f)).unwrap(), std::fs::read(b.join(f)).unwrap());
+        assert!(x == y, "{f} differs between {} and {}", a.display(), b.display());
+    }
+}
+
+#[test]
+fn shards_merged_are_the_unsharded_sweep_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let whole = dir.path().join("whole");
+    ok(&sweep(&sc, &whole, &[]));
+    // Three shards in three concurrent processes.
+    let shards: Vec<PathBuf> = (0..3).map(|i| dir.path().join(format!("shard{i}"))).collect();
+    let procs: Vec<std::process::Child> = shards
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            let mut c = bin();
+            c.args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "30", "--record", "6", "--shard", &format!("{i}/3"), "--out", d.to_str().unwrap()]);
+            c.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped()).spawn().unwrap()
+        })
+        .collect();
+    for p in procs {
+        let o = p.wait_with_output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let merged = dir.path().join("merged");
+    // Given out of order: merge sorts by shard index.
+    let o = bin().args(["merge", shards[2].to_str().unwrap(), shards[0].to_str().unwrap(), shards[1].to_str().unwrap(), "--out", merged.to_str().unwrap()]).output().unwrap();
+    ok(&o);
+    same_files(&whole, &merged, &FILES);
+    // The sweep is not trivial: 7 runs, Poincaré rows and impacts in each.
+    let summary = std::fs::read_to_string(whole.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 8);
+    let rows = std::fs::read_to_string(whole.join("sweep.csv")).unwrap();
+    assert!(rows.lines().count() >= 7 * 6, "{rows}");
+    assert!(std::fs::read_to_string(whole.join("impacts.csv")).unwrap().lines().count() > 7);
+}
+
+#[test]
+fn thread_count_changes_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let (a, b) = (dir.path().join("t1"), dir.path().join("t3"));
+    ok(&sweep(&sc, &a, &["--threads", "1"]));
+    ok(&sweep(&sc, &b, &["--threads", "3"]));
+    same_files(&a, &b, &FILES);
+}
+
+#[test]
+fn an_interrupted_sweep_resumes_to_the_same_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let whole = dir.path().join("whole");
+    ok(&sweep(&sc, &whole, &[]));
+    // What a sweep killed during run 3 leaves: runs 0..3 whole, a cut line.
+    let cut = dir.path().join("cut");
+    std::fs::create_dir_all(&cut).unwrap();
+    std::fs::copy(whole.join("sweep.toml"), cut.join("sweep.toml")).unwrap();
+    for f in ["sweep.csv", "impacts.csv", "summary.csv"] {
+        let text = std::fs::read_to_string(whole.join(f)).unwrap();
+        let mut keep: String = text.lines().filter(|l| l.split(',').nth(1).and_then(|r| r.parse::<usize>().ok()).is_none_or(|r| r < 3)).map(|l| format!("{l}\n")).collect();
+        // Rows of run 3 already written to sweep.csv (its summary row is not).
+        if f == "sweep.csv" {
+            keep.extend(text.lines().filter(|l| l.split(',').nth(1) == Some("3")).take(2).map(|l| format!("{l}\n")));
+        }
+        keep.push_str("1.9,4,12.5"); // no newline: cut by a kill
+        std::fs::write(cut.join(f), keep).unwrap();
+    }
+    ok(&sweep(&sc, &cut, &["--resume"]));
+    same_files(&whole, &cut, &FILES);
+    // Resuming a folder of another sweep is refused.
+    let o = bin()
+        .args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.3", "--count", "7", "--transient", "30", "--record", "6", "--resume", "--out", cut.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("another sweep"), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn merging_shards_of_different_sweeps_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let run = |out: &Path, i: usize, count: &str| {
+        let o = bin()
+            .args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", count, "--transient", "2", "--record", "2", "--shard", &format!("{i}/2"), "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        ok(&o);
+    };
+    run(&a, 0, "4");
+    run(&b, 1, "5");
+    let o = bin().args(["merge", a.to_str().unwrap(), b.to_str().unwrap(), "--out", dir.path().join("m").to_str().unwrap()]).output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("different sweeps"), "{}", String::from_utf8_lossy(&o.stderr));
+    // A missing shard.
+    let o = bin().args(["merge", a.to_str().unwrap(), "--out", dir.path().join("m2").to_str().unwrap()]).output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("missing"), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn bad_sweep_options_name_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let out = dir.path().join("o");
+    let cases: [(&[&str], &str); 8] = [
+        (&["--param", "forcing.omegaa", "--from", "1", "--to", "2", "--count", "3"], "forcing.omegaa"),
+        (&["--param", "nothing.omega", "--from", "1", "--to", "2", "--count", "3"], "nothing is not in the scene"),
+        (&["--param", "forcing.omega", "--from", "1", "--to", "2", "--count", "0"], "--count"),
+        (&["--param", "forcing.omega", "--from", "-1", "--to", "2", "--count", "3", "--log"], "--from"),
+        (&["--param", "forcing.omega", "--from", "1", "--to", "0", "--count", "3", "--log"], "--to"),
+        (&["--param", "forcing.omega", "--from", "1", "--to", "2", "--count", "3", "--shard", "3/3"], "--shard"),
+        (&["--param", "forcing.omega", "--from", "1", "--to", "2", "--count", "3", "--shard", "0/2", "--follow"], "--shard"),
+        (&["--param", "oscillator.stop", "--from", "-1", "--to", "0.2", "--count", "3"], "oscillator.initial_displacement"),
+    ];
+    for (args, needle) in cases {
+        let o = bin().args(["sweep", sc.to_str().unwrap(), "--out", out.to_str().unwrap()]).args(args).output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!out.join("sweep.csv").exists(), "{args:?}: nothing written");
+    }
+}
+
+#[test]
+fn the_documented_oscillator_sweep_runs() {
+    // The command, verbatim but for --out (dt = 1e-3, 210 periods, 7 runs).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("osc");
+    let o = bin()
+        .args(["sweep", scenes().join("oscillator.toml").to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "200", "--record", "10", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    ok(&o);
+    let head = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(head.lines().next(), Some("param,run,t,displacement,velocity,phase"));
+    // 10 recorded periods: 10 or 11 section points per run (both window ends).
+    let n = head.lines().count() - 1;
+    assert!((70..=77).contains(&n), "{n} rows");
+    for f in ["summary.csv", "impacts.csv", "bifurcation.svg", "impact_map.svg", "sweep.toml"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+}
