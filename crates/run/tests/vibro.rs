@@ -217,34 +217,41 @@ fn impulses_and_statistics_by_hand() {
 
 /// A cubic `u(t)` sampled at levels: the Poincaré points (displacement and
 /// velocity) are the cubic and its derivative at `t_k = k·2π/Ω` to rounding,
-/// for every `k` with `record_from <= t_k <= T` (counted by hand), with
-/// `t_k` bitwise `k·(2π/Ω)`; the CSV holds the same rows.
+/// for every `k` with `record_from <= t_k <= T` (counted by hand; also when
+/// the last one falls in the last step), with `t_k` bitwise `k·(2π/Ω)`; the
+/// CSV holds the same rows.
 #[test]
 fn poincare_exact_for_a_cubic() {
-    let (dt, omega, record_from, steps) = (0.01, 2.9, 0.5, 1000usize);
+    let (dt, omega, record_from) = (0.01, 2.9, 0.5);
+    let period = TAU / omega;
     let u = |t: f64| 0.3 - 1.1 * t + 0.45 * t * t - 0.07 * t * t * t;
     let du = |t: f64| -1.1 + 0.9 * t - 0.21 * t * t;
-    let levels: Vec<Level> = (0..=steps).map(|n| Level { u: vec![7.0, u(n as f64 * dt)], forces: vec![0.0], status: vec![Active::None] }).collect();
-    let mut csv = Vec::new();
-    let mut obs = PoincareObserver::new(1, dt, omega, record_from, 0, Some(&mut csv)).unwrap();
-    feed(&mut obs, dt, &levels).unwrap();
-    let period = TAU / omega;
-    let t_end = steps as f64 * dt;
-    let expect: Vec<u64> = (0..100).filter(|&k| k as f64 * period >= record_from && k as f64 * period <= t_end).collect();
-    assert_eq!(expect, vec![1, 2, 3, 4]);
-    let pts = obs.points().to_vec();
-    assert_eq!(pts.iter().map(|p| p.k).collect::<Vec<_>>(), expect);
-    for p in &pts {
-        assert_eq!(p.t, p.k as f64 * (TAU / omega));
-        assert!((p.displacement - u(p.t)).abs() < 1e-12, "{p:?} vs {}", u(p.t));
-        assert!((p.velocity - du(p.t)).abs() < 1e-10, "{p:?} vs {}", du(p.t));
-    }
-    drop(obs);
-    let (header, rows) = parse_csv(&csv);
-    assert_eq!(header, "t,displacement,velocity");
-    assert_eq!(rows.len(), 4);
-    for (r, p) in rows.iter().zip(&pts) {
-        assert!(rel(r[0], p.t) < 1e-11 && rel(r[1], u(p.t)) < 1e-11 && rel(r[2], du(p.t)) < 1e-9);
+    // Horizons: 10, and the level just past t_4 (so t_4 falls in the last
+    // step and is emitted only at `finish`).
+    let last = (4.0 * period / dt).ceil() as usize;
+    assert!(((last - 1) as f64) * dt < 4.0 * period);
+    for steps in [1000usize, last] {
+        let levels: Vec<Level> = (0..=steps).map(|n| Level { u: vec![7.0, u(n as f64 * dt)], forces: vec![0.0], status: vec![Active::None] }).collect();
+        let mut csv = Vec::new();
+        let mut obs = PoincareObserver::new(1, dt, omega, record_from, 0, Some(&mut csv)).unwrap();
+        feed(&mut obs, dt, &levels).unwrap();
+        let t_end = steps as f64 * dt;
+        let expect: Vec<u64> = (0..100).filter(|&k| k as f64 * period >= record_from && k as f64 * period <= t_end).collect();
+        assert_eq!(expect, vec![1, 2, 3, 4]);
+        let pts = obs.points().to_vec();
+        assert_eq!(pts.iter().map(|p| p.k).collect::<Vec<_>>(), expect, "horizon {t_end}");
+        for p in &pts {
+            assert_eq!(p.t, p.k as f64 * (TAU / omega));
+            assert!((p.displacement - u(p.t)).abs() < 1e-12, "{p:?} vs {}", u(p.t));
+            assert!((p.velocity - du(p.t)).abs() < 1e-10, "{p:?} vs {}", du(p.t));
+        }
+        drop(obs);
+        let (header, rows) = parse_csv(&csv);
+        assert_eq!(header, "t,displacement,velocity");
+        assert_eq!(rows.len(), 4);
+        for (r, p) in rows.iter().zip(&pts) {
+            assert!(rel(r[0], p.t) < 1e-11 && rel(r[1], u(p.t)) < 1e-11 && rel(r[2], du(p.t)) < 1e-9);
+        }
     }
 }
 
@@ -449,5 +456,39 @@ fn real_run_mass_on_a_stop() {
     let c3 = (h - u_eq) * w.powi(3) * 11.0 / 6.0;
     for (dt, e) in dts.iter().zip(&errs) {
         assert!(e.0.abs() < 0.1 && e.1.abs() < c3, "dt {dt}: errors/dt² {e:?} (bound {c3})");
+    }
+}
+
+/// The period test on a sampled trajectory, through [`VibroConfig::build`]
+/// and [`Summary`]: `u = cos(Ω t/3 + 0.3) + 0.5 cos(Ω t + 1)` is period 3 at
+/// the stroboscopic times, `0.5 cos(Ω t + 1)` period 1 (its Poincaré points
+/// coincide up to the interpolation error, so the tolerance must scale with
+/// the orbit's range, not the points'), `cos(φ Ω t)` (φ the golden ratio)
+/// not periodic. The number of points is counted by hand, and the summary
+/// row writes the period (0 when not periodic).
+#[test]
+fn period_of_sampled_trajectories() {
+    let (dt, omega, record_from, t_end): (f64, f64, f64, f64) = (0.01, 2.0, 10.0, 200.0);
+    let steps = (t_end / dt).round() as usize;
+    let npts = (0..1000).filter(|&k| k as f64 * TAU / omega >= record_from && k as f64 * TAU / omega <= steps as f64 * dt).count();
+    let phi = (1.0 + 5.0_f64.sqrt()) / 2.0;
+    let cases: [(fn(f64, f64, f64) -> f64, usize); 3] =
+        [(|w, t, _| (w * t / 3.0 + 0.3).cos() + 0.5 * (w * t + 1.0).cos(), 3), (|w, t, _| 0.5 * (w * t + 1.0).cos(), 1), (|w, t, phi| (phi * w * t).cos(), 0)];
+    for (u, p) in cases {
+        let levels: Vec<Level> = (0..=steps).map(|n| one(u(omega, n as f64 * dt, phi), 0.0, Active::None)).collect();
+        let mut cfg = VibroConfig::new(dt, Some(omega), record_from, 0, vec![(0, Bounds::obstacle(-10.0))]).unwrap();
+        cfg.t_end = Some(t_end);
+        let mut csv = Vec::new();
+        let mut v = cfg.build(Piece::<std::io::Sink>::Memory, Piece::Csv(&mut csv), true).unwrap();
+        feed(&mut v, dt, &levels).unwrap();
+        let s = v.summary();
+        assert_eq!(s.poincare, Some((npts, (p > 0).then_some(p))), "case period {p}");
+        assert_eq!(s.impacts.map(|i| i.count), Some(0));
+        let mut row = Vec::new();
+        s.write_row(&mut row).unwrap();
+        let row = String::from_utf8(row).unwrap();
+        assert_eq!(row.split(',').nth(7), Some(p.to_string().as_str()), "{row}");
+        drop(v);
+        assert_eq!(parse_csv(&csv).1.len(), npts);
     }
 }
