@@ -98,7 +98,9 @@ pub struct Impact {
     /// Pre-impact velocity at `t*`, signed (`< 0` hitting a lower stop).
     pub velocity: f64,
     /// Impulse `J = −dt Σ λ` over the run (the momentum given to the
-    /// structure: `> 0` at a lower stop; see the module docs).
+    /// structure: `> 0` at a lower stop; see the module docs). A sustained
+    /// contact is one long impact: its `J` includes the reaction to the
+    /// steady loads over its duration.
     pub impulse: f64,
     /// Contact duration: the number of active levels times `dt` (a
     /// rebound resolved in one step lasts `dt`).
