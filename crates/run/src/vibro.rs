@@ -98,7 +98,9 @@ pub struct Impact {
     /// Pre-impact velocity at `t*`, signed (`< 0` hitting a lower stop).
     pub velocity: f64,
     /// Impulse `J = −dt Σ λ` over the run (the momentum given to the
-    /// structure: `> 0` at a lower stop; see the module docs).
+    /// structure: `> 0` at a lower stop; see the module docs). A sustained
+    /// contact is one long impact: its `J` includes the reaction to the
+    /// steady loads over its duration.
     pub impulse: f64,
     /// Contact duration: the number of active levels times `dt` (a
     /// rebound resolved in one step lasts `dt`).
@@ -426,20 +428,16 @@ pub struct PoincarePoint {
 fn cubic4(u: [f64; 4], x: f64) -> (f64, f64) {
     const NODES: [f64; 4] = [-1.0, 0.0, 1.0, 2.0];
     let (mut val, mut der) = (0.0, 0.0);
-    for i in 0..4 {
-        let mut denom = 1.0;
-        let mut prod = 1.0;
-        let mut dprod = 0.0;
-        for j in 0..4 {
-            if j != i {
-                denom *= NODES[i] - NODES[j];
-                // (prod · (x − x_j))' = dprod · (x − x_j) + prod.
-                dprod = dprod * (x - NODES[j]) + prod;
-                prod *= x - NODES[j];
-            }
+    for (i, (&xi, &ui)) in NODES.iter().zip(&u).enumerate() {
+        let (mut denom, mut prod, mut dprod) = (1.0, 1.0, 0.0);
+        for (_, &xj) in NODES.iter().enumerate().filter(|&(j, _)| j != i) {
+            denom *= xi - xj;
+            // (prod · (x − x_j))' = dprod · (x − x_j) + prod.
+            dprod = dprod * (x - xj) + prod;
+            prod *= x - xj;
         }
-        val += u[i] * prod / denom;
-        der += u[i] * dprod / denom;
+        val += ui * prod / denom;
+        der += ui * dprod / denom;
     }
     (val, der)
 }
