@@ -100,7 +100,7 @@ pub const ALLOWED_WORDS: [&str; 11] = ["allowed", ">", "<", "[", "give", "requir
 
 /// Keys of `[output]` (those of `[bar]` and `[beam]` are matched one by one
 /// against `SceneFile` where an error is checked).
-pub const OUTPUT_KEYS: [&str; 3] = ["every", "snapshots_every", "plots"];
+pub const OUTPUT_KEYS: [&str; 7] = ["every", "snapshots_every", "plots", "impacts", "poincare", "summary", "transient"];
 
 /// Bar element counts above this are not validated unless
 /// [`Config::huge_sizes`] is set: today validation allocates for them.
@@ -1856,6 +1856,42 @@ fn given(file: &SceneFile, path: &str) -> Option<bool> {
             }
         }
         "output" if OUTPUT_KEYS.contains(&key) => true,
+        "oscillator" => {
+            let o = file.oscillator.as_ref()?;
+            match key {
+                "damping_ratio" => o.damping_ratio.is_some(),
+                "restitution" => o.restitution.is_some(),
+                "initial_displacement" => o.initial_displacement.is_some(),
+                "initial_velocity" => o.initial_velocity.is_some(),
+                "scheme" => o.scheme.is_some(),
+                "mass" | "stiffness" | "stop" | "dt" | "t_end" => true,
+                _ => return None,
+            }
+        }
+        "forcing" | "support" | "load" => {
+            let e = match table {
+                "forcing" => file.forcing.as_ref(),
+                "support" => file.support.as_ref(),
+                _ => file.load.as_ref(),
+            }?;
+            // `harmonics[2]`, `series.t[3]`, `psd[1]`: the list's key.
+            let base = key.split(['[', '.']).next().unwrap_or(key);
+            match base {
+                "profile" => e.profile.is_some(),
+                "amplitude" => e.amplitude.is_some(),
+                "omega" => e.omega.is_some(),
+                "phase" => e.phase.is_some(),
+                "harmonics" => e.harmonics.is_some(),
+                "series" => e.series.is_some(),
+                "f_lo" => e.f_lo.is_some(),
+                "f_hi" => e.f_hi.is_some(),
+                "psd" => e.psd.is_some(),
+                "count" => e.count.is_some(),
+                "seed" => e.seed.is_some(),
+                "x" => e.x.is_some(),
+                _ => return None,
+            }
+        }
         "stop" => {
             let (i, key) = key.split_once('.')?;
             let st = file.stop.get(i.parse::<usize>().ok()?)?;
@@ -1892,6 +1928,10 @@ fn check_validation_error(file: &SceneFile, e: &SceneError, cfg: Config) -> Resu
         "output" => true,
         "stop" => !file.stop.is_empty(),
         "obstacle" => file.obstacle.is_some(),
+        "oscillator" => file.oscillator.is_some(),
+        "forcing" => file.forcing.is_some(),
+        "support" => file.support.is_some(),
+        "load" => file.load.is_some(),
         "" => return Err("empty field path".into()),
         path => match given(file, path) {
             None => return Err(format!("field {path:?} is not a key of the scene grammar, or its table is not in the document")),

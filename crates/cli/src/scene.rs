@@ -113,19 +113,15 @@ pub struct OscillatorToml {
     /// Stiffness k (>= 0).
     pub stiffness: f64,
     /// Damping ratio ζ (>= 0; default 0).
-    #[serde(default)]
-    pub damping_ratio: f64,
+    pub damping_ratio: Option<f64>,
     /// The stop: x <= stop.
     pub stop: f64,
     /// Restitution r in [0, 1] (default 0).
-    #[serde(default)]
-    pub restitution: f64,
+    pub restitution: Option<f64>,
     /// x(0) (default 0).
-    #[serde(default)]
-    pub initial_displacement: f64,
+    pub initial_displacement: Option<f64>,
     /// x'(0) (default 0).
-    #[serde(default)]
-    pub initial_velocity: f64,
+    pub initial_velocity: Option<f64>,
     /// Time step.
     pub dt: f64,
     /// Horizon.
@@ -933,14 +929,18 @@ impl SceneFile {
         let osc = Oscillator {
             mass: o.mass,
             stiffness: o.stiffness,
-            damping_ratio: o.damping_ratio,
+            damping_ratio: o.damping_ratio.unwrap_or(0.0),
             stop: o.stop,
-            restitution: o.restitution,
-            x0: o.initial_displacement,
-            v0: o.initial_velocity,
+            restitution: o.restitution.unwrap_or(0.0),
+            x0: o.initial_displacement.unwrap_or(0.0),
+            v0: o.initial_velocity.unwrap_or(0.0),
             load: exc.as_ref().map(|e| e.profile.clone()),
         };
         osc.validate().map_err(|e| match e {
+            // x(0) above the stop: the stop's fault when x(0) is the default.
+            RunError::Invalid { field: "oscillator.initial_displacement", value, .. } if value.is_finite() && o.initial_displacement.is_none() => {
+                field("oscillator.stop", format!("{} is not allowed: >= initial_displacement (default 0): the initial state must satisfy x <= stop", o.stop))
+            }
             RunError::Invalid { field: f, value, allowed } => field(f, format!("{value} is not allowed: {allowed}")),
             e => field("oscillator", e),
         })?;
@@ -951,8 +951,8 @@ impl SceneFile {
                 if spec.needs_massless_node() {
                     return Err(field("oscillator.scheme", format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: ps, newmark, theta, moreau-jean or penalty")));
                 }
-                if o.restitution != 0.0 && !matches!(spec, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
-                    return Err(field("oscillator.restitution", format!("{} acts only with a scheme that has an impact law (ps, moreau-jean); {spec} has none: set restitution = 0, or choose ps", o.restitution)));
+                if o.restitution.is_some_and(|r| r != 0.0) && !matches!(spec, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
+                    return Err(field("oscillator.restitution", format!("acts only with a scheme that has an impact law (ps, moreau-jean); {spec} has none: remove it or set it to 0, or choose ps")));
                 }
                 spec
             }
