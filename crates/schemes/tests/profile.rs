@@ -232,6 +232,12 @@ fn series_means_match_quadrature() {
         assert!((got - want).abs() <= 1e-13 * want.abs(), "mean({t0}, {t1}) = {got} vs {want}");
     }
     assert_eq!(p.mean(ts[9], ts[9]), vs[9]);
+    // The integral itself, signed: ∫_b^a = −∫_a^b.
+    let TimeProfile::Series(series) = &p else { panic!("a series") };
+    let (a, b) = (-3.0, ts[60] + 0.4);
+    let want = series_mean_oracle(&ts, &vs, a, b) * (b - a);
+    assert!((series.integral(a, b) - want).abs() <= 1e-13 * want.abs());
+    assert!((series.integral(b, a) + want).abs() <= 1e-13 * want.abs());
 }
 
 // ---------------------------------------------------------------------------
