@@ -155,10 +155,13 @@ impl Series {
         }
     }
 
-    /// `∫_a^b s` for `a <= b`, exactly (trapezoids on the pieces `[a, b]`
-    /// meets, held ends outside the data): `O(log K + pieces spanned)`.
+    /// `∫_a^b s`, exactly (trapezoids on the pieces `[a, b]` meets, held
+    /// ends outside the data; `−∫_b^a s` when `a > b`):
+    /// `O(log K + pieces spanned)`.
     pub fn integral(&self, a: f64, b: f64) -> f64 {
-        debug_assert!(a <= b);
+        if a > b {
+            return -self.integral(b, a);
+        }
         let (t, v) = (&self.t, &self.v);
         let k = t.len();
         let (first, last) = (t[0], t[k - 1]);
