@@ -842,6 +842,7 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
     };
     let cfg = VibroConfig::for_dynamics(built.stepper.dynamics(), plan.dt, Some(plan.omega), plan.record_from, built.tip).map(|mut c| {
         c.t_end = Some(plan.t_end);
+        c.phase = plan.phase;
         c
     });
     let mut vib = match cfg.and_then(|c| c.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)) {

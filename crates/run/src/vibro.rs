@@ -464,6 +464,8 @@ pub struct PoincareObserver<W: Write> {
     tip: usize,
     dt: f64,
     period: f64,
+    /// `θ/Ω`: the section's time offset within a period.
+    offset: f64,
     record_from: f64,
     next_k: u64,
     /// `(t, u)` of the last four levels, oldest first.
@@ -502,7 +504,7 @@ impl<W: Write> PoincareObserver<W> {
             None => None,
         };
         let empty = (f64::INFINITY, f64::NEG_INFINITY);
-        Ok(Self { tip, dt, period, record_from, next_k: k as u64, win: [(f64::NAN, f64::NAN); 4], seen: 0, out, points: Vec::with_capacity(capacity), range_u: empty, range_v: empty })
+        Ok(Self { tip, dt, period, offset: 0.0, record_from, next_k: k as u64, win: [(f64::NAN, f64::NAN); 4], seen: 0, out, points: Vec::with_capacity(capacity), range_u: empty, range_v: empty })
     }
 
     /// The points so far.
@@ -510,9 +512,25 @@ impl<W: Write> PoincareObserver<W> {
         &self.points
     }
 
-    /// `t_k = k · 2π/Ω`.
+    /// `t_k = k · 2π/Ω + θ/Ω` (θ the section's phase, 0 by default).
     fn t_of(&self, k: u64) -> f64 {
-        k as f64 * self.period
+        k as f64 * self.period + self.offset
+    }
+
+    /// The section at forcing phase `theta ∈ [0, 2π)` instead of 0: samples
+    /// at `t_k = (k + θ/2π)·2π/Ω`, the first with `t_k >= record_from`.
+    /// Refused (naming `vibro.phase`) outside `[0, 2π)`; call before the run.
+    pub fn with_phase(mut self, theta: f64) -> Result<Self, RunError> {
+        if !(0.0..TAU).contains(&theta) {
+            return Err(RunError::Invalid { field: "vibro.phase", value: theta, allowed: "[0, 2π)" });
+        }
+        self.offset = theta / TAU * self.period;
+        let mut k = ((self.record_from - self.offset) / self.period).ceil().max(0.0);
+        if k >= 1.0 && (k - 1.0) * self.period + self.offset >= self.record_from {
+            k -= 1.0;
+        }
+        self.next_k = k as u64;
+        Ok(self)
     }
 
     /// The scales of the period test: the ranges `(max − min)` of the tip
@@ -755,13 +773,15 @@ pub struct VibroConfig {
     pub t_end: Option<f64>,
     /// Impacts reserved in memory at construction.
     pub impact_capacity: usize,
+    /// The forcing phase `θ ∈ [0, 2π)` of the Poincaré section (default 0).
+    pub phase: f64,
 }
 
 impl VibroConfig {
     /// A validated configuration with `p_max = 8`, `period_tol = 1e-3`, no
     /// horizon and room for 1024 impacts.
     pub fn new(dt: f64, omega: Option<f64>, record_from: f64, tip: usize, contacts: Vec<(usize, Bounds)>) -> Result<Self, RunError> {
-        let cfg = Self { dt, omega, record_from, tip, contacts, p_max: 8, period_tol: 1e-3, t_end: None, impact_capacity: 1024 };
+        let cfg = Self { dt, omega, record_from, tip, contacts, p_max: 8, period_tol: 1e-3, t_end: None, impact_capacity: 1024, phase: 0.0 };
         cfg.validate()?;
         Ok(cfg)
     }
@@ -821,7 +841,7 @@ impl VibroConfig {
         self.validate()?;
         let omega = self.omega.ok_or(RunError::Invalid { field: "vibro.omega", value: f64::NAN, allowed: "given (a Poincaré section needs the forcing frequency)" })?;
         let cap = self.t_end.map_or(0, |t| ((t - self.record_from).max(0.0) * omega / TAU).floor() as usize + 2);
-        PoincareObserver::new(self.tip, self.dt, omega, self.record_from, cap, csv)
+        PoincareObserver::new(self.tip, self.dt, omega, self.record_from, cap, csv)?.with_phase(self.phase)
     }
 
     /// The window observer.

@@ -255,6 +255,31 @@ fn poincare_exact_for_a_cubic() {
     }
 }
 
+/// A section at forcing phase θ samples at `t_k = (k + θ/2π)·2π/Ω`, from
+/// the first such time in the record window; θ outside `[0, 2π)` is refused.
+#[test]
+fn poincare_section_at_a_phase() {
+    let (dt, omega, record_from, theta) = (0.01, 2.9, 0.5, 2.0);
+    let period = TAU / omega;
+    let u = |t: f64| 0.3 - 1.1 * t + 0.45 * t * t - 0.07 * t * t * t;
+    let levels: Vec<Level> = (0..=1000).map(|n| Level { u: vec![u(n as f64 * dt)], forces: vec![0.0], status: vec![Active::None] }).collect();
+    let mut obs = PoincareObserver::new(0, dt, omega, record_from, 0, None::<Vec<u8>>).unwrap().with_phase(theta).unwrap();
+    feed(&mut obs, dt, &levels).unwrap();
+    // Independently: the times k T + θ/Ω in [0.5, 10].
+    let expect: Vec<f64> = (0..100).map(|k| k as f64 * period + theta / omega).filter(|&t| t >= record_from && t <= 10.0).collect();
+    assert_eq!(expect.len(), 5);
+    let pts = obs.points();
+    assert_eq!(pts.len(), expect.len());
+    for (p, t) in pts.iter().zip(&expect) {
+        assert!((p.t - t).abs() < 1e-12 && (p.displacement - u(*t)).abs() < 1e-12, "{p:?} vs t = {t}");
+        // The forcing phase of the sample is θ.
+        assert!(((omega * p.t) % TAU - theta).abs() < 1e-12);
+    }
+    for bad in [-0.1, TAU, f64::NAN] {
+        assert!(PoincareObserver::new(0, dt, omega, 0.0, 0, None::<Vec<u8>>).unwrap().with_phase(bad).is_err(), "{bad}");
+    }
+}
+
 /// `u = sin(w t + 0.4)`: the largest errors of the Poincaré points over
 /// `[0, 20]` fall by ≈ 16 (displacement, O(dt⁴)) and ≈ 8 (velocity,
 /// O(dt³)) when `dt` halves.
