@@ -10,7 +10,7 @@ mod common;
 use common::*;
 use signorini_contact::Active;
 use signorini_fem::{BarMass, Beam, SymBand};
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, OneStep, OneStepParams, PaoliSchatzman, SchemeError, SchemeSpec, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, Nitsche, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, SchemeSpec, Stepper, TimeProfile};
 
 // ---------------------------------------------------------------- 1 dof
 
@@ -424,6 +424,9 @@ fn damping_refusals_are_typed() {
         let e = spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-3, &init).err().expect("refused");
         assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "{spec}: {e}");
     }
+    // The constructors refuse it too (not only SchemeSpec::build).
+    let e = Reduced::new("hybrid".into(), dy.clone(), ReducedLaw::Hybrid, 1e-3, &init).err().expect("refused");
+    assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "Reduced::new: {e}");
     // ... while the momentum-form schemes take it.
     for spec in ["newmark-cn", "backward-euler", "ps-e0", "penalty-cn"] {
         spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-3, &init).unwrap_or_else(|e| panic!("{spec}: {e}"));
@@ -436,6 +439,8 @@ fn damping_refusals_are_typed() {
         let e = spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-5, &init).err().expect("refused");
         assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "{spec}: {e}");
     }
+    let e = Nitsche::new("nitsche".into(), dy.clone(), 0.25, 0.5, 10.0, 1.0, 1e-3, &init).err().expect("refused");
+    assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "Nitsche::new: {e}");
     let e = OneStep::new("cd".into(), dy.clone(), OneStepParams::newmark(0.0, 0.5), 1e-5, &init).err().expect("refused");
     assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "{e}");
     for spec in ["moreau-jean", "ps(0,0)", "theta(0.7)"] {
