@@ -455,7 +455,7 @@ fn damping_refusals_are_typed() {
     let bad = |c: SymBand| {
         let mut d = dy_std.clone();
         d.damping = Some(c);
-        d.validate().err().expect("invalid damping")
+        d.validate().expect_err("invalid damping")
     };
     assert!(matches!(bad(SymBand::zeros(n + 1, 1)), SchemeError::Size { what: "damping matrix", got, expected } if got == n + 1 && expected == n));
     assert!(matches!(bad(SymBand::zeros(n, 2)), SchemeError::Size { got: 2, expected: 1, .. }));
