@@ -6,6 +6,10 @@
 //! M U'' + K U = F - λ e_c,    lo <= u_c <= hi,   λ >= 0 ⊥ ... (docs/theory.md §3, §4)
 //! ```
 //!
+//! optionally with a viscous damping `C U'` on the left ([`Dynamics::damping`];
+//! [`OneStep`], [`PaoliSchatzman`], [`MoreauJean`]) and `F(t)` a steady load
+//! plus any number of separable terms `shape_j s_j(t)` ([`Dynamics::forcing`]).
+//!
 //! (bar notation: `λ = c² u_x(0, t) <= 0` enters as `-λ e_0`; a lower bound is
 //! pushed up by `-λ >= 0`). Every scheme solves, each step, `A x = b + μ e_c`
 //! with one matrix `A` factorised once ([`signorini_fem::BandLdlt`]) and the

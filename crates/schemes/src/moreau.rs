@@ -13,6 +13,12 @@
 //! is reported as the mean force `λ = -p/dt` at `t_{n+1}`. The constraint
 //! holds at the velocity level only: `u_c` may dip below `g` by O(dt·v).
 //!
+//! A time-dependent load (the terms of [`crate::Dynamics::forcing`]) enters
+//! as its exact impulse over the step, `dt F` → `dt F_s + Σ_j shape_j ∫_{t_n}^{t_{n+1}} s_j`
+//! (`dt` times the exact mean [`crate::TimeProfile::mean`]; Moreau's
+//! measure form `M dV = F dt + dP` integrated exactly), which keeps the
+//! θ = 1/2 scheme second order for a smooth load.
+//!
 //! Damping ([`crate::Dynamics::damping`]) acts on the same mid-velocity,
 //! `+ dt C V^{n+θ}` on the left: the step matrix is `M + θ dt C + θ² dt² K`
 //! and the right-hand side gains `- (1-θ) dt C V^n`.
@@ -147,6 +153,14 @@ impl Stepper for MoreauJean {
         self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
         for ((b, k), f) in self.rhs.iter_mut().zip(&self.ktmp).zip(&self.dy.load) {
             *b += dt * (f - k);
+        }
+        // + Σ_j shape_j ∫ s_j over [t_n, t_{n+1}] (exact impulse of each forcing term).
+        if !self.dy.forcing.is_empty() {
+            let (t0, t1) = (self.n as f64 * dt, (self.n + 1) as f64 * dt);
+            for f in &self.dy.forcing {
+                let w = dt * f.time.mean(t0, t1);
+                self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += w * g);
+            }
         }
         if let Some(cm) = &self.dy.damping {
             // - (1-θ) dt C V^n

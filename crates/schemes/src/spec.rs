@@ -212,8 +212,8 @@ impl SchemeSpec {
         let label = self.to_string();
         // These schemes take the steady load only: refuse a time-dependent
         // one rather than ignore it.
-        if !dy.forcing.is_empty() && matches!(self, SchemeSpec::MoreauJean { .. } | SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {
-            return Err(SchemeError::Structure("this scheme takes a steady load only: a time-dependent forcing needs newmark, theta, ps, or penalty"));
+        if !dy.forcing.is_empty() && matches!(self, SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {
+            return Err(SchemeError::Structure("this scheme takes a steady load only: a time-dependent forcing needs newmark, theta, ps, penalty or moreau-jean"));
         }
         if dy.damping.is_some() {
             if matches!(self, SchemeSpec::Nitsche { .. } | SchemeSpec::Reduced(_)) {

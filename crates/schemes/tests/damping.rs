@@ -10,7 +10,7 @@ mod common;
 use common::*;
 use signorini_contact::Active;
 use signorini_fem::{BarMass, Beam, SymBand};
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, OneStep, OneStepParams, PaoliSchatzman, SchemeError, SchemeSpec, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, Nitsche, OneStep, OneStepParams, PaoliSchatzman, Reduced, ReducedLaw, SchemeError, SchemeSpec, Stepper, TimeProfile};
 
 // ---------------------------------------------------------------- 1 dof
 
@@ -150,7 +150,8 @@ fn one_dof_paoli_schatzman_follows_its_recurrence() {
 /// time-averaged load `Gⁿ` is centred at `t_{n+½}` (docs/theory.md §4.3:
 /// first order with a time-dependent load by design; [0.9, 1.1] on the finest
 /// pairs). PS β = 1/4 with a steady load `F` (exact solution `F/k` plus the
-/// free decay) is second order ([1.95, 2.05]).
+/// free decay) is second order ([1.95, 2.05]), and so is Moreau–Jean θ = 1/2
+/// with the sine load (its exact impulse per step).
 #[test]
 fn damped_forced_oscillator_converges_at_the_schemes_order() {
     let (m, c, k, f, om): (f64, f64, f64, f64, f64) = (1.3, 0.9, 50.0, 2.5, 4.0);
@@ -173,11 +174,12 @@ fn damped_forced_oscillator_converges_at_the_schemes_order() {
     let b_s = (v0 + zeta * w0 * a_s) / wd;
     let exact_steady = |t: f64| f / k + (-zeta * w0 * t).exp() * (a_s * (wd * t).cos() + b_s * (wd * t).sin());
     let ps = SchemeSpec::PaoliSchatzman { restitution: 0.0, beta: 0.25 };
-    let cases: [(SchemeSpec, bool, f64, f64, usize); 4] = [
+    let cases: [(SchemeSpec, bool, f64, f64, usize); 5] = [
         (SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }, true, 1.95, 2.05, 0),
         (SchemeSpec::Theta { theta: 1.0 }, true, 0.95, 1.05, 2),
         (ps, true, 0.9, 1.1, 1),
         (ps, false, 1.95, 2.05, 0),
+        (SchemeSpec::MoreauJean { theta: 0.5, restitution: 0.0 }, true, 1.95, 2.05, 0),
     ];
     for (spec, forced, lo, hi, skip) in cases {
         let mut errs = Vec::new();
@@ -369,14 +371,16 @@ fn damped_energy_balance_with_contacts() {
     }
 }
 
-/// Moreau–Jean with damping and several stops: its velocity-level equation
-/// `M (V^{n+1} − V^n) + dt K (U^n + U^{n+1})/2 + dt C (V^n + V^{n+1})/2 = dt F + Σ p_i e_{c_i}`
-/// (θ = 1/2, velocities rebuilt from the displacements) holds to round-off.
+/// Moreau–Jean with damping, a forcing and several stops: its velocity-level equation
+/// `M (V^{n+1} − V^n) + dt K (U^n + U^{n+1})/2 + dt C (V^n + V^{n+1})/2 = dt F_s + ∫_{t_n}^{t_{n+1}} F_t + Σ p_i e_{c_i}`
+/// (θ = 1/2, velocities rebuilt from the displacements, the forcing's
+/// integral from the antiderivative) holds to round-off.
 #[test]
 fn moreau_jean_damped_momentum_equation() {
     let m = 20;
     let stops = [OStop::new(0, -0.02, f64::INFINITY), OStop::new(8, -0.006, 0.004)];
-    let (mut dy, o) = bar_stops_scene(m, BarMass::Lumped, true, &stops, -0.5, None);
+    let (mut dy, o) = bar_stops_scene(m, BarMass::Lumped, true, &stops, -0.5, Some(bar_forcing(m + 1)));
+    let (shape, sine) = o.forcing.clone().unwrap();
     let c = rayleigh(&mut dy, &o, 0.8, 2e-3);
     let n = o.n();
     let init = Initial { u: vec![0.0; n], v: (0..n).map(|i| -0.8 + 0.2 * (i as f64 * 0.3).sin()).collect() };
@@ -396,7 +400,8 @@ fn moreau_jean_damped_momentum_equation() {
         let kmid = mul(&o.k, &lin(&[(0.5, u0), (0.5, u1)]));
         let cmid = mul(&c, &lin(&[(0.5, &v), (0.5, &v1)]));
         let pv = o.force_vector(&p);
-        let res: Vec<f64> = (0..n).map(|i| mdv[i] + dt * (kmid[i] + cmid[i] - o.load[i]) - pv[i]).collect();
+        let mean = sine.mean(l as f64 * dt, (l + 1) as f64 * dt);
+        let res: Vec<f64> = (0..n).map(|i| mdv[i] + dt * (kmid[i] + cmid[i] - o.load[i] - shape[i] * mean) - pv[i]).collect();
         let scale = norm_inf(&o.m) * (max_abs(&v1) + max_abs(&v)) + dt * (norm_inf(&o.k) * max_abs(u1) + norm_inf(&c) * max_abs(&v1) + max_abs(&o.load)) + max_abs(&p);
         w.check(&format!("MJ residual at step {l}"), max_abs(&res), scale, 1e-11);
         v = v1;
@@ -424,9 +429,14 @@ fn damping_refusals_are_typed() {
         let e = spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-3, &init).err().expect("refused");
         assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "{spec}: {e}");
     }
+    // The constructors refuse it too (not only SchemeSpec::build).
+    let e = Reduced::new("hybrid".into(), dy.clone(), ReducedLaw::Hybrid, 1e-3, &init).err().expect("refused");
+    assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "Reduced::new: {e}");
     // ... while the momentum-form schemes take it.
     for spec in ["newmark-cn", "backward-euler", "ps-e0", "penalty-cn"] {
-        spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-3, &init).unwrap_or_else(|e| panic!("{spec}: {e}"));
+        let mut s = spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-2, &init).unwrap_or_else(|e| panic!("{spec}: {e}"));
+        let traj = record(s.as_mut(), 100);
+        assert!(traj.active_steps() > 0 && traj.u.iter().flatten().all(|x| x.is_finite()), "{spec}: the massless node must meet the obstacle, finitely");
     }
     let (dy_std, o_std) = bar_scene(m, BarMass::Std, false, -0.05, -0.5, None);
     let mut dy = dy_std.clone();
@@ -436,6 +446,8 @@ fn damping_refusals_are_typed() {
         let e = spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-5, &init).err().expect("refused");
         assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "{spec}: {e}");
     }
+    let e = Nitsche::new("nitsche".into(), dy.clone(), 0.25, 0.5, 10.0, 1.0, 1e-3, &init).err().expect("refused");
+    assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "Nitsche::new: {e}");
     let e = OneStep::new("cd".into(), dy.clone(), OneStepParams::newmark(0.0, 0.5), 1e-5, &init).err().expect("refused");
     assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("damping")), "{e}");
     for spec in ["moreau-jean", "ps(0,0)", "theta(0.7)"] {
@@ -445,7 +457,7 @@ fn damping_refusals_are_typed() {
     let bad = |c: SymBand| {
         let mut d = dy_std.clone();
         d.damping = Some(c);
-        d.validate().err().expect("invalid damping")
+        d.validate().expect_err("invalid damping")
     };
     assert!(matches!(bad(SymBand::zeros(n + 1, 1)), SchemeError::Size { what: "damping matrix", got, expected } if got == n + 1 && expected == n));
     assert!(matches!(bad(SymBand::zeros(n, 2)), SchemeError::Size { got: 2, expected: 1, .. }));
@@ -469,8 +481,9 @@ fn damping_refusals_are_typed() {
     d.forcing = vec![Forcing { shape: vec![0.0; n], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.0 } }, Forcing { shape: vec![0.0; n - 1], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.0 } }];
     assert!(matches!(d.validate(), Err(SchemeError::Size { what: "forcing shape", got, .. }) if got == n - 1));
     d.forcing.pop();
-    let e = SchemeSpec::MoreauJean { theta: 0.5, restitution: 0.0 }.build(d, 1e-3, &init).err().expect("refused");
+    let e = SchemeSpec::Nitsche { gamma0: 10.0, theta: 1.0 }.build(d.clone(), 1e-3, &init).err().expect("refused");
     assert!(matches!(&e, SchemeError::Structure(msg) if msg.contains("steady load")), "{e}");
+    SchemeSpec::MoreauJean { theta: 0.5, restitution: 0.0 }.build(d, 1e-3, &init).expect("Moreau–Jean takes a forcing");
 }
 
 // ---------------------------------------------------------------- several forcing terms
