@@ -45,7 +45,8 @@ pub mod sweep;
 
 use scene::{BarRun, ContactSet, OutputToml, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
-use signorini_run::beam::{build_with_stops, stability_limit, BeamContact, PenaltyUnits};
+use signorini_run::beam::{build_excited, stability_limit, BeamContact, PenaltyUnits};
+use signorini_schemes::TimeProfile;
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
 use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
 use std::fs::File;
@@ -266,12 +267,12 @@ struct Snapshots {
     every: usize,
     /// `(x, unknown holding u(x) or None where u = 0, lifting h(x))`.
     nodes: Vec<(f64, Option<usize>, f64)>,
-    /// The support motion `φ(t) = A sin(ω t)` (beam), added as `h(x) φ(t)`.
-    support: Option<(f64, f64)>,
+    /// The support motion `φ(t)` (beam), added as `h(x) φ(t)`.
+    support: Option<TimeProfile>,
 }
 
 impl Snapshots {
-    fn new(dir: &Path, header: &str, every: usize, nodes: Vec<(f64, Option<usize>, f64)>, support: Option<(f64, f64)>) -> Result<Self, CliError> {
+    fn new(dir: &Path, header: &str, every: usize, nodes: Vec<(f64, Option<usize>, f64)>, support: Option<TimeProfile>) -> Result<Self, CliError> {
         let mut out = RowSink::new(create(dir, "snapshots.csv")?);
         out.row(|b| b.write_all(header.as_bytes()))?;
         Ok(Self { out, every, nodes, support })
@@ -283,7 +284,7 @@ impl Observer for Snapshots {
         if s.n % self.every != 0 {
             return Ok(());
         }
-        let phi = self.support.map_or(0.0, |(a, w)| a * (w * s.t).sin());
+        let phi = self.support.as_ref().map_or(0.0, |p| p.value(s.t));
         for &(x, dof, h) in &self.nodes {
             let u = dof.and_then(|i| s.u.get(i).copied()).unwrap_or(0.0) + h * phi;
             self.out.row(|b| write!(b, "{},{:.12e},{x:.12e},{u:.12e}", s.n, s.t))?;
@@ -462,8 +463,8 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             lines.push(format!("wrote {}", out.display()));
             Ok(Summary { lines })
         }
-        Scene::Beam { pipe, scene, force, contacts } => {
-            let (mut stepper, init, beam) = build_with_stops(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()))?;
+        Scene::Beam { pipe, scene, force, contacts, excitation, omega } => {
+            let (mut stepper, init, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
             let mut cfg = RunConfig::new(scene.dt, scene.t_end)?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
@@ -474,11 +475,12 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let mut snaps = if scene_file.output.snapshots_every > 0 {
                 // Node i at x = i h; its value unknown is 2(i - 1); node 0 is clamped to the support.
                 let nodes = (0..=scene.elements).map(|i| (i as f64 * beam.h(), i.checked_sub(1).map(|k| 2 * k), pipe.lifting(i as f64 * beam.h()).0)).collect();
-                Some(Snapshots::new(out, "n,t_s,x_m,u_m", scene_file.output.snapshots_every, nodes, Some(pipe.support))?)
+                let phi = excitation.support.clone().unwrap_or(TimeProfile::Sine { amplitude: pipe.support.0, omega: pipe.support.1 });
+                Some(Snapshots::new(out, "n,t_s,x_m,u_m", scene_file.output.snapshots_every, nodes, Some(phi))?)
             } else {
                 None
             };
-            let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), beam.tip_dof(), scene.dt, scene.t_end, Some(pipe.support.1))?;
+            let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), beam.tip_dof(), scene.dt, scene.t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
             let res = {
@@ -545,7 +547,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     } else {
         None
     };
-    let mut vib = Analysis::new(file, out, stepper.dynamics(), dof0, b.dt, b.t_end, None)?;
+    let mut vib = Analysis::new(file, out, stepper.dynamics(), dof0, b.dt, b.t_end, b.omega)?;
     let mut prog = progress(steps, opts.progress);
     let start = std::time::Instant::now();
     let res = {
@@ -764,18 +766,15 @@ impl Analysis {
         let mut cfg = VibroConfig::for_dynamics(dy, dt, omega, record_from, tip)?;
         cfg.t_end = Some(t_end);
         let impacts = if o.impacts {
-            let mut f = create(out, "impacts.csv")?;
-            f.write_all(format!("{}\n", signorini_run::vibro::ImpactObserver::<File>::HEADER).as_bytes()).map_err(|e| CliError::Io(e.to_string()))?;
-            Piece::Csv(f)
+            // The observers write their own headers.
+            Piece::Csv(create(out, "impacts.csv")?)
         } else if o.summary {
             Piece::Memory
         } else {
             Piece::Off
         };
         let poincare = if o.poincare {
-            let mut f = create(out, "poincare.csv")?;
-            f.write_all(format!("{}\n", signorini_run::vibro::PoincareObserver::<File>::HEADER).as_bytes()).map_err(|e| CliError::Io(e.to_string()))?;
-            Piece::Csv(f)
+            Piece::Csv(create(out, "poincare.csv")?)
         } else {
             Piece::Off
         };
@@ -869,11 +868,11 @@ pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Buil
             let stepper = b.scheme.build(dy, b.dt, &i).map_err(RunError::from)?;
             Ok(Built { stepper, u0: i.u, tip })
         }
-        Scene::Beam { pipe, scene, force, contacts } => {
+        Scene::Beam { pipe, scene, force, contacts, excitation, .. } => {
             if start.is_some() {
                 return Err(CliError::Io("a beam run does not start from another run's state yet (--follow takes oscillator and bar scenes)".into()));
             }
-            let (stepper, i, beam) = build_with_stops(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()))?;
+            let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
             Ok(Built { stepper, u0: i.u, tip: beam.tip_dof() })
         }
     }

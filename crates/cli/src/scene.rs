@@ -48,7 +48,9 @@
 
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
-use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use crate::excitation::Excitation;
+use signorini_run::beam::{build_excited, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_schemes::TimeProfile;
 use crate::excitation::{ExcitationToml, Table};
 use signorini_run::oscillator::Oscillator;
 use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
@@ -318,6 +320,8 @@ pub struct BarRun {
     /// The contacts of `[[stop]]` / `[obstacle]` (`None`: the obstacle at
     /// x = 0); the problem holds them as its stops.
     pub contacts: Option<ContactSet>,
+    /// The frequency of a periodic `[load]` (Poincaré section, phases).
+    pub omega: Option<f64>,
 }
 
 /// One contact of a scene with `[[stop]]` / `[obstacle]`.
@@ -434,6 +438,11 @@ pub enum Scene {
         /// The contacts of `[[stop]]` / `[obstacle]` (`None`: the tip's
         /// two stops).
         contacts: Option<ContactSet>,
+        /// `[support]` beyond a sine, `[load]`.
+        excitation: BeamExcitation,
+        /// The forcing frequency (the support's, or `omega` of `[support]` /
+        /// `[load]`): Poincaré section and impact phases.
+        omega: Option<f64>,
     },
 }
 
@@ -445,8 +454,8 @@ impl Scene {
     pub fn sweep_clock(&self) -> Option<(f64, f64, &'static str)> {
         match self {
             Scene::Oscillator { omega, dt, .. } => omega.map(|w| (w, *dt, "oscillator.t_end")),
-            Scene::Beam { pipe, scene, .. } => Some((pipe.support.1, scene.dt, "beam.t_end")),
-            Scene::Bar(_) => None,
+            Scene::Beam { omega, scene, .. } => omega.map(|w| (w, scene.dt, "beam.t_end")),
+            Scene::Bar(b) => b.omega.map(|w| (w, b.dt, "bar.t_end")),
         }
     }
 }
@@ -907,8 +916,18 @@ impl SceneFile {
             return Err(field("forcing", "acts only with [oscillator] (a bar or a beam takes [load], a beam also [support])"));
         }
         match (&self.bar, &self.beam) {
-            (Some(b), None) => Ok(Scene::Bar(Box::new(validate_bar(b, &self.stop, self.obstacle.as_ref(), limits)?))),
-            (None, Some(b)) => validate_beam(b, &self.stop, self.obstacle.as_ref(), limits),
+            (Some(b), None) => {
+                if self.support.is_some() {
+                    return Err(field("support", "acts only with [beam] (the bar has no moving support): give the excitation as a [load]"));
+                }
+                let load = self.load.as_ref().map(|e| e.build(Table::Load, self.base.as_deref())).transpose()?;
+                Ok(Scene::Bar(Box::new(validate_bar(b, &self.stop, self.obstacle.as_ref(), load, limits)?)))
+            }
+            (None, Some(b)) => {
+                let support = self.support.as_ref().map(|e| e.build(Table::Support, self.base.as_deref())).transpose()?;
+                let load = self.load.as_ref().map(|e| e.build(Table::Load, self.base.as_deref())).transpose()?;
+                validate_beam(b, &self.stop, self.obstacle.as_ref(), support, load, limits)
+            }
             _ => Err(field("bar/beam", "give exactly one of the tables [bar], [beam] and [oscillator]")),
         }
     }
@@ -1042,7 +1061,7 @@ fn too_soft(e: impl fmt::Display) -> String {
     format!("{e}: a spring this soft has a compliance 1/(β dt² κ) beyond the floating-point range; allowed: stiffness with β dt² κ >= 2.2e-308 (κ in the scaled equation)")
 }
 
-fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, limits: &Limits) -> Result<BarRun, SceneError> {
+fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, load: Option<Excitation>, limits: &Limits) -> Result<BarRun, SceneError> {
     let mass: BarMass = b.mass.parse().map_err(|e| field("bar.mass", e))?;
     let scheme: SchemeSpec = b.scheme.parse().map_err(|e| field("bar.scheme", e))?;
     if scheme.needs_massless_node() && !mass.massless_contact_node() {
@@ -1164,6 +1183,25 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     } else {
         None
     };
+    let mut omega = None;
+    if let Some(e) = load {
+        if b.benchmark.is_some() {
+            return Err(field("load", "a benchmark is its own problem with its exact solution: remove [load], or remove benchmark"));
+        }
+        let node = match e.x {
+            None => None,
+            Some(x) => {
+                let bar = problem.bar;
+                let i = (x / bar.length * bar.elements as f64).round();
+                if !(x.is_finite() && i >= 0.0 && i < bar.dofs() as f64 && (bar.node(i as usize) - x).abs() <= 1e-9 * bar.length) {
+                    return Err(field("load.x", format!("{x} is not allowed: a mesh node x = i L/m that is an unknown, 0 <= x <= L = {} (m = {}; a clamped far end is not)", bar.length, bar.elements)));
+                }
+                Some(i as usize)
+            }
+        };
+        omega = e.omega;
+        problem = problem.with_load(node, e.profile).map_err(|e| field("load.x", e))?;
+    }
     let dt = match (b.dt, b.ratio) {
         (Some(dt), None) => positive("bar.dt", dt)?,
         (None, Some(r)) => problem.bar.h() / positive("bar.ratio", r)?,
@@ -1197,10 +1235,10 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         }
         (e, _) => scheme_error(e, overflow_key),
     })?;
-    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts })
+    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega })
 }
 
-fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, limits: &Limits) -> Result<Scene, SceneError> {
+fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, support: Option<Excitation>, load: Option<Excitation>, limits: &Limits) -> Result<Scene, SceneError> {
     let base = match &b.scene {
         Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
         None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
@@ -1265,6 +1303,40 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         }
         pipe.stops = (g1, g2);
     }
+    if support.is_some() && b.support.is_some() {
+        return Err(field("beam.support", "not both [support] and beam.support = [A, ω]: remove beam.support (it is [support] with amplitude = A, omega = ω)"));
+    }
+    // [support]: the paper's sine A sin(ω t) takes the pipe's own path (bit for
+    // bit the beam.support scenes); any other profile the general lifting.
+    let mut excitation = BeamExcitation::default();
+    let mut omega = Some(pipe.support.1);
+    if let Some(e) = support {
+        match e.profile {
+            TimeProfile::Sine { amplitude, omega: w } => pipe.support = (amplitude, w),
+            ref other => {
+                if other.second_derivative().is_none() {
+                    return Err(field("support.profile", "\"series\" is not allowed for a support motion: φ'' of a piecewise-linear φ is a train of impulses; give the load itself in [load]"));
+                }
+                excitation.support = Some(other.clone());
+                omega = e.omega;
+            }
+        }
+    }
+    if let Some(e) = load {
+        let node = match e.x {
+            None => None,
+            Some(x) => {
+                let l = pipe.length;
+                let i = (x / l * elements as f64).round();
+                if !(x.is_finite() && (i * l / elements as f64 - x).abs() <= 1e-9 * l && i >= 1.0 && i <= elements as f64) {
+                    return Err(field("load.x", format!("{x} is not allowed: a mesh node x = i L/J, 0 < x <= L = {l} (J = {elements})")));
+                }
+                Some(i as usize)
+            }
+        };
+        excitation.load = Some((node, e.profile));
+        omega = omega.or(e.omega);
+    }
     if let Some([a, w]) = b.support {
         pipe.support = (finite("beam.support", a)?, positive("beam.support", w)?);
         // The lifted load is A ω² h(x) + 8 A k²/L⁴, its velocity A ω h(x).
@@ -1299,7 +1371,7 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         None
     };
     let rho_s = pipe.rho_s;
-    build_with_stops(&pipe, &scene, b.force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice())).map_err(|e| match e {
+    build_excited(&pipe, &scene, b.force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation).map_err(|e| match e {
         RunError::Unstable { .. } => field("beam.dt", e),
         RunError::Scheme(SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }) if contacts.is_some() => {
             let own = contacts.as_ref().and_then(|set| stiff_stop(set, value, |k| PenaltyUnits::NewtonPerMetre.kappa(k, rho_s))).filter(|s| s.own_stiffness).and_then(|s| s.stop);
@@ -1331,5 +1403,8 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         e @ RunError::BlowUp { .. } => field("beam", format!("{e}: the data overflow in the first step; allowed: data whose first step is finite")),
         e => field("beam", e),
     })?;
-    Ok(Scene::Beam { pipe, scene, force: b.force, contacts })
+    if excitation.support.is_none() {
+        omega = Some(pipe.support.1);
+    }
+    Ok(Scene::Beam { pipe, scene, force: b.force, contacts, excitation, omega })
 }

@@ -64,6 +64,54 @@ impl Pipe {
     }
 }
 
+/// A beam's excitation beyond the paper's sine support motion: any support
+/// motion `φ(t)` whose `φ''` is a profile (sine, harmonics, random), and a
+/// time-dependent load.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BeamExcitation {
+    /// The support motion `φ(t)` (`None`: the pipe's `A sin(ω t)`).
+    pub support: Option<TimeProfile>,
+    /// A load `q(t)`: at a node (`Some(node)`, a force in N) or, with
+    /// `None`, uniform along the beam (N/m); its time profile.
+    pub load: Option<(Option<usize>, TimeProfile)>,
+}
+
+impl Pipe {
+    /// Applies `exc` to the semi-discrete problem of [`Pipe::dynamics`]:
+    /// a support motion `φ` replaces the sine's load by the two terms of
+    /// the lifting, `−h φ''(t)` and `−k² h^(4) φ(t) = 8 k²/L⁴ φ(t)` (exact for
+    /// any `φ` with a `φ''`), and the initial state by `u = −h φ(0)`,
+    /// `u_t = −h φ'(0)` (the beam starts at rest and undeformed); a load adds
+    /// `q(t)/ρS` (the scaled equation's units). A support motion without
+    /// `φ''` (a piecewise-linear series: impulses) is refused, naming
+    /// `support.profile`.
+    pub fn excite(&self, beam: &Beam, dy: &mut Dynamics, init: &mut Initial, exc: &BeamExcitation) -> Result<(), RunError> {
+        if let Some(phi) = &exc.support {
+            let Some(acc) = phi.second_derivative() else {
+                return Err(RunError::Invalid { field: "support.profile", value: f64::NAN, allowed: "a support motion with a second derivative (sine, cosine, harmonics, random); a series' φ'' is a train of impulses: give it as a [load]" });
+            };
+            let l4 = self.length.powi(4);
+            dy.forcing = vec![Forcing { shape: beam.load(|x| -self.lifting(x).0), time: acc }, Forcing { shape: beam.load(|_| 8.0 * self.k2 / l4), time: phi.clone() }];
+            let (p0, dp0) = (phi.value(0.0), phi.derivative_at(0.0).unwrap_or(0.0));
+            init.u = beam.interpolate(|x| -p0 * self.lifting(x).0, |x| -p0 * self.lifting(x).1);
+            init.v = beam.interpolate(|x| -dp0 * self.lifting(x).0, |x| -dp0 * self.lifting(x).1);
+        }
+        if let Some((node, q)) = &exc.load {
+            let shape = match node {
+                Some(i) => {
+                    let d = node_dof(beam, *i).ok_or(RunError::Invalid { field: "load.x", value: *i as f64, allowed: "a node that is an unknown (not the clamped support)" })?;
+                    let mut e = vec![0.0; beam.dofs()];
+                    e[d] = 1.0 / self.rho_s;
+                    e
+                }
+                None => beam.load(|_| 1.0 / self.rho_s),
+            };
+            dy.forcing.push(Forcing { shape, time: q.clone() });
+        }
+        Ok(())
+    }
+}
+
 /// The displacement unknown of beam node `node` (`1..=J`; node 0 is
 /// clamped): `2 (node - 1)`.
 pub fn node_dof(beam: &Beam, node: usize) -> Option<usize> {
@@ -231,13 +279,19 @@ pub fn build_with_units(pipe: &Pipe, scene: &BeamScene, force: bool, units: Pena
 /// tip's two stops when given ([`Pipe::dynamics_with_stops`]); a stop's
 /// own penalty stiffness is read in `units` too.
 pub fn build_with_stops(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
+    build_excited(pipe, scene, force, units, stops, &BeamExcitation::default())
+}
+
+/// As [`build_with_stops`], with the excitation `exc` ([`Pipe::excite`]).
+pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
     if !(scene.dt > 0.0 && scene.dt.is_finite()) {
         return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
     }
-    let (beam, mut dy, init) = match stops {
+    let (beam, mut dy, mut init) = match stops {
         None => pipe.dynamics(scene.elements)?,
         Some(stops) => pipe.dynamics_with_stops(scene.elements, stops)?,
     };
+    pipe.excite(&beam, &mut dy, &mut init, exc)?;
     // A stop's own spring is read in `units`; a stop without one gets the
     // scene's spring as is (a physical N/m spring, not scaled by K_cc).
     let scene_kappa = match scene.contact {

@@ -4,7 +4,7 @@ use crate::RunError;
 use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution, FarEnd};
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_norms::VNorm;
-use signorini_schemes::{Bounds, Contact, Dynamics, Initial};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial};
 use std::fmt;
 use std::str::FromStr;
 
@@ -99,6 +99,9 @@ pub struct BarProblem {
     /// [`BarProblem::with_stops`]); the mass treatment then applies at
     /// every stop's node ([`Bar::mass_with_contacts`]).
     pub stops: Vec<Stop>,
+    /// Time-dependent loads `shape · s(t)` on top of the body force (none
+    /// by default).
+    pub forcing: Vec<Forcing>,
 }
 
 impl BarProblem {
@@ -120,7 +123,7 @@ impl BarProblem {
         if u[0] < gap {
             return Err(RunError::Invalid { field: "initial u(0)", value: u[0], allowed: "at or above the obstacle position gap" });
         }
-        Ok(Self { bar, mass, gap, body_force, initial: Initial { u, v }, stops: Vec::new() })
+        Ok(Self { bar, mass, gap, body_force, initial: Initial { u, v }, stops: Vec::new(), forcing: Vec::new() })
     }
 
     /// The same bar with the contact list `stops` (in stop order) instead of
@@ -148,7 +151,7 @@ impl BarProblem {
                 stiffness: self.bar.stiffness(),
                 load: self.bar.load(|_| f),
                 contacts: contacts_of(&self.stops, |node| node, self.mass.massless_contact_node()),
-                forcing: Vec::new(),
+                forcing: self.forcing.clone(),
                 damping: None,
             };
         }
@@ -157,9 +160,26 @@ impl BarProblem {
             stiffness: self.bar.stiffness(),
             load: self.bar.load(|_| f),
             contacts: vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())],
-            forcing: Vec::new(),
+            forcing: self.forcing.clone(),
             damping: None,
         }
+    }
+
+    /// Adds the load `s(t)` uniform along the bar (`node = None`, per unit
+    /// length) or at `node` (a point force), in the bar's scaled units.
+    /// Refused, naming `load.x`, for a node that is not an unknown.
+    pub fn with_load(mut self, node: Option<usize>, s: signorini_schemes::TimeProfile) -> Result<Self, RunError> {
+        let shape = match node {
+            None => self.bar.load(|_| 1.0),
+            Some(i) if i < self.bar.dofs() => {
+                let mut e = vec![0.0; self.bar.dofs()];
+                e[i] = 1.0;
+                e
+            }
+            Some(i) => return Err(RunError::Invalid { field: "load.x", value: i as f64, allowed: "a node that is an unknown (not the clamped end)" }),
+        };
+        self.forcing.push(Forcing { shape, time: s });
+        Ok(self)
     }
 
     /// The `V` norm of docs/theory.md §6.1 for this far end.
