@@ -90,6 +90,16 @@ pub enum CliError {
         /// The folder.
         dir: String,
     },
+    /// A sweep was interrupted (SIGINT/SIGTERM) between runs: whole runs kept.
+    #[error("interrupted after {done} of {total} runs (whole runs kept in {dir}); continue with --resume")]
+    SweepInterrupted {
+        /// Runs written.
+        done: usize,
+        /// Runs of the sweep (or shard).
+        total: usize,
+        /// The folder.
+        dir: String,
+    },
     /// The run stopped early (blow-up, interrupt); notes on what was still
     /// written (plots skipped) follow the error.
     #[error("{error}{}", notes.iter().map(|n| format!("\nnote: {n}")).collect::<String>())]
@@ -107,7 +117,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } => 2,
-            CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } => 130,
+            CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } => 130,
             _ => 1,
         }
     }
@@ -840,11 +850,33 @@ pub struct Built {
     pub u0: Vec<f64>,
     /// The tip dof.
     pub tip: usize,
+    /// The beam's lifting `u = ũ − h φ(t)` (`None`: the unknowns are the
+    /// absolute state).
+    pub lift: Option<Lift>,
+}
+
+/// A beam's lifting, to turn its unknowns into the absolute state.
+pub struct Lift {
+    pipe: signorini_run::beam::Pipe,
+    beam: signorini_fem::Beam,
+    exc: signorini_run::beam::BeamExcitation,
+}
+
+impl Built {
+    /// The absolute state `(ũ, ũ_t)` of the unknowns' `(u, u_t)` at `t`
+    /// (what [`build`] takes as `start`).
+    pub fn absolute(&self, u: &[f64], v: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
+        match &self.lift {
+            None => (u.to_vec(), v.to_vec()),
+            Some(l) => l.pipe.absolute_state(&l.beam, &l.exc, u, v, t),
+        }
+    }
 }
 
 /// Builds a validated scene's integrator, from the scene's own initial
-/// state or from `start` (a displacement and velocity of the scheme's
-/// unknowns, e.g. the last run's final state in a followed sweep).
+/// state or from `start`, an absolute displacement and velocity at the
+/// unknowns (e.g. the last run's final state in a followed sweep, from
+/// [`Built::absolute`]).
 pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
     let init = |own: signorini_schemes::Initial| -> Result<signorini_schemes::Initial, CliError> {
         match start {
@@ -858,7 +890,7 @@ pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Buil
             let (dy, own) = osc.dynamics()?;
             let i = init(own)?;
             let stepper = scheme.build(dy, *dt, &i).map_err(RunError::from)?;
-            Ok(Built { stepper, u0: i.u, tip: 0 })
+            Ok(Built { stepper, u0: i.u, tip: 0, lift: None })
         }
         Scene::Bar(b) => {
             let p = &b.problem;
@@ -866,14 +898,15 @@ pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Buil
             let dy = p.dynamics();
             let tip = dy.contacts[0].dof;
             let stepper = b.scheme.build(dy, b.dt, &i).map_err(RunError::from)?;
-            Ok(Built { stepper, u0: i.u, tip })
+            Ok(Built { stepper, u0: i.u, tip, lift: None })
         }
         Scene::Beam { pipe, scene, force, contacts, excitation, .. } => {
-            if start.is_some() {
-                return Err(CliError::Io("a beam run does not start from another run's state yet (--follow takes oscillator and bar scenes)".into()));
-            }
-            let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
-            Ok(Built { stepper, u0: i.u, tip: beam.tip_dof() })
+            // `start` is the absolute state (ũ, ũ_t): the lifting is the scene's own.
+            let exc = signorini_run::beam::BeamExcitation { start: start.cloned(), ..excitation.clone() };
+            let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &exc)?;
+            let tip = beam.tip_dof();
+            Ok(Built { stepper, u0: i.u, tip, lift: Some(Lift { pipe: *pipe, beam, exc }) })
+
         }
     }
 }

@@ -654,7 +654,7 @@ where
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     if interrupted {
-        return Err(CliError::Io(format!("interrupted after {} of {} runs (whole runs kept in {}); continue with --resume", next - runs.start, runs.len(), dir.display())));
+        return Err(CliError::SweepInterrupted { done: next - runs.start, total: runs.len(), dir: dir.display().to_string() });
     }
     let mut lines = vec![format!("{} runs in {wall:.3} s ({} of them stopped early: see summary.csv's status)", runs.len() - (first - runs.start), failed)];
     if o.shard.is_none() {
@@ -873,8 +873,8 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
     let mut buf = Vec::new();
     let _ = vib.summary().write_row(&mut buf);
     let state = (follow && res.is_ok()).then(|| {
-        let v = last.last.iter().zip(&last.prev).map(|(a, b)| (a - b) / plan.dt).collect();
-        (last.last.clone(), v)
+        let v: Vec<f64> = last.last.iter().zip(&last.prev).map(|(a, b)| (a - b) / plan.dt).collect();
+        built.absolute(&last.last, &v, last.t)
     });
     RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps, status, state }
 }

@@ -96,3 +96,27 @@ fn impacts_appear_exactly_below_the_grazing_frequency() {
         last = v1;
     }
 }
+
+/// `--follow` carries the attractor: a run started from the previous run's
+/// final state is on the period-1 orbit from its first impact, while the
+/// same run from rest is not.
+#[test]
+fn a_followed_run_starts_on_the_attractor() {
+    let omega = 1.6;
+    let o = exact(omega).period1_orbits()[0];
+    let text = scene_text(1e-3, 0.0, 0.0);
+    let mut opts = SweepOptions::new("forcing.omega", omega, omega, 2);
+    opts.transient = 0.0;
+    opts.record = 60.0;
+    opts.follow = true;
+    let sweep = Sweep::new(&text, "oscillator.toml", None, opts, Limits { max_memory: 1e9 }).unwrap();
+    let (_, scene, plan) = sweep.scene((omega, None)).unwrap();
+    let first = simulate(&scene, &plan, None, true, None);
+    let state = first.state.clone().expect("a followed run keeps its final state");
+    let followed = simulate(&scene, &plan, Some(&state), true, None);
+    let fresh = simulate(&scene, &plan, None, true, None);
+    let v = |rows: &signorini_cli::sweep::RunRows| rows.impacts[0].1[2];
+    // dt = 1e-3: the orbit to ≈ 2e-3 (the first-order error above).
+    assert!((v(&followed) - o.impact_velocity).abs() < 5e-3 * o.impact_velocity, "followed: first impact velocity {} vs {}", v(&followed), o.impact_velocity);
+    assert!((v(&fresh) - o.impact_velocity).abs() > 0.1 * o.impact_velocity, "from rest: first impact velocity {} (should be off the orbit)", v(&fresh));
+}

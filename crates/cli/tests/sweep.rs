@@ -183,3 +183,32 @@ fn the_documented_oscillator_sweep_runs() {
         assert!(out.join(f).exists(), "{f}");
     }
 }
+
+/// SIGINT during a sweep: exit 130 (or 0 if it finished first), whole runs
+/// kept; `--resume` then gives exactly the uninterrupted sweep's files. The
+/// verdict does not depend on when the signal lands.
+#[test]
+fn sigint_keeps_whole_runs_and_resume_completes() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let whole = dir.path().join("whole");
+    ok(&sweep(&sc, &whole, &["--threads", "1"]));
+    let cut = dir.path().join("cut");
+    let mut c = bin();
+    c.args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "30", "--record", "6", "--threads", "1", "--out", cut.to_str().unwrap()]);
+    let child = c.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped()).spawn().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(40));
+    // SAFETY: kill(2) with a child's pid.
+    unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
+    let o = child.wait_with_output().unwrap();
+    let code = o.status.code();
+    assert!(code == Some(130) || code == Some(0), "{code:?}: {}", String::from_utf8_lossy(&o.stderr));
+    if code == Some(130) {
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--resume"));
+        // Whole runs only: every summary row's run has all its rows.
+        let summary = std::fs::read_to_string(cut.join("summary.csv")).unwrap();
+        assert!(summary.ends_with('\n'));
+        ok(&sweep(&sc, &cut, &["--resume"]));
+    }
+    same_files(&whole, &cut, &FILES);
+}

@@ -74,6 +74,18 @@ pub struct BeamExcitation {
     /// A load `q(t)`: at a node (`Some(node)`, a force in N) or, with
     /// `None`, uniform along the beam (N/m); its time profile.
     pub load: Option<(Option<usize>, TimeProfile)>,
+    /// The absolute state `(ũ, ũ_t)` at the unknowns to start from (`None`:
+    /// at rest and undeformed), e.g. another run's final state
+    /// ([`Pipe::absolute_state`]): the lifted start is `ũ − h φ(0)`,
+    /// `ũ_t − h φ'(0)`.
+    pub start: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl BeamExcitation {
+    /// The support motion: the given profile, or the pipe's sine.
+    pub fn support_motion(&self, pipe: &Pipe) -> TimeProfile {
+        self.support.clone().unwrap_or(TimeProfile::Sine { amplitude: pipe.support.0, omega: pipe.support.1 })
+    }
 }
 
 impl Pipe {
@@ -96,6 +108,16 @@ impl Pipe {
             init.u = beam.interpolate(|x| -p0 * self.lifting(x).0, |x| -p0 * self.lifting(x).1);
             init.v = beam.interpolate(|x| -dp0 * self.lifting(x).0, |x| -dp0 * self.lifting(x).1);
         }
+        if let Some((u, v)) = &exc.start {
+            if u.len() != init.u.len() || v.len() != init.v.len() {
+                return Err(RunError::Invalid { field: "start", value: u.len() as f64, allowed: "a state of the beam's number of unknowns" });
+            }
+            let phi = exc.support_motion(self);
+            let h = beam.interpolate(|x| self.lifting(x).0, |x| self.lifting(x).1);
+            let (p0, dp0) = (phi.value(0.0), phi.derivative_at(0.0).unwrap_or(0.0));
+            init.u = u.iter().zip(&h).map(|(a, b)| a - p0 * b).collect();
+            init.v = v.iter().zip(&h).map(|(a, b)| a - dp0 * b).collect();
+        }
         if let Some((node, q)) = &exc.load {
             let shape = match node {
                 Some(i) => {
@@ -109,6 +131,18 @@ impl Pipe {
             dy.forcing.push(Forcing { shape, time: q.clone() });
         }
         Ok(())
+    }
+}
+
+impl Pipe {
+    /// The absolute state `(ũ, ũ_t) = (u + h φ(t), u_t + h φ'(t))` at the
+    /// unknowns of the lifted state `(u, u_t)` at time `t` under `exc`'s
+    /// support motion.
+    pub fn absolute_state(&self, beam: &Beam, exc: &BeamExcitation, u: &[f64], v: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
+        let phi = exc.support_motion(self);
+        let h = beam.interpolate(|x| self.lifting(x).0, |x| self.lifting(x).1);
+        let (p, dp) = (phi.value(t), phi.derivative_at(t).unwrap_or(0.0));
+        (u.iter().zip(&h).map(|(a, b)| a + p * b).collect(), v.iter().zip(&h).map(|(a, b)| a + dp * b).collect())
     }
 }
 
