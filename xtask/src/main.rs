@@ -16,6 +16,7 @@
 mod beam;
 mod fuzz;
 mod obstacles;
+mod oscillator;
 mod stress;
 mod weighted;
 mod wp;
@@ -51,6 +52,8 @@ enum Cmd {
     /// The beam between obstacles along its whole length (problem (P)): feasibility, self-convergence in dt and J, energy balance.
     #[command(name = "beam-obstacles")]
     BeamObstacles(obstacles::Args),
+    /// The impact oscillator scene against its exact period-1 orbits (rates in dt) and its grazing frequency.
+    Oscillator(oscillator::Args),
     /// Work–precision: error reached against wall time per scheme and mass.
     #[command(name = "work-precision")]
     WorkPrecision(wp::Args),
@@ -100,6 +103,7 @@ fn main() -> ExitCode {
         Cmd::Weighted(a) => weighted::run(a),
         Cmd::Beam(a) => beam::run_beam(a),
         Cmd::BeamObstacles(a) => obstacles::run_obstacles(a),
+        Cmd::Oscillator(a) => oscillator::run_oscillator(a),
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),
