@@ -448,13 +448,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), 0, *dt, *t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = {
-                let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
-                if let Some(v) = vib.as_mut() {
-                    obs.push(&mut v.vibro);
-                }
-                run(stepper.as_mut(), &init.u, &cfg, &mut obs)
-            };
+            let res = run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer)]);
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -493,16 +487,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), beam.tip_dof(), scene.dt, scene.t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = {
-                let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
-                if let Some(s) = snaps.as_mut() {
-                    obs.push(s);
-                }
-                if let Some(v) = vib.as_mut() {
-                    obs.push(&mut v.vibro);
-                }
-                run(stepper.as_mut(), &init.u, &cfg, &mut obs)
-            };
+            let res = run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [snaps.as_mut().map(|s| s as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer)]);
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -560,19 +545,13 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     let mut vib = Analysis::new(file, out, stepper.dynamics(), dof0, b.dt, b.t_end, b.omega)?;
     let mut prog = progress(steps, opts.progress);
     let start = std::time::Instant::now();
-    let res = {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut series, &mut data, &mut prog];
-        if let Some(n) = norms.as_mut() {
-            obs.push(n);
-        }
-        if let Some(v) = vib.as_mut() {
-            obs.push(&mut v.vibro);
-        }
-        if let Some(s) = snaps.as_mut() {
-            obs.push(s);
-        }
-        run(stepper.as_mut(), &p.initial.u, &cfg, &mut obs)
-    };
+    let res = run_observed(
+        stepper.as_mut(),
+        &p.initial.u,
+        &cfg,
+        vec![&mut series, &mut data, &mut prog],
+        [norms.as_mut().map(|n| n as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer), snaps.as_mut().map(|s| s as &mut dyn Observer)],
+    );
     let wall = start.elapsed().as_secs_f64();
     let mut notes = Vec::new();
     if file.output.plots {
@@ -838,6 +817,12 @@ impl Analysis {
         }
         Ok(lines)
     }
+}
+
+/// Runs with the observers `always` and those of `optional` that are present.
+fn run_observed<'a, const K: usize>(stepper: &mut dyn signorini_schemes::Stepper, u0: &[f64], cfg: &RunConfig, mut always: Vec<&'a mut dyn Observer>, optional: [Option<&'a mut dyn Observer>; K]) -> Result<signorini_run::RunSummary, RunError> {
+    always.extend(optional.into_iter().flatten());
+    run(stepper, u0, cfg, &mut always)
 }
 
 /// A scene's integrator, ready to run: the stepper, its initial

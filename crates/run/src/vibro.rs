@@ -45,6 +45,14 @@ use signorini_schemes::{Bounds, Dynamics};
 use std::f64::consts::TAU;
 use std::io::Write;
 
+/// A row sink on `w` with `header` written (and flushed) at once.
+fn header_sink<W: Write>(w: W, header: &str) -> Result<RowSink<W>, RunError> {
+    let mut s = RowSink::new(w);
+    s.row(|b| b.write_all(header.as_bytes()))?;
+    s.flush()?;
+    Ok(s)
+}
+
 /// Writes `,x` as `{:.12e}`, or `,` (an empty cell) when `x` is not finite.
 fn cell(buf: &mut Vec<u8>, x: f64) -> std::io::Result<()> {
     buf.push(b',');
@@ -236,15 +244,7 @@ impl<W: Write> ImpactObserver<W> {
     /// to `csv` when given (header at once).
     pub fn new(contacts: &[(usize, Bounds)], dt: f64, omega: Option<f64>, record_from: f64, capacity: usize, csv: Option<W>) -> Result<Self, RunError> {
         let tracks = contacts.iter().map(|&(dof, bounds)| Track { dof, bounds, hist: [(f64::NAN, f64::NAN); 3], seen: 0, free: 0, open: None }).collect();
-        let out = match csv {
-            Some(w) => {
-                let mut s = RowSink::new(w);
-                s.row(|b| b.write_all(Self::HEADER.as_bytes()))?;
-                s.flush()?;
-                Some(s)
-            }
-            None => None,
-        };
+        let out = csv.map(|w| header_sink(w, Self::HEADER)).transpose()?;
         Ok(Self { tracks, dt, omega, record_from, out, kept: Vec::with_capacity(capacity), total: 0, t_last: f64::NAN })
     }
 
@@ -494,15 +494,7 @@ impl<W: Write> PoincareObserver<W> {
         if k >= 1.0 && (k - 1.0) * period >= record_from {
             k -= 1.0;
         }
-        let out = match csv {
-            Some(w) => {
-                let mut s = RowSink::new(w);
-                s.row(|b| b.write_all(Self::HEADER.as_bytes()))?;
-                s.flush()?;
-                Some(s)
-            }
-            None => None,
-        };
+        let out = csv.map(|w| header_sink(w, Self::HEADER)).transpose()?;
         let empty = (f64::INFINITY, f64::NEG_INFINITY);
         Ok(Self { tip, dt, period, offset: 0.0, record_from, next_k: k as u64, win: [(f64::NAN, f64::NAN); 4], seen: 0, out, points: Vec::with_capacity(capacity), range_u: empty, range_v: empty })
     }
