@@ -316,8 +316,10 @@ pub fn build_with_stops(pipe: &Pipe, scene: &BeamScene, force: bool, units: Pena
     build_excited(pipe, scene, force, units, stops, &BeamExcitation::default())
 }
 
-/// As [`build_with_stops`], with the excitation `exc` ([`Pipe::excite`]).
-pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
+/// The semi-discrete problem that [`build_excited`] integrates: the beam,
+/// its stops (or the tip's two), the excitation, each stop's penalty
+/// stiffness read in `units`.
+pub fn problem_excited(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation) -> Result<(Beam, Dynamics, Initial), RunError> {
     if !(scene.dt > 0.0 && scene.dt.is_finite()) {
         return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
     }
@@ -335,6 +337,12 @@ pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: Penalty
     for c in &mut dy.contacts {
         c.stiffness = c.stiffness.map(|k| units.kappa(k, pipe.rho_s)).or(if stops.is_some() { scene_kappa } else { None });
     }
+    Ok((beam, dy, init))
+}
+
+/// As [`build_with_stops`], with the excitation `exc` ([`Pipe::excite`]).
+pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
+    let (beam, dy, init) = problem_excited(pipe, scene, units, stops, exc)?;
     let stepper: Box<dyn Stepper> = match scene.contact {
         BeamContact::Projection { beta } => {
             if !(0.0..=0.5).contains(&beta) {
