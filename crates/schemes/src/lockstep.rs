@@ -102,6 +102,19 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     lams: [f64; L],
     acts: [Active; L],
     failed: [Option<SchemeError>; L],
+    /// Run the AVX2 build of the step.
+    avx2: bool,
+}
+
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
 }
 
 /// Bitwise equality of two band matrices (`-0.0 ≠ 0.0`: the products differ in sign).
@@ -274,6 +287,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             lams: [0.0; L],
             acts: [Active::None; L],
             failed: std::array::from_fn(|_| None),
+            avx2: avx2_available(),
         };
         let used = lanes.len();
         for (k, ln) in lanes.into_iter().enumerate() {
@@ -438,9 +452,48 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             .count()
     }
 
+    /// Uses the baseline x86-64 (SSE2) code even where the CPU has AVX2
+    /// (the results are the same bits; for tests and measurements).
+    pub fn portable(mut self) -> Self {
+        self.avx2 = false;
+        self
+    }
+
+    /// Whether [`step`](Self::step) runs the AVX2 build of the step (chosen
+    /// at construction from the running CPU; never FMA, so the same bits).
+    pub fn uses_avx2(&self) -> bool {
+        self.avx2
+    }
+
     /// Advances every lane one step (module docs); returns the new level.
     /// A lane that turns non-finite is recorded ([`lane_failure`](Self::lane_failure)).
+    ///
+    /// The same code is compiled twice, for the baseline x86-64 target and
+    /// with AVX2 enabled (4 lanes per instruction instead of 2), and the
+    /// second runs when the CPU has AVX2. Neither enables FMA, and Rust never
+    /// contracts `a * b + c`, so both builds round every operation alike.
     pub fn step(&mut self) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is true only if `is_x86_feature_detected!("avx2")`
+            // reported AVX2 on the running CPU (set in `new`).
+            return unsafe { self.step_avx2() };
+        }
+        self.step_body()
+    }
+
+    /// [`step_body`](Self::step_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn step_avx2(&mut self) -> usize {
+        self.step_body()
+    }
+
+    #[inline(always)]
+    fn step_body(&mut self) -> usize {
         let dt2 = self.dt * self.dt;
         let beta = self.beta;
         let a = 1.0 - 2.0 * beta;
@@ -532,6 +585,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     }
 
     /// `A x = rhs` in place, the operations of `BandLdlt::solve_p3` per lane.
+    #[inline(always)]
     fn solve(&mut self) {
         let n = self.dofs;
         let (l, lt, inv_d, b) = (
@@ -584,6 +638,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
 
     /// The projection of every lane (`Projection::project`'s operations),
     /// bounds moved by each lane's restitution; `mu` per lane (0 inside).
+    #[inline(always)]
     fn project(&mut self) {
         let c = self.c;
         let (yc, up_c) = (self.rhs[c], self.u_prev[c]);

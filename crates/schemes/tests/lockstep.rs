@@ -3,6 +3,8 @@
 //! through repeated impacts on both stops; partial batches; restitution;
 //! typed refusals. The oracle is the single run (a separate code path:
 //! `SymBand::mul_vec`, `BandLdlt::solve_in_place`, `Projection::project`).
+//! Both builds of the step are checked: the one the CPU selects (AVX2 where
+//! available) and the baseline x86-64 one (`portable()`).
 
 use signorini_fem::{Beam, SymBand};
 use signorini_schemes::{
@@ -119,7 +121,11 @@ fn compare<const L: usize>(
             .unwrap()
         })
         .collect();
+    // The build the CPU selects (AVX2 here) and the baseline x86-64 build.
+    let (beta2, lanes2) = (beta, lanes.clone());
     let mut batch = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).unwrap();
+    let mut portable = PaoliSchatzmanLockstep::<L>::new(beta2, dt, lanes2).unwrap().portable();
+    assert!(!portable.uses_avx2());
     let n = batch.dofs();
     let mut buf = vec![0.0; n];
     let mut counts = vec![(0, 0); singles.len()];
@@ -130,6 +136,7 @@ fn compare<const L: usize>(
     for step in 0..=steps {
         if step > 0 {
             batch.step();
+            portable.step();
         }
         for (k, s) in singles.iter_mut().enumerate() {
             if step > 0 {
@@ -166,6 +173,9 @@ fn compare<const L: usize>(
                     want[i]
                 );
             }
+            portable.displacement_into(k, &mut buf);
+            assert_eq!(bits(&buf), bits(want), "lane {k} level {}: baseline build", s.level());
+            assert_eq!(portable.contact_force(k).to_bits(), batch.contact_force(k).to_bits());
             let c = batch.contact_dof();
             assert_eq!(batch.value(k, c).to_bits(), want[c].to_bits());
         }
