@@ -535,8 +535,12 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
                 ts[k] = a * u[k] + beta * up[k];
             }
         }
-        // rhs = M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j, row by row.
+        // rhs = M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j, row by
+        // row, each row then eliminated at once (the forward sweep of
+        // `BandLdlt::solve_p3`, its last three results kept in w1, w2, w3).
         let n = self.dofs;
+        let (l, lt, inv_d) = (&self.l[..n], &self.lt[..n], &self.inv_d[..n]);
+        let (mut w1, mut w2, mut w3) = ([0.0; L], [0.0; L], [0.0; L]);
         for i in 0..n {
             let (mv, kv) = if (3..n - 3).contains(&i) {
                 (
@@ -560,58 +564,32 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
                     r[k] += g[k] * sh[k];
                 }
             }
-            self.rhs[i] = r;
-        }
-        self.solve();
-        self.project();
-        // Rotate: U^{n-1} <- U^n <- U^{n+1}.
-        std::mem::swap(&mut self.u_prev, &mut self.u);
-        std::mem::swap(&mut self.u, &mut self.rhs);
-        self.n += 1;
-        let t = self.time();
-        let uc = self.u[self.c];
-        for k in 0..L {
-            self.lams[k] = -self.mu[k] / dt2;
-        }
-        for k in 0..self.lanes {
-            if self.failed[k].is_none() && !(uc[k].is_finite() && self.lams[k].is_finite()) {
-                self.failed[k] = Some(SchemeError::NonFinite {
-                    step: self.n,
-                    time: t,
-                });
-            }
-        }
-        self.n
-    }
-
-    /// `A x = rhs` in place, the operations of `BandLdlt::solve_p3` per lane.
-    #[inline(always)]
-    fn solve(&mut self) {
-        let n = self.dofs;
-        let (l, lt, inv_d, b) = (
-            &self.l[..n],
-            &self.lt[..n],
-            &self.inv_d[..n],
-            &mut self.rhs[..n],
-        );
-        // Forward: rows 0..3 have fewer predecessors.
-        let (l1, l2) = (l[1], l[2]);
-        for k in 0..L {
-            b[1][k] -= l1[0] * b[0][k];
-            b[2][k] -= l2[1] * b[0][k] + l2[0] * b[1][k];
-        }
-        let (mut w1, mut w2, mut w3) = (b[2], b[1], b[0]);
-        for (bi, row) in b[3..].iter_mut().zip(&l[3..]) {
-            let mut s = [0.0; L];
-            for k in 0..L {
-                s[k] = (bi[k] - row[2] * w3[k] - row[1] * w2[k]) - row[0] * w1[k];
+            match i {
+                0 => {}
+                1 => {
+                    for k in 0..L {
+                        r[k] -= l[1][0] * w1[k];
+                    }
+                }
+                2 => {
+                    for k in 0..L {
+                        r[k] -= l[2][1] * w2[k] + l[2][0] * w1[k];
+                    }
+                }
+                _ => {
+                    let row = l[i];
+                    for k in 0..L {
+                        r[k] = (r[k] - row[2] * w3[k] - row[1] * w2[k]) - row[0] * w1[k];
+                    }
+                }
             }
             w3 = w2;
             w2 = w1;
-            w1 = s;
-            *bi = s;
+            w1 = r;
+            self.rhs[i] = r;
         }
         // Backward: rows n-3..n have fewer successors.
+        let b = &mut self.rhs[..n];
         let (c2, c3) = (lt[n - 2], lt[n - 3]);
         for k in 0..L {
             b[n - 1][k] *= inv_d[n - 1];
@@ -634,6 +612,25 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             x1 = s;
             *bi = s;
         }
+        self.project();
+        // Rotate: U^{n-1} <- U^n <- U^{n+1}.
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.rhs);
+        self.n += 1;
+        let t = self.time();
+        let uc = self.u[self.c];
+        for k in 0..L {
+            self.lams[k] = -self.mu[k] / dt2;
+        }
+        for k in 0..self.lanes {
+            if self.failed[k].is_none() && !(uc[k].is_finite() && self.lams[k].is_finite()) {
+                self.failed[k] = Some(SchemeError::NonFinite {
+                    step: self.n,
+                    time: t,
+                });
+            }
+        }
+        self.n
     }
 
     /// The projection of every lane (`Projection::project`'s operations),
