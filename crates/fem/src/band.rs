@@ -336,6 +336,15 @@ impl BandLdlt {
         (self.p == 1).then(|| (&self.l[..self.n], &self.inv_d[..]))
     }
 
+    /// The factor's storage, for callers that run their own sweeps with the
+    /// same arithmetic (several right-hand sides in lockstep): `(l, lt, inv_d)`
+    /// with `l[i p + k - 1] = L[i][i-k]` (zero for `i < k`),
+    /// `lt[i p + k - 1] = L[i+k][i]` (zero for `i + k >= n`), `k = 1..=p`,
+    /// and `inv_d[i] = 1 / D[i]`.
+    pub fn band_factors(&self) -> (&[f64], &[f64], &[f64]) {
+        (&self.l, &self.lt, &self.inv_d)
+    }
+
     /// `bᵀ A⁻¹ b = ‖L⁻¹ b‖²_{D⁻¹}`: one forward sweep, no scratch, `b` untouched.
     pub fn inverse_quad_form(&self, b: &[f64]) -> f64 {
         assert_eq!(b.len(), self.n, "length mismatch");

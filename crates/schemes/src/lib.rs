@@ -62,6 +62,7 @@ macro_rules! stepper_accessors {
 }
 
 mod hybrid;
+mod lockstep;
 mod moreau;
 mod multi;
 mod nitsche;
@@ -71,6 +72,7 @@ mod profile;
 mod spec;
 
 pub use hybrid::{Reduced, ReducedLaw};
+pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
 pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};

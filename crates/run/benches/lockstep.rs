@@ -1,0 +1,104 @@
+//! A sweep of the paper's beam (J = 19, β = 1/2, e = 0, dt = 5e-6): the
+//! single `PaoliSchatzman` step against `PaoliSchatzmanLockstep` with
+//! `L = 1, 2, 4, 8, 16` runs sharing the step matrix, in ns per run-step.
+//!
+//! `cargo bench -p signorini-run --bench lockstep`; divan's throughput is in
+//! run-steps/s (one item = one step of one run). `frequency_*`: every lane
+//! its own ω (one `mean` per lane and step); `amplitude_*`: one ω, the
+//! amplitudes differ (the profile's mean is computed once per step);
+//! `two_threads_*`: two batches of `L` on two rayon threads.
+
+use divan::counter::ItemsCount;
+use divan::Bencher;
+use signorini_run::beam::Pipe;
+use signorini_schemes::{LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+
+fn main() {
+    divan::main();
+}
+
+const DT: f64 = 5e-6;
+const STEPS: usize = 10_000;
+
+/// Lane `k` of a sweep: ω = 10 + k (frequency) or A = 0.2 + 0.01 k (amplitude).
+fn lane(k: usize, frequency: bool) -> LockstepLane {
+    let p = Pipe::paper();
+    let (a, w) = p.support;
+    let support = if frequency {
+        (a, w + k as f64)
+    } else {
+        (a + 0.01 * k as f64, w)
+    };
+    let (_, dynamics, initial) = Pipe { support, ..p }.dynamics(19).unwrap();
+    LockstepLane {
+        dynamics,
+        initial,
+        restitution: 0.0,
+    }
+}
+
+fn batch<const L: usize>(frequency: bool) -> PaoliSchatzmanLockstep<L> {
+    PaoliSchatzmanLockstep::<L>::new(0.5, DT, (0..L).map(|k| lane(k, frequency)).collect()).unwrap()
+}
+
+/// One run, `PaoliSchatzman::step`: ns per step.
+#[divan::bench]
+fn single(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS))
+        .with_inputs(|| {
+            let l = lane(0, true);
+            PaoliSchatzman::new("single".into(), l.dynamics, 0.5, 0.0, DT, &l.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+/// `L` runs of a frequency sweep in lockstep: ns per run-step.
+#[divan::bench(consts = [1, 2, 4, 8, 16])]
+fn frequency<const L: usize>(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS * L))
+        .with_inputs(|| batch::<L>(true))
+        .bench_local_values(|mut b| {
+            for _ in 0..STEPS {
+                divan::black_box(b.step());
+            }
+            b
+        });
+}
+
+/// `L` runs of an amplitude sweep in lockstep: ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn amplitude<const L: usize>(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS * L))
+        .with_inputs(|| batch::<L>(false))
+        .bench_local_values(|mut b| {
+            for _ in 0..STEPS {
+                divan::black_box(b.step());
+            }
+            b
+        });
+}
+
+/// Two frequency batches of `L` on two rayon threads: ns per run-step.
+#[divan::bench(consts = [4, 8])]
+fn two_threads<const L: usize>(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(2 * STEPS * L))
+        .with_inputs(|| (batch::<L>(true), batch::<L>(true)))
+        .bench_local_values(|(mut a, mut b)| {
+            let go = |s: &mut PaoliSchatzmanLockstep<L>| {
+                for _ in 0..STEPS {
+                    divan::black_box(s.step());
+                }
+            };
+            rayon::join(|| go(&mut a), || go(&mut b));
+            (a, b)
+        });
+}

@@ -1,0 +1,718 @@
+//! Several runs of the Paoli–Schatzman scheme that share one step matrix,
+//! stepped together (a frequency or amplitude sweep of one scene).
+//!
+//! Every run ("lane") integrates
+//!
+//! ```text
+//! M (U^{n+1} - 2U^n + U^{n-1})/dt² + K (β U^{n+1} + (1-2β) U^n + β U^{n-1}) = F_k + G_k^n - λ_k^n e_c
+//! lo_k <= (u_c^{n+1} + e_k u_c^{n-1})/(1+e_k) <= hi_k
+//! ```
+//!
+//! with the same `M`, `K`, `β`, `dt` and contact dof `c` (so the same
+//! factor of `A = M + β dt² K` and the same projection column `w = A⁻¹ e_c`),
+//! and its own steady load `F_k`, forcing terms `G_k^n = Σ_j shape_{k,j}
+//! (β m_{k,j}^{n+1} + (1-2β) m_{k,j}^n + β m_{k,j}^{n-1})` (exact means of its
+//! own time profiles), bounds, restitution and initial state.
+//!
+//! The state is stored structure-of-arrays, `u[i][lane]`, so the two banded
+//! products, the forward and backward substitutions and the axpys run with
+//! the lanes innermost, `L` at a time (`L` a compile-time constant: the
+//! compiler vectorises the lane loops). Each lane performs exactly the
+//! floating-point operations of [`PaoliSchatzman::step`](crate::Stepper::step)
+//! for one run (single contact, undamped, massive contact node), in the
+//! same order, so every lane is bit-identical to the single run of its data
+//! (`U^n`, `λ^n`, the active bound, the step at which it turns non-finite).
+//! What the single run computes on the side (the works `W_f`, `W_c`, the
+//! energy) is not computed here.
+//!
+//! Supported: half-bandwidth 3 with at least 7 unknowns (the Hermite beam;
+//! the paths of [`signorini_fem::SymBand::mul_vec`] and
+//! [`signorini_fem::BandLdlt::solve_in_place`] this mirrors). Refused with a
+//! [`SchemeError`]: damping, several contacts, a massless contact, lanes
+//! that do not share `M`, `K` (bit for bit), the contact dof or the number of
+//! forcing terms, other bandwidths, and a lane count outside `1..=L`.
+//! Fewer lanes than `L` (the last batch of a sweep) are padded with copies
+//! of lane 0, whose results are never reported.
+
+use crate::{Active, Dynamics, Initial, PaoliSchatzman, SchemeError, Stepper, TimeProfile};
+use signorini_contact::Projection;
+use signorini_fem::SymBand;
+
+/// One run of a lockstep batch: its problem, initial state and restitution
+/// (the scheme's `e`, overridden by the contact's own
+/// [`Contact::restitution`](crate::Contact::restitution) as in
+/// [`PaoliSchatzman`]).
+#[derive(Clone, Debug)]
+pub struct LockstepLane {
+    /// The problem (shares `M`, `K`, the contact dof and the number of
+    /// forcing terms with every other lane).
+    pub dynamics: Dynamics,
+    /// `U^0`, `V^0`.
+    pub initial: Initial,
+    /// Restitution coefficient `e ∈ [0, 1]`.
+    pub restitution: f64,
+}
+
+/// A band row of half-bandwidth 3: `[A_ii, A_i,i-1, A_i,i-2, A_i,i-3,
+/// A_i+1,i, A_i+2,i, A_i+3,i]` (zeros outside the matrix).
+type Row7 = [f64; 7];
+
+/// `L` runs of the Paoli–Schatzman scheme sharing one step matrix, stepped
+/// together (module docs). Allocates only at construction.
+pub struct PaoliSchatzmanLockstep<const L: usize> {
+    beta: f64,
+    dt: f64,
+    /// Level `n` of `U^n` (1 after construction: the start step is taken).
+    n: usize,
+    /// Lanes in use (`1..=L`); the rest copy lane 0.
+    lanes: usize,
+    dofs: usize,
+    c: usize,
+    mass: Vec<Row7>,
+    stiff: Vec<Row7>,
+    /// Rows of `L` (`l[i] = [L_i,i-1, L_i,i-2, L_i,i-3]`), of `Lᵀ`
+    /// (`lt[i] = [L_i+1,i, L_i+2,i, L_i+3,i]`) and `1/D`.
+    l: Vec<[f64; 3]>,
+    lt: Vec<[f64; 3]>,
+    inv_d: Vec<f64>,
+    w: Vec<f64>,
+    inv_wc: f64,
+    u_prev: Vec<[f64; L]>,
+    u: Vec<[f64; L]>,
+    rhs: Vec<[f64; L]>,
+    /// `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}`.
+    t_mass: Vec<[f64; L]>,
+    t_stiff: Vec<[f64; L]>,
+    load: Vec<[f64; L]>,
+    /// Per forcing term: its shape per row and lane.
+    shapes: Vec<Vec<[f64; L]>>,
+    /// Per forcing term: the profile of each lane in use.
+    profiles: Vec<Vec<TimeProfile>>,
+    /// Per forcing term and lane: the first lane with the same profile
+    /// (its means are computed once and copied).
+    mean_src: Vec<[usize; L]>,
+    /// Per forcing term: the means over `[t_{n-1}, t_n]` and `[t_n, t_{n+1}]`.
+    means: Vec<[[f64; L]; 2]>,
+    /// Per forcing term: `dt² g` with `g = β m^{n+1} + (1-2β) m^n + β m^{n-1}`.
+    dt2_gc: Vec<[f64; L]>,
+    lo: [f64; L],
+    hi: [f64; L],
+    e: [f64; L],
+    mu: [f64; L],
+    lams: [f64; L],
+    acts: [Active; L],
+    failed: [Option<SchemeError>; L],
+    /// Run the AVX2 build of the step.
+    avx2: bool,
+}
+
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Bitwise equality of two band matrices (`-0.0 ≠ 0.0`: the products differ in sign).
+fn same_band(a: &SymBand, b: &SymBand) -> bool {
+    let (n, p) = (a.n(), a.half_bandwidth());
+    if (n, p) != (b.n(), b.half_bandwidth()) {
+        return false;
+    }
+    (0..=p).all(|k| {
+        a.diagonal(k)
+            .iter()
+            .zip(b.diagonal(k))
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    })
+}
+
+/// Bitwise equality of two profiles (then their means are the same bits).
+fn same_profile(a: &TimeProfile, b: &TimeProfile) -> bool {
+    let bits = |x: &[f64], y: &[f64]| {
+        x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits())
+    };
+    match (a, b) {
+        (
+            TimeProfile::Sine {
+                amplitude: a0,
+                omega: w0,
+            },
+            TimeProfile::Sine {
+                amplitude: a1,
+                omega: w1,
+            },
+        ) => bits(&[*a0, *w0], &[*a1, *w1]),
+        (TimeProfile::Harmonics(x), TimeProfile::Harmonics(y)) => {
+            x.len() == y.len()
+                && x.iter().zip(y.iter()).all(|(p, q)| {
+                    bits(
+                        &[p.amplitude, p.omega, p.phase],
+                        &[q.amplitude, q.omega, q.phase],
+                    )
+                })
+        }
+        (TimeProfile::Series(x), TimeProfile::Series(y)) => {
+            bits(x.times(), y.times()) && bits(x.values(), y.values())
+        }
+        _ => false,
+    }
+}
+
+fn rows7(a: &SymBand) -> Vec<Row7> {
+    let n = a.n();
+    let d: Vec<Vec<f64>> = (0..=3).map(|k| a.diagonal(k)).collect();
+    (0..n)
+        .map(|i| {
+            let right = |k: usize| if i + k < n { d[k][i + k] } else { 0.0 };
+            [
+                d[0][i],
+                d[1][i],
+                d[2][i],
+                d[3][i],
+                right(1),
+                right(2),
+                right(3),
+            ]
+        })
+        .collect()
+}
+
+impl<const L: usize> PaoliSchatzmanLockstep<L> {
+    /// Sets up `lanes.len()` runs (`1..=L`) of the Paoli–Schatzman scheme
+    /// with parameter `β` and step `dt`, and takes each lane's start step
+    /// exactly as [`PaoliSchatzman::new`] does (one Newmark(β, 1/2) step;
+    /// Newmark(1/4, 1/2) when β = 0), so the batch is at level 1.
+    ///
+    /// Errors: everything [`PaoliSchatzman::new`] refuses (per lane), and
+    /// [`SchemeError::Size`] for a lane count outside `1..=L`,
+    /// [`SchemeError::Invalid`] for a restitution outside `[0, 1]`,
+    /// [`SchemeError::Structure`] for damping, several contacts, a massless
+    /// contact, a half-bandwidth other than 3 (or fewer than 7 unknowns), and
+    /// lanes that differ in `M`, `K`, the contact dof or the number of
+    /// forcing terms.
+    pub fn new(beta: f64, dt: f64, lanes: Vec<LockstepLane>) -> Result<Self, SchemeError> {
+        if lanes.is_empty() || lanes.len() > L {
+            return Err(SchemeError::Size {
+                what: "lockstep lanes (1..=L)",
+                got: lanes.len(),
+                expected: L,
+            });
+        }
+        let dy0 = &lanes[0].dynamics;
+        for ln in &lanes {
+            let dy = &ln.dynamics;
+            if !(0.0..=1.0).contains(&ln.restitution) {
+                return Err(SchemeError::Invalid {
+                    field: "restitution",
+                    value: ln.restitution,
+                    allowed: "[0, 1]",
+                });
+            }
+            if dy.damping.is_some() {
+                return Err(SchemeError::Structure("lockstep Paoli–Schatzman takes undamped problems only (damping: use PaoliSchatzman)"));
+            }
+            if dy.k() != 1 {
+                return Err(SchemeError::Structure("lockstep Paoli–Schatzman takes exactly one contact (several: use PaoliSchatzman)"));
+            }
+            if dy.massless_contact() {
+                return Err(SchemeError::Structure("lockstep Paoli–Schatzman needs a massive contact node (massless: use PaoliSchatzman)"));
+            }
+            if !same_band(&dy.mass, &dy0.mass) || !same_band(&dy.stiffness, &dy0.stiffness) {
+                return Err(SchemeError::Structure(
+                    "lockstep lanes must share the mass and stiffness matrices bit for bit",
+                ));
+            }
+            if dy.contact().dof != dy0.contact().dof {
+                return Err(SchemeError::Structure(
+                    "lockstep lanes must share the contact dof",
+                ));
+            }
+            if dy.forcing.len() != dy0.forcing.len() {
+                return Err(SchemeError::Structure(
+                    "lockstep lanes must have the same number of forcing terms",
+                ));
+            }
+        }
+        let (dofs, p) = (dy0.n(), dy0.mass.half_bandwidth());
+        if p != 3 || dy0.stiffness.half_bandwidth() != 3 || dofs < 7 {
+            return Err(SchemeError::Structure("lockstep Paoli–Schatzman supports half-bandwidth 3 with at least 7 unknowns (the Hermite beam)"));
+        }
+        let a = dy0.step_matrix(0.5 * dt, beta * dt * dt).factor()?;
+        let c = dy0.contact().dof;
+        let mut w = vec![0.0; dofs];
+        w[c] = 1.0;
+        a.solve_in_place(&mut w);
+        // Validates w_c as the single run does; 1/w_c as Projection computes it.
+        let proj = Projection::new(c, w)?;
+        let inv_wc = 1.0 / proj.wc();
+        let (lf, ltf, inv_d) = a.band_factors();
+        let l = lf.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect();
+        let lt = ltf.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect();
+        let terms = dy0.forcing.len();
+        let zeros = vec![[0.0; L]; dofs];
+        let mut s = Self {
+            beta,
+            dt,
+            n: 1,
+            lanes: lanes.len(),
+            dofs,
+            c,
+            mass: rows7(&dy0.mass),
+            stiff: rows7(&dy0.stiffness),
+            l,
+            lt,
+            inv_d: inv_d.to_vec(),
+            w: proj.influence().to_vec(),
+            inv_wc,
+            u_prev: zeros.clone(),
+            u: zeros.clone(),
+            rhs: zeros.clone(),
+            t_mass: zeros.clone(),
+            t_stiff: zeros.clone(),
+            load: zeros.clone(),
+            shapes: vec![zeros; terms],
+            profiles: vec![Vec::with_capacity(lanes.len()); terms],
+            mean_src: vec![[0; L]; terms],
+            means: vec![[[0.0; L]; 2]; terms],
+            dt2_gc: vec![[0.0; L]; terms],
+            lo: [0.0; L],
+            hi: [0.0; L],
+            e: [0.0; L],
+            mu: [0.0; L],
+            lams: [0.0; L],
+            acts: [Active::None; L],
+            failed: std::array::from_fn(|_| None),
+            avx2: avx2_available(),
+        };
+        let used = lanes.len();
+        for (k, ln) in lanes.into_iter().enumerate() {
+            let LockstepLane {
+                dynamics: dy,
+                initial,
+                restitution,
+            } = ln;
+            let ct = *dy.contact();
+            let e = ct.restitution.unwrap_or(restitution);
+            for (j, f) in dy.forcing.iter().enumerate() {
+                s.profiles[j].push(f.time.clone());
+                s.means[j][0][k] = f.time.mean(0.0, dt);
+                s.means[j][1][k] = f.time.mean(dt, 2.0 * dt);
+                s.mean_src[j][k] = s.profiles[j]
+                    .iter()
+                    .position(|q| same_profile(q, &f.time))
+                    .unwrap_or(k);
+                for (row, g) in s.shapes[j].iter_mut().zip(&f.shape) {
+                    row[k] = *g;
+                }
+            }
+            for (row, f) in s.load.iter_mut().zip(&dy.load) {
+                row[k] = *f;
+            }
+            (s.lo[k], s.hi[k], s.e[k]) = (ct.bounds.lo, ct.bounds.hi, e);
+            let single = PaoliSchatzman::new(String::new(), dy, beta, e, dt, &initial)?;
+            for ((row, rowp), (x, xp)) in s.u.iter_mut().zip(s.u_prev.iter_mut()).zip(
+                single
+                    .displacement()
+                    .iter()
+                    .zip(single.previous_displacement()),
+            ) {
+                (row[k], rowp[k]) = (*x, *xp);
+            }
+        }
+        // Padding lanes copy lane 0 (and its means, every step).
+        for k in used..L {
+            for v in [&mut s.u, &mut s.u_prev, &mut s.load]
+                .into_iter()
+                .chain(s.shapes.iter_mut())
+            {
+                for row in v.iter_mut() {
+                    row[k] = row[0];
+                }
+            }
+            for (m, src) in s.means.iter_mut().zip(s.mean_src.iter_mut()) {
+                (m[0][k], m[1][k], src[k]) = (m[0][0], m[1][0], 0);
+            }
+            (s.lo[k], s.hi[k], s.e[k]) = (s.lo[0], s.hi[0], s.e[0]);
+        }
+        Ok(s)
+    }
+
+    /// Lanes in use.
+    pub fn lanes(&self) -> usize {
+        self.lanes
+    }
+
+    /// Number of unknowns per lane.
+    pub fn dofs(&self) -> usize {
+        self.dofs
+    }
+
+    /// The contact dof (shared).
+    pub fn contact_dof(&self) -> usize {
+        self.c
+    }
+
+    /// Time step.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// β.
+    pub fn beta(&self) -> f64 {
+        self.beta
+    }
+
+    /// Index `n` of the current level `U^n` (every lane's).
+    pub fn level(&self) -> usize {
+        self.n
+    }
+
+    /// `t_n = n dt`.
+    pub fn time(&self) -> f64 {
+        self.n as f64 * self.dt
+    }
+
+    /// The time the contact forces belong to: `t_{n-1}` (massive contact node).
+    pub fn lambda_time(&self) -> f64 {
+        (self.n - 1) as f64 * self.dt
+    }
+
+    /// Lane `k`'s `U^n` into `out` (length [`dofs`](Self::dofs)).
+    #[track_caller]
+    pub fn displacement_into(&self, k: usize, out: &mut [f64]) {
+        assert!(
+            k < self.lanes && out.len() == self.dofs,
+            "lane {k} of {}, out of length {} (expected {})",
+            self.lanes,
+            out.len(),
+            self.dofs
+        );
+        for (o, row) in out.iter_mut().zip(&self.u) {
+            *o = row[k];
+        }
+    }
+
+    /// Lane `k`'s `U^{n-1}` into `out`.
+    #[track_caller]
+    pub fn previous_displacement_into(&self, k: usize, out: &mut [f64]) {
+        assert!(
+            k < self.lanes && out.len() == self.dofs,
+            "lane {k} of {}, out of length {} (expected {})",
+            self.lanes,
+            out.len(),
+            self.dofs
+        );
+        for (o, row) in out.iter_mut().zip(&self.u_prev) {
+            *o = row[k];
+        }
+    }
+
+    /// Lane `k`'s `u_i^n` (for example the tip, `i` = [`contact_dof`](Self::contact_dof)).
+    #[track_caller]
+    pub fn value(&self, k: usize, i: usize) -> f64 {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.u[i][k]
+    }
+
+    /// Lane `k`'s contact force `λ^{n-1}` of the last step (at
+    /// [`lambda_time`](Self::lambda_time); 0 before the first step).
+    #[track_caller]
+    pub fn contact_force(&self, k: usize) -> f64 {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.lams[k]
+    }
+
+    /// Which bound held lane `k`'s contact in the last step.
+    #[track_caller]
+    pub fn contact_status(&self, k: usize) -> Active {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.acts[k]
+    }
+
+    /// The error the single run of lane `k` would have returned
+    /// ([`SchemeError::NonFinite`] at the step its state turned non-finite),
+    /// if it has; that lane's later values are meaningless, the other lanes
+    /// are unaffected.
+    #[track_caller]
+    pub fn lane_failure(&self, k: usize) -> Option<&SchemeError> {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.failed[k].as_ref()
+    }
+
+    /// Number of lanes in use that have failed so far.
+    pub fn failed_lanes(&self) -> usize {
+        self.failed[..self.lanes]
+            .iter()
+            .filter(|f| f.is_some())
+            .count()
+    }
+
+    /// Uses the baseline x86-64 (SSE2) code even where the CPU has AVX2
+    /// (the results are the same bits; for tests and measurements).
+    pub fn portable(mut self) -> Self {
+        self.avx2 = false;
+        self
+    }
+
+    /// Whether [`step`](Self::step) runs the AVX2 build of the step (chosen
+    /// at construction from the running CPU; never FMA, so the same bits).
+    pub fn uses_avx2(&self) -> bool {
+        self.avx2
+    }
+
+    /// Advances every lane one step (module docs); returns the new level.
+    /// A lane that turns non-finite is recorded ([`lane_failure`](Self::lane_failure)).
+    ///
+    /// The same code is compiled twice, for the baseline x86-64 target and
+    /// with AVX2 enabled (4 lanes per instruction instead of 2), and the
+    /// second runs when the CPU has AVX2. Neither enables FMA, and Rust never
+    /// contracts `a * b + c`, so both builds round every operation alike.
+    pub fn step(&mut self) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is true only if `is_x86_feature_detected!("avx2")`
+            // reported AVX2 on the running CPU (set in `new`).
+            return unsafe { self.step_avx2() };
+        }
+        self.step_body()
+    }
+
+    /// [`step_body`](Self::step_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn step_avx2(&mut self) -> usize {
+        self.step_body()
+    }
+
+    #[inline(always)]
+    fn step_body(&mut self) -> usize {
+        let dt2 = self.dt * self.dt;
+        let beta = self.beta;
+        let a = 1.0 - 2.0 * beta;
+        // Forcing coefficients of every term and lane:
+        // g = β m_{n+1} + (1-2β) m_n + β m_{n-1}, then dt² g.
+        let (dt, nf) = (self.dt, self.n as f64);
+        let (t0, t1) = ((nf + 1.0) * dt, (nf + 2.0) * dt);
+        for (((prof, src), m), g) in self
+            .profiles
+            .iter()
+            .zip(&self.mean_src)
+            .zip(self.means.iter_mut())
+            .zip(self.dt2_gc.iter_mut())
+        {
+            let mut next = [0.0; L];
+            for k in 0..L {
+                next[k] = if src[k] == k {
+                    prof[k].mean(t0, t1)
+                } else {
+                    next[src[k]]
+                };
+            }
+            for k in 0..L {
+                let gc = beta * next[k] + a * m[1][k] + beta * m[0][k];
+                g[k] = dt2 * gc;
+            }
+            *m = [m[1], next];
+        }
+        // 2U^n - U^{n-1} and (1-2β) U^n + β U^{n-1}.
+        for (((tm, ts), u), up) in self
+            .t_mass
+            .iter_mut()
+            .zip(self.t_stiff.iter_mut())
+            .zip(&self.u)
+            .zip(&self.u_prev)
+        {
+            for k in 0..L {
+                tm[k] = 2.0 * u[k] - up[k];
+                ts[k] = a * u[k] + beta * up[k];
+            }
+        }
+        // rhs = M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j, row by
+        // row, each row then eliminated at once (the forward sweep of
+        // `BandLdlt::solve_p3`, its last three results kept in w1, w2, w3).
+        let n = self.dofs;
+        let (l, lt, inv_d) = (&self.l[..n], &self.lt[..n], &self.inv_d[..n]);
+        let (mut w1, mut w2, mut w3) = ([0.0; L], [0.0; L], [0.0; L]);
+        for i in 0..n {
+            let (mv, kv) = if (3..n - 3).contains(&i) {
+                (
+                    interior::<L>(&self.mass[i], &self.t_mass[i - 3..i + 4]),
+                    interior::<L>(&self.stiff[i], &self.t_stiff[i - 3..i + 4]),
+                )
+            } else {
+                (
+                    edge::<L>(&self.mass, &self.t_mass, i),
+                    edge::<L>(&self.stiff, &self.t_stiff, i),
+                )
+            };
+            let f = &self.load[i];
+            let mut r = [0.0; L];
+            for k in 0..L {
+                r[k] = mv[k] + dt2 * (f[k] - kv[k]);
+            }
+            for (g, sh) in self.dt2_gc.iter().zip(&self.shapes) {
+                let sh = &sh[i];
+                for k in 0..L {
+                    r[k] += g[k] * sh[k];
+                }
+            }
+            match i {
+                0 => {}
+                1 => {
+                    for k in 0..L {
+                        r[k] -= l[1][0] * w1[k];
+                    }
+                }
+                2 => {
+                    for k in 0..L {
+                        r[k] -= l[2][1] * w2[k] + l[2][0] * w1[k];
+                    }
+                }
+                _ => {
+                    let row = l[i];
+                    for k in 0..L {
+                        r[k] = (r[k] - row[2] * w3[k] - row[1] * w2[k]) - row[0] * w1[k];
+                    }
+                }
+            }
+            w3 = w2;
+            w2 = w1;
+            w1 = r;
+            self.rhs[i] = r;
+        }
+        // Backward: rows n-3..n have fewer successors.
+        let b = &mut self.rhs[..n];
+        let (c2, c3) = (lt[n - 2], lt[n - 3]);
+        for k in 0..L {
+            b[n - 1][k] *= inv_d[n - 1];
+            b[n - 2][k] = b[n - 2][k] * inv_d[n - 2] - c2[0] * b[n - 1][k];
+            b[n - 3][k] = b[n - 3][k] * inv_d[n - 3] - c3[1] * b[n - 1][k] - c3[0] * b[n - 2][k];
+        }
+        let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
+        for ((bi, col), di) in b[..n - 3]
+            .iter_mut()
+            .rev()
+            .zip(lt[..n - 3].iter().rev())
+            .zip(inv_d[..n - 3].iter().rev())
+        {
+            let mut s = [0.0; L];
+            for k in 0..L {
+                s[k] = (bi[k] * di - col[2] * x3[k] - col[1] * x2[k]) - col[0] * x1[k];
+            }
+            x3 = x2;
+            x2 = x1;
+            x1 = s;
+            *bi = s;
+        }
+        self.project();
+        // Rotate: U^{n-1} <- U^n <- U^{n+1}.
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.rhs);
+        self.n += 1;
+        let t = self.time();
+        let uc = self.u[self.c];
+        for k in 0..L {
+            self.lams[k] = -self.mu[k] / dt2;
+        }
+        for k in 0..self.lanes {
+            if self.failed[k].is_none() && !(uc[k].is_finite() && self.lams[k].is_finite()) {
+                self.failed[k] = Some(SchemeError::NonFinite {
+                    step: self.n,
+                    time: t,
+                });
+            }
+        }
+        self.n
+    }
+
+    /// The projection of every lane (`Projection::project`'s operations),
+    /// bounds moved by each lane's restitution; `mu` per lane (0 inside).
+    #[inline(always)]
+    fn project(&mut self) {
+        let c = self.c;
+        let (yc, up_c) = (self.rhs[c], self.u_prev[c]);
+        let mut xc = [0.0; L];
+        let mut act = [false; L];
+        for k in 0..L {
+            let e = self.e[k];
+            let lo = (1.0 + e) * self.lo[k] - e * up_c[k];
+            let hi = if self.hi[k].is_finite() {
+                (1.0 + e) * self.hi[k] - e * up_c[k]
+            } else {
+                f64::INFINITY
+            };
+            let y = yc[k];
+            (xc[k], self.acts[k]) = if y < lo {
+                (lo, Active::Lower)
+            } else if y > hi {
+                (hi, Active::Upper)
+            } else {
+                (y, Active::None)
+            };
+            act[k] = self.acts[k] != Active::None;
+            self.mu[k] = if act[k] {
+                (xc[k] - y) * self.inv_wc
+            } else {
+                0.0
+            };
+        }
+        if !act.iter().any(|&a| a) {
+            return;
+        }
+        let mu = self.mu;
+        for (y, wi) in self.rhs.iter_mut().zip(&self.w) {
+            for k in 0..L {
+                y[k] = if act[k] { y[k] + mu[k] * wi } else { y[k] };
+            }
+        }
+        for k in 0..L {
+            if act[k] {
+                self.rhs[c][k] = xc[k];
+            }
+        }
+    }
+}
+
+/// An interior row of a half-bandwidth-3 product (`SymBand::mul_vec_p3`'s
+/// order): `(r0 x_i + r1 x_{i-1} + r2 x_{i-2} + r3 x_{i-3}) + (c1 x_{i+1} + c2 x_{i+2} + c3 x_{i+3})`,
+/// `x` the window `i-3..=i+3`.
+#[inline(always)]
+fn interior<const L: usize>(r: &Row7, x: &[[f64; L]]) -> [f64; L] {
+    let x: &[[f64; L]; 7] = x.try_into().expect("window of 7");
+    let mut y = [0.0; L];
+    for k in 0..L {
+        y[k] = (r[0] * x[3][k] + r[1] * x[2][k] + r[2] * x[1][k] + r[3] * x[0][k])
+            + (r[4] * x[4][k] + r[5] * x[5][k] + r[6] * x[6][k]);
+    }
+    y
+}
+
+/// A first or last row (`SymBand::mul_vec_p3`'s `row` closure): the
+/// diagonal term, then for `k = 1..=3` the left and the right neighbour.
+#[inline(always)]
+fn edge<const L: usize>(a: &[Row7], x: &[[f64; L]], i: usize) -> [f64; L] {
+    let n = a.len();
+    let r = &a[i];
+    let mut y = [0.0; L];
+    for lane in 0..L {
+        let mut s = r[0] * x[i][lane];
+        for k in 1..=3 {
+            if i >= k {
+                s += r[k] * x[i - k][lane];
+            }
+            if i + k < n {
+                s += r[3 + k] * x[i + k][lane];
+            }
+        }
+        y[lane] = s;
+    }
+    y
+}

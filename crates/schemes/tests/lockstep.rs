@@ -1,0 +1,358 @@
+//! `PaoliSchatzmanLockstep`: every lane bit for bit the single
+//! `PaoliSchatzman` run of its data (U^n, λ, active bound at every step),
+//! through repeated impacts on both stops; partial batches; restitution;
+//! typed refusals. The oracle is the single run (a separate code path:
+//! `SymBand::mul_vec`, `BandLdlt::solve_in_place`, `Projection::project`).
+//! Both builds of the step are checked: the one the CPU selects (AVX2 where
+//! available) and the baseline x86-64 one (`portable()`).
+
+use signorini_fem::{Beam, SymBand};
+use signorini_schemes::{
+    Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman,
+    PaoliSchatzmanLockstep, SchemeError, Stepper, TimeProfile,
+};
+
+const LENGTH: f64 = 1.501;
+const K2: f64 = 282.84;
+
+/// `h(x)` of the lifting (crates/run/src/beam.rs, `Pipe::lifting`) and `h'`.
+fn lifting(x: f64) -> (f64, f64) {
+    let y = x / LENGTH;
+    (
+        1.0 - 2.0 * y * y + 4.0 / 3.0 * y.powi(3) - y.powi(4) / 3.0,
+        (-4.0 * y + 4.0 * y * y - 4.0 / 3.0 * y.powi(3)) / LENGTH,
+    )
+}
+
+/// The paper's pipe (`Pipe::dynamics`, copied) with support `A sin(ω t)`
+/// and stops `stops` at the tip: forcing `(A ω² h + 8 A k²/L⁴) sin(ω t)`,
+/// `u = 0`, `u_t = -A ω h`.
+fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial) {
+    let beam = Beam::new(LENGTH, j, K2).unwrap();
+    let l4 = LENGTH.powi(4);
+    let shape = beam.load(|x| amp * omega * omega * lifting(x).0 + 8.0 * amp * K2 / l4);
+    let n = beam.dofs();
+    let dy = Dynamics {
+        mass: beam.mass(),
+        stiffness: beam.stiffness(),
+        load: vec![0.0; n],
+        contacts: vec![Contact::new(
+            beam.tip_dof(),
+            Bounds {
+                lo: stops.0,
+                hi: stops.1,
+            },
+            false,
+        )],
+        forcing: vec![Forcing {
+            shape,
+            time: TimeProfile::Sine {
+                amplitude: 1.0,
+                omega,
+            },
+        }],
+        damping: None,
+    };
+    let v = beam.interpolate(
+        |x| -amp * omega * lifting(x).0,
+        |x| -amp * omega * lifting(x).1,
+    );
+    (dy, Initial { u: vec![0.0; n], v })
+}
+
+/// The pipe driven by a support motion `φ` of two harmonics (`Pipe::excite`'s
+/// two lifting terms, `-h φ''` and `8 k²/L⁴ φ`), starting at rest.
+fn pipe_harmonics(j: usize, terms: Vec<Harmonic>, stops: (f64, f64)) -> (Dynamics, Initial) {
+    let (beam, mut dy, _) = {
+        let (dy, init) = pipe(j, 0.0, 1.0, stops);
+        (Beam::new(LENGTH, j, K2).unwrap(), dy, init)
+    };
+    let phi = TimeProfile::harmonics(terms).unwrap();
+    let acc = phi.second_derivative().unwrap();
+    let l4 = LENGTH.powi(4);
+    dy.forcing = vec![
+        Forcing {
+            shape: beam.load(|x| -lifting(x).0),
+            time: acc,
+        },
+        Forcing {
+            shape: beam.load(|_| 8.0 * K2 / l4),
+            time: phi.clone(),
+        },
+    ];
+    let (p0, dp0) = (phi.value(0.0), phi.derivative_at(0.0).unwrap());
+    let u = beam.interpolate(|x| -p0 * lifting(x).0, |x| -p0 * lifting(x).1);
+    let v = beam.interpolate(|x| -dp0 * lifting(x).0, |x| -dp0 * lifting(x).1);
+    (dy, Initial { u, v })
+}
+
+fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
+    LockstepLane {
+        dynamics: d.0,
+        initial: d.1,
+        restitution: e,
+    }
+}
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+/// Steps the batch and each lane's single run `steps` times, comparing
+/// U^n, U^{n-1} (at the start), λ and the status bit for bit at every step;
+/// returns per lane the number of steps held at the lower and upper bound.
+fn compare<const L: usize>(
+    beta: f64,
+    dt: f64,
+    lanes: Vec<LockstepLane>,
+    steps: usize,
+) -> Vec<(usize, usize)> {
+    let mut singles: Vec<PaoliSchatzman> = lanes
+        .iter()
+        .map(|l| {
+            PaoliSchatzman::new(
+                "single".into(),
+                l.dynamics.clone(),
+                beta,
+                l.restitution,
+                dt,
+                &l.initial,
+            )
+            .unwrap()
+        })
+        .collect();
+    // The build the CPU selects (AVX2 here) and the baseline x86-64 build.
+    let (beta2, lanes2) = (beta, lanes.clone());
+    let mut batch = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).unwrap();
+    let mut portable = PaoliSchatzmanLockstep::<L>::new(beta2, dt, lanes2).unwrap().portable();
+    assert!(!portable.uses_avx2());
+    let n = batch.dofs();
+    let mut buf = vec![0.0; n];
+    let mut counts = vec![(0, 0); singles.len()];
+    for (k, s) in singles.iter().enumerate() {
+        batch.previous_displacement_into(k, &mut buf);
+        assert_eq!(bits(&buf), bits(s.previous_displacement()), "lane {k}: U^0");
+    }
+    for step in 0..=steps {
+        if step > 0 {
+            batch.step();
+            portable.step();
+        }
+        for (k, s) in singles.iter_mut().enumerate() {
+            if step > 0 {
+                let r = s.step().unwrap();
+                assert_eq!(r.n, batch.level());
+                assert_eq!(r.t.to_bits(), batch.time().to_bits());
+                let (tl, lam) = r.lambda.unwrap();
+                assert_eq!(tl.to_bits(), batch.lambda_time().to_bits());
+                assert_eq!(
+                    lam.to_bits(),
+                    batch.contact_force(k).to_bits(),
+                    "lane {k} step {}: λ {lam} vs {}",
+                    r.n,
+                    batch.contact_force(k)
+                );
+                assert_eq!(r.active, batch.contact_status(k), "lane {k} step {}", r.n);
+                match r.active {
+                    Active::Lower => counts[k].0 += 1,
+                    Active::Upper => counts[k].1 += 1,
+                    Active::None => {}
+                }
+                assert!(batch.lane_failure(k).is_none());
+            }
+            batch.displacement_into(k, &mut buf);
+            let want = s.displacement();
+            if bits(&buf) != bits(want) {
+                let i = (0..n)
+                    .find(|&i| buf[i].to_bits() != want[i].to_bits())
+                    .unwrap();
+                panic!(
+                    "lane {k} level {}: u[{i}] = {:e}, single run {:e}",
+                    s.level(),
+                    buf[i],
+                    want[i]
+                );
+            }
+            portable.displacement_into(k, &mut buf);
+            assert_eq!(bits(&buf), bits(want), "lane {k} level {}: baseline build", s.level());
+            assert_eq!(portable.contact_force(k).to_bits(), batch.contact_force(k).to_bits());
+            let c = batch.contact_dof();
+            assert_eq!(batch.value(k, c).to_bits(), want[c].to_bits());
+        }
+    }
+    counts
+}
+
+/// Four lanes of the paper beam (J = 19, β = 1/2, e = 0) with different
+/// ω and A, narrow stops so the tip rattles: 4000 steps, bit for bit.
+#[test]
+fn beam_frequency_and_amplitude_lanes_are_bit_identical_to_single_runs() {
+    let stops = (-0.01, 0.01);
+    let lanes = vec![
+        lane(pipe(19, 0.2, 10.0, stops), 0.0),
+        lane(pipe(19, 0.2, 37.0, stops), 0.0),
+        lane(pipe(19, 0.35, 23.5, stops), 0.0),
+        lane(pipe(19, 0.05, 61.0, (-0.1, 0.1)), 0.0),
+    ];
+    let counts = compare::<4>(0.5, 5e-5, lanes, 4000);
+    for (k, &(lo, hi)) in counts.iter().enumerate().take(3) {
+        assert!(
+            lo > 20 && hi > 20,
+            "lane {k} should rattle between both stops: {lo} lower, {hi} upper steps"
+        );
+    }
+}
+
+/// An amplitude sweep (same profile in every lane: means shared) and two
+/// forcing terms per lane (support motion of two harmonics), β = 1/4, 8 lanes.
+#[test]
+fn amplitude_sweep_and_two_forcing_terms_are_bit_identical() {
+    let stops = (-0.01, 0.02);
+    let mut lanes: Vec<LockstepLane> = (0..5)
+        .map(|i| lane(pipe(19, 0.1 + 0.07 * i as f64, 30.0, stops), 0.0))
+        .collect();
+    for (a, w) in [(0.01, 40.0), (0.012, 70.0), (0.02, 25.0)] {
+        let terms = vec![
+            Harmonic {
+                amplitude: a,
+                omega: w,
+                phase: 0.3,
+            },
+            Harmonic {
+                amplitude: 0.5 * a,
+                omega: 2.7 * w,
+                phase: -1.0,
+            },
+        ];
+        lanes.push(lane(pipe_harmonics(19, terms, stops), 0.0));
+    }
+    // Mixing: one forcing term vs two is refused; run the two groups separately.
+    let two: Vec<LockstepLane> = lanes.split_off(5);
+    let counts = compare::<8>(0.25, 5e-5, lanes, 3000);
+    assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
+    let counts = compare::<4>(0.25, 5e-5, two, 3000);
+    assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
+}
+
+/// A partial batch: 3 lanes in a batch of 8, 1 lane in a batch of 2.
+#[test]
+fn partial_batches_are_bit_identical() {
+    let stops = (-0.01, 0.01);
+    let lanes = vec![
+        lane(pipe(19, 0.2, 10.0, stops), 0.0),
+        lane(pipe(19, 0.3, 31.0, stops), 0.0),
+        lane(pipe(19, 0.1, 55.0, stops), 0.0),
+    ];
+    compare::<8>(0.5, 5e-5, lanes, 2000);
+    compare::<2>(
+        0.5,
+        5e-5,
+        vec![lane(pipe(19, 0.25, 44.0, stops), 0.0)],
+        2000,
+    );
+}
+
+/// Restitution per lane (e = 0.5, 1, a contact's own e overriding the
+/// lane's), a one-sided obstacle, β = 1/4.
+#[test]
+fn restitution_lanes_are_bit_identical() {
+    let stops = (-0.01, 0.01);
+    let mut own = pipe(19, 0.2, 37.0, stops);
+    own.0.contacts[0].restitution = Some(0.8);
+    let lanes = vec![
+        lane(pipe(19, 0.2, 37.0, stops), 0.5),
+        lane(pipe(19, 0.2, 37.0, stops), 1.0),
+        lane(own, 0.0),
+        lane(pipe(19, 0.3, 20.0, (-0.01, f64::INFINITY)), 0.7),
+    ];
+    let counts = compare::<4>(0.25, 5e-5, lanes, 3000);
+    assert!(counts.iter().all(|&(lo, _)| lo > 0), "{counts:?}");
+}
+
+#[test]
+fn refusals_are_typed() {
+    let base = || lane(pipe(19, 0.2, 10.0, (-0.1, 0.1)), 0.0);
+    let new = |lanes: Vec<LockstepLane>| {
+        PaoliSchatzmanLockstep::<4>::new(0.5, 5e-5, lanes)
+            .err()
+            .expect("refused")
+    };
+    assert!(matches!(
+        new(vec![]),
+        SchemeError::Size {
+            got: 0,
+            expected: 4,
+            ..
+        }
+    ));
+    assert!(matches!(
+        new(vec![base(), base(), base(), base(), base()]),
+        SchemeError::Size {
+            got: 5,
+            expected: 4,
+            ..
+        }
+    ));
+    let mut d = base();
+    d.dynamics.damping = Some(d.dynamics.mass.clone());
+    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("undamped")));
+    let mut d = base();
+    d.dynamics
+        .contacts
+        .push(Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false));
+    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("one contact")));
+    let mut d = base();
+    d.dynamics.contacts[0].massless = true;
+    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("massive")));
+    let mut d = base();
+    let m = d.dynamics.mass.get(5, 5);
+    d.dynamics.mass.set(5, 5, m * (1.0 + 1e-15));
+    assert!(
+        matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("mass and stiffness"))
+    );
+    let mut d = base();
+    d.dynamics.contacts[0].dof = 10;
+    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("contact dof")));
+    let mut d = base();
+    d.dynamics.forcing.clear();
+    assert!(
+        matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("forcing terms"))
+    );
+    let mut d = base();
+    d.restitution = 1.5;
+    assert!(matches!(
+        new(vec![d]),
+        SchemeError::Invalid {
+            field: "restitution",
+            ..
+        }
+    ));
+    // Half-bandwidth 1 (a P1 bar) is not supported.
+    let n = 10;
+    let mut m = SymBand::zeros(n, 1);
+    let mut k = SymBand::zeros(n, 1);
+    for i in 0..n {
+        m.set(i, i, 1.0);
+        k.set(i, i, 2.0);
+        if i > 0 {
+            k.set(i, i - 1, -1.0);
+        }
+    }
+    let dy = Dynamics {
+        mass: m,
+        stiffness: k,
+        load: vec![0.0; n],
+        contacts: vec![Contact::new(0, Bounds::obstacle(0.0), false)],
+        forcing: vec![],
+        damping: None,
+    };
+    let bar = LockstepLane {
+        dynamics: dy,
+        initial: Initial {
+            u: vec![0.1; n],
+            v: vec![0.0; n],
+        },
+        restitution: 0.0,
+    };
+    assert!(matches!(new(vec![bar]), SchemeError::Structure(m) if m.contains("half-bandwidth 3")));
+}
