@@ -37,7 +37,9 @@
 use crate::scene::{Limits, Scene, SceneError, SceneFile};
 use crate::CliError;
 use signorini_run::vibro::{Piece, Summary, VibroConfig};
+use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
 use signorini_run::{Observer, RunConfig, RunError, Sample};
+use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
 use signorini_plot::{scatter, Chart, Scale, Series, Style};
 use std::fmt::Write as _;
@@ -306,7 +308,10 @@ pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), Swe
             Some(slot) => put(slot, value, path),
             None => {
                 // A key the scene leaves at its default: validation decides.
-                table.insert(last.to_string(), toml::Value::Float(value));
+                // An integral value goes in as an integer, which integer
+                // fields need and real fields take.
+                let v = if value.fract() == 0.0 && value.abs() <= 9.0e15 { toml::Value::Integer(value as i64) } else { toml::Value::Float(value) };
+                table.insert(last.to_string(), v);
                 Ok(())
             }
         }
@@ -546,6 +551,7 @@ where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
 {
     let o = &sweep.opts;
+    let interrupt = o.interrupt;
     let runs = o.runs();
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     let manifest = sweep.manifest(o.shard);
@@ -598,7 +604,7 @@ where
         }
         b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
     };
-    let batch = if o.follow { 1 } else { (4 * pool.current_num_threads()).max(1) };
+    let batch = if o.follow { 1 } else { (2 * LANES * pool.current_num_threads()).max(1) };
     let bar = crate::progress_bar(runs.len() as u64, o.progress, "runs");
     bar.set_position((first - runs.start) as u64);
     let start = std::time::Instant::now();
@@ -611,19 +617,46 @@ where
             break;
         }
         let end = (next + batch).min(runs.end);
-        let results: Vec<(usize, (f64, Option<f64>), Result<RunRows, CliError>)> = pool.install(|| {
-            (next..end)
-                .into_par_iter()
-                .map(|i| {
-                    let v = o.value(i);
-                    // A followed map restarts from the scene's own state on each row.
-                    let start = if i % o.count == 0 { None } else { state.as_ref() };
-                    let r = sweep.scene(v).map(|(_, scene, plan)| simulate(&scene, &plan, start));
-                    bar.inc(1);
-                    (i, v, r)
-                })
-                .collect()
-        });
+        let results: Vec<(usize, (f64, Option<f64>), Result<RunRows, CliError>)> = if o.follow {
+            // One run at a time, each from the last one's state.
+            let i = next;
+            let v = o.value(i);
+            // A followed map restarts from the scene's own state on each row.
+            let start = if i % o.count == 0 { None } else { state.as_ref() };
+            let r = sweep.scene(v).map(|(_, scene, plan)| simulate(&scene, &plan, start));
+            bar.inc(1);
+            vec![(i, v, r)]
+        } else {
+            pool.install(|| {
+                let prepared: Vec<(usize, (f64, Option<f64>), Result<(Scene, Plan), CliError>)> = (next..end).into_par_iter().map(|i| (i, o.value(i), sweep.scene(o.value(i)).map(|(_, s, p)| (s, p)))).collect();
+                let jobs = lockstep_jobs(&prepared);
+                let done: Vec<Vec<(usize, RunRows)>> = jobs
+                    .into_par_iter()
+                    .map(|job| {
+                        let out = match job.as_slice() {
+                            [k] => match &prepared[*k].2 {
+                                Ok((scene, plan)) => vec![(*k, simulate(scene, plan, None))],
+                                Err(_) => Vec::new(),
+                            },
+                            ks => {
+                                let group: Vec<(&Scene, &Plan)> = ks.iter().filter_map(|k| prepared[*k].2.as_ref().ok().map(|(s, p)| (s, p))).collect();
+                                match simulate_lockstep(&group, interrupt) {
+                                    Some(rows) => ks.iter().copied().zip(rows).collect(),
+                                    None => ks.iter().filter_map(|k| prepared[*k].2.as_ref().ok().map(|(s, p)| (*k, simulate(s, p, None)))).collect(),
+                                }
+                            }
+                        };
+                        bar.inc(job.len() as u64);
+                        out
+                    })
+                    .collect();
+                let mut rows: Vec<Option<RunRows>> = (0..prepared.len()).map(|_| None).collect();
+                for (k, r) in done.into_iter().flatten() {
+                    rows[k] = Some(r);
+                }
+                prepared.into_iter().zip(rows).map(|((i, v, p), r)| (i, v, p.and_then(|_| r.ok_or_else(|| CliError::Io("a run went missing".into()))))).collect()
+            })
+        };
         let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
         for (i, v, r) in results {
             let rows = r?;
@@ -877,4 +910,173 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
         built.absolute(&last.last, &v, last.t)
     });
     RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps, status, state }
+}
+
+/// Runs per lockstep batch: the paper beam's sweeps step this many runs
+/// together (crates/run/benches/lockstep.rs measures the choice).
+pub const LANES: usize = 4;
+
+/// A run the lockstep engine takes: a beam on its tip's two stops with the
+/// projection (the β-scheme, e = 0), not continued from another run.
+fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
+    match scene {
+        Scene::Beam { pipe, scene: bs, contacts: None, excitation, .. } if excitation.start.is_none() => {
+            let BeamContact::Projection { beta } = bs.contact else { return None };
+            let (beam, dy, init) = problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, None, excitation).ok()?;
+            Some((LockstepLane { dynamics: dy, initial: init, restitution: 0.0 }, beta, bs.dt, beam.tip_dof()))
+        }
+        _ => None,
+    }
+}
+
+/// The batch's runs as jobs: consecutive lockstep-able runs in groups of up
+/// to [`LANES`], every other run alone (indices into `prepared`).
+fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), CliError>)]) -> Vec<Vec<usize>> {
+    let mut jobs: Vec<Vec<usize>> = Vec::new();
+    let mut open: Vec<usize> = Vec::new();
+    for (k, p) in prepared.iter().enumerate() {
+        let ok = matches!(&p.2, Ok((Scene::Beam { contacts: None, excitation, scene, .. }, _)) if excitation.start.is_none() && matches!(scene.contact, BeamContact::Projection { .. }));
+        if ok {
+            open.push(k);
+            if open.len() == LANES {
+                jobs.push(std::mem::take(&mut open));
+            }
+        } else {
+            jobs.push(vec![k]);
+        }
+    }
+    if !open.is_empty() {
+        jobs.push(open);
+    }
+    jobs
+}
+
+/// Runs `group` (beam runs sharing a step matrix) in lockstep
+/// ([`PaoliSchatzmanLockstep`]): each lane performs the single run's
+/// arithmetic, so its rows are the ones [`simulate`] writes, bit for bit;
+/// each lane feeds its own observers the samples the runner would (levels
+/// 0 and 1, then every step until its own horizon; the whole state checked
+/// for finite values every 64 steps and at the end, as the runner does).
+/// `None` when the runs cannot share the engine (then run them one by one).
+pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
+    if group.len() < 2 || group.len() > LANES {
+        return None;
+    }
+    let mut lanes = Vec::with_capacity(group.len());
+    let mut tips = Vec::with_capacity(group.len());
+    let (mut beta, mut dt) = (f64::NAN, f64::NAN);
+    for (k, (scene, plan)) in group.iter().enumerate() {
+        let (lane, b, d, tip) = lane_of(scene)?;
+        if k > 0 && (b != beta || d != dt) || plan.dt != d {
+            return None;
+        }
+        (beta, dt) = (b, d);
+        tips.push(tip);
+        lanes.push(lane);
+    }
+    let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
+    let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
+    let mut eng = PaoliSchatzmanLockstep::<LANES>::new(beta, dt, lanes).ok()?;
+    let c = eng.contact_dof();
+    struct Lane {
+        vib: signorini_run::vibro::Vibro,
+        u: Vec<f64>,
+        steps: usize,
+        status: Option<String>,
+        done: bool,
+    }
+    let mut ls: Vec<Lane> = Vec::with_capacity(group.len());
+    for (k, (_, plan)) in group.iter().enumerate() {
+        let cfg = VibroConfig::new(plan.dt, Some(plan.omega), plan.record_from, tips[k], contacts[k].clone()).map(|mut cf| {
+            cf.t_end = Some(plan.t_end);
+            cf.phase = plan.phase;
+            cf
+        });
+        let vib = cfg.and_then(|cf| cf.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)).ok()?;
+        let steps = RunConfig::new(plan.dt, plan.t_end).ok()?.steps();
+        ls.push(Lane { vib, u: inits[k].clone(), steps, status: None, done: false });
+    }
+    let zero = [0.0];
+    let free = [Active::None];
+    // Level 0 (the initial displacement) and level 1 (the start step).
+    for (k, l) in ls.iter_mut().enumerate() {
+        let s0 = Sample { n: 0, t: 0.0, u: &inits[k], lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
+        if let Err(e) = l.vib.observe(&s0) {
+            l.status = Some(text_cell(&e.to_string()));
+            l.done = true;
+            continue;
+        }
+        eng.displacement_into(k, &mut l.u);
+        if !l.u.iter().all(|x| x.is_finite()) {
+            l.status = Some(text_cell(&RunError::BlowUp { step: 1, time: eng.time() }.to_string()));
+            l.steps = 1;
+            l.done = true;
+            continue;
+        }
+        let s1 = Sample { n: 1, t: eng.time(), u: &l.u, lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
+        if let Err(e) = l.vib.observe(&s1) {
+            l.status = Some(text_cell(&e.to_string()));
+            l.done = true;
+        }
+    }
+    let mut interrupted = false;
+    while ls.iter().any(|l| !l.done) {
+        if interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+            interrupted = true;
+            break;
+        }
+        let level = eng.step();
+        let t = eng.time();
+        let tl = eng.lambda_time();
+        for (k, l) in ls.iter_mut().enumerate() {
+            if l.done {
+                continue;
+            }
+            if let Some(e) = eng.lane_failure(k) {
+                l.status = Some(text_cell(&RunError::from(e.clone()).to_string()));
+                l.steps = level;
+                l.done = true;
+                continue;
+            }
+            // The runner's whole-state check; between checks only the dofs
+            // the vibro observers read (the tip and the contact) are copied.
+            if level % 64 == 0 || level == l.steps {
+                eng.displacement_into(k, &mut l.u);
+                if !l.u.iter().all(|x| x.is_finite()) {
+                    l.status = Some(text_cell(&RunError::BlowUp { step: level, time: t }.to_string()));
+                    l.steps = level;
+                    l.done = true;
+                    continue;
+                }
+            } else {
+                l.u[tips[k]] = eng.value(k, tips[k]);
+                l.u[c] = eng.value(k, c);
+            }
+            let (lam, st) = ([eng.contact_force(k)], [eng.contact_status(k)]);
+            let smp = Sample { n: level, t, u: &l.u, lambda: Some((tl, lam[0])), energy: None, active: st[0] != Active::None, work: None, forces: &lam, status: &st };
+            if let Err(e) = l.vib.observe(&smp) {
+                l.status = Some(text_cell(&e.to_string()));
+                l.steps = level;
+                l.done = true;
+                continue;
+            }
+            if level >= l.steps {
+                l.done = true;
+            }
+        }
+    }
+    Some(
+        ls.into_iter()
+            .zip(group)
+            .map(|(mut l, (_, plan))| {
+                let _ = l.vib.finish();
+                let status = if interrupted && l.status.is_none() && !l.done { "interrupted".to_string() } else { l.status.unwrap_or_else(|| "ok".to_string()) };
+                let poincare = l.vib.poincare.as_ref().map_or_else(Vec::new, |p| p.points().iter().map(|q| [q.t, q.displacement, q.velocity, plan.phase]).collect());
+                let impacts = l.vib.impacts.as_ref().map_or_else(Vec::new, |o| o.impacts().iter().filter(|i| i.t >= plan.record_from).map(|i| (i.stop, [i.t, i.phase, i.velocity, i.impulse, i.duration])).collect());
+                let mut buf = Vec::new();
+                let _ = l.vib.summary().write_row(&mut buf);
+                RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps: if status == "interrupted" { 0 } else { l.steps }, status, state: None }
+            })
+            .collect(),
+    )
 }
