@@ -173,17 +173,24 @@ fn interrupt_flag() -> Option<&'static AtomicBool> {
     Some(&**flag)
 }
 
+/// Writes to stdout; a closed pipe (`signorini … | head`) is not an error
+/// worth a panic: what could not be printed is dropped.
+fn say(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().write_all(text.as_bytes());
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: Result<(), CliError> = (|| match cli.cmd {
         Cmd::List => {
-            print!("{}", list());
+            say(&list());
             Ok(())
         }
         Cmd::Check { scene, out, max_memory } => {
             let (file, s) = signorini_cli::load(&scene, &limits(max_memory))?;
             let out = out.unwrap_or_else(|| default_out(&scene));
-            println!("{}", check(&s, &file, &out)?);
+            say(&format!("{}\n", check(&s, &file, &out)?));
             Ok(())
         }
         Cmd::Sweep { scene, param, from, to, count, log, param2, from2, to2, count2, log2, transient, record, phase, follow, shard, resume, threads, out, max_memory } => {
@@ -196,13 +203,13 @@ fn main() -> ExitCode {
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
             for l in signorini_cli::sweep::run(&sweep, &out)? {
-                println!("{l}");
+                say(&format!("{l}\n"));
             }
             Ok(())
         }
         Cmd::Merge { shards, out } => {
             for l in signorini_cli::sweep::merge(&shards, &out)? {
-                println!("{l}");
+                say(&format!("{l}\n"));
             }
             Ok(())
         }
@@ -212,7 +219,7 @@ fn main() -> ExitCode {
             let opts = RunOptions { progress: std::io::stderr().is_terminal(), clean, no_disk_check, interrupt: interrupt_flag() };
             let summary = run_scene(&s, &file, &out, &opts)?;
             for l in summary.lines {
-                println!("{l}");
+                say(&format!("{l}\n"));
             }
             Ok(())
         }
