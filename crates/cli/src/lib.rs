@@ -800,15 +800,16 @@ impl Analysis {
                     by_stop[i.stop].points.push((i.phase, i.velocity));
                 }
                 by_stop.retain(|s| !s.points.is_empty());
-                let chart = Chart { title: "impact map: pre-impact velocity against forcing phase", x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
+                let title = sweep::thin_series(&mut by_stop, "impact map: pre-impact velocity against forcing phase", "impacts");
+                let chart = Chart { title: &title, x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
                 match signorini_plot::scatter(&chart, &by_stop, 2) {
                     Ok(svg) => std::fs::write(self.out.join("impact_map.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
                     Err(e) => notes.push(format!("impact_map.svg not written: {e}")),
                 }
             }
             if let Some(p) = &self.vibro.poincare {
-                let pts: Vec<(f64, f64)> = p.points().iter().map(|q| (q.displacement, q.velocity)).collect();
-                let chart = Chart { title: "Poincaré section: (displacement, velocity) at the forcing period", x_label: "displacement", y_label: "velocity", scale: Scale::Linear, size: (700, 600) };
+                let (pts, title) = sweep::thin(p.points().iter().map(|q| (q.displacement, q.velocity)).collect(), "Poincaré section: (displacement, velocity) at the forcing period", "samples");
+                let chart = Chart { title: &title, x_label: "displacement", y_label: "velocity", scale: Scale::Linear, size: (700, 600) };
                 match signorini_plot::scatter(&chart, &[Series { label: "section".into(), points: pts, reference: false, style: Style::default() }], 3) {
                     Ok(svg) => std::fs::write(self.out.join("poincare.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
                     Err(e) => notes.push(format!("poincare.svg not written: {e}")),

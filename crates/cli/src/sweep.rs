@@ -725,13 +725,41 @@ pub fn summary_header() -> String {
     format!("param,run,{},steps,status", signorini_run::vibro::Summary::csv_header())
 }
 
+/// Points beyond which a scatter plot shows every k-th (a plot of 10⁶ dots
+/// would be a file of 100 MB); the CSVs keep them all.
+const MAX_PLOT_POINTS: usize = 100_000;
+
+/// Every k-th point when there are more than [`MAX_PLOT_POINTS`], and the
+/// title saying so.
+pub(crate) fn thin(pts: Vec<(f64, f64)>, title: &str, what: &str) -> (Vec<(f64, f64)>, String) {
+    if pts.len() <= MAX_PLOT_POINTS {
+        return (pts, title.to_string());
+    }
+    let every = pts.len().div_ceil(MAX_PLOT_POINTS);
+    let n = pts.len();
+    (pts.into_iter().step_by(every).collect(), format!("{title} (every {every}th of {n} {what})"))
+}
+
+/// [`thin`] over several series together; returns the title.
+pub(crate) fn thin_series(series: &mut [Series], title: &str, what: &str) -> String {
+    let total: usize = series.iter().map(|s| s.points.len()).sum();
+    if total <= MAX_PLOT_POINTS {
+        return title.to_string();
+    }
+    let every = total.div_ceil(MAX_PLOT_POINTS);
+    for s in series.iter_mut() {
+        s.points = s.points.iter().copied().step_by(every).collect();
+    }
+    format!("{title} (every {every}th of {total} {what})")
+}
+
 /// Draws `bifurcation.svg` and `impact_map.svg` from the folder's CSVs.
 fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
     let mut notes = Vec::new();
     let col = |l: &str, i: usize| l.split(',').nth(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(f64::NAN);
     let sweep = complete_lines(&dir.join("sweep.csv"))?;
-    let pts: Vec<(f64, f64)> = sweep.iter().skip(1).map(|l| (col(l, 0), col(l, 3))).collect();
-    let chart = Chart { title: "bifurcation diagram: Poincaré displacement", x_label: "parameter", y_label: "displacement", scale: Scale::Linear, size: (900, 600) };
+    let (pts, title) = thin(sweep.iter().skip(1).map(|l| (col(l, 0), col(l, 3))).collect(), "bifurcation diagram: Poincaré displacement", "samples");
+    let chart = Chart { title: &title, x_label: "parameter", y_label: "displacement", scale: Scale::Linear, size: (900, 600) };
     let radius = if pts.len() > 20_000 { 1 } else { 2 };
     match scatter(&chart, &[Series { label: "Poincaré samples".into(), points: pts, reference: false, style: Style::default() }], radius) {
         Ok(svg) => std::fs::write(dir.join("bifurcation.svg"), svg).map_err(|e| io(&dir.join("bifurcation.svg"), e))?,
@@ -748,7 +776,8 @@ fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
         by_stop[k].points.push((col(l, 4), col(l, 5)));
     }
     by_stop.retain(|s| !s.points.is_empty());
-    let chart = Chart { title: "impact map: pre-impact velocity against forcing phase", x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
+    let title = thin_series(&mut by_stop, "impact map: pre-impact velocity against forcing phase", "impacts");
+    let chart = Chart { title: &title, x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
     let n: usize = by_stop.iter().map(|s| s.points.len()).sum();
     match scatter(&chart, &by_stop, if n > 20_000 { 1 } else { 2 }) {
         Ok(svg) => std::fs::write(dir.join("impact_map.svg"), svg).map_err(|e| io(&dir.join("impact_map.svg"), e))?,
