@@ -212,3 +212,19 @@ fn sigint_keeps_whole_runs_and_resume_completes() {
     }
     same_files(&whole, &cut, &FILES);
 }
+
+/// The beam's lockstep groups depend on the batch size, which depends on
+/// the thread count: the files do not.
+#[test]
+fn thread_count_changes_no_output_of_a_lockstep_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = dir.path().join("beam.toml");
+    std::fs::write(&sc, "[beam]\nscene = \"fig2\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n").unwrap();
+    let run = |out: &Path, threads: &str| {
+        ok(&bin().args(["sweep", sc.to_str().unwrap(), "--param", "support.omega", "--from", "8", "--to", "12", "--count", "11", "--transient", "1", "--record", "2", "--threads", threads, "--out", out.to_str().unwrap()]).output().unwrap());
+    };
+    let (a, b) = (dir.path().join("t1"), dir.path().join("t3"));
+    run(&a, "1");
+    run(&b, "3");
+    same_files(&a, &b, &FILES);
+}
