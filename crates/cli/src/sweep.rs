@@ -177,6 +177,9 @@ pub struct SweepOptions {
     pub record: f64,
     /// Forcing phase of the Poincaré section, in [0, 2π).
     pub phase: f64,
+    /// Relative tolerance of the response-period test (in (0, 1); default
+    /// 1e-3 of the tip's displacement and velocity ranges).
+    pub period_tol: f64,
     /// Start each run from the previous run's final state.
     pub follow: bool,
     /// Run only the `I`-th (0-based) of `N` blocks: `(I, N)`.
@@ -195,7 +198,7 @@ impl SweepOptions {
     /// A sweep of `param` over `[from, to]` with `count` runs and the
     /// defaults: linear, 100 transient periods, 10 recorded, phase 0.
     pub fn new(param: &str, from: f64, to: f64, count: usize) -> Self {
-        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, follow: false, shard: None, resume: false, threads: None, progress: false, interrupt: None }
+        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, period_tol: 1e-3, follow: false, shard: None, resume: false, threads: None, progress: false, interrupt: None }
     }
 
     /// Checks the options (not the path: [`Sweep::new`] does, on the scene).
@@ -220,6 +223,9 @@ impl SweepOptions {
         }
         if !(self.phase >= 0.0 && self.phase < std::f64::consts::TAU) {
             return opt("phase", format!("{} is not allowed: a forcing phase in [0, 2π)", self.phase));
+        }
+        if !(self.period_tol > 0.0 && self.period_tol < 1.0) {
+            return opt("period-tol", format!("{} is not allowed: in (0, 1)", self.period_tol));
         }
         if let Some((i, n)) = self.shard {
             if n == 0 || i >= n {
@@ -389,7 +395,7 @@ impl Sweep {
         opts.validate()?;
         let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
         let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
-        let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow);
+        let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}|{:016x}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow, opts.period_tol.to_bits());
         if let Some(a) = &opts.second {
             key += &format!("|{}|{:016x}|{:016x}|{}|{}", a.param, a.from.to_bits(), a.to.to_bits(), a.count, a.log);
         }
@@ -453,7 +459,7 @@ impl Sweep {
         set_path(&mut doc, key, t_end).map_err(|e| SweepError::Scene(format!("cannot set the horizon {key}: {e}")))?;
         let file = parse(doc)?;
         let scene = file.validate_with(&self.limits).map_err(bad)?;
-        Ok((file, scene, Plan { omega, dt, t_end, record_from: self.opts.transient * period, phase: self.opts.phase }))
+        Ok((file, scene, Plan { omega, dt, t_end, record_from: self.opts.transient * period, phase: self.opts.phase, period_tol: self.opts.period_tol }))
     }
 
     /// The manifest text.
@@ -468,7 +474,7 @@ impl Sweep {
         if let Some(a) = &o.second {
             let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", a.param, a.from, a.to, a.count, a.log);
         }
-        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nfollow = {}", o.transient, o.record, o.phase, o.follow);
+        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nperiod_tol = {:?}\nfollow = {}", o.transient, o.record, o.phase, o.period_tol, o.follow);
         if let Some((i, n)) = shard {
             let r = o.runs();
             let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{}, {}]", r.start, r.end);
@@ -490,6 +496,8 @@ pub struct Plan {
     pub record_from: f64,
     /// Poincaré section phase.
     pub phase: f64,
+    /// Tolerance of the response-period test.
+    pub period_tol: f64,
 }
 
 fn io(p: &Path, e: std::io::Error) -> CliError {
@@ -905,6 +913,7 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
     let cfg = VibroConfig::for_dynamics(built.stepper.dynamics(), plan.dt, Some(plan.omega), plan.record_from, built.tip).map(|mut c| {
         c.t_end = Some(plan.t_end);
         c.phase = plan.phase;
+        c.period_tol = plan.period_tol;
         c
     });
     let mut vib = match cfg.and_then(|c| c.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)) {
@@ -1019,6 +1028,7 @@ pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static A
         let cfg = VibroConfig::new(plan.dt, Some(plan.omega), plan.record_from, tips[k], contacts[k].clone()).map(|mut cf| {
             cf.t_end = Some(plan.t_end);
             cf.phase = plan.phase;
+            cf.period_tol = plan.period_tol;
             cf
         });
         let vib = cfg.and_then(|cf| cf.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)).ok()?;
