@@ -24,17 +24,9 @@ const STEPS: usize = 10_000;
 fn lane(k: usize, frequency: bool) -> LockstepLane {
     let p = Pipe::paper();
     let (a, w) = p.support;
-    let support = if frequency {
-        (a, w + k as f64)
-    } else {
-        (a + 0.01 * k as f64, w)
-    };
+    let support = if frequency { (a, w + k as f64) } else { (a + 0.01 * k as f64, w) };
     let (_, dynamics, initial) = Pipe { support, ..p }.dynamics(19).unwrap();
-    LockstepLane {
-        dynamics,
-        initial,
-        restitution: 0.0,
-    }
+    LockstepLane { dynamics, initial, restitution: 0.0 }
 }
 
 fn batch<const L: usize>(frequency: bool) -> PaoliSchatzmanLockstep<L> {
@@ -61,44 +53,35 @@ fn single(bencher: Bencher) {
 /// `L` runs of a frequency sweep in lockstep: ns per run-step.
 #[divan::bench(consts = [1, 2, 4, 8, 16])]
 fn frequency<const L: usize>(bencher: Bencher) {
-    bencher
-        .counter(ItemsCount::new(STEPS * L))
-        .with_inputs(|| batch::<L>(true))
-        .bench_local_values(|mut b| {
-            for _ in 0..STEPS {
-                divan::black_box(b.step());
-            }
-            b
-        });
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true)).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
 }
 
 /// `L` runs of an amplitude sweep in lockstep: ns per run-step.
 #[divan::bench(consts = [4, 8, 16])]
 fn amplitude<const L: usize>(bencher: Bencher) {
-    bencher
-        .counter(ItemsCount::new(STEPS * L))
-        .with_inputs(|| batch::<L>(false))
-        .bench_local_values(|mut b| {
-            for _ in 0..STEPS {
-                divan::black_box(b.step());
-            }
-            b
-        });
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(false)).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
 }
 
 /// Two frequency batches of `L` on two rayon threads: ns per run-step.
 #[divan::bench(consts = [4, 8])]
 fn two_threads<const L: usize>(bencher: Bencher) {
-    bencher
-        .counter(ItemsCount::new(2 * STEPS * L))
-        .with_inputs(|| (batch::<L>(true), batch::<L>(true)))
-        .bench_local_values(|(mut a, mut b)| {
-            let go = |s: &mut PaoliSchatzmanLockstep<L>| {
-                for _ in 0..STEPS {
-                    divan::black_box(s.step());
-                }
-            };
-            rayon::join(|| go(&mut a), || go(&mut b));
-            (a, b)
-        });
+    bencher.counter(ItemsCount::new(2 * STEPS * L)).with_inputs(|| (batch::<L>(true), batch::<L>(true))).bench_local_values(|(mut a, mut b)| {
+        let go = |s: &mut PaoliSchatzmanLockstep<L>| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step());
+            }
+        };
+        rayon::join(|| go(&mut a), || go(&mut b));
+        (a, b)
+    });
 }
