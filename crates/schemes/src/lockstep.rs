@@ -34,6 +34,10 @@
 //! Fewer lanes than `L` (the last batch of a sweep) are padded with copies
 //! of lane 0, whose results are never reported.
 
+// The lane loops index several per-lane arrays by the lane on purpose:
+// that is the shape the compiler vectorises.
+#![allow(clippy::needless_range_loop)]
+
 use crate::{Active, Dynamics, Initial, PaoliSchatzman, SchemeError, Stepper, TimeProfile};
 use signorini_contact::Projection;
 use signorini_fem::SymBand;
