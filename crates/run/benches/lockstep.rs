@@ -6,7 +6,8 @@
 //! run-steps/s (one item = one step of one run). `frequency_*`: every lane
 //! its own ω (one `mean` per lane and step); `amplitude_*`: one ω, the
 //! amplitudes differ (the profile's mean is computed once per step);
-//! `two_threads_*`: two batches of `L` on two rayon threads.
+//! `two_threads_*`: two batches of `L` on two rayon threads;
+//! `frequency_baseline_*`: the baseline x86-64 (SSE2) build where the CPU has AVX2.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
@@ -83,5 +84,16 @@ fn two_threads<const L: usize>(bencher: Bencher) {
         };
         rayon::join(|| go(&mut a), || go(&mut b));
         (a, b)
+    });
+}
+
+/// The baseline x86-64 build of the step (SSE2, `portable()`), frequency sweep: ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn frequency_baseline<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true).portable()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
     });
 }
