@@ -33,6 +33,14 @@
 //! forcing terms, other bandwidths, and a lane count outside `1..=L`.
 //! Fewer lanes than `L` (the last batch of a sweep) are padded with copies
 //! of lane 0, whose results are never reported.
+//!
+//! Cost (crates/run/benches/lockstep.rs, the paper's beam): the step is
+//! compiled for the baseline x86-64 target and with AVX2, chosen at run
+//! time (no FMA in either, so the same bits). Lanes with the same profile
+//! share its means; a `Sine` profile's mean is `TimeProfile::mean`'s
+//! formula with its factor `sin(ω δ/2)/(ω δ/2)` looked up by the bits of
+//! `δ = t_{n+2} - t_{n+1}` (a copy of that formula: the bit-identity tests
+//! fail if the two drift apart).
 
 // The lane loops index several per-lane arrays by the lane on purpose:
 // that is the shape the compiler vectorises.

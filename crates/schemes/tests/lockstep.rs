@@ -251,3 +251,12 @@ fn a_failing_lane_reports_the_single_runs_error_and_spares_the_others() {
     assert_eq!(fails, [false, true, false, true]);
     compare::<4>(0.5, 5e-5, lanes, 1500);
 }
+
+/// β = 0 (the start step is Newmark(1/4, 1/2), the step matrix is `M`): the
+/// step itself takes no special path; bit for bit too.
+#[test]
+fn beta_zero_lanes_are_bit_identical() {
+    let stops = (-0.01, 0.01);
+    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 37.0, stops), 0.5)];
+    compare::<2>(0.0, 2e-6, lanes, 3000);
+}
