@@ -6,7 +6,8 @@
 //! run-steps/s (one item = one step of one run). `frequency_*`: every lane
 //! its own ω (one `mean` per lane and step); `amplitude_*`: one ω, the
 //! amplitudes differ (the profile's mean is computed once per step);
-//! `two_threads_*`: two batches of `L` on two rayon threads.
+//! `two_threads_*`: two batches of `L` on two rayon threads;
+//! `frequency_baseline_*`: the baseline x86-64 (SSE2) build where the CPU has AVX2.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
@@ -24,17 +25,9 @@ const STEPS: usize = 10_000;
 fn lane(k: usize, frequency: bool) -> LockstepLane {
     let p = Pipe::paper();
     let (a, w) = p.support;
-    let support = if frequency {
-        (a, w + k as f64)
-    } else {
-        (a + 0.01 * k as f64, w)
-    };
+    let support = if frequency { (a, w + k as f64) } else { (a + 0.01 * k as f64, w) };
     let (_, dynamics, initial) = Pipe { support, ..p }.dynamics(19).unwrap();
-    LockstepLane {
-        dynamics,
-        initial,
-        restitution: 0.0,
-    }
+    LockstepLane { dynamics, initial, restitution: 0.0 }
 }
 
 fn batch<const L: usize>(frequency: bool) -> PaoliSchatzmanLockstep<L> {
@@ -61,44 +54,46 @@ fn single(bencher: Bencher) {
 /// `L` runs of a frequency sweep in lockstep: ns per run-step.
 #[divan::bench(consts = [1, 2, 4, 8, 16])]
 fn frequency<const L: usize>(bencher: Bencher) {
-    bencher
-        .counter(ItemsCount::new(STEPS * L))
-        .with_inputs(|| batch::<L>(true))
-        .bench_local_values(|mut b| {
-            for _ in 0..STEPS {
-                divan::black_box(b.step());
-            }
-            b
-        });
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true)).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
 }
 
 /// `L` runs of an amplitude sweep in lockstep: ns per run-step.
 #[divan::bench(consts = [4, 8, 16])]
 fn amplitude<const L: usize>(bencher: Bencher) {
-    bencher
-        .counter(ItemsCount::new(STEPS * L))
-        .with_inputs(|| batch::<L>(false))
-        .bench_local_values(|mut b| {
-            for _ in 0..STEPS {
-                divan::black_box(b.step());
-            }
-            b
-        });
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(false)).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
 }
 
 /// Two frequency batches of `L` on two rayon threads: ns per run-step.
 #[divan::bench(consts = [4, 8])]
 fn two_threads<const L: usize>(bencher: Bencher) {
-    bencher
-        .counter(ItemsCount::new(2 * STEPS * L))
-        .with_inputs(|| (batch::<L>(true), batch::<L>(true)))
-        .bench_local_values(|(mut a, mut b)| {
-            let go = |s: &mut PaoliSchatzmanLockstep<L>| {
-                for _ in 0..STEPS {
-                    divan::black_box(s.step());
-                }
-            };
-            rayon::join(|| go(&mut a), || go(&mut b));
-            (a, b)
-        });
+    bencher.counter(ItemsCount::new(2 * STEPS * L)).with_inputs(|| (batch::<L>(true), batch::<L>(true))).bench_local_values(|(mut a, mut b)| {
+        let go = |s: &mut PaoliSchatzmanLockstep<L>| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step());
+            }
+        };
+        rayon::join(|| go(&mut a), || go(&mut b));
+        (a, b)
+    });
+}
+
+/// The baseline x86-64 build of the step (SSE2, `portable()`), frequency sweep: ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn frequency_baseline<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true).portable()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
 }

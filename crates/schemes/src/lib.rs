@@ -21,6 +21,8 @@
 //!   node (the MOD mass family) needs no special case.
 //! * [`PaoliSchatzman`]: the two-step scheme with restitution `e` (eq. (34)),
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
+//!   [`PaoliSchatzmanLockstep`] steps `L` runs that share its step matrix
+//!   together (a sweep), each lane bit-identical to its single run.
 //!
 //! * [`Reduced`]: the massless contact node eliminated (`u_0 = max(u_1, g)`),
 //!   with the hybrid Crank–Nicolson/midpoint scheme of the weighted-mass paper

@@ -33,6 +33,18 @@
 //! forcing terms, other bandwidths, and a lane count outside `1..=L`.
 //! Fewer lanes than `L` (the last batch of a sweep) are padded with copies
 //! of lane 0, whose results are never reported.
+//!
+//! Cost (crates/run/benches/lockstep.rs, the paper's beam): the step is
+//! compiled for the baseline x86-64 target and with AVX2, chosen at run
+//! time (no FMA in either, so the same bits). Lanes with the same profile
+//! share its means; a `Sine` profile's mean is `TimeProfile::mean`'s
+//! formula with its factor `sin(ω δ/2)/(ω δ/2)` looked up by the bits of
+//! `δ = t_{n+2} - t_{n+1}` (a copy of that formula: the bit-identity tests
+//! fail if the two drift apart).
+
+// The lane loops index several per-lane arrays by the lane on purpose:
+// that is the shape the compiler vectorises.
+#![allow(clippy::needless_range_loop)]
 
 use crate::{Active, Dynamics, Initial, PaoliSchatzman, SchemeError, Stepper, TimeProfile};
 use signorini_contact::Projection;
@@ -104,7 +116,18 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     failed: [Option<SchemeError>; L],
     /// Run the AVX2 build of the step.
     avx2: bool,
+    /// The last few step lengths `δ = t1 - t0` (bits) of the means...
+    sinc_keys: [Option<u64>; SINC_SLOTS],
+    /// ... the slot replaced next ...
+    sinc_next: usize,
+    /// ... and per forcing term, slot and lane, a Sine profile's
+    /// `sin(ω δ/2)/(ω δ/2)` for that `δ` (as `TimeProfile::mean` computes it).
+    sinc: Vec<[[f64; L]; SINC_SLOTS]>,
 }
+
+/// Step lengths `δ` remembered by [`PaoliSchatzmanLockstep`] (the rounding
+/// of `(n+2) dt - (n+1) dt` gives a handful of values; four catch > 99.99%).
+const SINC_SLOTS: usize = 4;
 
 fn avx2_available() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -123,42 +146,18 @@ fn same_band(a: &SymBand, b: &SymBand) -> bool {
     if (n, p) != (b.n(), b.half_bandwidth()) {
         return false;
     }
-    (0..=p).all(|k| {
-        a.diagonal(k)
-            .iter()
-            .zip(b.diagonal(k))
-            .all(|(x, y)| x.to_bits() == y.to_bits())
-    })
+    (0..=p).all(|k| a.diagonal(k).iter().zip(b.diagonal(k)).all(|(x, y)| x.to_bits() == y.to_bits()))
 }
 
 /// Bitwise equality of two profiles (then their means are the same bits).
 fn same_profile(a: &TimeProfile, b: &TimeProfile) -> bool {
-    let bits = |x: &[f64], y: &[f64]| {
-        x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits())
-    };
+    let bits = |x: &[f64], y: &[f64]| x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
     match (a, b) {
-        (
-            TimeProfile::Sine {
-                amplitude: a0,
-                omega: w0,
-            },
-            TimeProfile::Sine {
-                amplitude: a1,
-                omega: w1,
-            },
-        ) => bits(&[*a0, *w0], &[*a1, *w1]),
+        (TimeProfile::Sine { amplitude: a0, omega: w0 }, TimeProfile::Sine { amplitude: a1, omega: w1 }) => bits(&[*a0, *w0], &[*a1, *w1]),
         (TimeProfile::Harmonics(x), TimeProfile::Harmonics(y)) => {
-            x.len() == y.len()
-                && x.iter().zip(y.iter()).all(|(p, q)| {
-                    bits(
-                        &[p.amplitude, p.omega, p.phase],
-                        &[q.amplitude, q.omega, q.phase],
-                    )
-                })
+            x.len() == y.len() && x.iter().zip(y.iter()).all(|(p, q)| bits(&[p.amplitude, p.omega, p.phase], &[q.amplitude, q.omega, q.phase]))
         }
-        (TimeProfile::Series(x), TimeProfile::Series(y)) => {
-            bits(x.times(), y.times()) && bits(x.values(), y.values())
-        }
+        (TimeProfile::Series(x), TimeProfile::Series(y)) => bits(x.times(), y.times()) && bits(x.values(), y.values()),
         _ => false,
     }
 }
@@ -169,15 +168,7 @@ fn rows7(a: &SymBand) -> Vec<Row7> {
     (0..n)
         .map(|i| {
             let right = |k: usize| if i + k < n { d[k][i + k] } else { 0.0 };
-            [
-                d[0][i],
-                d[1][i],
-                d[2][i],
-                d[3][i],
-                right(1),
-                right(2),
-                right(3),
-            ]
+            [d[0][i], d[1][i], d[2][i], d[3][i], right(1), right(2), right(3)]
         })
         .collect()
 }
@@ -197,21 +188,13 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     /// forcing terms.
     pub fn new(beta: f64, dt: f64, lanes: Vec<LockstepLane>) -> Result<Self, SchemeError> {
         if lanes.is_empty() || lanes.len() > L {
-            return Err(SchemeError::Size {
-                what: "lockstep lanes (1..=L)",
-                got: lanes.len(),
-                expected: L,
-            });
+            return Err(SchemeError::Size { what: "lockstep lanes (1..=L)", got: lanes.len(), expected: L });
         }
         let dy0 = &lanes[0].dynamics;
         for ln in &lanes {
             let dy = &ln.dynamics;
             if !(0.0..=1.0).contains(&ln.restitution) {
-                return Err(SchemeError::Invalid {
-                    field: "restitution",
-                    value: ln.restitution,
-                    allowed: "[0, 1]",
-                });
+                return Err(SchemeError::Invalid { field: "restitution", value: ln.restitution, allowed: "[0, 1]" });
             }
             if dy.damping.is_some() {
                 return Err(SchemeError::Structure("lockstep Paoli–Schatzman takes undamped problems only (damping: use PaoliSchatzman)"));
@@ -223,19 +206,13 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
                 return Err(SchemeError::Structure("lockstep Paoli–Schatzman needs a massive contact node (massless: use PaoliSchatzman)"));
             }
             if !same_band(&dy.mass, &dy0.mass) || !same_band(&dy.stiffness, &dy0.stiffness) {
-                return Err(SchemeError::Structure(
-                    "lockstep lanes must share the mass and stiffness matrices bit for bit",
-                ));
+                return Err(SchemeError::Structure("lockstep lanes must share the mass and stiffness matrices bit for bit"));
             }
             if dy.contact().dof != dy0.contact().dof {
-                return Err(SchemeError::Structure(
-                    "lockstep lanes must share the contact dof",
-                ));
+                return Err(SchemeError::Structure("lockstep lanes must share the contact dof"));
             }
             if dy.forcing.len() != dy0.forcing.len() {
-                return Err(SchemeError::Structure(
-                    "lockstep lanes must have the same number of forcing terms",
-                ));
+                return Err(SchemeError::Structure("lockstep lanes must have the same number of forcing terms"));
             }
         }
         let (dofs, p) = (dy0.n(), dy0.mass.half_bandwidth());
@@ -288,24 +265,20 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             acts: [Active::None; L],
             failed: std::array::from_fn(|_| None),
             avx2: avx2_available(),
+            sinc_keys: [None; SINC_SLOTS],
+            sinc_next: 0,
+            sinc: vec![[[0.0; L]; SINC_SLOTS]; terms],
         };
         let used = lanes.len();
         for (k, ln) in lanes.into_iter().enumerate() {
-            let LockstepLane {
-                dynamics: dy,
-                initial,
-                restitution,
-            } = ln;
+            let LockstepLane { dynamics: dy, initial, restitution } = ln;
             let ct = *dy.contact();
             let e = ct.restitution.unwrap_or(restitution);
             for (j, f) in dy.forcing.iter().enumerate() {
                 s.profiles[j].push(f.time.clone());
                 s.means[j][0][k] = f.time.mean(0.0, dt);
                 s.means[j][1][k] = f.time.mean(dt, 2.0 * dt);
-                s.mean_src[j][k] = s.profiles[j]
-                    .iter()
-                    .position(|q| same_profile(q, &f.time))
-                    .unwrap_or(k);
+                s.mean_src[j][k] = s.profiles[j].iter().position(|q| same_profile(q, &f.time)).unwrap_or(k);
                 for (row, g) in s.shapes[j].iter_mut().zip(&f.shape) {
                     row[k] = *g;
                 }
@@ -315,21 +288,13 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             }
             (s.lo[k], s.hi[k], s.e[k]) = (ct.bounds.lo, ct.bounds.hi, e);
             let single = PaoliSchatzman::new(String::new(), dy, beta, e, dt, &initial)?;
-            for ((row, rowp), (x, xp)) in s.u.iter_mut().zip(s.u_prev.iter_mut()).zip(
-                single
-                    .displacement()
-                    .iter()
-                    .zip(single.previous_displacement()),
-            ) {
+            for ((row, rowp), (x, xp)) in s.u.iter_mut().zip(s.u_prev.iter_mut()).zip(single.displacement().iter().zip(single.previous_displacement())) {
                 (row[k], rowp[k]) = (*x, *xp);
             }
         }
         // Padding lanes copy lane 0 (and its means, every step).
         for k in used..L {
-            for v in [&mut s.u, &mut s.u_prev, &mut s.load]
-                .into_iter()
-                .chain(s.shapes.iter_mut())
-            {
+            for v in [&mut s.u, &mut s.u_prev, &mut s.load].into_iter().chain(s.shapes.iter_mut()) {
                 for row in v.iter_mut() {
                     row[k] = row[0];
                 }
@@ -385,13 +350,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     /// Lane `k`'s `U^n` into `out` (length [`dofs`](Self::dofs)).
     #[track_caller]
     pub fn displacement_into(&self, k: usize, out: &mut [f64]) {
-        assert!(
-            k < self.lanes && out.len() == self.dofs,
-            "lane {k} of {}, out of length {} (expected {})",
-            self.lanes,
-            out.len(),
-            self.dofs
-        );
+        assert!(k < self.lanes && out.len() == self.dofs, "lane {k} of {}, out of length {} (expected {})", self.lanes, out.len(), self.dofs);
         for (o, row) in out.iter_mut().zip(&self.u) {
             *o = row[k];
         }
@@ -400,13 +359,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     /// Lane `k`'s `U^{n-1}` into `out`.
     #[track_caller]
     pub fn previous_displacement_into(&self, k: usize, out: &mut [f64]) {
-        assert!(
-            k < self.lanes && out.len() == self.dofs,
-            "lane {k} of {}, out of length {} (expected {})",
-            self.lanes,
-            out.len(),
-            self.dofs
-        );
+        assert!(k < self.lanes && out.len() == self.dofs, "lane {k} of {}, out of length {} (expected {})", self.lanes, out.len(), self.dofs);
         for (o, row) in out.iter_mut().zip(&self.u_prev) {
             *o = row[k];
         }
@@ -446,10 +399,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
 
     /// Number of lanes in use that have failed so far.
     pub fn failed_lanes(&self) -> usize {
-        self.failed[..self.lanes]
-            .iter()
-            .filter(|f| f.is_some())
-            .count()
+        self.failed[..self.lanes].iter().filter(|f| f.is_some()).count()
     }
 
     /// Uses the baseline x86-64 (SSE2) code even where the CPU has AVX2
@@ -501,19 +451,19 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         // g = β m_{n+1} + (1-2β) m_n + β m_{n-1}, then dt² g.
         let (dt, nf) = (self.dt, self.n as f64);
         let (t0, t1) = ((nf + 1.0) * dt, (nf + 2.0) * dt);
-        for (((prof, src), m), g) in self
-            .profiles
-            .iter()
-            .zip(&self.mean_src)
-            .zip(self.means.iter_mut())
-            .zip(self.dt2_gc.iter_mut())
-        {
+        // Sine profiles: `TimeProfile::mean`'s formula, its factor
+        // sin(ω δ/2)/(ω δ/2) looked up by δ = t1 - t0 (which takes a few
+        // values only, by rounding): one `sin` per lane and step instead of two.
+        let slot = self.sinc_slot(t1 - t0);
+        for ((((prof, src), m), g), sc) in self.profiles.iter().zip(&self.mean_src).zip(self.means.iter_mut()).zip(self.dt2_gc.iter_mut()).zip(&self.sinc) {
             let mut next = [0.0; L];
             for k in 0..L {
-                next[k] = if src[k] == k {
-                    prof[k].mean(t0, t1)
-                } else {
+                next[k] = if src[k] != k {
                     next[src[k]]
+                } else if let &TimeProfile::Sine { amplitude, omega } = &prof[k] {
+                    amplitude * (omega * 0.5 * (t0 + t1)).sin() * sc[slot][k]
+                } else {
+                    prof[k].mean(t0, t1)
                 };
             }
             for k in 0..L {
@@ -523,13 +473,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             *m = [m[1], next];
         }
         // 2U^n - U^{n-1} and (1-2β) U^n + β U^{n-1}.
-        for (((tm, ts), u), up) in self
-            .t_mass
-            .iter_mut()
-            .zip(self.t_stiff.iter_mut())
-            .zip(&self.u)
-            .zip(&self.u_prev)
-        {
+        for (((tm, ts), u), up) in self.t_mass.iter_mut().zip(self.t_stiff.iter_mut()).zip(&self.u).zip(&self.u_prev) {
             for k in 0..L {
                 tm[k] = 2.0 * u[k] - up[k];
                 ts[k] = a * u[k] + beta * up[k];
@@ -543,15 +487,9 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         let (mut w1, mut w2, mut w3) = ([0.0; L], [0.0; L], [0.0; L]);
         for i in 0..n {
             let (mv, kv) = if (3..n - 3).contains(&i) {
-                (
-                    interior::<L>(&self.mass[i], &self.t_mass[i - 3..i + 4]),
-                    interior::<L>(&self.stiff[i], &self.t_stiff[i - 3..i + 4]),
-                )
+                (interior::<L>(&self.mass[i], &self.t_mass[i - 3..i + 4]), interior::<L>(&self.stiff[i], &self.t_stiff[i - 3..i + 4]))
             } else {
-                (
-                    edge::<L>(&self.mass, &self.t_mass, i),
-                    edge::<L>(&self.stiff, &self.t_stiff, i),
-                )
+                (edge::<L>(&self.mass, &self.t_mass, i), edge::<L>(&self.stiff, &self.t_stiff, i))
             };
             let f = &self.load[i];
             let mut r = [0.0; L];
@@ -597,12 +535,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             b[n - 3][k] = b[n - 3][k] * inv_d[n - 3] - c3[1] * b[n - 1][k] - c3[0] * b[n - 2][k];
         }
         let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
-        for ((bi, col), di) in b[..n - 3]
-            .iter_mut()
-            .rev()
-            .zip(lt[..n - 3].iter().rev())
-            .zip(inv_d[..n - 3].iter().rev())
-        {
+        for ((bi, col), di) in b[..n - 3].iter_mut().rev().zip(lt[..n - 3].iter().rev()).zip(inv_d[..n - 3].iter().rev()) {
             let mut s = [0.0; L];
             for k in 0..L {
                 s[k] = (bi[k] * di - col[2] * x3[k] - col[1] * x2[k]) - col[0] * x1[k];
@@ -624,13 +557,32 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         }
         for k in 0..self.lanes {
             if self.failed[k].is_none() && !(uc[k].is_finite() && self.lams[k].is_finite()) {
-                self.failed[k] = Some(SchemeError::NonFinite {
-                    step: self.n,
-                    time: t,
-                });
+                self.failed[k] = Some(SchemeError::NonFinite { step: self.n, time: t });
             }
         }
         self.n
+    }
+
+    /// The slot of `sinc` holding the factors for `δ`, filled (for every
+    /// Sine profile) if `δ` is new.
+    #[inline(always)]
+    fn sinc_slot(&mut self, delta: f64) -> usize {
+        let key = delta.to_bits();
+        if let Some(s) = self.sinc_keys.iter().position(|&d| d == Some(key)) {
+            return s;
+        }
+        let s = self.sinc_next;
+        self.sinc_next = (s + 1) % SINC_SLOTS;
+        self.sinc_keys[s] = Some(key);
+        for (prof, sc) in self.profiles.iter().zip(self.sinc.iter_mut()) {
+            for (k, p) in prof.iter().enumerate() {
+                if let &TimeProfile::Sine { omega, .. } = p {
+                    let half = 0.5 * omega * delta;
+                    sc[s][k] = if half.abs() < 1e-8 { 1.0 - half * half / 6.0 } else { half.sin() / half };
+                }
+            }
+        }
+        s
     }
 
     /// The projection of every lane (`Projection::project`'s operations),
@@ -644,11 +596,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         for k in 0..L {
             let e = self.e[k];
             let lo = (1.0 + e) * self.lo[k] - e * up_c[k];
-            let hi = if self.hi[k].is_finite() {
-                (1.0 + e) * self.hi[k] - e * up_c[k]
-            } else {
-                f64::INFINITY
-            };
+            let hi = if self.hi[k].is_finite() { (1.0 + e) * self.hi[k] - e * up_c[k] } else { f64::INFINITY };
             let y = yc[k];
             (xc[k], self.acts[k]) = if y < lo {
                 (lo, Active::Lower)
@@ -658,11 +606,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
                 (y, Active::None)
             };
             act[k] = self.acts[k] != Active::None;
-            self.mu[k] = if act[k] {
-                (xc[k] - y) * self.inv_wc
-            } else {
-                0.0
-            };
+            self.mu[k] = if act[k] { (xc[k] - y) * self.inv_wc } else { 0.0 };
         }
         if !act.iter().any(|&a| a) {
             return;
@@ -689,8 +633,7 @@ fn interior<const L: usize>(r: &Row7, x: &[[f64; L]]) -> [f64; L] {
     let x: &[[f64; L]; 7] = x.try_into().expect("window of 7");
     let mut y = [0.0; L];
     for k in 0..L {
-        y[k] = (r[0] * x[3][k] + r[1] * x[2][k] + r[2] * x[1][k] + r[3] * x[0][k])
-            + (r[4] * x[4][k] + r[5] * x[5][k] + r[6] * x[6][k]);
+        y[k] = (r[0] * x[3][k] + r[1] * x[2][k] + r[2] * x[1][k] + r[3] * x[0][k]) + (r[4] * x[4][k] + r[5] * x[5][k] + r[6] * x[6][k]);
     }
     y
 }
