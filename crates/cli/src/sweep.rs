@@ -950,9 +950,11 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
     RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps, status, state }
 }
 
-/// Runs per lockstep batch: the paper beam's sweeps step this many runs
-/// together (crates/run/benches/lockstep.rs measures the choice).
-pub const LANES: usize = 4;
+/// Runs per lockstep group: the paper beam's sweeps step up to this many
+/// runs together (crates/run/benches/lockstep.rs: 112 ns per run-step at 8
+/// lanes, 125 at 4, 417 for one run alone); a smaller group takes the
+/// narrowest engine that holds it (2, 4 or 8 lanes).
+pub const LANES: usize = 8;
 
 /// A run the lockstep engine takes: a beam on its tip's two stops with the
 /// projection (the β-scheme, e = 0), not continued from another run.
@@ -997,9 +999,16 @@ fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), CliError>)]) ->
 /// for finite values every 64 steps and at the end, as the runner does).
 /// `None` when the runs cannot share the engine (then run them one by one).
 pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
-    if group.len() < 2 || group.len() > LANES {
-        return None;
+    match group.len() {
+        2 => lockstep_width::<2>(group, interrupt),
+        3..=4 => lockstep_width::<4>(group, interrupt),
+        5..=8 => lockstep_width::<8>(group, interrupt),
+        _ => None,
     }
+}
+
+/// [`simulate_lockstep`] on an engine of `L` lanes.
+fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
     let mut lanes = Vec::with_capacity(group.len());
     let mut tips = Vec::with_capacity(group.len());
     let (mut beta, mut dt) = (f64::NAN, f64::NAN);
@@ -1014,7 +1023,7 @@ pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static A
     }
     let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
     let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
-    let mut eng = PaoliSchatzmanLockstep::<LANES>::new(beta, dt, lanes).ok()?;
+    let mut eng = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?;
     let c = eng.contact_dof();
     struct Lane {
         vib: signorini_run::vibro::Vibro,
