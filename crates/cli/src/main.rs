@@ -95,6 +95,9 @@ enum Cmd {
         /// Relative tolerance of the response-period test, in (0, 1): a first-order scheme's impacts jitter by O(dt).
         #[arg(long, default_value_t = 1e-3)]
         period_tol: f64,
+        /// Do not write impacts.csv and impact_map.svg (a chattering beam makes hundreds of impacts per period); summary.csv keeps the statistics.
+        #[arg(long)]
+        no_impacts: bool,
         /// Start each run from the previous run's final state (continuation: hysteresis).
         #[arg(long)]
         follow: bool,
@@ -196,13 +199,13 @@ fn main() -> ExitCode {
             say(&format!("{}\n", check(&s, &file, &out)?));
             Ok(())
         }
-        Cmd::Sweep { scene, param, from, to, count, log, param2, from2, to2, count2, log2, transient, record, phase, period_tol, follow, shard, resume, threads, out, max_memory } => {
+        Cmd::Sweep { scene, param, from, to, count, log, param2, from2, to2, count2, log2, transient, record, phase, period_tol, no_impacts, follow, shard, resume, threads, out, max_memory } => {
             let text = std::fs::read_to_string(&scene).map_err(|e| CliError::Io(format!("cannot read {}: {e}", scene.display())))?;
             let second = match (param2, from2, to2, count2) {
                 (Some(param), Some(from), Some(to), Some(count)) => Some(Axis { param, from, to, count, log: log2 }),
                 _ => None,
             };
-            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, follow, shard, resume, threads, progress: std::io::stderr().is_terminal(), interrupt: interrupt_flag() };
+            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, impacts: !no_impacts, follow, shard, resume, threads, progress: std::io::stderr().is_terminal(), interrupt: interrupt_flag() };
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
             for l in signorini_cli::sweep::run(&sweep, &out)? {

@@ -180,6 +180,10 @@ pub struct SweepOptions {
     /// Relative tolerance of the response-period test (in (0, 1); default
     /// 1e-3 of the tip's displacement and velocity ranges).
     pub period_tol: f64,
+    /// Write `impacts.csv` and `impact_map.svg` (the statistics in
+    /// `summary.csv` are computed either way). A chattering beam makes
+    /// hundreds of impacts per period: `--no-impacts` keeps the folder small.
+    pub impacts: bool,
     /// Start each run from the previous run's final state.
     pub follow: bool,
     /// Run only the `I`-th (0-based) of `N` blocks: `(I, N)`.
@@ -198,7 +202,7 @@ impl SweepOptions {
     /// A sweep of `param` over `[from, to]` with `count` runs and the
     /// defaults: linear, 100 transient periods, 10 recorded, phase 0.
     pub fn new(param: &str, from: f64, to: f64, count: usize) -> Self {
-        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, period_tol: 1e-3, follow: false, shard: None, resume: false, threads: None, progress: false, interrupt: None }
+        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, period_tol: 1e-3, impacts: true, follow: false, shard: None, resume: false, threads: None, progress: false, interrupt: None }
     }
 
     /// Checks the options (not the path: [`Sweep::new`] does, on the scene).
@@ -396,6 +400,9 @@ impl Sweep {
         let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
         let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
         let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}|{:016x}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow, opts.period_tol.to_bits());
+        if !opts.impacts {
+            key += "|no-impacts";
+        }
         if let Some(a) = &opts.second {
             key += &format!("|{}|{:016x}|{:016x}|{}|{}", a.param, a.from.to_bits(), a.to.to_bits(), a.count, a.log);
         }
@@ -475,6 +482,9 @@ impl Sweep {
             let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", a.param, a.from, a.to, a.count, a.log);
         }
         let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nperiod_tol = {:?}\nfollow = {}", o.transient, o.record, o.phase, o.period_tol, o.follow);
+        if !o.impacts {
+            let _ = writeln!(s, "impacts = false");
+        }
         if let Some((i, n)) = shard {
             let r = o.runs();
             let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{}, {}]", r.start, r.end);
@@ -520,10 +530,15 @@ fn rows_text(value: (f64, Option<f64>), run: usize, r: &RunRows) -> (String, Str
     (sw, im, su)
 }
 
-/// The headers of `sweep.csv`, `impacts.csv`, `summary.csv` (`,param2` last for a map).
-fn headers(map: bool) -> [(&'static str, String); 3] {
+/// The headers of `sweep.csv`, `impacts.csv` (unless `--no-impacts`),
+/// `summary.csv` (`,param2` last for a map).
+fn headers(map: bool, impacts: bool) -> Vec<(&'static str, String)> {
     let tail = if map { ",param2" } else { "" };
-    [("sweep.csv", format!("{SWEEP_COLUMNS}{tail}")), ("impacts.csv", format!("{IMPACT_COLUMNS}{tail}")), ("summary.csv", format!("{}{tail}", summary_header()))]
+    let mut h = vec![("sweep.csv", format!("{SWEEP_COLUMNS}{tail}")), ("summary.csv", format!("{}{tail}", summary_header()))];
+    if impacts {
+        h.insert(1, ("impacts.csv", format!("{IMPACT_COLUMNS}{tail}")));
+    }
+    h
 }
 
 /// Reads the complete lines of a file (a last line without its newline,
@@ -541,7 +556,7 @@ fn run_of(line: &str) -> Option<usize> {
 /// The open output files of a sweep.
 struct Outputs {
     sweep: File,
-    impacts: File,
+    impacts: Option<File>,
     summary: File,
 }
 
@@ -581,7 +596,7 @@ where
             }
         }
         first = next;
-        for (name, header) in headers(o.second.is_some()) {
+        for (name, header) in headers(o.second.is_some(), o.impacts) {
             let p = dir.join(name);
             let lines = complete_lines(&p)?;
             let mut text = header + "\n";
@@ -599,12 +614,12 @@ where
             return Err(SweepError::Folder(format!("{} holds a sweep's files ({f}): pass --resume to continue that sweep, or choose another --out", dir.display())).into());
         }
         std::fs::write(&mpath, &manifest).map_err(|e| io(&mpath, e))?;
-        for (name, header) in headers(o.second.is_some()) {
+        for (name, header) in headers(o.second.is_some(), o.impacts) {
             let p = dir.join(name);
             std::fs::write(&p, header + "\n").map_err(|e| io(&p, e))?;
         }
     }
-    let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: Outputs::append(dir, "impacts.csv")?, summary: Outputs::append(dir, "summary.csv")? };
+    let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: if o.impacts { Some(Outputs::append(dir, "impacts.csv")?) } else { None }, summary: Outputs::append(dir, "summary.csv")? };
     let pool = {
         let mut b = rayon::ThreadPoolBuilder::new();
         if let Some(t) = o.threads {
@@ -683,7 +698,9 @@ where
             }
         }
         out.sweep.write_all(sw.as_bytes()).map_err(|e| io(&dir.join("sweep.csv"), e))?;
-        out.impacts.write_all(im.as_bytes()).map_err(|e| io(&dir.join("impacts.csv"), e))?;
+        if let Some(f) = out.impacts.as_mut() {
+            f.write_all(im.as_bytes()).map_err(|e| io(&dir.join("impacts.csv"), e))?;
+        }
         if o.follow {
             write_state(&dir.join("follow_state.txt"), state.as_ref())?;
         }
@@ -773,6 +790,9 @@ fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
         Ok(svg) => std::fs::write(dir.join("bifurcation.svg"), svg).map_err(|e| io(&dir.join("bifurcation.svg"), e))?,
         Err(e) => notes.push(format!("note: bifurcation.svg not written: {e}")),
     }
+    if !dir.join("impacts.csv").exists() {
+        return Ok(notes);
+    }
     let impacts = complete_lines(&dir.join("impacts.csv"))?;
     let mut by_stop: Vec<Series> = Vec::new();
     for l in impacts.iter().skip(1) {
@@ -837,8 +857,10 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     if let Some(f) = SWEEP_FILES.iter().find(|f| out.join(f).exists()) {
         return Err(bad(format!("{} holds a sweep's files ({f}): choose another --out", out.display())));
     }
-    let map = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?.lines().any(|l| l.starts_with("param2 = "));
-    for (name, header) in headers(map) {
+    let manifest0 = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
+    let map = manifest0.lines().any(|l| l.starts_with("param2 = "));
+    let impacts = !manifest0.lines().any(|l| l == "impacts = false");
+    for (name, header) in headers(map, impacts) {
         let mut text = header + "\n";
         for f in &found {
             let lines = complete_lines(&f.4.join(name))?;

@@ -228,3 +228,24 @@ fn thread_count_changes_no_output_of_a_lockstep_sweep() {
     run(&b, "3");
     same_files(&a, &b, &FILES);
 }
+
+/// `--no-impacts`: no impacts.csv or impact map, the same statistics, and
+/// its shards merge to its unsharded files.
+#[test]
+fn no_impacts_keeps_the_statistics_and_merges() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let (with, without) = (dir.path().join("with"), dir.path().join("without"));
+    ok(&sweep(&sc, &with, &[]));
+    ok(&sweep(&sc, &without, &["--no-impacts"]));
+    assert!(!without.join("impacts.csv").exists() && !without.join("impact_map.svg").exists());
+    same_files(&with, &without, &["sweep.csv", "summary.csv", "bifurcation.svg"]);
+    let shards: Vec<PathBuf> = (0..2).map(|i| dir.path().join(format!("s{i}"))).collect();
+    for (i, d) in shards.iter().enumerate() {
+        ok(&sweep(&sc, d, &["--no-impacts", "--shard", &format!("{i}/2")]));
+    }
+    let merged = dir.path().join("merged");
+    ok(&bin().args(["merge", shards[0].to_str().unwrap(), shards[1].to_str().unwrap(), "--out", merged.to_str().unwrap()]).output().unwrap());
+    same_files(&without, &merged, &["sweep.csv", "summary.csv", "bifurcation.svg", "sweep.toml"]);
+    assert!(!merged.join("impacts.csv").exists());
+}
