@@ -46,7 +46,7 @@
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::{Active, Dynamics, Initial, PaoliSchatzman, SchemeError, Stepper, TimeProfile};
+use crate::{Active, Dynamics, Initial, PaoliSchatzman, Sampler, SchemeError, Stepper, TimeProfile};
 use signorini_contact::Projection;
 use signorini_fem::SymBand;
 
@@ -100,6 +100,11 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     shapes: Vec<Vec<[f64; L]>>,
     /// Per forcing term: the profile of each lane in use.
     profiles: Vec<Vec<TimeProfile>>,
+    /// Per forcing term and lane, its means step after step as the single
+    /// run takes them ([`Sampler`]; advanced only for profiles other than
+    /// `Sine`, whose means come from the sinc table, and only on lanes that
+    /// own their means).
+    samplers: Vec<Vec<Sampler>>,
     /// Per forcing term and lane: the first lane with the same profile
     /// (its means are computed once and copied).
     mean_src: Vec<[usize; L]>,
@@ -254,6 +259,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             load: zeros.clone(),
             shapes: vec![zeros; terms],
             profiles: vec![Vec::with_capacity(lanes.len()); terms],
+            samplers: (0..terms).map(|_| Vec::with_capacity(lanes.len())).collect(),
             mean_src: vec![[0; L]; terms],
             means: vec![[[0.0; L]; 2]; terms],
             dt2_gc: vec![[0.0; L]; terms],
@@ -276,8 +282,11 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             let e = ct.restitution.unwrap_or(restitution);
             for (j, f) in dy.forcing.iter().enumerate() {
                 s.profiles[j].push(f.time.clone());
-                s.means[j][0][k] = f.time.mean(0.0, dt);
-                s.means[j][1][k] = f.time.mean(dt, 2.0 * dt);
+                // The single run's first two means, [0, dt] and [dt, 2 dt].
+                let mut sp = Sampler::means(&f.time, 0.0, dt);
+                s.means[j][0][k] = sp.next_value();
+                s.means[j][1][k] = sp.next_value();
+                s.samplers[j].push(sp);
                 s.mean_src[j][k] = s.profiles[j].iter().position(|q| same_profile(q, &f.time)).unwrap_or(k);
                 for (row, g) in s.shapes[j].iter_mut().zip(&f.shape) {
                     row[k] = *g;
@@ -455,7 +464,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         // sin(ω δ/2)/(ω δ/2) looked up by δ = t1 - t0 (which takes a few
         // values only, by rounding): one `sin` per lane and step instead of two.
         let slot = self.sinc_slot(t1 - t0);
-        for ((((prof, src), m), g), sc) in self.profiles.iter().zip(&self.mean_src).zip(self.means.iter_mut()).zip(self.dt2_gc.iter_mut()).zip(&self.sinc) {
+        for (((((prof, src), m), g), sc), sps) in self.profiles.iter().zip(&self.mean_src).zip(self.means.iter_mut()).zip(self.dt2_gc.iter_mut()).zip(&self.sinc).zip(self.samplers.iter_mut()) {
             let mut next = [0.0; L];
             for k in 0..L {
                 next[k] = if src[k] != k {
@@ -463,7 +472,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
                 } else if let &TimeProfile::Sine { amplitude, omega } = &prof[k] {
                     amplitude * (omega * 0.5 * (t0 + t1)).sin() * sc[slot][k]
                 } else {
-                    prof[k].mean(t0, t1)
+                    sps[k].next_value()
                 };
             }
             for k in 0..L {

@@ -29,7 +29,7 @@
 //! (`v_c^n > 0`) and the impulse holds it — the velocity-level law's price.
 
 use crate::multi::MultiSolve;
-use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
+use crate::{Dynamics, Initial, Sampler, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
 
@@ -53,6 +53,8 @@ pub struct MoreauJean {
     acts: Vec<Active>,
     /// Several contacts: the exact solve on the velocities.
     multi: Option<MultiSolve>,
+    /// Per forcing term, its exact means over the steps ([`Sampler`]).
+    samplers: Vec<Sampler>,
 }
 
 impl MoreauJean {
@@ -83,7 +85,8 @@ impl MoreauJean {
         w[c] = 1.0;
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
-        Ok(Self { label, theta, restitution, dt, n: 0, a, proj, u: init.u.clone(), v: init.v.clone(), rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n], impulse: 0.0, lams: vec![0.0; k], acts: vec![Active::None; k], multi, dy })
+        let samplers = dy.forcing.iter().map(|f| Sampler::means(&f.time, 0.0, dt)).collect();
+        Ok(Self { label, theta, restitution, dt, n: 0, a, proj, u: init.u.clone(), v: init.v.clone(), rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n], impulse: 0.0, lams: vec![0.0; k], acts: vec![Active::None; k], multi, samplers, dy })
     }
 
     /// Velocity `V^n`.
@@ -155,12 +158,10 @@ impl Stepper for MoreauJean {
             *b += dt * (f - k);
         }
         // + Σ_j shape_j ∫ s_j over [t_n, t_{n+1}] (exact impulse of each forcing term).
-        if !self.dy.forcing.is_empty() {
-            let (t0, t1) = (self.n as f64 * dt, (self.n + 1) as f64 * dt);
-            for f in &self.dy.forcing {
-                let w = dt * f.time.mean(t0, t1);
-                self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += w * g);
-            }
+        for (f, sp) in self.dy.forcing.iter().zip(self.samplers.iter_mut()) {
+            // The mean over [t_n, t_{n+1}].
+            let w = dt * sp.next_value();
+            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += w * g);
         }
         if let Some(cm) = &self.dy.damping {
             // - (1-θ) dt C V^n

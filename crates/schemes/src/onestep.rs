@@ -49,7 +49,7 @@
 //! existed (and the fused tridiagonal path, which damped ones do not).
 
 use crate::multi::MultiSolve;
-use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
+use crate::{ContactLaw, Dynamics, Initial, Sampler, SchemeError, StepReport, Stepper};
 use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear, Projection};
 use signorini_fem::BandLdlt;
 
@@ -106,6 +106,8 @@ pub struct OneStep {
     /// and at t_{n+1} (filled by the step).
     s_now: Vec<f64>,
     s_next: Vec<f64>,
+    /// Per forcing term, its values at `n dt` step after step ([`Sampler`]).
+    samplers: Vec<Sampler>,
     /// With damping: the velocity and acceleration vectors and scratch.
     damp: Option<Damped>,
     /// Diagonals of M and K for the fused tridiagonal path (bar).
@@ -260,6 +262,9 @@ impl OneStep {
             kd: dy.stiffness.diagonal(0),
             ks: dy.stiffness.diagonal(1),
         });
+        // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
+        let mut samplers: Vec<Sampler> = dy.forcing.iter().map(|f| Sampler::values(&f.time, 0.0, dt)).collect();
+        let s_now = samplers.iter_mut().map(Sampler::next_value).collect();
         Ok(Self {
             lams: vec![0.0; k],
             prev_lams: vec![0.0; k],
@@ -274,7 +279,8 @@ impl OneStep {
             work_f: 0.0,
             work_c: 0.0,
             work_d: 0.0,
-            s_now: dy.forcing.iter().map(|f| f.time.value(0.0)).collect(),
+            s_now,
+            samplers,
             s_next: vec![0.0; dy.forcing.len()],
             damp,
             f,
@@ -563,9 +569,9 @@ impl Stepper for OneStep {
         if let Some((first, rest)) = self.dy.forcing.split_first() {
             // F = load + s_0 shape_0 + s_1 shape_1 + ... (one term: as before).
             self.u_prev.copy_from_slice(&self.u);
-            let t1 = (self.n + 1) as f64 * dt;
-            for (s, fo) in self.s_next.iter_mut().zip(&self.dy.forcing) {
-                *s = fo.time.value(t1);
+            // s_j(t_{n+1}).
+            for (s, sp) in self.s_next.iter_mut().zip(self.samplers.iter_mut()) {
+                *s = sp.next_value();
             }
             let s1 = self.s_next[0];
             for ((f, l), g) in self.f.iter_mut().zip(&self.dy.load).zip(&first.shape) {

@@ -45,7 +45,7 @@
 
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
-use crate::{Bounds, Dynamics, Initial, SchemeError, StepReport, Stepper};
+use crate::{Bounds, Dynamics, Initial, Sampler, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
 
@@ -71,6 +71,9 @@ pub struct PaoliSchatzman {
     /// Per forcing term, the means of its time profile over [t_{n-1}, t_n],
     /// [t_n, t_{n+1}] (rolled each step, so one new mean per step).
     means: Vec<[f64; 2]>,
+    /// Per forcing term, its exact means step after step ([`Sampler`]: a
+    /// rotation for harmonics, the profile's own `mean` otherwise).
+    samplers: Vec<Sampler>,
     /// Per forcing term, its coefficient `β m^{n+1} + (1-2β) m^n + β m^{n-1}` of the step.
     g_coefs: Vec<f64>,
     lams: Vec<f64>,
@@ -135,6 +138,7 @@ impl PaoliSchatzman {
             work_contact: 0.0,
             work_damping: 0.0,
             means: vec![[0.0; 2]; terms],
+            samplers: Vec::new(),
             g_coefs: vec![0.0; terms],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
@@ -148,8 +152,11 @@ impl PaoliSchatzman {
 
     fn with_means(mut self) -> Self {
         let dt = self.dt;
-        for (m, f) in self.means.iter_mut().zip(&self.dy.forcing) {
-            *m = [f.time.mean(0.0, dt), f.time.mean(dt, 2.0 * dt)];
+        // Means over [n dt, (n+1) dt], n = 0, 1, …: the first two now, then one
+        // per step ([(n+1) dt, (n+2) dt] at level n).
+        self.samplers = self.dy.forcing.iter().map(|f| Sampler::means(&f.time, 0.0, dt)).collect();
+        for (m, sp) in self.means.iter_mut().zip(self.samplers.iter_mut()) {
+            *m = [sp.next_value(), sp.next_value()];
         }
         self
     }
@@ -269,9 +276,9 @@ impl Stepper for PaoliSchatzman {
             self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b += half * k);
         }
         // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
-        for ((f, m), gc) in self.dy.forcing.iter().zip(self.means.iter_mut()).zip(self.g_coefs.iter_mut()) {
-            let (dt, n) = (self.dt, self.n as f64);
-            let next = f.time.mean((n + 1.0) * dt, (n + 2.0) * dt);
+        for (((f, m), gc), sp) in self.dy.forcing.iter().zip(self.means.iter_mut()).zip(self.g_coefs.iter_mut()).zip(self.samplers.iter_mut()) {
+            // The mean over [t_{n+1}, t_{n+2}].
+            let next = sp.next_value();
             *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
             *m = [m[1], next];
             self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * *gc * g);
