@@ -31,6 +31,13 @@ fn sweep(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
     c.output().unwrap()
 }
 
+/// Refused as a bad command (exit 2), the message containing `needle`.
+fn refused(o: &std::process::Output, needle: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(needle), "expected {needle:?} in: {err}");
+}
+
 fn ok(o: &std::process::Output) {
     assert!(o.status.success(), "{}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
 }
@@ -113,8 +120,7 @@ fn an_interrupted_sweep_resumes_to_the_same_files() {
         .args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.3", "--count", "7", "--transient", "30", "--record", "6", "--resume", "--out", cut.to_str().unwrap()])
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("another sweep"), "{}", String::from_utf8_lossy(&o.stderr));
+    refused(&o, "another sweep");
 }
 
 #[test]
@@ -132,12 +138,10 @@ fn merging_shards_of_different_sweeps_is_refused() {
     run(&a, 0, "4");
     run(&b, 1, "5");
     let o = bin().args(["merge", a.to_str().unwrap(), b.to_str().unwrap(), "--out", dir.path().join("m").to_str().unwrap()]).output().unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("different sweeps"), "{}", String::from_utf8_lossy(&o.stderr));
+    refused(&o, "different sweeps");
     // A missing shard.
     let o = bin().args(["merge", a.to_str().unwrap(), "--out", dir.path().join("m2").to_str().unwrap()]).output().unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("missing"), "{}", String::from_utf8_lossy(&o.stderr));
+    refused(&o, "missing");
 }
 
 #[test]

@@ -158,10 +158,7 @@ fn flow_satisfies_the_ode() {
         let c = 2.0 * p.damping_ratio * (p.stiffness * p.mass).sqrt();
         for _ in 0..200 {
             let t0 = rng.range(-10.0, 10.0);
-            let z0 = State {
-                x: rng.range(-1.0, 0.3),
-                v: rng.range(-2.0, 2.0),
-            };
+            let z0 = random_state(&mut rng, (-1.0, 0.3), (-2.0, 2.0));
             let t = t0 + rng.range(-8.0, 8.0);
             let h = 0.02;
             let x = |s: f64| o.flow(t0, z0, t + s).x;
@@ -198,10 +195,7 @@ fn flow_is_a_semigroup() {
         let o = osc(p);
         for _ in 0..500 {
             let t0 = rng.range(-20.0, 20.0);
-            let z0 = State {
-                x: rng.range(-2.0, 1.0),
-                v: rng.range(-3.0, 3.0),
-            };
+            let z0 = random_state(&mut rng, (-2.0, 1.0), (-3.0, 3.0));
             let t1 = t0 + rng.range(-5.0, 5.0);
             let t2 = t1 + rng.range(-5.0, 5.0);
             let two = o.flow(t1, o.flow(t0, z0, t1), t2);
@@ -223,10 +217,7 @@ fn increment_is_accurate_for_short_steps() {
         let c = 2.0 * p.damping_ratio * (k * m).sqrt();
         for _ in 0..100 {
             let t0 = rng.range(0.0, 50.0);
-            let z0 = State {
-                x: rng.range(-1.0, 0.2),
-                v: rng.range(0.5, 2.0),
-            };
+            let z0 = random_state(&mut rng, (-1.0, 0.2), (0.5, 2.0));
             let (s, co) = (w * t0).sin_cos();
             let d2 = (p.force * co - c * z0.v - k * z0.x) / m;
             let d3 = (-p.force * w * s - c * d2 - k * z0.v) / m;
@@ -255,10 +246,7 @@ fn flow_matches_rk4() {
         let o = osc(p);
         for _ in 0..3 {
             let t0 = rng.range(-3.0, 3.0);
-            let z0 = State {
-                x: rng.range(-1.0, 0.2),
-                v: rng.range(-2.0, 2.0),
-            };
+            let z0 = random_state(&mut rng, (-1.0, 0.2), (-2.0, 2.0));
             let (mut t, mut x, mut v) = (t0, z0.x, z0.v);
             for _ in 0..8 {
                 (x, v) = rk4_to(&p, t, x, v, t + 1.0, 2000, true);
@@ -839,4 +827,9 @@ fn a_penetration_between_samples_is_found() {
         "Ω = {lo}: RK4 exceeds g by {e:e} but {:?}",
         o.admissibility
     );
+}
+
+/// A state with `x` and `v` drawn uniformly from the given ranges.
+fn random_state(rng: &mut Lcg, x: (f64, f64), v: (f64, f64)) -> State {
+    State { x: rng.range(x.0, x.1), v: rng.range(v.0, v.1) }
 }
