@@ -13,6 +13,12 @@
 //!   `snapshots.csv` (`n,t,x,u`) when `output.snapshots_every > 0`;
 //!   `u_contact.svg`, `lambda.svg`, `energy.svg` (numerical against exact).
 //! * beam: `series.csv` — `n,t_s,tip_m,v_tip_m_s,lambda_t,lambda`; `tip.svg`.
+//! * oscillator: `series.csv` — `n,t,x,v,lambda_t,lambda,energy_t,energy`; `x.svg`.
+//! * any scene, when `[output]` asks (`impacts`, `poincare`, `summary`):
+//!   `impacts.csv` (`stop,t,phase,velocity,impulse,duration`) and
+//!   `impact_map.svg`, `poincare.csv` (`t,displacement,velocity`) and
+//!   `poincare.svg`, `summary.csv` (the columns of
+//!   [`signorini_run::vibro::Summary`]). Sweeps: [`sweep`].
 //!
 //! `v_contact` / `v_tip_m_s` is the backward difference of the contact dof
 //! over the last step (empty at n = 0).

@@ -45,6 +45,26 @@
 //! A node with both a stop and the obstacle gets the intersection of their
 //! bounds. Contact order (the series' `u_c<i>` columns): the stops as
 //! listed, then the obstacle's other nodes by increasing x.
+//!
+//! The impact oscillator is a third kind of scene, with its load:
+//!
+//! ```toml
+//! [oscillator]        # m x'' + c x' + k x = F(t), x <= stop, c = 2 ζ sqrt(k m)
+//! mass = 1.0
+//! stiffness = 1.0
+//! damping_ratio = 0.05
+//! stop = 0.2
+//! restitution = 0.8
+//! dt = 1e-3
+//! t_end = 100.0
+//! [forcing]           # F cos(Ω t) by default
+//! amplitude = 1.0
+//! omega = 2.0
+//! ```
+//!
+//! Excitations (`[forcing]`, the beam's `[support]`, a `[load]` on a bar or a
+//! beam) take any time profile: [`crate::excitation`]. `[output]` may ask for
+//! `impacts`, `poincare`, `summary` after a `transient` (forcing periods).
 
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
