@@ -23,7 +23,7 @@ enum Cmd {
     Run {
         /// The scene (TOML).
         scene: PathBuf,
-        /// Output folder (default out/<scene file stem>, relative to the current directory).
+        /// Output folder (default out/SCENE, SCENE the scene file stem, relative to the current directory).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Remove an earlier run's files from the output folder first (otherwise such a folder is refused).
@@ -110,7 +110,7 @@ enum Cmd {
         /// Threads (default: all cores); the output does not depend on it.
         #[arg(long)]
         threads: Option<usize>,
-        /// Output folder (default out/<scene file stem>-sweep).
+        /// Output folder (default out/SCENE-sweep, SCENE the scene file stem).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Memory cap per run, as for `run`.
