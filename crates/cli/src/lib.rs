@@ -760,6 +760,7 @@ impl Analysis {
         let record_from = omega.map_or(o.transient, |w| o.transient * std::f64::consts::TAU / w);
         let mut cfg = VibroConfig::for_dynamics(dy, dt, omega, record_from, tip)?;
         cfg.t_end = Some(t_end);
+        cfg.period_tol = o.period_tol.unwrap_or(cfg.period_tol);
         let impacts = if o.impacts {
             // The observers write their own headers.
             Piece::Csv(create(out, "impacts.csv")?)

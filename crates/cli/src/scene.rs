@@ -310,6 +310,9 @@ pub struct OutputToml {
     /// (default 0; without a periodic forcing: seconds).
     #[serde(default)]
     pub transient: f64,
+    /// Relative tolerance of the response-period test in `summary.csv`, in
+    /// (0, 1) (default 1e-3).
+    pub period_tol: Option<f64>,
 }
 
 fn one() -> usize {
@@ -321,7 +324,7 @@ fn yes() -> bool {
 
 impl Default for OutputToml {
     fn default() -> Self {
-        Self { every: 1, snapshots_every: 0, plots: true, impacts: false, poincare: false, summary: false, transient: 0.0 }
+        Self { every: 1, snapshots_every: 0, plots: true, impacts: false, poincare: false, summary: false, transient: 0.0, period_tol: None }
     }
 }
 
@@ -922,6 +925,14 @@ impl SceneFile {
         }
         if !(self.output.transient >= 0.0 && self.output.transient.is_finite()) {
             return Err(field("output.transient", format!("{} is not allowed: finite and >= 0 (forcing periods)", self.output.transient)));
+        }
+        if let Some(tol) = self.output.period_tol {
+            if !(tol > 0.0 && tol < 1.0) {
+                return Err(field("output.period_tol", format!("{tol} is not allowed: in (0, 1)")));
+            }
+            if !self.output.summary {
+                return Err(field("output.period_tol", "acts only with output.summary (the response period is a summary column): remove it, or set summary = true"));
+            }
         }
         if self.output.transient > 0.0 && !(self.output.poincare || self.output.summary || self.output.impacts) {
             return Err(field("output.transient", "acts only with output.poincare, output.summary or output.impacts: remove it, or ask for one"));

@@ -178,3 +178,25 @@ fn random_support_motion_is_reproducible_from_its_seed() {
     assert_eq!(a, b, "same seed, same run");
     assert_ne!(a, c, "another seed, another signal");
 }
+
+/// `output.period_tol`: at dt = 1e-3 the oscillator's period-1 orbit at
+/// Ω = 2.2 jitters by O(dt) on its section; 1e-3 calls it not periodic
+/// (0), 5e-3 period-1. Out of range, or without `summary`, it is refused.
+#[test]
+fn the_period_tolerance_is_the_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string(root().join("data/scenes/oscillator.toml")).unwrap().replace("omega = 2.0", "omega = 2.2").replace("t_end = 100.0", "t_end = 300.0");
+    let period = |extra: &str| {
+        let out = run(dir.path(), &format!("p{}", extra.len()), &format!("{base}\n[output]\nplots = false\nsummary = true\npoincare = true\ntransient = 80\n{extra}"));
+        rows(&out.join("summary.csv"))[0][7].clone()
+    };
+    assert_eq!(period(""), "0");
+    assert_eq!(period("period_tol = 5e-3\n"), "1");
+    for (extra, field) in [("summary = true\nperiod_tol = 2.0\n", "output.period_tol"), ("period_tol = 5e-3\n", "output.period_tol")] {
+        let scene = dir.path().join("bad.toml");
+        std::fs::write(&scene, format!("{base}\n[output]\n{extra}")).unwrap();
+        let o = bin().args(["check", scene.to_str().unwrap()]).output().unwrap();
+        assert_eq!(o.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&o.stderr).contains(field));
+    }
+}
