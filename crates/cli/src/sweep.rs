@@ -567,8 +567,9 @@ impl Outputs {
     }
 }
 
-/// Runs a sweep into `dir` with `simulate(run index, value, scene, plan,
-/// start state)` doing each run; returns lines for the terminal.
+/// Runs a sweep into `dir` with `simulate(scene, plan, start state)` doing
+/// each run that the lockstep engine does not take; returns lines for the
+/// terminal.
 pub fn run_sweep<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<Vec<String>, CliError>
 where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
@@ -631,7 +632,7 @@ where
     let bar = crate::progress_bar(runs.len() as u64, o.progress, "runs");
     bar.set_position((first - runs.start) as u64);
     let start = std::time::Instant::now();
-    let mut failed = 0usize;
+    let mut stopped = 0usize;
     let mut next = first;
     let mut interrupted = false;
     while next < runs.end {
@@ -682,12 +683,14 @@ where
         };
         let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
         for (i, v, r) in results {
-            let rows = r?;
+            // A value whose scene is invalid (only the ends are checked up
+            // front) is a failed run, like a blow-up: the sweep goes on.
+            let rows = r.unwrap_or_else(|e| failed(&e));
             if rows.status == "interrupted" {
                 interrupted = true;
                 break;
             }
-            failed += usize::from(rows.status != "ok");
+            stopped += usize::from(rows.status != "ok");
             let (a, b, c) = rows_text(v, i, &rows);
             sw.push_str(&a);
             im.push_str(&b);
@@ -714,7 +717,7 @@ where
     if interrupted {
         return Err(CliError::SweepInterrupted { done: next - runs.start, total: runs.len(), dir: dir.display().to_string() });
     }
-    let mut lines = vec![format!("{} runs in {wall:.3} s ({} of them stopped early: see summary.csv's status)", runs.len() - (first - runs.start), failed)];
+    let mut lines = vec![format!("{} runs in {wall:.3} s ({} of them stopped early: see summary.csv's status)", runs.len() - (first - runs.start), stopped)];
     if o.shard.is_none() {
         lines.extend(plots(dir)?);
     }
@@ -911,6 +914,14 @@ impl Observer for LastTwo {
     }
 }
 
+/// The rows of a run that could not run or stopped at once: empty
+/// statistics and why, as its status.
+fn failed(e: &dyn std::fmt::Display) -> RunRows {
+    let mut buf = Vec::new();
+    let _ = Summary { impacts: None, rms_force: None, max_abs_tip: None, poincare: None }.write_row(&mut buf);
+    RunRows { summary: String::from_utf8_lossy(&buf).into_owned(), status: text_cell(&e.to_string()), ..RunRows::default() }
+}
+
 /// A cell of free text for a CSV row: quoted, quotes doubled, one line.
 fn text_cell(s: &str) -> String {
     format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
@@ -922,12 +933,7 @@ fn text_cell(s: &str) -> String {
 /// be built or stops early gives its reason as the status, and what it
 /// recorded before.
 pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
-    let empty = || {
-        let mut buf = Vec::new();
-        let _ = Summary { impacts: None, rms_force: None, max_abs_tip: None, poincare: None }.write_row(&mut buf);
-        String::from_utf8_lossy(&buf).into_owned()
-    };
-    let fail = |e: &dyn std::fmt::Display| RunRows { summary: empty(), status: text_cell(&e.to_string()), ..RunRows::default() };
+    let fail = |e: &dyn std::fmt::Display| failed(e);
     let mut built = match crate::build(scene, start) {
         Ok(b) => b,
         Err(e) => return fail(&e),
