@@ -933,26 +933,20 @@ fn text_cell(s: &str) -> String {
 /// be built or stops early gives its reason as the status, and what it
 /// recorded before.
 pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
-    let fail = |e: &dyn std::fmt::Display| failed(e);
     let mut built = match crate::build(scene, start) {
         Ok(b) => b,
-        Err(e) => return fail(&e),
+        Err(e) => return failed(&e),
     };
-    let cfg = VibroConfig::for_dynamics(built.stepper.dynamics(), plan.dt, Some(plan.omega), plan.record_from, built.tip).map(|mut c| {
-        c.t_end = Some(plan.t_end);
-        c.phase = plan.phase;
-        c.period_tol = plan.period_tol;
-        c
-    });
-    let mut vib = match cfg.and_then(|c| c.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)) {
+    let contacts: Vec<(usize, Bounds)> = built.stepper.dynamics().contacts.iter().map(|c| (c.dof, c.bounds)).collect();
+    let mut vib = match observers(plan, built.tip, contacts) {
         Ok(v) => v,
-        Err(e) => return fail(&e),
+        Err(e) => return failed(&e),
     };
     let n = built.u0.len();
     let mut last = LastTwo { prev: vec![0.0; if follow { n } else { 0 }], last: vec![0.0; if follow { n } else { 0 }], t: 0.0 };
     let mut rc = match RunConfig::new(plan.dt, plan.t_end) {
         Ok(c) => c,
-        Err(e) => return fail(&e),
+        Err(e) => return failed(&e),
     };
     rc.interrupt = interrupt;
     let res = {
@@ -967,14 +961,29 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
         Err(RunError::Interrupted { .. }) => (0, "interrupted".to_string()),
         Err(e) => (built.stepper.level(), text_cell(&e.to_string())),
     };
-    let poincare = vib.poincare.as_ref().map_or_else(Vec::new, |p| p.points().iter().map(|q| [q.t, q.displacement, q.velocity, plan.phase]).collect());
-    let impacts = vib.impacts.as_ref().map_or_else(Vec::new, |o| o.impacts().iter().filter(|i| i.t >= plan.record_from).map(|i| (i.stop, [i.t, i.phase, i.velocity, i.impulse, i.duration])).collect());
-    let mut buf = Vec::new();
-    let _ = vib.summary().write_row(&mut buf);
     let state = (follow && res.is_ok()).then(|| {
         let v: Vec<f64> = last.last.iter().zip(&last.prev).map(|(a, b)| (a - b) / plan.dt).collect();
         built.absolute(&last.last, &v, last.t)
     });
+    rows_of(&vib, plan, steps, status, state)
+}
+
+/// A sweep run's observers: the impacts, the Poincaré section at the
+/// plan's phase and the window statistics, kept in memory.
+fn observers(plan: &Plan, tip: usize, contacts: Vec<(usize, Bounds)>) -> Result<signorini_run::vibro::Vibro, RunError> {
+    let mut c = VibroConfig::new(plan.dt, Some(plan.omega), plan.record_from, tip, contacts)?;
+    c.t_end = Some(plan.t_end);
+    c.phase = plan.phase;
+    c.period_tol = plan.period_tol;
+    c.build(Piece::Memory, Piece::Memory, true)
+}
+
+/// A sweep run's rows from its observers (the record window's impacts).
+fn rows_of(vib: &signorini_run::vibro::Vibro, plan: &Plan, steps: usize, status: String, state: Option<(Vec<f64>, Vec<f64>)>) -> RunRows {
+    let poincare = vib.poincare.as_ref().map_or_else(Vec::new, |p| p.points().iter().map(|q| [q.t, q.displacement, q.velocity, plan.phase]).collect());
+    let impacts = vib.impacts.as_ref().map_or_else(Vec::new, |o| o.impacts().iter().filter(|i| i.t >= plan.record_from).map(|i| (i.stop, [i.t, i.phase, i.velocity, i.impulse, i.duration])).collect());
+    let mut buf = Vec::new();
+    let _ = vib.summary().write_row(&mut buf);
     RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps, status, state }
 }
 
@@ -1062,13 +1071,7 @@ fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&
     }
     let mut ls: Vec<Lane> = Vec::with_capacity(group.len());
     for (k, (_, plan)) in group.iter().enumerate() {
-        let cfg = VibroConfig::new(plan.dt, Some(plan.omega), plan.record_from, tips[k], contacts[k].clone()).map(|mut cf| {
-            cf.t_end = Some(plan.t_end);
-            cf.phase = plan.phase;
-            cf.period_tol = plan.period_tol;
-            cf
-        });
-        let vib = cfg.and_then(|cf| cf.build::<std::io::Sink, std::io::Sink>(Piece::Memory, Piece::Memory, true)).ok()?;
+        let vib = observers(plan, tips[k], contacts[k].clone()).ok()?;
         let steps = RunConfig::new(plan.dt, plan.t_end).ok()?.steps();
         ls.push(Lane { vib, u: inits[k].clone(), steps, status: None, done: false });
     }
@@ -1147,11 +1150,8 @@ fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&
             .map(|(mut l, (_, plan))| {
                 let _ = l.vib.finish();
                 let status = if interrupted && l.status.is_none() && !l.done { "interrupted".to_string() } else { l.status.unwrap_or_else(|| "ok".to_string()) };
-                let poincare = l.vib.poincare.as_ref().map_or_else(Vec::new, |p| p.points().iter().map(|q| [q.t, q.displacement, q.velocity, plan.phase]).collect());
-                let impacts = l.vib.impacts.as_ref().map_or_else(Vec::new, |o| o.impacts().iter().filter(|i| i.t >= plan.record_from).map(|i| (i.stop, [i.t, i.phase, i.velocity, i.impulse, i.duration])).collect());
-                let mut buf = Vec::new();
-                let _ = l.vib.summary().write_row(&mut buf);
-                RunRows { poincare, impacts, summary: String::from_utf8_lossy(&buf).into_owned(), steps: if status == "interrupted" { 0 } else { l.steps }, status, state: None }
+                let steps = if status == "interrupted" { 0 } else { l.steps };
+                rows_of(&l.vib, plan, steps, status, None)
             })
             .collect(),
     )
