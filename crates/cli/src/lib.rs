@@ -799,17 +799,7 @@ impl Analysis {
         }
         if plots {
             if let Some(im) = &self.vibro.impacts {
-                let mut by_stop: Vec<Series> = Vec::new();
-                for i in im.impacts() {
-                    while by_stop.len() <= i.stop {
-                        by_stop.push(Series { label: format!("stop {}", by_stop.len()), points: vec![], reference: false, style: Style::default() });
-                    }
-                    by_stop[i.stop].points.push((i.phase, i.velocity));
-                }
-                by_stop.retain(|s| !s.points.is_empty());
-                let title = sweep::thin_series(&mut by_stop, "impact map: pre-impact velocity against forcing phase", "impacts");
-                let chart = Chart { title: &title, x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
-                match signorini_plot::scatter(&chart, &by_stop, 2) {
+                match sweep::impact_map(im.impacts().iter().map(|i| (i.stop, i.phase, i.velocity)), |_| 2) {
                     Ok(svg) => std::fs::write(self.out.join("impact_map.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
                     Err(e) => notes.push(format!("impact_map.svg not written: {e}")),
                 }

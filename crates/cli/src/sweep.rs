@@ -781,6 +781,24 @@ pub(crate) fn thin_series(series: &mut [Series], title: &str, what: &str) -> Str
     format!("{title} (every {every}th of {total} {what})")
 }
 
+/// The impact map: pre-impact velocity against forcing phase, one series
+/// per stop, from `(stop, phase, velocity)` points (thinned beyond
+/// [`MAX_PLOT_POINTS`]); `radius(n)` sizes the dots for the `n` drawn.
+pub(crate) fn impact_map(points: impl Iterator<Item = (usize, f64, f64)>, radius: impl Fn(usize) -> u32) -> Result<String, String> {
+    let mut by_stop: Vec<Series> = Vec::new();
+    for (k, phase, velocity) in points {
+        while by_stop.len() <= k {
+            by_stop.push(Series { label: format!("stop {}", by_stop.len()), points: vec![], reference: false, style: Style::default() });
+        }
+        by_stop[k].points.push((phase, velocity));
+    }
+    by_stop.retain(|s| !s.points.is_empty());
+    let title = thin_series(&mut by_stop, "impact map: pre-impact velocity against forcing phase", "impacts");
+    let chart = Chart { title: &title, x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
+    let n: usize = by_stop.iter().map(|s| s.points.len()).sum();
+    scatter(&chart, &by_stop, radius(n))
+}
+
 /// Draws `bifurcation.svg` and `impact_map.svg` from the folder's CSVs.
 fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
     let mut notes = Vec::new();
@@ -797,20 +815,11 @@ fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
         return Ok(notes);
     }
     let impacts = complete_lines(&dir.join("impacts.csv"))?;
-    let mut by_stop: Vec<Series> = Vec::new();
-    for l in impacts.iter().skip(1) {
+    let points = impacts.iter().skip(1).map(|l| {
         let stop = col(l, 2);
-        let k = if stop.is_finite() && stop >= 0.0 { stop as usize } else { 0 };
-        while by_stop.len() <= k {
-            by_stop.push(Series { label: format!("stop {}", by_stop.len()), points: vec![], reference: false, style: Style::default() });
-        }
-        by_stop[k].points.push((col(l, 4), col(l, 5)));
-    }
-    by_stop.retain(|s| !s.points.is_empty());
-    let title = thin_series(&mut by_stop, "impact map: pre-impact velocity against forcing phase", "impacts");
-    let chart = Chart { title: &title, x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
-    let n: usize = by_stop.iter().map(|s| s.points.len()).sum();
-    match scatter(&chart, &by_stop, if n > 20_000 { 1 } else { 2 }) {
+        (if stop.is_finite() && stop >= 0.0 { stop as usize } else { 0 }, col(l, 4), col(l, 5))
+    });
+    match impact_map(points, |n| if n > 20_000 { 1 } else { 2 }) {
         Ok(svg) => std::fs::write(dir.join("impact_map.svg"), svg).map_err(|e| io(&dir.join("impact_map.svg"), e))?,
         Err(e) => notes.push(format!("note: impact_map.svg not written: {e} (no impacts in the record windows)")),
     }
