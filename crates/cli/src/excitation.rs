@@ -28,7 +28,7 @@
 //! would turn into loads concentrated at single instants; give the load
 //! itself in `[load]` instead.
 
-use crate::scene::SceneError;
+use crate::scene::{field, finite, positive, SceneError};
 use serde::Deserialize;
 use signorini_schemes::{Harmonic, ProfileError, Psd, RandomSpec, TimeProfile};
 use std::path::Path;
@@ -91,10 +91,6 @@ fn triples<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 3]
         .map(|t| <[f64; 3]>::try_from(t.as_slice()).map_err(|_| serde::de::Error::custom(format!("{} numbers are not allowed: exactly three, [amplitude, omega, phase]", t.len()))))
         .collect::<Result<Vec<_>, _>>()
         .map(Some)
-}
-
-fn field(f: &str, m: impl std::fmt::Display) -> SceneError {
-    SceneError::Field { field: f.to_string(), message: m.to_string() }
 }
 
 /// Which table, for defaults and refusals.
@@ -195,15 +191,13 @@ impl ExcitationToml {
         if self.x.is_some() && table != Table::Load {
             return Err(field(&key("x"), "acts only in [load] (a nodal load's position): remove it"));
         }
-        let finite = |k: &str, v: f64| if v.is_finite() { Ok(v) } else { Err(field(&key(k), format!("{v} is not allowed: a finite number"))) };
-        let positive = |k: &str, v: f64| if v > 0.0 && v.is_finite() { Ok(v) } else { Err(field(&key(k), format!("{v} is not allowed: finite and > 0"))) };
-        let omega = self.omega.map(|w| positive("omega", w)).transpose()?;
+        let omega = self.omega.map(|w| positive(&key("omega"), w)).transpose()?;
         let need = |k: &str| field(&key(k), format!("is missing: profile {profile:?} needs it"));
         let built = match profile {
             "sine" | "cosine" => {
-                let a = finite("amplitude", self.amplitude.ok_or_else(|| need("amplitude"))?)?;
+                let a = finite(&key("amplitude"), self.amplitude.ok_or_else(|| need("amplitude"))?)?;
                 let w = omega.ok_or_else(|| need("omega"))?;
-                let p = finite("phase", self.phase.unwrap_or(0.0))?;
+                let p = finite(&key("phase"), self.phase.unwrap_or(0.0))?;
                 if !(a * w * w).is_finite() {
                     return Err(field(&key("amplitude"), format!("{a} is not allowed with omega = {w}: A ω² must be finite")));
                 }

@@ -93,7 +93,7 @@ pub enum SceneError {
     },
 }
 
-fn field(f: &str, m: impl fmt::Display) -> SceneError {
+pub(crate) fn field(f: &str, m: impl fmt::Display) -> SceneError {
     SceneError::Field { field: f.to_string(), message: m.to_string() }
 }
 
@@ -583,7 +583,7 @@ fn fits(name: &str, elements: usize, beam: bool, limits: &Limits) -> Result<(), 
     Ok(())
 }
 
-fn positive(name: &str, v: f64) -> Result<f64, SceneError> {
+pub(crate) fn positive(name: &str, v: f64) -> Result<f64, SceneError> {
     if v > 0.0 && v.is_finite() {
         Ok(v)
     } else {
@@ -591,7 +591,7 @@ fn positive(name: &str, v: f64) -> Result<f64, SceneError> {
     }
 }
 
-fn finite(name: &str, v: f64) -> Result<f64, SceneError> {
+pub(crate) fn finite(name: &str, v: f64) -> Result<f64, SceneError> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -736,6 +736,37 @@ struct NodeMesh<'a> {
     x: &'a dyn Fn(usize) -> f64,
 }
 
+impl NodeMesh<'_> {
+    /// The node at `x` (within `NODE_TOLERANCE·L`) that is an unknown;
+    /// errors name `name` and give the nearest nodes or the allowed ones.
+    fn node(&self, name: &str, x: f64) -> Result<usize, SceneError> {
+        let (l, m) = (self.length, self.elements);
+        let tol = NODE_TOLERANCE * l;
+        let h = l / m as f64;
+        if !x.is_finite() || x < -tol || x > l + tol {
+            return Err(field(name, format!("{x} is not allowed: the position of a mesh node, in [0, {l}]")));
+        }
+        let node = ((x / h).round().max(0.0) as usize).min(m);
+        if (x - (self.x)(node)).abs() > tol {
+            let below = ((x / h).floor().max(0.0) as usize).min(m);
+            let above = (below + 1).min(m);
+            return Err(field(
+                name,
+                format!(
+                    "{x} is not allowed: a mesh node, within {NODE_TOLERANCE:e}·L = {tol:e} (nodes x = i L/{m}); the nearest nodes are x = {} (node {below}) and x = {} (node {above})",
+                    (self.x)(below),
+                    (self.x)(above)
+                ),
+            ));
+        }
+        let (first, last) = (*self.unknown.start(), *self.unknown.end());
+        if !self.unknown.contains(&node) {
+            return Err(field(name, format!("{x} is not allowed: node {node} is clamped (no displacement to bound); allowed: the nodes {first}..={last}, x = {} to {}", (self.x)(first), (self.x)(last))));
+        }
+        Ok(node)
+    }
+}
+
 /// Which per-stop keys act with the scene's scheme: `Err(why)` refuses the key.
 struct KeyRules {
     restitution: Result<(), String>,
@@ -757,34 +788,13 @@ fn obstacle_bound(name: &str, f: Option<&FieldToml>, none: f64) -> Result<Option
 /// the initial displacement `u0(node)`: every error names its field
 /// (`stop.<i>.<key>`, `obstacle.lo`/`obstacle.hi` with the node's x).
 fn contact_set(stops: &[StopToml], obstacle: Option<&ObstacleToml>, mesh: &NodeMesh<'_>, u0: &dyn Fn(usize) -> f64, rules: &KeyRules) -> Result<ContactSet, SceneError> {
-    let (l, m) = (mesh.length, mesh.elements);
-    let tol = NODE_TOLERANCE * l;
-    let h = l / m as f64;
     let (first, last) = (*mesh.unknown.start(), *mesh.unknown.end());
     let mut sites: Vec<Site> = Vec::with_capacity(stops.len());
     let mut list: Vec<Stop> = Vec::with_capacity(stops.len());
     for (i, st) in stops.iter().enumerate() {
         let key = |k: &str| format!("stop.{i}.{k}");
         let x = st.x;
-        if !x.is_finite() || x < -tol || x > l + tol {
-            return Err(field(&key("x"), format!("{x} is not allowed: the position of a mesh node, in [0, {l}]")));
-        }
-        let node = ((x / h).round().max(0.0) as usize).min(m);
-        if (x - (mesh.x)(node)).abs() > tol {
-            let below = ((x / h).floor().max(0.0) as usize).min(m);
-            let above = (below + 1).min(m);
-            return Err(field(
-                &key("x"),
-                format!(
-                    "{x} is not allowed: a mesh node, within {NODE_TOLERANCE:e}·L = {tol:e} (nodes x = i L/{m}); the nearest nodes are x = {} (node {below}) and x = {} (node {above})",
-                    (mesh.x)(below),
-                    (mesh.x)(above)
-                ),
-            ));
-        }
-        if !mesh.unknown.contains(&node) {
-            return Err(field(&key("x"), format!("{x} is not allowed: node {node} is clamped (no displacement to bound); allowed: the nodes {first}..={last}, x = {} to {}", (mesh.x)(first), (mesh.x)(last))));
-        }
+        let node = mesh.node(&key("x"), x)?;
         if let Some(p) = sites.iter().position(|s| s.node == node) {
             return Err(field(&key("x"), format!("{x} is not allowed: it snaps to node {node}, where stop.{p} is already; allowed: one stop per node (give lo and hi in one stop)")));
         }
@@ -1219,17 +1229,9 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         if b.benchmark.is_some() {
             return Err(field("load", "a benchmark is its own problem with its exact solution: remove [load], or remove benchmark"));
         }
-        let node = match e.x {
-            None => None,
-            Some(x) => {
-                let bar = problem.bar;
-                let i = (x / bar.length * bar.elements as f64).round();
-                if !(x.is_finite() && i >= 0.0 && i < bar.dofs() as f64 && (bar.node(i as usize) - x).abs() <= 1e-9 * bar.length) {
-                    return Err(field("load.x", format!("{x} is not allowed: a mesh node x = i L/m that is an unknown, 0 <= x <= L = {} (m = {}; a clamped far end is not)", bar.length, bar.elements)));
-                }
-                Some(i as usize)
-            }
-        };
+        let bar = problem.bar;
+        let mesh = NodeMesh { length: bar.length, elements: bar.elements, unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
+        let node = e.x.map(|x| mesh.node("load.x", x)).transpose()?;
         omega = e.omega;
         problem = problem.with_load(node, e.profile).map_err(|e| field("load.x", e))?;
     }
@@ -1365,17 +1367,9 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         }
     }
     if let Some(e) = load {
-        let node = match e.x {
-            None => None,
-            Some(x) => {
-                let l = pipe.length;
-                let i = (x / l * elements as f64).round();
-                if !(x.is_finite() && (i * l / elements as f64 - x).abs() <= 1e-9 * l && i >= 1.0 && i <= elements as f64) {
-                    return Err(field("load.x", format!("{x} is not allowed: a mesh node x = i L/J, 0 < x <= L = {l} (J = {elements})")));
-                }
-                Some(i as usize)
-            }
-        };
+        let l = pipe.length;
+        let mesh = NodeMesh { length: l, elements, unknown: 1..=elements, x: &|i| l * i as f64 / elements as f64 };
+        let node = e.x.map(|x| mesh.node("load.x", x)).transpose()?;
         excitation.load = Some((node, e.profile));
         omega = omega.or(e.omega);
     }
