@@ -1005,12 +1005,19 @@ pub const LANES: usize = 8;
 /// A run the lockstep engine takes: a beam on its tip's two stops with the
 /// projection (the β-scheme, e = 0), not continued from another run.
 fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
+    let beta = lockstep_beta(scene)?;
+    let Scene::Beam { pipe, scene: bs, excitation, .. } = scene else { return None };
+    let (beam, dy, init) = problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, None, excitation).ok()?;
+    Some((LockstepLane { dynamics: dy, initial: init, restitution: 0.0 }, beta, bs.dt, beam.tip_dof()))
+}
+
+/// The β of a scene the lockstep engine takes (see [`lane_of`]), or `None`.
+fn lockstep_beta(scene: &Scene) -> Option<f64> {
     match scene {
-        Scene::Beam { pipe, scene: bs, contacts: None, excitation, .. } if excitation.start.is_none() => {
-            let BeamContact::Projection { beta } = bs.contact else { return None };
-            let (beam, dy, init) = problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, None, excitation).ok()?;
-            Some((LockstepLane { dynamics: dy, initial: init, restitution: 0.0 }, beta, bs.dt, beam.tip_dof()))
-        }
+        Scene::Beam { scene: bs, contacts: None, excitation, .. } if excitation.start.is_none() => match bs.contact {
+            BeamContact::Projection { beta } => Some(beta),
+            BeamContact::Penalty { .. } => None,
+        },
         _ => None,
     }
 }
@@ -1021,7 +1028,7 @@ fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), CliError>)]) ->
     let mut jobs: Vec<Vec<usize>> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
     for (k, p) in prepared.iter().enumerate() {
-        let ok = matches!(&p.2, Ok((Scene::Beam { contacts: None, excitation, scene, .. }, _)) if excitation.start.is_none() && matches!(scene.contact, BeamContact::Projection { .. }));
+        let ok = p.2.as_ref().is_ok_and(|(scene, _)| lockstep_beta(scene).is_some());
         if ok {
             open.push(k);
             if open.len() == LANES {
