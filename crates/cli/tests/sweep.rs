@@ -113,7 +113,10 @@ fn an_interrupted_sweep_resumes_to_the_same_files() {
         keep.push_str("1.9,4,12.5"); // no newline: cut by a kill
         std::fs::write(cut.join(f), keep).unwrap();
     }
-    ok(&sweep(&sc, &cut, &["--resume"]));
+    // Only runs 3..7 are computed again: the three whole ones are kept.
+    let o = sweep(&sc, &cut, &["--resume"]);
+    ok(&o);
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("4 runs in"), "{}", String::from_utf8_lossy(&o.stdout));
     same_files(&whole, &cut, &FILES);
     // Resuming a folder of another sweep is refused.
     let o = bin()
