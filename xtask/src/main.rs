@@ -17,6 +17,7 @@ mod beam;
 mod fuzz;
 mod obstacles;
 mod oscillator;
+mod pytest;
 mod stress;
 mod weighted;
 mod wp;
@@ -54,6 +55,8 @@ enum Cmd {
     BeamObstacles(obstacles::Args),
     /// The impact oscillator scene against its exact period-1 orbits (rates in dt) and its grazing frequency.
     Oscillator(oscillator::Args),
+    /// Every test: the Rust workspace's, then the Python package (built with maturin into target/py-venv) with pytest.
+    Test(pytest::Args),
     /// Work–precision: error reached against wall time per scheme and mass.
     #[command(name = "work-precision")]
     WorkPrecision(wp::Args),
@@ -104,6 +107,7 @@ fn main() -> ExitCode {
         Cmd::Beam(a) => beam::run_beam(a),
         Cmd::BeamObstacles(a) => obstacles::run_obstacles(a),
         Cmd::Oscillator(a) => oscillator::run_oscillator(a),
+        Cmd::Test(a) => pytest::run_tests(a),
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),

@@ -1,0 +1,137 @@
+//! The compiled half of the `signorini` Python package (`signorini._signorini`):
+//! thin bindings over the workspace crates. The Python half (`python/signorini/`)
+//! broadcasts arrays and documents the API; every entry point here turns a
+//! Rust panic into `signorini.InternalError` instead of aborting.
+
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
+
+create_exception!(signorini, SceneError, PyValueError, "Bad input: names the field and the allowed range.");
+create_exception!(signorini, BlowUp, PyException, "A run became non-finite or its energy grew beyond bounds (step and time in the message).");
+create_exception!(signorini, InternalError, PyRuntimeError, "A bug in signorini (a Rust panic), reported instead of aborting the interpreter.");
+
+/// Runs `f`, turning a panic into `InternalError`.
+fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(p) => {
+            let msg = p.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| p.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown panic".to_owned());
+            Err(InternalError::new_err(format!("internal error (Rust panic): {msg}")))
+        }
+    }
+}
+
+/// An exact benchmark solution (see `signorini.exact.solution`).
+#[pyclass(module = "signorini._signorini", frozen)]
+struct Exact {
+    inner: Box<dyn ExactSolution>,
+}
+
+impl Exact {
+    fn map2<'py>(&self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, t: PyReadonlyArray1<'py, f64>, f: impl Fn(&dyn ExactSolution, f64, f64) -> f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        guarded(|| {
+            let (x, t) = (x.as_slice()?, t.as_slice()?);
+            if x.len() != t.len() {
+                return Err(SceneError::new_err(format!("x and t: {} and {} values; allowed: arrays of one shape (the Python wrapper broadcasts)", x.len(), t.len())));
+            }
+            let out: Vec<f64> = x.iter().zip(t).map(|(&x, &t)| f(self.inner.as_ref(), x, t)).collect();
+            Ok(out.into_pyarray(py))
+        })
+    }
+}
+
+#[pymethods]
+impl Exact {
+    /// The benchmark's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name().to_string()
+    }
+    /// The bar's length L.
+    #[getter]
+    fn length(&self) -> f64 {
+        self.inner.length()
+    }
+    /// u(x, t) at paired points.
+    fn u<'py>(&self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, t: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.map2(py, x, t, |s, x, t| s.fields(x, t).u)
+    }
+    /// u_x(x, t) at paired points.
+    fn u_x<'py>(&self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, t: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.map2(py, x, t, |s, x, t| s.fields(x, t).ux)
+    }
+    /// u_t(x, t) at paired points.
+    fn u_t<'py>(&self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, t: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.map2(py, x, t, |s, x, t| s.fields(x, t).ut)
+    }
+    /// The contact force λ(t).
+    fn lam<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        guarded(|| Ok(t.as_slice()?.iter().map(|&t| self.inner.lambda(t)).collect::<Vec<f64>>().into_pyarray(py)))
+    }
+    /// The (conserved) energy.
+    fn energy(&self) -> f64 {
+        self.inner.energy()
+    }
+}
+
+/// The exact solution `name` ("bar-dirichlet", "bar-mirrored",
+/// "bar-neumann-gravity"; the falling bar takes g, u0, length, t_max).
+#[pyfunction]
+#[pyo3(signature = (name, g=None, u0=None, length=None, t_max=None))]
+fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f64>, t_max: Option<f64>) -> PyResult<Exact> {
+    guarded(|| {
+        let no_params = |bench: &str| -> PyResult<()> {
+            for (k, v) in [("g", g), ("u0", u0), ("length", length), ("t_max", t_max)] {
+                if v.is_some() {
+                    return Err(SceneError::new_err(format!("{k}: {bench} takes no parameters (its data are fixed); allowed: none")));
+                }
+            }
+            Ok(())
+        };
+        let inner: Box<dyn ExactSolution> = match name {
+            "bar-dirichlet" => {
+                no_params(name)?;
+                Box::new(BarDirichlet)
+            }
+            "bar-mirrored" => {
+                no_params(name)?;
+                Box::new(BarMirrored)
+            }
+            "bar-neumann-gravity" | "bar-neumann-gravity-0.11" => {
+                let paper = name.ends_with("0.11");
+                let t_max = t_max.unwrap_or(16.0);
+                let s = match (g, u0, length) {
+                    // The benchmarks' own data keep their names.
+                    (None, None, None) if paper => BarNeumannGravity::paper(t_max),
+                    (None, None, None) => BarNeumannGravity::periodic(t_max),
+                    _ => BarNeumannGravity::new(u0.unwrap_or(0.5), g.unwrap_or(if paper { 0.11 } else { 1.0 / 9.0 }), length.unwrap_or(1.0), t_max),
+                };
+                Box::new(s.map_err(|e| SceneError::new_err(e.to_string()))?)
+            }
+            other => return Err(SceneError::new_err(format!("name: {other:?} is not allowed: bar-dirichlet, bar-mirrored, bar-neumann-gravity, bar-neumann-gravity-0.11"))),
+        };
+        Ok(Exact { inner })
+    })
+}
+
+/// A deliberate panic, for the tests of the panic guard.
+#[pyfunction]
+fn _panic_for_tests() -> PyResult<()> {
+    guarded(|| panic!("planted"))
+}
+
+#[pymodule]
+fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("SceneError", py.get_type::<SceneError>())?;
+    m.add("BlowUp", py.get_type::<BlowUp>())?;
+    m.add("InternalError", py.get_type::<InternalError>())?;
+    m.add_class::<Exact>()?;
+    m.add_function(wrap_pyfunction!(exact_solution, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
