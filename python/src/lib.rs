@@ -117,6 +117,157 @@ fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f6
     })
 }
 
+/// A Python value as TOML (`path` names it in errors): dicts are tables,
+/// lists arrays, and numbers, strings and booleans themselves.
+fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
+    use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+    if v.is_instance_of::<PyBool>() {
+        return Ok(toml::Value::Boolean(v.extract()?));
+    }
+    if v.is_instance_of::<PyInt>() {
+        return v.extract::<i64>().map(toml::Value::Integer).map_err(|_| SceneError::new_err(format!("{path}: an integer beyond 64 bits is not allowed")));
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(toml::Value::Float(v.extract()?));
+    }
+    if v.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(v.extract()?));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut t = toml::Table::new();
+        for (k, val) in d.iter() {
+            let k: String = k.extract().map_err(|_| SceneError::new_err(format!("{path}: keys must be strings")))?;
+            let sub = if path.is_empty() { k.clone() } else { format!("{path}.{k}") };
+            t.insert(k, to_toml(&val, &sub)?);
+        }
+        return Ok(toml::Value::Table(t));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let mut a = Vec::new();
+        for (i, item) in v.try_iter()?.enumerate() {
+            a.push(to_toml(&item?, &format!("{path}.{i}"))?);
+        }
+        return Ok(toml::Value::Array(a));
+    }
+    // numpy scalars and other numbers.
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(toml::Value::Float(x));
+    }
+    Err(SceneError::new_err(format!("{path}: a {} is not allowed: a number, a string, a boolean, a list or a dict", v.get_type().name()?)))
+}
+
+/// The scene of `scene`: a dict (the TOML schema as Python values), a path
+/// to a TOML file, or TOML text.
+fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFile, signorini_cli::scene::Scene)> {
+    use signorini_cli::scene::{Limits, SceneFile};
+    let bad = |e: signorini_cli::scene::SceneError| SceneError::new_err(e.to_string());
+    let file = if let Ok(text) = scene.extract::<String>() {
+        let path = std::path::Path::new(&text);
+        if !text.contains('\n') && !text.contains('=') && path.exists() {
+            let body = std::fs::read_to_string(path).map_err(|e| SceneError::new_err(format!("scene: cannot read {text}: {e}")))?;
+            let mut f = SceneFile::parse(&body).map_err(bad)?;
+            f.base = path.parent().map(std::path::Path::to_path_buf);
+            f
+        } else {
+            SceneFile::parse(&text).map_err(bad)?
+        }
+    } else if let Ok(p) = scene.extract::<std::path::PathBuf>() {
+        let body = std::fs::read_to_string(&p).map_err(|e| SceneError::new_err(format!("scene: cannot read {}: {e}", p.display())))?;
+        let mut f = SceneFile::parse(&body).map_err(bad)?;
+        f.base = p.parent().map(std::path::Path::to_path_buf);
+        f
+    } else {
+        match to_toml(scene, "")? {
+            toml::Value::Table(t) => SceneFile::from_table(t).map_err(bad)?,
+            _ => return Err(SceneError::new_err("scene: a dict, a path or TOML text")),
+        }
+    };
+    let s = file.validate_with(&Limits::machine()).map_err(bad)?;
+    Ok((file, s))
+}
+
+/// What a run recorded: per level `t` and the tip (contact 0's dof, the
+/// beam's tip, the oscillator); per step the contact force and its time;
+/// the energies and their times.
+#[pyclass(module = "signorini._signorini", frozen, get_all)]
+struct RunArrays {
+    t: Py<PyArray1<f64>>,
+    tip: Py<PyArray1<f64>>,
+    lam_t: Py<PyArray1<f64>>,
+    lam: Py<PyArray1<f64>>,
+    energy_t: Py<PyArray1<f64>>,
+    energy: Py<PyArray1<f64>>,
+    steps: usize,
+    contact_steps: usize,
+    status: String,
+}
+
+/// Runs a scene (see `signorini.run`). The stepping releases the GIL and
+/// checks for Ctrl-C every 50 ms; a KeyboardInterrupt or a blow-up carries
+/// the partial result as its `partial` attribute.
+#[pyfunction]
+fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<RunArrays> {
+    use signorini_cli::scene::Scene;
+    use signorini_run::{run, History, RunConfig, RunError};
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let (_, s) = scene_of(scene)?;
+    let (dt, t_end) = match &s {
+        Scene::Bar(b) => (b.dt, b.t_end),
+        Scene::Beam { scene, .. } => (scene.dt, scene.t_end),
+        Scene::Oscillator { dt, t_end, .. } => (*dt, *t_end),
+    };
+    let mut built = signorini_cli::build(&s, None).map_err(|e| SceneError::new_err(e.to_string()))?;
+    // One flag per run, set from this thread when Python has a pending signal.
+    let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+    let mut cfg = RunConfig::new(dt, t_end).map_err(|e| SceneError::new_err(e.to_string()))?;
+    cfg.interrupt = Some(flag);
+    let mut hist = History::new(built.tip, true);
+    let (res, signal) = py.detach(|| {
+        std::thread::scope(|sc| {
+            let worker = sc.spawn(|| guarded(|| Ok(run(built.stepper.as_mut(), &built.u0, &cfg, &mut [&mut hist]))));
+            let mut signal = None;
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+                if signal.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        signal = Some(e);
+                        flag.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the run's thread panicked"))), signal)
+        })
+    });
+    let res = res?;
+    let rec = &hist.records;
+    let pick = |f: &dyn Fn(&signorini_run::Record) -> Option<(f64, f64)>| -> (Vec<f64>, Vec<f64>) { rec.iter().filter_map(f).unzip() };
+    let (lt, l) = pick(&|r| r.lambda);
+    let (et, e) = pick(&|r| r.energy);
+    let status = match &res {
+        Ok(_) => "ok".to_string(),
+        Err(e) => e.to_string(),
+    };
+    let out = RunArrays {
+        t: rec.iter().map(|r| r.t).collect::<Vec<_>>().into_pyarray(py).unbind(),
+        tip: rec.iter().map(|r| r.u_contact).collect::<Vec<_>>().into_pyarray(py).unbind(),
+        lam_t: lt.into_pyarray(py).unbind(),
+        lam: l.into_pyarray(py).unbind(),
+        energy_t: et.into_pyarray(py).unbind(),
+        energy: e.into_pyarray(py).unbind(),
+        steps: res.as_ref().map_or(rec.len().saturating_sub(1), |s| s.steps),
+        contact_steps: res.as_ref().map_or(0, |s| s.contact_steps),
+        status,
+    };
+    let err = match (signal, res) {
+        (Some(e), _) => e,
+        (None, Ok(_)) => return Ok(out),
+        (None, Err(e @ (RunError::BlowUp { .. } | RunError::EnergyGrowth { .. }))) => BlowUp::new_err(e.to_string()),
+        (None, Err(e)) => SceneError::new_err(e.to_string()),
+    };
+    err.value(py).setattr("partial", Py::new(py, out)?)?;
+    Err(err)
+}
+
 /// A deliberate panic, for the tests of the panic guard.
 #[pyfunction]
 fn _panic_for_tests() -> PyResult<()> {
@@ -132,6 +283,8 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Exact>()?;
     m.add_function(wrap_pyfunction!(exact_solution, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
+    m.add_function(wrap_pyfunction!(run_scene, m)?)?;
+    m.add_class::<RunArrays>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
