@@ -1,28 +1,49 @@
 """signorini: 1D dynamic contact (impact) from Python.
 
-Exact benchmark solutions (:mod:`signorini.exact`) today; runs, studies and
-sweeps join as the package grows. Errors are typed: :class:`SceneError` (a
+Runs of scenes (:func:`run`), exact benchmark solutions (:mod:`signorini.exact`),
+the finite-element matrices (:mod:`signorini.fem`), the studies and sweeps. Errors are typed: :class:`SceneError` (a
 ``ValueError`` naming the field and the allowed range), :class:`BlowUp`, and
 :class:`InternalError` for a bug inside the Rust core (never an abort).
 """
 
 from ._signorini import BlowUp, InternalError, SceneError, __version__
-from . import _signorini, exact
+from . import _check, _signorini, exact, fem
 
-__all__ = ["BlowUp", "InternalError", "SceneError", "exact", "run", "__version__"]
+__all__ = ["BlowUp", "InternalError", "SceneError", "exact", "fem", "run", "__version__"]
 
 
-def run(scene):
-    """Runs a scene: a dict with the TOML schema (``{"bar": {"benchmark":
-    "bar-dirichlet", "elements": 80, ...}}``), a path to a TOML file, or TOML
-    text. Returns an object with float64 arrays ``t`` and ``tip`` (one value
-    per time level: the contact dof of a bar, the beam's tip, the
-    oscillator), ``lam_t``/``lam`` (the contact force and its time, per
-    step), ``energy_t``/``energy``, and ``steps``, ``contact_steps``,
-    ``status``. The stepping releases the GIL; Ctrl-C raises
-    KeyboardInterrupt within 50 ms, a blow-up raises BlowUp — both with the
-    partial result as their ``partial`` attribute. Bad input raises
+def run(scene, *, energy=None, fields_every=0):
+    """Runs a scene: a dict with the TOML schema of ``signorini run``
+    (``{"bar": {"benchmark": "bar-dirichlet", "elements": 80, ...}}``), a path
+    to a TOML file, or TOML text. Returns a result whose arrays are float64
+    numpy arrays (handed over without per-element Python objects):
+
+    * ``t`` (levels), ``tip`` (the contact dof of a bar — contact 0 —, the
+      beam's tip, the oscillator's x, one value per level);
+    * ``contact_dofs`` and ``contact_u`` (levels × contacts: each contact
+      dof's displacement), ``forces`` (levels × contacts: each contact's
+      force from the step that reached the level, zeros at the start levels),
+      ``active`` (bool per level: some constraint active);
+    * ``lam_t``/``lam`` (contact 0's force per step and its time);
+    * ``energy_t``/``energy`` (the scheme's discrete energy; computed by
+      default for bars and the oscillator as ``signorini run`` does,
+      ``energy=True/False`` to choose; it costs one solve per step);
+    * ``fields_t``/``fields`` (levels/k × unknowns) when ``fields_every=k``
+      (k >= 1): the whole displacement every k steps (the beam's absolute
+      displacement, lifting added back);
+    * ``norms`` (a dict keyed like ``norms.csv``: ``linf_l2_u, l2_l2_u,
+      linf_v_u, l2_v_u, l2_lambda, linf_energy, l2_energy,
+      lambda_tv_ratio``) when the scene is a bar benchmark with an exact
+      solution, else None;
+    * ``steps``, ``contact_steps``, ``dt``, ``status`` ("ok" or why it stopped).
+
+    The stepping releases the GIL; Ctrl-C raises KeyboardInterrupt within
+    50 ms, a blow-up raises BlowUp (step and time in its message) — both with
+    the partial result as their ``partial`` attribute. Bad input raises
     SceneError naming the field."""
     if hasattr(scene, "__fspath__"):
         scene = str(scene.__fspath__())
-    return _signorini.run_scene(scene)
+    if energy is not None and not isinstance(energy, bool):
+        raise SceneError(f"energy: {energy!r} is a {type(energy).__name__}: True, False or None")
+    fields_every = _check.integer("fields_every", fields_every, 0)
+    return _signorini.run_scene(scene, energy, fields_every)

@@ -7,6 +7,9 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+mod fem;
+mod run;
+
 use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
 
 create_exception!(signorini, SceneError, PyValueError, "Bad input: names the field and the allowed range.");
@@ -14,7 +17,7 @@ create_exception!(signorini, BlowUp, PyException, "A run became non-finite or it
 create_exception!(signorini, InternalError, PyRuntimeError, "A bug in signorini (a Rust panic), reported instead of aborting the interpreter.");
 
 /// Runs `f`, turning a panic into `InternalError`.
-fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+pub(crate) fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
         Ok(r) => r,
         Err(p) => {
@@ -158,7 +161,7 @@ fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
 
 /// The scene of `scene`: a dict (the TOML schema as Python values), a path
 /// to a TOML file, or TOML text.
-fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFile, signorini_cli::scene::Scene)> {
+pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFile, signorini_cli::scene::Scene)> {
     use signorini_cli::scene::{Limits, SceneFile};
     let bad = |e: signorini_cli::scene::SceneError| SceneError::new_err(e.to_string());
     let file = if let Ok(text) = scene.extract::<String>() {
@@ -186,88 +189,6 @@ fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFi
     Ok((file, s))
 }
 
-/// What a run recorded: per level `t` and the tip (contact 0's dof, the
-/// beam's tip, the oscillator); per step the contact force and its time;
-/// the energies and their times.
-#[pyclass(module = "signorini._signorini", frozen, get_all)]
-struct RunArrays {
-    t: Py<PyArray1<f64>>,
-    tip: Py<PyArray1<f64>>,
-    lam_t: Py<PyArray1<f64>>,
-    lam: Py<PyArray1<f64>>,
-    energy_t: Py<PyArray1<f64>>,
-    energy: Py<PyArray1<f64>>,
-    steps: usize,
-    contact_steps: usize,
-    status: String,
-}
-
-/// Runs a scene (see `signorini.run`). The stepping releases the GIL and
-/// checks for Ctrl-C every 50 ms; a KeyboardInterrupt or a blow-up carries
-/// the partial result as its `partial` attribute.
-#[pyfunction]
-fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<RunArrays> {
-    use signorini_cli::scene::Scene;
-    use signorini_run::{run, History, RunConfig, RunError};
-    use std::sync::atomic::{AtomicBool, Ordering};
-    let (_, s) = scene_of(scene)?;
-    let (dt, t_end) = match &s {
-        Scene::Bar(b) => (b.dt, b.t_end),
-        Scene::Beam { scene, .. } => (scene.dt, scene.t_end),
-        Scene::Oscillator { dt, t_end, .. } => (*dt, *t_end),
-    };
-    let mut built = signorini_cli::build(&s, None).map_err(|e| SceneError::new_err(e.to_string()))?;
-    // One flag per run, set from this thread when Python has a pending signal.
-    let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
-    let mut cfg = RunConfig::new(dt, t_end).map_err(|e| SceneError::new_err(e.to_string()))?;
-    cfg.interrupt = Some(flag);
-    let mut hist = History::new(built.tip, true);
-    let (res, signal) = py.detach(|| {
-        std::thread::scope(|sc| {
-            let worker = sc.spawn(|| guarded(|| Ok(run(built.stepper.as_mut(), &built.u0, &cfg, &mut [&mut hist]))));
-            let mut signal = None;
-            while !worker.is_finished() {
-                std::thread::sleep(std::time::Duration::from_millis(50));
-                if signal.is_none() {
-                    if let Err(e) = Python::attach(|py| py.check_signals()) {
-                        signal = Some(e);
-                        flag.store(true, Ordering::Relaxed);
-                    }
-                }
-            }
-            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the run's thread panicked"))), signal)
-        })
-    });
-    let res = res?;
-    let rec = &hist.records;
-    let pick = |f: &dyn Fn(&signorini_run::Record) -> Option<(f64, f64)>| -> (Vec<f64>, Vec<f64>) { rec.iter().filter_map(f).unzip() };
-    let (lt, l) = pick(&|r| r.lambda);
-    let (et, e) = pick(&|r| r.energy);
-    let status = match &res {
-        Ok(_) => "ok".to_string(),
-        Err(e) => e.to_string(),
-    };
-    let out = RunArrays {
-        t: rec.iter().map(|r| r.t).collect::<Vec<_>>().into_pyarray(py).unbind(),
-        tip: rec.iter().map(|r| r.u_contact).collect::<Vec<_>>().into_pyarray(py).unbind(),
-        lam_t: lt.into_pyarray(py).unbind(),
-        lam: l.into_pyarray(py).unbind(),
-        energy_t: et.into_pyarray(py).unbind(),
-        energy: e.into_pyarray(py).unbind(),
-        steps: res.as_ref().map_or(rec.len().saturating_sub(1), |s| s.steps),
-        contact_steps: res.as_ref().map_or(0, |s| s.contact_steps),
-        status,
-    };
-    let err = match (signal, res) {
-        (Some(e), _) => e,
-        (None, Ok(_)) => return Ok(out),
-        (None, Err(e @ (RunError::BlowUp { .. } | RunError::EnergyGrowth { .. }))) => BlowUp::new_err(e.to_string()),
-        (None, Err(e)) => SceneError::new_err(e.to_string()),
-    };
-    err.value(py).setattr("partial", Py::new(py, out)?)?;
-    Err(err)
-}
-
 /// A deliberate panic, for the tests of the panic guard.
 #[pyfunction]
 fn _panic_for_tests() -> PyResult<()> {
@@ -283,8 +204,11 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Exact>()?;
     m.add_function(wrap_pyfunction!(exact_solution, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
-    m.add_function(wrap_pyfunction!(run_scene, m)?)?;
-    m.add_class::<RunArrays>()?;
+    m.add_function(wrap_pyfunction!(run::run_scene, m)?)?;
+    m.add_class::<run::RunArrays>()?;
+    m.add_class::<fem::Matrices>()?;
+    m.add_function(wrap_pyfunction!(fem::bar_matrices, m)?)?;
+    m.add_function(wrap_pyfunction!(fem::beam_matrices, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -53,3 +53,95 @@ def test_ctrl_c_keeps_the_partial_result():
         signorini.run(long)
     part = e.value.partial
     assert 0 < part.t.size < 1_200_001 and "interrupted" in part.status
+
+
+def cli(tmp_path, scene_text, name):
+    exe = ROOT / "target" / "release" / "signorini"
+    if not exe.exists():
+        pytest.skip("the signorini binary is not built")
+    path = tmp_path / f"{name}.toml"
+    path.write_text(scene_text)
+    out = tmp_path / name
+    subprocess.run([str(exe), "run", str(path), "--out", str(out)], check=True, capture_output=True)
+    return path, out
+
+
+def rows(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def col(rs, k):
+    return np.array([float(r[k]) if r[k] != "" else np.nan for r in rs])
+
+
+def test_norms_are_the_cli_norms(tmp_path):
+    text = SCENE.read_text()
+    path, out = cli(tmp_path, text, "dirichlet")
+    r = signorini.run(path)
+    (want,) = rows(out / "norms.csv")
+    assert set(r.norms) >= {"linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "lambda_tv_ratio"}
+    for k in ("linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy"):
+        assert r.norms[k] == pytest.approx(float(want[k]), rel=1e-9), k
+    # No exact solution, no norms.
+    assert signorini.run(ROOT / "data/scenes/bar-two-walls.toml").norms is None
+
+
+def test_every_contact_is_recorded_as_the_cli_writes_it(tmp_path):
+    path, out = cli(tmp_path, (ROOT / "data/scenes/bar-two-walls.toml").read_text(), "walls")
+    r = signorini.run(path)
+    rs = rows(out / "series.csv")
+    assert r.contact_dofs == [0, 100] and r.contact_u.shape == (r.t.size, 2) and r.forces.shape == (r.t.size, 2)
+    assert r.contact_u.dtype == np.float64 and r.active.dtype == np.bool_
+    for i in range(2):
+        np.testing.assert_allclose(r.contact_u[:, i], col(rs, f"u_c{i}"), rtol=1e-12, atol=1e-14)
+        f = col(rs, f"lambda_{i}")
+        stepped = ~np.isnan(f)
+        np.testing.assert_allclose(r.forces[stepped, i], f[stepped], rtol=1e-12, atol=1e-14)
+    # Both walls are hit.
+    assert (np.abs(r.forces[:, 0]) > 0).any() and (np.abs(r.forces[:, 1]) > 0).any()
+
+
+def test_beam_fields_are_the_cli_snapshots(tmp_path):
+    text = '[beam]\nscene = "fig2"\nt_end = 0.05\n\n[output]\nevery = 1\nsnapshots_every = 100\n'
+    path, out = cli(tmp_path, text, "beam")
+    r = signorini.run(path, fields_every=100)
+    snaps = rows(out / "snapshots.csv")
+    J = 19
+    assert r.fields.shape == (r.fields_t.size, 2 * J) and r.fields_t.size == 11
+    got = np.asarray(r.fields)[:, 0::2]  # node values 1..J (slopes skipped)
+    for k, t in enumerate(r.fields_t):
+        at = [s for s in snaps if abs(float(s["t_s"]) - t) < 1e-12]
+        want = np.array([float(s["u_m"]) for s in sorted(at, key=lambda s: int(s["n"]))])
+        assert want.size == J + 1
+        np.testing.assert_allclose(got[k], want[1:], rtol=1e-11, atol=1e-14)
+    # The beam computes no energy unless asked (as the CLI).
+    assert r.energy.size == 0 and signorini.run(path, energy=True).energy.size >= r.t.size - 1
+
+
+def test_blow_up_raises_with_step_and_time_and_keeps_the_partial_run():
+    # A state that overflows (the CLI's reliability test).
+    bad = {"bar": {"elements": 10, "dt": 0.01, "initial_displacement": 0.0, "initial_velocity": 1e300, "body_force": 1e300}}
+    with pytest.raises(signorini.BlowUp, match="at step") as e:
+        signorini.run(bad)
+    part = e.value.partial
+    assert 0 < part.t.size < 101 and "blew up" in part.status and part.norms is None
+
+
+def test_run_bad_arguments():
+    with pytest.raises(signorini.SceneError, match="fields_every"):
+        signorini.run(SCENE, fields_every=-1)
+    with pytest.raises(signorini.SceneError, match="fields_every"):
+        signorini.run(SCENE, fields_every="10")
+    with pytest.raises(signorini.SceneError, match="energy"):
+        signorini.run(SCENE, energy="yes")
+    with pytest.raises(signorini.SceneError, match="bar.elements"):
+        signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": -80, "ratio": 10.0}})
+    with pytest.raises(signorini.SceneError, match="bar.mass"):
+        signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": 80, "ratio": 10.0, "mass": 3}})
+    with pytest.raises(signorini.SceneError, match="bar.t_end"):
+        signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": 80, "ratio": 10.0, "t_end": float("inf")}})
+    with pytest.raises(signorini.SceneError):
+        signorini.run({"nothing": {}})
+    with pytest.raises(signorini.SceneError):
+        signorini.run(42)

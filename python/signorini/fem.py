@@ -1,0 +1,129 @@
+"""Finite-element matrices of the bar and the beam.
+
+``bar(elements, mass=...)`` (P1, every mass treatment of the literature) and
+``beam(elements)`` (clamped Hermite cubics) return a :class:`Matrices`:
+``mass_band``/``stiffness_band`` in LAPACK's upper symmetric band storage,
+shape ``(p + 1, n)`` with ``ab[p + i - j, j] = A[i, j]`` (what
+``scipy.linalg.eig_banded`` and ``solveh_banded`` take), the dense ``M``
+and ``K`` built from them on demand, and ``kappa_h()``, the largest
+generalized eigenvalue of ``(K, M)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _signorini
+from . import _check
+
+__all__ = ["Matrices", "bar", "beam", "MASSES", "dense"]
+
+#: The bar's mass treatments: consistent, row-sum lumped, the redistributed
+#: masses of the papers (mod = mod1, mod2, mod3), GetFEM's two singular masses.
+MASSES = ("std", "lumped", "mod", "mod1", "mod2", "mod3", "transfer", "singular")
+
+
+def dense(ab: np.ndarray) -> np.ndarray:
+    """The dense symmetric matrix of an upper band array ``ab`` (shape ``(p + 1, n)``)."""
+    p, n = ab.shape[0] - 1, ab.shape[1]
+    a = np.zeros((n, n))
+    for k in range(p + 1):
+        d = ab[p - k, k:]
+        idx = np.arange(n - k)
+        a[idx, idx + k] = d
+        a[idx + k, idx] = d
+    return a
+
+
+class Matrices:
+    """A discretisation's mass and stiffness matrices; see :func:`bar` and :func:`beam`."""
+
+    def __init__(self, inner):
+        self._inner = inner
+        self._kappa = None
+
+    def __repr__(self) -> str:
+        return f"<signorini.fem.Matrices: {self.kind}, n = {self.n}, p = {self.half_bandwidth}>"
+
+    @property
+    def kind(self) -> str:
+        """What was discretised, e.g. ``'bar, 10 elements, mass mod'``."""
+        return self._inner.kind
+
+    @property
+    def n(self) -> int:
+        """The number of unknowns."""
+        return self._inner.n
+
+    @property
+    def h(self) -> float:
+        """The element size."""
+        return self._inner.h
+
+    @property
+    def x(self) -> np.ndarray:
+        """The position of each unknown (the beam's value and slope share their node's)."""
+        return np.asarray(self._inner.x, dtype=np.float64)
+
+    @property
+    def half_bandwidth(self) -> int:
+        """The half-bandwidth ``p`` (1 for the bar, 3 for the beam)."""
+        return self._inner.half_bandwidth
+
+    @property
+    def mass_band(self) -> np.ndarray:
+        """M in upper band storage, shape ``(p + 1, n)``."""
+        return self._inner.mass_band
+
+    @property
+    def stiffness_band(self) -> np.ndarray:
+        """K in upper band storage, shape ``(p + 1, n)``."""
+        return self._inner.stiffness_band
+
+    @property
+    def M(self) -> np.ndarray:
+        """The dense mass matrix, ``(n, n)``."""
+        return dense(self.mass_band)
+
+    @property
+    def K(self) -> np.ndarray:
+        """The dense stiffness matrix, ``(n, n)``."""
+        return dense(self.stiffness_band)
+
+    @property
+    def massless(self) -> list:
+        """The unknowns without mass (a zero row of M: the contact node of mod, transfer, singular)."""
+        return self._inner.massless
+
+    def kappa_h(self) -> float:
+        """The largest generalized eigenvalue of ``(K, M)``, with the massless
+        unknowns held fixed (their rows and columns removed): the central
+        difference is stable for ``dt < 2/sqrt(kappa_h)``. Computed once (shifted
+        inverse iteration certified by a factorisation), then cached."""
+        if self._kappa is None:
+            self._kappa = self._inner.kappa_h()
+        return self._kappa
+
+
+def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: float = 1.0, right_end: str = "clamped", contacts=(0,)) -> Matrices:
+    """The P1 bar on ``[0, length]`` with ``elements`` elements (>= 2), density 1
+    and wave speed ``wave_speed``; ``right_end`` ``'clamped'`` (node m is not an
+    unknown) or ``'free'``; ``mass`` one of :data:`MASSES`, built for contacts at
+    the nodes ``contacts`` (the redistributed masses empty their element)."""
+    elements = _check.integer("elements", elements, 2, 1 << 26)
+    mass = _check.string("mass", mass, MASSES)
+    right_end = _check.string("right_end", right_end, ("clamped", "free"))
+    length = _check.number("length", length, positive=True)
+    wave_speed = _check.number("wave_speed", wave_speed, positive=True)
+    nodes = _check.sequence("contacts", contacts, lambda n, v: _check.integer(n, v, 0))
+    return Matrices(_signorini.bar_matrices(elements, mass, length, wave_speed, right_end, nodes))
+
+
+def beam(elements: int, *, length: float = 1.0, k2: float = 1.0) -> Matrices:
+    """The Hermite-cubic beam ``u_tt + k2 u_xxxx = 0`` on ``[0, length]``, clamped at
+    0, with ``elements`` elements: unknown ``2(j - 1)`` is node j's value,
+    ``2(j - 1) + 1`` its slope (unit ρS)."""
+    elements = _check.integer("elements", elements, 1, 1 << 26)
+    length = _check.number("length", length, positive=True)
+    k2 = _check.number("k2", k2, positive=True)
+    return Matrices(_signorini.beam_matrices(elements, length, k2))

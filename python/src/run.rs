@@ -1,0 +1,229 @@
+//! `signorini.run`: a scene stepped on a worker thread (the GIL released),
+//! recorded into preallocated vectors and handed to numpy without copies
+//! per element.
+
+use crate::{guarded, scene_of, BlowUp, InternalError, SceneError};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use signorini_run::{Observer, RunError, Sample};
+
+/// Everything a run records, in flat vectors reserved for every level.
+struct Recorder {
+    tip: usize,
+    dofs: Vec<usize>,
+    energy: bool,
+    /// Record the whole unknown vector every `every` levels (0: never).
+    every: usize,
+    t: Vec<f64>,
+    tip_u: Vec<f64>,
+    lam_t: Vec<f64>,
+    lam: Vec<f64>,
+    energy_t: Vec<f64>,
+    energy_v: Vec<f64>,
+    contact_u: Vec<f64>,
+    forces: Vec<f64>,
+    active: Vec<bool>,
+    fields_t: Vec<f64>,
+    fields: Vec<f64>,
+}
+
+impl Recorder {
+    fn new(tip: usize, dofs: Vec<usize>, energy: bool, every: usize, levels: usize, unknowns: usize) -> Self {
+        let c = dofs.len();
+        let f = if every > 0 { levels / every + 1 } else { 0 };
+        Self {
+            tip,
+            energy,
+            every,
+            t: Vec::with_capacity(levels),
+            tip_u: Vec::with_capacity(levels),
+            lam_t: Vec::with_capacity(levels),
+            lam: Vec::with_capacity(levels),
+            energy_t: Vec::with_capacity(if energy { levels } else { 0 }),
+            energy_v: Vec::with_capacity(if energy { levels } else { 0 }),
+            contact_u: Vec::with_capacity(levels * c),
+            forces: Vec::with_capacity(levels * c),
+            active: Vec::with_capacity(levels),
+            fields_t: Vec::with_capacity(f),
+            fields: Vec::with_capacity(f * unknowns),
+            dofs,
+        }
+    }
+}
+
+impl Observer for Recorder {
+    fn wants_energy(&self) -> bool {
+        self.energy
+    }
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        self.t.push(s.t);
+        self.tip_u.push(s.u[self.tip]);
+        if let Some((t, l)) = s.lambda {
+            self.lam_t.push(t);
+            self.lam.push(l);
+        }
+        if let Some((t, e)) = s.energy {
+            self.energy_t.push(t);
+            self.energy_v.push(e);
+        }
+        self.contact_u.extend(self.dofs.iter().map(|&d| s.u[d]));
+        if s.forces.len() == self.dofs.len() {
+            self.forces.extend_from_slice(s.forces);
+        } else {
+            self.forces.extend(std::iter::repeat_n(0.0, self.dofs.len()));
+        }
+        self.active.push(s.active);
+        if self.every > 0 && s.n % self.every == 0 {
+            self.fields_t.push(s.t);
+            self.fields.extend_from_slice(s.u);
+        }
+        Ok(())
+    }
+}
+
+/// What a run recorded (see `signorini.run`).
+#[pyclass(module = "signorini._signorini", frozen, get_all)]
+pub struct RunArrays {
+    t: Py<PyArray1<f64>>,
+    tip: Py<PyArray1<f64>>,
+    lam_t: Py<PyArray1<f64>>,
+    lam: Py<PyArray1<f64>>,
+    energy_t: Py<PyArray1<f64>>,
+    energy: Py<PyArray1<f64>>,
+    contact_dofs: Vec<usize>,
+    contact_u: Py<PyArray2<f64>>,
+    forces: Py<PyArray2<f64>>,
+    active: Py<PyArray1<bool>>,
+    fields_t: Py<PyArray1<f64>>,
+    fields: Py<PyArray2<f64>>,
+    norms: Option<Py<PyDict>>,
+    steps: usize,
+    contact_steps: usize,
+    dt: f64,
+    status: String,
+}
+
+fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>>> {
+    let rows = if cols == 0 { 0 } else { v.len() / cols };
+    let a = Array2::from_shape_vec((rows, cols), v).map_err(|e| InternalError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py).unbind())
+}
+
+/// Runs a scene (see `signorini.run`). The stepping releases the GIL and
+/// checks for Ctrl-C every 50 ms; a KeyboardInterrupt or a blow-up carries
+/// the partial result as its `partial` attribute.
+#[pyfunction]
+#[pyo3(signature = (scene, energy=None, fields_every=0))]
+pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64) -> PyResult<RunArrays> {
+    use signorini_cli::scene::Scene;
+    use signorini_run::{run, NormObserver, RunConfig};
+    use std::sync::atomic::{AtomicBool, Ordering};
+    if fields_every < 0 {
+        return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
+    }
+    let (_, s) = scene_of(scene)?;
+    let (dt, t_end, energy_default) = match &s {
+        Scene::Bar(b) => (b.dt, b.t_end, true),
+        Scene::Beam { scene, .. } => (scene.dt, scene.t_end, false),
+        Scene::Oscillator { dt, t_end, .. } => (*dt, *t_end, true),
+    };
+    let exact = match &s {
+        Scene::Bar(b) => match b.benchmark {
+            Some(bench) => Some(bench.exact(b.t_end).map_err(|e| SceneError::new_err(e.to_string()))?),
+            None => None,
+        },
+        _ => None,
+    };
+    let mut built = guarded(|| signorini_cli::build(&s, None).map_err(|e| SceneError::new_err(e.to_string())))?;
+    let mut cfg = RunConfig::new(dt, t_end).map_err(|e| SceneError::new_err(e.to_string()))?;
+    // One flag per run, set from this thread when Python has a pending signal.
+    let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+    cfg.interrupt = Some(flag);
+    let levels = cfg.steps() + 1;
+    let unknowns = built.u0.len();
+    let dofs: Vec<usize> = built.stepper.dynamics().contacts.iter().map(|c| c.dof).collect();
+    let mut rec = Recorder::new(built.tip, dofs.clone(), energy.unwrap_or(energy_default), fields_every as usize, levels, unknowns);
+    let mut norms = match (&s, exact.as_deref()) {
+        (Scene::Bar(b), Some(e)) => Some(NormObserver::new(e, b.problem.bar.elements, b.problem.vnorm(), dt)),
+        _ => None,
+    };
+    let (res, signal) = py.detach(|| {
+        std::thread::scope(|sc| {
+            let worker = sc.spawn(|| {
+                guarded(|| {
+                    let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
+                    if let Some(n) = norms.as_mut() {
+                        obs.push(n);
+                    }
+                    Ok(run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs))
+                })
+            });
+            let mut signal = None;
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+                if signal.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        signal = Some(e);
+                        flag.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the run's thread panicked"))), signal)
+        })
+    });
+    let res = res?;
+    // Fields: the absolute state (the beam's lifting added back).
+    if built.lift.is_some() && unknowns > 0 {
+        let zero = vec![0.0; unknowns];
+        for (row, &t) in rec.fields.chunks_mut(unknowns).zip(&rec.fields_t) {
+            let (abs, _) = built.absolute(row, &zero, t);
+            row.copy_from_slice(&abs);
+        }
+    }
+    let norms = match (&res, norms) {
+        (Ok(_), Some(n)) => {
+            let r = n.report();
+            let d = PyDict::new(py);
+            for k in signorini_run::study::NORMS {
+                d.set_item(k, signorini_run::study::norm_value(&r, k))?;
+            }
+            d.set_item("lambda_tv_ratio", r.lambda_tv_ratio)?;
+            Some(d.unbind())
+        }
+        _ => None,
+    };
+    let status = match &res {
+        Ok(_) => "ok".to_string(),
+        Err(e) => e.to_string(),
+    };
+    let c = dofs.len();
+    let out = RunArrays {
+        steps: res.as_ref().map_or(rec.t.len().saturating_sub(1), |s| s.steps),
+        contact_steps: res.as_ref().map_or_else(|_| rec.active.iter().filter(|a| **a).count(), |s| s.contact_steps),
+        t: rec.t.into_pyarray(py).unbind(),
+        tip: rec.tip_u.into_pyarray(py).unbind(),
+        lam_t: rec.lam_t.into_pyarray(py).unbind(),
+        lam: rec.lam.into_pyarray(py).unbind(),
+        energy_t: rec.energy_t.into_pyarray(py).unbind(),
+        energy: rec.energy_v.into_pyarray(py).unbind(),
+        contact_dofs: dofs,
+        contact_u: matrix(py, rec.contact_u, c)?,
+        forces: matrix(py, rec.forces, c)?,
+        active: rec.active.into_pyarray(py).unbind(),
+        fields_t: rec.fields_t.into_pyarray(py).unbind(),
+        fields: matrix(py, rec.fields, unknowns)?,
+        norms,
+        dt,
+        status,
+    };
+    let err = match (signal, res) {
+        (Some(e), _) => e,
+        (None, Ok(_)) => return Ok(out),
+        (None, Err(e @ (RunError::BlowUp { .. } | RunError::EnergyGrowth { .. }))) => BlowUp::new_err(e.to_string()),
+        (None, Err(e)) => SceneError::new_err(e.to_string()),
+    };
+    err.value(py).setattr("partial", Py::new(py, out)?)?;
+    Err(err)
+}
