@@ -51,6 +51,9 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     )?;
     let wheel = std::fs::read_dir(&wheels).map_err(|e| format!("{}: {e}", wheels.display()))?.filter_map(|e| e.ok().map(|e| e.path())).find(|p| p.extension().is_some_and(|x| x == "whl")).ok_or("maturin wrote no wheel")?;
     run(Command::new(&py).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel), "pip install the wheel")?;
-    run(Command::new(&py).current_dir(&root).args(["-m", "pytest", "-q", "python/tests"]), "pytest")?;
+    // The tests compare with the `signorini` command's files: build it (a
+    // no-op after `cargo test`) and tell them where it is.
+    run(Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "signorini-cli", "--bin", "signorini"]), "cargo build signorini")?;
+    run(Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).args(["-m", "pytest", "-q", "python/tests"]), "pytest")?;
     Ok(())
 }
