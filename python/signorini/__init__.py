@@ -9,7 +9,7 @@ the finite-element matrices (:mod:`signorini.fem`), the studies and sweeps. Erro
 from ._signorini import BlowUp, InternalError, SceneError, __version__
 from . import _check, _signorini, exact, fem
 
-__all__ = ["BlowUp", "InternalError", "SceneError", "exact", "fem", "run", "__version__"]
+__all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "exact", "fem", "run", "__version__"]
 
 
 def run(scene, *, energy=None, fields_every=0):
@@ -21,7 +21,8 @@ def run(scene, *, energy=None, fields_every=0):
     * ``t`` (levels), ``tip`` (the contact dof of a bar — contact 0 —, the
       beam's tip, the oscillator's x, one value per level);
     * ``contact_dofs`` and ``contact_u`` (levels × contacts: each contact
-      dof's displacement), ``forces`` (levels × contacts: each contact's
+      dof's displacement), ``contact_lo``/``contact_hi`` (each contact's
+      bounds ``lo <= u <= hi``, ±inf where there is none), ``forces`` (levels × contacts: each contact's
       force from the step that reached the level, zeros at the start levels),
       ``active`` (bool per level: some constraint active);
     * ``lam_t``/``lam`` (contact 0's force per step and its time);
@@ -46,4 +47,32 @@ def run(scene, *, energy=None, fields_every=0):
     if energy is not None and not isinstance(energy, bool):
         raise SceneError(f"energy: {energy!r} is a {type(energy).__name__}: True, False or None")
     fields_every = _check.integer("fields_every", fields_every, 0)
-    return _signorini.run_scene(scene, energy, fields_every)
+    try:
+        return RunResult(_signorini.run_scene(scene, energy, fields_every))
+    except (KeyboardInterrupt, BlowUp, SceneError) as e:
+        part = getattr(e, "partial", None)
+        if part is not None:
+            e.partial = RunResult(part)
+        raise
+
+
+class RunResult:
+    """What :func:`run` recorded: numpy arrays and a few numbers (see
+    :func:`run` for each attribute). Plain Python data: it pickles, so it
+    comes back from a dask or multiprocessing worker."""
+
+    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status")
+
+    def __init__(self, arrays=None, **values):
+        for k in self.__slots__:
+            setattr(self, k, getattr(arrays, k) if arrays is not None else values[k])
+
+    def __reduce__(self):
+        return (_rebuild, ({k: getattr(self, k) for k in self.__slots__},))
+
+    def __repr__(self) -> str:
+        return f"<signorini.RunResult: {self.steps} steps, {len(self.contact_dofs)} contact(s), status {self.status!r}>"
+
+
+def _rebuild(values):
+    return RunResult(**values)

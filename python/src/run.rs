@@ -93,6 +93,8 @@ pub struct RunArrays {
     energy_t: Py<PyArray1<f64>>,
     energy: Py<PyArray1<f64>>,
     contact_dofs: Vec<usize>,
+    contact_lo: Py<PyArray1<f64>>,
+    contact_hi: Py<PyArray1<f64>>,
     contact_u: Py<PyArray2<f64>>,
     forces: Py<PyArray2<f64>>,
     active: Py<PyArray1<bool>>,
@@ -144,6 +146,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     let levels = cfg.steps() + 1;
     let unknowns = built.u0.len();
     let dofs: Vec<usize> = built.stepper.dynamics().contacts.iter().map(|c| c.dof).collect();
+    let (lo, hi): (Vec<f64>, Vec<f64>) = built.stepper.dynamics().contacts.iter().map(|c| (c.bounds.lo, c.bounds.hi)).unzip();
     let mut rec = Recorder::new(built.tip, dofs.clone(), energy.unwrap_or(energy_default), fields_every as usize, levels, unknowns);
     let mut norms = match (&s, exact.as_deref()) {
         (Scene::Bar(b), Some(e)) => Some(NormObserver::new(e, b.problem.bar.elements, b.problem.vnorm(), dt)),
@@ -209,6 +212,8 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         energy_t: rec.energy_t.into_pyarray(py).unbind(),
         energy: rec.energy_v.into_pyarray(py).unbind(),
         contact_dofs: dofs,
+        contact_lo: lo.into_pyarray(py).unbind(),
+        contact_hi: hi.into_pyarray(py).unbind(),
         contact_u: matrix(py, rec.contact_u, c)?,
         forces: matrix(py, rec.forces, c)?,
         active: rec.active.into_pyarray(py).unbind(),

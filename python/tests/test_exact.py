@@ -26,10 +26,7 @@ def test_dirichlet_hand_values_and_broadcasting():
     assert s.lam(np.array([[0.1, 0.2]])).shape == (1, 2)
 
 
-def test_against_the_cli_exact_columns(tmp_path):
-    exe = ROOT / "target" / "release" / "signorini"
-    if not exe.exists():
-        pytest.skip("the signorini binary is not built (cargo build --release)")
+def test_against_the_cli_exact_columns(tmp_path, exe):
     out = tmp_path / "run"
     subprocess.run([str(exe), "run", str(ROOT / "data/scenes/bar-dirichlet.toml"), "--out", str(out)], check=True, capture_output=True)
     with open(out / "series.csv") as f:

@@ -3,8 +3,8 @@ dict; typed errors; Ctrl-C keeps the partial result."""
 
 import _thread
 import csv
-import os
 import pathlib
+import signal
 import subprocess
 import threading
 
@@ -13,23 +13,18 @@ import pytest
 
 import signorini
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+from conftest import EXE, ROOT
+
 SCENE = ROOT / "data/scenes/bar-dirichlet.toml"
-# `cargo xtask test` builds the command and says where; run alone, pytest
-# looks in target/ and skips the comparisons if it is not built.
-EXE = pathlib.Path(os.environ.get("SIGNORINI_BIN", ROOT / "target" / "release" / "signorini"))
 
 
-def test_path_text_and_dict_give_the_cli_numbers(tmp_path):
+def test_path_text_and_dict_give_the_cli_numbers(tmp_path, exe):
     a = signorini.run(SCENE)
     b = signorini.run(SCENE.read_text())
     c = signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": 80, "mass": "mod", "scheme": "newmark-cn", "ratio": 10.0, "t_end": 3.0}})
     for r in (b, c):
         assert np.array_equal(a.t, r.t) and np.array_equal(a.tip, r.tip) and np.array_equal(a.lam, r.lam)
     assert a.t.dtype == np.float64 and a.t.shape == (2401,) and a.status == "ok" and a.steps == 2400
-    exe = EXE
-    if not exe.exists():
-        pytest.skip("the signorini binary is not built")
     out = tmp_path / "run"
     subprocess.run([str(exe), "run", str(SCENE), "--out", str(out)], check=True, capture_output=True)
     with open(out / "series.csv") as f:
@@ -52,17 +47,23 @@ def test_bad_input_names_the_field():
 def test_ctrl_c_keeps_the_partial_result():
     # About a second of stepping; interrupted after 0.3 s.
     long = {"bar": {"benchmark": "bar-dirichlet", "elements": 400, "mass": "mod", "scheme": "newmark-cn", "ratio": 1.0, "t_end": 3000.0}}
-    threading.Timer(0.3, _thread.interrupt_main).start()
-    with pytest.raises(KeyboardInterrupt) as e:
-        signorini.run(long)
+    # interrupt_main does nothing when SIGINT is ignored (a process started
+    # in the background by a shell): Python's own handler, for this test.
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        threading.Timer(0.3, _thread.interrupt_main).start()
+        with pytest.raises(KeyboardInterrupt) as e:
+            signorini.run(long)
+    finally:
+        signal.signal(signal.SIGINT, old)
     part = e.value.partial
     assert 0 < part.t.size < 1_200_001 and "interrupted" in part.status
 
 
 def cli(tmp_path, scene_text, name):
+    if not EXE.exists():
+        pytest.skip(f"the signorini command is not built ({EXE})")
     exe = EXE
-    if not exe.exists():
-        pytest.skip("the signorini binary is not built")
     path = tmp_path / f"{name}.toml"
     path.write_text(scene_text)
     out = tmp_path / name

@@ -2,7 +2,8 @@
 //! workspace's (`cargo test --workspace --release`, the Python crate
 //! excluded: maturin builds it with its own environment), then the Python
 //! package built by maturin into a virtual environment this command creates
-//! (`target/py-venv`, with maturin, numpy and pytest from the package index)
+//! (`target/py-venv`, with maturin, numpy, pytest, dask.distributed (the
+//! scale-out test) and matplotlib (the examples) from the package index)
 //! and its pytest suite (`python/tests`).
 
 use std::path::PathBuf;
@@ -42,7 +43,7 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     if !py.exists() {
         run(Command::new("python3").args(["-m", "venv"]).arg(&venv), "python3 -m venv")?;
     }
-    run(Command::new(&py).args(["-m", "pip", "install", "-q", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest"]), "pip install maturin numpy pytest")?;
+    run(Command::new(&py).args(["-m", "pip", "install", "-q", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"]), "pip install maturin numpy pytest dask[distributed] matplotlib")?;
     let wheels = target.join("wheels");
     let _ = std::fs::remove_dir_all(&wheels);
     run(
