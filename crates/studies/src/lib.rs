@@ -14,7 +14,11 @@
 //! `progress(done, total)` is called from the worker threads as runs
 //! finish (studies that report no progress never call it).
 
+pub mod beam;
 pub mod convergence;
+pub mod stress;
+pub mod weighted;
+pub mod work_precision;
 
 use signorini_fem::BarMass;
 use signorini_schemes::SchemeSpec;
