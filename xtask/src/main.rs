@@ -24,14 +24,9 @@ mod wp;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use signorini_fem::BarMass;
-use signorini_norms::NormKind;
-use signorini_run::study::{self, StudyConfig};
-use signorini_run::Benchmark;
-use signorini_schemes::SchemeSpec;
+use signorini_studies::convergence;
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal};
-use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -122,74 +117,36 @@ fn main() -> ExitCode {
 }
 
 fn convergence(a: ConvergenceArgs) -> Result<(), String> {
-    let benchmark: Benchmark = a.benchmark.parse().map_err(|e| format!("--benchmark: {e}"))?;
+    let benchmark = convergence::parse_benchmark(&a.benchmark).map_err(|e| e.to_string())?;
     // Schemes may contain commas inside parentheses: split on ',' outside them.
-    let schemes = split_schemes(&a.schemes).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| format!("--schemes: {e}"))).collect::<Result<Vec<_>, _>>()?;
-    let masses = a.masses.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| format!("--masses: {e}"))).collect::<Result<Vec<_>, _>>()?;
-    let (ratio0, t0) = benchmark.default_ratio_and_horizon();
-    let norms = match a.norms.as_str() {
-        "exact" => NormKind::Exact,
-        "getfem" => NormKind::GetfemInterpolated,
-        other => return Err(format!("--norms {other:?}: allowed exact or getfem")),
-    };
-    let mut cfg = StudyConfig { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio.unwrap_or(ratio0), t_end: a.t_end.unwrap_or(t0), norms };
-    cfg.validate().map_err(|e| e.to_string())?;
-    if benchmark == Benchmark::BarMirrored {
-        cfg.schemes = several_contact_schemes(&cfg)?;
-    }
-    // The sweep runs as many levels at once as there are cores.
-    fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
-    let folder = if norms == NormKind::Exact { benchmark.name().to_string() } else { format!("{}-getfem-norms", benchmark.name()) };
-    let out = a.out.unwrap_or_else(|| PathBuf::from("out/convergence").join(folder));
-
-    let results = run_study(&cfg, &out)?;
-    println!(
-        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n",
-        cfg.benchmark,
-        cfg.ratio,
-        cfg.t_end,
-        cfg.levels,
-        if cfg.norms == NormKind::Exact { "" } else { " — GetFEM-demo norms: errors of the nodal interpolant, relative" },
-        out.display()
-    );
-    print!("{}", study::markdown_table(&results.0));
-    println!("\n{} runs in {:.1} s", results.0.iter().map(|r| r.levels.len()).sum::<usize>(), results.1);
+    let schemes = signorini_studies::parse_schemes(&a.schemes).map_err(|e| e.to_string())?;
+    let masses = signorini_studies::parse_masses(&a.masses).map_err(|e| e.to_string())?;
+    let norms = convergence::parse_norms(&a.norms).map_err(|e| e.to_string())?;
+    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms };
+    let out = with_progress_bar(|p| convergence::run(&cfg, p)).map_err(|e| e.to_string())?;
+    notes(&out.notes);
+    print!("{}", out.report);
     Ok(())
 }
 
-/// The schemes of `cfg` that take several contacts (bar-mirrored has two
-/// stops): each is built on the smallest level with each mass, and one that
-/// refuses the structure (the reduced schemes, Nitsche) is left out with a
-/// printed note. Nothing left is an error.
-fn several_contact_schemes(cfg: &StudyConfig) -> Result<Vec<SchemeSpec>, String> {
-    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| e.to_string())?;
-    let m = cfg.levels.iter().copied().min().unwrap_or(2);
-    let mut keep = Vec::new();
-    'schemes: for s in &cfg.schemes {
-        for &mass in &cfg.masses {
-            let p = cfg.benchmark.problem(exact.as_ref(), m, mass).map_err(|e| format!("--masses {mass}: {e}"))?;
-            if let Err(signorini_schemes::SchemeError::Structure(why)) = s.build(p.dynamics(), p.bar.h() / cfg.ratio, &p.initial) {
-                eprintln!("note: {s} skipped on {}: {why}", cfg.benchmark);
-                continue 'schemes;
-            }
-        }
-        keep.push(*s);
+/// Prints a study's notes and warnings on stderr.
+pub(crate) fn notes(notes: &[String]) {
+    for n in notes {
+        eprintln!("{n}");
     }
-    if keep.is_empty() {
-        return Err(format!("--schemes: none of them takes the two stops of {}: use newmark, theta, ps, penalty or moreau-jean", cfg.benchmark));
-    }
-    Ok(keep)
 }
 
-/// Refuses `copies` runs of `elements` elements at once beyond the
-/// machine's available memory (the estimate of `signorini check`).
-pub(crate) fn fits_memory(flag: &str, elements: usize, copies: usize) -> Result<(), String> {
-    let need = signorini_cli::scene::memory_estimate(elements, false) * copies.max(1) as f64;
-    let have = signorini_cli::scene::Limits::machine().max_memory;
-    if need > have {
-        return Err(format!("{flag}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", signorini_cli::scene::bytes(need), signorini_cli::scene::bytes(have)));
-    }
-    Ok(())
+/// Runs `f` with a progress bar on a terminal (hidden otherwise) driven by
+/// its `progress(done, total)` callback.
+pub(crate) fn with_progress_bar<T>(f: impl FnOnce(&(dyn Fn(u64, u64) + Sync)) -> T) -> T {
+    let bar = ProgressBar::with_draw_target(Some(0), if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    let r = f(&|done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    });
+    bar.finish_and_clear();
+    r
 }
 
 /// Creates a file in `dir` for writing.
@@ -198,52 +155,3 @@ pub(crate) fn create(dir: &Path, name: &str) -> Result<BufWriter<File>, String> 
     File::create(&p).map(BufWriter::new).map_err(|e| format!("cannot write {}: {e}", p.display()))
 }
 
-/// Runs a sweep with a progress bar on a terminal and writes its CSVs and
-/// log-log plots into `out`; returns the results and the wall time.
-pub(crate) fn run_study(cfg: &StudyConfig, out: &Path) -> Result<(Vec<study::ConfigResult>, f64), String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
-    let bar = ProgressBar::with_draw_target(Some(total), if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() });
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
-    let start = std::time::Instant::now();
-    let results = study::sweep(cfg, &|| bar.inc(1)).map_err(|e| e.to_string())?;
-    bar.finish_and_clear();
-    let wall = start.elapsed().as_secs_f64();
-    for r in &results {
-        r.write_csv(create(out, &r.file_name())?).map_err(|e| e.to_string())?;
-    }
-    study::write_rates(create(out, "rates.csv")?, &results).map_err(|e| e.to_string())?;
-    study::write_oscillation(create(out, "oscillation.csv")?, &results).map_err(|e| e.to_string())?;
-    for norm in ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"] {
-        let series: Vec<Series> = results
-            .iter()
-            .map(|r| {
-                // Colour by scheme, marker and dash by mass.
-                let style = Style { group: cfg.schemes.iter().position(|s| *s == r.scheme), variant: cfg.masses.iter().position(|m| *m == r.mass) };
-                Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false, style }
-            })
-            .collect();
-        let chart = Chart { title: &format!("{}: {norm} against dx (dx/dt = {})", cfg.benchmark, cfg.ratio), x_label: "dx", y_label: norm, scale: Scale::LogLog, size: (900, 600) };
-        match line_chart(&chart, &series) {
-            Ok(svg) => std::fs::write(out.join(format!("plot_{norm}.svg")), svg).map_err(|e| e.to_string())?,
-            Err(e) => eprintln!("warning: plot of {norm} skipped: {e}"),
-        }
-    }
-    Ok((results, wall))
-}
-
-/// Joins pieces that clap split inside parentheses, e.g. `newmark(0.25` + `0.5)`.
-fn split_schemes(raw: &[String]) -> Vec<String> {
-    let mut out: Vec<String> = Vec::new();
-    for piece in raw.iter().flat_map(|s| s.split(',')) {
-        match out.last_mut() {
-            Some(last) if last.matches('(').count() > last.matches(')').count() => {
-                last.push(',');
-                last.push_str(piece.trim());
-            }
-            _ => out.push(piece.trim().to_string()),
-        }
-    }
-    out.retain(|s| !s.is_empty());
-    out
-}

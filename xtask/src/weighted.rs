@@ -1,32 +1,8 @@
 //! `cargo xtask weighted`: the weighted-mass-redistribution study
-//! (the weighted mass-redistribution paper, docs/theory.md §9; masses §2.1.2,
-//! schemes §4.5).
-//!
-//! Outputs (folder `out/weighted/` by default):
-//! * `series/<scheme>_<mass>_m<M>.csv`: time series on [0, T] of the contact
-//!   node — columns `t,u0,u0_exact,lambda_t,lambda,lambda_exact,energy_t,energy,energy_exact`;
-//! * `plots/<scheme>_{u0,lambda,energy}_T<T>.svg`: the three weights against the exact solution;
-//! * `phase.csv`: `scheme,mass,m,dt,takeoff,takeoff_error,impact2,impact2_error,u0_linf_0_30`
-//!   (exact take-off at t = 2, next impact at t = 4);
-//! * `energy.csv`: `scheme,mass,m,dt,energy_1,energy_3,energy_30,initial_loss,dissipated_3,dissipated_30`:
-//!   `energy_1` is E_h after the first step, which moves the massless node to
-//!   its equilibrium: `initial_loss = 1/8 - energy_1` is h/8 plus a
-//!   scheme-dependent O(dt²/h) term (docs/theory.md §7.7); `dissipated_T =
-//!   energy_1 - E_h(T)`. For `ps-e1` (two-step, energies at half steps),
-//!   `energy_1` is `E^{3/2}`: its `E^{1/2}` has lost only part (3h/32) of
-//!   the start-up loss, the rest goes in the next half step;
-//! * `convergence/`: the same files as `cargo xtask convergence` for the
-//!   (scheme, weight) pairs.
+//! (`signorini_studies::weighted`, which documents its outputs).
 
-use crate::{create, run_study};
-use signorini_exact::{BarDirichlet, ExactSolution};
-use signorini_fem::BarMass;
-use signorini_plot::{line_chart, Chart, Scale, Series};
-use signorini_run::analysis::{events, linf_error};
-use signorini_run::study::{self, StudyConfig};
-use signorini_run::{Benchmark, History, Record, RunConfig};
-use signorini_schemes::SchemeSpec;
-use std::path::{Path, PathBuf};
+use signorini_studies::weighted;
+use std::path::PathBuf;
 
 /// Arguments of `cargo xtask weighted`.
 #[derive(clap::Args)]
@@ -40,162 +16,11 @@ pub struct Args {
     t_end: f64,
 }
 
-const SCHEMES: [&str; 4] = ["newmark-cn", "backward-euler", "ps-e1", "hybrid"];
-const MASSES: [BarMass; 3] = [BarMass::Mod1, BarMass::Mod2, BarMass::Mod3];
-/// The paper's figure resolution (dx = 1/6, dt = 1/100) and a 4× finer one at the same ratio.
-const RESOLUTIONS: [(usize, f64); 2] = [(6, 0.01), (24, 0.0025)];
-
-struct FigureRun {
-    scheme: String,
-    mass: BarMass,
-    m: usize,
-    dt: f64,
-    records: Vec<Record>,
-}
-
-fn figure_run(scheme: SchemeSpec, mass: BarMass, m: usize, dt: f64, t_end: f64) -> Result<FigureRun, String> {
-    let exact = BarDirichlet;
-    let p = Benchmark::BarDirichlet.problem(&exact, m, mass).map_err(|e| e.to_string())?;
-    let mut s = scheme.build(p.dynamics(), dt, &p.initial).map_err(|e| e.to_string())?;
-    let mut h = History::new(0, true);
-    signorini_run::run(s.as_mut(), &p.initial.u, &RunConfig::new(dt, t_end).map_err(|e| e.to_string())?, &mut [&mut h]).map_err(|e| e.to_string())?;
-    Ok(FigureRun { scheme: scheme.to_string(), mass, m, dt, records: h.records })
-}
-
-fn write_series(dir: &Path, r: &FigureRun) -> Result<(), String> {
-    let ex = BarDirichlet;
-    let mut w = csv::Writer::from_writer(create(dir, &format!("{}_{}_m{}.csv", r.scheme, r.mass, r.m))?);
-    let io = |e: csv::Error| e.to_string();
-    w.write_record(["t", "u0", "u0_exact", "lambda_t", "lambda", "lambda_exact", "energy_t", "energy", "energy_exact"]).map_err(io)?;
-    let f = |x: f64| format!("{x:.10e}");
-    let o = |x: Option<f64>| x.map_or(String::new(), f);
-    for rec in &r.records {
-        let lt = rec.lambda.map(|l| l.0);
-        w.write_record([
-            f(rec.t),
-            f(rec.u_contact),
-            f(ex.fields(0.0, rec.t).u),
-            o(lt),
-            o(rec.lambda.map(|l| l.1)),
-            o(lt.map(|t| ex.lambda(t))),
-            o(rec.energy.map(|e| e.0)),
-            o(rec.energy.map(|e| e.1)),
-            f(ex.energy()),
-        ])
-        .map_err(io)?;
-    }
-    w.flush().map_err(|e| e.to_string())
-}
-
-fn plot(dir: &Path, scheme: &str, runs: &[&FigureRun], what: &str, t_max: f64) -> Result<(), String> {
-    let ex = BarDirichlet;
-    let pick = |rec: &Record| -> Option<(f64, f64)> {
-        match what {
-            "u0" => Some((rec.t, rec.u_contact)),
-            "lambda" => rec.lambda,
-            _ => rec.energy,
-        }
-    };
-    let mut series: Vec<Series> = runs
-        .iter()
-        .map(|r| Series { label: r.mass.to_string(), points: r.records.iter().filter_map(pick).filter(|p| p.0 <= t_max).collect(), reference: false, style: Default::default() })
-        .collect();
-    let n = 3000;
-    let exact: Vec<(f64, f64)> = (0..=n)
-        .map(|i| t_max * i as f64 / n as f64)
-        .map(|t| {
-            (
-                t,
-                match what {
-                    "u0" => ex.fields(0.0, t).u,
-                    "lambda" => ex.lambda(t),
-                    _ => ex.energy(),
-                },
-            )
-        })
-        .collect();
-    series.push(Series { label: "exact".into(), points: exact, reference: true, style: Default::default() });
-    let m = runs.first().map_or(0, |r| r.m);
-    let dt = runs.first().map_or(0.0, |r| r.dt);
-    let title = format!("{scheme}: {what}, dx = 1/{m}, dt = {dt}");
-    let y = match what {
-        "u0" => "u(0,t)",
-        "lambda" => "λ(t)",
-        _ => "energy",
-    };
-    let svg = line_chart(&Chart { title: &title, x_label: "t", y_label: y, scale: Scale::Linear, size: (900, 450) }, &series)?;
-    std::fs::write(dir.join(format!("{scheme}_{what}_T{t_max}.svg")), svg).map_err(|e| e.to_string())
-}
-
 /// Runs the study.
 pub fn run(a: Args) -> Result<(), String> {
-    if !(a.t_end >= 4.5 && a.t_end.is_finite()) {
-        return Err(format!("--t-end {}: allowed finite and >= 4.5 (the second impact is at t = 4)", a.t_end));
-    }
-    // Everything is checked before a file is created.
-    for (_, dt) in RESOLUTIONS {
-        RunConfig::new(dt, a.t_end).map_err(|e| format!("--t-end: {e}"))?;
-    }
-    let (series_dir, plots_dir) = (a.out.join("series"), a.out.join("plots"));
-    for d in [&a.out, &series_dir, &plots_dir] {
-        std::fs::create_dir_all(d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
-    }
-    let start = std::time::Instant::now();
-    let schemes: Vec<SchemeSpec> = SCHEMES.iter().map(|s| s.parse().map_err(|e| format!("{e}"))).collect::<Result<_, String>>()?;
-    // Figure runs.
-    let mut runs = Vec::new();
-    for (m, dt) in RESOLUTIONS {
-        for s in &schemes {
-            for mass in MASSES {
-                runs.push(figure_run(*s, mass, m, dt, a.t_end)?);
-            }
-        }
-    }
-    for r in &runs {
-        write_series(&series_dir, r)?;
-    }
-    for s in SCHEMES {
-        let fig: Vec<&FigureRun> = runs.iter().filter(|r| r.scheme == s && r.m == RESOLUTIONS[0].0).collect();
-        plot(&plots_dir, s, &fig, "u0", 3.0)?;
-        plot(&plots_dir, s, &fig, "u0", a.t_end)?;
-        plot(&plots_dir, s, &fig, "lambda", 3.0)?;
-        plot(&plots_dir, s, &fig, "energy", a.t_end)?;
-    }
-    // Phase shift and energy tables.
-    let ex = BarDirichlet;
-    let mut phase = csv::Writer::from_writer(create(&a.out, "phase.csv")?);
-    let mut energy = csv::Writer::from_writer(create(&a.out, "energy.csv")?);
-    let io = |e: csv::Error| e.to_string();
-    phase.write_record(["scheme", "mass", "m", "dt", "takeoff", "takeoff_error", "impact2", "impact2_error", "u0_linf_0_30"]).map_err(io)?;
-    energy.write_record(["scheme", "mass", "m", "dt", "energy_1", "energy_3", "energy_30", "initial_loss", "dissipated_3", "dissipated_30"]).map_err(io)?;
-    let mut md_phase = String::from("| scheme | mass | m | take-off − 2 | 2nd impact − 4 | max |u₀ − u₀ₑₓ| on [0,30] |\n|---|---|---|---|---|---|\n");
-    let mut md_energy = String::from("| scheme | mass | m | E_h(dt) | E_h(3) | E_h(30) | dissipated by 3 | dissipated by 30 |\n|---|---|---|---|---|---|---|---|\n");
-    let opt = |x: Option<f64>| x.map_or("none".to_string(), |v| format!("{v:+.4}"));
-    for r in &runs {
-        let ev = events(&r.records);
-        let (to_err, im_err) = (ev.first_takeoff.map(|t| t - 2.0), ev.second_impact.map(|t| t - 4.0));
-        let linf = linf_error(&r.records, 30.0, |t| ex.fields(0.0, t).u);
-        let e_at = |t: f64| r.records.iter().rev().filter_map(|x| x.energy).find(|e| e.0 <= t + 1e-9).map_or(f64::NAN, |e| e.1);
-        // After the first full step: E^1, or E^{3/2} for a two-step scheme
-        // (whose first energy, E^{1/2}, still holds part of the start-up loss).
-        let e1 = r.records.iter().filter_map(|x| x.energy).find(|e| e.0 >= r.dt - 1e-9).map_or(f64::NAN, |e| e.1);
-        let (e3, e30) = (e_at(3.0), e_at(30.0));
-        let f = |x: f64| format!("{x:.6e}");
-        let fo = |x: Option<f64>| x.map_or(String::new(), f);
-        phase.write_record([r.scheme.clone(), r.mass.to_string(), r.m.to_string(), f(r.dt), fo(ev.first_takeoff), fo(to_err), fo(ev.second_impact), fo(im_err), f(linf)]).map_err(io)?;
-        energy.write_record([r.scheme.clone(), r.mass.to_string(), r.m.to_string(), f(r.dt), f(e1), f(e3), f(e30), f(0.125 - e1), f(e1 - e3), f(e1 - e30)]).map_err(io)?;
-        md_phase.push_str(&format!("| {} | {} | {} | {} | {} | {:.4} |\n", r.scheme, r.mass, r.m, opt(to_err), opt(im_err), linf));
-        md_energy.push_str(&format!("| {} | {} | {} | {:.5} | {:.5} | {:.5} | {:.2e} | {:.2e} |\n", r.scheme, r.mass, r.m, e1, e3, e30, e1 - e3, e1 - e30));
-    }
-    phase.flush().map_err(|e| e.to_string())?;
-    energy.flush().map_err(|e| e.to_string())?;
-    // Convergence of every (scheme, weight) pair, as `cargo xtask convergence`.
-    let cfg = StudyConfig { benchmark: Benchmark::BarDirichlet, schemes, masses: MASSES.to_vec(), levels: vec![10, 20, 40, 80, 160, 320, 640], ratio: 10.0, t_end: 3.0, norms: Default::default() };
-    let (results, _) = run_study(&cfg, &a.out.join("convergence"))?;
-    println!("# Weighted mass redistribution (bar-dirichlet; output in {})\n", a.out.display());
-    println!("## Phase: events of the contact node (resolution dt; exact take-off 2, next impact 4)\n\n{md_phase}");
-    println!("## Energy (exact E = 1/8; the first step loses h/8 + O(dt²/h) to the massless node's equilibrium)\n\n{md_energy}");
-    println!("## Convergence (dx/dt = 10, T = 3), least-squares rates\n\n{}", study::markdown_table(&results));
-    println!("done in {:.1} s", start.elapsed().as_secs_f64());
+    let cfg = weighted::Config { out: a.out, t_end: a.t_end };
+    let out = crate::with_progress_bar(|p| weighted::run(&cfg, p)).map_err(|e| e.to_string())?;
+    crate::notes(&out.notes);
+    print!("{}", out.report);
     Ok(())
 }

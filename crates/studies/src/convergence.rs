@@ -1,0 +1,238 @@
+//! The convergence study (`cargo xtask convergence`): sweep dx at a fixed
+//! dx/dt for each (scheme, mass) pair; one CSV error curve per pair
+//! (`<scheme>_<mass>.csv`, columns [`LEVEL_COLUMNS`]), `rates.csv`
+//! (`scheme,mass,norm,lsq_rate,last_rate`: least-squares and last-two
+//! slopes of `log e` against `log dx`), `oscillation.csv`
+//! (`scheme,mass,m,lambda_tv_ratio`), log-log plots `plot_<norm>.svg`, and
+//! the rates as a Markdown table. Defaults: the papers' study.
+
+use crate::{create_dir, fe, ff, fits_memory, int, parse_schemes, since, txt, Kind, StudyError, Table, TableOut};
+use signorini_fem::BarMass;
+use signorini_norms::NormKind;
+use signorini_plot::{line_chart, Chart, Scale, Series, Style};
+use signorini_run::study::{self, ConfigResult, StudyConfig, LEVEL_COLUMNS, NORMS};
+use signorini_run::Benchmark;
+use signorini_schemes::SchemeSpec;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The default scheme list of `--schemes`.
+pub const DEFAULT_SCHEMES: &str = "newmark-cn,newmark-i,newmark-ii,backward-euler,ps-e0,ps-e0.5,ps-e1";
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Benchmark with an exact solution (`--benchmark`).
+    pub benchmark: Benchmark,
+    /// Schemes (`--schemes`).
+    pub schemes: Vec<SchemeSpec>,
+    /// Mass treatments (`--masses`).
+    pub masses: Vec<BarMass>,
+    /// Numbers of elements m (`--levels`).
+    pub levels: Vec<usize>,
+    /// dx/dt (`--ratio`); `None`: the benchmark's (10 for bar-dirichlet).
+    pub ratio: Option<f64>,
+    /// Horizon T (`--t-end`); `None`: the benchmark's (3 for bar-dirichlet).
+    pub t_end: Option<f64>,
+    /// Output folder (`--out`); `None`: `out/convergence/<benchmark>`, or
+    /// `out/convergence/<benchmark>-getfem-norms` with the GetFEM norms.
+    pub out: Option<PathBuf>,
+    /// Error measure (`--norms`: exact, or getfem = errors of the nodal interpolant, relative).
+    pub norms: NormKind,
+}
+
+impl Default for Config {
+    /// `cargo xtask convergence` without options.
+    fn default() -> Self {
+        Config {
+            benchmark: Benchmark::BarDirichlet,
+            schemes: parse_schemes(&[DEFAULT_SCHEMES.to_string()]).expect("the default schemes parse"),
+            masses: vec![BarMass::Std, BarMass::Mod],
+            levels: vec![10, 20, 40, 80, 160, 320, 640],
+            ratio: None,
+            t_end: None,
+            out: None,
+            norms: NormKind::Exact,
+        }
+    }
+}
+
+/// Parses `--benchmark`.
+pub fn parse_benchmark(s: &str) -> Result<Benchmark, StudyError> {
+    s.parse().map_err(|e| StudyError::config("--benchmark", format!("--benchmark: {e}")))
+}
+
+/// Parses `--norms`: `exact` or `getfem`.
+pub fn parse_norms(s: &str) -> Result<NormKind, StudyError> {
+    match s {
+        "exact" => Ok(NormKind::Exact),
+        "getfem" => Ok(NormKind::GetfemInterpolated),
+        other => Err(StudyError::config("--norms", format!("--norms {other:?}: allowed exact or getfem"))),
+    }
+}
+
+/// Maps a sweep-validation error to the option it names.
+fn study_error(e: signorini_run::RunError) -> StudyError {
+    let field = match &e {
+        signorini_run::RunError::Invalid { field: "ratio", .. } => "--ratio",
+        signorini_run::RunError::Invalid { field: "levels" | "levels/schemes/masses", .. } => "--levels",
+        signorini_run::RunError::Invalid { field: "T" | "dt" | "T/dt", .. } => "--t-end",
+        signorini_run::RunError::Scheme(_) => "--schemes",
+        _ => "--levels",
+    };
+    StudyError::config(field, e.to_string())
+}
+
+impl Config {
+    /// The sweep this configuration runs: the benchmark's dx/dt and horizon
+    /// where none is given, and on bar-mirrored only the schemes that take
+    /// its two stops (the others are listed in the returned notes); the
+    /// output folder. Every check is done here, before anything is run.
+    pub fn resolve(&self) -> Result<(StudyConfig, PathBuf, Vec<String>), StudyError> {
+        let (ratio0, t0) = self.benchmark.default_ratio_and_horizon();
+        let mut cfg = StudyConfig { benchmark: self.benchmark, schemes: self.schemes.clone(), masses: self.masses.clone(), levels: self.levels.clone(), ratio: self.ratio.unwrap_or(ratio0), t_end: self.t_end.unwrap_or(t0), norms: self.norms };
+        cfg.validate().map_err(study_error)?;
+        let mut notes = Vec::new();
+        if self.benchmark == Benchmark::BarMirrored {
+            cfg.schemes = several_contact_schemes(&cfg, &mut notes)?;
+        }
+        // The sweep runs as many levels at once as there are cores.
+        fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
+        let folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
+        let out = self.out.clone().unwrap_or_else(|| PathBuf::from("out/convergence").join(folder));
+        Ok((cfg, out, notes))
+    }
+
+    /// Every check `cargo xtask convergence` does before it runs; an error names the option.
+    pub fn validate(&self) -> Result<(), StudyError> {
+        self.resolve().map(|_| ())
+    }
+}
+
+/// What the study computed and wrote.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// The sweep that ran (on bar-mirrored, only the schemes that take two stops).
+    pub config: StudyConfig,
+    /// The output folder.
+    pub out: PathBuf,
+    /// Per (scheme, mass), the levels' norms.
+    pub results: Vec<ConfigResult>,
+    /// One table per CSV written: `<scheme>_<mass>.csv` in result order, `rates.csv`, `oscillation.csv`.
+    pub tables: Vec<Table>,
+    /// The Markdown report `cargo xtask convergence` prints.
+    pub report: String,
+    /// Wall time of the sweep (s).
+    pub wall_s: f64,
+    /// Notes and warnings for stderr (schemes skipped, plots skipped).
+    pub notes: Vec<String>,
+}
+
+/// Runs the study (see the module documentation).
+pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
+    let (study_cfg, out, mut notes) = cfg.resolve()?;
+    let (results, wall_s, tables) = sweep_into(&study_cfg, &out, "", progress, &mut notes)?;
+    let mut report = format!(
+        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",
+        study_cfg.benchmark,
+        study_cfg.ratio,
+        study_cfg.t_end,
+        study_cfg.levels,
+        if study_cfg.norms == NormKind::Exact { "" } else { " — GetFEM-demo norms: errors of the nodal interpolant, relative" },
+        out.display()
+    );
+    report.push_str(&study::markdown_table(&results));
+    report.push_str(&format!("\n{} runs in {:.1} s\n", results.iter().map(|r| r.levels.len()).sum::<usize>(), wall_s));
+    Ok(Output { config: study_cfg, out, results, tables, report, wall_s, notes })
+}
+
+/// The schemes of `cfg` that take several contacts (bar-mirrored has two
+/// stops): each is built on the smallest level with each mass, and one that
+/// refuses the structure (the reduced schemes, Nitsche) is left out with a
+/// note. Nothing left is an error.
+fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result<Vec<SchemeSpec>, StudyError> {
+    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+    let m = cfg.levels.iter().copied().min().unwrap_or(2);
+    let mut keep = Vec::new();
+    'schemes: for s in &cfg.schemes {
+        for &mass in &cfg.masses {
+            let p = cfg.benchmark.problem(exact.as_ref(), m, mass).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
+            if let Err(signorini_schemes::SchemeError::Structure(why)) = s.build(p.dynamics(), p.bar.h() / cfg.ratio, &p.initial) {
+                notes.push(format!("note: {s} skipped on {}: {why}", cfg.benchmark));
+                continue 'schemes;
+            }
+        }
+        keep.push(*s);
+    }
+    if keep.is_empty() {
+        return Err(StudyError::config("--schemes", format!("--schemes: none of them takes the two stops of {}: use newmark, theta, ps, penalty or moreau-jean", cfg.benchmark)));
+    }
+    Ok(keep)
+}
+
+/// Runs a sweep (progress after every run) and writes its CSVs and log-log
+/// plots into `out`; the tables are named `prefix` + file name. Returns the
+/// results, the sweep's wall time and the tables.
+pub(crate) fn sweep_into(cfg: &StudyConfig, out: &Path, prefix: &str, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
+    create_dir(out)?;
+    let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
+    let done = AtomicU64::new(0);
+    let start = std::time::Instant::now();
+    let results = study::sweep(cfg, &|| progress(done.fetch_add(1, Ordering::Relaxed) + 1, total))?;
+    let wall = since(start);
+    let mut tables = Vec::new();
+    let level_kinds: Vec<(&str, Kind)> = LEVEL_COLUMNS.iter().map(|&c| (c, if c == "m" || c == "steps" { Kind::I } else { Kind::F })).collect();
+    for r in &results {
+        let mut t = TableOut::create_in(out, prefix, &r.file_name(), &level_kinds)?;
+        for l in &r.levels {
+            let mut row = vec![int(l.m), fe(l.dx, 10), fe(l.dt, 10), int(l.steps)];
+            row.extend(NORMS.iter().map(|n| fe(study::norm_value(&l.norms, n), 10)));
+            row.push(ff(l.wall_s, 6));
+            t.row(row)?;
+        }
+        tables.push(t.finish()?);
+    }
+    let mut rates = TableOut::create_in(out, prefix, "rates.csv", &[("scheme", Kind::S), ("mass", Kind::S), ("norm", Kind::S), ("lsq_rate", Kind::F), ("last_rate", Kind::F)])?;
+    for r in &results {
+        for n in NORMS {
+            let rt = r.rate(n);
+            rates.row(vec![txt(r.scheme.to_string()), txt(r.mass.to_string()), txt(n), ff(rt.lsq, 4), ff(rt.last, 4)])?;
+        }
+    }
+    tables.push(rates.finish()?);
+    let mut osc = TableOut::create_in(out, prefix, "oscillation.csv", &[("scheme", Kind::S), ("mass", Kind::S), ("m", Kind::I), ("lambda_tv_ratio", Kind::F)])?;
+    for r in &results {
+        for l in &r.levels {
+            osc.row(vec![txt(r.scheme.to_string()), txt(r.mass.to_string()), int(l.m), ff(l.norms.lambda_tv_ratio, 4)])?;
+        }
+    }
+    tables.push(osc.finish()?);
+    for norm in ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"] {
+        let series: Vec<Series> = results
+            .iter()
+            .map(|r| {
+                // Colour by scheme, marker and dash by mass.
+                let style = Style { group: cfg.schemes.iter().position(|s| *s == r.scheme), variant: cfg.masses.iter().position(|m| *m == r.mass) };
+                Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false, style }
+            })
+            .collect();
+        let chart = Chart { title: &format!("{}: {norm} against dx (dx/dt = {})", cfg.benchmark, cfg.ratio), x_label: "dx", y_label: norm, scale: Scale::LogLog, size: (900, 600) };
+        match line_chart(&chart, &series) {
+            Ok(svg) => crate::write_file(&out.join(format!("plot_{norm}.svg")), &svg)?,
+            Err(e) => notes.push(format!("warning: plot of {norm} skipped: {e}")),
+        }
+    }
+    Ok((results, wall, tables))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_helpers_name_their_option() {
+        assert!(matches!(parse_norms("l2"), Err(StudyError::Config { field, .. }) if field == "--norms"));
+        assert!(matches!(parse_benchmark("nope"), Err(StudyError::Config { field, .. }) if field == "--benchmark"));
+        assert_eq!(parse_norms("getfem").ok(), Some(NormKind::GetfemInterpolated));
+    }
+}

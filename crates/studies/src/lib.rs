@@ -1,0 +1,324 @@
+//! The reproducible studies of signorini as library functions.
+//!
+//! Each study `X` (`convergence`, `weighted`, `beam`, `obstacles`,
+//! `oscillator`, `work_precision`, `stress`) is a module with a `Config`
+//! (plain fields, `Default` = the `cargo xtask` defaults, `validate` doing
+//! every check before anything large is allocated), a `run(cfg, progress)`
+//! that writes every CSV and SVG into the configured folder and returns an
+//! `Output`: one [`Table`] per CSV file written (the values that were
+//! formatted into it, column by column), the Markdown `report` that
+//! `cargo xtask X` prints, the wall time and the `notes` it prints on
+//! stderr. `xtask`, the CLI and the Python package are front ends over
+//! these functions.
+//!
+//! `progress(done, total)` is called from the worker threads as runs
+//! finish (studies that report no progress never call it).
+
+pub mod beam;
+pub mod convergence;
+pub mod stress;
+pub mod weighted;
+pub mod work_precision;
+
+use signorini_fem::BarMass;
+use signorini_schemes::SchemeSpec;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+/// Why a study did not run or did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// Bad input: `field` is the option as `cargo xtask` spells it
+    /// (`--levels`, `--t-end`, ...); `message` is the whole message, which
+    /// starts with the field and names the allowed range.
+    #[error("{message}")]
+    Config {
+        /// The offending option, e.g. `--levels`.
+        field: String,
+        /// The whole message, e.g. `--t-end 3: allowed finite and >= 4.5 (...)`.
+        message: String,
+    },
+    /// A run failed (the message names the run where the study knows it).
+    #[error("{0}")]
+    Run(String),
+    /// A file or folder could not be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// An output folder could not be created.
+    #[error("cannot create {}: {source}", path.display())]
+    CreateDir {
+        /// The folder.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A chart could not be drawn.
+    #[error("{0}")]
+    Plot(String),
+}
+
+impl StudyError {
+    /// A [`StudyError::Config`] for `field` with the whole `message`.
+    pub fn config(field: &str, message: impl Into<String>) -> Self {
+        StudyError::Config { field: field.to_string(), message: message.into() }
+    }
+}
+
+impl From<signorini_run::RunError> for StudyError {
+    fn from(e: signorini_run::RunError) -> Self {
+        StudyError::Run(e.to_string())
+    }
+}
+
+/// One column of a [`Table`]: the values written into the CSV, as the
+/// number that was formatted (an empty cell is `NaN` in an `F64` column).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Column {
+    /// Real values.
+    F64(Vec<f64>),
+    /// Integer values (counts, numbers of elements, steps, seeds).
+    I64(Vec<i64>),
+    /// Text (scheme and mass names, statuses, lists).
+    Str(Vec<String>),
+}
+
+impl Column {
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        match self {
+            Column::F64(v) => v.len(),
+            Column::I64(v) => v.len(),
+            Column::Str(v) => v.len(),
+        }
+    }
+
+    /// True without rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The content of one CSV file a study wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// The file name relative to the study's output folder, e.g.
+    /// `rates.csv` or `convergence/newmark-cn_mod1.csv`.
+    pub file: String,
+    /// `(header, values)` in the CSV's column order.
+    pub columns: Vec<(String, Column)>,
+}
+
+impl Table {
+    /// The column named `name`, if any.
+    pub fn column(&self, name: &str) -> Option<&Column> {
+        self.columns.iter().find(|c| c.0 == name).map(|c| &c.1)
+    }
+}
+
+/// The type a [`Table`] column is declared with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    F,
+    I,
+    S,
+}
+
+/// One CSV cell: its text and the value it was formatted from.
+#[derive(Clone, Debug)]
+pub(crate) enum Cell {
+    /// A real and its text.
+    F(f64, String),
+    /// An integer.
+    I(i64),
+    /// Text.
+    S(String),
+    /// An empty cell.
+    E,
+}
+
+impl Cell {
+    fn text(&self) -> String {
+        match self {
+            Cell::F(_, s) | Cell::S(s) => s.clone(),
+            Cell::I(v) => v.to_string(),
+            Cell::E => String::new(),
+        }
+    }
+}
+
+/// `x` formatted with `{:.p$e}`.
+pub(crate) fn fe(x: f64, p: usize) -> Cell {
+    Cell::F(x, format!("{x:.p$e}"))
+}
+/// `x` formatted with `{:.p$}`.
+pub(crate) fn ff(x: f64, p: usize) -> Cell {
+    Cell::F(x, format!("{x:.p$}"))
+}
+/// `x` formatted with `{}`.
+pub(crate) fn fd(x: f64) -> Cell {
+    Cell::F(x, format!("{x}"))
+}
+/// `x` formatted with `{:e}`.
+pub(crate) fn fde(x: f64) -> Cell {
+    Cell::F(x, format!("{x:e}"))
+}
+/// An integer cell.
+pub(crate) fn int(v: usize) -> Cell {
+    Cell::I(v as i64)
+}
+/// A text cell.
+pub(crate) fn txt(s: impl Into<String>) -> Cell {
+    Cell::S(s.into())
+}
+/// `c`, or an empty cell.
+pub(crate) fn opt(c: Option<Cell>) -> Cell {
+    c.unwrap_or(Cell::E)
+}
+
+/// A CSV file being written: the header goes out at creation, every row
+/// as it is pushed (csv quoting), and the cells are kept for the [`Table`].
+pub(crate) struct TableOut {
+    file: String,
+    path: PathBuf,
+    names: Vec<(String, Kind)>,
+    rows: Vec<Vec<Cell>>,
+    w: csv::Writer<BufWriter<File>>,
+}
+
+impl TableOut {
+    /// Creates `dir/file` (`file` may hold a sub-folder already created) and writes the header.
+    pub(crate) fn create(dir: &Path, file: &str, names: &[(&str, Kind)]) -> Result<Self, StudyError> {
+        Self::create_in(dir, "", file, names)
+    }
+
+    /// As [`TableOut::create`], the table named `prefix` + `file` relative to the output folder.
+    pub(crate) fn create_in(dir: &Path, prefix: &str, file: &str, names: &[(&str, Kind)]) -> Result<Self, StudyError> {
+        let path = dir.join(file);
+        let f = File::create(&path).map_err(|source| StudyError::Io { path: path.clone(), source })?;
+        let mut w = csv::Writer::from_writer(BufWriter::new(f));
+        w.write_record(names.iter().map(|n| n.0)).map_err(|e| csv_err(&path, e))?;
+        Ok(TableOut { file: format!("{prefix}{file}"), path, names: names.iter().map(|(n, k)| (n.to_string(), *k)).collect(), rows: Vec::new(), w })
+    }
+
+    /// Writes one row and keeps it.
+    #[track_caller]
+    pub(crate) fn row(&mut self, cells: Vec<Cell>) -> Result<(), StudyError> {
+        assert_eq!(cells.len(), self.names.len(), "{}: row of {} cells for {} columns", self.file, cells.len(), self.names.len());
+        self.w.write_record(cells.iter().map(Cell::text)).map_err(|e| csv_err(&self.path, e))?;
+        self.rows.push(cells);
+        Ok(())
+    }
+
+    /// Flushes what was written so far to the file.
+    pub(crate) fn flush(&mut self) -> Result<(), StudyError> {
+        self.w.flush().map_err(|source| StudyError::Io { path: self.path.clone(), source })
+    }
+
+    /// Flushes the file and returns its table.
+    pub(crate) fn finish(mut self) -> Result<Table, StudyError> {
+        self.flush()?;
+        let columns = self
+            .names
+            .iter()
+            .enumerate()
+            .map(|(j, (name, kind))| {
+                let cells = self.rows.iter().map(|r| &r[j]);
+                let col = match kind {
+                    Kind::F => Column::F64(
+                        cells
+                            .map(|c| match c {
+                                Cell::F(x, _) => *x,
+                                Cell::I(v) => *v as f64,
+                                Cell::S(s) => s.parse().unwrap_or(f64::NAN),
+                                Cell::E => f64::NAN,
+                            })
+                            .collect(),
+                    ),
+                    Kind::I => Column::I64(
+                        cells
+                            .map(|c| match c {
+                                Cell::I(v) => *v,
+                                Cell::F(x, _) => *x as i64,
+                                Cell::S(s) => s.parse().unwrap_or(i64::MIN),
+                                Cell::E => i64::MIN,
+                            })
+                            .collect(),
+                    ),
+                    Kind::S => Column::Str(cells.map(Cell::text).collect()),
+                };
+                (name.clone(), col)
+            })
+            .collect();
+        Ok(Table { file: self.file, columns })
+    }
+}
+
+fn csv_err(path: &Path, e: csv::Error) -> StudyError {
+    StudyError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) }
+}
+
+/// Creates `dir` and its parents.
+pub(crate) fn create_dir(dir: &Path) -> Result<(), StudyError> {
+    std::fs::create_dir_all(dir).map_err(|source| StudyError::CreateDir { path: dir.to_path_buf(), source })
+}
+
+/// Writes an SVG (or any text) file.
+pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), StudyError> {
+    std::fs::write(path, text).map_err(|source| StudyError::Io { path: path.to_path_buf(), source })
+}
+
+/// Joins pieces split inside parentheses, e.g. `newmark(0.25` + `0.5)`,
+/// after splitting every piece on `,`: `["newmark(0.25,0.5),ps-e0"]` →
+/// `["newmark(0.25,0.5)", "ps-e0"]`. Empty names are dropped.
+pub fn split_schemes(raw: &[String]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for piece in raw.iter().flat_map(|s| s.split(',')) {
+        match out.last_mut() {
+            Some(last) if last.matches('(').count() > last.matches(')').count() => {
+                last.push(',');
+                last.push_str(piece.trim());
+            }
+            _ => out.push(piece.trim().to_string()),
+        }
+    }
+    out.retain(|s| !s.is_empty());
+    out
+}
+
+/// Parses scheme names (presets or `newmark(B,G)`, `theta(T)`, `ps(E[,B])`;
+/// commas inside parentheses do not split, see [`split_schemes`]); an
+/// error names `--schemes`.
+pub fn parse_schemes(raw: &[String]) -> Result<Vec<SchemeSpec>, StudyError> {
+    split_schemes(raw).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| StudyError::config("--schemes", format!("--schemes: {e}")))).collect()
+}
+
+/// Parses mass treatments (`std`, `lumped`, `mod`, ...), each piece trimmed; an error names `--masses`.
+pub fn parse_masses(raw: &[String]) -> Result<Vec<BarMass>, StudyError> {
+    raw.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| StudyError::config("--masses", format!("--masses: {e}")))).collect()
+}
+
+/// Refuses `copies` runs of `elements` elements at once beyond the
+/// machine's available memory (the estimate of `signorini check`); the
+/// error names `flag`.
+pub fn fits_memory(flag: &str, elements: usize, copies: usize) -> Result<(), StudyError> {
+    let need = signorini_cli::scene::memory_estimate(elements, false) * copies.max(1) as f64;
+    let have = signorini_cli::scene::Limits::machine().max_memory;
+    if need > have {
+        return Err(StudyError::config(
+            flag,
+            format!("{flag}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", signorini_cli::scene::bytes(need), signorini_cli::scene::bytes(have)),
+        ));
+    }
+    Ok(())
+}
+
+/// Wall time since `start`, in seconds.
+pub(crate) fn since(start: std::time::Instant) -> f64 {
+    start.elapsed().as_secs_f64()
+}
