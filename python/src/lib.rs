@@ -9,6 +9,7 @@ use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 mod fem;
 mod run;
+mod studies;
 
 use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
 
@@ -207,6 +208,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run_scene, m)?)?;
     m.add_class::<run::RunArrays>()?;
     m.add_class::<fem::Matrices>()?;
+    m.add_function(wrap_pyfunction!(studies::study, m)?)?;
     m.add_function(wrap_pyfunction!(fem::bar_matrices, m)?)?;
     m.add_function(wrap_pyfunction!(fem::beam_matrices, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

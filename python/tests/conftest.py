@@ -10,6 +10,7 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXE = pathlib.Path(os.environ.get("SIGNORINI_BIN", ROOT / "target" / "release" / "signorini"))
+XTASK = pathlib.Path(os.environ.get("SIGNORINI_XTASK", ROOT / "target" / "release" / "xtask"))
 
 
 @pytest.fixture
@@ -17,3 +18,10 @@ def exe():
     if not EXE.exists():
         pytest.skip(f"the signorini command is not built ({EXE}): cargo build --release")
     return EXE
+
+
+@pytest.fixture
+def xtask():
+    if not XTASK.exists():
+        pytest.skip(f"the xtask command is not built ({XTASK}): cargo build --release -p xtask")
+    return XTASK

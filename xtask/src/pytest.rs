@@ -55,6 +55,6 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     // The tests compare with the `signorini` command's files: build it (a
     // no-op after `cargo test`) and tell them where it is.
     run(Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "signorini-cli", "--bin", "signorini"]), "cargo build signorini")?;
-    run(Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).args(["-m", "pytest", "-q", "python/tests"]), "pytest")?;
+    run(Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", std::env::current_exe().unwrap_or_default()).args(["-m", "pytest", "-q", "python/tests"]), "pytest")?;
     Ok(())
 }

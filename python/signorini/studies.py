@@ -1,0 +1,157 @@
+"""The studies of ``cargo xtask``, from Python.
+
+Each function runs the same library code as ``cargo xtask <study>`` (the
+numbers are identical to the CSV files it writes: the tables hold the very
+floats that were formatted into them) and returns a :class:`StudyResult`:
+``tables`` maps each CSV file name (relative to the output folder) to a
+dict of its columns as numpy arrays (float64, int64, or str), ``report`` is
+the Markdown text the command prints, ``wall_s`` its wall time, ``notes``
+what it printed on stderr. With ``out=None`` the files go to a temporary
+folder that is removed afterwards; give ``out`` to keep the CSVs and plots.
+
+The stepping releases the GIL. A study cannot be interrupted half-way: its
+runs go in parallel on every core, and Ctrl-C is seen when it returns.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import numpy as np
+
+from . import _signorini
+
+__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
+
+#: The columns of a convergence study's per-configuration CSV.
+LEVEL_COLUMNS = ("m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s")
+#: The error norms, in column order.
+NORMS = ("linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy")
+
+
+def _table(cols):
+    return {k: (np.asarray(v, dtype=str) if isinstance(v, list) else v) for k, v in cols.items()}
+
+
+class StudyResult:
+    """What a study wrote and printed; see the module's documentation."""
+
+    def __init__(self, d):
+        self.tables = {f: _table(c) for f, c in d["tables"].items()}
+        self.report = d["report"]
+        self.wall_s = d["wall_s"]
+        self.notes = list(d["notes"])
+        self.out = d["out"]
+
+    def __getitem__(self, file):
+        return self.tables[file]
+
+    def __repr__(self) -> str:
+        return f"<signorini.studies.{type(self).__name__}: {len(self.tables)} tables ({', '.join(list(self.tables)[:4])}{', ...' if len(self.tables) > 4 else ''}), {self.wall_s:.2f} s>"
+
+
+class ConvergenceResult(StudyResult):
+    """The error table of a convergence study.
+
+    ``res["linf_l2_u"]`` (any name of :data:`LEVEL_COLUMNS`) is a numpy array
+    in level order when one scheme and one mass were asked; with several,
+    its shape is ``(len(res.schemes), len(res.masses), len(res.levels))``,
+    schemes and masses in the order asked (a scheme that cannot take the
+    benchmark — the reduced ones on the two stops of bar-mirrored — is left
+    out with a note). ``res.rates`` is ``rates.csv`` (columns ``scheme, mass,
+    norm, lsq_rate, last_rate``), ``res.rate(norm, scheme, mass)`` one
+    least-squares rate, ``res.oscillation`` is ``oscillation.csv``; any CSV
+    by its file name: ``res["newmark-cn_std.csv"]``.
+    """
+
+    def __init__(self, d):
+        super().__init__(d)
+        self.configs = [tuple(c) for c in d["configs"]]
+        self.schemes = list(dict.fromkeys(s for s, _, _ in self.configs))
+        self.masses = list(dict.fromkeys(m for _, m, _ in self.configs))
+        self.ratio = d["ratio"]
+        self.t_end = d["t_end"]
+        first = self.tables[self.configs[0][2]] if self.configs else {"m": np.zeros(0, dtype=np.int64)}
+        self.levels = [int(m) for m in first["m"]]
+        self._file = {(s, m): f for s, m, f in self.configs}
+
+    def __getitem__(self, key):
+        if key in self.tables:
+            return self.tables[key]
+        if key not in LEVEL_COLUMNS:
+            raise KeyError(f"{key!r}: a column of {', '.join(LEVEL_COLUMNS)}, or a file of {', '.join(self.tables)}")
+        grid = np.array([[self.tables[self._file[(s, m)]][key] for m in self.masses] for s in self.schemes])
+        return grid[0, 0] if len(self.schemes) == 1 and len(self.masses) == 1 else grid
+
+    @property
+    def rates(self):
+        return self.tables["rates.csv"]
+
+    @property
+    def oscillation(self):
+        return self.tables["oscillation.csv"]
+
+    def rate(self, norm, scheme=None, mass=None, kind="lsq"):
+        """The rate of ``norm`` for (scheme, mass) — each may be omitted when
+        there is one — least squares (``kind='lsq'``) or of the last two levels
+        (``'last'``)."""
+        scheme = scheme if scheme is not None else _only("scheme", self.schemes)
+        mass = mass if mass is not None else _only("mass", self.masses)
+        r = self.rates
+        sel = (r["scheme"] == scheme) & (r["mass"] == mass) & (r["norm"] == norm)
+        if not sel.any():
+            raise KeyError(f"no rate of {norm} for ({scheme}, {mass})")
+        return float(r[f"{kind}_rate"][sel][0])
+
+
+def _only(what, values):
+    if len(values) != 1:
+        raise ValueError(f"{what}: give one of {', '.join(values)}")
+    return values[0]
+
+
+def _run(name, out, kwargs, cls=StudyResult):
+    kwargs = {k: v for k, v in kwargs.items() if v is not None}
+    if out is not None:
+        os.makedirs(os.fspath(out), exist_ok=True)
+        return cls(_signorini.study(name, kwargs, os.fspath(out)))
+    with tempfile.TemporaryDirectory(prefix=f"signorini-{name}-") as tmp:
+        return cls(_signorini.study(name, kwargs, tmp))
+
+
+def convergence(benchmark="bar-dirichlet", schemes=None, masses=None, levels=None, ratio=None, t_end=None, norms="exact", out=None) -> ConvergenceResult:
+    """The convergence study (``cargo xtask convergence``): for each (scheme,
+    mass), the benchmark at each level m (m elements; bar-mirrored 2m on its
+    [0, 2]) with dt = dx/ratio up to t_end, and every error norm.
+
+    ``benchmark``: bar-dirichlet, bar-neumann-gravity, bar-neumann-gravity-0.11,
+    bar-mirrored; ``schemes``: names or parametrised forms (``"newmark-cn"``,
+    ``"ps(0.5)"``, ``"newmark(0.3,0.6)"``), default the papers' seven;
+    ``masses``: default ``["std", "mod"]``; ``levels``: default 10 … 640;
+    ``ratio``, ``t_end``: default the benchmark's (10 and 3 for bar-dirichlet);
+    ``norms``: ``"exact"`` (kink-split exact integrals) or ``"getfem"`` (the
+    nodal interpolant's errors, relative, as GetFEM's demo)."""
+    kw = dict(benchmark=benchmark, schemes=schemes, masses=masses, levels=levels, ratio=ratio, t_end=t_end, norms=norms)
+    return _run("convergence", out, kw, ConvergenceResult)
+
+
+def weighted(t_end=None, out=None) -> StudyResult:
+    """The weighted-mass-redistribution study (``cargo xtask weighted``)."""
+    return _run("weighted", out, dict(t_end=t_end))
+
+
+def beam(scenes=None, force=None, penalty_dts=None, out=None) -> StudyResult:
+    """The beam between two stops (``cargo xtask beam``): the paper's scenes
+    (default fig2 … fig8), the exact stability limit, self-convergence."""
+    return _run("beam", out, dict(scenes=scenes, force=force, penalty_dts=penalty_dts))
+
+
+def work_precision(levels=None, out=None) -> StudyResult:
+    """Work–precision (``cargo xtask work-precision``): error against wall time."""
+    return _run("work_precision", out, dict(levels=levels))
+
+
+def stress(steps=None, elements=None, seed=None, out=None) -> StudyResult:
+    """Stability stress (``cargo xtask stress``): long runs at extreme dx/dt."""
+    return _run("stress", out, dict(steps=steps, elements=elements, seed=seed))

@@ -1,0 +1,204 @@
+//! The studies from Python: the same `signorini_studies` functions as
+//! `cargo xtask <study>`, configured from keyword arguments, run with the
+//! GIL released; every CSV they write comes back as a table of numpy
+//! arrays.
+
+use crate::{guarded, SceneError};
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use signorini_studies::{Column, StudyError, Table};
+use std::path::PathBuf;
+
+/// `--t-end` → `t_end`: the study's option as the Python argument.
+fn py_name(flag: &str) -> String {
+    flag.trim_start_matches('-').replace('-', "_")
+}
+
+fn study_err(e: StudyError) -> PyErr {
+    match e {
+        StudyError::Config { field, message } => SceneError::new_err(message.replacen(&field, &py_name(&field), 1)),
+        other => SceneError::new_err(other.to_string()),
+    }
+}
+
+/// `{file: {column: array}}`: float64 and int64 arrays, lists of str.
+fn tables_py<'py>(py: Python<'py>, tables: &[Table]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for t in tables {
+        let cols = PyDict::new(py);
+        for (name, c) in &t.columns {
+            match c {
+                Column::F64(v) => cols.set_item(name, v.clone().into_pyarray(py))?,
+                Column::I64(v) => cols.set_item(name, v.clone().into_pyarray(py))?,
+                Column::Str(v) => cols.set_item(name, PyList::new(py, v)?)?,
+            }
+        }
+        d.set_item(&t.file, cols)?;
+    }
+    Ok(d)
+}
+
+/// The common part of every study's output, as a dict.
+fn output_py<'py>(py: Python<'py>, tables: &[Table], report: &str, wall_s: f64, notes: &[String], out: &std::path::Path) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("tables", tables_py(py, tables)?)?;
+    d.set_item("report", report)?;
+    d.set_item("wall_s", wall_s)?;
+    d.set_item("notes", notes.to_vec())?;
+    d.set_item("out", out.to_path_buf())?;
+    Ok(d)
+}
+
+/// Takes the keyword arguments one by one, naming the argument in every
+/// error; anything left over is an unknown argument.
+struct Args<'a, 'py> {
+    study: &'a str,
+    d: &'a Bound<'py, PyDict>,
+}
+
+impl<'py> Args<'_, 'py> {
+    fn take(&self, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let v = self.d.get_item(key)?;
+        if v.is_some() {
+            self.d.del_item(key)?;
+        }
+        Ok(v.filter(|v| !v.is_none()))
+    }
+    fn bad(&self, key: &str, v: &Bound<'py, PyAny>, want: &str) -> PyErr {
+        let ty = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        SceneError::new_err(format!("{key}: a {ty} ({}) is not allowed: {want}", v.repr().map(|r| r.to_string()).unwrap_or_default()))
+    }
+    fn float(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<f64> {
+        if v.is_instance_of::<pyo3::types::PyBool>() || v.is_instance_of::<pyo3::types::PyString>() {
+            return Err(self.bad(key, v, "a number"));
+        }
+        v.extract::<f64>().map_err(|_| self.bad(key, v, "a number"))
+    }
+    fn int(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<usize> {
+        if v.is_instance_of::<pyo3::types::PyBool>() || v.is_instance_of::<pyo3::types::PyFloat>() {
+            return Err(self.bad(key, v, "a non-negative integer"));
+        }
+        v.extract::<usize>().map_err(|_| self.bad(key, v, "a non-negative integer"))
+    }
+    fn list(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyAny>>> {
+        if v.is_instance_of::<pyo3::types::PyString>() {
+            return Ok(vec![v.clone()]);
+        }
+        match v.try_iter() {
+            Ok(it) => it.collect(),
+            Err(_) => Ok(vec![v.clone()]),
+        }
+        .map_err(|_: PyErr| self.bad(key, v, "a list"))
+    }
+    fn f64(&self, key: &str) -> PyResult<Option<f64>> {
+        self.take(key)?.map(|v| self.float(key, &v)).transpose()
+    }
+    fn usize(&self, key: &str) -> PyResult<Option<usize>> {
+        self.take(key)?.map(|v| self.int(key, &v)).transpose()
+    }
+    fn bool(&self, key: &str) -> PyResult<Option<bool>> {
+        self.take(key)?.map(|v| if v.is_instance_of::<pyo3::types::PyBool>() { v.extract::<bool>() } else { Err(self.bad(key, &v, "True or False")) }).transpose()
+    }
+    fn usizes(&self, key: &str) -> PyResult<Option<Vec<usize>>> {
+        self.take(key)?.map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| self.int(&format!("{key}[{i}]"), x)).collect()).transpose()
+    }
+    fn f64s(&self, key: &str) -> PyResult<Option<Vec<f64>>> {
+        self.take(key)?.map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| self.float(&format!("{key}[{i}]"), x)).collect()).transpose()
+    }
+    fn strs(&self, key: &str) -> PyResult<Option<Vec<String>>> {
+        self.take(key)?
+            .map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| x.extract::<String>().map_err(|_| self.bad(&format!("{key}[{i}]"), x, "a string"))).collect())
+            .transpose()
+    }
+    fn str(&self, key: &str) -> PyResult<Option<String>> {
+        self.take(key)?.map(|v| v.extract::<String>().map_err(|_| self.bad(key, &v, "a string"))).transpose()
+    }
+    /// Errors if an argument is left that the study does not take.
+    fn done(&self, allowed: &[&str]) -> PyResult<()> {
+        if let Some((k, _)) = self.d.iter().next() {
+            return Err(SceneError::new_err(format!("{k}: not an argument of the {} study (allowed: {})", self.study, allowed.join(", "))));
+        }
+        Ok(())
+    }
+}
+
+/// Runs `f` with the GIL released, a panic turned into `InternalError`.
+fn detached<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, StudyError> + Send) -> PyResult<T> {
+    py.detach(|| guarded(|| f().map_err(study_err)))
+}
+
+/// Runs the study `name` with the keyword arguments `kwargs` (the options of
+/// `cargo xtask <name>`, as Python names) writing into `out`; returns the
+/// tables, the report, the wall time, the notes and (convergence) the
+/// configurations in order.
+#[pyfunction]
+pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    use signorini_studies as st;
+    let kw = kwargs.copy()?;
+    let a = Args { study: name, d: &kw };
+    let none = |_: u64, _: u64| {};
+    match name {
+        "convergence" => {
+            let mut c = st::convergence::Config { out: Some(out.clone()), ..Default::default() };
+            if let Some(b) = a.str("benchmark")? {
+                c.benchmark = st::convergence::parse_benchmark(&b).map_err(study_err)?;
+            }
+            if let Some(s) = a.strs("schemes")? {
+                c.schemes = st::parse_schemes(&s).map_err(study_err)?;
+            }
+            if let Some(m) = a.strs("masses")? {
+                c.masses = st::parse_masses(&m).map_err(study_err)?;
+            }
+            if let Some(l) = a.usizes("levels")? {
+                c.levels = l;
+            }
+            c.ratio = a.f64("ratio")?.or(c.ratio);
+            c.t_end = a.f64("t_end")?.or(c.t_end);
+            if let Some(n) = a.str("norms")? {
+                c.norms = st::convergence::parse_norms(&n).map_err(study_err)?;
+            }
+            a.done(&["benchmark", "schemes", "masses", "levels", "ratio", "t_end", "norms"])?;
+            let o = detached(py, || st::convergence::run(&c, &none))?;
+            let d = output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &o.out)?;
+            let configs: Vec<(String, String, String)> = o.results.iter().map(|r| (r.scheme.to_string(), r.mass.to_string(), r.file_name())).collect();
+            d.set_item("configs", configs)?;
+            d.set_item("ratio", o.config.ratio)?;
+            d.set_item("t_end", o.config.t_end)?;
+            Ok(d)
+        }
+        "weighted" => {
+            let mut c = st::weighted::Config { out: out.clone(), ..Default::default() };
+            c.t_end = a.f64("t_end")?.unwrap_or(c.t_end);
+            a.done(&["t_end"])?;
+            let o = detached(py, || st::weighted::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        "stress" => {
+            let mut c = st::stress::Config { out: out.clone(), ..Default::default() };
+            c.steps = a.usize("steps")?.unwrap_or(c.steps);
+            c.elements = a.usize("elements")?.unwrap_or(c.elements);
+            c.seed = a.usize("seed")?.map_or(c.seed, |s| s as u64);
+            a.done(&["steps", "elements", "seed"])?;
+            let o = detached(py, || st::stress::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        "work_precision" => {
+            let mut c = st::work_precision::Config { out: out.clone(), ..Default::default() };
+            c.levels = a.usizes("levels")?.unwrap_or(c.levels);
+            a.done(&["levels"])?;
+            let o = detached(py, || st::work_precision::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        "beam" => {
+            let mut c = st::beam::Config { out: out.clone(), ..Default::default() };
+            c.scenes = a.strs("scenes")?.unwrap_or(c.scenes);
+            c.force = a.bool("force")?.unwrap_or(c.force);
+            c.penalty_dts = a.f64s("penalty_dts")?.unwrap_or(c.penalty_dts);
+            a.done(&["scenes", "force", "penalty_dts"])?;
+            let o = detached(py, || st::beam::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, work_precision, stress"))),
+    }
+}

@@ -1,0 +1,147 @@
+"""The studies from Python: the same files as `cargo xtask <study>` (a
+separate front end over the same library), tables holding exactly the
+numbers written into the CSVs, rates recomputed here, norms equal to an
+independent signorini.run of the same level, and typed bad input."""
+
+import csv
+import subprocess
+from decimal import Decimal
+
+import numpy as np
+import pytest
+
+import signorini
+from signorini import studies
+
+WALL = {"wall_s", "wall", "wall_time_s", "time_s", "seconds", "ns_per_step", "run_s", "paper_s", "speedup"}
+
+
+def read(path):
+    with open(path, newline="") as f:
+        r = list(csv.reader(f))
+    return r[0], r[1:]
+
+
+def half_ulp(cell):
+    """Half a unit in the last printed digit of a CSV number ("1.0362",
+    "5.832182e-2", "12"): a correctly rounded value is within it."""
+    mant, _, exp = cell.lower().partition("e")
+    decimals = len(mant.partition(".")[2])
+    return Decimal(5).scaleb(int(exp or 0) - decimals - 1)
+
+
+def same_numbers(table, path):
+    """Every cell of the CSV is the table's value as it was formatted
+    (a float is within half a unit of the cell's last printed digit: it
+    rounds to the cell; integers and text equal), wall-clock columns aside."""
+    header, rows = read(path)
+    assert list(table) == header, path
+    for j, name in enumerate(header):
+        col = table[name]
+        assert len(col) == len(rows), (path, name)
+        if any(w in name for w in WALL):
+            continue
+        for i, row in enumerate(rows):
+            cell, v = row[j], col[i]
+            if col.dtype.kind == "f":
+                if cell in ("", "NaN", "nan"):
+                    assert np.isnan(v), (path, name, i)
+                else:
+                    assert float(cell) == float(v) or abs(Decimal(cell) - Decimal(float(v))) <= half_ulp(cell), (path, name, i, cell, v)
+            elif col.dtype.kind == "i":
+                assert int(cell) == int(v), (path, name, i)
+            else:
+                assert cell == str(v), (path, name, i)
+
+
+def xtask_files(xtask, tmp_path, args):
+    out = tmp_path / "xtask"
+    subprocess.run([str(xtask), *args, "--out", str(out)], check=True, capture_output=True)
+    return out
+
+
+def test_convergence_is_the_xtask_study(tmp_path, xtask):
+    res = signorini.convergence(schemes=["newmark-cn"], masses=["mod"], levels=[10, 20, 40])
+    out = xtask_files(xtask, tmp_path, ["convergence", "--schemes", "newmark-cn", "--masses", "mod", "--levels", "10,20,40"])
+    assert set(res.tables) == {"newmark-cn_mod.csv", "rates.csv", "oscillation.csv"}
+    for f, t in res.tables.items():
+        same_numbers(t, out / f)
+    # Level order, float64, the names of the CSV.
+    e = res["linf_l2_u"]
+    assert e.dtype == np.float64 and e.shape == (3,) and res.levels == [10, 20, 40] and list(res["m"]) == [10, 20, 40]
+    # Rates recomputed here: least-squares slope of log(error) against log(dx).
+    for norm in studies.NORMS:
+        slope = np.polyfit(np.log(res["dx"]), np.log(res[norm]), 1)[0]
+        assert res.rate(norm) == pytest.approx(slope, rel=1e-9, abs=1e-12), norm
+    # Each level's norms are those of an independent run of that level.
+    for k, m in enumerate(res.levels):
+        r = signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": m, "mass": "mod", "scheme": "newmark-cn", "ratio": 10.0, "t_end": 3.0}})
+        for norm in studies.NORMS:
+            assert res[norm][k] == pytest.approx(r.norms[norm], rel=1e-12, abs=1e-300), (m, norm)
+
+
+def test_several_schemes_and_masses_are_a_grid():
+    res = signorini.convergence(schemes=["newmark-cn", "ps-e1"], masses=["std", "mod"], levels=[10, 20])
+    assert res.schemes == ["newmark-cn", "ps-e1"] and res.masses == ["std", "mod"]
+    grid = res["l2_l2_u"]
+    assert grid.shape == (2, 2, 2)
+    one = signorini.convergence(schemes=["ps-e1"], masses=["std"], levels=[10, 20])
+    assert np.array_equal(grid[1, 0], one["l2_l2_u"])
+    with pytest.raises(ValueError, match="scheme"):
+        res.rate("l2_l2_u")
+    assert res.rate("l2_l2_u", "ps-e1", "std") == one.rate("l2_l2_u")
+
+
+def test_bar_mirrored_leaves_out_the_schemes_that_cannot_take_two_stops():
+    res = signorini.convergence(benchmark="bar-mirrored", schemes=["newmark-cn", "hybrid"], masses=["mod"], levels=[10, 20])
+    assert res.schemes == ["newmark-cn"] and res["linf_l2_u"].shape == (2,)
+    assert any("hybrid" in n for n in res.notes)
+
+
+@pytest.mark.parametrize(
+    "name,kwargs,args",
+    [
+        ("stress", dict(steps=2000, elements=10), ["stress", "--steps", "2000", "--elements", "10"]),
+        ("work_precision", dict(levels=[10, 20]), ["work-precision", "--levels", "10,20"]),
+        ("weighted", dict(t_end=5.0), ["weighted", "--t-end", "5"]),
+        ("beam", dict(scenes=["fig2"], penalty_dts=[5e-5]), ["beam", "--scenes", "fig2", "--penalty-dts", "5e-5"]),
+    ],
+)
+def test_the_other_studies_are_the_xtask_studies(tmp_path, xtask, name, kwargs, args):
+    res = getattr(studies, name)(**kwargs)
+    out = xtask_files(xtask, tmp_path, args)
+    written = {str(p.relative_to(out)) for p in out.rglob("*.csv")}
+    assert set(res.tables) == written
+    for f, t in res.tables.items():
+        same_numbers(t, out / f)
+    assert res.report.startswith("#")
+
+
+def test_out_keeps_the_files(tmp_path):
+    res = signorini.convergence(schemes=["newmark-cn"], masses=["std"], levels=[10, 20], out=tmp_path / "c")
+    assert (tmp_path / "c" / "rates.csv").exists() and (tmp_path / "c" / "plot_linf_l2_u.svg").exists()
+    same_numbers(res["newmark-cn_std.csv"], tmp_path / "c" / "newmark-cn_std.csv")
+
+
+def test_bad_input_names_the_argument():
+    for call, field in [
+        (lambda: signorini.convergence(levels=[-10]), "levels"),
+        (lambda: signorini.convergence(levels=[10, "20"]), r"levels\[1\]"),
+        (lambda: signorini.convergence(levels=[]), "levels"),
+        (lambda: signorini.convergence(schemes=["nope"]), "schemes"),
+        (lambda: signorini.convergence(masses=[3]), r"masses\[0\]"),
+        (lambda: signorini.convergence(masses=["heavy"]), "masses"),
+        (lambda: signorini.convergence(ratio=float("nan")), "ratio"),
+        (lambda: signorini.convergence(ratio=-1.0), "ratio"),
+        (lambda: signorini.convergence(t_end="3"), "t_end"),
+        (lambda: signorini.convergence(benchmark="bar-nothing"), "benchmark"),
+        (lambda: signorini.convergence(norms="l3"), "norms"),
+        (lambda: studies.stress(steps=0), "steps"),
+        (lambda: studies.stress(steps=2.5), "steps"),
+        (lambda: studies.stress(elements=True), "elements"),
+        (lambda: studies.beam(scenes=["fig9"]), "scenes"),
+        (lambda: studies.beam(force="yes"), "force"),
+        (lambda: studies.weighted(t_end=float("inf")), "t_end"),
+    ]:
+        with pytest.raises(signorini.SceneError, match=field):
+            call()
