@@ -9,8 +9,9 @@ the finite-element matrices (:mod:`signorini.fem`), the studies and sweeps. Erro
 from ._signorini import BlowUp, InternalError, SceneError, __version__
 from . import _check, _signorini, exact, fem, studies
 from .studies import convergence
+from .sweep import SweepResult, sweep
 
-__all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "convergence", "exact", "fem", "run", "studies", "__version__"]
+__all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "SweepResult", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
 
 
 def run(scene, *, energy=None, fields_every=0):

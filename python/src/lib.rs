@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 mod fem;
 mod run;
 mod studies;
+mod sweep;
 
 use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
 
@@ -190,6 +191,15 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::sce
     Ok((file, s))
 }
 
+/// The TOML text of a scene given as a dict (keys checked as `run` does).
+#[pyfunction]
+fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<String> {
+    match to_toml(scene, "")? {
+        toml::Value::Table(t) => toml::to_string(&t).map_err(|e| SceneError::new_err(format!("scene: {e}"))),
+        _ => Err(SceneError::new_err("scene: a dict, a path or TOML text")),
+    }
+}
+
 /// A deliberate panic, for the tests of the panic guard.
 #[pyfunction]
 fn _panic_for_tests() -> PyResult<()> {
@@ -209,6 +219,8 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run::RunArrays>()?;
     m.add_class::<fem::Matrices>()?;
     m.add_function(wrap_pyfunction!(studies::study, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_text, m)?)?;
     m.add_function(wrap_pyfunction!(fem::bar_matrices, m)?)?;
     m.add_function(wrap_pyfunction!(fem::beam_matrices, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

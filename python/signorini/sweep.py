@@ -1,0 +1,111 @@
+"""Parameter sweeps and bifurcation diagrams: the engine of ``signorini
+sweep`` from Python (see the README's "Sweeps" for the files and columns).
+
+``sweep(scene, "forcing.omega", 1.6, 2.2, 61, transient=200, record=10)``
+runs the scene at each value of the field (any numeric field of the scene,
+by its dotted path: ``forcing.omega``, ``support.amplitude``, ``stop.0.hi``)
+in parallel batches (beam runs that share a step matrix go through the
+lockstep engine), and returns a :class:`SweepResult` whose ``sweep``,
+``summary`` and ``impacts`` are the CSV files' columns as numpy arrays.
+"""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import tempfile
+
+from . import _check, _signorini
+from ._signorini import SceneError
+
+__all__ = ["SweepResult", "sweep"]
+
+
+class SweepResult:
+    """A sweep's files as columns: ``sweep`` (``param, run, t,
+    displacement, velocity, phase``: the Poincaré points of every run, the
+    bifurcation diagram), ``summary`` (one row per run: ``param, run``, the
+    vibro-impact statistics, ``steps, status``; ``param2`` last for a map),
+    ``impacts`` (``param, run, stop, t, phase, velocity, impulse,
+    duration``; None with ``impacts=False``), ``id`` (the manifest's id),
+    ``lines`` (what the command prints), ``out``."""
+
+    def __init__(self, d):
+        self.tables = d["tables"]
+        self.sweep = self.tables.get("sweep.csv")
+        self.summary = self.tables.get("summary.csv")
+        self.impacts = self.tables.get("impacts.csv")
+        self.id = d["id"]
+        self.lines = list(d["lines"])
+        self.out = d["out"]
+
+    def __repr__(self) -> str:
+        n = len(self.summary["run"]) if self.summary else 0
+        return f"<signorini.SweepResult {self.id}: {n} runs>"
+
+
+def _scene(scene):
+    if hasattr(scene, "__fspath__"):
+        scene = os.fspath(scene)
+    if isinstance(scene, dict):
+        return _signorini.scene_text(scene), "scene", None
+    if isinstance(scene, str):
+        p = pathlib.Path(scene)
+        if "\n" not in scene and "=" not in scene and p.exists():
+            return p.read_text(), p.name, str(p.parent)
+        return scene, "scene", None
+    raise SceneError(f"scene: a {type(scene).__name__} is not allowed: a dict, a path or TOML text")
+
+
+def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=None, stop2=None, count2=None, log2=False, transient=100.0, record=10.0, phase=0.0, period_tol=1e-3, impacts=True, follow=False, shard=None, resume=False, threads=None, out=None) -> SweepResult:
+    """Sweeps the scene's field ``param`` over ``count`` values from ``start``
+    to ``stop`` (``--from``/``--to`` of ``signorini sweep``; ``log=True``:
+    geometric spacing), with ``param2``/``start2``/``stop2``/``count2``/``log2``
+    for a two-parameter map (run r takes value r mod count of the first axis
+    and r div count of the second). Each run goes ``transient`` forcing
+    periods before ``record`` recorded periods; ``phase`` is the Poincaré
+    section's forcing phase; ``period_tol`` the period detector's relative
+    tolerance; ``impacts=False`` skips ``impacts.csv``; ``follow=True``
+    starts each run from the last one's state; ``shard=(i, n)`` runs block i
+    of n (merge the folders with ``signorini merge``); ``resume=True``
+    continues ``out``; ``threads`` (default all cores). ``out`` keeps the
+    files (default: a temporary folder, removed afterwards).
+
+    Ctrl-C stops after the current batch and raises KeyboardInterrupt whose
+    ``partial`` is the SweepResult of the runs completed."""
+    text, name, base = _scene(scene)
+    param = _check.string("param", param)
+    start = _check.number("start", start)
+    stop = _check.number("stop", stop)
+    count = _check.integer("count", count, 1)
+    second = None
+    if param2 is not None:
+        second = (_check.string("param2", param2), _check.number("start2", start2), _check.number("stop2", stop2), _check.integer("count2", count2, 1), bool(log2))
+    transient = _check.number("transient", transient)
+    record = _check.number("record", record)
+    phase = _check.number("phase", phase)
+    period_tol = _check.number("period_tol", period_tol)
+    if shard is not None:
+        if not isinstance(shard, (tuple, list)) or len(shard) != 2:
+            raise SceneError(f"shard: {shard!r} is not allowed: a pair (i, n) with 0 <= i < n")
+        shard = (_check.integer("shard[0]", shard[0], 0), _check.integer("shard[1]", shard[1], 1))
+    if threads is not None:
+        threads = _check.integer("threads", threads, 1)
+    for k, v in (("log", log), ("impacts", impacts), ("follow", follow), ("resume", resume)):
+        if not isinstance(v, bool):
+            raise SceneError(f"{k}: {v!r} is a {type(v).__name__}: True or False")
+
+    def go(folder):
+        try:
+            return SweepResult(_signorini.run_sweep(text, name, base, folder, param, start, stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads))
+        except BaseException as e:
+            if isinstance(getattr(e, "partial", None), dict):
+                e.partial = SweepResult(e.partial)
+            raise
+
+    if out is not None:
+        return go(os.fspath(out))
+    if resume:
+        raise SceneError("resume: needs out, the folder to continue")
+    with tempfile.TemporaryDirectory(prefix="signorini-sweep-") as tmp:
+        return go(os.path.join(tmp, "sweep"))

@@ -1,0 +1,117 @@
+//! `signorini.sweep`: the `signorini sweep` engine (rayon batches, the
+//! lockstep beam engine, shards) from Python; its CSV files come back as
+//! columns of numpy arrays, parsed in Rust.
+
+use crate::{guarded, InternalError, SceneError};
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use signorini_cli::sweep::{Axis, Sweep, SweepOptions};
+use std::path::{Path, PathBuf};
+
+/// A CSV file as `{column: array}`: a column whose every cell is a number
+/// (an empty cell is NaN) becomes float64, any other a list of str.
+fn read_csv<'py>(py: Python<'py>, path: &Path) -> PyResult<Option<Bound<'py, PyDict>>> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    let mut r = csv::Reader::from_path(path).map_err(|e| InternalError::new_err(format!("{}: {e}", path.display())))?;
+    let header: Vec<String> = r.headers().map_err(|e| InternalError::new_err(e.to_string()))?.iter().map(String::from).collect();
+    let mut cols: Vec<Vec<String>> = vec![Vec::new(); header.len()];
+    for rec in r.records() {
+        let rec = rec.map_err(|e| InternalError::new_err(format!("{}: {e}", path.display())))?;
+        for (c, v) in cols.iter_mut().zip(rec.iter()) {
+            c.push(v.to_string());
+        }
+    }
+    let d = PyDict::new(py);
+    for (name, c) in header.iter().zip(cols) {
+        let nums: Option<Vec<f64>> = c.iter().map(|v| if v.is_empty() { Some(f64::NAN) } else { v.parse::<f64>().ok() }).collect();
+        match nums {
+            Some(v) => d.set_item(name, v.into_pyarray(py))?,
+            None => d.set_item(name, PyList::new(py, c)?)?,
+        }
+    }
+    Ok(Some(d))
+}
+
+/// Runs a sweep of `scene_text` (named `scene_name`, files it names found
+/// in `base`) into `out`; returns `{"tables": {file: columns}, "lines":
+/// [...], "id": str}`. Ctrl-C stops after the current batch (whole runs
+/// kept) and raises KeyboardInterrupt with the tables so far as `partial`.
+#[pyfunction]
+#[pyo3(signature = (scene_text, scene_name, base, out, param, start, stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads))]
+#[allow(clippy::too_many_arguments)]
+pub fn run_sweep<'py>(
+    py: Python<'py>,
+    scene_text: &str,
+    scene_name: &str,
+    base: Option<PathBuf>,
+    out: PathBuf,
+    param: String,
+    start: f64,
+    stop: f64,
+    count: usize,
+    log: bool,
+    second: Option<(String, f64, f64, usize, bool)>,
+    transient: f64,
+    record: f64,
+    phase: f64,
+    period_tol: f64,
+    impacts: bool,
+    follow: bool,
+    shard: Option<(usize, usize)>,
+    resume: bool,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+    let second = second.map(|(param, from, to, count, log)| Axis { param, from, to, count, log });
+    let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, progress: false, interrupt: Some(flag) };
+    let limits = signorini_cli::scene::Limits::machine();
+    let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(e.to_string().replace("--param", "param").replace("--", ""))))?;
+    let (res, signal) = py.detach(|| {
+        std::thread::scope(|sc| {
+            let worker = sc.spawn(|| guarded(|| Ok(signorini_cli::sweep::run(&sweep, &out))));
+            let mut signal = None;
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+                if signal.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        signal = Some(e);
+                        flag.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the sweep's thread panicked"))), signal)
+        })
+    });
+    let res = res?;
+    let tables = PyDict::new(py);
+    for f in ["sweep.csv", "summary.csv", "impacts.csv"] {
+        if let Some(t) = read_csv(py, &out.join(f))? {
+            tables.set_item(f, t)?;
+        }
+    }
+    let d = PyDict::new(py);
+    d.set_item("tables", &tables)?;
+    d.set_item("id", sweep.id())?;
+    d.set_item("out", &out)?;
+    match (signal, res) {
+        (Some(e), _) => {
+            d.set_item("lines", Vec::<String>::new())?;
+            e.value(py).setattr("partial", &d)?;
+            Err(e)
+        }
+        (None, Ok(lines)) => {
+            d.set_item("lines", lines)?;
+            Ok(d)
+        }
+        (None, Err(e)) => {
+            // Bad input (exit 2 from the command) is a SceneError; IO is an OSError.
+            let err = if e.exit_code() == 2 { SceneError::new_err(e.to_string()) } else { pyo3::exceptions::PyOSError::new_err(e.to_string()) };
+            err.value(py).setattr("partial", &d)?;
+            Err(err)
+        }
+    }
+}
