@@ -16,6 +16,8 @@
 
 pub mod beam;
 pub mod convergence;
+pub mod obstacles;
+pub mod oscillator;
 pub mod stress;
 pub mod weighted;
 pub mod work_precision;
