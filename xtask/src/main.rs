@@ -1,4 +1,7 @@
-//! `cargo xtask <study>`: the reproducible studies of signorini.
+//! `cargo xtask <study>`: the reproducible studies of signorini. Each study
+//! lives in `signorini_studies::<study>` (Config, run, Output with one table
+//! per CSV); this binary only turns the flags into its `Config`, draws a
+//! progress bar where the study has one, and prints the report and notes.
 //!
 //! * `convergence`: sweep dx at a fixed dx/dt for each (scheme, mass) pair;
 //!   write one CSV error curve per pair, `rates.csv`, `oscillation.csv`,
