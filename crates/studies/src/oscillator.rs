@@ -86,6 +86,9 @@ fn scene_text(dt: f64, x0: f64, v0: f64) -> Result<String, StudyError> {
     Ok(SCENE.replace("dt = 1e-3", &format!("dt = {dt:e}")).replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}")).replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}")))
 }
 
+/// The `(phase, velocity)` impacts of a run, or why it failed.
+type Impacts = Result<Vec<(f64, f64)>, StudyError>;
+
 /// The record window's impacts `(phase, velocity)` of one run.
 fn impacts(text: &str, omega: f64, transient: f64, record: f64) -> Result<Vec<(f64, f64)>, StudyError> {
     let mut o = SweepOptions::new("forcing.omega", omega, omega, 1);
@@ -112,10 +115,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let cases: Vec<(f64, f64)> = a.omegas.iter().flat_map(|&w| a.dts.iter().map(move |&dt| (w, dt))).collect();
     // Every case on its own thread, two at a time per core at most.
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut results: Vec<Option<Result<Vec<(f64, f64)>, StudyError>>> = (0..cases.len()).map(|_| None).collect();
+    let mut results: Vec<Option<Impacts>> = (0..cases.len()).map(|_| None).collect();
     let mut done = 0u64;
     for chunk in (0..cases.len()).collect::<Vec<_>>().chunks(threads) {
-        let out: Vec<(usize, Result<Vec<(f64, f64)>, StudyError>)> = std::thread::scope(|s| {
+        let out: Vec<(usize, Impacts)> = std::thread::scope(|s| {
             let (transient, record) = (a.transient, a.record);
             let hs: Vec<_> = chunk
                 .iter()
