@@ -1,4 +1,7 @@
-//! `cargo xtask <study>`: the reproducible studies of signorini.
+//! `cargo xtask <study>`: the reproducible studies of signorini. Each study
+//! lives in `signorini_studies::<study>` (Config, run, Output with one table
+//! per CSV); this binary only turns the flags into its `Config`, draws a
+//! progress bar where the study has one, and prints the report and notes.
 //!
 //! * `convergence`: sweep dx at a fixed dx/dt for each (scheme, mass) pair;
 //!   write one CSV error curve per pair, `rates.csv`, `oscillation.csv`,
@@ -25,9 +28,8 @@ mod wp;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use signorini_studies::convergence;
-use std::fs::File;
-use std::io::{BufWriter, IsTerminal};
-use std::path::{Path, PathBuf};
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -148,10 +150,3 @@ pub(crate) fn with_progress_bar<T>(f: impl FnOnce(&(dyn Fn(u64, u64) + Sync)) ->
     bar.finish_and_clear();
     r
 }
-
-/// Creates a file in `dir` for writing.
-pub(crate) fn create(dir: &Path, name: &str) -> Result<BufWriter<File>, String> {
-    let p = dir.join(name);
-    File::create(&p).map(BufWriter::new).map_err(|e| format!("cannot write {}: {e}", p.display()))
-}
-

@@ -14,8 +14,12 @@
 //! `progress(done, total)` is called from the worker threads as runs
 //! finish (studies that report no progress never call it).
 
+#![warn(missing_docs)]
+
 pub mod beam;
 pub mod convergence;
+pub mod obstacles;
+pub mod oscillator;
 pub mod stress;
 pub mod weighted;
 pub mod work_precision;

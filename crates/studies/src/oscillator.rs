@@ -1,0 +1,187 @@
+//! The impact oscillator study (`cargo xtask oscillator`): the impact oscillator scene
+//! (data/scenes/oscillator.toml) against its exact period-1 orbits and its
+//! grazing frequency (signorini-exact's `ImpactOscillator`, closed forms).
+//!
+//! For every forcing frequency of the scene's stable range and every time
+//! step, a run of `transient + record` forcing periods through the sweep's
+//! own run function; the record window's impacts against the exact orbit's
+//! impact velocity (relative) and forcing phase (rad), largest over the
+//! window; least-squares and last rates in dt. Then the grazing check: from
+//! the non-impacting steady state, runs just above and below Ω_g.
+//!
+//! Outputs (`--out`, default `out/oscillator`): `orbits.csv`
+//! (`omega,dt,impacts,velocity_exact,phase_exact,multiplier,velocity_err,phase_err`),
+//! `rates.csv` (`omega,velocity_lsq_rate,velocity_last_rate,phase_lsq_rate,phase_last_rate`),
+//! `grazing.csv` (`omega,offset,impacts,first_velocity`), `errors.svg`.
+
+use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, Table, TableOut};
+use signorini_cli::scene::Limits;
+use signorini_cli::sweep::{simulate, Sweep, SweepOptions};
+use signorini_exact::{ImpactOscillator, OscillatorParams};
+use signorini_plot::{line_chart, Chart, Scale, Series, Style};
+use signorini_run::study::rate;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Output folder (`--out`, default `out/oscillator`).
+    pub out: PathBuf,
+    /// Forcing frequencies (`--omegas`, default the scene's stable period-1 range 1.6, 1.7, …, 2.2).
+    pub omegas: Vec<f64>,
+    /// Time steps (`--dts`, default 2e-3 halved eight times down to 7.8125e-6).
+    pub dts: Vec<f64>,
+    /// Forcing periods before the record window (`--transient`, default 60).
+    pub transient: f64,
+    /// Forcing periods recorded (`--record`, default 10).
+    pub record: f64,
+}
+
+impl Default for Config {
+    /// `cargo xtask oscillator` without options.
+    fn default() -> Self {
+        Config { out: PathBuf::from("out/oscillator"), omegas: vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2], dts: vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6], transient: 60.0, record: 10.0 }
+    }
+}
+
+impl Config {
+    /// Checks the lists are not empty and every value finite and positive
+    /// (the transient may be 0); the runs check the rest (the sweep's own
+    /// ranges), naming `forcing.omega` or the scene's field.
+    pub fn validate(&self) -> Result<(), StudyError> {
+        if self.omegas.is_empty() || self.omegas.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
+            return Err(StudyError::config("--omegas", format!("--omegas {:?}: allowed at least one, each finite and > 0", self.omegas)));
+        }
+        if self.dts.is_empty() || self.dts.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
+            return Err(StudyError::config("--dts", format!("--dts {:?}: allowed at least one, each finite and > 0", self.dts)));
+        }
+        if !(self.transient.is_finite() && self.transient >= 0.0) {
+            return Err(StudyError::config("--transient", format!("--transient {}: allowed finite and >= 0", self.transient)));
+        }
+        if !(self.record.is_finite() && self.record > 0.0) {
+            return Err(StudyError::config("--record", format!("--record {}: allowed finite and > 0", self.record)));
+        }
+        Ok(())
+    }
+}
+
+/// What the study computed and wrote.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// `orbits.csv`, `rates.csv`, `grazing.csv`.
+    pub tables: Vec<Table>,
+    /// The Markdown report `cargo xtask oscillator` prints.
+    pub report: String,
+    /// Wall time of the whole study (s).
+    pub wall_s: f64,
+    /// Notes for stderr (none today).
+    pub notes: Vec<String>,
+}
+
+/// The scene `data/scenes/oscillator.toml`, compiled in.
+const SCENE: &str = include_str!("../../../data/scenes/oscillator.toml");
+
+fn scene_text(dt: f64, x0: f64, v0: f64) -> Result<String, StudyError> {
+    Ok(SCENE.replace("dt = 1e-3", &format!("dt = {dt:e}")).replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}")).replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}")))
+}
+
+/// The `(phase, velocity)` impacts of a run, or why it failed.
+type Impacts = Result<Vec<(f64, f64)>, StudyError>;
+
+/// The record window's impacts `(phase, velocity)` of one run.
+fn impacts(text: &str, omega: f64, transient: f64, record: f64) -> Result<Vec<(f64, f64)>, StudyError> {
+    let mut o = SweepOptions::new("forcing.omega", omega, omega, 1);
+    o.transient = transient;
+    o.record = record;
+    let sweep = Sweep::new(text, "oscillator.toml", None, o, Limits::machine()).map_err(|e| StudyError::Run(e.to_string()))?;
+    let (_, scene, plan) = sweep.scene((omega, None)).map_err(|e| StudyError::Run(e.to_string()))?;
+    let rows = simulate(&scene, &plan, None, false, None);
+    if rows.status != "ok" {
+        return Err(StudyError::Run(format!("Ω = {omega}: {}", rows.status)));
+    }
+    Ok(rows.impacts.iter().map(|(_, v)| (v[1], v[2])).collect())
+}
+
+fn exact(omega: f64) -> Result<ImpactOscillator, StudyError> {
+    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).map_err(|e| StudyError::Run(e.to_string()))
+}
+
+/// Runs the study; `progress` after every batch of (Ω, dt) runs.
+pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
+    a.validate()?;
+    create_dir(&a.out)?;
+    let start = std::time::Instant::now();
+    let cases: Vec<(f64, f64)> = a.omegas.iter().flat_map(|&w| a.dts.iter().map(move |&dt| (w, dt))).collect();
+    // Every case on its own thread, two at a time per core at most.
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut results: Vec<Option<Impacts>> = (0..cases.len()).map(|_| None).collect();
+    let mut done = 0u64;
+    for chunk in (0..cases.len()).collect::<Vec<_>>().chunks(threads) {
+        let out: Vec<(usize, Impacts)> = std::thread::scope(|s| {
+            let (transient, record) = (a.transient, a.record);
+            let hs: Vec<_> = chunk
+                .iter()
+                .map(|&i| {
+                    let (w, dt) = cases[i];
+                    (i, s.spawn(move || scene_text(dt, 0.0, 0.0).and_then(|t| impacts(&t, w, transient, record))))
+                })
+                .collect();
+            hs.into_iter().map(|(i, h)| (i, h.join().unwrap_or_else(|_| Err(StudyError::Run("a run panicked".into()))))).collect()
+        });
+        for (i, r) in out {
+            results[i] = Some(r);
+        }
+        done += chunk.len() as u64;
+        progress(done, cases.len() as u64);
+    }
+    let (f_, i_) = (Kind::F, Kind::I);
+    let mut orbits = TableOut::create(&a.out, "orbits.csv", &[("omega", f_), ("dt", f_), ("impacts", i_), ("velocity_exact", f_), ("phase_exact", f_), ("multiplier", f_), ("velocity_err", f_), ("phase_err", f_)])?;
+    let mut rates = TableOut::create(&a.out, "rates.csv", &[("omega", f_), ("velocity_lsq_rate", f_), ("velocity_last_rate", f_), ("phase_lsq_rate", f_), ("phase_last_rate", f_)])?;
+    let mut series = Vec::new();
+    let mut report = String::new();
+    let w_ = |r: std::fmt::Result| r.expect("writing to a String");
+    w_(writeln!(report, "# Impact oscillator against its exact period-1 orbits\n\n| Ω | V exact | |μ| | velocity error (relative) at dt = {} … {} | rate | phase error (rad) | rate |\n|---|---|---|---|---|---|---|", a.dts[0], a.dts[a.dts.len() - 1]));
+    for &w in &a.omegas {
+        let orbits_w = exact(w)?.period1_orbits();
+        let [o] = orbits_w.as_slice() else {
+            return Err(StudyError::Run(format!("Ω = {w}: {} admissible period-1 orbits (one expected in the stable range)", orbits_w.len())));
+        };
+        let mut ev = Vec::new();
+        let mut ep = Vec::new();
+        for (k, &(cw, dt)) in cases.iter().enumerate().filter(|(_, c)| c.0 == w) {
+            let got = results[k].take().unwrap_or_else(|| Err(StudyError::Run("missing".into())))?;
+            let e_v = got.iter().map(|(_, v)| (v - o.impact_velocity).abs() / o.impact_velocity).fold(0.0, f64::max);
+            let e_p = got.iter().map(|(p, _)| (p - o.phase).abs()).fold(0.0, f64::max);
+            orbits.row(vec![fd(cw), fde(dt), int(got.len()), fe(o.impact_velocity, 15), fe(o.phase, 15), fe(o.multipliers[0].abs(), 6), fe(e_v, 6), fe(e_p, 6)])?;
+            ev.push((dt, e_v));
+            ep.push((dt, e_p));
+        }
+        let (rv, rp) = (rate(&ev), rate(&ep));
+        rates.row(vec![fd(w), ff(rv.lsq, 4), ff(rv.last, 4), ff(rp.lsq, 4), ff(rp.last, 4)])?;
+        w_(writeln!(report, "| {w} | {:.6} | {:.3} | {:.2e} … {:.2e} | {:.2} | {:.2e} … {:.2e} | {:.2} |", o.impact_velocity, o.multipliers[0].abs(), ev[0].1, ev[ev.len() - 1].1, rv.lsq, ep[0].1, ep[ep.len() - 1].1, rp.lsq));
+        series.push(Series { label: format!("Ω = {w}"), points: ev, reference: false, style: Style::default() });
+    }
+    let mut tables = vec![orbits.finish()?, rates.finish()?];
+    let chart = Chart { title: "impact oscillator: impact velocity error against the exact period-1 orbit", x_label: "dt", y_label: "max relative error", scale: Scale::LogLog, size: (800, 560) };
+    let svg = line_chart(&chart, &series).map_err(StudyError::Plot)?;
+    crate::write_file(&a.out.join("errors.svg"), &svg)?;
+    // Grazing: from the non-impacting steady state of each Ω.
+    let wg = exact(2.0)?.grazing_frequencies();
+    let mut graz = TableOut::create(&a.out, "grazing.csv", &[("omega", f_), ("offset", f_), ("impacts", i_), ("first_velocity", f_)])?;
+    w_(writeln!(report, "\nGrazing frequency (steady amplitude = gap): {wg:?}; from the non-impacting steady state (dt = 1e-4, 30 periods):\n\n| Ω − Ω_g | impacts | first impact velocity |\n|---|---|---|"));
+    for &g in &wg {
+        for d in [1e-3, 3e-4, -3e-4, -1e-3, -1e-2] {
+            let w = g + d;
+            let z = exact(w)?.steady_state(0.0);
+            let im = impacts(&scene_text(1e-4, z.x, z.v)?, w, 0.0, 30.0)?;
+            let v1 = im.first().map_or(f64::NAN, |p| p.1);
+            graz.row(vec![fd(w), fde(d), int(im.len()), fe(v1, 6)])?;
+            w_(writeln!(report, "| {d:+.0e} | {} | {} |", im.len(), if v1.is_nan() { "—".to_string() } else { format!("{v1:.4}") }));
+        }
+    }
+    tables.push(graz.finish()?);
+    let wall_s = since(start);
+    w_(writeln!(report, "\nwrote {} in {wall_s:.1} s", a.out.display()));
+    Ok(Output { tables, report, wall_s, notes: Vec::new() })
+}

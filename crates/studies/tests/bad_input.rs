@@ -1,0 +1,93 @@
+//! Bad input to every study's `Config`: a typed `StudyError::Config` naming
+//! the option as `cargo xtask` spells it, from `validate` and from `run`,
+//! before anything is written (the output folder is not even created).
+
+use signorini_studies::{beam, convergence, obstacles, oscillator, stress, weighted, work_precision, StudyError};
+use std::path::PathBuf;
+
+/// A folder that does not exist (and must still not exist after the refusal).
+fn nowhere(name: &str) -> PathBuf {
+    let p = std::env::temp_dir().join(format!("signorini-studies-bad-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&p);
+    p
+}
+
+#[track_caller]
+fn assert_field<T: std::fmt::Debug>(r: Result<T, StudyError>, want: &str, out: &std::path::Path) {
+    match r {
+        Err(StudyError::Config { field, message }) => {
+            assert_eq!(field, want, "{message}");
+            // Today's messages: `--t-end 3: allowed ...`, or the sweep's own
+            // `invalid levels = 0: allowed ...` (convergence keeps it).
+            assert!(message.contains(want.trim_start_matches("--")), "the message names the option: {message}");
+        }
+        other => panic!("expected a Config error on {want}, got {other:?}"),
+    }
+    assert!(!out.exists(), "{} was created", out.display());
+}
+
+const NO_PROGRESS: &(dyn Fn(u64, u64) + Sync) = &|_, _| {};
+
+#[test]
+fn convergence_refuses_empty_levels_and_a_zero_ratio() {
+    let out = nowhere("convergence");
+    let cfg = convergence::Config { levels: vec![], out: Some(out.clone()), ..Default::default() };
+    assert_field(cfg.validate(), "--levels", &out);
+    assert_field(convergence::run(&cfg, NO_PROGRESS).map(|_| ()), "--levels", &out);
+    let cfg = convergence::Config { ratio: Some(0.0), out: Some(out.clone()), ..Default::default() };
+    assert_field(convergence::run(&cfg, NO_PROGRESS).map(|_| ()), "--ratio", &out);
+    assert_field(convergence::parse_norms("l2"), "--norms", &out);
+    assert_field(signorini_studies::parse_schemes(&["newmark(0.25".to_string()]), "--schemes", &out);
+    assert_field(signorini_studies::parse_masses(&["heavy".to_string()]), "--masses", &out);
+}
+
+#[test]
+fn weighted_refuses_a_horizon_before_the_second_impact() {
+    let out = nowhere("weighted");
+    let cfg = weighted::Config { out: out.clone(), t_end: 3.0 };
+    assert_field(weighted::run(&cfg, NO_PROGRESS).map(|_| ()), "--t-end", &out);
+    assert_field(weighted::Config { out: out.clone(), t_end: f64::NAN }.validate(), "--t-end", &out);
+}
+
+#[test]
+fn beam_refuses_an_unknown_scene_and_a_zero_penalty_dt() {
+    let out = nowhere("beam");
+    let cfg = beam::Config { out: out.clone(), scenes: vec!["fig9".into()], ..Default::default() };
+    assert_field(beam::run(&cfg, NO_PROGRESS).map(|_| ()), "--scenes", &out);
+    let cfg = beam::Config { out: out.clone(), penalty_dts: vec![5e-6, 0.0], ..Default::default() };
+    assert_field(beam::run(&cfg, NO_PROGRESS).map(|_| ()), "--penalty-dts", &out);
+}
+
+#[test]
+fn obstacles_refuses_a_zero_gap_and_one_dt() {
+    let out = nowhere("obstacles");
+    let cfg = obstacles::Config { out: out.clone(), gap: 0.0, ..Default::default() };
+    assert_field(obstacles::run(&cfg, NO_PROGRESS).map(|_| ()), "--gap", &out);
+    let cfg = obstacles::Config { out: out.clone(), dts: vec![1e-4], ..Default::default() };
+    assert_field(cfg.validate(), "--dts", &out);
+}
+
+#[test]
+fn oscillator_refuses_empty_dts_and_a_negative_frequency() {
+    let out = nowhere("oscillator");
+    let cfg = oscillator::Config { out: out.clone(), dts: vec![], ..Default::default() };
+    assert_field(oscillator::run(&cfg, NO_PROGRESS).map(|_| ()), "--dts", &out);
+    let cfg = oscillator::Config { out: out.clone(), omegas: vec![2.0, -1.0], ..Default::default() };
+    assert_field(cfg.validate(), "--omegas", &out);
+}
+
+#[test]
+fn work_precision_refuses_a_level_below_two() {
+    let out = nowhere("wp");
+    let cfg = work_precision::Config { out: out.clone(), levels: vec![1, 10] };
+    assert_field(work_precision::run(&cfg, NO_PROGRESS).map(|_| ()), "--levels", &out);
+}
+
+#[test]
+fn stress_refuses_zero_steps_and_one_element() {
+    let out = nowhere("stress");
+    let cfg = stress::Config { out: out.clone(), steps: 0, ..Default::default() };
+    assert_field(stress::run(&cfg, NO_PROGRESS).map(|_| ()), "--steps", &out);
+    let cfg = stress::Config { out: out.clone(), elements: 1, ..Default::default() };
+    assert_field(cfg.validate(), "--elements", &out);
+}
