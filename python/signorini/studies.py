@@ -22,7 +22,7 @@ import numpy as np
 
 from . import _signorini
 
-__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
+__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "beam_obstacles", "oscillator", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
 
 #: The columns of a convergence study's per-configuration CSV.
 LEVEL_COLUMNS = ("m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s")
@@ -145,6 +145,20 @@ def beam(scenes=None, force=None, penalty_dts=None, out=None) -> StudyResult:
     """The beam between two stops (``cargo xtask beam``): the paper's scenes
     (default fig2 … fig8), the exact stability limit, self-convergence."""
     return _run("beam", out, dict(scenes=scenes, force=force, penalty_dts=penalty_dts))
+
+
+def beam_obstacles(gap=None, beta=None, t_end=None, dts=None, j=None, js=None, j_dt=None, out=None) -> StudyResult:
+    """The beam between obstacles along its whole length (``cargo xtask
+    beam-obstacles``): feasibility, self-convergence in dt (J = ``j``, time
+    steps ``dts``) and in J (meshes ``js`` at ``j_dt``), energy balance."""
+    return _run("beam_obstacles", out, dict(gap=gap, beta=beta, t_end=t_end, dts=dts, j=j, js=js, j_dt=j_dt))
+
+
+def oscillator(omegas=None, dts=None, transient=None, record=None, out=None) -> StudyResult:
+    """The impact oscillator against its exact period-1 orbits (``cargo xtask
+    oscillator``): impact velocity and phase errors and their rates in dt at
+    each forcing frequency of ``omegas``; the grazing frequency."""
+    return _run("oscillator", out, dict(omegas=omegas, dts=dts, transient=transient, record=record))
 
 
 def work_precision(levels=None, out=None) -> StudyResult:

@@ -199,6 +199,29 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             let o = detached(py, || st::beam::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
-        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, work_precision, stress"))),
+        "beam_obstacles" => {
+            let mut c = st::obstacles::Config { out: out.clone(), ..Default::default() };
+            c.gap = a.f64("gap")?.unwrap_or(c.gap);
+            c.beta = a.f64("beta")?.unwrap_or(c.beta);
+            c.t_end = a.f64("t_end")?.unwrap_or(c.t_end);
+            c.dts = a.f64s("dts")?.unwrap_or(c.dts);
+            c.j = a.usize("j")?.unwrap_or(c.j);
+            c.js = a.usizes("js")?.unwrap_or(c.js);
+            c.j_dt = a.f64("j_dt")?.unwrap_or(c.j_dt);
+            a.done(&["gap", "beta", "t_end", "dts", "j", "js", "j_dt"])?;
+            let o = detached(py, || st::obstacles::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        "oscillator" => {
+            let mut c = st::oscillator::Config { out: out.clone(), ..Default::default() };
+            c.omegas = a.f64s("omegas")?.unwrap_or(c.omegas);
+            c.dts = a.f64s("dts")?.unwrap_or(c.dts);
+            c.transient = a.f64("transient")?.unwrap_or(c.transient);
+            c.record = a.f64("record")?.unwrap_or(c.record);
+            a.done(&["omegas", "dts", "transient", "record"])?;
+            let o = detached(py, || st::oscillator::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress"))),
     }
 }
