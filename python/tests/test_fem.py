@@ -94,5 +94,5 @@ def test_bad_input_names_the_argument():
         (lambda: fem.beam(5, k2=float("inf")), "k2"),
         (lambda: fem.beam([5]), "elements"),
     ]:
-        with pytest.raises(signorini.SceneError, match=field):
+        with pytest.raises(signorini.SceneError, match="^" + field):
             call()

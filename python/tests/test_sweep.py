@@ -73,7 +73,7 @@ def test_ctrl_c_keeps_whole_runs(tmp_path):
 
 def test_bad_input_names_the_argument():
     for kw, field in [
-        (dict(param="forcing.nothing"), "forcing.nothing"),
+        (dict(param="forcing.nothing"), "param forcing.nothing"),
         (dict(count=0), "count"),
         (dict(count=2.5), "count"),
         (dict(start="a"), "start"),
@@ -86,7 +86,7 @@ def test_bad_input_names_the_argument():
     ]:
         args = dict(param="forcing.omega", start=1.6, stop=2.2, count=3)
         args.update(kw)
-        with pytest.raises(signorini.SceneError, match=field):
+        with pytest.raises(signorini.SceneError, match="^" + field):
             signorini.sweep(SCENE, args.pop("param"), args.pop("start"), args.pop("stop"), args.pop("count"), **args)
     with pytest.raises(signorini.SceneError, match="scene"):
         signorini.sweep(3, "forcing.omega", 1.6, 2.2, 3)
