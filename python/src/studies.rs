@@ -17,7 +17,13 @@ fn py_name(flag: &str) -> String {
 
 fn study_err(e: StudyError) -> PyErr {
     match e {
-        StudyError::Config { field, message } => SceneError::new_err(message.replacen(&field, &py_name(&field), 1)),
+        StudyError::Config { field, message } => {
+            // The message names the option as `cargo xtask` spells it: name
+            // the Python argument, first.
+            let name = py_name(&field);
+            let m = message.replacen(&field, &name, 1);
+            SceneError::new_err(if m.starts_with(&name) { m } else { format!("{name}: {m}") })
+        }
         other => SceneError::new_err(other.to_string()),
     }
 }
