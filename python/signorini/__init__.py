@@ -6,6 +6,13 @@ the finite-element matrices (:mod:`signorini.fem`), the studies and sweeps. Erro
 :class:`InternalError` for a bug inside the Rust core (never an abort).
 """
 
+from __future__ import annotations
+
+import os
+from typing import Optional, Union
+
+import numpy as np
+
 from ._signorini import BlowUp, InternalError, SceneError, __version__
 from . import _check, _signorini, exact, fem, studies
 from .studies import convergence
@@ -14,7 +21,7 @@ from .sweep import SweepResult, sweep
 __all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "SweepResult", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
 
 
-def run(scene, *, energy=None, fields_every=0):
+def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] = None, fields_every: int = 0) -> "RunResult":
     """Runs a scene: a dict with the TOML schema of ``signorini run``
     (``{"bar": {"benchmark": "bar-dirichlet", "elements": 80, ...}}``), a path
     to a TOML file, or TOML text. Returns a result whose arrays are float64
@@ -64,6 +71,26 @@ class RunResult:
     comes back from a dask or multiprocessing worker."""
 
     __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status")
+
+    t: np.ndarray
+    tip: np.ndarray
+    lam_t: np.ndarray
+    lam: np.ndarray
+    energy_t: np.ndarray
+    energy: np.ndarray
+    contact_dofs: list
+    contact_lo: np.ndarray
+    contact_hi: np.ndarray
+    contact_u: np.ndarray
+    forces: np.ndarray
+    active: np.ndarray
+    fields_t: np.ndarray
+    fields: np.ndarray
+    norms: Optional[dict]
+    steps: int
+    contact_steps: int
+    dt: float
+    status: str
 
     def __init__(self, arrays=None, **values):
         for k in self.__slots__:
