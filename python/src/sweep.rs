@@ -97,9 +97,9 @@ pub fn run_sweep<'py>(
     d.set_item("tables", &tables)?;
     d.set_item("id", sweep.id())?;
     d.set_item("out", &out)?;
+    d.set_item("lines", Vec::<String>::new())?;
     match (signal, res) {
         (Some(e), _) => {
-            d.set_item("lines", Vec::<String>::new())?;
             e.value(py).setattr("partial", &d)?;
             Err(e)
         }

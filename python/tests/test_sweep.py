@@ -71,6 +71,12 @@ def test_ctrl_c_keeps_whole_runs(tmp_path):
     assert len(whole.summary["run"]) == 60
 
 
+def test_resuming_a_missing_folder_is_an_os_error_with_an_empty_partial(tmp_path):
+    with pytest.raises(OSError, match="sweep.toml") as e:
+        signorini.sweep(SCENE, "forcing.omega", 1.6, 2.2, 4, resume=True, out=tmp_path / "missing")
+    assert e.value.partial.summary is None and e.value.partial.lines == []
+
+
 def test_bad_input_names_the_argument():
     for kw, field in [
         (dict(param="forcing.nothing"), "param forcing.nothing"),
