@@ -18,7 +18,7 @@ from . import _check, _signorini, exact, fem, studies
 from .studies import convergence
 from .sweep import SweepResult, sweep
 
-__all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "SweepResult", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
+__all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
 
 
 def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] = None, fields_every: int = 0) -> "RunResult":
@@ -63,6 +63,16 @@ def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] =
         if part is not None:
             e.partial = RunResult(part)
         raise
+
+
+def check(scene: Union[dict, str, "os.PathLike[str]"]) -> str:
+    """What :func:`run` would do with ``scene``, as ``signorini check``
+    prints it: the scene validated and its integrator built (a bad scene
+    raises SceneError, exactly as ``run`` would), the stability limit, the
+    memory and output estimates, the number of steps. Nothing is run."""
+    if hasattr(scene, "__fspath__"):
+        scene = str(scene.__fspath__())
+    return _signorini.check_scene(scene)
 
 
 class RunResult:

@@ -200,6 +200,15 @@ fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<String> {
     }
 }
 
+/// What a run of the scene would do (the text of `signorini check`):
+/// validated, the integrator built, stability, memory, cost. Nothing runs.
+#[pyfunction]
+fn check_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<String> {
+    let (file, s) = scene_of(scene)?;
+    let here = std::env::current_dir().unwrap_or_else(|_| std::env::temp_dir());
+    py.detach(|| guarded(|| signorini_cli::check(&s, &file, &here).map_err(|e| SceneError::new_err(e.to_string()))))
+}
+
 /// A deliberate panic, for the tests of the panic guard.
 #[pyfunction]
 fn _panic_for_tests() -> PyResult<()> {
@@ -221,6 +230,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::study, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(scene_text, m)?)?;
+    m.add_function(wrap_pyfunction!(check_scene, m)?)?;
     m.add_function(wrap_pyfunction!(fem::bar_matrices, m)?)?;
     m.add_function(wrap_pyfunction!(fem::beam_matrices, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
