@@ -1,10 +1,9 @@
 //! Convergence studies: sweep the mesh at a fixed `dx/dt`, for each
 //! (scheme, mass) pair, in parallel; rates of every norm.
 //!
-//! Output formats (a contract with users' scripts; change only by adding):
-//! * per configuration, `<scheme>_<mass>.csv` with columns [`LEVEL_COLUMNS`];
-//! * `rates.csv` with columns `scheme,mass,norm,lsq_rate,last_rate`;
-//! * `oscillation.csv` with columns `scheme,mass,m,lambda_tv_ratio`.
+//! The files (per configuration `<scheme>_<mass>.csv` with columns
+//! [`LEVEL_COLUMNS`], `rates.csv`, `oscillation.csv`) are written by
+//! `signorini_studies::convergence` from these results.
 
 use crate::{run, Benchmark, NormObserver, RunConfig, RunError};
 use rayon::prelude::*;
@@ -12,7 +11,6 @@ use signorini_exact::ExactSolution;
 use signorini_fem::BarMass;
 use signorini_norms::{NormKind, NormReport};
 use signorini_schemes::SchemeSpec;
-use std::io::Write;
 use std::time::Instant;
 
 /// Columns of a per-configuration CSV.
@@ -213,51 +211,6 @@ impl ConfigResult {
     pub fn lambda_tv_ratio(&self) -> f64 {
         self.levels.last().map_or(f64::NAN, |l| l.norms.lambda_tv_ratio)
     }
-
-    /// Writes the per-level CSV.
-    pub fn write_csv<W: Write>(&self, w: W) -> Result<(), RunError> {
-        let mut out = csv::Writer::from_writer(w);
-        let io = |e: csv::Error| RunError::Output(e.to_string());
-        out.write_record(LEVEL_COLUMNS).map_err(io)?;
-        for l in &self.levels {
-            let mut rec = vec![l.m.to_string(), fmt(l.dx), fmt(l.dt), l.steps.to_string()];
-            rec.extend(NORMS.iter().map(|n| fmt(norm_value(&l.norms, n))));
-            rec.push(format!("{:.6}", l.wall_s));
-            out.write_record(&rec).map_err(io)?;
-        }
-        out.flush().map_err(|e| RunError::Output(e.to_string()))
-    }
-}
-
-fn fmt(x: f64) -> String {
-    format!("{x:.10e}")
-}
-
-/// Writes `rates.csv`: `scheme,mass,norm,lsq_rate,last_rate`.
-pub fn write_rates<W: Write>(w: W, results: &[ConfigResult]) -> Result<(), RunError> {
-    let mut out = csv::Writer::from_writer(w);
-    let io = |e: csv::Error| RunError::Output(e.to_string());
-    out.write_record(["scheme", "mass", "norm", "lsq_rate", "last_rate"]).map_err(io)?;
-    for r in results {
-        for n in NORMS {
-            let rt = r.rate(n);
-            out.write_record([r.scheme.to_string(), r.mass.to_string(), n.to_string(), format!("{:.4}", rt.lsq), format!("{:.4}", rt.last)]).map_err(io)?;
-        }
-    }
-    out.flush().map_err(|e| RunError::Output(e.to_string()))
-}
-
-/// Writes `oscillation.csv`: `scheme,mass,m,lambda_tv_ratio` for every level.
-pub fn write_oscillation<W: Write>(w: W, results: &[ConfigResult]) -> Result<(), RunError> {
-    let mut out = csv::Writer::from_writer(w);
-    let io = |e: csv::Error| RunError::Output(e.to_string());
-    out.write_record(["scheme", "mass", "m", "lambda_tv_ratio"]).map_err(io)?;
-    for r in results {
-        for l in &r.levels {
-            out.write_record([r.scheme.to_string(), r.mass.to_string(), l.m.to_string(), format!("{:.4}", l.norms.lambda_tv_ratio)]).map_err(io)?;
-        }
-    }
-    out.flush().map_err(|e| RunError::Output(e.to_string()))
 }
 
 /// The rates as a Markdown table: one row per (scheme, mass), the
