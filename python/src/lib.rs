@@ -29,6 +29,30 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     }
 }
 
+/// Runs `work` on a worker thread with the GIL released while this thread
+/// polls Python's signal handlers every 50 ms; on the first pending signal
+/// (Ctrl-C) it sets `flag`, which the run or sweep checks, and keeps the
+/// exception. Returns the work's result (a panic on the worker is an
+/// `InternalError`) and that exception, if any.
+pub(crate) fn interruptible<T: Send>(py: Python<'_>, flag: &'static std::sync::atomic::AtomicBool, work: impl FnOnce() -> PyResult<T> + Send) -> (PyResult<T>, Option<PyErr>) {
+    py.detach(|| {
+        std::thread::scope(|sc| {
+            let worker = sc.spawn(|| guarded(work));
+            let mut signal = None;
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+                if signal.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        signal = Some(e);
+                        flag.store(true, std::sync::atomic::Ordering::Relaxed);
+                    }
+                }
+            }
+            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the worker thread panicked"))), signal)
+        })
+    })
+}
+
 /// An exact benchmark solution (see `signorini.exact.solution`).
 #[pyclass(module = "signorini._signorini", frozen)]
 struct Exact {

@@ -121,7 +121,7 @@ fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>
 pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64) -> PyResult<RunArrays> {
     use signorini_cli::scene::Scene;
     use signorini_run::{run, NormObserver, RunConfig};
-    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::atomic::AtomicBool;
     if fields_every < 0 {
         return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
     }
@@ -152,29 +152,12 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         (Scene::Bar(b), Some(e)) => Some(NormObserver::new(e, b.problem.bar.elements, b.problem.vnorm(), dt)),
         _ => None,
     };
-    let (res, signal) = py.detach(|| {
-        std::thread::scope(|sc| {
-            let worker = sc.spawn(|| {
-                guarded(|| {
-                    let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
-                    if let Some(n) = norms.as_mut() {
-                        obs.push(n);
-                    }
-                    Ok(run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs))
-                })
-            });
-            let mut signal = None;
-            while !worker.is_finished() {
-                std::thread::sleep(std::time::Duration::from_millis(50));
-                if signal.is_none() {
-                    if let Err(e) = Python::attach(|py| py.check_signals()) {
-                        signal = Some(e);
-                        flag.store(true, Ordering::Relaxed);
-                    }
-                }
-            }
-            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the run's thread panicked"))), signal)
-        })
+    let (res, signal) = crate::interruptible(py, flag, || {
+        let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
+        if let Some(n) = norms.as_mut() {
+            obs.push(n);
+        }
+        Ok(run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs))
     });
     let res = res?;
     // Fields: the absolute state (the beam's lifting added back).

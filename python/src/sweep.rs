@@ -64,28 +64,13 @@ pub fn run_sweep<'py>(
     resume: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::atomic::AtomicBool;
     let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
     let second = second.map(|(param, from, to, count, log)| Axis { param, from, to, count, log });
     let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, progress: false, interrupt: Some(flag) };
     let limits = signorini_cli::scene::Limits::machine();
     let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(e.to_string().replace("--param", "param").replace("--", ""))))?;
-    let (res, signal) = py.detach(|| {
-        std::thread::scope(|sc| {
-            let worker = sc.spawn(|| guarded(|| Ok(signorini_cli::sweep::run(&sweep, &out))));
-            let mut signal = None;
-            while !worker.is_finished() {
-                std::thread::sleep(std::time::Duration::from_millis(50));
-                if signal.is_none() {
-                    if let Err(e) = Python::attach(|py| py.check_signals()) {
-                        signal = Some(e);
-                        flag.store(true, Ordering::Relaxed);
-                    }
-                }
-            }
-            (worker.join().unwrap_or_else(|_| Err(InternalError::new_err("the sweep's thread panicked"))), signal)
-        })
-    });
+    let (res, signal) = crate::interruptible(py, flag, || Ok(signorini_cli::sweep::run(&sweep, &out)));
     let res = res?;
     let tables = PyDict::new(py);
     for f in ["sweep.csv", "summary.csv", "impacts.csv"] {

@@ -76,19 +76,10 @@ impl Config {
     }
 }
 
-/// What the study computed and wrote.
-#[derive(Clone, Debug)]
-pub struct Output {
-    /// One table per CSV written: `stability.csv`, `<scene>_tip.csv` per
-    /// run, `scenes.csv`, `penalty.csv`, `self_convergence.csv`.
-    pub tables: Vec<Table>,
-    /// The Markdown report `cargo xtask beam` prints.
-    pub report: String,
-    /// Wall time of the whole study (s).
-    pub wall_s: f64,
-    /// Notes for stderr (none today).
-    pub notes: Vec<String>,
-}
+/// What the study computed and wrote ([`crate::Report`]); one table per
+/// CSV written: `stability.csv`, `<scene>_tip.csv` per
+/// run, `scenes.csv`, `penalty.csv`, `self_convergence.csv`.
+pub type Output = crate::Report;
 
 /// End of the first contact period (s): trajectories of different dt agree
 /// up to here.

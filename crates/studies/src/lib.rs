@@ -108,6 +108,20 @@ impl Column {
     }
 }
 
+/// What a study computed and wrote: the Output of the studies that return
+/// nothing beyond their files and their report.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// One table per CSV written, in the order written.
+    pub tables: Vec<Table>,
+    /// The Markdown report `cargo xtask <study>` prints.
+    pub report: String,
+    /// Wall time of the whole study (s).
+    pub wall_s: f64,
+    /// Notes for stderr.
+    pub notes: Vec<String>,
+}
+
 /// The content of one CSV file a study wrote.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {

@@ -51,19 +51,8 @@ impl Default for Config {
     }
 }
 
-/// What the study computed and wrote.
-#[derive(Clone, Debug)]
-pub struct Output {
-    /// `dt.csv`, `j.csv`, `rates.csv`.
-    pub tables: Vec<Table>,
-    /// What `cargo xtask beam-obstacles` prints on stdout (nothing: its
-    /// lines go to stderr, see `notes`).
-    pub report: String,
-    /// Wall time of the whole study (s).
-    pub wall_s: f64,
-    /// The per-run errors, the rates and the output folder, for stderr.
-    pub notes: Vec<String>,
-}
+/// What the study computed and wrote ([`crate::Report`]); its tables: `dt.csv`, `j.csv`, `rates.csv`.
+pub type Output = crate::Report;
 
 /// Records, at every `every`-th level, the displacement at the nodes
 /// `x = i L / base` (i = 1..=base), and the largest bound violation.

@@ -14,7 +14,7 @@
 //! `rates.csv` (`omega,velocity_lsq_rate,velocity_last_rate,phase_lsq_rate,phase_last_rate`),
 //! `grazing.csv` (`omega,offset,impacts,first_velocity`), `errors.svg`.
 
-use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, Table, TableOut};
+use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, TableOut};
 use signorini_cli::scene::Limits;
 use signorini_cli::sweep::{simulate, Sweep, SweepOptions};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
@@ -66,18 +66,8 @@ impl Config {
     }
 }
 
-/// What the study computed and wrote.
-#[derive(Clone, Debug)]
-pub struct Output {
-    /// `orbits.csv`, `rates.csv`, `grazing.csv`.
-    pub tables: Vec<Table>,
-    /// The Markdown report `cargo xtask oscillator` prints.
-    pub report: String,
-    /// Wall time of the whole study (s).
-    pub wall_s: f64,
-    /// Notes for stderr (none today).
-    pub notes: Vec<String>,
-}
+/// What the study computed and wrote ([`crate::Report`]); its tables: `orbits.csv`, `rates.csv`, `grazing.csv`.
+pub type Output = crate::Report;
 
 /// The scene `data/scenes/oscillator.toml`, compiled in.
 const SCENE: &str = include_str!("../../../data/scenes/oscillator.toml");

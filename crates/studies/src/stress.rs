@@ -10,7 +10,7 @@
 //! map of the largest relative energy drift per (scheme × mass, dx/dt),
 //! black where a run blew up, grey where it was refused.
 
-use crate::{create_dir, fd, fe, ff, int, since, txt, Cell, Kind, StudyError, Table, TableOut};
+use crate::{create_dir, fd, fe, ff, int, since, txt, Cell, Kind, StudyError, TableOut};
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_plot::heat_map;
 use signorini_run::{run as run_steps, BarProblem, Observer, RunConfig, RunError, Sample};
@@ -51,18 +51,8 @@ impl Config {
     }
 }
 
-/// What the study computed and wrote.
-#[derive(Clone, Debug)]
-pub struct Output {
-    /// `stress.csv`.
-    pub tables: Vec<Table>,
-    /// The Markdown report `cargo xtask stress` prints.
-    pub report: String,
-    /// Wall time of the whole study (s).
-    pub wall_s: f64,
-    /// Notes for stderr (none today).
-    pub notes: Vec<String>,
-}
+/// What the study computed and wrote ([`crate::Report`]); its tables: `stress.csv`.
+pub type Output = crate::Report;
 
 /// The dx/dt of every run of a (scheme, mass) row.
 pub const RATIOS: [f64; 7] = [0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0];

@@ -8,7 +8,7 @@
 //! (log-log, L²(L²) error against wall time), and on stdout the cheapest
 //! configuration reaching each accuracy band.
 
-use crate::{create_dir, fe, int, since, txt, Kind, StudyError, Table, TableOut};
+use crate::{create_dir, fe, int, since, txt, Kind, StudyError, TableOut};
 use signorini_fem::BarMass;
 use signorini_plot::{line_chart, Chart, Scale, Series};
 use signorini_run::study::{self, StudyConfig};
@@ -49,18 +49,8 @@ impl Config {
     }
 }
 
-/// What the study computed and wrote.
-#[derive(Clone, Debug)]
-pub struct Output {
-    /// `work_precision.csv`.
-    pub tables: Vec<Table>,
-    /// The Markdown report `cargo xtask work-precision` prints.
-    pub report: String,
-    /// Wall time of the whole study (s).
-    pub wall_s: f64,
-    /// Notes for stderr (none today).
-    pub notes: Vec<String>,
-}
+/// What the study computed and wrote ([`crate::Report`]); its tables: `work_precision.csv`.
+pub type Output = crate::Report;
 
 struct Point {
     benchmark: Benchmark,
