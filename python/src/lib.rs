@@ -7,12 +7,12 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
+
 mod fem;
 mod run;
 mod studies;
 mod sweep;
-
-use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
 
 create_exception!(signorini, SceneError, PyValueError, "Bad input: names the field and the allowed range.");
 create_exception!(signorini, BlowUp, PyException, "A run became non-finite or its energy grew beyond bounds (step and time in the message).");
