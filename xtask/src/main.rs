@@ -21,6 +21,7 @@ mod fuzz;
 mod obstacles;
 mod oscillator;
 mod pytest;
+mod courant1;
 mod stress;
 mod weighted;
 mod wp;
@@ -59,6 +60,8 @@ enum Cmd {
     WorkPrecision(wp::Args),
     /// Stability stress: long runs, extreme dx/dt, random data; energy drift and blow-ups.
     Stress(stress::Args),
+    /// Courant number one: the lumped central difference at dx/dt = c, node by node against the exact solutions.
+    Courant1(courant1::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
 }
@@ -107,6 +110,7 @@ fn main() -> ExitCode {
         Cmd::Test(a) => pytest::run_tests(a),
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
+        Cmd::Courant1(a) => courant1::run_courant1(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),
     };
     match result {

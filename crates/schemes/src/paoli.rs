@@ -100,6 +100,46 @@ impl PaoliSchatzman {
         debug_assert_eq!(first.n, 1);
         let u = start.displacement().to_vec();
         let dy = start.into_dynamics();
+        Self::from_levels(label, dy, beta, restitution, dt, init, u)
+    }
+
+    /// The central difference (β = 0) started by Taylor's formula instead of
+    /// a Newmark step: `U¹ = U⁰ + dt V⁰ + dt²/2 M⁻¹(F(0) − K U⁰ − C V⁰)`,
+    /// each contact dof then clamped into its bounds. With the lumped P1
+    /// mass at `dx/dt = c` this start is the exact nodal value of
+    /// d'Alembert's solution whenever `V⁰` is affine on every pair of
+    /// elements around a node (docs/theory.md §4.10). Needs a diagonal mass
+    /// matrix with every diagonal entry positive.
+    pub fn central_difference_taylor(label: String, dy: Dynamics, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+        let n = dy.n();
+        let diagonal = dy.mass.half_bandwidth() == 0 || (1..n).all(|i| (1..=dy.mass.half_bandwidth().min(i)).all(|k| dy.mass.get(i, i - k) == 0.0));
+        if !diagonal || (0..n).any(|i| !(dy.mass.get(i, i) > 0.0)) {
+            return Err(SchemeError::Structure("the Taylor start needs a diagonal mass matrix with no massless node (mass lumped)".into()));
+        }
+        if init.u.len() != n || init.v.len() != n {
+            return Err(SchemeError::Invalid { field: "initial state length", value: init.u.len() as f64, allowed: "the number of unknowns" });
+        }
+        let mut f = dy.load.clone();
+        for fc in &dy.forcing {
+            let s0 = fc.time.value(0.0);
+            f.iter_mut().zip(&fc.shape).for_each(|(a, g)| *a += g * s0);
+        }
+        let mut ku = vec![0.0; n];
+        dy.stiffness.mul_vec(&init.u, &mut ku);
+        f.iter_mut().zip(&ku).for_each(|(a, k)| *a -= k);
+        if let Some(c) = &dy.damping {
+            c.mul_vec(&init.v, &mut ku);
+            f.iter_mut().zip(&ku).for_each(|(a, k)| *a -= k);
+        }
+        let mut u: Vec<f64> = (0..n).map(|i| init.u[i] + dt * init.v[i] + 0.5 * dt * dt * f[i] / dy.mass.get(i, i)).collect();
+        for ct in &dy.contacts {
+            u[ct.dof] = u[ct.dof].clamp(ct.bounds.lo, ct.bounds.hi);
+        }
+        Self::from_levels(label, dy, 0.0, restitution, dt, init, u)
+    }
+
+    /// The scheme at level 1 from `U⁰` (`init.u`) and `U¹` (`u`).
+    fn from_levels(label: String, dy: Dynamics, beta: f64, restitution: f64, dt: f64, init: &Initial, u: Vec<f64>) -> Result<Self, SchemeError> {
         let n = dy.n();
         let a_mat = dy.step_matrix(0.5 * dt, beta * dt * dt);
         let a = a_mat.factor()?;

@@ -18,6 +18,7 @@
 
 pub mod beam;
 pub mod convergence;
+pub mod courant1;
 pub mod obstacles;
 pub mod oscillator;
 pub mod stress;

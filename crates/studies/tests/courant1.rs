@@ -1,0 +1,127 @@
+//! Courant number one: the lumped central difference at dx/dt = c against
+//! an independent model written here (nodal recurrences of the lumped P1
+//! chain) and against the exact solution — exact to round-off until the
+//! first release, then off by exactly dt/2 at the contact node on the
+//! Dirichlet bar.
+
+use signorini_exact::ExactSolution;
+use signorini_fem::BarMass;
+use signorini_run::Benchmark;
+use signorini_schemes::{PaoliSchatzman, Stepper};
+use signorini_studies::{courant1, Column};
+
+/// The lumped chain on [0, 1] clamped at x = 1, obstacle u_0 >= 0, c = 1,
+/// dt = h: interior u_i^{n+1} = u_{i+1}^n + u_{i-1}^n − u_i^{n-1}, the end
+/// node (mass h/2) u_0^{n+1} = max(0, 2 u_1^n − u_0^{n-1}); Taylor start.
+fn chain(m: usize, steps: usize) -> Vec<Vec<f64>> {
+    let h = 1.0 / m as f64;
+    let u0: Vec<f64> = (0..=m).map(|i| (1.0 - i as f64 * h) / 2.0).collect();
+    // Taylor: u1 = u0 + dt²/2 a0 with a0 = 0 inside (u0 affine), −1/h at node 0.
+    let mut u1 = u0.clone();
+    u1[0] = u0[0] - 0.5 * h;
+    let mut levels = vec![u0, u1];
+    for n in 1..steps {
+        let (up, u) = (&levels[n - 1], &levels[n]);
+        let mut next = vec![0.0; m + 1];
+        next[0] = (2.0 * u[1] - up[0]).max(0.0);
+        for i in 1..m {
+            next[i] = u[i + 1] + u[i - 1] - up[i];
+        }
+        levels.push(next);
+    }
+    levels
+}
+
+#[test]
+fn the_scheme_is_the_independent_chain_and_exact_until_the_release() {
+    let exact = Benchmark::BarDirichlet.exact(6.0).unwrap();
+    for m in [10, 20, 40] {
+        let p = Benchmark::BarDirichlet.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
+        let dt = p.bar.h();
+        let mut s = PaoliSchatzman::central_difference_taylor("cd".into(), p.dynamics(), 0.0, dt, &p.initial).unwrap();
+        let steps = 6 * m;
+        let want = chain(m, steps + 1);
+        let h = dt;
+        for n in 1..=steps {
+            if n > 1 {
+                s.step().unwrap();
+            }
+            let u = s.displacement();
+            for i in 0..m {
+                assert!((u[i] - want[n][i]).abs() < 1e-13, "m = {m}, level {n}, node {i}: {} vs the chain's {}", u[i], want[n][i]);
+            }
+            let t = n as f64 * dt;
+            let err = (0..m).map(|i| (u[i] - exact.fields(i as f64 * h, t).u).abs()).fold(0.0, f64::max);
+            if n <= 2 * m {
+                // Free flight, impact at t = 1 and the whole contact phase: exact.
+                assert!(err < 1e-13, "m = {m}, t = {t}: nodal error {err:e}");
+            } else if n == 2 * m + 1 {
+                // The step across the release at t = 2: the node is held at
+                // the obstacle for one more step; the exact u(0, 2 + dt) = dt/2.
+                assert!((err - 0.5 * dt).abs() < 1e-13 && u[0].abs() < 1e-15, "m = {m}: {err:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_study_reports_the_release_as_the_first_error() {
+    let out = std::env::temp_dir().join(format!("signorini-studies-courant1-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let cfg = courant1::Config { out: out.clone(), benchmarks: vec![Benchmark::BarDirichlet, Benchmark::BarNeumannGravity], levels: vec![10, 20], t_end: None };
+    let o = courant1::run(&cfg, &|_, _| {}).unwrap();
+    let t = &o.tables[0];
+    let f = |name: &str| match t.column(name) {
+        Some(Column::F64(v)) => v.clone(),
+        other => panic!("{name}: {other:?}"),
+    };
+    let s = |name: &str| match t.column(name) {
+        Some(Column::Str(v)) => v.clone(),
+        other => panic!("{name}: {other:?}"),
+    };
+    let (bench, start, dt, first_t, first, release) = (s("benchmark"), s("start"), f("dt"), f("first_error_t"), f("first_error"), f("exact_release_t"));
+    for r in 0..bench.len() {
+        match (bench[r].as_str(), start[r].as_str()) {
+            ("bar-dirichlet", "taylor") => {
+                // Release at t = 2 (the force is −1/2 on [1, 2)); error dt/2 one step later.
+                assert!((release[r] - 2.0).abs() < 1e-12 && (first_t[r] - (2.0 + dt[r])).abs() < 1e-12 && (first[r] - 0.5 * dt[r]).abs() < 1e-12, "row {r}");
+            }
+            ("bar-dirichlet", "newmark") => {
+                // taylor-flanagan's Newmark(1/4, 1/2) start is not the nodal recurrence.
+                assert!((first_t[r] - dt[r]).abs() < 1e-12, "row {r}");
+            }
+            (_, _) => {
+                // The falling bar (g = 1/9, from rest): exact through the impact
+                // at t = 3 until the step across the release.
+                assert!(first_t[r] >= release[r] - 1e-12 && first_t[r] <= release[r] + dt[r] + 1e-12, "row {r}: {} vs {}", first_t[r], release[r]);
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn bad_input_is_refused_before_the_folder_exists() {
+    let out = std::env::temp_dir().join(format!("signorini-studies-courant1-bad-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    for (cfg, field) in [
+        (courant1::Config { out: out.clone(), levels: vec![], ..Default::default() }, "--levels"),
+        (courant1::Config { out: out.clone(), levels: vec![1], ..Default::default() }, "--levels"),
+        (courant1::Config { out: out.clone(), benchmarks: vec![], ..Default::default() }, "--benchmarks"),
+        (courant1::Config { out: out.clone(), t_end: Some(f64::NAN), ..Default::default() }, "--t-end"),
+    ] {
+        match courant1::run(&cfg, &|_, _| {}) {
+            Err(signorini_studies::StudyError::Config { field: f, .. }) => assert_eq!(f, field),
+            other => panic!("{field}: {other:?}"),
+        }
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn the_taylor_start_refuses_a_consistent_mass() {
+    let exact = Benchmark::BarDirichlet.exact(3.0).unwrap();
+    let p = Benchmark::BarDirichlet.problem(exact.as_ref(), 10, BarMass::Std).unwrap();
+    assert!(PaoliSchatzman::central_difference_taylor("cd".into(), p.dynamics(), 0.0, 0.1, &p.initial).is_err());
+    let _ = exact.energy();
+}
