@@ -22,7 +22,7 @@ import numpy as np
 
 from . import _signorini
 
-__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "beam_obstacles", "oscillator", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
+__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "beam_obstacles", "oscillator", "courant1", "long_horizon", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
 
 #: The columns of a convergence study's per-configuration CSV.
 LEVEL_COLUMNS = ("m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s")
@@ -159,6 +159,22 @@ def oscillator(omegas=None, dts=None, transient=None, record=None, out=None) -> 
     oscillator``): impact velocity and phase errors and their rates in dt at
     each forcing frequency of ``omegas``; the grazing frequency."""
     return _run("oscillator", out, dict(omegas=omegas, dts=dts, transient=transient, record=record))
+
+
+def courant1(benchmarks=None, levels=None, t_end=None, out=None) -> StudyResult:
+    """Courant number one (``cargo xtask courant1``): the lumped central
+    difference at dx/dt = c with Taylor's and Newmark's starts, node by node
+    against the exact solutions; where the first nodal error appears."""
+    return _run("courant1", out, dict(benchmarks=benchmarks, levels=levels, t_end=t_end))
+
+
+def long_horizon(runs=None, levels=None, ratio=None, t_end=None, out=None) -> StudyResult:
+    """Long horizons (``cargo xtask long-horizon``): the Dirichlet bar over
+    ``t_end`` (default 30, ten periods) for ``runs`` (``"scheme:mass"`` pairs;
+    default ps-e0 with every mass, moreau-jean with std and lumped): the
+    largest L² error in each period, every impact time against the exact one,
+    the drift per period."""
+    return _run("long_horizon", out, dict(runs=runs, levels=levels, ratio=ratio, t_end=t_end))
 
 
 def work_precision(levels=None, out=None) -> StudyResult:

@@ -228,6 +228,29 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             let o = detached(py, || st::oscillator::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
-        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress"))),
+        "courant1" => {
+            let mut c = st::courant1::Config { out: out.clone(), ..Default::default() };
+            if let Some(bs) = a.strs("benchmarks")? {
+                c.benchmarks = bs.iter().map(|b| st::convergence::parse_benchmark(b)).collect::<Result<_, _>>().map_err(study_err)?;
+            }
+            c.levels = a.usizes("levels")?.unwrap_or(c.levels);
+            c.t_end = a.f64("t_end")?.or(c.t_end);
+            a.done(&["benchmarks", "levels", "t_end"])?;
+            let o = detached(py, || st::courant1::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        "long_horizon" => {
+            let mut c = st::long_horizon::Config { out: out.clone(), ..Default::default() };
+            if let Some(r) = a.strs("runs")? {
+                c.runs = st::long_horizon::parse_runs(&r).map_err(study_err)?;
+            }
+            c.levels = a.usizes("levels")?.unwrap_or(c.levels);
+            c.ratio = a.f64("ratio")?.unwrap_or(c.ratio);
+            c.t_end = a.f64("t_end")?.unwrap_or(c.t_end);
+            a.done(&["runs", "levels", "ratio", "t_end"])?;
+            let o = detached(py, || st::long_horizon::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress, courant1, long_horizon"))),
     }
 }

@@ -11,8 +11,8 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "out/courant1")]
     out: PathBuf,
-    /// Benchmarks, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "bar-dirichlet,bar-mirrored,bar-neumann-gravity,bar-neumann-gravity-0.11")]
+    /// Benchmarks, comma-separated (default: all four).
+    #[arg(long, value_delimiter = ',')]
     benchmarks: Vec<String>,
     /// Numbers of elements m, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "10,20,40,80")]
@@ -24,8 +24,10 @@ pub struct Args {
 
 /// Runs the study.
 pub fn run_courant1(a: Args) -> Result<(), String> {
-    let benchmarks = a.benchmarks.iter().map(|b| signorini_studies::convergence::parse_benchmark(b.trim()).map_err(|e| e.to_string())).collect::<Result<Vec<_>, _>>()?;
-    let cfg = courant1::Config { out: a.out, benchmarks, levels: a.levels, t_end: a.t_end };
+    let mut cfg = courant1::Config { out: a.out, levels: a.levels, t_end: a.t_end, ..Default::default() };
+    if !a.benchmarks.is_empty() {
+        cfg.benchmarks = a.benchmarks.iter().map(|b| signorini_studies::convergence::parse_benchmark(b.trim()).map_err(|e| e.to_string())).collect::<Result<Vec<_>, _>>()?;
+    }
     let out = courant1::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);
     print!("{}", out.report);

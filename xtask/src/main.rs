@@ -22,6 +22,7 @@ mod obstacles;
 mod oscillator;
 mod pytest;
 mod courant1;
+mod long_horizon;
 mod stress;
 mod weighted;
 mod wp;
@@ -62,6 +63,9 @@ enum Cmd {
     Stress(stress::Args),
     /// Courant number one: the lumped central difference at dx/dt = c, node by node against the exact solutions.
     Courant1(courant1::Args),
+    /// The Dirichlet bar over many periods (T = 30): error against time and impact phase for every mass.
+    #[command(name = "long-horizon")]
+    LongHorizon(long_horizon::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
 }
@@ -111,6 +115,7 @@ fn main() -> ExitCode {
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
         Cmd::Courant1(a) => courant1::run_courant1(a),
+        Cmd::LongHorizon(a) => long_horizon::run_long_horizon(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),
     };
     match result {

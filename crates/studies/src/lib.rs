@@ -19,6 +19,7 @@
 pub mod beam;
 pub mod convergence;
 pub mod courant1;
+pub mod long_horizon;
 pub mod obstacles;
 pub mod oscillator;
 pub mod stress;
