@@ -83,7 +83,7 @@ pub struct Reduction {
     t_int: Vec<f64>,
     /// `Φ_rᵀ Mᵢᵢ`, row-major `r × nᵢ`.
     proj: Vec<f64>,
-    kappa: f64,
+    kappa_free: f64,
 }
 
 fn dense(a: &SymBand, rows: &[usize], cols: &[usize]) -> Mat<f64> {
@@ -194,15 +194,15 @@ impl Reduction {
             k_r.set(nb + j, nb + j, omega2[j]);
             m_r.set(nb + j, nb + j, 1.0);
         }
-        // κ of the reduced pencil: the contacts eliminated statically,
+        // The free-contact pencil: the massless contacts eliminated statically,
         // S = Λ_r − G K_bb,r⁻¹ Gᵀ.
         let kbb_llt = kbb_r.llt(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "stiffness", why: "the condensed contact stiffness must be positive definite" })?;
         let s = Mat::from_fn(r, r, |a, b| if a == b { omega2[a] } else { 0.0 }) - &g * kbb_llt.solve(g.transpose());
         let s = Mat::from_fn(r, r, |a, b| 0.5 * (s[(a, b)] + s[(b, a)]));
         let ev = s.self_adjoint_eigenvalues(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "stiffness", why: "the reduced pencil's eigenproblem did not converge" })?;
-        let kappa = ev.iter().fold(0.0_f64, |a, &x| a.max(x));
+        let kappa_free = ev.iter().fold(0.0_f64, |a, &x| a.max(x));
         let proj = (0..r * ni).map(|x| proj[(x / ni, x % ni)]).collect();
-        Ok(Self { n, contacts: contacts.to_vec(), slot, omega2, interior_modes: ni, k_r, m_r, t_int, proj, kappa })
+        Ok(Self { n, contacts: contacts.to_vec(), slot, omega2, interior_modes: ni, k_r, m_r, t_int, proj, kappa_free })
     }
 
     /// Size `n` of the parent.
@@ -246,17 +246,27 @@ impl Reduction {
         self.slot.get(dof).and_then(|s| s.ok())
     }
 
-    /// `κ_r`: the largest finite eigenvalue of the reduced pencil
-    /// `(K_r, M_r)`, i.e. of `S = Λ_r − G K_bb,r⁻¹ Gᵀ` (the massless contacts
-    /// condensed statically).
+    /// `κ_r`, the largest eigenvalue of the reduced pencil in either contact
+    /// state: contacts held (the pencil `(Λ_r, I)`, largest eigenvalue `ω_r²`)
+    /// or free (the massless contacts condensed statically,
+    /// [`Reduction::kappa_free`]). Since the condensed pencil lies below
+    /// `Λ_r`, `κ_r = ω_r²`, the largest kept fixed-interface eigenvalue.
     pub fn kappa(&self) -> f64 {
-        self.kappa
+        self.omega2.last().copied().unwrap_or(0.0).max(self.kappa_free)
+    }
+
+    /// The largest finite eigenvalue of `(K_r, M_r)` with the contacts free:
+    /// of `S = Λ_r − G K_bb,r⁻¹ Gᵀ` (the massless contacts condensed).
+    pub fn kappa_free(&self) -> f64 {
+        self.kappa_free
     }
 
     /// The exact stability limit of the explicit central difference with
-    /// quasi-static massless contacts on the reduced pencil: `2 / sqrt(κ_r)`.
+    /// quasi-static massless contacts on the reduced model: `2 / sqrt(κ_r)
+    /// = 2 / ω_r` (the same rule as the full model's `cd-massless`, whose
+    /// limit is set by the pencil with the contact held).
     pub fn cfl_limit(&self) -> f64 {
-        2.0 / self.kappa.sqrt()
+        2.0 / self.kappa().sqrt()
     }
 
     /// `u = T q`: the full field from the reduced coordinates. Allocates
