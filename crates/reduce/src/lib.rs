@@ -99,27 +99,12 @@ impl Reduction {
     /// first mode; `Mᵢᵢ` or `Kᵢᵢ` not positive definite. Panics if `k` and
     /// `m` differ in size (programmer error).
     #[track_caller]
-    pub fn new(
-        k: &SymBand,
-        m: &SymBand,
-        contacts: &[usize],
-        keep: Keep,
-    ) -> Result<Self, ReduceError> {
+    pub fn new(k: &SymBand, m: &SymBand, contacts: &[usize], keep: Keep) -> Result<Self, ReduceError> {
         let n = k.n();
         assert_eq!(m.n(), n, "K and M differ in size");
-        let bad = |field: &'static str, value: f64, allowed: String| {
-            Err(ReduceError::Invalid {
-                field,
-                value,
-                allowed,
-            })
-        };
+        let bad = |field: &'static str, value: f64, allowed: String| Err(ReduceError::Invalid { field, value, allowed });
         if contacts.is_empty() || contacts.len() >= n {
-            return bad(
-                "contacts",
-                contacts.len() as f64,
-                format!("between 1 and {} contact dofs", n.saturating_sub(1)),
-            );
+            return bad("contacts", contacts.len() as f64, format!("between 1 and {} contact dofs", n.saturating_sub(1)));
         }
         for (j, &c) in contacts.iter().enumerate() {
             if c >= n {
@@ -141,11 +126,7 @@ impl Reduction {
         let ni = interior.len();
         if let Keep::Modes(r) = keep {
             if r == 0 || r > ni {
-                return bad(
-                    "modes",
-                    r as f64,
-                    format!("1..={ni} (the interior dofs, contacts held)"),
-                );
+                return bad("modes", r as f64, format!("1..={ni} (the interior dofs, contacts held)"));
             }
         }
         if let Keep::CutoffHz(f) = keep {
@@ -153,32 +134,15 @@ impl Reduction {
                 return bad("cutoff_hz", f, "finite and > 0".into());
             }
         }
-        let (mii, kii, kib, kbb) = (
-            dense(m, &interior, &interior),
-            dense(k, &interior, &interior),
-            dense(k, &interior, contacts),
-            dense(k, contacts, contacts),
-        );
+        let (mii, kii, kib, kbb) = (dense(m, &interior, &interior), dense(k, &interior, &interior), dense(k, &interior, contacts), dense(k, contacts, contacts));
         // Fixed-interface modes: Mᵢᵢ = L Lᵀ, L⁻¹ Kᵢᵢ L⁻ᵀ = V Λ Vᵀ, Φ = L⁻ᵀ V.
-        let llt = mii.llt(Side::Lower).map_err(|_| ReduceError::NotDefinite {
-            field: "mass",
-            why: "the mass on the dofs other than the contacts must be positive definite",
-        })?;
+        let llt = mii.llt(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "mass", why: "the mass on the dofs other than the contacts must be positive definite" })?;
         let l = llt.L().to_owned();
         let mut linv = Mat::<f64>::identity(ni, ni);
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-            l.as_ref(),
-            linv.as_mut(),
-            Par::Seq,
-        );
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), linv.as_mut(), Par::Seq);
         let c = &linv * &kii * linv.transpose();
         let c = Mat::from_fn(ni, ni, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
-        let evd = c
-            .self_adjoint_eigen(Side::Lower)
-            .map_err(|_| ReduceError::NotDefinite {
-                field: "stiffness",
-                why: "the fixed-interface eigenproblem did not converge",
-            })?;
+        let evd = c.self_adjoint_eigen(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "stiffness", why: "the fixed-interface eigenproblem did not converge" })?;
         let lam: Vec<f64> = (0..ni).map(|j| evd.S().column_vector()[j]).collect();
         if !(lam[0] > 0.0) {
             return Err(ReduceError::NotDefinite { field: "stiffness", why: "the stiffness on the dofs other than the contacts must be positive definite (hold the contacts: no rigid motion left)" });
@@ -189,11 +153,7 @@ impl Reduction {
                 let w = 2.0 * PI * f;
                 let first = lam[0].sqrt() / (2.0 * PI);
                 if w * w < lam[0] {
-                    return bad(
-                        "cutoff_hz",
-                        f,
-                        format!(">= the first fixed-interface mode, {first} Hz"),
-                    );
+                    return bad("cutoff_hz", f, format!(">= the first fixed-interface mode, {first} Hz"));
                 }
                 lam.iter().take_while(|&&l| l <= w * w).count()
             }
@@ -201,10 +161,7 @@ impl Reduction {
         let phi = linv.transpose() * evd.U().subcols(0, r);
         let omega2 = lam[..r].to_vec();
         // Static constraint modes Ψ = −Kᵢᵢ⁻¹ Kᵢ_b.
-        let kllt = kii.llt(Side::Lower).map_err(|_| ReduceError::NotDefinite {
-            field: "stiffness",
-            why: "the stiffness on the dofs other than the contacts must be positive definite",
-        })?;
+        let kllt = kii.llt(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "stiffness", why: "the stiffness on the dofs other than the contacts must be positive definite" })?;
         let psi = -kllt.solve(&kib);
         let khat = &kbb + kib.transpose() * &psi;
         let g = phi.transpose() * &kib; // r × nb
@@ -239,35 +196,13 @@ impl Reduction {
         }
         // The free-contact pencil: the massless contacts eliminated statically,
         // S = Λ_r − G K_bb,r⁻¹ Gᵀ.
-        let kbb_llt = kbb_r
-            .llt(Side::Lower)
-            .map_err(|_| ReduceError::NotDefinite {
-                field: "stiffness",
-                why: "the condensed contact stiffness must be positive definite",
-            })?;
-        let s = Mat::from_fn(r, r, |a, b| if a == b { omega2[a] } else { 0.0 })
-            - &g * kbb_llt.solve(g.transpose());
+        let kbb_llt = kbb_r.llt(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "stiffness", why: "the condensed contact stiffness must be positive definite" })?;
+        let s = Mat::from_fn(r, r, |a, b| if a == b { omega2[a] } else { 0.0 }) - &g * kbb_llt.solve(g.transpose());
         let s = Mat::from_fn(r, r, |a, b| 0.5 * (s[(a, b)] + s[(b, a)]));
-        let ev = s
-            .self_adjoint_eigenvalues(Side::Lower)
-            .map_err(|_| ReduceError::NotDefinite {
-                field: "stiffness",
-                why: "the reduced pencil's eigenproblem did not converge",
-            })?;
+        let ev = s.self_adjoint_eigenvalues(Side::Lower).map_err(|_| ReduceError::NotDefinite { field: "stiffness", why: "the reduced pencil's eigenproblem did not converge" })?;
         let kappa_free = ev.iter().fold(0.0_f64, |a, &x| a.max(x));
         let proj = (0..r * ni).map(|x| proj[(x / ni, x % ni)]).collect();
-        Ok(Self {
-            n,
-            contacts: contacts.to_vec(),
-            slot,
-            omega2,
-            interior_modes: ni,
-            k_r,
-            m_r,
-            t_int,
-            proj,
-            kappa_free,
-        })
+        Ok(Self { n, contacts: contacts.to_vec(), slot, omega2, interior_modes: ni, k_r, m_r, t_int, proj, kappa_free })
     }
 
     /// Size `n` of the parent.
@@ -317,11 +252,7 @@ impl Reduction {
     /// [`Reduction::kappa_free`]). Since the condensed pencil lies below
     /// `Λ_r`, `κ_r = ω_r²`, the largest kept fixed-interface eigenvalue.
     pub fn kappa(&self) -> f64 {
-        self.omega2
-            .last()
-            .copied()
-            .unwrap_or(0.0)
-            .max(self.kappa_free)
+        self.omega2.last().copied().unwrap_or(0.0).max(self.kappa_free)
     }
 
     /// The largest finite eigenvalue of `(K_r, M_r)` with the contacts free:
@@ -342,10 +273,7 @@ impl Reduction {
     /// nothing. Panics on wrong lengths (programmer error).
     #[track_caller]
     pub fn reconstruct(&self, q: &[f64], out: &mut [f64]) {
-        assert!(
-            q.len() == self.dofs() && out.len() == self.n,
-            "length mismatch"
-        );
+        assert!(q.len() == self.dofs() && out.len() == self.n, "length mismatch");
         for (d, o) in out.iter_mut().enumerate() {
             *o = self.row(d, q);
         }
@@ -365,11 +293,7 @@ impl Reduction {
             Ok(k) => q[k],
             Err(i) => {
                 let nr = self.dofs();
-                self.t_int[i * nr..(i + 1) * nr]
-                    .iter()
-                    .zip(q)
-                    .map(|(a, b)| a * b)
-                    .sum()
+                self.t_int[i * nr..(i + 1) * nr].iter().zip(q).map(|(a, b)| a * b).sum()
             }
         }
     }
@@ -383,10 +307,7 @@ impl Reduction {
         for (d, &fd) in f.iter().enumerate() {
             match self.slot[d] {
                 Ok(k) => out[k] += fd,
-                Err(i) => out
-                    .iter_mut()
-                    .zip(&self.t_int[i * nr..(i + 1) * nr])
-                    .for_each(|(o, t)| *o += t * fd),
+                Err(i) => out.iter_mut().zip(&self.t_int[i * nr..(i + 1) * nr]).for_each(|(o, t)| *o += t * fd),
             }
         }
         out
@@ -401,18 +322,9 @@ impl Reduction {
     pub fn project_state(&self, u: &[f64]) -> Vec<f64> {
         assert_eq!(u.len(), self.n, "length mismatch");
         let (nb, r, ni) = (self.contacts.len(), self.omega2.len(), self.interior_modes);
-        let ui: Vec<f64> = (0..self.n)
-            .filter(|d| self.slot[*d].is_err())
-            .map(|d| u[d])
-            .collect();
+        let ui: Vec<f64> = (0..self.n).filter(|d| self.slot[*d].is_err()).map(|d| u[d]).collect();
         let mut out: Vec<f64> = self.contacts.iter().map(|&c| u[c]).collect();
-        out.extend((0..r).map(|a| {
-            self.proj[a * ni..(a + 1) * ni]
-                .iter()
-                .zip(&ui)
-                .map(|(x, y)| x * y)
-                .sum::<f64>()
-        }));
+        out.extend((0..r).map(|a| self.proj[a * ni..(a + 1) * ni].iter().zip(&ui).map(|(x, y)| x * y).sum::<f64>()));
         debug_assert_eq!(out.len(), nb + r);
         out
     }

@@ -24,36 +24,18 @@ fn modes_are_the_lowest_fixed_interface_eigenvalues() {
         assert_eq!(red.modes().len(), r);
         assert_eq!(red.dofs(), r + 1);
         for (j, &w2) in red.modes().iter().enumerate() {
-            assert!(
-                (w2 - want(j + 1)).abs() <= 1e-12 * want(m - 1),
-                "r = {r}, mode {}: {w2} vs {}",
-                j + 1,
-                want(j + 1)
-            );
+            assert!((w2 - want(j + 1)).abs() <= 1e-12 * want(m - 1), "r = {r}, mode {}: {w2} vs {}", j + 1, want(j + 1));
         }
     }
     // A cutoff keeps exactly the modes at or below it.
     let f = (want(6).sqrt() + want(7).sqrt()) / 2.0 / (2.0 * PI);
-    assert_eq!(
-        Reduction::new(&k, &mm, &[0], Keep::CutoffHz(f))
-            .unwrap()
-            .modes()
-            .len(),
-        6
-    );
+    assert_eq!(Reduction::new(&k, &mm, &[0], Keep::CutoffHz(f)).unwrap().modes().len(), 6);
 }
 
 fn mod_dynamics(m: usize) -> Dynamics {
     let (k, mm) = bar(m, BarMass::Mod);
     let n = k.n();
-    Dynamics {
-        mass: mm,
-        stiffness: k,
-        load: vec![0.0; n],
-        contacts: vec![Contact::new(0, Bounds::obstacle(0.0), true)],
-        forcing: vec![],
-        damping: None,
-    }
+    Dynamics { mass: mm, stiffness: k, load: vec![0.0; n], contacts: vec![Contact::new(0, Bounds::obstacle(0.0), true)], forcing: vec![], damping: None }
 }
 
 /// With every mode kept, the reduced model's exact CD limit is the full
@@ -65,18 +47,9 @@ fn mod_dynamics(m: usize) -> Dynamics {
 fn all_modes_give_the_full_cfl_limit_and_an_invertible_basis() {
     let m = 24;
     let dy = mod_dynamics(m);
-    let full = "cd-massless"
-        .parse::<SchemeSpec>()
-        .unwrap()
-        .cfl_limit(&dy)
-        .unwrap()
-        .unwrap();
+    let full = "cd-massless".parse::<SchemeSpec>().unwrap().cfl_limit(&dy).unwrap().unwrap();
     let red = Reduction::new(&dy.stiffness, &dy.mass, &[0], Keep::Modes(m - 1)).unwrap();
-    assert!(
-        (red.cfl_limit() - full).abs() <= 1e-10 * full,
-        "reduced {} vs full {full}",
-        red.cfl_limit()
-    );
+    assert!((red.cfl_limit() - full).abs() <= 1e-10 * full, "reduced {} vs full {full}", red.cfl_limit());
     let u: Vec<f64> = (0..m).map(|i| (0.3 + i as f64).sin()).collect();
     let q = red.project_state(&u);
     let mut back = vec![0.0; m];
@@ -101,18 +74,13 @@ fn cfl_limit_grows_as_the_cutoff_falls() {
     let m = 40;
     let h = 1.0 / m as f64;
     let (k, mm) = bar(m, BarMass::Lumped);
-    let full =
-        2.0 / (4.0 / (h * h) * ((m - 1) as f64 * PI / (2.0 * m as f64)).sin().powi(2)).sqrt();
+    let full = 2.0 / (4.0 / (h * h) * ((m - 1) as f64 * PI / (2.0 * m as f64)).sin().powi(2)).sqrt();
     let mut prev = f64::INFINITY;
     for r in [1, 2, 4, 8, 16, 32, 39] {
         let red = Reduction::new(&k, &mm, &[0], Keep::Modes(r)).unwrap();
         let c = red.cfl_limit();
         let w_r = 2.0 / h * (r as f64 * PI / (2.0 * m as f64)).sin();
-        assert!(
-            (c - 2.0 / w_r).abs() <= 1e-11 * c,
-            "r = {r}: {c} vs 2/ω_r = {}",
-            2.0 / w_r
-        );
+        assert!((c - 2.0 / w_r).abs() <= 1e-11 * c, "r = {r}: {c} vs 2/ω_r = {}", 2.0 / w_r);
         assert!(c <= prev * (1.0 + 1e-12), "r = {r}: {c} > {prev}");
         assert!(c >= full * (1.0 - 1e-10), "r = {r}: {c} < full {full}");
         assert!(red.kappa_free() <= red.kappa() * (1.0 + 1e-12) && red.kappa_free() > 0.0);
@@ -124,24 +92,11 @@ fn cfl_limit_grows_as_the_cutoff_falls() {
             forcing: vec![],
             damping: None,
         };
-        let via_schemes = "cd-massless"
-            .parse::<SchemeSpec>()
-            .unwrap()
-            .cfl_limit(&dy)
-            .unwrap()
-            .unwrap();
-        assert!(
-            (c - via_schemes).abs() <= 1e-9 * c,
-            "r = {r}: {c} vs schemes {via_schemes}"
-        );
+        let via_schemes = "cd-massless".parse::<SchemeSpec>().unwrap().cfl_limit(&dy).unwrap().unwrap();
+        assert!((c - via_schemes).abs() <= 1e-9 * c, "r = {r}: {c} vs schemes {via_schemes}");
         prev = c;
     }
-    assert!(
-        Reduction::new(&k, &mm, &[0], Keep::Modes(4))
-            .unwrap()
-            .cfl_limit()
-            > 5.0 * full
-    );
+    assert!(Reduction::new(&k, &mm, &[0], Keep::Modes(4)).unwrap().cfl_limit() > 5.0 * full);
 }
 
 fn field(e: ReduceError) -> &'static str {
@@ -158,11 +113,7 @@ fn bad_input_is_refused_naming_the_field() {
     assert_eq!(err(&[0], Keep::Modes(0)), "modes");
     assert_eq!(err(&[0], Keep::Modes(10)), "modes");
     assert!(Reduction::new(&k, &mm, &[0], Keep::Modes(9)).is_ok());
-    let first_hz = Reduction::new(&k, &mm, &[0], Keep::Modes(1))
-        .unwrap()
-        .modes()[0]
-        .sqrt()
-        / (2.0 * PI);
+    let first_hz = Reduction::new(&k, &mm, &[0], Keep::Modes(1)).unwrap().modes()[0].sqrt() / (2.0 * PI);
     assert_eq!(err(&[0], Keep::CutoffHz(0.99 * first_hz)), "cutoff_hz");
     assert!(Reduction::new(&k, &mm, &[0], Keep::CutoffHz(1.01 * first_hz)).is_ok());
     assert_eq!(err(&[0], Keep::CutoffHz(f64::NAN)), "cutoff_hz");

@@ -35,11 +35,7 @@ pub struct Reduced {
 /// errors ([`signorini_reduce::ReduceError`], naming `modes`, `cutoff_hz`).
 pub fn reduce(dy: &Dynamics, init: &Initial, keep: Keep) -> Result<Reduced, RunError> {
     if dy.damping.is_some() {
-        return Err(RunError::Invalid {
-            field: "damping",
-            value: f64::NAN,
-            allowed: "none with a reduced model",
-        });
+        return Err(RunError::Invalid { field: "damping", value: f64::NAN, allowed: "none with a reduced model" });
     }
     let dofs: Vec<usize> = dy.contacts.iter().map(|c| c.dof).collect();
     let reduction = Reduction::new(&dy.stiffness, &dy.mass, &dofs, keep)?;
@@ -47,35 +43,12 @@ pub fn reduce(dy: &Dynamics, init: &Initial, keep: Keep) -> Result<Reduced, RunE
         mass: reduction.mass().clone(),
         stiffness: reduction.stiffness().clone(),
         load: reduction.project_vector(&dy.load),
-        contacts: dy
-            .contacts
-            .iter()
-            .enumerate()
-            .map(|(k, c)| Contact {
-                dof: k,
-                massless: true,
-                ..*c
-            })
-            .collect(),
-        forcing: dy
-            .forcing
-            .iter()
-            .map(|f| Forcing {
-                shape: reduction.project_vector(&f.shape),
-                time: f.time.clone(),
-            })
-            .collect(),
+        contacts: dy.contacts.iter().enumerate().map(|(k, c)| Contact { dof: k, massless: true, ..*c }).collect(),
+        forcing: dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect(),
         damping: None,
     };
-    let initial = Initial {
-        u: reduction.project_state(&init.u),
-        v: reduction.project_state(&init.v),
-    };
-    Ok(Reduced {
-        reduction,
-        dynamics,
-        initial,
-    })
+    let initial = Initial { u: reduction.project_state(&init.u), v: reduction.project_state(&init.v) };
+    Ok(Reduced { reduction, dynamics, initial })
 }
 
 /// Which part of the full field an observer reads.
@@ -102,12 +75,7 @@ pub struct Reconstruct<'a> {
 impl<'a> Reconstruct<'a> {
     /// Wraps `inner`, which reads the parent dofs in `need`.
     pub fn new(reduction: &'a Reduction, inner: &'a mut dyn Observer, need: Need) -> Self {
-        Self {
-            u: vec![0.0; reduction.parent_dofs()],
-            reduction,
-            inner,
-            need,
-        }
+        Self { u: vec![0.0; reduction.parent_dofs()], reduction, inner, need }
     }
 }
 

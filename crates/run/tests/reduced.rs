@@ -25,17 +25,8 @@ fn full(m: usize, dt: f64, t_end: f64) -> Runs {
     let mut s = spec.build(p.dynamics(), dt, &p.initial).unwrap();
     let mut hist = History::new(0, false);
     let mut norms = NormObserver::new(exact.as_ref(), m, p.vnorm(), dt);
-    run(
-        s.as_mut(),
-        &p.initial.u,
-        &RunConfig::new(dt, t_end).unwrap(),
-        &mut [&mut hist, &mut norms],
-    )
-    .unwrap();
-    Runs {
-        hist,
-        norms: norms.report(),
-    }
+    run(s.as_mut(), &p.initial.u, &RunConfig::new(dt, t_end).unwrap(), &mut [&mut hist, &mut norms]).unwrap();
+    Runs { hist, norms: norms.report() }
 }
 
 fn reduced(m: usize, dt: f64, t_end: f64, keep: Keep) -> Runs {
@@ -50,17 +41,8 @@ fn reduced(m: usize, dt: f64, t_end: f64, keep: Keep) -> Runs {
     let mut norms = NormObserver::new(exact.as_ref(), m, p.vnorm(), dt);
     let mut full_field = Reconstruct::new(&red.reduction, &mut norms, Need::Full);
     let obs: &mut [&mut dyn Observer] = &mut [&mut hist, &mut full_field];
-    run(
-        s.as_mut(),
-        &red.initial.u,
-        &RunConfig::new(dt, t_end).unwrap(),
-        obs,
-    )
-    .unwrap();
-    Runs {
-        hist,
-        norms: norms.report(),
-    }
+    run(s.as_mut(), &red.initial.u, &RunConfig::new(dt, t_end).unwrap(), obs).unwrap();
+    Runs { hist, norms: norms.report() }
 }
 
 fn max_diff(a: &History, b: &History) -> (f64, f64) {
@@ -84,37 +66,15 @@ fn all_modes_reproduce_the_parent_to_round_off() {
     let a = full(m, dt, t_end);
     let b = reduced(m, dt, t_end, Keep::Modes(m - 1));
     let (du, dl) = max_diff(&a.hist, &b.hist);
-    eprintln!(
-        "r = all: max |Δu_c| = {du:e}, max |Δλ| = {dl:e}, norms full {:?} reduced {:?}",
-        a.norms, b.norms
-    );
-    let umax = a
-        .hist
-        .records
-        .iter()
-        .fold(0.0_f64, |s, r| s.max(r.u_contact.abs()));
-    let lmax = a
-        .hist
-        .records
-        .iter()
-        .fold(0.0_f64, |s, r| s.max(r.lambda.map_or(0.0, |l| l.1.abs())));
-    assert!(
-        lmax > 0.1 && umax > 0.1,
-        "the run must hit the obstacle: λ max {lmax}, u max {umax}"
-    );
+    eprintln!("r = all: max |Δu_c| = {du:e}, max |Δλ| = {dl:e}, norms full {:?} reduced {:?}", a.norms, b.norms);
+    let umax = a.hist.records.iter().fold(0.0_f64, |s, r| s.max(r.u_contact.abs()));
+    let lmax = a.hist.records.iter().fold(0.0_f64, |s, r| s.max(r.lambda.map_or(0.0, |l| l.1.abs())));
+    assert!(lmax > 0.1 && umax > 0.1, "the run must hit the obstacle: λ max {lmax}, u max {umax}");
     assert!(du <= 1e-12 * umax, "contact displacement differs by {du:e}");
     assert!(dl <= 1e-11 * lmax, "λ differs by {dl:e} (max λ {lmax})");
     let (na, nb) = (a.norms, b.norms);
-    for (x, y, what) in [
-        (na.linf_l2_u, nb.linf_l2_u, "L∞L²"),
-        (na.l2_v_u, nb.l2_v_u, "L²H¹"),
-        (na.l2_lambda, nb.l2_lambda, "L²λ"),
-        (na.linf_energy, nb.linf_energy, "L∞ energy"),
-    ] {
-        assert!(
-            (x - y).abs() <= 1e-9 * x.abs().max(1e-12),
-            "{what}: full {x:e}, reduced {y:e}"
-        );
+    for (x, y, what) in [(na.linf_l2_u, nb.linf_l2_u, "L∞L²"), (na.l2_v_u, nb.l2_v_u, "L²H¹"), (na.l2_lambda, nb.l2_lambda, "L²λ"), (na.linf_energy, nb.linf_energy, "L∞ energy")] {
+        assert!((x - y).abs() <= 1e-9 * x.abs().max(1e-12), "{what}: full {x:e}, reduced {y:e}");
     }
 }
 
@@ -124,10 +84,7 @@ fn all_modes_reproduce_the_parent_to_round_off() {
 fn contact_history_converges_as_modes_grow() {
     let (m, dt, t_end) = (40, 0.0025, 3.0);
     let a = full(m, dt, t_end);
-    let errs: Vec<f64> = [2, 4, 8, 16, 32]
-        .iter()
-        .map(|&r| max_diff(&a.hist, &reduced(m, dt, t_end, Keep::Modes(r)).hist).0)
-        .collect();
+    let errs: Vec<f64> = [2, 4, 8, 16, 32].iter().map(|&r| max_diff(&a.hist, &reduced(m, dt, t_end, Keep::Modes(r)).hist).0).collect();
     eprintln!("max |Δu_c| for r = 2, 4, 8, 16, 32: {errs:?}");
     for w in errs.windows(2) {
         assert!(w[1] < w[0], "not decreasing: {errs:?}");
