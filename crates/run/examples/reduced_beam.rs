@@ -13,6 +13,18 @@ use std::time::Instant;
 
 /// Tip history (reduced dof 0 or the full tip dof) and wall time of the loop.
 fn tip_run(scene: &BeamScene, keep: Option<Keep>, explicit: bool) -> (Vec<(f64, f64, bool)>, f64, f64) {
+    // Wall time: the fastest of three identical runs (the machine is shared).
+    let mut best = (Vec::new(), f64::INFINITY, f64::INFINITY);
+    for _ in 0..3 {
+        let (h, w, b) = tip_run_once(scene, keep, explicit);
+        if w < best.1 {
+            best = (h, w, b.min(best.2));
+        }
+    }
+    best
+}
+
+fn tip_run_once(scene: &BeamScene, keep: Option<Keep>, explicit: bool) -> (Vec<(f64, f64, bool)>, f64, f64) {
     let pipe = Pipe::paper();
     let exc = BeamExcitation::default();
     let t0 = Instant::now();
