@@ -101,6 +101,11 @@ struct ConvergenceArgs {
     /// 1D dynamic-contact demo computes them).
     #[arg(long, default_value = "exact")]
     norms: String,
+    /// A reduced model at every level (docs/theory.md §2.5): modes=R keeps
+    /// the R lowest fixed-interface modes, cutoff_hz=F every mode up to F Hz
+    /// (needs a massless-contact mass and a scheme that takes one). Default: none.
+    #[arg(long)]
+    reduce: Option<String>,
 }
 
 fn main() -> ExitCode {
@@ -133,7 +138,8 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     let schemes = signorini_studies::parse_schemes(&a.schemes).map_err(|e| e.to_string())?;
     let masses = signorini_studies::parse_masses(&a.masses).map_err(|e| e.to_string())?;
     let norms = convergence::parse_norms(&a.norms).map_err(|e| e.to_string())?;
-    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms };
+    let reduce = a.reduce.as_deref().map(convergence::parse_reduce).transpose().map_err(|e| e.to_string())?;
+    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce };
     let out = with_progress_bar(|p| convergence::run(&cfg, p)).map_err(|e| e.to_string())?;
     notes(&out.notes);
     print!("{}", out.report);

@@ -52,6 +52,7 @@ pub mod sweep;
 use scene::{BarRun, ContactSet, OutputToml, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
 use signorini_run::beam::{build_excited, stability_limit, BeamContact, PenaltyUnits};
+use signorini_run::reduced::{Need, Reconstruct};
 use signorini_schemes::TimeProfile;
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
 use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
@@ -473,8 +474,19 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             lines.push(format!("wrote {}", out.display()));
             Ok(Summary { lines })
         }
-        Scene::Beam { pipe, scene, force, contacts, excitation, omega } => {
-            let (mut stepper, init, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
+        Scene::Beam { pipe, scene, force, contacts, excitation, omega, reduce } => {
+            let stops = contacts.as_ref().map(|c| c.stops.as_slice());
+            let (mut stepper, init, beam, red) = match reduce {
+                None => {
+                    let (s, i, b) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, stops, excitation)?;
+                    (s, i, b, None)
+                }
+                Some(keep) => {
+                    let (s, r, b) = signorini_run::beam::build_reduced(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation, *keep)?;
+                    (s, r.initial.clone(), b, Some(r))
+                }
+            };
+            let parent = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
             let mut cfg = RunConfig::new(scene.dt, scene.t_end)?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
@@ -490,10 +502,20 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             } else {
                 None
             };
-            let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), beam.tip_dof(), scene.dt, scene.t_end, *omega)?;
+            let mut vib = Analysis::new(scene_file, out, &parent, beam.tip_dof(), scene.dt, scene.t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [snaps.as_mut().map(|s| s as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer)]);
+            let res = match &red {
+                None => run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [snaps.as_mut().map(|s| s as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer)]),
+                Some(r) => {
+                    let contact_rows = Need::Dofs(parent.contacts.iter().map(|c| c.dof).collect());
+                    let mut series = Reconstruct::new(&r.reduction, &mut series, contact_rows.clone());
+                    let mut data = Reconstruct::new(&r.reduction, &mut data, contact_rows.clone());
+                    let mut snaps = snaps.as_mut().map(|s| Reconstruct::new(&r.reduction, s, Need::Full));
+                    let mut vib = vib.as_mut().map(|v| Reconstruct::new(&r.reduction, &mut v.vibro, contact_rows.clone()));
+                    run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [snaps.as_mut().map(|s| s as &mut dyn Observer), vib.as_mut().map(|v| v as &mut dyn Observer)])
+                }
+            };
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -531,7 +553,16 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         Some(bench) => Some(bench.exact(b.t_end)?),
         None => None,
     };
-    let mut stepper = b.scheme.build(p.dynamics(), b.dt, &p.initial).map_err(RunError::from)?;
+    // A reduced model steps in reduced coordinates; the observers see the
+    // parent's field, reconstructed (only the contact rows for those that
+    // read the contacts alone).
+    let red = b.reduce.map(|keep| signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep)).transpose()?;
+    let mut stepper = match &red {
+        None => b.scheme.build(p.dynamics(), b.dt, &p.initial),
+        Some(r) => b.scheme.build(r.dynamics.clone(), b.dt, &r.initial),
+    }
+    .map_err(RunError::from)?;
+    let u0 = red.as_ref().map_or(&p.initial.u, |r| &r.initial.u);
     let mut cfg = RunConfig::new(b.dt, b.t_end)?;
     cfg.interrupt = opts.interrupt;
     let steps = cfg.steps();
@@ -548,16 +579,34 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     } else {
         None
     };
-    let mut vib = Analysis::new(file, out, stepper.dynamics(), dof0, b.dt, b.t_end, b.omega)?;
+    let parent = p.dynamics();
+    let mut vib = Analysis::new(file, out, &parent, dof0, b.dt, b.t_end, b.omega)?;
     let mut prog = progress(steps, opts.progress);
     let start = std::time::Instant::now();
-    let res = run_observed(
-        stepper.as_mut(),
-        &p.initial.u,
-        &cfg,
-        vec![&mut series, &mut data, &mut prog],
-        [norms.as_mut().map(|n| n as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer), snaps.as_mut().map(|s| s as &mut dyn Observer)],
-    );
+    let res = match &red {
+        None => run_observed(
+            stepper.as_mut(),
+            u0,
+            &cfg,
+            vec![&mut series, &mut data, &mut prog],
+            [norms.as_mut().map(|n| n as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer), snaps.as_mut().map(|s| s as &mut dyn Observer)],
+        ),
+        Some(r) => {
+            let contact_rows = Need::Dofs(parent.contacts.iter().map(|c| c.dof).collect());
+            let mut series = Reconstruct::new(&r.reduction, &mut series, contact_rows.clone());
+            let mut data = Reconstruct::new(&r.reduction, &mut data, contact_rows.clone());
+            let mut norms = norms.as_mut().map(|n| Reconstruct::new(&r.reduction, n, Need::Full));
+            let mut vib = vib.as_mut().map(|v| Reconstruct::new(&r.reduction, &mut v.vibro, contact_rows.clone()));
+            let mut snaps = snaps.as_mut().map(|s| Reconstruct::new(&r.reduction, s, Need::Full));
+            run_observed(
+                stepper.as_mut(),
+                u0,
+                &cfg,
+                vec![&mut series, &mut data, &mut prog],
+                [norms.as_mut().map(|n| n as &mut dyn Observer), vib.as_mut().map(|v| v as &mut dyn Observer), snaps.as_mut().map(|s| s as &mut dyn Observer)],
+            )
+        }
+    };
     let wall = start.elapsed().as_secs_f64();
     let mut notes = Vec::new();
     if file.output.plots {
@@ -712,7 +761,27 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
             )
         }
     };
-    Ok(text + &resources)
+    let reduced = match scene {
+        Scene::Bar(b) => b.reduce.map(|keep| signorini_run::reduced::reduce(&b.problem.dynamics(), &b.problem.initial, keep)).transpose()?,
+        Scene::Beam { pipe, scene, contacts, excitation, reduce: Some(keep), .. } => {
+            let (_, dy, init) = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
+            Some(signorini_run::reduced::reduce(&dy, &init, *keep)?)
+        }
+        _ => None,
+    };
+    let reduced = reduced.map_or(String::new(), |r| {
+        let red = &r.reduction;
+        format!(
+            "\nreduced model (docs/theory.md §2.5): {} contact(s) + {} of {} fixed-interface modes = {} unknowns (highest kept {:.6e} Hz); explicit CD limit of the reduced pencil 2/ω_r = {:.6e}",
+            red.contacts().len(),
+            red.modes().len(),
+            red.interior_dofs(),
+            red.dofs(),
+            red.modes().last().map_or(0.0, |w| w.sqrt() / std::f64::consts::TAU),
+            red.cfl_limit()
+        )
+    });
+    Ok(text + &reduced + &resources)
 }
 
 /// `signorini list`.
@@ -875,6 +944,8 @@ pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Buil
             let stepper = scheme.build(dy, *dt, &i).map_err(RunError::from)?;
             Ok(Built { stepper, u0: i.u, tip: 0, lift: None })
         }
+        Scene::Bar(b) if b.reduce.is_some() => Err(CliError::Run(RunError::Invalid { field: "bar.reduce", value: f64::NAN, allowed: "none here: sweeps and the Python bindings run the full model (use `signorini run`)" })),
+        Scene::Beam { reduce: Some(_), .. } => Err(CliError::Run(RunError::Invalid { field: "beam.reduce", value: f64::NAN, allowed: "none here: sweeps and the Python bindings run the full model (use `signorini run`)" })),
         Scene::Bar(b) => {
             let p = &b.problem;
             let i = init(p.initial.clone())?;

@@ -46,6 +46,13 @@
 //! bounds. Contact order (the series' `u_c<i>` columns): the stops as
 //! listed, then the obstacle's other nodes by increasing x.
 //!
+//! A reduced model (docs/theory.md §2.5) in `[bar]` or `[beam]`:
+//! `reduce = { modes = 8 }` keeps the 8 lowest fixed-interface modes,
+//! `reduce = { cutoff_hz = 200.0 }` every mode up to 200 Hz; the contacts
+//! stay physical and massless (the bar needs a massless-node mass: mod,
+//! mod1-3, transfer, singular; the beam's are made massless by the method).
+//! The full field is reconstructed for the outputs.
+//!
 //! The impact oscillator is a third kind of scene, with its load:
 //!
 //! ```toml
@@ -74,6 +81,7 @@ use signorini_schemes::TimeProfile;
 use crate::excitation::{ExcitationToml, Table};
 use signorini_run::oscillator::Oscillator;
 use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
+use signorini_reduce::{Keep, ReduceError};
 use signorini_schemes::{SchemeError, SchemeSpec};
 use std::fmt;
 
@@ -213,6 +221,41 @@ pub struct BarToml {
     pub ratio: Option<f64>,
     /// Horizon.
     pub t_end: Option<f64>,
+    /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or `{ cutoff_hz = f }`.
+    pub reduce: Option<ReduceToml>,
+}
+
+/// `reduce = { modes = r }` or `reduce = { cutoff_hz = f }` in `[bar]` or
+/// `[beam]`: the massless-boundary reduction (docs/theory.md §2.5), keeping
+/// the `r` lowest fixed-interface modes or every mode up to `f` Hz.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReduceToml {
+    /// The number of modes kept (1 ..= the unknowns less the contacts).
+    pub modes: Option<usize>,
+    /// The frequency cutoff in Hz (at or above the first mode's).
+    pub cutoff_hz: Option<f64>,
+}
+
+impl ReduceToml {
+    /// Which modes to keep; `table` is `bar` or `beam` (for the field names).
+    fn keep(&self, table: &str) -> Result<Keep, SceneError> {
+        match (self.modes, self.cutoff_hz) {
+            (Some(r), None) => Ok(Keep::Modes(r)),
+            (None, Some(f)) => Ok(Keep::CutoffHz(f)),
+            (None, None) => Err(field(&format!("{table}.reduce"), "give modes = r or cutoff_hz = f")),
+            (Some(_), Some(_)) => Err(field(&format!("{table}.reduce.cutoff_hz"), "give modes or cutoff_hz, not both")),
+        }
+    }
+}
+
+/// A reduction's error, named `<table>.reduce.<field>`.
+fn reduce_error(e: RunError, table: &str) -> SceneError {
+    match e {
+        RunError::Reduce(ReduceError::Invalid { field: f, value, allowed }) => field(&format!("{table}.reduce.{f}"), format!("{value} is not allowed: {allowed}")),
+        RunError::Reduce(e @ ReduceError::NotDefinite { .. }) => field(&format!("{table}.reduce"), e),
+        e => field(table, e),
+    }
 }
 
 fn default_mass() -> String {
@@ -280,6 +323,8 @@ pub struct BeamToml {
     /// Run a conditionally stable β-scheme beyond its limit anyway.
     #[serde(default)]
     pub force: bool,
+    /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or `{ cutoff_hz = f }`.
+    pub reduce: Option<ReduceToml>,
 }
 
 /// `[output]`.
@@ -345,6 +390,8 @@ pub struct BarRun {
     pub contacts: Option<ContactSet>,
     /// The frequency of a periodic `[load]` (Poincaré section, phases).
     pub omega: Option<f64>,
+    /// The reduced model's modes, if `reduce` is given.
+    pub reduce: Option<Keep>,
 }
 
 /// One contact of a scene with `[[stop]]` / `[obstacle]`.
@@ -463,6 +510,8 @@ pub enum Scene {
         contacts: Option<ContactSet>,
         /// `[support]` beyond a sine, `[load]`.
         excitation: BeamExcitation,
+        /// The reduced model's modes, if `reduce` is given.
+        reduce: Option<Keep>,
         /// The forcing frequency (the support's, or `omega` of `[support]` /
         /// `[load]`): Poincaré section and impact phases.
         omega: Option<f64>,
@@ -1114,6 +1163,15 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     if b.elements < 2 {
         return Err(field("bar.elements", format!("{} is not allowed: an integer >= 2", b.elements)));
     }
+    let reduce = b.reduce.as_ref().map(|r| r.keep("bar")).transpose()?;
+    if reduce.is_some() {
+        if !scheme.accepts_massless_node(true) {
+            return Err(field("bar.scheme", format!("{scheme} needs a massive contact node, and a reduced model's contacts are massless (reduce): allowed a scheme that takes a massless node (newmark…, theta…, ps with β >= 1/4, hybrid, reduced-cn, cd-massless, penalty-cn, nitsche…)")));
+        }
+        if !mass.massless_contact_node() {
+            return Err(field("bar.mass", format!("{mass} with reduce: the reduction keeps the contacts massless, exact for a parent whose contact nodes carry no mass; allowed mod, mod1, mod2, mod3, transfer or singular")));
+        }
+    }
     fits("bar.elements", b.elements, false, limits)?;
     // Several contacts: [[stop]] / [obstacle] replace the obstacle at x = 0.
     let multi = !stops.is_empty() || obstacle.is_some();
@@ -1266,7 +1324,14 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         ("bar.initial_velocity", largest(&problem.initial.v, b.initial_velocity.is_some())),
     ];
     let overflow_key = extreme_key(&numbers).filter(|(_, scale)| *scale > 100.0).map_or("bar", |(k, _)| k);
-    scheme.build(problem.dynamics(), dt, &problem.initial).map_err(|e| match (e, &contacts) {
+    let (dy, init) = match reduce {
+        None => (problem.dynamics(), problem.initial.clone()),
+        Some(keep) => {
+            let red = signorini_run::reduced::reduce(&problem.dynamics(), &problem.initial, keep).map_err(|e| reduce_error(e, "bar"))?;
+            (red.dynamics, red.initial)
+        }
+    };
+    scheme.build(dy, dt, &init).map_err(|e| match (e, &contacts) {
         (SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }, Some(set)) => {
             let name = stiff_stop(set, value, |k| k).and_then(|s| s.stop).map_or("stop".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
             field(&name, format!("{value:e} makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the step matrix at its node); usable range: 0 < stiffness <= {max:.3e}"))
@@ -1279,7 +1344,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         }
         (e, _) => scheme_error(e, overflow_key),
     })?;
-    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega })
+    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce })
 }
 
 fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, support: Option<Excitation>, load: Option<Excitation>, limits: &Limits) -> Result<Scene, SceneError> {
@@ -1407,6 +1472,15 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         None
     };
     let rho_s = pipe.rho_s;
+    let reduce = b.reduce.as_ref().map(|r| r.keep("beam")).transpose()?;
+    if let Some(keep) = reduce {
+        if let BeamContact::Projection { beta } = contact {
+            if beta < 0.25 {
+                return Err(field("beam.beta", format!("{beta} is not allowed with reduce: the reduced model's contacts are massless, and the β-scheme with a massless node is unstable for every β < 1/4; allowed [1/4, 1/2]")));
+            }
+        }
+        signorini_run::beam::build_reduced(&pipe, &scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation, keep).map_err(|e| reduce_error(e, "beam"))?;
+    }
     build_excited(&pipe, &scene, b.force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation).map_err(|e| match e {
         RunError::Unstable { .. } => field("beam.dt", e),
         RunError::Scheme(SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }) if contacts.is_some() => {
@@ -1442,5 +1516,5 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
     if excitation.support.is_none() {
         omega = Some(pipe.support.1);
     }
-    Ok(Scene::Beam { pipe, scene, force: b.force, contacts, excitation, omega })
+    Ok(Scene::Beam { pipe, scene, force: b.force, contacts, excitation, omega, reduce })
 }

@@ -364,6 +364,33 @@ pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: Penalty
     Ok((stepper, init, beam))
 }
 
+/// As [`build_excited`] on the massless-boundary reduction of the problem
+/// (docs/theory.md §2.5; [`crate::reduced::reduce`]): the stops are the
+/// reduced dofs `0..nb`, massless, the kept modes follow; the initial
+/// state is returned in reduced coordinates inside the [`Reduced`]. The
+/// projection runs the β-scheme with β >= 1/4 only (with a massless node
+/// every β < 1/4 is unstable: refused naming `beta`); the penalty law runs
+/// Newmark β = 1/4 as in the full model.
+///
+/// [`Reduced`]: crate::reduced::Reduced
+pub fn build_reduced(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation, keep: signorini_reduce::Keep) -> Result<(Box<dyn Stepper>, crate::reduced::Reduced, Beam), RunError> {
+    let (beam, dy, init) = problem_excited(pipe, scene, units, stops, exc)?;
+    let red = crate::reduced::reduce(&dy, &init, keep)?;
+    let stepper: Box<dyn Stepper> = match scene.contact {
+        BeamContact::Projection { beta } => {
+            if !(0.25..=0.5).contains(&beta) {
+                return Err(RunError::Invalid { field: "beta", value: beta, allowed: "[1/4, 1/2] with a reduced model (its contacts are massless: every β < 1/4 is unstable)" });
+            }
+            Box::new(PaoliSchatzman::new(format!("beta-scheme({beta})"), red.dynamics.clone(), beta, 0.0, scene.dt, &red.initial)?)
+        }
+        BeamContact::Penalty { stiffness } => {
+            let kappa = units.kappa(stiffness, pipe.rho_s);
+            Box::new(OneStep::new("newmark-cn+penalty".into(), red.dynamics.clone(), OneStepParams::newmark(0.25, 0.5), scene.dt, &red.initial)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
+        }
+    };
+    Ok((stepper, red, beam))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,6 +17,9 @@
 //!   impulse), the stroboscopic Poincaré section ([`PoincareObserver`]) and
 //!   the window statistics of a run ([`Summary`]), built together from a
 //!   [`VibroConfig`];
+//! * [`reduced`]: a problem replaced by its massless-boundary reduction
+//!   (docs/theory.md §2.5) and the observer adapter that reconstructs the
+//!   full field only where an observer needs it;
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
 //!
@@ -28,6 +31,7 @@ pub mod beam;
 pub mod observers;
 pub mod oscillator;
 pub mod problem;
+pub mod reduced;
 pub mod runner;
 pub mod study;
 pub mod vibro;

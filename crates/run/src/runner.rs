@@ -95,6 +95,9 @@ pub enum RunError {
     /// An observer failed to write its output.
     #[error("output: {0}")]
     Output(String),
+    /// A reduced model refused its parameters (`modes`, `cutoff_hz`, …).
+    #[error("reduce: {0}")]
+    Reduce(#[from] signorini_reduce::ReduceError),
 }
 
 /// `x` rounded to 12 significant digits (for messages: `2.94`, not

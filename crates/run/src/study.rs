@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use signorini_exact::ExactSolution;
 use signorini_fem::BarMass;
 use signorini_norms::{NormKind, NormReport};
+use signorini_reduce::Keep;
 use signorini_schemes::SchemeSpec;
 use std::time::Instant;
 
@@ -126,21 +127,45 @@ pub fn run_level(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: Scheme
 /// [`run_level`] with a choice of error measure.
 #[allow(clippy::too_many_arguments)]
 pub fn run_level_with(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
+    run_level_reduced(benchmark, exact, scheme, mass, m, ratio, t_end, kind, None)
+}
+
+/// [`run_level_with`] on the massless-boundary reduction of the level's
+/// problem when `reduce` is given (docs/theory.md §2.5; the norms see the
+/// reconstructed full field), the full model otherwise.
+#[allow(clippy::too_many_arguments)]
+pub fn run_level_reduced(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind, reduce: Option<Keep>) -> Result<LevelResult, RunError> {
     let start = Instant::now();
     let problem = benchmark.problem(exact, m, mass)?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let cfg = RunConfig::new(dt, t_end)?;
-    let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
     // Over the whole bar: 2m elements on [0, 2] for bar-mirrored.
     let mut norms = NormObserver::with_kind(exact, problem.bar.elements, problem.vnorm(), dt, kind);
-    let summary = run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?;
+    let summary = match reduce {
+        None => {
+            let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
+            run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?
+        }
+        Some(keep) => {
+            let red = crate::reduced::reduce(&problem.dynamics(), &problem.initial, keep)?;
+            let mut stepper = scheme.build(red.dynamics.clone(), dt, &red.initial)?;
+            let mut full = crate::reduced::Reconstruct::new(&red.reduction, &mut norms, crate::reduced::Need::Full);
+            run(stepper.as_mut(), &red.initial.u, &cfg, &mut [&mut full])?
+        }
+    };
     Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64() })
 }
 
 /// Runs the whole study in parallel (rayon's pool; finest levels first for
 /// load balance). `tick` is called after each finished run.
 pub fn sweep(cfg: &StudyConfig, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigResult>, RunError> {
+    sweep_reduced(cfg, None, tick)
+}
+
+/// [`sweep`] with every level reduced when `reduce` is given
+/// ([`run_level_reduced`]).
+pub fn sweep_reduced(cfg: &StudyConfig, reduce: Option<Keep>, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigResult>, RunError> {
     cfg.validate()?;
     let exact = cfg.benchmark.exact(cfg.t_end)?;
     let mut jobs: Vec<(usize, usize, usize)> = Vec::new();
@@ -155,7 +180,7 @@ pub fn sweep(cfg: &StudyConfig, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigRe
     let done: Vec<((usize, usize, usize), LevelResult)> = jobs
         .par_iter()
         .map(|&(si, mi, li)| {
-            let r = run_level_with(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end, cfg.norms);
+            let r = run_level_reduced(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end, cfg.norms, reduce);
             tick();
             r.map(|r| ((si, mi, li), r))
         })

@@ -12,6 +12,7 @@ use signorini_norms::NormKind;
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_run::study::{self, ConfigResult, StudyConfig, LEVEL_COLUMNS, NORMS};
 use signorini_run::Benchmark;
+use signorini_reduce::Keep;
 use signorini_schemes::SchemeSpec;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -39,6 +40,9 @@ pub struct Config {
     pub out: Option<PathBuf>,
     /// Error measure (`--norms`: exact, or getfem = errors of the nodal interpolant, relative).
     pub norms: NormKind,
+    /// A reduced model at every level (`--reduce modes=R|cutoff_hz=F`,
+    /// docs/theory.md §2.5); `None` (the default): the full model.
+    pub reduce: Option<Keep>,
 }
 
 impl Default for Config {
@@ -53,6 +57,7 @@ impl Default for Config {
             t_end: None,
             out: None,
             norms: NormKind::Exact,
+            reduce: None,
         }
     }
 }
@@ -60,6 +65,16 @@ impl Default for Config {
 /// Parses `--benchmark`.
 pub fn parse_benchmark(s: &str) -> Result<Benchmark, StudyError> {
     s.parse().map_err(|e| StudyError::config("--benchmark", format!("--benchmark: {e}")))
+}
+
+/// Parses `--reduce`: `modes=R` (R >= 1) or `cutoff_hz=F` (F > 0).
+pub fn parse_reduce(s: &str) -> Result<Keep, StudyError> {
+    let bad = || StudyError::config("--reduce", format!("--reduce {s:?}: allowed modes=R (an integer >= 1) or cutoff_hz=F (a frequency > 0)"));
+    match s.split_once('=') {
+        Some(("modes", r)) => r.trim().parse::<usize>().ok().filter(|r| *r >= 1).map(Keep::Modes).ok_or_else(bad),
+        Some(("cutoff_hz", f)) => f.trim().parse::<f64>().ok().filter(|f| f.is_finite() && *f > 0.0).map(Keep::CutoffHz).ok_or_else(bad),
+        _ => Err(bad()),
+    }
 }
 
 /// Parses `--norms`: `exact` or `getfem`.
@@ -92,13 +107,34 @@ impl Config {
         let (ratio0, t0) = self.benchmark.default_ratio_and_horizon();
         let mut cfg = StudyConfig { benchmark: self.benchmark, schemes: self.schemes.clone(), masses: self.masses.clone(), levels: self.levels.clone(), ratio: self.ratio.unwrap_or(ratio0), t_end: self.t_end.unwrap_or(t0), norms: self.norms };
         cfg.validate().map_err(study_error)?;
+        if let Some(keep) = self.reduce {
+            if let Some(m) = cfg.masses.iter().find(|m| !m.massless_contact_node()) {
+                return Err(StudyError::config("--masses", format!("--masses {m} with --reduce: the reduction keeps the contacts massless, exact for a parent without mass at its contacts; allowed mod, mod1, mod2, mod3, transfer, singular")));
+            }
+            if let Some(s) = cfg.schemes.iter().find(|s| !s.accepts_massless_node(true)) {
+                return Err(StudyError::config("--schemes", format!("--schemes {s} with --reduce: it needs a massive contact node, and a reduced model's contacts are massless")));
+            }
+            // Each level's reduction, built before anything runs.
+            let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+            for &m in &cfg.levels {
+                for &mass in &cfg.masses {
+                    let p = cfg.benchmark.problem(exact.as_ref(), m, mass).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
+                    signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep).map_err(|e| StudyError::config("--reduce", format!("--reduce at m = {m}: {e}")))?;
+                }
+            }
+        }
         let mut notes = Vec::new();
         if self.benchmark == Benchmark::BarMirrored {
             cfg.schemes = several_contact_schemes(&cfg, &mut notes)?;
         }
         // The sweep runs as many levels at once as there are cores.
         fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
-        let folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
+        let mut folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
+        match self.reduce {
+            None => {}
+            Some(Keep::Modes(r)) => folder += &format!("-reduce-modes-{r}"),
+            Some(Keep::CutoffHz(f)) => folder += &format!("-reduce-cutoff-{f}hz"),
+        }
         let out = self.out.clone().unwrap_or_else(|| PathBuf::from("out/convergence").join(folder));
         Ok((cfg, out, notes))
     }
@@ -131,14 +167,19 @@ pub struct Output {
 /// Runs the study (see the module documentation).
 pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
     let (study_cfg, out, mut notes) = cfg.resolve()?;
-    let (results, wall_s, tables) = sweep_into(&study_cfg, &out, "", progress, &mut notes)?;
+    let (results, wall_s, tables) = sweep_into_reduced(&study_cfg, cfg.reduce, &out, "", progress, &mut notes)?;
     let mut report = format!(
-        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",
+        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",
         study_cfg.benchmark,
         study_cfg.ratio,
         study_cfg.t_end,
         study_cfg.levels,
         if study_cfg.norms == NormKind::Exact { "" } else { " — GetFEM-demo norms: errors of the nodal interpolant, relative" },
+        match cfg.reduce {
+            None => String::new(),
+            Some(Keep::Modes(r)) => format!(" — reduced model (docs/theory.md §2.5), {r} modes"),
+            Some(Keep::CutoffHz(f)) => format!(" — reduced model (docs/theory.md §2.5), modes up to {f} Hz"),
+        },
         out.display()
     );
     report.push_str(&study::markdown_table(&results));
@@ -174,11 +215,16 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
 /// plots into `out`; the tables are named `prefix` + file name. Returns the
 /// results, the sweep's wall time and the tables.
 pub(crate) fn sweep_into(cfg: &StudyConfig, out: &Path, prefix: &str, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
+    sweep_into_reduced(cfg, None, out, prefix, progress, notes)
+}
+
+/// [`sweep_into`] with every level reduced when `reduce` is given.
+fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefix: &str, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
     create_dir(out)?;
     let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
     let done = AtomicU64::new(0);
     let start = std::time::Instant::now();
-    let results = study::sweep(cfg, &|| progress(done.fetch_add(1, Ordering::Relaxed) + 1, total))?;
+    let results = study::sweep_reduced(cfg, reduce, &|| progress(done.fetch_add(1, Ordering::Relaxed) + 1, total))?;
     let wall = since(start);
     let mut tables = Vec::new();
     let level_kinds: Vec<(&str, Kind)> = LEVEL_COLUMNS.iter().map(|&c| (c, if c == "m" || c == "steps" { Kind::I } else { Kind::F })).collect();
@@ -234,5 +280,26 @@ mod tests {
         assert!(matches!(parse_norms("l2"), Err(StudyError::Config { field, .. }) if field == "--norms"));
         assert!(matches!(parse_benchmark("nope"), Err(StudyError::Config { field, .. }) if field == "--benchmark"));
         assert_eq!(parse_norms("getfem").ok(), Some(NormKind::GetfemInterpolated));
+    }
+
+    /// `--reduce`: parsed, and refused naming the option at fault before anything runs.
+    #[test]
+    fn reduce_is_parsed_and_checked_naming_the_option() {
+        assert_eq!(parse_reduce("modes=8").ok(), Some(Keep::Modes(8)));
+        assert_eq!(parse_reduce("cutoff_hz=2.5").ok(), Some(Keep::CutoffHz(2.5)));
+        for bad in ["modes=0", "modes=x", "cutoff_hz=-1", "cutoff_hz=nan", "modes", "r=3"] {
+            assert!(matches!(parse_reduce(bad), Err(StudyError::Config { field, .. }) if field == "--reduce"), "{bad}");
+        }
+        let field_of = |cfg: Config| match cfg.validate() {
+            Err(StudyError::Config { field, .. }) => field,
+            other => panic!("{other:?}"),
+        };
+        let base = Config { schemes: parse_schemes(&["newmark-cn".to_string()]).unwrap(), masses: vec![BarMass::Mod], levels: vec![10, 20], reduce: Some(Keep::Modes(4)), ..Config::default() };
+        assert!(base.validate().is_ok());
+        assert_eq!(field_of(Config { masses: vec![BarMass::Std], ..base.clone() }), "--masses");
+        assert_eq!(field_of(Config { schemes: parse_schemes(&["moreau-jean".to_string()]).unwrap(), ..base.clone() }), "--schemes");
+        // m = 10: 9 interior modes.
+        assert_eq!(field_of(Config { reduce: Some(Keep::Modes(10)), ..base.clone() }), "--reduce");
+        assert_eq!(field_of(Config { reduce: Some(Keep::CutoffHz(0.01)), ..base }), "--reduce");
     }
 }
