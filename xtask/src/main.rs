@@ -94,6 +94,10 @@ struct ConvergenceArgs {
     /// 1D dynamic-contact demo computes them).
     #[arg(long, default_value = "exact")]
     norms: String,
+    /// Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m elements
+    /// of degree k (default folder out/convergence/<benchmark>-p<k> for k > 1).
+    #[arg(long, default_value_t = 1)]
+    degree: usize,
 }
 
 fn main() -> ExitCode {
@@ -124,7 +128,7 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     let schemes = signorini_studies::parse_schemes(&a.schemes).map_err(|e| e.to_string())?;
     let masses = signorini_studies::parse_masses(&a.masses).map_err(|e| e.to_string())?;
     let norms = convergence::parse_norms(&a.norms).map_err(|e| e.to_string())?;
-    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms };
+    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, degree: a.degree };
     let out = with_progress_bar(|p| convergence::run(&cfg, p)).map_err(|e| e.to_string())?;
     notes(&out.notes);
     print!("{}", out.report);

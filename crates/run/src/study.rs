@@ -14,8 +14,7 @@ use signorini_schemes::SchemeSpec;
 use std::time::Instant;
 
 /// Columns of a per-configuration CSV.
-pub const LEVEL_COLUMNS: [&str; 12] =
-    ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s"];
+pub const LEVEL_COLUMNS: [&str; 12] = ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s"];
 
 /// The norms whose rates are reported, in column order.
 pub const NORMS: [&str; 7] = ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy"];
@@ -51,11 +50,24 @@ pub struct StudyConfig {
     pub t_end: f64,
     /// Error measure (exact by default; GetFEM-demo style on request).
     pub norms: NormKind,
+    /// Element degree `k` (1, 2, 3): level `m` is `m` elements of degree `k`.
+    pub degree: usize,
 }
 
 impl StudyConfig {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), RunError> {
+        if !(1..=3).contains(&self.degree) {
+            return Err(RunError::Invalid { field: "degree", value: self.degree as f64, allowed: "1, 2 or 3 (Lagrange P1, P2, P3)" });
+        }
+        if self.degree > 1 && self.norms != NormKind::Exact {
+            return Err(RunError::Invalid { field: "degree", value: self.degree as f64, allowed: "1 with the GetFEM-demo norms (a P1 measure)" });
+        }
+        if self.degree > 1 {
+            if let Some(&mass) = self.masses.iter().find(|v| !matches!(v, BarMass::Std | BarMass::Lumped | BarMass::Mod | BarMass::Mod1)) {
+                return Err(signorini_fem::FemError::MassForDegree { mass: mass.name(), degree: self.degree }.into());
+            }
+        }
         if !(self.ratio > 0.0 && self.ratio.is_finite()) {
             return Err(RunError::Invalid { field: "ratio", value: self.ratio, allowed: "dx/dt finite and > 0" });
         }
@@ -126,14 +138,34 @@ pub fn run_level(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: Scheme
 /// [`run_level`] with a choice of error measure.
 #[allow(clippy::too_many_arguments)]
 pub fn run_level_with(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
+    run_level_degree(benchmark, exact, scheme, mass, m, 1, ratio, t_end, kind)
+}
+
+/// [`run_level_with`] with Lagrange elements of degree `k`
+/// ([`Benchmark::problem_with_degree`]; `dx = h`, the element size).
+#[allow(clippy::too_many_arguments)]
+pub fn run_level_degree(
+    benchmark: Benchmark,
+    exact: &dyn ExactSolution,
+    scheme: SchemeSpec,
+    mass: BarMass,
+    m: usize,
+    k: usize,
+    ratio: f64,
+    t_end: f64,
+    kind: NormKind,
+) -> Result<LevelResult, RunError> {
+    if k > 1 && kind != NormKind::Exact {
+        return Err(RunError::Invalid { field: "degree", value: k as f64, allowed: "1 with the GetFEM-demo norms (a P1 measure)" });
+    }
     let start = Instant::now();
-    let problem = benchmark.problem(exact, m, mass)?;
+    let problem = benchmark.problem_with_degree(exact, m, mass, k)?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let cfg = RunConfig::new(dt, t_end)?;
     let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
     // Over the whole bar: 2m elements on [0, 2] for bar-mirrored.
-    let mut norms = NormObserver::with_kind(exact, problem.bar.elements, problem.vnorm(), dt, kind);
+    let mut norms = NormObserver::with_degree(exact, problem.bar.elements, k, problem.vnorm(), dt, kind);
     let summary = run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?;
     Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64() })
 }
@@ -155,7 +187,7 @@ pub fn sweep(cfg: &StudyConfig, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigRe
     let done: Vec<((usize, usize, usize), LevelResult)> = jobs
         .par_iter()
         .map(|&(si, mi, li)| {
-            let r = run_level_with(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end, cfg.norms);
+            let r = run_level_degree(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.degree, cfg.ratio, cfg.t_end, cfg.norms);
             tick();
             r.map(|r| ((si, mi, li), r))
         })

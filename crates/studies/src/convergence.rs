@@ -39,6 +39,9 @@ pub struct Config {
     pub out: Option<PathBuf>,
     /// Error measure (`--norms`: exact, or getfem = errors of the nodal interpolant, relative).
     pub norms: NormKind,
+    /// Element degree `k` (`--degree`: 1, 2, 3): level `m` is `m` elements
+    /// of degree `k`; the files of degree 1 are those of P1, byte for byte.
+    pub degree: usize,
 }
 
 impl Default for Config {
@@ -53,6 +56,7 @@ impl Default for Config {
             t_end: None,
             out: None,
             norms: NormKind::Exact,
+            degree: 1,
         }
     }
 }
@@ -78,6 +82,8 @@ fn study_error(e: signorini_run::RunError) -> StudyError {
         signorini_run::RunError::Invalid { field: "levels" | "levels/schemes/masses", .. } => "--levels",
         signorini_run::RunError::Invalid { field: "T" | "dt" | "T/dt", .. } => "--t-end",
         signorini_run::RunError::Scheme(_) => "--schemes",
+        signorini_run::RunError::Invalid { field: "degree", .. } => "--degree",
+        signorini_run::RunError::Fem(signorini_fem::FemError::MassForDegree { .. }) => "--masses",
         _ => "--levels",
     };
     StudyError::config(field, e.to_string())
@@ -90,15 +96,27 @@ impl Config {
     /// output folder. Every check is done here, before anything is run.
     pub fn resolve(&self) -> Result<(StudyConfig, PathBuf, Vec<String>), StudyError> {
         let (ratio0, t0) = self.benchmark.default_ratio_and_horizon();
-        let mut cfg = StudyConfig { benchmark: self.benchmark, schemes: self.schemes.clone(), masses: self.masses.clone(), levels: self.levels.clone(), ratio: self.ratio.unwrap_or(ratio0), t_end: self.t_end.unwrap_or(t0), norms: self.norms };
+        let mut cfg = StudyConfig {
+            benchmark: self.benchmark,
+            schemes: self.schemes.clone(),
+            masses: self.masses.clone(),
+            levels: self.levels.clone(),
+            ratio: self.ratio.unwrap_or(ratio0),
+            t_end: self.t_end.unwrap_or(t0),
+            norms: self.norms,
+            degree: self.degree,
+        };
         cfg.validate().map_err(study_error)?;
         let mut notes = Vec::new();
         if self.benchmark == Benchmark::BarMirrored {
             cfg.schemes = several_contact_schemes(&cfg, &mut notes)?;
         }
         // The sweep runs as many levels at once as there are cores.
-        fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
-        let folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
+        fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0).saturating_mul(cfg.degree), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
+        let mut folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
+        if self.degree > 1 {
+            folder = format!("{folder}-p{}", self.degree);
+        }
         let out = self.out.clone().unwrap_or_else(|| PathBuf::from("out/convergence").join(folder));
         Ok((cfg, out, notes))
     }
@@ -141,6 +159,9 @@ pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output,
         if study_cfg.norms == NormKind::Exact { "" } else { " — GetFEM-demo norms: errors of the nodal interpolant, relative" },
         out.display()
     );
+    if study_cfg.degree > 1 {
+        report.push_str(&format!("Lagrange P{} elements: level m is m elements of degree {} (k m + 1 nodes), dx = L/m.\n\n", study_cfg.degree, study_cfg.degree));
+    }
     report.push_str(&study::markdown_table(&results));
     report.push_str(&format!("\n{} runs in {:.1} s\n", results.iter().map(|r| r.levels.len()).sum::<usize>(), wall_s));
     Ok(Output { config: study_cfg, out, results, tables, report, wall_s, notes })
@@ -156,7 +177,7 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
     let mut keep = Vec::new();
     'schemes: for s in &cfg.schemes {
         for &mass in &cfg.masses {
-            let p = cfg.benchmark.problem(exact.as_ref(), m, mass).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
+            let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, cfg.degree).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
             if let Err(signorini_schemes::SchemeError::Structure(why)) = s.build(p.dynamics(), p.bar.h() / cfg.ratio, &p.initial) {
                 notes.push(format!("note: {s} skipped on {}: {why}", cfg.benchmark));
                 continue 'schemes;
@@ -234,5 +255,25 @@ mod tests {
         assert!(matches!(parse_norms("l2"), Err(StudyError::Config { field, .. }) if field == "--norms"));
         assert!(matches!(parse_benchmark("nope"), Err(StudyError::Config { field, .. }) if field == "--benchmark"));
         assert_eq!(parse_norms("getfem").ok(), Some(NormKind::GetfemInterpolated));
+    }
+
+    fn field_of(cfg: &Config) -> Option<String> {
+        match cfg.validate() {
+            Err(StudyError::Config { field, .. }) => Some(field.to_string()),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn a_bad_degree_names_its_option() {
+        for k in [0, 4] {
+            assert_eq!(field_of(&Config { degree: k, ..Config::default() }).as_deref(), Some("--degree"), "degree {k}");
+        }
+        assert_eq!(field_of(&Config { degree: 2, norms: NormKind::GetfemInterpolated, ..Config::default() }).as_deref(), Some("--degree"));
+        assert_eq!(field_of(&Config { degree: 3, masses: vec![BarMass::Std, BarMass::Mod2], ..Config::default() }).as_deref(), Some("--masses"));
+        assert_eq!(field_of(&Config { degree: 3, ..Config::default() }), None);
+        // Degree 1 keeps the P1 folder; others get their own.
+        assert_eq!(Config::default().resolve().unwrap().1, PathBuf::from("out/convergence/bar-dirichlet"));
+        assert_eq!(Config { degree: 2, ..Config::default() }.resolve().unwrap().1, PathBuf::from("out/convergence/bar-dirichlet-p2"));
     }
 }
