@@ -1,4 +1,4 @@
-//! The scene key `bar.degree` (docs/theory.md §2.3): out of range or with a
+//! The scene key `bar.degree` (docs/theory.md §2.1.4): out of range or with a
 //! mass treatment P2/P3 do not define, a typed error naming the key; in
 //! range, it reaches the problem — a P2 benchmark scene's norms.csv holds
 //! the norms of the run library's P2 level (signorini-run's own tests check

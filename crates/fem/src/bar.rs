@@ -1,4 +1,4 @@
-//! The Pk bar of docs/theory.md §2.1 and §2.3: uniform mesh of `m` elements on
+//! The Pk bar of docs/theory.md §2.1 (P2/P3: §2.1.4): uniform mesh of `m` elements on
 //! `[0, L]`, Lagrange elements of degree `k ∈ {1, 2, 3}` with equispaced nodes,
 //! the `k m + 1` nodes `x_i = i h / k` numbered by position; node 0 is the
 //! contact node, node `k m` is either clamped (removed from the unknowns) or

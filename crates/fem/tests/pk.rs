@@ -1,4 +1,4 @@
-//! Tests of the Pk bar (docs/theory.md §2.3): degree 1 through the Pk code
+//! Tests of the Pk bar (docs/theory.md §2.1.4): degree 1 through the Pk code
 //! path against a verbatim copy of the P1 code it replaced (bit for bit), the
 //! P2/P3 element matrices against integrals of the Lagrange basis done here
 //! independently (monomial coefficients from a Vandermonde solve, integrated

@@ -79,7 +79,7 @@ pub(crate) fn contacts_of(stops: &[Stop], dof: impl Fn(usize) -> usize, massless
 }
 
 /// A Pk bar (P1 unless [`Bar::with_degree`]) with Signorini contact at
-/// `x = 0` (docs/theory.md §1.1, §2.1, §2.3), or at a list of stops.
+/// `x = 0` (docs/theory.md §1.1, §2.1, §2.1.4), or at a list of stops.
 #[derive(Clone, Debug)]
 pub struct BarProblem {
     /// Geometry, wave speed, far end.

@@ -1,4 +1,4 @@
-//! P2/P3 bars through the run layer (docs/theory.md §2.3):
+//! P2/P3 bars through the run layer (docs/theory.md §2.1.4):
 //!
 //! * degree 1 through the Pk path (`run_level_degree`, `problem_with_degree`,
 //!   `NormObserver::with_degree`) gives the norms the P1 code gave before the
