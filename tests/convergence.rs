@@ -32,6 +32,7 @@ fn coarse(benchmark: Benchmark) -> Vec<ConfigResult> {
         ratio,
         t_end,
         norms: Default::default(),
+        degree: 1,
     };
     sweep(&cfg, &|| {}).unwrap()
 }

@@ -105,18 +105,21 @@ class Matrices:
         return self._kappa
 
 
-def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: float = 1.0, right_end: str = "clamped", contacts=(0,)) -> Matrices:
+def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: float = 1.0, right_end: str = "clamped", contacts=(0,), degree: int = 1) -> Matrices:
     """The P1 bar on ``[0, length]`` with ``elements`` elements (>= 2), density 1
     and wave speed ``wave_speed``; ``right_end`` ``'clamped'`` (node m is not an
     unknown) or ``'free'``; ``mass`` one of :data:`MASSES`, built for contacts at
-    the nodes ``contacts`` (the redistributed masses empty their element)."""
+    the nodes ``contacts`` (the redistributed masses empty their element);
+    ``degree`` 1, 2 or 3 (Lagrange P1, P2, P3; unknowns ordered by position,
+    half-bandwidth ``degree``; std, lumped and mod at degrees 2 and 3)."""
     elements = _check.integer("elements", elements, 2, 1 << 26)
     mass = _check.string("mass", mass, MASSES)
     right_end = _check.string("right_end", right_end, ("clamped", "free"))
     length = _check.number("length", length, positive=True)
     wave_speed = _check.number("wave_speed", wave_speed, positive=True)
     nodes = _check.sequence("contacts", contacts, lambda n, v: _check.integer(n, v, 0))
-    return Matrices(_signorini.bar_matrices(elements, mass, length, wave_speed, right_end, nodes))
+    degree = _check.integer("degree", degree, 1, 3)
+    return Matrices(_signorini.bar_matrices(elements, mass, length, wave_speed, right_end, nodes, degree))
 
 
 def beam(elements: int, *, length: float = 1.0, k2: float = 1.0) -> Matrices:

@@ -118,8 +118,9 @@ fn massless_of(m: &SymBand) -> Vec<usize> {
 
 /// The P1 bar's matrices (see `signorini.fem.bar`).
 #[pyfunction]
-#[pyo3(signature = (elements, mass="std", length=1.0, wave_speed=1.0, right_end="clamped", contacts=None))]
-pub fn bar_matrices(elements: i64, mass: &str, length: f64, wave_speed: f64, right_end: &str, contacts: Option<Vec<i64>>) -> PyResult<Matrices> {
+#[pyo3(signature = (elements, mass="std", length=1.0, wave_speed=1.0, right_end="clamped", contacts=None, degree=1))]
+#[allow(clippy::too_many_arguments)]
+pub fn bar_matrices(elements: i64, mass: &str, length: f64, wave_speed: f64, right_end: &str, contacts: Option<Vec<i64>>, degree: i64) -> PyResult<Matrices> {
     let m = count("elements", elements, 2)?;
     let variant: BarMass = mass.parse().map_err(|e| SceneError::new_err(format!("mass: {e}")))?;
     let end = match right_end {
@@ -127,7 +128,13 @@ pub fn bar_matrices(elements: i64, mass: &str, length: f64, wave_speed: f64, rig
         "free" => RightEnd::Free,
         other => return Err(SceneError::new_err(format!("right_end: {other:?} is not one of clamped, free"))),
     };
-    let bar = Bar::new(positive("length", length)?, m, positive("wave_speed", wave_speed)?, end).map_err(|e| SceneError::new_err(e.to_string()))?;
+    if !(1..=3).contains(&degree) {
+        return Err(SceneError::new_err(format!("degree: {degree} is out of range: 1, 2 or 3 (Lagrange P1, P2, P3)")));
+    }
+    let bar = Bar::new(positive("length", length)?, m, positive("wave_speed", wave_speed)?, end)
+        .and_then(|b| b.with_degree(degree as usize))
+        .map_err(|e| SceneError::new_err(e.to_string()))?;
+    bar.check_mass(variant).map_err(|e| SceneError::new_err(format!("mass: {e}")))?;
     let nodes = contacts.unwrap_or_else(|| vec![0]);
     let mut ns = Vec::with_capacity(nodes.len());
     for (k, &c) in nodes.iter().enumerate() {
@@ -142,7 +149,7 @@ pub fn bar_matrices(elements: i64, mass: &str, length: f64, wave_speed: f64, rig
         mass: mass_m,
         stiffness: bar.stiffness(),
         beam: None,
-        kind: format!("bar, {m} elements, mass {variant}"),
+        kind: format!("bar, {m} P{degree} elements, mass {variant}"),
         h: bar.h(),
         x: (0..bar.dofs()).map(|i| bar.node(i)).collect(),
     })

@@ -149,7 +149,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     let (lo, hi): (Vec<f64>, Vec<f64>) = built.stepper.dynamics().contacts.iter().map(|c| (c.bounds.lo, c.bounds.hi)).unzip();
     let mut rec = Recorder::new(built.tip, dofs.clone(), energy.unwrap_or(energy_default), fields_every as usize, levels, unknowns);
     let mut norms = match (&s, exact.as_deref()) {
-        (Scene::Bar(b), Some(e)) => Some(NormObserver::new(e, b.problem.bar.elements, b.problem.vnorm(), dt)),
+        (Scene::Bar(b), Some(e)) => Some(NormObserver::with_degree(e, b.problem.bar.elements, b.problem.bar.degree, b.problem.vnorm(), dt, signorini_norms::NormKind::Exact)),
         _ => None,
     };
     let (res, signal) = crate::interruptible(py, flag, || {

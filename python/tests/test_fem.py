@@ -96,3 +96,26 @@ def test_bad_input_names_the_argument():
     ]:
         with pytest.raises(signorini.SceneError, match="^" + field):
             call()
+
+
+def test_p2_bar_is_the_assembled_quadratic_element():
+    m, h = 4, 0.25
+    Me = h / 30 * np.array([[4.0, 2.0, -1.0], [2.0, 16.0, 2.0], [-1.0, 2.0, 4.0]])
+    Ke = 1 / (3 * h) * np.array([[7.0, -8.0, 1.0], [-8.0, 16.0, -8.0], [1.0, -8.0, 7.0]])
+    n = 2 * m + 1
+    M, K = np.zeros((n, n)), np.zeros((n, n))
+    for e in range(m):
+        idx = np.ix_(range(2 * e, 2 * e + 3), range(2 * e, 2 * e + 3))
+        M[idx] += Me
+        K[idx] += Ke
+    a = fem.bar(m, "std", degree=2)
+    assert a.half_bandwidth == 2 and a.n == 2 * m
+    np.testing.assert_allclose(a.M, M[:-1, :-1], rtol=1e-14, atol=1e-15)
+    np.testing.assert_allclose(a.K, K[:-1, :-1], rtol=1e-14, atol=1e-13)
+    np.testing.assert_allclose(a.x, np.arange(2 * m) * h / 2)
+    assert a.kappa_h() == pytest.approx(kappa_dense(a.M, a.K), rel=1e-11)
+    for bad, field in [(0, "degree"), (4, "degree"), (2.0, "degree")]:
+        with pytest.raises(signorini.SceneError, match="^" + field):
+            fem.bar(m, degree=bad)
+    with pytest.raises(signorini.SceneError, match="^mass"):
+        fem.bar(m, "mod3", degree=2)

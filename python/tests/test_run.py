@@ -150,3 +150,16 @@ def test_run_bad_arguments():
         signorini.run({"nothing": {}})
     with pytest.raises(signorini.SceneError):
         signorini.run(42)
+
+
+def test_a_p2_bar_has_the_cli_norms(tmp_path):
+    text = '[bar]\nbenchmark = "bar-dirichlet"\nelements = 20\ndegree = 2\nmass = "mod"\nscheme = "newmark-cn"\nratio = 10.0\nt_end = 3.0\n'
+    path, out = cli(tmp_path, text, "p2")
+    r = signorini.run(path)
+    (want,) = rows(out / "norms.csv")
+    assert r.fields.shape == (0, 40) and r.contact_dofs == [0]
+    for k in ("linf_l2_u", "l2_l2_u", "l2_lambda"):
+        assert r.norms[k] == pytest.approx(float(want[k]), rel=1e-9), k
+    # P1 at the same dofs is a different discretisation: not the same numbers.
+    p1 = signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": 40, "mass": "mod", "scheme": "newmark-cn", "ratio": 20.0, "t_end": 3.0}})
+    assert p1.norms["l2_l2_u"] != pytest.approx(r.norms["l2_l2_u"], rel=1e-6)

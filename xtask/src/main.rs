@@ -106,6 +106,10 @@ struct ConvergenceArgs {
     /// (needs a massless-contact mass and a scheme that takes one). Default: none.
     #[arg(long)]
     reduce: Option<String>,
+    /// Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m elements
+    /// of degree k (default folder out/convergence/<benchmark>-p<k> for k > 1).
+    #[arg(long, default_value_t = 1)]
+    degree: usize,
 }
 
 fn main() -> ExitCode {
@@ -139,7 +143,7 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     let masses = signorini_studies::parse_masses(&a.masses).map_err(|e| e.to_string())?;
     let norms = convergence::parse_norms(&a.norms).map_err(|e| e.to_string())?;
     let reduce = a.reduce.as_deref().map(convergence::parse_reduce).transpose().map_err(|e| e.to_string())?;
-    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce };
+    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce, degree: a.degree };
     let out = with_progress_bar(|p| convergence::run(&cfg, p)).map_err(|e| e.to_string())?;
     notes(&out.notes);
     print!("{}", out.report);

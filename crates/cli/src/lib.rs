@@ -383,7 +383,7 @@ fn row_bytes(cols: usize) -> f64 {
 pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
     let per_contact = |c: &Option<ContactSet>| 3 * c.as_ref().map_or(0, |c| c.sites.len());
     let (steps, series_cols, nodes) = match scene {
-        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.elements as f64 + 1.0),
+        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.last_node() as f64 + 1.0),
         Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
         Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 8, 1.0),
     };
@@ -572,9 +572,9 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     let cols = SeriesColumns { exact: exact.as_deref(), contacts: dofs.as_deref(), ..SeriesColumns::default() };
     let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, dof0, cols)?;
     let mut data = PlotData::new(steps, dof0, b.contacts.as_ref());
-    let mut norms = exact.as_deref().map(|e| NormObserver::new(e, p.bar.elements, p.vnorm(), b.dt));
+    let mut norms = exact.as_deref().map(|e| NormObserver::with_degree(e, p.bar.elements, p.bar.degree, p.vnorm(), b.dt, Default::default()));
     let mut snaps = if file.output.snapshots_every > 0 {
-        let nodes = (0..=p.bar.elements).map(|i| (p.bar.node(i), (i < p.bar.dofs()).then_some(i), 0.0)).collect();
+        let nodes = (0..=p.bar.last_node()).map(|i| (p.bar.node(i), (i < p.bar.dofs()).then_some(i), 0.0)).collect();
         Some(Snapshots::new(out, "n,t,x,u", file.output.snapshots_every, nodes, None)?)
     } else {
         None
@@ -668,7 +668,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
 /// size (against the free space of `out`) and cost.
 pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliError> {
     let (elements, is_beam, unknowns, contacts) = match scene {
-        Scene::Bar(b) => (b.problem.bar.elements, false, b.problem.bar.dofs(), &b.contacts),
+        Scene::Bar(b) => (b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
         Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
         Scene::Oscillator { .. } => (1, false, 1, &None),
     };

@@ -209,6 +209,9 @@ pub struct BarToml {
     pub initial_velocity: Option<FieldToml>,
     /// Elements m (>= 2).
     pub elements: usize,
+    /// Element degree k (1, 2, 3: Lagrange P1, P2, P3; default 1); the
+    /// `k m + 1` nodes are at `x = i L/(k m)`.
+    pub degree: Option<usize>,
     /// Mass treatment.
     #[serde(default = "default_mass")]
     pub mass: String,
@@ -777,7 +780,8 @@ pub const NODE_TOLERANCE: f64 = 1e-9;
 struct NodeMesh<'a> {
     /// Length of the bar or beam.
     length: f64,
-    /// Elements (nodes `0..=elements`, at `x(i)`).
+    /// Elements (nodes `0..=elements`, at `x(i)`; for a P`k` bar, `k m`:
+    /// its nodes are those of a P1 bar of `k m` elements).
     elements: usize,
     /// The nodes that are unknowns (a clamped node cannot be a contact).
     unknown: std::ops::RangeInclusive<usize>,
@@ -1163,6 +1167,13 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     if b.elements < 2 {
         return Err(field("bar.elements", format!("{} is not allowed: an integer >= 2", b.elements)));
     }
+    let degree = b.degree.unwrap_or(1);
+    if !(1..=3).contains(&degree) {
+        return Err(field("bar.degree", format!("{degree} is not allowed: 1, 2 or 3 (Lagrange P1, P2, P3)")));
+    }
+    if degree > 1 && !matches!(mass, BarMass::Std | BarMass::Lumped | BarMass::Mod | BarMass::Mod1) {
+        return Err(field("bar.mass", format!("{mass} is not defined at degree {degree}: allowed std, lumped, mod or mod1")));
+    }
     let reduce = b.reduce.as_ref().map(|r| r.keep("bar")).transpose()?;
     if reduce.is_some() {
         if !scheme.accepts_massless_node(true) {
@@ -1172,7 +1183,8 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             return Err(field("bar.mass", format!("{mass} with reduce: the reduction keeps the contacts massless, exact for a parent whose contact nodes carry no mass; allowed mod, mod1, mod2, mod3, transfer or singular")));
         }
     }
-    fits("bar.elements", b.elements, false, limits)?;
+    // A P`k` bar of m elements has the unknowns of a P1 bar of k m.
+    fits("bar.elements", b.elements.saturating_mul(degree), false, limits)?;
     // Several contacts: [[stop]] / [obstacle] replace the obstacle at x = 0.
     let multi = !stops.is_empty() || obstacle.is_some();
     if multi {
@@ -1186,9 +1198,9 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             return Err(field("bar.mass", format!("{mass} takes the mass off every contact node, and [obstacle] makes every node one: allowed std or lumped with [obstacle]")));
         }
         // Every unknown node with [obstacle] (m + 1 at most), else one per stop.
-        let unknowns = b.elements.saturating_add(1);
+        let unknowns = b.elements.saturating_mul(degree).saturating_add(1);
         let k = if obstacle.is_some() { unknowns } else { stops.len() };
-        contacts_fit(contacts_table(stops), k, unknowns, b.elements, false, limits)?;
+        contacts_fit(contacts_table(stops), k, unknowns, b.elements.saturating_mul(degree), false, limits)?;
     }
     let (mut problem, benchmark, default_t) = match &b.benchmark {
         Some(name) => {
@@ -1209,7 +1221,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             let t = bench.default_ratio_and_horizon().1;
             let t_end = b.t_end.unwrap_or(t);
             let exact = bench.exact(positive("bar.t_end", t_end)?).map_err(|e| field("bar.t_end", e))?;
-            let p = bench.problem(exact.as_ref(), b.elements, mass).map_err(|e| field("bar", e))?;
+            let p = bench.problem_with_degree(exact.as_ref(), b.elements, mass, degree).map_err(|e| field("bar", e))?;
             (p, Some(bench), t)
         }
         None => {
@@ -1240,7 +1252,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
                     ),
                 ));
             }
-            let bar = Bar::new(length, b.elements, c, end).map_err(|e| field("bar", e))?;
+            let bar = Bar::new(length, b.elements, c, end).and_then(|bar| bar.with_degree(degree)).map_err(|e| field("bar", e))?;
             // The first node where a field is not finite, to name its key.
             let bad = std::cell::Cell::new(None);
             let at = |key: &'static str, fld: &InitialField, x: f64| {
@@ -1259,7 +1271,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     };
     let contacts = if multi {
         let bar = problem.bar;
-        let mesh = NodeMesh { length: bar.length, elements: bar.elements, unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
+        let mesh = NodeMesh { length: bar.length, elements: bar.last_node(), unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
         let rules = KeyRules {
             restitution: if matches!(scheme, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
                 Ok(())
@@ -1288,7 +1300,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             return Err(field("load", "a benchmark is its own problem with its exact solution: remove [load], or remove benchmark"));
         }
         let bar = problem.bar;
-        let mesh = NodeMesh { length: bar.length, elements: bar.elements, unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
+        let mesh = NodeMesh { length: bar.length, elements: bar.last_node(), unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
         let node = e.x.map(|x| mesh.node("load.x", x)).transpose()?;
         omega = e.omega;
         problem = problem.with_load(node, e.profile).map_err(|e| field("load.x", e))?;

@@ -1,10 +1,20 @@
-//! The P1 bar of docs/theory.md §2.1: uniform mesh of `m` elements on `[0, L]`, node 0
-//! is the contact node, node `m` is either clamped (removed from the unknowns)
-//! or free.
+//! The Pk bar of docs/theory.md §2.1 (P2/P3: §2.1.4): uniform mesh of `m` elements on
+//! `[0, L]`, Lagrange elements of degree `k ∈ {1, 2, 3}` with equispaced nodes,
+//! the `k m + 1` nodes `x_i = i h / k` numbered by position; node 0 is the
+//! contact node, node `k m` is either clamped (removed from the unknowns) or
+//! free. Every matrix is banded with half-bandwidth `k`.
 //!
-//! Element matrices: mass `ρ h/6 [2 1; 1 2]`, stiffness `c²/h [1 -1; -1 1]`.
-//! The mass variants ([`BarMass`]) differ only near the contact node; every
-//! variant is tridiagonal.
+//! Element matrices (`ρ = 1`, local nodes left to right):
+//!
+//! * P1: mass `h/6 [2 1; 1 2]`, stiffness `c²/h [1 -1; -1 1]`;
+//! * P2: mass `h/30 [4 2 -1; 2 16 2; -1 2 4]`, stiffness
+//!   `c²/(3h) [7 -8 1; -8 16 -8; 1 -8 7]`;
+//! * P3: mass `h/1680 [128 99 -36 19; 99 648 -81 -36; -36 -81 648 99; 19 -36 99 128]`,
+//!   stiffness `c²/(40h) [148 -189 54 -13; -189 432 -297 54; 54 -297 432 -189; -13 54 -189 148]`.
+//!
+//! The mass variants ([`BarMass`]) differ only near the contact node; for
+//! `k = 1` every variant is tridiagonal, for `k = 2, 3` std, lumped and
+//! mod/mod1 are defined ([`Bar::check_mass`]).
 
 use crate::{FemError, SymBand};
 use std::fmt;
@@ -43,16 +53,7 @@ pub enum BarMass {
 
 impl BarMass {
     /// Every variant, in documentation order.
-    pub const ALL: [BarMass; 8] = [
-        BarMass::Std,
-        BarMass::Lumped,
-        BarMass::Mod,
-        BarMass::Mod1,
-        BarMass::Mod2,
-        BarMass::Mod3,
-        BarMass::Transfer,
-        BarMass::Singular,
-    ];
+    pub const ALL: [BarMass; 8] = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod1, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
 
     /// The name used in files and on the command line.
     pub fn name(self) -> &'static str {
@@ -88,14 +89,71 @@ impl fmt::Display for BarMass {
 impl FromStr for BarMass {
     type Err = FemError;
     fn from_str(s: &str) -> Result<Self, FemError> {
-        BarMass::ALL
-            .into_iter()
-            .find(|v| v.name() == s)
-            .ok_or_else(|| FemError::UnknownMass(s.to_string()))
+        BarMass::ALL.into_iter().find(|v| v.name() == s).ok_or_else(|| FemError::UnknownMass(s.to_string()))
     }
 }
 
-/// A uniform P1 bar: geometry, wave speed and boundary condition at `x = L`.
+/// One degree's element matrices as exact fractions `num/den` (see the module docs).
+struct Element {
+    /// Mass `h · num/den`, row-major `(k+1)²`.
+    mass: &'static [(f64, f64)],
+    /// Row sums of the mass (lumped), `h · num/den`.
+    lumped: &'static [(f64, f64)],
+    /// Stiffness `c²/h · num/den`, row-major `(k+1)²`.
+    stiffness: &'static [(f64, f64)],
+}
+
+/// P1: the fractions the P1 code always used (`h/3`, `h/6`, `h/2`, `c²/h`).
+const P1: Element = Element { mass: &[(1.0, 3.0), (1.0, 6.0), (1.0, 6.0), (1.0, 3.0)], lumped: &[(1.0, 2.0), (1.0, 2.0)], stiffness: &[(1.0, 1.0), (-1.0, 1.0), (-1.0, 1.0), (1.0, 1.0)] };
+
+const P2: Element = Element {
+    mass: &[(4.0, 30.0), (2.0, 30.0), (-1.0, 30.0), (2.0, 30.0), (16.0, 30.0), (2.0, 30.0), (-1.0, 30.0), (2.0, 30.0), (4.0, 30.0)],
+    lumped: &[(1.0, 6.0), (2.0, 3.0), (1.0, 6.0)],
+    stiffness: &[(7.0, 3.0), (-8.0, 3.0), (1.0, 3.0), (-8.0, 3.0), (16.0, 3.0), (-8.0, 3.0), (1.0, 3.0), (-8.0, 3.0), (7.0, 3.0)],
+};
+
+const P3: Element = Element {
+    mass: &[
+        (128.0, 1680.0),
+        (99.0, 1680.0),
+        (-36.0, 1680.0),
+        (19.0, 1680.0),
+        (99.0, 1680.0),
+        (648.0, 1680.0),
+        (-81.0, 1680.0),
+        (-36.0, 1680.0),
+        (-36.0, 1680.0),
+        (-81.0, 1680.0),
+        (648.0, 1680.0),
+        (99.0, 1680.0),
+        (19.0, 1680.0),
+        (-36.0, 1680.0),
+        (99.0, 1680.0),
+        (128.0, 1680.0),
+    ],
+    lumped: &[(1.0, 8.0), (3.0, 8.0), (3.0, 8.0), (1.0, 8.0)],
+    stiffness: &[
+        (148.0, 40.0),
+        (-189.0, 40.0),
+        (54.0, 40.0),
+        (-13.0, 40.0),
+        (-189.0, 40.0),
+        (432.0, 40.0),
+        (-297.0, 40.0),
+        (54.0, 40.0),
+        (54.0, 40.0),
+        (-297.0, 40.0),
+        (432.0, 40.0),
+        (-189.0, 40.0),
+        (-13.0, 40.0),
+        (54.0, 40.0),
+        (-189.0, 40.0),
+        (148.0, 40.0),
+    ],
+};
+
+/// A uniform Pk bar (`k = 1` unless [`Bar::with_degree`]): geometry, wave
+/// speed, boundary condition at `x = L`, element degree.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bar {
     /// Length `L` (> 0).
@@ -106,6 +164,8 @@ pub struct Bar {
     pub wave_speed: f64,
     /// Condition at `x = L`.
     pub right_end: RightEnd,
+    /// Element degree `k` (1, 2 or 3; 1 from [`Bar::new`]).
+    pub degree: usize,
 }
 
 impl Bar {
@@ -120,7 +180,47 @@ impl Bar {
         if !(wave_speed > 0.0 && wave_speed.is_finite()) {
             return Err(FemError::Invalid { field: "wave_speed", value: wave_speed, allowed: "finite and > 0" });
         }
-        Ok(Self { length, elements, wave_speed, right_end })
+        Ok(Self { length, elements, wave_speed, right_end, degree: 1 })
+    }
+
+    /// The same bar with Lagrange elements of degree `k` (equispaced nodes).
+    /// Refused, naming `degree`: `k` other than 1, 2, 3, or a mesh whose
+    /// `k m + 1` nodes are not addressable.
+    pub fn with_degree(mut self, k: usize) -> Result<Self, FemError> {
+        if !(1..=3).contains(&k) {
+            return Err(FemError::Invalid { field: "degree", value: k as f64, allowed: "1, 2 or 3 (Lagrange P1, P2, P3)" });
+        }
+        if self.elements.checked_mul(k).is_none_or(|n| n > 3 * crate::MAX_ELEMENTS) {
+            return Err(FemError::Invalid { field: "degree", value: k as f64, allowed: "k m <= 3 · 2^40 nodes" });
+        }
+        self.degree = k;
+        Ok(self)
+    }
+
+    fn element(&self) -> &'static Element {
+        match self.degree {
+            1 => &P1,
+            2 => &P2,
+            3 => &P3,
+            k => unreachable!("degree {k} is refused by with_degree"),
+        }
+    }
+
+    /// The index of the last node, `k m` (nodes are `0..=k m`).
+    pub fn last_node(&self) -> usize {
+        self.degree * self.elements
+    }
+
+    /// Whether the mass treatment is defined at this degree: every one at
+    /// `k = 1`; std, lumped, mod and mod1 at `k = 2, 3`. Refused, naming
+    /// `mass`, otherwise (mod2, mod3, transfer and singular are P1 recipes:
+    /// weights and values of P1 element matrices).
+    pub fn check_mass(&self, variant: BarMass) -> Result<(), FemError> {
+        if self.degree == 1 || matches!(variant, BarMass::Std | BarMass::Lumped | BarMass::Mod | BarMass::Mod1) {
+            Ok(())
+        } else {
+            Err(FemError::MassForDegree { mass: variant.name(), degree: self.degree })
+        }
     }
 
     /// Element size `h = L/m`.
@@ -128,22 +228,36 @@ impl Bar {
         self.length / self.elements as f64
     }
 
-    /// Number of unknowns: `m` (clamped) or `m + 1` (free).
+    /// Number of unknowns: `k m` (clamped) or `k m + 1` (free).
     pub fn dofs(&self) -> usize {
         match self.right_end {
-            RightEnd::Clamped => self.elements,
-            RightEnd::Free => self.elements + 1,
+            RightEnd::Clamped => self.last_node(),
+            RightEnd::Free => self.last_node() + 1,
         }
     }
 
-    /// Node coordinate `x_i = i h` (`i = 0..=m`).
+    /// Node coordinate `x_i = i h / k` (`i = 0..=k m`), computed as `L i / (k m)`.
     pub fn node(&self, i: usize) -> f64 {
-        self.length * i as f64 / self.elements as f64
+        self.length * i as f64 / self.last_node() as f64
     }
 
-    /// Mass matrix on all `m + 1` nodes (before removing a clamped node).
+    /// Mass matrix on all `k m + 1` nodes (before removing a clamped node).
+    ///
+    /// Element `j` contributes `w_j` times its element mass (or its row
+    /// sums, lumped) with the variant's weights `w_j`. At `k = 2, 3` the
+    /// massless contact node (mod, mod1) keeps of element 0 only its block on
+    /// the interior nodes `1..k-1` (the mass of the functions vanishing at
+    /// both ends of the element, positive definite), so node 0 alone is
+    /// massless; at `k = 1` there is no such block and this is the P1 mod.
+    ///
+    /// Panics (`#[track_caller]`) for a variant [`Bar::check_mass`] refuses.
+    #[track_caller]
     pub fn mass_all_nodes(&self, variant: BarMass) -> SymBand {
+        if let Err(e) = self.check_mass(variant) {
+            panic!("{e} (check with Bar::check_mass first)");
+        }
         let m = self.elements;
+        let (k, el) = (self.degree, self.element());
         let h = self.h();
         let weight = |j: usize| -> f64 {
             match variant {
@@ -155,16 +269,30 @@ impl Bar {
                 _ => 1.0,
             }
         };
-        let mut mm = SymBand::zeros(m + 1, 1);
+        let mut mm = SymBand::zeros(k * m + 1, k);
         for j in 0..m {
             let w = weight(j) * h;
+            let o = k * j;
             if variant == BarMass::Lumped {
-                mm.add(j, j, w / 2.0);
-                mm.add(j + 1, j + 1, w / 2.0);
+                for (a, &(num, den)) in el.lumped.iter().enumerate() {
+                    mm.add(o + a, o + a, w * num / den);
+                }
             } else {
-                mm.add(j, j, w / 3.0);
-                mm.add(j + 1, j + 1, w / 3.0);
-                mm.add(j, j + 1, w / 6.0);
+                for a in 0..=k {
+                    for b in a..=k {
+                        let (num, den) = el.mass[a * (k + 1) + b];
+                        mm.add(o + a, o + b, w * num / den);
+                    }
+                }
+            }
+        }
+        if k > 1 && matches!(variant, BarMass::Mod | BarMass::Mod1) {
+            // Element 0's bubble block: interior nodes 1..k-1 only.
+            for a in 1..k {
+                for b in a..k {
+                    let (num, den) = el.mass[a * (k + 1) + b];
+                    mm.add(a, b, h * num / den);
+                }
             }
         }
         match variant {
@@ -182,7 +310,7 @@ impl Bar {
         mm
     }
 
-    /// Mass matrix on all `m + 1` nodes with a contact at each node of
+    /// Mass matrix on all `k m + 1` nodes with a contact at each node of
     /// `nodes` (sorted or not, distinct): the mass treatment generalised
     /// from the one contact node 0 of [`Bar::mass_all_nodes`] (identical
     /// for `nodes = [0]`). For the massless family every contact node
@@ -201,15 +329,21 @@ impl Bar {
     ///   end, `m`): the neighbour's diagonal becomes `7h/12`;
     ///
     /// and `std`/`lumped` are unchanged. Refused too: a contact node out of
-    /// range, and any node that is not a contact node left without mass.
+    /// range, any node that is not a contact node left without mass, a
+    /// variant [`Bar::check_mass`] refuses, and at `k = 2, 3` a massless
+    /// treatment with contacts other than the one at node 0.
     pub fn mass_all_nodes_with_contacts(&self, variant: BarMass, nodes: &[usize]) -> Result<SymBand, FemError> {
         let m = self.elements;
         let refuse = |why: &'static str, node: usize| Err(FemError::MassAtContacts { mass: variant.name(), node, why });
-        if let Some(&bad) = nodes.iter().find(|&&i| i > m) {
-            return refuse("a contact node beyond the last node m", bad);
+        if let Some(&bad) = nodes.iter().find(|&&i| i > self.last_node()) {
+            return refuse("a contact node beyond the last node k m", bad);
         }
+        self.check_mass(variant)?;
         if nodes == [0] || !variant.massless_contact_node() {
             return Ok(self.mass_all_nodes(variant));
+        }
+        if self.degree > 1 {
+            return refuse("at degree 2 and 3 the massless contact node (mod, mod1) is defined for the one contact node 0 only", nodes.iter().copied().find(|&i| i != 0).unwrap_or(0));
         }
         let is_contact = |i: usize| nodes.contains(&i);
         let h = self.h();
@@ -292,7 +426,7 @@ impl Bar {
     }
 
     /// Mass matrix on the unknowns with contacts at `nodes` (see
-    /// [`Bar::mass_all_nodes_with_contacts`]); a clamped far end's node `m`
+    /// [`Bar::mass_all_nodes_with_contacts`]); a clamped far end's node `k m`
     /// cannot be a contact node.
     pub fn mass_with_contacts(&self, variant: BarMass, nodes: &[usize]) -> Result<SymBand, FemError> {
         if let Some(&bad) = nodes.iter().find(|&&i| i >= self.dofs()) {
@@ -301,20 +435,26 @@ impl Bar {
         Ok(self.restrict(self.mass_all_nodes_with_contacts(variant, nodes)?))
     }
 
-    /// Stiffness matrix on all `m + 1` nodes.
+    /// Stiffness matrix on all `k m + 1` nodes.
     pub fn stiffness_all_nodes(&self) -> SymBand {
         let m = self.elements;
+        let (deg, el) = (self.degree, self.element());
         let k = self.wave_speed * self.wave_speed / self.h();
-        let mut kk = SymBand::zeros(m + 1, 1);
+        let mut kk = SymBand::zeros(deg * m + 1, deg);
         for j in 0..m {
-            kk.add(j, j, k);
-            kk.add(j + 1, j + 1, k);
-            kk.add(j, j + 1, -k);
+            let o = deg * j;
+            for a in 0..=deg {
+                for b in a..=deg {
+                    let (num, den) = el.stiffness[a * (deg + 1) + b];
+                    kk.add(o + a, o + b, k * num / den);
+                }
+            }
         }
         kk
     }
 
-    /// Mass matrix on the unknowns.
+    /// Mass matrix on the unknowns (panics for a variant [`Bar::check_mass`] refuses).
+    #[track_caller]
     pub fn mass(&self, variant: BarMass) -> SymBand {
         self.restrict(self.mass_all_nodes(variant))
     }
@@ -329,10 +469,10 @@ impl Bar {
             RightEnd::Free => a,
             // Drop the last node: the leading principal submatrix.
             RightEnd::Clamped => {
-                let n = self.elements;
-                let mut out = SymBand::zeros(n, 1);
+                let (n, p) = (self.last_node(), self.degree);
+                let mut out = SymBand::zeros(n, p);
                 for i in 0..n {
-                    for j in i.saturating_sub(1)..=i {
+                    for j in i.saturating_sub(p)..=i {
                         out.set(i, j, a.get(i, j));
                     }
                 }
@@ -341,14 +481,14 @@ impl Bar {
         }
     }
 
-    /// Load vector `F_i = ∫ f φ_i` on the unknowns, by 3-point Gauss–Legendre
-    /// quadrature per element (exact for `f` of degree <= 4).
+    /// Load vector `F_i = ∫ f φ_i` on the unknowns, by Gauss–Legendre
+    /// quadrature per element: 3 points for P1 (exact for `f` of degree
+    /// <= 4), 5 points for P2 and P3 (exact for `f` of degree <= 9 - k).
     pub fn load(&self, f: impl Fn(f64) -> f64) -> Vec<f64> {
-        const G: [(f64, f64); 3] = [
-            (-0.774_596_669_241_483_4, 5.0 / 9.0),
-            (0.0, 8.0 / 9.0),
-            (0.774_596_669_241_483_4, 5.0 / 9.0),
-        ];
+        if self.degree > 1 {
+            return self.load_pk(f);
+        }
+        const G: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
         let h = self.h();
         let mut out = vec![0.0; self.elements + 1];
         for j in 0..self.elements {
@@ -363,4 +503,37 @@ impl Bar {
         out.truncate(self.dofs());
         out
     }
+
+    fn load_pk(&self, f: impl Fn(f64) -> f64) -> Vec<f64> {
+        let (k, h) = (self.degree, self.h());
+        let mut out = vec![0.0; self.last_node() + 1];
+        for j in 0..self.elements {
+            let a = self.node(k * j);
+            for (xi, w) in GAUSS5 {
+                let s = 0.5 * (xi + 1.0);
+                let fx = f(a + s * h) * w * 0.5 * h;
+                for (i, o) in out[k * j..=k * j + k].iter_mut().enumerate() {
+                    *o += fx * lagrange(k, i, s);
+                }
+            }
+        }
+        out.truncate(self.dofs());
+        out
+    }
+}
+
+/// 5-point Gauss–Legendre on `[-1, 1]` (exact for degree <= 9).
+const GAUSS5: [(f64, f64); 5] = [
+    (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
+    (-0.538_469_310_105_683_1, 0.478_628_670_499_366_5),
+    (0.0, 0.568_888_888_888_888_9),
+    (0.538_469_310_105_683_1, 0.478_628_670_499_366_5),
+    (0.906_179_845_938_664, 0.236_926_885_056_189_1),
+];
+
+/// The Lagrange basis function `i` of degree `k` on the equispaced nodes
+/// `r/k` (`r = 0..=k`) of `[0, 1]`, at `s`.
+pub fn lagrange(k: usize, i: usize, s: f64) -> f64 {
+    let kf = k as f64;
+    (0..=k).filter(|&r| r != i).map(|r| (kf * s - r as f64) / (i as f64 - r as f64)).product()
 }

@@ -17,7 +17,7 @@ pub mod beam;
 mod eigen;
 
 pub use band::{BandLdlt, SymBand};
-pub use bar::{Bar, BarMass, RightEnd};
+pub use bar::{lagrange, Bar, BarMass, RightEnd};
 pub use beam::Beam;
 pub use eigen::{max_generalized_eigenvalue, max_generalized_eigenvalue_auto};
 
@@ -49,6 +49,14 @@ pub enum FemError {
         node: usize,
         /// Why, in words.
         why: &'static str,
+    },
+    /// A mass treatment not defined at this element degree.
+    #[error("mass {mass} at degree {degree}: refused, allowed std, lumped, mod or mod1 at degree 2 and 3")]
+    MassForDegree {
+        /// The mass treatment.
+        mass: &'static str,
+        /// The element degree.
+        degree: usize,
     },
     /// A mass variant name that does not exist.
     #[error("unknown mass variant {0:?}: allowed std, lumped, mod, mod1, mod2, mod3, transfer, singular")]

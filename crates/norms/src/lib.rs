@@ -12,6 +12,14 @@
 //! stiffness matrices of that degree (`d = 1`: `ℓ(e₀² + e₀e₁ + e₁²)/3` and
 //! `(e₁ - e₀)²/ℓ`). Only values of `u` are needed, never `u_x`.
 //!
+//! Degree `k = 2, 3` ([`SpaceIntegrator::with_degree`]): `u_h` is the Lagrange
+//! interpolant of its `k m + 1` nodal values; on each piece (an element, or
+//! the part of one between kinks) the error is a polynomial of degree
+//! `q = max(k, degree_x)`, represented by its values at `q + 1` equispaced
+//! points and integrated by `(q + 1)`-point Gauss–Legendre, exact for the
+//! degree `2q` of `(u_h - u)²` (and `2q - 2` of its derivative's square).
+//! Degree 1 keeps the P1 path above unchanged, bit for bit.
+//!
 //! Time norms: `L∞(0,T;X) = max_n e_X(t_n)` and
 //! `L²(0,T;X) = sqrt(dt Σ_n e_X(t_n)²)` over the samples fed in.
 //!
@@ -59,6 +67,46 @@ pub struct SpaceIntegrator<'a> {
     pts: Vec<f64>,
     uh: Vec<f64>,
     ex: Vec<f64>,
+    /// Element degree `k` of `u_h`.
+    k: usize,
+    /// Degree `k >= 2`: the Lagrange nodes `L i/(k m)`, their exact values,
+    /// and the Gauss tables of the degree `q` interpolant on `[0, 1]`:
+    /// weights `gw[g]`, values `gv[r][g] = ℓ_r(s_g)`, derivatives `gd[r][g] = ℓ_r'(s_g)`.
+    lnodes: Vec<f64>,
+    ex_lnodes: Vec<f64>,
+    q: usize,
+    gw: Vec<f64>,
+    gv: Vec<Vec<f64>>,
+    gd: Vec<Vec<f64>>,
+}
+
+/// Gauss–Legendre nodes and weights on `[0, 1]` with `n` points (`1..=4`).
+fn gauss01(n: usize) -> Vec<(f64, f64)> {
+    let sym: &[(f64, f64)] = match n {
+        1 => &[(0.0, 2.0)],
+        2 => &[(-0.577_350_269_189_625_8, 1.0), (0.577_350_269_189_625_8, 1.0)],
+        3 => &[(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)],
+        4 => &[
+            (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+            (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+            (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+            (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+        ],
+        _ => unreachable!("Gauss rules of 1 to 4 points only"),
+    };
+    sym.iter().map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect()
+}
+
+/// The Lagrange basis `ℓ_i` of degree `k` on the nodes `r/k` of `[0, 1]` at `s`.
+fn lagrange(k: usize, i: usize, s: f64) -> f64 {
+    let kf = k as f64;
+    (0..=k).filter(|&r| r != i).map(|r| (kf * s - r as f64) / (i as f64 - r as f64)).product()
+}
+
+/// `ℓ_i'(s)` (product rule).
+fn lagrange_d(k: usize, i: usize, s: f64) -> f64 {
+    let kf = k as f64;
+    (0..=k).filter(|&r| r != i).map(|r| kf / (i as f64 - r as f64) * (0..=k).filter(|&p| p != i && p != r).map(|p| (kf * s - p as f64) / (i as f64 - p as f64)).product::<f64>()).sum()
 }
 
 /// `(∫e², ∫e'²)` of the polynomial of degree `d` (1 or 2) with values `e` at
@@ -82,6 +130,16 @@ impl<'a> SpaceIntegrator<'a> {
     /// Exact solutions of degree up to 2 in `x` are supported (all of docs/theory.md §5).
     #[track_caller]
     pub fn new(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm) -> Self {
+        Self::with_degree(exact, elements, 1, vnorm)
+    }
+
+    /// For Lagrange elements of degree `k` (1, 2 or 3; equispaced nodes) on a
+    /// uniform mesh of `elements` elements: [`SpaceIntegrator::errors`] then
+    /// takes the `k m + 1` nodal values (or `k m`, clamped end), numbered by
+    /// position. Panics for another `k` (callers validate it).
+    #[track_caller]
+    pub fn with_degree(exact: &'a dyn ExactSolution, elements: usize, k: usize, vnorm: VNorm) -> Self {
+        assert!((1..=3).contains(&k), "element degree {k} not in 1..=3");
         let degree = exact.degree_x().max(1);
         assert!(degree <= 2, "exact solutions of degree {degree} > 2 in x are not supported");
         assert!(elements >= 1, "need at least one element");
@@ -89,8 +147,27 @@ impl<'a> SpaceIntegrator<'a> {
         let m = elements;
         let h = length / m as f64;
         let nodes: Vec<f64> = (0..=m).map(|i| if i == m { length } else { i as f64 * h }).collect();
-        let mids: Vec<f64> = if degree == 2 { nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect() } else { Vec::new() };
+        let mids: Vec<f64> = if degree == 2 && k == 1 { nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect() } else { Vec::new() };
+        let q = k.max(degree);
+        let (lnodes, gw, gv, gd) = if k == 1 {
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new())
+        } else {
+            let g = gauss01(q + 1);
+            (
+                (0..=k * m).map(|i| length * i as f64 / (k * m) as f64).collect(),
+                g.iter().map(|p| p.1).collect(),
+                (0..=q).map(|r| g.iter().map(|p| lagrange(q, r, p.0)).collect()).collect(),
+                (0..=q).map(|r| g.iter().map(|p| lagrange_d(q, r, p.0)).collect()).collect(),
+            )
+        };
         Self {
+            k,
+            ex_lnodes: vec![0.0; lnodes.len()],
+            lnodes,
+            q,
+            gw,
+            gv,
+            gd,
             exact,
             length,
             h,
@@ -112,6 +189,9 @@ impl<'a> SpaceIntegrator<'a> {
     /// (`m + 1` values, or `m` for a clamped end whose last value is 0).
     #[track_caller]
     pub fn errors(&mut self, t: f64, u: &[f64]) -> SpaceErrors {
+        if self.k > 1 {
+            return self.errors_pk(t, u);
+        }
         let m = self.nodes.len() - 1;
         assert!(u.len() == m || u.len() == m + 1, "need m or m+1 nodal values");
         let u_last = if u.len() == m + 1 { u[m] } else { 0.0 };
@@ -228,6 +308,115 @@ impl<'a> SpaceIntegrator<'a> {
     pub fn length(&self) -> f64 {
         self.length
     }
+
+    /// `(∫e², ∫e'²)` over a piece of length `len` of the degree-`q` polynomial
+    /// with values `e[r]` at its `q + 1` equispaced points (Gauss, exact).
+    #[inline]
+    fn piece_pk(&self, len: f64, e: &[f64]) -> (f64, f64) {
+        let (mut a, mut b) = (0.0, 0.0);
+        for (g, w) in self.gw.iter().enumerate() {
+            let (mut v, mut d) = (0.0, 0.0);
+            for (r, er) in e.iter().enumerate() {
+                v += er * self.gv[r][g];
+                d += er * self.gd[r][g];
+            }
+            a += w * v * v;
+            b += w * d * d;
+        }
+        (len * a, b / len)
+    }
+
+    /// [`SpaceIntegrator::errors`] for degree `k >= 2`.
+    #[track_caller]
+    fn errors_pk(&mut self, t: f64, u: &[f64]) -> SpaceErrors {
+        let (k, q) = (self.k, self.q);
+        let m = self.nodes.len() - 1;
+        let n = k * m;
+        assert!(u.len() == n || u.len() == n + 1, "need k m or k m + 1 nodal values");
+        let node_u = |i: usize| if i < u.len() { u[i] } else { 0.0 };
+        let h = self.h;
+        self.exact.u_at(t, &self.lnodes, &mut self.ex_lnodes);
+        // q == k (exact solutions have degree <= 2 <= k): the Lagrange nodes
+        // of an element are its sample points.
+        debug_assert_eq!(q, k);
+        let mut e = [0.0; 4];
+        let (mut l2, mut semi) = (0.0, 0.0);
+        for j in 0..m {
+            for (r, er) in e[..=k].iter_mut().enumerate() {
+                *er = node_u(k * j + r) - self.ex_lnodes[k * j + r];
+            }
+            let (a, b) = self.piece_pk(h, &e[..=k]);
+            l2 += a;
+            semi += b;
+        }
+        // Elements crossed by kinks: replace their contribution.
+        self.exact.kinks(t, &mut self.kinks);
+        let mut kk = 0;
+        while kk < self.kinks.len() {
+            let x0 = self.kinks[kk];
+            let mut j = ((x0 / h) as usize).min(m - 1);
+            while j + 1 < m && self.nodes[j + 1] <= x0 {
+                j += 1;
+            }
+            while j > 0 && self.nodes[j] > x0 {
+                j -= 1;
+            }
+            let (a, b) = (self.nodes[j], self.nodes[j + 1]);
+            if !(x0 < b) {
+                kk += 1;
+                continue;
+            }
+            self.ends.clear();
+            self.ends.push(a);
+            while kk < self.kinks.len() && self.kinks[kk] < b {
+                let x = self.kinks[kk];
+                if x > *self.ends.last().unwrap_or(&a) {
+                    self.ends.push(x);
+                }
+                kk += 1;
+            }
+            if self.ends.len() == 1 {
+                continue;
+            }
+            self.ends.push(b);
+            for (r, er) in e[..=k].iter_mut().enumerate() {
+                *er = node_u(k * j + r) - self.ex_lnodes[k * j + r];
+            }
+            let (wa, wb) = self.piece_pk(h, &e[..=k]);
+            l2 -= wa;
+            semi -= wb;
+            // q + 1 equispaced points per piece.
+            self.pts.clear();
+            for w in self.ends.windows(2) {
+                for r in 0..=q {
+                    self.pts.push(if r == q { w[1] } else { w[0] + (w[1] - w[0]) * r as f64 / q as f64 });
+                }
+            }
+            self.uh.clear();
+            for p in 0..self.pts.len() {
+                let s = (self.pts[p] - a) / h;
+                self.uh.push((0..=k).map(|i| node_u(k * j + i) * lagrange(k, i, s)).sum());
+            }
+            self.ex.resize(self.pts.len(), 0.0);
+            self.exact.u_at(t, &self.pts, &mut self.ex);
+            for (p, w) in self.ends.windows(2).enumerate() {
+                let len = w[1] - w[0];
+                if len > 0.0 {
+                    for (r, er) in e[..=q].iter_mut().enumerate() {
+                        *er = self.uh[p * (q + 1) + r] - self.ex[p * (q + 1) + r];
+                    }
+                    let (pa, pb) = self.piece_pk(len, &e[..=q]);
+                    l2 += pa;
+                    semi += pb;
+                }
+            }
+        }
+        let v = match self.vnorm {
+            VNorm::H1Seminorm => semi,
+            VNorm::H1Full => semi + l2,
+        };
+        SpaceErrors { l2: l2.max(0.0).sqrt(), v: v.max(0.0).sqrt() }
+    }
 }
 
 /// `L∞` and `L²` in time of a sampled error, accumulated.
@@ -334,6 +523,15 @@ impl<'a> ErrorNorms<'a> {
 
     /// With a choice of error measure.
     pub fn with_kind(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm, kind: NormKind) -> Self {
+        Self::with_degree(exact, elements, 1, vnorm, kind)
+    }
+
+    /// For Lagrange elements of degree `k` (1, 2, 3; see
+    /// [`SpaceIntegrator::with_degree`]). [`NormKind::GetfemInterpolated`]
+    /// is a P1 measure: it panics for `k > 1` (callers refuse it).
+    #[track_caller]
+    pub fn with_degree(exact: &'a dyn ExactSolution, elements: usize, k: usize, vnorm: VNorm, kind: NormKind) -> Self {
+        assert!(k == 1 || kind == NormKind::Exact, "the GetFEM-demo norms are defined for P1 only");
         Self {
             kind,
             nodes: (0..=elements).map(|i| exact.length() * i as f64 / elements as f64).collect(),
@@ -343,7 +541,7 @@ impl<'a> ErrorNorms<'a> {
             ref_lambda: TimeNorm::default(),
             ref_energy: TimeNorm::default(),
             vnorm,
-            space: SpaceIntegrator::new(exact, elements, vnorm),
+            space: SpaceIntegrator::with_degree(exact, elements, k, vnorm),
             exact,
             u_l2: TimeNorm::default(),
             u_v: TimeNorm::default(),

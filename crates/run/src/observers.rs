@@ -22,6 +22,13 @@ impl<'a> NormObserver<'a> {
         Self { norms: ErrorNorms::with_kind(exact, elements, vnorm, kind), dt }
     }
 
+    /// For Lagrange elements of degree `k` ([`ErrorNorms::with_degree`]: the
+    /// GetFEM-demo norms are P1 only, so `kind` must be exact for `k > 1`).
+    #[track_caller]
+    pub fn with_degree(exact: &'a dyn ExactSolution, elements: usize, k: usize, vnorm: VNorm, dt: f64, kind: NormKind) -> Self {
+        Self { norms: ErrorNorms::with_degree(exact, elements, k, vnorm, kind), dt }
+    }
+
     /// The norms so far.
     pub fn report(&self) -> NormReport {
         self.norms.report(self.dt)

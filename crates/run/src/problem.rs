@@ -75,14 +75,11 @@ pub(crate) fn check_stops(stops: &[Stop], u: &[f64], dof: impl Fn(usize) -> Opti
 
 /// The schemes' contact list for `stops` at `dof(node)`.
 pub(crate) fn contacts_of(stops: &[Stop], dof: impl Fn(usize) -> usize, massless: bool) -> Vec<Contact> {
-    stops
-        .iter()
-        .map(|st| Contact { dof: dof(st.node), bounds: Bounds { lo: st.lo, hi: st.hi }, massless, restitution: st.restitution, stiffness: st.stiffness })
-        .collect()
+    stops.iter().map(|st| Contact { dof: dof(st.node), bounds: Bounds { lo: st.lo, hi: st.hi }, massless, restitution: st.restitution, stiffness: st.stiffness }).collect()
 }
 
-/// A P1 bar with Signorini contact at `x = 0` (docs/theory.md §1.1, §2.1),
-/// or at a list of stops.
+/// A Pk bar (P1 unless [`Bar::with_degree`]) with Signorini contact at
+/// `x = 0` (docs/theory.md §1.1, §2.1, §2.1.4), or at a list of stops.
 #[derive(Clone, Debug)]
 pub struct BarProblem {
     /// Geometry, wave speed, far end.
@@ -106,7 +103,9 @@ pub struct BarProblem {
 
 impl BarProblem {
     /// Interpolates the initial data `u0(x)`, `v0(x)` at the nodes.
-    /// Fails if the initial position at `x = 0` is below the obstacle.
+    /// Fails if the initial position at `x = 0` is below the obstacle, or
+    /// for a mass treatment not defined at the bar's degree
+    /// ([`Bar::check_mass`]).
     pub fn new(bar: Bar, mass: BarMass, gap: f64, body_force: f64, u0: impl Fn(f64) -> f64, v0: impl Fn(f64) -> f64) -> Result<Self, RunError> {
         if !gap.is_finite() {
             return Err(RunError::Invalid { field: "gap", value: gap, allowed: "finite" });
@@ -114,6 +113,7 @@ impl BarProblem {
         if !body_force.is_finite() {
             return Err(RunError::Invalid { field: "body_force", value: body_force, allowed: "finite" });
         }
+        bar.check_mass(mass)?;
         let n = bar.dofs();
         let u: Vec<f64> = (0..n).map(|i| u0(bar.node(i))).collect();
         let v: Vec<f64> = (0..n).map(|i| v0(bar.node(i))).collect();
@@ -255,6 +255,15 @@ impl Benchmark {
     /// `u_0 >= 0` and `u_{2m} <= 0`, in that order, with the mass treatment
     /// at both ([`Bar::mass_with_contacts`]).
     pub fn problem(self, exact: &dyn ExactSolution, m: usize, mass: BarMass) -> Result<BarProblem, RunError> {
+        self.problem_with_degree(exact, m, mass, 1)
+    }
+
+    /// [`Benchmark::problem`] with Lagrange elements of degree `k` (1, 2, 3;
+    /// [`Bar::with_degree`]): level `m` is `m` elements of degree `k`, the
+    /// initial data interpolated at all `k m + 1` nodes; bar-mirrored's second
+    /// stop is at the last node `2 k m`. Refused, naming `degree`, for another
+    /// `k`; naming the mass for a treatment not defined at `k`.
+    pub fn problem_with_degree(self, exact: &dyn ExactSolution, m: usize, mass: BarMass, k: usize) -> Result<BarProblem, RunError> {
         let end = match exact.far_end() {
             FarEnd::Clamped => RightEnd::Clamped,
             FarEnd::Free => RightEnd::Free,
@@ -263,10 +272,10 @@ impl Benchmark {
             Benchmark::BarMirrored => m.checked_mul(2).ok_or(RunError::Invalid { field: "m", value: m as f64, allowed: "2m elements addressable" })?,
             _ => m,
         };
-        let bar = Bar::new(exact.length(), elements, exact.wave_speed(), end)?;
+        let bar = Bar::new(exact.length(), elements, exact.wave_speed(), end)?.with_degree(k)?;
         let p = BarProblem::new(bar, mass, exact.gap(), exact.body_force(), |x| exact.fields(x, 0.0).u, |x| exact.fields(x, 0.0).ut)?;
         match self {
-            Benchmark::BarMirrored => p.with_stops(vec![Stop::new(0, exact.gap(), f64::INFINITY), Stop::new(elements, f64::NEG_INFINITY, -exact.gap())]),
+            Benchmark::BarMirrored => p.with_stops(vec![Stop::new(0, exact.gap(), f64::INFINITY), Stop::new(bar.last_node(), f64::NEG_INFINITY, -exact.gap())]),
             _ => Ok(p),
         }
     }

@@ -15,8 +15,7 @@ use signorini_schemes::SchemeSpec;
 use std::time::Instant;
 
 /// Columns of a per-configuration CSV.
-pub const LEVEL_COLUMNS: [&str; 12] =
-    ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s"];
+pub const LEVEL_COLUMNS: [&str; 12] = ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s"];
 
 /// The norms whose rates are reported, in column order.
 pub const NORMS: [&str; 7] = ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy"];
@@ -52,11 +51,24 @@ pub struct StudyConfig {
     pub t_end: f64,
     /// Error measure (exact by default; GetFEM-demo style on request).
     pub norms: NormKind,
+    /// Element degree `k` (1, 2, 3): level `m` is `m` elements of degree `k`.
+    pub degree: usize,
 }
 
 impl StudyConfig {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), RunError> {
+        if !(1..=3).contains(&self.degree) {
+            return Err(RunError::Invalid { field: "degree", value: self.degree as f64, allowed: "1, 2 or 3 (Lagrange P1, P2, P3)" });
+        }
+        if self.degree > 1 && self.norms != NormKind::Exact {
+            return Err(RunError::Invalid { field: "degree", value: self.degree as f64, allowed: "1 with the GetFEM-demo norms (a P1 measure)" });
+        }
+        if self.degree > 1 {
+            if let Some(&mass) = self.masses.iter().find(|v| !matches!(v, BarMass::Std | BarMass::Lumped | BarMass::Mod | BarMass::Mod1)) {
+                return Err(signorini_fem::FemError::MassForDegree { mass: mass.name(), degree: self.degree }.into());
+            }
+        }
         if !(self.ratio > 0.0 && self.ratio.is_finite()) {
             return Err(RunError::Invalid { field: "ratio", value: self.ratio, allowed: "dx/dt finite and > 0" });
         }
@@ -127,21 +139,31 @@ pub fn run_level(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: Scheme
 /// [`run_level`] with a choice of error measure.
 #[allow(clippy::too_many_arguments)]
 pub fn run_level_with(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
-    run_level_reduced(benchmark, exact, scheme, mass, m, ratio, t_end, kind, None)
+    run_level_reduced(benchmark, exact, scheme, mass, m, 1, ratio, t_end, kind, None)
 }
 
-/// [`run_level_with`] on the massless-boundary reduction of the level's
+/// [`run_level_with`] with Lagrange elements of degree `k`
+/// ([`Benchmark::problem_with_degree`]; `dx = h`, the element size).
+#[allow(clippy::too_many_arguments)]
+pub fn run_level_degree(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
+    run_level_reduced(benchmark, exact, scheme, mass, m, k, ratio, t_end, kind, None)
+}
+
+/// [`run_level_degree`] on the massless-boundary reduction of the level's
 /// problem when `reduce` is given (docs/theory.md §2.5; the norms see the
 /// reconstructed full field), the full model otherwise.
 #[allow(clippy::too_many_arguments)]
-pub fn run_level_reduced(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind, reduce: Option<Keep>) -> Result<LevelResult, RunError> {
+pub fn run_level_reduced(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, kind: NormKind, reduce: Option<Keep>) -> Result<LevelResult, RunError> {
+    if k > 1 && kind != NormKind::Exact {
+        return Err(RunError::Invalid { field: "degree", value: k as f64, allowed: "1 with the GetFEM-demo norms (a P1 measure)" });
+    }
     let start = Instant::now();
-    let problem = benchmark.problem(exact, m, mass)?;
+    let problem = benchmark.problem_with_degree(exact, m, mass, k)?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let cfg = RunConfig::new(dt, t_end)?;
     // Over the whole bar: 2m elements on [0, 2] for bar-mirrored.
-    let mut norms = NormObserver::with_kind(exact, problem.bar.elements, problem.vnorm(), dt, kind);
+    let mut norms = NormObserver::with_degree(exact, problem.bar.elements, k, problem.vnorm(), dt, kind);
     let summary = match reduce {
         None => {
             let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
@@ -180,7 +202,7 @@ pub fn sweep_reduced(cfg: &StudyConfig, reduce: Option<Keep>, tick: &(dyn Fn() +
     let done: Vec<((usize, usize, usize), LevelResult)> = jobs
         .par_iter()
         .map(|&(si, mi, li)| {
-            let r = run_level_reduced(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end, cfg.norms, reduce);
+            let r = run_level_reduced(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.degree, cfg.ratio, cfg.t_end, cfg.norms, reduce);
             tick();
             r.map(|r| ((si, mi, li), r))
         })

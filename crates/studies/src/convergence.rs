@@ -43,6 +43,9 @@ pub struct Config {
     /// A reduced model at every level (`--reduce modes=R|cutoff_hz=F`,
     /// docs/theory.md §2.5); `None` (the default): the full model.
     pub reduce: Option<Keep>,
+    /// Element degree `k` (`--degree`: 1, 2, 3): level `m` is `m` elements
+    /// of degree `k`; the files of degree 1 are those of P1, byte for byte.
+    pub degree: usize,
 }
 
 impl Default for Config {
@@ -58,6 +61,7 @@ impl Default for Config {
             out: None,
             norms: NormKind::Exact,
             reduce: None,
+            degree: 1,
         }
     }
 }
@@ -93,6 +97,8 @@ fn study_error(e: signorini_run::RunError) -> StudyError {
         signorini_run::RunError::Invalid { field: "levels" | "levels/schemes/masses", .. } => "--levels",
         signorini_run::RunError::Invalid { field: "T" | "dt" | "T/dt", .. } => "--t-end",
         signorini_run::RunError::Scheme(_) => "--schemes",
+        signorini_run::RunError::Invalid { field: "degree", .. } => "--degree",
+        signorini_run::RunError::Fem(signorini_fem::FemError::MassForDegree { .. }) => "--masses",
         _ => "--levels",
     };
     StudyError::config(field, e.to_string())
@@ -105,7 +111,16 @@ impl Config {
     /// output folder. Every check is done here, before anything is run.
     pub fn resolve(&self) -> Result<(StudyConfig, PathBuf, Vec<String>), StudyError> {
         let (ratio0, t0) = self.benchmark.default_ratio_and_horizon();
-        let mut cfg = StudyConfig { benchmark: self.benchmark, schemes: self.schemes.clone(), masses: self.masses.clone(), levels: self.levels.clone(), ratio: self.ratio.unwrap_or(ratio0), t_end: self.t_end.unwrap_or(t0), norms: self.norms };
+        let mut cfg = StudyConfig {
+            benchmark: self.benchmark,
+            schemes: self.schemes.clone(),
+            masses: self.masses.clone(),
+            levels: self.levels.clone(),
+            ratio: self.ratio.unwrap_or(ratio0),
+            t_end: self.t_end.unwrap_or(t0),
+            norms: self.norms,
+            degree: self.degree,
+        };
         cfg.validate().map_err(study_error)?;
         if let Some(keep) = self.reduce {
             if let Some(m) = cfg.masses.iter().find(|m| !m.massless_contact_node()) {
@@ -118,7 +133,7 @@ impl Config {
             let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
             for &m in &cfg.levels {
                 for &mass in &cfg.masses {
-                    let p = cfg.benchmark.problem(exact.as_ref(), m, mass).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
+                    let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, self.degree).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
                     signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep).map_err(|e| StudyError::config("--reduce", format!("--reduce at m = {m}: {e}")))?;
                 }
             }
@@ -128,8 +143,11 @@ impl Config {
             cfg.schemes = several_contact_schemes(&cfg, &mut notes)?;
         }
         // The sweep runs as many levels at once as there are cores.
-        fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
+        fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0).saturating_mul(cfg.degree), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
         let mut folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
+        if self.degree > 1 {
+            folder = format!("{folder}-p{}", self.degree);
+        }
         match self.reduce {
             None => {}
             Some(Keep::Modes(r)) => folder += &format!("-reduce-modes-{r}"),
@@ -182,6 +200,9 @@ pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output,
         },
         out.display()
     );
+    if study_cfg.degree > 1 {
+        report.push_str(&format!("Lagrange P{} elements: level m is m elements of degree {} (k m + 1 nodes), dx = L/m.\n\n", study_cfg.degree, study_cfg.degree));
+    }
     report.push_str(&study::markdown_table(&results));
     report.push_str(&format!("\n{} runs in {:.1} s\n", results.iter().map(|r| r.levels.len()).sum::<usize>(), wall_s));
     Ok(Output { config: study_cfg, out, results, tables, report, wall_s, notes })
@@ -197,7 +218,7 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
     let mut keep = Vec::new();
     'schemes: for s in &cfg.schemes {
         for &mass in &cfg.masses {
-            let p = cfg.benchmark.problem(exact.as_ref(), m, mass).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
+            let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, cfg.degree).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
             if let Err(signorini_schemes::SchemeError::Structure(why)) = s.build(p.dynamics(), p.bar.h() / cfg.ratio, &p.initial) {
                 notes.push(format!("note: {s} skipped on {}: {why}", cfg.benchmark));
                 continue 'schemes;
@@ -301,5 +322,25 @@ mod tests {
         // m = 10: 9 interior modes.
         assert_eq!(field_of(Config { reduce: Some(Keep::Modes(10)), ..base.clone() }), "--reduce");
         assert_eq!(field_of(Config { reduce: Some(Keep::CutoffHz(0.01)), ..base }), "--reduce");
+    }
+
+    fn field_of(cfg: &Config) -> Option<String> {
+        match cfg.validate() {
+            Err(StudyError::Config { field, .. }) => Some(field.to_string()),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn a_bad_degree_names_its_option() {
+        for k in [0, 4] {
+            assert_eq!(field_of(&Config { degree: k, ..Config::default() }).as_deref(), Some("--degree"), "degree {k}");
+        }
+        assert_eq!(field_of(&Config { degree: 2, norms: NormKind::GetfemInterpolated, ..Config::default() }).as_deref(), Some("--degree"));
+        assert_eq!(field_of(&Config { degree: 3, masses: vec![BarMass::Std, BarMass::Mod2], ..Config::default() }).as_deref(), Some("--masses"));
+        assert_eq!(field_of(&Config { degree: 3, ..Config::default() }), None);
+        // Degree 1 keeps the P1 folder; others get their own.
+        assert_eq!(Config::default().resolve().unwrap().1, PathBuf::from("out/convergence/bar-dirichlet"));
+        assert_eq!(Config { degree: 2, ..Config::default() }.resolve().unwrap().1, PathBuf::from("out/convergence/bar-dirichlet-p2"));
     }
 }

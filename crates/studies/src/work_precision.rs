@@ -40,7 +40,7 @@ impl Config {
         for benchmark in [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity] {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
-                StudyConfig { benchmark, schemes: schemes.clone(), masses: vec![BarMass::Std], levels: self.levels.clone(), ratio: r, t_end, norms: Default::default() }
+                StudyConfig { benchmark, schemes: schemes.clone(), masses: vec![BarMass::Std], levels: self.levels.clone(), ratio: r, t_end, norms: Default::default(), degree: 1 }
                     .validate()
                     .map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
             }
@@ -98,7 +98,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             // Explicit schemes cannot take dt = h (their CFL limit is below it):
             // they run at dx/dt = 10 on every benchmark.
             let ratio = if scheme.is_explicit() { ratio.max(10.0) } else { ratio };
-            let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end, norms: Default::default() };
+            let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: 1 };
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, ratio, t_end)?;
