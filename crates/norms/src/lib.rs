@@ -185,6 +185,19 @@ impl<'a> SpaceIntegrator<'a> {
         }
     }
 
+    /// The element containing `x0`: `nodes[j] <= x0 < nodes[j+1]` (the
+    /// division can round across a node, so it is settled exactly).
+    fn element_of(&self, x0: f64, h: f64, m: usize) -> usize {
+        let mut j = ((x0 / h) as usize).min(m - 1);
+        while j + 1 < m && self.nodes[j + 1] <= x0 {
+            j += 1;
+        }
+        while j > 0 && self.nodes[j] > x0 {
+            j -= 1;
+        }
+        j
+    }
+
     /// The errors at time `t` of the P1 function with nodal values `u`
     /// (`m + 1` values, or `m` for a clamped end whose last value is 0).
     #[track_caller]
@@ -236,16 +249,8 @@ impl<'a> SpaceIntegrator<'a> {
         self.exact.kinks(t, &mut self.kinks);
         let mut k = 0;
         while k < self.kinks.len() {
-            // The element containing the kink: nodes[j] <= x < nodes[j+1]
-            // (the division can round across a node, so settle it exactly).
             let x0 = self.kinks[k];
-            let mut j = ((x0 / h) as usize).min(m - 1);
-            while j + 1 < m && self.nodes[j + 1] <= x0 {
-                j += 1;
-            }
-            while j > 0 && self.nodes[j] > x0 {
-                j -= 1;
-            }
+            let j = self.element_of(x0, h, m);
             let (a, b) = (self.nodes[j], self.nodes[j + 1]);
             if !(x0 < b) {
                 k += 1; // at or beyond L: not inside any element
@@ -354,13 +359,7 @@ impl<'a> SpaceIntegrator<'a> {
         let mut kk = 0;
         while kk < self.kinks.len() {
             let x0 = self.kinks[kk];
-            let mut j = ((x0 / h) as usize).min(m - 1);
-            while j + 1 < m && self.nodes[j + 1] <= x0 {
-                j += 1;
-            }
-            while j > 0 && self.nodes[j] > x0 {
-                j -= 1;
-            }
+            let j = self.element_of(x0, h, m);
             let (a, b) = (self.nodes[j], self.nodes[j + 1]);
             if !(x0 < b) {
                 kk += 1;
