@@ -185,9 +185,14 @@ impl<'a> SpaceIntegrator<'a> {
         }
     }
 
-    /// The element containing `x0`: `nodes[j] <= x0 < nodes[j+1]` (the
-    /// division can round across a node, so it is settled exactly).
-    fn element_of(&self, x0: f64, h: f64, m: usize) -> usize {
+    /// The next element a kink splits, from kink `*k` on: fills `ends` with
+    /// its piece ends (`a`, the kinks strictly inside `(a, b)`, `b`) and
+    /// returns its index, advancing `*k` past those kinks; `None` (with `*k`
+    /// advanced) for a kink at or beyond L or on a node, which splits nothing.
+    fn split_element(&mut self, k: &mut usize, h: f64, m: usize) -> Option<usize> {
+        // The element containing the kink: nodes[j] <= x < nodes[j+1]
+        // (the division can round across a node, so settle it exactly).
+        let x0 = self.kinks[*k];
         let mut j = ((x0 / h) as usize).min(m - 1);
         while j + 1 < m && self.nodes[j + 1] <= x0 {
             j += 1;
@@ -195,7 +200,25 @@ impl<'a> SpaceIntegrator<'a> {
         while j > 0 && self.nodes[j] > x0 {
             j -= 1;
         }
-        j
+        let (a, b) = (self.nodes[j], self.nodes[j + 1]);
+        if !(x0 < b) {
+            *k += 1; // at or beyond L: not inside any element
+            return None;
+        }
+        self.ends.clear();
+        self.ends.push(a);
+        while *k < self.kinks.len() && self.kinks[*k] < b {
+            let x = self.kinks[*k];
+            if x > *self.ends.last().unwrap_or(&a) {
+                self.ends.push(x);
+            }
+            *k += 1;
+        }
+        if self.ends.len() == 1 {
+            return None; // kink on a node: no split needed
+        }
+        self.ends.push(b);
+        Some(j)
     }
 
     /// The errors at time `t` of the P1 function with nodal values `u`
@@ -249,27 +272,8 @@ impl<'a> SpaceIntegrator<'a> {
         self.exact.kinks(t, &mut self.kinks);
         let mut k = 0;
         while k < self.kinks.len() {
-            let x0 = self.kinks[k];
-            let j = self.element_of(x0, h, m);
-            let (a, b) = (self.nodes[j], self.nodes[j + 1]);
-            if !(x0 < b) {
-                k += 1; // at or beyond L: not inside any element
-                continue;
-            }
-            // Piece ends: a, the kinks strictly inside (a, b), b.
-            self.ends.clear();
-            self.ends.push(a);
-            while k < self.kinks.len() && self.kinks[k] < b {
-                let x = self.kinks[k];
-                if x > *self.ends.last().unwrap_or(&a) {
-                    self.ends.push(x);
-                }
-                k += 1;
-            }
-            if self.ends.len() == 1 {
-                continue; // kink on a node: no split needed
-            }
-            self.ends.push(b);
+            let Some(j) = self.split_element(&mut k, h, m) else { continue };
+            let a = self.nodes[j];
             let (ua, ub) = (node_u(j), node_u(j + 1));
             let (xa, xb) = (self.ex_nodes[j], self.ex_nodes[j + 1]);
             // Remove the unsplit contribution.
@@ -358,26 +362,8 @@ impl<'a> SpaceIntegrator<'a> {
         self.exact.kinks(t, &mut self.kinks);
         let mut kk = 0;
         while kk < self.kinks.len() {
-            let x0 = self.kinks[kk];
-            let j = self.element_of(x0, h, m);
-            let (a, b) = (self.nodes[j], self.nodes[j + 1]);
-            if !(x0 < b) {
-                kk += 1;
-                continue;
-            }
-            self.ends.clear();
-            self.ends.push(a);
-            while kk < self.kinks.len() && self.kinks[kk] < b {
-                let x = self.kinks[kk];
-                if x > *self.ends.last().unwrap_or(&a) {
-                    self.ends.push(x);
-                }
-                kk += 1;
-            }
-            if self.ends.len() == 1 {
-                continue;
-            }
-            self.ends.push(b);
+            let Some(j) = self.split_element(&mut kk, h, m) else { continue };
+            let a = self.nodes[j];
             for (r, er) in e[..=k].iter_mut().enumerate() {
                 *er = node_u(k * j + r) - self.ex_lnodes[k * j + r];
             }
