@@ -234,12 +234,21 @@ pub fn rate(points: &[(f64, f64)]) -> Rate {
     if pts.len() < 2 {
         return Rate { lsq: f64::NAN, last: f64::NAN };
     }
-    let n = pts.len() as f64;
-    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
     let (a, b) = (pts[pts.len() - 2], pts[pts.len() - 1]);
-    Rate { lsq: sxy / sxx, last: (a.1 - b.1) / (a.0 - b.0) }
+    Rate { lsq: lsq_slope(&pts), last: (a.1 - b.1) / (a.0 - b.0) }
+}
+
+/// The least-squares slope of `y` against `x` through `points` (NaN for
+/// fewer than two).
+pub fn lsq_slope(points: &[(f64, f64)]) -> f64 {
+    if points.len() < 2 {
+        return f64::NAN;
+    }
+    let n = points.len() as f64;
+    let (mx, my) = (points.iter().map(|p| p.0).sum::<f64>() / n, points.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    sxy / sxx
 }
 
 impl ConfigResult {

@@ -125,9 +125,6 @@ impl Observer for Watch<'_> {
         self.was_active = s.active;
         Ok(())
     }
-    fn wants_energy(&self) -> bool {
-        true
-    }
 }
 
 /// The last energy of a run.
@@ -189,14 +186,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                 }
                 im.row(vec![txt(&sn), txt(&mn), int(m), int(k), ff(te, 3), tn.map_or(Cell::E, |t| ff(t, 10)), tn.map_or(Cell::E, |t| fe(t - te, 6))])?;
             }
-            // Least-squares slope of the drift against the impact's index: drift per period.
-            let slope = if drifts.len() >= 2 {
-                let n = drifts.len() as f64;
-                let (mx, my) = (drifts.iter().map(|d| d.0).sum::<f64>() / n, drifts.iter().map(|d| d.1).sum::<f64>() / n);
-                PERIOD * drifts.iter().map(|d| (d.0 - mx) * (d.1 - my)).sum::<f64>() / drifts.iter().map(|d| (d.0 - mx).powi(2)).sum::<f64>()
-            } else {
-                f64::NAN
-            };
+            // Least-squares slope of the drift against the exact impact time, per period.
+            let slope = PERIOD * signorini_run::study::lsq_slope(&drifts);
             let r = norms.report();
             su.row(vec![txt(&sn), txt(&mn), int(m), fe(r.linf_l2_u, 6), fe(r.l2_l2_u, 6), fe(slope, 4), fe(energy.0, 8)])?;
             md.push_str(&format!("| {sn} | {mn} | {m} | {:.3e} | {:.3e} | {:.3e} | {slope:+.2e} | {:.5} |\n", watch.per_period[0], watch.per_period[periods - 1], r.linf_l2_u, energy.0));
