@@ -61,10 +61,13 @@ fn output_py<'py>(py: Python<'py>, tables: &[Table], report: &str, wall_s: f64, 
 struct Args<'a, 'py> {
     study: &'a str,
     d: &'a Bound<'py, PyDict>,
+    /// Every argument asked for, for the error on one left over.
+    asked: std::cell::RefCell<Vec<String>>,
 }
 
 impl<'py> Args<'_, 'py> {
     fn take(&self, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        self.asked.borrow_mut().push(key.to_string());
         let v = self.d.get_item(key)?;
         if v.is_some() {
             self.d.del_item(key)?;
@@ -120,10 +123,11 @@ impl<'py> Args<'_, 'py> {
     fn str(&self, key: &str) -> PyResult<Option<String>> {
         self.take(key)?.map(|v| v.extract::<String>().map_err(|_| self.bad(key, &v, "a string"))).transpose()
     }
-    /// Errors if an argument is left that the study does not take.
-    fn done(&self, allowed: &[&str]) -> PyResult<()> {
+    /// Errors if an argument is left that the study does not take (the
+    /// allowed ones are those asked for).
+    fn done(&self) -> PyResult<()> {
         if let Some((k, _)) = self.d.iter().next() {
-            return Err(SceneError::new_err(format!("{k}: not an argument of the {} study (allowed: {})", self.study, allowed.join(", "))));
+            return Err(SceneError::new_err(format!("{k}: not an argument of the {} study (allowed: {})", self.study, self.asked.borrow().join(", "))));
         }
         Ok(())
     }
@@ -142,7 +146,7 @@ fn detached<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, StudyError> +
 pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out: PathBuf) -> PyResult<Bound<'py, PyDict>> {
     use signorini_studies as st;
     let kw = kwargs.copy()?;
-    let a = Args { study: name, d: &kw };
+    let a = Args { study: name, d: &kw, asked: Default::default() };
     let none = |_: u64, _: u64| {};
     match name {
         "convergence" => {
@@ -164,7 +168,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             if let Some(n) = a.str("norms")? {
                 c.norms = st::convergence::parse_norms(&n).map_err(study_err)?;
             }
-            a.done(&["benchmark", "schemes", "masses", "levels", "ratio", "t_end", "norms"])?;
+            a.done()?;
             let o = detached(py, || st::convergence::run(&c, &none))?;
             let d = output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &o.out)?;
             let configs: Vec<(String, String, String)> = o.results.iter().map(|r| (r.scheme.to_string(), r.mass.to_string(), r.file_name())).collect();
@@ -176,7 +180,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
         "weighted" => {
             let mut c = st::weighted::Config { out: out.clone(), ..Default::default() };
             c.t_end = a.f64("t_end")?.unwrap_or(c.t_end);
-            a.done(&["t_end"])?;
+            a.done()?;
             let o = detached(py, || st::weighted::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
@@ -185,14 +189,14 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.steps = a.usize("steps")?.unwrap_or(c.steps);
             c.elements = a.usize("elements")?.unwrap_or(c.elements);
             c.seed = a.usize("seed")?.map_or(c.seed, |s| s as u64);
-            a.done(&["steps", "elements", "seed"])?;
+            a.done()?;
             let o = detached(py, || st::stress::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
         "work_precision" => {
             let mut c = st::work_precision::Config { out: out.clone(), ..Default::default() };
             c.levels = a.usizes("levels")?.unwrap_or(c.levels);
-            a.done(&["levels"])?;
+            a.done()?;
             let o = detached(py, || st::work_precision::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
@@ -201,7 +205,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.scenes = a.strs("scenes")?.unwrap_or(c.scenes);
             c.force = a.bool("force")?.unwrap_or(c.force);
             c.penalty_dts = a.f64s("penalty_dts")?.unwrap_or(c.penalty_dts);
-            a.done(&["scenes", "force", "penalty_dts"])?;
+            a.done()?;
             let o = detached(py, || st::beam::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
@@ -214,7 +218,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.j = a.usize("j")?.unwrap_or(c.j);
             c.js = a.usizes("js")?.unwrap_or(c.js);
             c.j_dt = a.f64("j_dt")?.unwrap_or(c.j_dt);
-            a.done(&["gap", "beta", "t_end", "dts", "j", "js", "j_dt"])?;
+            a.done()?;
             let o = detached(py, || st::obstacles::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
@@ -224,7 +228,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.dts = a.f64s("dts")?.unwrap_or(c.dts);
             c.transient = a.f64("transient")?.unwrap_or(c.transient);
             c.record = a.f64("record")?.unwrap_or(c.record);
-            a.done(&["omegas", "dts", "transient", "record"])?;
+            a.done()?;
             let o = detached(py, || st::oscillator::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
@@ -235,7 +239,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             }
             c.levels = a.usizes("levels")?.unwrap_or(c.levels);
             c.t_end = a.f64("t_end")?.or(c.t_end);
-            a.done(&["benchmarks", "levels", "t_end"])?;
+            a.done()?;
             let o = detached(py, || st::courant1::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
@@ -247,7 +251,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.levels = a.usizes("levels")?.unwrap_or(c.levels);
             c.ratio = a.f64("ratio")?.unwrap_or(c.ratio);
             c.t_end = a.f64("t_end")?.unwrap_or(c.t_end);
-            a.done(&["runs", "levels", "ratio", "t_end"])?;
+            a.done()?;
             let o = detached(py, || st::long_horizon::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
