@@ -35,6 +35,27 @@ fn read_csv<'py>(py: Python<'py>, path: &Path) -> PyResult<Option<Bound<'py, PyD
     Ok(Some(d))
 }
 
+/// A sweep's error with the options named as the Python arguments
+/// (`--from` is `start`, `--period-tol` is `period_tol`, …).
+fn python_message(e: &signorini_cli::CliError) -> String {
+    use signorini_cli::sweep::SweepError;
+    match e {
+        signorini_cli::CliError::Sweep(SweepError::Option { option, message }) => {
+            let name = match *option {
+                "from" => "start",
+                "to" => "stop",
+                "from2" => "start2",
+                "to2" => "stop2",
+                other => other,
+            };
+            format!("{}: {message}", name.replace('-', "_"))
+        }
+        signorini_cli::CliError::Sweep(SweepError::Param { path, message }) => format!("param {path}: {message}"),
+        signorini_cli::CliError::Sweep(SweepError::Value { path, value, error }) => format!("param {path} = {value}: {error}"),
+        other => other.to_string(),
+    }
+}
+
 /// Runs a sweep of `scene_text` (named `scene_name`, files it names found
 /// in `base`) into `out`; returns `{"tables": {file: columns}, "lines":
 /// [...], "id": str}`. Ctrl-C stops after the current batch (whole runs
@@ -69,7 +90,7 @@ pub fn run_sweep<'py>(
     let second = second.map(|(param, from, to, count, log)| Axis { param, from, to, count, log });
     let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, progress: false, interrupt: Some(flag) };
     let limits = signorini_cli::scene::Limits::machine();
-    let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(e.to_string().replace("--param", "param").replace("--", ""))))?;
+    let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(python_message(&e))))?;
     let (res, signal) = crate::interruptible(py, flag, || Ok(signorini_cli::sweep::run(&sweep, &out)));
     let res = res?;
     let tables = PyDict::new(py);

@@ -89,6 +89,8 @@ def test_bad_input_names_the_argument():
         (dict(threads=0), "threads"),
         (dict(log="yes"), "log"),
         (dict(resume=True), "resume"),
+        (dict(log=True, start=-1.0), "start"),
+        (dict(period_tol=2.0), "period_tol"),
     ]:
         args = dict(param="forcing.omega", start=1.6, stop=2.2, count=3)
         args.update(kw)
