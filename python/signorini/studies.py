@@ -177,9 +177,15 @@ def long_horizon(runs=None, levels=None, ratio=None, t_end=None, out=None) -> St
     return _run("long_horizon", out, dict(runs=runs, levels=levels, ratio=ratio, t_end=t_end))
 
 
-def work_precision(levels=None, out=None) -> StudyResult:
-    """Work–precision (``cargo xtask work-precision``): error against wall time."""
-    return _run("work_precision", out, dict(levels=levels))
+def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, out=None) -> StudyResult:
+    """Work–precision (``cargo xtask work-precision``): error against wall
+    time for every scheme and mass, then the frontier on the same axes:
+    Courant-one central difference, P2/P3 (``degrees``), reduced bar and beam
+    models (``modes``), and the beam of figure 2 at ``beam_dts`` against a
+    full-model reference at ``beam_ref_dt`` (tip error over
+    ``[0, beam_window]`` and ``[0, beam_t_end]``, first-impact error).
+    Empty ``degrees``, ``modes`` or ``beam_dts`` leave those rows out."""
+    return _run("work_precision", out, dict(levels=levels, degrees=degrees, modes=modes, beam_dts=beam_dts, beam_ref_dt=beam_ref_dt, beam_window=beam_window, beam_t_end=beam_t_end))
 
 
 def stress(steps=None, elements=None, seed=None, out=None) -> StudyResult:

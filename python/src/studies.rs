@@ -196,6 +196,12 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
         "work_precision" => {
             let mut c = st::work_precision::Config { out: out.clone(), ..Default::default() };
             c.levels = a.usizes("levels")?.unwrap_or(c.levels);
+            c.degrees = a.usizes("degrees")?.unwrap_or(c.degrees);
+            c.modes = a.usizes("modes")?.unwrap_or(c.modes);
+            c.beam_dts = a.f64s("beam_dts")?.unwrap_or(c.beam_dts);
+            c.beam_ref_dt = a.f64("beam_ref_dt")?.unwrap_or(c.beam_ref_dt);
+            c.beam_window = a.f64("beam_window")?.unwrap_or(c.beam_window);
+            c.beam_t_end = a.f64("beam_t_end")?.unwrap_or(c.beam_t_end);
             a.done()?;
             let o = detached(py, || st::work_precision::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)

@@ -102,7 +102,11 @@ def test_bar_mirrored_leaves_out_the_schemes_that_cannot_take_two_stops():
     "name,kwargs,args",
     [
         ("stress", dict(steps=2000, elements=10), ["stress", "--steps", "2000", "--elements", "10"]),
-        ("work_precision", dict(levels=[10, 20]), ["work-precision", "--levels", "10,20"]),
+        (
+            "work_precision",
+            dict(levels=[10, 20], degrees=[2], modes=[2, 16], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1),
+            ["work-precision", "--levels", "10,20", "--degrees", "2", "--modes", "2,16", "--beam-dts", "1e-4", "--beam-ref-dt", "1e-5", "--beam-window", "0.05", "--beam-t-end", "0.1"],
+        ),
         ("weighted", dict(t_end=5.0), ["weighted", "--t-end", "5"]),
         ("beam", dict(scenes=["fig2"], penalty_dts=[5e-5]), ["beam", "--scenes", "fig2", "--penalty-dts", "5e-5"]),
         ("beam_obstacles", dict(dts=[1e-4, 5e-5, 2.5e-5], js=[5, 10, 20], t_end=0.05), ["beam-obstacles", "--dts", "1e-4,5e-5,2.5e-5", "--js", "5,10,20", "--t-end", "0.05"]),
@@ -156,3 +160,56 @@ def test_bad_input_names_the_argument():
     ]:
         with pytest.raises(signorini.SceneError, match="^" + field):
             call()
+
+
+def csv_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_work_precision_frontier_rows_are_independent_runs(tmp_path, exe):
+    """The frontier rows of work_precision.csv against runs made here through
+    the scene path: a P2 row's norm is signorini.run's with bar.degree = 2; a
+    reduced bar row's is `signorini run` with bar.reduce; a beam row's tip
+    errors and first-impact error are recomputed in numpy from two
+    signorini.run beam scenes (the row's step and the reference step), a
+    reduced beam row's from the command's series.csv."""
+    res = studies.work_precision(levels=[10, 20], degrees=[2], modes=[2], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1)
+    t = res.tables["work_precision.csv"]
+
+    def row(**kw):
+        (i,) = np.flatnonzero(np.all([t[k] == v for k, v in kw.items()], axis=0))
+        return i
+
+    bar = {"benchmark": "bar-dirichlet", "elements": 20, "mass": "mod", "scheme": "newmark-cn", "ratio": 10.0, "t_end": 3.0}
+    i = row(benchmark="bar-dirichlet", scheme="newmark-cn", mass="mod", degree=2, modes=0, m=20)
+    assert t["l2_l2_u"][i] == pytest.approx(signorini.run({"bar": {**bar, "degree": 2}}).norms["l2_l2_u"], rel=1e-12)
+    assert np.isnan(t["tip_err"][i]) and np.isnan(t["impact_err"][i])
+
+    scene = tmp_path / "reduced.toml"
+    scene.write_text('[bar]\nbenchmark = "bar-dirichlet"\nelements = 20\nmass = "mod"\nscheme = "newmark-cn"\nratio = 10.0\nt_end = 3.0\nreduce = { modes = 2 }\n')
+    subprocess.run([str(exe), "run", str(scene), "--out", str(tmp_path / "reduced")], check=True, capture_output=True)
+    (want,) = csv_rows(tmp_path / "reduced" / "norms.csv")
+    i = row(benchmark="bar-dirichlet", scheme="newmark-cn", mass="mod", degree=1, modes=2, m=20)
+    assert t["l2_l2_u"][i] == pytest.approx(float(want["l2_l2_u"]), rel=1e-9)
+    assert t["steps"][i] == 600
+
+    ref = signorini.run({"beam": {"scene": "fig2", "dt": 1e-5, "t_end": 0.1}})
+    run = signorini.run({"beam": {"scene": "fig2", "dt": 1e-4, "t_end": 0.1}})
+    gap = np.abs(run.tip - np.interp(run.t, ref.t, ref.tip))
+    i = row(benchmark="beam-fig2", mass="consistent", modes=0)
+    assert t["tip_err"][i] == pytest.approx(gap[run.t <= 0.05 + 1e-12].max(), rel=1e-9)
+    assert t["tip_err_end"][i] == pytest.approx(gap.max(), rel=1e-9)
+    first = lambda r: r.t[np.argmax(r.active)]
+    assert t["impact_err"][i] == pytest.approx(abs(first(run) - first(ref)), rel=1e-9, abs=1e-12)
+    assert np.isnan(t["l2_l2_u"][i]) and t["m"][i] == 19 and t["steps"][i] == 1000
+
+    scene = tmp_path / "beam.toml"
+    scene.write_text('[beam]\nscene = "fig2"\ndt = 1e-4\nt_end = 0.1\nreduce = { modes = 2 }\n')
+    subprocess.run([str(exe), "run", str(scene), "--out", str(tmp_path / "beam")], check=True, capture_output=True)
+    rs = csv_rows(tmp_path / "beam" / "series.csv")
+    tt, tip = (np.array([float(r[k]) for r in rs]) for k in ("t_s", "tip_m"))
+    gap = np.abs(tip - np.interp(tt, ref.t, ref.tip))
+    i = row(benchmark="beam-fig2", mass="massless-tip", modes=2)
+    assert t["tip_err"][i] == pytest.approx(gap[tt <= 0.05 + 1e-12].max(), rel=1e-9)
+    assert t["tip_err_end"][i] == pytest.approx(gap.max(), rel=1e-9)

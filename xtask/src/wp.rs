@@ -1,5 +1,7 @@
 //! `cargo xtask work-precision`: error reached against wall time, per scheme
-//! and mass (`signorini_studies::work_precision`, which documents its outputs).
+//! and mass, and the accuracy–cost frontier (Courant one, P2/P3, reduced
+//! models, the beam) (`signorini_studies::work_precision`, which documents
+//! its outputs).
 
 use signorini_studies::work_precision;
 use std::path::PathBuf;
@@ -13,11 +15,29 @@ pub struct Args {
     /// Levels m.
     #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640")]
     levels: Vec<usize>,
+    /// Element degrees beyond P1 (2, 3); `--degrees ''` for none.
+    #[arg(long, value_delimiter = ',', default_value = "2,3", num_args = 0..)]
+    degrees: Vec<usize>,
+    /// Kept modes of the reduced bar and beam models; `--modes ''` for none.
+    #[arg(long, value_delimiter = ',', default_value = "2,4,8,16", num_args = 0..)]
+    modes: Vec<usize>,
+    /// Time steps of the beam rows (s); `--beam-dts ''` for no beam rows.
+    #[arg(long, value_delimiter = ',', default_value = "1e-5,2.5e-5,5e-5,1e-4,2.5e-4,5e-4", num_args = 0..)]
+    beam_dts: Vec<f64>,
+    /// The beam reference's time step (s).
+    #[arg(long, default_value_t = 2.5e-7)]
+    beam_ref_dt: f64,
+    /// The beam's error window [0, w] (s).
+    #[arg(long, default_value_t = 0.1)]
+    beam_window: f64,
+    /// The beam's horizon (s).
+    #[arg(long, default_value_t = 1.0)]
+    beam_t_end: f64,
 }
 
 /// Runs the study.
 pub fn run_wp(a: Args) -> Result<(), String> {
-    let cfg = work_precision::Config { out: a.out, levels: a.levels };
+    let cfg = work_precision::Config { out: a.out, levels: a.levels, degrees: a.degrees, modes: a.modes, beam_dts: a.beam_dts, beam_ref_dt: a.beam_ref_dt, beam_window: a.beam_window, beam_t_end: a.beam_t_end };
     let out = work_precision::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);
     print!("{}", out.report);

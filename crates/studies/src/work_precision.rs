@@ -1,19 +1,41 @@
-//! The work–precision study (`cargo xtask work-precision`): error reached against wall time, per scheme
-//! and mass, on `bar-dirichlet` (dx/dt = 10, T = 3) and `bar-neumann-gravity`
-//! (dx/dt = 1, T = 16; 10 for the explicit schemes, whose CFL limit is below h).
+//! The work–precision study (`cargo xtask work-precision`): error reached
+//! against wall time, per scheme and mass, on `bar-dirichlet` (dx/dt = 10,
+//! T = 3) and `bar-neumann-gravity` (dx/dt = 1, T = 16; 10 for the explicit
+//! schemes, whose CFL limit is below h), then the accuracy–cost frontier on
+//! the same axes (docs/theory.md §2.5, §4.10):
+//!
+//! * `cd-taylor` with the lumped P1 mass at Courant number one (`dt = h/c`,
+//!   Taylor's start), on the levels and two doublings beyond the finest;
+//! * P2 and P3 elements (`--degrees`): `newmark-cn` and `newmark-ii` with the
+//!   `std` and `mod` masses, dx/dt as for P1 (`dx` the element size);
+//! * reduced models (`--modes`): the massless-boundary reduction of the
+//!   `mod` bar to r fixed-interface modes, `newmark-cn`, levels with at least
+//!   r interior modes;
+//! * the beam of the paper's figure 2 (`beam-fig2`: J = 19, β = 1/2, the
+//!   projection, `--beam-dts`), full model and its massless-tip reductions to
+//!   `--modes` modes, against a full-model reference at `--beam-ref-dt`:
+//!   largest tip error over `[0, --beam-window]` (the window in which the
+//!   reference is converged in dt, reported), over `[0, --beam-t-end]`, and
+//!   the error of the first impact time.
 //!
 //! Outputs (`out/work-precision/`): `work_precision.csv` with columns
-//! `benchmark,scheme,mass,m,dt,steps,l2_l2_u,linf_energy,wall_s` (wall time
-//! of the stepping alone, best of 3, runs one at a time), `<benchmark>.svg`
-//! (log-log, L²(L²) error against wall time), and on stdout the cheapest
-//! configuration reaching each accuracy band.
+//! `benchmark,scheme,mass,m,dt,steps,l2_l2_u,linf_energy,wall_s` then
+//! `degree,modes,tip_err,tip_err_end,impact_err` (wall time of the stepping
+//! alone, best of 3, runs one at a time; `modes` 0 for a full model; the
+//! bar rows leave the three beam columns empty, the beam rows the two norm
+//! columns; `m` is J and `degree` 3, Hermite cubics, for the beam),
+//! `<benchmark>.svg` per benchmark (log-log, error against wall time), and on
+//! stdout the cheapest configuration reaching each accuracy band.
 
-use crate::{create_dir, fe, int, since, txt, Kind, StudyError, TableOut};
+use crate::{create_dir, fe, int, opt, since, txt, Kind, StudyError, TableOut};
 use signorini_fem::BarMass;
 use signorini_plot::{line_chart, Chart, Scale, Series};
+use signorini_reduce::Keep;
+use signorini_run::beam::{build_excited, build_reduced, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
 use signorini_run::study::{self, StudyConfig};
-use signorini_run::{run as run_steps, Benchmark, RunConfig};
-use signorini_schemes::SchemeSpec;
+use signorini_run::{run as run_steps, Benchmark, NormObserver, Observer, RunConfig, RunError, Sample};
+use signorini_schemes::{PaoliSchatzman, SchemeSpec, Stepper};
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -24,20 +46,53 @@ pub struct Config {
     pub out: PathBuf,
     /// Levels m (`--levels`, default 10, 20, …, 640).
     pub levels: Vec<usize>,
+    /// Element degrees beyond P1 (`--degrees`, default 2, 3; empty: none).
+    pub degrees: Vec<usize>,
+    /// Kept modes of the reduced models, bar and beam (`--modes`, default
+    /// 2, 4, 8, 16; empty: none).
+    pub modes: Vec<usize>,
+    /// Time steps of the beam rows (`--beam-dts`, default 1e-5 … 5e-4 s;
+    /// empty: no beam rows).
+    pub beam_dts: Vec<f64>,
+    /// The beam reference's time step (`--beam-ref-dt`, default 2.5e-7 s).
+    pub beam_ref_dt: f64,
+    /// The beam's error window `[0, w]` (`--beam-window`, default 0.1 s).
+    pub beam_window: f64,
+    /// The beam's horizon (`--beam-t-end`, default 1 s).
+    pub beam_t_end: f64,
 }
 
 impl Default for Config {
     /// `cargo xtask work-precision` without options.
     fn default() -> Self {
-        Config { out: PathBuf::from("out/work-precision"), levels: vec![10, 20, 40, 80, 160, 320, 640] }
+        Config {
+            out: PathBuf::from("out/work-precision"),
+            levels: vec![10, 20, 40, 80, 160, 320, 640],
+            degrees: vec![2, 3],
+            modes: vec![2, 4, 8, 16],
+            beam_dts: vec![1e-5, 2.5e-5, 5e-5, 1e-4, 2.5e-4, 5e-4],
+            beam_ref_dt: 2.5e-7,
+            beam_window: 0.1,
+            beam_t_end: 1.0,
+        }
     }
 }
 
+/// The Courant-one levels: the configured ones and two doublings beyond the finest.
+fn courant1_levels(levels: &[usize]) -> Vec<usize> {
+    let mut l = levels.to_vec();
+    let top = levels.iter().copied().max().unwrap_or(0);
+    l.extend([2 * top, 4 * top]);
+    l.sort_unstable();
+    l.dedup();
+    l
+}
+
 impl Config {
-    /// Every check done before a file is created; an error names `--levels`.
+    /// Every check done before a file is created; an error names the flag.
     pub fn validate(&self) -> Result<(), StudyError> {
         let schemes: Vec<SchemeSpec> = SchemeSpec::named().map(|(_, s)| s).collect();
-        for benchmark in [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity] {
+        for benchmark in BARS {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
                 StudyConfig { benchmark, schemes: schemes.clone(), masses: vec![BarMass::Std], levels: self.levels.clone(), ratio: r, t_end, norms: Default::default(), degree: 1 }
@@ -45,53 +100,243 @@ impl Config {
                     .map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
             }
         }
-        crate::fits_memory("--levels", self.levels.iter().copied().max().unwrap_or(0), 1)
+        if let Some(&k) = self.degrees.iter().find(|&&k| !(2..=3).contains(&k)) {
+            return Err(StudyError::config("--degrees", format!("--degrees {k}: allowed 2 and 3 (P1 is always run)")));
+        }
+        if let Some(&r) = self.modes.iter().find(|&&r| !(1..=10_000).contains(&r)) {
+            return Err(StudyError::config("--modes", format!("--modes {r}: allowed integers in [1, 10000] (levels with fewer interior modes are skipped)")));
+        }
+        let (w, te, rdt) = (self.beam_window, self.beam_t_end, self.beam_ref_dt);
+        if !(te > 0.0 && te <= 10.0) {
+            return Err(StudyError::config("--beam-t-end", format!("--beam-t-end {te}: allowed in (0, 10] s")));
+        }
+        if !(w > 0.0 && w <= te) {
+            return Err(StudyError::config("--beam-window", format!("--beam-window {w}: allowed in (0, --beam-t-end = {te}] s")));
+        }
+        if !(rdt > 0.0 && rdt.is_finite() && te / rdt <= 4e7) {
+            return Err(StudyError::config("--beam-ref-dt", format!("--beam-ref-dt {rdt}: allowed > 0 with at most 4e7 steps to --beam-t-end = {te} s")));
+        }
+        if let Some(&dt) = self.beam_dts.iter().find(|&&dt| !(dt >= 2.0 * rdt && dt <= w)) {
+            return Err(StudyError::config("--beam-dts", format!("--beam-dts {dt}: allowed in [2 × --beam-ref-dt, --beam-window] = [{}, {w}] s", 2.0 * rdt)));
+        }
+        let top = self.levels.iter().copied().max().unwrap_or(0);
+        crate::fits_memory("--levels", 4 * top, 1)?;
+        crate::fits_memory("--degrees", 3 * top, 1)
     }
 }
 
 /// What the study computed and wrote ([`crate::Report`]); its tables: `work_precision.csv`.
 pub type Output = crate::Report;
 
+const BARS: [Benchmark; 2] = [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity];
+
+/// The beam benchmark's name in the table.
+pub const BEAM: &str = "beam-fig2";
+
 struct Point {
-    benchmark: Benchmark,
-    scheme: SchemeSpec,
-    mass: BarMass,
+    benchmark: String,
+    scheme: String,
+    mass: String,
     m: usize,
     dt: f64,
     steps: usize,
-    err: f64,
-    energy: f64,
+    err: Option<f64>,
+    energy: Option<f64>,
     wall: f64,
+    degree: usize,
+    modes: usize,
+    /// Beam: tip error over the window, over the horizon, first impact time error.
+    beam: Option<(f64, f64, f64)>,
 }
 
-/// Wall time of the stepping alone (no observers), best of 3.
-fn time_stepping(b: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64) -> Result<f64, StudyError> {
-    let exact = b.exact(t_end)?;
-    let p = b.problem(exact.as_ref(), m, mass)?;
-    let dt = p.bar.h() / ratio;
+impl Point {
+    /// The configuration's name in the report and the plots.
+    fn label(&self) -> String {
+        let mut s = format!("{} {}", self.scheme, self.mass);
+        if self.degree > 1 && self.benchmark != BEAM {
+            write!(s, " P{}", self.degree).expect("writing to a String");
+        }
+        if self.modes > 0 {
+            write!(s, " r={}", self.modes).expect("writing to a String");
+        }
+        s
+    }
+    /// The error this benchmark is judged by.
+    fn error(&self) -> f64 {
+        match self.beam {
+            Some((w, _, _)) => w,
+            None => self.err.unwrap_or(f64::NAN),
+        }
+    }
+}
+
+/// Wall time of `steps` runs of a stepper that `build` makes (building is
+/// not timed), no observers, best of 3.
+fn best_of_3(build: &dyn Fn() -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError>, dt: f64, t_end: f64) -> Result<f64, StudyError> {
     let mut best = f64::INFINITY;
     for _ in 0..3 {
-        let mut s = scheme.build(p.dynamics(), dt, &p.initial).map_err(|e| StudyError::Run(e.to_string()))?;
+        let (mut s, u0) = build()?;
         let start = std::time::Instant::now();
-        run_steps(s.as_mut(), &p.initial.u, &RunConfig::new(dt, t_end)?, &mut [])?;
+        run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [])?;
         best = best.min(start.elapsed().as_secs_f64());
     }
     Ok(best)
 }
 
-/// Runs the study; `progress` after every (benchmark, scheme) sweep and its timings.
+fn run_err(e: impl std::fmt::Display) -> StudyError {
+    StudyError::Run(e.to_string())
+}
+
+/// Wall time of the stepping alone of a bar level (degree `k`, the
+/// reduction `keep` when given), best of 3.
+#[allow(clippy::too_many_arguments)]
+fn time_stepping(b: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, keep: Option<Keep>) -> Result<f64, StudyError> {
+    let exact = b.exact(t_end)?;
+    let p = b.problem_with_degree(exact.as_ref(), m, mass, k)?;
+    let dt = p.bar.h() / ratio;
+    match keep {
+        None => best_of_3(&|| Ok((scheme.build(p.dynamics(), dt, &p.initial).map_err(run_err)?, p.initial.u.clone())), dt, t_end),
+        Some(keep) => {
+            let red = signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep)?;
+            best_of_3(&|| Ok((scheme.build(red.dynamics.clone(), dt, &red.initial).map_err(run_err)?, red.initial.u.clone())), dt, t_end)
+        }
+    }
+}
+
+/// The Courant-one rows: `cd-taylor`, lumped P1 mass, `dt = h/c`.
+fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
+    let (_, t_end) = b.default_ratio_and_horizon();
+    let exact = b.exact(t_end)?;
+    let p = b.problem(exact.as_ref(), m, BarMass::Lumped)?;
+    let dt = p.bar.h() / p.bar.wave_speed;
+    let build = || -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError> { Ok((Box::new(PaoliSchatzman::central_difference_taylor("cd-taylor".into(), p.dynamics(), 0.0, dt, &p.initial).map_err(RunError::from)?), p.initial.u.clone())) };
+    let (mut s, u0) = build()?;
+    let mut norms = NormObserver::new(exact.as_ref(), p.bar.elements, p.vnorm(), dt);
+    let sum = run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [&mut norms])?;
+    let r = norms.report();
+    let wall = best_of_3(&build, dt, t_end)?;
+    Ok(Point { benchmark: b.to_string(), scheme: "cd-taylor".into(), mass: BarMass::Lumped.to_string(), m, dt, steps: sum.steps, err: Some(r.l2_l2_u), energy: Some(r.linf_energy), wall, degree: 1, modes: 0, beam: None })
+}
+
+/// The tip of a beam run at every level, and whether a stop was active.
+struct Tip {
+    dof: usize,
+    u: Vec<f64>,
+    active: Vec<bool>,
+}
+
+impl Observer for Tip {
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        self.u.push(s.u[self.dof]);
+        self.active.push(s.active);
+        Ok(())
+    }
+}
+
+impl Tip {
+    /// Linear interpolation at `t` of levels `n dt`.
+    fn at(&self, t: f64, dt: f64) -> f64 {
+        let x = t / dt;
+        let n = (x.floor() as usize).min(self.u.len().saturating_sub(2));
+        let f = x - n as f64;
+        self.u[n] + f * (self.u[n + 1] - self.u[n])
+    }
+    /// The first level at which a stop is active, as a time.
+    fn first_impact(&self, dt: f64) -> Option<f64> {
+        self.active.iter().position(|&a| a).map(|n| n as f64 * dt)
+    }
+    /// Largest difference from `reference` (levels of `ref_dt`) over `[0, t]`.
+    fn error(&self, dt: f64, reference: &Tip, ref_dt: f64, t: f64) -> f64 {
+        let last = ((t / dt).round() as usize).min(self.u.len() - 1);
+        (0..=last).fold(0.0_f64, |e, n| e.max((self.u[n] - reference.at(n as f64 * dt, ref_dt)).abs()))
+    }
+}
+
+/// A beam configuration: `modes` 0 for the full model.
+fn beam_build(dt: f64, t_end: f64, modes: usize) -> Result<(Box<dyn Stepper>, Vec<f64>, usize), StudyError> {
+    let scene = BeamScene { dt, t_end, contact: BeamContact::Projection { beta: 0.5 }, ..BeamScene::PAPER[0] };
+    let (pipe, exc) = (Pipe::paper(), BeamExcitation::default());
+    if modes == 0 {
+        let (s, init, beam) = build_excited(&pipe, &scene, false, PenaltyUnits::default(), None, &exc)?;
+        Ok((s, init.u, beam.tip_dof()))
+    } else {
+        let (s, red, _) = build_reduced(&pipe, &scene, PenaltyUnits::default(), None, &exc, Keep::Modes(modes))?;
+        Ok((s, red.initial.u.clone(), 0))
+    }
+}
+
+fn beam_tip(dt: f64, t_end: f64, modes: usize) -> Result<(Tip, usize), StudyError> {
+    let (mut s, u0, dof) = beam_build(dt, t_end, modes)?;
+    let levels = (t_end / dt).round() as usize + 1;
+    let mut tip = Tip { dof, u: Vec::with_capacity(levels), active: Vec::with_capacity(levels) };
+    let sum = run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [&mut tip])?;
+    Ok((tip, sum.steps))
+}
+
+/// The beam rows and the reference's own convergence: its difference from
+/// the run at twice its step over the window and over the horizon.
+fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
+    let (te, w, rdt) = (a.beam_t_end, a.beam_window, a.beam_ref_dt);
+    let (reference, _) = beam_tip(rdt, te, 0)?;
+    let (check, _) = beam_tip(2.0 * rdt, te, 0)?;
+    let self_conv = (check.error(2.0 * rdt, &reference, rdt, w), check.error(2.0 * rdt, &reference, rdt, te));
+    let t_ref = reference.first_impact(rdt).unwrap_or(f64::NAN);
+    let j = BeamScene::PAPER[0].elements;
+    let mut points = Vec::new();
+    for modes in std::iter::once(0).chain(a.modes.iter().copied().filter(|&r| r < 2 * j)) {
+        for &dt in &a.beam_dts {
+            let (tip, steps) = beam_tip(dt, te, modes)?;
+            let imp = tip.first_impact(dt).map_or(f64::NAN, |t| (t - t_ref).abs());
+            let errs = (tip.error(dt, &reference, rdt, w), tip.error(dt, &reference, rdt, te), imp);
+            let wall = best_of_3(
+                &|| {
+                    let (s, u0, _) = beam_build(dt, te, modes)?;
+                    Ok((s, u0))
+                },
+                dt,
+                te,
+            )?;
+            let mass = if modes == 0 { "consistent" } else { "massless-tip" };
+            points.push(Point { benchmark: BEAM.into(), scheme: "beta-scheme(0.5)".into(), mass: mass.into(), m: j, dt, steps, err: None, energy: None, wall, degree: 3, modes, beam: Some(errs) });
+        }
+    }
+    Ok((points, self_conv))
+}
+
+/// Runs the study; `progress` after every (benchmark, scheme) sweep and its
+/// timings, then after each block of the frontier rows.
 pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
     let schemes: Vec<SchemeSpec> = SchemeSpec::named().map(|(_, s)| s).collect();
     // Everything is checked before a file is created.
     a.validate()?;
     let start = std::time::Instant::now();
     create_dir(&a.out)?;
-    let total = 2 * schemes.len() as u64;
+    let frontier = 2 * (1 + a.degrees.len() + a.modes.len()) as u64 + u64::from(!a.beam_dts.is_empty());
+    let total = 2 * schemes.len() as u64 + frontier;
     let mut done = 0;
+    let mut tick = || {
+        done += 1;
+        progress(done, total);
+    };
+    let mut notes = Vec::new();
     // Every mass treatment (mod1 is mod under another name).
     let masses: Vec<BarMass> = BarMass::ALL.into_iter().filter(|m| *m != BarMass::Mod1).collect();
     let mut points = Vec::new();
-    for benchmark in [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity] {
+    let full = |b: Benchmark, r: &study::ConfigResult, l: &study::LevelResult, k: usize, modes: usize, wall: f64| Point {
+        benchmark: b.to_string(),
+        scheme: r.scheme.to_string(),
+        mass: r.mass.to_string(),
+        m: l.m,
+        dt: l.dt,
+        steps: l.steps,
+        err: Some(l.norms.l2_l2_u),
+        energy: Some(l.norms.linf_energy),
+        wall,
+        degree: k,
+        modes,
+        beam: None,
+    };
+    for benchmark in BARS {
         let (ratio, t_end) = benchmark.default_ratio_and_horizon();
         for scheme in &schemes {
             let ok: Vec<BarMass> = masses.iter().copied().filter(|m| scheme.accepts_massless_node(m.massless_contact_node())).collect();
@@ -101,56 +346,162 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: 1 };
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
-                    let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, ratio, t_end)?;
-                    points.push(Point { benchmark, scheme: r.scheme, mass: r.mass, m: l.m, dt: l.dt, steps: l.steps, err: l.norms.l2_l2_u, energy: l.norms.linf_energy, wall });
+                    let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, 1, ratio, t_end, None)?;
+                    points.push(full(benchmark, &r, l, 1, 0, wall));
                 }
             }
-            done += 1;
-            progress(done, total);
+            tick();
         }
     }
+    // The frontier: Courant one, Pk, reduced models, the beam.
+    for benchmark in BARS {
+        let (ratio, t_end) = benchmark.default_ratio_and_horizon();
+        for m in courant1_levels(&a.levels) {
+            points.push(courant1(benchmark, m)?);
+        }
+        tick();
+        let pk: Vec<SchemeSpec> = ["newmark-cn", "newmark-ii"].iter().map(|n| n.parse().map_err(run_err)).collect::<Result<_, _>>()?;
+        for &k in &a.degrees {
+            let cfg = StudyConfig { benchmark, schemes: pk.clone(), masses: vec![BarMass::Std, BarMass::Mod], levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: k };
+            for r in study::sweep(&cfg, &|| {})? {
+                for l in &r.levels {
+                    let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, k, ratio, t_end, None)?;
+                    points.push(full(benchmark, &r, l, k, 0, wall));
+                }
+            }
+            tick();
+        }
+        let cn: SchemeSpec = "newmark-cn".parse().map_err(run_err)?;
+        let exact = benchmark.exact(t_end)?;
+        for &r in &a.modes {
+            // A level has as many interior modes as unknowns less the contact.
+            let mut levels = Vec::new();
+            for &m in &a.levels {
+                let dofs = benchmark.problem(exact.as_ref(), m, BarMass::Mod)?.bar.dofs();
+                if r < dofs {
+                    levels.push(m);
+                } else {
+                    notes.push(format!("{benchmark}: r = {r} skipped at m = {m} (only {} interior modes)", dofs - 1));
+                }
+            }
+            // One level at a time (a sweep wants two levels for its rates).
+            let runs: Vec<Result<(usize, study::LevelResult), StudyError>> = levels
+                .par_iter()
+                .map(|&m| Ok((m, study::run_level_reduced(benchmark, exact.as_ref(), cn, BarMass::Mod, m, 1, ratio, t_end, Default::default(), Some(Keep::Modes(r)))?)))
+                .collect();
+            for run in runs {
+                let (m, l) = run?;
+                let wall = time_stepping(benchmark, cn, BarMass::Mod, m, 1, ratio, t_end, Some(Keep::Modes(r)))?;
+                let res = study::ConfigResult { scheme: cn, mass: BarMass::Mod, levels: Vec::new() };
+                points.push(full(benchmark, &res, &l, 1, r, wall));
+            }
+            tick();
+        }
+    }
+    let beam_check = if a.beam_dts.is_empty() {
+        None
+    } else {
+        let (p, check) = beam_points(a)?;
+        points.extend(p);
+        if let Some(r) = a.modes.iter().find(|&&r| r >= 2 * BeamScene::PAPER[0].elements) {
+            notes.push(format!("{BEAM}: r = {r} skipped (the beam has {} interior modes)", 2 * BeamScene::PAPER[0].elements - 1));
+        }
+        tick();
+        Some(check)
+    };
     let (s_, f_, i_) = (Kind::S, Kind::F, Kind::I);
-    let mut w = TableOut::create(&a.out, "work_precision.csv", &[("benchmark", s_), ("scheme", s_), ("mass", s_), ("m", i_), ("dt", f_), ("steps", i_), ("l2_l2_u", f_), ("linf_energy", f_), ("wall_s", f_)])?;
+    let mut w = TableOut::create(
+        &a.out,
+        "work_precision.csv",
+        &[
+            ("benchmark", s_),
+            ("scheme", s_),
+            ("mass", s_),
+            ("m", i_),
+            ("dt", f_),
+            ("steps", i_),
+            ("l2_l2_u", f_),
+            ("linf_energy", f_),
+            ("wall_s", f_),
+            ("degree", i_),
+            ("modes", i_),
+            ("tip_err", f_),
+            ("tip_err_end", f_),
+            ("impact_err", f_),
+        ],
+    )?;
+    let e6 = |x: Option<f64>| opt(x.map(|x| fe(x, 6)));
     for p in &points {
-        w.row(vec![txt(p.benchmark.to_string()), txt(p.scheme.to_string()), txt(p.mass.to_string()), int(p.m), fe(p.dt, 6), int(p.steps), fe(p.err, 6), fe(p.energy, 6), fe(p.wall, 6)])?;
+        let b = |f: fn(&(f64, f64, f64)) -> f64| e6(p.beam.as_ref().map(f));
+        w.row(vec![
+            txt(p.benchmark.clone()),
+            txt(p.scheme.clone()),
+            txt(p.mass.clone()),
+            int(p.m),
+            fe(p.dt, 6),
+            int(p.steps),
+            e6(p.err),
+            e6(p.energy),
+            fe(p.wall, 6),
+            int(p.degree),
+            int(p.modes),
+            b(|e| e.0),
+            b(|e| e.1),
+            b(|e| e.2),
+        ])?;
     }
     let table = w.finish()?;
-    let mut report = String::from("# Work–precision (L²(0,T;L²) error of u against stepping wall time)\n\n");
-    for benchmark in [Benchmark::BarDirichlet, Benchmark::BarNeumannGravity] {
-        let pts: Vec<&Point> = points.iter().filter(|p| p.benchmark == benchmark).collect();
-        let mut keys: Vec<(String, String)> = pts.iter().map(|p| (p.scheme.to_string(), p.mass.to_string())).collect();
+    let mut report = String::from("# Work–precision (error against stepping wall time)\n\n");
+    let mut benchmarks: Vec<String> = BARS.iter().map(|b| b.to_string()).collect();
+    if beam_check.is_some() {
+        benchmarks.push(BEAM.into());
+    }
+    for benchmark in &benchmarks {
+        let pts: Vec<&Point> = points.iter().filter(|p| &p.benchmark == benchmark).collect();
+        let mut keys: Vec<String> = pts.iter().map(|p| p.label()).collect();
         keys.dedup();
-        let series: Vec<Series> = keys
-            .iter()
-            .map(|(s, m)| Series { label: format!("{s} {m}"), points: pts.iter().filter(|p| &p.scheme.to_string() == s && &p.mass.to_string() == m).map(|p| (p.wall, p.err)).collect(), reference: false, style: Default::default() })
-            .collect();
-        let svg = line_chart(&Chart { title: &format!("{benchmark}: error against wall time"), x_label: "wall time (s)", y_label: "L²(0,T;L²) error", scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
+        let is_beam = benchmark == BEAM;
+        let y_label = if is_beam { "largest tip error over the window (m)" } else { "L²(0,T;L²) error" };
+        let series: Vec<Series> = keys.iter().map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error())).collect(), reference: false, style: Default::default() }).collect();
+        let svg = line_chart(&Chart { title: &format!("{benchmark}: error against wall time"), x_label: "wall time (s)", y_label, scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
         crate::write_file(&a.out.join(format!("{benchmark}.svg")), &svg)?;
-        report.push_str(&format!("## {benchmark}\n\n| target error | cheapest (scheme, mass, m) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|\n"));
-        for target in [3e-2, 1e-2, 3e-3, 1e-3] {
+        let targets: &[f64] = if is_beam { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] } else { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] };
+        writeln!(report, "## {benchmark}\n").expect("writing to a String");
+        if let (true, Some((cw, ct))) = (is_beam, beam_check) {
+            writeln!(
+                report,
+                "Tip error against the full model at dt = {:e} s over [0, {}] s (that reference differs from the run at twice its step by {cw:.2e} m there, by {ct:.2e} m over [0, {}] s).\n",
+                a.beam_ref_dt, a.beam_window, a.beam_t_end
+            )
+            .expect("writing to a String");
+        }
+        writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" }).expect("writing to a String");
+        for &target in targets {
             // Per configuration, the cheapest level that reaches the target.
-            let mut best: Vec<&Point> = keys
-                .iter()
-                .filter_map(|(s, m)| pts.iter().filter(|p| &p.scheme.to_string() == s && &p.mass.to_string() == m && p.err <= target).min_by(|a, b| a.wall.total_cmp(&b.wall)).copied())
-                .collect();
+            let mut best: Vec<&Point> = keys.iter().filter_map(|k| pts.iter().filter(|p| &p.label() == k && p.error() <= target).min_by(|a, b| a.wall.total_cmp(&b.wall)).copied()).collect();
             best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+            let at = |p: &Point| if is_beam { format!("{} dt={:e}", p.label(), p.dt) } else { format!("{} m={}", p.label(), p.m) };
             match (best.first(), best.get(1)) {
-                (Some(b0), r) => writeln!(
-                    report,
-                    "| {target:.0e} | {} {} m={} | {:.2e} | {:.2e} | {} | {} |",
-                    b0.scheme,
-                    b0.mass,
-                    b0.m,
-                    b0.wall,
-                    b0.err,
-                    r.map_or("-".into(), |r| format!("{} {} m={}", r.scheme, r.mass, r.m)),
-                    r.map_or("-".into(), |r| format!("{:.2e}", r.wall))
-                ),
+                (Some(b0), r) => writeln!(report, "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |", at(b0), b0.wall, b0.error(), r.map_or("-".into(), |r| at(r)), r.map_or("-".into(), |r| format!("{:.2e}", r.wall))),
                 (None, _) => writeln!(report, "| {target:.0e} | not reached at these levels | | | | |"),
             }
             .expect("writing to a String");
         }
+        if is_beam {
+            // The question: today's full model at the paper's step,
+            // and the cheapest reduced model at least as accurate.
+            let paper_dt = BeamScene::PAPER[0].dt;
+            if let Some(today) = pts.iter().find(|p| p.modes == 0 && (p.dt - paper_dt).abs() < 1e-12) {
+                let reduced = pts.iter().filter(|p| p.modes > 0 && p.error() <= today.error()).min_by(|a, b| a.wall.total_cmp(&b.wall));
+                writeln!(report, "\nThe full model at the paper's dt = {paper_dt:e} s: tip error {:.2e} m, {:.2e} s. ", today.error(), today.wall).expect("writing to a String");
+                match reduced {
+                    Some(r) => writeln!(report, "Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {:.2e} s ({:.1}x less wall time).", r.label(), r.dt, r.error(), r.wall, today.wall / r.wall),
+                    None => writeln!(report, "No reduced model reaches that error at these steps and modes (best: {}).", pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error().total_cmp(&b.error())).map_or("-".into(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error()))),
+                }
+                .expect("writing to a String");
+            }
+        }
         report.push('\n');
     }
-    Ok(Output { tables: vec![table], report, wall_s: since(start), notes: Vec::new() })
+    Ok(Output { tables: vec![table], report, wall_s: since(start), notes })
 }

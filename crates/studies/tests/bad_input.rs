@@ -79,8 +79,33 @@ fn oscillator_refuses_empty_dts_and_a_negative_frequency() {
 #[test]
 fn work_precision_refuses_a_level_below_two() {
     let out = nowhere("wp");
-    let cfg = work_precision::Config { out: out.clone(), levels: vec![1, 10] };
+    let cfg = work_precision::Config { out: out.clone(), levels: vec![1, 10], ..Default::default() };
     assert_field(work_precision::run(&cfg, NO_PROGRESS).map(|_| ()), "--levels", &out);
+}
+
+/// The frontier's options: a degree other than 2 or 3, zero modes, a beam
+/// step below twice the reference's or beyond the window, a window beyond
+/// the horizon, a reference step with too many steps, a horizon of zero.
+#[test]
+fn work_precision_refuses_bad_frontier_options() {
+    let out = nowhere("wp-frontier");
+    let base = work_precision::Config { out: out.clone(), ..Default::default() };
+    let cases: Vec<(work_precision::Config, &str)> = vec![
+        (work_precision::Config { degrees: vec![2, 4], ..base.clone() }, "--degrees"),
+        (work_precision::Config { degrees: vec![1], ..base.clone() }, "--degrees"),
+        (work_precision::Config { modes: vec![0], ..base.clone() }, "--modes"),
+        (work_precision::Config { beam_dts: vec![4e-7], ..base.clone() }, "--beam-dts"),
+        (work_precision::Config { beam_dts: vec![0.2], ..base.clone() }, "--beam-dts"),
+        (work_precision::Config { beam_dts: vec![f64::NAN], ..base.clone() }, "--beam-dts"),
+        (work_precision::Config { beam_window: 2.0, ..base.clone() }, "--beam-window"),
+        (work_precision::Config { beam_ref_dt: 1e-9, ..base.clone() }, "--beam-ref-dt"),
+        (work_precision::Config { beam_ref_dt: -1.0, ..base.clone() }, "--beam-ref-dt"),
+        (work_precision::Config { beam_t_end: 0.0, ..base.clone() }, "--beam-t-end"),
+        (work_precision::Config { beam_t_end: f64::INFINITY, ..base.clone() }, "--beam-t-end"),
+    ];
+    for (cfg, flag) in cases {
+        assert_field(work_precision::run(&cfg, NO_PROGRESS).map(|_| ()), flag, &out);
+    }
 }
 
 #[test]
