@@ -52,6 +52,14 @@ pub enum SchemeSpec {
         /// θ (1: symmetric, 0: incomplete, -1: skew-symmetric).
         theta: f64,
     },
+    /// The explicit central difference started by Taylor's formula
+    /// (`cd-taylor`, [`PaoliSchatzman::central_difference_taylor`]): a
+    /// diagonal (lumped) mass with a massive contact node, restitution 0,
+    /// dt up to and including the CFL limit — with the lumped P1 bar, dt = h/c
+    /// exactly (Courant number one, docs/theory.md §4.10): nodally exact until
+    /// the first release, then first order with a small constant, the
+    /// cheapest configuration of the work–precision study on both bars.
+    CentralDifferenceTaylor,
     /// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1].
     MoreauJean {
         /// θ.
@@ -92,6 +100,11 @@ impl SchemeSpec {
         ("nitsche-cn", SchemeSpec::Nitsche { gamma0: 10.0, theta: 1.0 }),
     ];
 
+    /// Named schemes outside [`SchemeSpec::named`] (its loops run every
+    /// scheme with every mass; these take one mass only): `cd-taylor`
+    /// (lumped mass, Courant number one).
+    pub const SINGLE_MASS: [(&'static str, SchemeSpec); 1] = [("cd-taylor", SchemeSpec::CentralDifferenceTaylor)];
+
     /// Every named scheme: the presets, the reduced ones, the peers.
     pub fn named() -> impl Iterator<Item = (&'static str, SchemeSpec)> {
         Self::PRESETS.into_iter().chain(Self::REDUCED).chain(Self::PEERS)
@@ -115,6 +128,7 @@ impl SchemeSpec {
                 }
                 Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
             }
+            SchemeSpec::CentralDifferenceTaylor => Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&dy.stiffness, &dy.mass)?.sqrt())),
             SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => {
                 if dy.massless_contact() {
                     return Ok(Some(0.0));
@@ -138,6 +152,7 @@ impl SchemeSpec {
         match *self {
             SchemeSpec::Penalty { explicit: true, .. } => Some("explicit central difference with a penalty spring: 2/sqrt(κ_max) of the pencil (K + κ e_c e_cᵀ, M)"),
             SchemeSpec::PaoliSchatzman { beta, .. } if beta == 0.0 => Some("explicit central difference (β = 0): 2/sqrt(κ_max) of the pencil (K, M)"),
+            SchemeSpec::CentralDifferenceTaylor => Some("explicit central difference: dt <= 2/sqrt(κ_max) of the pencil (K, M), the limit itself allowed (Courant number one with the lumped P1 bar)"),
             SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => Some("two-step β-scheme with β < 1/4: 2/sqrt((1 - 4β) κ_max) of the pencil (K, M); β >= 1/4 is unconditionally stable"),
             SchemeSpec::Reduced(ReducedLaw::CentralDifference) => Some("explicit central difference with a quasi-static massless node: 2/sqrt(κ_max) of the reduced pencil (K*, M*) without the contact node"),
             _ => None,
@@ -158,7 +173,7 @@ impl SchemeSpec {
                 check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
                 check("beta", beta, (0.0..=0.5).contains(&beta), "[0, 1/2] (β < 1/4 needs a massive contact node and is conditionally stable)")
             }
-            SchemeSpec::Reduced(_) => Ok(()),
+            SchemeSpec::Reduced(_) | SchemeSpec::CentralDifferenceTaylor => Ok(()),
             SchemeSpec::Penalty { gamma_p, .. } => check("gamma_p", gamma_p, gamma_p > 0.0, "finite and > 0"),
             SchemeSpec::Nitsche { gamma0, theta } => {
                 check("gamma0", gamma0, gamma0 > 0.0, "finite and > 0")?;
@@ -183,13 +198,13 @@ impl SchemeSpec {
 
     /// Whether the scheme is explicit (conditionally stable, CFL-limited).
     pub fn is_explicit(&self) -> bool {
-        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::Reduced(ReducedLaw::CentralDifference)) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
+        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::Reduced(ReducedLaw::CentralDifference) | SchemeSpec::CentralDifferenceTaylor) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta == 0.0)
     }
 
     /// Whether the scheme needs a massive contact node (explicit schemes,
     /// Moreau–Jean, the β-scheme with β < 1/4).
     pub fn needs_massive_node(&self) -> bool {
-        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. }) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta < 0.25)
+        matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. } | SchemeSpec::CentralDifferenceTaylor) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta < 0.25)
     }
 
     fn check_cfl(&self, dy: &Dynamics, dt: f64) -> Result<(), SchemeError> {
@@ -254,6 +269,19 @@ impl SchemeSpec {
                     e => e,
                 })?)
             }
+            SchemeSpec::CentralDifferenceTaylor => {
+                if dy.massless_contact() {
+                    return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node and a diagonal mass (mass lumped)" });
+                }
+                // The limit itself is allowed (Courant number one), with
+                // room for the round-off of the computed limit.
+                if let Some(limit) = self.cfl_limit(&dy)? {
+                    if !(dt <= limit * (1.0 + 1e-9)) {
+                        return Err(SchemeError::Unstable { dt, limit, scheme: label, rule: self.stability_rule().unwrap_or("") });
+                    }
+                }
+                Box::new(PaoliSchatzman::central_difference_taylor(label, dy, 0.0, dt, init)?)
+            }
             SchemeSpec::MoreauJean { theta, restitution } => Box::new(MoreauJean::new(label, dy, theta, restitution, dt, init)?),
             SchemeSpec::Nitsche { gamma0, theta } => Box::new(Nitsche::new(label, dy, 0.25, 0.5, gamma0, theta, dt, init)?),
         })
@@ -273,6 +301,7 @@ impl fmt::Display for SchemeSpec {
             SchemeSpec::Reduced(ReducedLaw::Hybrid) => f.write_str("hybrid"),
             SchemeSpec::Reduced(ReducedLaw::CrankNicolson) => f.write_str("reduced-cn"),
             SchemeSpec::Reduced(ReducedLaw::CentralDifference) => f.write_str("cd-massless"),
+            SchemeSpec::CentralDifferenceTaylor => f.write_str("cd-taylor"),
             SchemeSpec::Penalty { gamma_p, explicit: false } => write!(f, "penalty({gamma_p})"),
             SchemeSpec::Penalty { gamma_p, explicit: true } => write!(f, "penalty-cd({gamma_p})"),
             SchemeSpec::MoreauJean { theta, restitution } => write!(f, "moreau-jean({theta},{restitution})"),
@@ -287,7 +316,7 @@ impl FromStr for SchemeSpec {
     /// The parameters are validated.
     fn from_str(s: &str) -> Result<Self, SchemeError> {
         let s = s.trim();
-        if let Some((_, spec)) = Self::named().find(|(n, _)| *n == s) {
+        if let Some((_, spec)) = Self::named().chain(Self::SINGLE_MASS).find(|(n, _)| *n == s) {
             return Ok(spec);
         }
         let unknown = || SchemeError::UnknownScheme(s.to_string());

@@ -6,7 +6,7 @@
 
 use signorini_fem::BarMass;
 use signorini_run::Benchmark;
-use signorini_schemes::{PaoliSchatzman, Stepper};
+use signorini_schemes::{PaoliSchatzman, SchemeError, SchemeSpec, Stepper};
 use signorini_studies::{courant1, Column};
 
 /// The lumped chain on [0, 1] clamped at x = 1, obstacle u_0 >= 0, c = 1,
@@ -61,6 +61,43 @@ fn the_scheme_is_the_independent_chain_and_exact_until_the_release() {
             }
         }
     }
+}
+
+/// The named scheme `cd-taylor` (a scene's `scheme = "cd-taylor"`) is the
+/// chain on the Dirichlet bar; it takes the falling bar's lumped mass at its
+/// exact limit dt = h (closed form: the half-mass end nodes make `κ_max`
+/// exactly 4c²/h²) and refuses dt = 1.001 h, the consistent mass (not
+/// diagonal) and a massless contact node, each with a typed error.
+#[test]
+fn the_named_scheme_is_the_chain_and_runs_at_its_limit() {
+    let spec: SchemeSpec = "cd-taylor".parse().unwrap();
+    assert_eq!(spec.to_string(), "cd-taylor");
+    assert!(spec.is_explicit() && spec.needs_massive_node());
+    let exact = Benchmark::BarDirichlet.exact(6.0).unwrap();
+    let m = 20;
+    let p = Benchmark::BarDirichlet.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
+    let mut s = spec.build(p.dynamics(), p.bar.h(), &p.initial).unwrap();
+    let want = chain(m, 6 * m + 1);
+    for (n, level) in want.iter().enumerate().take(6 * m + 1).skip(1) {
+        if n > 1 {
+            s.step().unwrap();
+        }
+        for (i, w) in level.iter().enumerate().take(m) {
+            assert!((s.displacement()[i] - w).abs() < 1e-13, "level {n}, node {i}");
+        }
+    }
+    let exact = Benchmark::BarNeumannGravity.exact(16.0).unwrap();
+    for m in [10, 40, 160] {
+        let p = Benchmark::BarNeumannGravity.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
+        let h = p.bar.h();
+        assert!(spec.build(p.dynamics(), h, &p.initial).is_ok(), "m = {m}: dt = h refused");
+        assert!(matches!(spec.build(p.dynamics(), 1.001 * h, &p.initial), Err(SchemeError::Unstable { .. })), "m = {m}");
+    }
+    let h = 1.0 / 40.0;
+    let std = Benchmark::BarNeumannGravity.problem(exact.as_ref(), 40, BarMass::Std).unwrap();
+    assert!(matches!(spec.build(std.dynamics(), 0.5 * h, &std.initial), Err(SchemeError::Structure(_))));
+    let mass_less = Benchmark::BarNeumannGravity.problem(exact.as_ref(), 40, BarMass::Mod).unwrap();
+    assert!(matches!(spec.build(mass_less.dynamics(), 0.5 * h, &mass_less.initial), Err(SchemeError::MassNotSupported { .. })));
 }
 
 #[test]
