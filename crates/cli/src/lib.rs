@@ -798,6 +798,9 @@ pub fn list() -> String {
         };
         s.push_str(&format!("  {name:<16} {spec:?}{note}\n"));
     }
+    for (name, spec) in SchemeSpec::SINGLE_MASS {
+        s.push_str(&format!("  {name:<16} {spec:?}  [lumped only; ratio = 1 is Courant number one]\n"));
+    }
     s.push_str("  newmark(BETA,GAMMA)  β ∈ (0, 1/2], γ ∈ [1/2, 2β]\n  theta(THETA)         θ ∈ [1/2, 1]\n  ps(E) / ps(E,BETA)   e ∈ [0, 1], β ∈ [0, 1/2] (default 1/4; β = 0 needs a massive contact node)\n  penalty(G) / penalty-cd(G)   γ_P > 0 (penalty-cd: explicit, CFL-checked)\n  moreau-jean(THETA,E)         θ ∈ [1/2, 1], e ∈ [0, 1]\n  nitsche(GAMMA0,THETA)        γ_0 > 0, θ ∈ [-1, 1]\n");
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");
     s.push_str("benchmarks (bar, with exact solutions): bar-dirichlet, bar-neumann-gravity (g = 1/9), bar-neumann-gravity-0.11 (T <= 225), bar-mirrored (bar-dirichlet mirrored onto [0, 2] between two stops; elements = m per half)\n");

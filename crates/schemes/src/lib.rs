@@ -101,7 +101,7 @@ pub enum SchemeError {
         allowed: &'static str,
     },
     /// An unknown scheme name.
-    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P), penalty-cd(GAMMA_P), taylor-flanagan, moreau-jean, moreau-jean(THETA,E), cd-massless, nitsche-cn or nitsche(GAMMA0,THETA)")]
+    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P), penalty-cd(GAMMA_P), taylor-flanagan, cd-taylor, moreau-jean, moreau-jean(THETA,E), cd-massless, nitsche-cn or nitsche(GAMMA0,THETA)")]
     UnknownScheme(String),
     /// Vectors or matrices of inconsistent sizes.
     #[error("size mismatch: {what} has {got} entries, expected {expected}")]
