@@ -465,7 +465,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         let series: Vec<Series> = keys.iter().map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error())).collect(), reference: false, style: Default::default() }).collect();
         let svg = line_chart(&Chart { title: &format!("{benchmark}: error against wall time"), x_label: "wall time (s)", y_label, scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
         crate::write_file(&a.out.join(format!("{benchmark}.svg")), &svg)?;
-        let targets: &[f64] = if is_beam { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] } else { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] };
+        let targets = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4];
         writeln!(report, "## {benchmark}\n").expect("writing to a String");
         if let (true, Some((cw, ct))) = (is_beam, beam_check) {
             writeln!(
@@ -476,7 +476,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             .expect("writing to a String");
         }
         writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" }).expect("writing to a String");
-        for &target in targets {
+        for target in targets {
             // Per configuration, the cheapest level that reaches the target.
             let mut best: Vec<&Point> = keys.iter().filter_map(|k| pts.iter().filter(|p| &p.label() == k && p.error() <= target).min_by(|a, b| a.wall.total_cmp(&b.wall)).copied()).collect();
             best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
