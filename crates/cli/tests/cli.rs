@@ -106,6 +106,9 @@ fn bad_inputs_name_the_field_and_range() {
     check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\ndt = -0.1\n", 2, &["bar.dt", "> 0"]);
     check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 1\nratio = 10.0\n", 2, &["bar.elements", ">= 2"]);
     check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\nscheme = \"hybrid\"\n", 2, &["bar.mass", "massless"]);
+    // cd-taylor takes the lumped mass only (std: not diagonal; mod: massless contact node).
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 1.0\nscheme = \"cd-taylor\"\n", 2, &["bar.mass", "lumped", "got std"]);
+    check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 1.0\nscheme = \"cd-taylor\"\nmass = \"mod\"\n", 2, &["bar.mass", "lumped", "got mod"]);
     check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\nscheme = \"ps(1.5)\"\n", 2, &["bar.scheme", "[0, 1]"]);
     check_rejects("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\nlength = 2.0\n", 2, &["bar.length", "benchmark"]);
     check_rejects("[bar]\nelements = 10\ndt = 0.01\ninitial_displacement = \"1 - \"\n", 2, &["bar.initial_displacement"]);
