@@ -322,10 +322,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     // Every mass treatment (mod1 is mod under another name).
     let masses: Vec<BarMass> = BarMass::ALL.into_iter().filter(|m| *m != BarMass::Mod1).collect();
     let mut points = Vec::new();
-    let full = |b: Benchmark, r: &study::ConfigResult, l: &study::LevelResult, k: usize, modes: usize, wall: f64| Point {
+    let full = |b: Benchmark, scheme: SchemeSpec, mass: BarMass, l: &study::LevelResult, k: usize, modes: usize, wall: f64| Point {
         benchmark: b.to_string(),
-        scheme: r.scheme.to_string(),
-        mass: r.mass.to_string(),
+        scheme: scheme.to_string(),
+        mass: mass.to_string(),
         m: l.m,
         dt: l.dt,
         steps: l.steps,
@@ -347,7 +347,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, 1, ratio, t_end, None)?;
-                    points.push(full(benchmark, &r, l, 1, 0, wall));
+                    points.push(full(benchmark, r.scheme, r.mass, l, 1, 0, wall));
                 }
             }
             tick();
@@ -366,7 +366,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, k, ratio, t_end, None)?;
-                    points.push(full(benchmark, &r, l, k, 0, wall));
+                    points.push(full(benchmark, r.scheme, r.mass, l, k, 0, wall));
                 }
             }
             tick();
@@ -392,8 +392,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             for run in runs {
                 let (m, l) = run?;
                 let wall = time_stepping(benchmark, cn, BarMass::Mod, m, 1, ratio, t_end, Some(Keep::Modes(r)))?;
-                let res = study::ConfigResult { scheme: cn, mass: BarMass::Mod, levels: Vec::new() };
-                points.push(full(benchmark, &res, &l, 1, r, wall));
+                points.push(full(benchmark, cn, BarMass::Mod, &l, 1, r, wall));
             }
             tick();
         }
