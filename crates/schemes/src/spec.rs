@@ -207,9 +207,13 @@ impl SchemeSpec {
         matches!(self, SchemeSpec::Penalty { explicit: true, .. } | SchemeSpec::MoreauJean { .. } | SchemeSpec::CentralDifferenceTaylor) || matches!(self, SchemeSpec::PaoliSchatzman { beta, .. } if *beta < 0.25)
     }
 
+    /// Refuses `dt` at or beyond [`cfl_limit`](Self::cfl_limit); `cd-taylor`,
+    /// meant for Courant number one, takes the limit itself (with room for
+    /// the round-off of the computed limit).
     fn check_cfl(&self, dy: &Dynamics, dt: f64) -> Result<(), SchemeError> {
         if let Some(limit) = self.cfl_limit(dy)? {
-            if !(dt < limit) {
+            let ok = if *self == SchemeSpec::CentralDifferenceTaylor { dt <= limit * (1.0 + 1e-9) } else { dt < limit };
+            if !ok {
                 return Err(SchemeError::Unstable { dt, limit, scheme: self.to_string(), rule: self.stability_rule().unwrap_or("") });
             }
         }
@@ -273,13 +277,7 @@ impl SchemeSpec {
                 if dy.massless_contact() {
                     return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node and a diagonal mass (mass lumped)" });
                 }
-                // The limit itself is allowed (Courant number one), with
-                // room for the round-off of the computed limit.
-                if let Some(limit) = self.cfl_limit(&dy)? {
-                    if !(dt <= limit * (1.0 + 1e-9)) {
-                        return Err(SchemeError::Unstable { dt, limit, scheme: label, rule: self.stability_rule().unwrap_or("") });
-                    }
-                }
+                self.check_cfl(&dy, dt)?;
                 Box::new(PaoliSchatzman::central_difference_taylor(label, dy, 0.0, dt, init)?)
             }
             SchemeSpec::MoreauJean { theta, restitution } => Box::new(MoreauJean::new(label, dy, theta, restitution, dt, init)?),
