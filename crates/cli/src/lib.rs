@@ -788,8 +788,10 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
 pub fn list() -> String {
     use signorini_schemes::SchemeSpec;
     let mut s = String::from("schemes (bar):\n");
-    for (name, spec) in SchemeSpec::named() {
-        let note = if spec.needs_massless_node() {
+    for (name, spec) in SchemeSpec::named().chain(SchemeSpec::SINGLE_MASS) {
+        let note = if spec.needs_diagonal_mass() {
+            "  [lumped only; ratio = 1 is Courant number one]"
+        } else if spec.needs_massless_node() {
             "  [massless-node masses only]"
         } else if spec.needs_massive_node() {
             "  [std or lumped only]"
@@ -797,9 +799,6 @@ pub fn list() -> String {
             ""
         };
         s.push_str(&format!("  {name:<16} {spec:?}{note}\n"));
-    }
-    for (name, spec) in SchemeSpec::SINGLE_MASS {
-        s.push_str(&format!("  {name:<16} {spec:?}  [lumped only; ratio = 1 is Courant number one]\n"));
     }
     s.push_str("  newmark(BETA,GAMMA)  β ∈ (0, 1/2], γ ∈ [1/2, 2β]\n  theta(THETA)         θ ∈ [1/2, 1]\n  ps(E) / ps(E,BETA)   e ∈ [0, 1], β ∈ [0, 1/2] (default 1/4; β = 0 needs a massive contact node)\n  penalty(G) / penalty-cd(G)   γ_P > 0 (penalty-cd: explicit, CFL-checked)\n  moreau-jean(THETA,E)         θ ∈ [1/2, 1], e ∈ [0, 1]\n  nitsche(GAMMA0,THETA)        γ_0 > 0, θ ∈ [-1, 1]\n");
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");

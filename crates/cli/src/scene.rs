@@ -1161,7 +1161,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     if scheme.needs_massless_node() && !mass.massless_contact_node() {
         return Err(field("bar.mass", format!("scheme {scheme} needs a massless contact node: mod, mod1, mod2, mod3, transfer or singular (got {mass})")));
     }
-    if scheme == SchemeSpec::CentralDifferenceTaylor && mass != BarMass::Lumped {
+    if scheme.needs_diagonal_mass() && mass != BarMass::Lumped {
         return Err(field("bar.mass", format!("scheme {scheme} needs a diagonal mass with a massive contact node: lumped (got {mass})")));
     }
     if scheme.needs_massive_node() && mass.massless_contact_node() {

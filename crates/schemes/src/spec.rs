@@ -220,6 +220,12 @@ impl SchemeSpec {
         Ok(())
     }
 
+    /// Whether the scheme needs a diagonal mass (`cd-taylor`'s Taylor start
+    /// divides by it): the `lumped` treatment.
+    pub fn needs_diagonal_mass(&self) -> bool {
+        *self == SchemeSpec::CentralDifferenceTaylor
+    }
+
     /// Whether the scheme needs a massless contact node.
     pub fn needs_massless_node(&self) -> bool {
         matches!(self, SchemeSpec::Reduced(_))
