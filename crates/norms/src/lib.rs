@@ -306,16 +306,21 @@ impl<'a> SpaceIntegrator<'a> {
                 i += d;
             }
         }
-        let v = match self.vnorm {
-            VNorm::H1Seminorm => semi,
-            VNorm::H1Full => semi + l2,
-        };
-        SpaceErrors { l2: l2.max(0.0).sqrt(), v: v.max(0.0).sqrt() }
+        self.from_integrals(l2, semi)
     }
 
     /// Length of the domain.
     pub fn length(&self) -> f64 {
         self.length
+    }
+
+    /// The errors from the integrals `∫ e²` and `∫ e_x²` (the P1 and Pk paths).
+    fn from_integrals(&self, l2: f64, semi: f64) -> SpaceErrors {
+        let v = match self.vnorm {
+            VNorm::H1Seminorm => semi,
+            VNorm::H1Full => semi + l2,
+        };
+        SpaceErrors { l2: l2.max(0.0).sqrt(), v: v.max(0.0).sqrt() }
     }
 
     /// `(∫e², ∫e'²)` over a piece of length `len` of the degree-`q` polynomial
@@ -396,11 +401,7 @@ impl<'a> SpaceIntegrator<'a> {
                 }
             }
         }
-        let v = match self.vnorm {
-            VNorm::H1Seminorm => semi,
-            VNorm::H1Full => semi + l2,
-        };
-        SpaceErrors { l2: l2.max(0.0).sqrt(), v: v.max(0.0).sqrt() }
+        self.from_integrals(l2, semi)
     }
 }
 
