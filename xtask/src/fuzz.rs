@@ -1,6 +1,6 @@
-//! `cargo xtask fuzz`: the long run of the scene fuzzer (`signorini_cli::fuzz`,
+//! `cargo xtask fuzz`: the long run of the scene fuzzer (`signorini_fuzz`,
 //! issue 11 §3). The same generators and checks as the short run in
-//! `crates/cli/tests/fuzz.rs`: scene documents from the grammar and byte-level
+//! `crates/fuzz/tests/fuzz.rs`: scene documents from the grammar and byte-level
 //! mutations of `data/scenes/*.toml`; `parse` and `validate` must not panic,
 //! every rejection must be a typed error naming a field and what is allowed,
 //! valid documents must be accepted and invalid values refused.
@@ -10,7 +10,7 @@
 //! allocation) that file holds the input that caused it. A failure prints the
 //! input proptest shrank it to, and the seed that repeats the run.
 
-use signorini_cli::fuzz::{fuzz, Config};
+use signorini_fuzz::{fuzz, Config};
 use std::cell::{Cell, RefCell};
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};

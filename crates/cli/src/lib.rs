@@ -43,8 +43,6 @@
 //! The output folder must not hold another run's files (any of
 //! [`OUTPUT_FILES`]): `run` refuses it unless asked to `clean` them first.
 
-#[cfg(feature = "fuzz")]
-pub mod fuzz;
 pub mod excitation;
 pub mod scene;
 pub mod sweep;

@@ -2,12 +2,12 @@
 //! documents and byte-level mutations of the shipped scenes never make
 //! `parse` or `validate` panic, every rejection is a typed error naming a
 //! field of the document and what is allowed, and the generator's valid and
-//! invalid values are accepted and refused (see `signorini_cli::fuzz`).
+//! invalid values are accepted and refused (see `signorini_fuzz`).
 //! The long run is `cargo xtask fuzz`.
 
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::TestRunner;
-use signorini_cli::fuzz::{self, Config, Outcome};
+use signorini_fuzz::{self as fuzz, Config, Outcome};
 use signorini_cli::scene::{Scene, SceneError};
 use std::collections::BTreeMap;
 use std::path::Path;
