@@ -110,6 +110,10 @@ struct ConvergenceArgs {
     /// of degree k (default folder out/convergence/<benchmark>-p<k> for k > 1).
     #[arg(long, default_value_t = 1)]
     degree: usize,
+    /// Remove the CSV and SVG files of another study or configuration from
+    /// the output folder first (without it such a folder is refused).
+    #[arg(long)]
+    clean: bool,
 }
 
 fn main() -> ExitCode {
@@ -143,7 +147,7 @@ fn convergence(a: ConvergenceArgs) -> Result<(), String> {
     let masses = signorini_studies::parse_masses(&a.masses).map_err(|e| e.to_string())?;
     let norms = convergence::parse_norms(&a.norms).map_err(|e| e.to_string())?;
     let reduce = a.reduce.as_deref().map(convergence::parse_reduce).transpose().map_err(|e| e.to_string())?;
-    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce, degree: a.degree };
+    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce, degree: a.degree, clean: a.clean };
     let out = with_progress_bar(|p| convergence::run(&cfg, p)).map_err(|e| e.to_string())?;
     notes(&out.notes);
     print!("{}", out.report);

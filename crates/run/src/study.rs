@@ -251,10 +251,15 @@ pub fn lsq_slope(points: &[(f64, f64)]) -> f64 {
     sxy / sxx
 }
 
+/// File name of the CSV of one (scheme, mass) pair: `<scheme>_<mass>.csv`.
+pub fn file_name(scheme: &SchemeSpec, mass: BarMass) -> String {
+    format!("{scheme}_{mass}.csv")
+}
+
 impl ConfigResult {
     /// File name of its CSV: `<scheme>_<mass>.csv`.
     pub fn file_name(&self) -> String {
-        format!("{}_{}.csv", self.scheme, self.mass)
+        file_name(&self.scheme, self.mass)
     }
 
     /// Rate of a named norm.

@@ -6,7 +6,7 @@
 //! (`scheme,mass,m,lambda_tv_ratio`), log-log plots `plot_<norm>.svg`, and
 //! the rates as a Markdown table. Defaults: the papers' study.
 
-use crate::{create_dir, fe, ff, fits_memory, int, parse_schemes, since, txt, Kind, StudyError, Table, TableOut};
+use crate::{fe, ff, fits_memory, int, parse_schemes, prepare_dir, since, txt, Kind, StudyError, Table, TableOut};
 use signorini_fem::BarMass;
 use signorini_norms::NormKind;
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
@@ -46,6 +46,9 @@ pub struct Config {
     /// Element degree `k` (`--degree`: 1, 2, 3): level `m` is `m` elements
     /// of degree `k`; the files of degree 1 are those of P1, byte for byte.
     pub degree: usize,
+    /// Remove CSV and SVG files of another study or configuration from the
+    /// output folder first (`--clean`); without it such a folder is refused.
+    pub clean: bool,
 }
 
 impl Default for Config {
@@ -62,6 +65,7 @@ impl Default for Config {
             norms: NormKind::Exact,
             reduce: None,
             degree: 1,
+            clean: false,
         }
     }
 }
@@ -185,7 +189,7 @@ pub struct Output {
 /// Runs the study (see the module documentation).
 pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
     let (study_cfg, out, mut notes) = cfg.resolve()?;
-    let (results, wall_s, tables) = sweep_into_reduced(&study_cfg, cfg.reduce, &out, "", progress, &mut notes)?;
+    let (results, wall_s, tables) = sweep_into_reduced(&study_cfg, cfg.reduce, &out, "", cfg.clean, progress, &mut notes)?;
     let mut report = format!(
         "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",
         study_cfg.benchmark,
@@ -236,12 +240,13 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
 /// plots into `out`; the tables are named `prefix` + file name. Returns the
 /// results, the sweep's wall time and the tables.
 pub(crate) fn sweep_into(cfg: &StudyConfig, out: &Path, prefix: &str, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
-    sweep_into_reduced(cfg, None, out, prefix, progress, notes)
+    sweep_into_reduced(cfg, None, out, prefix, false, progress, notes)
 }
 
 /// [`sweep_into`] with every level reduced when `reduce` is given.
-fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefix: &str, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
-    create_dir(out)?;
+/// The folder may hold only files this sweep writes, unless `clean`.
+fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefix: &str, clean: bool, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
+    prepare_dir(out, &output_files(cfg), clean)?;
     let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
     let done = AtomicU64::new(0);
     let start = std::time::Instant::now();
@@ -274,7 +279,7 @@ fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefi
         }
     }
     tables.push(osc.finish()?);
-    for norm in ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"] {
+    for norm in PLOTTED_NORMS {
         let series: Vec<Series> = results
             .iter()
             .map(|r| {
@@ -291,6 +296,18 @@ fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefi
     }
     Ok((results, wall, tables))
 }
+
+/// The files a sweep of `cfg` writes into its folder: one CSV per (scheme,
+/// mass), the rates, the oscillation indicator and the plots.
+fn output_files(cfg: &StudyConfig) -> Vec<String> {
+    let mut files: Vec<String> = cfg.schemes.iter().flat_map(|s| cfg.masses.iter().map(move |&m| study::file_name(s, m))).collect();
+    files.extend(["rates.csv", "oscillation.csv"].map(String::from));
+    files.extend(PLOTTED_NORMS.iter().map(|n| format!("plot_{n}.svg")));
+    files
+}
+
+/// The norms drawn against dx, one SVG each.
+const PLOTTED_NORMS: [&str; 4] = ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"];
 
 #[cfg(test)]
 mod tests {

@@ -288,6 +288,35 @@ pub(crate) fn create_dir(dir: &Path) -> Result<(), StudyError> {
     std::fs::create_dir_all(dir).map_err(|source| StudyError::CreateDir { path: dir.to_path_buf(), source })
 }
 
+/// Creates `dir` for a study that will write the `expected` files (names
+/// relative to `dir`) and refuses it when it holds study outputs (CSV or SVG
+/// files) that this run would not write: left from another study or another
+/// configuration, they would mix with this run's files. With `clean` those
+/// files are removed first. Files the run writes are overwritten.
+pub(crate) fn prepare_dir(dir: &Path, expected: &[String], clean: bool) -> Result<(), StudyError> {
+    create_dir(dir)?;
+    let entries = std::fs::read_dir(dir).map_err(|source| StudyError::Io { path: dir.to_path_buf(), source })?;
+    let mut stale: Vec<String> = entries
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        .filter_map(|e| e.file_name().into_string().ok())
+        .filter(|f| (f.ends_with(".csv") || f.ends_with(".svg")) && !expected.iter().any(|x| x == f))
+        .collect();
+    if stale.is_empty() {
+        return Ok(());
+    }
+    stale.sort();
+    if !clean {
+        let shown = if stale.len() > 4 { format!("{}, … ({} files)", stale[..4].join(", "), stale.len()) } else { stale.join(", ") };
+        return Err(StudyError::config("--out", format!("output folder {} holds files of another study or configuration ({shown}): pass --clean to remove them first, or choose another --out", dir.display())));
+    }
+    for f in &stale {
+        let path = dir.join(f);
+        std::fs::remove_file(&path).map_err(|source| StudyError::Io { path, source })?;
+    }
+    Ok(())
+}
+
 /// Writes an SVG (or any text) file.
 pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), StudyError> {
     std::fs::write(path, text).map_err(|source| StudyError::Io { path: path.to_path_buf(), source })

@@ -164,3 +164,47 @@ fn obstacles_tables_are_the_files() {
     assert!(e[..2].iter().all(|x| x.is_finite()) && e[2].is_nan(), "{e:?}");
     std::fs::remove_dir_all(&out).ok();
 }
+
+/// The CSV and SVG file names in `dir` (not recursive), sorted.
+fn study_files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir).expect("the folder").map(|e| e.expect("entry").file_name().to_string_lossy().to_string()).filter(|f| f.ends_with(".csv") || f.ends_with(".svg")).collect();
+    v.sort();
+    v
+}
+
+/// Issue 22 §5: a second study with fewer schemes into the same folder is
+/// refused (naming --out and a stale file) instead of mixing with the first
+/// one's files; `clean` removes exactly the stale files; the same study
+/// again overwrites its own files.
+#[test]
+fn convergence_refuses_a_folder_of_another_configuration() {
+    let out = temp_out("convergence-mixed");
+    let with = |schemes: &str, clean: bool| convergence::Config {
+        schemes: signorini_studies::parse_schemes(&[schemes.to_string()]).expect("schemes"),
+        masses: vec![BarMass::Std],
+        levels: vec![10, 20],
+        out: Some(out.clone()),
+        clean,
+        ..Default::default()
+    };
+    let plots = ["plot_l2_energy.svg", "plot_l2_l2_u.svg", "plot_linf_l2_u.svg", "plot_linf_v_u.svg"];
+    convergence::run(&with("newmark-cn,ps-e1", false), &|_, _| {}).expect("a fresh folder");
+    let mut first: Vec<String> = ["newmark-cn_std.csv", "oscillation.csv", "ps-e1_std.csv", "rates.csv"].into_iter().chain(plots).map(String::from).collect();
+    first.sort();
+    assert_eq!(study_files(&out), first);
+    convergence::run(&with("newmark-cn,ps-e1", false), &|_, _| {}).expect("the same study again overwrites its own files");
+    let rates_before = std::fs::read_to_string(out.join("rates.csv")).expect("rates");
+    match convergence::run(&with("newmark-cn", false), &|_, _| {}) {
+        Err(signorini_studies::StudyError::Config { field, message }) => {
+            assert_eq!(field, "--out", "{message}");
+            assert!(message.contains("ps-e1_std.csv") && message.contains("--clean"), "{message}");
+        }
+        other => panic!("a folder with another configuration's files was accepted: {:?}", other.map(|o| o.out)),
+    }
+    assert_eq!(std::fs::read_to_string(out.join("rates.csv")).expect("rates"), rates_before, "the refusal wrote nothing");
+    convergence::run(&with("newmark-cn", true), &|_, _| {}).expect("--clean");
+    let mut second: Vec<String> = ["newmark-cn_std.csv", "oscillation.csv", "rates.csv"].into_iter().chain(plots).map(String::from).collect();
+    second.sort();
+    assert_eq!(study_files(&out), second, "clean removed the stale pair and kept nothing else");
+    let _ = std::fs::remove_dir_all(&out);
+}
