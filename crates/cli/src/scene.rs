@@ -19,7 +19,8 @@
 //! ("clamped" or "free"), `gap`, `body_force`, and `initial_displacement` /
 //! `initial_velocity` as a number, an expression in `x` (evalexpr syntax:
 //! `0.5 * (1 - x)`, `math::sin(pi * x)`; evaluated in floating point: `1/2`
-//! is 0.5) or a table `[[x0, u0], [x1, u1], …]` (piecewise linear). Every
+//! is 0.5) or a table `[[x0, u0], [x1, u1], …]` (piecewise linear, covering
+//! the whole `[0, length]`; an `[obstacle]` table the nodes it bounds). Every
 //! key is checked: unknown keys are rejected, each value is range-checked
 //! with the allowed range in the message, a key that would not act in this
 //! scene is refused, and the integrator is built once (so a scene that
@@ -103,6 +104,18 @@ pub enum SceneError {
 
 pub(crate) fn field(f: &str, m: impl fmt::Display) -> SceneError {
     SceneError::Field { field: f.to_string(), message: m.to_string() }
+}
+
+/// A number in its shortest round-trip form, with an exponent when it is
+/// very large or very small (`1e300`, `2.5e-12`; `0.1`, `640` as they are),
+/// for messages: never a 300-digit decimal.
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if x.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// The whole scene file.
@@ -745,6 +758,19 @@ impl InitialField {
         })
     }
 
+    /// Refuses a table whose x range does not cover `[a, b]` (to within
+    /// [`NODE_TOLERANCE`] of the span's end): outside its range a table would
+    /// otherwise be extended by its end values without a word.
+    fn check_covers(&self, name: &str, a: f64, b: f64) -> Result<(), SceneError> {
+        let InitialField::Table(t) = self else { return Ok(()) };
+        let tol = NODE_TOLERANCE * b.abs().max(a.abs());
+        let (first, last) = (t[0][0], t[t.len() - 1][0]);
+        if first > a + tol || last < b - tol {
+            return Err(field(name, format!("a table on [{}, {}] is not allowed: its x must cover the whole [{}, {}] (first x <= {}, last x >= {})", num(first), num(last), num(a), num(b), num(a), num(b))));
+        }
+        Ok(())
+    }
+
     /// The value at x (NaN if an expression fails to evaluate, caught by the problem's finiteness check).
     pub fn eval(&self, x: f64) -> f64 {
         match self {
@@ -896,6 +922,12 @@ fn contact_set(stops: &[StopToml], obstacle: Option<&ObstacleToml>, mesh: &NodeM
         }
         let lo_f = obstacle_bound("obstacle.lo", ob.lo.as_ref(), f64::NEG_INFINITY)?;
         let hi_f = obstacle_bound("obstacle.hi", ob.hi.as_ref(), f64::INFINITY)?;
+        // A table must cover the nodes the obstacle bounds.
+        for (name, f) in [("obstacle.lo", &lo_f), ("obstacle.hi", &hi_f)] {
+            if let Some(f) = f {
+                f.check_covers(name, (mesh.x)(first), (mesh.x)(last))?;
+            }
+        }
         if lo_f.is_none() && hi_f.is_none() {
             let name = if ob.lo.is_some() { "obstacle.lo" } else { "obstacle.hi" };
             return Err(field(name, "-inf / +inf alone is not a bound: give at least one finite bound (lo or hi)"));
@@ -1243,6 +1275,8 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             let f = finite("bar.body_force", b.body_force.unwrap_or(0.0))?;
             let u0 = InitialField::compile("bar.initial_displacement", b.initial_displacement.as_ref().ok_or_else(|| field("bar.initial_displacement", "required without a benchmark"))?)?;
             let v0 = InitialField::compile("bar.initial_velocity", b.initial_velocity.as_ref().unwrap_or(&FieldToml::Number(0.0)))?;
+            u0.check_covers("bar.initial_displacement", 0.0, length)?;
+            v0.check_covers("bar.initial_velocity", 0.0, length)?;
             // The stiffness entries are c² m / L.
             let k = c * c * b.elements as f64 / length;
             if !(k.is_finite() && k >= f64::MIN_POSITIVE && (length / b.elements as f64) >= f64::MIN_POSITIVE) {

@@ -770,8 +770,15 @@ fn assemble_bar(p: BarPicks) -> BarTable {
         }
         geometry("gap", Some(g), &mut entries);
     }
+    let length_known = p.length.as_ref().is_none_or(|(v, _)| v.class == Class::Good);
     for (key, f) in [("initial_displacement", p.u0.clone()), ("initial_velocity", p.v0.clone())] {
-        if let Some((v, func)) = f {
+        if let Some((mut v, func)) = f {
+            // A table must cover the whole bar [0, length].
+            if let (false, true, Class::Good, Some((first, last))) = (benchmark_mode, length_known, &v.class, table_span(&v.toml)) {
+                if first > 0.0 || last < length {
+                    v.class = bad(&[if key == "initial_displacement" { "bar.initial_displacement" } else { "bar.initial_velocity" }]);
+                }
+            }
             if let (Some(func), false, Class::Good) = (func, benchmark_mode, &v.class) {
                 known.push((if key == "initial_displacement" { "u" } else { "v" }, func));
             }
@@ -1288,6 +1295,15 @@ struct ContactCtx {
 fn toml_count(text: &str) -> Option<u64> {
     let v: toml::Table = toml::from_str(&format!("v = {text}")).ok()?;
     v.get("v")?.as_integer().and_then(|i| u64::try_from(i).ok())
+}
+
+/// The first and last x of a table `[[x, v], …]` as TOML reads it (`None`
+/// for anything else).
+fn table_span(text: &str) -> Option<(f64, f64)> {
+    let v: toml::Table = toml::from_str(&format!("v = {text}")).ok()?;
+    let rows = v.get("v")?.as_array()?;
+    let x = |r: &toml::Value| r.as_array()?.first().and_then(|x| x.as_float().or(x.as_integer().map(|i| i as f64)));
+    Some((x(rows.first()?)?, x(rows.last()?)?))
 }
 
 fn bar_ctx(p: &BarPicks) -> ContactCtx {
