@@ -77,6 +77,22 @@ pub enum CliError {
     /// Files.
     #[error("{0}")]
     Io(String),
+    /// The scene file cannot be read (missing, a folder, no permission).
+    #[error("cannot read the scene file {}: {}", path.display(), reason(source))]
+    SceneFile {
+        /// The path given.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// `--out` cannot be a folder (a file of that name, no permission).
+    #[error("--out {}: {}", path.display(), out_reason(source))]
+    OutFolder {
+        /// The path given.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
     /// The output folder holds another run's files.
     #[error("output folder {dir} holds files of an earlier run ({files}): pass --clean to remove them first, or choose another --out")]
     Stale {
@@ -121,11 +137,42 @@ impl CliError {
     /// was run), 130 for an interrupted run, 1 for a run that failed.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } => 2,
+            CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } | CliError::SceneFile { .. } | CliError::OutFolder { .. } => 2,
             CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } => 130,
             _ => 1,
         }
     }
+}
+
+/// An IO error in words, without the OS's error number.
+fn reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        std::io::ErrorKind::IsADirectory => "a folder, not a file".into(),
+        _ => e.to_string(),
+    }
+}
+
+/// Why `--out` is not a usable folder.
+fn out_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::AlreadyExists | std::io::ErrorKind::NotADirectory => "is a file (or has a file on its path), not a folder: choose another --out".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied: choose another --out".into(),
+        _ => format!("{e}: choose another --out"),
+    }
+}
+
+/// Reads a scene file: a missing or unreadable file is bad input.
+pub fn read_scene_file(path: &Path) -> Result<String, CliError> {
+    std::fs::read_to_string(path).map_err(|source| CliError::SceneFile { path: path.to_path_buf(), source })
+}
+
+/// The run stopped early: `notes` say what happened to the outputs, and the
+/// rows written into `out` so far are kept.
+fn stopped(error: RunError, mut notes: Vec<String>, out: &Path) -> CliError {
+    notes.push(format!("the rows written so far are kept in {}", out.display()));
+    CliError::Stopped { error, notes }
 }
 
 /// How `run_scene` runs.
@@ -143,7 +190,7 @@ pub struct RunOptions {
 
 /// Reads and validates a scene file within `limits`.
 pub fn load(path: &Path, limits: &scene::Limits) -> Result<(SceneFile, Scene), CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::Io(format!("cannot read {}: {e}", path.display())))?;
+    let text = read_scene_file(path)?;
     let file = SceneFile::parse(&text)?;
     let scene = file.validate_with(limits)?;
     Ok((file, scene))
@@ -424,7 +471,7 @@ fn prepare_output(out: &Path, clean: bool) -> Result<(), CliError> {
             std::fs::remove_file(out.join(f)).map_err(|e| CliError::Io(format!("cannot remove {}: {e}", out.join(f).display())))?;
         }
     }
-    std::fs::create_dir_all(out).map_err(|e| CliError::Io(format!("cannot create {}: {e}", out.display())))
+    std::fs::create_dir_all(out).map_err(|source| CliError::OutFolder { path: out.to_path_buf(), source })
 }
 
 /// Runs a validated scene, writing into `out` (see the module docs for the
@@ -465,7 +512,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             }
             let s = match res {
                 Ok(s) => s,
-                Err(error) => return Err(CliError::Stopped { error, notes }),
+                Err(error) => return Err(stopped(error, notes, out)),
             };
             lines.insert(0, format!("oscillator ({scheme}, dt = {dt:e}): {} steps in {wall:.3} s, {} contact steps; max |x| = {:.6}", s.steps, s.contact_steps, data.max_abs));
             lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
@@ -529,7 +576,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             };
             let s = match res {
                 Ok(s) => s,
-                Err(error) => return Err(CliError::Stopped { error, notes }),
+                Err(error) => return Err(stopped(error, notes, out)),
             };
             let max = data.max_abs;
             let stops = match contacts {
@@ -631,7 +678,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     // A run that stopped early has no norms over [0, T]: no norms.csv.
     let s = match res {
         Ok(s) => s,
-        Err(error) => return Err(CliError::Stopped { error, notes }),
+        Err(error) => return Err(stopped(error, notes, out)),
     };
     let mut lines = vec![format!(
         "{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps",

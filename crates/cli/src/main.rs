@@ -200,7 +200,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Cmd::Sweep { scene, param, from, to, count, log, param2, from2, to2, count2, log2, transient, record, phase, period_tol, no_impacts, follow, shard, resume, threads, out, max_memory } => {
-            let text = std::fs::read_to_string(&scene).map_err(|e| CliError::Io(format!("cannot read {}: {e}", scene.display())))?;
+            let text = signorini_cli::read_scene_file(&scene)?;
             let second = match (param2, from2, to2, count2) {
                 (Some(param), Some(from), Some(to), Some(count)) => Some(Axis { param, from, to, count, log: log2 }),
                 _ => None,
@@ -233,7 +233,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", signorini_run::text::tidy_numbers(&e.to_string()));
             ExitCode::from(e.exit_code())
         }
     }

@@ -83,6 +83,7 @@ use crate::excitation::{ExcitationToml, Table};
 use signorini_run::oscillator::Oscillator;
 use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
 use signorini_reduce::{Keep, ReduceError};
+use signorini_run::text::{num, tidy_numbers};
 use signorini_schemes::{SchemeError, SchemeSpec};
 use std::fmt;
 
@@ -102,21 +103,12 @@ pub enum SceneError {
     },
 }
 
+/// A field's error; very large and very small numbers in the message get
+/// an exponent ([`tidy_numbers`]).
 pub(crate) fn field(f: &str, m: impl fmt::Display) -> SceneError {
-    SceneError::Field { field: f.to_string(), message: m.to_string() }
+    SceneError::Field { field: f.to_string(), message: tidy_numbers(&m.to_string()) }
 }
 
-/// A number in its shortest round-trip form, with an exponent when it is
-/// very large or very small (`1e300`, `2.5e-12`; `0.1`, `640` as they are),
-/// for messages: never a 300-digit decimal.
-pub fn num(x: f64) -> String {
-    let a = x.abs();
-    if x.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
 
 /// The whole scene file.
 #[derive(Debug, Clone, Deserialize, PartialEq)]

@@ -118,8 +118,9 @@ fn bad_inputs_name_the_field_and_range() {
     check_rejects("[output]\nevery = 1\n", 2, &["[bar]", "[beam]"]);
     check_rejects(&format!("{ok}[output]\nevery = 0\n"), 2, &["output.every", ">= 1"]);
     check_rejects("[bar\n", 2, &["scene file", "line 1"]);
+    // A missing scene file is bad input too (issue 22 §11; it was exit 1).
     let o = bin().args(["run", "/nonexistent/scene.toml"]).output().unwrap();
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
 }
 
 #[test]

@@ -46,3 +46,59 @@ fn obstacle_tables_must_cover_the_bounded_nodes() {
     assert!(message.contains("is not allowed") && message.contains("cover"), "{message}");
     validate(&scene("[[0.0, -0.1], [1.501, -0.1]]")).expect("the whole beam (L = 1.501 m)");
 }
+
+/// Runs `signorini <args>`: (exit code, stderr).
+fn cli(args: &[&str]) -> (Option<i32>, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_signorini")).args(args).output().expect("the binary starts");
+    (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+/// §11: a missing scene file and an `--out` that is a file are bad input:
+/// exit 2 with words, not "os error 17"; nothing is run.
+#[test]
+fn missing_scene_and_out_on_a_file_exit_2() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let missing = dir.path().join("nowhere/x.toml");
+    for cmd in ["run", "check", "sweep"] {
+        let mut args = vec![cmd, missing.to_str().expect("utf-8")];
+        if cmd == "sweep" {
+            args.extend(["--param", "oscillator.omega", "--from", "1", "--to", "2", "--count", "2"]);
+        }
+        let (code, err) = cli(&args);
+        assert_eq!(code, Some(2), "{cmd}: {err}");
+        assert!(err.contains("cannot read the scene file") && err.contains("no such file") && !err.contains("os error"), "{cmd}: {err}");
+    }
+    let file = dir.path().join("afile");
+    std::fs::write(&file, "x").expect("write");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/oscillator.toml");
+    let (code, err) = cli(&["run", scene, "--out", file.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--out") && err.contains("not a folder") && !err.contains("os error"), "{err}");
+}
+
+/// §11: very large and very small numbers reach the user in exponent form,
+/// never as 300-digit decimals.
+#[test]
+fn huge_and_tiny_numbers_in_messages_have_an_exponent() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (dt, want) in [("1e300", "dt = 1e300"), ("1e-300", "1e-300 gives")] {
+        let p = dir.path().join("s.toml");
+        std::fs::write(&p, format!("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 20\nmass = \"mod\"\nscheme = \"newmark-cn\"\ndt = {dt}\n")).expect("write");
+        let (code, err) = cli(&["check", p.to_str().expect("utf-8")]);
+        assert_eq!(code, Some(2), "{err}");
+        assert!(err.contains(want), "{err}");
+        assert!(!err.contains("0000000000000000000"), "a long decimal: {err}");
+    }
+}
+
+/// §11: a run that stops early says that its rows are kept, naming the folder.
+#[test]
+fn a_stopped_run_names_where_its_rows_are_kept() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("o");
+    let p = dir.path().join("s.toml");
+    std::fs::write(&p, "[bar]\nelements = 10\ndt = 0.01\ninitial_displacement = 0.0\ninitial_velocity = 1e300\nbody_force = 1e300\n").expect("write");
+    let (code, err) = cli(&["run", p.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains(&format!("the rows written so far are kept in {}", out.display())), "{err}");
+}

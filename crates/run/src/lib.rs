@@ -34,6 +34,7 @@ pub mod problem;
 pub mod reduced;
 pub mod runner;
 pub mod study;
+pub mod text;
 pub mod vibro;
 
 pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};

@@ -35,7 +35,7 @@ pub struct Reduced {
 /// errors ([`signorini_reduce::ReduceError`], naming `modes`, `cutoff_hz`).
 pub fn reduce(dy: &Dynamics, init: &Initial, keep: Keep) -> Result<Reduced, RunError> {
     if dy.damping.is_some() {
-        return Err(RunError::Invalid { field: "damping", value: f64::NAN, allowed: "none with a reduced model" });
+        return Err(RunError::NotAllowed { field: "damping", allowed: "none with a reduced model" });
     }
     let dofs: Vec<usize> = dy.contacts.iter().map(|c| c.dof).collect();
     let reduction = Reduction::new(&dy.stiffness, &dy.mass, &dofs, keep)?;

@@ -18,6 +18,14 @@ pub enum RunError {
         /// The allowed range, in words.
         allowed: &'static str,
     },
+    /// A key or option that this path does not take (it has no value to show).
+    #[error("{field} is not allowed here: allowed {allowed}")]
+    NotAllowed {
+        /// The key or option's name.
+        field: &'static str,
+        /// What is allowed instead, in words.
+        allowed: &'static str,
+    },
     /// A stop (or an obstacle at a node) that cannot be used.
     #[error("invalid stop.{index}.{field} = {value}: allowed {allowed}")]
     Stop {
@@ -43,7 +51,7 @@ pub enum RunError {
     #[error(transparent)]
     Scheme(SchemeError),
     /// The state became non-finite: the run stopped there.
-    #[error("run blew up: non-finite state at step {step} (t = {time}); output written so far is kept")]
+    #[error("run blew up: non-finite state at step {step} (t = {time})")]
     BlowUp {
         /// The step.
         step: usize,
@@ -51,7 +59,7 @@ pub enum RunError {
         time: f64,
     },
     /// The energy grew beyond the configured bound: the run stopped there.
-    #[error("run blew up: energy {energy} exceeds {limit} x the energy scale {scale} (max of |E(0)|, the loads' energy over the horizon and ½ m (max|U⁰|/T)²) at step {step} (t = {time}); output written so far is kept")]
+    #[error("run blew up: energy {energy} exceeds {limit} x the energy scale {scale} (max of |E(0)|, the loads' energy over the horizon and ½ m (max|U⁰|/T)²) at step {step} (t = {time})")]
     EnergyGrowth {
         /// The step.
         step: usize,
@@ -85,7 +93,7 @@ pub enum RunError {
         dt: f64,
     },
     /// The run was interrupted (SIGINT/SIGTERM): what was written is kept.
-    #[error("interrupted at step {step} (t = {time}); output written so far is kept")]
+    #[error("interrupted at step {step} (t = {time})")]
     Interrupted {
         /// The last step completed.
         step: usize,
