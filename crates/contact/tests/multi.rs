@@ -458,3 +458,88 @@ fn block_pivoting_cycles_and_single_pivots_solve() {
         }
     }
 }
+
+/// `|u − v| <= tol` entry by entry (false for a NaN, unlike a max-fold).
+fn all_close(u: &[f64], v: &[f64], tol: f64) -> bool {
+    u.len() == v.len() && u.iter().zip(v).all(|(a, b)| (a - b).abs() <= tol)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// The warm start over a sequence of solves: one `MultiProjection` kept
+    /// from step to step (statuses carried over) against a fresh one per
+    /// step (cold) and against brute-force KKT, k <= 5 dofs, the bounds of
+    /// every dof redrawn at each step among one-sided, two-sided, fixed and
+    /// none — so a dof left at an upper (lower) bound meets `hi = +∞`
+    /// (`lo = −∞`) at the next step. Warm, cold and brute force agree to
+    /// round-off (cond(A) < 1e3 as in `matches_brute_force_kkt`), entry by
+    /// entry, and the multipliers to the brute force's.
+    #[test]
+    fn warm_and_cold_agree_over_sequences_of_bounds(
+        n in 2usize..10, p in 1usize..4, gram in any::<bool>(),
+        vals in prop::collection::vec(-1.0f64..1.0, 64),
+        picks in prop::collection::vec(0usize..1000, 1..6),
+        steps in prop::collection::vec((prop::collection::vec((0u8..5, -1.0f64..0.5, 0.0f64..1.0), 5), prop::collection::vec(-3.0f64..3.0, 10)), 2..8),
+    ) {
+        let a = spd(n, p, &vals, gram);
+        let mut dofs: Vec<usize> = picks.iter().map(|q| q % n).collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        let k = dofs.len();
+        let cols: Vec<Vec<f64>> = dofs.iter().map(|&c| column(&a, c)).collect();
+        let mut warm = MultiProjection::new(dofs.clone(), cols.clone()).unwrap();
+        for (s, (codes, b)) in steps.iter().enumerate() {
+            let b = &b[..n];
+            let (lo, hi): (Vec<f64>, Vec<f64>) = codes[..k].iter().map(|&(c, x, w)| bounds_of(c, x, w)).unzip();
+            let (x_ref, mu_ref) = brute_force(&a, b, &dofs, &lo, &hi);
+            let scale = x_ref.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let before = warm.status().to_vec();
+            let mut xw = solve(&a, b);
+            let rw = warm.project(&mut xw, &lo, &hi).unwrap();
+            let mut cold = MultiProjection::new(dofs.clone(), cols.clone()).unwrap();
+            let mut xc = solve(&a, b);
+            cold.project(&mut xc, &lo, &hi).unwrap();
+            prop_assert!(all_close(&xw, &x_ref, 1e-11 * scale), "step {s}: warm x {xw:?} vs brute force {x_ref:?} (statuses before {before:?}, bounds {lo:?} {hi:?}, {rw:?})");
+            prop_assert!(all_close(&xc, &x_ref, 1e-11 * scale), "step {s}: cold x {xc:?} vs brute force {x_ref:?}");
+            prop_assert!(all_close(&xw, &xc, 1e-11 * scale), "step {s}: warm {xw:?} vs cold {xc:?}");
+            for i in 0..k {
+                let tol = 1e-9 * (1.0 + mu_ref[i].abs());
+                prop_assert!((warm.multipliers()[i] - mu_ref[i]).abs() <= tol, "step {s}: warm μ_{i} = {} vs {}", warm.multipliers()[i], mu_ref[i]);
+                prop_assert!((cold.multipliers()[i] - mu_ref[i]).abs() <= tol, "step {s}: cold μ_{i} = {} vs {}", cold.multipliers()[i], mu_ref[i]);
+            }
+        }
+    }
+}
+
+/// The same by hand, for a bound that becomes infinite under a held dof:
+/// `D = [[2, 1, 0], [1, 2, 1], [0, 1, 2]]` (given as `A = D⁻¹` on three
+/// dofs), `y = (2, 3, 2)`. First `hi = 0`: every dof at its upper bound,
+/// `D μ = −y`, `μ = (−1/2, −1, −1/2)` (all `<= 0`). Then `hi₀ = +∞`: dof 0
+/// is free, dofs 1 and 2 held, `[[2, 1], [1, 2]] (μ₁, μ₂) = (−3, −2)`,
+/// `μ = (0, −4/3, −1/3)`, `x₀ = 2 + 1 · (−4/3) = 2/3`. Mirrored for the
+/// lower bounds (`y → −y`, `lo = 0`, then `lo₀ = −∞`). (Keeping dof 0 at
+/// the infinite bound puts `∞` in the pivot's right-hand side: with three
+/// held dofs the multipliers are NaN, no dof looks infeasible and `x₀ = ±∞`
+/// comes back as solved.) Values O(1): 1e-15 is a few ulps.
+#[test]
+fn warm_start_releases_a_bound_that_became_infinite() {
+    let inf = f64::INFINITY;
+    for sign in [1.0, -1.0] {
+        let d = vec![vec![2.0, 1.0, 0.0], vec![1.0, 2.0, 1.0], vec![0.0, 1.0, 2.0]];
+        let mut mp = MultiProjection::new(vec![0, 1, 2], d).unwrap();
+        let side = |b: [f64; 3]| if sign > 0.0 { ([-inf; 3], b) } else { (b.map(|v| -v), [inf; 3]) };
+        let held = if sign > 0.0 { Active::Upper } else { Active::Lower };
+        let y = [2.0 * sign, 3.0 * sign, 2.0 * sign];
+        let (lo, hi) = side([0.0; 3]);
+        let mut x = y.to_vec();
+        mp.project(&mut x, &lo, &hi).unwrap();
+        assert_eq!((x.as_slice(), mp.status()), (&[0.0; 3][..], &[held; 3][..]));
+        assert!(all_close(mp.multipliers(), &[-0.5 * sign, -sign, -0.5 * sign], 1e-15), "{:?}", mp.multipliers());
+        let (lo, hi) = side([inf, 0.0, 0.0]);
+        let mut x = y.to_vec();
+        let rep = mp.project(&mut x, &lo, &hi).unwrap();
+        assert!(all_close(&x, &[2.0 / 3.0 * sign, 0.0, 0.0], 1e-15), "x = {x:?}, {rep:?}");
+        assert!(all_close(mp.multipliers(), &[0.0, -4.0 / 3.0 * sign, -sign / 3.0], 1e-15), "μ = {:?}", mp.multipliers());
+        assert_eq!(mp.status(), [Active::None, held, held]);
+    }
+}
