@@ -34,6 +34,9 @@ pub struct MultiProjected {
     /// dof and the largest wrong-signed multiplier times its `D_ii`
     /// (both in units of displacement; zero up to rounding).
     pub residual: f64,
+    /// Of the `iterations`, the passes made by Murty's least-index single
+    /// pivots after block pivoting stalled (0: block pivots alone solved it).
+    pub single_pivots: usize,
 }
 
 /// The exact solver for `k` constrained dofs, holding the influence columns
@@ -86,6 +89,12 @@ impl PivotRule {
     pub fn new(values: impl Iterator<Item = (f64, f64, f64)>) -> Self {
         let scale = values.map(|(y, l, h)| y.abs().max(finite_or_zero(l).abs()).max(finite_or_zero(h).abs())).fold(0.0_f64, f64::max).max(f64::MIN_POSITIVE);
         Self { best: usize::MAX, fails: 0, single: false, tol: 64.0 * f64::EPSILON * scale }
+    }
+
+    /// Whether block pivoting has stalled and the next passes are Murty's
+    /// least-index single pivots.
+    pub fn single(&self) -> bool {
+        self.single
     }
 
     /// The pivots allowed before a solve gives up, for `k` dofs.
@@ -263,7 +272,7 @@ impl MultiProjection {
                     self.dirty = false;
                 }
                 self.set.clear();
-                return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0 }));
+                return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0, single_pivots: 0 }));
             }
         }
         // Start from the previous statuses (warm start: contact sets change
@@ -288,21 +297,24 @@ impl MultiProjection {
                 self.dirty = false;
             }
             self.set.clear();
-            return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0 }));
+            return Ok(Some(MultiProjected { iterations: 0, active: 0, residual: 0.0, single_pivots: 0 }));
         }
         self.dirty = true;
         let mut rule = PivotRule::new((0..k).map(|i| (y[self.dofs[i]], lo[i], hi[i])));
         let max_iter = PivotRule::max_iterations(k);
+        let mut single_pivots = 0;
         for it in 1..=max_iter {
             if !self.solve_on_status(y, lo, hi, cap)? {
                 return Ok(None);
             }
             let (z, mu, delassus) = (&self.z, &self.mu, &self.delassus);
+            let single = rule.single();
             if rule.pass(&mut self.status, lo, hi, |i| (z[i], mu[i] * delassus[i * k + i])) == 0 {
                 let residual = self.apply(y, lo, hi);
                 self.held = self.set.len();
-                return Ok(Some(MultiProjected { iterations: it, active: self.held, residual }));
+                return Ok(Some(MultiProjected { iterations: it, active: self.held, residual, single_pivots }));
             }
+            single_pivots += usize::from(single);
         }
         Err(ContactError::NoConvergence { iterations: max_iter })
     }

@@ -218,3 +218,47 @@ fn refusals_name_the_node() {
     }
     let _ = MASSLESS;
 }
+
+/// `transfer` at an interior contact node next to the far end, by hand:
+/// m = 4 on `[0, 1]` (h = 1/4), contacts at nodes 0 and 3. The consistent
+/// mass on all nodes has diagonal `h/3, 2h/3, 2h/3, 2h/3, h/3` and
+/// off-diagonal `h/6`. Row sums: node 0 (end) `h/3 + h/6 = h/2`, all of it
+/// to node 1; node 3 (interior) `h/6 + 2h/3 + h/6 = h`, half to node 2 and
+/// half to node 4 — the far end node is a neighbour like any other. Rows
+/// and columns 0 and 3 are then zeroed:
+///
+/// ```text
+/// M11 = 2h/3 + h/2 = 7h/6 = 7/24    M12 = h/6 = 1/24
+/// M22 = 2h/3 + h/2 = 7h/6 = 7/24    M23 = M34 = M01 = 0
+/// M44 = h/3 + h/2 = 5h/6 = 5/24     M00 = M33 = 0
+/// ```
+///
+/// Clamped, node 4 is dropped (its share of node 3's row goes with it):
+/// the unknowns 0..=3 keep the same entries. Each entry is at most three
+/// rounded terms: 2 ulp.
+#[test]
+fn transfer_next_to_the_far_end_by_hand() {
+    #[rustfmt::skip]
+    let want_all: [[f64; 5]; 5] = [
+        [0.0, 0.0,         0.0,        0.0, 0.0],
+        [0.0, 7.0 / 24.0,  1.0 / 24.0, 0.0, 0.0],
+        [0.0, 1.0 / 24.0,  7.0 / 24.0, 0.0, 0.0],
+        [0.0, 0.0,         0.0,        0.0, 0.0],
+        [0.0, 0.0,         0.0,        0.0, 5.0 / 24.0],
+    ];
+    let check = |got: &SymBand, n: usize, what: &str| {
+        assert_eq!(got.n(), n, "{what}");
+        for i in 0..n {
+            for j in i.saturating_sub(1)..=i {
+                let w = want_all[i][j];
+                assert!((got.get(i, j) - w).abs() <= 2.0 * f64::EPSILON * w.abs(), "{what}: M{i}{j} = {} by hand {w}", got.get(i, j));
+            }
+        }
+    };
+    let free = Bar::new(1.0, 4, 1.0, RightEnd::Free).unwrap();
+    check(&free.mass_all_nodes_with_contacts(BarMass::Transfer, &[0, 3]).unwrap(), 5, "all nodes");
+    check(&free.mass_with_contacts(BarMass::Transfer, &[0, 3]).unwrap(), 5, "free");
+    check(&free.mass_with_contacts(BarMass::Transfer, &[3, 0]).unwrap(), 5, "free, contacts unsorted");
+    let clamped = Bar::new(1.0, 4, 1.0, RightEnd::Clamped).unwrap();
+    check(&clamped.mass_with_contacts(BarMass::Transfer, &[0, 3]).unwrap(), 4, "clamped");
+}

@@ -517,3 +517,75 @@ fn period_of_sampled_trajectories() {
         assert_eq!(parse_csv(&csv).1.len(), npts);
     }
 }
+
+/// Feeds `levels` (at `t_n = n dt`) to `obs` as a run whose first `start`
+/// levels are start levels (no step reached them: no `lambda`, zero
+/// forces, as `run` emits them), then finishes it.
+fn feed_started(obs: &mut dyn Observer, dt: f64, start: usize, levels: &[Level]) -> Result<(), RunError> {
+    for (n, l) in levels.iter().enumerate() {
+        let t = n as f64 * dt;
+        let lambda = (n >= start).then_some((t, l.forces[0]));
+        obs.observe(&Sample { n, t, u: &l.u, lambda, energy: None, active: false, forces: &l.forces, status: &l.status, work: None })?;
+    }
+    obs.finish()
+}
+
+/// The RMS force is over the stepped levels only, by hand: forces
+/// `(0, 0), (0, 0), (3, 4), (0, 0), (1, −2)` at levels 0..=4 from
+/// `record_from = 0`, `Σ_n Σ_i λ_i² = 25 + 0 + 5 = 30`. A two-step start
+/// (levels 0 and 1 without a step) averages over 3 levels: `sqrt(10)`; a
+/// one-step start (level 0 only) over 4, the zero forces of level 1 counted:
+/// `sqrt(7.5)`. Counting the start levels too would give `sqrt(6)`.
+#[test]
+fn window_rms_over_stepped_levels_by_hand() {
+    let forces = [[0.0, 0.0], [0.0, 0.0], [3.0, 4.0], [0.0, 0.0], [1.0, -2.0]];
+    let levels: Vec<Level> = forces.iter().map(|f| Level { u: vec![0.5], forces: f.to_vec(), status: vec![Active::None; 2] }).collect();
+    for (start, want) in [(2, 10.0_f64.sqrt()), (1, 7.5_f64.sqrt())] {
+        let mut obs = WindowObserver::new(0, 0.0);
+        feed_started(&mut obs, 0.1, start, &levels).unwrap();
+        assert!(rel(obs.rms_force(), want) < 1e-15, "start {start}: {} vs {want}", obs.rms_force());
+    }
+}
+
+/// The period test at its boundary `2p = L` (exactly two periods in the
+/// last `L = min(N, 2 p_max)` points), by hand with the period-3 values
+/// `a, b, c` of `period_detection`: `a b c a b c` (N = 6 = 2·3) is period 3
+/// with `p_max = 8` (L = 6) and with `p_max = 3`; `a b a b` is period 2 with
+/// `p_max = 2`; two equal points are period 1 with `p_max = 1`; a
+/// transient `c c` before `a b c a b c` is left out with `p_max = 3` (L = 6:
+/// period 3) but not with `p_max = 4` (L = 8: `c c a b c a b c` has no
+/// period <= 4: `p = 1, 2, 4` pair `c` with `a`, `p = 3` pairs `c` with `b`).
+#[test]
+fn period_at_exactly_two_periods() {
+    let [a, b, c] = [(0.3, -1.0), (1.2, 0.5), (-0.8, 0.9)];
+    let seq = |vals: &[(f64, f64)]| -> Vec<PoincarePoint> { vals.iter().enumerate().map(|(j, &(x, v))| pt(j as u64, x, v)).collect() };
+    let period = |vals: &[(f64, f64)], p_max: usize| response_period(&seq(vals), p_max, 1e-3, 2.0, 2.0);
+    assert_eq!(period(&[a, b, c, a, b, c], 8), Some(3));
+    assert_eq!(period(&[a, b, c, a, b, c], 3), Some(3));
+    assert_eq!(period(&[a, b, a, b], 2), Some(2));
+    assert_eq!(period(&[a, a], 1), Some(1));
+    assert_eq!(period(&[c, c, a, b, c, a, b, c], 3), Some(3));
+    assert_eq!(period(&[c, c, a, b, c, a, b, c], 4), None);
+    assert_eq!(period(&[a, b, c, a, b], 8), None);
+}
+
+/// A Poincaré time on the last level: `Ω = 2π` (period `2π/2π = 1`
+/// exactly), `dt = 1/4`, levels `t_n = n/4`, `n = 0..=8`, of the cubic
+/// `u = t³ − t` (every `t_n` and `u(t_n)` exact in binary). The section
+/// times are `t_k = k`, `k = 0, 1, 2`, the last one the last level `t_8 =
+/// 2`, emitted at `finish`. By hand: `(u, u') = (0, −1), (0, 2), (6, 11)`;
+/// the cubic stencils reproduce `u` (errors a few ulps).
+#[test]
+fn poincare_point_on_the_last_level() {
+    let dt = 0.25;
+    let levels: Vec<Level> = (0..=8).map(|n| n as f64 * dt).map(|t| one(t * t * t - t, 0.0, Active::None)).collect();
+    let mut obs = PoincareObserver::<std::io::Sink>::new(0, dt, TAU, 0.0, 0, None).unwrap();
+    feed(&mut obs, dt, &levels).unwrap();
+    let got: Vec<(u64, f64, f64, f64)> = obs.points().iter().map(|p| (p.k, p.t, p.displacement, p.velocity)).collect();
+    let want = [(0, 0.0, 0.0, -1.0), (1, 1.0, 0.0, 2.0), (2, 2.0, 6.0, 11.0)];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!((g.0, g.1), (w.0, w.1));
+        assert!((g.2 - w.2).abs() <= 1e-14 && (g.3 - w.3).abs() <= 1e-13, "{g:?} vs {w:?}");
+    }
+}

@@ -294,3 +294,44 @@ fn explicit_penalty_refuses_steps_beyond_its_cfl_limit() {
     assert!(matches!(spec.build(massless, 1e-4, &init), Err(SchemeError::MassNotSupported { .. })));
     assert!(matches!("penalty(0)".parse::<SchemeSpec>(), Err(SchemeError::Invalid { field: "gamma_p", .. })));
 }
+
+/// `cd-taylor` takes dt up to and including its CFL limit `2/ω_max` and
+/// refuses beyond it, the limit from the closed-form spectrum of the lumped
+/// P1 bar (c = 1, h = 1/m): `(h/2) ü₀ = (u₁ − u₀)/h` at node 0 is the
+/// interior equation `h ü_i = (u_{i−1} − 2u_i + u_{i+1})/h` with the mirror
+/// `u_{−1} = u₁`, so the modes are `u_i = cos(θ i)` with
+/// `ω² = (4/h²) sin²(θ/2)`. A free far end mirrors too: `θ = jπ/m`,
+/// `j = 0..=m`, `ω_max = 2/h` and the limit is `h` (Courant number one);
+/// a clamped one needs `cos(θ m) = 0`: `θ = (2j − 1)π/(2m)`, `j = 1..=m`,
+/// `ω_max = (2/h) cos(π/(4m))` and the limit `h / cos(π/(4m))`. The
+/// computed limit equals the closed form to 1e-10; the step equal to the
+/// closed form is accepted, and so is 1 + 1e-10 times it (the room the
+/// crate leaves for the round-off of its computed limit: measured, that
+/// limit is one ulp below `h` at m = 5 with a free end, up to 6e-14 above
+/// it for m < 80); 1.001 and 1 + 1e-6 times it are refused, naming the
+/// limit — room for round-off, not for a step beyond the limit.
+#[test]
+fn cd_taylor_takes_its_cfl_limit_and_refuses_beyond() {
+    let spec: SchemeSpec = "cd-taylor".parse().unwrap();
+    for free in [true, false] {
+        for m in [5usize, 10, 25] {
+            let h = 1.0 / m as f64;
+            let limit = if free { h } else { h / (std::f64::consts::PI / (4.0 * m as f64)).cos() };
+            let (dy, _) = bar_scene(m, BarMass::Lumped, free, 0.0, 0.0, None);
+            let n = if free { m + 1 } else { m };
+            let init = approaching(n, m, 0.0, 0.1, 0.3, 0.0, 1.0);
+            let reported = spec.cfl_limit(&dy).unwrap().unwrap();
+            assert!((reported - limit).abs() <= 1e-10 * limit, "free {free} m = {m}: computed limit {reported:e}, closed form {limit:e}");
+            for factor in [1.0, 1.0 + 1e-10] {
+                assert!(spec.build(dy.clone(), factor * limit, &init).is_ok(), "free {free} m = {m}: refused dt = {factor} × the limit {limit:e}");
+            }
+            for factor in [1.001, 1.0 + 1e-6] {
+                match spec.build(dy.clone(), factor * limit, &init) {
+                    Err(SchemeError::Unstable { dt, limit: l, .. }) => assert!(dt == factor * limit && (l - limit).abs() <= 1e-10 * limit, "free {free} m = {m}: refusal names {l:e}, closed form {limit:e}"),
+                    Err(e) => panic!("free {free} m = {m}: {e}"),
+                    Ok(_) => panic!("free {free} m = {m}: accepted {factor} × the limit {limit:e}"),
+                }
+            }
+        }
+    }
+}
