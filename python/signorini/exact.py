@@ -3,6 +3,9 @@
 ``solution(name, **params)`` returns an object whose methods take numpy
 arrays (or numbers) and broadcast: ``u(x, t)``, ``u_x(x, t)``, ``u_t(x, t)``,
 ``lam(t)``, ``energy(t)``; results are float64 arrays of the broadcast shape.
+Outside the solution's domain — a NaN or infinite ``t`` (for
+bar-neumann-gravity, ``t`` outside ``[0, t_max]``), a point ``x`` off the
+bar ``[0, length]`` by more than round-off — the values are NaN.
 """
 
 from __future__ import annotations
@@ -58,8 +61,10 @@ class Solution:
         return self._inner.lam(np.ascontiguousarray(t).ravel()).reshape(t.shape)
 
     def energy(self, t) -> np.ndarray:
-        """Energy E(t) (conserved: the same value at every t)."""
-        return np.full(np.shape(t), self._inner.energy(), dtype=np.float64)
+        """Energy E(t) (conserved: the same value at every t where the
+        solution is defined; NaN at a NaN or infinite t, or beyond t_max)."""
+        t = np.asarray(t, dtype=np.float64)
+        return self._inner.energy_at(np.ascontiguousarray(t).ravel()).reshape(t.shape)
 
     def __repr__(self) -> str:
         return f"signorini.exact.Solution({self.name!r})"

@@ -104,6 +104,11 @@ impl Exact {
     fn energy(&self) -> f64 {
         self.inner.energy()
     }
+    /// The energy at each time: the conserved value where the solution is
+    /// defined, NaN elsewhere (a NaN or infinite t, beyond t_max).
+    fn energy_at<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        guarded(|| Ok(t.as_slice()?.iter().map(|&t| self.inner.energy_at(t)).collect::<Vec<f64>>().into_pyarray(py)))
+    }
 }
 
 /// The exact solution `name` ("bar-dirichlet", "bar-mirrored",
