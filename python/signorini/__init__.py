@@ -53,8 +53,8 @@ def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] =
     SceneError naming the field."""
     if hasattr(scene, "__fspath__"):
         scene = str(scene.__fspath__())
-    if energy is not None and not isinstance(energy, bool):
-        raise SceneError(f"energy: {energy!r} is a {type(energy).__name__}: True, False or None")
+    if energy is not None:
+        energy = _check.boolean("energy", energy)
     fields_every = _check.integer("fields_every", fields_every, 0)
     try:
         return RunResult(_signorini.run_scene(scene, energy, fields_every))

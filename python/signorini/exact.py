@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _signorini
+from . import _check, _signorini
 
 __all__ = ["Solution", "solution", "NAMES"]
 
@@ -77,7 +77,4 @@ def solution(name: str, **params) -> Solution:
     unknown = sorted(set(params) - _PARAMS)
     if unknown:
         raise _signorini.SceneError(f"{unknown[0]}: not a parameter of solution(); allowed: {', '.join(sorted(_PARAMS))}")
-    for k, v in params.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise _signorini.SceneError(f"{k}: {v!r} is not allowed: a number")
-    return Solution(_signorini.exact_solution(name, **{k: float(v) for k, v in params.items()}))
+    return Solution(_signorini.exact_solution(name, **{k: _check.real(k, v) for k, v in params.items()}))

@@ -80,7 +80,7 @@ def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=No
     count = _check.integer("count", count, 1)
     second = None
     if param2 is not None:
-        second = (_check.string("param2", param2), _check.number("start2", start2), _check.number("stop2", stop2), _check.integer("count2", count2, 1), bool(log2))
+        second = (_check.string("param2", param2), _check.number("start2", start2), _check.number("stop2", stop2), _check.integer("count2", count2, 1), _check.boolean("log2", log2))
     transient = _check.number("transient", transient)
     record = _check.number("record", record)
     phase = _check.number("phase", phase)
@@ -91,9 +91,7 @@ def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=No
         shard = (_check.integer("shard[0]", shard[0], 0), _check.integer("shard[1]", shard[1], 1))
     if threads is not None:
         threads = _check.integer("threads", threads, 1)
-    for k, v in (("log", log), ("impacts", impacts), ("follow", follow), ("resume", resume)):
-        if not isinstance(v, bool):
-            raise SceneError(f"{k}: {v!r} is a {type(v).__name__}: True or False")
+    log, impacts, follow, resume = (_check.boolean(k, v) for k, v in (("log", log), ("impacts", impacts), ("follow", follow), ("resume", resume)))
 
     def go(folder):
         try:

@@ -155,6 +155,11 @@ fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f6
 /// lists arrays, and numbers, strings and booleans themselves.
 fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
     use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+    // numpy: a scalar or 0-d array is the Python value it holds (a numpy
+    // bool stays a bool, an integer an integer), an array a list.
+    if let Some(plain) = numpy_plain(v)? {
+        return to_toml(&plain, path);
+    }
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract()?));
     }
@@ -188,6 +193,21 @@ fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
         return Ok(toml::Value::Float(x));
     }
     Err(SceneError::new_err(format!("{path}: a {} is not allowed: a number, a string, a boolean, a list or a dict", v.get_type().name()?)))
+}
+
+/// A numpy scalar or 0-d array as the Python value it holds (`.item()`), a
+/// numpy array of any other shape as nested lists (`.tolist()`); `None` for
+/// anything that is not numpy's.
+pub(crate) fn numpy_plain<'py>(v: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyAny>>> {
+    if !v.hasattr("dtype")? {
+        return Ok(None);
+    }
+    let Ok(ndim) = v.getattr("ndim").and_then(|n| n.extract::<usize>()) else { return Ok(None) };
+    let method = if ndim == 0 { "item" } else { "tolist" };
+    if !v.hasattr(method)? {
+        return Ok(None);
+    }
+    Ok(Some(v.call_method0(method)?))
 }
 
 /// The scene of `scene`: a dict (the TOML schema as Python values), a path
