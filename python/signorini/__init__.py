@@ -51,8 +51,7 @@ def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] =
     50 ms, a blow-up raises BlowUp (step and time in its message) — both with
     the partial result as their ``partial`` attribute. Bad input raises
     SceneError naming the field."""
-    if hasattr(scene, "__fspath__"):
-        scene = str(scene.__fspath__())
+    scene = _check.scene(scene)
     if energy is not None:
         energy = _check.boolean("energy", energy)
     fields_every = _check.integer("fields_every", fields_every, 0)
@@ -70,9 +69,7 @@ def check(scene: Union[dict, str, "os.PathLike[str]"]) -> str:
     prints it: the scene validated and its integrator built (a bad scene
     raises SceneError, exactly as ``run`` would), the stability limit, the
     memory and output estimates, the number of steps. Nothing is run."""
-    if hasattr(scene, "__fspath__"):
-        scene = str(scene.__fspath__())
-    return _signorini.check_scene(scene)
+    return _signorini.check_scene(_check.scene(scene))
 
 
 class RunResult:

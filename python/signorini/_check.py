@@ -3,8 +3,10 @@ SceneError naming the argument and what is allowed (never a TypeError from
 deep inside the extension). numpy scalars and 0-d arrays count as the
 Python number (or bool) they hold."""
 
+import errno as _errno
 import math as _math
 import numbers as _numbers
+import os as _os
 from typing import Optional as _Optional
 
 from ._signorini import SceneError
@@ -80,3 +82,22 @@ def sequence(name: str, v, item):
     if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
         v = [v]
     return [item(f"{name}[{i}]", x) for i, x in enumerate(v)]
+
+
+def scene(v):
+    """A scene argument: a dict, or a str — a path (``os.PathLike`` too) or
+    TOML text. A path to a missing file raises FileNotFoundError: a
+    ``PathLike``, or a one-line str without ``=`` that ends with ``.toml``
+    or names a folder (TOML text has a ``key = value``)."""
+    if isinstance(v, dict):
+        return v
+    if isinstance(v, _os.PathLike):
+        p = _os.fsdecode(_os.fspath(v))
+        if not _os.path.isfile(p):
+            raise FileNotFoundError(_errno.ENOENT, f"scene: no such file ({'a folder' if _os.path.isdir(p) else 'it does not exist'})", p)
+        return p
+    if isinstance(v, str):
+        if "\n" not in v and "=" not in v and not _os.path.isfile(v) and (v.strip().endswith(".toml") or _os.sep in v or "/" in v):
+            raise FileNotFoundError(_errno.ENOENT, f"scene: no such file ({'a folder' if _os.path.isdir(v) else 'it does not exist'})", v)
+        return v
+    raise SceneError(f"scene: {_what(v)} is not allowed: a dict, a path (str or os.PathLike) or TOML text (str)")

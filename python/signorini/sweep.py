@@ -45,8 +45,7 @@ class SweepResult:
 
 
 def _scene(scene):
-    if hasattr(scene, "__fspath__"):
-        scene = os.fspath(scene)
+    scene = _check.scene(scene)
     if isinstance(scene, dict):
         return _signorini.scene_text(scene), "scene", None
     if isinstance(scene, str):

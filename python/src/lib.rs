@@ -192,7 +192,7 @@ fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
     if let Ok(x) = v.extract::<f64>() {
         return Ok(toml::Value::Float(x));
     }
-    Err(SceneError::new_err(format!("{path}: a {} is not allowed: a number, a string, a boolean, a list or a dict", v.get_type().name()?)))
+    Err(SceneError::new_err(format!("{}: {} is not allowed: a number (int or float), a str, a bool, a list or a dict", if path.is_empty() { "scene" } else { path }, type_words(v))))
 }
 
 /// A numpy scalar or 0-d array as the Python value it holds (`.item()`), a
@@ -210,11 +210,74 @@ pub(crate) fn numpy_plain<'py>(v: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'
     Ok(Some(v.call_method0(method)?))
 }
 
+/// `repr(v) (a T)`, T the Python type's name.
+fn type_words(v: &Bound<'_, PyAny>) -> String {
+    let ty = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+    let r = v.repr().map(|r| r.to_string()).unwrap_or_default();
+    let r = if r.chars().count() > 60 { format!("{}...", r.chars().take(57).collect::<String>()) } else { r };
+    format!("{r} (a {ty})")
+}
+
+/// serde's words for a value or a type, in Python's.
+fn py_words(serde: &str) -> String {
+    let quoted = |s: &str| s.split('`').nth(1).unwrap_or("").to_string();
+    let t = serde.trim();
+    match t {
+        "sequence" | "a sequence" => "a list".into(),
+        "map" | "a map" => "a dict".into(),
+        "a string" => "a str".into(),
+        "a boolean" => "a bool (True or False)".into(),
+        "usize" | "u64" | "u32" | "u16" | "u8" => "an int >= 0".into(),
+        "i64" | "i32" | "isize" => "an int".into(),
+        "f64" | "f32" => "a number (int or float)".into(),
+        _ if t.starts_with("struct ") => "a dict".into(),
+        _ if t.starts_with("floating point `") => format!("{} (a float)", quoted(t)),
+        _ if t.starts_with("integer `") => format!("{} (an int)", quoted(t)),
+        _ if t.starts_with("boolean `") => (if quoted(t) == "true" { "True (a bool)" } else { "False (a bool)" }).into(),
+        _ if t.starts_with("string \"") => format!("'{}' (a str)", t.trim_start_matches("string \"").trim_end_matches('"')),
+        _ => t.replace('`', ""),
+    }
+}
+
+/// A scene error in Python's words: serde's type errors of the TOML
+/// document ("invalid type: floating point `80.0`, expected usize in
+/// `bar.elements`") become "bar.elements: 80.0 (a float) is not allowed: an
+/// int >= 0"; other messages keep theirs, a dict's "scene file:" being
+/// "scene:".
+pub(crate) fn py_scene_error(e: signorini_cli::scene::SceneError, dict: bool) -> PyErr {
+    use signorini_cli::scene::SceneError as E;
+    let E::Toml(msg) = &e else { return SceneError::new_err(e.to_string()) };
+    let (first, path) = match msg.split_once("\nin `") {
+        Some((f, rest)) => (f.trim(), rest.split('`').next().unwrap_or("").to_string()),
+        None => (msg.trim(), String::new()),
+    };
+    let join = |key: &str| if path.is_empty() { key.to_string() } else { format!("{path}.{key}") };
+    let at = if path.is_empty() { "scene".to_string() } else { path.clone() };
+    let text = if let Some(rest) = first.strip_prefix("invalid type: ").or_else(|| first.strip_prefix("invalid value: ")) {
+        match rest.split_once(", expected ") {
+            Some((got, want)) => format!("{at}: {} is not allowed: {}", py_words(got), py_words(want)),
+            None => format!("{at}: {rest}"),
+        }
+    } else if let Some(rest) = first.strip_prefix("unknown field `") {
+        let (key, allowed) = rest.split_once('`').unwrap_or((rest, ""));
+        let allowed = allowed.trim_start_matches(", expected one of ").trim_start_matches(", expected ").replace('`', "");
+        format!("{}: not a key of {} (allowed: {allowed})", join(key), if path.is_empty() { "the scene" } else { &path })
+    } else if let Some(rest) = first.strip_prefix("missing field `") {
+        format!("{}: missing: a required key", join(rest.trim_end_matches('`')))
+    } else if dict {
+        format!("scene: {first}{}", if path.is_empty() { String::new() } else { format!(" (in {path})") })
+    } else {
+        e.to_string()
+    };
+    SceneError::new_err(text)
+}
+
 /// The scene of `scene`: a dict (the TOML schema as Python values), a path
 /// to a TOML file, or TOML text.
 pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFile, signorini_cli::scene::Scene)> {
     use signorini_cli::scene::{Limits, SceneFile};
-    let bad = |e: signorini_cli::scene::SceneError| SceneError::new_err(e.to_string());
+    let is_dict = scene.is_instance_of::<pyo3::types::PyDict>();
+    let bad = |e: signorini_cli::scene::SceneError| py_scene_error(e, is_dict);
     let file = if let Ok(text) = scene.extract::<String>() {
         let path = std::path::Path::new(&text);
         if !text.contains('\n') && !text.contains('=') && path.exists() {
@@ -226,14 +289,24 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::sce
             SceneFile::parse(&text).map_err(bad)?
         }
     } else if let Ok(p) = scene.extract::<std::path::PathBuf>() {
-        let body = std::fs::read_to_string(&p).map_err(|e| SceneError::new_err(format!("scene: cannot read {}: {e}", p.display())))?;
+        let body = std::fs::read_to_string(&p).map_err(|e| {
+            let m = format!("scene: cannot read {}: {e}", p.display());
+            if e.kind() == std::io::ErrorKind::NotFound {
+                pyo3::exceptions::PyFileNotFoundError::new_err(m)
+            } else {
+                pyo3::exceptions::PyOSError::new_err(m)
+            }
+        })?;
         let mut f = SceneFile::parse(&body).map_err(bad)?;
         f.base = p.parent().map(std::path::Path::to_path_buf);
         f
     } else {
+        if !is_dict {
+            return Err(SceneError::new_err(format!("scene: {} is not allowed: a dict, a path (str or os.PathLike) or TOML text (str)", type_words(scene))));
+        }
         match to_toml(scene, "")? {
             toml::Value::Table(t) => SceneFile::from_table(t).map_err(bad)?,
-            _ => return Err(SceneError::new_err("scene: a dict, a path or TOML text")),
+            _ => return Err(SceneError::new_err("scene: a dict, a path (str or os.PathLike) or TOML text (str)")),
         }
     };
     let s = file.validate_with(&Limits::machine()).map_err(bad)?;
@@ -243,6 +316,9 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::sce
 /// The TOML text of a scene given as a dict (keys checked as `run` does).
 #[pyfunction]
 fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<String> {
+    if !scene.is_instance_of::<pyo3::types::PyDict>() {
+        return Err(SceneError::new_err(format!("scene: {} is not allowed: a dict, a path (str or os.PathLike) or TOML text (str)", type_words(scene))));
+    }
     match to_toml(scene, "")? {
         toml::Value::Table(t) => toml::to_string(&t).map_err(|e| SceneError::new_err(format!("scene: {e}"))),
         _ => Err(SceneError::new_err("scene: a dict, a path or TOML text")),
