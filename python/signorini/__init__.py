@@ -6,22 +6,94 @@ the finite-element matrices (:mod:`signorini.fem`), the studies and sweeps. Erro
 :class:`InternalError` for a bug inside the Rust core (never an abort).
 """
 
-from __future__ import annotations
+import os as _os
+from typing import Optional as _Optional, Union as _Union
 
-import os
-from typing import Optional, Union
-
-import numpy as np
+import numpy as _np
 
 from ._signorini import BlowUp, InternalError, SceneError, __version__
 from . import _check, _signorini, exact, fem, studies
 from .studies import convergence
 from .sweep import SweepResult, sweep
 
-__all__ = ["BlowUp", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
+__all__ = ["BlowUp", "CheckResult", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
+
+_Scene = _Union[dict, str, "_os.PathLike[str]"]
 
 
-def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] = None, fields_every: int = 0) -> "RunResult":
+class RunResult:
+    """What :func:`run` recorded: numpy arrays and a few numbers (see
+    :func:`run` for each attribute). Plain Python data: it pickles, so it
+    comes back from a dask or multiprocessing worker."""
+
+    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status")
+
+    t: _np.ndarray
+    tip: _np.ndarray
+    lam_t: _np.ndarray
+    lam: _np.ndarray
+    energy_t: _np.ndarray
+    energy: _np.ndarray
+    contact_dofs: list
+    contact_lo: _np.ndarray
+    contact_hi: _np.ndarray
+    contact_u: _np.ndarray
+    forces: _np.ndarray
+    active: _np.ndarray
+    fields_t: _np.ndarray
+    fields: _np.ndarray
+    norms: _Optional[dict]
+    steps: int
+    contact_steps: int
+    dt: float
+    status: str
+
+    def __init__(self, arrays=None, **values):
+        for k in self.__slots__:
+            setattr(self, k, getattr(arrays, k) if arrays is not None else values[k])
+
+    def __reduce__(self):
+        return (_rebuild, ({k: getattr(self, k) for k in self.__slots__},))
+
+    def __repr__(self) -> str:
+        return f"<signorini.RunResult: {self.steps} steps, {len(self.contact_dofs)} contact(s), status {self.status!r}>"
+
+
+def _rebuild(values):
+    return RunResult(**values)
+
+
+class CheckResult(str):
+    """What :func:`check` found: the text of ``signorini check`` (this object
+    is that str: print it, search it) and the numbers it states:
+
+    * ``steps``: the number of time steps;
+    * ``stability_limit``: the exact limit of dt of a conditionally stable
+      scheme (dt is below it: a scene beyond it is refused), None for an
+      unconditionally stable one;
+    * ``memory_bytes``, ``output_bytes``: the memory and output estimates.
+    """
+
+    text: str
+    steps: int
+    stability_limit: _Optional[float]
+    memory_bytes: int
+    output_bytes: int
+
+    def __new__(cls, d: dict) -> "CheckResult":
+        self = super().__new__(cls, d["text"])
+        self.text = d["text"]
+        self.steps = d["steps"]
+        self.stability_limit = d["stability_limit"]
+        self.memory_bytes = d["memory_bytes"]
+        self.output_bytes = d["output_bytes"]
+        return self
+
+    def __reduce__(self):
+        return (CheckResult, ({k: getattr(self, k) for k in ("text", "steps", "stability_limit", "memory_bytes", "output_bytes")},))
+
+
+def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0) -> RunResult:
     """Runs a scene: a dict with the TOML schema of ``signorini run``
     (``{"bar": {"benchmark": "bar-dirichlet", "elements": 80, ...}}``), a path
     to a TOML file, or TOML text. Returns a result whose arrays are float64
@@ -51,10 +123,9 @@ def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] =
     50 ms, a blow-up raises BlowUp (step and time in its message) — both with
     the partial result as their ``partial`` attribute. Bad input raises
     SceneError naming the field."""
-    if hasattr(scene, "__fspath__"):
-        scene = str(scene.__fspath__())
-    if energy is not None and not isinstance(energy, bool):
-        raise SceneError(f"energy: {energy!r} is a {type(energy).__name__}: True, False or None")
+    scene = _check.scene(scene)
+    if energy is not None:
+        energy = _check.boolean("energy", energy)
     fields_every = _check.integer("fields_every", fields_every, 0)
     try:
         return RunResult(_signorini.run_scene(scene, energy, fields_every))
@@ -65,53 +136,12 @@ def run(scene: Union[dict, str, "os.PathLike[str]"], *, energy: Optional[bool] =
         raise
 
 
-def check(scene: Union[dict, str, "os.PathLike[str]"]) -> str:
+def check(scene: _Scene) -> CheckResult:
     """What :func:`run` would do with ``scene``, as ``signorini check``
     prints it: the scene validated and its integrator built (a bad scene
     raises SceneError, exactly as ``run`` would), the stability limit, the
-    memory and output estimates, the number of steps. Nothing is run."""
-    if hasattr(scene, "__fspath__"):
-        scene = str(scene.__fspath__())
-    return _signorini.check_scene(scene)
-
-
-class RunResult:
-    """What :func:`run` recorded: numpy arrays and a few numbers (see
-    :func:`run` for each attribute). Plain Python data: it pickles, so it
-    comes back from a dask or multiprocessing worker."""
-
-    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status")
-
-    t: np.ndarray
-    tip: np.ndarray
-    lam_t: np.ndarray
-    lam: np.ndarray
-    energy_t: np.ndarray
-    energy: np.ndarray
-    contact_dofs: list
-    contact_lo: np.ndarray
-    contact_hi: np.ndarray
-    contact_u: np.ndarray
-    forces: np.ndarray
-    active: np.ndarray
-    fields_t: np.ndarray
-    fields: np.ndarray
-    norms: Optional[dict]
-    steps: int
-    contact_steps: int
-    dt: float
-    status: str
-
-    def __init__(self, arrays=None, **values):
-        for k in self.__slots__:
-            setattr(self, k, getattr(arrays, k) if arrays is not None else values[k])
-
-    def __reduce__(self):
-        return (_rebuild, ({k: getattr(self, k) for k in self.__slots__},))
-
-    def __repr__(self) -> str:
-        return f"<signorini.RunResult: {self.steps} steps, {len(self.contact_dofs)} contact(s), status {self.status!r}>"
-
-
-def _rebuild(values):
-    return RunResult(**values)
+    memory and output estimates, the number of steps. Nothing is run.
+    Returns a :class:`CheckResult`: that text (a str) with the numbers as
+    attributes (``steps``, ``stability_limit``, ``memory_bytes``,
+    ``output_bytes``)."""
+    return CheckResult(_signorini.check_scene_numbers(_check.scene(scene)))

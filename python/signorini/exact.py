@@ -2,25 +2,39 @@
 
 ``solution(name, **params)`` returns an object whose methods take numpy
 arrays (or numbers) and broadcast: ``u(x, t)``, ``u_x(x, t)``, ``u_t(x, t)``,
-``lam(t)``, ``energy(t)``; results are float64 arrays of the broadcast shape.
+``lam(t)``, ``energy(t)``; results are float64 arrays of the broadcast shape
+(a float when every argument is a scalar).
+Outside the solution's domain — a NaN or infinite ``t`` (for
+bar-neumann-gravity, ``t`` outside ``[0, t_max]``), a point ``x`` off the
+bar ``[0, length]`` by more than round-off — the values are NaN.
 """
 
-from __future__ import annotations
+from typing import Union as _Union
 
-import numpy as np
+import numpy as _np
 
-from . import _signorini
+from . import _check, _signorini
 
-__all__ = ["Solution", "solution", "NAMES"]
+__all__ = ["Solution", "solution", "NAMES", "Value"]
 
 NAMES = ("bar-dirichlet", "bar-mirrored", "bar-neumann-gravity", "bar-neumann-gravity-0.11")
 
 _PARAMS = {"g", "u0", "length", "t_max"}
 
 
+#: What the methods return: a float for scalar arguments, else a float64
+#: array of the broadcast shape.
+Value = _Union[float, _np.ndarray]
+
+
+def _out(a, shape):
+    """``a`` reshaped to ``shape``; a float when the arguments were scalars."""
+    return float(a[0]) if shape == () else a.reshape(shape)
+
+
 def _pair(x, t):
-    x, t = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(t, dtype=np.float64))
-    return x.shape, np.ascontiguousarray(x).ravel(), np.ascontiguousarray(t).ravel()
+    x, t = _np.broadcast_arrays(_np.asarray(x, dtype=_np.float64), _np.asarray(t, dtype=_np.float64))
+    return x.shape, _np.ascontiguousarray(x).ravel(), _np.ascontiguousarray(t).ravel()
 
 
 class Solution:
@@ -37,29 +51,31 @@ class Solution:
     def length(self) -> float:
         return self._inner.length
 
-    def u(self, x, t) -> np.ndarray:
+    def u(self, x, t) -> Value:
         """Displacement u(x, t)."""
         shape, x, t = _pair(x, t)
-        return self._inner.u(x, t).reshape(shape)
+        return _out(self._inner.u(x, t), shape)
 
-    def u_x(self, x, t) -> np.ndarray:
+    def u_x(self, x, t) -> Value:
         """Strain u_x(x, t)."""
         shape, x, t = _pair(x, t)
-        return self._inner.u_x(x, t).reshape(shape)
+        return _out(self._inner.u_x(x, t), shape)
 
-    def u_t(self, x, t) -> np.ndarray:
+    def u_t(self, x, t) -> Value:
         """Velocity u_t(x, t)."""
         shape, x, t = _pair(x, t)
-        return self._inner.u_t(x, t).reshape(shape)
+        return _out(self._inner.u_t(x, t), shape)
 
-    def lam(self, t) -> np.ndarray:
+    def lam(self, t) -> Value:
         """Contact force λ(t)."""
-        t = np.asarray(t, dtype=np.float64)
-        return self._inner.lam(np.ascontiguousarray(t).ravel()).reshape(t.shape)
+        t = _np.asarray(t, dtype=_np.float64)
+        return _out(self._inner.lam(_np.ascontiguousarray(t).ravel()), t.shape)
 
-    def energy(self, t) -> np.ndarray:
-        """Energy E(t) (conserved: the same value at every t)."""
-        return np.full(np.shape(t), self._inner.energy(), dtype=np.float64)
+    def energy(self, t) -> Value:
+        """Energy E(t) (conserved: the same value at every t where the
+        solution is defined; NaN at a NaN or infinite t, or beyond t_max)."""
+        t = _np.asarray(t, dtype=_np.float64)
+        return _out(self._inner.energy_at(_np.ascontiguousarray(t).ravel()), t.shape)
 
     def __repr__(self) -> str:
         return f"signorini.exact.Solution({self.name!r})"
@@ -72,7 +88,4 @@ def solution(name: str, **params) -> Solution:
     unknown = sorted(set(params) - _PARAMS)
     if unknown:
         raise _signorini.SceneError(f"{unknown[0]}: not a parameter of solution(); allowed: {', '.join(sorted(_PARAMS))}")
-    for k, v in params.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise _signorini.SceneError(f"{k}: {v!r} is not allowed: a number")
-    return Solution(_signorini.exact_solution(name, **{k: float(v) for k, v in params.items()}))
+    return Solution(_signorini.exact_solution(name, **{k: _check.real(k, v) for k, v in params.items()}))

@@ -9,9 +9,10 @@ and ``K`` built from them on demand, and ``kappa_h()``, the largest
 generalized eigenvalue of ``(K, M)``.
 """
 
-from __future__ import annotations
+import warnings as _warnings
+from typing import Optional as _Optional
 
-import numpy as np
+import numpy as _np
 
 from . import _signorini
 from . import _check
@@ -23,13 +24,13 @@ __all__ = ["Matrices", "bar", "beam", "MASSES", "dense"]
 MASSES = ("std", "lumped", "mod", "mod1", "mod2", "mod3", "transfer", "singular")
 
 
-def dense(ab: np.ndarray) -> np.ndarray:
+def dense(ab: _np.ndarray) -> _np.ndarray:
     """The dense symmetric matrix of an upper band array ``ab`` (shape ``(p + 1, n)``)."""
     p, n = ab.shape[0] - 1, ab.shape[1]
-    a = np.zeros((n, n))
+    a = _np.zeros((n, n))
     for k in range(p + 1):
         d = ab[p - k, k:]
-        idx = np.arange(n - k)
+        idx = _np.arange(n - k)
         a[idx, idx + k] = d
         a[idx + k, idx] = d
     return a
@@ -61,9 +62,9 @@ class Matrices:
         return self._inner.h
 
     @property
-    def x(self) -> np.ndarray:
+    def x(self) -> _np.ndarray:
         """The position of each unknown (the beam's value and slope share their node's)."""
-        return np.asarray(self._inner.x, dtype=np.float64)
+        return _np.asarray(self._inner.x, dtype=_np.float64)
 
     @property
     def half_bandwidth(self) -> int:
@@ -71,22 +72,22 @@ class Matrices:
         return self._inner.half_bandwidth
 
     @property
-    def mass_band(self) -> np.ndarray:
+    def mass_band(self) -> _np.ndarray:
         """M in upper band storage, shape ``(p + 1, n)``."""
         return self._inner.mass_band
 
     @property
-    def stiffness_band(self) -> np.ndarray:
+    def stiffness_band(self) -> _np.ndarray:
         """K in upper band storage, shape ``(p + 1, n)``."""
         return self._inner.stiffness_band
 
     @property
-    def M(self) -> np.ndarray:
+    def M(self) -> _np.ndarray:
         """The dense mass matrix, ``(n, n)``."""
         return dense(self.mass_band)
 
     @property
-    def K(self) -> np.ndarray:
+    def K(self) -> _np.ndarray:
         """The dense stiffness matrix, ``(n, n)``."""
         return dense(self.stiffness_band)
 
@@ -105,21 +106,27 @@ class Matrices:
         return self._kappa
 
 
-def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: float = 1.0, right_end: str = "clamped", contacts=(0,), degree: int = 1) -> Matrices:
+def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: float = 1.0, far_end: _Optional[str] = None, contacts=(0,), degree: int = 1, right_end: _Optional[str] = None) -> Matrices:
     """The P1 bar on ``[0, length]`` with ``elements`` elements (>= 2), density 1
-    and wave speed ``wave_speed``; ``right_end`` ``'clamped'`` (node m is not an
-    unknown) or ``'free'``; ``mass`` one of :data:`MASSES`, built for contacts at
+    and wave speed ``wave_speed``; ``far_end`` (the scene key ``bar.far_end``)
+    ``'clamped'`` (the default: node m is not an unknown) or ``'free'``
+    (``right_end=`` is its deprecated former name); ``mass`` one of :data:`MASSES`, built for contacts at
     the nodes ``contacts`` (the redistributed masses empty their element);
     ``degree`` 1, 2 or 3 (Lagrange P1, P2, P3; unknowns ordered by position,
     half-bandwidth ``degree``; std, lumped and mod at degrees 2 and 3)."""
     elements = _check.integer("elements", elements, 2, 1 << 26)
     mass = _check.string("mass", mass, MASSES)
-    right_end = _check.string("right_end", right_end, ("clamped", "free"))
+    if right_end is not None:
+        if far_end is not None:
+            raise _signorini.SceneError("right_end: give far_end only (right_end is its deprecated former name)")
+        far_end = _check.string("right_end", right_end, ("clamped", "free"))
+        _warnings.warn("fem.bar(right_end=...) is deprecated: far_end=... (the scene key bar.far_end)", DeprecationWarning, stacklevel=2)
+    far_end = _check.string("far_end", far_end if far_end is not None else "clamped", ("clamped", "free"))
     length = _check.number("length", length, positive=True)
     wave_speed = _check.number("wave_speed", wave_speed, positive=True)
     nodes = _check.sequence("contacts", contacts, lambda n, v: _check.integer(n, v, 0))
     degree = _check.integer("degree", degree, 1, 3)
-    return Matrices(_signorini.bar_matrices(elements, mass, length, wave_speed, right_end, nodes, degree))
+    return Matrices(_signorini.bar_matrices(elements, mass, length, wave_speed, far_end, nodes, degree))
 
 
 def beam(elements: int, *, length: float = 1.0, k2: float = 1.0) -> Matrices:

@@ -13,12 +13,10 @@ The stepping releases the GIL. A study cannot be interrupted half-way: its
 runs go in parallel on every core, and Ctrl-C is seen when it returns.
 """
 
-from __future__ import annotations
+import os as _os
+import tempfile as _tempfile
 
-import os
-import tempfile
-
-import numpy as np
+import numpy as _np
 
 from . import _signorini
 
@@ -31,7 +29,7 @@ NORMS = ("linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy
 
 
 def _table(cols):
-    return {k: (np.asarray(v, dtype=str) if isinstance(v, list) else v) for k, v in cols.items()}
+    return {k: (_np.asarray(v, dtype=str) if isinstance(v, list) else v) for k, v in cols.items()}
 
 
 class StudyResult:
@@ -72,7 +70,7 @@ class ConvergenceResult(StudyResult):
         self.masses = list(dict.fromkeys(m for _, m, _ in self.configs))
         self.ratio = d["ratio"]
         self.t_end = d["t_end"]
-        first = self.tables[self.configs[0][2]] if self.configs else {"m": np.zeros(0, dtype=np.int64)}
+        first = self.tables[self.configs[0][2]] if self.configs else {"m": _np.zeros(0, dtype=_np.int64)}
         self.levels = [int(m) for m in first["m"]]
         self._file = {(s, m): f for s, m, f in self.configs}
 
@@ -81,7 +79,7 @@ class ConvergenceResult(StudyResult):
             return self.tables[key]
         if key not in LEVEL_COLUMNS:
             raise KeyError(f"{key!r}: a column of {', '.join(LEVEL_COLUMNS)}, or a file of {', '.join(self.tables)}")
-        grid = np.array([[self.tables[self._file[(s, m)]][key] for m in self.masses] for s in self.schemes])
+        grid = _np.array([[self.tables[self._file[(s, m)]][key] for m in self.masses] for s in self.schemes])
         return grid[0, 0] if len(self.schemes) == 1 and len(self.masses) == 1 else grid
 
     @property
@@ -114,9 +112,9 @@ def _only(what, values):
 def _run(name, out, kwargs, cls=StudyResult):
     kwargs = {k: v for k, v in kwargs.items() if v is not None}
     if out is not None:
-        os.makedirs(os.fspath(out), exist_ok=True)
-        return cls(_signorini.study(name, kwargs, os.fspath(out)))
-    with tempfile.TemporaryDirectory(prefix=f"signorini-{name}-") as tmp:
+        _os.makedirs(_os.fspath(out), exist_ok=True)
+        return cls(_signorini.study(name, kwargs, _os.fspath(out)))
+    with _tempfile.TemporaryDirectory(prefix=f"signorini-{name}-") as tmp:
         return cls(_signorini.study(name, kwargs, tmp))
 
 

@@ -9,14 +9,12 @@ lockstep engine), and returns a :class:`SweepResult` whose ``sweep``,
 ``summary`` and ``impacts`` are the CSV files' columns as numpy arrays.
 """
 
-from __future__ import annotations
-
-import os
-import pathlib
-import tempfile
+import os as _os
+import pathlib as _pathlib
+import tempfile as _tempfile
 
 from . import _check, _signorini
-from ._signorini import SceneError
+from ._signorini import SceneError as _SceneError
 
 __all__ = ["SweepResult", "sweep"]
 
@@ -45,16 +43,15 @@ class SweepResult:
 
 
 def _scene(scene):
-    if hasattr(scene, "__fspath__"):
-        scene = os.fspath(scene)
+    scene = _check.scene(scene)
     if isinstance(scene, dict):
         return _signorini.scene_text(scene), "scene", None
     if isinstance(scene, str):
-        p = pathlib.Path(scene)
+        p = _pathlib.Path(scene)
         if "\n" not in scene and "=" not in scene and p.exists():
             return p.read_text(), p.name, str(p.parent)
         return scene, "scene", None
-    raise SceneError(f"scene: a {type(scene).__name__} is not allowed: a dict, a path or TOML text")
+    raise _SceneError(f"scene: a {type(scene).__name__} is not allowed: a dict, a path or TOML text")
 
 
 def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=None, stop2=None, count2=None, log2=False, transient=100.0, record=10.0, phase=0.0, period_tol=1e-3, impacts=True, follow=False, shard=None, resume=False, threads=None, out=None) -> SweepResult:
@@ -80,20 +77,18 @@ def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=No
     count = _check.integer("count", count, 1)
     second = None
     if param2 is not None:
-        second = (_check.string("param2", param2), _check.number("start2", start2), _check.number("stop2", stop2), _check.integer("count2", count2, 1), bool(log2))
+        second = (_check.string("param2", param2), _check.number("start2", start2), _check.number("stop2", stop2), _check.integer("count2", count2, 1), _check.boolean("log2", log2))
     transient = _check.number("transient", transient)
     record = _check.number("record", record)
     phase = _check.number("phase", phase)
     period_tol = _check.number("period_tol", period_tol)
     if shard is not None:
         if not isinstance(shard, (tuple, list)) or len(shard) != 2:
-            raise SceneError(f"shard: {shard!r} is not allowed: a pair (i, n) with 0 <= i < n")
+            raise _SceneError(f"shard: {shard!r} is not allowed: a pair (i, n) with 0 <= i < n")
         shard = (_check.integer("shard[0]", shard[0], 0), _check.integer("shard[1]", shard[1], 1))
     if threads is not None:
         threads = _check.integer("threads", threads, 1)
-    for k, v in (("log", log), ("impacts", impacts), ("follow", follow), ("resume", resume)):
-        if not isinstance(v, bool):
-            raise SceneError(f"{k}: {v!r} is a {type(v).__name__}: True or False")
+    log, impacts, follow, resume = (_check.boolean(k, v) for k, v in (("log", log), ("impacts", impacts), ("follow", follow), ("resume", resume)))
 
     def go(folder):
         try:
@@ -104,8 +99,8 @@ def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=No
             raise
 
     if out is not None:
-        return go(os.fspath(out))
+        return go(_os.fspath(out))
     if resume:
-        raise SceneError("resume: needs out, the folder to continue")
-    with tempfile.TemporaryDirectory(prefix="signorini-sweep-") as tmp:
-        return go(os.path.join(tmp, "sweep"))
+        raise _SceneError("resume: needs out, the folder to continue")
+    with _tempfile.TemporaryDirectory(prefix="signorini-sweep-") as tmp:
+        return go(_os.path.join(tmp, "sweep"))

@@ -104,6 +104,11 @@ impl Exact {
     fn energy(&self) -> f64 {
         self.inner.energy()
     }
+    /// The energy at each time: the conserved value where the solution is
+    /// defined, NaN elsewhere (a NaN or infinite t, beyond t_max).
+    fn energy_at<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        guarded(|| Ok(t.as_slice()?.iter().map(|&t| self.inner.energy_at(t)).collect::<Vec<f64>>().into_pyarray(py)))
+    }
 }
 
 /// The exact solution `name` ("bar-dirichlet", "bar-mirrored",
@@ -150,6 +155,11 @@ fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f6
 /// lists arrays, and numbers, strings and booleans themselves.
 fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
     use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+    // numpy: a scalar or 0-d array is the Python value it holds (a numpy
+    // bool stays a bool, an integer an integer), an array a list.
+    if let Some(plain) = numpy_plain(v)? {
+        return to_toml(&plain, path);
+    }
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract()?));
     }
@@ -182,14 +192,92 @@ fn to_toml(v: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
     if let Ok(x) = v.extract::<f64>() {
         return Ok(toml::Value::Float(x));
     }
-    Err(SceneError::new_err(format!("{path}: a {} is not allowed: a number, a string, a boolean, a list or a dict", v.get_type().name()?)))
+    Err(SceneError::new_err(format!("{}: {} is not allowed: a number (int or float), a str, a bool, a list or a dict", if path.is_empty() { "scene" } else { path }, type_words(v))))
+}
+
+/// A numpy scalar or 0-d array as the Python value it holds (`.item()`), a
+/// numpy array of any other shape as nested lists (`.tolist()`); `None` for
+/// anything that is not numpy's.
+pub(crate) fn numpy_plain<'py>(v: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyAny>>> {
+    if !v.hasattr("dtype")? {
+        return Ok(None);
+    }
+    let Ok(ndim) = v.getattr("ndim").and_then(|n| n.extract::<usize>()) else { return Ok(None) };
+    let method = if ndim == 0 { "item" } else { "tolist" };
+    if !v.hasattr(method)? {
+        return Ok(None);
+    }
+    Ok(Some(v.call_method0(method)?))
+}
+
+/// `repr(v) (a T)`, T the Python type's name.
+fn type_words(v: &Bound<'_, PyAny>) -> String {
+    let ty = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+    let r = v.repr().map(|r| r.to_string()).unwrap_or_default();
+    let r = if r.chars().count() > 60 { format!("{}...", r.chars().take(57).collect::<String>()) } else { r };
+    format!("{r} (a {ty})")
+}
+
+/// serde's words for a value or a type, in Python's.
+fn py_words(serde: &str) -> String {
+    let quoted = |s: &str| s.split('`').nth(1).unwrap_or("").to_string();
+    let t = serde.trim();
+    match t {
+        "sequence" | "a sequence" => "a list".into(),
+        "map" | "a map" => "a dict".into(),
+        "a string" => "a str".into(),
+        "a boolean" => "a bool (True or False)".into(),
+        "usize" | "u64" | "u32" | "u16" | "u8" => "an int >= 0".into(),
+        "i64" | "i32" | "isize" => "an int".into(),
+        "f64" | "f32" => "a number (int or float)".into(),
+        _ if t.starts_with("struct ") => "a dict".into(),
+        _ if t.starts_with("floating point `") => format!("{} (a float)", quoted(t)),
+        _ if t.starts_with("integer `") => format!("{} (an int)", quoted(t)),
+        _ if t.starts_with("boolean `") => (if quoted(t) == "true" { "True (a bool)" } else { "False (a bool)" }).into(),
+        _ if t.starts_with("string \"") => format!("'{}' (a str)", t.trim_start_matches("string \"").trim_end_matches('"')),
+        _ => t.replace('`', ""),
+    }
+}
+
+/// A scene error in Python's words: serde's type errors of the TOML
+/// document ("invalid type: floating point `80.0`, expected usize in
+/// `bar.elements`") become "bar.elements: 80.0 (a float) is not allowed: an
+/// int >= 0"; other messages keep theirs, a dict's "scene file:" being
+/// "scene:".
+pub(crate) fn py_scene_error(e: signorini_cli::scene::SceneError, dict: bool) -> PyErr {
+    use signorini_cli::scene::SceneError as E;
+    let E::Toml(msg) = &e else { return SceneError::new_err(e.to_string()) };
+    let (first, path) = match msg.split_once("\nin `") {
+        Some((f, rest)) => (f.trim(), rest.split('`').next().unwrap_or("").to_string()),
+        None => (msg.trim(), String::new()),
+    };
+    let join = |key: &str| if path.is_empty() { key.to_string() } else { format!("{path}.{key}") };
+    let at = if path.is_empty() { "scene".to_string() } else { path.clone() };
+    let text = if let Some(rest) = first.strip_prefix("invalid type: ").or_else(|| first.strip_prefix("invalid value: ")) {
+        match rest.split_once(", expected ") {
+            Some((got, want)) => format!("{at}: {} is not allowed: {}", py_words(got), py_words(want)),
+            None => format!("{at}: {rest}"),
+        }
+    } else if let Some(rest) = first.strip_prefix("unknown field `") {
+        let (key, allowed) = rest.split_once('`').unwrap_or((rest, ""));
+        let allowed = allowed.trim_start_matches(", expected one of ").trim_start_matches(", expected ").replace('`', "");
+        format!("{}: not a key of {} (allowed: {allowed})", join(key), if path.is_empty() { "the scene" } else { &path })
+    } else if let Some(rest) = first.strip_prefix("missing field `") {
+        format!("{}: missing: a required key", join(rest.trim_end_matches('`')))
+    } else if dict {
+        format!("scene: {first}{}", if path.is_empty() { String::new() } else { format!(" (in {path})") })
+    } else {
+        e.to_string()
+    };
+    SceneError::new_err(text)
 }
 
 /// The scene of `scene`: a dict (the TOML schema as Python values), a path
 /// to a TOML file, or TOML text.
 pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFile, signorini_cli::scene::Scene)> {
     use signorini_cli::scene::{Limits, SceneFile};
-    let bad = |e: signorini_cli::scene::SceneError| SceneError::new_err(e.to_string());
+    let is_dict = scene.is_instance_of::<pyo3::types::PyDict>();
+    let bad = |e: signorini_cli::scene::SceneError| py_scene_error(e, is_dict);
     let file = if let Ok(text) = scene.extract::<String>() {
         let path = std::path::Path::new(&text);
         if !text.contains('\n') && !text.contains('=') && path.exists() {
@@ -201,14 +289,24 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::sce
             SceneFile::parse(&text).map_err(bad)?
         }
     } else if let Ok(p) = scene.extract::<std::path::PathBuf>() {
-        let body = std::fs::read_to_string(&p).map_err(|e| SceneError::new_err(format!("scene: cannot read {}: {e}", p.display())))?;
+        let body = std::fs::read_to_string(&p).map_err(|e| {
+            let m = format!("scene: cannot read {}: {e}", p.display());
+            if e.kind() == std::io::ErrorKind::NotFound {
+                pyo3::exceptions::PyFileNotFoundError::new_err(m)
+            } else {
+                pyo3::exceptions::PyOSError::new_err(m)
+            }
+        })?;
         let mut f = SceneFile::parse(&body).map_err(bad)?;
         f.base = p.parent().map(std::path::Path::to_path_buf);
         f
     } else {
+        if !is_dict {
+            return Err(SceneError::new_err(format!("scene: {} is not allowed: a dict, a path (str or os.PathLike) or TOML text (str)", type_words(scene))));
+        }
         match to_toml(scene, "")? {
             toml::Value::Table(t) => SceneFile::from_table(t).map_err(bad)?,
-            _ => return Err(SceneError::new_err("scene: a dict, a path or TOML text")),
+            _ => return Err(SceneError::new_err("scene: a dict, a path (str or os.PathLike) or TOML text (str)")),
         }
     };
     let s = file.validate_with(&Limits::machine()).map_err(bad)?;
@@ -218,6 +316,9 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::sce
 /// The TOML text of a scene given as a dict (keys checked as `run` does).
 #[pyfunction]
 fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<String> {
+    if !scene.is_instance_of::<pyo3::types::PyDict>() {
+        return Err(SceneError::new_err(format!("scene: {} is not allowed: a dict, a path (str or os.PathLike) or TOML text (str)", type_words(scene))));
+    }
     match to_toml(scene, "")? {
         toml::Value::Table(t) => toml::to_string(&t).map_err(|e| SceneError::new_err(format!("scene: {e}"))),
         _ => Err(SceneError::new_err("scene: a dict, a path or TOML text")),
@@ -231,6 +332,59 @@ fn check_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<String> {
     let (file, s) = scene_of(scene)?;
     let here = std::env::current_dir().unwrap_or_else(|_| std::env::temp_dir());
     py.detach(|| guarded(|| signorini_cli::check(&s, &file, &here).map_err(|e| SceneError::new_err(e.to_string()))))
+}
+
+/// `signorini check` as a dict: its text and the numbers it states, from
+/// the same library calls — `steps`, `stability_limit` (the exact limit of
+/// dt for a conditionally stable scheme, None for an unconditionally stable
+/// one), `memory_bytes` and `output_bytes` (the estimates).
+#[pyfunction]
+fn check_scene_numbers<'py>(py: Python<'py>, scene: &Bound<'py, PyAny>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    use signorini_cli::scene::{self as sc, Scene};
+    use signorini_run::beam::BeamContact;
+    let (file, s) = scene_of(scene)?;
+    let here = std::env::current_dir().unwrap_or_else(|_| std::env::temp_dir());
+    let bad = |e: String| SceneError::new_err(e);
+    let (text, steps, limit, memory, output) = py.detach(|| {
+        guarded(|| {
+            let text = signorini_cli::check(&s, &file, &here).map_err(|e| bad(e.to_string()))?;
+            let err = |e: signorini_run::RunError| bad(e.to_string());
+            let (dt, t_end) = match &s {
+                Scene::Bar(b) => (b.dt, b.t_end),
+                Scene::Beam { scene, .. } => (scene.dt, scene.t_end),
+                Scene::Oscillator { dt, t_end, .. } => (*dt, *t_end),
+            };
+            let steps = signorini_run::RunConfig::new(dt, t_end).map_err(err)?.steps();
+            // As `check` states them.
+            let (limit, elements, is_beam, unknowns, contacts) = match &s {
+                Scene::Bar(b) => (b.scheme.cfl_limit(&b.problem.dynamics()).map_err(|e| err(e.into()))?, b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
+                Scene::Beam { pipe, scene, contacts, .. } => {
+                    let limit = match scene.contact {
+                        BeamContact::Projection { beta } if beta < 0.25 => {
+                            let (beam, _, _) = pipe.dynamics(scene.elements).map_err(err)?;
+                            Some(signorini_run::beam::stability_limit(&beam, beta).map_err(err)?.dt_critical)
+                        }
+                        _ => None,
+                    };
+                    (limit, scene.elements, true, 2 * scene.elements, contacts)
+                }
+                Scene::Oscillator { osc, scheme, .. } => {
+                    let (dy, _) = osc.dynamics().map_err(err)?;
+                    (scheme.cfl_limit(&dy).map_err(|e| err(e.into()))?, 1, false, 1, &None)
+                }
+            };
+            let memory = sc::memory_estimate(elements, is_beam) + sc::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
+            let output = signorini_cli::output_estimate(&s, &file.output);
+            Ok((text, steps, limit, memory, output))
+        })
+    })?;
+    let d = pyo3::types::PyDict::new(py);
+    d.set_item("text", text)?;
+    d.set_item("steps", steps)?;
+    d.set_item("stability_limit", limit)?;
+    d.set_item("memory_bytes", memory.round() as u64)?;
+    d.set_item("output_bytes", output.round() as u64)?;
+    Ok(d)
 }
 
 /// A deliberate panic, for the tests of the panic guard.
@@ -255,6 +409,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(scene_text, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(check_scene_numbers, m)?)?;
     m.add_function(wrap_pyfunction!(fem::bar_matrices, m)?)?;
     m.add_function(wrap_pyfunction!(fem::beam_matrices, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -113,6 +113,17 @@ fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>
     Ok(a.into_pyarray(py).unbind())
 }
 
+/// A run's error as Python sees it: no file was written, the levels so far
+/// are the exception's `partial` (the command's "output written so far is
+/// kept" is about its files).
+fn python_status(e: &RunError) -> String {
+    let m = e.to_string();
+    match m.strip_suffix("; output written so far is kept") {
+        Some(head) => format!("{head}; the levels so far are kept (the exception's partial)"),
+        None => m,
+    }
+}
+
 /// Runs a scene (see `signorini.run`). The stepping releases the GIL and
 /// checks for Ctrl-C every 50 ms; a KeyboardInterrupt or a blow-up carries
 /// the partial result as its `partial` attribute.
@@ -182,7 +193,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     };
     let status = match &res {
         Ok(_) => "ok".to_string(),
-        Err(e) => e.to_string(),
+        Err(e) => python_status(e),
     };
     let c = dofs.len();
     let out = RunArrays {
@@ -209,8 +220,8 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     let err = match (signal, res) {
         (Some(e), _) => e,
         (None, Ok(_)) => return Ok(out),
-        (None, Err(e @ (RunError::BlowUp { .. } | RunError::EnergyGrowth { .. }))) => BlowUp::new_err(e.to_string()),
-        (None, Err(e)) => SceneError::new_err(e.to_string()),
+        (None, Err(e @ (RunError::BlowUp { .. } | RunError::EnergyGrowth { .. }))) => BlowUp::new_err(python_status(&e)),
+        (None, Err(e)) => SceneError::new_err(python_status(&e)),
     };
     err.value(py).setattr("partial", Py::new(py, out)?)?;
     Err(err)

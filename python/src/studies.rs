@@ -78,17 +78,34 @@ impl<'py> Args<'_, 'py> {
         let ty = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
         SceneError::new_err(format!("{key}: a {ty} ({}) is not allowed: {want}", v.repr().map(|r| r.to_string()).unwrap_or_default()))
     }
-    fn float(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<f64> {
-        if v.is_instance_of::<pyo3::types::PyBool>() || v.is_instance_of::<pyo3::types::PyString>() {
-            return Err(self.bad(key, v, "a number"));
+    /// `v`, or the Python value a numpy scalar or 0-d array holds.
+    fn plain(v: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        match crate::numpy_plain(v)? {
+            Some(p) if !p.is_instance_of::<pyo3::types::PyList>() => Ok(p),
+            _ => Ok(v.clone()),
         }
-        v.extract::<f64>().map_err(|_| self.bad(key, v, "a number"))
+    }
+    fn float(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<f64> {
+        let x = Self::plain(v)?;
+        if x.is_instance_of::<pyo3::types::PyBool>() || x.is_instance_of::<pyo3::types::PyString>() {
+            return Err(self.bad(key, v, "a number (int or float)"));
+        }
+        x.extract::<f64>().map_err(|_| self.bad(key, v, "a number (int or float)"))
     }
     fn int(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<usize> {
-        if v.is_instance_of::<pyo3::types::PyBool>() || v.is_instance_of::<pyo3::types::PyFloat>() {
-            return Err(self.bad(key, v, "a non-negative integer"));
+        let x = Self::plain(v)?;
+        if x.is_instance_of::<pyo3::types::PyBool>() {
+            return Err(self.bad(key, v, "an int >= 0"));
         }
-        v.extract::<usize>().map_err(|_| self.bad(key, v, "a non-negative integer"))
+        if x.is_instance_of::<pyo3::types::PyFloat>() {
+            // A float with a whole value is that int (80.0); 80.5 is not.
+            let f: f64 = x.extract()?;
+            if f.fract() == 0.0 && f >= 0.0 && f < 2f64.powi(53) {
+                return Ok(f as usize);
+            }
+            return Err(self.bad(key, v, "an int >= 0 (a whole number)"));
+        }
+        x.extract::<usize>().map_err(|_| self.bad(key, v, "an int >= 0"))
     }
     fn list(&self, key: &str, v: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyAny>>> {
         if v.is_instance_of::<pyo3::types::PyString>() {
@@ -107,7 +124,16 @@ impl<'py> Args<'_, 'py> {
         self.take(key)?.map(|v| self.int(key, &v)).transpose()
     }
     fn bool(&self, key: &str) -> PyResult<Option<bool>> {
-        self.take(key)?.map(|v| if v.is_instance_of::<pyo3::types::PyBool>() { v.extract::<bool>() } else { Err(self.bad(key, &v, "True or False")) }).transpose()
+        self.take(key)?
+            .map(|v| {
+                let x = Self::plain(&v)?;
+                if x.is_instance_of::<pyo3::types::PyBool>() {
+                    x.extract::<bool>()
+                } else {
+                    Err(self.bad(key, &v, "True or False"))
+                }
+            })
+            .transpose()
     }
     fn usizes(&self, key: &str) -> PyResult<Option<Vec<usize>>> {
         self.take(key)?.map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| self.int(&format!("{key}[{i}]"), x)).collect()).transpose()

@@ -9,8 +9,13 @@ use pyo3::types::{PyDict, PyList};
 use signorini_cli::sweep::{Axis, Sweep, SweepOptions};
 use std::path::{Path, PathBuf};
 
-/// A CSV file as `{column: array}`: a column whose every cell is a number
-/// (an empty cell is NaN) becomes float64, any other a list of str.
+/// The columns that count (runs, impacts, forcing periods, points, steps,
+/// stop indices): int64 when every cell is an integer.
+const COUNTS: &[&str] = &["run", "stop", "impacts", "period", "poincare_points", "steps"];
+
+/// A CSV file as `{column: array}`: a counting column ([`COUNTS`]) whose
+/// every cell is an integer becomes int64, another column whose every cell
+/// is a number (an empty cell is NaN) float64, any other a list of str.
 fn read_csv<'py>(py: Python<'py>, path: &Path) -> PyResult<Option<Bound<'py, PyDict>>> {
     if !path.exists() {
         return Ok(None);
@@ -26,6 +31,12 @@ fn read_csv<'py>(py: Python<'py>, path: &Path) -> PyResult<Option<Bound<'py, PyD
     }
     let d = PyDict::new(py);
     for (name, c) in header.iter().zip(cols) {
+        if COUNTS.contains(&name.as_str()) {
+            if let Some(v) = c.iter().map(|v| v.parse::<i64>().ok()).collect::<Option<Vec<i64>>>() {
+                d.set_item(name, v.into_pyarray(py))?;
+                continue;
+            }
+        }
         let nums: Option<Vec<f64>> = c.iter().map(|v| if v.is_empty() { Some(f64::NAN) } else { v.parse::<f64>().ok() }).collect();
         match nums {
             Some(v) => d.set_item(name, v.into_pyarray(py))?,

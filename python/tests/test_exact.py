@@ -60,3 +60,28 @@ def test_a_rust_panic_is_an_exception_not_an_abort():
     with pytest.raises(signorini.InternalError, match="planted"):
         signorini._signorini._panic_for_tests()
     assert issubclass(signorini.SceneError, ValueError)
+
+
+def test_nan_infinite_time_and_points_off_the_bar_are_nan():
+    # Issue 22 item 2: u(0.5, nan) and u(0.5, inf) were 0.25, lam(nan) and
+    # u_t(0.5, nan) 0.0 (the phase cast to an integer), u(5, 0.5) = -2
+    # (extrapolated). As bar-neumann-gravity: NaN.
+    for name in ("bar-dirichlet", "bar-mirrored", "bar-neumann-gravity"):
+        s = exact.solution(name)
+        for t in (np.nan, np.inf, -np.inf):
+            for f in (s.u, s.u_x, s.u_t):
+                assert np.isnan(f(0.5, t)), (name, f.__name__, t)
+            assert np.isnan(s.lam(t)) and np.isnan(s.energy(t)), (name, t)
+        for x in (-0.5, 5.0, np.nan, np.inf):
+            assert np.isnan(s.u(x, 0.5)) and np.isnan(s.u_x(x, 0.5)) and np.isnan(s.u_t(x, 0.5)), (name, x)
+        # Arrays: only the bad entries are NaN. u(x, 0) = (1 - x)/2 for the
+        # Dirichlet-type bars; the falling bar is at rest at height 1/2.
+        x = np.array([0.25, 7.0, 0.75])
+        got = s.u(x, np.array([0.0, 0.0, np.nan]))
+        want0 = 0.5 if name == "bar-neumann-gravity" else 0.375
+        assert got[0] == want0 and np.isnan(got[1]) and np.isnan(got[2]), (name, got)
+        e = s.energy(np.array([0.0, np.nan]))
+        assert np.isnan(e[1]) and e[0] == {"bar-dirichlet": 0.125, "bar-mirrored": 0.25, "bar-neumann-gravity": 1 / 18}[name]
+    # The falling bar's horizon: NaN beyond t_max (as before).
+    s = exact.solution("bar-neumann-gravity", t_max=4.0)
+    assert np.isnan(s.u(0.5, 100.0)) and np.isnan(s.energy(100.0))

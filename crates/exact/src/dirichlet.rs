@@ -6,22 +6,26 @@
 //! The 2017 paper prints zone I of phase 1 as `-(t1 - t)/2`: a sign typo;
 //! `-τ/2` is right (continuity with zones II and III).
 
-use crate::{ExactSolution, FarEnd, Fields};
+use crate::{on_bar, ExactSolution, FarEnd, Fields, UNDEFINED};
 
 /// The Signorini–Dirichlet bar of Dabaghi–Petrov–Pousin–Renard §5.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BarDirichlet;
 
-/// Phase (0 approach, 1 contact, 2 flight) and time inside it.
+/// Phase (0 approach, 1 contact, 2 flight) and time inside it; `t` must be
+/// finite (`None` otherwise: a NaN phase would be cast to phase 0).
 #[inline]
-pub(crate) fn phase(t: f64) -> (u8, f64) {
+pub(crate) fn phase(t: f64) -> Option<(u8, f64)> {
+    if !t.is_finite() {
+        return None;
+    }
     let tp = t.rem_euclid(3.0);
     let p = tp.floor();
     // rem_euclid can return 3.0 for tiny negative t; fold it back.
     if p >= 3.0 {
-        return (0, 0.0);
+        return Some((0, 0.0));
     }
-    (p as u8, tp - p)
+    Some((p as u8, tp - p))
 }
 
 #[inline]
@@ -61,21 +65,28 @@ impl ExactSolution for BarDirichlet {
     fn degree_x(&self) -> usize {
         1
     }
+    /// NaN for a non-finite `t` or `x` off `[0, 1]` (see the crate docs).
     fn fields(&self, x: f64, t: f64) -> Fields {
-        let (p, tau) = phase(t);
-        eval(p, tau, x)
-    }
-    fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
-        let (p, tau) = phase(t);
-        for (x, o) in xs.iter().zip(out.iter_mut()) {
-            *o = eval(p, tau, *x).u;
+        match (phase(t), on_bar(x, 1.0)) {
+            (Some((p, tau)), Some(x)) => eval(p, tau, x),
+            _ => UNDEFINED,
         }
     }
+    fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
+        let ph = phase(t);
+        for (x, o) in xs.iter().zip(out.iter_mut()) {
+            *o = match (ph, on_bar(*x, 1.0)) {
+                (Some((p, tau)), Some(x)) => eval(p, tau, x).u,
+                _ => f64::NAN,
+            };
+        }
+    }
+    /// NaN for a non-finite `t`.
     fn lambda(&self, t: f64) -> f64 {
-        if phase(t).0 == 1 {
-            -0.5
-        } else {
-            0.0
+        match phase(t) {
+            Some((1, _)) => -0.5,
+            Some(_) => 0.0,
+            None => f64::NAN,
         }
     }
     fn energy(&self) -> f64 {
@@ -83,7 +94,7 @@ impl ExactSolution for BarDirichlet {
     }
     fn kinks(&self, t: f64, out: &mut Vec<f64>) {
         out.clear();
-        let (_, tau) = phase(t);
+        let Some((_, tau)) = phase(t) else { return };
         let (a, b) = if tau <= 0.5 { (tau, 1.0 - tau) } else { (1.0 - tau, tau) };
         for k in [a, b] {
             if k > 0.0 && k < 1.0 && out.last() != Some(&k) {

@@ -21,6 +21,17 @@
 //! orbits with their Floquet multipliers, and its grazing frequencies
 //! (see the `oscillator` module docs for the derivations).
 //!
+//! # Domain of evaluation
+//!
+//! Every bar benchmark is evaluated on the bar `[0, L]` and at finite times
+//! (the falling bar only on `[0, t_max]`, see its docs; the Dirichlet-type
+//! bars are periodic, defined at every finite `t`). Outside — a NaN or
+//! infinite `t`, a NaN `x`, a point off the bar by more than round-off —
+//! the fields and `λ` are NaN, [`ExactSolution::energy_at`] is NaN and the
+//! kink list is empty; nothing panics, and no finite value is made up by
+//! extrapolating a piece. A point within `1e-9·L` of an end (mesh nodes
+//! computed as `i·h`) takes the end's values.
+//!
 //! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
 //! meshes or schemes.
 
@@ -36,6 +47,22 @@ pub use oscillator::{
     Admissibility, ImpactOscillator, Multiplier, OscillatorError, OscillatorParams, Period1Orbit,
     State,
 };
+
+/// Relative slack (in units of `L`) accepted beyond `[0, L]` for a point
+/// `x`: within it the point is clamped onto the bar, beyond it the fields
+/// are NaN.
+pub(crate) const X_SLACK: f64 = 1e-9;
+
+/// `x` on the bar `[0, l]`: clamped onto it if within round-off
+/// ([`X_SLACK`]), `None` if farther off or NaN.
+#[inline]
+pub(crate) fn on_bar(x: f64, l: f64) -> Option<f64> {
+    let slack = X_SLACK * l;
+    (x >= -slack && x <= l + slack).then(|| x.clamp(0.0, l))
+}
+
+/// Fields that are not defined (off the bar, or outside the time domain).
+pub(crate) const UNDEFINED: Fields = Fields { u: f64::NAN, ux: f64::NAN, ut: f64::NAN };
 
 /// Point values of an exact solution (one-sided where a kink passes: the
 /// values of the piece that contains `x` in its closure, ties broken towards
@@ -84,7 +111,14 @@ pub trait ExactSolution: Send + Sync {
     }
     /// Polynomial degree of `u(·, t)` in `x` between two kinks.
     fn degree_x(&self) -> usize;
-    /// `u`, `u_x`, `u_t` at `(x, t)`.
+    /// Whether `t` is in the time domain of the solution (see the crate
+    /// docs, "Domain of evaluation"): every finite `t` unless the solution
+    /// says otherwise.
+    fn defined_at(&self, t: f64) -> bool {
+        t.is_finite()
+    }
+    /// `u`, `u_x`, `u_t` at `(x, t)`; NaN off the bar or outside the time
+    /// domain.
     fn fields(&self, x: f64, t: f64) -> Fields;
     /// `u(x_i, t)` for many points at one time (implementations hoist the
     /// time-dependent work out of the loop).
@@ -97,6 +131,15 @@ pub trait ExactSolution: Send + Sync {
     fn lambda(&self, t: f64) -> f64;
     /// Energy `∫ (u_t² + c² u_x²)/2 - f u dx`, conserved.
     fn energy(&self) -> f64;
+    /// The energy at time `t`: [`Self::energy`] where `t` is in the time
+    /// domain ([`Self::defined_at`]), NaN elsewhere.
+    fn energy_at(&self, t: f64) -> f64 {
+        if self.defined_at(t) {
+            self.energy()
+        } else {
+            f64::NAN
+        }
+    }
     /// Positions in `(0, L)` where `u_x` or `u_t` may jump at time `t`,
     /// sorted increasingly, appended to `out` after clearing it. Between two
     /// consecutive kinks `u(·, t)` is a polynomial of degree [`Self::degree_x`].

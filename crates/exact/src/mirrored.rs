@@ -18,7 +18,7 @@
 //! energy twice `u_D`'s: `1/4`. Periodic with period 3.
 
 use crate::dirichlet::{eval_zone, phase};
-use crate::{ExactSolution, FarEnd, Fields};
+use crate::{on_bar, ExactSolution, FarEnd, Fields, UNDEFINED};
 
 /// The Signorini–Dirichlet bar mirrored antisymmetrically onto `[0, 2]`:
 /// two stops, one contact at each end.
@@ -62,17 +62,24 @@ impl ExactSolution for BarMirrored {
     fn degree_x(&self) -> usize {
         1
     }
+    /// NaN for a non-finite `t` or `x` off `[0, 2]` (see the crate docs).
     fn fields(&self, x: f64, t: f64) -> Fields {
-        let (p, tau) = phase(t);
-        eval(p, tau, x)
-    }
-    fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
-        let (p, tau) = phase(t);
-        for (x, o) in xs.iter().zip(out.iter_mut()) {
-            *o = eval(p, tau, *x).u;
+        match (phase(t), on_bar(x, 2.0)) {
+            (Some((p, tau)), Some(x)) => eval(p, tau, x),
+            _ => UNDEFINED,
         }
     }
-    /// The force at `x = 0` (the one at `x = 2` is its opposite).
+    fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
+        let ph = phase(t);
+        for (x, o) in xs.iter().zip(out.iter_mut()) {
+            *o = match (ph, on_bar(*x, 2.0)) {
+                (Some((p, tau)), Some(x)) => eval(p, tau, x).u,
+                _ => f64::NAN,
+            };
+        }
+    }
+    /// The force at `x = 0` (the one at `x = 2` is its opposite); NaN for a
+    /// non-finite `t`.
     fn lambda(&self, t: f64) -> f64 {
         crate::BarDirichlet.lambda(t)
     }
@@ -81,7 +88,7 @@ impl ExactSolution for BarMirrored {
     }
     fn kinks(&self, t: f64, out: &mut Vec<f64>) {
         out.clear();
-        let (_, tau) = phase(t);
+        let Some((_, tau)) = phase(t) else { return };
         let [la, lb, ma, mb] = lines(tau);
         // Increasing order (x ↦ 2 - x rounds monotonically). At τ = 0 the
         // lines from both ends meet at x = 1, where u_t then jumps.

@@ -143,11 +143,12 @@
 //! `t ∈ [0, t_max]`, widened by `δ = 1e-9·(t_max + L)` on both sides to absorb
 //! round-off in time grids (`n·dt` slightly above `t_max`). Outside, the
 //! fields and `λ` are NaN and the kink list is empty; nothing panics. Points
-//! `x` outside `[0, L]` are clamped to `[0, L]`; a NaN `x` gives NaN fields.
+//! `x` within `1e-9·L` of `[0, L]` are clamped onto it; farther off, or NaN,
+//! they give NaN fields (the crate docs, "Domain of evaluation").
 
 use std::fmt;
 
-use crate::{ExactSolution, FarEnd, Fields};
+use crate::{on_bar, ExactSolution, FarEnd, Fields, UNDEFINED};
 
 /// Relative distance (in units of `L`) below which an event is snapped onto
 /// a breakpoint of the incoming wave (docs/theory.md §5.2.2). A snap by more
@@ -878,16 +879,21 @@ impl ExactSolution for BarNeumannGravity {
         2
     }
 
-    /// `u`, `u_x`, `u_t` at `(x, t)`; `x` is clamped to `[0, L]`; NaN for
-    /// `t` outside `[0, t_max]` (± the slack of the module docs) or NaN `x`.
+    /// `[0, t_max]` widened by the slack of the module docs.
+    fn defined_at(&self, t: f64) -> bool {
+        self.t_ok(t)
+    }
+
+    /// `u`, `u_x`, `u_t` at `(x, t)`; `x` within round-off of `[0, L]` is
+    /// clamped onto it; NaN for `t` outside `[0, t_max]` (± the slack of the
+    /// module docs) or `x` off the bar or NaN.
     /// On a kink, the values of the piece on the larger-`x` side; at `x = L`,
     /// the values right-continuous in `t` (`u_x(L, t) = 0` exactly).
     fn fields(&self, x: f64, t: f64) -> Fields {
-        if !self.t_ok(t) || x.is_nan() {
-            return Fields { u: f64::NAN, ux: f64::NAN, ut: f64::NAN };
-        }
         let (l, two_l) = (self.l, 2.0 * self.l);
-        let x = x.clamp(0.0, l);
+        let Some(x) = on_bar(x, l).filter(|_| self.t_ok(t)) else {
+            return UNDEFINED;
+        };
         let (s1, s2) = (t - x, t + x - two_l);
         // Ties towards larger x: β(s1⁻) and β(s2⁺). At x = L there is no
         // larger x: both arguments equal t − L and take the same
@@ -903,7 +909,7 @@ impl ExactSolution for BarNeumannGravity {
     }
 
     /// `u(x_i, t)` for all `i` (up to the shorter of `xs`, `out`), with the
-    /// conventions of `fields` (clamping, NaN). Points are meant to be sorted
+    /// conventions of `fields` (clamping within round-off, NaN). Points are meant to be sorted
     /// increasingly: the points are processed in runs that share one cell
     /// (one pair of pieces of `β`, i.e. one quadratic in `x`), and the pieces
     /// are walked monotonically from one run to the next, so the cost is
@@ -916,17 +922,16 @@ impl ExactSolution for BarNeumannGravity {
         let (l, two_l, half_g, u0) = (self.l, 2.0 * self.l, 0.5 * self.g, self.u0);
         let p = &self.pieces[..];
         let n = xs.len().min(out.len());
-        let first = xs.iter().find(|x| !x.is_nan()).map_or(0.0, |x| x.clamp(0.0, l));
+        let first = xs.iter().find_map(|&x| on_bar(x, l)).unwrap_or(0.0);
         let mut k1 = find_left(p, t - first);
         let mut k2 = find_right(p, t + first - two_l);
         let mut i = 0;
         while i < n {
-            let x = xs[i].clamp(0.0, l);
-            if x.is_nan() {
+            let Some(x) = on_bar(xs[i], l) else {
                 out[i] = f64::NAN;
                 i += 1;
                 continue;
-            }
+            };
             // The cell of x, as `fields` finds it.
             let (s1, s2) = (t - x, t + x - two_l);
             k1 = if x < l { seek_left(p, k1, s1) } else { seek_right(p, k1, s1) };
@@ -942,10 +947,10 @@ impl ExactSolution for BarNeumannGravity {
             let lo2 = if k2 > 0 { p[k2].s } else { f64::NEG_INFINITY };
             let hi2 = p.get(k2 + 1).map_or(f64::INFINITY, |q| q.s);
             while i < n {
-                let x = xs[i].clamp(0.0, l);
+                let Some(x) = on_bar(xs[i], l) else { break };
                 let (s1, s2) = (t - x, t + x - two_l);
                 if !(x < l && s1 > lo1 && s1 <= hi1 && s2 >= lo2 && s2 < hi2) {
-                    break; // also for NaN
+                    break;
                 }
                 out[i] = c.u(x, half_g, two_l);
                 i += 1;

@@ -656,13 +656,14 @@ fn u_at_matches_fields() {
             assert_eq!(out_rev[xs.len() - 1 - i], u, "unsorted u_at({t}, {x})");
         }
     }
-    // Clamping and NaN handling.
-    let mut o = [0.0; 4];
-    s.u_at(7.0, &[-0.5, f64::NAN, 1.5, 0.5], &mut o);
-    assert_eq!(o[0], s.fields(0.0, 7.0).u);
-    assert!(o[1].is_nan());
-    assert_eq!(o[2], s.fields(1.0, 7.0).u);
+    // Off the bar and NaN: NaN (issue 22: no longer clamped onto the bar);
+    // within round-off of an end: clamped onto it.
+    let mut o = [0.0; 6];
+    s.u_at(7.0, &[-0.5, f64::NAN, 1.5, 0.5, -1e-12, 1.0 + 1e-12], &mut o);
+    assert!(o[0].is_nan() && o[1].is_nan() && o[2].is_nan());
     assert_eq!(o[3], s.fields(0.5, 7.0).u);
+    assert_eq!(o[4], s.fields(0.0, 7.0).u);
+    assert_eq!(o[5], s.fields(1.0, 7.0).u);
 }
 
 #[test]
