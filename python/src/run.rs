@@ -113,14 +113,14 @@ fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>
     Ok(a.into_pyarray(py).unbind())
 }
 
-/// A run's error as Python sees it: no file was written, the levels so far
-/// are the exception's `partial` (the command's "output written so far is
-/// kept" is about its files).
+/// A run's error as Python sees it: no file was written; a run that stopped
+/// on the way keeps its levels as the exception's `partial`. Very large and
+/// small numbers get an exponent.
 fn python_status(e: &RunError) -> String {
-    let m = e.to_string();
-    match m.strip_suffix("; output written so far is kept") {
-        Some(head) => format!("{head}; the levels so far are kept (the exception's partial)"),
-        None => m,
+    let m = signorini_run::text::tidy_numbers(&e.to_string());
+    match e {
+        RunError::BlowUp { .. } | RunError::EnergyGrowth { .. } | RunError::Interrupted { .. } => format!("{m}; the levels so far are kept (the exception's partial)"),
+        _ => m,
     }
 }
 
