@@ -304,7 +304,8 @@ fn plot_forces(notes: &mut Vec<String>, dir: &Path, set: &ContactSet, forces: &F
                 return;
             }
             let y = format!("λ_i{unit}");
-            line_chart(&Chart { title: "contact forces λ_i(t) (<= 0 at a lower bound, >= 0 at an upper one)", x_label: "t", y_label: &y, scale: Scale::Linear, size: (900, 450) }, &series)
+            let t = if unit.is_empty() { "t" } else { "t (s)" };
+            line_chart(&Chart { title: "contact forces λ_i(t) (<= 0 at a lower bound, >= 0 at an upper one)", x_label: t, y_label: &y, scale: Scale::Linear, size: (900, 450) }, &series)
         }
         ForcePlot::Map { cells, .. } => {
             let k = set.sites.len();
@@ -400,7 +401,8 @@ pub struct Summary {
 
 /// Writes one plot; a plot never fails a run: a problem becomes a note.
 /// Non-finite points are left out (a blown-up run plots what was finite).
-fn plot(notes: &mut Vec<String>, dir: &Path, name: &str, title: &str, y: &str, num: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>) {
+/// `t` is the time axis's label (`t (s)` where the scene has units).
+fn plot(notes: &mut Vec<String>, dir: &Path, name: &str, title: &str, (t, y): (&str, &str), num: Vec<(f64, f64)>, exact: Option<Vec<(f64, f64)>>) {
     let finite = |v: Vec<(f64, f64)>| -> Vec<(f64, f64)> { v.into_iter().filter(|p| p.0.is_finite() && p.1.is_finite()).collect() };
     let num = finite(num);
     if num.is_empty() {
@@ -411,7 +413,7 @@ fn plot(notes: &mut Vec<String>, dir: &Path, name: &str, title: &str, y: &str, n
     if let Some(e) = exact {
         s.push(Series { label: "exact".into(), points: finite(e), reference: true, style: Default::default() });
     }
-    let written = line_chart(&Chart { title, x_label: "t", y_label: y, scale: Scale::Linear, size: (900, 450) }, &s).and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
+    let written = line_chart(&Chart { title, x_label: t, y_label: y, scale: Scale::Linear, size: (900, 450) }, &s).and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
     if let Err(e) = written {
         notes.push(format!("{name} not written: {e}"));
     }
@@ -504,7 +506,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
-                plot(&mut notes, out, "x.svg", "oscillator displacement x(t)", "x", data.points.iter().map(|p| (p.0, p.1)).collect(), None);
+                plot(&mut notes, out, "x.svg", "oscillator displacement x(t)", ("t", "x"), data.points.iter().map(|p| (p.0, p.1)).collect(), None);
             }
             let mut lines = Vec::new();
             if let Some(v) = vib {
@@ -565,7 +567,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let mut notes = Vec::new();
             if scene_file.output.plots {
                 let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
-                plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", "ũ(L,t) (m)", pts, None);
+                plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", ("t (s)", "ũ(L,t) (m)"), pts, None);
                 if let (Some(set), Some(f)) = (contacts, &data.forces) {
                     plot_forces(&mut notes, out, set, f, scene.t_end, " (scaled equation: force / ρS, m² s⁻²)");
                 }
@@ -661,15 +663,15 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         match (&b.contacts, &data.forces) {
             (Some(set), Some(f)) => {
                 let title = format!("u at contact 0 (x = {})", set.sites[0].x);
-                plot(&mut notes, out, "u_contact.svg", &title, "u", data.points.iter().map(|p| (p.0, p.1)).collect(), None);
+                plot(&mut notes, out, "u_contact.svg", &title, ("t", "u"), data.points.iter().map(|p| (p.0, p.1)).collect(), None);
                 plot_forces(&mut notes, out, set, f, b.t_end, "");
             }
             _ => {
-                plot(&mut notes, out, "u_contact.svg", "u(0,t)", "u(0,t)", data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)));
-                plot(&mut notes, out, "lambda.svg", "contact force λ(t)", "λ", data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))));
+                plot(&mut notes, out, "u_contact.svg", "u(0,t)", ("t", "u(0,t)"), data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)));
+                plot(&mut notes, out, "lambda.svg", "contact force λ(t)", ("t", "λ"), data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))));
             }
         }
-        plot(&mut notes, out, "energy.svg", "discrete energy", "E", data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
+        plot(&mut notes, out, "energy.svg", "discrete energy", ("t", "E"), data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
     }
     let analysis_lines = match vib {
         Some(v) => v.finish(file.output.plots, &mut notes)?,

@@ -102,3 +102,16 @@ fn a_stopped_run_names_where_its_rows_are_kept() {
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains(&format!("the rows written so far are kept in {}", out.display())), "{err}");
 }
+
+/// §12: the beam's time axis has its unit.
+#[test]
+fn the_beam_plots_have_a_time_unit() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let p = dir.path().join("s.toml");
+    std::fs::write(&p, "[beam]\nscene = \"fig2\"\nt_end = 0.01\n[output]\nplots = true\n").expect("write");
+    let out = dir.path().join("o");
+    let (code, err) = cli(&["run", p.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(0), "{err}");
+    let svg = std::fs::read_to_string(out.join("tip.svg")).expect("tip.svg");
+    assert!(svg.contains(">\nt (s)\n<") || svg.contains(">t (s)<"), "no 't (s)' axis label in tip.svg");
+}

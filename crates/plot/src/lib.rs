@@ -352,6 +352,30 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
     Ok(svg)
 }
 
+/// Stacks whole SVG documents (as [`line_chart`] returns them) top to
+/// bottom in one document: one panel per chart, each at its own size, the
+/// document as wide as the widest. Errors if a document has no root `<svg`
+/// element with a `width` and a `height` in pixels.
+pub fn stack_vertically(panels: &[String]) -> Result<String, String> {
+    let attr = |tag: &str, name: &str| -> Option<u32> {
+        let at = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+        tag[at..].split('"').next()?.trim_end_matches("px").parse().ok()
+    };
+    let mut body = String::new();
+    let (mut width, mut height) = (0u32, 0u32);
+    for (i, svg) in panels.iter().enumerate() {
+        let start = svg.find("<svg").ok_or_else(|| format!("panel {i}: no <svg> element"))?;
+        let end = start + svg[start..].find('>').ok_or_else(|| format!("panel {i}: an unclosed <svg> tag"))?;
+        let tag = &svg[start..end];
+        let (w, h) = attr(tag, "width").zip(attr(tag, "height")).ok_or_else(|| format!("panel {i}: no width and height in pixels"))?;
+        body.push_str(&format!("<svg x=\"0\" y=\"{height}\"{}", &svg[start + 4..]));
+        body.push('\n');
+        width = width.max(w);
+        height += h;
+    }
+    Ok(format!("<svg width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\" xmlns=\"http://www.w3.org/2000/svg\">\n{body}</svg>\n"))
+}
+
 /// A scatter chart (bifurcation diagrams, impact maps): every point of
 /// every series a dot of radius `radius` pixels (1 for diagrams of 10⁵
 /// points), no lines, linear axes, a legend when there is more than one
@@ -462,6 +486,18 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stacked_panels_sit_one_under_the_other() {
+        let a = "<svg width=\"100\" height=\"50\" viewBox=\"0 0 100 50\" xmlns=\"http://www.w3.org/2000/svg\">\n<text>first</text>\n</svg>\n".to_string();
+        let b = "<svg width=\"80\" height=\"30\" viewBox=\"0 0 80 30\" xmlns=\"http://www.w3.org/2000/svg\">\n<text>second</text>\n</svg>\n".to_string();
+        let svg = stack_vertically(&[a, b]).unwrap();
+        assert!(svg.starts_with("<svg width=\"100\" height=\"80\" viewBox=\"0 0 100 80\""), "{svg}");
+        let (first, second) = (svg.find("<svg x=\"0\" y=\"0\" width=\"100\"").unwrap(), svg.find("<svg x=\"0\" y=\"50\" width=\"80\"").unwrap());
+        assert!(first < svg.find("first").unwrap() && svg.find("first").unwrap() < second && second < svg.find("second").unwrap());
+        assert_eq!(svg.matches("</svg>").count(), 3);
+        assert!(stack_vertically(&["<g/>".to_string()]).is_err());
+    }
 
     #[test]
     fn renders_svg_with_legend_and_skips_bad_points() {

@@ -9,7 +9,7 @@
 use crate::{fe, ff, fits_memory, int, parse_schemes, prepare_dir, since, txt, Kind, StudyError, Table, TableOut};
 use signorini_fem::BarMass;
 use signorini_norms::NormKind;
-use signorini_plot::{line_chart, Chart, Scale, Series, Style};
+use signorini_plot::{line_chart, stack_vertically, Chart, Scale, Series, Style};
 use signorini_run::study::{self, ConfigResult, StudyConfig, LEVEL_COLUMNS, NORMS};
 use signorini_run::Benchmark;
 use signorini_reduce::Keep;
@@ -280,16 +280,25 @@ fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefi
     }
     tables.push(osc.finish()?);
     for norm in PLOTTED_NORMS {
-        let series: Vec<Series> = results
+        // One panel per mass, so that the schemes' curves stay apart (14
+        // curves in one chart were unreadable); colour by scheme as before.
+        let panels: Result<Vec<String>, String> = cfg
+            .masses
             .iter()
-            .map(|r| {
-                // Colour by scheme, marker and dash by mass.
-                let style = Style { group: cfg.schemes.iter().position(|s| *s == r.scheme), variant: cfg.masses.iter().position(|m| *m == r.mass) };
-                Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false, style }
+            .map(|&mass| {
+                let series: Vec<Series> = results
+                    .iter()
+                    .filter(|r| r.mass == mass)
+                    .map(|r| {
+                        let style = Style { group: cfg.schemes.iter().position(|s| *s == r.scheme), variant: None };
+                        Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false, style }
+                    })
+                    .collect();
+                let title = format!("{}, mass {mass}: {} against dx (dx/dt = {})", cfg.benchmark, norm_words(norm), cfg.ratio);
+                line_chart(&Chart { title: &title, x_label: "dx", y_label: &norm_words(norm), scale: Scale::LogLog, size: (900, 500) }, &series)
             })
             .collect();
-        let chart = Chart { title: &format!("{}: {norm} against dx (dx/dt = {})", cfg.benchmark, cfg.ratio), x_label: "dx", y_label: norm, scale: Scale::LogLog, size: (900, 600) };
-        match line_chart(&chart, &series) {
+        match panels.and_then(|p| stack_vertically(&p)) {
             Ok(svg) => crate::write_file(&out.join(format!("plot_{norm}.svg")), &svg)?,
             Err(e) => notes.push(format!("warning: plot of {norm} skipped: {e}")),
         }
@@ -306,7 +315,19 @@ fn output_files(cfg: &StudyConfig) -> Vec<String> {
     files
 }
 
-/// The norms drawn against dx, one SVG each.
+/// A norm's column name in words, for axes and titles.
+fn norm_words(norm: &str) -> String {
+    let words = match norm {
+        "linf_l2_u" => "max in time of the L² error of u (L∞(0,T;L²))",
+        "l2_l2_u" => "L² in time of the L² error of u (L²(0,T;L²))",
+        "linf_v_u" => "max in time of the strain error (L∞(0,T;V))",
+        "l2_energy" => "L² in time of the energy error",
+        other => other,
+    };
+    words.to_string()
+}
+
+/// The norms drawn against dx, one SVG each (a panel per mass).
 const PLOTTED_NORMS: [&str; 4] = ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_energy"];
 
 #[cfg(test)]

@@ -206,5 +206,8 @@ fn convergence_refuses_a_folder_of_another_configuration() {
     let mut second: Vec<String> = ["newmark-cn_std.csv", "oscillation.csv", "rates.csv"].into_iter().chain(plots).map(String::from).collect();
     second.sort();
     assert_eq!(study_files(&out), second, "clean removed the stale pair and kept nothing else");
+    // §12: the plots name the norm in words, one panel per mass.
+    let svg = std::fs::read_to_string(out.join("plot_l2_l2_u.svg")).expect("plot");
+    assert!(svg.contains("L² in time of the L² error of u") && svg.contains("mass std") && !svg.contains("y_label"), "axis in words");
     let _ = std::fs::remove_dir_all(&out);
 }
