@@ -38,6 +38,8 @@ use crate::scene::{Limits, Scene, SceneError, SceneFile};
 use crate::CliError;
 use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
+use signorini_reduce::Reduction;
+use signorini_run::reduced::{Need, Reconstruct};
 use signorini_run::{Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
@@ -942,28 +944,42 @@ fn text_cell(s: &str) -> String {
 /// be built or stops early gives its reason as the status, and what it
 /// recorded before.
 pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
-    let mut built = match crate::build(scene, start) {
+    // A reduced model (`reduce = {…}`) runs as `signorini run` runs it: the
+    // observers see the scene's unknowns, reconstructed.
+    let mut built = match crate::build_model(scene, start) {
         Ok(b) => b,
         Err(e) => return failed(&e),
     };
-    let contacts: Vec<(usize, Bounds)> = built.stepper.dynamics().contacts.iter().map(|c| (c.dof, c.bounds)).collect();
+    let contacts = built.contacts();
+    let rows: Vec<usize> = contacts.iter().map(|c| c.0).chain(std::iter::once(built.tip)).collect();
     let mut vib = match observers(plan, built.tip, contacts) {
         Ok(v) => v,
         Err(e) => return failed(&e),
     };
-    let n = built.u0.len();
+    let n = built.reduction.as_ref().map_or(built.u0.len(), Reduction::parent_dofs);
     let mut last = LastTwo { prev: vec![0.0; if follow { n } else { 0 }], last: vec![0.0; if follow { n } else { 0 }], t: 0.0 };
     let mut rc = match RunConfig::new(plan.dt, plan.t_end) {
         Ok(c) => c,
         Err(e) => return failed(&e),
     };
     rc.interrupt = interrupt;
-    let res = {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
-        if follow {
-            obs.push(&mut last);
+    let res = match &built.reduction {
+        None => {
+            let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
+            if follow {
+                obs.push(&mut last);
+            }
+            signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
         }
-        signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
+        Some(red) => {
+            let mut v = Reconstruct::new(red, &mut vib, Need::Dofs(rows));
+            let mut l = Reconstruct::new(red, &mut last, Need::Full);
+            let mut obs: Vec<&mut dyn Observer> = vec![&mut v];
+            if follow {
+                obs.push(&mut l);
+            }
+            signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
+        }
     };
     let (steps, status) = match &res {
         Ok(s) => (s.steps, "ok".to_string()),
@@ -1002,8 +1018,9 @@ fn rows_of(vib: &signorini_run::vibro::Vibro, plan: &Plan, steps: usize, status:
 /// narrowest engine that holds it (2, 4 or 8 lanes).
 pub const LANES: usize = 8;
 
-/// A run the lockstep engine takes: a beam on its tip's two stops with the
-/// projection (the β-scheme, e = 0), not continued from another run.
+/// A run the lockstep engine takes: a beam (full model) on its tip's two
+/// stops with the projection (the β-scheme, e = 0), not continued from
+/// another run.
 fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
     let beta = lockstep_beta(scene)?;
     let Scene::Beam { pipe, scene: bs, excitation, .. } = scene else { return None };
@@ -1014,7 +1031,8 @@ fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
 /// The β of a scene the lockstep engine takes (see [`lane_of`]), or `None`.
 fn lockstep_beta(scene: &Scene) -> Option<f64> {
     match scene {
-        Scene::Beam { scene: bs, contacts: None, excitation, .. } if excitation.start.is_none() => match bs.contact {
+        // A reduced model steps other matrices: one run at a time.
+        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() => match bs.contact {
             BeamContact::Projection { beta } => Some(beta),
             BeamContact::Penalty { .. } => None,
         },

@@ -256,3 +256,72 @@ fn no_impacts_keeps_the_statistics_and_merges() {
     same_files(&without, &merged, &["sweep.csv", "summary.csv", "bifurcation.svg", "sweep.toml"]);
     assert!(!merged.join("impacts.csv").exists());
 }
+
+/// `signorini sweep SCENE --out OUT ARGS…`.
+fn sweep_with(scene: &Path, out: &Path, args: &[&str]) -> std::process::Output {
+    bin().args(["sweep", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]).args(args).output().unwrap()
+}
+
+/// The data rows of a CSV file, split at commas.
+fn csv_rows(path: &Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path).unwrap().lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect()
+}
+
+/// The rows of `sweep.csv` / `impacts.csv` of run `run` without their
+/// `param,run` columns.
+fn rows_of_run(path: &Path, run: usize) -> Vec<Vec<String>> {
+    csv_rows(path).into_iter().filter(|r| r[1] == run.to_string()).map(|r| r[2..].to_vec()).collect()
+}
+
+/// A beam scene on the tip's stops moved by `A sin(ω t)`, `extra` lines in `[beam]`.
+fn beam_text(extra: &str, omega: f64) -> String {
+    format!("[beam]\nscene = \"fig2\"\n{extra}\n[support]\namplitude = 0.2\nomega = {omega:?}\n")
+}
+
+/// issue 22, item 1: `reduce` acts in a sweep, and each run of the sweep is
+/// `signorini run` of the scene at its value (the sweep's horizon, the same
+/// record window): the same statistics, steps and Poincaré samples.
+#[test]
+fn a_reduced_beam_sweep_is_signorini_run_at_each_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let reduce = "reduce = { modes = 8 }\n";
+    let (red, full) = (dir.path().join("red.toml"), dir.path().join("full.toml"));
+    std::fs::write(&red, beam_text(reduce, 10.0)).unwrap();
+    std::fs::write(&full, beam_text("", 10.0)).unwrap();
+    let args = ["--param", "support.omega", "--from", "9", "--to", "11", "--count", "2", "--transient", "1", "--record", "2"];
+    let (sr, sf) = (dir.path().join("sr"), dir.path().join("sf"));
+    ok(&sweep_with(&red, &sr, &args));
+    ok(&sweep_with(&full, &sf, &args));
+    let summary = csv_rows(&sr.join("summary.csv"));
+    assert_ne!(summary, csv_rows(&sf.join("summary.csv")), "reduce acts in a sweep");
+    let header: Vec<String> = std::fs::read_to_string(sr.join("summary.csv")).unwrap().lines().next().unwrap().split(',').map(String::from).collect();
+    let stats = header.len() - 4; // param,run,<stats>,steps,status
+    let dt = 5e-5; // fig2's
+    for (run, omega) in [(0usize, 9.0f64), (1, 11.0)] {
+        // The sweep's horizon, computed here: 3 forcing periods in whole steps.
+        let steps = (3.0 * (std::f64::consts::TAU / omega) / dt).round();
+        let t_end = steps * dt;
+        let text = format!("{}\n[output]\nplots = false\nsummary = true\npoincare = true\nimpacts = true\ntransient = 1.0\n", beam_text(&format!("{reduce}t_end = {t_end:?}\n"), omega));
+        let scene = dir.path().join(format!("run{run}.toml"));
+        std::fs::write(&scene, text).unwrap();
+        let out = dir.path().join(format!("run{run}"));
+        ok(&bin().args(["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap());
+        let one = csv_rows(&out.join("summary.csv"));
+        let row = &summary[run];
+        assert_eq!(row[0], format!("{omega}"));
+        assert_eq!(row[2..2 + stats], one[0][..], "run {run}: the sweep's statistics are signorini run's");
+        assert_eq!(row[2 + stats], format!("{steps}"), "run {run}: steps");
+        assert_eq!(row[3 + stats], "ok");
+        // The Poincaré samples, to every printed digit.
+        let e12 = |s: &str| format!("{:.12e}", s.parse::<f64>().unwrap());
+        let pc = rows_of_run(&sr.join("sweep.csv"), run);
+        let one_pc = csv_rows(&out.join("poincare.csv"));
+        assert!(!one_pc.is_empty());
+        assert_eq!(pc.len(), one_pc.len());
+        for (s, r) in pc.iter().zip(&one_pc) {
+            for k in 0..3 {
+                assert_eq!(e12(&s[k]), r[k], "run {run}: Poincaré column {k}");
+            }
+        }
+    }
+}
