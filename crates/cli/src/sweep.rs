@@ -77,7 +77,7 @@ pub enum SweepError {
         message: String,
     },
     /// The scene with a swept value is invalid.
-    #[error("--param {path} = {value}: {error}")]
+    #[error("--param {path} = {}: {error}", num(*value))]
     Value {
         /// The path.
         path: String,
@@ -92,6 +92,20 @@ pub enum SweepError {
     /// Shards that do not make one sweep, or a folder to resume that is not this sweep's.
     #[error("{0}")]
     Folder(String),
+}
+
+/// `x` in shortest round-trip form, with an exponent for very large or
+/// small magnitudes (`1e300`, `-2.5e-7`, not hundreds of digits): `{:e}`
+/// when `|x| >= 1e16` or `0 < |x| < 1e-5`, else `{}` (so `4.012012012012012`
+/// and `0.0055` are written as before). The sweep's `param` columns and
+/// messages.
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if a >= 1e16 || (a != 0.0 && a < 1e-5) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// A second axis of a two-parameter map.
@@ -143,16 +157,16 @@ fn check_axis(suffix: &'static str, from: f64, to: f64, count: usize, log: bool)
         return opt(name("count"), "0 is not allowed: an integer >= 1".into());
     }
     if !from.is_finite() {
-        return opt(name("from"), format!("{from} is not allowed: a finite number"));
+        return opt(name("from"), format!("{} is not allowed: a finite number", num(from)));
     }
     if !to.is_finite() {
-        return opt(name("to"), format!("{to} is not allowed: a finite number"));
+        return opt(name("to"), format!("{} is not allowed: a finite number", num(to)));
     }
     if log && !(from > 0.0) {
-        return opt(name("from"), format!("{from} is not allowed with --log: > 0"));
+        return opt(name("from"), format!("{} is not allowed with --log: > 0", num(from)));
     }
     if log && !(to > 0.0) {
-        return opt(name("to"), format!("{to} is not allowed with --log: > 0"));
+        return opt(name("to"), format!("{} is not allowed with --log: > 0", num(to)));
     }
     Ok(())
 }
@@ -222,16 +236,16 @@ impl SweepOptions {
             return opt("count", format!("{total} runs are not allowed: at most 1e8 per sweep"));
         }
         if !(self.transient >= 0.0 && self.transient.is_finite()) {
-            return opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", self.transient));
+            return opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", num(self.transient)));
         }
         if !(self.record > 0.0 && self.record.is_finite()) {
-            return opt("record", format!("{} is not allowed: forcing periods, finite and > 0", self.record));
+            return opt("record", format!("{} is not allowed: forcing periods, finite and > 0", num(self.record)));
         }
         if !(self.phase >= 0.0 && self.phase < std::f64::consts::TAU) {
-            return opt("phase", format!("{} is not allowed: a forcing phase in [0, 2π)", self.phase));
+            return opt("phase", format!("{} is not allowed: a forcing phase in [0, 2π)", num(self.phase)));
         }
         if !(self.period_tol > 0.0 && self.period_tol < 1.0) {
-            return opt("period-tol", format!("{} is not allowed: in (0, 1)", self.period_tol));
+            return opt("period-tol", format!("{} is not allowed: in (0, 1)", num(self.period_tol)));
         }
         if let Some((i, n)) = self.shard {
             if n == 0 || i >= n {
@@ -519,7 +533,8 @@ fn io(p: &Path, e: std::io::Error) -> CliError {
 /// The rows of one run, formatted: `param,run,<values>[,param2]`.
 fn rows_text(value: (f64, Option<f64>), run: usize, r: &RunRows) -> (String, String, String) {
     let (p, p2) = value;
-    let tail = p2.map_or(String::new(), |v| format!(",{v}"));
+    let tail = p2.map_or(String::new(), |v| format!(",{}", num(v)));
+    let p = num(p);
     let mut sw = String::new();
     for row in &r.poincare {
         let _ = writeln!(sw, "{p},{run},{},{},{},{}{tail}", row[0], row[1], row[2], row[3]);

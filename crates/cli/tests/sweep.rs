@@ -325,3 +325,35 @@ fn a_reduced_beam_sweep_is_signorini_run_at_each_value() {
         }
     }
 }
+
+/// The oscillator swept over initial velocities whose runs overflow: the
+/// first runs, the other two blow up.
+fn blow_up_sweep(dir: &Path, out: &Path) -> std::process::Output {
+    sweep_with(&scene(dir), out, &["--param", "oscillator.initial_velocity", "--from", "-1e300", "--to", "-1.7e308", "--count", "3", "--transient", "2", "--record", "2"])
+}
+
+/// issue 22, item 11: very large values in the `param` column and in the
+/// sweep's messages are written in shortest round-trip form.
+#[test]
+fn large_values_are_written_in_shortest_form() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    blow_up_sweep(dir.path(), &out);
+    let mid = -1e300 + (-1.7e308 - -1e300) * 0.5;
+    for f in ["summary.csv", "sweep.csv"] {
+        let params: Vec<String> = csv_rows(&out.join(f)).into_iter().map(|r| r[0].clone()).collect();
+        for p in &params {
+            assert!(["-1e300".to_string(), format!("{mid:e}"), "-1.7e308".to_string()].contains(p), "{f}: {p}");
+            assert_eq!(p.parse::<f64>().unwrap().to_bits(), [-1e300f64, mid, -1.7e308].iter().find(|v| format!("{:e}", v) == *p).unwrap().to_bits());
+        }
+    }
+    // Normal values keep their form (data/reference/beam-sweep: 4.012012012012012).
+    let sc = scene(dir.path());
+    let o = sweep_with(&sc, &dir.path().join("small"), &["--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "3", "--transient", "1", "--record", "1"]);
+    ok(&o);
+    let params: Vec<String> = csv_rows(&dir.path().join("small/summary.csv")).into_iter().map(|r| r[0].clone()).collect();
+    assert_eq!(params, ["1.6".to_string(), format!("{}", 1.6 + (2.2 - 1.6) * 0.5), "2.2".to_string()]);
+    // Messages: --log with a huge negative bound.
+    let o = sweep_with(&sc, &dir.path().join("m1"), &["--param", "forcing.omega", "--from", "-1e300", "--to", "2", "--count", "3", "--log"]);
+    refused(&o, "--from: -1e300 is not allowed");
+}
