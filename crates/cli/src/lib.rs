@@ -107,6 +107,17 @@ pub enum CliError {
         /// The folder.
         dir: String,
     },
+    /// A sweep ran to its end, and some of its runs failed (blow-up, …):
+    /// their rows are kept, their status says why.
+    #[error("{failed} of {total} runs failed (their status in {dir}/summary.csv says why; the rows they wrote are kept)")]
+    SweepFailed {
+        /// Runs whose status is not `ok`.
+        failed: usize,
+        /// Runs of the sweep (or shard).
+        total: usize,
+        /// The folder.
+        dir: String,
+    },
     /// The run stopped early (blow-up, interrupt); notes on what was still
     /// written (plots skipped) follow the error.
     #[error("{error}{}", notes.iter().map(|n| format!("\nnote: {n}")).collect::<String>())]
@@ -120,11 +131,13 @@ pub enum CliError {
 
 impl CliError {
     /// The process exit code: 2 for an invalid scene or command (nothing
-    /// was run), 130 for an interrupted run, 1 for a run that failed.
+    /// was run), 130 for an interrupted run, 3 for a sweep that ran to its
+    /// end with failed runs, 1 for a run that failed.
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } => 2,
             CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } => 130,
+            CliError::SweepFailed { .. } => 3,
             _ => 1,
         }
     }

@@ -301,8 +301,9 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
 
 /// Sets the numeric field at `path` in a scene document to `value`.
 /// Segments are keys, or array indices (`stop.0.hi`). The parent must
-/// exist; an existing value must be a number; an integer field takes only
-/// integral values.
+/// exist; an existing value must be a number. An integral value goes in as
+/// an integer, another as a float: the scene's parse refuses a fraction in
+/// an integer field (and [`Sweep::new`] refuses a grid that gives one).
 pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), SweepError> {
     let err = |m: String| SweepError::Param { path: path.into(), message: m };
     let segs: Vec<&str> = path.split('.').collect();
@@ -348,6 +349,45 @@ pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), Swe
     result
 }
 
+/// Whether `path` names an integer field of the scene: the document parses
+/// with an integer there and not with a fraction.
+fn integer_field(doc: &toml::Table, path: &str) -> bool {
+    let parses = |v: f64| {
+        let mut d = doc.clone();
+        set_path(&mut d, path, v).is_ok() && SceneFile::from_table(d).is_ok()
+    };
+    parses(1.0) && !parses(0.5)
+}
+
+/// Refuses the grid of an axis over an integer field that gives a value
+/// that is not an integer (or beyond 9e15), naming the value, its index
+/// and a count that would do.
+fn integral_grid(doc: &toml::Table, path: &str, suffix: &str, from: f64, to: f64, count: usize, log: bool) -> Result<(), SweepError> {
+    let bad = |i: usize, v: f64| -> Option<String> {
+        if v.fract() == 0.0 && v.abs() <= 9.0e15 {
+            return None;
+        }
+        let grid = format!("--from{suffix} {} --to{suffix} {} --count{suffix} {count}{}", num(from), num(to), if log { format!(" --log{suffix}") } else { String::new() });
+        let d = (to - from).abs();
+        let hint = if v.abs() > 9.0e15 {
+            String::new()
+        } else if log {
+            format!(" (a --log{suffix} grid gives integers only at its ends: sweep linearly)")
+        } else if from.fract() == 0.0 && to.fract() == 0.0 && d <= 9.0e15 && count <= 1_000_000 {
+            // The largest count up to this one whose step divides to − from.
+            let c = (2..=count).rev().find(|c| d % (*c as f64 - 1.0) == 0.0).unwrap_or(1);
+            format!(" (e.g. --count{suffix} {c}: (count − 1) must divide |to − from| = {})", num(d))
+        } else {
+            format!(" (--from{suffix} and --to{suffix} integral, (count − 1) dividing their difference)")
+        };
+        Some(format!("an integer field: {grid} gives {} (value {i} of 0..{count}): allowed integral values of magnitude at most 9e15 only{hint}", num(v)))
+    };
+    match (0..count).find_map(|i| bad(i, grid(from, to, count, log, i))) {
+        Some(message) if integer_field(doc, path) => Err(SweepError::Param { path: path.into(), message }),
+        _ => Ok(()),
+    }
+}
+
 fn step<'a>(v: &'a mut toml::Value, seg: &str) -> Option<&'a mut toml::Value> {
     match v {
         toml::Value::Table(t) => t.get_mut(seg),
@@ -370,12 +410,11 @@ fn put(slot: &mut toml::Value, value: f64, path: &str) -> Result<(), SweepError>
     let err = |m: String| SweepError::Param { path: path.into(), message: m };
     match slot {
         toml::Value::Float(_) => *slot = toml::Value::Float(value),
-        toml::Value::Integer(_) => {
-            if value.fract() != 0.0 || value.abs() > 9.0e15 {
-                return Err(err(format!("an integer field: {value} is not allowed (sweep integral values only)")));
-            }
-            *slot = toml::Value::Integer(value as i64);
-        }
+        // An integer literal: an integral value stays one; another goes in
+        // as a float, which a real field written `omega = 10` takes and an
+        // integer field refuses ([`Sweep::new`] checks the grid of one).
+        toml::Value::Integer(_) if value.fract() == 0.0 && value.abs() <= 9.0e15 => *slot = toml::Value::Integer(value as i64),
+        toml::Value::Integer(_) => *slot = toml::Value::Float(value),
         other => return Err(err(format!("names a {} value, not a number", other.type_str()))),
     }
     Ok(())
@@ -409,8 +448,9 @@ pub struct Sweep {
 }
 
 impl Sweep {
-    /// Checks the options and the path, and the scene at the first and
-    /// last values (so a sweep fails before it runs, not at run 900).
+    /// Checks the options and the path, that an integer field's grid gives
+    /// integral values only, and the scene at the first and last values (so
+    /// a sweep fails at once; [`run`] checks every value before it runs).
     pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, CliError> {
         opts.validate()?;
         let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
@@ -424,6 +464,11 @@ impl Sweep {
         }
         h = fnv1a(key.as_bytes(), h);
         let sweep = Self { id: format!("{h:016x}"), opts, doc, limits, scene_name: scene_name.into(), base };
+        let o = &sweep.opts;
+        integral_grid(&sweep.doc, &o.param, "", o.from, o.to, o.count, o.log)?;
+        if let Some(a) = &o.second {
+            integral_grid(&sweep.doc, &a.param, "2", a.from, a.to, a.count, a.log)?;
+        }
         let last = sweep.opts.total() - 1;
         for r in [0, last] {
             sweep.scene(sweep.opts.value(r))?;
@@ -460,19 +505,22 @@ impl Sweep {
 
     /// The validated scene at `value`, its horizon set to the sweep's.
     pub fn scene(&self, value: (f64, Option<f64>)) -> Result<(SceneFile, Scene, Plan), CliError> {
-        let path = match (&self.opts.second, value.1) {
-            (Some(a), Some(v)) => format!("{} = {}, --param2 {} = {v}", self.opts.param, value.0, a.param),
-            _ => self.opts.param.clone(),
+        // A map's error names both values: `--param P = v, --param2 Q = w`.
+        let (path, shown) = match (&self.opts.second, value.1) {
+            (Some(a), Some(v)) => (format!("{} = {}, --param2 {}", self.opts.param, num(value.0), a.param), v),
+            _ => (self.opts.param.clone(), value.0),
         };
-        let bad = |e: SceneError| SweepError::Value { path: path.clone(), value: value.0, error: e };
+        let bad = |e: SceneError| SweepError::Value { path: path.clone(), value: shown, error: e };
         let doc = self.document(value)?;
         let parse = |doc: toml::Table| -> Result<SceneFile, SweepError> {
             let mut f = SceneFile::from_table(doc).map_err(bad)?;
             f.base = self.base.clone();
             Ok(f)
         };
+        // The forcing and dt first, the scene's own horizon left aside: the
+        // sweep's replaces it (a swept dt need not divide the scene's t_end).
         let file = parse(doc.clone())?;
-        let scene = file.validate_with(&self.limits).map_err(bad)?;
+        let scene = file.validate_clock(&self.limits).map_err(bad)?;
         let (omega, dt, key) = scene.sweep_clock().ok_or_else(|| SweepError::Scene(format!("{}: a sweep samples the response at the forcing period, and this scene has no periodic forcing (an oscillator's [forcing], a beam's support motion)", self.scene_name)))?;
         let period = std::f64::consts::TAU / omega;
         let total = self.opts.transient + self.opts.record;
@@ -584,6 +632,17 @@ impl Outputs {
     }
 }
 
+/// What a finished sweep (or shard) did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SweepReport {
+    /// Lines for the terminal.
+    pub lines: Vec<String>,
+    /// Runs of the sweep (of the shard).
+    pub runs: usize,
+    /// Runs whose status is not `ok` (blow-ups, …), resumed ones included.
+    pub failed: usize,
+}
+
 /// Runs a sweep into `dir` with `simulate(scene, plan, start state)` doing
 /// each run that the lockstep engine does not take; returns lines for the
 /// terminal.
@@ -591,14 +650,43 @@ pub fn run_sweep<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<Vec<String
 where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
 {
+    sweep_report(sweep, dir, simulate).map(|r| r.lines)
+}
+
+/// Whether a `summary.csv` data row is of a run that failed (its status
+/// is not `ok`; a map's row ends with `param2` after it).
+fn failed_row(line: &str, map: bool) -> bool {
+    let line = if map { line.rsplit_once(',').map_or(line, |(a, _)| a) } else { line };
+    !line.ends_with(",ok")
+}
+
+/// [`run_sweep`], with the count of failed runs. Every value of the
+/// sweep's (shard's) runs is checked before anything is written: a value
+/// that makes the scene invalid is refused ([`SweepError::Value`]).
+pub fn sweep_report<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<SweepReport, CliError>
+where
+    F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
+{
     let o = &sweep.opts;
     let interrupt = o.interrupt;
     let runs = o.runs();
+    let pool = {
+        let mut b = rayon::ThreadPoolBuilder::new();
+        if let Some(t) = o.threads {
+            b = b.num_threads(t);
+        }
+        b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
+    };
+    // Every value before the first run (the first invalid one in run order).
+    if let Some(r) = pool.install(|| runs.clone().into_par_iter().find_first(|&r| sweep.scene(o.value(r)).is_err())) {
+        sweep.scene(o.value(r))?;
+    }
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     let manifest = sweep.manifest(o.shard);
     let mpath = dir.join("sweep.toml");
     let mut first = runs.start;
     let mut state: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut stopped = 0usize;
     if o.resume {
         let old = std::fs::read_to_string(&mpath).map_err(|e| io(&mpath, e))?;
         if old != manifest {
@@ -614,6 +702,8 @@ where
             }
         }
         first = next;
+        // The kept runs' failures count in the sweep's.
+        stopped = summary.iter().skip(1).filter(|l| run_of(l).is_some_and(|r| r < first) && failed_row(l, o.second.is_some())).count();
         for (name, header) in headers(o.second.is_some(), o.impacts) {
             let p = dir.join(name);
             let lines = complete_lines(&p)?;
@@ -638,18 +728,10 @@ where
         }
     }
     let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: if o.impacts { Some(Outputs::append(dir, "impacts.csv")?) } else { None }, summary: Outputs::append(dir, "summary.csv")? };
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = o.threads {
-            b = b.num_threads(t);
-        }
-        b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
-    };
     let batch = if o.follow { 1 } else { (2 * LANES * pool.current_num_threads()).max(1) };
     let bar = crate::progress_bar(runs.len() as u64, o.progress, "runs");
     bar.set_position((first - runs.start) as u64);
     let start = std::time::Instant::now();
-    let mut stopped = 0usize;
     let mut next = first;
     let mut interrupted = false;
     while next < runs.end {
@@ -700,8 +782,9 @@ where
         };
         let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
         for (i, v, r) in results {
-            // A value whose scene is invalid (only the ends are checked up
-            // front) is a failed run, like a blow-up: the sweep goes on.
+            // A value whose scene is invalid (every value was checked before
+            // the first run: only if building it fails now) is a failed run,
+            // like a blow-up: the sweep goes on.
             let rows = r.unwrap_or_else(|e| failed(&e));
             if rows.status == "interrupted" {
                 interrupted = true;
@@ -739,7 +822,7 @@ where
         lines.extend(plots(dir)?);
     }
     lines.push(format!("wrote {}", dir.display()));
-    Ok(lines)
+    Ok(SweepReport { lines, runs: runs.len(), failed: stopped })
 }
 
 fn manifest_id(text: &str) -> Option<&str> {
@@ -916,11 +999,18 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     Ok(lines)
 }
 
-/// Runs a sweep into `dir` (see the module docs).
+/// Runs a sweep into `dir` (see the module docs); lines for the terminal
+/// (a sweep whose runs failed is still a sweep: see [`run_report`]).
 pub fn run(sweep: &Sweep, dir: &Path) -> Result<Vec<String>, CliError> {
+    run_report(sweep, dir).map(|r| r.lines)
+}
+
+/// [`run`], with the count of failed runs (`signorini sweep` exits 3 when
+/// there are any).
+pub fn run_report(sweep: &Sweep, dir: &Path) -> Result<SweepReport, CliError> {
     let interrupt = sweep.opts.interrupt;
     let follow = sweep.opts.follow;
-    run_sweep(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt))
+    sweep_report(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt))
 }
 
 /// Keeps the last two displacement vectors (for a followed sweep's final

@@ -326,10 +326,69 @@ fn a_reduced_beam_sweep_is_signorini_run_at_each_value() {
     }
 }
 
+/// issue 22, item 3: a swept time step takes the sweep's own horizon (the
+/// scene's `t_end` is replaced, not checked against the new dt).
+#[test]
+fn a_swept_time_step_takes_the_sweeps_horizon() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("dt");
+    let o = sweep_with(&scenes().join("oscillator.toml"), &out, &["--param", "oscillator.dt", "--from", "1e-3", "--to", "1e-2", "--count", "3", "--transient", "20", "--record", "5"]);
+    ok(&o);
+    let rows = csv_rows(&out.join("summary.csv"));
+    assert_eq!(rows.len(), 3);
+    let period = std::f64::consts::TAU / 2.0; // forcing.omega = 2
+    for (r, row) in rows.iter().enumerate() {
+        let dt = if r == 2 { 1e-2 } else { 1e-3 + (1e-2 - 1e-3) * (r as f64 / 2.0) };
+        assert_eq!(row[0].parse::<f64>().unwrap(), dt);
+        let n = row.len();
+        assert_eq!(row[n - 1], "ok", "run {r}: {row:?}");
+        assert_eq!(row[n - 2], format!("{}", (25.0 * period / dt).round()), "run {r}: 25 periods in whole steps");
+    }
+}
+
+/// issue 22, item 3: an integer field swept over a grid with fractional
+/// values is refused before anything runs, naming the field and the value.
+#[test]
+fn an_integer_field_refuses_a_fractional_grid_before_any_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = dir.path().join("beam.toml");
+    std::fs::write(&sc, beam_text("", 10.0)).unwrap();
+    let out = dir.path().join("o");
+    let o = sweep_with(&sc, &out, &["--param", "beam.elements", "--from", "10", "--to", "11", "--count", "3", "--transient", "0", "--record", "1"]);
+    refused(&o, "beam.elements");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("10.5"), "{err}");
+    assert!(!out.join("summary.csv").exists(), "nothing run");
+    // The same field given in the scene (an integer key): also refused.
+    std::fs::write(&sc, beam_text("elements = 10\n", 10.0)).unwrap();
+    let o = sweep_with(&sc, &out, &["--param", "beam.elements", "--from", "10", "--to", "11", "--count", "3", "--transient", "0", "--record", "1"]);
+    refused(&o, "beam.elements");
+    assert!(!out.join("summary.csv").exists(), "nothing run");
+    // Integral values run.
+    ok(&sweep_with(&sc, &out, &["--param", "beam.elements", "--from", "10", "--to", "11", "--count", "2", "--transient", "0", "--record", "1"]));
+}
+
 /// The oscillator swept over initial velocities whose runs overflow: the
 /// first runs, the other two blow up.
 fn blow_up_sweep(dir: &Path, out: &Path) -> std::process::Output {
     sweep_with(&scene(dir), out, &["--param", "oscillator.initial_velocity", "--from", "-1e300", "--to", "-1.7e308", "--count", "3", "--transient", "2", "--record", "2"])
+}
+
+/// issue 22, item 3: runs that fail at run time keep their rows; the sweep
+/// says how many failed and exits 3.
+#[test]
+fn a_sweep_with_failed_runs_exits_3_and_says_how_many() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = blow_up_sweep(dir.path(), &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("2 of 3 runs failed"), "{err}");
+    let rows = csv_rows(&out.join("summary.csv"));
+    assert_eq!(rows.len(), 3, "every run's row is kept");
+    assert_eq!(rows[0].last().unwrap(), "ok");
+    assert!(rows[1].last().unwrap().contains("blew up") && rows[2].last().unwrap().contains("blew up"), "{rows:?}");
+    assert!(out.join("bifurcation.svg").exists());
 }
 
 /// issue 22, item 11: very large values in the `param` column and in the
@@ -353,7 +412,14 @@ fn large_values_are_written_in_shortest_form() {
     ok(&o);
     let params: Vec<String> = csv_rows(&dir.path().join("small/summary.csv")).into_iter().map(|r| r[0].clone()).collect();
     assert_eq!(params, ["1.6".to_string(), format!("{}", 1.6 + (2.2 - 1.6) * 0.5), "2.2".to_string()]);
-    // Messages: --log with a huge negative bound.
+    // Messages: --log with a huge negative bound; an integer field at 1e20.
     let o = sweep_with(&sc, &dir.path().join("m1"), &["--param", "forcing.omega", "--from", "-1e300", "--to", "2", "--count", "3", "--log"]);
     refused(&o, "--from: -1e300 is not allowed");
+    let bsc = dir.path().join("beam.toml");
+    std::fs::write(&bsc, beam_text("elements = 10\n", 10.0)).unwrap();
+    let o = sweep_with(&bsc, &dir.path().join("m2"), &["--param", "beam.elements", "--from", "1e20", "--to", "1e20", "--count", "1"]);
+    refused(&o, "1e20");
+    for o in [&o] {
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("000000000000000000"), "{}", String::from_utf8_lossy(&o.stderr));
+    }
 }
