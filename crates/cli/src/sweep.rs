@@ -972,21 +972,65 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     let manifest0 = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
     let map = manifest0.lines().any(|l| l.starts_with("param2 = "));
     let impacts = !manifest0.lines().any(|l| l == "impacts = false");
-    for (name, header) in headers(map, impacts) {
-        let mut text = header + "\n";
-        for f in &found {
-            let lines = complete_lines(&f.4.join(name))?;
-            if name == "summary.csv" {
-                let runs: Vec<usize> = lines.iter().skip(1).filter_map(|l| run_of(l)).collect();
-                if runs != (f.2..f.3).collect::<Vec<_>>() {
-                    return Err(bad(format!("{}: holds runs {}..{} of {}..{}: finish it (--resume) before merging", f.4.display(), runs.first().copied().unwrap_or(f.2), runs.last().map_or(f.2, |r| r + 1), f.2, f.3)));
-                }
-            }
-            for l in lines.iter().skip(1) {
-                text.push_str(l);
-                text.push('\n');
+    // Every shard's files are read and checked before anything is written:
+    // the summary against the manifest's runs, the other files' rows of
+    // each run against the counts its summary row gives.
+    let files = headers(map, impacts);
+    let mut texts: Vec<String> = files.iter().map(|(_, h)| format!("{h}\n")).collect();
+    for f in &found {
+        let dir = f.4;
+        let lines: Vec<Vec<String>> = files.iter().map(|(name, _)| complete_lines(&dir.join(name))).collect::<Result<_, _>>()?;
+        for ((name, header), l) in files.iter().zip(&lines) {
+            if l.first() != Some(header) {
+                return Err(bad(format!("{}: its first line is not the header {header:?}: a damaged shard; run it again", dir.join(name).display())));
             }
         }
+        let summary = &lines[files.iter().position(|(n, _)| *n == "summary.csv").unwrap_or(0)];
+        let runs: Vec<usize> = summary.iter().skip(1).filter_map(|l| run_of(l)).collect();
+        if runs != (f.2..f.3).collect::<Vec<_>>() {
+            return Err(bad(format!(
+                "{}: expected {} rows (runs {}..{} of the manifest), found {} (runs {}..{}): finish the shard (--resume) or run it again before merging",
+                dir.join("summary.csv").display(),
+                f.3 - f.2,
+                f.2,
+                f.3,
+                summary.len() - 1,
+                runs.first().copied().unwrap_or(f.2),
+                runs.last().map_or(f.2, |r| r + 1)
+            )));
+        }
+        // Rows per run that summary.csv counts: `poincare_points` for
+        // sweep.csv, `impacts` (the record window's) for impacts.csv.
+        let column = |c: &str| summary[0].split(',').position(|h| h == c);
+        let expected = |c: Option<usize>| -> Vec<usize> { summary.iter().skip(1).map(|l| c.and_then(|c| l.split(',').nth(c)).and_then(|x| x.parse().ok()).unwrap_or(0)).collect() };
+        for (k, (name, _)) in files.iter().enumerate() {
+            let want = match *name {
+                "sweep.csv" => expected(column("poincare_points")),
+                "impacts.csv" => expected(column("impacts")),
+                _ => continue,
+            };
+            let mut got = vec![0usize; want.len()];
+            let mut stray = 0usize;
+            for l in lines[k].iter().skip(1) {
+                match run_of(l).and_then(|r| r.checked_sub(f.2)).filter(|r| *r < got.len()) {
+                    Some(r) => got[r] += 1,
+                    None => stray += 1,
+                }
+            }
+            let (e, g): (usize, usize) = (want.iter().sum(), got.iter().sum::<usize>() + stray);
+            if want != got || stray > 0 {
+                let first = want.iter().zip(&got).position(|(a, b)| a != b).map_or(String::new(), |r| format!("; run {} has {} of its {}", f.2 + r, got[r], want[r]));
+                return Err(bad(format!("{}: expected {e} rows (runs {}..{} as the manifest and summary.csv count them), found {g}{first}: a damaged shard; run it again (--shard {}/{})", dir.join(name).display(), f.2, f.3, f.0, f.1)));
+            }
+        }
+        for (t, l) in texts.iter_mut().zip(&lines) {
+            for row in l.iter().skip(1) {
+                t.push_str(row);
+                t.push('\n');
+            }
+        }
+    }
+    for ((name, _), text) in files.iter().zip(texts) {
         std::fs::write(out.join(name), text).map_err(|e| io(&out.join(name), e))?;
     }
     // The unsharded manifest: the shard's without its shard lines.

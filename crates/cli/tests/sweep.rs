@@ -423,3 +423,46 @@ fn large_values_are_written_in_shortest_form() {
         assert!(!String::from_utf8_lossy(&o.stderr).contains("000000000000000000"), "{}", String::from_utf8_lossy(&o.stderr));
     }
 }
+
+/// issue 22, item 4: a shard whose sweep.csv or impacts.csv lost rows (a
+/// truncated copy) while its summary.csv is whole is refused by merge,
+/// naming the shard, the file and the rows expected and found.
+#[test]
+fn merge_refuses_a_shard_with_a_truncated_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let shards: Vec<PathBuf> = (0..2).map(|i| dir.path().join(format!("s{i}"))).collect();
+    for (i, d) in shards.iter().enumerate() {
+        ok(&sweep(&sc, d, &["--shard", &format!("{i}/2")]));
+    }
+    for (k, (file, cut)) in [("sweep.csv", "drop"), ("sweep.csv", "mid-row"), ("impacts.csv", "drop"), ("impacts.csv", "mid-row")].into_iter().enumerate() {
+        let bad = dir.path().join(format!("bad{k}"));
+        std::fs::create_dir_all(&bad).unwrap();
+        for f in ["sweep.toml", "sweep.csv", "summary.csv", "impacts.csv"] {
+            std::fs::copy(shards[1].join(f), bad.join(f)).unwrap();
+        }
+        let text = std::fs::read_to_string(shards[1].join(file)).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let rows = lines.len() - 1;
+        let (damaged, found) = match cut {
+            // The last two rows gone, the file still ending in a newline.
+            "drop" => (lines[..lines.len() - 2].iter().map(|l| format!("{l}\n")).collect::<String>(), rows - 2),
+            // Cut in the middle of the last row.
+            _ => {
+                let last = lines[lines.len() - 1];
+                (format!("{}{}", lines[..lines.len() - 1].iter().map(|l| format!("{l}\n")).collect::<String>(), &last[..last.len() / 2]), rows - 1)
+            }
+        };
+        std::fs::write(bad.join(file), damaged).unwrap();
+        let m = dir.path().join(format!("m{k}"));
+        let o = bin().args(["merge", shards[0].to_str().unwrap(), bad.to_str().unwrap(), "--out", m.to_str().unwrap()]).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{file} {cut}: {err}");
+        for needle in [bad.display().to_string(), file.to_string(), format!("expected {rows}"), format!("found {found}")] {
+            assert!(err.contains(&needle), "{file} {cut}: expected {needle:?} in: {err}");
+        }
+        assert!(!m.join("sweep.csv").exists(), "{file} {cut}: nothing merged");
+    }
+    // The intact shards merge.
+    ok(&bin().args(["merge", shards[0].to_str().unwrap(), shards[1].to_str().unwrap(), "--out", dir.path().join("good").to_str().unwrap()]).output().unwrap());
+}
