@@ -466,3 +466,124 @@ fn merge_refuses_a_shard_with_a_truncated_file() {
     // The intact shards merge.
     ok(&bin().args(["merge", shards[0].to_str().unwrap(), shards[1].to_str().unwrap(), "--out", dir.path().join("good").to_str().unwrap()]).output().unwrap());
 }
+
+/// The log grid is `10^(a + k (b − a)/(n − 1))`, `a = log10 from`, `b =
+/// log10 to`, computed here; its ends are `--from` and `--to` exactly.
+#[test]
+fn a_log_grid_is_evenly_spaced_in_the_exponent() {
+    use signorini_cli::sweep::SweepOptions;
+    let (from, to, n) = (1.0f64, 100.0f64, 5usize);
+    let mut o = SweepOptions::new("forcing.omega", from, to, n);
+    o.log = true;
+    let (a, b) = (from.log10(), to.log10());
+    for k in 0..n {
+        let want = 10f64.powf(a + k as f64 * (b - a) / (n - 1) as f64);
+        let got = o.value(k).0;
+        assert!((got / want - 1.0).abs() < 1e-13, "value {k}: {got} against 10^… = {want}");
+    }
+    assert_eq!((o.value(0).0, o.value(n - 1).0), (from, to), "ends exact");
+    // The command's param column holds the same values.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("log");
+    ok(&sweep_with(&scene(dir.path()), &out, &["--param", "forcing.omega", "--from", "1", "--to", "100", "--count", "5", "--log", "--transient", "1", "--record", "1"]));
+    let params: Vec<f64> = csv_rows(&out.join("summary.csv")).iter().map(|r| r[0].parse().unwrap()).collect();
+    assert_eq!(params.len(), n);
+    assert_eq!((params[0], params[n - 1]), (from, to));
+    for (k, p) in params.iter().enumerate() {
+        let want = 10f64.powf(a + k as f64 * (b - a) / (n - 1) as f64);
+        assert!((p / want - 1.0).abs() < 1e-13, "run {k}: {p} against {want}");
+    }
+}
+
+/// `--phase` changes every Poincaré sample: sweeps that differ only in it
+/// have different ids, so their shards are not merged together.
+#[test]
+fn sweeps_differing_only_in_phase_are_different_sweeps() {
+    use signorini_cli::scene::Limits;
+    use signorini_cli::sweep::{Sweep, SweepOptions};
+    let text = std::fs::read_to_string(scenes().join("oscillator.toml")).unwrap();
+    let id = |phase: f64| {
+        let mut o = SweepOptions::new("forcing.omega", 1.6, 2.2, 4);
+        o.phase = phase;
+        Sweep::new(&text, "oscillator.toml", None, o, Limits { max_memory: 1e9 }).unwrap().id().to_string()
+    };
+    assert_ne!(id(0.0), id(1.0));
+    assert_eq!(id(1.0), id(1.0));
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let args = |i: usize, phase: &str| -> Vec<String> {
+        ["--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "4", "--transient", "2", "--record", "2", "--phase", phase, "--shard", &format!("{i}/2")].iter().map(|s| s.to_string()).collect()
+    };
+    ok(&sweep_with(&sc, &a, &args(0, "0").iter().map(String::as_str).collect::<Vec<_>>()));
+    ok(&sweep_with(&sc, &b, &args(1, "1").iter().map(String::as_str).collect::<Vec<_>>()));
+    let o = bin().args(["merge", a.to_str().unwrap(), b.to_str().unwrap(), "--out", dir.path().join("m").to_str().unwrap()]).output().unwrap();
+    refused(&o, "different sweeps");
+}
+
+/// A 3 × 2 map: run `r` takes value `r mod 3` of `--param` and `r div 3` of
+/// `--param2`, both grids computed here, in every file's rows.
+#[test]
+fn a_map_takes_each_runs_values_from_both_axes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("map");
+    ok(&sweep_with(&scene(dir.path()), &out, &["--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "3", "--param2", "forcing.amplitude", "--from2", "0.5", "--to2", "1.0", "--count2", "2", "--transient", "1", "--record", "2"]));
+    let p1 = [1.6, 1.6 + (2.2 - 1.6) * 0.5, 2.2];
+    let p2 = [0.5, 1.0];
+    let want = |r: usize| (p1[r % 3], p2[r / 3]);
+    let summary = csv_rows(&out.join("summary.csv"));
+    assert_eq!(summary.len(), 6);
+    for (r, row) in summary.iter().enumerate() {
+        assert_eq!(row[1], r.to_string());
+        let got = (row[0].parse::<f64>().unwrap(), row.last().unwrap().parse::<f64>().unwrap());
+        assert_eq!(got, want(r), "summary run {r}");
+    }
+    for f in ["sweep.csv", "impacts.csv"] {
+        let rows = csv_rows(&out.join(f));
+        assert!(!rows.is_empty());
+        for row in rows {
+            let r: usize = row[1].parse().unwrap();
+            let got = (row[0].parse::<f64>().unwrap(), row.last().unwrap().parse::<f64>().unwrap());
+            assert_eq!(got, want(r), "{f} run {r}");
+        }
+    }
+}
+
+/// `--follow` on a map: each row of the second axis starts from the
+/// scene's own state, so the first run of each row is the single run at its
+/// values (an independent sweep of one run), while the runs that follow do
+/// start from their predecessor.
+#[test]
+fn a_followed_map_restarts_each_row_from_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let out = dir.path().join("follow");
+    let axes = |p1: (&str, &str, &str), p2: (&str, &str, &str)| -> Vec<String> {
+        ["--param", "forcing.omega", "--from", p1.0, "--to", p1.1, "--count", p1.2, "--param2", "forcing.amplitude", "--from2", p2.0, "--to2", p2.1, "--count2", p2.2, "--transient", "1", "--record", "3"].iter().map(|s| s.to_string()).collect()
+    };
+    let run = |out: &Path, args: Vec<String>, follow: bool| {
+        let mut a: Vec<&str> = args.iter().map(String::as_str).collect();
+        if follow {
+            a.push("--follow");
+        }
+        ok(&sweep_with(&sc, out, &a));
+    };
+    run(&out, axes(("1.6", "2.2", "2"), ("0.8", "1.0", "3")), true);
+    let summary = csv_rows(&out.join("summary.csv"));
+    assert_eq!(summary.len(), 6);
+    let p1 = ["1.6", "2.2"];
+    let p2 = ["0.8", "0.9", "1"];
+    assert_eq!(format!("{}", 0.8 + (1.0 - 0.8) * 0.5), "0.9");
+    for r in 0..6 {
+        let (v1, v2) = (p1[r % 2], p2[r / 2]);
+        let single = dir.path().join(format!("single{r}"));
+        run(&single, axes((v1, v1, "1"), (v2, v2, "1")), false);
+        let one = csv_rows(&single.join("summary.csv"));
+        let same = summary[r][2..] == one[0][2..] && rows_of_run(&out.join("sweep.csv"), r) == rows_of_run(&single.join("sweep.csv"), 0);
+        if r % 2 == 0 {
+            assert!(same, "run {r} starts a row: it is the single run at ({v1}, {v2})\n{:?}\n{:?}", summary[r], one[0]);
+        } else {
+            assert!(!same, "run {r} follows run {}: it is not the single run", r - 1);
+        }
+    }
+}
