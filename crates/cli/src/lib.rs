@@ -121,6 +121,17 @@ pub enum CliError {
         /// The folder.
         dir: String,
     },
+    /// A sweep ran to its end, and some of its runs failed (blow-up, …):
+    /// their rows are kept, their status says why.
+    #[error("{failed} of {total} runs failed (their status in {dir}/summary.csv says why; the rows they wrote are kept)")]
+    SweepFailed {
+        /// Runs whose status is not `ok`.
+        failed: usize,
+        /// Runs of the sweep (or shard).
+        total: usize,
+        /// The folder.
+        dir: String,
+    },
     /// The run stopped early (blow-up, interrupt); notes on what was still
     /// written (plots skipped) follow the error.
     #[error("{error}{}", notes.iter().map(|n| format!("\nnote: {n}")).collect::<String>())]
@@ -134,11 +145,13 @@ pub enum CliError {
 
 impl CliError {
     /// The process exit code: 2 for an invalid scene or command (nothing
-    /// was run), 130 for an interrupted run, 1 for a run that failed.
+    /// was run), 130 for an interrupted run, 3 for a sweep that ran to its
+    /// end with failed runs, 1 for a run that failed.
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } | CliError::SceneFile { .. } | CliError::OutFolder { .. } => 2,
             CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } => 130,
+            CliError::SweepFailed { .. } => 3,
             _ => 1,
         }
     }
@@ -954,6 +967,11 @@ pub struct Built {
     /// The beam's lifting `u = ũ − h φ(t)` (`None`: the unknowns are the
     /// absolute state).
     pub lift: Option<Lift>,
+    /// A reduced model's basis (`reduce = {…}`, [`build_model`] only): the
+    /// stepper's unknowns are then reduced coordinates, and the scene's
+    /// unknowns (which `tip`, [`Built::contacts`] and `lift` refer to) are
+    /// their reconstruction (`signorini_run::reduced::Reconstruct`).
+    pub reduction: Option<signorini_reduce::Reduction>,
 }
 
 /// A beam's lifting, to turn its unknowns into the absolute state.
@@ -964,6 +982,16 @@ pub struct Lift {
 }
 
 impl Built {
+    /// The contacts as dof of the scene's unknowns and bounds, in contact
+    /// order (a reduced model's stepper holds them at its dofs `0..nb`).
+    pub fn contacts(&self) -> Vec<(usize, signorini_schemes::Bounds)> {
+        let own = &self.stepper.dynamics().contacts;
+        match &self.reduction {
+            None => own.iter().map(|c| (c.dof, c.bounds)).collect(),
+            Some(r) => r.contacts().iter().zip(own).map(|(&dof, c)| (dof, c.bounds)).collect(),
+        }
+    }
+
     /// The absolute state `(ũ, ũ_t)` of the unknowns' `(u, u_t)` at `t`
     /// (what [`build`] takes as `start`).
     pub fn absolute(&self, u: &[f64], v: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
@@ -977,8 +1005,21 @@ impl Built {
 /// Builds a validated scene's integrator, from the scene's own initial
 /// state or from `start`, an absolute displacement and velocity at the
 /// unknowns (e.g. the last run's final state in a followed sweep, from
-/// [`Built::absolute`]).
+/// [`Built::absolute`]). A reduced model (`reduce = {…}`) is refused naming
+/// `bar.reduce` / `beam.reduce`: a caller of `build` reads the stepper's
+/// unknowns as the scene's; [`build_model`] runs it.
 pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
+    match scene {
+        Scene::Bar(b) if b.reduce.is_some() => Err(CliError::Run(RunError::Invalid { field: "bar.reduce", value: f64::NAN, allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
+        Scene::Beam { reduce: Some(_), .. } => Err(CliError::Run(RunError::Invalid { field: "beam.reduce", value: f64::NAN, allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
+        _ => build_model(scene, start),
+    }
+}
+
+/// As [`build`], and a reduced model (`reduce = {…}`) as `signorini run`
+/// builds it: the stepper on the reduction of the scene's problem (`start`,
+/// if given, projected onto it), with [`Built::reduction`] set.
+pub fn build_model(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
     let init = |own: signorini_schemes::Initial| -> Result<signorini_schemes::Initial, CliError> {
         match start {
             None => Ok(own),
@@ -991,25 +1032,42 @@ pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Buil
             let (dy, own) = osc.dynamics()?;
             let i = init(own)?;
             let stepper = scheme.build(dy, *dt, &i).map_err(RunError::from)?;
-            Ok(Built { stepper, u0: i.u, tip: 0, lift: None })
+            Ok(Built { stepper, u0: i.u, tip: 0, lift: None, reduction: None })
         }
-        Scene::Bar(b) if b.reduce.is_some() => Err(CliError::Run(RunError::Invalid { field: "bar.reduce", value: f64::NAN, allowed: "none here: sweeps and the Python bindings run the full model (use `signorini run`)" })),
-        Scene::Beam { reduce: Some(_), .. } => Err(CliError::Run(RunError::Invalid { field: "beam.reduce", value: f64::NAN, allowed: "none here: sweeps and the Python bindings run the full model (use `signorini run`)" })),
         Scene::Bar(b) => {
             let p = &b.problem;
             let i = init(p.initial.clone())?;
             let dy = p.dynamics();
             let tip = dy.contacts[0].dof;
-            let stepper = b.scheme.build(dy, b.dt, &i).map_err(RunError::from)?;
-            Ok(Built { stepper, u0: i.u, tip, lift: None })
+            match b.reduce {
+                None => {
+                    let stepper = b.scheme.build(dy, b.dt, &i).map_err(RunError::from)?;
+                    Ok(Built { stepper, u0: i.u, tip, lift: None, reduction: None })
+                }
+                Some(keep) => {
+                    // As run_bar: the reduction of the parent and its state.
+                    let r = signorini_run::reduced::reduce(&dy, &i, keep)?;
+                    let stepper = b.scheme.build(r.dynamics.clone(), b.dt, &r.initial).map_err(RunError::from)?;
+                    Ok(Built { stepper, u0: r.initial.u, tip, lift: None, reduction: Some(r.reduction) })
+                }
+            }
         }
-        Scene::Beam { pipe, scene, force, contacts, excitation, .. } => {
+        Scene::Beam { pipe, scene, force, contacts, excitation, reduce, .. } => {
             // `start` is the absolute state (ũ, ũ_t): the lifting is the scene's own.
             let exc = signorini_run::beam::BeamExcitation { start: start.cloned(), ..excitation.clone() };
-            let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &exc)?;
+            let stops = contacts.as_ref().map(|c| c.stops.as_slice());
+            let (stepper, u0, beam, reduction) = match reduce {
+                None => {
+                    let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, stops, &exc)?;
+                    (stepper, i.u, beam, None)
+                }
+                Some(keep) => {
+                    let (stepper, r, beam) = signorini_run::beam::build_reduced(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, &exc, *keep)?;
+                    (stepper, r.initial.u, beam, Some(r.reduction))
+                }
+            };
             let tip = beam.tip_dof();
-            Ok(Built { stepper, u0: i.u, tip, lift: Some(Lift { pipe: *pipe, beam, exc }) })
-
+            Ok(Built { stepper, u0, tip, lift: Some(Lift { pipe: *pipe, beam, exc }), reduction })
         }
     }
 }

@@ -208,8 +208,12 @@ fn main() -> ExitCode {
             let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, impacts: !no_impacts, follow, shard, resume, threads, progress: std::io::stderr().is_terminal(), interrupt: interrupt_flag() };
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
-            for l in signorini_cli::sweep::run(&sweep, &out)? {
+            let report = signorini_cli::sweep::run_report(&sweep, &out)?;
+            for l in &report.lines {
                 say(&format!("{l}\n"));
+            }
+            if report.failed > 0 {
+                return Err(CliError::SweepFailed { failed: report.failed, total: report.runs, dir: out.display().to_string() });
             }
             Ok(())
         }

@@ -1007,6 +1007,18 @@ impl SceneFile {
     /// that a scene that validates also starts: `check` and `run` refuse
     /// the same things).
     pub fn validate_with(&self, limits: &Limits) -> Result<Scene, SceneError> {
+        self.validate_horizon(limits, false)
+    }
+
+    /// As [`validate_with`](Self::validate_with) with the horizon replaced
+    /// by one step of the scene's `dt`, whatever `t_end` says: what a sweep
+    /// reads first (its forcing and `dt`), before it sets its own horizon
+    /// and validates again.
+    pub(crate) fn validate_clock(&self, limits: &Limits) -> Result<Scene, SceneError> {
+        self.validate_horizon(limits, true)
+    }
+
+    fn validate_horizon(&self, limits: &Limits, one_step: bool) -> Result<Scene, SceneError> {
         if self.output.every == 0 {
             return Err(field("output.every", "0 is not allowed: an integer >= 1"));
         }
@@ -1028,7 +1040,7 @@ impl SceneFile {
             if self.bar.is_some() || self.beam.is_some() {
                 return Err(field("oscillator", "give exactly one of the tables [bar], [beam] and [oscillator]"));
             }
-            return self.validate_oscillator(o);
+            return self.validate_oscillator(o, one_step);
         }
         if self.forcing.is_some() {
             return Err(field("forcing", "acts only with [oscillator] (a bar or a beam takes [load], a beam also [support])"));
@@ -1039,18 +1051,18 @@ impl SceneFile {
                     return Err(field("support", "acts only with [beam] (the bar has no moving support): give the excitation as a [load]"));
                 }
                 let load = self.load.as_ref().map(|e| e.build(Table::Load, self.base.as_deref())).transpose()?;
-                Ok(Scene::Bar(Box::new(validate_bar(b, &self.stop, self.obstacle.as_ref(), load, limits)?)))
+                Ok(Scene::Bar(Box::new(validate_bar(b, &self.stop, self.obstacle.as_ref(), load, limits, one_step)?)))
             }
             (None, Some(b)) => {
                 let support = self.support.as_ref().map(|e| e.build(Table::Support, self.base.as_deref())).transpose()?;
                 let load = self.load.as_ref().map(|e| e.build(Table::Load, self.base.as_deref())).transpose()?;
-                validate_beam(b, &self.stop, self.obstacle.as_ref(), support, load, limits)
+                validate_beam(b, &self.stop, self.obstacle.as_ref(), support, load, limits, one_step)
             }
             _ => Err(field("bar/beam", "give exactly one of the tables [bar], [beam] and [oscillator]")),
         }
     }
 
-    fn validate_oscillator(&self, o: &OscillatorToml) -> Result<Scene, SceneError> {
+    fn validate_oscillator(&self, o: &OscillatorToml, one_step: bool) -> Result<Scene, SceneError> {
         if !self.stop.is_empty() || self.obstacle.is_some() {
             return Err(field(contacts_table(&self.stop), "acts only with [bar] or [beam]: the oscillator's stop is oscillator.stop"));
         }
@@ -1095,7 +1107,7 @@ impl SceneFile {
             }
         };
         let dt = positive("oscillator.dt", o.dt)?;
-        let t_end = positive("oscillator.t_end", o.t_end)?;
+        let t_end = if one_step { dt } else { positive("oscillator.t_end", o.t_end)? };
         if t_end / dt > 1e10 {
             return Err(field("oscillator.dt", format!("{dt} gives {:.3e} steps: at most 1e10", t_end / dt)));
         }
@@ -1179,7 +1191,7 @@ fn too_soft(e: impl fmt::Display) -> String {
     format!("{e}: a spring this soft has a compliance 1/(β dt² κ) beyond the floating-point range; allowed: stiffness with β dt² κ >= 2.2e-308 (κ in the scaled equation)")
 }
 
-fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, load: Option<Excitation>, limits: &Limits) -> Result<BarRun, SceneError> {
+fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, load: Option<Excitation>, limits: &Limits, one_step: bool) -> Result<BarRun, SceneError> {
     let mass: BarMass = b.mass.parse().map_err(|e| field("bar.mass", e))?;
     let scheme: SchemeSpec = b.scheme.parse().map_err(|e| field("bar.scheme", e))?;
     if scheme.needs_massless_node() && !mass.massless_contact_node() {
@@ -1340,7 +1352,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         (None, None) => return Err(field("bar.dt", "give dt or ratio (= dx/dt)")),
         (Some(_), Some(_)) => return Err(field("bar.ratio", "give dt or ratio, not both")),
     };
-    let t_end = positive("bar.t_end", b.t_end.unwrap_or(default_t))?;
+    let t_end = if one_step { dt } else { positive("bar.t_end", b.t_end.unwrap_or(default_t))? };
     if t_end / dt > 1e9 {
         return Err(field("bar.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
     }
@@ -1388,7 +1400,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce })
 }
 
-fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, support: Option<Excitation>, load: Option<Excitation>, limits: &Limits) -> Result<Scene, SceneError> {
+fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, support: Option<Excitation>, load: Option<Excitation>, limits: &Limits, one_step: bool) -> Result<Scene, SceneError> {
     let base = match &b.scene {
         Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
         None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
@@ -1399,7 +1411,7 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
     }
     fits("beam.elements", elements, true, limits)?;
     let dt = positive("beam.dt", b.dt.unwrap_or(base.dt))?;
-    let t_end = positive("beam.t_end", b.t_end.unwrap_or(base.t_end))?;
+    let t_end = if one_step { dt } else { positive("beam.t_end", b.t_end.unwrap_or(base.t_end))? };
     if t_end / dt > 1e9 {
         return Err(field("beam.dt", format!("{dt} gives {:.3e} steps: at most 1e9", t_end / dt)));
     }

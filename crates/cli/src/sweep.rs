@@ -38,6 +38,8 @@ use crate::scene::{Limits, Scene, SceneError, SceneFile};
 use crate::CliError;
 use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
+use signorini_reduce::Reduction;
+use signorini_run::reduced::{Need, Reconstruct};
 use signorini_run::{Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
@@ -75,7 +77,7 @@ pub enum SweepError {
         message: String,
     },
     /// The scene with a swept value is invalid.
-    #[error("--param {path} = {value}: {error}")]
+    #[error("--param {path} = {}: {error}", num(*value))]
     Value {
         /// The path.
         path: String,
@@ -90,6 +92,20 @@ pub enum SweepError {
     /// Shards that do not make one sweep, or a folder to resume that is not this sweep's.
     #[error("{0}")]
     Folder(String),
+}
+
+/// `x` in shortest round-trip form, with an exponent for very large or
+/// small magnitudes (`1e300`, `-2.5e-7`, not hundreds of digits): `{:e}`
+/// when `|x| >= 1e16` or `0 < |x| < 1e-5`, else `{}` (so `4.012012012012012`
+/// and `0.0055` are written as before). The sweep's `param` columns and
+/// messages.
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if a >= 1e16 || (a != 0.0 && a < 1e-5) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// A second axis of a two-parameter map.
@@ -141,16 +157,16 @@ fn check_axis(suffix: &'static str, from: f64, to: f64, count: usize, log: bool)
         return opt(name("count"), "0 is not allowed: an integer >= 1".into());
     }
     if !from.is_finite() {
-        return opt(name("from"), format!("{from} is not allowed: a finite number"));
+        return opt(name("from"), format!("{} is not allowed: a finite number", num(from)));
     }
     if !to.is_finite() {
-        return opt(name("to"), format!("{to} is not allowed: a finite number"));
+        return opt(name("to"), format!("{} is not allowed: a finite number", num(to)));
     }
     if log && !(from > 0.0) {
-        return opt(name("from"), format!("{from} is not allowed with --log: > 0"));
+        return opt(name("from"), format!("{} is not allowed with --log: > 0", num(from)));
     }
     if log && !(to > 0.0) {
-        return opt(name("to"), format!("{to} is not allowed with --log: > 0"));
+        return opt(name("to"), format!("{} is not allowed with --log: > 0", num(to)));
     }
     Ok(())
 }
@@ -220,16 +236,16 @@ impl SweepOptions {
             return opt("count", format!("{total} runs are not allowed: at most 1e8 per sweep"));
         }
         if !(self.transient >= 0.0 && self.transient.is_finite()) {
-            return opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", self.transient));
+            return opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", num(self.transient)));
         }
         if !(self.record > 0.0 && self.record.is_finite()) {
-            return opt("record", format!("{} is not allowed: forcing periods, finite and > 0", self.record));
+            return opt("record", format!("{} is not allowed: forcing periods, finite and > 0", num(self.record)));
         }
         if !(self.phase >= 0.0 && self.phase < std::f64::consts::TAU) {
-            return opt("phase", format!("{} is not allowed: a forcing phase in [0, 2π)", self.phase));
+            return opt("phase", format!("{} is not allowed: a forcing phase in [0, 2π)", num(self.phase)));
         }
         if !(self.period_tol > 0.0 && self.period_tol < 1.0) {
-            return opt("period-tol", format!("{} is not allowed: in (0, 1)", self.period_tol));
+            return opt("period-tol", format!("{} is not allowed: in (0, 1)", num(self.period_tol)));
         }
         if let Some((i, n)) = self.shard {
             if n == 0 || i >= n {
@@ -285,8 +301,9 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
 
 /// Sets the numeric field at `path` in a scene document to `value`.
 /// Segments are keys, or array indices (`stop.0.hi`). The parent must
-/// exist; an existing value must be a number; an integer field takes only
-/// integral values.
+/// exist; an existing value must be a number. An integral value goes in as
+/// an integer, another as a float: the scene's parse refuses a fraction in
+/// an integer field (and [`Sweep::new`] refuses a grid that gives one).
 pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), SweepError> {
     let err = |m: String| SweepError::Param { path: path.into(), message: m };
     let segs: Vec<&str> = path.split('.').collect();
@@ -332,6 +349,45 @@ pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), Swe
     result
 }
 
+/// Whether `path` names an integer field of the scene: the document parses
+/// with an integer there and not with a fraction.
+fn integer_field(doc: &toml::Table, path: &str) -> bool {
+    let parses = |v: f64| {
+        let mut d = doc.clone();
+        set_path(&mut d, path, v).is_ok() && SceneFile::from_table(d).is_ok()
+    };
+    parses(1.0) && !parses(0.5)
+}
+
+/// Refuses the grid of an axis over an integer field that gives a value
+/// that is not an integer (or beyond 9e15), naming the value, its index
+/// and a count that would do.
+fn integral_grid(doc: &toml::Table, path: &str, suffix: &str, from: f64, to: f64, count: usize, log: bool) -> Result<(), SweepError> {
+    let bad = |i: usize, v: f64| -> Option<String> {
+        if v.fract() == 0.0 && v.abs() <= 9.0e15 {
+            return None;
+        }
+        let grid = format!("--from{suffix} {} --to{suffix} {} --count{suffix} {count}{}", num(from), num(to), if log { format!(" --log{suffix}") } else { String::new() });
+        let d = (to - from).abs();
+        let hint = if v.abs() > 9.0e15 {
+            String::new()
+        } else if log {
+            format!(" (a --log{suffix} grid gives integers only at its ends: sweep linearly)")
+        } else if from.fract() == 0.0 && to.fract() == 0.0 && d <= 9.0e15 && count <= 1_000_000 {
+            // The largest count up to this one whose step divides to − from.
+            let c = (2..=count).rev().find(|c| d % (*c as f64 - 1.0) == 0.0).unwrap_or(1);
+            format!(" (e.g. --count{suffix} {c}: (count − 1) must divide |to − from| = {})", num(d))
+        } else {
+            format!(" (--from{suffix} and --to{suffix} integral, (count − 1) dividing their difference)")
+        };
+        Some(format!("an integer field: {grid} gives {} (value {i} of 0..{count}): allowed integral values of magnitude at most 9e15 only{hint}", num(v)))
+    };
+    match (0..count).find_map(|i| bad(i, grid(from, to, count, log, i))) {
+        Some(message) if integer_field(doc, path) => Err(SweepError::Param { path: path.into(), message }),
+        _ => Ok(()),
+    }
+}
+
 fn step<'a>(v: &'a mut toml::Value, seg: &str) -> Option<&'a mut toml::Value> {
     match v {
         toml::Value::Table(t) => t.get_mut(seg),
@@ -354,12 +410,11 @@ fn put(slot: &mut toml::Value, value: f64, path: &str) -> Result<(), SweepError>
     let err = |m: String| SweepError::Param { path: path.into(), message: m };
     match slot {
         toml::Value::Float(_) => *slot = toml::Value::Float(value),
-        toml::Value::Integer(_) => {
-            if value.fract() != 0.0 || value.abs() > 9.0e15 {
-                return Err(err(format!("an integer field: {value} is not allowed (sweep integral values only)")));
-            }
-            *slot = toml::Value::Integer(value as i64);
-        }
+        // An integer literal: an integral value stays one; another goes in
+        // as a float, which a real field written `omega = 10` takes and an
+        // integer field refuses ([`Sweep::new`] checks the grid of one).
+        toml::Value::Integer(_) if value.fract() == 0.0 && value.abs() <= 9.0e15 => *slot = toml::Value::Integer(value as i64),
+        toml::Value::Integer(_) => *slot = toml::Value::Float(value),
         other => return Err(err(format!("names a {} value, not a number", other.type_str()))),
     }
     Ok(())
@@ -393,8 +448,9 @@ pub struct Sweep {
 }
 
 impl Sweep {
-    /// Checks the options and the path, and the scene at the first and
-    /// last values (so a sweep fails before it runs, not at run 900).
+    /// Checks the options and the path, that an integer field's grid gives
+    /// integral values only, and the scene at the first and last values (so
+    /// a sweep fails at once; [`run`] checks every value before it runs).
     pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, CliError> {
         opts.validate()?;
         let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
@@ -408,6 +464,11 @@ impl Sweep {
         }
         h = fnv1a(key.as_bytes(), h);
         let sweep = Self { id: format!("{h:016x}"), opts, doc, limits, scene_name: scene_name.into(), base };
+        let o = &sweep.opts;
+        integral_grid(&sweep.doc, &o.param, "", o.from, o.to, o.count, o.log)?;
+        if let Some(a) = &o.second {
+            integral_grid(&sweep.doc, &a.param, "2", a.from, a.to, a.count, a.log)?;
+        }
         let last = sweep.opts.total() - 1;
         for r in [0, last] {
             sweep.scene(sweep.opts.value(r))?;
@@ -444,19 +505,22 @@ impl Sweep {
 
     /// The validated scene at `value`, its horizon set to the sweep's.
     pub fn scene(&self, value: (f64, Option<f64>)) -> Result<(SceneFile, Scene, Plan), CliError> {
-        let path = match (&self.opts.second, value.1) {
-            (Some(a), Some(v)) => format!("{} = {}, --param2 {} = {v}", self.opts.param, value.0, a.param),
-            _ => self.opts.param.clone(),
+        // A map's error names both values: `--param P = v, --param2 Q = w`.
+        let (path, shown) = match (&self.opts.second, value.1) {
+            (Some(a), Some(v)) => (format!("{} = {}, --param2 {}", self.opts.param, num(value.0), a.param), v),
+            _ => (self.opts.param.clone(), value.0),
         };
-        let bad = |e: SceneError| SweepError::Value { path: path.clone(), value: value.0, error: e };
+        let bad = |e: SceneError| SweepError::Value { path: path.clone(), value: shown, error: e };
         let doc = self.document(value)?;
         let parse = |doc: toml::Table| -> Result<SceneFile, SweepError> {
             let mut f = SceneFile::from_table(doc).map_err(bad)?;
             f.base = self.base.clone();
             Ok(f)
         };
+        // The forcing and dt first, the scene's own horizon left aside: the
+        // sweep's replaces it (a swept dt need not divide the scene's t_end).
         let file = parse(doc.clone())?;
-        let scene = file.validate_with(&self.limits).map_err(bad)?;
+        let scene = file.validate_clock(&self.limits).map_err(bad)?;
         let (omega, dt, key) = scene.sweep_clock().ok_or_else(|| SweepError::Scene(format!("{}: a sweep samples the response at the forcing period, and this scene has no periodic forcing (an oscillator's [forcing], a beam's support motion)", self.scene_name)))?;
         let period = std::f64::consts::TAU / omega;
         let total = self.opts.transient + self.opts.record;
@@ -517,7 +581,8 @@ fn io(p: &Path, e: std::io::Error) -> CliError {
 /// The rows of one run, formatted: `param,run,<values>[,param2]`.
 fn rows_text(value: (f64, Option<f64>), run: usize, r: &RunRows) -> (String, String, String) {
     let (p, p2) = value;
-    let tail = p2.map_or(String::new(), |v| format!(",{v}"));
+    let tail = p2.map_or(String::new(), |v| format!(",{}", num(v)));
+    let p = num(p);
     let mut sw = String::new();
     for row in &r.poincare {
         let _ = writeln!(sw, "{p},{run},{},{},{},{}{tail}", row[0], row[1], row[2], row[3]);
@@ -567,6 +632,17 @@ impl Outputs {
     }
 }
 
+/// What a finished sweep (or shard) did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SweepReport {
+    /// Lines for the terminal.
+    pub lines: Vec<String>,
+    /// Runs of the sweep (of the shard).
+    pub runs: usize,
+    /// Runs whose status is not `ok` (blow-ups, …), resumed ones included.
+    pub failed: usize,
+}
+
 /// Runs a sweep into `dir` with `simulate(scene, plan, start state)` doing
 /// each run that the lockstep engine does not take; returns lines for the
 /// terminal.
@@ -574,14 +650,43 @@ pub fn run_sweep<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<Vec<String
 where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
 {
+    sweep_report(sweep, dir, simulate).map(|r| r.lines)
+}
+
+/// Whether a `summary.csv` data row is of a run that failed (its status
+/// is not `ok`; a map's row ends with `param2` after it).
+fn failed_row(line: &str, map: bool) -> bool {
+    let line = if map { line.rsplit_once(',').map_or(line, |(a, _)| a) } else { line };
+    !line.ends_with(",ok")
+}
+
+/// [`run_sweep`], with the count of failed runs. Every value of the
+/// sweep's (shard's) runs is checked before anything is written: a value
+/// that makes the scene invalid is refused ([`SweepError::Value`]).
+pub fn sweep_report<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<SweepReport, CliError>
+where
+    F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
+{
     let o = &sweep.opts;
     let interrupt = o.interrupt;
     let runs = o.runs();
+    let pool = {
+        let mut b = rayon::ThreadPoolBuilder::new();
+        if let Some(t) = o.threads {
+            b = b.num_threads(t);
+        }
+        b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
+    };
+    // Every value before the first run (the first invalid one in run order).
+    if let Some(r) = pool.install(|| runs.clone().into_par_iter().find_first(|&r| sweep.scene(o.value(r)).is_err())) {
+        sweep.scene(o.value(r))?;
+    }
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     let manifest = sweep.manifest(o.shard);
     let mpath = dir.join("sweep.toml");
     let mut first = runs.start;
     let mut state: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut stopped = 0usize;
     if o.resume {
         let old = std::fs::read_to_string(&mpath).map_err(|e| io(&mpath, e))?;
         if old != manifest {
@@ -597,6 +702,8 @@ where
             }
         }
         first = next;
+        // The kept runs' failures count in the sweep's.
+        stopped = summary.iter().skip(1).filter(|l| run_of(l).is_some_and(|r| r < first) && failed_row(l, o.second.is_some())).count();
         for (name, header) in headers(o.second.is_some(), o.impacts) {
             let p = dir.join(name);
             let lines = complete_lines(&p)?;
@@ -621,18 +728,10 @@ where
         }
     }
     let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: if o.impacts { Some(Outputs::append(dir, "impacts.csv")?) } else { None }, summary: Outputs::append(dir, "summary.csv")? };
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = o.threads {
-            b = b.num_threads(t);
-        }
-        b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
-    };
     let batch = if o.follow { 1 } else { (2 * LANES * pool.current_num_threads()).max(1) };
     let bar = crate::progress_bar(runs.len() as u64, o.progress, "runs");
     bar.set_position((first - runs.start) as u64);
     let start = std::time::Instant::now();
-    let mut stopped = 0usize;
     let mut next = first;
     let mut interrupted = false;
     while next < runs.end {
@@ -683,8 +782,9 @@ where
         };
         let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
         for (i, v, r) in results {
-            // A value whose scene is invalid (only the ends are checked up
-            // front) is a failed run, like a blow-up: the sweep goes on.
+            // A value whose scene is invalid (every value was checked before
+            // the first run: only if building it fails now) is a failed run,
+            // like a blow-up: the sweep goes on.
             let rows = r.unwrap_or_else(|e| failed(&e));
             if rows.status == "interrupted" {
                 interrupted = true;
@@ -722,7 +822,7 @@ where
         lines.extend(plots(dir)?);
     }
     lines.push(format!("wrote {}", dir.display()));
-    Ok(lines)
+    Ok(SweepReport { lines, runs: runs.len(), failed: stopped })
 }
 
 fn manifest_id(text: &str) -> Option<&str> {
@@ -872,21 +972,65 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     let manifest0 = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
     let map = manifest0.lines().any(|l| l.starts_with("param2 = "));
     let impacts = !manifest0.lines().any(|l| l == "impacts = false");
-    for (name, header) in headers(map, impacts) {
-        let mut text = header + "\n";
-        for f in &found {
-            let lines = complete_lines(&f.4.join(name))?;
-            if name == "summary.csv" {
-                let runs: Vec<usize> = lines.iter().skip(1).filter_map(|l| run_of(l)).collect();
-                if runs != (f.2..f.3).collect::<Vec<_>>() {
-                    return Err(bad(format!("{}: holds runs {}..{} of {}..{}: finish it (--resume) before merging", f.4.display(), runs.first().copied().unwrap_or(f.2), runs.last().map_or(f.2, |r| r + 1), f.2, f.3)));
-                }
-            }
-            for l in lines.iter().skip(1) {
-                text.push_str(l);
-                text.push('\n');
+    // Every shard's files are read and checked before anything is written:
+    // the summary against the manifest's runs, the other files' rows of
+    // each run against the counts its summary row gives.
+    let files = headers(map, impacts);
+    let mut texts: Vec<String> = files.iter().map(|(_, h)| format!("{h}\n")).collect();
+    for f in &found {
+        let dir = f.4;
+        let lines: Vec<Vec<String>> = files.iter().map(|(name, _)| complete_lines(&dir.join(name))).collect::<Result<_, _>>()?;
+        for ((name, header), l) in files.iter().zip(&lines) {
+            if l.first() != Some(header) {
+                return Err(bad(format!("{}: its first line is not the header {header:?}: a damaged shard; run it again", dir.join(name).display())));
             }
         }
+        let summary = &lines[files.iter().position(|(n, _)| *n == "summary.csv").unwrap_or(0)];
+        let runs: Vec<usize> = summary.iter().skip(1).filter_map(|l| run_of(l)).collect();
+        if runs != (f.2..f.3).collect::<Vec<_>>() {
+            return Err(bad(format!(
+                "{}: expected {} rows (runs {}..{} of the manifest), found {} (runs {}..{}): finish the shard (--resume) or run it again before merging",
+                dir.join("summary.csv").display(),
+                f.3 - f.2,
+                f.2,
+                f.3,
+                summary.len() - 1,
+                runs.first().copied().unwrap_or(f.2),
+                runs.last().map_or(f.2, |r| r + 1)
+            )));
+        }
+        // Rows per run that summary.csv counts: `poincare_points` for
+        // sweep.csv, `impacts` (the record window's) for impacts.csv.
+        let column = |c: &str| summary[0].split(',').position(|h| h == c);
+        let expected = |c: Option<usize>| -> Vec<usize> { summary.iter().skip(1).map(|l| c.and_then(|c| l.split(',').nth(c)).and_then(|x| x.parse().ok()).unwrap_or(0)).collect() };
+        for (k, (name, _)) in files.iter().enumerate() {
+            let want = match *name {
+                "sweep.csv" => expected(column("poincare_points")),
+                "impacts.csv" => expected(column("impacts")),
+                _ => continue,
+            };
+            let mut got = vec![0usize; want.len()];
+            let mut stray = 0usize;
+            for l in lines[k].iter().skip(1) {
+                match run_of(l).and_then(|r| r.checked_sub(f.2)).filter(|r| *r < got.len()) {
+                    Some(r) => got[r] += 1,
+                    None => stray += 1,
+                }
+            }
+            let (e, g): (usize, usize) = (want.iter().sum(), got.iter().sum::<usize>() + stray);
+            if want != got || stray > 0 {
+                let first = want.iter().zip(&got).position(|(a, b)| a != b).map_or(String::new(), |r| format!("; run {} has {} of its {}", f.2 + r, got[r], want[r]));
+                return Err(bad(format!("{}: expected {e} rows (runs {}..{} as the manifest and summary.csv count them), found {g}{first}: a damaged shard; run it again (--shard {}/{})", dir.join(name).display(), f.2, f.3, f.0, f.1)));
+            }
+        }
+        for (t, l) in texts.iter_mut().zip(&lines) {
+            for row in l.iter().skip(1) {
+                t.push_str(row);
+                t.push('\n');
+            }
+        }
+    }
+    for ((name, _), text) in files.iter().zip(texts) {
         std::fs::write(out.join(name), text).map_err(|e| io(&out.join(name), e))?;
     }
     // The unsharded manifest: the shard's without its shard lines.
@@ -899,11 +1043,18 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     Ok(lines)
 }
 
-/// Runs a sweep into `dir` (see the module docs).
+/// Runs a sweep into `dir` (see the module docs); lines for the terminal
+/// (a sweep whose runs failed is still a sweep: see [`run_report`]).
 pub fn run(sweep: &Sweep, dir: &Path) -> Result<Vec<String>, CliError> {
+    run_report(sweep, dir).map(|r| r.lines)
+}
+
+/// [`run`], with the count of failed runs (`signorini sweep` exits 3 when
+/// there are any).
+pub fn run_report(sweep: &Sweep, dir: &Path) -> Result<SweepReport, CliError> {
     let interrupt = sweep.opts.interrupt;
     let follow = sweep.opts.follow;
-    run_sweep(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt))
+    sweep_report(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt))
 }
 
 /// Keeps the last two displacement vectors (for a followed sweep's final
@@ -942,28 +1093,42 @@ fn text_cell(s: &str) -> String {
 /// be built or stops early gives its reason as the status, and what it
 /// recorded before.
 pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
-    let mut built = match crate::build(scene, start) {
+    // A reduced model (`reduce = {…}`) runs as `signorini run` runs it: the
+    // observers see the scene's unknowns, reconstructed.
+    let mut built = match crate::build_model(scene, start) {
         Ok(b) => b,
         Err(e) => return failed(&e),
     };
-    let contacts: Vec<(usize, Bounds)> = built.stepper.dynamics().contacts.iter().map(|c| (c.dof, c.bounds)).collect();
+    let contacts = built.contacts();
+    let rows: Vec<usize> = contacts.iter().map(|c| c.0).chain(std::iter::once(built.tip)).collect();
     let mut vib = match observers(plan, built.tip, contacts) {
         Ok(v) => v,
         Err(e) => return failed(&e),
     };
-    let n = built.u0.len();
+    let n = built.reduction.as_ref().map_or(built.u0.len(), Reduction::parent_dofs);
     let mut last = LastTwo { prev: vec![0.0; if follow { n } else { 0 }], last: vec![0.0; if follow { n } else { 0 }], t: 0.0 };
     let mut rc = match RunConfig::new(plan.dt, plan.t_end) {
         Ok(c) => c,
         Err(e) => return failed(&e),
     };
     rc.interrupt = interrupt;
-    let res = {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
-        if follow {
-            obs.push(&mut last);
+    let res = match &built.reduction {
+        None => {
+            let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
+            if follow {
+                obs.push(&mut last);
+            }
+            signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
         }
-        signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
+        Some(red) => {
+            let mut v = Reconstruct::new(red, &mut vib, Need::Dofs(rows));
+            let mut l = Reconstruct::new(red, &mut last, Need::Full);
+            let mut obs: Vec<&mut dyn Observer> = vec![&mut v];
+            if follow {
+                obs.push(&mut l);
+            }
+            signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
+        }
     };
     let (steps, status) = match &res {
         Ok(s) => (s.steps, "ok".to_string()),
@@ -1002,8 +1167,9 @@ fn rows_of(vib: &signorini_run::vibro::Vibro, plan: &Plan, steps: usize, status:
 /// narrowest engine that holds it (2, 4 or 8 lanes).
 pub const LANES: usize = 8;
 
-/// A run the lockstep engine takes: a beam on its tip's two stops with the
-/// projection (the β-scheme, e = 0), not continued from another run.
+/// A run the lockstep engine takes: a beam (full model) on its tip's two
+/// stops with the projection (the β-scheme, e = 0), not continued from
+/// another run.
 fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
     let beta = lockstep_beta(scene)?;
     let Scene::Beam { pipe, scene: bs, excitation, .. } = scene else { return None };
@@ -1014,7 +1180,8 @@ fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
 /// The β of a scene the lockstep engine takes (see [`lane_of`]), or `None`.
 fn lockstep_beta(scene: &Scene) -> Option<f64> {
     match scene {
-        Scene::Beam { scene: bs, contacts: None, excitation, .. } if excitation.start.is_none() => match bs.contact {
+        // A reduced model steps other matrices: one run at a time.
+        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() => match bs.contact {
             BeamContact::Projection { beta } => Some(beta),
             BeamContact::Penalty { .. } => None,
         },

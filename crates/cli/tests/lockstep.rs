@@ -46,3 +46,31 @@ fn runs_that_do_not_share_a_matrix_are_not_locked() {
     let pairs: Vec<_> = runs.iter().map(|(_, s, p)| (s, p)).collect();
     assert!(simulate_lockstep(&pairs, None).is_none());
 }
+
+/// A lane that blows up stops where its single run stops: the same steps,
+/// status (step and time of the blow-up) and rows, while the other lanes go
+/// on to their horizons.
+#[test]
+fn a_lane_that_blows_up_stops_where_its_single_run_does() {
+    let text = "[beam]\nscene = \"fig2\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n";
+    let mut o = SweepOptions::new("support.amplitude", 0.2, 1e303, 3);
+    o.transient = 0.0;
+    o.record = 1.0;
+    let sweep = Sweep::new(text, "beam.toml", None, o, Limits { max_memory: 1e9 }).unwrap();
+    let runs: Vec<_> = (0..3).map(|r| sweep.scene(sweep.options().value(r)).unwrap()).collect();
+    let pairs: Vec<_> = runs.iter().map(|(_, s, p)| (s, p)).collect();
+    let lock = simulate_lockstep(&pairs, None).expect("one engine");
+    let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
+    for (k, ((_, scene, plan), l)) in runs.iter().zip(&lock).enumerate() {
+        let one = simulate(scene, plan, None, false, None);
+        if k == 0 {
+            assert_eq!(one.status, "ok");
+        } else {
+            assert!(one.status.contains("blew up"), "run {k}: {}", one.status);
+            assert!(one.steps < 12_566, "run {k} stopped early: {}", one.steps);
+        }
+        assert_eq!((l.steps, &l.status), (one.steps, &one.status), "run {k}");
+        assert_eq!(l.summary, one.summary, "run {k}");
+        assert_eq!(bits(&l.poincare), bits(&one.poincare), "run {k}");
+    }
+}
