@@ -1010,8 +1010,8 @@ impl Built {
 /// unknowns as the scene's; [`build_model`] runs it.
 pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
     match scene {
-        Scene::Bar(b) if b.reduce.is_some() => Err(CliError::Run(RunError::Invalid { field: "bar.reduce", value: f64::NAN, allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
-        Scene::Beam { reduce: Some(_), .. } => Err(CliError::Run(RunError::Invalid { field: "beam.reduce", value: f64::NAN, allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
+        Scene::Bar(b) if b.reduce.is_some() => Err(CliError::Run(RunError::NotAllowed { field: "bar.reduce", allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
+        Scene::Beam { reduce: Some(_), .. } => Err(CliError::Run(RunError::NotAllowed { field: "beam.reduce", allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
         _ => build_model(scene, start),
     }
 }

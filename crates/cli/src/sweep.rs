@@ -94,19 +94,8 @@ pub enum SweepError {
     Folder(String),
 }
 
-/// `x` in shortest round-trip form, with an exponent for very large or
-/// small magnitudes (`1e300`, `-2.5e-7`, not hundreds of digits): `{:e}`
-/// when `|x| >= 1e16` or `0 < |x| < 1e-5`, else `{}` (so `4.012012012012012`
-/// and `0.0055` are written as before). The sweep's `param` columns and
-/// messages.
-pub fn num(x: f64) -> String {
-    let a = x.abs();
-    if a >= 1e16 || (a != 0.0 && a < 1e-5) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
+pub use signorini_run::text::num;
+
 
 /// A second axis of a two-parameter map.
 #[derive(Clone, Debug, PartialEq)]
@@ -905,7 +894,9 @@ fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
     let col = |l: &str, i: usize| l.split(',').nth(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(f64::NAN);
     let sweep = complete_lines(&dir.join("sweep.csv"))?;
     let (pts, title) = thin(sweep.iter().skip(1).map(|l| (col(l, 0), col(l, 3))).collect(), "bifurcation diagram: Poincaré displacement", "samples");
-    let chart = Chart { title: &title, x_label: "parameter", y_label: "displacement", scale: Scale::Linear, size: (900, 600) };
+    // The x axis names the swept parameter, as the manifest records it.
+    let param = std::fs::read_to_string(dir.join("sweep.toml")).ok().and_then(|t| t.parse::<toml::Table>().ok()).and_then(|m| m.get("param").and_then(|p| p.as_str()).map(str::to_string)).unwrap_or_else(|| "parameter".into());
+    let chart = Chart { title: &title, x_label: &param, y_label: "displacement", scale: Scale::Linear, size: (900, 600) };
     let radius = if pts.len() > 20_000 { 1 } else { 2 };
     match scatter(&chart, &[Series { label: "Poincaré samples".into(), points: pts, reference: false, style: Style::default() }], radius) {
         Ok(svg) => std::fs::write(dir.join("bifurcation.svg"), svg).map_err(|e| io(&dir.join("bifurcation.svg"), e))?,

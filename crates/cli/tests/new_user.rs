@@ -115,3 +115,15 @@ fn the_beam_plots_have_a_time_unit() {
     let svg = std::fs::read_to_string(out.join("tip.svg")).expect("tip.svg");
     assert!(svg.contains(">\nt (s)\n<") || svg.contains(">t (s)<"), "no 't (s)' axis label in tip.svg");
 }
+
+/// §12: the bifurcation diagram's x axis names the swept parameter.
+#[test]
+fn the_bifurcation_axis_names_the_parameter() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("o");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/oscillator.toml");
+    let (code, err) = cli(&["sweep", scene, "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "3", "--transient", "5", "--record", "3", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(0), "{err}");
+    let svg = std::fs::read_to_string(out.join("bifurcation.svg")).expect("bifurcation.svg");
+    assert!(svg.contains("\nforcing.omega\n") || svg.contains(">forcing.omega<"), "the x axis does not name forcing.omega");
+}
