@@ -118,7 +118,7 @@ def _run(name, out, kwargs, cls=StudyResult):
         return cls(_signorini.study(name, kwargs, tmp))
 
 
-def convergence(benchmark="bar-dirichlet", schemes=None, masses=None, levels=None, ratio=None, t_end=None, norms="exact", out=None) -> ConvergenceResult:
+def convergence(benchmark="bar-dirichlet", schemes=None, masses=None, levels=None, ratio=None, t_end=None, norms="exact", out=None, clean=False) -> ConvergenceResult:
     """The convergence study (``cargo xtask convergence``): for each (scheme,
     mass), the benchmark at each level m (m elements; bar-mirrored 2m on its
     [0, 2]) with dt = dx/ratio up to t_end, and every error norm.
@@ -129,8 +129,10 @@ def convergence(benchmark="bar-dirichlet", schemes=None, masses=None, levels=Non
     ``masses``: default ``["std", "mod"]``; ``levels``: default 10 … 640;
     ``ratio``, ``t_end``: default the benchmark's (10 and 3 for bar-dirichlet);
     ``norms``: ``"exact"`` (kink-split exact integrals) or ``"getfem"`` (the
-    nodal interpolant's errors, relative, as GetFEM's demo)."""
-    kw = dict(benchmark=benchmark, schemes=schemes, masses=masses, levels=levels, ratio=ratio, t_end=t_end, norms=norms)
+    nodal interpolant's errors, relative, as GetFEM's demo). An ``out``
+    folder holding CSV or SVG files this study would not write (another
+    study's or configuration's) is refused unless ``clean=True`` removes them."""
+    kw = dict(benchmark=benchmark, schemes=schemes, masses=masses, levels=levels, ratio=ratio, t_end=t_end, norms=norms, clean=clean)
     return _run("convergence", out, kw, ConvergenceResult)
 
 

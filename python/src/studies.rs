@@ -194,6 +194,7 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             if let Some(n) = a.str("norms")? {
                 c.norms = st::convergence::parse_norms(&n).map_err(study_err)?;
             }
+            c.clean = a.bool("clean")?.unwrap_or(c.clean);
             a.done()?;
             let o = detached(py, || st::convergence::run(&c, &none))?;
             let d = output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &o.out)?;

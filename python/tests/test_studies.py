@@ -213,3 +213,16 @@ def test_work_precision_frontier_rows_are_independent_runs(tmp_path, exe):
     i = row(benchmark="beam-fig2", mass="massless-tip", modes=2)
     assert t["tip_err"][i] == pytest.approx(gap[tt <= 0.05 + 1e-12].max(), rel=1e-9)
     assert t["tip_err_end"][i] == pytest.approx(gap.max(), rel=1e-9)
+
+
+def test_convergence_refuses_a_folder_of_another_configuration(tmp_path):
+    """Issue 22 §5 from Python: a second study with fewer schemes into the same
+    folder is refused (naming clean), clean=True removes the stale files."""
+    kw = dict(masses=["std"], levels=[10, 20], out=tmp_path)
+    signorini.studies.convergence(schemes=["newmark-cn", "ps-e1"], **kw)
+    with pytest.raises(signorini.SceneError, match="clean"):
+        signorini.studies.convergence(schemes=["newmark-cn"], **kw)
+    assert (tmp_path / "ps-e1_std.csv").exists()
+    res = signorini.studies.convergence(schemes=["newmark-cn"], clean=True, **kw)
+    assert not (tmp_path / "ps-e1_std.csv").exists() and (tmp_path / "newmark-cn_std.csv").exists()
+    assert res.schemes == ["newmark-cn"]

@@ -105,7 +105,12 @@ fn study_error(e: signorini_run::RunError) -> StudyError {
         signorini_run::RunError::Fem(signorini_fem::FemError::MassForDegree { .. }) => "--masses",
         _ => "--levels",
     };
-    StudyError::config(field, e.to_string())
+    // The message starts with the option, as every Config error's does.
+    let message = match &e {
+        signorini_run::RunError::Invalid { value, allowed, .. } => format!("{field} {}: allowed {allowed}", signorini_run::text::num(*value)),
+        _ => format!("{field}: {e}"),
+    };
+    StudyError::config(field, message)
 }
 
 impl Config {

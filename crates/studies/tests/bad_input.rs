@@ -34,6 +34,12 @@ fn convergence_refuses_empty_levels_and_a_zero_ratio() {
     let cfg = convergence::Config { levels: vec![], out: Some(out.clone()), ..Default::default() };
     assert_field(cfg.validate(), "--levels", &out);
     assert_field(convergence::run(&cfg, NO_PROGRESS).map(|_| ()), "--levels", &out);
+    // Issue 22 §11: the message starts with the flag as typed.
+    let cfg = convergence::Config { levels: vec![1, 2], out: Some(out.clone()), ..Default::default() };
+    match convergence::run(&cfg, NO_PROGRESS) {
+        Err(StudyError::Config { message, .. }) => assert!(message.starts_with("--levels 1: allowed every m >= 2"), "{message}"),
+        other => panic!("levels 1 accepted: {:?}", other.map(|o| o.out)),
+    }
     let cfg = convergence::Config { ratio: Some(0.0), out: Some(out.clone()), ..Default::default() };
     assert_field(convergence::run(&cfg, NO_PROGRESS).map(|_| ()), "--ratio", &out);
     assert_field(convergence::parse_norms("l2"), "--norms", &out);
