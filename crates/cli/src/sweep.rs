@@ -670,7 +670,7 @@ where
     if let Some(r) = pool.install(|| runs.clone().into_par_iter().find_first(|&r| sweep.scene(o.value(r)).is_err())) {
         sweep.scene(o.value(r))?;
     }
-    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|source| CliError::OutFolder { path: dir.to_path_buf(), source })?;
     let manifest = sweep.manifest(o.shard);
     let mpath = dir.join("sweep.toml");
     let mut first = runs.start;
@@ -928,7 +928,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String)> = Vec::new();
     for d in shards {
         let p = d.join("sweep.toml");
-        let text = std::fs::read_to_string(&p).map_err(|e| io(&p, e))?;
+        let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), if e.kind() == std::io::ErrorKind::NotFound { "no such file".to_string() } else { e.to_string() })))?;
         let id = manifest_id(&text).ok_or_else(|| bad(format!("{}: no sweep id", p.display())))?.to_string();
         let pair = |key: &str| -> Option<(usize, usize)> {
             let l = text.lines().find_map(|l| l.strip_prefix(&format!("{key} = [")))?;
@@ -956,7 +956,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     if found.len() != n0 {
         return Err(bad(format!("merge: shard {} of {n0} is missing ({} given)", found.len(), found.len())));
     }
-    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    std::fs::create_dir_all(out).map_err(|source| CliError::OutFolder { path: out.to_path_buf(), source })?;
     if let Some(f) = SWEEP_FILES.iter().find(|f| out.join(f).exists()) {
         return Err(bad(format!("{} holds a sweep's files ({f}): choose another --out", out.display())));
     }

@@ -127,3 +127,20 @@ fn the_bifurcation_axis_names_the_parameter() {
     let svg = std::fs::read_to_string(out.join("bifurcation.svg")).expect("bifurcation.svg");
     assert!(svg.contains("\nforcing.omega\n") || svg.contains(">forcing.omega<"), "the x axis does not name forcing.omega");
 }
+
+/// §11 for sweeps: an `--out` that is a file and a merge of a folder that is
+/// not a shard are bad input (exit 2), in words.
+#[test]
+fn sweep_and_merge_bad_folders_exit_2() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("afile");
+    std::fs::write(&file, "x").expect("write");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/oscillator.toml");
+    let (code, err) = cli(&["sweep", scene, "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "2", "--transient", "2", "--record", "2", "--out", file.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--out") && err.contains("not a folder") && !err.contains("os error"), "{err}");
+    let nowhere = dir.path().join("nope");
+    let (code, err) = cli(&["merge", nowhere.to_str().expect("utf-8"), "--out", dir.path().join("m").to_str().expect("utf-8")]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("is not a shard folder") && !err.contains("os error"), "{err}");
+}
