@@ -84,6 +84,56 @@ pub struct PaoliSchatzman {
     moving: Vec<usize>,
     touched: Vec<usize>,
     marked: Vec<bool>,
+    /// The characteristic release of `cd-taylor` at Courant number one
+    /// (docs/theory.md §4.10): per contact, whether it applies and what the
+    /// projection removed from the node's free update at the last step.
+    release: Option<Release>,
+}
+
+/// The characteristic release rule (docs/theory.md §4.10): at Courant number
+/// one the free update of a contact node held at its bound must continue
+/// the incoming wave from where it would be had the node been free, so the
+/// next free update subtracts what the projection removed at this step.
+struct Release {
+    /// Per contact: the rule applies (the node and its neighbour are on
+    /// d'Alembert's grid, restitution 0).
+    on: Vec<bool>,
+    /// Per contact: free update minus projected value at the last step.
+    shift: Vec<f64>,
+    /// Per contact: this step's free update (scratch).
+    free: Vec<f64>,
+    /// Per contact: the shift applied at this step, `M_cc s / dt²` (the
+    /// part of the node's contact force that the shifted free update hides).
+    force: Vec<f64>,
+}
+
+impl Release {
+    /// The rule for `dy` at step `dt`, if some contact qualifies: restitution
+    /// 0, no damping, a diagonal mass, and the contact node with its single
+    /// neighbour on d'Alembert's grid (`dt² K_cc / M_cc = 2`,
+    /// `K_nc = −K_cc`, `dt² K_nn / M_nn = 2`, `dt² K_nc / M_nn = −1`, each to
+    /// 1e-9 relative).
+    fn for_courant_one(dy: &Dynamics, restitution: f64, dt: f64) -> Option<Self> {
+        if dy.damping.is_some() {
+            return None;
+        }
+        let (n, dt2) = (dy.n(), dt * dt);
+        let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+        let k = |i: usize, j: usize| if i.abs_diff(j) <= dy.stiffness.half_bandwidth() { dy.stiffness.get(i.max(j), i.min(j)) } else { 0.0 };
+        let on: Vec<bool> = dy
+            .contacts
+            .iter()
+            .map(|ct| {
+                let c = ct.dof;
+                let neighbours: Vec<usize> = (c.saturating_sub(dy.stiffness.half_bandwidth())..n.min(c + dy.stiffness.half_bandwidth() + 1)).filter(|&j| j != c && k(c, j) != 0.0).collect();
+                let [nb] = neighbours[..] else { return false };
+                let (mc, mn) = (dy.mass.get(c, c), dy.mass.get(nb, nb));
+                ct.restitution.unwrap_or(restitution) == 0.0 && mc > 0.0 && mn > 0.0 && near(dt2 * k(c, c) / mc, 2.0) && near(k(nb, c), -k(c, c)) && near(dt2 * k(nb, nb) / mn, 2.0) && near(dt2 * k(nb, c) / mn, -1.0)
+            })
+            .collect();
+        let m = on.len();
+        on.iter().any(|&b| b).then(|| Release { on, shift: vec![0.0; m], free: vec![0.0; m], force: vec![0.0; m] })
+    }
 }
 
 impl PaoliSchatzman {
@@ -132,10 +182,17 @@ impl PaoliSchatzman {
             f.iter_mut().zip(&ku).for_each(|(a, k)| *a -= k);
         }
         let mut u: Vec<f64> = (0..n).map(|i| init.u[i] + dt * init.v[i] + 0.5 * dt * dt * f[i] / dy.mass.get(i, i)).collect();
-        for ct in &dy.contacts {
+        let mut release = Release::for_courant_one(&dy, restitution, dt);
+        for (i, ct) in dy.contacts.iter().enumerate() {
+            let free = u[ct.dof];
             u[ct.dof] = u[ct.dof].clamp(ct.bounds.lo, ct.bounds.hi);
+            if let Some(r) = release.as_mut() {
+                r.shift[i] = free - u[ct.dof];
+            }
         }
-        Self::from_levels(label, dy, 0.0, restitution, dt, init, u)
+        let mut s = Self::from_levels(label, dy, 0.0, restitution, dt, init, u)?;
+        s.release = release;
+        Ok(s)
     }
 
     /// The scheme at level 1 from `U⁰` (`init.u`) and `U¹` (`u`).
@@ -186,6 +243,7 @@ impl PaoliSchatzman {
             moving,
             touched: Vec::with_capacity(k),
             marked: vec![false; k],
+            release: None,
         }
         .with_means())
     }
@@ -199,6 +257,16 @@ impl PaoliSchatzman {
             *m = [sp.next_value(), sp.next_value()];
         }
         self
+    }
+
+    /// After the contact solve (`U^{n+1}` in `rhs`): what the projection
+    /// removed from each contact's free update, for the next step.
+    fn record_release(&mut self) {
+        if let Some(r) = self.release.as_mut() {
+            for (i, ct) in self.dy.contacts.iter().enumerate() {
+                r.shift[i] = r.free[i] - self.rhs[ct.dof];
+            }
+        }
     }
 
     /// Work of the forcing terms over the step just taken, `½ G^nᵀ(U^{n+1} - U^{n-1})`
@@ -230,6 +298,7 @@ impl PaoliSchatzman {
             ms.hi[i] = if ct.bounds.hi.is_finite() { (1.0 + e) * ct.bounds.hi - e * up } else { f64::INFINITY };
         }
         ms.solve(&mut self.rhs)?;
+        self.record_release();
         std::mem::swap(&mut self.u_prev, &mut self.u);
         std::mem::swap(&mut self.u, &mut self.rhs);
         self.n += 1;
@@ -250,7 +319,7 @@ impl PaoliSchatzman {
         let mut work = 0.0;
         for &i in &self.touched {
             let c = self.dy.contacts[i].dof;
-            let lam = -mu[i] / scale;
+            let lam = self.release.as_ref().map_or(-mu[i] / scale, |r| -mu[i] / scale + r.force[i]);
             if !(self.u[c].is_finite() && lam.is_finite()) {
                 return Err(SchemeError::NonFinite { step: self.n, time: t });
             }
@@ -337,6 +406,14 @@ impl Stepper for PaoliSchatzman {
             }
         }
         self.a.solve_in_place(&mut self.rhs);
+        if let Some(r) = self.release.as_mut() {
+            for (i, ct) in self.dy.contacts.iter().enumerate() {
+                let s = if r.on[i] { r.shift[i] } else { 0.0 };
+                self.rhs[ct.dof] -= s;
+                r.free[i] = self.rhs[ct.dof];
+                r.force[i] = self.dy.mass.get(ct.dof, ct.dof) * s / dt2;
+            }
+        }
         if self.multi.is_some() {
             return self.finish_multi();
         }
@@ -345,6 +422,7 @@ impl Stepper for PaoliSchatzman {
         let lo = (1.0 + e) * lo - e * up_c;
         let hi = if hi.is_finite() { (1.0 + e) * hi - e * up_c } else { f64::INFINITY };
         let pr = self.proj.project(&mut self.rhs, lo, hi);
+        self.record_release();
         // Rotate: U^{n-1} <- U^n <- U^{n+1}.
         std::mem::swap(&mut self.u_prev, &mut self.u);
         std::mem::swap(&mut self.u, &mut self.rhs);
@@ -355,7 +433,8 @@ impl Stepper for PaoliSchatzman {
         } else {
             // t_{n} computed from its index, as every time level is: `t - dt`
             // can round below an exact level (1.9999999999999998 for 2).
-            (-pr.mu / dt2, (self.n - 1) as f64 * self.dt)
+            // The node's contact force: what its shifted free update hides too.
+            (self.release.as_ref().map_or(-pr.mu / dt2, |r| -pr.mu / dt2 + r.force[0]), (self.n - 1) as f64 * self.dt)
         };
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });

@@ -2,7 +2,9 @@
 //! written here: `U^{n+1} = 2U^n − U^{n−1} + dt² M⁻¹(F(t_n) − K U^n)` with
 //! the lumped P1 mass at `dt = h/c`, Taylor's start, each contact dof
 //! clamped into its bounds (the projection of a diagonal mass with
-//! restitution 0), its error measured by the norms observer.
+//! restitution 0) after its free update is shifted by what the clamp took
+//! at the step before (the characteristic release, docs/theory.md §4.10),
+//! its error measured by the norms observer.
 
 use signorini_fem::BarMass;
 use signorini_run::{Benchmark, NormObserver, Observer, Sample};
@@ -22,9 +24,14 @@ fn oracle(b: Benchmark, m: usize) -> f64 {
         dy.stiffness.mul_vec(u, &mut ku);
         (0..n).map(|i| dy.load[i] + dy.forcing.iter().map(|f| f.shape[i] * f.time.value(t)).sum::<f64>() - ku[i]).collect()
     };
-    let clamp = |u: &mut Vec<f64>| {
-        for c in &dy.contacts {
-            u[c.dof] = u[c.dof].clamp(c.bounds.lo, c.bounds.hi);
+    // What the clamp took from each contact's free update at the last step.
+    let mut taken = vec![0.0; dy.contacts.len()];
+    let mut clamp = |u: &mut Vec<f64>| {
+        for (c, s) in dy.contacts.iter().zip(taken.iter_mut()) {
+            u[c.dof] -= *s;
+            let free = u[c.dof];
+            u[c.dof] = free.clamp(c.bounds.lo, c.bounds.hi);
+            *s = free - u[c.dof];
         }
     };
     let mut norms = NormObserver::new(exact.as_ref(), p.bar.elements, p.vnorm(), dt);
@@ -48,7 +55,8 @@ fn oracle(b: Benchmark, m: usize) -> f64 {
 
 /// The Courant-one rows (levels 10, 20 and their two doublings, 40 and 80)
 /// equal the hand-written scheme's error on both bar benchmarks, to 1e-9
-/// relative (the two sum in different orders: 3e-12 apart at m = 80).
+/// relative (the two sum in different orders: 3e-12 apart at m = 80), or
+/// to 1e-11 where the nodal values are exact up to round-off.
 #[test]
 fn courant_one_rows_are_a_central_difference_written_here() {
     let out = std::env::temp_dir().join(format!("signorini-studies-frontier-{}", std::process::id()));
@@ -60,7 +68,10 @@ fn courant_one_rows_are_a_central_difference_written_here() {
     for i in (0..bench.len()).filter(|&i| scheme[i] == "cd-taylor") {
         let b: Benchmark = bench[i].parse().unwrap();
         let want = oracle(b, m[i] as usize);
-        assert!((err[i] - want).abs() <= 1e-9 * want, "{} m = {}: row {:e}, written here {want:e}", bench[i], m[i], err[i]);
+        // The Dirichlet bar is nodally exact at Courant number one: both
+        // errors are round-off there (1e-15), the falling bar's nodes to round-off
+        // (its error is the interpolation error), hence the absolute floor.
+        assert!((err[i] - want).abs() <= 1e-9 * want + 1e-11, "{} m = {}: row {:e}, written here {want:e}", bench[i], m[i], err[i]);
         seen += 1;
     }
     assert_eq!(seen, 8, "4 levels on each of the two bars");
