@@ -90,6 +90,24 @@ fn kinks_on_or_next_to_nodes() {
     }
 }
 
+/// A quadratic kink at round-off distance from a node with an O(1) error:
+/// the sliver it cuts off an element must contribute its tiny share, not
+/// the cancellation error of e² over the sliver's length (0.17 % of the
+/// seminorm here — 0.6099 against 0.6110 — before the seminorm of a
+/// degree-2 piece was computed from its differences).
+#[test]
+fn quadratic_kink_next_to_a_node_with_a_large_error() {
+    for (a, m) in [(0.6 + 1e-15, 5usize), (0.6 - 1e-15, 5), (0.7, 10), (0.6999999999999993, 10)] {
+        let k = Kinked { a, p: 2, square: false };
+        let c = 0.123_456_7; // u_h = c: e = c − (x − a)|x − a|
+        let int_u = ((1.0 - a).powi(3) - a.powi(3)) / 3.0;
+        let int_u2 = (a.powi(5) + (1.0 - a).powi(5)) / 5.0;
+        let l2 = (c * c - 2.0 * c * int_u + int_u2).sqrt();
+        let semi = (4.0 * (a.powi(3) + (1.0 - a).powi(3)) / 3.0).sqrt();
+        check_tol(&k, m, &vec![c; m + 1], VNorm::H1Seminorm, l2, semi, 1e-13);
+    }
+}
+
 #[test]
 fn quadratic_kink_inside_an_element() {
     let a: f64 = 0.61;
