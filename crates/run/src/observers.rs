@@ -9,6 +9,10 @@ use std::io::Write;
 pub struct NormObserver<'a> {
     norms: ErrorNorms<'a>,
     dt: f64,
+    /// The contact was active at the last sample.
+    active: bool,
+    /// The first level at which the contact is inactive after being active.
+    first_release: Option<f64>,
 }
 
 impl<'a> NormObserver<'a> {
@@ -19,19 +23,25 @@ impl<'a> NormObserver<'a> {
 
     /// With a choice of error measure.
     pub fn with_kind(exact: &'a dyn ExactSolution, elements: usize, vnorm: VNorm, dt: f64, kind: NormKind) -> Self {
-        Self { norms: ErrorNorms::with_kind(exact, elements, vnorm, kind), dt }
+        Self { norms: ErrorNorms::with_kind(exact, elements, vnorm, kind), dt, active: false, first_release: None }
     }
 
     /// For Lagrange elements of degree `k` ([`ErrorNorms::with_degree`]: the
     /// GetFEM-demo norms are P1 only, so `kind` must be exact for `k > 1`).
     #[track_caller]
     pub fn with_degree(exact: &'a dyn ExactSolution, elements: usize, k: usize, vnorm: VNorm, dt: f64, kind: NormKind) -> Self {
-        Self { norms: ErrorNorms::with_degree(exact, elements, k, vnorm, kind), dt }
+        Self { norms: ErrorNorms::with_degree(exact, elements, k, vnorm, kind), dt, active: false, first_release: None }
     }
 
     /// The norms so far.
     pub fn report(&self) -> NormReport {
         self.norms.report(self.dt)
+    }
+
+    /// The time of the first level at which the contact is inactive after
+    /// having been active (the discrete release), if there was one.
+    pub fn first_release(&self) -> Option<f64> {
+        self.first_release
     }
 }
 
@@ -40,6 +50,10 @@ impl Observer for NormObserver<'_> {
         true
     }
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        if self.active && !s.active && self.first_release.is_none() {
+            self.first_release = Some(s.t);
+        }
+        self.active = s.active;
         self.norms.add_displacement(s.t, s.u);
         if let Some((t, l)) = s.lambda {
             self.norms.add_lambda(t, l);

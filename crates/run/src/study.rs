@@ -116,6 +116,9 @@ pub struct LevelResult {
     pub norms: NormReport,
     /// Wall time of the run (set-up and loop), seconds.
     pub wall_s: f64,
+    /// The first level at which the contact is released after having been
+    /// active ([`NormObserver::first_release`]).
+    pub first_release: Option<f64>,
 }
 
 /// All levels of one (scheme, mass) pair.
@@ -176,7 +179,7 @@ pub fn run_level_reduced(benchmark: Benchmark, exact: &dyn ExactSolution, scheme
             run(stepper.as_mut(), &red.initial.u, &cfg, &mut [&mut full])?
         }
     };
-    Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64() })
+    Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64(), first_release: norms.first_release() })
 }
 
 /// Runs the whole study in parallel (rayon's pool; finest levels first for

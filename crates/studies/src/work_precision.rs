@@ -20,15 +20,23 @@
 //!
 //! Outputs (`out/work-precision/`): `work_precision.csv` with columns
 //! `benchmark,scheme,mass,m,dt,steps,l2_l2_u,linf_energy,wall_s` then
-//! `degree,modes,tip_err,tip_err_end,impact_err` (wall time of the stepping
-//! alone, best of 3, runs one at a time; `modes` 0 for a full model; the
-//! bar rows leave the three beam columns empty, the beam rows the two norm
-//! columns; `m` is J and `degree` 3, Hermite cubics, for the beam),
-//! `<benchmark>.svg` per benchmark (log-log, error against wall time), and on
-//! stdout the cheapest configuration reaching each accuracy band.
+//! `degree,modes,tip_err,tip_err_end,impact_err` then
+//! `linf_l2_u,linf_v_u,l2_v_u,l2_lambda,l2_energy,release_err` (wall time of
+//! the stepping alone, best of 3, runs one at a time; `modes` 0 for a full
+//! model; the bar rows leave the three beam columns empty, the beam rows the
+//! norm columns; `m` is J and `degree` 3, Hermite cubics, for the beam;
+//! `release_err` is |first discrete − first exact release time|),
+//! `<benchmark>.svg` per benchmark (log-log, L²(0,T;L²) error — the beam's
+//! tip error — against wall time) and for the bars `<benchmark>-strain.svg`
+//! (L∞(0,T;V)) and `<benchmark>-force.svg` (λ in L²(0,T)), and on stdout the
+//! cheapest configuration reaching each accuracy band in each of the three
+//! quantities, a configuration whose error does not fall with m in a
+//! quantity (least-squares rate below 0.1, unless it is round-off) marked
+//! so wherever it is named.
 
 use crate::{create_dir, fe, int, opt, since, txt, Kind, StudyError, TableOut};
 use signorini_fem::BarMass;
+use signorini_norms::NormReport;
 use signorini_plot::{line_chart, Chart, Scale, Series};
 use signorini_reduce::Keep;
 use signorini_run::beam::{build_excited, build_reduced, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
@@ -140,8 +148,11 @@ struct Point {
     m: usize,
     dt: f64,
     steps: usize,
-    err: Option<f64>,
-    energy: Option<f64>,
+    /// Bar rows: every norm of the run.
+    norms: Option<NormReport>,
+    /// Bar rows: |first discrete release − first exact release| (NaN if
+    /// either is missing).
+    release_err: Option<f64>,
     wall: f64,
     degree: usize,
     modes: usize,
@@ -161,13 +172,112 @@ impl Point {
         }
         s
     }
-    /// The error this benchmark is judged by.
-    fn error(&self) -> f64 {
-        match self.beam {
-            Some((w, _, _)) => w,
-            None => self.err.unwrap_or(f64::NAN),
+    /// The error this benchmark is judged by in quantity `q` (the beam: its
+    /// tip over the window, whatever `q`).
+    fn error(&self, q: Quantity) -> f64 {
+        match (self.beam, self.norms.as_ref()) {
+            (Some((w, _, _)), _) => w,
+            (None, Some(n)) => q.of(n),
+            (None, None) => f64::NAN,
         }
     }
+}
+
+/// A quantity the cheapest-per-target tables are given in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Quantity {
+    /// Displacement, L²(0,T;L²).
+    U,
+    /// Strain: the displacement in V, L∞(0,T;V).
+    Strain,
+    /// Contact force, L²(0,T).
+    Force,
+}
+
+impl Quantity {
+    const ALL: [Quantity; 3] = [Quantity::U, Quantity::Strain, Quantity::Force];
+    fn of(self, n: &NormReport) -> f64 {
+        match self {
+            Quantity::U => n.l2_l2_u,
+            Quantity::Strain => n.linf_v_u,
+            Quantity::Force => n.l2_lambda,
+        }
+    }
+    /// Its name in tables and notes.
+    fn name(self) -> &'static str {
+        match self {
+            Quantity::U => "u in L²(0,T;L²)",
+            Quantity::Strain => "strain: u in L∞(0,T;V)",
+            Quantity::Force => "contact force λ in L²(0,T)",
+        }
+    }
+    /// The column it is read from.
+    fn column(self) -> &'static str {
+        match self {
+            Quantity::U => "l2_l2_u",
+            Quantity::Strain => "linf_v_u",
+            Quantity::Force => "l2_lambda",
+        }
+    }
+    /// The SVG's file name suffix (`<benchmark><suffix>.svg`).
+    fn suffix(self) -> &'static str {
+        match self {
+            Quantity::U => "",
+            Quantity::Strain => "-strain",
+            Quantity::Force => "-force",
+        }
+    }
+    fn targets(self) -> &'static [f64] {
+        match self {
+            Quantity::U => &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4],
+            Quantity::Strain | Quantity::Force => &[3e-1, 1e-1, 3e-2, 1e-2, 3e-3],
+        }
+    }
+}
+
+/// Below this every error of a configuration is round-off: exact, not
+/// non-convergent (a V norm of nodally exact values is ~1e-8: the square
+/// root of a round-off sum).
+const ROUND_OFF: f64 = 1e-7;
+
+/// The least-squares rate below which a configuration's error does not fall
+/// with m: it is named non-convergent in that quantity.
+const NON_CONVERGENT_RATE: f64 = 0.1;
+
+/// The quantities in which the configuration `label` of `pts` does not
+/// converge: the least-squares rate of its error against dx over its levels
+/// (at least two) below [`NON_CONVERGENT_RATE`], unless every error is
+/// round-off.
+fn non_convergent(pts: &[&Point], label: &str) -> Vec<Quantity> {
+    let mine: Vec<&&Point> = pts.iter().filter(|p| p.label() == label && p.norms.is_some()).collect();
+    Quantity::ALL
+        .into_iter()
+        .filter(|&q| {
+            let e: Vec<(f64, f64)> = mine.iter().map(|p| (1.0 / p.m as f64, p.error(q))).collect();
+            let rate = study::rate(&e).lsq;
+            e.len() >= 2 && e.iter().any(|x| x.1 > ROUND_OFF) && !(rate >= NON_CONVERGENT_RATE)
+        })
+        .collect()
+}
+
+/// The first time the exact contact force goes from nonzero to zero (the
+/// first release), to 1e-12: a scan at 1e-3, then bisection.
+fn exact_release(exact: &dyn signorini_exact::ExactSolution, t_end: f64) -> Option<f64> {
+    let on = |t: f64| exact.lambda(t) != 0.0;
+    let step = 1e-3;
+    let n = (t_end / step) as usize;
+    let first_on = (0..=n).map(|k| k as f64 * step).position(on)?;
+    let off = (first_on..=n).map(|k| k as f64 * step).find(|&t| !on(t))?;
+    let (mut a, mut b) = (off - step, off);
+    while b - a > 1e-12 {
+        let mid = 0.5 * (a + b);
+        if on(mid) {
+            a = mid;
+        } else {
+            b = mid;
+        }
+    }
+    Some(b)
 }
 
 /// Wall time of `steps` runs of a stepper that `build` makes (building is
@@ -215,7 +325,13 @@ fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
     let sum = run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [&mut norms])?;
     let r = norms.report();
     let wall = best_of_3(&build, dt, t_end)?;
-    Ok(Point { benchmark: b.to_string(), scheme: "cd-taylor".into(), mass: BarMass::Lumped.to_string(), m, dt, steps: sum.steps, err: Some(r.l2_l2_u), energy: Some(r.linf_energy), wall, degree: 1, modes: 0, beam: None })
+    let release_err = Some(release_error(norms.first_release(), exact_release(exact.as_ref(), t_end)));
+    Ok(Point { benchmark: b.to_string(), scheme: "cd-taylor".into(), mass: BarMass::Lumped.to_string(), m, dt, steps: sum.steps, norms: Some(r), release_err, wall, degree: 1, modes: 0, beam: None })
+}
+
+/// |discrete − exact| first release time, NaN where either is missing.
+fn release_error(discrete: Option<f64>, exact: Option<f64>) -> f64 {
+    discrete.zip(exact).map_or(f64::NAN, |(d, e)| (d - e).abs())
 }
 
 /// The tip of a beam run at every level, and whether a stop was active.
@@ -297,7 +413,7 @@ fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
                 te,
             )?;
             let mass = if modes == 0 { "consistent" } else { "massless-tip" };
-            points.push(Point { benchmark: BEAM.into(), scheme: "beta-scheme(0.5)".into(), mass: mass.into(), m: j, dt, steps, err: None, energy: None, wall, degree: 3, modes, beam: Some(errs) });
+            points.push(Point { benchmark: BEAM.into(), scheme: "beta-scheme(0.5)".into(), mass: mass.into(), m: j, dt, steps, norms: None, release_err: None, wall, degree: 3, modes, beam: Some(errs) });
         }
     }
     Ok((points, self_conv))
@@ -322,6 +438,15 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     // Every mass treatment (mod1 is mod under another name).
     let masses: Vec<BarMass> = BarMass::ALL.into_iter().filter(|m| *m != BarMass::Mod1).collect();
     let mut points = Vec::new();
+    // The exact first release of each bar's horizon.
+    let releases: Vec<(String, Option<f64>)> = BARS
+        .iter()
+        .map(|b| {
+            let (_, t_end) = b.default_ratio_and_horizon();
+            Ok((b.to_string(), exact_release(b.exact(t_end)?.as_ref(), t_end)))
+        })
+        .collect::<Result<_, StudyError>>()?;
+    let release_of = |b: Benchmark| releases.iter().find(|r| r.0 == b.to_string()).and_then(|r| r.1);
     let full = |b: Benchmark, scheme: SchemeSpec, mass: BarMass, l: &study::LevelResult, k: usize, modes: usize, wall: f64| Point {
         benchmark: b.to_string(),
         scheme: scheme.to_string(),
@@ -329,8 +454,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         m: l.m,
         dt: l.dt,
         steps: l.steps,
-        err: Some(l.norms.l2_l2_u),
-        energy: Some(l.norms.linf_energy),
+        norms: Some(l.norms.clone()),
+        release_err: Some(release_error(l.first_release, release_of(b))),
         wall,
         degree: k,
         modes,
@@ -427,11 +552,18 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             ("tip_err", f_),
             ("tip_err_end", f_),
             ("impact_err", f_),
+            ("linf_l2_u", f_),
+            ("linf_v_u", f_),
+            ("l2_v_u", f_),
+            ("l2_lambda", f_),
+            ("l2_energy", f_),
+            ("release_err", f_),
         ],
     )?;
     let e6 = |x: Option<f64>| opt(x.map(|x| fe(x, 6)));
     for p in &points {
         let b = |f: fn(&(f64, f64, f64)) -> f64| e6(p.beam.as_ref().map(f));
+        let n = |f: fn(&NormReport) -> f64| e6(p.norms.as_ref().map(f));
         w.row(vec![
             txt(p.benchmark.clone()),
             txt(p.scheme.clone()),
@@ -439,14 +571,20 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             int(p.m),
             fe(p.dt, 6),
             int(p.steps),
-            e6(p.err),
-            e6(p.energy),
+            n(|r| r.l2_l2_u),
+            n(|r| r.linf_energy),
             fe(p.wall, 6),
             int(p.degree),
             int(p.modes),
             b(|e| e.0),
             b(|e| e.1),
             b(|e| e.2),
+            n(|r| r.linf_l2_u),
+            n(|r| r.linf_v_u),
+            n(|r| r.l2_v_u),
+            n(|r| r.l2_lambda),
+            n(|r| r.l2_energy),
+            e6(p.release_err.filter(|e| e.is_finite())),
         ])?;
     }
     let table = w.finish()?;
@@ -460,11 +598,16 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         let mut keys: Vec<String> = pts.iter().map(|p| p.label()).collect();
         keys.dedup();
         let is_beam = benchmark == BEAM;
-        let y_label = if is_beam { "largest tip error over the window (m)" } else { "L²(0,T;L²) error" };
-        let series: Vec<Series> = keys.iter().map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error())).collect(), reference: false, style: Default::default() }).collect();
-        let svg = line_chart(&Chart { title: &format!("{benchmark}: error against wall time"), x_label: "wall time (s)", y_label, scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
-        crate::write_file(&a.out.join(format!("{benchmark}.svg")), &svg)?;
-        let targets = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4];
+        // The beam is judged by its tip; a bar in each quantity, with its own SVG.
+        let quantities: &[Quantity] = if is_beam { &[Quantity::U] } else { &Quantity::ALL };
+        // Per configuration, the quantities whose error does not fall with m.
+        let failing: Vec<(String, Vec<Quantity>)> = if is_beam { Vec::new() } else { keys.iter().map(|k| (k.clone(), non_convergent(&pts, k))).collect() };
+        let flagged = |label: &str| -> String {
+            match failing.iter().find(|f| f.0 == label).map(|f| &f.1) {
+                Some(qs) if !qs.is_empty() => format!(" (does not converge in {})", qs.iter().map(|q| q.name()).collect::<Vec<_>>().join(", ")),
+                _ => String::new(),
+            }
+        };
         writeln!(report, "## {benchmark}\n").expect("writing to a String");
         if let (true, Some((cw, ct))) = (is_beam, beam_check) {
             writeln!(
@@ -474,33 +617,53 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             )
             .expect("writing to a String");
         }
-        writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" }).expect("writing to a String");
-        for target in targets {
-            // Per configuration, the cheapest level that reaches the target.
-            let mut best: Vec<&Point> = keys.iter().filter_map(|k| pts.iter().filter(|p| &p.label() == k && p.error() <= target).min_by(|a, b| a.wall.total_cmp(&b.wall)).copied()).collect();
-            best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
-            let at = |p: &Point| if is_beam { format!("{} dt={:e}", p.label(), p.dt) } else { format!("{} m={}", p.label(), p.m) };
-            match (best.first(), best.get(1)) {
-                (Some(b0), r) => writeln!(report, "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |", at(b0), b0.wall, b0.error(), r.map_or("-".into(), |r| at(r)), r.map_or("-".into(), |r| format!("{:.2e}", r.wall))),
-                (None, _) => writeln!(report, "| {target:.0e} | not reached at these levels | | | | |"),
+        for &q in quantities {
+            let (y_label, file) = if is_beam { ("largest tip error over the window (m)".to_string(), format!("{benchmark}.svg")) } else { (format!("{} error", q.name()), format!("{benchmark}{}.svg", q.suffix())) };
+            let series: Vec<Series> = keys.iter().map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error(q))).collect(), reference: false, style: Default::default() }).collect();
+            let title = if is_beam { format!("{benchmark}: error against wall time") } else { format!("{benchmark}: {} error against wall time", q.name()) };
+            let svg = line_chart(&Chart { title: &title, x_label: "wall time (s)", y_label: &y_label, scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
+            crate::write_file(&a.out.join(file), &svg)?;
+            if !is_beam {
+                writeln!(report, "### {} (column `{}`)\n", q.name(), q.column()).expect("writing to a String");
             }
-            .expect("writing to a String");
+            writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" }).expect("writing to a String");
+            let targets: &[f64] = if is_beam { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] } else { q.targets() };
+            for &target in targets {
+                // Per configuration, the cheapest level that reaches the target.
+                let mut best: Vec<&Point> = keys.iter().filter_map(|k| pts.iter().filter(|p| &p.label() == k && p.error(q) <= target).min_by(|a, b| a.wall.total_cmp(&b.wall)).copied()).collect();
+                best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+                let at = |p: &Point| if is_beam { format!("{} dt={:e}", p.label(), p.dt) } else { format!("{} m={}{}", p.label(), p.m, flagged(&p.label())) };
+                match (best.first(), best.get(1)) {
+                    (Some(b0), r) => writeln!(report, "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |", at(b0), b0.wall, b0.error(q), r.map_or("-".into(), |r| at(r)), r.map_or("-".into(), |r| format!("{:.2e}", r.wall))),
+                    (None, _) => writeln!(report, "| {target:.0e} | not reached at these levels | | | | |"),
+                }
+                .expect("writing to a String");
+            }
+            report.push('\n');
+        }
+        if !is_beam {
+            let mut listed: Vec<String> = failing.iter().filter(|f| !f.1.is_empty()).map(|f| format!("{}{}", f.0, flagged(&f.0))).collect();
+            listed.sort();
+            if !listed.is_empty() {
+                writeln!(report, "Configurations whose error does not fall with m in some quantity (least-squares rate below {NON_CONVERGENT_RATE}): {}.\n", listed.join("; ")).expect("writing to a String");
+            }
         }
         if is_beam {
             // The question: today's full model at the paper's step,
             // and the cheapest reduced model at least as accurate.
             let paper_dt = BeamScene::PAPER[0].dt;
+            let q = Quantity::U;
             if let Some(today) = pts.iter().find(|p| p.modes == 0 && (p.dt - paper_dt).abs() < 1e-12) {
-                let reduced = pts.iter().filter(|p| p.modes > 0 && p.error() <= today.error()).min_by(|a, b| a.wall.total_cmp(&b.wall));
-                writeln!(report, "\nThe full model at the paper's dt = {paper_dt:e} s: tip error {:.2e} m, {:.2e} s. ", today.error(), today.wall).expect("writing to a String");
+                let reduced = pts.iter().filter(|p| p.modes > 0 && p.error(q) <= today.error(q)).min_by(|a, b| a.wall.total_cmp(&b.wall));
+                writeln!(report, "The full model at the paper's dt = {paper_dt:e} s: tip error {:.2e} m, {:.2e} s. ", today.error(q), today.wall).expect("writing to a String");
                 match reduced {
-                    Some(r) => writeln!(report, "Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {:.2e} s ({:.1}x less wall time).", r.label(), r.dt, r.error(), r.wall, today.wall / r.wall),
-                    None => writeln!(report, "No reduced model reaches that error at these steps and modes (best: {}).", pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error().total_cmp(&b.error())).map_or("-".into(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error()))),
+                    Some(r) => writeln!(report, "Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {:.2e} s ({:.1}x less wall time).", r.label(), r.dt, r.error(q), r.wall, today.wall / r.wall),
+                    None => writeln!(report, "No reduced model reaches that error at these steps and modes (best: {}).", pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error(q).total_cmp(&b.error(q))).map_or("-".into(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error(q)))),
                 }
                 .expect("writing to a String");
             }
+            report.push('\n');
         }
-        report.push('\n');
     }
     Ok(Output { tables: vec![table], report, wall_s: since(start), notes })
 }
