@@ -416,7 +416,7 @@ pub struct Summary {
 }
 
 /// The monitor's factor for a scene (`[output] energy_warn`, default 2).
-fn energy_warn(file: &SceneFile) -> f64 {
+pub fn energy_warn(file: &SceneFile) -> f64 {
     file.output.energy_warn.unwrap_or(scene::DEFAULT_ENERGY_WARN)
 }
 
@@ -427,20 +427,26 @@ fn energy_report(s: &signorini_run::RunSummary, lines: &mut Vec<String>) -> Vec<
     let Some(g) = s.energy else { return Vec::new() };
     let budget = if g.closed { "E_ref + load/support work − dissipation" } else { "E_ref + Σ|load work|: the scheme does not track its work" };
     lines.push(format!("energy: largest E/budget {} at t = {} (budget {budget}; warn above {})", num(sig6(g.max_ratio)), num(sig12(g.max_ratio_time)), num(g.factor)));
-    match g.exceeded {
-        Some(x) => vec![format!(
-            "warning: the discrete energy exceeds {} × its budget from t = {} (step {}: E = {}, budget {}, E/budget {}); largest E/budget {} at t = {}. the contact (or what else the scheme's energy identity does not balance, docs/theory.md §7) created energy: long runs of this scheme, mass and dt are not to be trusted",
-            num(g.factor),
-            num(sig12(x.time)),
-            x.step,
-            num(sig6(x.energy)),
-            num(sig6(x.budget)),
-            num(sig6(x.ratio)),
-            num(sig6(g.max_ratio)),
-            num(sig12(g.max_ratio_time)),
-        )],
-        None => Vec::new(),
-    }
+    energy_warning(&g).map(|w| format!("warning: {w}")).into_iter().collect()
+}
+
+/// The energy-growth warning of a run (its text, without a `warning:`
+/// prefix; Python emits it as `signorini.EnergyGrowthWarning`), if the
+/// energy exceeded its budget by more than the factor.
+pub fn energy_warning(g: &signorini_run::EnergyGrowth) -> Option<String> {
+    use signorini_run::text::num;
+    let x = g.exceeded?;
+    Some(format!(
+        "the discrete energy exceeds {} × its budget from t = {} (step {}: E = {}, budget {}, E/budget {}); largest E/budget {} at t = {}; the contact (or what else the scheme's energy identity does not balance, docs/theory.md §7) created energy: long runs of this scheme, mass and dt are not to be trusted",
+        num(g.factor),
+        num(sig12(x.time)),
+        x.step,
+        num(sig6(x.energy)),
+        num(sig6(x.budget)),
+        num(sig6(x.ratio)),
+        num(sig6(g.max_ratio)),
+        num(sig12(g.max_ratio_time)),
+    ))
 }
 
 /// `x` to 6 significant digits (for the summary).
