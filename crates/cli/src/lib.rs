@@ -23,6 +23,13 @@
 //! `v_contact` / `v_tip_m_s` is the backward difference of the contact dof
 //! over the last step (empty at n = 0).
 //!
+//! Every run watches its energy against its budget (`signorini_run::energy`):
+//! the printed summary has `energy: largest E/budget … at t = …`, and when
+//! E exceeds `[output] energy_warn` (default 2) × the budget, one warning
+//! goes to stderr ([`Summary::warnings`]) with the factor, the time and
+//! step. No file gets a column for it: `norms.csv` keeps the convergence
+//! study's columns (`LEVEL_COLUMNS`, shared with its level files).
+//!
 //! * beam with `output.snapshots_every > 0`: `snapshots.csv` — `n,t_s,x_m,u_m`,
 //!   the absolute displacement `ũ(x, t) = u(x, t) + h(x) φ(t)` at the nodes
 //!   (`x = 0` is the support, `ũ = φ`).
