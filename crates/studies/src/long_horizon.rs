@@ -293,7 +293,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let mut report = format!("# Long horizon: bar-dirichlet over T = {} ({periods} periods), dx/dt = {} (output in {})\n\n{md}", a.t_end, a.ratio, a.out.display());
     let mut notes = Vec::new();
     if let Some(e) = &a.energy {
-        energy_growth(a, e, done as u64, total, progress, &mut tables, &mut report, &mut notes)?;
+        energy_growth(a, e, done, total, progress, &mut tables, &mut report, &mut notes)?;
     }
     Ok(crate::Report { tables, report, wall_s: since(start), notes })
 }
