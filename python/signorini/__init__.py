@@ -6,7 +6,9 @@ the finite-element matrices (:mod:`signorini.fem`), the studies and sweeps. Erro
 :class:`InternalError` for a bug inside the Rust core (never an abort).
 """
 
+import math as _math
 import os as _os
+import warnings as _warnings
 from typing import Optional as _Optional, Union as _Union
 
 import numpy as _np
@@ -16,9 +18,21 @@ from . import _check, _signorini, exact, fem, studies
 from .studies import convergence
 from .sweep import SweepResult, sweep
 
-__all__ = ["BlowUp", "CheckResult", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
+__all__ = ["BlowUp", "CheckResult", "EnergyGrowthWarning", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
 
 _Scene = _Union[dict, str, "_os.PathLike[str]"]
+
+
+class EnergyGrowthWarning(UserWarning):
+    """A run's discrete energy exceeded its budget (the initial energy plus
+    the work of the loads and supports, minus what damping dissipates, as
+    the scheme's energy identity defines it) by more than ``energy_warn``
+    (default 2): the contact created energy, which no energy identity bounds
+    for this scheme, mass and dt (docs/theory.md §7). Emitted once per run
+    through :mod:`warnings`, with the factor and the time; the run itself
+    completes (its result has ``energy_max_ratio`` and ``energy_exceeded``).
+    ``warnings.simplefilter("error", signorini.EnergyGrowthWarning)`` makes
+    it an exception."""
 
 
 class RunResult:
@@ -26,7 +40,7 @@ class RunResult:
     :func:`run` for each attribute). Plain Python data: it pickles, so it
     comes back from a dask or multiprocessing worker."""
 
-    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status")
+    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status", "energy_max_ratio", "energy_exceeded", "energy_warning")
 
     t: _np.ndarray
     tip: _np.ndarray
@@ -47,6 +61,9 @@ class RunResult:
     contact_steps: int
     dt: float
     status: str
+    energy_max_ratio: float
+    energy_exceeded: _Optional[dict]
+    energy_warning: _Optional[str]
 
     def __init__(self, arrays=None, **values):
         for k in self.__slots__:
@@ -93,7 +110,7 @@ class CheckResult(str):
         return (CheckResult, ({k: getattr(self, k) for k in ("text", "steps", "stability_limit", "memory_bytes", "output_bytes")},))
 
 
-def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0) -> RunResult:
+def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0, energy_warn: _Optional[float] = None) -> RunResult:
     """Runs a scene: a dict with the TOML schema of ``signorini run``
     (``{"bar": {"benchmark": "bar-dirichlet", "elements": 80, ...}}``), a path
     to a TOML file, or TOML text. Returns a result whose arrays are float64
@@ -117,7 +134,21 @@ def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0)
       linf_v_u, l2_v_u, l2_lambda, linf_energy, l2_energy,
       lambda_tv_ratio``) when the scene is a bar benchmark with an exact
       solution, else None;
-    * ``steps``, ``contact_steps``, ``dt``, ``status`` ("ok" or why it stopped).
+    * ``steps``, ``contact_steps``, ``dt``, ``status`` ("ok" or why it stopped);
+    * ``energy_max_ratio``: the largest E/budget over the run, the budget
+      being the initial energy plus the work of the loads and supports minus
+      the damping's dissipation as the scheme's identity defines it (NaN
+      for a run that stopped early); ``energy_exceeded``: None, or the first
+      level at which E/budget exceeded ``energy_warn`` (a dict ``step, t,
+      ratio, energy, budget``); ``energy_warning``: that warning's text.
+
+    ``energy_warn`` (finite and > 1; default the scene's ``[output]
+    energy_warn``, else 2): when the energy exceeds this factor times its
+    budget, one :class:`EnergyGrowthWarning` is emitted through
+    :mod:`warnings` with the factor and the time (as ``signorini run``
+    prints one warning on stderr). The energy is then computed at every
+    level whatever ``energy`` says (``energy`` only chooses what is
+    recorded).
 
     The stepping releases the GIL; Ctrl-C raises KeyboardInterrupt within
     50 ms, a blow-up raises BlowUp (step and time in its message) — both with
@@ -127,13 +158,20 @@ def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0)
     if energy is not None:
         energy = _check.boolean("energy", energy)
     fields_every = _check.integer("fields_every", fields_every, 0)
+    if energy_warn is not None:
+        energy_warn = _check.real("energy_warn", energy_warn)
+        if not (_math.isfinite(energy_warn) and energy_warn > 1):
+            raise SceneError(f"energy_warn: {energy_warn} is out of range: finite and > 1")
     try:
-        return RunResult(_signorini.run_scene(scene, energy, fields_every))
+        result = RunResult(_signorini.run_scene(scene, energy, fields_every, energy_warn))
     except (KeyboardInterrupt, BlowUp, SceneError) as e:
         part = getattr(e, "partial", None)
         if part is not None:
             e.partial = RunResult(part)
         raise
+    if result.energy_warning is not None:
+        _warnings.warn(result.energy_warning, EnergyGrowthWarning, stacklevel=2)
+    return result
 
 
 def check(scene: _Scene) -> CheckResult:

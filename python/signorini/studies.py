@@ -168,13 +168,20 @@ def courant1(benchmarks=None, levels=None, t_end=None, out=None) -> StudyResult:
     return _run("courant1", out, dict(benchmarks=benchmarks, levels=levels, t_end=t_end))
 
 
-def long_horizon(runs=None, levels=None, ratio=None, t_end=None, out=None) -> StudyResult:
+def long_horizon(runs=None, levels=None, ratio=None, t_end=None, energy=None, energy_runs=None, energy_all=None, energy_ratios=None, energy_m=None, energy_t_end=None, out=None) -> StudyResult:
     """Long horizons (``cargo xtask long-horizon``): the Dirichlet bar over
     ``t_end`` (default 30, ten periods) for ``runs`` (``"scheme:mass"`` pairs;
     default ps-e0 with every mass, moreau-jean with std and lumped): the
     largest L² error in each period, every impact time against the exact one,
-    the drift per period."""
-    return _run("long_horizon", out, dict(runs=runs, levels=levels, ratio=ratio, t_end=t_end))
+    the drift per period. Then (``energy=False`` leaves it out) the energy
+    growth table: ``energy_runs`` (``"scheme:mass"`` pairs, or
+    ``energy_all=True``: every named scheme with every mass it accepts) at
+    each dx/dt of ``energy_ratios`` (default 1, 2, 10) on ``energy_m``
+    (default 100) elements to ``energy_t_end`` (default 10⁴): the largest
+    E/budget and when it first exceeds 2 (``energy_growth.csv``,
+    ``energy_vs_time.csv``, ``energy_growth.svg``). The default table takes
+    minutes; ``energy_t_end=`` shortens it."""
+    return _run("long_horizon", out, dict(runs=runs, levels=levels, ratio=ratio, t_end=t_end, energy=energy, energy_runs=energy_runs, energy_all=energy_all, energy_ratios=energy_ratios, energy_m=energy_m, energy_t_end=energy_t_end))
 
 
 def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, out=None) -> StudyResult:

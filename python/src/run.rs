@@ -64,7 +64,8 @@ impl Observer for Recorder {
             self.lam_t.push(t);
             self.lam.push(l);
         }
-        if let Some((t, e)) = s.energy {
+        // The runner computes energies for its monitor too: record them only when asked.
+        if let (true, Some((t, e))) = (self.energy, s.energy) {
             self.energy_t.push(t);
             self.energy_v.push(e);
         }
@@ -105,6 +106,12 @@ pub struct RunArrays {
     contact_steps: usize,
     dt: f64,
     status: String,
+    /// The largest E/budget (NaN when the run stopped early).
+    energy_max_ratio: f64,
+    /// The first level past the factor: `step, t, ratio, energy, budget`.
+    energy_exceeded: Option<Py<PyDict>>,
+    /// The warning's text (Python emits it as `EnergyGrowthWarning`).
+    energy_warning: Option<String>,
 }
 
 fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>>> {
@@ -128,15 +135,20 @@ fn python_status(e: &RunError) -> String {
 /// checks for Ctrl-C every 50 ms; a KeyboardInterrupt or a blow-up carries
 /// the partial result as its `partial` attribute.
 #[pyfunction]
-#[pyo3(signature = (scene, energy=None, fields_every=0))]
-pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64) -> PyResult<RunArrays> {
+#[pyo3(signature = (scene, energy=None, fields_every=0, energy_warn=None))]
+pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64, energy_warn: Option<f64>) -> PyResult<RunArrays> {
     use signorini_cli::scene::Scene;
     use signorini_run::{run, NormObserver, RunConfig};
     use std::sync::atomic::AtomicBool;
     if fields_every < 0 {
         return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
     }
-    let (_, s) = scene_of(scene)?;
+    let (file, s) = scene_of(scene)?;
+    // The argument, else the scene's `[output] energy_warn`, else 2.
+    let factor = energy_warn.unwrap_or_else(|| signorini_cli::energy_warn(&file));
+    if !signorini_run::energy::check_factor(factor) {
+        return Err(SceneError::new_err(format!("energy_warn: {factor} is out of range: finite and > 1")));
+    }
     let (dt, t_end, energy_default) = match &s {
         Scene::Bar(b) => (b.dt, b.t_end, true),
         Scene::Beam { scene, .. } => (scene.dt, scene.t_end, false),
@@ -150,7 +162,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         _ => None,
     };
     let mut built = guarded(|| signorini_cli::build(&s, None).map_err(|e| SceneError::new_err(e.to_string())))?;
-    let mut cfg = RunConfig::new(dt, t_end).map_err(|e| SceneError::new_err(e.to_string()))?;
+    let mut cfg = RunConfig::new(dt, t_end).and_then(|c| c.with_energy_warn(factor)).map_err(|e| SceneError::new_err(e.to_string()))?;
     // One flag per run, set from this thread when Python has a pending signal.
     let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
     cfg.interrupt = Some(flag);
@@ -195,8 +207,24 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         Ok(_) => "ok".to_string(),
         Err(e) => python_status(e),
     };
+    let growth = res.as_ref().ok().and_then(|s| s.energy);
+    let energy_exceeded = match growth.and_then(|g| g.exceeded) {
+        Some(x) => {
+            let d = PyDict::new(py);
+            d.set_item("step", x.step)?;
+            d.set_item("t", x.time)?;
+            d.set_item("ratio", x.ratio)?;
+            d.set_item("energy", x.energy)?;
+            d.set_item("budget", x.budget)?;
+            Some(d.unbind())
+        }
+        None => None,
+    };
     let c = dofs.len();
     let out = RunArrays {
+        energy_max_ratio: growth.map_or(f64::NAN, |g| g.max_ratio),
+        energy_exceeded,
+        energy_warning: growth.as_ref().and_then(signorini_cli::energy_warning),
         steps: res.as_ref().map_or(rec.t.len().saturating_sub(1), |s| s.steps),
         contact_steps: res.as_ref().map_or_else(|_| rec.active.iter().filter(|a| **a).count(), |s| s.contact_steps),
         t: rec.t.into_pyarray(py).unbind(),

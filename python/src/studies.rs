@@ -284,6 +284,29 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.levels = a.usizes("levels")?.unwrap_or(c.levels);
             c.ratio = a.f64("ratio")?.unwrap_or(c.ratio);
             c.t_end = a.f64("t_end")?.unwrap_or(c.t_end);
+            // The energy-growth table (energy=False: --no-energy).
+            let (energy, runs, all) = (a.bool("energy")?, a.strs("energy_runs")?, a.bool("energy_all")?.unwrap_or(false));
+            let (ratios, m, te) = (a.f64s("energy_ratios")?, a.usize("energy_m")?, a.f64("energy_t_end")?);
+            if energy == Some(false) {
+                if runs.is_some() || all || ratios.is_some() || m.is_some() || te.is_some() {
+                    return Err(SceneError::new_err("energy: the energy_* arguments act only with energy=True: remove them, or energy=False"));
+                }
+                c.energy = None;
+            }
+            if let Some(e) = c.energy.as_mut() {
+                if all && runs.is_some() {
+                    return Err(SceneError::new_err("energy_runs: not both energy_runs and energy_all"));
+                }
+                if all {
+                    e.runs = st::long_horizon::EnergyTable::all_runs();
+                }
+                if let Some(r) = runs {
+                    e.runs = st::long_horizon::parse_runs(&r).map_err(|err| SceneError::new_err(err.to_string().replace("--runs", "energy_runs")))?;
+                }
+                e.ratios = ratios.unwrap_or(std::mem::take(&mut e.ratios));
+                e.m = m.unwrap_or(e.m);
+                e.t_end = te.unwrap_or(e.t_end);
+            }
             a.done()?;
             let o = detached(py, || st::long_horizon::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)

@@ -111,7 +111,7 @@ def test_bar_mirrored_leaves_out_the_schemes_that_cannot_take_two_stops():
         ("beam", dict(scenes=["fig2"], penalty_dts=[5e-5]), ["beam", "--scenes", "fig2", "--penalty-dts", "5e-5"]),
         ("beam_obstacles", dict(dts=[1e-4, 5e-5, 2.5e-5], js=[5, 10, 20], t_end=0.05), ["beam-obstacles", "--dts", "1e-4,5e-5,2.5e-5", "--js", "5,10,20", "--t-end", "0.05"]),
         ("courant1", dict(levels=[10, 20]), ["courant1", "--levels", "10,20"]),
-        ("long_horizon", dict(levels=[20], t_end=9.0), ["long-horizon", "--levels", "20", "--t-end", "9"]),
+        ("long_horizon", dict(levels=[20], t_end=9.0, energy_runs=["newmark-cn:std", "ps-e0:mod"], energy_ratios=[1, 2], energy_m=20, energy_t_end=30.0), ["long-horizon", "--levels", "20", "--t-end", "9", "--energy-runs", "newmark-cn:std,ps-e0:mod", "--energy-ratios", "1,2", "--energy-m", "20", "--energy-t-end", "30"]),
         ("oscillator", dict(omegas=[1.8, 2.0], dts=[2e-3, 1e-3, 5e-4], transient=20.0, record=5.0), ["oscillator", "--omegas", "1.8,2.0", "--dts", "2e-3,1e-3,5e-4", "--transient", "20", "--record", "5"]),
     ],
 )
@@ -156,6 +156,9 @@ def test_bad_input_names_the_argument():
         (lambda: studies.courant1(levels=[1]), "levels"),
         (lambda: studies.long_horizon(runs=["moreau-jean:mod"]), "runs"),
         (lambda: studies.long_horizon(t_end=1.0), "t_end"),
+        (lambda: studies.long_horizon(energy_ratios=[0.0]), "energy_ratios"),
+        (lambda: studies.long_horizon(energy_runs=["moreau-jean:mod"]), "energy_runs"),
+        (lambda: studies.long_horizon(energy=False, energy_m=50), "energy"),
         (lambda: studies.oscillator(dts=[-1e-3]), "dts"),
     ]:
         with pytest.raises(signorini.SceneError, match="^" + field):

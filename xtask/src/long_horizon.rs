@@ -23,6 +23,24 @@ pub struct Args {
     /// Horizon (three time units a period).
     #[arg(long = "t-end", default_value_t = 30.0, allow_negative_numbers = true)]
     t_end: f64,
+    /// Leave out the energy-growth table.
+    #[arg(long)]
+    no_energy: bool,
+    /// Energy-growth table: scheme:mass pairs, comma-separated (default: newmark-cn and ps-e0 with std, lumped, mod, mod3; ps-e1 with std, mod3; moreau-jean with std, lumped; hybrid with mod, mod3).
+    #[arg(long)]
+    energy_runs: Vec<String>,
+    /// Energy-growth table: every named scheme with every mass it accepts (instead of the default runs).
+    #[arg(long, conflicts_with = "energy_runs")]
+    energy_all: bool,
+    /// Energy-growth table: dx/dt values, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,10", allow_negative_numbers = true)]
+    energy_ratios: Vec<f64>,
+    /// Energy-growth table: number of elements.
+    #[arg(long, default_value_t = 100)]
+    energy_m: usize,
+    /// Energy-growth table: horizon.
+    #[arg(long = "energy-t-end", default_value_t = 1e4, allow_negative_numbers = true)]
+    energy_t_end: f64,
 }
 
 /// Runs the study.
@@ -31,7 +49,18 @@ pub fn run_long_horizon(a: Args) -> Result<(), String> {
     if !a.runs.is_empty() {
         cfg.runs = long_horizon::parse_runs(&a.runs).map_err(|e| e.to_string())?;
     }
-    let out = long_horizon::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
+    cfg.energy = if a.no_energy {
+        None
+    } else {
+        let mut e = long_horizon::EnergyTable { ratios: a.energy_ratios, m: a.energy_m, t_end: a.energy_t_end, ..Default::default() };
+        if a.energy_all {
+            e.runs = long_horizon::EnergyTable::all_runs();
+        } else if !a.energy_runs.is_empty() {
+            e.runs = long_horizon::parse_runs(&a.energy_runs).map_err(|e| e.to_string().replace("--runs", "--energy-runs"))?;
+        }
+        Some(e)
+    };
+    let out = crate::with_progress_bar(|p| long_horizon::run(&cfg, p)).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

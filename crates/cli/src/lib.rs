@@ -23,6 +23,13 @@
 //! `v_contact` / `v_tip_m_s` is the backward difference of the contact dof
 //! over the last step (empty at n = 0).
 //!
+//! Every run watches its energy against its budget (`signorini_run::energy`):
+//! the printed summary has `energy: largest E/budget … at t = …`, and when
+//! E exceeds `[output] energy_warn` (default 2) × the budget, one warning
+//! goes to stderr ([`Summary::warnings`]) with the factor, the time and
+//! step. No file gets a column for it: `norms.csv` keeps the convergence
+//! study's columns (`LEVEL_COLUMNS`, shared with its level files).
+//!
 //! * beam with `output.snapshots_every > 0`: `snapshots.csv` — `n,t_s,x_m,u_m`,
 //!   the absolute displacement `ũ(x, t) = u(x, t) + h(x) φ(t)` at the nodes
 //!   (`x = 0` is the support, `ũ = φ`).
@@ -410,6 +417,53 @@ pub(crate) fn progress_bar(total: u64, show: bool, unit: &str) -> indicatif::Pro
 pub struct Summary {
     /// Lines for the terminal.
     pub lines: Vec<String>,
+    /// Warnings for stderr (at most one: the energy grew past
+    /// `[output] energy_warn` × its budget).
+    pub warnings: Vec<String>,
+}
+
+/// The monitor's factor for a scene (`[output] energy_warn`, default 2).
+pub fn energy_warn(file: &SceneFile) -> f64 {
+    file.output.energy_warn.unwrap_or(scene::DEFAULT_ENERGY_WARN)
+}
+
+/// The summary line of the energy monitor (the largest E/budget) and, if
+/// the energy went past the factor, the one warning.
+fn energy_report(s: &signorini_run::RunSummary, lines: &mut Vec<String>) -> Vec<String> {
+    use signorini_run::text::num;
+    let Some(g) = s.energy else { return Vec::new() };
+    let budget = if g.closed { "E_ref + load/support work − dissipation" } else { "E_ref + Σ|load work|: the scheme does not track its work" };
+    lines.push(format!("energy: largest E/budget {} at t = {} (budget {budget}; warn above {})", num(sig6(g.max_ratio)), num(sig12(g.max_ratio_time)), num(g.factor)));
+    energy_warning(&g).map(|w| format!("warning: {w}")).into_iter().collect()
+}
+
+/// The energy-growth warning of a run (its text, without a `warning:`
+/// prefix; Python emits it as `signorini.EnergyGrowthWarning`), if the
+/// energy exceeded its budget by more than the factor.
+pub fn energy_warning(g: &signorini_run::EnergyGrowth) -> Option<String> {
+    use signorini_run::text::num;
+    let x = g.exceeded?;
+    Some(format!(
+        "the discrete energy exceeds {} × its budget from t = {} (step {}: E = {}, budget {}, E/budget {}); largest E/budget {} at t = {}; the contact (or what else the scheme's energy identity does not balance, docs/theory.md §7) created energy: long runs of this scheme, mass and dt are not to be trusted",
+        num(g.factor),
+        num(sig12(x.time)),
+        x.step,
+        num(sig6(x.energy)),
+        num(sig6(x.budget)),
+        num(sig6(x.ratio)),
+        num(sig6(g.max_ratio)),
+        num(sig12(g.max_ratio_time)),
+    ))
+}
+
+/// `x` to 6 significant digits (for the summary).
+fn sig6(x: f64) -> f64 {
+    format!("{x:.5e}").parse().unwrap_or(x)
+}
+
+/// `x` to 12 significant digits (times: `1.455`, not `1.4549999999999998`).
+fn sig12(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
 }
 
 /// Writes one plot; a plot never fails a run: a problem becomes a note.
@@ -506,7 +560,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
         Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
             let (dy, init) = osc.dynamics()?;
             let mut stepper = scheme.build(dy, *dt, &init).map_err(RunError::from)?;
-            let mut cfg = RunConfig::new(*dt, *t_end)?;
+            let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(energy_warn(scene_file))?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
@@ -530,9 +584,10 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 Err(error) => return Err(stopped(error, notes, out)),
             };
             lines.insert(0, format!("oscillator ({scheme}, dt = {dt:e}): {} steps in {wall:.3} s, {} contact steps; max |x| = {:.6}", s.steps, s.contact_steps, data.max_abs));
+            let warnings = energy_report(&s, &mut lines);
             lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
             lines.push(format!("wrote {}", out.display()));
-            Ok(Summary { lines })
+            Ok(Summary { lines, warnings })
         }
         Scene::Beam { pipe, scene, force, contacts, excitation, omega, reduce } => {
             let stops = contacts.as_ref().map(|c| c.stops.as_slice());
@@ -547,7 +602,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 }
             };
             let parent = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
-            let mut cfg = RunConfig::new(scene.dt, scene.t_end)?;
+            let mut cfg = RunConfig::new(scene.dt, scene.t_end)?.with_energy_warn(energy_warn(scene_file))?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
@@ -600,9 +655,10 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             };
             let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m ({stops})", s.steps, s.contact_steps)];
             lines.extend(analysis_lines);
+            let warnings = energy_report(&s, &mut lines);
             lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
             lines.push(format!("wrote {}", out.display()));
-            Ok(Summary { lines })
+            Ok(Summary { lines, warnings })
         }
     }
 }
@@ -623,7 +679,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     }
     .map_err(RunError::from)?;
     let u0 = red.as_ref().map_or(&p.initial.u, |r| &r.initial.u);
-    let mut cfg = RunConfig::new(b.dt, b.t_end)?;
+    let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(energy_warn(file))?;
     cfg.interrupt = opts.interrupt;
     let steps = cfg.steps();
     // With stops, u_contact / lambda are contact 0's (the first stop).
@@ -719,9 +775,10 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
         w.flush().map_err(|e| CliError::Io(e.to_string()))?;
         lines.push(format!("errors: L∞(L²) {:.4e}, L²(L²) {:.4e}, L∞(V) {:.4e}, L²(λ) {:.4e}, L∞(E) {:.4e}; λ TV ratio {:.2}", r.linf_l2_u, r.l2_l2_u, r.linf_v_u, r.l2_lambda, r.linf_energy, r.lambda_tv_ratio));
     }
+    let warnings = energy_report(&s, &mut lines);
     lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
     lines.push(format!("wrote {}", out.display()));
-    Ok(Summary { lines })
+    Ok(Summary { lines, warnings })
 }
 
 /// `signorini check`: what a run would do, its stability, memory, output

@@ -228,6 +228,9 @@ fn main() -> ExitCode {
             let out = out.unwrap_or_else(|| default_out(&scene));
             let opts = RunOptions { progress: std::io::stderr().is_terminal(), clean, no_disk_check, interrupt: interrupt_flag() };
             let summary = run_scene(&s, &file, &out, &opts)?;
+            for w in &summary.warnings {
+                eprintln!("{w}");
+            }
             for l in summary.lines {
                 say(&format!("{l}\n"));
             }

@@ -366,7 +366,15 @@ pub struct OutputToml {
     /// Relative tolerance of the response-period test in `summary.csv`, in
     /// (0, 1) (default 1e-3).
     pub period_tol: Option<f64>,
+    /// Warn (once, on stderr) when the discrete energy exceeds its budget
+    /// (initial energy + work of the loads and supports − dissipation, as
+    /// the scheme's identity defines it) by more than this factor; finite
+    /// and > 1 (default 2). The summary prints the largest E/budget.
+    pub energy_warn: Option<f64>,
 }
+
+/// The default of `[output] energy_warn`.
+pub const DEFAULT_ENERGY_WARN: f64 = 2.0;
 
 fn one() -> usize {
     1
@@ -377,7 +385,7 @@ fn yes() -> bool {
 
 impl Default for OutputToml {
     fn default() -> Self {
-        Self { every: 1, snapshots_every: 0, plots: true, impacts: false, poincare: false, summary: false, transient: 0.0, period_tol: None }
+        Self { every: 1, snapshots_every: 0, plots: true, impacts: false, poincare: false, summary: false, transient: 0.0, period_tol: None, energy_warn: None }
     }
 }
 
@@ -1031,6 +1039,11 @@ impl SceneFile {
             }
             if !self.output.summary {
                 return Err(field("output.period_tol", "acts only with output.summary (the response period is a summary column): remove it, or set summary = true"));
+            }
+        }
+        if let Some(f) = self.output.energy_warn {
+            if !signorini_run::energy::check_factor(f) {
+                return Err(field("output.energy_warn", format!("{f} is not allowed: finite and > 1 (the factor by which the energy may exceed its budget before a warning; default {DEFAULT_ENERGY_WARN})")));
             }
         }
         if self.output.transient > 0.0 && !(self.output.poincare || self.output.summary || self.output.impacts) {

@@ -101,7 +101,7 @@ pub const ALLOWED_WORDS: [&str; 11] = ["allowed", ">", "<", "[", "give", "requir
 
 /// Keys of `[output]` (those of `[bar]` and `[beam]` are matched one by one
 /// against `SceneFile` where an error is checked).
-pub const OUTPUT_KEYS: [&str; 8] = ["every", "snapshots_every", "plots", "impacts", "poincare", "summary", "transient", "period_tol"];
+pub const OUTPUT_KEYS: [&str; 9] = ["every", "snapshots_every", "plots", "impacts", "poincare", "summary", "transient", "period_tol", "energy_warn"];
 
 /// Bar element counts above this are not validated unless
 /// [`Config::huge_sizes`] is set: today validation allocates for them.

@@ -28,6 +28,7 @@
 
 pub mod analysis;
 pub mod beam;
+pub mod energy;
 pub mod observers;
 pub mod oscillator;
 pub mod problem;
@@ -38,6 +39,7 @@ pub mod text;
 pub mod vibro;
 
 pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
+pub use energy::{EnergyExceeded, EnergyGrowth, EnergyMonitor};
 pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};
 pub use vibro::{forcing_phase, response_period, Crossing, Impact, ImpactObserver, ImpactStats, Piece, PoincareObserver, PoincarePoint, Summary, Vibro, VibroConfig, WindowObserver};

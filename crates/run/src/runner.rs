@@ -138,6 +138,13 @@ pub struct RunConfig {
     /// A flag (set by a signal handler) that stops the run cleanly at the
     /// next step with [`RunError::Interrupted`].
     pub interrupt: Option<&'static AtomicBool>,
+    /// Watch the energy against its budget (`E_ref` + load work −
+    /// dissipation, [`crate::energy`]) and record the largest ratio and the
+    /// first level past this factor in [`RunSummary::energy`] (`Some`: the
+    /// energy is computed at every level). `None` (the default of
+    /// [`new`](Self::new)): no monitor. Set it with
+    /// [`with_energy_warn`](Self::with_energy_warn).
+    pub energy_warn: Option<f64>,
 }
 
 /// Relative tolerance (in steps) within which `T/dt` counts as a whole number.
@@ -165,7 +172,16 @@ impl RunConfig {
         if whole_steps(t_end, dt).is_none() {
             return Err(RunError::Horizon { t_end, dt });
         }
-        Ok(Self { dt, t_end, energy_growth_limit: Some(1e6), interrupt: None })
+        Ok(Self { dt, t_end, energy_growth_limit: Some(1e6), interrupt: None, energy_warn: None })
+    }
+
+    /// With the energy-growth monitor at `factor` (finite and > 1).
+    pub fn with_energy_warn(mut self, factor: f64) -> Result<Self, RunError> {
+        if !crate::energy::check_factor(factor) {
+            return Err(RunError::Invalid { field: "energy_warn", value: factor, allowed: "finite and > 1" });
+        }
+        self.energy_warn = Some(factor);
+        Ok(self)
     }
 
     /// With an interrupt flag.
@@ -230,6 +246,8 @@ pub struct RunSummary {
     pub contact_steps: usize,
     /// Wall-clock time of the loop, seconds.
     pub wall_s: f64,
+    /// The energy monitor's findings (with [`RunConfig::energy_warn`]).
+    pub energy: Option<crate::energy::EnergyGrowth>,
 }
 
 /// Runs `stepper` to `cfg.t_end`, feeding every observer at `t_0` (with the
@@ -246,20 +264,20 @@ pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &m
             fin = r;
         }
     }
-    let (steps, contact_steps) = result?;
+    let (steps, contact_steps, energy) = result?;
     fin?;
-    Ok(RunSummary { steps, t_end: stepper.time(), contact_steps, wall_s: start.elapsed().as_secs_f64() })
+    Ok(RunSummary { steps, t_end: stepper.time(), contact_steps, wall_s: start.elapsed().as_secs_f64(), energy })
 }
 
 /// How often (in steps) the runner checks the whole state for non-finite
 /// values; the steppers check the contact dof every step.
 const FINITE_CHECK_EVERY: usize = 64;
 
-fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<(usize, usize), RunError> {
+fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<(usize, usize, Option<crate::energy::EnergyGrowth>), RunError> {
     if (cfg.dt - stepper.dt()).abs() > 1e-15 * cfg.dt {
         return Err(RunError::Invalid { field: "dt", value: cfg.dt, allowed: "the stepper's own dt" });
     }
-    let want_energy = observers.iter().any(|o| o.wants_energy());
+    let want_energy = observers.iter().any(|o| o.wants_energy()) || cfg.energy_warn.is_some();
     let total = cfg.steps();
     let load_scale = stepper.dynamics().load_energy_scale(cfg.t_end).max(data_energy_scale(stepper.dynamics().mass.total(), u0, cfg.t_end));
     let mut emit = |s: Sample<'_>| -> Result<(), RunError> {
@@ -273,10 +291,17 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
     let (zero_forces, free) = (vec![0.0; k], vec![signorini_contact::Active::None; k]);
     emit(Sample { n: 0, t: 0.0, u: u0, lambda: None, energy: level0_energy, active: false, work: None, forces: &zero_forces, status: &free })?;
     let mut reference_energy = level0_energy.map(|e| e.1);
+    let mut watch = cfg.energy_warn.map(|f| Watch::new(f, stepper, load_scale));
+    if let (Some(w), Some(e)) = (watch.as_mut(), level0_energy) {
+        w.observe(stepper, 0, e);
+    }
     // A two-step scheme arrives at level 1 already (its start step).
     if stepper.level() == 1 {
         let energy = if want_energy { stepper.energy() } else { None };
         reference_energy = reference_energy.or(energy.map(|e| e.1));
+        if let (Some(w), Some(e)) = (watch.as_mut(), energy) {
+            w.observe(stepper, 1, e);
+        }
         check_finite(stepper.displacement(), 1, stepper.time())?;
         emit(Sample { n: 1, t: stepper.time(), u: stepper.displacement(), lambda: None, energy, active: false, work: stepper.work(), forces: &zero_forces, status: &free })?;
     }
@@ -301,11 +326,80 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
                 return Err(RunError::EnergyGrowth { step: rep.n, time: rep.t, energy: e, limit, scale });
             }
         }
+        if let (Some(w), Some(e)) = (watch.as_mut(), energy) {
+            w.observe(stepper, rep.n, e);
+        }
         let active = if k == 1 { rep.active != signorini_contact::Active::None } else { stepper.contact_status().iter().any(|a| *a != signorini_contact::Active::None) };
         contact_steps += usize::from(active);
         emit(Sample { n: rep.n, t: rep.t, u: stepper.displacement(), lambda: rep.lambda, energy, active, work: stepper.work(), forces: stepper.contact_forces(), status: stepper.contact_status() })?;
     }
-    Ok((stepper.level(), contact_steps))
+    Ok((stepper.level(), contact_steps, watch.and_then(|w| w.monitor.result())))
+}
+
+/// The energy monitor with its budget ([`crate::energy`]): the scheme's
+/// own load work and dissipation (closed), or the runner's Σ|load work|
+/// (open) for a scheme that does not track them.
+struct Watch {
+    monitor: crate::energy::EnergyMonitor,
+    load_scale: f64,
+    reference: Option<f64>,
+    /// Open budget: Σ|ΔW| so far, the previous displacement and
+    /// time-dependent load (empty without forcing).
+    open_work: f64,
+    u_prev: Vec<f64>,
+    f_prev: Vec<f64>,
+    f_new: Vec<f64>,
+    closed: bool,
+}
+
+impl Watch {
+    fn new(factor: f64, stepper: &dyn Stepper, load_scale: f64) -> Self {
+        let closed = stepper.work().is_some();
+        let dy = stepper.dynamics();
+        let mut w = Self { monitor: crate::energy::EnergyMonitor::new(factor, closed), load_scale, reference: None, open_work: 0.0, u_prev: Vec::new(), f_prev: Vec::new(), f_new: Vec::new(), closed };
+        if !closed && !dy.forcing.is_empty() {
+            w.u_prev = stepper.displacement().to_vec();
+            w.f_prev = vec![0.0; dy.n()];
+            w.f_new = vec![0.0; dy.n()];
+            forcing_at(dy, stepper.time(), &mut w.f_prev);
+        }
+        w
+    }
+
+    fn observe(&mut self, stepper: &dyn Stepper, n: usize, (t, e): (f64, f64)) {
+        let reference = match self.reference {
+            Some(r) => r,
+            None => {
+                // The floor of the budget: 1e-12 × the guard's energy scale.
+                self.monitor.set_floor(1e-12 * e.abs().max(self.load_scale));
+                *self.reference.insert(e)
+            }
+        };
+        let budget = if self.closed {
+            let wf = stepper.work().map_or(0.0, |w| w.0);
+            reference + wf - stepper.dissipation().unwrap_or(0.0)
+        } else {
+            if !self.u_prev.is_empty() && n > 0 {
+                forcing_at(stepper.dynamics(), stepper.time(), &mut self.f_new);
+                let u = stepper.displacement();
+                let dw: f64 = (0..u.len()).map(|i| 0.5 * (self.f_prev[i] + self.f_new[i]) * (u[i] - self.u_prev[i])).sum();
+                self.open_work += dw.abs();
+                self.u_prev.copy_from_slice(u);
+                std::mem::swap(&mut self.f_prev, &mut self.f_new);
+            }
+            reference + self.open_work
+        };
+        self.monitor.observe(n, t, e, budget);
+    }
+}
+
+/// The time-dependent part of the load, `Σ_j shape_j s_j(t)`, into `out`.
+fn forcing_at(dy: &signorini_schemes::Dynamics, t: f64, out: &mut [f64]) {
+    out.iter_mut().for_each(|o| *o = 0.0);
+    for f in &dy.forcing {
+        let s = f.time.value(t);
+        out.iter_mut().zip(&f.shape).for_each(|(o, g)| *o += s * g);
+    }
 }
 
 /// `½ m (max|U⁰| / T)²`: the kinetic energy of moving the total mass `m`

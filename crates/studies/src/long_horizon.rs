@@ -19,13 +19,34 @@
 //!   step's force), and the drift, numerical − exact (empty when there is no
 //!   onset in that window);
 //! * `summary.csv`: `scheme,mass,m,linf_l2_u,l2_l2_u,mean_drift_per_period,final_energy`.
+//!
+//! **Energy growth** ([`EnergyTable`], on by default; `--no-energy` leaves
+//! it out): each (scheme, mass) of `--energy-runs` at every dx/dt of
+//! `--energy-ratios` (default 1, 2, 10) on `m = 100` elements to
+//! `T = 10⁴` (`--energy-m`, `--energy-t-end`), with the run crate's energy
+//! monitor (`signorini_run::energy`: bar-dirichlet has no load and no
+//! damping, so the budget is the first energy the scheme reports, `E(0)` or
+//! `E^{1/2}`). The default runs are the schemes and masses the long-run
+//! question is about; `--energy-all` takes every named scheme with every
+//! mass it accepts (explicit schemes at a dx/dt beyond their stability
+//! limit are left out, with a note).
+//! * `energy_growth.csv`: `scheme,mass,m,dx_dt,dt,steps,e_ref,final_energy,max_ratio,t_max_ratio,t_ratio_2,final_ratio,t_stopped`
+//!   — `t_ratio_2` the first time E/budget exceeds 2 (empty: never);
+//!   `t_stopped` the time at which the run's energy guard (|E| > 10⁶ × its
+//!   scale, `RunConfig::energy_growth_limit`) stopped the run (empty: it
+//!   reached T; the other columns then stop there);
+//! * `energy_vs_time.csv`: `scheme,mass,m,dx_dt,window,t_to,max_ratio` —
+//!   the largest E/budget within each of 100 equal windows of `[0, T]`;
+//! * `energy_growth.svg`: those curves, one panel per dx/dt (log-log).
 
-use crate::{create_dir, fe, ff, int, since, txt, Cell, Kind, StudyError, TableOut};
+use crate::{create_dir, fd, fe, ff, int, since, txt, Cell, Kind, StudyError, TableOut};
 use signorini_fem::BarMass;
 use signorini_norms::SpaceIntegrator;
+use signorini_plot::{line_chart, stack_vertically, Chart, Scale, Series, Style};
 use signorini_run::{run as run_steps, Benchmark, NormObserver, Observer, RunConfig, RunError, Sample};
 use signorini_schemes::SchemeSpec;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The period of the Dirichlet bar.
 const PERIOD: f64 = 3.0;
@@ -45,6 +66,74 @@ pub struct Config {
     pub ratio: f64,
     /// Horizon (`--t-end`, default 30: ten periods).
     pub t_end: f64,
+    /// The energy-growth table (`None`: `--no-energy`).
+    pub energy: Option<EnergyTable>,
+}
+
+/// The energy-growth table's runs (module docs).
+#[derive(Clone, Debug)]
+pub struct EnergyTable {
+    /// (scheme, mass) pairs (`--energy-runs`; `--energy-all`: [`EnergyTable::all_runs`]).
+    pub runs: Vec<(SchemeSpec, BarMass)>,
+    /// dx/dt values (`--energy-ratios`, default 1, 2, 10).
+    pub ratios: Vec<f64>,
+    /// Elements (`--energy-m`, default 100).
+    pub m: usize,
+    /// Horizon (`--energy-t-end`, default 10⁴).
+    pub t_end: f64,
+}
+
+/// Windows of `energy_vs_time.csv`.
+const ENERGY_WINDOWS: usize = 100;
+
+impl Default for EnergyTable {
+    /// newmark-cn and ps-e0 with std, lumped, mod and mod3; ps-e1 with std
+    /// and mod3; moreau-jean with std and lumped; hybrid with mod and mod3.
+    fn default() -> Self {
+        let p = |s: &str| -> SchemeSpec { s.parse().expect("a preset") };
+        let (cn, ps0, ps1, mj, hy) = (p("newmark-cn"), p("ps-e0"), p("ps-e1"), p("moreau-jean"), p("hybrid"));
+        let four = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod3];
+        let mut runs: Vec<(SchemeSpec, BarMass)> = four.iter().map(|&m| (cn, m)).chain(four.iter().map(|&m| (ps0, m))).collect();
+        runs.extend([(ps1, BarMass::Std), (ps1, BarMass::Mod3), (mj, BarMass::Std), (mj, BarMass::Lumped), (hy, BarMass::Mod), (hy, BarMass::Mod3)]);
+        Self { runs, ratios: vec![1.0, 2.0, 10.0], m: 100, t_end: 1e4 }
+    }
+}
+
+impl EnergyTable {
+    /// `--energy-all`: every named scheme (presets, reduced, peers, and
+    /// cd-taylor with its lumped mass) with every mass it accepts (mod1 is
+    /// mod: left out).
+    pub fn all_runs() -> Vec<(SchemeSpec, BarMass)> {
+        let masses = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
+        let mut runs: Vec<(SchemeSpec, BarMass)> = SchemeSpec::named().flat_map(|(_, s)| masses.iter().filter(move |m| s.accepts_massless_node(m.massless_contact_node())).map(move |&m| (s, m))).collect();
+        runs.extend(SchemeSpec::SINGLE_MASS.iter().map(|&(_, s)| (s, BarMass::Lumped)));
+        runs
+    }
+
+    fn validate(&self) -> Result<(), StudyError> {
+        if self.runs.is_empty() {
+            return Err(StudyError::config("--energy-runs", "--energy-runs: allowed one or more scheme:mass pairs"));
+        }
+        for (s, m) in &self.runs {
+            if !s.accepts_massless_node(m.massless_contact_node()) {
+                return Err(StudyError::config("--energy-runs", format!("--energy-runs {s}:{m}: the scheme does not take this mass (massless contact node: {})", m.massless_contact_node())));
+            }
+        }
+        if self.ratios.is_empty() || self.ratios.iter().any(|r| !(*r > 0.0 && r.is_finite())) {
+            return Err(StudyError::config("--energy-ratios", format!("--energy-ratios {:?}: allowed one or more finite values > 0", self.ratios)));
+        }
+        if !(2..=20_000).contains(&self.m) {
+            return Err(StudyError::config("--energy-m", format!("--energy-m {}: allowed an integer in [2, 20000]", self.m)));
+        }
+        if !(self.t_end >= PERIOD && self.t_end.is_finite() && self.t_end <= 1e6) {
+            return Err(StudyError::config("--energy-t-end", format!("--energy-t-end {}: allowed finite, in [3, 1e6]", self.t_end)));
+        }
+        let steps = self.m as f64 * self.ratios.iter().fold(0.0, |a: f64, &r| a.max(r)) * self.t_end;
+        if steps > 1e9 {
+            return Err(StudyError::config("--energy-t-end", format!("--energy-t-end {}: {steps:.2e} steps at the largest dx/dt, allowed at most 1e9", self.t_end)));
+        }
+        Ok(())
+    }
 }
 
 impl Default for Config {
@@ -55,7 +144,7 @@ impl Default for Config {
         let masses = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
         let mut runs: Vec<(SchemeSpec, BarMass)> = masses.iter().map(|&m| (ps, m)).collect();
         runs.extend([(mj, BarMass::Std), (mj, BarMass::Lumped)]);
-        Config { out: PathBuf::from("out/long-horizon"), runs, levels: vec![20, 40, 80], ratio: 10.0, t_end: 30.0 }
+        Config { out: PathBuf::from("out/long-horizon"), runs, levels: vec![20, 40, 80], ratio: 10.0, t_end: 30.0, energy: Some(EnergyTable::default()) }
     }
 }
 
@@ -97,12 +186,16 @@ impl Config {
         if steps > 1e9 {
             return Err(StudyError::config("--t-end", format!("--t-end {}: {steps:.2e} steps at the finest level, allowed at most 1e9", self.t_end)));
         }
+        if let Some(e) = &self.energy {
+            e.validate()?;
+        }
         Ok(())
     }
 }
 
 /// What the study computed and wrote ([`crate::Report`]); its tables:
-/// `error_vs_time.csv`, `impacts.csv`, `summary.csv`.
+/// `error_vs_time.csv`, `impacts.csv`, `summary.csv`, then (with the
+/// energy table) `energy_growth.csv`, `energy_vs_time.csv`.
 pub type Output = crate::Report;
 
 /// The largest L² error per period and the impact times.
@@ -155,7 +248,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let mut ev = TableOut::create(&a.out, "error_vs_time.csv", &with(&[("period", Kind::I), ("t_from", Kind::F), ("t_to", Kind::F), ("max_l2_u", Kind::F)]))?;
     let mut im = TableOut::create(&a.out, "impacts.csv", &with(&[("k", Kind::I), ("t_exact", Kind::F), ("t_numerical", Kind::F), ("drift", Kind::F)]))?;
     let mut su = TableOut::create(&a.out, "summary.csv", &with(&[("linf_l2_u", Kind::F), ("l2_l2_u", Kind::F), ("mean_drift_per_period", Kind::F), ("final_energy", Kind::F)]))?;
-    let total = (a.runs.len() * a.levels.len()) as u64;
+    let energy_jobs = a.energy.as_ref().map_or(0, |e| e.runs.len() * e.ratios.len());
+    let total = (a.runs.len() * a.levels.len() + energy_jobs) as u64;
     let mut done = 0;
     let mut md = format!("| scheme | mass | m | max L² error in period 1 | … in period {periods} | L∞(0,T;L²) | impact drift per period | final energy (exact 1/8) |\n|---|---|---|---|---|---|---|---|\n");
     for &(scheme, mass) in &a.runs {
@@ -195,7 +289,154 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             progress(done, total);
         }
     }
-    let tables = vec![ev.finish()?, im.finish()?, su.finish()?];
-    let report = format!("# Long horizon: bar-dirichlet over T = {} ({periods} periods), dx/dt = {} (output in {})\n\n{md}", a.t_end, a.ratio, a.out.display());
-    Ok(crate::Report { tables, report, wall_s: since(start), notes: Vec::new() })
+    let mut tables = vec![ev.finish()?, im.finish()?, su.finish()?];
+    let mut report = format!("# Long horizon: bar-dirichlet over T = {} ({periods} periods), dx/dt = {} (output in {})\n\n{md}", a.t_end, a.ratio, a.out.display());
+    let mut notes = Vec::new();
+    if let Some(e) = &a.energy {
+        energy_growth(a, e, done, total, progress, &mut tables, &mut report, &mut notes)?;
+    }
+    Ok(crate::Report { tables, report, wall_s: since(start), notes })
+}
+
+/// One energy-growth run's results.
+struct Growth {
+    scheme: SchemeSpec,
+    mass: BarMass,
+    ratio: f64,
+    dt: f64,
+    w: Windows,
+    /// The time at which the run's 1e6 energy guard (or its non-finite
+    /// guard) stopped it, if it did.
+    stopped: Option<f64>,
+}
+
+/// E/E_ref at every level (bar-dirichlet: no load, no damping, so the
+/// first energy E_ref is the budget of every scheme, closed or open): its
+/// largest value per window of `[0, T]` and over the run, the first time it
+/// exceeds 2, the last energy and level.
+struct Windows {
+    t_end: f64,
+    e_ref: Option<f64>,
+    last: f64,
+    steps: usize,
+    max: Vec<f64>,
+    max_ratio: f64,
+    t_max: f64,
+    first2: Option<f64>,
+}
+
+impl Windows {
+    fn new(t_end: f64) -> Self {
+        Self { t_end, e_ref: None, last: f64::NAN, steps: 0, max: vec![f64::NAN; ENERGY_WINDOWS], max_ratio: f64::NEG_INFINITY, t_max: 0.0, first2: None }
+    }
+}
+
+impl Observer for Windows {
+    fn wants_energy(&self) -> bool {
+        true
+    }
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        self.steps = s.n;
+        if let Some((t, e)) = s.energy {
+            let r = e / *self.e_ref.get_or_insert(e);
+            let k = ((t / self.t_end * ENERGY_WINDOWS as f64) as usize).min(ENERGY_WINDOWS - 1);
+            // NaN.max(r) = r: an empty window takes its first value.
+            self.max[k] = self.max[k].max(r);
+            if r > self.max_ratio {
+                (self.max_ratio, self.t_max) = (r, t);
+            }
+            if self.first2.is_none() && r > 2.0 {
+                self.first2 = Some(t);
+            }
+            self.last = e;
+        }
+        Ok(())
+    }
+}
+
+/// The energy-growth table: every (scheme, mass, dx/dt) in parallel.
+#[allow(clippy::too_many_arguments)]
+fn energy_growth(a: &Config, e: &EnergyTable, done0: u64, total: u64, progress: &(dyn Fn(u64, u64) + Sync), tables: &mut Vec<crate::Table>, report: &mut String, notes: &mut Vec<String>) -> Result<(), StudyError> {
+    use rayon::prelude::*;
+    let b = Benchmark::BarDirichlet;
+    let exact = b.exact(e.t_end)?;
+    let jobs: Vec<(SchemeSpec, BarMass, f64)> = e.runs.iter().flat_map(|&(s, m)| e.ratios.iter().map(move |&r| (s, m, r))).collect();
+    let done = AtomicU64::new(done0);
+    let results: Vec<Result<Option<Growth>, StudyError>> = jobs
+        .par_iter()
+        .map(|&(scheme, mass, ratio)| {
+            let p = b.problem(exact.as_ref(), e.m, mass)?;
+            let dt = p.bar.h() / ratio;
+            let mut stepper = match scheme.build(p.dynamics(), dt, &p.initial) {
+                Ok(s) => s,
+                // --energy-all: an explicit scheme beyond its stability limit is left out.
+                Err(signorini_schemes::SchemeError::Unstable { .. }) => {
+                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                    return Ok(None);
+                }
+                Err(err) => return Err(RunError::from(err).into()),
+            };
+            let cfg = RunConfig::new(dt, e.t_end)?;
+            let mut w = Windows::new(e.t_end);
+            let stopped = match run_steps(stepper.as_mut(), &p.initial.u, &cfg, &mut [&mut w]) {
+                Ok(_) => None,
+                // Growth past the run's 1e6 guard (or to non-finite values) stops the run: a row all the same.
+                Err(RunError::EnergyGrowth { time, .. } | RunError::BlowUp { time, .. }) => Some(time),
+                Err(err) => return Err(err.into()),
+            };
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+            Ok(Some(Growth { scheme, mass, ratio, dt, w, stopped }))
+        })
+        .collect();
+    let head = [("scheme", Kind::S), ("mass", Kind::S), ("m", Kind::I), ("dx_dt", Kind::F)];
+    let with = |more: &[(&'static str, Kind)]| -> Vec<(&'static str, Kind)> { head.iter().copied().chain(more.iter().copied()).collect() };
+    let mut gt = TableOut::create(&a.out, "energy_growth.csv", &with(&[("dt", Kind::F), ("steps", Kind::I), ("e_ref", Kind::F), ("final_energy", Kind::F), ("max_ratio", Kind::F), ("t_max_ratio", Kind::F), ("t_ratio_2", Kind::F), ("final_ratio", Kind::F), ("t_stopped", Kind::F)]))?;
+    let mut vt = TableOut::create(&a.out, "energy_vs_time.csv", &with(&[("window", Kind::I), ("t_to", Kind::F), ("max_ratio", Kind::F)]))?;
+    let mut md = format!("\n# Energy growth: bar-dirichlet, m = {}, to T = {} (E/budget; budget = the first energy, no load, no damping)\n\n| scheme | mass | dx/dt | max E/budget | at t | first t with E/budget > 2 | final E/budget (or where the run's 1e6 energy guard stopped it) |\n|---|---|---|---|---|---|---|\n", e.m, e.t_end);
+    let mut kept = Vec::new();
+    for (r, &(scheme, mass, ratio)) in results.into_iter().zip(&jobs) {
+        let Some(g) = r? else {
+            notes.push(format!("energy growth: {scheme}:{mass} at dx/dt = {ratio} left out (beyond the scheme's stability limit)"));
+            continue;
+        };
+        let (sn, mn) = (scheme.to_string(), mass.to_string());
+        let w = &g.w;
+        let e_ref = w.e_ref.unwrap_or(f64::NAN);
+        gt.row(vec![txt(&sn), txt(&mn), int(e.m), fd(g.ratio), fe(g.dt, 6), int(w.steps), fe(e_ref, 10), fe(w.last, 10), fe(w.max_ratio, 6), ff(w.t_max, 4), w.first2.map_or(Cell::E, |t| ff(t, 4)), fe(w.last / e_ref, 6), g.stopped.map_or(Cell::E, |t| ff(t, 4))])?;
+        for (k, x) in w.max.iter().enumerate() {
+            vt.row(vec![txt(&sn), txt(&mn), int(e.m), fd(g.ratio), int(k + 1), ff(e.t_end * (k + 1) as f64 / ENERGY_WINDOWS as f64, 3), if x.is_nan() { Cell::E } else { fe(*x, 6) }])?;
+        }
+        let fate = match g.stopped {
+            Some(t) => format!("stopped by the 1e6 guard at t = {t:.1}"),
+            None => format!("{:.4}", w.last / e_ref),
+        };
+        md.push_str(&format!("| {sn} | {mn} | {} | {:.4e} | {:.1} | {} | {fate} |\n", g.ratio, w.max_ratio, w.t_max, w.first2.map_or("—".to_string(), |t| format!("{t:.2}"))));
+        kept.push(g);
+    }
+    tables.push(gt.finish()?);
+    tables.push(vt.finish()?);
+    report.push_str(&md);
+    // One panel per dx/dt: the largest E/budget per window against t.
+    let panels: Result<Vec<String>, String> = e
+        .ratios
+        .iter()
+        .map(|&r| {
+            let series: Vec<Series> = kept
+                .iter()
+                .filter(|g| g.ratio == r)
+                .map(|g| {
+                    let style = Style { group: e.runs.iter().map(|x| x.0).position(|s| s == g.scheme), variant: e.runs.iter().filter(|x| x.0 == g.scheme).position(|x| x.1 == g.mass) };
+                    let points = g.w.max.iter().enumerate().map(|(k, w)| (e.t_end * (k + 1) as f64 / ENERGY_WINDOWS as f64, *w)).collect();
+                    Series { label: format!("{} {}", g.scheme, g.mass), points, reference: false, style }
+                })
+                .collect();
+            let title = format!("bar-dirichlet, m = {}, dx/dt = {r}: largest E/budget per window of T/{ENERGY_WINDOWS}", e.m);
+            line_chart(&Chart { title: &title, x_label: "t", y_label: "E / budget", scale: Scale::LogLog, size: (900, 500) }, &series)
+        })
+        .collect();
+    match panels.and_then(|p| stack_vertically(&p)) {
+        Ok(svg) => crate::write_file(&a.out.join("energy_growth.svg"), &svg)?,
+        Err(err) => notes.push(format!("warning: energy_growth.svg skipped: {err}")),
+    }
+    Ok(())
 }
