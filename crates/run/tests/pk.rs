@@ -41,7 +41,10 @@ fn p1_levels_through_the_pk_path_are_bit_identical_to_the_p1_code() {
     let r = run_level_degree(b, exact.as_ref(), "ps-e0".parse().unwrap(), BarMass::Std, 20, 1, 1.0, 16.0, NormKind::Exact).unwrap();
     assert_eq!(
         bits(&r.norms),
-        [0x3fb113ea80ff035f, 0x3fb1a2e7e267ab86, 0x3fbaf09c94117e01, 0x3fce589d8405247f, 0x3fc47f529fb85068, 0x3f654d369ee3b3a0, 0x3f7e5c6ff49839cd, 0x3ff8d60b37b3bd5f],
+        // The V norms since the degree-2 seminorm is computed from its
+        // differences (a kink at round-off distance from a node had added
+        // the cancellation error of a sliver: l2_v_u 0.2372...4399 before).
+        [0x3fb113ea80ff035f, 0x3fb1a2e7e267ab86, 0x3fbaf09c94117e03, 0x3fce5d7a4f157223, 0x3fc47f529fb85068, 0x3f654d369ee3b3a0, 0x3f7e5c6ff49839cd, 0x3ff8d60b37b3bd5f],
         "{:?}",
         r.norms
     );
