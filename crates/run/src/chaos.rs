@@ -129,11 +129,12 @@ pub struct Lyapunov {
 }
 
 /// The largest Lyapunov exponent of `a` by Benettin's twin runs: `b` is the
-/// twin (same system, any state: it is overwritten), `norm` measures a
+/// twin (same system at the same time level — a forced system's phase —, any
+/// state: it is overwritten), `norm` measures a
 /// state difference. `a` starts from its current state (run a transient
 /// first). Errors: a bad [`Benettin`], a reference state of zero norm, twins
 /// that merge exactly (`d_k = 0`) or separate to a non-finite distance.
-pub fn lyapunov<F: Flow + ?Sized>(a: &mut F, b: &mut F, norm: &dyn Fn(&[f64]) -> f64, cfg: &Benettin) -> Result<Lyapunov, RunError> {
+pub fn lyapunov<A: Flow + ?Sized, B: Flow + ?Sized>(a: &mut A, b: &mut B, norm: &dyn Fn(&[f64]) -> f64, cfg: &Benettin) -> Result<Lyapunov, RunError> {
     cfg.validate()?;
     let xa = a.state()?;
     let scale = norm(&xa);
@@ -176,7 +177,7 @@ pub fn lyapunov<F: Flow + ?Sized>(a: &mut F, b: &mut F, norm: &dyn Fn(&[f64]) ->
 
 /// The separation `‖b − a‖` of two runs without renormalisation, every
 /// `every` steps for `samples` samples (the twin-run divergence).
-pub fn separation<F: Flow + ?Sized>(a: &mut F, b: &mut F, norm: &dyn Fn(&[f64]) -> f64, every: usize, samples: usize) -> Result<Vec<f64>, RunError> {
+pub fn separation<A: Flow + ?Sized, B: Flow + ?Sized>(a: &mut A, b: &mut B, norm: &dyn Fn(&[f64]) -> f64, every: usize, samples: usize) -> Result<Vec<f64>, RunError> {
     let mut out = Vec::with_capacity(samples);
     for _ in 0..samples {
         a.advance(every)?;
