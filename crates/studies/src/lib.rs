@@ -2,7 +2,7 @@
 //!
 //! Each study `X` (`convergence`, `weighted`, `beam`, `obstacles`,
 //! `oscillator`, `work_precision`, `stress`, `courant1`, `long_horizon`,
-//! `lyapunov`) is a module with a `Config`
+//! `lyapunov`, `beam_statistics`) is a module with a `Config`
 //! (plain fields, `Default` = the `cargo xtask` defaults, `validate` doing
 //! every check before anything large is allocated), a `run(cfg, progress)`
 //! that writes every CSV and SVG into the configured folder and returns an
@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 
 pub mod beam;
+pub mod beam_statistics;
 pub mod convergence;
 pub mod courant1;
 pub mod long_horizon;
