@@ -161,8 +161,11 @@ pub fn lyapunov<A: Flow + ?Sized, B: Flow + ?Sized>(a: &mut A, b: &mut B, norm: 
         xb = b.state()?;
         delta.iter_mut().zip(xb.iter().zip(&xa)).for_each(|(d, (y, x))| *d = y - x);
         let d = norm(&delta);
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(RunError::Invalid { field: "separation", value: d, allowed: "finite and > 0 (the twins merged exactly or blew up)" });
+        if d == 0.0 {
+            return Err(RunError::Invalid { field: "separation", value: d, allowed: "> 0: the twins merged exactly (a perturbation lost in round-off, below about 1e-15 relative, or a state every neighbour collapses onto)" });
+        }
+        if !d.is_finite() {
+            return Err(RunError::Invalid { field: "separation", value: d, allowed: "finite (the twin blew up)" });
         }
         growths.push((d / d0).ln());
         let r = d0 / d;

@@ -106,7 +106,7 @@ impl Config {
             return Err(StudyError::config("--omegas", format!("--omegas {:?}: allowed each finite and in (0, 100]", self.omegas)));
         }
         if !(self.perturbation > 0.0 && self.perturbation < 1e-3) {
-            return Err(StudyError::config("--perturbation", format!("--perturbation {:e}: allowed 0 < perturbation < 1e-3 (relative to the state's energy norm)", self.perturbation)));
+            return Err(StudyError::config("--perturbation", format!("--perturbation {}: allowed 0 < perturbation < 1e-3 (relative to the state's energy norm)", signorini_run::text::num(self.perturbation))));
         }
         if !(self.transient.is_finite() && (0.0..=1e4).contains(&self.transient)) {
             return Err(StudyError::config("--transient", format!("--transient {}: allowed finite, in [0, 10000] forcing periods", self.transient)));
