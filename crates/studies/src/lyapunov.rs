@@ -16,7 +16,7 @@
 //!
 //! Cases: every scene of `scenes` at its own dt and J; the scenes of
 //! `refine` again at every `dts` × `elements` (what λ_max does under
-//! refinement); the oscillator at every Ω of `omegas` (its scene's
+//! refinement; a scene's own dt and J once); the oscillator at every Ω of `omegas` (its scene's
 //! dt = 1e-3), whose period-1 orbits are stable: there λ_max is known, the
 //! Floquet exponent `ln|μ₁| Ω / 2π` of signorini-exact's closed form.
 //!
@@ -278,10 +278,19 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     a.validate()?;
     create_dir(&a.out)?;
     let start = std::time::Instant::now();
-    let cases = a.cases();
-    // Every scene validated before any run (bad dt or J fails at once).
-    for c in &cases {
-        scene_of(c, 1.0)?;
+    // Every scene validated before any run (bad dt or J fails at once); a
+    // refinement case that is a scene's own (dt, J) is run once.
+    let mut cases: Vec<Case> = Vec::new();
+    let mut seen: Vec<(String, f64, usize)> = Vec::new();
+    for c in a.cases() {
+        if let (Scene::Beam { scene, .. }, Case::Beam { name, .. }) = (scene_of(&c, 1.0)?, &c) {
+            let key = (name.clone(), scene.dt, scene.elements);
+            if seen.contains(&key) {
+                continue;
+            }
+            seen.push(key);
+        }
+        cases.push(c);
     }
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut rows: Vec<Option<Result<Row, StudyError>>> = (0..cases.len()).map(|_| None).collect();
