@@ -20,7 +20,7 @@ import numpy as _np
 
 from . import _signorini
 
-__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "beam_obstacles", "oscillator", "courant1", "long_horizon", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
+__all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "beam_obstacles", "oscillator", "courant1", "long_horizon", "lyapunov", "beam_statistics", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
 
 #: The columns of a convergence study's per-configuration CSV.
 LEVEL_COLUMNS = ("m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s")
@@ -182,6 +182,38 @@ def long_horizon(runs=None, levels=None, ratio=None, t_end=None, energy=None, en
     ``energy_vs_time.csv``, ``energy_growth.svg``). The default table takes
     minutes; ``energy_t_end=`` shortens it."""
     return _run("long_horizon", out, dict(runs=runs, levels=levels, ratio=ratio, t_end=t_end, energy=energy, energy_runs=energy_runs, energy_all=energy_all, energy_ratios=energy_ratios, energy_m=energy_m, energy_t_end=energy_t_end))
+
+
+def lyapunov(scenes=None, refine=None, dts=None, elements=None, omegas=None, perturbation=None, transient=None, window=None, per_period=None, batches=None, out=None) -> StudyResult:
+    """Largest Lyapunov exponents (``cargo xtask lyapunov``) by Benettin's twin
+    runs: the twin perturbed by a relative ``perturbation`` (default 1e-10,
+    allowed 0 < ε < 1e-3) of the state's energy norm, renormalised
+    ``per_period`` times a forcing period (64) over ``window`` forcing periods
+    (20) after ``transient`` (10), a 95 % interval from ``batches`` (10) batch
+    means. Cases: the beam ``scenes`` (default fig2-support, fig2 … fig8,
+    beam-obstacles) at their own dt and J, the ``refine`` scenes (default
+    fig2-support) at every ``dts`` × ``elements``, the impact oscillator at
+    every Ω of ``omegas`` (default 1.6 … 2.2; ``[]``: none).
+    ``res["lyapunov.csv"]``: ``scene, dt, elements, lambda_max, ci_low,
+    ci_high, horizon_s`` (the time for a 1e-16 relative round-off to grow to
+    1 mm; NaN for λ <= 0); ``res["oscillator.csv"]``: ``omega, lambda_max,
+    ci_low, ci_high, lambda_exact, multiplier`` (the exact Floquet exponent of
+    the period-1 orbit)."""
+    return _run("lyapunov", out, dict(scenes=scenes, refine=refine, dts=dts, elements=elements, omegas=omegas, perturbation=perturbation, transient=transient, window=window, per_period=per_period, batches=batches))
+
+
+def beam_statistics(scenes=None, dts=None, elements=None, transient=None, window=None, batches=None, episode_gap=None, out=None) -> StudyResult:
+    """Statistics that converge (``cargo xtask beam-statistics``): the beam
+    ``scenes`` (default ``["fig2-support"]``; also ``"beam-obstacles"``) at
+    every ``dts`` (5e-5, 2.5e-5, 1e-5) and ``elements`` (19, 38) over
+    ``window`` forcing periods (320; at least 10) after ``transient`` (10),
+    each statistic with a 95 % interval from ``batches`` (20; at least 10)
+    batch means, against the finest level. ``res["statistics.csv"]``:
+    ``scene, dt, elements, statistic, mean, ci_low, ci_high, finest_mean,
+    rel_diff, within_ci, kind`` (``kind``: ``"converges"`` or
+    ``"step-dependent"``); active runs closer than ``episode_gap`` seconds
+    (5e-3) form one contact episode."""
+    return _run("beam_statistics", out, dict(scenes=scenes, dts=dts, elements=elements, transient=transient, window=window, batches=batches, episode_gap=episode_gap))
 
 
 def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, out=None) -> StudyResult:

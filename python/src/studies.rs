@@ -311,6 +311,35 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             let o = detached(py, || st::long_horizon::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
-        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress, courant1, long_horizon"))),
+        "lyapunov" => {
+            let mut c = st::lyapunov::Config { out: out.clone(), ..Default::default() };
+            c.scenes = a.strs("scenes")?.unwrap_or(c.scenes);
+            c.refine = a.strs("refine")?.unwrap_or(c.refine);
+            c.dts = a.f64s("dts")?.unwrap_or(c.dts);
+            c.elements = a.usizes("elements")?.unwrap_or(c.elements);
+            c.omegas = a.f64s("omegas")?.unwrap_or(c.omegas);
+            c.perturbation = a.f64("perturbation")?.unwrap_or(c.perturbation);
+            c.transient = a.f64("transient")?.unwrap_or(c.transient);
+            c.window = a.f64("window")?.unwrap_or(c.window);
+            c.per_period = a.usize("per_period")?.unwrap_or(c.per_period);
+            c.batches = a.usize("batches")?.unwrap_or(c.batches);
+            a.done()?;
+            let o = detached(py, || st::lyapunov::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        "beam_statistics" => {
+            let mut c = st::beam_statistics::Config { out: out.clone(), ..Default::default() };
+            c.scenes = a.strs("scenes")?.unwrap_or(c.scenes);
+            c.dts = a.f64s("dts")?.unwrap_or(c.dts);
+            c.elements = a.usizes("elements")?.unwrap_or(c.elements);
+            c.transient = a.f64("transient")?.unwrap_or(c.transient);
+            c.window = a.f64("window")?.unwrap_or(c.window);
+            c.batches = a.usize("batches")?.unwrap_or(c.batches);
+            c.episode_gap = a.f64("episode_gap")?.unwrap_or(c.episode_gap);
+            a.done()?;
+            let o = detached(py, || st::beam_statistics::run(&c, &none))?;
+            output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
+        }
+        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress, courant1, long_horizon, lyapunov, beam_statistics"))),
     }
 }

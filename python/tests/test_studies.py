@@ -112,6 +112,16 @@ def test_bar_mirrored_leaves_out_the_schemes_that_cannot_take_two_stops():
         ("beam_obstacles", dict(dts=[1e-4, 5e-5, 2.5e-5], js=[5, 10, 20], t_end=0.05), ["beam-obstacles", "--dts", "1e-4,5e-5,2.5e-5", "--js", "5,10,20", "--t-end", "0.05"]),
         ("courant1", dict(levels=[10, 20]), ["courant1", "--levels", "10,20"]),
         ("long_horizon", dict(levels=[20], t_end=9.0, energy_runs=["newmark-cn:std", "ps-e0:mod"], energy_ratios=[1, 2], energy_m=20, energy_t_end=30.0), ["long-horizon", "--levels", "20", "--t-end", "9", "--energy-runs", "newmark-cn:std,ps-e0:mod", "--energy-ratios", "1,2", "--energy-m", "20", "--energy-t-end", "30"]),
+        (
+            "lyapunov",
+            dict(scenes=["fig2-support"], refine=[], omegas=[2.0], transient=4.0, window=5.0, batches=4),
+            ["lyapunov", "--scenes", "fig2-support", "--refine", "none", "--omegas", "2.0", "--transient", "4", "--window", "5", "--batches", "4"],
+        ),
+        (
+            "beam_statistics",
+            dict(dts=[5e-5, 2.5e-5], elements=[19], transient=2.0, window=12.0, batches=10),
+            ["beam-statistics", "--dts", "5e-5,2.5e-5", "--elements", "19", "--transient", "2", "--window", "12", "--batches", "10"],
+        ),
         ("oscillator", dict(omegas=[1.8, 2.0], dts=[2e-3, 1e-3, 5e-4], transient=20.0, record=5.0), ["oscillator", "--omegas", "1.8,2.0", "--dts", "2e-3,1e-3,5e-4", "--transient", "20", "--record", "5"]),
     ],
 )
@@ -159,6 +169,11 @@ def test_bad_input_names_the_argument():
         (lambda: studies.long_horizon(energy_ratios=[0.0]), "energy_ratios"),
         (lambda: studies.long_horizon(energy_runs=["moreau-jean:mod"]), "energy_runs"),
         (lambda: studies.long_horizon(energy=False, energy_m=50), "energy"),
+        (lambda: studies.lyapunov(perturbation=0.0), "perturbation"),
+        (lambda: studies.lyapunov(perturbation=1e-3), "perturbation"),
+        (lambda: studies.lyapunov(window=0.5), "window"),
+        (lambda: studies.beam_statistics(window=9.0), "window"),
+        (lambda: studies.beam_statistics(batches=9), "batches"),
         (lambda: studies.oscillator(dts=[-1e-3]), "dts"),
     ]:
         with pytest.raises(signorini.SceneError, match="^" + field):

@@ -14,15 +14,21 @@
 //!   extreme dx/dt with random data.
 //! * `beam`: the beam between two stops — the paper's figures 2–8, wall
 //!   times against the paper's, the exact stability limit, self-convergence.
+//! * `lyapunov`: the largest Lyapunov exponent of the beam scenes and the
+//!   impact oscillator (Benettin's twin runs), the predictability horizon.
+//! * `beam-statistics`: statistics of the beam over long windows with
+//!   batch-means intervals against dt and J (which converge).
 //! * `fuzz`: the scene reader and validator on generated and mutated scenes.
 
 mod beam;
+mod beam_statistics;
 mod fuzz;
 mod obstacles;
 mod oscillator;
 mod pytest;
 mod courant1;
 mod long_horizon;
+mod lyapunov;
 mod stress;
 mod weighted;
 mod wp;
@@ -66,6 +72,11 @@ enum Cmd {
     /// The Dirichlet bar over many periods (T = 30): error against time and impact phase for every mass.
     #[command(name = "long-horizon")]
     LongHorizon(long_horizon::Args),
+    /// The largest Lyapunov exponent (Benettin's twin runs) of the paper's beam scenes, beam-obstacles and the impact oscillator, and the predictability horizon.
+    Lyapunov(lyapunov::Args),
+    /// Statistics of the beam scenes over a long window with 95 % batch-means intervals, against dt and J: which converge.
+    #[command(name = "beam-statistics")]
+    BeamStatistics(beam_statistics::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
 }
@@ -129,6 +140,8 @@ fn main() -> ExitCode {
         Cmd::Stress(a) => stress::run_stress(a),
         Cmd::Courant1(a) => courant1::run_courant1(a),
         Cmd::LongHorizon(a) => long_horizon::run_long_horizon(a),
+        Cmd::Lyapunov(a) => lyapunov::run_lyapunov(a),
+        Cmd::BeamStatistics(a) => beam_statistics::run_beam_statistics(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),
     };
     match result {

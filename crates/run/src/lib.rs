@@ -20,6 +20,10 @@
 //! * [`reduced`]: a problem replaced by its massless-boundary reduction
 //!   (docs/theory.md §2.5) and the observer adapter that reconstructs the
 //!   full field only where an observer needs it;
+//! * [`chaos`]: the largest Lyapunov exponent by Benettin's twin runs
+//!   over any [`chaos::Flow`] (a stepper through its state), and the
+//!   predictability horizon;
+//! * [`stats`]: batch-means confidence intervals (Student-t quantiles);
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
 //!
@@ -28,12 +32,14 @@
 
 pub mod analysis;
 pub mod beam;
+pub mod chaos;
 pub mod energy;
 pub mod observers;
 pub mod oscillator;
 pub mod problem;
 pub mod reduced;
 pub mod runner;
+pub mod stats;
 pub mod study;
 pub mod text;
 pub mod vibro;

@@ -689,6 +689,15 @@ impl Summary {
     /// The CSV columns, in order.
     pub const COLUMNS: [&'static str; 10] = ["impacts", "impacts_per_period", "mean_impulse", "max_impulse", "impact_power", "rms_force", "max_abs_tip", "period", "window", "poincare_points"];
 
+    /// The columns whose values depend on the time step on a chattering
+    /// contact (the beam between rigid stops: `cargo xtask beam-statistics`):
+    /// they count or average over *active runs* (chatter counted as separate
+    /// impacts: 140 and 313 per period at dt = 5e-5 and 1e-5 on fig. 2), or
+    /// sample an impulsive force per step (`rms_force`: 92 and 137). Read
+    /// `impact_power` (and, from `impacts.csv`, impulses per unit time)
+    /// instead; they converge in dt.
+    pub const STEP_DEPENDENT: [&'static str; 4] = ["impacts", "impacts_per_period", "mean_impulse", "rms_force"];
+
     /// The header line (no newline):
     /// `impacts,impacts_per_period,mean_impulse,max_impulse,impact_power,rms_force,max_abs_tip,period,window,poincare_points`.
     /// A sweep prefixes its own columns (`param,run,`).

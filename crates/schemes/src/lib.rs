@@ -512,4 +512,29 @@ pub trait Stepper: Send {
     fn dissipation(&self) -> Option<f64> {
         None
     }
+    /// The state the next steps depend on besides the time level, flat:
+    /// `U^n` (`n` entries), then a velocity `V^n` (`n` entries: Moreau–Jean's
+    /// own, Newmark's `M⁻¹ P^n`, Paoli–Schatzman's backward difference
+    /// `(U^n − U^{n−1})/dt`), then any further internal state (Newmark:
+    /// `R^n = M A^n`). For twin runs (Lyapunov exponents, `signorini-run`'s
+    /// `chaos`). `None`: the scheme does not offer it (the default; also a
+    /// damped Newmark and the reduced and Nitsche schemes).
+    fn state(&self) -> Option<Vec<f64>> {
+        None
+    }
+    /// Replaces the state by `s`, laid out as [`state`](Self::state)
+    /// returns it (the time level is kept). Refused by schemes without a
+    /// `state`, or for a wrong length.
+    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
+        let _ = s;
+        Err(SchemeError::Structure("this scheme does not offer its state (set_state)"))
+    }
+}
+
+/// Checks a state's length for [`Stepper::set_state`].
+pub(crate) fn check_state_len(s: &[f64], expected: usize) -> Result<(), SchemeError> {
+    if s.len() != expected {
+        return Err(SchemeError::Size { what: "state", got: s.len(), expected });
+    }
+    Ok(())
 }

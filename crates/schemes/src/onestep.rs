@@ -557,6 +557,28 @@ impl OneStep {
 impl Stepper for OneStep {
     stepper_accessors!();
 
+    /// Offered undamped with massive contacts: `U`, `M⁻¹ P`, `R`.
+    fn state(&self) -> Option<Vec<f64>> {
+        if self.damp.is_some() || self.dy.massless_contact() {
+            return None;
+        }
+        let mut v = self.mom.clone();
+        self.m_massive.solve_in_place(&mut v);
+        Some(self.u.iter().chain(&v).chain(&self.r).copied().collect())
+    }
+
+    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
+        if self.damp.is_some() || self.dy.massless_contact() {
+            return Err(SchemeError::Structure("a damped Newmark/θ scheme or one with a massless contact does not offer its state (set_state)"));
+        }
+        let n = self.u.len();
+        crate::check_state_len(s, 3 * n)?;
+        self.u.copy_from_slice(&s[..n]);
+        self.dy.mass.mul_vec(&s[n..2 * n], &mut self.mom);
+        self.r.copy_from_slice(&s[2 * n..]);
+        Ok(())
+    }
+
     fn contact_pivots(&self) -> Option<(u64, u64)> {
         self.multi.as_ref().map(|m| (m.pivoting_solves, m.pivots))
     }

@@ -357,6 +357,23 @@ impl PaoliSchatzman {
 impl Stepper for PaoliSchatzman {
     stepper_accessors!();
 
+    fn state(&self) -> Option<Vec<f64>> {
+        let mut s = self.u.clone();
+        s.extend(self.u.iter().zip(&self.u_prev).map(|(u, up)| (u - up) / self.dt));
+        Some(s)
+    }
+
+    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
+        let n = self.u.len();
+        crate::check_state_len(s, 2 * n)?;
+        let (u, v) = s.split_at(n);
+        self.u.copy_from_slice(u);
+        for ((up, u), v) in self.u_prev.iter_mut().zip(u).zip(v) {
+            *up = u - self.dt * v;
+        }
+        Ok(())
+    }
+
     fn contact_pivots(&self) -> Option<(u64, u64)> {
         self.multi.as_ref().map(|m| (m.pivoting_solves, m.pivots))
     }

@@ -1,7 +1,8 @@
 //! The reproducible studies of signorini as library functions.
 //!
 //! Each study `X` (`convergence`, `weighted`, `beam`, `obstacles`,
-//! `oscillator`, `work_precision`, `stress`) is a module with a `Config`
+//! `oscillator`, `work_precision`, `stress`, `courant1`, `long_horizon`,
+//! `lyapunov`, `beam_statistics`) is a module with a `Config`
 //! (plain fields, `Default` = the `cargo xtask` defaults, `validate` doing
 //! every check before anything large is allocated), a `run(cfg, progress)`
 //! that writes every CSV and SVG into the configured folder and returns an
@@ -17,9 +18,11 @@
 #![warn(missing_docs)]
 
 pub mod beam;
+pub mod beam_statistics;
 pub mod convergence;
 pub mod courant1;
 pub mod long_horizon;
+pub mod lyapunov;
 pub mod obstacles;
 pub mod oscillator;
 pub mod stress;
