@@ -216,15 +216,19 @@ def beam_statistics(scenes=None, dts=None, elements=None, transient=None, window
     return _run("beam_statistics", out, dict(scenes=scenes, dts=dts, elements=elements, transient=transient, window=window, batches=batches, episode_gap=episode_gap))
 
 
-def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, out=None) -> StudyResult:
+def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, beam_stat_dts=None, beam_stat_ref_dt=None, beam_stat_window=None, out=None) -> StudyResult:
     """Work–precision (``cargo xtask work-precision``): error against wall
     time for every scheme and mass, then the frontier on the same axes:
     Courant-one central difference, P2/P3 (``degrees``), reduced bar and beam
     models (``modes``), and the beam of figure 2 at ``beam_dts`` against a
     full-model reference at ``beam_ref_dt`` (tip error over
     ``[0, beam_window]`` and ``[0, beam_t_end]``, first-impact error).
-    Empty ``degrees``, ``modes`` or ``beam_dts`` leave those rows out."""
-    return _run("work_precision", out, dict(levels=levels, degrees=degrees, modes=modes, beam_dts=beam_dts, beam_ref_dt=beam_ref_dt, beam_window=beam_window, beam_t_end=beam_t_end))
+    The beam with its support motion (fig. 2 with ``[support]``) at
+    ``beam_stat_dts`` gives its impact power over ``beam_stat_window``
+    forcing periods with a 95 % interval, against ``beam_stat_ref_dt``.
+    Empty ``degrees``, ``modes``, ``beam_dts`` or ``beam_stat_dts`` leave
+    those rows out."""
+    return _run("work_precision", out, dict(levels=levels, degrees=degrees, modes=modes, beam_dts=beam_dts, beam_ref_dt=beam_ref_dt, beam_window=beam_window, beam_t_end=beam_t_end, beam_stat_dts=beam_stat_dts, beam_stat_ref_dt=beam_stat_ref_dt, beam_stat_window=beam_stat_window))
 
 
 def stress(steps=None, elements=None, seed=None, out=None) -> StudyResult:

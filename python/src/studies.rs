@@ -229,6 +229,9 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             c.beam_ref_dt = a.f64("beam_ref_dt")?.unwrap_or(c.beam_ref_dt);
             c.beam_window = a.f64("beam_window")?.unwrap_or(c.beam_window);
             c.beam_t_end = a.f64("beam_t_end")?.unwrap_or(c.beam_t_end);
+            c.beam_stat_dts = a.f64s("beam_stat_dts")?.unwrap_or(c.beam_stat_dts);
+            c.beam_stat_ref_dt = a.f64("beam_stat_ref_dt")?.unwrap_or(c.beam_stat_ref_dt);
+            c.beam_stat_window = a.f64("beam_stat_window")?.unwrap_or(c.beam_stat_window);
             a.done()?;
             let o = detached(py, || st::work_precision::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)

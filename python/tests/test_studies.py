@@ -104,8 +104,8 @@ def test_bar_mirrored_leaves_out_the_schemes_that_cannot_take_two_stops():
         ("stress", dict(steps=2000, elements=10), ["stress", "--steps", "2000", "--elements", "10"]),
         (
             "work_precision",
-            dict(levels=[10, 20], degrees=[2], modes=[2, 16], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1),
-            ["work-precision", "--levels", "10,20", "--degrees", "2", "--modes", "2,16", "--beam-dts", "1e-4", "--beam-ref-dt", "1e-5", "--beam-window", "0.05", "--beam-t-end", "0.1"],
+            dict(levels=[10, 20], degrees=[2], modes=[2, 16], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1, beam_stat_dts=[1e-4], beam_stat_ref_dt=5e-5, beam_stat_window=12),
+            ["work-precision", "--levels", "10,20", "--degrees", "2", "--modes", "2,16", "--beam-dts", "1e-4", "--beam-ref-dt", "1e-5", "--beam-window", "0.05", "--beam-t-end", "0.1", "--beam-stat-dts", "1e-4", "--beam-stat-ref-dt", "5e-5", "--beam-stat-window", "12"],
         ),
         ("weighted", dict(t_end=5.0), ["weighted", "--t-end", "5"]),
         ("beam", dict(scenes=["fig2"], penalty_dts=[5e-5]), ["beam", "--scenes", "fig2", "--penalty-dts", "5e-5"]),
@@ -192,7 +192,7 @@ def test_work_precision_frontier_rows_are_independent_runs(tmp_path, exe):
     errors and first-impact error are recomputed in numpy from two
     signorini.run beam scenes (the row's step and the reference step), a
     reduced beam row's from the command's series.csv."""
-    res = studies.work_precision(levels=[10, 20], degrees=[2], modes=[2], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1)
+    res = studies.work_precision(levels=[10, 20], degrees=[2], modes=[2], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1, beam_stat_dts=[])
     t = res.tables["work_precision.csv"]
 
     def row(**kw):
@@ -244,3 +244,26 @@ def test_convergence_refuses_a_folder_of_another_configuration(tmp_path):
     res = signorini.studies.convergence(schemes=["newmark-cn"], clean=True, **kw)
     assert not (tmp_path / "ps-e1_std.csv").exists() and (tmp_path / "newmark-cn_std.csv").exists()
     assert res.schemes == ["newmark-cn"]
+
+
+def test_work_precision_impact_power_rows_are_the_commands_impacts(tmp_path, exe):
+    """Issue 23 §5: the beam's impact-power rows against `signorini run` of the
+    same scene: Σ |impulse| |velocity| over impacts.csv's impacts in the
+    window, per second, and its error against the reference step's."""
+    res = studies.work_precision(levels=[10, 20], degrees=[], modes=[], beam_dts=[], beam_stat_dts=[1e-4], beam_stat_ref_dt=5e-5, beam_stat_window=12)
+    t = res.tables["work_precision.csv"]
+    period = 2 * np.pi / 10.0
+    power = {}
+    for dt in (1e-4, 5e-5):
+        t0, t_end = round(10 * period / dt) * dt, round(22 * period / dt) * dt
+        scene = tmp_path / f"beam-{dt}.toml"
+        scene.write_text(f'[beam]\nscene = "fig2"\ndt = {dt}\nt_end = {t_end!r}\n\n[support]\namplitude = 0.2\nomega = 10.0\n\n[output]\nevery = 1000\nimpacts = true\n')
+        out = tmp_path / f"out-{dt}"
+        subprocess.run([str(exe), "run", str(scene), "--out", str(out)], check=True, capture_output=True)
+        rows = [r for r in csv_rows(out / "impacts.csv") if float(r["t"]) >= t0]
+        power[dt] = sum(abs(float(r["impulse"])) * abs(float(r["velocity"])) for r in rows) / (t_end - t0)
+    for dt in (1e-4, 5e-5):
+        (i,) = np.flatnonzero((t["benchmark"] == "beam-fig2-support") & (t["dt"] == dt))
+        assert t["impact_power"][i] == pytest.approx(power[dt], rel=1e-6)
+        assert t["impact_power_low"][i] < t["impact_power"][i] < t["impact_power_high"][i]
+        assert t["impact_power_rel_err"][i] == pytest.approx(power[dt] / power[5e-5] - 1.0, rel=1e-6, abs=1e-9)

@@ -33,11 +33,20 @@ pub struct Args {
     /// The beam's horizon (s).
     #[arg(long, default_value_t = 1.0)]
     beam_t_end: f64,
+    /// Time steps of the beam's impact-power rows (s); `--beam-stat-dts ''` for none.
+    #[arg(long, value_delimiter = ',', default_value = "5e-5,2.5e-5,1e-5", num_args = 0..)]
+    beam_stat_dts: Vec<f64>,
+    /// The impact power's reference step (s).
+    #[arg(long, default_value_t = 5e-6)]
+    beam_stat_ref_dt: f64,
+    /// The impact power's window (forcing periods).
+    #[arg(long, default_value_t = 320.0)]
+    beam_stat_window: f64,
 }
 
 /// Runs the study.
 pub fn run_wp(a: Args) -> Result<(), String> {
-    let cfg = work_precision::Config { out: a.out, levels: a.levels, degrees: a.degrees, modes: a.modes, beam_dts: a.beam_dts, beam_ref_dt: a.beam_ref_dt, beam_window: a.beam_window, beam_t_end: a.beam_t_end };
+    let cfg = work_precision::Config { out: a.out, levels: a.levels, degrees: a.degrees, modes: a.modes, beam_dts: a.beam_dts, beam_ref_dt: a.beam_ref_dt, beam_window: a.beam_window, beam_t_end: a.beam_t_end, beam_stat_dts: a.beam_stat_dts, beam_stat_ref_dt: a.beam_stat_ref_dt, beam_stat_window: a.beam_stat_window };
     let out = work_precision::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);
     print!("{}", out.report);

@@ -173,7 +173,7 @@ impl Observer for Levels {
 }
 
 /// The per-batch values of every statistic of one run, in [`STATISTICS`] order.
-fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<Vec<Vec<f64>>, StudyError> {
+pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<Vec<Vec<f64>>, StudyError> {
     let fail = |e: String| StudyError::Run(format!("{name}, dt = {dt:e}, J = {j}: {e}"));
     let probe = scene(name, dt, j, 1.0)?;
     let (omega, _, _) = probe.sweep_clock().ok_or_else(|| fail("no periodic forcing".into()))?;

@@ -40,6 +40,7 @@ use signorini_norms::NormReport;
 use signorini_plot::{line_chart, Chart, Scale, Series};
 use signorini_reduce::Keep;
 use signorini_run::beam::{build_excited, build_reduced, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::stats::{batch_means, Interval};
 use signorini_run::study::{self, StudyConfig};
 use signorini_run::{run as run_steps, Benchmark, NormObserver, Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{PaoliSchatzman, SchemeSpec, Stepper};
@@ -68,6 +69,15 @@ pub struct Config {
     pub beam_window: f64,
     /// The beam's horizon (`--beam-t-end`, default 1 s).
     pub beam_t_end: f64,
+    /// Time steps of the beam-statistics rows (`--beam-stat-dts`, default
+    /// 5e-5, 2.5e-5, 1e-5 s; empty: none): fig. 2 with `[support]`, its
+    /// impact power over a long window against the run at `beam_stat_ref_dt`.
+    pub beam_stat_dts: Vec<f64>,
+    /// The impact power's reference step (`--beam-stat-ref-dt`, default 5e-6 s).
+    pub beam_stat_ref_dt: f64,
+    /// The statistics window in forcing periods (`--beam-stat-window`,
+    /// default 320: 201 s at ω = 10; 20 batches, after 10 periods).
+    pub beam_stat_window: f64,
 }
 
 impl Default for Config {
@@ -82,6 +92,9 @@ impl Default for Config {
             beam_ref_dt: 2.5e-7,
             beam_window: 0.1,
             beam_t_end: 1.0,
+            beam_stat_dts: vec![5e-5, 2.5e-5, 1e-5],
+            beam_stat_ref_dt: 5e-6,
+            beam_stat_window: 320.0,
         }
     }
 }
@@ -127,10 +140,51 @@ impl Config {
         if let Some(&dt) = self.beam_dts.iter().find(|&&dt| !(dt >= 2.0 * rdt && dt <= w)) {
             return Err(StudyError::config("--beam-dts", format!("--beam-dts {dt}: allowed in [2 × --beam-ref-dt, --beam-window] = [{}, {w}] s", 2.0 * rdt)));
         }
+        let stats = self.stat_config(&self.beam_stat_dts);
+        stats.validate().map_err(|e| match e {
+            StudyError::Config { field, message } => {
+                let flag = match field.as_str() {
+                    "--dts" => "--beam-stat-dts",
+                    _ => "--beam-stat-window",
+                };
+                StudyError::config(flag, message.replacen(&field, flag, 1))
+            }
+            other => other,
+        })?;
+        let r = self.beam_stat_ref_dt;
+        if !(r.is_finite() && r > 0.0 && self.beam_stat_dts.iter().all(|&d| d >= 2.0 * r)) {
+            return Err(StudyError::config("--beam-stat-ref-dt", format!("--beam-stat-ref-dt {r}: allowed > 0 and at most half of every --beam-stat-dts")));
+        }
+        self.stat_config(&[r]).validate().map_err(|e| StudyError::config("--beam-stat-ref-dt", format!("--beam-stat-ref-dt {r}: {e}")))?;
         let top = self.levels.iter().copied().max().unwrap_or(0);
         crate::fits_memory("--levels", 4 * top, 1)?;
         crate::fits_memory("--degrees", 3 * top, 1)
     }
+}
+
+impl Config {
+    /// The beam-statistics configuration of the impact-power rows at `dts`
+    /// (fig. 2 with `[support]`, J = 19, 10 periods of transient, 20 batches).
+    fn stat_config(&self, dts: &[f64]) -> crate::beam_statistics::Config {
+        crate::beam_statistics::Config { dts: if dts.is_empty() { vec![self.beam_stat_ref_dt] } else { dts.to_vec() }, elements: vec![19], window: self.beam_stat_window, ..Default::default() }
+    }
+}
+
+/// The beam-statistics rows' benchmark name.
+pub const BEAM_STATS: &str = "beam-fig2-support";
+
+/// The impact power of fig. 2 with `[support]` at `dt` (J = 19) with its
+/// 95 % batch-means interval, the steps and the wall time of the run (the
+/// scene's own path, `signorini run`'s, observers included).
+fn impact_power(a: &Config, dt: f64) -> Result<(Interval, usize, f64), StudyError> {
+    let sc = a.stat_config(&[dt]);
+    let start = std::time::Instant::now();
+    let values = crate::beam_statistics::run_case("fig2-support", dt, 19, &sc)?;
+    let wall = since(start);
+    let power = batch_means(&values[0], sc.batches, 0.95).ok_or_else(|| StudyError::Run(format!("{BEAM_STATS}, dt = {dt:e}: no interval")))?;
+    let period = std::f64::consts::TAU / 10.0;
+    let steps = ((sc.transient + sc.window) * period / dt).round() as usize;
+    Ok((power, steps, wall))
 }
 
 /// What the study computed and wrote ([`crate::Report`]); its tables: `work_precision.csv`.
@@ -158,6 +212,9 @@ struct Point {
     modes: usize,
     /// Beam: tip error over the window, over the horizon, first impact time error.
     beam: Option<(f64, f64, f64)>,
+    /// Beam statistics: the impact power with its interval, and its relative
+    /// error against the reference run's.
+    power: Option<(Interval, f64)>,
 }
 
 impl Point {
@@ -326,7 +383,7 @@ fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
     let r = norms.report();
     let wall = best_of_3(&build, dt, t_end)?;
     let release_err = Some(release_error(norms.first_release(), exact_release(exact.as_ref(), t_end)));
-    Ok(Point { benchmark: b.to_string(), scheme: "cd-taylor".into(), mass: BarMass::Lumped.to_string(), m, dt, steps: sum.steps, norms: Some(r), release_err, wall, degree: 1, modes: 0, beam: None })
+    Ok(Point { benchmark: b.to_string(), scheme: "cd-taylor".into(), mass: BarMass::Lumped.to_string(), m, dt, steps: sum.steps, norms: Some(r), release_err, wall, degree: 1, modes: 0, beam: None, power: None })
 }
 
 /// |discrete − exact| first release time, NaN where either is missing.
@@ -413,7 +470,7 @@ fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
                 te,
             )?;
             let mass = if modes == 0 { "consistent" } else { "massless-tip" };
-            points.push(Point { benchmark: BEAM.into(), scheme: "beta-scheme(0.5)".into(), mass: mass.into(), m: j, dt, steps, norms: None, release_err: None, wall, degree: 3, modes, beam: Some(errs) });
+            points.push(Point { benchmark: BEAM.into(), scheme: "beta-scheme(0.5)".into(), mass: mass.into(), m: j, dt, steps, norms: None, release_err: None, wall, degree: 3, modes, beam: Some(errs), power: None });
         }
     }
     Ok((points, self_conv))
@@ -427,7 +484,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     a.validate()?;
     let start = std::time::Instant::now();
     create_dir(&a.out)?;
-    let frontier = 2 * (1 + a.degrees.len() + a.modes.len()) as u64 + u64::from(!a.beam_dts.is_empty());
+    let frontier = 2 * (1 + a.degrees.len() + a.modes.len()) as u64 + u64::from(!a.beam_dts.is_empty()) + u64::from(!a.beam_stat_dts.is_empty());
     let total = 2 * schemes.len() as u64 + frontier;
     let mut done = 0;
     let mut tick = || {
@@ -460,6 +517,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         degree: k,
         modes,
         beam: None,
+        power: None,
     };
     for benchmark in BARS {
         let (ratio, t_end) = benchmark.default_ratio_and_horizon();
@@ -533,6 +591,31 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         tick();
         Some(check)
     };
+    // The beam's impact power over a long window against the reference step.
+    if !a.beam_stat_dts.is_empty() {
+        let (reference, ref_steps, ref_wall) = impact_power(a, a.beam_stat_ref_dt)?;
+        let row = |dt: f64, power: Interval, steps: usize, wall: f64| Point {
+            benchmark: BEAM_STATS.into(),
+            scheme: "beta-scheme(0.5)".into(),
+            mass: "consistent".into(),
+            m: 19,
+            dt,
+            steps,
+            norms: None,
+            release_err: None,
+            wall,
+            degree: 3,
+            modes: 0,
+            beam: None,
+            power: Some((power, power.mean / reference.mean - 1.0)),
+        };
+        for &dt in &a.beam_stat_dts {
+            let (power, steps, wall) = impact_power(a, dt)?;
+            points.push(row(dt, power, steps, wall));
+        }
+        points.push(row(a.beam_stat_ref_dt, reference, ref_steps, ref_wall));
+        tick();
+    }
     let (s_, f_, i_) = (Kind::S, Kind::F, Kind::I);
     let mut w = TableOut::create(
         &a.out,
@@ -558,6 +641,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             ("l2_lambda", f_),
             ("l2_energy", f_),
             ("release_err", f_),
+            ("impact_power", f_),
+            ("impact_power_low", f_),
+            ("impact_power_high", f_),
+            ("impact_power_rel_err", f_),
         ],
     )?;
     let e6 = |x: Option<f64>| opt(x.map(|x| fe(x, 6)));
@@ -585,6 +672,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             n(|r| r.l2_lambda),
             n(|r| r.l2_energy),
             e6(p.release_err.filter(|e| e.is_finite())),
+            e6(p.power.map(|(i, _)| i.mean)),
+            e6(p.power.map(|(i, _)| i.low)),
+            e6(p.power.map(|(i, _)| i.high)),
+            e6(p.power.map(|(_, r)| r)),
         ])?;
     }
     let table = w.finish()?;
@@ -665,5 +756,50 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             report.push('\n');
         }
     }
+    if !a.beam_stat_dts.is_empty() {
+        impact_power_report(a, &points, &mut report);
+    }
     Ok(Output { tables: vec![table], report, wall_s: since(start), notes })
+}
+
+/// The impact-power section: every step with its interval and error against
+/// the reference, and the target — within 1 % of the reference with both
+/// intervals within ±1 %, at least 10x cheaper — reached or not (then the
+/// window it would take, intervals shrinking as 1/√window).
+fn impact_power_report(a: &Config, points: &[Point], report: &mut String) {
+    let rows: Vec<(&Point, Interval, f64)> = points.iter().filter_map(|p| p.power.map(|(i, r)| (p, i, r))).collect();
+    let Some(&(ref_p, ref_i, _)) = rows.iter().find(|(p, _, _)| p.dt == a.beam_stat_ref_dt) else { return };
+    let half = |i: &Interval| (i.high - i.low) / 2.0 / i.mean.abs();
+    let period = std::f64::consts::TAU / 10.0;
+    writeln!(
+        report,
+        "## {BEAM_STATS}: impact power (a statistic that converges; docs in `cargo xtask beam-statistics`)\n\nJ = 19, window {} forcing periods ({:.0} s) after 10, 20 batches; reference dt = {:e} s: {:.4} [{:.4}, {:.4}] (±{:.1} %), {:.2} s.\n\n| dt (s) | impact power [95 % interval] | ± | error against the reference | wall (s) |\n|---|---|---|---|---|",
+        a.beam_stat_window,
+        a.beam_stat_window * period,
+        a.beam_stat_ref_dt,
+        ref_i.mean,
+        ref_i.low,
+        ref_i.high,
+        100.0 * half(&ref_i),
+        ref_p.wall
+    )
+    .expect("writing to a String");
+    for (p, i, r) in &rows {
+        writeln!(report, "| {:e} | {:.4} [{:.4}, {:.4}] | {:.1} % | {:+.2} % | {:.2} |", p.dt, i.mean, i.low, i.high, 100.0 * half(i), 100.0 * r, p.wall).expect("writing to a String");
+    }
+    let ok = rows.iter().filter(|(p, i, r)| p.dt != a.beam_stat_ref_dt && r.abs() <= 0.01 && half(i) <= 0.01 && half(&ref_i) <= 0.01 && p.wall * 10.0 <= ref_p.wall).min_by(|x, y| x.0.wall.total_cmp(&y.0.wall));
+    match ok {
+        Some((p, _, r)) => writeln!(report, "\nTarget reached: dt = {:e} s is within {:.2} % of the reference with both intervals within ±1 %, {:.1}x cheaper.\n", p.dt, 100.0 * r.abs(), ref_p.wall / p.wall),
+        None => {
+            let worst = rows.iter().map(|(_, i, _)| half(i)).fold(0.0_f64, f64::max);
+            writeln!(
+                report,
+                "\nTarget (within 1 % of the reference, both intervals within ±1 %, 10x cheaper) not reached: the intervals over this window are up to ±{:.1} %; ±1 % needs about {:.0} forcing periods ({:.0} s) of window, intervals shrinking as 1/√window.\n",
+                100.0 * worst,
+                a.beam_stat_window * (worst / 0.01).powi(2),
+                a.beam_stat_window * (worst / 0.01).powi(2) * period
+            )
+        }
+    }
+    .expect("writing to a String");
 }

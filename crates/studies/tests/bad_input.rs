@@ -108,6 +108,12 @@ fn work_precision_refuses_bad_frontier_options() {
         (work_precision::Config { beam_ref_dt: -1.0, ..base.clone() }, "--beam-ref-dt"),
         (work_precision::Config { beam_t_end: 0.0, ..base.clone() }, "--beam-t-end"),
         (work_precision::Config { beam_t_end: f64::INFINITY, ..base.clone() }, "--beam-t-end"),
+        // The beam's impact-power rows (issue 23 §5): a step beyond 1e-3 s,
+        // a window under ten periods, a reference not below the steps.
+        (work_precision::Config { beam_stat_dts: vec![2e-3], ..base.clone() }, "--beam-stat-dts"),
+        (work_precision::Config { beam_stat_window: 9.0, ..base.clone() }, "--beam-stat-window"),
+        (work_precision::Config { beam_stat_ref_dt: 5e-5, ..base.clone() }, "--beam-stat-ref-dt"),
+        (work_precision::Config { beam_stat_ref_dt: f64::NAN, ..base.clone() }, "--beam-stat-ref-dt"),
     ];
     for (cfg, flag) in cases {
         assert_field(work_precision::run(&cfg, NO_PROGRESS).map(|_| ()), flag, &out);

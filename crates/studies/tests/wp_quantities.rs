@@ -107,7 +107,7 @@ fn close(what: &str, row: f64, here: f64, rel: f64) {
 #[test]
 fn the_new_columns_are_the_runs_own_errors() {
     let out = std::env::temp_dir().join(format!("signorini-studies-wp-quantities-{}", std::process::id()));
-    let cfg = work_precision::Config { out: out.clone(), levels: vec![10, 20], degrees: vec![], modes: vec![], beam_dts: vec![], ..Default::default() };
+    let cfg = work_precision::Config { out: out.clone(), levels: vec![10, 20], degrees: vec![], modes: vec![], beam_dts: vec![], beam_stat_dts: vec![], ..Default::default() };
     let o = work_precision::run(&cfg, &|_, _| {}).unwrap();
     let t = &o.tables[0];
     let s = |c: &str| match t.column(c) {
