@@ -16,14 +16,14 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640")]
     levels: Vec<usize>,
     /// Element degrees beyond P1 (2, 3); `--degrees ''` for none.
-    #[arg(long, value_delimiter = ',', default_value = "2,3", num_args = 0..)]
-    degrees: Vec<usize>,
+    #[arg(long, default_value = "2,3")]
+    degrees: String,
     /// Kept modes of the reduced bar and beam models; `--modes ''` for none.
-    #[arg(long, value_delimiter = ',', default_value = "2,4,8,16", num_args = 0..)]
-    modes: Vec<usize>,
+    #[arg(long, default_value = "2,4,8,16")]
+    modes: String,
     /// Time steps of the beam rows (s); `--beam-dts ''` for no beam rows.
-    #[arg(long, value_delimiter = ',', default_value = "1e-5,2.5e-5,5e-5,1e-4,2.5e-4,5e-4", num_args = 0..)]
-    beam_dts: Vec<f64>,
+    #[arg(long, default_value = "1e-5,2.5e-5,5e-5,1e-4,2.5e-4,5e-4")]
+    beam_dts: String,
     /// The beam reference's time step (s).
     #[arg(long, default_value_t = 2.5e-7)]
     beam_ref_dt: f64,
@@ -34,8 +34,8 @@ pub struct Args {
     #[arg(long, default_value_t = 1.0)]
     beam_t_end: f64,
     /// Time steps of the beam's impact-power rows (s); `--beam-stat-dts ''` for none.
-    #[arg(long, value_delimiter = ',', default_value = "5e-5,2.5e-5,1e-5", num_args = 0..)]
-    beam_stat_dts: Vec<f64>,
+    #[arg(long, default_value = "5e-5,2.5e-5,1e-5")]
+    beam_stat_dts: String,
     /// The impact power's reference step (s).
     #[arg(long, default_value_t = 5e-6)]
     beam_stat_ref_dt: f64,
@@ -44,9 +44,26 @@ pub struct Args {
     beam_stat_window: f64,
 }
 
+/// A comma-separated list of `flag`, empty for none (`--degrees ''`).
+fn list<T: std::str::FromStr>(flag: &str, s: &str) -> Result<Vec<T>, String> {
+    s.split(',').map(str::trim).filter(|p| !p.is_empty()).map(|p| p.parse().map_err(|_| format!("{flag} {p:?}: allowed a comma-separated list of numbers, or '' for none"))).collect()
+}
+
 /// Runs the study.
 pub fn run_wp(a: Args) -> Result<(), String> {
-    let cfg = work_precision::Config { out: a.out, levels: a.levels, degrees: a.degrees, modes: a.modes, beam_dts: a.beam_dts, beam_ref_dt: a.beam_ref_dt, beam_window: a.beam_window, beam_t_end: a.beam_t_end, beam_stat_dts: a.beam_stat_dts, beam_stat_ref_dt: a.beam_stat_ref_dt, beam_stat_window: a.beam_stat_window };
+    let cfg = work_precision::Config {
+        out: a.out,
+        levels: a.levels,
+        degrees: list("--degrees", &a.degrees)?,
+        modes: list("--modes", &a.modes)?,
+        beam_dts: list("--beam-dts", &a.beam_dts)?,
+        beam_ref_dt: a.beam_ref_dt,
+        beam_window: a.beam_window,
+        beam_t_end: a.beam_t_end,
+        beam_stat_dts: list("--beam-stat-dts", &a.beam_stat_dts)?,
+        beam_stat_ref_dt: a.beam_stat_ref_dt,
+        beam_stat_window: a.beam_stat_window,
+    };
     let out = work_precision::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);
     print!("{}", out.report);
