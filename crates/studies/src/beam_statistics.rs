@@ -261,29 +261,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     }
     create_dir(&a.out)?;
     let start = std::time::Instant::now();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut results: Vec<Option<Result<Vec<Vec<f64>>, StudyError>>> = (0..cases.len()).map(|_| None).collect();
-    let mut done = 0u64;
-    for chunk in (0..cases.len()).collect::<Vec<_>>().chunks(threads) {
-        let out: Vec<(usize, Result<Vec<Vec<f64>>, StudyError>)> = std::thread::scope(|s| {
-            let hs: Vec<_> = chunk
-                .iter()
-                .map(|&i| {
-                    let c = &cases[i];
-                    (i, s.spawn(move || run_case(&c.0, c.1, c.2, a)))
-                })
-                .collect();
-            hs.into_iter().map(|(i, h)| (i, h.join().unwrap_or_else(|_| Err(StudyError::Run("a run panicked".into()))))).collect()
-        });
-        for (i, r) in out {
-            results[i] = Some(r);
-        }
-        done += chunk.len() as u64;
-        progress(done, cases.len() as u64);
-    }
+    let results = crate::run_cases(&cases, progress, &|c: &(String, f64, usize)| run_case(&c.0, c.1, c.2, a));
     let mut cis: Vec<Vec<Interval>> = Vec::new();
     for r in results {
-        let r = r.expect("every case ran")?;
+        let r = r?;
         cis.push(r.iter().map(|v| batch_means(v, a.batches, 0.95).expect("validated batches")).collect());
     }
     let (f_, i_, s_) = (Kind::F, Kind::I, Kind::S);

@@ -320,6 +320,22 @@ pub(crate) fn prepare_dir(dir: &Path, expected: &[String], clean: bool) -> Resul
     Ok(())
 }
 
+/// Runs `f` on every case, each on its own thread, as many at a time as
+/// the machine has cores, calling `progress(done, total)` after each batch;
+/// the results in the cases' order (a panicking run is an error).
+pub(crate) fn run_cases<C: Sync, T: Send>(cases: &[C], progress: &(dyn Fn(u64, u64) + Sync), f: &(dyn Fn(&C) -> Result<T, StudyError> + Sync)) -> Vec<Result<T, StudyError>> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut results: Vec<Result<T, StudyError>> = Vec::with_capacity(cases.len());
+    for chunk in cases.chunks(threads) {
+        std::thread::scope(|s| {
+            let hs: Vec<_> = chunk.iter().map(|c| s.spawn(move || f(c))).collect();
+            results.extend(hs.into_iter().map(|h| h.join().unwrap_or_else(|_| Err(StudyError::Run("a run panicked".into())))));
+        });
+        progress(results.len() as u64, cases.len() as u64);
+    }
+    results
+}
+
 /// Writes an SVG (or any text) file.
 pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), StudyError> {
     std::fs::write(path, text).map_err(|source| StudyError::Io { path: path.to_path_buf(), source })

@@ -292,26 +292,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         }
         cases.push(c);
     }
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut rows: Vec<Option<Result<Row, StudyError>>> = (0..cases.len()).map(|_| None).collect();
-    let mut done = 0u64;
-    for chunk in (0..cases.len()).collect::<Vec<_>>().chunks(threads) {
-        let out: Vec<(usize, Result<Row, StudyError>)> = std::thread::scope(|s| {
-            let hs: Vec<_> = chunk
-                .iter()
-                .map(|&i| {
-                    let c = &cases[i];
-                    (i, s.spawn(move || run_case(a, c)))
-                })
-                .collect();
-            hs.into_iter().map(|(i, h)| (i, h.join().unwrap_or_else(|_| Err(StudyError::Run("a run panicked".into()))))).collect()
-        });
-        for (i, r) in out {
-            rows[i] = Some(r);
-        }
-        done += chunk.len() as u64;
-        progress(done, cases.len() as u64);
-    }
+    let rows = crate::run_cases(&cases, progress, &|c| run_case(a, c));
     let (f_, i_, s_) = (Kind::F, Kind::I, Kind::S);
     let mut ly = TableOut::create(&a.out, "lyapunov.csv", &[("scene", s_), ("dt", f_), ("elements", i_), ("lambda_max", f_), ("ci_low", f_), ("ci_high", f_), ("horizon_s", f_)])?;
     let mut osc = (!a.omegas.is_empty())
@@ -327,7 +308,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         a.out.display()
     );
     let w_ = |r: std::fmt::Result| r.expect("writing to a String");
-    for r in rows.into_iter().map(|r| r.expect("every case ran")) {
+    for r in rows {
         let r = r?;
         let horizon = r.horizon.is_finite().then(|| fe(r.horizon, 4));
         ly.row(vec![txt(&r.scene), fde(r.dt), int(r.elements), fe(r.lambda, 6), fe(r.ci.0, 6), fe(r.ci.1, 6), opt(horizon)])?;

@@ -103,28 +103,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     create_dir(&a.out)?;
     let start = std::time::Instant::now();
     let cases: Vec<(f64, f64)> = a.omegas.iter().flat_map(|&w| a.dts.iter().map(move |&dt| (w, dt))).collect();
-    // Every case on its own thread, two at a time per core at most.
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut results: Vec<Option<Impacts>> = (0..cases.len()).map(|_| None).collect();
-    let mut done = 0u64;
-    for chunk in (0..cases.len()).collect::<Vec<_>>().chunks(threads) {
-        let out: Vec<(usize, Impacts)> = std::thread::scope(|s| {
-            let (transient, record) = (a.transient, a.record);
-            let hs: Vec<_> = chunk
-                .iter()
-                .map(|&i| {
-                    let (w, dt) = cases[i];
-                    (i, s.spawn(move || scene_text(dt, 0.0, 0.0).and_then(|t| impacts(&t, w, transient, record))))
-                })
-                .collect();
-            hs.into_iter().map(|(i, h)| (i, h.join().unwrap_or_else(|_| Err(StudyError::Run("a run panicked".into()))))).collect()
-        });
-        for (i, r) in out {
-            results[i] = Some(r);
-        }
-        done += chunk.len() as u64;
-        progress(done, cases.len() as u64);
-    }
+    let (transient, record) = (a.transient, a.record);
+    let mut results: Vec<Option<Impacts>> = crate::run_cases(&cases, progress, &|&(w, dt)| scene_text(dt, 0.0, 0.0).and_then(|t| impacts(&t, w, transient, record))).into_iter().map(Some).collect();
     let (f_, i_) = (Kind::F, Kind::I);
     let mut orbits = TableOut::create(&a.out, "orbits.csv", &[("omega", f_), ("dt", f_), ("impacts", i_), ("velocity_exact", f_), ("phase_exact", f_), ("multiplier", f_), ("velocity_err", f_), ("phase_err", f_)])?;
     let mut rates = TableOut::create(&a.out, "rates.csv", &[("omega", f_), ("velocity_lsq_rate", f_), ("velocity_last_rate", f_), ("phase_lsq_rate", f_), ("phase_last_rate", f_)])?;
