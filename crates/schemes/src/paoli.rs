@@ -357,19 +357,29 @@ impl PaoliSchatzman {
 impl Stepper for PaoliSchatzman {
     stepper_accessors!();
 
+    /// `(U^n, (U^n − U^{n−1})/dt)`, then with the characteristic release
+    /// (`cd-taylor` at Courant number one) the contacts' shifts.
     fn state(&self) -> Option<Vec<f64>> {
         let mut s = self.u.clone();
         s.extend(self.u.iter().zip(&self.u_prev).map(|(u, up)| (u - up) / self.dt));
+        if let Some(r) = &self.release {
+            s.extend_from_slice(&r.shift);
+        }
         Some(s)
     }
 
     fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
         let n = self.u.len();
-        crate::check_state_len(s, 2 * n)?;
-        let (u, v) = s.split_at(n);
+        let shifts = self.release.as_ref().map_or(0, |r| r.shift.len());
+        crate::check_state_len(s, 2 * n + shifts)?;
+        let (u, rest) = s.split_at(n);
+        let (v, shift) = rest.split_at(n);
         self.u.copy_from_slice(u);
         for ((up, u), v) in self.u_prev.iter_mut().zip(u).zip(v) {
             *up = u - self.dt * v;
+        }
+        if let Some(r) = self.release.as_mut() {
+            r.shift.copy_from_slice(shift);
         }
         Ok(())
     }
