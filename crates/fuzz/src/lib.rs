@@ -773,10 +773,14 @@ fn assemble_bar(p: BarPicks) -> BarTable {
     let length_known = p.length.as_ref().is_none_or(|(v, _)| v.class == Class::Good);
     for (key, f) in [("initial_displacement", p.u0.clone()), ("initial_velocity", p.v0.clone())] {
         if let Some((mut v, func)) = f {
-            // A table must cover the whole bar [0, length].
-            if let (false, true, Class::Good, Some((first, last))) = (benchmark_mode, length_known, &v.class, table_span(&v.toml)) {
-                if first > 0.0 || last < length {
-                    v.class = bad(&[if key == "initial_displacement" { "bar.initial_displacement" } else { "bar.initial_velocity" }]);
+            // A table must cover the whole bar [0, length]; with a length
+            // that may be refused or not, whether it does is not known.
+            let path = if key == "initial_displacement" { "bar.initial_displacement" } else { "bar.initial_velocity" };
+            if let (false, Class::Good, Some((first, last))) = (benchmark_mode, &v.class, table_span(&v.toml)) {
+                if !length_known {
+                    v.class = unknown(&[path]);
+                } else if first > 0.0 || last < length {
+                    v.class = bad(&[path]);
                 }
             }
             if let (Some(func), false, Class::Good) = (func, benchmark_mode, &v.class) {
