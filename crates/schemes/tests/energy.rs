@@ -295,6 +295,31 @@ fn explicit_penalty_refuses_steps_beyond_its_cfl_limit() {
     assert!(matches!("penalty(0)".parse::<SchemeSpec>(), Err(SchemeError::Invalid { field: "gamma_p", .. })));
 }
 
+/// The strict explicit schemes (`taylor-flanagan` = `ps(0,0)`) refuse
+/// `dt >= limit · (1 + 1e-11)`: on the lumped bar with a free far end the
+/// exact limit is `h` (closed form, docs/theory.md §2.4); the reported
+/// limit (a certified bound) is never above it by more than the rounding of
+/// `h` itself and within 1e-14 below it; `dt = h` is accepted (the
+/// Courant-one study runs it, as it did when the limit came from a Rayleigh
+/// quotient) and `1 + 1e-10` times it refused.
+#[test]
+fn strict_explicit_schemes_leave_only_round_off_at_the_limit() {
+    let spec: SchemeSpec = "taylor-flanagan".parse().unwrap();
+    for m in [5usize, 10, 80, 1000] {
+        let h = 1.0 / m as f64;
+        let dy = bar_scene(m, BarMass::Lumped, true, 0.0, 0.0, None).0;
+        let init = approaching(m + 1, m, 0.0, 0.1, 0.3, 0.0, 1.0);
+        let reported = spec.cfl_limit(&dy).unwrap().unwrap();
+        assert!(reported <= h * (1.0 + 4.0 * f64::EPSILON) && reported >= h * (1.0 - 1e-14), "m = {m}: reported {reported:e}, exact h = {h:e}");
+        assert!(spec.build(dy.clone(), h, &init).is_ok(), "m = {m}: dt = h refused");
+        match spec.build(dy, h * (1.0 + 1e-10), &init) {
+            Err(SchemeError::Unstable { limit, .. }) => assert_eq!(limit, reported),
+            Err(e) => panic!("m = {m}: {e}"),
+            Ok(_) => panic!("m = {m}: accepted 1 + 1e-10 times the exact limit"),
+        }
+    }
+}
+
 /// `cd-taylor` takes dt up to and including its CFL limit `2/ω_max` and
 /// refuses beyond it, the limit from the closed-form spectrum of the lumped
 /// P1 bar (c = 1, h = 1/m): `(h/2) ü₀ = (u₁ − u₀)/h` at node 0 is the
