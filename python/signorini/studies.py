@@ -23,7 +23,7 @@ from . import _signorini
 __all__ = ["StudyResult", "ConvergenceResult", "convergence", "weighted", "beam", "beam_obstacles", "oscillator", "courant1", "long_horizon", "lyapunov", "beam_statistics", "work_precision", "stress", "LEVEL_COLUMNS", "NORMS"]
 
 #: The columns of a convergence study's per-configuration CSV.
-LEVEL_COLUMNS = ("m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s")
+LEVEL_COLUMNS = ("m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s", "setup_s", "step_s")
 #: The error norms, in column order.
 NORMS = ("linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy")
 

@@ -13,7 +13,7 @@ import pytest
 import signorini
 from signorini import studies
 
-WALL = {"wall_s", "wall", "wall_time_s", "time_s", "seconds", "ns_per_step", "run_s", "paper_s", "speedup"}
+WALL = {"wall_s", "wall", "wall_time_s", "time_s", "seconds", "ns_per_step", "run_s", "paper_s", "speedup", "setup_s", "step_s"}
 
 
 def read(path):

@@ -85,6 +85,16 @@ impl SymBand {
         SymBand { n: self.n, p: self.p, data }
     }
 
+    /// `out = a * self + b * other` (same shape), without allocating: the
+    /// shifted matrices `σM − K` of an inertia test repeated in a loop.
+    #[track_caller]
+    pub fn lin_comb_into(&self, a: f64, other: &SymBand, b: f64, out: &mut SymBand) {
+        assert!((self.n, self.p) == (other.n, other.p) && (self.n, self.p) == (out.n, out.p), "shape mismatch");
+        for ((o, x), y) in out.data.iter_mut().zip(&self.data).zip(&other.data) {
+            *o = a * x + b * y;
+        }
+    }
+
     /// The trailing principal submatrix on indices `start..n`.
     pub fn trailing(&self, start: usize) -> SymBand {
         let mut out = SymBand::zeros(self.n - start, self.p);
@@ -314,6 +324,12 @@ pub struct BandLdlt {
 }
 
 impl BandLdlt {
+    /// Storage for the factor of an `n × n` matrix of half-bandwidth `p`,
+    /// to be filled by [`SymBand::factor_into`].
+    pub fn zeros(n: usize, p: usize) -> Self {
+        BandLdlt { n, p, l: vec![0.0; n * p.max(1)], lt: vec![0.0; n * p.max(1)], d: vec![0.0; n], inv_d: vec![0.0; n] }
+    }
+
     /// Dimension.
     pub fn n(&self) -> usize {
         self.n

@@ -223,6 +223,23 @@ impl Bar {
         }
     }
 
+    /// The closed-form largest generalized eigenvalue `κ_h` of `(K, M)` for
+    /// P1 with the `std` or `lumped` mass (docs/theory.md §2.4; `None`
+    /// otherwise): with `C = cos(π/(2m))` for a clamped far end and `C = 1`
+    /// for a free one, lumped `κ_h = (2c²/h²)(1 + C)` (`= (4c²/h²) sin²(θ/2)`
+    /// at the top mode `θ = π − π/(2m)`, resp. `π`), consistent
+    /// `κ_h = (6c²/h²)(1 + C)/(2 − C)`.
+    pub fn max_eigenvalue_closed_form(&self, variant: BarMass) -> Option<f64> {
+        if self.degree != 1 || !matches!(variant, BarMass::Std | BarMass::Lumped) {
+            return None;
+        }
+        // In the pencil's entries: a = c²/h, e = M_00 = h/2 (lumped) or h/3 (std).
+        let c2h2 = self.wave_speed * self.wave_speed / (self.h() * self.h());
+        let lumped = variant == BarMass::Lumped;
+        let a_over_e = if lumped { 2.0 * c2h2 } else { 3.0 * c2h2 };
+        Some(crate::eigen::p1_closed_form(a_over_e, self.elements, self.right_end == RightEnd::Free, lumped))
+    }
+
     /// Element size `h = L/m`.
     pub fn h(&self) -> f64 {
         self.length / self.elements as f64

@@ -5,8 +5,10 @@
 //! mass-redistribution literature ([`BarMass`]), symmetric banded storage
 //! ([`SymBand`]) and its LDLᵀ factorisation ([`BandLdlt`]), done once per run
 //! and applied in place; the Hermite-cubic beam of docs/theory.md §2.2 ([`Beam`]) and
-//! the largest generalized eigenvalue of `(K, M)`
-//! ([`max_generalized_eigenvalue`]) that fixes exact stability limits.
+//! the largest generalized eigenvalue of `(K, M)` that fixes exact
+//! stability limits, certified from above in O(n)
+//! ([`max_generalized_eigenvalue_bound`]: the closed form of the uniform P1
+//! bar, Lanczos with an inertia test otherwise).
 //!
 //! Architecture invariant: no IO, no time stepping, no contact logic; only
 //! matrices, vectors and their algebra. Usable on its own.
@@ -19,7 +21,7 @@ mod eigen;
 pub use band::{BandLdlt, SymBand};
 pub use bar::{lagrange, Bar, BarMass, RightEnd};
 pub use beam::Beam;
-pub use eigen::{max_generalized_eigenvalue, max_generalized_eigenvalue_auto};
+pub use eigen::{lanczos_top, max_generalized_eigenvalue, max_generalized_eigenvalue_auto, max_generalized_eigenvalue_bound, max_generalized_eigenvalue_lanczos, uniform_p1_max_eigenvalue, KappaBound, Ritz, LANCZOS_STEPS};
 
 /// The largest number of elements a mesh accepts (2^40): beyond it sizes
 /// such as `2 (m + 1)` are no longer safely addressable. Memory runs out

@@ -15,7 +15,12 @@ use signorini_schemes::SchemeSpec;
 use std::time::Instant;
 
 /// Columns of a per-configuration CSV.
-pub const LEVEL_COLUMNS: [&str; 12] = ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s"];
+/// `wall_s` is the whole run (set-up and loop); `setup_s` the set-up alone
+/// (problem, exact initial data, the scheme's construction with its CFL
+/// check and factorisations, the norm observer) and `step_s` the time loop
+/// alone (the runner's own clock), appended later (columns are only ever
+/// added at the end).
+pub const LEVEL_COLUMNS: [&str; 14] = ["m", "dx", "dt", "steps", "linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy", "wall_s", "setup_s", "step_s"];
 
 /// The norms whose rates are reported, in column order.
 pub const NORMS: [&str; 7] = ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "l2_lambda", "linf_energy", "l2_energy"];
@@ -116,6 +121,11 @@ pub struct LevelResult {
     pub norms: NormReport,
     /// Wall time of the run (set-up and loop), seconds.
     pub wall_s: f64,
+    /// Wall time of the set-up alone (problem, scheme with its CFL check,
+    /// observers), seconds.
+    pub setup_s: f64,
+    /// Wall time of the time loop alone ([`crate::RunSummary::wall_s`]), seconds.
+    pub step_s: f64,
     /// The first level at which the contact is released after having been
     /// active ([`NormObserver::first_release`]).
     pub first_release: Option<f64>,
@@ -167,19 +177,22 @@ pub fn run_level_reduced(benchmark: Benchmark, exact: &dyn ExactSolution, scheme
     let cfg = RunConfig::new(dt, t_end)?;
     // Over the whole bar: 2m elements on [0, 2] for bar-mirrored.
     let mut norms = NormObserver::with_degree(exact, problem.bar.elements, k, problem.vnorm(), dt, kind);
-    let summary = match reduce {
-        None => {
-            let mut stepper = scheme.build(problem.dynamics(), dt, &problem.initial)?;
-            run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?
-        }
-        Some(keep) => {
-            let red = crate::reduced::reduce(&problem.dynamics(), &problem.initial, keep)?;
-            let mut stepper = scheme.build(red.dynamics.clone(), dt, &red.initial)?;
+    // The same construction as `signorini run` (the CLI's run_bar): the
+    // scheme built on the problem's dynamics, with its CFL check.
+    let red = reduce.map(|keep| crate::reduced::reduce(&problem.dynamics(), &problem.initial, keep)).transpose()?;
+    let mut stepper = match &red {
+        None => scheme.build(problem.dynamics(), dt, &problem.initial)?,
+        Some(red) => scheme.build(red.dynamics.clone(), dt, &red.initial)?,
+    };
+    let setup_s = start.elapsed().as_secs_f64();
+    let summary = match &red {
+        None => run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms])?,
+        Some(red) => {
             let mut full = crate::reduced::Reconstruct::new(&red.reduction, &mut norms, crate::reduced::Need::Full);
             run(stepper.as_mut(), &red.initial.u, &cfg, &mut [&mut full])?
         }
     };
-    Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64(), first_release: norms.first_release() })
+    Ok(LevelResult { m, dx, dt, steps: summary.steps, norms: norms.report(), wall_s: start.elapsed().as_secs_f64(), setup_s, step_s: summary.wall_s, first_release: norms.first_release() })
 }
 
 /// Runs the whole study in parallel (rayon's pool; finest levels first for

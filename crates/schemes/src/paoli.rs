@@ -88,6 +88,8 @@ pub struct PaoliSchatzman {
     /// (docs/theory.md §4.10): per contact, whether it applies and what the
     /// projection removed from the node's free update at the last step.
     release: Option<Release>,
+    /// The explicit step with a diagonal mass, fused (see [`ExplicitDiagonal`]).
+    explicit: Option<ExplicitDiagonal>,
 }
 
 /// The characteristic release rule (docs/theory.md §4.10): at Courant number
@@ -133,6 +135,81 @@ impl Release {
             .collect();
         let m = on.len();
         on.iter().any(|&b| b).then(|| Release { on, shift: vec![0.0; m], free: vec![0.0; m], force: vec![0.0; m] })
+    }
+}
+
+/// The central difference (β = 0) with a diagonal mass and a tridiagonal
+/// stiffness, one massive contact, no damping and no time-dependent load
+/// (`cd-taylor` and `taylor-flanagan` on the lumped bar): the right-hand
+/// side and the solve with the diagonal step matrix `A = M` in one pass,
+/// `U^{n+1}_i = (M_ii (2U^n_i − U^{n−1}_i) + dt² (F_i − (K U^n)_i)) / M_ii`
+/// with `1/M_ii` the factor's own inverse pivot — the general path's
+/// operations in the same order (its products with the zero off-diagonals
+/// of `M` and of `L` add exact zeros), so the same numbers.
+struct ExplicitDiagonal {
+    m: Vec<f64>,
+    /// The sub-diagonal of `M` (zeros), kept so that the energy's sums are
+    /// the general path's term for term.
+    m_sub: Vec<f64>,
+    k_diag: Vec<f64>,
+    k_sub: Vec<f64>,
+    inv_d: Vec<f64>,
+}
+
+impl ExplicitDiagonal {
+    /// The fused step when it applies.
+    fn new(dy: &Dynamics, beta: f64, a: &BandLdlt) -> Option<Self> {
+        let n = dy.n();
+        let applies = beta == 0.0
+            && n >= 3
+            && dy.k() == 1
+            && !dy.massless_contact()
+            && dy.damping.is_none()
+            && dy.forcing.is_empty()
+            && dy.mass.half_bandwidth() == 1
+            && dy.stiffness.half_bandwidth() == 1
+            && dy.mass.diagonal(1).iter().all(|x| *x == 0.0);
+        let (l, inv_d) = a.tridiagonal_factors()?;
+        (applies && l.iter().all(|x| *x == 0.0)).then(|| ExplicitDiagonal { m: dy.mass.diagonal(0), m_sub: dy.mass.diagonal(1), k_diag: dy.stiffness.diagonal(0), k_sub: dy.stiffness.diagonal(1), inv_d: inv_d.to_vec() })
+    }
+
+    /// `out = U^{n+1}` before the contact projection.
+    fn unconstrained(&self, dt2: f64, u: &[f64], up: &[f64], f: &[f64], out: &mut [f64]) {
+        let n = u.len();
+        let (m, kd, ks, inv_d) = (&self.m[..n], &self.k_diag[..n], &self.k_sub[..n], &self.inv_d[..n]);
+        let (up, f, out) = (&up[..n], &f[..n], &mut out[..n]);
+        let at = |i: usize, ku: f64| (m[i] * (2.0 * u[i] - up[i]) + dt2 * (f[i] - ku)) * inv_d[i];
+        out[0] = at(0, kd[0] * u[0] + ks[1] * u[1]);
+        for i in 1..n - 1 {
+            out[i] = at(i, (ks[i] * u[i - 1] + kd[i] * u[i]) + ks[i + 1] * u[i + 1]);
+        }
+        out[n - 1] = at(n - 1, ks[n - 1] * u[n - 2] + kd[n - 1] * u[n - 1]);
+    }
+
+    /// The energy's four sums `(VᵀMV, VᵀKV, ŪᵀKŪ, FᵀŪ)` in one pass, each
+    /// accumulated in the order of `SymBand::quad_form` and of the dot
+    /// product of the general path (`V = (U^n − U^{n−1})/dt`, `Ū` their mean).
+    fn energy_sums(&self, dt: f64, u: &[f64], up: &[f64], f: &[f64]) -> (f64, f64, f64, f64) {
+        let n = u.len();
+        let (m, ms, kd, ks, up, f) = (&self.m[..n], &self.m_sub[..n], &self.k_diag[..n], &self.k_sub[..n], &up[..n], &f[..n]);
+        let (mut kin, mut stiff_v, mut pot, mut load) = (0.0, 0.0, 0.0, -0.0);
+        let (mut pv, mut pu) = (0.0, 0.0);
+        for i in 0..n {
+            let v = (u[i] - up[i]) / dt;
+            let ub = 0.5 * (u[i] + up[i]);
+            if i == 0 {
+                kin += v * (m[0] * v + 2.0 * 0.0);
+                stiff_v += v * (kd[0] * v + 2.0 * 0.0);
+                pot += ub * (kd[0] * ub + 2.0 * 0.0);
+            } else {
+                kin += v * (m[i] * v + 2.0 * (0.0 + ms[i] * pv));
+                stiff_v += v * (kd[i] * v + 2.0 * (0.0 + ks[i] * pv));
+                pot += ub * (kd[i] * ub + 2.0 * (0.0 + ks[i] * pu));
+            }
+            load += f[i] * ub;
+            (pv, pu) = (v, ub);
+        }
+        (kin, stiff_v, pot, load)
     }
 }
 
@@ -217,6 +294,7 @@ impl PaoliSchatzman {
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
         let terms = dy.forcing.len();
+        let explicit = ExplicitDiagonal::new(&dy, beta, &a);
         Ok(Self {
             label,
             beta,
@@ -244,6 +322,7 @@ impl PaoliSchatzman {
             touched: Vec::with_capacity(k),
             marked: vec![false; k],
             release: None,
+            explicit,
         }
         .with_means())
     }
@@ -338,6 +417,54 @@ impl PaoliSchatzman {
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, self.lams[0])), active: self.acts[0] })
     }
 
+    /// `rhs = U^{n+1}` before the contact projection, in general: the
+    /// right-hand side `M (2U^n − U^{n−1}) − dt² K ((1−2β) U^n + β U^{n−1}) + dt² G^n`
+    /// (damping, forcing means, a massless node's quasi-static row), then
+    /// the solve with `A`.
+    fn general_unconstrained(&mut self) {
+        let dt2 = self.dt * self.dt;
+        let beta = self.beta;
+        for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
+            *t = 2.0 * u - up;
+        }
+        self.dy.mass.mul_vec(&self.tmp, &mut self.rhs);
+        for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
+            *t = (1.0 - 2.0 * beta) * u + beta * up;
+        }
+        self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
+        for ((b, f), k) in self.rhs.iter_mut().zip(&self.dy.load).zip(&self.ktmp) {
+            *b += dt2 * (f - k);
+        }
+        // + dt/2 C U^{n-1} (damping, centred).
+        if let Some(cm) = &self.dy.damping {
+            cm.mul_vec(&self.u_prev, &mut self.ktmp);
+            let half = 0.5 * self.dt;
+            self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b += half * k);
+        }
+        // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
+        for (((f, m), gc), sp) in self.dy.forcing.iter().zip(self.means.iter_mut()).zip(self.g_coefs.iter_mut()).zip(self.samplers.iter_mut()) {
+            // The mean over [t_{n+1}, t_{n+2}].
+            let next = sp.next_value();
+            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
+            *m = [m[1], next];
+            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * *gc * g);
+        }
+        if self.dy.massless_contact() {
+            // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
+            let t1 = (self.n + 1) as f64 * self.dt;
+            for ct in &self.dy.contacts {
+                let c = ct.dof;
+                // `load + 0.0` without forcing, `load + term_0` with one: as before.
+                let mut fc = self.dy.load[c] + self.dy.forcing.first().map_or(0.0, |f| f.shape[c] * f.time.value(t1));
+                for f in self.dy.forcing.iter().skip(1) {
+                    fc += f.shape[c] * f.time.value(t1);
+                }
+                self.rhs[c] = beta * dt2 * fc;
+            }
+        }
+        self.a.solve_in_place(&mut self.rhs);
+    }
+
     /// `U^{n-1}`.
     pub fn previous_displacement(&self) -> &[f64] {
         &self.u_prev
@@ -393,46 +520,11 @@ impl Stepper for PaoliSchatzman {
         let beta = self.beta;
         let e = self.dy.contact().restitution.unwrap_or(self.restitution);
         let c = self.dy.contact().dof;
-        // rhs = M (2U^n - U^{n-1}) - dt² K ((1-2β) U^n + β U^{n-1}) + dt² F
-        for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
-            *t = 2.0 * u - up;
+        if let Some(ex) = &self.explicit {
+            ex.unconstrained(dt2, &self.u, &self.u_prev, &self.dy.load, &mut self.rhs);
+        } else {
+            self.general_unconstrained();
         }
-        self.dy.mass.mul_vec(&self.tmp, &mut self.rhs);
-        for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
-            *t = (1.0 - 2.0 * beta) * u + beta * up;
-        }
-        self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
-        for ((b, f), k) in self.rhs.iter_mut().zip(&self.dy.load).zip(&self.ktmp) {
-            *b += dt2 * (f - k);
-        }
-        // + dt/2 C U^{n-1} (damping, centred).
-        if let Some(cm) = &self.dy.damping {
-            cm.mul_vec(&self.u_prev, &mut self.ktmp);
-            let half = 0.5 * self.dt;
-            self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b += half * k);
-        }
-        // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
-        for (((f, m), gc), sp) in self.dy.forcing.iter().zip(self.means.iter_mut()).zip(self.g_coefs.iter_mut()).zip(self.samplers.iter_mut()) {
-            // The mean over [t_{n+1}, t_{n+2}].
-            let next = sp.next_value();
-            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
-            *m = [m[1], next];
-            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * *gc * g);
-        }
-        if self.dy.massless_contact() {
-            // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
-            let t1 = (self.n + 1) as f64 * self.dt;
-            for ct in &self.dy.contacts {
-                let c = ct.dof;
-                // `load + 0.0` without forcing, `load + term_0` with one: as before.
-                let mut fc = self.dy.load[c] + self.dy.forcing.first().map_or(0.0, |f| f.shape[c] * f.time.value(t1));
-                for f in self.dy.forcing.iter().skip(1) {
-                    fc += f.shape[c] * f.time.value(t1);
-                }
-                self.rhs[c] = beta * dt2 * fc;
-            }
-        }
-        self.a.solve_in_place(&mut self.rhs);
         if let Some(r) = self.release.as_mut() {
             for (i, ct) in self.dy.contacts.iter().enumerate() {
                 let s = if r.on[i] { r.shift[i] } else { 0.0 };
@@ -487,6 +579,11 @@ impl Stepper for PaoliSchatzman {
 
     fn energy(&mut self) -> Option<(f64, f64)> {
         let dt = self.dt;
+        if let Some(ex) = &self.explicit {
+            let (kin, stiff_v, pot, load) = ex.energy_sums(dt, &self.u, &self.u_prev, &self.dy.load);
+            let e = 0.5 * kin + 0.5 * (self.beta - 0.25) * dt * dt * stiff_v + 0.5 * pot - load;
+            return Some((self.time() - 0.5 * dt, e));
+        }
         // tmp = V^{n-1/2}, ktmp = Ū^{n-1/2} (scratch between steps).
         for (((v, ub), u), up) in self.tmp.iter_mut().zip(self.ktmp.iter_mut()).zip(&self.u).zip(&self.u_prev) {
             *v = (u - up) / dt;

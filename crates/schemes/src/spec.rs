@@ -69,6 +69,18 @@ pub enum SchemeSpec {
     },
 }
 
+/// Relative room for round-off in the strict CFL checks (see `check_cfl`).
+const STRICT_CFL_ROUNDOFF: f64 = 1e-11;
+
+/// A certified upper bound of `κ_max` of the pencil `(k, m)`, in O(n): the
+/// closed form when it is a uniform P1 bar's (std or lumped mass), Lanczos
+/// with an inertia test otherwise ([`signorini_fem::max_generalized_eigenvalue_bound`],
+/// docs/theory.md §2.3, §2.4). The limit `2/sqrt(κ)` is therefore never
+/// above the exact one, and below it by at most a relative 1e-12.
+fn kappa_bound(k: &signorini_fem::SymBand, m: &signorini_fem::SymBand) -> Result<f64, signorini_fem::FemError> {
+    signorini_fem::max_generalized_eigenvalue_bound(k, m).map(|b| b.upper)
+}
+
 impl SchemeSpec {
     /// The presets of docs/theory.md §4.8, in the order of the papers' tables.
     pub const PRESETS: [(&'static str, SchemeSpec); 7] = [
@@ -116,7 +128,10 @@ impl SchemeSpec {
     /// `penalty-cd`, `(K, M)` for Taylor–Flanagan, the reduced `(K*, M*)` for
     /// `cd-massless`), and `2/sqrt((1 - 4β) κ_max)` of `(K, M)` for the
     /// Paoli–Schatzman β-scheme with 0 < β < 1/4 (0 with a massless node:
-    /// always unstable).
+    /// always unstable). `κ_max` is a certified upper bound (closed form on
+    /// a uniform P1 bar, Lanczos with an inertia test otherwise: O(n), an
+    /// iteration count independent of n), so the limit is never
+    /// over-estimated and is within a relative 1e-12 of the exact one.
     pub fn cfl_limit(&self, dy: &Dynamics) -> Result<Option<f64>, SchemeError> {
         let c = dy.contact().dof;
         match *self {
@@ -126,21 +141,21 @@ impl SchemeSpec {
                     let kappa = ct.stiffness.unwrap_or(gamma_p * dy.stiffness.get(ct.dof, ct.dof));
                     k.add(ct.dof, ct.dof, kappa);
                 }
-                Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &dy.mass)?.sqrt()))
+                Ok(Some(2.0 / kappa_bound(&k, &dy.mass)?.sqrt()))
             }
-            SchemeSpec::CentralDifferenceTaylor => Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&dy.stiffness, &dy.mass)?.sqrt())),
+            SchemeSpec::CentralDifferenceTaylor => Ok(Some(2.0 / kappa_bound(&dy.stiffness, &dy.mass)?.sqrt())),
             SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => {
                 if dy.massless_contact() {
                     return Ok(Some(0.0));
                 }
-                let kappa = signorini_fem::max_generalized_eigenvalue_auto(&dy.stiffness, &dy.mass)?;
+                let kappa = kappa_bound(&dy.stiffness, &dy.mass)?;
                 Ok(Some(crate::beta_scheme_critical_dt(beta, kappa)))
             }
             SchemeSpec::Reduced(ReducedLaw::CentralDifference) if dy.massless_contact() && c == 0 && dy.k() == 1 => {
                 // The reduced pencil (K*, M*): in contact the node is fixed and
                 // node 1 feels the whole first element.
                 let (k, m) = (dy.stiffness.trailing(1), dy.mass.trailing(1));
-                Ok(Some(2.0 / signorini_fem::max_generalized_eigenvalue_auto(&k, &m)?.sqrt()))
+                Ok(Some(2.0 / kappa_bound(&k, &m)?.sqrt()))
             }
             _ => Ok(None),
         }
@@ -209,10 +224,20 @@ impl SchemeSpec {
 
     /// Refuses `dt` at or beyond [`cfl_limit`](Self::cfl_limit); `cd-taylor`,
     /// meant for Courant number one, takes the limit itself (with room for
-    /// the round-off of the computed limit).
+    /// the round-off of the computed limit: a relative 1e-9, above the
+    /// bound's own 1e-12 below the exact limit).
+    ///
+    /// The other schemes refuse `dt >= limit · (1 + 1e-11)`: the computed
+    /// limit is a certified lower bound of the exact one, at most a relative
+    /// 1e-12 below it (8 ulps for the closed form), and a step that equals
+    /// the exact limit up to the round-off of `dt` itself — `taylor-flanagan`
+    /// at `dt = h/c` on the lumped bar with a free far end, whose limit is
+    /// exactly `h/c` (the Courant-one study) — is accepted, as the earlier
+    /// shift-invert iteration accepted it (its Rayleigh quotient lies below
+    /// `κ_max`, so its limit was at or a little above the exact one).
     fn check_cfl(&self, dy: &Dynamics, dt: f64) -> Result<(), SchemeError> {
         if let Some(limit) = self.cfl_limit(dy)? {
-            let ok = if *self == SchemeSpec::CentralDifferenceTaylor { dt <= limit * (1.0 + 1e-9) } else { dt < limit };
+            let ok = if *self == SchemeSpec::CentralDifferenceTaylor { dt <= limit * (1.0 + 1e-9) } else { dt < limit * (1.0 + STRICT_CFL_ROUNDOFF) };
             if !ok {
                 return Err(SchemeError::Unstable { dt, limit, scheme: self.to_string(), rule: self.stability_rule().unwrap_or("") });
             }

@@ -295,6 +295,65 @@ fn explicit_penalty_refuses_steps_beyond_its_cfl_limit() {
     assert!(matches!("penalty(0)".parse::<SchemeSpec>(), Err(SchemeError::Invalid { field: "gamma_p", .. })));
 }
 
+/// The fused explicit step of `PaoliSchatzman` (β = 0, diagonal mass,
+/// tridiagonal stiffness, one massive contact, no damping, no
+/// time-dependent load) is the general path's arithmetic: the same problem
+/// with a zero damping matrix (which takes the general path and only adds
+/// exact zeros) gives equal displacements, forces and energies at every
+/// step (`==`), for `cd-taylor`, both far ends, through impacts and
+/// releases. (`taylor-flanagan` steps through the same code, but its
+/// Newmark start step takes another path with a damping matrix.)
+#[test]
+fn fused_explicit_step_is_the_general_path_number_for_number() {
+    for name in ["cd-taylor"] {
+        let spec: SchemeSpec = name.parse().unwrap();
+        for free in [true, false] {
+            let m = 40;
+            let (dy, _) = bar_scene(m, BarMass::Lumped, free, 0.05, -1.0, None);
+            let n = dy.n();
+            let init = approaching(n, m, 0.05, 0.2, 0.5, 0.1, 1.0);
+            let dt = 0.9 / m as f64;
+            let mut general = dy.clone();
+            general.damping = Some(signorini_fem::SymBand::zeros(n, 1));
+            let (mut a, mut b) = (spec.build(dy, dt, &init).unwrap(), spec.build(general, dt, &init).unwrap());
+            let mut contacts = 0;
+            for step in 0..3000 {
+                let (ra, rb) = (a.step().unwrap(), b.step().unwrap());
+                assert_eq!(ra.lambda, rb.lambda, "{name} free {free}: λ at step {step}");
+                assert!(a.displacement().iter().zip(b.displacement()).all(|(x, y)| x == y), "{name} free {free}: U at step {step}");
+                assert_eq!(a.energy(), b.energy(), "{name} free {free}: energy at step {step}");
+                contacts += usize::from(ra.lambda.is_some_and(|l| l.1 != 0.0));
+            }
+            assert!(contacts > 10, "{name} free {free}: {contacts} contact steps");
+        }
+    }
+}
+
+/// The strict explicit schemes (`taylor-flanagan` = `ps(0,0)`) refuse
+/// `dt >= limit · (1 + 1e-11)`: on the lumped bar with a free far end the
+/// exact limit is `h` (closed form, docs/theory.md §2.4); the reported
+/// limit (a certified bound) is never above it by more than the rounding of
+/// `h` itself and within 1e-14 below it; `dt = h` is accepted (the
+/// Courant-one study runs it, as it did when the limit came from a Rayleigh
+/// quotient) and `1 + 1e-10` times it refused.
+#[test]
+fn strict_explicit_schemes_leave_only_round_off_at_the_limit() {
+    let spec: SchemeSpec = "taylor-flanagan".parse().unwrap();
+    for m in [5usize, 10, 80, 1000] {
+        let h = 1.0 / m as f64;
+        let dy = bar_scene(m, BarMass::Lumped, true, 0.0, 0.0, None).0;
+        let init = approaching(m + 1, m, 0.0, 0.1, 0.3, 0.0, 1.0);
+        let reported = spec.cfl_limit(&dy).unwrap().unwrap();
+        assert!(reported <= h * (1.0 + 4.0 * f64::EPSILON) && reported >= h * (1.0 - 1e-14), "m = {m}: reported {reported:e}, exact h = {h:e}");
+        assert!(spec.build(dy.clone(), h, &init).is_ok(), "m = {m}: dt = h refused");
+        match spec.build(dy, h * (1.0 + 1e-10), &init) {
+            Err(SchemeError::Unstable { limit, .. }) => assert_eq!(limit, reported),
+            Err(e) => panic!("m = {m}: {e}"),
+            Ok(_) => panic!("m = {m}: accepted 1 + 1e-10 times the exact limit"),
+        }
+    }
+}
+
 /// `cd-taylor` takes dt up to and including its CFL limit `2/ω_max` and
 /// refuses beyond it, the limit from the closed-form spectrum of the lumped
 /// P1 bar (c = 1, h = 1/m): `(h/2) ü₀ = (u₁ − u₀)/h` at node 0 is the

@@ -1,6 +1,7 @@
 //! The convergence study (`cargo xtask convergence`): sweep dx at a fixed
 //! dx/dt for each (scheme, mass) pair; one CSV error curve per pair
-//! (`<scheme>_<mass>.csv`, columns [`LEVEL_COLUMNS`]), `rates.csv`
+//! (`<scheme>_<mass>.csv`, columns [`LEVEL_COLUMNS`]: `wall_s` the whole
+//! run, then `setup_s` and `step_s` its set-up and its time loop), `rates.csv`
 //! (`scheme,mass,norm,lsq_rate,last_rate`: least-squares and last-two
 //! slopes of `log e` against `log dx`), `oscillation.csv`
 //! (`scheme,mass,m,lambda_tv_ratio`), log-log plots `plot_<norm>.svg`, and
@@ -264,7 +265,7 @@ fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefi
         for l in &r.levels {
             let mut row = vec![int(l.m), fe(l.dx, 10), fe(l.dt, 10), int(l.steps)];
             row.extend(NORMS.iter().map(|n| fe(study::norm_value(&l.norms, n), 10)));
-            row.push(ff(l.wall_s, 6));
+            row.extend([ff(l.wall_s, 6), ff(l.setup_s, 6), ff(l.step_s, 6)]);
             t.row(row)?;
         }
         tables.push(t.finish()?);
