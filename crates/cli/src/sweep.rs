@@ -452,6 +452,11 @@ impl Sweep {
             key += &format!("|{}|{:016x}|{:016x}|{}|{}", a.param, a.from.to_bits(), a.to.to_bits(), a.count, a.log);
         }
         h = fnv1a(key.as_bytes(), h);
+        // A key that would not act is refused: the sweep's runs are not
+        // watched by the energy monitor of `signorini run`.
+        if doc.get("output").and_then(|o| o.get("energy_warn")).is_some() {
+            return Err(crate::scene::field("output.energy_warn", "is not allowed in a sweep: its runs are not watched against their energy budget (run one value with `signorini run` for the warning); allowed: no energy_warn").into());
+        }
         let sweep = Self { id: format!("{h:016x}"), opts, doc, limits, scene_name: scene_name.into(), base };
         let o = &sweep.opts;
         integral_grid(&sweep.doc, &o.param, "", o.from, o.to, o.count, o.log)?;

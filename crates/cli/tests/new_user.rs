@@ -144,3 +144,19 @@ fn sweep_and_merge_bad_folders_exit_2() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("is not a shard folder") && !err.contains("os error"), "{err}");
 }
+
+/// A key that does nothing is refused: `[output] energy_warn` in a swept
+/// scene (the sweep's runs are not watched against their energy budget),
+/// naming the key, before any run (exit 2, nothing written).
+#[test]
+fn a_sweep_refuses_energy_warn() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/oscillator.toml")).expect("scene");
+    let p = dir.path().join("s.toml");
+    std::fs::write(&p, format!("{text}\n[output]\nenergy_warn = 3.0\n")).expect("write");
+    let out = dir.path().join("o");
+    let (code, err) = cli(&["sweep", p.to_str().expect("utf-8"), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "2", "--transient", "2", "--record", "2", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("output.energy_warn") && err.contains("not allowed in a sweep"), "{err}");
+    assert!(!out.exists(), "nothing is written");
+}
