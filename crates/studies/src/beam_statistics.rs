@@ -126,13 +126,10 @@ impl Config {
 /// What the study computed and wrote ([`crate::Report`]); its table: `statistics.csv`.
 pub type Output = crate::Report;
 
-const FIG2_SUPPORT: &str = include_str!("../../../data/scenes/beam-fig2-support.toml");
-const OBSTACLES: &str = include_str!("../../../data/scenes/beam-obstacles.toml");
-
+/// The scene `name` at step `dt`, `j` elements, horizon `t_end` (the
+/// Lyapunov study's scene text, validated).
 fn scene(name: &str, dt: f64, j: usize, t_end: f64) -> Result<Scene, StudyError> {
-    let base = if name == "beam-obstacles" { OBSTACLES } else { FIG2_SUPPORT };
-    let (head, tail) = base.split_once("[beam]\n").expect("a beam scene");
-    let text = format!("{head}[beam]\nt_end = {t_end:e}\ndt = {dt:e}\nelements = {j}\n{tail}");
+    let text = crate::lyapunov::scene_text(&crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j) }, t_end);
     let file = SceneFile::parse(&text).map_err(|e| StudyError::Run(format!("{name}: {e}")))?;
     file.validate_with(&Limits::machine()).map_err(|e| StudyError::Run(format!("{name}, dt = {dt:e}, J = {j}: {e}")))
 }
@@ -172,8 +169,9 @@ impl Observer for Levels {
     }
 }
 
-/// The per-batch values of every statistic of one run, in [`STATISTICS`] order.
-pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<Vec<Vec<f64>>, StudyError> {
+/// The per-batch values of every statistic of one run, in [`STATISTICS`]
+/// order, and the steps it took.
+pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<(Vec<Vec<f64>>, usize), StudyError> {
     let fail = |e: String| StudyError::Run(format!("{name}, dt = {dt:e}, J = {j}: {e}"));
     let probe = scene(name, dt, j, 1.0)?;
     let (omega, _, _) = probe.sweep_clock().ok_or_else(|| fail("no periodic forcing".into()))?;
@@ -189,7 +187,7 @@ pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<Vec<
     let mut imp = ImpactObserver::<std::io::Sink>::new(&contacts, dt, Some(omega), t0, 1 << 16, None).map_err(|e| fail(e.to_string()))?;
     let mut lv = Levels { t0, batch_len, dt, tip: built.tip, sums: vec![[0.0; 6]; nb] };
     let cfg = RunConfig::new(dt, t_end).map_err(|e| fail(e.to_string()))?;
-    run_steps(built.stepper.as_mut(), &built.u0.clone(), &cfg, &mut [&mut imp, &mut lv]).map_err(|e| fail(e.to_string()))?;
+    let steps = run_steps(built.stepper.as_mut(), &built.u0.clone(), &cfg, &mut [&mut imp, &mut lv]).map_err(|e| fail(e.to_string()))?.steps;
     let batch_of = |t: f64| (((t - t0) / batch_len).max(0.0) as usize).min(nb - 1);
     let mut power = vec![0.0; nb];
     let mut runs = vec![0.0; nb];
@@ -249,7 +247,7 @@ pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<Vec<
             o.push(v);
         }
     }
-    Ok(out)
+    Ok((out, steps))
 }
 
 /// Runs the study; `progress` after every run.
@@ -264,7 +262,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let results = crate::run_cases(&cases, progress, &|c: &(String, f64, usize)| run_case(&c.0, c.1, c.2, a));
     let mut cis: Vec<Vec<Interval>> = Vec::new();
     for r in results {
-        let r = r?;
+        let (r, _) = r?;
         cis.push(r.iter().map(|v| batch_means(v, a.batches, 0.95).expect("validated batches")).collect());
     }
     let (f_, i_, s_) = (Kind::F, Kind::I, Kind::S);

@@ -147,7 +147,7 @@ impl Config {
 pub type Output = crate::Report;
 
 #[derive(Clone, Debug)]
-enum Case {
+pub(crate) enum Case {
     Beam { name: String, dt: Option<f64>, elements: Option<usize> },
     Oscillator { omega: f64 },
 }
@@ -156,8 +156,9 @@ const FIG2_SUPPORT: &str = include_str!("../../../data/scenes/beam-fig2-support.
 const OBSTACLES: &str = include_str!("../../../data/scenes/beam-obstacles.toml");
 const OSCILLATOR: &str = include_str!("../../../data/scenes/oscillator.toml");
 
-/// The scene text of a case with horizon `t_end` (s).
-fn scene_text(case: &Case, t_end: f64) -> String {
+/// The scene text of a case with horizon `t_end` (s) (the beam statistics'
+/// scenes too).
+pub(crate) fn scene_text(case: &Case, t_end: f64) -> String {
     match case {
         Case::Beam { name, dt, elements } => {
             let mut keys = format!("t_end = {t_end:e}\n");
