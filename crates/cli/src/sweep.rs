@@ -933,7 +933,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String)> = Vec::new();
     for d in shards {
         let p = d.join("sweep.toml");
-        let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), if e.kind() == std::io::ErrorKind::NotFound { "no such file".to_string() } else { e.to_string() })))?;
+        let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), crate::reason(&e))))?;
         let id = manifest_id(&text).ok_or_else(|| bad(format!("{}: no sweep id", p.display())))?.to_string();
         let pair = |key: &str| -> Option<(usize, usize)> {
             let l = text.lines().find_map(|l| l.strip_prefix(&format!("{key} = [")))?;
