@@ -80,6 +80,11 @@ impl EnergyMonitor {
         Self { floor: f64::MIN_POSITIVE, state: EnergyGrowth { factor, max_ratio: f64::NEG_INFINITY, max_ratio_time: 0.0, exceeded: None, closed }, seen: false }
     }
 
+    /// Whether the budget is the scheme's closed identity.
+    pub fn closed(&self) -> bool {
+        self.state.closed
+    }
+
     /// Floors the budget at `floor` (a value that is not finite and > 0
     /// leaves the smallest positive number).
     pub fn set_floor(&mut self, floor: f64) {

@@ -349,19 +349,18 @@ struct Watch {
     u_prev: Vec<f64>,
     f_prev: Vec<f64>,
     f_new: Vec<f64>,
-    closed: bool,
 }
 
 impl Watch {
     fn new(factor: f64, stepper: &dyn Stepper, load_scale: f64) -> Self {
         let closed = stepper.work().is_some();
         let dy = stepper.dynamics();
-        let mut w = Self { monitor: crate::energy::EnergyMonitor::new(factor, closed), load_scale, reference: None, open_work: 0.0, u_prev: Vec::new(), f_prev: Vec::new(), f_new: Vec::new(), closed };
+        let mut w = Self { monitor: crate::energy::EnergyMonitor::new(factor, closed), load_scale, reference: None, open_work: 0.0, u_prev: Vec::new(), f_prev: Vec::new(), f_new: Vec::new() };
         if !closed && !dy.forcing.is_empty() {
             w.u_prev = stepper.displacement().to_vec();
             w.f_prev = vec![0.0; dy.n()];
             w.f_new = vec![0.0; dy.n()];
-            forcing_at(dy, stepper.time(), &mut w.f_prev);
+            dy.forcing_at(stepper.time(), &mut w.f_prev);
         }
         w
     }
@@ -375,12 +374,12 @@ impl Watch {
                 *self.reference.insert(e)
             }
         };
-        let budget = if self.closed {
+        let budget = if self.monitor.closed() {
             let wf = stepper.work().map_or(0.0, |w| w.0);
             reference + wf - stepper.dissipation().unwrap_or(0.0)
         } else {
             if !self.u_prev.is_empty() && n > 0 {
-                forcing_at(stepper.dynamics(), stepper.time(), &mut self.f_new);
+                stepper.dynamics().forcing_at(stepper.time(), &mut self.f_new);
                 let u = stepper.displacement();
                 let dw: f64 = (0..u.len()).map(|i| 0.5 * (self.f_prev[i] + self.f_new[i]) * (u[i] - self.u_prev[i])).sum();
                 self.open_work += dw.abs();
@@ -390,15 +389,6 @@ impl Watch {
             reference + self.open_work
         };
         self.monitor.observe(n, t, e, budget);
-    }
-}
-
-/// The time-dependent part of the load, `Σ_j shape_j s_j(t)`, into `out`.
-fn forcing_at(dy: &signorini_schemes::Dynamics, t: f64, out: &mut [f64]) {
-    out.iter_mut().for_each(|o| *o = 0.0);
-    for f in &dy.forcing {
-        let s = f.time.value(t);
-        out.iter_mut().zip(&f.shape).for_each(|(o, g)| *o += s * g);
     }
 }
 

@@ -391,6 +391,16 @@ impl Dynamics {
     /// `F(t)` = steady load + forcing at `t`, into `out`.
     pub fn load_at(&self, t: f64, out: &mut [f64]) {
         out.copy_from_slice(&self.load);
+        self.add_forcing(t, out);
+    }
+
+    /// The time-dependent part of the load alone, `Σ_j shape_j s_j(t)`, into `out`.
+    pub fn forcing_at(&self, t: f64, out: &mut [f64]) {
+        out.iter_mut().for_each(|o| *o = 0.0);
+        self.add_forcing(t, out);
+    }
+
+    fn add_forcing(&self, t: f64, out: &mut [f64]) {
         for f in &self.forcing {
             let s = f.time.value(t);
             out.iter_mut().zip(&f.shape).for_each(|(o, g)| *o += s * g);
