@@ -340,44 +340,11 @@ fn check_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<String> {
 /// one), `memory_bytes` and `output_bytes` (the estimates).
 #[pyfunction]
 fn check_scene_numbers<'py>(py: Python<'py>, scene: &Bound<'py, PyAny>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-    use signorini_cli::scene::{self as sc, Scene};
-    use signorini_run::beam::BeamContact;
     let (file, s) = scene_of(scene)?;
     let here = std::env::current_dir().unwrap_or_else(|_| std::env::temp_dir());
-    let bad = |e: String| SceneError::new_err(e);
-    let (text, steps, limit, memory, output) = py.detach(|| {
-        guarded(|| {
-            let text = signorini_cli::check(&s, &file, &here).map_err(|e| bad(e.to_string()))?;
-            let err = |e: signorini_run::RunError| bad(e.to_string());
-            let (dt, t_end) = match &s {
-                Scene::Bar(b) => (b.dt, b.t_end),
-                Scene::Beam { scene, .. } => (scene.dt, scene.t_end),
-                Scene::Oscillator { dt, t_end, .. } => (*dt, *t_end),
-            };
-            let steps = signorini_run::RunConfig::new(dt, t_end).map_err(err)?.steps();
-            // As `check` states them.
-            let (limit, elements, is_beam, unknowns, contacts) = match &s {
-                Scene::Bar(b) => (b.scheme.cfl_limit(&b.problem.dynamics()).map_err(|e| err(e.into()))?, b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
-                Scene::Beam { pipe, scene, contacts, .. } => {
-                    let limit = match scene.contact {
-                        BeamContact::Projection { beta } if beta < 0.25 => {
-                            let (beam, _, _) = pipe.dynamics(scene.elements).map_err(err)?;
-                            Some(signorini_run::beam::stability_limit(&beam, beta).map_err(err)?.dt_critical)
-                        }
-                        _ => None,
-                    };
-                    (limit, scene.elements, true, 2 * scene.elements, contacts)
-                }
-                Scene::Oscillator { osc, scheme, .. } => {
-                    let (dy, _) = osc.dynamics().map_err(err)?;
-                    (scheme.cfl_limit(&dy).map_err(|e| err(e.into()))?, 1, false, 1, &None)
-                }
-            };
-            let memory = sc::memory_estimate(elements, is_beam) + sc::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
-            let output = signorini_cli::output_estimate(&s, &file.output);
-            Ok((text, steps, limit, memory, output))
-        })
-    })?;
+    // The command's own report: the text and the numbers it states.
+    let r = py.detach(|| guarded(|| signorini_cli::check_report(&s, &file, &here).map_err(|e| SceneError::new_err(e.to_string()))))?;
+    let (text, steps, limit, memory, output) = (r.text, r.steps, r.stability_limit, r.memory_bytes, r.output_bytes);
     let d = pyo3::types::PyDict::new(py);
     d.set_item("text", text)?;
     d.set_item("steps", steps)?;

@@ -789,6 +789,28 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
 /// `signorini check`: what a run would do, its stability, memory, output
 /// size (against the free space of `out`) and cost.
 pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliError> {
+    check_report(scene, file, out).map(|r| r.text)
+}
+
+/// What `signorini check` states, as text and as numbers.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CheckReport {
+    /// The text `signorini check` prints.
+    pub text: String,
+    /// Time steps to the horizon.
+    pub steps: usize,
+    /// The exact stability limit of a conditionally stable scheme (s for
+    /// the beam), `None` for an unconditionally stable one.
+    pub stability_limit: Option<f64>,
+    /// The memory estimate, bytes.
+    pub memory_bytes: f64,
+    /// The output estimate, bytes.
+    pub output_bytes: f64,
+}
+
+/// [`check`] with its numbers (the Python `check()` returns them).
+pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<CheckReport, CliError> {
     let (elements, is_beam, unknowns, contacts) = match scene {
         Scene::Bar(b) => (b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
         Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
@@ -801,16 +823,17 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
     if let Some(c) = contacts {
         resources = format!("\n{}{resources}", c.describe());
     }
-    let text = match scene {
+    let (text, steps, stability_limit) = match scene {
         Scene::Bar(b) => {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
             let dofs = b.problem.bar.dofs();
-            let stability = match b.scheme.cfl_limit(&b.problem.dynamics()).map_err(RunError::from)? {
+            let limit = b.scheme.cfl_limit(&b.problem.dynamics()).map_err(RunError::from)?;
+            let stability = match limit {
                 None => "unconditionally stable".to_string(),
                 // Validation refuses a dt at or beyond the limit.
                 Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is below it", b.scheme.stability_rule().unwrap_or(""), b.dt),
             };
-            format!(
+            let text = format!(
                 "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
                  stability: {stability}\n\
                  cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
@@ -823,7 +846,8 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                 steps,
                 (dofs * steps) as f64,
                 1e-8 * (dofs * steps) as f64
-            )
+            );
+            (text, steps, limit)
         }
         Scene::Beam { pipe, scene, force, .. } => {
             let (_, _, beam_) = pipe.dynamics(scene.elements).map(|(b, d, i)| (d, i, b))?;
@@ -854,7 +878,7 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                 }
                 BeamContact::Penalty { .. } => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
             };
-            format!(
+            let text = format!(
                 "valid beam scene: J = {} ({} unknowns), dt = {:e} s, T = {} s: {} steps\nstability: {stab}\ncost estimate: {:.2} s (0.42 µs per step at J = 19, measured)",
                 scene.elements,
                 beam_.dofs(),
@@ -862,17 +886,20 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                 scene.t_end,
                 steps,
                 4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
-            )
+            );
+            let limit = matches!(scene.contact, BeamContact::Projection { beta } if beta < 0.25).then_some(lim.dt_critical);
+            (text, steps, limit)
         }
         Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
             let steps = RunConfig::new(*dt, *t_end)?.steps();
             let (dy, _) = osc.dynamics()?;
-            let stability = match scheme.cfl_limit(&dy).map_err(RunError::from)? {
+            let limit = scheme.cfl_limit(&dy).map_err(RunError::from)?;
+            let stability = match limit {
                 None => "unconditionally stable".to_string(),
                 Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e}; dt = {dt:e} is below it"),
             };
             let wn = (osc.stiffness / osc.mass).sqrt();
-            format!(
+            let text = format!(
                 "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
                 osc.mass,
                 osc.stiffness,
@@ -880,7 +907,8 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
                 osc.stop,
                 osc.restitution,
                 omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
-            )
+            );
+            (text, steps, limit)
         }
     };
     let reduced = match scene {
@@ -903,7 +931,7 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
             red.cfl_limit()
         )
     });
-    Ok(text + &reduced + &resources)
+    Ok(CheckReport { text: text + &reduced + &resources, steps, stability_limit, memory_bytes: memory, output_bytes: need })
 }
 
 /// `signorini list`.
