@@ -244,8 +244,8 @@ fn py_words(serde: &str) -> String {
 /// `bar.elements`") become "bar.elements: 80.0 (a float) is not allowed: an
 /// int >= 0"; other messages keep theirs, a dict's "scene file:" being
 /// "scene:".
-pub(crate) fn py_scene_error(e: signorini_cli::scene::SceneError, dict: bool) -> PyErr {
-    use signorini_cli::scene::SceneError as E;
+pub(crate) fn py_scene_error(e: signorini_scene::SceneError, dict: bool) -> PyErr {
+    use signorini_scene::SceneError as E;
     let E::Toml(msg) = &e else { return SceneError::new_err(e.to_string()) };
     let (first, path) = match msg.split_once("\nin `") {
         Some((f, rest)) => (f.trim(), rest.split('`').next().unwrap_or("").to_string()),
@@ -274,10 +274,10 @@ pub(crate) fn py_scene_error(e: signorini_cli::scene::SceneError, dict: bool) ->
 
 /// The scene of `scene`: a dict (the TOML schema as Python values), a path
 /// to a TOML file, or TOML text.
-pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_cli::scene::SceneFile, signorini_cli::scene::Scene)> {
-    use signorini_cli::scene::{Limits, SceneFile};
+pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_scene::SceneFile, signorini_scene::Scene)> {
+    use signorini_scene::{Limits, SceneFile};
     let is_dict = scene.is_instance_of::<pyo3::types::PyDict>();
-    let bad = |e: signorini_cli::scene::SceneError| py_scene_error(e, is_dict);
+    let bad = |e: signorini_scene::SceneError| py_scene_error(e, is_dict);
     let file = if let Ok(text) = scene.extract::<String>() {
         let path = std::path::Path::new(&text);
         if !text.contains('\n') && !text.contains('=') && path.exists() {
@@ -331,7 +331,7 @@ fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<String> {
 fn check_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<String> {
     let (file, s) = scene_of(scene)?;
     let here = std::env::current_dir().unwrap_or_else(|_| std::env::temp_dir());
-    py.detach(|| guarded(|| signorini_cli::check(&s, &file, &here).map_err(|e| SceneError::new_err(e.to_string()))))
+    py.detach(|| guarded(|| signorini_scene::check_report(&s, &file, &here).map(|r| r.text).map_err(|e| SceneError::new_err(e.to_string()))))
 }
 
 /// `signorini check` as a dict: its text and the numbers it states, from
@@ -343,7 +343,7 @@ fn check_scene_numbers<'py>(py: Python<'py>, scene: &Bound<'py, PyAny>) -> PyRes
     let (file, s) = scene_of(scene)?;
     let here = std::env::current_dir().unwrap_or_else(|_| std::env::temp_dir());
     // The command's own report: the text and the numbers it states.
-    let r = py.detach(|| guarded(|| signorini_cli::check_report(&s, &file, &here).map_err(|e| SceneError::new_err(e.to_string()))))?;
+    let r = py.detach(|| guarded(|| signorini_scene::check_report(&s, &file, &here).map_err(|e| SceneError::new_err(e.to_string()))))?;
     let (text, steps, limit, memory, output) = (r.text, r.steps, r.stability_limit, r.memory_bytes, r.output_bytes);
     let d = pyo3::types::PyDict::new(py);
     d.set_item("text", text)?;

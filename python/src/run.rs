@@ -137,7 +137,8 @@ fn python_status(e: &RunError) -> String {
 #[pyfunction]
 #[pyo3(signature = (scene, energy=None, fields_every=0, energy_warn=None))]
 pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64, energy_warn: Option<f64>) -> PyResult<RunArrays> {
-    use signorini_cli::scene::Scene;
+    use signorini_run::reduced::{Need, Reconstruct};
+    use signorini_scene::Scene;
     use signorini_run::{run, NormObserver, RunConfig};
     use std::sync::atomic::AtomicBool;
     if fields_every < 0 {
@@ -145,7 +146,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     }
     let (file, s) = scene_of(scene)?;
     // The argument, else the scene's `[output] energy_warn`, else 2.
-    let factor = energy_warn.unwrap_or_else(|| signorini_cli::energy_warn(&file));
+    let factor = energy_warn.unwrap_or_else(|| file.energy_warn());
     if !signorini_run::energy::check_factor(factor) {
         return Err(SceneError::new_err(format!("energy_warn: {factor} is out of range: finite and > 1")));
     }
@@ -161,26 +162,45 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         },
         _ => None,
     };
-    let mut built = guarded(|| signorini_cli::build(&s, None).map_err(|e| SceneError::new_err(e.to_string())))?;
+    // One instantiation for every front end: a reduced model (`reduce = {…}`)
+    // steps in reduced coordinates, and the recorder and the norms see the
+    // scene's unknowns, reconstructed, as `signorini run` does.
+    let mut built = guarded(|| s.instantiate(None).map_err(|e| SceneError::new_err(e.to_string())))?;
     let mut cfg = RunConfig::new(dt, t_end).and_then(|c| c.with_energy_warn(factor)).map_err(|e| SceneError::new_err(e.to_string()))?;
     // One flag per run, set from this thread when Python has a pending signal.
     let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
     cfg.interrupt = Some(flag);
     let levels = cfg.steps() + 1;
-    let unknowns = built.u0.len();
-    let dofs: Vec<usize> = built.stepper.dynamics().contacts.iter().map(|c| c.dof).collect();
-    let (lo, hi): (Vec<f64>, Vec<f64>) = built.stepper.dynamics().contacts.iter().map(|c| (c.bounds.lo, c.bounds.hi)).unzip();
+    let unknowns = built.reduction.as_ref().map_or(built.u0.len(), signorini_reduce::Reduction::parent_dofs);
+    let contacts = built.contacts();
+    let dofs: Vec<usize> = contacts.iter().map(|c| c.0).collect();
+    let (lo, hi): (Vec<f64>, Vec<f64>) = contacts.iter().map(|c| (c.1.lo, c.1.hi)).unzip();
     let mut rec = Recorder::new(built.tip, dofs.clone(), energy.unwrap_or(energy_default), fields_every as usize, levels, unknowns);
     let mut norms = match (&s, exact.as_deref()) {
         (Scene::Bar(b), Some(e)) => Some(NormObserver::with_degree(e, b.problem.bar.elements, b.problem.bar.degree, b.problem.vnorm(), dt, signorini_norms::NormKind::Exact)),
         _ => None,
     };
     let (res, signal) = crate::interruptible(py, flag, || {
-        let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
-        if let Some(n) = norms.as_mut() {
-            obs.push(n);
-        }
-        Ok(run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs))
+        let res = match &built.reduction {
+            None => {
+                let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
+                if let Some(n) = norms.as_mut() {
+                    obs.push(n);
+                }
+                run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs)
+            }
+            Some(r) => {
+                let need = if fields_every > 0 { Need::Full } else { Need::Dofs(dofs.iter().copied().chain(std::iter::once(built.tip)).collect()) };
+                let mut rec = Reconstruct::new(r, &mut rec, need);
+                let mut norms = norms.as_mut().map(|n| Reconstruct::new(r, n, Need::Full));
+                let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
+                if let Some(n) = norms.as_mut() {
+                    obs.push(n);
+                }
+                run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs)
+            }
+        };
+        Ok(res)
     });
     let res = res?;
     // Fields: the absolute state (the beam's lifting added back).
@@ -224,7 +244,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     let out = RunArrays {
         energy_max_ratio: growth.map_or(f64::NAN, |g| g.max_ratio),
         energy_exceeded,
-        energy_warning: growth.as_ref().and_then(signorini_cli::energy_warning),
+        energy_warning: growth.as_ref().and_then(signorini_scene::energy_warning),
         steps: res.as_ref().map_or(rec.t.len().saturating_sub(1), |s| s.steps),
         contact_steps: res.as_ref().map_or_else(|_| rec.active.iter().filter(|a| **a).count(), |s| s.contact_steps),
         t: rec.t.into_pyarray(py).unbind(),

@@ -6,7 +6,7 @@ use crate::{guarded, InternalError, SceneError};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use signorini_cli::sweep::{Axis, Sweep, SweepOptions};
+use signorini_sweep::{Axis, Sweep, SweepOptions};
 use std::path::{Path, PathBuf};
 
 /// The columns that count (runs, impacts, forcing periods, points, steps,
@@ -48,10 +48,10 @@ fn read_csv<'py>(py: Python<'py>, path: &Path) -> PyResult<Option<Bound<'py, PyD
 
 /// A sweep's error with the options named as the Python arguments
 /// (`--from` is `start`, `--period-tol` is `period_tol`, …).
-fn python_message(e: &signorini_cli::CliError) -> String {
-    use signorini_cli::sweep::SweepError;
+fn python_message(e: &signorini_sweep::Error) -> String {
+    use signorini_sweep::SweepError;
     match e {
-        signorini_cli::CliError::Sweep(SweepError::Option { option, message }) => {
+        signorini_sweep::Error::Options(SweepError::Option { option, message }) => {
             let name = match *option {
                 "from" => "start",
                 "to" => "stop",
@@ -61,8 +61,8 @@ fn python_message(e: &signorini_cli::CliError) -> String {
             };
             format!("{}: {message}", name.replace('-', "_"))
         }
-        signorini_cli::CliError::Sweep(SweepError::Param { path, message }) => format!("param {path}: {message}"),
-        signorini_cli::CliError::Sweep(SweepError::Value { path, value, error }) => format!("param {path} = {value}: {error}"),
+        signorini_sweep::Error::Options(SweepError::Param { path, message }) => format!("param {path}: {message}"),
+        signorini_sweep::Error::Options(SweepError::Value { path, value, error }) => format!("param {path} = {value}: {error}"),
         other => other.to_string(),
     }
 }
@@ -99,10 +99,10 @@ pub fn run_sweep<'py>(
     use std::sync::atomic::AtomicBool;
     let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
     let second = second.map(|(param, from, to, count, log)| Axis { param, from, to, count, log });
-    let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, progress: false, interrupt: Some(flag) };
-    let limits = signorini_cli::scene::Limits::machine();
+    let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, interrupt: Some(flag) };
+    let limits = signorini_scene::Limits::machine();
     let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(python_message(&e))))?;
-    let (res, signal) = crate::interruptible(py, flag, || Ok(signorini_cli::sweep::run(&sweep, &out)));
+    let (res, signal) = crate::interruptible(py, flag, || Ok(signorini_sweep::run(&sweep, &out, &signorini_sweep::NoProgress).map(|r| r.lines)));
     let res = res?;
     let tables = PyDict::new(py);
     for f in ["sweep.csv", "summary.csv", "impacts.csv"] {
@@ -126,7 +126,7 @@ pub fn run_sweep<'py>(
         }
         (None, Err(e)) => {
             // Bad input (exit 2 from the command) is a SceneError; IO is an OSError.
-            let err = if e.exit_code() == 2 { SceneError::new_err(e.to_string()) } else { pyo3::exceptions::PyOSError::new_err(e.to_string()) };
+            let err = if e.is_bad_input() { SceneError::new_err(e.to_string()) } else { pyo3::exceptions::PyOSError::new_err(e.to_string()) };
             err.value(py).setattr("partial", &d)?;
             Err(err)
         }

@@ -1,9 +1,12 @@
 //! # signorini-cli
 //!
 //! The `signorini` command: `run` a TOML scene, `list` what is available,
-//! `check` a scene (validation, stability limit, cost estimate). The library
-//! half holds the scene format ([`scene`]) and the run logic so that tests
-//! and other tools can call them; `src/main.rs` is only argument parsing.
+//! `check` a scene (validation, stability limit, cost estimate), `sweep` and
+//! `merge`. The scene format, its validation and instantiation live in
+//! `signorini-scene` (re-exported as [`scene`]) and the sweep engine in
+//! `signorini-sweep` ([`sweep`]); this crate holds what is the command's
+//! own: output folders, files and plots of `run`, progress bars, signals,
+//! the texts of `check` and `list`. `src/main.rs` is only argument parsing.
 //!
 //! Output files of `signorini run` (a contract: columns only ever added):
 //! * bar: `series.csv` — `n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy`, plus
@@ -50,13 +53,14 @@
 //! The output folder must not hold another run's files (any of
 //! [`OUTPUT_FILES`]): `run` refuses it unless asked to `clean` them first.
 
-pub mod excitation;
-pub mod scene;
-pub mod sweep;
+pub use signorini_scene as scene;
+pub use signorini_scene::excitation;
+pub use signorini_sweep as sweep;
 
-use scene::{BarRun, ContactSet, OutputToml, Scene, SceneFile};
+pub use scene::{check_report, energy_warning, CheckReport};
+use scene::{io_reason as reason, output_estimate, sig12, sig6, free_space, BarRun, ContactSet, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
-use signorini_run::beam::{build_excited, stability_limit, BeamContact, PenaltyUnits};
+use signorini_run::beam::{build_excited, PenaltyUnits};
 use signorini_run::reduced::{Need, Reconstruct};
 use signorini_schemes::TimeProfile;
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
@@ -150,6 +154,29 @@ pub enum CliError {
     },
 }
 
+impl From<scene::BuildError> for CliError {
+    fn from(e: scene::BuildError) -> Self {
+        match e {
+            scene::BuildError::Scene(e) => CliError::Scene(e),
+            scene::BuildError::Run(e) => CliError::Run(e),
+            other => CliError::Io(other.to_string()),
+        }
+    }
+}
+
+impl From<sweep::Error> for CliError {
+    fn from(e: sweep::Error) -> Self {
+        match e {
+            sweep::Error::Options(e) => CliError::Sweep(e),
+            sweep::Error::Scene(e) => CliError::Scene(e),
+            sweep::Error::Build(e) => e.into(),
+            sweep::Error::OutFolder { path, source } => CliError::OutFolder { path, source },
+            sweep::Error::Interrupted { done, total, dir } => CliError::SweepInterrupted { done, total, dir },
+            other => CliError::Io(other.to_string()),
+        }
+    }
+}
+
 impl CliError {
     /// The process exit code: 2 for an invalid scene or command (nothing
     /// was run), 130 for an interrupted run, 3 for a sweep that ran to its
@@ -161,16 +188,6 @@ impl CliError {
             CliError::SweepFailed { .. } => 3,
             _ => 1,
         }
-    }
-}
-
-/// An IO error in words, without the OS's error number.
-pub(crate) fn reason(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        std::io::ErrorKind::IsADirectory => "a folder, not a file".into(),
-        _ => e.to_string(),
     }
 }
 
@@ -404,12 +421,35 @@ fn progress(total: usize, show: bool) -> Progress {
 }
 
 /// A progress bar with an ETA on stderr (hidden unless `show`).
-pub(crate) fn progress_bar(total: u64, show: bool, unit: &str) -> indicatif::ProgressBar {
+fn progress_bar(total: u64, show: bool, unit: &str) -> indicatif::ProgressBar {
     let target = if show { indicatif::ProgressDrawTarget::stderr() } else { indicatif::ProgressDrawTarget::hidden() };
     let bar = indicatif::ProgressBar::with_draw_target(Some(total), target);
     let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} elapsed, ETA {{eta}}");
     bar.set_style(indicatif::ProgressStyle::with_template(&template).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
     bar
+}
+
+/// A sweep's progress bar (runs) on stderr, hidden unless `show`.
+pub struct RunsBar(indicatif::ProgressBar);
+
+impl RunsBar {
+    /// A bar drawn on stderr when `show`.
+    pub fn new(show: bool) -> Self {
+        Self(progress_bar(0, show, "runs"))
+    }
+}
+
+impl sweep::Progress for RunsBar {
+    fn start(&self, total: u64, done: u64) {
+        self.0.set_length(total);
+        self.0.set_position(done);
+    }
+    fn advance(&self, runs: u64) {
+        self.0.inc(runs);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
 }
 
 /// What a run did.
@@ -422,11 +462,6 @@ pub struct Summary {
     pub warnings: Vec<String>,
 }
 
-/// The monitor's factor for a scene (`[output] energy_warn`, default 2).
-pub fn energy_warn(file: &SceneFile) -> f64 {
-    file.output.energy_warn.unwrap_or(scene::DEFAULT_ENERGY_WARN)
-}
-
 /// The summary line of the energy monitor (the largest E/budget) and, if
 /// the energy went past the factor, the one warning.
 fn energy_report(s: &signorini_run::RunSummary, lines: &mut Vec<String>) -> Vec<String> {
@@ -435,35 +470,6 @@ fn energy_report(s: &signorini_run::RunSummary, lines: &mut Vec<String>) -> Vec<
     let budget = if g.closed { "E_ref + load/support work − dissipation" } else { "E_ref + Σ|load work|: the scheme does not track its work" };
     lines.push(format!("energy: largest E/budget {} at t = {} (budget {budget}; warn above {})", num(sig6(g.max_ratio)), num(sig12(g.max_ratio_time)), num(g.factor)));
     energy_warning(&g).map(|w| format!("warning: {w}")).into_iter().collect()
-}
-
-/// The energy-growth warning of a run (its text, without a `warning:`
-/// prefix; Python emits it as `signorini.EnergyGrowthWarning`), if the
-/// energy exceeded its budget by more than the factor.
-pub fn energy_warning(g: &signorini_run::EnergyGrowth) -> Option<String> {
-    use signorini_run::text::num;
-    let x = g.exceeded?;
-    Some(format!(
-        "the discrete energy exceeds {} × its budget from t = {} (step {}: E = {}, budget {}, E/budget {}); largest E/budget {} at t = {}; the contact (or what else the scheme's energy identity does not balance, docs/theory.md §7) created energy: long runs of this scheme, mass and dt are not to be trusted",
-        num(g.factor),
-        num(sig12(x.time)),
-        x.step,
-        num(sig6(x.energy)),
-        num(sig6(x.budget)),
-        num(sig6(x.ratio)),
-        num(sig6(g.max_ratio)),
-        num(sig12(g.max_ratio_time)),
-    ))
-}
-
-/// `x` to 6 significant digits (for the summary).
-fn sig6(x: f64) -> f64 {
-    format!("{x:.5e}").parse().unwrap_or(x)
-}
-
-/// `x` to 12 significant digits (times: `1.455`, not `1.4549999999999998`).
-fn sig12(x: f64) -> f64 {
-    format!("{x:.11e}").parse().unwrap_or(x)
 }
 
 /// Writes one plot; a plot never fails a run: a problem becomes a note.
@@ -484,47 +490,6 @@ fn plot(notes: &mut Vec<String>, dir: &Path, name: &str, title: &str, (t, y): (&
     if let Err(e) = written {
         notes.push(format!("{name} not written: {e}"));
     }
-}
-
-/// Bytes of one CSV row of `cols` numeric cells (`{:.12e}`: at most 20
-/// characters and a comma) after a step counter of up to 10 digits.
-fn row_bytes(cols: usize) -> f64 {
-    11.0 + 21.0 * cols as f64
-}
-
-/// The size of what a run of `scene` writes (bytes), estimated from its
-/// row counts (the plots are bounded: 20 000 points each).
-pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
-    let per_contact = |c: &Option<ContactSet>| 3 * c.as_ref().map_or(0, |c| c.sites.len());
-    let (steps, series_cols, nodes) = match scene {
-        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.last_node() as f64 + 1.0),
-        Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
-        Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 8, 1.0),
-    };
-    let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
-    let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
-    let plots = if output.plots { 4.0 * 2e6 } else { 0.0 };
-    series + snaps + plots
-}
-
-/// Free bytes on the file system holding `dir` (or its nearest existing
-/// ancestor), if the system says.
-pub fn free_space(dir: &Path) -> Option<f64> {
-    use std::os::unix::ffi::OsStrExt;
-    let mut p = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
-    while !p.exists() {
-        p = p.parent().filter(|q| !q.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    }
-    let c = std::ffi::CString::new(p.as_os_str().as_bytes()).ok()?;
-    let mut st = std::mem::MaybeUninit::<libc::statvfs>::uninit();
-    // SAFETY: `c` is a valid NUL-terminated path and `st` a writable statvfs.
-    let rc = unsafe { libc::statvfs(c.as_ptr(), st.as_mut_ptr()) };
-    if rc != 0 {
-        return None;
-    }
-    // SAFETY: statvfs returned 0, so it filled `st`.
-    let st = unsafe { st.assume_init() };
-    Some(st.f_bavail as f64 * st.f_frsize as f64)
 }
 
 /// Refuses an output folder holding another run's files, or removes them
@@ -560,7 +525,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
         Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
             let (dy, init) = osc.dynamics()?;
             let mut stepper = scheme.build(dy, *dt, &init).map_err(RunError::from)?;
-            let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(energy_warn(scene_file))?;
+            let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(scene_file.energy_warn())?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
@@ -602,7 +567,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 }
             };
             let parent = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
-            let mut cfg = RunConfig::new(scene.dt, scene.t_end)?.with_energy_warn(energy_warn(scene_file))?;
+            let mut cfg = RunConfig::new(scene.dt, scene.t_end)?.with_energy_warn(scene_file.energy_warn())?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
@@ -682,7 +647,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     }
     .map_err(RunError::from)?;
     let u0 = red.as_ref().map_or(&p.initial.u, |r| &r.initial.u);
-    let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(energy_warn(file))?;
+    let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(file.energy_warn())?;
     cfg.interrupt = opts.interrupt;
     let steps = cfg.steps();
     // With stops, u_contact / lambda are contact 0's (the first stop).
@@ -789,149 +754,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
 /// `signorini check`: what a run would do, its stability, memory, output
 /// size (against the free space of `out`) and cost.
 pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliError> {
-    check_report(scene, file, out).map(|r| r.text)
-}
-
-/// What `signorini check` states, as text and as numbers.
-#[derive(Clone, Debug, PartialEq)]
-#[non_exhaustive]
-pub struct CheckReport {
-    /// The text `signorini check` prints.
-    pub text: String,
-    /// Time steps to the horizon.
-    pub steps: usize,
-    /// The exact stability limit of a conditionally stable scheme (s for
-    /// the beam), `None` for an unconditionally stable one.
-    pub stability_limit: Option<f64>,
-    /// The memory estimate, bytes.
-    pub memory_bytes: f64,
-    /// The output estimate, bytes.
-    pub output_bytes: f64,
-}
-
-/// [`check`] with its numbers (the Python `check()` returns them).
-pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<CheckReport, CliError> {
-    let (elements, is_beam, unknowns, contacts) = match scene {
-        Scene::Bar(b) => (b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
-        Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
-        Scene::Oscillator { .. } => (1, false, 1, &None),
-    };
-    let need = output_estimate(scene, &file.output);
-    let free = free_space(out).map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", scene::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
-    let memory = scene::memory_estimate(elements, is_beam) + scene::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
-    let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", scene::bytes(memory), scene::bytes(need), out.display());
-    if let Some(c) = contacts {
-        resources = format!("\n{}{resources}", c.describe());
-    }
-    let (text, steps, stability_limit) = match scene {
-        Scene::Bar(b) => {
-            let steps = RunConfig::new(b.dt, b.t_end)?.steps();
-            let dofs = b.problem.bar.dofs();
-            let limit = b.scheme.cfl_limit(&b.problem.dynamics()).map_err(RunError::from)?;
-            let stability = match limit {
-                None => "unconditionally stable".to_string(),
-                // Validation refuses a dt at or beyond the limit.
-                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is below it", b.scheme.stability_rule().unwrap_or(""), b.dt),
-            };
-            let text = format!(
-                "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
-                 stability: {stability}\n\
-                 cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
-                b.problem.bar.elements,
-                dofs,
-                b.problem.mass,
-                b.scheme,
-                b.dt,
-                b.t_end,
-                steps,
-                (dofs * steps) as f64,
-                1e-8 * (dofs * steps) as f64
-            );
-            (text, steps, limit)
-        }
-        Scene::Beam { pipe, scene, force, .. } => {
-            let (_, _, beam_) = pipe.dynamics(scene.elements).map(|(b, d, i)| (d, i, b))?;
-            let steps = RunConfig::new(scene.dt, scene.t_end)?.steps();
-            let beta = match scene.contact {
-                BeamContact::Projection { beta } => beta,
-                BeamContact::Penalty { .. } => 0.25,
-            };
-            let lim = stability_limit(&beam_, beta)?;
-            let stab = match scene.contact {
-                BeamContact::Projection { beta } if beta < 0.25 => format!(
-                    "conditionally stable (β = {beta} < 1/4): κ_h = {:.6e}, exact critical dt = 2/sqrt((1-4β) κ_h) = {:.6e} s (the paper's sufficient condition (3.1) gives {:.6e} s; with its κ bound {:.6e} s); dt = {:e} is {}",
-                    lim.kappa,
-                    lim.dt_critical,
-                    lim.dt_sufficient,
-                    lim.dt_paper,
-                    scene.dt,
-                    if scene.dt < lim.dt_critical {
-                        "below it"
-                    } else if *force {
-                        "BEYOND it (forced)"
-                    } else {
-                        "BEYOND it: the run will be refused"
-                    }
-                ),
-                BeamContact::Projection { beta } => {
-                    format!("unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)", lim.kappa, lim.dt_sufficient)
-                }
-                BeamContact::Penalty { .. } => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
-            };
-            let text = format!(
-                "valid beam scene: J = {} ({} unknowns), dt = {:e} s, T = {} s: {} steps\nstability: {stab}\ncost estimate: {:.2} s (0.42 µs per step at J = 19, measured)",
-                scene.elements,
-                beam_.dofs(),
-                scene.dt,
-                scene.t_end,
-                steps,
-                4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
-            );
-            let limit = matches!(scene.contact, BeamContact::Projection { beta } if beta < 0.25).then_some(lim.dt_critical);
-            (text, steps, limit)
-        }
-        Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
-            let steps = RunConfig::new(*dt, *t_end)?.steps();
-            let (dy, _) = osc.dynamics()?;
-            let limit = scheme.cfl_limit(&dy).map_err(RunError::from)?;
-            let stability = match limit {
-                None => "unconditionally stable".to_string(),
-                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e}; dt = {dt:e} is below it"),
-            };
-            let wn = (osc.stiffness / osc.mass).sqrt();
-            let text = format!(
-                "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
-                osc.mass,
-                osc.stiffness,
-                osc.damping_ratio,
-                osc.stop,
-                osc.restitution,
-                omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
-            );
-            (text, steps, limit)
-        }
-    };
-    let reduced = match scene {
-        Scene::Bar(b) => b.reduce.map(|keep| signorini_run::reduced::reduce(&b.problem.dynamics(), &b.problem.initial, keep)).transpose()?,
-        Scene::Beam { pipe, scene, contacts, excitation, reduce: Some(keep), .. } => {
-            let (_, dy, init) = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
-            Some(signorini_run::reduced::reduce(&dy, &init, *keep)?)
-        }
-        _ => None,
-    };
-    let reduced = reduced.map_or(String::new(), |r| {
-        let red = &r.reduction;
-        format!(
-            "\nreduced model (docs/theory.md §2.5): {} contact(s) + {} of {} fixed-interface modes = {} unknowns (highest kept {:.6e} Hz); explicit CD limit of the reduced pencil 2/ω_r = {:.6e}",
-            red.contacts().len(),
-            red.modes().len(),
-            red.interior_dofs(),
-            red.dofs(),
-            red.modes().last().map_or(0.0, |w| w.sqrt() / std::f64::consts::TAU),
-            red.cfl_limit()
-        )
-    });
-    Ok(CheckReport { text: text + &reduced + &resources, steps, stability_limit, memory_bytes: memory, output_bytes: need })
+    Ok(check_report(scene, file, out)?.text)
 }
 
 /// `signorini list`.
@@ -1020,13 +843,13 @@ impl Analysis {
         }
         if plots {
             if let Some(im) = &self.vibro.impacts {
-                match sweep::impact_map(im.impacts().iter().map(|i| (i.stop, i.phase, i.velocity)), |_| 2) {
+                match signorini_plot::impact_map(im.impacts().iter().map(|i| (i.stop, i.phase, i.velocity)), |_| 2) {
                     Ok(svg) => std::fs::write(self.out.join("impact_map.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
                     Err(e) => notes.push(format!("impact_map.svg not written: {e}")),
                 }
             }
             if let Some(p) = &self.vibro.poincare {
-                let (pts, title) = sweep::thin(p.points().iter().map(|q| (q.displacement, q.velocity)).collect(), "Poincaré section: (displacement, velocity) at the forcing period", "samples");
+                let (pts, title) = signorini_plot::thin(p.points().iter().map(|q| (q.displacement, q.velocity)).collect(), "Poincaré section: (displacement, velocity) at the forcing period", "samples");
                 let chart = Chart { title: &title, x_label: "displacement", y_label: "velocity", scale: Scale::Linear, size: (700, 600) };
                 match signorini_plot::scatter(&chart, &[Series { label: "section".into(), points: pts, reference: false, style: Style::default() }], 3) {
                     Ok(svg) => std::fs::write(self.out.join("poincare.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
@@ -1042,122 +865,4 @@ impl Analysis {
 fn run_observed<'a, const K: usize>(stepper: &mut dyn signorini_schemes::Stepper, u0: &[f64], cfg: &RunConfig, mut always: Vec<&'a mut dyn Observer>, optional: [Option<&'a mut dyn Observer>; K]) -> Result<signorini_run::RunSummary, RunError> {
     always.extend(optional.into_iter().flatten());
     run(stepper, u0, cfg, &mut always)
-}
-
-/// A scene's integrator, ready to run: the stepper, its initial
-/// displacement, and the dof read as "the tip" (the oscillator's dof, the
-/// beam's tip, the bar's contact end — contact 0).
-pub struct Built {
-    /// The integrator.
-    pub stepper: Box<dyn signorini_schemes::Stepper>,
-    /// `U⁰`.
-    pub u0: Vec<f64>,
-    /// The tip dof.
-    pub tip: usize,
-    /// The beam's lifting `u = ũ − h φ(t)` (`None`: the unknowns are the
-    /// absolute state).
-    pub lift: Option<Lift>,
-    /// A reduced model's basis (`reduce = {…}`, [`build_model`] only): the
-    /// stepper's unknowns are then reduced coordinates, and the scene's
-    /// unknowns (which `tip`, [`Built::contacts`] and `lift` refer to) are
-    /// their reconstruction (`signorini_run::reduced::Reconstruct`).
-    pub reduction: Option<signorini_reduce::Reduction>,
-}
-
-/// A beam's lifting, to turn its unknowns into the absolute state.
-pub struct Lift {
-    pipe: signorini_run::beam::Pipe,
-    beam: signorini_fem::Beam,
-    exc: signorini_run::beam::BeamExcitation,
-}
-
-impl Built {
-    /// The contacts as dof of the scene's unknowns and bounds, in contact
-    /// order (a reduced model's stepper holds them at its dofs `0..nb`).
-    pub fn contacts(&self) -> Vec<(usize, signorini_schemes::Bounds)> {
-        let own = &self.stepper.dynamics().contacts;
-        match &self.reduction {
-            None => own.iter().map(|c| (c.dof, c.bounds)).collect(),
-            Some(r) => r.contacts().iter().zip(own).map(|(&dof, c)| (dof, c.bounds)).collect(),
-        }
-    }
-
-    /// The absolute state `(ũ, ũ_t)` of the unknowns' `(u, u_t)` at `t`
-    /// (what [`build`] takes as `start`).
-    pub fn absolute(&self, u: &[f64], v: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
-        match &self.lift {
-            None => (u.to_vec(), v.to_vec()),
-            Some(l) => l.pipe.absolute_state(&l.beam, &l.exc, u, v, t),
-        }
-    }
-}
-
-/// Builds a validated scene's integrator, from the scene's own initial
-/// state or from `start`, an absolute displacement and velocity at the
-/// unknowns (e.g. the last run's final state in a followed sweep, from
-/// [`Built::absolute`]). A reduced model (`reduce = {…}`) is refused naming
-/// `bar.reduce` / `beam.reduce`: a caller of `build` reads the stepper's
-/// unknowns as the scene's; [`build_model`] runs it.
-pub fn build(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
-    match scene {
-        Scene::Bar(b) if b.reduce.is_some() => Err(CliError::Run(RunError::NotAllowed { field: "bar.reduce", allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
-        Scene::Beam { reduce: Some(_), .. } => Err(CliError::Run(RunError::NotAllowed { field: "beam.reduce", allowed: "none here: the Python bindings run the full model (use `signorini run` or a sweep)" })),
-        _ => build_model(scene, start),
-    }
-}
-
-/// As [`build`], and a reduced model (`reduce = {…}`) as `signorini run`
-/// builds it: the stepper on the reduction of the scene's problem (`start`,
-/// if given, projected onto it), with [`Built::reduction`] set.
-pub fn build_model(scene: &Scene, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Built, CliError> {
-    let init = |own: signorini_schemes::Initial| -> Result<signorini_schemes::Initial, CliError> {
-        match start {
-            None => Ok(own),
-            Some((u, v)) if u.len() == own.u.len() && v.len() == own.v.len() => Ok(signorini_schemes::Initial { u: u.clone(), v: v.clone() }),
-            Some((u, _)) => Err(CliError::Io(format!("a start state of {} unknowns for a scene of {}", u.len(), own.u.len()))),
-        }
-    };
-    match scene {
-        Scene::Oscillator { osc, scheme, dt, .. } => {
-            let (dy, own) = osc.dynamics()?;
-            let i = init(own)?;
-            let stepper = scheme.build(dy, *dt, &i).map_err(RunError::from)?;
-            Ok(Built { stepper, u0: i.u, tip: 0, lift: None, reduction: None })
-        }
-        Scene::Bar(b) => {
-            let p = &b.problem;
-            let i = init(p.initial.clone())?;
-            let dy = p.dynamics();
-            let tip = dy.contacts[0].dof;
-            match b.reduce {
-                None => {
-                    let stepper = b.scheme.build(dy, b.dt, &i).map_err(RunError::from)?;
-                    Ok(Built { stepper, u0: i.u, tip, lift: None, reduction: None })
-                }
-                Some(keep) => {
-                    // As run_bar: the reduction of the parent and its state.
-                    let r = signorini_run::reduced::reduce(&dy, &i, keep)?;
-                    let stepper = b.scheme.build(r.dynamics.clone(), b.dt, &r.initial).map_err(RunError::from)?;
-                    Ok(Built { stepper, u0: r.initial.u, tip, lift: None, reduction: Some(r.reduction) })
-                }
-            }
-        }
-        Scene::Beam { pipe, scene, force, contacts, excitation, reduce, .. } => {
-            // `start` is the absolute state (ũ, ũ_t): the lifting is the scene's own.
-            let exc = signorini_run::beam::BeamExcitation { start: start.cloned(), ..excitation.clone() };
-            let stops = contacts.as_ref().map(|c| c.stops.as_slice());
-            let (stepper, u0, beam, reduction) = match reduce {
-                None => {
-                    let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, stops, &exc)?;
-                    (stepper, i.u, beam, None)
-                }
-                Some(keep) => {
-                    let (stepper, r, beam) = signorini_run::beam::build_reduced(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, &exc, *keep)?;
-                    (stepper, r.initial.u, beam, Some(r.reduction))
-                }
-            };
-            let tip = beam.tip_dof();
-            Ok(Built { stepper, u0, tip, lift: Some(Lift { pipe: *pipe, beam, exc }), reduction })
-        }
-    }
 }

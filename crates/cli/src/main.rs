@@ -205,10 +205,11 @@ fn main() -> ExitCode {
                 (Some(param), Some(from), Some(to), Some(count)) => Some(Axis { param, from, to, count, log: log2 }),
                 _ => None,
             };
-            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, impacts: !no_impacts, follow, shard, resume, threads, progress: std::io::stderr().is_terminal(), interrupt: interrupt_flag() };
+            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, impacts: !no_impacts, follow, shard, resume, threads, interrupt: interrupt_flag() };
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
-            let report = signorini_cli::sweep::run_report(&sweep, &out)?;
+            let bar = signorini_cli::RunsBar::new(std::io::stderr().is_terminal());
+            let report = signorini_cli::sweep::run(&sweep, &out, &bar)?;
             for l in &report.lines {
                 say(&format!("{l}\n"));
             }

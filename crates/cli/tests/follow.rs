@@ -10,9 +10,9 @@ fn a_beam_started_at_rest_is_the_scenes_own_start() {
     let scene = SceneFile::parse(text).unwrap().validate_with(&Limits { max_memory: 1e9 }).unwrap();
     let Scene::Beam { pipe, scene: bs, .. } = &scene else { panic!("a beam scene") };
     let n = 2 * bs.elements;
-    let own = signorini_cli::build(&scene, None).unwrap();
+    let own = scene.instantiate(None).unwrap();
     let rest = (vec![0.0; n], vec![0.0; n]);
-    let from_rest = signorini_cli::build(&scene, Some(&rest)).unwrap();
+    let from_rest = scene.instantiate(Some(&rest)).unwrap();
     assert_eq!(own.u0, from_rest.u0);
     // Both steppers take the same first step: the same initial velocity.
     let (mut a, mut b) = (own.stepper, from_rest.stepper);
@@ -23,7 +23,7 @@ fn a_beam_started_at_rest_is_the_scenes_own_start() {
     assert_eq!(a.displacement(), b.displacement());
     // The absolute velocity of a lifted state at rest is +A ω h(x)
     // (ũ_t = u_t + h φ'(0)), h written out here.
-    let built = signorini_cli::build(&scene, None).unwrap();
+    let built = scene.instantiate(None).unwrap();
     let (ua, va) = built.absolute(&vec![0.0; n], &vec![0.0; n], 0.0);
     let (a_s, w) = pipe.support;
     assert!(ua.iter().all(|x| *x == 0.0));

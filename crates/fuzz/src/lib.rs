@@ -1,11 +1,11 @@
-//! Fuzzing of the scene reader and validator of `signorini-cli` (issue 11 §3;
+//! Fuzzing of the scene reader and validator of `signorini-scene` (issue 11 §3;
 //! an unpublished crate of its own, so that the CLI builds without proptest).
 //!
 //! Two generators of scene files, and the contract every file must meet:
 //!
 //! * [`documents`] writes documents from the scene grammar: the tables
 //!   `[bar]`, `[beam]`, `[output]` (one, both, none, unknown ones; as
-//!   headers, inline tables or dotted keys), every key of [`signorini_cli::scene`]
+//!   headers, inline tables or dotted keys), every key of [`signorini_scene`]
 //!   with a value drawn from valid, boundary, out-of-range and wrong-type
 //!   pools (NaN, ±inf, 0, 2^63 - 1, strings for numbers, arrays of the wrong
 //!   length, random expression tokens), unknown and duplicate keys; and
@@ -40,7 +40,7 @@
 //! (issue 11 §2–§3): [`Config::TODAY`] tolerates them, [`Config::STRICT`]
 //! checks them.
 
-use signorini_cli::scene::{Scene, SceneError, SceneFile};
+use signorini_scene::{Scene, SceneError, SceneFile};
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::strategy::BoxedStrategy;

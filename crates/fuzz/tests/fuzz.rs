@@ -8,7 +8,7 @@
 use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::TestRunner;
 use signorini_fuzz::{self as fuzz, Config, Outcome};
-use signorini_cli::scene::{Scene, SceneError};
+use signorini_scene::{Scene, SceneError};
 use std::collections::BTreeMap;
 use std::path::Path;
 

@@ -13,6 +13,10 @@
 //!
 //! Architecture invariant: no IO, no numerics; depends only on plotters.
 
+mod thin;
+
+pub use thin::{impact_map, thin, thin_series, MAX_PLOT_POINTS};
+
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

@@ -36,7 +36,7 @@
 //! * `statistics.svg`: |rel_diff| against dt at the largest J.
 
 use crate::{create_dir, fde, fe, int, since, txt, Kind, StudyError, TableOut};
-use signorini_cli::scene::{Limits, Scene, SceneFile};
+use signorini_scene::{Limits, Scene, SceneFile};
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_run::stats::{batch_means, Interval};
 use signorini_schemes::Active;
@@ -179,7 +179,7 @@ pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<(Vec
     let t0 = (a.transient * period / dt).round() * dt;
     let t_end = ((a.transient + a.window) * period / dt).round() * dt;
     let sc = scene(name, dt, j, t_end)?;
-    let mut built = signorini_cli::build(&sc, None).map_err(|e| fail(e.to_string()))?;
+    let mut built = sc.instantiate(None).map_err(|e| fail(e.to_string()))?;
     let contacts = built.contacts();
     let w = t_end - t0;
     let nb = a.batches;

@@ -375,12 +375,12 @@ pub fn parse_masses(raw: &[String]) -> Result<Vec<BarMass>, StudyError> {
 /// machine's available memory (the estimate of `signorini check`); the
 /// error names `flag`.
 pub fn fits_memory(flag: &str, elements: usize, copies: usize) -> Result<(), StudyError> {
-    let need = signorini_cli::scene::memory_estimate(elements, false) * copies.max(1) as f64;
-    let have = signorini_cli::scene::Limits::machine().max_memory;
+    let need = signorini_scene::memory_estimate(elements, false) * copies.max(1) as f64;
+    let have = signorini_scene::Limits::machine().max_memory;
     if need > have {
         return Err(StudyError::config(
             flag,
-            format!("{flag}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", signorini_cli::scene::bytes(need), signorini_cli::scene::bytes(have)),
+            format!("{flag}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", signorini_scene::bytes(need), signorini_scene::bytes(have)),
         ));
     }
     Ok(())

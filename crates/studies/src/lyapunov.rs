@@ -3,7 +3,7 @@
 //! oscillator's sweep range, by Benettin's twin runs
 //! (`signorini_run::chaos`), and the predictability horizon it implies.
 //!
-//! Each case builds its scene twice (`signorini_cli::build`), runs the
+//! Each case builds its scene twice (`Scene::instantiate`), runs the
 //! reference for `transient` forcing periods, perturbs a twin by a relative
 //! `perturbation` (default 1e-10) of the state's energy norm
 //! `√(uᵀ K u + vᵀ M v)` in a seeded random direction, and renormalises the
@@ -26,7 +26,7 @@
 //! * `oscillator.csv`: `omega,lambda_max,ci_low,ci_high,lambda_exact,multiplier`.
 
 use crate::{create_dir, fd, fde, fe, ff, int, opt, since, txt, Kind, StudyError, TableOut};
-use signorini_cli::scene::{Limits, Scene, SceneFile};
+use signorini_scene::{Limits, Scene, SceneFile};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_run::chaos::{energy_norm, lyapunov, predictability_horizon, Benettin, Flow, StepperFlow};
 use std::fmt::Write as _;
@@ -215,7 +215,7 @@ fn run_case(a: &Config, case: &Case) -> Result<Row, StudyError> {
     let period = std::f64::consts::TAU / omega;
     let t_end = ((a.transient + a.window + 1.0) * period / dt).ceil() * dt;
     let scene = scene_of(case, t_end)?;
-    let build = || signorini_cli::build(&scene, None).map_err(|e| fail(e.to_string()));
+    let build = || scene.instantiate(None).map_err(|e| fail(e.to_string()));
     let (mut ra, mut rb) = (StepperFlow(build()?.stepper), StepperFlow(build()?.stepper));
     let elements = match (&scene, case) {
         (Scene::Beam { scene, .. }, _) => scene.elements,

@@ -15,8 +15,8 @@
 //! `grazing.csv` (`omega,offset,impacts,first_velocity`), `errors.svg`.
 
 use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, TableOut};
-use signorini_cli::scene::Limits;
-use signorini_cli::sweep::{simulate, Sweep, SweepOptions};
+use signorini_scene::Limits;
+use signorini_sweep::{simulate, Sweep, SweepOptions};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_run::study::rate;

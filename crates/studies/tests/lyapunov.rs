@@ -3,7 +3,7 @@
 //! impact oscillator against its exact Floquet exponent, the CSV, and bad
 //! input.
 
-use signorini_cli::scene::{Limits, SceneFile};
+use signorini_scene::{Limits, SceneFile};
 use signorini_run::chaos::{Flow, StepperFlow};
 use signorini_studies::{lyapunov, Column, StudyError};
 use std::path::PathBuf;
@@ -20,7 +20,7 @@ fn col_f(t: &signorini_studies::Table, name: &str) -> Vec<f64> {
 fn fig2(omega: &str) -> StepperFlow {
     let text = FIG2_SUPPORT.replace("omega = 10.0", &format!("omega = {omega}")).replace("[beam]\n", "[beam]\nt_end = 2.0\n");
     let scene = SceneFile::parse(&text).unwrap().validate_with(&Limits::machine()).unwrap();
-    StepperFlow(signorini_cli::build(&scene, None).unwrap().stepper)
+    StepperFlow(scene.instantiate(None).unwrap().stepper)
 }
 
 #[test]

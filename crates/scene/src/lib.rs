@@ -73,6 +73,16 @@
 //! Excitations (`[forcing]`, the beam's `[support]`, a `[load]` on a bar or a
 //! beam) take any time profile: [`crate::excitation`]. `[output]` may ask for
 //! `impacts`, `poincare`, `summary` after a `transient` (forcing periods).
+//!
+//! A validated [`Scene`] is turned into a running simulation one way for
+//! every front end: [`Scene::instantiate`].
+
+pub mod excitation;
+mod instantiate;
+mod report;
+
+pub use instantiate::{BuildError, Lift, Simulation};
+pub use report::{check_report, energy_warning, free_space, io_reason, output_estimate, sig12, sig6, CheckReport};
 
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
@@ -105,7 +115,7 @@ pub enum SceneError {
 
 /// A field's error; very large and very small numbers in the message get
 /// an exponent ([`tidy_numbers`]).
-pub(crate) fn field(f: &str, m: impl fmt::Display) -> SceneError {
+pub fn field(f: &str, m: impl fmt::Display) -> SceneError {
     SceneError::Field { field: f.to_string(), message: tidy_numbers(&m.to_string()) }
 }
 
@@ -994,6 +1004,14 @@ fn contact_set(stops: &[StopToml], obstacle: Option<&ObstacleToml>, mesh: &NodeM
 }
 
 impl SceneFile {
+    /// The energy monitor's factor (`[output] energy_warn`, default
+    /// [`DEFAULT_ENERGY_WARN`]).
+    pub fn energy_warn(&self) -> f64 {
+        self.output.energy_warn.unwrap_or(DEFAULT_ENERGY_WARN)
+    }
+}
+
+impl SceneFile {
     /// Parses a scene (TOML syntax, unknown keys, types).
     pub fn parse(text: &str) -> Result<Self, SceneError> {
         toml::from_str(text).map_err(|e| SceneError::Toml(e.to_string()))
@@ -1022,7 +1040,7 @@ impl SceneFile {
     /// by one step of the scene's `dt`, whatever `t_end` says: what a sweep
     /// reads first (its forcing and `dt`), before it sets its own horizon
     /// and validates again.
-    pub(crate) fn validate_clock(&self, limits: &Limits) -> Result<Scene, SceneError> {
+    pub fn validate_clock(&self, limits: &Limits) -> Result<Scene, SceneError> {
         self.validate_horizon(limits, true)
     }
 

@@ -28,7 +28,7 @@
 //! would turn into loads concentrated at single instants; give the load
 //! itself in `[load]` instead.
 
-use crate::scene::{field, finite, positive, SceneError};
+use crate::{field, finite, positive, SceneError};
 use serde::Deserialize;
 use signorini_schemes::{Harmonic, ProfileError, Psd, RandomSpec, TimeProfile};
 use std::path::Path;

@@ -34,8 +34,7 @@
 //! N contiguous blocks of runs; [`merge`] concatenates the shards' files in
 //! order into exactly the files of the unsharded sweep.
 
-use crate::scene::{Limits, Scene, SceneError, SceneFile};
-use crate::CliError;
+use signorini_scene::{io_reason, BuildError, Limits, Scene, SceneError, SceneFile};
 use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
 use signorini_reduce::Reduction;
@@ -43,7 +42,7 @@ use signorini_run::reduced::{Need, Reconstruct};
 use signorini_run::{Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
-use signorini_plot::{scatter, Chart, Scale, Series, Style};
+use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
 use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -95,6 +94,81 @@ pub enum SweepError {
 }
 
 pub use signorini_run::text::num;
+
+/// Why a sweep or a merge stopped.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The sweep's options, parameter path, values, shards or folder.
+    #[error(transparent)]
+    Options(#[from] SweepError),
+    /// The scene is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A scene could not be instantiated.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// A file of the sweep's folder could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The output folder cannot be created.
+    #[error("--out {}: {source}", path.display())]
+    OutFolder {
+        /// The folder.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The sweep was cancelled between runs: whole runs are kept.
+    #[error("interrupted after {done} of {total} runs (whole runs kept in {dir}); continue with --resume")]
+    Interrupted {
+        /// Runs written.
+        done: usize,
+        /// Runs of the sweep (or shard).
+        total: usize,
+        /// The folder.
+        dir: String,
+    },
+    /// The thread pool could not be built.
+    #[error("thread pool: {0}")]
+    ThreadPool(String),
+    /// A run's rows went missing in a batch (a bug).
+    #[error("a run went missing")]
+    MissingRun,
+}
+
+impl Error {
+    /// Whether the input was bad (options, scene, values, folder: nothing
+    /// or not all was run), as opposed to a failure while running or
+    /// writing. `signorini sweep` exits 2 for these.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, Error::Options(_) | Error::Scene(_) | Error::OutFolder { .. } | Error::Build(BuildError::Scene(_)))
+    }
+}
+
+/// How far a sweep is: the engine calls it as runs finish (from several
+/// threads). The CLI draws a progress bar with it; a caller that does not
+/// watch passes [`NoProgress`].
+pub trait Progress: Sync {
+    /// The sweep starts: `total` runs, of which `done` are already in the
+    /// folder (a resumed sweep).
+    fn start(&self, _total: u64, _done: u64) {}
+    /// `runs` more runs are done.
+    fn advance(&self, _runs: u64) {}
+    /// The sweep stopped (finished, interrupted or failed).
+    fn finish(&self) {}
+}
+
+/// A [`Progress`] that shows nothing.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoProgress;
+
+impl Progress for NoProgress {}
 
 
 /// A second axis of a two-parameter map.
@@ -197,8 +271,6 @@ pub struct SweepOptions {
     pub resume: bool,
     /// Threads (None: rayon's default, all cores).
     pub threads: Option<usize>,
-    /// Progress bar on stderr.
-    pub progress: bool,
     /// Stop cleanly when set (keeps whole runs written).
     pub interrupt: Option<&'static AtomicBool>,
 }
@@ -207,7 +279,7 @@ impl SweepOptions {
     /// A sweep of `param` over `[from, to]` with `count` runs and the
     /// defaults: linear, 100 transient periods, 10 recorded, phase 0.
     pub fn new(param: &str, from: f64, to: f64, count: usize) -> Self {
-        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, period_tol: 1e-3, impacts: true, follow: false, shard: None, resume: false, threads: None, progress: false, interrupt: None }
+        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, period_tol: 1e-3, impacts: true, follow: false, shard: None, resume: false, threads: None, interrupt: None }
     }
 
     /// Checks the options (not the path: [`Sweep::new`] does, on the scene).
@@ -440,7 +512,7 @@ impl Sweep {
     /// Checks the options and the path, that an integer field's grid gives
     /// integral values only, and the scene at the first and last values (so
     /// a sweep fails at once; [`run`] checks every value before it runs).
-    pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, CliError> {
+    pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, Error> {
         opts.validate()?;
         let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
         let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
@@ -455,7 +527,7 @@ impl Sweep {
         // A key that would not act is refused: the sweep's runs are not
         // watched by the energy monitor of `signorini run`.
         if doc.get("output").and_then(|o| o.get("energy_warn")).is_some() {
-            return Err(crate::scene::field("output.energy_warn", "is not allowed in a sweep: its runs are not watched against their energy budget (run one value with `signorini run` for the warning); allowed: no energy_warn").into());
+            return Err(signorini_scene::field("output.energy_warn", "is not allowed in a sweep: its runs are not watched against their energy budget (run one value with `signorini run` for the warning); allowed: no energy_warn").into());
         }
         let sweep = Self { id: format!("{h:016x}"), opts, doc, limits, scene_name: scene_name.into(), base };
         let o = &sweep.opts;
@@ -472,7 +544,7 @@ impl Sweep {
 
     /// A sweep of the scene file `path` (its text `text`): files the scene
     /// names are found next to it.
-    pub fn from_file(path: &Path, text: &str, opts: SweepOptions, limits: Limits) -> Result<Self, CliError> {
+    pub fn from_file(path: &Path, text: &str, opts: SweepOptions, limits: Limits) -> Result<Self, Error> {
         let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
         Self::new(text, &name, path.parent().map(Path::to_path_buf), opts, limits)
     }
@@ -498,7 +570,7 @@ impl Sweep {
     }
 
     /// The validated scene at `value`, its horizon set to the sweep's.
-    pub fn scene(&self, value: (f64, Option<f64>)) -> Result<(SceneFile, Scene, Plan), CliError> {
+    pub fn scene(&self, value: (f64, Option<f64>)) -> Result<(SceneFile, Scene, Plan), Error> {
         // A map's error names both values: `--param P = v, --param2 Q = w`.
         let (path, shown) = match (&self.opts.second, value.1) {
             (Some(a), Some(v)) => (format!("{} = {}, --param2 {}", self.opts.param, num(value.0), a.param), v),
@@ -568,8 +640,8 @@ pub struct Plan {
     pub period_tol: f64,
 }
 
-fn io(p: &Path, e: std::io::Error) -> CliError {
-    CliError::Io(format!("{}: {e}", p.display()))
+fn io(p: &Path, e: std::io::Error) -> Error {
+    Error::Io { path: p.to_path_buf(), source: e }
 }
 
 /// The rows of one run, formatted: `param,run,<values>[,param2]`.
@@ -602,7 +674,7 @@ fn headers(map: bool, impacts: bool) -> Vec<(&'static str, String)> {
 
 /// Reads the complete lines of a file (a last line without its newline,
 /// cut by a kill, is dropped).
-fn complete_lines(p: &Path) -> Result<Vec<String>, CliError> {
+fn complete_lines(p: &Path) -> Result<Vec<String>, Error> {
     let text = std::fs::read_to_string(p).map_err(|e| io(p, e))?;
     Ok(text.split_inclusive('\n').filter(|l| l.ends_with('\n')).map(|l| l.trim_end_matches('\n').to_string()).collect())
 }
@@ -620,7 +692,7 @@ struct Outputs {
 }
 
 impl Outputs {
-    fn append(dir: &Path, name: &str) -> Result<File, CliError> {
+    fn append(dir: &Path, name: &str) -> Result<File, Error> {
         let p = dir.join(name);
         OpenOptions::new().append(true).open(&p).map_err(|e| io(&p, e))
     }
@@ -637,16 +709,6 @@ pub struct SweepReport {
     pub failed: usize,
 }
 
-/// Runs a sweep into `dir` with `simulate(scene, plan, start state)` doing
-/// each run that the lockstep engine does not take; returns lines for the
-/// terminal.
-pub fn run_sweep<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<Vec<String>, CliError>
-where
-    F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
-{
-    sweep_report(sweep, dir, simulate).map(|r| r.lines)
-}
-
 /// Whether a `summary.csv` data row is of a run that failed (its status
 /// is not `ok`; a map's row ends with `param2` after it).
 fn failed_row(line: &str, map: bool) -> bool {
@@ -654,10 +716,11 @@ fn failed_row(line: &str, map: bool) -> bool {
     !line.ends_with(",ok")
 }
 
-/// [`run_sweep`], with the count of failed runs. Every value of the
+/// The engine of [`run`], with `simulate(scene, plan, start state)` doing
+/// each run that the lockstep engine does not take. Every value of the
 /// sweep's (shard's) runs is checked before anything is written: a value
 /// that makes the scene invalid is refused ([`SweepError::Value`]).
-pub fn sweep_report<F>(sweep: &Sweep, dir: &Path, simulate: F) -> Result<SweepReport, CliError>
+fn sweep_report<F>(sweep: &Sweep, dir: &Path, simulate: F, progress: &dyn Progress) -> Result<SweepReport, Error>
 where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
 {
@@ -669,13 +732,13 @@ where
         if let Some(t) = o.threads {
             b = b.num_threads(t);
         }
-        b.build().map_err(|e| CliError::Io(format!("thread pool: {e}")))?
+        b.build().map_err(|e| Error::ThreadPool(e.to_string()))?
     };
     // Every value before the first run (the first invalid one in run order).
     if let Some(r) = pool.install(|| runs.clone().into_par_iter().find_first(|&r| sweep.scene(o.value(r)).is_err())) {
         sweep.scene(o.value(r))?;
     }
-    std::fs::create_dir_all(dir).map_err(|source| CliError::OutFolder { path: dir.to_path_buf(), source })?;
+    std::fs::create_dir_all(dir).map_err(|source| Error::OutFolder { path: dir.to_path_buf(), source })?;
     let manifest = sweep.manifest(o.shard);
     let mpath = dir.join("sweep.toml");
     let mut first = runs.start;
@@ -723,8 +786,8 @@ where
     }
     let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: if o.impacts { Some(Outputs::append(dir, "impacts.csv")?) } else { None }, summary: Outputs::append(dir, "summary.csv")? };
     let batch = if o.follow { 1 } else { (2 * LANES * pool.current_num_threads()).max(1) };
-    let bar = crate::progress_bar(runs.len() as u64, o.progress, "runs");
-    bar.set_position((first - runs.start) as u64);
+    let bar = progress;
+    bar.start(runs.len() as u64, (first - runs.start) as u64);
     let start = std::time::Instant::now();
     let mut next = first;
     let mut interrupted = false;
@@ -734,18 +797,18 @@ where
             break;
         }
         let end = (next + batch).min(runs.end);
-        let results: Vec<(usize, (f64, Option<f64>), Result<RunRows, CliError>)> = if o.follow {
+        let results: Vec<(usize, (f64, Option<f64>), Result<RunRows, Error>)> = if o.follow {
             // One run at a time, each from the last one's state.
             let i = next;
             let v = o.value(i);
             // A followed map restarts from the scene's own state on each row.
             let start = if i % o.count == 0 { None } else { state.as_ref() };
             let r = sweep.scene(v).map(|(_, scene, plan)| simulate(&scene, &plan, start));
-            bar.inc(1);
+            bar.advance(1);
             vec![(i, v, r)]
         } else {
             pool.install(|| {
-                let prepared: Vec<(usize, (f64, Option<f64>), Result<(Scene, Plan), CliError>)> = (next..end).into_par_iter().map(|i| (i, o.value(i), sweep.scene(o.value(i)).map(|(_, s, p)| (s, p)))).collect();
+                let prepared: Vec<(usize, (f64, Option<f64>), Result<(Scene, Plan), Error>)> = (next..end).into_par_iter().map(|i| (i, o.value(i), sweep.scene(o.value(i)).map(|(_, s, p)| (s, p)))).collect();
                 let jobs = lockstep_jobs(&prepared);
                 let done: Vec<Vec<(usize, RunRows)>> = jobs
                     .into_par_iter()
@@ -763,7 +826,7 @@ where
                                 }
                             }
                         };
-                        bar.inc(job.len() as u64);
+                        bar.advance(job.len() as u64);
                         out
                     })
                     .collect();
@@ -771,7 +834,7 @@ where
                 for (k, r) in done.into_iter().flatten() {
                     rows[k] = Some(r);
                 }
-                prepared.into_iter().zip(rows).map(|((i, v, p), r)| (i, v, p.and_then(|_| r.ok_or_else(|| CliError::Io("a run went missing".into()))))).collect()
+                prepared.into_iter().zip(rows).map(|((i, v, p), r)| (i, v, p.and_then(|_| r.ok_or_else(|| Error::MissingRun)))).collect()
             })
         };
         let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
@@ -806,10 +869,10 @@ where
             break;
         }
     }
-    bar.finish_and_clear();
+    bar.finish();
     let wall = start.elapsed().as_secs_f64();
     if interrupted {
-        return Err(CliError::SweepInterrupted { done: next - runs.start, total: runs.len(), dir: dir.display().to_string() });
+        return Err(Error::Interrupted { done: next - runs.start, total: runs.len(), dir: dir.display().to_string() });
     }
     let mut lines = vec![format!("{} runs in {wall:.3} s ({} of them stopped early: see summary.csv's status)", runs.len() - (first - runs.start), stopped)];
     if o.shard.is_none() {
@@ -823,7 +886,7 @@ fn manifest_id(text: &str) -> Option<&str> {
     text.lines().find_map(|l| l.strip_prefix("id = \"")).and_then(|r| r.strip_suffix('"'))
 }
 
-fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), CliError> {
+fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), Error> {
     let mut s = String::new();
     if let Some((u, v)) = state {
         let join = |x: &[f64]| x.iter().map(|a| format!("{a:?}")).collect::<Vec<_>>().join(",");
@@ -832,7 +895,7 @@ fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), Cli
     std::fs::write(p, s).map_err(|e| io(p, e))
 }
 
-fn read_state(p: &Path) -> Result<Option<(Vec<f64>, Vec<f64>)>, CliError> {
+fn read_state(p: &Path) -> Result<Option<(Vec<f64>, Vec<f64>)>, Error> {
     let text = std::fs::read_to_string(p).map_err(|e| io(p, e))?;
     let mut lines = text.lines();
     let parse = |l: Option<&str>| -> Option<Vec<f64>> { l.map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()) };
@@ -847,54 +910,8 @@ pub fn summary_header() -> String {
     format!("param,run,{},steps,status", signorini_run::vibro::Summary::csv_header())
 }
 
-/// Points beyond which a scatter plot shows every k-th (a plot of 10⁶ dots
-/// would be a file of 100 MB); the CSVs keep them all.
-const MAX_PLOT_POINTS: usize = 100_000;
-
-/// Every k-th point when there are more than [`MAX_PLOT_POINTS`], and the
-/// title saying so.
-pub(crate) fn thin(pts: Vec<(f64, f64)>, title: &str, what: &str) -> (Vec<(f64, f64)>, String) {
-    if pts.len() <= MAX_PLOT_POINTS {
-        return (pts, title.to_string());
-    }
-    let every = pts.len().div_ceil(MAX_PLOT_POINTS);
-    let n = pts.len();
-    (pts.into_iter().step_by(every).collect(), format!("{title} (every {every}th of {n} {what})"))
-}
-
-/// [`thin`] over several series together; returns the title.
-pub(crate) fn thin_series(series: &mut [Series], title: &str, what: &str) -> String {
-    let total: usize = series.iter().map(|s| s.points.len()).sum();
-    if total <= MAX_PLOT_POINTS {
-        return title.to_string();
-    }
-    let every = total.div_ceil(MAX_PLOT_POINTS);
-    for s in series.iter_mut() {
-        s.points = s.points.iter().copied().step_by(every).collect();
-    }
-    format!("{title} (every {every}th of {total} {what})")
-}
-
-/// The impact map: pre-impact velocity against forcing phase, one series
-/// per stop, from `(stop, phase, velocity)` points (thinned beyond
-/// [`MAX_PLOT_POINTS`]); `radius(n)` sizes the dots for the `n` drawn.
-pub(crate) fn impact_map(points: impl Iterator<Item = (usize, f64, f64)>, radius: impl Fn(usize) -> u32) -> Result<String, String> {
-    let mut by_stop: Vec<Series> = Vec::new();
-    for (k, phase, velocity) in points {
-        while by_stop.len() <= k {
-            by_stop.push(Series { label: format!("stop {}", by_stop.len()), points: vec![], reference: false, style: Style::default() });
-        }
-        by_stop[k].points.push((phase, velocity));
-    }
-    by_stop.retain(|s| !s.points.is_empty());
-    let title = thin_series(&mut by_stop, "impact map: pre-impact velocity against forcing phase", "impacts");
-    let chart = Chart { title: &title, x_label: "forcing phase (rad)", y_label: "pre-impact velocity", scale: Scale::Linear, size: (900, 600) };
-    let n: usize = by_stop.iter().map(|s| s.points.len()).sum();
-    scatter(&chart, &by_stop, radius(n))
-}
-
 /// Draws `bifurcation.svg` and `impact_map.svg` from the folder's CSVs.
-fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
+fn plots(dir: &Path) -> Result<Vec<String>, Error> {
     let mut notes = Vec::new();
     let col = |l: &str, i: usize| l.split(',').nth(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(f64::NAN);
     let sweep = complete_lines(&dir.join("sweep.csv"))?;
@@ -925,15 +942,15 @@ fn plots(dir: &Path) -> Result<Vec<String>, CliError> {
 /// Merges shard folders into `out`: the files an unsharded sweep writes,
 /// byte for byte. Refuses shards of different sweeps (ids), missing or
 /// repeated shards, and incomplete ones.
-pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
-    let bad = |m: String| CliError::from(SweepError::Folder(m));
+pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
+    let bad = |m: String| Error::from(SweepError::Folder(m));
     if shards.is_empty() {
         return Err(bad("merge: give the shard folders".into()));
     }
     let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String)> = Vec::new();
     for d in shards {
         let p = d.join("sweep.toml");
-        let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), crate::reason(&e))))?;
+        let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), io_reason(&e))))?;
         let id = manifest_id(&text).ok_or_else(|| bad(format!("{}: no sweep id", p.display())))?.to_string();
         let pair = |key: &str| -> Option<(usize, usize)> {
             let l = text.lines().find_map(|l| l.strip_prefix(&format!("{key} = [")))?;
@@ -961,7 +978,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     if found.len() != n0 {
         return Err(bad(format!("merge: shard {} of {n0} is missing ({} given)", found.len(), found.len())));
     }
-    std::fs::create_dir_all(out).map_err(|source| CliError::OutFolder { path: out.to_path_buf(), source })?;
+    std::fs::create_dir_all(out).map_err(|source| Error::OutFolder { path: out.to_path_buf(), source })?;
     if let Some(f) = SWEEP_FILES.iter().find(|f| out.join(f).exists()) {
         return Err(bad(format!("{} holds a sweep's files ({f}): choose another --out", out.display())));
     }
@@ -1039,18 +1056,14 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     Ok(lines)
 }
 
-/// Runs a sweep into `dir` (see the module docs); lines for the terminal
-/// (a sweep whose runs failed is still a sweep: see [`run_report`]).
-pub fn run(sweep: &Sweep, dir: &Path) -> Result<Vec<String>, CliError> {
-    run_report(sweep, dir).map(|r| r.lines)
-}
-
-/// [`run`], with the count of failed runs (`signorini sweep` exits 3 when
-/// there are any).
-pub fn run_report(sweep: &Sweep, dir: &Path) -> Result<SweepReport, CliError> {
+/// Runs a sweep into `dir` (see the module docs), telling `progress` as
+/// runs finish: its lines for the terminal and the count of failed runs (a
+/// sweep whose runs failed is still a sweep; `signorini sweep` exits 3
+/// when there are any).
+pub fn run(sweep: &Sweep, dir: &Path, progress: &dyn Progress) -> Result<SweepReport, Error> {
     let interrupt = sweep.opts.interrupt;
     let follow = sweep.opts.follow;
-    sweep_report(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt))
+    sweep_report(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt), progress)
 }
 
 /// Keeps the last two displacement vectors (for a followed sweep's final
@@ -1091,7 +1104,7 @@ fn text_cell(s: &str) -> String {
 pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
     // A reduced model (`reduce = {…}`) runs as `signorini run` runs it: the
     // observers see the scene's unknowns, reconstructed.
-    let mut built = match crate::build_model(scene, start) {
+    let mut built = match scene.instantiate(start) {
         Ok(b) => b,
         Err(e) => return failed(&e),
     };
@@ -1187,7 +1200,7 @@ fn lockstep_beta(scene: &Scene) -> Option<f64> {
 
 /// The batch's runs as jobs: consecutive lockstep-able runs in groups of up
 /// to [`LANES`], every other run alone (indices into `prepared`).
-fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), CliError>)]) -> Vec<Vec<usize>> {
+fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), Error>)]) -> Vec<Vec<usize>> {
     let mut jobs: Vec<Vec<usize>> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
     for (k, p) in prepared.iter().enumerate() {
