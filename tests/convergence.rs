@@ -26,7 +26,7 @@ fn coarse(benchmark: Benchmark) -> Vec<ConfigResult> {
     let (ratio, t_end) = benchmark.default_ratio_and_horizon();
     let cfg = StudyConfig {
         benchmark,
-        schemes: SchemeSpec::PRESETS.iter().map(|p| p.1).collect(),
+        schemes: SchemeSpec::group(signorini_schemes::Group::Paper).map(|p| p.1).collect(),
         masses: vec![BarMass::Std, BarMass::Mod],
         levels: vec![10, 20, 40, 80],
         ratio,

@@ -69,7 +69,7 @@ fn pipe_with_a_support_plate_every_scheme() {
     }
     // The β-scheme (e = 0) and Paoli–Schatzman with restitution.
     for (beta, e) in [(0.25, 0.0), (0.5, 0.0), (0.25, 0.5)] {
-        let mut s = SchemeSpec::PaoliSchatzman { restitution: e, beta }.build(dy.clone(), dt, &init).unwrap();
+        let mut s = SchemeSpec::ps(e, beta).build(dy.clone(), dt, &init).unwrap();
         let traj = record(s.as_mut(), steps);
         let st = check_ps(&o, beta, e, &init, &traj);
         assert!(st.active_per_contact.iter().all(|&k| k > 0), "ps({e},{beta}): {:?}", st.active_per_contact);
@@ -78,7 +78,7 @@ fn pipe_with_a_support_plate_every_scheme() {
     // Penalty: the Newmark-CN identity with the spring forces, and each force
     // is its spring's law with κ_i = γ_P K_{c_i c_i} (read from the test's K).
     let gamma_p = 100.0;
-    let mut s = SchemeSpec::Penalty { gamma_p, explicit: false }.build(dy.clone(), dt, &init).unwrap();
+    let mut s = SchemeSpec::penalty(gamma_p, false).build(dy.clone(), dt, &init).unwrap();
     let traj = record(s.as_mut(), steps);
     let st = check_one_step(&o, &o.k, Coefs::newmark(0.25, 0.5), &init, &traj, force(&traj), 1e-11);
     let all = traj.all_forces(0);
@@ -102,7 +102,7 @@ fn pipe_with_a_support_plate_every_scheme() {
     o2.forcing = None;
     let init2 = Initial { u: init.u.clone(), v: init.v.iter().map(|v| 3.0 * v).collect() };
     for e in [0.0, 0.5] {
-        let mut s = SchemeSpec::MoreauJean { theta: 0.5, restitution: e }.build(steady.clone(), dt, &init2).unwrap();
+        let mut s = SchemeSpec::moreau_jean(0.5, e).build(steady.clone(), dt, &init2).unwrap();
         let traj = record(s.as_mut(), steps);
         let (r, en, active) = check_moreau_jean(&o2, e, &init2, &traj);
         assert!(active.iter().all(|&k| k > 0), "moreau-jean e = {e}: impulses per stop {active:?}");
@@ -156,7 +156,7 @@ fn rate(pts: &[(f64, f64)]) -> f64 {
 #[test]
 fn penalty_converges_to_the_projection_with_massless_stops() {
     let proj = three_stop_run("newmark-cn".parse().unwrap(), BarMass::Mod, 0.01, None);
-    let pen = SchemeSpec::Penalty { gamma_p: 10.0, explicit: false };
+    let pen = SchemeSpec::penalty(10.0, false);
     let pts: Vec<(f64, f64, f64)> = (3..=8)
         .map(|e| {
             let kappa = 10f64.powi(e);
@@ -188,7 +188,7 @@ fn penalty_converges_to_the_projection_with_massless_stops() {
 /// to converge to, so none is asserted.
 #[test]
 fn penalty_penetration_with_massive_stops_falls_like_kappa_to_the_minus_half() {
-    let pen = SchemeSpec::Penalty { gamma_p: 10.0, explicit: false };
+    let pen = SchemeSpec::penalty(10.0, false);
     let pts: Vec<(f64, f64)> = (2..=5)
         .map(|e| {
             let kappa = 10f64.powi(e);

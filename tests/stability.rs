@@ -130,7 +130,7 @@ fn bar_ps_beta_below_a_quarter() {
     let bar = Bar::new(1.0, m, 1.0, RightEnd::Clamped).unwrap();
     let p = BarProblem::new(bar, BarMass::Lumped, 0.0, 0.0, |x| 0.5 * (1.0 - x), |_| 0.0).unwrap();
     for beta in [0.0, 0.1, 0.2] {
-        let spec = SchemeSpec::PaoliSchatzman { restitution: 0.5, beta };
+        let spec = SchemeSpec::ps(0.5, beta);
         let want = 2.0 / ((1.0 - 4.0 * beta) * kappa).sqrt();
         let lim = spec.cfl_limit(&p.dynamics()).unwrap().expect("β < 1/4 is conditionally stable");
         assert!((lim / want - 1.0).abs() < 1e-9, "β = {beta}: {lim} vs {want}");
@@ -150,8 +150,8 @@ fn bar_ps_beta_below_a_quarter() {
         assert!(m_above > 1e6, "β = {beta}: max |U| = {m_above} above the limit");
     }
     // β >= 1/4: no limit; a massless contact node refuses β < 1/4.
-    assert_eq!(SchemeSpec::PaoliSchatzman { restitution: 0.5, beta: 0.25 }.cfl_limit(&p.dynamics()).unwrap(), None);
+    assert_eq!(SchemeSpec::ps(0.5, 0.25).cfl_limit(&p.dynamics()).unwrap(), None);
     let pm = BarProblem::new(Bar::new(1.0, m, 1.0, RightEnd::Clamped).unwrap(), BarMass::Mod, 0.0, 0.0, |x| 0.5 * (1.0 - x), |_| 0.0).unwrap();
-    assert!(matches!(SchemeSpec::PaoliSchatzman { restitution: 0.0, beta: 0.1 }.build(pm.dynamics(), h, &pm.initial), Err(SchemeError::MassNotSupported { .. })));
+    assert!(matches!(SchemeSpec::ps(0.0, 0.1).build(pm.dynamics(), h, &pm.initial), Err(SchemeError::MassNotSupported { .. })));
 }
 

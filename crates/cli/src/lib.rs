@@ -757,23 +757,33 @@ pub fn check(scene: &Scene, file: &SceneFile, out: &Path) -> Result<String, CliE
     Ok(check_report(scene, file, out)?.text)
 }
 
-/// `signorini list`.
+/// `signorini list`: every preset and scheme family of the registry
+/// (`signorini_schemes::FAMILIES`), with what each needs and takes.
 pub fn list() -> String {
-    use signorini_schemes::SchemeSpec;
-    let mut s = String::from("schemes (bar):\n");
-    for (name, spec) in SchemeSpec::named().chain(SchemeSpec::SINGLE_MASS) {
-        let note = if spec.needs_diagonal_mass() {
-            "  [lumped only; ratio = 1 is Courant number one]"
-        } else if spec.needs_massless_node() {
-            "  [massless-node masses only]"
-        } else if spec.needs_massive_node() {
-            "  [std or lumped only]"
-        } else {
-            ""
+    use signorini_schemes::{Capabilities, Node, SchemeSpec, FAMILIES};
+    let needs = |c: &Capabilities| -> String {
+        let node = match (c.node, c.diagonal_mass) {
+            (_, true) => "lumped only",
+            (Node::Massive, _) => "std or lumped only",
+            (Node::Massless, _) => "massless-node masses only",
+            (Node::Any, _) => "",
         };
-        s.push_str(&format!("  {name:<16} {spec:?}{note}\n"));
+        let mut v: Vec<&str> = vec![if c.explicit { "explicit" } else { "implicit" }];
+        if !node.is_empty() {
+            v.push(node);
+        }
+        v.extend([(c.restitution, "restitution"), (c.stiffness, "contact stiffness"), (c.damping, "damping"), (c.forcing, "time-dependent load"), (c.several_contacts, "several contacts"), (c.beam, "beam")].iter().filter(|t| t.0).map(|t| t.1));
+        v.join(", ")
+    };
+    let mut s = String::from("schemes (presets):\n");
+    for (name, spec, _) in SchemeSpec::presets() {
+        s.push_str(&format!("  {name:<16} {:<20} [{}]\n", spec.call(), needs(&spec.capabilities())));
     }
-    s.push_str("  newmark(BETA,GAMMA)  β ∈ (0, 1/2], γ ∈ [1/2, 2β]\n  theta(THETA)         θ ∈ [1/2, 1]\n  ps(E) / ps(E,BETA)   e ∈ [0, 1], β ∈ [0, 1/2] (default 1/4; β = 0 needs a massive contact node)\n  penalty(G) / penalty-cd(G)   γ_P > 0 (penalty-cd: explicit, CFL-checked)\n  moreau-jean(THETA,E)         θ ∈ [1/2, 1], e ∈ [0, 1]\n  nitsche(GAMMA0,THETA)        γ_0 > 0, θ ∈ [-1, 1]\n");
+    s.push_str("scheme families (what each call takes):\n");
+    for f in FAMILIES {
+        let ranges = if f.params.is_empty() { String::new() } else { format!("  {}", f.ranges()) };
+        s.push_str(&format!("  {}\n      {}\n", format!("{:<24}{ranges}", f.syntax()).trim_end(), f.about));
+    }
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");
     s.push_str("benchmarks (bar, with exact solutions): bar-dirichlet, bar-neumann-gravity (g = 1/9), bar-neumann-gravity-0.11 (T <= 225), bar-mirrored (bar-dirichlet mirrored onto [0, 2] between two stops; elements = m per half)\n");
     s.push_str("beam scenes: fig2 fig3 fig4 (β = 1/2, projection), fig5 fig6 fig7 (penalty 1e8 N/m), fig8 (β = 1/4); contact = \"projection\" (β ∈ [0, 1/2]) or \"penalty\" (stiffness > 0 N/m)\n");

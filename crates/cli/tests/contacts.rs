@@ -93,7 +93,7 @@ fn bar_two_walls_columns_follow_the_stepper_and_the_wave_solution() {
     let bar = Bar::new(1.0, 100, 1.0, RightEnd::Free).unwrap();
     let p = BarProblem::new(bar, BarMass::Mod, -1.0, 0.0, |_| 0.0, |_| -0.5).unwrap();
     let p = p.with_stops(vec![Stop::new(0, -0.02, f64::INFINITY), Stop::new(100, f64::NEG_INFINITY, 0.0)]).unwrap();
-    let mut s = SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }.build(p.dynamics(), 0.01, &p.initial).unwrap();
+    let mut s = SchemeSpec::newmark(0.25, 0.5).build(p.dynamics(), 0.01, &p.initial).unwrap();
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-11 * (1.0 + b.abs());
     for (n, r) in rows.iter().enumerate().skip(1) {
         s.step().unwrap();

@@ -41,6 +41,7 @@
 //! checks them.
 
 use signorini_scene::{Scene, SceneError, SceneFile};
+use signorini_schemes::SchemeSpec;
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::strategy::BoxedStrategy;
@@ -492,40 +493,51 @@ enum Node {
     Any,
     Massless,
     Massive,
+    /// A diagonal mass with a massive node: `lumped` only.
+    Lumped,
 }
 
-/// Valid schemes with the contact node they need (docs/theory.md, "Schemes")
-/// and whether they are conditionally stable (then a stricter validation may
-/// refuse a dt).
-const SCHEMES: [(&str, Node, bool); 27] = [
-    ("newmark-cn", Node::Any, false),
-    ("newmark-i", Node::Any, false),
-    ("newmark-ii", Node::Any, false),
-    ("backward-euler", Node::Any, false),
-    ("ps-e0", Node::Any, false),
-    ("ps-e0.5", Node::Any, false),
-    ("ps-e1", Node::Any, false),
-    ("hybrid", Node::Massless, false),
-    ("reduced-cn", Node::Massless, false),
-    ("penalty-cn", Node::Any, false),
-    ("penalty-cd", Node::Massive, true),
-    ("taylor-flanagan", Node::Massive, true),
-    ("moreau-jean", Node::Massive, false),
-    ("cd-massless", Node::Massless, true),
-    ("nitsche-cn", Node::Any, false),
-    ("newmark(0.25, 0.5)", Node::Any, false),
-    ("newmark(0.5,1)", Node::Any, false),
-    ("theta(0.75)", Node::Any, false),
-    ("theta(0.5)", Node::Any, false),
-    ("ps(0.5)", Node::Any, false),
-    ("ps(1, 0.3)", Node::Any, false),
-    ("ps(0, 0.1)", Node::Massive, true),
-    ("penalty(5)", Node::Any, false),
-    ("penalty-cd(5)", Node::Massive, true),
-    ("moreau-jean(0.5, 0.5)", Node::Massive, false),
-    ("moreau-jean(1, 1)", Node::Massive, false),
-    ("nitsche(10, 0)", Node::Any, false),
-];
+/// The contact node (and mass) a scheme needs, from the registry's capabilities.
+fn node_of(spec: &SchemeSpec) -> Node {
+    let c = spec.capabilities();
+    match (c.diagonal_mass, c.node) {
+        (true, _) => Node::Lumped,
+        (_, signorini_schemes::Node::Massive) => Node::Massive,
+        (_, signorini_schemes::Node::Massless) => Node::Massless,
+        _ => Node::Any,
+    }
+}
+
+/// Valid schemes, from the registry (`signorini_schemes::FAMILIES`): every
+/// preset, and each family's call with each preset's values (written with
+/// and without spaces) and, where trailing parameters have defaults,
+/// without them; with the contact node they need and whether they are
+/// conditionally stable (then a stricter validation may refuse a dt).
+fn schemes() -> Vec<(String, Node, bool)> {
+    let mut out = Vec::new();
+    for (name, spec, _) in SchemeSpec::presets() {
+        let conditional = spec.stability_rule().is_some();
+        out.push((name.to_string(), node_of(&spec), conditional));
+        let f = spec.family();
+        if f.params.is_empty() {
+            continue;
+        }
+        let args: Vec<String> = spec.args().iter().map(|a| a.to_string()).collect();
+        out.push((format!("{}({})", f.name, args.join(", ")), node_of(&spec), conditional));
+        let required = f.params.iter().filter(|p| p.default.is_none()).count();
+        let defaults_hold = f.params.iter().zip(spec.args()).skip(required).all(|(p, a)| p.default == Some(*a));
+        if required < f.params.len() && defaults_hold {
+            out.push((format!("{}({})", f.name, args[..required].join(",")), node_of(&spec), conditional));
+        }
+    }
+    out
+}
+
+/// The capabilities of a scheme string, if it names one.
+fn capabilities_of(s: &str) -> Option<signorini_schemes::Capabilities> {
+    s.parse::<SchemeSpec>().ok().map(|spec| spec.capabilities())
+}
+
 /// Scheme strings that must be refused (`bar.scheme`).
 const BAD_SCHEMES: [&str; 18] = [
     "newmark(0.1, 0.9)",
@@ -648,7 +660,7 @@ fn bar_picks(cfg: Config, tw: u32) -> BoxedStrategy<BarPicks> {
         tw => type_bad(&NOT_A_STRING),
     ];
     let scheme = oneof![
-        8 => pick(&SCHEMES).prop_map(|(s, n, c)| (val(format!("\"{s}\""), Class::Good), n, c)),
+        8 => pick(&schemes()).prop_map(|(s, n, c)| (val(format!("\"{s}\""), Class::Good), n, c)),
         2 => pick(&BAD_SCHEMES).prop_map(|s| (val(format!("\"{s}\""), bad(&["bar.scheme"])), Node::Any, false)),
         1 => pick(&EDGE_SCHEMES).prop_map(|s| (val(format!("\"{s}\""), unknown(&["bar.scheme", "bar.dt"])), if s.starts_with("penalty-cd") { Node::Massive } else { Node::Any }, false)),
         tw => type_bad(&NOT_A_STRING).prop_map(|v| (v, Node::Any, false)),
@@ -809,7 +821,7 @@ fn assemble_bar(p: BarPicks) -> BarTable {
     let mass_name = p.mass.as_ref().map(|v| v.toml.trim_matches('"').to_string()).unwrap_or_else(|| "std".into());
     let massless = MASSLESS.contains(&mass_name.as_str());
     let massive = MASSIVE.contains(&mass_name.as_str());
-    let mismatch = (node == Node::Massless && massive) || (node == Node::Massive && massless);
+    let mismatch = (node == Node::Massless && massive) || (matches!(node, Node::Massive | Node::Lumped) && massless) || (node == Node::Lumped && mass_name != "lumped");
     if let Some(mut m) = p.mass.clone() {
         if m.class == Class::Good && mismatch {
             m.class = bad(&["bar.mass"]);
@@ -1229,7 +1241,7 @@ fn contact_beam_documents(cfg: Config) -> BoxedStrategy<Doc> {
 }
 
 fn contact_bar_documents(cfg: Config) -> BoxedStrategy<Doc> {
-    let schemes: Vec<(&str, Node, bool)> = SCHEMES.iter().copied().filter(|s| !s.2).collect();
+    let schemes: Vec<(String, Node, bool)> = schemes().into_iter().filter(|s| !s.2).collect();
     // Massive masses half the time (a massless one is refused with [obstacle]).
     let masses: Vec<&str> = MASSIVE.iter().cycle().take(MASSLESS.len()).chain(&MASSLESS).copied().collect();
     ((pow2(-1, 2), proptest::sample::select(good_expressions(cfg.float_expressions)), any::<bool>(), pow2(2, 6), pick(&masses), pick(&schemes), pow2(4, 10), 1u32..200), contact_picks(0, 0.6, 0.5), any::<bool>())
@@ -1344,9 +1356,9 @@ fn bar_ctx(p: &BarPicks) -> ContactCtx {
         length: length.unwrap_or(1.0),
         free_end: free_end.unwrap_or(false),
         massless: mass.as_deref().is_some_and(|m| MASSLESS.contains(&m)),
-        restitution_acts: s.starts_with("ps") || s == "taylor-flanagan" || s.starts_with("moreau-jean"),
-        stiffness_acts: s.starts_with("penalty"),
-        single_only: ["hybrid", "reduced-cn", "cd-massless"].contains(&s.as_str()) || s.starts_with("nitsche"),
+        restitution_acts: capabilities_of(&s).is_some_and(|c| c.restitution),
+        stiffness_acts: capabilities_of(&s).is_some_and(|c| c.stiffness),
+        single_only: capabilities_of(&s).is_some_and(|c| !c.several_contacts),
         moreau: s.starts_with("moreau-jean"),
     }
 }

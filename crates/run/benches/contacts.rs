@@ -48,7 +48,7 @@ fn bar(case: &str) -> Box<dyn Stepper> {
         _ => unreachable!(),
     };
     let dt = p.bar.h() / 10.0;
-    SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }.build(p.dynamics(), dt, &p.initial).unwrap()
+    SchemeSpec::newmark(0.25, 0.5).build(p.dynamics(), dt, &p.initial).unwrap()
 }
 
 fn beam(case: &str) -> Box<dyn Stepper> {

@@ -30,9 +30,9 @@ fn main() {
 /// `(scheme, mass, dx/dt)` of a case name.
 fn case(name: &str) -> (SchemeSpec, BarMass, f64) {
     match name {
-        "cd-taylor" => (SchemeSpec::CentralDifferenceTaylor, BarMass::Lumped, 1.0),
-        "newmark-cn" => (SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }, BarMass::Mod, 1.0),
-        "penalty-cd" => (SchemeSpec::Penalty { gamma_p: 10.0, explicit: true }, BarMass::Lumped, 10.0),
+        "cd-taylor" => (SchemeSpec::cd_taylor(), BarMass::Lumped, 1.0),
+        "newmark-cn" => (SchemeSpec::newmark(0.25, 0.5), BarMass::Mod, 1.0),
+        "penalty-cd" => (SchemeSpec::penalty(10.0, true), BarMass::Lumped, 10.0),
         _ => unreachable!("unknown case {name}"),
     }
 }

@@ -29,7 +29,7 @@ fn setup(m: usize) -> (Box<dyn Stepper>, Vec<f64>, f64, Box<dyn signorini_exact:
     let exact = b.exact(3.0).unwrap();
     let p = b.problem(exact.as_ref(), m, BarMass::Mod).unwrap();
     let dt = p.bar.h() / 10.0;
-    let s = SchemeSpec::Newmark { beta: 0.25, gamma: 0.5 }.build(p.dynamics(), dt, &p.initial).unwrap();
+    let s = SchemeSpec::newmark(0.25, 0.5).build(p.dynamics(), dt, &p.initial).unwrap();
     (s, p.initial.u, dt, exact)
 }
 

@@ -101,7 +101,7 @@ impl Oscillator {
 
     /// The default scheme: Paoli–Schatzman, β = 1/4, `e = r`.
     pub fn default_scheme(&self) -> SchemeSpec {
-        SchemeSpec::PaoliSchatzman { restitution: self.restitution, beta: 0.25 }
+        SchemeSpec::ps(self.restitution, 0.25)
     }
 
     /// The stepper of `scheme` (default: [`Self::default_scheme`]) at `dt`.

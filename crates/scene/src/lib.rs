@@ -94,7 +94,7 @@ use signorini_run::oscillator::Oscillator;
 use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
 use signorini_reduce::{Keep, ReduceError};
 use signorini_run::text::{num, tidy_numbers};
-use signorini_schemes::{SchemeError, SchemeSpec};
+use signorini_schemes::{families_with, SchemeError, SchemeSpec};
 use std::fmt;
 
 /// A scene error: which field, what is wrong, what is allowed.
@@ -1129,10 +1129,10 @@ impl SceneFile {
             Some(name) => {
                 let spec: SchemeSpec = name.parse().map_err(|e| field("oscillator.scheme", e))?;
                 if spec.needs_massless_node() {
-                    return Err(field("oscillator.scheme", format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: ps, newmark, theta, moreau-jean or penalty")));
+                    return Err(field("oscillator.scheme", format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: {}", families_with(|c| c.accepts_massless_node(false)))));
                 }
-                if o.restitution.is_some_and(|r| r != 0.0) && !matches!(spec, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
-                    return Err(field("oscillator.restitution", format!("acts only with a scheme that has an impact law (ps, moreau-jean); {spec} has none: remove it or set it to 0, or choose ps")));
+                if o.restitution.is_some_and(|r| r != 0.0) && !spec.capabilities().restitution {
+                    return Err(field("oscillator.restitution", format!("acts only with a scheme that has an impact law ({}); {spec} has none: remove it or set it to 0, or choose ps", families_with(|c| c.restitution))));
                 }
                 spec
             }
@@ -1247,7 +1247,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     let reduce = b.reduce.as_ref().map(|r| r.keep("bar")).transpose()?;
     if reduce.is_some() {
         if !scheme.accepts_massless_node(true) {
-            return Err(field("bar.scheme", format!("{scheme} needs a massive contact node, and a reduced model's contacts are massless (reduce): allowed a scheme that takes a massless node (newmark…, theta…, ps with β >= 1/4, hybrid, reduced-cn, cd-massless, penalty-cn, nitsche…)")));
+            return Err(field("bar.scheme", format!("{scheme} needs a massive contact node, and a reduced model's contacts are massless (reduce): allowed a scheme that takes a massless node ({}; ps with β >= 1/4)", families_with(|c| c.accepts_massless_node(true)))));
         }
         if !mass.massless_contact_node() {
             return Err(field("bar.mass", format!("{mass} with reduce: the reduction keeps the contacts massless, exact for a parent whose contact nodes carry no mass; allowed mod, mod1, mod2, mod3, transfer or singular")));
@@ -1345,15 +1345,15 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         let bar = problem.bar;
         let mesh = NodeMesh { length: bar.length, elements: bar.last_node(), unknown: 0..=bar.dofs() - 1, x: &|i| bar.node(i) };
         let rules = KeyRules {
-            restitution: if matches!(scheme, SchemeSpec::PaoliSchatzman { .. } | SchemeSpec::MoreauJean { .. }) {
+            restitution: if scheme.capabilities().restitution {
                 Ok(())
             } else {
-                Err(format!("acts only with a scheme that has a restitution law (ps…, taylor-flanagan, moreau-jean), not {scheme}: remove it, or choose such a scheme"))
+                Err(format!("acts only with a scheme that has a restitution law ({}), not {scheme}: remove it, or choose such a scheme", families_with(|c| c.restitution)))
             },
-            stiffness: if matches!(scheme, SchemeSpec::Penalty { .. }) {
+            stiffness: if scheme.capabilities().stiffness {
                 Ok(())
             } else {
-                Err(format!("acts only with a penalty scheme (penalty-cn, penalty(G), penalty-cd, penalty-cd(G)), not {scheme}: remove it, or choose one"))
+                Err(format!("acts only with a penalty scheme ({}), not {scheme}: remove it, or choose one", families_with(|c| c.stiffness)))
             },
         };
         let u0 = problem.initial.u.clone();

@@ -96,11 +96,11 @@ impl Reduced {
     pub fn new(label: String, dy: Dynamics, law: ReducedLaw, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         if dy.damping.is_some() {
-            return Err(SchemeError::Structure(crate::spec::DAMPING_SCHEMES));
+            return Err(crate::onestep::no_damping(&label));
         }
         let n = dy.n();
         if dy.k() > 1 {
-            return Err(SchemeError::Structure("the reduced schemes (hybrid, reduced-cn, cd-massless) eliminate one massless contact node at dof 0; several contacts: use newmark, theta, ps, penalty or moreau-jean"));
+            return Err(SchemeError::NotTaken { scheme: label, what: "several contacts", why: " (the reduced schemes eliminate one massless contact node at dof 0)", by: crate::registry::families_with(|c| c.several_contacts) });
         }
         if !dy.massless_contact() {
             return Err(SchemeError::MassNotSupported {
@@ -329,5 +329,80 @@ impl Reduced {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         Ok(StepReport { n: self.n, t, lambda: Some((t, self.lambda)), active: if w_new < 0.0 { Active::Lower } else { Active::None } })
+    }
+}
+
+// ---- The registry's rows of this file: hybrid, reduced-cn, cd-massless.
+
+use crate::registry::{kappa_bound, Capabilities, Family, Group, Node, Preset};
+use crate::SchemeSpec;
+
+/// The reduced formulations' capabilities: a massless contact node at dof
+/// 0, one contact, a steady load, no damping.
+const REDUCED_CAPS: Capabilities = Capabilities { explicit: false, node: Node::Massless, diagonal_mass: false, damping: false, forcing: false, restitution: false, stiffness: false, several_contacts: false, beam: false };
+
+fn build_reduced(s: &SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, law: ReducedLaw) -> Result<Box<dyn Stepper>, SchemeError> {
+    if law == ReducedLaw::CentralDifference {
+        s.check_cfl(&dy, dt, false)?;
+    }
+    Ok(Box::new(Reduced::new(s.to_string(), dy, law, dt, init)?))
+}
+
+/// The paper's hybrid scheme on the reduced formulation (§5).
+pub(crate) static HYBRID: Family = Family {
+    name: "hybrid",
+    about: "hybrid CN/midpoint scheme on the reduced formulation (massless contact node; docs/theory.md §4.4)",
+    params: &[],
+    presets: &[Preset { name: "hybrid", args: &[], group: Group::Reduced, rank: 0 }],
+    validate: |_| Ok(()),
+    capabilities: |_| REDUCED_CAPS,
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| build_reduced(s, dy, dt, init, ReducedLaw::Hybrid),
+};
+
+/// Crank–Nicolson on the reduced ODE (Lemma 3.1).
+pub(crate) static REDUCED_CN: Family = Family {
+    name: "reduced-cn",
+    about: "Crank–Nicolson on the reduced ODE (massless contact node; docs/theory.md §4.4)",
+    params: &[],
+    presets: &[Preset { name: "reduced-cn", args: &[], group: Group::Reduced, rank: 1 }],
+    validate: |_| Ok(()),
+    capabilities: |_| REDUCED_CAPS,
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| build_reduced(s, dy, dt, init, ReducedLaw::CrankNicolson),
+};
+
+/// The explicit central difference with a quasi-static massless node.
+pub(crate) static CD_MASSLESS: Family = Family {
+    name: "cd-massless",
+    about: "explicit central difference with a quasi-static massless contact node (docs/theory.md §4.6)",
+    params: &[],
+    presets: &[Preset { name: "cd-massless", args: &[], group: Group::Peer, rank: 4 }],
+    validate: |_| Ok(()),
+    capabilities: |_| Capabilities { explicit: true, ..REDUCED_CAPS },
+    cfl_limit: |_, dy| {
+        if dy.massless_contact() && dy.contact().dof == 0 && dy.k() == 1 {
+            // The reduced pencil (K*, M*): in contact the node is fixed and
+            // node 1 feels the whole first element.
+            let (k, m) = (dy.stiffness.trailing(1), dy.mass.trailing(1));
+            Ok(Some(2.0 / kappa_bound(&k, &m)?.sqrt()))
+        } else {
+            Ok(None)
+        }
+    },
+    stability_rule: |_| Some("explicit central difference with a quasi-static massless node: 2/sqrt(κ_max) of the reduced pencil (K*, M*) without the contact node"),
+    build: |s, dy, dt, init| build_reduced(s, dy, dt, init, ReducedLaw::CentralDifference),
+};
+
+impl SchemeSpec {
+    /// A scheme on the reduced formulation.
+    pub fn reduced(law: ReducedLaw) -> Self {
+        match law {
+            ReducedLaw::Hybrid => HYBRID.with(&[]),
+            ReducedLaw::CrankNicolson => REDUCED_CN.with(&[]),
+            ReducedLaw::CentralDifference => CD_MASSLESS.with(&[]),
+        }
     }
 }

@@ -71,7 +71,7 @@ mod nitsche;
 mod onestep;
 mod paoli;
 mod profile;
-mod spec;
+mod registry;
 
 pub use hybrid::{Reduced, ReducedLaw};
 pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
@@ -80,7 +80,7 @@ pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, SplitMix64, TimeProfile, MAX_RANDOM_COUNT};
-pub use spec::SchemeSpec;
+pub use registry::{families_with, syntax_list, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, FAMILIES, MAX_PARAMS};
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
 
@@ -101,8 +101,26 @@ pub enum SchemeError {
         allowed: &'static str,
     },
     /// An unknown scheme name.
-    #[error("unknown scheme {0:?}: allowed newmark-cn, newmark-i, newmark-ii, backward-euler, ps-e0, ps-e0.5, ps-e1, hybrid, reduced-cn, penalty-cn, penalty-cd, newmark(BETA,GAMMA), theta(THETA), ps(E), ps(E,BETA), penalty(GAMMA_P), penalty-cd(GAMMA_P), taylor-flanagan, cd-taylor, moreau-jean, moreau-jean(THETA,E), cd-massless, nitsche-cn or nitsche(GAMMA0,THETA)")]
-    UnknownScheme(String),
+    #[error("unknown scheme {name:?}: allowed {allowed}")]
+    UnknownScheme {
+        /// The name given.
+        name: String,
+        /// Every way to write a scheme (from the registry).
+        allowed: String,
+    },
+    /// The scheme does not take this part of the problem; `by` names the
+    /// schemes that do (from the registry).
+    #[error("unsupported structure: {scheme} takes no {what}{why}: allowed {by}")]
+    NotTaken {
+        /// The scheme.
+        scheme: String,
+        /// What it does not take (`damping matrix`, `several contacts`).
+        what: &'static str,
+        /// Why, in words (may be empty; starts with a space).
+        why: &'static str,
+        /// The schemes that take it.
+        by: String,
+    },
     /// Vectors or matrices of inconsistent sizes.
     #[error("size mismatch: {what} has {got} entries, expected {expected}")]
     Size {

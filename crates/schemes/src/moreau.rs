@@ -217,3 +217,31 @@ impl Stepper for MoreauJean {
         Some((self.time(), 0.5 * kin + 0.5 * pot - load))
     }
 }
+
+// ---- The registry's row of this file: moreau-jean.
+
+use crate::registry::{check, Capabilities, Family, Group, Node, Param, Preset};
+use crate::SchemeSpec;
+
+/// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1].
+pub(crate) static MOREAU_JEAN: Family = Family {
+    name: "moreau-jean",
+    about: "Moreau–Jean: velocity-level θ-scheme with Newton's impact law (docs/theory.md §4.7)",
+    params: &[Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None }, Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None }],
+    presets: &[Preset { name: "moreau-jean", args: &[0.5, 0.0], group: Group::Peer, rank: 3 }],
+    validate: |a| {
+        check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]")?;
+        check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")
+    },
+    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| Ok(Box::new(MoreauJean::new(s.to_string(), dy, s.args()[0], s.args()[1], dt, init)?)),
+};
+
+impl SchemeSpec {
+    /// Moreau–Jean with θ and restitution `e` (not validated until built).
+    pub fn moreau_jean(theta: f64, restitution: f64) -> Self {
+        MOREAU_JEAN.with(&[theta, restitution])
+    }
+}

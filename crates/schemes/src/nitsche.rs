@@ -58,11 +58,11 @@ impl Nitsche {
     pub fn new(label: String, dy: Dynamics, beta: f64, gamma_t: f64, gamma0: f64, theta: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         if dy.damping.is_some() {
-            return Err(SchemeError::Structure(crate::spec::DAMPING_SCHEMES));
+            return Err(crate::onestep::no_damping(&label));
         }
         let n = dy.n();
         if dy.k() > 1 {
-            return Err(SchemeError::Structure("Nitsche's method is formulated here at the bar's end node 0 (its flux σ = c² u_x(0) is one element's); several contacts: use newmark, theta, ps, penalty or moreau-jean"));
+            return Err(SchemeError::NotTaken { scheme: label, what: "several contacts", why: " (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's)", by: crate::registry::families_with(|c| c.several_contacts) });
         }
         if dy.contact().dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
             return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
@@ -221,5 +221,33 @@ impl Stepper for Nitsche {
         let pot = self.k_n.quad_form(&self.u);
         let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
         Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+    }
+}
+
+// ---- The registry's row of this file: nitsche.
+
+use crate::registry::{check, Capabilities, Family, Group, Node, Param, Preset};
+use crate::SchemeSpec;
+
+/// Nitsche's method with Newmark-CN: γ = γ_0 c²/h (γ_0 > 0), θ ∈ [-1, 1].
+pub(crate) static NITSCHE: Family = Family {
+    name: "nitsche",
+    about: "Nitsche's method with Newmark-CN at the bar's end node (docs/theory.md §4.6)",
+    params: &[Param { name: "gamma0", symbol: "γ_0", syntax: "GAMMA0", allowed: "> 0", default: None }, Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [-1, 1]", default: None }],
+    presets: &[Preset { name: "nitsche-cn", args: &[10.0, 1.0], group: Group::Peer, rank: 5 }],
+    validate: |a| {
+        check("gamma0", a[0], a[0] > 0.0, "finite and > 0")?;
+        check("theta", a[1], (-1.0..=1.0).contains(&a[1]), "[-1, 1]")
+    },
+    capabilities: |_| Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: false, forcing: false, restitution: false, stiffness: false, several_contacts: false, beam: false },
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| Ok(Box::new(Nitsche::new(s.to_string(), dy, 0.25, 0.5, s.args()[0], s.args()[1], dt, init)?)),
+};
+
+impl SchemeSpec {
+    /// Nitsche's method with γ_0 and θ (not validated until built).
+    pub fn nitsche(gamma0: f64, theta: f64) -> Self {
+        NITSCHE.with(&[gamma0, theta])
     }
 }

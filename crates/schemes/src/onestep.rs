@@ -207,7 +207,7 @@ impl OneStep {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
         if dy.damping.is_some() && prm.a_new == 0.0 {
-            return Err(SchemeError::Structure("an explicit step (β = 0) does not take damping (its step would need a solve with M + γ dt C): use an implicit one (newmark, theta, penalty-cn) or ps"));
+            return Err(SchemeError::NotTaken { scheme: label, what: "damping matrix", why: " (an explicit step, β = 0: it would need a solve with M + γ dt C)", by: families_with(|c| c.damping) });
         }
         let a_mat = dy.step_matrix(prm.gamma * dt, prm.a_new * dt * dt);
         let a = a_mat.factor()?;
@@ -732,4 +732,126 @@ fn penalty_solve(proj: &Projection, y: &mut [f64], lo: f64, hi: f64, kappa: f64,
     }
     proj.apply(y, an * force, x);
     Ok((force, if force > 0.0 { Active::Lower } else { Active::Upper }))
+}
+
+// ---- The registry's rows of this file: newmark, theta, penalty, penalty-cd.
+
+use crate::registry::{check, families_with, kappa_bound, Capabilities, Family, Group, Node, Param, Preset};
+use crate::SchemeSpec;
+
+/// Newmark(β, γ), contact at `t_{n+1}`; β ∈ (0, 1/2], γ ∈ [1/2, 2β].
+pub(crate) static NEWMARK: Family = Family {
+    name: "newmark",
+    about: "Newmark(β, γ) in momentum form, contact at t_{n+1} (docs/theory.md §4.1)",
+    params: &[Param { name: "beta", symbol: "β", syntax: "BETA", allowed: "∈ (0, 1/2]", default: None }, Param { name: "gamma", symbol: "γ", syntax: "GAMMA", allowed: "∈ [1/2, 2β]", default: None }],
+    presets: &[
+        Preset { name: "newmark-cn", args: &[0.25, 0.5], group: Group::Paper, rank: 0 },
+        Preset { name: "newmark-i", args: &[0.5, 1.0], group: Group::Paper, rank: 1 },
+        Preset { name: "newmark-ii", args: &[0.5, 0.5], group: Group::Paper, rank: 2 },
+    ],
+    validate: |a| {
+        let (beta, gamma) = (a[0], a[1]);
+        check("gamma", gamma, (0.5..=1.0).contains(&gamma), "[1/2, 1]")?;
+        check("beta", beta, beta > 0.0 && beta <= 0.5, "(0, 1/2] (β = 0 is explicit: not an implicit Newmark preset)")?;
+        check("beta", beta, 2.0 * beta >= gamma, "[γ/2, 1/2] (unconditional stability; conditionally stable implicit Newmark is not offered)")
+    },
+    capabilities: |_| Capabilities::IMPLICIT,
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| Ok(Box::new(OneStep::new(s.to_string(), dy, OneStepParams::newmark(s.args()[0], s.args()[1]), dt, init)?)),
+};
+
+/// The θ-method, θ ∈ [1/2, 1].
+pub(crate) static THETA: Family = Family {
+    name: "theta",
+    about: "θ-method in momentum form (docs/theory.md §4.2)",
+    params: &[Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None }],
+    presets: &[Preset { name: "backward-euler", args: &[1.0], group: Group::Paper, rank: 3 }],
+    validate: |a| check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]"),
+    capabilities: |_| Capabilities::IMPLICIT,
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| Ok(Box::new(OneStep::new(s.to_string(), dy, OneStepParams::theta(s.args()[0]), dt, init)?)),
+};
+
+const GAMMA_P: [Param; 1] = [Param { name: "gamma_p", symbol: "γ_P", syntax: "GAMMA_P", allowed: "> 0", default: None }];
+
+/// Penalised contact `λ = γ_P K_cc min(0, u_c - g)` (for the P1 bar
+/// `K_00 = c²/h`: the GetFEM demo's `(γ_P/h) min(0, u_0 - g)` at c = 1) with
+/// Newmark-CN solved exactly per step.
+pub(crate) static PENALTY: Family = Family {
+    name: "penalty",
+    about: "penalty spring γ_P K_cc (or a contact's stiffness) with Newmark-CN, solved exactly per step (docs/theory.md §4.6)",
+    params: &GAMMA_P,
+    presets: &[Preset { name: "penalty-cn", args: &[10.0], group: Group::Peer, rank: 0 }],
+    validate: |a| check("gamma_p", a[0], a[0] > 0.0, "finite and > 0"),
+    capabilities: |_| Capabilities { stiffness: true, ..Capabilities::IMPLICIT },
+    cfl_limit: |_, _| Ok(None),
+    stability_rule: |_| None,
+    build: |s, dy, dt, init| build_penalty(s, dy, dt, init, false),
+};
+
+/// The penalty spring with the explicit central difference (β = 0,
+/// γ = 1/2): a massive contact node and dt below the exact CFL limit of
+/// `(K + κ e_c e_cᵀ, M)`.
+pub(crate) static PENALTY_CD: Family = Family {
+    name: "penalty-cd",
+    about: "penalty spring with the explicit central difference (docs/theory.md §4.6)",
+    params: &GAMMA_P,
+    presets: &[Preset { name: "penalty-cd", args: &[10.0], group: Group::Peer, rank: 1 }],
+    validate: |a| check("gamma_p", a[0], a[0] > 0.0, "finite and > 0"),
+    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, stiffness: true, ..Capabilities::IMPLICIT },
+    cfl_limit: |a, dy| {
+        let mut k = dy.stiffness.clone();
+        for ct in &dy.contacts {
+            let kappa = ct.stiffness.unwrap_or(a[0] * dy.stiffness.get(ct.dof, ct.dof));
+            k.add(ct.dof, ct.dof, kappa);
+        }
+        Ok(Some(2.0 / kappa_bound(&k, &dy.mass)?.sqrt()))
+    },
+    stability_rule: |_| Some("explicit central difference with a penalty spring: 2/sqrt(κ_max) of the pencil (K + κ e_c e_cᵀ, M)"),
+    build: |s, dy, dt, init| build_penalty(s, dy, dt, init, true),
+};
+
+fn build_penalty(s: &SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, explicit: bool) -> Result<Box<dyn crate::Stepper>, SchemeError> {
+    let gamma_p = s.args()[0];
+    let label = s.to_string();
+    if explicit && dy.massless_contact() {
+        return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped)" });
+    }
+    let c = dy.contact().dof;
+    let kappa = gamma_p * dy.stiffness.get(c, c);
+    s.check_cfl(&dy, dt, false)?;
+    let prm = if explicit { OneStepParams::newmark(0.0, 0.5) } else { OneStepParams::newmark(0.25, 0.5) };
+    let step = OneStep::new(label, dy, prm, dt, init)?;
+    Ok(Box::new(step.with_contact_law(ContactLaw::Penalty { stiffness: kappa }).map_err(|e| match e {
+        // In the scheme's own parameter: κ = γ_P K_cc.
+        SchemeError::PenaltyTooStiff { field: "penalty stiffness", value, max } => SchemeError::PenaltyTooStiff { field: "gamma_p", value: gamma_p, max: max * gamma_p / value },
+        e => e,
+    })?))
+}
+
+impl SchemeSpec {
+    /// Newmark(β, γ) (not validated until built).
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        NEWMARK.with(&[beta, gamma])
+    }
+    /// The θ-method.
+    pub fn theta(theta: f64) -> Self {
+        THETA.with(&[theta])
+    }
+    /// The penalty spring `γ_P K_cc` with Newmark-CN (`explicit = false`,
+    /// `penalty(G)`) or the explicit central difference (`penalty-cd(G)`).
+    pub fn penalty(gamma_p: f64, explicit: bool) -> Self {
+        if explicit {
+            PENALTY_CD.with(&[gamma_p])
+        } else {
+            PENALTY.with(&[gamma_p])
+        }
+    }
+}
+
+/// The damping refusal of the constructors whose schemes take none.
+pub(crate) fn no_damping(label: &str) -> SchemeError {
+    SchemeError::NotTaken { scheme: label.to_string(), what: "damping matrix", why: "", by: families_with(|c| c.damping) }
 }

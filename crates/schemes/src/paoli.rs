@@ -597,3 +597,94 @@ impl Stepper for PaoliSchatzman {
         Some((self.time() - 0.5 * dt, e))
     }
 }
+
+// ---- The registry's rows of this file: ps (the β-scheme, taylor-flanagan) and cd-taylor.
+
+use crate::registry::{check, kappa_bound, Capabilities, Family, Group, Node, Param, Preset};
+use crate::SchemeSpec;
+
+/// Paoli–Schatzman / the β-scheme, restitution e ∈ [0, 1], β ∈ [0, 1/2]
+/// (β >= 1/4 is unconditionally stable; β < 1/4 needs a massive contact
+/// node and dt < 2/sqrt((1-4β) κ_h)).
+pub(crate) static PS: Family = Family {
+    name: "ps",
+    about: "Paoli–Schatzman two-step β-scheme with restitution e (docs/theory.md §4.3); β = 0 is Taylor–Flanagan's central difference",
+    params: &[Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None }, Param { name: "beta", symbol: "β", syntax: "BETA", allowed: "∈ [0, 1/2] (default 1/4; β < 1/4 needs a massive contact node)", default: Some(0.25) }],
+    presets: &[
+        Preset { name: "ps-e0", args: &[0.0, 0.25], group: Group::Paper, rank: 4 },
+        Preset { name: "ps-e0.5", args: &[0.5, 0.25], group: Group::Paper, rank: 5 },
+        Preset { name: "ps-e1", args: &[1.0, 0.25], group: Group::Paper, rank: 6 },
+        // Taylor–Flanagan: the explicit central difference whose contact
+        // force at t_n puts u_c^{n+1} exactly on the obstacle — the two-step
+        // Paoli–Schatzman form with β = 0, e = 0 (with lumped mass the
+        // correction touches the contact node only, as in the original).
+        Preset { name: "taylor-flanagan", args: &[0.0, 0.0], group: Group::Peer, rank: 2 },
+    ],
+    validate: |a| {
+        check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]")?;
+        check("beta", a[1], (0.0..=0.5).contains(&a[1]), "[0, 1/2] (β < 1/4 needs a massive contact node and is conditionally stable)")
+    },
+    capabilities: |a| Capabilities { explicit: a[1] == 0.0, node: if a[1] < 0.25 { Node::Massive } else { Node::Any }, restitution: true, ..Capabilities::IMPLICIT },
+    cfl_limit: |a, dy| {
+        let beta = a[1];
+        if beta >= 0.25 {
+            return Ok(None);
+        }
+        if dy.massless_contact() {
+            return Ok(Some(0.0));
+        }
+        let kappa = kappa_bound(&dy.stiffness, &dy.mass)?;
+        Ok(Some(crate::beta_scheme_critical_dt(beta, kappa)))
+    },
+    stability_rule: |a| {
+        if a[1] == 0.0 {
+            Some("explicit central difference (β = 0): 2/sqrt(κ_max) of the pencil (K, M)")
+        } else if a[1] < 0.25 {
+            Some("two-step β-scheme with β < 1/4: 2/sqrt((1 - 4β) κ_max) of the pencil (K, M); β >= 1/4 is unconditionally stable")
+        } else {
+            None
+        }
+    },
+    build: |s, dy, dt, init| {
+        let (restitution, beta) = (s.args()[0], s.args()[1]);
+        if beta < 0.25 && dy.massless_contact() {
+            return Err(SchemeError::MassNotSupported { scheme: s.to_string(), needs: "a massive contact node (mass std or lumped) when β < 1/4 (with a massless node the β-scheme is unstable for every dt)" });
+        }
+        s.check_cfl(&dy, dt, false)?;
+        Ok(Box::new(PaoliSchatzman::new(s.to_string(), dy, beta, restitution, dt, init)?))
+    },
+};
+
+/// The explicit central difference started by Taylor's formula
+/// ([`PaoliSchatzman::central_difference_taylor`]): a diagonal (lumped)
+/// mass with a massive contact node, restitution 0, dt up to and including
+/// the CFL limit — with the lumped P1 bar, dt = h/c exactly (Courant number
+/// one, docs/theory.md §4.10).
+pub(crate) static CD_TAYLOR: Family = Family {
+    name: "cd-taylor",
+    about: "explicit central difference with Taylor's start, dt up to the CFL limit itself (Courant number one; docs/theory.md §4.10)",
+    params: &[],
+    presets: &[Preset { name: "cd-taylor", args: &[], group: Group::SingleMass, rank: 0 }],
+    validate: |_| Ok(()),
+    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, diagonal_mass: true, beam: false, ..Capabilities::IMPLICIT },
+    cfl_limit: |_, dy| Ok(Some(2.0 / kappa_bound(&dy.stiffness, &dy.mass)?.sqrt())),
+    stability_rule: |_| Some("explicit central difference: dt <= 2/sqrt(κ_max) of the pencil (K, M), the limit itself allowed (Courant number one with the lumped P1 bar)"),
+    build: |s, dy, dt, init| {
+        if dy.massless_contact() {
+            return Err(SchemeError::MassNotSupported { scheme: s.to_string(), needs: "a massive contact node and a diagonal mass (mass lumped)" });
+        }
+        s.check_cfl(&dy, dt, true)?;
+        Ok(Box::new(PaoliSchatzman::central_difference_taylor(s.to_string(), dy, 0.0, dt, init)?))
+    },
+};
+
+impl SchemeSpec {
+    /// Paoli–Schatzman with restitution `e` and β (not validated until built).
+    pub fn ps(restitution: f64, beta: f64) -> Self {
+        PS.with(&[restitution, beta])
+    }
+    /// `cd-taylor`: the central difference with Taylor's start.
+    pub fn cd_taylor() -> Self {
+        CD_TAYLOR.with(&[])
+    }
+}

@@ -52,10 +52,10 @@ fn one_step_scheme(i: usize, beta: f64, gamma: f64, theta: f64) -> (SchemeSpec, 
         1 => ("newmark-i".parse().unwrap(), Coefs::newmark(0.5, 1.0)),
         2 => ("newmark-ii".parse().unwrap(), Coefs::newmark(0.5, 0.5)),
         3 => ("backward-euler".parse().unwrap(), Coefs::theta(1.0)),
-        4 => (SchemeSpec::Theta { theta }, Coefs::theta(theta)),
+        4 => (SchemeSpec::theta(theta), Coefs::theta(theta)),
         _ => {
             let beta = beta.max(gamma / 2.0);
-            (SchemeSpec::Newmark { beta, gamma }, Coefs::newmark(beta, gamma))
+            (SchemeSpec::newmark(beta, gamma), Coefs::newmark(beta, gamma))
         }
     }
 }
@@ -100,9 +100,9 @@ proptest! {
             let mut kp = o.k.clone();
             kp[0][0] += kappa;
             let limit = 2.0 / kappa_max(&kp, &o.m).sqrt();
-            (SchemeSpec::Penalty { gamma_p, explicit: true }, Coefs::newmark(0.0, 0.5), frac * limit)
+            (SchemeSpec::penalty(gamma_p, true), Coefs::newmark(0.0, 0.5), frac * limit)
         } else {
-            (SchemeSpec::Penalty { gamma_p, explicit: false }, Coefs::newmark(0.25, 0.5), frac * 20.0 / m as f64)
+            (SchemeSpec::penalty(gamma_p, false), Coefs::newmark(0.25, 0.5), frac * 20.0 / m as f64)
         };
         let init = approaching(m, m, gap, offset, speed, wiggle, seed);
         let mut s = spec.build(dy, dt, &init).unwrap();
@@ -145,7 +145,7 @@ proptest! {
             2 => (beta_lo, frac * 2.0 / ((1.0 - 4.0 * beta_lo) * kappa_max(&o.k, &o.m)).sqrt()),
             _ => (0.0, frac * 2.0 / kappa_max(&o.k, &o.m).sqrt()),
         };
-        let spec = SchemeSpec::PaoliSchatzman { restitution: e, beta };
+        let spec = SchemeSpec::ps(e, beta);
         let init = approaching(n, m, gap, offset, speed, wiggle, seed);
         let mut s = spec.build(dy, dt, &init).unwrap();
         let traj = record(s.as_mut(), steps_for(dt, 40));
@@ -184,7 +184,7 @@ fn beam_between_stops_one_step_and_beta_scheme() {
     }
     let kappa = kappa_max(&o.k, &o.m);
     for (beta, dt) in [(0.25, dt), (0.3, dt), (0.1, 0.9 * 2.0 / ((1.0 - 0.4) * kappa).sqrt())] {
-        let spec = SchemeSpec::PaoliSchatzman { restitution: 0.0, beta };
+        let spec = SchemeSpec::ps(0.0, beta);
         let mut s = spec.build(dy.clone(), dt, &init).unwrap();
         let steps = (1.0 / dt) as usize;
         let traj = record(s.as_mut(), steps);

@@ -119,7 +119,7 @@ fn paoli_schatzman_with_a_restitution_per_stop() {
     for mass in MASSES {
         for beta in [0.25, 0.35] {
             let (dy, o, init) = scene(mass, &st3, true);
-            let spec = SchemeSpec::PaoliSchatzman { restitution: 0.5, beta };
+            let spec = SchemeSpec::ps(0.5, beta);
             let mut s = spec.build(dy, 0.01, &init).unwrap();
             let traj = record(s.as_mut(), 400);
             let st = check_ps(&o, beta, 0.5, &init, &traj);
@@ -152,7 +152,7 @@ fn penalty_with_a_stiffness_per_stop() {
             } else {
                 (Coefs::newmark(0.25, 0.5), 0.01)
             };
-            let spec = SchemeSpec::Penalty { gamma_p, explicit };
+            let spec = SchemeSpec::penalty(gamma_p, explicit);
             let mut s = spec.build(dy, dt, &init).unwrap();
             let traj = record(s.as_mut(), (4.0 / dt) as usize);
             let st = check_one_step(&o, &o.k, cf, &init, &traj, recorded_force(&o, &traj), TOL);
@@ -182,7 +182,7 @@ fn moreau_jean_with_three_stops() {
         for e in [0.0, 0.5] {
             let (dy, o, init) = scene(mass, &st3, false);
             let dt = 0.01;
-            let spec = SchemeSpec::MoreauJean { theta: 0.5, restitution: e };
+            let spec = SchemeSpec::moreau_jean(0.5, e);
             let mut s = spec.build(dy, dt, &init).unwrap();
             let traj = record(s.as_mut(), 600);
             let (res_w, en_w, active) = check_moreau_jean(&o, e, &init, &traj);

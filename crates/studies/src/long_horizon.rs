@@ -106,7 +106,7 @@ impl EnergyTable {
     pub fn all_runs() -> Vec<(SchemeSpec, BarMass)> {
         let masses = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
         let mut runs: Vec<(SchemeSpec, BarMass)> = SchemeSpec::named().flat_map(|(_, s)| masses.iter().filter(move |m| s.accepts_massless_node(m.massless_contact_node())).map(move |&m| (s, m))).collect();
-        runs.extend(SchemeSpec::SINGLE_MASS.iter().map(|&(_, s)| (s, BarMass::Lumped)));
+        runs.extend(SchemeSpec::group(signorini_schemes::Group::SingleMass).map(|(_, s)| (s, BarMass::Lumped)));
         runs
     }
 

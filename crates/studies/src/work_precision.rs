@@ -393,7 +393,7 @@ fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
     let dt = p.bar.h() / p.bar.wave_speed;
     let build = || -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError> {
         let p = b.problem(exact.as_ref(), m, BarMass::Lumped)?;
-        Ok((SchemeSpec::CentralDifferenceTaylor.build(p.dynamics(), dt, &p.initial).map_err(RunError::from)?, p.initial.u.clone()))
+        Ok((SchemeSpec::cd_taylor().build(p.dynamics(), dt, &p.initial).map_err(RunError::from)?, p.initial.u.clone()))
     };
     let (mut s, u0) = build()?;
     let mut norms = NormObserver::new(exact.as_ref(), p.bar.elements, p.vnorm(), dt);

@@ -1,0 +1,435 @@
+//! The scheme registry: one table of every time scheme, from which parsing,
+//! printing, validation, capabilities (what a scene may combine with a
+//! scheme), stability rules, `signorini list`, the messages that name
+//! schemes, the fuzzer's pools and the studies' loops are derived.
+//!
+//! A scheme family (`newmark`, `ps`, `moreau-jean`, …) is a [`Family`]: its
+//! name, its parameters with their ranges and syntax, its named presets,
+//! its [`Capabilities`], its stability limit and how to build its
+//! [`Stepper`]. Each family is defined in the file of its integrator; the
+//! registry is the list [`FAMILIES`]. A new scheme is its file (the stepper
+//! and its `Family`), one row in [`FAMILIES`], and its documentation.
+//!
+//! A [`SchemeSpec`] is a family with its parameter values: `newmark-cn` is
+//! the preset `newmark(0.25,0.5)`; `ps(0.5)` takes `ps`'s default `β = 1/4`.
+
+use crate::{Dynamics, Initial, SchemeError, Stepper};
+use std::fmt;
+use std::str::FromStr;
+
+/// The most parameters a family takes.
+pub const MAX_PARAMS: usize = 2;
+
+/// One parameter of a scheme family.
+#[derive(Clone, Copy, Debug)]
+pub struct Param {
+    /// Its name in errors (`beta`, `e`, `gamma_p`).
+    pub name: &'static str,
+    /// Its symbol in the docs (`β`, `γ_P`).
+    pub symbol: &'static str,
+    /// Its placeholder in the syntax (`BETA`, `E`).
+    pub syntax: &'static str,
+    /// Its allowed range, in words (`[0, 1]`).
+    pub allowed: &'static str,
+    /// The value taken when the call leaves it out (trailing parameters only).
+    pub default: Option<f64>,
+}
+
+/// Which contact node a scheme needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Node {
+    /// Either a massive or a massless contact node.
+    Any,
+    /// A massive contact node (mass `std` or `lumped`; explicit schemes,
+    /// Moreau–Jean, the β-scheme with β < 1/4).
+    Massive,
+    /// A massless contact node (the reduced formulations).
+    Massless,
+}
+
+/// What a scheme (a family with its parameter values) can be combined with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Capabilities {
+    /// Explicit (conditionally stable, CFL-limited).
+    pub explicit: bool,
+    /// The contact node it needs.
+    pub node: Node,
+    /// It needs a diagonal mass (`lumped`).
+    pub diagonal_mass: bool,
+    /// It takes a damping matrix `C`.
+    pub damping: bool,
+    /// It takes a time-dependent load.
+    pub forcing: bool,
+    /// It has an impact law: a per-contact restitution acts.
+    pub restitution: bool,
+    /// It is a penalty method: a per-contact stiffness acts.
+    pub stiffness: bool,
+    /// It takes several contacts.
+    pub several_contacts: bool,
+    /// It takes the beam's structure (Hermite cubics: consistent, non-diagonal
+    /// mass, massive contact dofs that are not dof 0, a support motion's load).
+    pub beam: bool,
+}
+
+impl Capabilities {
+    /// An implicit scheme for any node that takes everything but impact
+    /// laws and penalty stiffness (the Newmark/θ family's).
+    pub const IMPLICIT: Capabilities = Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: true, forcing: true, restitution: false, stiffness: false, several_contacts: true, beam: true };
+
+    /// Whether a mass treatment whose contact node is massless (`true`) or
+    /// massive (`false`) suits the scheme.
+    pub fn accepts_massless_node(&self, massless: bool) -> bool {
+        match self.node {
+            Node::Any => true,
+            Node::Massive => !massless,
+            Node::Massless => massless,
+        }
+    }
+}
+
+/// The group a preset is listed in (the studies loop over them in this order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Group {
+    /// The papers' presets (docs/theory.md §4.8), in the order of their tables.
+    Paper,
+    /// The schemes on the reduced formulation (massless contact node only).
+    Reduced,
+    /// The schemes users compare against (docs/theory.md §4.6).
+    Peer,
+    /// Schemes that take one mass only (left out of the loops over every
+    /// scheme and mass).
+    SingleMass,
+}
+
+/// A named preset of a family.
+#[derive(Clone, Copy, Debug)]
+pub struct Preset {
+    /// Its name (`newmark-cn`).
+    pub name: &'static str,
+    /// The family's parameter values.
+    pub args: &'static [f64],
+    /// The list it belongs to.
+    pub group: Group,
+    /// Its place in the group (the papers' table order).
+    pub rank: u8,
+}
+
+/// A scheme family: everything the workspace knows of a scheme comes from here.
+pub struct Family {
+    /// The name (`newmark`, `ps`, `cd-taylor`).
+    pub name: &'static str,
+    /// One line for `signorini list`.
+    pub about: &'static str,
+    /// Its parameters (at most [`MAX_PARAMS`]).
+    pub params: &'static [Param],
+    /// Its named presets.
+    pub presets: &'static [Preset],
+    /// Checks the parameter values (ranges and their relations).
+    pub validate: fn(&[f64]) -> Result<(), SchemeError>,
+    /// What the scheme with these values can be combined with.
+    pub capabilities: fn(&[f64]) -> Capabilities,
+    /// The exact stability limit on a problem (`None`: unconditionally stable).
+    pub cfl_limit: fn(&[f64], &Dynamics) -> Result<Option<f64>, SchemeError>,
+    /// How the limit is computed, in words (`None`: unconditionally stable).
+    pub stability_rule: fn(&[f64]) -> Option<&'static str>,
+    /// Builds the integrator (the parameters are validated and the
+    /// capabilities checked before).
+    pub build: fn(&SchemeSpec, Dynamics, f64, &Initial) -> Result<Box<dyn Stepper>, SchemeError>,
+}
+
+impl fmt::Debug for Family {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Family").field("name", &self.name).finish_non_exhaustive()
+    }
+}
+
+/// The registry: every scheme family, in the order `signorini list` shows them.
+pub static FAMILIES: &[&Family] = &[
+    &crate::onestep::NEWMARK,
+    &crate::onestep::THETA,
+    &crate::paoli::PS,
+    &crate::hybrid::HYBRID,
+    &crate::hybrid::REDUCED_CN,
+    &crate::onestep::PENALTY,
+    &crate::onestep::PENALTY_CD,
+    &crate::moreau::MOREAU_JEAN,
+    &crate::hybrid::CD_MASSLESS,
+    &crate::nitsche::NITSCHE,
+    &crate::paoli::CD_TAYLOR,
+];
+
+/// A time scheme with its parameters (docs/theory.md §4; names: §4.8): a
+/// [`Family`] of the registry and its parameter values.
+#[derive(Clone, Copy)]
+pub struct SchemeSpec {
+    family: &'static Family,
+    args: [f64; MAX_PARAMS],
+}
+
+impl PartialEq for SchemeSpec {
+    fn eq(&self, other: &Self) -> bool {
+        self.family.name == other.family.name && self.args() == other.args()
+    }
+}
+
+impl fmt::Debug for SchemeSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.call())
+    }
+}
+
+/// The families whose capabilities satisfy `pred`, in words (`newmark,
+/// theta, ps or moreau-jean`): the schemes a message offers instead.
+pub fn families_with(pred: impl Fn(&Capabilities) -> bool) -> String {
+    let names: Vec<&str> = FAMILIES
+        .iter()
+        .filter(|f| {
+            // A family qualifies if its default values (or any preset) do.
+            let defaults: Vec<f64> = f.params.iter().map(|p| p.default.unwrap_or(f64::NAN)).collect();
+            f.presets.iter().any(|p| pred(&(f.capabilities)(p.args))) || (f.presets.is_empty() && pred(&(f.capabilities)(&defaults)))
+        })
+        .map(|f| f.name)
+        .collect();
+    match names.split_last() {
+        None => String::new(),
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
+/// Every way to write a scheme, in words: the presets, then each family's
+/// call syntax (`newmark(BETA,GAMMA)`, `ps(E[,BETA])`).
+pub fn syntax_list() -> String {
+    let mut all: Vec<String> = SchemeSpec::presets().map(|p| p.0.to_string()).collect();
+    for f in FAMILIES.iter().filter(|f| !f.params.is_empty()) {
+        all.push(f.syntax());
+    }
+    all.join(", ")
+}
+
+impl Family {
+    /// The call syntax: `newmark(BETA,GAMMA)`, `ps(E[,BETA])`; the bare name
+    /// for a family without parameters.
+    pub fn syntax(&self) -> String {
+        if self.params.is_empty() {
+            return self.name.to_string();
+        }
+        let mut s = format!("{}(", self.name);
+        for (i, p) in self.params.iter().enumerate() {
+            let sep = if i == 0 { "" } else { "," };
+            if p.default.is_some() {
+                s += &format!("[{sep}{}]", p.syntax);
+            } else {
+                s += &format!("{sep}{}", p.syntax);
+            }
+        }
+        s + ")"
+    }
+
+    /// The ranges of the parameters, in words (`β ∈ (0, 1/2], γ ∈ [1/2, 2β]`).
+    pub fn ranges(&self) -> String {
+        self.params.iter().map(|p| format!("{} {}", p.symbol, p.allowed)).collect::<Vec<_>>().join(", ")
+    }
+
+    /// The family's scheme with `args` (not validated: [`SchemeSpec::validate`]).
+    ///
+    /// # Panics
+    /// If `args` is not one value per parameter (a programmer error).
+    #[track_caller]
+    pub fn with(&'static self, args: &[f64]) -> SchemeSpec {
+        assert_eq!(args.len(), self.params.len(), "{} takes {} parameters", self.name, self.params.len());
+        let mut a = [0.0; MAX_PARAMS];
+        a[..args.len()].copy_from_slice(args);
+        SchemeSpec { family: self, args: a }
+    }
+}
+
+impl SchemeSpec {
+    /// Every named preset with its scheme, grouped ([`Group`]) and in each
+    /// group in the papers' order.
+    pub fn presets() -> impl Iterator<Item = (&'static str, SchemeSpec, Group)> {
+        let mut all: Vec<(&'static str, SchemeSpec, Group, u8)> = FAMILIES.iter().flat_map(|f| f.presets.iter().map(move |p| (p.name, f.with(p.args), p.group, p.rank))).collect();
+        all.sort_by_key(|p| (p.2, p.3));
+        all.into_iter().map(|p| (p.0, p.1, p.2))
+    }
+
+    /// The presets of one group.
+    pub fn group(g: Group) -> impl Iterator<Item = (&'static str, SchemeSpec)> {
+        Self::presets().filter(move |p| p.2 == g).map(|p| (p.0, p.1))
+    }
+
+    /// Every named scheme run with every mass (the papers' presets, the
+    /// reduced ones, the peers; not [`Group::SingleMass`]).
+    pub fn named() -> impl Iterator<Item = (&'static str, SchemeSpec)> {
+        Self::presets().filter(|p| p.2 != Group::SingleMass).map(|p| (p.0, p.1))
+    }
+
+    /// The family.
+    pub fn family(&self) -> &'static Family {
+        self.family
+    }
+
+    /// The parameter values, one per [`Family::params`].
+    pub fn args(&self) -> &[f64] {
+        &self.args[..self.family.params.len()]
+    }
+
+    /// The value of the parameter `name`, if the family has one.
+    pub fn param(&self, name: &str) -> Option<f64> {
+        self.family.params.iter().position(|p| p.name == name).map(|i| self.args[i])
+    }
+
+    /// The call form, `newmark(0.25,0.5)` (the bare name without parameters).
+    pub fn call(&self) -> String {
+        if self.family.params.is_empty() {
+            return self.family.name.to_string();
+        }
+        let args: Vec<String> = self.args().iter().map(|a| a.to_string()).collect();
+        format!("{}({})", self.family.name, args.join(","))
+    }
+
+    /// What the scheme can be combined with.
+    pub fn capabilities(&self) -> Capabilities {
+        (self.family.capabilities)(self.args())
+    }
+
+    /// Checks every parameter against its allowed range.
+    pub fn validate(&self) -> Result<(), SchemeError> {
+        (self.family.validate)(self.args())
+    }
+
+    /// The exact stability limit of a conditionally stable scheme on `dy`
+    /// (`None` for unconditionally stable ones). `κ_max` is a certified
+    /// upper bound (closed form on a uniform P1 bar, Lanczos with an inertia
+    /// test otherwise), so the limit is never over-estimated and is within
+    /// a relative 1e-12 of the exact one.
+    pub fn cfl_limit(&self, dy: &Dynamics) -> Result<Option<f64>, SchemeError> {
+        (self.family.cfl_limit)(self.args(), dy)
+    }
+
+    /// How [`cfl_limit`](Self::cfl_limit) is computed, in words (`None` for
+    /// unconditionally stable schemes).
+    pub fn stability_rule(&self) -> Option<&'static str> {
+        (self.family.stability_rule)(self.args())
+    }
+
+    /// Whether the scheme can run with a mass treatment whose contact node
+    /// is massless (`massless = true`) or massive.
+    pub fn accepts_massless_node(&self, massless: bool) -> bool {
+        self.capabilities().accepts_massless_node(massless)
+    }
+
+    /// Whether the scheme is explicit (conditionally stable, CFL-limited).
+    pub fn is_explicit(&self) -> bool {
+        self.capabilities().explicit
+    }
+
+    /// Whether the scheme needs a massive contact node.
+    pub fn needs_massive_node(&self) -> bool {
+        self.capabilities().node == Node::Massive
+    }
+
+    /// Whether the scheme needs a massless contact node.
+    pub fn needs_massless_node(&self) -> bool {
+        self.capabilities().node == Node::Massless
+    }
+
+    /// Whether the scheme needs a diagonal mass (the `lumped` treatment).
+    pub fn needs_diagonal_mass(&self) -> bool {
+        self.capabilities().diagonal_mass
+    }
+
+    /// Refuses `dt` at or beyond [`cfl_limit`](Self::cfl_limit), with room
+    /// `roundoff` (relative) for the round-off of the computed limit.
+    ///
+    /// The computed limit is a certified lower bound of the exact one, at
+    /// most a relative 1e-12 below it (8 ulps for the closed form): with
+    /// [`STRICT_CFL_ROUNDOFF`] a step that equals the exact limit up to the
+    /// round-off of `dt` itself — `taylor-flanagan` at `dt = h/c` on the
+    /// lumped bar with a free far end, whose limit is exactly `h/c` (the
+    /// Courant-one study) — is accepted.
+    pub(crate) fn check_cfl(&self, dy: &Dynamics, dt: f64, inclusive: bool) -> Result<(), SchemeError> {
+        if let Some(limit) = self.cfl_limit(dy)? {
+            let ok = if inclusive { dt <= limit * (1.0 + 1e-9) } else { dt < limit * (1.0 + STRICT_CFL_ROUNDOFF) };
+            if !ok {
+                return Err(SchemeError::Unstable { dt, limit, scheme: self.to_string(), rule: self.stability_rule().unwrap_or("") });
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the integrator for a problem, time step and initial state:
+    /// the parameters are validated, a time-dependent load and a damping
+    /// matrix refused by the schemes that do not take them.
+    pub fn build(&self, dy: Dynamics, dt: f64, init: &Initial) -> Result<Box<dyn Stepper>, SchemeError> {
+        self.validate()?;
+        let caps = self.capabilities();
+        if !dy.forcing.is_empty() && !caps.forcing {
+            return Err(SchemeError::NotTaken { scheme: self.to_string(), what: "time-dependent load", why: "", by: families_with(|c| c.forcing) });
+        }
+        if dy.damping.is_some() && !caps.damping {
+            return Err(SchemeError::NotTaken { scheme: self.to_string(), what: "damping matrix", why: if caps.explicit { " (an explicit step would need a solve with M + dt/2 C)" } else { "" }, by: families_with(|c| c.damping) });
+        }
+        (self.family.build)(self, dy, dt, init)
+    }
+}
+
+/// Relative room for round-off in the strict CFL checks (see `check_cfl`).
+pub(crate) const STRICT_CFL_ROUNDOFF: f64 = 1e-11;
+
+/// A certified upper bound of `κ_max` of the pencil `(k, m)`, in O(n): the
+/// closed form when it is a uniform P1 bar's (std or lumped mass), Lanczos
+/// with an inertia test otherwise ([`signorini_fem::max_generalized_eigenvalue_bound`],
+/// docs/theory.md §2.3, §2.4). The limit `2/sqrt(κ)` is therefore never
+/// above the exact one, and below it by at most a relative 1e-12.
+pub(crate) fn kappa_bound(k: &signorini_fem::SymBand, m: &signorini_fem::SymBand) -> Result<f64, signorini_fem::FemError> {
+    signorini_fem::max_generalized_eigenvalue_bound(k, m).map(|b| b.upper)
+}
+
+impl fmt::Display for SchemeSpec {
+    /// The preset name when it is one, else the call form `newmark(β,γ)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some((name, _, _)) = Self::presets().find(|(_, s, _)| s == self) {
+            return f.write_str(name);
+        }
+        f.write_str(&self.call())
+    }
+}
+
+impl FromStr for SchemeSpec {
+    type Err = SchemeError;
+    /// A preset name, or a family's call `name(A[,B])` (trailing parameters
+    /// with a default may be left out). The parameters are validated.
+    fn from_str(s: &str) -> Result<Self, SchemeError> {
+        let s = s.trim();
+        if let Some((_, spec, _)) = Self::presets().find(|(n, _, _)| *n == s) {
+            return Ok(spec);
+        }
+        let unknown = || SchemeError::UnknownScheme { name: s.to_string(), allowed: syntax_list() };
+        if let Some(f) = FAMILIES.iter().find(|f| f.params.is_empty() && f.name == s) {
+            return Ok(f.with(&[]));
+        }
+        let (head, rest) = s.split_once('(').ok_or_else(unknown)?;
+        let args = rest.strip_suffix(')').ok_or_else(unknown)?;
+        let nums: Vec<f64> = args.split(',').map(|a| a.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| unknown())?;
+        let family = FAMILIES.iter().find(|f| f.name == head.trim() && !f.params.is_empty()).ok_or_else(unknown)?;
+        let required = family.params.iter().filter(|p| p.default.is_none()).count();
+        if nums.len() < required || nums.len() > family.params.len() {
+            return Err(unknown());
+        }
+        let full: Vec<f64> = family.params.iter().enumerate().map(|(i, p)| nums.get(i).copied().or(p.default).unwrap_or(f64::NAN)).collect();
+        let spec = family.with(&full);
+        spec.validate()?;
+        Ok(spec)
+    }
+}
+
+/// A check of one parameter: `Ok` if `ok` and `v` is finite.
+pub(crate) fn check(field: &'static str, v: f64, ok: bool, allowed: &'static str) -> Result<(), SchemeError> {
+    if ok && v.is_finite() {
+        Ok(())
+    } else {
+        Err(SchemeError::Invalid { field, value: v, allowed })
+    }
+}
