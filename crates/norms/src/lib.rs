@@ -311,7 +311,7 @@ impl<'a> SpaceIntegrator<'a> {
                 i += d;
             }
         }
-        self.from_integrals(l2, semi)
+        self.errors_from_integrals(l2, semi)
     }
 
     /// Length of the domain.
@@ -320,7 +320,7 @@ impl<'a> SpaceIntegrator<'a> {
     }
 
     /// The errors from the integrals `∫ e²` and `∫ e_x²` (the P1 and Pk paths).
-    fn from_integrals(&self, l2: f64, semi: f64) -> SpaceErrors {
+    fn errors_from_integrals(&self, l2: f64, semi: f64) -> SpaceErrors {
         let v = match self.vnorm {
             VNorm::H1Seminorm => semi,
             VNorm::H1Full => semi + l2,
@@ -406,7 +406,7 @@ impl<'a> SpaceIntegrator<'a> {
                 }
             }
         }
-        self.from_integrals(l2, semi)
+        self.errors_from_integrals(l2, semi)
     }
 }
 
