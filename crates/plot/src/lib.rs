@@ -189,7 +189,7 @@ fn log_ticks(lo: f64, hi: f64) -> LogTicks {
     let decades = with(&[1.0]);
     if decades.len() >= 3 {
         let step = decades.len().div_ceil(MAX_DECADE_LABELS);
-        let (major, skipped): (Vec<(usize, f64)>, Vec<(usize, f64)>) = decades.iter().copied().enumerate().partition(|(i, _)| i % step == 0);
+        let (major, skipped): (Vec<_>, Vec<_>) = decades.iter().copied().enumerate().partition(|(i, _)| i % step == 0);
         let mut minor: Vec<f64> = skipped.into_iter().map(|(_, v)| v).collect();
         if step == 1 {
             minor.extend(with(&[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]));
