@@ -166,7 +166,7 @@ impl SchemeSpec {
     pub fn stability_rule(&self) -> Option<&'static str> {
         match *self {
             SchemeSpec::Penalty { explicit: true, .. } => Some("explicit central difference with a penalty spring: 2/sqrt(κ_max) of the pencil (K + κ e_c e_cᵀ, M)"),
-            SchemeSpec::PaoliSchatzman { beta, .. } if beta == 0.0 => Some("explicit central difference (β = 0): 2/sqrt(κ_max) of the pencil (K, M)"),
+            SchemeSpec::PaoliSchatzman { beta: 0.0, .. } => Some("explicit central difference (β = 0): 2/sqrt(κ_max) of the pencil (K, M)"),
             SchemeSpec::CentralDifferenceTaylor => Some("explicit central difference: dt <= 2/sqrt(κ_max) of the pencil (K, M), the limit itself allowed (Courant number one with the lumped P1 bar)"),
             SchemeSpec::PaoliSchatzman { beta, .. } if beta < 0.25 => Some("two-step β-scheme with β < 1/4: 2/sqrt((1 - 4β) κ_max) of the pencil (K, M); β >= 1/4 is unconditionally stable"),
             SchemeSpec::Reduced(ReducedLaw::CentralDifference) => Some("explicit central difference with a quasi-static massless node: 2/sqrt(κ_max) of the reduced pencil (K*, M*) without the contact node"),
