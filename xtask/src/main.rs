@@ -81,6 +81,10 @@ enum Cmd {
     Fuzz(fuzz::Args),
 }
 
+// The field docs are the `--help` text (clap), where `<benchmark>` is a
+// placeholder and `[,B]` an optional part, not HTML or a link; writing them
+// for rustdoc would change the help.
+#[allow(rustdoc::invalid_html_tags, rustdoc::broken_intra_doc_links)]
 #[derive(clap::Args)]
 struct ConvergenceArgs {
     /// Benchmark with an exact solution (bar-dirichlet, bar-neumann-gravity,

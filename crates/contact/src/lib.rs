@@ -1,5 +1,47 @@
 //! # signorini-contact
 //!
+//! The crate alone, with a step matrix and a solver of the user's own: a
+//! predictor projected onto the obstacle, then complementarity and
+//! equilibrium checked:
+//!
+//! ```
+//! use signorini_contact::{Active, Projection};
+//!
+//! // The user's SPD matrix A (3 unknowns, contact dof c = 0) ...
+//! let a = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]];
+//! let mul = |x: &[f64]| -> Vec<f64> { a.iter().map(|row| row.iter().zip(x).map(|(r, x)| r * x).sum()).collect() };
+//! // ... and its influence column w = A⁻¹ e_0 (A⁻¹ = [[3, 2, 1], [2, 4, 2], [1, 2, 3]] / 4).
+//! let w = vec![0.75, 0.5, 0.25];
+//! assert_eq!(mul(&w), [1.0, 0.0, 0.0]);
+//! let proj = Projection::new(0, w)?;
+//!
+//! // The unconstrained solution y = A⁻¹ b of b = (-2, 0, 1) goes below the
+//! // obstacle lo = 0 (y = (-5/4, -1/2, 1/4)).
+//! let (lo, hi) = (0.0, f64::INFINITY);
+//! let b = [-2.0, 0.0, 1.0];
+//! let mut x = vec![-1.25, -0.5, 0.25];
+//! assert_eq!(mul(&x), b);
+//! let r = proj.project(&mut x, lo, hi);
+//!
+//! // On the bound, pushed up by μ = (lo - y_0)/w_0 = 5/3:
+//! assert_eq!(r.active, Active::Lower);
+//! assert_eq!(x[0], lo);
+//! assert!((r.mu - 5.0 / 3.0).abs() < 1e-14);
+//! // complementarity: μ >= 0, x_0 >= lo, μ (x_0 - lo) = 0 ...
+//! assert!(r.mu >= 0.0 && x[0] >= lo && r.mu * (x[0] - lo) == 0.0);
+//! // ... and equilibrium A x = b + μ e_0 (x = (0, 1/3, 2/3)).
+//! for (i, (ax, bi)) in mul(&x).into_iter().zip(b).enumerate() {
+//!     let rhs = if i == 0 { bi + r.mu } else { bi };
+//!     assert!((ax - rhs).abs() < 1e-14, "row {i}: {ax} != {rhs}");
+//! }
+//!
+//! // A predictor inside the bounds is left as it is, with μ = 0.
+//! let mut y = vec![0.25, 1.5, 2.75];
+//! let r = proj.project(&mut y, lo, hi);
+//! assert_eq!((r.mu, r.active, y), (0.0, Active::None, vec![0.25, 1.5, 2.75]));
+//! # Ok::<(), signorini_contact::ContactError>(())
+//! ```
+//!
 //! One implicit step of every scheme with a single contact dof `c` reduces to
 //! (docs/theory.md §3, Dumont–Paoli Lemma 4.1):
 //!

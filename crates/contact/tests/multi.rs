@@ -326,7 +326,9 @@ fn pivot_rule_falls_back_to_least_index_single_pivots() {
     use Active::{Lower as L, None as N, Upper as U};
     let mut rule = PivotRule::new([(1.0, 0.0, 2.0); 4].into_iter());
     let mut st = [N; 4];
-    let passes: [(&[usize], &[usize], usize, bool, [Active; 4]); 9] = [
+    // (infeasible dofs, those infeasible above the upper bound, count returned, single pivots after, statuses after)
+    type Pass = (&'static [usize], &'static [usize], usize, bool, [Active; 4]);
+    let passes: [Pass; 9] = [
         (&[0, 1, 2], &[], 3, false, [L, L, L, N]),
         (&[0, 1], &[], 2, false, [N, N, L, N]),
         (&[0, 3], &[3], 2, false, [L, N, L, U]),

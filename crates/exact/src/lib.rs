@@ -1,5 +1,34 @@
 //! # signorini-exact
 //!
+//! The Dirichlet bar (`u0 = (1 - x)/2` at rest, clamped at `x = 1`, obstacle
+//! at 0 under the end `x = 0`) at points whose values follow by hand:
+//!
+//! ```
+//! use signorini_exact::{BarDirichlet, ExactSolution};
+//!
+//! let bar = BarDirichlet;
+//! // Before the impact (t < 1) the release wave from the free end x = 0 has
+//! // reached x = t. Behind it d'Alembert with the even extension of u0 gives
+//! // u = (u0(t - x) + u0(x + t))/2 = (1 - t)/2: unstrained, falling at speed 1/2.
+//! let f = bar.fields(0.25, 0.5);
+//! assert_eq!((f.u, f.ux, f.ut), (0.25, 0.0, -0.5));
+//! // Ahead of it the initial state: u = (1 - x)/2, u_x = -1/2, at rest.
+//! let f = bar.fields(0.75, 0.5);
+//! assert_eq!((f.u, f.ux, f.ut), (0.125, -0.5, 0.0));
+//! // The end reaches the obstacle at t = 1 and stays on it until t = 2,
+//! // pressed by λ = c² u_x(0, t) = -1/2; no force before.
+//! assert_eq!(bar.fields(0.0, 1.5).u, 0.0);
+//! assert_eq!((bar.lambda(0.5), bar.lambda(1.5)), (0.0, -0.5));
+//! // The energy ∫ (u_t² + c² u_x²)/2 dx of the initial state, 1/8, is kept.
+//! assert_eq!(bar.energy(), 0.125);
+//! // At t = 1/2 both characteristics x = t and x = 1 - t pass x = 1/2.
+//! let mut kinks = Vec::new();
+//! bar.kinks(0.5, &mut kinks);
+//! assert_eq!(kinks, [0.5]);
+//! // Periodic with period 3.
+//! assert_eq!(bar.fields(0.25, 3.5), bar.fields(0.25, 0.5));
+//! ```
+//!
 //! Closed-form solutions of the one-dimensional impact benchmarks of docs/theory.md §5,
 //! usable on their own (no dependency on any other crate of the workspace).
 //!

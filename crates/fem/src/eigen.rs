@@ -125,7 +125,7 @@ pub fn uniform_p1_max_eigenvalue(k: &SymBand, m: &SymBand) -> Option<f64> {
     }
     let off = m.get(1, 0);
     let lumped = match off {
-        x if x == 0.0 => true,
+        0.0 => true,
         x if x == 0.5 * e => false,
         _ => return None,
     };

@@ -1,5 +1,44 @@
 //! # signorini-fem
 //!
+//! A bar's matrices, assembled and checked against what they must be:
+//!
+//! ```
+//! use signorini_fem::{Bar, BarMass, RightEnd};
+//!
+//! // A bar of length 1 in 4 P1 elements (h = 1/4), wave speed 1, free at
+//! // x = L: 5 unknowns, the contact node 0 first.
+//! let bar = Bar::new(1.0, 4, 1.0, RightEnd::Free)?;
+//! assert_eq!(bar.dofs(), 5);
+//! let close = |a: f64, b: f64| (a - b).abs() <= 1e-14;
+//!
+//! // The consistent mass carries the whole mass ρL = 1 (ρ = 1); the lumped one
+//! // puts h/2 on the end nodes and h on the others.
+//! assert!(close(bar.mass(BarMass::Std).total(), 1.0));
+//! assert_eq!(bar.mass(BarMass::Lumped).diagonal(0), [0.125, 0.25, 0.25, 0.25, 0.125]);
+//! // `mod` takes the mass off the element [0, h]: the contact node is
+//! // massless and the bar keeps L - h.
+//! let m_mod = bar.mass(BarMass::Mod);
+//! assert_eq!(m_mod.get(0, 0), 0.0);
+//! assert!(close(m_mod.total(), 0.75));
+//!
+//! // A free-free bar moves rigidly without strain: K 1 = 0, every row sums to 0.
+//! let mut k1 = vec![f64::NAN; 5];
+//! bar.stiffness().mul_vec(&[1.0; 5], &mut k1);
+//! assert!(k1.iter().all(|r| r.abs() <= 1e-12));
+//!
+//! // Clamped at x = 1 under the load f = 1: K u = F gives the nodal values of
+//! // -u'' = 1, u'(0) = 0, u(1) = 0, i.e. u = (1 - x²)/2 (P1 is nodally exact
+//! // in 1D), through the banded LDLᵀ factorisation.
+//! let clamped = Bar::new(1.0, 4, 1.0, RightEnd::Clamped)?;
+//! let mut u = clamped.load(|_| 1.0);
+//! clamped.stiffness().factor()?.solve_in_place(&mut u);
+//! for (i, ui) in u.iter().enumerate() {
+//!     let x = clamped.node(i);
+//!     assert!((ui - (1.0 - x * x) / 2.0).abs() <= 1e-12, "node {i}: {ui}");
+//! }
+//! # Ok::<(), signorini_fem::FemError>(())
+//! ```
+//!
 //! Finite-element matrices for one-dimensional dynamic contact problems:
 //! the P1 bar of docs/theory.md §2.1 with every mass treatment of the
 //! mass-redistribution literature ([`BarMass`]), symmetric banded storage

@@ -1,5 +1,41 @@
 //! # signorini-norms
 //!
+//! The errors of nodal values against the Dirichlet bar's exact solution,
+//! with values found by hand:
+//!
+//! ```
+//! use signorini_exact::{BarDirichlet, ExactSolution};
+//! use signorini_norms::{SpaceIntegrator, VNorm};
+//!
+//! let exact = BarDirichlet;
+//! // 4 P1 elements on [0, 1]; with the clamped end, V is the H¹ seminorm.
+//! let mut space = SpaceIntegrator::new(&exact, 4, VNorm::H1Seminorm);
+//! let nodal = |t: f64| -> Vec<f64> { (0..=4).map(|i| exact.fields(i as f64 / 4.0, t).u).collect() };
+//! let close = |a: f64, b: f64| (a - b).abs() <= 1e-12;
+//!
+//! // At t = 1/4 the kinks x = t and x = 1 - t are nodes: the exact field is
+//! // the P1 function of its nodal values, so the error is zero.
+//! let u = nodal(0.25);
+//! let e = space.errors(0.25, &u);
+//! assert!(close(e.l2, 0.0) && close(e.v, 0.0));
+//!
+//! // Shifted by s: the error is the constant s, of L² norm s·sqrt(L) = s and
+//! // zero gradient.
+//! let s = 1e-3;
+//! let shifted: Vec<f64> = u.iter().map(|v| v + s).collect();
+//! let e = space.errors(0.25, &shifted);
+//! assert!(close(e.l2, s) && close(e.v, 0.0));
+//!
+//! // At t = 0.3 the kink x = 0.3 cuts the element [0.25, 0.5]: the P1 function
+//! // misses the corner of u there by 0.02, a hat of height 0.02 on that element
+//! // with slopes 0.4 and 0.1, so ‖e‖² = 0.02² · 0.25/3 and
+//! // |e|²_{H¹} = 0.4² · 0.05 + 0.1² · 0.2 = 0.01. The integrator splits the
+//! // element at the kink and finds both.
+//! let e = space.errors(0.3, &nodal(0.3));
+//! assert!(close(e.l2, (0.02_f64 * 0.02 * 0.25 / 3.0).sqrt()), "{}", e.l2);
+//! assert!(close(e.v, 0.1), "{}", e.v);
+//! ```
+//!
 //! Error norms of docs/theory.md §6 for a P1 displacement on a uniform mesh of `[0, L]`
 //! against an [`ExactSolution`], accumulated while stepping — no history is
 //! stored.
@@ -311,7 +347,7 @@ impl<'a> SpaceIntegrator<'a> {
                 i += d;
             }
         }
-        self.from_integrals(l2, semi)
+        self.errors_from_integrals(l2, semi)
     }
 
     /// Length of the domain.
@@ -320,7 +356,7 @@ impl<'a> SpaceIntegrator<'a> {
     }
 
     /// The errors from the integrals `∫ e²` and `∫ e_x²` (the P1 and Pk paths).
-    fn from_integrals(&self, l2: f64, semi: f64) -> SpaceErrors {
+    fn errors_from_integrals(&self, l2: f64, semi: f64) -> SpaceErrors {
         let v = match self.vnorm {
             VNorm::H1Seminorm => semi,
             VNorm::H1Full => semi + l2,
@@ -406,7 +442,7 @@ impl<'a> SpaceIntegrator<'a> {
                 }
             }
         }
-        self.from_integrals(l2, semi)
+        self.errors_from_integrals(l2, semi)
     }
 }
 

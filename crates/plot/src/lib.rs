@@ -1,5 +1,31 @@
 //! # signorini-plot
 //!
+//! A log-log error curve of a second-order method against its reference
+//! slope; the SVG comes back as text:
+//!
+//! ```
+//! use signorini_plot::{line_chart, Chart, Scale, Series, Style};
+//!
+//! let hs = [0.1, 0.05, 0.025, 0.0125];
+//! let error = Series { label: "P1 error".into(), points: hs.iter().map(|&h| (h, 0.3 * h * h)).collect(), reference: false, style: Style::default() };
+//! let slope = Series { label: "slope 2".into(), points: vec![(0.1, 0.01), (0.0125, 0.01 / 64.0)], reference: true, style: Style::default() };
+//! let chart = Chart { title: "convergence", x_label: "h", y_label: "error", scale: Scale::LogLog, size: (640, 400) };
+//! let svg = line_chart(&chart, &[error, slope])?;
+//! assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+//! assert!(svg.contains("convergence") && svg.contains("P1 error") && svg.contains("slope 2"));
+//! // Log axes are labelled at decades when three or more fit (the errors':
+//! // 10⁻⁴ to 10⁻²), else at 1, 2 and 5 × 10ᵏ (h's, which holds 10⁻¹ only).
+//! let labels: Vec<&str> = svg.lines().map(str::trim).filter(|l| l.contains("10")).collect();
+//! for label in ["10⁻⁴", "10⁻³", "10⁻²", "2×10⁻²", "5×10⁻²", "10⁻¹"] {
+//!     assert!(labels.contains(&label), "no label {label} in {labels:?}");
+//! }
+//! assert!(!svg.contains("10⁻⁵") && !svg.contains("10⁰"));
+//! // Nothing finite to draw (log axes skip points <= 0) is an error, not an empty chart.
+//! let bad = Series { label: "x".into(), points: vec![(0.0, 1.0)], reference: false, style: Style::default() };
+//! assert!(line_chart(&chart, &[bad]).is_err());
+//! # Ok::<(), String>(())
+//! ```
+//!
 //! SVG line charts of the outputs of signorini: time series (numerical
 //! against exact) and log-log error curves. Returns the SVG as a `String`;
 //! writing it is the caller's business.
@@ -193,7 +219,7 @@ fn log_ticks(lo: f64, hi: f64) -> LogTicks {
     let decades = with(&[1.0]);
     if decades.len() >= 3 {
         let step = decades.len().div_ceil(MAX_DECADE_LABELS);
-        let (major, skipped): (Vec<(usize, f64)>, Vec<(usize, f64)>) = decades.iter().copied().enumerate().partition(|(i, _)| i % step == 0);
+        let (major, skipped): (Vec<_>, Vec<_>) = decades.iter().copied().enumerate().partition(|(i, _)| i % step == 0);
         let mut minor: Vec<f64> = skipped.into_iter().map(|(_, v)| v).collect();
         if step == 1 {
             minor.extend(with(&[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]));

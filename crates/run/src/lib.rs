@@ -1,5 +1,50 @@
 //! # signorini-run
 //!
+//! The Dirichlet bar benchmark run to one period with `newmark-cn` and the
+//! `mod` mass, watched by the exact error norms and by an observer of one's
+//! own:
+//!
+//! ```
+//! use signorini_fem::BarMass;
+//! use signorini_run::{run, Benchmark, NormObserver, Observer, RunConfig, RunError, Sample};
+//! use signorini_schemes::SchemeSpec;
+//!
+//! /// Records the lowest position of the contact end and counts the levels.
+//! struct LowestEnd {
+//!     min: f64,
+//!     levels: usize,
+//! }
+//! impl Observer for LowestEnd {
+//!     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+//!         self.min = self.min.min(s.u[0]);
+//!         self.levels += 1;
+//!         Ok(())
+//!     }
+//! }
+//!
+//! let bench = Benchmark::BarDirichlet;
+//! let exact = bench.exact(3.0)?;
+//! // 10 elements, dx/dt = 10, T = 3 (approach, contact on [1, 2), flight).
+//! let (m, dt) = (10, 0.01);
+//! let problem = bench.problem(exact.as_ref(), m, BarMass::Mod)?;
+//! let mut stepper = "newmark-cn".parse::<SchemeSpec>()?.build(problem.dynamics(), dt, &problem.initial)?;
+//! let cfg = RunConfig::new(dt, 3.0)?;
+//! let mut norms = NormObserver::new(exact.as_ref(), m, problem.vnorm(), dt);
+//! let mut end = LowestEnd { min: f64::INFINITY, levels: 0 };
+//! let summary = run(stepper.as_mut(), &problem.initial.u, &cfg, &mut [&mut norms, &mut end])?;
+//!
+//! assert_eq!(summary.steps, 300);
+//! assert_eq!(end.levels, 301); // t_0, then every step
+//! assert!(end.min >= 0.0); // never through the obstacle at 0
+//! // In contact about the exact solution's 100 steps of [1, 2).
+//! assert!((90..=110).contains(&summary.contact_steps), "{}", summary.contact_steps);
+//! // The L∞(0,T; L²) error of the displacement: the first row of the
+//! // convergence study's data/reference/bar-dirichlet/newmark-cn_mod.csv.
+//! let report = norms.report();
+//! assert!((report.linf_l2_u - 5.3915971104e-2).abs() < 1e-12, "{}", report.linf_l2_u);
+//! # Ok::<(), RunError>(())
+//! ```
+//!
 //! The layer between the numerical crates and the command-line tools:
 //!
 //! * [`problem`]: a P1 bar problem (mesh, mass treatment, obstacle, load,

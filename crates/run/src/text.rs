@@ -75,7 +75,7 @@ mod tests {
             assert_eq!(tidy_numbers(plain), plain);
         }
         // Checked against the numbers themselves, not the function's own output.
-        assert_eq!(format!("{big}").parse::<f64>().unwrap(), 1e300);
+        assert_eq!(big.to_string().parse::<f64>().unwrap(), 1e300);
         assert_eq!(num(1e300), "1e300");
         assert_eq!(num(-2.5e-12), "-2.5e-12");
         assert_eq!(num(0.1), "0.1");

@@ -157,7 +157,7 @@ fn batch_means_interval_of_a_known_series() {
 fn batch_means_cover_the_mean_of_a_correlated_series() {
     // AR(1), φ = 0.9 (correlation time ~10), mean 3: 400 seeds of 4000
     // values, 20 batches of 200; the 95 % interval covers 3 in about 95 %.
-    let (phi, mu) = (0.9, 3.0);
+    let (phi, mu): (f64, f64) = (0.9, 3.0);
     let mut hits = 0;
     for seed in 0..400u64 {
         let mut rng = SplitMix64::new(seed);
@@ -166,7 +166,7 @@ fn batch_means_cover_the_mean_of_a_correlated_series() {
             (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
         };
         // Started in the stationary law.
-        let mut y = normal() / (1.0 - phi * phi as f64).sqrt();
+        let mut y = normal() / (1.0 - phi * phi).sqrt();
         let x: Vec<f64> = (0..4000)
             .map(|_| {
                 y = phi * y + normal();

@@ -55,6 +55,7 @@ impl Nitsche {
     /// Sets up the scheme: Newmark(β, γ) (β ∈ (0, 1/2], γ ∈ [1/2, 2β]),
     /// Nitsche parameters γ_0 > 0 and θ ∈ [-1, 1]. The contact node must be
     /// dof 0, the end of one P1 element, with a one-sided obstacle.
+    #[allow(clippy::too_many_arguments)] // the scheme's four named parameters beside the common ones
     pub fn new(label: String, dy: Dynamics, beta: f64, gamma_t: f64, gamma0: f64, theta: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         if dy.damping.is_some() {

@@ -241,7 +241,7 @@ impl PaoliSchatzman {
         let n = dy.n();
         let diagonal = dy.mass.half_bandwidth() == 0 || (1..n).all(|i| (1..=dy.mass.half_bandwidth().min(i)).all(|k| dy.mass.get(i, i - k) == 0.0));
         if !diagonal || (0..n).any(|i| !(dy.mass.get(i, i) > 0.0)) {
-            return Err(SchemeError::Structure("the Taylor start needs a diagonal mass matrix with no massless node (mass lumped)".into()));
+            return Err(SchemeError::Structure("the Taylor start needs a diagonal mass matrix with no massless node (mass lumped)"));
         }
         if init.u.len() != n || init.v.len() != n {
             return Err(SchemeError::Invalid { field: "initial state length", value: init.u.len() as f64, allowed: "the number of unknowns" });
