@@ -11,7 +11,7 @@
 use crate::problem::{check_stops, contacts_of, Stop};
 use crate::RunError;
 use signorini_fem::{max_generalized_eigenvalue, Beam};
-use signorini_schemes::{Bounds, Contact, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, SchemeSpec, Stepper, TimeProfile};
 
 /// The pipe of the paper and its support motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -182,6 +182,12 @@ pub enum BeamContact {
         /// Spring stiffness in N/m.
         stiffness: f64,
     },
+    /// Any scheme of the registry that takes the beam's structure
+    /// (`Capabilities::beam`), built by [`SchemeSpec::build`] on the beam's
+    /// problem (a scene's `scheme = "…"`); a penalty family's `γ_P` is
+    /// relative to the contact dof's stiffness `K_cc`, and a `[[stop]]`'s
+    /// own `stiffness` is in N/m as with [`BeamContact::Penalty`].
+    Scheme(SchemeSpec),
 }
 
 /// How the stiffness of a [`BeamContact::Penalty`] enters the scaled
@@ -332,7 +338,7 @@ pub fn problem_excited(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stop
     // scene's spring as is (a physical N/m spring, not scaled by K_cc).
     let scene_kappa = match scene.contact {
         BeamContact::Penalty { stiffness } => Some(units.kappa(stiffness, pipe.rho_s)),
-        BeamContact::Projection { .. } => None,
+        BeamContact::Projection { .. } | BeamContact::Scheme(_) => None,
     };
     for c in &mut dy.contacts {
         c.stiffness = c.stiffness.map(|k| units.kappa(k, pipe.rho_s)).or(if stops.is_some() { scene_kappa } else { None });
@@ -360,8 +366,23 @@ pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: Penalty
             let kappa = units.kappa(stiffness, pipe.rho_s);
             Box::new(OneStep::new("newmark-cn+penalty".into(), dy, OneStepParams::newmark(0.25, 0.5), scene.dt, &init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
         }
+        BeamContact::Scheme(spec) => registry_scheme(spec, dy, scene.dt, &init, false)?,
     };
     Ok((stepper, init, beam))
+}
+
+/// A registry scheme on the beam's (or its reduction's, `reduced`) problem:
+/// refused naming `beam.scheme` when it does not take the beam's structure
+/// or, reduced, a massless contact node.
+fn registry_scheme(spec: SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, reduced: bool) -> Result<Box<dyn Stepper>, RunError> {
+    let caps = spec.capabilities();
+    if !caps.beam {
+        return Err(RunError::NotAllowed { field: "beam.scheme", allowed: "a scheme that takes the beam's structure (signorini list: the presets marked beam)" });
+    }
+    if reduced && !caps.accepts_massless_node(true) {
+        return Err(RunError::NotAllowed { field: "beam.scheme", allowed: "with reduce, a scheme that takes a massless contact node (the reduced model's contacts are massless)" });
+    }
+    Ok(spec.build(dy, dt, init)?)
 }
 
 /// As [`build_excited`] on the massless-boundary reduction of the problem
@@ -387,6 +408,7 @@ pub fn build_reduced(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stops:
             let kappa = units.kappa(stiffness, pipe.rho_s);
             Box::new(OneStep::new("newmark-cn+penalty".into(), red.dynamics.clone(), OneStepParams::newmark(0.25, 0.5), scene.dt, &red.initial)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
         }
+        BeamContact::Scheme(spec) => registry_scheme(spec, red.dynamics.clone(), scene.dt, &red.initial, true)?,
     };
     Ok((stepper, red, beam))
 }

@@ -332,6 +332,10 @@ pub struct BeamToml {
     pub beta: Option<f64>,
     /// Penalty spring stiffness (N/m, > 0).
     pub penalty_stiffness: Option<f64>,
+    /// A scheme of the registry instead of `contact` (any that takes the
+    /// beam's structure: `signorini list`); replaces `contact`, `beta` and
+    /// `penalty_stiffness`.
+    pub scheme: Option<String>,
     /// Lower and upper stops (m), g1 < g2.
     #[serde(default, deserialize_with = "optional_pair")]
     pub stops: Option<[f64; 2]>,
@@ -1450,14 +1454,30 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
     if dt > 1e100 {
         return Err(field("beam.dt", format!("{dt:e} is not allowed: at most 1e100 (dt² enters the step matrix)")));
     }
-    let contact = match b.contact.as_deref() {
+    let contact = match (b.scheme.as_deref(), b.contact.as_deref()) {
+        (Some(name), _) => {
+            // Every key acts or is refused: the scheme replaces the contact's.
+            for (key, given) in [("beam.contact", b.contact.is_some()), ("beam.beta", b.beta.is_some()), ("beam.penalty_stiffness", b.penalty_stiffness.is_some()), ("beam.force", b.force)] {
+                if given {
+                    return Err(field(key, "acts only without beam.scheme, which replaces contact, beta, penalty_stiffness and force (a registry scheme's stability limit is always enforced): remove one of them"));
+                }
+            }
+            let spec: SchemeSpec = name.parse().map_err(|e| field("beam.scheme", e))?;
+            if !spec.capabilities().beam {
+                return Err(field("beam.scheme", format!("{spec} does not take the beam's structure (Hermite cubics: a consistent mass, massive contact dofs away from dof 0, the support's load): allowed {}", families_with(|c| c.beam))));
+            }
+            BeamContact::Scheme(spec)
+        }
+        (None, contact) => match contact {
         None => match base.contact {
             BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
             BeamContact::Penalty { stiffness } => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(stiffness) },
+            BeamContact::Scheme(spec) => BeamContact::Scheme(spec),
         },
         Some("projection") => BeamContact::Projection { beta: b.beta.unwrap_or(0.5) },
         Some("penalty") => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(1e8) },
-        Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\""))),
+        Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\" (or beam.scheme = a registry scheme)"))),
+        },
     };
     match contact {
         BeamContact::Projection { beta } if !(0.0..=0.5).contains(&beta) => return Err(field("beam.beta", format!("{beta} is not allowed: [0, 1/2]"))),
@@ -1537,10 +1557,14 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
             restitution: match contact {
                 BeamContact::Projection { .. } => Ok(()),
                 BeamContact::Penalty { .. } => Err("acts only with contact = \"projection\" (the β-scheme's impact law); the penalty contact has none: remove it, or set contact = \"projection\"".to_string()),
+                BeamContact::Scheme(spec) if spec.capabilities().restitution => Ok(()),
+                BeamContact::Scheme(spec) => Err(format!("acts only with a scheme that has a restitution law ({}), not {spec}: remove it, or choose such a scheme", families_with(|c| c.restitution && c.beam))),
             },
             stiffness: match contact {
                 BeamContact::Penalty { .. } => Ok(()),
                 BeamContact::Projection { .. } => Err("acts only with contact = \"penalty\" (N/m, like penalty_stiffness): remove it, or set contact = \"penalty\"".to_string()),
+                BeamContact::Scheme(spec) if spec.capabilities().stiffness => Ok(()),
+                BeamContact::Scheme(spec) => Err(format!("acts only with a penalty scheme ({}), not {spec}: remove it, or choose one", families_with(|c| c.stiffness && c.beam))),
             },
         };
         // The lifted displacement u = ũ - hφ starts at 0.
@@ -1566,7 +1590,8 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         signorini_run::beam::build_reduced(&pipe, &scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation, keep).map_err(|e| reduce_error(e, "beam"))?;
     }
     build_excited(&pipe, &scene, b.force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation).map_err(|e| match e {
-        RunError::Unstable { .. } => field("beam.dt", e),
+        RunError::Unstable { .. } | RunError::Scheme(SchemeError::Unstable { .. }) => field("beam.dt", e),
+        RunError::NotAllowed { field: f, allowed } => field(f, format!("not allowed here: allowed {allowed}")),
         RunError::Scheme(SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }) if contacts.is_some() => {
             let own = contacts.as_ref().and_then(|set| stiff_stop(set, value, |k| PenaltyUnits::NewtonPerMetre.kappa(k, rho_s))).filter(|s| s.own_stiffness).and_then(|s| s.stop);
             let (name, k) = match own {
@@ -1589,7 +1614,7 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         RunError::Scheme(SchemeError::PenaltyTooStiff { max, .. }) => {
             let k = match contact {
                 BeamContact::Penalty { stiffness } => stiffness,
-                BeamContact::Projection { .. } => f64::NAN,
+                BeamContact::Projection { .. } | BeamContact::Scheme(_) => f64::NAN,
             };
             // The scheme sees κ = k/(ρS): back to N/m.
             field("beam.penalty_stiffness", format!("{k:e} N/m makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the beam at its tip); usable range: 0 < penalty_stiffness <= {:.3e} N/m", max * pipe.rho_s))

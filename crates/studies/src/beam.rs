@@ -205,7 +205,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let jobs: Vec<(BeamScene, PenaltyUnits)> = scenes
         .iter()
         .flat_map(|s| match s.contact {
-            BeamContact::Projection { .. } => vec![(*s, PenaltyUnits::NewtonPerMetre)],
+            BeamContact::Projection { .. } | BeamContact::Scheme(_) => vec![(*s, PenaltyUnits::NewtonPerMetre)],
             BeamContact::Penalty { .. } => PenaltyUnits::ALL.iter().map(|u| (*s, *u)).collect(),
         })
         .collect();
@@ -220,6 +220,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         };
         let (contact, beta) = match scene.contact {
             BeamContact::Projection { beta } => ("projection".to_string(), beta),
+            BeamContact::Scheme(spec) => (spec.to_string(), spec.param("beta").unwrap_or(f64::NAN)),
             BeamContact::Penalty { stiffness } => {
                 violations.push(Violation { units: *units, stiffness, dt: scene.dt, max: r.tip.max_excess, first: r.tip.max_excess_first });
                 match units {

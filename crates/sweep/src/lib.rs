@@ -1192,7 +1192,7 @@ fn lockstep_beta(scene: &Scene) -> Option<f64> {
         // A reduced model steps other matrices: one run at a time.
         Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() => match bs.contact {
             BeamContact::Projection { beta } => Some(beta),
-            BeamContact::Penalty { .. } => None,
+            BeamContact::Penalty { .. } | BeamContact::Scheme(_) => None,
         },
         _ => None,
     }
