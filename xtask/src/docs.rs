@@ -842,9 +842,10 @@ pub fn readme_rust_is_tested(readme: &str, test: &str) -> Vec<String> {
     }
 }
 
-/// At most [`README_MAX_LINES`] lines, and the first code block is the two
-/// commands (`cargo xtask convergence`, then `cargo xtask test`) within the
-/// first 40 lines.
+/// At most [`README_MAX_LINES`] lines, and the README opens with the two
+/// commands: its first code block, within its first 8 lines (the title and
+/// the section heading before it), is `cargo xtask convergence` then
+/// `cargo xtask test`.
 pub fn readme_rules(readme: &str) -> Vec<String> {
     let mut bad = Vec::new();
     let n = readme.lines().count();
@@ -855,10 +856,10 @@ pub fn readme_rules(readme: &str) -> Vec<String> {
     let open = lines.iter().position(|l| l.starts_with("```"));
     let ok = open.is_some_and(|i| {
         let block: Vec<&str> = lines[i + 1..].iter().take_while(|l| !l.starts_with("```")).map(|l| l.trim()).collect();
-        i < 40 && block.len() >= 2 && block[0].starts_with("cargo xtask convergence") && block[1].starts_with("cargo xtask test")
+        i < 8 && block.len() >= 2 && block[0].starts_with("cargo xtask convergence") && block[1].starts_with("cargo xtask test")
     });
     if !ok {
-        bad.push("README.md: its first code block (within the first 40 lines) must be the two commands, `cargo xtask convergence` then `cargo xtask test`".into());
+        bad.push("README.md: it must open with the two commands: its first code block, within its first 8 lines,, `cargo xtask convergence` then `cargo xtask test`".into());
     }
     bad
 }

@@ -125,7 +125,14 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
     for (name, t) in &rec.phases {
         s.push_str(&format!("| {name} | {} |\n", minutes(*t)));
     }
-    s.push_str(&format!("| **total** (the `cargo xtask` binary's own build not included) | **{}** |\n", minutes(total)));
+    s.push_str(&format!("| **`cargo xtask test`** (the `cargo xtask` binary's own build not included) | **{}** |\n", minutes(total)));
+    // `.ci/run` exports the time it started: the whole run, the build of
+    // the xtask binary (on a fresh clone: most of the workspace) included.
+    let ci = std::env::var("SIGNORINI_RECORD_START").ok().and_then(|v| v.trim().parse::<u64>().ok());
+    let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    if let Some(t0) = ci.filter(|t0| *t0 <= now) {
+        s.push_str(&format!("| **the whole `.ci/run`** (the `cargo xtask` binary built too) | **{}** |\n", minutes((now - t0) as f64)));
+    }
     let _ = cargo;
     let path = root().join("docs/generated/test-record.md");
     std::fs::write(&path, s).map_err(|e| format!("{}: {e}", path.display()))?;
