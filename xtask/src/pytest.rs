@@ -30,9 +30,10 @@ pub struct Args {
 }
 
 /// The guide's build tools, installed from the package index into the test
-/// environment (ranges known to work together: mkdocstrings 1.x needs
-/// pymdown-extensions ≥ 10.16's highlighter API).
-const GUIDE_PACKAGES: [&str; 3] = ["mkdocs>=1.6,<2", "mkdocs-material>=9.5,<10", "mkdocstrings[python]>=1,<2"];
+/// environment (ranges known to work together: mkdocstrings 0.30 fails
+/// with the highlighter of pymdown-extensions 13, which mkdocs-material
+/// pulls in; mkdocstrings 1 with mkdocstrings-python 2 works).
+const GUIDE_PACKAGES: [&str; 4] = ["mkdocs>=1.6,<2", "mkdocs-material>=9.5,<10", "mkdocstrings[python]>=1,<2", "mkdocstrings-python>=2,<3"];
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -47,8 +48,12 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
     }
 }
 
-/// [`run`], with stdout passed through line by line and kept.
-fn run_capture(cmd: &mut Command, what: &str) -> Result<Vec<String>, String> {
+/// [`run`], with stdout passed through line by line and kept when
+/// `capture` (else inherited, and nothing kept).
+fn run_capture(cmd: &mut Command, what: &str, capture: bool) -> Result<Vec<String>, String> {
+    if !capture {
+        return run(cmd, what).map(|()| Vec::new());
+    }
     let mut child = cmd.stdout(Stdio::piped()).spawn().map_err(|e| format!("{what}: cannot start: {e}"))?;
     let mut lines = Vec::new();
     if let Some(out) = child.stdout.take() {
@@ -153,7 +158,7 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("convergence-"))).unwrap_or(false);
     let mut rec = Record::default();
     if !a.python_only {
-        let lines = rec.time("Rust: build and run the tests", || run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py"]), "cargo test"))?;
+        let lines = rec.time("Rust: build and run the tests", || run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py"]), "cargo test", a.record))?;
         for l in lines.iter().filter(|l| l.starts_with("test result:")) {
             rec.rust.0 += count(l, "passed");
             rec.rust.1 += count(l, "failed");
@@ -186,6 +191,7 @@ pub fn run_tests(a: Args) -> Result<(), String> {
         run_capture(
             Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", std::env::current_exe().unwrap_or_default()).args(["-m", "pytest", "-q", "python/tests"]),
             "pytest",
+            a.record,
         )
     })?;
     for l in lines.iter().filter(|l| l.contains(" passed") || l.contains(" failed")) {
