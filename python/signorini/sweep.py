@@ -1,5 +1,6 @@
 """Parameter sweeps and bifurcation diagrams: the engine of ``signorini
-sweep`` from Python (see the README's "Sweeps" for the files and columns).
+sweep`` from Python (see the guide's Sweeps page, docs/sweeps.md, for the
+files and columns).
 
 ``sweep(scene, "forcing.omega", 1.6, 2.2, 61, transient=200, record=10)``
 runs the scene at each value of the field (any numeric field of the scene,

@@ -19,9 +19,13 @@
 //! * `beam-statistics`: statistics of the beam over long windows with
 //!   batch-means intervals against dt and J (which converge).
 //! * `fuzz`: the scene reader and validator on generated and mutated scenes.
+//! * `docs`: the user guide's generated tables, from `data/reference`
+//!   (`--check`: fail when a committed one is out of date).
+//! * `test`: every test, and the guide's strict build.
 
 mod beam;
 mod beam_statistics;
+mod docs;
 mod fuzz;
 mod obstacles;
 mod oscillator;
@@ -60,7 +64,7 @@ enum Cmd {
     BeamObstacles(obstacles::Args),
     /// The impact oscillator scene against its exact period-1 orbits (rates in dt) and its grazing frequency.
     Oscillator(oscillator::Args),
-    /// Every test: the Rust workspace's, then the Python package (built with maturin into target/py-venv) with pytest.
+    /// Every test: the Rust workspace's, then the Python package (built with maturin into target/py-venv) with pytest, then the user guide (generated tables checked, mkdocs build --strict).
     Test(pytest::Args),
     /// Work–precision: error reached against wall time per scheme and mass.
     #[command(name = "work-precision")]
@@ -79,6 +83,8 @@ enum Cmd {
     BeamStatistics(beam_statistics::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
+    /// The user guide's generated tables (docs/generated/, the README's headline) from data/reference; --check compares instead of writing.
+    Docs(docs::Args),
 }
 
 // The field docs are the `--help` text (clap), where `<benchmark>` is a
@@ -147,6 +153,7 @@ fn main() -> ExitCode {
         Cmd::Lyapunov(a) => lyapunov::run_lyapunov(a),
         Cmd::BeamStatistics(a) => beam_statistics::run_beam_statistics(a),
         Cmd::Fuzz(a) => fuzz::run_fuzz(a),
+        Cmd::Docs(a) => docs::run_docs(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
