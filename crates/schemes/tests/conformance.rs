@@ -1,0 +1,380 @@
+//! The conformance suite of the scheme registry (issue 24 §2): it iterates
+//! `FAMILIES` and every preset, so a scheme added to the registry is checked
+//! here without an edit — except its update equations, which need a
+//! reference written by hand: a family missing from [`reference`] fails
+//! `every_family_has_a_reference`.
+//!
+//! * update equations: free flight (the contact far away) against a dense
+//!   transcription of the scheme's linear step written here, or the named
+//!   test that recomputes its contact steps from the recorded positions;
+//! * parsing and printing: every preset and every family call round-trips,
+//!   each parameter out of range is refused naming it;
+//! * capabilities: each one claimed acts (damping, a time-dependent load, a
+//!   per-contact restitution or stiffness change the trajectory; several
+//!   contacts and both kinds of node are taken), each one denied is
+//!   refused with a typed error;
+//! * stability: a conditionally stable scheme states its rule, runs just
+//!   below its limit and is refused just above it; an unconditionally
+//!   stable one states no rule;
+//! * the sample contract: `time()` is `n dt`, `step()` numbers the levels,
+//!   the contact bound holds at every level for position-level schemes
+//!   (restitution 0: with e > 0 Paoli–Schatzman bounds a weighted average).
+
+use signorini_fem::SymBand;
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, Node, SchemeError, SchemeSpec, Stepper, TimeProfile, FAMILIES};
+
+const N: usize = 4;
+
+/// A 4-dof chain: a P1-like consistent mass (or lumped, `diagonal`), unit
+/// springs, dof 3 tied to a wall; dof 0 the contact (massless if asked).
+fn chain(diagonal: bool, massless: bool, lo: f64) -> Dynamics {
+    let (mut m, mut k) = (SymBand::zeros(N, 1), SymBand::zeros(N, 1));
+    for i in 0..N {
+        let end = i == 0;
+        if diagonal {
+            m.set(i, i, if end { 0.5 } else { 1.0 });
+        } else {
+            m.set(i, i, if end { 1.0 / 3.0 } else { 2.0 / 3.0 });
+            if i > 0 {
+                m.set(i, i - 1, 1.0 / 6.0);
+            }
+        }
+        k.set(i, i, if end { 1.0 } else { 2.0 });
+        if i > 0 {
+            k.set(i, i - 1, -1.0);
+        }
+    }
+    if massless {
+        m.set(0, 0, 0.0);
+        if m.half_bandwidth() > 0 {
+            m.set(1, 0, 0.0);
+        }
+        m.set(1, 1, if diagonal { 0.5 } else { 0.5 });
+    }
+    Dynamics { mass: m, stiffness: k, load: vec![0.01; N], contacts: vec![Contact::new(0, Bounds::obstacle(lo), massless)], forcing: Vec::new(), damping: None }
+}
+
+fn init(massless: bool) -> Initial {
+    let mut v = vec![-0.3, 0.2, -0.1, 0.05];
+    if massless {
+        v[0] = 0.0;
+    }
+    Initial { u: vec![0.02, -0.01, 0.015, 0.0], v }
+}
+
+/// The problem a scheme takes: its node and mass.
+fn problem_for(spec: &SchemeSpec, lo: f64) -> (Dynamics, Initial) {
+    let c = spec.capabilities();
+    let massless = c.node == Node::Massless;
+    (chain(c.diagonal_mass, massless, lo), init(massless))
+}
+
+/// Every scheme the registry names: the presets, and each family at the
+/// values of its presets.
+fn every_scheme() -> Vec<SchemeSpec> {
+    SchemeSpec::presets().map(|p| p.1).collect()
+}
+
+fn dense(b: &SymBand) -> [[f64; N]; N] {
+    let mut a = [[0.0; N]; N];
+    for (i, row) in a.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = b.get(i, j);
+        }
+    }
+    a
+}
+
+fn mv(a: &[[f64; N]; N], x: &[f64]) -> Vec<f64> {
+    a.iter().map(|r| r.iter().zip(x).map(|(p, q)| p * q).sum()).collect()
+}
+
+/// Solves `a x = b` by Gaussian elimination with partial pivoting (dense, 4×4).
+fn solve(mut a: [[f64; N]; N], mut b: Vec<f64>) -> Vec<f64> {
+    for c in 0..N {
+        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..N {
+            let f = a[r][c] / a[c][c];
+            for k in c..N {
+                a[r][k] -= f * a[c][k];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = vec![0.0; N];
+    for r in (0..N).rev() {
+        x[r] = (b[r] - (r + 1..N).map(|k| a[r][k] * x[k]).sum::<f64>()) / a[r][r];
+    }
+    x
+}
+
+fn lin(a: f64, x: &[f64], b: f64, y: &[f64]) -> Vec<f64> {
+    x.iter().zip(y).map(|(p, q)| a * p + b * q).collect()
+}
+
+/// A scheme's free-flight step, written here from the papers' equations.
+enum Reference {
+    /// One step in momentum form (onestep.rs's docs): `(M + a dt² K) U¹ =
+    /// M U⁰ + dt P⁰ + b dt² R⁰ + a dt² F`, `R = F − K U`, `P¹ = P⁰ + dt((1−γ) R⁰ + γ R¹)`.
+    OneStep { a: f64, b: f64, gamma: f64 },
+    /// The two-step β-scheme `M(U⁺ − 2U + U⁻) + dt² K(β U⁺ + (1−2β) U + β U⁻) = dt² F`,
+    /// started by one Newmark(`start`, 1/2) step (or Taylor's formula, `None`).
+    TwoStep { beta: f64, start: Option<f64> },
+    /// Checked elsewhere, step by step from the recorded positions.
+    Elsewhere(&'static str),
+}
+
+/// The reference of each family (every registry row needs one here).
+fn reference(spec: &SchemeSpec) -> Option<Reference> {
+    let a = spec.args();
+    Some(match spec.family().name {
+        "newmark" => Reference::OneStep { a: a[0], b: 0.5 - a[0], gamma: a[1] },
+        "theta" => Reference::OneStep { a: a[0] * a[0], b: a[0] * (1.0 - a[0]), gamma: a[0] },
+        "penalty" => Reference::OneStep { a: 0.25, b: 0.25, gamma: 0.5 },
+        "penalty-cd" => Reference::OneStep { a: 0.0, b: 0.5, gamma: 0.5 },
+        "ps" => Reference::TwoStep { beta: a[1], start: Some(if a[1] > 0.0 { a[1] } else { 0.25 }) },
+        "cd-taylor" => Reference::TwoStep { beta: 0.0, start: None },
+        "moreau-jean" => Reference::Elsewhere("peers.rs: moreau_jean_contact_heavy_runs"),
+        "nitsche" => Reference::Elsewhere("peers.rs: nitsche_tends_to_the_projection and its step oracle"),
+        "hybrid" | "reduced-cn" | "cd-massless" => Reference::Elsewhere("peers.rs: check_reduced (the reduced ODE step by step)"),
+        _ => return None,
+    })
+}
+
+#[test]
+fn every_family_has_a_reference() {
+    for f in FAMILIES {
+        for p in f.presets {
+            let spec = f.with(p.args);
+            assert!(reference(&spec).is_some(), "family {} has no reference in conformance.rs: write its free-flight step there", f.name);
+        }
+    }
+}
+
+/// Free flight against the dense transcription, 30 steps, to 1e-12 of the state.
+#[test]
+fn free_flight_follows_the_written_update_equations() {
+    let dt = 0.05;
+    let mut checked = 0;
+    for spec in every_scheme() {
+        let Some(r) = reference(&spec) else { continue };
+        // The contact far below: free flight for every step.
+        let (dy, i0) = problem_for(&spec, -1e3);
+        if matches!(r, Reference::Elsewhere(_)) || spec.capabilities().node == Node::Massless {
+            continue;
+        }
+        let (m, k, f) = (dense(&dy.mass), dense(&dy.stiffness), dy.load.clone());
+        let mut s = spec.build(dy, dt, &i0).unwrap_or_else(|e| panic!("{spec}: {e}"));
+        let mut want: Vec<Vec<f64>> = vec![i0.u.clone()];
+        match r {
+            Reference::OneStep { a, b, gamma } => {
+                let (mut u, mut p) = (i0.u.clone(), mv(&m, &i0.v));
+                let mut lhs = m;
+                for (i, row) in lhs.iter_mut().enumerate() {
+                    for (j, x) in row.iter_mut().enumerate() {
+                        *x += a * dt * dt * k[i][j];
+                    }
+                }
+                for _ in 0..30 {
+                    let r0 = lin(1.0, &f, -1.0, &mv(&k, &u));
+                    let rhs: Vec<f64> = (0..N).map(|i| mv(&m, &u)[i] + dt * p[i] + b * dt * dt * r0[i] + a * dt * dt * f[i]).collect();
+                    let u1 = if a == 0.0 && b == 0.5 { solve(m, rhs) } else { solve(lhs, rhs) };
+                    let r1 = lin(1.0, &f, -1.0, &mv(&k, &u1));
+                    p = (0..N).map(|i| p[i] + dt * ((1.0 - gamma) * r0[i] + gamma * r1[i])).collect();
+                    u = u1;
+                    want.push(u.clone());
+                }
+            }
+            Reference::TwoStep { beta, start } => {
+                let u0 = i0.u.clone();
+                let u1 = match start {
+                    Some(bs) => {
+                        let mut lhs = m;
+                        for (i, row) in lhs.iter_mut().enumerate() {
+                            for (j, x) in row.iter_mut().enumerate() {
+                                *x += bs * dt * dt * k[i][j];
+                            }
+                        }
+                        let r0 = lin(1.0, &f, -1.0, &mv(&k, &u0));
+                        let mu = mv(&m, &u0);
+                        let p = mv(&m, &i0.v);
+                        solve(lhs, (0..N).map(|i| mu[i] + dt * p[i] + (0.5 - bs) * dt * dt * r0[i] + bs * dt * dt * f[i]).collect())
+                    }
+                    None => {
+                        let acc = solve(m, lin(1.0, &f, -1.0, &mv(&k, &u0)));
+                        (0..N).map(|i| u0[i] + dt * i0.v[i] + 0.5 * dt * dt * acc[i]).collect()
+                    }
+                };
+                want.push(u1.clone());
+                let (mut um, mut u) = (u0, u1);
+                let mut lhs = m;
+                for (i, row) in lhs.iter_mut().enumerate() {
+                    for (j, x) in row.iter_mut().enumerate() {
+                        *x += beta * dt * dt * k[i][j];
+                    }
+                }
+                for _ in 1..30 {
+                    let (mu, mum, ku, kum) = (mv(&m, &u), mv(&m, &um), mv(&k, &u), mv(&k, &um));
+                    let rhs: Vec<f64> = (0..N).map(|i| 2.0 * mu[i] - mum[i] - dt * dt * ((1.0 - 2.0 * beta) * ku[i] + beta * kum[i]) + dt * dt * f[i]).collect();
+                    let up = solve(lhs, rhs);
+                    um = std::mem::replace(&mut u, up);
+                    want.push(u.clone());
+                }
+            }
+            Reference::Elsewhere(_) => unreachable!(),
+        }
+        // A two-step scheme takes its start step when built: it begins at level 1.
+        let start = (s.time() / dt).round() as usize;
+        for (g, x) in s.displacement().iter().zip(&want[start]) {
+            assert!((g - x).abs() <= 1e-12 * x.abs().max(1e-3), "{spec} level {start} (built)");
+        }
+        for (n, w) in want.iter().enumerate().skip(start + 1) {
+            let rep = s.step().unwrap_or_else(|e| panic!("{spec} step {n}: {e}"));
+            assert_eq!(rep.n, n, "{spec}: the step numbers the level");
+            assert!((s.time() - n as f64 * dt).abs() <= 1e-12, "{spec}: time {} at level {n}", s.time());
+            let got = s.displacement();
+            let scale = w.iter().fold(1e-3f64, |a, x| a.max(x.abs()));
+            for (g, x) in got.iter().zip(w) {
+                assert!((g - x).abs() <= 1e-12 * scale, "{spec} level {n}: {got:?} against {w:?}");
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked >= 8, "{checked} schemes checked against a written reference");
+}
+
+#[test]
+fn every_scheme_round_trips_and_refuses_its_parameters_out_of_range() {
+    for spec in every_scheme() {
+        let shown = spec.to_string();
+        assert_eq!(shown.parse::<SchemeSpec>().unwrap(), spec, "{shown}");
+        assert_eq!(spec.call().parse::<SchemeSpec>().unwrap(), spec, "{}", spec.call());
+        let f = spec.family();
+        for (i, p) in f.params.iter().enumerate() {
+            let mut args = spec.args().to_vec();
+            args[i] = f64::NAN;
+            match f.with(&args).validate() {
+                Err(SchemeError::Invalid { field, .. }) => assert_eq!(field, p.name, "{}", f.name),
+                other => panic!("{}: NaN {} gave {other:?}", f.name, p.name),
+            }
+        }
+    }
+    assert!(matches!("no-such-scheme".parse::<SchemeSpec>(), Err(SchemeError::UnknownScheme { .. })));
+}
+
+/// Runs `steps` steps; the displacements.
+fn trajectory(spec: &SchemeSpec, dy: Dynamics, init: &Initial, dt: f64, steps: usize) -> Result<Vec<Vec<f64>>, SchemeError> {
+    let mut s = spec.build(dy, dt, init)?;
+    let mut out = Vec::new();
+    for _ in 0..steps {
+        s.step()?;
+        out.push(s.displacement().to_vec());
+    }
+    Ok(out)
+}
+
+fn stable_dt(spec: &SchemeSpec, dy: &Dynamics) -> f64 {
+    match spec.cfl_limit(dy).unwrap() {
+        Some(l) => 0.5 * l.min(0.1),
+        None => 0.05,
+    }
+}
+
+/// Each capability claimed acts, each denied is refused.
+#[test]
+fn capabilities_act_or_are_refused() {
+    for spec in every_scheme() {
+        let c = spec.capabilities();
+        let (dy, i0) = problem_for(&spec, -0.01);
+        let dt = stable_dt(&spec, &dy);
+        let plain = trajectory(&spec, dy.clone(), &i0, dt, 200).unwrap_or_else(|e| panic!("{spec}: {e}"));
+        // Damping (Rayleigh, stiffness-proportional: zero rows where M has none... C = 0.05 K
+        // with the massless node's row removed).
+        let mut damped = dy.clone();
+        let mut cm = dy.stiffness.lin_comb(0.05, &dy.stiffness, 0.0);
+        if dy.contacts[0].massless {
+            cm.zero_row_col(0);
+        }
+        damped.damping = Some(cm);
+        match trajectory(&spec, damped, &i0, dt, 200) {
+            Ok(t) => assert!(c.damping && t != plain, "{spec}: damping {} but {}", c.damping, if t == plain { "ignored" } else { "taken" }),
+            Err(e) => assert!(!c.damping, "{spec} claims damping: {e}"),
+        }
+        // A time-dependent load on every dof.
+        let mut forced = dy.clone();
+        forced.forcing = vec![Forcing { shape: vec![0.01; N], time: TimeProfile::Sine { amplitude: 1.0, omega: 2.0 } }];
+        match trajectory(&spec, forced, &i0, dt, 200) {
+            Ok(t) => assert!(c.forcing && t != plain, "{spec}: forcing {} but {}", c.forcing, if t == plain { "ignored" } else { "taken" }),
+            Err(e) => assert!(!c.forcing, "{spec} claims a time-dependent load: {e}"),
+        }
+        // Per-contact restitution and stiffness change the run where they act.
+        let mut own = dy.clone();
+        own.contacts[0].restitution = Some(0.7);
+        if c.restitution {
+            assert!(trajectory(&spec, own, &i0, dt, 200).unwrap() != plain, "{spec}: restitution did not act");
+        }
+        let mut own = dy.clone();
+        own.contacts[0].stiffness = Some(3.0);
+        if c.stiffness {
+            assert!(trajectory(&spec, own, &i0, dt, 200).unwrap() != plain, "{spec}: stiffness did not act");
+        }
+        // Several contacts: a second stop at dof 1.
+        let mut two = dy.clone();
+        two.contacts.push(Contact::new(1, Bounds::obstacle(-0.02), false));
+        match trajectory(&spec, two, &i0, dt, 200) {
+            Ok(_) => assert!(c.several_contacts, "{spec} took several contacts it denies"),
+            Err(e) => assert!(!c.several_contacts, "{spec} claims several contacts: {e}"),
+        }
+        // The other kind of node.
+        if c.node != Node::Any {
+            let massless = c.node == Node::Massive;
+            let other = chain(c.diagonal_mass, massless, -0.01);
+            assert!(trajectory(&spec, other, &init(massless), dt, 10).is_err(), "{spec} took a node it denies");
+        } else {
+            for massless in [false, true] {
+                trajectory(&spec, chain(false, massless, -0.01), &init(massless), dt, 10).unwrap_or_else(|e| panic!("{spec} (massless {massless}): {e}"));
+            }
+        }
+    }
+}
+
+/// A conditionally stable scheme states its rule, runs below its limit and
+/// is refused above; an unconditionally stable one states none.
+#[test]
+fn stability_rules_match_the_limits() {
+    for spec in every_scheme() {
+        let (dy, i0) = problem_for(&spec, -0.01);
+        let limit = spec.cfl_limit(&dy).unwrap();
+        assert_eq!(limit.is_some(), spec.stability_rule().is_some(), "{spec}");
+        if let Some(l) = limit {
+            assert!(l > 0.0 && l.is_finite(), "{spec}: limit {l}");
+            spec.build(dy.clone(), 0.99 * l, &i0).unwrap_or_else(|e| panic!("{spec} below its limit: {e}"));
+            assert!(matches!(spec.build(dy, 1.01 * l, &i0), Err(SchemeError::Unstable { .. })), "{spec} above its limit");
+        }
+    }
+}
+
+/// Position-level schemes keep the contact dof within its bound at every
+/// level (the projection is exact); penalty and velocity-level schemes may
+/// not, and are left to their own tests.
+#[test]
+fn position_level_schemes_keep_the_bound() {
+    for spec in every_scheme() {
+        let c = spec.capabilities();
+        // With e > 0 Paoli–Schatzman bounds (u⁺ + e u⁻)/(1 + e), not u⁺.
+        if c.stiffness || spec.family().name == "moreau-jean" || spec.family().name == "nitsche" || spec.param("e").is_some_and(|e| e > 0.0) {
+            continue;
+        }
+        let lo = -0.01;
+        let (dy, i0) = problem_for(&spec, lo);
+        let dt = stable_dt(&spec, &dy);
+        let t = trajectory(&spec, dy, &i0, dt, 400).unwrap();
+        let hits = t.iter().filter(|u| u[0] <= lo + 1e-12).count();
+        assert!(hits > 0, "{spec}: the test never reaches the stop");
+        for (n, u) in t.iter().enumerate() {
+            assert!(u[0] >= lo - 1e-12, "{spec} level {}: u_c = {} below {lo}", n + 1, u[0]);
+        }
+    }
+}
