@@ -163,3 +163,27 @@ def test_a_p2_bar_has_the_cli_norms(tmp_path):
     # P1 at the same dofs is a different discretisation: not the same numbers.
     p1 = signorini.run({"bar": {"benchmark": "bar-dirichlet", "elements": 40, "mass": "mod", "scheme": "newmark-cn", "ratio": 20.0, "t_end": 3.0}})
     assert p1.norms["l2_l2_u"] != pytest.approx(r.norms["l2_l2_u"], rel=1e-6)
+
+
+def test_a_reduced_model_gives_the_cli_numbers(tmp_path):
+    """`reduce = { modes = 8 }` acts in Python as in `signorini run` (one
+    `Scene::instantiate` for both): a reduced bar's norms and contact series,
+    a reduced beam's tip and snapshots (the reconstructed full field)."""
+    bar = '[bar]\nbenchmark = "bar-dirichlet"\nelements = 40\nmass = "mod"\nscheme = "newmark-cn"\nratio = 10.0\nt_end = 3.0\nreduce = { modes = 8 }\n'
+    path, out = cli(tmp_path, bar, "reduced-bar")
+    r = signorini.run(path)
+    (want,) = rows(out / "norms.csv")
+    for k in ("linf_l2_u", "l2_l2_u", "linf_v_u", "l2_lambda", "linf_energy"):
+        assert r.norms[k] == pytest.approx(float(want[k]), rel=1e-9), k
+    np.testing.assert_allclose(r.tip, col(rows(out / "series.csv"), "u_contact"), rtol=1e-12, atol=1e-14)
+    # The reduction acts: the full model's numbers differ.
+    full = signorini.run(bar.replace("reduce = { modes = 8 }\n", ""))
+    assert abs(full.norms["linf_l2_u"] - r.norms["linf_l2_u"]) > 1e-6 * r.norms["linf_l2_u"]
+    beam = '[beam]\nscene = "fig2"\nt_end = 0.05\nreduce = { modes = 8 }\n\n[output]\nsnapshots_every = 100\n'
+    path, out = cli(tmp_path, beam, "reduced-beam")
+    r = signorini.run(path, fields_every=100)
+    np.testing.assert_allclose(r.tip, col(rows(out / "series.csv"), "tip_m"), rtol=1e-11, atol=1e-14)
+    snaps = rows(out / "snapshots.csv")
+    last = [s for s in snaps if abs(float(s["t_s"]) - r.fields_t[-1]) < 1e-12]
+    want = np.array([float(s["u_m"]) for s in sorted(last, key=lambda s: int(s["n"]))])
+    np.testing.assert_allclose(np.asarray(r.fields)[-1, 0::2], want[1:], rtol=1e-10, atol=1e-13)
