@@ -60,7 +60,7 @@ pub use signorini_sweep as sweep;
 pub use scene::{check_report, energy_warning, CheckReport};
 use scene::{io_reason as reason, output_estimate, sig12, sig6, free_space, BarRun, ContactSet, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
-use signorini_run::beam::{build_excited, PenaltyUnits};
+use signorini_run::beam::PenaltyUnits;
 use signorini_run::reduced::{Need, Reconstruct};
 use signorini_schemes::TimeProfile;
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
@@ -521,20 +521,19 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
     }
     prepare_output(out, opts.clean)?;
     match scene {
-        Scene::Bar(b) => run_bar(b, scene_file, out, opts),
-        Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
-            let (dy, init) = osc.dynamics()?;
-            let mut stepper = scheme.build(dy, *dt, &init).map_err(RunError::from)?;
+        Scene::Bar(b) => run_bar(scene, b, scene_file, out, opts),
+        Scene::Oscillator { scheme, dt, t_end, omega, .. } => {
+            let mut sim = scene.instantiate(None)?;
             let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(scene_file.energy_warn())?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
             let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, 0, cols)?;
             let mut data = PlotData::new(steps, 0, None);
-            let mut vib = Analysis::new(scene_file, out, stepper.dynamics(), 0, *dt, *t_end, *omega)?;
+            let mut vib = Analysis::new(scene_file, out, sim.stepper.dynamics(), 0, *dt, *t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer)]);
+            let res = run_observed(&mut sim, &cfg, vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)], [vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))]);
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -554,55 +553,42 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             lines.push(format!("wrote {}", out.display()));
             Ok(Summary { lines, warnings })
         }
-        Scene::Beam { pipe, scene, force, contacts, excitation, omega, reduce } => {
+        Scene::Beam { pipe, scene: bs, contacts, excitation, omega, .. } => {
+            let mut sim = scene.instantiate(None)?;
             let stops = contacts.as_ref().map(|c| c.stops.as_slice());
-            let (mut stepper, init, beam, red) = match reduce {
-                None => {
-                    let (s, i, b) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, stops, excitation)?;
-                    (s, i, b, None)
-                }
-                Some(keep) => {
-                    let (s, r, b) = signorini_run::beam::build_reduced(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation, *keep)?;
-                    (s, r.initial.clone(), b, Some(r))
-                }
-            };
-            let parent = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
-            let mut cfg = RunConfig::new(scene.dt, scene.t_end)?.with_energy_warn(scene_file.energy_warn())?;
+            let parent = signorini_run::beam::problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
+            let mut cfg = RunConfig::new(bs.dt, bs.t_end)?.with_energy_warn(scene_file.energy_warn())?;
             cfg.interrupt = opts.interrupt;
             let steps = cfg.steps();
             let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
             let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None, contacts: dofs.as_deref() };
-            let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, beam.tip_dof(), cols)?;
-            let mut data = PlotData::new(steps, beam.tip_dof(), contacts.as_ref());
+            let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, sim.tip, cols)?;
+            let mut data = PlotData::new(steps, sim.tip, contacts.as_ref());
             let mut snaps = if scene_file.output.snapshots_every > 0 {
                 // Node i at x = i h; its value unknown is 2(i - 1); node 0 is clamped to the support.
-                let nodes = (0..=scene.elements).map(|i| (i as f64 * beam.h(), i.checked_sub(1).map(|k| 2 * k), pipe.lifting(i as f64 * beam.h()).0)).collect();
+                let h = pipe.length / bs.elements as f64;
+                let nodes = (0..=bs.elements).map(|i| (i as f64 * h, i.checked_sub(1).map(|k| 2 * k), pipe.lifting(i as f64 * h).0)).collect();
                 let phi = excitation.support.clone().unwrap_or(TimeProfile::Sine { amplitude: pipe.support.0, omega: pipe.support.1 });
                 Some(Snapshots::new(out, "n,t_s,x_m,u_m", scene_file.output.snapshots_every, nodes, Some(phi))?)
             } else {
                 None
             };
-            let mut vib = Analysis::new(scene_file, out, &parent, beam.tip_dof(), scene.dt, scene.t_end, *omega)?;
+            let mut vib = Analysis::new(scene_file, out, &parent, sim.tip, bs.dt, bs.t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = match &red {
-                None => run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [snaps.as_mut().map(|s| s as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer)]),
-                Some(r) => {
-                    let contact_rows = Need::Dofs(parent.contacts.iter().map(|c| c.dof).collect());
-                    let mut series = Reconstruct::new(&r.reduction, &mut series, contact_rows.clone());
-                    let mut data = Reconstruct::new(&r.reduction, &mut data, contact_rows.clone());
-                    let mut snaps = snaps.as_mut().map(|s| Reconstruct::new(&r.reduction, s, Need::Full));
-                    let mut vib = vib.as_mut().map(|v| Reconstruct::new(&r.reduction, &mut v.vibro, contact_rows.clone()));
-                    run_observed(stepper.as_mut(), &init.u, &cfg, vec![&mut series, &mut data, &mut prog], [snaps.as_mut().map(|s| s as &mut dyn Observer), vib.as_mut().map(|v| v as &mut dyn Observer)])
-                }
-            };
+            let res = run_observed(
+                &mut sim,
+                &cfg,
+                vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
+                [snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer)), vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))],
+            );
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
                 let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
                 plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", ("t (s)", "ũ(L,t) (m)"), pts, None);
                 if let (Some(set), Some(f)) = (contacts, &data.forces) {
-                    plot_forces(&mut notes, out, set, f, scene.t_end, " (scaled equation: force / ρS, m² s⁻²)");
+                    plot_forces(&mut notes, out, set, f, bs.t_end, " (scaled equation: force / ρS, m² s⁻²)");
                 }
             }
             let analysis_lines = match vib {
@@ -628,7 +614,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
     }
 }
 
-fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
+fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
     // norms.csv's setup_s: from here to the loop (the scene's problem was
     // built, and its integrator once for validation, when it was read).
     let setup_start = std::time::Instant::now();
@@ -639,14 +625,8 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     };
     // A reduced model steps in reduced coordinates; the observers see the
     // parent's field, reconstructed (only the contact rows for those that
-    // read the contacts alone).
-    let red = b.reduce.map(|keep| signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep)).transpose()?;
-    let mut stepper = match &red {
-        None => b.scheme.build(p.dynamics(), b.dt, &p.initial),
-        Some(r) => b.scheme.build(r.dynamics.clone(), b.dt, &r.initial),
-    }
-    .map_err(RunError::from)?;
-    let u0 = red.as_ref().map_or(&p.initial.u, |r| &r.initial.u);
+    // read the contacts alone): `run_observed`.
+    let mut sim = scene.instantiate(None)?;
     let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(file.energy_warn())?;
     cfg.interrupt = opts.interrupt;
     let steps = cfg.steps();
@@ -668,30 +648,12 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     let mut prog = progress(steps, opts.progress);
     let setup_s = setup_start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
-    let res = match &red {
-        None => run_observed(
-            stepper.as_mut(),
-            u0,
-            &cfg,
-            vec![&mut series, &mut data, &mut prog],
-            [norms.as_mut().map(|n| n as &mut dyn Observer), vib.as_mut().map(|v| &mut v.vibro as &mut dyn Observer), snaps.as_mut().map(|s| s as &mut dyn Observer)],
-        ),
-        Some(r) => {
-            let contact_rows = Need::Dofs(parent.contacts.iter().map(|c| c.dof).collect());
-            let mut series = Reconstruct::new(&r.reduction, &mut series, contact_rows.clone());
-            let mut data = Reconstruct::new(&r.reduction, &mut data, contact_rows.clone());
-            let mut norms = norms.as_mut().map(|n| Reconstruct::new(&r.reduction, n, Need::Full));
-            let mut vib = vib.as_mut().map(|v| Reconstruct::new(&r.reduction, &mut v.vibro, contact_rows.clone()));
-            let mut snaps = snaps.as_mut().map(|s| Reconstruct::new(&r.reduction, s, Need::Full));
-            run_observed(
-                stepper.as_mut(),
-                u0,
-                &cfg,
-                vec![&mut series, &mut data, &mut prog],
-                [norms.as_mut().map(|n| n as &mut dyn Observer), vib.as_mut().map(|v| v as &mut dyn Observer), snaps.as_mut().map(|s| s as &mut dyn Observer)],
-            )
-        }
-    };
+    let res = run_observed(
+        &mut sim,
+        &cfg,
+        vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
+        [norms.as_mut().map(|n| (Reads::Full, n as &mut dyn Observer)), vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer)), snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer))],
+    );
     let wall = start.elapsed().as_secs_f64();
     let mut notes = Vec::new();
     if file.output.plots {
@@ -871,8 +833,37 @@ impl Analysis {
     }
 }
 
-/// Runs with the observers `always` and those of `optional` that are present.
-fn run_observed<'a, const K: usize>(stepper: &mut dyn signorini_schemes::Stepper, u0: &[f64], cfg: &RunConfig, mut always: Vec<&'a mut dyn Observer>, optional: [Option<&'a mut dyn Observer>; K]) -> Result<signorini_run::RunSummary, RunError> {
+/// What an observer reads of the scene's unknowns, for a reduced model's
+/// reconstruction: the contact dofs (and the tip among them), everything,
+/// or nothing (the progress bar).
+#[derive(Clone, Copy)]
+enum Reads {
+    Contacts,
+    Full,
+    Nothing,
+}
+
+/// Runs a simulation with the observers `always` and those of `optional`
+/// that are present; a reduced model's observers see the scene's unknowns,
+/// reconstructed as each reads them.
+fn run_observed<'a, const K: usize>(sim: &mut signorini_scene::Simulation, cfg: &RunConfig, mut always: Vec<(Reads, &'a mut dyn Observer)>, optional: [Option<(Reads, &'a mut dyn Observer)>; K]) -> Result<signorini_run::RunSummary, RunError> {
     always.extend(optional.into_iter().flatten());
-    run(stepper, u0, cfg, &mut always)
+    let Some(r) = &sim.reduction else {
+        let mut obs: Vec<&mut dyn Observer> = always.into_iter().map(|o| o.1).collect();
+        return run(sim.stepper.as_mut(), &sim.u0, cfg, &mut obs);
+    };
+    let rows = Need::Dofs(sim.contacts().iter().map(|c| c.0).chain(std::iter::once(sim.tip)).collect());
+    let mut wrapped: Vec<Result<Reconstruct<'_>, &mut dyn Observer>> = always
+        .into_iter()
+        .map(|(reads, o)| match reads {
+            Reads::Contacts => Ok(Reconstruct::new(r, o, rows.clone())),
+            Reads::Full => Ok(Reconstruct::new(r, o, Need::Full)),
+            Reads::Nothing => Err(o),
+        })
+        .collect();
+    let mut obs: Vec<&mut dyn Observer> = wrapped.iter_mut().map(|w| match w {
+        Ok(rc) => rc as &mut dyn Observer,
+        Err(o) => &mut **o,
+    }).collect();
+    run(sim.stepper.as_mut(), &sim.u0, cfg, &mut obs)
 }
