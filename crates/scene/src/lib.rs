@@ -511,6 +511,8 @@ impl ContactSet {
 }
 
 /// A validated scene.
+// One scene per run or sweep value: the size of the beam's variant does not matter.
+#[allow(clippy::large_enum_variant)]
 pub enum Scene {
     /// A bar.
     Bar(Box<BarRun>),

@@ -104,7 +104,7 @@ pub struct CheckReport {
     pub output_bytes: f64,
 }
 
-/// [`check`] with its numbers (the Python `check()` returns them).
+/// What `signorini check` states, with its numbers (the Python `check()` returns them).
 pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<CheckReport, BuildError> {
     let (elements, is_beam, unknowns, contacts) = match scene {
         Scene::Bar(b) => (b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),

@@ -129,7 +129,7 @@ pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, SplitMix64, TimeProfile, MAX_RANDOM_COUNT};
-pub use registry::{families_with, syntax_list, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, FAMILIES, MAX_PARAMS};
+pub use registry::{families_with, syntax_list, BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, FAMILIES, MAX_PARAMS};
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
 

@@ -115,6 +115,10 @@ pub struct Preset {
     pub rank: u8,
 }
 
+/// How a family builds its stepper: the scheme (with its values), the
+/// problem, the time step and the initial state.
+pub type BuildFn = fn(&SchemeSpec, Dynamics, f64, &Initial) -> Result<Box<dyn Stepper>, SchemeError>;
+
 /// A scheme family: everything the workspace knows of a scheme comes from here.
 pub struct Family {
     /// The name (`newmark`, `ps`, `cd-taylor`).
@@ -135,7 +139,7 @@ pub struct Family {
     pub stability_rule: fn(&[f64]) -> Option<&'static str>,
     /// Builds the integrator (the parameters are validated and the
     /// capabilities checked before).
-    pub build: fn(&SchemeSpec, Dynamics, f64, &Initial) -> Result<Box<dyn Stepper>, SchemeError>,
+    pub build: BuildFn,
 }
 
 impl fmt::Debug for Family {
