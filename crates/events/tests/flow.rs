@@ -1,0 +1,228 @@
+//! The exact flow against an independent reference: the matrix exponential
+//! of the first-order system, augmented with the load's own states (a
+//! constant 1 and, per harmonic, `sin` and `cos` of its phase), computed
+//! here by scaling and squaring of a Taylor series — the solution of the
+//! same linear ODE with nothing in common with the modal formulas.
+
+use proptest::prelude::*;
+use signorini_events::{EventsError, ModalFlow};
+use signorini_fem::SymBand;
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
+
+type Dense = Vec<Vec<f64>>;
+
+fn zeros(n: usize) -> Dense {
+    vec![vec![0.0; n]; n]
+}
+
+fn mul(a: &Dense, b: &Dense) -> Dense {
+    let n = a.len();
+    let mut c = zeros(n);
+    for i in 0..n {
+        for k in 0..n {
+            let aik = a[i][k];
+            if aik != 0.0 {
+                for j in 0..n {
+                    c[i][j] += aik * b[k][j];
+                }
+            }
+        }
+    }
+    c
+}
+
+/// `exp(a)` by scaling and squaring a degree-20 Taylor series.
+fn expm(a: &Dense) -> Dense {
+    let n = a.len();
+    let norm = a.iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
+    let s = if norm > 0.25 { (norm / 0.25).log2().ceil() as i32 } else { 0 };
+    let scaled: Dense = a.iter().map(|r| r.iter().map(|x| x / 2f64.powi(s)).collect()).collect();
+    let mut e = zeros(n);
+    let mut term = zeros(n);
+    for i in 0..n {
+        e[i][i] = 1.0;
+        term[i][i] = 1.0;
+    }
+    for k in 1..=20 {
+        term = mul(&term, &scaled);
+        for i in 0..n {
+            for j in 0..n {
+                term[i][j] /= k as f64;
+                e[i][j] += term[i][j];
+            }
+        }
+    }
+    for _ in 0..s {
+        e = mul(&e, &e);
+    }
+    e
+}
+
+fn inverse(a: &Dense) -> Dense {
+    let n = a.len();
+    let mut m: Dense = a.iter().enumerate().map(|(i, r)| r.iter().copied().chain((0..n).map(|j| f64::from(u8::from(i == j)))).collect()).collect();
+    for c in 0..n {
+        let p = (c..n).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs())).unwrap();
+        m.swap(c, p);
+        let d = m[c][c];
+        m[c].iter_mut().for_each(|x| *x /= d);
+        for r in 0..n {
+            if r != c {
+                let f = m[r][c];
+                let row = m[c].clone();
+                m[r].iter_mut().zip(&row).for_each(|(x, y)| *x -= f * y);
+            }
+        }
+    }
+    m.into_iter().map(|r| r[n..].to_vec()).collect()
+}
+
+fn band(a: &SymBand) -> Dense {
+    (0..a.n()).map(|i| (0..a.n()).map(|j| a.get(i, j)).collect()).collect()
+}
+
+/// The harmonic terms of the forcing, flattened: (shape, amplitude, Ω, phase).
+fn terms(dy: &Dynamics) -> Vec<(Vec<f64>, f64, f64, f64)> {
+    let mut out = Vec::new();
+    for f in &dy.forcing {
+        match &f.time {
+            &TimeProfile::Sine { amplitude, omega } => out.push((f.shape.clone(), amplitude, omega, 0.0)),
+            TimeProfile::Harmonics(h) => out.extend(h.iter().map(|t| (f.shape.clone(), t.amplitude, t.omega, t.phase))),
+            TimeProfile::Series(_) => unreachable!(),
+        }
+    }
+    out
+}
+
+/// The reference: `z(t0 + τ) = exp(A τ) z(t0)` for the augmented state.
+fn reference(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], tau: f64) -> (Vec<f64>, Vec<f64>) {
+    let n = dy.n();
+    let h = terms(dy);
+    let dim = 2 * n + 1 + 2 * h.len();
+    let minv = inverse(&band(&dy.mass));
+    let k = band(&dy.stiffness);
+    let c = dy.damping.as_ref().map_or_else(|| zeros(n), band);
+    let mut a = zeros(dim);
+    for i in 0..n {
+        a[i][n + i] = 1.0;
+        for j in 0..n {
+            a[n + i][j] = -(0..n).map(|r| minv[i][r] * k[r][j]).sum::<f64>();
+            a[n + i][n + j] = -(0..n).map(|r| minv[i][r] * c[r][j]).sum::<f64>();
+        }
+        a[n + i][2 * n] = (0..n).map(|r| minv[i][r] * dy.load[r]).sum();
+        for (j, (shape, amp, _, _)) in h.iter().enumerate() {
+            a[n + i][2 * n + 1 + 2 * j] = amp * (0..n).map(|r| minv[i][r] * shape[r]).sum::<f64>();
+        }
+    }
+    for (j, (_, _, w, _)) in h.iter().enumerate() {
+        let (s, co) = (2 * n + 1 + 2 * j, 2 * n + 2 + 2 * j);
+        a[s][co] = *w;
+        a[co][s] = -*w;
+    }
+    let at: Dense = a.iter().map(|r| r.iter().map(|x| x * tau).collect()).collect();
+    let e = expm(&at);
+    let mut z0 = vec![0.0; dim];
+    z0[..n].copy_from_slice(q0);
+    z0[n..2 * n].copy_from_slice(v0);
+    z0[2 * n] = 1.0;
+    for (j, (_, _, w, p)) in h.iter().enumerate() {
+        z0[2 * n + 1 + 2 * j] = (w * t0 + p).sin();
+        z0[2 * n + 2 + 2 * j] = (w * t0 + p).cos();
+    }
+    let z: Vec<f64> = e.iter().map(|r| r.iter().zip(&z0).map(|(x, y)| x * y).sum()).collect();
+    (z[..n].to_vec(), z[n..2 * n].to_vec())
+}
+
+/// A chain of `n` masses (consistent P1-like mass), unit springs, tied to a
+/// wall at the far end unless `free`.
+fn chain(n: usize, free: bool) -> Dynamics {
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    for i in 0..n {
+        m.set(i, i, if i == 0 || (free && i == n - 1) { 1.0 / 3.0 } else { 2.0 / 3.0 });
+        k.set(i, i, if i == 0 || (free && i == n - 1) { 1.0 } else { 2.0 });
+        if i > 0 {
+            m.set(i, i - 1, 1.0 / 6.0);
+            k.set(i, i - 1, -1.0);
+        }
+    }
+    Dynamics { mass: m, stiffness: k, load: (0..n).map(|i| 0.1 * (i as f64 - 1.0)).collect(), contacts: vec![Contact::new(0, Bounds::obstacle(-1e9), false)], forcing: Vec::new(), damping: None }
+}
+
+fn check(dy: &Dynamics, t0: f64, tau: f64, tol: f64) {
+    let n = dy.n();
+    let q0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
+    let v0: Vec<f64> = (0..n).map(|i| 0.2 * (2.0 * i as f64 + 0.5).cos()).collect();
+    let flow = ModalFlow::new(dy).unwrap();
+    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+    flow.advance(t0, &q0, &v0, tau, &mut q, &mut v);
+    let (qr, vr) = reference(dy, t0, &q0, &v0, tau);
+    let scale = qr.iter().chain(&vr).fold(1.0f64, |a, x| a.max(x.abs()));
+    for (a, b) in q.iter().zip(&qr).chain(v.iter().zip(&vr)) {
+        assert!((a - b).abs() <= tol * scale, "t0 = {t0}, τ = {tau}: {a} against {b} (scale {scale})\nq {q:?}\nqr {qr:?}");
+    }
+}
+
+fn forced(mut dy: Dynamics) -> Dynamics {
+    let n = dy.n();
+    dy.forcing = vec![
+        Forcing { shape: (0..n).map(|i| 1.0 / (i as f64 + 1.0)).collect(), time: TimeProfile::Sine { amplitude: 0.7, omega: 1.3 } },
+        Forcing {
+            shape: (0..n).map(|i| if i == n - 1 { 1.0 } else { 0.0 }).collect(),
+            time: TimeProfile::harmonics(vec![Harmonic { amplitude: 0.4, omega: 2.9, phase: 0.3 }, Harmonic { amplitude: -0.2, omega: 0.45, phase: 1.1 }]).unwrap(),
+        },
+    ];
+    dy
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// Undamped and Rayleigh-damped (some modes overdamped), with a steady
+    /// load and harmonic forcing, at random start times and horizons.
+    #[test]
+    fn free_flight_is_the_matrix_exponential(t0 in 0.0f64..20.0, tau in 0.01f64..6.0, a in 0.0f64..0.3, b in 0.0f64..0.6, damped: bool, free: bool) {
+        let mut dy = forced(chain(5, free));
+        if damped {
+            dy.damping = Some(dy.mass.lin_comb(a, &dy.stiffness, b));
+        }
+        check(&dy, t0, tau, 1e-12);
+    }
+}
+
+/// Resonance: an undamped mode driven at its own frequency (the secular
+/// solution), against the exponential.
+#[test]
+fn a_mode_driven_at_its_frequency_grows_secularly() {
+    let mut dy = chain(4, false);
+    let w = ModalFlow::new(&dy).unwrap().omega2()[1].sqrt();
+    dy.forcing = vec![Forcing { shape: vec![0.0, 0.0, 1.0, 0.0], time: TimeProfile::Sine { amplitude: 1.0, omega: w } }];
+    for tau in [0.5, 3.0, 17.0] {
+        check(&dy, 1.3, tau, 1e-11);
+    }
+}
+
+/// A free-free chain has a rigid mode (ω = 0): the steady load
+/// accelerates it, `t²/2` exactly.
+#[test]
+fn a_rigid_mode_integrates_the_load() {
+    let dy = chain(4, true);
+    assert!(ModalFlow::new(&dy).unwrap().omega2()[0].abs() < 1e-12);
+    for tau in [0.2, 4.0] {
+        check(&dy, 0.0, tau, 1e-11);
+    }
+}
+
+#[test]
+fn refusals_are_typed() {
+    let mut dy = chain(3, false);
+    dy.mass.set(0, 0, 0.0);
+    dy.mass.set(1, 0, 0.0);
+    assert!(matches!(ModalFlow::new(&dy), Err(EventsError::MassNotDefinite)));
+    let mut dy = chain(3, false);
+    let mut c = SymBand::zeros(3, 1);
+    c.set(0, 0, 1.0);
+    dy.damping = Some(c);
+    assert!(matches!(ModalFlow::new(&dy), Err(EventsError::NotClassical { .. })));
+    let mut dy = chain(3, false);
+    dy.forcing = vec![Forcing { shape: vec![1.0; 3], time: TimeProfile::series(vec![0.0, 1.0], vec![0.0, 1.0]).unwrap() }];
+    assert!(matches!(ModalFlow::new(&dy), Err(EventsError::Profile { index: 0 })));
+}
