@@ -54,6 +54,14 @@ pub enum EventsError {
     /// The symmetric eigensolver failed.
     #[error("the modal decomposition of (K, M) failed")]
     Eigen,
+    /// The event search took too many steps (a contact grazing its bound).
+    #[error("the event search stopped at t = {t} after {steps} steps (a contact grazing its bound without reaching it)")]
+    NoConvergence {
+        /// Where it stopped.
+        t: f64,
+        /// Steps taken.
+        steps: usize,
+    },
 }
 
 /// One harmonic load term in modal coordinates: `G_i a sin(Ω t + p)` for every mode `i`.
@@ -223,3 +231,133 @@ impl ModalFlow {
     }
 }
 
+
+/// The first event of a free flight ([`ModalFlow::first_crossing`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// Its time.
+    pub t: f64,
+    /// The bound reached.
+    pub bound: Bound,
+    /// The displacement there.
+    pub q: Vec<f64>,
+    /// The velocity there.
+    pub v: Vec<f64>,
+}
+
+/// Which bound of a contact dof a trajectory reaches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bound {
+    /// `q_c = lo`, approached from above.
+    Lower,
+    /// `q_c = hi`, approached from below.
+    Upper,
+}
+
+impl ModalFlow {
+    /// An upper bound of `|q_c''|` on `[t0, t0 + h]` for the trajectory from
+    /// `(q0, v0)` at `t0` (docs/theory.md §9.2): per mode,
+    /// `|e''| <= c |e'|max + k |e|max` with `|e| <= |e₀| + |e₀' + α e₀| S̄`,
+    /// `|e'| <= |e₀'| + |α e₀' + k e₀| S̄`, `S̄ = min(h, 1/√λ)` (λ > 0) or `h`,
+    /// plus the particular solution's `|P''|` (`Ω² (|A| + |B|)` per harmonic,
+    /// `|g|(1 + Ω (t0 + h)/2)` at resonance, `|g₀|` for a free undamped mode).
+    fn curvature_bound(&self, dof: usize, t0: f64, q0: &[f64], v0: &[f64], h: f64) -> f64 {
+        let n = self.n;
+        let mut b = 0.0;
+        for i in 0..n {
+            let w = self.phi[(dof, i)].abs();
+            if w == 0.0 {
+                continue;
+            }
+            let (e0, de0) = (0..n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * q0[r], b + self.m_phi[(r, i)] * v0[r]));
+            let (p0, dp0) = self.particular(i, t0);
+            let (e0, de0) = (e0 - p0, de0 - dp0);
+            let (k, c) = (self.k[i], self.c[i]);
+            let alpha = 0.5 * c;
+            let lambda = k - alpha * alpha;
+            let sbar = if lambda > 0.0 { h.min(1.0 / lambda.sqrt()) } else { h };
+            let emax = e0.abs() + (de0 + alpha * e0).abs() * sbar;
+            let demax = de0.abs() + (alpha * de0 + k * e0).abs() * sbar;
+            let mut pp = if k == 0.0 && c == 0.0 { self.g0[i].abs() } else { 0.0 };
+            for hm in &self.harmonics {
+                let g = hm.modal[i] * hm.amplitude;
+                let om = hm.omega;
+                let detune = k - om * om;
+                if c == 0.0 && detune.abs() <= 1e-13 * om * om {
+                    pp += g.abs() * (1.0 + om * (t0 + h).abs() / 2.0);
+                } else {
+                    let d = detune * detune + (c * om) * (c * om);
+                    pp += om * om * (g * detune / d).abs() + om * om * (g * c * om / d).abs();
+                }
+            }
+            b += w * (c * demax + k * emax + pp);
+        }
+        // Round-off of the bound itself.
+        b * (1.0 + 1e-12) + f64::MIN_POSITIVE
+    }
+
+    /// The first time in `(t0, t0 + horizon]` at which the contact dof `dof`
+    /// of the trajectory from `(q0, v0)` reaches `lo` (from above) or `hi`
+    /// (from below), with the state there; `None` if it stays strictly
+    /// inside. The state must start inside (`lo < q_c < hi`, or on a bound
+    /// and leaving it).
+    ///
+    /// No event is missed: each step goes no further than where the
+    /// parabola `g + g' s − B s²/2` (g the distance to the bound, B a bound
+    /// of `|g''|` over the window) reaches 0, and that parabola lies below
+    /// the distance (Taylor's formula with remainder), so the distance
+    /// stays positive on every step taken. Near a root the steps shrink
+    /// quadratically; the search stops when a step is below 1e-15 of the
+    /// time (a relative 1e-15 event time) or after `max_steps` steps.
+    #[allow(clippy::too_many_arguments)]
+    pub fn first_crossing(&self, t0: f64, q0: &[f64], v0: &[f64], dof: usize, lo: f64, hi: f64, horizon: f64) -> Result<Option<Event>, EventsError> {
+        let n = self.n;
+        let end = t0 + horizon;
+        let (mut t, mut q, mut v) = (t0, q0.to_vec(), v0.to_vec());
+        let (mut qn, mut vn) = (vec![0.0; n], vec![0.0; n]);
+        // The window over which the curvature bound is taken: a fraction
+        // of the shortest period keeps it tight without many windows.
+        let kmax = self.k.iter().fold(0.0f64, |a, &k| a.max(k));
+        let window = if kmax > 0.0 { 0.25 / kmax.sqrt() } else { horizon };
+        for _ in 0..MAX_STEPS {
+            let h = window.min(end - t);
+            if h <= 0.0 {
+                return Ok(None);
+            }
+            let b = self.curvature_bound(dof, t, &q, &v, h);
+            let mut step = h;
+            let mut side = None;
+            for (s, g, dg) in [(Bound::Lower, q[dof] - lo, v[dof]), (Bound::Upper, hi - q[dof], -v[dof])] {
+                if !g.is_finite() {
+                    continue;
+                }
+                // The root of g + dg s − b s²/2 (b > 0): where the lower bound reaches 0.
+                let g = g.max(0.0);
+                let reach = (dg + (dg * dg + 2.0 * b * g).sqrt()) / b;
+                if reach < step {
+                    step = reach;
+                    side = Some(s);
+                }
+            }
+            if let Some(s) = side {
+                if step <= 1e-15 * t.abs().max(1e-300) || (step <= f64::EPSILON * t.abs().max(1.0)) {
+                    let te = t + step;
+                    self.advance(t, &q, &v, step, &mut qn, &mut vn);
+                    return Ok(Some(Event { t: te, bound: s, q: qn, v: vn }));
+                }
+            }
+            self.advance(t, &q, &v, step, &mut qn, &mut vn);
+            t += step;
+            std::mem::swap(&mut q, &mut qn);
+            std::mem::swap(&mut v, &mut vn);
+            if side.is_none() && t >= end {
+                return Ok(None);
+            }
+        }
+        Err(EventsError::NoConvergence { t, steps: MAX_STEPS })
+    }
+}
+
+/// Steps of [`ModalFlow::first_crossing`] before it gives up (a grazing
+/// contact that never quite touches can take many).
+const MAX_STEPS: usize = 1_000_000;

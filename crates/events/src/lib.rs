@@ -27,10 +27,14 @@
 //! # Ok::<(), signorini_events::EventsError>(())
 //! ```
 //!
-//! *Not yet here* (the rest of issue 25): event location, impacts, held
+//! [`ModalFlow::first_crossing`] locates the first time a contact dof
+//! reaches a bound, with a step rule that cannot miss an event
+//! (docs/theory.md §9.2).
+//!
+//! *Not yet here* (the rest of issue 25): impacts, held
 //! phases, accumulation, massless contact dofs, non-proportional damping and
 //! piecewise-linear loads.
 
 mod flow;
 
-pub use flow::{EventsError, ModalFlow};
+pub use flow::{Bound, Event, EventsError, ModalFlow};

@@ -1,5 +1,5 @@
 //! The weighted-mass-redistribution study (`cargo xtask weighted`)
-//! (the weighted mass-redistribution paper, docs/theory.md §9; masses §2.1.2,
+//! (the weighted mass-redistribution paper, docs/theory.md §10; masses §2.1.2,
 //! schemes §4.5).
 //!
 //! Outputs (folder `out/weighted/` by default):
