@@ -54,6 +54,23 @@ pub enum EventsError {
     /// The symmetric eigensolver failed.
     #[error("the modal decomposition of (K, M) failed")]
     Eigen,
+    /// A contact without rebound (`e = 0`) would start a held phase, not
+    /// implemented yet.
+    #[error("contact {contact}: restitution {restitution} is not taken yet by the event-driven integrator (e = 0 starts a held phase); allowed (0, 1]")]
+    HeldPhase {
+        /// The contact.
+        contact: usize,
+        /// Its restitution.
+        restitution: f64,
+    },
+    /// More events than allowed (impacts accumulating toward a held phase).
+    #[error("{events} events by t = {t}: impacts accumulate (the held phase they lead to is not implemented yet), or raise the limit")]
+    TooManyEvents {
+        /// Where it stopped.
+        t: f64,
+        /// Events taken.
+        events: usize,
+    },
     /// The event search took too many steps (a contact grazing its bound).
     #[error("the event search stopped at t = {t} after {steps} steps (a contact grazing its bound without reaching it)")]
     NoConvergence {
@@ -161,6 +178,11 @@ impl ModalFlow {
             }
         }
         Ok(Self { n, phi, m_phi, k, c, g0, harmonics })
+    }
+
+    /// `M⁻¹ e_dof = Φ Φᵀ e_dof` (the modes are M-orthonormal).
+    pub fn minv_column(&self, dof: usize) -> Vec<f64> {
+        (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * self.phi[(dof, i)]).sum()).collect()
     }
 
     /// The squared natural frequencies `ω_i²`, ascending.

@@ -31,10 +31,15 @@
 //! reaches a bound, with a step rule that cannot miss an event
 //! (docs/theory.md §9.2).
 //!
-//! *Not yet here* (the rest of issue 25): impacts, held
+//! [`EventDriven`] runs a structure with contacts event by event: the exact
+//! flow, each impact located, Newton's law with restitution in (0, 1].
+//!
+//! *Not yet here* (the rest of issue 25): simultaneous impacts as one LCP, held
 //! phases, accumulation, massless contact dofs, non-proportional damping and
 //! piecewise-linear loads.
 
+mod driven;
 mod flow;
 
+pub use driven::{EventDriven, EventKind, EventRecord};
 pub use flow::{Bound, Event, EventsError, ModalFlow};
