@@ -30,6 +30,7 @@ mod fuzz;
 mod obstacles;
 mod oscillator;
 mod pytest;
+mod scene_keys;
 mod courant1;
 mod long_horizon;
 mod lyapunov;
