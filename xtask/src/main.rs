@@ -30,6 +30,7 @@ mod fuzz;
 mod obstacles;
 mod oscillator;
 mod pytest;
+mod scene_keys;
 mod courant1;
 mod long_horizon;
 mod lyapunov;
@@ -83,7 +84,7 @@ enum Cmd {
     BeamStatistics(beam_statistics::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
-    /// The user guide's generated tables (docs/generated/, the README's headline) from data/reference; --check compares instead of writing.
+    /// The user guide's generated tables (docs/generated/, the README's headline) from data/reference, and the scene key reference from the scene schema (crates/scene); --check compares instead of writing.
     Docs(docs::Args),
 }
 

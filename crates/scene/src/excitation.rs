@@ -34,34 +34,44 @@ use signorini_schemes::{Harmonic, ProfileError, Psd, RandomSpec, TimeProfile};
 use std::path::Path;
 use std::sync::Arc;
 
-/// An excitation table.
+/// An excitation table: a time profile, the oscillator's load
+/// (`[forcing]`), the beam's support motion φ(t) (`[support]`) or a
+/// distributed or nodal load on a bar or a beam (`[load]`).
 #[derive(Debug, Clone, Deserialize, PartialEq, Default)]
 #[serde(deny_unknown_fields)]
 pub struct ExcitationToml {
-    /// `sine`, `cosine`, `harmonics`, `series` or `random`.
+    /// `sine`, `cosine`, `harmonics`, `series` or `random` (default
+    /// `cosine` in `[forcing]`, `sine` in `[support]` and `[load]`).
     pub profile: Option<String>,
-    /// Amplitude (sine, cosine).
+    /// Amplitude A (sine, cosine: `A sin(ω t + phase)`, `A cos(ω t + phase)`).
     pub amplitude: Option<f64>,
-    /// Angular frequency (rad/s).
+    /// Angular frequency ω (rad/s) of a sine or cosine; with the other
+    /// profiles (optional), the frequency of the Poincaré section and the
+    /// impact phases.
     pub omega: Option<f64>,
-    /// Phase (rad; sine, cosine).
+    /// Phase (rad; sine, cosine; default 0).
     pub phase: Option<f64>,
-    /// `[amplitude, omega, phase]` triples.
+    /// `[amplitude, omega, phase]` triples (profile `harmonics`).
     #[serde(default, deserialize_with = "triples")]
     pub harmonics: Option<Vec<[f64; 3]>>,
-    /// A CSV file or inline points.
+    /// Profile `series`: a CSV file `t,value` (header optional) relative to
+    /// the scene file, or inline `[[t, value], …]`; piecewise linear, end
+    /// values held outside. Not in `[support]` (give the load itself in
+    /// `[load]`).
     pub series: Option<SeriesToml>,
     /// Random: lower band edge (Hz).
     pub f_lo: Option<f64>,
     /// Random: upper band edge (Hz).
     pub f_hi: Option<f64>,
-    /// Random: one-sided PSD.
+    /// Random: one-sided PSD (units²/Hz), a level or a table `[[f, S], …]`
+    /// (piecewise linear in f).
     pub psd: Option<PsdToml>,
-    /// Random: number of harmonics.
+    /// Random: number of harmonics of the realisation (default 200).
     pub count: Option<usize>,
-    /// Random: seed.
+    /// Random: seed (default 0; same seed, same signal).
     pub seed: Option<u64>,
-    /// `[load]`: the node of a nodal load.
+    /// `[load]` only: the mesh node of a nodal load (absent: a uniform
+    /// distributed load per unit length).
     pub x: Option<f64>,
 }
 

@@ -120,15 +120,16 @@ pub fn field(f: &str, m: impl fmt::Display) -> SceneError {
 }
 
 
-/// The whole scene file.
+/// The whole scene file: one of `[bar]`, `[beam]` or `[oscillator]`, and
+/// the tables that go with it.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
-    /// A bar problem.
+    /// A P1/P2/P3 bar hitting an obstacle.
     pub bar: Option<BarToml>,
-    /// A beam between two stops.
+    /// The pipe between two stops of the beam paper.
     pub beam: Option<BeamToml>,
-    /// Outputs.
+    /// What a run writes.
     #[serde(default)]
     pub output: OutputToml,
     /// `[[stop]]`: point stops at mesh nodes (replace the default contact).
@@ -171,7 +172,8 @@ pub struct OscillatorToml {
     pub dt: f64,
     /// Horizon.
     pub t_end: f64,
-    /// Scheme (default `ps(r, 0.25)`: Paoli–Schatzman with e = restitution).
+    /// Scheme: any scheme with a massive contact node and damping (default
+    /// `ps(r, 0.25)`: Paoli–Schatzman with e = restitution).
     pub scheme: Option<String>,
 }
 
@@ -181,14 +183,16 @@ pub struct OscillatorToml {
 pub struct StopToml {
     /// Position: a mesh node, to a relative 1e-9 of the length.
     pub x: f64,
-    /// Lower bound (`-inf`: none).
+    /// Lower bound (`-inf`: none; default -inf). At least one of `lo`, `hi`
+    /// is finite, and lo <= hi.
     pub lo: Option<f64>,
-    /// Upper bound (`+inf`: none).
+    /// Upper bound (`+inf`: none; default +inf).
     pub hi: Option<f64>,
     /// Restitution coefficient of this stop, in [0, 1] (schemes with a
-    /// restitution law only).
+    /// restitution law only; default: the scheme's e).
     pub restitution: Option<f64>,
-    /// Penalty stiffness of this stop, > 0 (penalty contact only).
+    /// Penalty stiffness of this stop, > 0 (penalty contact only; default:
+    /// the scheme's). Bar: in the scaled equation's units; beam: N/m.
     pub stiffness: Option<f64>,
 }
 
@@ -196,50 +200,63 @@ pub struct StopToml {
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ObstacleToml {
-    /// Lower bound: a number (`-inf`: none), an expression in x or a table.
+    /// Lower bound: a number (`-inf`: none), an expression in `x` or a table
+    /// `[[x, v], …]` covering every bounded node (absent: no lower bound).
     pub lo: Option<FieldToml>,
-    /// Upper bound: a number (`+inf`: none), an expression in x or a table.
+    /// Upper bound: a number (`+inf`: none), an expression in `x` or a table
+    /// `[[x, v], …]` covering every bounded node (absent: no upper bound).
     pub hi: Option<FieldToml>,
 }
 
-/// `[bar]`.
+/// `[bar]`: a P1/P2/P3 bar hitting an obstacle (one of `[bar]`, `[beam]`,
+/// `[oscillator]` per scene).
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct BarToml {
-    /// Built-in benchmark.
+    /// A built-in problem with an exact solution: `bar-dirichlet`,
+    /// `bar-neumann-gravity`, `bar-neumann-gravity-0.11` or `bar-mirrored`
+    /// (the geometry and initial-data keys are then refused). Absent: a user
+    /// bar.
     pub benchmark: Option<String>,
-    /// Length L (> 0).
+    /// Length L (> 0; default 1).
     pub length: Option<f64>,
-    /// Wave speed c (> 0).
+    /// Wave speed c (> 0; default 1).
     pub wave_speed: Option<f64>,
-    /// "clamped" or "free".
+    /// `"clamped"` or `"free"` (default `"clamped"`).
     pub far_end: Option<String>,
-    /// Obstacle position g.
+    /// Obstacle position g at x = 0 (default 0; refused with `[[stop]]` /
+    /// `[obstacle]`).
     pub gap: Option<f64>,
-    /// Uniform body force f.
+    /// Uniform body force f (default 0).
     pub body_force: Option<f64>,
-    /// u0(x).
+    /// u0(x): a number, an expression in `x`, or a table `[[x, u], …]`
+    /// (piecewise linear, covering [0, L]); default 0.
     pub initial_displacement: Option<FieldToml>,
-    /// v0(x).
+    /// v0(x): a number, an expression in `x`, or a table `[[x, v], …]`
+    /// (piecewise linear, covering [0, L]); default 0.
     pub initial_velocity: Option<FieldToml>,
     /// Elements m (>= 2).
     pub elements: usize,
     /// Element degree k (1, 2, 3: Lagrange P1, P2, P3; default 1); the
-    /// `k m + 1` nodes are at `x = i L/(k m)`.
+    /// `k m + 1` nodes are at `x = i L/(k m)`. Degrees 2 and 3 take the
+    /// masses std, lumped and mod.
     pub degree: Option<usize>,
-    /// Mass treatment.
+    /// Mass treatment: `std`, `lumped`, `mod`, `mod1`, `mod2`, `mod3`,
+    /// `transfer` or `singular` (docs/schemes.md, "Mass treatments").
     #[serde(default = "default_mass")]
     pub mass: String,
-    /// Scheme.
+    /// Scheme: a preset, `hybrid`, `reduced-cn`, `newmark(B,G)`, `theta(T)`,
+    /// `ps(E[,B])`, … (`signorini list`; docs/schemes.md).
     #[serde(default = "default_scheme")]
     pub scheme: String,
-    /// Time step.
+    /// Time step (give `dt` or `ratio`, one of them).
     pub dt: Option<f64>,
-    /// dx/dt (alternative to dt).
+    /// dx/dt, the alternative to `dt`.
     pub ratio: Option<f64>,
-    /// Horizon.
+    /// Horizon T, a whole number of steps of dt.
     pub t_end: Option<f64>,
-    /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or `{ cutoff_hz = f }`.
+    /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or
+    /// `{ cutoff_hz = f }`, with massless contacts (mod-type masses).
     pub reduce: Option<ReduceToml>,
 }
 
@@ -314,42 +331,51 @@ fn optional_pair<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 
     exact_pair(d).map(Some)
 }
 
-/// `[beam]`.
+/// `[beam]`: the pipe between two stops of the beam paper.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct BeamToml {
-    /// A paper scene (fig2 … fig8) to start from; the other keys override it.
+    /// A paper scene (`"fig2"` … `"fig8"`) to start from; the other keys
+    /// override it. Absent: J = 19, dt = 1e-5 s, T = 2 s, projection with
+    /// β = 1/2.
     pub scene: Option<String>,
-    /// Elements J (>= 1).
+    /// Elements J (>= 1; default: the scene's, 19).
     pub elements: Option<usize>,
-    /// Time step (s).
+    /// Time step (s; default: the scene's).
     pub dt: Option<f64>,
-    /// Horizon (s).
+    /// Horizon (s; default: the scene's).
     pub t_end: Option<f64>,
-    /// "projection" or "penalty".
+    /// `"projection"` or `"penalty"` (default: the scene's).
     pub contact: Option<String>,
-    /// β of the β-scheme, in [0, 1/2].
+    /// β of the β-scheme, in [0, 1/2] (projection only; default: the
+    /// scene's).
     pub beta: Option<f64>,
-    /// Penalty spring stiffness (N/m, > 0).
+    /// Penalty spring stiffness (N/m, > 0; penalty only; default: the
+    /// scene's, 1e8 in fig5–fig7).
     pub penalty_stiffness: Option<f64>,
     /// A scheme of the registry instead of `contact` (any that takes the
     /// beam's structure: `signorini list`); replaces `contact`, `beta` and
     /// `penalty_stiffness`.
     pub scheme: Option<String>,
-    /// Lower and upper stops (m), g1 < g2.
+    /// Lower and upper stops `[g1, g2]` (m), g1 < g2 (default: the paper's
+    /// ±0.1 m; refused with `[[stop]]` / `[obstacle]`).
     #[serde(default, deserialize_with = "optional_pair")]
     pub stops: Option<[f64; 2]>,
-    /// Support amplitude (m) and angular frequency (rad/s).
+    /// Support amplitude (m) and angular frequency (rad/s), `[amplitude,
+    /// omega]`; or a `[support]` table with any profile (default: the
+    /// paper's 0.2 sin(10 t) m).
     #[serde(default, deserialize_with = "optional_pair")]
     pub support: Option<[f64; 2]>,
-    /// Run a conditionally stable β-scheme beyond its limit anyway.
+    /// `true`: run a conditionally stable β-scheme (β < 1/4) beyond its
+    /// exact stability limit anyway.
     #[serde(default)]
     pub force: bool,
-    /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or `{ cutoff_hz = f }`.
+    /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or
+    /// `{ cutoff_hz = f }` (β >= 1/4).
     pub reduce: Option<ReduceToml>,
 }
 
-/// `[output]`.
+/// `[output]`: what a run writes.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct OutputToml {
@@ -384,6 +410,7 @@ pub struct OutputToml {
     /// (initial energy + work of the loads and supports − dissipation, as
     /// the scheme's identity defines it) by more than this factor; finite
     /// and > 1 (default 2). The summary prints the largest E/budget.
+    /// Refused in sweeps, which do not watch the energy.
     pub energy_warn: Option<f64>,
 }
 
@@ -1206,7 +1233,7 @@ fn contact_error(e: RunError, set: &ContactSet, table: &str) -> SceneError {
             field(&name, format!("{value}{at}: allowed {allowed}"))
         }
         RunError::Fem(e @ signorini_fem::FemError::MassAtContacts { .. }) => {
-            field(&format!("{table}.mass"), format!("{e}; allowed: std or lumped (any contact nodes), or contact nodes this treatment supports (README, \"Several contacts\")"))
+            field(&format!("{table}.mass"), format!("{e}; allowed: std or lumped (any contact nodes), or contact nodes this treatment supports (docs/scenes.md, \"Several contacts: [[stop]] and [obstacle]\")"))
         }
         e => field(table, e),
     }

@@ -229,9 +229,19 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
     'schemes: for s in &cfg.schemes {
         for &mass in &cfg.masses {
             let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, cfg.degree).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
-            if let Err(signorini_schemes::SchemeError::Structure(why)) = s.build(p.dynamics(), p.bar.h() / cfg.ratio, &p.initial) {
-                notes.push(format!("note: {s} skipped on {}: {why}", cfg.benchmark));
-                continue 'schemes;
+            // The registry refuses a structure a family does not take with
+            // `NotTaken` (naming the schemes that do); a builder's own check
+            // with `Structure`.
+            match s.build(p.dynamics(), p.bar.h() / cfg.ratio, &p.initial) {
+                Err(signorini_schemes::SchemeError::Structure(why)) => {
+                    notes.push(format!("note: {s} skipped on {}: {why}", cfg.benchmark));
+                    continue 'schemes;
+                }
+                Err(e @ signorini_schemes::SchemeError::NotTaken { .. }) => {
+                    notes.push(format!("note: {s} skipped on {}: {e}", cfg.benchmark));
+                    continue 'schemes;
+                }
+                _ => {}
             }
         }
         keep.push(*s);
