@@ -1,6 +1,6 @@
 //! P2/P3 bars through the run layer (docs/theory.md §2.1.4):
 //!
-//! * degree 1 through the Pk path (`run_level_degree`, `problem_with_degree`,
+//! * degree 1 through the Pk path (`run_level` at degree 1, `problem_with_degree`,
 //!   `NormObserver::with_degree`) gives the norms the P1 code gave before the
 //!   Pk generalisation, bit for bit (the bits below were printed by that code,
 //!   commit bb6338b);
@@ -16,7 +16,7 @@
 
 use signorini_fem::{Bar, BarMass, FemError, RightEnd};
 use signorini_norms::NormKind;
-use signorini_run::study::{rate, run_level_degree, StudyConfig};
+use signorini_run::study::{rate, run_level, Level, StudyConfig};
 use signorini_run::{run, Benchmark, Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{Bounds, Contact, Dynamics, Initial, SchemeSpec};
 use std::f64::consts::PI;
@@ -29,7 +29,7 @@ fn bits(n: &signorini_norms::NormReport) -> [u64; 8] {
 fn p1_levels_through_the_pk_path_are_bit_identical_to_the_p1_code() {
     let b = Benchmark::BarDirichlet;
     let exact = b.exact(3.0).unwrap();
-    let r = run_level_degree(b, exact.as_ref(), "newmark-cn".parse().unwrap(), BarMass::Mod, 20, 1, 10.0, 3.0, NormKind::Exact).unwrap();
+    let r = run_level(&Level::new(b, "newmark-cn".parse().unwrap(), BarMass::Mod, 20, 10.0, 3.0).with_degree(1).with_norms(NormKind::Exact), exact.as_ref()).unwrap();
     assert_eq!(
         bits(&r.norms),
         [0x3f9a77c1b2814529, 0x3f9f88cd737d161e, 0x3fca762a1f7c9bac, 0x3fcf4d9d1bbbcab4, 0x3fc8f66c01bd78df, 0x3f79e50f2d54fa80, 0x3f866748341fdd20, 0x400844cb3d074108],
@@ -38,7 +38,7 @@ fn p1_levels_through_the_pk_path_are_bit_identical_to_the_p1_code() {
     );
     let b = Benchmark::BarNeumannGravity;
     let exact = b.exact(16.0).unwrap();
-    let r = run_level_degree(b, exact.as_ref(), "ps-e0".parse().unwrap(), BarMass::Std, 20, 1, 1.0, 16.0, NormKind::Exact).unwrap();
+    let r = run_level(&Level::new(b, "ps-e0".parse().unwrap(), BarMass::Std, 20, 1.0, 16.0).with_degree(1).with_norms(NormKind::Exact), exact.as_ref()).unwrap();
     assert_eq!(
         bits(&r.norms),
         // The V norms since the degree-2 seminorm is computed from its

@@ -589,7 +589,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             // One level at a time (a sweep wants two levels for its rates).
             let runs: Vec<Result<(usize, study::LevelResult), StudyError>> = levels
                 .par_iter()
-                .map(|&m| Ok((m, study::run_level_reduced(benchmark, exact.as_ref(), cn, BarMass::Mod, m, 1, ratio, t_end, Default::default(), Some(Keep::Modes(r)))?)))
+                .map(|&m| Ok((m, study::run_level(&study::Level::new(benchmark, cn, BarMass::Mod, m, ratio, t_end).with_reduce(Some(Keep::Modes(r))), exact.as_ref())?)))
                 .collect();
             for run in runs {
                 let (m, l) = run?;
