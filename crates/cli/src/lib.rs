@@ -68,7 +68,6 @@ use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, S
 use std::fs::File;
 use std::io::Write;
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
 
 /// Every file `signorini run` writes.
 pub const OUTPUT_FILES: [&str; 13] = ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg"];
@@ -213,7 +212,7 @@ fn stopped(error: RunError, mut notes: Vec<String>, out: &Path) -> CliError {
 }
 
 /// How `run_scene` runs.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// Draw a progress bar with an ETA on stderr.
     pub progress: bool,
@@ -221,8 +220,8 @@ pub struct RunOptions {
     pub clean: bool,
     /// Skip the free-space check.
     pub no_disk_check: bool,
-    /// Stop cleanly when this flag is set (by a signal handler).
-    pub interrupt: Option<&'static AtomicBool>,
+    /// Stop cleanly when this token is cancelled (by a signal handler).
+    pub interrupt: Option<signorini_run::Cancel>,
 }
 
 /// Reads and validates a scene file within `limits`.
@@ -526,7 +525,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let (dy, init) = osc.dynamics()?;
             let mut stepper = scheme.build(dy, *dt, &init).map_err(RunError::from)?;
             let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(scene_file.energy_warn())?;
-            cfg.interrupt = opts.interrupt;
+            cfg.interrupt = opts.interrupt.clone();
             let steps = cfg.steps();
             let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
             let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, 0, cols)?;
@@ -568,7 +567,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             };
             let parent = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
             let mut cfg = RunConfig::new(scene.dt, scene.t_end)?.with_energy_warn(scene_file.energy_warn())?;
-            cfg.interrupt = opts.interrupt;
+            cfg.interrupt = opts.interrupt.clone();
             let steps = cfg.steps();
             let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
             let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None, contacts: dofs.as_deref() };
@@ -648,7 +647,7 @@ fn run_bar(b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Resul
     .map_err(RunError::from)?;
     let u0 = red.as_ref().map_or(&p.initial.u, |r| &r.initial.u);
     let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(file.energy_warn())?;
-    cfg.interrupt = opts.interrupt;
+    cfg.interrupt = opts.interrupt.clone();
     let steps = cfg.steps();
     // With stops, u_contact / lambda are contact 0's (the first stop).
     let dofs: Option<Vec<usize>> = b.contacts.as_ref().map(|c| c.stops.iter().map(|st| st.node).collect());

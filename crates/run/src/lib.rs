@@ -23,6 +23,7 @@
 //! * [`chaos`]: the largest Lyapunov exponent by Benettin's twin runs
 //!   over any [`chaos::Flow`] (a stepper through its state), and the
 //!   predictability horizon;
+//! * [`cancel`]: the [`Cancel`] token that stops a run or a sweep cleanly;
 //! * [`stats`]: batch-means confidence intervals (Student-t quantiles);
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
@@ -32,6 +33,7 @@
 
 pub mod analysis;
 pub mod beam;
+pub mod cancel;
 pub mod chaos;
 pub mod energy;
 pub mod observers;
@@ -45,6 +47,7 @@ pub mod text;
 pub mod vibro;
 
 pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
+pub use cancel::Cancel;
 pub use energy::{EnergyExceeded, EnergyGrowth, EnergyMonitor};
 pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};

@@ -2,7 +2,7 @@
 
 use signorini_fem::FemError;
 use signorini_schemes::{SchemeError, Stepper};
-use std::sync::atomic::{AtomicBool, Ordering};
+use crate::Cancel;
 use std::time::Instant;
 
 /// Errors of a run.
@@ -124,7 +124,7 @@ impl From<SchemeError> for RunError {
 }
 
 /// Time step, horizon and safety limits of a run.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct RunConfig {
     /// Time step `dt` (> 0, finite).
     pub dt: f64,
@@ -135,9 +135,10 @@ pub struct RunConfig {
     /// ½ m (max|U⁰|/T)²)` (never zero unless the data and loads are)
     /// (checked only when an observer asks for the energy). `None`: no check.
     pub energy_growth_limit: Option<f64>,
-    /// A flag (set by a signal handler) that stops the run cleanly at the
-    /// next step with [`RunError::Interrupted`].
-    pub interrupt: Option<&'static AtomicBool>,
+    /// A cancel token (cancelled by a signal handler, another thread, …)
+    /// that stops the run cleanly at the next step with
+    /// [`RunError::Interrupted`].
+    pub interrupt: Option<Cancel>,
     /// Watch the energy against its budget (`E_ref` + load work −
     /// dissipation, [`crate::energy`]) and record the largest ratio and the
     /// first level past this factor in [`RunSummary::energy`] (`Some`: the
@@ -184,9 +185,9 @@ impl RunConfig {
         Ok(self)
     }
 
-    /// With an interrupt flag.
-    pub fn with_interrupt(mut self, flag: &'static AtomicBool) -> Self {
-        self.interrupt = Some(flag);
+    /// With a cancel token.
+    pub fn with_interrupt(mut self, cancel: Cancel) -> Self {
+        self.interrupt = Some(cancel);
         self
     }
 
@@ -307,8 +308,8 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
     }
     let mut contact_steps = 0;
     while stepper.level() < total {
-        if let Some(flag) = cfg.interrupt {
-            if flag.load(Ordering::Relaxed) {
+        if let Some(cancel) = &cfg.interrupt {
+            if cancel.is_cancelled() {
                 return Err(RunError::Interrupted { step: stepper.level(), time: stepper.time() });
             }
         }

@@ -251,7 +251,7 @@ fn energy_warn_must_be_finite_and_above_one() {
     let cfg = RunConfig::new(0.1, 1.0).unwrap();
     assert_eq!(cfg.energy_warn, None, "no monitor by default");
     for bad in [1.0, 0.5, 0.0, -2.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-        match cfg.with_energy_warn(bad) {
+        match cfg.clone().with_energy_warn(bad) {
             Err(e @ RunError::Invalid { field: "energy_warn", .. }) => assert!(e.to_string().contains("allowed finite and > 1"), "{e}"),
             other => panic!("{bad}: {other:?}"),
         }

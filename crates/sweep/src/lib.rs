@@ -39,7 +39,7 @@ use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
 use signorini_reduce::Reduction;
 use signorini_run::reduced::{Need, Reconstruct};
-use signorini_run::{Observer, RunConfig, RunError, Sample};
+use signorini_run::{Cancel, Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
 use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
@@ -47,7 +47,6 @@ use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 /// Header of `sweep.csv`.
 pub const SWEEP_COLUMNS: &str = "param,run,t,displacement,velocity,phase";
@@ -271,8 +270,8 @@ pub struct SweepOptions {
     pub resume: bool,
     /// Threads (None: rayon's default, all cores).
     pub threads: Option<usize>,
-    /// Stop cleanly when set (keeps whole runs written).
-    pub interrupt: Option<&'static AtomicBool>,
+    /// Stop cleanly when cancelled (keeps whole runs written).
+    pub interrupt: Option<Cancel>,
 }
 
 impl SweepOptions {
@@ -725,7 +724,7 @@ where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
 {
     let o = &sweep.opts;
-    let interrupt = o.interrupt;
+    let interrupt = o.interrupt.as_ref();
     let runs = o.runs();
     let pool = {
         let mut b = rayon::ThreadPoolBuilder::new();
@@ -792,7 +791,7 @@ where
     let mut next = first;
     let mut interrupted = false;
     while next < runs.end {
-        if o.interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+        if interrupt.is_some_and(Cancel::is_cancelled) {
             interrupted = true;
             break;
         }
@@ -1061,7 +1060,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
 /// sweep whose runs failed is still a sweep; `signorini sweep` exits 3
 /// when there are any).
 pub fn run(sweep: &Sweep, dir: &Path, progress: &dyn Progress) -> Result<SweepReport, Error> {
-    let interrupt = sweep.opts.interrupt;
+    let interrupt = sweep.opts.interrupt.as_ref();
     let follow = sweep.opts.follow;
     sweep_report(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt), progress)
 }
@@ -1101,7 +1100,7 @@ fn text_cell(s: &str) -> String {
 /// velocity the backward difference over the last step. A run that cannot
 /// be built or stops early gives its reason as the status, and what it
 /// recorded before.
-pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
+pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&Cancel>) -> RunRows {
     // A reduced model (`reduce = {…}`) runs as `signorini run` runs it: the
     // observers see the scene's unknowns, reconstructed.
     let mut built = match scene.instantiate(start) {
@@ -1120,7 +1119,7 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
         Ok(c) => c,
         Err(e) => return failed(&e),
     };
-    rc.interrupt = interrupt;
+    rc.interrupt = interrupt.cloned();
     let res = match &built.reduction {
         None => {
             let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
@@ -1227,7 +1226,7 @@ fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), Error>)]) -> Ve
 /// 0 and 1, then every step until its own horizon; the whole state checked
 /// for finite values every 64 steps and at the end, as the runner does).
 /// `None` when the runs cannot share the engine (then run them one by one).
-pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
+pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     match group.len() {
         2 => lockstep_width::<2>(group, interrupt),
         3..=4 => lockstep_width::<4>(group, interrupt),
@@ -1237,7 +1236,7 @@ pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static A
 }
 
 /// [`simulate_lockstep`] on an engine of `L` lanes.
-fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
+fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     let mut lanes = Vec::with_capacity(group.len());
     let mut tips = Vec::with_capacity(group.len());
     let (mut beta, mut dt) = (f64::NAN, f64::NAN);
@@ -1292,7 +1291,7 @@ fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&
     }
     let mut interrupted = false;
     while ls.iter().any(|l| !l.done) {
-        if interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+        if interrupt.is_some_and(Cancel::is_cancelled) {
             interrupted = true;
             break;
         }
