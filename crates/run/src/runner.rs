@@ -272,7 +272,7 @@ pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &m
 
 /// How often (in steps) the runner checks the whole state for non-finite
 /// values; the steppers check the contact dof every step.
-const FINITE_CHECK_EVERY: usize = 64;
+pub(crate) const FINITE_CHECK_EVERY: usize = 64;
 
 fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<(usize, usize, Option<crate::energy::EnergyGrowth>), RunError> {
     if (cfg.dt - stepper.dt()).abs() > 1e-15 * cfg.dt {
@@ -406,7 +406,7 @@ fn data_energy_scale(mass: f64, u0: &[f64], t_end: f64) -> f64 {
     0.5 * mass * (umax / t_end).powi(2)
 }
 
-fn check_finite(u: &[f64], step: usize, time: f64) -> Result<(), RunError> {
+pub(crate) fn check_finite(u: &[f64], step: usize, time: f64) -> Result<(), RunError> {
     if u.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {

@@ -39,8 +39,8 @@ use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
 use signorini_reduce::Reduction;
 use signorini_run::reduced::{Need, Reconstruct};
-use signorini_run::{Cancel, Observer, RunConfig, RunError, Sample};
-use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
+use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, Sample};
+use signorini_schemes::{Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
 use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
 use std::fmt::Write as _;
@@ -1220,11 +1220,10 @@ fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), Error>)]) -> Ve
 }
 
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
-/// ([`PaoliSchatzmanLockstep`]): each lane performs the single run's
-/// arithmetic, so its rows are the ones [`simulate`] writes, bit for bit;
-/// each lane feeds its own observers the samples the runner would (levels
-/// 0 and 1, then every step until its own horizon; the whole state checked
-/// for finite values every 64 steps and at the end, as the runner does).
+/// ([`PaoliSchatzmanLockstep`] stepped by [`signorini_run::run_lockstep`]):
+/// each lane performs the single run's arithmetic and feeds its observers
+/// the samples [`signorini_run::run`] would, so its rows are the ones
+/// [`simulate`] writes, bit for bit.
 /// `None` when the runs cannot share the engine (then run them one by one).
 pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     match group.len() {
@@ -1252,97 +1251,34 @@ fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&
     let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
     let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
     let mut eng = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?;
-    let c = eng.contact_dof();
-    struct Lane {
-        vib: signorini_run::vibro::Vibro,
-        u: Vec<f64>,
-        steps: usize,
-        status: Option<String>,
-        done: bool,
-    }
-    let mut ls: Vec<Lane> = Vec::with_capacity(group.len());
+    // The vibro observers read the tip and the contact only.
+    let mut need: Vec<usize> = tips.iter().copied().chain(std::iter::once(eng.contact_dof())).collect();
+    need.sort_unstable();
+    need.dedup();
+    let mut vibs = Vec::with_capacity(group.len());
+    let mut cfgs = Vec::with_capacity(group.len());
     for (k, (_, plan)) in group.iter().enumerate() {
-        let vib = observers(plan, tips[k], contacts[k].clone()).ok()?;
-        let steps = RunConfig::new(plan.dt, plan.t_end).ok()?.steps();
-        ls.push(Lane { vib, u: inits[k].clone(), steps, status: None, done: false });
+        vibs.push(observers(plan, tips[k], contacts[k].clone()).ok()?);
+        let mut rc = RunConfig::new(plan.dt, plan.t_end).ok()?;
+        rc.interrupt = interrupt.cloned();
+        cfgs.push(rc);
     }
-    let zero = [0.0];
-    let free = [Active::None];
-    // Level 0 (the initial displacement) and level 1 (the start step).
-    for (k, l) in ls.iter_mut().enumerate() {
-        let s0 = Sample { n: 0, t: 0.0, u: &inits[k], lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
-        if let Err(e) = l.vib.observe(&s0) {
-            l.status = Some(text_cell(&e.to_string()));
-            l.done = true;
-            continue;
-        }
-        eng.displacement_into(k, &mut l.u);
-        if !l.u.iter().all(|x| x.is_finite()) {
-            l.status = Some(text_cell(&RunError::BlowUp { step: 1, time: eng.time() }.to_string()));
-            l.steps = 1;
-            l.done = true;
-            continue;
-        }
-        let s1 = Sample { n: 1, t: eng.time(), u: &l.u, lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
-        if let Err(e) = l.vib.observe(&s1) {
-            l.status = Some(text_cell(&e.to_string()));
-            l.done = true;
-        }
-    }
-    let mut interrupted = false;
-    while ls.iter().any(|l| !l.done) {
-        if interrupt.is_some_and(Cancel::is_cancelled) {
-            interrupted = true;
-            break;
-        }
-        let level = eng.step();
-        let t = eng.time();
-        let tl = eng.lambda_time();
-        for (k, l) in ls.iter_mut().enumerate() {
-            if l.done {
-                continue;
-            }
-            if let Some(e) = eng.lane_failure(k) {
-                l.status = Some(text_cell(&RunError::from(e.clone()).to_string()));
-                l.steps = level;
-                l.done = true;
-                continue;
-            }
-            // The runner's whole-state check; between checks only the dofs
-            // the vibro observers read (the tip and the contact) are copied.
-            if level % 64 == 0 || level == l.steps {
-                eng.displacement_into(k, &mut l.u);
-                if !l.u.iter().all(|x| x.is_finite()) {
-                    l.status = Some(text_cell(&RunError::BlowUp { step: level, time: t }.to_string()));
-                    l.steps = level;
-                    l.done = true;
-                    continue;
-                }
-            } else {
-                l.u[tips[k]] = eng.value(k, tips[k]);
-                l.u[c] = eng.value(k, c);
-            }
-            let (lam, st) = ([eng.contact_force(k)], [eng.contact_status(k)]);
-            let smp = Sample { n: level, t, u: &l.u, lambda: Some((tl, lam[0])), energy: None, active: st[0] != Active::None, work: None, forces: &lam, status: &st };
-            if let Err(e) = l.vib.observe(&smp) {
-                l.status = Some(text_cell(&e.to_string()));
-                l.steps = level;
-                l.done = true;
-                continue;
-            }
-            if level >= l.steps {
-                l.done = true;
-            }
-        }
-    }
+    let ends = {
+        let mut runs: Vec<LockstepRun<'_>> = vibs.iter_mut().zip(&cfgs).zip(&inits).map(|((v, rc), u0)| LockstepRun::new(u0, rc, vec![v as &mut dyn Observer])).collect();
+        run_lockstep(&mut eng, &mut runs, &Need::Dofs(need)).ok()?
+    };
     Some(
-        ls.into_iter()
+        vibs.iter()
+            .zip(ends)
             .zip(group)
-            .map(|(mut l, (_, plan))| {
-                let _ = l.vib.finish();
-                let status = if interrupted && l.status.is_none() && !l.done { "interrupted".to_string() } else { l.status.unwrap_or_else(|| "ok".to_string()) };
-                let steps = if status == "interrupted" { 0 } else { l.steps };
-                rows_of(&l.vib, plan, steps, status, None)
+            .map(|((vib, end), (_, plan))| {
+                // What `simulate` makes of `run`'s result.
+                let (steps, status) = match &end.result {
+                    Ok(s) => (s.steps, "ok".to_string()),
+                    Err(RunError::Interrupted { .. }) => (0, "interrupted".to_string()),
+                    Err(e) => (end.level, text_cell(&e.to_string())),
+                };
+                rows_of(vib, plan, steps, status, None)
             })
             .collect(),
     )
