@@ -23,7 +23,7 @@
 //!   impacts of the record window (the data of the impact map);
 //! * `bifurcation.svg` (Poincaré displacement against the parameter) and
 //!   `impact_map.svg` (pre-impact velocity against forcing phase);
-//! * `sweep.toml` — the manifest: the sweep's id (a hash of the scene text
+//! * `sweep.toml` — the manifest (written and read with the toml crate): the sweep's id (a hash of the scene text
 //!   and every option that changes a number), its options, and with
 //!   `--shard I/N` the shard.
 //!
@@ -598,27 +598,94 @@ impl Sweep {
         Ok((file, scene, Plan { omega, dt, t_end, record_from: self.opts.transient * period, phase: self.opts.phase, period_tol: self.opts.period_tol }))
     }
 
-    /// The manifest text.
-    fn manifest(&self, shard: Option<(usize, usize)>) -> String {
+    /// The manifest of this sweep (of `shard` of it).
+    fn manifest(&self, shard: Option<(usize, usize)>) -> Manifest {
         let o = &self.opts;
-        let mut s = String::new();
-        let _ = writeln!(s, "# signorini sweep manifest: merge checks that shards share the id");
-        let _ = writeln!(s, "id = \"{}\"", self.id);
-        let _ = writeln!(s, "scene = {:?}", self.scene_name);
-        let _ = writeln!(s, "param = {:?}", o.param);
-        let _ = writeln!(s, "from = {:?}\nto = {:?}\ncount = {}\nlog = {}", o.from, o.to, o.count, o.log);
-        if let Some(a) = &o.second {
-            let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", a.param, a.from, a.to, a.count, a.log);
+        let a = o.second.as_ref();
+        Manifest {
+            id: self.id.clone(),
+            scene: self.scene_name.clone(),
+            param: o.param.clone(),
+            from: o.from,
+            to: o.to,
+            count: o.count,
+            log: o.log,
+            param2: a.map(|a| a.param.clone()),
+            from2: a.map(|a| a.from),
+            to2: a.map(|a| a.to),
+            count2: a.map(|a| a.count),
+            log2: a.map(|a| a.log),
+            transient: o.transient,
+            record: o.record,
+            phase: o.phase,
+            period_tol: o.period_tol,
+            follow: o.follow,
+            impacts: (!o.impacts).then_some(false),
+            shard: shard.map(|(i, n)| [i, n]),
+            runs: shard.map(|_| [o.runs().start, o.runs().end]),
         }
-        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nperiod_tol = {:?}\nfollow = {}", o.transient, o.record, o.phase, o.period_tol, o.follow);
-        if !o.impacts {
-            let _ = writeln!(s, "impacts = false");
-        }
-        if let Some((i, n)) = shard {
-            let r = o.runs();
-            let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{}, {}]", r.start, r.end);
-        }
-        s
+    }
+}
+
+/// The first line of `sweep.toml`.
+const MANIFEST_HEADER: &str = "# signorini sweep manifest: merge checks that shards share the id\n";
+
+/// `sweep.toml`: the sweep's id, scene and options (the second axis of a
+/// map, `impacts = false` with `--no-impacts`, and a shard's `shard` and
+/// `runs` only when they apply), written with the toml crate in this
+/// field order after [`MANIFEST_HEADER`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Manifest {
+    id: String,
+    scene: String,
+    param: String,
+    from: f64,
+    to: f64,
+    count: usize,
+    log: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    param2: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    from2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    to2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    count2: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    log2: Option<bool>,
+    transient: f64,
+    record: f64,
+    phase: f64,
+    period_tol: f64,
+    follow: bool,
+    /// `Some(false)` with `--no-impacts`; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    impacts: Option<bool>,
+    /// `[I, N]` of a shard.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    shard: Option<[usize; 2]>,
+    /// The shard's runs `[start, end)`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    runs: Option<[usize; 2]>,
+}
+
+impl Manifest {
+    /// The text of `sweep.toml`.
+    fn text(&self) -> String {
+        // Serialising a struct of numbers, strings, booleans and arrays of
+        // integers cannot fail.
+        format!("{MANIFEST_HEADER}{}", toml::to_string(self).unwrap_or_default())
+    }
+
+    /// Reads a `sweep.toml`.
+    fn parse(text: &str) -> Result<Self, toml::de::Error> {
+        toml::from_str(text)
+    }
+
+    /// Whether the runs have a second parameter (a map).
+    fn is_map(&self) -> bool {
+        self.param2.is_some()
     }
 }
 
@@ -745,8 +812,10 @@ where
     let mut stopped = 0usize;
     if o.resume {
         let old = std::fs::read_to_string(&mpath).map_err(|e| io(&mpath, e))?;
-        if old != manifest {
-            return Err(SweepError::Folder(format!("--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out", dir.display(), manifest_id(&old).unwrap_or("?"), sweep.id)).into());
+        // The manifests compared as values (a different key, or a file that
+        // is not a manifest, is another sweep).
+        if Manifest::parse(&old).ok().as_ref() != Some(&manifest) {
+            return Err(SweepError::Folder(format!("--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out", dir.display(), manifest_id(&old).as_deref().unwrap_or("?"), sweep.id)).into());
         }
         let summary = complete_lines(&dir.join("summary.csv"))?;
         let done: Vec<usize> = summary.iter().skip(1).filter_map(|l| run_of(l)).collect();
@@ -777,7 +846,7 @@ where
         if let Some(f) = SWEEP_FILES.iter().find(|f| dir.join(f).exists()) {
             return Err(SweepError::Folder(format!("{} holds a sweep's files ({f}): pass --resume to continue that sweep, or choose another --out", dir.display())).into());
         }
-        std::fs::write(&mpath, &manifest).map_err(|e| io(&mpath, e))?;
+        std::fs::write(&mpath, manifest.text()).map_err(|e| io(&mpath, e))?;
         for (name, header) in headers(o.second.is_some(), o.impacts) {
             let p = dir.join(name);
             std::fs::write(&p, header + "\n").map_err(|e| io(&p, e))?;
@@ -881,8 +950,9 @@ where
     Ok(SweepReport { lines, runs: runs.len(), failed: stopped })
 }
 
-fn manifest_id(text: &str) -> Option<&str> {
-    text.lines().find_map(|l| l.strip_prefix("id = \"")).and_then(|r| r.strip_suffix('"'))
+/// The `id` of a manifest's text, also of one that is not this version's.
+fn manifest_id(text: &str) -> Option<String> {
+    text.parse::<toml::Table>().ok()?.get("id")?.as_str().map(str::to_string)
 }
 
 fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), Error> {
@@ -946,19 +1016,14 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     if shards.is_empty() {
         return Err(bad("merge: give the shard folders".into()));
     }
-    let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String)> = Vec::new();
+    let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String, Manifest)> = Vec::new();
     for d in shards {
         let p = d.join("sweep.toml");
         let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), io_reason(&e))))?;
-        let id = manifest_id(&text).ok_or_else(|| bad(format!("{}: no sweep id", p.display())))?.to_string();
-        let pair = |key: &str| -> Option<(usize, usize)> {
-            let l = text.lines().find_map(|l| l.strip_prefix(&format!("{key} = [")))?;
-            let (a, b) = l.trim_end_matches(']').split_once(',')?;
-            Some((a.trim().parse().ok()?, b.trim().parse().ok()?))
-        };
-        let (i, n) = pair("shard").ok_or_else(|| bad(format!("{} is not a shard (no shard = [I, N] in its sweep.toml)", d.display())))?;
-        let (r0, r1) = pair("runs").ok_or_else(|| bad(format!("{}: no runs range", p.display())))?;
-        found.push((i, n, r0, r1, d, id));
+        let m = Manifest::parse(&text).map_err(|e| bad(format!("{}: not a sweep manifest ({})", p.display(), e.message().trim_end())))?;
+        let [i, n] = m.shard.ok_or_else(|| bad(format!("{} is not a shard (no shard = [I, N] in its sweep.toml)", d.display())))?;
+        let [r0, r1] = m.runs.ok_or_else(|| bad(format!("{}: no runs range", p.display())))?;
+        found.push((i, n, r0, r1, d, m.id.clone(), m));
     }
     let (id0, n0) = (found[0].5.clone(), found[0].1);
     if let Some(f) = found.iter().find(|f| f.5 != id0) {
@@ -981,9 +1046,8 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     if let Some(f) = SWEEP_FILES.iter().find(|f| out.join(f).exists()) {
         return Err(bad(format!("{} holds a sweep's files ({f}): choose another --out", out.display())));
     }
-    let manifest0 = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
-    let map = manifest0.lines().any(|l| l.starts_with("param2 = "));
-    let impacts = !manifest0.lines().any(|l| l == "impacts = false");
+    let manifest0 = &found[0].6;
+    let (map, impacts) = (manifest0.is_map(), manifest0.impacts != Some(false));
     // Every shard's files are read and checked before anything is written:
     // the summary against the manifest's runs, the other files' rows of
     // each run against the counts its summary row gives.
@@ -1045,10 +1109,9 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     for ((name, _), text) in files.iter().zip(texts) {
         std::fs::write(out.join(name), text).map_err(|e| io(&out.join(name), e))?;
     }
-    // The unsharded manifest: the shard's without its shard lines.
-    let text = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
-    let unsharded: String = text.lines().filter(|l| !l.starts_with("shard = ") && !l.starts_with("runs = ")).map(|l| format!("{l}\n")).collect();
-    std::fs::write(out.join("sweep.toml"), unsharded).map_err(|e| io(&out.join("sweep.toml"), e))?;
+    // The unsharded manifest: the shard's without its shard and runs.
+    let unsharded = Manifest { shard: None, runs: None, ..found[0].6.clone() };
+    std::fs::write(out.join("sweep.toml"), unsharded.text()).map_err(|e| io(&out.join("sweep.toml"), e))?;
     let mut lines = vec![format!("merged {n0} shards of sweep {id0}")];
     lines.extend(plots(out)?);
     lines.push(format!("wrote {}", out.display()));
@@ -1282,4 +1345,101 @@ fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&
             })
             .collect(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The manifest as it was written by hand before the toml crate wrote
+    /// it (`writeln!` with `{:?}` for strings and floats).
+    fn by_hand(m: &Manifest) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "# signorini sweep manifest: merge checks that shards share the id");
+        let _ = writeln!(s, "id = \"{}\"", m.id);
+        let _ = writeln!(s, "scene = {:?}", m.scene);
+        let _ = writeln!(s, "param = {:?}", m.param);
+        let _ = writeln!(s, "from = {:?}\nto = {:?}\ncount = {}\nlog = {}", m.from, m.to, m.count, m.log);
+        if let Some(p) = &m.param2 {
+            let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", p, m.from2.unwrap(), m.to2.unwrap(), m.count2.unwrap(), m.log2.unwrap());
+        }
+        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nperiod_tol = {:?}\nfollow = {}", m.transient, m.record, m.phase, m.period_tol, m.follow);
+        if m.impacts == Some(false) {
+            let _ = writeln!(s, "impacts = false");
+        }
+        if let (Some([i, n]), Some([a, b])) = (m.shard, m.runs) {
+            let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{a}, {b}]");
+        }
+        s
+    }
+
+    fn manifest(from: f64, to: f64, scene: &str, map: bool, shard: bool) -> Manifest {
+        Manifest {
+            id: "a60189f356524119".into(),
+            scene: scene.into(),
+            param: "support.omega".into(),
+            from,
+            to,
+            count: 1000,
+            log: false,
+            param2: map.then(|| "stop.0.hi".into()),
+            from2: map.then_some(to),
+            to2: map.then_some(from),
+            count2: map.then_some(7),
+            log2: map.then_some(true),
+            transient: 20.0,
+            record: 2.5,
+            phase: from.abs().min(6.0),
+            period_tol: 0.001,
+            follow: !map,
+            impacts: map.then_some(false),
+            shard: shard.then_some([1, 4]),
+            runs: shard.then_some([250, 500]),
+        }
+    }
+
+    /// The toml crate writes what the hand-written manifest was, byte for
+    /// byte, for numbers in `[1e-4, 1e16)` in magnitude (or 0) and names
+    /// without `"` or `\` (the reference sweep's among them), and reads it
+    /// back to the same values.
+    #[test]
+    fn the_toml_manifest_is_the_hand_written_one() {
+        let floats = [4.0, 16.0, 0.0, 0.001, 0.1, 1e-4, 123456789.125, 1e15, 9.999e15, -3.5, 1.0 / 3.0, 9.5, 2.0 * std::f64::consts::PI];
+        for (k, &from) in floats.iter().enumerate() {
+            let to = floats[(k + 3) % floats.len()];
+            for scene in ["beam-fig2-support.toml", "my scene (2).toml", "é.toml", "t\tab.toml", "it's.toml"] {
+                for (map, shard) in [(false, false), (true, false), (false, true), (true, true)] {
+                    let m = manifest(from, to, scene, map, shard);
+                    assert_eq!(m.text(), by_hand(&m), "from {from:?} to {to:?} scene {scene:?} map {map} shard {shard}");
+                    assert_eq!(Manifest::parse(&m.text()).unwrap(), m);
+                }
+            }
+        }
+    }
+
+    /// Where the two differ, both are TOML for the same values: the toml
+    /// crate writes floats below 1e-4 or from 1e16 in magnitude in
+    /// positional notation (`0.00001`, `10000000000000000.0`: Rust's
+    /// `Display`, where `{:?}` wrote `1e-5`, `1e16`), and a name with `"`
+    /// or `\` as a literal string (`'a"b.toml'`) or a multi-line one,
+    /// where `{:?}` wrote Rust escapes. A folder written by hand (an older
+    /// version) still resumes and merges: it reads to the same manifest.
+    #[test]
+    fn where_the_texts_differ_the_values_do_not() {
+        let floats = [1e-5, 2.5e-7, 3e-300, f64::MIN_POSITIVE, 1e16, 1e20, 6.02e23, -1e300, f64::MAX];
+        for (k, &from) in floats.iter().enumerate() {
+            let to = floats[(k + 1) % floats.len()];
+            for scene in ["beam.toml", "a\"b.toml", "c:\\x\\s.toml", "it's \"x\".toml"] {
+                for (map, shard) in [(false, false), (true, true)] {
+                    let m = manifest(from, to, scene, map, shard);
+                    assert_ne!(m.text(), by_hand(&m));
+                    for text in [m.text(), by_hand(&m)] {
+                        let back = Manifest::parse(&text).unwrap();
+                        assert_eq!(back, m, "{text}");
+                        assert_eq!((back.from.to_bits(), back.to.to_bits()), (m.from.to_bits(), m.to.to_bits()));
+                    }
+                }
+            }
+        }
+    }
 }
