@@ -246,7 +246,8 @@ fn py_words(serde: &str) -> String {
 /// "scene:".
 pub(crate) fn py_scene_error(e: signorini_scene::SceneError, dict: bool) -> PyErr {
     use signorini_scene::SceneError as E;
-    let E::Toml(msg) = &e else { return SceneError::new_err(e.to_string()) };
+    let E::Toml(err) = &e else { return SceneError::new_err(e.to_string()) };
+    let msg = err.to_string();
     let (first, path) = match msg.split_once("\nin `") {
         Some((f, rest)) => (f.trim(), rest.split('`').next().unwrap_or("").to_string()),
         None => (msg.trim(), String::new()),

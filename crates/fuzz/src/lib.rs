@@ -1991,7 +1991,7 @@ pub fn states_allowed(message: &str) -> bool {
 pub fn check_text(text: &str, cfg: Config) -> Result<Outcome, String> {
     let outcome = run_reader(text, cfg)?;
     match &outcome {
-        Outcome::ParseError(SceneError::Toml(m)) if !has_line_number(m) => return Err(format!("TOML error without a line number: {m:?}")),
+        Outcome::ParseError(SceneError::Toml(e)) if !has_line_number(&e.to_string()) => return Err(format!("TOML error without a line number: {:?}", e.to_string())),
         Outcome::ParseError(SceneError::Toml(_)) => {}
         Outcome::ParseError(e @ SceneError::Field { field, message }) => {
             if field.is_empty() || !states_allowed(message) {

@@ -238,7 +238,7 @@ impl Benchmark {
     /// event by event up to `t_end`; see [`BarNeumannGravity`] for its limits).
     pub fn exact(self, t_end: f64) -> Result<Box<dyn ExactSolution>, RunError> {
         let neumann = |r: Result<BarNeumannGravity, signorini_exact::NeumannError>| -> Result<Box<dyn ExactSolution>, RunError> {
-            r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(|e| RunError::Exact(e.to_string()))
+            r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(RunError::Exact)
         };
         match self {
             Benchmark::BarDirichlet => Ok(Box::new(BarDirichlet)),

@@ -43,7 +43,7 @@ pub enum RunError {
     UnknownBenchmark(String),
     /// The exact solution cannot be built for these parameters or horizon.
     #[error("exact solution: {0}")]
-    Exact(String),
+    Exact(#[source] signorini_exact::NeumannError),
     /// The mesh or matrices could not be built.
     #[error(transparent)]
     Fem(#[from] FemError),
@@ -102,7 +102,7 @@ pub enum RunError {
     },
     /// An observer failed to write its output.
     #[error("output: {0}")]
-    Output(String),
+    Output(#[source] std::io::Error),
     /// A reduced model refused its parameters (`modes`, `cutoff_hz`, …).
     #[error("reduce: {0}")]
     Reduce(#[from] signorini_reduce::ReduceError),

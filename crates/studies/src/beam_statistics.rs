@@ -130,8 +130,8 @@ pub type Output = crate::Report;
 /// Lyapunov study's scene text, validated).
 fn scene(name: &str, dt: f64, j: usize, t_end: f64) -> Result<Scene, StudyError> {
     let text = crate::lyapunov::scene_text(&crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j) }, t_end);
-    let file = SceneFile::parse(&text).map_err(|e| StudyError::Run(format!("{name}: {e}")))?;
-    file.validate_with(&Limits::machine()).map_err(|e| StudyError::Run(format!("{name}, dt = {dt:e}, J = {j}: {e}")))
+    let file = SceneFile::parse(&text).map_err(|e| StudyError::failed(name, e))?;
+    file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))
 }
 
 /// Per-batch sums over levels.

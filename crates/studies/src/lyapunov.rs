@@ -194,8 +194,8 @@ struct Row {
 /// The scene of a case (for its clock): validated, not built.
 fn scene_of(case: &Case, t_end: f64) -> Result<Scene, StudyError> {
     let text = scene_text(case, t_end);
-    let file = SceneFile::parse(&text).map_err(|e| StudyError::Run(format!("{}: {e}", label(case))))?;
-    file.validate_with(&Limits::machine()).map_err(|e| StudyError::Run(format!("{}: {e}", label(case))))
+    let file = SceneFile::parse(&text).map_err(|e| StudyError::failed(label(case), e))?;
+    file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(label(case), e))
 }
 
 fn label(case: &Case) -> String {

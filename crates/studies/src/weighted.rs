@@ -90,7 +90,7 @@ struct FigureRun {
 fn figure_run(scheme: SchemeSpec, mass: BarMass, m: usize, dt: f64, t_end: f64) -> Result<FigureRun, StudyError> {
     let exact = BarDirichlet;
     let p = Benchmark::BarDirichlet.problem(&exact, m, mass)?;
-    let mut s = scheme.build(p.dynamics(), dt, &p.initial).map_err(|e| StudyError::Run(e.to_string()))?;
+    let mut s = scheme.build(p.dynamics(), dt, &p.initial).map_err(|e| StudyError::failed("", e))?;
     let mut h = History::new(0, true);
     signorini_run::run(s.as_mut(), &p.initial.u, &RunConfig::new(dt, t_end)?, &mut [&mut h])?;
     Ok(FigureRun { scheme: scheme.to_string(), mass, m, dt, records: h.records })
@@ -170,7 +170,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         create_dir(d)?;
     }
     let start = std::time::Instant::now();
-    let schemes: Vec<SchemeSpec> = SCHEMES.iter().map(|s| s.parse().map_err(|e| StudyError::Run(format!("{e}")))).collect::<Result<_, _>>()?;
+    let schemes: Vec<SchemeSpec> = SCHEMES.iter().map(|s| s.parse().map_err(|e| StudyError::failed("", e))).collect::<Result<_, _>>()?;
     // Figure runs.
     let mut runs = Vec::new();
     for (m, dt) in RESOLUTIONS {

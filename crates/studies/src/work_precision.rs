@@ -357,8 +357,8 @@ fn best_of_3(build: &dyn Fn() -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError
     Ok((setup, step))
 }
 
-fn run_err(e: impl std::fmt::Display) -> StudyError {
-    StudyError::Run(e.to_string())
+fn run_err(e: impl std::error::Error + Send + Sync + 'static) -> StudyError {
+    StudyError::failed("", e)
 }
 
 /// Wall times `(set-up, stepping)` of a bar level (degree `k`, the

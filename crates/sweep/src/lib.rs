@@ -135,7 +135,7 @@ pub enum Error {
     },
     /// The thread pool could not be built.
     #[error("thread pool: {0}")]
-    ThreadPool(String),
+    ThreadPool(#[source] rayon::ThreadPoolBuildError),
     /// A run's rows went missing in a batch (a bug).
     #[error("a run went missing")]
     MissingRun,
@@ -513,7 +513,7 @@ impl Sweep {
     /// a sweep fails at once; [`run`] checks every value before it runs).
     pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, Error> {
         opts.validate()?;
-        let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let doc: toml::Table = toml::from_str(scene_text).map_err(SceneError::Toml)?;
         let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
         let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}|{:016x}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow, opts.period_tol.to_bits());
         if !opts.impacts {
@@ -798,7 +798,7 @@ where
         if let Some(t) = o.threads {
             b = b.num_threads(t);
         }
-        b.build().map_err(|e| Error::ThreadPool(e.to_string()))?
+        b.build().map_err(Error::ThreadPool)?
     };
     // Every value before the first run (the first invalid one in run order).
     if let Some(r) = pool.install(|| runs.clone().into_par_iter().find_first(|&r| sweep.scene(o.value(r)).is_err())) {
