@@ -98,7 +98,9 @@ pub fn run_sweep<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let cancel = signorini_run::Cancel::new();
     let second = second.map(|(param, from, to, count, log)| Axis { param, from, to, count, log });
-    let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, interrupt: Some(cancel.clone()) };
+    let mut opts = SweepOptions::new(&param, start, stop, count);
+    (opts.log, opts.second, opts.transient, opts.record, opts.phase, opts.period_tol) = (log, second, transient, record, phase, period_tol);
+    (opts.impacts, opts.follow, opts.shard, opts.resume, opts.threads, opts.interrupt) = (impacts, follow, shard, resume, threads, Some(cancel.clone()));
     let limits = signorini_scene::Limits::machine();
     let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(python_message(&e))))?;
     let (res, signal) = crate::interruptible(py, &cancel, || Ok(signorini_sweep::run(&sweep, &out, &signorini_sweep::NoProgress).map(|r| r.lines)));

@@ -74,6 +74,7 @@ pub const OUTPUT_FILES: [&str; 13] = ["series.csv", "norms.csv", "snapshots.csv"
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// The scene is invalid.
     #[error(transparent)]
@@ -240,8 +241,9 @@ fn stopped(error: RunError, mut notes: Vec<String>, out: &Path) -> CliError {
     CliError::Stopped { error, notes }
 }
 
-/// How `run_scene` runs.
+/// How `run_scene` runs (`RunOptions::default()`, then the fields).
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct RunOptions {
     /// Draw a progress bar with an ETA on stderr.
     pub progress: bool,

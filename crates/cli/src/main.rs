@@ -205,7 +205,9 @@ fn main() -> ExitCode {
                 (Some(param), Some(from), Some(to), Some(count)) => Some(Axis { param, from, to, count, log: log2 }),
                 _ => None,
             };
-            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, impacts: !no_impacts, follow, shard, resume, threads, interrupt: interrupt_token() };
+            let mut opts = SweepOptions::new(&param, from, to, count);
+            (opts.log, opts.second, opts.transient, opts.record, opts.phase, opts.period_tol) = (log, second, transient, record, phase, period_tol);
+            (opts.impacts, opts.follow, opts.shard, opts.resume, opts.threads, opts.interrupt) = (!no_impacts, follow, shard, resume, threads, interrupt_token());
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
             let bar = signorini_cli::RunsBar::new(std::io::stderr().is_terminal());
@@ -227,7 +229,8 @@ fn main() -> ExitCode {
         Cmd::Run { scene, out, clean, no_disk_check, max_memory } => {
             let (file, s) = signorini_cli::load(&scene, &limits(max_memory))?;
             let out = out.unwrap_or_else(|| default_out(&scene));
-            let opts = RunOptions { progress: std::io::stderr().is_terminal(), clean, no_disk_check, interrupt: interrupt_token() };
+            let mut opts = RunOptions::default();
+            (opts.progress, opts.clean, opts.no_disk_check, opts.interrupt) = (std::io::stderr().is_terminal(), clean, no_disk_check, interrupt_token());
             let summary = run_scene(&s, &file, &out, &opts)?;
             for w in &summary.warnings {
                 eprintln!("{w}");

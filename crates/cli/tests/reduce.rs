@@ -9,6 +9,7 @@ fn refused(text: &str) -> (String, String) {
         Err(SceneError::Field { field, message }) => (field, message),
         Err(SceneError::Toml(e)) => ("toml".into(), e.to_string()),
         Ok(()) => panic!("accepted:\n{text}"),
+        Err(e) => panic!("neither a field nor a TOML error: {e:?}"),
     }
 }
 

@@ -1998,6 +1998,8 @@ pub fn check_text(text: &str, cfg: Config) -> Result<Outcome, String> {
                 return Err(format!("parse field error without a field or an allowed range: {e:?}"));
             }
         }
+        // SceneError is non-exhaustive: a kind this check does not know breaks the rule.
+        Outcome::ParseError(e) => return Err(format!("parse error neither Toml nor Field: {e:?}")),
         Outcome::Parsed(file, Some(Err(e))) => check_validation_error(file, e, cfg)?,
         Outcome::Parsed(..) => {}
     }

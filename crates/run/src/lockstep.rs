@@ -26,7 +26,8 @@ use signorini_schemes::PaoliSchatzmanLockstep;
 use std::time::Instant;
 
 /// One lane of [`run_lockstep`]: what [`run`](crate::run) takes for one run
-/// besides the stepper.
+/// besides the stepper ([`LockstepRun::new`]).
+#[non_exhaustive]
 pub struct LockstepRun<'a> {
     /// The lane's initial displacement `U^0` (level 0's sample).
     pub u0: &'a [f64],
@@ -45,6 +46,7 @@ impl<'a> LockstepRun<'a> {
 
 /// How one lane of [`run_lockstep`] ended.
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct LaneEnd {
     /// What [`run`](crate::run) returns for the lane's single run
     /// ([`RunSummary::wall_s`] is the whole batch's loop).

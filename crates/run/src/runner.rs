@@ -7,6 +7,7 @@ use std::time::Instant;
 
 /// Errors of a run.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RunError {
     /// A parameter outside its allowed range.
     #[error("invalid {field} = {value}: allowed {allowed}")]
@@ -123,8 +124,10 @@ impl From<SchemeError> for RunError {
     }
 }
 
-/// Time step, horizon and safety limits of a run.
+/// Time step, horizon and safety limits of a run ([`RunConfig::new`], then
+/// the `with_*` setters or the fields).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct RunConfig {
     /// Time step `dt` (> 0, finite).
     pub dt: f64,

@@ -99,6 +99,7 @@ use std::fmt;
 
 /// A scene error: which field, what is wrong, what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// The TOML itself (message includes line and column when the error
     /// comes from the scene's text).

@@ -37,6 +37,7 @@ use std::path::{Path, PathBuf};
 
 /// Why a study did not run or did not finish.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StudyError {
     /// Bad input: `field` is the option as `cargo xtask` spells it
     /// (`--levels`, `--t-end`, ...); `message` is the whole message, which

@@ -57,6 +57,7 @@ pub const SWEEP_FILES: [&str; 6] = ["sweep.csv", "summary.csv", "impacts.csv", "
 
 /// What a sweep's command line gave that is wrong.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SweepError {
     /// An option out of range.
     #[error("--{option}: {message}")]
@@ -233,8 +234,9 @@ fn check_axis(suffix: &'static str, from: f64, to: f64, count: usize, log: bool)
     Ok(())
 }
 
-/// The options of a sweep.
+/// The options of a sweep ([`SweepOptions::new`], then the fields).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct SweepOptions {
     /// Dotted path of the swept field.
     pub param: String,
