@@ -146,23 +146,9 @@ impl BarProblem {
         let f = self.body_force;
         if !self.stops.is_empty() {
             let nodes: Vec<usize> = self.stops.iter().map(|s| s.node).collect();
-            return Dynamics {
-                mass: self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"),
-                stiffness: self.bar.stiffness(),
-                load: self.bar.load(|_| f),
-                contacts: contacts_of(&self.stops, |node| node, self.mass.massless_contact_node()),
-                forcing: self.forcing.clone(),
-                damping: None,
-            };
+            return Dynamics::new(self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"), self.bar.stiffness(), self.bar.load(|_| f), contacts_of(&self.stops, |node| node, self.mass.massless_contact_node())).with_forcing(self.forcing.clone());
         }
-        Dynamics {
-            mass: self.bar.mass(self.mass),
-            stiffness: self.bar.stiffness(),
-            load: self.bar.load(|_| f),
-            contacts: vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())],
-            forcing: self.forcing.clone(),
-            damping: None,
-        }
+        Dynamics::new(self.bar.mass(self.mass), self.bar.stiffness(), self.bar.load(|_| f), vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())]).with_forcing(self.forcing.clone())
     }
 
     /// Adds the load `s(t)` uniform along the bar (`node = None`, per unit

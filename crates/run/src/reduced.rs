@@ -39,14 +39,7 @@ pub fn reduce(dy: &Dynamics, init: &Initial, keep: Keep) -> Result<Reduced, RunE
     }
     let dofs: Vec<usize> = dy.contacts.iter().map(|c| c.dof).collect();
     let reduction = Reduction::new(&dy.stiffness, &dy.mass, &dofs, keep)?;
-    let dynamics = Dynamics {
-        mass: reduction.mass().clone(),
-        stiffness: reduction.stiffness().clone(),
-        load: reduction.project_vector(&dy.load),
-        contacts: dy.contacts.iter().enumerate().map(|(k, c)| Contact { dof: k, massless: true, ..*c }).collect(),
-        forcing: dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect(),
-        damping: None,
-    };
+    let dynamics = Dynamics::new(reduction.mass().clone(), reduction.stiffness().clone(), reduction.project_vector(&dy.load), dy.contacts.iter().enumerate().map(|(k, c)| Contact { dof: k, massless: true, ..*c }).collect()).with_forcing(dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect());
     let initial = Initial { u: reduction.project_state(&init.u), v: reduction.project_state(&init.v) };
     Ok(Reduced { reduction, dynamics, initial })
 }

@@ -68,7 +68,7 @@ fn scripted(energy: fn(usize) -> f64, work: Option<fn(usize) -> (f64, f64)>) -> 
     mass.set(0, 0, 1.0);
     let mut stiffness = SymBand::zeros(1, 0);
     stiffness.set(0, 0, 1.0);
-    let dy = Dynamics { mass, stiffness, load: vec![0.0], contacts: vec![Contact::new(0, Bounds::obstacle(-1.0), false)], forcing: vec![], damping: None };
+    let dy = Dynamics::new(mass, stiffness, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     Scripted { dy, dt: 0.125, n: 0, u: vec![0.0], energy, work }
 }
 

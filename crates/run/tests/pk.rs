@@ -132,7 +132,7 @@ fn mode_errors(k: usize, m: usize, t_end: f64) -> (f64, f64, f64) {
     let n = bar.dofs();
     let init = Initial { u: (0..n).map(|i| mode(i as f64 * h / k as f64, 0.0).0).collect(), v: vec![0.0; n] };
     let dy =
-        Dynamics { mass: bar.mass(BarMass::Std), stiffness: bar.stiffness(), load: vec![0.0; n], contacts: vec![Contact::new(0, Bounds::obstacle(-10.0), false)], forcing: Vec::new(), damping: None };
+        Dynamics::new(bar.mass(BarMass::Std), bar.stiffness(), vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(-10.0), false)]);
     let mut stepper = "newmark-cn".parse::<SchemeSpec>().unwrap().build(dy, dt, &init).unwrap();
     let g = gauss(8);
     let table = g.iter().map(|&(sg, _)| (0..=k).map(|i| basis(k, i, sg)).collect()).collect();

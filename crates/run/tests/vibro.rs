@@ -411,7 +411,7 @@ fn falling_mass(k: f64, r: f64, dt: f64, t_end: f64) -> (signorini_run::Impact, 
     mass.set(0, 0, m);
     let mut stiffness = SymBand::zeros(1, 0);
     stiffness.set(0, 0, k);
-    let dy = Dynamics { mass, stiffness, load: vec![-m * g], contacts: vec![Contact::new(0, Bounds::obstacle(0.0), false)], damping: None, forcing: Vec::new() };
+    let dy = Dynamics::new(mass, stiffness, vec![-m * g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let init = Initial { u: vec![h], v: vec![0.0] };
     let mut ps = PaoliSchatzman::new("ps".into(), dy.clone(), 0.25, r, dt, &init).unwrap();
     let cfg = VibroConfig::for_dynamics(ps.dynamics(), dt, None, 0.0, 0).unwrap();

@@ -246,8 +246,11 @@ impl Contact {
     }
 }
 
-/// The semi-discrete problem a scheme integrates (scheme-agnostic).
+/// The semi-discrete problem a scheme integrates (scheme-agnostic):
+/// [`Dynamics::new`], then [`with_forcing`](Dynamics::with_forcing) and
+/// [`with_damping`](Dynamics::with_damping) (the fields stay public).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Dynamics {
     /// Mass matrix `M` (rows/columns of massless contacts zero).
     pub mass: SymBand,
@@ -270,6 +273,24 @@ pub struct Dynamics {
 }
 
 impl Dynamics {
+    /// `M U'' + K U = load - Σ λ_i e_{c_i}` with `contacts`: no
+    /// time-dependent load, undamped.
+    pub fn new(mass: SymBand, stiffness: SymBand, load: Vec<f64>, contacts: Vec<Contact>) -> Self {
+        Self { mass, stiffness, load, contacts, forcing: Vec::new(), damping: None }
+    }
+
+    /// With the time-dependent loads `forcing` ([`Dynamics::forcing`]).
+    pub fn with_forcing(mut self, forcing: Vec<Forcing>) -> Self {
+        self.forcing = forcing;
+        self
+    }
+
+    /// With the viscous damping matrix `C` (`None`: undamped; [`Dynamics::damping`]).
+    pub fn with_damping(mut self, damping: Option<SymBand>) -> Self {
+        self.damping = damping;
+        self
+    }
+
     /// Number of unknowns.
     pub fn n(&self) -> usize {
         self.mass.n()
