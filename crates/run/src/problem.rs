@@ -75,7 +75,7 @@ pub(crate) fn check_stops(stops: &[Stop], u: &[f64], dof: impl Fn(usize) -> Opti
 
 /// The schemes' contact list for `stops` at `dof(node)`.
 pub(crate) fn contacts_of(stops: &[Stop], dof: impl Fn(usize) -> usize, massless: bool) -> Vec<Contact> {
-    stops.iter().map(|st| Contact { dof: dof(st.node), bounds: Bounds { lo: st.lo, hi: st.hi }, massless, restitution: st.restitution, stiffness: st.stiffness }).collect()
+    stops.iter().map(|st| Contact::new(dof(st.node), Bounds { lo: st.lo, hi: st.hi }, massless).with_restitution(st.restitution).with_stiffness(st.stiffness)).collect()
 }
 
 /// A Pk bar (P1 unless [`Bar::with_degree`]) with Signorini contact at

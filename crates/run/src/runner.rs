@@ -241,6 +241,7 @@ pub trait Observer {
 
 /// Summary of a finished run.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct RunSummary {
     /// Steps taken.
     pub steps: usize,

@@ -223,6 +223,7 @@ pub enum ContactLaw {
 /// One constrained dof: `lo <= u_dof <= hi`, with the contact law's
 /// per-contact parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Contact {
     /// The constrained dof.
     pub dof: usize,
@@ -243,6 +244,18 @@ impl Contact {
     /// A contact with the scheme's restitution and stiffness.
     pub fn new(dof: usize, bounds: Bounds, massless: bool) -> Self {
         Self { dof, bounds, massless, restitution: None, stiffness: None }
+    }
+
+    /// With its own restitution coefficient (`None`: the scheme's; [`Contact::restitution`]).
+    pub fn with_restitution(mut self, restitution: Option<f64>) -> Self {
+        self.restitution = restitution;
+        self
+    }
+
+    /// With its own penalty stiffness (`None`: the scheme's; [`Contact::stiffness`]).
+    pub fn with_stiffness(mut self, stiffness: Option<f64>) -> Self {
+        self.stiffness = stiffness;
+        self
     }
 }
 

@@ -853,7 +853,7 @@ pub fn bar_stops_scene(m: usize, mass: BarMass, free: bool, stops: &[OStop], bod
     }
     let load = bar_uniform_load(m, free, body);
     let massless = mass.massless_contact_node();
-    let dy = Dynamics::new(bar.mass_with_contacts(mass, &nodes).unwrap(), bar.stiffness(), bar.load(|_| body), stops.iter().map(|s| Contact { dof: s.dof, bounds: Bounds { lo: s.lo, hi: s.hi }, massless, restitution: s.e, stiffness: s.kappa }).collect()).with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
+    let dy = Dynamics::new(bar.mass_with_contacts(mass, &nodes).unwrap(), bar.stiffness(), bar.load(|_| body), stops.iter().map(|s| Contact::new(s.dof, Bounds { lo: s.lo, hi: s.hi }, massless).with_restitution(s.e).with_stiffness(s.kappa)).collect()).with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
     assert_same("bar mass at the stops", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
     let s0 = stops[0];
