@@ -39,8 +39,10 @@ pub fn norm_value(r: &NormReport, name: &str) -> f64 {
     }
 }
 
-/// What to sweep.
+/// What to sweep ([`StudyConfig::new`], then [`with_norms`](StudyConfig::with_norms)
+/// and [`with_degree`](StudyConfig::with_degree); the fields stay public).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct StudyConfig {
     /// The benchmark.
     pub benchmark: Benchmark,
@@ -61,6 +63,25 @@ pub struct StudyConfig {
 }
 
 impl StudyConfig {
+    /// `levels` of `benchmark` for every scheme and mass at `dx/dt = ratio`
+    /// up to `t_end`: the exact norms, P1 elements (not validated: see
+    /// [`validate`](Self::validate)).
+    pub fn new(benchmark: Benchmark, schemes: Vec<SchemeSpec>, masses: Vec<BarMass>, levels: Vec<usize>, ratio: f64, t_end: f64) -> Self {
+        Self { benchmark, schemes, masses, levels, ratio, t_end, norms: NormKind::Exact, degree: 1 }
+    }
+
+    /// With the error measure `norms`.
+    pub fn with_norms(mut self, norms: NormKind) -> Self {
+        self.norms = norms;
+        self
+    }
+
+    /// With Lagrange elements of degree `k` (1, 2, 3).
+    pub fn with_degree(mut self, k: usize) -> Self {
+        self.degree = k;
+        self
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), RunError> {
         if !(1..=3).contains(&self.degree) {

@@ -163,21 +163,12 @@ fn a_degree_other_than_1_2_3_is_refused_by_name() {
             other => panic!("degree {k}: {other:?}"),
         }
         let cfg =
-            StudyConfig { benchmark: b, schemes: vec!["newmark-cn".parse().unwrap()], masses: vec![BarMass::Std], levels: vec![10, 20], ratio: 10.0, t_end: 3.0, norms: NormKind::Exact, degree: k };
+            StudyConfig::new(b, vec!["newmark-cn".parse().unwrap()], vec![BarMass::Std], vec![10, 20], 10.0, 3.0).with_degree(k);
         assert!(matches!(cfg.validate(), Err(RunError::Invalid { field: "degree", .. })), "degree {k}");
     }
     // A mass treatment P2 does not define, and the P1-only GetFEM norms.
     assert!(matches!(b.problem_with_degree(exact.as_ref(), 10, BarMass::Transfer, 2), Err(RunError::Fem(FemError::MassForDegree { .. }))));
-    let cfg = StudyConfig {
-        benchmark: b,
-        schemes: vec!["newmark-cn".parse().unwrap()],
-        masses: vec![BarMass::Std],
-        levels: vec![10, 20],
-        ratio: 10.0,
-        t_end: 3.0,
-        norms: NormKind::GetfemInterpolated,
-        degree: 2,
-    };
+    let cfg = StudyConfig::new(b, vec!["newmark-cn".parse().unwrap()], vec![BarMass::Std], vec![10, 20], 10.0, 3.0).with_norms(NormKind::GetfemInterpolated).with_degree(2);
     assert!(matches!(cfg.validate(), Err(RunError::Invalid { field: "degree", .. })));
-    assert!(StudyConfig { norms: NormKind::Exact, ..cfg }.validate().is_ok());
+    assert!(cfg.with_norms(NormKind::Exact).validate().is_ok());
 }

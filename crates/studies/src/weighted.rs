@@ -218,7 +218,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     tables.push(phase.finish()?);
     tables.push(energy.finish()?);
     // Convergence of every (scheme, weight) pair, as `cargo xtask convergence`.
-    let cfg = StudyConfig { benchmark: Benchmark::BarDirichlet, schemes, masses: MASSES.to_vec(), levels: vec![10, 20, 40, 80, 160, 320, 640], ratio: 10.0, t_end: 3.0, norms: Default::default(), degree: 1 };
+    let cfg = StudyConfig::new(Benchmark::BarDirichlet, schemes, MASSES.to_vec(), vec![10, 20, 40, 80, 160, 320, 640], 10.0, 3.0);
     let mut notes = Vec::new();
     let (results, _, conv_tables) = crate::convergence::sweep_into(&cfg, &a.out.join("convergence"), "convergence/", progress, &mut notes)?;
     tables.extend(conv_tables);

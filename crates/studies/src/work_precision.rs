@@ -121,7 +121,7 @@ impl Config {
         for benchmark in BARS {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
-                StudyConfig { benchmark, schemes: schemes.clone(), masses: vec![BarMass::Std], levels: self.levels.clone(), ratio: r, t_end, norms: Default::default(), degree: 1 }
+                StudyConfig::new(benchmark, schemes.clone(), vec![BarMass::Std], self.levels.clone(), r, t_end)
                     .validate()
                     .map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
             }
@@ -545,7 +545,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             // Explicit schemes cannot take dt = h (their CFL limit is below it):
             // they run at dx/dt = 10 on every benchmark.
             let ratio = if scheme.is_explicit() { ratio.max(10.0) } else { ratio };
-            let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: 1 };
+            let cfg = StudyConfig::new(benchmark, vec![*scheme], ok, a.levels.clone(), ratio, t_end);
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, 1, ratio, t_end, None)?;
@@ -564,7 +564,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         tick();
         let pk: Vec<SchemeSpec> = ["newmark-cn", "newmark-ii"].iter().map(|n| n.parse().map_err(run_err)).collect::<Result<_, _>>()?;
         for &k in &a.degrees {
-            let cfg = StudyConfig { benchmark, schemes: pk.clone(), masses: vec![BarMass::Std, BarMass::Mod], levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: k };
+            let cfg = StudyConfig::new(benchmark, pk.clone(), vec![BarMass::Std, BarMass::Mod], a.levels.clone(), ratio, t_end).with_degree(k);
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, k, ratio, t_end, None)?;
