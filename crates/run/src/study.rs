@@ -129,6 +129,7 @@ impl StudyConfig {
 
 /// One run of a sweep.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct LevelResult {
     /// Elements.
     pub m: usize,
@@ -154,6 +155,7 @@ pub struct LevelResult {
 
 /// All levels of one (scheme, mass) pair.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct ConfigResult {
     /// The scheme.
     pub scheme: SchemeSpec,
