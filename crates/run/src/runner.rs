@@ -200,8 +200,10 @@ impl RunConfig {
     }
 }
 
-/// What observers see at each time level.
+/// What observers see at each time level (the runners build it; a test
+/// feeding an observer by hand starts from [`Sample::new`]).
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct Sample<'a> {
     /// Time level `n`.
     pub n: usize,
@@ -223,6 +225,22 @@ pub struct Sample<'a> {
     /// Work of the time-dependent load and of the contact force so far, when
     /// the scheme tracks it.
     pub work: Option<(f64, f64)>,
+}
+
+impl<'a> Sample<'a> {
+    /// Level `n` at `t` with the displacement `u`, as a start level is:
+    /// no contact force, energy or work, no contact active, no contacts
+    /// listed (set the fields, or [`with_contacts`](Self::with_contacts)).
+    pub fn new(n: usize, t: f64, u: &'a [f64]) -> Self {
+        Self { n, t, u, lambda: None, energy: None, active: false, forces: &[], status: &[], work: None }
+    }
+
+    /// With the step's contact force `lambda` (contact 0's, and its time),
+    /// whether a constraint was active, every contact's force and status.
+    pub fn with_contacts(mut self, lambda: Option<(f64, f64)>, active: bool, forces: &'a [f64], status: &'a [signorini_contact::Active]) -> Self {
+        (self.lambda, self.active, self.forces, self.status) = (lambda, active, forces, status);
+        self
+    }
 }
 
 /// Something that watches a run: norms, CSV sinks, progress.

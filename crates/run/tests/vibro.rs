@@ -27,7 +27,7 @@ fn feed(obs: &mut dyn Observer, dt: f64, levels: &[Level]) -> Result<(), RunErro
         let t = n as f64 * dt;
         let lambda = (n > 0).then_some((t, l.forces[0]));
         let active = l.status.iter().any(|a| *a != Active::None);
-        obs.observe(&Sample { n, t, u: &l.u, lambda, energy: None, active, forces: &l.forces, status: &l.status, work: None })?;
+        obs.observe(&Sample::new(n, t, &l.u).with_contacts(lambda, active, &l.forces, &l.status))?;
     }
     obs.finish()
 }
@@ -525,7 +525,7 @@ fn feed_started(obs: &mut dyn Observer, dt: f64, start: usize, levels: &[Level])
     for (n, l) in levels.iter().enumerate() {
         let t = n as f64 * dt;
         let lambda = (n >= start).then_some((t, l.forces[0]));
-        obs.observe(&Sample { n, t, u: &l.u, lambda, energy: None, active: false, forces: &l.forces, status: &l.status, work: None })?;
+        obs.observe(&Sample::new(n, t, &l.u).with_contacts(lambda, false, &l.forces, &l.status))?;
     }
     obs.finish()
 }
