@@ -24,16 +24,7 @@ use std::sync::OnceLock;
 
 fn coarse(benchmark: Benchmark) -> Vec<ConfigResult> {
     let (ratio, t_end) = benchmark.default_ratio_and_horizon();
-    let cfg = StudyConfig {
-        benchmark,
-        schemes: SchemeSpec::group(signorini_schemes::Group::Paper).map(|p| p.1).collect(),
-        masses: vec![BarMass::Std, BarMass::Mod],
-        levels: vec![10, 20, 40, 80],
-        ratio,
-        t_end,
-        norms: Default::default(),
-        degree: 1,
-    };
+    let cfg = StudyConfig::new(benchmark, SchemeSpec::group(signorini_schemes::Group::Paper).map(|p| p.1).collect(), vec![BarMass::Std, BarMass::Mod], vec![10, 20, 40, 80], ratio, t_end);
     sweep(&cfg, &|| {}).unwrap()
 }
 

@@ -42,7 +42,7 @@
 
 use signorini::fem::BarMass;
 use signorini::norms::VNorm;
-use signorini::run::study::run_level;
+use signorini::run::study::{run_level, Level};
 use signorini::run::{run, Benchmark, NormObserver, RunConfig};
 use signorini::schemes::SchemeSpec;
 use std::sync::OnceLock;
@@ -194,8 +194,8 @@ fn norm_table_is_the_mirror_image_of_the_single_runs() {
     let mut count = 0;
     for r in table().iter().filter(|r| !r.chaotic() && r.m <= 40) {
         let spec: SchemeSpec = r.scheme.parse().unwrap();
-        let a = run_level(Benchmark::BarDirichlet, d.as_ref(), spec, r.mass, r.m, RATIO, T_END).unwrap();
-        let b = run_level(Benchmark::BarMirrored, mi.as_ref(), spec, r.mass, r.m, RATIO, T_END).unwrap();
+        let a = run_level(&Level::new(Benchmark::BarDirichlet, spec, r.mass, r.m, RATIO, T_END), d.as_ref()).unwrap();
+        let b = run_level(&Level::new(Benchmark::BarMirrored, spec, r.mass, r.m, RATIO, T_END), mi.as_ref()).unwrap();
         assert_eq!((a.m, a.dx, a.dt, a.steps), (b.m, b.dx, b.dt, b.steps));
         // The single run again, with the full H¹ norm.
         let p = Benchmark::BarDirichlet.problem(d.as_ref(), r.m, r.mass).unwrap();

@@ -31,10 +31,10 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
 
 /// Runs `work` on a worker thread with the GIL released while this thread
 /// polls Python's signal handlers every 50 ms; on the first pending signal
-/// (Ctrl-C) it sets `flag`, which the run or sweep checks, and keeps the
-/// exception. Returns the work's result (a panic on the worker is an
+/// (Ctrl-C) it cancels `cancel`, which the run or sweep checks, and keeps
+/// the exception. Returns the work's result (a panic on the worker is an
 /// `InternalError`) and that exception, if any.
-pub(crate) fn interruptible<T: Send>(py: Python<'_>, flag: &'static std::sync::atomic::AtomicBool, work: impl FnOnce() -> PyResult<T> + Send) -> (PyResult<T>, Option<PyErr>) {
+pub(crate) fn interruptible<T: Send>(py: Python<'_>, cancel: &signorini_run::Cancel, work: impl FnOnce() -> PyResult<T> + Send) -> (PyResult<T>, Option<PyErr>) {
     py.detach(|| {
         std::thread::scope(|sc| {
             let worker = sc.spawn(|| guarded(work));
@@ -44,7 +44,7 @@ pub(crate) fn interruptible<T: Send>(py: Python<'_>, flag: &'static std::sync::a
                 if signal.is_none() {
                     if let Err(e) = Python::attach(|py| py.check_signals()) {
                         signal = Some(e);
-                        flag.store(true, std::sync::atomic::Ordering::Relaxed);
+                        cancel.cancel();
                     }
                 }
             }
@@ -246,7 +246,8 @@ fn py_words(serde: &str) -> String {
 /// "scene:".
 pub(crate) fn py_scene_error(e: signorini_scene::SceneError, dict: bool) -> PyErr {
     use signorini_scene::SceneError as E;
-    let E::Toml(msg) = &e else { return SceneError::new_err(e.to_string()) };
+    let E::Toml(err) = &e else { return SceneError::new_err(e.to_string()) };
+    let msg = err.to_string();
     let (first, path) = match msg.split_once("\nin `") {
         Some((f, rest)) => (f.trim(), rest.split('`').next().unwrap_or("").to_string()),
         None => (msg.trim(), String::new()),

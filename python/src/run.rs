@@ -139,8 +139,7 @@ fn python_status(e: &RunError) -> String {
 pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64, energy_warn: Option<f64>) -> PyResult<RunArrays> {
     use signorini_run::reduced::{Need, Reconstruct};
     use signorini_scene::Scene;
-    use signorini_run::{run, NormObserver, RunConfig};
-    use std::sync::atomic::AtomicBool;
+    use signorini_run::{run, Cancel, NormObserver, RunConfig};
     if fields_every < 0 {
         return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
     }
@@ -167,9 +166,9 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     // scene's unknowns, reconstructed, as `signorini run` does.
     let mut built = guarded(|| s.instantiate(None).map_err(|e| SceneError::new_err(e.to_string())))?;
     let mut cfg = RunConfig::new(dt, t_end).and_then(|c| c.with_energy_warn(factor)).map_err(|e| SceneError::new_err(e.to_string()))?;
-    // One flag per run, set from this thread when Python has a pending signal.
-    let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
-    cfg.interrupt = Some(flag);
+    // One token per run, cancelled from this thread when Python has a pending signal.
+    let cancel = Cancel::new();
+    cfg.interrupt = Some(cancel.clone());
     let levels = cfg.steps() + 1;
     let unknowns = built.reduction.as_ref().map_or(built.u0.len(), signorini_reduce::Reduction::parent_dofs);
     let contacts = built.contacts();
@@ -180,7 +179,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         (Scene::Bar(b), Some(e)) => Some(NormObserver::with_degree(e, b.problem.bar.elements, b.problem.bar.degree, b.problem.vnorm(), dt, signorini_norms::NormKind::Exact)),
         _ => None,
     };
-    let (res, signal) = crate::interruptible(py, flag, || {
+    let (res, signal) = crate::interruptible(py, &cancel, || {
         let res = match &built.reduction {
             None => {
                 let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];

@@ -96,13 +96,14 @@ pub fn run_sweep<'py>(
     resume: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use std::sync::atomic::AtomicBool;
-    let flag: &'static AtomicBool = Box::leak(Box::new(AtomicBool::new(false)));
+    let cancel = signorini_run::Cancel::new();
     let second = second.map(|(param, from, to, count, log)| Axis { param, from, to, count, log });
-    let opts = SweepOptions { param, from: start, to: stop, count, log, second, transient, record, phase, period_tol, impacts, follow, shard, resume, threads, interrupt: Some(flag) };
+    let mut opts = SweepOptions::new(&param, start, stop, count);
+    (opts.log, opts.second, opts.transient, opts.record, opts.phase, opts.period_tol) = (log, second, transient, record, phase, period_tol);
+    (opts.impacts, opts.follow, opts.shard, opts.resume, opts.threads, opts.interrupt) = (impacts, follow, shard, resume, threads, Some(cancel.clone()));
     let limits = signorini_scene::Limits::machine();
     let sweep = guarded(|| Sweep::new(scene_text, scene_name, base, opts, limits).map_err(|e| SceneError::new_err(python_message(&e))))?;
-    let (res, signal) = crate::interruptible(py, flag, || Ok(signorini_sweep::run(&sweep, &out, &signorini_sweep::NoProgress).map(|r| r.lines)));
+    let (res, signal) = crate::interruptible(py, &cancel, || Ok(signorini_sweep::run(&sweep, &out, &signorini_sweep::NoProgress).map(|r| r.lines)));
     let res = res?;
     let tables = PyDict::new(py);
     for f in ["sweep.csv", "summary.csv", "impacts.csv"] {

@@ -68,13 +68,13 @@ use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, S
 use std::fs::File;
 use std::io::Write;
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
 
 /// Every file `signorini run` writes.
 pub const OUTPUT_FILES: [&str; 13] = ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg"];
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// The scene is invalid.
     #[error(transparent)]
@@ -85,9 +85,38 @@ pub enum CliError {
     /// The run failed (blow-up, instability, …).
     #[error(transparent)]
     Run(#[from] RunError),
-    /// Files.
-    #[error("{0}")]
-    Io(String),
+    /// A file of the output folder cannot be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A CSV file of the output folder cannot be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Csv {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: csv::Error,
+    },
+    /// An earlier run's file cannot be removed (`--clean`).
+    #[error("cannot remove {}: {source}", path.display())]
+    Remove {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A scene could not be instantiated (other than an invalid scene or a
+    /// failed run, which are [`CliError::Scene`] and [`CliError::Run`]).
+    #[error(transparent)]
+    Build(scene::BuildError),
+    /// A sweep failed while running or writing its folder (bad input and
+    /// interrupts are the variants above).
+    #[error(transparent)]
+    SweepRun(sweep::Error),
     /// The scene file cannot be read (missing, a folder, no permission).
     #[error("cannot read the scene file {}: {}", path.display(), reason(source))]
     SceneFile {
@@ -159,7 +188,7 @@ impl From<scene::BuildError> for CliError {
         match e {
             scene::BuildError::Scene(e) => CliError::Scene(e),
             scene::BuildError::Run(e) => CliError::Run(e),
-            other => CliError::Io(other.to_string()),
+            other => CliError::Build(other),
         }
     }
 }
@@ -172,7 +201,7 @@ impl From<sweep::Error> for CliError {
             sweep::Error::Build(e) => e.into(),
             sweep::Error::OutFolder { path, source } => CliError::OutFolder { path, source },
             sweep::Error::Interrupted { done, total, dir } => CliError::SweepInterrupted { done, total, dir },
-            other => CliError::Io(other.to_string()),
+            other => CliError::SweepRun(other),
         }
     }
 }
@@ -212,8 +241,9 @@ fn stopped(error: RunError, mut notes: Vec<String>, out: &Path) -> CliError {
     CliError::Stopped { error, notes }
 }
 
-/// How `run_scene` runs.
-#[derive(Clone, Copy, Debug, Default)]
+/// How `run_scene` runs (`RunOptions::default()`, then the fields).
+#[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct RunOptions {
     /// Draw a progress bar with an ETA on stderr.
     pub progress: bool,
@@ -221,8 +251,8 @@ pub struct RunOptions {
     pub clean: bool,
     /// Skip the free-space check.
     pub no_disk_check: bool,
-    /// Stop cleanly when this flag is set (by a signal handler).
-    pub interrupt: Option<&'static AtomicBool>,
+    /// Stop cleanly when this token is cancelled (by a signal handler).
+    pub interrupt: Option<signorini_run::Cancel>,
 }
 
 /// Reads and validates a scene file within `limits`.
@@ -237,7 +267,7 @@ pub fn load(path: &Path, limits: &scene::Limits) -> Result<(SceneFile, Scene), C
 /// whole rows themselves and hand each block over with one write call.
 fn create(dir: &Path, name: &str) -> Result<File, CliError> {
     let p = dir.join(name);
-    File::create(&p).map_err(|e| CliError::Io(format!("cannot write {}: {e}", p.display())))
+    File::create(&p).map_err(|source| CliError::Write { path: p, source })
 }
 
 /// A decimated copy of the contact-dof history for the plots, and the
@@ -502,7 +532,7 @@ fn prepare_output(out: &Path, clean: bool) -> Result<(), CliError> {
             return Err(CliError::Stale { dir: out.display().to_string(), files: stale.join(", ") });
         }
         for f in stale {
-            std::fs::remove_file(out.join(f)).map_err(|e| CliError::Io(format!("cannot remove {}: {e}", out.join(f).display())))?;
+            std::fs::remove_file(out.join(f)).map_err(|source| CliError::Remove { path: out.join(f), source })?;
         }
     }
     std::fs::create_dir_all(out).map_err(|source| CliError::OutFolder { path: out.to_path_buf(), source })
@@ -525,7 +555,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
         Scene::Oscillator { scheme, dt, t_end, omega, .. } => {
             let mut sim = scene.instantiate(None)?;
             let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(scene_file.energy_warn())?;
-            cfg.interrupt = opts.interrupt;
+            cfg.interrupt = opts.interrupt.clone();
             let steps = cfg.steps();
             let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
             let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, 0, cols)?;
@@ -558,7 +588,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let stops = contacts.as_ref().map(|c| c.stops.as_slice());
             let parent = signorini_run::beam::problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
             let mut cfg = RunConfig::new(bs.dt, bs.t_end)?.with_energy_warn(scene_file.energy_warn())?;
-            cfg.interrupt = opts.interrupt;
+            cfg.interrupt = opts.interrupt.clone();
             let steps = cfg.steps();
             let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
             let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None, contacts: dofs.as_deref() };
@@ -628,7 +658,7 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
     // read the contacts alone): `run_observed`.
     let mut sim = scene.instantiate(None)?;
     let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(file.energy_warn())?;
-    cfg.interrupt = opts.interrupt;
+    cfg.interrupt = opts.interrupt.clone();
     let steps = cfg.steps();
     // With stops, u_contact / lambda are contact 0's (the first stop).
     let dofs: Option<Vec<usize>> = b.contacts.as_ref().map(|c| c.stops.iter().map(|st| st.node).collect());
@@ -696,15 +726,16 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
     if let Some(n) = norms {
         let r = n.report();
         let mut w = csv::Writer::from_writer(create(out, "norms.csv")?);
-        w.write_record(LEVEL_COLUMNS).map_err(|e| CliError::Io(e.to_string()))?;
+        let csv_err = |source| CliError::Csv { path: out.join("norms.csv"), source };
+        w.write_record(LEVEL_COLUMNS).map_err(csv_err)?;
         // The study's level m: bar-mirrored's m elements per half-bar.
         let level = if b.benchmark == Some(signorini_run::Benchmark::BarMirrored) { p.bar.elements / 2 } else { p.bar.elements };
         let mut rec = vec![level.to_string(), format!("{:.10e}", p.bar.h()), format!("{:.10e}", b.dt), s.steps.to_string()];
         rec.extend(NORMS.iter().map(|k| format!("{:.10e}", norm_value(&r, k))));
         // wall_s (the loop, as always), then setup_s and step_s (= wall_s here).
         rec.extend([format!("{wall:.6}"), format!("{setup_s:.6}"), format!("{wall:.6}")]);
-        w.write_record(&rec).map_err(|e| CliError::Io(e.to_string()))?;
-        w.flush().map_err(|e| CliError::Io(e.to_string()))?;
+        w.write_record(&rec).map_err(csv_err)?;
+        w.flush().map_err(|source| CliError::Write { path: out.join("norms.csv"), source })?;
         lines.push(format!("errors: L∞(L²) {:.4e}, L²(L²) {:.4e}, L∞(V) {:.4e}, L²(λ) {:.4e}, L∞(E) {:.4e}; λ TV ratio {:.2}", r.linf_l2_u, r.l2_l2_u, r.linf_v_u, r.l2_lambda, r.linf_energy, r.lambda_tv_ratio));
     }
     let warnings = energy_report(&s, &mut lines);
@@ -800,9 +831,10 @@ impl Analysis {
         let s = self.vibro.summary();
         if self.summary {
             let mut buf = format!("{}\n", signorini_run::vibro::Summary::csv_header()).into_bytes();
-            s.write_row(&mut buf).map_err(|e| CliError::Io(e.to_string()))?;
+            let write_err = |source| CliError::Write { path: self.out.join("summary.csv"), source };
+            s.write_row(&mut buf).map_err(write_err)?;
             buf.push(b'\n');
-            std::fs::write(self.out.join("summary.csv"), buf).map_err(|e| CliError::Io(e.to_string()))?;
+            std::fs::write(self.out.join("summary.csv"), buf).map_err(write_err)?;
             if let Some(st) = s.impacts {
                 lines.push(format!("impacts in the record window: {} ({:.4} per period), mean impulse {:.4e}, impact power {:.4e}", st.count, st.per_period, st.mean_impulse, st.power));
             }
@@ -816,7 +848,7 @@ impl Analysis {
         if plots {
             if let Some(im) = &self.vibro.impacts {
                 match signorini_plot::impact_map(im.impacts().iter().map(|i| (i.stop, i.phase, i.velocity)), |_| 2) {
-                    Ok(svg) => std::fs::write(self.out.join("impact_map.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
+                    Ok(svg) => std::fs::write(self.out.join("impact_map.svg"), svg).map_err(|source| CliError::Write { path: self.out.join("impact_map.svg"), source })?,
                     Err(e) => notes.push(format!("impact_map.svg not written: {e}")),
                 }
             }
@@ -824,7 +856,7 @@ impl Analysis {
                 let (pts, title) = signorini_plot::thin(p.points().iter().map(|q| (q.displacement, q.velocity)).collect(), "Poincaré section: (displacement, velocity) at the forcing period", "samples");
                 let chart = Chart { title: &title, x_label: "displacement", y_label: "velocity", scale: Scale::Linear, size: (700, 600) };
                 match signorini_plot::scatter(&chart, &[Series { label: "section".into(), points: pts, reference: false, style: Style::default() }], 3) {
-                    Ok(svg) => std::fs::write(self.out.join("poincare.svg"), svg).map_err(|e| CliError::Io(e.to_string()))?,
+                    Ok(svg) => std::fs::write(self.out.join("poincare.svg"), svg).map_err(|source| CliError::Write { path: self.out.join("poincare.svg"), source })?,
                     Err(e) => notes.push(format!("poincare.svg not written: {e}")),
                 }
             }

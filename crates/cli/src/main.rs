@@ -7,8 +7,7 @@ use signorini_cli::{check, list, run_scene, CliError, RunOptions};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
+use signorini_run::Cancel;
 
 #[derive(Parser)]
 #[command(name = "signorini", version, about = "1D dynamic contact: bar on an obstacle, beam between stops")]
@@ -167,16 +166,17 @@ fn default_out(scene: &Path) -> PathBuf {
     PathBuf::from("out").join(scene.file_stem().unwrap_or_default())
 }
 
-/// SIGINT and SIGTERM set a flag the time loop checks at every step (the run
-/// then stops cleanly and keeps its output); a second signal while the flag
-/// is set exits at once with 130.
-fn interrupt_flag() -> Option<&'static AtomicBool> {
-    let flag: &'static Arc<AtomicBool> = Box::leak(Box::new(Arc::new(AtomicBool::new(false))));
+/// SIGINT and SIGTERM cancel a token the time loop checks at every step (the
+/// run then stops cleanly and keeps its output); a second signal while the
+/// token is cancelled exits at once with 130. The handlers hold clones of
+/// the token's flag.
+fn interrupt_token() -> Option<Cancel> {
+    let cancel = Cancel::new();
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register_conditional_shutdown(sig, 130, Arc::clone(flag)).ok()?;
-        signal_hook::flag::register(sig, Arc::clone(flag)).ok()?;
+        signal_hook::flag::register_conditional_shutdown(sig, 130, cancel.flag()).ok()?;
+        signal_hook::flag::register(sig, cancel.flag()).ok()?;
     }
-    Some(&**flag)
+    Some(cancel)
 }
 
 /// Writes to stdout; a closed pipe (`signorini … | head`) is not an error
@@ -205,7 +205,9 @@ fn main() -> ExitCode {
                 (Some(param), Some(from), Some(to), Some(count)) => Some(Axis { param, from, to, count, log: log2 }),
                 _ => None,
             };
-            let opts = SweepOptions { param, from, to, count, log, second, transient, record, phase, period_tol, impacts: !no_impacts, follow, shard, resume, threads, interrupt: interrupt_flag() };
+            let mut opts = SweepOptions::new(&param, from, to, count);
+            (opts.log, opts.second, opts.transient, opts.record, opts.phase, opts.period_tol) = (log, second, transient, record, phase, period_tol);
+            (opts.impacts, opts.follow, opts.shard, opts.resume, opts.threads, opts.interrupt) = (!no_impacts, follow, shard, resume, threads, interrupt_token());
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = Sweep::from_file(&scene, &text, opts, limits(max_memory))?;
             let bar = signorini_cli::RunsBar::new(std::io::stderr().is_terminal());
@@ -227,7 +229,8 @@ fn main() -> ExitCode {
         Cmd::Run { scene, out, clean, no_disk_check, max_memory } => {
             let (file, s) = signorini_cli::load(&scene, &limits(max_memory))?;
             let out = out.unwrap_or_else(|| default_out(&scene));
-            let opts = RunOptions { progress: std::io::stderr().is_terminal(), clean, no_disk_check, interrupt: interrupt_flag() };
+            let mut opts = RunOptions::default();
+            (opts.progress, opts.clean, opts.no_disk_check, opts.interrupt) = (std::io::stderr().is_terminal(), clean, no_disk_check, interrupt_token());
             let summary = run_scene(&s, &file, &out, &opts)?;
             for w in &summary.warnings {
                 eprintln!("{w}");

@@ -6,7 +6,7 @@
 //! snapshots have the `2m + 1` nodes.
 
 use signorini_fem::BarMass;
-use signorini_run::study::run_level_degree;
+use signorini_run::study::{run_level, Level};
 use signorini_run::Benchmark;
 use std::process::Command;
 
@@ -48,7 +48,7 @@ fn degree_reaches_the_problem() {
     let got: f64 = row[h.iter().position(|c| c == "l2_l2_u").unwrap()].parse().unwrap();
     let b = Benchmark::BarDirichlet;
     let exact = b.exact(1.0).unwrap();
-    let level = |k| run_level_degree(b, exact.as_ref(), "newmark-cn".parse().unwrap(), BarMass::Mod, 10, k, 10.0, 1.0, Default::default()).unwrap().norms.l2_l2_u;
+    let level = |k| run_level(&Level::new(b, "newmark-cn".parse().unwrap(), BarMass::Mod, 10, 10.0, 1.0).with_degree(k), exact.as_ref()).unwrap().norms.l2_l2_u;
     let (p2, p1) = (level(2), level(1));
     assert!((got - p2).abs() <= 1e-9 * p2, "norms.csv {got:e}, P2 level {p2:e} (P1: {p1:e})");
     assert!((p1 - p2).abs() > 1e-3 * p2, "P1 and P2 must differ for this test to see the key: {p1:e} {p2:e}");

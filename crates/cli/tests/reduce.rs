@@ -7,8 +7,9 @@ use signorini_cli::scene::{SceneError, SceneFile};
 fn refused(text: &str) -> (String, String) {
     match SceneFile::parse(text).and_then(|f| f.validate().map(|_| ())) {
         Err(SceneError::Field { field, message }) => (field, message),
-        Err(SceneError::Toml(m)) => ("toml".into(), m),
+        Err(SceneError::Toml(e)) => ("toml".into(), e.to_string()),
         Ok(()) => panic!("accepted:\n{text}"),
+        Err(e) => panic!("neither a field nor a TOML error: {e:?}"),
     }
 }
 

@@ -19,7 +19,7 @@
 //! let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
 //! m.set(0, 0, 2.0);
 //! k.set(0, 0, 2.0);
-//! let dy = Dynamics { mass: m, stiffness: k, load: vec![0.0], contacts: vec![Contact::new(0, Bounds::obstacle(-10.0), false)], forcing: Vec::new(), damping: None };
+//! let dy = Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-10.0), false)]);
 //! let flow = ModalFlow::new(&dy)?;
 //! let (mut q, mut v) = (vec![0.0], vec![0.0]);
 //! flow.advance(0.0, &[1.0], &[0.0], 1.0, &mut q, &mut v);

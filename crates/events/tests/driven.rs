@@ -19,7 +19,7 @@ fn one(v: f64) -> SymBand {
 /// `2π/3 + k 4π/3` (the bounce mirrors the fall), the energy `1/2` kept.
 #[test]
 fn an_elastic_bounce_keeps_its_energy_over_ten_thousand_impacts() {
-    let dy = Dynamics { mass: one(1.0), stiffness: one(1.0), load: vec![0.0], contacts: vec![Contact::new(0, Bounds::obstacle(-0.5), false)], forcing: Vec::new(), damping: None };
+    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-0.5), false)]);
     let mut r = EventDriven::new(&dy, 0.0, &[1.0], &[0.0], 1.0).unwrap();
     let impacts = 10_000;
     let t_end = 2.0 * PI / 3.0 + (impacts as f64 - 0.5) * 4.0 * PI / 3.0;
@@ -53,7 +53,7 @@ fn each_impact_loses_the_newton_energy() {
         }
     }
     let load = vec![-0.05; n];
-    let dy = Dynamics { mass: m.clone(), stiffness: k.clone(), load: load.clone(), contacts: vec![Contact::new(0, Bounds::obstacle(-0.1), false)], forcing: Vec::new(), damping: None };
+    let dy = Dynamics::new(m.clone(), k.clone(), load.clone(), vec![Contact::new(0, Bounds::obstacle(-0.1), false)]);
     let e = 0.6;
     let q0 = vec![0.0; n];
     let v0 = vec![-0.4, -0.1, 0.2, 0.0];
@@ -117,14 +117,8 @@ fn period_one_orbits_of_the_impact_oscillator_close() {
     assert!(!orbits.is_empty());
     let c = 2.0 * p.damping_ratio * (p.stiffness * p.mass).sqrt();
     let cosine = TimeProfile::harmonics(vec![Harmonic { amplitude: p.force, omega: p.forcing_frequency, phase: PI / 2.0 }]).unwrap();
-    let dy = Dynamics {
-        mass: one(p.mass),
-        stiffness: one(p.stiffness),
-        load: vec![0.0],
-        contacts: vec![Contact { dof: 0, bounds: Bounds { lo: f64::NEG_INFINITY, hi: p.gap }, massless: false, restitution: Some(p.restitution), stiffness: None }],
-        forcing: vec![Forcing { shape: vec![1.0], time: cosine }],
-        damping: Some(one(c)),
-    };
+    let stop = Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: p.gap }, false).with_restitution(Some(p.restitution));
+    let dy = Dynamics::new(one(p.mass), one(p.stiffness), vec![0.0], vec![stop]).with_forcing(vec![Forcing { shape: vec![1.0], time: cosine }]).with_damping(Some(one(c)));
     let period = 2.0 * PI / p.forcing_frequency;
     for o in orbits {
         let tau = o.impact_time;

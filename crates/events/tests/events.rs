@@ -11,7 +11,7 @@ fn oscillator() -> Dynamics {
     let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
     m.set(0, 0, 1.0);
     k.set(0, 0, 1.0);
-    Dynamics { mass: m, stiffness: k, load: vec![0.0], contacts: vec![Contact::new(0, Bounds::obstacle(-1.0), false)], forcing: Vec::new(), damping: None }
+    Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1.0), false)])
 }
 
 /// `x = cos t` reaches `−1/2` at `2π/3` and `1/2` (from below, after the
@@ -57,7 +57,7 @@ fn chain(n: usize) -> Dynamics {
             k.set(i, i - 1, -1.0);
         }
     }
-    let mut dy = Dynamics { mass: m, stiffness: k, load: vec![0.05; n], contacts: vec![Contact::new(0, Bounds::obstacle(-1.0), false)], forcing: Vec::new(), damping: None };
+    let mut dy = Dynamics::new(m, k, vec![0.05; n], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     dy.forcing = vec![Forcing { shape: (0..n).map(|i| 1.0 / (i as f64 + 1.0)).collect(), time: TimeProfile::harmonics(vec![Harmonic { amplitude: 0.3, omega: 1.7, phase: 0.2 }, Harmonic { amplitude: 0.1, omega: 3.1, phase: 0.0 }]).unwrap() }];
     dy
 }

@@ -145,7 +145,7 @@ fn chain(n: usize, free: bool) -> Dynamics {
             k.set(i, i - 1, -1.0);
         }
     }
-    Dynamics { mass: m, stiffness: k, load: (0..n).map(|i| 0.1 * (i as f64 - 1.0)).collect(), contacts: vec![Contact::new(0, Bounds::obstacle(-1e9), false)], forcing: Vec::new(), damping: None }
+    Dynamics::new(m, k, (0..n).map(|i| 0.1 * (i as f64 - 1.0)).collect(), vec![Contact::new(0, Bounds::obstacle(-1e9), false)])
 }
 
 fn check(dy: &Dynamics, t0: f64, tau: f64, tol: f64) {

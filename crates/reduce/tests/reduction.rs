@@ -35,7 +35,7 @@ fn modes_are_the_lowest_fixed_interface_eigenvalues() {
 fn mod_dynamics(m: usize) -> Dynamics {
     let (k, mm) = bar(m, BarMass::Mod);
     let n = k.n();
-    Dynamics { mass: mm, stiffness: k, load: vec![0.0; n], contacts: vec![Contact::new(0, Bounds::obstacle(0.0), true)], forcing: vec![], damping: None }
+    Dynamics::new(mm, k, vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(0.0), true)])
 }
 
 /// With every mode kept, the reduced model's exact CD limit is the full
@@ -84,14 +84,7 @@ fn cfl_limit_grows_as_the_cutoff_falls() {
         assert!(c <= prev * (1.0 + 1e-12), "r = {r}: {c} > {prev}");
         assert!(c >= full * (1.0 - 1e-10), "r = {r}: {c} < full {full}");
         assert!(red.kappa_free() <= red.kappa() * (1.0 + 1e-12) && red.kappa_free() > 0.0);
-        let dy = Dynamics {
-            mass: red.mass().clone(),
-            stiffness: red.stiffness().clone(),
-            load: vec![0.0; r + 1],
-            contacts: vec![Contact::new(0, Bounds::obstacle(0.0), true)],
-            forcing: vec![],
-            damping: None,
-        };
+        let dy = Dynamics::new(red.mass().clone(), red.stiffness().clone(), vec![0.0; r + 1], vec![Contact::new(0, Bounds::obstacle(0.0), true)]);
         let via_schemes = "cd-massless".parse::<SchemeSpec>().unwrap().cfl_limit(&dy).unwrap().unwrap();
         assert!((c - via_schemes).abs() <= 1e-9 * c, "r = {r}: {c} vs schemes {via_schemes}");
         prev = c;

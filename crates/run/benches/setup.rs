@@ -69,5 +69,5 @@ fn whole_run(bencher: Bencher, name: &str) {
     let (_, t_end) = b.default_ratio_and_horizon();
     let exact = b.exact(t_end).unwrap();
     let (spec, mass, ratio) = case(scheme);
-    bencher.bench_local(|| study::run_level(b, exact.as_ref(), spec, mass, 1280, ratio, t_end).unwrap());
+    bencher.bench_local(|| study::run_level(&study::Level::new(b, spec, mass, 1280, ratio, t_end), exact.as_ref()).unwrap());
 }

@@ -51,14 +51,7 @@ impl Pipe {
         let l4 = self.length.powi(4);
         let shape = beam.load(|x| a * w * w * self.lifting(x).0 + 8.0 * a * self.k2 / l4);
         let n = beam.dofs();
-        let dy = Dynamics {
-            mass: beam.mass(),
-            stiffness: beam.stiffness(),
-            load: vec![0.0; n],
-            contacts: vec![Contact::new(beam.tip_dof(), Bounds { lo: self.stops.0, hi: self.stops.1 }, false)],
-            forcing: vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }],
-            damping: None,
-        };
+        let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(beam.tip_dof(), Bounds { lo: self.stops.0, hi: self.stops.1 }, false)]).with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }]);
         let v = beam.interpolate(|x| -a * w * self.lifting(x).0, |x| -a * w * self.lifting(x).1);
         Ok((beam, dy, Initial { u: vec![0.0; n], v }))
     }

@@ -52,6 +52,8 @@
 //! * [`runner`]: the time loop ([`run`]) and the [`Observer`] trait — norms,
 //!   CSV series and progress are observers, so nothing is stored unless an
 //!   observer stores it; blow-ups stop the run with the step and time;
+//! * [`lockstep`]: the time loop of a batch of runs sharing one step
+//!   matrix ([`run_lockstep`]), lane by lane the samples of [`run`];
 //! * [`observers`]: [`NormObserver`] (exact error norms while stepping) and
 //!   [`SeriesWriter`] (CSV time series, flushed as it goes);
 //! * [`beam`]: the beam between two stops (the pipe of Dumont & Paoli, its
@@ -68,6 +70,7 @@
 //! * [`chaos`]: the largest Lyapunov exponent by Benettin's twin runs
 //!   over any [`chaos::Flow`] (a stepper through its state), and the
 //!   predictability horizon;
+//! * [`cancel`]: the [`Cancel`] token that stops a run or a sweep cleanly;
 //! * [`stats`]: batch-means confidence intervals (Student-t quantiles);
 //! * [`study`]: convergence sweeps over mesh levels at a fixed `dx/dt`, run
 //!   in parallel, and their rates.
@@ -77,8 +80,10 @@
 
 pub mod analysis;
 pub mod beam;
+pub mod cancel;
 pub mod chaos;
 pub mod energy;
+pub mod lockstep;
 pub mod observers;
 pub mod oscillator;
 pub mod problem;
@@ -90,6 +95,8 @@ pub mod text;
 pub mod vibro;
 
 pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
+pub use cancel::Cancel;
+pub use lockstep::{run_lockstep, LaneEnd, LockstepRun};
 pub use energy::{EnergyExceeded, EnergyGrowth, EnergyMonitor};
 pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};

@@ -126,7 +126,7 @@ impl<W: Write> RowSink<W> {
         let mark = self.buf.len();
         if let Err(e) = fill(&mut self.buf) {
             self.buf.truncate(mark);
-            return Err(RunError::Output(e.to_string()));
+            return Err(RunError::Output(e));
         }
         self.buf.push(b'\n');
         self.pending += 1;
@@ -138,7 +138,7 @@ impl<W: Write> RowSink<W> {
 
     fn hand_over(&mut self) -> Result<(), RunError> {
         if !self.buf.is_empty() {
-            self.out.write_all(&self.buf).map_err(|e| RunError::Output(e.to_string()))?;
+            self.out.write_all(&self.buf).map_err(RunError::Output)?;
             self.buf.clear();
         }
         self.pending = 0;
@@ -148,7 +148,7 @@ impl<W: Write> RowSink<W> {
     /// Hands over the rows held and flushes the writer.
     pub fn flush(&mut self) -> Result<(), RunError> {
         self.hand_over()?;
-        self.out.flush().map_err(|e| RunError::Output(e.to_string()))
+        self.out.flush().map_err(RunError::Output)
     }
 }
 

@@ -87,15 +87,8 @@ impl Oscillator {
             b
         };
         let c = self.damping();
-        let contact = Contact { dof: 0, bounds: Bounds { lo: f64::NEG_INFINITY, hi: self.stop }, massless: false, restitution: Some(self.restitution), stiffness: None };
-        let dy = Dynamics {
-            mass: one(self.mass),
-            stiffness: one(self.stiffness),
-            damping: (c > 0.0).then(|| one(c)),
-            load: vec![0.0],
-            contacts: vec![contact],
-            forcing: self.load.iter().map(|p| Forcing { shape: vec![1.0], time: p.clone() }).collect(),
-        };
+        let contact = Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: self.stop }, false).with_restitution(Some(self.restitution));
+        let dy = Dynamics::new(one(self.mass), one(self.stiffness), vec![0.0], vec![contact]).with_forcing(self.load.iter().map(|p| Forcing { shape: vec![1.0], time: p.clone() }).collect()).with_damping((c > 0.0).then(|| one(c)));
         Ok((dy, Initial { u: vec![self.x0], v: vec![self.v0] }))
     }
 

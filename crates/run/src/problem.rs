@@ -75,7 +75,7 @@ pub(crate) fn check_stops(stops: &[Stop], u: &[f64], dof: impl Fn(usize) -> Opti
 
 /// The schemes' contact list for `stops` at `dof(node)`.
 pub(crate) fn contacts_of(stops: &[Stop], dof: impl Fn(usize) -> usize, massless: bool) -> Vec<Contact> {
-    stops.iter().map(|st| Contact { dof: dof(st.node), bounds: Bounds { lo: st.lo, hi: st.hi }, massless, restitution: st.restitution, stiffness: st.stiffness }).collect()
+    stops.iter().map(|st| Contact::new(dof(st.node), Bounds { lo: st.lo, hi: st.hi }, massless).with_restitution(st.restitution).with_stiffness(st.stiffness)).collect()
 }
 
 /// A Pk bar (P1 unless [`Bar::with_degree`]) with Signorini contact at
@@ -146,23 +146,9 @@ impl BarProblem {
         let f = self.body_force;
         if !self.stops.is_empty() {
             let nodes: Vec<usize> = self.stops.iter().map(|s| s.node).collect();
-            return Dynamics {
-                mass: self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"),
-                stiffness: self.bar.stiffness(),
-                load: self.bar.load(|_| f),
-                contacts: contacts_of(&self.stops, |node| node, self.mass.massless_contact_node()),
-                forcing: self.forcing.clone(),
-                damping: None,
-            };
+            return Dynamics::new(self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"), self.bar.stiffness(), self.bar.load(|_| f), contacts_of(&self.stops, |node| node, self.mass.massless_contact_node())).with_forcing(self.forcing.clone());
         }
-        Dynamics {
-            mass: self.bar.mass(self.mass),
-            stiffness: self.bar.stiffness(),
-            load: self.bar.load(|_| f),
-            contacts: vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())],
-            forcing: self.forcing.clone(),
-            damping: None,
-        }
+        Dynamics::new(self.bar.mass(self.mass), self.bar.stiffness(), self.bar.load(|_| f), vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())]).with_forcing(self.forcing.clone())
     }
 
     /// Adds the load `s(t)` uniform along the bar (`node = None`, per unit
@@ -238,7 +224,7 @@ impl Benchmark {
     /// event by event up to `t_end`; see [`BarNeumannGravity`] for its limits).
     pub fn exact(self, t_end: f64) -> Result<Box<dyn ExactSolution>, RunError> {
         let neumann = |r: Result<BarNeumannGravity, signorini_exact::NeumannError>| -> Result<Box<dyn ExactSolution>, RunError> {
-            r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(|e| RunError::Exact(e.to_string()))
+            r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(RunError::Exact)
         };
         match self {
             Benchmark::BarDirichlet => Ok(Box::new(BarDirichlet)),

@@ -39,14 +39,18 @@ pub fn reduce(dy: &Dynamics, init: &Initial, keep: Keep) -> Result<Reduced, RunE
     }
     let dofs: Vec<usize> = dy.contacts.iter().map(|c| c.dof).collect();
     let reduction = Reduction::new(&dy.stiffness, &dy.mass, &dofs, keep)?;
-    let dynamics = Dynamics {
-        mass: reduction.mass().clone(),
-        stiffness: reduction.stiffness().clone(),
-        load: reduction.project_vector(&dy.load),
-        contacts: dy.contacts.iter().enumerate().map(|(k, c)| Contact { dof: k, massless: true, ..*c }).collect(),
-        forcing: dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect(),
-        damping: None,
-    };
+    // The contacts at 0..nb, massless, with their own bounds, restitution and stiffness.
+    let contacts: Vec<Contact> = dy
+        .contacts
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let mut c = *c;
+            (c.dof, c.massless) = (k, true);
+            c
+        })
+        .collect();
+    let dynamics = Dynamics::new(reduction.mass().clone(), reduction.stiffness().clone(), reduction.project_vector(&dy.load), contacts).with_forcing(dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect());
     let initial = Initial { u: reduction.project_state(&init.u), v: reduction.project_state(&init.v) };
     Ok(Reduced { reduction, dynamics, initial })
 }

@@ -2,11 +2,12 @@
 
 use signorini_fem::FemError;
 use signorini_schemes::{SchemeError, Stepper};
-use std::sync::atomic::{AtomicBool, Ordering};
+use crate::Cancel;
 use std::time::Instant;
 
 /// Errors of a run.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RunError {
     /// A parameter outside its allowed range.
     #[error("invalid {field} = {value}: allowed {allowed}")]
@@ -43,7 +44,7 @@ pub enum RunError {
     UnknownBenchmark(String),
     /// The exact solution cannot be built for these parameters or horizon.
     #[error("exact solution: {0}")]
-    Exact(String),
+    Exact(#[source] signorini_exact::NeumannError),
     /// The mesh or matrices could not be built.
     #[error(transparent)]
     Fem(#[from] FemError),
@@ -102,7 +103,7 @@ pub enum RunError {
     },
     /// An observer failed to write its output.
     #[error("output: {0}")]
-    Output(String),
+    Output(#[source] std::io::Error),
     /// A reduced model refused its parameters (`modes`, `cutoff_hz`, …).
     #[error("reduce: {0}")]
     Reduce(#[from] signorini_reduce::ReduceError),
@@ -123,8 +124,10 @@ impl From<SchemeError> for RunError {
     }
 }
 
-/// Time step, horizon and safety limits of a run.
-#[derive(Clone, Copy, Debug)]
+/// Time step, horizon and safety limits of a run ([`RunConfig::new`], then
+/// the `with_*` setters or the fields).
+#[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct RunConfig {
     /// Time step `dt` (> 0, finite).
     pub dt: f64,
@@ -135,9 +138,10 @@ pub struct RunConfig {
     /// ½ m (max|U⁰|/T)²)` (never zero unless the data and loads are)
     /// (checked only when an observer asks for the energy). `None`: no check.
     pub energy_growth_limit: Option<f64>,
-    /// A flag (set by a signal handler) that stops the run cleanly at the
-    /// next step with [`RunError::Interrupted`].
-    pub interrupt: Option<&'static AtomicBool>,
+    /// A cancel token (cancelled by a signal handler, another thread, …)
+    /// that stops the run cleanly at the next step with
+    /// [`RunError::Interrupted`].
+    pub interrupt: Option<Cancel>,
     /// Watch the energy against its budget (`E_ref` + load work −
     /// dissipation, [`crate::energy`]) and record the largest ratio and the
     /// first level past this factor in [`RunSummary::energy`] (`Some`: the
@@ -184,9 +188,9 @@ impl RunConfig {
         Ok(self)
     }
 
-    /// With an interrupt flag.
-    pub fn with_interrupt(mut self, flag: &'static AtomicBool) -> Self {
-        self.interrupt = Some(flag);
+    /// With a cancel token.
+    pub fn with_interrupt(mut self, cancel: Cancel) -> Self {
+        self.interrupt = Some(cancel);
         self
     }
 
@@ -196,8 +200,10 @@ impl RunConfig {
     }
 }
 
-/// What observers see at each time level.
+/// What observers see at each time level (the runners build it; a test
+/// feeding an observer by hand starts from [`Sample::new`]).
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct Sample<'a> {
     /// Time level `n`.
     pub n: usize,
@@ -221,6 +227,22 @@ pub struct Sample<'a> {
     pub work: Option<(f64, f64)>,
 }
 
+impl<'a> Sample<'a> {
+    /// Level `n` at `t` with the displacement `u`, as a start level is:
+    /// no contact force, energy or work, no contact active, no contacts
+    /// listed (set the fields, or [`with_contacts`](Self::with_contacts)).
+    pub fn new(n: usize, t: f64, u: &'a [f64]) -> Self {
+        Self { n, t, u, lambda: None, energy: None, active: false, forces: &[], status: &[], work: None }
+    }
+
+    /// With the step's contact force `lambda` (contact 0's, and its time),
+    /// whether a constraint was active, every contact's force and status.
+    pub fn with_contacts(mut self, lambda: Option<(f64, f64)>, active: bool, forces: &'a [f64], status: &'a [signorini_contact::Active]) -> Self {
+        (self.lambda, self.active, self.forces, self.status) = (lambda, active, forces, status);
+        self
+    }
+}
+
 /// Something that watches a run: norms, CSV sinks, progress.
 pub trait Observer {
     /// Whether this observer needs the discrete energy (it costs a solve).
@@ -237,6 +259,7 @@ pub trait Observer {
 
 /// Summary of a finished run.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct RunSummary {
     /// Steps taken.
     pub steps: usize,
@@ -271,7 +294,7 @@ pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &m
 
 /// How often (in steps) the runner checks the whole state for non-finite
 /// values; the steppers check the contact dof every step.
-const FINITE_CHECK_EVERY: usize = 64;
+pub(crate) const FINITE_CHECK_EVERY: usize = 64;
 
 fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<(usize, usize, Option<crate::energy::EnergyGrowth>), RunError> {
     if (cfg.dt - stepper.dt()).abs() > 1e-15 * cfg.dt {
@@ -307,8 +330,8 @@ fn run_inner(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: 
     }
     let mut contact_steps = 0;
     while stepper.level() < total {
-        if let Some(flag) = cfg.interrupt {
-            if flag.load(Ordering::Relaxed) {
+        if let Some(cancel) = &cfg.interrupt {
+            if cancel.is_cancelled() {
                 return Err(RunError::Interrupted { step: stepper.level(), time: stepper.time() });
             }
         }
@@ -405,7 +428,7 @@ fn data_energy_scale(mass: f64, u0: &[f64], t_end: f64) -> f64 {
     0.5 * mass * (umax / t_end).powi(2)
 }
 
-fn check_finite(u: &[f64], step: usize, time: f64) -> Result<(), RunError> {
+pub(crate) fn check_finite(u: &[f64], step: usize, time: f64) -> Result<(), RunError> {
     if u.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {

@@ -39,8 +39,10 @@ pub fn norm_value(r: &NormReport, name: &str) -> f64 {
     }
 }
 
-/// What to sweep.
+/// What to sweep ([`StudyConfig::new`], then [`with_norms`](StudyConfig::with_norms)
+/// and [`with_degree`](StudyConfig::with_degree); the fields stay public).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct StudyConfig {
     /// The benchmark.
     pub benchmark: Benchmark,
@@ -61,6 +63,25 @@ pub struct StudyConfig {
 }
 
 impl StudyConfig {
+    /// `levels` of `benchmark` for every scheme and mass at `dx/dt = ratio`
+    /// up to `t_end`: the exact norms, P1 elements (not validated: see
+    /// [`validate`](Self::validate)).
+    pub fn new(benchmark: Benchmark, schemes: Vec<SchemeSpec>, masses: Vec<BarMass>, levels: Vec<usize>, ratio: f64, t_end: f64) -> Self {
+        Self { benchmark, schemes, masses, levels, ratio, t_end, norms: NormKind::Exact, degree: 1 }
+    }
+
+    /// With the error measure `norms`.
+    pub fn with_norms(mut self, norms: NormKind) -> Self {
+        self.norms = norms;
+        self
+    }
+
+    /// With Lagrange elements of degree `k` (1, 2, 3).
+    pub fn with_degree(mut self, k: usize) -> Self {
+        self.degree = k;
+        self
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), RunError> {
         if !(1..=3).contains(&self.degree) {
@@ -108,6 +129,7 @@ impl StudyConfig {
 
 /// One run of a sweep.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct LevelResult {
     /// Elements.
     pub m: usize,
@@ -133,6 +155,7 @@ pub struct LevelResult {
 
 /// All levels of one (scheme, mass) pair.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct ConfigResult {
     /// The scheme.
     pub scheme: SchemeSpec,
@@ -142,31 +165,80 @@ pub struct ConfigResult {
     pub levels: Vec<LevelResult>,
 }
 
+/// One level of a convergence study: what [`run_level`] runs.
+///
+/// [`Level::new`] takes the required fields; the others have defaults
+/// (degree 1, the exact norms, the full model) that the `with_*` setters
+/// change:
+///
+/// ```
+/// use signorini_run::study::{run_level, Level};
+/// use signorini_run::Benchmark;
+/// use signorini_fem::BarMass;
+///
+/// let b = Benchmark::BarDirichlet;
+/// let exact = b.exact(3.0).unwrap();
+/// let level = Level::new(b, "newmark-cn".parse().unwrap(), BarMass::Mod, 40, 10.0, 3.0).with_degree(2);
+/// let r = run_level(&level, exact.as_ref()).unwrap();
+/// println!("L2(L2) error {}", r.norms.l2_l2_u);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct Level {
+    /// The benchmark ([`Benchmark::problem_with_degree`] builds the level's problem).
+    pub benchmark: Benchmark,
+    /// The scheme.
+    pub scheme: SchemeSpec,
+    /// The mass treatment.
+    pub mass: BarMass,
+    /// Elements `m` of the level.
+    pub m: usize,
+    /// Element degree `k` (Lagrange P1, P2, P3; default 1); `dx = h`, the element size.
+    pub degree: usize,
+    /// `dx/dt`.
+    pub ratio: f64,
+    /// Horizon `T`.
+    pub t_end: f64,
+    /// Error measure (default [`NormKind::Exact`]).
+    pub norms: NormKind,
+    /// The massless-boundary reduction of the level's problem
+    /// (docs/theory.md §2.5; the norms see the reconstructed full field),
+    /// or the full model (`None`, the default).
+    pub reduce: Option<Keep>,
+}
+
+impl Level {
+    /// Level `m` of `benchmark` with `scheme` and `mass` at `dx/dt = ratio`
+    /// up to `t_end`: P1 elements, the exact norms, the full model.
+    pub fn new(benchmark: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64) -> Self {
+        Self { benchmark, scheme, mass, m, degree: 1, ratio, t_end, norms: NormKind::Exact, reduce: None }
+    }
+
+    /// With Lagrange elements of degree `k` (1, 2, 3).
+    pub fn with_degree(mut self, k: usize) -> Self {
+        self.degree = k;
+        self
+    }
+
+    /// With the error measure `kind`.
+    pub fn with_norms(mut self, kind: NormKind) -> Self {
+        self.norms = kind;
+        self
+    }
+
+    /// With the reduced model `keep` (`None`: the full model).
+    pub fn with_reduce(mut self, keep: Option<Keep>) -> Self {
+        self.reduce = keep;
+        self
+    }
+}
+
 /// Runs one level: builds the problem and scheme, steps to `t_end` with the
-/// norm observer (level `m`: see [`Benchmark::problem`]; the norms integrate
-/// over the whole bar).
-pub fn run_level(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64) -> Result<LevelResult, RunError> {
-    run_level_with(benchmark, exact, scheme, mass, m, ratio, t_end, NormKind::Exact)
-}
-
-/// [`run_level`] with a choice of error measure.
-#[allow(clippy::too_many_arguments)]
-pub fn run_level_with(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
-    run_level_reduced(benchmark, exact, scheme, mass, m, 1, ratio, t_end, kind, None)
-}
-
-/// [`run_level_with`] with Lagrange elements of degree `k`
-/// ([`Benchmark::problem_with_degree`]; `dx = h`, the element size).
-#[allow(clippy::too_many_arguments)]
-pub fn run_level_degree(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, kind: NormKind) -> Result<LevelResult, RunError> {
-    run_level_reduced(benchmark, exact, scheme, mass, m, k, ratio, t_end, kind, None)
-}
-
-/// [`run_level_degree`] on the massless-boundary reduction of the level's
-/// problem when `reduce` is given (docs/theory.md §2.5; the norms see the
-/// reconstructed full field), the full model otherwise.
-#[allow(clippy::too_many_arguments)]
-pub fn run_level_reduced(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, kind: NormKind, reduce: Option<Keep>) -> Result<LevelResult, RunError> {
+/// norm observer (level `m`: see [`Benchmark::problem_with_degree`]; the
+/// norms integrate over the whole bar), on the reduced model when
+/// [`Level::reduce`] is given.
+pub fn run_level(level: &Level, exact: &dyn ExactSolution) -> Result<LevelResult, RunError> {
+    let &Level { benchmark, scheme, mass, m, degree: k, ratio, t_end, norms: kind, reduce } = level;
     if k > 1 && kind != NormKind::Exact {
         return Err(RunError::Invalid { field: "degree", value: k as f64, allowed: "1 with the GetFEM-demo norms (a P1 measure)" });
     }
@@ -202,7 +274,7 @@ pub fn sweep(cfg: &StudyConfig, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigRe
 }
 
 /// [`sweep`] with every level reduced when `reduce` is given
-/// ([`run_level_reduced`]).
+/// ([`Level::reduce`]).
 pub fn sweep_reduced(cfg: &StudyConfig, reduce: Option<Keep>, tick: &(dyn Fn() + Sync)) -> Result<Vec<ConfigResult>, RunError> {
     cfg.validate()?;
     let exact = cfg.benchmark.exact(cfg.t_end)?;
@@ -218,7 +290,8 @@ pub fn sweep_reduced(cfg: &StudyConfig, reduce: Option<Keep>, tick: &(dyn Fn() +
     let done: Vec<((usize, usize, usize), LevelResult)> = jobs
         .par_iter()
         .map(|&(si, mi, li)| {
-            let r = run_level_reduced(cfg.benchmark, exact.as_ref(), cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.degree, cfg.ratio, cfg.t_end, cfg.norms, reduce);
+            let level = Level::new(cfg.benchmark, cfg.schemes[si], cfg.masses[mi], cfg.levels[li], cfg.ratio, cfg.t_end).with_degree(cfg.degree).with_norms(cfg.norms).with_reduce(reduce);
+            let r = run_level(&level, exact.as_ref());
             tick();
             r.map(|r| ((si, mi, li), r))
         })

@@ -752,8 +752,10 @@ impl<W> Piece<W> {
     }
 }
 
-/// What the vibro-impact observers need, so a CLI builds them in one call.
+/// What the vibro-impact observers need, so a CLI builds them in one call
+/// ([`VibroConfig::new`], then the fields).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct VibroConfig {
     /// Time step (`> 0`, finite; the run's).
     pub dt: f64,

@@ -68,7 +68,7 @@ fn scripted(energy: fn(usize) -> f64, work: Option<fn(usize) -> (f64, f64)>) -> 
     mass.set(0, 0, 1.0);
     let mut stiffness = SymBand::zeros(1, 0);
     stiffness.set(0, 0, 1.0);
-    let dy = Dynamics { mass, stiffness, load: vec![0.0], contacts: vec![Contact::new(0, Bounds::obstacle(-1.0), false)], forcing: vec![], damping: None };
+    let dy = Dynamics::new(mass, stiffness, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     Scripted { dy, dt: 0.125, n: 0, u: vec![0.0], energy, work }
 }
 
@@ -251,7 +251,7 @@ fn energy_warn_must_be_finite_and_above_one() {
     let cfg = RunConfig::new(0.1, 1.0).unwrap();
     assert_eq!(cfg.energy_warn, None, "no monitor by default");
     for bad in [1.0, 0.5, 0.0, -2.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-        match cfg.with_energy_warn(bad) {
+        match cfg.clone().with_energy_warn(bad) {
             Err(e @ RunError::Invalid { field: "energy_warn", .. }) => assert!(e.to_string().contains("allowed finite and > 1"), "{e}"),
             other => panic!("{bad}: {other:?}"),
         }

@@ -1,6 +1,6 @@
 //! P2/P3 bars through the run layer (docs/theory.md §2.1.4):
 //!
-//! * degree 1 through the Pk path (`run_level_degree`, `problem_with_degree`,
+//! * degree 1 through the Pk path (`run_level` at degree 1, `problem_with_degree`,
 //!   `NormObserver::with_degree`) gives the norms the P1 code gave before the
 //!   Pk generalisation, bit for bit (the bits below were printed by that code,
 //!   commit bb6338b);
@@ -16,7 +16,7 @@
 
 use signorini_fem::{Bar, BarMass, FemError, RightEnd};
 use signorini_norms::NormKind;
-use signorini_run::study::{rate, run_level_degree, StudyConfig};
+use signorini_run::study::{rate, run_level, Level, StudyConfig};
 use signorini_run::{run, Benchmark, Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{Bounds, Contact, Dynamics, Initial, SchemeSpec};
 use std::f64::consts::PI;
@@ -29,7 +29,7 @@ fn bits(n: &signorini_norms::NormReport) -> [u64; 8] {
 fn p1_levels_through_the_pk_path_are_bit_identical_to_the_p1_code() {
     let b = Benchmark::BarDirichlet;
     let exact = b.exact(3.0).unwrap();
-    let r = run_level_degree(b, exact.as_ref(), "newmark-cn".parse().unwrap(), BarMass::Mod, 20, 1, 10.0, 3.0, NormKind::Exact).unwrap();
+    let r = run_level(&Level::new(b, "newmark-cn".parse().unwrap(), BarMass::Mod, 20, 10.0, 3.0).with_degree(1).with_norms(NormKind::Exact), exact.as_ref()).unwrap();
     assert_eq!(
         bits(&r.norms),
         [0x3f9a77c1b2814529, 0x3f9f88cd737d161e, 0x3fca762a1f7c9bac, 0x3fcf4d9d1bbbcab4, 0x3fc8f66c01bd78df, 0x3f79e50f2d54fa80, 0x3f866748341fdd20, 0x400844cb3d074108],
@@ -38,7 +38,7 @@ fn p1_levels_through_the_pk_path_are_bit_identical_to_the_p1_code() {
     );
     let b = Benchmark::BarNeumannGravity;
     let exact = b.exact(16.0).unwrap();
-    let r = run_level_degree(b, exact.as_ref(), "ps-e0".parse().unwrap(), BarMass::Std, 20, 1, 1.0, 16.0, NormKind::Exact).unwrap();
+    let r = run_level(&Level::new(b, "ps-e0".parse().unwrap(), BarMass::Std, 20, 1.0, 16.0).with_degree(1).with_norms(NormKind::Exact), exact.as_ref()).unwrap();
     assert_eq!(
         bits(&r.norms),
         // The V norms since the degree-2 seminorm is computed from its
@@ -132,7 +132,7 @@ fn mode_errors(k: usize, m: usize, t_end: f64) -> (f64, f64, f64) {
     let n = bar.dofs();
     let init = Initial { u: (0..n).map(|i| mode(i as f64 * h / k as f64, 0.0).0).collect(), v: vec![0.0; n] };
     let dy =
-        Dynamics { mass: bar.mass(BarMass::Std), stiffness: bar.stiffness(), load: vec![0.0; n], contacts: vec![Contact::new(0, Bounds::obstacle(-10.0), false)], forcing: Vec::new(), damping: None };
+        Dynamics::new(bar.mass(BarMass::Std), bar.stiffness(), vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(-10.0), false)]);
     let mut stepper = "newmark-cn".parse::<SchemeSpec>().unwrap().build(dy, dt, &init).unwrap();
     let g = gauss(8);
     let table = g.iter().map(|&(sg, _)| (0..=k).map(|i| basis(k, i, sg)).collect()).collect();
@@ -163,21 +163,12 @@ fn a_degree_other_than_1_2_3_is_refused_by_name() {
             other => panic!("degree {k}: {other:?}"),
         }
         let cfg =
-            StudyConfig { benchmark: b, schemes: vec!["newmark-cn".parse().unwrap()], masses: vec![BarMass::Std], levels: vec![10, 20], ratio: 10.0, t_end: 3.0, norms: NormKind::Exact, degree: k };
+            StudyConfig::new(b, vec!["newmark-cn".parse().unwrap()], vec![BarMass::Std], vec![10, 20], 10.0, 3.0).with_degree(k);
         assert!(matches!(cfg.validate(), Err(RunError::Invalid { field: "degree", .. })), "degree {k}");
     }
     // A mass treatment P2 does not define, and the P1-only GetFEM norms.
     assert!(matches!(b.problem_with_degree(exact.as_ref(), 10, BarMass::Transfer, 2), Err(RunError::Fem(FemError::MassForDegree { .. }))));
-    let cfg = StudyConfig {
-        benchmark: b,
-        schemes: vec!["newmark-cn".parse().unwrap()],
-        masses: vec![BarMass::Std],
-        levels: vec![10, 20],
-        ratio: 10.0,
-        t_end: 3.0,
-        norms: NormKind::GetfemInterpolated,
-        degree: 2,
-    };
+    let cfg = StudyConfig::new(b, vec!["newmark-cn".parse().unwrap()], vec![BarMass::Std], vec![10, 20], 10.0, 3.0).with_norms(NormKind::GetfemInterpolated).with_degree(2);
     assert!(matches!(cfg.validate(), Err(RunError::Invalid { field: "degree", .. })));
-    assert!(StudyConfig { norms: NormKind::Exact, ..cfg }.validate().is_ok());
+    assert!(cfg.with_norms(NormKind::Exact).validate().is_ok());
 }

@@ -102,7 +102,7 @@ fn dynamics(load: [f64; 2], forcing: Option<Forcing>) -> Dynamics {
     stiffness.set(0, 0, 2.0);
     stiffness.set(1, 1, 2.0);
     stiffness.set(1, 0, -1.0);
-    Dynamics { mass, stiffness, load: load.to_vec(), contacts: vec![Contact::new(0, Bounds::obstacle(0.0), false)], forcing: forcing.into_iter().collect(), damping: None }
+    Dynamics::new(mass, stiffness, load.to_vec(), vec![Contact::new(0, Bounds::obstacle(0.0), false)]).with_forcing(forcing.into_iter().collect())
 }
 
 /// An observer that wants energies and records nothing.

@@ -27,7 +27,7 @@ fn feed(obs: &mut dyn Observer, dt: f64, levels: &[Level]) -> Result<(), RunErro
         let t = n as f64 * dt;
         let lambda = (n > 0).then_some((t, l.forces[0]));
         let active = l.status.iter().any(|a| *a != Active::None);
-        obs.observe(&Sample { n, t, u: &l.u, lambda, energy: None, active, forces: &l.forces, status: &l.status, work: None })?;
+        obs.observe(&Sample::new(n, t, &l.u).with_contacts(lambda, active, &l.forces, &l.status))?;
     }
     obs.finish()
 }
@@ -411,7 +411,7 @@ fn falling_mass(k: f64, r: f64, dt: f64, t_end: f64) -> (signorini_run::Impact, 
     mass.set(0, 0, m);
     let mut stiffness = SymBand::zeros(1, 0);
     stiffness.set(0, 0, k);
-    let dy = Dynamics { mass, stiffness, load: vec![-m * g], contacts: vec![Contact::new(0, Bounds::obstacle(0.0), false)], damping: None, forcing: Vec::new() };
+    let dy = Dynamics::new(mass, stiffness, vec![-m * g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let init = Initial { u: vec![h], v: vec![0.0] };
     let mut ps = PaoliSchatzman::new("ps".into(), dy.clone(), 0.25, r, dt, &init).unwrap();
     let cfg = VibroConfig::for_dynamics(ps.dynamics(), dt, None, 0.0, 0).unwrap();
@@ -526,7 +526,7 @@ fn feed_started(obs: &mut dyn Observer, dt: f64, start: usize, levels: &[Level])
     for (n, l) in levels.iter().enumerate() {
         let t = n as f64 * dt;
         let lambda = (n >= start).then_some((t, l.forces[0]));
-        obs.observe(&Sample { n, t, u: &l.u, lambda, energy: None, active: false, forces: &l.forces, status: &l.status, work: None })?;
+        obs.observe(&Sample::new(n, t, &l.u).with_contacts(lambda, false, &l.forces, &l.status))?;
     }
     obs.finish()
 }

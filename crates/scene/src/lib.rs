@@ -99,10 +99,12 @@ use std::fmt;
 
 /// A scene error: which field, what is wrong, what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
-    /// The TOML itself (message includes line and column).
+    /// The TOML itself (message includes line and column when the error
+    /// comes from the scene's text).
     #[error("scene file: {0}")]
-    Toml(String),
+    Toml(#[source] toml::de::Error),
     /// A value out of its range or inconsistent with others.
     #[error("{field}: {message}")]
     Field {
@@ -1047,12 +1049,12 @@ impl SceneFile {
 impl SceneFile {
     /// Parses a scene (TOML syntax, unknown keys, types).
     pub fn parse(text: &str) -> Result<Self, SceneError> {
-        toml::from_str(text).map_err(|e| SceneError::Toml(e.to_string()))
+        toml::from_str(text).map_err(SceneError::Toml)
     }
 
     /// A scene from a parsed TOML document (unknown keys, types).
     pub fn from_table(doc: toml::Table) -> Result<Self, SceneError> {
-        toml::Value::Table(doc).try_into().map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))
+        toml::Value::Table(doc).try_into().map_err(SceneError::Toml)
     }
 
     /// Checks every value and builds the scene, within the machine's

@@ -18,14 +18,7 @@
 //!     k.set(i, j, v);
 //! }
 //! let lo = -0.1;
-//! let dy = Dynamics {
-//!     mass: m,
-//!     stiffness: k,
-//!     load: vec![0.0; 3],
-//!     contacts: vec![Contact::new(0, Bounds::obstacle(lo), false)],
-//!     forcing: Vec::new(),
-//!     damping: None,
-//! };
+//! let dy = Dynamics::new(m, k, vec![0.0; 3], vec![Contact::new(0, Bounds::obstacle(lo), false)]);
 //! // Mass 0 thrown down at speed 1: energy ½ · 1² = 0.5.
 //! let init = Initial { u: vec![0.0; 3], v: vec![-1.0, 0.0, 0.0] };
 //! let mut s = "ps-e0".parse::<SchemeSpec>()?.build(dy, 0.01, &init)?;
@@ -290,6 +283,7 @@ pub enum ContactLaw {
 /// One constrained dof: `lo <= u_dof <= hi`, with the contact law's
 /// per-contact parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Contact {
     /// The constrained dof.
     pub dof: usize,
@@ -311,10 +305,25 @@ impl Contact {
     pub fn new(dof: usize, bounds: Bounds, massless: bool) -> Self {
         Self { dof, bounds, massless, restitution: None, stiffness: None }
     }
+
+    /// With its own restitution coefficient (`None`: the scheme's; [`Contact::restitution`]).
+    pub fn with_restitution(mut self, restitution: Option<f64>) -> Self {
+        self.restitution = restitution;
+        self
+    }
+
+    /// With its own penalty stiffness (`None`: the scheme's; [`Contact::stiffness`]).
+    pub fn with_stiffness(mut self, stiffness: Option<f64>) -> Self {
+        self.stiffness = stiffness;
+        self
+    }
 }
 
-/// The semi-discrete problem a scheme integrates (scheme-agnostic).
+/// The semi-discrete problem a scheme integrates (scheme-agnostic):
+/// [`Dynamics::new`], then [`with_forcing`](Dynamics::with_forcing) and
+/// [`with_damping`](Dynamics::with_damping) (the fields stay public).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Dynamics {
     /// Mass matrix `M` (rows/columns of massless contacts zero).
     pub mass: SymBand,
@@ -337,6 +346,24 @@ pub struct Dynamics {
 }
 
 impl Dynamics {
+    /// `M U'' + K U = load - Σ λ_i e_{c_i}` with `contacts`: no
+    /// time-dependent load, undamped.
+    pub fn new(mass: SymBand, stiffness: SymBand, load: Vec<f64>, contacts: Vec<Contact>) -> Self {
+        Self { mass, stiffness, load, contacts, forcing: Vec::new(), damping: None }
+    }
+
+    /// With the time-dependent loads `forcing` ([`Dynamics::forcing`]).
+    pub fn with_forcing(mut self, forcing: Vec<Forcing>) -> Self {
+        self.forcing = forcing;
+        self
+    }
+
+    /// With the viscous damping matrix `C` (`None`: undamped; [`Dynamics::damping`]).
+    pub fn with_damping(mut self, damping: Option<SymBand>) -> Self {
+        self.damping = damping;
+        self
+    }
+
     /// Number of unknowns.
     pub fn n(&self) -> usize {
         self.mass.n()

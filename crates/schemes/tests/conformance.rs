@@ -51,7 +51,7 @@ fn chain(diagonal: bool, massless: bool, lo: f64) -> Dynamics {
         }
         m.set(1, 1, 0.5);
     }
-    Dynamics { mass: m, stiffness: k, load: vec![0.01; N], contacts: vec![Contact::new(0, Bounds::obstacle(lo), massless)], forcing: Vec::new(), damping: None }
+    Dynamics::new(m, k, vec![0.01; N], vec![Contact::new(0, Bounds::obstacle(lo), massless)])
 }
 
 fn init(massless: bool) -> Initial {

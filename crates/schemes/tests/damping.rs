@@ -22,14 +22,7 @@ fn oscillator(m: f64, c: f64, k: f64, forcing: Option<Sine>) -> Dynamics {
         b.set(0, 0, x);
         b
     };
-    Dynamics {
-        mass: band(m),
-        stiffness: band(k),
-        load: vec![0.0],
-        contacts: vec![Contact::new(0, Bounds::obstacle(-1e6), false)],
-        forcing: forcing.map(|s| Forcing { shape: vec![1.0], time: s.profile() }).into_iter().collect(),
-        damping: Some(band(c)),
-    }
+    Dynamics::new(band(m), band(k), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e6), false)]).with_forcing(forcing.map(|s| Forcing { shape: vec![1.0], time: s.profile() }).into_iter().collect()).with_damping(Some(band(c)))
 }
 
 /// `A^n x` for a real 2×2 `A` with complex characteristic roots `r e^{±iφ}`,

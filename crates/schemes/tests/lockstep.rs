@@ -26,14 +26,7 @@ fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial
     let l4 = LENGTH.powi(4);
     let shape = beam.load(|x| amp * omega * omega * lifting(x).0 + 8.0 * amp * K2 / l4);
     let n = beam.dofs();
-    let dy = Dynamics {
-        mass: beam.mass(),
-        stiffness: beam.stiffness(),
-        load: vec![0.0; n],
-        contacts: vec![Contact::new(beam.tip_dof(), Bounds { lo: stops.0, hi: stops.1 }, false)],
-        forcing: vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega } }],
-        damping: None,
-    };
+    let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(beam.tip_dof(), Bounds { lo: stops.0, hi: stops.1 }, false)]).with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega } }]);
     let v = beam.interpolate(|x| -amp * omega * lifting(x).0, |x| -amp * omega * lifting(x).1);
     (dy, Initial { u: vec![0.0; n], v })
 }
@@ -225,7 +218,7 @@ fn refusals_are_typed() {
             k.set(i, i - 1, -1.0);
         }
     }
-    let dy = Dynamics { mass: m, stiffness: k, load: vec![0.0; n], contacts: vec![Contact::new(0, Bounds::obstacle(0.0), false)], forcing: vec![], damping: None };
+    let dy = Dynamics::new(m, k, vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let bar = LockstepLane { dynamics: dy, initial: Initial { u: vec![0.1; n], v: vec![0.0; n] }, restitution: 0.0 };
     assert!(matches!(new(vec![bar]), SchemeError::Structure(m) if m.contains("half-bandwidth 3")));
 }

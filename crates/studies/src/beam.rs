@@ -131,7 +131,7 @@ struct SceneResult {
 
 fn run_scene(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, force: bool, t_end: f64, max_rows: usize) -> Result<SceneResult, StudyError> {
     let start = Instant::now();
-    let (mut stepper, init, beam) = build_with_units(pipe, scene, force, units).map_err(|e| StudyError::Run(format!("{}: {e}", scene.name)))?;
+    let (mut stepper, init, beam) = build_with_units(pipe, scene, force, units).map_err(|e| StudyError::failed(scene.name, e))?;
     let cfg = RunConfig::new(scene.dt, t_end)?;
     let steps = cfg.steps();
     let mut tip = Tip {
@@ -149,7 +149,7 @@ fn run_scene(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, force: bool, t
     };
     tip.energy = stepper.energy().map(|e| (e.1, e.1));
     let work0 = stepper.work().unwrap_or((0.0, 0.0));
-    run_steps(stepper.as_mut(), &init.u, &cfg, &mut [&mut tip]).map_err(|e| StudyError::Run(format!("{}: {e}", scene.name)))?;
+    run_steps(stepper.as_mut(), &init.u, &cfg, &mut [&mut tip]).map_err(|e| StudyError::failed(scene.name, e))?;
     tip.energy_last = stepper.energy().map(|e| e.1);
     tip.work = stepper.work().map(|w| (w.0 - work0.0, w.1 - work0.1));
     Ok(SceneResult { steps, tip, wall: start.elapsed().as_secs_f64() })

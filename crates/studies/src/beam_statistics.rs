@@ -130,8 +130,8 @@ pub type Output = crate::Report;
 /// Lyapunov study's scene text, validated).
 fn scene(name: &str, dt: f64, j: usize, t_end: f64) -> Result<Scene, StudyError> {
     let text = crate::lyapunov::scene_text(&crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j) }, t_end);
-    let file = SceneFile::parse(&text).map_err(|e| StudyError::Run(format!("{name}: {e}")))?;
-    file.validate_with(&Limits::machine()).map_err(|e| StudyError::Run(format!("{name}, dt = {dt:e}, J = {j}: {e}")))
+    let file = SceneFile::parse(&text).map_err(|e| StudyError::failed(name, e))?;
+    file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))
 }
 
 /// Per-batch sums over levels.
@@ -179,15 +179,15 @@ pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<(Vec
     let t0 = (a.transient * period / dt).round() * dt;
     let t_end = ((a.transient + a.window) * period / dt).round() * dt;
     let sc = scene(name, dt, j, t_end)?;
-    let mut built = sc.instantiate(None).map_err(|e| fail(e.to_string()))?;
+    let mut built = sc.instantiate(None).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))?;
     let contacts = built.contacts();
     let w = t_end - t0;
     let nb = a.batches;
     let batch_len = w / nb as f64;
-    let mut imp = ImpactObserver::<std::io::Sink>::new(&contacts, dt, Some(omega), t0, 1 << 16, None).map_err(|e| fail(e.to_string()))?;
+    let mut imp = ImpactObserver::<std::io::Sink>::new(&contacts, dt, Some(omega), t0, 1 << 16, None).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))?;
     let mut lv = Levels { t0, batch_len, dt, tip: built.tip, sums: vec![[0.0; 6]; nb] };
-    let cfg = RunConfig::new(dt, t_end).map_err(|e| fail(e.to_string()))?;
-    let steps = run_steps(built.stepper.as_mut(), &built.u0.clone(), &cfg, &mut [&mut imp, &mut lv]).map_err(|e| fail(e.to_string()))?.steps;
+    let cfg = RunConfig::new(dt, t_end).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))?;
+    let steps = run_steps(built.stepper.as_mut(), &built.u0.clone(), &cfg, &mut [&mut imp, &mut lv]).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))?.steps;
     let batch_of = |t: f64| (((t - t0) / batch_len).max(0.0) as usize).min(nb - 1);
     let mut power = vec![0.0; nb];
     let mut runs = vec![0.0; nb];

@@ -121,16 +121,7 @@ impl Config {
     /// output folder. Every check is done here, before anything is run.
     pub fn resolve(&self) -> Result<(StudyConfig, PathBuf, Vec<String>), StudyError> {
         let (ratio0, t0) = self.benchmark.default_ratio_and_horizon();
-        let mut cfg = StudyConfig {
-            benchmark: self.benchmark,
-            schemes: self.schemes.clone(),
-            masses: self.masses.clone(),
-            levels: self.levels.clone(),
-            ratio: self.ratio.unwrap_or(ratio0),
-            t_end: self.t_end.unwrap_or(t0),
-            norms: self.norms,
-            degree: self.degree,
-        };
+        let mut cfg = StudyConfig::new(self.benchmark, self.schemes.clone(), self.masses.clone(), self.levels.clone(), self.ratio.unwrap_or(ratio0), self.t_end.unwrap_or(t0)).with_norms(self.norms).with_degree(self.degree);
         cfg.validate().map_err(study_error)?;
         if let Some(keep) = self.reduce {
             if let Some(m) = cfg.masses.iter().find(|m| !m.massless_contact_node()) {

@@ -101,7 +101,7 @@ fn one(b: Benchmark, exact: &dyn ExactSolution, m: usize, taylor: bool, t_end: f
     let mut stepper: Box<dyn Stepper> = if taylor {
         Box::new(PaoliSchatzman::central_difference_taylor(label.into(), p.dynamics(), 0.0, dt, &p.initial).map_err(RunError::from)?)
     } else {
-        let spec: SchemeSpec = "taylor-flanagan".parse().map_err(|e| StudyError::Run(format!("{e}")))?;
+        let spec: SchemeSpec = "taylor-flanagan".parse().map_err(|e| StudyError::failed("", e))?;
         spec.build(p.dynamics(), dt, &p.initial).map_err(RunError::from)?
     };
     let cfg = RunConfig::new(dt, t_end)?;

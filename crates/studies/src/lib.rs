@@ -37,6 +37,7 @@ use std::path::{Path, PathBuf};
 
 /// Why a study did not run or did not finish.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StudyError {
     /// Bad input: `field` is the option as `cargo xtask` spells it
     /// (`--levels`, `--t-end`, ...); `message` is the whole message, which
@@ -48,9 +49,23 @@ pub enum StudyError {
         /// The whole message, e.g. `--t-end 3: allowed finite and >= 4.5 (...)`.
         message: String,
     },
-    /// A run failed (the message names the run where the study knows it).
+    /// A run failed, in the study's words (no error underneath: a status,
+    /// a missing result, a panic).
     #[error("{0}")]
     Run(String),
+    /// A run failed ([`signorini_run::RunError`]).
+    #[error(transparent)]
+    RunFailed(#[from] signorini_run::RunError),
+    /// A step of the study failed: `what` names the run or case, `source`
+    /// is the error underneath (a scene, a scheme, a sweep, an exact solution).
+    #[error("{what}{}{source}", if what.is_empty() { "" } else { ": " })]
+    Failed {
+        /// The run or case (empty when the error says it all).
+        what: String,
+        /// The cause.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// A file or folder could not be written.
     #[error("cannot write {}: {source}", path.display())]
     Io {
@@ -79,9 +94,11 @@ impl StudyError {
     }
 }
 
-impl From<signorini_run::RunError> for StudyError {
-    fn from(e: signorini_run::RunError) -> Self {
-        StudyError::Run(e.to_string())
+impl StudyError {
+    /// A [`StudyError::Failed`]: `source` failed in `what` (empty: the
+    /// error says it all).
+    pub fn failed(what: impl Into<String>, source: impl std::error::Error + Send + Sync + 'static) -> Self {
+        StudyError::Failed { what: what.into(), source: Box::new(source) }
     }
 }
 

@@ -194,8 +194,8 @@ struct Row {
 /// The scene of a case (for its clock): validated, not built.
 fn scene_of(case: &Case, t_end: f64) -> Result<Scene, StudyError> {
     let text = scene_text(case, t_end);
-    let file = SceneFile::parse(&text).map_err(|e| StudyError::Run(format!("{}: {e}", label(case))))?;
-    file.validate_with(&Limits::machine()).map_err(|e| StudyError::Run(format!("{}: {e}", label(case))))
+    let file = SceneFile::parse(&text).map_err(|e| StudyError::failed(label(case), e))?;
+    file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(label(case), e))
 }
 
 fn label(case: &Case) -> String {
@@ -215,7 +215,7 @@ fn run_case(a: &Config, case: &Case) -> Result<Row, StudyError> {
     let period = std::f64::consts::TAU / omega;
     let t_end = ((a.transient + a.window + 1.0) * period / dt).ceil() * dt;
     let scene = scene_of(case, t_end)?;
-    let build = || scene.instantiate(None).map_err(|e| fail(e.to_string()));
+    let build = || scene.instantiate(None).map_err(|e| StudyError::failed(&name, e));
     let (mut ra, mut rb) = (StepperFlow(build()?.stepper), StepperFlow(build()?.stepper));
     let elements = match (&scene, case) {
         (Scene::Beam { scene, .. }, _) => scene.elements,
@@ -227,15 +227,15 @@ fn run_case(a: &Config, case: &Case) -> Result<Row, StudyError> {
     let transient_steps = (a.transient * period / dt).round() as usize;
     // Both through the transient: the twin must be at the reference's time
     // level (its forcing's phase), set_state keeps the level.
-    ra.advance(transient_steps).map_err(|e| fail(e.to_string()))?;
-    rb.advance(transient_steps).map_err(|e| fail(e.to_string()))?;
+    ra.advance(transient_steps).map_err(|e| StudyError::failed(&name, e))?;
+    rb.advance(transient_steps).map_err(|e| StudyError::failed(&name, e))?;
     let intervals = ((a.window * period / dt) / interval_steps as f64).round() as usize;
     // Not counted: the first forcing period (the direction aligning).
     let cfg = Benettin { perturbation: a.perturbation, interval_steps, discard: a.per_period, intervals: intervals.max(a.batches), batches: a.batches, seed: 23 };
     // The displacement scale of the horizon: the largest |u| of a contact dof, sampled per interval.
     let mut scale = 0.0_f64;
     let mut scaled = ScaleWatch { inner: &mut ra, dofs: &contact_dofs, scale: &mut scale };
-    let r = lyapunov(&mut scaled, &mut rb, &norm, &cfg).map_err(|e| fail(e.to_string()))?;
+    let r = lyapunov(&mut scaled, &mut rb, &norm, &cfg).map_err(|e| StudyError::failed(&name, e))?;
     let horizon = predictability_horizon(r.lambda, scale, 1e-16, 1e-3);
     Ok(Row { scene: name, dt, elements, omega: matches!(case, Case::Oscillator { .. }).then_some(omega), lambda: r.lambda, ci: (r.ci.low, r.ci.high), horizon })
 }

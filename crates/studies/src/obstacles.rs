@@ -109,14 +109,14 @@ fn run_one(a: &Config, j: usize, dt: f64, base: usize, every: usize) -> Result<R
     let scene = BeamScene { name: "beam-obstacles", elements: j, dt, t_end: a.t_end, contact: BeamContact::Projection { beta: a.beta }, paper_seconds: None };
     let stops: Vec<Stop> = (1..=j).map(|i| Stop::new(i, -a.gap, a.gap)).collect();
     let start = Instant::now();
-    let (mut stepper, init, beam) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&stops)).map_err(|e| StudyError::Run(format!("J = {j}, dt = {dt}: {e}")))?;
+    let (mut stepper, init, beam) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&stops)).map_err(|e| StudyError::failed(format!("J = {j}, dt = {dt}"), e))?;
     let cfg = RunConfig::new(dt, a.t_end)?;
     let dofs: Vec<usize> = (1..=base).map(|i| node_dof(&beam, i * j / base).expect("a node")).collect();
     let node_dofs: Vec<usize> = (1..=j).map(|i| node_dof(&beam, i).expect("a node")).collect();
     let mut probe = Probe { dofs, every, samples: Vec::new(), gap: a.gap, node_dofs, max_violation: 0.0, contact_steps: 0, max_active: 0, first_contact: None };
     let e0 = stepper.energy().map(|e| e.1).unwrap_or(0.0);
     let w0 = stepper.work().unwrap_or((0.0, 0.0));
-    run_steps(stepper.as_mut(), &init.u, &cfg, &mut [&mut probe]).map_err(|e| StudyError::Run(format!("J = {j}, dt = {dt}: {e}")))?;
+    run_steps(stepper.as_mut(), &init.u, &cfg, &mut [&mut probe]).map_err(|e| StudyError::failed(format!("J = {j}, dt = {dt}"), e))?;
     let e1 = stepper.energy().map(|e| e.1).unwrap_or(0.0);
     let w1 = stepper.work().unwrap_or((0.0, 0.0));
     let balance = (e1 - e0) - ((w1.0 - w0.0) + (w1.1 - w0.1));

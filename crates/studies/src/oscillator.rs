@@ -84,8 +84,8 @@ fn impacts(text: &str, omega: f64, transient: f64, record: f64) -> Result<Vec<(f
     let mut o = SweepOptions::new("forcing.omega", omega, omega, 1);
     o.transient = transient;
     o.record = record;
-    let sweep = Sweep::new(text, "oscillator.toml", None, o, Limits::machine()).map_err(|e| StudyError::Run(e.to_string()))?;
-    let (_, scene, plan) = sweep.scene((omega, None)).map_err(|e| StudyError::Run(e.to_string()))?;
+    let sweep = Sweep::new(text, "oscillator.toml", None, o, Limits::machine()).map_err(|e| StudyError::failed("", e))?;
+    let (_, scene, plan) = sweep.scene((omega, None)).map_err(|e| StudyError::failed("", e))?;
     let rows = simulate(&scene, &plan, None, false, None);
     if rows.status != "ok" {
         return Err(StudyError::Run(format!("Ω = {omega}: {}", rows.status)));
@@ -94,7 +94,7 @@ fn impacts(text: &str, omega: f64, transient: f64, record: f64) -> Result<Vec<(f
 }
 
 fn exact(omega: f64) -> Result<ImpactOscillator, StudyError> {
-    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).map_err(|e| StudyError::Run(e.to_string()))
+    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).map_err(|e| StudyError::failed("", e))
 }
 
 /// Runs the study; `progress` after every batch of (Ω, dt) runs.

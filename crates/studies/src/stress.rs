@@ -124,7 +124,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                 let vamps: Vec<f64> = (0..6).map(|_| rng.next() - 0.5).collect();
                 let u0 = |x: f64| 0.3 + 0.2 * x + amps.iter().enumerate().map(|(k, a)| 0.1 * a * ((k + 1) as f64 * std::f64::consts::PI * x).sin()).sum::<f64>();
                 let v0 = |x: f64| -0.5 + vamps.iter().enumerate().map(|(k, a)| a * ((k + 1) as f64 * std::f64::consts::PI * x).sin()).sum::<f64>();
-                let bar = Bar::new(1.0, a.elements, 1.0, RightEnd::Free).map_err(|e| StudyError::Run(e.to_string()))?;
+                let bar = Bar::new(1.0, a.elements, 1.0, RightEnd::Free).map_err(|e| StudyError::failed("", e))?;
                 let p = BarProblem::new(bar, mass, 0.0, 0.0, u0, v0)?;
                 done += 1;
                 let dt = bar.h() / ratio;
@@ -139,7 +139,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                         refused += 1;
                         continue;
                     }
-                    Err(e) => return Err(StudyError::Run(format!("{name}/{mass} ratio {ratio}: {e}"))),
+                    Err(e) => return Err(StudyError::failed(format!("{name}/{mass} ratio {ratio}"), e)),
                 };
                 let mut en = Energy::default();
                 let start = std::time::Instant::now();
@@ -149,7 +149,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                     Ok(_) => ("ok", String::new()),
                     Err(RunError::BlowUp { step, .. }) => ("blow-up", step.to_string()),
                     Err(RunError::EnergyGrowth { step, .. }) => ("energy-growth", step.to_string()),
-                    Err(e) => return Err(StudyError::Run(format!("{name}/{mass} ratio {ratio}: {e}"))),
+                    Err(e) => return Err(StudyError::failed(format!("{name}/{mass} ratio {ratio}"), e)),
                 };
                 let cell = if status == "ok" { en.max_drift } else { f64::INFINITY };
                 if status != "ok" {

@@ -90,7 +90,7 @@ struct FigureRun {
 fn figure_run(scheme: SchemeSpec, mass: BarMass, m: usize, dt: f64, t_end: f64) -> Result<FigureRun, StudyError> {
     let exact = BarDirichlet;
     let p = Benchmark::BarDirichlet.problem(&exact, m, mass)?;
-    let mut s = scheme.build(p.dynamics(), dt, &p.initial).map_err(|e| StudyError::Run(e.to_string()))?;
+    let mut s = scheme.build(p.dynamics(), dt, &p.initial).map_err(|e| StudyError::failed("", e))?;
     let mut h = History::new(0, true);
     signorini_run::run(s.as_mut(), &p.initial.u, &RunConfig::new(dt, t_end)?, &mut [&mut h])?;
     Ok(FigureRun { scheme: scheme.to_string(), mass, m, dt, records: h.records })
@@ -170,7 +170,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         create_dir(d)?;
     }
     let start = std::time::Instant::now();
-    let schemes: Vec<SchemeSpec> = SCHEMES.iter().map(|s| s.parse().map_err(|e| StudyError::Run(format!("{e}")))).collect::<Result<_, _>>()?;
+    let schemes: Vec<SchemeSpec> = SCHEMES.iter().map(|s| s.parse().map_err(|e| StudyError::failed("", e))).collect::<Result<_, _>>()?;
     // Figure runs.
     let mut runs = Vec::new();
     for (m, dt) in RESOLUTIONS {
@@ -218,7 +218,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     tables.push(phase.finish()?);
     tables.push(energy.finish()?);
     // Convergence of every (scheme, weight) pair, as `cargo xtask convergence`.
-    let cfg = StudyConfig { benchmark: Benchmark::BarDirichlet, schemes, masses: MASSES.to_vec(), levels: vec![10, 20, 40, 80, 160, 320, 640], ratio: 10.0, t_end: 3.0, norms: Default::default(), degree: 1 };
+    let cfg = StudyConfig::new(Benchmark::BarDirichlet, schemes, MASSES.to_vec(), vec![10, 20, 40, 80, 160, 320, 640], 10.0, 3.0);
     let mut notes = Vec::new();
     let (results, _, conv_tables) = crate::convergence::sweep_into(&cfg, &a.out.join("convergence"), "convergence/", progress, &mut notes)?;
     tables.extend(conv_tables);

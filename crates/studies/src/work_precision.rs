@@ -121,7 +121,7 @@ impl Config {
         for benchmark in BARS {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
-                StudyConfig { benchmark, schemes: schemes.clone(), masses: vec![BarMass::Std], levels: self.levels.clone(), ratio: r, t_end, norms: Default::default(), degree: 1 }
+                StudyConfig::new(benchmark, schemes.clone(), vec![BarMass::Std], self.levels.clone(), r, t_end)
                     .validate()
                     .map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
             }
@@ -357,8 +357,8 @@ fn best_of_3(build: &dyn Fn() -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError
     Ok((setup, step))
 }
 
-fn run_err(e: impl std::fmt::Display) -> StudyError {
-    StudyError::Run(e.to_string())
+fn run_err(e: impl std::error::Error + Send + Sync + 'static) -> StudyError {
+    StudyError::failed("", e)
 }
 
 /// Wall times `(set-up, stepping)` of a bar level (degree `k`, the
@@ -545,7 +545,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             // Explicit schemes cannot take dt = h (their CFL limit is below it):
             // they run at dx/dt = 10 on every benchmark.
             let ratio = if scheme.is_explicit() { ratio.max(10.0) } else { ratio };
-            let cfg = StudyConfig { benchmark, schemes: vec![*scheme], masses: ok, levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: 1 };
+            let cfg = StudyConfig::new(benchmark, vec![*scheme], ok, a.levels.clone(), ratio, t_end);
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, 1, ratio, t_end, None)?;
@@ -564,7 +564,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         tick();
         let pk: Vec<SchemeSpec> = ["newmark-cn", "newmark-ii"].iter().map(|n| n.parse().map_err(run_err)).collect::<Result<_, _>>()?;
         for &k in &a.degrees {
-            let cfg = StudyConfig { benchmark, schemes: pk.clone(), masses: vec![BarMass::Std, BarMass::Mod], levels: a.levels.clone(), ratio, t_end, norms: Default::default(), degree: k };
+            let cfg = StudyConfig::new(benchmark, pk.clone(), vec![BarMass::Std, BarMass::Mod], a.levels.clone(), ratio, t_end).with_degree(k);
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
                     let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, k, ratio, t_end, None)?;
@@ -589,7 +589,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             // One level at a time (a sweep wants two levels for its rates).
             let runs: Vec<Result<(usize, study::LevelResult), StudyError>> = levels
                 .par_iter()
-                .map(|&m| Ok((m, study::run_level_reduced(benchmark, exact.as_ref(), cn, BarMass::Mod, m, 1, ratio, t_end, Default::default(), Some(Keep::Modes(r)))?)))
+                .map(|&m| Ok((m, study::run_level(&study::Level::new(benchmark, cn, BarMass::Mod, m, ratio, t_end).with_reduce(Some(Keep::Modes(r))), exact.as_ref())?)))
                 .collect();
             for run in runs {
                 let (m, l) = run?;

@@ -35,7 +35,7 @@ fn oracle(b: Benchmark, m: usize) -> f64 {
         }
     };
     let mut norms = NormObserver::new(exact.as_ref(), p.bar.elements, p.vnorm(), dt);
-    let mut see = |k: usize, u: &[f64]| norms.observe(&Sample { n: k, t: k as f64 * dt, u, lambda: None, energy: None, active: false, forces: &[], status: &[], work: None }).unwrap();
+    let mut see = |k: usize, u: &[f64]| norms.observe(&Sample::new(k, k as f64 * dt, u)).unwrap();
     let mut prev = p.initial.u.clone();
     let f0 = force(0.0, &prev);
     let mut cur: Vec<f64> = (0..n).map(|i| prev[i] + dt * p.initial.v[i] + 0.5 * dt * dt * f0[i] / mass[i]).collect();

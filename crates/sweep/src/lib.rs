@@ -23,7 +23,7 @@
 //!   impacts of the record window (the data of the impact map);
 //! * `bifurcation.svg` (Poincaré displacement against the parameter) and
 //!   `impact_map.svg` (pre-impact velocity against forcing phase);
-//! * `sweep.toml` — the manifest: the sweep's id (a hash of the scene text
+//! * `sweep.toml` — the manifest (written and read with the toml crate): the sweep's id (a hash of the scene text
 //!   and every option that changes a number), its options, and with
 //!   `--shard I/N` the shard.
 //!
@@ -39,15 +39,14 @@ use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
 use signorini_reduce::Reduction;
 use signorini_run::reduced::{Need, Reconstruct};
-use signorini_run::{Observer, RunConfig, RunError, Sample};
-use signorini_schemes::{Active, Bounds, LockstepLane, PaoliSchatzmanLockstep};
+use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, Sample};
+use signorini_schemes::{Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
 use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
 use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 /// Header of `sweep.csv`.
 pub const SWEEP_COLUMNS: &str = "param,run,t,displacement,velocity,phase";
@@ -58,6 +57,7 @@ pub const SWEEP_FILES: [&str; 6] = ["sweep.csv", "summary.csv", "impacts.csv", "
 
 /// What a sweep's command line gave that is wrong.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SweepError {
     /// An option out of range.
     #[error("--{option}: {message}")]
@@ -136,7 +136,7 @@ pub enum Error {
     },
     /// The thread pool could not be built.
     #[error("thread pool: {0}")]
-    ThreadPool(String),
+    ThreadPool(#[source] rayon::ThreadPoolBuildError),
     /// A run's rows went missing in a batch (a bug).
     #[error("a run went missing")]
     MissingRun,
@@ -234,8 +234,9 @@ fn check_axis(suffix: &'static str, from: f64, to: f64, count: usize, log: bool)
     Ok(())
 }
 
-/// The options of a sweep.
+/// The options of a sweep ([`SweepOptions::new`], then the fields).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct SweepOptions {
     /// Dotted path of the swept field.
     pub param: String,
@@ -271,8 +272,8 @@ pub struct SweepOptions {
     pub resume: bool,
     /// Threads (None: rayon's default, all cores).
     pub threads: Option<usize>,
-    /// Stop cleanly when set (keeps whole runs written).
-    pub interrupt: Option<&'static AtomicBool>,
+    /// Stop cleanly when cancelled (keeps whole runs written).
+    pub interrupt: Option<Cancel>,
 }
 
 impl SweepOptions {
@@ -514,7 +515,7 @@ impl Sweep {
     /// a sweep fails at once; [`run`] checks every value before it runs).
     pub fn new(scene_text: &str, scene_name: &str, base: Option<PathBuf>, opts: SweepOptions, limits: Limits) -> Result<Self, Error> {
         opts.validate()?;
-        let doc: toml::Table = toml::from_str(scene_text).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let doc: toml::Table = toml::from_str(scene_text).map_err(SceneError::Toml)?;
         let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
         let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}|{:016x}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow, opts.period_tol.to_bits());
         if !opts.impacts {
@@ -599,27 +600,94 @@ impl Sweep {
         Ok((file, scene, Plan { omega, dt, t_end, record_from: self.opts.transient * period, phase: self.opts.phase, period_tol: self.opts.period_tol }))
     }
 
-    /// The manifest text.
-    fn manifest(&self, shard: Option<(usize, usize)>) -> String {
+    /// The manifest of this sweep (of `shard` of it).
+    fn manifest(&self, shard: Option<(usize, usize)>) -> Manifest {
         let o = &self.opts;
-        let mut s = String::new();
-        let _ = writeln!(s, "# signorini sweep manifest: merge checks that shards share the id");
-        let _ = writeln!(s, "id = \"{}\"", self.id);
-        let _ = writeln!(s, "scene = {:?}", self.scene_name);
-        let _ = writeln!(s, "param = {:?}", o.param);
-        let _ = writeln!(s, "from = {:?}\nto = {:?}\ncount = {}\nlog = {}", o.from, o.to, o.count, o.log);
-        if let Some(a) = &o.second {
-            let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", a.param, a.from, a.to, a.count, a.log);
+        let a = o.second.as_ref();
+        Manifest {
+            id: self.id.clone(),
+            scene: self.scene_name.clone(),
+            param: o.param.clone(),
+            from: o.from,
+            to: o.to,
+            count: o.count,
+            log: o.log,
+            param2: a.map(|a| a.param.clone()),
+            from2: a.map(|a| a.from),
+            to2: a.map(|a| a.to),
+            count2: a.map(|a| a.count),
+            log2: a.map(|a| a.log),
+            transient: o.transient,
+            record: o.record,
+            phase: o.phase,
+            period_tol: o.period_tol,
+            follow: o.follow,
+            impacts: (!o.impacts).then_some(false),
+            shard: shard.map(|(i, n)| [i, n]),
+            runs: shard.map(|_| [o.runs().start, o.runs().end]),
         }
-        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nperiod_tol = {:?}\nfollow = {}", o.transient, o.record, o.phase, o.period_tol, o.follow);
-        if !o.impacts {
-            let _ = writeln!(s, "impacts = false");
-        }
-        if let Some((i, n)) = shard {
-            let r = o.runs();
-            let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{}, {}]", r.start, r.end);
-        }
-        s
+    }
+}
+
+/// The first line of `sweep.toml`.
+const MANIFEST_HEADER: &str = "# signorini sweep manifest: merge checks that shards share the id\n";
+
+/// `sweep.toml`: the sweep's id, scene and options (the second axis of a
+/// map, `impacts = false` with `--no-impacts`, and a shard's `shard` and
+/// `runs` only when they apply), written with the toml crate in this
+/// field order after [`MANIFEST_HEADER`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Manifest {
+    id: String,
+    scene: String,
+    param: String,
+    from: f64,
+    to: f64,
+    count: usize,
+    log: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    param2: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    from2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    to2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    count2: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    log2: Option<bool>,
+    transient: f64,
+    record: f64,
+    phase: f64,
+    period_tol: f64,
+    follow: bool,
+    /// `Some(false)` with `--no-impacts`; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    impacts: Option<bool>,
+    /// `[I, N]` of a shard.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    shard: Option<[usize; 2]>,
+    /// The shard's runs `[start, end)`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    runs: Option<[usize; 2]>,
+}
+
+impl Manifest {
+    /// The text of `sweep.toml`.
+    fn text(&self) -> String {
+        // Serialising a struct of numbers, strings, booleans and arrays of
+        // integers cannot fail.
+        format!("{MANIFEST_HEADER}{}", toml::to_string(self).unwrap_or_default())
+    }
+
+    /// Reads a `sweep.toml`.
+    fn parse(text: &str) -> Result<Self, toml::de::Error> {
+        toml::from_str(text)
+    }
+
+    /// Whether the runs have a second parameter (a map).
+    fn is_map(&self) -> bool {
+        self.param2.is_some()
     }
 }
 
@@ -725,14 +793,14 @@ where
     F: Fn(&Scene, &Plan, Option<&(Vec<f64>, Vec<f64>)>) -> RunRows + Sync,
 {
     let o = &sweep.opts;
-    let interrupt = o.interrupt;
+    let interrupt = o.interrupt.as_ref();
     let runs = o.runs();
     let pool = {
         let mut b = rayon::ThreadPoolBuilder::new();
         if let Some(t) = o.threads {
             b = b.num_threads(t);
         }
-        b.build().map_err(|e| Error::ThreadPool(e.to_string()))?
+        b.build().map_err(Error::ThreadPool)?
     };
     // Every value before the first run (the first invalid one in run order).
     if let Some(r) = pool.install(|| runs.clone().into_par_iter().find_first(|&r| sweep.scene(o.value(r)).is_err())) {
@@ -746,8 +814,10 @@ where
     let mut stopped = 0usize;
     if o.resume {
         let old = std::fs::read_to_string(&mpath).map_err(|e| io(&mpath, e))?;
-        if old != manifest {
-            return Err(SweepError::Folder(format!("--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out", dir.display(), manifest_id(&old).unwrap_or("?"), sweep.id)).into());
+        // The manifests compared as values (a different key, or a file that
+        // is not a manifest, is another sweep).
+        if Manifest::parse(&old).ok().as_ref() != Some(&manifest) {
+            return Err(SweepError::Folder(format!("--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out", dir.display(), manifest_id(&old).as_deref().unwrap_or("?"), sweep.id)).into());
         }
         let summary = complete_lines(&dir.join("summary.csv"))?;
         let done: Vec<usize> = summary.iter().skip(1).filter_map(|l| run_of(l)).collect();
@@ -778,7 +848,7 @@ where
         if let Some(f) = SWEEP_FILES.iter().find(|f| dir.join(f).exists()) {
             return Err(SweepError::Folder(format!("{} holds a sweep's files ({f}): pass --resume to continue that sweep, or choose another --out", dir.display())).into());
         }
-        std::fs::write(&mpath, &manifest).map_err(|e| io(&mpath, e))?;
+        std::fs::write(&mpath, manifest.text()).map_err(|e| io(&mpath, e))?;
         for (name, header) in headers(o.second.is_some(), o.impacts) {
             let p = dir.join(name);
             std::fs::write(&p, header + "\n").map_err(|e| io(&p, e))?;
@@ -792,7 +862,7 @@ where
     let mut next = first;
     let mut interrupted = false;
     while next < runs.end {
-        if o.interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+        if interrupt.is_some_and(Cancel::is_cancelled) {
             interrupted = true;
             break;
         }
@@ -882,8 +952,9 @@ where
     Ok(SweepReport { lines, runs: runs.len(), failed: stopped })
 }
 
-fn manifest_id(text: &str) -> Option<&str> {
-    text.lines().find_map(|l| l.strip_prefix("id = \"")).and_then(|r| r.strip_suffix('"'))
+/// The `id` of a manifest's text, also of one that is not this version's.
+fn manifest_id(text: &str) -> Option<String> {
+    text.parse::<toml::Table>().ok()?.get("id")?.as_str().map(str::to_string)
 }
 
 fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), Error> {
@@ -947,19 +1018,14 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     if shards.is_empty() {
         return Err(bad("merge: give the shard folders".into()));
     }
-    let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String)> = Vec::new();
+    let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String, Manifest)> = Vec::new();
     for d in shards {
         let p = d.join("sweep.toml");
         let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), io_reason(&e))))?;
-        let id = manifest_id(&text).ok_or_else(|| bad(format!("{}: no sweep id", p.display())))?.to_string();
-        let pair = |key: &str| -> Option<(usize, usize)> {
-            let l = text.lines().find_map(|l| l.strip_prefix(&format!("{key} = [")))?;
-            let (a, b) = l.trim_end_matches(']').split_once(',')?;
-            Some((a.trim().parse().ok()?, b.trim().parse().ok()?))
-        };
-        let (i, n) = pair("shard").ok_or_else(|| bad(format!("{} is not a shard (no shard = [I, N] in its sweep.toml)", d.display())))?;
-        let (r0, r1) = pair("runs").ok_or_else(|| bad(format!("{}: no runs range", p.display())))?;
-        found.push((i, n, r0, r1, d, id));
+        let m = Manifest::parse(&text).map_err(|e| bad(format!("{}: not a sweep manifest ({})", p.display(), e.message().trim_end())))?;
+        let [i, n] = m.shard.ok_or_else(|| bad(format!("{} is not a shard (no shard = [I, N] in its sweep.toml)", d.display())))?;
+        let [r0, r1] = m.runs.ok_or_else(|| bad(format!("{}: no runs range", p.display())))?;
+        found.push((i, n, r0, r1, d, m.id.clone(), m));
     }
     let (id0, n0) = (found[0].5.clone(), found[0].1);
     if let Some(f) = found.iter().find(|f| f.5 != id0) {
@@ -982,9 +1048,8 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     if let Some(f) = SWEEP_FILES.iter().find(|f| out.join(f).exists()) {
         return Err(bad(format!("{} holds a sweep's files ({f}): choose another --out", out.display())));
     }
-    let manifest0 = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
-    let map = manifest0.lines().any(|l| l.starts_with("param2 = "));
-    let impacts = !manifest0.lines().any(|l| l == "impacts = false");
+    let manifest0 = &found[0].6;
+    let (map, impacts) = (manifest0.is_map(), manifest0.impacts != Some(false));
     // Every shard's files are read and checked before anything is written:
     // the summary against the manifest's runs, the other files' rows of
     // each run against the counts its summary row gives.
@@ -1046,10 +1111,9 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     for ((name, _), text) in files.iter().zip(texts) {
         std::fs::write(out.join(name), text).map_err(|e| io(&out.join(name), e))?;
     }
-    // The unsharded manifest: the shard's without its shard lines.
-    let text = std::fs::read_to_string(found[0].4.join("sweep.toml")).map_err(|e| io(&found[0].4.join("sweep.toml"), e))?;
-    let unsharded: String = text.lines().filter(|l| !l.starts_with("shard = ") && !l.starts_with("runs = ")).map(|l| format!("{l}\n")).collect();
-    std::fs::write(out.join("sweep.toml"), unsharded).map_err(|e| io(&out.join("sweep.toml"), e))?;
+    // The unsharded manifest: the shard's without its shard and runs.
+    let unsharded = Manifest { shard: None, runs: None, ..found[0].6.clone() };
+    std::fs::write(out.join("sweep.toml"), unsharded.text()).map_err(|e| io(&out.join("sweep.toml"), e))?;
     let mut lines = vec![format!("merged {n0} shards of sweep {id0}")];
     lines.extend(plots(out)?);
     lines.push(format!("wrote {}", out.display()));
@@ -1061,7 +1125,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
 /// sweep whose runs failed is still a sweep; `signorini sweep` exits 3
 /// when there are any).
 pub fn run(sweep: &Sweep, dir: &Path, progress: &dyn Progress) -> Result<SweepReport, Error> {
-    let interrupt = sweep.opts.interrupt;
+    let interrupt = sweep.opts.interrupt.as_ref();
     let follow = sweep.opts.follow;
     sweep_report(sweep, dir, |scene, plan, start| simulate(scene, plan, start, follow, interrupt), progress)
 }
@@ -1101,7 +1165,7 @@ fn text_cell(s: &str) -> String {
 /// velocity the backward difference over the last step. A run that cannot
 /// be built or stops early gives its reason as the status, and what it
 /// recorded before.
-pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&'static AtomicBool>) -> RunRows {
+pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>, follow: bool, interrupt: Option<&Cancel>) -> RunRows {
     // A reduced model (`reduce = {…}`) runs as `signorini run` runs it: the
     // observers see the scene's unknowns, reconstructed.
     let mut built = match scene.instantiate(start) {
@@ -1120,7 +1184,7 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
         Ok(c) => c,
         Err(e) => return failed(&e),
     };
-    rc.interrupt = interrupt;
+    rc.interrupt = interrupt.cloned();
     let res = match &built.reduction {
         None => {
             let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
@@ -1221,13 +1285,12 @@ fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), Error>)]) -> Ve
 }
 
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
-/// ([`PaoliSchatzmanLockstep`]): each lane performs the single run's
-/// arithmetic, so its rows are the ones [`simulate`] writes, bit for bit;
-/// each lane feeds its own observers the samples the runner would (levels
-/// 0 and 1, then every step until its own horizon; the whole state checked
-/// for finite values every 64 steps and at the end, as the runner does).
+/// ([`PaoliSchatzmanLockstep`] stepped by [`signorini_run::run_lockstep`]):
+/// each lane performs the single run's arithmetic and feeds its observers
+/// the samples [`signorini_run::run`] would, so its rows are the ones
+/// [`simulate`] writes, bit for bit.
 /// `None` when the runs cannot share the engine (then run them one by one).
-pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
+pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     match group.len() {
         2 => lockstep_width::<2>(group, interrupt),
         3..=4 => lockstep_width::<4>(group, interrupt),
@@ -1237,7 +1300,7 @@ pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&'static A
 }
 
 /// [`simulate_lockstep`] on an engine of `L` lanes.
-fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&'static AtomicBool>) -> Option<Vec<RunRows>> {
+fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     let mut lanes = Vec::with_capacity(group.len());
     let mut tips = Vec::with_capacity(group.len());
     let (mut beta, mut dt) = (f64::NAN, f64::NAN);
@@ -1253,98 +1316,132 @@ fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&
     let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
     let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
     let mut eng = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?;
-    let c = eng.contact_dof();
-    struct Lane {
-        vib: signorini_run::vibro::Vibro,
-        u: Vec<f64>,
-        steps: usize,
-        status: Option<String>,
-        done: bool,
-    }
-    let mut ls: Vec<Lane> = Vec::with_capacity(group.len());
+    // The vibro observers read the tip and the contact only.
+    let mut need: Vec<usize> = tips.iter().copied().chain(std::iter::once(eng.contact_dof())).collect();
+    need.sort_unstable();
+    need.dedup();
+    let mut vibs = Vec::with_capacity(group.len());
+    let mut cfgs = Vec::with_capacity(group.len());
     for (k, (_, plan)) in group.iter().enumerate() {
-        let vib = observers(plan, tips[k], contacts[k].clone()).ok()?;
-        let steps = RunConfig::new(plan.dt, plan.t_end).ok()?.steps();
-        ls.push(Lane { vib, u: inits[k].clone(), steps, status: None, done: false });
+        vibs.push(observers(plan, tips[k], contacts[k].clone()).ok()?);
+        let mut rc = RunConfig::new(plan.dt, plan.t_end).ok()?;
+        rc.interrupt = interrupt.cloned();
+        cfgs.push(rc);
     }
-    let zero = [0.0];
-    let free = [Active::None];
-    // Level 0 (the initial displacement) and level 1 (the start step).
-    for (k, l) in ls.iter_mut().enumerate() {
-        let s0 = Sample { n: 0, t: 0.0, u: &inits[k], lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
-        if let Err(e) = l.vib.observe(&s0) {
-            l.status = Some(text_cell(&e.to_string()));
-            l.done = true;
-            continue;
-        }
-        eng.displacement_into(k, &mut l.u);
-        if !l.u.iter().all(|x| x.is_finite()) {
-            l.status = Some(text_cell(&RunError::BlowUp { step: 1, time: eng.time() }.to_string()));
-            l.steps = 1;
-            l.done = true;
-            continue;
-        }
-        let s1 = Sample { n: 1, t: eng.time(), u: &l.u, lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
-        if let Err(e) = l.vib.observe(&s1) {
-            l.status = Some(text_cell(&e.to_string()));
-            l.done = true;
-        }
-    }
-    let mut interrupted = false;
-    while ls.iter().any(|l| !l.done) {
-        if interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
-            interrupted = true;
-            break;
-        }
-        let level = eng.step();
-        let t = eng.time();
-        let tl = eng.lambda_time();
-        for (k, l) in ls.iter_mut().enumerate() {
-            if l.done {
-                continue;
-            }
-            if let Some(e) = eng.lane_failure(k) {
-                l.status = Some(text_cell(&RunError::from(e.clone()).to_string()));
-                l.steps = level;
-                l.done = true;
-                continue;
-            }
-            // The runner's whole-state check; between checks only the dofs
-            // the vibro observers read (the tip and the contact) are copied.
-            if level % 64 == 0 || level == l.steps {
-                eng.displacement_into(k, &mut l.u);
-                if !l.u.iter().all(|x| x.is_finite()) {
-                    l.status = Some(text_cell(&RunError::BlowUp { step: level, time: t }.to_string()));
-                    l.steps = level;
-                    l.done = true;
-                    continue;
-                }
-            } else {
-                l.u[tips[k]] = eng.value(k, tips[k]);
-                l.u[c] = eng.value(k, c);
-            }
-            let (lam, st) = ([eng.contact_force(k)], [eng.contact_status(k)]);
-            let smp = Sample { n: level, t, u: &l.u, lambda: Some((tl, lam[0])), energy: None, active: st[0] != Active::None, work: None, forces: &lam, status: &st };
-            if let Err(e) = l.vib.observe(&smp) {
-                l.status = Some(text_cell(&e.to_string()));
-                l.steps = level;
-                l.done = true;
-                continue;
-            }
-            if level >= l.steps {
-                l.done = true;
-            }
-        }
-    }
+    let ends = {
+        let mut runs: Vec<LockstepRun<'_>> = vibs.iter_mut().zip(&cfgs).zip(&inits).map(|((v, rc), u0)| LockstepRun::new(u0, rc, vec![v as &mut dyn Observer])).collect();
+        run_lockstep(&mut eng, &mut runs, &Need::Dofs(need)).ok()?
+    };
     Some(
-        ls.into_iter()
+        vibs.iter()
+            .zip(ends)
             .zip(group)
-            .map(|(mut l, (_, plan))| {
-                let _ = l.vib.finish();
-                let status = if interrupted && l.status.is_none() && !l.done { "interrupted".to_string() } else { l.status.unwrap_or_else(|| "ok".to_string()) };
-                let steps = if status == "interrupted" { 0 } else { l.steps };
-                rows_of(&l.vib, plan, steps, status, None)
+            .map(|((vib, end), (_, plan))| {
+                // What `simulate` makes of `run`'s result.
+                let (steps, status) = match &end.result {
+                    Ok(s) => (s.steps, "ok".to_string()),
+                    Err(RunError::Interrupted { .. }) => (0, "interrupted".to_string()),
+                    Err(e) => (end.level, text_cell(&e.to_string())),
+                };
+                rows_of(vib, plan, steps, status, None)
             })
             .collect(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The manifest as it was written by hand before the toml crate wrote
+    /// it (`writeln!` with `{:?}` for strings and floats).
+    fn by_hand(m: &Manifest) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "# signorini sweep manifest: merge checks that shards share the id");
+        let _ = writeln!(s, "id = \"{}\"", m.id);
+        let _ = writeln!(s, "scene = {:?}", m.scene);
+        let _ = writeln!(s, "param = {:?}", m.param);
+        let _ = writeln!(s, "from = {:?}\nto = {:?}\ncount = {}\nlog = {}", m.from, m.to, m.count, m.log);
+        if let Some(p) = &m.param2 {
+            let _ = writeln!(s, "param2 = {:?}\nfrom2 = {:?}\nto2 = {:?}\ncount2 = {}\nlog2 = {}", p, m.from2.unwrap(), m.to2.unwrap(), m.count2.unwrap(), m.log2.unwrap());
+        }
+        let _ = writeln!(s, "transient = {:?}\nrecord = {:?}\nphase = {:?}\nperiod_tol = {:?}\nfollow = {}", m.transient, m.record, m.phase, m.period_tol, m.follow);
+        if m.impacts == Some(false) {
+            let _ = writeln!(s, "impacts = false");
+        }
+        if let (Some([i, n]), Some([a, b])) = (m.shard, m.runs) {
+            let _ = writeln!(s, "shard = [{i}, {n}]\nruns = [{a}, {b}]");
+        }
+        s
+    }
+
+    fn manifest(from: f64, to: f64, scene: &str, map: bool, shard: bool) -> Manifest {
+        Manifest {
+            id: "a60189f356524119".into(),
+            scene: scene.into(),
+            param: "support.omega".into(),
+            from,
+            to,
+            count: 1000,
+            log: false,
+            param2: map.then(|| "stop.0.hi".into()),
+            from2: map.then_some(to),
+            to2: map.then_some(from),
+            count2: map.then_some(7),
+            log2: map.then_some(true),
+            transient: 20.0,
+            record: 2.5,
+            phase: from.abs().min(6.0),
+            period_tol: 0.001,
+            follow: !map,
+            impacts: map.then_some(false),
+            shard: shard.then_some([1, 4]),
+            runs: shard.then_some([250, 500]),
+        }
+    }
+
+    /// The toml crate writes what the hand-written manifest was, byte for
+    /// byte, for numbers in `[1e-4, 1e16)` in magnitude (or 0) and names
+    /// without `"` or `\` (the reference sweep's among them), and reads it
+    /// back to the same values.
+    #[test]
+    fn the_toml_manifest_is_the_hand_written_one() {
+        let floats = [4.0, 16.0, 0.0, 0.001, 0.1, 1e-4, 123456789.125, 1e15, 9.999e15, -3.5, 1.0 / 3.0, 9.5, 2.0 * std::f64::consts::PI];
+        for (k, &from) in floats.iter().enumerate() {
+            let to = floats[(k + 3) % floats.len()];
+            for scene in ["beam-fig2-support.toml", "my scene (2).toml", "é.toml", "t\tab.toml", "it's.toml"] {
+                for (map, shard) in [(false, false), (true, false), (false, true), (true, true)] {
+                    let m = manifest(from, to, scene, map, shard);
+                    assert_eq!(m.text(), by_hand(&m), "from {from:?} to {to:?} scene {scene:?} map {map} shard {shard}");
+                    assert_eq!(Manifest::parse(&m.text()).unwrap(), m);
+                }
+            }
+        }
+    }
+
+    /// Where the two differ, both are TOML for the same values: the toml
+    /// crate writes floats below 1e-4 or from 1e16 in magnitude in
+    /// positional notation (`0.00001`, `10000000000000000.0`: Rust's
+    /// `Display`, where `{:?}` wrote `1e-5`, `1e16`), and a name with `"`
+    /// or `\` as a literal string (`'a"b.toml'`) or a multi-line one,
+    /// where `{:?}` wrote Rust escapes. A folder written by hand (an older
+    /// version) still resumes and merges: it reads to the same manifest.
+    #[test]
+    fn where_the_texts_differ_the_values_do_not() {
+        let floats = [1e-5, 2.5e-7, 3e-300, f64::MIN_POSITIVE, 1e16, 1e20, 6.02e23, -1e300, f64::MAX];
+        for (k, &from) in floats.iter().enumerate() {
+            let to = floats[(k + 1) % floats.len()];
+            for scene in ["beam.toml", "a\"b.toml", "c:\\x\\s.toml", "it's \"x\".toml"] {
+                for (map, shard) in [(false, false), (true, true)] {
+                    let m = manifest(from, to, scene, map, shard);
+                    assert_ne!(m.text(), by_hand(&m));
+                    for text in [m.text(), by_hand(&m)] {
+                        let back = Manifest::parse(&text).unwrap();
+                        assert_eq!(back, m, "{text}");
+                        assert_eq!((back.from.to_bits(), back.to.to_bits()), (m.from.to_bits(), m.to.to_bits()));
+                    }
+                }
+            }
+        }
+    }
 }

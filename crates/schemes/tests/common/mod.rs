@@ -366,14 +366,7 @@ pub fn bar_scene(m: usize, mass: BarMass, free: bool, gap: f64, body: f64, forci
     let bar = Bar::new(1.0, m, 1.0, if free { RightEnd::Free } else { RightEnd::Clamped }).unwrap();
     let (mm, kk) = bar_matrices(m, mass, free);
     let load = bar_uniform_load(m, free, body);
-    let dy = Dynamics {
-        mass: bar.mass(mass),
-        stiffness: bar.stiffness(),
-        load: bar.load(|_| body),
-        contacts: vec![Contact::new(0, Bounds::obstacle(gap), mass.massless_contact_node())],
-        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect(),
-        damping: None,
-    };
+    let dy = Dynamics::new(bar.mass(mass), bar.stiffness(), bar.load(|_| body), vec![Contact::new(0, Bounds::obstacle(gap), mass.massless_contact_node())]).with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
     assert_same("bar mass", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
     for (a, b) in dy.load.iter().zip(&load) {
@@ -389,14 +382,7 @@ pub fn beam_scene(j: usize, k2: f64, lo: f64, hi: f64, shape: Vec<f64>, s: Sine)
     let beam = Beam::new(1.0, j, k2).unwrap();
     let (mm, kk) = beam_matrices(j, 1.0, k2);
     let n = 2 * j;
-    let dy = Dynamics {
-        mass: beam.mass(),
-        stiffness: beam.stiffness(),
-        load: vec![0.0; n],
-        contacts: vec![Contact::new(2 * j - 2, Bounds { lo, hi }, false)],
-        forcing: vec![Forcing { shape: shape.clone(), time: s.profile() }],
-        damping: None,
-    };
+    let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(2 * j - 2, Bounds { lo, hi }, false)]).with_forcing(vec![Forcing { shape: shape.clone(), time: s.profile() }]);
     assert_eq!(dy.stiffness.half_bandwidth(), 3, "the beam must take the banded (non-tridiagonal) path");
     assert_same("beam mass", &dy.mass, &mm);
     assert_same("beam stiffness", &dy.stiffness, &kk);
@@ -867,14 +853,7 @@ pub fn bar_stops_scene(m: usize, mass: BarMass, free: bool, stops: &[OStop], bod
     }
     let load = bar_uniform_load(m, free, body);
     let massless = mass.massless_contact_node();
-    let dy = Dynamics {
-        mass: bar.mass_with_contacts(mass, &nodes).unwrap(),
-        stiffness: bar.stiffness(),
-        load: bar.load(|_| body),
-        contacts: stops.iter().map(|s| Contact { dof: s.dof, bounds: Bounds { lo: s.lo, hi: s.hi }, massless, restitution: s.e, stiffness: s.kappa }).collect(),
-        forcing: forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect(),
-        damping: None,
-    };
+    let dy = Dynamics::new(bar.mass_with_contacts(mass, &nodes).unwrap(), bar.stiffness(), bar.load(|_| body), stops.iter().map(|s| Contact::new(s.dof, Bounds { lo: s.lo, hi: s.hi }, massless).with_restitution(s.e).with_stiffness(s.kappa)).collect()).with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
     assert_same("bar mass at the stops", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
     let s0 = stops[0];

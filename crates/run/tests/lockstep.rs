@@ -1,0 +1,183 @@
+//! `run_lockstep` keeps `run`'s sample contract lane by lane: `L` beam runs
+//! stepped in lockstep and the same runs one at a time with `run` (the
+//! reference, with the single `PaoliSchatzman` stepper) feed their
+//! observers the same samples — every field of every sample at every
+//! level, bit for bit — and end alike (summary, error, level reached),
+//! for lanes with different forcing and horizons, a lane that blows up, a
+//! lane whose observer cancels its token, a lane whose observer fails, and
+//! a partial batch. The one documented difference: the engine does not
+//! track the works, so a lockstep sample's `work` is `None`.
+
+use signorini_run::beam::Pipe;
+use signorini_run::reduced::Need;
+use signorini_run::{run, run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, RunSummary, Sample};
+use signorini_schemes::{LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+
+const DT: f64 = 5e-6;
+
+/// Every field of a sample, as bits.
+#[derive(Debug, PartialEq)]
+struct Rec {
+    n: usize,
+    t: u64,
+    u: Vec<u64>,
+    lambda: Option<(u64, u64)>,
+    energy: Option<(u64, u64)>,
+    active: bool,
+    forces: Vec<u64>,
+    status: Vec<signorini_contact::Active>,
+}
+
+/// What a lane does besides recording.
+#[derive(Clone, Copy, Debug)]
+enum Twist {
+    None,
+    /// Cancels the run's token when it sees this level.
+    CancelAt(usize),
+    /// Fails when it sees this level.
+    FailAt(usize),
+}
+
+struct Recorder {
+    recs: Vec<Rec>,
+    works: Vec<Option<(f64, f64)>>,
+    finished: usize,
+    twist: Twist,
+    cancel: Cancel,
+}
+
+impl Observer for Recorder {
+    fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let pair = |p: Option<(f64, f64)>| p.map(|(a, b)| (a.to_bits(), b.to_bits()));
+        self.recs.push(Rec { n: s.n, t: s.t.to_bits(), u: bits(s.u), lambda: pair(s.lambda), energy: pair(s.energy), active: s.active, forces: bits(s.forces), status: s.status.to_vec() });
+        self.works.push(s.work);
+        match self.twist {
+            Twist::CancelAt(n) if s.n == n => self.cancel.cancel(),
+            Twist::FailAt(n) if s.n == n => return Err(RunError::NotAllowed { field: "test", allowed: "a planted observer failure" }),
+            _ => {}
+        }
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<(), RunError> {
+        self.finished += 1;
+        Ok(())
+    }
+}
+
+/// Lane `k`: the paper's beam (J = 19) with its support motion scaled.
+fn lane(amplitude: f64, omega: f64) -> LockstepLane {
+    let p = Pipe::paper();
+    let (_, dynamics, initial) = Pipe { support: (amplitude, omega), ..p }.dynamics(19).unwrap();
+    LockstepLane { dynamics, initial, restitution: 0.0 }
+}
+
+/// What a run gave: its samples, works, finish count, and its end
+/// (summary without the wall time, or the error's text) and level.
+type Outcome = (Vec<Rec>, Vec<Option<(f64, f64)>>, usize, Result<(usize, u64, usize, bool), String>, usize);
+
+fn summary(r: Result<RunSummary, RunError>) -> Result<(usize, u64, usize, bool), String> {
+    r.map(|s| (s.steps, s.t_end.to_bits(), s.contact_steps, s.energy.is_some())).map_err(|e| e.to_string())
+}
+
+fn single(l: &LockstepLane, steps: usize, twist: Twist) -> Outcome {
+    let mut s = PaoliSchatzman::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, DT, &l.initial).unwrap();
+    let cancel = Cancel::new();
+    let cfg = RunConfig::new(DT, steps as f64 * DT).unwrap().with_interrupt(cancel.clone());
+    let mut rec = Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist, cancel };
+    let r = run(&mut s, &l.initial.u, &cfg, &mut [&mut rec]);
+    (rec.recs, rec.works, rec.finished, summary(r), s.level())
+}
+
+fn lockstep<const L: usize>(lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
+    let mut eng = PaoliSchatzmanLockstep::<L>::new(0.5, DT, lanes.to_vec()).unwrap();
+    let cancels: Vec<Cancel> = lanes.iter().map(|_| Cancel::new()).collect();
+    let cfgs: Vec<RunConfig> = steps.iter().zip(&cancels).map(|(&n, c)| RunConfig::new(DT, n as f64 * DT).unwrap().with_interrupt(c.clone())).collect();
+    let mut recs: Vec<Recorder> = twists.iter().zip(&cancels).map(|(&twist, c)| Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist, cancel: c.clone() }).collect();
+    let ends = {
+        let mut runs: Vec<LockstepRun<'_>> = recs.iter_mut().zip(&cfgs).zip(lanes).map(|((r, c), l)| LockstepRun::new(&l.initial.u, c, vec![r as &mut dyn Observer])).collect();
+        run_lockstep(&mut eng, &mut runs, need).unwrap()
+    };
+    recs.into_iter().zip(ends).map(|(r, e)| (r.recs, r.works, r.finished, summary(e.result), e.level)).collect()
+}
+
+fn check(lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], got: Vec<Outcome>) {
+    assert_eq!(got.len(), lanes.len());
+    for (k, (l, g)) in lanes.iter().zip(got).enumerate() {
+        let want = single(l, steps[k], twists[k]);
+        assert!(want.0.len() >= 2, "lane {k}: the reference recorded levels 0 and 1 at least");
+        assert_eq!(g.0.len(), want.0.len(), "lane {k}: number of samples");
+        for (a, b) in g.0.iter().zip(&want.0) {
+            assert_eq!(a, b, "lane {k}: sample at level {}", b.n);
+        }
+        // The documented difference: no works from the engine; the single
+        // run has them from level 1 on.
+        assert!(g.1.iter().all(Option::is_none), "lane {k}: lockstep works");
+        assert!(want.1[1..].iter().all(Option::is_some), "lane {k}: the single run's works");
+        assert_eq!((g.2, &g.3, g.4), (want.2, &want.3, want.4), "lane {k}: finish count, end, level");
+    }
+}
+
+#[test]
+fn lockstep_lanes_feed_their_observers_the_single_runs_samples() {
+    // Different frequencies and amplitudes, horizons on and off the
+    // 64-step checks; one lane cancelled by its observer, one that fails.
+    let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
+    let steps = [700, 640, 1000, 333];
+    let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
+    let got = lockstep::<4>(&lanes, &steps, &twists, &Need::Full);
+    assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
+    assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
+    assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
+    check(&lanes, &steps, &twists, got);
+}
+
+#[test]
+fn a_lane_that_blows_up_stops_where_its_single_run_does_in_a_partial_batch() {
+    // Five lanes on an engine of eight; lanes 1 and 3 blow up.
+    let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
+    let steps = [500; 5];
+    let twists = [Twist::None; 5];
+    let got = lockstep::<8>(&lanes, &steps, &twists, &Need::Full);
+    for k in [1, 3] {
+        assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
+        assert!(got[k].4 < 500, "lane {k} stopped early");
+    }
+    check(&lanes, &steps, &twists, got);
+}
+
+#[test]
+fn with_a_few_dofs_needed_those_dofs_are_the_single_runs() {
+    let lanes: Vec<LockstepLane> = (0..2).map(|k| lane(0.2, 10.0 + k as f64)).collect();
+    let steps = [300, 300];
+    let twists = [Twist::None; 2];
+    let tip = lanes[0].dynamics.contacts[0].dof;
+    let got = lockstep::<2>(&lanes, &steps, &twists, &Need::Dofs(vec![tip]));
+    for (l, g) in lanes.iter().zip(got) {
+        let want = single(l, 300, Twist::None);
+        assert_eq!(g.0.len(), want.0.len());
+        for (a, b) in g.0.iter().zip(&want.0) {
+            assert_eq!((a.n, a.t, a.u[tip], a.lambda, a.active), (b.n, b.t, b.u[tip], b.lambda, b.active));
+        }
+        assert_eq!(g.3, want.3);
+    }
+}
+
+#[test]
+fn observers_that_want_the_energy_are_refused() {
+    struct Wants;
+    impl Observer for Wants {
+        fn wants_energy(&self) -> bool {
+            true
+        }
+        fn observe(&mut self, _: &Sample<'_>) -> Result<(), RunError> {
+            Ok(())
+        }
+    }
+    let l = lane(0.2, 10.0);
+    let mut eng = PaoliSchatzmanLockstep::<2>::new(0.5, DT, vec![l.clone()]).unwrap();
+    let cfg = RunConfig::new(DT, 100.0 * DT).unwrap();
+    let mut w = Wants;
+    let mut runs = vec![LockstepRun::new(&l.initial.u, &cfg, vec![&mut w as &mut dyn Observer])];
+    assert!(matches!(run_lockstep(&mut eng, &mut runs, &Need::Full), Err(RunError::NotAllowed { field: "energy", .. })));
+}
