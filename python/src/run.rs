@@ -32,7 +32,7 @@ struct Recorder {
 impl Recorder {
     fn new(tip: usize, dofs: Vec<usize>, energy: bool, every: usize, levels: usize, unknowns: usize) -> Self {
         let c = dofs.len();
-        let f = if every > 0 { levels / every + 1 } else { 0 };
+        let f = levels.checked_div(every).map_or(0, |q| q + 1);
         Self {
             tip,
             energy,
@@ -115,7 +115,7 @@ pub struct RunArrays {
 }
 
 fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>>> {
-    let rows = if cols == 0 { 0 } else { v.len() / cols };
+    let rows = v.len().checked_div(cols).unwrap_or(0);
     let a = Array2::from_shape_vec((rows, cols), v).map_err(|e| InternalError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py).unbind())
 }

@@ -382,8 +382,11 @@ fn courant1(data: &Path) -> Result<String, String> {
 }
 
 /// Rows grouped by (scheme, mass) in file order.
-fn grouped<'a>(t: &'a Table, keys: &[&str]) -> Result<Vec<(Vec<String>, Vec<BTreeMap<&'a str, &'a str>>)>, String> {
-    let mut by: Vec<(Vec<String>, Vec<BTreeMap<&str, &str>>)> = Vec::new();
+/// Rows of a table grouped by the values of some columns.
+type Group<'a> = (Vec<String>, Vec<BTreeMap<&'a str, &'a str>>);
+
+fn grouped<'a>(t: &'a Table, keys: &[&str]) -> Result<Vec<Group<'a>>, String> {
+    let mut by: Vec<Group<'a>> = Vec::new();
     for r in t.records() {
         let k = keys.iter().map(|k| get(&r, k).map(String::from)).collect::<Result<Vec<_>, _>>()?;
         match by.iter_mut().find(|(o, _)| *o == k) {

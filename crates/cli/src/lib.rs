@@ -270,12 +270,15 @@ fn create(dir: &Path, name: &str) -> Result<File, CliError> {
     File::create(&p).map_err(|source| CliError::Write { path: p, source })
 }
 
+/// One plotted level: `(t, u_c)`, `(t, λ)` when stepped, `(t, E)` when computed.
+type PlotPoint = (f64, f64, Option<(f64, f64)>, Option<(f64, f64)>);
+
 /// A decimated copy of the contact-dof history for the plots, and the
 /// largest |u_c| over every level.
 struct PlotData {
     every: usize,
     dof: usize,
-    points: Vec<(f64, f64, Option<(f64, f64)>, Option<(f64, f64)>)>,
+    points: Vec<PlotPoint>,
     max_abs: f64,
     /// Several contacts: every contact's force.
     forces: Option<ForcePlot>,

@@ -186,6 +186,8 @@ fn say(text: &str) {
     let _ = std::io::stdout().write_all(text.as_bytes());
 }
 
+// The closure's error is the command's `CliError`, returned once.
+#[allow(clippy::result_large_err)]
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: Result<(), CliError> = (|| match cli.cmd {

@@ -206,7 +206,7 @@ fn bad_stops_and_obstacles_name_field_and_value() {
         (bar("", "0.1", "[obstacle]\nhi = \"0.05 + 0 * x\"\n"), "obstacle.hi", vec!["0.05", "x = 0 ", "u0 = 0.1"]),
         (bar("", "\"x\"", "[obstacle]\nlo = \"-x\"\nhi = \"x / 2\"\n"), "obstacle.hi", vec!["0.05", "x = 0.1", "u0 = 0.1"]),
         (bar("", "0.0", &format!("{}[obstacle]\nhi = 0.1\n", stop("0.3", "lo = 0.2"))), "stop.0.lo", vec!["0.2", "obstacle.hi = 0.1", "x = 0.3"]),
-        (format!("[beam]\nscene = \"fig2\"\n[obstacle]\nlo = 0.05\n"), "obstacle.lo", vec!["0.05", "u0 = 0", "below"]),
+        ("[beam]\nscene = \"fig2\"\n[obstacle]\nlo = 0.05\n".to_string(), "obstacle.lo", vec!["0.05", "u0 = 0", "below"]),
         // Obstacle expressions that fail or are not finite at a node.
         (bar("", "0.0", "[obstacle]\nlo = \"y - 1\"\n"), "obstacle.lo", vec!["y - 1"]),
         (bar("", "0.0", "[obstacle]\nlo = \"-1/x\"\n"), "obstacle.lo", vec!["-inf", "x = 0", "finite at every node"]),

@@ -146,7 +146,7 @@ fn bad_excitations_name_the_field() {
         let o = bin().args(["check", scene.to_str().unwrap()]).output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{text}: {err}");
-        assert!(err.contains(&format!("{field}")), "{text}: {err}");
+        assert!(err.contains(field), "{text}: {err}");
     }
 }
 

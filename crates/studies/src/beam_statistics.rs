@@ -201,7 +201,7 @@ pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<(Vec
         ep_impulse[b] += e.2;
     };
     let mut list: Vec<_> = imp.impacts().to_vec();
-    list.sort_by(|x, y| x.first_level.cmp(&y.first_level));
+    list.sort_by_key(|x| x.first_level);
     for i in &list {
         let b = batch_of(i.t);
         if i.velocity.is_finite() {

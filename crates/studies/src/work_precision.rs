@@ -344,7 +344,12 @@ fn exact_release(exact: &dyn signorini_exact::ExactSolution, t_end: f64) -> Opti
 
 /// Wall times `(set-up, stepping)` of the runs of a stepper that `build`
 /// makes (the set-up is `build` itself), no observers, each the best of 3.
-fn best_of_3(build: &dyn Fn() -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError>, dt: f64, t_end: f64) -> Result<(f64, f64), StudyError> {
+/// A stepper ready to run and its initial displacement.
+type Built = (Box<dyn Stepper>, Vec<f64>);
+/// The same and the beam's unknowns.
+type BuiltBeam = (Box<dyn Stepper>, Vec<f64>, usize);
+
+fn best_of_3(build: &dyn Fn() -> Result<Built, StudyError>, dt: f64, t_end: f64) -> Result<(f64, f64), StudyError> {
     let (mut setup, mut step) = (f64::INFINITY, f64::INFINITY);
     for _ in 0..3 {
         let start = std::time::Instant::now();
@@ -444,7 +449,7 @@ impl Tip {
 }
 
 /// A beam configuration: `modes` 0 for the full model.
-fn beam_build(dt: f64, t_end: f64, modes: usize) -> Result<(Box<dyn Stepper>, Vec<f64>, usize), StudyError> {
+fn beam_build(dt: f64, t_end: f64, modes: usize) -> Result<BuiltBeam, StudyError> {
     let scene = BeamScene { dt, t_end, contact: BeamContact::Projection { beta: 0.5 }, ..BeamScene::PAPER[0] };
     let (pipe, exc) = (Pipe::paper(), BeamExcitation::default());
     if modes == 0 {
@@ -529,7 +534,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         m: l.m,
         dt: l.dt,
         steps: l.steps,
-        norms: Some(l.norms.clone()),
+        norms: Some(l.norms),
         release_err: Some(release_error(l.first_release, release_of(b))),
         wall,
         setup,

@@ -48,6 +48,15 @@ use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// A run's value(s): the first axis's, and the second's on a map.
+type Values = (f64, Option<f64>);
+/// A validated scene at a value and its clock.
+type ScenePlan = (Scene, Plan);
+/// A run of a batch: its index, value(s) and scene (or why it has none).
+type Prepared = (usize, Values, Result<ScenePlan, Error>);
+/// A displacement and velocity to start a run from (a followed sweep).
+type StartState = (Vec<f64>, Vec<f64>);
+
 /// Header of `sweep.csv`.
 pub const SWEEP_COLUMNS: &str = "param,run,t,displacement,velocity,phase";
 /// Header of `impacts.csv` in a sweep folder.
@@ -867,7 +876,7 @@ where
             break;
         }
         let end = (next + batch).min(runs.end);
-        let results: Vec<(usize, (f64, Option<f64>), Result<RunRows, Error>)> = if o.follow {
+        let results: Vec<(usize, Values, Result<RunRows, Error>)> = if o.follow {
             // One run at a time, each from the last one's state.
             let i = next;
             let v = o.value(i);
@@ -878,7 +887,7 @@ where
             vec![(i, v, r)]
         } else {
             pool.install(|| {
-                let prepared: Vec<(usize, (f64, Option<f64>), Result<(Scene, Plan), Error>)> = (next..end).into_par_iter().map(|i| (i, o.value(i), sweep.scene(o.value(i)).map(|(_, s, p)| (s, p)))).collect();
+                let prepared: Vec<Prepared> = (next..end).into_par_iter().map(|i| (i, o.value(i), sweep.scene(o.value(i)).map(|(_, s, p)| (s, p)))).collect();
                 let jobs = lockstep_jobs(&prepared);
                 let done: Vec<Vec<(usize, RunRows)>> = jobs
                     .into_par_iter()
@@ -904,7 +913,7 @@ where
                 for (k, r) in done.into_iter().flatten() {
                     rows[k] = Some(r);
                 }
-                prepared.into_iter().zip(rows).map(|((i, v, p), r)| (i, v, p.and_then(|_| r.ok_or_else(|| Error::MissingRun)))).collect()
+                prepared.into_iter().zip(rows).map(|((i, v, p), r)| (i, v, p.and_then(|_| r.ok_or(Error::MissingRun)))).collect()
             })
         };
         let (mut sw, mut im, mut su) = (String::new(), String::new(), String::new());
@@ -966,7 +975,7 @@ fn write_state(p: &Path, state: Option<&(Vec<f64>, Vec<f64>)>) -> Result<(), Err
     std::fs::write(p, s).map_err(|e| io(p, e))
 }
 
-fn read_state(p: &Path) -> Result<Option<(Vec<f64>, Vec<f64>)>, Error> {
+fn read_state(p: &Path) -> Result<Option<StartState>, Error> {
     let text = std::fs::read_to_string(p).map_err(|e| io(p, e))?;
     let mut lines = text.lines();
     let parse = |l: Option<&str>| -> Option<Vec<f64>> { l.map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()) };
@@ -1264,7 +1273,7 @@ fn lockstep_beta(scene: &Scene) -> Option<f64> {
 
 /// The batch's runs as jobs: consecutive lockstep-able runs in groups of up
 /// to [`LANES`], every other run alone (indices into `prepared`).
-fn lockstep_jobs<T>(prepared: &[(usize, T, Result<(Scene, Plan), Error>)]) -> Vec<Vec<usize>> {
+fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]) -> Vec<Vec<usize>> {
     let mut jobs: Vec<Vec<usize>> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
     for (k, p) in prepared.iter().enumerate() {
