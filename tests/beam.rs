@@ -218,7 +218,9 @@ fn penalty_force_law() {
     }
     assert!(active > 100 && max_excess > 1e-5, "{active} penalty steps, max excess {max_excess}");
     assert!(matches!(
-        OneStep::new("pen".into(), Pipe::paper().dynamics(3).unwrap().1, OneStepParams::newmark(0.25, 0.5), 1e-5, &Pipe::paper().dynamics(3).unwrap().2).unwrap().with_contact_law(ContactLaw::Penalty { stiffness: -1.0 }),
+        OneStep::new("pen".into(), Pipe::paper().dynamics(3).unwrap().1, OneStepParams::newmark(0.25, 0.5), 1e-5, &Pipe::paper().dynamics(3).unwrap().2)
+            .unwrap()
+            .with_contact_law(ContactLaw::Penalty { stiffness: -1.0 }),
         Err(signorini::schemes::SchemeError::Invalid { field: "penalty stiffness", .. })
     ));
 }

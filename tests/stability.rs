@@ -154,4 +154,3 @@ fn bar_ps_beta_below_a_quarter() {
     let pm = BarProblem::new(Bar::new(1.0, m, 1.0, RightEnd::Clamped).unwrap(), BarMass::Mod, 0.0, 0.0, |x| 0.5 * (1.0 - x), |_| 0.0).unwrap();
     assert!(matches!(SchemeSpec::ps(0.0, 0.1).build(pm.dynamics(), h, &pm.initial), Err(SchemeError::MassNotSupported { .. })));
 }
-

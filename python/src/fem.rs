@@ -131,9 +131,7 @@ pub fn bar_matrices(elements: i64, mass: &str, length: f64, wave_speed: f64, rig
     if !(1..=3).contains(&degree) {
         return Err(SceneError::new_err(format!("degree: {degree} is out of range: 1, 2 or 3 (Lagrange P1, P2, P3)")));
     }
-    let bar = Bar::new(positive("length", length)?, m, positive("wave_speed", wave_speed)?, end)
-        .and_then(|b| b.with_degree(degree as usize))
-        .map_err(|e| SceneError::new_err(e.to_string()))?;
+    let bar = Bar::new(positive("length", length)?, m, positive("wave_speed", wave_speed)?, end).and_then(|b| b.with_degree(degree as usize)).map_err(|e| SceneError::new_err(e.to_string()))?;
     bar.check_mass(variant).map_err(|e| SceneError::new_err(format!("mass: {e}")))?;
     let nodes = contacts.unwrap_or_else(|| vec![0]);
     let mut ns = Vec::with_capacity(nodes.len());

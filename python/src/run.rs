@@ -138,8 +138,8 @@ fn python_status(e: &RunError) -> String {
 #[pyo3(signature = (scene, energy=None, fields_every=0, energy_warn=None))]
 pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64, energy_warn: Option<f64>) -> PyResult<RunArrays> {
     use signorini_run::reduced::{Need, Reconstruct};
-    use signorini_scene::Scene;
     use signorini_run::{run, Cancel, NormObserver, RunConfig};
+    use signorini_scene::Scene;
     if fields_every < 0 {
         return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
     }

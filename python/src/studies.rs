@@ -142,9 +142,7 @@ impl<'py> Args<'_, 'py> {
         self.take(key)?.map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| self.float(&format!("{key}[{i}]"), x)).collect()).transpose()
     }
     fn strs(&self, key: &str) -> PyResult<Option<Vec<String>>> {
-        self.take(key)?
-            .map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| x.extract::<String>().map_err(|_| self.bad(&format!("{key}[{i}]"), x, "a string"))).collect())
-            .transpose()
+        self.take(key)?.map(|v| self.list(key, &v)?.iter().enumerate().map(|(i, x)| x.extract::<String>().map_err(|_| self.bad(&format!("{key}[{i}]"), x, "a string"))).collect()).transpose()
     }
     fn str(&self, key: &str) -> PyResult<Option<String>> {
         self.take(key)?.map(|v| v.extract::<String>().map_err(|_| self.bad(key, &v, "a string"))).transpose()
@@ -343,6 +341,8 @@ pub fn study<'py>(py: Python<'py>, name: &str, kwargs: &Bound<'py, PyDict>, out:
             let o = detached(py, || st::beam_statistics::run(&c, &none))?;
             output_py(py, &o.tables, &o.report, o.wall_s, &o.notes, &out)
         }
-        other => Err(SceneError::new_err(format!("study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress, courant1, long_horizon, lyapunov, beam_statistics"))),
+        other => Err(SceneError::new_err(format!(
+            "study: {other:?} is not one of convergence, weighted, beam, beam_obstacles, oscillator, work_precision, stress, courant1, long_horizon, lyapunov, beam_statistics"
+        ))),
     }
 }

@@ -370,12 +370,7 @@ impl BarMatrices {
 // Quadrature of the space errors
 
 /// 4-point Gauss–Lobatto nodes `(1 ∓ 1/√5)/2` (and the ends) on `[0, 1]`, weights (exact to degree 5).
-const LOBATTO: [(f64, f64); 4] = [
-    (0.0, 1.0 / 12.0),
-    (0.276_393_202_250_021, 5.0 / 12.0),
-    (0.723_606_797_749_978_9, 5.0 / 12.0),
-    (1.0, 1.0 / 12.0),
-];
+const LOBATTO: [(f64, f64); 4] = [(0.0, 1.0 / 12.0), (0.276_393_202_250_021, 5.0 / 12.0), (0.723_606_797_749_978_9, 5.0 / 12.0), (1.0, 1.0 / 12.0)];
 
 /// A piece is affine when `e` at the two inner Lobatto nodes is within this
 /// of its chord. The values are `O(1)` and carry a few ulps (`~1e-16`) of
@@ -704,16 +699,7 @@ fn measure(us: &[Vec<f64>], lambdas: &[(usize, f64)], energies: &[(usize, f64)],
     for &(_, e) in energies {
         en.push(e - EXACT_ENERGY);
     }
-    Norms {
-        linf_l2_u: l2.max,
-        l2_l2_u: l2.l2(dt),
-        linf_v_u: v.max,
-        l2_v_u: v.l2(dt),
-        l2_lambda: lam.l2(dt),
-        linf_energy: en.max,
-        l2_energy: en.l2(dt),
-        lambda_tv_ratio: tv_h / tv_exact,
-    }
+    Norms { linf_l2_u: l2.max, l2_l2_u: l2.l2(dt), linf_v_u: v.max, l2_v_u: v.l2(dt), l2_lambda: lam.l2(dt), linf_energy: en.max, l2_energy: en.l2(dt), lambda_tv_ratio: tv_h / tv_exact }
 }
 
 // ---------------------------------------------------------------------------

@@ -185,15 +185,7 @@ pub fn generate(root: &Path) -> Result<Vec<(String, String)>, String> {
     Ok(out)
 }
 
-const NORMS: [(&str, &str); 7] = [
-    ("linf_l2_u", "L∞(L²)"),
-    ("l2_l2_u", "L²(L²)"),
-    ("linf_v_u", "L∞(V)"),
-    ("l2_v_u", "L²(V)"),
-    ("l2_lambda", "L²(λ)"),
-    ("linf_energy", "L∞(E)"),
-    ("l2_energy", "L²(E)"),
-];
+const NORMS: [(&str, &str); 7] = [("linf_l2_u", "L∞(L²)"), ("l2_l2_u", "L²(L²)"), ("linf_v_u", "L∞(V)"), ("l2_v_u", "L²(V)"), ("l2_lambda", "L²(λ)"), ("linf_energy", "L∞(E)"), ("l2_energy", "L²(E)")];
 
 /// (scheme, mass) pairs in file order, and rate[(scheme, mass, norm)].
 type Rates = (Vec<(String, String)>, BTreeMap<(String, String, String), f64>);
@@ -255,9 +247,8 @@ fn falling_bar(data: &Path) -> Result<String, String> {
     let (pairs, r1) = rates(&data.join("bar-neumann-gravity-ratio1"))?;
     let (_, r10) = rates(&data.join("bar-neumann-gravity-ratio10"))?;
     let (_, r011) = rates(&data.join("bar-neumann-gravity-0.11-ratio1"))?;
-    let mut s = md_head(&[
-        "scheme", "mass", "dx/dt = 1: L∞(L²)", "L²(L²)", "**L∞(H¹)**", "**L²(H¹)**", "L∞(E)", "dx/dt = 10: L∞(L²)", "**L∞(H¹)**", "**L²(H¹)**", "L∞(E)", "g = 0.11, dx/dt = 1: **L∞(H¹)**",
-    ]);
+    let mut s =
+        md_head(&["scheme", "mass", "dx/dt = 1: L∞(L²)", "L²(L²)", "**L∞(H¹)**", "**L²(H¹)**", "L∞(E)", "dx/dt = 10: L∞(L²)", "**L∞(H¹)**", "**L²(H¹)**", "L∞(E)", "g = 0.11, dx/dt = 1: **L∞(H¹)**"]);
     for (sc, ma) in pairs.iter().filter(|p| ["std", "mod", "mod3"].contains(&p.1.as_str())) {
         let mut row = vec![sc.clone(), ma.clone()];
         for n in ["linf_l2_u", "l2_l2_u", "linf_v_u", "l2_v_u", "linf_energy"] {
@@ -501,10 +492,7 @@ fn beam_statistics(data: &Path) -> Result<String, String> {
                     js.push(r["elements"]);
                 }
             }
-            let heads: Vec<String> = js
-                .iter()
-                .map(|j| format!("J = {j}: dt = {}", rows.iter().filter(|r| r["elements"] == *j).map(|r| r["dt"]).collect::<Vec<_>>().join(" / ")))
-                .collect();
+            let heads: Vec<String> = js.iter().map(|j| format!("J = {j}: dt = {}", rows.iter().filter(|r| r["elements"] == *j).map(|r| r["dt"]).collect::<Vec<_>>().join(" / "))).collect();
             let mut head = vec!["statistic"];
             head.extend(heads.iter().map(String::as_str));
             head.extend(["interval (±)", "largest difference to the finest", "kind"]);

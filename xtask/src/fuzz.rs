@@ -60,7 +60,8 @@ fn config(a: &Args) -> Result<Config, String> {
 /// The shipped scenes, sorted by file name.
 fn shipped_scenes() -> Result<Vec<String>, String> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/scenes");
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut paths: Vec<PathBuf> =
+        std::fs::read_dir(&dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
     paths.sort();
     paths.iter().map(|p| std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))).collect()
 }

@@ -25,15 +25,15 @@
 
 mod beam;
 mod beam_statistics;
+mod courant1;
 mod docs;
 mod fuzz;
+mod long_horizon;
+mod lyapunov;
 mod obstacles;
 mod oscillator;
 mod pytest;
 mod scene_keys;
-mod courant1;
-mod long_horizon;
-mod lyapunov;
 mod stress;
 mod weighted;
 mod wp;

@@ -1,6 +1,9 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
 //! workspace's (`cargo test --workspace --release`, the Python crate
-//! excluded: maturin builds it with its own environment), then the Python
+//! excluded: maturin builds it with its own environment), then the lints
+//! with warnings denied (`cargo fmt --check`, `cargo clippy --workspace
+//! --all-targets -- -D warnings`, `cargo doc --workspace --no-deps` with
+//! `RUSTDOCFLAGS=-D warnings`), then the Python
 //! package built by maturin into a virtual environment this command creates
 //! (`target/py-venv`, with maturin, numpy, pytest, dask.distributed (the
 //! scale-out test) and matplotlib (the examples) from the package index)
@@ -105,7 +108,10 @@ fn minutes(s: f64) -> String {
 
 fn machine() -> String {
     let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0);
-    let cpu = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|c| c.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_string())).unwrap_or_else(|| "unknown CPU".into());
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|c| c.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_string()))
+        .unwrap_or_else(|| "unknown CPU".into());
     format!("{cores} cores ({cpu})")
 }
 
@@ -145,6 +151,15 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
     Ok(())
 }
 
+/// The workspace's lints, warnings denied: formatting (`rustfmt.toml`),
+/// clippy on every target (`[workspace.lints]` in Cargo.toml), and the API
+/// docs (broken intra-doc links, bad HTML).
+fn lints(cargo: &str, root: &Path) -> Result<(), String> {
+    run(Command::new(cargo).current_dir(root).args(["fmt", "--all", "--check"]), "cargo fmt --check (run `cargo fmt --all`)")?;
+    run(Command::new(cargo).current_dir(root).args(["clippy", "--workspace", "--all-targets", "--release", "--", "-D", "warnings"]), "cargo clippy -D warnings")?;
+    run(Command::new(cargo).current_dir(root).env("RUSTDOCFLAGS", "-D warnings").args(["doc", "--workspace", "--no-deps", "--release"]), "cargo doc (warnings denied)")
+}
+
 /// `cargo xtask test`.
 pub fn run_tests(a: Args) -> Result<(), String> {
     let start = Instant::now();
@@ -158,12 +173,17 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("convergence-"))).unwrap_or(false);
     let mut rec = Record::default();
     if !a.python_only {
-        let lines = rec.time("Rust: build and run the tests", || run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py"]), "cargo test", a.record))?;
+        let lines = rec.time("Rust: build and run the tests", || {
+            run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py"]), "cargo test", a.record)
+        })?;
         for l in lines.iter().filter(|l| l.starts_with("test result:")) {
             rec.rust.0 += count(l, "passed");
             rec.rust.1 += count(l, "failed");
             rec.rust.2 += count(l, "ignored");
         }
+    }
+    if !a.python_only {
+        rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings`", || lints(&cargo, &root))?;
     }
     rec.time("Python: the environment and the packages", || {
         if !py.exists() {
@@ -177,11 +197,12 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     rec.time("Python: build and install the wheel, build the command", || {
         let wheels = target.join("wheels");
         let _ = std::fs::remove_dir_all(&wheels);
-        run(
-            Command::new(venv.join("bin/maturin")).current_dir(&root).args(["build", "--release", "-m", "python/Cargo.toml", "-i"]).arg(&py).arg("-o").arg(&wheels),
-            "maturin build",
-        )?;
-        let wheel = std::fs::read_dir(&wheels).map_err(|e| format!("{}: {e}", wheels.display()))?.filter_map(|e| e.ok().map(|e| e.path())).find(|p| p.extension().is_some_and(|x| x == "whl")).ok_or("maturin wrote no wheel")?;
+        run(Command::new(venv.join("bin/maturin")).current_dir(&root).args(["build", "--release", "-m", "python/Cargo.toml", "-i"]).arg(&py).arg("-o").arg(&wheels), "maturin build")?;
+        let wheel = std::fs::read_dir(&wheels)
+            .map_err(|e| format!("{}: {e}", wheels.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.extension().is_some_and(|x| x == "whl"))
+            .ok_or("maturin wrote no wheel")?;
         run(Command::new(&py).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel), "pip install the wheel")?;
         // The tests compare with the `signorini` command's files: build it (a
         // no-op after `cargo test`) and tell them where it is.
@@ -189,7 +210,12 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     })?;
     let lines = rec.time("Python: the tests", || {
         run_capture(
-            Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", std::env::current_exe().unwrap_or_default()).args(["-m", "pytest", "-q", "python/tests"]),
+            Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", std::env::current_exe().unwrap_or_default()).args([
+                "-m",
+                "pytest",
+                "-q",
+                "python/tests",
+            ]),
             "pytest",
             a.record,
         )

@@ -58,19 +58,20 @@ pub use signorini_scene::excitation;
 pub use signorini_sweep as sweep;
 
 pub use scene::{check_report, energy_warning, CheckReport};
-use scene::{io_reason as reason, output_estimate, sig12, sig6, free_space, BarRun, ContactSet, Scene, SceneFile};
+use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, BarRun, ContactSet, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
 use signorini_run::beam::PenaltyUnits;
 use signorini_run::reduced::{Need, Reconstruct};
-use signorini_schemes::TimeProfile;
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
 use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
+use signorini_schemes::TimeProfile;
 use std::fs::File;
 use std::io::Write;
 use std::path::Path;
 
 /// Every file `signorini run` writes.
-pub const OUTPUT_FILES: [&str; 13] = ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg"];
+pub const OUTPUT_FILES: [&str; 13] =
+    ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg"];
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]
@@ -384,7 +385,14 @@ fn plot_forces(notes: &mut Vec<String>, dir: &Path, set: &ContactSet, forces: &F
             let cols: Vec<String> = (0..MAP_BINS).map(|b| if b % 10 == 0 { format!("{:.3}", t_end * b as f64 / MAP_BINS as f64) } else { String::new() }).collect();
             let values: Vec<Vec<f64>> = cells.chunks(MAP_BINS).map(<[f64]>::to_vec).collect();
             let height = (120 + 14 * k).clamp(400, 2400) as u32;
-            heat_map(&format!("contact forces λ_i{unit}: contact i (rows) against t (columns); blue lowest, red highest (largest |λ_i| in each time bin)"), &rows, &cols, &values, false, (1100, height))
+            heat_map(
+                &format!("contact forces λ_i{unit}: contact i (rows) against t (columns); blue lowest, red highest (largest |λ_i| in each time bin)"),
+                &rows,
+                &cols,
+                &values,
+                false,
+                (1100, height),
+            )
         }
     }
     .and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
@@ -566,7 +574,12 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
             let mut vib = Analysis::new(scene_file, out, sim.stepper.dynamics(), 0, *dt, *t_end, *omega)?;
             let mut prog = progress(steps, opts.progress);
             let start = std::time::Instant::now();
-            let res = run_observed(&mut sim, &cfg, vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)], [vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))]);
+            let res = run_observed(
+                &mut sim,
+                &cfg,
+                vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
+                [vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))],
+            );
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -685,7 +698,11 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
         &mut sim,
         &cfg,
         vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
-        [norms.as_mut().map(|n| (Reads::Full, n as &mut dyn Observer)), vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer)), snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer))],
+        [
+            norms.as_mut().map(|n| (Reads::Full, n as &mut dyn Observer)),
+            vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer)),
+            snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer)),
+        ],
     );
     let wall = start.elapsed().as_secs_f64();
     let mut notes = Vec::new();
@@ -739,7 +756,10 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
         rec.extend([format!("{wall:.6}"), format!("{setup_s:.6}"), format!("{wall:.6}")]);
         w.write_record(&rec).map_err(csv_err)?;
         w.flush().map_err(|source| CliError::Write { path: out.join("norms.csv"), source })?;
-        lines.push(format!("errors: L∞(L²) {:.4e}, L²(L²) {:.4e}, L∞(V) {:.4e}, L²(λ) {:.4e}, L∞(E) {:.4e}; λ TV ratio {:.2}", r.linf_l2_u, r.l2_l2_u, r.linf_v_u, r.l2_lambda, r.linf_energy, r.lambda_tv_ratio));
+        lines.push(format!(
+            "errors: L∞(L²) {:.4e}, L²(L²) {:.4e}, L∞(V) {:.4e}, L²(λ) {:.4e}, L∞(E) {:.4e}; λ TV ratio {:.2}",
+            r.linf_l2_u, r.l2_l2_u, r.linf_v_u, r.l2_lambda, r.linf_energy, r.lambda_tv_ratio
+        ));
     }
     let warnings = energy_report(&s, &mut lines);
     lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
@@ -768,7 +788,19 @@ pub fn list() -> String {
         if !node.is_empty() {
             v.push(node);
         }
-        v.extend([(c.restitution, "restitution"), (c.stiffness, "contact stiffness"), (c.damping, "damping"), (c.forcing, "time-dependent load"), (c.several_contacts, "several contacts"), (c.beam, "beam")].iter().filter(|t| t.0).map(|t| t.1));
+        v.extend(
+            [
+                (c.restitution, "restitution"),
+                (c.stiffness, "contact stiffness"),
+                (c.damping, "damping"),
+                (c.forcing, "time-dependent load"),
+                (c.several_contacts, "several contacts"),
+                (c.beam, "beam"),
+            ]
+            .iter()
+            .filter(|t| t.0)
+            .map(|t| t.1),
+        );
         v.join(", ")
     };
     let mut s = String::from("schemes (presets):\n");
@@ -819,11 +851,7 @@ impl Analysis {
         } else {
             Piece::Off
         };
-        let poincare = if o.poincare {
-            Piece::Csv(create(out, "poincare.csv")?)
-        } else {
-            Piece::Off
-        };
+        let poincare = if o.poincare { Piece::Csv(create(out, "poincare.csv")?) } else { Piece::Off };
         let vibro = cfg.build(impacts, poincare, o.summary)?;
         Ok(Some(Self { vibro, out: out.to_path_buf(), summary: o.summary }))
     }
@@ -856,7 +884,8 @@ impl Analysis {
                 }
             }
             if let Some(p) = &self.vibro.poincare {
-                let (pts, title) = signorini_plot::thin(p.points().iter().map(|q| (q.displacement, q.velocity)).collect(), "Poincaré section: (displacement, velocity) at the forcing period", "samples");
+                let (pts, title) =
+                    signorini_plot::thin(p.points().iter().map(|q| (q.displacement, q.velocity)).collect(), "Poincaré section: (displacement, velocity) at the forcing period", "samples");
                 let chart = Chart { title: &title, x_label: "displacement", y_label: "velocity", scale: Scale::Linear, size: (700, 600) };
                 match signorini_plot::scatter(&chart, &[Series { label: "section".into(), points: pts, reference: false, style: Style::default() }], 3) {
                     Ok(svg) => std::fs::write(self.out.join("poincare.svg"), svg).map_err(|source| CliError::Write { path: self.out.join("poincare.svg"), source })?,
@@ -881,7 +910,12 @@ enum Reads {
 /// Runs a simulation with the observers `always` and those of `optional`
 /// that are present; a reduced model's observers see the scene's unknowns,
 /// reconstructed as each reads them.
-fn run_observed<'a, const K: usize>(sim: &mut signorini_scene::Simulation, cfg: &RunConfig, mut always: Vec<(Reads, &'a mut dyn Observer)>, optional: [Option<(Reads, &'a mut dyn Observer)>; K]) -> Result<signorini_run::RunSummary, RunError> {
+fn run_observed<'a, const K: usize>(
+    sim: &mut signorini_scene::Simulation,
+    cfg: &RunConfig,
+    mut always: Vec<(Reads, &'a mut dyn Observer)>,
+    optional: [Option<(Reads, &'a mut dyn Observer)>; K],
+) -> Result<signorini_run::RunSummary, RunError> {
     always.extend(optional.into_iter().flatten());
     let Some(r) = &sim.reduction else {
         let mut obs: Vec<&mut dyn Observer> = always.into_iter().map(|o| o.1).collect();
@@ -896,9 +930,12 @@ fn run_observed<'a, const K: usize>(sim: &mut signorini_scene::Simulation, cfg: 
             Reads::Nothing => Err(o),
         })
         .collect();
-    let mut obs: Vec<&mut dyn Observer> = wrapped.iter_mut().map(|w| match w {
-        Ok(rc) => rc as &mut dyn Observer,
-        Err(o) => &mut **o,
-    }).collect();
+    let mut obs: Vec<&mut dyn Observer> = wrapped
+        .iter_mut()
+        .map(|w| match w {
+            Ok(rc) => rc as &mut dyn Observer,
+            Err(o) => &mut **o,
+        })
+        .collect();
     run(sim.stepper.as_mut(), &sim.u0, cfg, &mut obs)
 }

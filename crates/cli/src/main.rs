@@ -4,10 +4,10 @@ use clap::{Parser, Subcommand};
 use signorini_cli::scene::Limits;
 use signorini_cli::sweep::{Axis, Sweep, SweepOptions};
 use signorini_cli::{check, list, run_scene, CliError, RunOptions};
+use signorini_run::Cancel;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use signorini_run::Cancel;
 
 #[derive(Parser)]
 #[command(name = "signorini", version, about = "1D dynamic contact: bar on an obstacle, beam between stops")]

@@ -30,7 +30,7 @@ fn bar_scene_end_to_end() {
     assert_eq!(header, ["n", "t", "u_contact", "v_contact", "lambda_t", "lambda", "energy_t", "energy", "u_contact_exact", "lambda_exact", "energy_exact"]);
     let rows: Vec<csv::StringRecord> = rd.records().collect::<Result<_, _>>().unwrap();
     assert_eq!(rows.len(), 2401); // levels 0..=2400 (T = 3, dt = 1/800)
-    // Exact columns: u(0, 0) = 1/2, E = 1/8; the node never goes below the obstacle.
+                                  // Exact columns: u(0, 0) = 1/2, E = 1/8; the node never goes below the obstacle.
     assert_eq!(&rows[0][8], "5.000000000000e-1");
     for r in &rows {
         assert!(r[2].parse::<f64>().unwrap() >= 0.0);

@@ -219,7 +219,11 @@ fn bad_stops_and_obstacles_name_field_and_value() {
         (bar("scheme = \"ps-e0\"", "0.0", &stop("0.0", "lo = -1.0\nrestitution = 1.5")), "stop.0.restitution", vec!["1.5", "[0, 1]"]),
         (bar("scheme = \"penalty-cn\"", "0.0", &stop("0.0", "lo = -1.0\nstiffness = -1.0")), "stop.0.stiffness", vec!["-1", "> 0"]),
         (bar("", "0.0", &stop("0.0", "lo = -1.0\nstiffness = 10.0")), "stop.0.stiffness", vec!["acts only", "penalty"]),
-        (bar("scheme = \"penalty-cn\"", "0.0", &format!("{}{}", stop("0.0", "lo = -1.0"), stop("1.0", "hi = 1.0\nstiffness = 1e30"))), "stop.1.stiffness", vec!["1e30", "usable range", "stiffness <="]),
+        (
+            bar("scheme = \"penalty-cn\"", "0.0", &format!("{}{}", stop("0.0", "lo = -1.0"), stop("1.0", "hi = 1.0\nstiffness = 1e30"))),
+            "stop.1.stiffness",
+            vec!["1e30", "usable range", "stiffness <="],
+        ),
         ("[beam]\nscene = \"fig5\"\n[[stop]]\nx = 1.501\nlo = -0.1\nrestitution = 0.5\n".to_string(), "stop.0.restitution", vec!["acts only", "projection"]),
         ("[beam]\nscene = \"fig2\"\n[[stop]]\nx = 1.501\nlo = -0.1\nstiffness = 1e8\n".to_string(), "stop.0.stiffness", vec!["acts only", "penalty"]),
         ("[beam]\nscene = \"fig5\"\n[[stop]]\nx = 1.501\nlo = -0.1\nstiffness = 1e40\n".to_string(), "stop.0.stiffness", vec!["N/m", "usable range"]),

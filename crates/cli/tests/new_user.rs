@@ -12,7 +12,9 @@ fn validate(text: &str) -> Result<(), (String, String)> {
 }
 
 fn bar(u0: &str, v0: &str) -> String {
-    format!("[bar]\nlength = 1.0\nfar_end = \"free\"\ngap = -0.5\ninitial_displacement = {u0}\ninitial_velocity = {v0}\nelements = 20\nmass = \"mod\"\nscheme = \"newmark-cn\"\ndt = 0.05\nt_end = 1.0\n")
+    format!(
+        "[bar]\nlength = 1.0\nfar_end = \"free\"\ngap = -0.5\ninitial_displacement = {u0}\ninitial_velocity = {v0}\nelements = 20\nmass = \"mod\"\nscheme = \"newmark-cn\"\ndt = 0.05\nt_end = 1.0\n"
+    )
 }
 
 /// §6: a table outside the bar (or covering part of it) is refused naming
@@ -155,7 +157,24 @@ fn a_sweep_refuses_energy_warn() {
     let p = dir.path().join("s.toml");
     std::fs::write(&p, format!("{text}\n[output]\nenergy_warn = 3.0\n")).expect("write");
     let out = dir.path().join("o");
-    let (code, err) = cli(&["sweep", p.to_str().expect("utf-8"), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "2", "--transient", "2", "--record", "2", "--out", out.to_str().expect("utf-8")]);
+    let (code, err) = cli(&[
+        "sweep",
+        p.to_str().expect("utf-8"),
+        "--param",
+        "forcing.omega",
+        "--from",
+        "1.6",
+        "--to",
+        "2.2",
+        "--count",
+        "2",
+        "--transient",
+        "2",
+        "--record",
+        "2",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("output.energy_warn") && err.contains("not allowed in a sweep"), "{err}");
     assert!(!out.exists(), "nothing is written");

@@ -13,7 +13,9 @@ use std::path::Path;
 
 fn scene_text(dt: f64, x0: f64, v0: f64) -> String {
     let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/scenes/oscillator.toml")).unwrap();
-    text.replace("dt = 1e-3", &format!("dt = {dt:e}")).replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}")).replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}"))
+    text.replace("dt = 1e-3", &format!("dt = {dt:e}"))
+        .replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}"))
+        .replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}"))
 }
 
 /// The record-window impacts `(phase, velocity)` of one run at `omega`.

@@ -251,9 +251,12 @@ fn overflow_is_reported_as_a_blow_up() {
 #[test]
 fn zero_initial_energy_is_not_a_blow_up() {
     let dir = tempfile::tempdir().unwrap();
-    for (i, scene) in ["[bar]\nelements = 20\ndt = 0.01\nt_end = 5.0\ninitial_displacement = 0.0\n", "[bar]\nelements = 20\ndt = 0.01\nt_end = 5.0\nfar_end = \"free\"\nbody_force = -9.81\ninitial_displacement = 0.0\n"]
-        .iter()
-        .enumerate()
+    for (i, scene) in [
+        "[bar]\nelements = 20\ndt = 0.01\nt_end = 5.0\ninitial_displacement = 0.0\n",
+        "[bar]\nelements = 20\ndt = 0.01\nt_end = 5.0\nfar_end = \"free\"\nbody_force = -9.81\ninitial_displacement = 0.0\n",
+    ]
+    .iter()
+    .enumerate()
     {
         let p = write_scene(dir.path(), scene);
         let (code, out, err) = cli(&["run", p.to_str().unwrap(), "--out", dir.path().join(format!("o{i}")).to_str().unwrap()]);

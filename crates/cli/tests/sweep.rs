@@ -62,7 +62,26 @@ fn shards_merged_are_the_unsharded_sweep_byte_for_byte() {
         .enumerate()
         .map(|(i, d)| {
             let mut c = bin();
-            c.args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "30", "--record", "6", "--shard", &format!("{i}/3"), "--out", d.to_str().unwrap()]);
+            c.args([
+                "sweep",
+                sc.to_str().unwrap(),
+                "--param",
+                "forcing.omega",
+                "--from",
+                "1.6",
+                "--to",
+                "2.2",
+                "--count",
+                "7",
+                "--transient",
+                "30",
+                "--record",
+                "6",
+                "--shard",
+                &format!("{i}/3"),
+                "--out",
+                d.to_str().unwrap(),
+            ]);
             c.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped()).spawn().unwrap()
         })
         .collect();
@@ -120,7 +139,25 @@ fn an_interrupted_sweep_resumes_to_the_same_files() {
     same_files(&whole, &cut, &FILES);
     // Resuming a folder of another sweep is refused.
     let o = bin()
-        .args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.3", "--count", "7", "--transient", "30", "--record", "6", "--resume", "--out", cut.to_str().unwrap()])
+        .args([
+            "sweep",
+            sc.to_str().unwrap(),
+            "--param",
+            "forcing.omega",
+            "--from",
+            "1.6",
+            "--to",
+            "2.3",
+            "--count",
+            "7",
+            "--transient",
+            "30",
+            "--record",
+            "6",
+            "--resume",
+            "--out",
+            cut.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     refused(&o, "another sweep");
@@ -133,7 +170,26 @@ fn merging_shards_of_different_sweeps_is_refused() {
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
     let run = |out: &Path, i: usize, count: &str| {
         let o = bin()
-            .args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", count, "--transient", "2", "--record", "2", "--shard", &format!("{i}/2"), "--out", out.to_str().unwrap()])
+            .args([
+                "sweep",
+                sc.to_str().unwrap(),
+                "--param",
+                "forcing.omega",
+                "--from",
+                "1.6",
+                "--to",
+                "2.2",
+                "--count",
+                count,
+                "--transient",
+                "2",
+                "--record",
+                "2",
+                "--shard",
+                &format!("{i}/2"),
+                "--out",
+                out.to_str().unwrap(),
+            ])
             .output()
             .unwrap();
         ok(&o);
@@ -177,7 +233,24 @@ fn the_documented_oscillator_sweep_runs() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("osc");
     let o = bin()
-        .args(["sweep", scenes().join("oscillator.toml").to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "200", "--record", "10", "--out", out.to_str().unwrap()])
+        .args([
+            "sweep",
+            scenes().join("oscillator.toml").to_str().unwrap(),
+            "--param",
+            "forcing.omega",
+            "--from",
+            "1.6",
+            "--to",
+            "2.2",
+            "--count",
+            "7",
+            "--transient",
+            "200",
+            "--record",
+            "10",
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     ok(&o);
@@ -202,7 +275,26 @@ fn sigint_keeps_whole_runs_and_resume_completes() {
     ok(&sweep(&sc, &whole, &["--threads", "1"]));
     let cut = dir.path().join("cut");
     let mut c = bin();
-    c.args(["sweep", sc.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "30", "--record", "6", "--threads", "1", "--out", cut.to_str().unwrap()]);
+    c.args([
+        "sweep",
+        sc.to_str().unwrap(),
+        "--param",
+        "forcing.omega",
+        "--from",
+        "1.6",
+        "--to",
+        "2.2",
+        "--count",
+        "7",
+        "--transient",
+        "30",
+        "--record",
+        "6",
+        "--threads",
+        "1",
+        "--out",
+        cut.to_str().unwrap(),
+    ]);
     let child = c.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped()).spawn().unwrap();
     std::thread::sleep(std::time::Duration::from_millis(40));
     // SAFETY: kill(2) with a child's pid.
@@ -228,7 +320,29 @@ fn thread_count_changes_no_output_of_a_lockstep_sweep() {
     let sc = dir.path().join("beam.toml");
     std::fs::write(&sc, "[beam]\nscene = \"fig2\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n").unwrap();
     let run = |out: &Path, threads: &str| {
-        ok(&bin().args(["sweep", sc.to_str().unwrap(), "--param", "support.omega", "--from", "8", "--to", "12", "--count", "11", "--transient", "1", "--record", "2", "--threads", threads, "--out", out.to_str().unwrap()]).output().unwrap());
+        ok(&bin()
+            .args([
+                "sweep",
+                sc.to_str().unwrap(),
+                "--param",
+                "support.omega",
+                "--from",
+                "8",
+                "--to",
+                "12",
+                "--count",
+                "11",
+                "--transient",
+                "1",
+                "--record",
+                "2",
+                "--threads",
+                threads,
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap());
     };
     let (a, b) = (dir.path().join("t1"), dir.path().join("t3"));
     run(&a, "1");
@@ -511,7 +625,10 @@ fn sweeps_differing_only_in_phase_are_different_sweeps() {
     let sc = scene(dir.path());
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
     let args = |i: usize, phase: &str| -> Vec<String> {
-        ["--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "4", "--transient", "2", "--record", "2", "--phase", phase, "--shard", &format!("{i}/2")].iter().map(|s| s.to_string()).collect()
+        ["--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "4", "--transient", "2", "--record", "2", "--phase", phase, "--shard", &format!("{i}/2")]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
     };
     ok(&sweep_with(&sc, &a, &args(0, "0").iter().map(String::as_str).collect::<Vec<_>>()));
     ok(&sweep_with(&sc, &b, &args(1, "1").iter().map(String::as_str).collect::<Vec<_>>()));
@@ -525,7 +642,32 @@ fn sweeps_differing_only_in_phase_are_different_sweeps() {
 fn a_map_takes_each_runs_values_from_both_axes() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("map");
-    ok(&sweep_with(&scene(dir.path()), &out, &["--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "3", "--param2", "forcing.amplitude", "--from2", "0.5", "--to2", "1.0", "--count2", "2", "--transient", "1", "--record", "2"]));
+    ok(&sweep_with(
+        &scene(dir.path()),
+        &out,
+        &[
+            "--param",
+            "forcing.omega",
+            "--from",
+            "1.6",
+            "--to",
+            "2.2",
+            "--count",
+            "3",
+            "--param2",
+            "forcing.amplitude",
+            "--from2",
+            "0.5",
+            "--to2",
+            "1.0",
+            "--count2",
+            "2",
+            "--transient",
+            "1",
+            "--record",
+            "2",
+        ],
+    ));
     let p1 = [1.6, 1.6 + (2.2 - 1.6) * 0.5, 2.2];
     let p2 = [0.5, 1.0];
     let want = |r: usize| (p1[r % 3], p2[r / 3]);
@@ -557,7 +699,31 @@ fn a_followed_map_restarts_each_row_from_the_scene() {
     let sc = scene(dir.path());
     let out = dir.path().join("follow");
     let axes = |p1: (&str, &str, &str), p2: (&str, &str, &str)| -> Vec<String> {
-        ["--param", "forcing.omega", "--from", p1.0, "--to", p1.1, "--count", p1.2, "--param2", "forcing.amplitude", "--from2", p2.0, "--to2", p2.1, "--count2", p2.2, "--transient", "1", "--record", "3"].iter().map(|s| s.to_string()).collect()
+        [
+            "--param",
+            "forcing.omega",
+            "--from",
+            p1.0,
+            "--to",
+            p1.1,
+            "--count",
+            p1.2,
+            "--param2",
+            "forcing.amplitude",
+            "--from2",
+            p2.0,
+            "--to2",
+            p2.1,
+            "--count2",
+            p2.2,
+            "--transient",
+            "1",
+            "--record",
+            "3",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
     };
     let run = |out: &Path, args: Vec<String>, follow: bool| {
         let mut a: Vec<&str> = args.iter().map(String::as_str).collect();

@@ -78,7 +78,10 @@ fn the_paper_scene_is_one_run_of_a_support_frequency_sweep() {
     std::fs::write(&scene, &with_support).unwrap();
     let out = dir.path().join("sw");
     let record = format!("{:.15}", 20.0 / std::f64::consts::TAU);
-    ok(&bin().args(["sweep", scene.to_str().unwrap(), "--param", "support.omega", "--from", "9.0", "--to", "11.0", "--count", "3", "--transient", "0", "--record", &record, "--out", out.to_str().unwrap()]).output().unwrap());
+    ok(&bin()
+        .args(["sweep", scene.to_str().unwrap(), "--param", "support.omega", "--from", "9.0", "--to", "11.0", "--count", "3", "--transient", "0", "--record", &record, "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap());
     let summary = rows(&out.join("summary.csv"));
     assert_eq!(summary[1][0], "10");
     assert_eq!(summary[1][summary[1].len() - 2], "40000", "steps of the ω = 10 run");
@@ -171,7 +174,8 @@ fn a_uniform_load_moves_a_free_bar_as_a_rigid_body() {
 #[test]
 fn random_support_motion_is_reproducible_from_its_seed() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = |seed: u64| format!("[beam]\nscene = \"fig2\"\nt_end = 0.2\n\n[output]\nplots = false\n\n[support]\nprofile = \"random\"\nf_lo = 0.5\nf_hi = 5.0\npsd = 1e-4\ncount = 50\nseed = {seed}\n");
+    let scene =
+        |seed: u64| format!("[beam]\nscene = \"fig2\"\nt_end = 0.2\n\n[output]\nplots = false\n\n[support]\nprofile = \"random\"\nf_lo = 0.5\nf_hi = 5.0\npsd = 1e-4\ncount = 50\nseed = {seed}\n");
     let a = std::fs::read(run(dir.path(), "r1", &scene(1)).join("series.csv")).unwrap();
     let b = std::fs::read(run(dir.path(), "r1b", &scene(1)).join("series.csv")).unwrap();
     let c = std::fs::read(run(dir.path(), "r2", &scene(2)).join("series.csv")).unwrap();

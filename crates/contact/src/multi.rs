@@ -173,7 +173,21 @@ impl MultiProjection {
             return Err(ContactError::NotPositiveDefinite);
         }
         let flat = columns.into_iter().flatten().collect();
-        Ok(Self { dofs, columns: flat, n, delassus, compliance: vec![0.0; k], status: vec![Active::None; k], held: 0, dirty: false, mu: vec![0.0; k], z: vec![0.0; k], set: Vec::with_capacity(k), chol, rhs: vec![0.0; k] })
+        Ok(Self {
+            dofs,
+            columns: flat,
+            n,
+            delassus,
+            compliance: vec![0.0; k],
+            status: vec![Active::None; k],
+            held: 0,
+            dirty: false,
+            mu: vec![0.0; k],
+            z: vec![0.0; k],
+            set: Vec::with_capacity(k),
+            chol,
+            rhs: vec![0.0; k],
+        })
     }
 
     /// Makes the bounds compliant: dof `i` may pass its bound by `c_i μ_i`,

@@ -295,7 +295,16 @@ fn pass_with(rule: &mut PivotRule, status: &mut [Active], bad: &[usize], up: &[u
     let zm = |i: usize| {
         let infeasible = bad.contains(&i);
         match held[i] {
-            Active::None => (if !infeasible { 1.0 } else if up.contains(&i) { 3.0 } else { -1.0 }, 0.0),
+            Active::None => (
+                if !infeasible {
+                    1.0
+                } else if up.contains(&i) {
+                    3.0
+                } else {
+                    -1.0
+                },
+                0.0,
+            ),
             Active::Lower => (0.0, if infeasible { -1.0 } else { 1.0 }),
             Active::Upper => (2.0, if infeasible { 1.0 } else { -1.0 }),
         }
@@ -351,7 +360,17 @@ fn pivot_rule_falls_back_to_least_index_single_pivots() {
 /// visited, stopping at a solution or at the first repeated status vector.
 fn block_pivoting_path(d: &[Vec<f64>], y: &[f64], lo: &[f64], hi: &[f64]) -> (Vec<Vec<Active>>, bool) {
     let k = y.len();
-    let mut st: Vec<Active> = (0..k).map(|i| if y[i] < lo[i] { Active::Lower } else if y[i] > hi[i] { Active::Upper } else { Active::None }).collect();
+    let mut st: Vec<Active> = (0..k)
+        .map(|i| {
+            if y[i] < lo[i] {
+                Active::Lower
+            } else if y[i] > hi[i] {
+                Active::Upper
+            } else {
+                Active::None
+            }
+        })
+        .collect();
     let mut path = vec![];
     while !path.contains(&st) {
         path.push(st.clone());
@@ -434,7 +453,14 @@ fn block_pivoting_cycles_and_single_pivots_solve() {
     type Case = ([[f64; 3]; 3], [f64; 3], [f64; 3], [f64; 3], Vec<Vec<Active>>, [Active; 3]);
     let cases: [Case; 2] = [
         ([[0.67, -0.77, -0.55], [-0.77, 1.4, 1.27], [-0.55, 1.27, 1.46]], [0.99, -1.12, -0.03], [0.0; 3], [inf; 3], vec![vec![N, L, L], vec![L, L, N], vec![N, N, N]], [N, L, N]),
-        ([[0.78, 0.54, -0.68], [0.54, 1.64, 0.5], [-0.68, 0.5, 1.55]], [-0.42, 1.12, 1.42], [-0.38, -0.71, -0.72], [0.18, -0.24, 0.0], vec![vec![L, U, U], vec![N, N, U], vec![U, U, U], vec![N, U, N]], [N, U, U]),
+        (
+            [[0.78, 0.54, -0.68], [0.54, 1.64, 0.5], [-0.68, 0.5, 1.55]],
+            [-0.42, 1.12, 1.42],
+            [-0.38, -0.71, -0.72],
+            [0.18, -0.24, 0.0],
+            vec![vec![L, U, U], vec![N, N, U], vec![U, U, U], vec![N, U, N]],
+            [N, U, U],
+        ),
     ];
     for (c, (dm, y, lo, hi, cycle, solution)) in cases.into_iter().enumerate() {
         let d: Vec<Vec<f64>> = dm.iter().map(|r| r.to_vec()).collect();

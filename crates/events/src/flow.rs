@@ -253,7 +253,6 @@ impl ModalFlow {
     }
 }
 
-
 /// The first event of a free flight ([`ModalFlow::first_crossing`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Event {

@@ -58,7 +58,10 @@ fn chain(n: usize) -> Dynamics {
         }
     }
     let mut dy = Dynamics::new(m, k, vec![0.05; n], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
-    dy.forcing = vec![Forcing { shape: (0..n).map(|i| 1.0 / (i as f64 + 1.0)).collect(), time: TimeProfile::harmonics(vec![Harmonic { amplitude: 0.3, omega: 1.7, phase: 0.2 }, Harmonic { amplitude: 0.1, omega: 3.1, phase: 0.0 }]).unwrap() }];
+    dy.forcing = vec![Forcing {
+        shape: (0..n).map(|i| 1.0 / (i as f64 + 1.0)).collect(),
+        time: TimeProfile::harmonics(vec![Harmonic { amplitude: 0.3, omega: 1.7, phase: 0.2 }, Harmonic { amplitude: 0.1, omega: 3.1, phase: 0.0 }]).unwrap(),
+    }];
     dy
 }
 

@@ -72,10 +72,7 @@ mod oscillator;
 pub use dirichlet::BarDirichlet;
 pub use mirrored::BarMirrored;
 pub use neumann::{BarNeumannGravity, Event, EventKind, NeumannError};
-pub use oscillator::{
-    Admissibility, ImpactOscillator, Multiplier, OscillatorError, OscillatorParams, Period1Orbit,
-    State,
-};
+pub use oscillator::{Admissibility, ImpactOscillator, Multiplier, OscillatorError, OscillatorParams, Period1Orbit, State};
 
 /// Relative slack (in units of `L`) accepted beyond `[0, L]` for a point
 /// `x`: within it the point is clamped onto the bar, beyond it the fields

@@ -240,19 +240,9 @@ impl NeumannError {
 impl fmt::Display for NeumannError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if let Self::TooComplex { t_max, t_limit } | Self::Unresolved { t_max, t_limit } = *self {
-            return write!(
-                f,
-                "bar-neumann-gravity: invalid t_max = {t_max} (must be {}: t_max <= {t_limit} for these data)",
-                self.allowed()
-            );
+            return write!(f, "bar-neumann-gravity: invalid t_max = {t_max} (must be {}: t_max <= {t_limit} for these data)", self.allowed());
         }
-        write!(
-            f,
-            "bar-neumann-gravity: invalid {} = {} (must be {})",
-            self.field(),
-            self.value(),
-            self.allowed()
-        )
+        write!(f, "bar-neumann-gravity: invalid {} = {} (must be {})", self.field(), self.value(), self.allowed())
     }
 }
 
@@ -354,15 +344,7 @@ struct Cell {
 impl Cell {
     #[inline]
     fn new(p1: &Piece, p2: &Piece, u0: f64, t: f64, two_l: f64) -> Self {
-        Self {
-            a: u0 + p1.h + p2.h,
-            c1: t - p1.s,
-            e1: p1.eta,
-            hs1: 0.5 * p1.slope,
-            c2: (t - two_l) - p2.s,
-            e2: p2.eta,
-            hs2: 0.5 * p2.slope,
-        }
+        Self { a: u0 + p1.h + p2.h, c1: t - p1.s, e1: p1.eta, hs1: 0.5 * p1.slope, c2: (t - two_l) - p2.s, e2: p2.eta, hs2: 0.5 * p2.slope }
     }
 
     /// `u = u0 + (g/2) x (x − 2L) + H(t − x) + H(t + x − 2L)`.
@@ -503,18 +485,7 @@ impl BarNeumannGravity {
         // Commensurate case T1 = m L, m >= 2 an integer: period 4 (m + 1) L.
         let m = (2.0 * u0 / g).sqrt() / l;
         let period = (m.round() >= 2.0 && (m - m.round()).abs() <= 1e-12 * m).then(|| 4.0 * (m.round() + 1.0) * l);
-        Ok(Self {
-            name,
-            u0,
-            g,
-            l,
-            t_max,
-            t_lo: -slack,
-            t_hi: (t_max + slack).min(built),
-            period,
-            pieces,
-            events,
-        })
+        Ok(Self { name, u0, g, l, t_max, t_lo: -slack, t_hi: (t_max + slack).min(built), period, pieces, events })
     }
 
     /// Initial height `u0`.
@@ -661,11 +632,11 @@ fn march(u0: f64, g: f64, l: f64, horizon: f64) -> Built {
     let mut unresolved = f64::INFINITY;
     let mut t = 0.0_f64;
     let mut ts = Stamp::at(0.0); // t = ts.time(2L)
-    // z(t) = u0 + H(t) + H(t − 2L), tracked on its own (exactly 0 in
-    // contact, advanced by its local quadratic in flight) and used to anchor
-    // H at each new piece: round-off then cannot accumulate in z from one
-    // bounce to the next (it would make tangential impacts, e.g. for
-    // T1 = 2L, drift by O(√(k ε))).
+                                 // z(t) = u0 + H(t) + H(t − 2L), tracked on its own (exactly 0 in
+                                 // contact, advanced by its local quadratic in flight) and used to anchor
+                                 // H at each new piece: round-off then cannot accumulate in z from one
+                                 // bounce to the next (it would make tangential impacts, e.g. for
+                                 // T1 = 2L, drift by O(√(k ε))).
     let mut z_cur = u0;
     let mut contact = false;
     let mut just_took_off = false;

@@ -194,14 +194,7 @@ impl OscillatorError {
     #[must_use]
     pub fn value(&self) -> f64 {
         match *self {
-            Self::Mass(v)
-            | Self::Stiffness(v)
-            | Self::DampingRatio(v)
-            | Self::Force(v)
-            | Self::ForcingFrequency(v)
-            | Self::Resonance(v)
-            | Self::Gap(v)
-            | Self::Restitution(v) => v,
+            Self::Mass(v) | Self::Stiffness(v) | Self::DampingRatio(v) | Self::Force(v) | Self::ForcingFrequency(v) | Self::Resonance(v) | Self::Gap(v) | Self::Restitution(v) => v,
         }
     }
 
@@ -220,13 +213,7 @@ impl OscillatorError {
 
 impl fmt::Display for OscillatorError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "impact oscillator: invalid {} = {} (must be {})",
-            self.field(),
-            self.value(),
-            self.allowed()
-        )
+        write!(f, "impact oscillator: invalid {} = {} (must be {})", self.field(), self.value(), self.allowed())
     }
 }
 
@@ -369,15 +356,7 @@ impl ImpactOscillator {
             return Err(E::Resonance(w));
         }
         let f = p.force / p.mass;
-        Ok(Self {
-            p,
-            wn,
-            wd,
-            sigma: z * wn,
-            f,
-            a: f * det / d,
-            b: f * cross / d,
-        })
+        Ok(Self { p, wn, wd, sigma: z * wn, f, a: f * det / d, b: f * cross / d })
     }
 
     /// The validated parameters.
@@ -411,10 +390,7 @@ impl ImpactOscillator {
     pub fn steady_state(&self, t: f64) -> State {
         let w = self.p.forcing_frequency;
         let (s, c) = (w * t).sin_cos();
-        State {
-            x: self.a * c + self.b * s,
-            v: w * (self.b * c - self.a * s),
-        }
+        State { x: self.a * c + self.b * s, v: w * (self.b * c - self.a * s) }
     }
 
     /// Transition matrix `Φ(h)` of the free damped motion (row-major), see
@@ -423,10 +399,7 @@ impl ImpactOscillator {
     pub fn transition(&self, h: f64) -> [[f64; 2]; 2] {
         let (e, _, c, _, s) = self.homogeneous_parts(h);
         let w2 = self.wn * self.wn;
-        [
-            [e * (c + self.sigma * s), e * s],
-            [-e * w2 * s, e * (c - self.sigma * s)],
-        ]
+        [[e * (c + self.sigma * s), e * s], [-e * w2 * s, e * (c - self.sigma * s)]]
     }
 
     /// `(e^{-ζωh}, expm1(-ζωh), cos ω_d h, cos ω_d h - 1, sin(ω_d h)/ω_d)`.
@@ -461,10 +434,7 @@ impl ImpactOscillator {
         let p12 = e * s;
         let p21 = -e * w2 * s;
         let p22 = base - e * self.sigma * s;
-        State {
-            x: dxp + p11 * y + p12 * yv,
-            v: dvp + p21 * y + p22 * yv,
-        }
+        State { x: dxp + p11 * y + p12 * yv, v: dvp + p21 * y + p22 * yv }
     }
 
     /// The state at `t` of the free motion (no stop) leaving `z0` at `t0`:
@@ -472,10 +442,7 @@ impl ImpactOscillator {
     #[must_use]
     pub fn flow(&self, t0: f64, z0: State, t: f64) -> State {
         let d = self.increment(t0, z0, t);
-        State {
-            x: z0.x + d.x,
-            v: z0.v + d.v,
-        }
+        State { x: z0.x + d.x, v: z0.v + d.v }
     }
 
     /// The forcing frequencies `Ω > 0` at which the steady-state amplitude
@@ -541,19 +508,13 @@ impl ImpactOscillator {
         let mut thetas = [wrap(ph - d), wrap(ph + d)];
         thetas.sort_by(f64::total_cmp);
         let n = if d == 0.0 { 1 } else { 2 };
-        thetas[..n]
-            .iter()
-            .map(|&th| self.orbit_at(th, &phi))
-            .collect()
+        thetas[..n].iter().map(|&th| self.orbit_at(th, &phi)).collect()
     }
 
     /// The admissible period-1 orbits ([`Self::period1_roots`] filtered).
     #[must_use]
     pub fn period1_orbits(&self) -> Vec<Period1Orbit> {
-        self.period1_roots()
-            .into_iter()
-            .filter(Period1Orbit::is_admissible)
-            .collect()
+        self.period1_roots().into_iter().filter(Period1Orbit::is_admissible).collect()
     }
 
     /// The orbit data at a root `θ` of the period-1 equation.
@@ -572,21 +533,8 @@ impl ImpactOscillator {
         let v = (c1 * d1 + c2 * d2) / (c1 * c1 + c2 * c2);
         // Saltation S = [[-r, 0], [(1 + r)(f cos θ - ω² g)/V, -r]], M = S Φ.
         let s21 = (1.0 + r) * (self.f * c - self.wn * self.wn * g) / v;
-        let m = [
-            [-r * phi[0][0], -r * phi[0][1]],
-            [
-                s21 * phi[0][0] - r * phi[1][0],
-                s21 * phi[0][1] - r * phi[1][1],
-            ],
-        ];
-        Period1Orbit {
-            impact_time: tau,
-            phase: theta,
-            impact_velocity: v,
-            monodromy: m,
-            multipliers: eigenvalues(&m),
-            admissibility: self.admissibility(tau, v),
-        }
+        let m = [[-r * phi[0][0], -r * phi[0][1]], [s21 * phi[0][0] - r * phi[1][0], s21 * phi[0][1] - r * phi[1][1]]];
+        Period1Orbit { impact_time: tau, phase: theta, impact_velocity: v, monodromy: m, multipliers: eigenvalues(&m), admissibility: self.admissibility(tau, v) }
     }
 
     /// Checks `V > 0` and `x < g` on `(τ, τ + T)` (module docs).
@@ -596,10 +544,7 @@ impl ImpactOscillator {
         }
         let g = self.p.gap;
         let t_per = self.period();
-        let z0 = State {
-            x: g,
-            v: -self.p.restitution * v,
-        };
+        let z0 = State { x: g, v: -self.p.restitution * v };
         let fastest = self.wn.max(self.p.forcing_frequency);
         let n = ((64.0 * fastest * t_per / TAU).ceil() as usize).max(256);
         let dt = t_per / n as f64;
@@ -607,17 +552,10 @@ impl ImpactOscillator {
         let mut prev = z0;
         let mut t_prev = tau;
         for j in 1..=n {
-            let t = if j == n {
-                tau + t_per
-            } else {
-                tau + j as f64 * dt
-            };
+            let t = if j == n { tau + t_per } else { tau + j as f64 * dt };
             let z = at(t);
             if j < n && z.x >= g {
-                return Admissibility::Penetrates {
-                    time: t,
-                    height: z.x,
-                };
+                return Admissibility::Penetrates { time: t, height: z.x };
             }
             if prev.v > 0.0 && z.v <= 0.0 {
                 // A local maximum of x in (t_prev, t]: bisect v.
@@ -636,10 +574,7 @@ impl ImpactOscillator {
                 let tm = 0.5 * (lo + hi);
                 let xm = at(tm).x;
                 if xm >= g {
-                    return Admissibility::Penetrates {
-                        time: tm,
-                        height: xm,
-                    };
+                    return Admissibility::Penetrates { time: tm, height: xm };
                 }
             }
             prev = z;
@@ -670,17 +605,10 @@ fn eigenvalues(m: &[[f64; 2]; 2]) -> [Multiplier; 2] {
     if disc >= 0.0 {
         let big = half + half.signum() * disc.sqrt();
         let small = if big == 0.0 { 0.0 } else { det / big };
-        let (x, y) = if big.abs() >= small.abs() {
-            (big, small)
-        } else {
-            (small, big)
-        };
+        let (x, y) = if big.abs() >= small.abs() { (big, small) } else { (small, big) };
         [Multiplier { re: x, im: 0.0 }, Multiplier { re: y, im: 0.0 }]
     } else {
         let im = (-disc).sqrt();
-        [
-            Multiplier { re: half, im },
-            Multiplier { re: half, im: -im },
-        ]
+        [Multiplier { re: half, im }, Multiplier { re: half, im: -im }]
     }
 }

@@ -45,17 +45,7 @@ fn test_vectors_g_one_ninth() {
         assert_close(&format!("u_x({x},{t})"), f.ux, ux, 1e-12);
         assert_close(&format!("u_t({x},{t})"), f.ut, ut, 1e-12);
     }
-    let lam = [
-        (2.0, 0.0),
-        (3.5, -7.0 / 18.0),
-        (4.5, -0.5),
-        (5.0, 0.0),
-        (11.5, -0.5),
-        (12.9, -31.0 / 90.0),
-        (13.02, 0.0),
-        (19.5, -7.0 / 18.0),
-        (20.5, -0.5),
-    ];
+    let lam = [(2.0, 0.0), (3.5, -7.0 / 18.0), (4.5, -0.5), (5.0, 0.0), (11.5, -0.5), (12.9, -31.0 / 90.0), (13.02, 0.0), (19.5, -7.0 / 18.0), (20.5, -0.5)];
     for (t, l) in lam {
         assert_close(&format!("lambda({t})"), s.lambda(t), l, 1e-12);
     }
@@ -438,12 +428,7 @@ fn long_horizons_keep_the_identities() {
     ];
     for s in &cases {
         let (w, e, d) = long_run_identities(s, 4000);
-        eprintln!(
-            "T1/L = {:.3}, t_max = {}: {} pieces; contact residual {w:.1e}, energy {e:.1e}, parallelogram {d:.1e} (relative)",
-            s.first_impact() / s.length(),
-            s.t_max(),
-            s.piece_count()
-        );
+        eprintln!("T1/L = {:.3}, t_max = {}: {} pieces; contact residual {w:.1e}, energy {e:.1e}, parallelogram {d:.1e} (relative)", s.first_impact() / s.length(), s.t_max(), s.piece_count());
         // Absolute times carry ulp(t) ≈ 2e-16 t, so u is only consistent to
         // O(ε t/L) relative (measured: 5e-12 at t = 2000 L for T1 = L).
         let tol = 1e-13 + 1e-14 * s.t_max() / s.length();
@@ -720,7 +705,12 @@ fn invalid_parameters_are_rejected() {
         assert!(msg.contains(field) && msg.contains(range), "{msg}");
         let _: &dyn std::error::Error = &e;
     }
-    for r in [BarNeumannGravity::new(f64::NAN, 1.0, 1.0, 1.0), BarNeumannGravity::new(0.5, f64::NAN, 1.0, 1.0), BarNeumannGravity::new(0.5, 1.0, f64::NAN, 1.0), BarNeumannGravity::new(0.5, 1.0, 1.0, f64::NAN)] {
+    for r in [
+        BarNeumannGravity::new(f64::NAN, 1.0, 1.0, 1.0),
+        BarNeumannGravity::new(0.5, f64::NAN, 1.0, 1.0),
+        BarNeumannGravity::new(0.5, 1.0, f64::NAN, 1.0),
+        BarNeumannGravity::new(0.5, 1.0, 1.0, f64::NAN),
+    ] {
         assert!(r.unwrap_err().value().is_nan());
     }
     assert_eq!(BarNeumannGravity::new(0.5, 0.2, 1.0, 3.0).unwrap().name(), "bar-neumann-gravity-custom");
@@ -902,13 +892,7 @@ fn leapfrog_vs_exact(s: &BarNeumannGravity, n: usize, t_end: f64, stride: usize)
 // events fall between grid times). The error is a displaced wave that
 // persists over many steps, so comparing every few steps finds the same max
 // (checked: identical to 4 digits with strides 1, 4 and 16 up to N = 8000).
-const LEAPFROG_BANDS: [(usize, usize, f64, f64); 5] = [
-    (1000, 1, 1.15e-3, 1.30e-3),
-    (2000, 4, 1.45e-3, 1.60e-3),
-    (4000, 8, 6.0e-4, 6.7e-4),
-    (8000, 16, 2.7e-4, 3.0e-4),
-    (16000, 32, 1.8e-4, 2.2e-4),
-];
+const LEAPFROG_BANDS: [(usize, usize, f64, f64); 5] = [(1000, 1, 1.15e-3, 1.30e-3), (2000, 4, 1.45e-3, 1.60e-3), (4000, 8, 6.0e-4, 6.7e-4), (8000, 16, 2.7e-4, 3.0e-4), (16000, 32, 1.8e-4, 2.2e-4)];
 
 fn check_leapfrog_bands(range: std::ops::Range<usize>) -> Vec<f64> {
     let s = BarNeumannGravity::paper(20.0).unwrap();

@@ -141,10 +141,16 @@ impl Beam {
     /// Nodal interpolation (values and slopes) of a function and its derivative.
     pub fn interpolate(&self, f: impl Fn(f64) -> f64, df: impl Fn(f64) -> f64) -> Vec<f64> {
         let h = self.h();
-        (0..self.dofs()).map(|i| {
-            let x = (i / 2 + 1) as f64 * h;
-            if i % 2 == 0 { f(x) } else { df(x) }
-        }).collect()
+        (0..self.dofs())
+            .map(|i| {
+                let x = (i / 2 + 1) as f64 * h;
+                if i % 2 == 0 {
+                    f(x)
+                } else {
+                    df(x)
+                }
+            })
+            .collect()
     }
 
     /// The classical element-by-element upper bound of `κ_h` (largest

@@ -60,7 +60,10 @@ mod eigen;
 pub use band::{BandLdlt, SymBand};
 pub use bar::{lagrange, Bar, BarMass, RightEnd};
 pub use beam::Beam;
-pub use eigen::{lanczos_top, max_generalized_eigenvalue, max_generalized_eigenvalue_auto, max_generalized_eigenvalue_bound, max_generalized_eigenvalue_lanczos, uniform_p1_max_eigenvalue, KappaBound, Ritz, LANCZOS_STEPS};
+pub use eigen::{
+    lanczos_top, max_generalized_eigenvalue, max_generalized_eigenvalue_auto, max_generalized_eigenvalue_bound, max_generalized_eigenvalue_lanczos, uniform_p1_max_eigenvalue, KappaBound, Ritz,
+    LANCZOS_STEPS,
+};
 
 /// The largest number of elements a mesh accepts (2^40): beyond it sizes
 /// such as `2 (m + 1)` are no longer safely addressable. Memory runs out

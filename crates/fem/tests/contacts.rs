@@ -209,7 +209,14 @@ fn refusals_name_the_node() {
     }
     // Accepted at the limit of each rule: mod3 three elements apart and two
     // from an end, transfer two apart, singular at both ends.
-    for (mass, m, nodes) in [(BarMass::Mod3, 10, vec![2, 5, 8]), (BarMass::Mod3, 10, vec![0, 3]), (BarMass::Mod3, 4, vec![0, 4]), (BarMass::Transfer, 10, vec![0, 2, 4]), (BarMass::Singular, 10, vec![0, 10]), (BarMass::Mod, 10, vec![0, 3])] {
+    for (mass, m, nodes) in [
+        (BarMass::Mod3, 10, vec![2, 5, 8]),
+        (BarMass::Mod3, 10, vec![0, 3]),
+        (BarMass::Mod3, 4, vec![0, 4]),
+        (BarMass::Transfer, 10, vec![0, 2, 4]),
+        (BarMass::Singular, 10, vec![0, 10]),
+        (BarMass::Mod, 10, vec![0, 3]),
+    ] {
         assert!(bar(m).mass_all_nodes_with_contacts(mass, &nodes).is_ok(), "{mass} {nodes:?}");
     }
     // The massive treatments accept anything in range.

@@ -208,7 +208,12 @@ fn iteration_count_does_not_grow_with_n() {
         let beam = Beam::new(1.0, n / 2, 1.0).unwrap();
         let (kn, mn) = nonuniform_p1(n, false, false);
         let p1 = Bar::new(1.0, n, 1.0, RightEnd::Clamped).unwrap();
-        let cases = [("P2 std", p2.stiffness(), p2.mass(BarMass::Std)), ("beam", beam.stiffness(), beam.mass()), ("non-uniform P1 std", kn, mn), ("uniform P1 lumped (Lanczos)", p1.stiffness(), p1.mass(BarMass::Lumped))];
+        let cases = [
+            ("P2 std", p2.stiffness(), p2.mass(BarMass::Std)),
+            ("beam", beam.stiffness(), beam.mass()),
+            ("non-uniform P1 std", kn, mn),
+            ("uniform P1 lumped (Lanczos)", p1.stiffness(), p1.mass(BarMass::Lumped)),
+        ];
         for (what, k, mm) in cases {
             assert_eq!(k.n(), n, "{what}");
             let b = max_generalized_eigenvalue_lanczos(&k, &mm).unwrap();

@@ -40,12 +40,12 @@
 //! (issue 11 §2–§3): [`Config::TODAY`] tolerates them, [`Config::STRICT`]
 //! checks them.
 
-use signorini_scene::{Scene, SceneError, SceneFile};
-use signorini_schemes::SchemeSpec;
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::strategy::BoxedStrategy;
 use proptest::test_runner::{Config as RunnerConfig, RngAlgorithm, TestCaseError, TestError, TestRng, TestRunner};
+use signorini_scene::{Scene, SceneError, SceneFile};
+use signorini_schemes::SchemeSpec;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Expectations the reader of today does not meet (each one is a bullet of
@@ -421,7 +421,8 @@ fn initial_field(key: &'static str, cfg: Config, tw: u32) -> BoxedStrategy<Field
     let non_finite = pool_owned(quoted(&NON_FINITE_EXPRESSIONS), bad(&on_node)).prop_map(|v| (v, None));
     // Integer division: today "-1/2" is 0; checked for its value only when float_expressions.
     let int_div = if cfg.float_expressions { None } else { Some(pool_owned(quoted(&INTEGER_DIVISIONS), unknown(&[path, "bar"])).prop_map(|v| (v, None))) };
-    let random_tokens = (prop::collection::vec(pick(&TOKENS), 1..12), any::<bool>()).prop_map(move |(toks, spaced)| (val(format!("\"{}\"", toks.join(if spaced { " " } else { "" })), unknown(&[path, "bar"])), None));
+    let random_tokens =
+        (prop::collection::vec(pick(&TOKENS), 1..12), any::<bool>()).prop_map(move |(toks, spaced)| (val(format!("\"{}\"", toks.join(if spaced { " " } else { "" })), unknown(&[path, "bar"])), None));
     // Deep nesting: the parser must not overflow the stack (the test thread has 2 MiB).
     let nested = (1usize..300, any::<bool>()).prop_map(move |(d, balanced)| {
         let close = if balanced { d } else { d - 1 };
@@ -1018,7 +1019,19 @@ fn beam_picks(cfg: Config, tw: u32) -> BoxedStrategy<BeamPicks> {
         (maybe(0.6, scene.boxed()), maybe(0.5, elements.boxed()), maybe(0.5, dt.boxed()), maybe(0.5, t_end.boxed()), maybe(0.4, contact.boxed()), maybe(0.3, beta.boxed())),
         (maybe(0.3, stiffness.boxed()), maybe(0.4, stops), maybe(0.3, support), maybe(0.2, force.boxed()), extra),
     )
-        .prop_map(|((scene, elements, dt, t_end, contact, beta), (stiffness, stops, support, force, extra))| BeamPicks { scene, elements, dt, t_end, contact, beta, stiffness, stops, support, force, extra })
+        .prop_map(|((scene, elements, dt, t_end, contact, beta), (stiffness, stops, support, force, extra))| BeamPicks {
+            scene,
+            elements,
+            dt,
+            t_end,
+            contact,
+            beta,
+            stiffness,
+            stops,
+            support,
+            force,
+            extra,
+        })
         .boxed()
 }
 
@@ -1204,7 +1217,13 @@ fn obstacle_pick(tw: u32) -> BoxedStrategy<ObstaclePick> {
 
 /// Contacts with probabilities `p_stops`, `p_obstacle`.
 fn contact_picks(tw: u32, p_stops: f64, p_obstacle: f64) -> BoxedStrategy<ContactPicks> {
-    (maybe(p_stops, prop::collection::vec(stop_pick(tw), 1..4).boxed()), maybe(p_obstacle, obstacle_pick(tw)), form(), maybe(if tw > 0 { 0.05 } else { 0.0 }, Just(true).boxed()).prop_map(|b| b.is_some())).boxed()
+    (
+        maybe(p_stops, prop::collection::vec(stop_pick(tw), 1..4).boxed()),
+        maybe(p_obstacle, obstacle_pick(tw)),
+        form(),
+        maybe(if tw > 0 { 0.05 } else { 0.0 }, Just(true).boxed()).prop_map(|b| b.is_some()),
+    )
+        .boxed()
 }
 
 /// A custom bar or a paper beam whose every value is valid (the scheme
@@ -1244,7 +1263,11 @@ fn contact_bar_documents(cfg: Config) -> BoxedStrategy<Doc> {
     let schemes: Vec<(String, Node, bool)> = schemes().into_iter().filter(|s| !s.2).collect();
     // Massive masses half the time (a massless one is refused with [obstacle]).
     let masses: Vec<&str> = MASSIVE.iter().cycle().take(MASSLESS.len()).chain(&MASSLESS).copied().collect();
-    ((pow2(-1, 2), proptest::sample::select(good_expressions(cfg.float_expressions)), any::<bool>(), pow2(2, 6), pick(&masses), pick(&schemes), pow2(4, 10), 1u32..200), contact_picks(0, 0.6, 0.5), any::<bool>())
+    (
+        (pow2(-1, 2), proptest::sample::select(good_expressions(cfg.float_expressions)), any::<bool>(), pow2(2, 6), pick(&masses), pick(&schemes), pow2(4, 10), 1u32..200),
+        contact_picks(0, 0.6, 0.5),
+        any::<bool>(),
+    )
         .prop_map(|((l, (expr, f), free, m, mass, (scheme, node, cond), k, n), contacts, crlf)| {
             let bar = BarPicks {
                 benchmark: None,
@@ -1371,7 +1394,15 @@ fn beam_ctx(p: &BeamPicks) -> ContactCtx {
         (None, None) => Some(figure.as_deref().is_some_and(|f| PENALTY_FIGURES.contains(&f))),
         (Some(_), None) => None,
     };
-    ContactCtx { beam: true, certain: penalty.is_some(), beam_stops: p.stops.is_some(), length: 1.501, restitution_acts: penalty == Some(false), stiffness_acts: penalty == Some(true), ..ContactCtx::default() }
+    ContactCtx {
+        beam: true,
+        certain: penalty.is_some(),
+        beam_stops: p.stops.is_some(),
+        length: 1.501,
+        restitution_acts: penalty == Some(false),
+        stiffness_acts: penalty == Some(true),
+        ..ContactCtx::default()
+    }
 }
 
 /// Valid bounds for a stop at `x` (choice `c`): they hold every valid

@@ -342,12 +342,7 @@ impl ExactSolution for ManyKinks {
 #[test]
 fn two_and_three_kinks_in_one_element_of_degree_one_and_two() {
     // m = 4: element [0.25, 0.5] holds the kinks; another kink alone in [0.75, 1].
-    let cases: [(&[f64], &[f64]); 4] = [
-        (&[0.3, 0.45], &[1.0, -2.0]),
-        (&[0.26, 0.31, 0.49], &[0.7, -1.5, 2.0]),
-        (&[0.3, 0.45, 0.8], &[1.0, 1.0, -0.5]),
-        (&[0.3, 0.301], &[1.0, -1.0]),
-    ];
+    let cases: [(&[f64], &[f64]); 4] = [(&[0.3, 0.45], &[1.0, -2.0]), (&[0.26, 0.31, 0.49], &[0.7, -1.5, 2.0]), (&[0.3, 0.45, 0.8], &[1.0, 1.0, -0.5]), (&[0.3, 0.301], &[1.0, -1.0])];
     for p in [1usize, 2] {
         for (at, coef) in cases {
             let exact = ManyKinks { at: at.to_vec(), coef: coef.to_vec(), p };

@@ -245,10 +245,14 @@ fn format_log_tick(v: f64) -> String {
         m /= 10.0;
         k += 1;
     }
-    let sup: String = k.to_string().chars().map(|c| match c {
-        '-' => '⁻',
-        d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'][d.to_digit(10).unwrap_or(0) as usize],
-    }).collect();
+    let sup: String = k
+        .to_string()
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'][d.to_digit(10).unwrap_or(0) as usize],
+        })
+        .collect();
     if (m - 1.0).abs() < 5e-4 {
         format!("10{sup}")
     } else if (m - m.round()).abs() < 5e-4 {
@@ -466,7 +470,13 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
     let tr = |v: f64| if log { v.abs().max(1e-300).log10() } else { v };
     let finite: Vec<f64> = values.iter().flatten().copied().filter(|v| v.is_finite()).map(tr).collect();
     let (lo, hi) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
-    let (lo, hi) = if finite.is_empty() { (0.0, 1.0) } else if hi > lo { (lo, hi) } else { (lo - 1.0, hi + 1.0) };
+    let (lo, hi) = if finite.is_empty() {
+        (0.0, 1.0)
+    } else if hi > lo {
+        (lo, hi)
+    } else {
+        (lo - 1.0, hi + 1.0)
+    };
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
@@ -485,15 +495,7 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
             SegmentValue::CenterOf(i) => names.get(*i).cloned().unwrap_or_default(),
             _ => String::new(),
         };
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(nc)
-            .y_labels(nr)
-            .x_label_formatter(&|v| label(cols, v))
-            .y_label_formatter(&|v| label(rows, v))
-            .draw()
-            .map_err(|e| err(&e))?;
+        chart.configure_mesh().disable_mesh().x_labels(nc).y_labels(nr).x_label_formatter(&|v| label(cols, v)).y_label_formatter(&|v| label(rows, v)).draw().map_err(|e| err(&e))?;
         for (r, row) in values.iter().enumerate() {
             for (c, v) in row.iter().enumerate() {
                 let color = if v.is_nan() {
@@ -551,7 +553,10 @@ mod tests {
         let c = Chart { title: "bifurcation", x_label: "ω", y_label: "x", scale: Scale::Linear, size: (640, 400) };
         let one = scatter(&c, &[Series { label: "x".into(), points: pts.clone(), reference: false, style: Style::default() }], 1).unwrap();
         assert_eq!(one.matches("<circle").count(), 3, "three finite points, three dots");
-        let two = vec![Series { label: "stop 0".into(), points: pts.clone(), reference: false, style: Style::default() }, Series { label: "stop 1".into(), points: vec![(0.0, 0.0)], reference: false, style: Style::default() }];
+        let two = vec![
+            Series { label: "stop 0".into(), points: pts.clone(), reference: false, style: Style::default() },
+            Series { label: "stop 1".into(), points: vec![(0.0, 0.0)], reference: false, style: Style::default() },
+        ];
         let svg = scatter(&c, &two, 2).unwrap();
         assert!(svg.contains("stop 1"), "a legend with several series");
         assert!(scatter(&c, &[Series { label: "x".into(), points: vec![(f64::NAN, 0.0)], reference: false, style: Style::default() }], 1).is_err());

@@ -48,4 +48,3 @@ pub fn impact_map(points: impl Iterator<Item = (usize, f64, f64)>, radius: impl 
     let n: usize = by_stop.iter().map(|s| s.points.len()).sum();
     scatter(&chart, &by_stop, radius(n))
 }
-

@@ -36,9 +36,7 @@ fn bar(case: &str) -> Box<dyn Stepper> {
     let b = Benchmark::BarDirichlet;
     let exact = b.exact(3.0).unwrap();
     let p: BarProblem = b.problem(exact.as_ref(), BAR_M, BarMass::Std).unwrap();
-    let inactive = |nodes: &mut dyn Iterator<Item = usize>| -> Vec<Stop> {
-        std::iter::once(Stop::new(0, 0.0, f64::INFINITY)).chain(nodes.map(|i| Stop::new(i, -10.0, f64::INFINITY))).collect()
-    };
+    let inactive = |nodes: &mut dyn Iterator<Item = usize>| -> Vec<Stop> { std::iter::once(Stop::new(0, 0.0, f64::INFINITY)).chain(nodes.map(|i| Stop::new(i, -10.0, f64::INFINITY))).collect() };
     let p = match case {
         "k1" => p,
         "k2" => p.with_stops(inactive(&mut std::iter::once(BAR_M / 2))).unwrap(),
@@ -55,9 +53,7 @@ fn beam(case: &str) -> Box<dyn Stepper> {
     let pipe = Pipe::paper();
     let j = 19;
     let scene = BeamScene { name: "bench", elements: j, dt: 5e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None };
-    let tip = |extra: &mut dyn Iterator<Item = usize>| -> Vec<Stop> {
-        std::iter::once(Stop::new(j, -0.1, 0.1)).chain(extra.map(|i| Stop::new(i, -10.0, 10.0))).collect()
-    };
+    let tip = |extra: &mut dyn Iterator<Item = usize>| -> Vec<Stop> { std::iter::once(Stop::new(j, -0.1, 0.1)).chain(extra.map(|i| Stop::new(i, -10.0, 10.0))).collect() };
     let stops = match case {
         "k1" => None,
         "k2" => Some(tip(&mut std::iter::once(10))),

@@ -36,29 +36,23 @@ fn setup(m: usize) -> (Box<dyn Stepper>, Vec<f64>, f64, Box<dyn signorini_exact:
 #[divan::bench(args = SIZES)]
 fn a_stepping(bencher: Bencher, m: usize) {
     let n = steps(m);
-    bencher
-        .counter(ItemsCount::new(m * n))
-        .with_inputs(|| setup(m))
-        .bench_local_values(|(mut s, _, _, _)| {
-            for _ in 0..n {
-                divan::black_box(s.step().unwrap());
-            }
-            s
-        });
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| setup(m)).bench_local_values(|(mut s, _, _, _)| {
+        for _ in 0..n {
+            divan::black_box(s.step().unwrap());
+        }
+        s
+    });
 }
 
 #[divan::bench(args = SIZES)]
 fn b_stepping_with_all_norms(bencher: Bencher, m: usize) {
     let n = steps(m);
-    bencher
-        .counter(ItemsCount::new(m * n))
-        .with_inputs(|| setup(m))
-        .bench_local_values(|(mut s, u0, dt, exact)| {
-            let mut norms = NormObserver::new(exact.as_ref(), m, signorini_norms::VNorm::H1Seminorm, dt);
-            let cfg = RunConfig::new(dt, dt * n as f64).unwrap();
-            run(s.as_mut(), &u0, &cfg, &mut [&mut norms]).unwrap();
-            divan::black_box(norms.report());
-        });
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| setup(m)).bench_local_values(|(mut s, u0, dt, exact)| {
+        let mut norms = NormObserver::new(exact.as_ref(), m, signorini_norms::VNorm::H1Seminorm, dt);
+        let cfg = RunConfig::new(dt, dt * n as f64).unwrap();
+        run(s.as_mut(), &u0, &cfg, &mut [&mut norms]).unwrap();
+        divan::black_box(norms.report());
+    });
 }
 
 /// The floor: forward/backward sweeps of a factored tridiagonal system
@@ -68,27 +62,24 @@ fn floor_tridiagonal_solve(bencher: Bencher, m: usize) {
     let n = steps(m);
     let l: Vec<f64> = (0..m).map(|i| if i == 0 { 0.0 } else { -0.3 - 1e-6 * i as f64 }).collect();
     let inv_d: Vec<f64> = (0..m).map(|i| 0.5 + 1e-6 * i as f64).collect();
-    bencher
-        .counter(ItemsCount::new(m * n))
-        .with_inputs(|| (0..m).map(|i| (i as f64).sin()).collect::<Vec<f64>>())
-        .bench_local_values(|mut b| {
-            for _ in 0..n {
-                let (l, inv_d, b) = (&l[..m], &inv_d[..m], &mut b[..m]);
-                let mut prev = b[0];
-                for i in 1..m {
-                    prev = b[i] - l[i] * prev;
-                    b[i] = prev;
-                }
-                let mut next = b[m - 1] * inv_d[m - 1];
-                b[m - 1] = next;
-                for i in (0..m - 1).rev() {
-                    next = b[i] * inv_d[i] - l[i + 1] * next;
-                    b[i] = next;
-                }
-                divan::black_box(&mut *b);
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| (0..m).map(|i| (i as f64).sin()).collect::<Vec<f64>>()).bench_local_values(|mut b| {
+        for _ in 0..n {
+            let (l, inv_d, b) = (&l[..m], &inv_d[..m], &mut b[..m]);
+            let mut prev = b[0];
+            for i in 1..m {
+                prev = b[i] - l[i] * prev;
+                b[i] = prev;
             }
-            b
-        });
+            let mut next = b[m - 1] * inv_d[m - 1];
+            b[m - 1] = next;
+            for i in (0..m - 1).rev() {
+                next = b[i] * inv_d[i] - l[i + 1] * next;
+                b[i] = next;
+            }
+            divan::black_box(&mut *b);
+        }
+        b
+    });
 }
 
 /// The beam's step (β-scheme, J = 19, dt = 1e-6): ns per step.

@@ -51,7 +51,8 @@ impl Pipe {
         let l4 = self.length.powi(4);
         let shape = beam.load(|x| a * w * w * self.lifting(x).0 + 8.0 * a * self.k2 / l4);
         let n = beam.dofs();
-        let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(beam.tip_dof(), Bounds { lo: self.stops.0, hi: self.stops.1 }, false)]).with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }]);
+        let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(beam.tip_dof(), Bounds { lo: self.stops.0, hi: self.stops.1 }, false)])
+            .with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega: w } }]);
         let v = beam.interpolate(|x| -a * w * self.lifting(x).0, |x| -a * w * self.lifting(x).1);
         Ok((beam, dy, Initial { u: vec![0.0; n], v }))
     }
@@ -93,7 +94,11 @@ impl Pipe {
     pub fn excite(&self, beam: &Beam, dy: &mut Dynamics, init: &mut Initial, exc: &BeamExcitation) -> Result<(), RunError> {
         if let Some(phi) = &exc.support {
             let Some(acc) = phi.second_derivative() else {
-                return Err(RunError::Invalid { field: "support.profile", value: f64::NAN, allowed: "a support motion with a second derivative (sine, cosine, harmonics, random); a series' φ'' is a train of impulses: give it as a [load]" });
+                return Err(RunError::Invalid {
+                    field: "support.profile",
+                    value: f64::NAN,
+                    allowed: "a support motion with a second derivative (sine, cosine, harmonics, random); a series' φ'' is a train of impulses: give it as a [load]",
+                });
             };
             let l4 = self.length.powi(4);
             dy.forcing = vec![Forcing { shape: beam.load(|x| -self.lifting(x).0), time: acc }, Forcing { shape: beam.load(|_| 8.0 * self.k2 / l4), time: phi.clone() }];
@@ -387,7 +392,14 @@ fn registry_scheme(spec: SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, redu
 /// Newmark β = 1/4 as in the full model.
 ///
 /// [`Reduced`]: crate::reduced::Reduced
-pub fn build_reduced(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation, keep: signorini_reduce::Keep) -> Result<(Box<dyn Stepper>, crate::reduced::Reduced, Beam), RunError> {
+pub fn build_reduced(
+    pipe: &Pipe,
+    scene: &BeamScene,
+    units: PenaltyUnits,
+    stops: Option<&[Stop]>,
+    exc: &BeamExcitation,
+    keep: signorini_reduce::Keep,
+) -> Result<(Box<dyn Stepper>, crate::reduced::Reduced, Beam), RunError> {
     let (beam, dy, init) = problem_excited(pipe, scene, units, stops, exc)?;
     let red = crate::reduced::reduce(&dy, &init, keep)?;
     let stepper: Box<dyn Stepper> = match scene.contact {
@@ -399,7 +411,10 @@ pub fn build_reduced(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stops:
         }
         BeamContact::Penalty { stiffness } => {
             let kappa = units.kappa(stiffness, pipe.rho_s);
-            Box::new(OneStep::new("newmark-cn+penalty".into(), red.dynamics.clone(), OneStepParams::newmark(0.25, 0.5), scene.dt, &red.initial)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
+            Box::new(
+                OneStep::new("newmark-cn+penalty".into(), red.dynamics.clone(), OneStepParams::newmark(0.25, 0.5), scene.dt, &red.initial)?
+                    .with_contact_law(ContactLaw::Penalty { stiffness: kappa })?,
+            )
         }
         BeamContact::Scheme(spec) => registry_scheme(spec, red.dynamics.clone(), scene.dt, &red.initial, true)?,
     };

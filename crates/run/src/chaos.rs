@@ -39,7 +39,8 @@ pub trait Flow {
 /// [`Stepper::set_state`]; a scheme without them is refused, naming `scheme`).
 pub struct StepperFlow(pub Box<dyn Stepper>);
 
-const NO_STATE: RunError = RunError::NotAllowed { field: "scheme", allowed: "a scheme that offers its state for twin runs (Paoli–Schatzman and the β-schemes, Moreau–Jean, undamped Newmark/θ with massive contacts)" };
+const NO_STATE: RunError =
+    RunError::NotAllowed { field: "scheme", allowed: "a scheme that offers its state for twin runs (Paoli–Schatzman and the β-schemes, Moreau–Jean, undamped Newmark/θ with massive contacts)" };
 
 impl Flow for StepperFlow {
     fn dt(&self) -> f64 {
@@ -162,7 +163,11 @@ pub fn lyapunov<A: Flow + ?Sized, B: Flow + ?Sized>(a: &mut A, b: &mut B, norm: 
         delta.iter_mut().zip(xb.iter().zip(&xa)).for_each(|(d, (y, x))| *d = y - x);
         let d = norm(&delta);
         if d == 0.0 {
-            return Err(RunError::Invalid { field: "separation", value: d, allowed: "> 0: the twins merged exactly (a perturbation lost in round-off, below about 1e-15 relative, or a state every neighbour collapses onto)" });
+            return Err(RunError::Invalid {
+                field: "separation",
+                value: d,
+                allowed: "> 0: the twins merged exactly (a perturbation lost in round-off, below about 1e-15 relative, or a state every neighbour collapses onto)",
+            });
         }
         if !d.is_finite() {
             return Err(RunError::Invalid { field: "separation", value: d, allowed: "finite (the twin blew up)" });

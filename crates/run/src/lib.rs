@@ -94,10 +94,10 @@ pub mod study;
 pub mod text;
 pub mod vibro;
 
-pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
 pub use cancel::Cancel;
-pub use lockstep::{run_lockstep, LaneEnd, LockstepRun};
 pub use energy::{EnergyExceeded, EnergyGrowth, EnergyMonitor};
+pub use lockstep::{run_lockstep, LaneEnd, LockstepRun};
+pub use observers::{active_code, History, NormObserver, Record, RowSink, SeriesColumns, SeriesWriter};
 pub use problem::{BarProblem, Benchmark, Stop};
 pub use runner::{run, Observer, RunConfig, RunError, RunSummary, Sample};
 pub use vibro::{forcing_phase, response_period, Crossing, Impact, ImpactObserver, ImpactStats, Piece, PoincareObserver, PoincarePoint, Summary, Vibro, VibroConfig, WindowObserver};

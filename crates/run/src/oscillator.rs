@@ -88,7 +88,9 @@ impl Oscillator {
         };
         let c = self.damping();
         let contact = Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: self.stop }, false).with_restitution(Some(self.restitution));
-        let dy = Dynamics::new(one(self.mass), one(self.stiffness), vec![0.0], vec![contact]).with_forcing(self.load.iter().map(|p| Forcing { shape: vec![1.0], time: p.clone() }).collect()).with_damping((c > 0.0).then(|| one(c)));
+        let dy = Dynamics::new(one(self.mass), one(self.stiffness), vec![0.0], vec![contact])
+            .with_forcing(self.load.iter().map(|p| Forcing { shape: vec![1.0], time: p.clone() }).collect())
+            .with_damping((c > 0.0).then(|| one(c)));
         Ok((dy, Initial { u: vec![self.x0], v: vec![self.v0] }))
     }
 

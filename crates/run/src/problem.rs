@@ -146,9 +146,16 @@ impl BarProblem {
         let f = self.body_force;
         if !self.stops.is_empty() {
             let nodes: Vec<usize> = self.stops.iter().map(|s| s.node).collect();
-            return Dynamics::new(self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"), self.bar.stiffness(), self.bar.load(|_| f), contacts_of(&self.stops, |node| node, self.mass.massless_contact_node())).with_forcing(self.forcing.clone());
+            return Dynamics::new(
+                self.bar.mass_with_contacts(self.mass, &nodes).expect("checked by with_stops"),
+                self.bar.stiffness(),
+                self.bar.load(|_| f),
+                contacts_of(&self.stops, |node| node, self.mass.massless_contact_node()),
+            )
+            .with_forcing(self.forcing.clone());
         }
-        Dynamics::new(self.bar.mass(self.mass), self.bar.stiffness(), self.bar.load(|_| f), vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())]).with_forcing(self.forcing.clone())
+        Dynamics::new(self.bar.mass(self.mass), self.bar.stiffness(), self.bar.load(|_| f), vec![Contact::new(0, Bounds::obstacle(self.gap), self.mass.massless_contact_node())])
+            .with_forcing(self.forcing.clone())
     }
 
     /// Adds the load `s(t)` uniform along the bar (`node = None`, per unit
@@ -223,9 +230,8 @@ impl Benchmark {
     /// The exact solution, valid on `[0, t_end]` (the falling bar is built
     /// event by event up to `t_end`; see [`BarNeumannGravity`] for its limits).
     pub fn exact(self, t_end: f64) -> Result<Box<dyn ExactSolution>, RunError> {
-        let neumann = |r: Result<BarNeumannGravity, signorini_exact::NeumannError>| -> Result<Box<dyn ExactSolution>, RunError> {
-            r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(RunError::Exact)
-        };
+        let neumann =
+            |r: Result<BarNeumannGravity, signorini_exact::NeumannError>| -> Result<Box<dyn ExactSolution>, RunError> { r.map(|s| Box::new(s) as Box<dyn ExactSolution>).map_err(RunError::Exact) };
         match self {
             Benchmark::BarDirichlet => Ok(Box::new(BarDirichlet)),
             Benchmark::BarMirrored => Ok(Box::new(BarMirrored)),

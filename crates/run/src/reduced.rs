@@ -50,7 +50,8 @@ pub fn reduce(dy: &Dynamics, init: &Initial, keep: Keep) -> Result<Reduced, RunE
             c
         })
         .collect();
-    let dynamics = Dynamics::new(reduction.mass().clone(), reduction.stiffness().clone(), reduction.project_vector(&dy.load), contacts).with_forcing(dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect());
+    let dynamics = Dynamics::new(reduction.mass().clone(), reduction.stiffness().clone(), reduction.project_vector(&dy.load), contacts)
+        .with_forcing(dy.forcing.iter().map(|f| Forcing { shape: reduction.project_vector(&f.shape), time: f.time.clone() }).collect());
     let initial = Initial { u: reduction.project_state(&init.u), v: reduction.project_state(&init.v) };
     Ok(Reduced { reduction, dynamics, initial })
 }

@@ -1,8 +1,8 @@
 //! The time loop and its observers.
 
+use crate::Cancel;
 use signorini_fem::FemError;
 use signorini_schemes::{SchemeError, Stepper};
-use crate::Cancel;
 use std::time::Instant;
 
 /// Errors of a run.

@@ -46,7 +46,9 @@ pub fn tidy_numbers(msg: &str) -> String {
             let end = i + token.len();
             match token.parse::<f64>() {
                 // An integer of up to 20 digits may be a count the user typed (u64): kept exactly.
-                Ok(v) if token.len() > LONGEST_PLAIN && (token.contains('.') || token.len() > MAX_INTEGER_DIGITS) && !followed && token.matches('.').count() <= 1 && v.is_finite() => out.push_str(&num(v)),
+                Ok(v) if token.len() > LONGEST_PLAIN && (token.contains('.') || token.len() > MAX_INTEGER_DIGITS) && !followed && token.matches('.').count() <= 1 && v.is_finite() => {
+                    out.push_str(&num(v))
+                }
                 _ => out.push_str(token),
             }
             i = end;
@@ -71,7 +73,8 @@ mod tests {
         assert_eq!(tidy_numbers(&format!("dt = {big} (T/dt = {odd}): ends at {big}.")), "dt = 1e300 (T/dt = 2.9999999999999996e-300): ends at 1e300.");
         assert_eq!(tidy_numbers(&format!("bar.dt: {tiny} gives 3.000e300 steps")), "bar.dt: 1e-300 gives 3.000e300 steps");
         assert_eq!(tidy_numbers(&format!("-{big}")), "-1e300");
-        for plain in ["dt = 0.05, 640 elements, 1e9 steps, 1.2.3, x2, t = 0.42", "12345678901234567 is 17 digits", "elements = 9223372036854775807 and 18446744073709551615", "ümlaut 3 → 4", "0.00001"] {
+        for plain in ["dt = 0.05, 640 elements, 1e9 steps, 1.2.3, x2, t = 0.42", "12345678901234567 is 17 digits", "elements = 9223372036854775807 and 18446744073709551615", "ümlaut 3 → 4", "0.00001"]
+        {
             assert_eq!(tidy_numbers(plain), plain);
         }
         // Checked against the numbers themselves, not the function's own output.

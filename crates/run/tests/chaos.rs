@@ -195,7 +195,14 @@ fn a_copied_state_continues_the_run() {
     // cd-taylor at Courant number one carries the characteristic release's
     // shift too: its twin is perturbed and copied back inside the contact
     // phase (t = 1 … 2, levels 20 … 40 at dt = h = 0.05).
-    for (name, mass, ratio, pre) in [("ps-e0", BarMass::Std, 10.0, 37), ("ps-e1", BarMass::Lumped, 10.0, 37), ("moreau-jean", BarMass::Std, 10.0, 37), ("newmark-cn", BarMass::Std, 10.0, 37), ("cd-taylor", BarMass::Lumped, 1.0, 22), ("hybrid", BarMass::Mod, 10.0, 37)] {
+    for (name, mass, ratio, pre) in [
+        ("ps-e0", BarMass::Std, 10.0, 37),
+        ("ps-e1", BarMass::Lumped, 10.0, 37),
+        ("moreau-jean", BarMass::Std, 10.0, 37),
+        ("newmark-cn", BarMass::Std, 10.0, 37),
+        ("cd-taylor", BarMass::Lumped, 1.0, 22),
+        ("hybrid", BarMass::Mod, 10.0, 37),
+    ] {
         let p = b.problem(exact.as_ref(), 20, mass).unwrap();
         let spec: SchemeSpec = name.parse().unwrap();
         let dt = p.bar.h() / ratio;

@@ -131,8 +131,7 @@ fn mode_errors(k: usize, m: usize, t_end: f64) -> (f64, f64, f64) {
     let dt = t_end / steps;
     let n = bar.dofs();
     let init = Initial { u: (0..n).map(|i| mode(i as f64 * h / k as f64, 0.0).0).collect(), v: vec![0.0; n] };
-    let dy =
-        Dynamics::new(bar.mass(BarMass::Std), bar.stiffness(), vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(-10.0), false)]);
+    let dy = Dynamics::new(bar.mass(BarMass::Std), bar.stiffness(), vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(-10.0), false)]);
     let mut stepper = "newmark-cn".parse::<SchemeSpec>().unwrap().build(dy, dt, &init).unwrap();
     let g = gauss(8);
     let table = g.iter().map(|&(sg, _)| (0..=k).map(|i| basis(k, i, sg)).collect()).collect();
@@ -162,8 +161,7 @@ fn a_degree_other_than_1_2_3_is_refused_by_name() {
             Err(RunError::Fem(FemError::Invalid { field: "degree", .. })) => {}
             other => panic!("degree {k}: {other:?}"),
         }
-        let cfg =
-            StudyConfig::new(b, vec!["newmark-cn".parse().unwrap()], vec![BarMass::Std], vec![10, 20], 10.0, 3.0).with_degree(k);
+        let cfg = StudyConfig::new(b, vec!["newmark-cn".parse().unwrap()], vec![BarMass::Std], vec![10, 20], 10.0, 3.0).with_degree(k);
         assert!(matches!(cfg.validate(), Err(RunError::Invalid { field: "degree", .. })), "degree {k}");
     }
     // A mass treatment P2 does not define, and the P1-only GetFEM norms.

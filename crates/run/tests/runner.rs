@@ -353,7 +353,11 @@ fn rows_before_a_blow_up_are_kept_complete() {
     }
     // The same for an energy-growth stop.
     fn grows(n: usize) -> f64 {
-        if n < 777 { 1.0 } else { 1e7 }
+        if n < 777 {
+            1.0
+        } else {
+            1e7
+        }
     }
     let mut buf: Vec<u8> = Vec::new();
     {
@@ -486,13 +490,16 @@ fn every_observer_is_finished_once_on_success_and_on_each_stop() {
         1.0
     }
     fn jump(n: usize) -> f64 {
-        if n < 50 { 1.0 } else { 1e9 }
+        if n < 50 {
+            1.0
+        } else {
+            1e9
+        }
     }
     let cfg = RunConfig::new(0.01, 1.0).unwrap();
     // (fault, energy sequence, levels observed; 101 = ran to the end)
     type Case = (Option<(usize, Fault)>, fn(usize) -> f64, usize);
-    let cases: [Case; 4] =
-        [(None, flat, 101), (Some((30, Fault::NanState)), flat, 30), (Some((30, Fault::SchemeNonFinite)), flat, 30), (None, jump, 50)];
+    let cases: [Case; 4] = [(None, flat, 101), (Some((30, Fault::NanState)), flat, 30), (Some((30, Fault::SchemeNonFinite)), flat, 30), (None, jump, 50)];
     for (fault, e, observed) in cases {
         let mut s = Scripted::new(dynamics([0.0; 2], None), 0.01, 0, e);
         s.fault_at = fault;

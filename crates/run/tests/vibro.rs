@@ -498,8 +498,7 @@ fn period_of_sampled_trajectories() {
     let npts = (0..1000).filter(|&k| k as f64 * TAU / omega >= record_from && k as f64 * TAU / omega <= steps as f64 * dt).count();
     let phi = (1.0 + 5.0_f64.sqrt()) / 2.0;
     type Signal = fn(f64, f64, f64) -> f64;
-    let cases: [(Signal, usize); 3] =
-        [(|w, t, _| (w * t / 3.0 + 0.3).cos() + 0.5 * (w * t + 1.0).cos(), 3), (|w, t, _| 0.5 * (w * t + 1.0).cos(), 1), (|w, t, phi| (phi * w * t).cos(), 0)];
+    let cases: [(Signal, usize); 3] = [(|w, t, _| (w * t / 3.0 + 0.3).cos() + 0.5 * (w * t + 1.0).cos(), 3), (|w, t, _| 0.5 * (w * t + 1.0).cos(), 1), (|w, t, phi| (phi * w * t).cos(), 0)];
     for (u, p) in cases {
         let levels: Vec<Level> = (0..=steps).map(|n| one(u(omega, n as f64 * dt, phi), 0.0, Active::None)).collect();
         let mut cfg = VibroConfig::new(dt, Some(omega), record_from, 0, vec![(0, Bounds::obstacle(-10.0))]).unwrap();

@@ -235,7 +235,10 @@ impl ExcitationToml {
             }
             "series" => {
                 if table == Table::Support {
-                    return Err(field(&key("profile"), "\"series\" is not allowed for a support motion: φ'' of a piecewise-linear φ is a train of impulses; give the load itself in [load] (profile = \"series\")"));
+                    return Err(field(
+                        &key("profile"),
+                        "\"series\" is not allowed for a support motion: φ'' of a piecewise-linear φ is a train of impulses; give the load itself in [load] (profile = \"series\")",
+                    ));
                 }
                 let pts: Vec<(f64, f64)> = match self.series.as_ref().ok_or_else(|| need("series"))? {
                     SeriesToml::File(f) => {
@@ -245,7 +248,11 @@ impl ExcitationToml {
                     SeriesToml::Points(v) => v
                         .iter()
                         .enumerate()
-                        .map(|(i, p)| <[f64; 2]>::try_from(p.as_slice()).map(|[a, b]| (a, b)).map_err(|_| field(&key(&format!("series[{i}]")), format!("{} numbers are not allowed: exactly two, [t, value]", p.len()))))
+                        .map(|(i, p)| {
+                            <[f64; 2]>::try_from(p.as_slice())
+                                .map(|[a, b]| (a, b))
+                                .map_err(|_| field(&key(&format!("series[{i}]")), format!("{} numbers are not allowed: exactly two, [t, value]", p.len())))
+                        })
                         .collect::<Result<_, _>>()?,
                 };
                 let (t, v): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
@@ -260,7 +267,11 @@ impl ExcitationToml {
                         let pairs: Vec<(f64, f64)> = v
                             .iter()
                             .enumerate()
-                            .map(|(i, p)| <[f64; 2]>::try_from(p.as_slice()).map(|[a, b]| (a, b)).map_err(|_| field(&key(&format!("psd[{i}]")), format!("{} numbers are not allowed: exactly two, [f, S]", p.len()))))
+                            .map(|(i, p)| {
+                                <[f64; 2]>::try_from(p.as_slice())
+                                    .map(|[a, b]| (a, b))
+                                    .map_err(|_| field(&key(&format!("psd[{i}]")), format!("{} numbers are not allowed: exactly two, [f, S]", p.len())))
+                            })
                             .collect::<Result<_, _>>()?;
                         let (f, s) = pairs.into_iter().unzip();
                         Psd::Table { f, s }

@@ -84,16 +84,16 @@ mod report;
 pub use instantiate::{BuildError, Lift, Simulation};
 pub use report::{check_report, energy_warning, free_space, io_reason, output_estimate, sig12, sig6, CheckReport};
 
+use crate::excitation::Excitation;
+use crate::excitation::{ExcitationToml, Table};
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
-use crate::excitation::Excitation;
-use signorini_run::beam::{build_excited, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
-use signorini_schemes::TimeProfile;
-use crate::excitation::{ExcitationToml, Table};
-use signorini_run::oscillator::Oscillator;
-use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
 use signorini_reduce::{Keep, ReduceError};
+use signorini_run::beam::{build_excited, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::oscillator::Oscillator;
 use signorini_run::text::{num, tidy_numbers};
+use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
+use signorini_schemes::TimeProfile;
 use signorini_schemes::{families_with, SchemeError, SchemeSpec};
 use std::fmt;
 
@@ -120,7 +120,6 @@ pub enum SceneError {
 pub fn field(f: &str, m: impl fmt::Display) -> SceneError {
     SceneError::Field { field: f.to_string(), message: tidy_numbers(&m.to_string()) }
 }
-
 
 /// The whole scene file: one of `[bar]`, `[beam]` or `[oscillator]`, and
 /// the tables that go with it.
@@ -811,7 +810,10 @@ impl InitialField {
         let tol = NODE_TOLERANCE * b.abs().max(a.abs());
         let (first, last) = (t[0][0], t[t.len() - 1][0]);
         if first > a + tol || last < b - tol {
-            return Err(field(name, format!("a table on [{}, {}] is not allowed: its x must cover the whole [{}, {}] (first x <= {}, last x >= {})", num(first), num(last), num(a), num(b), num(a), num(b))));
+            return Err(field(
+                name,
+                format!("a table on [{}, {}] is not allowed: its x must cover the whole [{}, {}] (first x <= {}, last x >= {})", num(first), num(last), num(a), num(b), num(a), num(b)),
+            ));
         }
         Ok(())
     }
@@ -885,7 +887,10 @@ impl NodeMesh<'_> {
         }
         let (first, last) = (*self.unknown.start(), *self.unknown.end());
         if !self.unknown.contains(&node) {
-            return Err(field(name, format!("{x} is not allowed: node {node} is clamped (no displacement to bound); allowed: the nodes {first}..={last}, x = {} to {}", (self.x)(first), (self.x)(last))));
+            return Err(field(
+                name,
+                format!("{x} is not allowed: node {node} is clamped (no displacement to bound); allowed: the nodes {first}..={last}, x = {} to {}", (self.x)(first), (self.x)(last)),
+            ));
         }
         Ok(node)
     }
@@ -1002,10 +1007,16 @@ fn contact_set(stops: &[StopToml], obstacle: Option<&ObstacleToml>, mesh: &NodeM
                     // A stop there: the intersection of both.
                     let (st, i) = (&mut list[p], sites[p].stop.map_or(p, |s| s.0));
                     if st.lo > hi {
-                        return Err(field(&format!("stop.{i}.lo"), format!("{} is not allowed: above obstacle.hi = {hi} at its node x = {x}; allowed: bounds that meet the obstacle's (the two are intersected)", st.lo)));
+                        return Err(field(
+                            &format!("stop.{i}.lo"),
+                            format!("{} is not allowed: above obstacle.hi = {hi} at its node x = {x}; allowed: bounds that meet the obstacle's (the two are intersected)", st.lo),
+                        ));
                     }
                     if st.hi < lo {
-                        return Err(field(&format!("stop.{i}.hi"), format!("{} is not allowed: below obstacle.lo = {lo} at its node x = {x}; allowed: bounds that meet the obstacle's (the two are intersected)", st.hi)));
+                        return Err(field(
+                            &format!("stop.{i}.hi"),
+                            format!("{} is not allowed: below obstacle.lo = {lo} at its node x = {x}; allowed: bounds that meet the obstacle's (the two are intersected)", st.hi),
+                        ));
                     }
                     st.lo = st.lo.max(lo);
                     st.hi = st.hi.min(hi);
@@ -1031,7 +1042,10 @@ fn contact_set(stops: &[StopToml], obstacle: Option<&ObstacleToml>, mesh: &NodeM
             };
             return Err(field(
                 &name,
-                format!("{bound} at x = {} (node {}) is not allowed: the initial displacement u0 = {u} is {side} it; allowed: bounds the initial state satisfies, lo <= u0(x) <= hi", site.x, site.node),
+                format!(
+                    "{bound} at x = {} (node {}) is not allowed: the initial displacement u0 = {u} is {side} it; allowed: bounds the initial state satisfies, lo <= u0(x) <= hi",
+                    site.x, site.node
+                ),
             ));
         }
     }
@@ -1096,7 +1110,10 @@ impl SceneFile {
         }
         if let Some(f) = self.output.energy_warn {
             if !signorini_run::energy::check_factor(f) {
-                return Err(field("output.energy_warn", format!("{f} is not allowed: finite and > 1 (the factor by which the energy may exceed its budget before a warning; default {DEFAULT_ENERGY_WARN})")));
+                return Err(field(
+                    "output.energy_warn",
+                    format!("{f} is not allowed: finite and > 1 (the factor by which the energy may exceed its budget before a warning; default {DEFAULT_ENERGY_WARN})"),
+                ));
             }
         }
         if self.output.transient > 0.0 && !(self.output.poincare || self.output.summary || self.output.impacts) {
@@ -1164,10 +1181,16 @@ impl SceneFile {
             Some(name) => {
                 let spec: SchemeSpec = name.parse().map_err(|e| field("oscillator.scheme", e))?;
                 if spec.needs_massless_node() {
-                    return Err(field("oscillator.scheme", format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: {}", families_with(|c| c.accepts_massless_node(false)))));
+                    return Err(field(
+                        "oscillator.scheme",
+                        format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: {}", families_with(|c| c.accepts_massless_node(false))),
+                    ));
                 }
                 if o.restitution.is_some_and(|r| r != 0.0) && !spec.capabilities().restitution {
-                    return Err(field("oscillator.restitution", format!("acts only with a scheme that has an impact law ({}); {spec} has none: remove it or set it to 0, or choose ps", families_with(|c| c.restitution))));
+                    return Err(field(
+                        "oscillator.restitution",
+                        format!("acts only with a scheme that has an impact law ({}); {spec} has none: remove it or set it to 0, or choose ps", families_with(|c| c.restitution)),
+                    ));
                 }
                 spec
             }
@@ -1234,9 +1257,10 @@ fn contact_error(e: RunError, set: &ContactSet, table: &str) -> SceneError {
             let (name, at) = set.field_of(index, f);
             field(&name, format!("{value}{at}: allowed {allowed}"))
         }
-        RunError::Fem(e @ signorini_fem::FemError::MassAtContacts { .. }) => {
-            field(&format!("{table}.mass"), format!("{e}; allowed: std or lumped (any contact nodes), or contact nodes this treatment supports (docs/scenes.md, \"Several contacts: [[stop]] and [obstacle]\")"))
-        }
+        RunError::Fem(e @ signorini_fem::FemError::MassAtContacts { .. }) => field(
+            &format!("{table}.mass"),
+            format!("{e}; allowed: std or lumped (any contact nodes), or contact nodes this treatment supports (docs/scenes.md, \"Several contacts: [[stop]] and [obstacle]\")"),
+        ),
         e => field(table, e),
     }
 }
@@ -1282,10 +1306,19 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     let reduce = b.reduce.as_ref().map(|r| r.keep("bar")).transpose()?;
     if reduce.is_some() {
         if !scheme.accepts_massless_node(true) {
-            return Err(field("bar.scheme", format!("{scheme} needs a massive contact node, and a reduced model's contacts are massless (reduce): allowed a scheme that takes a massless node ({}; ps with β >= 1/4)", families_with(|c| c.accepts_massless_node(true)))));
+            return Err(field(
+                "bar.scheme",
+                format!(
+                    "{scheme} needs a massive contact node, and a reduced model's contacts are massless (reduce): allowed a scheme that takes a massless node ({}; ps with β >= 1/4)",
+                    families_with(|c| c.accepts_massless_node(true))
+                ),
+            ));
         }
         if !mass.massless_contact_node() {
-            return Err(field("bar.mass", format!("{mass} with reduce: the reduction keeps the contacts massless, exact for a parent whose contact nodes carry no mass; allowed mod, mod1, mod2, mod3, transfer or singular")));
+            return Err(field(
+                "bar.mass",
+                format!("{mass} with reduce: the reduction keeps the contacts massless, exact for a parent whose contact nodes carry no mass; allowed mod, mod1, mod2, mod3, transfer or singular"),
+            ));
         }
     }
     // A P`k` bar of m elements has the unknowns of a P1 bar of k m.
@@ -1466,7 +1499,15 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
     Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce })
 }
 
-fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>, support: Option<Excitation>, load: Option<Excitation>, limits: &Limits, one_step: bool) -> Result<Scene, SceneError> {
+fn validate_beam(
+    b: &BeamToml,
+    stops: &[StopToml],
+    obstacle: Option<&ObstacleToml>,
+    support: Option<Excitation>,
+    load: Option<Excitation>,
+    limits: &Limits,
+    one_step: bool,
+) -> Result<Scene, SceneError> {
     let base = match &b.scene {
         Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
         None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
@@ -1490,24 +1531,33 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
             // Every key acts or is refused: the scheme replaces the contact's.
             for (key, given) in [("beam.contact", b.contact.is_some()), ("beam.beta", b.beta.is_some()), ("beam.penalty_stiffness", b.penalty_stiffness.is_some()), ("beam.force", b.force)] {
                 if given {
-                    return Err(field(key, "acts only without beam.scheme, which replaces contact, beta, penalty_stiffness and force (a registry scheme's stability limit is always enforced): remove one of them"));
+                    return Err(field(
+                        key,
+                        "acts only without beam.scheme, which replaces contact, beta, penalty_stiffness and force (a registry scheme's stability limit is always enforced): remove one of them",
+                    ));
                 }
             }
             let spec: SchemeSpec = name.parse().map_err(|e| field("beam.scheme", e))?;
             if !spec.capabilities().beam {
-                return Err(field("beam.scheme", format!("{spec} does not take the beam's structure (Hermite cubics: a consistent mass, massive contact dofs away from dof 0, the support's load): allowed {}", families_with(|c| c.beam))));
+                return Err(field(
+                    "beam.scheme",
+                    format!(
+                        "{spec} does not take the beam's structure (Hermite cubics: a consistent mass, massive contact dofs away from dof 0, the support's load): allowed {}",
+                        families_with(|c| c.beam)
+                    ),
+                ));
             }
             BeamContact::Scheme(spec)
         }
         (None, contact) => match contact {
-        None => match base.contact {
-            BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
-            BeamContact::Penalty { stiffness } => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(stiffness) },
-            BeamContact::Scheme(spec) => BeamContact::Scheme(spec),
-        },
-        Some("projection") => BeamContact::Projection { beta: b.beta.unwrap_or(0.5) },
-        Some("penalty") => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(1e8) },
-        Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\" (or beam.scheme = a registry scheme)"))),
+            None => match base.contact {
+                BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
+                BeamContact::Penalty { stiffness } => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(stiffness) },
+                BeamContact::Scheme(spec) => BeamContact::Scheme(spec),
+            },
+            Some("projection") => BeamContact::Projection { beta: b.beta.unwrap_or(0.5) },
+            Some("penalty") => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(1e8) },
+            Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\" (or beam.scheme = a registry scheme)"))),
         },
     };
     match contact {
@@ -1521,7 +1571,10 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
     // the stiffness to the penalty (whose Newmark scheme has β = 1/4).
     match contact {
         BeamContact::Penalty { .. } if b.beta.is_some() => {
-            return Err(field("beam.beta", "acts only with contact = \"projection\" (the β-scheme); the penalty contact integrates with Newmark β = 1/4: remove beta, or set contact = \"projection\""));
+            return Err(field(
+                "beam.beta",
+                "acts only with contact = \"projection\" (the β-scheme); the penalty contact integrates with Newmark β = 1/4: remove beta, or set contact = \"projection\"",
+            ));
         }
         BeamContact::Projection { .. } if b.penalty_stiffness.is_some() => {
             return Err(field("beam.penalty_stiffness", "acts only with contact = \"penalty\": remove it, or set contact = \"penalty\""));
@@ -1587,9 +1640,13 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
         let rules = KeyRules {
             restitution: match contact {
                 BeamContact::Projection { .. } => Ok(()),
-                BeamContact::Penalty { .. } => Err("acts only with contact = \"projection\" (the β-scheme's impact law); the penalty contact has none: remove it, or set contact = \"projection\"".to_string()),
+                BeamContact::Penalty { .. } => {
+                    Err("acts only with contact = \"projection\" (the β-scheme's impact law); the penalty contact has none: remove it, or set contact = \"projection\"".to_string())
+                }
                 BeamContact::Scheme(spec) if spec.capabilities().restitution => Ok(()),
-                BeamContact::Scheme(spec) => Err(format!("acts only with a scheme that has a restitution law ({}), not {spec}: remove it, or choose such a scheme", families_with(|c| c.restitution && c.beam))),
+                BeamContact::Scheme(spec) => {
+                    Err(format!("acts only with a scheme that has a restitution law ({}), not {spec}: remove it, or choose such a scheme", families_with(|c| c.restitution && c.beam)))
+                }
             },
             stiffness: match contact {
                 BeamContact::Penalty { .. } => Ok(()),
@@ -1615,7 +1672,10 @@ fn validate_beam(b: &BeamToml, stops: &[StopToml], obstacle: Option<&ObstacleTom
     if let Some(keep) = reduce {
         if let BeamContact::Projection { beta } = contact {
             if beta < 0.25 {
-                return Err(field("beam.beta", format!("{beta} is not allowed with reduce: the reduced model's contacts are massless, and the β-scheme with a massless node is unstable for every β < 1/4; allowed [1/4, 1/2]")));
+                return Err(field(
+                    "beam.beta",
+                    format!("{beta} is not allowed with reduce: the reduced model's contacts are massless, and the β-scheme with a massless node is unstable for every β < 1/4; allowed [1/4, 1/2]"),
+                ));
             }
         }
         signorini_run::beam::build_reduced(&pipe, &scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation, keep).map_err(|e| reduce_error(e, "beam"))?;

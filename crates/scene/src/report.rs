@@ -112,7 +112,8 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
         Scene::Oscillator { .. } => (1, false, 1, &None),
     };
     let need = output_estimate(scene, &file.output);
-    let free = free_space(out).map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", crate::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
+    let free = free_space(out)
+        .map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", crate::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
     let memory = crate::memory_estimate(elements, is_beam) + crate::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
     let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", crate::bytes(memory), crate::bytes(need), out.display());
     if let Some(c) = contacts {

@@ -100,13 +100,15 @@ impl Reduced {
         }
         let n = dy.n();
         if dy.k() > 1 {
-            return Err(SchemeError::NotTaken { scheme: label, what: "several contacts", why: " (the reduced schemes eliminate one massless contact node at dof 0)", by: crate::registry::families_with(|c| c.several_contacts) });
+            return Err(SchemeError::NotTaken {
+                scheme: label,
+                what: "several contacts",
+                why: " (the reduced schemes eliminate one massless contact node at dof 0)",
+                by: crate::registry::families_with(|c| c.several_contacts),
+            });
         }
         if !dy.massless_contact() {
-            return Err(SchemeError::MassNotSupported {
-                scheme: label,
-                needs: "a massless contact node (mass mod, mod1, mod2, mod3, transfer or singular)",
-            });
+            return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massless contact node (mass mod, mod1, mod2, mod3, transfer or singular)" });
         }
         if dy.contact().bounds.hi.is_finite() {
             return Err(SchemeError::Structure("the reduced schemes handle a one-sided obstacle only"));
@@ -266,7 +268,6 @@ impl Reduced {
         let f: f64 = self.f_eff.iter().zip(us).map(|(f, u)| f * u).sum();
         0.5 * self.m_star.quad_form(&self.v) + 0.5 * self.k_free.quad_form(us) - f + 0.5 * self.k * wm * wm
     }
-
 }
 
 impl Stepper for Reduced {
@@ -339,7 +340,8 @@ use crate::SchemeSpec;
 
 /// The reduced formulations' capabilities: a massless contact node at dof
 /// 0, one contact, a steady load, no damping.
-const REDUCED_CAPS: Capabilities = Capabilities { explicit: false, node: Node::Massless, diagonal_mass: false, damping: false, forcing: false, restitution: false, stiffness: false, several_contacts: false, beam: false };
+const REDUCED_CAPS: Capabilities =
+    Capabilities { explicit: false, node: Node::Massless, diagonal_mass: false, damping: false, forcing: false, restitution: false, stiffness: false, several_contacts: false, beam: false };
 
 fn build_reduced(s: &SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, law: ReducedLaw) -> Result<Box<dyn Stepper>, SchemeError> {
     if law == ReducedLaw::CentralDifference {

@@ -159,9 +159,7 @@ fn same_profile(a: &TimeProfile, b: &TimeProfile) -> bool {
     let bits = |x: &[f64], y: &[f64]| x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
     match (a, b) {
         (TimeProfile::Sine { amplitude: a0, omega: w0 }, TimeProfile::Sine { amplitude: a1, omega: w1 }) => bits(&[*a0, *w0], &[*a1, *w1]),
-        (TimeProfile::Harmonics(x), TimeProfile::Harmonics(y)) => {
-            x.len() == y.len() && x.iter().zip(y.iter()).all(|(p, q)| bits(&[p.amplitude, p.omega, p.phase], &[q.amplitude, q.omega, q.phase]))
-        }
+        (TimeProfile::Harmonics(x), TimeProfile::Harmonics(y)) => x.len() == y.len() && x.iter().zip(y.iter()).all(|(p, q)| bits(&[p.amplitude, p.omega, p.phase], &[q.amplitude, q.omega, q.phase])),
         (TimeProfile::Series(x), TimeProfile::Series(y)) => bits(x.times(), y.times()) && bits(x.values(), y.values()),
         _ => false,
     }

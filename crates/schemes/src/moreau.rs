@@ -86,7 +86,26 @@ impl MoreauJean {
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
         let samplers = dy.forcing.iter().map(|f| Sampler::means(&f.time, 0.0, dt)).collect();
-        Ok(Self { label, theta, restitution, dt, n: 0, a, proj, u: init.u.clone(), v: init.v.clone(), rhs: vec![0.0; n], tmp: vec![0.0; n], ktmp: vec![0.0; n], impulse: 0.0, lams: vec![0.0; k], acts: vec![Active::None; k], multi, samplers, dy })
+        Ok(Self {
+            label,
+            theta,
+            restitution,
+            dt,
+            n: 0,
+            a,
+            proj,
+            u: init.u.clone(),
+            v: init.v.clone(),
+            rhs: vec![0.0; n],
+            tmp: vec![0.0; n],
+            ktmp: vec![0.0; n],
+            impulse: 0.0,
+            lams: vec![0.0; k],
+            acts: vec![Active::None; k],
+            multi,
+            samplers,
+            dy,
+        })
     }
 
     /// Velocity `V^n`.

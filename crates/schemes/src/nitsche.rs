@@ -63,7 +63,12 @@ impl Nitsche {
         }
         let n = dy.n();
         if dy.k() > 1 {
-            return Err(SchemeError::NotTaken { scheme: label, what: "several contacts", why: " (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's)", by: crate::registry::families_with(|c| c.several_contacts) });
+            return Err(SchemeError::NotTaken {
+                scheme: label,
+                what: "several contacts",
+                why: " (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's)",
+                by: crate::registry::families_with(|c| c.several_contacts),
+            });
         }
         if dy.contact().dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
             return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
@@ -240,7 +245,17 @@ pub(crate) static NITSCHE: Family = Family {
         check("gamma0", a[0], a[0] > 0.0, "finite and > 0")?;
         check("theta", a[1], (-1.0..=1.0).contains(&a[1]), "[-1, 1]")
     },
-    capabilities: |_| Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: false, forcing: false, restitution: false, stiffness: false, several_contacts: false, beam: false },
+    capabilities: |_| Capabilities {
+        explicit: false,
+        node: Node::Any,
+        diagonal_mass: false,
+        damping: false,
+        forcing: false,
+        restitution: false,
+        stiffness: false,
+        several_contacts: false,
+        beam: false,
+    },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(Nitsche::new(s.to_string(), dy, 0.25, 0.5, s.args()[0], s.args()[1], dt, init)?)),

@@ -317,12 +317,8 @@ impl OneStep {
             // stiffness diagonal relative to contact 0's (γ_P K_cc per stop).
             let k0 = self.dy.stiffness.get(self.dy.contacts[0].dof, self.dy.contacts[0].dof);
             let n_contacts = self.dy.k();
-            self.kappas = self
-                .dy
-                .contacts
-                .iter()
-                .map(|c| c.stiffness.unwrap_or(if n_contacts == 1 || !(k0 > 0.0) { stiffness } else { stiffness * self.dy.stiffness.get(c.dof, c.dof) / k0 }))
-                .collect();
+            self.kappas =
+                self.dy.contacts.iter().map(|c| c.stiffness.unwrap_or(if n_contacts == 1 || !(k0 > 0.0) { stiffness } else { stiffness * self.dy.stiffness.get(c.dof, c.dof) / k0 })).collect();
             // The step solves x = y_c + W κ (lo - x)⁺ with W = a dt² w_c:
             // beyond κ W = 1e12 the branch tests are decided by rounding.
             for (i, &kappa) in self.kappas.iter().enumerate() {

@@ -130,7 +130,13 @@ impl Release {
                 let neighbours: Vec<usize> = (c.saturating_sub(dy.stiffness.half_bandwidth())..n.min(c + dy.stiffness.half_bandwidth() + 1)).filter(|&j| j != c && k(c, j) != 0.0).collect();
                 let [nb] = neighbours[..] else { return false };
                 let (mc, mn) = (dy.mass.get(c, c), dy.mass.get(nb, nb));
-                ct.restitution.unwrap_or(restitution) == 0.0 && mc > 0.0 && mn > 0.0 && near(dt2 * k(c, c) / mc, 2.0) && near(k(nb, c), -k(c, c)) && near(dt2 * k(nb, nb) / mn, 2.0) && near(dt2 * k(nb, c) / mn, -1.0)
+                ct.restitution.unwrap_or(restitution) == 0.0
+                    && mc > 0.0
+                    && mn > 0.0
+                    && near(dt2 * k(c, c) / mc, 2.0)
+                    && near(k(nb, c), -k(c, c))
+                    && near(dt2 * k(nb, nb) / mn, 2.0)
+                    && near(dt2 * k(nb, c) / mn, -1.0)
             })
             .collect();
         let m = on.len();
@@ -170,7 +176,13 @@ impl ExplicitDiagonal {
             && dy.stiffness.half_bandwidth() == 1
             && dy.mass.diagonal(1).iter().all(|x| *x == 0.0);
         let (l, inv_d) = a.tridiagonal_factors()?;
-        (applies && l.iter().all(|x| *x == 0.0)).then(|| ExplicitDiagonal { m: dy.mass.diagonal(0), m_sub: dy.mass.diagonal(1), k_diag: dy.stiffness.diagonal(0), k_sub: dy.stiffness.diagonal(1), inv_d: inv_d.to_vec() })
+        (applies && l.iter().all(|x| *x == 0.0)).then(|| ExplicitDiagonal {
+            m: dy.mass.diagonal(0),
+            m_sub: dy.mass.diagonal(1),
+            k_diag: dy.stiffness.diagonal(0),
+            k_sub: dy.stiffness.diagonal(1),
+            inv_d: inv_d.to_vec(),
+        })
     }
 
     /// `out = U^{n+1}` before the contact projection.
@@ -609,7 +621,10 @@ use crate::SchemeSpec;
 pub(crate) static PS: Family = Family {
     name: "ps",
     about: "Paoli–Schatzman two-step β-scheme with restitution e (docs/theory.md §4.3); β = 0 is Taylor–Flanagan's central difference",
-    params: &[Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None }, Param { name: "beta", symbol: "β", syntax: "BETA", allowed: "∈ [0, 1/2] (default 1/4; β < 1/4 needs a massive contact node)", default: Some(0.25) }],
+    params: &[
+        Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None },
+        Param { name: "beta", symbol: "β", syntax: "BETA", allowed: "∈ [0, 1/2] (default 1/4; β < 1/4 needs a massive contact node)", default: Some(0.25) },
+    ],
     presets: &[
         Preset { name: "ps-e0", args: &[0.0, 0.25], group: Group::Paper, rank: 4 },
         Preset { name: "ps-e0.5", args: &[0.5, 0.25], group: Group::Paper, rank: 5 },
@@ -648,7 +663,10 @@ pub(crate) static PS: Family = Family {
     build: |s, dy, dt, init| {
         let (restitution, beta) = (s.args()[0], s.args()[1]);
         if beta < 0.25 && dy.massless_contact() {
-            return Err(SchemeError::MassNotSupported { scheme: s.to_string(), needs: "a massive contact node (mass std or lumped) when β < 1/4 (with a massless node the β-scheme is unstable for every dt)" });
+            return Err(SchemeError::MassNotSupported {
+                scheme: s.to_string(),
+                needs: "a massive contact node (mass std or lumped) when β < 1/4 (with a massless node the β-scheme is unstable for every dt)",
+            });
         }
         s.check_cfl(&dy, dt, false)?;
         Ok(Box::new(PaoliSchatzman::new(s.to_string(), dy, beta, restitution, dt, init)?))

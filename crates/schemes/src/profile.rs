@@ -103,11 +103,7 @@ impl Series {
 
     fn checked(name: &str, tname: &str, vname: &str, t: Vec<f64>, v: Vec<f64>) -> Result<Self, ProfileError> {
         if t.len() != v.len() {
-            return Err(ProfileError::Count {
-                field: vname.to_string(),
-                got: v.len(),
-                allowed: format!("as many as {tname} ({})", t.len()),
-            });
+            return Err(ProfileError::Count { field: vname.to_string(), got: v.len(), allowed: format!("as many as {tname} ({})", t.len()) });
         }
         if t.len() < 2 {
             return Err(ProfileError::Count { field: name.to_string(), got: t.len(), allowed: "at least 2 points".to_string() });
@@ -309,12 +305,8 @@ impl TimeProfile {
     /// motion must then be given as a load instead).
     pub fn derivative(&self) -> Option<TimeProfile> {
         match self {
-            &TimeProfile::Sine { amplitude, omega } => {
-                Some(TimeProfile::Harmonics(Arc::new([Harmonic { amplitude: amplitude * omega, omega, phase: FRAC_PI_2 }])))
-            }
-            TimeProfile::Harmonics(h) => Some(TimeProfile::Harmonics(
-                h.iter().map(|h| Harmonic { amplitude: h.amplitude * h.omega, omega: h.omega, phase: h.phase + FRAC_PI_2 }).collect(),
-            )),
+            &TimeProfile::Sine { amplitude, omega } => Some(TimeProfile::Harmonics(Arc::new([Harmonic { amplitude: amplitude * omega, omega, phase: FRAC_PI_2 }]))),
+            TimeProfile::Harmonics(h) => Some(TimeProfile::Harmonics(h.iter().map(|h| Harmonic { amplitude: h.amplitude * h.omega, omega: h.omega, phase: h.phase + FRAC_PI_2 }).collect())),
             TimeProfile::Series(_) => None,
         }
     }
@@ -325,9 +317,7 @@ impl TimeProfile {
     pub fn second_derivative(&self) -> Option<TimeProfile> {
         match self {
             &TimeProfile::Sine { amplitude, omega } => Some(TimeProfile::Sine { amplitude: -amplitude * omega * omega, omega }),
-            TimeProfile::Harmonics(h) => Some(TimeProfile::Harmonics(
-                h.iter().map(|h| Harmonic { amplitude: -h.amplitude * h.omega * h.omega, omega: h.omega, phase: h.phase }).collect(),
-            )),
+            TimeProfile::Harmonics(h) => Some(TimeProfile::Harmonics(h.iter().map(|h| Harmonic { amplitude: -h.amplitude * h.omega * h.omega, omega: h.omega, phase: h.phase }).collect())),
             TimeProfile::Series(_) => None,
         }
     }
@@ -383,11 +373,7 @@ impl TimeProfile {
             return Err(invalid("random.f_hi", f_hi, format!("finite and > random.f_lo = {f_lo}")));
         }
         if !(1..=MAX_RANDOM_COUNT).contains(&count) {
-            return Err(ProfileError::Count {
-                field: "random.count".to_string(),
-                got: count,
-                allowed: format!("1 ..= {MAX_RANDOM_COUNT}"),
-            });
+            return Err(ProfileError::Count { field: "random.count".to_string(), got: count, allowed: format!("1 ..= {MAX_RANDOM_COUNT}") });
         }
         // The PSD as a piecewise-linear function of f (flat: constant).
         let table = match psd {
@@ -407,11 +393,7 @@ impl TimeProfile {
                     return Err(invalid("random.psd.f[0]", f[0], format!("<= random.f_lo = {f_lo} (the table must cover the band)")));
                 }
                 if f[last] < f_hi {
-                    return Err(invalid(
-                        format!("random.psd.f[{last}]"),
-                        f[last],
-                        format!(">= random.f_hi = {f_hi} (the table must cover the band)"),
-                    ));
+                    return Err(invalid(format!("random.psd.f[{last}]"), f[last], format!(">= random.f_hi = {f_hi} (the table must cover the band)")));
                 }
                 table
             }

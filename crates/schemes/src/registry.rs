@@ -75,7 +75,8 @@ pub struct Capabilities {
 impl Capabilities {
     /// An implicit scheme for any node that takes everything but impact
     /// laws and penalty stiffness (the Newmark/θ family's).
-    pub const IMPLICIT: Capabilities = Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: true, forcing: true, restitution: false, stiffness: false, several_contacts: true, beam: true };
+    pub const IMPLICIT: Capabilities =
+        Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: true, forcing: true, restitution: false, stiffness: false, several_contacts: true, beam: true };
 
     /// Whether a mass treatment whose contact node is massless (`true`) or
     /// massive (`false`) suits the scheme.
@@ -373,7 +374,12 @@ impl SchemeSpec {
             return Err(SchemeError::NotTaken { scheme: self.to_string(), what: "time-dependent load", why: "", by: families_with(|c| c.forcing) });
         }
         if dy.damping.is_some() && !caps.damping {
-            return Err(SchemeError::NotTaken { scheme: self.to_string(), what: "damping matrix", why: if caps.explicit { " (an explicit step would need a solve with M + dt/2 C)" } else { "" }, by: families_with(|c| c.damping) });
+            return Err(SchemeError::NotTaken {
+                scheme: self.to_string(),
+                what: "damping matrix",
+                why: if caps.explicit { " (an explicit step would need a solve with M + dt/2 C)" } else { "" },
+                by: families_with(|c| c.damping),
+            });
         }
         (self.family.build)(self, dy, dt, init)
     }

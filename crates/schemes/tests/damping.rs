@@ -22,7 +22,9 @@ fn oscillator(m: f64, c: f64, k: f64, forcing: Option<Sine>) -> Dynamics {
         b.set(0, 0, x);
         b
     };
-    Dynamics::new(band(m), band(k), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e6), false)]).with_forcing(forcing.map(|s| Forcing { shape: vec![1.0], time: s.profile() }).into_iter().collect()).with_damping(Some(band(c)))
+    Dynamics::new(band(m), band(k), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e6), false)])
+        .with_forcing(forcing.map(|s| Forcing { shape: vec![1.0], time: s.profile() }).into_iter().collect())
+        .with_damping(Some(band(c)))
 }
 
 /// `A^n x` for a real 2×2 `A` with complex characteristic roots `r e^{±iφ}`,
@@ -471,7 +473,8 @@ fn damping_refusals_are_typed() {
     SchemeSpec::newmark(0.25, 0.5).build(d, 1e-3, &init).unwrap();
     // Forcing terms: every shape is checked; the steady-load schemes refuse any.
     let mut d = dy_std.clone();
-    d.forcing = vec![Forcing { shape: vec![0.0; n], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.0 } }, Forcing { shape: vec![0.0; n - 1], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.0 } }];
+    d.forcing =
+        vec![Forcing { shape: vec![0.0; n], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.0 } }, Forcing { shape: vec![0.0; n - 1], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.0 } }];
     assert!(matches!(d.validate(), Err(SchemeError::Size { what: "forcing shape", got, .. }) if got == n - 1));
     d.forcing.pop();
     let e = SchemeSpec::nitsche(10.0, 1.0).build(d.clone(), 1e-3, &init).err().expect("refused");

@@ -386,7 +386,9 @@ fn cd_taylor_takes_its_cfl_limit_and_refuses_beyond() {
             }
             for factor in [1.001, 1.0 + 1e-6] {
                 match spec.build(dy.clone(), factor * limit, &init) {
-                    Err(SchemeError::Unstable { dt, limit: l, .. }) => assert!(dt == factor * limit && (l - limit).abs() <= 1e-10 * limit, "free {free} m = {m}: refusal names {l:e}, closed form {limit:e}"),
+                    Err(SchemeError::Unstable { dt, limit: l, .. }) => {
+                        assert!(dt == factor * limit && (l - limit).abs() <= 1e-10 * limit, "free {free} m = {m}: refusal names {l:e}, closed form {limit:e}")
+                    }
                     Err(e) => panic!("free {free} m = {m}: {e}"),
                     Ok(_) => panic!("free {free} m = {m}: accepted {factor} × the limit {limit:e}"),
                 }

@@ -95,11 +95,7 @@ fn harmonics_values_and_means_match_quadrature() {
         let panels = ((23.0 * (b - a) / 0.25).ceil() as usize).max(1);
         let want = gauss(&f, a, b, panels) / (b - a);
         let got = p.mean(t0, t1);
-        assert!(
-            (got - want).abs() <= 1e-13 * want.abs(),
-            "mean({t0}, {t1}) = {got:e}, quadrature {want:e}, rel {:e}",
-            (got - want).abs() / want.abs()
-        );
+        assert!((got - want).abs() <= 1e-13 * want.abs(), "mean({t0}, {t1}) = {got:e}, quadrature {want:e}, rel {:e}", (got - want).abs() / want.abs());
     }
     // A degenerate interval is the value.
     assert!((p.mean(0.7, 0.7) - f(0.7)).abs() <= 1e-15 * 5.0);
@@ -282,8 +278,7 @@ fn random_realisation_is_the_documented_contract() {
 #[test]
 fn random_terms_lie_in_their_bins_and_carry_the_exact_variance() {
     let flat = |count, seed| RandomSpec { f_lo: 0.0, f_hi: 20.0, psd: Psd::Flat(0.3), count, seed };
-    let tri =
-        |count, seed| RandomSpec { f_lo: 2.0, f_hi: 6.0, psd: Psd::Table { f: vec![1.0, 4.0, 8.0], s: vec![0.0, 3.0, 1.0] }, count, seed };
+    let tri = |count, seed| RandomSpec { f_lo: 2.0, f_hi: 6.0, psd: Psd::Table { f: vec![1.0, 4.0, 8.0], s: vec![0.0, 3.0, 1.0] }, count, seed };
     // ∫ S df by hand: flat 0.3 · 20 = 6; the table over [2, 6]: S(2) = 1,
     // S(4) = 3, S(6) = 2, so (1 + 3)/2 · 2 + (3 + 2)/2 · 2 = 9.
     for (spec, var, df) in [(flat(1, 5), 6.0, 20.0), (flat(1000, 6), 6.0, 0.02), (tri(7, 7), 9.0, 4.0 / 7.0), (tri(1000, 8), 9.0, 0.004)] {
@@ -336,8 +331,7 @@ fn random_psd_matches_averaged_periodograms() {
     let mut avg = vec![0.0; N / 2 + 1];
     let mut x = vec![0.0; N];
     for seed in 1..=K {
-        let spec =
-            RandomSpec { f_lo: 2.0, f_hi: 6.0, psd: Psd::Table { f: vec![2.0, 4.0, 6.0], s: vec![0.01, 0.03, 0.02] }, count: 160, seed };
+        let spec = RandomSpec { f_lo: 2.0, f_hi: 6.0, psd: Psd::Table { f: vec![2.0, 4.0, 6.0], s: vec![0.01, 0.03, 0.02] }, count: 160, seed };
         let p = TimeProfile::random(&spec).unwrap();
         for (n, xn) in x.iter_mut().enumerate() {
             *xn = w[n] * p.value(n as f64 * dt);

@@ -200,7 +200,9 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             ("speedup", f_),
         ],
     )?;
-    let mut md = String::from("| scene | contact | dt (s) | contact onsets (episodes) | max \\|ũ(L,t)\\| − 0.1 (m) | ΔE − W_support − W_contact | wall (s) | paper (s) | speed-up |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut md = String::from(
+        "| scene | contact | dt (s) | contact onsets (episodes) | max \\|ũ(L,t)\\| − 0.1 (m) | ΔE − W_support − W_contact | wall (s) | paper (s) | speed-up |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
     // Every penalty figure runs with the stiffness in N/m and unscaled.
     let jobs: Vec<(BeamScene, PenaltyUnits)> = scenes
         .iter()
@@ -273,10 +275,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             w.row(vec![fe(*t, 9), fe(*u, 10)])?;
         }
         tables.push(w.finish()?);
-        let stops: Vec<Series> = [pipe.stops.0, pipe.stops.1]
-            .iter()
-            .map(|g| Series { label: format!("stop {g} m"), points: vec![(0.0, *g), (scene.t_end, *g)], reference: true, style: Default::default() })
-            .collect();
+        let stops: Vec<Series> =
+            [pipe.stops.0, pipe.stops.1].iter().map(|g| Series { label: format!("stop {g} m"), points: vec![(0.0, *g), (scene.t_end, *g)], reference: true, style: Default::default() }).collect();
         let mut series = vec![Series { label: "ũ(L,t)".into(), points: r.tip.series.clone(), reference: false, style: Default::default() }];
         series.extend(stops);
         let title = format!("{name}: tip of the pipe, {contact}, β = {beta}, dt = {:e} s", scene.dt);
@@ -298,9 +298,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         let r = run_scene(&pipe, &BeamScene { dt, ..base }, PenaltyUnits::NewtonPerMetre, false, 0.2, usize::MAX)?;
         // Compare at the coarse run's times (multiples of dt, which the reference also has).
         let stride = (dt / (base.dt / 64.0)).round() as usize;
-        let err_until = |t_max: f64| {
-            r.tip.series.iter().enumerate().filter(|(_, (t, _))| *t <= t_max).map(|(i, (_, u))| (u - reference.tip.series[i * stride].1).abs()).fold(0.0, f64::max)
-        };
+        let err_until = |t_max: f64| r.tip.series.iter().enumerate().filter(|(_, (t, _))| *t <= t_max).map(|(i, (_, u))| (u - reference.tip.series[i * stride].1).abs()).fold(0.0, f64::max);
         let (e_pre, e_all) = (err_until(0.085), err_until(0.2 + 1e-9));
         let rate = |e0: f64, e: f64, d0: f64| (e0 / e).ln() / (d0 / dt).ln();
         let (r_pre, r_all) = last.map_or((f64::NAN, f64::NAN), |(d0, p0, a0)| (rate(p0, e_pre, d0), rate(a0, e_all, d0)));
@@ -389,13 +387,7 @@ fn penalty_study(a: &Config, pipe: &Pipe, done: &mut Vec<Violation>) -> Result<(
             w.row(vec![txt(units.label()), fde(stiffness), fe(kappa, 6), fde(r.dt), fe(r.max, 6), fe(lo, 6), fe(hi, 6), fe(rel, 4), fe(r.first, 6), fe(flo, 6), fe(fhi, 6), fe(frel, 4)])?;
         }
         let per_dt: Vec<String> = group.iter().map(|r| format!("{:.3e} ({:e})", r.max, r.dt)).collect();
-        md.push_str(&format!(
-            "| {} | {kappa:.4e} | {} | {lo:.3e} – {hi:.3e} ({:.1} %) | {flo:.4e} – {fhi:.4e} ({:.2} %) |\n",
-            units.label(),
-            per_dt.join(", "),
-            100.0 * rel,
-            100.0 * frel
-        ));
+        md.push_str(&format!("| {} | {kappa:.4e} | {} | {lo:.3e} – {hi:.3e} ({:.1} %) | {flo:.4e} – {fhi:.4e} ({:.2} %) |\n", units.label(), per_dt.join(", "), 100.0 * rel, 100.0 * frel));
     }
     Ok((md, w.finish()?))
 }

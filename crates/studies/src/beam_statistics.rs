@@ -36,11 +36,11 @@
 //! * `statistics.svg`: |rel_diff| against dt at the largest J.
 
 use crate::{create_dir, fde, fe, int, since, txt, Kind, StudyError, TableOut};
-use signorini_scene::{Limits, Scene, SceneFile};
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_run::stats::{batch_means, Interval};
-use signorini_schemes::Active;
 use signorini_run::{run as run_steps, ImpactObserver, Observer, RunConfig, RunError, Sample};
+use signorini_scene::{Limits, Scene, SceneFile};
+use signorini_schemes::Active;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -84,7 +84,16 @@ pub struct Config {
 impl Default for Config {
     /// `cargo xtask beam-statistics` without options.
     fn default() -> Self {
-        Config { out: PathBuf::from("out/beam-statistics"), scenes: vec!["fig2-support".into()], dts: vec![5e-5, 2.5e-5, 1e-5], elements: vec![19, 38], transient: 10.0, window: 320.0, batches: 20, episode_gap: 5e-3 }
+        Config {
+            out: PathBuf::from("out/beam-statistics"),
+            scenes: vec!["fig2-support".into()],
+            dts: vec![5e-5, 2.5e-5, 1e-5],
+            elements: vec![19, 38],
+            transient: 10.0,
+            window: 320.0,
+            batches: 20,
+            episode_gap: 5e-3,
+        }
     }
 }
 
@@ -271,13 +280,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         "statistics.csv",
         &[("scene", s_), ("dt", f_), ("elements", i_), ("statistic", s_), ("mean", f_), ("ci_low", f_), ("ci_high", f_), ("finest_mean", f_), ("rel_diff", f_), ("within_ci", i_), ("kind", s_)],
     )?;
-    let mut md = format!(
-        "# Beam statistics over {} forcing periods after {} ({} batches, 95 % batch-means intervals; output in {})\n",
-        a.window,
-        a.transient,
-        a.batches,
-        a.out.display()
-    );
+    let mut md = format!("# Beam statistics over {} forcing periods after {} ({} batches, 95 % batch-means intervals; output in {})\n", a.window, a.transient, a.batches, a.out.display());
     let w_ = |r: std::fmt::Result| r.expect("writing to a String");
     let mut series = Vec::new();
     let jmax = a.elements.iter().copied().max().expect("validated");
@@ -285,7 +288,11 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         let idx: Vec<usize> = (0..cases.len()).filter(|&i| &cases[i].0 == sname).collect();
         // The finest: smallest dt, then largest J.
         let finest = *idx.iter().min_by(|&&x, &&y| cases[x].1.total_cmp(&cases[y].1).then(cases[y].2.cmp(&cases[x].2))).expect("one case at least");
-        w_(writeln!(md, "\n## {sname} (finest: dt = {:e}, J = {})\n\n| statistic | kind | dt | J | mean [95 % interval] | relative to the finest |\n|---|---|---|---|---|---|", cases[finest].1, cases[finest].2));
+        w_(writeln!(
+            md,
+            "\n## {sname} (finest: dt = {:e}, J = {})\n\n| statistic | kind | dt | J | mean [95 % interval] | relative to the finest |\n|---|---|---|---|---|---|",
+            cases[finest].1, cases[finest].2
+        ));
         for (k, (stat, dep)) in STATISTICS.iter().enumerate() {
             let f = cis[finest][k];
             let kind = if *dep { "step-dependent" } else { "converges" };

@@ -11,9 +11,9 @@ use crate::{fe, ff, fits_memory, int, parse_schemes, prepare_dir, since, txt, Ki
 use signorini_fem::BarMass;
 use signorini_norms::NormKind;
 use signorini_plot::{line_chart, stack_vertically, Chart, Scale, Series, Style};
+use signorini_reduce::Keep;
 use signorini_run::study::{self, ConfigResult, StudyConfig, LEVEL_COLUMNS, NORMS};
 use signorini_run::Benchmark;
-use signorini_reduce::Keep;
 use signorini_schemes::SchemeSpec;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -121,11 +121,18 @@ impl Config {
     /// output folder. Every check is done here, before anything is run.
     pub fn resolve(&self) -> Result<(StudyConfig, PathBuf, Vec<String>), StudyError> {
         let (ratio0, t0) = self.benchmark.default_ratio_and_horizon();
-        let mut cfg = StudyConfig::new(self.benchmark, self.schemes.clone(), self.masses.clone(), self.levels.clone(), self.ratio.unwrap_or(ratio0), self.t_end.unwrap_or(t0)).with_norms(self.norms).with_degree(self.degree);
+        let mut cfg = StudyConfig::new(self.benchmark, self.schemes.clone(), self.masses.clone(), self.levels.clone(), self.ratio.unwrap_or(ratio0), self.t_end.unwrap_or(t0))
+            .with_norms(self.norms)
+            .with_degree(self.degree);
         cfg.validate().map_err(study_error)?;
         if let Some(keep) = self.reduce {
             if let Some(m) = cfg.masses.iter().find(|m| !m.massless_contact_node()) {
-                return Err(StudyError::config("--masses", format!("--masses {m} with --reduce: the reduction keeps the contacts massless, exact for a parent without mass at its contacts; allowed mod, mod1, mod2, mod3, transfer, singular")));
+                return Err(StudyError::config(
+                    "--masses",
+                    format!(
+                        "--masses {m} with --reduce: the reduction keeps the contacts massless, exact for a parent without mass at its contacts; allowed mod, mod1, mod2, mod3, transfer, singular"
+                    ),
+                ));
             }
             if let Some(s) = cfg.schemes.iter().find(|s| !s.accepts_massless_node(true)) {
                 return Err(StudyError::config("--schemes", format!("--schemes {s} with --reduce: it needs a massive contact node, and a reduced model's contacts are massless")));
@@ -252,7 +259,15 @@ pub(crate) fn sweep_into(cfg: &StudyConfig, out: &Path, prefix: &str, progress: 
 
 /// [`sweep_into`] with every level reduced when `reduce` is given.
 /// The folder may hold only files this sweep writes, unless `clean`.
-fn sweep_into_reduced(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, prefix: &str, clean: bool, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
+fn sweep_into_reduced(
+    cfg: &StudyConfig,
+    reduce: Option<Keep>,
+    out: &Path,
+    prefix: &str,
+    clean: bool,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    notes: &mut Vec<String>,
+) -> Result<(Vec<ConfigResult>, f64, Vec<Table>), StudyError> {
     prepare_dir(out, &output_files(cfg), clean)?;
     let total = (cfg.schemes.len() * cfg.masses.len() * cfg.levels.len()) as u64;
     let done = AtomicU64::new(0);

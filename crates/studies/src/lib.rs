@@ -328,7 +328,10 @@ pub(crate) fn prepare_dir(dir: &Path, expected: &[String], clean: bool) -> Resul
     stale.sort();
     if !clean {
         let shown = if stale.len() > 4 { format!("{}, … ({} files)", stale[..4].join(", "), stale.len()) } else { stale.join(", ") };
-        return Err(StudyError::config("--out", format!("output folder {} holds files of another study or configuration ({shown}): pass --clean to remove them first, or choose another --out", dir.display())));
+        return Err(StudyError::config(
+            "--out",
+            format!("output folder {} holds files of another study or configuration ({shown}): pass --clean to remove them first, or choose another --out", dir.display()),
+        ));
     }
     for f in &stale {
         let path = dir.join(f);

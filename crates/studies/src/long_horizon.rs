@@ -105,7 +105,8 @@ impl EnergyTable {
     /// mod: left out).
     pub fn all_runs() -> Vec<(SchemeSpec, BarMass)> {
         let masses = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
-        let mut runs: Vec<(SchemeSpec, BarMass)> = SchemeSpec::named().flat_map(|(_, s)| masses.iter().filter(move |m| s.accepts_massless_node(m.massless_contact_node())).map(move |&m| (s, m))).collect();
+        let mut runs: Vec<(SchemeSpec, BarMass)> =
+            SchemeSpec::named().flat_map(|(_, s)| masses.iter().filter(move |m| s.accepts_massless_node(m.massless_contact_node())).map(move |&m| (s, m))).collect();
         runs.extend(SchemeSpec::group(signorini_schemes::Group::SingleMass).map(|(_, s)| (s, BarMass::Lumped)));
         runs
     }
@@ -251,7 +252,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let energy_jobs = a.energy.as_ref().map_or(0, |e| e.runs.len() * e.ratios.len());
     let total = (a.runs.len() * a.levels.len() + energy_jobs) as u64;
     let mut done = 0;
-    let mut md = format!("| scheme | mass | m | max L² error in period 1 | … in period {periods} | L∞(0,T;L²) | impact drift per period | final energy (exact 1/8) |\n|---|---|---|---|---|---|---|---|\n");
+    let mut md =
+        format!("| scheme | mass | m | max L² error in period 1 | … in period {periods} | L∞(0,T;L²) | impact drift per period | final energy (exact 1/8) |\n|---|---|---|---|---|---|---|---|\n");
     for &(scheme, mass) in &a.runs {
         for &m in &a.levels {
             let p = b.problem(exact.as_ref(), m, mass)?;
@@ -356,7 +358,16 @@ impl Observer for Windows {
 
 /// The energy-growth table: every (scheme, mass, dx/dt) in parallel.
 #[allow(clippy::too_many_arguments)]
-fn energy_growth(a: &Config, e: &EnergyTable, done0: u64, total: u64, progress: &(dyn Fn(u64, u64) + Sync), tables: &mut Vec<crate::Table>, report: &mut String, notes: &mut Vec<String>) -> Result<(), StudyError> {
+fn energy_growth(
+    a: &Config,
+    e: &EnergyTable,
+    done0: u64,
+    total: u64,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    tables: &mut Vec<crate::Table>,
+    report: &mut String,
+    notes: &mut Vec<String>,
+) -> Result<(), StudyError> {
     use rayon::prelude::*;
     let b = Benchmark::BarDirichlet;
     let exact = b.exact(e.t_end)?;
@@ -390,7 +401,21 @@ fn energy_growth(a: &Config, e: &EnergyTable, done0: u64, total: u64, progress: 
         .collect();
     let head = [("scheme", Kind::S), ("mass", Kind::S), ("m", Kind::I), ("dx_dt", Kind::F)];
     let with = |more: &[(&'static str, Kind)]| -> Vec<(&'static str, Kind)> { head.iter().copied().chain(more.iter().copied()).collect() };
-    let mut gt = TableOut::create(&a.out, "energy_growth.csv", &with(&[("dt", Kind::F), ("steps", Kind::I), ("e_ref", Kind::F), ("final_energy", Kind::F), ("max_ratio", Kind::F), ("t_max_ratio", Kind::F), ("t_ratio_2", Kind::F), ("final_ratio", Kind::F), ("t_stopped", Kind::F)]))?;
+    let mut gt = TableOut::create(
+        &a.out,
+        "energy_growth.csv",
+        &with(&[
+            ("dt", Kind::F),
+            ("steps", Kind::I),
+            ("e_ref", Kind::F),
+            ("final_energy", Kind::F),
+            ("max_ratio", Kind::F),
+            ("t_max_ratio", Kind::F),
+            ("t_ratio_2", Kind::F),
+            ("final_ratio", Kind::F),
+            ("t_stopped", Kind::F),
+        ]),
+    )?;
     let mut vt = TableOut::create(&a.out, "energy_vs_time.csv", &with(&[("window", Kind::I), ("t_to", Kind::F), ("max_ratio", Kind::F)]))?;
     let mut md = format!("\n# Energy growth: bar-dirichlet, m = {}, to T = {} (E/budget; budget = the first energy, no load, no damping)\n\n| scheme | mass | dx/dt | max E/budget | at t | first t with E/budget > 2 | final E/budget (or where the run's 1e6 energy guard stopped it) |\n|---|---|---|---|---|---|---|\n", e.m, e.t_end);
     let mut kept = Vec::new();
@@ -402,7 +427,21 @@ fn energy_growth(a: &Config, e: &EnergyTable, done0: u64, total: u64, progress: 
         let (sn, mn) = (scheme.to_string(), mass.to_string());
         let w = &g.w;
         let e_ref = w.e_ref.unwrap_or(f64::NAN);
-        gt.row(vec![txt(&sn), txt(&mn), int(e.m), fd(g.ratio), fe(g.dt, 6), int(w.steps), fe(e_ref, 10), fe(w.last, 10), fe(w.max_ratio, 6), ff(w.t_max, 4), w.first2.map_or(Cell::E, |t| ff(t, 4)), fe(w.last / e_ref, 6), g.stopped.map_or(Cell::E, |t| ff(t, 4))])?;
+        gt.row(vec![
+            txt(&sn),
+            txt(&mn),
+            int(e.m),
+            fd(g.ratio),
+            fe(g.dt, 6),
+            int(w.steps),
+            fe(e_ref, 10),
+            fe(w.last, 10),
+            fe(w.max_ratio, 6),
+            ff(w.t_max, 4),
+            w.first2.map_or(Cell::E, |t| ff(t, 4)),
+            fe(w.last / e_ref, 6),
+            g.stopped.map_or(Cell::E, |t| ff(t, 4)),
+        ])?;
         for (k, x) in w.max.iter().enumerate() {
             vt.row(vec![txt(&sn), txt(&mn), int(e.m), fd(g.ratio), int(k + 1), ff(e.t_end * (k + 1) as f64 / ENERGY_WINDOWS as f64, 3), if x.is_nan() { Cell::E } else { fe(*x, 6) }])?;
         }

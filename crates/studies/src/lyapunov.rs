@@ -26,9 +26,9 @@
 //! * `oscillator.csv`: `omega,lambda_max,ci_low,ci_high,lambda_exact,multiplier`.
 
 use crate::{create_dir, fd, fde, fe, ff, int, opt, since, txt, Kind, StudyError, TableOut};
-use signorini_scene::{Limits, Scene, SceneFile};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_run::chaos::{energy_norm, lyapunov, predictability_horizon, Benettin, Flow, StepperFlow};
+use signorini_scene::{Limits, Scene, SceneFile};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -106,7 +106,10 @@ impl Config {
             return Err(StudyError::config("--omegas", format!("--omegas {:?}: allowed each finite and in (0, 100]", self.omegas)));
         }
         if !(self.perturbation > 0.0 && self.perturbation < 1e-3) {
-            return Err(StudyError::config("--perturbation", format!("--perturbation {}: allowed 0 < perturbation < 1e-3 (relative to the state's energy norm)", signorini_run::text::num(self.perturbation))));
+            return Err(StudyError::config(
+                "--perturbation",
+                format!("--perturbation {}: allowed 0 < perturbation < 1e-3 (relative to the state's energy norm)", signorini_run::text::num(self.perturbation)),
+            ));
         }
         if !(self.transient.is_finite() && (0.0..=1e4).contains(&self.transient)) {
             return Err(StudyError::config("--transient", format!("--transient {}: allowed finite, in [0, 10000] forcing periods", self.transient)));
@@ -121,7 +124,11 @@ impl Config {
         if !(self.window.is_finite() && self.window <= most && self.window * self.per_period as f64 >= (10 * self.batches) as f64) {
             return Err(StudyError::config(
                 "--window",
-                format!("--window {}: allowed finite, at most {most} forcing periods, and at least 10 renormalisations per batch (window · per-period >= 10 · batches = {})", self.window, 10 * self.batches),
+                format!(
+                    "--window {}: allowed finite, at most {most} forcing periods, and at least 10 renormalisations per batch (window · per-period >= 10 · batches = {})",
+                    self.window,
+                    10 * self.batches
+                ),
             ));
         }
         Ok(())

@@ -283,7 +283,14 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let j_cases: Vec<(usize, f64, f64)> = a.js.iter().map(|&j| (j, a.j_dt, Pipe::paper().length / j as f64)).collect();
     let (j_pts, j_table) = study("j.csv", &reference_j, (j_ref, a.j_dt), &j_cases, base, &mut notes)?;
     let mut r = TableOut::create(&a.out, "rates.csv", &[("study", Kind::S), ("error", Kind::S), ("lsq_rate", Kind::F), ("last_rate", Kind::F)])?;
-    for (study, err, pts) in [("dt", "pre_impact_tip_linf", &dt_pts.2), ("dt", "tip_linf", &dt_pts.0), ("dt", "nodes_linf", &dt_pts.1), ("j", "pre_impact_tip_linf", &j_pts.2), ("j", "tip_linf", &j_pts.0), ("j", "nodes_linf", &j_pts.1)] {
+    for (study, err, pts) in [
+        ("dt", "pre_impact_tip_linf", &dt_pts.2),
+        ("dt", "tip_linf", &dt_pts.0),
+        ("dt", "nodes_linf", &dt_pts.1),
+        ("j", "pre_impact_tip_linf", &j_pts.2),
+        ("j", "tip_linf", &j_pts.0),
+        ("j", "nodes_linf", &j_pts.1),
+    ] {
         let q = rate(pts);
         r.row(vec![txt(study), txt(err), ff(q.lsq, 3), ff(q.last, 3)])?;
         notes.push(format!("rate in {study} ({err}): {:.2} (least squares), {:.2} (last two)", q.lsq, q.last));
@@ -307,7 +314,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         Series { label: format!("obstacle +{}", a.gap), points: vec![(0.0, a.gap), (t, a.gap)], reference: true, style: Default::default() },
         Series { label: format!("obstacle -{}", a.gap), points: vec![(0.0, -a.gap), (t, -a.gap)], reference: true, style: Default::default() },
     ];
-    let svg = line_chart(&Chart { title: "beam-obstacles: tip displacement u(L, t)", x_label: "t (s)", y_label: "u (m)", scale: Scale::Linear, size: (720, 420) }, &series).map_err(StudyError::Plot)?;
+    let svg =
+        line_chart(&Chart { title: "beam-obstacles: tip displacement u(L, t)", x_label: "t (s)", y_label: "u (m)", scale: Scale::Linear, size: (720, 420) }, &series).map_err(StudyError::Plot)?;
     crate::write_file(&a.out.join("tip.svg"), &svg)?;
     notes.push(format!("wrote {}", a.out.display()));
     Ok(Output { tables, report: String::new(), wall_s: since(start), notes })

@@ -15,11 +15,11 @@
 //! `grazing.csv` (`omega,offset,impacts,first_velocity`), `errors.svg`.
 
 use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, TableOut};
-use signorini_scene::Limits;
-use signorini_sweep::{simulate, Sweep, SweepOptions};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_run::study::rate;
+use signorini_scene::Limits;
+use signorini_sweep::{simulate, Sweep, SweepOptions};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -41,7 +41,13 @@ pub struct Config {
 impl Default for Config {
     /// `cargo xtask oscillator` without options.
     fn default() -> Self {
-        Config { out: PathBuf::from("out/oscillator"), omegas: vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2], dts: vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6], transient: 60.0, record: 10.0 }
+        Config {
+            out: PathBuf::from("out/oscillator"),
+            omegas: vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
+            dts: vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6],
+            transient: 60.0,
+            record: 10.0,
+        }
     }
 }
 
@@ -73,7 +79,10 @@ pub type Output = crate::Report;
 const SCENE: &str = include_str!("../../../data/scenes/oscillator.toml");
 
 fn scene_text(dt: f64, x0: f64, v0: f64) -> Result<String, StudyError> {
-    Ok(SCENE.replace("dt = 1e-3", &format!("dt = {dt:e}")).replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}")).replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}")))
+    Ok(SCENE
+        .replace("dt = 1e-3", &format!("dt = {dt:e}"))
+        .replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}"))
+        .replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}")))
 }
 
 /// The `(phase, velocity)` impacts of a run, or why it failed.
@@ -106,12 +115,21 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let (transient, record) = (a.transient, a.record);
     let mut results: Vec<Option<Impacts>> = crate::run_cases(&cases, progress, &|&(w, dt)| scene_text(dt, 0.0, 0.0).and_then(|t| impacts(&t, w, transient, record))).into_iter().map(Some).collect();
     let (f_, i_) = (Kind::F, Kind::I);
-    let mut orbits = TableOut::create(&a.out, "orbits.csv", &[("omega", f_), ("dt", f_), ("impacts", i_), ("velocity_exact", f_), ("phase_exact", f_), ("multiplier", f_), ("velocity_err", f_), ("phase_err", f_)])?;
+    let mut orbits = TableOut::create(
+        &a.out,
+        "orbits.csv",
+        &[("omega", f_), ("dt", f_), ("impacts", i_), ("velocity_exact", f_), ("phase_exact", f_), ("multiplier", f_), ("velocity_err", f_), ("phase_err", f_)],
+    )?;
     let mut rates = TableOut::create(&a.out, "rates.csv", &[("omega", f_), ("velocity_lsq_rate", f_), ("velocity_last_rate", f_), ("phase_lsq_rate", f_), ("phase_last_rate", f_)])?;
     let mut series = Vec::new();
     let mut report = String::new();
     let w_ = |r: std::fmt::Result| r.expect("writing to a String");
-    w_(writeln!(report, "# Impact oscillator against its exact period-1 orbits\n\n| Ω | V exact | |μ| | velocity error (relative) at dt = {} … {} | rate | phase error (rad) | rate |\n|---|---|---|---|---|---|---|", a.dts[0], a.dts[a.dts.len() - 1]));
+    w_(writeln!(
+        report,
+        "# Impact oscillator against its exact period-1 orbits\n\n| Ω | V exact | |μ| | velocity error (relative) at dt = {} … {} | rate | phase error (rad) | rate |\n|---|---|---|---|---|---|---|",
+        a.dts[0],
+        a.dts[a.dts.len() - 1]
+    ));
     for &w in &a.omegas {
         let orbits_w = exact(w)?.period1_orbits();
         let [o] = orbits_w.as_slice() else {
@@ -129,7 +147,18 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         }
         let (rv, rp) = (rate(&ev), rate(&ep));
         rates.row(vec![fd(w), ff(rv.lsq, 4), ff(rv.last, 4), ff(rp.lsq, 4), ff(rp.last, 4)])?;
-        w_(writeln!(report, "| {w} | {:.6} | {:.3} | {:.2e} … {:.2e} | {:.2} | {:.2e} … {:.2e} | {:.2} |", o.impact_velocity, o.multipliers[0].abs(), ev[0].1, ev[ev.len() - 1].1, rv.lsq, ep[0].1, ep[ep.len() - 1].1, rp.lsq));
+        w_(writeln!(
+            report,
+            "| {w} | {:.6} | {:.3} | {:.2e} … {:.2e} | {:.2} | {:.2e} … {:.2e} | {:.2} |",
+            o.impact_velocity,
+            o.multipliers[0].abs(),
+            ev[0].1,
+            ev[ev.len() - 1].1,
+            rv.lsq,
+            ep[0].1,
+            ep[ep.len() - 1].1,
+            rp.lsq
+        ));
         series.push(Series { label: format!("Ω = {w}"), points: ev, reference: false, style: Style::default() });
     }
     let mut tables = vec![orbits.finish()?, rates.finish()?];
@@ -139,7 +168,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     // Grazing: from the non-impacting steady state of each Ω.
     let wg = exact(2.0)?.grazing_frequencies();
     let mut graz = TableOut::create(&a.out, "grazing.csv", &[("omega", f_), ("offset", f_), ("impacts", i_), ("first_velocity", f_)])?;
-    w_(writeln!(report, "\nGrazing frequency (steady amplitude = gap): {wg:?}; from the non-impacting steady state (dt = 1e-4, 30 periods):\n\n| Ω − Ω_g | impacts | first impact velocity |\n|---|---|---|"));
+    w_(writeln!(
+        report,
+        "\nGrazing frequency (steady amplitude = gap): {wg:?}; from the non-impacting steady state (dt = 1e-4, 30 periods):\n\n| Ω − Ω_g | impacts | first impact velocity |\n|---|---|---|"
+    ));
     for &g in &wg {
         for d in [1e-3, 3e-4, -3e-4, -1e-3, -1e-2] {
             let w = g + d;

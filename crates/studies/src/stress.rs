@@ -107,7 +107,11 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let total = (SchemeSpec::named().map(|(_, s)| masses.iter().filter(|m| s.accepts_massless_node(m.massless_contact_node())).count()).sum::<usize>() * ratios.len()) as u64;
     let mut done = 0u64;
     let (s_, f_, i_) = (Kind::S, Kind::F, Kind::I);
-    let mut w = TableOut::create(&a.out, "stress.csv", &[("scheme", s_), ("mass", s_), ("ratio", f_), ("steps", i_), ("seed", i_), ("status", s_), ("stop_step", s_), ("max_rel_drift", f_), ("max_growth", f_), ("wall_s", f_)])?;
+    let mut w = TableOut::create(
+        &a.out,
+        "stress.csv",
+        &[("scheme", s_), ("mass", s_), ("ratio", f_), ("steps", i_), ("seed", i_), ("status", s_), ("stop_step", s_), ("max_rel_drift", f_), ("max_growth", f_), ("wall_s", f_)],
+    )?;
     let (mut rows, mut grid) = (Vec::new(), Vec::new());
     let mut md = String::from("| scheme | mass | worst relative energy change, dx/dt = 0.1 … 100 | largest E/E₀ | blow-ups | refused (CFL) |\n|---|---|---|---|---|---|\n");
     for (name, scheme) in SchemeSpec::named() {
@@ -133,7 +137,18 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                     // An explicit scheme beyond its CFL limit is refused up
                     // front: reported, like a blow-up would be.
                     Err(signorini_schemes::SchemeError::Unstable { limit, .. }) => {
-                        w.row(vec![txt(name), txt(mass.to_string()), fd(*ratio), int(a.steps), Cell::I(seed as i64), txt("refused-cfl"), txt(format!("limit {limit:.3e}")), Cell::E, Cell::E, Cell::F(0.0, "0".into())])?;
+                        w.row(vec![
+                            txt(name),
+                            txt(mass.to_string()),
+                            fd(*ratio),
+                            int(a.steps),
+                            Cell::I(seed as i64),
+                            txt("refused-cfl"),
+                            txt(format!("limit {limit:.3e}")),
+                            Cell::E,
+                            Cell::E,
+                            Cell::F(0.0, "0".into()),
+                        ])?;
                         progress(done, total);
                         line.push(f64::NAN);
                         refused += 1;
@@ -169,8 +184,15 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     }
     let cols: Vec<String> = ratios.iter().map(|r| format!("dx/dt={r}")).collect();
     let table = w.finish()?;
-    let svg = heat_map(&format!("max relative energy drift over {} steps (log10, blue low, red high; black: blow-up; grey: refused, beyond the CFL limit)", a.steps), &rows, &cols, &grid, true, (900, 40 + 28 * rows.len() as u32))
-        .map_err(StudyError::Plot)?;
+    let svg = heat_map(
+        &format!("max relative energy drift over {} steps (log10, blue low, red high; black: blow-up; grey: refused, beyond the CFL limit)", a.steps),
+        &rows,
+        &cols,
+        &grid,
+        true,
+        (900, 40 + 28 * rows.len() as u32),
+    )
+    .map_err(StudyError::Plot)?;
     crate::write_file(&a.out.join("stress.svg"), &svg)?;
     let report = format!("# Stress: {} steps per run, {} elements, free bar thrown at the obstacle with random data\n\n{md}\n", a.steps, a.elements);
     Ok(Output { tables: vec![table], report, wall_s: since(start), notes: Vec::new() })

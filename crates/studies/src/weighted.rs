@@ -128,10 +128,8 @@ fn plot(dir: &Path, scheme: &str, runs: &[&FigureRun], what: &str, t_max: f64) -
             _ => rec.energy,
         }
     };
-    let mut series: Vec<Series> = runs
-        .iter()
-        .map(|r| Series { label: r.mass.to_string(), points: r.records.iter().filter_map(pick).filter(|p| p.0 <= t_max).collect(), reference: false, style: Default::default() })
-        .collect();
+    let mut series: Vec<Series> =
+        runs.iter().map(|r| Series { label: r.mass.to_string(), points: r.records.iter().filter_map(pick).filter(|p| p.0 <= t_max).collect(), reference: false, style: Default::default() }).collect();
     let n = 3000;
     let exact: Vec<(f64, f64)> = (0..=n)
         .map(|i| t_max * i as f64 / n as f64)
@@ -193,7 +191,23 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     }
     // Phase shift and energy tables.
     let ex = BarDirichlet;
-    let head = |names: &[&'static str]| -> Vec<(&'static str, Kind)> { names.iter().map(|&n| (n, if n == "scheme" || n == "mass" { Kind::S } else if n == "m" { Kind::I } else { Kind::F })).collect() };
+    let head = |names: &[&'static str]| -> Vec<(&'static str, Kind)> {
+        names
+            .iter()
+            .map(|&n| {
+                (
+                    n,
+                    if n == "scheme" || n == "mass" {
+                        Kind::S
+                    } else if n == "m" {
+                        Kind::I
+                    } else {
+                        Kind::F
+                    },
+                )
+            })
+            .collect()
+    };
     let mut phase = TableOut::create(&a.out, "phase.csv", &head(&["scheme", "mass", "m", "dt", "takeoff", "takeoff_error", "impact2", "impact2_error", "u0_linf_0_30"]))?;
     let mut energy = TableOut::create(&a.out, "energy.csv", &head(&["scheme", "mass", "m", "dt", "energy_1", "energy_3", "energy_30", "initial_loss", "dissipated_3", "dissipated_30"]))?;
     let mut md_phase = String::from("| scheme | mass | m | take-off − 2 | 2nd impact − 4 | max |u₀ − u₀ₑₓ| on [0,30] |\n|---|---|---|---|---|---|\n");

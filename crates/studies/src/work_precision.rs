@@ -40,6 +40,7 @@
 //! unless it is round-off) marked so wherever it is named.
 
 use crate::{create_dir, fe, int, opt, since, txt, Kind, StudyError, TableOut};
+use rayon::prelude::*;
 use signorini_fem::BarMass;
 use signorini_norms::NormReport;
 use signorini_plot::{line_chart, Chart, Scale, Series};
@@ -49,7 +50,6 @@ use signorini_run::stats::{batch_means, Interval};
 use signorini_run::study::{self, StudyConfig};
 use signorini_run::{run as run_steps, Benchmark, NormObserver, Observer, RunConfig, RunError, Sample};
 use signorini_schemes::{SchemeSpec, Stepper};
-use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -121,9 +121,7 @@ impl Config {
         for benchmark in BARS {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
-                StudyConfig::new(benchmark, schemes.clone(), vec![BarMass::Std], self.levels.clone(), r, t_end)
-                    .validate()
-                    .map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
+                StudyConfig::new(benchmark, schemes.clone(), vec![BarMass::Std], self.levels.clone(), r, t_end).validate().map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
             }
         }
         if let Some(&k) = self.degrees.iter().find(|&&k| !(2..=3).contains(&k)) {
@@ -406,7 +404,22 @@ fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
     let r = norms.report();
     let (setup, wall) = best_of_3(&build, dt, t_end)?;
     let release_err = Some(release_error(norms.first_release(), exact_release(exact.as_ref(), t_end)));
-    Ok(Point { benchmark: b.to_string(), scheme: "cd-taylor".into(), mass: BarMass::Lumped.to_string(), m, dt, steps: sum.steps, norms: Some(r), release_err, wall, setup, degree: 1, modes: 0, beam: None, power: None })
+    Ok(Point {
+        benchmark: b.to_string(),
+        scheme: "cd-taylor".into(),
+        mass: BarMass::Lumped.to_string(),
+        m,
+        dt,
+        steps: sum.steps,
+        norms: Some(r),
+        release_err,
+        wall,
+        setup,
+        degree: 1,
+        modes: 0,
+        beam: None,
+        power: None,
+    })
 }
 
 /// |discrete − exact| first release time, NaN where either is missing.
@@ -493,7 +506,22 @@ fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
                 te,
             )?;
             let mass = if modes == 0 { "consistent" } else { "massless-tip" };
-            points.push(Point { benchmark: BEAM.into(), scheme: "beta-scheme(0.5)".into(), mass: mass.into(), m: j, dt, steps, norms: None, release_err: None, wall, setup, degree: 3, modes, beam: Some(errs), power: None });
+            points.push(Point {
+                benchmark: BEAM.into(),
+                scheme: "beta-scheme(0.5)".into(),
+                mass: mass.into(),
+                m: j,
+                dt,
+                steps,
+                norms: None,
+                release_err: None,
+                wall,
+                setup,
+                degree: 3,
+                modes,
+                beam: Some(errs),
+                power: None,
+            });
         }
     }
     Ok((points, self_conv))
@@ -592,10 +620,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                 }
             }
             // One level at a time (a sweep wants two levels for its rates).
-            let runs: Vec<Result<(usize, study::LevelResult), StudyError>> = levels
-                .par_iter()
-                .map(|&m| Ok((m, study::run_level(&study::Level::new(benchmark, cn, BarMass::Mod, m, ratio, t_end).with_reduce(Some(Keep::Modes(r))), exact.as_ref())?)))
-                .collect();
+            let runs: Vec<Result<(usize, study::LevelResult), StudyError>> =
+                levels.par_iter().map(|&m| Ok((m, study::run_level(&study::Level::new(benchmark, cn, BarMass::Mod, m, ratio, t_end).with_reduce(Some(Keep::Modes(r))), exact.as_ref())?))).collect();
             for run in runs {
                 let (m, l) = run?;
                 let wall = time_stepping(benchmark, cn, BarMass::Mod, m, 1, ratio, t_end, Some(Keep::Modes(r)))?;
@@ -739,15 +765,20 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             .expect("writing to a String");
         }
         for &q in quantities {
-            let (y_label, file) = if is_beam { ("largest tip error over the window (m)".to_string(), format!("{benchmark}.svg")) } else { (format!("{} error", q.name()), format!("{benchmark}{}.svg", q.suffix())) };
-            let series: Vec<Series> = keys.iter().map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error(q))).collect(), reference: false, style: Default::default() }).collect();
+            let (y_label, file) =
+                if is_beam { ("largest tip error over the window (m)".to_string(), format!("{benchmark}.svg")) } else { (format!("{} error", q.name()), format!("{benchmark}{}.svg", q.suffix())) };
+            let series: Vec<Series> = keys
+                .iter()
+                .map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error(q))).collect(), reference: false, style: Default::default() })
+                .collect();
             let title = if is_beam { format!("{benchmark}: error against wall time") } else { format!("{benchmark}: {} error against wall time", q.name()) };
             let svg = line_chart(&Chart { title: &title, x_label: "wall time (s)", y_label: &y_label, scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
             crate::write_file(&a.out.join(file), &svg)?;
             if !is_beam {
                 writeln!(report, "### {} (column `{}`)\n", q.name(), q.column()).expect("writing to a String");
             }
-            writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" }).expect("writing to a String");
+            writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" })
+                .expect("writing to a String");
             let targets: &[f64] = if is_beam { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] } else { q.targets() };
             for &target in targets {
                 // Per configuration, the cheapest level that reaches the target.
@@ -755,7 +786,15 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                 best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
                 let at = |p: &Point| if is_beam { format!("{} dt={:e}", p.label(), p.dt) } else { format!("{} m={}{}", p.label(), p.m, flagged(&p.label())) };
                 match (best.first(), best.get(1)) {
-                    (Some(b0), r) => writeln!(report, "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |", at(b0), b0.wall, b0.error(q), r.map_or("-".into(), |r| at(r)), r.map_or("-".into(), |r| format!("{:.2e}", r.wall))),
+                    (Some(b0), r) => writeln!(
+                        report,
+                        "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |",
+                        at(b0),
+                        b0.wall,
+                        b0.error(q),
+                        r.map_or("-".into(), |r| at(r)),
+                        r.map_or("-".into(), |r| format!("{:.2e}", r.wall))
+                    ),
                     (None, _) => writeln!(report, "| {target:.0e} | not reached at these levels | | | | |"),
                 }
                 .expect("writing to a String");
@@ -766,7 +805,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             let mut listed: Vec<String> = failing.iter().filter(|f| !f.1.is_empty()).map(|f| format!("{}{}", f.0, flagged(&f.0))).collect();
             listed.sort();
             if !listed.is_empty() {
-                writeln!(report, "Configurations whose error does not fall with m in some quantity (least-squares rate below {NON_CONVERGENT_RATE}): {}.\n", listed.join("; ")).expect("writing to a String");
+                writeln!(report, "Configurations whose error does not fall with m in some quantity (least-squares rate below {NON_CONVERGENT_RATE}): {}.\n", listed.join("; "))
+                    .expect("writing to a String");
             }
         }
         if is_beam {
@@ -778,8 +818,20 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                 let reduced = pts.iter().filter(|p| p.modes > 0 && p.error(q) <= today.error(q)).min_by(|a, b| a.wall.total_cmp(&b.wall));
                 writeln!(report, "The full model at the paper's dt = {paper_dt:e} s: tip error {:.2e} m, {:.2e} s. ", today.error(q), today.wall).expect("writing to a String");
                 match reduced {
-                    Some(r) => writeln!(report, "Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {:.2e} s ({:.1}x less wall time).", r.label(), r.dt, r.error(q), r.wall, today.wall / r.wall),
-                    None => writeln!(report, "No reduced model reaches that error at these steps and modes (best: {}).", pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error(q).total_cmp(&b.error(q))).map_or("-".into(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error(q)))),
+                    Some(r) => writeln!(
+                        report,
+                        "Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {:.2e} s ({:.1}x less wall time).",
+                        r.label(),
+                        r.dt,
+                        r.error(q),
+                        r.wall,
+                        today.wall / r.wall
+                    ),
+                    None => writeln!(
+                        report,
+                        "No reduced model reaches that error at these steps and modes (best: {}).",
+                        pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error(q).total_cmp(&b.error(q))).map_or("-".into(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error(q)))
+                    ),
                 }
                 .expect("writing to a String");
             }
@@ -817,7 +869,10 @@ fn impact_power_report(a: &Config, points: &[Point], report: &mut String) {
     for (p, i, r) in &rows {
         writeln!(report, "| {:e} | {:.4} [{:.4}, {:.4}] | {:.1} % | {:+.2} % | {:.2} |", p.dt, i.mean, i.low, i.high, 100.0 * half(i), 100.0 * r, p.wall).expect("writing to a String");
     }
-    let ok = rows.iter().filter(|(p, i, r)| p.dt != a.beam_stat_ref_dt && r.abs() <= 0.01 && half(i) <= 0.01 && half(&ref_i) <= 0.01 && p.wall * 10.0 <= ref_p.wall).min_by(|x, y| x.0.wall.total_cmp(&y.0.wall));
+    let ok = rows
+        .iter()
+        .filter(|(p, i, r)| p.dt != a.beam_stat_ref_dt && r.abs() <= 0.01 && half(i) <= 0.01 && half(&ref_i) <= 0.01 && p.wall * 10.0 <= ref_p.wall)
+        .min_by(|x, y| x.0.wall.total_cmp(&y.0.wall));
     match ok {
         Some((p, _, r)) => writeln!(report, "\nTarget reached: dt = {:e} s is within {:.2} % of the reference with both intervals within ±1 %, {:.1}x cheaper.\n", p.dt, 100.0 * r.abs(), ref_p.wall / p.wall),
         None => {

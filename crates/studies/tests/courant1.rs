@@ -75,7 +75,9 @@ fn the_scheme_is_the_independent_chain_and_exact_through_the_release() {
 /// the scheme reports equals the exact one away from its jumps.
 #[test]
 fn cd_taylor_is_nodally_exact_where_releases_are_on_the_grid() {
-    for (bench, t_end, exact_expected) in [(Benchmark::BarDirichlet, 6.0, true), (Benchmark::BarMirrored, 6.0, true), (Benchmark::BarNeumannGravity, 16.0, true), (Benchmark::BarNeumannGravityPaper, 16.0, false)] {
+    for (bench, t_end, exact_expected) in
+        [(Benchmark::BarDirichlet, 6.0, true), (Benchmark::BarMirrored, 6.0, true), (Benchmark::BarNeumannGravity, 16.0, true), (Benchmark::BarNeumannGravityPaper, 16.0, false)]
+    {
         let exact = bench.exact(t_end).unwrap();
         for m in [10, 20, 40, 80] {
             let p = bench.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();

@@ -63,7 +63,9 @@ fn courant_one_rows_are_a_central_difference_written_here() {
     let cfg = work_precision::Config { out: out.clone(), levels: vec![10, 20], degrees: vec![], modes: vec![], beam_dts: vec![], beam_stat_dts: vec![], ..Default::default() };
     let o = work_precision::run(&cfg, &|_, _| {}).unwrap();
     let t = &o.tables[0];
-    let (Some(Column::Str(bench)), Some(Column::Str(scheme)), Some(Column::I64(m)), Some(Column::F64(err))) = (t.column("benchmark"), t.column("scheme"), t.column("m"), t.column("l2_l2_u")) else { panic!("work_precision.csv's columns") };
+    let (Some(Column::Str(bench)), Some(Column::Str(scheme)), Some(Column::I64(m)), Some(Column::F64(err))) = (t.column("benchmark"), t.column("scheme"), t.column("m"), t.column("l2_l2_u")) else {
+        panic!("work_precision.csv's columns")
+    };
     let mut seen = 0;
     for i in (0..bench.len()).filter(|&i| scheme[i] == "cd-taylor") {
         let b: Benchmark = bench[i].parse().unwrap();

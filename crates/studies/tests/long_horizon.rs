@@ -44,13 +44,18 @@ fn periods_impacts_and_drift() {
 
     // Impacts: the first within one element's transit time h/c of t = 1; mod's drift grows linearly
     // (impact 9 ≈ 9 × the per-period slope) and halves with h.
-    let (mass, m, k, drift) = (col_s(im, "mass"), match im.column("m") {
-        Some(Column::I64(v)) => v.clone(),
-        other => panic!("{other:?}"),
-    }, match im.column("k") {
-        Some(Column::I64(v)) => v.clone(),
-        other => panic!("{other:?}"),
-    }, col_f(im, "drift"));
+    let (mass, m, k, drift) = (
+        col_s(im, "mass"),
+        match im.column("m") {
+            Some(Column::I64(v)) => v.clone(),
+            other => panic!("{other:?}"),
+        },
+        match im.column("k") {
+            Some(Column::I64(v)) => v.clone(),
+            other => panic!("{other:?}"),
+        },
+        col_f(im, "drift"),
+    );
     let d = |ms: &str, mm: i64, kk: i64| (0..mass.len()).find(|&r| mass[r] == ms && m[r] == mm && k[r] == kk).map(|r| drift[r]).unwrap();
     for (ms, mm) in [("mod", 20), ("mod", 40), ("mod3", 20), ("mod3", 40)] {
         assert!(d(ms, mm, 0).abs() <= 1.0 / mm as f64 + 1e-12, "{ms} m={mm}: first impact drift {}", d(ms, mm, 0));
@@ -81,7 +86,10 @@ fn bad_input_names_the_option() {
         (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { ratios: vec![1.0, f64::NAN], ..Default::default() }), ..Default::default() }, "--energy-ratios"),
         (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { m: 1, ..Default::default() }), ..Default::default() }, "--energy-m"),
         (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { t_end: f64::INFINITY, ..Default::default() }), ..Default::default() }, "--energy-t-end"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { m: 20000, ratios: vec![100.0], t_end: 1e6, ..Default::default() }), ..Default::default() }, "--energy-t-end"),
+        (
+            long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { m: 20000, ratios: vec![100.0], t_end: 1e6, ..Default::default() }), ..Default::default() },
+            "--energy-t-end",
+        ),
     ] {
         match long_horizon::run(&cfg, &|_, _| {}) {
             Err(StudyError::Config { field: f, .. }) => assert_eq!(f, field),
@@ -117,7 +125,8 @@ fn energy_growth_rows_are_independent_runs() {
     let (g, vt) = (&o.tables[3], &o.tables[4]);
     assert_eq!((g.file.as_str(), vt.file.as_str()), ("energy_growth.csv", "energy_vs_time.csv"));
     assert!(std::fs::read_to_string(out.join("energy_growth.svg")).unwrap().starts_with("<svg"));
-    let (scheme, mass, ratio, max, tmax, t2, stopped, steps) = (col_s(g, "scheme"), col_s(g, "mass"), col_f(g, "dx_dt"), col_f(g, "max_ratio"), col_f(g, "t_max_ratio"), col_f(g, "t_ratio_2"), col_f(g, "t_stopped"), col_i(g, "steps"));
+    let (scheme, mass, ratio, max, tmax, t2, stopped, steps) =
+        (col_s(g, "scheme"), col_s(g, "mass"), col_f(g, "dx_dt"), col_f(g, "max_ratio"), col_f(g, "t_max_ratio"), col_f(g, "t_ratio_2"), col_f(g, "t_stopped"), col_i(g, "steps"));
     assert_eq!(scheme.len(), 10);
     let (vs, vm, vr, vmax) = (col_s(vt, "scheme"), col_s(vt, "mass"), col_f(vt, "dx_dt"), col_f(vt, "max_ratio"));
     let mut grew = 0;

@@ -3,8 +3,8 @@
 //! impact oscillator against its exact Floquet exponent, the CSV, and bad
 //! input.
 
-use signorini_scene::{Limits, SceneFile};
 use signorini_run::chaos::{Flow, StepperFlow};
+use signorini_scene::{Limits, SceneFile};
 use signorini_studies::{lyapunov, Column, StudyError};
 use std::path::PathBuf;
 

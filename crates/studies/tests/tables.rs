@@ -167,7 +167,8 @@ fn obstacles_tables_are_the_files() {
 
 /// The CSV and SVG file names in `dir` (not recursive), sorted.
 fn study_files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir).expect("the folder").map(|e| e.expect("entry").file_name().to_string_lossy().to_string()).filter(|f| f.ends_with(".csv") || f.ends_with(".svg")).collect();
+    let mut v: Vec<String> =
+        std::fs::read_dir(dir).expect("the folder").map(|e| e.expect("entry").file_name().to_string_lossy().to_string()).filter(|f| f.ends_with(".csv") || f.ends_with(".svg")).collect();
     v.sort();
     v
 }

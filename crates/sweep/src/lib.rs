@@ -34,15 +34,15 @@
 //! N contiguous blocks of runs; [`merge`] concatenates the shards' files in
 //! order into exactly the files of the unsharded sweep.
 
-use signorini_scene::{io_reason, BuildError, Limits, Scene, SceneError, SceneFile};
-use signorini_run::vibro::{Piece, Summary, VibroConfig};
-use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
-use signorini_reduce::Reduction;
-use signorini_run::reduced::{Need, Reconstruct};
-use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, Sample};
-use signorini_schemes::{Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use rayon::prelude::*;
 use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
+use signorini_reduce::Reduction;
+use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
+use signorini_run::reduced::{Need, Reconstruct};
+use signorini_run::vibro::{Piece, Summary, VibroConfig};
+use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, Sample};
+use signorini_scene::{io_reason, BuildError, Limits, Scene, SceneError, SceneFile};
+use signorini_schemes::{Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -179,7 +179,6 @@ pub struct NoProgress;
 
 impl Progress for NoProgress {}
 
-
 /// A second axis of a two-parameter map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
@@ -289,7 +288,24 @@ impl SweepOptions {
     /// A sweep of `param` over `[from, to]` with `count` runs and the
     /// defaults: linear, 100 transient periods, 10 recorded, phase 0.
     pub fn new(param: &str, from: f64, to: f64, count: usize) -> Self {
-        Self { param: param.into(), from, to, count, log: false, second: None, transient: 100.0, record: 10.0, phase: 0.0, period_tol: 1e-3, impacts: true, follow: false, shard: None, resume: false, threads: None, interrupt: None }
+        Self {
+            param: param.into(),
+            from,
+            to,
+            count,
+            log: false,
+            second: None,
+            transient: 100.0,
+            record: 10.0,
+            phase: 0.0,
+            period_tol: 1e-3,
+            impacts: true,
+            follow: false,
+            shard: None,
+            resume: false,
+            threads: None,
+            interrupt: None,
+        }
     }
 
     /// Checks the options (not the path: [`Sweep::new`] does, on the scene).
@@ -526,7 +542,19 @@ impl Sweep {
         opts.validate()?;
         let doc: toml::Table = toml::from_str(scene_text).map_err(SceneError::Toml)?;
         let mut h = fnv1a(scene_text.as_bytes(), 0xcbf2_9ce4_8422_2325);
-        let mut key = format!("|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}|{:016x}", opts.param, opts.from.to_bits(), opts.to.to_bits(), opts.count, opts.log, opts.transient.to_bits(), opts.record.to_bits(), opts.phase.to_bits(), opts.follow, opts.period_tol.to_bits());
+        let mut key = format!(
+            "|{}|{:016x}|{:016x}|{}|{}|{:016x}|{:016x}|{:016x}|{}|{:016x}",
+            opts.param,
+            opts.from.to_bits(),
+            opts.to.to_bits(),
+            opts.count,
+            opts.log,
+            opts.transient.to_bits(),
+            opts.record.to_bits(),
+            opts.phase.to_bits(),
+            opts.follow,
+            opts.period_tol.to_bits()
+        );
         if !opts.impacts {
             key += "|no-impacts";
         }
@@ -537,7 +565,11 @@ impl Sweep {
         // A key that would not act is refused: the sweep's runs are not
         // watched by the energy monitor of `signorini run`.
         if doc.get("output").and_then(|o| o.get("energy_warn")).is_some() {
-            return Err(signorini_scene::field("output.energy_warn", "is not allowed in a sweep: its runs are not watched against their energy budget (run one value with `signorini run` for the warning); allowed: no energy_warn").into());
+            return Err(signorini_scene::field(
+                "output.energy_warn",
+                "is not allowed in a sweep: its runs are not watched against their energy budget (run one value with `signorini run` for the warning); allowed: no energy_warn",
+            )
+            .into());
         }
         let sweep = Self { id: format!("{h:016x}"), opts, doc, limits, scene_name: scene_name.into(), base };
         let o = &sweep.opts;
@@ -597,7 +629,12 @@ impl Sweep {
         // sweep's replaces it (a swept dt need not divide the scene's t_end).
         let file = parse(doc.clone())?;
         let scene = file.validate_clock(&self.limits).map_err(bad)?;
-        let (omega, dt, key) = scene.sweep_clock().ok_or_else(|| SweepError::Scene(format!("{}: a sweep samples the response at the forcing period, and this scene has no periodic forcing (an oscillator's [forcing], a beam's support motion)", self.scene_name)))?;
+        let (omega, dt, key) = scene.sweep_clock().ok_or_else(|| {
+            SweepError::Scene(format!(
+                "{}: a sweep samples the response at the forcing period, and this scene has no periodic forcing (an oscillator's [forcing], a beam's support motion)",
+                self.scene_name
+            ))
+        })?;
         let period = std::f64::consts::TAU / omega;
         let total = self.opts.transient + self.opts.record;
         let steps = (total * period / dt).round().max(1.0);
@@ -826,7 +863,13 @@ where
         // The manifests compared as values (a different key, or a file that
         // is not a manifest, is another sweep).
         if Manifest::parse(&old).ok().as_ref() != Some(&manifest) {
-            return Err(SweepError::Folder(format!("--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out", dir.display(), manifest_id(&old).as_deref().unwrap_or("?"), sweep.id)).into());
+            return Err(SweepError::Folder(format!(
+                "--resume: {} holds another sweep (its sweep.toml differs: id {} here, {} asked); use a new --out",
+                dir.display(),
+                manifest_id(&old).as_deref().unwrap_or("?"),
+                sweep.id
+            ))
+            .into());
         }
         let summary = complete_lines(&dir.join("summary.csv"))?;
         let done: Vec<usize> = summary.iter().skip(1).filter_map(|l| run_of(l)).collect();
@@ -863,7 +906,8 @@ where
             std::fs::write(&p, header + "\n").map_err(|e| io(&p, e))?;
         }
     }
-    let mut out = Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: if o.impacts { Some(Outputs::append(dir, "impacts.csv")?) } else { None }, summary: Outputs::append(dir, "summary.csv")? };
+    let mut out =
+        Outputs { sweep: Outputs::append(dir, "sweep.csv")?, impacts: if o.impacts { Some(Outputs::append(dir, "impacts.csv")?) } else { None }, summary: Outputs::append(dir, "summary.csv")? };
     let batch = if o.follow { 1 } else { (2 * LANES * pool.current_num_threads()).max(1) };
     let bar = progress;
     bar.start(runs.len() as u64, (first - runs.start) as u64);
@@ -997,7 +1041,11 @@ fn plots(dir: &Path) -> Result<Vec<String>, Error> {
     let sweep = complete_lines(&dir.join("sweep.csv"))?;
     let (pts, title) = thin(sweep.iter().skip(1).map(|l| (col(l, 0), col(l, 3))).collect(), "bifurcation diagram: Poincaré displacement", "samples");
     // The x axis names the swept parameter, as the manifest records it.
-    let param = std::fs::read_to_string(dir.join("sweep.toml")).ok().and_then(|t| t.parse::<toml::Table>().ok()).and_then(|m| m.get("param").and_then(|p| p.as_str()).map(str::to_string)).unwrap_or_else(|| "parameter".into());
+    let param = std::fs::read_to_string(dir.join("sweep.toml"))
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .and_then(|m| m.get("param").and_then(|p| p.as_str()).map(str::to_string))
+        .unwrap_or_else(|| "parameter".into());
     let chart = Chart { title: &title, x_label: &param, y_label: "displacement", scale: Scale::Linear, size: (900, 600) };
     let radius = if pts.len() > 20_000 { 1 } else { 2 };
     match scatter(&chart, &[Series { label: "Poincaré samples".into(), points: pts, reference: false, style: Style::default() }], radius) {
@@ -1030,7 +1078,8 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
     let mut found: Vec<(usize, usize, usize, usize, &PathBuf, String, Manifest)> = Vec::new();
     for d in shards {
         let p = d.join("sweep.toml");
-        let text = std::fs::read_to_string(&p).map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), io_reason(&e))))?;
+        let text = std::fs::read_to_string(&p)
+            .map_err(|e| bad(format!("{} is not a shard folder ({}: {}): give the folders `signorini sweep --shard I/N` wrote", d.display(), p.display(), io_reason(&e))))?;
         let m = Manifest::parse(&text).map_err(|e| bad(format!("{}: not a sweep manifest ({})", p.display(), e.message().trim_end())))?;
         let [i, n] = m.shard.ok_or_else(|| bad(format!("{} is not a shard (no shard = [I, N] in its sweep.toml)", d.display())))?;
         let [r0, r1] = m.runs.ok_or_else(|| bad(format!("{}: no runs range", p.display())))?;
@@ -1107,7 +1156,14 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, Error> {
             let (e, g): (usize, usize) = (want.iter().sum(), got.iter().sum::<usize>() + stray);
             if want != got || stray > 0 {
                 let first = want.iter().zip(&got).position(|(a, b)| a != b).map_or(String::new(), |r| format!("; run {} has {} of its {}", f.2 + r, got[r], want[r]));
-                return Err(bad(format!("{}: expected {e} rows (runs {}..{} as the manifest and summary.csv count them), found {g}{first}: a damaged shard; run it again (--shard {}/{})", dir.join(name).display(), f.2, f.3, f.0, f.1)));
+                return Err(bad(format!(
+                    "{}: expected {e} rows (runs {}..{} as the manifest and summary.csv count them), found {g}{first}: a damaged shard; run it again (--shard {}/{})",
+                    dir.join(name).display(),
+                    f.2,
+                    f.3,
+                    f.0,
+                    f.1
+                )));
             }
         }
         for (t, l) in texts.iter_mut().zip(&lines) {

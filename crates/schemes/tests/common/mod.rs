@@ -149,8 +149,20 @@ pub fn bar_matrices(m: usize, mass: BarMass, free: bool) -> (Dense, Dense) {
     let w = |j: usize| -> f64 {
         match mass {
             BarMass::Std | BarMass::Lumped | BarMass::Transfer | BarMass::Singular => 1.0,
-            BarMass::Mod | BarMass::Mod1 => if j == 0 { 0.0 } else { 1.0 },
-            BarMass::Mod2 => if j == 0 { 0.0 } else { mf / (mf - 1.0) },
+            BarMass::Mod | BarMass::Mod1 => {
+                if j == 0 {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            BarMass::Mod2 => {
+                if j == 0 {
+                    0.0
+                } else {
+                    mf / (mf - 1.0)
+                }
+            }
             BarMass::Mod3 => match j {
                 0 => 0.0,
                 1 => 2.0,
@@ -366,7 +378,8 @@ pub fn bar_scene(m: usize, mass: BarMass, free: bool, gap: f64, body: f64, forci
     let bar = Bar::new(1.0, m, 1.0, if free { RightEnd::Free } else { RightEnd::Clamped }).unwrap();
     let (mm, kk) = bar_matrices(m, mass, free);
     let load = bar_uniform_load(m, free, body);
-    let dy = Dynamics::new(bar.mass(mass), bar.stiffness(), bar.load(|_| body), vec![Contact::new(0, Bounds::obstacle(gap), mass.massless_contact_node())]).with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
+    let dy = Dynamics::new(bar.mass(mass), bar.stiffness(), bar.load(|_| body), vec![Contact::new(0, Bounds::obstacle(gap), mass.massless_contact_node())])
+        .with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
     assert_same("bar mass", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
     for (a, b) in dy.load.iter().zip(&load) {
@@ -382,7 +395,8 @@ pub fn beam_scene(j: usize, k2: f64, lo: f64, hi: f64, shape: Vec<f64>, s: Sine)
     let beam = Beam::new(1.0, j, k2).unwrap();
     let (mm, kk) = beam_matrices(j, 1.0, k2);
     let n = 2 * j;
-    let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(2 * j - 2, Bounds { lo, hi }, false)]).with_forcing(vec![Forcing { shape: shape.clone(), time: s.profile() }]);
+    let dy =
+        Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(2 * j - 2, Bounds { lo, hi }, false)]).with_forcing(vec![Forcing { shape: shape.clone(), time: s.profile() }]);
     assert_eq!(dy.stiffness.half_bandwidth(), 3, "the beam must take the banded (non-tridiagonal) path");
     assert_same("beam mass", &dy.mass, &mm);
     assert_same("beam stiffness", &dy.stiffness, &kk);
@@ -639,17 +653,10 @@ pub fn check_one_step(o: &Oracle, k: &Dense, cf: Coefs, init: &Initial, traj: &T
                 vec![(0.5 - th) * (quad(&o.m, &dv) + dot(&du, &kdu)), dot(&du, &lin(&[(1.0 - th, &g0), (th, &g1)]))]
             } else {
                 let beta = cf.a;
-                vec![
-                    (0.5 - g) * dot(&du, &kdu),
-                    dt * (beta - g / 2.0) * dot(&dv, &kdu),
-                    dot(&du, &lin(&[(1.0 - g, &g0), (g, &g1)])),
-                    -dt * (beta - g / 2.0) * dot(&dv, &sub(&g1, &g0)),
-                ]
+                vec![(0.5 - g) * dot(&du, &kdu), dt * (beta - g / 2.0) * dot(&dv, &kdu), dot(&du, &lin(&[(1.0 - g, &g0), (g, &g1)])), -dt * (beta - g / 2.0) * dot(&dv, &sub(&g1, &g0))]
             };
             let rhs: f64 = terms.iter().sum();
-            let scale = terms.iter().fold(e0.abs().max(e1.abs()), |s, t| s.max(t.abs()))
-                .max(nk * max_abs(u0).max(max_abs(u1)).powi(2))
-                .max(nm * max_abs(&v0).max(max_abs(&v1)).powi(2));
+            let scale = terms.iter().fold(e0.abs().max(e1.abs()), |s, t| s.max(t.abs())).max(nk * max_abs(u0).max(max_abs(u1)).powi(2)).max(nm * max_abs(&v0).max(max_abs(&v1)).powi(2));
             st.energy.check(&format!("energy identity at step {l}→{} (ΔE = {:e}, identity {:e})", l + 1, e1 - e0, rhs), (e1 - e0) - rhs, scale, tol);
         }
         p = p1;
@@ -718,7 +725,13 @@ pub fn check_ps(o: &Oracle, beta: f64, e: f64, init: &Initial, traj: &Traj) -> P
     let (dt, n) = (traj.dt, o.n());
     let dt2 = dt * dt;
     let is_contact = |i: usize| o.stops.iter().any(|st| st.dof == i);
-    let u = |l: usize| -> &[f64] { if l == 0 { &init.u } else { traj.at(l) } };
+    let u = |l: usize| -> &[f64] {
+        if l == 0 {
+            &init.u
+        } else {
+            traj.at(l)
+        }
+    };
     let lag = if o.massless { 0 } else { 1 };
     let _ = traj.lambdas(lag);
     let forces = traj.all_forces(lag);
@@ -853,7 +866,13 @@ pub fn bar_stops_scene(m: usize, mass: BarMass, free: bool, stops: &[OStop], bod
     }
     let load = bar_uniform_load(m, free, body);
     let massless = mass.massless_contact_node();
-    let dy = Dynamics::new(bar.mass_with_contacts(mass, &nodes).unwrap(), bar.stiffness(), bar.load(|_| body), stops.iter().map(|s| Contact::new(s.dof, Bounds { lo: s.lo, hi: s.hi }, massless).with_restitution(s.e).with_stiffness(s.kappa)).collect()).with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
+    let dy = Dynamics::new(
+        bar.mass_with_contacts(mass, &nodes).unwrap(),
+        bar.stiffness(),
+        bar.load(|_| body),
+        stops.iter().map(|s| Contact::new(s.dof, Bounds { lo: s.lo, hi: s.hi }, massless).with_restitution(s.e).with_stiffness(s.kappa)).collect(),
+    )
+    .with_forcing(forcing.as_ref().map(|(shape, s)| Forcing { shape: shape.clone(), time: s.profile() }).into_iter().collect());
     assert_same("bar mass at the stops", &dy.mass, &mm);
     assert_same("bar stiffness", &dy.stiffness, &kk);
     let s0 = stops[0];
@@ -872,47 +891,47 @@ pub fn bar_stops_scene(m: usize, mass: BarMass, free: bool, stops: &[OStop], bod
 pub fn check_moreau_jean(o: &Oracle, e: f64, init: &Initial, traj: &Traj) -> (Worst, Worst, Vec<usize>) {
     const TOL: f64 = 1e-11;
     let dt = traj.dt;
-            let all = traj.all_forces(0);
-            let (nm, nk) = (norm_inf(&o.m), norm_inf(&o.k));
-            let energy = |u: &[f64], v: &[f64]| 0.5 * quad(&o.m, v) + 0.5 * quad(&o.k, u) - dot(&o.load, u);
-            let (mut res_w, mut en_w, mut active) = (Worst::default(), Worst::default(), vec![0usize; o.stops.len()]);
-            let mut v = init.v.clone();
-            for l in 0..traj.last() {
-                let (u0, u1) = (traj.at(l), traj.at(l + 1));
-                // θ = ½: U^{n+1} = U^n + dt (Vⁿ + Vⁿ⁺¹)/2.
-                let v1: Vec<f64> = (0..o.n()).map(|i| 2.0 * (u1[i] - u0[i]) / dt - v[i]).collect();
-                let f = all[l + 1].as_ref().unwrap();
-                let p: Vec<f64> = f.iter().map(|lam| -lam * dt).collect();
-                // M (V^{n+1} − Vⁿ) + dt K (Uⁿ + U^{n+1})/2 = dt F + Σ p_i e_i.
-                let mdv = mul(&o.m, &sub(&v1, &v));
-                let kmid = mul(&o.k, &lin(&[(0.5, u0), (0.5, u1)]));
-                let pv = o.force_vector(&p);
-                let res: Vec<f64> = (0..o.n()).map(|i| mdv[i] + dt * (kmid[i] - o.load[i]) - pv[i]).collect();
-                let scale = nm * (max_abs(&v1) + max_abs(&v)) + dt * (nk * (max_abs(u0) + max_abs(u1)) + max_abs(&o.load)) + max_abs(&p);
-                res_w.check(&format!("e = {e}: momentum residual at step {l}"), max_abs(&res), scale, TOL);
-                for (i, s) in o.stops.iter().enumerate() {
-                    let ei = s.e.unwrap_or(e);
-                    let (uc, vc, vc1, pi) = (u0[s.dof], v[s.dof], v1[s.dof], p[i]);
-                    let pred = uc + 0.5 * dt * vc;
-                    let vtol = 1e-9 * (vc.abs() + vc1.abs() + 1.0);
-                    let (down, up) = (pred <= s.lo, pred >= s.hi && !(pred <= s.lo));
-                    if down {
-                        assert!(vc1 + ei * vc >= -vtol && pi >= 0.0, "step {l}, stop {i}: v^(n+1) = {vc1}, −e vⁿ = {}, p = {pi}", -ei * vc);
-                        assert!((pi * (vc1 + ei * vc)).abs() <= vtol * (pi.abs() + 1e-300), "step {l}, stop {i}: p = {pi} with v^(n+1) + e vⁿ = {}", vc1 + ei * vc);
-                    } else if up {
-                        assert!(vc1 + ei * vc <= vtol && pi <= 0.0, "step {l}, stop {i}: v^(n+1) = {vc1}, p = {pi} at the upper bound");
-                        assert!((pi * (vc1 + ei * vc)).abs() <= vtol * (pi.abs() + 1e-300));
-                    } else {
-                        assert_eq!(pi, 0.0, "step {l}, stop {i}: an impulse while not predicted active");
-                    }
-                    active[i] += usize::from(pi != 0.0);
-                }
-                // ΔE = Σ p_i (v_iⁿ + v_iⁿ⁺¹)/2.
-                let (e0, e1) = (energy(u0, &v), energy(u1, &v1));
-                let rhs: f64 = o.stops.iter().zip(&p).map(|(s, pi)| pi * 0.5 * (v[s.dof] + v1[s.dof])).sum();
-                let escale = e0.abs().max(e1.abs()).max(rhs.abs()).max(nm * max_abs(&v1).powi(2)).max(nk * max_abs(u1).powi(2));
-                en_w.check(&format!("e = {e}: energy identity at step {l}"), (e1 - e0) - rhs, escale, TOL);
-                v = v1;
+    let all = traj.all_forces(0);
+    let (nm, nk) = (norm_inf(&o.m), norm_inf(&o.k));
+    let energy = |u: &[f64], v: &[f64]| 0.5 * quad(&o.m, v) + 0.5 * quad(&o.k, u) - dot(&o.load, u);
+    let (mut res_w, mut en_w, mut active) = (Worst::default(), Worst::default(), vec![0usize; o.stops.len()]);
+    let mut v = init.v.clone();
+    for l in 0..traj.last() {
+        let (u0, u1) = (traj.at(l), traj.at(l + 1));
+        // θ = ½: U^{n+1} = U^n + dt (Vⁿ + Vⁿ⁺¹)/2.
+        let v1: Vec<f64> = (0..o.n()).map(|i| 2.0 * (u1[i] - u0[i]) / dt - v[i]).collect();
+        let f = all[l + 1].as_ref().unwrap();
+        let p: Vec<f64> = f.iter().map(|lam| -lam * dt).collect();
+        // M (V^{n+1} − Vⁿ) + dt K (Uⁿ + U^{n+1})/2 = dt F + Σ p_i e_i.
+        let mdv = mul(&o.m, &sub(&v1, &v));
+        let kmid = mul(&o.k, &lin(&[(0.5, u0), (0.5, u1)]));
+        let pv = o.force_vector(&p);
+        let res: Vec<f64> = (0..o.n()).map(|i| mdv[i] + dt * (kmid[i] - o.load[i]) - pv[i]).collect();
+        let scale = nm * (max_abs(&v1) + max_abs(&v)) + dt * (nk * (max_abs(u0) + max_abs(u1)) + max_abs(&o.load)) + max_abs(&p);
+        res_w.check(&format!("e = {e}: momentum residual at step {l}"), max_abs(&res), scale, TOL);
+        for (i, s) in o.stops.iter().enumerate() {
+            let ei = s.e.unwrap_or(e);
+            let (uc, vc, vc1, pi) = (u0[s.dof], v[s.dof], v1[s.dof], p[i]);
+            let pred = uc + 0.5 * dt * vc;
+            let vtol = 1e-9 * (vc.abs() + vc1.abs() + 1.0);
+            let (down, up) = (pred <= s.lo, pred >= s.hi && !(pred <= s.lo));
+            if down {
+                assert!(vc1 + ei * vc >= -vtol && pi >= 0.0, "step {l}, stop {i}: v^(n+1) = {vc1}, −e vⁿ = {}, p = {pi}", -ei * vc);
+                assert!((pi * (vc1 + ei * vc)).abs() <= vtol * (pi.abs() + 1e-300), "step {l}, stop {i}: p = {pi} with v^(n+1) + e vⁿ = {}", vc1 + ei * vc);
+            } else if up {
+                assert!(vc1 + ei * vc <= vtol && pi <= 0.0, "step {l}, stop {i}: v^(n+1) = {vc1}, p = {pi} at the upper bound");
+                assert!((pi * (vc1 + ei * vc)).abs() <= vtol * (pi.abs() + 1e-300));
+            } else {
+                assert_eq!(pi, 0.0, "step {l}, stop {i}: an impulse while not predicted active");
             }
+            active[i] += usize::from(pi != 0.0);
+        }
+        // ΔE = Σ p_i (v_iⁿ + v_iⁿ⁺¹)/2.
+        let (e0, e1) = (energy(u0, &v), energy(u1, &v1));
+        let rhs: f64 = o.stops.iter().zip(&p).map(|(s, pi)| pi * 0.5 * (v[s.dof] + v1[s.dof])).sum();
+        let escale = e0.abs().max(e1.abs()).max(rhs.abs()).max(nm * max_abs(&v1).powi(2)).max(nk * max_abs(u1).powi(2));
+        en_w.check(&format!("e = {e}: energy identity at step {l}"), (e1 - e0) - rhs, escale, TOL);
+        v = v1;
+    }
     (res_w, en_w, active)
 }
