@@ -106,6 +106,7 @@ macro_rules! stepper_accessors {
 }
 
 mod hybrid;
+mod loads;
 mod lockstep;
 mod moreau;
 mod multi;

@@ -28,8 +28,9 @@
 //! but a gain when the predicted-active node is already separating
 //! (`v_c^n > 0`) and the impulse holds it — the velocity-level law's price.
 
+use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::{Dynamics, Initial, Sampler, SchemeError, StepReport, Stepper};
+use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
 
@@ -53,8 +54,10 @@ pub struct MoreauJean {
     acts: Vec<Active>,
     /// Several contacts: the exact solve on the velocities.
     multi: Option<MultiSolve>,
-    /// Per forcing term, its exact means over the steps ([`Sampler`]).
-    samplers: Vec<Sampler>,
+    /// Per forcing term, its exact means over the steps (a [`crate::Sampler`] each).
+    loads: Loads,
+    /// Their latest means.
+    svals: Vec<f64>,
 }
 
 impl MoreauJean {
@@ -85,7 +88,7 @@ impl MoreauJean {
         w[c] = 1.0;
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
-        let samplers = dy.forcing.iter().map(|f| Sampler::means(&f.time, 0.0, dt)).collect();
+        let (loads, svals) = (Loads::means(&dy, dt), vec![0.0; dy.forcing.len()]);
         Ok(Self {
             label,
             theta,
@@ -103,7 +106,8 @@ impl MoreauJean {
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
             multi,
-            samplers,
+            loads,
+            svals,
             dy,
         })
     }
@@ -189,11 +193,9 @@ impl Stepper for MoreauJean {
             *b += dt * (f - k);
         }
         // + Σ_j shape_j ∫ s_j over [t_n, t_{n+1}] (exact impulse of each forcing term).
-        for (f, sp) in self.dy.forcing.iter().zip(self.samplers.iter_mut()) {
-            // The mean over [t_n, t_{n+1}].
-            let w = dt * sp.next_value();
-            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += w * g);
-        }
+        // (the means over [t_n, t_{n+1}]).
+        self.loads.next_into(&mut self.svals);
+        add_terms(&mut self.rhs, &self.dy.forcing, dt, &self.svals);
         if let Some(cm) = &self.dy.damping {
             // - (1-θ) dt C V^n
             cm.mul_vec(&self.v, &mut self.ktmp);

@@ -48,8 +48,9 @@
 //! undamped problems take exactly the arithmetic they took before damping
 //! existed (and the fused tridiagonal path, which damped ones do not).
 
+use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::{ContactLaw, Dynamics, Initial, Sampler, SchemeError, StepReport, Stepper};
+use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear, Projection};
 use signorini_fem::BandLdlt;
 
@@ -106,8 +107,8 @@ pub struct OneStep {
     /// and at t_{n+1} (filled by the step).
     s_now: Vec<f64>,
     s_next: Vec<f64>,
-    /// Per forcing term, its values at `n dt` step after step ([`Sampler`]).
-    samplers: Vec<Sampler>,
+    /// Per forcing term, its values at `n dt` step after step (a [`Sampler`] each).
+    loads: Loads,
     /// With damping: the velocity and acceleration vectors and scratch.
     damp: Option<Damped>,
     /// Diagonals of M and K for the fused tridiagonal path (bar).
@@ -263,8 +264,9 @@ impl OneStep {
             ks: dy.stiffness.diagonal(1),
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
-        let mut samplers: Vec<Sampler> = dy.forcing.iter().map(|f| Sampler::values(&f.time, 0.0, dt)).collect();
-        let s_now = samplers.iter_mut().map(Sampler::next_value).collect();
+        let mut loads = Loads::values(&dy, dt);
+        let mut s_now = vec![0.0; dy.forcing.len()];
+        loads.next_into(&mut s_now);
         Ok(Self {
             lams: vec![0.0; k],
             prev_lams: vec![0.0; k],
@@ -280,7 +282,7 @@ impl OneStep {
             work_c: 0.0,
             work_d: 0.0,
             s_now,
-            samplers,
+            loads,
             s_next: vec![0.0; dy.forcing.len()],
             damp,
             f,
@@ -584,22 +586,12 @@ impl Stepper for OneStep {
         let dt2 = dt * dt;
         let (an, ao, g) = (self.prm.a_new * dt2, self.prm.a_old * dt2, self.prm.gamma);
         let c = self.dy.contact().dof;
-        if let Some((first, rest)) = self.dy.forcing.split_first() {
-            // F = load + s_0 shape_0 + s_1 shape_1 + ... (one term: as before).
+        if !self.dy.forcing.is_empty() {
+            // F = load + s_0 shape_0 + s_1 shape_1 + ..., s_j(t_{n+1}).
             self.u_prev.copy_from_slice(&self.u);
-            // s_j(t_{n+1}).
-            for (s, sp) in self.s_next.iter_mut().zip(self.samplers.iter_mut()) {
-                *s = sp.next_value();
-            }
-            let s1 = self.s_next[0];
-            for ((f, l), g) in self.f.iter_mut().zip(&self.dy.load).zip(&first.shape) {
-                *f = l + s1 * g;
-            }
-            for (fo, &sj) in rest.iter().zip(&self.s_next[1..]) {
-                for (f, g) in self.f.iter_mut().zip(&fo.shape) {
-                    *f += sj * g;
-                }
-            }
+            self.loads.next_into(&mut self.s_next);
+            self.f.copy_from_slice(&self.dy.load);
+            add_terms(&mut self.f, &self.dy.forcing, 1.0, &self.s_next);
         }
         // b = M U^n + dt P^n + b dt² R^n + a dt² F
         if let (Some(t), Some((l, inv_d))) = (&self.tri, self.a.tridiagonal_factors()) {

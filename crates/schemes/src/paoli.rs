@@ -43,9 +43,10 @@
 //! `E^{n+1/2} - E^{1/2} = W_f + W_c - D` with
 //! `D = Σ (U^{n+1} - U^{n-1})ᵀ C (U^{n+1} - U^{n-1}) / (4 dt) >= 0`.
 
+use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
-use crate::{Bounds, Dynamics, Initial, Sampler, SchemeError, StepReport, Stepper};
+use crate::{Bounds, Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
 
@@ -73,7 +74,7 @@ pub struct PaoliSchatzman {
     means: Vec<[f64; 2]>,
     /// Per forcing term, its exact means step after step ([`Sampler`]: a
     /// rotation for harmonics, the profile's own `mean` otherwise).
-    samplers: Vec<Sampler>,
+    loads: Loads,
     /// Per forcing term, its coefficient `β m^{n+1} + (1-2β) m^n + β m^{n-1}` of the step.
     g_coefs: Vec<f64>,
     lams: Vec<f64>,
@@ -325,7 +326,7 @@ impl PaoliSchatzman {
             work_contact: 0.0,
             work_damping: 0.0,
             means: vec![[0.0; 2]; terms],
-            samplers: Vec::new(),
+            loads: Loads::none(),
             g_coefs: vec![0.0; terms],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
@@ -343,9 +344,13 @@ impl PaoliSchatzman {
         let dt = self.dt;
         // Means over [n dt, (n+1) dt], n = 0, 1, …: the first two now, then one
         // per step ([(n+1) dt, (n+2) dt] at level n).
-        self.samplers = self.dy.forcing.iter().map(|f| Sampler::means(&f.time, 0.0, dt)).collect();
-        for (m, sp) in self.means.iter_mut().zip(self.samplers.iter_mut()) {
-            *m = [sp.next_value(), sp.next_value()];
+        self.loads = Loads::means(&self.dy, dt);
+        let terms = self.dy.forcing.len();
+        let (mut first, mut second) = (vec![0.0; terms], vec![0.0; terms]);
+        self.loads.next_into(&mut first);
+        self.loads.next_into(&mut second);
+        for ((m, a), b) in self.means.iter_mut().zip(first).zip(second) {
+            *m = [a, b];
         }
         self
     }
@@ -454,13 +459,14 @@ impl PaoliSchatzman {
             self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b += half * k);
         }
         // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
-        for (((f, m), gc), sp) in self.dy.forcing.iter().zip(self.means.iter_mut()).zip(self.g_coefs.iter_mut()).zip(self.samplers.iter_mut()) {
-            // The mean over [t_{n+1}, t_{n+2}].
-            let next = sp.next_value();
+        // (the means over [t_{n+1}, t_{n+2}] first, into g_coefs).
+        self.loads.next_into(&mut self.g_coefs);
+        for (m, gc) in self.means.iter_mut().zip(self.g_coefs.iter_mut()) {
+            let next = *gc;
             *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
             *m = [m[1], next];
-            self.rhs.iter_mut().zip(&f.shape).for_each(|(b, g)| *b += dt2 * *gc * g);
         }
+        add_terms(&mut self.rhs, &self.dy.forcing, dt2, &self.g_coefs);
         if self.dy.massless_contact() {
             // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
             let t1 = (self.n + 1) as f64 * self.dt;
