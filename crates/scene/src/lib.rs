@@ -1,5 +1,26 @@
 //! Scene files: TOML descriptions of a bar or beam run.
 //!
+//! A scene read, validated and instantiated, then stepped: the impact
+//! oscillator (restitution 0: Paoli–Schatzman projects the position onto
+//! the stop) never passes it.
+//!
+//! ```
+//! use signorini_scene::{Limits, SceneFile};
+//!
+//! let text = "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.0\ndt = 1e-3\nt_end = 10.0\n[forcing]\namplitude = 1.0\nomega = 2.0\n";
+//! let scene = SceneFile::parse(text)?.validate_with(&Limits::machine())?;
+//! let mut sim = scene.instantiate(None)?;
+//! for _ in 0..10_000 {
+//!     sim.stepper.step()?;
+//!     assert!(sim.stepper.displacement()[sim.tip] <= 0.2 + 1e-12);
+//! }
+//! // A bad value is refused naming its field and the allowed range.
+//! let refused = SceneFile::parse(&text.replace("stop = 0.2", "stop = -1.0"))?.validate_with(&Limits::machine());
+//! let Err(e) = refused else { panic!("a stop below the start was accepted") };
+//! assert!(e.to_string().starts_with("oscillator.stop"), "{e}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ```toml
 //! [bar]                        # or [beam]
 //! benchmark = "bar-dirichlet"  # initial data, geometry and exact solution from a benchmark

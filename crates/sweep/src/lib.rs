@@ -1,6 +1,29 @@
 //! Parameter sweeps of a scene (`signorini sweep`) and the merge of their
 //! shards (`signorini merge`).
 //!
+//! Three forcing frequencies of the impact oscillator, each run sampled at
+//! the forcing period:
+//!
+//! ```
+//! use signorini_scene::Limits;
+//! use signorini_sweep::{run, NoProgress, Sweep, SweepOptions};
+//!
+//! let scene = "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.8\ndt = 1e-3\nt_end = 1.0\n[forcing]\namplitude = 1.0\nomega = 2.0\n";
+//! let mut opts = SweepOptions::new("forcing.omega", 1.5, 2.5, 3);
+//! (opts.transient, opts.record) = (5.0, 5.0);
+//! let sweep = Sweep::new(scene, "oscillator.toml", None, opts, Limits::machine())?;
+//! let dir = std::env::temp_dir().join(format!("signorini-doctest-sweep-{}", std::process::id()));
+//! let _ = std::fs::remove_dir_all(&dir);
+//! let report = run(&sweep, &dir, &NoProgress)?;
+//! assert_eq!((report.runs, report.failed), (3, 0));
+//! // One summary row per run, and its Poincaré samples at t = 5T, 6T, …, 10T.
+//! let summary = std::fs::read_to_string(dir.join("summary.csv"))?;
+//! assert_eq!(summary.lines().count(), 1 + 3);
+//! assert_eq!(std::fs::read_to_string(dir.join("sweep.csv"))?.lines().count(), 1 + 3 * 6);
+//! std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! A sweep runs one scene many times, each with one numeric field — named by
 //! its dotted path in the scene document, `forcing.omega`, `support.amplitude`,
 //! `stop.0.hi` — set to a value of a linear or logarithmic grid, and reads
