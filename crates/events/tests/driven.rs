@@ -3,6 +3,8 @@
 //! a chain, and the period-1 orbits of the forced impact oscillator that
 //! `signorini-exact` computes in closed form.
 
+mod common;
+
 use signorini_events::{EventDriven, EventKind};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_fem::SymBand;
@@ -43,15 +45,7 @@ fn an_elastic_bounce_keeps_its_energy_over_ten_thousand_impacts() {
 #[test]
 fn each_impact_loses_the_newton_energy() {
     let n = 4;
-    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
-    for i in 0..n {
-        m.set(i, i, if i == 0 { 1.0 / 3.0 } else { 2.0 / 3.0 });
-        k.set(i, i, if i == 0 { 1.0 } else { 2.0 });
-        if i > 0 {
-            m.set(i, i - 1, 1.0 / 6.0);
-            k.set(i, i - 1, -1.0);
-        }
-    }
+    let (m, k) = common::chain_matrices(n, false);
     let load = vec![-0.05; n];
     let dy = Dynamics::new(m.clone(), k.clone(), load.clone(), vec![Contact::new(0, Bounds::obstacle(-0.1), false)]);
     let e = 0.6;

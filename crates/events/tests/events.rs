@@ -3,6 +3,8 @@
 //! against a dense sampling of the flow that would expose a missed event.
 
 use proptest::prelude::*;
+mod common;
+
 use signorini_events::{Bound, ModalFlow};
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
@@ -48,15 +50,7 @@ fn grazing_levels_are_found_or_not_as_they_are() {
 }
 
 fn chain(n: usize) -> Dynamics {
-    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
-    for i in 0..n {
-        m.set(i, i, if i == 0 { 1.0 / 3.0 } else { 2.0 / 3.0 });
-        k.set(i, i, if i == 0 { 1.0 } else { 2.0 });
-        if i > 0 {
-            m.set(i, i - 1, 1.0 / 6.0);
-            k.set(i, i - 1, -1.0);
-        }
-    }
+    let (m, k) = common::chain_matrices(n, false);
     let mut dy = Dynamics::new(m, k, vec![0.05; n], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     dy.forcing = vec![Forcing {
         shape: (0..n).map(|i| 1.0 / (i as f64 + 1.0)).collect(),

@@ -4,6 +4,8 @@
 //! here by scaling and squaring of a Taylor series — the solution of the
 //! same linear ODE with nothing in common with the modal formulas.
 
+mod common;
+
 use proptest::prelude::*;
 use signorini_events::{EventsError, ModalFlow};
 use signorini_fem::SymBand;
@@ -136,15 +138,7 @@ fn reference(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], tau: f64) -> (Vec<f
 /// A chain of `n` masses (consistent P1-like mass), unit springs, tied to a
 /// wall at the far end unless `free`.
 fn chain(n: usize, free: bool) -> Dynamics {
-    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
-    for i in 0..n {
-        m.set(i, i, if i == 0 || (free && i == n - 1) { 1.0 / 3.0 } else { 2.0 / 3.0 });
-        k.set(i, i, if i == 0 || (free && i == n - 1) { 1.0 } else { 2.0 });
-        if i > 0 {
-            m.set(i, i - 1, 1.0 / 6.0);
-            k.set(i, i - 1, -1.0);
-        }
-    }
+    let (m, k) = common::chain_matrices(n, free);
     Dynamics::new(m, k, (0..n).map(|i| 0.1 * (i as f64 - 1.0)).collect(), vec![Contact::new(0, Bounds::obstacle(-1e9), false)])
 }
 
