@@ -10,6 +10,20 @@
 //! * [`reduce`]: reduced models with a massless contact boundary;
 //! * [`schemes`]: the time integrators;
 //! * [`run`]: problems, the time loop, observers and convergence studies.
+//!
+//! The Dirichlet bar's exact solution and a run of Newmark-CN against it:
+//!
+//! ```
+//! use signorini::exact::ExactSolution;
+//! use signorini::run::Benchmark;
+//!
+//! let exact = Benchmark::BarDirichlet.exact(3.0)?;
+//! // Free at t = 0.5, in contact at t = 1.5 with the force −1/2 (docs/theory.md §5.1).
+//! assert_eq!((exact.lambda(0.5), exact.lambda(1.5)), (0.0, -0.5));
+//! let scheme: signorini::schemes::SchemeSpec = "newmark-cn".parse()?;
+//! assert_eq!(scheme.to_string(), "newmark-cn");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub use signorini_contact as contact;
 pub use signorini_exact as exact;

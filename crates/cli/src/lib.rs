@@ -8,6 +8,13 @@
 //! own: output folders, files and plots of `run`, progress bars, signals,
 //! the texts of `check` and `list`. `src/main.rs` is only argument parsing.
 //!
+//! `signorini list` is the registry's:
+//!
+//! ```
+//! let text = signorini_cli::list();
+//! assert!(text.contains("newmark-cn") && text.contains("cd-taylor") && text.contains("moreau-jean(THETA,E)"));
+//! ```
+//!
 //! Output files of `signorini run` (a contract: columns only ever added):
 //! * bar: `series.csv` — `n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy`, plus
 //!   `u_contact_exact,lambda_exact,energy_exact` when the scene uses a
