@@ -821,8 +821,12 @@ pub fn list() -> String {
     }
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");
     s.push_str("benchmarks (bar, with exact solutions): bar-dirichlet, bar-neumann-gravity (g = 1/9), bar-neumann-gravity-0.11 (T <= 225), bar-mirrored (bar-dirichlet mirrored onto [0, 2] between two stops; elements = m per half)\n");
-    s.push_str("beam scenes: fig2 fig3 fig4 (β = 1/2, projection), fig5 fig6 fig7 (penalty 1e8 N/m), fig8 (β = 1/4); contact = \"projection\" (β ∈ [0, 1/2]) or \"penalty\" (stiffness > 0 N/m)\n");
-    s.push_str("several contacts (bar or beam): [[stop]] x (a mesh node), lo, hi, restitution ∈ [0, 1] (ps, moreau-jean, beam projection), stiffness > 0 (penalty); [obstacle] lo, hi (number, expression in x or table)\n");
+    s.push_str("beam scenes: fig2 fig3 fig4 (β = 1/2, projection), fig5 fig6 fig7 (penalty 1e8 N/m), fig8 (β = 1/4); contact = \"projection\" (β ∈ [0, 1/2]) or \"penalty\" (stiffness > 0 N/m), or scheme = a preset or family marked beam above\n");
+    s.push_str(&format!(
+        "several contacts (bar or beam): [[stop]] x (a mesh node), lo, hi, restitution ∈ [0, 1] ({}, beam projection), stiffness > 0 ({}); [obstacle] lo, hi (number, expression in x or table)\n",
+        signorini_schemes::families_with(|c| c.restitution),
+        signorini_schemes::families_with(|c| c.stiffness)
+    ));
     s
 }
 

@@ -245,7 +245,7 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
         keep.push(*s);
     }
     if keep.is_empty() {
-        return Err(StudyError::config("--schemes", format!("--schemes: none of them takes the two stops of {}: use newmark, theta, ps, penalty or moreau-jean", cfg.benchmark)));
+        return Err(StudyError::config("--schemes", format!("--schemes: none of them takes the two stops of {}: use {}", cfg.benchmark, signorini_schemes::families_with(|c| c.several_contacts))));
     }
     Ok(keep)
 }
