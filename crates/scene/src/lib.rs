@@ -1713,6 +1713,8 @@ fn validate_beam(
             field(&name, format!("{k:e} N/m makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the beam at its node); usable range: 0 < stiffness <= {:.3e} N/m", max * rho_s))
         }
         e @ RunError::Stop { .. } if contacts.is_some() => contacts.as_ref().map_or_else(|| field("beam", "unreachable"), |set| contact_error(e, set, "beam")),
+        // A registry scheme that does not take this beam's contacts: its key.
+        e @ RunError::Scheme(SchemeError::Structure(_) | SchemeError::NotTaken { .. }) if matches!(contact, BeamContact::Scheme(_)) => field("beam.scheme", format!("{e}; allowed: a scheme that takes this beam's contacts")),
         e @ RunError::Scheme(SchemeError::Structure(_)) if contacts.is_some() => field("beam", format!("{e}; allowed: a contact set the beam's scheme takes")),
         e @ RunError::Scheme(SchemeError::Contact(signorini_contact::ContactError::Compliance(_))) if contacts.is_some() => {
             // The softest spring: a stop's own, or penalty_stiffness.
