@@ -137,9 +137,8 @@ fn python_status(e: &RunError) -> String {
 #[pyfunction]
 #[pyo3(signature = (scene, energy=None, fields_every=0, energy_warn=None))]
 pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64, energy_warn: Option<f64>) -> PyResult<RunArrays> {
-    use signorini_run::reduced::{Need, Reconstruct};
-    use signorini_run::{run, Cancel, NormObserver, RunConfig};
-    use signorini_scene::Scene;
+    use signorini_run::{Cancel, NormObserver, RunConfig};
+    use signorini_scene::{Reads, Scene};
     if fields_every < 0 {
         return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
     }
@@ -170,7 +169,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     let cancel = Cancel::new();
     cfg.interrupt = Some(cancel.clone());
     let levels = cfg.steps() + 1;
-    let unknowns = built.reduction.as_ref().map_or(built.u0.len(), signorini_reduce::Reduction::parent_dofs);
+    let unknowns = built.unknowns();
     let contacts = built.contacts();
     let dofs: Vec<usize> = contacts.iter().map(|c| c.0).collect();
     let (lo, hi): (Vec<f64>, Vec<f64>) = contacts.iter().map(|c| (c.1.lo, c.1.hi)).unzip();
@@ -180,25 +179,12 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         _ => None,
     };
     let (res, signal) = crate::interruptible(py, &cancel, || {
-        let res = match &built.reduction {
-            None => {
-                let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
-                if let Some(n) = norms.as_mut() {
-                    obs.push(n);
-                }
-                run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs)
-            }
-            Some(r) => {
-                let need = if fields_every > 0 { Need::Full } else { Need::Dofs(dofs.iter().copied().chain(std::iter::once(built.tip)).collect()) };
-                let mut rec = Reconstruct::new(r, &mut rec, need);
-                let mut norms = norms.as_mut().map(|n| Reconstruct::new(r, n, Need::Full));
-                let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
-                if let Some(n) = norms.as_mut() {
-                    obs.push(n);
-                }
-                run(built.stepper.as_mut(), &built.u0, &cfg, &mut obs)
-            }
-        };
+        // The recorder reads the fields when asked, else the contacts and the tip.
+        let mut obs: Vec<(Reads, &mut dyn Observer)> = vec![(if fields_every > 0 { Reads::Full } else { Reads::Contacts }, &mut rec)];
+        if let Some(n) = norms.as_mut() {
+            obs.push((Reads::Full, n));
+        }
+        let res = built.run(&cfg, obs);
         Ok(res)
     });
     let res = res?;

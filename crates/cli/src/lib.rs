@@ -65,12 +65,11 @@ pub use signorini_scene::excitation;
 pub use signorini_sweep as sweep;
 
 pub use scene::{check_report, energy_warning, CheckReport};
-use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, BarRun, ContactSet, Scene, SceneFile};
+use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, BarRun, ContactSet, Reads, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
 use signorini_run::beam::PenaltyUnits;
-use signorini_run::reduced::{Need, Reconstruct};
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
-use signorini_run::{run, NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
+use signorini_run::{NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
 use signorini_schemes::TimeProfile;
 use std::fs::File;
 use std::io::Write;
@@ -908,19 +907,8 @@ impl Analysis {
     }
 }
 
-/// What an observer reads of the scene's unknowns, for a reduced model's
-/// reconstruction: the contact dofs (and the tip among them), everything,
-/// or nothing (the progress bar).
-#[derive(Clone, Copy)]
-enum Reads {
-    Contacts,
-    Full,
-    Nothing,
-}
-
 /// Runs a simulation with the observers `always` and those of `optional`
-/// that are present; a reduced model's observers see the scene's unknowns,
-/// reconstructed as each reads them.
+/// that are present ([`signorini_scene::Simulation::run`]).
 fn run_observed<'a, const K: usize>(
     sim: &mut signorini_scene::Simulation,
     cfg: &RunConfig,
@@ -928,25 +916,5 @@ fn run_observed<'a, const K: usize>(
     optional: [Option<(Reads, &'a mut dyn Observer)>; K],
 ) -> Result<signorini_run::RunSummary, RunError> {
     always.extend(optional.into_iter().flatten());
-    let Some(r) = &sim.reduction else {
-        let mut obs: Vec<&mut dyn Observer> = always.into_iter().map(|o| o.1).collect();
-        return run(sim.stepper.as_mut(), &sim.u0, cfg, &mut obs);
-    };
-    let rows = Need::Dofs(sim.contacts().iter().map(|c| c.0).chain(std::iter::once(sim.tip)).collect());
-    let mut wrapped: Vec<Result<Reconstruct<'_>, &mut dyn Observer>> = always
-        .into_iter()
-        .map(|(reads, o)| match reads {
-            Reads::Contacts => Ok(Reconstruct::new(r, o, rows.clone())),
-            Reads::Full => Ok(Reconstruct::new(r, o, Need::Full)),
-            Reads::Nothing => Err(o),
-        })
-        .collect();
-    let mut obs: Vec<&mut dyn Observer> = wrapped
-        .iter_mut()
-        .map(|w| match w {
-            Ok(rc) => rc as &mut dyn Observer,
-            Err(o) => &mut **o,
-        })
-        .collect();
-    run(sim.stepper.as_mut(), &sim.u0, cfg, &mut obs)
+    sim.run(cfg, always)
 }

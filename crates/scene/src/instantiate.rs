@@ -3,7 +3,8 @@
 
 use crate::Scene;
 use signorini_run::beam::{build_excited, BeamExcitation, PenaltyUnits, Pipe};
-use signorini_run::RunError;
+use signorini_run::reduced::{Need, Reconstruct};
+use signorini_run::{Observer, RunConfig, RunError, RunSummary};
 use signorini_schemes::{Bounds, Initial, Stepper};
 
 /// Why a validated scene could not be instantiated.
@@ -60,7 +61,52 @@ pub struct Lift {
     exc: BeamExcitation,
 }
 
+/// What an observer reads of the scene's unknowns: a reduced model
+/// reconstructs only that for it ([`Simulation::run`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reads {
+    /// The contact dofs and the tip.
+    Contacts,
+    /// Every unknown (norms, snapshots, fields, a followed state).
+    Full,
+    /// Nothing of the state (a progress bar).
+    Nothing,
+}
+
 impl Simulation {
+    /// The number of the scene's unknowns (a reduced model's parent's).
+    pub fn unknowns(&self) -> usize {
+        self.reduction.as_ref().map_or(self.u0.len(), signorini_reduce::Reduction::parent_dofs)
+    }
+
+    /// Runs the time loop with `observers`, each fed the scene's unknowns
+    /// it reads: as stepped, or for a reduced model reconstructed (only the
+    /// contact and tip rows for [`Reads::Contacts`]). Every front end runs a
+    /// scene this way.
+    pub fn run(&mut self, cfg: &RunConfig, observers: Vec<(Reads, &mut dyn Observer)>) -> Result<RunSummary, RunError> {
+        let rows: Vec<usize> = self.contacts().iter().map(|c| c.0).chain(std::iter::once(self.tip)).collect();
+        let Some(r) = &self.reduction else {
+            let mut obs: Vec<&mut dyn Observer> = observers.into_iter().map(|o| o.1).collect();
+            return signorini_run::run(self.stepper.as_mut(), &self.u0, cfg, &mut obs);
+        };
+        let mut wrapped: Vec<Result<Reconstruct<'_>, &mut dyn Observer>> = observers
+            .into_iter()
+            .map(|(reads, o)| match reads {
+                Reads::Contacts => Ok(Reconstruct::new(r, o, Need::Dofs(rows.clone()))),
+                Reads::Full => Ok(Reconstruct::new(r, o, Need::Full)),
+                Reads::Nothing => Err(o),
+            })
+            .collect();
+        let mut obs: Vec<&mut dyn Observer> = wrapped
+            .iter_mut()
+            .map(|w| match w {
+                Ok(rc) => rc as &mut dyn Observer,
+                Err(o) => &mut **o,
+            })
+            .collect();
+        signorini_run::run(self.stepper.as_mut(), &self.u0, cfg, &mut obs)
+    }
+
     /// The contacts as dof of the scene's unknowns and bounds, in contact
     /// order (a reduced model's stepper holds them at its dofs `0..nb`).
     pub fn contacts(&self) -> Vec<(usize, Bounds)> {

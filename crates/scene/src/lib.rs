@@ -102,7 +102,7 @@ pub mod excitation;
 mod instantiate;
 mod report;
 
-pub use instantiate::{BuildError, Lift, Simulation};
+pub use instantiate::{BuildError, Lift, Reads, Simulation};
 pub use report::{check_report, energy_warning, free_space, io_reason, output_estimate, sig12, sig6, CheckReport};
 
 use crate::excitation::Excitation;

@@ -59,12 +59,11 @@
 
 use rayon::prelude::*;
 use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
-use signorini_reduce::Reduction;
 use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
-use signorini_run::reduced::{Need, Reconstruct};
+use signorini_run::reduced::Need;
 use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, Sample};
-use signorini_scene::{io_reason, BuildError, Limits, Scene, SceneError, SceneFile};
+use signorini_scene::{io_reason, BuildError, Limits, Reads, Scene, SceneError, SceneFile};
 use signorini_schemes::{Bounds, LockstepLane, PaoliSchatzmanLockstep};
 use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
@@ -1260,37 +1259,22 @@ pub fn simulate(scene: &Scene, plan: &Plan, start: Option<&(Vec<f64>, Vec<f64>)>
         Ok(b) => b,
         Err(e) => return failed(&e),
     };
-    let contacts = built.contacts();
-    let rows: Vec<usize> = contacts.iter().map(|c| c.0).chain(std::iter::once(built.tip)).collect();
-    let mut vib = match observers(plan, built.tip, contacts) {
+    let mut vib = match observers(plan, built.tip, built.contacts()) {
         Ok(v) => v,
         Err(e) => return failed(&e),
     };
-    let n = built.reduction.as_ref().map_or(built.u0.len(), Reduction::parent_dofs);
+    let n = built.unknowns();
     let mut last = LastTwo { prev: vec![0.0; if follow { n } else { 0 }], last: vec![0.0; if follow { n } else { 0 }], t: 0.0 };
     let mut rc = match RunConfig::new(plan.dt, plan.t_end) {
         Ok(c) => c,
         Err(e) => return failed(&e),
     };
     rc.interrupt = interrupt.cloned();
-    let res = match &built.reduction {
-        None => {
-            let mut obs: Vec<&mut dyn Observer> = vec![&mut vib];
-            if follow {
-                obs.push(&mut last);
-            }
-            signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
-        }
-        Some(red) => {
-            let mut v = Reconstruct::new(red, &mut vib, Need::Dofs(rows));
-            let mut l = Reconstruct::new(red, &mut last, Need::Full);
-            let mut obs: Vec<&mut dyn Observer> = vec![&mut v];
-            if follow {
-                obs.push(&mut l);
-            }
-            signorini_run::run(built.stepper.as_mut(), &built.u0, &rc, &mut obs)
-        }
-    };
+    let mut obs: Vec<(Reads, &mut dyn Observer)> = vec![(Reads::Contacts, &mut vib)];
+    if follow {
+        obs.push((Reads::Full, &mut last));
+    }
+    let res = built.run(&rc, obs);
     let (steps, status) = match &res {
         Ok(s) => (s.steps, "ok".to_string()),
         Err(RunError::Interrupted { .. }) => (0, "interrupted".to_string()),
