@@ -224,6 +224,14 @@ impl ModalFlow {
         (p, dp)
     }
 
+    /// Mode `i`'s remainder `e = η − P` and `e'` at `t0` from the state
+    /// `(q0, v0)` (`η = φ_iᵀ M q`).
+    fn homogeneous_start(&self, i: usize, t0: f64, q0: &[f64], v0: &[f64]) -> (f64, f64) {
+        let (eta, deta) = (0..self.n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * q0[r], b + self.m_phi[(r, i)] * v0[r]));
+        let (p0, dp0) = self.particular(i, t0);
+        (eta - p0, deta - dp0)
+    }
+
     /// Advances the state `(q0, v0)` at time `t0` by `tau` exactly into
     /// `(q, v)` (see the module docs).
     ///
@@ -236,9 +244,7 @@ impl ModalFlow {
         let mut eta = vec![0.0; n];
         let mut deta = vec![0.0; n];
         for i in 0..n {
-            let (e0, de0) = (0..n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * q0[r], b + self.m_phi[(r, i)] * v0[r]));
-            let (p0, dp0) = self.particular(i, t0);
-            let (e0, de0) = (e0 - p0, de0 - dp0);
+            let (e0, de0) = self.homogeneous_start(i, t0, q0, v0);
             let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
             let (cc, ss) = cs(k - alpha * alpha, tau);
             let decay = (-alpha * tau).exp();
@@ -290,9 +296,7 @@ impl ModalFlow {
             if w == 0.0 {
                 continue;
             }
-            let (e0, de0) = (0..n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * q0[r], b + self.m_phi[(r, i)] * v0[r]));
-            let (p0, dp0) = self.particular(i, t0);
-            let (e0, de0) = (e0 - p0, de0 - dp0);
+            let (e0, de0) = self.homogeneous_start(i, t0, q0, v0);
             let (k, c) = (self.k[i], self.c[i]);
             let alpha = 0.5 * c;
             let lambda = k - alpha * alpha;

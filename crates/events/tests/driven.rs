@@ -57,24 +57,12 @@ fn each_impact_loses_the_newton_energy() {
         k.mul_vec(q, &mut kq);
         (0..n).map(|i| 0.5 * v[i] * mv[i] + 0.5 * q[i] * kq[i] - load[i] * q[i]).sum::<f64>()
     };
-    // (M⁻¹)_00 from a solve written here: M x = e_0.
+    // (M⁻¹)_00 by the fem crate's banded LDLᵀ (the events crate inverts M
+    // through its faer modes): M x = e_0.
     let w = {
-        let dense: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| m.get(i, j)).collect()).collect();
-        let mut a = dense.clone();
-        let mut b = [1.0, 0.0, 0.0, 0.0];
-        for c in 0..n {
-            for r in c + 1..n {
-                let f = a[r][c] / a[c][c];
-                for j in c..n {
-                    a[r][j] -= f * a[c][j];
-                }
-                b[r] -= f * b[c];
-            }
-        }
         let mut x = vec![0.0; n];
-        for r in (0..n).rev() {
-            x[r] = (b[r] - (r + 1..n).map(|j| a[r][j] * x[j]).sum::<f64>()) / a[r][r];
-        }
+        x[0] = 1.0;
+        m.factor().unwrap().solve_in_place(&mut x);
         x[0]
     };
     let mut r = EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
