@@ -105,6 +105,7 @@ macro_rules! stepper_accessors {
     };
 }
 
+pub mod events;
 mod hybrid;
 mod loads;
 mod lockstep;
@@ -223,6 +224,9 @@ pub enum SchemeError {
         /// Its time.
         time: f64,
     },
+    /// The event-driven reference refused the problem or stopped.
+    #[error("event-driven: {0}")]
+    Events(#[from] events::EventsError),
 }
 
 /// The exact critical time step of the two-step β-scheme (Paoli–Schatzman's
@@ -633,6 +637,11 @@ pub trait Stepper: Send {
     fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
         let _ = s;
         Err(SchemeError::Structure("this scheme does not offer its state (set_state)"))
+    }
+    /// The events so far of an event-driven scheme (`events.csv`);
+    /// `None` for time-stepping schemes.
+    fn events(&self) -> Option<&[events::EventRecord]> {
+        None
     }
 }
 

@@ -101,6 +101,9 @@ pub enum Group {
     /// Schemes that take one mass only (left out of the loops over every
     /// scheme and mass).
     SingleMass,
+    /// The exact event-driven reference (not a time-stepping scheme: left
+    /// out of the loops over schemes).
+    Reference,
 }
 
 /// A named preset of a family.
@@ -162,6 +165,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,
     &crate::paoli::CD_TAYLOR,
+    &crate::events::EVENT_DRIVEN,
 ];
 
 /// A time scheme with its parameters (docs/theory.md §4; names: §4.8): a
@@ -265,9 +269,10 @@ impl SchemeSpec {
     }
 
     /// Every named scheme run with every mass (the papers' presets, the
-    /// reduced ones, the peers; not [`Group::SingleMass`]).
+    /// reduced ones, the peers; not [`Group::SingleMass`] nor the
+    /// event-driven [`Group::Reference`]).
     pub fn named() -> impl Iterator<Item = (&'static str, SchemeSpec)> {
-        Self::presets().filter(|p| p.2 != Group::SingleMass).map(|p| (p.0, p.1))
+        Self::presets().filter(|p| p.2 != Group::SingleMass && p.2 != Group::Reference).map(|p| (p.0, p.1))
     }
 
     /// The family.

@@ -122,6 +122,10 @@ enum Reference {
     /// The two-step β-scheme `M(U⁺ − 2U + U⁻) + dt² K(β U⁺ + (1−2β) U + β U⁻) = dt² F`,
     /// started by one Newmark(`start`, 1/2) step (or Taylor's formula, `None`).
     TwoStep { beta: f64, start: Option<f64> },
+    /// The exact flow `z(t) = z_p + exp(A t)(z₀ − z_p)` of the first-order
+    /// system `z = (U, V)`, `A = [[0, I], [−M⁻¹K, 0]]`, `z_p = (K⁻¹F, 0)`:
+    /// the event-driven reference, which has no step of its own.
+    Exact,
     /// Checked elsewhere, step by step from the recorded positions.
     Elsewhere(&'static str),
 }
@@ -139,6 +143,7 @@ fn reference(spec: &SchemeSpec) -> Option<Reference> {
         "moreau-jean" => Reference::Elsewhere("peers.rs: moreau_jean_contact_heavy_runs"),
         "nitsche" => Reference::Elsewhere("peers.rs: nitsche_tends_to_the_projection and its step oracle"),
         "hybrid" | "reduced-cn" | "cd-massless" => Reference::Elsewhere("peers.rs: check_reduced (the reduced ODE step by step)"),
+        "event-driven" => Reference::Exact,
         _ => return None,
     })
 }
@@ -225,6 +230,36 @@ fn free_flight_follows_the_written_update_equations() {
                     let up = solve(lhs, rhs);
                     um = std::mem::replace(&mut u, up);
                     want.push(u.clone());
+                }
+            }
+            Reference::Exact => {
+                // exp(A dt) by scaling and squaring of its Taylor series (dense, 2N × 2N).
+                let n2 = 2 * N;
+                let minv_k: Vec<Vec<f64>> = (0..N).map(|j| solve(m, (0..N).map(|i| k[i][j]).collect())).collect();
+                let mut a = vec![vec![0.0; n2]; n2];
+                for i in 0..N {
+                    a[i][N + i] = 1.0;
+                    for (j, col) in minv_k.iter().enumerate() {
+                        a[N + i][j] = -col[i];
+                    }
+                }
+                let squarings = 3;
+                let h = dt / f64::from(1u32 << squarings);
+                let mul = |x: &Vec<Vec<f64>>, y: &Vec<Vec<f64>>| -> Vec<Vec<f64>> { (0..n2).map(|i| (0..n2).map(|j| (0..n2).map(|l| x[i][l] * y[l][j]).sum()).collect()).collect() };
+                let mut e: Vec<Vec<f64>> = (0..n2).map(|i| (0..n2).map(|j| if i == j { 1.0 } else { 0.0 }).collect()).collect();
+                let mut term = e.clone();
+                for q in 1..20 {
+                    term = mul(&term, &a).into_iter().map(|r| r.into_iter().map(|x| x * h / q as f64).collect()).collect();
+                    e = e.iter().zip(&term).map(|(r, t)| r.iter().zip(t).map(|(x, y)| x + y).collect()).collect();
+                }
+                for _ in 0..squarings {
+                    e = mul(&e, &e);
+                }
+                let up = solve(k, f.clone());
+                let mut z: Vec<f64> = (0..N).map(|i| i0.u[i] - up[i]).chain(i0.v.iter().copied()).collect();
+                for _ in 0..30 {
+                    z = (0..n2).map(|i| (0..n2).map(|j| e[i][j] * z[j]).sum()).collect();
+                    want.push((0..N).map(|i| z[i] + up[i]).collect());
                 }
             }
             Reference::Elsewhere(_) => unreachable!(),

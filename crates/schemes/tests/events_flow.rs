@@ -4,10 +4,11 @@
 //! here by scaling and squaring of a Taylor series — the solution of the
 //! same linear ODE with nothing in common with the modal formulas.
 
+#[path = "events_common/mod.rs"]
 mod common;
 
 use proptest::prelude::*;
-use signorini_events::{EventsError, ModalFlow};
+use signorini_schemes::events::{EventsError, ModalFlow};
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 

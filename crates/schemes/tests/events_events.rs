@@ -3,9 +3,10 @@
 //! against a dense sampling of the flow that would expose a missed event.
 
 use proptest::prelude::*;
+#[path = "events_common/mod.rs"]
 mod common;
 
-use signorini_events::{Bound, ModalFlow};
+use signorini_schemes::events::{Bound, ModalFlow};
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 

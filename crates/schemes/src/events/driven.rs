@@ -1,0 +1,586 @@
+//! Event-driven integration: the exact flow between events, each event
+//! located without a miss, impacts, held phases, releases and accumulations
+//! (docs/theory.md §9).
+//!
+//! **Phases.** At any time a set of contacts is *held* at a bound (the
+//! active set). The flow is that of the problem with the held dofs fixed at
+//! their bounds: the pencil with their rows and columns removed, the load
+//! `f_f − K_fA q_A` on the free dofs ([`ModalFlow`] of the reduced problem,
+//! built once per active set and cached). A held contact's force
+//!
+//! ```text
+//! r_a = (M q'' + C q' + K q − f)_a = M_af q_f'' + C_af q_f' + K_af q_f + K_aA q_A − f_a(t)
+//! ```
+//!
+//! is, with `q_f'' = Φ η''` and `η'' = −c η' − k η + Φᵀ(f_f − K_fA q_A)`, a
+//! functional of the modal state: `β_i = K_af φ_i − k_i M_af φ_i`,
+//! `α_i = C_af φ_i − c_i M_af φ_i`, load terms `M_af M_ff⁻¹ g_f − g_a`.
+//! The events are the free contacts reaching a bound (impacts) and the
+//! held contacts' forces reaching 0 (releases).
+//!
+//! **Impacts.** Newton's law for every contact at its bound at once, at
+//! velocity level: with `W = M⁻¹` restricted to the contact dofs (the
+//! Delassus matrix), the post-impact velocity is the M-projection of the
+//! pre-impact one onto `v_c⁺ >= −e_c v_c⁻` (`>= 0` for a contact leaving or
+//! held): the exact LCP solved by [`MultiProjection`]. A contact left at
+//! rest on its bound (e = 0, or held before) then stays held if the LCP at
+//! acceleration level gives it a positive force.
+//!
+//! **Accumulation.** Impacts of one contact with `0 < e < 1` whose intervals
+//! shrink geometrically (the last ratios equal to 1 %) accumulate at
+//! `t∞ = t_k + Δt_k ρ/(1 − ρ)`; once `t∞ − t_k` is below a relative 1e-9
+//! of the time, the contact is put at rest on its bound and the event
+//! `accumulation` is logged at `t∞`. Its impulse is the one that brings the
+//! contact dof to rest (`−v_c/W_cc` for one contact): the remaining
+//! impacts' impulses net of the smooth forces over `[t_k, t∞]` (momentum
+//! balance); the held phase that follows starts at `t_k`, within the
+//! relative 1e-9 of `t∞`.
+
+use super::flow::{dense, EventsError, Loads, ModalFlow};
+use super::search::{Functional, Search};
+use super::Bound;
+use crate::Dynamics;
+use faer::Mat;
+use signorini_contact::MultiProjection;
+use std::collections::HashMap;
+
+/// What happened at an event (`events.csv`'s `kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EventKind {
+    /// An impact (Newton's law).
+    Impact,
+    /// A held contact's force reached 0: it leaves its bound.
+    Release,
+    /// Impacts accumulated (chattering): the contact comes to rest.
+    Accumulation,
+}
+
+impl EventKind {
+    /// The name in `events.csv`: `impact`, `release`, `accumulation`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Impact => "impact",
+            Self::Release => "release",
+            Self::Accumulation => "accumulation",
+        }
+    }
+}
+
+/// One event of an [`EventDriven`] run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventRecord {
+    /// Its time.
+    pub t: f64,
+    /// What happened.
+    pub kind: EventKind,
+    /// The contact (its index in `Dynamics::contacts`).
+    pub contact: usize,
+    /// The contact dof's velocity before.
+    pub velocity_before: f64,
+    /// And after.
+    pub velocity_after: f64,
+    /// The impulse (the contact force's integral over the instant; `r` of
+    /// `M q'' + C q' + K q = f + Σ r_i e_{c_i}`: positive at a lower bound).
+    pub impulse: f64,
+}
+
+/// The most events of a run by default.
+pub const MAX_EVENTS: usize = 10_000_000;
+
+struct Site {
+    dof: usize,
+    lo: f64,
+    hi: f64,
+    restitution: f64,
+    /// Its length scale (for the tolerances).
+    scale: f64,
+}
+
+/// A held contact: which, and at which bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+struct Hold {
+    contact: usize,
+    upper: bool,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Watch {
+    Gap { contact: usize, bound: Bound },
+    Release { contact: usize },
+}
+
+/// The flow of one active set.
+struct System {
+    flow: ModalFlow,
+    /// The free dofs, in order.
+    free: Vec<usize>,
+    /// `(dof, value)` of the held ones.
+    held: Vec<(usize, f64)>,
+    fns: Vec<Functional>,
+    quiet: Vec<bool>,
+    watch: Vec<Watch>,
+    /// The held contacts' forces `r_a`: `(contact, r_a)`.
+    forces: Vec<(usize, Functional)>,
+}
+
+/// An event-driven run of a linear structure with unilateral contacts at
+/// massive dofs (module docs).
+pub struct EventDriven {
+    n: usize,
+    m: Mat<f64>,
+    c: Option<Mat<f64>>,
+    k: Mat<f64>,
+    loads: Loads,
+    full: ModalFlow,
+    sites: Vec<Site>,
+    delassus: MultiProjection,
+    systems: HashMap<Vec<Hold>, System>,
+    holds: Vec<Hold>,
+    t: f64,
+    eta: Vec<f64>,
+    deta: Vec<f64>,
+    search: Search,
+    events: Vec<EventRecord>,
+    /// Impact times of the current run of impacts of one contact.
+    streak: Vec<f64>,
+    streak_contact: Option<usize>,
+    /// Per contact: impulses plus the held force's integral since the last
+    /// [`take_impulses`](Self::take_impulses).
+    impulses: Vec<f64>,
+    max_events: usize,
+}
+
+impl EventDriven {
+    /// Starts at `(q0, v0)` at time `t0`, inside every contact's bounds
+    /// (on a bound is allowed: an approaching contact impacts at once); a
+    /// contact's restitution is its own (`Contact::restitution`) or `e`.
+    pub fn new(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], e: f64) -> Result<Self, EventsError> {
+        let n = dy.n();
+        let loads = Loads::of(dy)?;
+        let mut sites = Vec::new();
+        for (i, c) in dy.contacts.iter().enumerate() {
+            let restitution = c.restitution.unwrap_or(e);
+            if !(0.0..=1.0).contains(&restitution) {
+                return Err(EventsError::Restitution { contact: i, restitution });
+            }
+            if c.massless {
+                return Err(EventsError::Massless { contact: i });
+            }
+            let (lo, hi) = (c.bounds.lo, c.bounds.hi);
+            let q = q0[c.dof];
+            let scale = [lo, hi, hi - lo, q].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
+            if !(q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale) {
+                return Err(EventsError::Outside { contact: i, q, lo, hi });
+            }
+            sites.push(Site { dof: c.dof, lo, hi, restitution, scale });
+        }
+        let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
+        let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;
+        let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();
+        let columns = dofs.iter().map(|&d| full.minv_column(d)).collect();
+        let delassus = MultiProjection::new(dofs, columns).map_err(|_| EventsError::MassNotDefinite)?;
+        let k_contacts = sites.len();
+        let mut r = Self {
+            n,
+            m,
+            c,
+            k,
+            loads,
+            full,
+            sites,
+            delassus,
+            systems: HashMap::new(),
+            holds: Vec::new(),
+            t: t0,
+            eta: Vec::new(),
+            deta: Vec::new(),
+            search: Search::new(n),
+            events: Vec::new(),
+            streak: Vec::new(),
+            streak_contact: None,
+            impulses: vec![0.0; k_contacts],
+            max_events: MAX_EVENTS,
+        };
+        r.settle(t0, q0.to_vec(), v0.to_vec(), None)?;
+        Ok(r)
+    }
+
+    /// The most events [`run_until`](Self::run_until) takes ([`MAX_EVENTS`] by default).
+    pub fn with_max_events(mut self, max_events: usize) -> Self {
+        self.max_events = max_events;
+        self
+    }
+
+    /// Runs to `t_end` exactly; more than `max_events` events on the way
+    /// stop it with [`EventsError::TooManyEvents`] (the state is then the
+    /// one after the last event taken, the events so far kept).
+    pub fn run_until(&mut self, t_end: f64, max_events: usize) -> Result<(), EventsError> {
+        let mut taken = 0;
+        while self.next_event(t_end)?.is_some() {
+            taken += 1;
+            if taken > max_events {
+                return Err(EventsError::TooManyEvents { t: self.t, events: taken });
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs to `t_end`, counting against the run's `max_events` (all
+    /// events since the start).
+    pub(crate) fn advance_to(&mut self, t_end: f64) -> Result<(), EventsError> {
+        while self.next_event(t_end)?.is_some() {
+            if self.events.len() > self.max_events {
+                return Err(EventsError::TooManyEvents { t: self.t, events: self.events.len() });
+            }
+        }
+        Ok(())
+    }
+
+    /// Advances to the next event, applies it and returns it (the located
+    /// one; simultaneous impacts of other contacts are logged too), or to
+    /// `t_end` if none comes before (then `None`).
+    pub fn next_event(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
+        if t_end <= self.t {
+            return Ok(None);
+        }
+        let key = self.holds.clone();
+        let sys = &self.systems[&key];
+        let (eta0, deta0) = (self.eta.clone(), self.deta.clone());
+        let t0 = self.t;
+        let found = self.search.first_zero(&sys.flow, t0, &mut self.eta, &mut self.deta, &sys.fns, &sys.quiet, t_end)?;
+        let t1 = found.map_or(t_end, |f| f.0);
+        // The held forces' integrals over the phase.
+        for (contact, r) in &sys.forces {
+            self.impulses[*contact] += r.integral(&sys.flow, t0, (&eta0, &deta0), (&self.eta, &self.deta), t1 - t0);
+        }
+        self.t = t1;
+        let Some((t, which)) = found else {
+            return Ok(None);
+        };
+        let watch = sys.watch[which];
+        let (q, v) = self.physical();
+        let before = self.events.len();
+        match watch {
+            Watch::Gap { contact, bound } => self.settle(t, q, v, Some((contact, bound)))?,
+            Watch::Release { contact } => {
+                self.streak.clear();
+                self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
+                self.holds.retain(|h| h.contact != contact);
+                self.enter(q, v)?;
+            }
+        }
+        Ok(self.events.get(before).copied())
+    }
+
+    /// The full state of the current phase.
+    fn physical(&self) -> (Vec<f64>, Vec<f64>) {
+        let sys = &self.systems[&self.holds];
+        let nf = sys.free.len();
+        let (mut qf, mut vf) = (vec![0.0; nf], vec![0.0; nf]);
+        sys.flow.to_physical(&self.eta, &self.deta, &mut qf, &mut vf);
+        let (mut q, mut v) = (vec![0.0; self.n], vec![0.0; self.n]);
+        for (j, &d) in sys.free.iter().enumerate() {
+            (q[d], v[d]) = (qf[j], vf[j]);
+        }
+        for &(d, x) in &sys.held {
+            q[d] = x;
+        }
+        (q, v)
+    }
+
+    /// The impacts, accumulation and new active set at time `t` from the
+    /// state `(q, v)`; `primary` is the located event's contact.
+    fn settle(&mut self, t: f64, mut q: Vec<f64>, mut v: Vec<f64>, primary: Option<(usize, Bound)>) -> Result<(), EventsError> {
+        let kc = self.sites.len();
+        // Which contacts are at a bound (side: upper?).
+        let mut at: Vec<Option<bool>> = vec![None; kc];
+        for (j, s) in self.sites.iter().enumerate() {
+            let qc = q[s.dof];
+            let tol = 1e-12 * s.scale;
+            at[j] = if let Some(h) = self.holds.iter().find(|h| h.contact == j) {
+                Some(h.upper)
+            } else if let Some((_, b)) = primary.filter(|p| p.0 == j) {
+                Some(b == Bound::Upper)
+            } else if qc - s.lo <= tol {
+                Some(false)
+            } else if s.hi - qc <= tol {
+                Some(true)
+            } else {
+                None
+            };
+            if let Some(up) = at[j] {
+                q[s.dof] = if up { s.hi } else { s.lo };
+            }
+        }
+        // Newton's law for all of them at once: the velocity LCP.
+        let vbefore: Vec<f64> = self.sites.iter().map(|s| v[s.dof]).collect();
+        let (mut lo, mut hi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
+        for j in 0..kc {
+            match at[j] {
+                Some(false) => lo[j] = (-self.sites[j].restitution * vbefore[j]).max(0.0),
+                Some(true) => hi[j] = (-self.sites[j].restitution * vbefore[j]).min(0.0),
+                None => {}
+            }
+        }
+        self.delassus.project(&mut v, &lo, &hi).map_err(|_| EventsError::MassNotDefinite)?;
+        let mu = self.delassus.multipliers().to_vec();
+        let held_before: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
+        for j in 0..kc {
+            let located = primary.is_some_and(|p| p.0 == j);
+            if at[j].is_some() && (located || mu[j] != 0.0) {
+                self.impulses[j] += mu[j];
+                self.events.push(EventRecord { t, kind: EventKind::Impact, contact: j, velocity_before: vbefore[j], velocity_after: v[self.sites[j].dof], impulse: mu[j] });
+            }
+        }
+        // Accumulation of the located contact's impacts.
+        if let Some((j, _)) = primary {
+            if self.streak_contact != Some(j) {
+                self.streak.clear();
+                self.streak_contact = Some(j);
+            }
+            self.streak.push(t);
+            let e = self.sites[j].restitution;
+            if e > 0.0 && e < 1.0 {
+                if let Some(t_inf) = accumulation(&self.streak) {
+                    let vb = v[self.sites[j].dof];
+                    // At rest on its bound (lo = hi = 0: an equality), the
+                    // others at their bounds not pushed through.
+                    for i in 0..kc {
+                        match at[i] {
+                            Some(false) => lo[i] = 0.0,
+                            Some(true) => hi[i] = 0.0,
+                            None => {}
+                        }
+                    }
+                    (lo[j], hi[j]) = (0.0, 0.0);
+                    self.delassus.project(&mut v, &lo, &hi).map_err(|_| EventsError::MassNotDefinite)?;
+                    let mu = self.delassus.multipliers().to_vec();
+                    for (i, m) in mu.iter().enumerate() {
+                        self.impulses[i] += m;
+                    }
+                    self.events.push(EventRecord { t: t_inf, kind: EventKind::Accumulation, contact: j, velocity_before: vb, velocity_after: v[self.sites[j].dof], impulse: mu[j] });
+                    self.streak.clear();
+                }
+            }
+        } else {
+            self.streak.clear();
+        }
+        if primary.is_some_and(|p| held_before[p.0]) {
+            self.streak.clear();
+        }
+        // The new active set: contacts at rest on their bound that the
+        // acceleration LCP presses against it.
+        let vscale = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let candidates: Vec<usize> = (0..kc).filter(|&j| at[j].is_some() && v[self.sites[j].dof].abs() <= 1e-13 * vscale.max(f64::MIN_POSITIVE)).collect();
+        self.holds.clear();
+        if !candidates.is_empty() {
+            for &j in &candidates {
+                v[self.sites[j].dof] = 0.0;
+            }
+            let mut a = self.free_acceleration(t, &q, &v);
+            let ascale = a.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(f64::MIN_POSITIVE);
+            let (mut lo, mut hi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
+            for &j in &candidates {
+                if at[j] == Some(true) {
+                    hi[j] = 0.0;
+                } else {
+                    lo[j] = 0.0;
+                }
+            }
+            self.delassus.project(&mut a, &lo, &hi).map_err(|_| EventsError::MassNotDefinite)?;
+            let r = self.delassus.multipliers();
+            for &j in &candidates {
+                let leaving = r[j] == 0.0 && a[self.sites[j].dof].abs() > 1e-12 * ascale;
+                if !leaving {
+                    self.holds.push(Hold { contact: j, upper: at[j] == Some(true) });
+                }
+            }
+        }
+        self.t = t;
+        self.enter(q, v)
+    }
+
+    /// `M⁻¹ (f(t) − C v − K q)`.
+    fn free_acceleration(&self, t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
+        let mut rhs: Vec<f64> = (0..self.n).map(|r| self.loads.value(r, t)).collect();
+        for (r, x) in rhs.iter_mut().enumerate() {
+            for s in 0..self.n {
+                *x -= self.k[(r, s)] * q[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * v[s]);
+            }
+        }
+        self.full.minv(&rhs)
+    }
+
+    /// Switches to the phase of `self.holds` from the full state.
+    fn enter(&mut self, q: Vec<f64>, v: Vec<f64>) -> Result<(), EventsError> {
+        self.holds.sort();
+        if !self.systems.contains_key(&self.holds) {
+            let sys = self.build(&self.holds)?;
+            self.systems.insert(self.holds.clone(), sys);
+        }
+        let sys = &self.systems[&self.holds];
+        let nf = sys.free.len();
+        let qf: Vec<f64> = sys.free.iter().map(|&d| q[d]).collect();
+        let vf: Vec<f64> = sys.free.iter().map(|&d| v[d]).collect();
+        (self.eta, self.deta) = (vec![0.0; nf], vec![0.0; nf]);
+        sys.flow.to_modal(&qf, &vf, &mut self.eta, &mut self.deta);
+        Ok(())
+    }
+
+    /// The flow, events and forces of an active set (module docs).
+    fn build(&self, holds: &[Hold]) -> Result<System, EventsError> {
+        let n = self.n;
+        let held: Vec<(usize, f64)> = holds
+            .iter()
+            .map(|h| {
+                let s = &self.sites[h.contact];
+                (s.dof, if h.upper { s.hi } else { s.lo })
+            })
+            .collect();
+        let free: Vec<usize> = (0..n).filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
+        let nf = free.len();
+        let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
+        // The held dofs' displacements load the free ones: f_f − K_fA q_A.
+        let mut constant: Vec<f64> = free.iter().map(|&d| self.loads.constant[d]).collect();
+        for (i, &d) in free.iter().enumerate() {
+            for &(a, x) in &held {
+                constant[i] -= self.k[(d, a)] * x;
+            }
+        }
+        let waves = self.loads.waves.iter().map(|(g, a, w, p)| (free.iter().map(|&d| g[d]).collect(), *a, *w, *p)).collect();
+        let loads = Loads { constant, waves };
+        let flow = ModalFlow::from_parts(sub(&self.m), sub(&self.k), self.c.as_ref().map(sub), &loads)?;
+        let row = |d: usize| -> Vec<f64> {
+            let p = free.iter().position(|&x| x == d).expect("a free dof");
+            (0..nf).map(|i| flow.phi[(p, i)]).collect()
+        };
+        let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
+        for (j, s) in self.sites.iter().enumerate() {
+            if holds.iter().any(|h| h.contact == j) {
+                continue;
+            }
+            if s.lo.is_finite() {
+                fns.push(Functional::new(row(s.dof), -s.lo));
+                quiet.push(false);
+                watch.push(Watch::Gap { contact: j, bound: Bound::Lower });
+            }
+            if s.hi.is_finite() {
+                fns.push(Functional::new(row(s.dof), -s.hi).negated());
+                quiet.push(false);
+                watch.push(Watch::Gap { contact: j, bound: Bound::Upper });
+            }
+        }
+        let mut forces = Vec::new();
+        for h in holds {
+            let a = self.sites[h.contact].dof;
+            // r_a = Σ_i β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j).
+            let mut f = Functional { beta: vec![0.0; nf], alpha: vec![0.0; nf], constant: 0.0, waves: Vec::new() };
+            // M_af φ_i, C_af φ_i, K_af φ_i.
+            for i in 0..nf {
+                let (mut mp, mut cp, mut kp) = (0.0, 0.0, 0.0);
+                for (r, &d) in free.iter().enumerate() {
+                    let ph = flow.phi[(r, i)];
+                    mp += self.m[(a, d)] * ph;
+                    kp += self.k[(a, d)] * ph;
+                    cp += self.c.as_ref().map_or(0.0, |c| c[(a, d)]) * ph;
+                }
+                f.beta[i] = kp - flow.k[i] * mp;
+                f.alpha[i] = cp - flow.c[i] * mp;
+                f.constant += mp * flow.g0[i];
+                for (j, hm) in flow.harmonics.iter().enumerate() {
+                    if f.waves.len() <= j {
+                        f.waves.push((0.0, hm.omega, hm.phase));
+                    }
+                    f.waves[j].0 += mp * hm.modal[i] * hm.amplitude;
+                }
+            }
+            for &(b, x) in &held {
+                f.constant += self.k[(a, b)] * x;
+            }
+            f.constant -= self.loads.constant[a];
+            for (j, (g, amp, w, p)) in self.loads.waves.iter().enumerate() {
+                if f.waves.len() <= j {
+                    f.waves.push((0.0, *w, *p));
+                }
+                f.waves[j].0 -= g[a] * amp;
+            }
+            forces.push((h.contact, f.clone()));
+            fns.push(if h.upper { f.negated() } else { f });
+            quiet.push(true);
+            watch.push(Watch::Release { contact: h.contact });
+        }
+        Ok(System { flow, free, held, fns, quiet, watch, forces })
+    }
+
+    /// The time and state `(t, q, v)`.
+    pub fn state(&self) -> (f64, Vec<f64>, Vec<f64>) {
+        let (q, v) = self.physical();
+        (self.t, q, v)
+    }
+
+    /// The time.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The events so far.
+    pub fn events(&self) -> &[EventRecord] {
+        &self.events
+    }
+
+    /// Which contacts are held, and at which bound (`true`: the upper).
+    pub fn held(&self) -> Vec<(usize, bool)> {
+        self.holds.iter().map(|h| (h.contact, h.upper)).collect()
+    }
+
+    /// The force `r` of each contact now (0 unless held).
+    pub fn forces(&self) -> Vec<f64> {
+        let mut out = vec![0.0; self.sites.len()];
+        let sys = &self.systems[&self.holds];
+        for (j, f) in &sys.forces {
+            out[*j] = f.value(&sys.flow, self.t, &self.eta, &self.deta);
+        }
+        out
+    }
+
+    /// Each contact's impulse since the last call: the impacts' impulses
+    /// plus the held force's integral (exact), then reset.
+    pub fn take_impulses(&mut self) -> Vec<f64> {
+        let out = self.impulses.clone();
+        self.impulses.iter_mut().for_each(|x| *x = 0.0);
+        out
+    }
+
+    /// Steps taken by the event searches so far.
+    pub fn search_steps(&self) -> u64 {
+        self.search.steps
+    }
+
+    /// Replaces the state (a twin run), at the current time, as [`new`](Self::new) starts.
+    pub(crate) fn reset(&mut self, q: &[f64], v: &[f64]) -> Result<(), EventsError> {
+        self.holds.clear();
+        self.streak.clear();
+        self.settle(self.t, q.to_vec(), v.to_vec(), None)
+    }
+}
+
+/// The accumulation time of a run of impact times shrinking geometrically
+/// (module docs), once it is within a relative 1e-9 of the last.
+fn accumulation(times: &[f64]) -> Option<f64> {
+    let k = times.len();
+    if k < 4 {
+        return None;
+    }
+    let d = |i: usize| times[k - i] - times[k - i - 1];
+    let (d3, d2, d1) = (d(1), d(2), d(3));
+    if !(d1 > 0.0 && d2 > 0.0 && d3 > 0.0) {
+        return None;
+    }
+    let (r1, r2) = (d2 / d1, d3 / d2);
+    if !(r2 < 1.0 && (r2 - r1).abs() <= 1e-2 * r2) {
+        return None;
+    }
+    let rest = d3 * r2 / (1.0 - r2);
+    let t = times[k - 1];
+    (rest <= 1e-9 * t.abs().max(times[k - 1] - times[0])).then_some(t + rest)
+}

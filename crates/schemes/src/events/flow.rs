@@ -1,0 +1,553 @@
+//! The exact flow of `M q'' + C q' + K q = F + Σ_j g_j s_j(t)` between events.
+//!
+//! With `M = L Lᵀ` and `L⁻¹ K L⁻ᵀ = V Λ Vᵀ`, the modes `Φ = L⁻ᵀ V` are
+//! M-orthonormal (`Φᵀ M Φ = I`, `Φᵀ K Φ = Λ`); a damping matrix that `Φ`
+//! diagonalises (classical damping: Rayleigh `C = a M + b K` among them)
+//! gives `Φᵀ C Φ = diag(c_i)`. Each modal coordinate `η_i = φ_iᵀ M q` then
+//! obeys the scalar equation
+//!
+//! ```text
+//! η'' + c η' + k η = g₀ + Σ_j G_j a_j sin(Ω_j t + p_j),   k = ω_i², G_j = φ_iᵀ g_j
+//! ```
+//!
+//! whose solution is a particular solution `P(t)` (one per load term:
+//! `g₀/k`; `A sin θ + B cos θ` with `(k − Ω²) A − cΩ B = G a`,
+//! `cΩ A + (k − Ω²) B = 0`; at resonance, `c = 0` and `k = Ω²`, the secular
+//! `−G a t cos θ / (2Ω)`; a free mode `k = 0` integrates the constant)
+//! plus the homogeneous flow of `e = η − P` over `τ`:
+//!
+//! ```text
+//! e(τ)  = e^{−ατ} [ e₀ C(τ) + (e₀' + α e₀) S(τ) ]
+//! e'(τ) = e^{−ατ} [ e₀' C(τ) − (α e₀' + k e₀) S(τ) ],   α = c/2, λ = k − α²
+//! ```
+//!
+//! with `C, S = cos(√λ τ), sin(√λ τ)/√λ` (λ > 0), `cosh, sinh(√−λ τ)/√−λ`
+//! (λ < 0), `1, τ` (λ = 0). Every step is closed form: the flow is exact to
+//! round-off over any interval, however long.
+//!
+//! The event search needs more than the state: the derivatives of every
+//! modal coordinate at a time (its *jet*, [`ModalFlow::jet`]) and bounds of
+//! each derivative over a window ([`ModalFlow::bounds`]). Both follow from
+//! the scalar equation: `e^{(m)} = −c e^{(m−1)} − k e^{(m−2)}`, and the
+//! particular solutions' derivatives in closed form.
+
+use super::Bound;
+use crate::{Dynamics, TimeProfile};
+use faer::{Mat, Side};
+
+/// Why a problem has no exact event-driven solution here.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EventsError {
+    /// The mass matrix is not positive definite.
+    #[error("mass: not positive definite")]
+    MassNotDefinite,
+    /// A contact dof without mass (a reduced model's or mass
+    /// redistribution's contact boundary).
+    #[error("contacts[{contact}]: a massless contact dof is not taken by the event-driven integrator (its statically condensed contact force has no impacts and no held phases to locate); allowed: a massive contact dof (mass = \"std\", \"lumped\" or \"transfer\", no reduce)")]
+    Massless {
+        /// The contact.
+        contact: usize,
+    },
+    /// The damping matrix is not diagonalised by the undamped modes.
+    #[error("damping: the undamped modes do not diagonalise C (largest off-diagonal {off:e} against the largest modal damping {diag:e}); allowed: classical damping, e.g. Rayleigh C = a M + b K")]
+    NotClassical {
+        /// Largest |off-diagonal| of Φᵀ C Φ.
+        off: f64,
+        /// Largest |diagonal| of Φᵀ C Φ.
+        diag: f64,
+    },
+    /// A load profile without a closed-form particular solution here.
+    #[error("forcing[{index}]: a piecewise-linear series has no closed-form particular solution in the event-driven integrator yet; allowed: constant loads, sine or harmonics (a band-limited random load is its harmonic sum)")]
+    Profile {
+        /// The forcing term.
+        index: usize,
+    },
+    /// The symmetric eigensolver failed.
+    #[error("the modal decomposition of (K, M) failed")]
+    Eigen,
+    /// A restitution outside [0, 1].
+    #[error("contacts[{contact}].restitution = {restitution}: allowed [0, 1]")]
+    Restitution {
+        /// The contact.
+        contact: usize,
+        /// Its restitution.
+        restitution: f64,
+    },
+    /// More events than allowed.
+    #[error("{events} events by t = {t} (max_events): the run stops there, the events so far are kept; raise the limit if the impacts are real")]
+    TooManyEvents {
+        /// Where it stopped.
+        t: f64,
+        /// Events taken.
+        events: usize,
+    },
+    /// The event search took too many steps (a contact grazing its bound).
+    #[error("the event search stopped at t = {t} after {steps} steps (a contact grazing its bound without reaching it)")]
+    NoConvergence {
+        /// Where it stopped.
+        t: f64,
+        /// Steps taken.
+        steps: usize,
+    },
+    /// The start is outside a contact's bounds.
+    #[error("contacts[{contact}]: the initial state q = {q} is outside [{lo}, {hi}]")]
+    Outside {
+        /// The contact.
+        contact: usize,
+        /// Its dof's displacement.
+        q: f64,
+        /// Lower bound.
+        lo: f64,
+        /// Upper bound.
+        hi: f64,
+    },
+}
+
+/// Orders of a mode's jet: `η, η', …, η⁽⁵⁾`.
+pub(crate) const JET: usize = 6;
+
+/// A load on the full problem: `F₀ + Σ_j g_j a_j sin(Ω_j t + p_j)`.
+#[derive(Clone, Debug)]
+pub(crate) struct Loads {
+    pub constant: Vec<f64>,
+    /// `(g_j, a_j, Ω_j, p_j)`, Ω_j ≠ 0.
+    pub waves: Vec<(Vec<f64>, f64, f64, f64)>,
+}
+
+impl Loads {
+    /// The loads of `dy`: its steady load, its sines and harmonics (a
+    /// harmonic of frequency 0 is the constant `a sin p`).
+    pub fn of(dy: &Dynamics) -> Result<Self, EventsError> {
+        let mut constant = dy.load.clone();
+        let mut waves = Vec::new();
+        for (index, f) in dy.forcing.iter().enumerate() {
+            match &f.time {
+                &TimeProfile::Sine { amplitude, omega } => waves.push((f.shape.clone(), amplitude, omega, 0.0)),
+                TimeProfile::Harmonics(h) => {
+                    for t in h.iter() {
+                        if t.omega == 0.0 {
+                            let s = t.amplitude * t.phase.sin();
+                            constant.iter_mut().zip(&f.shape).for_each(|(c, g)| *c += s * g);
+                        } else {
+                            waves.push((f.shape.clone(), t.amplitude, t.omega, t.phase));
+                        }
+                    }
+                }
+                TimeProfile::Series(_) => return Err(EventsError::Profile { index }),
+            }
+        }
+        Ok(Self { constant, waves })
+    }
+
+    /// `F(t)_r`.
+    pub fn value(&self, r: usize, t: f64) -> f64 {
+        self.constant[r] + self.waves.iter().map(|(g, a, w, p)| g[r] * a * (w * t + p).sin()).sum::<f64>()
+    }
+}
+
+/// One harmonic load term in modal coordinates: `G_i a sin(Ω t + p)` for every mode `i`.
+#[derive(Clone, Debug)]
+pub(crate) struct Harmonic {
+    pub modal: Vec<f64>,
+    pub amplitude: f64,
+    pub omega: f64,
+    pub phase: f64,
+}
+
+/// The exact flow of a linear problem between events (see the module docs).
+#[derive(Clone, Debug)]
+pub struct ModalFlow {
+    n: usize,
+    /// Φ (columns: the modes), n × n.
+    pub(crate) phi: Mat<f64>,
+    /// `M Φ`: `η = (M Φ)ᵀ q`.
+    m_phi: Mat<f64>,
+    /// ω_i² (ascending).
+    pub(crate) k: Vec<f64>,
+    /// Modal damping `c_i = φ_iᵀ C φ_i`.
+    pub(crate) c: Vec<f64>,
+    /// The steady load in modal coordinates.
+    pub(crate) g0: Vec<f64>,
+    pub(crate) harmonics: Vec<Harmonic>,
+}
+
+pub(crate) fn dense(a: &signorini_fem::SymBand) -> Mat<f64> {
+    Mat::from_fn(a.n(), a.n(), |i, j| a.get(i, j))
+}
+
+/// `C(τ)` and `S(τ)` of the module docs for `λ = k − α²`.
+fn cs(lambda: f64, tau: f64) -> (f64, f64) {
+    if lambda > 0.0 {
+        let w = lambda.sqrt();
+        ((w * tau).cos(), (w * tau).sin() / w)
+    } else if lambda < 0.0 {
+        let w = (-lambda).sqrt();
+        ((w * tau).cosh(), (w * tau).sinh() / w)
+    } else {
+        (1.0, tau)
+    }
+}
+
+/// Whether a harmonic of frequency `w` resonates with an undamped mode `k`.
+fn resonant(k: f64, c: f64, w: f64) -> bool {
+    c == 0.0 && (k - w * w).abs() <= 1e-13 * w * w
+}
+
+impl ModalFlow {
+    /// The flow of `dy`'s free motion (its contacts ignored): `M` positive
+    /// definite, `C` classical, each forcing profile a sine or a sum of harmonics.
+    pub fn new(dy: &Dynamics) -> Result<Self, EventsError> {
+        let loads = Loads::of(dy)?;
+        Self::from_parts(dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense), &loads)
+    }
+
+    /// The flow of `M q'' + C q' + K q = loads` (dense, any size, 0 included).
+    pub(crate) fn from_parts(m: Mat<f64>, k: Mat<f64>, c: Option<Mat<f64>>, loads: &Loads) -> Result<Self, EventsError> {
+        let n = m.nrows();
+        if n == 0 {
+            return Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: vec![], c: vec![], g0: vec![], harmonics: vec![] });
+        }
+        let llt = m.llt(Side::Lower).map_err(|_| EventsError::MassNotDefinite)?;
+        let l = llt.L().to_owned();
+        let mut linv = Mat::<f64>::identity(n, n);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), linv.as_mut(), faer::Par::Seq);
+        let a = &linv * &k * linv.transpose();
+        let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+        let evd = a.self_adjoint_eigen(Side::Lower).map_err(|_| EventsError::Eigen)?;
+        // A rigid mode's ω² is round-off (±1e-16 of the largest): exactly 0,
+        // so that its particular solution integrates the load instead of
+        // dividing by the round-off.
+        let kmax = (0..n).map(|i| evd.S().column_vector()[i].abs()).fold(0.0, f64::max);
+        let kv: Vec<f64> = (0..n).map(|i| evd.S().column_vector()[i]).map(|w2| if w2.abs() <= 1e-12 * kmax { 0.0 } else { w2 }).collect();
+        let phi = linv.transpose() * evd.U();
+        let m_phi = &m * &phi;
+        let cv = match &c {
+            None => vec![0.0; n],
+            Some(cm) => {
+                let modal = phi.transpose() * cm * &phi;
+                let diag = (0..n).map(|i| modal[(i, i)].abs()).fold(0.0, f64::max);
+                let off = (0..n).flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| modal[(i, j)].abs()).fold(0.0, f64::max);
+                if off > 1e-10 * diag.max(f64::MIN_POSITIVE) {
+                    return Err(EventsError::NotClassical { off, diag });
+                }
+                (0..n).map(|i| modal[(i, i)].max(0.0)).collect()
+            }
+        };
+        let project = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| (0..n).map(|r| phi[(r, i)] * g[r]).sum()).collect() };
+        let g0 = project(&loads.constant);
+        let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic { modal: project(g), amplitude: *a, omega: *w, phase: *p }).collect();
+        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics })
+    }
+
+    /// The number of modes.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// `M⁻¹ e_dof = Φ Φᵀ e_dof` (the modes are M-orthonormal).
+    pub fn minv_column(&self, dof: usize) -> Vec<f64> {
+        (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * self.phi[(dof, i)]).sum()).collect()
+    }
+
+    /// `M⁻¹ x`.
+    pub(crate) fn minv(&self, x: &[f64]) -> Vec<f64> {
+        let y: Vec<f64> = (0..self.n).map(|i| (0..self.n).map(|r| self.phi[(r, i)] * x[r]).sum()).collect();
+        (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * y[i]).sum()).collect()
+    }
+
+    /// The squared natural frequencies `ω_i²`, ascending.
+    pub fn omega2(&self) -> &[f64] {
+        &self.k
+    }
+
+    /// The modal coordinates `η = Φᵀ M q`, `η' = Φᵀ M v`.
+    pub(crate) fn to_modal(&self, q: &[f64], v: &[f64], eta: &mut [f64], deta: &mut [f64]) {
+        for i in 0..self.n {
+            (eta[i], deta[i]) = (0..self.n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * q[r], b + self.m_phi[(r, i)] * v[r]));
+        }
+    }
+
+    /// `q = Φ η`, `v = Φ η'`.
+    pub(crate) fn to_physical(&self, eta: &[f64], deta: &[f64], q: &mut [f64], v: &mut [f64]) {
+        for r in 0..self.n {
+            q[r] = (0..self.n).map(|i| self.phi[(r, i)] * eta[i]).sum();
+            v[r] = (0..self.n).map(|i| self.phi[(r, i)] * deta[i]).sum();
+        }
+    }
+
+    /// The particular solution of mode `i` and its derivatives (orders
+    /// `0..JET`) at `t`. Where it grows with time (a free mode's constant
+    /// load, a resonant harmonic) it is the one that vanishes at `t_ref`
+    /// with its growth (`g₀ (t − t_ref)²/2`, `(t − t_ref) u(t)`: they
+    /// differ from the others by homogeneous solutions), so that no
+    /// absolute time multiplies it: round-off stays relative to the motion
+    /// since `t_ref`, not to the time elapsed since 0.
+    fn particular_jet(&self, i: usize, t: f64, t_ref: f64) -> [f64; JET] {
+        let (k, c) = (self.k[i], self.c[i]);
+        let g0 = self.g0[i];
+        let mut p = [0.0; JET];
+        let st = t - t_ref;
+        if k > 0.0 {
+            p[0] = g0 / k;
+        } else if c > 0.0 {
+            (p[0], p[1]) = (g0 * st / c, g0 / c);
+        } else {
+            (p[0], p[1], p[2]) = (0.5 * g0 * st * st, g0 * st, g0);
+        }
+        for h in &self.harmonics {
+            let g = h.modal[i] * h.amplitude;
+            if g == 0.0 {
+                continue;
+            }
+            let w = h.omega;
+            let (s, co) = (w * t + h.phase).sin_cos();
+            // d^m/dt^m of (a sin θ + b cos θ): Ω^m times the quarter-turns.
+            let turn = |a: f64, b: f64, m: usize| -> f64 {
+                match m % 4 {
+                    0 => a * s + b * co,
+                    1 => a * co - b * s,
+                    2 => -a * s - b * co,
+                    _ => -a * co + b * s,
+                }
+            };
+            if resonant(k, c, w) {
+                // P = t u, u = U cos θ, U = −g/(2Ω): P⁽ᵐ⁾ = t u⁽ᵐ⁾ + m u⁽ᵐ⁻¹⁾.
+                let u = -g / (2.0 * w);
+                let mut wm = 1.0;
+                let mut prev = 0.0;
+                for (m, pm) in p.iter_mut().enumerate() {
+                    let um = wm * turn(0.0, u, m);
+                    *pm += st * um + m as f64 * prev;
+                    prev = um;
+                    wm *= w;
+                }
+            } else {
+                let detune = k - w * w;
+                let d = detune * detune + (c * w) * (c * w);
+                let (a, b) = (g * detune / d, -g * c * w / d);
+                let mut wm = 1.0;
+                for (m, pm) in p.iter_mut().enumerate() {
+                    *pm += wm * turn(a, b, m);
+                    wm *= w;
+                }
+            }
+        }
+        p
+    }
+
+    /// Bounds of `|P⁽ᵐ⁾|` (orders `0..=JET`) over `[t0, t0 + h]`, `P` the
+    /// particular solution with `t_ref = t0`.
+    fn particular_bounds(&self, i: usize, h: f64) -> [f64; JET + 1] {
+        let (k, c) = (self.k[i], self.c[i]);
+        let g0 = self.g0[i].abs();
+        let tt = h;
+        let mut b = [0.0; JET + 1];
+        if k > 0.0 {
+            b[0] = g0 / k;
+        } else if c > 0.0 {
+            (b[0], b[1]) = (g0 * tt / c, g0 / c);
+        } else {
+            (b[0], b[1], b[2]) = (0.5 * g0 * tt * tt, g0 * tt, g0);
+        }
+        for hm in &self.harmonics {
+            let g = (hm.modal[i] * hm.amplitude).abs();
+            if g == 0.0 {
+                continue;
+            }
+            let w = hm.omega;
+            if resonant(k, c, w) {
+                let u = g / (2.0 * w);
+                let mut wm = 1.0;
+                for (m, bm) in b.iter_mut().enumerate() {
+                    *bm += tt * u * wm + if m > 0 { m as f64 * u * wm / w } else { 0.0 };
+                    wm *= w;
+                }
+            } else {
+                let detune = k - w * w;
+                let d = detune * detune + (c * w) * (c * w);
+                let amp = (g * detune / d).abs() + (g * c * w / d).abs();
+                let mut wm = 1.0;
+                for bm in b.iter_mut() {
+                    *bm += wm * amp;
+                    wm *= w;
+                }
+            }
+        }
+        b
+    }
+
+    /// Mode `i`'s remainder `e = η − P` and `e'` at `t` from `(η_i, η_i')`
+    /// (`P` vanishing at `t_ref` where it grows).
+    fn remainder(&self, i: usize, t: f64, t_ref: f64, eta: f64, deta: f64) -> (f64, f64) {
+        let p = self.particular_jet(i, t, t_ref);
+        (eta - p[0], deta - p[1])
+    }
+
+    /// The derivatives `η_i⁽ᵐ⁾(t)`, `m = 0..JET`, from `(η_i, η_i')` at `t`.
+    pub(crate) fn jet(&self, i: usize, t: f64, eta: f64, deta: f64) -> [f64; JET] {
+        let p = self.particular_jet(i, t, t);
+        let (k, c) = (self.k[i], self.c[i]);
+        let mut e = [0.0; JET];
+        (e[0], e[1]) = (eta - p[0], deta - p[1]);
+        for m in 2..JET {
+            e[m] = -c * e[m - 1] - k * e[m - 2];
+        }
+        let mut out = [0.0; JET];
+        for m in 0..JET {
+            out[m] = e[m] + p[m];
+        }
+        (out[0], out[1]) = (eta, deta);
+        out
+    }
+
+    /// Bounds of `|η_i⁽ᵐ⁾|`, `m = 0..=JET`, over `[t, t + h]` for the
+    /// trajectory from `(η_i, η_i')` at `t` (docs/theory.md §9.2): `|e| <=
+    /// |e₀| + |e₀' + α e₀| S̄`, `|e'| <= |e₀'| + |α e₀' + k e₀| S̄` with `S̄ =
+    /// min(h, 1/√λ)` (λ > 0) or `h`, the first also at most the amplitude
+    /// `√(e₀² + (e₀' + α e₀)²/λ)`; then `|e⁽ᵐ⁾| <= c |e⁽ᵐ⁻¹⁾| + k |e⁽ᵐ⁻²⁾|`;
+    /// plus the particular solution's bounds.
+    pub(crate) fn bounds(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64) -> [f64; JET + 1] {
+        let (e0, de0) = self.remainder(i, t, t, eta, deta);
+        let (k, c) = (self.k[i], self.c[i]);
+        let alpha = 0.5 * c;
+        let lambda = k - alpha * alpha;
+        let sbar = if lambda > 0.0 { h.min(1.0 / lambda.sqrt()) } else { h };
+        let b1 = de0 + alpha * e0;
+        let mut d = [0.0; JET + 1];
+        d[0] = e0.abs() + b1.abs() * sbar;
+        if lambda > 0.0 {
+            d[0] = d[0].min((e0 * e0 + b1 * b1 / lambda).sqrt());
+        }
+        d[1] = de0.abs() + (alpha * de0 + k * e0).abs() * sbar;
+        for m in 2..=JET {
+            d[m] = c * d[m - 1] + k * d[m - 2];
+        }
+        let p = self.particular_bounds(i, h);
+        for m in 0..=JET {
+            // Round-off of the bound itself.
+            d[m] = (d[m] + p[m]) * (1.0 + 1e-12);
+        }
+        d
+    }
+
+    /// Advances mode `i` from `(η, η')` at `t0` by `tau`.
+    #[inline]
+    pub(crate) fn advance_mode(&self, i: usize, t0: f64, eta: f64, deta: f64, tau: f64) -> (f64, f64) {
+        let (e0, de0) = self.remainder(i, t0, t0, eta, deta);
+        let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
+        let (cc, ss) = cs(k - alpha * alpha, tau);
+        let decay = (-alpha * tau).exp();
+        let p1 = self.particular_jet(i, t0 + tau, t0);
+        (decay * (e0 * cc + (de0 + alpha * e0) * ss) + p1[0], decay * (de0 * cc - (alpha * de0 + k * e0) * ss) + p1[1])
+    }
+
+    /// Advances the modal state in place by `tau` from `t0`.
+    pub(crate) fn advance_modal(&self, t0: f64, eta: &mut [f64], deta: &mut [f64], tau: f64) {
+        for i in 0..self.n {
+            (eta[i], deta[i]) = self.advance_mode(i, t0, eta[i], deta[i], tau);
+        }
+    }
+
+    /// `∫ η_i` over `[t0, t0 + tau]`, mode `i` from `(η, η')` at `t0` to `(η₁, η₁')`.
+    pub(crate) fn integral(&self, i: usize, t0: f64, (eta, deta): (f64, f64), (eta1, deta1): (f64, f64), tau: f64) -> f64 {
+        let (k, c, g0) = (self.k[i], self.c[i], self.g0[i]);
+        let t1 = t0 + tau;
+        let (e0, de0) = self.remainder(i, t0, t0, eta, deta);
+        let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1);
+        // The remainder: e'' + c e' + k e = 0.
+        let mut s = if k > 0.0 {
+            -((de1 - de0) + c * (e1 - e0)) / k
+        } else if c > 0.0 {
+            e0 * tau + de0 * (tau + (-c * tau).exp_m1() / c) / c
+        } else {
+            e0 * tau + 0.5 * de0 * tau * tau
+        };
+        s += if k > 0.0 {
+            g0 * tau / k
+        } else if c > 0.0 {
+            g0 * tau * tau / (2.0 * c)
+        } else {
+            g0 * tau * tau * tau / 6.0
+        };
+        for h in &self.harmonics {
+            let g = h.modal[i] * h.amplitude;
+            if g == 0.0 {
+                continue;
+            }
+            let w = h.omega;
+            let at = |t: f64| (w * t + h.phase).sin_cos();
+            let ((s0, c0), (s1, c1)) = (at(t0), at(t1));
+            if resonant(k, c, w) {
+                // ∫ (t − t0) U cos θ.
+                let u = -g / (2.0 * w);
+                s += u * (tau * s1 / w + (c1 - c0) / (w * w));
+            } else {
+                let detune = k - w * w;
+                let d = detune * detune + (c * w) * (c * w);
+                let (a, b) = (g * detune / d, -g * c * w / d);
+                s += (-a * (c1 - c0) + b * (s1 - s0)) / w;
+            }
+        }
+        s
+    }
+
+    /// Advances the state `(q0, v0)` at time `t0` by `tau` exactly into
+    /// `(q, v)` (see the module docs).
+    ///
+    /// # Panics
+    /// If a slice's length is not the problem's (a programmer error).
+    #[track_caller]
+    pub fn advance(&self, t0: f64, q0: &[f64], v0: &[f64], tau: f64, q: &mut [f64], v: &mut [f64]) {
+        let n = self.n;
+        assert!(q0.len() == n && v0.len() == n && q.len() == n && v.len() == n, "state slices of {n} entries");
+        let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
+        self.to_modal(q0, v0, &mut eta, &mut deta);
+        self.advance_modal(t0, &mut eta, &mut deta, tau);
+        self.to_physical(&eta, &deta, q, v);
+    }
+
+    /// The first time in `(t0, t0 + horizon]` at which the contact dof `dof`
+    /// of the trajectory from `(q0, v0)` reaches `lo` (from above) or `hi`
+    /// (from below), with the state there; `None` if it stays strictly
+    /// inside. The state must start inside (`lo < q_c < hi`, or on a bound
+    /// and leaving it). The search is [`super::search`]'s (docs/theory.md
+    /// §9.2): no event is missed, each is located to a relative 1e-15.
+    #[allow(clippy::too_many_arguments)]
+    pub fn first_crossing(&self, t0: f64, q0: &[f64], v0: &[f64], dof: usize, lo: f64, hi: f64, horizon: f64) -> Result<Option<Event>, EventsError> {
+        let n = self.n;
+        let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
+        self.to_modal(q0, v0, &mut eta, &mut deta);
+        let row: Vec<f64> = (0..n).map(|i| self.phi[(dof, i)]).collect();
+        let mut fns = Vec::new();
+        let mut sides = Vec::new();
+        if lo.is_finite() {
+            fns.push(super::search::Functional::new(row.clone(), -lo));
+            sides.push(Bound::Lower);
+        }
+        if hi.is_finite() {
+            fns.push(super::search::Functional::new(row.iter().map(|x| -x).collect(), hi));
+            sides.push(Bound::Upper);
+        }
+        let mut search = super::search::Search::new(n);
+        let Some((t, which)) = search.first_zero(self, t0, &mut eta, &mut deta, &fns, &[false; 2][..fns.len()], t0 + horizon)? else {
+            return Ok(None);
+        };
+        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+        self.to_physical(&eta, &deta, &mut q, &mut v);
+        Ok(Some(Event { t, bound: sides[which], q, v }))
+    }
+}
+
+/// The first event of a free flight ([`ModalFlow::first_crossing`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// Its time.
+    pub t: f64,
+    /// The bound reached.
+    pub bound: Bound,
+    /// The displacement there.
+    pub q: Vec<f64>,
+    /// The velocity there.
+    pub v: Vec<f64>,
+}

@@ -1,0 +1,287 @@
+//! Locating events without a miss (docs/theory.md §9.2).
+//!
+//! Every quantity whose sign change is an event — a contact dof's distance
+//! to its bound in free flight, a held contact's force — is, along the exact
+//! flow, a [`Functional`] of the modal state:
+//!
+//! ```text
+//! g(t) = Σ_i β_i η_i(t) + α_i η_i'(t) + c₀ + Σ_j c_j sin(Ω_j t + p_j).
+//! ```
+//!
+//! [`Search::first_zero`] advances the flow by steps that cannot cross a
+//! zero of any of them. From a time where `g > 0`, split the modes at an
+//! index `s`: the low ones (`i < s`) and the load terms contribute
+//! `g_L(τ) >= g_L + g_L' τ − B τ²/2` (Taylor with remainder, `B` a bound of
+//! `|g_L''|` over the window), the high ones at most their amplitude `A`
+//! (a bound of `|Σ_{i>=s} β_i η_i + α_i η_i'|` over the window). So
+//! `g(τ) >= g_L − A + g_L' τ − B τ²/2`, positive up to its first root: a
+//! safe step. The step taken is the largest over the splits (far from an
+//! event the high modes only cost their amplitude; near one they join the
+//! curvature and the step converges quadratically to the root, like
+//! Newton's from one side). An event is declared when the safe step falls
+//! below a relative 1e-15 of the time.
+//!
+//! From a time where `g = 0` (a contact just released, or leaving its bound
+//! after an impact) the first nonzero derivative `g⁽ᵐ⁾ = d` decides: `d < 0`
+//! is an event now; `d > 0` gives the safe lift-off step `τ < (m + 1) d / B`
+//! from `g(τ) >= d τᵐ/m! − B τᵐ⁺¹/(m + 1)!` (`B` bounding `|g⁽ᵐ⁺¹⁾|`).
+
+use super::flow::{EventsError, ModalFlow, JET};
+
+/// `g(t) = Σ β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j)` (module docs).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Functional {
+    pub beta: Vec<f64>,
+    /// Empty: no `η'` terms.
+    pub alpha: Vec<f64>,
+    pub constant: f64,
+    /// `(c_j, Ω_j, p_j)`.
+    pub waves: Vec<(f64, f64, f64)>,
+}
+
+/// Orders of a functional's jet.
+const GJET: usize = JET - 1;
+
+impl Functional {
+    /// `Σ β_i η_i + c₀`.
+    pub fn new(beta: Vec<f64>, constant: f64) -> Self {
+        Self { beta, alpha: Vec::new(), constant, waves: Vec::new() }
+    }
+
+    /// `−g`.
+    pub fn negated(mut self) -> Self {
+        self.beta.iter_mut().for_each(|x| *x = -*x);
+        self.alpha.iter_mut().for_each(|x| *x = -*x);
+        self.constant = -self.constant;
+        self.waves.iter_mut().for_each(|w| w.0 = -w.0);
+        self
+    }
+
+    fn alpha(&self, i: usize) -> f64 {
+        self.alpha.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// The load part's derivative of order `m` at `t`.
+    fn wave(&self, t: f64, m: usize) -> f64 {
+        let mut s = if m == 0 { self.constant } else { 0.0 };
+        for &(c, w, p) in &self.waves {
+            let th = w * t + p + m as f64 * std::f64::consts::FRAC_PI_2;
+            s += c * w.powi(m as i32) * th.sin();
+        }
+        s
+    }
+
+    /// A bound of the load part's derivative of order `m` (`m >= 1`; all times).
+    fn wave_bound(&self, m: usize) -> f64 {
+        self.waves.iter().map(|&(c, w, _)| c.abs() * w.abs().powi(m as i32)).sum()
+    }
+
+    /// The value at the modal state.
+    pub fn value(&self, flow: &ModalFlow, t: f64, eta: &[f64], deta: &[f64]) -> f64 {
+        let _ = flow;
+        let mut g = self.wave(t, 0);
+        for i in 0..eta.len() {
+            g += self.beta[i] * eta[i] + self.alpha(i) * deta[i];
+        }
+        g
+    }
+
+    /// `∫ g` over `[t0, t0 + tau]` from the modal states at both ends.
+    pub fn integral(&self, flow: &ModalFlow, t0: f64, start: (&[f64], &[f64]), end: (&[f64], &[f64]), tau: f64) -> f64 {
+        let t1 = t0 + tau;
+        let mut s = self.constant * tau;
+        for &(c, w, p) in &self.waves {
+            s += c * ((w * t0 + p).cos() - (w * t1 + p).cos()) / w;
+        }
+        for i in 0..start.0.len() {
+            if self.beta[i] != 0.0 {
+                s += self.beta[i] * flow.integral(i, t0, (start.0[i], start.1[i]), (end.0[i], end.1[i]), tau);
+            }
+            s += self.alpha(i) * (end.0[i] - start.0[i]);
+        }
+        s
+    }
+}
+
+/// Steps of one search before it gives up (a grazing contact that never
+/// quite touches can take many).
+const MAX_STEPS: usize = 10_000_000;
+
+/// Work storage of the search (no allocation per step).
+pub(crate) struct Search {
+    /// Per mode: `η, η', η''` at the current time.
+    jet: Vec<[f64; 3]>,
+    /// Per mode: bounds of `|η⁽ᵐ⁾|`, `m = 0..=3`, over the window.
+    bnd: Vec<[f64; 4]>,
+    suffix: Vec<f64>,
+    /// Steps taken by the last searches (for the benchmarks).
+    pub steps: u64,
+}
+
+impl Search {
+    pub fn new(n: usize) -> Self {
+        Self { jet: vec![[0.0; 3]; n], bnd: vec![[0.0; 4]; n], suffix: vec![0.0; n + 1], steps: 0 }
+    }
+
+    /// The first time in `(t0, end]` at which one of `fns` reaches 0 from
+    /// above, with its index; the modal state is advanced there (or to
+    /// `end`, then `None`). `quiet[f]`: a functional that stays at 0 with
+    /// every derivative 0 is no event (a held contact's force at rest); for
+    /// the others (a distance) it is one.
+    #[allow(clippy::too_many_arguments)]
+    pub fn first_zero(&mut self, flow: &ModalFlow, t0: f64, eta: &mut [f64], deta: &mut [f64], fns: &[Functional], quiet: &[bool], end: f64) -> Result<Option<(f64, usize)>, EventsError> {
+        let n = flow.n();
+        if self.jet.len() != n {
+            *self = Self::new(n);
+        }
+        let mut t = t0;
+        let mut window = end - t0;
+        for _ in 0..MAX_STEPS {
+            let h = window.min(end - t);
+            if h <= 0.0 {
+                return Ok(None);
+            }
+            self.steps += 1;
+            for i in 0..n {
+                let j = flow.jet(i, t, eta[i], deta[i]);
+                self.jet[i] = [j[0], j[1], j[2]];
+                let b = flow.bounds(i, t, eta[i], deta[i], h);
+                self.bnd[i] = [b[0], b[1], b[2], b[3]];
+            }
+            let mut step = h;
+            let mut who = None;
+            for (f, func) in fns.iter().enumerate() {
+                match self.safe_step(flow, func, quiet[f], t, eta, deta, h) {
+                    Reach::Now => return Ok(Some((t, f))),
+                    Reach::Free(s) => step = step.min(s),
+                    Reach::Root(s) => {
+                        if s < step {
+                            step = s;
+                            who = Some(f);
+                        }
+                    }
+                }
+            }
+            let tol = (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0));
+            let last = step >= end - t;
+            let step = if last { end - t } else { step };
+            flow.advance_modal(t, eta, deta, step);
+            t = if last { end } else { t + step };
+            if let Some(f) = who {
+                if step <= tol {
+                    return Ok(Some((t, f)));
+                }
+            }
+            if last {
+                return Ok(None);
+            }
+            window = 2.0 * step.max(f64::MIN_POSITIVE);
+        }
+        Err(EventsError::NoConvergence { t, steps: MAX_STEPS })
+    }
+
+    /// The safe step for one functional over the window `h` (module docs).
+    #[allow(clippy::too_many_arguments)]
+    fn safe_step(&mut self, flow: &ModalFlow, f: &Functional, quiet: bool, t: f64, eta: &[f64], deta: &[f64], h: f64) -> Reach {
+        let n = eta.len();
+        let (lv, ld, lc) = (f.wave(t, 0), f.wave(t, 1), f.wave_bound(2));
+        // Suffix sums of the amplitudes.
+        self.suffix[n] = 0.0;
+        let mut g = lv;
+        // The size of the terms of g: its round-off is 1e-16 of it.
+        let mut scale = f.constant.abs() + f.wave_bound(0);
+        for i in (0..n).rev() {
+            let (b, a) = (f.beta[i], f.alpha(i));
+            let amp = b.abs() * self.bnd[i][0] + a.abs() * self.bnd[i][1];
+            self.suffix[i] = self.suffix[i + 1] + amp;
+            let (x, y) = (b * self.jet[i][0], a * self.jet[i][1]);
+            g += x + y;
+            scale += x.abs() + y.abs();
+        }
+        if g <= 1e-13 * scale {
+            match self.lift_off(flow, f, quiet, t, eta, deta, h) {
+                // Approaching from just above: the root steps below.
+                Reach::Now if g > 0.0 => {}
+                r => return r,
+            }
+        }
+        let mut best = 0.0f64;
+        let (mut gl, mut dl, mut bl) = (lv, ld, lc);
+        for s in 0..=n {
+            let margin = gl - self.suffix[s];
+            if margin > 0.0 {
+                let reach = if bl > 0.0 {
+                    (dl + (dl * dl + 2.0 * bl * margin).sqrt()) / bl
+                } else if dl < 0.0 {
+                    margin / -dl
+                } else {
+                    f64::INFINITY
+                };
+                best = best.max(reach);
+            }
+            if s < n {
+                let (b, a) = (f.beta[s], f.alpha(s));
+                gl += b * self.jet[s][0] + a * self.jet[s][1];
+                dl += b * self.jet[s][1] + a * self.jet[s][2];
+                bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
+            }
+        }
+        Reach::Root(best * (1.0 - 1e-12))
+    }
+
+    /// At `g = 0`: the first nonzero derivative decides (module docs).
+    #[allow(clippy::too_many_arguments)]
+    fn lift_off(&self, flow: &ModalFlow, f: &Functional, quiet: bool, t: f64, eta: &[f64], deta: &[f64], h: f64) -> Reach {
+        let mut gj = [0.0; GJET];
+        // The size of the terms of each derivative (its round-off scale).
+        let mut gs = [0.0; GJET];
+        let mut gb = [0.0; GJET + 1];
+        for (m, x) in gj.iter_mut().enumerate() {
+            *x = f.wave(t, m);
+            gs[m] = x.abs() + if m == 0 { f.constant.abs() } else { 0.0 };
+        }
+        for (m, x) in gb.iter_mut().enumerate() {
+            *x = if m == 0 { f.constant.abs() + f.wave_bound(0) } else { f.wave_bound(m) };
+        }
+        for i in 0..eta.len() {
+            let (b, a) = (f.beta[i], f.alpha(i));
+            if b == 0.0 && a == 0.0 {
+                continue;
+            }
+            let j = flow.jet(i, t, eta[i], deta[i]);
+            let bd = flow.bounds(i, t, eta[i], deta[i], h);
+            for m in 0..GJET {
+                gj[m] += b * j[m] + a * j[m + 1];
+                gs[m] += (b * j[m]).abs() + (a * j[m + 1]).abs();
+            }
+            for m in 0..=GJET {
+                gb[m] += b.abs() * bd[m] + a.abs() * bd[m + 1];
+            }
+        }
+        for m in 1..GJET {
+            if gj[m].abs() > 1e-12 * gs[m] {
+                if gj[m] < 0.0 {
+                    return Reach::Now;
+                }
+                let b = gb[m + 1];
+                let s = if b > 0.0 { 0.5 * (m as f64 + 1.0) * gj[m] / b } else { h };
+                return Reach::Free(s.min(h));
+            }
+        }
+        if quiet {
+            Reach::Free(h)
+        } else {
+            Reach::Now
+        }
+    }
+}
+
+/// What one functional allows over a window.
+enum Reach {
+    /// Its zero is now.
+    Now,
+    /// A safe step that does not approach a zero (a lift-off).
+    Free(f64),
+    /// A safe step toward its zero.
+    Root(f64),
+}
