@@ -76,8 +76,8 @@ use std::io::Write;
 use std::path::Path;
 
 /// Every file `signorini run` writes.
-pub const OUTPUT_FILES: [&str; 13] =
-    ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg"];
+pub const OUTPUT_FILES: [&str; 14] =
+    ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg", "events.csv"];
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]
@@ -586,6 +586,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
                 [vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))],
             );
+            write_events(out, &sim)?;
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -634,6 +635,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
                 vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
                 [snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer)), vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))],
             );
+            write_events(out, &sim)?;
             let wall = start.elapsed().as_secs_f64();
             let mut notes = Vec::new();
             if scene_file.output.plots {
@@ -710,6 +712,7 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
             snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer)),
         ],
     );
+    write_events(out, &sim)?;
     let wall = start.elapsed().as_secs_f64();
     let mut notes = Vec::new();
     if file.output.plots {
@@ -909,6 +912,15 @@ impl Analysis {
 
 /// Runs a simulation with the observers `always` and those of `optional`
 /// that are present ([`signorini_scene::Simulation::run`]).
+/// `events.csv` of an event-driven scheme (the events so far, also when
+/// the run stopped early); nothing for a time-stepping one.
+fn write_events(out: &Path, sim: &signorini_scene::Simulation) -> Result<(), CliError> {
+    let Some(events) = sim.stepper.events() else { return Ok(()) };
+    let path = out.join("events.csv");
+    let f = std::io::BufWriter::new(create(out, "events.csv")?);
+    signorini_run::observers::write_events(f, events).map_err(|source| CliError::Write { path, source })
+}
+
 fn run_observed<'a, const K: usize>(
     sim: &mut signorini_scene::Simulation,
     cfg: &RunConfig,

@@ -303,3 +303,16 @@ impl Observer for History {
         Ok(())
     }
 }
+
+/// `events.csv` of an event-driven run: `t,kind,contact,velocity_before,velocity_after,impulse`,
+/// one row per event in the order taken (`kind`: `impact`, `release`,
+/// `accumulation`; `contact`: the index of the stop; the velocities are the
+/// contact dof's; the impulse is the contact force's, positive at a lower
+/// bound), numbers with 17 significant digits (they round-trip).
+pub fn write_events<W: Write>(mut w: W, events: &[signorini_schemes::events::EventRecord]) -> std::io::Result<()> {
+    writeln!(w, "t,kind,contact,velocity_before,velocity_after,impulse")?;
+    for e in events {
+        writeln!(w, "{:.16e},{},{},{:.16e},{:.16e},{:.16e}", e.t, e.kind.name(), e.contact, e.velocity_before, e.velocity_after, e.impulse)?;
+    }
+    w.flush()
+}

@@ -80,7 +80,7 @@ impl Stepper for EventStepper {
         let t = self.time();
         let imp = self.run.take_impulses();
         for (l, p) in self.lams.iter_mut().zip(&imp) {
-            *l = -p / self.dt;
+            *l = if *p == 0.0 { 0.0 } else { -p / self.dt };
         }
         if !self.u.iter().chain(&self.v).all(|x| x.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
