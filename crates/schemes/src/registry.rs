@@ -427,7 +427,8 @@ impl FromStr for SchemeSpec {
         }
         let (head, rest) = s.split_once('(').ok_or_else(unknown)?;
         let args = rest.strip_suffix(')').ok_or_else(unknown)?;
-        let nums: Vec<f64> = args.split(',').map(|a| a.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| unknown())?;
+        // `name()`: every parameter at its default (a family whose parameters all have one).
+        let nums: Vec<f64> = if args.trim().is_empty() { Vec::new() } else { args.split(',').map(|a| a.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| unknown())? };
         let family = FAMILIES.iter().find(|f| f.name == head.trim() && !f.params.is_empty()).ok_or_else(unknown)?;
         let required = family.params.iter().filter(|p| p.default.is_none()).count();
         if nums.len() < required || nums.len() > family.params.len() {

@@ -283,7 +283,7 @@ impl ModalFlow {
     /// differ from the others by homogeneous solutions), so that no
     /// absolute time multiplies it: round-off stays relative to the motion
     /// since `t_ref`, not to the time elapsed since 0.
-    fn particular_jet(&self, i: usize, t: f64, t_ref: f64) -> [f64; JET] {
+    fn particular_jet(&self, i: usize, t: f64, t_ref: f64, tr: &[(f64, f64)]) -> [f64; JET] {
         let (k, c) = (self.k[i], self.c[i]);
         let g0 = self.g0[i];
         let mut p = [0.0; JET];
@@ -295,13 +295,12 @@ impl ModalFlow {
         } else {
             (p[0], p[1], p[2]) = (0.5 * g0 * st * st, g0 * st, g0);
         }
-        for h in &self.harmonics {
+        for (h, &(s, co)) in self.harmonics.iter().zip(tr) {
             let g = h.modal[i] * h.amplitude;
             if g == 0.0 {
                 continue;
             }
             let w = h.omega;
-            let (s, co) = (w * t + h.phase).sin_cos();
             // d^m/dt^m of (a sin θ + b cos θ): Ω^m times the quarter-turns.
             let turn = |a: f64, b: f64, m: usize| -> f64 {
                 match m % 4 {
@@ -379,14 +378,14 @@ impl ModalFlow {
 
     /// Mode `i`'s remainder `e = η − P` and `e'` at `t` from `(η_i, η_i')`
     /// (`P` vanishing at `t_ref` where it grows).
-    fn remainder(&self, i: usize, t: f64, t_ref: f64, eta: f64, deta: f64) -> (f64, f64) {
-        let p = self.particular_jet(i, t, t_ref);
+    fn remainder(&self, i: usize, t: f64, t_ref: f64, eta: f64, deta: f64, tr: &[(f64, f64)]) -> (f64, f64) {
+        let p = self.particular_jet(i, t, t_ref, tr);
         (eta - p[0], deta - p[1])
     }
 
     /// The derivatives `η_i⁽ᵐ⁾(t)`, `m = 0..JET`, from `(η_i, η_i')` at `t`.
-    pub(crate) fn jet(&self, i: usize, t: f64, eta: f64, deta: f64) -> [f64; JET] {
-        let p = self.particular_jet(i, t, t);
+    pub(crate) fn jet(&self, i: usize, t: f64, eta: f64, deta: f64, tr: &[(f64, f64)]) -> [f64; JET] {
+        let p = self.particular_jet(i, t, t, tr);
         let (k, c) = (self.k[i], self.c[i]);
         let mut e = [0.0; JET];
         (e[0], e[1]) = (eta - p[0], deta - p[1]);
@@ -407,8 +406,8 @@ impl ModalFlow {
     /// min(h, 1/√λ)` (λ > 0) or `h`, the first also at most the amplitude
     /// `√(e₀² + (e₀' + α e₀)²/λ)`; then `|e⁽ᵐ⁾| <= c |e⁽ᵐ⁻¹⁾| + k |e⁽ᵐ⁻²⁾|`;
     /// plus the particular solution's bounds.
-    pub(crate) fn bounds(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64) -> [f64; JET + 1] {
-        let (e0, de0) = self.remainder(i, t, t, eta, deta);
+    pub(crate) fn bounds(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64, tr: &[(f64, f64)]) -> [f64; JET + 1] {
+        let (e0, de0) = self.remainder(i, t, t, eta, deta, tr);
         let (k, c) = (self.k[i], self.c[i]);
         let alpha = 0.5 * c;
         let lambda = k - alpha * alpha;
@@ -433,28 +432,38 @@ impl ModalFlow {
 
     /// Advances mode `i` from `(η, η')` at `t0` by `tau`.
     #[inline]
-    pub(crate) fn advance_mode(&self, i: usize, t0: f64, eta: f64, deta: f64, tau: f64) -> (f64, f64) {
-        let (e0, de0) = self.remainder(i, t0, t0, eta, deta);
+    pub(crate) fn advance_mode(&self, i: usize, t0: f64, eta: f64, deta: f64, tau: f64, tr0: &[(f64, f64)], tr1: &[(f64, f64)]) -> (f64, f64) {
+        let (e0, de0) = self.remainder(i, t0, t0, eta, deta, tr0);
         let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
         let (cc, ss) = cs(k - alpha * alpha, tau);
-        let decay = (-alpha * tau).exp();
-        let p1 = self.particular_jet(i, t0 + tau, t0);
+        let decay = if alpha == 0.0 { 1.0 } else { (-alpha * tau).exp() };
+        let p1 = self.particular_jet(i, t0 + tau, t0, tr1);
         (decay * (e0 * cc + (de0 + alpha * e0) * ss) + p1[0], decay * (de0 * cc - (alpha * de0 + k * e0) * ss) + p1[1])
     }
 
-    /// Advances the modal state in place by `tau` from `t0`.
-    pub(crate) fn advance_modal(&self, t0: f64, eta: &mut [f64], deta: &mut [f64], tau: f64) {
+    /// `sin, cos (Ω_j t + p_j)` of every harmonic into `out` (shared by
+    /// every mode: one `sin_cos` per harmonic and time).
+    pub(crate) fn trig(&self, t: f64, out: &mut Vec<(f64, f64)>) {
+        out.clear();
+        out.extend(self.harmonics.iter().map(|h| (h.omega * t + h.phase).sin_cos()));
+    }
+
+    /// Advances the modal state in place by `tau` from `t0` (`tr`: work storage).
+    pub(crate) fn advance_modal(&self, t0: f64, eta: &mut [f64], deta: &mut [f64], tau: f64, tr: &mut [Vec<(f64, f64)>; 2]) {
+        let [tr0, tr1] = tr;
+        self.trig(t0, tr0);
+        self.trig(t0 + tau, tr1);
         for i in 0..self.n {
-            (eta[i], deta[i]) = self.advance_mode(i, t0, eta[i], deta[i], tau);
+            (eta[i], deta[i]) = self.advance_mode(i, t0, eta[i], deta[i], tau, tr0, tr1);
         }
     }
 
     /// `∫ η_i` over `[t0, t0 + tau]`, mode `i` from `(η, η')` at `t0` to `(η₁, η₁')`.
-    pub(crate) fn integral(&self, i: usize, t0: f64, (eta, deta): (f64, f64), (eta1, deta1): (f64, f64), tau: f64) -> f64 {
+    pub(crate) fn integral(&self, i: usize, t0: f64, (eta, deta): (f64, f64), (eta1, deta1): (f64, f64), tau: f64, tr: &[Vec<(f64, f64)>; 2]) -> f64 {
         let (k, c, g0) = (self.k[i], self.c[i], self.g0[i]);
         let t1 = t0 + tau;
-        let (e0, de0) = self.remainder(i, t0, t0, eta, deta);
-        let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1);
+        let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
+        let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
         // The remainder: e'' + c e' + k e = 0.
         let mut s = if k > 0.0 {
             -((de1 - de0) + c * (e1 - e0)) / k
@@ -503,7 +512,7 @@ impl ModalFlow {
         assert!(q0.len() == n && v0.len() == n && q.len() == n && v.len() == n, "state slices of {n} entries");
         let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
         self.to_modal(q0, v0, &mut eta, &mut deta);
-        self.advance_modal(t0, &mut eta, &mut deta, tau);
+        self.advance_modal(t0, &mut eta, &mut deta, tau, &mut [Vec::new(), Vec::new()]);
         self.to_physical(&eta, &deta, q, v);
     }
 

@@ -89,13 +89,16 @@ impl Functional {
     /// `∫ g` over `[t0, t0 + tau]` from the modal states at both ends.
     pub fn integral(&self, flow: &ModalFlow, t0: f64, start: (&[f64], &[f64]), end: (&[f64], &[f64]), tau: f64) -> f64 {
         let t1 = t0 + tau;
+        let mut tr = [Vec::new(), Vec::new()];
+        flow.trig(t0, &mut tr[0]);
+        flow.trig(t1, &mut tr[1]);
         let mut s = self.constant * tau;
         for &(c, w, p) in &self.waves {
             s += c * ((w * t0 + p).cos() - (w * t1 + p).cos()) / w;
         }
         for i in 0..start.0.len() {
             if self.beta[i] != 0.0 {
-                s += self.beta[i] * flow.integral(i, t0, (start.0[i], start.1[i]), (end.0[i], end.1[i]), tau);
+                s += self.beta[i] * flow.integral(i, t0, (start.0[i], start.1[i]), (end.0[i], end.1[i]), tau, &tr);
             }
             s += self.alpha(i) * (end.0[i] - start.0[i]);
         }
@@ -114,13 +117,15 @@ pub(crate) struct Search {
     /// Per mode: bounds of `|η⁽ᵐ⁾|`, `m = 0..=3`, over the window.
     bnd: Vec<[f64; 4]>,
     suffix: Vec<f64>,
+    /// The harmonics' `sin, cos` at the current time and at the next.
+    tr: [Vec<(f64, f64)>; 2],
     /// Steps taken by the last searches (for the benchmarks).
     pub steps: u64,
 }
 
 impl Search {
     pub fn new(n: usize) -> Self {
-        Self { jet: vec![[0.0; 3]; n], bnd: vec![[0.0; 4]; n], suffix: vec![0.0; n + 1], steps: 0 }
+        Self { jet: vec![[0.0; 3]; n], bnd: vec![[0.0; 4]; n], suffix: vec![0.0; n + 1], tr: [Vec::new(), Vec::new()], steps: 0 }
     }
 
     /// The first time in `(t0, end]` at which one of `fns` reaches 0 from
@@ -132,7 +137,9 @@ impl Search {
     pub fn first_zero(&mut self, flow: &ModalFlow, t0: f64, eta: &mut [f64], deta: &mut [f64], fns: &[Functional], quiet: &[bool], end: f64) -> Result<Option<(f64, usize)>, EventsError> {
         let n = flow.n();
         if self.jet.len() != n {
+            let steps = self.steps;
             *self = Self::new(n);
+            self.steps = steps;
         }
         let mut t = t0;
         let mut window = end - t0;
@@ -142,10 +149,11 @@ impl Search {
                 return Ok(None);
             }
             self.steps += 1;
+            flow.trig(t, &mut self.tr[0]);
             for i in 0..n {
-                let j = flow.jet(i, t, eta[i], deta[i]);
+                let j = flow.jet(i, t, eta[i], deta[i], &self.tr[0]);
                 self.jet[i] = [j[0], j[1], j[2]];
-                let b = flow.bounds(i, t, eta[i], deta[i], h);
+                let b = flow.bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
                 self.bnd[i] = [b[0], b[1], b[2], b[3]];
             }
             let mut step = h;
@@ -165,7 +173,7 @@ impl Search {
             let tol = (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0));
             let last = step >= end - t;
             let step = if last { end - t } else { step };
-            flow.advance_modal(t, eta, deta, step);
+            flow.advance_modal(t, eta, deta, step, &mut self.tr);
             t = if last { end } else { t + step };
             if let Some(f) = who {
                 if step <= tol {
@@ -248,8 +256,8 @@ impl Search {
             if b == 0.0 && a == 0.0 {
                 continue;
             }
-            let j = flow.jet(i, t, eta[i], deta[i]);
-            let bd = flow.bounds(i, t, eta[i], deta[i], h);
+            let j = flow.jet(i, t, eta[i], deta[i], &self.tr[0]);
+            let bd = flow.bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
             for m in 0..GJET {
                 gj[m] += b * j[m] + a * j[m + 1];
                 gs[m] += (b * j[m]).abs() + (a * j[m + 1]).abs();
@@ -258,21 +266,60 @@ impl Search {
                 gb[m] += b.abs() * bd[m] + a.abs() * bd[m + 1];
             }
         }
-        for m in 1..GJET {
+        // The jets of orders 1..=3 beyond their round-off (0 otherwise),
+        // and B bounding |g⁽⁴⁾| over the window.
+        let mut d = [0.0; 4];
+        for m in 1..4 {
             if gj[m].abs() > 1e-12 * gs[m] {
-                if gj[m] < 0.0 {
-                    return Reach::Now;
-                }
-                let b = gb[m + 1];
-                let s = if b > 0.0 { 0.5 * (m as f64 + 1.0) * gj[m] / b } else { h };
-                return Reach::Free(s.min(h));
+                d[m] = gj[m];
             }
         }
-        if quiet {
-            Reach::Free(h)
-        } else {
-            Reach::Now
+        d[0] = gj[0].max(0.0);
+        let Some(first) = (1..4).find(|&m| d[m] != 0.0) else {
+            return if quiet { Reach::Free(h) } else { Reach::Now };
+        };
+        if d[first] < 0.0 {
+            return Reach::Now;
         }
+        // For each order j whose lower jets are all >= 0 and d_j > 0:
+        // g(s) >= d_j s^j/j! − Σ_{k>j, d_k<0} |d_k| s^k/k! − B s⁴/4!, whose
+        // bracket after s^j is decreasing: its root (bisection) is safe.
+        let b = gb[4];
+        let fact = [1.0, 1.0, 2.0, 6.0, 24.0];
+        let mut best = 0.0f64;
+        for j in 0..4 {
+            if d[..j].iter().any(|&x| x < 0.0) {
+                break;
+            }
+            if d[j] <= 0.0 {
+                continue;
+            }
+            let phi = |s: f64| -> f64 {
+                let mut v = d[j] / fact[j];
+                for k in j + 1..4 {
+                    if d[k] < 0.0 {
+                        v += d[k] * s.powi((k - j) as i32) / fact[k];
+                    }
+                }
+                v - b * s.powi((4 - j) as i32) / fact[4]
+            };
+            let root = if phi(h) > 0.0 {
+                h
+            } else {
+                let (mut lo, mut hi) = (0.0, h);
+                for _ in 0..80 {
+                    let mid = 0.5 * (lo + hi);
+                    if phi(mid) > 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                lo
+            };
+            best = best.max(root);
+        }
+        Reach::Free(best.min(h))
     }
 }
 
