@@ -42,6 +42,11 @@ pub struct Args {
     /// The impact power's window (forcing periods).
     #[arg(long, default_value_t = 320.0)]
     beam_stat_window: f64,
+    /// The beam rows' reference: fine-step (the projection scheme at
+    /// --beam-ref-dt) or event-driven (the exact semi-discrete solution,
+    /// sampled at the largest step dividing every --beam-dts).
+    #[arg(long, default_value = "fine-step")]
+    reference: String,
 }
 
 /// A comma-separated list of `flag`, empty for none (`--degrees ''`).
@@ -63,6 +68,7 @@ pub fn run_wp(a: Args) -> Result<(), String> {
         beam_stat_dts: list("--beam-stat-dts", &a.beam_stat_dts)?,
         beam_stat_ref_dt: a.beam_stat_ref_dt,
         beam_stat_window: a.beam_stat_window,
+        reference: a.reference.parse().map_err(|e: signorini_studies::StudyError| e.to_string())?,
     };
     let out = work_precision::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);

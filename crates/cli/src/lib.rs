@@ -76,8 +76,22 @@ use std::io::Write;
 use std::path::Path;
 
 /// Every file `signorini run` writes.
-pub const OUTPUT_FILES: [&str; 14] =
-    ["series.csv", "norms.csv", "snapshots.csv", "u_contact.svg", "lambda.svg", "energy.svg", "tip.svg", "x.svg", "impacts.csv", "poincare.csv", "summary.csv", "impact_map.svg", "poincare.svg", "events.csv"];
+pub const OUTPUT_FILES: [&str; 14] = [
+    "series.csv",
+    "norms.csv",
+    "snapshots.csv",
+    "u_contact.svg",
+    "lambda.svg",
+    "energy.svg",
+    "tip.svg",
+    "x.svg",
+    "impacts.csv",
+    "poincare.csv",
+    "summary.csv",
+    "impact_map.svg",
+    "poincare.svg",
+    "events.csv",
+];
 
 /// Errors of the command.
 #[derive(Debug, thiserror::Error)]

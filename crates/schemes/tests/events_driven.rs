@@ -6,9 +6,9 @@
 #[path = "events_common/mod.rs"]
 mod common;
 
-use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_fem::SymBand;
+use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 use std::f64::consts::PI;
 

@@ -6,8 +6,8 @@ use proptest::prelude::*;
 #[path = "events_common/mod.rs"]
 mod common;
 
-use signorini_schemes::events::{Bound, ModalFlow};
 use signorini_fem::SymBand;
+use signorini_schemes::events::{Bound, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
 fn oscillator() -> Dynamics {

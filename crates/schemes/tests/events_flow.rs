@@ -8,8 +8,8 @@
 mod common;
 
 use proptest::prelude::*;
-use signorini_schemes::events::{EventsError, ModalFlow};
 use signorini_fem::SymBand;
+use signorini_schemes::events::{EventsError, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
 type Dense = Vec<Vec<f64>>;

@@ -13,10 +13,12 @@
 //!   r interior modes;
 //! * the beam of the paper's figure 2 (`beam-fig2`: J = 19, β = 1/2, the
 //!   projection, `--beam-dts`), full model and its massless-tip reductions to
-//!   `--modes` modes, against a full-model reference at `--beam-ref-dt`:
-//!   largest tip error over `[0, --beam-window]` (the window in which the
-//!   reference is converged in dt, reported), over `[0, --beam-t-end]`, and
-//!   the error of the first impact time.
+//!   `--modes` modes, against a full-model reference at `--beam-ref-dt`
+//!   (or, with `--reference event-driven`, the exact semi-discrete solution
+//!   of docs/theory.md §9, `event-driven(0)`, the projection scheme's limit
+//!   as dt → 0): largest tip error over `[0, --beam-window]` (the window in
+//!   which the reference is converged in dt, reported), over
+//!   `[0, --beam-t-end]`, and the error of the first impact time.
 //!
 //! Outputs (`out/work-precision/`): `work_precision.csv` with columns
 //! `benchmark,scheme,mass,m,dt,steps,l2_l2_u,linf_energy,wall_s` then
@@ -83,6 +85,32 @@ pub struct Config {
     /// The statistics window in forcing periods (`--beam-stat-window`,
     /// default 320: 201 s at ω = 10; 20 batches, after 10 periods).
     pub beam_stat_window: f64,
+    /// The beam rows' reference (`--reference`, default the fine step).
+    pub reference: BeamReference,
+}
+
+/// The reference of the beam rows' tip errors.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BeamReference {
+    /// The same scheme at `--beam-ref-dt` (`fine-step`).
+    #[default]
+    FineStep,
+    /// The exact semi-discrete solution (`event-driven`: the scheme
+    /// `event-driven(0)`, the limit of the projection scheme as dt → 0;
+    /// docs/theory.md §9), sampled at the largest step that divides every
+    /// `--beam-dts` (no interpolation), its first impact from its event log.
+    EventDriven,
+}
+
+impl std::str::FromStr for BeamReference {
+    type Err = StudyError;
+    fn from_str(s: &str) -> Result<Self, StudyError> {
+        match s {
+            "fine-step" => Ok(Self::FineStep),
+            "event-driven" => Ok(Self::EventDriven),
+            _ => Err(StudyError::config("--reference", format!("--reference {s:?}: allowed fine-step, event-driven"))),
+        }
+    }
 }
 
 impl Default for Config {
@@ -100,6 +128,7 @@ impl Default for Config {
             beam_stat_dts: vec![5e-5, 2.5e-5, 1e-5],
             beam_stat_ref_dt: 5e-6,
             beam_stat_window: 320.0,
+            reference: BeamReference::FineStep,
         }
     }
 }
@@ -463,7 +492,12 @@ impl Tip {
 
 /// A beam configuration: `modes` 0 for the full model.
 fn beam_build(dt: f64, t_end: f64, modes: usize) -> Result<BuiltBeam, StudyError> {
-    let scene = BeamScene { dt, t_end, contact: BeamContact::Projection { beta: 0.5 }, ..BeamScene::PAPER[0] };
+    beam_build_with(dt, t_end, modes, BeamContact::Projection { beta: 0.5 })
+}
+
+/// [`beam_build`] with another contact treatment.
+fn beam_build_with(dt: f64, t_end: f64, modes: usize, contact: BeamContact) -> Result<BuiltBeam, StudyError> {
+    let scene = BeamScene { dt, t_end, contact, ..BeamScene::PAPER[0] };
     let (pipe, exc) = (Pipe::paper(), BeamExcitation::default());
     if modes == 0 {
         let (s, init, beam) = build_excited(&pipe, &scene, false, PenaltyUnits::default(), None, &exc)?;
@@ -482,14 +516,48 @@ fn beam_tip(dt: f64, t_end: f64, modes: usize) -> Result<(Tip, usize), StudyErro
     Ok((tip, sum.steps))
 }
 
+/// The exact semi-discrete tip ([`BeamReference::EventDriven`]) sampled
+/// every `dt`, and its first impact time (from the event log).
+fn beam_tip_exact(dt: f64, t_end: f64) -> Result<(Tip, f64), StudyError> {
+    let spec: SchemeSpec = "event-driven(0)".parse().map_err(|e: signorini_schemes::SchemeError| StudyError::Run(e.to_string()))?;
+    let (mut s, u0, dof) = beam_build_with(dt, t_end, 0, BeamContact::Scheme(spec))?;
+    let levels = (t_end / dt).round() as usize + 1;
+    let mut tip = Tip { dof, u: Vec::with_capacity(levels), active: Vec::with_capacity(levels) };
+    run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [&mut tip])?;
+    let first = s.events().and_then(|e| e.first()).map_or(f64::NAN, |e| e.t);
+    Ok((tip, first))
+}
+
+/// The largest step that divides every one of `dts` (to 1e-9), at most
+/// their smallest: `dt_min / k` for the least `k <= 1000` that works.
+fn common_step(dts: &[f64]) -> Option<f64> {
+    let min = dts.iter().copied().fold(f64::INFINITY, f64::min);
+    (1..=1000).map(|k| min / k as f64).find(|d| dts.iter().all(|dt| ((dt / d) - (dt / d).round()).abs() <= 1e-9 * (dt / d)))
+}
+
 /// The beam rows and the reference's own convergence: its difference from
-/// the run at twice its step over the window and over the horizon.
+/// the run at twice its step over the window and over the horizon — or,
+/// for the event-driven reference, the fine-step reference's difference
+/// from the exact solution (how converged the fine step is).
 fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
-    let (te, w, rdt) = (a.beam_t_end, a.beam_window, a.beam_ref_dt);
-    let (reference, _) = beam_tip(rdt, te, 0)?;
-    let (check, _) = beam_tip(2.0 * rdt, te, 0)?;
-    let self_conv = (check.error(2.0 * rdt, &reference, rdt, w), check.error(2.0 * rdt, &reference, rdt, te));
-    let t_ref = reference.first_impact(rdt).unwrap_or(f64::NAN);
+    let (te, w) = (a.beam_t_end, a.beam_window);
+    let (reference, rdt, self_conv, t_ref) = match a.reference {
+        BeamReference::FineStep => {
+            let rdt = a.beam_ref_dt;
+            let (reference, _) = beam_tip(rdt, te, 0)?;
+            let (check, _) = beam_tip(2.0 * rdt, te, 0)?;
+            let self_conv = (check.error(2.0 * rdt, &reference, rdt, w), check.error(2.0 * rdt, &reference, rdt, te));
+            let t_ref = reference.first_impact(rdt).unwrap_or(f64::NAN);
+            (reference, rdt, self_conv, t_ref)
+        }
+        BeamReference::EventDriven => {
+            let rdt = common_step(&a.beam_dts).unwrap_or(a.beam_ref_dt);
+            let (reference, t_ref) = beam_tip_exact(rdt, te)?;
+            let (fine, _) = beam_tip(a.beam_ref_dt, te, 0)?;
+            let fine_err = (fine.error(a.beam_ref_dt, &reference, rdt, w), fine.error(a.beam_ref_dt, &reference, rdt, te));
+            (reference, rdt, fine_err, t_ref)
+        }
+    };
     let j = BeamScene::PAPER[0].elements;
     let mut points = Vec::new();
     for modes in std::iter::once(0).chain(a.modes.iter().copied().filter(|&r| r < 2 * j)) {
@@ -757,11 +825,21 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         };
         writeln!(report, "## {benchmark}\n").expect("writing to a String");
         if let (true, Some((cw, ct))) = (is_beam, beam_check) {
-            writeln!(
-                report,
-                "Tip error against the full model at dt = {:e} s over [0, {}] s (that reference differs from the run at twice its step by {cw:.2e} m there, by {ct:.2e} m over [0, {}] s).\n",
-                a.beam_ref_dt, a.beam_window, a.beam_t_end
-            )
+            match a.reference {
+                BeamReference::FineStep => writeln!(
+                    report,
+                    "Tip error against the full model at dt = {:e} s over [0, {}] s (that reference differs from the run at twice its step by {cw:.2e} m there, by {ct:.2e} m over [0, {}] s).\n",
+                    a.beam_ref_dt, a.beam_window, a.beam_t_end
+                ),
+                BeamReference::EventDriven => writeln!(
+                    report,
+                    "Tip error against the exact semi-discrete solution (`event-driven(0)`, sampled every {:e} s) over [0, {}] s; the first impact time from its event log. The full model at dt = {:e} s (the fine-step reference) differs from it by {cw:.2e} m there, by {ct:.2e} m over [0, {}] s.\n",
+                    common_step(&a.beam_dts).unwrap_or(a.beam_ref_dt),
+                    a.beam_window,
+                    a.beam_ref_dt,
+                    a.beam_t_end
+                ),
+            }
             .expect("writing to a String");
         }
         for &q in quantities {

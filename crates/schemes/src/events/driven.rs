@@ -139,6 +139,8 @@ pub struct EventDriven {
     t: f64,
     eta: Vec<f64>,
     deta: Vec<f64>,
+    /// The modal state at the start of a search (work storage).
+    start: (Vec<f64>, Vec<f64>),
     search: Search,
     events: Vec<EventRecord>,
     /// Impact times of the current run of impacts of one contact.
@@ -194,6 +196,7 @@ impl EventDriven {
             t: t0,
             eta: Vec::new(),
             deta: Vec::new(),
+            start: (Vec::new(), Vec::new()),
             search: Search::new(n),
             events: Vec::new(),
             streak: Vec::new(),
@@ -243,15 +246,18 @@ impl EventDriven {
         if t_end <= self.t {
             return Ok(None);
         }
-        let key = self.holds.clone();
-        let sys = &self.systems[&key];
-        let (eta0, deta0) = (self.eta.clone(), self.deta.clone());
+        let sys = &self.systems[&self.holds];
+        if !sys.forces.is_empty() {
+            // The start, for the held forces' integrals.
+            self.start.0.clone_from(&self.eta);
+            self.start.1.clone_from(&self.deta);
+        }
         let t0 = self.t;
         let found = self.search.first_zero(&sys.flow, t0, &mut self.eta, &mut self.deta, &sys.fns, &sys.quiet, t_end)?;
         let t1 = found.map_or(t_end, |f| f.0);
         // The held forces' integrals over the phase.
         for (contact, r) in &sys.forces {
-            self.impulses[*contact] += r.integral(&sys.flow, t0, (&eta0, &deta0), (&self.eta, &self.deta), t1 - t0);
+            self.impulses[*contact] += r.integral(&sys.flow, t0, (&self.start.0, &self.start.1), (&self.eta, &self.deta), t1 - t0);
         }
         self.t = t1;
         let Some((t, which)) = found else {
@@ -274,18 +280,31 @@ impl EventDriven {
 
     /// The full state of the current phase.
     fn physical(&self) -> (Vec<f64>, Vec<f64>) {
-        let sys = &self.systems[&self.holds];
-        let nf = sys.free.len();
-        let (mut qf, mut vf) = (vec![0.0; nf], vec![0.0; nf]);
-        sys.flow.to_physical(&self.eta, &self.deta, &mut qf, &mut vf);
         let (mut q, mut v) = (vec![0.0; self.n], vec![0.0; self.n]);
-        for (j, &d) in sys.free.iter().enumerate() {
-            (q[d], v[d]) = (qf[j], vf[j]);
+        self.state_into(&mut q, &mut v);
+        (q, v)
+    }
+
+    /// The state `(q, v)` now, into `q` and `v` (no allocation).
+    ///
+    /// # Panics
+    /// If a slice's length is not the problem's (a programmer error).
+    #[track_caller]
+    pub fn state_into(&self, q: &mut [f64], v: &mut [f64]) {
+        assert!(q.len() == self.n && v.len() == self.n, "state slices of {} entries", self.n);
+        let sys = &self.systems[&self.holds];
+        let phi = &sys.flow.phi;
+        for (r, &d) in sys.free.iter().enumerate() {
+            let (mut a, mut b) = (0.0, 0.0);
+            for i in 0..self.eta.len() {
+                a += phi[(r, i)] * self.eta[i];
+                b += phi[(r, i)] * self.deta[i];
+            }
+            (q[d], v[d]) = (a, b);
         }
         for &(d, x) in &sys.held {
-            q[d] = x;
+            (q[d], v[d]) = (x, 0.0);
         }
-        (q, v)
     }
 
     /// The impacts, accumulation and new active set at time `t` from the
@@ -530,7 +549,12 @@ impl EventDriven {
 
     /// Which contacts are held, and at which bound (`true`: the upper).
     pub fn held(&self) -> Vec<(usize, bool)> {
-        self.holds.iter().map(|h| (h.contact, h.upper)).collect()
+        self.held_iter().collect()
+    }
+
+    /// [`held`](Self::held) without allocating.
+    pub fn held_iter(&self) -> impl Iterator<Item = (usize, bool)> + '_ {
+        self.holds.iter().map(|h| (h.contact, h.upper))
     }
 
     /// The force `r` of each contact now (0 unless held).
@@ -546,9 +570,15 @@ impl EventDriven {
     /// Each contact's impulse since the last call: the impacts' impulses
     /// plus the held force's integral (exact), then reset.
     pub fn take_impulses(&mut self) -> Vec<f64> {
-        let out = self.impulses.clone();
-        self.impulses.iter_mut().for_each(|x| *x = 0.0);
+        let mut out = vec![0.0; self.impulses.len()];
+        self.take_impulses_into(&mut out);
         out
+    }
+
+    /// [`take_impulses`](Self::take_impulses) into `out` (no allocation).
+    pub fn take_impulses_into(&mut self, out: &mut [f64]) {
+        out.copy_from_slice(&self.impulses);
+        self.impulses.iter_mut().for_each(|x| *x = 0.0);
     }
 
     /// Steps taken by the event searches so far.

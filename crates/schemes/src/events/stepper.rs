@@ -49,10 +49,9 @@ impl EventStepper {
     }
 
     fn read(&mut self) {
-        let (_, u, v) = self.run.state();
-        (self.u, self.v) = (u, v);
+        self.run.state_into(&mut self.u, &mut self.v);
         self.acts.iter_mut().for_each(|a| *a = Active::None);
-        for (c, upper) in self.run.held() {
+        for (c, upper) in self.run.held_iter() {
             self.acts[c] = if upper { Active::Upper } else { Active::Lower };
         }
     }
@@ -78,9 +77,10 @@ impl Stepper for EventStepper {
         result?;
         self.n += 1;
         let t = self.time();
-        let imp = self.run.take_impulses();
-        for (l, p) in self.lams.iter_mut().zip(&imp) {
-            *l = if *p == 0.0 { 0.0 } else { -p / self.dt };
+        // The impulses into `lams`, then the mean forces.
+        self.run.take_impulses_into(&mut self.lams);
+        for l in self.lams.iter_mut() {
+            *l = if *l == 0.0 { 0.0 } else { -*l / self.dt };
         }
         if !self.u.iter().chain(&self.v).all(|x| x.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
@@ -124,7 +124,17 @@ pub(crate) static EVENT_DRIVEN: Family = Family {
     params: &[Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: Some(0.0) }],
     presets: &[Preset { name: "event-driven", args: &[0.0], group: Group::Reference, rank: 0 }],
     validate: |a| check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]"),
-    capabilities: |_| Capabilities { explicit: false, node: Node::Massive, diagonal_mass: false, damping: true, forcing: true, restitution: true, stiffness: false, several_contacts: true, beam: true },
+    capabilities: |_| Capabilities {
+        explicit: false,
+        node: Node::Massive,
+        diagonal_mass: false,
+        damping: true,
+        forcing: true,
+        restitution: true,
+        stiffness: false,
+        several_contacts: true,
+        beam: true,
+    },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(EventStepper::new(s.to_string(), dy, s.args()[0], dt, init)?)),
