@@ -432,7 +432,7 @@ impl ModalFlow {
 
     /// Advances mode `i` from `(η, η')` at `t0` by `tau`.
     #[inline]
-    pub(crate) fn advance_mode(&self, i: usize, t0: f64, eta: f64, deta: f64, tau: f64, tr0: &[(f64, f64)], tr1: &[(f64, f64)]) -> (f64, f64) {
+    pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], tr1: &[(f64, f64)]) -> (f64, f64) {
         let (e0, de0) = self.remainder(i, t0, t0, eta, deta, tr0);
         let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
         let (cc, ss) = cs(k - alpha * alpha, tau);
@@ -454,7 +454,7 @@ impl ModalFlow {
         self.trig(t0, tr0);
         self.trig(t0 + tau, tr1);
         for i in 0..self.n {
-            (eta[i], deta[i]) = self.advance_mode(i, t0, eta[i], deta[i], tau, tr0, tr1);
+            (eta[i], deta[i]) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, tr1);
         }
     }
 
