@@ -29,6 +29,10 @@
 //!   `impact_map.svg`, `poincare.csv` (`t,displacement,velocity`) and
 //!   `poincare.svg`, `summary.csv` (the columns of
 //!   [`signorini_run::vibro::Summary`]). Sweeps: [`sweep`].
+//! * any scene with `scheme = "event-driven"` (the exact reference,
+//!   docs/theory.md §9): `events.csv` — `t,kind,contact,velocity_before,velocity_after,impulse`,
+//!   one row per event (`kind`: `impact`, `release`, `accumulation`), also
+//!   when the run stops early.
 //!
 //! `v_contact` / `v_tip_m_s` is the backward difference of the contact dof
 //! over the last step (empty at n = 0).

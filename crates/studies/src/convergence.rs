@@ -50,6 +50,30 @@ pub struct Config {
     /// Remove CSV and SVG files of another study or configuration from the
     /// output folder first (`--clean`); without it such a folder is refused.
     pub clean: bool,
+    /// What the errors are measured against (`--reference`): the
+    /// benchmark's closed form (`exact`, the default) or the exact
+    /// semi-discrete solution at each level (`event-driven`: the time error
+    /// alone, [`crate::time_error`]).
+    pub reference: Reference,
+}
+
+/// What the convergence study measures errors against.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Reference {
+    /// The benchmark's closed form (space and time error together).
+    #[default]
+    Exact,
+    /// `event-driven(e)` on the same mesh: the time error ([`crate::time_error`]).
+    EventDriven,
+}
+
+/// Parses `--reference`.
+pub fn parse_reference(s: &str) -> Result<Reference, StudyError> {
+    match s {
+        "exact" => Ok(Reference::Exact),
+        "event-driven" => Ok(Reference::EventDriven),
+        _ => Err(StudyError::config("--reference", format!("--reference {s:?}: allowed exact, event-driven"))),
+    }
 }
 
 impl Default for Config {
@@ -67,6 +91,7 @@ impl Default for Config {
             reduce: None,
             degree: 1,
             clean: false,
+            reference: Reference::Exact,
         }
     }
 }
@@ -156,6 +181,12 @@ impl Config {
         if self.degree > 1 {
             folder = format!("{folder}-p{}", self.degree);
         }
+        if self.reference == Reference::EventDriven {
+            if self.reduce.is_some() || self.norms != NormKind::Exact {
+                return Err(StudyError::config("--reference", "--reference event-driven: the full model with the exact norms only (no --reduce, no --norms getfem)"));
+            }
+            folder += "-event-driven";
+        }
         match self.reduce {
             None => {}
             Some(Keep::Modes(r)) => folder += &format!("-reduce-modes-{r}"),
@@ -193,6 +224,14 @@ pub struct Output {
 /// Runs the study (see the module documentation).
 pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
     let (study_cfg, out, mut notes) = cfg.resolve()?;
+    if cfg.reference == Reference::EventDriven {
+        let start = std::time::Instant::now();
+        crate::prepare_dir(&out, &["time_error.csv".to_string(), "space_error.csv".to_string()], cfg.clean)?;
+        let (tables, mut report) = crate::time_error::run(&study_cfg, &out, progress, &mut notes)?;
+        let wall_s = crate::since(start);
+        report.push_str(&format!("\nin {wall_s:.1} s\n"));
+        return Ok(Output { config: study_cfg, out, results: Vec::new(), tables, report, wall_s, notes });
+    }
     let (results, wall_s, tables) = sweep_into_reduced(&study_cfg, cfg.reduce, &out, "", cfg.clean, progress, &mut notes)?;
     let mut report = format!(
         "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",

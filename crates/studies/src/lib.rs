@@ -51,6 +51,7 @@ pub mod lyapunov;
 pub mod obstacles;
 pub mod oscillator;
 pub mod stress;
+pub mod time_error;
 pub mod weighted;
 pub mod work_precision;
 

@@ -1,0 +1,297 @@
+//! The convergence study against the exact semi-discrete solution
+//! (`cargo xtask convergence --reference event-driven`): the **time error**
+//! of every scheme, apart from the space error.
+//!
+//! At each level `m` (and `dt = dx / ratio`) the scheme runs in lockstep
+//! with `event-driven(e)` on the same problem (the same mesh, mass and
+//! load): the exact solution of the semi-discrete problem with restitution
+//! `e` (docs/theory.md §9) — `e` the scheme's own (`ps(e)`, `moreau-jean`),
+//! 0 for the projection schemes, whose limit as dt → 0 is the plastic
+//! impact law. The difference `E = U_scheme − U_exact` is measured at every
+//! level in the semi-discrete norms: `linf_l2_u = max_n √(Eᵀ M E)`,
+//! `linf_v_u = max_n √(Eᵀ K E)` (strain energy), `l2_lambda = (Σ_n dt
+//! (λ_scheme − λ_exact)²)^{1/2}` (the exact `λ` of a level is the mean
+//! force over the step, the quantity a scheme's `λ` estimates), and
+//! `linf_energy = max_n |E_scheme − E_exact|` (each its own discrete
+//! energy). The event-driven solution's own errors against the benchmark's
+//! closed form (the exact norms of `cargo xtask convergence`) are the
+//! **space error**, in the rows of scheme `event-driven(e)`.
+//!
+//! Outputs (`out/convergence/<benchmark>-event-driven/`): `time_error.csv`
+//! with columns `scheme,mass,m,dx,dt,steps,reference,linf_l2_u,linf_v_u,l2_lambda,linf_energy`
+//! then `events` (the reference's event count), and `space_error.csv`
+//! (`reference,mass,m,dx,dt,linf_l2_u,l2_l2_u,linf_v_u,l2_lambda,linf_energy`);
+//! on stdout the least-squares rates of each quantity against dt.
+
+use crate::{fe, int, txt, Kind, StudyError, TableOut};
+use signorini_fem::BarMass;
+use signorini_run::study::{self, Level, StudyConfig};
+use signorini_run::{Benchmark, RunConfig};
+use signorini_schemes::{SchemeSpec, Stepper};
+use std::path::Path;
+
+/// The time error of one (scheme, mass, level).
+#[derive(Clone, Debug)]
+pub struct TimeError {
+    /// The scheme.
+    pub scheme: SchemeSpec,
+    /// Its reference (`event-driven(e)`).
+    pub reference: SchemeSpec,
+    /// The mass.
+    pub mass: BarMass,
+    /// Elements.
+    pub m: usize,
+    /// Element size.
+    pub dx: f64,
+    /// Time step.
+    pub dt: f64,
+    /// Steps.
+    pub steps: usize,
+    /// `max_n √(Eᵀ M E)`.
+    pub linf_l2_u: f64,
+    /// `max_n √(Eᵀ K E)`.
+    pub linf_v_u: f64,
+    /// `(Σ_n dt (λ − λ_exact)²)^{1/2}` over the contacts.
+    pub l2_lambda: f64,
+    /// `max_n |E − E_exact|`.
+    pub linf_energy: f64,
+    /// The reference's events.
+    pub events: usize,
+}
+
+/// The event-driven reference of `scheme`: its own restitution, else 0.
+pub fn reference_of(scheme: &SchemeSpec) -> Result<SchemeSpec, StudyError> {
+    let e = scheme.param("e").unwrap_or(0.0);
+    format!("event-driven({e})").parse().map_err(|err: signorini_schemes::SchemeError| StudyError::config("--schemes", format!("--schemes {scheme}: {err}")))
+}
+
+/// One (scheme, mass, level) in lockstep with its reference.
+pub fn run_case(benchmark: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, degree: usize, ratio: f64, t_end: f64) -> Result<TimeError, StudyError> {
+    let exact = benchmark.exact(t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+    let problem = benchmark.problem_with_degree(exact.as_ref(), m, mass, degree).map_err(|e| StudyError::Run(e.to_string()))?;
+    let dx = problem.bar.h();
+    let dt = dx / ratio;
+    let steps = RunConfig::new(dt, t_end).map_err(|e| StudyError::Run(e.to_string()))?.steps();
+    let reference = reference_of(&scheme)?;
+    let dy = problem.dynamics();
+    let build = |s: &SchemeSpec| s.build(problem.dynamics(), dt, &problem.initial).map_err(|e| StudyError::Run(format!("{s}, {mass}, m = {m}: {e}")));
+    let (mut a, mut b): (Box<dyn Stepper>, Box<dyn Stepper>) = (build(&scheme)?, build(&reference)?);
+    let mut acc = Acc { e: vec![0.0; dy.n()], ..Acc::default() };
+    // A two-step scheme takes its start step when built: the reference catches up.
+    while b.level() < a.level() {
+        b.step().map_err(|err| StudyError::Run(format!("{reference}, {mass}, m = {m}: {err}")))?;
+    }
+    acc.measure(&dy, dt, a.as_mut(), b.as_mut(), true);
+    while a.level() < steps {
+        let failed = a.step().is_err();
+        b.step().map_err(|err| StudyError::Run(format!("{reference}, {mass}, m = {m}: {err}")))?;
+        if failed {
+            // A blow-up: no error to report.
+            acc = Acc { l2u: f64::NAN, lv: f64::NAN, lam2: f64::NAN, len: f64::NAN, ..acc };
+            break;
+        }
+        acc.measure(&dy, dt, a.as_mut(), b.as_mut(), false);
+    }
+    let Acc { l2u, lv, lam2, len, .. } = acc;
+    let events = b.events().map_or(0, <[_]>::len);
+    Ok(TimeError { scheme, reference, mass, m, dx, dt, steps, linf_l2_u: l2u, linf_v_u: lv, l2_lambda: lam2.sqrt(), linf_energy: len, events })
+}
+
+/// The running maxima and sums of the difference.
+#[derive(Default)]
+struct Acc {
+    e: Vec<f64>,
+    l2u: f64,
+    lv: f64,
+    lam2: f64,
+    len: f64,
+}
+
+impl Acc {
+    fn measure(&mut self, dy: &signorini_schemes::Dynamics, dt: f64, a: &mut dyn Stepper, b: &mut dyn Stepper, first: bool) {
+        for ((x, p), q) in self.e.iter_mut().zip(a.displacement()).zip(b.displacement()) {
+            *x = p - q;
+        }
+        self.l2u = self.l2u.max(dy.mass.quad_form(&self.e).max(0.0).sqrt());
+        self.lv = self.lv.max(dy.stiffness.quad_form(&self.e).max(0.0).sqrt());
+        if !first {
+            self.lam2 += dt * a.contact_forces().iter().zip(b.contact_forces()).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+        }
+        if let (Some(ea), Some(eb)) = (a.energy(), b.energy()) {
+            self.len = self.len.max((ea.1 - eb.1).abs());
+        }
+    }
+}
+
+/// A least-squares rate in the tables (`-` without two points).
+fn fmt_rate(r: f64) -> String {
+    if r.is_finite() {
+        format!("{r:.2}")
+    } else {
+        "-".into()
+    }
+}
+
+/// The quantities, their columns and names.
+const QUANTITIES: [(&str, &str); 4] = [("linf_l2_u", "L∞(L²)"), ("linf_v_u", "L∞(V)"), ("l2_lambda", "L²(λ)"), ("linf_energy", "L∞(E)")];
+
+fn value(r: &TimeError, q: &str) -> f64 {
+    match q {
+        "linf_l2_u" => r.linf_l2_u,
+        "linf_v_u" => r.linf_v_u,
+        "l2_lambda" => r.l2_lambda,
+        _ => r.linf_energy,
+    }
+}
+
+/// Runs the study on `cfg`'s levels, schemes and massive masses, writing
+/// into `out`; returns the tables and the report.
+pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<crate::Table>, String), StudyError> {
+    let masses: Vec<BarMass> = cfg.masses.iter().copied().filter(|m| !m.massless_contact_node()).collect();
+    for m in cfg.masses.iter().filter(|m| m.massless_contact_node()) {
+        notes.push(format!("note: mass {m} left out: its contact node is massless, which the event-driven reference does not take"));
+    }
+    if masses.is_empty() {
+        return Err(StudyError::config("--masses", "--masses: --reference event-driven needs a massive contact node; allowed std, lumped, transfer"));
+    }
+    let schemes: Vec<SchemeSpec> = cfg.schemes.iter().copied().filter(|s| s.family().name != "event-driven").collect();
+    let mut cases = Vec::new();
+    for &s in &schemes {
+        for &mass in &masses {
+            for &m in &cfg.levels {
+                cases.push((s, mass, m));
+            }
+        }
+    }
+    let results = crate::run_cases(&cases, progress, &|&(s, mass, m)| run_case(cfg.benchmark, s, mass, m, cfg.degree, cfg.ratio, cfg.t_end));
+    let results: Vec<TimeError> = results.into_iter().collect::<Result<_, _>>()?;
+    crate::create_dir(out)?;
+    let mut t = TableOut::create(
+        out,
+        "time_error.csv",
+        &[
+            ("scheme", Kind::S),
+            ("mass", Kind::S),
+            ("m", Kind::I),
+            ("dx", Kind::F),
+            ("dt", Kind::F),
+            ("steps", Kind::I),
+            ("reference", Kind::S),
+            ("linf_l2_u", Kind::F),
+            ("linf_v_u", Kind::F),
+            ("l2_lambda", Kind::F),
+            ("linf_energy", Kind::F),
+            ("events", Kind::I),
+        ],
+    )?;
+    for r in &results {
+        t.row(vec![
+            txt(r.scheme.to_string()),
+            txt(r.mass.to_string()),
+            int(r.m),
+            fe(r.dx, 10),
+            fe(r.dt, 10),
+            int(r.steps),
+            txt(r.reference.call()),
+            fe(r.linf_l2_u, 10),
+            fe(r.linf_v_u, 10),
+            fe(r.l2_lambda, 10),
+            fe(r.linf_energy, 10),
+            int(r.events),
+        ])?;
+    }
+    let mut tables = vec![t.finish()?];
+    // The space error: each reference against the closed form.
+    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+    let mut refs: Vec<SchemeSpec> = schemes.iter().map(reference_of).collect::<Result<_, _>>()?;
+    refs.sort_by_key(|r| r.call());
+    refs.dedup_by(|a, b| a.call() == b.call());
+    let mut s = TableOut::create(
+        out,
+        "space_error.csv",
+        &[
+            ("reference", Kind::S),
+            ("mass", Kind::S),
+            ("m", Kind::I),
+            ("dx", Kind::F),
+            ("dt", Kind::F),
+            ("linf_l2_u", Kind::F),
+            ("l2_l2_u", Kind::F),
+            ("linf_v_u", Kind::F),
+            ("l2_lambda", Kind::F),
+            ("linf_energy", Kind::F),
+        ],
+    )?;
+    let mut space = Vec::new();
+    for r in &refs {
+        for &mass in &masses {
+            for &m in &cfg.levels {
+                let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree), exact.as_ref()).map_err(|e| StudyError::Run(e.to_string()))?;
+                let v = |name: &str| study::norm_value(&lv.norms, name);
+                s.row(vec![
+                    txt(r.call()),
+                    txt(mass.to_string()),
+                    int(m),
+                    fe(lv.dx, 10),
+                    fe(lv.dt, 10),
+                    fe(v("linf_l2_u"), 10),
+                    fe(v("l2_l2_u"), 10),
+                    fe(v("linf_v_u"), 10),
+                    fe(v("l2_lambda"), 10),
+                    fe(v("linf_energy"), 10),
+                ])?;
+                space.push((r.call(), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")]));
+            }
+        }
+    }
+    tables.push(s.finish()?);
+    // The report: rates against dt (least squares over the levels).
+    let mut report = format!(
+        "# Time error against the exact semi-discrete solution: {}, dx/dt = {}, T = {}, m = {:?}\n\nEach scheme against `event-driven(e)` at the same level (its own restitution e, 0 for the projection schemes); least-squares rates against dt, then the finest level's error (CSV: {}).\n\n| scheme | mass | reference |",
+        cfg.benchmark,
+        cfg.ratio,
+        cfg.t_end,
+        cfg.levels,
+        out.join("time_error.csv").display()
+    );
+    for (_, name) in QUANTITIES {
+        report.push_str(&format!(" {name} rate | finest |"));
+    }
+    report.push_str("\n|---|---|---|");
+    report.push_str(&"---|---|".repeat(QUANTITIES.len()));
+    report.push('\n');
+    for &sch in &schemes {
+        for &mass in &masses {
+            let rows: Vec<&TimeError> = results.iter().filter(|r| r.scheme == sch && r.mass == mass).collect();
+            let Some(finest) = rows.iter().min_by(|a, b| a.dt.total_cmp(&b.dt)) else { continue };
+            report.push_str(&format!("| {sch} | {mass} | {} |", finest.reference.call()));
+            for (q, _) in QUANTITIES {
+                let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.dt, value(r, q))).collect();
+                let rate = fmt_rate(study::rate(&pts).lsq);
+                report.push_str(&format!(" {rate} | {:.2e} |", value(finest, q)));
+            }
+            report.push('\n');
+        }
+    }
+    report.push_str("\n## Space error: the exact semi-discrete solution against the closed form (rates against dx)\n\n| reference | mass |");
+    for (_, name) in QUANTITIES {
+        report.push_str(&format!(" {name} rate | finest |"));
+    }
+    report.push_str("\n|---|---|");
+    report.push_str(&"---|---|".repeat(QUANTITIES.len()));
+    report.push('\n');
+    for r in &refs {
+        for &mass in &masses {
+            let rows: Vec<_> = space.iter().filter(|x| x.0 == r.call() && x.1 == mass).collect();
+            let Some(finest) = rows.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else { continue };
+            report.push_str(&format!("| {} | {mass} |", r.call()));
+            for k in 0..QUANTITIES.len() {
+                let pts: Vec<(f64, f64)> = rows.iter().map(|x| (x.2, x.3[k])).collect();
+                let rate = fmt_rate(study::rate(&pts).lsq);
+                report.push_str(&format!(" {rate} | {:.2e} |", finest.3[k]));
+            }
+            report.push('\n');
+        }
+    }
+    Ok((tables, report))
+}
