@@ -40,7 +40,7 @@ class RunResult:
     :func:`run` for each attribute). Plain Python data: it pickles, so it
     comes back from a dask or multiprocessing worker."""
 
-    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status", "energy_max_ratio", "energy_exceeded", "energy_warning")
+    __slots__ = ("t", "tip", "lam_t", "lam", "energy_t", "energy", "contact_dofs", "contact_lo", "contact_hi", "contact_u", "forces", "active", "fields_t", "fields", "norms", "steps", "contact_steps", "dt", "status", "energy_max_ratio", "energy_exceeded", "energy_warning", "events")
 
     t: _np.ndarray
     tip: _np.ndarray
@@ -64,6 +64,7 @@ class RunResult:
     energy_max_ratio: float
     energy_exceeded: _Optional[dict]
     energy_warning: _Optional[str]
+    events: _Optional[dict]
 
     def __init__(self, arrays=None, **values):
         for k in self.__slots__:
@@ -141,6 +142,11 @@ def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0,
       for a run that stopped early); ``energy_exceeded``: None, or the first
       level at which E/budget exceeded ``energy_warn`` (a dict ``step, t,
       ratio, energy, budget``); ``energy_warning``: that warning's text.
+    * ``events``: with ``scheme = "event-driven"`` (the exact reference),
+      the event log as a dict of arrays with the columns of ``events.csv``
+      (``t``, ``kind`` — a list of ``"impact"``, ``"release"``,
+      ``"accumulation"`` —, ``contact``, ``velocity_before``,
+      ``velocity_after``, ``impulse``); None for a time-stepping scheme.
 
     ``energy_warn`` (finite and > 1; default the scene's ``[output]
     energy_warn``, else 2): when the energy exceeds this factor times its

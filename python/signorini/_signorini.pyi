@@ -52,6 +52,7 @@ class RunArrays:
     energy_max_ratio: float
     energy_exceeded: Optional[dict[str, Any]]
     energy_warning: Optional[str]
+    events: Optional[dict]
 
 def run_scene(scene: Any, energy: Optional[bool] = ..., fields_every: int = ..., energy_warn: Optional[float] = ...) -> RunArrays: ...
 def check_scene(scene: Any) -> str: ...

@@ -112,6 +112,9 @@ pub struct RunArrays {
     energy_exceeded: Option<Py<PyDict>>,
     /// The warning's text (Python emits it as `EnergyGrowthWarning`).
     energy_warning: Option<String>,
+    /// An event-driven run's events (`events.csv`'s columns as arrays;
+    /// `kind` a list of str); `None` for a time-stepping scheme.
+    events: Option<Py<PyDict>>,
 }
 
 fn matrix(py: Python<'_>, v: Vec<f64>, cols: usize) -> PyResult<Py<PyArray2<f64>>> {
@@ -225,8 +228,22 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
         }
         None => None,
     };
+    let events = match built.stepper.events() {
+        Some(ev) => {
+            let d = PyDict::new(py);
+            d.set_item("t", ev.iter().map(|e| e.t).collect::<Vec<f64>>().into_pyarray(py))?;
+            d.set_item("kind", ev.iter().map(|e| e.kind.name()).collect::<Vec<&str>>())?;
+            d.set_item("contact", ev.iter().map(|e| e.contact as i64).collect::<Vec<i64>>().into_pyarray(py))?;
+            d.set_item("velocity_before", ev.iter().map(|e| e.velocity_before).collect::<Vec<f64>>().into_pyarray(py))?;
+            d.set_item("velocity_after", ev.iter().map(|e| e.velocity_after).collect::<Vec<f64>>().into_pyarray(py))?;
+            d.set_item("impulse", ev.iter().map(|e| e.impulse).collect::<Vec<f64>>().into_pyarray(py))?;
+            Some(d.unbind())
+        }
+        None => None,
+    };
     let c = dofs.len();
     let out = RunArrays {
+        events,
         energy_max_ratio: growth.map_or(f64::NAN, |g| g.max_ratio),
         energy_exceeded,
         energy_warning: growth.as_ref().and_then(signorini_scene::energy_warning),

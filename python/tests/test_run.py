@@ -187,3 +187,41 @@ def test_a_reduced_model_gives_the_cli_numbers(tmp_path):
     last = [s for s in snaps if abs(float(s["t_s"]) - r.fields_t[-1]) < 1e-12]
     want = np.array([float(s["u_m"]) for s in sorted(last, key=lambda s: int(s["n"]))])
     np.testing.assert_allclose(np.asarray(r.fields)[-1, 0::2], want[1:], rtol=1e-10, atol=1e-13)
+
+
+def test_an_event_driven_run_logs_its_events_at_the_closed_form_times(tmp_path, exe):
+    """The undamped impact oscillator x'' + x = cos(2t) from rest, stop at
+    0.2: x(t) = (cos 2t − cos t)/(1 − 4) until the first impact, whose time
+    is found here by bisection on that closed form; the event log (the same
+    rows as the CLI's events.csv) has it, and each impact obeys Newton's law."""
+    scene = {"oscillator": {"mass": 1.0, "stiffness": 1.0, "damping_ratio": 0.0, "stop": 0.2, "restitution": 0.8, "scheme": "event-driven",
+                            "initial_displacement": 0.0, "initial_velocity": 0.0, "dt": 1e-3, "t_end": 20.0},
+             "forcing": {"amplitude": 1.0, "omega": 2.0}}
+    r = signorini.run(scene)
+    ev = r.events
+    assert ev is not None and len(ev["t"]) >= 2
+    x = lambda t: (np.cos(2 * t) - np.cos(t)) / -3.0
+    dx = lambda t: (-2 * np.sin(2 * t) + np.sin(t)) / -3.0
+    # The first crossing of 0.2: bracket it on a fine grid, then bisect.
+    grid = np.linspace(0.0, 20.0, 200001)
+    i = int(np.argmax(x(grid) >= 0.2))
+    a, b = grid[i - 1], grid[i]
+    for _ in range(100):
+        m = 0.5 * (a + b)
+        a, b = (m, b) if x(m) < 0.2 else (a, m)
+    assert abs(ev["t"][0] - a) <= 1e-12 * a
+    assert abs(ev["velocity_before"][0] - dx(a)) <= 1e-10
+    assert all(k == "impact" for k in ev["kind"])
+    assert np.allclose(ev["velocity_after"], -0.8 * ev["velocity_before"], rtol=1e-14, atol=0)
+    # A time-stepping scheme has no event log.
+    assert signorini.run({**scene, "oscillator": {**scene["oscillator"], "scheme": "ps-e0.5"}}).events is None
+    # The CLI writes the same rows.
+    out = tmp_path / "ed"
+    toml = "[oscillator]\n" + "".join(f"{k} = {v!r}\n".replace("'", '"') for k, v in scene["oscillator"].items()) + "[forcing]\namplitude = 1.0\nomega = 2.0\n"
+    (tmp_path / "ed.toml").write_text(toml)
+    subprocess.run([str(exe), "run", str(tmp_path / "ed.toml"), "--out", str(out)], check=True, capture_output=True)
+    with open(out / "events.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0]) == ["t", "kind", "contact", "velocity_before", "velocity_after", "impulse"]
+    assert len(rows) == len(ev["t"])
+    assert all(abs(float(row["t"]) - t) <= 1e-15 * t for row, t in zip(rows, ev["t"]))
