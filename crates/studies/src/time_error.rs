@@ -65,6 +65,11 @@ pub fn reference_of(scheme: &SchemeSpec) -> Result<SchemeSpec, StudyError> {
     format!("event-driven({e})").parse().map_err(|err: signorini_schemes::SchemeError| StudyError::config("--schemes", format!("--schemes {scheme}: {err}")))
 }
 
+/// `event-driven(e)`: the reference's name in the tables.
+fn label(r: &SchemeSpec) -> String {
+    format!("event-driven({})", r.param("e").unwrap_or(0.0))
+}
+
 /// One (scheme, mass, level) in lockstep with its reference.
 pub fn run_case(benchmark: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, degree: usize, ratio: f64, t_end: f64) -> Result<TimeError, StudyError> {
     let exact = benchmark.exact(t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
@@ -192,7 +197,7 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
             fe(r.dx, 10),
             fe(r.dt, 10),
             int(r.steps),
-            txt(r.reference.call()),
+            txt(label(&r.reference)),
             fe(r.linf_l2_u, 10),
             fe(r.linf_v_u, 10),
             fe(r.l2_lambda, 10),
@@ -204,8 +209,8 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
     // The space error: each reference against the closed form.
     let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
     let mut refs: Vec<SchemeSpec> = schemes.iter().map(reference_of).collect::<Result<_, _>>()?;
-    refs.sort_by_key(|r| r.call());
-    refs.dedup_by(|a, b| a.call() == b.call());
+    refs.sort_by_key(label);
+    refs.dedup_by(|a, b| label(a) == label(b));
     let mut s = TableOut::create(
         out,
         "space_error.csv",
@@ -229,7 +234,7 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
                 let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree), exact.as_ref()).map_err(|e| StudyError::Run(e.to_string()))?;
                 let v = |name: &str| study::norm_value(&lv.norms, name);
                 s.row(vec![
-                    txt(r.call()),
+                    txt(label(r)),
                     txt(mass.to_string()),
                     int(m),
                     fe(lv.dx, 10),
@@ -240,7 +245,7 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
                     fe(v("l2_lambda"), 10),
                     fe(v("linf_energy"), 10),
                 ])?;
-                space.push((r.call(), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")]));
+                space.push((label(r), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")]));
             }
         }
     }
@@ -264,7 +269,7 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
         for &mass in &masses {
             let rows: Vec<&TimeError> = results.iter().filter(|r| r.scheme == sch && r.mass == mass).collect();
             let Some(finest) = rows.iter().min_by(|a, b| a.dt.total_cmp(&b.dt)) else { continue };
-            report.push_str(&format!("| {sch} | {mass} | {} |", finest.reference.call()));
+            report.push_str(&format!("| {sch} | {mass} | {} |", label(&finest.reference)));
             for (q, _) in QUANTITIES {
                 let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.dt, value(r, q))).collect();
                 let rate = fmt_rate(study::rate(&pts).lsq);
@@ -282,9 +287,9 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
     report.push('\n');
     for r in &refs {
         for &mass in &masses {
-            let rows: Vec<_> = space.iter().filter(|x| x.0 == r.call() && x.1 == mass).collect();
+            let rows: Vec<_> = space.iter().filter(|x| x.0 == label(r) && x.1 == mass).collect();
             let Some(finest) = rows.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else { continue };
-            report.push_str(&format!("| {} | {mass} |", r.call()));
+            report.push_str(&format!("| {} | {mass} |", label(r)));
             for k in 0..QUANTITIES.len() {
                 let pts: Vec<(f64, f64)> = rows.iter().map(|x| (x.2, x.3[k])).collect();
                 let rate = fmt_rate(study::rate(&pts).lsq);

@@ -225,10 +225,16 @@ impl EventDriven {
         Ok(r)
     }
 
-    /// The most events [`run_until`](Self::run_until) takes ([`MAX_EVENTS`] by default).
+    /// The most events of the run ([`MAX_EVENTS`] by default) for the
+    /// sampled runs of [`super::EventStepper`].
     pub fn with_max_events(mut self, max_events: usize) -> Self {
         self.max_events = max_events;
         self
+    }
+
+    /// [`with_max_events`](Self::with_max_events) in place.
+    pub fn set_max_events(&mut self, max_events: usize) {
+        self.max_events = max_events;
     }
 
     /// Runs to `t_end` exactly; more than `max_events` events on the way

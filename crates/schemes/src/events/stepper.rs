@@ -7,7 +7,7 @@
 //! step, `λ = −(Σ impulses + ∫ r)/dt` with the held force's integral in
 //! closed form — the same quantity a time-stepping scheme's `λ` estimates.
 
-use super::driven::{EventDriven, EventRecord};
+use super::driven::{EventDriven, EventRecord, MAX_EVENTS};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 
@@ -54,6 +54,13 @@ impl EventStepper {
         for (c, upper) in self.run.held_iter() {
             self.acts[c] = if upper { Active::Upper } else { Active::Lower };
         }
+    }
+
+    /// At most `max_events` events in the run (default [`MAX_EVENTS`]):
+    /// beyond, a step stops with [`super::EventsError::TooManyEvents`].
+    pub fn with_max_events(mut self, max_events: usize) -> Self {
+        self.run.set_max_events(max_events);
+        self
     }
 
     /// The events so far.
@@ -117,13 +124,20 @@ impl Stepper for EventStepper {
 
 use crate::registry::{check, Capabilities, Family, Group, Node, Param, Preset};
 
-/// The exact event-driven reference, restitution `e ∈ [0, 1]` (default 0).
+/// The exact event-driven reference, restitution `e ∈ [0, 1]` (default 0),
+/// at most `max_events` events (default 10⁷).
 pub(crate) static EVENT_DRIVEN: Family = Family {
     name: "event-driven",
     about: "exact event-driven reference: closed-form flow between events, every event located, Newton's law with restitution E (docs/theory.md §9)",
-    params: &[Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: Some(0.0) }],
-    presets: &[Preset { name: "event-driven", args: &[0.0], group: Group::Reference, rank: 0 }],
-    validate: |a| check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]"),
+    params: &[
+        Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: Some(0.0) },
+        Param { name: "max_events", symbol: "max_events", syntax: "MAX_EVENTS", allowed: "an integer in [1, 1e12]", default: Some(MAX_EVENTS as f64) },
+    ],
+    presets: &[Preset { name: "event-driven", args: &[0.0, MAX_EVENTS as f64], group: Group::Reference, rank: 0 }],
+    validate: |a| {
+        check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]")?;
+        check("max_events", a[1], a[1] >= 1.0 && a[1] <= 1e12 && a[1].fract() == 0.0, "an integer in [1, 1e12]")
+    },
     capabilities: |_| Capabilities {
         explicit: false,
         node: Node::Massive,
@@ -137,5 +151,5 @@ pub(crate) static EVENT_DRIVEN: Family = Family {
     },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
-    build: |s, dy, dt, init| Ok(Box::new(EventStepper::new(s.to_string(), dy, s.args()[0], dt, init)?)),
+    build: |s, dy, dt, init| Ok(Box::new(EventStepper::new(s.to_string(), dy, s.args()[0], dt, init)?.with_max_events(s.args()[1] as usize))),
 };
