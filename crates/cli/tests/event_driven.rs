@@ -55,3 +55,51 @@ fn refusals_name_the_field() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("bar.scheme") || err.contains("bar.mass"), "{err}");
 }
+
+/// The beam with an obstacle under every node (19 two-sided contacts) and
+/// with two `[[stop]]`s: every contact displacement in `series.csv` stays
+/// within its bounds at every level (to 1e-12 m), and every impact in
+/// `events.csv` is Newton's law with e = 0 (velocity after 0, impulse of
+/// the sign of the bound: the contact force `r` is >= 0 at a lower bound).
+#[test]
+fn beams_with_many_contacts_stay_within_their_bounds() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        ("obstacle", "[beam]\nscene = \"fig2\"\nscheme = \"event-driven\"\nt_end = 0.15\n[obstacle]\nlo = -0.1\nhi = 0.1\n"),
+        ("stops", "[beam]\nscene = \"fig2\"\nscheme = \"event-driven\"\nt_end = 0.15\n[[stop]]\nx = 1.501\nlo = -0.1\nhi = 0.1\n[[stop]]\nx = 0.79\nlo = -0.03\nhi = 0.03\n"),
+    ] {
+        let (code, err) = run(dir.path(), name, text);
+        assert_eq!(code, Some(0), "{name}: {err}");
+        let series = std::fs::read_to_string(dir.path().join(name).join("series.csv")).unwrap();
+        let mut lines = series.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let cols: Vec<usize> = (0..head.len()).filter(|&i| head[i].starts_with("u_c")).collect();
+        assert!(cols.len() >= 2, "{name}: {head:?}");
+        let (lo, hi) = if name == "obstacle" { (vec![-0.1; cols.len()], vec![0.1; cols.len()]) } else { (vec![-0.1, -0.03], vec![0.1, 0.03]) };
+        let mut touched = 0;
+        for l in lines {
+            let v: Vec<&str> = l.split(',').collect();
+            for (k, &c) in cols.iter().enumerate() {
+                let u: f64 = v[c].parse().unwrap();
+                assert!(u >= lo[k] - 1e-12 && u <= hi[k] + 1e-12, "{name}: contact {k} at {u} outside [{}, {}]: {l}", lo[k], hi[k]);
+                if (u - lo[k]).abs() < 1e-12 || (u - hi[k]).abs() < 1e-12 {
+                    touched += 1;
+                }
+            }
+        }
+        assert!(touched > 0, "{name}: no contact ever reached a bound");
+        let events = std::fs::read_to_string(dir.path().join(name).join("events.csv")).unwrap();
+        let mut impacts = 0;
+        for l in events.lines().skip(1) {
+            let v: Vec<&str> = l.split(',').collect();
+            if v[1] == "impact" {
+                let (before, after, p): (f64, f64, f64) = (v[3].parse().unwrap(), v[4].parse().unwrap(), v[5].parse().unwrap());
+                assert!(after.abs() <= 1e-12 * before.abs().max(1e-300) || p == 0.0, "{name}: {l}");
+                // Approaching a lower bound (v < 0) takes a push up (p > 0), an upper one the reverse.
+                assert!(p * before <= 0.0, "{name}: {l}");
+                impacts += 1;
+            }
+        }
+        assert!(impacts > 0, "{name}: no impact");
+    }
+}
