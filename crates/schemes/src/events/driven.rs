@@ -196,7 +196,7 @@ impl EventDriven {
         let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;
         let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();
         let columns = dofs.iter().map(|&d| full.minv_column(d)).collect();
-        let delassus = MultiProjection::new(dofs, columns).map_err(|_| EventsError::MassNotDefinite)?;
+        let delassus = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
         let k_contacts = sites.len();
         let mut r = Self {
             n,
@@ -294,8 +294,8 @@ impl EventDriven {
             Watch::Release { contact } => {
                 self.streak.clear();
                 self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
-                self.holds.retain(|h| h.contact != contact);
-                self.enter(q, v)?;
+                let rest: Vec<Hold> = self.holds.iter().copied().filter(|h| h.contact != contact).collect();
+                self.enter(rest, q, v)?;
             }
         }
         Ok(self.events.get(before).copied())
@@ -372,7 +372,7 @@ impl EventDriven {
                 None => {}
             }
         }
-        self.delassus.project(&mut v, &lo, &hi).map_err(|_| EventsError::MassNotDefinite)?;
+        self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
         let mu = self.delassus.multipliers().to_vec();
         let held_before: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
         for j in 0..kc {
@@ -405,7 +405,7 @@ impl EventDriven {
                         }
                     }
                     (lo[j], hi[j]) = (0.0, 0.0);
-                    self.delassus.project(&mut v, &lo, &hi).map_err(|_| EventsError::MassNotDefinite)?;
+                    self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
                     let mu = self.delassus.multipliers().to_vec();
                     for (i, m) in mu.iter().enumerate() {
                         self.impulses[i] += m;
@@ -424,7 +424,7 @@ impl EventDriven {
         // acceleration LCP presses against it.
         let vscale = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let candidates: Vec<usize> = (0..kc).filter(|&j| at[j].is_some() && v[self.sites[j].dof].abs() <= 1e-13 * vscale.max(f64::MIN_POSITIVE)).collect();
-        self.holds.clear();
+        let mut holds = Vec::new();
         if !candidates.is_empty() {
             for &j in &candidates {
                 v[self.sites[j].dof] = 0.0;
@@ -439,17 +439,20 @@ impl EventDriven {
                     lo[j] = 0.0;
                 }
             }
-            self.delassus.project(&mut a, &lo, &hi).map_err(|_| EventsError::MassNotDefinite)?;
+            self.delassus.project(&mut a, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
             let r = self.delassus.multipliers();
             for &j in &candidates {
                 let leaving = r[j] == 0.0 && a[self.sites[j].dof].abs() > 1e-12 * ascale;
                 if !leaving {
-                    self.holds.push(Hold { contact: j, upper: at[j] == Some(true) });
+                    holds.push(Hold { contact: j, upper: at[j] == Some(true) });
                 }
             }
         }
+        // On an error (an active set without an exact flow) the state stays
+        // the one before the event, whole.
+        self.enter(holds, q, v)?;
         self.t = t;
-        self.enter(q, v)
+        Ok(())
     }
 
     /// `M⁻¹ (f(t) − C v − K q)`.
@@ -463,13 +466,15 @@ impl EventDriven {
         self.full.minv(&rhs)
     }
 
-    /// Switches to the phase of `self.holds` from the full state.
-    fn enter(&mut self, q: Vec<f64>, v: Vec<f64>) -> Result<(), EventsError> {
-        self.holds.sort();
-        if !self.systems.contains_key(&self.holds) {
-            let sys = self.build(&self.holds)?;
-            self.systems.insert(self.holds.clone(), sys);
+    /// Switches to the phase of `holds` from the full state (its flow built
+    /// first: on an error nothing changes).
+    fn enter(&mut self, mut holds: Vec<Hold>, q: Vec<f64>, v: Vec<f64>) -> Result<(), EventsError> {
+        holds.sort();
+        if !self.systems.contains_key(&holds) {
+            let sys = self.build(&holds)?;
+            self.systems.insert(holds.clone(), sys);
         }
+        self.holds = holds;
         let sys = &self.systems[&self.holds];
         let nf = sys.free.len();
         let qf: Vec<f64> = sys.free.iter().map(|&d| q[d]).collect();
@@ -621,9 +626,14 @@ impl EventDriven {
 
     /// Replaces the state (a twin run), at the current time, as [`new`](Self::new) starts.
     pub(crate) fn reset(&mut self, q: &[f64], v: &[f64]) -> Result<(), EventsError> {
-        self.holds.clear();
+        // The new state decides what is held; the old phase is kept on an error.
+        let saved = std::mem::take(&mut self.holds);
         self.streak.clear();
-        self.settle(self.t, q.to_vec(), v.to_vec(), None)
+        let r = self.settle(self.t, q.to_vec(), v.to_vec(), None);
+        if r.is_err() {
+            self.holds = saved;
+        }
+        r
     }
 }
 

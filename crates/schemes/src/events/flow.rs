@@ -90,6 +90,10 @@ pub enum EventsError {
         /// Steps taken.
         steps: usize,
     },
+    /// The contacts' Delassus matrix could not be set up or solved (two
+    /// contacts on one dof, say).
+    #[error("contacts: {0}")]
+    Contacts(String),
     /// The start is outside a contact's bounds.
     #[error("contacts[{contact}]: the initial state q = {q} is outside [{lo}, {hi}]")]
     Outside {
