@@ -224,3 +224,18 @@ fn simultaneous_impacts_are_one_lcp() {
     let v1 = v0[1] + minv(1, 0) * p0 + minv(1, 2) * p2;
     assert!((v[1] - v1).abs() <= 1e-12, "{} against {v1}", v[1]);
 }
+
+/// A mass resting on its stop with no load (its contact force identically
+/// zero, every derivative zero) stays held: no release, no impact — a
+/// held force that stays at zero is no event (the release's `quiet` rule;
+/// without it the run would release and re-impact at the same time until
+/// its event limit).
+#[test]
+fn a_mass_resting_on_its_stop_without_load_makes_no_event() {
+    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+    let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).unwrap().with_max_events(100);
+    r.run_until(10.0, 100).unwrap();
+    assert!(r.events().is_empty(), "{:?}", &r.events()[..r.events().len().min(3)]);
+    let (t, q, v) = r.state();
+    assert_eq!((t, q[0], v[0]), (10.0, 0.0, 0.0));
+}
