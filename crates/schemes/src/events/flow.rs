@@ -524,7 +524,7 @@ impl ModalFlow {
     /// of the trajectory from `(q0, v0)` reaches `lo` (from above) or `hi`
     /// (from below), with the state there; `None` if it stays strictly
     /// inside. The state must start inside (`lo < q_c < hi`, or on a bound
-    /// and leaving it). The search is [`super::search`]'s (docs/theory.md
+    /// and leaving it). The search is the module `search`'s (docs/theory.md
     /// §9.2): no event is missed, each is located to a relative 1e-15.
     #[allow(clippy::too_many_arguments)]
     pub fn first_crossing(&self, t0: f64, q0: &[f64], v0: &[f64], dof: usize, lo: f64, hi: f64, horizon: f64) -> Result<Option<Event>, EventsError> {
