@@ -103,3 +103,26 @@ fn beams_with_many_contacts_stay_within_their_bounds() {
         assert!(impacts > 0, "{name}: no impact");
     }
 }
+
+/// `[output] impacts = true` sees an event-driven run's impacts: a step in
+/// which a contact took an impulse is active in it, so `impacts.csv` has
+/// one row per impact of `events.csv`, with its impulse (the mean force
+/// over the step times dt, in the impact analysis's sign: that of `r`) and its
+/// time within the step before the impact's level.
+#[test]
+fn the_impact_analysis_sees_every_event_driven_impact() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{OSC}scheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = 2.0\n[output]\nimpacts = true\n");
+    let (code, err) = run(dir.path(), "imp", &text);
+    assert_eq!(code, Some(0), "{err}");
+    let read = |f: &str| -> Vec<Vec<String>> { std::fs::read_to_string(dir.path().join("imp").join(f)).unwrap().lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect() };
+    let (events, impacts) = (read("events.csv"), read("impacts.csv"));
+    assert!(events.len() > 5, "{} events", events.len());
+    assert_eq!(impacts.len(), events.len(), "one impacts.csv row per impact");
+    for (e, i) in events.iter().zip(&impacts) {
+        let (te, pe): (f64, f64) = (e[0].parse().unwrap(), e[5].parse().unwrap());
+        let (ti, pi): (f64, f64) = (i[1].parse().unwrap(), i[4].parse().unwrap());
+        assert!((pi - pe).abs() <= 1e-9 * pe.abs(), "impulse {pi} against {pe}");
+        assert!(ti <= te + 1e-3 && te - ti <= 2e-3, "impact at {ti} against the event at {te}");
+    }
+}

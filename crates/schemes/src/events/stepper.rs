@@ -5,7 +5,9 @@
 //!
 //! At each level the contact force reported is the mean force over the
 //! step, `λ = −(Σ impulses + ∫ r)/dt` with the held force's integral in
-//! closed form — the same quantity a time-stepping scheme's `λ` estimates.
+//! closed form — the same quantity a time-stepping scheme's `λ` estimates;
+//! a contact is active in a step if it is held at its end or took an
+//! impulse during it.
 
 use super::driven::{EventDriven, EventRecord, MAX_EVENTS};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
@@ -84,9 +86,15 @@ impl Stepper for EventStepper {
         result?;
         self.n += 1;
         let t = self.time();
-        // The impulses into `lams`, then the mean forces.
+        // The impulses into `lams`, then the mean forces. A contact that
+        // took an impulse in the step is active in it, as a time stepper's
+        // contact is in the step that projects it (the vibro-impact
+        // analysis counts an impact per run of active steps).
         self.run.take_impulses_into(&mut self.lams);
-        for l in self.lams.iter_mut() {
+        for (l, a) in self.lams.iter_mut().zip(self.acts.iter_mut()) {
+            if *a == Active::None && *l != 0.0 {
+                *a = if *l > 0.0 { Active::Lower } else { Active::Upper };
+            }
             *l = if *l == 0.0 { 0.0 } else { -*l / self.dt };
         }
         if !self.u.iter().chain(&self.v).all(|x| x.is_finite()) {
