@@ -157,7 +157,7 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
         notes.push(format!("note: mass {m} left out: its contact node is massless, which the event-driven reference does not take"));
     }
     if masses.is_empty() {
-        return Err(StudyError::config("--masses", "--masses: --reference event-driven needs a massive contact node; allowed std, lumped, transfer"));
+        return Err(StudyError::config("--masses", "--masses: --reference event-driven needs a massive contact node; allowed std, lumped"));
     }
     let schemes: Vec<SchemeSpec> = cfg.schemes.iter().copied().filter(|s| s.family().name != "event-driven").collect();
     let mut cases = Vec::new();

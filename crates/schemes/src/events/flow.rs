@@ -44,7 +44,7 @@ pub enum EventsError {
     MassNotDefinite,
     /// A contact dof without mass (a reduced model's or mass
     /// redistribution's contact boundary).
-    #[error("contacts[{contact}]: a massless contact dof is not taken by the event-driven integrator (its statically condensed contact force has no impacts and no held phases to locate); allowed: a massive contact dof (mass = \"std\", \"lumped\" or \"transfer\", no reduce)")]
+    #[error("contacts[{contact}]: a massless contact dof is not taken by the event-driven integrator (its statically condensed contact force has no impacts and no held phases to locate); allowed: a massive contact dof (mass = \"std\" or \"lumped\", no reduce)")]
     Massless {
         /// The contact.
         contact: usize,
