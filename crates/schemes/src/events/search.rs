@@ -156,19 +156,26 @@ impl Search {
                 let b = flow.bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
                 self.bnd[i] = [b[0], b[1], b[2], b[3]];
             }
-            let mut step = h;
+            // The shortest root step and whose, and the shortest step of all.
+            let (mut step, mut root) = (h, f64::INFINITY);
             let mut who = None;
             for (f, func) in fns.iter().enumerate() {
                 match self.safe_step(flow, func, quiet[f], t, eta, deta, h) {
                     Reach::Now => return Ok(Some((t, f))),
                     Reach::Free(s) => step = step.min(s),
                     Reach::Root(s) => {
-                        if s < step {
-                            step = s;
+                        if s < root {
+                            root = s;
                             who = Some(f);
                         }
+                        step = step.min(s);
                     }
                 }
+            }
+            // A root is reached only by a step that goes all the way to it
+            // (a shorter lift-off step of another functional is no event).
+            if step < root {
+                who = None;
             }
             let tol = (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0));
             let last = step >= end - t;
