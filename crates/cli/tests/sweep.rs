@@ -24,11 +24,16 @@ fn scene(dir: &Path) -> PathBuf {
 
 const FILES: [&str; 6] = ["sweep.csv", "summary.csv", "impacts.csv", "sweep.toml", "bifurcation.svg", "impact_map.svg"];
 
-fn sweep(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+/// The tests' oscillator sweep (7 runs) into `out`, with `extra` flags.
+fn sweep_cmd(scene: &Path, out: &Path, extra: &[&str]) -> Command {
     let mut c = bin();
     c.args(["sweep", scene.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.6", "--to", "2.2", "--count", "7", "--transient", "30", "--record", "6", "--out", out.to_str().unwrap()]);
     c.args(extra);
-    c.output().unwrap()
+    c
+}
+
+fn sweep(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    sweep_cmd(scene, out, extra).output().unwrap()
 }
 
 /// Refused as a bad command (exit 2), the message containing `needle`.
@@ -61,27 +66,7 @@ fn shards_merged_are_the_unsharded_sweep_byte_for_byte() {
         .iter()
         .enumerate()
         .map(|(i, d)| {
-            let mut c = bin();
-            c.args([
-                "sweep",
-                sc.to_str().unwrap(),
-                "--param",
-                "forcing.omega",
-                "--from",
-                "1.6",
-                "--to",
-                "2.2",
-                "--count",
-                "7",
-                "--transient",
-                "30",
-                "--record",
-                "6",
-                "--shard",
-                &format!("{i}/3"),
-                "--out",
-                d.to_str().unwrap(),
-            ]);
+            let mut c = sweep_cmd(&sc, d, &["--shard", &format!("{i}/3")]);
             c.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped()).spawn().unwrap()
         })
         .collect();
@@ -274,27 +259,7 @@ fn sigint_keeps_whole_runs_and_resume_completes() {
     let whole = dir.path().join("whole");
     ok(&sweep(&sc, &whole, &["--threads", "1"]));
     let cut = dir.path().join("cut");
-    let mut c = bin();
-    c.args([
-        "sweep",
-        sc.to_str().unwrap(),
-        "--param",
-        "forcing.omega",
-        "--from",
-        "1.6",
-        "--to",
-        "2.2",
-        "--count",
-        "7",
-        "--transient",
-        "30",
-        "--record",
-        "6",
-        "--threads",
-        "1",
-        "--out",
-        cut.to_str().unwrap(),
-    ]);
+    let mut c = sweep_cmd(&sc, &cut, &["--threads", "1"]);
     let child = c.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped()).spawn().unwrap();
     std::thread::sleep(std::time::Duration::from_millis(40));
     // SAFETY: kill(2) with a child's pid.
