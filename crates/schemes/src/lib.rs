@@ -369,6 +369,14 @@ impl Dynamics {
         self
     }
 
+    /// The mechanical energy `½ vᵀ M v + ½ uᵀ K u − Fᵀ u` of the state
+    /// `(u, v)` (the steady load's potential; the schemes that carry their
+    /// own velocity report it).
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        let load: f64 = self.load.iter().zip(u).map(|(f, u)| f * u).sum();
+        0.5 * self.mass.quad_form(v) + 0.5 * self.stiffness.quad_form(u) - load
+    }
+
     /// Number of unknowns.
     pub fn n(&self) -> usize {
         self.mass.n()

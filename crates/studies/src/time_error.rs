@@ -24,6 +24,7 @@
 //! on stdout the least-squares rates of each quantity against dt.
 
 use crate::{fe, int, txt, Kind, StudyError, TableOut};
+use signorini_exact::ExactSolution;
 use signorini_fem::BarMass;
 use signorini_run::study::{self, Level, StudyConfig};
 use signorini_run::{Benchmark, RunConfig};
@@ -71,9 +72,9 @@ fn label(r: &SchemeSpec) -> String {
 }
 
 /// One (scheme, mass, level) in lockstep with its reference.
-pub fn run_case(benchmark: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, degree: usize, ratio: f64, t_end: f64) -> Result<TimeError, StudyError> {
-    let exact = benchmark.exact(t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
-    let problem = benchmark.problem_with_degree(exact.as_ref(), m, mass, degree).map_err(|e| StudyError::Run(e.to_string()))?;
+#[allow(clippy::too_many_arguments)]
+pub fn run_case(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, degree: usize, ratio: f64, t_end: f64) -> Result<TimeError, StudyError> {
+    let problem = benchmark.problem_with_degree(exact, m, mass, degree).map_err(|e| StudyError::Run(e.to_string()))?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let steps = RunConfig::new(dt, t_end).map_err(|e| StudyError::Run(e.to_string()))?.steps();
@@ -168,7 +169,9 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
             }
         }
     }
-    let results = crate::run_cases(&cases, progress, &|&(s, mass, m)| run_case(cfg.benchmark, s, mass, m, cfg.degree, cfg.ratio, cfg.t_end));
+    // The closed form (the problems' initial data and the space error's reference), built once.
+    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+    let results = crate::run_cases(&cases, progress, &|&(s, mass, m)| run_case(cfg.benchmark, exact.as_ref(), s, mass, m, cfg.degree, cfg.ratio, cfg.t_end));
     let results: Vec<TimeError> = results.into_iter().collect::<Result<_, _>>()?;
     crate::create_dir(out)?;
     let mut t = TableOut::create(
@@ -207,7 +210,6 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
     }
     let mut tables = vec![t.finish()?];
     // The space error: each reference against the closed form.
-    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
     let mut refs: Vec<SchemeSpec> = schemes.iter().map(reference_of).collect::<Result<_, _>>()?;
     refs.sort_by_key(label);
     refs.dedup_by(|a, b| label(a) == label(b));

@@ -600,7 +600,7 @@ impl EventDriven {
         let mut out = vec![0.0; self.sites.len()];
         let sys = &self.systems[&self.holds];
         for (j, f) in &sys.forces {
-            out[*j] = f.value(&sys.flow, self.t, &self.eta, &self.deta);
+            out[*j] = f.value(self.t, &self.eta, &self.deta);
         }
         out
     }

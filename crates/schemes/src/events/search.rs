@@ -77,8 +77,7 @@ impl Functional {
     }
 
     /// The value at the modal state.
-    pub fn value(&self, flow: &ModalFlow, t: f64, eta: &[f64], deta: &[f64]) -> f64 {
-        let _ = flow;
+    pub fn value(&self, t: f64, eta: &[f64], deta: &[f64]) -> f64 {
         let mut g = self.wave(t, 0);
         for i in 0..eta.len() {
             g += self.beta[i] * eta[i] + self.alpha(i) * deta[i];

@@ -104,10 +104,7 @@ impl Stepper for EventStepper {
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {
-        let kin = self.dy.mass.quad_form(&self.v);
-        let pot = self.dy.stiffness.quad_form(&self.u);
-        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
-        Some((self.time(), 0.5 * kin + 0.5 * pot - load))
+        Some((self.time(), self.dy.energy(&self.u, &self.v)))
     }
 
     fn state(&self) -> Option<Vec<f64>> {
