@@ -159,6 +159,9 @@ impl Config {
         if let Some(&r) = self.modes.iter().find(|&&r| !(1..=10_000).contains(&r)) {
             return Err(StudyError::config("--modes", format!("--modes {r}: allowed integers in [1, 10000] (levels with fewer interior modes are skipped)")));
         }
+        if self.reference == BeamReference::EventDriven && self.beam_dts.is_empty() {
+            return Err(StudyError::config("--reference", "--reference event-driven: it is the beam rows' reference, and --beam-dts '' asks for none; allowed with beam rows"));
+        }
         let (w, te, rdt) = (self.beam_window, self.beam_t_end, self.beam_ref_dt);
         if !(te > 0.0 && te <= 10.0) {
             return Err(StudyError::config("--beam-t-end", format!("--beam-t-end {te}: allowed in (0, 10] s")));

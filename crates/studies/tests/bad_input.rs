@@ -102,6 +102,7 @@ fn work_precision_refuses_bad_frontier_options() {
         (work_precision::Config { modes: vec![0], ..base.clone() }, "--modes"),
         (work_precision::Config { beam_dts: vec![4e-7], ..base.clone() }, "--beam-dts"),
         (work_precision::Config { beam_dts: vec![0.2], ..base.clone() }, "--beam-dts"),
+        (work_precision::Config { beam_dts: vec![], reference: work_precision::BeamReference::EventDriven, ..base.clone() }, "--reference"),
         (work_precision::Config { beam_dts: vec![f64::NAN], ..base.clone() }, "--beam-dts"),
         (work_precision::Config { beam_window: 2.0, ..base.clone() }, "--beam-window"),
         (work_precision::Config { beam_ref_dt: 1e-9, ..base.clone() }, "--beam-ref-dt"),
