@@ -57,9 +57,25 @@ struct Oracle {
     shape: Vec<f64>,
     amplitude: f64,
     omega: f64,
+    /// A piecewise-linear load `ramp · s(t)`: its shape and points `(t_k, v_k)`
+    /// (interpolated here, end values held outside).
+    ramp: Vec<f64>,
+    points: Vec<(f64, f64)>,
     /// `(dof, lo, hi, e)`.
     contacts: Vec<(usize, f64, f64, f64)>,
     h: f64,
+}
+
+/// `s(t)` of the points: linear between them, the end values held outside.
+fn interpolate(points: &[(f64, f64)], t: f64) -> f64 {
+    match points.iter().position(|p| p.0 > t) {
+        None => points.last().map_or(0.0, |p| p.1),
+        Some(0) => points[0].1,
+        Some(k) => {
+            let ((t0, v0), (t1, v1)) = (points[k - 1], points[k]);
+            v0 + (v1 - v0) * (t - t0) / (t1 - t0)
+        }
+    }
 }
 
 /// The inverse of the dense `a` restricted to the dofs `keep` (Gauss–Jordan
@@ -96,11 +112,18 @@ impl Oracle {
     fn from(dy: &Dynamics, e: &[f64], h: f64) -> Self {
         let n = dy.n();
         let dense = |b: &SymBand| (0..n * n).map(|x| b.get(x / n, x % n)).collect::<Vec<f64>>();
-        let (amplitude, omega, shape) = match dy.forcing.first() {
-            Some(Forcing { shape, time: TimeProfile::Sine { amplitude, omega } }) => (*amplitude, *omega, shape.clone()),
-            None => (0.0, 0.0, vec![0.0; n]),
-            Some(other) => panic!("the oracle takes one Sine forcing: {other:?}"),
-        };
+        let (mut amplitude, mut omega, mut shape) = (0.0, 0.0, vec![0.0; n]);
+        let (mut ramp, mut points) = (vec![0.0; n], Vec::new());
+        for f in &dy.forcing {
+            match f {
+                Forcing { shape: g, time: TimeProfile::Sine { amplitude: a, omega: w } } => (amplitude, omega, shape) = (*a, *w, g.clone()),
+                Forcing { shape: g, time: TimeProfile::Series(s) } => {
+                    ramp = g.clone();
+                    points = s.times().iter().copied().zip(s.values().iter().copied()).collect();
+                }
+                other => panic!("the oracle takes a Sine and a Series forcing: {other:?}"),
+            }
+        }
         Self {
             n,
             m: dense(&dy.mass),
@@ -110,6 +133,8 @@ impl Oracle {
             shape,
             amplitude,
             omega,
+            ramp,
+            points,
             contacts: dy.contacts.iter().zip(e).map(|(c, &e)| (c.dof, c.bounds.lo, c.bounds.hi, e)).collect(),
             h,
         }
@@ -119,9 +144,10 @@ impl Oracle {
     fn residual(&self, t: f64, q: &V, v: &V) -> V {
         let n = self.n;
         let s = self.amplitude * (self.omega * t).sin();
+        let p = interpolate(&self.points, t);
         let mut r = [0.0; N];
         for i in 0..n {
-            let mut x = self.f0[i] + self.shape[i] * s;
+            let mut x = self.f0[i] + self.shape[i] * s + self.ramp[i] * p;
             for j in 0..n {
                 x -= self.c[i * n + j] * v[j] + self.k[i * n + j] * q[j];
             }
@@ -213,7 +239,10 @@ impl Oracle {
         let mut events = Vec::new();
         let mut doubt = Doubt { slowest: f64::INFINITY, closest_graze: f64::INFINITY };
         while t < t_end && events.len() <= MAX_ORACLE_EVENTS {
-            let h = self.h.min(t_end - t);
+            // Steps end at the series' breakpoints (RK4 is of order 4 on
+            // each piece, not across a kink of the load).
+            let kink = self.points.iter().map(|p| p.0).find(|&b| b > t).map_or(f64::INFINITY, |b| b - t);
+            let h = self.h.min(t_end - t).min(kink);
             let minv = held.map_or(&full, |(j, _)| &reduced[j]);
             let (q1, v1) = self.rk4(minv, t, &q, &v, h);
             let g0 = self.watched(held, minv, t, &q, &v);
@@ -385,31 +414,53 @@ proptest! {
     /// the LCP's, tested elsewhere), more than 10 impacts.
     #[test]
     fn random_impacting_chains_match_a_fine_rk4_oracle(case in case()) {
-        let dy = case.dynamics();
-        let e: Vec<f64> = case.contacts.iter().map(|c| c.4).collect();
-        let oracle = Oracle::from(&dy, &e, H);
-        let (want, qo, vo, doubt) = oracle.run(0.0, &case.q0, &case.v0, T_END);
-        prop_assume!(doubt.slowest >= 0.05 && doubt.closest_graze >= 1e-3 && want.len() <= 10);
-        prop_assume!(want.windows(2).all(|w| w[1].t - w[0].t >= 1e-2));
-        let mut run = EventDriven::new(&dy, 0.0, &case.q0, &case.v0, 0.5).unwrap();
-        run.run_until(T_END, 1000).unwrap();
-        let got = run.events();
-        let show = |x: &[Ev]| x.iter().map(|e| format!("{:.12} {:?} {} {:.6}", e.t, e.kind, e.contact, e.before)).collect::<Vec<_>>().join("; ");
-        prop_assert_eq!(got.len(), want.len(), "events {:?}\nagainst the oracle's {}", got, show(&want));
-        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-            prop_assert!(g.kind == w.kind && g.contact == w.contact, "event {}: {:?} against {:?}", i, g, w);
-            prop_assert!((g.t - w.t).abs() <= TOL_T, "event {}: t = {} against {} ({:e})", i, g.t, w.t, g.t - w.t);
-            let vs = w.before.abs().max(1.0);
-            prop_assert!((g.velocity_before - w.before).abs() <= TOL_V * vs, "event {}: v⁻ = {} against {}", i, g.velocity_before, w.before);
-            prop_assert!((g.velocity_after - w.after).abs() <= TOL_V * vs, "event {}: v⁺ = {} against {}", i, g.velocity_after, w.after);
-            prop_assert!(g.velocity_before.signum() != g.velocity_after.signum() || g.velocity_after == 0.0, "event {}: {:?}", i, g);
-        }
-        let (t, q, v) = run.state();
-        prop_assert_eq!(t, T_END);
-        for i in 0..case.n {
-            prop_assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {}: (q, v) = ({}, {}) against ({}, {})", i, q[i], v[i], qo[i], vo[i]);
-        }
+        check_case(&case, case.dynamics())?;
     }
+
+    /// The same with a piecewise-linear load on top (2 to 5 points at
+    /// random times in [0, 5], random values and shape): the event-driven
+    /// run stops at each breakpoint and takes the next piece's ramp, the
+    /// oracle's steps end there.
+    #[test]
+    fn random_chains_under_a_piecewise_linear_load_match_the_oracle(
+        case in case(),
+        ramp in vec(-1.0f64..1.0, N),
+        pts in vec((0.1f64..1.5, -0.6f64..0.6), 2..6),
+    ) {
+        let mut dy = case.dynamics();
+        let mut t = -0.1;
+        let (times, values): (Vec<f64>, Vec<f64>) = pts.iter().map(|&(d, v)| { t += d; (t, v) }).unzip();
+        dy.forcing.push(Forcing { shape: ramp[..case.n].to_vec(), time: TimeProfile::series(times, values).unwrap() });
+        check_case(&case, dy)?;
+    }
+}
+
+/// One random case against the oracle (the proptests above).
+fn check_case(case: &Case, dy: Dynamics) -> Result<(), TestCaseError> {
+    let e: Vec<f64> = case.contacts.iter().map(|c| c.4).collect();
+    let oracle = Oracle::from(&dy, &e, H);
+    let (want, qo, vo, doubt) = oracle.run(0.0, &case.q0, &case.v0, T_END);
+    prop_assume!(doubt.slowest >= 0.05 && doubt.closest_graze >= 1e-3 && want.len() <= 10);
+    prop_assume!(want.windows(2).all(|w| w[1].t - w[0].t >= 1e-2));
+    let mut run = EventDriven::new(&dy, 0.0, &case.q0, &case.v0, 0.5).unwrap();
+    run.run_until(T_END, 1000).unwrap();
+    let got = run.events();
+    let show = |x: &[Ev]| x.iter().map(|e| format!("{:.12} {:?} {} {:.6}", e.t, e.kind, e.contact, e.before)).collect::<Vec<_>>().join("; ");
+    prop_assert_eq!(got.len(), want.len(), "events {:?}\nagainst the oracle's {}", got, show(&want));
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        prop_assert!(g.kind == w.kind && g.contact == w.contact, "event {}: {:?} against {:?}", i, g, w);
+        prop_assert!((g.t - w.t).abs() <= TOL_T, "event {}: t = {} against {} ({:e})", i, g.t, w.t, g.t - w.t);
+        let vs = w.before.abs().max(1.0);
+        prop_assert!((g.velocity_before - w.before).abs() <= TOL_V * vs, "event {}: v⁻ = {} against {}", i, g.velocity_before, w.before);
+        prop_assert!((g.velocity_after - w.after).abs() <= TOL_V * vs, "event {}: v⁺ = {} against {}", i, g.velocity_after, w.after);
+        prop_assert!(g.velocity_before.signum() != g.velocity_after.signum() || g.velocity_after == 0.0, "event {}: {:?}", i, g);
+    }
+    let (t, q, v) = run.state();
+    prop_assert_eq!(t, T_END);
+    for i in 0..case.n {
+        prop_assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {}: (q, v) = ({}, {}) against ({}, {})", i, q[i], v[i], qo[i], vo[i]);
+    }
+    Ok(())
 }
 
 /// The tolerances (absolute; times <= 20, velocities and displacements of
@@ -435,6 +486,40 @@ fn a_held_chain_is_released_when_its_force_computed_from_the_equation_vanishes()
     let c = m.lin_comb(0.02, &k, 0.01);
     let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
         .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
+        .with_damping(Some(c));
+    let (q0, v0) = ([0.0, 0.0, 0.0], [-0.5, 0.2, 0.1]);
+    let t_end = 20.0;
+    let mut run = EventDriven::new(&dy, 0.0, &q0, &v0, 0.0).unwrap();
+    run.run_until(t_end, 100).unwrap();
+    let got = run.events().to_vec();
+    let oracle = Oracle::from(&dy, &[0.0], H);
+    let (want, qo, vo, _) = oracle.run(0.0, &q0, &v0, t_end);
+    assert_eq!(got.len(), want.len(), "{got:?}\nagainst {want:?}");
+    assert!(want.iter().filter(|e| e.kind == EventKind::Release).count() >= 2, "{want:?}");
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(g.kind == w.kind && g.contact == w.contact, "event {i}: {g:?} against {w:?}");
+        assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
+        assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
+        assert_eq!(g.velocity_after, 0.0);
+    }
+    let (_, q, v) = run.state();
+    for i in 0..n {
+        assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {i}: (q, v) = ({}, {}) against ({}, {})", q[i], v[i], qo[i], vo[i]);
+    }
+}
+
+/// The held chain under a piecewise-linear load instead of the harmonic
+/// one: pressed on its stop while the load pushes, released when the
+/// ramp of the current piece brings the contact force to 0 (the force's
+/// ramp term, not only its constant), against the oracle.
+#[test]
+fn a_held_chain_is_released_by_a_ramp_of_a_piecewise_linear_load() {
+    let n = 3;
+    let (m, k) = common::chain_matrices(n, false);
+    let c = m.lin_comb(0.02, &k, 0.01);
+    let series = TimeProfile::series(vec![0.0, 3.0, 8.0, 11.0, 15.5, 20.0], vec![0.0, -0.3, 0.25, -0.2, 0.4, -0.1]).unwrap();
+    let dy = Dynamics::new(m, k, vec![-0.05, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: series }])
         .with_damping(Some(c));
     let (q0, v0) = ([0.0, 0.0, 0.0], [-0.5, 0.2, 0.1]);
     let t_end = 20.0;

@@ -46,7 +46,7 @@
 //! geometric, else at the impact's own time. The state differs from the
 //! chattering one by the order of that speed times the chatter's duration.
 
-use super::flow::{dense, EventsError, Loads, ModalFlow};
+use super::flow::{dense, EventsError, Loads, ModalFlow, Piece};
 use super::search::{Functional, Search};
 use super::Bound;
 use crate::Dynamics;
@@ -137,6 +137,15 @@ struct System {
     forces: Vec<(usize, Functional)>,
 }
 
+impl System {
+    /// The series' loads on `piece` (flow and functionals).
+    fn set_piece(&mut self, piece: &Piece) {
+        self.flow.set_piece(piece);
+        self.fns.iter_mut().for_each(|f| f.set_piece(piece));
+        self.forces.iter_mut().for_each(|(_, f)| f.set_piece(piece));
+    }
+}
+
 /// An event-driven run of a linear structure with unilateral contacts at
 /// massive dofs (module docs).
 pub struct EventDriven {
@@ -145,6 +154,8 @@ pub struct EventDriven {
     c: Option<Mat<f64>>,
     k: Mat<f64>,
     loads: Loads,
+    /// The series' current piece (up to `piece.next`).
+    piece: Piece,
     full: ModalFlow,
     sites: Vec<Site>,
     delassus: MultiProjection,
@@ -204,6 +215,7 @@ impl EventDriven {
             c,
             k,
             loads,
+            piece: Piece::default(),
             full,
             sites,
             delassus,
@@ -266,9 +278,27 @@ impl EventDriven {
     /// one; simultaneous impacts of other contacts are logged too), or to
     /// `t_end` if none comes before (then `None`).
     pub fn next_event(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
-        if t_end <= self.t {
-            return Ok(None);
+        loop {
+            if t_end <= self.t {
+                return Ok(None);
+            }
+            // A series' breakpoint first: the next piece's loads, then on.
+            let stop = t_end.min(self.piece.next);
+            if let Some(event) = self.next_event_on_piece(stop)? {
+                return Ok(Some(event));
+            }
+            if self.t == self.piece.next && stop < t_end {
+                self.loads.piece_into(self.t, &mut self.piece);
+                let sys = self.systems.get_mut(&self.holds).expect("the current phase's system");
+                sys.set_piece(&self.piece);
+            } else {
+                return Ok(None);
+            }
         }
+    }
+
+    /// [`next_event`](Self::next_event) within the current piece of the series (`t_end` at most its end).
+    fn next_event_on_piece(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
         let sys = &self.systems[&self.holds];
         if !sys.forces.is_empty() {
             // The start, for the held forces' integrals.
@@ -295,7 +325,7 @@ impl EventDriven {
                 self.streak.clear();
                 self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
                 let rest: Vec<Hold> = self.holds.iter().copied().filter(|h| h.contact != contact).collect();
-                self.enter(rest, q, v)?;
+                self.enter(rest, q, v, t)?;
             }
         }
         Ok(self.events.get(before).copied())
@@ -450,7 +480,7 @@ impl EventDriven {
         }
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
-        self.enter(holds, q, v)?;
+        self.enter(holds, q, v, t)?;
         self.t = t;
         Ok(())
     }
@@ -466,14 +496,26 @@ impl EventDriven {
         self.full.minv(&rhs)
     }
 
-    /// Switches to the phase of `holds` from the full state (its flow built
-    /// first: on an error nothing changes).
-    fn enter(&mut self, mut holds: Vec<Hold>, q: Vec<f64>, v: Vec<f64>) -> Result<(), EventsError> {
+    /// Switches to the phase of `holds` from the full state at `t` (its
+    /// flow built first: on an error nothing changes).
+    fn enter(&mut self, mut holds: Vec<Hold>, q: Vec<f64>, v: Vec<f64>, t: f64) -> Result<(), EventsError> {
         holds.sort();
+        let mut piece = std::mem::take(&mut self.piece);
+        self.loads.piece_into(t, &mut piece);
         if !self.systems.contains_key(&holds) {
-            let sys = self.build(&holds)?;
+            let built = self.build(&holds, &piece);
+            let sys = match built {
+                Ok(sys) => sys,
+                Err(e) => {
+                    self.piece = piece;
+                    return Err(e);
+                }
+            };
             self.systems.insert(holds.clone(), sys);
+        } else if !self.loads.ramps.is_empty() {
+            self.systems.get_mut(&holds).expect("a cached phase").set_piece(&piece);
         }
+        self.piece = piece;
         self.holds = holds;
         let sys = &self.systems[&self.holds];
         let nf = sys.free.len();
@@ -485,7 +527,7 @@ impl EventDriven {
     }
 
     /// The flow, events and forces of an active set (module docs).
-    fn build(&self, holds: &[Hold]) -> Result<System, EventsError> {
+    fn build(&self, holds: &[Hold], piece: &Piece) -> Result<System, EventsError> {
         let n = self.n;
         let held: Vec<(usize, f64)> = holds
             .iter()
@@ -505,7 +547,8 @@ impl EventDriven {
             }
         }
         let waves = self.loads.waves.iter().map(|(g, a, w, p)| (free.iter().map(|&d| g[d]).collect(), *a, *w, *p)).collect();
-        let loads = Loads { constant, waves };
+        let ramps = self.loads.ramps.iter().map(|(h, s, index)| (free.iter().map(|&d| h[d]).collect(), s.clone(), *index)).collect();
+        let loads = Loads { constant, waves, ramps };
         let flow = ModalFlow::from_parts(sub(&self.m), sub(&self.k), self.c.as_ref().map(sub), &loads)?;
         let row = |d: usize| -> Vec<f64> {
             let p = free.iter().position(|&x| x == d).expect("a free dof");
@@ -531,7 +574,7 @@ impl EventDriven {
         for h in holds {
             let a = self.sites[h.contact].dof;
             // r_a = Σ_i β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j).
-            let mut f = Functional { beta: vec![0.0; nf], alpha: vec![0.0; nf], constant: 0.0, waves: Vec::new() };
+            let mut f = Functional { beta: vec![0.0; nf], alpha: vec![0.0; nf], ramps: vec![0.0; self.loads.ramps.len()], ..Functional::default() };
             // M_af φ_i, C_af φ_i, K_af φ_i.
             for i in 0..nf {
                 let (mut mp, mut cp, mut kp) = (0.0, 0.0, 0.0);
@@ -544,6 +587,9 @@ impl EventDriven {
                 f.beta[i] = kp - flow.k[i] * mp;
                 f.alpha[i] = cp - flow.c[i] * mp;
                 f.constant += mp * flow.g0[i];
+                for (l, h) in flow.ramp_modal.iter().enumerate() {
+                    f.ramps[l] += mp * h[i];
+                }
                 for (j, hm) in flow.harmonics.iter().enumerate() {
                     if f.waves.len() <= j {
                         f.waves.push((0.0, hm.omega, hm.phase));
@@ -561,12 +607,17 @@ impl EventDriven {
                 }
                 f.waves[j].0 -= g[a] * amp;
             }
+            for (l, (h, _, _)) in self.loads.ramps.iter().enumerate() {
+                f.ramps[l] -= h[a];
+            }
             forces.push((h.contact, f.clone()));
             fns.push(if h.upper { f.negated() } else { f });
             quiet.push(true);
             watch.push(Watch::Release { contact: h.contact });
         }
-        Ok(System { flow, free, held, fns, quiet, watch, forces })
+        let mut sys = System { flow, free, held, fns, quiet, watch, forces };
+        sys.set_piece(piece);
+        Ok(sys)
     }
 
     /// The time and state `(t, q, v)`.

@@ -30,9 +30,18 @@
 //! each derivative over a window ([`ModalFlow::bounds`]). Both follow from
 //! the scalar equation: `e^{(m)} = −c e^{(m−1)} − k e^{(m−2)}`, and the
 //! particular solutions' derivatives in closed form.
+//!
+//! **Piecewise-linear loads.** A load `g s(t)` with `s` a piecewise-linear
+//! series is, on each piece, a constant plus a ramp: `a + b (t − t_p)`. Its
+//! particular solution is exact on the piece (`k > 0`: `(a + b τ)/k −
+//! c b/k²`; `k = 0`: the integrals of the load, vanishing at the interval's
+//! start), and the flow is set to each piece in turn
+//! ([`ModalFlow::set_piece`]): [`super::EventDriven`] stops its searches at
+//! the series' breakpoints, where only the slope changes (the load is
+//! continuous, so is the state).
 
 use super::Bound;
-use crate::{Dynamics, TimeProfile};
+use crate::{Dynamics, Series, TimeProfile};
 use faer::{Mat, Side};
 
 /// Why a problem has no exact event-driven solution here.
@@ -58,7 +67,7 @@ pub enum EventsError {
         diag: f64,
     },
     /// A load profile without a closed-form particular solution here.
-    #[error("forcing[{index}]: a piecewise-linear series has no closed-form particular solution in the event-driven integrator yet; allowed: constant loads, sine or harmonics (a band-limited random load is its harmonic sum)")]
+    #[error("forcing[{index}]: a piecewise-linear series is taken piece by piece by the event-driven run (EventDriven, EventStepper), not by one ModalFlow; allowed here: constant loads, sine or harmonics")]
     Profile {
         /// The forcing term.
         index: usize,
@@ -111,12 +120,24 @@ pub enum EventsError {
 /// Orders of a mode's jet: `η, η', …, η⁽⁵⁾`.
 pub(crate) const JET: usize = 6;
 
-/// A load on the full problem: `F₀ + Σ_j g_j a_j sin(Ω_j t + p_j)`.
+/// A load on the full problem: `F₀ + Σ_j g_j a_j sin(Ω_j t + p_j) + Σ_l h_l s_l(t)`.
 #[derive(Clone, Debug)]
 pub(crate) struct Loads {
     pub constant: Vec<f64>,
     /// `(g_j, a_j, Ω_j, p_j)`, Ω_j ≠ 0.
     pub waves: Vec<(Vec<f64>, f64, f64, f64)>,
+    /// `(h_l, s_l)`: piecewise-linear series (with the index of their forcing term).
+    pub ramps: Vec<(Vec<f64>, Series, usize)>,
+}
+
+/// The piece of every series at a time: `s_l(t) = values_l + slopes_l (t − t_p)`
+/// up to `next` (the first breakpoint after `t_p`).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Piece {
+    pub t_p: f64,
+    pub values: Vec<f64>,
+    pub slopes: Vec<f64>,
+    pub next: f64,
 }
 
 impl Loads {
@@ -125,6 +146,7 @@ impl Loads {
     pub fn of(dy: &Dynamics) -> Result<Self, EventsError> {
         let mut constant = dy.load.clone();
         let mut waves = Vec::new();
+        let mut ramps = Vec::new();
         for (index, f) in dy.forcing.iter().enumerate() {
             match &f.time {
                 &TimeProfile::Sine { amplitude, omega } => waves.push((f.shape.clone(), amplitude, omega, 0.0)),
@@ -138,15 +160,36 @@ impl Loads {
                         }
                     }
                 }
-                TimeProfile::Series(_) => return Err(EventsError::Profile { index }),
+                TimeProfile::Series(s) => ramps.push((f.shape.clone(), s.clone(), index)),
             }
         }
-        Ok(Self { constant, waves })
+        Ok(Self { constant, waves, ramps })
     }
 
     /// `F(t)_r`.
     pub fn value(&self, r: usize, t: f64) -> f64 {
-        self.constant[r] + self.waves.iter().map(|(g, a, w, p)| g[r] * a * (w * t + p).sin()).sum::<f64>()
+        self.constant[r] + self.waves.iter().map(|(g, a, w, p)| g[r] * a * (w * t + p).sin()).sum::<f64>() + self.ramps.iter().map(|(h, s, _)| h[r] * s.value(t)).sum::<f64>()
+    }
+
+    /// The piece of every series at `t` (right-continuous: at a breakpoint,
+    /// the piece that starts there), into `out`.
+    pub fn piece_into(&self, t: f64, out: &mut Piece) {
+        out.t_p = t;
+        out.next = f64::INFINITY;
+        out.values.clear();
+        out.slopes.clear();
+        for (_, s, _) in &self.ramps {
+            let (tk, vk) = (s.times(), s.values());
+            let k = tk.len();
+            // Points <= t: 0 before the data, k after it (end values held).
+            let n = tk.partition_point(|&x| x <= t);
+            let slope = if n == 0 || n == k { 0.0 } else { (vk[n] - vk[n - 1]) / (tk[n] - tk[n - 1]) };
+            out.values.push(s.value(t));
+            out.slopes.push(slope);
+            if n < k {
+                out.next = out.next.min(tk[n]);
+            }
+        }
     }
 }
 
@@ -174,6 +217,13 @@ pub struct ModalFlow {
     /// The steady load in modal coordinates.
     pub(crate) g0: Vec<f64>,
     pub(crate) harmonics: Vec<Harmonic>,
+    /// Each series' load shape in modal coordinates.
+    pub(crate) ramp_modal: Vec<Vec<f64>>,
+    /// The constant and ramp loads on the current piece:
+    /// `ga_i + gb_i (t − tp)` (`g0` and 0 without series).
+    ga: Vec<f64>,
+    gb: Vec<f64>,
+    tp: f64,
 }
 
 pub(crate) fn dense(a: &signorini_fem::SymBand) -> Mat<f64> {
@@ -200,9 +250,14 @@ fn resonant(k: f64, c: f64, w: f64) -> bool {
 
 impl ModalFlow {
     /// The flow of `dy`'s free motion (its contacts ignored): `M` positive
-    /// definite, `C` classical, each forcing profile a sine or a sum of harmonics.
+    /// definite, `C` classical, each forcing profile a sine or a sum of
+    /// harmonics (a piecewise-linear series is [`super::EventDriven`]'s:
+    /// [`EventsError::Profile`] here).
     pub fn new(dy: &Dynamics) -> Result<Self, EventsError> {
         let loads = Loads::of(dy)?;
+        if let Some((_, _, index)) = loads.ramps.first() {
+            return Err(EventsError::Profile { index: *index });
+        }
         Self::from_parts(dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense), &loads)
     }
 
@@ -210,7 +265,8 @@ impl ModalFlow {
     pub(crate) fn from_parts(m: Mat<f64>, k: Mat<f64>, c: Option<Mat<f64>>, loads: &Loads) -> Result<Self, EventsError> {
         let n = m.nrows();
         if n == 0 {
-            return Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: vec![], c: vec![], g0: vec![], harmonics: vec![] });
+            let ramp_modal = vec![Vec::new(); loads.ramps.len()];
+            return Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: vec![], c: vec![], g0: vec![], harmonics: vec![], ramp_modal, ga: vec![], gb: vec![], tp: 0.0 });
         }
         let llt = m.llt(Side::Lower).map_err(|_| EventsError::MassNotDefinite)?;
         let l = llt.L().to_owned();
@@ -241,7 +297,30 @@ impl ModalFlow {
         let project = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| (0..n).map(|r| phi[(r, i)] * g[r]).sum()).collect() };
         let g0 = project(&loads.constant);
         let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic { modal: project(g), amplitude: *a, omega: *w, phase: *p }).collect();
-        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics })
+        let ramp_modal = loads.ramps.iter().map(|(h, _, _)| project(h)).collect();
+        let (ga, gb) = (g0.clone(), vec![0.0; n]);
+        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics, ramp_modal, ga, gb, tp: 0.0 })
+    }
+
+    /// Sets the series' loads to their piece `piece` (module docs): the
+    /// flow is exact up to `piece.next`.
+    pub(crate) fn set_piece(&mut self, piece: &Piece) {
+        self.tp = piece.t_p;
+        for i in 0..self.n {
+            let (mut a, mut b) = (self.g0[i], 0.0);
+            for (l, h) in self.ramp_modal.iter().enumerate() {
+                a += h[i] * piece.values[l];
+                b += h[i] * piece.slopes[l];
+            }
+            (self.ga[i], self.gb[i]) = (a, b);
+        }
+    }
+
+    /// Mode `i`'s constant and ramp load at `t_ref`: `a + b (t − t_ref)`.
+    #[inline]
+    fn steady(&self, i: usize, t_ref: f64) -> (f64, f64) {
+        let b = self.gb[i];
+        (if b == 0.0 { self.ga[i] } else { self.ga[i] + b * (t_ref - self.tp) }, b)
     }
 
     /// The number of modes.
@@ -289,7 +368,7 @@ impl ModalFlow {
     /// since `t_ref`, not to the time elapsed since 0.
     fn particular_jet(&self, i: usize, t: f64, t_ref: f64, tr: &[(f64, f64)]) -> [f64; JET] {
         let (k, c) = (self.k[i], self.c[i]);
-        let g0 = self.g0[i];
+        let (g0, b) = self.steady(i, t_ref);
         let mut p = [0.0; JET];
         let st = t - t_ref;
         if k > 0.0 {
@@ -298,6 +377,22 @@ impl ModalFlow {
             (p[0], p[1]) = (g0 * st / c, g0 / c);
         } else {
             (p[0], p[1], p[2]) = (0.5 * g0 * st * st, g0 * st, g0);
+        }
+        if b != 0.0 {
+            // The ramp b (t − t_ref): k > 0, b τ/k − c b/k²; k = 0 < c,
+            // −b τ/c² + b τ²/(2c); k = c = 0, b τ³/6.
+            if k > 0.0 {
+                (p[0], p[1]) = (p[0] + b * st / k - c * b / (k * k), p[1] + b / k);
+            } else if c > 0.0 {
+                p[0] += -b * st / (c * c) + 0.5 * b * st * st / c;
+                p[1] += -b / (c * c) + b * st / c;
+                p[2] += b / c;
+            } else {
+                p[0] += b * st * st * st / 6.0;
+                p[1] += 0.5 * b * st * st;
+                p[2] += b * st;
+                p[3] += b;
+            }
         }
         for (h, &(s, co)) in self.harmonics.iter().zip(tr) {
             let g = h.modal[i] * h.amplitude;
@@ -341,9 +436,10 @@ impl ModalFlow {
 
     /// Bounds of `|P⁽ᵐ⁾|` (orders `0..=JET`) over `[t0, t0 + h]`, `P` the
     /// particular solution with `t_ref = t0`.
-    fn particular_bounds(&self, i: usize, h: f64) -> [f64; JET + 1] {
+    fn particular_bounds(&self, i: usize, t0: f64, h: f64) -> [f64; JET + 1] {
         let (k, c) = (self.k[i], self.c[i]);
-        let g0 = self.g0[i].abs();
+        let (g0, r) = self.steady(i, t0);
+        let (g0, r) = (g0.abs(), r.abs());
         let tt = h;
         let mut b = [0.0; JET + 1];
         if k > 0.0 {
@@ -352,6 +448,21 @@ impl ModalFlow {
             (b[0], b[1]) = (g0 * tt / c, g0 / c);
         } else {
             (b[0], b[1], b[2]) = (0.5 * g0 * tt * tt, g0 * tt, g0);
+        }
+        if r != 0.0 {
+            if k > 0.0 {
+                b[0] += r * tt / k + c * r / (k * k);
+                b[1] += r / k;
+            } else if c > 0.0 {
+                b[0] += r * tt / (c * c) + 0.5 * r * tt * tt / c;
+                b[1] += r / (c * c) + r * tt / c;
+                b[2] += r / c;
+            } else {
+                b[0] += r * tt * tt * tt / 6.0;
+                b[1] += 0.5 * r * tt * tt;
+                b[2] += r * tt;
+                b[3] += r;
+            }
         }
         for hm in &self.harmonics {
             let g = (hm.modal[i] * hm.amplitude).abs();
@@ -426,7 +537,7 @@ impl ModalFlow {
         for m in 2..=JET {
             d[m] = c * d[m - 1] + k * d[m - 2];
         }
-        let p = self.particular_bounds(i, h);
+        let p = self.particular_bounds(i, t, h);
         for m in 0..=JET {
             // Round-off of the bound itself.
             d[m] = (d[m] + p[m]) * (1.0 + 1e-12);
@@ -464,7 +575,8 @@ impl ModalFlow {
 
     /// `∫ η_i` over `[t0, t0 + tau]`, mode `i` from `(η, η')` at `t0` to `(η₁, η₁')`.
     pub(crate) fn integral(&self, i: usize, t0: f64, (eta, deta): (f64, f64), (eta1, deta1): (f64, f64), tau: f64, tr: &[Vec<(f64, f64)>; 2]) -> f64 {
-        let (k, c, g0) = (self.k[i], self.c[i], self.g0[i]);
+        let (k, c) = (self.k[i], self.c[i]);
+        let (g0, b) = self.steady(i, t0);
         let t1 = t0 + tau;
         let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
         let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
@@ -483,6 +595,15 @@ impl ModalFlow {
         } else {
             g0 * tau * tau * tau / 6.0
         };
+        if b != 0.0 {
+            s += if k > 0.0 {
+                b * tau * tau / (2.0 * k) - c * b * tau / (k * k)
+            } else if c > 0.0 {
+                -b * tau * tau / (2.0 * c * c) + b * tau * tau * tau / (6.0 * c)
+            } else {
+                b * tau * tau * tau * tau / 24.0
+            };
+        }
         for h in &self.harmonics {
             let g = h.modal[i] * h.amplitude;
             if g == 0.0 {

@@ -7,7 +7,8 @@
 //! decomposition of the pencil `(K, M)` with classical damping (Rayleigh
 //! `C = a M + b K` among them), and the exact particular solution of each
 //! load term (a constant, sums of harmonics `A sin(Ω t + p)`, the resonant
-//! case included).
+//! case included; a piecewise-linear series is a constant plus a ramp on
+//! each piece, which [`EventDriven`] takes piece by piece).
 //!
 //! A mass-spring pair `m q'' + k q = 0` released from `q = 1` is `cos(t)`:
 //!
@@ -37,7 +38,7 @@
 //! scheme: the same run sampled at the output times.
 //!
 //! *Not here*: massless contact dofs (refused), non-classical damping
-//! (refused), piecewise-linear load series (refused).
+//! (refused).
 
 mod driven;
 mod flow;

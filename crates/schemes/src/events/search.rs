@@ -5,8 +5,11 @@
 //! flow, a [`Functional`] of the modal state:
 //!
 //! ```text
-//! g(t) = Σ_i β_i η_i(t) + α_i η_i'(t) + c₀ + Σ_j c_j sin(Ω_j t + p_j).
+//! g(t) = Σ_i β_i η_i(t) + α_i η_i'(t) + c₀ + c₁ (t − t_p) + Σ_j c_j sin(Ω_j t + p_j)
 //! ```
+//!
+//! (`c₀ + c₁ (t − t_p)`: the constant and, with piecewise-linear loads, the
+//! ramp of the current piece; [`Functional::set_piece`]).
 //!
 //! [`Search::first_zero`] advances the flow by steps that cannot cross a
 //! zero of any of them. From a time where `g > 0`, split the modes at an
@@ -26,17 +29,22 @@
 //! is an event now; `d > 0` gives the safe lift-off step `τ < (m + 1) d / B`
 //! from `g(τ) >= d τᵐ/m! − B τᵐ⁺¹/(m + 1)!` (`B` bounding `|g⁽ᵐ⁺¹⁾|`).
 
-use super::flow::{EventsError, ModalFlow, JET};
+use super::flow::{EventsError, ModalFlow, Piece, JET};
 
-/// `g(t) = Σ β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j)` (module docs).
+/// `g(t) = Σ β_i η_i + α_i η_i' + c₀ + c₁ (t − t_p) + Σ_j c_j sin(Ω_j t + p_j)` (module docs).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Functional {
     pub beta: Vec<f64>,
     /// Empty: no `η'` terms.
     pub alpha: Vec<f64>,
+    /// `c₀` without the series (`c₀` is `constant` plus the series' values).
     pub constant: f64,
     /// `(c_j, Ω_j, p_j)`.
     pub waves: Vec<(f64, f64, f64)>,
+    /// The coefficient of each piecewise-linear series `s_l(t)`.
+    pub ramps: Vec<f64>,
+    /// `c₀` and `c₁` on the current piece, and `t_p`.
+    pub now: (f64, f64, f64),
 }
 
 /// Orders of a functional's jet.
@@ -45,7 +53,7 @@ const GJET: usize = JET - 1;
 impl Functional {
     /// `Σ β_i η_i + c₀`.
     pub fn new(beta: Vec<f64>, constant: f64) -> Self {
-        Self { beta, alpha: Vec::new(), constant, waves: Vec::new() }
+        Self { beta, alpha: Vec::new(), constant, waves: Vec::new(), ramps: Vec::new(), now: (constant, 0.0, 0.0) }
     }
 
     /// `−g`.
@@ -54,7 +62,31 @@ impl Functional {
         self.alpha.iter_mut().for_each(|x| *x = -*x);
         self.constant = -self.constant;
         self.waves.iter_mut().for_each(|w| w.0 = -w.0);
+        self.ramps.iter_mut().for_each(|x| *x = -*x);
+        self.now = (-self.now.0, -self.now.1, self.now.2);
         self
+    }
+
+    /// The series on `piece`: `c₀ = constant + Σ_l r_l s_l(t_p)`,
+    /// `c₁ = Σ_l r_l s_l'` (also to be called once without series, after
+    /// `constant` is set).
+    pub fn set_piece(&mut self, piece: &Piece) {
+        let (mut c0, mut c1) = (self.constant, 0.0);
+        for (l, r) in self.ramps.iter().enumerate() {
+            c0 += r * piece.values[l];
+            c1 += r * piece.slopes[l];
+        }
+        self.now = (c0, c1, piece.t_p);
+    }
+
+    /// `|c₀ + c₁ (t − t_p)|` (a round-off scale).
+    fn constant_abs(&self, t: f64) -> f64 {
+        let (c0, c1, tp) = self.now;
+        if c1 == 0.0 {
+            c0.abs()
+        } else {
+            (c0 + c1 * (t - tp)).abs()
+        }
     }
 
     fn alpha(&self, i: usize) -> f64 {
@@ -63,7 +95,13 @@ impl Functional {
 
     /// The load part's derivative of order `m` at `t`.
     fn wave(&self, t: f64, m: usize) -> f64 {
-        let mut s = if m == 0 { self.constant } else { 0.0 };
+        let (c0, c1, tp) = self.now;
+        let mut s = match m {
+            0 if c1 == 0.0 => c0,
+            0 => c0 + c1 * (t - tp),
+            1 => c1,
+            _ => 0.0,
+        };
         for &(c, w, p) in &self.waves {
             let th = w * t + p + m as f64 * std::f64::consts::FRAC_PI_2;
             s += c * w.powi(m as i32) * th.sin();
@@ -71,9 +109,11 @@ impl Functional {
         s
     }
 
-    /// A bound of the load part's derivative of order `m` (`m >= 1`; all times).
+    /// A bound of the load part's derivative of order `m` (`m >= 1`; all
+    /// times of the piece; `m = 0`: the waves' alone).
     fn wave_bound(&self, m: usize) -> f64 {
-        self.waves.iter().map(|&(c, w, _)| c.abs() * w.abs().powi(m as i32)).sum()
+        let ramp = if m == 1 { self.now.1.abs() } else { 0.0 };
+        ramp + self.waves.iter().map(|&(c, w, _)| c.abs() * w.abs().powi(m as i32)).sum::<f64>()
     }
 
     /// The value at the modal state.
@@ -91,7 +131,11 @@ impl Functional {
         let mut tr = [Vec::new(), Vec::new()];
         flow.trig(t0, &mut tr[0]);
         flow.trig(t1, &mut tr[1]);
-        let mut s = self.constant * tau;
+        let (c0, c1, tp) = self.now;
+        let mut s = c0 * tau;
+        if c1 != 0.0 {
+            s += c1 * tau * ((t0 - tp) + 0.5 * tau);
+        }
         for &(c, w, p) in &self.waves {
             s += c * ((w * t0 + p).cos() - (w * t1 + p).cos()) / w;
         }
@@ -203,7 +247,7 @@ impl Search {
         self.suffix[n] = 0.0;
         let mut g = lv;
         // The size of the terms of g: its round-off is 1e-16 of it.
-        let mut scale = f.constant.abs() + f.wave_bound(0);
+        let mut scale = f.constant_abs(t) + f.wave_bound(0);
         for i in (0..n).rev() {
             let (b, a) = (f.beta[i], f.alpha(i));
             let amp = b.abs() * self.bnd[i][0] + a.abs() * self.bnd[i][1];
@@ -252,10 +296,10 @@ impl Search {
         let mut gb = [0.0; GJET + 1];
         for (m, x) in gj.iter_mut().enumerate() {
             *x = f.wave(t, m);
-            gs[m] = x.abs() + if m == 0 { f.constant.abs() } else { 0.0 };
+            gs[m] = x.abs() + if m == 0 { f.constant_abs(t) } else { 0.0 };
         }
         for (m, x) in gb.iter_mut().enumerate() {
-            *x = if m == 0 { f.constant.abs() + f.wave_bound(0) } else { f.wave_bound(m) };
+            *x = if m == 0 { f.constant_abs(t) + f.now.1.abs() * h + f.wave_bound(0) } else { f.wave_bound(m) };
         }
         for i in 0..eta.len() {
             let (b, a) = (f.beta[i], f.alpha(i));
