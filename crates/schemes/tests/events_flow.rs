@@ -183,6 +183,47 @@ proptest! {
     }
 }
 
+/// A chain with a damper at one dof and one between two dofs (no modes of
+/// `(K, M)` diagonalise it: the first-order form), loaded and forced,
+/// against the exponential at random start times and horizons.
+fn nonclassical(mut dy: Dynamics, at: usize, d: f64, link: f64) -> Dynamics {
+    let n = dy.n();
+    let mut c = dy.mass.lin_comb(0.01, &dy.stiffness, 0.005);
+    c.set(at, at, c.get(at, at) + d);
+    let j = (at + 1) % n;
+    let (lo, hi) = (at.min(j), at.max(j));
+    if lo != hi && hi - lo <= 1 {
+        c.set(lo, lo, c.get(lo, lo) + link);
+        c.set(hi, hi, c.get(hi, hi) + link);
+        c.set(hi, lo, c.get(hi, lo) - link);
+    }
+    dy.damping = Some(c);
+    dy
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn nonclassical_damping_is_the_matrix_exponential(t0 in 0.0f64..20.0, tau in 0.01f64..6.0, at in 0usize..5, d in 0.05f64..3.0, link in 0.0f64..1.0, free: bool) {
+        let dy = nonclassical(forced(chain(5, free)), at, d, link);
+        let flow = ModalFlow::new(&dy).unwrap();
+        prop_assert!(!flow.classical());
+        check(&dy, t0, tau, 1e-10);
+    }
+}
+
+/// Stiffness-proportional damping overdamps the high modes: `e^{−ατ} cosh(βτ)`
+/// with `βτ` beyond 710 overflowed to NaN before it was evaluated as a sum
+/// of decaying exponentials.
+#[test]
+fn heavily_overdamped_modes_stay_finite() {
+    let mut dy = forced(chain(5, false));
+    dy.damping = Some(dy.mass.lin_comb(0.0, &dy.stiffness, 40.0));
+    for tau in [0.5, 6.0, 40.0] {
+        check(&dy, 0.7, tau, 1e-10);
+    }
+}
+
 /// Resonance: an undamped mode driven at its own frequency (the secular
 /// solution), against the exponential.
 #[test]
@@ -212,11 +253,21 @@ fn refusals_are_typed() {
     dy.mass.set(0, 0, 0.0);
     dy.mass.set(1, 0, 0.0);
     assert!(matches!(ModalFlow::new(&dy), Err(EventsError::MassNotDefinite)));
-    let mut dy = chain(3, false);
-    let mut c = SymBand::zeros(3, 1);
-    c.set(0, 0, 1.0);
+    // Two equal modes (K = M = I) and C with eigenvalues 2 and 3: the
+    // first one critically damped, a defective eigenvalue −1 of the
+    // first-order form (C's off-diagonal makes the identity modes see it as
+    // non-classical).
+    let (mut m, mut k, mut c) = (SymBand::zeros(2, 1), SymBand::zeros(2, 1), SymBand::zeros(2, 1));
+    for i in 0..2 {
+        m.set(i, i, 1.0);
+        k.set(i, i, 1.0);
+        c.set(i, i, 2.5);
+    }
+    c.set(1, 0, 0.5);
+    let mut dy = Dynamics::new(m, k, vec![0.0; 2], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     dy.damping = Some(c);
-    assert!(matches!(ModalFlow::new(&dy), Err(EventsError::NotClassical { .. })));
+    let r = ModalFlow::new(&dy);
+    assert!(matches!(r, Err(EventsError::Defective { .. })), "{r:?}");
     let mut dy = chain(3, false);
     dy.forcing = vec![Forcing { shape: vec![1.0; 3], time: TimeProfile::series(vec![0.0, 1.0], vec![0.0, 1.0]).unwrap() }];
     assert!(matches!(ModalFlow::new(&dy), Err(EventsError::Profile { index: 0 })));

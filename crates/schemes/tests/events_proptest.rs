@@ -433,6 +433,20 @@ proptest! {
         dy.forcing.push(Forcing { shape: ramp[..case.n].to_vec(), time: TimeProfile::series(times, values).unwrap() });
         check_case(&case, dy)?;
     }
+
+    /// With a dashpot at one dof on top of the case's damping (no modes of
+    /// `(K, M)` diagonalise `C`: the first-order form, also for the held
+    /// phases' reduced systems).
+    #[test]
+    fn random_chains_with_a_nonclassical_damper_match_the_oracle(case in case(), at in 0usize..N, d in 0.05f64..1.0) {
+        let mut dy = case.dynamics();
+        let at = at % case.n;
+        prop_assume!(case.n >= 2);
+        let mut c = dy.damping.take().unwrap_or_else(|| SymBand::zeros(case.n, 1));
+        c.set(at, at, c.get(at, at) + d);
+        dy.damping = Some(c);
+        check_case(&case, dy)?;
+    }
 }
 
 /// One random case against the oracle (the proptests above).
@@ -535,6 +549,38 @@ fn a_held_chain_is_released_by_a_ramp_of_a_piecewise_linear_load() {
         assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
         assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
         assert_eq!(g.velocity_after, 0.0);
+    }
+    let (_, q, v) = run.state();
+    for i in 0..n {
+        assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {i}: (q, v) = ({}, {}) against ({}, {})", q[i], v[i], qo[i], vo[i]);
+    }
+}
+
+/// The held chain with a dashpot on its second mass (non-classical damping:
+/// the held phase's reduced system too) and zero restitution on a stop that
+/// it lands on and leaves several times, against the oracle.
+#[test]
+fn a_held_chain_with_a_dashpot_is_released_when_its_force_vanishes() {
+    let n = 3;
+    let (m, k) = common::chain_matrices(n, false);
+    let mut c = m.lin_comb(0.02, &k, 0.01);
+    c.set(1, 1, c.get(1, 1) + 0.4);
+    let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
+        .with_damping(Some(c));
+    let (q0, v0) = ([0.0, 0.0, 0.0], [-0.5, 0.2, 0.1]);
+    let t_end = 20.0;
+    let mut run = EventDriven::new(&dy, 0.0, &q0, &v0, 0.0).unwrap();
+    run.run_until(t_end, 100).unwrap();
+    let got = run.events().to_vec();
+    let oracle = Oracle::from(&dy, &[0.0], H);
+    let (want, qo, vo, _) = oracle.run(0.0, &q0, &v0, t_end);
+    assert_eq!(got.len(), want.len(), "{got:?}\nagainst {want:?}");
+    assert!(want.iter().filter(|e| e.kind == EventKind::Release).count() >= 2, "{want:?}");
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(g.kind == w.kind && g.contact == w.contact, "event {i}: {g:?} against {w:?}");
+        assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
+        assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
     }
     let (_, q, v) = run.state();
     for i in 0..n {

@@ -346,15 +346,7 @@ impl EventDriven {
     pub fn state_into(&self, q: &mut [f64], v: &mut [f64]) {
         assert!(q.len() == self.n && v.len() == self.n, "state slices of {} entries", self.n);
         let sys = &self.systems[&self.holds];
-        let phi = &sys.flow.phi;
-        for (r, &d) in sys.free.iter().enumerate() {
-            let (mut a, mut b) = (0.0, 0.0);
-            for i in 0..self.eta.len() {
-                a += phi[(r, i)] * self.eta[i];
-                b += phi[(r, i)] * self.deta[i];
-            }
-            (q[d], v[d]) = (a, b);
-        }
+        sys.flow.physical_into(self.t, &self.eta, &self.deta, &sys.free, q, v);
         for &(d, x) in &sys.held {
             (q[d], v[d]) = (x, 0.0);
         }
@@ -522,7 +514,7 @@ impl EventDriven {
         let qf: Vec<f64> = sys.free.iter().map(|&d| q[d]).collect();
         let vf: Vec<f64> = sys.free.iter().map(|&d| v[d]).collect();
         (self.eta, self.deta) = (vec![0.0; nf], vec![0.0; nf]);
-        sys.flow.to_modal(&qf, &vf, &mut self.eta, &mut self.deta);
+        sys.flow.to_modal(t, &qf, &vf, &mut self.eta, &mut self.deta);
         Ok(())
     }
 
@@ -554,24 +546,45 @@ impl EventDriven {
             let p = free.iter().position(|&x| x == d).expect("a free dof");
             (0..nf).map(|i| flow.phi[(p, i)]).collect()
         };
+        // The contact dof's position as a functional of the modal state.
+        let position = |d: usize, bound: f64| -> Functional {
+            if flow.classical() {
+                return Functional::new(row(d), -bound);
+            }
+            let p = free.iter().position(|&x| x == d).expect("a free dof");
+            let mut unit = vec![0.0; nf];
+            unit[p] = 1.0;
+            let mut f = flow.linear(&unit, &vec![0.0; nf]);
+            f.constant -= bound;
+            f
+        };
         let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
         for (j, s) in self.sites.iter().enumerate() {
             if holds.iter().any(|h| h.contact == j) {
                 continue;
             }
             if s.lo.is_finite() {
-                fns.push(Functional::new(row(s.dof), -s.lo));
+                fns.push(position(s.dof, s.lo));
                 quiet.push(false);
                 watch.push(Watch::Gap { contact: j, bound: Bound::Lower });
             }
             if s.hi.is_finite() {
-                fns.push(Functional::new(row(s.dof), -s.hi).negated());
+                fns.push(position(s.dof, s.hi).negated());
                 quiet.push(false);
                 watch.push(Watch::Gap { contact: j, bound: Bound::Upper });
             }
         }
         let mut forces = Vec::new();
-        for h in holds {
+        if !flow.classical() {
+            for h in holds {
+                let f = self.general_force(&flow, &free, &held, self.sites[h.contact].dof);
+                forces.push((h.contact, f.clone()));
+                fns.push(if h.upper { f.negated() } else { f });
+                quiet.push(true);
+                watch.push(Watch::Release { contact: h.contact });
+            }
+        }
+        for h in holds.iter().filter(|_| flow.classical()) {
             let a = self.sites[h.contact].dof;
             // r_a = Σ_i β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j).
             let mut f = Functional { beta: vec![0.0; nf], alpha: vec![0.0; nf], ramps: vec![0.0; self.loads.ramps.len()], ..Functional::default() };
@@ -618,6 +631,40 @@ impl EventDriven {
         let mut sys = System { flow, free, held, fns, quiet, watch, forces };
         sys.set_piece(piece);
         Ok(sys)
+    }
+
+    /// A held contact's force `r_a` (module docs) with a non-classical
+    /// damping: `r_a = L z + M_af M_ff⁻¹ f_f(t) − f_a(t)` with the free
+    /// dofs' load `f_f` (held displacements included), `L = [K_af −
+    /// M_af M_ff⁻¹ K_ff, C_af − M_af M_ff⁻¹ C_ff]`, plus `K_aA q_A`.
+    fn general_force(&self, flow: &ModalFlow, free: &[usize], held: &[(usize, f64)], a: usize) -> Functional {
+        let nf = free.len();
+        // mfinv = M_af M_ff⁻¹ (a row over the free dofs).
+        let maf: Vec<f64> = free.iter().map(|&d| self.m[(a, d)]).collect();
+        let mfinv = flow.minv(&maf);
+        let cm = |r: usize, s: usize| self.c.as_ref().map_or(0.0, |c| c[(r, s)]);
+        let row_q: Vec<f64> = (0..nf).map(|j| self.k[(a, free[j])] - (0..nf).map(|i| mfinv[i] * self.k[(free[i], free[j])]).sum::<f64>()).collect();
+        let row_v: Vec<f64> = (0..nf).map(|j| cm(a, free[j]) - (0..nf).map(|i| mfinv[i] * cm(free[i], free[j])).sum::<f64>()).collect();
+        let mut f = flow.linear(&row_q, &row_v);
+        // The load terms: f_f = F_f − K_fA q_A on the free dofs, f_a = F_a.
+        for (i, &d) in free.iter().enumerate() {
+            let mut fd = self.loads.constant[d];
+            for &(b, x) in held {
+                fd -= self.k[(d, b)] * x;
+            }
+            f.constant += mfinv[i] * fd;
+        }
+        f.constant -= self.loads.constant[a];
+        for &(b, x) in held {
+            f.constant += self.k[(a, b)] * x;
+        }
+        for (j, (g, amp, _, _)) in self.loads.waves.iter().enumerate() {
+            f.waves[j].0 += (free.iter().enumerate().map(|(i, &d)| mfinv[i] * g[d]).sum::<f64>() - g[a]) * amp;
+        }
+        for (l, (h, _, _)) in self.loads.ramps.iter().enumerate() {
+            f.ramps[l] += free.iter().enumerate().map(|(i, &d)| mfinv[i] * h[d]).sum::<f64>() - h[a];
+        }
+        f
     }
 
     /// The time and state `(t, q, v)`.

@@ -31,6 +31,11 @@
 //! the scalar equation: `e^{(m)} = −c e^{(m−1)} − k e^{(m−2)}`, and the
 //! particular solutions' derivatives in closed form.
 //!
+//! **Non-classical damping** (`Φᵀ C Φ` not diagonal) takes the first-order
+//! form ([`General`], docs/theory.md §9.1): per mode a real invariant plane
+//! of `[0 I; −M⁻¹K −M⁻¹C]` in which `η = a` obeys the same scalar equation
+//! with the load `r + c p + p'`, and `η' = b + p(t)`.
+//!
 //! **Piecewise-linear loads.** A load `g s(t)` with `s` a piecewise-linear
 //! series is, on each piece, a constant plus a ramp: `a + b (t − t_p)`. Its
 //! particular solution is exact on the piece (`k > 0`: `(a + b τ)/k −
@@ -42,6 +47,7 @@
 
 use super::Bound;
 use crate::{Dynamics, Series, TimeProfile};
+use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, Side};
 
 /// Why a problem has no exact event-driven solution here.
@@ -58,13 +64,14 @@ pub enum EventsError {
         /// The contact.
         contact: usize,
     },
-    /// The damping matrix is not diagonalised by the undamped modes.
-    #[error("damping: the undamped modes do not diagonalise C (largest off-diagonal {off:e} against the largest modal damping {diag:e}); allowed: classical damping, e.g. Rayleigh C = a M + b K")]
-    NotClassical {
-        /// Largest |off-diagonal| of Φᵀ C Φ.
-        off: f64,
-        /// Largest |diagonal| of Φᵀ C Φ.
-        diag: f64,
+    /// A non-classical damping whose first-order form has no basis of
+    /// real two-dimensional invariant subspaces here (a defective or
+    /// repeated eigenvalue: critical damping, a rigid mode without damping
+    /// beside a non-classical one).
+    #[error("damping: the first-order form of the non-classical damping C is defective or nearly so (its modal basis has the condition number {condition:e}, above 1e8): no exact modal flow; allowed: classical damping (e.g. Rayleigh C = a M + b K) or a non-classical one whose first-order eigenvalues are distinct")]
+    Defective {
+        /// `‖T‖∞ ‖T⁻¹‖∞` of the modal basis (infinite: no basis).
+        condition: f64,
     },
     /// A load profile without a closed-form particular solution here.
     #[error("forcing[{index}]: a piecewise-linear series is taken piece by piece by the event-driven run (EventDriven, EventStepper), not by one ModalFlow; allowed here: constant loads, sine or harmonics")]
@@ -193,6 +200,27 @@ impl Loads {
     }
 }
 
+/// The first-order form of a problem with non-classical damping
+/// (docs/theory.md §9.1): `z = (q, v) = T ζ` with `ζ = (a_1, b_1, a_2, b_2, …)`
+/// and, per mode, `a' = b + p(t)`, `b' = −k a − c b + r(t)` (`p = P F`,
+/// `r = R F` the load's projections). The mode's coordinate `η = a` then
+/// obeys `η'' + c η' + k η = r + c p + p'` and `η' = b + p(t)`.
+#[derive(Clone, Debug)]
+struct General {
+    /// `T` (2n × 2n): columns `2i, 2i + 1` are mode `i`'s `x_a, x_b`.
+    t: Mat<f64>,
+    /// `T⁻¹`.
+    tinv: Mat<f64>,
+    /// `M⁻¹`.
+    minv: Mat<f64>,
+    /// `p_i(t) = pf0_i + Σ_j ph_j,i a_j sin(Ω_j t + p_j) + Σ_l pr_l,i s_l(t)`.
+    pf0: Vec<f64>,
+    ph: Vec<Vec<f64>>,
+    /// `(a_j, Ω_j, p_j)` of each load wave.
+    waves: Vec<(f64, f64, f64)>,
+    pr: Vec<Vec<f64>>,
+}
+
 /// One harmonic load term in modal coordinates: `G_i a sin(Ω t + p)` for every mode `i`.
 #[derive(Clone, Debug)]
 pub(crate) struct Harmonic {
@@ -219,6 +247,11 @@ pub struct ModalFlow {
     pub(crate) harmonics: Vec<Harmonic>,
     /// Each series' load shape in modal coordinates.
     pub(crate) ramp_modal: Vec<Vec<f64>>,
+    /// Non-classical damping: the first-order form (module docs), `None`
+    /// for classical damping.
+    general: Option<Box<General>>,
+    /// The series' values and slopes on the current piece.
+    piece: Vec<(f64, f64)>,
     /// The constant and ramp loads on the current piece:
     /// `ga_i + gb_i (t − tp)` (`g0` and 0 without series).
     ga: Vec<f64>,
@@ -243,6 +276,14 @@ fn cs(lambda: f64, tau: f64) -> (f64, f64) {
     }
 }
 
+/// `e^{−ατ} cosh(βτ)` and `e^{−ατ} sinh(βτ)/β` for `0 < β <= α`, without
+/// overflow or cancellation.
+fn overdamped(alpha: f64, beta: f64, tau: f64) -> (f64, f64) {
+    let (slow, fast) = ((-(alpha - beta) * tau).exp(), (-(alpha + beta) * tau).exp());
+    let ds = if 2.0 * beta * tau < 1.0 { 0.5 * fast * (2.0 * beta * tau).exp_m1() / beta } else { 0.5 * (slow - fast) / beta };
+    (0.5 * (slow + fast), ds)
+}
+
 /// Whether a harmonic of frequency `w` resonates with an undamped mode `k`.
 fn resonant(k: f64, c: f64, w: f64) -> bool {
     c == 0.0 && (k - w * w).abs() <= 1e-13 * w * w
@@ -250,7 +291,7 @@ fn resonant(k: f64, c: f64, w: f64) -> bool {
 
 impl ModalFlow {
     /// The flow of `dy`'s free motion (its contacts ignored): `M` positive
-    /// definite, `C` classical, each forcing profile a sine or a sum of
+    /// definite, `C` classical or not (the first-order form), each forcing profile a sine or a sum of
     /// harmonics (a piecewise-linear series is [`super::EventDriven`]'s:
     /// [`EventsError::Profile`] here).
     pub fn new(dy: &Dynamics) -> Result<Self, EventsError> {
@@ -266,7 +307,22 @@ impl ModalFlow {
         let n = m.nrows();
         if n == 0 {
             let ramp_modal = vec![Vec::new(); loads.ramps.len()];
-            return Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: vec![], c: vec![], g0: vec![], harmonics: vec![], ramp_modal, ga: vec![], gb: vec![], tp: 0.0 });
+            let piece = vec![(0.0, 0.0); loads.ramps.len()];
+            return Ok(Self {
+                n,
+                phi: Mat::zeros(0, 0),
+                m_phi: Mat::zeros(0, 0),
+                k: vec![],
+                c: vec![],
+                g0: vec![],
+                harmonics: vec![],
+                ramp_modal,
+                general: None,
+                piece,
+                ga: vec![],
+                gb: vec![],
+                tp: 0.0,
+            });
         }
         let llt = m.llt(Side::Lower).map_err(|_| EventsError::MassNotDefinite)?;
         let l = llt.L().to_owned();
@@ -289,7 +345,8 @@ impl ModalFlow {
                 let diag = (0..n).map(|i| modal[(i, i)].abs()).fold(0.0, f64::max);
                 let off = (0..n).flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| modal[(i, j)].abs()).fold(0.0, f64::max);
                 if off > 1e-10 * diag.max(f64::MIN_POSITIVE) {
-                    return Err(EventsError::NotClassical { off, diag });
+                    let minv = linv.transpose() * &linv;
+                    return Self::general(&m, &k, cm, minv, loads);
                 }
                 (0..n).map(|i| modal[(i, i)].max(0.0)).collect()
             }
@@ -299,18 +356,182 @@ impl ModalFlow {
         let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic { modal: project(g), amplitude: *a, omega: *w, phase: *p }).collect();
         let ramp_modal = loads.ramps.iter().map(|(h, _, _)| project(h)).collect();
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
-        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics, ramp_modal, ga, gb, tp: 0.0 })
+        let piece = vec![(0.0, 0.0); loads.ramps.len()];
+        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics, ramp_modal, general: None, piece, ga, gb, tp: 0.0 })
+    }
+
+    /// The flow with a non-classical damping `c` (docs/theory.md §9.1): the
+    /// real eigenvectors of the first-order matrix `A = [0 I; −M⁻¹K −M⁻¹C]`
+    /// give, per complex pair `σ ± iω` with eigenvector `u + iy`, the basis
+    /// `x_b = u`, `x_a = (A + c) x_b` of its invariant plane (`c = −2σ`,
+    /// `k = σ² + ω²`); two real eigenvalues `λ₁ ≠ λ₂` (taken in ascending
+    /// order, pairwise) give `x_b = u₁ + u₂` (`c = −λ₁ − λ₂`, `k = λ₁λ₂`).
+    /// On each plane `A x_a = −k x_b`, `A x_b = x_a − c x_b`: the
+    /// companion block of `η'' + c η' + k η`.
+    fn general(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>, minv: Mat<f64>, loads: &Loads) -> Result<Self, EventsError> {
+        let n = m.nrows();
+        let nn = 2 * n;
+        let mk = &minv * k;
+        let mc = &minv * c;
+        let a = Mat::from_fn(nn, nn, |i, j| match (i < n, j < n) {
+            (true, true) => 0.0,
+            (true, false) => f64::from(u8::from(j - n == i)),
+            (false, true) => -mk[(i - n, j)],
+            (false, false) => -mc[(i - n, j - n)],
+        });
+        let evd = a.eigen().map_err(|_| EventsError::Eigen)?;
+        let (u, sv) = (evd.U(), evd.S().column_vector());
+        // (k, c, x_b) per mode.
+        let mut modes: Vec<(f64, f64, Vec<f64>)> = Vec::with_capacity(n);
+        let mut reals: Vec<(f64, Vec<f64>)> = Vec::new();
+        let unit = |x: Vec<f64>| -> Vec<f64> {
+            let s = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            x.into_iter().map(|v| v / s).collect()
+        };
+        for j in 0..nn {
+            let l = sv[j];
+            if l.im > 0.0 {
+                let x = unit((0..nn).map(|r| u[(r, j)].re).collect());
+                modes.push((l.re * l.re + l.im * l.im, -2.0 * l.re, x));
+            } else if l.im == 0.0 {
+                reals.push((l.re, unit((0..nn).map(|r| u[(r, j)].re).collect())));
+            }
+        }
+        reals.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for pair in reals.chunks(2) {
+            let [(l1, u1), (l2, u2)] = pair else {
+                return Err(EventsError::Defective { condition: f64::INFINITY });
+            };
+            let x = unit(u1.iter().zip(u2).map(|(a, b)| a + b).collect());
+            modes.push((l1 * l2, -(l1 + l2), x));
+        }
+        if modes.len() != n {
+            return Err(EventsError::Defective { condition: f64::INFINITY });
+        }
+        modes.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let kmax = modes.iter().fold(0.0f64, |a, m| a.max(m.0.abs()));
+        let mut t = Mat::<f64>::zeros(nn, nn);
+        for (i, (_, ci, xb)) in modes.iter().enumerate() {
+            let ax = &a * Mat::from_fn(nn, 1, |r, _| xb[r]);
+            for r in 0..nn {
+                t[(r, 2 * i)] = ax[(r, 0)] + ci * xb[r];
+                t[(r, 2 * i + 1)] = xb[r];
+            }
+        }
+        let tinv = t.full_piv_lu().inverse();
+        // The basis' condition: round-off is amplified by it in every step.
+        let norm = |x: &Mat<f64>| (0..nn).map(|i| (0..nn).map(|j| x[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
+        let condition = norm(&t) * norm(&tinv);
+        if !(condition <= 1e8) {
+            return Err(EventsError::Defective { condition });
+        }
+        let kv: Vec<f64> = modes.iter().map(|m| if m.0.abs() <= 1e-12 * kmax { 0.0 } else { m.0 }).collect();
+        let cv: Vec<f64> = modes.iter().map(|m| m.1.max(0.0)).collect();
+        // P and R: the rows of T⁻¹ on the velocity part, times M⁻¹.
+        let proj = |row: usize, g: &[f64]| -> f64 {
+            let mut s = 0.0;
+            for x in 0..n {
+                let w: f64 = (0..n).map(|y| minv[(x, y)] * g[y]).sum();
+                s += tinv[(row, n + x)] * w;
+            }
+            s
+        };
+        let p_of = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| proj(2 * i, g)).collect() };
+        // r + c p: the load of η'' + c η' + k η.
+        let load_of = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| proj(2 * i + 1, g) + cv[i] * proj(2 * i, g)).collect() };
+        let g0 = load_of(&loads.constant);
+        let mut harmonics = Vec::new();
+        let (mut ph, mut waves) = (Vec::new(), Vec::new());
+        for (g, amp, w, ph0) in &loads.waves {
+            harmonics.push(Harmonic { modal: load_of(g), amplitude: *amp, omega: *w, phase: *ph0 });
+            // p' of a p ∝ a sin θ: a Ω cos θ = a Ω sin(θ + π/2).
+            let pg = p_of(g);
+            harmonics.push(Harmonic { modal: pg.clone(), amplitude: amp * w, omega: *w, phase: ph0 + std::f64::consts::FRAC_PI_2 });
+            ph.push(pg);
+            waves.push((*amp, *w, *ph0));
+        }
+        let ramp_modal = loads.ramps.iter().map(|(h, _, _)| load_of(h)).collect();
+        let pr = loads.ramps.iter().map(|(h, _, _)| p_of(h)).collect();
+        let pf0 = p_of(&loads.constant);
+        let general = General { t, tinv, minv, pf0, ph, waves, pr };
+        let (ga, gb) = (g0.clone(), vec![0.0; n]);
+        let piece = vec![(0.0, 0.0); loads.ramps.len()];
+        Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: kv, c: cv, g0, harmonics, ramp_modal, general: Some(Box::new(general)), piece, ga, gb, tp: 0.0 })
+    }
+
+    /// Whether the damping is classical (the modes `Φ` of `(K, M)`), else
+    /// the first-order form.
+    pub fn classical(&self) -> bool {
+        self.general.is_none()
+    }
+
+    /// `p_i(t)` of the first-order form (`η_i' = b_i + p_i`; 0 when classical).
+    fn shift(&self, i: usize, t: f64) -> f64 {
+        let Some(g) = &self.general else { return 0.0 };
+        let mut s = g.pf0[i];
+        for (j, &(a, w, p)) in g.waves.iter().enumerate() {
+            let x = g.ph[j][i];
+            if x != 0.0 {
+                s += x * a * (w * t + p).sin();
+            }
+        }
+        for (l, pr) in g.pr.iter().enumerate() {
+            let (v, d) = self.piece[l];
+            s += pr[i] * (v + d * (t - self.tp));
+        }
+        s
+    }
+
+    /// The functional `row_q · q + row_v · v` of the state (rows over this
+    /// flow's dofs) on the modal state, as the search takes it: `Σ β_i η_i +
+    /// α_i η_i'` plus, with the first-order form, the load terms `−Σ α_i p_i(t)`.
+    /// `ramps` has one entry per series of the loads.
+    pub(crate) fn linear(&self, row_q: &[f64], row_v: &[f64]) -> super::search::Functional {
+        let n = self.n;
+        let mut f = super::search::Functional { beta: vec![0.0; n], alpha: vec![0.0; n], ramps: vec![0.0; self.ramp_modal.len()], ..Default::default() };
+        match &self.general {
+            None => {
+                for i in 0..n {
+                    f.beta[i] = (0..n).map(|r| row_q[r] * self.phi[(r, i)]).sum();
+                    f.alpha[i] = (0..n).map(|r| row_v[r] * self.phi[(r, i)]).sum();
+                }
+            }
+            Some(g) => {
+                for i in 0..n {
+                    f.beta[i] = (0..n).map(|r| row_q[r] * g.t[(r, 2 * i)] + row_v[r] * g.t[(n + r, 2 * i)]).sum();
+                    f.alpha[i] = (0..n).map(|r| row_q[r] * g.t[(r, 2 * i + 1)] + row_v[r] * g.t[(n + r, 2 * i + 1)]).sum();
+                }
+                f.constant = -(0..n).map(|i| f.alpha[i] * g.pf0[i]).sum::<f64>();
+                for (j, &(a, w, p)) in g.waves.iter().enumerate() {
+                    f.waves.push((-(0..n).map(|i| f.alpha[i] * g.ph[j][i]).sum::<f64>() * a, w, p));
+                }
+                for (l, pr) in g.pr.iter().enumerate() {
+                    f.ramps[l] = -(0..n).map(|i| f.alpha[i] * pr[i]).sum::<f64>();
+                }
+            }
+        }
+        f.set_piece(&Piece::default());
+        f
     }
 
     /// Sets the series' loads to their piece `piece` (module docs): the
     /// flow is exact up to `piece.next`.
     pub(crate) fn set_piece(&mut self, piece: &Piece) {
         self.tp = piece.t_p;
+        for (l, x) in self.piece.iter_mut().enumerate() {
+            *x = (piece.values[l], piece.slopes[l]);
+        }
         for i in 0..self.n {
             let (mut a, mut b) = (self.g0[i], 0.0);
             for (l, h) in self.ramp_modal.iter().enumerate() {
                 a += h[i] * piece.values[l];
                 b += h[i] * piece.slopes[l];
+            }
+            if let Some(g) = &self.general {
+                // p' of the ramps: their slopes.
+                for (l, pr) in g.pr.iter().enumerate() {
+                    a += pr[i] * piece.slopes[l];
+                }
             }
             (self.ga[i], self.gb[i]) = (a, b);
         }
@@ -330,11 +551,17 @@ impl ModalFlow {
 
     /// `M⁻¹ e_dof = Φ Φᵀ e_dof` (the modes are M-orthonormal).
     pub fn minv_column(&self, dof: usize) -> Vec<f64> {
+        if let Some(g) = &self.general {
+            return (0..self.n).map(|r| g.minv[(r, dof)]).collect();
+        }
         (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * self.phi[(dof, i)]).sum()).collect()
     }
 
     /// `M⁻¹ x`.
     pub(crate) fn minv(&self, x: &[f64]) -> Vec<f64> {
+        if let Some(g) = &self.general {
+            return (0..self.n).map(|r| (0..self.n).map(|s| g.minv[(r, s)] * x[s]).sum()).collect();
+        }
         let y: Vec<f64> = (0..self.n).map(|i| (0..self.n).map(|r| self.phi[(r, i)] * x[r]).sum()).collect();
         (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * y[i]).sum()).collect()
     }
@@ -344,18 +571,56 @@ impl ModalFlow {
         &self.k
     }
 
-    /// The modal coordinates `η = Φᵀ M q`, `η' = Φᵀ M v`.
-    pub(crate) fn to_modal(&self, q: &[f64], v: &[f64], eta: &mut [f64], deta: &mut [f64]) {
+    /// The modal coordinates at `t`: `η = Φᵀ M q`, `η' = Φᵀ M v` (the
+    /// first-order form: `(a, b) = T⁻¹ (q, v)`, `η = a`, `η' = b + p(t)`).
+    pub(crate) fn to_modal(&self, t: f64, q: &[f64], v: &[f64], eta: &mut [f64], deta: &mut [f64]) {
+        if let Some(g) = &self.general {
+            let n = self.n;
+            for i in 0..n {
+                let (mut a, mut b) = (0.0, 0.0);
+                for r in 0..n {
+                    a += g.tinv[(2 * i, r)] * q[r] + g.tinv[(2 * i, n + r)] * v[r];
+                    b += g.tinv[(2 * i + 1, r)] * q[r] + g.tinv[(2 * i + 1, n + r)] * v[r];
+                }
+                (eta[i], deta[i]) = (a, b + self.shift(i, t));
+            }
+            return;
+        }
         for i in 0..self.n {
             (eta[i], deta[i]) = (0..self.n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * q[r], b + self.m_phi[(r, i)] * v[r]));
         }
     }
 
-    /// `q = Φ η`, `v = Φ η'`.
-    pub(crate) fn to_physical(&self, eta: &[f64], deta: &[f64], q: &mut [f64], v: &mut [f64]) {
-        for r in 0..self.n {
-            q[r] = (0..self.n).map(|i| self.phi[(r, i)] * eta[i]).sum();
-            v[r] = (0..self.n).map(|i| self.phi[(r, i)] * deta[i]).sum();
+    /// `q = Φ η`, `v = Φ η'` at `t` (the first-order form: `T (η, η' − p(t))`).
+    pub(crate) fn to_physical(&self, t: f64, eta: &[f64], deta: &[f64], q: &mut [f64], v: &mut [f64]) {
+        let free: Vec<usize> = (0..self.n).collect();
+        self.physical_into(t, eta, deta, &free, q, v);
+    }
+
+    /// [`to_physical`](Self::to_physical) into the entries `free` of `q`
+    /// and `v` (no allocation).
+    pub(crate) fn physical_into(&self, t: f64, eta: &[f64], deta: &[f64], free: &[usize], q: &mut [f64], v: &mut [f64]) {
+        let n = self.n;
+        let Some(g) = &self.general else {
+            for (r, &d) in free.iter().enumerate() {
+                let (mut a, mut b) = (0.0, 0.0);
+                for i in 0..n {
+                    a += self.phi[(r, i)] * eta[i];
+                    b += self.phi[(r, i)] * deta[i];
+                }
+                (q[d], v[d]) = (a, b);
+            }
+            return;
+        };
+        for &d in free {
+            (q[d], v[d]) = (0.0, 0.0);
+        }
+        for i in 0..n {
+            let (a, b) = (eta[i], deta[i] - self.shift(i, t));
+            for (r, &d) in free.iter().enumerate() {
+                q[d] += g.t[(r, 2 * i)] * a + g.t[(r, 2 * i + 1)] * b;
+                v[d] += g.t[(n + r, 2 * i)] * a + g.t[(n + r, 2 * i + 1)] * b;
+            }
         }
     }
 
@@ -550,9 +815,16 @@ impl ModalFlow {
     pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], tr1: &[(f64, f64)]) -> (f64, f64) {
         let (e0, de0) = self.remainder(i, t0, t0, eta, deta, tr0);
         let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
-        let (cc, ss) = cs(k - alpha * alpha, tau);
-        let decay = if alpha == 0.0 { 1.0 } else { (-alpha * tau).exp() };
         let p1 = self.particular_jet(i, t0 + tau, t0, tr1);
+        let lambda = k - alpha * alpha;
+        if lambda < 0.0 {
+            // Overdamped: e^{−ατ} cosh(βτ) and e^{−ατ} sinh(βτ)/β as sums of
+            // decaying exponentials (cosh alone overflows for βτ > 710).
+            let (dc, ds) = overdamped(alpha, (-lambda).sqrt(), tau);
+            return (e0 * dc + (de0 + alpha * e0) * ds + p1[0], de0 * dc - (alpha * de0 + k * e0) * ds + p1[1]);
+        }
+        let (cc, ss) = cs(lambda, tau);
+        let decay = if alpha == 0.0 { 1.0 } else { (-alpha * tau).exp() };
         (decay * (e0 * cc + (de0 + alpha * e0) * ss) + p1[0], decay * (de0 * cc - (alpha * de0 + k * e0) * ss) + p1[1])
     }
 
@@ -636,9 +908,9 @@ impl ModalFlow {
         let n = self.n;
         assert!(q0.len() == n && v0.len() == n && q.len() == n && v.len() == n, "state slices of {n} entries");
         let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
-        self.to_modal(q0, v0, &mut eta, &mut deta);
+        self.to_modal(t0, q0, v0, &mut eta, &mut deta);
         self.advance_modal(t0, &mut eta, &mut deta, tau, &mut [Vec::new(), Vec::new()]);
-        self.to_physical(&eta, &deta, q, v);
+        self.to_physical(t0 + tau, &eta, &deta, q, v);
     }
 
     /// The first time in `(t0, t0 + horizon]` at which the contact dof `dof`
@@ -651,16 +923,24 @@ impl ModalFlow {
     pub fn first_crossing(&self, t0: f64, q0: &[f64], v0: &[f64], dof: usize, lo: f64, hi: f64, horizon: f64) -> Result<Option<Event>, EventsError> {
         let n = self.n;
         let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
-        self.to_modal(q0, v0, &mut eta, &mut deta);
-        let row: Vec<f64> = (0..n).map(|i| self.phi[(dof, i)]).collect();
+        self.to_modal(t0, q0, v0, &mut eta, &mut deta);
+        let mut unit = vec![0.0; n];
+        unit[dof] = 1.0;
+        let position = self.linear(&unit, &vec![0.0; n]);
         let mut fns = Vec::new();
         let mut sides = Vec::new();
         if lo.is_finite() {
-            fns.push(super::search::Functional::new(row.clone(), -lo));
+            let mut f = position.clone();
+            f.constant -= lo;
+            f.set_piece(&Piece::default());
+            fns.push(f);
             sides.push(Bound::Lower);
         }
         if hi.is_finite() {
-            fns.push(super::search::Functional::new(row.iter().map(|x| -x).collect(), hi));
+            let mut f = position;
+            f.constant -= hi;
+            f.set_piece(&Piece::default());
+            fns.push(f.negated());
             sides.push(Bound::Upper);
         }
         let mut search = super::search::Search::new(n);
@@ -668,7 +948,7 @@ impl ModalFlow {
             return Ok(None);
         };
         let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-        self.to_physical(&eta, &deta, &mut q, &mut v);
+        self.to_physical(t, &eta, &deta, &mut q, &mut v);
         Ok(Some(Event { t, bound: sides[which], q, v }))
     }
 }

@@ -37,8 +37,11 @@
 //! phase at their limit. [`EventStepper`] is the registry's `event-driven`
 //! scheme: the same run sampled at the output times.
 //!
-//! *Not here*: massless contact dofs (refused), non-classical damping
-//! (refused).
+//! A damping that the modes of `(K, M)` do not diagonalise takes the
+//! first-order form (docs/theory.md §9.1): a real basis of invariant planes
+//! of `[0 I; −M⁻¹K −M⁻¹C]` in which each mode obeys the same scalar
+//! equation. *Not here*: massless contact dofs (refused), a defective
+//! first-order form (refused).
 
 mod driven;
 mod flow;
