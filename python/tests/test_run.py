@@ -225,3 +225,32 @@ def test_an_event_driven_run_logs_its_events_at_the_closed_form_times(tmp_path, 
     assert list(rows[0]) == ["t", "kind", "contact", "velocity_before", "velocity_after", "impulse"]
     assert len(rows) == len(ev["t"])
     assert all(abs(float(row["t"]) - t) <= 1e-15 * t for row, t in zip(rows, ev["t"]))
+
+
+def test_a_massless_contact_node_lands_and_leaves_without_impacts(tmp_path, exe):
+    """bar-dirichlet with mass "mod" (a massless contact node), plain and
+    reduced to 8 modes, event-driven: the node lands once and leaves once,
+    with no impulse (the massive velocities do not jump), near the
+    continuous problem's contact interval [1, 2]; the CLI logs the same
+    rows. A restitution above 0 is refused naming it."""
+    for reduce in (None, {"modes": 8}):
+        bar = {"benchmark": "bar-dirichlet", "elements": 40, "mass": "mod", "scheme": "event-driven", "ratio": 10.0, "t_end": 3.0}
+        if reduce:
+            bar["reduce"] = reduce
+        r = signorini.run({"bar": bar})
+        ev = r.events
+        assert list(ev["kind"]) == ["impact", "release"]
+        assert np.all(np.asarray(ev["impulse"]) == 0.0) and np.all(np.asarray(ev["velocity_after"]) == 0.0)
+        assert abs(ev["t"][0] - 1.0) < 0.05 and abs(ev["t"][1] - 2.0) < 0.06
+        out = tmp_path / f"m{bool(reduce)}"
+        toml = "[bar]\n" + "".join(f"{k} = {v!r}\n".replace("'", '"') for k, v in bar.items() if k != "reduce")
+        if reduce:
+            toml += "reduce = { modes = 8 }\n"
+        (tmp_path / "m.toml").write_text(toml)
+        subprocess.run([str(exe), "run", str(tmp_path / "m.toml"), "--out", str(out)], check=True, capture_output=True)
+        with open(out / "events.csv") as f:
+            rows = list(csv.DictReader(f))
+        assert [row["kind"] for row in rows] == list(ev["kind"])
+        assert all(abs(float(row["t"]) - t) <= 1e-15 * t for row, t in zip(rows, ev["t"]))
+    with pytest.raises(Exception, match="restitution"):
+        signorini.run({"bar": {**bar, "scheme": "event-driven(0.5)"}})

@@ -1328,6 +1328,10 @@ struct ContactCtx {
     single_only: bool,
     /// Bar: Moreau–Jean (one contact must be one-sided).
     moreau: bool,
+    /// Bar: the event-driven reference with a massless node (a restitution
+    /// other than 0 is refused naming the scheme: the node lands without
+    /// an impact).
+    restitution_zero_only: bool,
 }
 
 /// An integer as TOML reads it (`0x10`, `1_6`, `+8`).
@@ -1383,6 +1387,7 @@ fn bar_ctx(p: &BarPicks) -> ContactCtx {
         stiffness_acts: capabilities_of(&s).is_some_and(|c| c.stiffness),
         single_only: capabilities_of(&s).is_some_and(|c| !c.several_contacts),
         moreau: s.starts_with("moreau-jean"),
+        restitution_zero_only: s.starts_with("event-driven") && mass.as_deref().is_some_and(|m| MASSLESS.contains(&m)),
     }
 }
 
@@ -1532,7 +1537,11 @@ fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<Table>, Opti
                 None => {}
                 Some(Num::Good(v)) => {
                     let v = if k == "stiffness" && ctx.beam { "1e8" } else { v };
-                    let class = if acts {
+                    let nonzero = v.parse::<f64>().is_ok_and(|x| x != 0.0);
+                    let class = if k == "restitution" && ctx.restitution_zero_only && nonzero {
+                        valid = false;
+                        Class::Bad(vec!["bar.scheme".to_string(), key(k)])
+                    } else if acts {
                         Class::Good
                     } else {
                         valid = false;

@@ -227,7 +227,7 @@ pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output,
     if cfg.reference == Reference::EventDriven {
         let start = std::time::Instant::now();
         crate::prepare_dir(&out, &["time_error.csv".to_string(), "space_error.csv".to_string()], cfg.clean)?;
-        let (tables, mut report) = crate::time_error::run(&study_cfg, &out, progress, &mut notes)?;
+        let (tables, mut report) = crate::time_error::run(&study_cfg, &out, progress)?;
         let wall_s = crate::since(start);
         report.push_str(&format!("\nin {wall_s:.1} s\n"));
         return Ok(Output { config: study_cfg, out, results: Vec::new(), tables, report, wall_s, notes });

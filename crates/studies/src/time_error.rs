@@ -60,9 +60,11 @@ pub struct TimeError {
     pub events: usize,
 }
 
-/// The event-driven reference of `scheme`: its own restitution, else 0.
-pub fn reference_of(scheme: &SchemeSpec) -> Result<SchemeSpec, StudyError> {
-    let e = scheme.param("e").unwrap_or(0.0);
+/// The event-driven reference of `scheme` on `mass`: its own restitution,
+/// else 0; always 0 with a massless contact node (it lands without an
+/// impact: no restitution acts there).
+pub fn reference_of(scheme: &SchemeSpec, mass: BarMass) -> Result<SchemeSpec, StudyError> {
+    let e = if mass.massless_contact_node() { 0.0 } else { scheme.param("e").unwrap_or(0.0) };
     format!("event-driven({e})").parse().map_err(|err: signorini_schemes::SchemeError| StudyError::config("--schemes", format!("--schemes {scheme}: {err}")))
 }
 
@@ -78,7 +80,7 @@ pub fn run_case(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeS
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let steps = RunConfig::new(dt, t_end).map_err(|e| StudyError::Run(e.to_string()))?.steps();
-    let reference = reference_of(&scheme)?;
+    let reference = reference_of(&scheme, mass)?;
     let dy = problem.dynamics();
     let build = |s: &SchemeSpec| s.build(problem.dynamics(), dt, &problem.initial).map_err(|e| StudyError::Run(format!("{s}, {mass}, m = {m}: {e}")));
     let (mut a, mut b): (Box<dyn Stepper>, Box<dyn Stepper>) = (build(&scheme)?, build(&reference)?);
@@ -150,16 +152,11 @@ fn value(r: &TimeError, q: &str) -> f64 {
     }
 }
 
-/// Runs the study on `cfg`'s levels, schemes and massive masses, writing
+/// Runs the study on `cfg`'s levels, schemes and masses (massless contact
+/// nodes against `event-driven(0)`), writing
 /// into `out`; returns the tables and the report.
-pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), notes: &mut Vec<String>) -> Result<(Vec<crate::Table>, String), StudyError> {
-    let masses: Vec<BarMass> = cfg.masses.iter().copied().filter(|m| !m.massless_contact_node()).collect();
-    for m in cfg.masses.iter().filter(|m| m.massless_contact_node()) {
-        notes.push(format!("note: mass {m} left out: its contact node is massless, which the event-driven reference does not take"));
-    }
-    if masses.is_empty() {
-        return Err(StudyError::config("--masses", "--masses: --reference event-driven needs a massive contact node; allowed std, lumped"));
-    }
+pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<(Vec<crate::Table>, String), StudyError> {
+    let masses: Vec<BarMass> = cfg.masses.clone();
     let schemes: Vec<SchemeSpec> = cfg.schemes.iter().copied().filter(|s| s.family().name != "event-driven").collect();
     let mut cases = Vec::new();
     for &s in &schemes {
@@ -210,9 +207,6 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
     }
     let mut tables = vec![t.finish()?];
     // The space error: each reference against the closed form.
-    let mut refs: Vec<SchemeSpec> = schemes.iter().map(reference_of).collect::<Result<_, _>>()?;
-    refs.sort_by_key(label);
-    refs.dedup_by(|a, b| label(a) == label(b));
     let mut s = TableOut::create(
         out,
         "space_error.csv",
@@ -230,8 +224,21 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
         ],
     )?;
     let mut space = Vec::new();
-    for r in &refs {
-        for &mass in &masses {
+    // (reference, mass) pairs: the references by name, each with the masses
+    // (in the given order) on which a scheme uses it.
+    let mut all = Vec::new();
+    for &mass in &masses {
+        for s in &schemes {
+            all.push((reference_of(s, mass)?, mass));
+        }
+    }
+    let mut refs: Vec<SchemeSpec> = all.iter().map(|p| p.0).collect();
+    refs.sort_by_key(label);
+    refs.dedup_by(|a, b| label(a) == label(b));
+    let pairs: Vec<(SchemeSpec, BarMass)> = refs.iter().flat_map(|r| masses.iter().filter(|&&mass| all.iter().any(|p| label(&p.0) == label(r) && p.1 == mass)).map(move |&mass| (*r, mass))).collect();
+    for &(r, mass) in &pairs {
+        let r = &r;
+        {
             for &m in &cfg.levels {
                 let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree), exact.as_ref()).map_err(|e| StudyError::Run(e.to_string()))?;
                 let v = |name: &str| study::norm_value(&lv.norms, name);
@@ -287,8 +294,9 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync), 
     report.push_str("\n|---|---|");
     report.push_str(&"---|---|".repeat(QUANTITIES.len()));
     report.push('\n');
-    for r in &refs {
-        for &mass in &masses {
+    for &(r, mass) in &pairs {
+        let r = &r;
+        {
             let rows: Vec<_> = space.iter().filter(|x| x.0 == label(r) && x.1 == mass).collect();
             let Some(finest) = rows.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else { continue };
             report.push_str(&format!("| {} | {mass} |", label(r)));

@@ -45,6 +45,9 @@
 //! the `accumulation` logged at the geometric limit if the run is
 //! geometric, else at the impact's own time. The state differs from the
 //! chattering one by the order of that speed times the chatter's duration.
+//!
+//! **Massless contact dofs** (every contact massless: mass redistribution,
+//! reduced models) have no impacts: see `massless.rs`.
 
 use super::flow::{dense, EventsError, Loads, ModalFlow, Piece};
 use super::search::{Functional, Search};
@@ -53,6 +56,9 @@ use crate::Dynamics;
 use faer::Mat;
 use signorini_contact::MultiProjection;
 use std::collections::HashMap;
+
+#[path = "massless.rs"]
+mod massless;
 
 /// What happened at an event (`events.csv`'s `kind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -135,6 +141,9 @@ struct System {
     watch: Vec<Watch>,
     /// The held contacts' forces `r_a`: `(contact, r_a)`.
     forces: Vec<(usize, Functional)>,
+    /// Massless dofs not held (statically condensed) and `K_SS⁻¹`.
+    cond: Vec<usize>,
+    g: Mat<f64>,
 }
 
 impl System {
@@ -147,7 +156,8 @@ impl System {
 }
 
 /// An event-driven run of a linear structure with unilateral contacts at
-/// massive dofs (module docs).
+/// massive dofs (module docs) or at massless ones (statically condensed:
+/// `massless.rs`).
 pub struct EventDriven {
     n: usize,
     m: Mat<f64>,
@@ -158,7 +168,12 @@ pub struct EventDriven {
     piece: Piece,
     full: ModalFlow,
     sites: Vec<Site>,
+    /// The contacts' Delassus matrix `M⁻¹` (massive contact dofs) or, for
+    /// massless ones, `K_ZZ⁻¹` of the static condensation.
     delassus: MultiProjection,
+    /// The massless dofs (the massless contacts'), sorted, and `K_ZZ⁻¹`.
+    zero: Vec<usize>,
+    kzz_inv: Mat<f64>,
     systems: HashMap<Vec<Hold>, System>,
     holds: Vec<Hold>,
     t: f64,
@@ -192,22 +207,35 @@ impl EventDriven {
             if !(0.0..=1.0).contains(&restitution) {
                 return Err(EventsError::Restitution { contact: i, restitution });
             }
-            if c.massless {
-                return Err(EventsError::Massless { contact: i });
+            if c.massless && restitution != 0.0 {
+                return Err(EventsError::MasslessRestitution { contact: i, restitution });
             }
             let (lo, hi) = (c.bounds.lo, c.bounds.hi);
             let q = q0[c.dof];
             let scale = [lo, hi, hi - lo, q].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
-            if !(q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale) {
+            // A massless dof's start is the static solution (module docs).
+            let inside = q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale;
+            if !(c.massless || inside) {
                 return Err(EventsError::Outside { contact: i, q, lo, hi });
             }
             sites.push(Site { dof: c.dof, lo, hi, restitution, scale });
         }
         let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
-        let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;
-        let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();
-        let columns = dofs.iter().map(|&d| full.minv_column(d)).collect();
-        let delassus = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        let mut zero: Vec<usize> = dy.contacts.iter().filter(|c| c.massless).map(|c| c.dof).collect();
+        zero.sort_unstable();
+        zero.dedup();
+        let (full, delassus, kzz_inv) = if zero.is_empty() {
+            let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;
+            let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();
+            let columns = dofs.iter().map(|&d| full.minv_column(d)).collect();
+            let delassus = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
+            (full, delassus, Mat::zeros(0, 0))
+        } else {
+            let none = Loads { constant: Vec::new(), waves: Vec::new(), ramps: Vec::new() };
+            let full = ModalFlow::from_parts(Mat::zeros(0, 0), Mat::zeros(0, 0), None, &none)?;
+            let (delassus, kzz_inv) = massless::static_delassus(&k, &zero, &sites)?;
+            (full, delassus, kzz_inv)
+        };
         let k_contacts = sites.len();
         let mut r = Self {
             n,
@@ -219,6 +247,8 @@ impl EventDriven {
             full,
             sites,
             delassus,
+            zero,
+            kzz_inv,
             systems: HashMap::new(),
             holds: Vec::new(),
             t: t0,
@@ -350,11 +380,17 @@ impl EventDriven {
         for &(d, x) in &sys.held {
             (q[d], v[d]) = (x, 0.0);
         }
+        if !sys.cond.is_empty() {
+            self.condensed_into(sys, q, v);
+        }
     }
 
     /// The impacts, accumulation and new active set at time `t` from the
     /// state `(q, v)`; `primary` is the located event's contact.
     fn settle(&mut self, t: f64, mut q: Vec<f64>, mut v: Vec<f64>, primary: Option<(usize, Bound)>) -> Result<(), EventsError> {
+        if !self.zero.is_empty() {
+            return self.settle_static(t, q, v, primary);
+        }
         let kc = self.sites.len();
         // Which contacts are at a bound (side: upper?).
         let mut at: Vec<Option<bool>> = vec![None; kc];
@@ -520,6 +556,9 @@ impl EventDriven {
 
     /// The flow, events and forces of an active set (module docs).
     fn build(&self, holds: &[Hold], piece: &Piece) -> Result<System, EventsError> {
+        if !self.zero.is_empty() {
+            return self.build_static(holds, piece);
+        }
         let n = self.n;
         let held: Vec<(usize, f64)> = holds
             .iter()
@@ -628,7 +667,7 @@ impl EventDriven {
             quiet.push(true);
             watch.push(Watch::Release { contact: h.contact });
         }
-        let mut sys = System { flow, free, held, fns, quiet, watch, forces };
+        let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond: Vec::new(), g: Mat::zeros(0, 0) };
         sys.set_piece(piece);
         Ok(sys)
     }

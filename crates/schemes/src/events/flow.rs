@@ -57,12 +57,15 @@ pub enum EventsError {
     /// The mass matrix is not positive definite.
     #[error("mass: not positive definite")]
     MassNotDefinite,
-    /// A contact dof without mass (a reduced model's or mass
-    /// redistribution's contact boundary).
-    #[error("contacts[{contact}]: a massless contact dof is not taken by the event-driven integrator (its statically condensed contact force has no impacts and no held phases to locate); allowed: a massive contact dof (mass = \"std\" or \"lumped\", no reduce)")]
-    Massless {
+    /// A restitution other than 0 at a contact dof without mass (a
+    /// reduced model's or mass redistribution's contact boundary): its
+    /// force is static, it lands without an impact.
+    #[error("contacts[{contact}].restitution = {restitution}: a massless contact dof lands on its bound without an impact (its force is statically condensed), so no restitution acts there; allowed: 0 (event-driven(0))")]
+    MasslessRestitution {
         /// The contact.
         contact: usize,
+        /// Its restitution.
+        restitution: f64,
     },
     /// A non-classical damping whose first-order form has no basis of
     /// real two-dimensional invariant subspaces here (a defective or
@@ -171,6 +174,11 @@ impl Loads {
             }
         }
         Ok(Self { constant, waves, ramps })
+    }
+
+    /// `F'(t)_r` on `piece` (the series' slopes there).
+    pub fn rate(&self, r: usize, t: f64, piece: &Piece) -> f64 {
+        self.waves.iter().map(|(g, a, w, p)| g[r] * a * w * (w * t + p).cos()).sum::<f64>() + self.ramps.iter().enumerate().map(|(l, (h, _, _))| h[r] * piece.slopes[l]).sum::<f64>()
     }
 
     /// `F(t)_r`.

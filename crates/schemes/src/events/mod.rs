@@ -40,8 +40,10 @@
 //! A damping that the modes of `(K, M)` do not diagonalise takes the
 //! first-order form (docs/theory.md §9.1): a real basis of invariant planes
 //! of `[0 I; −M⁻¹K −M⁻¹C]` in which each mode obeys the same scalar
-//! equation. *Not here*: massless contact dofs (refused), a defective
-//! first-order form (refused).
+//! equation. Massless contact dofs (mass redistribution, reduced models)
+//! are statically condensed: they land and leave without impacts. *Not
+//! here*: a defective first-order form (refused), a restitution above 0
+//! at a massless contact (refused).
 
 mod driven;
 mod flow;

@@ -1,0 +1,280 @@
+//! Massless contact dofs (docs/theory.md §9.3): the contact node of a mass
+//! redistribution (`mod…`, `transfer`, `singular`) or of a reduced model
+//! has no inertia, so its equation is static,
+//!
+//! ```text
+//! K_ZZ q_Z + K_ZR q_R = f_Z(t) + r,   lo <= q_c <= hi,   r ⟂ bounds,
+//! ```
+//!
+//! (`Z` the massless dofs, `R` the massive ones). A massless contact is
+//! *free* (not held) while its condensed position
+//! `q_S = K_SS⁻¹ (f_S − K_SR q_R − K_SA q_A)` stays inside its bounds, and
+//! *held* at its bound while its static force `r_c = (K q − f)_c` presses.
+//! In every phase the massive dofs follow a linear flow: the pencil on `R`
+//! with the Schur complement `K_RR − K_RS K_SS⁻¹ K_SR` and the load
+//! `f_R − K_RA q_A − K_RS K_SS⁻¹ (f_S − K_SA q_A)`. The events are a free
+//! contact's condensed position reaching its bound (it *lands*: no velocity
+//! of a massive dof jumps, no impulse; logged as an `impact` with velocity
+//! after 0 and impulse 0) and a held contact's force reaching 0 (a
+//! `release`). Both are functionals of the modal state, located by the same
+//! search. Which contacts are held after an event is the static LCP on
+//! `K_ZZ⁻¹` (the positions), then, for those at a bound without force, the
+//! same LCP on the rates: a contact is held unless it leaves its bound.
+//! There are no impacts, so no restitution acts (refused above 0) and the
+//! energy `½ vᵀ M v + ½ qᵀ K q − fᵀ q` is conserved under a steady load.
+
+use super::{EventDriven, EventKind, EventRecord, Hold, Site, System, Watch};
+use crate::events::flow::{EventsError, Loads, ModalFlow, Piece};
+use crate::events::search::Functional;
+use crate::events::Bound;
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use signorini_contact::MultiProjection;
+
+/// The inverse of the SPD `a` (`None` if it is not positive definite).
+fn spd_inverse(a: &Mat<f64>) -> Option<Mat<f64>> {
+    let n = a.nrows();
+    if n == 0 {
+        return Some(Mat::zeros(0, 0));
+    }
+    let llt = a.llt(Side::Lower).ok()?;
+    let mut x = Mat::<f64>::identity(n, n);
+    llt.solve_in_place(x.as_mut());
+    Some(x)
+}
+
+fn not_spd() -> EventsError {
+    EventsError::Contacts("the stiffness block K_ZZ of the massless dofs is not positive definite (a massless dof without stiffness has no static position)".to_string())
+}
+
+/// The static LCP of the massless contacts: on `K_ZZ⁻¹`, in `Z`'s
+/// coordinates (the contacts in their order), and `K_ZZ⁻¹`.
+pub(super) fn static_delassus(k: &Mat<f64>, zero: &[usize], sites: &[Site]) -> Result<(MultiProjection, Mat<f64>), EventsError> {
+    let nz = zero.len();
+    let kzz = Mat::from_fn(nz, nz, |i, j| k[(zero[i], zero[j])]);
+    let inv = spd_inverse(&kzz).ok_or_else(not_spd)?;
+    let dofs: Vec<usize> = sites.iter().map(|s| zero.iter().position(|&z| z == s.dof).expect("a massless contact dof")).collect();
+    let columns = dofs.iter().map(|&p| (0..nz).map(|r| inv[(r, p)]).collect()).collect();
+    let lcp = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
+    Ok((lcp, inv))
+}
+
+impl EventDriven {
+    fn is_zero(&self, d: usize) -> bool {
+        self.zero.binary_search(&d).is_ok()
+    }
+
+    /// Adds `Σ_d coef_d f_d(t)` (steady, waves, series) to `f`.
+    fn add_loads(&self, f: &mut Functional, coef: &[f64]) {
+        let loads: &Loads = &self.loads;
+        f.constant += coef.iter().zip(&loads.constant).map(|(c, x)| c * x).sum::<f64>();
+        for (j, (g, a, w, p)) in loads.waves.iter().enumerate() {
+            if f.waves.len() <= j {
+                f.waves.push((0.0, *w, *p));
+            }
+            f.waves[j].0 += coef.iter().zip(g).map(|(c, x)| c * x).sum::<f64>() * a;
+        }
+        f.ramps.resize(loads.ramps.len(), 0.0);
+        for (l, (h, _, _)) in loads.ramps.iter().enumerate() {
+            f.ramps[l] += coef.iter().zip(h).map(|(c, x)| c * x).sum::<f64>();
+        }
+    }
+
+    /// The phase of `holds` with massless contacts (module docs).
+    pub(super) fn build_static(&self, holds: &[Hold], piece: &Piece) -> Result<System, EventsError> {
+        let n = self.n;
+        let (k, m) = (&self.k, &self.m);
+        let held: Vec<(usize, f64)> = holds
+            .iter()
+            .map(|h| {
+                let s = &self.sites[h.contact];
+                (s.dof, if h.upper { s.hi } else { s.lo })
+            })
+            .collect();
+        let cond: Vec<usize> = self.zero.iter().copied().filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
+        let free: Vec<usize> = (0..n).filter(|&d| !self.is_zero(d)).collect();
+        let (nf, ns) = (free.len(), cond.len());
+        let g = spd_inverse(&Mat::from_fn(ns, ns, |i, j| k[(cond[i], cond[j])])).ok_or_else(not_spd)?;
+        // K_RS K_SS⁻¹.
+        let krs_g = Mat::from_fn(nf, ns, |r, j| (0..ns).map(|s| k[(free[r], cond[s])] * g[(s, j)]).sum::<f64>());
+        let keff = Mat::from_fn(nf, nf, |r, c| k[(free[r], free[c])] - (0..ns).map(|j| krs_g[(r, j)] * k[(cond[j], free[c])]).sum::<f64>());
+        let keff = Mat::from_fn(nf, nf, |r, c| 0.5 * (keff[(r, c)] + keff[(c, r)]));
+        let reduce = |x: &[f64]| -> Vec<f64> { (0..nf).map(|r| x[free[r]] - (0..ns).map(|j| krs_g[(r, j)] * x[cond[j]]).sum::<f64>()).collect() };
+        // The held dofs' displacements load the others: f − K_·A q_A.
+        let mut steady = self.loads.constant.clone();
+        for (d, x) in steady.iter_mut().enumerate() {
+            for &(a, xa) in &held {
+                *x -= k[(d, a)] * xa;
+            }
+        }
+        let loads = Loads {
+            constant: reduce(&steady),
+            waves: self.loads.waves.iter().map(|(w, a, o, p)| (reduce(w), *a, *o, *p)).collect(),
+            ramps: self.loads.ramps.iter().map(|(h, s, i)| (reduce(h), s.clone(), *i)).collect(),
+        };
+        let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
+        let flow = ModalFlow::from_parts(sub(m), keff, self.c.as_ref().map(sub), &loads)?;
+        let zeros = vec![0.0; nf];
+        let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
+        for (j, s) in self.sites.iter().enumerate() {
+            let Some(p) = cond.iter().position(|&d| d == s.dof) else { continue };
+            // q_c = Σ_i G_pi (f_i(t) − K_iR q_R − K_iA q_A), i over S.
+            let row: Vec<f64> = (0..nf).map(|r| -(0..ns).map(|i| g[(p, i)] * k[(cond[i], free[r])]).sum::<f64>()).collect();
+            let mut position = flow.linear(&row, &zeros);
+            let mut coef = vec![0.0; n];
+            for i in 0..ns {
+                coef[cond[i]] += g[(p, i)];
+                for &(a, xa) in &held {
+                    position.constant -= g[(p, i)] * k[(cond[i], a)] * xa;
+                }
+            }
+            self.add_loads(&mut position, &coef);
+            if s.lo.is_finite() {
+                let mut f = position.clone();
+                f.constant -= s.lo;
+                fns.push(f);
+                quiet.push(false);
+                watch.push(Watch::Gap { contact: j, bound: Bound::Lower });
+            }
+            if s.hi.is_finite() {
+                let mut f = position;
+                f.constant -= s.hi;
+                fns.push(f.negated());
+                quiet.push(false);
+                watch.push(Watch::Gap { contact: j, bound: Bound::Upper });
+            }
+        }
+        let mut forces = Vec::new();
+        for h in holds {
+            // r_c = (K q − f)_c with q_S condensed.
+            let c = self.sites[h.contact].dof;
+            let kcs_g: Vec<f64> = (0..ns).map(|i| (0..ns).map(|s| k[(c, cond[s])] * g[(s, i)]).sum()).collect();
+            let row: Vec<f64> = (0..nf).map(|r| k[(c, free[r])] - (0..ns).map(|i| kcs_g[i] * k[(cond[i], free[r])]).sum::<f64>()).collect();
+            let mut f = flow.linear(&row, &zeros);
+            let mut coef = vec![0.0; n];
+            coef[c] -= 1.0;
+            for i in 0..ns {
+                coef[cond[i]] += kcs_g[i];
+            }
+            for &(a, xa) in &held {
+                f.constant += (k[(c, a)] - (0..ns).map(|i| kcs_g[i] * k[(cond[i], a)]).sum::<f64>()) * xa;
+            }
+            self.add_loads(&mut f, &coef);
+            forces.push((h.contact, f.clone()));
+            fns.push(if h.upper { f.negated() } else { f });
+            quiet.push(true);
+            watch.push(Watch::Release { contact: h.contact });
+        }
+        let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond, g };
+        sys.set_piece(piece);
+        Ok(sys)
+    }
+
+    /// The condensed dofs' `q_S = K_SS⁻¹ (f_S(t) − K_SR q_R − K_SA q_A)` and
+    /// `v_S = K_SS⁻¹ (f_S'(t) − K_SR v_R)` into `q`, `v` (the others set).
+    pub(super) fn condensed_into(&self, sys: &System, q: &mut [f64], v: &mut [f64]) {
+        let (t, k, n) = (self.t, &self.k, self.n);
+        let cond = &sys.cond;
+        for (p, &d) in cond.iter().enumerate() {
+            let (mut x, mut y) = (0.0, 0.0);
+            for (i, &ci) in cond.iter().enumerate() {
+                let (mut w, mut dw) = (self.loads.value(ci, t), self.loads.rate(ci, t, &self.piece));
+                for r in 0..n {
+                    if !cond.contains(&r) {
+                        w -= k[(ci, r)] * q[r];
+                        dw -= k[(ci, r)] * v[r];
+                    }
+                }
+                x += sys.g[(p, i)] * w;
+                y += sys.g[(p, i)] * dw;
+            }
+            (q[d], v[d]) = (x, y);
+        }
+    }
+
+    /// [`settle`](EventDriven::settle) with massless contacts (module docs):
+    /// the static LCP decides which contacts are at a bound, the rate LCP
+    /// which of those without force stay.
+    pub(super) fn settle_static(&mut self, t: f64, mut q: Vec<f64>, mut v: Vec<f64>, primary: Option<(usize, Bound)>) -> Result<(), EventsError> {
+        let (n, nz, kc) = (self.n, self.zero.len(), self.sites.len());
+        let mut piece = Piece::default();
+        self.loads.piece_into(t, &mut piece);
+        // K_ZZ⁻¹ (f_Z − K_ZR q_R) and its rate.
+        let (mut b, mut db) = (vec![0.0; nz], vec![0.0; nz]);
+        for (i, &d) in self.zero.iter().enumerate() {
+            b[i] = self.loads.value(d, t);
+            db[i] = self.loads.rate(d, t, &piece);
+            for r in (0..n).filter(|&r| !self.is_zero(r)) {
+                b[i] -= self.k[(d, r)] * q[r];
+                db[i] -= self.k[(d, r)] * v[r];
+            }
+        }
+        let apply = |x: &[f64]| -> Vec<f64> { (0..nz).map(|i| (0..nz).map(|j| self.kzz_inv[(i, j)] * x[j]).sum()).collect() };
+        let (mut y, mut dy) = (apply(&b), apply(&db));
+        let pos: Vec<usize> = self.delassus.dofs().to_vec();
+        let lo: Vec<f64> = self.sites.iter().map(|s| s.lo).collect();
+        let hi: Vec<f64> = self.sites.iter().map(|s| s.hi).collect();
+        self.delassus.project(&mut y, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        let r0 = self.delassus.multipliers().to_vec();
+        // Which bound each contact is at (the located one at the bound it
+        // reached), and whether its static force presses it there (a
+        // multiplier of the other sign is round-off of a landing).
+        let mut at: Vec<Option<bool>> = vec![None; kc];
+        let mut pressed = vec![false; kc];
+        for (j, s) in self.sites.iter().enumerate() {
+            let (yc, tol) = (y[pos[j]], 1e-12 * s.scale);
+            at[j] = match primary {
+                Some((p, b)) if p == j => Some(b == Bound::Upper),
+                _ if yc - s.lo <= tol => Some(false),
+                _ if s.hi - yc <= tol => Some(true),
+                _ => None,
+            };
+            pressed[j] = match at[j] {
+                Some(false) => r0[j] > 0.0,
+                Some(true) => r0[j] < 0.0,
+                None => false,
+            };
+        }
+        // The rates: pressed contacts stay (an equality), those at a bound
+        // without force may leave it.
+        let (mut rlo, mut rhi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
+        for j in 0..kc {
+            match at[j] {
+                Some(_) if pressed[j] => (rlo[j], rhi[j]) = (0.0, 0.0),
+                Some(false) => rlo[j] = 0.0,
+                Some(true) => rhi[j] = 0.0,
+                None => {}
+            }
+        }
+        let before: Vec<f64> = self.sites.iter().map(|s| v[s.dof]).collect();
+        self.delassus.project(&mut dy, &rlo, &rhi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        let mu = self.delassus.multipliers().to_vec();
+        let dscale = dy.iter().fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
+        let mut holds = Vec::new();
+        for j in 0..kc {
+            let Some(upper) = at[j] else { continue };
+            let leaving = !pressed[j] && mu[j] == 0.0 && dy[pos[j]].abs() > 1e-12 * dscale;
+            if !leaving {
+                holds.push(Hold { contact: j, upper });
+            }
+        }
+        let was_held: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
+        if primary.is_some() {
+            for j in 0..kc {
+                let now = holds.iter().any(|h| h.contact == j);
+                if now && !was_held[j] {
+                    self.events.push(EventRecord { t, kind: EventKind::Impact, contact: j, velocity_before: before[j], velocity_after: 0.0, impulse: 0.0 });
+                } else if was_held[j] && !now {
+                    self.events.push(EventRecord { t, kind: EventKind::Release, contact: j, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
+                }
+            }
+        }
+        for h in &holds {
+            let s = &self.sites[h.contact];
+            (q[s.dof], v[s.dof]) = (if h.upper { s.hi } else { s.lo }, 0.0);
+        }
+        self.enter(holds, q, v, t)?;
+        self.t = t;
+        Ok(())
+    }
+}
