@@ -76,33 +76,72 @@ fn label(r: &SchemeSpec) -> String {
 /// One (scheme, mass, level) in lockstep with its reference.
 #[allow(clippy::too_many_arguments)]
 pub fn run_case(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, degree: usize, ratio: f64, t_end: f64) -> Result<TimeError, StudyError> {
+    let reference = reference_of(&scheme, mass)?;
+    let mut rows = run_group(benchmark, exact, &[scheme], reference, mass, m, degree, ratio, t_end)?;
+    Ok(rows.remove(0))
+}
+
+/// Every scheme of `schemes` (all with the reference `reference` on `mass`)
+/// in lockstep with one run of the reference at level `m`: the same rows as
+/// [`run_case`] one scheme at a time, the reference run once.
+#[allow(clippy::too_many_arguments)]
+pub fn run_group(
+    benchmark: Benchmark,
+    exact: &dyn ExactSolution,
+    schemes: &[SchemeSpec],
+    reference: SchemeSpec,
+    mass: BarMass,
+    m: usize,
+    degree: usize,
+    ratio: f64,
+    t_end: f64,
+) -> Result<Vec<TimeError>, StudyError> {
     let problem = benchmark.problem_with_degree(exact, m, mass, degree).map_err(|e| StudyError::Run(e.to_string()))?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let steps = RunConfig::new(dt, t_end).map_err(|e| StudyError::Run(e.to_string()))?.steps();
-    let reference = reference_of(&scheme, mass)?;
     let dy = problem.dynamics();
     let build = |s: &SchemeSpec| s.build(problem.dynamics(), dt, &problem.initial).map_err(|e| StudyError::Run(format!("{s}, {mass}, m = {m}: {e}")));
-    let (mut a, mut b): (Box<dyn Stepper>, Box<dyn Stepper>) = (build(&scheme)?, build(&reference)?);
-    let mut acc = Acc { e: vec![0.0; dy.n()], ..Acc::default() };
-    // A two-step scheme takes its start step when built: the reference catches up.
-    while b.level() < a.level() {
-        b.step().map_err(|err| StudyError::Run(format!("{reference}, {mass}, m = {m}: {err}")))?;
+    let mut b = build(&reference)?;
+    /// A scheme's lane: its stepper, its sums, whether it has started
+    /// (a two-step scheme starts a level late) or blown up.
+    struct Lane {
+        a: Box<dyn Stepper>,
+        acc: Acc,
+        started: bool,
+        failed: bool,
     }
-    acc.measure(&dy, dt, a.as_mut(), b.as_mut(), true);
-    while a.level() < steps {
-        let failed = a.step().is_err();
-        b.step().map_err(|err| StudyError::Run(format!("{reference}, {mass}, m = {m}: {err}")))?;
-        if failed {
-            // A blow-up: no error to report.
-            acc = Acc { l2u: f64::NAN, lv: f64::NAN, lam2: f64::NAN, len: f64::NAN, ..acc };
-            break;
+    let mut lanes = schemes.iter().map(|s| Ok(Lane { a: build(s)?, acc: Acc { e: vec![0.0; dy.n()], ..Acc::default() }, started: false, failed: false })).collect::<Result<Vec<_>, StudyError>>()?;
+    let start = |lanes: &mut [Lane], b: &mut dyn Stepper| {
+        let level = b.level();
+        for l in lanes.iter_mut().filter(|l| !l.started && l.a.level() == level) {
+            l.acc.measure(&dy, dt, l.a.as_mut(), b, true);
+            l.started = true;
         }
-        acc.measure(&dy, dt, a.as_mut(), b.as_mut(), false);
+    };
+    start(&mut lanes, b.as_mut());
+    while b.level() < steps {
+        b.step().map_err(|err| StudyError::Run(format!("{reference}, {mass}, m = {m}: {err}")))?;
+        for l in lanes.iter_mut().filter(|l| l.started && !l.failed) {
+            if l.a.step().is_err() {
+                // A blow-up: no error to report.
+                l.acc = Acc { l2u: f64::NAN, lv: f64::NAN, lam2: f64::NAN, len: f64::NAN, e: Vec::new() };
+                l.failed = true;
+                continue;
+            }
+            l.acc.measure(&dy, dt, l.a.as_mut(), b.as_mut(), false);
+        }
+        start(&mut lanes, b.as_mut());
     }
-    let Acc { l2u, lv, lam2, len, .. } = acc;
     let events = b.events().map_or(0, <[_]>::len);
-    Ok(TimeError { scheme, reference, mass, m, dx, dt, steps, linf_l2_u: l2u, linf_v_u: lv, l2_lambda: lam2.sqrt(), linf_energy: len, events })
+    Ok(schemes
+        .iter()
+        .zip(lanes)
+        .map(|(&scheme, l)| {
+            let Acc { l2u, lv, lam2, len, .. } = l.acc;
+            TimeError { scheme, reference, mass, m, dx, dt, steps, linf_l2_u: l2u, linf_v_u: lv, l2_lambda: lam2.sqrt(), linf_energy: len, events }
+        })
+        .collect())
 }
 
 /// The running maxima and sums of the difference.
@@ -158,18 +197,38 @@ fn value(r: &TimeError, q: &str) -> f64 {
 pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<(Vec<crate::Table>, String), StudyError> {
     let masses: Vec<BarMass> = cfg.masses.clone();
     let schemes: Vec<SchemeSpec> = cfg.schemes.iter().copied().filter(|s| s.family().name != "event-driven").collect();
-    let mut cases = Vec::new();
-    for &s in &schemes {
-        for &mass in &masses {
-            for &m in &cfg.levels {
-                cases.push((s, mass, m));
+    // One group per (mass, level, reference): the reference runs once,
+    // its schemes in lockstep with it.
+    let mut groups: Vec<(BarMass, usize, SchemeSpec, Vec<SchemeSpec>)> = Vec::new();
+    for &mass in &masses {
+        for &m in &cfg.levels {
+            for &s in &schemes {
+                let r = reference_of(&s, mass)?;
+                match groups.iter_mut().find(|g| g.0 == mass && g.1 == m && label(&g.2) == label(&r)) {
+                    Some(g) => g.3.push(s),
+                    None => groups.push((mass, m, r, vec![s])),
+                }
             }
         }
     }
     // The closed form (the problems' initial data and the space error's reference), built once.
     let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
-    let results = crate::run_cases(&cases, progress, &|&(s, mass, m)| run_case(cfg.benchmark, exact.as_ref(), s, mass, m, cfg.degree, cfg.ratio, cfg.t_end));
-    let results: Vec<TimeError> = results.into_iter().collect::<Result<_, _>>()?;
+    let grouped = crate::run_cases(&groups, progress, &|(mass, m, r, ss)| run_group(cfg.benchmark, exact.as_ref(), ss, *r, *mass, *m, cfg.degree, cfg.ratio, cfg.t_end));
+    let mut rows: Vec<TimeError> = Vec::new();
+    for g in grouped {
+        rows.extend(g?);
+    }
+    // In the order scheme, mass, level.
+    let mut results = Vec::with_capacity(rows.len());
+    for &s in &schemes {
+        for &mass in &masses {
+            for &m in &cfg.levels {
+                if let Some(i) = rows.iter().position(|r| r.scheme == s && r.mass == mass && r.m == m) {
+                    results.push(rows.swap_remove(i));
+                }
+            }
+        }
+    }
     crate::create_dir(out)?;
     let mut t = TableOut::create(
         out,
