@@ -138,8 +138,10 @@ struct ConvergenceArgs {
     clean: bool,
     /// What the errors are measured against: exact (the benchmark's closed
     /// form) or event-driven (the exact semi-discrete solution on the same
-    /// mesh: the time error alone, with the space error beside it; default
-    /// folder out/convergence/<benchmark>-event-driven).
+    /// mesh: the time error alone, with the space error beside it; every
+    /// mass, massless contact nodes against event-driven(0); with --reduce,
+    /// the reduced model's; default folder
+    /// out/convergence/<benchmark>-event-driven[-reduce-…]).
     #[arg(long, default_value = "exact")]
     reference: String,
 }

@@ -26,6 +26,7 @@
 use crate::{fe, int, txt, Kind, StudyError, TableOut};
 use signorini_exact::ExactSolution;
 use signorini_fem::BarMass;
+use signorini_reduce::Keep;
 use signorini_run::study::{self, Level, StudyConfig};
 use signorini_run::{Benchmark, RunConfig};
 use signorini_schemes::{SchemeSpec, Stepper};
@@ -77,13 +78,16 @@ fn label(r: &SchemeSpec) -> String {
 #[allow(clippy::too_many_arguments)]
 pub fn run_case(benchmark: Benchmark, exact: &dyn ExactSolution, scheme: SchemeSpec, mass: BarMass, m: usize, degree: usize, ratio: f64, t_end: f64) -> Result<TimeError, StudyError> {
     let reference = reference_of(&scheme, mass)?;
-    let mut rows = run_group(benchmark, exact, &[scheme], reference, mass, m, degree, ratio, t_end)?;
+    let mut rows = run_group(benchmark, exact, &[scheme], reference, mass, m, degree, ratio, t_end, None)?;
     Ok(rows.remove(0))
 }
 
 /// Every scheme of `schemes` (all with the reference `reference` on `mass`)
 /// in lockstep with one run of the reference at level `m`: the same rows as
-/// [`run_case`] one scheme at a time, the reference run once.
+/// [`run_case`] one scheme at a time, the reference run once. With
+/// `reduce`, all of them run the reduced model (docs/theory.md §2.5) and
+/// the norms are the reduced model's own (`M_r`, `K_r = Tᵀ K T`): the time
+/// error of the reduced semi-discrete problem.
 #[allow(clippy::too_many_arguments)]
 pub fn run_group(
     benchmark: Benchmark,
@@ -95,13 +99,20 @@ pub fn run_group(
     degree: usize,
     ratio: f64,
     t_end: f64,
+    reduce: Option<Keep>,
 ) -> Result<Vec<TimeError>, StudyError> {
     let problem = benchmark.problem_with_degree(exact, m, mass, degree).map_err(|e| StudyError::Run(e.to_string()))?;
     let dx = problem.bar.h();
     let dt = dx / ratio;
     let steps = RunConfig::new(dt, t_end).map_err(|e| StudyError::Run(e.to_string()))?.steps();
-    let dy = problem.dynamics();
-    let build = |s: &SchemeSpec| s.build(problem.dynamics(), dt, &problem.initial).map_err(|e| StudyError::Run(format!("{s}, {mass}, m = {m}: {e}")));
+    let (dy, initial) = match reduce {
+        None => (problem.dynamics(), problem.initial.clone()),
+        Some(keep) => {
+            let red = signorini_run::reduced::reduce(&problem.dynamics(), &problem.initial, keep).map_err(|e| StudyError::Run(format!("--reduce at m = {m}: {e}")))?;
+            (red.dynamics, red.initial)
+        }
+    };
+    let build = |s: &SchemeSpec| s.build(dy.clone(), dt, &initial).map_err(|e| StudyError::Run(format!("{s}, {mass}, m = {m}: {e}")));
     let mut b = build(&reference)?;
     /// A scheme's lane: its stepper, its sums, whether it has started
     /// (a two-step scheme starts a level late) or blown up.
@@ -194,7 +205,7 @@ fn value(r: &TimeError, q: &str) -> f64 {
 /// Runs the study on `cfg`'s levels, schemes and masses (massless contact
 /// nodes against `event-driven(0)`), writing
 /// into `out`; returns the tables and the report.
-pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<(Vec<crate::Table>, String), StudyError> {
+pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<(Vec<crate::Table>, String), StudyError> {
     let masses: Vec<BarMass> = cfg.masses.clone();
     let schemes: Vec<SchemeSpec> = cfg.schemes.iter().copied().filter(|s| s.family().name != "event-driven").collect();
     // One group per (mass, level, reference): the reference runs once,
@@ -213,7 +224,7 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) 
     }
     // The closed form (the problems' initial data and the space error's reference), built once.
     let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
-    let grouped = crate::run_cases(&groups, progress, &|(mass, m, r, ss)| run_group(cfg.benchmark, exact.as_ref(), ss, *r, *mass, *m, cfg.degree, cfg.ratio, cfg.t_end));
+    let grouped = crate::run_cases(&groups, progress, &|(mass, m, r, ss)| run_group(cfg.benchmark, exact.as_ref(), ss, *r, *mass, *m, cfg.degree, cfg.ratio, cfg.t_end, reduce));
     let mut rows: Vec<TimeError> = Vec::new();
     for g in grouped {
         rows.extend(g?);
@@ -299,7 +310,8 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) 
         let r = &r;
         {
             for &m in &cfg.levels {
-                let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree), exact.as_ref()).map_err(|e| StudyError::Run(e.to_string()))?;
+                let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree).with_reduce(reduce), exact.as_ref())
+                    .map_err(|e| StudyError::Run(e.to_string()))?;
                 let v = |name: &str| study::norm_value(&lv.norms, name);
                 s.row(vec![
                     txt(label(r)),
@@ -320,11 +332,16 @@ pub fn run(cfg: &StudyConfig, out: &Path, progress: &(dyn Fn(u64, u64) + Sync)) 
     tables.push(s.finish()?);
     // The report: rates against dt (least squares over the levels).
     let mut report = format!(
-        "# Time error against the exact semi-discrete solution: {}, dx/dt = {}, T = {}, m = {:?}\n\nEach scheme against `event-driven(e)` at the same level (its own restitution e, 0 for the projection schemes); least-squares rates against dt, then the finest level's error (CSV: {}).\n\n| scheme | mass | reference |",
+        "# Time error against the exact semi-discrete solution: {}, dx/dt = {}, T = {}, m = {:?}{}\n\nEach scheme against `event-driven(e)` at the same level (its own restitution e, 0 for the projection schemes); least-squares rates against dt, then the finest level's error (CSV: {}).\n\n| scheme | mass | reference |",
         cfg.benchmark,
         cfg.ratio,
         cfg.t_end,
         cfg.levels,
+        match reduce {
+            None => String::new(),
+            Some(Keep::Modes(r)) => format!(" — reduced model (docs/theory.md §2.5), {r} modes, in its own norms"),
+            Some(Keep::CutoffHz(f)) => format!(" — reduced model (docs/theory.md §2.5), modes up to {f} Hz, in its own norms"),
+        },
         out.join("time_error.csv").display()
     );
     for (_, name) in QUANTITIES {
