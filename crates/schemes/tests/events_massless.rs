@@ -10,6 +10,9 @@
 //! flow is used. Also: the energy is conserved to round-off over hundreds
 //! of landings (no impacts), and a restitution above 0 is refused.
 
+#[path = "events_common/mod.rs"]
+mod common;
+
 use proptest::collection::vec;
 use proptest::prelude::*;
 use signorini_fem::SymBand;
@@ -54,7 +57,8 @@ struct Oracle {
     /// The massless dofs `(dof, lo, hi)`, never neighbours (`K_ZZ` diagonal:
     /// each clamps on its own).
     zero: Vec<(usize, f64, f64)>,
-    /// The massive dofs and `M_RR⁻¹` (Gauss–Jordan).
+    /// The massive dofs and `M_RR⁻¹` (Gauss–Jordan, n × n with zero rows
+    /// and columns at the massless dofs).
     mass: Vec<usize>,
     minv: Vec<f64>,
 }
@@ -79,22 +83,8 @@ impl Oracle {
         };
         let zero: Vec<(usize, f64, f64)> = dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi)).collect();
         let mass: Vec<usize> = (0..n).filter(|d| !zero.iter().any(|z| z.0 == *d)).collect();
-        let p = mass.len();
-        let mut w: Vec<Vec<f64>> = (0..p).map(|i| (0..p).map(|j| m[mass[i] * n + mass[j]]).chain((0..p).map(|j| f64::from(u8::from(i == j)))).collect()).collect();
-        for col in 0..p {
-            let piv = (col..p).max_by(|&x, &y| w[x][col].abs().total_cmp(&w[y][col].abs())).unwrap();
-            w.swap(col, piv);
-            let d = w[col][col];
-            w[col].iter_mut().for_each(|x| *x /= d);
-            for r in 0..p {
-                if r != col {
-                    let f = w[r][col];
-                    let row = w[col].clone();
-                    w[r].iter_mut().zip(&row).for_each(|(x, y)| *x -= f * y);
-                }
-            }
-        }
-        let minv = (0..p * p).map(|x| w[x / p][p + x % p]).collect();
+        // M_RR⁻¹, embedded in n × n with zeros at the massless dofs.
+        let minv = common::inverse(&m, n, &mass);
         Self { n, k: dense(&dy.stiffness), f0: dy.load.clone(), shape, amplitude, omega, zero, mass, minv }
     }
 
@@ -119,11 +109,10 @@ impl Oracle {
         for (z, &(d, lo, hi)) in self.zero.iter().enumerate() {
             q[d] = self.free_position(z, t, &q, v).0.clamp(lo, hi);
         }
-        let p = self.mass.len();
-        let rhs: Vec<f64> = self.mass.iter().map(|&i| self.force(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>()).collect();
+        let rhs: Vec<f64> = (0..n).map(|i| self.force(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>()).collect();
         let mut a = [0.0; N];
-        for (i, &d) in self.mass.iter().enumerate() {
-            a[d] = (0..p).map(|j| self.minv[i * p + j] * rhs[j]).sum();
+        for &d in &self.mass {
+            a[d] = (0..n).map(|j| self.minv[d * n + j] * rhs[j]).sum();
         }
         a
     }

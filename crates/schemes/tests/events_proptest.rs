@@ -78,36 +78,6 @@ fn interpolate(points: &[(f64, f64)], t: f64) -> f64 {
     }
 }
 
-/// The inverse of the dense `a` restricted to the dofs `keep` (Gauss–Jordan
-/// with partial pivoting), embedded in `n × n` with zeros elsewhere.
-fn inverse(a: &[f64], n: usize, keep: &[usize]) -> Vec<f64> {
-    let p = keep.len();
-    let mut w: Vec<Vec<f64>> = (0..p).map(|i| (0..p).map(|j| a[keep[i] * n + keep[j]]).chain((0..p).map(|j| if i == j { 1.0 } else { 0.0 })).collect()).collect();
-    for col in 0..p {
-        let piv = (col..p).max_by(|&x, &y| w[x][col].abs().total_cmp(&w[y][col].abs())).unwrap();
-        w.swap(col, piv);
-        let d = w[col][col];
-        assert!(d.abs() > 1e-300, "singular");
-        w[col].iter_mut().for_each(|x| *x /= d);
-        for r in 0..p {
-            if r != col {
-                let f = w[r][col];
-                if f != 0.0 {
-                    let row = w[col].clone();
-                    w[r].iter_mut().zip(&row).for_each(|(x, y)| *x -= f * y);
-                }
-            }
-        }
-    }
-    let mut out = vec![0.0; n * n];
-    for i in 0..p {
-        for j in 0..p {
-            out[keep[i] * n + keep[j]] = w[i][p + j];
-        }
-    }
-    out
-}
-
 impl Oracle {
     fn from(dy: &Dynamics, e: &[f64], h: f64) -> Self {
         let n = dy.n();
@@ -229,8 +199,8 @@ impl Oracle {
     fn run(&self, t0: f64, q0: &[f64], v0: &[f64], t_end: f64) -> (Vec<Ev>, V, V, Doubt) {
         let n = self.n;
         let all: Vec<usize> = (0..n).collect();
-        let full = inverse(&self.m, n, &all);
-        let reduced: Vec<Vec<f64>> = self.contacts.iter().map(|&(d, ..)| inverse(&self.m, n, &all.iter().copied().filter(|&x| x != d).collect::<Vec<_>>())).collect();
+        let full = common::inverse(&self.m, n, &all);
+        let reduced: Vec<Vec<f64>> = self.contacts.iter().map(|&(d, ..)| common::inverse(&self.m, n, &all.iter().copied().filter(|&x| x != d).collect::<Vec<_>>())).collect();
         let (mut q, mut v) = ([0.0; N], [0.0; N]);
         q[..n].copy_from_slice(q0);
         v[..n].copy_from_slice(v0);
@@ -486,6 +456,30 @@ const TOL_T: f64 = 1e-9;
 const TOL_V: f64 = 1e-9;
 const TOL_Q: f64 = 1e-9;
 
+/// The held chains below against the oracle, from `(q0, v0)` over
+/// `[0, t_end]` with `e = 0`: the same events (at least two releases), each
+/// landing at rest, and the same final state.
+fn held_chain_matches_the_oracle(dy: &Dynamics, q0: &[f64], v0: &[f64], t_end: f64) {
+    let n = dy.n();
+    let mut run = EventDriven::new(dy, 0.0, q0, v0, 0.0).unwrap();
+    run.run_until(t_end, 100).unwrap();
+    let got = run.events().to_vec();
+    let oracle = Oracle::from(dy, &[0.0], H);
+    let (want, qo, vo, _) = oracle.run(0.0, q0, v0, t_end);
+    assert_eq!(got.len(), want.len(), "{got:?}\nagainst {want:?}");
+    assert!(want.iter().filter(|e| e.kind == EventKind::Release).count() >= 2, "{want:?}");
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(g.kind == w.kind && g.contact == w.contact, "event {i}: {g:?} against {w:?}");
+        assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
+        assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
+        assert_eq!(g.velocity_after, 0.0);
+    }
+    let (_, q, v) = run.state();
+    for i in 0..n {
+        assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {i}: (q, v) = ({}, {}) against ({}, {})", q[i], v[i], qo[i], vo[i]);
+    }
+}
+
 /// A chain of three masses over a stop at `−0.1` under its first one,
 /// `e = 0`, pressed by a steady load and shaken by a harmonic one: it lands
 /// with zero restitution, stays held while its contact force is positive,
@@ -495,31 +489,12 @@ const TOL_Q: f64 = 1e-9;
 /// equation.
 #[test]
 fn a_held_chain_is_released_when_its_force_computed_from_the_equation_vanishes() {
-    let n = 3;
-    let (m, k) = common::chain_matrices(n, false);
+    let (m, k) = common::chain_matrices(3, false);
     let c = m.lin_comb(0.02, &k, 0.01);
     let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
         .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
         .with_damping(Some(c));
-    let (q0, v0) = ([0.0, 0.0, 0.0], [-0.5, 0.2, 0.1]);
-    let t_end = 20.0;
-    let mut run = EventDriven::new(&dy, 0.0, &q0, &v0, 0.0).unwrap();
-    run.run_until(t_end, 100).unwrap();
-    let got = run.events().to_vec();
-    let oracle = Oracle::from(&dy, &[0.0], H);
-    let (want, qo, vo, _) = oracle.run(0.0, &q0, &v0, t_end);
-    assert_eq!(got.len(), want.len(), "{got:?}\nagainst {want:?}");
-    assert!(want.iter().filter(|e| e.kind == EventKind::Release).count() >= 2, "{want:?}");
-    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        assert!(g.kind == w.kind && g.contact == w.contact, "event {i}: {g:?} against {w:?}");
-        assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
-        assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
-        assert_eq!(g.velocity_after, 0.0);
-    }
-    let (_, q, v) = run.state();
-    for i in 0..n {
-        assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {i}: (q, v) = ({}, {}) against ({}, {})", q[i], v[i], qo[i], vo[i]);
-    }
+    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }
 
 /// The held chain under a piecewise-linear load instead of the harmonic
@@ -528,32 +503,13 @@ fn a_held_chain_is_released_when_its_force_computed_from_the_equation_vanishes()
 /// ramp term, not only its constant), against the oracle.
 #[test]
 fn a_held_chain_is_released_by_a_ramp_of_a_piecewise_linear_load() {
-    let n = 3;
-    let (m, k) = common::chain_matrices(n, false);
+    let (m, k) = common::chain_matrices(3, false);
     let c = m.lin_comb(0.02, &k, 0.01);
     let series = TimeProfile::series(vec![0.0, 3.0, 8.0, 11.0, 15.5, 20.0], vec![0.0, -0.3, 0.25, -0.2, 0.4, -0.1]).unwrap();
     let dy = Dynamics::new(m, k, vec![-0.05, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
         .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: series }])
         .with_damping(Some(c));
-    let (q0, v0) = ([0.0, 0.0, 0.0], [-0.5, 0.2, 0.1]);
-    let t_end = 20.0;
-    let mut run = EventDriven::new(&dy, 0.0, &q0, &v0, 0.0).unwrap();
-    run.run_until(t_end, 100).unwrap();
-    let got = run.events().to_vec();
-    let oracle = Oracle::from(&dy, &[0.0], H);
-    let (want, qo, vo, _) = oracle.run(0.0, &q0, &v0, t_end);
-    assert_eq!(got.len(), want.len(), "{got:?}\nagainst {want:?}");
-    assert!(want.iter().filter(|e| e.kind == EventKind::Release).count() >= 2, "{want:?}");
-    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        assert!(g.kind == w.kind && g.contact == w.contact, "event {i}: {g:?} against {w:?}");
-        assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
-        assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
-        assert_eq!(g.velocity_after, 0.0);
-    }
-    let (_, q, v) = run.state();
-    for i in 0..n {
-        assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {i}: (q, v) = ({}, {}) against ({}, {})", q[i], v[i], qo[i], vo[i]);
-    }
+    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }
 
 /// The held chain with a dashpot on its second mass (non-classical damping:
@@ -561,29 +517,11 @@ fn a_held_chain_is_released_by_a_ramp_of_a_piecewise_linear_load() {
 /// it lands on and leaves several times, against the oracle.
 #[test]
 fn a_held_chain_with_a_dashpot_is_released_when_its_force_vanishes() {
-    let n = 3;
-    let (m, k) = common::chain_matrices(n, false);
+    let (m, k) = common::chain_matrices(3, false);
     let mut c = m.lin_comb(0.02, &k, 0.01);
     c.set(1, 1, c.get(1, 1) + 0.4);
     let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
         .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
         .with_damping(Some(c));
-    let (q0, v0) = ([0.0, 0.0, 0.0], [-0.5, 0.2, 0.1]);
-    let t_end = 20.0;
-    let mut run = EventDriven::new(&dy, 0.0, &q0, &v0, 0.0).unwrap();
-    run.run_until(t_end, 100).unwrap();
-    let got = run.events().to_vec();
-    let oracle = Oracle::from(&dy, &[0.0], H);
-    let (want, qo, vo, _) = oracle.run(0.0, &q0, &v0, t_end);
-    assert_eq!(got.len(), want.len(), "{got:?}\nagainst {want:?}");
-    assert!(want.iter().filter(|e| e.kind == EventKind::Release).count() >= 2, "{want:?}");
-    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        assert!(g.kind == w.kind && g.contact == w.contact, "event {i}: {g:?} against {w:?}");
-        assert!((g.t - w.t).abs() <= TOL_T, "event {i}: t = {} against {} ({:e})", g.t, w.t, g.t - w.t);
-        assert!((g.velocity_before - w.before).abs() <= TOL_V, "event {i}: v⁻ = {} against {}", g.velocity_before, w.before);
-    }
-    let (_, q, v) = run.state();
-    for i in 0..n {
-        assert!((q[i] - qo[i]).abs() <= TOL_Q && (v[i] - vo[i]).abs() <= TOL_Q, "dof {i}: (q, v) = ({}, {}) against ({}, {})", q[i], v[i], qo[i], vo[i]);
-    }
+    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }

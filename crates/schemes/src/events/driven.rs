@@ -560,13 +560,7 @@ impl EventDriven {
             return self.build_static(holds, piece);
         }
         let n = self.n;
-        let held: Vec<(usize, f64)> = holds
-            .iter()
-            .map(|h| {
-                let s = &self.sites[h.contact];
-                (s.dof, if h.upper { s.hi } else { s.lo })
-            })
-            .collect();
+        let held = self.held_values(holds);
         let free: Vec<usize> = (0..n).filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
         let nf = free.len();
         let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
@@ -670,6 +664,17 @@ impl EventDriven {
         let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond: Vec::new(), g: Mat::zeros(0, 0) };
         sys.set_piece(piece);
         Ok(sys)
+    }
+
+    /// The held contacts' `(dof, bound)`.
+    fn held_values(&self, holds: &[Hold]) -> Vec<(usize, f64)> {
+        holds
+            .iter()
+            .map(|h| {
+                let s = &self.sites[h.contact];
+                (s.dof, if h.upper { s.hi } else { s.lo })
+            })
+            .collect()
     }
 
     /// A held contact's force `r_a` (module docs) with a non-classical

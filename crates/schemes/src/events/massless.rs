@@ -84,13 +84,7 @@ impl EventDriven {
     pub(super) fn build_static(&self, holds: &[Hold], piece: &Piece) -> Result<System, EventsError> {
         let n = self.n;
         let (k, m) = (&self.k, &self.m);
-        let held: Vec<(usize, f64)> = holds
-            .iter()
-            .map(|h| {
-                let s = &self.sites[h.contact];
-                (s.dof, if h.upper { s.hi } else { s.lo })
-            })
-            .collect();
+        let held = self.held_values(holds);
         let cond: Vec<usize> = self.zero.iter().copied().filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
         let free: Vec<usize> = (0..n).filter(|&d| !self.is_zero(d)).collect();
         let (nf, ns) = (free.len(), cond.len());
