@@ -54,6 +54,9 @@ struct Oracle {
     shape: Vec<f64>,
     amplitude: f64,
     omega: f64,
+    /// A piecewise-linear load `ramp · s(t)`: its shape and points.
+    ramp: Vec<f64>,
+    points: Vec<(f64, f64)>,
     /// The massless dofs `(dof, lo, hi)`, never neighbours (`K_ZZ` diagonal:
     /// each clamps on its own).
     zero: Vec<(usize, f64, f64)>,
@@ -77,25 +80,43 @@ impl Oracle {
         let n = dy.n();
         let dense = |b: &SymBand| (0..n * n).map(|x| b.get(x / n, x % n)).collect::<Vec<f64>>();
         let m = dense(&dy.mass);
-        let (amplitude, omega, shape) = match dy.forcing.first() {
-            Some(Forcing { shape, time: TimeProfile::Sine { amplitude, omega } }) => (*amplitude, *omega, shape.clone()),
-            _ => (0.0, 0.0, vec![0.0; n]),
-        };
+        let (mut amplitude, mut omega, mut shape) = (0.0, 0.0, vec![0.0; n]);
+        let (mut ramp, mut points) = (vec![0.0; n], Vec::new());
+        for f in &dy.forcing {
+            match &f.time {
+                TimeProfile::Sine { amplitude: a, omega: w } => (amplitude, omega, shape) = (*a, *w, f.shape.clone()),
+                TimeProfile::Series(s) => (ramp, points) = (f.shape.clone(), s.times().iter().copied().zip(s.values().iter().copied()).collect()),
+                other => panic!("the oracle takes a Sine and a Series: {other:?}"),
+            }
+        }
         let zero: Vec<(usize, f64, f64)> = dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi)).collect();
         let mass: Vec<usize> = (0..n).filter(|d| !zero.iter().any(|z| z.0 == *d)).collect();
         // M_RR⁻¹, embedded in n × n with zeros at the massless dofs.
         let minv = common::inverse(&m, n, &mass);
-        Self { n, k: dense(&dy.stiffness), f0: dy.load.clone(), shape, amplitude, omega, zero, mass, minv }
+        Self { n, k: dense(&dy.stiffness), f0: dy.load.clone(), shape, amplitude, omega, ramp, points, zero, mass, minv }
+    }
+
+    /// `s(t)` and its slope (right-continuous; end values held).
+    fn series(&self, t: f64) -> (f64, f64) {
+        let p = &self.points;
+        match p.iter().position(|x| x.0 > t) {
+            None => (p.last().map_or(0.0, |x| x.1), 0.0),
+            Some(0) => (p[0].1, 0.0),
+            Some(k) => {
+                let slope = (p[k].1 - p[k - 1].1) / (p[k].0 - p[k - 1].0);
+                (p[k - 1].1 + slope * (t - p[k - 1].0), slope)
+            }
+        }
     }
 
     fn force(&self, i: usize, t: f64) -> f64 {
-        self.f0[i] + self.shape[i] * self.amplitude * (self.omega * t).sin()
+        self.f0[i] + self.shape[i] * self.amplitude * (self.omega * t).sin() + self.ramp[i] * self.series(t).0
     }
 
     /// Massless contact `z`'s unconstrained static position and its rate.
     fn free_position(&self, z: usize, t: f64, q: &V, v: &V) -> (f64, f64) {
         let (n, d) = (self.n, self.zero[z].0);
-        let (mut y, mut dy) = (self.force(d, t), self.shape[d] * self.amplitude * self.omega * (self.omega * t).cos());
+        let (mut y, mut dy) = (self.force(d, t), self.shape[d] * self.amplitude * self.omega * (self.omega * t).cos() + self.ramp[d] * self.series(t).1);
         for &r in &self.mass {
             y -= self.k[d * n + r] * q[r];
             dy -= self.k[d * n + r] * v[r];
@@ -154,7 +175,9 @@ impl Oracle {
         let mut events = Vec::new();
         let mut graze = f64::INFINITY;
         while t < t_end && events.len() < 60 {
-            let step = h.min(t_end - t);
+            // Steps end at the series' breakpoints.
+            let kink = self.points.iter().map(|p| p.0).find(|&b| b > t).map_or(f64::INFINITY, |b| b - t);
+            let step = h.min(t_end - t).min(kink);
             let (q1, v1) = self.rk4(t, &q, &v, step);
             let (g0, g1) = (self.gaps(t, &q, &v), self.gaps(t + step, &q1, &v1));
             let mut first: Option<(f64, usize)> = None;
@@ -214,7 +237,12 @@ struct Case {
     v0: Vec<f64>,
     /// Per contact (dof 0, and dof n − 1 if two): below, above (optional).
     bounds: Vec<(f64, Option<f64>)>,
+    /// A piecewise-linear load: its shape and (increments of t, values).
+    series: Option<SeriesPick>,
 }
+
+/// A random series: its load shape and points `(increment of t, value)`.
+type SeriesPick = (Vec<f64>, Vec<(f64, f64)>);
 
 impl Case {
     fn dynamics(&self) -> Dynamics {
@@ -223,7 +251,19 @@ impl Case {
         let (m, k) = chain(n, &self.masses, &self.springs, self.ground, both);
         let contacts =
             self.bounds.iter().zip([0, n - 1]).map(|(&(below, above), d)| Contact::new(d, Bounds { lo: self.q0[d] - below, hi: above.map_or(f64::INFINITY, |a| self.q0[d] + a) }, true)).collect();
-        Dynamics::new(m, k, self.load.clone(), contacts).with_forcing(vec![Forcing { shape: self.shape.clone(), time: TimeProfile::Sine { amplitude: self.amplitude, omega: self.omega } }])
+        let mut forcing = vec![Forcing { shape: self.shape.clone(), time: TimeProfile::Sine { amplitude: self.amplitude, omega: self.omega } }];
+        if let Some((ramp, pts)) = &self.series {
+            let mut t = -0.1;
+            let (times, values): (Vec<f64>, Vec<f64>) = pts
+                .iter()
+                .map(|&(d, v)| {
+                    t += d;
+                    (t, v)
+                })
+                .unzip();
+            forcing.push(Forcing { shape: ramp[..n].to_vec(), time: TimeProfile::series(times, values).unwrap() });
+        }
+        Dynamics::new(m, k, self.load.clone(), contacts).with_forcing(forcing)
     }
 }
 
@@ -240,8 +280,9 @@ prop_compose! {
         q0 in vec(-0.05f64..0.05, n),
         v0 in vec(-1.0f64..1.0, n),
         bounds in vec((0.005f64..0.1, proptest::option::of(0.01f64..0.1)), 1..=2),
+        series in proptest::option::of((vec(-1.0f64..1.0, N), vec((0.1f64..1.5, -0.4f64..0.4), 2..6))),
     ) -> Case {
-        Case { n, masses, springs, ground, load, shape, amplitude, omega, q0, v0, bounds }
+        Case { n, masses, springs, ground, load, shape, amplitude, omega, q0, v0, bounds, series }
     }
 }
 
@@ -255,7 +296,8 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 256, max_global_rejects: 8192, ..ProptestConfig::default() })]
     /// Random chains (3 to 7 dofs; dof 0 massless with a contact, and in
     /// half the cases dof n − 1 too; one or two bounds each; a steady and a
-    /// harmonic load): every landing and release at the oracle's time, the
+    /// harmonic load, in half the cases a piecewise-linear one too, the
+    /// oracle stepping to its breakpoints): every landing and release at the oracle's time, the
     /// landing speed, and the final state. Cases with a graze within 1e-4
     /// of a bound or events closer than 1e-2 are rejected (a fixed step may
     /// miss a graze).
@@ -325,9 +367,20 @@ fn a_massless_contact_conserves_the_energy_over_hundreds_of_landings() {
 }
 
 #[test]
-fn a_massless_contact_takes_no_restitution() {
+fn a_massless_contact_takes_no_restitution_and_bad_structures_are_typed_errors() {
     let (m, k) = chain(3, &[1.0, 1.0], &[1.0, 1.0], 0.5, false);
     let dy = Dynamics::new(m, k, vec![0.0; 3], vec![Contact::new(0, Bounds::obstacle(-0.1), true)]);
     let r = EventDriven::new(&dy, 0.0, &[0.0; 3], &[0.0; 3], 0.5);
     assert!(matches!(r, Err(EventsError::MasslessRestitution { contact: 0, restitution }) if restitution == 0.5), "{:?}", r.err());
+    // Through the library (no `Dynamics::validate` first): a massless and a
+    // massive contact together, and a massless dof with mass, are typed
+    // errors, not panics.
+    let (m, k) = chain(3, &[1.0, 1.0], &[1.0, 1.0], 0.5, false);
+    let mixed = Dynamics::new(m, k.clone(), vec![0.0; 3], vec![Contact::new(0, Bounds::obstacle(-0.1), true), Contact::new(2, Bounds::obstacle(-0.1), false)]);
+    assert!(matches!(EventDriven::new(&mixed, 0.0, &[0.0; 3], &[0.0; 3], 0.0), Err(EventsError::Contacts(ref s)) if s.contains("contacts[1]")));
+    let (m, _) = chain(3, &[1.0, 1.0], &[1.0, 1.0], 0.5, false);
+    let mut heavy = m.clone();
+    heavy.set(0, 0, 0.2);
+    let with_mass = Dynamics::new(heavy, k, vec![0.0; 3], vec![Contact::new(0, Bounds::obstacle(-0.1), true)]);
+    assert!(matches!(EventDriven::new(&with_mass, 0.0, &[0.0; 3], &[0.0; 3], 0.0), Err(EventsError::Contacts(ref s)) if s.contains("row of M")));
 }

@@ -408,13 +408,25 @@ proptest! {
     /// `(K, M)` diagonalise `C`: the first-order form, also for the held
     /// phases' reduced systems).
     #[test]
-    fn random_chains_with_a_nonclassical_damper_match_the_oracle(case in case(), at in 0usize..N, d in 0.05f64..1.0) {
+    fn random_chains_with_a_nonclassical_damper_match_the_oracle(
+        case in case(),
+        at in 0usize..N,
+        d in 0.05f64..1.0,
+        series in proptest::option::of((vec(-1.0f64..1.0, N), vec((0.1f64..1.5, -0.6f64..0.6), 2..6))),
+    ) {
         let mut dy = case.dynamics();
         let at = at % case.n;
         prop_assume!(case.n >= 2);
         let mut c = dy.damping.take().unwrap_or_else(|| SymBand::zeros(case.n, 1));
         c.set(at, at, c.get(at, at) + d);
         dy.damping = Some(c);
+        // Half the cases with a series on top (the first-order form's load
+        // shift then has ramps).
+        if let Some((ramp, pts)) = series {
+            let mut t = -0.1;
+            let (times, values): (Vec<f64>, Vec<f64>) = pts.iter().map(|&(d, v)| { t += d; (t, v) }).unzip();
+            dy.forcing.push(Forcing { shape: ramp[..case.n].to_vec(), time: TimeProfile::series(times, values).unwrap() });
+        }
         check_case(&case, dy)?;
     }
 }
@@ -522,6 +534,20 @@ fn a_held_chain_with_a_dashpot_is_released_when_its_force_vanishes() {
     c.set(1, 1, c.get(1, 1) + 0.4);
     let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
         .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
+        .with_damping(Some(c));
+    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
+}
+
+/// The ramp-released chain with the dashpot too: the first-order form's
+/// held force with the series' ramps.
+#[test]
+fn a_held_chain_with_a_dashpot_is_released_by_a_ramp() {
+    let (m, k) = common::chain_matrices(3, false);
+    let mut c = m.lin_comb(0.02, &k, 0.01);
+    c.set(1, 1, c.get(1, 1) + 0.4);
+    let series = TimeProfile::series(vec![0.0, 3.0, 8.0, 11.0, 15.5, 20.0], vec![0.0, -0.3, 0.25, -0.2, 0.4, -0.1]).unwrap();
+    let dy = Dynamics::new(m, k, vec![-0.05, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: series }])
         .with_damping(Some(c));
     held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }

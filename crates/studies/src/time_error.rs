@@ -149,7 +149,8 @@ pub fn run_group(
         .iter()
         .zip(lanes)
         .map(|(&scheme, l)| {
-            let Acc { l2u, lv, lam2, len, .. } = l.acc;
+            // A lane that never met the reference's level has no error.
+            let Acc { l2u, lv, lam2, len, .. } = if l.started { l.acc } else { Acc { l2u: f64::NAN, lv: f64::NAN, lam2: f64::NAN, len: f64::NAN, e: Vec::new() } };
             TimeError { scheme, reference, mass, m, dx, dt, steps, linf_l2_u: l2u, linf_v_u: lv, l2_lambda: lam2.sqrt(), linf_energy: len, events }
         })
         .collect())

@@ -224,6 +224,17 @@ impl EventDriven {
         let mut zero: Vec<usize> = dy.contacts.iter().filter(|c| c.massless).map(|c| c.dof).collect();
         zero.sort_unstable();
         zero.dedup();
+        // As `Dynamics::validate` requires (checked here too: this is a
+        // library entry point): one mass treatment for all contacts, and a
+        // massless dof's row of M zero.
+        if !zero.is_empty() {
+            if let Some(i) = dy.contacts.iter().position(|c| !c.massless) {
+                return Err(EventsError::Contacts(format!("contacts[{i}] is massive and another is massless: every contact must be massless, or every one massive")));
+            }
+            if let Some(&d) = zero.iter().find(|&&d| (0..n).any(|j| m[(d, j)] != 0.0)) {
+                return Err(EventsError::Contacts(format!("the massless contact dof {d} has a nonzero row of M")));
+            }
+        }
         let (full, delassus, kzz_inv) = if zero.is_empty() {
             let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;
             let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();

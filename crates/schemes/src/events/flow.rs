@@ -399,7 +399,11 @@ impl ModalFlow {
         for j in 0..nn {
             let l = sv[j];
             if l.im > 0.0 {
-                let x = unit((0..nn).map(|r| u[(r, j)].re).collect());
+                // Any nonzero real vector of the plane: the real or the
+                // imaginary part of the eigenvector, the larger.
+                let (re, im): (Vec<f64>, Vec<f64>) = (0..nn).map(|r| (u[(r, j)].re, u[(r, j)].im)).unzip();
+                let size = |x: &[f64]| x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                let x = unit(if size(&re) >= size(&im) { re } else { im });
                 modes.push((l.re * l.re + l.im * l.im, -2.0 * l.re, x));
             } else if l.im == 0.0 {
                 reals.push((l.re, unit((0..nn).map(|r| u[(r, j)].re).collect())));
@@ -417,6 +421,11 @@ impl ModalFlow {
             return Err(EventsError::Defective { condition: f64::INFINITY });
         }
         modes.sort_by(|x, y| x.0.total_cmp(&y.0));
+        // A damping of round-off sign is 0 (as the classical path does),
+        // in the basis as in the equation.
+        for m in &mut modes {
+            m.1 = m.1.max(0.0);
+        }
         let kmax = modes.iter().fold(0.0f64, |a, m| a.max(m.0.abs()));
         let mut t = Mat::<f64>::zeros(nn, nn);
         for (i, (_, ci, xb)) in modes.iter().enumerate() {
@@ -518,7 +527,9 @@ impl ModalFlow {
                 }
             }
         }
-        f.set_piece(&Piece::default());
+        // The constant alone until the caller sets the piece (the series'
+        // values are the caller's).
+        f.now = (f.constant, 0.0, 0.0);
         f
     }
 
@@ -825,9 +836,11 @@ impl ModalFlow {
         let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
         let p1 = self.particular_jet(i, t0 + tau, t0, tr1);
         let lambda = k - alpha * alpha;
-        if lambda < 0.0 {
-            // Overdamped: e^{−ατ} cosh(βτ) and e^{−ατ} sinh(βτ)/β as sums of
-            // decaying exponentials (cosh alone overflows for βτ > 710).
+        if lambda < 0.0 && (-lambda).sqrt() * tau > 700.0 {
+            // Overdamped over a long step: e^{−ατ} cosh(βτ) and
+            // e^{−ατ} sinh(βτ)/β as sums of decaying exponentials (cosh
+            // alone overflows for βτ > 710; below, the product is accurate
+            // and kept as it was).
             let (dc, ds) = overdamped(alpha, (-lambda).sqrt(), tau);
             return (e0 * dc + (de0 + alpha * e0) * ds + p1[0], de0 * dc - (alpha * de0 + k * e0) * ds + p1[1]);
         }
@@ -940,14 +953,14 @@ impl ModalFlow {
         if lo.is_finite() {
             let mut f = position.clone();
             f.constant -= lo;
-            f.set_piece(&Piece::default());
+            f.now = (f.constant, 0.0, 0.0);
             fns.push(f);
             sides.push(Bound::Lower);
         }
         if hi.is_finite() {
             let mut f = position;
             f.constant -= hi;
-            f.set_piece(&Piece::default());
+            f.now = (f.constant, 0.0, 0.0);
             fns.push(f.negated());
             sides.push(Bound::Upper);
         }
