@@ -50,13 +50,8 @@ fn chain(n: usize, masses: &[f64], springs: &[f64], ground: f64, both: bool) -> 
 struct Oracle {
     n: usize,
     k: Vec<f64>,
-    f0: Vec<f64>,
-    shape: Vec<f64>,
-    amplitude: f64,
-    omega: f64,
-    /// A piecewise-linear load `ramp · s(t)`: its shape and points.
-    ramp: Vec<f64>,
-    points: Vec<(f64, f64)>,
+    /// The load (`events_common`).
+    load: common::Load,
     /// The massless dofs `(dof, lo, hi)`, never neighbours (`K_ZZ` diagonal:
     /// each clamps on its own).
     zero: Vec<(usize, f64, f64)>,
@@ -80,43 +75,17 @@ impl Oracle {
         let n = dy.n();
         let dense = |b: &SymBand| (0..n * n).map(|x| b.get(x / n, x % n)).collect::<Vec<f64>>();
         let m = dense(&dy.mass);
-        let (mut amplitude, mut omega, mut shape) = (0.0, 0.0, vec![0.0; n]);
-        let (mut ramp, mut points) = (vec![0.0; n], Vec::new());
-        for f in &dy.forcing {
-            match &f.time {
-                TimeProfile::Sine { amplitude: a, omega: w } => (amplitude, omega, shape) = (*a, *w, f.shape.clone()),
-                TimeProfile::Series(s) => (ramp, points) = (f.shape.clone(), s.times().iter().copied().zip(s.values().iter().copied()).collect()),
-                other => panic!("the oracle takes a Sine and a Series: {other:?}"),
-            }
-        }
         let zero: Vec<(usize, f64, f64)> = dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi)).collect();
         let mass: Vec<usize> = (0..n).filter(|d| !zero.iter().any(|z| z.0 == *d)).collect();
         // M_RR⁻¹, embedded in n × n with zeros at the massless dofs.
         let minv = common::inverse(&m, n, &mass);
-        Self { n, k: dense(&dy.stiffness), f0: dy.load.clone(), shape, amplitude, omega, ramp, points, zero, mass, minv }
-    }
-
-    /// `s(t)` and its slope (right-continuous; end values held).
-    fn series(&self, t: f64) -> (f64, f64) {
-        let p = &self.points;
-        match p.iter().position(|x| x.0 > t) {
-            None => (p.last().map_or(0.0, |x| x.1), 0.0),
-            Some(0) => (p[0].1, 0.0),
-            Some(k) => {
-                let slope = (p[k].1 - p[k - 1].1) / (p[k].0 - p[k - 1].0);
-                (p[k - 1].1 + slope * (t - p[k - 1].0), slope)
-            }
-        }
-    }
-
-    fn force(&self, i: usize, t: f64) -> f64 {
-        self.f0[i] + self.shape[i] * self.amplitude * (self.omega * t).sin() + self.ramp[i] * self.series(t).0
+        Self { n, k: dense(&dy.stiffness), load: common::Load::of(dy), zero, mass, minv }
     }
 
     /// Massless contact `z`'s unconstrained static position and its rate.
     fn free_position(&self, z: usize, t: f64, q: &V, v: &V) -> (f64, f64) {
         let (n, d) = (self.n, self.zero[z].0);
-        let (mut y, mut dy) = (self.force(d, t), self.shape[d] * self.amplitude * self.omega * (self.omega * t).cos() + self.ramp[d] * self.series(t).1);
+        let (mut y, mut dy) = (self.load.value(d, t), self.load.rate(d, t));
         for &r in &self.mass {
             y -= self.k[d * n + r] * q[r];
             dy -= self.k[d * n + r] * v[r];
@@ -130,7 +99,7 @@ impl Oracle {
         for (z, &(d, lo, hi)) in self.zero.iter().enumerate() {
             q[d] = self.free_position(z, t, &q, v).0.clamp(lo, hi);
         }
-        let rhs: Vec<f64> = (0..n).map(|i| self.force(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>()).collect();
+        let rhs: Vec<f64> = (0..n).map(|i| self.load.value(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>()).collect();
         let mut a = [0.0; N];
         for &d in &self.mass {
             a[d] = (0..n).map(|j| self.minv[d * n + j] * rhs[j]).sum();
@@ -176,7 +145,7 @@ impl Oracle {
         let mut graze = f64::INFINITY;
         while t < t_end && events.len() < 60 {
             // Steps end at the series' breakpoints.
-            let kink = self.points.iter().map(|p| p.0).find(|&b| b > t).map_or(f64::INFINITY, |b| b - t);
+            let kink = self.load.to_kink(t);
             let step = h.min(t_end - t).min(kink);
             let (q1, v1) = self.rk4(t, &q, &v, step);
             let (g0, g1) = (self.gaps(t, &q, &v), self.gaps(t + step, &q1, &v1));

@@ -53,58 +53,23 @@ struct Oracle {
     m: Vec<f64>,
     c: Vec<f64>,
     k: Vec<f64>,
-    f0: Vec<f64>,
-    shape: Vec<f64>,
-    amplitude: f64,
-    omega: f64,
-    /// A piecewise-linear load `ramp · s(t)`: its shape and points `(t_k, v_k)`
-    /// (interpolated here, end values held outside).
-    ramp: Vec<f64>,
-    points: Vec<(f64, f64)>,
+    /// The load (`events_common`).
+    load: common::Load,
     /// `(dof, lo, hi, e)`.
     contacts: Vec<(usize, f64, f64, f64)>,
     h: f64,
-}
-
-/// `s(t)` of the points: linear between them, the end values held outside.
-fn interpolate(points: &[(f64, f64)], t: f64) -> f64 {
-    match points.iter().position(|p| p.0 > t) {
-        None => points.last().map_or(0.0, |p| p.1),
-        Some(0) => points[0].1,
-        Some(k) => {
-            let ((t0, v0), (t1, v1)) = (points[k - 1], points[k]);
-            v0 + (v1 - v0) * (t - t0) / (t1 - t0)
-        }
-    }
 }
 
 impl Oracle {
     fn from(dy: &Dynamics, e: &[f64], h: f64) -> Self {
         let n = dy.n();
         let dense = |b: &SymBand| (0..n * n).map(|x| b.get(x / n, x % n)).collect::<Vec<f64>>();
-        let (mut amplitude, mut omega, mut shape) = (0.0, 0.0, vec![0.0; n]);
-        let (mut ramp, mut points) = (vec![0.0; n], Vec::new());
-        for f in &dy.forcing {
-            match f {
-                Forcing { shape: g, time: TimeProfile::Sine { amplitude: a, omega: w } } => (amplitude, omega, shape) = (*a, *w, g.clone()),
-                Forcing { shape: g, time: TimeProfile::Series(s) } => {
-                    ramp = g.clone();
-                    points = s.times().iter().copied().zip(s.values().iter().copied()).collect();
-                }
-                other => panic!("the oracle takes a Sine and a Series forcing: {other:?}"),
-            }
-        }
         Self {
             n,
             m: dense(&dy.mass),
             c: dy.damping.as_ref().map_or(vec![0.0; n * n], dense),
             k: dense(&dy.stiffness),
-            f0: dy.load.clone(),
-            shape,
-            amplitude,
-            omega,
-            ramp,
-            points,
+            load: common::Load::of(dy),
             contacts: dy.contacts.iter().zip(e).map(|(c, &e)| (c.dof, c.bounds.lo, c.bounds.hi, e)).collect(),
             h,
         }
@@ -113,11 +78,9 @@ impl Oracle {
     /// `f(t) − C v − K q`.
     fn residual(&self, t: f64, q: &V, v: &V) -> V {
         let n = self.n;
-        let s = self.amplitude * (self.omega * t).sin();
-        let p = interpolate(&self.points, t);
         let mut r = [0.0; N];
         for i in 0..n {
-            let mut x = self.f0[i] + self.shape[i] * s + self.ramp[i] * p;
+            let mut x = self.load.value(i, t);
             for j in 0..n {
                 x -= self.c[i * n + j] * v[j] + self.k[i * n + j] * q[j];
             }
@@ -211,7 +174,7 @@ impl Oracle {
         while t < t_end && events.len() <= MAX_ORACLE_EVENTS {
             // Steps end at the series' breakpoints (RK4 is of order 4 on
             // each piece, not across a kink of the load).
-            let kink = self.points.iter().map(|p| p.0).find(|&b| b > t).map_or(f64::INFINITY, |b| b - t);
+            let kink = self.load.to_kink(t);
             let h = self.h.min(t_end - t).min(kink);
             let minv = held.map_or(&full, |(j, _)| &reduced[j]);
             let (q1, v1) = self.rk4(minv, t, &q, &v, h);
@@ -501,12 +464,7 @@ fn held_chain_matches_the_oracle(dy: &Dynamics, q0: &[f64], v0: &[f64], t_end: f
 /// equation.
 #[test]
 fn a_held_chain_is_released_when_its_force_computed_from_the_equation_vanishes() {
-    let (m, k) = common::chain_matrices(3, false);
-    let c = m.lin_comb(0.02, &k, 0.01);
-    let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
-        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
-        .with_damping(Some(c));
-    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
+    held_chain_matches_the_oracle(&held_chain(false, false), &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }
 
 /// The held chain under a piecewise-linear load instead of the harmonic
@@ -515,13 +473,7 @@ fn a_held_chain_is_released_when_its_force_computed_from_the_equation_vanishes()
 /// ramp term, not only its constant), against the oracle.
 #[test]
 fn a_held_chain_is_released_by_a_ramp_of_a_piecewise_linear_load() {
-    let (m, k) = common::chain_matrices(3, false);
-    let c = m.lin_comb(0.02, &k, 0.01);
-    let series = TimeProfile::series(vec![0.0, 3.0, 8.0, 11.0, 15.5, 20.0], vec![0.0, -0.3, 0.25, -0.2, 0.4, -0.1]).unwrap();
-    let dy = Dynamics::new(m, k, vec![-0.05, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
-        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: series }])
-        .with_damping(Some(c));
-    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
+    held_chain_matches_the_oracle(&held_chain(true, false), &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }
 
 /// The held chain with a dashpot on its second mass (non-classical damping:
@@ -529,25 +481,30 @@ fn a_held_chain_is_released_by_a_ramp_of_a_piecewise_linear_load() {
 /// it lands on and leaves several times, against the oracle.
 #[test]
 fn a_held_chain_with_a_dashpot_is_released_when_its_force_vanishes() {
-    let (m, k) = common::chain_matrices(3, false);
-    let mut c = m.lin_comb(0.02, &k, 0.01);
-    c.set(1, 1, c.get(1, 1) + 0.4);
-    let dy = Dynamics::new(m, k, vec![-0.1, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
-        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: TimeProfile::Sine { amplitude: 0.4, omega: 1.3 } }])
-        .with_damping(Some(c));
-    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
+    held_chain_matches_the_oracle(&held_chain(false, true), &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
 }
 
 /// The ramp-released chain with the dashpot too: the first-order form's
 /// held force with the series' ramps.
 #[test]
 fn a_held_chain_with_a_dashpot_is_released_by_a_ramp() {
+    held_chain_matches_the_oracle(&held_chain(true, true), &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
+}
+
+/// The held chains' problem: three masses over a stop at `−0.1` under the
+/// first, Rayleigh damping, a steady load and a harmonic one (`ramp`:
+/// a piecewise-linear one instead), a dashpot of 0.4 on the second mass if
+/// `dashpot`.
+fn held_chain(ramp: bool, dashpot: bool) -> Dynamics {
     let (m, k) = common::chain_matrices(3, false);
     let mut c = m.lin_comb(0.02, &k, 0.01);
-    c.set(1, 1, c.get(1, 1) + 0.4);
-    let series = TimeProfile::series(vec![0.0, 3.0, 8.0, 11.0, 15.5, 20.0], vec![0.0, -0.3, 0.25, -0.2, 0.4, -0.1]).unwrap();
-    let dy = Dynamics::new(m, k, vec![-0.05, -0.05, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.1), false)])
-        .with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: series }])
-        .with_damping(Some(c));
-    held_chain_matches_the_oracle(&dy, &[0.0, 0.0, 0.0], &[-0.5, 0.2, 0.1], 20.0);
+    if dashpot {
+        c.set(1, 1, c.get(1, 1) + 0.4);
+    }
+    let (load, time) = if ramp {
+        (vec![-0.05, -0.05, 0.0], TimeProfile::series(vec![0.0, 3.0, 8.0, 11.0, 15.5, 20.0], vec![0.0, -0.3, 0.25, -0.2, 0.4, -0.1]).unwrap())
+    } else {
+        (vec![-0.1, -0.05, 0.0], TimeProfile::Sine { amplitude: 0.4, omega: 1.3 })
+    };
+    Dynamics::new(m, k, load, vec![Contact::new(0, Bounds::obstacle(-0.1), false)]).with_forcing(vec![Forcing { shape: vec![1.0, 0.5, 0.0], time }]).with_damping(Some(c))
 }

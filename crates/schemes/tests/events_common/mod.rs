@@ -51,3 +51,64 @@ pub fn inverse(a: &[f64], n: usize, keep: &[usize]) -> Vec<f64> {
     }
     out
 }
+
+/// The load of the oracles, evaluated here from the data of `Dynamics`
+/// (not through the code under test): `f0 + shape a sin(ω t) + ramp s(t)`
+/// with `s` the piecewise-linear series through `points` (end values held).
+#[allow(dead_code)]
+pub struct Load {
+    pub f0: Vec<f64>,
+    pub shape: Vec<f64>,
+    pub amplitude: f64,
+    pub omega: f64,
+    pub ramp: Vec<f64>,
+    pub points: Vec<(f64, f64)>,
+}
+
+#[allow(dead_code)]
+impl Load {
+    /// From `dy`'s steady load, one `Sine` and one `Series` forcing at most.
+    pub fn of(dy: &signorini_schemes::Dynamics) -> Self {
+        use signorini_schemes::TimeProfile;
+        let n = dy.n();
+        let mut load = Self { f0: dy.load.clone(), shape: vec![0.0; n], amplitude: 0.0, omega: 0.0, ramp: vec![0.0; n], points: Vec::new() };
+        for f in &dy.forcing {
+            match &f.time {
+                TimeProfile::Sine { amplitude, omega } => (load.amplitude, load.omega, load.shape) = (*amplitude, *omega, f.shape.clone()),
+                TimeProfile::Series(s) => (load.ramp, load.points) = (f.shape.clone(), s.times().iter().copied().zip(s.values().iter().copied()).collect()),
+                other => panic!("the oracles take a Sine and a Series: {other:?}"),
+            }
+        }
+        load
+    }
+
+    /// `s(t)` and its slope (right-continuous).
+    pub fn series(&self, t: f64) -> (f64, f64) {
+        let p = &self.points;
+        match p.iter().position(|x| x.0 > t) {
+            None => (p.last().map_or(0.0, |x| x.1), 0.0),
+            Some(0) => (p[0].1, 0.0),
+            Some(k) => {
+                let slope = (p[k].1 - p[k - 1].1) / (p[k].0 - p[k - 1].0);
+                (p[k - 1].1 + slope * (t - p[k - 1].0), slope)
+            }
+        }
+    }
+
+    /// `f_i(t)`.
+    pub fn value(&self, i: usize, t: f64) -> f64 {
+        self.f0[i] + self.shape[i] * self.amplitude * (self.omega * t).sin() + self.ramp[i] * self.series(t).0
+    }
+
+    /// `f_i'(t)`.
+    pub fn rate(&self, i: usize, t: f64) -> f64 {
+        self.shape[i] * self.amplitude * self.omega * (self.omega * t).cos() + self.ramp[i] * self.series(t).1
+    }
+
+    /// The time to the next breakpoint after `t` (infinite: none): an
+    /// oracle's step ends there (RK4 is of order 4 on each piece, not
+    /// across a kink of the load).
+    pub fn to_kink(&self, t: f64) -> f64 {
+        self.points.iter().map(|p| p.0).find(|&b| b > t).map_or(f64::INFINITY, |b| b - t)
+    }
+}
