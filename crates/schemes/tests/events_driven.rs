@@ -239,3 +239,60 @@ fn a_mass_resting_on_its_stop_without_load_makes_no_event() {
     let (t, q, v) = r.state();
     assert_eq!((t, q[0], v[0]), (10.0, 0.0, 0.0));
 }
+
+/// Equal bounds `lo = hi` make a bilateral constraint: the dof is stopped
+/// at once and held for good, its force taking both signs (a harmonic load
+/// pushes and pulls it), with no release — for a massive dof and for a
+/// massless one (then the chain's dof 0 is massless). The other dofs follow
+/// the flow of the chain with dof 0 removed (a Dirichlet condition;
+/// `ModalFlow`, itself tested against the matrix exponential).
+#[test]
+fn equal_bounds_hold_the_dof_for_good() {
+    use signorini_schemes::events::ModalFlow;
+    let n = 4;
+    for massless in [false, true] {
+        let (mut m, k) = common::chain_matrices(n, false);
+        if massless {
+            m.set(1, 1, m.get(1, 1) + m.get(0, 0));
+            m.set(0, 0, 0.0);
+            m.set(1, 0, 0.0);
+        }
+        let forcing = vec![Forcing { shape: vec![1.0, 0.3, 0.0, 0.0], time: TimeProfile::Sine { amplitude: 0.8, omega: 1.1 } }];
+        let dy = Dynamics::new(m.clone(), k.clone(), vec![0.0; n], vec![Contact::new(0, Bounds { lo: 0.0, hi: 0.0 }, massless)]).with_forcing(forcing.clone());
+        let (q0, v0) = ([0.0, 0.1, -0.05, 0.02], [if massless { 0.0 } else { 0.3 }, -0.2, 0.1, 0.0]);
+        let mut run = EventDriven::new(&dy, 0.0, &q0, &v0, if massless { 0.0 } else { 0.5 }).unwrap_or_else(|e| panic!("massless {massless}: {e}"));
+        // The chain without dof 0.
+        let sub = |a: &SymBand| {
+            let mut b = SymBand::zeros(n - 1, 1);
+            for i in 1..n {
+                for j in i.saturating_sub(1).max(1)..=i {
+                    b.set(i - 1, j - 1, a.get(i, j));
+                }
+            }
+            b
+        };
+        let pinned = Dynamics::new(sub(&m), sub(&k), vec![0.0; n - 1], vec![Contact::new(0, Bounds::obstacle(-1e9), false)])
+            .with_forcing(vec![Forcing { shape: vec![0.3, 0.0, 0.0], time: TimeProfile::Sine { amplitude: 0.8, omega: 1.1 } }]);
+        let flow = ModalFlow::new(&pinned).unwrap();
+        // The post-impact velocities: M-projection with v_0 = 0, i.e. the
+        // chain's momentum kept on the others (massive case); massless: as given.
+        let (_, _, v_start) = run.state();
+        let (mut signs, mut t) = ([false; 2], 0.0);
+        while t < 20.0 {
+            t += 0.25;
+            run.run_until(t, 10).unwrap();
+            let imp = run.take_impulses()[0];
+            signs[usize::from(imp > 0.0)] |= imp != 0.0;
+            let (_, q, v) = run.state();
+            assert!(q[0] == 0.0 && v[0] == 0.0, "massless {massless}, t = {t}: q_0 = {}, v_0 = {}", q[0], v[0]);
+            let (mut qr, mut vr) = (vec![0.0; n - 1], vec![0.0; n - 1]);
+            flow.advance(0.0, &q0[1..], &v_start[1..], t, &mut qr, &mut vr);
+            for i in 1..n {
+                assert!((q[i] - qr[i - 1]).abs() <= 1e-11 && (v[i] - vr[i - 1]).abs() <= 1e-11, "massless {massless}, t = {t}, dof {i}: ({}, {}) against ({}, {})", q[i], v[i], qr[i - 1], vr[i - 1]);
+            }
+        }
+        assert!(signs[0] && signs[1], "massless {massless}: the force took one sign only");
+        let ev = run.events();
+        assert!(ev.iter().all(|e| e.kind == EventKind::Impact && e.t == 0.0), "massless {massless}: {ev:?}");
+    }
+}

@@ -436,6 +436,8 @@ impl EventDriven {
         for j in 0..kc {
             let e = self.sites[j].restitution;
             match at[j] {
+                // Equal bounds: a bilateral constraint stops the dof.
+                Some(_) if self.sites[j].lo == self.sites[j].hi => (lo[j], hi[j]) = (0.0, 0.0),
                 Some(false) => lo[j] = (-e * vbefore[j]).max(0.0),
                 Some(true) => hi[j] = (-e * vbefore[j]).min(0.0),
                 None => {}
@@ -502,7 +504,9 @@ impl EventDriven {
             let ascale = a.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(f64::MIN_POSITIVE);
             let (mut lo, mut hi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
             for &j in &candidates {
-                if at[j] == Some(true) {
+                if self.sites[j].lo == self.sites[j].hi {
+                    (lo[j], hi[j]) = (0.0, 0.0);
+                } else if at[j] == Some(true) {
                     hi[j] = 0.0;
                 } else {
                     lo[j] = 0.0;
@@ -511,7 +515,8 @@ impl EventDriven {
             self.delassus.project(&mut a, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
             let r = self.delassus.multipliers();
             for &j in &candidates {
-                let leaving = r[j] == 0.0 && a[self.sites[j].dof].abs() > 1e-12 * ascale;
+                let bilateral = self.sites[j].lo == self.sites[j].hi;
+                let leaving = !bilateral && r[j] == 0.0 && a[self.sites[j].dof].abs() > 1e-12 * ascale;
                 if !leaving {
                     holds.push(Hold { contact: j, upper: at[j] == Some(true) });
                 }
@@ -622,10 +627,7 @@ impl EventDriven {
         if !flow.classical() {
             for h in holds {
                 let f = self.general_force(&flow, &free, &held, self.sites[h.contact].dof);
-                forces.push((h.contact, f.clone()));
-                fns.push(if h.upper { f.negated() } else { f });
-                quiet.push(true);
-                watch.push(Watch::Release { contact: h.contact });
+                self.held_force(*h, f, &mut forces, (&mut fns, &mut quiet, &mut watch));
             }
         }
         for h in holds.iter().filter(|_| flow.classical()) {
@@ -667,14 +669,25 @@ impl EventDriven {
             for (l, (h, _, _)) in self.loads.ramps.iter().enumerate() {
                 f.ramps[l] -= h[a];
             }
-            forces.push((h.contact, f.clone()));
-            fns.push(if h.upper { f.negated() } else { f });
-            quiet.push(true);
-            watch.push(Watch::Release { contact: h.contact });
+            self.held_force(*h, f, &mut forces, (&mut fns, &mut quiet, &mut watch));
         }
         let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond: Vec::new(), g: Mat::zeros(0, 0) };
         sys.set_piece(piece);
         Ok(sys)
+    }
+
+    /// A held contact's force `f` (`r`, positive at a lower bound): into
+    /// `forces` (its impulses), and its zero watched as the release —
+    /// unless the contact's bounds are equal (a bilateral constraint: its
+    /// force takes either sign and it is never released).
+    fn held_force(&self, h: Hold, f: Functional, forces: &mut Vec<(usize, Functional)>, (fns, quiet, watch): (&mut Vec<Functional>, &mut Vec<bool>, &mut Vec<Watch>)) {
+        let s = &self.sites[h.contact];
+        if s.lo < s.hi {
+            fns.push(if h.upper { f.clone().negated() } else { f.clone() });
+            quiet.push(true);
+            watch.push(Watch::Release { contact: h.contact });
+        }
+        forces.push((h.contact, f));
     }
 
     /// The held contacts' `(dof, bound)`.

@@ -154,10 +154,7 @@ impl EventDriven {
                 f.constant += (k[(c, a)] - (0..ns).map(|i| kcs_g[i] * k[(cond[i], a)]).sum::<f64>()) * xa;
             }
             self.add_loads(&mut f, &coef);
-            forces.push((h.contact, f.clone()));
-            fns.push(if h.upper { f.negated() } else { f });
-            quiet.push(true);
-            watch.push(Watch::Release { contact: h.contact });
+            self.held_force(*h, f, &mut forces, (&mut fns, &mut quiet, &mut watch));
         }
         let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond, g };
         sys.set_piece(piece);
@@ -234,7 +231,8 @@ impl EventDriven {
         let (mut rlo, mut rhi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
         for j in 0..kc {
             match at[j] {
-                Some(_) if pressed[j] => (rlo[j], rhi[j]) = (0.0, 0.0),
+                // Pressed, or equal bounds (a bilateral constraint).
+                Some(_) if pressed[j] || self.sites[j].lo == self.sites[j].hi => (rlo[j], rhi[j]) = (0.0, 0.0),
                 Some(false) => rlo[j] = 0.0,
                 Some(true) => rhi[j] = 0.0,
                 None => {}
@@ -247,7 +245,8 @@ impl EventDriven {
         let mut holds = Vec::new();
         for j in 0..kc {
             let Some(upper) = at[j] else { continue };
-            let leaving = !pressed[j] && mu[j] == 0.0 && dy[pos[j]].abs() > 1e-12 * dscale;
+            let bilateral = self.sites[j].lo == self.sites[j].hi;
+            let leaving = !bilateral && !pressed[j] && mu[j] == 0.0 && dy[pos[j]].abs() > 1e-12 * dscale;
             if !leaving {
                 holds.push(Hold { contact: j, upper });
             }
