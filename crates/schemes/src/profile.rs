@@ -151,6 +151,17 @@ impl Series {
         }
     }
 
+    /// The piece at `t`, right-continuous (at a point, the piece that
+    /// starts there): `s(t)`, the slope there (0 outside the data, where the
+    /// end values are held) and the next point after `t` (`None` past the
+    /// last).
+    pub fn piece(&self, t: f64) -> (f64, f64, Option<f64>) {
+        let (tk, vk) = (&self.t, &self.v);
+        let n = tk.partition_point(|&x| x <= t);
+        let slope = if n == 0 || n == tk.len() { 0.0 } else { (vk[n] - vk[n - 1]) / (tk[n] - tk[n - 1]) };
+        (self.value(t), slope, tk.get(n).copied())
+    }
+
     /// `∫_a^b s`, exactly (trapezoids on the pieces `[a, b]` meets, held
     /// ends outside the data; `−∫_b^a s` when `a > b`):
     /// `O(log K + pieces spanned)`.

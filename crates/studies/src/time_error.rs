@@ -295,39 +295,35 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
         ],
     )?;
     let mut space = Vec::new();
-    // (reference, mass) pairs: the references by name, each with the masses
-    // (in the given order) on which a scheme uses it.
-    let mut all = Vec::new();
+    // (reference, mass) pairs, each once: the references by name, each with
+    // the masses (in the given order) on which a scheme uses it.
+    let mut pairs: Vec<(SchemeSpec, BarMass)> = Vec::new();
     for &mass in &masses {
         for s in &schemes {
-            all.push((reference_of(s, mass)?, mass));
+            pairs.push((reference_of(s, mass)?, mass));
         }
     }
-    let mut refs: Vec<SchemeSpec> = all.iter().map(|p| p.0).collect();
-    refs.sort_by_key(label);
-    refs.dedup_by(|a, b| label(a) == label(b));
-    let pairs: Vec<(SchemeSpec, BarMass)> = refs.iter().flat_map(|r| masses.iter().filter(|&&mass| all.iter().any(|p| label(&p.0) == label(r) && p.1 == mass)).map(move |&mass| (*r, mass))).collect();
-    for &(r, mass) in &pairs {
-        let r = &r;
-        {
-            for &m in &cfg.levels {
-                let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree).with_reduce(reduce), exact.as_ref())
-                    .map_err(|e| StudyError::Run(e.to_string()))?;
-                let v = |name: &str| study::norm_value(&lv.norms, name);
-                s.row(vec![
-                    txt(label(r)),
-                    txt(mass.to_string()),
-                    int(m),
-                    fe(lv.dx, 10),
-                    fe(lv.dt, 10),
-                    fe(v("linf_l2_u"), 10),
-                    fe(v("l2_l2_u"), 10),
-                    fe(v("linf_v_u"), 10),
-                    fe(v("l2_lambda"), 10),
-                    fe(v("linf_energy"), 10),
-                ])?;
-                space.push((label(r), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")]));
-            }
+    pairs.sort_by_key(|(r, mass)| (label(r), masses.iter().position(|m| m == mass)));
+    pairs.dedup_by(|a, b| label(&a.0) == label(&b.0) && a.1 == b.1);
+    for (r, mass) in &pairs {
+        let (r, mass) = (r, *mass);
+        for &m in &cfg.levels {
+            let lv = study::run_level(&Level::new(cfg.benchmark, *r, mass, m, cfg.ratio, cfg.t_end).with_degree(cfg.degree).with_reduce(reduce), exact.as_ref())
+                .map_err(|e| StudyError::Run(e.to_string()))?;
+            let v = |name: &str| study::norm_value(&lv.norms, name);
+            s.row(vec![
+                txt(label(r)),
+                txt(mass.to_string()),
+                int(m),
+                fe(lv.dx, 10),
+                fe(lv.dt, 10),
+                fe(v("linf_l2_u"), 10),
+                fe(v("l2_l2_u"), 10),
+                fe(v("linf_v_u"), 10),
+                fe(v("l2_lambda"), 10),
+                fe(v("linf_energy"), 10),
+            ])?;
+            space.push((label(r), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")]));
         }
     }
     tables.push(s.finish()?);
@@ -371,19 +367,16 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
     report.push_str("\n|---|---|");
     report.push_str(&"---|---|".repeat(QUANTITIES.len()));
     report.push('\n');
-    for &(r, mass) in &pairs {
-        let r = &r;
-        {
-            let rows: Vec<_> = space.iter().filter(|x| x.0 == label(r) && x.1 == mass).collect();
-            let Some(finest) = rows.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else { continue };
-            report.push_str(&format!("| {} | {mass} |", label(r)));
-            for k in 0..QUANTITIES.len() {
-                let pts: Vec<(f64, f64)> = rows.iter().map(|x| (x.2, x.3[k])).collect();
-                let rate = fmt_rate(study::rate(&pts).lsq);
-                report.push_str(&format!(" {rate} | {:.2e} |", finest.3[k]));
-            }
-            report.push('\n');
+    for (r, mass) in &pairs {
+        let rows: Vec<_> = space.iter().filter(|x| x.0 == label(r) && x.1 == *mass).collect();
+        let Some(finest) = rows.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else { continue };
+        report.push_str(&format!("| {} | {mass} |", label(r)));
+        for k in 0..QUANTITIES.len() {
+            let pts: Vec<(f64, f64)> = rows.iter().map(|x| (x.2, x.3[k])).collect();
+            let rate = fmt_rate(study::rate(&pts).lsq);
+            report.push_str(&format!(" {rate} | {:.2e} |", finest.3[k]));
         }
+        report.push('\n');
     }
     Ok((tables, report))
 }

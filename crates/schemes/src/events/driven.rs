@@ -580,100 +580,112 @@ impl EventDriven {
         let free: Vec<usize> = (0..n).filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
         let nf = free.len();
         let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
-        // The held dofs' displacements load the free ones: f_f − K_fA q_A.
-        let mut constant: Vec<f64> = free.iter().map(|&d| self.loads.constant[d]).collect();
-        for (i, &d) in free.iter().enumerate() {
-            for &(a, x) in &held {
-                constant[i] -= self.k[(d, a)] * x;
-            }
-        }
-        let waves = self.loads.waves.iter().map(|(g, a, w, p)| (free.iter().map(|&d| g[d]).collect(), *a, *w, *p)).collect();
-        let ramps = self.loads.ramps.iter().map(|(h, s, index)| (free.iter().map(|&d| h[d]).collect(), s.clone(), *index)).collect();
-        let loads = Loads { constant, waves, ramps };
+        let loads = self.phase_loads(&held, |x| free.iter().map(|&d| x[d]).collect());
         let flow = ModalFlow::from_parts(sub(&self.m), sub(&self.k), self.c.as_ref().map(sub), &loads)?;
-        let row = |d: usize| -> Vec<f64> {
-            let p = free.iter().position(|&x| x == d).expect("a free dof");
-            (0..nf).map(|i| flow.phi[(p, i)]).collect()
-        };
-        // The contact dof's position as a functional of the modal state.
-        let position = |d: usize, bound: f64| -> Functional {
-            if flow.classical() {
-                return Functional::new(row(d), -bound);
-            }
-            let p = free.iter().position(|&x| x == d).expect("a free dof");
-            let mut unit = vec![0.0; nf];
-            unit[p] = 1.0;
-            let mut f = flow.linear(&unit, &vec![0.0; nf]);
-            f.constant -= bound;
-            f
-        };
         let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
         for (j, s) in self.sites.iter().enumerate() {
             if holds.iter().any(|h| h.contact == j) {
                 continue;
             }
-            if s.lo.is_finite() {
-                fns.push(position(s.dof, s.lo));
-                quiet.push(false);
-                watch.push(Watch::Gap { contact: j, bound: Bound::Lower });
-            }
-            if s.hi.is_finite() {
-                fns.push(position(s.dof, s.hi).negated());
-                quiet.push(false);
-                watch.push(Watch::Gap { contact: j, bound: Bound::Upper });
-            }
+            // The contact dof's position as a functional of the modal state.
+            let p = free.iter().position(|&x| x == s.dof).expect("a free dof");
+            let mut unit = vec![0.0; nf];
+            unit[p] = 1.0;
+            self.gap_watches(j, &flow.linear(&unit, &vec![0.0; nf]), (&mut fns, &mut quiet, &mut watch));
         }
         let mut forces = Vec::new();
-        if !flow.classical() {
-            for h in holds {
-                let f = self.general_force(&flow, &free, &held, self.sites[h.contact].dof);
-                self.held_force(*h, f, &mut forces, (&mut fns, &mut quiet, &mut watch));
-            }
-        }
-        for h in holds.iter().filter(|_| flow.classical()) {
+        for h in holds {
             let a = self.sites[h.contact].dof;
-            // r_a = Σ_i β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j).
-            let mut f = Functional { beta: vec![0.0; nf], alpha: vec![0.0; nf], ramps: vec![0.0; self.loads.ramps.len()], ..Functional::default() };
-            // M_af φ_i, C_af φ_i, K_af φ_i.
-            for i in 0..nf {
-                let (mut mp, mut cp, mut kp) = (0.0, 0.0, 0.0);
-                for (r, &d) in free.iter().enumerate() {
-                    let ph = flow.phi[(r, i)];
-                    mp += self.m[(a, d)] * ph;
-                    kp += self.k[(a, d)] * ph;
-                    cp += self.c.as_ref().map_or(0.0, |c| c[(a, d)]) * ph;
-                }
-                f.beta[i] = kp - flow.k[i] * mp;
-                f.alpha[i] = cp - flow.c[i] * mp;
-                f.constant += mp * flow.g0[i];
-                for (l, h) in flow.ramp_modal.iter().enumerate() {
-                    f.ramps[l] += mp * h[i];
-                }
-                for (j, hm) in flow.harmonics.iter().enumerate() {
-                    if f.waves.len() <= j {
-                        f.waves.push((0.0, hm.omega, hm.phase));
-                    }
-                    f.waves[j].0 += mp * hm.modal[i] * hm.amplitude;
-                }
-            }
-            for &(b, x) in &held {
-                f.constant += self.k[(a, b)] * x;
-            }
-            f.constant -= self.loads.constant[a];
-            for (j, (g, amp, w, p)) in self.loads.waves.iter().enumerate() {
-                if f.waves.len() <= j {
-                    f.waves.push((0.0, *w, *p));
-                }
-                f.waves[j].0 -= g[a] * amp;
-            }
-            for (l, (h, _, _)) in self.loads.ramps.iter().enumerate() {
-                f.ramps[l] -= h[a];
-            }
+            let f = if flow.classical() { self.classical_force(&flow, &free, &held, a) } else { self.general_force(&flow, &free, &held, a) };
             self.held_force(*h, f, &mut forces, (&mut fns, &mut quiet, &mut watch));
         }
         let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond: Vec::new(), g: Mat::zeros(0, 0) };
         sys.set_piece(piece);
         Ok(sys)
+    }
+
+    /// The loads of a phase's flow: `f − K_·A q_A` (the held dofs'
+    /// displacements load the others), the waves and the series, each
+    /// mapped onto the flow's dofs by `reduce` (the free dofs' entries; with
+    /// massless dofs, the static condensation's too).
+    fn phase_loads(&self, held: &[(usize, f64)], reduce: impl Fn(&[f64]) -> Vec<f64>) -> Loads {
+        let mut steady = self.loads.constant.clone();
+        for (d, x) in steady.iter_mut().enumerate() {
+            for &(a, xa) in held {
+                *x -= self.k[(d, a)] * xa;
+            }
+        }
+        Loads {
+            constant: reduce(&steady),
+            waves: self.loads.waves.iter().map(|(g, a, w, p)| (reduce(g), *a, *w, *p)).collect(),
+            ramps: self.loads.ramps.iter().map(|(h, s, index)| (reduce(h), s.clone(), *index)).collect(),
+        }
+    }
+
+    /// Adds `Σ_d coef_d f_d(t)` (steady, waves, series) to `f`.
+    fn add_loads(&self, f: &mut Functional, coef: &[f64]) {
+        let loads = &self.loads;
+        f.constant += coef.iter().zip(&loads.constant).map(|(c, x)| c * x).sum::<f64>();
+        for (j, (g, a, w, p)) in loads.waves.iter().enumerate() {
+            if f.waves.len() <= j {
+                f.waves.push((0.0, *w, *p));
+            }
+            f.waves[j].0 += coef.iter().zip(g).map(|(c, x)| c * x).sum::<f64>() * a;
+        }
+        f.ramps.resize(loads.ramps.len(), 0.0);
+        for (l, (h, _, _)) in loads.ramps.iter().enumerate() {
+            f.ramps[l] += coef.iter().zip(h).map(|(c, x)| c * x).sum::<f64>();
+        }
+    }
+
+    /// A held contact's force `r_a` (module docs) with classical damping:
+    /// `β_i = K_af φ_i − k_i M_af φ_i`, `α_i = C_af φ_i − c_i M_af φ_i`, the
+    /// load terms `M_af M_ff⁻¹ g_f − g_a`, plus `K_aA q_A`.
+    fn classical_force(&self, flow: &ModalFlow, free: &[usize], held: &[(usize, f64)], a: usize) -> Functional {
+        let nf = free.len();
+        // r_a = Σ_i β_i η_i + α_i η_i' + c₀ + Σ_j c_j sin(Ω_j t + p_j).
+        let mut f = Functional { beta: vec![0.0; nf], alpha: vec![0.0; nf], ramps: vec![0.0; self.loads.ramps.len()], ..Functional::default() };
+        // M_af φ_i, C_af φ_i, K_af φ_i.
+        for i in 0..nf {
+            let (mut mp, mut cp, mut kp) = (0.0, 0.0, 0.0);
+            for (r, &d) in free.iter().enumerate() {
+                let ph = flow.phi[(r, i)];
+                mp += self.m[(a, d)] * ph;
+                kp += self.k[(a, d)] * ph;
+                cp += self.c.as_ref().map_or(0.0, |c| c[(a, d)]) * ph;
+            }
+            f.beta[i] = kp - flow.k[i] * mp;
+            f.alpha[i] = cp - flow.c[i] * mp;
+            f.constant += mp * flow.g0[i];
+            for (l, h) in flow.ramp_modal.iter().enumerate() {
+                f.ramps[l] += mp * h[i];
+            }
+            for (j, hm) in flow.harmonics.iter().enumerate() {
+                if f.waves.len() <= j {
+                    f.waves.push((0.0, hm.omega, hm.phase));
+                }
+                f.waves[j].0 += mp * hm.modal[i] * hm.amplitude;
+            }
+        }
+        for &(b, x) in held {
+            f.constant += self.k[(a, b)] * x;
+        }
+        // − f_a(t).
+        let mut coef = vec![0.0; self.n];
+        coef[a] = -1.0;
+        self.add_loads(&mut f, &coef);
+        f
+    }
+
+    /// A free contact's gaps to its bounds, from its position: watched as
+    /// its impacts (landings, for a massless one).
+    fn gap_watches(&self, j: usize, position: &Functional, (fns, quiet, watch): (&mut Vec<Functional>, &mut Vec<bool>, &mut Vec<Watch>)) {
+        let s = &self.sites[j];
+        for (bound, f) in position.gaps(s.lo, s.hi) {
+            fns.push(f);
+            quiet.push(false);
+            watch.push(Watch::Gap { contact: j, bound });
+        }
     }
 
     /// A held contact's force `f` (`r`, positive at a lower bound): into
@@ -714,24 +726,17 @@ impl EventDriven {
         let row_q: Vec<f64> = (0..nf).map(|j| self.k[(a, free[j])] - (0..nf).map(|i| mfinv[i] * self.k[(free[i], free[j])]).sum::<f64>()).collect();
         let row_v: Vec<f64> = (0..nf).map(|j| cm(a, free[j]) - (0..nf).map(|i| mfinv[i] * cm(free[i], free[j])).sum::<f64>()).collect();
         let mut f = flow.linear(&row_q, &row_v);
-        // The load terms: f_f = F_f − K_fA q_A on the free dofs, f_a = F_a.
-        for (i, &d) in free.iter().enumerate() {
-            let mut fd = self.loads.constant[d];
-            for &(b, x) in held {
-                fd -= self.k[(d, b)] * x;
-            }
-            f.constant += mfinv[i] * fd;
-        }
-        f.constant -= self.loads.constant[a];
+        // The held displacements: (K_aA − M_af M_ff⁻¹ K_fA) q_A.
         for &(b, x) in held {
-            f.constant += self.k[(a, b)] * x;
+            f.constant += (self.k[(a, b)] - free.iter().enumerate().map(|(i, &d)| mfinv[i] * self.k[(d, b)]).sum::<f64>()) * x;
         }
-        for (j, (g, amp, _, _)) in self.loads.waves.iter().enumerate() {
-            f.waves[j].0 += (free.iter().enumerate().map(|(i, &d)| mfinv[i] * g[d]).sum::<f64>() - g[a]) * amp;
+        // The loads: M_af M_ff⁻¹ f_f(t) − f_a(t).
+        let mut coef = vec![0.0; self.n];
+        for (i, &d) in free.iter().enumerate() {
+            coef[d] = mfinv[i];
         }
-        for (l, (h, _, _)) in self.loads.ramps.iter().enumerate() {
-            f.ramps[l] += free.iter().enumerate().map(|(i, &d)| mfinv[i] * h[d]).sum::<f64>() - h[a];
-        }
+        coef[a] = -1.0;
+        self.add_loads(&mut f, &coef);
         f
     }
 

@@ -194,16 +194,10 @@ impl Loads {
         out.values.clear();
         out.slopes.clear();
         for (_, s, _) in &self.ramps {
-            let (tk, vk) = (s.times(), s.values());
-            let k = tk.len();
-            // Points <= t: 0 before the data, k after it (end values held).
-            let n = tk.partition_point(|&x| x <= t);
-            let slope = if n == 0 || n == k { 0.0 } else { (vk[n] - vk[n - 1]) / (tk[n] - tk[n - 1]) };
-            out.values.push(s.value(t));
+            let (value, slope, next) = s.piece(t);
+            out.values.push(value);
             out.slopes.push(slope);
-            if n < k {
-                out.next = out.next.min(tk[n]);
-            }
+            out.next = out.next.min(next.unwrap_or(f64::INFINITY));
         }
     }
 }
@@ -282,6 +276,31 @@ fn cs(lambda: f64, tau: f64) -> (f64, f64) {
     } else {
         (1.0, tau)
     }
+}
+
+/// The particular solution of the steady load `a + b τ` (`τ = t − t_ref`)
+/// of a mode `(k, c)` and its derivatives (orders 0..4), each as its terms,
+/// every term a constant times a power of `τ`: order `m` is the sum of
+/// `terms[m]`, and the sum of their magnitudes at `τ = h` bounds it over
+/// `[0, h]`. `k > 0`: `(a + b τ)/k − c b/k²`; `k = 0 < c`:
+/// `a τ/c − b τ/c² + b τ²/(2c)`; `k = c = 0`: `a τ²/2 + b τ³/6` (the ones
+/// that grow vanish at `τ = 0`).
+fn steady_terms(k: f64, c: f64, a: f64, b: f64, tau: f64) -> [[f64; 3]; 4] {
+    let mut t = [[0.0; 3]; 4];
+    if k > 0.0 {
+        t[0] = [a / k, b * tau / k, -c * b / (k * k)];
+        t[1][0] = b / k;
+    } else if c > 0.0 {
+        t[0] = [a * tau / c, -b * tau / (c * c), 0.5 * b * tau * tau / c];
+        t[1] = [a / c, -b / (c * c), b * tau / c];
+        t[2][0] = b / c;
+    } else {
+        t[0] = [0.5 * a * tau * tau, b * tau * tau * tau / 6.0, 0.0];
+        t[1] = [a * tau, 0.5 * b * tau * tau, 0.0];
+        t[2] = [a, b * tau, 0.0];
+        t[3][0] = b;
+    }
+    t
 }
 
 /// `e^{−ατ} cosh(βτ)` and `e^{−ατ} sinh(βτ)/β` for `0 < β <= α`, without
@@ -392,8 +411,9 @@ impl ModalFlow {
         // (k, c, x_b) per mode.
         let mut modes: Vec<(f64, f64, Vec<f64>)> = Vec::with_capacity(n);
         let mut reals: Vec<(f64, Vec<f64>)> = Vec::new();
+        let size = |x: &[f64]| x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let unit = |x: Vec<f64>| -> Vec<f64> {
-            let s = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let s = size(&x);
             x.into_iter().map(|v| v / s).collect()
         };
         for j in 0..nn {
@@ -402,7 +422,6 @@ impl ModalFlow {
                 // Any nonzero real vector of the plane: the real or the
                 // imaginary part of the eigenvector, the larger.
                 let (re, im): (Vec<f64>, Vec<f64>) = (0..nn).map(|r| (u[(r, j)].re, u[(r, j)].im)).unzip();
-                let size = |x: &[f64]| x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 let x = unit(if size(&re) >= size(&im) { re } else { im });
                 modes.push((l.re * l.re + l.im * l.im, -2.0 * l.re, x));
             } else if l.im == 0.0 {
@@ -443,7 +462,7 @@ impl ModalFlow {
             return Err(EventsError::Defective { condition });
         }
         let kv: Vec<f64> = modes.iter().map(|m| if m.0.abs() <= 1e-12 * kmax { 0.0 } else { m.0 }).collect();
-        let cv: Vec<f64> = modes.iter().map(|m| m.1.max(0.0)).collect();
+        let cv: Vec<f64> = modes.iter().map(|m| m.1).collect();
         // P and R: the rows of T⁻¹ on the velocity part, times M⁻¹.
         let proj = |row: usize, g: &[f64]| -> f64 {
             let mut s = 0.0;
@@ -502,7 +521,9 @@ impl ModalFlow {
     /// The functional `row_q · q + row_v · v` of the state (rows over this
     /// flow's dofs) on the modal state, as the search takes it: `Σ β_i η_i +
     /// α_i η_i'` plus, with the first-order form, the load terms `−Σ α_i p_i(t)`.
-    /// `ramps` has one entry per series of the loads.
+    /// `ramps` has one entry per series of the loads. A classical flow and
+    /// a zero `row_v` (a position) leave `α` empty: the search then skips
+    /// the `η'` terms.
     pub(crate) fn linear(&self, row_q: &[f64], row_v: &[f64]) -> super::search::Functional {
         let n = self.n;
         let mut f = super::search::Functional { beta: vec![0.0; n], alpha: vec![0.0; n], ramps: vec![0.0; self.ramp_modal.len()], ..Default::default() };
@@ -511,6 +532,9 @@ impl ModalFlow {
                 for i in 0..n {
                     f.beta[i] = (0..n).map(|r| row_q[r] * self.phi[(r, i)]).sum();
                     f.alpha[i] = (0..n).map(|r| row_v[r] * self.phi[(r, i)]).sum();
+                }
+                if row_v.iter().all(|&x| x == 0.0) {
+                    f.alpha.clear();
                 }
             }
             Some(g) => {
@@ -655,28 +679,8 @@ impl ModalFlow {
         let (g0, b) = self.steady(i, t_ref);
         let mut p = [0.0; JET];
         let st = t - t_ref;
-        if k > 0.0 {
-            p[0] = g0 / k;
-        } else if c > 0.0 {
-            (p[0], p[1]) = (g0 * st / c, g0 / c);
-        } else {
-            (p[0], p[1], p[2]) = (0.5 * g0 * st * st, g0 * st, g0);
-        }
-        if b != 0.0 {
-            // The ramp b (t − t_ref): k > 0, b τ/k − c b/k²; k = 0 < c,
-            // −b τ/c² + b τ²/(2c); k = c = 0, b τ³/6.
-            if k > 0.0 {
-                (p[0], p[1]) = (p[0] + b * st / k - c * b / (k * k), p[1] + b / k);
-            } else if c > 0.0 {
-                p[0] += -b * st / (c * c) + 0.5 * b * st * st / c;
-                p[1] += -b / (c * c) + b * st / c;
-                p[2] += b / c;
-            } else {
-                p[0] += b * st * st * st / 6.0;
-                p[1] += 0.5 * b * st * st;
-                p[2] += b * st;
-                p[3] += b;
-            }
+        for (pm, terms) in p.iter_mut().zip(steady_terms(k, c, g0, b, st)) {
+            *pm = terms[0] + terms[1] + terms[2];
         }
         for (h, &(s, co)) in self.harmonics.iter().zip(tr) {
             let g = h.modal[i] * h.amplitude;
@@ -723,30 +727,11 @@ impl ModalFlow {
     fn particular_bounds(&self, i: usize, t0: f64, h: f64) -> [f64; JET + 1] {
         let (k, c) = (self.k[i], self.c[i]);
         let (g0, r) = self.steady(i, t0);
-        let (g0, r) = (g0.abs(), r.abs());
         let tt = h;
         let mut b = [0.0; JET + 1];
-        if k > 0.0 {
-            b[0] = g0 / k;
-        } else if c > 0.0 {
-            (b[0], b[1]) = (g0 * tt / c, g0 / c);
-        } else {
-            (b[0], b[1], b[2]) = (0.5 * g0 * tt * tt, g0 * tt, g0);
-        }
-        if r != 0.0 {
-            if k > 0.0 {
-                b[0] += r * tt / k + c * r / (k * k);
-                b[1] += r / k;
-            } else if c > 0.0 {
-                b[0] += r * tt / (c * c) + 0.5 * r * tt * tt / c;
-                b[1] += r / (c * c) + r * tt / c;
-                b[2] += r / c;
-            } else {
-                b[0] += r * tt * tt * tt / 6.0;
-                b[1] += 0.5 * r * tt * tt;
-                b[2] += r * tt;
-                b[3] += r;
-            }
+        // Each term is a power of τ: its magnitude at τ = h bounds it on [0, h].
+        for (bm, terms) in b.iter_mut().zip(steady_terms(k, c, g0, r, tt)) {
+            *bm = terms[0].abs() + terms[1].abs() + terms[2].abs();
         }
         for hm in &self.harmonics {
             let g = (hm.modal[i] * hm.amplitude).abs();
@@ -947,23 +932,7 @@ impl ModalFlow {
         self.to_modal(t0, q0, v0, &mut eta, &mut deta);
         let mut unit = vec![0.0; n];
         unit[dof] = 1.0;
-        let position = self.linear(&unit, &vec![0.0; n]);
-        let mut fns = Vec::new();
-        let mut sides = Vec::new();
-        if lo.is_finite() {
-            let mut f = position.clone();
-            f.constant -= lo;
-            f.now = (f.constant, 0.0, 0.0);
-            fns.push(f);
-            sides.push(Bound::Lower);
-        }
-        if hi.is_finite() {
-            let mut f = position;
-            f.constant -= hi;
-            f.now = (f.constant, 0.0, 0.0);
-            fns.push(f.negated());
-            sides.push(Bound::Upper);
-        }
+        let (sides, fns): (Vec<Bound>, Vec<_>) = self.linear(&unit, &vec![0.0; n]).gaps(lo, hi).into_iter().unzip();
         let mut search = super::search::Search::new(n);
         let Some((t, which)) = search.first_zero(self, t0, &mut eta, &mut deta, &fns, &[false; 2][..fns.len()], t0 + horizon)? else {
             return Ok(None);

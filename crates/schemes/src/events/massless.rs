@@ -23,9 +23,8 @@
 //! There are no impacts, so no restitution acts (refused above 0) and the
 //! energy `½ vᵀ M v + ½ qᵀ K q − fᵀ q` is conserved under a steady load.
 
-use super::{EventDriven, EventKind, EventRecord, Hold, Site, System, Watch};
-use crate::events::flow::{EventsError, Loads, ModalFlow, Piece};
-use crate::events::search::Functional;
+use super::{EventDriven, EventKind, EventRecord, Hold, Site, System};
+use crate::events::flow::{EventsError, ModalFlow, Piece};
 use crate::events::Bound;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
@@ -64,22 +63,6 @@ impl EventDriven {
         self.zero.binary_search(&d).is_ok()
     }
 
-    /// Adds `Σ_d coef_d f_d(t)` (steady, waves, series) to `f`.
-    fn add_loads(&self, f: &mut Functional, coef: &[f64]) {
-        let loads: &Loads = &self.loads;
-        f.constant += coef.iter().zip(&loads.constant).map(|(c, x)| c * x).sum::<f64>();
-        for (j, (g, a, w, p)) in loads.waves.iter().enumerate() {
-            if f.waves.len() <= j {
-                f.waves.push((0.0, *w, *p));
-            }
-            f.waves[j].0 += coef.iter().zip(g).map(|(c, x)| c * x).sum::<f64>() * a;
-        }
-        f.ramps.resize(loads.ramps.len(), 0.0);
-        for (l, (h, _, _)) in loads.ramps.iter().enumerate() {
-            f.ramps[l] += coef.iter().zip(h).map(|(c, x)| c * x).sum::<f64>();
-        }
-    }
-
     /// The phase of `holds` with massless contacts (module docs).
     pub(super) fn build_static(&self, holds: &[Hold], piece: &Piece) -> Result<System, EventsError> {
         let n = self.n;
@@ -93,19 +76,7 @@ impl EventDriven {
         let krs_g = Mat::from_fn(nf, ns, |r, j| (0..ns).map(|s| k[(free[r], cond[s])] * g[(s, j)]).sum::<f64>());
         let keff = Mat::from_fn(nf, nf, |r, c| k[(free[r], free[c])] - (0..ns).map(|j| krs_g[(r, j)] * k[(cond[j], free[c])]).sum::<f64>());
         let keff = Mat::from_fn(nf, nf, |r, c| 0.5 * (keff[(r, c)] + keff[(c, r)]));
-        let reduce = |x: &[f64]| -> Vec<f64> { (0..nf).map(|r| x[free[r]] - (0..ns).map(|j| krs_g[(r, j)] * x[cond[j]]).sum::<f64>()).collect() };
-        // The held dofs' displacements load the others: f − K_·A q_A.
-        let mut steady = self.loads.constant.clone();
-        for (d, x) in steady.iter_mut().enumerate() {
-            for &(a, xa) in &held {
-                *x -= k[(d, a)] * xa;
-            }
-        }
-        let loads = Loads {
-            constant: reduce(&steady),
-            waves: self.loads.waves.iter().map(|(w, a, o, p)| (reduce(w), *a, *o, *p)).collect(),
-            ramps: self.loads.ramps.iter().map(|(h, s, i)| (reduce(h), s.clone(), *i)).collect(),
-        };
+        let loads = self.phase_loads(&held, |x| (0..nf).map(|r| x[free[r]] - (0..ns).map(|j| krs_g[(r, j)] * x[cond[j]]).sum::<f64>()).collect());
         let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
         let flow = ModalFlow::from_parts(sub(m), keff, self.c.as_ref().map(sub), &loads)?;
         let zeros = vec![0.0; nf];
@@ -123,20 +94,7 @@ impl EventDriven {
                 }
             }
             self.add_loads(&mut position, &coef);
-            if s.lo.is_finite() {
-                let mut f = position.clone();
-                f.constant -= s.lo;
-                fns.push(f);
-                quiet.push(false);
-                watch.push(Watch::Gap { contact: j, bound: Bound::Lower });
-            }
-            if s.hi.is_finite() {
-                let mut f = position;
-                f.constant -= s.hi;
-                fns.push(f.negated());
-                quiet.push(false);
-                watch.push(Watch::Gap { contact: j, bound: Bound::Upper });
-            }
+            self.gap_watches(j, &position, (&mut fns, &mut quiet, &mut watch));
         }
         let mut forces = Vec::new();
         for h in holds {

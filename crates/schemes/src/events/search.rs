@@ -30,6 +30,7 @@
 //! from `g(τ) >= d τᵐ/m! − B τᵐ⁺¹/(m + 1)!` (`B` bounding `|g⁽ᵐ⁺¹⁾|`).
 
 use super::flow::{EventsError, ModalFlow, Piece, JET};
+use super::Bound;
 
 /// `g(t) = Σ β_i η_i + α_i η_i' + c₀ + c₁ (t − t_p) + Σ_j c_j sin(Ω_j t + p_j)` (module docs).
 #[derive(Clone, Debug, Default)]
@@ -51,9 +52,24 @@ pub(crate) struct Functional {
 const GJET: usize = JET - 1;
 
 impl Functional {
-    /// `Σ β_i η_i + c₀`.
-    pub fn new(beta: Vec<f64>, constant: f64) -> Self {
-        Self { beta, alpha: Vec::new(), constant, waves: Vec::new(), ramps: Vec::new(), now: (constant, 0.0, 0.0) }
+    /// The gaps of a contact dof's position `q_c` (this functional) to its
+    /// finite bounds, each `>= 0` inside them: `(Lower, q_c − lo)` and
+    /// `(Upper, hi − q_c)`.
+    pub fn gaps(&self, lo: f64, hi: f64) -> Vec<(Bound, Functional)> {
+        let gap = |bound: f64| {
+            let mut f = self.clone();
+            f.constant -= bound;
+            f.now = (f.constant, 0.0, 0.0);
+            f
+        };
+        let mut out = Vec::with_capacity(2);
+        if lo.is_finite() {
+            out.push((Bound::Lower, gap(lo)));
+        }
+        if hi.is_finite() {
+            out.push((Bound::Upper, gap(hi).negated()));
+        }
+        out
     }
 
     /// `−g`.
