@@ -866,9 +866,7 @@ impl Analysis {
         if !(o.impacts || o.poincare || o.summary) {
             return Ok(None);
         }
-        if o.poincare && omega.is_none() {
-            return Err(scene::SceneError::Field { field: "output.poincare".into(), message: "needs a periodic forcing (the oscillator's [forcing], a beam's support): remove it".into() }.into());
-        }
+        // `poincare` without a forcing and an empty record window are refused by the scene's validation.
         // The transient is in forcing periods (seconds without a forcing).
         let record_from = omega.map_or(o.transient, |w| o.transient * std::f64::consts::TAU / w);
         let mut cfg = VibroConfig::for_dynamics(dy, dt, omega, record_from, tip)?;

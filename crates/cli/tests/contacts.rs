@@ -232,7 +232,6 @@ fn bad_stops_and_obstacles_name_field_and_value() {
         (bar("mass = \"mod\"\nscheme = \"hybrid\"", "0.0", &format!("{}{}", stop("0.0", "lo = -1.0"), stop("1.0", "hi = 1.0"))), "bar.scheme", vec!["reduced schemes", "several contacts"]),
         (bar("scheme = \"nitsche-cn\"", "0.0", &format!("{}{}", stop("0.0", "lo = -1.0"), stop("1.0", "hi = 1.0"))), "bar.scheme", vec!["Nitsche", "several contacts"]),
         (bar("scheme = \"nitsche-cn\"", "0.0", "[obstacle]\nlo = -1.0\n"), "bar.scheme", vec!["Nitsche"]),
-        (bar("scheme = \"moreau-jean\"", "0.0", &stop("0.0", "lo = -1.0\nhi = 1.0")), "bar.scheme", vec!["Moreau–Jean", "one-sided"]),
         // Keys that would not act next to stops: the default contact's.
         (bar("gap = -0.1", "0.0", &stop("0.0", "lo = -1.0")), "bar.gap", vec!["acts only without [[stop]]"]),
         ("[bar]\nbenchmark = \"bar-dirichlet\"\nelements = 10\nratio = 10.0\n[[stop]]\nx = 0.0\nlo = 0.0\n".to_string(), "stop", vec!["benchmark"]),

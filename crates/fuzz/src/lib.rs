@@ -1326,8 +1326,6 @@ struct ContactCtx {
     /// Bar: the scheme takes one contact only, at node 0, one-sided
     /// (hybrid, reduced-cn, cd-massless, nitsche).
     single_only: bool,
-    /// Bar: Moreau–Jean (one contact must be one-sided).
-    moreau: bool,
     /// Bar: the event-driven reference with a massless node (a restitution
     /// other than 0 is refused naming the scheme: the node lands without
     /// an impact).
@@ -1386,7 +1384,6 @@ fn bar_ctx(p: &BarPicks) -> ContactCtx {
         restitution_acts: capabilities_of(&s).is_some_and(|c| c.restitution),
         stiffness_acts: capabilities_of(&s).is_some_and(|c| c.stiffness),
         single_only: capabilities_of(&s).is_some_and(|c| !c.several_contacts),
-        moreau: s.starts_with("moreau-jean"),
         restitution_zero_only: s.starts_with("event-driven") && mass.as_deref().is_some_and(|m| MASSLESS.contains(&m)),
     }
 }
@@ -1621,9 +1618,6 @@ fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<Table>, Opti
             }
             if ctx.single_only && (k > 1 || !sites[0].0 || !sites[0].1) {
                 classes.push(bad(&["bar.scheme", "bar.mass"]));
-            }
-            if ctx.moreau && k == 1 && !sites[0].1 {
-                classes.push(bad(&["bar.scheme"]));
             }
         }
     }

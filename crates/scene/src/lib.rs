@@ -184,7 +184,9 @@ pub struct OscillatorToml {
     pub damping_ratio: Option<f64>,
     /// The stop: x <= stop.
     pub stop: f64,
-    /// Restitution r in [0, 1] (default 0).
+    /// Restitution r in [0, 1] (default 0): the e of the default scheme, and
+    /// of a scheme written without its e (`event-driven`); with a scheme
+    /// that states its e (`ps(0.5)`) it may only repeat it.
     pub restitution: Option<f64>,
     /// x(0) (default 0).
     pub initial_displacement: Option<f64>,
@@ -599,7 +601,46 @@ pub enum Scene {
     },
 }
 
+impl OutputToml {
+    /// The analysis window against the scene's clock: `poincare` needs a
+    /// periodic forcing, and the record window after the `transient` must
+    /// not be empty (it starts before the horizon).
+    fn check_window(&self, scene: &Scene) -> Result<(), SceneError> {
+        let (omega, t_end) = scene.forcing_and_horizon();
+        if self.poincare && omega.is_none() {
+            return Err(field("output.poincare", "needs a periodic forcing (the oscillator's [forcing], a beam's support): remove it"));
+        }
+        if !(self.poincare || self.summary || self.impacts) {
+            return Ok(());
+        }
+        // The transient is in forcing periods (seconds without a forcing).
+        let (period, unit) = omega.map_or((1.0, "s"), |w| (std::f64::consts::TAU / w, "forcing periods"));
+        if self.transient * period >= t_end {
+            return Err(field(
+                "output.transient",
+                format!(
+                    "{} {unit} ({} s) is not allowed: it reaches the horizon t_end = {t_end} s, so nothing would be recorded; allowed: [0, {}) {unit}",
+                    self.transient,
+                    self.transient * period,
+                    t_end / period
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Scene {
+    /// The forcing frequency `Ω` (`None` without a periodic forcing) and
+    /// the horizon `t_end`.
+    pub fn forcing_and_horizon(&self) -> (Option<f64>, f64) {
+        match self {
+            Scene::Oscillator { omega, t_end, .. } => (*omega, *t_end),
+            Scene::Beam { omega, scene, .. } => (*omega, scene.t_end),
+            Scene::Bar(b) => (b.omega, b.t_end),
+        }
+    }
+
     /// What a sweep needs of the scene's clock: the forcing frequency `Ω`
     /// (the Poincaré section and impact phases), the time step, and the key
     /// of its horizon (which a sweep sets to `transient + record` forcing
@@ -1140,6 +1181,14 @@ impl SceneFile {
         if self.output.transient > 0.0 && !(self.output.poincare || self.output.summary || self.output.impacts) {
             return Err(field("output.transient", "acts only with output.poincare, output.summary or output.impacts: remove it, or ask for one"));
         }
+        let scene = self.validate_tables(limits, one_step)?;
+        if !one_step {
+            self.output.check_window(&scene)?;
+        }
+        Ok(scene)
+    }
+
+    fn validate_tables(&self, limits: &Limits, one_step: bool) -> Result<Scene, SceneError> {
         if let Some(o) = &self.oscillator {
             if self.bar.is_some() || self.beam.is_some() {
                 return Err(field("oscillator", "give exactly one of the tables [bar], [beam] and [oscillator]"));
@@ -1179,12 +1228,14 @@ impl SceneFile {
             return Err(field("output.snapshots_every", "acts only with [bar] or [beam] (the oscillator has one dof): remove it"));
         }
         let exc = self.forcing.as_ref().map(|f| f.build(Table::Forcing, self.base.as_deref())).transpose()?;
+        // The scheme first: its e (when it states one) is the restitution that acts.
+        let (scheme, restitution) = oscillator_scheme(o)?;
         let osc = Oscillator {
             mass: o.mass,
             stiffness: o.stiffness,
             damping_ratio: o.damping_ratio.unwrap_or(0.0),
             stop: o.stop,
-            restitution: o.restitution.unwrap_or(0.0),
+            restitution,
             x0: o.initial_displacement.unwrap_or(0.0),
             v0: o.initial_velocity.unwrap_or(0.0),
             load: exc.as_ref().map(|e| e.profile.clone()),
@@ -1197,25 +1248,6 @@ impl SceneFile {
             RunError::Invalid { field: f, value, allowed } => field(f, format!("{value} is not allowed: {allowed}")),
             e => field("oscillator", e),
         })?;
-        let scheme = match &o.scheme {
-            None => osc.default_scheme(),
-            Some(name) => {
-                let spec: SchemeSpec = name.parse().map_err(|e| field("oscillator.scheme", e))?;
-                if spec.needs_massless_node() {
-                    return Err(field(
-                        "oscillator.scheme",
-                        format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: {}", families_with(|c| c.accepts_massless_node(false))),
-                    ));
-                }
-                if o.restitution.is_some_and(|r| r != 0.0) && !spec.capabilities().restitution {
-                    return Err(field(
-                        "oscillator.restitution",
-                        format!("acts only with a scheme that has an impact law ({}); {spec} has none: remove it or set it to 0, or choose ps", families_with(|c| c.restitution)),
-                    ));
-                }
-                spec
-            }
-        };
         let dt = positive("oscillator.dt", o.dt)?;
         let t_end = if one_step { dt } else { positive("oscillator.t_end", o.t_end)? };
         if t_end / dt > 1e10 {
@@ -1230,6 +1262,60 @@ impl SceneFile {
             e => field("oscillator", e),
         })?;
         Ok(Scene::Oscillator { omega: exc.and_then(|e| e.omega), osc, scheme, dt, t_end })
+    }
+}
+
+/// The oscillator's scheme and the restitution that acts (docs/scenes.md,
+/// "The oscillator's restitution"): a scheme with an impact law whose text
+/// states its e (`ps(0.5)`, `ps-e0.5`, `event-driven(0.8)`) takes that e, and
+/// `oscillator.restitution` may only repeat it; a scheme written by its
+/// family's name alone (`event-driven`, `moreau-jean`) or without its e takes
+/// `oscillator.restitution` (default 0), and is printed with it; no scheme key:
+/// `ps(r, 0.25)`.
+fn oscillator_scheme(o: &OscillatorToml) -> Result<(SchemeSpec, f64), SceneError> {
+    let r = o.restitution.unwrap_or(0.0);
+    let Some(text) = &o.scheme else {
+        return Ok((SchemeSpec::ps(r, 0.25), r));
+    };
+    let spec: SchemeSpec = text.parse().map_err(|e| field("oscillator.scheme", e))?;
+    if spec.needs_massless_node() {
+        return Err(field("oscillator.scheme", format!("{spec} needs a massless contact node; the oscillator's mass sits at its contact: {}", families_with(|c| c.accepts_massless_node(false)))));
+    }
+    let Some(at) = spec.family().params.iter().position(|p| p.name == "e").filter(|_| spec.capabilities().restitution) else {
+        if r != 0.0 {
+            return Err(field(
+                "oscillator.restitution",
+                format!("acts only with a scheme that has an impact law ({}); {spec} has none: remove it or set it to 0, or choose ps", families_with(|c| c.restitution)),
+            ));
+        }
+        return Ok((spec, 0.0));
+    };
+    let t = text.trim();
+    let states_e = match t.split_once('(') {
+        Some((_, args)) => args.trim_end_matches(')').split(',').filter(|a| !a.trim().is_empty()).count() > at,
+        None => t != spec.family().name,
+    };
+    let e = spec.args()[at];
+    match o.restitution {
+        Some(r) if states_e && r != e => {
+            let mut args = spec.args().to_vec();
+            args[at] = r;
+            Err(field(
+                "oscillator.restitution",
+                format!(
+                    "{r} conflicts with oscillator.scheme = \"{t}\", whose e = {e} acts: give the restitution once (remove oscillator.restitution, or write it in the scheme: \"{}\")",
+                    spec.family().with(&args).call()
+                ),
+            ))
+        }
+        Some(r) if !states_e => {
+            let mut args = spec.args().to_vec();
+            args[at] = r;
+            let spec = spec.family().with(&args);
+            spec.validate().map_err(|e| field("oscillator.restitution", e))?;
+            Ok((spec, r))
+        }
+        _ => Ok((spec, e)),
     }
 }
 
@@ -1514,6 +1600,14 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             // The softest spring: a stop's own, or the scheme's γ_P K_cc.
             let name = softest_stop(set).filter(|&(_, k)| k < 1e-100).map_or("bar.scheme".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
             field(&name, too_soft(e))
+        }
+        (SchemeError::Events(signorini_schemes::events::EventsError::MasslessRestitution { contact, restitution }), set) => {
+            // A stop's own restitution, else the scheme's e.
+            let key = set.as_ref().filter(|s| s.stops.get(contact).is_some_and(|st| st.restitution.is_some())).map_or("bar.scheme".to_string(), |s| s.field_of(contact, "restitution").0);
+            field(
+                &key,
+                format!("e = {restitution} at a massless contact node (this mass treatment or reduced model gives the contact node no mass): it lands on its bound without an impact (its force is statically condensed), so no restitution acts there; allowed: 0 (event-driven(0)), or a massive contact node (mass std or lumped)"),
+            )
         }
         (e, _) => scheme_error(e, overflow_key),
     })?;

@@ -216,7 +216,7 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
                 osc.stiffness,
                 osc.damping_ratio,
                 osc.stop,
-                osc.restitution,
+                signorini_run::text::num(osc.restitution),
                 omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
             );
             (text, steps, limit)

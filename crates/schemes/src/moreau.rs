@@ -67,9 +67,6 @@ impl MoreauJean {
         if dy.massless_contact() {
             return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the impact law acts on its velocity" });
         }
-        if dy.k() == 1 && dy.contact().bounds.hi.is_finite() {
-            return Err(SchemeError::Structure("Moreau–Jean here handles a one-sided obstacle (two-sided stops: as two contacts, or ps)"));
-        }
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
@@ -207,10 +204,16 @@ impl Stepper for MoreauJean {
             return self.finish_multi();
         }
         let (vc, uc) = (self.v[c], self.u[c]);
-        let predicted_active = uc + 0.5 * dt * vc <= self.dy.contact().bounds.lo;
-        let (p, active) = if predicted_active {
-            let e = self.dy.contact().restitution.unwrap_or(self.restitution);
+        // The contact predicted active at its lower (upper) stop gets
+        // Newton's law v_c^{n+1} >= -e v_c^n (<=); both predicted (a gap
+        // below dt/2 |v|): the lower wins, as in `finish_multi`.
+        let (bounds, pred) = (self.dy.contact().bounds, uc + 0.5 * dt * vc);
+        let e = self.dy.contact().restitution.unwrap_or(self.restitution);
+        let (p, active) = if pred <= bounds.lo {
             let pr = self.proj.project(&mut self.rhs, -e * vc, f64::INFINITY);
+            (pr.mu, pr.active)
+        } else if pred >= bounds.hi {
+            let pr = self.proj.project(&mut self.rhs, f64::NEG_INFINITY, -e * vc);
             (pr.mu, pr.active)
         } else {
             (0.0, Active::None)

@@ -291,11 +291,17 @@ impl SchemeSpec {
     }
 
     /// The call form, `newmark(0.25,0.5)` (the bare name without parameters).
+    /// Trailing parameters at their default are left out
+    /// (`event-driven(0.8)`, not `event-driven(0.8,10000000)`), and very
+    /// small or large values take an exponent (`1e-10`); the text parses
+    /// back to the same scheme.
     pub fn call(&self) -> String {
         if self.family.params.is_empty() {
             return self.family.name.to_string();
         }
-        let args: Vec<String> = self.args().iter().map(|a| a.to_string()).collect();
+        let params = self.family.params;
+        let shown = params.iter().zip(self.args()).rposition(|(p, &a)| p.default != Some(a)).map_or(0, |i| i + 1);
+        let args: Vec<String> = self.args()[..shown].iter().map(|&a| number(a)).collect();
         format!("{}({})", self.family.name, args.join(","))
     }
 
@@ -438,6 +444,18 @@ impl FromStr for SchemeSpec {
         let spec = family.with(&full);
         spec.validate()?;
         Ok(spec)
+    }
+}
+
+/// A parameter's value as the call form prints it: plain, or with an
+/// exponent below 1e-5 and from 1e16 on in magnitude, as messages print
+/// numbers (`signorini_run::text::num`); both parse back exactly (Rust
+/// prints the shortest text that does).
+fn number(a: f64) -> String {
+    if a != 0.0 && (a.abs() < 1e-5 || a.abs() >= 1e16) {
+        format!("{a:e}")
+    } else {
+        a.to_string()
     }
 }
 

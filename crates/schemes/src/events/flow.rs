@@ -94,12 +94,23 @@ pub enum EventsError {
         restitution: f64,
     },
     /// More events than allowed.
-    #[error("{events} events by t = {t} (max_events): the run stops there, the events so far are kept; raise the limit if the impacts are real")]
+    #[error("{events} events by t = {t} (max_events): the run stops there, the events so far are kept; if the impacts are real, raise the limit with the scheme's second parameter: scheme = \"event-driven(E,MAX_EVENTS)\" (default 1e7, at most 1e12)")]
     TooManyEvents {
         /// Where it stopped.
         t: f64,
         /// Events taken.
         events: usize,
+    },
+    /// Events repeat at one instant without the time advancing (a cycle
+    /// of releases and impacts that the rules do not settle).
+    #[error("{events} events at t = {t} without the time advancing (the last: {cycle}): the run stops there, the events so far are kept; this is a defect of the event rules for this case, please report it with the scene")]
+    NoProgress {
+        /// Where it stalled.
+        t: f64,
+        /// Events at that instant.
+        events: usize,
+        /// The last events, in words.
+        cycle: String,
     },
     /// The event search took too many steps (a contact grazing its bound).
     #[error("the event search stopped at t = {t} after {steps} steps (a contact grazing its bound without reaching it)")]
