@@ -50,7 +50,7 @@
 //! reduced models) have no impacts: see `massless.rs`.
 
 use super::flow::{dense, EventsError, Loads, ModalFlow, Piece};
-use super::search::{Functional, Search};
+use super::search::{time_resolution, Functional, Search};
 use super::Bound;
 use crate::Dynamics;
 use faer::Mat;
@@ -103,6 +103,12 @@ pub struct EventRecord {
 /// An impact slower than this fraction of the contact's fastest impact so
 /// far ends its run of impacts as an accumulation (module docs).
 const MICRO: f64 = 1e-6;
+
+/// Events at one instant, per contact, beyond which a run makes no
+/// progress in time ([`EventsError::NoProgress`]): each contact can take an
+/// impact, an accumulation and a release at one instant, and the impacts
+/// of others can bring it back once.
+const STALL: usize = 8;
 
 /// The most events of a run by default.
 pub const MAX_EVENTS: usize = 10_000_000;
@@ -192,6 +198,8 @@ pub struct EventDriven {
     /// [`take_impulses`](Self::take_impulses).
     impulses: Vec<f64>,
     max_events: usize,
+    /// The time of the last event and the events at it.
+    stall: (f64, usize),
 }
 
 impl EventDriven {
@@ -273,6 +281,7 @@ impl EventDriven {
             vmax: vec![0.0; k_contacts],
             impulses: vec![0.0; k_contacts],
             max_events: MAX_EVENTS,
+            stall: (f64::NAN, 0),
         };
         r.settle(t0, q0.to_vec(), v0.to_vec(), None)?;
         Ok(r)
@@ -317,8 +326,27 @@ impl EventDriven {
 
     /// Advances to the next event, applies it and returns it (the located
     /// one; simultaneous impacts of other contacts are logged too), or to
-    /// `t_end` if none comes before (then `None`).
+    /// `t_end` if none comes before (then `None`). A run of events that
+    /// makes no progress in time (more than [`STALL`] per contact at one
+    /// instant) stops with [`EventsError::NoProgress`] at once.
     pub fn next_event(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
+        let event = self.next_event_unchecked(t_end)?;
+        if let Some(e) = &event {
+            if e.t == self.stall.0 {
+                self.stall.1 += 1;
+                if self.stall.1 > STALL * (self.sites.len() + 1) {
+                    let recent = self.events.len().saturating_sub(6);
+                    let kinds: Vec<String> = self.events[recent..].iter().map(|e| format!("{} of contact {}", e.kind.name(), e.contact)).collect();
+                    return Err(EventsError::NoProgress { t: e.t, events: self.stall.1, cycle: kinds.join(", ") });
+                }
+            } else {
+                self.stall = (e.t, 1);
+            }
+        }
+        Ok(event)
+    }
+
+    fn next_event_unchecked(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
         loop {
             if t_end <= self.t {
                 return Ok(None);
@@ -513,10 +541,16 @@ impl EventDriven {
                 }
             }
             self.delassus.project(&mut a, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-            let r = self.delassus.multipliers();
+            let r = self.delassus.multipliers().to_vec();
+            // The search's rule for a zero (docs/theory.md §9.2, "Zeros at
+            // the time resolution"): an acceleration that the jerk moves by
+            // more than itself within the time resolution does not decide;
+            // the contact stays held, and its force's rate decides.
+            let jerk = self.free_jerk(t, &v, &a);
+            let dt_res = 4.0 * time_resolution(t);
             for &j in &candidates {
-                let bilateral = self.sites[j].lo == self.sites[j].hi;
-                let leaving = !bilateral && r[j] == 0.0 && a[self.sites[j].dof].abs() > 1e-12 * ascale;
+                let (bilateral, dof) = (self.sites[j].lo == self.sites[j].hi, self.sites[j].dof);
+                let leaving = !bilateral && r[j] == 0.0 && a[dof].abs() > 1e-12 * ascale + jerk[dof].abs() * dt_res;
                 if !leaving {
                     holds.push(Hold { contact: j, upper: at[j] == Some(true) });
                 }
@@ -535,6 +569,20 @@ impl EventDriven {
         for (r, x) in rhs.iter_mut().enumerate() {
             for s in 0..self.n {
                 *x -= self.k[(r, s)] * q[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * v[s]);
+            }
+        }
+        self.full.minv(&rhs)
+    }
+
+    /// `M⁻¹ (f'(t) − C a − K v)`: the jerk of the free system (a scale for
+    /// the hold decision's round-off, not a phase's exact jerk).
+    fn free_jerk(&self, t: f64, v: &[f64], a: &[f64]) -> Vec<f64> {
+        let mut piece = Piece::default();
+        self.loads.piece_into(t, &mut piece);
+        let mut rhs: Vec<f64> = (0..self.n).map(|r| self.loads.rate(r, t, &piece)).collect();
+        for (r, x) in rhs.iter_mut().enumerate() {
+            for s in 0..self.n {
+                *x -= self.k[(r, s)] * v[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * a[s]);
             }
         }
         self.full.minv(&rhs)

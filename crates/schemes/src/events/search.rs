@@ -236,7 +236,7 @@ impl Search {
             if step < root {
                 who = None;
             }
-            let tol = (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0));
+            let tol = time_resolution(t);
             let last = step >= end - t;
             let step = if last { end - t } else { step };
             flow.advance_modal(t, eta, deta, step, &mut self.tr);
@@ -333,10 +333,18 @@ impl Search {
             }
         }
         // The jets of orders 1..=3 beyond their round-off (0 otherwise),
-        // and B bounding |g⁽⁴⁾| over the window.
+        // and B bounding |g⁽⁴⁾| over the window. A derivative of order 2 or
+        // 3 is also zero if the next one moves it by more than itself
+        // within the time resolution (an event is located to
+        // `time_resolution(t)`: at a release the held force is `r' δt`, not
+        // 0, and the free phase's g'' ∝ r inherits it; the velocity is
+        // decided exactly by the impact law: docs/theory.md §9.2, "Zeros at
+        // the time resolution").
+        let dt_res = 4.0 * time_resolution(t);
         let mut d = [0.0; 4];
         for m in 1..4 {
-            if gj[m].abs() > 1e-12 * gs[m] {
+            let resolution = if m >= 2 { gj[m + 1].abs() * dt_res } else { 0.0 };
+            if gj[m].abs() > 1e-12 * gs[m] + resolution {
                 d[m] = gj[m];
             }
         }
@@ -387,6 +395,12 @@ impl Search {
         }
         Reach::Free(best.min(h))
     }
+}
+
+/// The time to which an event at `t` is located: a relative 1e-15, at
+/// least one rounding of `t` (`ε max(|t|, 1)`).
+pub(crate) fn time_resolution(t: f64) -> f64 {
+    (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0))
 }
 
 /// What one functional allows over a window.
