@@ -163,11 +163,11 @@ def run(scene: _Scene, *, energy: _Optional[bool] = None, fields_every: int = 0,
     scene = _check.scene(scene)
     if energy is not None:
         energy = _check.boolean("energy", energy)
-    fields_every = _check.integer("fields_every", fields_every, 0)
+    # The ranges are the Rust side's (python/src/run.rs), which checks these
+    # arguments before the scene: a wrongly typed value is refused with them.
+    fields_every = _check.integer("fields_every", fields_every, probe=lambda v: _signorini.run_scene({}, None, v, None))
     if energy_warn is not None:
-        energy_warn = _check.real("energy_warn", energy_warn)
-        if not (_math.isfinite(energy_warn) and energy_warn > 1):
-            raise SceneError(f"energy_warn: {energy_warn} is out of range: finite and > 1")
+        energy_warn = _check.real("energy_warn", energy_warn, probe=lambda v: _signorini.run_scene({}, None, 0, v))
     try:
         result = RunResult(_signorini.run_scene(scene, energy, fields_every, energy_warn))
     except (KeyboardInterrupt, BlowUp, SceneError) as e:

@@ -28,36 +28,76 @@ def scalar(v):
     return v
 
 
-def integer(name: str, v, lo: int, hi: _Optional[int] = None) -> int:
-    """An int (a numpy integer, a 0-d array, a float with an integral value)
-    in ``[lo, hi]``; a bool is not an integer."""
+#: Out-of-range stand-ins handed to the Rust side to learn a range: an int
+#: keyword gets 0, then -1, then the largest 64-bit int; a real one NaN.
+INT_STAND_INS = (0, -1, (1 << 63) - 1)
+REAL_STAND_INS = (float("nan"),)
+_ALLOWED_WORDS = ("is not allowed:", "is out of range:", "allowed:", "allowed")
+
+
+def allowed(name: str, probe, stand_ins, prefix: _Optional[str] = None) -> _Optional[str]:
+    """The allowed range of the argument ``name`` in the Rust side's own
+    words: ``probe(v)`` calls the Rust function that checks the argument,
+    with the stand-in ``v`` in its place; the first SceneError that names
+    the argument (its message starts with ``prefix``, default ``name``)
+    gives the range (the text after "is not allowed:", "is out of range:"
+    or "allowed"). So a range is written once, where it is checked, and a
+    wrongly typed value is refused with that range. None if no stand-in is
+    refused naming the argument."""
+    if probe is None:
+        return None
+    prefix = name if prefix is None else prefix
+    for v in stand_ins:
+        try:
+            probe(v)
+        except SceneError as e:
+            m = str(e)
+            if not (m.startswith(prefix + ":") or m.startswith(prefix + " ")):
+                continue
+            for word in _ALLOWED_WORDS:
+                at = m.find(word)
+                if at >= 0 and m[at + len(word):].strip(" :"):
+                    return m[at + len(word):].strip(" :")
+        except Exception:  # OverflowError for a negative usize: the next stand-in
+            continue
+    return None
+
+
+def integer(name: str, v, lo: _Optional[int] = None, hi: _Optional[int] = None, *, probe=None, prefix: _Optional[str] = None) -> int:
+    """An int (a numpy integer, a 0-d array, a float with an integral value);
+    a bool is not an integer. With ``probe`` (see :func:`allowed`) the Rust
+    side checks the range and states it, and this checks only that the
+    value is an int that fits 64 bits (``lo`` default 0); without, the range
+    is ``[lo, hi]`` and is checked here."""
     x = scalar(v)
-    rng = f"an int in [{lo}, {hi if hi is not None else 'inf'}]"
+
+    def rng():
+        r = allowed(name, probe, INT_STAND_INS, prefix)
+        return r if r is not None else f"an int in [{lo if lo is not None else 0}, {hi if hi is not None else 'inf'}]"
+
     if isinstance(x, bool) or not isinstance(x, (_numbers.Integral, _numbers.Real)):
-        raise SceneError(f"{name}: {_what(v)} is not allowed: {rng}")
+        raise SceneError(f"{name}: {_what(v)} is not allowed: {rng()}")
     if not isinstance(x, _numbers.Integral):
         if not (_math.isfinite(x) and float(x).is_integer()):
-            raise SceneError(f"{name}: {_what(v)} is not a whole number: {rng}")
+            raise SceneError(f"{name}: {_what(v)} is not a whole number: {rng()}")
     x = int(x)
-    if x < lo or (hi is not None and x > hi):
-        raise SceneError(f"{name}: {x} is out of range: {rng}")
+    low = lo if lo is not None else 0
+    high = hi if hi is not None else ((1 << 63) - 1 if probe is not None else None)
+    if x < low or (high is not None and x > high):
+        raise SceneError(f"{name}: {x} is out of range: {rng()}")
     return x
 
 
-def real(name: str, v) -> float:
+def real(name: str, v, *, probe=None, prefix: _Optional[str] = None) -> float:
     """A number (int, float, numpy scalar or 0-d array; not a bool) as a
-    float, any value: the range is the callee's to check."""
+    float, any value: the range is the callee's to check. A wrong type is
+    refused with the range ``probe`` finds (:func:`allowed`), else as "a
+    number"."""
     x = scalar(v)
     if isinstance(x, bool) or not isinstance(x, _numbers.Real):
-        raise SceneError(f"{name}: {_what(v)} is not allowed: a number (int or float)")
+        r = allowed(name, probe, REAL_STAND_INS, prefix)
+        raise SceneError(f"{name}: {_what(v)} is not allowed: {r if r is not None else 'a number (int or float)'}")
     return float(x)
-
-
-def number(name: str, v, *, positive: bool = False) -> float:
-    x = real(name, v)
-    if not _math.isfinite(x) or (positive and x <= 0):
-        raise SceneError(f"{name}: {x} is out of range: a finite float{' > 0' if positive else ''}")
-    return x
 
 
 def boolean(name: str, v) -> bool:

@@ -32,8 +32,32 @@ def _out(a, shape):
     return float(a[0]) if shape == () else a.reshape(shape)
 
 
+#: What ``x`` and ``t`` may be (the solutions are defined for every real
+#: value; off the domain they are NaN, see the module's documentation).
+_ALLOWED = "a number or an array of numbers (float64; any real value, NaN off the solution's domain)"
+
+
+def _reals(name, v):
+    """``v`` as a float64 array, or SceneError naming the argument (a str, a
+    bool, None, a ragged list: what numpy would refuse, or silently read as
+    a number)."""
+    a = None
+    if not isinstance(v, (str, bytes)):
+        try:
+            a = _np.asarray(v)
+        except (TypeError, ValueError):
+            a = None
+    if a is None or a.dtype.kind not in "iuf":
+        raise _signorini.SceneError(f"{name}: {_check._what(v)} is not allowed: {_ALLOWED}")
+    return a.astype(_np.float64, copy=False)
+
+
 def _pair(x, t):
-    x, t = _np.broadcast_arrays(_np.asarray(x, dtype=_np.float64), _np.asarray(t, dtype=_np.float64))
+    x, t = _reals("x", x), _reals("t", t)
+    try:
+        x, t = _np.broadcast_arrays(x, t)
+    except ValueError:
+        raise _signorini.SceneError(f"x and t: shapes {x.shape} and {t.shape} do not broadcast: {_ALLOWED}, of shapes that broadcast") from None
     return x.shape, _np.ascontiguousarray(x).ravel(), _np.ascontiguousarray(t).ravel()
 
 
@@ -68,13 +92,13 @@ class Solution:
 
     def lam(self, t) -> Value:
         """Contact force λ(t)."""
-        t = _np.asarray(t, dtype=_np.float64)
+        t = _reals("t", t)
         return _out(self._inner.lam(_np.ascontiguousarray(t).ravel()), t.shape)
 
     def energy(self, t) -> Value:
         """Energy E(t) (conserved: the same value at every t where the
         solution is defined; NaN at a NaN or infinite t, or beyond t_max)."""
-        t = _np.asarray(t, dtype=_np.float64)
+        t = _reals("t", t)
         return _out(self._inner.energy_at(_np.ascontiguousarray(t).ravel()), t.shape)
 
     def __repr__(self) -> str:
@@ -88,4 +112,6 @@ def solution(name: str, **params) -> Solution:
     unknown = sorted(set(params) - _PARAMS)
     if unknown:
         raise _signorini.SceneError(f"{unknown[0]}: not a parameter of solution(); allowed: {', '.join(sorted(_PARAMS))}")
-    return Solution(_signorini.exact_solution(name, **{k: _check.real(k, v) for k, v in params.items()}))
+    # The ranges are the Rust side's (the exact crate's): a wrongly typed
+    # value is refused with the range it states for that parameter.
+    return Solution(_signorini.exact_solution(name, **{k: _check.real(k, v, probe=lambda x, k=k: _signorini.exact_solution(name, **{k: x})) for k, v in params.items()}))

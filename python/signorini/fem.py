@@ -114,7 +114,9 @@ def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: fl
     the nodes ``contacts`` (the redistributed masses empty their element);
     ``degree`` 1, 2 or 3 (Lagrange P1, P2, P3; unknowns ordered by position,
     half-bandwidth ``degree``; std, lumped and mod at degrees 2 and 3)."""
-    elements = _check.integer("elements", elements, 2, 1 << 26)
+    # The ranges are the Rust side's (python/src/fem.rs): a wrongly typed
+    # value is refused with the range that side states (_check.allowed).
+    elements = _check.integer("elements", elements, probe=lambda v: _signorini.bar_matrices(v))
     mass = _check.string("mass", mass, MASSES)
     if right_end is not None:
         if far_end is not None:
@@ -122,10 +124,10 @@ def bar(elements: int, mass: str = "std", *, length: float = 1.0, wave_speed: fl
         far_end = _check.string("right_end", right_end, ("clamped", "free"))
         _warnings.warn("fem.bar(right_end=...) is deprecated: far_end=... (the scene key bar.far_end)", DeprecationWarning, stacklevel=2)
     far_end = _check.string("far_end", far_end if far_end is not None else "clamped", ("clamped", "free"))
-    length = _check.number("length", length, positive=True)
-    wave_speed = _check.number("wave_speed", wave_speed, positive=True)
-    nodes = _check.sequence("contacts", contacts, lambda n, v: _check.integer(n, v, 0))
-    degree = _check.integer("degree", degree, 1, 3)
+    length = _check.real("length", length, probe=lambda v: _signorini.bar_matrices(2, length=v))
+    wave_speed = _check.real("wave_speed", wave_speed, probe=lambda v: _signorini.bar_matrices(2, wave_speed=v))
+    degree = _check.integer("degree", degree, probe=lambda v: _signorini.bar_matrices(2, degree=v))
+    nodes = _check.sequence("contacts", contacts, lambda n, v: _check.integer(n, v, probe=lambda x: _signorini.bar_matrices(elements, right_end=far_end, contacts=[x], degree=degree), prefix="contacts[0]"))
     return Matrices(_signorini.bar_matrices(elements, mass, length, wave_speed, far_end, nodes, degree))
 
 
@@ -133,7 +135,7 @@ def beam(elements: int, *, length: float = 1.0, k2: float = 1.0) -> Matrices:
     """The Hermite-cubic beam ``u_tt + k2 u_xxxx = 0`` on ``[0, length]``, clamped at
     0, with ``elements`` elements: unknown ``2(j - 1)`` is node j's value,
     ``2(j - 1) + 1`` its slope (unit ρS)."""
-    elements = _check.integer("elements", elements, 1, 1 << 26)
-    length = _check.number("length", length, positive=True)
-    k2 = _check.number("k2", k2, positive=True)
+    elements = _check.integer("elements", elements, probe=lambda v: _signorini.beam_matrices(v))
+    length = _check.real("length", length, probe=lambda v: _signorini.beam_matrices(1, length=v))
+    k2 = _check.real("k2", k2, probe=lambda v: _signorini.beam_matrices(1, k2=v))
     return Matrices(_signorini.beam_matrices(elements, length, k2))

@@ -55,6 +55,22 @@ def _scene(scene):
     raise _SceneError(f"scene: a {type(scene).__name__} is not allowed: a dict, a path or TOML text")
 
 
+def _probe(**over):
+    """A call of the Rust side's option check with every option valid but
+    the one in ``over`` (None, or the None of a pair, marks where the
+    stand-in goes): what :func:`signorini._check.allowed` asks for a range.
+    The options are checked before anything else, so nothing runs."""
+    ((key, where),) = over.items()
+
+    def call(v):
+        o = dict(start=0.0, stop=1.0, count=1, start2=0.0, stop2=1.0, count2=1, transient=100.0, record=10.0, phase=0.0, period_tol=1e-3, shard=None, threads=None)
+        o[key] = v if where is None else tuple(v if x is None else x for x in where)
+        second = ("p2", o["start2"], o["stop2"], o["count2"], False) if key in ("start2", "stop2", "count2") else None
+        _signorini.run_sweep("", "scene", None, "", "p", o["start"], o["stop"], o["count"], False, second, o["transient"], o["record"], o["phase"], o["period_tol"], True, False, o["shard"], False, o["threads"])
+
+    return call
+
+
 def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=None, stop2=None, count2=None, log2=False, transient=100.0, record=10.0, phase=0.0, period_tol=1e-3, impacts=True, follow=False, shard=None, resume=False, threads=None, out=None) -> SweepResult:
     """Sweeps the scene's field ``param`` over ``count`` values from ``start``
     to ``stop`` (``--from``/``--to`` of ``signorini sweep``; ``log=True``:
@@ -73,22 +89,31 @@ def sweep(scene, param, start, stop, count, *, log=False, param2=None, start2=No
     ``partial`` is the SweepResult of the runs completed."""
     text, name, base = _scene(scene)
     param = _check.string("param", param)
-    start = _check.number("start", start)
-    stop = _check.number("stop", stop)
-    count = _check.integer("count", count, 1)
+    # The ranges are the sweep crate's (SweepOptions::validate, the options
+    # of `signorini sweep`): the Rust side checks them, and a wrongly typed
+    # value is refused with the range it states (_check.allowed).
+    start = _check.real("start", start, probe=_probe(start=None))
+    stop = _check.real("stop", stop, probe=_probe(stop=None))
+    count = _check.integer("count", count, probe=_probe(count=None))
     second = None
     if param2 is not None:
-        second = (_check.string("param2", param2), _check.number("start2", start2), _check.number("stop2", stop2), _check.integer("count2", count2, 1), _check.boolean("log2", log2))
-    transient = _check.number("transient", transient)
-    record = _check.number("record", record)
-    phase = _check.number("phase", phase)
-    period_tol = _check.number("period_tol", period_tol)
+        second = (
+            _check.string("param2", param2),
+            _check.real("start2", start2, probe=_probe(start2=None)),
+            _check.real("stop2", stop2, probe=_probe(stop2=None)),
+            _check.integer("count2", count2, probe=_probe(count2=None)),
+            _check.boolean("log2", log2),
+        )
+    transient = _check.real("transient", transient, probe=_probe(transient=None))
+    record = _check.real("record", record, probe=_probe(record=None))
+    phase = _check.real("phase", phase, probe=_probe(phase=None))
+    period_tol = _check.real("period_tol", period_tol, probe=_probe(period_tol=None))
     if shard is not None:
         if not isinstance(shard, (tuple, list)) or len(shard) != 2:
             raise _SceneError(f"shard: {shard!r} is not allowed: a pair (i, n) with 0 <= i < n")
-        shard = (_check.integer("shard[0]", shard[0], 0), _check.integer("shard[1]", shard[1], 1))
+        shard = (_check.integer("shard[0]", shard[0], probe=_probe(shard=(None, 1)), prefix="shard"), _check.integer("shard[1]", shard[1], probe=_probe(shard=(0, None)), prefix="shard"))
     if threads is not None:
-        threads = _check.integer("threads", threads, 1)
+        threads = _check.integer("threads", threads, probe=_probe(threads=None))
     log, impacts, follow, resume = (_check.boolean(k, v) for k, v in (("log", log), ("impacts", impacts), ("follow", follow), ("resume", resume)))
 
     def go(folder):

@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution};
+use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution, NeumannError};
 
 mod fem;
 mod run;
@@ -143,7 +143,13 @@ fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f6
                     (None, None, None) => BarNeumannGravity::periodic(t_max),
                     _ => BarNeumannGravity::new(u0.unwrap_or(0.5), g.unwrap_or(if paper { 0.11 } else { 1.0 / 9.0 }), length.unwrap_or(1.0), t_max),
                 };
-                Box::new(s.map_err(|e| SceneError::new_err(e.to_string()))?)
+                // The parameter first, then its range (the exact crate's words).
+                Box::new(s.map_err(|e| match e {
+                    NeumannError::TooComplex { t_limit, .. } | NeumannError::Unresolved { t_limit, .. } => {
+                        SceneError::new_err(format!("{}: {} is not allowed: at most about {t_limit} for these data ({})", e.field(), e.value(), e.allowed()))
+                    }
+                    _ => SceneError::new_err(format!("{}: {} is not allowed: {}", e.field(), e.value(), e.allowed())),
+                })?)
             }
             other => return Err(SceneError::new_err(format!("name: {other:?} is not allowed: bar-dirichlet, bar-mirrored, bar-neumann-gravity, bar-neumann-gravity-0.11"))),
         };
@@ -239,12 +245,76 @@ fn py_words(serde: &str) -> String {
     }
 }
 
+/// The segments of a dotted path (`stop.0.node`, `stop[0].node`).
+fn path_segments(path: &str) -> Vec<String> {
+    path.replace('[', ".").replace(']', "").split('.').filter(|s| !s.is_empty()).map(str::to_string).collect()
+}
+
+/// `doc` with the value at `path` replaced by `v`; None if the path is not
+/// in the document.
+fn with_value(doc: &toml::Table, path: &str, v: toml::Value) -> Option<toml::Table> {
+    fn put(at: &mut toml::Value, segs: &[String], v: toml::Value) -> Option<()> {
+        let Some((first, rest)) = segs.split_first() else {
+            *at = v;
+            return Some(());
+        };
+        let next = match at {
+            toml::Value::Table(t) => t.get_mut(first)?,
+            toml::Value::Array(a) => a.get_mut(first.parse::<usize>().ok()?)?,
+            _ => return None,
+        };
+        put(next, rest, v)
+    }
+    let mut d = toml::Value::Table(doc.clone());
+    put(&mut d, &path_segments(path), v)?;
+    match d {
+        toml::Value::Table(t) => Some(t),
+        _ => None,
+    }
+}
+
+/// What the scene's validation allows at `path` (a number the document
+/// holds with the wrong type), in its own words: the document is validated
+/// with an out-of-range stand-in there (0, then the largest int, for an
+/// integer key; NaN for a real one), and the part after "is not allowed:"
+/// (or "allowed") of its error about that key is the range. The scene
+/// crate's validation is thus the one place the ranges are written. None
+/// when no stand-in is refused naming the key (another key is wrong too, or
+/// every value of the type is allowed).
+fn scene_range(doc: &toml::Table, path: &str, int: bool) -> Option<String> {
+    use signorini_scene::{Limits, SceneError as E, SceneFile};
+    let stand_ins = if int { vec![toml::Value::Integer(0), toml::Value::Integer(i64::MAX)] } else { vec![toml::Value::Float(f64::NAN)] };
+    let want = path_segments(path);
+    for v in stand_ins {
+        let d = with_value(doc, path, v)?;
+        let Ok(file) = SceneFile::from_table(d) else { continue };
+        let r = guarded(|| Ok(file.validate_with(&Limits::machine()).err())).ok().flatten();
+        if let Some(E::Field { field, message }) = r {
+            if path_segments(&field) == want {
+                let rest = match message.find("is not allowed:") {
+                    Some(at) => &message[at + "is not allowed:".len()..],
+                    None => message.find("allowed").map_or(message.as_str(), |at| &message[at + "allowed".len()..]),
+                };
+                let rest = rest.trim_start_matches(':').trim();
+                return (!rest.is_empty()).then(|| rest.to_string());
+            }
+        }
+    }
+    None
+}
+
 /// A scene error in Python's words: serde's type errors of the TOML
-/// document ("invalid type: floating point `80.0`, expected usize in
-/// `bar.elements`") become "bar.elements: 80.0 (a float) is not allowed: an
-/// int >= 0"; other messages keep theirs, a dict's "scene file:" being
+/// document ("invalid type: string \"80\", expected usize in
+/// `bar.elements`") become "bar.elements: '80' (a str) is not allowed: an
+/// integer >= 2" — for a number, the range is the scene validation's
+/// ([`scene_range`], given the document `doc`), else the type in Python's
+/// words; other messages keep theirs, a dict's "scene file:" being
 /// "scene:".
 pub(crate) fn py_scene_error(e: signorini_scene::SceneError, dict: bool) -> PyErr {
+    py_scene_error_in(e, dict, None)
+}
+
+fn py_scene_error_in(e: signorini_scene::SceneError, dict: bool, doc: Option<&toml::Table>) -> PyErr {
     use signorini_scene::SceneError as E;
     let E::Toml(err) = &e else { return SceneError::new_err(e.to_string()) };
     let msg = err.to_string();
@@ -256,7 +326,12 @@ pub(crate) fn py_scene_error(e: signorini_scene::SceneError, dict: bool) -> PyEr
     let at = if path.is_empty() { "scene".to_string() } else { path.clone() };
     let text = if let Some(rest) = first.strip_prefix("invalid type: ").or_else(|| first.strip_prefix("invalid value: ")) {
         match rest.split_once(", expected ") {
-            Some((got, want)) => format!("{at}: {} is not allowed: {}", py_words(got), py_words(want)),
+            Some((got, want)) => {
+                let int = matches!(want.trim(), "usize" | "u64" | "u32" | "u16" | "u8" | "i64" | "i32" | "isize");
+                let real = matches!(want.trim(), "f64" | "f32");
+                let range = if int || real { doc.and_then(|d| scene_range(d, &path, int)) } else { None };
+                format!("{at}: {} is not allowed: {}", py_words(got), range.unwrap_or_else(|| py_words(want)))
+            }
             None => format!("{at}: {rest}"),
         }
     } else if let Some(rest) = first.strip_prefix("unknown field `") {
@@ -279,15 +354,18 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_scene::S
     use signorini_scene::{Limits, SceneFile};
     let is_dict = scene.is_instance_of::<pyo3::types::PyDict>();
     let bad = |e: signorini_scene::SceneError| py_scene_error(e, is_dict);
+    // A type error of a text names the range its validation states (the
+    // document parsed as a plain table for the stand-ins).
+    let parse = |text: &str| SceneFile::parse(text).map_err(|e| py_scene_error_in(e, is_dict, toml::from_str::<toml::Table>(text).ok().as_ref()));
     let file = if let Ok(text) = scene.extract::<String>() {
         let path = std::path::Path::new(&text);
         if !text.contains('\n') && !text.contains('=') && path.exists() {
             let body = std::fs::read_to_string(path).map_err(|e| SceneError::new_err(format!("scene: cannot read {text}: {e}")))?;
-            let mut f = SceneFile::parse(&body).map_err(bad)?;
+            let mut f = parse(&body)?;
             f.base = path.parent().map(std::path::Path::to_path_buf);
             f
         } else {
-            SceneFile::parse(&text).map_err(bad)?
+            parse(&text)?
         }
     } else if let Ok(p) = scene.extract::<std::path::PathBuf>() {
         let body = std::fs::read_to_string(&p).map_err(|e| {
@@ -298,7 +376,7 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_scene::S
                 pyo3::exceptions::PyOSError::new_err(m)
             }
         })?;
-        let mut f = SceneFile::parse(&body).map_err(bad)?;
+        let mut f = parse(&body)?;
         f.base = p.parent().map(std::path::Path::to_path_buf);
         f
     } else {
@@ -306,7 +384,7 @@ pub(crate) fn scene_of(scene: &Bound<'_, PyAny>) -> PyResult<(signorini_scene::S
             return Err(SceneError::new_err(format!("scene: {} is not allowed: a dict, a path (str or os.PathLike) or TOML text (str)", type_words(scene))));
         }
         match to_toml(scene, "")? {
-            toml::Value::Table(t) => SceneFile::from_table(t).map_err(bad)?,
+            toml::Value::Table(t) => SceneFile::from_table(t.clone()).map_err(|e| py_scene_error_in(e, true, Some(&t)))?,
             _ => return Err(SceneError::new_err("scene: a dict, a path (str or os.PathLike) or TOML text (str)")),
         }
     };
@@ -374,6 +452,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run::RunArrays>()?;
     m.add_class::<fem::Matrices>()?;
     m.add_function(wrap_pyfunction!(studies::study, m)?)?;
+    m.add_function(wrap_pyfunction!(studies::study_check, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(scene_text, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene, m)?)?;

@@ -143,13 +143,19 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     use signorini_run::{Cancel, NormObserver, RunConfig};
     use signorini_scene::{Reads, Scene};
     if fields_every < 0 {
-        return Err(SceneError::new_err(format!("fields_every: {fields_every} is negative: 0 (no fields) or a number of steps >= 1")));
+        return Err(SceneError::new_err(format!("fields_every: {fields_every} is not allowed: an int >= 0 (0: no fields, k: every k steps)")));
+    }
+    let bad_factor = |factor: f64| SceneError::new_err(format!("energy_warn: {factor} is out of range: finite and > 1"));
+    // The arguments are checked before the scene (Python asks this function
+    // for their ranges with any scene).
+    if let Some(f) = energy_warn.filter(|f| !signorini_run::energy::check_factor(*f)) {
+        return Err(bad_factor(f));
     }
     let (file, s) = scene_of(scene)?;
     // The argument, else the scene's `[output] energy_warn`, else 2.
     let factor = energy_warn.unwrap_or_else(|| file.energy_warn());
     if !signorini_run::energy::check_factor(factor) {
-        return Err(SceneError::new_err(format!("energy_warn: {factor} is out of range: finite and > 1")));
+        return Err(bad_factor(factor));
     }
     let (dt, t_end, energy_default) = match &s {
         Scene::Bar(b) => (b.dt, b.t_end, true),

@@ -267,3 +267,31 @@ def test_work_precision_impact_power_rows_are_the_commands_impacts(tmp_path, exe
         assert t["impact_power"][i] == pytest.approx(power[dt], rel=1e-6)
         assert t["impact_power_low"][i] < t["impact_power"][i] < t["impact_power_high"][i]
         assert t["impact_power_rel_err"][i] == pytest.approx(power[dt] / power[5e-5] - 1.0, rel=1e-6, abs=1e-9)
+
+
+def test_the_convergence_plot_tells_coinciding_schemes_apart(tmp_path):
+    """The five second-order schemes with the mod mass have the same errors
+    to two or three digits, so their curves lie on one another (issue 31,
+    item 11): each must differ from the others by more than its colour —
+    its markers (circles, filled or hollow polygons, strokes) and dash
+    pattern (one polyline, or one per dash) — or the last one drawn hides
+    the rest."""
+    import re
+
+    schemes = ["newmark-cn", "newmark-ii", "ps-e0", "ps-e0.5", "ps-e1"]
+    res = signorini.convergence(schemes=schemes, masses=["mod"], levels=[10, 20, 40], out=tmp_path / "c")
+    # The curves do coincide: every L∞(L²) error within 5 % of newmark-cn's.
+    err = res["linf_l2_u"][:, 0, :]
+    assert np.all(np.abs(err / err[0] - 1) < 0.05), err
+    svg = (tmp_path / "c" / "plot_linf_l2_u.svg").read_text()
+    colours = set(re.findall(r'<circle [^>]*fill="(#[0-9A-F]{6})"', svg)) | set(re.findall(r'<polyline [^>]*stroke="(#[0-9A-F]{6})"', svg))
+    colours -= {"#000000", "#FFFFFF"}
+    looks = {}
+    for c in colours:
+        looks[c] = (
+            len(re.findall(rf'<polyline [^>]*stroke="{c}"', svg)),
+            len(re.findall(rf'<circle [^>]*fill="{c}"', svg)),
+            len(re.findall(rf'<polygon [^>]*fill="{c}"', svg)),
+        )
+    assert len(looks) == len(schemes), looks
+    assert len(set(looks.values())) == len(schemes), f"two schemes drawn alike but for their colour: {looks}"

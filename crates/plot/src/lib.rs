@@ -263,6 +263,18 @@ fn format_log_tick(v: f64) -> String {
     }
 }
 
+/// A tick label of a linear axis: plotters' own format (`0.5`, `-1.25`,
+/// `3.0`), but a value that rounds to zero is `0.0` and never `-0.0` (a
+/// tick at `-1e-17`, a sum of steps that misses 0 by round-off, or −0).
+fn format_linear_tick(v: f64) -> String {
+    use plotters::coord::ranged1d::ValueFormatter;
+    let s = <plotters::coord::types::RangedCoordf64 as ValueFormatter<f64>>::format(&v);
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => s,
+    }
+}
+
 /// Legend text size (plotters' units) and the layout of an entry.
 const LEGEND_FONT: u32 = 15;
 const LEGEND_ROW: i32 = 20;
@@ -345,6 +357,7 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
         b.margin(12).x_label_area_size(40).y_label_area_size(80);
         let label_font = ("sans-serif", 15);
         let log_label = |v: &f64| format_log_tick(*v);
+        let linear_label = |v: &f64| format_linear_tick(*v);
         macro_rules! draw {
             ($ctx:expr, $log:expr) => {{
                 let mut ctx = $ctx;
@@ -352,6 +365,8 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
                 mesh.x_desc(chart.x_label).y_desc(chart.y_label).label_style(label_font).axis_desc_style(label_font).light_line_style(RGBColor(235, 235, 235));
                 if $log {
                     mesh.x_label_formatter(&log_label).y_label_formatter(&log_label);
+                } else {
+                    mesh.x_label_formatter(&linear_label).y_label_formatter(&linear_label);
                 }
                 mesh.draw().map_err(|e| err(&e))?;
                 for (i, s) in series.iter().enumerate() {
@@ -448,7 +463,17 @@ pub fn scatter(chart: &Chart<'_>, series: &[Series], radius: u32) -> Result<Stri
         let (plot, legend_area) = body.split_horizontally(chart.size.0);
         let mut ctx = ChartBuilder::on(&plot).margin(12).x_label_area_size(40).y_label_area_size(80).build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(&e))?;
         let label_font = ("sans-serif", 15);
-        ctx.configure_mesh().x_desc(chart.x_label).y_desc(chart.y_label).label_style(label_font).axis_desc_style(label_font).light_line_style(RGBColor(235, 235, 235)).draw().map_err(|e| err(&e))?;
+        let linear_label = |v: &f64| format_linear_tick(*v);
+        ctx.configure_mesh()
+            .x_desc(chart.x_label)
+            .y_desc(chart.y_label)
+            .label_style(label_font)
+            .axis_desc_style(label_font)
+            .light_line_style(RGBColor(235, 235, 235))
+            .x_label_formatter(&linear_label)
+            .y_label_formatter(&linear_label)
+            .draw()
+            .map_err(|e| err(&e))?;
         for (i, s) in series.iter().enumerate() {
             let color = Look::of(s, i).color;
             ctx.draw_series(s.points.iter().copied().filter(keep).map(|p| Circle::new(p, radius, color.filled()))).map_err(|e| err(&e))?;
@@ -545,6 +570,25 @@ mod tests {
         assert!(line_chart(&log, &[curve]).unwrap().contains("error"));
         // Every point invalid on log axes: an error, not a panic.
         assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false, style: Style::default() }]).is_err());
+    }
+
+    #[test]
+    fn a_tick_at_minus_zero_reads_zero() {
+        // Written by hand: plotters prints 1 decimal at least, up to 5.
+        for (v, want) in [(-0.0, "0.0"), (-1e-17, "0.0"), (-4e-6, "0.0"), (0.0, "0.0"), (1e-17, "0.0"), (-0.5, "-0.5"), (-2.0, "-2.0"), (0.25, "0.25"), (-1e-3, "-0.001"), (-10.0, "-10.0")] {
+            assert_eq!(format_linear_tick(v), want, "{v:e}");
+        }
+        // The Signorini–Dirichlet bar's λ over [0, 3] (the shape of
+        // data/reference/scenes/bar-dirichlet/lambda.svg): −2/3 while in contact,
+        // 0 elsewhere; plotters' tick 0 of that axis was "-0.0". Each label is
+        // a line of its own in the SVG.
+        let labels = |svg: &str| -> Vec<String> { svg.lines().map(|l| l.trim().to_string()).filter(|l| !l.is_empty() && l.chars().all(|c| c == '-' || c == '.' || c.is_ascii_digit())).collect() };
+        let lam = Series { label: "λ".into(), points: vec![(0.0, 0.0), (1.0, 0.0), (1.01, -2.0 / 3.0), (3.0, -2.0 / 3.0)], reference: false, style: Style::default() };
+        let c = Chart { title: "λ(t)", x_label: "t", y_label: "λ", scale: Scale::Linear, size: (900, 450) };
+        let got = labels(&line_chart(&c, std::slice::from_ref(&lam)).unwrap());
+        assert!(got.contains(&"0.0".to_string()) && got.contains(&"-0.1".to_string()) && !got.contains(&"-0.0".to_string()), "{got:?}");
+        let got = labels(&scatter(&c, &[lam], 1).unwrap());
+        assert!(got.contains(&"0.0".to_string()) && !got.contains(&"-0.0".to_string()), "{got:?}");
     }
 
     #[test]

@@ -342,7 +342,10 @@ fn sweep_into_reduced(
     tables.push(osc.finish()?);
     for norm in PLOTTED_NORMS {
         // One panel per mass, so that the schemes' curves stay apart (14
-        // curves in one chart were unreadable); colour by scheme as before.
+        // curves in one chart were unreadable); colour, marker and dash
+        // pattern by scheme: the second-order schemes' curves with a
+        // massless node lie on one another (the same errors to 2–3 digits),
+        // and colour alone let the last one drawn hide the others.
         let panels: Result<Vec<String>, String> = cfg
             .masses
             .iter()
@@ -351,7 +354,8 @@ fn sweep_into_reduced(
                     .iter()
                     .filter(|r| r.mass == mass)
                     .map(|r| {
-                        let style = Style { group: cfg.schemes.iter().position(|s| *s == r.scheme), variant: None };
+                        let k = cfg.schemes.iter().position(|s| *s == r.scheme);
+                        let style = Style { group: k, variant: k };
                         Series { label: format!("{} {}", r.scheme, r.mass), points: r.levels.iter().map(|l| (l.dx, study::norm_value(&l.norms, norm))).collect(), reference: false, style }
                     })
                     .collect();
