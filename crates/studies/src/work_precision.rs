@@ -511,7 +511,8 @@ pub fn cost_text(c: &Cost) -> String {
 /// The table of the cheapest configurations per target error, as the
 /// study's report and the user guide give it: per target the cheapest tier
 /// (`tie: A / B` when several) and the next one, with their costs (median
-/// [min, max]) and errors; then where each cheapest configuration holds.
+/// [min, max]) and errors; then where each cheapest configuration named
+/// in it holds.
 /// `flag(label)` is appended to a configuration's name (the non-convergence
 /// mark).
 pub fn cheapest_table(benchmark: &str, entries: &[Entry], targets: &[f64], flag: &dyn Fn(&str) -> String) -> String {
@@ -535,7 +536,8 @@ pub fn cheapest_table(benchmark: &str, entries: &[Entry], targets: &[f64], flag:
         }
         let tier = |t: usize| r.iter().filter(|x| x.1 == t).map(|x| x.0).collect::<Vec<_>>();
         let (first, next) = (tier(0), tier(1));
-        for &i in &first {
+        // The named ones (a cell lists at most MAX_NAMED).
+        for &i in first.iter().take(MAX_NAMED) {
             if !winners.contains(&entries[i].label.as_str()) {
                 winners.push(&entries[i].label);
             }
@@ -1440,6 +1442,17 @@ mod tests {
         assert!(condition("bar-dirichlet", "newmark-cn mod r=4").contains("truncation error"));
         assert!(condition("bar-neumann-gravity", "newmark-ii std P3").starts_with("P3 elements"));
         assert!(condition("beam-fig2", "beta-scheme(0.5) massless-tip r=8").contains("massless-tip"));
+    }
+
+    /// Five tied: four are named, "… (+1 tied)", and only the named ones
+    /// are explained (the fifth, by median, is the Courant-one scheme).
+    #[test]
+    fn only_the_named_cheapest_are_explained() {
+        let mut e: Vec<Entry> = (0..4).map(|k| entry(&format!("s{k} std"), "m=10", &[1.0 + 0.01 * k as f64, 2.0], 1e-2)).collect();
+        e.push(entry("cd-taylor lumped", "m=10", &[1.5, 1.9], 1e-2));
+        let t = cheapest_table("bar-dirichlet", &e, &[3e-2], &|_| String::new());
+        assert!(t.contains("| tie: s0 std m=10 / s1 std m=10 / s2 std m=10 / s3 std m=10 / … (+1 tied) |"), "{t}");
+        assert!(t.contains("`s0 std`, `s1 std`, `s2 std`, `s3 std`: a measured ranking") && !t.contains("Courant"), "{t}");
     }
 
     /// The frontier by hand: P2 and P3 are dominated by P1 (P3 at the same
