@@ -19,6 +19,7 @@
 //!   two commands, and every relative link of both resolving to a file, and
 //!   to a heading of it when the link has an anchor (GitHub's anchors).
 
+use signorini_studies::work_precision;
 use std::collections::{BTreeMap, HashSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -613,7 +614,7 @@ struct WpPoint {
     label: String,
     m: usize,
     dt: f64,
-    wall: f64,
+    cost: work_precision::Cost,
     errors: BTreeMap<&'static str, f64>,
 }
 
@@ -632,14 +633,23 @@ fn wp_points(data: &Path, bench: &str) -> Result<Vec<WpPoint>, String> {
         }
         let val = |k: &str| num(r.get(k).copied().unwrap_or("")).unwrap_or(f64::NAN);
         let errors = WP_QUANTITIES.iter().map(|q| (q.0, if beam { val("tip_err") } else { val(q.0) })).collect();
-        pts.push(WpPoint { label, m: getf(&r, "m")? as usize, dt: getf(&r, "dt")?, wall: getf(&r, "wall_s")?, errors });
+        // The cost's median and range (a file without the range: one run).
+        let wall = getf(&r, "wall_s")?;
+        let opt = |k: &str| num(r.get(k).copied().unwrap_or("")).ok();
+        let cost = match (opt("step_s_min"), opt("step_s_max"), opt("repeats")) {
+            (Some(min), Some(max), Some(n)) => work_precision::Cost { median: wall, min, max, n: n as usize },
+            _ => work_precision::Cost::once(wall),
+        };
+        pts.push(WpPoint { label, m: getf(&r, "m")? as usize, dt: getf(&r, "dt")?, cost, errors });
     }
     Ok(pts)
 }
 
-/// The cheapest configuration reaching each target error, as the study's
-/// report gives it (work_precision.rs): per configuration its cheapest
-/// level at or below the target, then the two cheapest configurations.
+/// The cheapest configurations reaching each target error, as the study's
+/// report gives them (`work_precision::cheapest_table`, one code for both):
+/// per configuration its cheapest level at or below the target, ranked by
+/// median cost, ties where the cost ranges overlap, and where each cheapest
+/// one holds.
 fn work_precision(data: &Path, bench: &str, q: &WpQuantity) -> Result<String, String> {
     let pts = wp_points(data, bench)?;
     let beam = bench.starts_with("beam");
@@ -665,22 +675,11 @@ fn work_precision(data: &Path, bench: &str, q: &WpQuantity) -> Result<String, St
             format!(" (does not converge in {})", qs.join(", "))
         }
     };
-    let at = |p: &WpPoint| if beam { format!("{} dt={:e}", p.label, p.dt) } else { format!("{} m={}{}", p.label, p.m, failing(&p.label)) };
-    let mut s = md_head(&["target error", if beam { "cheapest (scheme, mass, dt)" } else { "cheapest (scheme, mass, m)" }, "wall (s)", "error", "runner-up", "wall (s)"]);
-    for target in q.3 {
-        let mut best: Vec<&WpPoint> = keys.iter().filter_map(|k| pts.iter().filter(|p| p.label == *k && p.errors[q.0] <= target).min_by(|a, b| a.wall.total_cmp(&b.wall))).collect();
-        best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
-        match (best.first(), best.get(1)) {
-            (Some(b0), r) => s.push_str(&format!(
-                "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |\n",
-                at(b0),
-                b0.wall,
-                b0.errors[q.0],
-                r.map_or("-".into(), |r| at(r)),
-                r.map_or("-".into(), |r| format!("{:.2e}", r.wall))
-            )),
-            (None, _) => s.push_str(&format!("| {target:.0e} | not reached at these levels | | | | |\n")),
-        }
+    let entries: Vec<work_precision::Entry> =
+        pts.iter().map(|p| work_precision::Entry { label: p.label.clone(), at: if beam { format!("dt={:e}", p.dt) } else { format!("m={}", p.m) }, cost: p.cost, error: p.errors[q.0] }).collect();
+    let mut s = work_precision::cheapest_table(bench, &entries, &q.3, &failing);
+    if let Some(n) = pts.first().map(|p| p.cost.n).filter(|&n| n > 1) {
+        let _ = write!(s, "\nTimings of the machine that wrote the reference: median of {n} runs [min, max]; configurations whose ranges overlap are a tie.\n");
     }
     if !beam && q.2 == "-force" {
         let mut listed: Vec<String> = keys.iter().map(|k| (k, failing(k))).filter(|(_, f)| !f.is_empty()).map(|(k, f)| format!("{k}{f}")).collect();

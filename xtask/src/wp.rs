@@ -44,9 +44,16 @@ pub struct Args {
     beam_stat_window: f64,
     /// The beam rows' reference: fine-step (the projection scheme at
     /// --beam-ref-dt) or event-driven (the exact semi-discrete solution,
-    /// sampled at the largest step dividing every --beam-dts).
+    /// sampled at the largest step dividing every --beam-dts). The bar rows
+    /// are always measured against their closed forms (what `convergence
+    /// --reference exact` means); the beam has none, hence fine-step where
+    /// convergence says exact, and `exact` is refused.
     #[arg(long, default_value = "fine-step")]
     reference: String,
+    /// Timed runs per configuration, in [1, 100]: the cost is their median,
+    /// and two configurations whose ranges [min, max] overlap are a tie.
+    #[arg(long, default_value_t = 5)]
+    repeats: usize,
 }
 
 /// A comma-separated list of `flag`, empty for none (`--degrees ''`).
@@ -69,6 +76,7 @@ pub fn run_wp(a: Args) -> Result<(), String> {
         beam_stat_ref_dt: a.beam_stat_ref_dt,
         beam_stat_window: a.beam_stat_window,
         reference: a.reference.parse().map_err(|e: signorini_studies::StudyError| e.to_string())?,
+        repeats: a.repeats,
     };
     let out = work_precision::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
     crate::notes(&out.notes);

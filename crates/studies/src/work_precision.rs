@@ -25,27 +25,37 @@
 //! `degree,modes,tip_err,tip_err_end,impact_err` then
 //! `linf_l2_u,linf_v_u,l2_v_u,l2_lambda,l2_energy,release_err` then
 //! `impact_power,impact_power_low,impact_power_high,impact_power_rel_err`
-//! then `setup_s,step_s` (`wall_s` and `step_s`: the stepping alone, best
-//! of 3, runs one at a time; `setup_s`: the set-up of the same runs, best
-//! of 3 — the problem and the scheme built as `signorini run` builds them,
-//! CFL check and factorisations included; `modes` 0 for a full model; the
+//! then `setup_s,step_s` then `step_s_min,step_s_max,repeats` (`wall_s`
+//! and `step_s`: the stepping alone, the median of `--repeats` runs, one at
+//! a time, taken in `--repeats` rounds over every configuration so that a
+//! burst of load on a shared machine falls on all of them alike;
+//! `step_s_min`, `step_s_max`: the range of those runs; `setup_s`: the
+//! median set-up of the same runs — the problem and the scheme built as
+//! `signorini run` builds them, CFL check and factorisations included;
+//! `modes` 0 for a full model; the
 //! bar rows leave the three beam columns empty, the beam rows the norm
 //! columns; `m` is J and `degree` 3, Hermite cubics, for the beam;
 //! `release_err` is |first discrete − first exact release time|; the
 //! impact-power rows are the beam with its support motion, `wall_s` and
-//! `step_s` the whole run, `setup_s` empty), `<benchmark>.svg` per benchmark (log-log, L²(0,T;L²) error —
-//! the beam's tip error — against wall time) and for the bars
-//! `<benchmark>-strain.svg` (L∞(0,T;V)) and `<benchmark>-force.svg` (λ in
-//! L²(0,T)), and on stdout the cheapest configuration reaching each
-//! accuracy band in each of the three quantities, a configuration whose
-//! error does not fall with m in a quantity (least-squares rate below 0.1,
-//! unless it is round-off) marked so wherever it is named.
+//! `step_s` the whole run, timed once (`repeats` 1), `setup_s` empty),
+//! `<benchmark>.svg` per benchmark (log-log, L²(0,T;L²) error — the beam's
+//! tip error — against wall time) and for the bars `<benchmark>-strain.svg`
+//! (L∞(0,T;V)) and `<benchmark>-force.svg` (λ in L²(0,T)): each the
+//! frontier (the cheapest configuration per error level, a staircase) and
+//! the few configurations the table names, not every curve; and on stdout
+//! per quantity the configurations reaching each accuracy band ranked by
+//! median cost — two whose cost ranges overlap are a tie and printed as one
+//! (`tie: … / …`) — with the conditions under which each cheapest one
+//! holds, a configuration whose error does not fall with m in a quantity
+//! (least-squares rate below 0.1, unless it is round-off) marked so
+//! wherever it is named. Only the timing columns, the SVGs and the report
+//! depend on the timings; every other column is deterministic.
 
 use crate::{create_dir, fe, int, opt, since, txt, Kind, StudyError, TableOut};
 use rayon::prelude::*;
 use signorini_fem::BarMass;
 use signorini_norms::NormReport;
-use signorini_plot::{line_chart, Chart, Scale, Series};
+use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_reduce::Keep;
 use signorini_run::beam::{build_excited, build_reduced, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
 use signorini_run::stats::{batch_means, Interval};
@@ -87,6 +97,9 @@ pub struct Config {
     pub beam_stat_window: f64,
     /// The beam rows' reference (`--reference`, default the fine step).
     pub reference: BeamReference,
+    /// Timed runs per configuration (`--repeats`, default 5, allowed
+    /// [1, 100]): the cost is their median, its spread their range.
+    pub repeats: usize,
 }
 
 /// The reference of the beam rows' tip errors.
@@ -104,10 +117,19 @@ pub enum BeamReference {
 
 impl std::str::FromStr for BeamReference {
     type Err = StudyError;
+    /// `fine-step` or `event-driven`. `cargo xtask convergence --reference`
+    /// takes `exact` (the closed form) where this takes `fine-step`: the
+    /// bar rows here are always measured against their closed forms, and
+    /// the flag chooses only the beam's reference, which has none, so
+    /// `exact` is refused with that reason rather than read as one of them.
     fn from_str(s: &str) -> Result<Self, StudyError> {
         match s {
             "fine-step" => Ok(Self::FineStep),
             "event-driven" => Ok(Self::EventDriven),
+            "exact" => Err(StudyError::config(
+                "--reference",
+                "--reference \"exact\": the beam has no closed form (the bar rows are always measured against theirs, which is what `convergence --reference exact` means); this flag chooses the beam rows' reference: allowed fine-step (the projection scheme at --beam-ref-dt), event-driven (the exact semi-discrete solution)",
+            )),
             _ => Err(StudyError::config("--reference", format!("--reference {s:?}: allowed fine-step, event-driven"))),
         }
     }
@@ -129,6 +151,7 @@ impl Default for Config {
             beam_stat_ref_dt: 5e-6,
             beam_stat_window: 320.0,
             reference: BeamReference::FineStep,
+            repeats: 5,
         }
     }
 }
@@ -158,6 +181,9 @@ impl Config {
         }
         if let Some(&r) = self.modes.iter().find(|&&r| !(1..=10_000).contains(&r)) {
             return Err(StudyError::config("--modes", format!("--modes {r}: allowed integers in [1, 10000] (levels with fewer interior modes are skipped)")));
+        }
+        if !(1..=100).contains(&self.repeats) {
+            return Err(StudyError::config("--repeats", format!("--repeats {}: allowed integers in [1, 100]", self.repeats)));
         }
         if self.reference == BeamReference::EventDriven && self.beam_dts.is_empty() {
             return Err(StudyError::config("--reference", "--reference event-driven: it is the beam rows' reference, and --beam-dts '' asks for none; allowed with beam rows"));
@@ -240,9 +266,13 @@ struct Point {
     /// Bar rows: |first discrete release − first exact release| (NaN if
     /// either is missing).
     release_err: Option<f64>,
-    wall: f64,
-    /// Set-up time (best of 3), seconds.
+    /// The stepping's cost: the median of the timed runs and their range
+    /// (filled in by the timing rounds for the rows that have `timing`).
+    cost: Cost,
+    /// Set-up time (median of the timed runs), seconds.
     setup: f64,
+    /// How to time one run of this row (`None`: timed where it ran).
+    timing: Option<Timed>,
     degree: usize,
     modes: usize,
     /// Beam: tip error over the window, over the horizon, first impact time error.
@@ -263,6 +293,18 @@ impl Point {
             write!(s, " r={}", self.modes).expect("writing to a String");
         }
         s
+    }
+    /// Where in its sweep: `m=20`, or `dt=5e-4` for the beam.
+    fn at(&self) -> String {
+        if self.benchmark == BEAM {
+            format!("dt={:e}", self.dt)
+        } else {
+            format!("m={}", self.m)
+        }
+    }
+    /// The row as the cheapest-per-target tables see it, in quantity `q`.
+    fn entry(&self, q: Quantity) -> Entry {
+        Entry { label: self.label(), at: self.at(), cost: self.cost, error: self.error(q) }
     }
     /// The error this benchmark is judged by in quantity `q` (the beam: its
     /// tip over the window, whatever `q`).
@@ -327,6 +369,297 @@ impl Quantity {
     }
 }
 
+/// The beam's target tip errors (m).
+const BEAM_TARGETS: [f64; 5] = [3e-2, 1e-2, 3e-3, 1e-3, 3e-4];
+
+// ---------------------------------------------------------------------------
+// Ranking by cost with its spread, the frontier, the conditions
+
+/// A configuration's cost, timed `n` times: the median and the range of
+/// the runs (seconds).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cost {
+    /// The median run (for an even count, the mean of the middle two).
+    pub median: f64,
+    /// The fastest run.
+    pub min: f64,
+    /// The slowest run.
+    pub max: f64,
+    /// Runs timed.
+    pub n: usize,
+}
+
+impl Cost {
+    /// Not timed yet (NaN; the timing rounds fill it in).
+    const UNTIMED: Cost = Cost { median: f64::NAN, min: f64::NAN, max: f64::NAN, n: 0 };
+
+    /// The cost of the runs `samples`; `None` if there is none or one is not finite.
+    pub fn of(samples: &[f64]) -> Option<Cost> {
+        if samples.is_empty() || samples.iter().any(|s| !s.is_finite()) {
+            return None;
+        }
+        let mut s = samples.to_vec();
+        s.sort_by(f64::total_cmp);
+        let n = s.len();
+        let median = if n % 2 == 1 { s[n / 2] } else { 0.5 * (s[n / 2 - 1] + s[n / 2]) };
+        Some(Cost { median, min: s[0], max: s[n - 1], n })
+    }
+
+    /// A single run.
+    pub fn once(t: f64) -> Cost {
+        Cost { median: t, min: t, max: t, n: 1 }
+    }
+
+    /// Cheaper beyond the timing spread: this whole range lies below `other`'s.
+    pub fn clearly_below(&self, other: &Cost) -> bool {
+        self.max < other.min
+    }
+
+    /// A tie: the ranges overlap (neither lies wholly below the other).
+    pub fn ties(&self, other: &Cost) -> bool {
+        !self.clearly_below(other) && !other.clearly_below(self)
+    }
+}
+
+/// The tier of each of `costs`: 0 for every cost that no other lies wholly
+/// below (the cheapest by median and whatever ties with it), 1 for the same
+/// among the rest, and so on. Two costs of one tier need not overlap each
+/// other, but neither is clearly cheaper than the other given the rest.
+pub fn tiers(costs: &[Cost]) -> Vec<usize> {
+    const OPEN: usize = usize::MAX;
+    let mut tier = vec![OPEN; costs.len()];
+    let mut t = 0;
+    loop {
+        let open: Vec<usize> = (0..costs.len()).filter(|&i| tier[i] == OPEN).collect();
+        if open.is_empty() {
+            return tier;
+        }
+        let now: Vec<usize> = open.iter().copied().filter(|&i| !open.iter().any(|&j| j != i && costs[j].clearly_below(&costs[i]))).collect();
+        // Never empty for well-formed ranges (min <= max: "clearly below" is
+        // a strict order); malformed ones all land in this tier.
+        for i in if now.is_empty() { open } else { now } {
+            tier[i] = t;
+        }
+        t += 1;
+    }
+}
+
+/// The accuracy–cost frontier of `(cost, error)` points: the indices of the
+/// points that no other point matches or beats in both (as cheap or cheaper
+/// and as accurate or more, better in one), by increasing cost and so
+/// decreasing error — the cheapest point per error level. Points with a
+/// negative or non-finite cost or error are left out.
+pub fn frontier(points: &[(f64, f64)]) -> Vec<usize> {
+    let ok = |&(c, e): &(f64, f64)| c.is_finite() && e.is_finite() && c >= 0.0 && e >= 0.0;
+    let mut idx: Vec<usize> = (0..points.len()).filter(|&i| ok(&points[i])).collect();
+    idx.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
+    let mut best = f64::INFINITY;
+    let mut out = Vec::new();
+    for i in idx {
+        if points[i].1 < best {
+            best = points[i].1;
+            out.push(i);
+        }
+    }
+    out
+}
+
+/// One configuration at one level in a cheapest-per-target table.
+#[derive(Clone, Debug)]
+pub struct Entry {
+    /// The configuration: `scheme mass`, then `P2`/`P3` and `r=` when not
+    /// P1 or not the full model.
+    pub label: String,
+    /// Where in its sweep: `m=20`, or `dt=5e-4` for the beam.
+    pub at: String,
+    /// Its cost.
+    pub cost: Cost,
+    /// Its error in the table's quantity.
+    pub error: f64,
+}
+
+/// The configurations of `entries` that reach `target`, each at its
+/// cheapest level (by median) with error at or below it, ranked:
+/// `(index into entries, tier of [`tiers`])`, by tier, then median, then label.
+pub fn ranking(entries: &[Entry], target: f64) -> Vec<(usize, usize)> {
+    let mut best: Vec<usize> = Vec::new();
+    for (i, e) in entries.iter().enumerate().filter(|(_, e)| e.error <= target) {
+        match best.iter_mut().find(|b| entries[**b].label == e.label) {
+            Some(b) if e.cost.median < entries[*b].cost.median => *b = i,
+            Some(_) => {}
+            None => best.push(i),
+        }
+    }
+    let t = tiers(&best.iter().map(|&i| entries[i].cost).collect::<Vec<_>>());
+    let mut r: Vec<(usize, usize)> = best.into_iter().zip(t).collect();
+    r.sort_by(|a, b| a.1.cmp(&b.1).then(entries[a.0].cost.median.total_cmp(&entries[b.0].cost.median)).then(entries[a.0].label.cmp(&entries[b.0].label)));
+    r
+}
+
+/// At most this many configurations are named in one cell of a table.
+const MAX_NAMED: usize = 4;
+
+/// `1.31e-6 [1.20e-6, 1.52e-6]`; a single run without its range.
+pub fn cost_text(c: &Cost) -> String {
+    if c.n > 1 {
+        format!("{:.2e} [{:.2e}, {:.2e}]", c.median, c.min, c.max)
+    } else {
+        format!("{:.2e}", c.median)
+    }
+}
+
+/// The table of the cheapest configurations per target error, as the
+/// study's report and the user guide give it: per target the cheapest tier
+/// (`tie: A / B` when several) and the next one, with their costs (median
+/// [min, max]) and errors; then where each cheapest configuration named
+/// in it holds.
+/// `flag(label)` is appended to a configuration's name (the non-convergence
+/// mark).
+pub fn cheapest_table(benchmark: &str, entries: &[Entry], targets: &[f64], flag: &dyn Fn(&str) -> String) -> String {
+    let mut s = String::from("| target error | cheapest (ties: ranges overlap) | wall (s): median [min, max] | error | next | wall (s): median [min, max] |\n|---|---|---|---|---|---|\n");
+    let mut winners: Vec<&str> = Vec::new();
+    let group = |idx: &[usize]| -> [String; 3] {
+        if idx.is_empty() {
+            return ["-".into(), "-".into(), "-".into()];
+        }
+        let shown = &idx[..idx.len().min(MAX_NAMED)];
+        let more = if idx.len() > MAX_NAMED { format!(" / … (+{} tied)", idx.len() - MAX_NAMED) } else { String::new() };
+        let join = |f: &dyn Fn(&Entry) -> String| shown.iter().map(|&i| f(&entries[i])).collect::<Vec<_>>().join(" / ");
+        let tie = if idx.len() > 1 { "tie: " } else { "" };
+        [format!("{tie}{}{more}", join(&|e| format!("{} {}{}", e.label, e.at, flag(&e.label)))), join(&|e| cost_text(&e.cost)), join(&|e| format!("{:.2e}", e.error))]
+    };
+    for &target in targets {
+        let r = ranking(entries, target);
+        if r.is_empty() {
+            s.push_str(&format!("| {target:.0e} | not reached at these levels | | | | |\n"));
+            continue;
+        }
+        let tier = |t: usize| r.iter().filter(|x| x.1 == t).map(|x| x.0).collect::<Vec<_>>();
+        let (first, next) = (tier(0), tier(1));
+        // The named ones (a cell lists at most MAX_NAMED).
+        for &i in first.iter().take(MAX_NAMED) {
+            if !winners.contains(&entries[i].label.as_str()) {
+                winners.push(&entries[i].label);
+            }
+        }
+        let ([a, b, c], [d, e, _]) = (group(&first), group(&next));
+        s.push_str(&format!("| {target:.0e} | {a} | {b} | {c} | {d} | {e} |\n"));
+    }
+    // Where each cheapest configuration holds, those sharing a reason together.
+    let mut reasons: Vec<(String, Vec<&str>)> = Vec::new();
+    for w in winners {
+        let why = condition(benchmark, w);
+        match reasons.iter_mut().find(|r| r.0 == why) {
+            Some(r) => r.1.push(w),
+            None => reasons.push((why, vec![w])),
+        }
+    }
+    if !reasons.is_empty() {
+        s.push_str("\nWhere the cheapest hold: ");
+        let parts: Vec<String> = reasons.iter().map(|(why, who)| format!("{}: {why}", who.iter().map(|w| format!("`{w}`")).collect::<Vec<_>>().join(", "))).collect();
+        s.push_str(&parts.join(". "));
+        s.push_str(".\n");
+    }
+    s
+}
+
+/// Under which conditions the ranking of configuration `label` on
+/// `benchmark` holds: what of the benchmark it rests on, and what it does
+/// not carry to.
+pub fn condition(benchmark: &str, label: &str) -> String {
+    let mut words = label.split(' ');
+    let (scheme, mass) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
+    let rest: Vec<&str> = words.collect();
+    let reduced = rest.iter().find_map(|w| w.strip_prefix("r="));
+    let degree = rest.iter().find_map(|w| w.strip_prefix('P'));
+    if benchmark.starts_with("beam") {
+        return match reduced {
+            Some(_) => "a massless-tip reduced model: dropping the tip's mass is a model error no step removes, so its error has a floor; measured on the tip over the error window only".into(),
+            None => "measured on the tip over the error window only: past the first impacts the beam's trajectory does not converge in dt (it is chaotic, `cargo xtask lyapunov`), so no pointwise ranking holds beyond it".into(),
+        };
+    }
+    if reduced.is_some() {
+        return "a reduced model: its error stops at the truncation error of its r modes (a bar hitting a stop has a square-wave velocity), so it ranks only at coarse targets, and finer ones need more modes".into();
+    }
+    if scheme == "cd-taylor" && mass == "lumped" && degree.is_none() {
+        let what = if benchmark == "bar-dirichlet" { "its error is round-off" } else { "its error is the interpolation of exact nodal values" };
+        return format!(
+            "Courant number one — exact at the nodes ({what}) because dx/dt = c on a uniform mesh makes each step d'Alembert's rule, with the stop at a node, restitution 0 and the releases on time levels; does not carry to other meshes, loads or obstacles (a release between time levels, g = 0.11: first order; `cargo xtask courant1`)"
+        );
+    }
+    if let Some(k) = degree {
+        return format!("P{k} elements: they pay where the solution is smooth between impacts; the impact's kink sets the rate otherwise");
+    }
+    let explicit = scheme.parse::<SchemeSpec>().map(|s| s.is_explicit()).unwrap_or(false);
+    if explicit {
+        return "an explicit scheme at dx/dt = 10, below its CFL limit: a measured ranking on this benchmark, no exactness property behind it; its step limit shrinks with the smallest element".into();
+    }
+    "a measured ranking on this benchmark at these levels, no exactness property behind it".into()
+}
+
+/// At most this many configurations are drawn besides the frontier.
+const MAX_CURVES: usize = 6;
+
+/// The curves of a work–precision chart: the frontier (the cheapest entry
+/// per error level, as a staircase: the least error reached within each
+/// cost, run on to the largest cost drawn) and the configurations the table
+/// names, at most [`MAX_CURVES`], in this order of priority: the cheapest
+/// (by median) at each target, the configurations owning frontier points,
+/// the cheapest of the next tier at each target, then the rest of the
+/// first tiers and of the next; and how many configurations are drawn.
+fn wp_series(entries: &[Entry], targets: &[f64]) -> (Vec<Series>, usize) {
+    let mut chosen: Vec<&str> = Vec::new();
+    fn add<'e>(l: &'e str, chosen: &mut Vec<&'e str>) {
+        if chosen.len() < MAX_CURVES && !chosen.contains(&l) {
+            chosen.push(l);
+        }
+    }
+    let ranked: Vec<Vec<(usize, usize)>> = targets.iter().map(|&t| ranking(entries, t)).collect();
+    // A ranking is sorted by tier, then median: a tier's first is its cheapest.
+    let first_of = |tier: usize| ranked.iter().filter_map(move |r| r.iter().find(|x| x.1 == tier).map(|x| x.0));
+    for i in first_of(0) {
+        add(&entries[i].label, &mut chosen);
+    }
+    let pts: Vec<(f64, f64)> = entries.iter().map(|e| (e.cost.median, e.error)).collect();
+    let front = frontier(&pts);
+    for &i in &front {
+        add(&entries[i].label, &mut chosen);
+    }
+    for i in first_of(1) {
+        add(&entries[i].label, &mut chosen);
+    }
+    for tier in [0, 1] {
+        for r in &ranked {
+            for &(i, _) in r.iter().filter(|x| x.1 == tier) {
+                add(&entries[i].label, &mut chosen);
+            }
+        }
+    }
+    let mut series = Vec::new();
+    let x_end =
+        entries.iter().filter(|e| chosen.contains(&e.label.as_str()) || front.iter().any(|&i| entries[i].label == e.label)).map(|e| e.cost.median).filter(|c| c.is_finite()).fold(0.0_f64, f64::max);
+    let mut stair = Vec::new();
+    for (k, &i) in front.iter().enumerate() {
+        let (c, e) = pts[i];
+        if k > 0 {
+            stair.push((c, stair.last().map_or(e, |p: &(f64, f64)| p.1)));
+        }
+        stair.push((c, e));
+    }
+    if let Some(&(c, e)) = stair.last() {
+        if x_end > c {
+            stair.push((x_end, e));
+        }
+    }
+    series.push(Series { label: "frontier: the cheapest per error level".into(), points: stair, reference: false, style: Style { group: Some(6), variant: None } });
+    // Colours skip black (the frontier's).
+    for (k, l) in chosen.iter().enumerate() {
+        let points = entries.iter().filter(|e| e.label == *l).map(|e| (e.cost.median, e.error)).collect();
+        series.push(Series { label: (*l).to_string(), points, reference: false, style: Style { group: Some(if k >= 6 { k + 1 } else { k }), variant: Some(k) } });
+    }
+    (series, chosen.len())
+}
+
 /// Below this every error of a configuration is round-off: exact, not
 /// non-convergent (a V norm of nodally exact values is ~1e-8: the square
 /// root of a round-off sum).
@@ -372,49 +705,108 @@ fn exact_release(exact: &dyn signorini_exact::ExactSolution, t_end: f64) -> Opti
     Some(b)
 }
 
-/// Wall times `(set-up, stepping)` of the runs of a stepper that `build`
-/// makes (the set-up is `build` itself), no observers, each the best of 3.
 /// A stepper ready to run and its initial displacement.
 type Built = (Box<dyn Stepper>, Vec<f64>);
 /// The same and the beam's unknowns.
 type BuiltBeam = (Box<dyn Stepper>, Vec<f64>, usize);
 
-fn best_of_3(build: &dyn Fn() -> Result<Built, StudyError>, dt: f64, t_end: f64) -> Result<(f64, f64), StudyError> {
-    let (mut setup, mut step) = (f64::INFINITY, f64::INFINITY);
-    for _ in 0..3 {
-        let start = std::time::Instant::now();
-        let (mut s, u0) = build()?;
-        setup = setup.min(start.elapsed().as_secs_f64());
-        let start = std::time::Instant::now();
-        run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [])?;
-        step = step.min(start.elapsed().as_secs_f64());
-    }
-    Ok((setup, step))
+/// Wall times `(set-up, stepping)` of one run of the stepper that `build`
+/// makes (the set-up is `build` itself), no observers.
+fn one_run(build: &dyn Fn() -> Result<Built, StudyError>, dt: f64, t_end: f64) -> Result<(f64, f64), StudyError> {
+    let start = std::time::Instant::now();
+    let (mut s, u0) = build()?;
+    let setup = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
+    run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [])?;
+    Ok((setup, start.elapsed().as_secs_f64()))
 }
 
 fn run_err(e: impl std::error::Error + Send + Sync + 'static) -> StudyError {
     StudyError::failed("", e)
 }
 
-/// Wall times `(set-up, stepping)` of a bar level (degree `k`, the
-/// reduction `keep` when given), each the best of 3. The set-up is that of
-/// `signorini run` on the benchmark's scene: the problem (matrices, exact
-/// initial data), the reduction if any, and the scheme with its CFL check.
-#[allow(clippy::too_many_arguments)]
-fn time_stepping(b: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, keep: Option<Keep>) -> Result<(f64, f64), StudyError> {
-    let exact = b.exact(t_end)?;
-    let dt = b.problem_with_degree(exact.as_ref(), m, mass, k)?.bar.h() / ratio;
-    let build = || -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError> {
-        let p = b.problem_with_degree(exact.as_ref(), m, mass, k)?;
-        match keep {
-            None => Ok((scheme.build(p.dynamics(), dt, &p.initial).map_err(run_err)?, p.initial.u.clone())),
-            Some(keep) => {
-                let red = signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep)?;
-                Ok((scheme.build(red.dynamics.clone(), dt, &red.initial).map_err(run_err)?, red.initial.u.clone()))
+/// How to time one run of a row: the set-up of `signorini run` on the
+/// row's scene (the problem — matrices, exact initial data —, the
+/// reduction if any, the scheme with its CFL check and factorisations),
+/// then the stepping without observers. The rows are timed after every
+/// error is computed, in `--repeats` rounds over all of them, one run at a
+/// time.
+#[derive(Clone, Copy)]
+enum Timed {
+    /// A bar level (degree `k`, the reduction `keep` when given, dt = h/ratio).
+    Bar { b: Benchmark, scheme: SchemeSpec, mass: BarMass, m: usize, k: usize, ratio: f64, t_end: f64, keep: Option<Keep> },
+    /// The Courant-one row at level `m`.
+    Courant1 { b: Benchmark, m: usize },
+    /// A beam row (`modes` 0: the full model).
+    Beam { dt: f64, t_end: f64, modes: usize },
+}
+
+impl Timed {
+    /// Wall times `(set-up, stepping)` of one run.
+    fn sample(&self) -> Result<(f64, f64), StudyError> {
+        match *self {
+            Timed::Bar { b, scheme, mass, m, k, ratio, t_end, keep } => {
+                let exact = b.exact(t_end)?;
+                let dt = b.problem_with_degree(exact.as_ref(), m, mass, k)?.bar.h() / ratio;
+                let build = || -> Result<Built, StudyError> {
+                    let p = b.problem_with_degree(exact.as_ref(), m, mass, k)?;
+                    match keep {
+                        None => Ok((scheme.build(p.dynamics(), dt, &p.initial).map_err(run_err)?, p.initial.u.clone())),
+                        Some(keep) => {
+                            let red = signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep)?;
+                            Ok((scheme.build(red.dynamics.clone(), dt, &red.initial).map_err(run_err)?, red.initial.u.clone()))
+                        }
+                    }
+                };
+                one_run(&build, dt, t_end)
+            }
+            Timed::Courant1 { b, m } => {
+                let (_, t_end) = b.default_ratio_and_horizon();
+                let exact = b.exact(t_end)?;
+                let p = b.problem(exact.as_ref(), m, BarMass::Lumped)?;
+                let dt = p.bar.h() / p.bar.wave_speed;
+                let build = || -> Result<Built, StudyError> {
+                    let p = b.problem(exact.as_ref(), m, BarMass::Lumped)?;
+                    Ok((SchemeSpec::cd_taylor().build(p.dynamics(), dt, &p.initial).map_err(RunError::from)?, p.initial.u.clone()))
+                };
+                one_run(&build, dt, t_end)
+            }
+            Timed::Beam { dt, t_end, modes } => one_run(
+                &|| {
+                    let (s, u0, _) = beam_build(dt, t_end, modes)?;
+                    Ok((s, u0))
+                },
+                dt,
+                t_end,
+            ),
+        }
+    }
+}
+
+/// Times every row that has a [`Timed`] in `repeats` rounds over all of
+/// them (one run at a time), then sets its cost (median and range of the
+/// stepping) and its set-up (median); `tick` after each round.
+fn time_rows(points: &mut [Point], repeats: usize, tick: &mut dyn FnMut()) -> Result<(), StudyError> {
+    let mut samples: Vec<(Vec<f64>, Vec<f64>)> = points.iter().map(|_| (Vec::with_capacity(repeats), Vec::with_capacity(repeats))).collect();
+    for _ in 0..repeats {
+        for (p, s) in points.iter().zip(samples.iter_mut()) {
+            if let Some(t) = &p.timing {
+                let (setup, step) = t.sample()?;
+                s.0.push(setup);
+                s.1.push(step);
             }
         }
-    };
-    best_of_3(&build, dt, t_end)
+        tick();
+    }
+    for (p, (setup, step)) in points.iter_mut().zip(samples) {
+        if p.timing.is_some() {
+            let what = format!("{} {} {}: no finite timing", p.benchmark, p.label(), p.at());
+            let (Some(cost), Some(setup)) = (Cost::of(&step), Cost::of(&setup)) else { return Err(StudyError::Run(what)) };
+            p.cost = cost;
+            p.setup = setup.median;
+        }
+    }
+    Ok(())
 }
 
 /// The Courant-one rows: `cd-taylor`, lumped P1 mass, `dt = h/c`, built as
@@ -426,15 +818,10 @@ fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
     let exact = b.exact(t_end)?;
     let p = b.problem(exact.as_ref(), m, BarMass::Lumped)?;
     let dt = p.bar.h() / p.bar.wave_speed;
-    let build = || -> Result<(Box<dyn Stepper>, Vec<f64>), StudyError> {
-        let p = b.problem(exact.as_ref(), m, BarMass::Lumped)?;
-        Ok((SchemeSpec::cd_taylor().build(p.dynamics(), dt, &p.initial).map_err(RunError::from)?, p.initial.u.clone()))
-    };
-    let (mut s, u0) = build()?;
+    let mut s = SchemeSpec::cd_taylor().build(p.dynamics(), dt, &p.initial).map_err(RunError::from)?;
     let mut norms = NormObserver::new(exact.as_ref(), p.bar.elements, p.vnorm(), dt);
-    let sum = run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [&mut norms])?;
+    let sum = run_steps(s.as_mut(), &p.initial.u, &RunConfig::new(dt, t_end)?, &mut [&mut norms])?;
     let r = norms.report();
-    let (setup, wall) = best_of_3(&build, dt, t_end)?;
     let release_err = Some(release_error(norms.first_release(), exact_release(exact.as_ref(), t_end)));
     Ok(Point {
         benchmark: b.to_string(),
@@ -445,8 +832,9 @@ fn courant1(b: Benchmark, m: usize) -> Result<Point, StudyError> {
         steps: sum.steps,
         norms: Some(r),
         release_err,
-        wall,
-        setup,
+        cost: Cost::UNTIMED,
+        setup: f64::NAN,
+        timing: Some(Timed::Courant1 { b, m }),
         degree: 1,
         modes: 0,
         beam: None,
@@ -568,14 +956,6 @@ fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
             let (tip, steps) = beam_tip(dt, te, modes)?;
             let imp = tip.first_impact(dt).map_or(f64::NAN, |t| (t - t_ref).abs());
             let errs = (tip.error(dt, &reference, rdt, w), tip.error(dt, &reference, rdt, te), imp);
-            let (setup, wall) = best_of_3(
-                &|| {
-                    let (s, u0, _) = beam_build(dt, te, modes)?;
-                    Ok((s, u0))
-                },
-                dt,
-                te,
-            )?;
             let mass = if modes == 0 { "consistent" } else { "massless-tip" };
             points.push(Point {
                 benchmark: BEAM.into(),
@@ -586,8 +966,9 @@ fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
                 steps,
                 norms: None,
                 release_err: None,
-                wall,
-                setup,
+                cost: Cost::UNTIMED,
+                setup: f64::NAN,
+                timing: Some(Timed::Beam { dt, t_end: te, modes }),
                 degree: 3,
                 modes,
                 beam: Some(errs),
@@ -607,7 +988,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let start = std::time::Instant::now();
     create_dir(&a.out)?;
     let frontier = 2 * (1 + a.degrees.len() + a.modes.len()) as u64 + u64::from(!a.beam_dts.is_empty()) + u64::from(!a.beam_stat_dts.is_empty());
-    let total = 2 * schemes.len() as u64 + frontier;
+    let total = 2 * schemes.len() as u64 + frontier + a.repeats as u64;
     let mut done = 0;
     let mut tick = || {
         done += 1;
@@ -626,7 +1007,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         })
         .collect::<Result<_, StudyError>>()?;
     let release_of = |b: Benchmark| releases.iter().find(|r| r.0 == b.to_string()).and_then(|r| r.1);
-    let full = |b: Benchmark, scheme: SchemeSpec, mass: BarMass, l: &study::LevelResult, k: usize, modes: usize, (setup, wall): (f64, f64)| Point {
+    let full = |b: Benchmark, scheme: SchemeSpec, mass: BarMass, l: &study::LevelResult, k: usize, modes: usize, ratio: f64, t_end: f64| Point {
         benchmark: b.to_string(),
         scheme: scheme.to_string(),
         mass: mass.to_string(),
@@ -635,8 +1016,9 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         steps: l.steps,
         norms: Some(l.norms),
         release_err: Some(release_error(l.first_release, release_of(b))),
-        wall,
-        setup,
+        cost: Cost::UNTIMED,
+        setup: f64::NAN,
+        timing: Some(Timed::Bar { b, scheme, mass, m: l.m, k, ratio, t_end, keep: (modes > 0).then_some(Keep::Modes(modes)) }),
         degree: k,
         modes,
         beam: None,
@@ -652,8 +1034,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             let cfg = StudyConfig::new(benchmark, vec![*scheme], ok, a.levels.clone(), ratio, t_end);
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
-                    let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, 1, ratio, t_end, None)?;
-                    points.push(full(benchmark, r.scheme, r.mass, l, 1, 0, wall));
+                    points.push(full(benchmark, r.scheme, r.mass, l, 1, 0, ratio, t_end));
                 }
             }
             tick();
@@ -671,8 +1052,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             let cfg = StudyConfig::new(benchmark, pk.clone(), vec![BarMass::Std, BarMass::Mod], a.levels.clone(), ratio, t_end).with_degree(k);
             for r in study::sweep(&cfg, &|| {})? {
                 for l in &r.levels {
-                    let wall = time_stepping(benchmark, r.scheme, r.mass, l.m, k, ratio, t_end, None)?;
-                    points.push(full(benchmark, r.scheme, r.mass, l, k, 0, wall));
+                    points.push(full(benchmark, r.scheme, r.mass, l, k, 0, ratio, t_end));
                 }
             }
             tick();
@@ -694,9 +1074,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             let runs: Vec<Result<(usize, study::LevelResult), StudyError>> =
                 levels.par_iter().map(|&m| Ok((m, study::run_level(&study::Level::new(benchmark, cn, BarMass::Mod, m, ratio, t_end).with_reduce(Some(Keep::Modes(r))), exact.as_ref())?))).collect();
             for run in runs {
-                let (m, l) = run?;
-                let wall = time_stepping(benchmark, cn, BarMass::Mod, m, 1, ratio, t_end, Some(Keep::Modes(r)))?;
-                points.push(full(benchmark, cn, BarMass::Mod, &l, 1, r, wall));
+                let (_, l) = run?;
+                points.push(full(benchmark, cn, BarMass::Mod, &l, 1, r, ratio, t_end));
             }
             tick();
         }
@@ -724,9 +1103,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             steps,
             norms: None,
             release_err: None,
-            wall,
-            // The whole run is timed (`wall_s`, `step_s`): no set-up apart.
+            // The whole run, timed once (`wall_s`, `step_s`): no set-up apart.
+            cost: Cost::once(wall),
             setup: f64::NAN,
+            timing: None,
             degree: 3,
             modes: 0,
             beam: None,
@@ -739,6 +1119,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         points.push(row(a.beam_stat_ref_dt, reference, ref_steps, ref_wall));
         tick();
     }
+    // Every error is known: the timing rounds, one run at a time.
+    time_rows(&mut points, a.repeats, &mut tick)?;
     let (s_, f_, i_) = (Kind::S, Kind::F, Kind::I);
     let mut w = TableOut::create(
         &a.out,
@@ -770,6 +1152,9 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             ("impact_power_rel_err", f_),
             ("setup_s", f_),
             ("step_s", f_),
+            ("step_s_min", f_),
+            ("step_s_max", f_),
+            ("repeats", i_),
         ],
     )?;
     let e6 = |x: Option<f64>| opt(x.map(|x| fe(x, 6)));
@@ -785,7 +1170,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             int(p.steps),
             n(|r| r.l2_l2_u),
             n(|r| r.linf_energy),
-            fe(p.wall, 6),
+            fe(p.cost.median, 6),
             int(p.degree),
             int(p.modes),
             b(|e| e.0),
@@ -802,11 +1187,20 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             e6(p.power.map(|(i, _)| i.high)),
             e6(p.power.map(|(_, r)| r)),
             e6(Some(p.setup).filter(|s| s.is_finite())),
-            fe(p.wall, 6),
+            fe(p.cost.median, 6),
+            fe(p.cost.min, 6),
+            fe(p.cost.max, 6),
+            int(p.cost.n),
         ])?;
     }
     let table = w.finish()?;
     let mut report = String::from("# Work–precision (error against stepping wall time)\n\n");
+    writeln!(
+        report,
+        "Timings on this machine: the stepping's wall time, the median of {} runs taken in {} rounds over every configuration, with its range [min, max]. Two configurations whose ranges overlap are a tie and are printed together (`tie: … / …`, by median). The errors are deterministic; the costs, the order of tied configurations and the plots' x axis are not (µs to s on a shared machine). A ranking is that of these benchmarks: the conditions under which each cheapest configuration holds follow each table.\n",
+        a.repeats, a.repeats
+    )
+    .expect("writing to a String");
     let mut benchmarks: Vec<String> = BARS.iter().map(|b| b.to_string()).collect();
     if beam_check.is_some() {
         benchmarks.push(BEAM.into());
@@ -848,39 +1242,20 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         for &q in quantities {
             let (y_label, file) =
                 if is_beam { ("largest tip error over the window (m)".to_string(), format!("{benchmark}.svg")) } else { (format!("{} error", q.name()), format!("{benchmark}{}.svg", q.suffix())) };
-            let series: Vec<Series> = keys
-                .iter()
-                .map(|k| Series { label: k.clone(), points: pts.iter().filter(|p| &p.label() == k).map(|p| (p.wall, p.error(q))).collect(), reference: false, style: Default::default() })
-                .collect();
-            let title = if is_beam { format!("{benchmark}: error against wall time") } else { format!("{benchmark}: {} error against wall time", q.name()) };
-            let svg = line_chart(&Chart { title: &title, x_label: "wall time (s)", y_label: &y_label, scale: Scale::LogLog, size: (1000, 650) }, &series).map_err(StudyError::Plot)?;
-            crate::write_file(&a.out.join(file), &svg)?;
+            let entries: Vec<Entry> = pts.iter().map(|p| p.entry(q)).collect();
+            let targets: &[f64] = if is_beam { &BEAM_TARGETS } else { q.targets() };
+            let what = if is_beam { format!("{benchmark}: tip error") } else { format!("{benchmark}: {} error", q.name()) };
+            let (series, drawn) = wp_series(&entries, targets);
+            let title = format!("{what} against wall time: the frontier and {drawn} of {} configurations", keys.len());
+            let svg = line_chart(&Chart { title: &title, x_label: "wall time of the stepping, median (s)", y_label: &y_label, scale: Scale::LogLog, size: (1000, 650) }, &series)
+                .map_err(StudyError::Plot)?;
+            crate::write_file(&a.out.join(&file), &svg)?;
             if !is_beam {
                 writeln!(report, "### {} (column `{}`)\n", q.name(), q.column()).expect("writing to a String");
             }
-            writeln!(report, "| target error | cheapest (scheme, mass, {}) | wall (s) | error | runner-up | wall (s) |\n|---|---|---|---|---|---|", if is_beam { "dt" } else { "m" })
+            report.push_str(&cheapest_table(benchmark, &entries, targets, &flagged));
+            writeln!(report, "\n`{file}`: the frontier (the cheapest configuration per error level) and the {drawn} configurations named above; all {} are in `work_precision.csv`.\n", keys.len())
                 .expect("writing to a String");
-            let targets: &[f64] = if is_beam { &[3e-2, 1e-2, 3e-3, 1e-3, 3e-4] } else { q.targets() };
-            for &target in targets {
-                // Per configuration, the cheapest level that reaches the target.
-                let mut best: Vec<&Point> = keys.iter().filter_map(|k| pts.iter().filter(|p| &p.label() == k && p.error(q) <= target).min_by(|a, b| a.wall.total_cmp(&b.wall)).copied()).collect();
-                best.sort_by(|a, b| a.wall.total_cmp(&b.wall));
-                let at = |p: &Point| if is_beam { format!("{} dt={:e}", p.label(), p.dt) } else { format!("{} m={}{}", p.label(), p.m, flagged(&p.label())) };
-                match (best.first(), best.get(1)) {
-                    (Some(b0), r) => writeln!(
-                        report,
-                        "| {target:.0e} | {} | {:.2e} | {:.2e} | {} | {} |",
-                        at(b0),
-                        b0.wall,
-                        b0.error(q),
-                        r.map_or("-".into(), |r| at(r)),
-                        r.map_or("-".into(), |r| format!("{:.2e}", r.wall))
-                    ),
-                    (None, _) => writeln!(report, "| {target:.0e} | not reached at these levels | | | | |"),
-                }
-                .expect("writing to a String");
-            }
-            report.push('\n');
         }
         if !is_beam {
             let mut listed: Vec<String> = failing.iter().filter(|f| !f.1.is_empty()).map(|f| format!("{}{}", f.0, flagged(&f.0))).collect();
@@ -892,29 +1267,37 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         }
         if is_beam {
             // The question: today's full model at the paper's step,
-            // and the cheapest reduced model at least as accurate.
+            // and the cheapest reduced model at least as accurate (nothing
+            // said when no reduced model was run).
             let paper_dt = BeamScene::PAPER[0].dt;
             let q = Quantity::U;
+            let any_reduced = pts.iter().any(|p| p.modes > 0);
             if let Some(today) = pts.iter().find(|p| p.modes == 0 && (p.dt - paper_dt).abs() < 1e-12) {
-                let reduced = pts.iter().filter(|p| p.modes > 0 && p.error(q) <= today.error(q)).min_by(|a, b| a.wall.total_cmp(&b.wall));
-                writeln!(report, "The full model at the paper's dt = {paper_dt:e} s: tip error {:.2e} m, {:.2e} s. ", today.error(q), today.wall).expect("writing to a String");
+                let reduced = pts.iter().filter(|p| p.modes > 0 && p.error(q) <= today.error(q)).min_by(|a, b| a.cost.median.total_cmp(&b.cost.median));
+                write!(report, "The full model at the paper's dt = {paper_dt:e} s: tip error {:.2e} m, {} s.", today.error(q), cost_text(&today.cost)).expect("writing to a String");
                 match reduced {
-                    Some(r) => writeln!(
+                    Some(r) if r.cost.ties(&today.cost) => {
+                        write!(report, " Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {} s: a tie in cost (the ranges overlap).", r.label(), r.dt, r.error(q), cost_text(&r.cost))
+                    }
+                    Some(r) => write!(
                         report,
-                        "Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {:.2e} s ({:.1}x less wall time).",
+                        " Cheapest reduced model at least as accurate: {} dt={:e}, {:.2e} m, {} s ({:.1}x {} wall time, medians).",
                         r.label(),
                         r.dt,
                         r.error(q),
-                        r.wall,
-                        today.wall / r.wall
+                        cost_text(&r.cost),
+                        if r.cost.median <= today.cost.median { today.cost.median / r.cost.median } else { r.cost.median / today.cost.median },
+                        if r.cost.median <= today.cost.median { "less" } else { "more" }
                     ),
-                    None => writeln!(
+                    None if any_reduced => write!(
                         report,
-                        "No reduced model reaches that error at these steps and modes (best: {}).",
-                        pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error(q).total_cmp(&b.error(q))).map_or("-".into(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error(q)))
+                        " No reduced model reaches that error at these steps and modes (best: {}).",
+                        pts.iter().filter(|p| p.modes > 0).min_by(|a, b| a.error(q).total_cmp(&b.error(q))).map_or(String::new(), |p| format!("{} dt={:e}, {:.2e} m", p.label(), p.dt, p.error(q)))
                     ),
+                    None => Ok(()),
                 }
                 .expect("writing to a String");
+                report.push('\n');
             }
             report.push('\n');
         }
@@ -944,18 +1327,18 @@ fn impact_power_report(a: &Config, points: &[Point], report: &mut String) {
         ref_i.low,
         ref_i.high,
         100.0 * half(&ref_i),
-        ref_p.wall
+        ref_p.cost.median
     )
     .expect("writing to a String");
     for (p, i, r) in &rows {
-        writeln!(report, "| {:e} | {:.4} [{:.4}, {:.4}] | {:.1} % | {:+.2} % | {:.2} |", p.dt, i.mean, i.low, i.high, 100.0 * half(i), 100.0 * r, p.wall).expect("writing to a String");
+        writeln!(report, "| {:e} | {:.4} [{:.4}, {:.4}] | {:.1} % | {:+.2} % | {:.2} |", p.dt, i.mean, i.low, i.high, 100.0 * half(i), 100.0 * r, p.cost.median).expect("writing to a String");
     }
     let ok = rows
         .iter()
-        .filter(|(p, i, r)| p.dt != a.beam_stat_ref_dt && r.abs() <= 0.01 && half(i) <= 0.01 && half(&ref_i) <= 0.01 && p.wall * 10.0 <= ref_p.wall)
-        .min_by(|x, y| x.0.wall.total_cmp(&y.0.wall));
+        .filter(|(p, i, r)| p.dt != a.beam_stat_ref_dt && r.abs() <= 0.01 && half(i) <= 0.01 && half(&ref_i) <= 0.01 && p.cost.median * 10.0 <= ref_p.cost.median)
+        .min_by(|x, y| x.0.cost.median.total_cmp(&y.0.cost.median));
     match ok {
-        Some((p, _, r)) => writeln!(report, "\nTarget reached: dt = {:e} s is within {:.2} % of the reference with both intervals within ±1 %, {:.1}x cheaper.\n", p.dt, 100.0 * r.abs(), ref_p.wall / p.wall),
+        Some((p, _, r)) => writeln!(report, "\nTarget reached: dt = {:e} s is within {:.2} % of the reference with both intervals within ±1 %, {:.1}x cheaper (single runs).\n", p.dt, 100.0 * r.abs(), ref_p.cost.median / p.cost.median),
         None => {
             let worst = rows.iter().map(|(_, i, _)| half(i)).fold(0.0_f64, f64::max);
             writeln!(
@@ -968,4 +1351,145 @@ fn impact_power_report(a: &Config, points: &[Point], report: &mut String) {
         }
     }
     .expect("writing to a String");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A configuration `label` at `at` with the runs `runs` and error `error`.
+    fn entry(label: &str, at: &str, runs: &[f64], error: f64) -> Entry {
+        Entry { label: label.into(), at: at.into(), cost: Cost::of(runs).expect("finite runs"), error }
+    }
+
+    /// Median and range by hand: odd and even counts, unsorted input.
+    #[test]
+    fn cost_is_the_median_and_the_range_of_the_runs() {
+        assert_eq!(Cost::of(&[3.0, 1.0, 2.0]), Some(Cost { median: 2.0, min: 1.0, max: 3.0, n: 3 }));
+        assert_eq!(Cost::of(&[4.0, 1.0, 3.0, 2.0]), Some(Cost { median: 2.5, min: 1.0, max: 4.0, n: 4 }));
+        // A slow outlier moves the range, not the median.
+        assert_eq!(Cost::of(&[1.0, 1.1, 9.0, 1.2, 1.05]).map(|c| c.median), Some(1.1));
+        assert_eq!(Cost::of(&[]), None);
+        assert_eq!(Cost::of(&[1.0, f64::NAN]), None);
+    }
+
+    /// Ties are overlapping ranges, whatever the medians: [1.0, 1.2] and
+    /// [1.15, 1.5] tie (medians 1.1 and 1.3, 18 % apart); [1.00, 1.01] and
+    /// [1.02, 1.03] do not (medians 2 % apart).
+    #[test]
+    fn a_tie_is_an_overlap_of_the_ranges() {
+        let a = Cost::of(&[1.0, 1.2, 1.1]).unwrap();
+        let b = Cost::of(&[1.15, 1.5, 1.3]).unwrap();
+        let c = Cost::of(&[2.0, 2.2, 2.1]).unwrap();
+        assert!(a.ties(&b) && b.ties(&a));
+        assert!(!a.ties(&c) && a.clearly_below(&c) && !c.clearly_below(&a));
+        let e = Cost::of(&[1.0, 1.01, 1.005]).unwrap();
+        let f = Cost::of(&[1.02, 1.03, 1.025]).unwrap();
+        assert!(!e.ties(&f) && e.clearly_below(&f));
+        // Touching ranges (max = min) are a tie.
+        assert!(Cost::of(&[1.0, 2.0]).unwrap().ties(&Cost::of(&[2.0, 3.0]).unwrap()));
+    }
+
+    /// Three methods: A [1.0, 1.2] and B [1.15, 1.5] tie, C [2.0, 2.2]
+    /// comes next; a fourth D [1.3, 1.4] overlaps B but lies wholly above A,
+    /// so it leaves the first tier, and comes before C.
+    #[test]
+    fn tiers_by_hand() {
+        let a = Cost::of(&[1.0, 1.2, 1.1]).unwrap();
+        let b = Cost::of(&[1.15, 1.5, 1.3]).unwrap();
+        let c = Cost::of(&[2.0, 2.2, 2.1]).unwrap();
+        let d = Cost::of(&[1.3, 1.4, 1.35]).unwrap();
+        assert_eq!(tiers(&[c, a, b]), vec![1, 0, 0]);
+        assert_eq!(tiers(&[a, b, c, d]), vec![0, 0, 2, 1]);
+        // Three clearly ordered costs: three tiers.
+        assert_eq!(tiers(&[c, d, a]), vec![2, 1, 0]);
+        assert_eq!(tiers(&[]), Vec::<usize>::new());
+    }
+
+    /// The ranking per target: each method at its cheapest level reaching
+    /// the target, ties printed as ties, the next tier as "next".
+    #[test]
+    fn ranking_and_table_by_hand() {
+        let e = vec![
+            entry("A lumped", "m=10", &[1.0, 1.2, 1.1], 1e-3),
+            entry("A lumped", "m=20", &[5.0, 5.2, 5.1], 1e-5),
+            entry("B std", "m=10", &[1.15, 1.5, 1.3], 5e-4),
+            entry("C mod", "m=10", &[2.0, 2.2, 2.1], 1e-4),
+        ];
+        // 2e-3: A (m=10) and B tie, C next.
+        assert_eq!(ranking(&e, 2e-3), vec![(0, 0), (2, 0), (3, 1)]);
+        // 7e-4: A's m=10 no longer reaches it, its m=20 (5.1) does: B, then C, then A.
+        assert_eq!(ranking(&e, 7e-4), vec![(2, 0), (3, 1), (1, 2)]);
+        // 1e-4: C alone at tier 0, A's m=20 next.
+        assert_eq!(ranking(&e, 1e-4), vec![(3, 0), (1, 1)]);
+        assert_eq!(ranking(&e, 1e-6), vec![]);
+        let t = cheapest_table("bar-dirichlet", &e, &[2e-3, 1e-4, 1e-6], &|l: &str| if l == "B std" { " (x)".into() } else { String::new() });
+        let rows: Vec<&str> = t.lines().collect();
+        assert_eq!(rows[2], "| 2e-3 | tie: A lumped m=10 / B std m=10 (x) | 1.10e0 [1.00e0, 1.20e0] / 1.30e0 [1.15e0, 1.50e0] | 1.00e-3 / 5.00e-4 | C mod m=10 | 2.10e0 [2.00e0, 2.20e0] |");
+        assert_eq!(rows[3], "| 1e-4 | C mod m=10 | 2.10e0 [2.00e0, 2.20e0] | 1.00e-4 | A lumped m=20 | 5.10e0 [5.00e0, 5.20e0] |");
+        assert_eq!(rows[4], "| 1e-6 | not reached at these levels | | | | |");
+        // The cheapest ones (A, B, C: no exactness behind any) get one reason together.
+        assert!(t.contains("Where the cheapest hold: `A lumped`, `B std`, `C mod`: a measured ranking"), "{t}");
+    }
+
+    /// A Courant-one winner says what it rests on and what it does not carry to.
+    #[test]
+    fn a_courant_one_winner_says_when_it_holds() {
+        let e = vec![entry("cd-taylor lumped", "m=10", &[1e-6, 1.1e-6, 1.2e-6], 1e-15), entry("newmark-cn mod", "m=10", &[1e-4, 1.1e-4, 1.2e-4], 1e-2)];
+        let t = cheapest_table("bar-dirichlet", &e, &[3e-2], &|_| String::new());
+        assert!(t.contains("`cd-taylor lumped`: Courant number one") && t.contains("dx/dt = c on a uniform mesh") && t.contains("does not carry to other meshes, loads or obstacles"), "{t}");
+        assert!(!t.contains("`newmark-cn mod`:"), "only the cheapest are explained: {t}");
+        assert!(condition("bar-dirichlet", "newmark-cn mod r=4").contains("truncation error"));
+        assert!(condition("bar-neumann-gravity", "newmark-ii std P3").starts_with("P3 elements"));
+        assert!(condition("beam-fig2", "beta-scheme(0.5) massless-tip r=8").contains("massless-tip"));
+    }
+
+    /// Five tied: four are named, "… (+1 tied)", and only the named ones
+    /// are explained (the fifth, by median, is the Courant-one scheme).
+    #[test]
+    fn only_the_named_cheapest_are_explained() {
+        let mut e: Vec<Entry> = (0..4).map(|k| entry(&format!("s{k} std"), "m=10", &[1.0 + 0.01 * k as f64, 2.0], 1e-2)).collect();
+        e.push(entry("cd-taylor lumped", "m=10", &[1.5, 1.9], 1e-2));
+        let t = cheapest_table("bar-dirichlet", &e, &[3e-2], &|_| String::new());
+        assert!(t.contains("| tie: s0 std m=10 / s1 std m=10 / s2 std m=10 / s3 std m=10 / … (+1 tied) |"), "{t}");
+        assert!(t.contains("`s0 std`, `s1 std`, `s2 std`, `s3 std`: a measured ranking") && !t.contains("Courant"), "{t}");
+    }
+
+    /// The frontier by hand: P2 and P3 are dominated by P1 (P3 at the same
+    /// cost, worse), P4 by P7 (cheaper, same error), P6 has no cost.
+    #[test]
+    fn frontier_by_hand() {
+        let p = [(1.0, 1e-1), (2.0, 1e-2), (3.0, 5e-2), (2.0, 2e-2), (5.0, 1e-3), (0.5, 0.5), (f64::NAN, 1e-6), (4.0, 1e-3)];
+        assert_eq!(frontier(&p), vec![5, 0, 1, 7]);
+        // An exact (zero-error) cheapest point is the whole frontier.
+        assert_eq!(frontier(&[(2.0, 1e-3), (1.0, 0.0), (3.0, 1e-9)]), vec![1]);
+        assert_eq!(frontier(&[]), Vec::<usize>::new());
+    }
+
+    /// The chart: the frontier as a staircase to the largest cost drawn,
+    /// then the named configurations only (ten configurations in, the
+    /// winner, the frontier's owners and the next, at most six, out).
+    #[test]
+    fn the_chart_draws_the_frontier_and_a_few_curves() {
+        let mut e = vec![entry("fast coarse", "m=10", &[1.0, 1.0, 1.0], 1e-1), entry("fast coarse", "m=20", &[2.0, 2.0, 2.0], 5e-2), entry("accurate", "m=10", &[3.0, 3.0, 3.0], 1e-3)];
+        for k in 0..8 {
+            e.push(entry(&format!("slow {k}"), "m=10", &[10.0 + k as f64, 10.0 + k as f64, 10.0 + k as f64], 1e-2));
+        }
+        let (s, drawn) = wp_series(&e, &[3e-1, 1e-2]);
+        assert_eq!(s[0].points, vec![(1.0, 1e-1), (2.0, 1e-1), (2.0, 5e-2), (3.0, 5e-2), (3.0, 1e-3), (10.0, 1e-3)]);
+        let labels: Vec<&str> = s[1..].iter().map(|x| x.label.as_str()).collect();
+        // 3e-1: fast coarse; 1e-2: accurate; next at 3e-1: accurate, at 1e-2: slow 0.
+        assert_eq!(labels, vec!["fast coarse", "accurate", "slow 0"]);
+        assert_eq!(drawn, 3);
+        // Many winners: at most six curves.
+        let many: Vec<Entry> = (0..10).map(|k| entry(&format!("c{k}"), "m=10", &[1.0, 1.0 + 1e-3 * k as f64], 1e-3 * (1.0 + k as f64))).collect();
+        let (s, drawn) = wp_series(&many, &[1e-1]);
+        assert_eq!((s.len(), drawn), (1 + MAX_CURVES, MAX_CURVES));
+        // Ten tied at a coarse target do not crowd out the one reaching a fine one.
+        let mut more = many.clone();
+        more.push(entry("fine", "m=640", &[100.0, 101.0], 1e-6));
+        let (s, _) = wp_series(&more, &[1e-1, 1e-5]);
+        let labels: Vec<&str> = s[1..].iter().map(|x| x.label.as_str()).collect();
+        assert_eq!(labels, vec!["c0", "fine", "c1", "c2", "c3", "c4"]);
+    }
 }
