@@ -154,7 +154,7 @@ fn main() -> ExitCode {
         Cmd::Beam(a) => beam::run_beam(a),
         Cmd::BeamObstacles(a) => obstacles::run_obstacles(a),
         Cmd::Oscillator(a) => oscillator::run_oscillator(a),
-        Cmd::Test(a) => pytest::run_tests(a).map_err(Failure::from),
+        Cmd::Test(a) => pytest::run_tests(a),
         Cmd::WorkPrecision(a) => wp::run_wp(a),
         Cmd::Stress(a) => stress::run_stress(a),
         Cmd::Courant1(a) => courant1::run_courant1(a),
@@ -175,6 +175,7 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+        Err(Failure::Reported) => ExitCode::FAILURE,
     }
 }
 
@@ -187,6 +188,9 @@ pub(crate) enum Failure {
     Input(String),
     /// A run, a file or a tool failed.
     Failed(String),
+    /// A failure already reported on the terminal (`cargo xtask test`,
+    /// whose verdict must stay its last line).
+    Reported,
 }
 
 impl From<StudyError> for Failure {
