@@ -136,20 +136,17 @@ fn verdict_lines(rec: &Record, failed_phases: &[(String, bool)], not_run: &[&str
 
 /// Seconds since the `cargo` process that started this binary began
 /// (`cargo xtask test`: the build of the xtask binary included), from
-/// /proc; `None` when the parent is not cargo or /proc cannot tell.
+/// /proc; `None` when not started by cargo or /proc cannot tell.
+/// `cargo run` builds the binary, then replaces itself with it (exec: the
+/// same process), so this process's start time is cargo's.
 #[cfg(target_os = "linux")]
 fn since_cargo_started() -> Option<f64> {
-    // /proc/<pid>/stat: the fields after the command name's ')': state
+    // `cargo run` sets CARGO for the program it runs.
+    std::env::var_os("CARGO")?;
+    // /proc/self/stat: the fields after the command name's ')': state
     // (3), ppid (4), …, starttime (22, clock ticks after boot).
-    let fields = |pid: &str| -> Option<Vec<String>> {
-        let s = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
-        Some(s[s.rfind(')')? + 1..].split_whitespace().map(String::from).collect())
-    };
-    let ppid = fields("self")?.get(1)?.clone();
-    if std::fs::read_to_string(format!("/proc/{ppid}/comm")).ok()?.trim() != "cargo" {
-        return None;
-    }
-    let start_ticks: f64 = fields(&ppid)?.get(19)?.parse().ok()?;
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let start_ticks: f64 = s[s.rfind(')')? + 1..].split_whitespace().nth(19)?.parse().ok()?;
     // SAFETY: sysconf only reads a configuration value.
     let tck = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
     let uptime: f64 = std::fs::read_to_string("/proc/uptime").ok()?.split_whitespace().next()?.parse().ok()?;
@@ -305,15 +302,15 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             false
         }
     };
+    // The xtask binary the Python tests run: `cargo test` builds
+    // target/release/xtask for xtask's own tests and may replace this
+    // running binary's file (its features unified over the workspace), and
+    // then /proc/self/exe names a deleted file: the path, when it is there.
+    let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
     if python_ready {
         let (lines, r) = rec.time("Python: the tests", || {
             Ok(run_capture(
-                Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", std::env::current_exe().unwrap_or_default()).args([
-                    "-m",
-                    "pytest",
-                    "-q",
-                    "python/tests",
-                ]),
+                Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]),
                 "pytest",
             ))
         })?;
