@@ -19,14 +19,14 @@ pub struct Args {
     /// Time steps (s) of the penalty study (`penalty.csv`), comma-separated;
     /// the paper's are 5e-6, 1e-6, 5e-7 (runs the figures already made are
     /// reused).
-    #[arg(long = "penalty-dts", value_delimiter = ',', default_value = "5e-6,1e-6,5e-7")]
+    #[arg(long = "penalty-dts", value_delimiter = ',', default_value = "5e-6,1e-6,5e-7", allow_hyphen_values = true)]
     penalty_dts: Vec<f64>,
 }
 
 /// Runs the study.
-pub fn run_beam(a: Args) -> Result<(), String> {
+pub fn run_beam(a: Args) -> Result<(), crate::Failure> {
     let cfg = beam::Config { out: a.out, scenes: a.scenes, force: a.force, penalty_dts: a.penalty_dts };
-    let out = beam::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
+    let out = beam::run(&cfg, &|_, _| {})?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

@@ -15,20 +15,20 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     benchmarks: Vec<String>,
     /// Numbers of elements m, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "10,20,40,80")]
+    #[arg(long, value_delimiter = ',', default_value = "10,20,40,80", allow_hyphen_values = true, value_parser = crate::whole)]
     levels: Vec<usize>,
     /// Horizon (default: 6 for the Dirichlet and mirrored bars, 16 for the falling bars).
-    #[arg(long = "t-end", allow_negative_numbers = true)]
+    #[arg(long = "t-end", allow_hyphen_values = true)]
     t_end: Option<f64>,
 }
 
 /// Runs the study.
-pub fn run_courant1(a: Args) -> Result<(), String> {
+pub fn run_courant1(a: Args) -> Result<(), crate::Failure> {
     let mut cfg = courant1::Config { out: a.out, levels: a.levels, t_end: a.t_end, ..Default::default() };
     if !a.benchmarks.is_empty() {
-        cfg.benchmarks = a.benchmarks.iter().map(|b| signorini_studies::convergence::parse_benchmark(b.trim()).map_err(|e| e.to_string())).collect::<Result<Vec<_>, _>>()?;
+        cfg.benchmarks = a.benchmarks.iter().map(|b| signorini_studies::convergence::parse_benchmark(b.trim())).collect::<Result<Vec<_>, _>>()?;
     }
-    let out = courant1::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
+    let out = courant1::run(&cfg, &|_, _| {})?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

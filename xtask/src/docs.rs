@@ -445,13 +445,28 @@ fn lyapunov(data: &Path) -> Result<String, String> {
     for r in t.records() {
         let l = getf(&r, "lambda_max")?;
         let h = get(&r, "horizon_s")?;
+        let undecided = getf(&r, "ci_low")? <= 0.0 && 0.0 <= getf(&r, "ci_high")?;
         s.push_str(&md_row(&[
             get(&r, "scene")?.into(),
             get(&r, "dt")?.into(),
             get(&r, "elements")?.into(),
             format!("{} [{}, {}]", sig3(l), sig3(getf(&r, "ci_low")?), sig3(getf(&r, "ci_high")?)),
-            if l > 0.0 { format!("{:.2} ms", 1e3 / l) } else { "—".into() },
-            if h.is_empty() { "∞".into() } else { format!("{:.2} s", num(h)?) },
+            // An interval that contains 0 leaves the sign of λ, and so the
+            // horizon, undecided.
+            if undecided {
+                "—".into()
+            } else if l > 0.0 {
+                format!("{:.2} ms", 1e3 / l)
+            } else {
+                "—".into()
+            },
+            if undecided {
+                "undecided (the interval contains 0)".into()
+            } else if h.is_empty() {
+                "∞".into()
+            } else {
+                format!("{:.2} s", num(h)?)
+            },
         ]));
     }
     let o = Table::read(&data.join("lyapunov/oscillator.csv"))?;
@@ -496,7 +511,7 @@ fn beam_statistics(data: &Path) -> Result<String, String> {
             let heads: Vec<String> = js.iter().map(|j| format!("J = {j}: dt = {}", rows.iter().filter(|r| r["elements"] == *j).map(|r| r["dt"]).collect::<Vec<_>>().join(" / "))).collect();
             let mut head = vec!["statistic"];
             head.extend(heads.iter().map(String::as_str));
-            head.extend(["interval (±)", "largest difference to the finest", "kind"]);
+            head.extend(["interval (±)", "largest difference to the finest", "intervals overlapping the finest's", "expected"]);
             let _ = write!(s, "{}**{scene}**\n\n", if s.is_empty() { "" } else { "\n" });
             s.push_str(&md_head(&head));
         }
@@ -514,14 +529,19 @@ fn beam_statistics(data: &Path) -> Result<String, String> {
         let mut lo = f64::INFINITY;
         let mut hi = 0f64;
         let mut diff = 0f64;
+        let mut overlap = 0;
         for r in rows {
             let w = (getf(r, "ci_high")? - getf(r, "ci_low")?) / 2.0;
             lo = lo.min(w);
             hi = hi.max(w);
             diff = diff.max(getf(r, "rel_diff")?.abs());
+            overlap += usize::from(get(r, "within_ci")? == "1");
         }
         row.push(format!("{}–{}", sig3(lo), sig3(hi)));
         row.push(format!("{:.1} %", 100.0 * diff));
+        // A fact, not a verdict: how many levels (the finest among them)
+        // agree with the finest within the intervals.
+        row.push(format!("{overlap} of {}", rows.len()));
         row.push(get(&rows[0], "kind")?.into());
         s.push_str(&md_row(&row));
     }

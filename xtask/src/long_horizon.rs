@@ -15,13 +15,13 @@ pub struct Args {
     #[arg(long)]
     runs: Vec<String>,
     /// Numbers of elements m, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "20,40,80")]
+    #[arg(long, value_delimiter = ',', default_value = "20,40,80", allow_hyphen_values = true, value_parser = crate::whole)]
     levels: Vec<usize>,
     /// dx/dt.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
     ratio: f64,
     /// Horizon (three time units a period).
-    #[arg(long = "t-end", default_value_t = 30.0, allow_negative_numbers = true)]
+    #[arg(long = "t-end", default_value_t = 30.0, allow_hyphen_values = true)]
     t_end: f64,
     /// Leave out the energy-growth table.
     #[arg(long)]
@@ -33,21 +33,21 @@ pub struct Args {
     #[arg(long, conflicts_with = "energy_runs")]
     energy_all: bool,
     /// Energy-growth table: dx/dt values, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "1,2,10", allow_negative_numbers = true)]
+    #[arg(long, value_delimiter = ',', default_value = "1,2,10", allow_hyphen_values = true)]
     energy_ratios: Vec<f64>,
     /// Energy-growth table: number of elements.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_hyphen_values = true, value_parser = crate::whole)]
     energy_m: usize,
     /// Energy-growth table: horizon.
-    #[arg(long = "energy-t-end", default_value_t = 1e4, allow_negative_numbers = true)]
+    #[arg(long = "energy-t-end", default_value_t = 1e4, allow_hyphen_values = true)]
     energy_t_end: f64,
 }
 
 /// Runs the study.
-pub fn run_long_horizon(a: Args) -> Result<(), String> {
+pub fn run_long_horizon(a: Args) -> Result<(), crate::Failure> {
     let mut cfg = long_horizon::Config { out: a.out, levels: a.levels, ratio: a.ratio, t_end: a.t_end, ..Default::default() };
     if !a.runs.is_empty() {
-        cfg.runs = long_horizon::parse_runs(&a.runs).map_err(|e| e.to_string())?;
+        cfg.runs = long_horizon::parse_runs(&a.runs)?;
     }
     cfg.energy = if a.no_energy {
         None
@@ -56,11 +56,11 @@ pub fn run_long_horizon(a: Args) -> Result<(), String> {
         if a.energy_all {
             e.runs = long_horizon::EnergyTable::all_runs();
         } else if !a.energy_runs.is_empty() {
-            e.runs = long_horizon::parse_runs(&a.energy_runs).map_err(|e| e.to_string().replace("--runs", "--energy-runs"))?;
+            e.runs = long_horizon::parse_runs(&a.energy_runs).map_err(|e| crate::Failure::Input(e.to_string().replace("--runs", "--energy-runs")))?;
         }
         Some(e)
     };
-    let out = crate::with_progress_bar(|p| long_horizon::run(&cfg, p)).map_err(|e| e.to_string())?;
+    let out = crate::with_progress_bar(|p| long_horizon::run(&cfg, p))?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

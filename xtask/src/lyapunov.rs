@@ -19,28 +19,28 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     refine: Option<Vec<String>>,
     /// Time steps of the refinement (s), comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "5e-5,2.5e-5,1e-5", allow_negative_numbers = true)]
+    #[arg(long, value_delimiter = ',', default_value = "5e-5,2.5e-5,1e-5", allow_hyphen_values = true)]
     dts: Vec<f64>,
     /// Elements J of the refinement, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "19,38")]
+    #[arg(long, value_delimiter = ',', default_value = "19,38", allow_hyphen_values = true, value_parser = crate::whole)]
     elements: Vec<usize>,
     /// Forcing frequencies of the impact oscillator, comma-separated (default its sweep range 1.6 … 2.2; "none": no oscillator).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     omegas: Option<Vec<String>>,
     /// Relative perturbation of the twin (0 < ε < 1e-3).
-    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
     perturbation: f64,
     /// Forcing periods before the twin starts.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
     transient: f64,
     /// Forcing periods measured.
-    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
     window: f64,
     /// Renormalisations per forcing period.
-    #[arg(long = "per-period", default_value_t = 64)]
+    #[arg(long = "per-period", default_value_t = 64, allow_hyphen_values = true, value_parser = crate::whole)]
     per_period: usize,
     /// Batches of the 95 % confidence interval.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, allow_hyphen_values = true, value_parser = crate::whole)]
     batches: usize,
 }
 
@@ -53,11 +53,14 @@ fn list(v: Option<Vec<String>>, default: Vec<String>) -> Vec<String> {
 }
 
 /// Runs the study.
-pub fn run_lyapunov(a: Args) -> Result<(), String> {
+pub fn run_lyapunov(a: Args) -> Result<(), crate::Failure> {
     let d = lyapunov::Config::default();
     let omegas = match a.omegas {
         None => d.omegas.clone(),
-        Some(v) => list(Some(v), Vec::new()).iter().map(|s| s.parse::<f64>().map_err(|e| format!("--omegas {s:?}: {e}; allowed numbers in (0, 100] or none"))).collect::<Result<_, _>>()?,
+        Some(v) => list(Some(v), Vec::new())
+            .iter()
+            .map(|s| s.parse::<f64>().map_err(|e| crate::Failure::Input(format!("--omegas {s:?}: {e}; allowed numbers in (0, 100] or none"))))
+            .collect::<Result<_, _>>()?,
     };
     let cfg = lyapunov::Config {
         out: a.out,
@@ -72,7 +75,7 @@ pub fn run_lyapunov(a: Args) -> Result<(), String> {
         per_period: a.per_period,
         batches: a.batches,
     };
-    let out = crate::with_progress_bar(|p| lyapunov::run(&cfg, p)).map_err(|e| e.to_string())?;
+    let out = crate::with_progress_bar(|p| lyapunov::run(&cfg, p))?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

@@ -40,7 +40,7 @@ mod wp;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use signorini_studies::convergence;
+use signorini_studies::{convergence, StudyError};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -106,13 +106,13 @@ struct ConvergenceArgs {
     #[arg(long, value_delimiter = ',', default_value = "std,mod")]
     masses: Vec<String>,
     /// Numbers of elements m, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640")]
+    #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640", allow_hyphen_values = true, value_parser = whole)]
     levels: Vec<usize>,
     /// dx/dt (default: the benchmark's, 10 for bar-dirichlet).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     ratio: Option<f64>,
     /// Horizon T (default: the benchmark's, 3 for bar-dirichlet).
-    #[arg(long = "t-end", allow_negative_numbers = true)]
+    #[arg(long = "t-end", allow_hyphen_values = true)]
     t_end: Option<f64>,
     /// Output folder (default out/convergence/<benchmark>, or
     /// out/convergence/<benchmark>-getfem-norms with --norms getfem).
@@ -130,7 +130,7 @@ struct ConvergenceArgs {
     reduce: Option<String>,
     /// Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m elements
     /// of degree k (default folder out/convergence/<benchmark>-p<k> for k > 1).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true, value_parser = whole)]
     degree: usize,
     /// Remove the CSV and SVG files of another study or configuration from
     /// the output folder first (without it such a folder is refused).
@@ -161,28 +161,72 @@ fn main() -> ExitCode {
         Cmd::LongHorizon(a) => long_horizon::run_long_horizon(a),
         Cmd::Lyapunov(a) => lyapunov::run_lyapunov(a),
         Cmd::BeamStatistics(a) => beam_statistics::run_beam_statistics(a),
-        Cmd::Fuzz(a) => fuzz::run_fuzz(a),
-        Cmd::Docs(a) => docs::run_docs(a),
+        Cmd::Fuzz(a) => fuzz::run_fuzz(a).map_err(Failure::from),
+        Cmd::Docs(a) => docs::run_docs(a).map_err(Failure::from),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        // Bad input exits 2, as clap's own errors and `signorini` do.
+        Err(Failure::Input(e)) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Failed(e)) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
+        }
+        Err(Failure::Reported) => ExitCode::FAILURE,
+    }
+}
+
+/// Why a `cargo xtask` command stopped: bad input (a flag out of its range,
+/// exit status 2, as clap's own errors and the `signorini` command) or a
+/// failure of the work itself (exit status 1).
+#[derive(Debug)]
+pub(crate) enum Failure {
+    /// Bad input; the message names the flag and what is allowed.
+    Input(String),
+    /// A run, a file or a tool failed.
+    Failed(String),
+    /// A failure already reported on the terminal (`cargo xtask test`,
+    /// whose verdict must stay its last line).
+    Reported,
+}
+
+impl From<StudyError> for Failure {
+    /// A study's [`StudyError::Config`] is bad input; anything else a failure.
+    fn from(e: StudyError) -> Self {
+        match e {
+            StudyError::Config { message, .. } => Failure::Input(message),
+            other => Failure::Failed(other.to_string()),
         }
     }
 }
 
-fn convergence(a: ConvergenceArgs) -> Result<(), String> {
-    let benchmark = convergence::parse_benchmark(&a.benchmark).map_err(|e| e.to_string())?;
+impl From<String> for Failure {
+    /// The commands that are not studies (test, fuzz, docs) fail with text.
+    fn from(e: String) -> Self {
+        Failure::Failed(e)
+    }
+}
+
+/// A whole-number flag (elements, levels, batches, …): a negative number
+/// or a fraction is refused by clap naming the flag (exit 2); the flag's
+/// range is checked by its study.
+pub(crate) fn whole(s: &str) -> Result<usize, String> {
+    s.trim().parse::<usize>().map_err(|_| format!("allowed a whole number >= 0 ({s:?} is not one); the study checks the flag's range"))
+}
+
+fn convergence(a: ConvergenceArgs) -> Result<(), Failure> {
+    let benchmark = convergence::parse_benchmark(&a.benchmark)?;
     // Schemes may contain commas inside parentheses: split on ',' outside them.
-    let schemes = signorini_studies::parse_schemes(&a.schemes).map_err(|e| e.to_string())?;
-    let masses = signorini_studies::parse_masses(&a.masses).map_err(|e| e.to_string())?;
-    let norms = convergence::parse_norms(&a.norms).map_err(|e| e.to_string())?;
-    let reduce = a.reduce.as_deref().map(convergence::parse_reduce).transpose().map_err(|e| e.to_string())?;
-    let reference = convergence::parse_reference(&a.reference).map_err(|e| e.to_string())?;
+    let schemes = signorini_studies::parse_schemes(&a.schemes)?;
+    let masses = signorini_studies::parse_masses(&a.masses)?;
+    let norms = convergence::parse_norms(&a.norms)?;
+    let reduce = a.reduce.as_deref().map(convergence::parse_reduce).transpose()?;
+    let reference = convergence::parse_reference(&a.reference)?;
     let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce, degree: a.degree, clean: a.clean, reference };
-    let out = with_progress_bar(|p| convergence::run(&cfg, p)).map_err(|e| e.to_string())?;
+    let out = with_progress_bar(|p| convergence::run(&cfg, p))?;
     notes(&out.notes);
     print!("{}", out.report);
     Ok(())

@@ -13,8 +13,18 @@
 //! mkdocstrings from the package index into the same environment) into
 //! `target/site`.
 //!
-//! `--record` also counts the tests and times each phase, and writes them
-//! to `docs/generated/test-record.md`: the one place those numbers live.
+//! Every phase runs even when an earlier one failed (the Python phases
+//! only after the environment and the wheel were built), and the Rust tests
+//! run with `--no-fail-fast`, so that the count is complete. The last two
+//! lines are the verdict: every test counted, Rust and Python, and PASS or
+//! FAIL (with the phases that failed), then the total alone on a line,
+//! `tests: N passed, M failed` (the form CI reads; a phase that failed
+//! without a failed test — a lint, a build — counts as one failed).
+//!
+//! `--record` also times each phase and the whole command (from the start
+//! of the `cargo` process that built and started this binary), and writes
+//! them with the counts to `docs/generated/test-record.md`: the one place
+//! those numbers live.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -51,27 +61,101 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
     }
 }
 
-/// [`run`], with stdout passed through line by line and kept when
-/// `capture` (else inherited, and nothing kept).
-fn run_capture(cmd: &mut Command, what: &str, capture: bool) -> Result<Vec<String>, String> {
-    if !capture {
-        return run(cmd, what).map(|()| Vec::new());
-    }
-    let mut child = cmd.stdout(Stdio::piped()).spawn().map_err(|e| format!("{what}: cannot start: {e}"))?;
+/// [`run`], with stdout passed through line by line and kept: the lines
+/// and whether the command succeeded (the lines of a failed run count too).
+fn run_capture(cmd: &mut Command, what: &str) -> (Vec<String>, Result<(), String>) {
+    let mut child = match cmd.stdout(Stdio::piped()).spawn() {
+        Ok(c) => c,
+        Err(e) => return (Vec::new(), Err(format!("{what}: cannot start: {e}"))),
+    };
     let mut lines = Vec::new();
     if let Some(out) = child.stdout.take() {
-        for line in BufReader::new(out).lines() {
-            let line = line.map_err(|e| format!("{what}: {e}"))?;
+        // Invalid UTF-8 in a test's output is kept, replaced.
+        for line in BufReader::new(out).split(b'\n').map_while(Result::ok) {
+            let line = String::from_utf8_lossy(&line).trim_end_matches('\r').to_string();
             println!("{line}");
             lines.push(line);
         }
     }
-    let status = child.wait().map_err(|e| format!("{what}: {e}"))?;
-    if status.success() {
-        Ok(lines)
-    } else {
-        Err(format!("{what} failed ({status})"))
+    let status = match child.wait() {
+        Ok(s) => s,
+        Err(e) => return (lines, Err(format!("{what}: {e}"))),
+    };
+    let r = if status.success() { Ok(()) } else { Err(format!("{what} failed ({status})")) };
+    (lines, r)
+}
+
+/// Passed, failed and ignored tests over cargo's `test result:` lines.
+fn rust_counts(lines: &[String]) -> (u64, u64, u64) {
+    lines.iter().filter_map(|l| l.find("test result:").map(|i| &l[i..])).fold((0, 0, 0), |(p, f, i), l| (p + count(l, "passed"), f + count(l, "failed"), i + count(l, "ignored")))
+}
+
+/// Passed, failed (errors included: a test that could not be collected or
+/// set up) and skipped tests from pytest's summary line, its last line of
+/// the form `1 failed, 113 passed, 2 skipped in 15.20s` (with `=` around
+/// it or not).
+fn python_counts(lines: &[String]) -> (u64, u64, u64) {
+    let summary = lines.iter().rev().map(|l| l.trim().trim_matches('=').trim()).find(|l| {
+        l.starts_with(|c: char| c.is_ascii_digit())
+            && l.split(" in ").last().is_some_and(|t| t.ends_with('s') && t.trim_end_matches('s').parse::<f64>().is_ok())
+            && ["passed", "failed", "skipped", "error", "errors", "deselected", "xfailed", "xpassed", "warning", "warnings"].iter().any(|w| count(l, w) > 0)
+    });
+    summary.map_or((0, 0, 0), |l| (count(l, "passed"), count(l, "failed") + count(l, "error") + count(l, "errors"), count(l, "skipped")))
+}
+
+/// The closing lines of `cargo xtask test`: the verdict with the counts
+/// per language and the phases that failed, then the total alone, in the
+/// form CI reads (`tests: N passed, M failed`). A phase that failed without
+/// reporting a failed test (a lint, a build, the guide) counts as one
+/// failed; a phase not run is named.
+fn verdict_lines(rec: &Record, failed_phases: &[(String, bool)], not_run: &[&str], skipped: Option<&str>) -> (String, String) {
+    let pass = failed_phases.is_empty() && not_run.is_empty() && rec.rust.1 == 0 && rec.python.1 == 0;
+    let extra = failed_phases.iter().filter(|(_, counted)| !counted).count() as u64;
+    let mut detail = format!(
+        "signorini tests: {} — {} passed, {} failed, {} ignored (Rust); {} passed, {} failed, {} skipped (Python)",
+        if pass { "PASS" } else { "FAIL" },
+        rec.rust.0,
+        rec.rust.1,
+        rec.rust.2,
+        rec.python.0,
+        rec.python.1,
+        rec.python.2
+    );
+    if !failed_phases.is_empty() {
+        detail.push_str(&format!("; failed: {}", failed_phases.iter().map(|(p, _)| p.as_str()).collect::<Vec<_>>().join("; ")));
     }
+    if !not_run.is_empty() {
+        detail.push_str(&format!("; not run: {}", not_run.join(", ")));
+    }
+    if let Some(s) = skipped {
+        detail.push_str(&format!("; skipped: {s}"));
+    }
+    let total = format!("tests: {} passed, {} failed", rec.rust.0 + rec.python.0, rec.rust.1 + rec.python.1 + extra + not_run.len() as u64);
+    (detail, total)
+}
+
+/// Seconds since the `cargo` process that started this binary began
+/// (`cargo xtask test`: the build of the xtask binary included), from
+/// /proc; `None` when not started by cargo or /proc cannot tell.
+/// `cargo run` builds the binary, then replaces itself with it (exec: the
+/// same process), so this process's start time is cargo's.
+#[cfg(target_os = "linux")]
+fn since_cargo_started() -> Option<f64> {
+    // `cargo run` sets CARGO for the program it runs.
+    std::env::var_os("CARGO")?;
+    // /proc/self/stat: the fields after the command name's ')': state
+    // (3), ppid (4), …, starttime (22, clock ticks after boot).
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let start_ticks: f64 = s[s.rfind(')')? + 1..].split_whitespace().nth(19)?.parse().ok()?;
+    // SAFETY: sysconf only reads a configuration value.
+    let tck = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
+    let uptime: f64 = std::fs::read_to_string("/proc/uptime").ok()?.split_whitespace().next()?.parse().ok()?;
+    (tck > 0).then(|| uptime - start_ticks / tck as f64).filter(|t| *t >= 0.0)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn since_cargo_started() -> Option<f64> {
+    None
 }
 
 /// The numbers before `word` in `line` (`"12 passed, 3 skipped"`).
@@ -136,13 +220,11 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
     for (name, t) in &rec.phases {
         s.push_str(&format!("| {name} | {} |\n", minutes(*t)));
     }
-    s.push_str(&format!("| **`cargo xtask test`** (the `cargo xtask` binary's own build not included) | **{}** |\n", minutes(total)));
-    // `.ci/run` exports the time it started: the whole run, the build of
-    // the xtask binary (on a fresh clone: most of the workspace) included.
-    let ci = std::env::var("SIGNORINI_RECORD_START").ok().and_then(|v| v.trim().parse::<u64>().ok());
-    let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
-    if let Some(t0) = ci.filter(|t0| *t0 <= now) {
-        s.push_str(&format!("| **the whole `.ci/run`** (the `cargo xtask` binary built too) | **{}** |\n", minutes((now - t0) as f64)));
+    // The whole command: from the start of the `cargo` that built this
+    // binary (on a fresh clone most of the workspace) and started it.
+    match since_cargo_started() {
+        Some(whole) => s.push_str(&format!("| **the whole `cargo xtask test`** (from the start of `cargo`: the `cargo xtask` binary's own build included) | **{}** |\n", minutes(whole))),
+        None => s.push_str(&format!("| **`cargo xtask test`** (not started by `cargo`: the `cargo xtask` binary's own build not included) | **{}** |\n", minutes(total))),
     }
     let _ = cargo;
     let path = root().join("docs/generated/test-record.md");
@@ -161,7 +243,7 @@ fn lints(cargo: &str, root: &Path) -> Result<(), String> {
 }
 
 /// `cargo xtask test`.
-pub fn run_tests(a: Args) -> Result<(), String> {
+pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let start = Instant::now();
     let root = root();
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
@@ -172,20 +254,22 @@ pub fn run_tests(a: Args) -> Result<(), String> {
     // itself is necessarily built).
     let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("convergence-"))).unwrap_or(false);
     let mut rec = Record::default();
+    // The phases that failed, each with whether it reported a failed test.
+    let mut failed: Vec<(String, bool)> = Vec::new();
+    let mut not_run: Vec<&str> = Vec::new();
     if !a.python_only {
-        let lines = rec.time("Rust: build and run the tests", || {
-            run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py"]), "cargo test", a.record)
+        let (lines, r) = rec.time("Rust: build and run the tests", || {
+            Ok(run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"]), "cargo test"))
         })?;
-        for l in lines.iter().filter(|l| l.starts_with("test result:")) {
-            rec.rust.0 += count(l, "passed");
-            rec.rust.1 += count(l, "failed");
-            rec.rust.2 += count(l, "ignored");
+        rec.rust = rust_counts(&lines);
+        if let Err(e) = r {
+            failed.push((e, rec.rust.1 > 0));
+        }
+        if let Err(e) = rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings`", || lints(&cargo, &root)) {
+            failed.push((e, false));
         }
     }
-    if !a.python_only {
-        rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings`", || lints(&cargo, &root))?;
-    }
-    rec.time("Python: the environment and the packages", || {
+    let env = rec.time("Python: the environment and the packages", || {
         if !py.exists() {
             run(Command::new("python3").args(["-m", "venv"]).arg(&venv), "python3 -m venv")?;
         }
@@ -193,52 +277,121 @@ pub fn run_tests(a: Args) -> Result<(), String> {
             Command::new(&py).args(["-m", "pip", "install", "-q", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"]).args(GUIDE_PACKAGES),
             "pip install maturin numpy pytest dask[distributed] matplotlib mkdocs mkdocs-material mkdocstrings[python]",
         )
-    })?;
-    rec.time("Python: build and install the wheel, build the command", || {
-        let wheels = target.join("wheels");
-        let _ = std::fs::remove_dir_all(&wheels);
-        run(Command::new(venv.join("bin/maturin")).current_dir(&root).args(["build", "--release", "-m", "python/Cargo.toml", "-i"]).arg(&py).arg("-o").arg(&wheels), "maturin build")?;
-        let wheel = std::fs::read_dir(&wheels)
-            .map_err(|e| format!("{}: {e}", wheels.display()))?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .find(|p| p.extension().is_some_and(|x| x == "whl"))
-            .ok_or("maturin wrote no wheel")?;
-        run(Command::new(&py).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel), "pip install the wheel")?;
-        // The tests compare with the `signorini` command's files: build it (a
-        // no-op after `cargo test`) and tell them where it is.
-        run(Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "signorini-cli", "--bin", "signorini"]), "cargo build signorini")
-    })?;
-    let lines = rec.time("Python: the tests", || {
-        run_capture(
-            Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", std::env::current_exe().unwrap_or_default()).args([
-                "-m",
+    });
+    let wheel = env.and_then(|()| {
+        rec.time("Python: build and install the wheel, build the command", || {
+            let wheels = target.join("wheels");
+            let _ = std::fs::remove_dir_all(&wheels);
+            run(Command::new(venv.join("bin/maturin")).current_dir(&root).args(["build", "--release", "-m", "python/Cargo.toml", "-i"]).arg(&py).arg("-o").arg(&wheels), "maturin build")?;
+            let wheel = std::fs::read_dir(&wheels)
+                .map_err(|e| format!("{}: {e}", wheels.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .find(|p| p.extension().is_some_and(|x| x == "whl"))
+                .ok_or("maturin wrote no wheel")?;
+            run(Command::new(&py).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel), "pip install the wheel")?;
+            // The tests compare with the `signorini` command's files: build it (a
+            // no-op after `cargo test`) and tell them where it is.
+            run(Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "signorini-cli", "--bin", "signorini"]), "cargo build signorini")
+        })
+    });
+    let python_ready = match wheel {
+        Ok(()) => true,
+        Err(e) => {
+            failed.push((e, false));
+            not_run.push("the Python tests");
+            false
+        }
+    };
+    // The xtask binary the Python tests run: `cargo test` builds
+    // target/release/xtask for xtask's own tests and may replace this
+    // running binary's file (its features unified over the workspace), and
+    // then /proc/self/exe names a deleted file: the path, when it is there.
+    let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
+    if python_ready {
+        let (lines, r) = rec.time("Python: the tests", || {
+            Ok(run_capture(
+                Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]),
                 "pytest",
-                "-q",
-                "python/tests",
-            ]),
-            "pytest",
-            a.record,
-        )
-    })?;
-    for l in lines.iter().filter(|l| l.contains(" passed") || l.contains(" failed")) {
-        rec.python.0 += count(l, "passed");
-        rec.python.1 += count(l, "failed");
-        rec.python.2 += count(l, "skipped");
+            ))
+        })?;
+        rec.python = python_counts(&lines);
+        if let Err(e) = r {
+            failed.push((e, rec.python.1 > 0));
+        }
     }
     if a.record {
         // Written once before the guide's build (which includes it: the
         // first record of a clone needs a file to include), once after.
-        write_record(&rec, cold, start.elapsed().as_secs_f64(), &cargo, &py)?;
+        if let Err(e) = write_record(&rec, cold, start.elapsed().as_secs_f64(), &cargo, &py) {
+            failed.push((e, false));
+        }
     }
-    rec.time("the guide: generated tables checked, `mkdocs build --strict`", || {
+    let guide = rec.time("the guide: generated tables checked, `mkdocs build --strict`", || {
         crate::docs::check(&root).map_err(|e| format!("cargo xtask docs --check:\n{e}"))?;
+        if !python_ready {
+            return Err("mkdocs build --strict not run: no Python environment".into());
+        }
         run(
             Command::new(venv.join("bin/mkdocs")).current_dir(&root).env("NO_MKDOCS_2_WARNING", "1").args(["build", "--strict", "--quiet", "-f", "mkdocs.yml", "-d"]).arg(target.join("site")),
             "mkdocs build --strict (the guide; warnings are errors)",
         )
-    })?;
-    if a.record {
-        write_record(&rec, cold, start.elapsed().as_secs_f64(), &cargo, &py)?;
+    });
+    if let Err(e) = guide {
+        failed.push((e, false));
     }
-    Ok(())
+    if a.record {
+        if let Err(e) = write_record(&rec, cold, start.elapsed().as_secs_f64(), &cargo, &py) {
+            failed.push((e, false));
+        }
+    }
+    for (e, _) in &failed {
+        eprintln!("error: {e}");
+    }
+    let (detail, total) = verdict_lines(&rec, &failed, &not_run, a.python_only.then_some("the Rust tests and the lints (--python-only)"));
+    println!("{detail}");
+    println!("{total}");
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        // The errors are printed above the verdict, which stays the last line.
+        Err(crate::Failure::Reported)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lines(s: &str) -> Vec<String> {
+        s.lines().map(String::from).collect()
+    }
+
+    /// Issue 31 §12: the command ends with one line totalling every test,
+    /// in the form CI reads, after the verdict per language.
+    #[test]
+    fn the_last_line_totals_every_test() {
+        let rust = lines(
+            "running 3 tests\ntest a ... ok\ntest result: ok. 3 passed; 0 failed; 1 ignored; 0 measured; 0 filtered out; finished in 0.1s\n\
+             running 0 tests\ntest result: ok. 0 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out\n\
+             test result: FAILED. 438 passed; 2 failed; 0 ignored; 0 measured; 0 filtered out; finished in 9s",
+        );
+        assert_eq!(rust_counts(&rust), (441, 2, 1));
+        let py = lines("....F..s\nFAILED python/tests/test_x.py::test_y - AssertionError: 2 passed, 9 failed in 1.0s?\n1 failed, 110 passed, 3 skipped, 1 error in 15.20s");
+        assert_eq!(python_counts(&py), (110, 2, 3));
+        assert_eq!(python_counts(&lines("========= 114 passed in 15.32s =========")), (114, 0, 0));
+        let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (114, 0, 0) };
+        let (detail, total) = verdict_lines(&rec, &[], &[], None);
+        assert_eq!(detail, "signorini tests: PASS — 443 passed, 0 failed, 1 ignored (Rust); 114 passed, 0 failed, 0 skipped (Python)");
+        assert_eq!(total, "tests: 557 passed, 0 failed");
+        // A failed test fails the verdict; its phase is not counted twice.
+        let rec = Record { phases: Vec::new(), rust: (441, 2, 1), python: (114, 0, 0) };
+        let (detail, total) = verdict_lines(&rec, &[("cargo test failed (exit status: 101)".into(), true)], &[], None);
+        assert!(detail.starts_with("signorini tests: FAIL — 441 passed, 2 failed") && detail.ends_with("; failed: cargo test failed (exit status: 101)"), "{detail}");
+        assert_eq!(total, "tests: 555 passed, 2 failed");
+        // A lint that fails, and Python that could not run: failed, never "0 failed".
+        let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (0, 0, 0) };
+        let (detail, total) = verdict_lines(&rec, &[("cargo clippy -D warnings failed".into(), false), ("maturin build failed".into(), false)], &["the Python tests"], None);
+        assert!(detail.starts_with("signorini tests: FAIL") && detail.contains("not run: the Python tests"), "{detail}");
+        assert_eq!(total, "tests: 443 passed, 3 failed");
+    }
 }

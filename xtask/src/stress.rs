@@ -11,20 +11,20 @@ pub struct Args {
     #[arg(long, default_value = "out/stress")]
     out: PathBuf,
     /// Steps per run.
-    #[arg(long, default_value_t = 100_000)]
+    #[arg(long, default_value_t = 100_000, allow_hyphen_values = true, value_parser = crate::whole)]
     steps: usize,
     /// Elements.
-    #[arg(long, default_value_t = 40)]
+    #[arg(long, default_value_t = 40, allow_hyphen_values = true, value_parser = crate::whole)]
     elements: usize,
     /// Random seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
 }
 
 /// Runs the study.
-pub fn run_stress(a: Args) -> Result<(), String> {
+pub fn run_stress(a: Args) -> Result<(), crate::Failure> {
     let cfg = stress::Config { out: a.out, steps: a.steps, elements: a.elements, seed: a.seed };
-    let out = stress::run(&cfg, &|_, _| {}).map_err(|e| e.to_string())?;
+    let out = stress::run(&cfg, &|_, _| {})?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

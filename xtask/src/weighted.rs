@@ -12,14 +12,14 @@ pub struct Args {
     out: PathBuf,
     /// Horizon of the figure runs (the paper's figures show [0, 3]; the
     /// phase and energy tables use 3 and 30).
-    #[arg(long = "t-end", default_value_t = 30.0, allow_negative_numbers = true)]
+    #[arg(long = "t-end", default_value_t = 30.0, allow_hyphen_values = true)]
     t_end: f64,
 }
 
 /// Runs the study.
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), crate::Failure> {
     let cfg = weighted::Config { out: a.out, t_end: a.t_end };
-    let out = crate::with_progress_bar(|p| weighted::run(&cfg, p)).map_err(|e| e.to_string())?;
+    let out = crate::with_progress_bar(|p| weighted::run(&cfg, p))?;
     crate::notes(&out.notes);
     print!("{}", out.report);
     Ok(())

@@ -32,11 +32,20 @@
 //! * `statistics.csv`: `scene,dt,elements,statistic,mean,ci_low,ci_high,finest_mean,rel_diff,within_ci,kind`
 //!   — `rel_diff = mean/finest_mean − 1` against the scene's finest level
 //!   (smallest dt, then largest J), `within_ci` 1 when the two intervals
-//!   overlap, `kind` `converges` or `step-dependent` (as declared above);
-//! * `statistics.svg`: |rel_diff| against dt at the largest J.
+//!   overlap, `kind` `converges` or `step-dependent` (as declared above:
+//!   what the statistic is expected to do, not a verdict);
+//! * `statistics.svg`: |rel_diff| against dt at the largest J (not drawn,
+//!   with a note, when that J has no level but the finest: one dt given).
+//!
+//! The report's last column is the verdict of each level against the finest
+//! ([`verdict`]): the two 95 % intervals overlap (`agrees`), or they do not
+//! — then a statistic expected to converge is `undecided` at that level (a
+//! coarse level's discretisation error and a statistic that does not
+//! converge look alike from one pair of levels), a step-dependent one
+//! `differs`.
 
 use crate::{create_dir, fde, fe, int, since, txt, Kind, StudyError, TableOut};
-use signorini_plot::{line_chart, Chart, Scale, Series, Style};
+use signorini_plot::{Chart, Scale, Series, Style};
 use signorini_run::stats::{batch_means, Interval};
 use signorini_run::{run as run_steps, ImpactObserver, Observer, RunConfig, RunError, Sample};
 use signorini_scene::{Limits, Scene, SceneFile};
@@ -129,6 +138,23 @@ impl Config {
             return Err(StudyError::config("--window", format!("--window {}: {steps:.2e} steps at the smallest dt, allowed at most 2e9", self.window)));
         }
         Ok(())
+    }
+}
+
+/// The verdict of a level's interval `c` against the finest level's `f`
+/// for a statistic expected to converge (`step_dependent` false) or not:
+/// `agrees` when the intervals overlap, else `undecided` (expected to
+/// converge) or `differs` (step-dependent). The finest level itself is
+/// `finest`.
+pub fn verdict(c: &Interval, f: &Interval, step_dependent: bool, finest: bool) -> &'static str {
+    if finest {
+        "finest"
+    } else if c.low <= f.high && f.low <= c.high {
+        "agrees (intervals overlap)"
+    } else if step_dependent {
+        "differs (intervals apart; step-dependent)"
+    } else {
+        "undecided (intervals apart)"
     }
 }
 
@@ -280,7 +306,13 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         "statistics.csv",
         &[("scene", s_), ("dt", f_), ("elements", i_), ("statistic", s_), ("mean", f_), ("ci_low", f_), ("ci_high", f_), ("finest_mean", f_), ("rel_diff", f_), ("within_ci", i_), ("kind", s_)],
     )?;
-    let mut md = format!("# Beam statistics over {} forcing periods after {} ({} batches, 95 % batch-means intervals; output in {})\n", a.window, a.transient, a.batches, a.out.display());
+    let mut md = format!(
+        "# Beam statistics over {} forcing periods after {} ({} batches, 95 % batch-means intervals; output in {})\n\n`expected`: what the statistic is expected to do as dt → 0. Last column: a level *agrees* with the finest when their intervals overlap; when they do not, a statistic expected to converge is *undecided* at that level (a coarse level's error and a statistic that does not converge look alike from one pair of levels), a step-dependent one *differs*.\n",
+        a.window,
+        a.transient,
+        a.batches,
+        a.out.display()
+    );
     let w_ = |r: std::fmt::Result| r.expect("writing to a String");
     let mut series = Vec::new();
     let jmax = a.elements.iter().copied().max().expect("validated");
@@ -290,7 +322,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         let finest = *idx.iter().min_by(|&&x, &&y| cases[x].1.total_cmp(&cases[y].1).then(cases[y].2.cmp(&cases[x].2))).expect("one case at least");
         w_(writeln!(
             md,
-            "\n## {sname} (finest: dt = {:e}, J = {})\n\n| statistic | kind | dt | J | mean [95 % interval] | relative to the finest |\n|---|---|---|---|---|---|",
+            "\n## {sname} (finest: dt = {:e}, J = {})\n\n| statistic | expected | dt | J | mean [95 % interval] | relative to the finest | against the finest |\n|---|---|---|---|---|---|---|",
             cases[finest].1, cases[finest].2
         ));
         for (k, (stat, dep)) in STATISTICS.iter().enumerate() {
@@ -302,8 +334,10 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
                 let rel = c.mean / f.mean - 1.0;
                 let within = c.low <= f.high && f.low <= c.high;
                 t.row(vec![txt(sname), fde(cases[i].1), int(cases[i].2), txt(*stat), fe(c.mean, 6), fe(c.low, 6), fe(c.high, 6), fe(f.mean, 6), fe(rel, 4), int(usize::from(within)), txt(kind)])?;
-                w_(writeln!(md, "| {stat} | {kind} | {:e} | {} | {:.4} [{:.4}, {:.4}] | {:+.2} % |", cases[i].1, cases[i].2, c.mean, c.low, c.high, 100.0 * rel));
-                if cases[i].2 == jmax && i != finest {
+                let shown = if rel.is_finite() { format!("{:+.2} %", 100.0 * rel) } else { "—".to_string() };
+                w_(writeln!(md, "| {stat} | {kind} | {:e} | {} | {:.4} [{:.4}, {:.4}] | {shown} | {} |", cases[i].1, cases[i].2, c.mean, c.low, c.high, verdict(&c, &f, *dep, i == finest)));
+                // Log-log: a zero or undefined difference has no point.
+                if cases[i].2 == jmax && i != finest && rel.is_finite() && rel != 0.0 {
                     pts.push((cases[i].1, rel.abs()));
                 }
             }
@@ -314,9 +348,12 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     }
     let tables = vec![t.finish()?];
     let chart = Chart { title: "beam statistics: relative difference to the finest dt", x_label: "dt (s)", y_label: "|mean / finest − 1|", scale: Scale::LogLog, size: (800, 560) };
-    let svg = line_chart(&chart, &series).map_err(StudyError::Plot)?;
-    crate::write_file(&a.out.join("statistics.svg"), &svg)?;
+    let why = format!("it shows the difference to the finest level against dt at J = {jmax}, and no time step but the finest has a nonzero difference there (--dts {:?}); the comparison is in the report and statistics.csv", a.dts);
+    let notes: Vec<String> = crate::draw_or_skip(&a.out, "statistics.svg", &chart, &series, &why)?.into_iter().collect();
+    if !notes.is_empty() {
+        w_(writeln!(md, "\nNo plot: at J = {jmax} no time step but the finest has a nonzero difference to it (statistics.svg not drawn)."));
+    }
     let wall_s = since(start);
     w_(writeln!(md, "\nwrote {} in {wall_s:.1} s", a.out.display()));
-    Ok(Output { tables, report: md, wall_s, notes: Vec::new() })
+    Ok(Output { tables, report: md, wall_s, notes })
 }

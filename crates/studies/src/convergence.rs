@@ -234,11 +234,12 @@ pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output,
     }
     let (results, wall_s, tables) = sweep_into_reduced(&study_cfg, cfg.reduce, &out, "", cfg.clean, progress, &mut notes)?;
     let mut report = format!(
-        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}{}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",
+        "# Convergence: {}, dx/dt = {}, T = {}, m = {:?}, P{} elements{}{}\n\nLeast-squares rates of the error against dx (CSV: {}).\n\n",
         study_cfg.benchmark,
         study_cfg.ratio,
         study_cfg.t_end,
         study_cfg.levels,
+        study_cfg.degree,
         if study_cfg.norms == NormKind::Exact { "" } else { " — GetFEM-demo norms: errors of the nodal interpolant, relative" },
         match cfg.reduce {
             None => String::new(),

@@ -382,6 +382,29 @@ pub(crate) fn run_cases<C: Sync, T: Send>(cases: &[C], progress: &(dyn Fn(u64, u
     results
 }
 
+/// Whether `line_chart` has a point of `series` to draw on `scale`'s axes
+/// (finite, and positive on a log-log chart).
+pub(crate) fn drawable(series: &[signorini_plot::Series], scale: signorini_plot::Scale) -> bool {
+    series.iter().flat_map(|s| &s.points).any(|p| p.0.is_finite() && p.1.is_finite() && (scale == signorini_plot::Scale::Linear || (p.0 > 0.0 && p.1 > 0.0)))
+}
+
+/// Draws `series` as a line chart into `dir/file`; when there is nothing
+/// to draw (see [`drawable`]) the chart is skipped, a file of that name
+/// left by an earlier run removed (it would pass for this run's), and the
+/// note returned, saying why (`why`).
+pub(crate) fn draw_or_skip(dir: &Path, file: &str, chart: &signorini_plot::Chart<'_>, series: &[signorini_plot::Series], why: &str) -> Result<Option<String>, StudyError> {
+    let path = dir.join(file);
+    if !drawable(series, chart.scale) {
+        if path.exists() {
+            std::fs::remove_file(&path).map_err(|source| StudyError::Io { path: path.clone(), source })?;
+        }
+        return Ok(Some(format!("note: {file} not drawn: {why}")));
+    }
+    let svg = signorini_plot::line_chart(chart, series).map_err(StudyError::Plot)?;
+    write_file(&path, &svg)?;
+    Ok(None)
+}
+
 /// Writes an SVG (or any text) file.
 pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), StudyError> {
     std::fs::write(path, text).map_err(|source| StudyError::Io { path: path.to_path_buf(), source })

@@ -286,7 +286,9 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
             let slope = PERIOD * signorini_run::study::lsq_slope(&drifts);
             let r = norms.report();
             su.row(vec![txt(&sn), txt(&mn), int(m), fe(r.linf_l2_u, 6), fe(r.l2_l2_u, 6), fe(slope, 4), fe(energy.0, 8)])?;
-            md.push_str(&format!("| {sn} | {mn} | {m} | {:.3e} | {:.3e} | {:.3e} | {slope:+.2e} | {:.5} |\n", watch.per_period[0], watch.per_period[periods - 1], r.linf_l2_u, energy.0));
+            // A drift needs two impacts (a horizon of one period has one).
+            let drift = if slope.is_finite() { format!("{slope:+.2e}") } else { "—".to_string() };
+            md.push_str(&format!("| {sn} | {mn} | {m} | {:.3e} | {:.3e} | {:.3e} | {drift} | {:.5} |\n", watch.per_period[0], watch.per_period[periods - 1], r.linf_l2_u, energy.0));
             done += 1;
             progress(done, total);
         }

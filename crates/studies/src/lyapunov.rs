@@ -13,6 +13,9 @@
 //! The horizon is the time for a round-off of 1e-16 relative to the largest
 //! displacement of a contact dof over the window to grow to 1 mm at
 //! `λ_max`: `ln(1e-3 / (1e-16 · scale)) / λ_max` (empty when λ_max <= 0).
+//! The report states a horizon only when the whole interval is above 0:
+//! when it contains 0 the sign of λ is undecided, and the report says so
+//! ([`horizon_cells`]).
 //!
 //! Cases: every scene of `scenes` at its own dt and J; the scenes of
 //! `refine` again at every `dts` × `elements` (what λ_max does under
@@ -272,6 +275,23 @@ impl Flow for ScaleWatch<'_> {
     }
 }
 
+/// The report's e-folding time and horizon of an exponent `lambda` with
+/// 95 % interval `ci` and horizon `horizon` (s, at `lambda`): both only
+/// when the whole interval is above 0; `∞` when it is below 0; when it
+/// contains 0 the sign of λ is undecided, and so is the horizon.
+pub fn horizon_cells(lambda: f64, ci: (f64, f64), horizon: f64) -> (String, String) {
+    if ci.0 <= 0.0 && 0.0 <= ci.1 {
+        ("—".into(), "undecided (the interval contains 0)".into())
+    } else if ci.1 < 0.0 {
+        ("—".into(), "∞ (λ < 0)".into())
+    } else if lambda > 0.0 && horizon.is_finite() {
+        (format!("{:.1} ms", 1e3 / lambda), format!("{horizon:.2}"))
+    } else {
+        // An interval of NaNs (a failed estimate): nothing to say.
+        ("—".into(), "—".into())
+    }
+}
+
 /// The exact λ_max of the oscillator's period-1 orbit at Ω and its largest |μ|.
 fn oscillator_exact(omega: f64) -> Option<(f64, f64)> {
     let o = ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).ok()?;
@@ -320,8 +340,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         let r = r?;
         let horizon = r.horizon.is_finite().then(|| fe(r.horizon, 4));
         ly.row(vec![txt(&r.scene), fde(r.dt), int(r.elements), fe(r.lambda, 6), fe(r.ci.0, 6), fe(r.ci.1, 6), opt(horizon)])?;
-        let efold = if r.lambda > 0.0 { format!("{:.1} ms", 1e3 / r.lambda) } else { "—".into() };
-        let hz = if r.horizon.is_finite() { format!("{:.2}", r.horizon) } else { "∞ (λ ≤ 0)".into() };
+        let (efold, hz) = horizon_cells(r.lambda, r.ci, r.horizon);
         w_(writeln!(md, "| {} | {:e} | {} | {:+.3} | [{:+.3}, {:+.3}] | {efold} | {hz} |", r.scene, r.dt, r.elements, r.lambda, r.ci.0, r.ci.1));
         if let (Some(w), Some(t)) = (r.omega, osc.as_mut()) {
             let ex = oscillator_exact(w);

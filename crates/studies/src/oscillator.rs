@@ -16,7 +16,7 @@
 
 use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, TableOut};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
-use signorini_plot::{line_chart, Chart, Scale, Series, Style};
+use signorini_plot::{Chart, Scale, Series, Style};
 use signorini_run::study::rate;
 use signorini_scene::Limits;
 use signorini_sweep::{simulate, Sweep, SweepOptions};
@@ -67,6 +67,17 @@ impl Config {
         }
         if !(self.record.is_finite() && self.record > 0.0) {
             return Err(StudyError::config("--record", format!("--record {}: allowed finite and > 0", self.record)));
+        }
+        // The study compares with the one period-1 orbit of each Ω (closed
+        // form, cheap): an Ω without exactly one is refused before any run.
+        for &w in &self.omegas {
+            let n = exact(w).map(|o| o.period1_orbits().len()).unwrap_or(0);
+            if n != 1 {
+                return Err(StudyError::config(
+                    "--omegas",
+                    format!("--omegas {w}: the scene has {n} admissible period-1 orbits there; allowed the frequencies with exactly one (the stable range, about 1.6 … 2.2)"),
+                ));
+            }
         }
         Ok(())
     }
@@ -124,6 +135,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let mut series = Vec::new();
     let mut report = String::new();
     let w_ = |r: std::fmt::Result| r.expect("writing to a String");
+    // A rate needs two time steps: with one, the cell says so.
+    let shown = |r: f64| if r.is_finite() { format!("{r:.2}") } else { "—".to_string() };
     w_(writeln!(
         report,
         "# Impact oscillator against its exact period-1 orbits\n\n| Ω | V exact | |μ| | velocity error (relative) at dt = {} … {} | rate | phase error (rad) | rate |\n|---|---|---|---|---|---|---|",
@@ -149,22 +162,21 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         rates.row(vec![fd(w), ff(rv.lsq, 4), ff(rv.last, 4), ff(rp.lsq, 4), ff(rp.last, 4)])?;
         w_(writeln!(
             report,
-            "| {w} | {:.6} | {:.3} | {:.2e} … {:.2e} | {:.2} | {:.2e} … {:.2e} | {:.2} |",
+            "| {w} | {:.6} | {:.3} | {:.2e} … {:.2e} | {} | {:.2e} … {:.2e} | {} |",
             o.impact_velocity,
             o.multipliers[0].abs(),
             ev[0].1,
             ev[ev.len() - 1].1,
-            rv.lsq,
+            shown(rv.lsq),
             ep[0].1,
             ep[ep.len() - 1].1,
-            rp.lsq
+            shown(rp.lsq)
         ));
         series.push(Series { label: format!("Ω = {w}"), points: ev, reference: false, style: Style::default() });
     }
     let mut tables = vec![orbits.finish()?, rates.finish()?];
     let chart = Chart { title: "impact oscillator: impact velocity error against the exact period-1 orbit", x_label: "dt", y_label: "max relative error", scale: Scale::LogLog, size: (800, 560) };
-    let svg = line_chart(&chart, &series).map_err(StudyError::Plot)?;
-    crate::write_file(&a.out.join("errors.svg"), &svg)?;
+    let notes: Vec<String> = crate::draw_or_skip(&a.out, "errors.svg", &chart, &series, "no impact velocity error above 0 to draw on its log-log axes")?.into_iter().collect();
     // Grazing: from the non-impacting steady state of each Ω.
     let wg = exact(2.0)?.grazing_frequencies();
     let mut graz = TableOut::create(&a.out, "grazing.csv", &[("omega", f_), ("offset", f_), ("impacts", i_), ("first_velocity", f_)])?;
@@ -185,5 +197,5 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     tables.push(graz.finish()?);
     let wall_s = since(start);
     w_(writeln!(report, "\nwrote {} in {wall_s:.1} s", a.out.display()));
-    Ok(Output { tables, report, wall_s, notes: Vec::new() })
+    Ok(Output { tables, report, wall_s, notes })
 }

@@ -59,7 +59,25 @@ pub struct TimeError {
     pub linf_energy: f64,
     /// The reference's events.
     pub events: usize,
+    /// The scale of each quantity, in the order of the four errors above:
+    /// the reference's own `max_n √(Uᵀ M U)`, `max_n √(Uᵀ K U)`,
+    /// `(Σ_n dt λ²)^{1/2}` and `max_n |E|`. An error below [`ROUND_OFF`]
+    /// times its scale is round-off.
+    pub scales: [f64; 4],
 }
+
+/// An error at most `ROUND_OFF` times its quantity's scale
+/// ([`TimeError::scales`]) is round-off, and no rate is fitted through it.
+/// Measured: `event-driven(1)` conserves the energy exactly, and its
+/// energy error against the closed form (pure round-off) grows with the
+/// level, from 1.5e-14 of the energy at m = 10 to 5.3e-11 at m = 640
+/// (19,200 steps of 640 dofs, `bar-dirichlet`, `dx/dt = 10`), while the
+/// smallest error of a scheme or of the space discretisation measured there
+/// (the default schemes with std, lumped and mod, m = 10 … 640) is 4.5e-5
+/// (`ps-e1`, mod, m = 640, L∞(L²)), above 1e-5 of its scale. 1e-9 lies
+/// between: 20 times the largest round-off measured, 1e-4 of the smallest
+/// error.
+pub const ROUND_OFF: f64 = 1e-9;
 
 /// The event-driven reference of `scheme` on `mass`: its own restitution,
 /// else 0; always 0 with a massless contact node (it lands without an
@@ -114,6 +132,22 @@ pub fn run_group(
     };
     let build = |s: &SchemeSpec| s.build(dy.clone(), dt, &initial).map_err(|e| StudyError::Run(format!("{s}, {mass}, m = {m}: {e}")));
     let mut b = build(&reference)?;
+    // The reference's magnitudes: the scales of the four errors.
+    let mut scales = [0.0f64; 4];
+    let mut lam2 = 0.0;
+    let mut scale = |b: &mut dyn Stepper, first: bool| {
+        let u = b.displacement();
+        scales[0] = scales[0].max(dy.mass.quad_form(u).max(0.0).sqrt());
+        scales[1] = scales[1].max(dy.stiffness.quad_form(u).max(0.0).sqrt());
+        if !first {
+            lam2 += dt * b.contact_forces().iter().map(|l| l * l).sum::<f64>();
+            scales[2] = lam2.sqrt();
+        }
+        if let Some(e) = b.energy() {
+            scales[3] = scales[3].max(e.1.abs());
+        }
+    };
+    scale(b.as_mut(), true);
     /// A scheme's lane: its stepper, its sums, whether it has started
     /// (a two-step scheme starts a level late) or blown up.
     struct Lane {
@@ -133,6 +167,7 @@ pub fn run_group(
     start(&mut lanes, b.as_mut());
     while b.level() < steps {
         b.step().map_err(|err| StudyError::Run(format!("{reference}, {mass}, m = {m}: {err}")))?;
+        scale(b.as_mut(), false);
         for l in lanes.iter_mut().filter(|l| l.started && !l.failed) {
             if l.a.step().is_err() {
                 // A blow-up: no error to report.
@@ -151,7 +186,7 @@ pub fn run_group(
         .map(|(&scheme, l)| {
             // A lane that never met the reference's level has no error.
             let Acc { l2u, lv, lam2, len, .. } = if l.started { l.acc } else { Acc { l2u: f64::NAN, lv: f64::NAN, lam2: f64::NAN, len: f64::NAN, e: Vec::new() } };
-            TimeError { scheme, reference, mass, m, dx, dt, steps, linf_l2_u: l2u, linf_v_u: lv, l2_lambda: lam2.sqrt(), linf_energy: len, events }
+            TimeError { scheme, reference, mass, m, dx, dt, steps, linf_l2_u: l2u, linf_v_u: lv, l2_lambda: lam2.sqrt(), linf_energy: len, events, scales }
         })
         .collect())
 }
@@ -182,12 +217,33 @@ impl Acc {
     }
 }
 
-/// A least-squares rate in the tables (`-` without two points).
-fn fmt_rate(r: f64) -> String {
+/// Whether `error` is round-off against `scale` ([`ROUND_OFF`]).
+fn is_round_off(error: f64, scale: f64) -> bool {
+    error <= ROUND_OFF * scale
+}
+
+/// The least-squares rate of `(h, error, scale)` points through the levels
+/// whose error is above round-off; `round-off` when round-off leaves fewer
+/// than two of them, `-` when there are fewer than two levels.
+pub fn rate_cell(points: &[(f64, f64, f64)]) -> String {
+    let above: Vec<(f64, f64)> = points.iter().filter(|p| !is_round_off(p.1, p.2)).map(|p| (p.0, p.1)).collect();
+    if above.len() < 2 && above.len() < points.len() {
+        return "round-off".into();
+    }
+    let r = study::rate(&above).lsq;
     if r.is_finite() {
         format!("{r:.2}")
     } else {
         "-".into()
+    }
+}
+
+/// The finest level's error, marked when it is round-off.
+fn finest_cell(error: f64, scale: f64) -> String {
+    if is_round_off(error, scale) {
+        format!("{error:.2e} (round-off)")
+    } else {
+        format!("{error:.2e}")
     }
 }
 
@@ -295,6 +351,8 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
         ],
     )?;
     let mut space = Vec::new();
+    // The scales of the space errors: the same reference's magnitudes.
+    let scales_of = |r: &SchemeSpec, mass: BarMass, m: usize| results.iter().find(|x| label(&x.reference) == label(r) && x.mass == mass && x.m == m).map_or([f64::NAN; 4], |x| x.scales);
     // (reference, mass) pairs, each once: the references by name, each with
     // the masses (in the given order) on which a scheme uses it.
     let mut pairs: Vec<(SchemeSpec, BarMass)> = Vec::new();
@@ -323,17 +381,18 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
                 fe(v("l2_lambda"), 10),
                 fe(v("linf_energy"), 10),
             ])?;
-            space.push((label(r), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")]));
+            space.push((label(r), mass, lv.dx, [v("linf_l2_u"), v("linf_v_u"), v("l2_lambda"), v("linf_energy")], scales_of(r, mass, m)));
         }
     }
     tables.push(s.finish()?);
     // The report: rates against dt (least squares over the levels).
     let mut report = format!(
-        "# Time error against the exact semi-discrete solution: {}, dx/dt = {}, T = {}, m = {:?}{}\n\nEach scheme against `event-driven(e)` at the same level (its own restitution e, 0 for the projection schemes); least-squares rates against dt, then the finest level's error (CSV: {}).\n\n| scheme | mass | reference |",
+        "# Time error against the exact semi-discrete solution: {}, dx/dt = {}, T = {}, m = {:?}, P{} elements{}\n\nEach scheme against `event-driven(e)` at the same level (its own restitution e, 0 for the projection schemes); least-squares rates against dt, then the finest level's error (CSV: {}). An error at most {ROUND_OFF:e} times the reference's own size of that quantity (max √(UᵀMU), max √(UᵀKU), (Σ dt λ²)^½, max |E|) is round-off: no rate is fitted through it, and a rate with fewer than two levels above round-off reads `round-off`.\n\n| scheme | mass | reference |",
         cfg.benchmark,
         cfg.ratio,
         cfg.t_end,
         cfg.levels,
+        cfg.degree,
         match reduce {
             None => String::new(),
             Some(Keep::Modes(r)) => format!(" — reduced model (docs/theory.md §2.5), {r} modes, in its own norms"),
@@ -352,10 +411,9 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
             let rows: Vec<&TimeError> = results.iter().filter(|r| r.scheme == sch && r.mass == mass).collect();
             let Some(finest) = rows.iter().min_by(|a, b| a.dt.total_cmp(&b.dt)) else { continue };
             report.push_str(&format!("| {sch} | {mass} | {} |", label(&finest.reference)));
-            for (q, _) in QUANTITIES {
-                let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.dt, value(r, q))).collect();
-                let rate = fmt_rate(study::rate(&pts).lsq);
-                report.push_str(&format!(" {rate} | {:.2e} |", value(finest, q)));
+            for (k, (q, _)) in QUANTITIES.iter().enumerate() {
+                let pts: Vec<(f64, f64, f64)> = rows.iter().map(|r| (r.dt, value(r, q), r.scales[k])).collect();
+                report.push_str(&format!(" {} | {} |", rate_cell(&pts), finest_cell(value(finest, q), finest.scales[k])));
             }
             report.push('\n');
         }
@@ -372,9 +430,8 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
         let Some(finest) = rows.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else { continue };
         report.push_str(&format!("| {} | {mass} |", label(r)));
         for k in 0..QUANTITIES.len() {
-            let pts: Vec<(f64, f64)> = rows.iter().map(|x| (x.2, x.3[k])).collect();
-            let rate = fmt_rate(study::rate(&pts).lsq);
-            report.push_str(&format!(" {rate} | {:.2e} |", finest.3[k]));
+            let pts: Vec<(f64, f64, f64)> = rows.iter().map(|x| (x.2, x.3[k], x.4[k])).collect();
+            report.push_str(&format!(" {} | {} |", rate_cell(&pts), finest_cell(finest.3[k], finest.4[k])));
         }
         report.push('\n');
     }

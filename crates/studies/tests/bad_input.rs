@@ -80,6 +80,11 @@ fn oscillator_refuses_empty_dts_and_a_negative_frequency() {
     assert_field(oscillator::run(&cfg, NO_PROGRESS).map(|_| ()), "--dts", &out);
     let cfg = oscillator::Config { out: out.clone(), omegas: vec![2.0, -1.0], ..Default::default() };
     assert_field(cfg.validate(), "--omegas", &out);
+    // Issue 31 §3: Ω = 3 has no admissible period-1 orbit, which the study
+    // found only after every run (then failed, its folder written); now
+    // refused before any.
+    let cfg = oscillator::Config { out: out.clone(), omegas: vec![2.0, 3.0], dts: vec![1e-3], ..Default::default() };
+    assert_field(oscillator::run(&cfg, NO_PROGRESS).map(|_| ()), "--omegas", &out);
 }
 
 #[test]

@@ -77,3 +77,42 @@ fn short_windows_and_few_batches_are_refused() {
     refused(beam_statistics::Config { dts: vec![-1e-5], ..base() }, "--dts", "(0, 1e-3]");
     refused(beam_statistics::Config { episode_gap: -1.0, ..base() }, "--episode-gap", "[0, 1]");
 }
+
+/// Issue 31 §3: one time step (nothing to compare against dt) computed
+/// everything, then failed on the plot ("nothing to plot") without a report.
+/// Now the study finishes: the report and the CSV, no `statistics.svg`
+/// (an earlier run's is removed), and a note saying why.
+#[test]
+fn one_time_step_gives_the_report_and_skips_the_plot() {
+    let out = std::env::temp_dir().join(format!("signorini-studies-beam-stats-one-dt-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("statistics.svg"), "<svg>an earlier run's</svg>").unwrap();
+    let cfg = beam_statistics::Config { out: out.clone(), dts: vec![5e-5], elements: vec![19], transient: 1.0, window: 10.0, batches: 10, ..Default::default() };
+    let o = beam_statistics::run(&cfg, &|_, _| {}).expect("one dt is a complete study");
+    // Every statistic once, each its own finest level.
+    assert_eq!(col_s(&o.tables[0], "statistic").len(), beam_statistics::STATISTICS.len());
+    assert!(o.report.contains("| impact_power | converges | 5e-5 | 19 |") && o.report.contains("| finest |"), "{}", o.report);
+    assert!(out.join("statistics.csv").exists());
+    assert!(!out.join("statistics.svg").exists(), "a stale statistics.svg was left");
+    assert!(o.notes.iter().any(|n| n.contains("statistics.svg not drawn")), "{:?}", o.notes);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Issue 31 §9: a level whose interval does not overlap the finest's is no
+/// evidence of convergence. Intervals written here by hand.
+#[test]
+fn a_verdict_needs_overlapping_intervals() {
+    use signorini_run::stats::Interval;
+    let iv = |mean: f64, half: f64| Interval { mean, low: mean - half, high: mean + half, std_err: half / 2.09, batches: 20 };
+    // The reference's impact power: 36.04 ± 1.07 at dt = 5e-5, J = 38
+    // against the finest 33.03 ± 1.08: apart.
+    let (coarse, finest) = (iv(36.04, 1.07), iv(33.03, 1.08));
+    assert_eq!(beam_statistics::verdict(&coarse, &finest, false, false), "undecided (intervals apart)");
+    assert_eq!(beam_statistics::verdict(&coarse, &finest, true, false), "differs (intervals apart; step-dependent)");
+    // 34.47 ± 1.13 overlaps 33.03 ± 1.08 (34.11 > 33.34).
+    assert_eq!(beam_statistics::verdict(&iv(34.47, 1.13), &finest, false, false), "agrees (intervals overlap)");
+    // Touching intervals overlap; the finest is itself.
+    assert_eq!(beam_statistics::verdict(&iv(35.0, 0.5), &iv(34.0, 0.5), false, false), "agrees (intervals overlap)");
+    assert_eq!(beam_statistics::verdict(&finest, &finest, false, true), "finest");
+}

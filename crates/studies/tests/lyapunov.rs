@@ -109,3 +109,18 @@ fn bad_input_is_refused_naming_the_option() {
     refused(lyapunov::Config { per_period: 0, ..base() }, "--per-period", "[1, 10000]");
     refused(lyapunov::Config { scenes: vec![], refine: vec![], omegas: vec![], ..base() }, "--scenes", "at least one case");
 }
+
+/// Issue 31 §9: an interval that contains 0 leaves the sign of λ, and so the
+/// horizon, undecided (it printed "∞ (λ ≤ 0)" for −0.117 [−0.369, +0.134]).
+#[test]
+fn an_interval_containing_zero_gives_no_horizon() {
+    use lyapunov::horizon_cells;
+    let undecided = ("—".to_string(), "undecided (the interval contains 0)".to_string());
+    assert_eq!(horizon_cells(-0.117, (-0.369, 0.134), f64::NAN), undecided);
+    // λ > 0 with an interval reaching below 0: no finite horizon either.
+    assert_eq!(horizon_cells(0.05, (-0.01, 0.11), 644.0), undecided);
+    assert_eq!(horizon_cells(-0.12, (-0.124, -0.117), f64::NAN), ("—".to_string(), "∞ (λ < 0)".to_string()));
+    // fig. 2: 29.4 [27.7, 31.2] /s, 1/29.4 = 34.0 ms, 32.2/29.4 = 1.10 s.
+    let h = (1e-3 / (1e-16 * 0.1_f64)).ln() / 29.4;
+    assert_eq!(horizon_cells(29.4, (27.7, 31.2), h), ("34.0 ms".to_string(), "1.10".to_string()));
+}

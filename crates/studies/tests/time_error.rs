@@ -62,3 +62,50 @@ fn a_reduced_model_with_every_mode_has_the_full_models_time_error() {
         assert!((worst - g.linf_l2_u).abs() <= 1e-13 * worst, "{s}: {worst:e} paired here, {:e} in the study", g.linf_l2_u);
     }
 }
+
+/// Issue 31 §9: `event-driven(1)` conserves the energy, so its space error in
+/// the energy is round-off (1.3e-13 of an energy 1/8 at m = 80) and its
+/// "rate" (−1.91) was noise: the report says `round-off`. A time error above round-off keeps
+/// its rate. And the heading names the element degree.
+#[test]
+fn round_off_errors_get_no_rate_and_the_heading_names_the_degree() {
+    use signorini_studies::convergence::{run, Config, Reference};
+    use signorini_studies::time_error::{rate_cell, ROUND_OFF};
+    let out = std::env::temp_dir().join(format!("signorini-studies-time-error-round-off-{}", std::process::id()));
+    let cfg = Config {
+        schemes: vec!["ps-e1".parse().unwrap()],
+        masses: vec![BarMass::Std],
+        levels: vec![10, 20, 40],
+        out: Some(out.clone()),
+        clean: true,
+        reference: Reference::EventDriven,
+        ..Config::default()
+    };
+    let o = run(&cfg, &|_, _| {}).unwrap();
+    let space = o.report.lines().find(|l| l.starts_with("| event-driven(1) | std |")).unwrap_or_else(|| panic!("{}", o.report));
+    let cells: Vec<&str> = space.split('|').map(str::trim).collect();
+    // | reference | mass | 4 × (rate | finest) |: the energy's are the last two.
+    assert_eq!(cells[cells.len() - 3], "round-off", "{space}");
+    assert!(cells[cells.len() - 2].ends_with("(round-off)"), "{space}");
+    // The displacement's space error is no round-off: a rate.
+    assert!(cells[3].parse::<f64>().is_ok(), "{space}");
+    assert!(o.report.lines().next().unwrap().contains("P1 elements"), "{}", o.report);
+    let p2 = run(&Config { degree: 2, levels: vec![10, 20], ..cfg.clone() }, &|_, _| {}).unwrap();
+    assert!(p2.report.lines().next().unwrap().contains("P2 elements"), "{}", p2.report);
+    // Against the closed form too (its own report).
+    let exact = run(&Config { degree: 2, levels: vec![10, 20], reference: Reference::Exact, ..cfg }, &|_, _| {}).unwrap();
+    assert!(exact.report.starts_with("# Convergence: bar-dirichlet, dx/dt = 10, T = 3, m = [10, 20], P2 elements"), "{}", exact.report);
+    let _ = std::fs::remove_dir_all(&out);
+    // By hand: errors (h, e, scale) halving with h at first order, then at
+    // round-off; the rate is fitted through the first three only.
+    let pts = [(0.4, 4e-3, 1.0), (0.2, 2e-3, 1.0), (0.1, 1e-3, 1.0), (0.05, 0.5 * ROUND_OFF, 1.0)];
+    assert_eq!(rate_cell(&pts), "1.00");
+    assert_eq!(rate_cell(&[(0.2, 1.3e-13, 0.125), (0.1, 2.9e-13, 0.125)]), "round-off");
+    // The threshold: 1e-9 × 0.125 = 1.25e-10; one level at it leaves one.
+    // (m = 320 and 640 of the default study: 1.5e-12 and 6.7e-12, "-2.16" before.)
+    assert_eq!(rate_cell(&[(0.2, 1.4939716131e-12, 0.125), (0.1, 6.6659316955e-12, 0.125)]), "round-off");
+    assert_eq!(rate_cell(&[(0.2, 1.2e-10, 0.125), (0.1, 2.9e-10, 0.125)]), "round-off");
+    assert_eq!(rate_cell(&[(0.2, 1.3e-10, 0.125), (0.1, 2.9e-10, 0.125)]), "-1.16");
+    // Above round-off, a negative rate is reported as measured.
+    assert_eq!(rate_cell(&[(0.2, 1e-6, 0.125), (0.1, 4e-6, 0.125)]), "-2.00");
+}
