@@ -214,7 +214,7 @@ def test_an_event_driven_run_logs_its_events_at_the_closed_form_times(tmp_path, 
     assert all(k == "impact" for k in ev["kind"])
     assert np.allclose(ev["velocity_after"], -0.8 * ev["velocity_before"], rtol=1e-14, atol=0)
     # A time-stepping scheme has no event log.
-    assert signorini.run({**scene, "oscillator": {**scene["oscillator"], "scheme": "ps-e0.5"}}).events is None
+    assert signorini.run({**scene, "oscillator": {**scene["oscillator"], "scheme": "ps(0.8)"}}).events is None
     # The CLI writes the same rows.
     out = tmp_path / "ed"
     toml = "[oscillator]\n" + "".join(f"{k} = {v!r}\n".replace("'", '"') for k, v in scene["oscillator"].items()) + "[forcing]\namplitude = 1.0\nomega = 2.0\n"

@@ -58,7 +58,7 @@ fn resonant(t0: f64, x0: f64, v0: f64) -> impl Fn(f64) -> (f64, f64) {
 /// again (plastic), for 15 periods.
 #[test]
 fn a_held_plastic_oscillator_is_released_once_per_forcing_period() {
-    let mut one = |v: f64| {
+    let one = |v: f64| {
         let mut b = SymBand::zeros(1, 0);
         b.set(0, 0, v);
         b
@@ -176,7 +176,7 @@ proptest! {
     /// in time order.
     #[test]
     fn plastic_impacts_into_held_phases_complete(omega in prop_oneof![Just(0.5), Just(1.0), Just(1.1), 0.3f64..3.0], zeta in prop_oneof![Just(0.0), 0.0f64..0.2]) {
-        let mut one = |v: f64| {
+        let one = |v: f64| {
             let mut b = SymBand::zeros(1, 0);
             b.set(0, 0, v);
             b
