@@ -327,7 +327,7 @@ impl EventDriven {
     /// Advances to the next event, applies it and returns it (the located
     /// one; simultaneous impacts of other contacts are logged too), or to
     /// `t_end` if none comes before (then `None`). A run of events that
-    /// makes no progress in time (more than [`STALL`] per contact at one
+    /// makes no progress in time (more than 8 events per contact at one
     /// instant) stops with [`EventsError::NoProgress`] at once.
     pub fn next_event(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
         let event = self.next_event_unchecked(t_end)?;
