@@ -867,8 +867,7 @@ impl Analysis {
             return Ok(None);
         }
         // `poincare` without a forcing and an empty record window are refused by the scene's validation.
-        // The transient is in forcing periods (seconds without a forcing).
-        let record_from = omega.map_or(o.transient, |w| o.transient * std::f64::consts::TAU / w);
+        let record_from = o.record_from(omega);
         let mut cfg = VibroConfig::for_dynamics(dy, dt, omega, record_from, tip)?;
         cfg.t_end = Some(t_end);
         cfg.period_tol = o.period_tol.unwrap_or(cfg.period_tol);

@@ -602,6 +602,12 @@ pub enum Scene {
 }
 
 impl OutputToml {
+    /// Where the record window starts (s): the `transient` is in forcing
+    /// periods of `omega`, in seconds without a forcing.
+    pub fn record_from(&self, omega: Option<f64>) -> f64 {
+        omega.map_or(self.transient, |w| self.transient * std::f64::consts::TAU / w)
+    }
+
     /// The analysis window against the scene's clock: `poincare` needs a
     /// periodic forcing, and the record window after the `transient` must
     /// not be empty (it starts before the horizon).
@@ -613,17 +619,12 @@ impl OutputToml {
         if !(self.poincare || self.summary || self.impacts) {
             return Ok(());
         }
-        // The transient is in forcing periods (seconds without a forcing).
-        let (period, unit) = omega.map_or((1.0, "s"), |w| (std::f64::consts::TAU / w, "forcing periods"));
-        if self.transient * period >= t_end {
+        let from = self.record_from(omega);
+        if from >= t_end {
+            let (unit, most) = omega.map_or(("s", t_end), |w| ("forcing periods", t_end * w / std::f64::consts::TAU));
             return Err(field(
                 "output.transient",
-                format!(
-                    "{} {unit} ({} s) is not allowed: it reaches the horizon t_end = {t_end} s, so nothing would be recorded; allowed: [0, {}) {unit}",
-                    self.transient,
-                    self.transient * period,
-                    t_end / period
-                ),
+                format!("{} {unit} ({from} s) is not allowed: it reaches the horizon t_end = {t_end} s, so nothing would be recorded; allowed: [0, {most}) {unit}", self.transient),
             ));
         }
         Ok(())
@@ -1248,6 +1249,7 @@ impl SceneFile {
             RunError::Invalid { field: f, value, allowed } => field(f, format!("{value} is not allowed: {allowed}")),
             e => field("oscillator", e),
         })?;
+        let scheme = scheme.unwrap_or_else(|| osc.default_scheme());
         let dt = positive("oscillator.dt", o.dt)?;
         let t_end = if one_step { dt } else { positive("oscillator.t_end", o.t_end)? };
         if t_end / dt > 1e10 {
@@ -1265,17 +1267,17 @@ impl SceneFile {
     }
 }
 
-/// The oscillator's scheme and the restitution that acts (docs/scenes.md,
-/// "The oscillator's restitution"): a scheme with an impact law whose text
-/// states its e (`ps(0.5)`, `ps-e0.5`, `event-driven(0.8)`) takes that e, and
-/// `oscillator.restitution` may only repeat it; a scheme written by its
-/// family's name alone (`event-driven`, `moreau-jean`) or without its e takes
-/// `oscillator.restitution` (default 0), and is printed with it; no scheme key:
-/// `ps(r, 0.25)`.
-fn oscillator_scheme(o: &OscillatorToml) -> Result<(SchemeSpec, f64), SceneError> {
+/// The oscillator's scheme (`None`: the default, [`Oscillator::default_scheme`])
+/// and the restitution that acts (docs/vibro-impact.md, "Which restitution
+/// acts"): a scheme with an impact law whose text states its e (`ps(0.5)`,
+/// `ps-e0.5`, `event-driven(0.8)`) takes that e, and `oscillator.restitution`
+/// may only repeat it; a scheme written by its family's name alone
+/// (`event-driven`, `moreau-jean`) or without its e takes
+/// `oscillator.restitution` (default 0), and is printed with it.
+fn oscillator_scheme(o: &OscillatorToml) -> Result<(Option<SchemeSpec>, f64), SceneError> {
     let r = o.restitution.unwrap_or(0.0);
     let Some(text) = &o.scheme else {
-        return Ok((SchemeSpec::ps(r, 0.25), r));
+        return Ok((None, r));
     };
     let spec: SchemeSpec = text.parse().map_err(|e| field("oscillator.scheme", e))?;
     if spec.needs_massless_node() {
@@ -1288,7 +1290,7 @@ fn oscillator_scheme(o: &OscillatorToml) -> Result<(SchemeSpec, f64), SceneError
                 format!("acts only with a scheme that has an impact law ({}); {spec} has none: remove it or set it to 0, or choose ps", families_with(|c| c.restitution)),
             ));
         }
-        return Ok((spec, 0.0));
+        return Ok((Some(spec), 0.0));
     };
     let t = text.trim();
     let states_e = match t.split_once('(') {
@@ -1296,26 +1298,26 @@ fn oscillator_scheme(o: &OscillatorToml) -> Result<(SchemeSpec, f64), SceneError
         None => t != spec.family().name,
     };
     let e = spec.args()[at];
+    // The scheme with the e `r`.
+    let with_e = |r: f64| {
+        let mut args = spec.args().to_vec();
+        args[at] = r;
+        spec.family().with(&args)
+    };
     match o.restitution {
-        Some(r) if states_e && r != e => {
-            let mut args = spec.args().to_vec();
-            args[at] = r;
-            Err(field(
-                "oscillator.restitution",
-                format!(
-                    "{r} conflicts with oscillator.scheme = \"{t}\", whose e = {e} acts: give the restitution once (remove oscillator.restitution, or write it in the scheme: \"{}\")",
-                    spec.family().with(&args).call()
-                ),
-            ))
-        }
+        Some(r) if states_e && r != e => Err(field(
+            "oscillator.restitution",
+            format!(
+                "{r} conflicts with oscillator.scheme = \"{t}\", whose e = {e} acts: give the restitution once (remove oscillator.restitution, or write it in the scheme: \"{}\")",
+                with_e(r).call()
+            ),
+        )),
         Some(r) if !states_e => {
-            let mut args = spec.args().to_vec();
-            args[at] = r;
-            let spec = spec.family().with(&args);
+            let spec = with_e(r);
             spec.validate().map_err(|e| field("oscillator.restitution", e))?;
-            Ok((spec, r))
+            Ok((Some(spec), r))
         }
-        _ => Ok((spec, e)),
+        _ => Ok((Some(spec), e)),
     }
 }
 

@@ -565,13 +565,17 @@ impl EventDriven {
 
     /// `M⁻¹ (f(t) − C v − K q)`.
     fn free_acceleration(&self, t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
-        let mut rhs: Vec<f64> = (0..self.n).map(|r| self.loads.value(r, t)).collect();
-        for (r, x) in rhs.iter_mut().enumerate() {
+        self.minv_residual((0..self.n).map(|r| self.loads.value(r, t)).collect(), q, v)
+    }
+
+    /// `M⁻¹ (f − K x − C y)`.
+    fn minv_residual(&self, mut f: Vec<f64>, x: &[f64], y: &[f64]) -> Vec<f64> {
+        for (r, fr) in f.iter_mut().enumerate() {
             for s in 0..self.n {
-                *x -= self.k[(r, s)] * q[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * v[s]);
+                *fr -= self.k[(r, s)] * x[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * y[s]);
             }
         }
-        self.full.minv(&rhs)
+        self.full.minv(&f)
     }
 
     /// `M⁻¹ (f'(t) − C a − K v)`: the jerk of the free system (a scale for
@@ -579,13 +583,7 @@ impl EventDriven {
     fn free_jerk(&self, t: f64, v: &[f64], a: &[f64]) -> Vec<f64> {
         let mut piece = Piece::default();
         self.loads.piece_into(t, &mut piece);
-        let mut rhs: Vec<f64> = (0..self.n).map(|r| self.loads.rate(r, t, &piece)).collect();
-        for (r, x) in rhs.iter_mut().enumerate() {
-            for s in 0..self.n {
-                *x -= self.k[(r, s)] * v[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * a[s]);
-            }
-        }
-        self.full.minv(&rhs)
+        self.minv_residual((0..self.n).map(|r| self.loads.rate(r, t, &piece)).collect(), v, a)
     }
 
     /// Switches to the phase of `holds` from the full state at `t` (its
