@@ -50,7 +50,7 @@
 //! reduced models) have no impacts: see `massless.rs`.
 
 use super::flow::{dense, EventsError, Loads, ModalFlow, Piece};
-use super::search::{time_resolution, Functional, Search};
+use super::search::{time_resolution, Cursor, Found, Functional, Search};
 use super::Bound;
 use crate::Dynamics;
 use faer::Mat;
@@ -183,10 +183,23 @@ pub struct EventDriven {
     systems: HashMap<Vec<Hold>, System>,
     holds: Vec<Hold>,
     t: f64,
+    /// The modal state at `t` (read from the base: [`Self::read_at`]).
     eta: Vec<f64>,
     deta: Vec<f64>,
-    /// The modal state at the start of a search (work storage).
-    start: (Vec<f64>, Vec<f64>),
+    /// The phase's base: the time and modal state where its flow starts (an
+    /// event or a breakpoint). Every state of the phase is evaluated from
+    /// it, so the sampling never re-bases the flow (docs/theory.md §9.2).
+    base: (f64, Vec<f64>, Vec<f64>),
+    /// Where the phase's search stands, a zero it found beyond the time
+    /// asked (applied when the run gets there), and the state at it.
+    cursor: Cursor,
+    pending: Option<(f64, Option<usize>)>,
+    found: (Vec<f64>, Vec<f64>),
+    /// Per held contact: its force's integral from the base to the last
+    /// [`take_impulses`](Self::take_impulses).
+    taken: Vec<f64>,
+    /// `sin, cos` work storage of [`Self::read_at`].
+    tr: [Vec<(f64, f64)>; 2],
     search: Search,
     events: Vec<EventRecord>,
     /// Impact times of the current run of impacts of one contact.
@@ -273,7 +286,12 @@ impl EventDriven {
             t: t0,
             eta: Vec::new(),
             deta: Vec::new(),
-            start: (Vec::new(), Vec::new()),
+            base: (t0, Vec::new(), Vec::new()),
+            cursor: Cursor { tau: 0.0, window: 1.0 },
+            pending: None,
+            found: (Vec::new(), Vec::new()),
+            taken: vec![0.0; k_contacts],
+            tr: [Vec::new(), Vec::new()],
             search: Search::new(n),
             events: Vec::new(),
             streak: Vec::new(),
@@ -351,41 +369,56 @@ impl EventDriven {
             if t_end <= self.t {
                 return Ok(None);
             }
-            // A series' breakpoint first: the next piece's loads, then on.
-            let stop = t_end.min(self.piece.next);
-            if let Some(event) = self.next_event_on_piece(stop)? {
-                return Ok(Some(event));
+            if let Some((te, which)) = self.pending {
+                if te > t_end {
+                    // Beyond the time asked: the state there, read from the base.
+                    self.read_at(t_end);
+                    return Ok(None);
+                }
+                self.pending = None;
+                match which {
+                    Some(which) => return self.apply(te, which),
+                    None => self.next_piece(te),
+                }
+                continue;
             }
-            if self.t == self.piece.next && stop < t_end {
-                self.loads.piece_into(self.t, &mut self.piece);
-                let sys = self.systems.get_mut(&self.holds).expect("the current phase's system");
-                sys.set_piece(&self.piece);
-            } else {
-                return Ok(None);
+            // The phase's search goes on from where it stands, whatever
+            // `t_end` is: it only pauses there (docs/theory.md §9.2).
+            let sys = &self.systems[&self.holds];
+            let base = (self.base.0, &self.base.1[..], &self.base.2[..]);
+            let state = (&mut self.found.0[..], &mut self.found.1[..]);
+            match self.search.resume(&sys.flow, base, &mut self.cursor, state, (&sys.fns, &sys.quiet), self.piece.next, t_end)? {
+                Found::Event(te, which) => self.pending = Some((te, Some(which))),
+                // A breakpoint of the series (the state there in `found`).
+                Found::End => self.pending = Some((self.piece.next, None)),
+                Found::Paused => {
+                    self.read_at(t_end);
+                    return Ok(None);
+                }
             }
         }
     }
 
-    /// [`next_event`](Self::next_event) within the current piece of the series (`t_end` at most its end).
-    fn next_event_on_piece(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
-        let sys = &self.systems[&self.holds];
-        if !sys.forces.is_empty() {
-            // The start, for the held forces' integrals.
-            self.start.0.clone_from(&self.eta);
-            self.start.1.clone_from(&self.deta);
-        }
-        let t0 = self.t;
-        let found = self.search.first_zero(&sys.flow, t0, &mut self.eta, &mut self.deta, &sys.fns, &sys.quiet, t_end)?;
-        let t1 = found.map_or(t_end, |f| f.0);
-        // The held forces' integrals over the phase.
-        for (contact, r) in &sys.forces {
-            self.impulses[*contact] += r.integral(&sys.flow, t0, (&self.start.0, &self.start.1), (&self.eta, &self.deta), t1 - t0);
-        }
-        self.t = t1;
-        let Some((t, which)) = found else {
-            return Ok(None);
-        };
-        let watch = sys.watch[which];
+    /// The series' next piece from its breakpoint `tp` (the state there in
+    /// `found`): a new phase with the piece's loads.
+    fn next_piece(&mut self, tp: f64) {
+        self.close_phase(tp);
+        self.t = tp;
+        self.eta.clone_from(&self.found.0);
+        self.deta.clone_from(&self.found.1);
+        self.loads.piece_into(tp, &mut self.piece);
+        let sys = self.systems.get_mut(&self.holds).expect("the current phase's system");
+        sys.set_piece(&self.piece);
+        self.start_phase();
+    }
+
+    /// Applies the event `which` found at `t` (its state in `found`).
+    fn apply(&mut self, t: f64, which: usize) -> Result<Option<EventRecord>, EventsError> {
+        self.close_phase(t);
+        self.t = t;
+        self.eta.clone_from(&self.found.0);
+        self.deta.clone_from(&self.found.1);
+        let watch = self.systems[&self.holds].watch[which];
         let (q, v) = self.physical();
         let before = self.events.len();
         match watch {
@@ -398,6 +431,44 @@ impl EventDriven {
             }
         }
         Ok(self.events.get(before).copied())
+    }
+
+    /// The state at `t` in the current phase, read from its base (no
+    /// re-basing: a sample never changes the trajectory).
+    fn read_at(&mut self, t: f64) {
+        let sys = &self.systems[&self.holds];
+        self.t = t;
+        self.eta.clone_from(&self.base.1);
+        self.deta.clone_from(&self.base.2);
+        if t != self.base.0 {
+            sys.flow.advance_modal(self.base.0, &mut self.eta, &mut self.deta, t - self.base.0, &mut self.tr);
+        }
+    }
+
+    /// The held forces' integrals from the base to `t` (the state there
+    /// in `found`), less what was taken, into the impulses: the phase ends.
+    fn close_phase(&mut self, t: f64) {
+        let sys = &self.systems[&self.holds];
+        let base = (&self.base.1[..], &self.base.2[..]);
+        for (contact, r) in &sys.forces {
+            let i = r.integral(&sys.flow, self.base.0, base, (&self.found.0, &self.found.1), t - self.base.0);
+            self.impulses[*contact] += i - self.taken[*contact];
+            self.taken[*contact] = 0.0;
+        }
+    }
+
+    /// A phase starts at `t` from the state `eta`, `deta`: its base, its
+    /// search's first window.
+    fn start_phase(&mut self) {
+        let flow = &self.systems[&self.holds].flow;
+        self.base.0 = self.t;
+        self.base.1.clone_from(&self.eta);
+        self.base.2.clone_from(&self.deta);
+        self.cursor = Cursor::start(flow);
+        self.pending = None;
+        self.taken.iter_mut().for_each(|x| *x = 0.0);
+        self.found.0.resize(self.eta.len(), 0.0);
+        self.found.1.resize(self.eta.len(), 0.0);
     }
 
     /// The full state of the current phase.
@@ -547,7 +618,9 @@ impl EventDriven {
             // more than itself within the time resolution does not decide;
             // the contact stays held, and its force's rate decides.
             let jerk = self.free_jerk(t, &v, &a);
-            let dt_res = 4.0 * time_resolution(t);
+            // The search's resolution (relative to the phase without time-dependent loads).
+            let autonomous = self.loads.waves.is_empty() && self.loads.ramps.is_empty();
+            let dt_res = 4.0 * time_resolution(if autonomous { t - self.base.0 } else { t });
             for &j in &candidates {
                 let (bilateral, dof) = (self.sites[j].lo == self.sites[j].hi, self.sites[j].dof);
                 let leaving = !bilateral && r[j] == 0.0 && a[dof].abs() > 1e-12 * ascale + jerk[dof].abs() * dt_res;
@@ -613,6 +686,8 @@ impl EventDriven {
         let vf: Vec<f64> = sys.free.iter().map(|&d| v[d]).collect();
         (self.eta, self.deta) = (vec![0.0; nf], vec![0.0; nf]);
         sys.flow.to_modal(t, &qf, &vf, &mut self.eta, &mut self.deta);
+        self.t = t;
+        self.start_phase();
         Ok(())
     }
 
@@ -834,6 +909,16 @@ impl EventDriven {
     pub fn take_impulses_into(&mut self, out: &mut [f64]) {
         out.copy_from_slice(&self.impulses);
         self.impulses.iter_mut().for_each(|x| *x = 0.0);
+        // The held forces' integrals from the base to now, less what was taken.
+        let sys = &self.systems[&self.holds];
+        if self.t != self.base.0 {
+            let base = (&self.base.1[..], &self.base.2[..]);
+            for (contact, r) in &sys.forces {
+                let i = r.integral(&sys.flow, self.base.0, base, (&self.eta, &self.deta), self.t - self.base.0);
+                out[*contact] += i - self.taken[*contact];
+                self.taken[*contact] = i;
+            }
+        }
     }
 
     /// Steps taken by the event searches so far.

@@ -620,6 +620,12 @@ impl ModalFlow {
         (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * y[i]).sum()).collect()
     }
 
+    /// Whether a load depends on time (harmonics, series): the flow from a
+    /// state then depends on the absolute time, not only on the elapsed one.
+    pub(crate) fn time_dependent(&self) -> bool {
+        !self.harmonics.is_empty() || !self.ramp_modal.is_empty()
+    }
+
     /// The squared natural frequencies `ω_i²`, ascending.
     pub fn omega2(&self) -> &[f64] {
         &self.k

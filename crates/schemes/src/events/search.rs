@@ -194,18 +194,59 @@ impl Search {
     /// the others (a distance) it is one.
     #[allow(clippy::too_many_arguments)]
     pub fn first_zero(&mut self, flow: &ModalFlow, t0: f64, eta: &mut [f64], deta: &mut [f64], fns: &[Functional], quiet: &[bool], end: f64) -> Result<Option<(f64, usize)>, EventsError> {
+        let base = (eta.to_vec(), deta.to_vec());
+        let mut cursor = Cursor { tau: 0.0, window: end - t0 };
+        match self.resume(flow, (t0, &base.0, &base.1), &mut cursor, (eta, deta), (fns, quiet), end, f64::INFINITY)? {
+            Found::Event(t, f) => Ok(Some((t, f))),
+            Found::End | Found::Paused => Ok(None),
+        }
+    }
+
+    /// Goes on from `cursor` to the first zero of one of `fns` in
+    /// `(cursor.t, end]` (docs/theory.md §9.2), the state at every step
+    /// evaluated from the phase's `base` `(t_b, η, η')` — never re-based —
+    /// so the steps and the event found do not depend on where a caller
+    /// paused: it stops once the cursor reaches `pause` (no step is cut
+    /// there), at the event ([`Found::Event`], the state there in `state`)
+    /// or at `end` ([`Found::End`], the state there in `state`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn resume(
+        &mut self,
+        flow: &ModalFlow,
+        base: (f64, &[f64], &[f64]),
+        cursor: &mut Cursor,
+        state: (&mut [f64], &mut [f64]),
+        (fns, quiet): (&[Functional], &[bool]),
+        end: f64,
+        pause: f64,
+    ) -> Result<Found, EventsError> {
         let n = flow.n();
         if self.jet.len() != n {
             let steps = self.steps;
             *self = Self::new(n);
             self.steps = steps;
         }
-        let mut t = t0;
-        let mut window = end - t0;
+        let (eta, deta) = state;
+        // Without time-dependent loads the flow is the same at every
+        // absolute time: events are located relative to the phase (its
+        // elapsed time τ), not to t (docs/theory.md §9.2).
+        let autonomous = !flow.time_dependent();
         for _ in 0..MAX_STEPS {
-            let h = window.min(end - t);
+            let tau = cursor.tau;
+            let t = base.0 + tau;
+            let h = cursor.window.min(end - t);
+            if h > 0.0 && t >= pause {
+                return Ok(Found::Paused);
+            }
+            // The state τ after the base (the same state whatever the pauses).
+            eta.copy_from_slice(base.1);
+            deta.copy_from_slice(base.2);
+            if tau != 0.0 {
+                flow.advance_modal(base.0, eta, deta, tau, &mut self.tr);
+            }
+            let res = time_resolution(if autonomous { tau } else { t });
             if h <= 0.0 {
-                return Ok(None);
+                return Ok(Found::End);
             }
             self.steps += 1;
             flow.trig(t, &mut self.tr[0]);
@@ -219,8 +260,8 @@ impl Search {
             let (mut step, mut root) = (h, f64::INFINITY);
             let mut who = None;
             for (f, func) in fns.iter().enumerate() {
-                match self.safe_step(flow, func, quiet[f], t, eta, deta, h) {
-                    Reach::Now => return Ok(Some((t, f))),
+                match self.safe_step(flow, func, quiet[f], (t, res), eta, deta, h) {
+                    Reach::Now => return Ok(Found::Event(t, f)),
                     Reach::Free(s) => step = step.min(s),
                     Reach::Root(s) => {
                         if s < root {
@@ -236,27 +277,25 @@ impl Search {
             if step < root {
                 who = None;
             }
-            let tol = time_resolution(t);
             let last = step >= end - t;
             let step = if last { end - t } else { step };
-            flow.advance_modal(t, eta, deta, step, &mut self.tr);
-            t = if last { end } else { t + step };
-            if let Some(f) = who {
-                if step <= tol {
-                    return Ok(Some((t, f)));
-                }
+            cursor.tau = if last { end - base.0 } else { tau + step };
+            cursor.window = 2.0 * step.max(f64::MIN_POSITIVE);
+            let event = who.filter(|_| step <= res);
+            if event.is_some() || last {
+                eta.copy_from_slice(base.1);
+                deta.copy_from_slice(base.2);
+                flow.advance_modal(base.0, eta, deta, cursor.tau, &mut self.tr);
+                // At the end: `end` itself (base + τ may round below it).
+                return Ok(event.map_or(Found::End, |f| Found::Event(base.0 + cursor.tau, f)));
             }
-            if last {
-                return Ok(None);
-            }
-            window = 2.0 * step.max(f64::MIN_POSITIVE);
         }
-        Err(EventsError::NoConvergence { t, steps: MAX_STEPS })
+        Err(EventsError::NoConvergence { t: base.0 + cursor.tau, steps: MAX_STEPS })
     }
 
     /// The safe step for one functional over the window `h` (module docs).
     #[allow(clippy::too_many_arguments)]
-    fn safe_step(&mut self, flow: &ModalFlow, f: &Functional, quiet: bool, t: f64, eta: &[f64], deta: &[f64], h: f64) -> Reach {
+    fn safe_step(&mut self, flow: &ModalFlow, f: &Functional, quiet: bool, (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
         let n = eta.len();
         let (lv, ld, lc) = (f.wave(t, 0), f.wave(t, 1), f.wave_bound(2));
         // Suffix sums of the amplitudes.
@@ -273,7 +312,7 @@ impl Search {
             scale += x.abs() + y.abs();
         }
         if g <= 1e-13 * scale {
-            match self.lift_off(flow, f, quiet, t, eta, deta, h) {
+            match self.lift_off(flow, f, quiet, (t, res), eta, deta, h) {
                 // Approaching from just above: the root steps below.
                 Reach::Now if g > 0.0 => {}
                 r => return r,
@@ -305,7 +344,7 @@ impl Search {
 
     /// At `g = 0`: the first nonzero derivative decides (module docs).
     #[allow(clippy::too_many_arguments)]
-    fn lift_off(&self, flow: &ModalFlow, f: &Functional, quiet: bool, t: f64, eta: &[f64], deta: &[f64], h: f64) -> Reach {
+    fn lift_off(&self, flow: &ModalFlow, f: &Functional, quiet: bool, (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
         let mut gj = [0.0; GJET];
         // The size of the terms of each derivative (its round-off scale).
         let mut gs = [0.0; GJET];
@@ -340,7 +379,7 @@ impl Search {
         // 0, and the free phase's g'' ∝ r inherits it; the velocity is
         // decided exactly by the impact law: docs/theory.md §9.2, "Zeros at
         // the time resolution").
-        let dt_res = 4.0 * time_resolution(t);
+        let dt_res = 4.0 * res;
         let mut d = [0.0; 4];
         for m in 1..4 {
             let resolution = if m >= 2 { gj[m + 1].abs() * dt_res } else { 0.0 };
@@ -397,10 +436,38 @@ impl Search {
     }
 }
 
-/// The time to which an event at `t` is located: a relative 1e-15, at
-/// least one rounding of `t` (`ε max(|t|, 1)`).
+/// The time to which an event at `t` (or `τ` into its phase, for a flow
+/// without time-dependent loads) is located: a relative 1e-15, at least
+/// one rounding (`ε max(|t|, 1)`).
 pub(crate) fn time_resolution(t: f64) -> f64 {
     (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0))
+}
+
+/// Where a search stands in its phase: the time it reached, `τ` after the
+/// phase's base, and the window of its next step (twice its last step).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cursor {
+    pub tau: f64,
+    pub window: f64,
+}
+
+impl Cursor {
+    /// A phase's first step: the window is the flow's shortest period
+    /// `2π/ω_max` (1 without stiffness), whatever the sampling.
+    pub fn start(flow: &ModalFlow) -> Self {
+        let w2 = flow.omega2().iter().fold(0.0f64, |a, &k| a.max(k));
+        Self { tau: 0.0, window: if w2 > 0.0 { std::f64::consts::TAU / w2.sqrt() } else { 1.0 } }
+    }
+}
+
+/// How [`Search::resume`] stopped.
+pub(crate) enum Found {
+    /// A zero of the functional at the time.
+    Event(f64, usize),
+    /// The cursor reached the pause, no zero before it.
+    Paused,
+    /// The cursor reached the end, no zero before it.
+    End,
 }
 
 /// What one functional allows over a window.
