@@ -89,6 +89,46 @@ fn an_elastic_bounce_does_not_drift_over_long_runs_at_any_sampling() {
     }
 }
 
+/// Chatter: `x'' + x = −F` leaving its stop at `x = 0` with speed `v₀`
+/// and restitution `r` flies `2 atan(v/F)` (the flight from the stop back
+/// to it at the same speed), so the impacts are at `t_k = Σ_{j<k} 2
+/// atan(r^j v₀/F)` with speeds `r^k v₀`, and accumulate at the sum of the
+/// series; then the contact is held for good (its force `F`). Every impact
+/// down to a speed of 1e-6 of the first to 1e-12 in time and in relative
+/// speed, the accumulation to 1e-12 (before the flight was advanced as
+/// increments, `−F + F cos τ` lost the short flights' precision: 5e-12 s
+/// and 2e-8 in speed).
+#[test]
+fn chatter_under_a_steady_force_matches_its_closed_form() {
+    for (f, r, v0) in [(1.0, 0.5, 1.0), (1.0, 0.8, 1.0), (0.3, 0.5, 2.0), (2.0, 0.3, 0.7)] {
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![-f], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+        let mut run = EventDriven::new(&dy, 0.0, &[0.0], &[v0], r).unwrap();
+        run.run_until(30.0, 10_000).unwrap();
+        let ev = run.events();
+        let (mut t, mut v, mut k) = (0.0f64, v0, 0);
+        let mut t_inf = 0.0;
+        let mut vv = v0;
+        for _ in 0..4000 {
+            t_inf += 2.0 * (vv / f).atan();
+            vv *= r;
+        }
+        while v > 1e-6 * v0 {
+            t += 2.0 * (v / f).atan();
+            let e = &ev[k];
+            assert_eq!(e.kind, EventKind::Impact, "(F, r) = ({f}, {r}): event {k} {e:?}");
+            assert!((e.t - t).abs() <= 1e-12, "(F, r) = ({f}, {r}): impact {k} at {} against {t}", e.t);
+            assert!((-e.velocity_before - v).abs() <= 1e-12 * v, "(F, r) = ({f}, {r}): impact {k} at speed {} against {v}", -e.velocity_before);
+            v *= r;
+            k += 1;
+        }
+        let last = ev.last().unwrap();
+        assert_eq!(last.kind, EventKind::Accumulation, "(F, r) = ({f}, {r}): {last:?}");
+        assert!((last.t - t_inf).abs() <= 1e-12, "(F, r) = ({f}, {r}): accumulation at {} against {t_inf}", last.t);
+        let (_, q, vel) = run.state();
+        assert!(q[0] == 0.0 && vel[0] == 0.0, "held at the stop: {q:?} {vel:?}");
+    }
+}
+
 /// A chain with a stop under its first mass: each impact removes exactly
 /// `(1 − e²)/2 (v_c⁻)² / (M⁻¹)_cc` (the effective mass of the contact dof),
 /// the flow between impacts none (undamped, steady load).

@@ -202,9 +202,9 @@ pub struct EventDriven {
     tr: [Vec<(f64, f64)>; 2],
     search: Search,
     events: Vec<EventRecord>,
-    /// Impact times of the current run of impacts of one contact.
-    streak: Vec<f64>,
-    streak_contact: Option<usize>,
+    /// Per contact, the times of its current run of impacts (contacts
+    /// chattering together each keep their own).
+    streak: Vec<Vec<f64>>,
     /// Per contact, the largest impact speed so far.
     vmax: Vec<f64>,
     /// Per contact: impulses plus the held force's integral since the last
@@ -294,8 +294,7 @@ impl EventDriven {
             tr: [Vec::new(), Vec::new()],
             search: Search::new(n),
             events: Vec::new(),
-            streak: Vec::new(),
-            streak_contact: None,
+            streak: vec![Vec::new(); k_contacts],
             vmax: vec![0.0; k_contacts],
             impulses: vec![0.0; k_contacts],
             max_events: MAX_EVENTS,
@@ -424,7 +423,7 @@ impl EventDriven {
         match watch {
             Watch::Gap { contact, bound } => self.settle(t, q, v, Some((contact, bound)))?,
             Watch::Release { contact } => {
-                self.streak.clear();
+                self.streak[contact].clear();
                 self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
                 let rest: Vec<Hold> = self.holds.iter().copied().filter(|h| h.contact != contact).collect();
                 self.enter(rest, q, v, t)?;
@@ -524,13 +523,7 @@ impl EventDriven {
         }
         // Newton's law for all of them at once: the velocity LCP.
         let vbefore: Vec<f64> = self.sites.iter().map(|s| v[s.dof]).collect();
-        // A micro-impact (module docs) ends in an accumulation.
-        let mut micro = false;
-        if let Some((j, _)) = primary {
-            let speed = vbefore[j].abs();
-            micro = speed <= MICRO * self.vmax[j];
-            self.vmax[j] = self.vmax[j].max(speed);
-        }
+        let held_before: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
         let (mut lo, mut hi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
         for j in 0..kc {
             let e = self.sites[j].restitution;
@@ -544,51 +537,67 @@ impl EventDriven {
         }
         self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
         let mu = self.delassus.multipliers().to_vec();
-        let held_before: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
+        // The impacts: every contact the LCP gives an impulse, and the
+        // located one when it arrives with a speed (a landing at zero speed
+        // without impulse is no impact: docs/theory.md §9.3).
+        let mut impacted = vec![false; kc];
         for j in 0..kc {
             let located = primary.is_some_and(|p| p.0 == j);
-            if at[j].is_some() && (located || mu[j] != 0.0) {
+            if at[j].is_some() && (mu[j] != 0.0 || (located && vbefore[j] != 0.0)) {
+                impacted[j] = true;
                 self.impulses[j] += mu[j];
                 self.events.push(EventRecord { t, kind: EventKind::Impact, contact: j, velocity_before: vbefore[j], velocity_after: v[self.sites[j].dof], impulse: mu[j] });
             }
         }
-        // Accumulation of the located contact's impacts.
-        if let Some((j, _)) = primary {
-            if self.streak_contact != Some(j) {
-                self.streak.clear();
-                self.streak_contact = Some(j);
+        // Accumulation, per contact: each contact's run of impacts (two
+        // contacts chattering together each have theirs), and micro-impacts
+        // (module docs), end with the contact at rest.
+        let mut due: Vec<(usize, f64, f64)> = Vec::new();
+        for j in 0..kc {
+            if held_before[j] {
+                self.streak[j].clear();
             }
-            self.streak.push(t);
+            if !impacted[j] || held_before[j] {
+                continue;
+            }
+            let speed = vbefore[j].abs();
+            let micro = speed <= MICRO * self.vmax[j];
+            self.vmax[j] = self.vmax[j].max(speed);
+            self.streak[j].push(t);
             let e = self.sites[j].restitution;
             if e > 0.0 && e < 1.0 {
-                let geometric = accumulation(&self.streak);
-                let due = geometric.filter(|g| g.1 <= 1e-9 * t.abs().max(self.streak[self.streak.len() - 1] - self.streak[0])).map(|g| g.0);
-                if let Some(t_inf) = due.or(micro.then(|| geometric.map_or(t, |g| g.0))) {
-                    let vb = v[self.sites[j].dof];
-                    // At rest on its bound (lo = hi = 0: an equality), the
-                    // others at their bounds not pushed through.
-                    for i in 0..kc {
-                        match at[i] {
-                            Some(false) => lo[i] = 0.0,
-                            Some(true) => hi[i] = 0.0,
-                            None => {}
-                        }
-                    }
-                    (lo[j], hi[j]) = (0.0, 0.0);
-                    self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-                    let mu = self.delassus.multipliers().to_vec();
-                    for (i, m) in mu.iter().enumerate() {
-                        self.impulses[i] += m;
-                    }
-                    self.events.push(EventRecord { t: t_inf, kind: EventKind::Accumulation, contact: j, velocity_before: vb, velocity_after: v[self.sites[j].dof], impulse: mu[j] });
-                    self.streak.clear();
+                let streak = &self.streak[j];
+                let geometric = accumulation(streak);
+                let close = geometric.filter(|g| g.1 <= 1e-9 * t.abs().max(streak[streak.len() - 1] - streak[0])).map(|g| g.0);
+                if let Some(t_inf) = close.or(micro.then(|| geometric.map_or(t, |g| g.0))) {
+                    due.push((j, t_inf, v[self.sites[j].dof]));
                 }
             }
-        } else {
-            self.streak.clear();
         }
-        if primary.is_some_and(|p| held_before[p.0]) {
-            self.streak.clear();
+        if !due.is_empty() {
+            // At rest on their bounds (lo = hi = 0: an equality), the
+            // others at their bounds not pushed through.
+            for i in 0..kc {
+                match at[i] {
+                    Some(false) => lo[i] = 0.0,
+                    Some(true) => hi[i] = 0.0,
+                    None => {}
+                }
+            }
+            for &(j, ..) in &due {
+                (lo[j], hi[j]) = (0.0, 0.0);
+            }
+            self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+            let mu = self.delassus.multipliers().to_vec();
+            for (i, m) in mu.iter().enumerate() {
+                self.impulses[i] += m;
+            }
+            // Logged in time order.
+            due.sort_by(|a, b| a.1.total_cmp(&b.1));
+            for &(j, t_inf, vb) in &due {
+                self.events.push(EventRecord { t: t_inf, kind: EventKind::Accumulation, contact: j, velocity_before: vb, velocity_after: v[self.sites[j].dof], impulse: mu[j] });
+                self.streak[j].clear();
+            }
         }
         // The new active set: contacts at rest on their bound that the
         // acceleration LCP presses against it.
@@ -628,6 +637,9 @@ impl EventDriven {
                     holds.push(Hold { contact: j, upper: at[j] == Some(true) });
                 }
             }
+        }
+        for h in &holds {
+            self.streak[h.contact].clear();
         }
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
@@ -930,7 +942,7 @@ impl EventDriven {
     pub(crate) fn reset(&mut self, q: &[f64], v: &[f64]) -> Result<(), EventsError> {
         // The new state decides what is held; the old phase is kept on an error.
         let saved = std::mem::take(&mut self.holds);
-        self.streak.clear();
+        self.streak.iter_mut().for_each(Vec::clear);
         let r = self.settle(self.t, q.to_vec(), v.to_vec(), None);
         if r.is_err() {
             self.holds = saved;

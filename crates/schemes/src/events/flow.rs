@@ -276,16 +276,20 @@ pub(crate) fn dense(a: &signorini_fem::SymBand) -> Mat<f64> {
     Mat::from_fn(a.n(), a.n(), |i, j| a.get(i, j))
 }
 
-/// `C(τ)` and `S(τ)` of the module docs for `λ = k − α²`.
-fn cs(lambda: f64, tau: f64) -> (f64, f64) {
+/// `cos(ωτ) − 1` and `sin(ωτ)/ω` (`ω = √λ`; `cosh`, `sinh` for `λ < 0`; `0, τ`
+/// for `λ = 0`), the first accurate for small `τ`:
+/// `cos(ωτ) − 1 = −2 sin²(ωτ/2)`, `cosh(ωτ) − 1 = 2 sinh²(ωτ/2)`.
+fn cs_m1(lambda: f64, tau: f64) -> (f64, f64) {
     if lambda > 0.0 {
         let w = lambda.sqrt();
-        ((w * tau).cos(), (w * tau).sin() / w)
+        let h = (0.5 * w * tau).sin();
+        (-2.0 * h * h, (w * tau).sin() / w)
     } else if lambda < 0.0 {
         let w = (-lambda).sqrt();
-        ((w * tau).cosh(), (w * tau).sinh() / w)
+        let h = (0.5 * w * tau).sinh();
+        (2.0 * h * h, (w * tau).sinh() / w)
     } else {
-        (1.0, tau)
+        (0.0, tau)
     }
 }
 
@@ -831,12 +835,15 @@ impl ModalFlow {
         d
     }
 
-    /// Advances mode `i` from `(η, η')` at `t0` by `tau`.
+    /// Advances mode `i` from `(η, η')` at `t0` by `tau` (`dtr`: the
+    /// harmonics' [`increments`](Self::trig_increments) over the step).
     #[inline]
-    pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], tr1: &[(f64, f64)]) -> (f64, f64) {
-        let (e0, de0) = self.remainder(i, t0, t0, eta, deta, tr0);
+    pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], dtr: &[(f64, f64)]) -> (f64, f64) {
+        let p0 = self.particular_jet(i, t0, t0, tr0);
+        let (e0, de0) = (eta - p0[0], deta - p0[1]);
         let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
-        let p1 = self.particular_jet(i, t0 + tau, t0, tr1);
+        let dp = self.particular_delta(i, t0, tau, tr0, dtr);
+        let p1 = [p0[0] + dp[0], p0[1] + dp[1]];
         let lambda = k - alpha * alpha;
         if lambda < 0.0 && (-lambda).sqrt() * tau > 700.0 {
             // Overdamped over a long step: e^{−ατ} cosh(βτ) and
@@ -846,9 +853,63 @@ impl ModalFlow {
             let (dc, ds) = overdamped(alpha, (-lambda).sqrt(), tau);
             return (e0 * dc + (de0 + alpha * e0) * ds + p1[0], de0 * dc - (alpha * de0 + k * e0) * ds + p1[1]);
         }
-        let (cc, ss) = cs(lambda, tau);
-        let decay = if alpha == 0.0 { 1.0 } else { (-alpha * tau).exp() };
-        (decay * (e0 * cc + (de0 + alpha * e0) * ss) + p1[0], decay * (de0 * cc - (alpha * de0 + k * e0) * ss) + p1[1])
+        // As increments of the state (docs/theory.md §9.1): over a short
+        // step `e₀ (cos ωτ − 1)` is `−2 e₀ sin²(ωτ/2)`, not the difference
+        // of two near-equal numbers, so a chatter flight's `η(τ) − η(0)`
+        // (of size `v τ`) keeps its relative precision.
+        let (cc1, ss) = cs_m1(lambda, tau);
+        let (decay, dm1) = if alpha == 0.0 { (1.0, 0.0) } else { ((-alpha * tau).exp(), (-alpha * tau).exp_m1()) };
+        // e^{−ατ} cos − 1.
+        let a = decay * cc1 + dm1;
+        let b = decay * ss;
+        (eta + (e0 * a + (de0 + alpha * e0) * b + dp[0]), deta + (de0 * a - (alpha * de0 + k * e0) * b + dp[1]))
+    }
+
+    /// `sin θ₁ − sin θ₀, cos θ₁ − cos θ₀` of every harmonic over `[t0, t0 + τ]`
+    /// (`θ = Ω_j t + p_j`; `tr0` at `t0`), accurate for small `τ`:
+    /// `sin θ₀ (cos Ωτ − 1) + cos θ₀ sin Ωτ`, `cos Ωτ − 1 = −2 sin²(Ωτ/2)`.
+    fn trig_increments(&self, tau: f64, tr0: &[(f64, f64)], out: &mut Vec<(f64, f64)>) {
+        out.clear();
+        out.extend(self.harmonics.iter().zip(tr0).map(|(h, &(s0, c0))| {
+            let (sw, half) = ((h.omega * tau).sin(), (0.5 * h.omega * tau).sin());
+            let cm1 = -2.0 * half * half;
+            (s0 * cm1 + c0 * sw, c0 * cm1 - s0 * sw)
+        }));
+    }
+
+    /// `P(t0 + τ) − P(t0)` and the same of `P'` (`P` the particular
+    /// solution with `t_ref = t0`), from the harmonics' increments `dtr`:
+    /// the steady terms' constants cancel exactly, and a chatter flight's
+    /// short step keeps its relative precision (docs/theory.md §9.1).
+    fn particular_delta(&self, i: usize, t0: f64, tau: f64, tr0: &[(f64, f64)], dtr: &[(f64, f64)]) -> [f64; 2] {
+        let (k, c) = (self.k[i], self.c[i]);
+        let (g0, b) = self.steady(i, t0);
+        let (at1, at0) = (steady_terms(k, c, g0, b, tau), steady_terms(k, c, g0, b, 0.0));
+        let mut d = [0.0; 2];
+        for m in 0..2 {
+            d[m] = (at1[m][0] - at0[m][0]) + (at1[m][1] - at0[m][1]) + (at1[m][2] - at0[m][2]);
+        }
+        for ((h, &(s0, c0)), &(ds, dc)) in self.harmonics.iter().zip(tr0).zip(dtr) {
+            let g = h.modal[i] * h.amplitude;
+            if g == 0.0 {
+                continue;
+            }
+            let w = h.omega;
+            if resonant(k, c, w) {
+                // P = (t − t0) U cos θ: P(t0) = 0, P'(t0) = U cos θ₀.
+                let u = -g / (2.0 * w);
+                let (s1, c1) = (s0 + ds, c0 + dc);
+                d[0] += tau * u * c1;
+                d[1] += -tau * u * w * s1 + u * dc;
+            } else {
+                let detune = k - w * w;
+                let dd = detune * detune + (c * w) * (c * w);
+                let (a, bb) = (g * detune / dd, -g * c * w / dd);
+                d[0] += a * ds + bb * dc;
+                d[1] += w * (a * dc - bb * ds);
+            }
+        }
+        d
     }
 
     /// `sin, cos (Ω_j t + p_j)` of every harmonic into `out` (shared by
@@ -860,11 +921,11 @@ impl ModalFlow {
 
     /// Advances the modal state in place by `tau` from `t0` (`tr`: work storage).
     pub(crate) fn advance_modal(&self, t0: f64, eta: &mut [f64], deta: &mut [f64], tau: f64, tr: &mut [Vec<(f64, f64)>; 2]) {
-        let [tr0, tr1] = tr;
+        let [tr0, dtr] = tr;
         self.trig(t0, tr0);
-        self.trig(t0 + tau, tr1);
+        self.trig_increments(tau, tr0, dtr);
         for i in 0..self.n {
-            (eta[i], deta[i]) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, tr1);
+            (eta[i], deta[i]) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, dtr);
         }
     }
 
