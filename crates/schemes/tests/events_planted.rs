@@ -412,14 +412,12 @@ fn a_resonant_crossing_near_the_window_end_starts_the_event_list() {
     }
 }
 
-/// Known defect (reported, not fixed here): the safe step's root
-/// `(g' + sqrt(g'² + 2 B g))/B` cancels when `g' < 0` and `2 B g ≪ g'²`;
-/// once `2 B g < ε g'²` it rounds to 0 and the event is declared with the
-/// gap still open. A mass at `x = 1` moving at `−1` under the load `−1e-9`
-/// reaches `x = 0` at `2/(1 + sqrt(1 + 2e-9))`; the search stops 1.4e-7
-/// earlier with the gap 1.4e-7 (the event-driven run then clamps it).
+/// The safe step's root `(g' + sqrt(g'² + 2 B g))/B` cancelled when
+/// `g' < 0` and `2 B g ≪ g'²`: once `2 B g < ε g'²` it rounded to 0 and the
+/// event was declared with the gap still open (now `2g/(sqrt(…) − g')`). A mass at `x = 1` moving at `−1` under the load `−1e-9`
+/// reaches `x = 0` at `2/(1 + sqrt(1 + 2e-9))`; the search stopped 1.4e-7
+/// earlier with the gap 1.4e-7 (the event-driven run then clamped it).
 #[test]
-#[ignore = "known defect of the event search (cancellation in the safe step), reported"]
 fn a_fast_approach_with_a_tiny_curvature_is_located_at_its_root() {
     let a = 1e-9;
     let dy = Dynamics::new(one(1.0), one(0.0), vec![-a], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
@@ -429,14 +427,14 @@ fn a_fast_approach_with_a_tiny_curvature_is_located_at_its_root() {
     assert!((ev.t - want).abs() <= 1e-15 && ev.q[0].abs() <= 1e-15, "t = {} against {want}, the gap there {}", ev.t, ev.q[0]);
 }
 
-/// Known defect (reported, not fixed here): under resonance, a crossing
-/// at `|x'| = 3e-3` (not a graze) stalls the search: one ulp above the level
-/// the root step `ulp/|x'|` exceeds the time resolution, but advancing the
-/// modal state by it changes nothing (the secular and free parts round
-/// separately), so `t` walks on with the state frozen, past the crossing,
-/// until `NoConvergence` after 10⁷ steps (about 5 s).
+/// Under resonance, a crossing at `|x'| = 3e-3` (not a graze) stalled the
+/// search: one ulp above the level the root step `ulp/|x'|` exceeded the
+/// time resolution, but advancing the modal state by it changed nothing
+/// (the secular and free parts rounded separately), so `t` walked on with
+/// the state frozen, past the crossing, until `NoConvergence` after 10⁷
+/// steps (about 5 s). Every state is now evaluated from the phase's base
+/// as an increment (docs/theory.md §9.1, §9.2).
 #[test]
-#[ignore = "known defect of the event search (frozen modal state at slow crossings), reported"]
 fn a_slow_resonant_crossing_is_found() {
     let (w, a, p) = (1.353745749890675, 1.7977823469710135, -0.1327268124243326);
     let (t0, x0, v0) = (1.2174549929118172, 0.04740652809306735, -0.85334387000829);

@@ -324,7 +324,14 @@ impl Search {
             let margin = gl - self.suffix[s];
             if margin > 0.0 {
                 let reach = if bl > 0.0 {
-                    (dl + (dl * dl + 2.0 * bl * margin).sqrt()) / bl
+                    // The positive root of `margin + dl s − bl s²/2`; with
+                    // `dl < 0` in the form without cancellation.
+                    let root = (dl * dl + 2.0 * bl * margin).sqrt();
+                    if dl >= 0.0 {
+                        (dl + root) / bl
+                    } else {
+                        2.0 * margin / (root - dl)
+                    }
                 } else if dl < 0.0 {
                     margin / -dl
                 } else {
