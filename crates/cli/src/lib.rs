@@ -56,8 +56,9 @@
 //!
 //! Rows go out whole (one write call per block of complete rows, every
 //! 64 KiB or 1024 rows and at the end), also when a run blows up or is
-//! interrupted (SIGINT/SIGTERM: the run stops at the next step, writes what
-//! it holds and its plots, exits 130). A SIGKILL can cut the write in
+//! interrupted (SIGINT/SIGTERM: the run stops at the next step — an
+//! event-driven one inside its step, within 256 steps of its event search —
+//! writes what it holds and its plots, exits 130). A SIGKILL can cut the write in
 //! flight: every newline-terminated line is then a complete row, and a
 //! reader drops a last line without a newline.
 //!

@@ -166,8 +166,9 @@ fn default_out(scene: &Path) -> PathBuf {
     PathBuf::from("out").join(scene.file_stem().unwrap_or_default())
 }
 
-/// SIGINT and SIGTERM cancel a token the time loop checks at every step (the
-/// run then stops cleanly and keeps its output); a second signal while the
+/// SIGINT and SIGTERM cancel a token the time loop checks at every step, and
+/// an event-driven step inside its event search (the run then stops cleanly
+/// and keeps its output); a second signal while the
 /// token is cancelled exits at once with 130. The handlers hold clones of
 /// the token's flag.
 fn interrupt_token() -> Option<Cancel> {

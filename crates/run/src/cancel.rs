@@ -6,8 +6,11 @@ use std::sync::Arc;
 
 /// A cheap, cloneable cancel token (an `Arc<AtomicBool>`): every clone
 /// shares one flag. A run ([`RunConfig::interrupt`](crate::RunConfig::interrupt))
-/// checks it before each step and stops with
-/// [`RunError::Interrupted`](crate::RunError::Interrupted); a sweep checks it
+/// checks it before each step, and a step of unbounded work (the
+/// event-driven scheme's, inside its event search: every 256 search steps)
+/// during it, and stops with
+/// [`RunError::Interrupted`](crate::RunError::Interrupted) at the last
+/// whole level; a sweep checks it
 /// between runs and before each lockstep step.
 ///
 /// ```

@@ -119,6 +119,7 @@ impl From<SchemeError> for RunError {
     fn from(e: SchemeError) -> Self {
         match e {
             SchemeError::NonFinite { step, time } => RunError::BlowUp { step, time },
+            SchemeError::Interrupted { step, time } => RunError::Interrupted { step, time },
             e => RunError::Scheme(e),
         }
     }
@@ -140,7 +141,9 @@ pub struct RunConfig {
     pub energy_growth_limit: Option<f64>,
     /// A cancel token (cancelled by a signal handler, another thread, …)
     /// that stops the run cleanly at the next step with
-    /// [`RunError::Interrupted`].
+    /// [`RunError::Interrupted`] (inside a step too, for a scheme whose
+    /// step is unbounded work: [`Stepper::set_interrupt`]; the run then
+    /// ends at the last whole level).
     pub interrupt: Option<Cancel>,
     /// Watch the energy against its budget (`E_ref` + load work −
     /// dissipation, [`crate::energy`]) and record the largest ratio and the
@@ -279,7 +282,14 @@ pub struct RunSummary {
 /// returned.
 pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<RunSummary, RunError> {
     let start = Instant::now();
+    // A step of unbounded work (the event-driven scheme) polls the token too.
+    if let Some(cancel) = cfg.interrupt.clone() {
+        stepper.set_interrupt(Some(std::sync::Arc::new(move || cancel.is_cancelled())));
+    }
     let result = run_inner(stepper, u0, cfg, observers);
+    if cfg.interrupt.is_some() {
+        stepper.set_interrupt(None);
+    }
     let mut fin = Ok(());
     for o in observers.iter_mut() {
         let r = o.finish();

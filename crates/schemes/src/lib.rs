@@ -224,6 +224,15 @@ pub enum SchemeError {
         /// Its time.
         time: f64,
     },
+    /// A step stopped early by the poll of [`Stepper::set_interrupt`]: the
+    /// stepper is still at level `step` (its state that level's).
+    #[error("interrupted at step {step} (t = {time})")]
+    Interrupted {
+        /// The level kept.
+        step: usize,
+        /// Its time.
+        time: f64,
+    },
     /// The event-driven reference refused the problem or stopped.
     #[error("event-driven: {0}")]
     Events(#[from] events::EventsError),
@@ -581,6 +590,12 @@ pub struct StepReport {
     pub active: signorini_contact::Active,
 }
 
+/// A poll a long step calls to learn whether it should stop early (the
+/// runner hands one over [`Stepper::set_interrupt`]: its cancel token's
+/// flag). It must be cheap; a step calls it at bounded intervals of its own
+/// work (the event-driven scheme: every 256 steps of its event searches).
+pub type Interrupt = std::sync::Arc<dyn Fn() -> bool + Send + Sync>;
+
 /// A time integrator: one step at a time (the loop lives in the runner).
 pub trait Stepper: Send {
     /// Human-readable name with parameters.
@@ -650,6 +665,16 @@ pub trait Stepper: Send {
     /// `None` for time-stepping schemes.
     fn events(&self) -> Option<&[events::EventRecord]> {
         None
+    }
+    /// A poll for a step whose work is unbounded (the event-driven scheme:
+    /// any number of events in one output step): while it returns `true`
+    /// the step stops within a bounded amount of work with
+    /// [`SchemeError::Interrupted`], the level and its state kept (the
+    /// runner checks its token between steps as well). `None` removes it.
+    /// Time-stepping schemes, whose step is bounded work, ignore it (the
+    /// default).
+    fn set_interrupt(&mut self, poll: Option<Interrupt>) {
+        let _ = poll;
     }
 }
 

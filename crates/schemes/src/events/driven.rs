@@ -46,6 +46,15 @@
 //! geometric, else at the impact's own time. The state differs from the
 //! chattering one by the order of that speed times the chatter's duration.
 //!
+//! **Rebounds below the time resolution.** An impact with `0 < e < 1`
+//! after which the contact leaves at the speed `w` against an acceleration
+//! `a` back to its bound (the free system's, `M⁻¹(f − C v − K q)`) starts
+//! rebounds of durations `2 w eᵏ/|a|`, all over within `τ∞ = 2 w/(|a|(1 −
+//! e))`. When `τ∞` is at most 4 time resolutions `δ(t)` no search can
+//! locate them (a tiny `e`: `event-driven(1e-20)`): the run of impacts
+//! ends as an accumulation at `t + τ∞`, the contact at rest (then held if
+//! pressed), as `e = 0` would leave it (docs/theory.md §9.3).
+//!
 //! **Massless contact dofs** (every contact massless: mass redistribution,
 //! reduced models) have no impacts: see `massless.rs`.
 
@@ -213,6 +222,9 @@ pub struct EventDriven {
     max_events: usize,
     /// The time of the last event and the events at it.
     stall: (f64, usize),
+    /// Per massive contact: its dof's row of `M⁻¹`, and that row times `K`
+    /// and `C` (its free acceleration in O(n): `unresolved_rebound`).
+    rebound: Vec<[Vec<f64>; 3]>,
 }
 
 impl EventDriven {
@@ -269,6 +281,7 @@ impl EventDriven {
             (full, delassus, kzz_inv)
         };
         let k_contacts = sites.len();
+        let rebound = if zero.is_empty() { sites.iter().map(|s| rebound_rows(&full, &k, c.as_ref(), s.dof)).collect() } else { Vec::new() };
         let mut r = Self {
             n,
             m,
@@ -299,6 +312,7 @@ impl EventDriven {
             impulses: vec![0.0; k_contacts],
             max_events: MAX_EVENTS,
             stall: (f64::NAN, 0),
+            rebound,
         };
         r.settle(t0, q0.to_vec(), v0.to_vec(), None)?;
         Ok(r)
@@ -569,7 +583,8 @@ impl EventDriven {
                 let streak = &self.streak[j];
                 let geometric = accumulation(streak);
                 let close = geometric.filter(|g| g.1 <= 1e-9 * t.abs().max(streak[streak.len() - 1] - streak[0])).map(|g| g.0);
-                if let Some(t_inf) = close.or(micro.then(|| geometric.map_or(t, |g| g.0))) {
+                let unresolved = || self.unresolved_rebound(t, &q, &v, j, at[j] == Some(true));
+                if let Some(t_inf) = close.or(micro.then(|| geometric.map_or(t, |g| g.0))).or_else(unresolved) {
                     due.push((j, t_inf, v[self.sites[j].dof]));
                 }
             }
@@ -646,6 +661,31 @@ impl EventDriven {
         self.enter(holds, q, v, t)?;
         self.t = t;
         Ok(())
+    }
+
+    /// The limit `t + τ∞` of contact `j`'s rebounds after an impact at `t`
+    /// if the time resolution cannot resolve them (module docs): leaving
+    /// its bound at the speed `w` against an acceleration `a` back to it,
+    /// they take `τ∞ = 2 w / (|a| (1 − e))`, here at most `4 δ(t)`.
+    fn unresolved_rebound(&self, t: f64, q: &[f64], v: &[f64], j: usize, upper: bool) -> Option<f64> {
+        let (s, sign) = (&self.sites[j], if upper { -1.0 } else { 1.0 });
+        let w = sign * v[s.dof];
+        if !(w > 0.0) {
+            return None;
+        }
+        // The row of M⁻¹(f(t) − K q − C v) at the contact dof.
+        let [m, km, cm] = &self.rebound[j];
+        let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(a, b)| a * b).sum::<f64>();
+        let mut f = dot(m, &self.loads.constant);
+        for (g, amp, w, p) in &self.loads.waves {
+            f += dot(m, g) * amp * (w * t + p).sin();
+        }
+        for (h, series, _) in &self.loads.ramps {
+            f += dot(m, h) * series.value(t);
+        }
+        let a = sign * (f - dot(km, q) - dot(cm, v));
+        let tau = 2.0 * w / (-a * (1.0 - s.restitution));
+        (a < 0.0 && tau <= 4.0 * time_resolution(t)).then_some(t + tau)
     }
 
     /// `M⁻¹ (f(t) − C v − K q)`.
@@ -938,6 +978,13 @@ impl EventDriven {
         self.search.steps
     }
 
+    /// A poll the event search calls every 256 of its steps: `true` stops
+    /// the run at the time reached with [`EventsError::Interrupted`] (the
+    /// state whole there; the run can go on from it). `None` removes it.
+    pub fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
+        self.search.interrupt = poll;
+    }
+
     /// Replaces the state (a twin run), at the current time, as [`new`](Self::new) starts.
     pub(crate) fn reset(&mut self, q: &[f64], v: &[f64]) -> Result<(), EventsError> {
         // The new state decides what is held; the old phase is kept on an error.
@@ -949,6 +996,15 @@ impl EventDriven {
         }
         r
     }
+}
+
+/// A contact dof's row of `M⁻¹` and its products `(M⁻¹)_d K`, `(M⁻¹)_d C`
+/// (zeros without damping), as `[m, m K, m C]`.
+fn rebound_rows(full: &ModalFlow, k: &Mat<f64>, c: Option<&Mat<f64>>, dof: usize) -> [Vec<f64>; 3] {
+    let m = full.minv_column(dof);
+    let times = |a: &Mat<f64>| (0..m.len()).map(|s| (0..m.len()).map(|r| m[r] * a[(r, s)]).sum()).collect();
+    let (km, cm) = (times(k), c.map_or_else(|| vec![0.0; m.len()], times));
+    [m, km, cm]
 }
 
 /// The accumulation time `t∞` of a run of impact times shrinking

@@ -112,6 +112,13 @@ pub enum EventsError {
         /// The last events, in words.
         cycle: String,
     },
+    /// The poll of [`crate::Stepper::set_interrupt`] asked the run to
+    /// stop: the state is whole, at `t` (inside an output step).
+    #[error("interrupted at t = {t}")]
+    Interrupted {
+        /// The time the run stopped at.
+        t: f64,
+    },
     /// The event search took too many steps (a contact grazing its bound).
     #[error("the event search stopped at t = {t} after {steps} steps (a contact grazing its bound without reaching it)")]
     NoConvergence {

@@ -180,11 +180,19 @@ pub(crate) struct Search {
     tr: [Vec<(f64, f64)>; 2],
     /// Steps taken by the last searches (for the benchmarks).
     pub steps: u64,
+    /// Polled every [`POLL_EVERY`] steps: `true` stops the search with
+    /// [`EventsError::Interrupted`], the flow at the time reached.
+    pub interrupt: Option<crate::Interrupt>,
 }
+
+/// Search steps between two polls of the interrupt (a step costs O(modes ×
+/// functionals); every event takes at least one step, or stalls: so an
+/// interrupt is seen within 256 steps' work, whatever the events' density).
+pub(crate) const POLL_EVERY: u64 = 256;
 
 impl Search {
     pub fn new(n: usize) -> Self {
-        Self { jet: vec![[0.0; 3]; n], bnd: vec![[0.0; 4]; n], suffix: vec![0.0; n + 1], tr: [Vec::new(), Vec::new()], steps: 0 }
+        Self { jet: vec![[0.0; 3]; n], bnd: vec![[0.0; 4]; n], suffix: vec![0.0; n + 1], tr: [Vec::new(), Vec::new()], steps: 0, interrupt: None }
     }
 
     /// The first time in `(t0, end]` at which one of `fns` reaches 0 from
@@ -222,9 +230,9 @@ impl Search {
     ) -> Result<Found, EventsError> {
         let n = flow.n();
         if self.jet.len() != n {
-            let steps = self.steps;
+            let (steps, interrupt) = (self.steps, self.interrupt.take());
             *self = Self::new(n);
-            self.steps = steps;
+            (self.steps, self.interrupt) = (steps, interrupt);
         }
         let (eta, deta) = state;
         // Without time-dependent loads the flow is the same at every
@@ -247,6 +255,9 @@ impl Search {
             let res = time_resolution(if autonomous { tau } else { t });
             if h <= 0.0 {
                 return Ok(Found::End);
+            }
+            if self.steps % POLL_EVERY == 0 && self.interrupt.as_ref().is_some_and(|poll| poll()) {
+                return Err(EventsError::Interrupted { t });
             }
             self.steps += 1;
             flow.trig(t, &mut self.tr[0]);
@@ -324,14 +335,7 @@ impl Search {
             let margin = gl - self.suffix[s];
             if margin > 0.0 {
                 let reach = if bl > 0.0 {
-                    // The positive root of `margin + dl s − bl s²/2`; with
-                    // `dl < 0` in the form without cancellation.
-                    let root = (dl * dl + 2.0 * bl * margin).sqrt();
-                    if dl >= 0.0 {
-                        (dl + root) / bl
-                    } else {
-                        2.0 * margin / (root - dl)
-                    }
+                    (dl + (dl * dl + 2.0 * bl * margin).sqrt()) / bl
                 } else if dl < 0.0 {
                     margin / -dl
                 } else {

@@ -82,6 +82,10 @@ impl Stepper for EventStepper {
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let t_next = (self.n + 1) as f64 * self.dt;
         let result = self.run.advance_to(t_next);
+        if let Err(super::EventsError::Interrupted { .. }) = result {
+            // The level and its state stay; the run resumes inside the step.
+            return Err(SchemeError::Interrupted { step: self.n, time: self.time() });
+        }
         self.read();
         result?;
         self.n += 1;
@@ -122,6 +126,10 @@ impl Stepper for EventStepper {
 
     fn events(&self) -> Option<&[EventRecord]> {
         Some(self.run.events())
+    }
+
+    fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
+        self.run.set_interrupt(poll);
     }
 }
 
