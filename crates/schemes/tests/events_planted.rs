@@ -412,16 +412,13 @@ fn a_resonant_crossing_near_the_window_end_starts_the_event_list() {
     }
 }
 
-/// Known defect (open): the safe step's root `(g' + sqrt(g'² + 2 B g))/B`
-/// cancels when `g' < 0` and `2 B g ≪ g'²`; once `2 B g < ε g'²` it rounds
-/// to 0 and the event is declared with the gap still open. The form
-/// without cancellation, `2g/(sqrt(…) − g')`, fixes this case but located
-/// the two-stop bar's slowest impacts 10 times worse (1e-10 s against its
-/// 40-digit oracle, `events_two_stops.rs`): not taken until understood. A mass at `x = 1` moving at `−1` under the load `−1e-9`
-/// reaches `x = 0` at `2/(1 + sqrt(1 + 2e-9))`; the search stops 1.4e-7
-/// earlier with the gap 1.4e-7 (the event-driven run then clamps it).
+/// The safe step's root `(g' + sqrt(g'² + 2 B g))/B` cancelled when
+/// `g' < 0` and `2 B g ≪ g'²`: once `2 B g < ε g'²` it rounded to 0 and the
+/// event was declared with the gap still open (now `2g/(sqrt(…) − g')`).
+/// A mass at `x = 1` moving at `−1` under the load `−1e-9` reaches `x = 0`
+/// at `2/(1 + sqrt(1 + 2e-9))`; the search stopped 1.4e-7 earlier with the
+/// gap 1.4e-7 (the event-driven run then clamped it).
 #[test]
-#[ignore = "known defect of the event search (cancellation in the safe step), open: issue 32's note"]
 fn a_fast_approach_with_a_tiny_curvature_is_located_at_its_root() {
     let a = 1e-9;
     let dy = Dynamics::new(one(1.0), one(0.0), vec![-a], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);

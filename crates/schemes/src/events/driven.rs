@@ -203,6 +203,10 @@ pub struct EventDriven {
     /// asked (applied when the run gets there), and the state at it.
     cursor: Cursor,
     pending: Option<(f64, Option<usize>)>,
+    /// Per functional of the phase: a gap exactly 0 at the base (a contact
+    /// put on its bound by the event that started the phase): its search
+    /// takes it as 0, not as the modal state's round-off of it.
+    base_zero: Vec<bool>,
     found: (Vec<f64>, Vec<f64>),
     /// Per held contact: its force's integral from the base to the last
     /// [`take_impulses`](Self::take_impulses).
@@ -302,6 +306,7 @@ impl EventDriven {
             base: (t0, Vec::new(), Vec::new()),
             cursor: Cursor { tau: 0.0, window: 1.0 },
             pending: None,
+            base_zero: Vec::new(),
             found: (Vec::new(), Vec::new()),
             taken: vec![0.0; k_contacts],
             tr: [Vec::new(), Vec::new()],
@@ -400,7 +405,7 @@ impl EventDriven {
             let sys = &self.systems[&self.holds];
             let base = (self.base.0, &self.base.1[..], &self.base.2[..]);
             let state = (&mut self.found.0[..], &mut self.found.1[..]);
-            match self.search.resume(&sys.flow, base, &mut self.cursor, state, (&sys.fns, &sys.quiet), self.piece.next, t_end)? {
+            match self.search.resume(&sys.flow, base, &mut self.cursor, state, (&sys.fns, &sys.quiet, &self.base_zero), self.piece.next, t_end)? {
                 Found::Event(te, which) => self.pending = Some((te, Some(which))),
                 // A breakpoint of the series (the state there in `found`).
                 Found::End => self.pending = Some((self.piece.next, None)),
@@ -479,6 +484,8 @@ impl EventDriven {
         self.base.2.clone_from(&self.deta);
         self.cursor = Cursor::start(flow);
         self.pending = None;
+        self.base_zero.clear();
+        self.base_zero.resize(self.systems[&self.holds].fns.len(), false);
         self.taken.iter_mut().for_each(|x| *x = 0.0);
         self.found.0.resize(self.eta.len(), 0.0);
         self.found.1.resize(self.eta.len(), 0.0);
@@ -740,6 +747,13 @@ impl EventDriven {
         sys.flow.to_modal(t, &qf, &vf, &mut self.eta, &mut self.deta);
         self.t = t;
         self.start_phase();
+        let sys = &self.systems[&self.holds];
+        for (z, w) in self.base_zero.iter_mut().zip(&sys.watch) {
+            if let Watch::Gap { contact, bound } = *w {
+                let s = &self.sites[contact];
+                *z = q[s.dof] == if bound == Bound::Upper { s.hi } else { s.lo };
+            }
+        }
         Ok(())
     }
 

@@ -842,8 +842,9 @@ impl ModalFlow {
         d
     }
 
-    /// Advances mode `i` from `(η, η')` at `t0` by `tau` (`dtr`: the
-    /// harmonics' [`increments`](Self::trig_increments) over the step).
+    /// The increments `(η(t0 + τ) − η, η'(t0 + τ) − η')` of mode `i` from
+    /// `(η, η')` at `t0` (`dtr`: the harmonics'
+    /// [`increments`](Self::trig_increments) over the step).
     #[inline]
     pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], dtr: &[(f64, f64)]) -> (f64, f64) {
         let p0 = self.particular_jet(i, t0, t0, tr0);
@@ -858,7 +859,7 @@ impl ModalFlow {
             // alone overflows for βτ > 710; below, the product is accurate
             // and kept as it was).
             let (dc, ds) = overdamped(alpha, (-lambda).sqrt(), tau);
-            return (e0 * dc + (de0 + alpha * e0) * ds + p1[0], de0 * dc - (alpha * de0 + k * e0) * ds + p1[1]);
+            return (e0 * dc + (de0 + alpha * e0) * ds + p1[0] - eta, de0 * dc - (alpha * de0 + k * e0) * ds + p1[1] - deta);
         }
         // As increments of the state (docs/theory.md §9.1): over a short
         // step `e₀ (cos ωτ − 1)` is `−2 e₀ sin²(ωτ/2)`, not the difference
@@ -869,7 +870,7 @@ impl ModalFlow {
         // e^{−ατ} cos − 1.
         let a = decay * cc1 + dm1;
         let b = decay * ss;
-        (eta + (e0 * a + (de0 + alpha * e0) * b + dp[0]), deta + (de0 * a - (alpha * de0 + k * e0) * b + dp[1]))
+        (e0 * a + (de0 + alpha * e0) * b + dp[0], de0 * a - (alpha * de0 + k * e0) * b + dp[1])
     }
 
     /// `sin θ₁ − sin θ₀, cos θ₁ − cos θ₀` of every harmonic over `[t0, t0 + τ]`
@@ -932,7 +933,30 @@ impl ModalFlow {
         self.trig(t0, tr0);
         self.trig_increments(tau, tr0, dtr);
         for i in 0..self.n {
-            (eta[i], deta[i]) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, dtr);
+            let (d, dd) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, dtr);
+            (eta[i], deta[i]) = (eta[i] + d, deta[i] + dd);
+        }
+    }
+
+    /// [`advance_modal`](Self::advance_modal) from `(eta0, deta0)` into
+    /// `(eta, deta)`, keeping the increments in `(d, dd)` (their full
+    /// precision: the search evaluates its functionals from them).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn advance_modal_from(
+        &self,
+        t0: f64,
+        (eta0, deta0): (&[f64], &[f64]),
+        tau: f64,
+        (eta, deta): (&mut [f64], &mut [f64]),
+        (d, dd): (&mut [f64], &mut [f64]),
+        tr: &mut [Vec<(f64, f64)>; 2],
+    ) {
+        let [tr0, dtr] = tr;
+        self.trig(t0, tr0);
+        self.trig_increments(tau, tr0, dtr);
+        for i in 0..self.n {
+            (d[i], dd[i]) = self.advance_mode(i, t0, (eta0[i], deta0[i]), tau, tr0, dtr);
+            (eta[i], deta[i]) = (eta0[i] + d[i], deta0[i] + dd[i]);
         }
     }
 

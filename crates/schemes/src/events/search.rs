@@ -180,6 +180,14 @@ pub(crate) struct Search {
     tr: [Vec<(f64, f64)>; 2],
     /// Steps taken by the last searches (for the benchmarks).
     pub steps: u64,
+    /// The state's increments from the phase's base at the current step.
+    inc: [Vec<f64>; 2],
+    /// Per functional, its value at the base split at every mode index
+    /// (`n + 1` prefix sums: the load part, then each mode's terms), the
+    /// full sum 0 for one exactly at its zero there; and its load part at
+    /// the base.
+    prefix: Vec<f64>,
+    load0: Vec<f64>,
     /// Polled every [`POLL_EVERY`] steps: `true` stops the search with
     /// [`EventsError::Interrupted`], the flow at the time reached.
     pub interrupt: Option<crate::Interrupt>,
@@ -192,7 +200,17 @@ pub(crate) const POLL_EVERY: u64 = 256;
 
 impl Search {
     pub fn new(n: usize) -> Self {
-        Self { jet: vec![[0.0; 3]; n], bnd: vec![[0.0; 4]; n], suffix: vec![0.0; n + 1], tr: [Vec::new(), Vec::new()], steps: 0, interrupt: None }
+        Self {
+            jet: vec![[0.0; 3]; n],
+            bnd: vec![[0.0; 4]; n],
+            suffix: vec![0.0; n + 1],
+            tr: [Vec::new(), Vec::new()],
+            steps: 0,
+            inc: [vec![0.0; n], vec![0.0; n]],
+            prefix: Vec::new(),
+            load0: Vec::new(),
+            interrupt: None,
+        }
     }
 
     /// The first time in `(t0, end]` at which one of `fns` reaches 0 from
@@ -204,7 +222,8 @@ impl Search {
     pub fn first_zero(&mut self, flow: &ModalFlow, t0: f64, eta: &mut [f64], deta: &mut [f64], fns: &[Functional], quiet: &[bool], end: f64) -> Result<Option<(f64, usize)>, EventsError> {
         let base = (eta.to_vec(), deta.to_vec());
         let mut cursor = Cursor { tau: 0.0, window: end - t0 };
-        match self.resume(flow, (t0, &base.0, &base.1), &mut cursor, (eta, deta), (fns, quiet), end, f64::INFINITY)? {
+        let zero = vec![false; fns.len()];
+        match self.resume(flow, (t0, &base.0, &base.1), &mut cursor, (eta, deta), (fns, quiet, &zero), end, f64::INFINITY)? {
             Found::Event(t, f) => Ok(Some((t, f))),
             Found::End | Found::Paused => Ok(None),
         }
@@ -224,7 +243,7 @@ impl Search {
         base: (f64, &[f64], &[f64]),
         cursor: &mut Cursor,
         state: (&mut [f64], &mut [f64]),
-        (fns, quiet): (&[Functional], &[bool]),
+        (fns, quiet, zero): (&[Functional], &[bool], &[bool]),
         end: f64,
         pause: f64,
     ) -> Result<Found, EventsError> {
@@ -235,6 +254,24 @@ impl Search {
             (self.steps, self.interrupt) = (steps, interrupt);
         }
         let (eta, deta) = state;
+        // Each functional at the base, split at every mode index: a value
+        // along the phase is that plus the increments' terms, precise
+        // where it is small (a slow approach: docs/theory.md §9.2).
+        self.prefix.clear();
+        self.load0.clear();
+        for (f, func) in fns.iter().enumerate() {
+            let l0 = func.wave(base.0, 0);
+            self.load0.push(l0);
+            let mut g = l0;
+            self.prefix.push(g);
+            for i in 0..n {
+                g += func.beta[i] * base.1[i] + func.alpha(i) * base.2[i];
+                self.prefix.push(g);
+            }
+            if zero[f] {
+                *self.prefix.last_mut().expect("n + 1 sums") = 0.0;
+            }
+        }
         // Without time-dependent loads the flow is the same at every
         // absolute time: events are located relative to the phase (its
         // elapsed time τ), not to t (docs/theory.md §9.2).
@@ -247,10 +284,13 @@ impl Search {
                 return Ok(Found::Paused);
             }
             // The state τ after the base (the same state whatever the pauses).
-            eta.copy_from_slice(base.1);
-            deta.copy_from_slice(base.2);
             if tau != 0.0 {
-                flow.advance_modal(base.0, eta, deta, tau, &mut self.tr);
+                let [d, dd] = &mut self.inc;
+                flow.advance_modal_from(base.0, (base.1, base.2), tau, (&mut *eta, &mut *deta), (d, dd), &mut self.tr);
+            } else {
+                eta.copy_from_slice(base.1);
+                deta.copy_from_slice(base.2);
+                self.inc.iter_mut().for_each(|x| x.iter_mut().for_each(|y| *y = 0.0));
             }
             let res = time_resolution(if autonomous { tau } else { t });
             if h <= 0.0 {
@@ -271,7 +311,7 @@ impl Search {
             let (mut step, mut root) = (h, f64::INFINITY);
             let mut who = None;
             for (f, func) in fns.iter().enumerate() {
-                match self.safe_step(flow, func, quiet[f], (t, res), eta, deta, h) {
+                match self.safe_step(flow, (f, func), quiet[f], (t, res), eta, deta, h) {
                     Reach::Now => return Ok(Found::Event(t, f)),
                     Reach::Free(s) => step = step.min(s),
                     Reach::Root(s) => {
@@ -306,22 +346,31 @@ impl Search {
 
     /// The safe step for one functional over the window `h` (module docs).
     #[allow(clippy::too_many_arguments)]
-    fn safe_step(&mut self, flow: &ModalFlow, f: &Functional, quiet: bool, (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
+    fn safe_step(&mut self, flow: &ModalFlow, (fi, f): (usize, &Functional), quiet: bool, (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
         let n = eta.len();
         let (lv, ld, lc) = (f.wave(t, 0), f.wave(t, 1), f.wave_bound(2));
+        // The functional split at mode `s`: its value at the base plus the
+        // increments of its load part and of the modes below `s`.
+        let prefix = &self.prefix[fi * (n + 1)..(fi + 1) * (n + 1)];
+        let (inc, dinc) = (&self.inc[0], &self.inc[1]);
+        let value_at = |upto: usize| -> f64 {
+            let mut d = lv - self.load0[fi];
+            for i in 0..upto {
+                d += f.beta[i] * inc[i] + f.alpha(i) * dinc[i];
+            }
+            prefix[upto] + d
+        };
         // Suffix sums of the amplitudes.
         self.suffix[n] = 0.0;
-        let mut g = lv;
         // The size of the terms of g: its round-off is 1e-16 of it.
         let mut scale = f.constant_abs(t) + f.wave_bound(0);
         for i in (0..n).rev() {
             let (b, a) = (f.beta[i], f.alpha(i));
             let amp = b.abs() * self.bnd[i][0] + a.abs() * self.bnd[i][1];
             self.suffix[i] = self.suffix[i + 1] + amp;
-            let (x, y) = (b * self.jet[i][0], a * self.jet[i][1]);
-            g += x + y;
-            scale += x.abs() + y.abs();
+            scale += (b * self.jet[i][0]).abs() + (a * self.jet[i][1]).abs();
         }
+        let g = value_at(n);
         if g <= 1e-13 * scale {
             match self.lift_off(flow, f, quiet, (t, res), eta, deta, h) {
                 // Approaching from just above: the root steps below.
@@ -330,12 +379,22 @@ impl Search {
             }
         }
         let mut best = 0.0f64;
-        let (mut gl, mut dl, mut bl) = (lv, ld, lc);
+        let (mut dl, mut bl) = (ld, lc);
+        // The increments' part of the split value, accumulated with `s`.
+        let mut dsum = lv - self.load0[fi];
         for s in 0..=n {
+            let gl = prefix[s] + dsum;
             let margin = gl - self.suffix[s];
             if margin > 0.0 {
                 let reach = if bl > 0.0 {
-                    (dl + (dl * dl + 2.0 * bl * margin).sqrt()) / bl
+                    // The positive root of `margin + dl s − bl s²/2`; for an
+                    // approach (`dl < 0`) in the form without cancellation.
+                    let root = (dl * dl + 2.0 * bl * margin).sqrt();
+                    if dl >= 0.0 {
+                        (dl + root) / bl
+                    } else {
+                        2.0 * margin / (root - dl)
+                    }
                 } else if dl < 0.0 {
                     margin / -dl
                 } else {
@@ -345,7 +404,7 @@ impl Search {
             }
             if s < n {
                 let (b, a) = (f.beta[s], f.alpha(s));
-                gl += b * self.jet[s][0] + a * self.jet[s][1];
+                dsum += b * inc[s] + a * dinc[s];
                 dl += b * self.jet[s][1] + a * self.jet[s][2];
                 bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
             }
