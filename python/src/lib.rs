@@ -405,7 +405,8 @@ fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<String> {
 }
 
 /// What a run of the scene would do (the text of `signorini check`):
-/// validated, the integrator built, stability, memory, cost. Nothing runs.
+/// validated, the integrator built, stability, memory, cost. Nothing runs
+/// but an event-driven scene's probe of its events (at most 1 s).
 #[pyfunction]
 fn check_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<String> {
     let (file, s) = scene_of(scene)?;

@@ -578,7 +578,8 @@ fn prepare_output(out: &Path, clean: bool) -> Result<(), CliError> {
 /// files, the folder rule and interrupts).
 pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
     if !opts.no_disk_check {
-        let need = output_estimate(scene, &scene_file.output);
+        // An event-driven run's events.csv: from a bounded probe of its events.
+        let need = output_estimate(scene, &scene_file.output) + scene::event_probe(scene)?.map_or(0.0, |p| p.bytes_estimate());
         if let Some(free) = free_space(out) {
             if need > free {
                 return Err(CliError::Disk { need: scene::bytes(need), free: scene::bytes(free), dir: out.display().to_string() });

@@ -103,7 +103,7 @@ mod instantiate;
 mod report;
 
 pub use instantiate::{BuildError, Lift, Reads, Simulation};
-pub use report::{check_report, energy_warning, free_space, io_reason, output_estimate, sig12, sig6, CheckReport};
+pub use report::{check_report, energy_warning, event_probe, free_space, io_reason, output_estimate, sig12, sig6, CheckReport, EventProbe, ProbeEnd};
 
 use crate::excitation::Excitation;
 use crate::excitation::{ExcitationToml, Table};

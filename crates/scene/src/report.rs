@@ -67,6 +67,200 @@ pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
     series + snaps + plots
 }
 
+/// The event-driven scheme of a scene and its event limit, if it has one.
+fn event_driven(scene: &Scene) -> Option<(signorini_schemes::SchemeSpec, f64, f64)> {
+    let (spec, dt, t_end) = match scene {
+        Scene::Bar(b) => (b.scheme, b.dt, b.t_end),
+        Scene::Oscillator { scheme, dt, t_end, .. } => (*scheme, *dt, *t_end),
+        Scene::Beam { scene, .. } => match scene.contact {
+            BeamContact::Scheme(spec) => (spec, scene.dt, scene.t_end),
+            _ => return None,
+        },
+    };
+    (spec.family().name == "event-driven").then_some((spec, dt, t_end))
+}
+
+/// Search steps a probe may take: 512 polls of the event search (one per
+/// 256 steps; 0.9 s for fig. 2's beam, 38 dofs), and at most
+/// [`PROBE_WALL_S`] seconds (larger problems).
+const PROBE_POLLS: usize = 512;
+const PROBE_WALL_S: f64 = 1.0;
+/// A probe covers at least this fraction of the horizon, then goes on to
+/// [`PROBE_EVENTS`] events (within its budget).
+const PROBE_FRACTION: f64 = 0.01;
+const PROBE_EVENTS: usize = 1000;
+/// `events.csv`'s header, and a row's bytes when the probe saw no event.
+const EVENTS_HEADER: f64 = 55.0;
+const NOMINAL_EVENT_ROW: f64 = 100.0;
+
+/// How an event-driven run's probe ended.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum ProbeEnd {
+    /// It reached the horizon: its counts are the run's.
+    Horizon,
+    /// It covered its share: at least 1 % of the horizon and 1000 events.
+    Share,
+    /// It used its budget of search steps (or of time) before its share.
+    Budget,
+    /// The run stops there with this error (the run will too).
+    Failed(String),
+}
+
+/// A bounded probe of an event-driven run from its start (what `signorini
+/// check` and the disk check of `run` extrapolate its events, its
+/// `events.csv` and its time from): the run stepped until it covers 1 % of
+/// the horizon and 1000 events, or until 512 × 256 steps of its event
+/// search or 1 s, or to the horizon.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct EventProbe {
+    /// The time covered from 0 (the last whole level, or the last event if
+    /// later: the probe may stop inside a step).
+    pub covered: f64,
+    /// The horizon `T`.
+    pub horizon: f64,
+    /// Events in `[0, covered]`.
+    pub events: usize,
+    /// Bytes of their `events.csv` rows (header excluded).
+    pub row_bytes: f64,
+    /// Wall-clock seconds of the probe's stepping.
+    pub wall_s: f64,
+    /// The run's event limit (`max_events`).
+    pub max_events: f64,
+    /// How it ended.
+    pub end: ProbeEnd,
+}
+
+impl EventProbe {
+    /// The run's events: the probe's rate `events / covered` over the
+    /// horizon, at most `max_events` (exact when the probe reached the
+    /// horizon); `None` when the probe covered no time.
+    pub fn events_estimate(&self) -> Option<f64> {
+        match self.end {
+            ProbeEnd::Horizon => Some(self.events as f64),
+            _ if self.covered > 0.0 => Some((self.events as f64 * self.horizon / self.covered).min(self.max_events)),
+            _ => None,
+        }
+    }
+
+    /// Bytes per `events.csv` row: the probe's mean (100 without events).
+    pub fn bytes_per_event(&self) -> f64 {
+        if self.events > 0 {
+            self.row_bytes / self.events as f64
+        } else {
+            NOMINAL_EVENT_ROW
+        }
+    }
+
+    /// `events.csv`'s size at the estimated events (the header alone when
+    /// the rate is unknown).
+    pub fn bytes_estimate(&self) -> f64 {
+        EVENTS_HEADER + self.events_estimate().unwrap_or(0.0) * self.bytes_per_event()
+    }
+
+    /// `events.csv`'s size at `max_events` events (a run that reaches the
+    /// limit stops there).
+    pub fn bytes_bound(&self) -> f64 {
+        EVENTS_HEADER + self.max_events * self.bytes_per_event()
+    }
+
+    /// Seconds of stepping: the probe's wall time per unit of simulated
+    /// time over the horizon (`None` when it covered no time).
+    pub fn seconds_estimate(&self) -> Option<f64> {
+        match self.end {
+            ProbeEnd::Horizon => Some(self.wall_s),
+            _ => (self.covered > 0.0).then(|| self.wall_s * self.horizon / self.covered),
+        }
+    }
+
+    /// What the probe saw and what it estimates, in words (`signorini check`).
+    pub fn describe(&self) -> String {
+        use signorini_run::text::num;
+        let pct = 100.0 * self.covered / self.horizon;
+        let seen = format!("{} events in [0, {}] ({pct:.3} % of T), {:.3} s of stepping", self.events, num(sig6(self.covered)), self.wall_s);
+        let bound = format!("at most max_events = {:e} events: events.csv at most {}", self.max_events, crate::bytes(self.bytes_bound()));
+        match (&self.end, self.events_estimate(), self.seconds_estimate()) {
+            (ProbeEnd::Horizon, _, _) => format!("events: the probe ran the whole horizon: {seen}; events.csv {} ({bound})", crate::bytes(self.bytes_estimate())),
+            (end, Some(n), Some(secs)) => format!(
+                "events: estimated from a probe of the run{}: {seen}; at that rate about {} events to T = {} (events.csv about {}, {:.0} bytes per row) and {:.3} s of stepping — an extrapolation, not a bound: the rate of events can change along the run (chatter comes in bursts); {bound}",
+                match end {
+                    ProbeEnd::Failed(why) => format!(" (it stopped: {why}: the run will stop there too)"),
+                    ProbeEnd::Budget => " (it stopped at its budget: 131 072 steps of the event search or 1 s)".to_string(),
+                    _ => String::new(),
+                },
+                num(sig6(n).round()),
+                num(self.horizon),
+                crate::bytes(self.bytes_estimate()),
+                self.bytes_per_event(),
+                secs
+            ),
+            (end, _, _) => format!(
+                "events: a probe of the run covered no time{} ({seen}): no estimate; {bound}",
+                match end {
+                    ProbeEnd::Failed(why) => format!(" (it stopped: {why})"),
+                    _ => String::new(),
+                }
+            ),
+        }
+    }
+}
+
+/// Counts the bytes written.
+struct Count(usize);
+
+impl std::io::Write for Count {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.0 += b.len();
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// A probe of an event-driven scene's run ([`EventProbe`]); `None` for
+/// other schemes.
+pub fn event_probe(scene: &Scene) -> Result<Option<EventProbe>, BuildError> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let Some((spec, dt, t_end)) = event_driven(scene) else { return Ok(None) };
+    let max_events = spec.param("max_events").unwrap_or(signorini_schemes::events::MAX_EVENTS as f64);
+    let mut sim = scene.instantiate(None)?;
+    let steps = RunConfig::new(dt, t_end)?.steps();
+    let share = ((PROBE_FRACTION * steps as f64).ceil() as usize).clamp(1, steps);
+    let polls = std::sync::Arc::new(AtomicUsize::new(0));
+    let p = std::sync::Arc::clone(&polls);
+    let start = std::time::Instant::now();
+    sim.stepper.set_interrupt(Some(std::sync::Arc::new(move || p.fetch_add(1, Ordering::Relaxed) >= PROBE_POLLS || start.elapsed().as_secs_f64() > PROBE_WALL_S)));
+    let mut end = ProbeEnd::Budget;
+    loop {
+        let s = &mut sim.stepper;
+        let events = s.events().map_or(0, <[_]>::len);
+        if s.level() >= steps {
+            end = ProbeEnd::Horizon;
+            break;
+        }
+        if s.level() >= share && events >= PROBE_EVENTS {
+            end = ProbeEnd::Share;
+            break;
+        }
+        match s.step() {
+            Ok(_) => {}
+            Err(signorini_schemes::SchemeError::Interrupted { .. }) => break,
+            Err(e) => {
+                end = ProbeEnd::Failed(signorini_run::RunError::from(e).to_string());
+                break;
+            }
+        }
+    }
+    let wall_s = start.elapsed().as_secs_f64();
+    let events = sim.stepper.events().unwrap_or(&[]);
+    let covered = events.last().map_or(0.0, |e| e.t).max(sim.stepper.time()).min(t_end);
+    let mut count = Count(0);
+    signorini_run::observers::write_events(&mut count, events).map_err(|e| BuildError::Run(signorini_run::RunError::Output(e)))?;
+    Ok(Some(EventProbe { covered, horizon: t_end, events: events.len(), row_bytes: count.0 as f64 - EVENTS_HEADER, wall_s, max_events, end }))
+}
+
 /// Free bytes on the file system holding `dir` (or its nearest existing
 /// ancestor), if the system says.
 pub fn free_space(dir: &Path) -> Option<f64> {
@@ -100,8 +294,10 @@ pub struct CheckReport {
     pub stability_limit: Option<f64>,
     /// The memory estimate, bytes.
     pub memory_bytes: f64,
-    /// The output estimate, bytes.
+    /// The output estimate, bytes (`events.csv` included: from the probe).
     pub output_bytes: f64,
+    /// An event-driven run's probe (its events, `events.csv` and time).
+    pub events: Option<EventProbe>,
 }
 
 /// What `signorini check` states, with its numbers (the Python `check()` returns them).
@@ -111,14 +307,24 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
         Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
         Scene::Oscillator { .. } => (1, false, 1, &None),
     };
-    let need = output_estimate(scene, &file.output);
+    let probe = event_probe(scene)?;
+    let need = output_estimate(scene, &file.output) + probe.as_ref().map_or(0.0, EventProbe::bytes_estimate);
     let free = free_space(out)
         .map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", crate::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
     let memory = crate::memory_estimate(elements, is_beam) + crate::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
     let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", crate::bytes(memory), crate::bytes(need), out.display());
+    if let Some(p) = &probe {
+        resources.push_str(" (events.csv included: the probe's estimate)\n");
+        resources.push_str(&p.describe());
+    }
     if let Some(c) = contacts {
         resources = format!("\n{}{resources}", c.describe());
     }
+    // An event-driven run's cost is its events', from the probe.
+    let probe_cost = probe.as_ref().map(|p| match p.seconds_estimate() {
+        Some(s) => format!("cost estimate: about {s:.3} s stepping (event-driven: from the probe of its events below; the run's writing and norms come on top)"),
+        None => "cost estimate: unknown (event-driven: the probe below covered no time)".to_string(),
+    });
     let (text, steps, stability_limit) = match scene {
         Scene::Bar(b) => {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
@@ -143,6 +349,10 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
                 (dofs * steps) as f64,
                 1e-8 * (dofs * steps) as f64
             );
+            let text = match &probe_cost {
+                Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c.as_str()]).collect::<Vec<_>>().join("\n"),
+                None => text,
+            };
             (text, steps, limit)
         }
         Scene::Beam { pipe, scene, force, contacts, excitation, .. } => {
@@ -195,6 +405,10 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
                 steps,
                 4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
             );
+            let text = match &probe_cost {
+                Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c.as_str()]).collect::<Vec<_>>().join("\n"),
+                None => text,
+            };
             let limit = match registry {
                 Some((_, l)) => l,
                 None => matches!(scene.contact, BeamContact::Projection { beta } if beta < 0.25).then_some(lim.dt_critical),
@@ -219,6 +433,10 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
                 signorini_run::text::num(osc.restitution),
                 omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
             );
+            let text = match &probe_cost {
+                Some(c) => format!("{text}\n{c}"),
+                None => text,
+            };
             (text, steps, limit)
         }
     };
@@ -242,5 +460,5 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
             red.cfl_limit()
         )
     });
-    Ok(CheckReport { text: text + &reduced + &resources, steps, stability_limit, memory_bytes: memory, output_bytes: need })
+    Ok(CheckReport { text: text + &reduced + &resources, steps, stability_limit, memory_bytes: memory, output_bytes: need, events: probe })
 }
