@@ -81,3 +81,47 @@ fn a_bar_on_two_equal_stops_accumulates_at_both_at_the_oracles_time() {
         assert_eq!(got.len(), i, "{name}: events after the oracle's: {:?}", &got[i.min(got.len())..]);
     }
 }
+
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    /// Equal stops reached together (issue 32): free bars of 2–6 elements,
+    /// consistent or lumped mass, a mirror-symmetric start (a uniform speed
+    /// onto both stops plus a symmetric bend), restitution in [0, 1). The
+    /// oracle is the mirror symmetry: every event of one end has its twin
+    /// at the other end at the same time (to 1e-12) with the same speed,
+    /// and the run completes with its events in time order.
+    #[test]
+    fn equal_stops_reached_together_keep_the_mirror_symmetry(
+        m in 2usize..=6, lumped in any::<bool>(), e in 0.0f64..0.95, speed in 0.1f64..1.0, bend in -0.3f64..0.3, gap in 0.01f64..0.1,
+    ) {
+        let n = m + 1;
+        let h = 1.0 / m as f64;
+        let (mut mm, mut kk) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+        for i in 0..n {
+            let w = if i == 0 || i == n - 1 { 1.0 } else { 2.0 };
+            mm.set(i, i, if lumped { h * w / 2.0 } else { h * w / 3.0 });
+            kk.set(i, i, w / h);
+            if i > 0 {
+                mm.set(i, i - 1, if lumped { 0.0 } else { h / 6.0 });
+                kk.set(i, i - 1, -1.0 / h);
+            }
+        }
+        let stops = vec![Contact::new(0, Bounds::obstacle(-gap), false), Contact::new(n - 1, Bounds::obstacle(-gap), false)];
+        let dy = Dynamics::new(mm, kk, vec![0.0; n], stops);
+        // Symmetric about the middle: x(1 − x) is.
+        let v0: Vec<f64> = (0..n).map(|i| { let x = i as f64 * h; -speed + bend * x * (1.0 - x) }).collect();
+        let mut run = EventDriven::new(&dy, 0.0, &vec![0.0; n], &v0, e).unwrap();
+        run.run_until(3.0, 100_000).unwrap();
+        let ev = run.events();
+        prop_assert!(ev.windows(2).all(|w| w[0].t <= w[1].t), "out of time order: {:?}", ev);
+        let (a, b): (Vec<&signorini_schemes::events::EventRecord>, Vec<_>) = ev.iter().partition(|x| x.contact == 0);
+        prop_assert_eq!(a.len(), b.len(), "{:?}", ev);
+        for (x, y) in a.iter().zip(&b) {
+            prop_assert!(x.kind == y.kind && (x.t - y.t).abs() <= 1e-12 * x.t.max(1.0), "{:?} against {:?}", x, y);
+            prop_assert!((x.velocity_before - y.velocity_before).abs() <= 1e-9 * speed, "{:?} against {:?}", x, y);
+        }
+        prop_assert!(!a.is_empty());
+    }
+}

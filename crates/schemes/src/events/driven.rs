@@ -204,8 +204,9 @@ pub struct EventDriven {
     cursor: Cursor,
     pending: Option<(f64, Option<usize>)>,
     /// Per functional of the phase: a gap exactly 0 at the base (a contact
-    /// put on its bound by the event that started the phase): its search
-    /// takes it as 0, not as the modal state's round-off of it.
+    /// that the event starting the phase put on its bound, leaving it with
+    /// a speed): its search takes it as 0, not as the modal state's
+    /// round-off of it.
     base_zero: Vec<bool>,
     found: (Vec<f64>, Vec<f64>),
     /// Per held contact: its force's integral from the base to the last
@@ -542,6 +543,16 @@ impl EventDriven {
                 q[s.dof] = if up { s.hi } else { s.lo };
             }
         }
+        // The located contact arrives: a speed away from its bound is the
+        // round-off that the search read as zero (it locates a zero only
+        // when the first derivative beyond round-off points into the
+        // bound), so it is at rest there (docs/theory.md §9.3).
+        if let Some((j, b)) = primary {
+            let dof = self.sites[j].dof;
+            if (b == Bound::Upper && v[dof] < 0.0) || (b == Bound::Lower && v[dof] > 0.0) {
+                v[dof] = 0.0;
+            }
+        }
         // Newton's law for all of them at once: the velocity LCP.
         let vbefore: Vec<f64> = self.sites.iter().map(|s| v[s.dof]).collect();
         let held_before: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
@@ -751,7 +762,11 @@ impl EventDriven {
         for (z, w) in self.base_zero.iter_mut().zip(&sys.watch) {
             if let Watch::Gap { contact, bound } = *w {
                 let s = &self.sites[contact];
-                *z = q[s.dof] == if bound == Bound::Upper { s.hi } else { s.lo };
+                // Leaving it with a speed (a rebound): a contact left at
+                // rest there is decided by its derivatives' rules (§9.2),
+                // which read its round-off.
+                let leaving = if bound == Bound::Upper { v[s.dof] < 0.0 } else { v[s.dof] > 0.0 };
+                *z = leaving && q[s.dof] == if bound == Bound::Upper { s.hi } else { s.lo };
             }
         }
         Ok(())
