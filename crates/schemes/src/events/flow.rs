@@ -287,14 +287,15 @@ pub(crate) fn dense(a: &signorini_fem::SymBand) -> Mat<f64> {
 /// for `λ = 0`), the first accurate for small `τ`:
 /// `cos(ωτ) − 1 = −2 sin²(ωτ/2)`, `cosh(ωτ) − 1 = 2 sinh²(ωτ/2)`.
 fn cs_m1(lambda: f64, tau: f64) -> (f64, f64) {
+    // One `sin_cos` of the half angle: `sin ωτ = 2 sin(ωτ/2) cos(ωτ/2)`.
     if lambda > 0.0 {
         let w = lambda.sqrt();
-        let h = (0.5 * w * tau).sin();
-        (-2.0 * h * h, (w * tau).sin() / w)
+        let (h, c) = (0.5 * w * tau).sin_cos();
+        (-2.0 * h * h, 2.0 * h * c / w)
     } else if lambda < 0.0 {
         let w = (-lambda).sqrt();
         let h = (0.5 * w * tau).sinh();
-        (2.0 * h * h, (w * tau).sinh() / w)
+        (2.0 * h * h, 2.0 * h * (1.0 + h * h).sqrt() / w)
     } else {
         (0.0, tau)
     }
@@ -703,9 +704,14 @@ impl ModalFlow {
     /// absolute time multiplies it: round-off stays relative to the motion
     /// since `t_ref`, not to the time elapsed since 0.
     fn particular_jet(&self, i: usize, t: f64, t_ref: f64, tr: &[(f64, f64)]) -> [f64; JET] {
+        self.particular::<JET>(i, t, t_ref, tr)
+    }
+
+    /// The first `N` orders of [`particular_jet`](Self::particular_jet).
+    fn particular<const N: usize>(&self, i: usize, t: f64, t_ref: f64, tr: &[(f64, f64)]) -> [f64; N] {
         let (k, c) = (self.k[i], self.c[i]);
         let (g0, b) = self.steady(i, t_ref);
-        let mut p = [0.0; JET];
+        let mut p = [0.0; N];
         let st = t - t_ref;
         for (pm, terms) in p.iter_mut().zip(steady_terms(k, c, g0, b, st)) {
             *pm = terms[0] + terms[1] + terms[2];
@@ -847,7 +853,7 @@ impl ModalFlow {
     /// [`increments`](Self::trig_increments) over the step).
     #[inline]
     pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], dtr: &[(f64, f64)]) -> (f64, f64) {
-        let p0 = self.particular_jet(i, t0, t0, tr0);
+        let p0 = self.particular::<2>(i, t0, t0, tr0);
         let (e0, de0) = (eta - p0[0], deta - p0[1]);
         let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
         let dp = self.particular_delta(i, t0, tau, tr0, dtr);
@@ -879,8 +885,8 @@ impl ModalFlow {
     fn trig_increments(&self, tau: f64, tr0: &[(f64, f64)], out: &mut Vec<(f64, f64)>) {
         out.clear();
         out.extend(self.harmonics.iter().zip(tr0).map(|(h, &(s0, c0))| {
-            let (sw, half) = ((h.omega * tau).sin(), (0.5 * h.omega * tau).sin());
-            let cm1 = -2.0 * half * half;
+            let (half, ch) = (0.5 * h.omega * tau).sin_cos();
+            let (sw, cm1) = (2.0 * half * ch, -2.0 * half * half);
             (s0 * cm1 + c0 * sw, c0 * cm1 - s0 * sw)
         }));
     }
