@@ -25,9 +25,13 @@ fn sine(amplitude: f64, omega: f64, phase: f64) -> TimeProfile {
     TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude, omega, phase }]))
 }
 
-/// Every event after the one before it in time, and no event of a contact
-/// at the instant of its own release (the livelock's signature).
+/// Every event after the one before it in time, no event of a contact at
+/// the instant of its own release (the livelock's signature), and no impact
+/// row without speed and impulse (a landing at rest is no impact).
 fn check_order(events: &[EventRecord]) -> Result<(), String> {
+    if let Some(e) = events.iter().find(|e| e.kind == EventKind::Impact && e.velocity_before == 0.0 && e.impulse == 0.0) {
+        return Err(format!("an impact row without speed or impulse: {e:?}"));
+    }
     for w in events.windows(2) {
         if w[1].t < w[0].t {
             return Err(format!("out of time order: {:?} then {:?}", w[0], w[1]));
