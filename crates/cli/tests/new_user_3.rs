@@ -152,3 +152,22 @@ fn event_driven_prints_and_refuses_in_the_scenes_words() {
         assert!(stderr.contains(&format!("error: {key}:")) && !stderr.contains("contacts["), "{name}: {stderr}");
     }
 }
+
+/// A user bar without `initial_displacement` starts from u0 = 0, as
+/// scene-keys.md says (it was refused, "required without a benchmark"): a
+/// free bar of three elements moving at −0.5 onto equal stops at −0.05 at
+/// both ends translates rigidly until both ends hit at t = 0.1 exactly.
+#[test]
+fn a_user_bar_starts_at_rest_position_by_default() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = dir.path().join("bar.toml");
+    let text = "[bar]\nfar_end = \"free\"\nelements = 3\ninitial_velocity = -0.5\nscheme = \"event-driven(0.5)\"\ndt = 1e-3\nt_end = 0.2\n[[stop]]\nx = 0.0\nlo = -0.05\n[[stop]]\nx = 1.0\nlo = -0.05\n[output]\nplots = false\n";
+    std::fs::write(&p, text).expect("write");
+    let out = dir.path().join("o");
+    let (code, _, err) = cli(&["run", p.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, Some(0), "{err}");
+    let events = std::fs::read_to_string(out.join("events.csv")).expect("events.csv");
+    let first: Vec<f64> = events.lines().skip(1).take(2).map(|l| l.split(',').next().expect("t").parse().expect("a number")).collect();
+    assert_eq!(first.len(), 2, "{events}");
+    assert!(first.iter().all(|t| (t - 0.1).abs() <= 1e-15), "{events}");
+}

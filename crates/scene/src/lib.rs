@@ -1485,7 +1485,7 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
             // With stops the obstacle at x = 0 is unused: a gap no state is below.
             let gap = if multi { -f64::MAX } else { finite("bar.gap", b.gap.unwrap_or(0.0))? };
             let f = finite("bar.body_force", b.body_force.unwrap_or(0.0))?;
-            let u0 = InitialField::compile("bar.initial_displacement", b.initial_displacement.as_ref().ok_or_else(|| field("bar.initial_displacement", "required without a benchmark"))?)?;
+            let u0 = InitialField::compile("bar.initial_displacement", b.initial_displacement.as_ref().unwrap_or(&FieldToml::Number(0.0)))?;
             let v0 = InitialField::compile("bar.initial_velocity", b.initial_velocity.as_ref().unwrap_or(&FieldToml::Number(0.0)))?;
             u0.check_covers("bar.initial_displacement", 0.0, length)?;
             v0.check_covers("bar.initial_velocity", 0.0, length)?;
