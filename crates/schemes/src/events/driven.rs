@@ -26,7 +26,9 @@
 //! rest on its bound (e = 0, or held before) then stays held if the LCP at
 //! acceleration level gives it a positive force.
 //!
-//! **Accumulation.** Impacts of one contact with `0 < e < 1` whose intervals
+//! **Accumulation.** Each contact keeps its own run of impacts (located or
+//! given an impulse by the LCP with another: contacts chattering together
+//! each accumulate). Impacts of one contact with `0 < e < 1` whose intervals
 //! shrink geometrically (the last ratios equal to 1 %) accumulate at
 //! `t∞ = t_k + Δt_k ρ/(1 − ρ)`; once `t∞ − t_k` is below a relative 1e-9
 //! of the time, the contact is put at rest on its bound and the event

@@ -235,7 +235,10 @@ impl Search {
     /// so the steps and the event found do not depend on where a caller
     /// paused: it stops once the cursor reaches `pause` (no step is cut
     /// there), at the event ([`Found::Event`], the state there in `state`)
-    /// or at `end` ([`Found::End`], the state there in `state`).
+    /// or at `end` ([`Found::End`], the state there in `state`). Each
+    /// functional is read as its value at the base plus the terms of the
+    /// state's increments; `zero` marks those exactly 0 at the base (a
+    /// contact that the event starting the phase put on its bound).
     #[allow(clippy::too_many_arguments)]
     pub fn resume(
         &mut self,
