@@ -775,7 +775,8 @@ fn assemble_bar(p: BarPicks) -> BarTable {
     geometry("wave_speed", p.wave_speed.clone(), &mut entries);
     geometry("far_end", p.far_end.clone(), &mut entries);
     geometry("body_force", p.body_force.clone(), &mut entries);
-    let u0_good = p.u0.as_ref().is_some_and(|(v, _)| v.class == Class::Good);
+    // Absent, u0 is 0 (its documented default): known and good.
+    let u0_good = p.u0.as_ref().is_none_or(|(v, _)| v.class == Class::Good);
     if let Some(mut g) = p.gap.clone() {
         // A gap above u0(0) is refused only if u0 is known (valid values have u0(0) in [0, 1]).
         if g.class == bad(&["bar"]) && !u0_good {
@@ -801,9 +802,6 @@ fn assemble_bar(p: BarPicks) -> BarTable {
             }
             geometry(key, Some(v), &mut entries);
         }
-    }
-    if !benchmark_mode && p.u0.is_none() {
-        structure.push(bad(&["bar.initial_displacement"]));
     }
     if let Some(b) = p.benchmark.clone() {
         entries.push(("benchmark".into(), b));
@@ -1370,7 +1368,7 @@ fn bar_ctx(p: &BarPicks) -> ContactCtx {
         Some((v, _, _)) if good(v) => Some(v.toml.trim_matches('"').to_string()),
         _ => None,
     };
-    let u0_good = p.u0.as_ref().is_some_and(|(v, _)| good(v));
+    let u0_good = p.u0.as_ref().is_none_or(|(v, _)| good(v));
     let s = scheme.clone().unwrap_or_default();
     ContactCtx {
         beam: false,
