@@ -356,13 +356,6 @@ impl Search {
         // increments of its load part and of the modes below `s`.
         let prefix = &self.prefix[fi * (n + 1)..(fi + 1) * (n + 1)];
         let (inc, dinc) = (&self.inc[0], &self.inc[1]);
-        let value_at = |upto: usize| -> f64 {
-            let mut d = lv - self.load0[fi];
-            for i in 0..upto {
-                d += f.beta[i] * inc[i] + f.alpha(i) * dinc[i];
-            }
-            prefix[upto] + d
-        };
         // Suffix sums of the amplitudes.
         self.suffix[n] = 0.0;
         // The size of the terms of g: its round-off is 1e-16 of it.
@@ -373,7 +366,7 @@ impl Search {
             self.suffix[i] = self.suffix[i + 1] + amp;
             scale += (b * self.jet[i][0]).abs() + (a * self.jet[i][1]).abs();
         }
-        let g = value_at(n);
+        let g = prefix[n] + (0..n).fold(lv - self.load0[fi], |d, i| d + f.beta[i] * inc[i] + f.alpha(i) * dinc[i]);
         if g <= 1e-13 * scale {
             match self.lift_off(flow, f, quiet, (t, res), eta, deta, h) {
                 // Approaching from just above: the root steps below.
