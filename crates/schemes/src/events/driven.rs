@@ -663,8 +663,7 @@ impl EventDriven {
             // the contact stays held, and its force's rate decides.
             let jerk = self.free_jerk(t, &v, &a);
             // The search's resolution (relative to the phase without time-dependent loads).
-            let autonomous = self.loads.waves.is_empty() && self.loads.ramps.is_empty();
-            let dt_res = 4.0 * time_resolution(if autonomous { t - self.base.0 } else { t });
+            let dt_res = 4.0 * time_resolution(if self.loads.time_dependent() { t } else { t - self.base.0 });
             for &j in &candidates {
                 let (bilateral, dof) = (self.sites[j].lo == self.sites[j].hi, self.sites[j].dof);
                 let leaving = !bilateral && r[j] == 0.0 && a[dof].abs() > 1e-12 * ascale + jerk[dof].abs() * dt_res;

@@ -169,6 +169,13 @@ pub(crate) struct Piece {
 }
 
 impl Loads {
+    /// Whether a load depends on time (a harmonic, a series): a flow from
+    /// a state then depends on the absolute time, not only on the elapsed
+    /// one (docs/theory.md §9.2).
+    pub fn time_dependent(&self) -> bool {
+        !self.waves.is_empty() || !self.ramps.is_empty()
+    }
+
     /// The loads of `dy`: its steady load, its sines and harmonics (a
     /// harmonic of frequency 0 is the constant `a sin p`).
     pub fn of(dy: &Dynamics) -> Result<Self, EventsError> {
@@ -277,6 +284,9 @@ pub struct ModalFlow {
     ga: Vec<f64>,
     gb: Vec<f64>,
     tp: f64,
+    /// [`Loads::time_dependent`] of its loads (a flow without modes, every
+    /// dof held, still sees them in its held forces).
+    time_dependent: bool,
 }
 
 pub(crate) fn dense(a: &signorini_fem::SymBand) -> Mat<f64> {
@@ -372,6 +382,7 @@ impl ModalFlow {
                 ga: vec![],
                 gb: vec![],
                 tp: 0.0,
+                time_dependent: loads.time_dependent(),
             });
         }
         let llt = m.llt(Side::Lower).map_err(|_| EventsError::MassNotDefinite)?;
@@ -407,7 +418,7 @@ impl ModalFlow {
         let ramp_modal = loads.ramps.iter().map(|(h, _, _)| project(h)).collect();
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
         let piece = vec![(0.0, 0.0); loads.ramps.len()];
-        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics, ramp_modal, general: None, piece, ga, gb, tp: 0.0 })
+        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics, ramp_modal, general: None, piece, ga, gb, tp: 0.0, time_dependent: loads.time_dependent() })
     }
 
     /// The flow with a non-classical damping `c` (docs/theory.md §9.1): the
@@ -515,7 +526,22 @@ impl ModalFlow {
         let general = General { t, tinv, minv, pf0, ph, waves, pr };
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
         let piece = vec![(0.0, 0.0); loads.ramps.len()];
-        Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: kv, c: cv, g0, harmonics, ramp_modal, general: Some(Box::new(general)), piece, ga, gb, tp: 0.0 })
+        Ok(Self {
+            n,
+            phi: Mat::zeros(0, 0),
+            m_phi: Mat::zeros(0, 0),
+            k: kv,
+            c: cv,
+            g0,
+            harmonics,
+            ramp_modal,
+            general: Some(Box::new(general)),
+            piece,
+            ga,
+            gb,
+            tp: 0.0,
+            time_dependent: loads.time_dependent(),
+        })
     }
 
     /// Whether the damping is classical (the modes `Φ` of `(K, M)`), else
@@ -632,10 +658,9 @@ impl ModalFlow {
         (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * y[i]).sum()).collect()
     }
 
-    /// Whether a load depends on time (harmonics, series): the flow from a
-    /// state then depends on the absolute time, not only on the elapsed one.
+    /// Whether its loads depend on time ([`Loads::time_dependent`]).
     pub(crate) fn time_dependent(&self) -> bool {
-        !self.harmonics.is_empty() || !self.ramp_modal.is_empty()
+        self.time_dependent
     }
 
     /// The squared natural frequencies `ω_i²`, ascending.
