@@ -4,11 +4,11 @@
 
 use proptest::prelude::*;
 use signorini::fem::SymBand;
-use signorini::run::beam::{build, BeamContact, BeamScene, Pipe};
-use signorini::schemes::{Bounds, ContactLaw, Forcing, OneStep, OneStepParams, PaoliSchatzman, Stepper, TimeProfile};
+use signorini::run::beam::{BeamScene, BeamSetup, BuiltBeam, Pipe};
+use signorini::schemes::{Bounds, ContactLaw, Forcing, OneStep, OneStepParams, PaoliSchatzman, SchemeSpec, Stepper, TimeProfile};
 
-fn scene(dt: f64, t_end: f64, contact: BeamContact) -> BeamScene {
-    BeamScene { name: "test", elements: 19, dt, t_end, contact, paper_seconds: None }
+fn scene(dt: f64, t_end: f64, scheme: SchemeSpec) -> BeamScene {
+    BeamScene::new("test", 19, dt, t_end, scheme)
 }
 
 /// The lifting `h(x) = 1 - 2y² + (4/3)y³ - (1/3)y⁴`, `y = x/L`, and `h'`
@@ -232,7 +232,7 @@ fn penalty_force_law() {
 #[test]
 fn first_impact_of_the_paper_scene() {
     let pipe = Pipe::paper();
-    let (mut s, init, beam) = build(&pipe, &scene(5e-5, 0.2, BeamContact::Projection { beta: 0.5 }), false).unwrap();
+    let BuiltBeam { stepper: mut s, initial: init, beam, .. } = BeamSetup::new(pipe, scene(5e-5, 0.2, SchemeSpec::ps(0.0, 0.5))).build().unwrap();
     // The scene starts from the lifted data: at rest, tip velocity 0.
     assert!(init.u.iter().all(|&x| x == 0.0) && init.v[beam.tip_dof()].abs() <= 1e-14);
     assert_eq!(init.v, pipe.dynamics(19).unwrap().2.v);

@@ -6,7 +6,7 @@
 
 use faer::{Mat, Side};
 use signorini::fem::{Bar, BarMass, Beam, RightEnd, SymBand};
-use signorini::run::beam::{build, stability_limit, BeamContact, BeamScene, Pipe};
+use signorini::run::beam::{stability_limit, BeamScene, BeamSetup, Pipe};
 use signorini::run::{BarProblem, RunError};
 use signorini::schemes::{PaoliSchatzman, SchemeError, SchemeSpec, Stepper};
 
@@ -27,7 +27,12 @@ fn dense_kappa(k: &SymBand, m: &SymBand) -> f64 {
 }
 
 fn scene(dt: f64, t_end: f64, beta: f64) -> BeamScene {
-    BeamScene { name: "test", elements: 19, dt, t_end, contact: BeamContact::Projection { beta }, paper_seconds: None }
+    BeamScene::new("test", 19, dt, t_end, SchemeSpec::ps(0.0, beta))
+}
+
+/// The beam run of `scene`, forced past the stability limit or not.
+fn build(pipe: &Pipe, scene: &BeamScene, force: bool) -> Result<(Box<dyn Stepper>, (), ()), RunError> {
+    BeamSetup::new(*pipe, *scene).forced(force).build().map(|b| (b.stepper, (), ()))
 }
 
 /// Steps a stepper `steps` times; the largest |U_i| reached, or infinity
@@ -73,9 +78,10 @@ fn beam_beta_below_a_quarter_just_below_and_above_the_limit() {
 
         let above = scene(1.02 * want, 1.0, beta);
         match build(&pipe, &above, false) {
-            Err(RunError::Unstable { dt, beta: b, limit, paper_limit }) => {
-                assert_eq!((dt, b), (1.02 * want, beta));
-                assert!((limit / want - 1.0).abs() < 1e-9 && (paper_limit - lim.dt_sufficient).abs() <= 1e-15 * paper_limit);
+            Err(RunError::Scheme(SchemeError::Unstable { dt, limit, scheme, rule })) => {
+                assert_eq!((dt, scheme), (1.02 * want, SchemeSpec::ps(0.0, beta).to_string()));
+                assert!((limit / want - 1.0).abs() < 1e-9, "β = {beta}: refused at the limit {limit}, the dense one is {want}");
+                assert!(rule.contains("(1 - 4β)") || beta == 0.0, "{rule}");
             }
             Err(e) => panic!("β = {beta}: unexpected {e}"),
             Ok(_) => panic!("β = {beta}: a run beyond the limit was accepted"),

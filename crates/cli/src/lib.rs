@@ -72,7 +72,6 @@ pub use signorini_sweep as sweep;
 pub use scene::{check_report, energy_warning, CheckReport};
 use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, BarRun, ContactSet, Reads, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
-use signorini_run::beam::PenaltyUnits;
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
 use signorini_run::{NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
 use signorini_schemes::TimeProfile;
@@ -628,8 +627,11 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
         }
         Scene::Beam { pipe, scene: bs, contacts, excitation, omega, .. } => {
             let mut sim = scene.instantiate(None)?;
-            let stops = contacts.as_ref().map(|c| c.stops.as_slice());
-            let parent = signorini_run::beam::problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, stops, excitation)?.1;
+            // The scene's problem: the stepper's own, or a reduced model's parent.
+            let parent = match &sim.reduction {
+                None => sim.stepper.dynamics().clone(),
+                Some(_) => scene.beam_setup().expect("a beam scene").problem()?.1,
+            };
             let mut cfg = RunConfig::new(bs.dt, bs.t_end)?.with_energy_warn(scene_file.energy_warn())?;
             cfg.interrupt = opts.interrupt.clone();
             let steps = cfg.steps();

@@ -328,7 +328,8 @@ fn check_reports_snapping_and_obstacles() {
 /// one built here with that spring at each stop explicitly.
 #[test]
 fn beam_penalty_stiffness_is_every_stops_spring() {
-    use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
+    use signorini_run::beam::{BeamScene, BeamSetup, Pipe};
+    use signorini_schemes::SchemeSpec;
     let text = "[beam]\nscene = \"fig5\"\nelements = 20\nt_end = 0.15\npenalty_stiffness = 2e8\n[[stop]]\nx = 0.7505\nlo = -0.03\nhi = 0.03\nstiffness = 1e7\n[[stop]]\nx = 1.501\nlo = -0.1\nhi = 0.1\n[output]\nevery = 100\n";
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("s.toml");
@@ -337,9 +338,9 @@ fn beam_penalty_stiffness_is_every_stops_spring() {
     let o = bin().args(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (header, rows) = series(&out);
-    let scene = BeamScene { name: "test", elements: 20, dt: 5e-6, t_end: 0.15, contact: BeamContact::Penalty { stiffness: 2e8 }, paper_seconds: None };
+    let scene = BeamScene::new("test", 20, 5e-6, 0.15, SchemeSpec::penalty(10.0, false)).with_spring(2e8);
     let stops = [Stop { node: 10, lo: -0.03, hi: 0.03, restitution: None, stiffness: Some(1e7) }, Stop { node: 20, lo: -0.1, hi: 0.1, restitution: None, stiffness: Some(2e8) }];
-    let (mut s, _, _) = build_with_stops(&Pipe::paper(), &scene, false, PenaltyUnits::NewtonPerMetre, Some(&stops)).unwrap();
+    let mut s = BeamSetup::new(Pipe::paper(), scene).with_stops(stops.to_vec()).build().unwrap().stepper;
     let (c0, c1) = (col(&header, "u_c0"), col(&header, "u_c1"));
     let mut touched = false;
     for (k, r) in rows.iter().enumerate().skip(1) {

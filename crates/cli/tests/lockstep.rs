@@ -74,3 +74,34 @@ fn a_lane_that_blows_up_stops_where_its_single_run_does() {
         assert_eq!(bits(&l.poincare), bits(&one.poincare), "run {k}");
     }
 }
+
+/// A sweep of a registry-named scheme that can run in lockstep
+/// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β) takes
+/// the engine, each lane its single run bit for bit; schemes that cannot
+/// (penalty, Newmark, the event-driven reference) run one at a time.
+#[test]
+fn registry_schemes_that_can_run_in_lockstep_do() {
+    let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
+    let ibits = |v: &[(usize, [f64; 5])]| v.iter().flat_map(|(s, r)| std::iter::once(*s as u64).chain(r.map(f64::to_bits))).collect::<Vec<_>>();
+    for (scheme, locks) in [("ps(0.5,0.5)", true), ("ps-e1", true), ("ps(0.8,0.3)", true), ("penalty-cn", false), ("newmark-cn", false), ("event-driven", false)] {
+        let text = format!("[beam]\nscene = \"fig2\"\nscheme = \"{scheme}\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n");
+        let mut o = SweepOptions::new("support.omega", 9.0, 11.0, 3);
+        o.transient = 1.0;
+        o.record = 2.0;
+        let sweep = Sweep::new(&text, "beam.toml", None, o, Limits { max_memory: 1e9 }).unwrap();
+        let runs: Vec<_> = (0..3).map(|r| sweep.scene(sweep.options().value(r)).unwrap()).collect();
+        let pairs: Vec<_> = runs.iter().map(|(_, s, p)| (s, p)).collect();
+        let Some(lock) = simulate_lockstep(&pairs, None) else {
+            assert!(!locks, "{scheme}: a scheme that can run in lockstep was run one at a time");
+            continue;
+        };
+        assert!(locks, "{scheme}: cannot run in lockstep, yet the engine took it");
+        for ((_, scene, plan), l) in runs.iter().zip(&lock) {
+            let one = simulate(scene, plan, None, false, None);
+            assert_eq!((l.steps, &l.status, &l.summary), (one.steps, &one.status, &one.summary), "{scheme}");
+            assert!(!one.impacts.is_empty(), "{scheme}: the runs must reach the stops for the test to mean anything");
+            assert_eq!(bits(&l.poincare), bits(&one.poincare), "{scheme}");
+            assert_eq!(ibits(&l.impacts), ibits(&one.impacts), "{scheme}");
+        }
+    }
+}

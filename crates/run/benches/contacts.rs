@@ -20,7 +20,7 @@
 
 use divan::Bencher;
 use signorini_fem::BarMass;
-use signorini_run::beam::{build_with_stops, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{BeamScene, BeamSetup, Pipe};
 use signorini_run::{BarProblem, Benchmark, Stop};
 use signorini_schemes::{SchemeSpec, Stepper};
 
@@ -52,7 +52,7 @@ fn bar(case: &str) -> Box<dyn Stepper> {
 fn beam(case: &str) -> Box<dyn Stepper> {
     let pipe = Pipe::paper();
     let j = 19;
-    let scene = BeamScene { name: "bench", elements: j, dt: 5e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None };
+    let scene = BeamScene::new("bench", j, 5e-5, 2.0, SchemeSpec::ps(0.0, 0.5));
     let tip = |extra: &mut dyn Iterator<Item = usize>| -> Vec<Stop> { std::iter::once(Stop::new(j, -0.1, 0.1)).chain(extra.map(|i| Stop::new(i, -10.0, 10.0))).collect() };
     let stops = match case {
         "k1" => None,
@@ -62,7 +62,9 @@ fn beam(case: &str) -> Box<dyn Stepper> {
         "obstacles-every" => Some((1..=j).map(|i| Stop::new(i, -0.1, 0.1)).collect()),
         _ => unreachable!(),
     };
-    build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), stops.as_deref()).unwrap().0
+    let mut setup = BeamSetup::new(pipe, scene);
+    setup.stops = stops;
+    setup.build().unwrap().stepper
 }
 
 fn steps(s: &mut dyn Stepper, n: usize) {

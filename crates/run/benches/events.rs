@@ -13,7 +13,7 @@
 //! reference") records the medians.
 
 use divan::Bencher;
-use signorini_run::beam::{build_excited, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{BeamScene, BeamSetup, Pipe};
 use signorini_run::{run, RunConfig};
 use signorini_schemes::SchemeSpec;
 
@@ -24,24 +24,24 @@ fn main() {
 const CASES: [&str; 2] = ["event-driven", "projection"];
 
 fn scene(name: &str, t_end: f64) -> BeamScene {
-    let contact = match name {
-        "event-driven" => BeamContact::Scheme("event-driven".parse::<SchemeSpec>().unwrap()),
-        _ => BeamContact::Projection { beta: 0.5 },
+    let scheme = match name {
+        "event-driven" => "event-driven".parse::<SchemeSpec>().unwrap(),
+        _ => SchemeSpec::ps(0.0, 0.5),
     };
-    BeamScene { dt: 5e-5, t_end, contact, ..BeamScene::PAPER[0] }
+    BeamScene { dt: 5e-5, t_end, scheme, ..BeamScene::PAPER[0] }
 }
 
 #[divan::bench(args = CASES, sample_count = 20, sample_size = 1)]
 fn setup(bencher: Bencher, name: &str) {
     let sc = scene(name, 1.0);
-    bencher.bench_local(|| build_excited(&Pipe::paper(), &sc, false, PenaltyUnits::default(), None, &BeamExcitation::default()).unwrap());
+    bencher.bench_local(|| BeamSetup::new(Pipe::paper(), sc).build().unwrap());
 }
 
 #[divan::bench(args = CASES, sample_count = 5, sample_size = 1)]
 fn whole_run(bencher: Bencher, name: &str) {
     let sc = scene(name, 1.0);
     bencher.bench_local(|| {
-        let (mut s, init, _) = build_excited(&Pipe::paper(), &sc, false, PenaltyUnits::default(), None, &BeamExcitation::default()).unwrap();
-        run(s.as_mut(), &init.u, &RunConfig::new(sc.dt, sc.t_end).unwrap(), &mut []).unwrap()
+        let mut b = BeamSetup::new(Pipe::paper(), sc).build().unwrap();
+        run(b.stepper.as_mut(), &b.initial.u, &RunConfig::new(sc.dt, sc.t_end).unwrap(), &mut []).unwrap()
     });
 }

@@ -85,9 +85,9 @@ fn floor_tridiagonal_solve(bencher: Bencher, m: usize) {
 /// The beam's step (β-scheme, J = 19, dt = 1e-6): ns per step.
 #[divan::bench]
 fn beam_beta_scheme_step(bencher: Bencher) {
-    use signorini_run::beam::{build, BeamContact, BeamScene, Pipe};
-    let scene = BeamScene { name: "bench", elements: 19, dt: 1e-6, t_end: 1.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None };
-    bencher.counter(ItemsCount::new(10_000usize)).with_inputs(|| build(&Pipe::paper(), &scene, false).unwrap().0).bench_local_values(|mut s| {
+    use signorini_run::beam::{BeamScene, BeamSetup, Pipe};
+    let scene = BeamScene::new("bench", 19, 1e-6, 1.0, SchemeSpec::ps(0.0, 0.5));
+    bencher.counter(ItemsCount::new(10_000usize)).with_inputs(|| BeamSetup::new(Pipe::paper(), scene).build().unwrap().stepper).bench_local_values(|mut s| {
         for _ in 0..10_000 {
             divan::black_box(s.step().unwrap());
         }

@@ -14,7 +14,7 @@
 //! `cargo run -p signorini-run --release --example beam_model_error` (about a minute)
 
 use signorini_reduce::Keep;
-use signorini_run::beam::{problem_excited, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{BeamScene, BeamSetup, Pipe};
 use signorini_run::{run, History, RunConfig};
 use signorini_schemes::{PaoliSchatzman, Stepper};
 
@@ -23,8 +23,8 @@ use signorini_schemes::{PaoliSchatzman, Stepper};
 /// tip's translational mass dropped (`Some(false)`) or moved to the
 /// neighbouring node (`Some(true)`).
 fn tip(j: usize, dt: f64, t_end: f64, massless: Option<bool>, keep: Keep) -> Vec<(f64, f64)> {
-    let sc = BeamScene { name: "x", elements: j, dt, t_end, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None };
-    let (beam, mut dy, init) = problem_excited(&Pipe::paper(), &sc, PenaltyUnits::default(), None, &BeamExcitation::default()).unwrap();
+    let sc = BeamScene::new("x", j, dt, t_end, signorini_schemes::SchemeSpec::ps(0.0, 0.5));
+    let (beam, mut dy, init) = BeamSetup::new(Pipe::paper(), sc).problem().unwrap();
     let b = beam.tip_dof();
     let (mut s, u0, dof): (Box<dyn Stepper>, Vec<f64>, usize) = match massless {
         None => (Box::new(PaoliSchatzman::new("ps".into(), dy, 0.5, 0.0, dt, &init).unwrap()), init.u.clone(), b),

@@ -6,7 +6,7 @@
 //! `cargo run -p signorini-run --release --example reduced_beam`
 
 use signorini_reduce::Keep;
-use signorini_run::beam::{build_excited, build_reduced, stability_limit, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{stability_limit, BeamScene, BeamSetup, Pipe};
 use signorini_run::{run, History, RunConfig};
 use signorini_schemes::SchemeSpec;
 use std::time::Instant;
@@ -26,15 +26,15 @@ fn tip_run(scene: &BeamScene, keep: Option<Keep>, explicit: bool) -> (Vec<(f64, 
 
 fn tip_run_once(scene: &BeamScene, keep: Option<Keep>, explicit: bool) -> (Vec<(f64, f64, bool)>, f64, f64) {
     let pipe = Pipe::paper();
-    let exc = BeamExcitation::default();
     let t0 = Instant::now();
     let (mut s, u0, dof) = match keep {
         None => {
-            let (s, init, beam) = build_excited(&pipe, scene, false, PenaltyUnits::default(), None, &exc).unwrap();
-            (s, init.u, beam.tip_dof())
+            let b = BeamSetup::new(pipe, *scene).build().unwrap();
+            (b.stepper, b.initial.u, b.beam.tip_dof())
         }
         Some(k) => {
-            let (s, red, _) = build_reduced(&pipe, scene, PenaltyUnits::default(), None, &exc, k).unwrap();
+            let b = BeamSetup::new(pipe, *scene).reduced(k).build().unwrap();
+            let (s, red) = (b.stepper, b.reduced.expect("reduced"));
             let s = if explicit { "cd-massless".parse::<SchemeSpec>().unwrap().build(red.dynamics.clone(), scene.dt, &red.initial).unwrap() } else { s };
             (s, red.initial.u.clone(), 0)
         }

@@ -11,7 +11,7 @@
 use crate::problem::{check_stops, contacts_of, Stop};
 use crate::RunError;
 use signorini_fem::{max_generalized_eigenvalue, Beam};
-use signorini_schemes::{Bounds, Contact, ContactLaw, Dynamics, Forcing, Initial, OneStep, OneStepParams, PaoliSchatzman, SchemeSpec, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, SchemeSpec, Stepper, TimeProfile};
 
 /// The pipe of the paper and its support motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -165,30 +165,8 @@ impl Pipe {
     }
 }
 
-/// How a beam scene enforces the stops.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum BeamContact {
-    /// The β-scheme with the exact projection (Paoli–Schatzman, e = 0).
-    Projection {
-        /// β ∈ [0, 1/2].
-        beta: f64,
-    },
-    /// Normal compliance: a spring of `stiffness` N/m outside the stops,
-    /// Newmark β = 1/4 (γ = 1/2). (Read as N/m by [`build`]; other readings:
-    /// [`PenaltyUnits`], [`build_with_units`].)
-    Penalty {
-        /// Spring stiffness in N/m.
-        stiffness: f64,
-    },
-    /// Any scheme of the registry that takes the beam's structure
-    /// (`Capabilities::beam`), built by [`SchemeSpec::build`] on the beam's
-    /// problem (a scene's `scheme = "…"`); a penalty family's `γ_P` is
-    /// relative to the contact dof's stiffness `K_cc`, and a `[[stop]]`'s
-    /// own `stiffness` is in N/m as with [`BeamContact::Penalty`].
-    Scheme(SchemeSpec),
-}
-
-/// How the stiffness of a [`BeamContact::Penalty`] enters the scaled
+/// How a beam's penalty spring ([`BeamScene::spring`], a stop's own
+/// stiffness) enters the scaled
 /// equation `u_tt + k² u_xxxx = f` (unit `ρS`, docs/theory.md §1.2, §4.6.1).
 ///
 /// The paper gives its spring as `1/ε = 10⁸ N/m` without saying how it was
@@ -239,23 +217,48 @@ pub struct BeamScene {
     pub dt: f64,
     /// Horizon (s).
     pub t_end: f64,
-    /// Contact treatment.
-    pub contact: BeamContact,
+    /// The time scheme: any of the registry that takes the beam's structure
+    /// (`Capabilities::beam`). The paper's projection is `ps(0, β)` (the
+    /// β-scheme with the exact projection, e = 0), its normal compliance
+    /// `penalty-cn` (Newmark β = 1/4) with a [`spring`](Self::spring).
+    pub scheme: SchemeSpec,
+    /// The spring (N/m, read in the build's [`PenaltyUnits`]) of every
+    /// contact without its own stiffness, for a penalty scheme
+    /// (`Capabilities::stiffness`); `None`: the scheme's own rule (`γ_P K_cc`).
+    /// Refused with a scheme that has no spring.
+    pub spring: Option<f64>,
     /// The paper's Scilab run time (s, 1.1 GHz machine, 2003), if any.
     pub paper_seconds: Option<f64>,
 }
 
 impl BeamScene {
-    /// The paper's figures 2–8 (docs/theory.md §8.1), J = 19, T = 2 s.
+    /// The paper's figures 2–8 (docs/theory.md §8.1), J = 19, T = 2 s: the
+    /// projection (`ps(0, β)`) or the penalty spring of 10⁸ N/m (`penalty-cn`).
     pub const PAPER: [BeamScene; 7] = [
-        BeamScene { name: "fig2", elements: 19, dt: 5e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(18.24) },
-        BeamScene { name: "fig3", elements: 19, dt: 5e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(173.71) },
-        BeamScene { name: "fig4", elements: 19, dt: 1e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: Some(870.45) },
-        BeamScene { name: "fig5", elements: 19, dt: 5e-6, t_end: 2.0, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: Some(241.17) },
-        BeamScene { name: "fig6", elements: 19, dt: 1e-6, t_end: 2.0, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: Some(1187.9) },
-        BeamScene { name: "fig7", elements: 19, dt: 5e-7, t_end: 2.0, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: Some(2426.4) },
-        BeamScene { name: "fig8", elements: 19, dt: 1e-6, t_end: 2.0, contact: BeamContact::Projection { beta: 0.25 }, paper_seconds: Some(859.38) },
+        BeamScene::paper("fig2", 5e-5, SchemeSpec::ps(0.0, 0.5), None, 18.24),
+        BeamScene::paper("fig3", 5e-6, SchemeSpec::ps(0.0, 0.5), None, 173.71),
+        BeamScene::paper("fig4", 1e-6, SchemeSpec::ps(0.0, 0.5), None, 870.45),
+        BeamScene::paper("fig5", 5e-6, SchemeSpec::penalty(10.0, false), Some(1e8), 241.17),
+        BeamScene::paper("fig6", 1e-6, SchemeSpec::penalty(10.0, false), Some(1e8), 1187.9),
+        BeamScene::paper("fig7", 5e-7, SchemeSpec::penalty(10.0, false), Some(1e8), 2426.4),
+        BeamScene::paper("fig8", 1e-6, SchemeSpec::ps(0.0, 0.25), None, 859.38),
     ];
+
+    const fn paper(name: &'static str, dt: f64, scheme: SchemeSpec, spring: Option<f64>, seconds: f64) -> Self {
+        BeamScene { name, elements: 19, dt, t_end: 2.0, scheme, spring, paper_seconds: Some(seconds) }
+    }
+
+    /// A scene of `elements` elements with `scheme` (no spring, no paper time).
+    pub fn new(name: &'static str, elements: usize, dt: f64, t_end: f64, scheme: SchemeSpec) -> Self {
+        BeamScene { name, elements, dt, t_end, scheme, spring: None, paper_seconds: None }
+    }
+
+    /// The same scene with the spring `stiffness` (N/m) on every contact
+    /// without its own ([`BeamScene::spring`]).
+    pub fn with_spring(mut self, stiffness: f64) -> Self {
+        self.spring = Some(stiffness);
+        self
+    }
 }
 
 /// The stability limit of the β-scheme on a beam (docs/theory.md, "Stability").
@@ -298,127 +301,135 @@ pub fn stability_limit(beam: &Beam, beta: f64) -> Result<StabilityLimit, RunErro
     Ok(StabilityLimit { kappa, dt_critical: beta_scheme_critical_dt(beta, kappa), dt_sufficient: sufficient(kappa), dt_paper: sufficient(paper) })
 }
 
-/// Builds the integrator of a scene, a penalty stiffness read in N/m
-/// ([`PenaltyUnits::NewtonPerMetre`]; see [`build_with_units`]). A β-scheme
-/// with β < 1/4 (conditionally stable) and `dt` at or beyond the exact limit
-/// is refused (with the limit and the paper's sufficient bound in the
-/// message) unless `force` is set.
-pub fn build(pipe: &Pipe, scene: &BeamScene, force: bool) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
-    build_with_units(pipe, scene, force, PenaltyUnits::NewtonPerMetre)
+/// Everything a beam run is built from, in one place: the pipe, the scene
+/// (elements, dt, scheme, spring), the units of its springs, the contact
+/// list (`None`: the tip's two stops), the excitation, whether a
+/// conditionally stable scheme may run past its limit, and a reduction.
+/// [`BeamSetup::problem`] is the semi-discrete problem, [`BeamSetup::build`]
+/// the integrator on it (or on its reduction).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct BeamSetup {
+    /// The pipe and its support motion.
+    pub pipe: Pipe,
+    /// Elements, time step, horizon, scheme and spring.
+    pub scene: BeamScene,
+    /// How the scene's spring and each stop's own stiffness are read.
+    pub units: PenaltyUnits,
+    /// The contact list instead of the tip's two stops
+    /// ([`Pipe::dynamics_with_stops`]).
+    pub stops: Option<Vec<Stop>>,
+    /// The support motion beyond the pipe's sine, a load, a start state.
+    pub excitation: BeamExcitation,
+    /// Run a conditionally stable scheme at or beyond its stability limit
+    /// ([`SchemeSpec::beyond_limit`]).
+    pub force: bool,
+    /// Integrate the massless-boundary reduction (docs/theory.md §2.5)
+    /// keeping these modes.
+    pub reduce: Option<signorini_reduce::Keep>,
 }
 
-/// As [`build`], with the units in which a [`BeamContact::Penalty`]
-/// stiffness is read (ignored by the projection).
-pub fn build_with_units(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
-    build_with_stops(pipe, scene, force, units, None)
+/// A beam run's integrator and what it stands on.
+pub struct BuiltBeam {
+    /// The integrator (on the reduced coordinates when reduced).
+    pub stepper: Box<dyn Stepper>,
+    /// The full problem's initial state.
+    pub initial: Initial,
+    /// The beam.
+    pub beam: Beam,
+    /// The reduction, when [`BeamSetup::reduce`] was given (its basis and
+    /// the initial state in reduced coordinates).
+    pub reduced: Option<crate::reduced::Reduced>,
 }
 
-/// As [`build_with_units`], with the contact list `stops` instead of the
-/// tip's two stops when given ([`Pipe::dynamics_with_stops`]); a stop's
-/// own penalty stiffness is read in `units` too.
-pub fn build_with_stops(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
-    build_excited(pipe, scene, force, units, stops, &BeamExcitation::default())
-}
-
-/// The semi-discrete problem that [`build_excited`] integrates: the beam,
-/// its stops (or the tip's two), the excitation, each stop's penalty
-/// stiffness read in `units`.
-pub fn problem_excited(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation) -> Result<(Beam, Dynamics, Initial), RunError> {
-    if !(scene.dt > 0.0 && scene.dt.is_finite()) {
-        return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
+impl BeamSetup {
+    /// The scene on the pipe: springs in N/m, the tip's two stops, the
+    /// pipe's sine support, the limit enforced, the full model.
+    pub fn new(pipe: Pipe, scene: BeamScene) -> Self {
+        BeamSetup { pipe, scene, units: PenaltyUnits::NewtonPerMetre, stops: None, excitation: BeamExcitation::default(), force: false, reduce: None }
     }
-    let (beam, mut dy, mut init) = match stops {
-        None => pipe.dynamics(scene.elements)?,
-        Some(stops) => pipe.dynamics_with_stops(scene.elements, stops)?,
-    };
-    pipe.excite(&beam, &mut dy, &mut init, exc)?;
-    // A stop's own spring is read in `units`; a stop without one gets the
-    // scene's spring as is (a physical N/m spring, not scaled by K_cc).
-    let scene_kappa = match scene.contact {
-        BeamContact::Penalty { stiffness } => Some(units.kappa(stiffness, pipe.rho_s)),
-        BeamContact::Projection { .. } | BeamContact::Scheme(_) => None,
-    };
-    for c in &mut dy.contacts {
-        c.stiffness = c.stiffness.map(|k| units.kappa(k, pipe.rho_s)).or(if stops.is_some() { scene_kappa } else { None });
-    }
-    Ok((beam, dy, init))
-}
 
-/// As [`build_with_stops`], with the excitation `exc` ([`Pipe::excite`]).
-pub fn build_excited(pipe: &Pipe, scene: &BeamScene, force: bool, units: PenaltyUnits, stops: Option<&[Stop]>, exc: &BeamExcitation) -> Result<(Box<dyn Stepper>, Initial, Beam), RunError> {
-    let (beam, dy, init) = problem_excited(pipe, scene, units, stops, exc)?;
-    let stepper: Box<dyn Stepper> = match scene.contact {
-        BeamContact::Projection { beta } => {
-            if !(0.0..=0.5).contains(&beta) {
-                return Err(RunError::Invalid { field: "beta", value: beta, allowed: "[0, 1/2]" });
-            }
-            if beta < 0.25 && !force {
-                let lim = stability_limit(&beam, beta)?;
-                if scene.dt >= lim.dt_critical {
-                    return Err(RunError::Unstable { dt: scene.dt, beta, limit: lim.dt_critical, paper_limit: lim.dt_sufficient });
+    /// Reads the springs in `units`.
+    pub fn with_units(mut self, units: PenaltyUnits) -> Self {
+        self.units = units;
+        self
+    }
+
+    /// The contact list `stops` instead of the tip's two stops.
+    pub fn with_stops(mut self, stops: Vec<Stop>) -> Self {
+        self.stops = Some(stops);
+        self
+    }
+
+    /// The excitation `excitation` ([`Pipe::excite`]).
+    pub fn with_excitation(mut self, excitation: BeamExcitation) -> Self {
+        self.excitation = excitation;
+        self
+    }
+
+    /// Whether a conditionally stable scheme may run beyond its limit.
+    pub fn forced(mut self, force: bool) -> Self {
+        self.force = force;
+        self
+    }
+
+    /// Integrates the reduction keeping `keep`'s modes.
+    pub fn reduced(mut self, keep: signorini_reduce::Keep) -> Self {
+        self.reduce = Some(keep);
+        self
+    }
+
+    /// The semi-discrete problem: the beam, its stops (or the tip's two),
+    /// the excitation; every contact's spring — its own, else the scene's —
+    /// read in [`BeamSetup::units`] (the scaled equation's `κ`).
+    pub fn problem(&self) -> Result<(Beam, Dynamics, Initial), RunError> {
+        let (pipe, scene) = (&self.pipe, &self.scene);
+        if !(scene.dt > 0.0 && scene.dt.is_finite()) {
+            return Err(RunError::Invalid { field: "dt", value: scene.dt, allowed: "finite and > 0" });
+        }
+        let (beam, mut dy, mut init) = match &self.stops {
+            None => pipe.dynamics(scene.elements)?,
+            Some(stops) => pipe.dynamics_with_stops(scene.elements, stops)?,
+        };
+        pipe.excite(&beam, &mut dy, &mut init, &self.excitation)?;
+        // A stop's own spring is read in `units`; a contact without one gets
+        // the scene's spring as is (a physical N/m spring, not scaled by K_cc).
+        let scene_kappa = scene.spring.map(|k| self.units.kappa(k, pipe.rho_s));
+        for c in &mut dy.contacts {
+            c.stiffness = c.stiffness.map(|k| self.units.kappa(k, pipe.rho_s)).or(scene_kappa);
+        }
+        Ok((beam, dy, init))
+    }
+
+    /// The integrator: the scene's registry scheme on [`BeamSetup::problem`]
+    /// (or its reduction). Refused, naming `beam.scheme`, a scheme that does
+    /// not take the beam's structure (or, reduced, a massless contact
+    /// node); naming `beam.penalty_stiffness`, a spring with a scheme that
+    /// has none; a conditionally stable scheme at or beyond its limit
+    /// unless [`BeamSetup::force`] (the scheme's `Unstable` error).
+    pub fn build(&self) -> Result<BuiltBeam, RunError> {
+        let (beam, dy, initial) = self.problem()?;
+        let spec = if self.force { self.scene.scheme.beyond_limit() } else { self.scene.scheme };
+        let caps = spec.capabilities();
+        if !caps.beam {
+            return Err(RunError::NotAllowed { field: "beam.scheme", allowed: "a scheme that takes the beam's structure (signorini list: the presets marked beam)" });
+        }
+        if self.scene.spring.is_some() && !caps.stiffness {
+            return Err(RunError::NotAllowed { field: "beam.penalty_stiffness", allowed: "with a penalty scheme (a spring), not with this scheme" });
+        }
+        let dt = self.scene.dt;
+        match self.reduce {
+            None => Ok(BuiltBeam { stepper: spec.build(dy, dt, &initial)?, initial, beam, reduced: None }),
+            Some(keep) => {
+                if !caps.accepts_massless_node(true) {
+                    return Err(RunError::NotAllowed { field: "beam.scheme", allowed: "with reduce, a scheme that takes a massless contact node (the reduced model's contacts are massless)" });
                 }
+                let red = crate::reduced::reduce(&dy, &initial, keep)?;
+                let stepper = spec.build(red.dynamics.clone(), dt, &red.initial)?;
+                Ok(BuiltBeam { stepper, initial, beam, reduced: Some(red) })
             }
-            Box::new(PaoliSchatzman::new(format!("beta-scheme({beta})"), dy, beta, 0.0, scene.dt, &init)?)
         }
-        BeamContact::Penalty { stiffness } => {
-            let kappa = units.kappa(stiffness, pipe.rho_s);
-            Box::new(OneStep::new("newmark-cn+penalty".into(), dy, OneStepParams::newmark(0.25, 0.5), scene.dt, &init)?.with_contact_law(ContactLaw::Penalty { stiffness: kappa })?)
-        }
-        BeamContact::Scheme(spec) => registry_scheme(spec, dy, scene.dt, &init, false)?,
-    };
-    Ok((stepper, init, beam))
-}
-
-/// A registry scheme on the beam's (or its reduction's, `reduced`) problem:
-/// refused naming `beam.scheme` when it does not take the beam's structure
-/// or, reduced, a massless contact node.
-fn registry_scheme(spec: SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, reduced: bool) -> Result<Box<dyn Stepper>, RunError> {
-    let caps = spec.capabilities();
-    if !caps.beam {
-        return Err(RunError::NotAllowed { field: "beam.scheme", allowed: "a scheme that takes the beam's structure (signorini list: the presets marked beam)" });
     }
-    if reduced && !caps.accepts_massless_node(true) {
-        return Err(RunError::NotAllowed { field: "beam.scheme", allowed: "with reduce, a scheme that takes a massless contact node (the reduced model's contacts are massless)" });
-    }
-    Ok(spec.build(dy, dt, init)?)
-}
-
-/// As [`build_excited`] on the massless-boundary reduction of the problem
-/// (docs/theory.md §2.5; [`crate::reduced::reduce`]): the stops are the
-/// reduced dofs `0..nb`, massless, the kept modes follow; the initial
-/// state is returned in reduced coordinates inside the [`Reduced`]. The
-/// projection runs the β-scheme with β >= 1/4 only (with a massless node
-/// every β < 1/4 is unstable: refused naming `beta`); the penalty law runs
-/// Newmark β = 1/4 as in the full model.
-///
-/// [`Reduced`]: crate::reduced::Reduced
-pub fn build_reduced(
-    pipe: &Pipe,
-    scene: &BeamScene,
-    units: PenaltyUnits,
-    stops: Option<&[Stop]>,
-    exc: &BeamExcitation,
-    keep: signorini_reduce::Keep,
-) -> Result<(Box<dyn Stepper>, crate::reduced::Reduced, Beam), RunError> {
-    let (beam, dy, init) = problem_excited(pipe, scene, units, stops, exc)?;
-    let red = crate::reduced::reduce(&dy, &init, keep)?;
-    let stepper: Box<dyn Stepper> = match scene.contact {
-        BeamContact::Projection { beta } => {
-            if !(0.25..=0.5).contains(&beta) {
-                return Err(RunError::Invalid { field: "beta", value: beta, allowed: "[1/4, 1/2] with a reduced model (its contacts are massless: every β < 1/4 is unstable)" });
-            }
-            Box::new(PaoliSchatzman::new(format!("beta-scheme({beta})"), red.dynamics.clone(), beta, 0.0, scene.dt, &red.initial)?)
-        }
-        BeamContact::Penalty { stiffness } => {
-            let kappa = units.kappa(stiffness, pipe.rho_s);
-            Box::new(
-                OneStep::new("newmark-cn+penalty".into(), red.dynamics.clone(), OneStepParams::newmark(0.25, 0.5), scene.dt, &red.initial)?
-                    .with_contact_law(ContactLaw::Penalty { stiffness: kappa })?,
-            )
-        }
-        BeamContact::Scheme(spec) => registry_scheme(spec, red.dynamics.clone(), scene.dt, &red.initial, true)?,
-    };
-    Ok((stepper, red, beam))
 }
 
 #[cfg(test)]
@@ -445,8 +456,8 @@ mod tests {
     /// contact is at 0.0878 s) with the paper's 10⁸ read in `units`.
     fn first_violation(units: PenaltyUnits) -> f64 {
         let pipe = Pipe::paper();
-        let scene = BeamScene { name: "test", elements: 19, dt: 5e-6, t_end: 0.1, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: None };
-        let (mut s, _, beam) = build_with_units(&pipe, &scene, false, units).unwrap();
+        let scene = BeamScene::new("test", 19, 5e-6, 0.1, SchemeSpec::penalty(10.0, false)).with_spring(1e8);
+        let BuiltBeam { stepper: mut s, beam, .. } = BeamSetup::new(pipe, scene).with_units(units).build().unwrap();
         let mut worst = f64::NEG_INFINITY;
         for _ in 0..20_000 {
             s.step().unwrap();
@@ -461,11 +472,11 @@ mod tests {
     #[test]
     fn stops_without_stiffness_get_the_scene_spring() {
         let pipe = Pipe::paper();
-        let scene = BeamScene { name: "test", elements: 19, dt: 5e-6, t_end: 0.02, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: None };
-        let stops = [Stop::new(19, -0.1, 0.1), Stop::new(10, -0.002, 0.002)];
+        let scene = BeamScene::new("test", 19, 5e-6, 0.02, SchemeSpec::penalty(10.0, false)).with_spring(1e8);
+        let stops = vec![Stop::new(19, -0.1, 0.1), Stop::new(10, -0.002, 0.002)];
         let given: Vec<Stop> = stops.iter().map(|s| Stop { stiffness: Some(1e8), ..*s }).collect();
-        let (mut a, _, _) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&stops)).unwrap();
-        let (mut b, _, _) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&given)).unwrap();
+        let mut a = BeamSetup::new(pipe, scene).with_stops(stops).build().unwrap().stepper;
+        let mut b = BeamSetup::new(pipe, scene).with_stops(given).build().unwrap().stepper;
         let mut engaged = false;
         for _ in 0..4000 {
             a.step().unwrap();
@@ -477,7 +488,7 @@ mod tests {
     }
 
     /// The unscaled reading is a spring ρS times (8.4×) softer, so the tip
-    /// goes further past the stop; `build` is the N/m reading.
+    /// goes further past the stop; the default reading is N/m.
     #[test]
     fn unscaled_penalty_is_softer_and_build_reads_newton_per_metre() {
         let (phys, unscaled) = (first_violation(PenaltyUnits::NewtonPerMetre), first_violation(PenaltyUnits::Unscaled));
@@ -487,8 +498,8 @@ mod tests {
         let ratio = unscaled / phys;
         assert!((2.0..4.0).contains(&ratio), "ratio {ratio}");
         let pipe = Pipe::paper();
-        let scene = BeamScene { name: "test", elements: 19, dt: 5e-6, t_end: 0.1, contact: BeamContact::Penalty { stiffness: 1e8 }, paper_seconds: None };
-        let (mut s, _, beam) = build(&pipe, &scene, false).unwrap();
+        let scene = BeamScene::new("test", 19, 5e-6, 0.1, SchemeSpec::penalty(10.0, false)).with_spring(1e8);
+        let BuiltBeam { stepper: mut s, beam, .. } = BeamSetup::new(pipe, scene).build().unwrap();
         let mut worst = f64::NEG_INFINITY;
         for _ in 0..20_000 {
             s.step().unwrap();

@@ -73,18 +73,6 @@ pub enum RunError {
         /// The energy scale it multiplies.
         scale: f64,
     },
-    /// A conditionally stable run beyond its stability limit.
-    #[error("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of the β-scheme with β = {beta} < 1/4 (2/sqrt((1-4β) κ_h); the paper's sufficient condition (3.1) gives {paper_limit:.6e}); use a smaller dt or β >= 1/4 (unconditionally stable), or force the run")]
-    Unstable {
-        /// The time step asked for.
-        dt: f64,
-        /// β.
-        beta: f64,
-        /// The exact critical time step.
-        limit: f64,
-        /// The paper's sufficient condition (3.1) with the exact κ_h.
-        paper_limit: f64,
-    },
     /// The horizon is not a whole number of steps.
     #[error("t_end = {t_end} is not a whole number of steps of dt = {dt} (T/dt = {}): the run would end at {} instead; choose T = N·dt (e.g. t_end = {} or {}), or dt = T/N (e.g. dt = {})", t_end / dt, sig12((t_end / dt).ceil() * dt), sig12((t_end / dt).floor().max(1.0) * dt), sig12((t_end / dt).ceil() * dt), sig12(t_end / (t_end / dt).ceil()))]
     Horizon {

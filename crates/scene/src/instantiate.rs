@@ -2,7 +2,7 @@
 //! end (`signorini run`, sweeps, the studies, Python): [`Scene::instantiate`].
 
 use crate::Scene;
-use signorini_run::beam::{build_excited, BeamExcitation, PenaltyUnits, Pipe};
+use signorini_run::beam::{BeamExcitation, Pipe};
 use signorini_run::reduced::{Need, Reconstruct};
 use signorini_run::{Observer, RunConfig, RunError, RunSummary};
 use signorini_schemes::{Bounds, Initial, Stepper};
@@ -42,6 +42,8 @@ pub struct Simulation {
     pub stepper: Box<dyn Stepper>,
     /// `U⁰` (in the stepper's unknowns: reduced coordinates for a reduced model).
     pub u0: Vec<f64>,
+    /// `V⁰` (in the stepper's unknowns).
+    pub v0: Vec<f64>,
     /// The tip dof (of the scene's unknowns).
     pub tip: usize,
     /// The beam's lifting `u = ũ − h φ(t)` (`None`: the unknowns are the
@@ -52,6 +54,49 @@ pub struct Simulation {
     /// [`Simulation::contacts`] and `lift` refer to) are their
     /// reconstruction (`signorini_run::reduced::Reconstruct`).
     pub reduction: Option<signorini_reduce::Reduction>,
+}
+
+/// A validated scene's simulation, kept for the scene's first
+/// [`Scene::instantiate`] from its own initial state: validation builds the
+/// integrator to check it (what `check` refuses, `run` refuses), and that
+/// build is the run's — `signorini run`, Python and every sweep run pay the
+/// set-up once. Later instantiations build anew; a cloned scene starts
+/// without one.
+#[derive(Default)]
+pub struct Ready(std::sync::Mutex<Option<Simulation>>);
+
+impl Clone for Ready {
+    fn clone(&self) -> Self {
+        Ready::default()
+    }
+}
+
+impl std::fmt::Debug for Ready {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Ready")
+    }
+}
+
+impl Ready {
+    /// Keeps `sim` for the first instantiation.
+    pub(crate) fn keep(sim: Simulation) -> Self {
+        Ready(std::sync::Mutex::new(Some(sim)))
+    }
+
+    fn take(&self) -> Option<Simulation> {
+        self.0.lock().ok().and_then(|mut s| s.take())
+    }
+}
+
+/// A beam's built integrator as a [`Simulation`] (one conversion for
+/// validation and [`Scene::instantiate`]).
+pub(crate) fn beam_simulation(built: signorini_run::beam::BuiltBeam, pipe: Pipe, exc: BeamExcitation) -> Simulation {
+    let tip = built.beam.tip_dof();
+    let (u0, v0, reduction) = match built.reduced {
+        None => (built.initial.u, built.initial.v, None),
+        Some(r) => (r.initial.u, r.initial.v, Some(r.reduction)),
+    };
+    Simulation { stepper: built.stepper, u0, v0, tip, lift: Some(Lift { pipe, beam: built.beam, exc }), reduction }
 }
 
 /// A beam's lifting, to turn its unknowns into the absolute state.
@@ -136,6 +181,15 @@ impl Scene {
     /// it), with [`Simulation::reduction`] set: every front end runs it the
     /// same way, reconstructing the scene's unknowns for its observers.
     pub fn instantiate(&self, start: Option<&(Vec<f64>, Vec<f64>)>) -> Result<Simulation, BuildError> {
+        if start.is_none() {
+            let ready = match self {
+                Scene::Bar(b) => &b.ready,
+                Scene::Oscillator { ready, .. } | Scene::Beam { ready, .. } => ready,
+            };
+            if let Some(sim) = ready.take() {
+                return Ok(sim);
+            }
+        }
         let init = |own: Initial| -> Result<Initial, BuildError> {
             match start {
                 None => Ok(own),
@@ -148,7 +202,7 @@ impl Scene {
                 let (dy, own) = osc.dynamics()?;
                 let i = init(own)?;
                 let stepper = scheme.build(dy, *dt, &i)?;
-                Ok(Simulation { stepper, u0: i.u, tip: 0, lift: None, reduction: None })
+                Ok(Simulation { stepper, u0: i.u, v0: i.v, tip: 0, lift: None, reduction: None })
             }
             Scene::Bar(b) => {
                 let p = &b.problem;
@@ -158,31 +212,20 @@ impl Scene {
                 match b.reduce {
                     None => {
                         let stepper = b.scheme.build(dy, b.dt, &i)?;
-                        Ok(Simulation { stepper, u0: i.u, tip, lift: None, reduction: None })
+                        Ok(Simulation { stepper, u0: i.u, v0: i.v, tip, lift: None, reduction: None })
                     }
                     Some(keep) => {
                         let r = signorini_run::reduced::reduce(&dy, &i, keep)?;
                         let stepper = b.scheme.build(r.dynamics.clone(), b.dt, &r.initial)?;
-                        Ok(Simulation { stepper, u0: r.initial.u, tip, lift: None, reduction: Some(r.reduction) })
+                        Ok(Simulation { stepper, u0: r.initial.u, v0: r.initial.v, tip, lift: None, reduction: Some(r.reduction) })
                     }
                 }
             }
-            Scene::Beam { pipe, scene, force, contacts, excitation, reduce, .. } => {
+            Scene::Beam { pipe, excitation, .. } => {
                 // `start` is the absolute state (ũ, ũ_t): the lifting is the scene's own.
                 let exc = BeamExcitation { start: start.cloned(), ..excitation.clone() };
-                let stops = contacts.as_ref().map(|c| c.stops.as_slice());
-                let (stepper, u0, beam, reduction) = match reduce {
-                    None => {
-                        let (stepper, i, beam) = build_excited(pipe, scene, *force, PenaltyUnits::NewtonPerMetre, stops, &exc)?;
-                        (stepper, i.u, beam, None)
-                    }
-                    Some(keep) => {
-                        let (stepper, r, beam) = signorini_run::beam::build_reduced(pipe, scene, PenaltyUnits::NewtonPerMetre, stops, &exc, *keep)?;
-                        (stepper, r.initial.u, beam, Some(r.reduction))
-                    }
-                };
-                let tip = beam.tip_dof();
-                Ok(Simulation { stepper, u0, tip, lift: Some(Lift { pipe: *pipe, beam, exc }), reduction })
+                let setup = self.beam_setup().expect("a beam scene").with_excitation(exc.clone());
+                Ok(beam_simulation(setup.build()?, *pipe, exc))
             }
         }
     }

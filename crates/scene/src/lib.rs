@@ -102,7 +102,7 @@ pub mod excitation;
 mod instantiate;
 mod report;
 
-pub use instantiate::{BuildError, Lift, Reads, Simulation};
+pub use instantiate::{BuildError, Lift, Reads, Ready, Simulation};
 pub use report::{check_report, energy_warning, event_probe, free_space, io_reason, output_estimate, sig12, sig6, CheckReport, EventProbe, ProbeEnd};
 
 use crate::excitation::Excitation;
@@ -110,7 +110,7 @@ use crate::excitation::{ExcitationToml, Table};
 use serde::Deserialize;
 use signorini_fem::{Bar, BarMass, RightEnd};
 use signorini_reduce::{Keep, ReduceError};
-use signorini_run::beam::{build_excited, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{BeamExcitation, BeamScene, BeamSetup, PenaltyUnits, Pipe};
 use signorini_run::oscillator::Oscillator;
 use signorini_run::text::{num, tidy_numbers};
 use signorini_run::{BarProblem, Benchmark, RunConfig, RunError, Stop};
@@ -369,7 +369,9 @@ pub struct BeamToml {
     pub dt: Option<f64>,
     /// Horizon (s; default: the scene's).
     pub t_end: Option<f64>,
-    /// `"projection"` or `"penalty"` (default: the scene's).
+    /// `"projection"` (the registry's `ps(0,β)`: the β-scheme with the
+    /// exact projection) or `"penalty"` (`penalty-cn`, Newmark β = 1/4, with
+    /// a spring of `penalty_stiffness` N/m) (default: the scene's).
     pub contact: Option<String>,
     /// β of the β-scheme, in [0, 1/2] (projection only; default: the
     /// scene's).
@@ -390,8 +392,9 @@ pub struct BeamToml {
     /// paper's 0.2 sin(10 t) m).
     #[serde(default, deserialize_with = "optional_pair")]
     pub support: Option<[f64; 2]>,
-    /// `true`: run a conditionally stable β-scheme (β < 1/4) beyond its
-    /// exact stability limit anyway.
+    /// `true`: run a conditionally stable scheme (the β-scheme with β < 1/4,
+    /// or a `scheme` with a stability limit) beyond its exact stability
+    /// limit anyway (refused with an unconditionally stable `scheme`).
     #[serde(default)]
     pub force: bool,
     /// A reduced model (docs/theory.md §2.5): `{ modes = r }` or
@@ -473,6 +476,8 @@ pub struct BarRun {
     pub omega: Option<f64>,
     /// The reduced model's modes, if `reduce` is given.
     pub reduce: Option<Keep>,
+    /// The validated simulation, for the first instantiation.
+    pub ready: Ready,
 }
 
 /// One contact of a scene with `[[stop]]` / `[obstacle]`.
@@ -579,6 +584,8 @@ pub enum Scene {
         t_end: f64,
         /// The forcing frequency (Poincaré section, impact phases).
         omega: Option<f64>,
+        /// The validated simulation, for the first instantiation.
+        ready: Ready,
     },
     /// A beam between stops.
     Beam {
@@ -598,7 +605,22 @@ pub enum Scene {
         /// The forcing frequency (the support's, or `omega` of `[support]` /
         /// `[load]`): Poincaré section and impact phases.
         omega: Option<f64>,
+        /// The validated simulation, for the first instantiation.
+        ready: Ready,
     },
+}
+
+impl Scene {
+    /// A beam scene's [`BeamSetup`] (pipe, run, contacts, excitation, force,
+    /// reduction): what every front end builds the beam from; `None` for
+    /// other scenes.
+    pub fn beam_setup(&self) -> Option<BeamSetup> {
+        let Scene::Beam { pipe, scene, force, contacts, excitation, reduce, .. } = self else { return None };
+        let mut s = BeamSetup::new(*pipe, *scene).with_excitation(excitation.clone()).forced(*force);
+        s.stops = contacts.as_ref().map(|c| c.stops.clone());
+        s.reduce = *reduce;
+        Some(s)
+    }
 }
 
 impl OutputToml {
@@ -1256,14 +1278,22 @@ impl SceneFile {
             return Err(field("oscillator.dt", format!("{dt} gives {:.3e} steps: at most 1e10", t_end / dt)));
         }
         horizon("oscillator", dt, t_end)?;
-        osc.stepper(Some(scheme), dt).map_err(|e| match e {
+        let omega = exc.and_then(|e| e.omega);
+        // The clock alone (a sweep's first look): no integrator.
+        if one_step {
+            return Ok(Scene::Oscillator { omega, osc, scheme, dt, t_end, ready: Ready::default() });
+        }
+        // Validation is the instantiation (Scene::instantiate's build), kept for the run.
+        let built = osc.dynamics().and_then(|(dy, own)| Ok((scheme.build(dy, dt, &own)?, own)));
+        let (stepper, own) = built.map_err(|e| match e {
             RunError::Scheme(e @ SchemeError::Unstable { .. }) => field("oscillator.dt", e),
             RunError::Scheme(e @ (SchemeError::Factor(_) | SchemeError::NonFinite { .. })) => field("oscillator", format!("{e}: allowed: data whose step matrix is finite and positive definite")),
             RunError::Scheme(e) => field("oscillator.scheme", e),
             e @ RunError::BlowUp { .. } => field("oscillator", format!("{e}: the data overflow in the first step; allowed: data whose first step is finite")),
             e => field("oscillator", e),
         })?;
-        Ok(Scene::Oscillator { omega: exc.and_then(|e| e.omega), osc, scheme, dt, t_end })
+        let ready = Ready::keep(Simulation { stepper, u0: own.u, v0: own.v, tip: 0, lift: None, reduction: None });
+        Ok(Scene::Oscillator { omega, osc, scheme, dt, t_end, ready })
     }
 }
 
@@ -1585,14 +1615,21 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         ("bar.initial_velocity", largest(&problem.initial.v, b.initial_velocity.is_some())),
     ];
     let overflow_key = extreme_key(&numbers).filter(|(_, scale)| *scale > 100.0).map_or("bar", |(k, _)| k);
-    let (dy, init) = match reduce {
-        None => (problem.dynamics(), problem.initial.clone()),
+    // The clock alone (a sweep's first look): no integrator.
+    if one_step {
+        return Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce, ready: Ready::default() });
+    }
+    // Validation is the instantiation (Scene::instantiate's build), kept for the run.
+    let full = problem.dynamics();
+    let tip = full.contacts[0].dof;
+    let (dy, init, reduction) = match reduce {
+        None => (full, problem.initial.clone(), None),
         Some(keep) => {
-            let red = signorini_run::reduced::reduce(&problem.dynamics(), &problem.initial, keep).map_err(|e| reduce_error(e, "bar"))?;
-            (red.dynamics, red.initial)
+            let red = signorini_run::reduced::reduce(&full, &problem.initial, keep).map_err(|e| reduce_error(e, "bar"))?;
+            (red.dynamics, red.initial, Some(red.reduction))
         }
     };
-    scheme.build(dy, dt, &init).map_err(|e| match (e, &contacts) {
+    let stepper = scheme.build(dy, dt, &init).map_err(|e| match (e, &contacts) {
         (SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }, Some(set)) => {
             let name = stiff_stop(set, value, |k| k).and_then(|s| s.stop).map_or("stop".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
             field(&name, format!("{value:e} makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the step matrix at its node); usable range: 0 < stiffness <= {max:.3e}"))
@@ -1613,7 +1650,68 @@ fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&ObstacleToml>
         }
         (e, _) => scheme_error(e, overflow_key),
     })?;
-    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce })
+    let ready = Ready::keep(Simulation { stepper, u0: init.u, v0: init.v, tip, lift: None, reduction });
+    Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce, ready })
+}
+
+/// The beam's scheme and spring (N/m) from `beam.scheme`, or from the
+/// paper's spelling: `contact = "projection"` is `ps(0, β)` (`beta`,
+/// default 1/2), `contact = "penalty"` is `penalty-cn` (Newmark β = 1/4)
+/// with a spring of `penalty_stiffness` N/m (default 10⁸) at every contact
+/// without its own; neither: the paper scene's (or the custom scene's
+/// projection) with `beta` / `penalty_stiffness` applied. Every key acts or
+/// is refused: `beta` with the penalty, `penalty_stiffness` with the
+/// projection, and `contact`, `beta`, `penalty_stiffness` with `scheme`.
+fn beam_scheme(b: &BeamToml, base: &BeamScene) -> Result<(SchemeSpec, Option<f64>), SceneError> {
+    if let Some(name) = b.scheme.as_deref() {
+        for (key, given) in [("beam.contact", b.contact.is_some()), ("beam.beta", b.beta.is_some()), ("beam.penalty_stiffness", b.penalty_stiffness.is_some())] {
+            if given {
+                return Err(field(key, "acts only without beam.scheme, which replaces contact, beta and penalty_stiffness (contact = \"projection\" is ps(0,β), \"penalty\" is penalty-cn with a spring): remove one of them"));
+            }
+        }
+        let spec: SchemeSpec = name.parse().map_err(|e| field("beam.scheme", e))?;
+        if !spec.capabilities().beam {
+            return Err(field(
+                "beam.scheme",
+                format!(
+                    "{spec} does not take the beam's structure (Hermite cubics: a consistent mass, massive contact dofs away from dof 0, the support's load): allowed {}",
+                    families_with(|c| c.beam)
+                ),
+            ));
+        }
+        if b.force && spec.stability_rule().is_none() {
+            return Err(field("beam.force", format!("acts only with a conditionally stable scheme (its stability limit is what force lifts); {spec} is unconditionally stable: remove it")));
+        }
+        return Ok((spec, None));
+    }
+    let penalty = match b.contact.as_deref() {
+        None => base.spring.is_some(),
+        Some("projection") => false,
+        Some("penalty") => true,
+        Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\" (or beam.scheme = a registry scheme)"))),
+    };
+    if penalty {
+        let stiffness = b.penalty_stiffness.or(base.spring).unwrap_or(1e8);
+        positive("beam.penalty_stiffness", stiffness)?;
+        if b.beta.is_some() {
+            return Err(field(
+                "beam.beta",
+                "acts only with contact = \"projection\" (the β-scheme); the penalty contact integrates with Newmark β = 1/4: remove beta, or set contact = \"projection\"",
+            ));
+        }
+        Ok((SchemeSpec::penalty(10.0, false), Some(stiffness)))
+    } else {
+        // An explicit contact = "projection" starts from β = 1/2; without it, the scene's β.
+        let base_beta = if b.contact.is_none() { base.scheme.param("beta").unwrap_or(0.5) } else { 0.5 };
+        let beta = b.beta.unwrap_or(base_beta);
+        if !(0.0..=0.5).contains(&beta) {
+            return Err(field("beam.beta", format!("{beta} is not allowed: [0, 1/2]")));
+        }
+        if b.penalty_stiffness.is_some() {
+            return Err(field("beam.penalty_stiffness", "acts only with contact = \"penalty\": remove it, or set contact = \"penalty\""));
+        }
+        Ok((SchemeSpec::ps(0.0, beta), None))
+    }
 }
 
 fn validate_beam(
@@ -1627,7 +1725,7 @@ fn validate_beam(
 ) -> Result<Scene, SceneError> {
     let base = match &b.scene {
         Some(name) => *BeamScene::PAPER.iter().find(|s| s.name == name).ok_or_else(|| field("beam.scene", format!("{name:?} is not allowed: fig2, fig3, fig4, fig5, fig6, fig7 or fig8")))?,
-        None => BeamScene { name: "custom", elements: 19, dt: 1e-5, t_end: 2.0, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None },
+        None => BeamScene::new("custom", 19, 1e-5, 2.0, SchemeSpec::ps(0.0, 0.5)),
     };
     let elements = b.elements.unwrap_or(base.elements);
     if elements < 1 {
@@ -1643,61 +1741,9 @@ fn validate_beam(
     if dt > 1e100 {
         return Err(field("beam.dt", format!("{dt:e} is not allowed: at most 1e100 (dt² enters the step matrix)")));
     }
-    let contact = match (b.scheme.as_deref(), b.contact.as_deref()) {
-        (Some(name), _) => {
-            // Every key acts or is refused: the scheme replaces the contact's.
-            for (key, given) in [("beam.contact", b.contact.is_some()), ("beam.beta", b.beta.is_some()), ("beam.penalty_stiffness", b.penalty_stiffness.is_some()), ("beam.force", b.force)] {
-                if given {
-                    return Err(field(
-                        key,
-                        "acts only without beam.scheme, which replaces contact, beta, penalty_stiffness and force (a registry scheme's stability limit is always enforced): remove one of them",
-                    ));
-                }
-            }
-            let spec: SchemeSpec = name.parse().map_err(|e| field("beam.scheme", e))?;
-            if !spec.capabilities().beam {
-                return Err(field(
-                    "beam.scheme",
-                    format!(
-                        "{spec} does not take the beam's structure (Hermite cubics: a consistent mass, massive contact dofs away from dof 0, the support's load): allowed {}",
-                        families_with(|c| c.beam)
-                    ),
-                ));
-            }
-            BeamContact::Scheme(spec)
-        }
-        (None, contact) => match contact {
-            None => match base.contact {
-                BeamContact::Projection { beta } => BeamContact::Projection { beta: b.beta.unwrap_or(beta) },
-                BeamContact::Penalty { stiffness } => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(stiffness) },
-                BeamContact::Scheme(spec) => BeamContact::Scheme(spec),
-            },
-            Some("projection") => BeamContact::Projection { beta: b.beta.unwrap_or(0.5) },
-            Some("penalty") => BeamContact::Penalty { stiffness: b.penalty_stiffness.unwrap_or(1e8) },
-            Some(other) => return Err(field("beam.contact", format!("{other:?} is not allowed: \"projection\" or \"penalty\" (or beam.scheme = a registry scheme)"))),
-        },
-    };
-    match contact {
-        BeamContact::Projection { beta } if !(0.0..=0.5).contains(&beta) => return Err(field("beam.beta", format!("{beta} is not allowed: [0, 1/2]"))),
-        BeamContact::Penalty { stiffness } => {
-            positive("beam.penalty_stiffness", stiffness)?;
-        }
-        _ => {}
-    }
-    // Every key acts or is refused: β belongs to the projection's β-scheme,
-    // the stiffness to the penalty (whose Newmark scheme has β = 1/4).
-    match contact {
-        BeamContact::Penalty { .. } if b.beta.is_some() => {
-            return Err(field(
-                "beam.beta",
-                "acts only with contact = \"projection\" (the β-scheme); the penalty contact integrates with Newmark β = 1/4: remove beta, or set contact = \"projection\"",
-            ));
-        }
-        BeamContact::Projection { .. } if b.penalty_stiffness.is_some() => {
-            return Err(field("beam.penalty_stiffness", "acts only with contact = \"penalty\": remove it, or set contact = \"penalty\""));
-        }
-        _ => {}
-    }
+    let (scheme, spring) = beam_scheme(b, &base)?;
+    // The paper's spelling (contact = "projection" / "penalty"), named in messages.
+    let legacy = b.scheme.is_none();
     // Several contacts: [[stop]] / [obstacle] replace the tip's two stops.
     let multi = !stops.is_empty() || obstacle.is_some();
     if multi {
@@ -1750,32 +1796,26 @@ fn validate_beam(
             return Err(field("beam.support", format!("[{a}, {w}] is not allowed: A ω² must be finite (< 1.8e308)")));
         }
     }
-    let scene = BeamScene { name: "scene", elements, dt, t_end, contact, paper_seconds: base.paper_seconds };
+    let scene = BeamScene { name: "scene", elements, dt, t_end, scheme, spring, paper_seconds: base.paper_seconds };
     let contacts = if multi {
         let l = pipe.length;
         let mesh = NodeMesh { length: l, elements, unknown: 1..=elements, x: &|i| l * i as f64 / elements as f64 };
         let rules = KeyRules {
-            restitution: match contact {
-                BeamContact::Projection { .. } => Ok(()),
-                BeamContact::Penalty { .. } => {
-                    Err("acts only with contact = \"projection\" (the β-scheme's impact law); the penalty contact has none: remove it, or set contact = \"projection\"".to_string())
-                }
-                BeamContact::Scheme(spec) if spec.capabilities().restitution => Ok(()),
-                BeamContact::Scheme(spec) => {
-                    Err(format!("acts only with a scheme that has a restitution law ({}), not {spec}: remove it, or choose such a scheme", families_with(|c| c.restitution && c.beam)))
-                }
+            restitution: match scheme {
+                spec if spec.capabilities().restitution => Ok(()),
+                _ if legacy => Err("acts only with contact = \"projection\" (the β-scheme's impact law); the penalty contact has none: remove it, or set contact = \"projection\"".to_string()),
+                spec => Err(format!("acts only with a scheme that has a restitution law ({}), not {spec}: remove it, or choose such a scheme", families_with(|c| c.restitution && c.beam))),
             },
-            stiffness: match contact {
-                BeamContact::Penalty { .. } => Ok(()),
-                BeamContact::Projection { .. } => Err("acts only with contact = \"penalty\" (N/m, like penalty_stiffness): remove it, or set contact = \"penalty\"".to_string()),
-                BeamContact::Scheme(spec) if spec.capabilities().stiffness => Ok(()),
-                BeamContact::Scheme(spec) => Err(format!("acts only with a penalty scheme ({}), not {spec}: remove it, or choose one", families_with(|c| c.stiffness && c.beam))),
+            stiffness: match scheme {
+                spec if spec.capabilities().stiffness => Ok(()),
+                _ if legacy => Err("acts only with contact = \"penalty\" (N/m, like penalty_stiffness): remove it, or set contact = \"penalty\"".to_string()),
+                spec => Err(format!("acts only with a penalty scheme ({}), not {spec}: remove it, or choose one", families_with(|c| c.stiffness && c.beam))),
             },
         };
         // The lifted displacement u = ũ - hφ starts at 0.
         let mut set = contact_set(stops, obstacle, &mesh, &|_| 0.0, &rules)?;
         // beam.penalty_stiffness is every stop's spring (N/m) unless it gives its own.
-        if let BeamContact::Penalty { stiffness } = contact {
+        if let Some(stiffness) = spring {
             for st in &mut set.stops {
                 st.stiffness = st.stiffness.or(Some(stiffness));
             }
@@ -1786,8 +1826,11 @@ fn validate_beam(
     };
     let rho_s = pipe.rho_s;
     let reduce = b.reduce.as_ref().map(|r| r.keep("beam")).transpose()?;
-    if let Some(keep) = reduce {
-        if let BeamContact::Projection { beta } = contact {
+    let mut setup = BeamSetup::new(pipe, scene).with_excitation(excitation.clone()).forced(b.force);
+    setup.stops = contacts.as_ref().map(|c| c.stops.clone());
+    setup.reduce = reduce;
+    if reduce.is_some() {
+        if let Some(beta) = scheme.param("beta").filter(|_| legacy && spring.is_none()) {
             if beta < 0.25 {
                 return Err(field(
                     "beam.beta",
@@ -1795,10 +1838,27 @@ fn validate_beam(
                 ));
             }
         }
-        signorini_run::beam::build_reduced(&pipe, &scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation, keep).map_err(|e| reduce_error(e, "beam"))?;
     }
-    build_excited(&pipe, &scene, b.force, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), &excitation).map_err(|e| match e {
-        RunError::Unstable { .. } | RunError::Scheme(SchemeError::Unstable { .. }) => field("beam.dt", e),
+    if excitation.support.is_none() {
+        omega = Some(pipe.support.1);
+    }
+    // The clock alone (a sweep's first look): no integrator.
+    if one_step {
+        return Ok(Scene::Beam { pipe, scene, force: b.force, contacts, excitation, omega, reduce, ready: Ready::default() });
+    }
+    // Validation is the instantiation (Scene::instantiate's build), kept for the run.
+    let built = setup.build().map_err(|e| match e {
+        e @ RunError::Reduce(_) => reduce_error(e, "beam"),
+        // The paper's β-scheme: its limit with the paper's sufficient condition (3.1).
+        RunError::Scheme(SchemeError::Unstable { dt, limit, .. }) if legacy && spring.is_none() => {
+            let beta = scheme.param("beta").unwrap_or(f64::NAN);
+            let paper = pipe.dynamics(elements).and_then(|(beam, _, _)| signorini_run::beam::stability_limit(&beam, beta)).map_or(f64::NAN, |l| l.dt_sufficient);
+            field(
+                "beam.dt",
+                format!("dt = {dt} is at or beyond the exact stability limit {limit:.6e} of the β-scheme with β = {beta} < 1/4 (2/sqrt((1-4β) κ_h); the paper's sufficient condition (3.1) gives {paper:.6e}); use a smaller dt or β >= 1/4 (unconditionally stable), or force = true to run past it"),
+            )
+        }
+        RunError::Scheme(SchemeError::Unstable { .. }) => field("beam.dt", format!("{e} (or force = true to run past it)")),
         RunError::NotAllowed { field: f, allowed } => field(f, format!("not allowed here: allowed {allowed}")),
         RunError::Scheme(SchemeError::PenaltyTooStiff { field: "stop stiffness", value, max }) if contacts.is_some() => {
             let own = contacts.as_ref().and_then(|set| stiff_stop(set, value, |k| PenaltyUnits::NewtonPerMetre.kappa(k, rho_s))).filter(|s| s.own_stiffness).and_then(|s| s.stop);
@@ -1810,30 +1870,25 @@ fn validate_beam(
         }
         e @ RunError::Stop { .. } if contacts.is_some() => contacts.as_ref().map_or_else(|| field("beam", "unreachable"), |set| contact_error(e, set, "beam")),
         // A registry scheme that does not take this beam's contacts: its key.
-        e @ RunError::Scheme(SchemeError::Structure(_) | SchemeError::NotTaken { .. }) if matches!(contact, BeamContact::Scheme(_)) => field("beam.scheme", format!("{e}; allowed: a scheme that takes this beam's contacts")),
+        e @ RunError::Scheme(SchemeError::Structure(_) | SchemeError::NotTaken { .. }) if !legacy => field("beam.scheme", format!("{e}; allowed: a scheme that takes this beam's contacts")),
         e @ RunError::Scheme(SchemeError::Structure(_)) if contacts.is_some() => field("beam", format!("{e}; allowed: a contact set the beam's scheme takes")),
         e @ RunError::Scheme(SchemeError::Contact(signorini_contact::ContactError::Compliance(_))) if contacts.is_some() => {
             // The softest spring: a stop's own, or penalty_stiffness.
-            let default = match contact {
-                BeamContact::Penalty { stiffness } if contacts.as_ref().is_some_and(|c| c.sites.iter().any(|s| !s.own_stiffness)) => stiffness,
+            let default = match spring {
+                Some(stiffness) if contacts.as_ref().is_some_and(|c| c.sites.iter().any(|s| !s.own_stiffness)) => stiffness,
                 _ => f64::INFINITY,
             };
             let name = contacts.as_ref().and_then(softest_stop).filter(|&(_, k)| k < default).map_or("beam.penalty_stiffness".to_string(), |(i, _)| format!("stop.{i}.stiffness"));
             field(&name, too_soft(e))
         }
         RunError::Scheme(SchemeError::PenaltyTooStiff { max, .. }) => {
-            let k = match contact {
-                BeamContact::Penalty { stiffness } => stiffness,
-                BeamContact::Projection { .. } | BeamContact::Scheme(_) => f64::NAN,
-            };
+            let k = spring.unwrap_or(f64::NAN);
             // The scheme sees κ = k/(ρS): back to N/m.
             field("beam.penalty_stiffness", format!("{k:e} N/m makes the contact law ill-posed in floating point at this mesh and dt (the spring is more than 1e12 times stiffer than the beam at its tip); usable range: 0 < penalty_stiffness <= {:.3e} N/m", max * pipe.rho_s))
         }
         e @ RunError::BlowUp { .. } => field("beam", format!("{e}: the data overflow in the first step; allowed: data whose first step is finite")),
         e => field("beam", e),
     })?;
-    if excitation.support.is_none() {
-        omega = Some(pipe.support.1);
-    }
-    Ok(Scene::Beam { pipe, scene, force: b.force, contacts, excitation, omega, reduce })
+    let ready = Ready::keep(instantiate::beam_simulation(built, pipe, excitation.clone()));
+    Ok(Scene::Beam { pipe, scene, force: b.force, contacts, excitation, omega, reduce, ready })
 }

@@ -3,7 +3,7 @@
 //! the same way (the energy warning, IO reasons).
 
 use crate::{BuildError, ContactSet, OutputToml, Scene, SceneFile};
-use signorini_run::beam::{stability_limit, BeamContact, PenaltyUnits};
+use signorini_run::beam::stability_limit;
 use signorini_run::RunConfig;
 use std::path::Path;
 
@@ -72,10 +72,7 @@ fn event_driven(scene: &Scene) -> Option<(signorini_schemes::SchemeSpec, f64, f6
     let (spec, dt, t_end) = match scene {
         Scene::Bar(b) => (b.scheme, b.dt, b.t_end),
         Scene::Oscillator { scheme, dt, t_end, .. } => (*scheme, *dt, *t_end),
-        Scene::Beam { scene, .. } => match scene.contact {
-            BeamContact::Scheme(spec) => (spec, scene.dt, scene.t_end),
-            _ => return None,
-        },
+        Scene::Beam { scene, .. } => (scene.scheme, scene.dt, scene.t_end),
     };
     (spec.family().name == "event-driven").then_some((spec, dt, t_end))
 }
@@ -325,6 +322,7 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
         Some(s) => format!("cost estimate: about {s:.3} s stepping (event-driven: from the probe of its events below; the run's writing and norms come on top)"),
         None => "cost estimate: unknown (event-driven: the probe below covered no time)".to_string(),
     });
+    let beam_setup = scene.beam_setup();
     let (text, steps, stability_limit) = match scene {
         Scene::Bar(b) => {
             let steps = RunConfig::new(b.dt, b.t_end)?.steps();
@@ -355,24 +353,25 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
             };
             (text, steps, limit)
         }
-        Scene::Beam { pipe, scene, force, contacts, excitation, .. } => {
+        Scene::Beam { pipe, scene, force, .. } => {
+            let scene_setup = beam_setup.as_ref().expect("a beam scene");
             let (_, _, beam_) = pipe.dynamics(scene.elements).map(|(b, d, i)| (d, i, b))?;
             let steps = RunConfig::new(scene.dt, scene.t_end)?.steps();
-            let beta = match scene.contact {
-                BeamContact::Projection { beta } => beta,
-                BeamContact::Penalty { .. } | BeamContact::Scheme(_) => 0.25,
-            };
-            // A registry scheme's own limit, on the beam's problem with its contacts.
-            let registry = match scene.contact {
-                BeamContact::Scheme(spec) => {
-                    let (_, dy, _) = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
-                    Some((spec, spec.cfl_limit(&dy).map_err(signorini_run::RunError::from)?))
+            let spec = scene.scheme;
+            // The paper's β-scheme (the projection, ps(0, β)) is reported with
+            // the paper's sufficient condition (3.1); a penalty spring with
+            // Newmark β = 1/4; any other scheme by its registry limit.
+            let paper_beta = spec.param("beta").filter(|&b| spec == signorini_schemes::SchemeSpec::ps(0.0, b) && scene.spring.is_none());
+            let registry = match paper_beta {
+                None => {
+                    let (_, dy, _) = scene_setup.problem()?;
+                    Some(spec.cfl_limit(&dy).map_err(signorini_run::RunError::from)?)
                 }
-                _ => None,
+                Some(_) => None,
             };
-            let lim = stability_limit(&beam_, beta)?;
-            let stab = match scene.contact {
-                BeamContact::Projection { beta } if beta < 0.25 => format!(
+            let lim = stability_limit(&beam_, paper_beta.unwrap_or(0.25))?;
+            let stab = match paper_beta {
+                Some(beta) if beta < 0.25 => format!(
                     "conditionally stable (β = {beta} < 1/4): κ_h = {:.6e}, exact critical dt = 2/sqrt((1-4β) κ_h) = {:.6e} s (the paper's sufficient condition (3.1) gives {:.6e} s; with its κ bound {:.6e} s); dt = {:e} is {}",
                     lim.kappa,
                     lim.dt_critical,
@@ -387,11 +386,11 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
                         "BEYOND it: the run will be refused"
                     }
                 ),
-                BeamContact::Projection { beta } => {
+                Some(beta) => {
                     format!("unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)", lim.kappa, lim.dt_sufficient)
                 }
-                BeamContact::Penalty { .. } => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
-                BeamContact::Scheme(spec) => match registry.and_then(|r| r.1) {
+                None if scene.spring.is_some() => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
+                None => match registry.flatten() {
                     None => format!("{spec}: unconditionally stable; κ_h = {:.6e}", lim.kappa),
                     Some(l) => format!("{spec}: conditionally stable: exact limit dt < {l:.6e} s ({}); dt = {:e} is below it", spec.stability_rule().unwrap_or(""), scene.dt),
                 },
@@ -410,12 +409,12 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
                 None => text,
             };
             let limit = match registry {
-                Some((_, l)) => l,
-                None => matches!(scene.contact, BeamContact::Projection { beta } if beta < 0.25).then_some(lim.dt_critical),
+                Some(l) => l,
+                None => paper_beta.filter(|&b| b < 0.25).map(|_| lim.dt_critical),
             };
             (text, steps, limit)
         }
-        Scene::Oscillator { osc, scheme, dt, t_end, omega } => {
+        Scene::Oscillator { osc, scheme, dt, t_end, omega, .. } => {
             let steps = RunConfig::new(*dt, *t_end)?.steps();
             let (dy, _) = osc.dynamics()?;
             let limit = scheme.cfl_limit(&dy)?;
@@ -442,8 +441,8 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
     };
     let reduced = match scene {
         Scene::Bar(b) => b.reduce.map(|keep| signorini_run::reduced::reduce(&b.problem.dynamics(), &b.problem.initial, keep)).transpose()?,
-        Scene::Beam { pipe, scene, contacts, excitation, reduce: Some(keep), .. } => {
-            let (_, dy, init) = signorini_run::beam::problem_excited(pipe, scene, PenaltyUnits::NewtonPerMetre, contacts.as_ref().map(|c| c.stops.as_slice()), excitation)?;
+        Scene::Beam { reduce: Some(keep), .. } => {
+            let (_, dy, init) = scene.beam_setup().expect("a beam scene").problem()?;
             Some(signorini_run::reduced::reduce(&dy, &init, *keep)?)
         }
         _ => None,

@@ -340,8 +340,18 @@ use crate::SchemeSpec;
 
 /// The reduced formulations' capabilities: a massless contact node at dof
 /// 0, one contact, a steady load, no damping.
-const REDUCED_CAPS: Capabilities =
-    Capabilities { explicit: false, node: Node::Massless, diagonal_mass: false, damping: false, forcing: false, restitution: false, stiffness: false, several_contacts: false, beam: false };
+const REDUCED_CAPS: Capabilities = Capabilities {
+    explicit: false,
+    node: Node::Massless,
+    diagonal_mass: false,
+    damping: false,
+    forcing: false,
+    restitution: false,
+    stiffness: false,
+    several_contacts: false,
+    beam: false,
+    lockstep: false,
+};
 
 fn build_reduced(s: &SchemeSpec, dy: Dynamics, dt: f64, init: &Initial, law: ReducedLaw) -> Result<Box<dyn Stepper>, SchemeError> {
     if law == ReducedLaw::CentralDifference {

@@ -255,6 +255,7 @@ pub(crate) static NITSCHE: Family = Family {
         stiffness: false,
         several_contacts: false,
         beam: false,
+        lockstep: false,
     },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,

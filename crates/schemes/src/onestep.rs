@@ -830,7 +830,7 @@ impl SchemeSpec {
     }
     /// The penalty spring `γ_P K_cc` with Newmark-CN (`explicit = false`,
     /// `penalty(G)`) or the explicit central difference (`penalty-cd(G)`).
-    pub fn penalty(gamma_p: f64, explicit: bool) -> Self {
+    pub const fn penalty(gamma_p: f64, explicit: bool) -> Self {
         if explicit {
             PENALTY_CD.with(&[gamma_p])
         } else {

@@ -645,7 +645,7 @@ pub(crate) static PS: Family = Family {
         check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]")?;
         check("beta", a[1], (0.0..=0.5).contains(&a[1]), "[0, 1/2] (β < 1/4 needs a massive contact node and is conditionally stable)")
     },
-    capabilities: |a| Capabilities { explicit: a[1] == 0.0, node: if a[1] < 0.25 { Node::Massive } else { Node::Any }, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |a| Capabilities { explicit: a[1] == 0.0, node: if a[1] < 0.25 { Node::Massive } else { Node::Any }, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |a, dy| {
         let beta = a[1];
         if beta >= 0.25 {
@@ -704,7 +704,7 @@ pub(crate) static CD_TAYLOR: Family = Family {
 
 impl SchemeSpec {
     /// Paoli–Schatzman with restitution `e` and β (not validated until built).
-    pub fn ps(restitution: f64, beta: f64) -> Self {
+    pub const fn ps(restitution: f64, beta: f64) -> Self {
         PS.with(&[restitution, beta])
     }
     /// `cd-taylor`: the central difference with Taylor's start.

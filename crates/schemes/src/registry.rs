@@ -70,13 +70,28 @@ pub struct Capabilities {
     /// It takes the beam's structure (Hermite cubics: consistent, non-diagonal
     /// mass, massive contact dofs that are not dof 0, a support motion's load).
     pub beam: bool,
+    /// Runs that share a step matrix can be stepped together by the
+    /// lockstep engine ([`crate::PaoliSchatzmanLockstep`]: one contact,
+    /// undamped, a massive contact node, half-bandwidth 3), each lane bit
+    /// for bit its single run; a sweep batches such runs.
+    pub lockstep: bool,
 }
 
 impl Capabilities {
     /// An implicit scheme for any node that takes everything but impact
     /// laws and penalty stiffness (the Newmark/θ family's).
-    pub const IMPLICIT: Capabilities =
-        Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: true, forcing: true, restitution: false, stiffness: false, several_contacts: true, beam: true };
+    pub const IMPLICIT: Capabilities = Capabilities {
+        explicit: false,
+        node: Node::Any,
+        diagonal_mass: false,
+        damping: true,
+        forcing: true,
+        restitution: false,
+        stiffness: false,
+        several_contacts: true,
+        beam: true,
+        lockstep: false,
+    };
 
     /// Whether a mass treatment whose contact node is massless (`true`) or
     /// massive (`false`) suits the scheme.
@@ -174,6 +189,9 @@ pub static FAMILIES: &[&Family] = &[
 pub struct SchemeSpec {
     family: &'static Family,
     args: [f64; MAX_PARAMS],
+    /// The stability limit is not enforced ([`SchemeSpec::beyond_limit`]):
+    /// not part of the scheme's identity (equality, text).
+    waived: bool,
 }
 
 impl PartialEq for SchemeSpec {
@@ -246,11 +264,15 @@ impl Family {
     /// # Panics
     /// If `args` is not one value per parameter (a programmer error).
     #[track_caller]
-    pub fn with(&'static self, args: &[f64]) -> SchemeSpec {
-        assert_eq!(args.len(), self.params.len(), "{} takes {} parameters", self.name, self.params.len());
+    pub const fn with(&'static self, args: &[f64]) -> SchemeSpec {
+        assert!(args.len() == self.params.len(), "a scheme family takes one value per parameter");
         let mut a = [0.0; MAX_PARAMS];
-        a[..args.len()].copy_from_slice(args);
-        SchemeSpec { family: self, args: a }
+        let mut i = 0;
+        while i < args.len() {
+            a[i] = args[i];
+            i += 1;
+        }
+        SchemeSpec { family: self, args: a, waived: false }
     }
 }
 
@@ -303,6 +325,20 @@ impl SchemeSpec {
         let shown = params.iter().zip(self.args()).rposition(|(p, &a)| p.default != Some(a)).map_or(0, |i| i + 1);
         let args: Vec<String> = self.args()[..shown].iter().map(|&a| number(a)).collect();
         format!("{}({})", self.family.name, args.join(","))
+    }
+
+    /// The same scheme built without enforcing its stability limit (a
+    /// scene's `force = true`: a run past the limit, to see it blow up);
+    /// everything else is checked as by [`SchemeSpec::build`]. Equality and
+    /// the text form do not see it.
+    pub fn beyond_limit(mut self) -> Self {
+        self.waived = true;
+        self
+    }
+
+    /// Whether the stability limit is waived ([`SchemeSpec::beyond_limit`]).
+    pub fn limit_waived(&self) -> bool {
+        self.waived
     }
 
     /// What the scheme can be combined with.
@@ -366,6 +402,9 @@ impl SchemeSpec {
     /// lumped bar with a free far end, whose limit is exactly `h/c` (the
     /// Courant-one study) — is accepted.
     pub(crate) fn check_cfl(&self, dy: &Dynamics, dt: f64, inclusive: bool) -> Result<(), SchemeError> {
+        if self.waived {
+            return Ok(());
+        }
         if let Some(limit) = self.cfl_limit(dy)? {
             let ok = if inclusive { dt <= limit * (1.0 + 1e-9) } else { dt < limit * (1.0 + STRICT_CFL_ROUNDOFF) };
             if !ok {

@@ -30,8 +30,9 @@
 
 use crate::{create_dir, fd, fde, fe, ff, int, since, txt, Kind, StudyError, Table, TableOut};
 use signorini_plot::{line_chart, Chart, Scale, Series};
-use signorini_run::beam::{build_with_units, stability_limit, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{stability_limit, BeamScene, BeamSetup, BuiltBeam, PenaltyUnits, Pipe};
 use signorini_run::{run as run_steps, Observer, RunConfig, RunError, Sample};
+use signorini_schemes::SchemeSpec;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -131,7 +132,7 @@ struct SceneResult {
 
 fn run_scene(pipe: &Pipe, scene: &BeamScene, units: PenaltyUnits, force: bool, t_end: f64, max_rows: usize) -> Result<SceneResult, StudyError> {
     let start = Instant::now();
-    let (mut stepper, init, beam) = build_with_units(pipe, scene, force, units).map_err(|e| StudyError::failed(scene.name, e))?;
+    let BuiltBeam { mut stepper, initial: init, beam, .. } = BeamSetup::new(*pipe, *scene).with_units(units).forced(force).build().map_err(|e| StudyError::failed(scene.name, e))?;
     let cfg = RunConfig::new(scene.dt, t_end)?;
     let steps = cfg.steps();
     let mut tip = Tip {
@@ -206,9 +207,9 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     // Every penalty figure runs with the stiffness in N/m and unscaled.
     let jobs: Vec<(BeamScene, PenaltyUnits)> = scenes
         .iter()
-        .flat_map(|s| match s.contact {
-            BeamContact::Projection { .. } | BeamContact::Scheme(_) => vec![(*s, PenaltyUnits::NewtonPerMetre)],
-            BeamContact::Penalty { .. } => PenaltyUnits::ALL.iter().map(|u| (*s, *u)).collect(),
+        .flat_map(|s| match s.spring {
+            None => vec![(*s, PenaltyUnits::NewtonPerMetre)],
+            Some(_) => PenaltyUnits::ALL.iter().map(|u| (*s, *u)).collect(),
         })
         .collect();
     // Largest violation per (units, stiffness, dt), for penalty.csv.
@@ -216,14 +217,17 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let total = jobs.len() as u64;
     for (done, (scene, units)) in jobs.iter().enumerate() {
         let r = run_scene(&pipe, scene, *units, a.force, scene.t_end, 20_000)?;
-        let name = match (scene.contact, units) {
-            (BeamContact::Penalty { .. }, PenaltyUnits::Unscaled) => format!("{}-unscaled", scene.name),
+        let name = match (scene.spring, units) {
+            (Some(_), PenaltyUnits::Unscaled) => format!("{}-unscaled", scene.name),
             _ => scene.name.to_string(),
         };
-        let (contact, beta) = match scene.contact {
-            BeamContact::Projection { beta } => ("projection".to_string(), beta),
-            BeamContact::Scheme(spec) => (spec.to_string(), spec.param("beta").unwrap_or(f64::NAN)),
-            BeamContact::Penalty { stiffness } => {
+        let spec = scene.scheme;
+        // The paper's spelling: the projection is ps(0, β), the penalty a spring.
+        let projection = spec.param("beta").filter(|&b| spec == SchemeSpec::ps(0.0, b));
+        let (contact, beta) = match (scene.spring, projection) {
+            (None, Some(beta)) => ("projection".to_string(), beta),
+            (None, None) => (spec.to_string(), spec.param("beta").unwrap_or(f64::NAN)),
+            (Some(stiffness), _) => {
                 violations.push(Violation { units: *units, stiffness, dt: scene.dt, max: r.tip.max_excess, first: r.tip.max_excess_first });
                 match units {
                     PenaltyUnits::NewtonPerMetre => (format!("penalty {stiffness:e} N/m"), 0.25),
@@ -288,7 +292,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let (md_pen, pen_table) = penalty_study(a, &pipe, &mut violations)?;
     tables.push(pen_table);
     // Self-convergence of the tip on [0, 0.2] s (β = 1/2, projection).
-    let base = BeamScene { name: "self-convergence", elements: 19, dt: 4e-5, t_end: 0.2, contact: BeamContact::Projection { beta: 0.5 }, paper_seconds: None };
+    let base = BeamScene::new("self-convergence", 19, 4e-5, 0.2, SchemeSpec::ps(0.0, 0.5));
     let reference = run_scene(&pipe, &BeamScene { dt: base.dt / 64.0, ..base }, PenaltyUnits::NewtonPerMetre, false, 0.2, usize::MAX)?;
     let mut sv = TableOut::create(&a.out, "self_convergence.csv", &[("dt_s", f_), ("linf_tip_error_before_impact_m", f_), ("rate_before_impact", f_), ("linf_tip_error_m", f_), ("rate", f_)])?;
     let mut md_conv = String::from("| dt (s) | error on [0, 0.085] s (m) | rate | error on [0, 0.2] s (m) | rate |\n|---|---|---|---|---|\n");
@@ -347,7 +351,7 @@ fn penalty_study(a: &Config, pipe: &Pipe, done: &mut Vec<Violation>) -> Result<(
             let v = match known {
                 Some(v) => v,
                 None => {
-                    let scene = BeamScene { name: "penalty", elements: 19, dt, t_end: 2.0, contact: BeamContact::Penalty { stiffness }, paper_seconds: None };
+                    let scene = BeamScene::new("penalty", 19, dt, 2.0, SchemeSpec::penalty(10.0, false)).with_spring(stiffness);
                     let tip = run_scene(pipe, &scene, units, false, scene.t_end, 1)?.tip;
                     let v = Violation { units, stiffness, dt, max: tip.max_excess, first: tip.max_excess_first };
                     done.push(v);

@@ -13,9 +13,10 @@
 
 use crate::{create_dir, fde, fe, ff, int, since, txt, Cell, Kind, StudyError, Table, TableOut};
 use signorini_plot::{line_chart, Chart, Scale, Series};
-use signorini_run::beam::{build_with_stops, node_dof, BeamContact, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{node_dof, BeamScene, BeamSetup, BuiltBeam, Pipe};
 use signorini_run::study::rate;
 use signorini_run::{run as run_steps, Observer, RunConfig, RunError, Sample, Stop};
+use signorini_schemes::SchemeSpec;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -106,10 +107,10 @@ struct RunOut {
 /// every `every` steps.
 fn run_one(a: &Config, j: usize, dt: f64, base: usize, every: usize) -> Result<RunOut, StudyError> {
     let pipe = Pipe::paper();
-    let scene = BeamScene { name: "beam-obstacles", elements: j, dt, t_end: a.t_end, contact: BeamContact::Projection { beta: a.beta }, paper_seconds: None };
+    let scene = BeamScene::new("beam-obstacles", j, dt, a.t_end, SchemeSpec::ps(0.0, a.beta));
     let stops: Vec<Stop> = (1..=j).map(|i| Stop::new(i, -a.gap, a.gap)).collect();
     let start = Instant::now();
-    let (mut stepper, init, beam) = build_with_stops(&pipe, &scene, false, PenaltyUnits::default(), Some(&stops)).map_err(|e| StudyError::failed(format!("J = {j}, dt = {dt}"), e))?;
+    let BuiltBeam { mut stepper, initial: init, beam, .. } = BeamSetup::new(pipe, scene).with_stops(stops).build().map_err(|e| StudyError::failed(format!("J = {j}, dt = {dt}"), e))?;
     let cfg = RunConfig::new(dt, a.t_end)?;
     let dofs: Vec<usize> = (1..=base).map(|i| node_dof(&beam, i * j / base).expect("a node")).collect();
     let node_dofs: Vec<usize> = (1..=j).map(|i| node_dof(&beam, i).expect("a node")).collect();

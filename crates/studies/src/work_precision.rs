@@ -57,7 +57,7 @@ use signorini_fem::BarMass;
 use signorini_norms::NormReport;
 use signorini_plot::{line_chart, Chart, Scale, Series, Style};
 use signorini_reduce::Keep;
-use signorini_run::beam::{build_excited, build_reduced, BeamContact, BeamExcitation, BeamScene, PenaltyUnits, Pipe};
+use signorini_run::beam::{BeamScene, BeamSetup, Pipe};
 use signorini_run::stats::{batch_means, Interval};
 use signorini_run::study::{self, StudyConfig};
 use signorini_run::{run as run_steps, Benchmark, NormObserver, Observer, RunConfig, RunError, Sample};
@@ -883,19 +883,20 @@ impl Tip {
 
 /// A beam configuration: `modes` 0 for the full model.
 fn beam_build(dt: f64, t_end: f64, modes: usize) -> Result<BuiltBeam, StudyError> {
-    beam_build_with(dt, t_end, modes, BeamContact::Projection { beta: 0.5 })
+    beam_build_with(dt, t_end, modes, SchemeSpec::ps(0.0, 0.5))
 }
 
-/// [`beam_build`] with another contact treatment.
-fn beam_build_with(dt: f64, t_end: f64, modes: usize, contact: BeamContact) -> Result<BuiltBeam, StudyError> {
-    let scene = BeamScene { dt, t_end, contact, ..BeamScene::PAPER[0] };
-    let (pipe, exc) = (Pipe::paper(), BeamExcitation::default());
+/// [`beam_build`] with another scheme.
+fn beam_build_with(dt: f64, t_end: f64, modes: usize, scheme: SchemeSpec) -> Result<BuiltBeam, StudyError> {
+    let scene = BeamScene { dt, t_end, scheme, ..BeamScene::PAPER[0] };
+    let setup = BeamSetup::new(Pipe::paper(), scene);
     if modes == 0 {
-        let (s, init, beam) = build_excited(&pipe, &scene, false, PenaltyUnits::default(), None, &exc)?;
-        Ok((s, init.u, beam.tip_dof()))
+        let b = setup.build()?;
+        Ok((b.stepper, b.initial.u, b.beam.tip_dof()))
     } else {
-        let (s, red, _) = build_reduced(&pipe, &scene, PenaltyUnits::default(), None, &exc, Keep::Modes(modes))?;
-        Ok((s, red.initial.u.clone(), 0))
+        let b = setup.reduced(Keep::Modes(modes)).build()?;
+        let u0 = b.reduced.map(|r| r.initial.u).unwrap_or_default();
+        Ok((b.stepper, u0, 0))
     }
 }
 
@@ -911,7 +912,7 @@ fn beam_tip(dt: f64, t_end: f64, modes: usize) -> Result<(Tip, usize), StudyErro
 /// every `dt`, and its first impact time (from the event log).
 fn beam_tip_exact(dt: f64, t_end: f64) -> Result<(Tip, f64), StudyError> {
     let spec: SchemeSpec = "event-driven(0)".parse().map_err(|e: signorini_schemes::SchemeError| StudyError::Run(e.to_string()))?;
-    let (mut s, u0, dof) = beam_build_with(dt, t_end, 0, BeamContact::Scheme(spec))?;
+    let (mut s, u0, dof) = beam_build_with(dt, t_end, 0, spec)?;
     let levels = (t_end / dt).round() as usize + 1;
     let mut tip = Tip { dof, u: Vec::with_capacity(levels), active: Vec::with_capacity(levels) };
     run_steps(s.as_mut(), &u0, &RunConfig::new(dt, t_end)?, &mut [&mut tip])?;

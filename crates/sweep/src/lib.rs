@@ -59,12 +59,11 @@
 
 use rayon::prelude::*;
 use signorini_plot::{impact_map, scatter, thin, Chart, Scale, Series, Style};
-use signorini_run::beam::{problem_excited, BeamContact, PenaltyUnits};
 use signorini_run::reduced::Need;
 use signorini_run::vibro::{Piece, Summary, VibroConfig};
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, Sample};
 use signorini_scene::{io_reason, BuildError, Limits, Reads, Scene, SceneError, SceneFile};
-use signorini_schemes::{Bounds, LockstepLane, PaoliSchatzmanLockstep};
+use signorini_schemes::{Bounds, Initial, LockstepLane, PaoliSchatzmanLockstep};
 use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -1313,23 +1312,27 @@ fn rows_of(vib: &signorini_run::vibro::Vibro, plan: &Plan, steps: usize, status:
 pub const LANES: usize = 8;
 
 /// A run the lockstep engine takes: a beam (full model) on its tip's two
-/// stops with the projection (the β-scheme, e = 0), not continued from
-/// another run.
+/// stops, not continued from another run, whose scheme can run in lockstep
+/// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
+/// them), within its stability limit or forced past it as its single run.
+/// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
+/// one its validation built): its problem and initial state.
 fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
-    let beta = lockstep_beta(scene)?;
-    let Scene::Beam { pipe, scene: bs, excitation, .. } = scene else { return None };
-    let (beam, dy, init) = problem_excited(pipe, bs, PenaltyUnits::NewtonPerMetre, None, excitation).ok()?;
-    Some((LockstepLane { dynamics: dy, initial: init, restitution: 0.0 }, beta, bs.dt, beam.tip_dof()))
+    let (beta, e) = lockstep_params(scene)?;
+    let Scene::Beam { scene: bs, .. } = scene else { return None };
+    let sim = scene.instantiate(None).ok()?;
+    let lane = LockstepLane { dynamics: sim.stepper.dynamics().clone(), initial: Initial { u: sim.u0, v: sim.v0 }, restitution: e };
+    Some((lane, beta, bs.dt, sim.tip))
 }
 
-/// The β of a scene the lockstep engine takes (see [`lane_of`]), or `None`.
-fn lockstep_beta(scene: &Scene) -> Option<f64> {
+/// The β and restitution of a scene the lockstep engine takes (see
+/// [`lane_of`]), or `None`.
+fn lockstep_params(scene: &Scene) -> Option<(f64, f64)> {
     match scene {
         // A reduced model steps other matrices: one run at a time.
-        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() => match bs.contact {
-            BeamContact::Projection { beta } => Some(beta),
-            BeamContact::Penalty { .. } | BeamContact::Scheme(_) => None,
-        },
+        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() && bs.spring.is_none() && bs.scheme.capabilities().lockstep => {
+            Some((bs.scheme.param("beta")?, bs.scheme.param("e")?))
+        }
         _ => None,
     }
 }
@@ -1340,7 +1343,7 @@ fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]) -> Vec<Ve
     let mut jobs: Vec<Vec<usize>> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
     for (k, p) in prepared.iter().enumerate() {
-        let ok = p.2.as_ref().is_ok_and(|(scene, _)| lockstep_beta(scene).is_some());
+        let ok = p.2.as_ref().is_ok_and(|(scene, _)| lockstep_params(scene).is_some());
         if ok {
             open.push(k);
             if open.len() == LANES {

@@ -151,7 +151,18 @@ pub(crate) static EVENT_DRIVEN: Family = Family {
         check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]")?;
         check("max_events", a[1], a[1] >= 1.0 && a[1] <= 1e12 && a[1].fract() == 0.0, "an integer in [1, 1e12]")
     },
-    capabilities: |_| Capabilities { explicit: false, node: Node::Any, diagonal_mass: false, damping: true, forcing: true, restitution: true, stiffness: false, several_contacts: true, beam: true },
+    capabilities: |_| Capabilities {
+        explicit: false,
+        node: Node::Any,
+        diagonal_mass: false,
+        damping: true,
+        forcing: true,
+        restitution: true,
+        stiffness: false,
+        several_contacts: true,
+        beam: true,
+        lockstep: false,
+    },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(EventStepper::new(s.to_string(), dy, s.args()[0], dt, init)?.with_max_events(s.args()[1] as usize))),
