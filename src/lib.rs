@@ -9,7 +9,14 @@
 //! * [`norms`]: exact error norms accumulated while stepping;
 //! * [`reduce`]: reduced models with a massless contact boundary;
 //! * [`schemes`]: the time integrators;
-//! * [`run`]: problems, the time loop, observers and convergence studies.
+//! * [`run`]: problems, the time loop, observers and convergence studies;
+//! * [`plot`]: SVG line charts and heat maps;
+//! * [`scene`]: the TOML scene format, its validation and one instantiation;
+//! * [`sweep`]: parameter sweeps (grid, manifest, lockstep batches, merge);
+//! * [`studies`]: every study as a library function.
+//!
+//! Every library crate of the workspace is here; the `signorini` command
+//! (`signorini-cli`) is a front end on them, not a library of the facade.
 //!
 //! The Dirichlet bar's exact solution and a run of Newmark-CN against it:
 //!
@@ -32,3 +39,7 @@ pub use signorini_norms as norms;
 pub use signorini_reduce as reduce;
 pub use signorini_run as run;
 pub use signorini_schemes as schemes;
+pub use signorini_plot as plot;
+pub use signorini_scene as scene;
+pub use signorini_studies as studies;
+pub use signorini_sweep as sweep;
