@@ -404,6 +404,12 @@ impl Search {
                 bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
             }
         }
+        // The root less 1e-12 of it (its own round-off is a few ulps): a
+        // margin, not the guard against passing an event — the bounds'
+        // 1e-12 inflation covers the root's round-off wherever the
+        // curvature counts, and on a nearly linear approach an overshoot
+        // leaves g within its own round-off of 0, where the lift-off rule
+        // declares the event (docs/theory.md §9.2, "The root's margin").
         Reach::Root(best * (1.0 - 1e-12))
     }
 
