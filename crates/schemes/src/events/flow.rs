@@ -741,13 +741,19 @@ impl ModalFlow {
     pub(crate) fn physical_into(&self, t: f64, eta: &[f64], deta: &[f64], free: &[usize], q: &mut [f64], v: &mut [f64]) {
         let n = self.n;
         let Some(g) = &self.general else {
-            for (r, &d) in free.iter().enumerate() {
-                let (mut a, mut b) = (0.0, 0.0);
-                for i in 0..n {
-                    a += self.phi[(r, i)] * eta[i];
-                    b += self.phi[(r, i)] * deta[i];
+            // Column by column (Φ is stored by columns): each entry still
+            // sums its terms from 0 in the order of the modes, the same
+            // bits as the row-by-row dot products.
+            for &d in free {
+                (q[d], v[d]) = (0.0, 0.0);
+            }
+            for i in 0..n {
+                let (e, de) = (eta[i], deta[i]);
+                let col = self.phi.col(i).try_as_col_major().expect("a dense matrix's column").as_slice();
+                for (&x, &d) in col.iter().zip(free) {
+                    q[d] += x * e;
+                    v[d] += x * de;
                 }
-                (q[d], v[d]) = (a, b);
             }
             return;
         };
