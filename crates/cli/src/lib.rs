@@ -577,9 +577,18 @@ fn prepare_output(out: &Path, clean: bool) -> Result<(), CliError> {
 /// files, the folder rule and interrupts).
 pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
     if !opts.no_disk_check {
-        // An event-driven run's events.csv: from a bounded probe of its events.
-        let need = output_estimate(scene, &scene_file.output) + scene::event_probe(scene)?.map_or(0.0, |p| p.bytes_estimate());
-        if let Some(free) = free_space(out) {
+        // An event-driven run's events.csv: from a bounded probe of its
+        // events, run only where its estimate could refuse the run (the
+        // file's bound at max_events does not fit: the probe steps the run
+        // a second time, up to the whole horizon).
+        let free = free_space(out);
+        let mut need = output_estimate(scene, &scene_file.output);
+        if let Some(bound) = scene::EventProbe::bytes_bound_unprobed(scene) {
+            if free.is_some_and(|f| need <= f && need + bound > f) {
+                need += scene::event_probe(scene)?.map_or(0.0, |p| p.bytes_estimate());
+            }
+        }
+        if let Some(free) = free {
             if need > free {
                 return Err(CliError::Disk { need: scene::bytes(need), free: scene::bytes(free), dir: out.display().to_string() });
             }

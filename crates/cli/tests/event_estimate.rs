@@ -58,3 +58,30 @@ fn a_probe_of_the_whole_horizon_is_exact() {
     assert_eq!(probe.bytes_estimate(), actual as f64);
     assert!(report.text.contains("the probe ran the whole horizon"), "{}", report.text);
 }
+
+/// `run`'s disk check skips the probe where `events.csv`'s bound at
+/// `max_events` fits (`EventProbe::bytes_bound_unprobed`): sound only if no
+/// row can be longer than the bound's row and no probe estimates more.
+/// The longest row there is — every number negative with a three-digit
+/// exponent, the longest kind, the largest contact index — fits the bound
+/// at one event, and the dense run's probe estimates less than its bound.
+#[test]
+fn the_unprobed_bound_holds_the_longest_row_and_every_estimate() {
+    use signorini_cli::scene::EventProbe;
+    use signorini_schemes::events::{EventKind, EventRecord};
+    let x = -f64::MIN_POSITIVE;
+    let worst = EventRecord { t: x, kind: EventKind::Accumulation, contact: usize::MAX, velocity_before: x, velocity_after: x, impulse: x };
+    let mut csv = Vec::new();
+    signorini_run::observers::write_events(&mut csv, &[worst]).unwrap();
+    let scene = |text: &str| SceneFile::parse(text).unwrap().validate_with(&Limits::machine()).unwrap();
+    let one = scene("[oscillator]\nmass = 1.0\nstiffness = 1.0\nstop = 0.2\nscheme = \"event-driven(0.8,1)\"\ndt = 0.01\nt_end = 1.0\n");
+    let bound = EventProbe::bytes_bound_unprobed(&one).expect("an event-driven scene");
+    assert!(csv.len() as f64 <= bound, "the longest row: {} bytes, the bound at one event {bound}", csv.len());
+    let text =
+        "[oscillator]\nmass = 1.0\nstiffness = 400.0\ndamping_ratio = 0.05\nstop = 0.0\nscheme = \"event-driven(0.8,2000)\"\ndt = 0.1\nt_end = 2000.0\n[forcing]\namplitude = 10.0\nomega = 20.0\n";
+    let (file, dense) = (SceneFile::parse(text).unwrap(), scene(text));
+    let probe = check_report(&dense, &file, Path::new("o")).unwrap().events.expect("probed");
+    let bound = EventProbe::bytes_bound_unprobed(&dense).unwrap();
+    assert!(probe.bytes_estimate() <= bound && probe.bytes_bound() <= bound, "estimate {}, bound {bound}", probe.bytes_estimate());
+    assert!(EventProbe::bytes_bound_unprobed(&scene("[oscillator]\nmass = 1.0\nstiffness = 1.0\nstop = 0.2\ndt = 0.01\nt_end = 1.0\n")).is_none());
+}

@@ -129,7 +129,27 @@ pub struct EventProbe {
     pub end: ProbeEnd,
 }
 
+/// The most bytes one `events.csv` row can take: four `{:.16e}` numbers
+/// of at most 24 characters each (`-1.2345678901234567e-308`; `NaN`,
+/// `-inf` shorter), the longest kind (`accumulation`, 12), a contact index
+/// of at most 20 digits (`usize`), five commas and the newline.
+const MAX_EVENT_ROW: f64 = 4.0 * 24.0 + 12.0 + 20.0 + 6.0;
+
 impl EventProbe {
+    /// An upper bound of an event-driven scene's `events.csv`, without
+    /// running anything: `max_events` rows of [`MAX_EVENT_ROW`] bytes (a run
+    /// that reaches the horizon logged at most `max_events` events, one
+    /// that did not is estimated at most `max_events`); `None` for other
+    /// schemes. Every probe's [`bytes_estimate`](Self::bytes_estimate) is
+    /// at most this, so where the rest of the output and this bound fit
+    /// the free space no probe can refuse the run: `run`'s disk check then
+    /// skips the probe (which would step the run a second time).
+    pub fn bytes_bound_unprobed(scene: &Scene) -> Option<f64> {
+        let (spec, _, _) = event_driven(scene)?;
+        let max_events = spec.param("max_events").unwrap_or(signorini_schemes::events::MAX_EVENTS as f64);
+        Some(EVENTS_HEADER + max_events * MAX_EVENT_ROW)
+    }
+
     /// The run's events: the probe's rate `events / covered` over the
     /// horizon, at most `max_events` (exact when the probe reached the
     /// horizon); `None` when the probe covered no time.

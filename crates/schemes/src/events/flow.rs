@@ -26,8 +26,8 @@
 //! round-off over any interval, however long.
 //!
 //! The event search needs more than the state: the derivatives of every
-//! modal coordinate at a time (its *jet*, [`ModalFlow::jet`]) and bounds of
-//! each derivative over a window ([`ModalFlow::bounds`]). Both follow from
+//! modal coordinate at a time (its *jet*) and bounds of
+//! each derivative over a window ([`ModalFlow::jet_and_bounds`]). Both follow from
 //! the scalar equation: `e^{(m)} = −c e^{(m−1)} − k e^{(m−2)}`, and the
 //! particular solutions' derivatives in closed form.
 //!
@@ -255,6 +255,41 @@ pub(crate) struct Harmonic {
     pub amplitude: f64,
     pub omega: f64,
     pub phase: f64,
+    /// Per mode, the coefficients of its particular solution, computed
+    /// once (a flow's `k_i`, `c_i` and loads are fixed): the search and
+    /// every sample read them, the same bits as computed in place.
+    pub coef: Vec<Coef>,
+}
+
+/// Mode `i`'s particular solution of a harmonic `g sin θ` (`g = G_i a`):
+/// none (`g = 0`), resonant `P = (t − t_ref) U cos θ` with `U = −g/(2Ω)`,
+/// or steady `a sin θ + b cos θ` with `a = g δ/d`, `b = −g c Ω/d` (`δ = k −
+/// Ω²`, `d = δ² + (cΩ)²`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Coef {
+    Zero,
+    Resonant(f64),
+    Steady(f64, f64),
+}
+
+impl Harmonic {
+    fn new(modal: Vec<f64>, amplitude: f64, omega: f64, phase: f64, k: &[f64], c: &[f64]) -> Self {
+        let coef = (0..modal.len())
+            .map(|i| {
+                let (k, c, g, w) = (k[i], c[i], modal[i] * amplitude, omega);
+                if g == 0.0 {
+                    Coef::Zero
+                } else if resonant(k, c, w) {
+                    Coef::Resonant(-g / (2.0 * w))
+                } else {
+                    let detune = k - w * w;
+                    let d = detune * detune + (c * w) * (c * w);
+                    Coef::Steady(g * detune / d, -g * c * w / d)
+                }
+            })
+            .collect();
+        Self { modal, amplitude, omega, phase, coef }
+    }
 }
 
 /// The exact flow of a linear problem between events (see the module docs).
@@ -320,7 +355,14 @@ fn cs_m1(lambda: f64, tau: f64) -> (f64, f64) {
 /// that grow vanish at `τ = 0`).
 fn steady_terms(k: f64, c: f64, a: f64, b: f64, tau: f64) -> [[f64; 3]; 4] {
     let mut t = [[0.0; 3]; 4];
-    if k > 0.0 {
+    if k > 0.0 && b == 0.0 && k * k > 0.0 {
+        // No ramp (`b = ±0`, the usual case): each term with `b` is a
+        // signed zero (or NaN), which a division by `k` or `k² > 0` leaves
+        // as it is: the same bits as the general form, without its
+        // divisions (they are most of a step's arithmetic besides `sin_cos`).
+        t[0] = [a / k, b * tau, -c * b];
+        t[1][0] = b;
+    } else if k > 0.0 {
         t[0] = [a / k, b * tau / k, -c * b / (k * k)];
         t[1][0] = b / k;
     } else if c > 0.0 {
@@ -414,7 +456,7 @@ impl ModalFlow {
         };
         let project = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| (0..n).map(|r| phi[(r, i)] * g[r]).sum()).collect() };
         let g0 = project(&loads.constant);
-        let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic { modal: project(g), amplitude: *a, omega: *w, phase: *p }).collect();
+        let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic::new(project(g), *a, *w, *p, &kv, &cv)).collect();
         let ramp_modal = loads.ramps.iter().map(|(h, _, _)| project(h)).collect();
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
         let piece = vec![(0.0, 0.0); loads.ramps.len()];
@@ -513,10 +555,10 @@ impl ModalFlow {
         let mut harmonics = Vec::new();
         let (mut ph, mut waves) = (Vec::new(), Vec::new());
         for (g, amp, w, ph0) in &loads.waves {
-            harmonics.push(Harmonic { modal: load_of(g), amplitude: *amp, omega: *w, phase: *ph0 });
+            harmonics.push(Harmonic::new(load_of(g), *amp, *w, *ph0, &kv, &cv));
             // p' of a p ∝ a sin θ: a Ω cos θ = a Ω sin(θ + π/2).
             let pg = p_of(g);
-            harmonics.push(Harmonic { modal: pg.clone(), amplitude: amp * w, omega: *w, phase: ph0 + std::f64::consts::FRAC_PI_2 });
+            harmonics.push(Harmonic::new(pg.clone(), amp * w, *w, ph0 + std::f64::consts::FRAC_PI_2, &kv, &cv));
             ph.push(pg);
             waves.push((*amp, *w, *ph0));
         }
@@ -699,13 +741,19 @@ impl ModalFlow {
     pub(crate) fn physical_into(&self, t: f64, eta: &[f64], deta: &[f64], free: &[usize], q: &mut [f64], v: &mut [f64]) {
         let n = self.n;
         let Some(g) = &self.general else {
-            for (r, &d) in free.iter().enumerate() {
-                let (mut a, mut b) = (0.0, 0.0);
-                for i in 0..n {
-                    a += self.phi[(r, i)] * eta[i];
-                    b += self.phi[(r, i)] * deta[i];
+            // Column by column (Φ is stored by columns): each entry still
+            // sums its terms from 0 in the order of the modes, the same
+            // bits as the row-by-row dot products.
+            for &d in free {
+                (q[d], v[d]) = (0.0, 0.0);
+            }
+            for i in 0..n {
+                let (e, de) = (eta[i], deta[i]);
+                let col = self.phi.col(i).try_as_col_major().expect("a dense matrix's column").as_slice();
+                for (&x, &d) in col.iter().zip(free) {
+                    q[d] += x * e;
+                    v[d] += x * de;
                 }
-                (q[d], v[d]) = (a, b);
             }
             return;
         };
@@ -742,10 +790,6 @@ impl ModalFlow {
             *pm = terms[0] + terms[1] + terms[2];
         }
         for (h, &(s, co)) in self.harmonics.iter().zip(tr) {
-            let g = h.modal[i] * h.amplitude;
-            if g == 0.0 {
-                continue;
-            }
             let w = h.omega;
             // d^m/dt^m of (a sin θ + b cos θ): Ω^m times the quarter-turns.
             let turn = |a: f64, b: f64, m: usize| -> f64 {
@@ -756,25 +800,25 @@ impl ModalFlow {
                     _ => -a * co + b * s,
                 }
             };
-            if resonant(k, c, w) {
-                // P = t u, u = U cos θ, U = −g/(2Ω): P⁽ᵐ⁾ = t u⁽ᵐ⁾ + m u⁽ᵐ⁻¹⁾.
-                let u = -g / (2.0 * w);
-                let mut wm = 1.0;
-                let mut prev = 0.0;
-                for (m, pm) in p.iter_mut().enumerate() {
-                    let um = wm * turn(0.0, u, m);
-                    *pm += st * um + m as f64 * prev;
-                    prev = um;
-                    wm *= w;
+            match h.coef[i] {
+                Coef::Zero => {}
+                Coef::Resonant(u) => {
+                    // P = t u, u = U cos θ, U = −g/(2Ω): P⁽ᵐ⁾ = t u⁽ᵐ⁾ + m u⁽ᵐ⁻¹⁾.
+                    let mut wm = 1.0;
+                    let mut prev = 0.0;
+                    for (m, pm) in p.iter_mut().enumerate() {
+                        let um = wm * turn(0.0, u, m);
+                        *pm += st * um + m as f64 * prev;
+                        prev = um;
+                        wm *= w;
+                    }
                 }
-            } else {
-                let detune = k - w * w;
-                let d = detune * detune + (c * w) * (c * w);
-                let (a, b) = (g * detune / d, -g * c * w / d);
-                let mut wm = 1.0;
-                for (m, pm) in p.iter_mut().enumerate() {
-                    *pm += wm * turn(a, b, m);
-                    wm *= w;
+                Coef::Steady(a, b) => {
+                    let mut wm = 1.0;
+                    for (m, pm) in p.iter_mut().enumerate() {
+                        *pm += wm * turn(a, b, m);
+                        wm *= w;
+                    }
                 }
             }
         }
@@ -793,26 +837,26 @@ impl ModalFlow {
             *bm = terms[0].abs() + terms[1].abs() + terms[2].abs();
         }
         for hm in &self.harmonics {
-            let g = (hm.modal[i] * hm.amplitude).abs();
-            if g == 0.0 {
-                continue;
-            }
             let w = hm.omega;
-            if resonant(k, c, w) {
-                let u = g / (2.0 * w);
-                let mut wm = 1.0;
-                for (m, bm) in b.iter_mut().enumerate() {
-                    *bm += tt * u * wm + if m > 0 { m as f64 * u * wm / w } else { 0.0 };
-                    wm *= w;
+            // From the coefficients: `|g| δ/d` is `g δ/d` up to its sign
+            // (rounding is symmetric), and so on; `|g|/(2Ω)` has Ω's sign.
+            match hm.coef[i] {
+                Coef::Zero => {}
+                Coef::Resonant(u) => {
+                    let u = u.abs().copysign(w);
+                    let mut wm = 1.0;
+                    for (m, bm) in b.iter_mut().enumerate() {
+                        *bm += tt * u * wm + if m > 0 { m as f64 * u * wm / w } else { 0.0 };
+                        wm *= w;
+                    }
                 }
-            } else {
-                let detune = k - w * w;
-                let d = detune * detune + (c * w) * (c * w);
-                let amp = (g * detune / d).abs() + (g * c * w / d).abs();
-                let mut wm = 1.0;
-                for bm in b.iter_mut() {
-                    *bm += wm * amp;
-                    wm *= w;
+                Coef::Steady(a, bb) => {
+                    let amp = a.abs() + bb.abs();
+                    let mut wm = 1.0;
+                    for bm in b.iter_mut() {
+                        *bm += wm * amp;
+                        wm *= w;
+                    }
                 }
             }
         }
@@ -826,9 +870,18 @@ impl ModalFlow {
         (eta - p[0], deta - p[1])
     }
 
-    /// The derivatives `η_i⁽ᵐ⁾(t)`, `m = 0..JET`, from `(η_i, η_i')` at `t`.
-    pub(crate) fn jet(&self, i: usize, t: f64, eta: f64, deta: f64, tr: &[(f64, f64)]) -> [f64; JET] {
+    /// Mode `i`'s jet at `t` ([`jet_with`](Self::jet_with)) and the
+    /// bounds of its derivatives over `[t, t + h]`
+    /// ([`bounds_with`](Self::bounds_with)), from `(η_i, η_i')` at `t`: one
+    /// evaluation of the particular solution for both (a search step's).
+    pub(crate) fn jet_and_bounds(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64, tr: &[(f64, f64)]) -> ([f64; JET], [f64; JET + 1]) {
         let p = self.particular_jet(i, t, t, tr);
+        (self.jet_with(i, eta, deta, &p), self.bounds_with(i, t, eta, deta, h, &p))
+    }
+
+    /// The derivatives `η_i⁽ᵐ⁾(t)`, `m = 0..JET`, from `(η_i, η_i')` at `t`
+    /// (`p`: the particular solution's jet at `t`, `t_ref = t`).
+    fn jet_with(&self, i: usize, eta: f64, deta: f64, p: &[f64; JET]) -> [f64; JET] {
         let (k, c) = (self.k[i], self.c[i]);
         let mut e = [0.0; JET];
         (e[0], e[1]) = (eta - p[0], deta - p[1]);
@@ -848,9 +901,9 @@ impl ModalFlow {
     /// |e₀| + |e₀' + α e₀| S̄`, `|e'| <= |e₀'| + |α e₀' + k e₀| S̄` with `S̄ =
     /// min(h, 1/√λ)` (λ > 0) or `h`, the first also at most the amplitude
     /// `√(e₀² + (e₀' + α e₀)²/λ)`; then `|e⁽ᵐ⁾| <= c |e⁽ᵐ⁻¹⁾| + k |e⁽ᵐ⁻²⁾|`;
-    /// plus the particular solution's bounds.
-    pub(crate) fn bounds(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64, tr: &[(f64, f64)]) -> [f64; JET + 1] {
-        let (e0, de0) = self.remainder(i, t, t, eta, deta, tr);
+    /// plus the particular solution's bounds (`p`: its jet at `t`).
+    fn bounds_with(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64, p: &[f64; JET]) -> [f64; JET + 1] {
+        let (e0, de0) = (eta - p[0], deta - p[1]);
         let (k, c) = (self.k[i], self.c[i]);
         let alpha = 0.5 * c;
         let lambda = k - alpha * alpha;
@@ -929,23 +982,19 @@ impl ModalFlow {
             d[m] = (at1[m][0] - at0[m][0]) + (at1[m][1] - at0[m][1]) + (at1[m][2] - at0[m][2]);
         }
         for ((h, &(s0, c0)), &(ds, dc)) in self.harmonics.iter().zip(tr0).zip(dtr) {
-            let g = h.modal[i] * h.amplitude;
-            if g == 0.0 {
-                continue;
-            }
             let w = h.omega;
-            if resonant(k, c, w) {
-                // P = (t − t0) U cos θ: P(t0) = 0, P'(t0) = U cos θ₀.
-                let u = -g / (2.0 * w);
-                let (s1, c1) = (s0 + ds, c0 + dc);
-                d[0] += tau * u * c1;
-                d[1] += -tau * u * w * s1 + u * dc;
-            } else {
-                let detune = k - w * w;
-                let dd = detune * detune + (c * w) * (c * w);
-                let (a, bb) = (g * detune / dd, -g * c * w / dd);
-                d[0] += a * ds + bb * dc;
-                d[1] += w * (a * dc - bb * ds);
+            match h.coef[i] {
+                Coef::Zero => {}
+                Coef::Resonant(u) => {
+                    // P = (t − t0) U cos θ: P(t0) = 0, P'(t0) = U cos θ₀.
+                    let (s1, c1) = (s0 + ds, c0 + dc);
+                    d[0] += tau * u * c1;
+                    d[1] += -tau * u * w * s1 + u * dc;
+                }
+                Coef::Steady(a, bb) => {
+                    d[0] += a * ds + bb * dc;
+                    d[1] += w * (a * dc - bb * ds);
+                }
             }
         }
         d

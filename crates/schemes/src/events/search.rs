@@ -305,9 +305,8 @@ impl Search {
             self.steps += 1;
             flow.trig(t, &mut self.tr[0]);
             for i in 0..n {
-                let j = flow.jet(i, t, eta[i], deta[i], &self.tr[0]);
+                let (j, b) = flow.jet_and_bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
                 self.jet[i] = [j[0], j[1], j[2]];
-                let b = flow.bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
                 self.bnd[i] = [b[0], b[1], b[2], b[3]];
             }
             // The shortest root step and whose, and the shortest step of all.
@@ -405,6 +404,12 @@ impl Search {
                 bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
             }
         }
+        // The root less 1e-12 of it (its own round-off is a few ulps): a
+        // margin, not the guard against passing an event — the bounds'
+        // 1e-12 inflation covers the root's round-off wherever the
+        // curvature counts, and on a nearly linear approach an overshoot
+        // leaves g within its own round-off of 0, where the lift-off rule
+        // declares the event (docs/theory.md §9.2, "The root's margin").
         Reach::Root(best * (1.0 - 1e-12))
     }
 
@@ -427,8 +432,7 @@ impl Search {
             if b == 0.0 && a == 0.0 {
                 continue;
             }
-            let j = flow.jet(i, t, eta[i], deta[i], &self.tr[0]);
-            let bd = flow.bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
+            let (j, bd) = flow.jet_and_bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
             for m in 0..GJET {
                 gj[m] += b * j[m] + a * j[m + 1];
                 gs[m] += (b * j[m]).abs() + (a * j[m + 1]).abs();
