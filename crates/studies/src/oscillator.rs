@@ -23,31 +23,22 @@ use signorini_sweep::{simulate, Sweep, SweepOptions};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/oscillator`).
-    pub out: PathBuf,
-    /// Forcing frequencies (`--omegas`, default the scene's stable period-1 range 1.6, 1.7, …, 2.2).
-    pub omegas: Vec<f64>,
-    /// Time steps (`--dts`, default 2e-3 halved eight times down to 7.8125e-6).
-    pub dts: Vec<f64>,
-    /// Forcing periods before the record window (`--transient`, default 60).
-    pub transient: f64,
-    /// Forcing periods recorded (`--record`, default 10).
-    pub record: f64,
-}
-
-impl Default for Config {
-    /// `cargo xtask oscillator` without options.
-    fn default() -> Self {
-        Config {
-            out: PathBuf::from("out/oscillator"),
-            omegas: vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
-            dts: vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6],
-            transient: 60.0,
-            record: 10.0,
-        }
+crate::options::study_config! {
+    /// The impact oscillator against its exact period-1 orbits: impact
+    /// velocity and phase errors and their rates in dt at each forcing frequency
+    /// of ⟨omegas⟩; the grazing frequency.
+    study "oscillator";
+    pub struct Config {
+        /// Forcing frequencies (the scene's stable period-1 range).
+        pub omegas: Vec<f64> = vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
+        /// Time steps (2e-3 halved eight times).
+        pub dts: Vec<f64> = vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6],
+        /// Forcing periods before the record window.
+        pub transient: f64 = 60.0,
+        /// Forcing periods recorded.
+        pub record: f64 = 10.0,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/oscillator"),
     }
 }
 
@@ -57,16 +48,16 @@ impl Config {
     /// ranges), naming `forcing.omega` or the scene's field.
     pub fn validate(&self) -> Result<(), StudyError> {
         if self.omegas.is_empty() || self.omegas.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
-            return Err(StudyError::config("--omegas", format!("--omegas {:?}: allowed at least one, each finite and > 0", self.omegas)));
+            return Err(StudyError::config("omegas", format!("⟨omegas⟩ {:?}: allowed at least one, each finite and > 0", self.omegas)));
         }
         if self.dts.is_empty() || self.dts.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
-            return Err(StudyError::config("--dts", format!("--dts {:?}: allowed at least one, each finite and > 0", self.dts)));
+            return Err(StudyError::config("dts", format!("⟨dts⟩ {:?}: allowed at least one, each finite and > 0", self.dts)));
         }
         if !(self.transient.is_finite() && self.transient >= 0.0) {
-            return Err(StudyError::config("--transient", format!("--transient {}: allowed finite and >= 0", self.transient)));
+            return Err(StudyError::config("transient", format!("⟨transient⟩ {}: allowed finite and >= 0", self.transient)));
         }
         if !(self.record.is_finite() && self.record > 0.0) {
-            return Err(StudyError::config("--record", format!("--record {}: allowed finite and > 0", self.record)));
+            return Err(StudyError::config("record", format!("⟨record⟩ {}: allowed finite and > 0", self.record)));
         }
         // The study compares with the one period-1 orbit of each Ω (closed
         // form, cheap): an Ω without exactly one is refused before any run.
@@ -74,8 +65,8 @@ impl Config {
             let n = exact(w).map(|o| o.period1_orbits().len()).unwrap_or(0);
             if n != 1 {
                 return Err(StudyError::config(
-                    "--omegas",
-                    format!("--omegas {w}: the scene has {n} admissible period-1 orbits there; allowed the frequencies with exactly one (the stable range, about 1.6 … 2.2)"),
+                    "omegas",
+                    format!("⟨omegas⟩ {w}: the scene has {n} admissible period-1 orbits there; allowed the frequencies with exactly one (the stable range, about 1.6 … 2.2)"),
                 ));
             }
         }
