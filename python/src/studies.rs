@@ -89,10 +89,13 @@ fn given(kwargs: &Bound<'_, PyDict>, out: &std::path::Path) -> PyResult<Vec<(Str
     Ok(v)
 }
 
+/// One field for Python: `(name, kind, doc, default)`.
+type FieldRow = (String, String, String, Option<String>);
+
 /// A study's fields for the Python functions: `(name, kind, doc, default)`,
 /// `kind` one of switch, number, text, numbers, texts; `default` the value's
 /// text (None: computed by the study).
-fn fields<C: Study>() -> Vec<(String, String, String, Option<String>)> {
+fn fields<C: Study>() -> Vec<FieldRow> {
     let d = C::default();
     C::FIELDS
         .iter()
@@ -136,7 +139,7 @@ pub fn study_check(name: &str, kwargs: &Bound<'_, PyDict>) -> PyResult<()> {
 /// The fields of study `name` (its keyword arguments, in order):
 /// `(name, kind, doc, default)` ([`fields`]).
 #[pyfunction]
-pub fn study_fields(name: &str) -> PyResult<Vec<(String, String, String, Option<String>)>> {
+pub fn study_fields(name: &str) -> PyResult<Vec<FieldRow>> {
     use signorini_studies as st;
     Ok(match name {
         "convergence" => fields::<st::convergence::Config>(),

@@ -8,7 +8,7 @@
 
 use crate::{notes, with_progress_bar, Failure};
 use clap::{Arg, ArgAction, ArgMatches, Command};
-use signorini_studies::options::{self, Input, Kind, Spelling, Study};
+use signorini_studies::options::{self, Input, Kind, Message, Spelling, Study};
 use signorini_studies::{beam, beam_statistics, convergence, courant1, long_horizon, lyapunov, obstacles, oscillator, stress, weighted, work_precision, StudyError};
 
 /// A study: its `Config`, the help line, whether it reports progress, and its run.
@@ -43,7 +43,8 @@ fn subcommand<C: Study>() -> &'static str {
 /// its default from `C::default()`.
 pub(crate) fn command<C: Study>(about: &'static str) -> Command {
     let defaults = C::default();
-    let mut cmd = Command::new(subcommand::<C>()).about(about);
+    let doc = C::DOC.split("\n\n").map(|p| Message::new(&p.split_whitespace().collect::<Vec<_>>().join(" ")).render(Spelling::Flag)).collect::<Vec<_>>().join("\n\n");
+    let mut cmd = Command::new(subcommand::<C>()).about(about).long_about(doc);
     for f in C::FIELDS {
         let default = defaults.show(f.name);
         let on_by_default = f.kind == Kind::Switch && default.as_deref() == Some("true");

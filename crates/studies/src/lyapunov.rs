@@ -393,7 +393,7 @@ mod tests {
             Case::Oscillator { omega: 1.7 },
         ];
         for case in &cases {
-            let t_end = 3.141_592_653_589_793;
+            let t_end = 1.0_f64 / 3.0 + 2.0;
             let old = SceneFile::parse(&old_text(case, t_end)).expect("the old text parses");
             let new = scene_file(case, t_end).expect("the preset edits");
             assert_eq!(new, old, "{}", label(case));

@@ -18,6 +18,7 @@ use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, TableOut}
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_plot::{Chart, Scale, Series, Style};
 use signorini_run::study::rate;
+use signorini_scene::presets::{self, Preset};
 use signorini_scene::Limits;
 use signorini_sweep::{simulate, Sweep, SweepOptions};
 use std::fmt::Write as _;
@@ -77,14 +78,18 @@ impl Config {
 /// What the study computed and wrote ([`crate::Report`]); its tables: `orbits.csv`, `rates.csv`, `grazing.csv`.
 pub type Output = crate::Report;
 
-/// The scene `data/scenes/oscillator.toml`, compiled in.
-const SCENE: &str = include_str!("../../../data/scenes/oscillator.toml");
-
+/// The scene crate's preset `oscillator.toml` at step `dt` from `(x0, v0)`,
+/// as the text a sweep reads: its values set by path and the result read by
+/// the scene reader first (an edit of a key the scene does not have fails,
+/// [`presets::set_path`]).
 fn scene_text(dt: f64, x0: f64, v0: f64) -> Result<String, StudyError> {
-    Ok(SCENE
-        .replace("dt = 1e-3", &format!("dt = {dt:e}"))
-        .replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}"))
-        .replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}")))
+    let edits = [("oscillator.dt", dt.into()), ("oscillator.initial_displacement", x0.into()), ("oscillator.initial_velocity", v0.into())];
+    let mut doc = Preset::Oscillator.document().map_err(|e| StudyError::failed("", e))?;
+    for (path, value) in edits {
+        presets::set_path(&mut doc, path, value).map_err(|e| StudyError::failed("", e))?;
+    }
+    signorini_scene::SceneFile::from_table(doc.clone()).map_err(|e| StudyError::failed("", e))?;
+    toml::to_string(&doc).map_err(|e| StudyError::Run(format!("the oscillator scene: {e}")))
 }
 
 /// The `(phase, velocity)` impacts of a run, or why it failed.
@@ -189,4 +194,28 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let wall_s = since(start);
     w_(writeln!(report, "\nwrote {} in {wall_s:.1} s", a.out.display()));
     Ok(Output { tables, report, wall_s, notes })
+}
+
+#[cfg(test)]
+mod tests {
+    /// The scene as the study built it before the presets: the data file's
+    /// text with three values replaced.
+    fn old_text(dt: f64, x0: f64, v0: f64) -> String {
+        std::fs::read_to_string(format!("{}/../../data/scenes/oscillator.toml", env!("CARGO_MANIFEST_DIR")))
+            .expect("the data file")
+            .replace("dt = 1e-3", &format!("dt = {dt:e}"))
+            .replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}"))
+            .replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}"))
+    }
+
+    #[test]
+    fn the_edited_preset_is_the_scene_the_text_edits_gave() {
+        for (dt, x0, v0) in [(1e-4, 0.0, 0.0), (7.8125e-6, -0.123_456_789_012_345_67, 1.0 / 3.0), (2e-3, 0.2, -0.9)] {
+            let old = signorini_scene::SceneFile::parse(&old_text(dt, x0, v0)).unwrap();
+            let new = signorini_scene::SceneFile::parse(&super::scene_text(dt, x0, v0).unwrap()).unwrap();
+            assert_eq!(new, old, "dt {dt}, x0 {x0}, v0 {v0}");
+            let o = new.oscillator.as_ref().expect("an oscillator");
+            assert_eq!((o.dt, o.initial_displacement, o.initial_velocity), (dt, Some(x0), Some(v0)));
+        }
+    }
 }
