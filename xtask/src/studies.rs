@@ -61,8 +61,8 @@ pub(crate) fn command<C: Study>(about: &'static str) -> Command {
         arg = match f.kind {
             Kind::Switch if on_by_default => arg.action(ArgAction::SetFalse),
             Kind::Switch => arg.action(ArgAction::SetTrue),
-            k if k.is_list() => arg.action(ArgAction::Append).num_args(1),
-            _ => arg.action(ArgAction::Set).num_args(1),
+            k if k.is_list() => arg.action(ArgAction::Append).num_args(1).value_name(value_name(f.name)),
+            _ => arg.action(ArgAction::Set).num_args(1).value_name(value_name(f.name)),
         };
         if f.kind.is_numeric() {
             arg = arg.allow_hyphen_values(true);
@@ -70,6 +70,11 @@ pub(crate) fn command<C: Study>(about: &'static str) -> Command {
         cmd = cmd.arg(arg);
     }
     cmd
+}
+
+/// `T_END` for `t_end` (clap wants a 'static name: leaked once per flag).
+fn value_name(field: &str) -> &'static str {
+    Box::leak(field.to_uppercase().into_boxed_str())
 }
 
 /// The fields given on the command line, as the study's reader takes them.

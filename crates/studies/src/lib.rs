@@ -3,8 +3,10 @@
 //! Each study `X` (`convergence`, `weighted`, `beam`, `obstacles`,
 //! `oscillator`, `work_precision`, `stress`, `courant1`, `long_horizon`,
 //! `lyapunov`, `beam_statistics`) is a module with a `Config`
-//! (plain fields, `Default` = the `cargo xtask` defaults, `validate` doing
-//! every check before anything large is allocated), a `run(cfg, progress)`
+//! (declared once with its fields' documents and defaults, [`options`]:
+//! `cargo xtask`'s flags and Python's keyword arguments are its fields,
+//! read by [`options::read`]; `validate` doing every check before anything
+//! large is allocated), a `run(cfg, progress)`
 //! that writes every CSV and SVG into the configured folder and returns an
 //! `Output`: one [`Table`] per CSV file written (the values that were
 //! formatted into it, column by column), the Markdown `report` that
