@@ -133,8 +133,8 @@ def convergence(benchmark=None, schemes=None, masses=None, levels=None, ratio=No
     * ``benchmark``: Benchmark with an exact solution (bar-dirichlet,
       bar-neumann-gravity, bar-neumann-gravity-0.11, bar-mirrored: level m is m elements
       on [0, 1], 2m on its [0, 2]). Default: ``"bar-dirichlet"``.
-    * ``schemes``: Schemes, comma-separated: presets or newmark(B,G), theta(T),
-      ps(E[,B]) (commas inside parentheses do not split). Default: ``["newmark-cn",
+    * ``schemes``: Schemes, comma-separated: presets or newmark(B,G), theta(T), ps(E) or
+      ps(E,B) (commas inside parentheses do not split). Default: ``["newmark-cn",
       "newmark-i", "newmark-ii", "backward-euler", "ps-e0", "ps-e0.5", "ps-e1"]``.
     * ``masses``: Mass treatments, comma-separated (std, lumped, mod, mod1, mod2, mod3,
       transfer, singular). Default: ``["std", "mod"]``.
@@ -145,8 +145,8 @@ def convergence(benchmark=None, schemes=None, masses=None, levels=None, ratio=No
     * ``norms``: Error measure: exact (kink-split, docs/theory.md §6.1) or getfem
       (errors of the nodal interpolant, relative to the reference's norms, as GetFEM's
       1D dynamic-contact demo computes them). Default: ``"exact"``.
-    * ``out``: Output folder (default out/convergence/<benchmark>, or
-      out/convergence/<benchmark>-getfem-norms with the GetFEM norms). ``None``: a
+    * ``out``: Output folder (default `out/convergence/<benchmark>`, or
+      `out/convergence/<benchmark>-getfem-norms` with the GetFEM norms). ``None``: a
       temporary folder, removed afterwards.
     * ``clean``: Remove the CSV and SVG files of another study or configuration from the
       output folder first (without it such a folder is refused). Default: ``False``.
@@ -154,13 +154,13 @@ def convergence(benchmark=None, schemes=None, masses=None, levels=None, ratio=No
       the R lowest fixed-interface modes, cutoff_hz=F every mode up to F Hz (needs a
       massless-contact mass and a scheme that takes one). Default: none, the full model.
     * ``degree``: Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m elements
-      of degree k (default folder out/convergence/<benchmark>-p<k> for k > 1); the files
-      of degree 1 are those of P1, byte for byte. Default: ``1``.
+      of degree k (default folder `out/convergence/<benchmark>-p<k>` for k > 1); the
+      files of degree 1 are those of P1, byte for byte. Default: ``1``.
     * ``reference``: What the errors are measured against: exact (the benchmark's closed
       form) or event-driven (the exact semi-discrete solution on the same mesh: the time
       error alone, with the space error beside it; every mass, massless contact nodes
       against event-driven(0); with ``reduce``, the reduced model's; default folder
-      out/convergence/<benchmark>-event-driven[-reduce-…]). Default: ``"exact"``.
+      `out/convergence/<benchmark>-event-driven[-reduce-…]`). Default: ``"exact"``.
     """
     return _run("convergence", out, dict(benchmark=benchmark, schemes=schemes, masses=masses, levels=levels, ratio=ratio, t_end=t_end, norms=norms, clean=clean, reduce=reduce, degree=degree, reference=reference), ConvergenceResult)
 
@@ -369,7 +369,7 @@ def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_re
     reduced bar and beam models (``modes``), and the beam of figure 2 at ``beam_dts``
     against a reference at ``beam_ref_dt`` (tip error over [0, ``beam_window``] and [0,
     ``beam_t_end``], first-impact error). The beam with its support motion (fig. 2 with
-    [support]) at ``beam_stat_dts`` gives its impact power over ``beam_stat_window``
+    `[support]`) at ``beam_stat_dts`` gives its impact power over ``beam_stat_window``
     forcing periods with a 95 % interval, against ``beam_stat_ref_dt``. Empty
     ``degrees``, ``modes``, ``beam_dts`` or ``beam_stat_dts`` leave those rows out.
 

@@ -35,7 +35,7 @@ crate::options::study_config! {
         #[serde(deserialize_with = "de_benchmark")]
         pub benchmark: Benchmark = Benchmark::BarDirichlet,
         /// Schemes, comma-separated: presets or newmark(B,G), theta(T),
-        /// ps(E[,B]) (commas inside parentheses do not split).
+        /// ps(E) or ps(E,B) (commas inside parentheses do not split).
         #[serde(deserialize_with = "crate::options::with::schemes")]
         pub schemes: Vec<SchemeSpec> = parse_schemes(&[DEFAULT_SCHEMES.to_string()]).expect("the default schemes parse"),
         /// Mass treatments, comma-separated (std, lumped, mod, mod1, mod2,
@@ -53,8 +53,8 @@ crate::options::study_config! {
         /// norms, as GetFEM's 1D dynamic-contact demo computes them).
         #[serde(deserialize_with = "de_norms")]
         pub norms: NormKind = NormKind::Exact,
-        /// Output folder (default out/convergence/<benchmark>, or
-        /// out/convergence/<benchmark>-getfem-norms with the GetFEM norms).
+        /// Output folder (default `out/convergence/<benchmark>`, or
+        /// `out/convergence/<benchmark>-getfem-norms` with the GetFEM norms).
         pub out: Option<PathBuf> = None,
         /// Remove the CSV and SVG files of another study or configuration
         /// from the output folder first (without it such a folder is
@@ -68,7 +68,7 @@ crate::options::study_config! {
         pub reduce: Option<Keep> = None,
         /// Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m
         /// elements of degree k (default folder
-        /// out/convergence/<benchmark>-p<k> for k > 1); the files of degree
+        /// `out/convergence/<benchmark>-p<k>` for k > 1); the files of degree
         /// 1 are those of P1, byte for byte.
         pub degree: usize = 1,
         /// What the errors are measured against: exact (the benchmark's
@@ -76,7 +76,7 @@ crate::options::study_config! {
         /// the same mesh: the time error alone, with the space error beside
         /// it; every mass, massless contact nodes
         /// against event-driven(0); with ⟨reduce⟩, the reduced model's;
-        /// default folder out/convergence/<benchmark>-event-driven[-reduce-…]).
+        /// default folder `out/convergence/<benchmark>-event-driven[-reduce-…]`).
         #[serde(deserialize_with = "de_reference")]
         pub reference: Reference = Reference::Exact,
     }

@@ -1,6 +1,6 @@
 //! One definition of a study's options, read by every front end.
 //!
-//! Each study's `Config` is declared once with [`study_config!`]: every
+//! Each study's `Config` is declared once with `study_config!`: every
 //! field with its documentation and its default. The macro derives
 //! `serde::Deserialize` (unknown fields refused, absent ones at their
 //! default), `Default`, and the [`Study`] table: the fields' names,
@@ -190,7 +190,7 @@ impl Field {
     }
 }
 
-/// A study's configuration as its front ends see it ([`study_config!`]).
+/// A study's configuration as its front ends see it (`study_config!`).
 pub trait Study: DeserializeOwned + Default + Clone {
     /// The study's name, `beam_statistics` (`cargo xtask beam-statistics`).
     const NAME: &'static str;

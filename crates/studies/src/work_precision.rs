@@ -71,7 +71,7 @@ crate::options::study_config! {
     /// (⟨degrees⟩), reduced bar and beam models (⟨modes⟩), and the beam of
     /// figure 2 at ⟨beam_dts⟩ against a reference at ⟨beam_ref_dt⟩ (tip error
     /// over [0, ⟨beam_window⟩] and [0, ⟨beam_t_end⟩], first-impact error). The
-    /// beam with its support motion (fig. 2 with [support]) at ⟨beam_stat_dts⟩
+    /// beam with its support motion (fig. 2 with `[support]`) at ⟨beam_stat_dts⟩
     /// gives its impact power over ⟨beam_stat_window⟩ forcing periods with a
     /// 95 % interval, against ⟨beam_stat_ref_dt⟩. Empty ⟨degrees⟩, ⟨modes⟩,
     /// ⟨beam_dts⟩ or ⟨beam_stat_dts⟩ leave those rows out.
