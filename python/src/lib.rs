@@ -454,6 +454,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fem::Matrices>()?;
     m.add_function(wrap_pyfunction!(studies::study, m)?)?;
     m.add_function(wrap_pyfunction!(studies::study_check, m)?)?;
+    m.add_function(wrap_pyfunction!(studies::study_fields, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(scene_text, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene, m)?)?;

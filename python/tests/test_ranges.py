@@ -82,7 +82,7 @@ def test_the_arguments_of_an_exact_solution_are_named():
 
 #: Every numeric keyword of the studies: "int", "float", or a list of them.
 STUDY_NUMBERS = {
-    "convergence": {"levels": "ints", "ratio": "float", "t_end": "float"},
+    "convergence": {"levels": "ints", "ratio": "float", "t_end": "float", "degree": "int"},
     "weighted": {"t_end": "float"},
     "beam": {"penalty_dts": "floats"},
     "beam_obstacles": {"gap": "float", "beta": "float", "t_end": "float", "dts": "floats", "j": "int", "js": "ints", "j_dt": "float"},
@@ -102,11 +102,12 @@ STUDY_NUMBERS = {
         "beam_stat_dts": "floats",
         "beam_stat_ref_dt": "float",
         "beam_stat_window": "float",
+        "repeats": "int",
     },
     "stress": {"steps": "int", "elements": "int", "seed": "int"},
 }
 #: The studies' other keywords (names, switches, the folder).
-STUDY_OTHERS = {"benchmark", "schemes", "masses", "norms", "out", "clean", "scenes", "force", "benchmarks", "runs", "energy", "energy_runs", "energy_all", "refine"}
+STUDY_OTHERS = {"benchmark", "schemes", "masses", "norms", "out", "clean", "scenes", "force", "benchmarks", "runs", "energy", "energy_runs", "energy_all", "refine", "reduce", "reference"}
 
 #: Ranges that depend on other options or couple two of them (stated in
 #: words the boundary check below cannot read as one interval): only the
@@ -131,6 +132,22 @@ def test_the_table_covers_every_keyword_of_every_study():
         assert set(table) <= params, (name, set(table) - params)
         assert params <= set(table) | STUDY_OTHERS, (name, params - set(table) - STUDY_OTHERS)
     assert {n for n in studies.__all__ if callable(getattr(studies, n)) and not isinstance(getattr(studies, n), type)} == set(STUDY_NUMBERS)
+
+
+def test_every_field_of_every_study_is_a_keyword_and_the_table_knows_its_kind():
+    """The fields of each study's Config (each a `cargo xtask` flag, `t_end`
+    for `--t-end`) are the Python function's parameters, in order, and the
+    table above classifies the numeric ones as the Rust side does."""
+    for name, table in STUDY_NUMBERS.items():
+        fields = _signorini.study_fields(name)
+        assert list(inspect.signature(getattr(studies, name)).parameters) == [f[0] for f in fields], name
+        for field, kind, doc, _ in fields:
+            assert doc, (name, field)
+            want = {"number": "int|float", "numbers": "ints|floats"}.get(kind)
+            if want is None:
+                assert field in STUDY_OTHERS, (name, field, kind)
+            else:
+                assert table.get(field) in want.split("|"), (name, field, kind)
 
 
 def _cases():

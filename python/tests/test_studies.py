@@ -107,6 +107,10 @@ def test_bar_mirrored_leaves_out_the_schemes_that_cannot_take_two_stops():
             dict(levels=[10, 20], degrees=[2], modes=[2, 16], beam_dts=[1e-4], beam_ref_dt=1e-5, beam_window=0.05, beam_t_end=0.1, beam_stat_dts=[1e-4], beam_stat_ref_dt=5e-5, beam_stat_window=12),
             ["work-precision", "--levels", "10,20", "--degrees", "2", "--modes", "2,16", "--beam-dts", "1e-4", "--beam-ref-dt", "1e-5", "--beam-window", "0.05", "--beam-t-end", "0.1", "--beam-stat-dts", "1e-4", "--beam-stat-ref-dt", "5e-5", "--beam-stat-window", "12"],
         ),
+        # The keywords issue 33 added (the flags' fields): repeats, reference, degree, reduce.
+        ("work_precision", dict(levels=[10, 20], degrees=[], modes=[], beam_dts=[], beam_stat_dts=[], repeats=1), ["work-precision", "--levels", "10,20", "--degrees", "", "--modes", "", "--beam-dts", "", "--beam-stat-dts", "", "--repeats", "1"]),
+        ("convergence", dict(schemes=["newmark-cn"], masses=["mod"], levels=[10, 20], degree=2), ["convergence", "--schemes", "newmark-cn", "--masses", "mod", "--levels", "10,20", "--degree", "2"]),
+        ("convergence", dict(schemes=["newmark-cn"], masses=["mod"], levels=[10, 20], reference="event-driven", reduce="modes=4"), ["convergence", "--schemes", "newmark-cn", "--masses", "mod", "--levels", "10,20", "--reference", "event-driven", "--reduce", "modes=4"]),
         ("weighted", dict(t_end=5.0), ["weighted", "--t-end", "5"]),
         ("beam", dict(scenes=["fig2"], penalty_dts=[5e-5]), ["beam", "--scenes", "fig2", "--penalty-dts", "5e-5"]),
         ("beam_obstacles", dict(dts=[1e-4, 5e-5, 2.5e-5], js=[5, 10, 20], t_end=0.05), ["beam-obstacles", "--dts", "1e-4,5e-5,2.5e-5", "--js", "5,10,20", "--t-end", "0.05"]),

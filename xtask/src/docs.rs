@@ -52,6 +52,11 @@ pub fn run_docs(a: Args) -> Result<(), String> {
             std::fs::write(root.join("README.md"), &readme).map_err(|e| format!("README.md: {e}"))?;
             eprintln!("rewrote the README's headline table");
         }
+        let py = crate::py_studies::render(&root)?;
+        if std::fs::read_to_string(root.join(crate::py_studies::FILE)).ok().as_deref() != Some(py.as_str()) {
+            std::fs::write(root.join(crate::py_studies::FILE), &py).map_err(|e| format!("{}: {e}", crate::py_studies::FILE))?;
+            eprintln!("rewrote the study functions of {}", crate::py_studies::FILE);
+        }
         let files = generate(&root)?;
         let dir = root.join("docs/generated");
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -80,6 +85,10 @@ pub fn check(root: &Path) -> Result<(), String> {
     let readme = readme_with_headline(root)?;
     if std::fs::read_to_string(root.join("README.md")).ok().as_deref() != Some(readme.as_str()) {
         stale.push("README.md's headline table differs from data/reference/bar-dirichlet".into());
+    }
+    let py = crate::py_studies::render(root)?;
+    if std::fs::read_to_string(root.join(crate::py_studies::FILE)).ok().as_deref() != Some(py.as_str()) {
+        stale.push(format!("the study functions of {} differ from the studies' Configs (crates/studies)", crate::py_studies::FILE));
     }
     if !stale.is_empty() {
         return Err(format!("{}; regenerate with `cargo xtask docs`", stale.join("; ")));

@@ -23,26 +23,16 @@
 //!   (`--check`: fail when a committed one is out of date).
 //! * `test`: every test, and the guide's strict build.
 
-mod beam;
-mod beam_statistics;
-mod courant1;
 mod docs;
 mod fuzz;
-mod long_horizon;
-mod lyapunov;
-mod obstacles;
-mod oscillator;
+mod py_studies;
 mod pytest;
 mod scene_keys;
-mod stress;
-mod weighted;
-mod wp;
+mod studies;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use signorini_studies::{convergence, StudyError};
 use std::io::IsTerminal;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -52,117 +42,35 @@ struct Cli {
     cmd: Cmd,
 }
 
+/// The commands that are not studies (the studies' commands are built
+/// from their `Config`s, [`studies`]).
 #[derive(Subcommand)]
 enum Cmd {
-    /// Convergence study: error norms against dx at fixed dx/dt, and their rates.
-    Convergence(ConvergenceArgs),
-    /// Weighted mass redistribution and the hybrid scheme: figure runs, phase shift, energy, rates.
-    Weighted(weighted::Args),
-    /// The beam between two stops: the paper's seven scenes, timings, stability limit, self-convergence.
-    Beam(beam::Args),
-    /// The beam between obstacles along its whole length (problem (P)): feasibility, self-convergence in dt and J, energy balance.
-    #[command(name = "beam-obstacles")]
-    BeamObstacles(obstacles::Args),
-    /// The impact oscillator scene against its exact period-1 orbits (rates in dt) and its grazing frequency.
-    Oscillator(oscillator::Args),
     /// Every test: the Rust workspace's, then the Python package (built with maturin into target/py-venv) with pytest, then the user guide (generated tables checked, mkdocs build --strict).
     Test(pytest::Args),
-    /// Work–precision: error reached against wall time per scheme and mass.
-    #[command(name = "work-precision")]
-    WorkPrecision(wp::Args),
-    /// Stability stress: long runs, extreme dx/dt, random data; energy drift and blow-ups.
-    Stress(stress::Args),
-    /// Courant number one: the lumped central difference at dx/dt = c, node by node against the exact solutions.
-    Courant1(courant1::Args),
-    /// The Dirichlet bar over many periods (T = 30): error against time and impact phase for every mass.
-    #[command(name = "long-horizon")]
-    LongHorizon(long_horizon::Args),
-    /// The largest Lyapunov exponent (Benettin's twin runs) of the paper's beam scenes, beam-obstacles and the impact oscillator, and the predictability horizon.
-    Lyapunov(lyapunov::Args),
-    /// Statistics of the beam scenes over a long window with 95 % batch-means intervals, against dt and J: which converge.
-    #[command(name = "beam-statistics")]
-    BeamStatistics(beam_statistics::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
     /// The user guide's generated tables (docs/generated/, the README's headline) from data/reference, and the scene key reference from the scene schema (crates/scene); --check compares instead of writing.
     Docs(docs::Args),
 }
 
-// The field docs are the `--help` text (clap), where `<benchmark>` is a
-// placeholder and `[,B]` an optional part, not HTML or a link; writing them
-// for rustdoc would change the help.
-#[allow(rustdoc::invalid_html_tags, rustdoc::broken_intra_doc_links)]
-#[derive(clap::Args)]
-struct ConvergenceArgs {
-    /// Benchmark with an exact solution (bar-dirichlet, bar-neumann-gravity,
-    /// bar-neumann-gravity-0.11, bar-mirrored: level m is m elements on
-    /// [0, 1], 2m on its [0, 2]).
-    #[arg(long, default_value = "bar-dirichlet")]
-    benchmark: String,
-    /// Schemes, comma-separated: presets or newmark(B,G), theta(T), ps(E[,B]).
-    #[arg(long, default_value = "newmark-cn,newmark-i,newmark-ii,backward-euler,ps-e0,ps-e0.5,ps-e1")]
-    schemes: Vec<String>,
-    /// Mass treatments, comma-separated (std, lumped, mod, mod1, mod2, mod3, transfer, singular).
-    #[arg(long, value_delimiter = ',', default_value = "std,mod")]
-    masses: Vec<String>,
-    /// Numbers of elements m, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "10,20,40,80,160,320,640", allow_hyphen_values = true, value_parser = whole)]
-    levels: Vec<usize>,
-    /// dx/dt (default: the benchmark's, 10 for bar-dirichlet).
-    #[arg(long, allow_hyphen_values = true)]
-    ratio: Option<f64>,
-    /// Horizon T (default: the benchmark's, 3 for bar-dirichlet).
-    #[arg(long = "t-end", allow_hyphen_values = true)]
-    t_end: Option<f64>,
-    /// Output folder (default out/convergence/<benchmark>, or
-    /// out/convergence/<benchmark>-getfem-norms with --norms getfem).
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Error measure: exact (kink-split, docs/theory.md §6.1) or getfem (errors of the
-    /// nodal interpolant, relative to the reference's norms, as GetFEM's
-    /// 1D dynamic-contact demo computes them).
-    #[arg(long, default_value = "exact")]
-    norms: String,
-    /// A reduced model at every level (docs/theory.md §2.5): modes=R keeps
-    /// the R lowest fixed-interface modes, cutoff_hz=F every mode up to F Hz
-    /// (needs a massless-contact mass and a scheme that takes one). Default: none.
-    #[arg(long)]
-    reduce: Option<String>,
-    /// Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m elements
-    /// of degree k (default folder out/convergence/<benchmark>-p<k> for k > 1).
-    #[arg(long, default_value_t = 1, allow_hyphen_values = true, value_parser = whole)]
-    degree: usize,
-    /// Remove the CSV and SVG files of another study or configuration from
-    /// the output folder first (without it such a folder is refused).
-    #[arg(long)]
-    clean: bool,
-    /// What the errors are measured against: exact (the benchmark's closed
-    /// form) or event-driven (the exact semi-discrete solution on the same
-    /// mesh: the time error alone, with the space error beside it; every
-    /// mass, massless contact nodes against event-driven(0); with --reduce,
-    /// the reduced model's; default folder
-    /// out/convergence/<benchmark>-event-driven[-reduce-…]).
-    #[arg(long, default_value = "exact")]
-    reference: String,
-}
-
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.cmd {
-        Cmd::Convergence(a) => convergence(a),
-        Cmd::Weighted(a) => weighted::run(a),
-        Cmd::Beam(a) => beam::run_beam(a),
-        Cmd::BeamObstacles(a) => obstacles::run_obstacles(a),
-        Cmd::Oscillator(a) => oscillator::run_oscillator(a),
-        Cmd::Test(a) => pytest::run_tests(a),
-        Cmd::WorkPrecision(a) => wp::run_wp(a),
-        Cmd::Stress(a) => stress::run_stress(a),
-        Cmd::Courant1(a) => courant1::run_courant1(a),
-        Cmd::LongHorizon(a) => long_horizon::run_long_horizon(a),
-        Cmd::Lyapunov(a) => lyapunov::run_lyapunov(a),
-        Cmd::BeamStatistics(a) => beam_statistics::run_beam_statistics(a),
-        Cmd::Fuzz(a) => fuzz::run_fuzz(a).map_err(Failure::from),
-        Cmd::Docs(a) => docs::run_docs(a).map_err(Failure::from),
+    let entries = studies::entries();
+    let mut cmd = Cli::command();
+    for e in &entries {
+        cmd = cmd.subcommand(e.command());
+    }
+    let m = cmd.get_matches();
+    let result = match m.subcommand() {
+        Some((name, sub)) if entries.iter().any(|e| e.name() == name) => entries.iter().find(|e| e.name() == name).map_or(Err(Failure::Reported), |e| e.run(sub)),
+        _ => match Cli::from_arg_matches(&m) {
+            Ok(cli) => match cli.cmd {
+                Cmd::Test(a) => pytest::run_tests(a),
+                Cmd::Fuzz(a) => fuzz::run_fuzz(a).map_err(Failure::from),
+                Cmd::Docs(a) => docs::run_docs(a).map_err(Failure::from),
+            },
+            Err(e) => e.exit(),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -193,43 +101,11 @@ pub(crate) enum Failure {
     Reported,
 }
 
-impl From<StudyError> for Failure {
-    /// A study's [`StudyError::Config`] is bad input; anything else a failure.
-    fn from(e: StudyError) -> Self {
-        match e {
-            StudyError::Config { message, .. } => Failure::Input(message),
-            other => Failure::Failed(other.to_string()),
-        }
-    }
-}
-
 impl From<String> for Failure {
     /// The commands that are not studies (test, fuzz, docs) fail with text.
     fn from(e: String) -> Self {
         Failure::Failed(e)
     }
-}
-
-/// A whole-number flag (elements, levels, batches, …): a negative number
-/// or a fraction is refused by clap naming the flag (exit 2); the flag's
-/// range is checked by its study.
-pub(crate) fn whole(s: &str) -> Result<usize, String> {
-    s.trim().parse::<usize>().map_err(|_| format!("allowed a whole number >= 0 ({s:?} is not one); the study checks the flag's range"))
-}
-
-fn convergence(a: ConvergenceArgs) -> Result<(), Failure> {
-    let benchmark = convergence::parse_benchmark(&a.benchmark)?;
-    // Schemes may contain commas inside parentheses: split on ',' outside them.
-    let schemes = signorini_studies::parse_schemes(&a.schemes)?;
-    let masses = signorini_studies::parse_masses(&a.masses)?;
-    let norms = convergence::parse_norms(&a.norms)?;
-    let reduce = a.reduce.as_deref().map(convergence::parse_reduce).transpose()?;
-    let reference = convergence::parse_reference(&a.reference)?;
-    let cfg = convergence::Config { benchmark, schemes, masses, levels: a.levels, ratio: a.ratio, t_end: a.t_end, out: a.out, norms, reduce, degree: a.degree, clean: a.clean, reference };
-    let out = with_progress_bar(|p| convergence::run(&cfg, p))?;
-    notes(&out.notes);
-    print!("{}", out.report);
-    Ok(())
 }
 
 /// Prints a study's notes and warnings on stderr.

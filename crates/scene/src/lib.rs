@@ -100,6 +100,7 @@
 
 pub mod excitation;
 mod instantiate;
+pub mod presets;
 mod report;
 
 pub use instantiate::{BuildError, Lift, Reads, Ready, Simulation};

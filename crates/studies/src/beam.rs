@@ -36,25 +36,21 @@ use signorini_schemes::SchemeSpec;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/beam`).
-    pub out: PathBuf,
-    /// Scenes to run by name (`--scenes`, default fig2 … fig8, the paper's).
-    pub scenes: Vec<String>,
-    /// Run conditionally stable scenes even beyond their stability limit (`--force`).
-    pub force: bool,
-    /// Time steps (s) of the penalty study (`--penalty-dts`, `penalty.csv`);
-    /// the paper's are 5e-6, 1e-6, 5e-7 (runs the figures already made are
-    /// reused).
-    pub penalty_dts: Vec<f64>,
-}
-
-impl Default for Config {
-    /// `cargo xtask beam` without options.
-    fn default() -> Self {
-        Config { out: PathBuf::from("out/beam"), scenes: ["fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8"].map(String::from).to_vec(), force: false, penalty_dts: vec![5e-6, 1e-6, 5e-7] }
+crate::options::study_config! {
+    /// The beam between two stops: the paper's scenes, the exact stability
+    /// limit, self-convergence, the penalty study.
+    study "beam";
+    pub struct Config {
+        /// Scenes to run, comma-separated (fig2 … fig8, the paper's).
+        pub scenes: Vec<String> = ["fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8"].map(String::from).to_vec(),
+        /// Run conditionally stable scenes even beyond their stability limit.
+        pub force: bool = false,
+        /// Time steps (s) of the penalty study (`penalty.csv`),
+        /// comma-separated; the paper's are 5e-6, 1e-6, 5e-7 (runs the
+        /// figures already made are reused).
+        pub penalty_dts: Vec<f64> = vec![5e-6, 1e-6, 5e-7],
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/beam"),
     }
 }
 
@@ -63,7 +59,7 @@ impl Config {
     fn scenes(&self) -> Result<Vec<BeamScene>, StudyError> {
         self.scenes
             .iter()
-            .map(|n| BeamScene::PAPER.iter().find(|s| s.name == n.trim()).copied().ok_or_else(|| StudyError::config("--scenes", format!("--scenes: unknown scene {n:?}: allowed fig2 … fig8"))))
+            .map(|n| BeamScene::PAPER.iter().find(|s| s.name == n.trim()).copied().ok_or_else(|| StudyError::config("scenes", format!("⟨scenes⟩: unknown scene {n:?}: allowed fig2 … fig8"))))
             .collect()
     }
 
@@ -71,7 +67,7 @@ impl Config {
     pub fn validate(&self) -> Result<(), StudyError> {
         self.scenes()?;
         if let Some(dt) = self.penalty_dts.iter().find(|dt| !(dt.is_finite() && **dt > 0.0)) {
-            return Err(StudyError::config("--penalty-dts", format!("--penalty-dts: {dt} is not allowed: finite and > 0")));
+            return Err(StudyError::config("penalty_dts", format!("⟨penalty_dts⟩: {dt} is not allowed: finite and > 0")));
         }
         Ok(())
     }

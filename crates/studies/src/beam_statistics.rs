@@ -48,7 +48,7 @@ use crate::{create_dir, fde, fe, int, since, txt, Kind, StudyError, TableOut};
 use signorini_plot::{Chart, Scale, Series, Style};
 use signorini_run::stats::{batch_means, Interval};
 use signorini_run::{run as run_steps, ImpactObserver, Observer, RunConfig, RunError, Sample};
-use signorini_scene::{Limits, Scene, SceneFile};
+use signorini_scene::{Limits, Scene};
 use signorini_schemes::Active;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -69,40 +69,32 @@ pub const STATISTICS: [(&str, bool); 9] = [
     ("rms_force", true),
 ];
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/beam-statistics`).
-    pub out: PathBuf,
-    /// Scenes (`--scenes`, default fig2-support).
-    pub scenes: Vec<String>,
-    /// Time steps (`--dts`, default 5e-5, 2.5e-5, 1e-5).
-    pub dts: Vec<f64>,
-    /// Elements J (`--elements`, default 19, 38).
-    pub elements: Vec<usize>,
-    /// Forcing periods before the window (`--transient`, default 10).
-    pub transient: f64,
-    /// Forcing periods of the window (`--window`, default 320: 201 s at ω = 10; at least 10).
-    pub window: f64,
-    /// Batches (`--batches`, default 20: 10-s batches; at least 10).
-    pub batches: usize,
-    /// Active runs closer than this (s) form one contact episode (`--episode-gap`, default 5e-3).
-    pub episode_gap: f64,
-}
-
-impl Default for Config {
-    /// `cargo xtask beam-statistics` without options.
-    fn default() -> Self {
-        Config {
-            out: PathBuf::from("out/beam-statistics"),
-            scenes: vec!["fig2-support".into()],
-            dts: vec![5e-5, 2.5e-5, 1e-5],
-            elements: vec![19, 38],
-            transient: 10.0,
-            window: 320.0,
-            batches: 20,
-            episode_gap: 5e-3,
-        }
+crate::options::study_config! {
+    /// Statistics that converge: the beam ⟨scenes⟩ at every ⟨dts⟩ and
+    /// ⟨elements⟩ over ⟨window⟩ forcing periods after ⟨transient⟩, each
+    /// statistic with a 95 % interval from ⟨batches⟩ batch means, against the
+    /// finest level. statistics.csv: scene, dt, elements, statistic, mean,
+    /// ci_low, ci_high, finest_mean, rel_diff, within_ci, kind (converges or
+    /// step-dependent); active runs closer than ⟨episode_gap⟩ seconds form one
+    /// contact episode.
+    study "beam_statistics";
+    pub struct Config {
+        /// Scenes, comma-separated (fig2-support, beam-obstacles).
+        pub scenes: Vec<String> = vec!["fig2-support".into()],
+        /// Time steps (s), comma-separated.
+        pub dts: Vec<f64> = vec![5e-5, 2.5e-5, 1e-5],
+        /// Elements J, comma-separated.
+        pub elements: Vec<usize> = vec![19, 38],
+        /// Forcing periods before the window.
+        pub transient: f64 = 10.0,
+        /// Forcing periods of the window (at least 10; 320 is 201 s at ω = 10).
+        pub window: f64 = 320.0,
+        /// Batches of the 95 % intervals (at least 10; 20 are 10-s batches).
+        pub batches: usize = 20,
+        /// Active runs closer than this (s) form one contact episode.
+        pub episode_gap: f64 = 5e-3,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/beam-statistics"),
     }
 }
 
@@ -110,32 +102,32 @@ impl Config {
     /// Every check, before anything runs.
     pub fn validate(&self) -> Result<(), StudyError> {
         if self.scenes.is_empty() {
-            return Err(StudyError::config("--scenes", format!("--scenes: allowed one or more of {}", SCENES.join(", "))));
+            return Err(StudyError::config("scenes", format!("⟨scenes⟩: allowed one or more of {}", SCENES.join(", "))));
         }
         if let Some(s) = self.scenes.iter().find(|s| !SCENES.contains(&s.as_str())) {
-            return Err(StudyError::config("--scenes", format!("--scenes {s:?}: allowed {}", SCENES.join(", "))));
+            return Err(StudyError::config("scenes", format!("⟨scenes⟩ {s:?}: allowed {}", SCENES.join(", "))));
         }
         if self.dts.is_empty() || self.dts.iter().any(|d| !(d.is_finite() && *d > 0.0 && *d <= 1e-3)) {
-            return Err(StudyError::config("--dts", format!("--dts {:?}: allowed at least one, each finite and in (0, 1e-3]", self.dts)));
+            return Err(StudyError::config("dts", format!("⟨dts⟩ {:?}: allowed at least one, each finite and in (0, 1e-3]", self.dts)));
         }
         if self.elements.is_empty() || self.elements.iter().any(|&j| !(2..=1000).contains(&j)) {
-            return Err(StudyError::config("--elements", format!("--elements {:?}: allowed at least one, each in [2, 1000]", self.elements)));
+            return Err(StudyError::config("elements", format!("⟨elements⟩ {:?}: allowed at least one, each in [2, 1000]", self.elements)));
         }
         if !(self.transient.is_finite() && (0.0..=1e4).contains(&self.transient)) {
-            return Err(StudyError::config("--transient", format!("--transient {}: allowed finite, in [0, 10000] forcing periods", self.transient)));
+            return Err(StudyError::config("transient", format!("⟨transient⟩ {}: allowed finite, in [0, 10000] forcing periods", self.transient)));
         }
         if !(self.window.is_finite() && (10.0..=1e5).contains(&self.window)) {
-            return Err(StudyError::config("--window", format!("--window {}: allowed finite, in [10, 100000] forcing periods (a statistic over fewer than ten periods has no meaning)", self.window)));
+            return Err(StudyError::config("window", format!("⟨window⟩ {}: allowed finite, in [10, 100000] forcing periods (a statistic over fewer than ten periods has no meaning)", self.window)));
         }
         if !(10..=1000).contains(&self.batches) {
-            return Err(StudyError::config("--batches", format!("--batches {}: allowed an integer in [10, 1000] (fewer batches give no usable interval)", self.batches)));
+            return Err(StudyError::config("batches", format!("⟨batches⟩ {}: allowed an integer in [10, 1000] (fewer batches give no usable interval)", self.batches)));
         }
         if !(self.episode_gap.is_finite() && self.episode_gap >= 0.0 && self.episode_gap <= 1.0) {
-            return Err(StudyError::config("--episode-gap", format!("--episode-gap {}: allowed finite, in [0, 1] s", self.episode_gap)));
+            return Err(StudyError::config("episode_gap", format!("⟨episode_gap⟩ {}: allowed finite, in [0, 1] s", self.episode_gap)));
         }
         let steps = (self.transient + self.window) * std::f64::consts::TAU / 10.0 / self.dts.iter().copied().fold(f64::INFINITY, f64::min);
         if steps > 2e9 {
-            return Err(StudyError::config("--window", format!("--window {}: {steps:.2e} steps at the smallest dt, allowed at most 2e9", self.window)));
+            return Err(StudyError::config("window", format!("⟨window⟩ {}: {steps:.2e} steps at the smallest dt, allowed at most 2e9", self.window)));
         }
         Ok(())
     }
@@ -164,8 +156,7 @@ pub type Output = crate::Report;
 /// The scene `name` at step `dt`, `j` elements, horizon `t_end` (the
 /// Lyapunov study's scene text, validated).
 fn scene(name: &str, dt: f64, j: usize, t_end: f64) -> Result<Scene, StudyError> {
-    let text = crate::lyapunov::scene_text(&crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j) }, t_end);
-    let file = SceneFile::parse(&text).map_err(|e| StudyError::failed(name, e))?;
+    let file = crate::lyapunov::scene_file(&crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j) }, t_end).map_err(|e| StudyError::failed(name, e))?;
     file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))
 }
 

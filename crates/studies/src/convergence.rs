@@ -21,40 +21,106 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// The default scheme list of `--schemes`.
 pub const DEFAULT_SCHEMES: &str = "newmark-cn,newmark-i,newmark-ii,backward-euler,ps-e0,ps-e0.5,ps-e1";
 
-/// What to sweep.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Benchmark with an exact solution (`--benchmark`).
-    pub benchmark: Benchmark,
-    /// Schemes (`--schemes`).
-    pub schemes: Vec<SchemeSpec>,
-    /// Mass treatments (`--masses`).
-    pub masses: Vec<BarMass>,
-    /// Numbers of elements m (`--levels`).
-    pub levels: Vec<usize>,
-    /// dx/dt (`--ratio`); `None`: the benchmark's (10 for bar-dirichlet).
-    pub ratio: Option<f64>,
-    /// Horizon T (`--t-end`); `None`: the benchmark's (3 for bar-dirichlet).
-    pub t_end: Option<f64>,
-    /// Output folder (`--out`); `None`: `out/convergence/<benchmark>`, or
-    /// `out/convergence/<benchmark>-getfem-norms` with the GetFEM norms.
-    pub out: Option<PathBuf>,
-    /// Error measure (`--norms`: exact, or getfem = errors of the nodal interpolant, relative).
-    pub norms: NormKind,
-    /// A reduced model at every level (`--reduce modes=R|cutoff_hz=F`,
-    /// docs/theory.md §2.5); `None` (the default): the full model.
-    pub reduce: Option<Keep>,
-    /// Element degree `k` (`--degree`: 1, 2, 3): level `m` is `m` elements
-    /// of degree `k`; the files of degree 1 are those of P1, byte for byte.
-    pub degree: usize,
-    /// Remove CSV and SVG files of another study or configuration from the
-    /// output folder first (`--clean`); without it such a folder is refused.
-    pub clean: bool,
-    /// What the errors are measured against (`--reference`): the
-    /// benchmark's closed form (`exact`, the default) or the exact
-    /// semi-discrete solution at each level (`event-driven`: the time error
-    /// alone, [`crate::time_error`]).
-    pub reference: Reference,
+crate::options::study_config! {
+    /// The convergence study: for each (scheme, mass), the benchmark at each
+    /// level m (m elements; bar-mirrored 2m on its [0, 2]) with dt = dx/⟨ratio⟩
+    /// up to ⟨t_end⟩, and every error norm. An output folder holding CSV or SVG
+    /// files this study would not write (another study's or configuration's) is
+    /// refused unless ⟨clean⟩ removes them.
+    study "convergence";
+    pub struct Config {
+        /// Benchmark with an exact solution (bar-dirichlet,
+        /// bar-neumann-gravity, bar-neumann-gravity-0.11, bar-mirrored:
+        /// level m is m elements on [0, 1], 2m on its [0, 2]).
+        #[serde(deserialize_with = "de_benchmark")]
+        pub benchmark: Benchmark = Benchmark::BarDirichlet,
+        /// Schemes, comma-separated: presets or newmark(B,G), theta(T),
+        /// ps(E) or ps(E,B) (commas inside parentheses do not split).
+        #[serde(deserialize_with = "crate::options::with::schemes")]
+        pub schemes: Vec<SchemeSpec> = parse_schemes(&[DEFAULT_SCHEMES.to_string()]).expect("the default schemes parse"),
+        /// Mass treatments, comma-separated (std, lumped, mod, mod1, mod2,
+        /// mod3, transfer, singular).
+        #[serde(deserialize_with = "crate::options::with::masses")]
+        pub masses: Vec<BarMass> = vec![BarMass::Std, BarMass::Mod],
+        /// Numbers of elements m, comma-separated.
+        pub levels: Vec<usize> = vec![10, 20, 40, 80, 160, 320, 640],
+        /// dx/dt (default: the benchmark's, 10 for bar-dirichlet).
+        pub ratio: Option<f64> = None,
+        /// Horizon T (default: the benchmark's, 3 for bar-dirichlet).
+        pub t_end: Option<f64> = None,
+        /// Error measure: exact (kink-split, docs/theory.md §6.1) or getfem
+        /// (errors of the nodal interpolant, relative to the reference's
+        /// norms, as GetFEM's 1D dynamic-contact demo computes them).
+        #[serde(deserialize_with = "de_norms")]
+        pub norms: NormKind = NormKind::Exact,
+        /// Output folder (default `out/convergence/<benchmark>`, or
+        /// `out/convergence/<benchmark>-getfem-norms` with the GetFEM norms).
+        pub out: Option<PathBuf> = None,
+        /// Remove the CSV and SVG files of another study or configuration
+        /// from the output folder first (without it such a folder is
+        /// refused).
+        pub clean: bool = false,
+        /// A reduced model at every level (docs/theory.md §2.5): modes=R
+        /// keeps the R lowest fixed-interface modes, cutoff_hz=F every mode
+        /// up to F Hz (needs a massless-contact mass and a scheme that takes
+        /// one). Default: none, the full model.
+        #[serde(deserialize_with = "de_reduce")]
+        pub reduce: Option<Keep> = None,
+        /// Element degree k (1, 2, 3: Lagrange P1, P2, P3); level m is m
+        /// elements of degree k (default folder
+        /// `out/convergence/<benchmark>-p<k>` for k > 1); the files of degree
+        /// 1 are those of P1, byte for byte.
+        pub degree: usize = 1,
+        /// What the errors are measured against: exact (the benchmark's
+        /// closed form) or event-driven (the exact semi-discrete solution on
+        /// the same mesh: the time error alone, with the space error beside
+        /// it; every mass, massless contact nodes
+        /// against event-driven(0); with ⟨reduce⟩, the reduced model's;
+        /// default folder `out/convergence/<benchmark>-event-driven[-reduce-…]`).
+        #[serde(deserialize_with = "de_reference")]
+        pub reference: Reference = Reference::Exact,
+    }
+}
+
+fn de_benchmark<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Benchmark, D::Error> {
+    crate::options::with::text(d, parse_benchmark)
+}
+fn de_norms<'de, D: serde::Deserializer<'de>>(d: D) -> Result<NormKind, D::Error> {
+    crate::options::with::text(d, parse_norms)
+}
+fn de_reduce<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Keep>, D::Error> {
+    crate::options::with::text(d, parse_reduce).map(Some)
+}
+fn de_reference<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Reference, D::Error> {
+    crate::options::with::text(d, parse_reference)
+}
+
+impl crate::options::FieldType for Benchmark {
+    const KIND: crate::options::Kind = crate::options::Kind::Text;
+    fn show(&self) -> Option<String> {
+        Some(self.name().to_string())
+    }
+}
+impl crate::options::FieldType for NormKind {
+    const KIND: crate::options::Kind = crate::options::Kind::Text;
+    fn show(&self) -> Option<String> {
+        Some(if *self == NormKind::Exact { "exact" } else { "getfem" }.to_string())
+    }
+}
+impl crate::options::FieldType for Keep {
+    const KIND: crate::options::Kind = crate::options::Kind::Text;
+    fn show(&self) -> Option<String> {
+        Some(match self {
+            Keep::Modes(r) => format!("modes={r}"),
+            Keep::CutoffHz(f) => format!("cutoff_hz={f}"),
+        })
+    }
+}
+impl crate::options::FieldType for Reference {
+    const KIND: crate::options::Kind = crate::options::Kind::Text;
+    fn show(&self) -> Option<String> {
+        Some(if *self == Reference::Exact { "exact" } else { "event-driven" }.to_string())
+    }
 }
 
 /// What the convergence study measures errors against.
@@ -72,38 +138,18 @@ pub fn parse_reference(s: &str) -> Result<Reference, StudyError> {
     match s {
         "exact" => Ok(Reference::Exact),
         "event-driven" => Ok(Reference::EventDriven),
-        _ => Err(StudyError::config("--reference", format!("--reference {s:?}: allowed exact, event-driven"))),
-    }
-}
-
-impl Default for Config {
-    /// `cargo xtask convergence` without options.
-    fn default() -> Self {
-        Config {
-            benchmark: Benchmark::BarDirichlet,
-            schemes: parse_schemes(&[DEFAULT_SCHEMES.to_string()]).expect("the default schemes parse"),
-            masses: vec![BarMass::Std, BarMass::Mod],
-            levels: vec![10, 20, 40, 80, 160, 320, 640],
-            ratio: None,
-            t_end: None,
-            out: None,
-            norms: NormKind::Exact,
-            reduce: None,
-            degree: 1,
-            clean: false,
-            reference: Reference::Exact,
-        }
+        _ => Err(StudyError::config("reference", format!("⟨reference⟩ {s:?}: allowed exact, event-driven"))),
     }
 }
 
 /// Parses `--benchmark`.
 pub fn parse_benchmark(s: &str) -> Result<Benchmark, StudyError> {
-    s.parse().map_err(|e| StudyError::config("--benchmark", format!("--benchmark: {e}")))
+    s.parse().map_err(|e| StudyError::config("benchmark", format!("⟨benchmark⟩: {e}")))
 }
 
 /// Parses `--reduce`: `modes=R` (R >= 1) or `cutoff_hz=F` (F > 0).
 pub fn parse_reduce(s: &str) -> Result<Keep, StudyError> {
-    let bad = || StudyError::config("--reduce", format!("--reduce {s:?}: allowed modes=R (an integer >= 1) or cutoff_hz=F (a frequency > 0)"));
+    let bad = || StudyError::config("reduce", format!("⟨reduce⟩ {s:?}: allowed modes=R (an integer >= 1) or cutoff_hz=F (a frequency > 0)"));
     match s.split_once('=') {
         Some(("modes", r)) => r.trim().parse::<usize>().ok().filter(|r| *r >= 1).map(Keep::Modes).ok_or_else(bad),
         Some(("cutoff_hz", f)) => f.trim().parse::<f64>().ok().filter(|f| f.is_finite() && *f > 0.0).map(Keep::CutoffHz).ok_or_else(bad),
@@ -116,25 +162,25 @@ pub fn parse_norms(s: &str) -> Result<NormKind, StudyError> {
     match s {
         "exact" => Ok(NormKind::Exact),
         "getfem" => Ok(NormKind::GetfemInterpolated),
-        other => Err(StudyError::config("--norms", format!("--norms {other:?}: allowed exact or getfem"))),
+        other => Err(StudyError::config("norms", format!("⟨norms⟩ {other:?}: allowed exact or getfem"))),
     }
 }
 
 /// Maps a sweep-validation error to the option it names.
 fn study_error(e: signorini_run::RunError) -> StudyError {
     let field = match &e {
-        signorini_run::RunError::Invalid { field: "ratio", .. } => "--ratio",
-        signorini_run::RunError::Invalid { field: "levels" | "levels/schemes/masses", .. } => "--levels",
-        signorini_run::RunError::Invalid { field: "T" | "dt" | "T/dt", .. } => "--t-end",
-        signorini_run::RunError::Scheme(_) => "--schemes",
-        signorini_run::RunError::Invalid { field: "degree", .. } => "--degree",
-        signorini_run::RunError::Fem(signorini_fem::FemError::MassForDegree { .. }) => "--masses",
-        _ => "--levels",
+        signorini_run::RunError::Invalid { field: "ratio", .. } => "ratio",
+        signorini_run::RunError::Invalid { field: "levels" | "levels/schemes/masses", .. } => "levels",
+        signorini_run::RunError::Invalid { field: "T" | "dt" | "T/dt", .. } => "t_end",
+        signorini_run::RunError::Scheme(_) => "schemes",
+        signorini_run::RunError::Invalid { field: "degree", .. } => "degree",
+        signorini_run::RunError::Fem(signorini_fem::FemError::MassForDegree { .. }) => "masses",
+        _ => "levels",
     };
     // The message starts with the option, as every Config error's does.
     let message = match &e {
-        signorini_run::RunError::Invalid { value, allowed, .. } => format!("{field} {}: allowed {allowed}", signorini_run::text::num(*value)),
-        _ => format!("{field}: {e}"),
+        signorini_run::RunError::Invalid { value, allowed, .. } => format!("{} {}: allowed {allowed}", crate::options::at(field), signorini_run::text::num(*value)),
+        _ => format!("{}: {e}", crate::options::at(field)),
     };
     StudyError::config(field, message)
 }
@@ -153,21 +199,21 @@ impl Config {
         if let Some(keep) = self.reduce {
             if let Some(m) = cfg.masses.iter().find(|m| !m.massless_contact_node()) {
                 return Err(StudyError::config(
-                    "--masses",
+                    "masses",
                     format!(
-                        "--masses {m} with --reduce: the reduction keeps the contacts massless, exact for a parent without mass at its contacts; allowed mod, mod1, mod2, mod3, transfer, singular"
+                        "⟨masses⟩ {m} with ⟨reduce⟩: the reduction keeps the contacts massless, exact for a parent without mass at its contacts; allowed mod, mod1, mod2, mod3, transfer, singular"
                     ),
                 ));
             }
             if let Some(s) = cfg.schemes.iter().find(|s| !s.accepts_massless_node(true)) {
-                return Err(StudyError::config("--schemes", format!("--schemes {s} with --reduce: it needs a massive contact node, and a reduced model's contacts are massless")));
+                return Err(StudyError::config("schemes", format!("⟨schemes⟩ {s} with ⟨reduce⟩: it needs a massive contact node, and a reduced model's contacts are massless")));
             }
             // Each level's reduction, built before anything runs.
-            let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+            let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("t_end", e.to_string()))?;
             for &m in &cfg.levels {
                 for &mass in &cfg.masses {
-                    let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, self.degree).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
-                    signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep).map_err(|e| StudyError::config("--reduce", format!("--reduce at m = {m}: {e}")))?;
+                    let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, self.degree).map_err(|e| StudyError::config("masses", format!("⟨masses⟩ {mass}: {e}")))?;
+                    signorini_run::reduced::reduce(&p.dynamics(), &p.initial, keep).map_err(|e| StudyError::config("reduce", format!("⟨reduce⟩ at m = {m}: {e}")))?;
                 }
             }
         }
@@ -176,14 +222,14 @@ impl Config {
             cfg.schemes = several_contact_schemes(&cfg, &mut notes)?;
         }
         // The sweep runs as many levels at once as there are cores.
-        fits_memory("--levels", cfg.levels.iter().copied().max().unwrap_or(0).saturating_mul(cfg.degree), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
+        fits_memory("levels", cfg.levels.iter().copied().max().unwrap_or(0).saturating_mul(cfg.degree), std::thread::available_parallelism().map_or(1, |n| n.get()))?;
         let mut folder = if self.norms == NormKind::Exact { self.benchmark.name().to_string() } else { format!("{}-getfem-norms", self.benchmark.name()) };
         if self.degree > 1 {
             folder = format!("{folder}-p{}", self.degree);
         }
         if self.reference == Reference::EventDriven {
             if self.norms != NormKind::Exact {
-                return Err(StudyError::config("--reference", "--reference event-driven: the exact norms only (no --norms getfem)"));
+                return Err(StudyError::config("reference", "⟨reference⟩ event-driven: the exact norms only (no ⟨norms⟩ getfem)"));
             }
             folder += "-event-driven";
         }
@@ -261,12 +307,12 @@ pub fn run(cfg: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output,
 /// refuses the structure (the reduced schemes, Nitsche) is left out with a
 /// note. Nothing left is an error.
 fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result<Vec<SchemeSpec>, StudyError> {
-    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("t_end", e.to_string()))?;
     let m = cfg.levels.iter().copied().min().unwrap_or(2);
     let mut keep = Vec::new();
     'schemes: for s in &cfg.schemes {
         for &mass in &cfg.masses {
-            let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, cfg.degree).map_err(|e| StudyError::config("--masses", format!("--masses {mass}: {e}")))?;
+            let p = cfg.benchmark.problem_with_degree(exact.as_ref(), m, mass, cfg.degree).map_err(|e| StudyError::config("masses", format!("⟨masses⟩ {mass}: {e}")))?;
             // The registry refuses a structure a family does not take with
             // `NotTaken` (naming the schemes that do); a builder's own check
             // with `Structure`.
@@ -285,7 +331,7 @@ fn several_contact_schemes(cfg: &StudyConfig, notes: &mut Vec<String>) -> Result
         keep.push(*s);
     }
     if keep.is_empty() {
-        return Err(StudyError::config("--schemes", format!("--schemes: none of them takes the two stops of {}: use {}", cfg.benchmark, signorini_schemes::families_with(|c| c.several_contacts))));
+        return Err(StudyError::config("schemes", format!("⟨schemes⟩: none of them takes the two stops of {}: use {}", cfg.benchmark, signorini_schemes::families_with(|c| c.several_contacts))));
     }
     Ok(keep)
 }
@@ -402,8 +448,8 @@ mod tests {
 
     #[test]
     fn parse_helpers_name_their_option() {
-        assert!(matches!(parse_norms("l2"), Err(StudyError::Config { field, .. }) if field == "--norms"));
-        assert!(matches!(parse_benchmark("nope"), Err(StudyError::Config { field, .. }) if field == "--benchmark"));
+        assert!(matches!(parse_norms("l2"), Err(StudyError::Config { field, .. }) if field == "norms"));
+        assert!(matches!(parse_benchmark("nope"), Err(StudyError::Config { field, .. }) if field == "benchmark"));
         assert_eq!(parse_norms("getfem").ok(), Some(NormKind::GetfemInterpolated));
     }
 
@@ -413,7 +459,7 @@ mod tests {
         assert_eq!(parse_reduce("modes=8").ok(), Some(Keep::Modes(8)));
         assert_eq!(parse_reduce("cutoff_hz=2.5").ok(), Some(Keep::CutoffHz(2.5)));
         for bad in ["modes=0", "modes=x", "cutoff_hz=-1", "cutoff_hz=nan", "modes", "r=3"] {
-            assert!(matches!(parse_reduce(bad), Err(StudyError::Config { field, .. }) if field == "--reduce"), "{bad}");
+            assert!(matches!(parse_reduce(bad), Err(StudyError::Config { field, .. }) if field == "reduce"), "{bad}");
         }
         let field_of = |cfg: Config| match cfg.validate() {
             Err(StudyError::Config { field, .. }) => field,
@@ -421,11 +467,11 @@ mod tests {
         };
         let base = Config { schemes: parse_schemes(&["newmark-cn".to_string()]).unwrap(), masses: vec![BarMass::Mod], levels: vec![10, 20], reduce: Some(Keep::Modes(4)), ..Config::default() };
         assert!(base.validate().is_ok());
-        assert_eq!(field_of(Config { masses: vec![BarMass::Std], ..base.clone() }), "--masses");
-        assert_eq!(field_of(Config { schemes: parse_schemes(&["moreau-jean".to_string()]).unwrap(), ..base.clone() }), "--schemes");
+        assert_eq!(field_of(Config { masses: vec![BarMass::Std], ..base.clone() }), "masses");
+        assert_eq!(field_of(Config { schemes: parse_schemes(&["moreau-jean".to_string()]).unwrap(), ..base.clone() }), "schemes");
         // m = 10: 9 interior modes.
-        assert_eq!(field_of(Config { reduce: Some(Keep::Modes(10)), ..base.clone() }), "--reduce");
-        assert_eq!(field_of(Config { reduce: Some(Keep::CutoffHz(0.01)), ..base }), "--reduce");
+        assert_eq!(field_of(Config { reduce: Some(Keep::Modes(10)), ..base.clone() }), "reduce");
+        assert_eq!(field_of(Config { reduce: Some(Keep::CutoffHz(0.01)), ..base }), "reduce");
     }
 
     fn field_of(cfg: &Config) -> Option<String> {
@@ -438,10 +484,10 @@ mod tests {
     #[test]
     fn a_bad_degree_names_its_option() {
         for k in [0, 4] {
-            assert_eq!(field_of(&Config { degree: k, ..Config::default() }).as_deref(), Some("--degree"), "degree {k}");
+            assert_eq!(field_of(&Config { degree: k, ..Config::default() }).as_deref(), Some("degree"), "degree {k}");
         }
-        assert_eq!(field_of(&Config { degree: 2, norms: NormKind::GetfemInterpolated, ..Config::default() }).as_deref(), Some("--degree"));
-        assert_eq!(field_of(&Config { degree: 3, masses: vec![BarMass::Std, BarMass::Mod2], ..Config::default() }).as_deref(), Some("--masses"));
+        assert_eq!(field_of(&Config { degree: 2, norms: NormKind::GetfemInterpolated, ..Config::default() }).as_deref(), Some("degree"));
+        assert_eq!(field_of(&Config { degree: 3, masses: vec![BarMass::Std, BarMass::Mod2], ..Config::default() }).as_deref(), Some("masses"));
         assert_eq!(field_of(&Config { degree: 3, ..Config::default() }), None);
         // Degree 1 keeps the P1 folder; others get their own.
         assert_eq!(Config::default().resolve().unwrap().1, PathBuf::from("out/convergence/bar-dirichlet"));

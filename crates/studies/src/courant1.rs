@@ -22,39 +22,41 @@ use signorini_run::{run as run_steps, Benchmark, NormObserver, Observer, RunConf
 use signorini_schemes::{PaoliSchatzman, SchemeSpec, Stepper};
 use std::path::PathBuf;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/courant1`).
-    pub out: PathBuf,
-    /// Benchmarks (`--benchmarks`; default all four).
-    pub benchmarks: Vec<Benchmark>,
-    /// Levels m (`--levels`).
-    pub levels: Vec<usize>,
-    /// Horizon (`--t-end`; default 6 for the Dirichlet and mirrored bars,
-    /// two periods, and 16 for the falling bars).
-    pub t_end: Option<f64>,
+crate::options::study_config! {
+    /// Courant number one: the lumped central difference at dx/dt = c with
+    /// Taylor's and Newmark's starts, node by node against the exact solutions;
+    /// where the first nodal error appears.
+    study "courant1";
+    pub struct Config {
+        /// Benchmarks, comma-separated (default: all four).
+        #[serde(deserialize_with = "de_benchmarks")]
+        pub benchmarks: Vec<Benchmark> = Benchmark::ALL.to_vec(),
+        /// Numbers of elements m, comma-separated.
+        pub levels: Vec<usize> = vec![10, 20, 40, 80],
+        /// Horizon (default: 6 for the Dirichlet and mirrored bars, two
+        /// periods, and 16 for the falling bars).
+        pub t_end: Option<f64> = None,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/courant1"),
+    }
 }
 
-impl Default for Config {
-    /// `cargo xtask courant1` without options.
-    fn default() -> Self {
-        Config { out: PathBuf::from("out/courant1"), benchmarks: Benchmark::ALL.to_vec(), levels: vec![10, 20, 40, 80], t_end: None }
-    }
+fn de_benchmarks<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<Benchmark>, D::Error> {
+    crate::options::with::list(d, |v| v.iter().map(|b| crate::convergence::parse_benchmark(b.trim())).collect())
 }
 
 impl Config {
     /// Every check, before anything runs.
     pub fn validate(&self) -> Result<(), StudyError> {
         if self.benchmarks.is_empty() {
-            return Err(StudyError::config("--benchmarks", "--benchmarks: allowed one or more of bar-dirichlet, bar-mirrored, bar-neumann-gravity, bar-neumann-gravity-0.11"));
+            return Err(StudyError::config("benchmarks", "⟨benchmarks⟩: allowed one or more of bar-dirichlet, bar-mirrored, bar-neumann-gravity, bar-neumann-gravity-0.11"));
         }
         if self.levels.is_empty() || self.levels.iter().any(|&m| !(2..=100_000).contains(&m)) {
-            return Err(StudyError::config("--levels", format!("--levels {:?}: allowed one or more integers in [2, 100000]", self.levels)));
+            return Err(StudyError::config("levels", format!("⟨levels⟩ {:?}: allowed one or more integers in [2, 100000]", self.levels)));
         }
         if let Some(t) = self.t_end {
             if !(t > 0.0 && t.is_finite() && t <= 1e4) {
-                return Err(StudyError::config("--t-end", format!("--t-end {t}: allowed finite, > 0 and <= 1e4")));
+                return Err(StudyError::config("t_end", format!("⟨t_end⟩ {t}: allowed finite, > 0 and <= 1e4")));
             }
         }
         Ok(())

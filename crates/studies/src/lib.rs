@@ -3,8 +3,10 @@
 //! Each study `X` (`convergence`, `weighted`, `beam`, `obstacles`,
 //! `oscillator`, `work_precision`, `stress`, `courant1`, `long_horizon`,
 //! `lyapunov`, `beam_statistics`) is a module with a `Config`
-//! (plain fields, `Default` = the `cargo xtask` defaults, `validate` doing
-//! every check before anything large is allocated), a `run(cfg, progress)`
+//! (declared once with its fields' documents and defaults, [`options`]:
+//! `cargo xtask`'s flags and Python's keyword arguments are its fields,
+//! read by [`options::read`]; `validate` doing every check before anything
+//! large is allocated), a `run(cfg, progress)`
 //! that writes every CSV and SVG into the configured folder and returns an
 //! `Output`: one [`Table`] per CSV file written (the values that were
 //! formatted into it, column by column), the Markdown `report` that
@@ -49,6 +51,7 @@ pub mod courant1;
 pub mod long_horizon;
 pub mod lyapunov;
 pub mod obstacles;
+pub mod options;
 pub mod oscillator;
 pub mod stress;
 pub mod time_error;
@@ -65,15 +68,18 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum StudyError {
-    /// Bad input: `field` is the option as `cargo xtask` spells it
-    /// (`--levels`, `--t-end`, ...); `message` is the whole message, which
-    /// starts with the field and names the allowed range.
+    /// Bad input: `field` is the configuration's field by its Rust name
+    /// (`levels`, `t_end`), which each front end spells its own way
+    /// ([`options::Spelling`]: `--t-end` for `cargo xtask`, `t_end` in
+    /// Python); `message` is the whole message, which starts with the field
+    /// and names the allowed range, its field names kept apart for that
+    /// spelling (shown here in the neutral one).
     #[error("{message}")]
     Config {
-        /// The offending option, e.g. `--levels`.
+        /// The offending field, e.g. `levels`.
         field: String,
-        /// The whole message, e.g. `--t-end 3: allowed finite and >= 4.5 (...)`.
-        message: String,
+        /// The whole message, e.g. `⟨t_end⟩ 3: allowed finite and >= 4.5 (...)`.
+        message: options::Message,
     },
     /// A run failed, in the study's words (no error underneath: a status,
     /// a missing result, a panic).
@@ -114,9 +120,19 @@ pub enum StudyError {
 }
 
 impl StudyError {
-    /// A [`StudyError::Config`] for `field` with the whole `message`.
-    pub fn config(field: &str, message: impl Into<String>) -> Self {
-        StudyError::Config { field: field.to_string(), message: message.into() }
+    /// A [`StudyError::Config`] for `field` (its Rust name) with the whole
+    /// `message`, in which `⟨name⟩` marks a field ([`options::at`]).
+    pub fn config(field: &str, message: impl AsRef<str>) -> Self {
+        StudyError::Config { field: field.to_string(), message: options::Message::new(message.as_ref()) }
+    }
+
+    /// The message with the fields spelled as `spelling` says (the
+    /// `Display` text is the neutral spelling).
+    pub fn render(&self, spelling: options::Spelling) -> String {
+        match self {
+            StudyError::Config { message, .. } => message.render(spelling),
+            other => other.to_string(),
+        }
     }
 }
 
@@ -355,8 +371,8 @@ pub(crate) fn prepare_dir(dir: &Path, expected: &[String], clean: bool) -> Resul
     if !clean {
         let shown = if stale.len() > 4 { format!("{}, … ({} files)", stale[..4].join(", "), stale.len()) } else { stale.join(", ") };
         return Err(StudyError::config(
-            "--out",
-            format!("output folder {} holds files of another study or configuration ({shown}): pass --clean to remove them first, or choose another --out", dir.display()),
+            "out",
+            format!("output folder {} holds files of another study or configuration ({shown}): pass ⟨clean⟩ to remove them first, or choose another ⟨out⟩", dir.display()),
         ));
     }
     for f in &stale {
@@ -432,12 +448,12 @@ pub fn split_schemes(raw: &[String]) -> Vec<String> {
 /// commas inside parentheses do not split, see [`split_schemes`]); an
 /// error names `--schemes`.
 pub fn parse_schemes(raw: &[String]) -> Result<Vec<SchemeSpec>, StudyError> {
-    split_schemes(raw).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| StudyError::config("--schemes", format!("--schemes: {e}")))).collect()
+    split_schemes(raw).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| StudyError::config("schemes", format!("⟨schemes⟩: {e}")))).collect()
 }
 
 /// Parses mass treatments (`std`, `lumped`, `mod`, ...), each piece trimmed; an error names `--masses`.
 pub fn parse_masses(raw: &[String]) -> Result<Vec<BarMass>, StudyError> {
-    raw.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| StudyError::config("--masses", format!("--masses: {e}")))).collect()
+    raw.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| StudyError::config("masses", format!("⟨masses⟩: {e}")))).collect()
 }
 
 /// Refuses `copies` runs of `elements` elements at once beyond the
@@ -449,7 +465,7 @@ pub fn fits_memory(flag: &str, elements: usize, copies: usize) -> Result<(), Stu
     if need > have {
         return Err(StudyError::config(
             flag,
-            format!("{flag}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", signorini_scene::bytes(need), signorini_scene::bytes(have)),
+            format!("{}: {elements} elements need about {} of memory ({copies} at once), beyond the {} available", options::at(flag), signorini_scene::bytes(need), signorini_scene::bytes(have)),
         ));
     }
     Ok(())

@@ -51,23 +51,75 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// The period of the Dirichlet bar.
 const PERIOD: f64 = 3.0;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/long-horizon`).
-    pub out: PathBuf,
-    /// (scheme, masses) pairs (`--schemes`/`--masses` are one list of
-    /// `scheme:mass` pairs, `--runs`); default `ps-e0` with every mass and
-    /// `moreau-jean` with std and lumped.
-    pub runs: Vec<(SchemeSpec, BarMass)>,
-    /// Levels m (`--levels`).
-    pub levels: Vec<usize>,
-    /// dx/dt (`--ratio`, default 10, the papers').
-    pub ratio: f64,
-    /// Horizon (`--t-end`, default 30: ten periods).
-    pub t_end: f64,
-    /// The energy-growth table (`None`: `--no-energy`).
-    pub energy: Option<EnergyTable>,
+crate::options::study_config! {
+    /// Long horizons: the Dirichlet bar over ⟨t_end⟩ (ten periods by default)
+    /// for ⟨runs⟩: the largest L² error in each period, every impact time
+    /// against the exact one, the drift per period. Then (unless ⟨energy⟩ is off)
+    /// the energy-growth table: ⟨energy_runs⟩ (or ⟨energy_all⟩: every named
+    /// scheme with every mass it accepts) at each dx/dt of ⟨energy_ratios⟩ on
+    /// ⟨energy_m⟩ elements to ⟨energy_t_end⟩: the largest E/budget and when it
+    /// first exceeds 2 (energy_growth.csv, energy_vs_time.csv,
+    /// energy_growth.svg). The default table takes minutes; a shorter
+    /// ⟨energy_t_end⟩ shortens it.
+    study "long_horizon";
+    pub struct Config {
+        /// scheme:mass pairs, comma-separated (default: ps-e0 with every
+        /// mass, moreau-jean with std and lumped).
+        #[serde(deserialize_with = "de_runs")]
+        pub runs: Vec<(SchemeSpec, BarMass)> = default_runs(),
+        /// Numbers of elements m, comma-separated.
+        pub levels: Vec<usize> = vec![20, 40, 80],
+        /// dx/dt (the papers').
+        pub ratio: f64 = 10.0,
+        /// Horizon (three time units a period: 30 is ten periods).
+        pub t_end: f64 = 30.0,
+        /// The energy-growth table (energy_growth.csv, energy_vs_time.csv,
+        /// energy_growth.svg; off: left out).
+        pub energy: bool = true,
+        /// Energy-growth table: scheme:mass pairs, comma-separated (default:
+        /// newmark-cn and ps-e0 with std, lumped, mod, mod3; ps-e1 with std,
+        /// mod3; moreau-jean with std, lumped; hybrid with mod, mod3).
+        #[serde(deserialize_with = "de_energy_runs")]
+        pub energy_runs: Option<Vec<(SchemeSpec, BarMass)>> = None,
+        /// Energy-growth table: every named scheme with every mass it
+        /// accepts (instead of the default runs; not with ⟨energy_runs⟩).
+        pub energy_all: bool = false,
+        /// Energy-growth table: dx/dt values, comma-separated.
+        pub energy_ratios: Vec<f64> = EnergyTable::default().ratios,
+        /// Energy-growth table: number of elements.
+        pub energy_m: usize = EnergyTable::default().m,
+        /// Energy-growth table: horizon.
+        pub energy_t_end: f64 = EnergyTable::default().t_end,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/long-horizon"),
+    }
+}
+
+fn de_runs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<(SchemeSpec, BarMass)>, D::Error> {
+    crate::options::with::list(d, |r| parse_runs_of("runs", r))
+}
+fn de_energy_runs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<(SchemeSpec, BarMass)>>, D::Error> {
+    crate::options::with::list(d, |r| parse_runs_of("energy_runs", r)).map(Some)
+}
+
+/// ps-e0 with every mass, moreau-jean with std and lumped.
+fn default_runs() -> Vec<(SchemeSpec, BarMass)> {
+    let ps: SchemeSpec = "ps-e0".parse().expect("a preset");
+    let mj: SchemeSpec = "moreau-jean".parse().expect("a preset");
+    let masses = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
+    let mut runs: Vec<(SchemeSpec, BarMass)> = masses.iter().map(|&m| (ps, m)).collect();
+    runs.extend([(mj, BarMass::Std), (mj, BarMass::Lumped)]);
+    runs
+}
+
+impl Config {
+    /// The energy-growth table the configuration asks for (`None`: off).
+    pub fn energy_table(&self) -> Option<EnergyTable> {
+        self.energy.then(|| {
+            let runs = if self.energy_all { EnergyTable::all_runs() } else { self.energy_runs.clone().unwrap_or_else(|| EnergyTable::default().runs) };
+            EnergyTable { runs, ratios: self.energy_ratios.clone(), m: self.energy_m, t_end: self.energy_t_end }
+        })
+    }
 }
 
 /// The energy-growth table's runs (module docs).
@@ -113,51 +165,45 @@ impl EnergyTable {
 
     fn validate(&self) -> Result<(), StudyError> {
         if self.runs.is_empty() {
-            return Err(StudyError::config("--energy-runs", "--energy-runs: allowed one or more scheme:mass pairs"));
+            return Err(StudyError::config("energy_runs", "⟨energy_runs⟩: allowed one or more scheme:mass pairs"));
         }
         for (s, m) in &self.runs {
             if !s.accepts_massless_node(m.massless_contact_node()) {
-                return Err(StudyError::config("--energy-runs", format!("--energy-runs {s}:{m}: the scheme does not take this mass (massless contact node: {})", m.massless_contact_node())));
+                return Err(StudyError::config("energy_runs", format!("⟨energy_runs⟩ {s}:{m}: the scheme does not take this mass (massless contact node: {})", m.massless_contact_node())));
             }
         }
         if self.ratios.is_empty() || self.ratios.iter().any(|r| !(*r > 0.0 && r.is_finite())) {
-            return Err(StudyError::config("--energy-ratios", format!("--energy-ratios {:?}: allowed one or more finite values > 0", self.ratios)));
+            return Err(StudyError::config("energy_ratios", format!("⟨energy_ratios⟩ {:?}: allowed one or more finite values > 0", self.ratios)));
         }
         if !(2..=20_000).contains(&self.m) {
-            return Err(StudyError::config("--energy-m", format!("--energy-m {}: allowed an integer in [2, 20000]", self.m)));
+            return Err(StudyError::config("energy_m", format!("⟨energy_m⟩ {}: allowed an integer in [2, 20000]", self.m)));
         }
         if !(self.t_end >= PERIOD && self.t_end.is_finite() && self.t_end <= 1e6) {
-            return Err(StudyError::config("--energy-t-end", format!("--energy-t-end {}: allowed finite, in [3, 1e6]", self.t_end)));
+            return Err(StudyError::config("energy_t_end", format!("⟨energy_t_end⟩ {}: allowed finite, in [3, 1e6]", self.t_end)));
         }
         let steps = self.m as f64 * self.ratios.iter().fold(0.0, |a: f64, &r| a.max(r)) * self.t_end;
         if steps > 1e9 {
-            return Err(StudyError::config("--energy-t-end", format!("--energy-t-end {}: {steps:.2e} steps at the largest dx/dt, allowed at most 1e9", self.t_end)));
+            return Err(StudyError::config("energy_t_end", format!("⟨energy_t_end⟩ {}: {steps:.2e} steps at the largest dx/dt, allowed at most 1e9", self.t_end)));
         }
         Ok(())
     }
 }
 
-impl Default for Config {
-    /// `cargo xtask long-horizon` without options.
-    fn default() -> Self {
-        let ps: SchemeSpec = "ps-e0".parse().expect("a preset");
-        let mj: SchemeSpec = "moreau-jean".parse().expect("a preset");
-        let masses = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod2, BarMass::Mod3, BarMass::Transfer, BarMass::Singular];
-        let mut runs: Vec<(SchemeSpec, BarMass)> = masses.iter().map(|&m| (ps, m)).collect();
-        runs.extend([(mj, BarMass::Std), (mj, BarMass::Lumped)]);
-        Config { out: PathBuf::from("out/long-horizon"), runs, levels: vec![20, 40, 80], ratio: 10.0, t_end: 30.0, energy: Some(EnergyTable::default()) }
-    }
-}
-
-/// Parses `--runs`: `scheme:mass` pairs, comma-separated (a scheme with
+/// Parses `runs`: `scheme:mass` pairs, comma-separated (a scheme with
 /// parameters keeps its commas inside parentheses).
 pub fn parse_runs(raw: &[String]) -> Result<Vec<(SchemeSpec, BarMass)>, StudyError> {
+    parse_runs_of("runs", raw)
+}
+
+/// [`parse_runs`] for the field `field` (`runs`, `energy_runs`), which an error names.
+pub fn parse_runs_of(field: &str, raw: &[String]) -> Result<Vec<(SchemeSpec, BarMass)>, StudyError> {
+    let f = crate::options::at(field);
     crate::split_schemes(raw)
         .iter()
         .map(|p| {
-            let (s, m) = p.rsplit_once(':').ok_or_else(|| StudyError::config("--runs", format!("--runs {p:?}: allowed scheme:mass, e.g. ps-e0:mod3")))?;
-            let scheme = s.parse::<SchemeSpec>().map_err(|e| StudyError::config("--runs", format!("--runs {p:?}: {e}")))?;
-            let mass = m.parse::<BarMass>().map_err(|e| StudyError::config("--runs", format!("--runs {p:?}: {e}")))?;
+            let (s, m) = p.rsplit_once(':').ok_or_else(|| StudyError::config(field, format!("{f} {p:?}: allowed scheme:mass, e.g. ps-e0:mod3")))?;
+            let scheme = s.parse::<SchemeSpec>().map_err(|e| StudyError::config(field, format!("{f} {p:?}: {e}")))?;
+            let mass = m.parse::<BarMass>().map_err(|e| StudyError::config(field, format!("{f} {p:?}: {e}")))?;
             Ok((scheme, mass))
         })
         .collect()
@@ -167,27 +213,37 @@ impl Config {
     /// Every check, before anything runs.
     pub fn validate(&self) -> Result<(), StudyError> {
         if self.runs.is_empty() {
-            return Err(StudyError::config("--runs", "--runs: allowed one or more scheme:mass pairs"));
+            return Err(StudyError::config("runs", "⟨runs⟩: allowed one or more scheme:mass pairs"));
         }
         for (s, m) in &self.runs {
             if !s.accepts_massless_node(m.massless_contact_node()) {
-                return Err(StudyError::config("--runs", format!("--runs {s}:{m}: the scheme does not take this mass (massless contact node: {})", m.massless_contact_node())));
+                return Err(StudyError::config("runs", format!("⟨runs⟩ {s}:{m}: the scheme does not take this mass (massless contact node: {})", m.massless_contact_node())));
             }
         }
         if self.levels.is_empty() || self.levels.iter().any(|&m| !(2..=20_000).contains(&m)) {
-            return Err(StudyError::config("--levels", format!("--levels {:?}: allowed one or more integers in [2, 20000]", self.levels)));
+            return Err(StudyError::config("levels", format!("⟨levels⟩ {:?}: allowed one or more integers in [2, 20000]", self.levels)));
         }
         if !(self.ratio > 0.0 && self.ratio.is_finite()) {
-            return Err(StudyError::config("--ratio", format!("--ratio {}: allowed finite and > 0", self.ratio)));
+            return Err(StudyError::config("ratio", format!("⟨ratio⟩ {}: allowed finite and > 0", self.ratio)));
         }
         if !(self.t_end >= PERIOD && self.t_end.is_finite() && self.t_end <= 3000.0) {
-            return Err(StudyError::config("--t-end", format!("--t-end {}: allowed finite, in [3, 3000] (one period at least)", self.t_end)));
+            return Err(StudyError::config("t_end", format!("⟨t_end⟩ {}: allowed finite, in [3, 3000] (one period at least)", self.t_end)));
         }
         let steps = self.levels.iter().map(|&m| m as f64 * self.ratio * self.t_end).fold(0.0, f64::max);
         if steps > 1e9 {
-            return Err(StudyError::config("--t-end", format!("--t-end {}: {steps:.2e} steps at the finest level, allowed at most 1e9", self.t_end)));
+            return Err(StudyError::config("t_end", format!("⟨t_end⟩ {}: {steps:.2e} steps at the finest level, allowed at most 1e9", self.t_end)));
         }
-        if let Some(e) = &self.energy {
+        let d = Config::default();
+        if !self.energy && (self.energy_runs.is_some() || self.energy_all || self.energy_ratios != d.energy_ratios || self.energy_m != d.energy_m || self.energy_t_end != d.energy_t_end) {
+            return Err(StudyError::config(
+                "energy",
+                "⟨energy⟩ off: ⟨energy_runs⟩, ⟨energy_all⟩, ⟨energy_ratios⟩, ⟨energy_m⟩ and ⟨energy_t_end⟩ act only with the energy table: remove them, or turn it on",
+            ));
+        }
+        if self.energy_all && self.energy_runs.is_some() {
+            return Err(StudyError::config("energy_runs", "⟨energy_runs⟩: not both ⟨energy_runs⟩ and ⟨energy_all⟩"));
+        }
+        if let Some(e) = self.energy_table() {
             e.validate()?;
         }
         Ok(())
@@ -249,7 +305,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let mut ev = TableOut::create(&a.out, "error_vs_time.csv", &with(&[("period", Kind::I), ("t_from", Kind::F), ("t_to", Kind::F), ("max_l2_u", Kind::F)]))?;
     let mut im = TableOut::create(&a.out, "impacts.csv", &with(&[("k", Kind::I), ("t_exact", Kind::F), ("t_numerical", Kind::F), ("drift", Kind::F)]))?;
     let mut su = TableOut::create(&a.out, "summary.csv", &with(&[("linf_l2_u", Kind::F), ("l2_l2_u", Kind::F), ("mean_drift_per_period", Kind::F), ("final_energy", Kind::F)]))?;
-    let energy_jobs = a.energy.as_ref().map_or(0, |e| e.runs.len() * e.ratios.len());
+    let energy = a.energy_table();
+    let energy_jobs = energy.as_ref().map_or(0, |e| e.runs.len() * e.ratios.len());
     let total = (a.runs.len() * a.levels.len() + energy_jobs) as u64;
     let mut done = 0;
     let mut md =
@@ -296,7 +353,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let mut tables = vec![ev.finish()?, im.finish()?, su.finish()?];
     let mut report = format!("# Long horizon: bar-dirichlet over T = {} ({periods} periods), dx/dt = {} (output in {})\n\n{md}", a.t_end, a.ratio, a.out.display());
     let mut notes = Vec::new();
-    if let Some(e) = &a.energy {
+    if let Some(e) = &energy {
         energy_growth(a, e, done, total, progress, &mut tables, &mut report, &mut notes)?;
     }
     Ok(crate::Report { tables, report, wall_s: since(start), notes })

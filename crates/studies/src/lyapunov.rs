@@ -31,7 +31,8 @@
 use crate::{create_dir, fd, fde, fe, ff, int, opt, since, txt, Kind, StudyError, TableOut};
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_run::chaos::{energy_norm, lyapunov, predictability_horizon, Benettin, Flow, StepperFlow};
-use signorini_scene::{Limits, Scene, SceneFile};
+use signorini_scene::presets::{self, Preset};
+use signorini_scene::{Limits, Scene, SceneError, SceneFile};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -40,95 +41,91 @@ use std::path::PathBuf;
 /// the whole pipe (data/scenes/beam-obstacles.toml).
 pub const BEAM_SCENES: [&str; 9] = ["fig2-support", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "beam-obstacles"];
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/lyapunov`).
-    pub out: PathBuf,
-    /// Beam scenes at their own dt and J (`--scenes`, default every one of [`BEAM_SCENES`]).
-    pub scenes: Vec<String>,
-    /// Beam scenes run again at every `dts` × `elements` (`--refine`, default `fig2-support`).
-    pub refine: Vec<String>,
-    /// Time steps of the refinement (`--dts`, default 5e-5, 2.5e-5, 1e-5).
-    pub dts: Vec<f64>,
-    /// Elements J of the refinement (`--elements`, default 19, 38).
-    pub elements: Vec<usize>,
-    /// Forcing frequencies of the oscillator (`--omegas`, default its sweep range 1.6, 1.7, …, 2.2; empty: none).
-    pub omegas: Vec<f64>,
-    /// Relative perturbation of the twin (`--perturbation`, default 1e-10; allowed 0 < ε < 1e-3).
-    pub perturbation: f64,
-    /// Forcing periods before the twin starts (`--transient`, default 10).
-    pub transient: f64,
-    /// Forcing periods measured (`--window`, default 20).
-    pub window: f64,
-    /// Renormalisations per forcing period (`--per-period`, default 64).
-    pub per_period: usize,
-    /// Batches of the confidence interval (`--batches`, default 10).
-    pub batches: usize,
-}
-
-impl Default for Config {
-    /// `cargo xtask lyapunov` without options.
-    fn default() -> Self {
-        Config {
-            out: PathBuf::from("out/lyapunov"),
-            scenes: BEAM_SCENES.iter().map(|s| s.to_string()).collect(),
-            refine: vec!["fig2-support".into()],
-            dts: vec![5e-5, 2.5e-5, 1e-5],
-            elements: vec![19, 38],
-            omegas: vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
-            perturbation: 1e-10,
-            transient: 10.0,
-            window: 20.0,
-            per_period: 64,
-            batches: 10,
-        }
+crate::options::study_config! {
+    /// Largest Lyapunov exponents by Benettin's twin runs: the twin perturbed
+    /// by a relative ⟨perturbation⟩ of the state's energy norm, renormalised
+    /// ⟨per_period⟩ times a forcing period over ⟨window⟩ forcing periods after
+    /// ⟨transient⟩, a 95 % interval from ⟨batches⟩ batch means. Cases: the beam
+    /// ⟨scenes⟩ at their own dt and J, the ⟨refine⟩ scenes at every ⟨dts⟩ ×
+    /// ⟨elements⟩, the impact oscillator at every Ω of ⟨omegas⟩.
+    /// lyapunov.csv: scene, dt, elements, lambda_max, ci_low, ci_high, horizon_s
+    /// (the time for a 1e-16 relative round-off to grow to 1 mm; NaN for
+    /// λ <= 0); oscillator.csv: omega, lambda_max, ci_low, ci_high,
+    /// lambda_exact, multiplier (the exact Floquet exponent of the period-1
+    /// orbit).
+    study "lyapunov";
+    pub struct Config {
+        /// Beam scenes at their own dt and J, comma-separated (fig2-support,
+        /// fig2 … fig8, beam-obstacles; default every one;
+        /// none: no such case).
+        pub scenes: Vec<String> = BEAM_SCENES.iter().map(|s| s.to_string()).collect(),
+        /// Beam scenes run again at every ⟨dts⟩ × ⟨elements⟩.
+        pub refine: Vec<String> = vec!["fig2-support".into()],
+        /// Time steps of the refinement (s), comma-separated.
+        pub dts: Vec<f64> = vec![5e-5, 2.5e-5, 1e-5],
+        /// Elements J of the refinement, comma-separated.
+        pub elements: Vec<usize> = vec![19, 38],
+        /// Forcing frequencies of the impact oscillator, comma-separated
+        /// (default its sweep range 1.6 … 2.2; none or empty: no oscillator).
+        pub omegas: Vec<f64> = vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
+        /// Relative perturbation of the twin (0 < ε < 1e-3).
+        pub perturbation: f64 = 1e-10,
+        /// Forcing periods before the twin starts.
+        pub transient: f64 = 10.0,
+        /// Forcing periods measured.
+        pub window: f64 = 20.0,
+        /// Renormalisations per forcing period.
+        pub per_period: usize = 64,
+        /// Batches of the 95 % confidence interval.
+        pub batches: usize = 10,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/lyapunov"),
     }
 }
 
 impl Config {
     /// Every check, before anything runs.
     pub fn validate(&self) -> Result<(), StudyError> {
-        for (flag, list) in [("--scenes", &self.scenes), ("--refine", &self.refine)] {
+        for (flag, list) in [("scenes", &self.scenes), ("refine", &self.refine)] {
             if let Some(s) = list.iter().find(|s| !BEAM_SCENES.contains(&s.as_str())) {
-                return Err(StudyError::config(flag, format!("{flag} {s:?}: allowed {}", BEAM_SCENES.join(", "))));
+                return Err(StudyError::config(flag, format!("{} {s:?}: allowed {}", crate::options::at(flag), BEAM_SCENES.join(", "))));
             }
         }
         if self.scenes.is_empty() && self.refine.is_empty() && self.omegas.is_empty() {
-            return Err(StudyError::config("--scenes", "--scenes, --refine and --omegas are all empty: allowed at least one case"));
+            return Err(StudyError::config("scenes", "⟨scenes⟩, ⟨refine⟩ and ⟨omegas⟩ are all empty: allowed at least one case"));
         }
         if !self.refine.is_empty() {
             if self.dts.is_empty() || self.dts.iter().any(|d| !(d.is_finite() && *d > 0.0 && *d <= 1e-3)) {
-                return Err(StudyError::config("--dts", format!("--dts {:?}: allowed at least one, each finite and in (0, 1e-3]", self.dts)));
+                return Err(StudyError::config("dts", format!("⟨dts⟩ {:?}: allowed at least one, each finite and in (0, 1e-3]", self.dts)));
             }
             if self.elements.is_empty() || self.elements.iter().any(|&j| !(2..=1000).contains(&j)) {
-                return Err(StudyError::config("--elements", format!("--elements {:?}: allowed at least one, each in [2, 1000]", self.elements)));
+                return Err(StudyError::config("elements", format!("⟨elements⟩ {:?}: allowed at least one, each in [2, 1000]", self.elements)));
             }
         }
         if self.omegas.iter().any(|w| !(w.is_finite() && *w > 0.0 && *w <= 100.0)) {
-            return Err(StudyError::config("--omegas", format!("--omegas {:?}: allowed each finite and in (0, 100]", self.omegas)));
+            return Err(StudyError::config("omegas", format!("⟨omegas⟩ {:?}: allowed each finite and in (0, 100]", self.omegas)));
         }
         if !(self.perturbation > 0.0 && self.perturbation < 1e-3) {
             return Err(StudyError::config(
-                "--perturbation",
-                format!("--perturbation {}: allowed 0 < perturbation < 1e-3 (relative to the state's energy norm)", signorini_run::text::num(self.perturbation)),
+                "perturbation",
+                format!("⟨perturbation⟩ {}: allowed 0 < perturbation < 1e-3 (relative to the state's energy norm)", signorini_run::text::num(self.perturbation)),
             ));
         }
         if !(self.transient.is_finite() && (0.0..=1e4).contains(&self.transient)) {
-            return Err(StudyError::config("--transient", format!("--transient {}: allowed finite, in [0, 10000] forcing periods", self.transient)));
+            return Err(StudyError::config("transient", format!("⟨transient⟩ {}: allowed finite, in [0, 10000] forcing periods", self.transient)));
         }
         if !(1..=10_000).contains(&self.per_period) {
-            return Err(StudyError::config("--per-period", format!("--per-period {}: allowed an integer in [1, 10000]", self.per_period)));
+            return Err(StudyError::config("per_period", format!("⟨per_period⟩ {}: allowed an integer in [1, 10000]", self.per_period)));
         }
         if !(2..=1000).contains(&self.batches) {
-            return Err(StudyError::config("--batches", format!("--batches {}: allowed an integer in [2, 1000]", self.batches)));
+            return Err(StudyError::config("batches", format!("⟨batches⟩ {}: allowed an integer in [2, 1000]", self.batches)));
         }
         let most = 1e4;
         if !(self.window.is_finite() && self.window <= most && self.window * self.per_period as f64 >= (10 * self.batches) as f64) {
             return Err(StudyError::config(
-                "--window",
+                "window",
                 format!(
-                    "--window {}: allowed finite, at most {most} forcing periods, and at least 10 renormalisations per batch (window · per-period >= 10 · batches = {})",
+                    "⟨window⟩ {}: allowed finite, at most {most} forcing periods, and at least 10 renormalisations per batch (window · per-period >= 10 · batches = {})",
                     self.window,
                     10 * self.batches
                 ),
@@ -162,31 +159,32 @@ pub(crate) enum Case {
     Oscillator { omega: f64 },
 }
 
-const FIG2_SUPPORT: &str = include_str!("../../../data/scenes/beam-fig2-support.toml");
-const OBSTACLES: &str = include_str!("../../../data/scenes/beam-obstacles.toml");
-const OSCILLATOR: &str = include_str!("../../../data/scenes/oscillator.toml");
-
-/// The scene text of a case with horizon `t_end` (s) (the beam statistics'
-/// scenes too).
-pub(crate) fn scene_text(case: &Case, t_end: f64) -> String {
+/// The scene of a case with horizon `t_end` (s) (the beam statistics'
+/// scenes too): a preset of the scene crate with its horizon, and the beam
+/// scenes' dt and J or the oscillator's Ω, set by path (an edit of a key
+/// the scene does not have fails, [`presets::set_path`]).
+pub(crate) fn scene_file(case: &Case, t_end: f64) -> Result<SceneFile, SceneError> {
     match case {
         Case::Beam { name, dt, elements } => {
-            let mut keys = format!("t_end = {t_end:e}\n");
+            let doc = match name.as_str() {
+                "fig2-support" => Preset::Fig2Support.document()?,
+                "beam-obstacles" => Preset::BeamObstacles.document()?,
+                fig => {
+                    let mut beam = toml::Table::new();
+                    beam.insert("scene".into(), fig.into());
+                    toml::Table::from_iter([("beam".to_string(), toml::Value::Table(beam))])
+                }
+            };
+            let mut edits = vec![("beam.t_end", t_end.into())];
             if let Some(dt) = dt {
-                keys.push_str(&format!("dt = {dt:e}\n"));
+                edits.push(("beam.dt", (*dt).into()));
             }
             if let Some(j) = elements {
-                keys.push_str(&format!("elements = {j}\n"));
+                edits.push(("beam.elements", toml::Value::Integer(*j as i64)));
             }
-            let base = match name.as_str() {
-                "fig2-support" => FIG2_SUPPORT.to_string(),
-                "beam-obstacles" => OBSTACLES.to_string(),
-                fig => format!("[beam]\nscene = \"{fig}\"\n"),
-            };
-            let (head, tail) = base.split_once("[beam]\n").expect("a beam scene");
-            format!("{head}[beam]\n{keys}{tail}")
+            presets::edit(doc, &edits)
         }
-        Case::Oscillator { omega } => OSCILLATOR.replace("t_end = 100.0", &format!("t_end = {t_end:e}")).replace("omega = 2.0", &format!("omega = {omega:e}")),
+        Case::Oscillator { omega } => Preset::Oscillator.edited(&[("oscillator.t_end", t_end.into()), ("forcing.omega", (*omega).into())]),
     }
 }
 
@@ -203,8 +201,7 @@ struct Row {
 
 /// The scene of a case (for its clock): validated, not built.
 fn scene_of(case: &Case, t_end: f64) -> Result<Scene, StudyError> {
-    let text = scene_text(case, t_end);
-    let file = SceneFile::parse(&text).map_err(|e| StudyError::failed(label(case), e))?;
+    let file = scene_file(case, t_end).map_err(|e| StudyError::failed(label(case), e))?;
     file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(label(case), e))
 }
 
@@ -355,4 +352,76 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let wall_s = since(start);
     w_(writeln!(md, "\nwrote {} in {wall_s:.1} s", a.out.display()));
     Ok(Output { tables, report: md, wall_s, notes: Vec::new() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scene as the study built it before the presets: the data file's
+    /// text with keys inserted after `[beam]`, or two values replaced.
+    fn old_text(case: &Case, t_end: f64) -> String {
+        let file = |name: &str| std::fs::read_to_string(format!("{}/../../data/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("the data file");
+        match case {
+            Case::Beam { name, dt, elements } => {
+                let mut keys = format!("t_end = {t_end:e}\n");
+                if let Some(dt) = dt {
+                    keys.push_str(&format!("dt = {dt:e}\n"));
+                }
+                if let Some(j) = elements {
+                    keys.push_str(&format!("elements = {j}\n"));
+                }
+                let base = match name.as_str() {
+                    "fig2-support" => file("beam-fig2-support.toml"),
+                    "beam-obstacles" => file("beam-obstacles.toml"),
+                    fig => format!("[beam]\nscene = \"{fig}\"\n"),
+                };
+                let (head, tail) = base.split_once("[beam]\n").expect("a beam scene");
+                format!("{head}[beam]\n{keys}{tail}")
+            }
+            Case::Oscillator { omega } => file("oscillator.toml").replace("t_end = 100.0", &format!("t_end = {t_end:e}")).replace("omega = 2.0", &format!("omega = {omega:e}")),
+        }
+    }
+
+    #[test]
+    fn the_edited_presets_are_the_scenes_the_text_edits_gave() {
+        let cases = [
+            Case::Beam { name: "fig2-support".into(), dt: None, elements: None },
+            Case::Beam { name: "fig2-support".into(), dt: Some(2.5e-5), elements: Some(38) },
+            Case::Beam { name: "beam-obstacles".into(), dt: None, elements: None },
+            Case::Beam { name: "fig5".into(), dt: Some(1e-5), elements: Some(19) },
+            Case::Oscillator { omega: 1.7 },
+        ];
+        for case in &cases {
+            let t_end = 1.0_f64 / 3.0 + 2.0;
+            let old = SceneFile::parse(&old_text(case, t_end)).expect("the old text parses");
+            let new = scene_file(case, t_end).expect("the preset edits");
+            assert_eq!(new, old, "{}", label(case));
+            // And each edit took: the values are the ones asked for, not the file's.
+            match (case, &new) {
+                (Case::Oscillator { omega }, f) => {
+                    assert_eq!(f.oscillator.as_ref().map(|o| o.t_end), Some(t_end));
+                    assert!(format!("{:?}", f.forcing).contains(&format!("{omega:?}")), "{:?}", f.forcing);
+                }
+                (Case::Beam { dt, elements, .. }, f) => {
+                    let b = f.beam.as_ref().expect("a beam");
+                    assert_eq!(b.t_end, Some(t_end));
+                    assert_eq!(b.dt, *dt);
+                    assert_eq!(b.elements, *elements);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_edit_of_a_key_the_preset_does_not_have_fails() {
+        // A table that is not there: set_path itself refuses, naming the path.
+        let e = Preset::Oscillator.edited(&[("forcing2.omega", 1.8.into())]).expect_err("forcing2 is not a table of the scene");
+        assert!(e.to_string().starts_with("forcing2.omega: forcing2 is not in the scene"), "{e}");
+        // A key the scene does not have: the scene reader refuses it.
+        assert!(Preset::Oscillator.edited(&[("forcing.omga", 1.8.into())]).is_err());
+        assert!(Preset::Fig2Support.edited(&[("beam.t_ned", 1.0.into())]).is_err());
+        // A value where a table is: refused.
+        assert!(Preset::Oscillator.edited(&[("oscillator.mass.x", 1.0.into())]).is_err());
+    }
 }

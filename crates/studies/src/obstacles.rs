@@ -20,35 +20,31 @@ use signorini_schemes::SchemeSpec;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/beam-obstacles`).
-    pub out: PathBuf,
-    /// Obstacles at -g and +g (m) along the whole beam (`--gap`, default 0.05).
-    pub gap: f64,
-    /// β of the β-scheme (`--beta`, default 1/4; >= 1/4: unconditionally stable).
-    pub beta: f64,
-    /// Horizon (s) (`--t-end`, default 0.2): long enough for several
-    /// impacts, short enough that the vibro-impact motion has not become
-    /// sensitive to rounding.
-    pub t_end: f64,
-    /// Time steps of the dt study (s) (`--dts`), J fixed at `j`; each must
-    /// divide the first (coarsest), the reference is the last divided by 4.
-    pub dts: Vec<f64>,
-    /// Elements of the dt study (`--j`, default 20).
-    pub j: usize,
-    /// Meshes of the J study (`--js`, each a multiple of the first), dt
-    /// fixed at `j_dt`; the reference is the last times 2.
-    pub js: Vec<usize>,
-    /// Time step of the J study (s) (`--j-dt`, default 1e-5).
-    pub j_dt: f64,
-}
-
-impl Default for Config {
-    /// `cargo xtask beam-obstacles` without options.
-    fn default() -> Self {
-        Config { out: PathBuf::from("out/beam-obstacles"), gap: 0.05, beta: 0.25, t_end: 0.2, dts: vec![1e-4, 5e-5, 2.5e-5, 1.25e-5, 6.25e-6], j: 20, js: vec![5, 10, 20, 40, 80], j_dt: 1e-5 }
+crate::options::study_config! {
+    /// The beam between obstacles along its whole length (problem (P)):
+    /// feasibility, self-convergence in dt (J = ⟨j⟩, time steps ⟨dts⟩) and in J
+    /// (meshes ⟨js⟩ at ⟨j_dt⟩), energy balance.
+    study "beam_obstacles";
+    pub struct Config {
+        /// Obstacles at -g and +g (m) along the whole beam.
+        pub gap: f64 = 0.05,
+        /// β of the β-scheme (>= 1/4: unconditionally stable).
+        pub beta: f64 = 0.25,
+        /// Horizon (s): long enough for several impacts, short enough that
+        /// the vibro-impact motion has not become sensitive to rounding.
+        pub t_end: f64 = 0.2,
+        /// Time steps of the dt study (s), J fixed at ⟨j⟩; each must divide
+        /// the first (coarsest), the reference is the last divided by 4.
+        pub dts: Vec<f64> = vec![1e-4, 5e-5, 2.5e-5, 1.25e-5, 6.25e-6],
+        /// Elements of the dt study.
+        pub j: usize = 20,
+        /// Meshes of the J study (each a multiple of the first), dt fixed at
+        /// ⟨j_dt⟩; the reference is the last times 2.
+        pub js: Vec<usize> = vec![5, 10, 20, 40, 80],
+        /// Time step of the J study (s).
+        pub j_dt: f64 = 1e-5,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/beam-obstacles"),
     }
 }
 
@@ -206,28 +202,28 @@ impl Config {
 
 fn validate(a: &Config) -> Result<(), StudyError> {
     if !(a.gap > 0.0 && a.gap.is_finite()) {
-        return Err(StudyError::config("--gap", format!("--gap {}: allowed finite and > 0", a.gap)));
+        return Err(StudyError::config("gap", format!("⟨gap⟩ {}: allowed finite and > 0", a.gap)));
     }
     if !(0.25..=0.5).contains(&a.beta) {
-        return Err(StudyError::config("--beta", format!("--beta {}: allowed [0.25, 0.5] (unconditionally stable)", a.beta)));
+        return Err(StudyError::config("beta", format!("⟨beta⟩ {}: allowed [0.25, 0.5] (unconditionally stable)", a.beta)));
     }
     if !(a.t_end > 0.0 && a.t_end <= 10.0) {
-        return Err(StudyError::config("--t-end", format!("--t-end {}: allowed (0, 10] s", a.t_end)));
+        return Err(StudyError::config("t_end", format!("⟨t_end⟩ {}: allowed (0, 10] s", a.t_end)));
     }
     if a.dts.len() < 2 || a.dts.iter().any(|d| !(*d > 0.0 && d.is_finite())) {
-        return Err(StudyError::config("--dts", format!("--dts {:?}: allowed at least two positive time steps", a.dts)));
+        return Err(StudyError::config("dts", format!("⟨dts⟩ {:?}: allowed at least two positive time steps", a.dts)));
     }
     for d in &a.dts {
         let q = a.dts[0] / d;
         if (q - q.round()).abs() > 1e-9 * q || RunConfig::new(*d, a.t_end).is_err() {
-            return Err(StudyError::config("--dts", format!("--dts: {d} must divide the first, {}, and --t-end {} a whole number of times", a.dts[0], a.t_end)));
+            return Err(StudyError::config("dts", format!("⟨dts⟩: {d} must divide the first, {}, and ⟨t_end⟩ {} a whole number of times", a.dts[0], a.t_end)));
         }
     }
     if a.js.len() < 2 || a.js.iter().any(|j| *j == 0 || j % a.js[0] != 0 || *j > 2000) || !(2..=2000).contains(&a.j) {
-        return Err(StudyError::config("--js", format!("--js {:?} / --j {}: allowed multiples of the first, each in [1, 2000] (and --j in [2, 2000])", a.js, a.j)));
+        return Err(StudyError::config("js", format!("⟨js⟩ {:?} / ⟨j⟩ {}: allowed multiples of the first, each in [1, 2000] (and ⟨j⟩ in [2, 2000])", a.js, a.j)));
     }
     if RunConfig::new(a.j_dt, a.t_end).is_err() || RunConfig::new(a.j_dt, a.dts[0]).is_err() {
-        return Err(StudyError::config("--j-dt", format!("--j-dt {}: must divide --t-end and the coarsest dt a whole number of times", a.j_dt)));
+        return Err(StudyError::config("j_dt", format!("⟨j_dt⟩ {}: must divide ⟨t_end⟩ and the coarsest dt a whole number of times", a.j_dt)));
     }
     Ok(())
 }

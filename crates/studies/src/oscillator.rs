@@ -18,36 +18,28 @@ use crate::{create_dir, fd, fde, fe, ff, int, since, Kind, StudyError, TableOut}
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_plot::{Chart, Scale, Series, Style};
 use signorini_run::study::rate;
+use signorini_scene::presets::{self, Preset};
 use signorini_scene::Limits;
 use signorini_sweep::{simulate, Sweep, SweepOptions};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/oscillator`).
-    pub out: PathBuf,
-    /// Forcing frequencies (`--omegas`, default the scene's stable period-1 range 1.6, 1.7, …, 2.2).
-    pub omegas: Vec<f64>,
-    /// Time steps (`--dts`, default 2e-3 halved eight times down to 7.8125e-6).
-    pub dts: Vec<f64>,
-    /// Forcing periods before the record window (`--transient`, default 60).
-    pub transient: f64,
-    /// Forcing periods recorded (`--record`, default 10).
-    pub record: f64,
-}
-
-impl Default for Config {
-    /// `cargo xtask oscillator` without options.
-    fn default() -> Self {
-        Config {
-            out: PathBuf::from("out/oscillator"),
-            omegas: vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
-            dts: vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6],
-            transient: 60.0,
-            record: 10.0,
-        }
+crate::options::study_config! {
+    /// The impact oscillator against its exact period-1 orbits: impact
+    /// velocity and phase errors and their rates in dt at each forcing frequency
+    /// of ⟨omegas⟩; the grazing frequency.
+    study "oscillator";
+    pub struct Config {
+        /// Forcing frequencies (the scene's stable period-1 range).
+        pub omegas: Vec<f64> = vec![1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2],
+        /// Time steps (2e-3 halved eight times).
+        pub dts: Vec<f64> = vec![2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5, 1.5625e-5, 7.8125e-6],
+        /// Forcing periods before the record window.
+        pub transient: f64 = 60.0,
+        /// Forcing periods recorded.
+        pub record: f64 = 10.0,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/oscillator"),
     }
 }
 
@@ -57,16 +49,16 @@ impl Config {
     /// ranges), naming `forcing.omega` or the scene's field.
     pub fn validate(&self) -> Result<(), StudyError> {
         if self.omegas.is_empty() || self.omegas.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
-            return Err(StudyError::config("--omegas", format!("--omegas {:?}: allowed at least one, each finite and > 0", self.omegas)));
+            return Err(StudyError::config("omegas", format!("⟨omegas⟩ {:?}: allowed at least one, each finite and > 0", self.omegas)));
         }
         if self.dts.is_empty() || self.dts.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
-            return Err(StudyError::config("--dts", format!("--dts {:?}: allowed at least one, each finite and > 0", self.dts)));
+            return Err(StudyError::config("dts", format!("⟨dts⟩ {:?}: allowed at least one, each finite and > 0", self.dts)));
         }
         if !(self.transient.is_finite() && self.transient >= 0.0) {
-            return Err(StudyError::config("--transient", format!("--transient {}: allowed finite and >= 0", self.transient)));
+            return Err(StudyError::config("transient", format!("⟨transient⟩ {}: allowed finite and >= 0", self.transient)));
         }
         if !(self.record.is_finite() && self.record > 0.0) {
-            return Err(StudyError::config("--record", format!("--record {}: allowed finite and > 0", self.record)));
+            return Err(StudyError::config("record", format!("⟨record⟩ {}: allowed finite and > 0", self.record)));
         }
         // The study compares with the one period-1 orbit of each Ω (closed
         // form, cheap): an Ω without exactly one is refused before any run.
@@ -74,8 +66,8 @@ impl Config {
             let n = exact(w).map(|o| o.period1_orbits().len()).unwrap_or(0);
             if n != 1 {
                 return Err(StudyError::config(
-                    "--omegas",
-                    format!("--omegas {w}: the scene has {n} admissible period-1 orbits there; allowed the frequencies with exactly one (the stable range, about 1.6 … 2.2)"),
+                    "omegas",
+                    format!("⟨omegas⟩ {w}: the scene has {n} admissible period-1 orbits there; allowed the frequencies with exactly one (the stable range, about 1.6 … 2.2)"),
                 ));
             }
         }
@@ -86,14 +78,18 @@ impl Config {
 /// What the study computed and wrote ([`crate::Report`]); its tables: `orbits.csv`, `rates.csv`, `grazing.csv`.
 pub type Output = crate::Report;
 
-/// The scene `data/scenes/oscillator.toml`, compiled in.
-const SCENE: &str = include_str!("../../../data/scenes/oscillator.toml");
-
+/// The scene crate's preset `oscillator.toml` at step `dt` from `(x0, v0)`,
+/// as the text a sweep reads: its values set by path and the result read by
+/// the scene reader first (an edit of a key the scene does not have fails,
+/// [`presets::set_path`]).
 fn scene_text(dt: f64, x0: f64, v0: f64) -> Result<String, StudyError> {
-    Ok(SCENE
-        .replace("dt = 1e-3", &format!("dt = {dt:e}"))
-        .replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}"))
-        .replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}")))
+    let edits = [("oscillator.dt", dt.into()), ("oscillator.initial_displacement", x0.into()), ("oscillator.initial_velocity", v0.into())];
+    let mut doc = Preset::Oscillator.document().map_err(|e| StudyError::failed("", e))?;
+    for (path, value) in edits {
+        presets::set_path(&mut doc, path, value).map_err(|e| StudyError::failed("", e))?;
+    }
+    signorini_scene::SceneFile::from_table(doc.clone()).map_err(|e| StudyError::failed("", e))?;
+    toml::to_string(&doc).map_err(|e| StudyError::Run(format!("the oscillator scene: {e}")))
 }
 
 /// The `(phase, velocity)` impacts of a run, or why it failed.
@@ -198,4 +194,28 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let wall_s = since(start);
     w_(writeln!(report, "\nwrote {} in {wall_s:.1} s", a.out.display()));
     Ok(Output { tables, report, wall_s, notes })
+}
+
+#[cfg(test)]
+mod tests {
+    /// The scene as the study built it before the presets: the data file's
+    /// text with three values replaced.
+    fn old_text(dt: f64, x0: f64, v0: f64) -> String {
+        std::fs::read_to_string(format!("{}/../../data/scenes/oscillator.toml", env!("CARGO_MANIFEST_DIR")))
+            .expect("the data file")
+            .replace("dt = 1e-3", &format!("dt = {dt:e}"))
+            .replace("initial_displacement = 0.0", &format!("initial_displacement = {x0:e}"))
+            .replace("initial_velocity = 0.0", &format!("initial_velocity = {v0:e}"))
+    }
+
+    #[test]
+    fn the_edited_preset_is_the_scene_the_text_edits_gave() {
+        for (dt, x0, v0) in [(1e-4, 0.0, 0.0), (7.8125e-6, -0.123_456_789_012_345_67, 1.0 / 3.0), (2e-3, 0.2, -0.9)] {
+            let old = signorini_scene::SceneFile::parse(&old_text(dt, x0, v0)).unwrap();
+            let new = signorini_scene::SceneFile::parse(&super::scene_text(dt, x0, v0).unwrap()).unwrap();
+            assert_eq!(new, old, "dt {dt}, x0 {x0}, v0 {v0}");
+            let o = new.oscillator.as_ref().expect("an oscillator");
+            assert_eq!((o.dt, o.initial_displacement, o.initial_velocity), (dt, Some(x0), Some(v0)));
+        }
+    }
 }

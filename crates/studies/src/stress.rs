@@ -17,24 +17,20 @@ use signorini_run::{run as run_steps, BarProblem, Observer, RunConfig, RunError,
 use signorini_schemes::SchemeSpec;
 use std::path::PathBuf;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/stress`).
-    pub out: PathBuf,
-    /// Steps per run (`--steps`, default 100 000).
-    pub steps: usize,
-    /// Elements (`--elements`, default 40).
-    pub elements: usize,
-    /// Random seed (`--seed`, default 1); run `k` of a (scheme, mass) row
-    /// uses `seed · 1000 + k` (wrapping), written as an `I64` (wrapping too).
-    pub seed: u64,
-}
-
-impl Default for Config {
-    /// `cargo xtask stress` without options.
-    fn default() -> Self {
-        Config { out: PathBuf::from("out/stress"), steps: 100_000, elements: 40, seed: 1 }
+crate::options::study_config! {
+    /// Stability stress: long runs at extreme dx/dt with random initial data;
+    /// energy drift and blow-ups.
+    study "stress";
+    pub struct Config {
+        /// Steps per run.
+        pub steps: usize = 100_000,
+        /// Elements.
+        pub elements: usize = 40,
+        /// Random seed; run `k` of a (scheme, mass) row uses
+        /// `seed · 1000 + k` (wrapping), written as an `I64` (wrapping too).
+        pub seed: u64 = 1,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/stress"),
     }
 }
 
@@ -42,12 +38,12 @@ impl Config {
     /// Every check done before a file is created; an error names the option.
     pub fn validate(&self) -> Result<(), StudyError> {
         if !(1..=1_000_000_000).contains(&self.steps) {
-            return Err(StudyError::config("--steps", format!("--steps {}: allowed 1 ..= 1e9", self.steps)));
+            return Err(StudyError::config("steps", format!("⟨steps⟩ {}: allowed 1 ..= 1e9", self.steps)));
         }
         if !(2..=signorini_fem::MAX_ELEMENTS).contains(&self.elements) {
-            return Err(StudyError::config("--elements", format!("--elements {}: allowed an integer >= 2", self.elements)));
+            return Err(StudyError::config("elements", format!("⟨elements⟩ {}: allowed an integer >= 2", self.elements)));
         }
-        crate::fits_memory("--elements", self.elements, 1)
+        crate::fits_memory("elements", self.elements, 1)
     }
 }
 

@@ -84,7 +84,7 @@ pub const ROUND_OFF: f64 = 1e-9;
 /// impact: no restitution acts there).
 pub fn reference_of(scheme: &SchemeSpec, mass: BarMass) -> Result<SchemeSpec, StudyError> {
     let e = if mass.massless_contact_node() { 0.0 } else { scheme.param("e").unwrap_or(0.0) };
-    format!("event-driven({e})").parse().map_err(|err: signorini_schemes::SchemeError| StudyError::config("--schemes", format!("--schemes {scheme}: {err}")))
+    format!("event-driven({e})").parse().map_err(|err: signorini_schemes::SchemeError| StudyError::config("schemes", format!("⟨schemes⟩ {scheme}: {err}")))
 }
 
 /// `event-driven(e)`: the reference's name in the tables.
@@ -280,7 +280,7 @@ pub fn run(cfg: &StudyConfig, reduce: Option<Keep>, out: &Path, progress: &(dyn 
         }
     }
     // The closed form (the problems' initial data and the space error's reference), built once.
-    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("--t-end", e.to_string()))?;
+    let exact = cfg.benchmark.exact(cfg.t_end).map_err(|e| StudyError::config("t_end", e.to_string()))?;
     let grouped = crate::run_cases(&groups, progress, &|(mass, m, r, ss)| run_group(cfg.benchmark, exact.as_ref(), ss, *r, *mass, *m, cfg.degree, cfg.ratio, cfg.t_end, reduce));
     let mut rows: Vec<TimeError> = Vec::new();
     for g in grouped {

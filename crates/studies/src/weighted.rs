@@ -28,20 +28,17 @@ use signorini_run::{Benchmark, History, Record, RunConfig};
 use signorini_schemes::SchemeSpec;
 use std::path::{Path, PathBuf};
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/weighted`).
-    pub out: PathBuf,
-    /// Horizon of the figure runs (`--t-end`, default 30; the paper's
-    /// figures show [0, 3]; the phase and energy tables use 3 and 30).
-    pub t_end: f64,
-}
-
-impl Default for Config {
-    /// `cargo xtask weighted` without options.
-    fn default() -> Self {
-        Config { out: PathBuf::from("out/weighted"), t_end: 30.0 }
+crate::options::study_config! {
+    /// The weighted-mass-redistribution study (mod1/mod2/mod3 × newmark-cn,
+    /// backward-euler, ps-e1, hybrid): figure runs, phase errors, energy loss and
+    /// convergence.
+    study "weighted";
+    pub struct Config {
+        /// Horizon of the figure runs (the paper's figures show [0, 3]; the
+        /// phase and energy tables use 3 and 30).
+        pub t_end: f64 = 30.0,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/weighted"),
     }
 }
 
@@ -49,10 +46,10 @@ impl Config {
     /// Every check done before a file is created; an error names `--t-end`.
     pub fn validate(&self) -> Result<(), StudyError> {
         if !(self.t_end >= 4.5 && self.t_end.is_finite()) {
-            return Err(StudyError::config("--t-end", format!("--t-end {}: allowed finite and >= 4.5 (the second impact is at t = 4)", self.t_end)));
+            return Err(StudyError::config("t_end", format!("⟨t_end⟩ {}: allowed finite and >= 4.5 (the second impact is at t = 4)", self.t_end)));
         }
         for (_, dt) in RESOLUTIONS {
-            RunConfig::new(dt, self.t_end).map_err(|e| StudyError::config("--t-end", format!("--t-end: {e}")))?;
+            RunConfig::new(dt, self.t_end).map_err(|e| StudyError::config("t_end", format!("⟨t_end⟩: {e}")))?;
         }
         Ok(())
     }

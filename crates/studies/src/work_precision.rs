@@ -65,41 +65,70 @@ use signorini_schemes::{SchemeSpec, Stepper};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-/// What to run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Output folder (`--out`, default `out/work-precision`).
-    pub out: PathBuf,
-    /// Levels m (`--levels`, default 10, 20, …, 640).
-    pub levels: Vec<usize>,
-    /// Element degrees beyond P1 (`--degrees`, default 2, 3; empty: none).
-    pub degrees: Vec<usize>,
-    /// Kept modes of the reduced models, bar and beam (`--modes`, default
-    /// 2, 4, 8, 16; empty: none).
-    pub modes: Vec<usize>,
-    /// Time steps of the beam rows (`--beam-dts`, default 1e-5 … 5e-4 s;
-    /// empty: no beam rows).
-    pub beam_dts: Vec<f64>,
-    /// The beam reference's time step (`--beam-ref-dt`, default 2.5e-7 s).
-    pub beam_ref_dt: f64,
-    /// The beam's error window `[0, w]` (`--beam-window`, default 0.1 s).
-    pub beam_window: f64,
-    /// The beam's horizon (`--beam-t-end`, default 1 s).
-    pub beam_t_end: f64,
-    /// Time steps of the beam-statistics rows (`--beam-stat-dts`, default
-    /// 5e-5, 2.5e-5, 1e-5 s; empty: none): fig. 2 with `[support]`, its
-    /// impact power over a long window against the run at `beam_stat_ref_dt`.
-    pub beam_stat_dts: Vec<f64>,
-    /// The impact power's reference step (`--beam-stat-ref-dt`, default 5e-6 s).
-    pub beam_stat_ref_dt: f64,
-    /// The statistics window in forcing periods (`--beam-stat-window`,
-    /// default 320: 201 s at ω = 10; 20 batches, after 10 periods).
-    pub beam_stat_window: f64,
-    /// The beam rows' reference (`--reference`, default the fine step).
-    pub reference: BeamReference,
-    /// Timed runs per configuration (`--repeats`, default 5, allowed
-    /// [1, 100]): the cost is their median, its spread their range.
-    pub repeats: usize,
+crate::options::study_config! {
+    /// Work–precision: error against wall time for every scheme and mass, then
+    /// the frontier on the same axes: Courant-one central difference, P2/P3
+    /// (⟨degrees⟩), reduced bar and beam models (⟨modes⟩), and the beam of
+    /// figure 2 at ⟨beam_dts⟩ against a reference at ⟨beam_ref_dt⟩ (tip error
+    /// over [0, ⟨beam_window⟩] and [0, ⟨beam_t_end⟩], first-impact error). The
+    /// beam with its support motion (fig. 2 with `[support]`) at ⟨beam_stat_dts⟩
+    /// gives its impact power over ⟨beam_stat_window⟩ forcing periods with a
+    /// 95 % interval, against ⟨beam_stat_ref_dt⟩. Empty ⟨degrees⟩, ⟨modes⟩,
+    /// ⟨beam_dts⟩ or ⟨beam_stat_dts⟩ leave those rows out.
+    study "work_precision";
+    pub struct Config {
+        /// Levels m, comma-separated.
+        pub levels: Vec<usize> = vec![10, 20, 40, 80, 160, 320, 640],
+        /// Element degrees beyond P1 (2, 3), comma-separated; empty: none.
+        pub degrees: Vec<usize> = vec![2, 3],
+        /// Kept modes of the reduced bar and beam models, comma-separated;
+        /// empty: none.
+        pub modes: Vec<usize> = vec![2, 4, 8, 16],
+        /// Time steps of the beam rows (s), comma-separated; empty: no beam
+        /// rows.
+        pub beam_dts: Vec<f64> = vec![1e-5, 2.5e-5, 5e-5, 1e-4, 2.5e-4, 5e-4],
+        /// The beam reference's time step (s).
+        pub beam_ref_dt: f64 = 2.5e-7,
+        /// The beam's error window [0, w] (s).
+        pub beam_window: f64 = 0.1,
+        /// The beam's horizon (s).
+        pub beam_t_end: f64 = 1.0,
+        /// Time steps of the beam's impact-power rows (s), comma-separated;
+        /// empty: none. Fig. 2 with `[support]`, its impact power over a
+        /// long window against the run at ⟨beam_stat_ref_dt⟩.
+        pub beam_stat_dts: Vec<f64> = vec![5e-5, 2.5e-5, 1e-5],
+        /// The impact power's reference step (s).
+        pub beam_stat_ref_dt: f64 = 5e-6,
+        /// The impact power's window (forcing periods; 320 is 201 s at
+        /// ω = 10; 20 batches, after 10 periods).
+        pub beam_stat_window: f64 = 320.0,
+        /// Output folder.
+        pub out: PathBuf = PathBuf::from("out/work-precision"),
+        /// The beam rows' reference: fine-step (the projection scheme at
+        /// ⟨beam_ref_dt⟩) or event-driven (the exact semi-discrete solution,
+        /// sampled at the largest step dividing every ⟨beam_dts⟩). The bar
+        /// rows are always measured against their closed forms (what the
+        /// convergence study's reference exact means); the beam has none,
+        /// hence fine-step where convergence says exact, and exact is
+        /// refused.
+        #[serde(deserialize_with = "de_reference")]
+        pub reference: BeamReference = BeamReference::FineStep,
+        /// Timed runs per configuration, in [1, 100]: the cost is their
+        /// median, and two configurations whose ranges [min, max] overlap
+        /// are a tie.
+        pub repeats: usize = 5,
+    }
+}
+
+fn de_reference<'de, D: serde::Deserializer<'de>>(d: D) -> Result<BeamReference, D::Error> {
+    crate::options::with::text(d, |s| s.parse())
+}
+
+impl crate::options::FieldType for BeamReference {
+    const KIND: crate::options::Kind = crate::options::Kind::Text;
+    fn show(&self) -> Option<String> {
+        Some(if *self == BeamReference::FineStep { "fine-step" } else { "event-driven" }.to_string())
+    }
 }
 
 /// The reference of the beam rows' tip errors.
@@ -127,31 +156,10 @@ impl std::str::FromStr for BeamReference {
             "fine-step" => Ok(Self::FineStep),
             "event-driven" => Ok(Self::EventDriven),
             "exact" => Err(StudyError::config(
-                "--reference",
-                "--reference \"exact\": the beam has no closed form (the bar rows are always measured against theirs, which is what `convergence --reference exact` means); this flag chooses the beam rows' reference: allowed fine-step (the projection scheme at --beam-ref-dt), event-driven (the exact semi-discrete solution)",
+                "reference",
+                "⟨reference⟩ \"exact\": the beam has no closed form (the bar rows are always measured against theirs, which is what the convergence study's reference exact means); ⟨reference⟩ chooses the beam rows' reference: allowed fine-step (the projection scheme at ⟨beam_ref_dt⟩), event-driven (the exact semi-discrete solution)",
             )),
-            _ => Err(StudyError::config("--reference", format!("--reference {s:?}: allowed fine-step, event-driven"))),
-        }
-    }
-}
-
-impl Default for Config {
-    /// `cargo xtask work-precision` without options.
-    fn default() -> Self {
-        Config {
-            out: PathBuf::from("out/work-precision"),
-            levels: vec![10, 20, 40, 80, 160, 320, 640],
-            degrees: vec![2, 3],
-            modes: vec![2, 4, 8, 16],
-            beam_dts: vec![1e-5, 2.5e-5, 5e-5, 1e-4, 2.5e-4, 5e-4],
-            beam_ref_dt: 2.5e-7,
-            beam_window: 0.1,
-            beam_t_end: 1.0,
-            beam_stat_dts: vec![5e-5, 2.5e-5, 1e-5],
-            beam_stat_ref_dt: 5e-6,
-            beam_stat_window: 320.0,
-            reference: BeamReference::FineStep,
-            repeats: 5,
+            _ => Err(StudyError::config("reference", format!("⟨reference⟩ {s:?}: allowed fine-step, event-driven"))),
         }
     }
 }
@@ -173,53 +181,53 @@ impl Config {
         for benchmark in BARS {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
-                StudyConfig::new(benchmark, schemes.clone(), vec![BarMass::Std], self.levels.clone(), r, t_end).validate().map_err(|e| StudyError::config("--levels", format!("--levels: {e}")))?;
+                StudyConfig::new(benchmark, schemes.clone(), vec![BarMass::Std], self.levels.clone(), r, t_end).validate().map_err(|e| StudyError::config("levels", format!("⟨levels⟩: {e}")))?;
             }
         }
         if let Some(&k) = self.degrees.iter().find(|&&k| !(2..=3).contains(&k)) {
-            return Err(StudyError::config("--degrees", format!("--degrees {k}: allowed 2 and 3 (P1 is always run)")));
+            return Err(StudyError::config("degrees", format!("⟨degrees⟩ {k}: allowed 2 and 3 (P1 is always run)")));
         }
         if let Some(&r) = self.modes.iter().find(|&&r| !(1..=10_000).contains(&r)) {
-            return Err(StudyError::config("--modes", format!("--modes {r}: allowed integers in [1, 10000] (levels with fewer interior modes are skipped)")));
+            return Err(StudyError::config("modes", format!("⟨modes⟩ {r}: allowed integers in [1, 10000] (levels with fewer interior modes are skipped)")));
         }
         if !(1..=100).contains(&self.repeats) {
-            return Err(StudyError::config("--repeats", format!("--repeats {}: allowed integers in [1, 100]", self.repeats)));
+            return Err(StudyError::config("repeats", format!("⟨repeats⟩ {}: allowed integers in [1, 100]", self.repeats)));
         }
         if self.reference == BeamReference::EventDriven && self.beam_dts.is_empty() {
-            return Err(StudyError::config("--reference", "--reference event-driven: it is the beam rows' reference, and --beam-dts '' asks for none; allowed with beam rows"));
+            return Err(StudyError::config("reference", "⟨reference⟩ event-driven: it is the beam rows' reference, and ⟨beam_dts⟩ '' asks for none; allowed with beam rows"));
         }
         let (w, te, rdt) = (self.beam_window, self.beam_t_end, self.beam_ref_dt);
         if !(te > 0.0 && te <= 10.0) {
-            return Err(StudyError::config("--beam-t-end", format!("--beam-t-end {te}: allowed in (0, 10] s")));
+            return Err(StudyError::config("beam_t_end", format!("⟨beam_t_end⟩ {te}: allowed in (0, 10] s")));
         }
         if !(w > 0.0 && w <= te) {
-            return Err(StudyError::config("--beam-window", format!("--beam-window {w}: allowed in (0, --beam-t-end = {te}] s")));
+            return Err(StudyError::config("beam_window", format!("⟨beam_window⟩ {w}: allowed in (0, ⟨beam_t_end⟩ = {te}] s")));
         }
         if !(rdt > 0.0 && rdt.is_finite() && te / rdt <= 4e7) {
-            return Err(StudyError::config("--beam-ref-dt", format!("--beam-ref-dt {rdt}: allowed > 0 with at most 4e7 steps to --beam-t-end = {te} s")));
+            return Err(StudyError::config("beam_ref_dt", format!("⟨beam_ref_dt⟩ {rdt}: allowed > 0 with at most 4e7 steps to ⟨beam_t_end⟩ = {te} s")));
         }
         if let Some(&dt) = self.beam_dts.iter().find(|&&dt| !(dt >= 2.0 * rdt && dt <= w)) {
-            return Err(StudyError::config("--beam-dts", format!("--beam-dts {dt}: allowed in [2 × --beam-ref-dt, --beam-window] = [{}, {w}] s", 2.0 * rdt)));
+            return Err(StudyError::config("beam_dts", format!("⟨beam_dts⟩ {dt}: allowed in [2 × ⟨beam_ref_dt⟩, ⟨beam_window⟩] = [{}, {w}] s", 2.0 * rdt)));
         }
         let stats = self.stat_config(&self.beam_stat_dts);
         stats.validate().map_err(|e| match e {
             StudyError::Config { field, message } => {
                 let flag = match field.as_str() {
-                    "--dts" => "--beam-stat-dts",
-                    _ => "--beam-stat-window",
+                    "dts" => "beam_stat_dts",
+                    _ => "beam_stat_window",
                 };
-                StudyError::config(flag, message.replacen(&field, flag, 1))
+                StudyError::Config { field: flag.to_string(), message: message.rename(&field, flag) }
             }
             other => other,
         })?;
         let r = self.beam_stat_ref_dt;
         if !(r.is_finite() && r > 0.0 && self.beam_stat_dts.iter().all(|&d| d >= 2.0 * r)) {
-            return Err(StudyError::config("--beam-stat-ref-dt", format!("--beam-stat-ref-dt {r}: allowed > 0 and at most half of every --beam-stat-dts")));
+            return Err(StudyError::config("beam_stat_ref_dt", format!("⟨beam_stat_ref_dt⟩ {r}: allowed > 0 and at most half of every ⟨beam_stat_dts⟩")));
         }
-        self.stat_config(&[r]).validate().map_err(|e| StudyError::config("--beam-stat-ref-dt", format!("--beam-stat-ref-dt {r}: {e}")))?;
+        self.stat_config(&[r]).validate().map_err(|e| StudyError::config("beam_stat_ref_dt", format!("⟨beam_stat_ref_dt⟩ {r}: {e}")))?;
         let top = self.levels.iter().copied().max().unwrap_or(0);
-        crate::fits_memory("--levels", 4 * top, 1)?;
-        crate::fits_memory("--degrees", 3 * top, 1)
+        crate::fits_memory("levels", 4 * top, 1)?;
+        crate::fits_memory("degrees", 3 * top, 1)
     }
 }
 

@@ -16,6 +16,7 @@ fn nowhere(name: &str) -> PathBuf {
 fn assert_field<T: std::fmt::Debug>(r: Result<T, StudyError>, want: &str, out: &std::path::Path) {
     match r {
         Err(StudyError::Config { field, message }) => {
+            let (field, message) = (signorini_studies::options::Spelling::Flag.spell(&field), message.render(signorini_studies::options::Spelling::Flag));
             assert_eq!(field, want, "{message}");
             // Today's messages: `--t-end 3: allowed ...`, or the sweep's own
             // `invalid levels = 0: allowed ...` (convergence keeps it).
@@ -37,7 +38,7 @@ fn convergence_refuses_empty_levels_and_a_zero_ratio() {
     // Issue 22 §11: the message starts with the flag as typed.
     let cfg = convergence::Config { levels: vec![1, 2], out: Some(out.clone()), ..Default::default() };
     match convergence::run(&cfg, NO_PROGRESS) {
-        Err(StudyError::Config { message, .. }) => assert!(message.starts_with("--levels 1: allowed every m >= 2"), "{message}"),
+        Err(StudyError::Config { message, .. }) => assert!(message.render(signorini_studies::options::Spelling::Flag).starts_with("--levels 1: allowed every m >= 2"), "{message}"),
         other => panic!("levels 1 accepted: {:?}", other.map(|o| o.out)),
     }
     let cfg = convergence::Config { ratio: Some(0.0), out: Some(out.clone()), ..Default::default() };

@@ -55,6 +55,7 @@ fn refused(cfg: beam_statistics::Config, want: &str, range: &str) {
     let out = cfg.out.clone();
     match beam_statistics::run(&cfg, &|_, _| {}) {
         Err(StudyError::Config { field, message }) => {
+            let (field, message) = (signorini_studies::options::Spelling::Flag.spell(&field), message.render(signorini_studies::options::Spelling::Flag));
             assert_eq!(field, want, "{message}");
             assert!(message.starts_with(want) && message.contains(range), "{message}");
         }

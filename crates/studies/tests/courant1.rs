@@ -196,7 +196,7 @@ fn bad_input_is_refused_before_the_folder_exists() {
         (courant1::Config { out: out.clone(), t_end: Some(f64::NAN), ..Default::default() }, "--t-end"),
     ] {
         match courant1::run(&cfg, &|_, _| {}) {
-            Err(signorini_studies::StudyError::Config { field: f, .. }) => assert_eq!(f, field),
+            Err(signorini_studies::StudyError::Config { field: f, .. }) => assert_eq!(signorini_studies::options::Spelling::Flag.spell(&f), field),
             other => panic!("{field}: {other:?}"),
         }
         assert!(!out.exists());

@@ -27,7 +27,7 @@ fn periods_impacts_and_drift() {
     let out = std::env::temp_dir().join(format!("signorini-studies-long-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let ps: SchemeSpec = "ps-e0".parse().unwrap();
-    let cfg = long_horizon::Config { out: out.clone(), runs: vec![(ps, BarMass::Mod), (ps, BarMass::Mod3)], levels: vec![20, 40], ratio: 10.0, t_end: 30.0, energy: None };
+    let cfg = long_horizon::Config { out: out.clone(), runs: vec![(ps, BarMass::Mod), (ps, BarMass::Mod3)], levels: vec![20, 40], ratio: 10.0, t_end: 30.0, energy: false, ..Default::default() };
     let o = long_horizon::run(&cfg, &|_, _| {}).unwrap();
     let (ev, im, su) = (&o.tables[0], &o.tables[1], &o.tables[2]);
     assert_eq!((ev.file.as_str(), im.file.as_str(), su.file.as_str()), ("error_vs_time.csv", "impacts.csv", "summary.csv"));
@@ -80,19 +80,16 @@ fn bad_input_names_the_option() {
         (long_horizon::Config { out: out.clone(), ratio: 0.0, ..Default::default() }, "--ratio"),
         (long_horizon::Config { out: out.clone(), t_end: 1.0, ..Default::default() }, "--t-end"),
         (long_horizon::Config { out: out.clone(), levels: vec![20000], ratio: 100.0, t_end: 3000.0, ..Default::default() }, "--t-end"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { runs: vec![], ..Default::default() }), ..Default::default() }, "--energy-runs"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { runs: vec![(mj, BarMass::Mod)], ..Default::default() }), ..Default::default() }, "--energy-runs"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { ratios: vec![], ..Default::default() }), ..Default::default() }, "--energy-ratios"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { ratios: vec![1.0, f64::NAN], ..Default::default() }), ..Default::default() }, "--energy-ratios"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { m: 1, ..Default::default() }), ..Default::default() }, "--energy-m"),
-        (long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { t_end: f64::INFINITY, ..Default::default() }), ..Default::default() }, "--energy-t-end"),
-        (
-            long_horizon::Config { out: out.clone(), energy: Some(long_horizon::EnergyTable { m: 20000, ratios: vec![100.0], t_end: 1e6, ..Default::default() }), ..Default::default() },
-            "--energy-t-end",
-        ),
+        (long_horizon::Config { out: out.clone(), energy_runs: Some(vec![]), ..Default::default() }, "--energy-runs"),
+        (long_horizon::Config { out: out.clone(), energy_runs: Some(vec![(mj, BarMass::Mod)]), ..Default::default() }, "--energy-runs"),
+        (long_horizon::Config { out: out.clone(), energy_ratios: vec![], ..Default::default() }, "--energy-ratios"),
+        (long_horizon::Config { out: out.clone(), energy_ratios: vec![1.0, f64::NAN], ..Default::default() }, "--energy-ratios"),
+        (long_horizon::Config { out: out.clone(), energy_m: 1, ..Default::default() }, "--energy-m"),
+        (long_horizon::Config { out: out.clone(), energy_t_end: f64::INFINITY, ..Default::default() }, "--energy-t-end"),
+        (long_horizon::Config { out: out.clone(), energy_m: 20000, energy_ratios: vec![100.0], energy_t_end: 1e6, ..Default::default() }, "--energy-t-end"),
     ] {
         match long_horizon::run(&cfg, &|_, _| {}) {
-            Err(StudyError::Config { field: f, .. }) => assert_eq!(f, field),
+            Err(StudyError::Config { field: f, .. }) => assert_eq!(signorini_studies::options::Spelling::Flag.spell(&f), field),
             other => panic!("{field}: {other:?}"),
         }
         assert!(!out.exists());
@@ -119,8 +116,18 @@ fn energy_growth_rows_are_independent_runs() {
     let _ = std::fs::remove_dir_all(&out);
     let p = |s: &str| -> SchemeSpec { s.parse().unwrap() };
     let runs = vec![(p("newmark-cn"), BarMass::Std), (p("newmark-cn"), BarMass::Mod), (p("ps-e0"), BarMass::Std), (p("moreau-jean"), BarMass::Lumped), (p("ps-e1"), BarMass::Mod3)];
-    let e = long_horizon::EnergyTable { runs: runs.clone(), ratios: vec![1.0, 2.0], m: 20, t_end: 600.0 };
-    let cfg = long_horizon::Config { out: out.clone(), runs: vec![(p("ps-e0"), BarMass::Mod)], levels: vec![10], ratio: 10.0, t_end: 3.0, energy: Some(e) };
+    let cfg = long_horizon::Config {
+        out: out.clone(),
+        runs: vec![(p("ps-e0"), BarMass::Mod)],
+        levels: vec![10],
+        ratio: 10.0,
+        t_end: 3.0,
+        energy_runs: Some(runs.clone()),
+        energy_ratios: vec![1.0, 2.0],
+        energy_m: 20,
+        energy_t_end: 600.0,
+        ..Default::default()
+    };
     let o = long_horizon::run(&cfg, &|_, _| {}).unwrap();
     let (g, vt) = (&o.tables[3], &o.tables[4]);
     assert_eq!((g.file.as_str(), vt.file.as_str()), ("energy_growth.csv", "energy_vs_time.csv"));

@@ -83,6 +83,7 @@ fn refused(cfg: lyapunov::Config, want: &str, range: &str) {
     let out = cfg.out.clone();
     match lyapunov::run(&cfg, &|_, _| {}) {
         Err(StudyError::Config { field, message }) => {
+            let (field, message) = (signorini_studies::options::Spelling::Flag.spell(&field), message.render(signorini_studies::options::Spelling::Flag));
             assert_eq!(field, want, "{message}");
             assert!(message.starts_with(want) && message.contains(range), "{message}");
         }

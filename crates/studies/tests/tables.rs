@@ -197,6 +197,7 @@ fn convergence_refuses_a_folder_of_another_configuration() {
     let rates_before = std::fs::read_to_string(out.join("rates.csv")).expect("rates");
     match convergence::run(&with("newmark-cn", false), &|_, _| {}) {
         Err(signorini_studies::StudyError::Config { field, message }) => {
+            let (field, message) = (signorini_studies::options::Spelling::Flag.spell(&field), message.render(signorini_studies::options::Spelling::Flag));
             assert_eq!(field, "--out", "{message}");
             assert!(message.contains("ps-e1_std.csv") && message.contains("--clean"), "{message}");
         }

@@ -67,6 +67,7 @@ fn no_reduced_model_no_verdict_and_timings_apart() {
 fn refused(r: Result<work_precision::Output, StudyError>, flag: &str, says: &str) {
     match r {
         Err(StudyError::Config { field, message }) => {
+            let (field, message) = (signorini_studies::options::Spelling::Flag.spell(&field), message.render(signorini_studies::options::Spelling::Flag));
             assert_eq!(field, flag, "{message}");
             assert!(message.contains(says), "{message}");
         }
@@ -83,6 +84,7 @@ fn repeats_and_reference_are_refused_with_the_reason() {
     }
     match "exact".parse::<work_precision::BeamReference>() {
         Err(StudyError::Config { field, message }) => {
+            let (field, message) = (signorini_studies::options::Spelling::Flag.spell(&field), message.render(signorini_studies::options::Spelling::Flag));
             assert_eq!(field, "--reference");
             assert!(message.contains("the beam has no closed form") && message.contains("allowed fine-step") && message.contains("event-driven"), "{message}");
         }
