@@ -5,7 +5,13 @@
 //!
 //! `cargo bench -p signorini-run --bench step`; divan prints the time per
 //! iteration (one iteration = `STEPS` steps) and the throughput in
-//! dof-steps/s. The README records the ratios (a)/floor and (b)/floor.
+//! dof-steps/s. docs/performance.md records the ratios (a)/floor and
+//! (b)/floor, the `parts_*` (what (b) adds, piece by piece) and the beam's
+//! β-step against its band solve.
+//!
+//! On a machine shared with other processes, shorter samples fit between
+//! their time slices: `DOF_STEPS=200000 cargo bench ...` (default 2·10⁶
+//! dof-steps per sample), and compare the fastest samples.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
@@ -19,7 +25,7 @@ fn main() {
 
 const SIZES: [usize; 3] = [100, 1000, 10000];
 
-/// Steps per iteration: about 2·10⁶ dof-steps per sample.
+/// Steps per iteration: about 2·10⁶ dof-steps per sample (`DOF_STEPS`).
 fn steps(m: usize) -> usize {
     (std::env::var("DOF_STEPS").ok().and_then(|s| s.parse::<usize>().ok()).unwrap_or(2_000_000) / m).max(10)
 }
