@@ -19,13 +19,59 @@ pub(crate) fn phase(t: f64) -> Option<(u8, f64)> {
     if !t.is_finite() {
         return None;
     }
-    let tp = t.rem_euclid(3.0);
-    let p = tp.floor();
+    let tp = rem3(t);
+    // ⌊tp⌋ by truncation where that is the same value (tp > 0; `floor` is
+    // a library call on the baseline x86-64 target).
+    let p = if tp > 0.0 { f64::from(tp as u8) } else { tp.floor() };
     // rem_euclid can return 3.0 for tiny negative t; fold it back.
     if p >= 3.0 {
         return Some((0, 0.0));
     }
     Some((p as u8, tp - p))
+}
+
+/// `t.rem_euclid(3.0)`, the same bits, without the library `fmod` call
+/// (tens of ns; the norms ask for the phase several times per step), for
+/// `0 < t < 2⁴⁸`. Let `j = ⌊t/3⌋` (exact quotient). Rounding is monotone and
+/// `3j/3` rounds to `j`, so the rounded `t/3` gives `k = j` or `j + 1`; `3k`
+/// is exact (`k < 2⁴⁸`), and so is `t − 3k`: `0` for `k = 0`, otherwise
+/// Sterbenz's lemma (`t/2 <= 3k <= 2t`, as `t >= 3/2` when `k >= 1`). The
+/// true remainder `t − 3j ∈ [0, 3)` is a multiple of `t`'s ulp no larger
+/// than `t`, hence representable: `r` itself, or `r + 3` rounded exactly.
+/// That is what `fmod` returns. Elsewhere (`t <= 0`, huge, non-finite):
+/// `rem_euclid` itself.
+#[inline]
+fn rem3(t: f64) -> f64 {
+    if !(t > 0.0 && t < 281_474_976_710_656.0) {
+        return t.rem_euclid(3.0);
+    }
+    // ⌊t/3⌋ by truncation (t/3 in (0, 2⁴⁸): the same value as `floor`).
+    let k = ((t / 3.0) as u64) as f64;
+    let r = t - 3.0 * k;
+    if r < 0.0 {
+        r + 3.0
+    } else {
+        r
+    }
+}
+
+/// `out[i] = zone(x_i)` with `x_i` clamped onto `[0, 1]` (`on_bar`), NaN off the bar.
+#[inline(always)]
+fn each_on_bar(xs: &[f64], out: &mut [f64], zone: impl Fn(f64) -> f64) {
+    let (lo, hi) = (-crate::X_SLACK, 1.0 + crate::X_SLACK);
+    for (x, o) in xs.iter().zip(out.iter_mut()) {
+        *o = select(*x >= lo && *x <= hi, zone(x.clamp(0.0, 1.0)), f64::NAN);
+    }
+}
+
+/// `if c { a } else { b }`, both computed (a select, not a branch).
+#[inline(always)]
+fn select(c: bool, a: f64, b: f64) -> f64 {
+    if c {
+        a
+    } else {
+        b
+    }
 }
 
 #[inline]
@@ -72,13 +118,21 @@ impl ExactSolution for BarDirichlet {
             _ => UNDEFINED,
         }
     }
+    /// [`fields`](Self::fields)' `u` at every point, the phase found once
+    /// and each zone's value chosen without a branch (so the loop
+    /// vectorises): the same operations on the same clamped `x`, the same bits.
     fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
-        let ph = phase(t);
-        for (x, o) in xs.iter().zip(out.iter_mut()) {
-            *o = match (ph, on_bar(*x, 1.0)) {
-                (Some((p, tau)), Some(x)) => eval(p, tau, x).u,
-                _ => f64::NAN,
-            };
+        let Some((p, tau)) = phase(t) else {
+            out.iter_mut().take(xs.len()).for_each(|o| *o = f64::NAN);
+            return;
+        };
+        // `eval_zone`'s values that depend on τ alone.
+        let (approach, contact_left, contact_right, flight) = ((1.0 - tau) / 2.0, -tau / 2.0, (tau - 1.0) / 2.0, tau / 2.0);
+        // One loop per phase (a `match` inside would keep it scalar).
+        match p {
+            0 => each_on_bar(xs, out, |x| select(x < tau, approach, (1.0 - x) / 2.0)),
+            1 => each_on_bar(xs, out, |x| select(x + tau < 1.0, select(x < tau, -x / 2.0, contact_left), select(x < tau, contact_right, (x - 1.0) / 2.0))),
+            _ => each_on_bar(xs, out, |x| select(x + tau < 1.0, flight, (1.0 - x) / 2.0)),
         }
     }
     /// NaN for a non-finite `t`.
@@ -104,5 +158,58 @@ impl ExactSolution for BarDirichlet {
     }
     fn period(&self) -> Option<f64> {
         Some(3.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// `rem3` is `rem_euclid(3.0)` bit for bit, and the phase the one
+    /// `rem_euclid` and `floor` give: at the levels `n dt` of the
+    /// runs (the studies' `dt`), at and around multiples of the period
+    /// (the quotient's rounding), below and at the fast path's bounds, for
+    /// signed zeros, negative, huge and non-finite `t`.
+    #[test]
+    fn rem3_is_rem_euclid_bit_for_bit() {
+        let mut ts = vec![0.0, -0.0, 1e-300, 5e-324, -1e-300, -2.5, -3.0, 1.5, 3.0, 6.0, 9.0, 2.0_f64.powi(48), 2.0_f64.powi(48) - 1.0, 1e17, f64::MAX, f64::INFINITY, f64::NEG_INFINITY, f64::NAN];
+        for dt in [1e-2, 1e-3, 1.0 / 3.0, 1.0 / 640.0, 1.0 / 1280.0 / 10.0, 3.0 / 7.0, 0.1, 1e-6] {
+            ts.extend((0..20_000).map(|n| n as f64 * dt));
+        }
+        for j in 0..2000u32 {
+            let p = 3.0 * f64::from(j) * (1.0 + f64::from(j % 7) * 1e3);
+            let mut x = p;
+            for _ in 0..4 {
+                x = f64::from_bits(x.to_bits() - 1);
+                ts.push(x);
+            }
+            x = p;
+            for _ in 0..4 {
+                ts.push(x);
+                x = f64::from_bits(x.to_bits() + 1);
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            // Uniform bits of t in [2⁻¹⁰, 2⁵⁰).
+            let e = (state % 60) as i32 - 10;
+            let mant = f64::from_bits(0x3ff0_0000_0000_0000 | (state >> 12));
+            ts.push(mant * 2.0_f64.powi(e));
+        }
+        // The phase as it was computed with the library's rem_euclid and floor.
+        let reference = |t: f64| -> Option<(u8, u64)> {
+            if !t.is_finite() {
+                return None;
+            }
+            let tp = t.rem_euclid(3.0);
+            let p = tp.floor();
+            Some(if p >= 3.0 { (0, 0) } else { (p as u8, (tp - p).to_bits()) })
+        };
+        for t in ts {
+            let (a, b) = (super::rem3(t), t.rem_euclid(3.0));
+            assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "t = {t:e}: {a:e} vs rem_euclid {b:e}");
+            assert_eq!(super::phase(t).map(|(p, tau)| (p, tau.to_bits())), reference(t), "phase at t = {t:e}");
+        }
     }
 }

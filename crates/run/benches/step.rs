@@ -5,7 +5,13 @@
 //!
 //! `cargo bench -p signorini-run --bench step`; divan prints the time per
 //! iteration (one iteration = `STEPS` steps) and the throughput in
-//! dof-steps/s. The README records the ratios (a)/floor and (b)/floor.
+//! dof-steps/s. docs/performance.md records the ratios (a)/floor and
+//! (b)/floor, the `parts_*` (what (b) adds, piece by piece) and the beam's
+//! β-step against its band solve.
+//!
+//! On a machine shared with other processes, shorter samples fit between
+//! their time slices: `DOF_STEPS=200000 cargo bench ...` (default 2·10⁶
+//! dof-steps per sample), and compare the fastest samples.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
@@ -19,9 +25,9 @@ fn main() {
 
 const SIZES: [usize; 3] = [100, 1000, 10000];
 
-/// Steps per iteration: about 2·10⁶ dof-steps per sample.
+/// Steps per iteration: about 2·10⁶ dof-steps per sample (`DOF_STEPS`).
 fn steps(m: usize) -> usize {
-    (2_000_000 / m).max(10)
+    (std::env::var("DOF_STEPS").ok().and_then(|s| s.parse::<usize>().ok()).unwrap_or(2_000_000) / m).max(10)
 }
 
 fn setup(m: usize) -> (Box<dyn Stepper>, Vec<f64>, f64, Box<dyn signorini_exact::ExactSolution>) {
@@ -52,6 +58,56 @@ fn b_stepping_with_all_norms(bencher: Bencher, m: usize) {
         let cfg = RunConfig::new(dt, dt * n as f64).unwrap();
         run(s.as_mut(), &u0, &cfg, &mut [&mut norms]).unwrap();
         divan::black_box(norms.report());
+    });
+}
+
+/// Where (b)'s extra time goes, part by part, per dof and step: the scheme's
+/// discrete energy (`Stepper::energy`, asked for at every level by the
+/// norm observer), the exact space errors (`SpaceIntegrator::errors`:
+/// the exact solution at the nodes, the element sums, the kinked
+/// elements), and the exact solution at the nodes alone.
+#[divan::bench(args = SIZES)]
+fn parts_energy(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    bencher
+        .counter(ItemsCount::new(m * n))
+        .with_inputs(|| {
+            let (mut s, _, _, _) = setup(m);
+            s.step().unwrap();
+            s
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..n {
+                divan::black_box(s.energy());
+            }
+            s
+        });
+}
+
+#[divan::bench(args = SIZES)]
+fn parts_space_errors(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| setup(m)).bench_local_values(|(s, u0, dt, exact)| {
+        let mut space = signorini_norms::SpaceIntegrator::new(exact.as_ref(), m, signorini_norms::VNorm::H1Seminorm);
+        let u = &u0[..];
+        for k in 0..n {
+            divan::black_box(space.errors(k as f64 * dt, divan::black_box(u)));
+        }
+        s
+    });
+}
+
+#[divan::bench(args = SIZES)]
+fn parts_exact_at_nodes(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| setup(m)).bench_local_values(|(s, _, dt, exact)| {
+        let nodes: Vec<f64> = (0..=m).map(|i| i as f64 / m as f64).collect();
+        let mut out = vec![0.0; m + 1];
+        for k in 0..n {
+            exact.u_at(k as f64 * dt, &nodes, &mut out);
+            divan::black_box(&mut out);
+        }
+        s
     });
 }
 

@@ -193,6 +193,39 @@ fn forward_backward_fused(l: &[f64], inv_d: &[f64], m_d: &[f64], m_s: &[f64], u:
     }
 }
 
+/// `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` on the tridiagonal path in one pass: the
+/// sums of [`BandLdlt::inverse_quad_form`] over `p[s..]` with the factor
+/// `(l, inv_d)` of the massive block, of `SymBand::quad_form` with `K`'s
+/// diagonal `kd` and sub-diagonal `ks`, and of the load's dot product (an
+/// iterator sum: from `-0.0`), each with its own operations in its own
+/// order — so the same bits as the three calls — but their loop-carried
+/// dependencies side by side instead of one after another
+/// (`benches/step.rs`, `parts_energy`).
+#[allow(clippy::too_many_arguments)]
+fn energy_sums_tri(l: &[f64], inv_d: &[f64], s: usize, p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
+    let n = u.len();
+    let (p, kd, ks, load) = (&p[..n], &kd[..n], &ks[..n], &load[..n]);
+    let (l, inv_d) = (&l[..n - s], &inv_d[..n - s]);
+    let (mut pot, mut lw) = (0.0, -0.0);
+    // Rows 0..=s; `quad_form`'s off-diagonal sum starts at 0.0.
+    for i in 0..=s {
+        let off = if i == 0 { 0.0 } else { 0.0 + ks[i] * u[i - 1] };
+        pot += u[i] * (kd[i] * u[i] + 2.0 * off);
+        lw += load[i] * u[i];
+    }
+    let mut prev = p[s];
+    let mut kin = prev * prev * inv_d[0];
+    let it = u[s..n - 1].iter().zip(&u[s + 1..]).zip(&kd[s + 1..]).zip(&ks[s + 1..]).zip(&load[s + 1..]);
+    for ((((((ul, ui), di), si), fi), pi), (li, ldi)) in it.zip(&p[s + 1..]).zip(l[1..].iter().zip(&inv_d[1..])) {
+        prev = pi - li * prev;
+        kin += prev * prev * ldi;
+        let off = 0.0 + si * ul;
+        pot += ui * (di * ui + 2.0 * off);
+        lw += fi * ui;
+    }
+    (kin, pot, lw)
+}
+
 impl OneStep {
     /// Sets up the scheme: factorises `M + a dt² K` and the massive block of
     /// `M`, and computes `P^0 = M V^0`, `R^0 = F - K U^0` (`λ^0 = 0`).
@@ -672,9 +705,10 @@ impl Stepper for OneStep {
 
     fn energy(&mut self) -> Option<(f64, f64)> {
         let s = self.dy.massive_start();
-        let kin = self.m_massive.inverse_quad_form(&self.mom[s..]);
-        let pot = self.dy.stiffness.quad_form(&self.u);
-        let load: f64 = self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+        let (kin, pot, load) = match (&self.tri, self.m_massive.tridiagonal_factors()) {
+            (Some(t), Some((l, inv_d))) => energy_sums_tri(l, inv_d, s, &self.mom, &t.kd, &t.ks, &self.u, &self.dy.load),
+            _ => (self.m_massive.inverse_quad_form(&self.mom[s..]), self.dy.stiffness.quad_form(&self.u), self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum()),
+        };
         let spring = match self.law {
             ContactLaw::Projection => 0.0,
             // `kappas` is set with the penalty law (`with_contact_law`).

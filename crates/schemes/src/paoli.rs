@@ -91,6 +91,97 @@ pub struct PaoliSchatzman {
     release: Option<Release>,
     /// The explicit step with a diagonal mass, fused (see [`ExplicitDiagonal`]).
     explicit: Option<ExplicitDiagonal>,
+    /// Half-bandwidth 3 (the beam): `M` and `K` by diagonals, for the
+    /// right-hand side in one vectorised pass (see [`Bands3`]).
+    bands: Option<Bands3>,
+}
+
+/// `M` and `K` of half-bandwidth 3 stored by diagonals (`m[k][i] =
+/// M[i][i-k]`), so that the right-hand side's two banded products
+/// `M (2U^n − U^{n−1})` and `K ((1−2β) U^n + β U^{n−1})` and the sum
+/// `M x + dt² (F − K y)` are one pass over contiguous slices that the
+/// compiler vectorises across rows (the row-major product of
+/// `SymBand::mul_vec_p3` gathers each row's window). Every row is summed
+/// in `mul_vec_p3`'s order — interior rows as
+/// `(r₀x_i + r₁x_{i−1} + r₂x_{i−2} + r₃x_{i−3}) + (c₁x_{i+1} + c₂x_{i+2} + c₃x_{i+3})`,
+/// the three first and last rows the diagonal term then each neighbour
+/// left and right — so the same bits (the lockstep tests compare it with
+/// the lockstep kernel's own copy of that arithmetic; cost:
+/// `crates/run/benches/step.rs`, `beam_beta_scheme_step`).
+/// Compiled for the baseline target and with AVX2, chosen at run time
+/// (no FMA in either).
+struct Bands3 {
+    m: [Vec<f64>; 4],
+    k: [Vec<f64>; 4],
+    avx2: bool,
+}
+
+impl Bands3 {
+    fn new(dy: &Dynamics) -> Option<Self> {
+        let n = dy.n();
+        let applies = n > 6 && dy.mass.half_bandwidth() == 3 && dy.stiffness.half_bandwidth() == 3;
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        applies.then(|| Self { m: std::array::from_fn(|k| dy.mass.diagonal(k)), k: std::array::from_fn(|k| dy.stiffness.diagonal(k)), avx2 })
+    }
+
+    /// `out = M x + dt² (f − K y)`.
+    fn rhs(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the CPU reports AVX2.
+            return unsafe { self.rhs_avx2(dt2, x, y, f, out) };
+        }
+        self.rhs_body(dt2, x, y, f, out)
+    }
+
+    /// [`rhs_body`](Self::rhs_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn rhs_avx2(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64], out: &mut [f64]) {
+        self.rhs_body(dt2, x, y, f, out)
+    }
+
+    #[inline(always)]
+    fn rhs_body(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64], out: &mut [f64]) {
+        let n = x.len();
+        let (x, y, f, out) = (&x[..n], &y[..n], &f[..n], &mut out[..n]);
+        // The first and last three rows: `mul_vec_p3`'s `row` closure.
+        let edge = |d: &[Vec<f64>; 4], v: &[f64], i: usize| -> f64 {
+            let mut s = d[0][i] * v[i];
+            for k in 1..=3 {
+                if i >= k {
+                    s += d[k][i] * v[i - k];
+                }
+                if i + k < n {
+                    s += d[k][i + k] * v[i + k];
+                }
+            }
+            s
+        };
+        for i in (0..3).chain(n - 3..n) {
+            out[i] = edge(&self.m, x, i) + dt2 * (f[i] - edge(&self.k, y, i));
+        }
+        // Interior rows 3..n-3, every slice aligned on row i.
+        let r = 3..n - 3;
+        let (m0, m1, m2, m3) = (&self.m[0][r.clone()], &self.m[1][r.clone()], &self.m[2][r.clone()], &self.m[3][r.clone()]);
+        let (mc1, mc2, mc3) = (&self.m[1][4..n - 2], &self.m[2][5..n - 1], &self.m[3][6..n]);
+        let (k0, k1, k2, k3) = (&self.k[0][r.clone()], &self.k[1][r.clone()], &self.k[2][r.clone()], &self.k[3][r.clone()]);
+        let (kc1, kc2, kc3) = (&self.k[1][4..n - 2], &self.k[2][5..n - 1], &self.k[3][6..n]);
+        let xs: [&[f64]; 7] = std::array::from_fn(|j| &x[j..n - 6 + j]);
+        let ys: [&[f64]; 7] = std::array::from_fn(|j| &y[j..n - 6 + j]);
+        let (f, out) = (&f[r.clone()], &mut out[r]);
+        for j in 0..n - 6 {
+            let mx = (m0[j] * xs[3][j] + m1[j] * xs[2][j] + m2[j] * xs[1][j] + m3[j] * xs[0][j]) + (mc1[j] * xs[4][j] + mc2[j] * xs[5][j] + mc3[j] * xs[6][j]);
+            let ky = (k0[j] * ys[3][j] + k1[j] * ys[2][j] + k2[j] * ys[1][j] + k3[j] * ys[0][j]) + (kc1[j] * ys[4][j] + kc2[j] * ys[5][j] + kc3[j] * ys[6][j]);
+            out[j] = mx + dt2 * (f[j] - ky);
+        }
+    }
 }
 
 /// The characteristic release rule (docs/theory.md §4.10): at Courant number
@@ -308,6 +399,7 @@ impl PaoliSchatzman {
         let proj = Projection::new(c, w)?;
         let terms = dy.forcing.len();
         let explicit = ExplicitDiagonal::new(&dy, beta, &a);
+        let bands = Bands3::new(&dy);
         Ok(Self {
             label,
             beta,
@@ -336,6 +428,7 @@ impl PaoliSchatzman {
             marked: vec![false; k],
             release: None,
             explicit,
+            bands,
         }
         .with_means())
     }
@@ -441,16 +534,24 @@ impl PaoliSchatzman {
     fn general_unconstrained(&mut self) {
         let dt2 = self.dt * self.dt;
         let beta = self.beta;
-        for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
-            *t = 2.0 * u - up;
-        }
-        self.dy.mass.mul_vec(&self.tmp, &mut self.rhs);
-        for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
-            *t = (1.0 - 2.0 * beta) * u + beta * up;
-        }
-        self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
-        for ((b, f), k) in self.rhs.iter_mut().zip(&self.dy.load).zip(&self.ktmp) {
-            *b += dt2 * (f - k);
+        if let Some(b3) = &self.bands {
+            for (((t, k), u), up) in self.tmp.iter_mut().zip(self.ktmp.iter_mut()).zip(&self.u).zip(&self.u_prev) {
+                *t = 2.0 * u - up;
+                *k = (1.0 - 2.0 * beta) * u + beta * up;
+            }
+            b3.rhs(dt2, &self.tmp, &self.ktmp, &self.dy.load, &mut self.rhs);
+        } else {
+            for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
+                *t = 2.0 * u - up;
+            }
+            self.dy.mass.mul_vec(&self.tmp, &mut self.rhs);
+            for ((t, u), up) in self.tmp.iter_mut().zip(&self.u).zip(&self.u_prev) {
+                *t = (1.0 - 2.0 * beta) * u + beta * up;
+            }
+            self.dy.stiffness.mul_vec(&self.tmp, &mut self.ktmp);
+            for ((b, f), k) in self.rhs.iter_mut().zip(&self.dy.load).zip(&self.ktmp) {
+                *b += dt2 * (f - k);
+            }
         }
         // + dt/2 C U^{n-1} (damping, centred).
         if let Some(cm) = &self.dy.damping {

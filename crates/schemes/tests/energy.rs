@@ -396,3 +396,37 @@ fn cd_taylor_takes_its_cfl_limit_and_refuses_beyond() {
         }
     }
 }
+
+/// The bar's energy `½ Pᵀ M⁺ P + ½ Uᵀ K U − Fᵀ U` (summed in one fused pass on the
+/// tridiagonal path) is, bit for bit, the sum of the three separate forms of
+/// `signorini-fem` (`BandLdlt::inverse_quad_form` of `M`'s massive block,
+/// `SymBand::quad_form`, the load's dot product) evaluated on the scheme's
+/// own `P` and `U` — every mass treatment (massless contact node or not),
+/// free and clamped ends, after steps with and without contact. The energy
+/// is written to `data/reference` (the convergence CSVs' energy errors), so
+/// a faster form must not move its last bit.
+#[test]
+fn bar_energy_is_the_three_separate_forms_bit_for_bit() {
+    use signorini_schemes::{OneStep, OneStepParams, Stepper};
+    for mass in MASSES {
+        for free in [false, true] {
+            for m in [2usize, 3, 17] {
+                let (dy, _) = bar_scene(m, mass, free, 0.0, -0.2, bar_forcing(if free { m + 1 } else { m }, m, 0.05, 7.0));
+                let n = dy.n();
+                let init = approaching(n, m, 0.0, 0.01, 0.6, 0.3, 2.0);
+                let s = usize::from(mass.massless_contact_node());
+                let m_massive = dy.mass.trailing(s).factor().unwrap();
+                let (k, load) = (dy.stiffness.clone(), dy.load.clone());
+                let mut st = OneStep::new("cn".into(), dy, OneStepParams::newmark(0.25, 0.5), 0.01, &init).unwrap();
+                for step in 0..40 {
+                    let (u, p) = (st.displacement().to_vec(), st.momentum().to_vec());
+                    let lw: f64 = load.iter().zip(&u).map(|(f, u)| f * u).sum();
+                    let expected = 0.5 * m_massive.inverse_quad_form(&p[s..]) + 0.5 * k.quad_form(&u) - lw;
+                    let got = st.energy().unwrap().1;
+                    assert!(got.to_bits() == expected.to_bits(), "{mass:?} free {free} m = {m}, step {step}: {got:e} vs {expected:e}");
+                    st.step().unwrap();
+                }
+            }
+        }
+    }
+}
