@@ -266,9 +266,10 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let target = std::env::var("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|_| root.join("target"));
     let venv = target.join("py-venv");
     let py = venv.join("bin/python");
-    // "Cold": no test binary and no environment yet (the xtask binary
-    // itself is necessarily built).
-    let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("convergence-"))).unwrap_or(false);
+    // "Cold": no test binary (tests/independent.rs's, a binary of its own
+    // under that name) and no environment yet (the xtask binary itself is
+    // necessarily built).
+    let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("independent-"))).unwrap_or(false);
     let mut rec = Record::default();
     // The phases that failed, each with whether it reported a failed test.
     let mut failed: Vec<(String, bool)> = Vec::new();
