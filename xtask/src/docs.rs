@@ -843,7 +843,7 @@ pub fn check_markdown(root: &Path) -> Result<(), String> {
     let mut bad = Vec::new();
     let readme = std::fs::read_to_string(root.join("README.md")).map_err(|e| format!("README.md: {e}"))?;
     bad.extend(readme_rules(&readme));
-    let test = std::fs::read_to_string(root.join("tests/readme.rs")).unwrap_or_default();
+    let test = std::fs::read_to_string(root.join("tests/it/readme.rs")).unwrap_or_default();
     bad.extend(readme_rust_is_tested(&readme, &test));
     for f in ["README.md", "ARCHITECTURE.md"] {
         bad.extend(check_links(root, f));
@@ -856,12 +856,12 @@ pub fn check_markdown(root: &Path) -> Result<(), String> {
 }
 
 /// The README's ```rust block is, line for line (indentation aside), the
-/// code between the markers of `tests/readme.rs`, which compiles and runs it.
+/// code between the markers of `tests/it/readme.rs`, which compiles and runs it.
 pub fn readme_rust_is_tested(readme: &str, test: &str) -> Vec<String> {
     let block: Vec<&str> = readme.lines().skip_while(|l| l.trim() != "```rust").skip(1).take_while(|l| l.trim() != "```").map(str::trim).collect();
     let tested: Vec<&str> = test.lines().skip_while(|l| l.trim() != "// README quick start: begin").skip(1).take_while(|l| l.trim() != "// README quick start: end").map(str::trim).collect();
     if block.is_empty() || block != tested {
-        vec!["README.md: its ```rust quick start differs from the code between the markers of tests/readme.rs (which compiles and runs it): change both".into()]
+        vec!["README.md: its ```rust quick start differs from the code between the markers of tests/it/readme.rs (which compiles and runs it): change both".into()]
     } else {
         Vec::new()
     }

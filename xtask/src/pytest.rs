@@ -5,9 +5,10 @@
 //! --all-targets -- -D warnings`, `cargo doc --workspace --no-deps` with
 //! `RUSTDOCFLAGS=-D warnings`), then the Python
 //! package built by maturin into a virtual environment this command creates
-//! (`target/py-venv`, with maturin, numpy, pytest, dask.distributed (the
-//! scale-out test) and matplotlib (the examples) from the package index)
-//! and its pytest suite (`python/tests`), then the user guide: the
+//! while the Rust tests build and run (`target/py-venv`, with maturin,
+//! numpy, pytest, dask.distributed (the scale-out test) and matplotlib (the
+//! examples) from the package index) and its pytest suite
+//! (`python/tests`), then the user guide: the
 //! generated tables checked against `data/reference` (`cargo xtask docs
 //! --check`) and `mkdocs build --strict` (MkDocs, the Material theme and
 //! mkdocstrings from the package index into the same environment) into
@@ -242,6 +243,21 @@ fn lints(cargo: &str, root: &Path) -> Result<(), String> {
     run(Command::new(cargo).current_dir(root).env("RUSTDOCFLAGS", "-D warnings").args(["doc", "--workspace", "--no-deps", "--release"]), "cargo doc (warnings denied)")
 }
 
+/// The test environment: `target/py-venv` (created when absent) with the
+/// build tools, the test dependencies and the guide's tools from the
+/// package index (upgraded when newer ones are allowed).
+fn python_env(py: &Path, venv: &Path) -> Result<(), String> {
+    if !py.exists() {
+        run(Command::new("python3").args(["-m", "venv"]).arg(venv), "python3 -m venv")?;
+    }
+    run(
+        Command::new(py)
+            .args(["-m", "pip", "install", "-q", "--disable-pip-version-check", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"])
+            .args(GUIDE_PACKAGES),
+        "pip install maturin numpy pytest dask[distributed] matplotlib mkdocs mkdocs-material mkdocstrings[python]",
+    )
+}
+
 /// `cargo xtask test`.
 pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let start = Instant::now();
@@ -250,13 +266,26 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let target = std::env::var("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|_| root.join("target"));
     let venv = target.join("py-venv");
     let py = venv.join("bin/python");
-    // "Cold": no test binary and no environment yet (the xtask binary
-    // itself is necessarily built).
-    let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("convergence-"))).unwrap_or(false);
+    // "Cold": no test binary (tests/independent.rs's, a binary of its own
+    // under that name) and no environment yet (the xtask binary itself is
+    // necessarily built).
+    let cold = !venv.exists() && !target.join("release/deps").read_dir().map(|d| d.filter_map(|e| e.ok()).any(|e| e.file_name().to_string_lossy().starts_with("independent-"))).unwrap_or(false);
     let mut rec = Record::default();
     // The phases that failed, each with whether it reported a failed test.
     let mut failed: Vec<(String, bool)> = Vec::new();
     let mut not_run: Vec<&str> = Vec::new();
+    // The Python environment waits mostly on the package index and the
+    // disk, not on the processor: it is made while the Rust tests build and
+    // run (on two cores, their compilation leaves it the gaps), and joined
+    // before the wheel, the first phase that needs it.
+    let env = {
+        let (py, venv) = (py.clone(), venv.clone());
+        std::thread::spawn(move || {
+            let t = Instant::now();
+            let r = python_env(&py, &venv);
+            (r, t.elapsed().as_secs_f64())
+        })
+    };
     if !a.python_only {
         let (lines, r) = rec.time("Rust: build and run the tests", || {
             Ok(run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"]), "cargo test"))
@@ -269,15 +298,13 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             failed.push((e, false));
         }
     }
-    let env = rec.time("Python: the environment and the packages", || {
-        if !py.exists() {
-            run(Command::new("python3").args(["-m", "venv"]).arg(&venv), "python3 -m venv")?;
+    let env = match env.join() {
+        Ok((r, t)) => {
+            rec.phases.push(("Python: the environment and the packages (made while the Rust tests build and run)", t));
+            r
         }
-        run(
-            Command::new(&py).args(["-m", "pip", "install", "-q", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"]).args(GUIDE_PACKAGES),
-            "pip install maturin numpy pytest dask[distributed] matplotlib mkdocs mkdocs-material mkdocstrings[python]",
-        )
-    });
+        Err(_) => Err("the Python environment's thread panicked".into()),
+    };
     let wheel = env.and_then(|()| {
         rec.time("Python: build and install the wheel, build the command", || {
             let wheels = target.join("wheels");
@@ -393,5 +420,40 @@ mod tests {
         let (detail, total) = verdict_lines(&rec, &[("cargo clippy -D warnings failed".into(), false), ("maturin build failed".into(), false)], &["the Python tests"], None);
         assert!(detail.starts_with("signorini tests: FAIL") && detail.contains("not run: the Python tests"), "{detail}");
         assert_eq!(total, "tests: 443 passed, 3 failed");
+    }
+
+    /// The packages of one build as `cargo tree` resolves them: each
+    /// package (name, version, source) with the feature sets it is built
+    /// with (a package built for the host and for the target has two).
+    fn features(args: &[&str]) -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let out = Command::new(cargo).current_dir(root()).arg("tree").args(args).args(["--prefix", "none", "--no-dedupe", "-f", "{p}|{f}"]).output().expect("cargo tree starts");
+        assert!(out.status.success(), "cargo tree {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let mut map = std::collections::BTreeMap::<String, std::collections::BTreeSet<String>>::new();
+        for line in String::from_utf8_lossy(&out.stdout).lines() {
+            let Some((p, f)) = line.split_once('|') else { continue };
+            let p = p.replace(" (proc-macro)", "").replace(" (*)", "");
+            map.entry(p.trim().to_string()).or_default().insert(f.trim().to_string());
+        }
+        map
+    }
+
+    /// The README's test command reuses what `cargo xtask convergence`
+    /// built, and the wheel what the tests built (ARCHITECTURE.md, "One
+    /// set of dependency artifacts"): every package the xtask binary's
+    /// build and the wheel's share with the workspace's test build is
+    /// resolved to the same features (a feature one build adds — syn 3's
+    /// `extra-traits`, turned on by the wheel's pyo3 macros — changes that
+    /// package's artifact and recompiles everything built on it: thiserror,
+    /// serde, clap and every workspace crate).
+    #[test]
+    fn the_main_job_the_tests_and_the_wheel_build_the_same_crates() {
+        let tests = features(&["--workspace", "--exclude", "signorini-py", "-e", "normal,build,dev"]);
+        for (build, args) in [("cargo xtask convergence", ["-p", "xtask", "-e", "normal,build"]), ("the wheel", ["-p", "signorini-py", "-e", "normal,build"])] {
+            let other = features(&args);
+            let differ: Vec<String> = other.iter().filter_map(|(p, f)| tests.get(p).filter(|g| *g != f).map(|g| format!("{p}: {f:?} in {build}, {g:?} in the tests"))).collect();
+            assert!(differ.is_empty(), "pin these features where {build} sees them:\n{}", differ.join("\n"));
+            assert!(other.keys().filter(|p| tests.contains_key(*p)).count() > 50, "{build}: too few packages shared with the tests");
+        }
     }
 }

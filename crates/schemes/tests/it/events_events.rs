@@ -2,9 +2,8 @@
 //! (a harmonic oscillator reaching a level), at grazing incidence, and
 //! against a dense sampling of the flow that would expose a missed event.
 
+use crate::events_common as common;
 use proptest::prelude::*;
-#[path = "events_common/mod.rs"]
-mod common;
 
 use signorini_fem::SymBand;
 use signorini_schemes::events::{Bound, ModalFlow};

@@ -5,7 +5,7 @@
 //! matrices built here, the exact solution of the damped forced oscillator,
 //! and right-hand sides assembled here term by term.
 
-mod common;
+use crate::common;
 
 use common::*;
 use signorini_contact::Active;

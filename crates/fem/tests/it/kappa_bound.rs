@@ -12,7 +12,7 @@
 //! inertia test, so `upper >= dense` holds with room against the dense
 //! solve's rounding.
 
-mod common;
+use crate::common;
 
 use common::{close, generalized_eigenvalues};
 use faer::Mat;

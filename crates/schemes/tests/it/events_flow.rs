@@ -4,8 +4,7 @@
 //! here by scaling and squaring of a Taylor series — the solution of the
 //! same linear ODE with nothing in common with the modal formulas.
 
-#[path = "events_common/mod.rs"]
-mod common;
+use crate::events_common as common;
 
 use proptest::prelude::*;
 use signorini_fem::SymBand;

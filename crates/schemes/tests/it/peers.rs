@@ -11,7 +11,7 @@
 //! most 1e-14), except Nitsche's `1e-11 γ₀` (measured at most 6e-13 γ₀: its
 //! contact step amplifies rounding by `1 + W ~ γ₀`).
 
-mod common;
+use crate::common;
 
 use common::*;
 use proptest::prelude::*;
@@ -562,7 +562,7 @@ fn cd_massless_cfl_limit_is_the_reduced_pencils() {
 
 /// Nitsche and the reduced schemes take a steady load only: a
 /// time-dependent forcing is refused, not ignored (Moreau–Jean takes one:
-/// tests/damping.rs).
+/// tests/it/damping.rs).
 #[test]
 fn schemes_without_forcing_refuse_a_time_dependent_load() {
     for (name, mass) in [("nitsche-cn", BarMass::Std), ("hybrid", BarMass::Mod), ("reduced-cn", BarMass::Mod), ("cd-massless", BarMass::Mod)] {

@@ -17,7 +17,7 @@
 use proptest::prelude::*;
 use signorini_exact::{BarDirichlet, BarMirrored, ExactSolution, FarEnd};
 
-mod common;
+use crate::common;
 use common::{CELLS_PER_UNIT, DELTA};
 /// Cells in the bar's length 2 (the travel time from one end to the other).
 const CROSS: usize = 2 * CELLS_PER_UNIT;

@@ -10,8 +10,7 @@
 //! flow is used. Also: the energy is conserved to round-off over hundreds
 //! of landings (no impacts), and a restitution above 0 is refused.
 
-#[path = "events_common/mod.rs"]
-mod common;
+use crate::events_common as common;
 
 use proptest::collection::vec;
 use proptest::prelude::*;

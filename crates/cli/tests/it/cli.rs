@@ -1,6 +1,6 @@
 //! The `signorini` command end to end: scenes run in a temporary folder, CSV
 //! checked; bad inputs give the right exit code and a message naming the
-//! field (the scene reader's fuzzing is tests/fuzz.rs).
+//! field (the scene reader's fuzzing is crates/fuzz/tests/fuzz.rs).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -147,7 +147,7 @@ fn list_and_check_print_ranges_and_limits() {
     assert!(s.contains("exact limit dt < 4.254380e-2") && s.contains("below it"), "{s}");
 }
 
-// Interrupted and killed runs: tests/reliability.rs; the reader's fuzzing: tests/fuzz.rs.
+// Interrupted and killed runs: tests/it/reliability.rs; the reader's fuzzing: crates/fuzz/tests/fuzz.rs.
 
 /// `bar-mirrored` through the CLI: norms.csv's `m` is the study's level (m
 /// elements per half-bar, 2m in all), and its L²-type norms are √2 times

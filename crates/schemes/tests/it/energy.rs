@@ -22,7 +22,7 @@
 //! the bugs these tests were checked against (a wrong coefficient, load
 //! average, bound or time level) give 1e-7 to 1e-3.
 
-mod common;
+use crate::common;
 
 use common::*;
 use proptest::prelude::*;

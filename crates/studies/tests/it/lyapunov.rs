@@ -8,7 +8,7 @@ use signorini_scene::{Limits, SceneFile};
 use signorini_studies::{lyapunov, Column, StudyError};
 use std::path::PathBuf;
 
-const FIG2_SUPPORT: &str = include_str!("../../../data/scenes/beam-fig2-support.toml");
+const FIG2_SUPPORT: &str = include_str!("../../../../data/scenes/beam-fig2-support.toml");
 
 fn col_f(t: &signorini_studies::Table, name: &str) -> Vec<f64> {
     match t.column(name) {

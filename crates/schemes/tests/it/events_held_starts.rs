@@ -11,8 +11,7 @@
 //! the held plastic oscillator `x'' + x = cos t`, `x <= 0.2`, is released
 //! at `acos 0.2 + 2πk` and its free flight is the resonant closed form.
 
-#[path = "events_common/mod.rs"]
-mod common;
+use crate::events_common as common;
 
 use proptest::prelude::*;
 use signorini_fem::SymBand;

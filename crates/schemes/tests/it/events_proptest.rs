@@ -14,8 +14,7 @@
 //! that over the contact velocity (`>= 0.05` by the choice of the cases
 //! kept), `~ 1e-9`.
 
-#[path = "events_common/mod.rs"]
-mod common;
+use crate::events_common as common;
 
 use proptest::collection::vec;
 use proptest::prelude::*;

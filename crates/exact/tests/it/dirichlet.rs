@@ -12,7 +12,7 @@ use signorini_exact::{BarDirichlet, ExactSolution, FarEnd};
 
 const TOL: f64 = 1e-15;
 
-mod common;
+use crate::common;
 use common::{CELLS_PER_UNIT, DELTA};
 
 /// The d'Alembert solution of `u_tt = u_xx` on `(0, 1)`, `u(1, t) = 0`,

@@ -12,8 +12,7 @@
 //!   as the stops' stiffness κ grows, `penalty-cn` converges to the
 //!   projected `newmark-cn` over a fixed horizon, at a measured rate.
 
-#[path = "../crates/schemes/tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::*;
 use signorini::fem::{Bar, BarMass, RightEnd};
@@ -183,7 +182,7 @@ fn penalty_converges_to_the_projection_with_massless_stops() {
 /// 1.36e-2, 4.45e-3, 1.38e-3, 4.18e-4 at κ = 10² … 10⁵, rate 0.50 (band
 /// asserted [0.4, 0.6]). The trajectory does not converge to projected
 /// Crank–Nicolson: with a massive node that one chatters (its force
-/// oscillates; tests/mirrored.rs measures it as chaotic), and the
+/// oscillates; tests/it/mirrored.rs measures it as chaotic), and the
 /// difference stays at 6e-2..9e-2 for every κ — there is no single limit
 /// to converge to, so none is asserted.
 #[test]

@@ -15,7 +15,7 @@
 //! Entries are sums of at most four terms, so the dense comparison is to
 //! 1e-15 relative (measured: exact or one ulp) and totals to 1e-14.
 
-mod common;
+use crate::common;
 
 use common::assert_matrix_eq;
 use faer::Mat;

@@ -3,8 +3,7 @@
 //! a chain, and the period-1 orbits of the forced impact oscillator that
 //! `signorini-exact` computes in closed form.
 
-#[path = "events_common/mod.rs"]
-mod common;
+use crate::events_common as common;
 
 use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_fem::SymBand;

@@ -30,7 +30,7 @@
 //!   predicted-active stop, `p_i = 0` elsewhere, and the energy identity
 //!   `ΔE = Σ p_i (v_iⁿ + v_iⁿ⁺¹)/2`.
 
-mod common;
+use crate::common;
 
 use common::*;
 use signorini_fem::BarMass;

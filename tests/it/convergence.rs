@@ -13,8 +13,7 @@
 //! also compared with the independent reference of
 //! `tests/support/independent_bar.rs` (see `tests/independent.rs`).
 
-#[path = "support/independent_bar.rs"]
-mod reference;
+use crate::independent_bar as reference;
 
 use signorini::fem::BarMass;
 use signorini::run::study::{norm_value, sweep, ConfigResult, LevelResult, StudyConfig};

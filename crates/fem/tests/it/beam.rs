@@ -6,7 +6,7 @@
 //! the eigenvalues with a dense faer solve (κ_h to 1e-10) and the smallest
 //! with the continuous cantilever's first eigenvalue.
 
-mod common;
+use crate::common;
 
 use common::{assert_matrix_eq, close, generalized_eigenvalues};
 use faer::Mat;

@@ -11,7 +11,7 @@
 //! dense solve carries a few ulps of ‖C‖); the smallest eigenvalue, of size
 //! c²/L² against a matrix norm c²/h², to 1e-9 relative.
 
-mod common;
+use crate::common;
 
 use common::{assert_matrix_eq, close, generalized_eigenvalues, trailing};
 use faer::linalg::solvers::Solve;

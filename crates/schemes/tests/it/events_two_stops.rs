@@ -42,7 +42,7 @@ fn oracle(text: &str) -> Vec<(f64, String, f64, f64)> {
 
 #[test]
 fn a_bar_on_two_equal_stops_accumulates_at_both_at_the_oracles_time() {
-    for (lumped, text) in [(false, include_str!("oracles/two_stops_std.csv")), (true, include_str!("oracles/two_stops_lumped.csv"))] {
+    for (lumped, text) in [(false, include_str!("../oracles/two_stops_std.csv")), (true, include_str!("../oracles/two_stops_lumped.csv"))] {
         let (m, k) = bar(lumped);
         let stops = vec![Contact::new(0, Bounds::obstacle(-0.05), false), Contact::new(3, Bounds::obstacle(-0.05), false)];
         let dy = Dynamics::new(m, k, vec![0.0; 4], stops);

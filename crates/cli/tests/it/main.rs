@@ -1,0 +1,19 @@
+//! The `signorini` command's integration tests, one test binary (each file a
+//! module: one link instead of one per file). `beam_scheme.rs` and
+//! `contacts.rs` are still test binaries of their own.
+
+mod cli;
+mod degree;
+mod energy_warn;
+mod event_driven;
+mod event_estimate;
+mod follow;
+mod lockstep;
+mod new_user;
+mod new_user_3;
+mod oscillator;
+mod reduce;
+mod reliability;
+mod semidiscrete_rates;
+mod sweep;
+mod vibro;

@@ -1,0 +1,7 @@
+//! The contact solves' integration tests, one test binary (each file a
+//! module: one link instead of one per file). Proptest's regression files for
+//! these modules are in `tests/proptest-regressions/` (where proptest looks
+//! for a test binary with a `main.rs`).
+
+mod multi;
+mod projection;

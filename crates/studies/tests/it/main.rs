@@ -1,0 +1,13 @@
+//! The studies' integration tests, one test binary (each file a module: one link
+//! instead of one per file, and the crates' generic code compiled once).
+
+mod bad_input;
+mod beam_statistics;
+mod courant1;
+mod frontier;
+mod long_horizon;
+mod lyapunov;
+mod tables;
+mod time_error;
+mod wp_quantities;
+mod wp_report;
