@@ -7,6 +7,7 @@ mod courant1;
 mod frontier;
 mod long_horizon;
 mod lyapunov;
+mod options;
 mod tables;
 mod time_error;
 mod wp_quantities;
