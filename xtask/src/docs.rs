@@ -60,6 +60,7 @@ pub fn run_docs(a: Args) -> Result<(), String> {
             std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
         }
         eprintln!("wrote {} files in docs/generated/", files.len());
+        crate::crate_graph::write(&root)?;
         check_markdown(&root)
     }
 }
@@ -81,6 +82,7 @@ pub fn check(root: &Path) -> Result<(), String> {
     if std::fs::read_to_string(root.join("README.md")).ok().as_deref() != Some(readme.as_str()) {
         stale.push("README.md's headline table differs from data/reference/bar-dirichlet".into());
     }
+    stale.extend(crate::crate_graph::check(root)?);
     if !stale.is_empty() {
         return Err(format!("{}; regenerate with `cargo xtask docs`", stale.join("; ")));
     }
