@@ -65,6 +65,7 @@ pub fn run_docs(a: Args) -> Result<(), String> {
             std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
         }
         eprintln!("wrote {} files in docs/generated/", files.len());
+        crate::crate_graph::write(&root)?;
         check_markdown(&root)
     }
 }
@@ -90,6 +91,7 @@ pub fn check(root: &Path) -> Result<(), String> {
     if std::fs::read_to_string(root.join(crate::py_studies::FILE)).ok().as_deref() != Some(py.as_str()) {
         stale.push(format!("the study functions of {} differ from the studies' Configs (crates/studies)", crate::py_studies::FILE));
     }
+    stale.extend(crate::crate_graph::check(root)?);
     if !stale.is_empty() {
         return Err(format!("{}; regenerate with `cargo xtask docs`", stale.join("; ")));
     }

@@ -19,10 +19,12 @@
 //! * `beam-statistics`: statistics of the beam over long windows with
 //!   batch-means intervals against dt and J (which converge).
 //! * `fuzz`: the scene reader and validator on generated and mutated scenes.
-//! * `docs`: the user guide's generated tables, from `data/reference`
-//!   (`--check`: fail when a committed one is out of date).
+//! * `docs`: the user guide's generated tables, from `data/reference`,
+//!   and ARCHITECTURE.md's crate graph, from `cargo tree` (`--check`: fail
+//!   when a committed one is out of date).
 //! * `test`: every test, and the guide's strict build.
 
+mod crate_graph;
 mod docs;
 mod fuzz;
 mod py_studies;
@@ -50,7 +52,7 @@ enum Cmd {
     Test(pytest::Args),
     /// Fuzz the scene reader and validator: no panic, typed errors naming a field.
     Fuzz(fuzz::Args),
-    /// The user guide's generated tables (docs/generated/, the README's headline) from data/reference, and the scene key reference from the scene schema (crates/scene); --check compares instead of writing.
+    /// The user guide's generated tables (docs/generated/, the README's headline) from data/reference, the scene key reference from the scene schema (crates/scene), and ARCHITECTURE.md's crate graph from `cargo tree`; --check compares instead of writing.
     Docs(docs::Args),
 }
 

@@ -419,6 +419,7 @@ fn plot_forces(notes: &mut Vec<String>, dir: &Path, set: &ContactSet, forces: &F
             )
         }
     }
+    .map_err(|e| e.to_string())
     .and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
     if let Err(e) = written {
         notes.push(format!("{name} not written: {e}"));
@@ -551,7 +552,9 @@ fn plot(notes: &mut Vec<String>, dir: &Path, name: &str, title: &str, (t, y): (&
     if let Some(e) = exact {
         s.push(Series { label: "exact".into(), points: finite(e), reference: true, style: Default::default() });
     }
-    let written = line_chart(&Chart { title, x_label: t, y_label: y, scale: Scale::Linear, size: (900, 450) }, &s).and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
+    let written = line_chart(&Chart { title, x_label: t, y_label: y, scale: Scale::Linear, size: (900, 450) }, &s)
+        .map_err(|e| e.to_string())
+        .and_then(|svg| std::fs::write(dir.join(name), svg).map_err(|e| e.to_string()));
     if let Err(e) = written {
         notes.push(format!("{name} not written: {e}"));
     }

@@ -23,7 +23,7 @@
 //! // Nothing finite to draw (log axes skip points <= 0) is an error, not an empty chart.
 //! let bad = Series { label: "x".into(), points: vec![(0.0, 1.0)], reference: false, style: Style::default() };
 //! assert!(line_chart(&chart, &[bad]).is_err());
-//! # Ok::<(), String>(())
+//! # Ok::<(), signorini_plot::PlotError>(())
 //! ```
 //!
 //! SVG line charts of the outputs of signorini: time series (numerical
@@ -37,11 +37,19 @@
 //! area, never over the data. Logarithmic axes are labelled at decades
 //! (10⁻³, 10⁻², …), with unlabelled minor grid lines between them.
 //!
-//! Architecture invariant: no IO, no numerics; depends only on plotters.
+//! Errors are a [`PlotError`]: nothing to plot, a panel that is not an
+//! SVG document, or plotters' own drawing error (wrapped as the source).
+//!
+//! Architecture invariant: no IO, no numerics; depends only on plotters
+//! and thiserror.
 
+mod error;
 mod thin;
 
+pub use error::{PanelProblem, PlotError};
 pub use thin::{impact_map, thin, thin_series, MAX_PLOT_POINTS};
+
+use error::Boxed;
 
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -168,22 +176,23 @@ impl Look {
 }
 
 /// Draws `marker` centred on `at` in `area`'s coordinates.
-fn draw_marker<DB: DrawingBackend, CT: CoordTranslate>(area: &DrawingArea<DB, CT>, at: CT::From, marker: Marker, color: RGBColor) -> Result<(), String>
+fn draw_marker<DB: DrawingBackend, CT: CoordTranslate>(area: &DrawingArea<DB, CT>, at: CT::From, marker: Marker, color: RGBColor) -> Result<(), Boxed>
 where
     CT::From: Clone,
+    DB::ErrorType: 'static,
 {
     let r = MARKER_R;
     let fill = color.filled();
     let stroke = ShapeStyle { color: color.to_rgba(), filled: false, stroke_width: 2 };
     let white = WHITE.filled();
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    let hollow = |outline: Vec<(i32, i32)>| -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| -> Boxed { Box::new(e) };
+    let hollow = |outline: Vec<(i32, i32)>| -> Result<(), Boxed> {
         area.draw(&(EmptyElement::at(at.clone()) + Polygon::new(outline.clone(), white))).map_err(e)?;
         let mut closed = outline;
         closed.push(closed[0]);
         area.draw(&(EmptyElement::at(at.clone()) + PathElement::new(closed, stroke))).map_err(e)
     };
-    let strokes = |a: [(i32, i32); 2], b: [(i32, i32); 2]| -> Result<(), String> {
+    let strokes = |a: [(i32, i32); 2], b: [(i32, i32); 2]| -> Result<(), Boxed> {
         area.draw(&(EmptyElement::at(at.clone()) + PathElement::new(a.to_vec(), stroke) + PathElement::new(b.to_vec(), stroke))).map_err(e)
     };
     match marker {
@@ -291,8 +300,11 @@ fn legend_width(series: &[Series]) -> u32 {
 
 /// Draws the legend in `area`, a column right of the plot, its first entry
 /// at height `top` (pixels from the column's top).
-fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, series: &[Series], top: i32) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, series: &[Series], top: i32) -> Result<(), Boxed>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| -> Boxed { Box::new(e) };
     let (w, _) = area.dim_in_pixel();
     let x0 = LEGEND_PAD;
     let bottom = top + LEGEND_ROW * series.len() as i32 + 4;
@@ -315,13 +327,13 @@ fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, series: &[Seri
 }
 
 /// Renders the series as an SVG document: the chart of `chart.size` and,
-/// to its right, the legend. Errors only if no point can be drawn or
-/// plotters fails (reported as text).
-pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String> {
+/// to its right, the legend. Errors only if no point can be drawn
+/// ([`PlotError::NothingToPlot`]) or plotters fails ([`PlotError::Drawing`]).
+pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, PlotError> {
     let keep = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (chart.scale == Scale::Linear || (p.0 > 0.0 && p.1 > 0.0));
     let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.points.iter().copied().filter(keep)).collect();
     if all.is_empty() {
-        return Err("nothing to plot: no finite points".into());
+        return Err(PlotError::NothingToPlot { chart: chart.title.to_string() });
     }
     let (mut x0, mut x1, mut y0, mut y1) = all.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |(a, b, c, d), p| (a.min(p.0), b.max(p.0), c.min(p.1), d.max(p.1)));
     if chart.scale == Scale::Linear {
@@ -349,9 +361,9 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        let err = |e: &dyn std::fmt::Display| e.to_string();
-        root.fill(&WHITE).map_err(|e| err(&e))?;
-        let body = root.titled(chart.title, ("sans-serif", 20)).map_err(|e| err(&e))?;
+        let err = |source: Boxed| PlotError::Drawing { chart: chart.title.to_string(), source };
+        root.fill(&WHITE).map_err(|e| err(e.into()))?;
+        let body = root.titled(chart.title, ("sans-serif", 20)).map_err(|e| err(e.into()))?;
         let (plot, legend) = body.split_horizontally(chart.size.0);
         let mut b = ChartBuilder::on(&plot);
         b.margin(12).x_label_area_size(40).y_label_area_size(80);
@@ -368,7 +380,7 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
                 } else {
                     mesh.x_label_formatter(&linear_label).y_label_formatter(&linear_label);
                 }
-                mesh.draw().map_err(|e| err(&e))?;
+                mesh.draw().map_err(|e| err(e.into()))?;
                 for (i, s) in series.iter().enumerate() {
                     let look = Look::of(s, i);
                     let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
@@ -376,36 +388,36 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, String
                         None => ctx.draw_series(LineSeries::new(pts.iter().copied(), look.line())).map(|_| ()),
                         Some((dash, gap)) => ctx.draw_series(DashedLineSeries::new(pts.iter().copied(), dash, gap, look.line())).map(|_| ()),
                     }
-                    .map_err(|e| err(&e))?;
+                    .map_err(|e| err(e.into()))?;
                     if let Some(m) = look.marker {
                         for p in &pts {
-                            draw_marker(ctx.plotting_area(), *p, m, look.color)?;
+                            draw_marker(ctx.plotting_area(), *p, m, look.color).map_err(err)?;
                         }
                     }
                 }
                 let top = ctx.plotting_area().get_pixel_range().1.start - legend.get_base_pixel().1;
-                draw_legend(&legend, series, top.max(0))?;
+                draw_legend(&legend, series, top.max(0)).map_err(err)?;
             }};
         }
         match chart.scale {
-            Scale::Linear => draw!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(&e))?, false),
+            Scale::Linear => draw!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(e.into()))?, false),
             Scale::LogLog => {
                 let (tx, ty) = (log_ticks(x0, x1), log_ticks(y0, y1));
                 let xs = (x0..x1).log_scale().with_key_points(tx.major).with_light_points(tx.minor);
                 let ys = (y0..y1).log_scale().with_key_points(ty.major).with_light_points(ty.minor);
-                draw!(b.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?, true)
+                draw!(b.build_cartesian_2d(xs, ys).map_err(|e| err(e.into()))?, true)
             }
         }
-        root.present().map_err(|e| err(&e))?;
+        root.present().map_err(|e| err(e.into()))?;
     }
     Ok(svg)
 }
 
 /// Stacks whole SVG documents (as [`line_chart`] returns them) top to
 /// bottom in one document: one panel per chart, each at its own size, the
-/// document as wide as the widest. Errors if a document has no root `<svg`
-/// element with a `width` and a `height` in pixels.
-pub fn stack_vertically(panels: &[String]) -> Result<String, String> {
+/// document as wide as the widest. Errors ([`PlotError::Panel`]) if a
+/// document has no root `<svg` element with a `width` and a `height` in pixels.
+pub fn stack_vertically(panels: &[String]) -> Result<String, PlotError> {
     let attr = |tag: &str, name: &str| -> Option<u32> {
         let at = tag.find(&format!(" {name}=\""))? + name.len() + 3;
         tag[at..].split('"').next()?.trim_end_matches("px").parse().ok()
@@ -413,10 +425,10 @@ pub fn stack_vertically(panels: &[String]) -> Result<String, String> {
     let mut body = String::new();
     let (mut width, mut height) = (0u32, 0u32);
     for (i, svg) in panels.iter().enumerate() {
-        let start = svg.find("<svg").ok_or_else(|| format!("panel {i}: no <svg> element"))?;
-        let end = start + svg[start..].find('>').ok_or_else(|| format!("panel {i}: an unclosed <svg> tag"))?;
+        let start = svg.find("<svg").ok_or(PlotError::Panel { panel: i, problem: PanelProblem::NoSvgElement })?;
+        let end = start + svg[start..].find('>').ok_or(PlotError::Panel { panel: i, problem: PanelProblem::UnclosedTag })?;
         let tag = &svg[start..end];
-        let (w, h) = attr(tag, "width").zip(attr(tag, "height")).ok_or_else(|| format!("panel {i}: no width and height in pixels"))?;
+        let (w, h) = attr(tag, "width").zip(attr(tag, "height")).ok_or(PlotError::Panel { panel: i, problem: PanelProblem::NoPixelSize })?;
         body.push_str(&format!("<svg x=\"0\" y=\"{height}\"{}", &svg[start + 4..]));
         body.push('\n');
         width = width.max(w);
@@ -429,12 +441,13 @@ pub fn stack_vertically(panels: &[String]) -> Result<String, String> {
 /// every series a dot of radius `radius` pixels (1 for diagrams of 10⁵
 /// points), no lines, linear axes, a legend when there is more than one
 /// series. A large diagram stays a few MB: one `<circle>` per point. Errors
-/// only if no point is finite or plotters fails (as text).
-pub fn scatter(chart: &Chart<'_>, series: &[Series], radius: u32) -> Result<String, String> {
+/// only if no point is finite ([`PlotError::NothingToPlot`]) or plotters
+/// fails ([`PlotError::Drawing`]).
+pub fn scatter(chart: &Chart<'_>, series: &[Series], radius: u32) -> Result<String, PlotError> {
     let keep = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite();
     let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.points.iter().copied().filter(keep)).collect();
     if all.is_empty() {
-        return Err("nothing to plot: no finite points".into());
+        return Err(PlotError::NothingToPlot { chart: chart.title.to_string() });
     }
     let (mut x0, mut x1, mut y0, mut y1) = all.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |(a, b, c, d), p| (a.min(p.0), b.max(p.0), c.min(p.1), d.max(p.1)));
     let widen = |lo: &mut f64, hi: &mut f64| {
@@ -457,11 +470,11 @@ pub fn scatter(chart: &Chart<'_>, series: &[Series], radius: u32) -> Result<Stri
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        let err = |e: &dyn std::fmt::Display| e.to_string();
-        root.fill(&WHITE).map_err(|e| err(&e))?;
-        let body = root.titled(chart.title, ("sans-serif", 20)).map_err(|e| err(&e))?;
+        let err = |source: Boxed| PlotError::Drawing { chart: chart.title.to_string(), source };
+        root.fill(&WHITE).map_err(|e| err(e.into()))?;
+        let body = root.titled(chart.title, ("sans-serif", 20)).map_err(|e| err(e.into()))?;
         let (plot, legend_area) = body.split_horizontally(chart.size.0);
-        let mut ctx = ChartBuilder::on(&plot).margin(12).x_label_area_size(40).y_label_area_size(80).build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(&e))?;
+        let mut ctx = ChartBuilder::on(&plot).margin(12).x_label_area_size(40).y_label_area_size(80).build_cartesian_2d(x0..x1, y0..y1).map_err(|e| err(e.into()))?;
         let label_font = ("sans-serif", 15);
         let linear_label = |v: &f64| format_linear_tick(*v);
         ctx.configure_mesh()
@@ -473,25 +486,26 @@ pub fn scatter(chart: &Chart<'_>, series: &[Series], radius: u32) -> Result<Stri
             .x_label_formatter(&linear_label)
             .y_label_formatter(&linear_label)
             .draw()
-            .map_err(|e| err(&e))?;
+            .map_err(|e| err(e.into()))?;
         for (i, s) in series.iter().enumerate() {
             let color = Look::of(s, i).color;
-            ctx.draw_series(s.points.iter().copied().filter(keep).map(|p| Circle::new(p, radius, color.filled()))).map_err(|e| err(&e))?;
+            ctx.draw_series(s.points.iter().copied().filter(keep).map(|p| Circle::new(p, radius, color.filled()))).map_err(|e| err(e.into()))?;
         }
         if legend {
             let top = ctx.plotting_area().get_pixel_range().1.start - legend_area.get_base_pixel().1;
             let dots: Vec<Series> = series.iter().map(|s| Series { style: Style { variant: Some(0), ..s.style }, ..s.clone() }).collect();
-            draw_legend(&legend_area, &dots, top.max(0))?;
+            draw_legend(&legend_area, &dots, top.max(0)).map_err(err)?;
         }
-        root.present().map_err(|e| err(&e))?;
+        root.present().map_err(|e| err(e.into()))?;
     }
     Ok(svg)
 }
 
 /// A heat map: `values[row][col]` drawn as coloured cells (blue = low,
 /// red = high, on a log10 scale when `log` is set; grey = NaN, black = +∞
-/// meaning "blew up"), with row and column labels.
-pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64>], log: bool, size: (u32, u32)) -> Result<String, String> {
+/// meaning "blew up"), with row and column labels. Errors only if plotters
+/// fails ([`PlotError::Drawing`]).
+pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64>], log: bool, size: (u32, u32)) -> Result<String, PlotError> {
     let tr = |v: f64| if log { v.abs().max(1e-300).log10() } else { v };
     let finite: Vec<f64> = values.iter().flatten().copied().filter(|v| v.is_finite()).map(tr).collect();
     let (lo, hi) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
@@ -505,8 +519,8 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        let err = |e: &dyn std::fmt::Display| e.to_string();
-        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let err = |source: Boxed| PlotError::Drawing { chart: title.to_string(), source };
+        root.fill(&WHITE).map_err(|e| err(e.into()))?;
         let (nr, nc) = (rows.len(), cols.len());
         // Segmented axes put one label at the centre of each cell.
         let mut chart = ChartBuilder::on(&root)
@@ -515,12 +529,12 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
             .x_label_area_size(40)
             .y_label_area_size(160)
             .build_cartesian_2d((0..nc).into_segmented(), (0..nr).into_segmented())
-            .map_err(|e| err(&e))?;
+            .map_err(|e| err(e.into()))?;
         let label = |names: &[String], v: &SegmentValue<usize>| match v {
             SegmentValue::CenterOf(i) => names.get(*i).cloned().unwrap_or_default(),
             _ => String::new(),
         };
-        chart.configure_mesh().disable_mesh().x_labels(nc).y_labels(nr).x_label_formatter(&|v| label(cols, v)).y_label_formatter(&|v| label(rows, v)).draw().map_err(|e| err(&e))?;
+        chart.configure_mesh().disable_mesh().x_labels(nc).y_labels(nr).x_label_formatter(&|v| label(cols, v)).y_label_formatter(&|v| label(rows, v)).draw().map_err(|e| err(e.into()))?;
         for (r, row) in values.iter().enumerate() {
             for (c, v) in row.iter().enumerate() {
                 let color = if v.is_nan() {
@@ -532,10 +546,10 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
                     RGBColor((255.0 * s) as u8, (80.0 * (1.0 - (2.0 * s - 1.0).abs())) as u8, (255.0 * (1.0 - s)) as u8)
                 };
                 let corners = [(SegmentValue::Exact(c), SegmentValue::Exact(r)), (SegmentValue::Exact(c + 1), SegmentValue::Exact(r + 1))];
-                chart.draw_series(std::iter::once(Rectangle::new(corners, color.filled()))).map_err(|e| err(&e))?;
+                chart.draw_series(std::iter::once(Rectangle::new(corners, color.filled()))).map_err(|e| err(e.into()))?;
             }
         }
-        root.present().map_err(|e| err(&e))?;
+        root.present().map_err(|e| err(e.into()))?;
     }
     Ok(svg)
 }
@@ -570,6 +584,40 @@ mod tests {
         assert!(line_chart(&log, &[curve]).unwrap().contains("error"));
         // Every point invalid on log axes: an error, not a panic.
         assert!(line_chart(&log, &[Series { label: "x".into(), points: vec![(0.0, -1.0)], reference: false, style: Style::default() }]).is_err());
+    }
+
+    #[test]
+    fn bad_input_is_a_typed_error_naming_the_chart() {
+        let series = |points: Vec<(f64, f64)>| vec![Series { label: "x".into(), points, reference: false, style: Style::default() }];
+        let lin = Chart { title: "lin", x_label: "t", y_label: "u", scale: Scale::Linear, size: (300, 200) };
+        let log = Chart { title: "log", scale: Scale::LogLog, ..lin };
+        let nothing = |r: Result<String, PlotError>, want: &str| match r {
+            Err(PlotError::NothingToPlot { chart }) => assert_eq!(chart, want),
+            other => panic!("{want}: expected NothingToPlot, got {other:?}"),
+        };
+        // No series, empty series, only NaN / ±∞ coordinates: nothing to plot, on any chart.
+        nothing(line_chart(&lin, &[]), "lin");
+        nothing(line_chart(&lin, &series(vec![])), "lin");
+        nothing(line_chart(&lin, &series(vec![(f64::NAN, 1.0), (1.0, f64::INFINITY), (f64::NEG_INFINITY, 0.0)])), "lin");
+        nothing(scatter(&lin, &series(vec![(1.0, f64::NAN)]), 1), "lin");
+        // Log axes: a finite point at 0 or below cannot be drawn either;
+        // the same points are drawable on linear axes.
+        nothing(line_chart(&log, &series(vec![(0.0, 1.0), (1.0, -1.0), (-2.0, 3.0)])), "log");
+        assert!(line_chart(&lin, &series(vec![(0.0, 1.0), (1.0, -1.0), (-2.0, 3.0)])).is_ok());
+        // Panels that are not SVG documents with a pixel size: which panel, and why.
+        let ok = line_chart(&lin, &series(vec![(0.0, 1.0), (1.0, 2.0)])).unwrap();
+        for (bad, problem) in [("no svg here", PanelProblem::NoSvgElement), ("<svg width=\"10\"", PanelProblem::UnclosedTag), ("<svg width=\"10em\" height=\"5\">", PanelProblem::NoPixelSize)] {
+            match stack_vertically(&[ok.clone(), bad.to_string()]) {
+                Err(PlotError::Panel { panel: 1, problem: p }) => assert_eq!(p, problem, "{bad}"),
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        // The message keeps the words the notes have always shown.
+        assert_eq!(PlotError::NothingToPlot { chart: "c".into() }.to_string(), "nothing to plot: no finite points");
+        assert_eq!(PlotError::Panel { panel: 2, problem: PanelProblem::UnclosedTag }.to_string(), "panel 2: an unclosed <svg> tag");
+        // plotters' error is wrapped as the source.
+        let e = PlotError::Drawing { chart: "c".into(), source: Box::new(std::io::Error::other("disk")) };
+        assert_eq!(std::error::Error::source(&e).map(|s| s.to_string()).as_deref(), Some("disk"));
     }
 
     #[test]

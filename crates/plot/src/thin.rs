@@ -34,7 +34,7 @@ pub fn thin_series(series: &mut [Series], title: &str, what: &str) -> String {
 /// The impact map: pre-impact velocity against forcing phase, one series
 /// per stop, from `(stop, phase, velocity)` points (thinned beyond
 /// [`MAX_PLOT_POINTS`]); `radius(n)` sizes the dots for the `n` drawn.
-pub fn impact_map(points: impl Iterator<Item = (usize, f64, f64)>, radius: impl Fn(usize) -> u32) -> Result<String, String> {
+pub fn impact_map(points: impl Iterator<Item = (usize, f64, f64)>, radius: impl Fn(usize) -> u32) -> Result<String, crate::PlotError> {
     let mut by_stop: Vec<Series> = Vec::new();
     for (k, phase, velocity) in points {
         while by_stop.len() <= k {

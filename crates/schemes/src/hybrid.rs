@@ -335,7 +335,7 @@ impl Reduced {
 
 // ---- The registry's rows of this file: hybrid, reduced-cn, cd-massless.
 
-use crate::registry::{kappa_bound, Capabilities, Family, Group, Node, Preset};
+use crate::family::{kappa_bound, Capabilities, Family, Group, Node, Preset};
 use crate::SchemeSpec;
 
 /// The reduced formulations' capabilities: a massless contact node at dof

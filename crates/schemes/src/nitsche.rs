@@ -232,7 +232,7 @@ impl Stepper for Nitsche {
 
 // ---- The registry's row of this file: nitsche.
 
-use crate::registry::{check, Capabilities, Family, Group, Node, Param, Preset};
+use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset};
 use crate::SchemeSpec;
 
 /// Nitsche's method with Newmark-CN: γ = γ_0 c²/h (γ_0 > 0), θ ∈ [-1, 1].

@@ -758,7 +758,8 @@ fn penalty_solve(proj: &Projection, y: &mut [f64], lo: f64, hi: f64, kappa: f64,
 
 // ---- The registry's rows of this file: newmark, theta, penalty, penalty-cd.
 
-use crate::registry::{check, families_with, kappa_bound, Capabilities, Family, Group, Node, Param, Preset};
+use crate::family::{check, kappa_bound, Capabilities, Family, Group, Node, Param, Preset};
+use crate::registry::families_with;
 use crate::SchemeSpec;
 
 /// Newmark(β, γ), contact at `t_{n+1}`; β ∈ (0, 1/2], γ ∈ [1/2, 2β].

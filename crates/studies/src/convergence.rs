@@ -393,7 +393,7 @@ fn sweep_into_reduced(
         // pattern by scheme: the second-order schemes' curves with a
         // massless node lie on one another (the same errors to 2–3 digits),
         // and colour alone let the last one drawn hide the others.
-        let panels: Result<Vec<String>, String> = cfg
+        let panels: Result<Vec<String>, signorini_plot::PlotError> = cfg
             .masses
             .iter()
             .map(|&mass| {

@@ -115,8 +115,8 @@ pub enum StudyError {
         source: std::io::Error,
     },
     /// A chart could not be drawn.
-    #[error("{0}")]
-    Plot(String),
+    #[error(transparent)]
+    Plot(#[from] signorini_plot::PlotError),
 }
 
 impl StudyError {

@@ -515,7 +515,7 @@ fn energy_growth(
     tables.push(vt.finish()?);
     report.push_str(&md);
     // One panel per dx/dt: the largest E/budget per window against t.
-    let panels: Result<Vec<String>, String> = e
+    let panels: Result<Vec<String>, signorini_plot::PlotError> = e
         .ratios
         .iter()
         .map(|&r| {

@@ -135,7 +135,7 @@ impl Stepper for EventStepper {
 
 // ---- The registry's row of this file: event-driven.
 
-use crate::registry::{check, Capabilities, Family, Group, Node, Param, Preset};
+use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset};
 
 /// The exact event-driven reference, restitution `e ∈ [0, 1]` (default 0),
 /// at most `max_events` events (default 10⁷).
