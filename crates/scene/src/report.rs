@@ -137,7 +137,7 @@ const MAX_EVENT_ROW: f64 = 4.0 * 24.0 + 12.0 + 20.0 + 6.0;
 
 impl EventProbe {
     /// An upper bound of an event-driven scene's `events.csv`, without
-    /// running anything: `max_events` rows of [`MAX_EVENT_ROW`] bytes (a run
+    /// running anything: `max_events` rows of `MAX_EVENT_ROW` bytes (a run
     /// that reaches the horizon logged at most `max_events` events, one
     /// that did not is estimated at most `max_events`); `None` for other
     /// schemes. Every probe's [`bytes_estimate`](Self::bytes_estimate) is
