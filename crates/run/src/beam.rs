@@ -253,6 +253,12 @@ impl BeamScene {
         BeamScene { name, elements, dt, t_end, scheme, spring: None, paper_seconds: None }
     }
 
+    /// β when the scheme is the paper's projection — `ps(0, β)`, no spring —
+    /// else `None` (what the reports word with the paper's β-scheme).
+    pub fn projection_beta(&self) -> Option<f64> {
+        self.scheme.param("beta").filter(|&b| self.scheme == SchemeSpec::ps(0.0, b) && self.spring.is_none())
+    }
+
     /// The same scene with the spring `stiffness` (N/m) on every contact
     /// without its own ([`BeamScene::spring`]).
     pub fn with_spring(mut self, stiffness: f64) -> Self {

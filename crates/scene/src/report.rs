@@ -381,7 +381,7 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
             // The paper's β-scheme (the projection, ps(0, β)) is reported with
             // the paper's sufficient condition (3.1); a penalty spring with
             // Newmark β = 1/4; any other scheme by its registry limit.
-            let paper_beta = spec.param("beta").filter(|&b| spec == signorini_schemes::SchemeSpec::ps(0.0, b) && scene.spring.is_none());
+            let paper_beta = scene.projection_beta();
             let registry = match paper_beta {
                 None => {
                     let (_, dy, _) = scene_setup.problem()?;

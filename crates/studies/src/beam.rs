@@ -219,7 +219,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
         };
         let spec = scene.scheme;
         // The paper's spelling: the projection is ps(0, β), the penalty a spring.
-        let projection = spec.param("beta").filter(|&b| spec == SchemeSpec::ps(0.0, b));
+        let projection = scene.projection_beta();
         let (contact, beta) = match (scene.spring, projection) {
             (None, Some(beta)) => ("projection".to_string(), beta),
             (None, None) => (spec.to_string(), spec.param("beta").unwrap_or(f64::NAN)),
