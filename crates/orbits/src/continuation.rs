@@ -1,0 +1,434 @@
+//! Pseudo-arclength continuation of periodic orbits in a parameter, with
+//! the bifurcations located on the way (docs/theory.md §10.4).
+//!
+//! Unknowns `y = (x, λ)`, scaled (`x/X`, `λ/Λ`) so that the arclength
+//! weighs state and parameter alike. `G(x, λ) = P_λ(x) − x` with
+//! `G_x = P' − I` (the variational Jacobian) and `G_λ` by central
+//! differences of the map. Predictor along the tangent `t` (the null vector
+//! of `[G_x G_λ]`, oriented by the previous one), Newton corrector on the
+//! hyperplane `tᵀ (y − y_pred) = 0`. Between two points:
+//!
+//! - **fold**: the tangent's `λ` component changes sign (a multiplier
+//!   passes through +1 at the turning point);
+//! - **period doubling**: a real multiplier passes through −1;
+//! - **Neimark–Sacker**: a complex pair leaves or enters the unit circle;
+//! - **grazing**: the number of impacts per period changes (an impact at
+//!   zero speed separates the two);
+//! - **sticking**: the number of held phases per period changes.
+//!
+//! Each is located by bisection on the arclength (the test function's sign,
+//! or the event count), every trial point corrected onto the branch.
+
+use crate::map::Model;
+use crate::shoot::{eigenvalues, periodic_orbit, Newton, Orbit};
+use crate::OrbitError;
+use faer::linalg::solvers::Solve;
+use faer::{c64, Mat};
+
+/// A family of models in one parameter, with the period of its map.
+pub trait Family {
+    /// The model at the parameter value `param`.
+    fn model(&self, param: f64) -> Result<Model, OrbitError>;
+    /// The map's horizon at `param` (p forcing periods).
+    fn period(&self, param: f64) -> Result<f64, OrbitError>;
+}
+
+/// What a continuation is asked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContinuationOptions {
+    /// The start of the parameter range.
+    pub from: f64,
+    /// Its end.
+    pub to: f64,
+    /// Most points.
+    pub max_points: usize,
+    /// The first step (scaled arclength; the range `|to − from|` is 1).
+    pub step: f64,
+    /// The smallest step before the branch is given up.
+    pub min_step: f64,
+    /// The largest step.
+    pub max_step: f64,
+    /// Newton's settings.
+    pub newton: Newton,
+}
+
+impl ContinuationOptions {
+    /// From `from` to `to` with the defaults: at most 400 points, steps
+    /// from 1e-7 to 0.02 of the range, Newton to 1e-11.
+    pub fn new(from: f64, to: f64) -> Self {
+        Self { from, to, max_points: 400, step: 0.005, min_step: 1e-7, max_step: 0.02, newton: Newton { tol: 1e-11, ..Newton::default() } }
+    }
+
+    fn validate(&self) -> Result<(), OrbitError> {
+        let opt = |option, message: String| Err(OrbitError::Option { option, message });
+        if !(self.from.is_finite() && self.to.is_finite()) || self.from == self.to {
+            return opt("from/to", format!("{} to {} is not allowed: two finite, different values", self.from, self.to));
+        }
+        if self.max_points < 2 {
+            return opt("max-points", format!("{} is not allowed: >= 2", self.max_points));
+        }
+        if !(self.min_step > 0.0 && self.min_step <= self.step && self.step <= self.max_step && self.max_step.is_finite()) {
+            return opt("step", format!("min {} <= step {} <= max {} is not allowed: 0 < min <= step <= max, finite", self.min_step, self.step, self.max_step));
+        }
+        Ok(())
+    }
+}
+
+/// One point of a branch.
+#[derive(Clone, Debug)]
+pub struct BranchPoint {
+    /// The parameter.
+    pub param: f64,
+    /// The orbit.
+    pub orbit: Orbit,
+}
+
+impl BranchPoint {
+    /// Linearly stable: every multiplier inside the unit circle (with a
+    /// margin of 1e-9 for round-off).
+    pub fn stable(&self) -> bool {
+        self.orbit.mu_max() < 1.0 - 1e-9
+    }
+}
+
+/// A bifurcation's kind (`bifurcations.csv`'s `kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BifurcationKind {
+    /// A turning point (a multiplier through +1).
+    Fold,
+    /// A real multiplier through −1.
+    PeriodDoubling,
+    /// A complex pair through the unit circle.
+    NeimarkSacker,
+    /// The number of impacts per period changes.
+    Grazing,
+    /// The number of held phases per period changes.
+    Sticking,
+}
+
+impl BifurcationKind {
+    /// The name in `bifurcations.csv`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Fold => "fold",
+            Self::PeriodDoubling => "period-doubling",
+            Self::NeimarkSacker => "neimark-sacker",
+            Self::Grazing => "grazing",
+            Self::Sticking => "sticking",
+        }
+    }
+}
+
+/// A located bifurcation.
+#[derive(Clone, Debug)]
+pub struct Bifurcation {
+    /// Where.
+    pub param: f64,
+    /// What.
+    pub kind: BifurcationKind,
+    /// The critical multiplier there (fold: nearest +1; period doubling:
+    /// nearest −1; Neimark–Sacker: the pair's, upper half plane; grazing
+    /// and sticking: the largest).
+    pub mu: c64,
+    /// Impacts per period on the two sides (the branch's direction).
+    pub impacts: (usize, usize),
+    /// Held phases per period on the two sides.
+    pub releases: (usize, usize),
+    /// The branch points it lies between (indices).
+    pub between: (usize, usize),
+    /// The orbit's state there.
+    pub x: Vec<f64>,
+}
+
+/// A branch: its points in order, its bifurcations, and why it ended.
+#[derive(Clone, Debug)]
+pub struct Branch {
+    /// The points.
+    pub points: Vec<BranchPoint>,
+    /// The bifurcations located between them.
+    pub bifurcations: Vec<Bifurcation>,
+    /// Why the branch ended (`"reached to"`, or what stopped it).
+    pub end: String,
+}
+
+/// `G`, `G_x + I` (the map's Jacobian) and `G_λ` at a point.
+type Linearised = (Vec<f64>, Mat<f64>, Vec<f64>);
+
+struct Ctx<'a, F: Family> {
+    family: &'a F,
+    opts: &'a ContinuationOptions,
+    /// Scales of the state and the parameter.
+    xs: f64,
+    ls: f64,
+    n: usize,
+}
+
+/// A converged point with its tangent.
+#[derive(Clone)]
+struct Point {
+    x: Vec<f64>,
+    param: f64,
+    orbit: Orbit,
+    /// The unit tangent (scaled coordinates; last entry: the parameter's).
+    tangent: Vec<f64>,
+}
+
+impl<F: Family> Ctx<'_, F> {
+    fn residual_and_jacobian(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
+        let model = self.family.model(param)?;
+        let period = self.family.period(param)?;
+        let img = model.flow(0.0, x, period, true)?;
+        let g: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
+        let h = 1e-6 * self.ls;
+        let plus = self.family.model(param + h)?.flow(0.0, x, self.family.period(param + h)?, false)?;
+        let minus = self.family.model(param - h)?.flow(0.0, x, self.family.period(param - h)?, false)?;
+        let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - minus.x[i]) / (2.0 * h)).collect();
+        Ok((g, img.jacobian.expect("asked for"), gl))
+    }
+
+    /// The tangent at `(x, λ)` oriented along `prev` (scaled; unit).
+    fn tangent(&self, jac: &Mat<f64>, gl: &[f64], prev: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        // [G_x·X  G_λ·Λ; prevᵀ] t = [0; 1]
+        let a = Mat::from_fn(n + 1, n + 1, |r, c| {
+            if r < n {
+                if c < n {
+                    (jac[(r, c)] - if r == c { 1.0 } else { 0.0 }) * self.xs
+                } else {
+                    gl[r] * self.ls
+                }
+            } else {
+                prev[c]
+            }
+        });
+        let rhs = Mat::from_fn(n + 1, 1, |r, _| if r == n { 1.0 } else { 0.0 });
+        let t = a.partial_piv_lu().solve(&rhs);
+        let norm = (0..=n).map(|i| t[(i, 0)] * t[(i, 0)]).sum::<f64>().sqrt();
+        (0..=n).map(|i| t[(i, 0)] / norm).collect()
+    }
+
+    /// Newton on the branch from the prediction `(x, λ)`, on the hyperplane
+    /// through it normal to `t`. Returns the point and the iterations.
+    fn correct(&self, mut x: Vec<f64>, mut param: f64, t: &[f64]) -> Result<(Vec<f64>, f64, usize), OrbitError> {
+        let n = self.n;
+        let (x0, p0) = (x.clone(), param);
+        let nt = self.opts.newton;
+        for it in 0..nt.max_iter.min(12) {
+            let (g, jac, gl) = self.residual_and_jacobian(&x, param)?;
+            let res = g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let plane: f64 = (0..n).map(|i| t[i] * (x[i] - x0[i]) / self.xs).sum::<f64>() + t[n] * (param - p0) / self.ls;
+            let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(nt.scale);
+            if res <= nt.tol * xn && plane.abs() <= 1e-12 {
+                return Ok((x, param, it));
+            }
+            let a = Mat::from_fn(n + 1, n + 1, |r, c| {
+                if r < n {
+                    if c < n {
+                        jac[(r, c)] - if r == c { 1.0 } else { 0.0 }
+                    } else {
+                        gl[r]
+                    }
+                } else if c < n {
+                    t[c] / self.xs
+                } else {
+                    t[n] / self.ls
+                }
+            });
+            let rhs = Mat::from_fn(n + 1, 1, |r, _| if r < n { -g[r] } else { -plane });
+            let d = a.partial_piv_lu().solve(&rhs);
+            if (0..=n).any(|i| !d[(i, 0)].is_finite()) {
+                break;
+            }
+            for i in 0..n {
+                x[i] += d[(i, 0)];
+            }
+            param += d[(n, 0)];
+        }
+        Err(OrbitError::NoConvergence { residual: f64::NAN, iterations: 12, why: "the corrector did not converge".into() })
+    }
+
+    fn point(&self, x: Vec<f64>, param: f64, prev_tangent: &[f64]) -> Result<Point, OrbitError> {
+        let (_, jac, gl) = self.residual_and_jacobian(&x, param)?;
+        let tangent = self.tangent(&jac, &gl, prev_tangent);
+        let model = self.family.model(param)?;
+        let period = self.family.period(param)?;
+        let img = model.flow(0.0, &x, period, false)?;
+        let residual = img.x.iter().zip(&x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+        let multipliers = eigenvalues(&jac)?;
+        let orbit = Orbit { x: x.clone(), t0: 0.0, period, events: img.events, monodromy: jac, multipliers, residual, iterations: 0 };
+        Ok(Point { x, param, orbit, tangent })
+    }
+
+    /// The point at arclength `s` from `a` along its tangent.
+    fn at(&self, a: &Point, s: f64) -> Result<Point, OrbitError> {
+        let n = self.n;
+        let x: Vec<f64> = (0..n).map(|i| a.x[i] + s * a.tangent[i] * self.xs).collect();
+        let param = a.param + s * a.tangent[n] * self.ls;
+        let (x, param, _) = self.correct(x, param, &a.tangent)?;
+        self.point(x, param, &a.tangent)
+    }
+}
+
+/// Test functions whose sign change marks a bifurcation.
+fn fold_test(p: &Point) -> f64 {
+    p.tangent[p.tangent.len() - 1]
+}
+
+fn is_real(m: &c64) -> bool {
+    m.im.abs() <= 1e-9 * m.norm().max(1e-300)
+}
+
+fn pd_test(p: &Point) -> f64 {
+    // The real multiplier nearest −1: its distance beyond −1 (positive
+    // outside the circle).
+    p.orbit.multipliers.iter().filter(|m| is_real(m) && m.re < 0.0).map(|m| -m.re - 1.0).min_by(|a, b| a.abs().total_cmp(&b.abs())).unwrap_or(-1.0)
+}
+
+fn ns_test(p: &Point) -> f64 {
+    p.orbit.multipliers.iter().filter(|m| !is_real(m)).map(|m| m.norm() - 1.0).max_by(f64::total_cmp).unwrap_or(-1.0)
+}
+
+/// Continues the branch of the family's periodic orbits from `guess` (a
+/// state near an orbit at `opts.from`) toward `opts.to`.
+pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions) -> Result<Branch, OrbitError> {
+    opts.validate()?;
+    let model = family.model(opts.from)?;
+    let start = periodic_orbit(&model, 0.0, family.period(opts.from)?, guess, &opts.newton)?;
+    let n = start.x.len();
+    let xs = start.x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(opts.newton.scale).max(1e-300);
+    let ls = (opts.to - opts.from).abs();
+    let ctx = Ctx { family, opts, xs, ls, n };
+    let dir = (opts.to - opts.from).signum();
+    let mut seed = vec![0.0; n + 1];
+    seed[n] = dir;
+    let mut cur = ctx.point(start.x.clone(), opts.from, &seed)?;
+    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone() }], bifurcations: Vec::new(), end: String::new() };
+    let mut ds = opts.step;
+    let (lo, hi) = (opts.from.min(opts.to), opts.from.max(opts.to));
+    let beyond = |p: f64| (p - opts.to) * dir > 0.0;
+    while branch.points.len() < opts.max_points {
+        let trial = ctx.at(&cur, ds);
+        let next = match trial {
+            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.0 => p,
+            other => {
+                ds *= 0.5;
+                if ds < opts.min_step {
+                    let why = match other {
+                        Err(e) => e.to_string(),
+                        Ok(_) => "the tangent turned back (a sharp corner of the branch)".into(),
+                    };
+                    let near = cur.orbit.slowest_impact().map_or(String::new(), |v| format!("; the slowest impact there at speed {v:e}"));
+                    branch.end = format!("stopped at param = {}: {why}{near}", cur.param);
+                    return Ok(branch);
+                }
+                continue;
+            }
+        };
+        let next = if beyond(next.param) {
+            // Land on `to` exactly: the corrector on the plane λ = to.
+            let mut t = vec![0.0; n + 1];
+            t[n] = 1.0;
+            let frac = (opts.to - cur.param) / (next.param - cur.param);
+            let x: Vec<f64> = (0..n).map(|i| cur.x[i] + frac * (next.x[i] - cur.x[i])).collect();
+            let (x, p, _) = ctx.correct(x, opts.to, &t)?;
+            ctx.point(x, p, &cur.tangent)?
+        } else {
+            next
+        };
+        let i = branch.points.len() - 1;
+        locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
+        branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone() });
+        if beyond(next.param) || next.param == opts.to {
+            branch.end = "reached to".into();
+            return Ok(branch);
+        }
+        if next.param < lo - 0.5 * (hi - lo) || next.param > hi + 0.5 * (hi - lo) {
+            branch.end = format!("left the range at param = {}", next.param);
+            return Ok(branch);
+        }
+        cur = next;
+        ds = (ds * 1.5).min(opts.max_step);
+    }
+    branch.end = format!("max points ({}) reached at param = {}", opts.max_points, cur.param);
+    Ok(branch)
+}
+
+/// The bifurcations between `a` and `b` (points `i`, `i + 1`), each
+/// located by bisection on the arclength from `a`.
+fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut Vec<Bifurcation>) {
+    let s_b = {
+        let n = ctx.n;
+        let d: f64 = (0..n).map(|k| (b.x[k] - a.x[k]) / ctx.xs).map(|v| v * v).sum::<f64>() + ((b.param - a.param) / ctx.ls).powi(2);
+        d.sqrt()
+    };
+    type Test = fn(&Point) -> f64;
+    let tests: [(BifurcationKind, Test); 3] = [(BifurcationKind::Fold, fold_test), (BifurcationKind::PeriodDoubling, pd_test), (BifurcationKind::NeimarkSacker, ns_test)];
+    let mut found = Vec::new();
+    for (kind, f) in tests {
+        if f(a) * f(b) < 0.0 {
+            let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
+            found.push((kind, p));
+        }
+    }
+    for (kind, count) in [(BifurcationKind::Grazing, Orbit::impacts as fn(&Orbit) -> usize), (BifurcationKind::Sticking, Orbit::releases)] {
+        if count(&a.orbit) != count(&b.orbit) {
+            let p = bisect(ctx, a, s_b, b, |p| count(&p.orbit) as f64, |p, q| count(&p.orbit) != count(&q.orbit));
+            found.push((kind, p));
+        }
+    }
+    for (kind, p) in found {
+        let mu = critical(kind, &p);
+        out.push(Bifurcation { param: p.param, kind, mu, impacts: (a.orbit.impacts(), b.orbit.impacts()), releases: (a.orbit.releases(), b.orbit.releases()), between: (i, i + 1), x: p.x.clone() });
+    }
+    out.sort_by_key(|p| p.between);
+}
+
+fn critical(kind: BifurcationKind, p: &Point) -> c64 {
+    let near = |z: c64| p.orbit.multipliers.iter().copied().min_by(|a, b| (a - z).norm().total_cmp(&(b - z).norm())).unwrap_or(c64::new(f64::NAN, 0.0));
+    match kind {
+        BifurcationKind::Fold => near(c64::new(1.0, 0.0)),
+        BifurcationKind::PeriodDoubling => near(c64::new(-1.0, 0.0)),
+        BifurcationKind::NeimarkSacker => {
+            p.orbit.multipliers.iter().copied().filter(|m| m.im > 0.0).min_by(|a, b| (a.norm() - 1.0).abs().total_cmp(&(b.norm() - 1.0).abs())).unwrap_or(c64::new(f64::NAN, 0.0))
+        }
+        _ => p.orbit.multipliers.first().copied().unwrap_or(c64::new(f64::NAN, 0.0)),
+    }
+}
+
+/// Bisection on the arclength `s ∈ (0, s_b)` from `a` for where `differs`
+/// (a sign change, a count change) happens, to 1e-12 of the range: the
+/// point on `a`'s side of the change nearest to it (its limit from `a`).
+/// A trial that fails to converge ends the bisection at the bracket so far.
+fn bisect<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: impl Fn(&Point) -> f64, differs: impl Fn(&Point, &Point) -> bool) -> Point {
+    let (mut lo, mut hi) = (0.0, s_b);
+    let (mut pa, mut pb) = (a.clone(), b.clone());
+    for _ in 0..60 {
+        if hi - lo <= 1e-13 {
+            break;
+        }
+        // Regula falsi on a continuous test function, halving otherwise.
+        let (va, vb) = (value(&pa), value(&pb));
+        let mut s = if va.is_finite() && vb.is_finite() && va != vb { lo + (hi - lo) * va / (va - vb) } else { 0.5 * (lo + hi) };
+        if !(s > lo + 0.01 * (hi - lo) && s < hi - 0.01 * (hi - lo)) {
+            s = 0.5 * (lo + hi);
+        }
+        let Ok(p) = ctx.at(a, s) else { break };
+        if differs(&pa, &p) {
+            (hi, pb) = (s, p);
+        } else {
+            (lo, pa) = (s, p);
+        }
+    }
+    // The continuous tests' zero: interpolate the bracket; a count's: the
+    // point just on `a`'s side.
+    let (va, vb) = (value(&pa), value(&pb));
+    if va.is_finite() && vb.is_finite() && va != vb && (va * vb < 0.0) {
+        let w = va / (va - vb);
+        let mut p = pa.clone();
+        p.param = pa.param + w * (pb.param - pa.param);
+        p.x = pa.x.iter().zip(&pb.x).map(|(x, y)| x + w * (y - x)).collect();
+        p
+    } else {
+        pa
+    }
+}

@@ -1,0 +1,71 @@
+//! Periodic motions of signorini's models on the exact event-driven flow
+//! (docs/theory.md §10): the flow map and its Jacobian from the
+//! variational equations with a saltation matrix at each impact
+//! ([`Model`]), periodic orbits by shooting with their Floquet multipliers
+//! ([`periodic_orbit`], [`autonomous_orbit`]), and pseudo-arclength
+//! continuation in a scene parameter with its bifurcations
+//! ([`continuation`]).
+//!
+//! The numerical parts do no IO; the scene side ([`SceneFamily`]) builds a
+//! [`Model`] from a scene document at each parameter value, the way
+//! `signorini sweep` does.
+
+mod continuation;
+mod map;
+mod scene;
+mod shoot;
+mod variational;
+
+pub use continuation::{continuation, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family};
+pub use map::{Image, Model};
+pub use scene::{Built, SceneFamily};
+pub use shoot::{autonomous_orbit, eigenvalues, periodic_orbit, Newton, Orbit};
+
+/// Why an orbit or a branch could not be computed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OrbitError {
+    /// The exact run failed.
+    #[error("the exact run: {0}")]
+    Events(#[from] signorini_schemes::events::EventsError),
+    /// The model has no linearisation here.
+    #[error("{0}")]
+    Model(String),
+    /// A state of the wrong size.
+    #[error("a state of {given} unknowns for a model of {expected}")]
+    Size {
+        /// Given.
+        given: usize,
+        /// The model's.
+        expected: usize,
+    },
+    /// The flow has no derivative at an event of the orbit.
+    #[error("no derivative at t = {t}: {why}")]
+    NoDerivative {
+        /// The event's time.
+        t: f64,
+        /// What happened there.
+        why: String,
+    },
+    /// Newton did not converge.
+    #[error("Newton did not converge: residual {residual:e} after {iterations} iterations ({why})")]
+    NoConvergence {
+        /// `‖P(x) − x‖∞` at the last iterate.
+        residual: f64,
+        /// Iterations taken.
+        iterations: usize,
+        /// Why, in words.
+        why: String,
+    },
+    /// An option's value is not allowed.
+    #[error("{option}: {message}")]
+    Option {
+        /// The option (a CLI flag or Python keyword's name).
+        option: &'static str,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// The scene at a parameter value.
+    #[error("{0}")]
+    Scene(String),
+}

@@ -1,0 +1,178 @@
+//! The flow map of the exact event-driven run and its Jacobian.
+
+use crate::variational::Linear;
+use crate::OrbitError;
+use faer::Mat;
+use signorini_schemes::events::{EventDriven, EventKind, EventRecord};
+use signorini_schemes::Dynamics;
+
+/// A linear structure with unilateral contacts, as the shooting sees it:
+/// its exact event-driven flow ([`EventDriven`]) and that flow's
+/// linearisation (the variational equations with the saltation matrices:
+/// docs/theory.md §10).
+pub struct Model {
+    dy: Dynamics,
+    e: f64,
+    lin: Linear,
+    max_events: usize,
+}
+
+/// Where the flow took a state: the state after `τ`, its Jacobian, and the
+/// events on the way.
+#[derive(Clone, Debug)]
+pub struct Image {
+    /// The state `(q_s, v_s)` at `t0 + τ`.
+    pub x: Vec<f64>,
+    /// `∂x(t0 + τ)/∂x(t0)` (when asked for).
+    pub jacobian: Option<Mat<f64>>,
+    /// The events in `(t0, t0 + τ]` (and at `t0`, if the start is on a bound).
+    pub events: Vec<EventRecord>,
+    /// The contacts held at the end (sorted).
+    pub held: Vec<usize>,
+    /// The vector field `(v, a)` of the state at the end (the derivative of
+    /// the end state in `τ`).
+    pub field: Vec<f64>,
+}
+
+impl Model {
+    /// The model of `dy` with restitution `e` for every contact without
+    /// its own (as the `event-driven(e)` scheme takes it).
+    pub fn new(dy: Dynamics, e: f64) -> Result<Self, OrbitError> {
+        if !(0.0..=1.0).contains(&e) {
+            return Err(OrbitError::Model(format!("restitution {e} is not allowed: [0, 1]")));
+        }
+        let lin = Linear::new(&dy, e)?;
+        Ok(Self { dy, e, lin, max_events: 1_000_000 })
+    }
+
+    /// The structure.
+    pub fn dynamics(&self) -> &Dynamics {
+        &self.dy
+    }
+
+    /// Unknowns of the state `(q_s, v_s)`: twice the dofs with mass (a
+    /// massless contact dof is condensed: it carries no state).
+    pub fn dim(&self) -> usize {
+        self.lin.dim()
+    }
+
+    /// The dofs with mass, whose displacements and velocities make the state.
+    pub fn state_dofs(&self) -> &[usize] {
+        &self.lin.state
+    }
+
+    /// The state of a full `(q, v)`.
+    pub fn pack(&self, q: &[f64], v: &[f64]) -> Vec<f64> {
+        self.lin.pack(q, v)
+    }
+
+    /// The full `(q, v)` of a state as the exact run takes it at `t`
+    /// (massless dofs condensed, a contact on its bound held if pressed).
+    pub fn settle(&self, t: f64, x: &[f64]) -> Result<(Vec<f64>, Vec<f64>), OrbitError> {
+        let (q, v) = self.lin.unpack(x);
+        let run = EventDriven::new(&self.dy, t, &q, &v, self.e)?;
+        let (_, q, v) = run.state();
+        Ok((q, v))
+    }
+
+    /// The mechanical energy of a state at `t` and its gradient in the state.
+    pub fn energy(&self, t: f64, x: &[f64]) -> Result<(f64, Vec<f64>), OrbitError> {
+        let (q, v) = self.settle(t, x)?;
+        let n = q.len();
+        let mut f = vec![0.0; n];
+        self.dy.load_at(t, &mut f);
+        let (mut kq, mut mv) = (vec![0.0; n], vec![0.0; n]);
+        self.dy.stiffness.mul_vec(&q, &mut kq);
+        self.dy.mass.mul_vec(&v, &mut mv);
+        let e = 0.5 * (0..n).map(|i| v[i] * mv[i] + q[i] * kq[i]).sum::<f64>() - (0..n).map(|i| f[i] * q[i]).sum::<f64>();
+        let gq: Vec<f64> = (0..n).map(|i| kq[i] - f[i]).collect();
+        Ok((e, self.lin.pack(&gq, &mv)))
+    }
+
+    /// The exact flow from `x0` at `t0` over `τ`, with its Jacobian if
+    /// `jacobian`. Errors: the run's ([`OrbitError::Events`]); for the
+    /// Jacobian, an event where the flow has no derivative (two contacts
+    /// reached at one instant, an impact at zero speed: grazing) or whose
+    /// linearisation is not implemented (an accumulation of impacts).
+    pub fn flow(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool) -> Result<Image, OrbitError> {
+        if x0.len() != self.dim() {
+            return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
+        }
+        if !(tau.is_finite() && tau > 0.0) {
+            return Err(OrbitError::Model(format!("the flow's horizon {tau} is not allowed: > 0 and finite")));
+        }
+        let (q0, v0) = self.lin.unpack(x0);
+        let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        let dim = self.dim();
+        let mut jac = jacobian.then(|| Mat::<f64>::identity(dim, dim));
+        let mut seen = run.events().len();
+        // The events of the start (a contact on its bound, approaching).
+        if seen > 0 {
+            if let Some(j) = jac.as_mut() {
+                self.linearise_event(&run, run.events(), &[], &sorted_held(&run), j)?;
+            }
+        }
+        let mut held = sorted_held(&run);
+        let mut t_prev = t0;
+        let t_end = t0 + tau;
+        loop {
+            let event = run.next_event(t_end)?;
+            if run.events().len() > self.max_events {
+                return Err(OrbitError::Events(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }));
+            }
+            let t_now = run.time();
+            if let Some(j) = jac.as_mut() {
+                if t_now > t_prev {
+                    self.lin.transport(&held, t_now - t_prev, j)?;
+                }
+            }
+            t_prev = t_now;
+            if event.is_none() {
+                break;
+            }
+            let new_held = sorted_held(&run);
+            if let Some(j) = jac.as_mut() {
+                self.linearise_event(&run, &run.events()[seen..], &held, &new_held, j)?;
+            }
+            seen = run.events().len();
+            held = new_held;
+        }
+        let (t, q, v) = run.state();
+        let field = if self.lin.massless() { self.lin.field(&self.dy, &[], t, &q, &v) } else { self.lin.field(&self.dy, &held, t, &q, &v) };
+        Ok(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field })
+    }
+
+    fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>) -> Result<(), OrbitError> {
+        if let Some(r) = recs.iter().find(|r| r.kind == EventKind::Accumulation) {
+            return Err(OrbitError::NoDerivative { t: r.t, why: format!("an accumulation of impacts of contact {} (chattering): its linearisation is not implemented", r.contact) });
+        }
+        // Massless contacts: the vector field is continuous at every event.
+        if self.lin.massless() {
+            return Ok(());
+        }
+        let impacts: Vec<&EventRecord> = recs.iter().filter(|r| r.kind == EventKind::Impact).collect();
+        let Some(guard) = impacts.first() else { return Ok(()) };
+        if let Some(other) = impacts.iter().skip(1).find(|r| r.velocity_before != 0.0 && !before.contains(&r.contact)) {
+            return Err(OrbitError::NoDerivative { t: guard.t, why: format!("contacts {} and {} reached their bounds at one instant", guard.contact, other.contact) });
+        }
+        let (t, q, vplus) = run.state();
+        let impulses: Vec<(usize, f64)> = impacts.iter().map(|r| (r.contact, r.impulse)).collect();
+        let dv = self.lin.minv_impulse(&impulses);
+        let vminus: Vec<f64> = vplus.iter().zip(&dv).map(|(a, b)| a - b).collect();
+        let vn = vminus[self.lin.sites[guard.contact].dof];
+        if vn == 0.0 {
+            return Err(OrbitError::NoDerivative { t, why: format!("contact {} reached its bound at zero speed (grazing)", guard.contact) });
+        }
+        let active: Vec<usize> = impacts.iter().filter(|r| r.impulse != 0.0).map(|r| r.contact).collect();
+        let f_minus = self.lin.field(&self.dy, before, t, &q, &vminus);
+        let f_plus = self.lin.field(&self.dy, after, t, &q, &vplus);
+        self.lin.saltation(guard.contact, &active, &f_minus, &f_plus, vn, jac);
+        Ok(())
+    }
+}
+
+fn sorted_held(run: &EventDriven) -> Vec<usize> {
+    let mut h: Vec<usize> = run.held_iter().map(|(c, _)| c).collect();
+    h.sort_unstable();
+    h
+}

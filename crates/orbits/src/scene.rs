@@ -1,0 +1,101 @@
+//! A scene document as a family of models in one of its numeric keys (the
+//! dotted paths of `signorini sweep --param`).
+
+use crate::continuation::Family;
+use crate::map::Model;
+use crate::OrbitError;
+use signorini_scene::{Limits, SceneFile};
+use signorini_schemes::SchemeSpec;
+
+/// A scene in a parameter: its document, the parameter's dotted path, and
+/// the orbit's period in forcing periods.
+#[derive(Clone, Debug)]
+pub struct SceneFamily {
+    doc: toml::Table,
+    path: String,
+    periods: usize,
+    limits: Limits,
+}
+
+/// One scene of the family, built: its model, the map's horizon, and the
+/// scene's own start state (as a state of the model).
+pub struct Built {
+    /// The model.
+    pub model: Model,
+    /// The map's horizon: `periods` forcing periods (s).
+    pub horizon: f64,
+    /// The scene's initial state.
+    pub start: Vec<f64>,
+    /// The forcing frequency Ω (rad/s).
+    pub omega: f64,
+}
+
+impl SceneFamily {
+    /// The family of `doc` in `path`, for orbits of `periods` forcing
+    /// periods. The path must name a number of the scene (checked here at
+    /// its own value); the scene's scheme must be the exact event-driven
+    /// reference, and it must have a periodic forcing.
+    pub fn new(doc: toml::Table, path: &str, periods: usize) -> Result<(Self, f64), OrbitError> {
+        if periods == 0 {
+            return Err(OrbitError::Option { option: "period", message: "0 is not allowed: forcing periods per orbit, an integer >= 1".into() });
+        }
+        let value = lookup(&doc, path)?;
+        let family = Self { doc, path: path.to_string(), periods, limits: Limits::machine() };
+        family.build(value)?;
+        Ok((family, value))
+    }
+
+    /// The scene at `param`, built.
+    pub fn build(&self, param: f64) -> Result<Built, OrbitError> {
+        let mut doc = self.doc.clone();
+        signorini_sweep::set_path(&mut doc, &self.path, param).map_err(|e| OrbitError::Option { option: "param", message: e.to_string() })?;
+        let at = |e: String| OrbitError::Scene(format!("{} = {param}: {e}", self.path));
+        let file = SceneFile::from_table(doc).map_err(|e| at(e.to_string()))?;
+        let scene = file.validate_clock(&self.limits).map_err(|e| at(e.to_string()))?;
+        let Some((omega, _, _)) = scene.sweep_clock() else {
+            return Err(OrbitError::Option { option: "scene", message: "periodic orbits of the forcing period need a periodic forcing (an oscillator's [forcing], a beam's support or load, a bar's [[forcing]]); an unforced bar's periodic motions are its nonsmooth modes (signorini modes)".into() });
+        };
+        let sim = scene.instantiate(None).map_err(|e| at(e.to_string()))?;
+        let label = sim.stepper.label();
+        let spec: SchemeSpec = label.parse().map_err(|_| at(format!("scheme {label}: not a registry scheme")))?;
+        if spec.family().name != "event-driven" {
+            return Err(OrbitError::Option {
+                option: "scheme",
+                message: format!("{label} is not allowed: periodic orbits are computed on the exact flow; allowed: event-driven(e) (set the scene's scheme = \"event-driven(e)\")"),
+            });
+        }
+        let model = Model::new(sim.stepper.dynamics().clone(), spec.args()[0])?;
+        let start = model.pack(&sim.u0, &sim.v0);
+        Ok(Built { model, horizon: self.periods as f64 * std::f64::consts::TAU / omega, start, omega })
+    }
+}
+
+impl Family for SceneFamily {
+    fn model(&self, param: f64) -> Result<Model, OrbitError> {
+        Ok(self.build(param)?.model)
+    }
+
+    fn period(&self, param: f64) -> Result<f64, OrbitError> {
+        Ok(self.build(param)?.horizon)
+    }
+}
+
+/// The number at `path` in `doc` (a missing key: the scene's default is
+/// not known here, so the path must be written in the scene).
+fn lookup(doc: &toml::Table, path: &str) -> Result<f64, OrbitError> {
+    let err = |m: String| OrbitError::Option { option: "param", message: format!("{path}: {m}") };
+    let mut cur = doc.get(path.split('.').next().unwrap_or("")).ok_or_else(|| err("is not in the scene (write the key in the scene file with its start value)".into()))?;
+    for seg in path.split('.').skip(1) {
+        cur = match cur {
+            toml::Value::Table(t) => t.get(seg),
+            toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(|i| a.get(i)),
+            _ => None,
+        }
+        .ok_or_else(|| err("is not in the scene (write the key in the scene file with its start value)".into()))?;
+    }
+    match cur {
+        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Integer(i) => Ok(*i as f64),
+        other => Err(err(format!("is a {}, not a number", other.type_str()))),
+    }
+}

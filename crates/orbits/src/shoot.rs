@@ -1,0 +1,228 @@
+//! Periodic orbits by shooting on the exact map: Newton on `P(x) − x = 0`
+//! (forced: the stroboscopic map over `p` forcing periods) or on
+//! `(P_T(x) − x, phase, energy) = 0` with the period `T` unknown
+//! (autonomous), and the Floquet multipliers from the map's Jacobian.
+
+use crate::map::{Image, Model};
+use crate::OrbitError;
+use faer::linalg::solvers::{Solve, SolveLstsq};
+use faer::{c64, Mat};
+use signorini_schemes::events::{EventKind, EventRecord};
+
+/// Newton's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Newton {
+    /// Converged when `‖P(x) − x‖∞ <= tol · max(‖x‖∞, scale)`.
+    pub tol: f64,
+    /// The state's scale (a length or speed below which the relative test
+    /// would ask for more than round-off).
+    pub scale: f64,
+    /// Most iterations.
+    pub max_iter: usize,
+}
+
+impl Default for Newton {
+    fn default() -> Self {
+        Self { tol: 1e-12, scale: 1e-300, max_iter: 40 }
+    }
+}
+
+/// A periodic orbit: its state on the section, its period, the events of
+/// one period, the monodromy matrix and the Floquet multipliers.
+#[derive(Clone, Debug)]
+pub struct Orbit {
+    /// The state `(q_s, v_s)` on the section (at the section's time `t0`).
+    pub x: Vec<f64>,
+    /// The section's time.
+    pub t0: f64,
+    /// The period (s).
+    pub period: f64,
+    /// The events of one period.
+    pub events: Vec<EventRecord>,
+    /// The monodromy matrix `∂P/∂x`.
+    pub monodromy: Mat<f64>,
+    /// Its eigenvalues, by decreasing modulus.
+    pub multipliers: Vec<c64>,
+    /// `‖P(x) − x‖∞` at the solution.
+    pub residual: f64,
+    /// Newton's iterations.
+    pub iterations: usize,
+}
+
+impl Orbit {
+    /// The largest multiplier's modulus (of an autonomous orbit, the
+    /// trivial multipliers at +1 of the flow's direction and, conservative,
+    /// the energy's are left out).
+    pub fn mu_max(&self) -> f64 {
+        self.multipliers.first().map_or(0.0, |m| m.norm())
+    }
+
+    /// Impacts in one period.
+    pub fn impacts(&self) -> usize {
+        self.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count()
+    }
+
+    /// Held phases that start in one period (impacts that leave a contact
+    /// held, accumulations): the orbit sticks.
+    pub fn releases(&self) -> usize {
+        self.events.iter().filter(|e| e.kind == EventKind::Release).count()
+    }
+
+    /// The fastest impact of the period: its speed `|v⁻|` and its time
+    /// from the section in periods (`[0, 1)`); `None` without an impact.
+    pub fn fastest_impact(&self) -> Option<(f64, f64)> {
+        self.events.iter().filter(|e| e.kind == EventKind::Impact).map(|e| (e.velocity_before.abs(), ((e.t - self.t0) / self.period).rem_euclid(1.0))).max_by(|a, b| a.0.total_cmp(&b.0))
+    }
+
+    /// The slowest impact's speed (grazing: it goes to 0).
+    pub fn slowest_impact(&self) -> Option<f64> {
+        self.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).map(|e| e.velocity_before.abs()).min_by(f64::total_cmp)
+    }
+}
+
+fn inf_norm(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |a, v| a.max(v.abs()))
+}
+
+/// The eigenvalues of `m` by decreasing modulus.
+pub fn eigenvalues(m: &Mat<f64>) -> Result<Vec<c64>, OrbitError> {
+    if m.nrows() == 0 {
+        return Ok(Vec::new());
+    }
+    let mut ev = m.eigenvalues().map_err(|_| OrbitError::Model("the monodromy matrix's eigenvalues did not converge".into()))?;
+    ev.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
+    Ok(ev)
+}
+
+/// A fixed point of the map over `period` from `t0` (a forced scene's
+/// stroboscopic map: `period` = p forcing periods), by Newton from `guess`.
+pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton) -> Result<Orbit, OrbitError> {
+    let mut x = guess.to_vec();
+    let n = x.len();
+    let tol = |x: &[f64]| newton.tol * inf_norm(x).max(newton.scale);
+    let mut img: Image = model.flow(t0, &x, period, true)?;
+    let mut g: Vec<f64> = img.x.iter().zip(&x).map(|(a, b)| a - b).collect();
+    let mut res = inf_norm(&g);
+    for it in 0..=newton.max_iter {
+        if res <= tol(&x) {
+            let monodromy = img.jacobian.take().expect("asked for");
+            let multipliers = eigenvalues(&monodromy)?;
+            return Ok(Orbit { x, t0, period, events: img.events, monodromy, multipliers, residual: res, iterations: it });
+        }
+        if it == newton.max_iter {
+            break;
+        }
+        let j = img.jacobian.as_ref().expect("asked for");
+        let a = Mat::from_fn(n, n, |r, c| j[(r, c)] - if r == c { 1.0 } else { 0.0 });
+        let rhs = Mat::from_fn(n, 1, |r, _| -g[r]);
+        let step = a.partial_piv_lu().solve(&rhs);
+        if (0..n).any(|r| !step[(r, 0)].is_finite()) {
+            return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: "the Newton matrix P' − I is singular (a multiplier at +1: a fold or a family of orbits)".into() });
+        }
+        // Backtracking: a step that does not lower the residual is halved
+        // (the map is only piecewise smooth).
+        let mut lambda = 1.0;
+        loop {
+            let trial: Vec<f64> = (0..n).map(|r| x[r] + lambda * step[(r, 0)]).collect();
+            let attempt = model.flow(t0, &trial, period, true);
+            if let Ok(ti) = attempt {
+                let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
+                let tr = inf_norm(&tg);
+                if tr < res || lambda < 1.0 / 64.0 {
+                    (x, img, g, res) = (trial, ti, tg, tr);
+                    break;
+                }
+            } else if lambda < 1.0 / 64.0 {
+                attempt?;
+            }
+            lambda *= 0.5;
+        }
+    }
+    Err(OrbitError::NoConvergence { residual: res, iterations: newton.max_iter, why: "no periodic orbit near the start (Newton's residual did not fall below the tolerance)".into() })
+}
+
+/// A periodic orbit of an autonomous model at the energy `energy`, its
+/// period unknown: Gauss–Newton on `P_T(x) − x = 0`, the phase condition
+/// `f(x_ref)ᵀ (x − x_ref) = 0` (`x_ref` = `guess`) and `E(x) = energy`
+/// (`2n + 2` equations in `2n + 1` unknowns, consistent at a solution: the
+/// conserved energy makes `P' − I` singular along the family).
+pub fn autonomous_orbit(model: &Model, guess: &[f64], period: f64, energy: f64, newton: &Newton) -> Result<Orbit, OrbitError> {
+    let n = guess.len();
+    let x_ref = guess.to_vec();
+    let f0 = field_at_start(model, &x_ref, period)?;
+    let (mut x, mut t) = (guess.to_vec(), period);
+    let mut last_res = f64::INFINITY;
+    for it in 0..=newton.max_iter {
+        let img = model.flow(0.0, &x, t, true)?;
+        let (e, ge) = model.energy(0.0, &x)?;
+        let g: Vec<f64> = img.x.iter().zip(&x).map(|(a, b)| a - b).collect();
+        let phase: f64 = (0..n).map(|i| f0[i] * (x[i] - x_ref[i])).sum();
+        let res = inf_norm(&g);
+        let escale = energy.abs().max(1e-300);
+        if res <= newton.tol * inf_norm(&x).max(newton.scale) && (e - energy).abs() <= 1e3 * newton.tol * escale {
+            let monodromy = img.jacobian.expect("asked for");
+            let mut multipliers = eigenvalues(&monodromy)?;
+            // The two trivial multipliers (flow direction, energy) at +1.
+            for _ in 0..2 {
+                if let Some(i) = multipliers.iter().enumerate().min_by(|a, b| (a.1 - c64::new(1.0, 0.0)).norm().total_cmp(&(b.1 - c64::new(1.0, 0.0)).norm())).map(|p| p.0) {
+                    multipliers.remove(i);
+                }
+            }
+            return Ok(Orbit { x, t0: 0.0, period: t, events: img.events, monodromy, multipliers, residual: res, iterations: it });
+        }
+        if it == newton.max_iter {
+            last_res = res;
+            break;
+        }
+        let j = img.jacobian.as_ref().expect("asked for");
+        // Rows scaled so that each block weighs alike.
+        let a = Mat::from_fn(n + 2, n + 1, |r, c| {
+            if r < n {
+                if c < n {
+                    j[(r, c)] - if r == c { 1.0 } else { 0.0 }
+                } else {
+                    img.field[r]
+                }
+            } else if r == n {
+                if c < n {
+                    f0[c]
+                } else {
+                    0.0
+                }
+            } else if c < n {
+                ge[c]
+            } else {
+                0.0
+            }
+        });
+        let mut rhs = Mat::from_fn(n + 2, 1, |r, _| {
+            if r < n {
+                -g[r]
+            } else if r == n {
+                -phase
+            } else {
+                -(e - energy)
+            }
+        });
+        let qr = a.qr();
+        qr.solve_lstsq_in_place(rhs.as_mut());
+        if (0..=n).any(|r| !rhs[(r, 0)].is_finite()) {
+            return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: "the shooting matrix is singular".into() });
+        }
+        for i in 0..n {
+            x[i] += rhs[(i, 0)];
+        }
+        t += rhs[(n, 0)];
+        if !(t > 0.0) {
+            return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("the period went to {t}") });
+        }
+        last_res = res;
+    }
+    Err(OrbitError::NoConvergence { residual: last_res, iterations: newton.max_iter, why: "no periodic orbit at this energy near the start".into() })
+}
+
+/// The vector field at the start state (the flow over a vanishing time).
+fn field_at_start(model: &Model, x: &[f64], period: f64) -> Result<Vec<f64>, OrbitError> {
+    let img = model.flow(0.0, x, period * 1e-12, false)?;
+    Ok(img.field)
+}

@@ -1,0 +1,325 @@
+//! The linearisation of the exact flow: per phase (a set of held contacts)
+//! the state-transition matrix of the linear system, in closed form from
+//! its modes, and at each event the saltation matrix (docs/theory.md §10).
+//!
+//! The state is `x = (q_s, v_s)`, `s` the dofs with mass (every dof of a
+//! massive model; the massless contact dofs of mass redistribution and
+//! reduced models are statically condensed and carry no state).
+//!
+//! **Phases.** With the contacts `H` held, the held massive dofs are fixed
+//! (`δq_h = δv_h = 0`) and the free ones obey `M_ff δq'' + C_ff δq' +
+//! K_eff δq = 0`, `K_eff = K_ff` (massive), or the static condensation of
+//! the massless dofs not held, `K_ss − K_sZ K_ZZ⁻¹ K_Zs`. With
+//! `Φᵀ M_ff Φ = I`, `Φᵀ K_eff Φ = diag(k_i)`, `Φᵀ C_ff Φ = diag(c_i)`
+//! (classical damping), each modal pair `(η, η')` moves by
+//!
+//! ```text
+//! [ e^{−ατ}(C + αS)    e^{−ατ} S        ]     α = c/2, λ = k − α²,
+//! [ −k e^{−ατ} S       e^{−ατ}(C − αS)  ]     C, S = cos √λτ, sin √λτ/√λ (cosh, sinh for λ < 0; 1, τ for λ = 0)
+//! ```
+//!
+//! the same closed form as the flow itself: exact to round-off over any
+//! interval.
+//!
+//! **Events.** At an impact located on the contact `j` (guard
+//! `h = q_{c_j} − bound`), Newton's law for the contacts `A` the impact's
+//! LCP gives an impulse is the linear jump `v⁺ = D v⁻`,
+//! `D = I − M⁻¹ E_A W_AA⁻¹ (I + diag e_A) E_Aᵀ` (`W = E_Aᵀ M⁻¹ E_A`). The
+//! saltation matrix carries a perturbation across the event, whose time
+//! moves with it:
+//!
+//! ```text
+//! S = DJ + (f⁺ − DJ f⁻) ∇hᵀ / (∇hᵀ f⁻),   DJ = diag(I, D),   ∇hᵀ f⁻ = v⁻_{c_j},
+//! ```
+//!
+//! `f∓` the vector fields before and after (each with its own held set: a
+//! plastic impact that leaves the contact held takes the held field). A
+//! release (a held force through 0) and every event of a massless contact
+//! leave the vector field continuous: `S = I`, only the phase changes.
+
+use crate::OrbitError;
+use faer::linalg::solvers::{DenseSolveCore, Solve};
+use faer::{Mat, Side};
+use signorini_schemes::Dynamics;
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+/// A contact as the linearisation needs it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Site {
+    pub dof: usize,
+    pub restitution: f64,
+}
+
+/// The linear structure: dense matrices, the state's dofs, and the modal
+/// data of each held set met (cached).
+pub(crate) struct Linear {
+    n: usize,
+    m: Mat<f64>,
+    k: Mat<f64>,
+    c: Option<Mat<f64>>,
+    /// `M⁻¹` (massive models).
+    minv: Mat<f64>,
+    /// The dofs with mass, in order: the state's.
+    pub state: Vec<usize>,
+    /// The massless dofs.
+    zero: Vec<usize>,
+    pub sites: Vec<Site>,
+    phases: RefCell<HashMap<Vec<usize>, Phase>>,
+}
+
+/// The free dofs' modes of one held set.
+struct Phase {
+    /// Positions in the state's dof list of the free massive dofs.
+    free: Vec<usize>,
+    phi: Mat<f64>,
+    /// `Φᵀ M_ff`.
+    phit_m: Mat<f64>,
+    k: Vec<f64>,
+    c: Vec<f64>,
+}
+
+fn dense(b: &signorini_fem::SymBand) -> Mat<f64> {
+    let n = b.n();
+    let p = b.half_bandwidth();
+    Mat::from_fn(n, n, |i, j| if i.abs_diff(j) <= p { b.get(i, j) } else { 0.0 })
+}
+
+fn sub(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
+    Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
+}
+
+impl Linear {
+    pub fn new(dy: &Dynamics, e: f64) -> Result<Self, OrbitError> {
+        let n = dy.n();
+        let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
+        let mut zero: Vec<usize> = dy.contacts.iter().filter(|c| c.massless).map(|c| c.dof).collect();
+        zero.sort_unstable();
+        zero.dedup();
+        let state: Vec<usize> = (0..n).filter(|d| zero.binary_search(d).is_err()).collect();
+        let minv = if zero.is_empty() {
+            let llt = m.llt(Side::Lower).map_err(|_| OrbitError::Model("the mass matrix is not positive definite".into()))?;
+            llt.inverse()
+        } else {
+            Mat::zeros(0, 0)
+        };
+        let sites = dy.contacts.iter().map(|c| Site { dof: c.dof, restitution: c.restitution.unwrap_or(e) }).collect();
+        Ok(Self { n, m, k, c, minv, state, zero, sites, phases: RefCell::new(HashMap::new()) })
+    }
+
+    /// Unknowns of the state `(q_s, v_s)`.
+    pub fn dim(&self) -> usize {
+        2 * self.state.len()
+    }
+
+    pub fn massless(&self) -> bool {
+        !self.zero.is_empty()
+    }
+
+    /// The state of the full `(q, v)`.
+    pub fn pack(&self, q: &[f64], v: &[f64]) -> Vec<f64> {
+        self.state.iter().map(|&d| q[d]).chain(self.state.iter().map(|&d| v[d])).collect()
+    }
+
+    /// The full `(q, v)` of a state (massless dofs 0: the run condenses them).
+    pub fn unpack(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (mut q, mut v) = (vec![0.0; self.n], vec![0.0; self.n]);
+        let s = self.state.len();
+        for (i, &d) in self.state.iter().enumerate() {
+            (q[d], v[d]) = (x[i], x[s + i]);
+        }
+        (q, v)
+    }
+
+    fn phase_of(&self, held: &[usize]) -> Result<(), OrbitError> {
+        if self.phases.borrow().contains_key(held) {
+            return Ok(());
+        }
+        let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
+        let (free, keff): (Vec<usize>, Mat<f64>) = if self.zero.is_empty() {
+            let free: Vec<usize> = (0..self.state.len()).filter(|&i| !held_dofs.contains(&self.state[i])).collect();
+            let dofs: Vec<usize> = free.iter().map(|&i| self.state[i]).collect();
+            (free, sub(&self.k, &dofs, &dofs))
+        } else {
+            let s = &self.state;
+            let cond: Vec<usize> = self.zero.iter().copied().filter(|d| !held_dofs.contains(d)).collect();
+            let mut keff = sub(&self.k, s, s);
+            if !cond.is_empty() {
+                let kzz = sub(&self.k, &cond, &cond);
+                let kzs = sub(&self.k, &cond, s);
+                let lu = kzz.partial_piv_lu();
+                let x = lu.solve(&kzs);
+                keff -= sub(&self.k, s, &cond) * x;
+            }
+            ((0..s.len()).collect(), keff)
+        };
+        let dofs: Vec<usize> = free.iter().map(|&i| self.state[i]).collect();
+        let mff = sub(&self.m, &dofs, &dofs);
+        let nf = dofs.len();
+        let phase = if nf == 0 {
+            Phase { free, phi: Mat::zeros(0, 0), phit_m: Mat::zeros(0, 0), k: vec![], c: vec![] }
+        } else {
+            let llt = mff.llt(Side::Lower).map_err(|_| OrbitError::Model("the mass matrix of the free dofs is not positive definite".into()))?;
+            let l = llt.L().to_owned();
+            let mut linv = Mat::<f64>::identity(nf, nf);
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), linv.as_mut(), faer::Par::Seq);
+            let a = &linv * &keff * linv.transpose();
+            let a = Mat::from_fn(nf, nf, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+            let evd = a.self_adjoint_eigen(Side::Lower).map_err(|_| OrbitError::Model("the modes of a phase did not converge".into()))?;
+            let kmax = (0..nf).map(|i| evd.S().column_vector()[i].abs()).fold(0.0, f64::max);
+            let kv: Vec<f64> = (0..nf).map(|i| evd.S().column_vector()[i]).map(|w2| if w2.abs() <= 1e-12 * kmax { 0.0 } else { w2 }).collect();
+            let phi = linv.transpose() * evd.U();
+            let cv = match &self.c {
+                None => vec![0.0; nf],
+                Some(cm) => {
+                    let modal = phi.transpose() * sub(cm, &dofs, &dofs) * &phi;
+                    let diag = (0..nf).map(|i| modal[(i, i)].abs()).fold(0.0, f64::max);
+                    let off = (0..nf).flat_map(|i| (0..nf).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| modal[(i, j)].abs()).fold(0.0, f64::max);
+                    if off > 1e-10 * diag.max(f64::MIN_POSITIVE) {
+                        return Err(OrbitError::Model(
+                            "damping: non-classical (the free dofs' modes do not diagonalise C); the variational flow takes classical damping (e.g. Rayleigh C = a M + b K)".into(),
+                        ));
+                    }
+                    (0..nf).map(|i| modal[(i, i)].max(0.0)).collect()
+                }
+            };
+            let phit_m = phi.transpose() * &mff;
+            Phase { free, phi, phit_m, k: kv, c: cv }
+        };
+        self.phases.borrow_mut().insert(held.to_vec(), phase);
+        Ok(())
+    }
+
+    /// `jac ← Φ_H(τ) jac`: the state-transition matrix of the phase with
+    /// the contacts `held` (sorted) over `τ`, applied to the rows of `jac`.
+    pub fn transport(&self, held: &[usize], tau: f64, jac: &mut Mat<f64>) -> Result<(), OrbitError> {
+        self.phase_of(held)?;
+        let phases = self.phases.borrow();
+        let ph = &phases[held];
+        let s = self.state.len();
+        let cols = jac.ncols();
+        let nf = ph.free.len();
+        let qf = Mat::from_fn(nf, cols, |i, j| jac[(ph.free[i], j)]);
+        let vf = Mat::from_fn(nf, cols, |i, j| jac[(s + ph.free[i], j)]);
+        let (p, q) = (&ph.phit_m * &qf, &ph.phit_m * &vf);
+        let mut a = Mat::<f64>::zeros(nf, cols);
+        let mut b = Mat::<f64>::zeros(nf, cols);
+        for i in 0..nf {
+            let [a11, a12, a21, a22] = modal_transition(ph.k[i], ph.c[i], tau);
+            for j in 0..cols {
+                a[(i, j)] = a11 * p[(i, j)] + a12 * q[(i, j)];
+                b[(i, j)] = a21 * p[(i, j)] + a22 * q[(i, j)];
+            }
+        }
+        let (dq, dv) = (&ph.phi * a, &ph.phi * b);
+        let mut out = Mat::<f64>::zeros(2 * s, cols);
+        for (i, &r) in ph.free.iter().enumerate() {
+            for j in 0..cols {
+                out[(r, j)] = dq[(i, j)];
+                out[(s + r, j)] = dv[(i, j)];
+            }
+        }
+        *jac = out;
+        Ok(())
+    }
+
+    /// The vector field `(v, a)` at `(t, q, v)` with the contacts `held`
+    /// (massive models): `a_f = M_ff⁻¹ (F − K q − C v)_f`, `a_h = 0`.
+    pub fn field(&self, dy: &Dynamics, held: &[usize], t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        let mut r = vec![0.0; n];
+        dy.load_at(t, &mut r);
+        for i in 0..n {
+            let mut s = 0.0;
+            for j in 0..n {
+                s += self.k[(i, j)] * q[j] + self.c.as_ref().map_or(0.0, |c| c[(i, j)] * v[j]);
+            }
+            r[i] -= s;
+        }
+        let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
+        let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d)).collect();
+        let mut a = vec![0.0; n];
+        if !free.is_empty() {
+            let mff = sub(&self.m, &free, &free);
+            let rhs = Mat::from_fn(free.len(), 1, |i, _| r[free[i]]);
+            let sol = mff.partial_piv_lu().solve(&rhs);
+            for (i, &d) in free.iter().enumerate() {
+                a[d] = sol[(i, 0)];
+            }
+        }
+        self.pack(v, &a)
+    }
+
+    /// `M⁻¹ Σ r_i e_{c_i}` (massive models).
+    pub fn minv_impulse(&self, impulses: &[(usize, f64)]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n];
+        for &(j, r) in impulses {
+            let d = self.sites[j].dof;
+            for i in 0..self.n {
+                out[i] += self.minv[(i, d)] * r;
+            }
+        }
+        out
+    }
+
+    /// `jac ← S jac`, the saltation matrix of an impact located on the
+    /// contact `guard` with the LCP's active contacts `active` (module
+    /// docs); `f_minus`, `f_plus` the vector fields, `vn` the guard's
+    /// velocity before.
+    pub fn saltation(&self, guard: usize, active: &[usize], f_minus: &[f64], f_plus: &[f64], vn: f64, jac: &mut Mat<f64>) {
+        let n = self.n;
+        let cols = jac.ncols();
+        // D = I − M⁻¹ E_A W_AA⁻¹ (I + diag e_A) E_Aᵀ on the velocity rows.
+        let na = active.len();
+        let dofs: Vec<usize> = active.iter().map(|&j| self.sites[j].dof).collect();
+        let w = Mat::from_fn(na, na, |a, b| self.minv[(dofs[a], dofs[b])]);
+        let winv = if na > 0 { w.partial_piv_lu().inverse() } else { Mat::zeros(0, 0) };
+        let apply_d = |v: &[f64]| -> Vec<f64> {
+            let ev: Vec<f64> = active.iter().map(|&j| (1.0 + self.sites[j].restitution) * v[self.sites[j].dof]).collect();
+            let mut out = v.to_vec();
+            for a in 0..na {
+                let z: f64 = (0..na).map(|b| winv[(a, b)] * ev[b]).sum();
+                for i in 0..n {
+                    out[i] -= self.minv[(i, dofs[a])] * z;
+                }
+            }
+            out
+        };
+        let djf: Vec<f64> = {
+            let v = apply_d(&f_minus[n..]);
+            f_minus[..n].iter().copied().chain(v).collect()
+        };
+        let row = self.sites[guard].dof;
+        let gq: Vec<f64> = (0..cols).map(|j| jac[(row, j)]).collect();
+        for j in 0..cols {
+            let col: Vec<f64> = (0..n).map(|i| jac[(n + i, j)]).collect();
+            let dv = apply_d(&col);
+            for i in 0..n {
+                jac[(n + i, j)] = dv[i];
+            }
+        }
+        for i in 0..2 * n {
+            let s = (f_plus[i] - djf[i]) / vn;
+            for j in 0..cols {
+                jac[(i, j)] += s * gq[j];
+            }
+        }
+    }
+}
+
+/// The modal pair's transition over `τ` (module docs): `[a11, a12, a21, a22]`.
+fn modal_transition(k: f64, c: f64, tau: f64) -> [f64; 4] {
+    let alpha = 0.5 * c;
+    let lambda = k - alpha * alpha;
+    let (cc, s) = if lambda > 0.0 {
+        let w = lambda.sqrt();
+        ((w * tau).cos(), (w * tau).sin() / w)
+    } else if lambda < 0.0 {
+        let w = (-lambda).sqrt();
+        ((w * tau).cosh(), (w * tau).sinh() / w)
+    } else {
+        (1.0, tau)
+    };
+    let d = (-alpha * tau).exp();
+    [d * (cc + alpha * s), d * s, -k * d * s, d * (cc - alpha * s)]
+}

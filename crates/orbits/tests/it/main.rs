@@ -1,0 +1,2 @@
+//! signorini-orbits' integration tests (one binary, one module per concern).
+mod oscillator;

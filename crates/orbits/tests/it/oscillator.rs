@@ -1,0 +1,115 @@
+//! Periodic orbits of the impact oscillator against the closed forms of
+//! `signorini_exact::oscillator` (an independent derivation: the period-1
+//! orbit's impact phase from a sinusoid's roots, its monodromy `S Φ(T)`
+//! written out by hand).
+
+use signorini_exact::{ImpactOscillator, OscillatorParams, State};
+use signorini_orbits::{periodic_orbit, Family, Newton, SceneFamily};
+use std::f64::consts::TAU;
+
+const SCENE: &str = r#"
+[oscillator]
+mass = 1.0
+stiffness = 1.0
+damping_ratio = 0.05
+stop = 0.2
+restitution = 0.8
+dt = 1e-2
+t_end = 10.0
+scheme = "event-driven"
+[forcing]
+amplitude = 1.0
+omega = 2.0
+"#;
+
+fn exact(omega: f64) -> ImpactOscillator {
+    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).unwrap()
+}
+
+/// The closed-form period-1 orbits at `omega`: the state at t = 0 (the
+/// stroboscopic section) and the multipliers.
+fn closed_orbits(omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> {
+    let osc = exact(omega);
+    let t = TAU / omega;
+    osc.period1_orbits()
+        .into_iter()
+        .filter(|o| o.is_admissible())
+        .map(|o| {
+            // Post-impact state at τ, flowed (no impact in between) to T.
+            let tau = o.impact_time.rem_euclid(t);
+            let z = osc.flow(tau, State { x: 0.2, v: -0.8 * o.impact_velocity }, t);
+            let mu = [[o.multipliers[0].re, o.multipliers[0].im], [o.multipliers[1].re, o.multipliers[1].im]];
+            ([z.x, z.v], mu, o.is_stable())
+        })
+        .collect()
+}
+
+fn family() -> SceneFamily {
+    let doc: toml::Table = SCENE.parse().unwrap();
+    SceneFamily::new(doc, "forcing.omega", 1).unwrap().0
+}
+
+fn sorted(mut m: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    m.sort_by(|a, b| (b[0].hypot(b[1]), b[1]).partial_cmp(&(a[0].hypot(a[1]), a[1])).unwrap());
+    m
+}
+
+fn assert_multipliers(got: &[faer::c64], want: [[f64; 2]; 2], tol: f64, what: &str) {
+    let g = sorted(got.iter().map(|m| [m.re, m.im]).collect());
+    let w = sorted(want.to_vec());
+    for (a, b) in g.iter().zip(&w) {
+        let err = (a[0] - b[0]).hypot(a[1] - b[1]);
+        assert!(err <= tol, "{what}: multiplier {a:?} vs closed form {b:?} (error {err:e})");
+    }
+}
+
+#[test]
+fn shooting_finds_every_closed_form_period_one_orbit_with_its_multipliers() {
+    let fam = family();
+    let mut checked = (0, 0);
+    for omega in (8..=40).map(|i| f64::from(i) / 10.0) {
+        let model = fam.model(omega).unwrap();
+        let t = fam.period(omega).unwrap();
+        assert!((t - TAU / omega).abs() < 1e-15);
+        for (x, mu, stable) in closed_orbits(omega) {
+            // Start 1 % off the orbit.
+            let guess = [x[0] * 1.01 + 1e-3, x[1] * 0.99];
+            let orbit = periodic_orbit(&model, 0.0, t, &guess, &Newton::default()).unwrap_or_else(|e| panic!("Ω = {omega}: {e}"));
+            let err = (orbit.x[0] - x[0]).abs().max((orbit.x[1] - x[1]).abs());
+            assert!(err <= 1e-10, "Ω = {omega}: state {:?} vs closed form {x:?} (error {err:e})", orbit.x);
+            assert_multipliers(&orbit.multipliers, mu, 1e-8, &format!("Ω = {omega}"));
+            assert_eq!(orbit.impacts(), 1, "Ω = {omega}: one impact per period");
+            if stable {
+                checked.0 += 1;
+            } else {
+                checked.1 += 1;
+            }
+        }
+    }
+    eprintln!("checked (stable, unstable) = {checked:?}");
+    assert!(checked.0 >= 3 && checked.1 >= 3, "stable and unstable orbits both checked: {checked:?}");
+}
+
+#[test]
+fn the_variational_jacobian_equals_central_differences_of_the_map() {
+    let fam = family();
+    for omega in [1.7, 2.3] {
+        let model = fam.model(omega).unwrap();
+        let t = fam.period(omega).unwrap();
+        for (x, _, _) in closed_orbits(omega) {
+            let img = model.flow(0.0, &x, t, true).unwrap();
+            let j = img.jacobian.unwrap();
+            for c in 0..2 {
+                let h = 1e-6;
+                let (mut xp, mut xm) = (x, x);
+                xp[c] += h;
+                xm[c] -= h;
+                let (p, m) = (model.flow(0.0, &xp, t, false).unwrap().x, model.flow(0.0, &xm, t, false).unwrap().x);
+                for r in 0..2 {
+                    let fd = (p[r] - m[r]) / (2.0 * h);
+                    assert!((fd - j[(r, c)]).abs() <= 1e-6 * (1.0 + fd.abs()), "Ω = {omega}: J[{r},{c}] = {} vs differences {fd}", j[(r, c)]);
+                }
+            }
+        }
+    }
+}
