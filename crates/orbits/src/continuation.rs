@@ -54,9 +54,10 @@ pub struct ContinuationOptions {
 
 impl ContinuationOptions {
     /// From `from` to `to` with the defaults: at most 400 points, steps
-    /// from 1e-7 to 0.02 of the range, Newton to 1e-11.
+    /// (scaled arclength) from 1e-7 to 0.25, the first 0.02, a step
+    /// accepted when the tangent turns by less than 25°, Newton to 1e-11.
     pub fn new(from: f64, to: f64) -> Self {
-        Self { from, to, max_points: 400, step: 0.005, min_step: 1e-7, max_step: 0.02, newton: Newton { tol: 1e-11, ..Newton::default() } }
+        Self { from, to, max_points: 400, step: 0.02, min_step: 1e-7, max_step: 0.25, newton: Newton { tol: 1e-11, ..Newton::default() } }
     }
 
     fn validate(&self) -> Result<(), OrbitError> {
@@ -304,12 +305,14 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
     let mut cur = ctx.point(start.x.clone(), opts.from, &seed)?;
     let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone() }], bifurcations: Vec::new(), end: String::new() };
     let mut ds = opts.step;
+    // The impact speeds' scale, for the grazing test.
+    let mut vref = cur.orbit.fastest_impact().map_or(0.0, |f| f.0);
     let (lo, hi) = (opts.from.min(opts.to), opts.from.max(opts.to));
     let beyond = |p: f64| (p - opts.to) * dir > 0.0;
     while branch.points.len() < opts.max_points {
         let trial = ctx.at(&cur, ds);
         let next = match trial {
-            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.0 => p,
+            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 => p,
             other => {
                 ds *= 0.5;
                 if ds < opts.min_step {
@@ -346,11 +349,131 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
             branch.end = format!("left the range at param = {}", next.param);
             return Ok(branch);
         }
-        cur = next;
-        ds = (ds * 1.5).min(opts.max_step);
+        let turn: f64 = next.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum();
+        let prev = std::mem::replace(&mut cur, next);
+        vref = vref.max(cur.orbit.fastest_impact().map_or(0.0, |f| f.0));
+        // Grazing ahead: jump across it (module docs).
+        if let Some((bif, across)) = graze(&ctx, &prev, &cur, dir, branch.points.len() - 1, vref) {
+            branch.bifurcations.push(bif);
+            let beyond_to = beyond(across.param);
+            if !beyond_to {
+                branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone() });
+                cur = across;
+                ds = opts.step;
+                continue;
+            }
+        }
+        if turn > 0.99 {
+            ds = (ds * 1.5).min(opts.max_step);
+        }
     }
     branch.end = format!("max points ({}) reached at param = {}", opts.max_points, cur.param);
     Ok(branch)
+}
+
+/// A fixed point of the map at the parameter `param` from `guess`
+/// (natural-parameter Newton), as a branch point oriented along `dir`.
+fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) -> Option<Point> {
+    let model = ctx.family.model(param).ok()?;
+    let orbit = periodic_orbit(&model, 0.0, ctx.family.period(param).ok()?, guess, &ctx.opts.newton).ok()?;
+    let mut seed = vec![0.0; ctx.n + 1];
+    seed[ctx.n] = dir;
+    ctx.point(orbit.x, param, &seed).ok()
+}
+
+/// When the slowest impact of `b` is slowing down toward 0 (the orbit is
+/// near grazing: its Jacobian grows as 1/speed and the steps shrink),
+/// the grazing parameter extrapolated from `a`, `b`: an orbit is sought
+/// just beyond it, and if one is found with another number of impacts,
+/// the grazing is located between by bisection in the parameter (each
+/// trial a Newton solve from the interpolated state) and the branch
+/// goes on from the orbit beyond.
+fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, vref: f64) -> Option<(Bifurcation, Point)> {
+    let (va, vb) = (a.orbit.slowest_impact()?, b.orbit.slowest_impact()?);
+    if !(vb < va && vb < 0.02 * vref) || a.orbit.impacts() != b.orbit.impacts() {
+        return None;
+    }
+    let slope = (b.param - a.param) / (va - vb);
+    let graze = b.param + slope * vb;
+    let step = (graze - b.param).abs();
+    // Only a grazing within a few of the last steps.
+    if step > 2.0 * (b.param - a.param).abs() || step == 0.0 {
+        return None;
+    }
+    let sign = (graze - b.param).signum();
+    let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
+    // An orbit just beyond, with another number of impacts.
+    let mut across = None;
+    for f in [0.01, 0.1, 1.0] {
+        let at = graze + sign * f * step.max(1e-6 * ctx.ls);
+        let guess = lerp(a, b, (at - a.param) / (b.param - a.param));
+        if let Some(p) = solve_at(ctx, &guess, at, dir) {
+            if p.orbit.impacts() != b.orbit.impacts() {
+                across = Some(p);
+                break;
+            }
+        }
+    }
+    let c = across?;
+    // The grazing parameter, from the side without the grazing impact,
+    // where the orbit is smooth in the parameter: the zero of the orbit's
+    // smallest distance to a bound (secant steps, each a Newton solve from
+    // the extrapolated state). The impacting side's Jacobian grows as the
+    // inverse of the impact speed: it is used only for the first estimate.
+    let margin = |p: &Point| ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok());
+    let mut p1 = c.clone();
+    let mut m1 = margin(&p1)?;
+    let mut p0 = p1.clone();
+    let mut m0 = f64::NAN;
+    let mut estimate = graze;
+    let mut tries = 0;
+    // The nearest parameter known to give the impacting orbit.
+    let mut limit = b.param;
+    for k in 0..60 {
+        let mut next = if k == 0 || m0 == m1 || !m0.is_finite() {
+            // First step: halfway toward the nearest impacting orbit.
+            p1.param + 0.5 * (limit - p1.param)
+        } else {
+            p1.param - m1 * (p1.param - p0.param) / (m1 - m0)
+        };
+        // Never past the nearest impacting orbit.
+        if (next - limit) * (p1.param - limit) <= 0.0 {
+            next = p1.param + 0.5 * (limit - p1.param);
+        }
+        if (next - p1.param).abs() <= 1e-15 * ctx.ls.max(next.abs()) || m1 == 0.0 {
+            estimate = next;
+            break;
+        }
+        let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
+        match solve_at(ctx, &guess, next, dir) {
+            Some(p) if p.orbit.impacts() == c.orbit.impacts() => {
+                let m = margin(&p)?;
+                (p0, m0, p1, m1) = (p1, m1, p, m);
+                estimate = if m0.is_finite() && m0 != m1 { p1.param - m1 * (p1.param - p0.param) / (m1 - m0) } else { p1.param };
+                tries = 0;
+            }
+            // Beyond the grazing (the orbit impacts) or no convergence:
+            // a shorter step from the last orbit.
+            _ => {
+                tries += 1;
+                if tries > 30 {
+                    break;
+                }
+                limit = next;
+            }
+        }
+    }
+    let lo = b.clone();
+    let bif = Bifurcation {
+        param: estimate,
+        kind: BifurcationKind::Grazing,
+        mu: critical(BifurcationKind::Grazing, &lo),
+        impacts: (b.orbit.impacts(), c.orbit.impacts()),
+        releases: (b.orbit.releases(), c.orbit.releases()),
+        between: (i, i + 1),
+        x: lo.x.clone(),
+    };
+    Some((bif, c))
 }
 
 /// The bifurcations between `a` and `b` (points `i`, `i + 1`), each

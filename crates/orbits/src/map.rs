@@ -142,6 +142,54 @@ impl Model {
         Ok(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field })
     }
 
+    /// The smallest distance of a contact dof to its bounds over `[t0, t0
+    /// + τ]` from `x0` (negative: beyond, which the exact run never is;
+    /// 0: a contact on its bound, held or at an impact): sampled at 256
+    /// instants, the closest refined by golden-section search.
+    pub fn margin(&self, t0: f64, x0: &[f64], tau: f64) -> Result<f64, OrbitError> {
+        let dist = |q: &[f64]| -> f64 { self.dy.contacts.iter().map(|c| (q[c.dof] - c.bounds.lo).min(c.bounds.hi - q[c.dof])).fold(f64::INFINITY, f64::min) };
+        let (q0, v0) = self.lin.unpack(x0);
+        let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        let samples = 256;
+        let mut best = (f64::INFINITY, 0usize);
+        let (mut q, mut v) = (vec![0.0; q0.len()], vec![0.0; q0.len()]);
+        for i in 0..=samples {
+            run.run_until(t0 + tau * i as f64 / samples as f64, self.max_events)?;
+            run.state_into(&mut q, &mut v);
+            let d = dist(&q);
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        // Golden section on [t_{i−1}, t_{i+1}].
+        let h = tau / samples as f64;
+        let at = |t: f64| -> Result<f64, OrbitError> {
+            let mut r = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+            r.run_until(t, self.max_events)?;
+            let (_, q, _) = r.state();
+            Ok(dist(&q))
+        };
+        let (mut a, mut b) = (t0 + h * (best.1 as f64 - 1.0).max(0.0), t0 + h * (best.1 as f64 + 1.0).min(samples as f64));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+        let (mut fc, mut fd) = (at(c)?, at(d)?);
+        for _ in 0..60 {
+            if b - a <= 1e-14 * tau {
+                break;
+            }
+            if fc < fd {
+                (b, d, fd) = (d, c, fc);
+                c = b - g * (b - a);
+                fc = at(c)?;
+            } else {
+                (a, c, fc) = (c, d, fd);
+                d = a + g * (b - a);
+                fd = at(d)?;
+            }
+        }
+        Ok(best.0.min(fc).min(fd))
+    }
+
     fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>) -> Result<(), OrbitError> {
         if let Some(r) = recs.iter().find(|r| r.kind == EventKind::Accumulation) {
             return Err(OrbitError::NoDerivative { t: r.t, why: format!("an accumulation of impacts of contact {} (chattering): its linearisation is not implemented", r.contact) });

@@ -59,7 +59,7 @@ fn assert_multipliers(got: &[faer::c64], want: [[f64; 2]; 2], tol: f64, what: &s
     let w = sorted(want.to_vec());
     for (a, b) in g.iter().zip(&w) {
         let err = (a[0] - b[0]).hypot(a[1] - b[1]);
-        assert!(err <= tol, "{what}: multiplier {a:?} vs closed form {b:?} (error {err:e})");
+        assert!(err <= tol * a[0].hypot(a[1]).max(1.0), "{what}: multiplier {a:?} vs closed form {b:?} (error {err:e})");
     }
 }
 
@@ -110,6 +110,101 @@ fn the_variational_jacobian_equals_central_differences_of_the_map() {
                     assert!((fd - j[(r, c)]).abs() <= 1e-6 * (1.0 + fd.abs()), "Ω = {omega}: J[{r},{c}] = {} vs differences {fd}", j[(r, c)]);
                 }
             }
+        }
+    }
+}
+
+/// Checks every point of a branch against the closed forms: impacting
+/// orbits against `period1_orbits`, orbits without impacts against the
+/// linear steady state.
+fn check_branch(branch: &signorini_orbits::Branch) {
+    for p in &branch.points {
+        let osc = exact(p.param);
+        match p.orbit.impacts() {
+            0 => {
+                let z = osc.steady_state(0.0);
+                let err = (p.orbit.x[0] - z.x).abs().max((p.orbit.x[1] - z.v).abs());
+                assert!(err <= 1e-10, "Ω = {}: steady state error {err:e}", p.param);
+            }
+            1 => {
+                let best = closed_orbits(p.param).into_iter().map(|(x, mu, _)| ((p.orbit.x[0] - x[0]).abs().max((p.orbit.x[1] - x[1]).abs()), mu)).min_by(|a, b| a.0.total_cmp(&b.0));
+                let (err, mu) = best.unwrap_or_else(|| panic!("Ω = {}: no closed-form orbit", p.param));
+                assert!(err <= 1e-8, "Ω = {}: state error {err:e}", p.param);
+                assert_multipliers(&p.orbit.multipliers, mu, 1e-8, &format!("Ω = {}", p.param));
+            }
+            k => panic!("Ω = {}: {k} impacts on the period-1 branch", p.param),
+        }
+    }
+}
+
+#[test]
+fn a_branch_through_grazing_matches_the_closed_forms_and_the_grazing_frequency() {
+    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    let fam = family();
+    let start = closed_orbits(2.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
+    let branch = continuation(&fam, &start, &ContinuationOptions::new(2.2, 3.0)).unwrap();
+    assert_eq!(branch.end, "reached to");
+    check_branch(&branch);
+    let grazing: Vec<_> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::Grazing).collect();
+    assert_eq!(grazing.len(), 1, "{:?}", branch.bifurcations);
+    let want = exact(2.0).grazing_frequencies()[0];
+    assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
+    assert_eq!(grazing[0].impacts, (1, 0));
+    assert!(branch.points.iter().any(|p| p.orbit.impacts() == 0 && p.param > want), "the branch goes on without impacts");
+}
+
+/// The closed form's period-doubling frequencies in `[lo, hi]`: where its
+/// stable orbit's most negative real multiplier crosses −1 (bisection).
+fn closed_pd(lo: f64, hi: f64) -> Vec<f64> {
+    let test = |w: f64| -> Option<f64> {
+        closed_orbits(w)
+            .into_iter()
+            .filter_map(|(_, mu, _)| mu.iter().filter(|m| m[1] == 0.0 && m[0] < 0.0).map(|m| -m[0] - 1.0).min_by(|a, b| a.abs().total_cmp(&b.abs())))
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+    };
+    let n = 400;
+    let mut out = Vec::new();
+    for i in 0..n {
+        let (a, b) = (lo + (hi - lo) * f64::from(i) / f64::from(n), lo + (hi - lo) * f64::from(i + 1) / f64::from(n));
+        let (Some(fa), Some(fb)) = (test(a), test(b)) else { continue };
+        if fa * fb < 0.0 {
+            let (mut a, mut b, mut fa) = (a, b, fa);
+            for _ in 0..80 {
+                let m = 0.5 * (a + b);
+                let fm = test(m).unwrap();
+                if fm * fa > 0.0 {
+                    (a, fa) = (m, fm);
+                } else {
+                    b = m;
+                }
+            }
+            out.push(0.5 * (a + b));
+        }
+    }
+    out
+}
+
+#[test]
+fn period_doublings_on_the_branch_are_where_the_closed_form_multiplier_is_minus_one() {
+    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    let fam = family();
+    let start = closed_orbits(2.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
+    let branch = continuation(&fam, &start, &ContinuationOptions::new(2.2, 1.03)).unwrap();
+    assert_eq!(branch.end, "reached to");
+    check_branch(&branch);
+    let got: Vec<f64> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).map(|b| b.param).collect();
+    let mut want = closed_pd(1.03, 2.2);
+    want.reverse();
+    assert_eq!(got.len(), want.len(), "period doublings {got:?} vs closed form {want:?}");
+    assert!(!want.is_empty());
+    for (g, w) in got.iter().zip(&want) {
+        assert!((g - w).abs() <= 1e-8 * w, "period doubling at {g} vs closed form {w}");
+    }
+    // Unstable between the two, stable outside.
+    for p in &branch.points {
+        let inside = p.param < want[0] && p.param > want[want.len() - 1];
+        if (p.param - want[0]).abs() > 1e-6 && (p.param - want[want.len() - 1]).abs() > 1e-6 {
+            assert_eq!(p.stable(), !inside || want.len() % 2 == 1, "Ω = {}: stable = {}", p.param, p.stable());
         }
     }
 }
