@@ -142,10 +142,10 @@ impl Model {
         Ok(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field })
     }
 
-    /// The smallest distance of a contact dof to its bounds over `[t0, t0
-    /// + τ]` from `x0` (negative: beyond, which the exact run never is;
-    /// 0: a contact on its bound, held or at an impact): sampled at 256
-    /// instants, the closest refined by golden-section search.
+    /// The smallest distance of a contact dof to its bounds over
+    /// `[t0, t0 + τ]` from `x0` (0 for a contact on its bound, held or at
+    /// an impact; the exact run is never beyond): sampled at 256 instants,
+    /// the closest refined by golden-section search.
     pub fn margin(&self, t0: f64, x0: &[f64], tau: f64) -> Result<f64, OrbitError> {
         let dist = |q: &[f64]| -> f64 { self.dy.contacts.iter().map(|c| (q[c.dof] - c.bounds.lo).min(c.bounds.hi - q[c.dof])).fold(f64::INFINITY, f64::min) };
         let (q0, v0) = self.lin.unpack(x0);
