@@ -68,6 +68,7 @@
 pub use signorini_scene as scene;
 pub use signorini_scene::excitation;
 pub use signorini_sweep as sweep;
+pub mod orbits;
 
 pub use scene::{check_report, energy_warning, CheckReport};
 use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, BarRun, ContactSet, Reads, Scene, SceneFile};
@@ -110,6 +111,9 @@ pub enum CliError {
     /// The run failed (blow-up, instability, …).
     #[error(transparent)]
     Run(#[from] RunError),
+    /// A continuation's options, scene or Newton solve (`signorini continue`).
+    #[error(transparent)]
+    Orbits(#[from] signorini_orbits::OrbitError),
     /// A file of the output folder cannot be written.
     #[error("cannot write {}: {source}", path.display())]
     Write {
@@ -237,6 +241,7 @@ impl CliError {
     /// end with failed runs, 1 for a run that failed.
     pub fn exit_code(&self) -> u8 {
         match self {
+            CliError::Orbits(signorini_orbits::OrbitError::Option { .. } | signorini_orbits::OrbitError::Scene(_)) => 2,
             CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } | CliError::SceneFile { .. } | CliError::OutFolder { .. } => 2,
             CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } => 130,
             CliError::SweepFailed { .. } => 3,

@@ -117,6 +117,43 @@ enum Cmd {
         max_memory: Option<f64>,
     },
     /// Merge the folders of a sharded sweep into the files of the unsharded one.
+    /// The branch of periodic orbits of an event-driven scene in a numeric
+    /// key, with stability and bifurcations: branch.csv, bifurcations.csv,
+    /// branch.svg.
+    Continue {
+        /// The scene (TOML; scheme = "event-driven(e)", a periodic forcing).
+        scene: PathBuf,
+        /// The parameter's dotted path in the scene (e.g. forcing.omega), written in the scene.
+        #[arg(long)]
+        param: String,
+        /// The start of the range (the first orbit is found there).
+        #[arg(long, allow_hyphen_values = true)]
+        from: f64,
+        /// The end of the range.
+        #[arg(long, allow_hyphen_values = true)]
+        to: f64,
+        /// Forcing periods per orbit (1: period-1 orbits).
+        #[arg(long, default_value_t = 1)]
+        period: usize,
+        /// Forcing periods run from the scene's initial state before Newton.
+        #[arg(long, default_value_t = 100.0)]
+        transient: f64,
+        /// Most points per branch.
+        #[arg(long, default_value_t = 400)]
+        max_points: usize,
+        /// At each period doubling, continue the period-doubled branch too.
+        #[arg(long)]
+        switch: bool,
+        /// A sweep folder (signorini sweep --out) whose bifurcation diagram the plot draws under the branch.
+        #[arg(long)]
+        sweep: Option<PathBuf>,
+        /// Output folder (default out/<scene>-continue).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Memory a scene may use (e.g. 4G); default: the machine's available memory.
+        #[arg(long, value_parser = parse_bytes)]
+        max_memory: Option<f64>,
+    },
     Merge {
         /// The shard folders.
         #[arg(required = true)]
@@ -220,6 +257,15 @@ fn main() -> ExitCode {
             }
             if report.failed > 0 {
                 return Err(CliError::SweepFailed { failed: report.failed, total: report.runs, dir: out.display().to_string() });
+            }
+            Ok(())
+        }
+        Cmd::Continue { scene, param, from, to, period, transient, max_points, switch, sweep, out, max_memory } => {
+            let text = signorini_cli::read_scene_file(&scene)?;
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-continue", scene.file_stem().unwrap_or_default().to_string_lossy())));
+            let opts = signorini_cli::orbits::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep };
+            for l in signorini_cli::orbits::continue_scene(&text, &opts, &out, limits(max_memory))? {
+                say(&format!("{l}\n"));
             }
             Ok(())
         }

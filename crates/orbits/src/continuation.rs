@@ -24,6 +24,7 @@ use crate::shoot::{eigenvalues, periodic_orbit, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
+use signorini_schemes::events::EventKind;
 
 /// A family of models in one parameter, with the period of its map.
 pub trait Family {
@@ -313,12 +314,49 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
         let trial = ctx.at(&cur, ds);
         let next = match trial {
             Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 => p,
+            // A corner where the number of impacts or held phases changes
+            // (a grazing, where a branch may also turn back): taken, the
+            // change located on the arclength.
+            Ok(p) if ds <= 1e-3 && (p.orbit.impacts() != cur.orbit.impacts() || p.orbit.releases() != cur.orbit.releases()) => {
+                let i = branch.points.len() - 1;
+                let kind = if p.orbit.impacts() != cur.orbit.impacts() { BifurcationKind::Grazing } else { BifurcationKind::Sticking };
+                let count = |q: &Point| (q.orbit.impacts(), q.orbit.releases());
+                let at = bisect(&ctx, &cur, ds, &p, |q| (count(q).0 * 1000 + count(q).1) as f64, |a, b| count(a) != count(b));
+                branch.bifurcations.push(Bifurcation {
+                    param: at.param,
+                    kind,
+                    mu: critical(kind, &at),
+                    impacts: (cur.orbit.impacts(), p.orbit.impacts()),
+                    releases: (cur.orbit.releases(), p.orbit.releases()),
+                    between: (i, i + 1),
+                    x: at.x.clone(),
+                });
+                p
+            }
             other => {
                 ds *= 0.5;
                 if ds < opts.min_step {
+                    // An impact crossing the section's time: the section
+                    // state jumps by its impulse; the branch goes on from
+                    // the state on the other side.
+                    if let Some(p) = across_section(&ctx, &cur, &branch.points, dir) {
+                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
+                        cur = p;
+                        ds = opts.step;
+                        continue;
+                    }
+                    // A corner where impacts appear or held phases start
+                    // (a free flight grazing a stop): the orbit just beyond.
+                    if let Some((bif, p)) = corner(&ctx, &cur, &branch.points, dir) {
+                        branch.bifurcations.push(bif);
+                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
+                        cur = p;
+                        ds = opts.step;
+                        continue;
+                    }
                     let why = match other {
                         Err(e) => e.to_string(),
-                        Ok(_) => "the tangent turned back (a sharp corner of the branch)".into(),
+                        Ok(_) => "a corner of the branch that the corrector cannot turn (a free flight grazing a stop, where a new impact appears with a vanishing speed, or a nonsmooth fold): the branch is not continued through it".into(),
                     };
                     let near = cur.orbit.slowest_impact().map_or(String::new(), |v| format!("; the slowest impact there at speed {v:e}"));
                     branch.end = format!("stopped at param = {}: {why}{near}", cur.param);
@@ -369,6 +407,159 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
     }
     branch.end = format!("max points ({}) reached at param = {}", opts.max_points, cur.param);
     Ok(branch)
+}
+
+/// The period-doubled branch born at the period doubling `bif` of the
+/// branch of `single` (orbits of p forcing periods): the eigenvector `w`
+/// of the multiplier −1 there gives the guesses `x ± ε w` for an orbit of
+/// `double` (2p periods) just beside the bifurcation, on each side in turn;
+/// the first that converges to an orbit that is not the p-periodic one is
+/// continued away from the bifurcation to the end of `range` on its side.
+pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, range: (f64, f64), opts: &ContinuationOptions) -> Result<Branch, OrbitError> {
+    if bif.kind != BifurcationKind::PeriodDoubling {
+        return Err(OrbitError::Option { option: "switch", message: format!("a branch switch at a {}: only at a period doubling", bif.kind.name()) });
+    }
+    let model = single.model(bif.param)?;
+    let img = model.flow(0.0, &bif.x, single.period(bif.param)?, true)?;
+    let jac = img.jacobian.expect("asked for");
+    let eig = jac.eigen().map_err(|_| OrbitError::Model("the monodromy's eigenvectors did not converge".into()))?;
+    let n = bif.x.len();
+    let k = (0..n).min_by(|&a, &b| (eig.S()[a] + c64::new(1.0, 0.0)).norm().total_cmp(&(eig.S()[b] + c64::new(1.0, 0.0)).norm())).unwrap_or(0);
+    let w: Vec<f64> = (0..n).map(|i| eig.U()[(i, k)].re).collect();
+    let wn = w.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-300);
+    let xs = bif.x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-300);
+    let span = (range.1 - range.0).abs();
+    let mut last = None;
+    for delta in [1e-4, 1e-3, 1e-2] {
+        for side in [1.0, -1.0] {
+            let param = bif.param + side * delta * span;
+            let end = if side > 0.0 { range.0.max(range.1) } else { range.0.min(range.1) };
+            if (end - param) * side <= 0.0 {
+                continue;
+            }
+            for (eps, sign) in [0.3, 1.0, 3.0].iter().flat_map(|f| [(f * delta.sqrt() * xs, 1.0), (f * delta.sqrt() * xs, -1.0)]) {
+                let guess: Vec<f64> = (0..n).map(|i| bif.x[i] + sign * eps * w[i] / wn).collect();
+                let Ok(model) = double.model(param) else { continue };
+                let Ok(orbit) = periodic_orbit(&model, 0.0, double.period(param)?, &guess, &opts.newton) else { continue };
+                // Not the p-periodic orbit: its image after p periods differs.
+                let half = single.model(param)?.flow(0.0, &orbit.x, single.period(param)?, false)?;
+                let gap = half.x.iter().zip(&orbit.x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+                if gap <= 1e-6 * xs {
+                    continue;
+                }
+                let mut o = *opts;
+                (o.from, o.to) = (param, end);
+                match continuation(double, &orbit.x, &o) {
+                    Ok(mut b) => {
+                        // Cut where the branch rejoins the p-periodic one
+                        // (its orbits are then fixed points of the p map).
+                        let rejoin = b.points.iter().skip(1).position(|p| {
+                            single
+                                .model(p.param)
+                                .and_then(|m| Ok(m.flow(0.0, &p.orbit.x, single.period(p.param)?, false)?.x))
+                                .is_ok_and(|y| y.iter().zip(&p.orbit.x).fold(0.0f64, |a, (u, v)| a.max((u - v).abs())) <= 1e-7 * xs)
+                        });
+                        if let Some(k) = rejoin {
+                            let at = b.points[k + 1].param;
+                            b.points.truncate(k + 2);
+                            b.bifurcations.retain(|f| f.between.1 <= k + 1);
+                            b.end = format!("rejoined the branch of half its period at param = {at}");
+                        }
+                        return Ok(b);
+                    }
+                    Err(e) => last = Some(e),
+                }
+            }
+        }
+    }
+    Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no period-doubled orbit found beside the period doubling at {}", bif.param) }))
+}
+
+/// At a corner of the branch (the corrector fails at every step): an orbit
+/// just beyond `cur` in the parameter with another number of impacts or
+/// held phases (natural-parameter Newton from `cur`'s state), the change
+/// located between by bisection in the parameter (a trial that does not
+/// converge counts as beyond).
+fn corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Point)> {
+    let trend = points.len().checked_sub(2).map_or(dir, |i| (cur.param - points[i].param).signum());
+    let same = |p: &Point| p.orbit.impacts() == cur.orbit.impacts() && p.orbit.releases() == cur.orbit.releases();
+    let mut beyond = None;
+    for f in [1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
+        let param = cur.param + trend * f * ctx.ls;
+        if let Some(p) = solve_at(ctx, &cur.x, param, trend) {
+            if !same(&p) {
+                beyond = Some(p);
+                break;
+            }
+        }
+    }
+    let b = beyond?;
+    let (mut lo, mut hi) = (cur.param, b.param);
+    let mut hi_x = b.x.clone();
+    for _ in 0..60 {
+        if (hi - lo).abs() <= 1e-14 * ctx.ls.max(hi.abs()) {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        match solve_at(ctx, &cur.x, mid, trend) {
+            Some(p) if same(&p) => lo = mid,
+            Some(p) => (hi, hi_x) = (mid, p.x),
+            None => hi = mid,
+        }
+    }
+    let _ = hi_x;
+    let kind = if b.orbit.impacts() != cur.orbit.impacts() { BifurcationKind::Grazing } else { BifurcationKind::Sticking };
+    let bif = Bifurcation {
+        param: 0.5 * (lo + hi),
+        kind,
+        mu: critical(kind, cur),
+        impacts: (cur.orbit.impacts(), b.orbit.impacts()),
+        releases: (cur.orbit.releases(), b.orbit.releases()),
+        between: (points.len() - 1, points.len()),
+        x: cur.x.clone(),
+    };
+    Some((bif, b))
+}
+
+/// When an impact of `cur`'s orbit falls within 1e-4 of a period of the
+/// section's time, the orbit with that impact on the other side of the
+/// section: its section state is `cur`'s with the impulse added (the
+/// impact moves before the section) or taken back (after it), sought a
+/// little further along the branch's direction in the parameter.
+fn across_section<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<Point> {
+    let period = cur.orbit.period;
+    let model = ctx.family.model(cur.param).ok()?;
+    let trend = points.len().checked_sub(2).map_or(dir * 1e-6 * ctx.ls, |i| cur.param - points[i].param);
+    for e in cur.orbit.events.iter().filter(|e| e.kind == EventKind::Impact) {
+        let phase = (e.t - cur.orbit.t0) / period;
+        let sign = if phase < 1e-4 {
+            1.0
+        } else if phase > 1.0 - 1e-4 {
+            -1.0
+        } else {
+            continue;
+        };
+        let guess = model.with_impulse(&cur.x, e.contact, e.impulse, sign);
+        for f in [0.1, 1.0, 4.0] {
+            let param = cur.param + f * trend.abs().max(1e-9 * ctx.ls) * trend.signum();
+            if let Some(p) = solve_at(ctx, &guess, param, cur.tangent[ctx.n].signum()) {
+                let moved = p.orbit.events.iter().any(|q| {
+                    q.kind == EventKind::Impact && q.contact == e.contact && {
+                        let ph = (q.t - p.orbit.t0) / period;
+                        if sign > 0.0 {
+                            ph > 0.5
+                        } else {
+                            ph < 0.5
+                        }
+                    }
+                });
+                if moved {
+                    return Some(p);
+                }
+            }
+        }
+    }
+    None
 }
 
 /// A fixed point of the map at the parameter `param` from `guess`
@@ -487,8 +678,12 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     type Test = fn(&Point) -> f64;
     let tests: [(BifurcationKind, Test); 3] = [(BifurcationKind::Fold, fold_test), (BifurcationKind::PeriodDoubling, pd_test), (BifurcationKind::NeimarkSacker, ns_test)];
     let mut found = Vec::new();
+    // Across a change of the event sequence the multipliers jump: their
+    // sign changes there belong to the grazing (or sticking), not to a
+    // smooth bifurcation.
+    let smooth = a.orbit.impacts() == b.orbit.impacts() && a.orbit.releases() == b.orbit.releases();
     for (kind, f) in tests {
-        if f(a) * f(b) < 0.0 {
+        if smooth && f(a) * f(b) < 0.0 {
             let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
             found.push((kind, p));
         }

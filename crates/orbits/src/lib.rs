@@ -12,11 +12,12 @@
 
 mod continuation;
 mod map;
+pub mod output;
 mod scene;
 mod shoot;
 mod variational;
 
-pub use continuation::{continuation, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family};
+pub use continuation::{continuation, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family};
 pub use map::{Image, Model};
 pub use scene::{Built, SceneFamily};
 pub use shoot::{autonomous_orbit, eigenvalues, periodic_orbit, Newton, Orbit};

@@ -90,7 +90,8 @@ impl Model {
     }
 
     /// The exact flow from `x0` at `t0` over `τ`, with its Jacobian if
-    /// `jacobian`. Errors: the run's ([`OrbitError::Events`]); for the
+    /// `jacobian` (a contact dof beyond its bound in `x0`, as a Newton
+    /// iterate may put it, starts on the bound). Errors: the run's ([`OrbitError::Events`]); for the
     /// Jacobian, an event where the flow has no derivative (two contacts
     /// reached at one instant, an impact at zero speed: grazing) or whose
     /// linearisation is not implemented (an accumulation of impacts).
@@ -101,7 +102,11 @@ impl Model {
         if !(tau.is_finite() && tau > 0.0) {
             return Err(OrbitError::Model(format!("the flow's horizon {tau} is not allowed: > 0 and finite")));
         }
-        let (q0, v0) = self.lin.unpack(x0);
+        let (mut q0, v0) = self.lin.unpack(x0);
+        // A start beyond a bound (a Newton iterate) is taken on it.
+        for c in self.dy.contacts.iter().filter(|c| !c.massless) {
+            q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
+        }
         let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
         let dim = self.dim();
         let mut jac = jacobian.then(|| Mat::<f64>::identity(dim, dim));
@@ -140,6 +145,23 @@ impl Model {
         let (t, q, v) = run.state();
         let field = if self.lin.massless() { self.lin.field(&self.dy, &[], t, &q, &v) } else { self.lin.field(&self.dy, &held, t, &q, &v) };
         Ok(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field })
+    }
+
+    /// The state `x` with the impulse `r` of the contact `contact` added
+    /// (`sign` = 1) or taken back (`sign` = −1): `v ± M⁻¹ e_c r`. The
+    /// section state on the other side of an impact that crosses the
+    /// section's time.
+    pub fn with_impulse(&self, x: &[f64], contact: usize, r: f64, sign: f64) -> Vec<f64> {
+        if self.lin.massless() {
+            return x.to_vec();
+        }
+        let dv = self.lin.minv_impulse(&[(contact, sign * r)]);
+        let s = self.lin.state.len();
+        let mut out = x.to_vec();
+        for (i, &d) in self.lin.state.iter().enumerate() {
+            out[s + i] += dv[d];
+        }
+        out
     }
 
     /// The smallest distance of a contact dof to its bounds over

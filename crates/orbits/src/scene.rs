@@ -28,6 +28,27 @@ pub struct Built {
     pub start: Vec<f64>,
     /// The forcing frequency Ω (rad/s).
     pub omega: f64,
+    sim: signorini_scene::Simulation,
+}
+
+impl Built {
+    /// The tip's absolute displacement (the scene's tip dof: the
+    /// oscillator's, the beam's tip, a bar's contact end) in the state `x`
+    /// at the section (t = 0): the quantity a sweep's bifurcation diagram
+    /// shows. A reduced model's state is reconstructed, a beam's lifted.
+    pub fn tip(&self, x: &[f64]) -> Result<f64, OrbitError> {
+        let (q, v) = self.model.settle(0.0, x)?;
+        let (q, v) = match &self.sim.reduction {
+            None => (q, v),
+            Some(r) => {
+                let (mut qf, mut vf) = (vec![0.0; r.parent_dofs()], vec![0.0; r.parent_dofs()]);
+                r.reconstruct(&q, &mut qf);
+                r.reconstruct(&v, &mut vf);
+                (qf, vf)
+            }
+        };
+        Ok(self.sim.absolute(&q, &v, 0.0).0[self.sim.tip])
+    }
 }
 
 impl SceneFamily {
@@ -36,13 +57,29 @@ impl SceneFamily {
     /// its own value); the scene's scheme must be the exact event-driven
     /// reference, and it must have a periodic forcing.
     pub fn new(doc: toml::Table, path: &str, periods: usize) -> Result<(Self, f64), OrbitError> {
+        Self::with_limits(doc, path, periods, Limits::machine())
+    }
+
+    /// [`SceneFamily::new`] within `limits` (a front end's `--max-memory`).
+    pub fn with_limits(doc: toml::Table, path: &str, periods: usize, limits: Limits) -> Result<(Self, f64), OrbitError> {
         if periods == 0 {
             return Err(OrbitError::Option { option: "period", message: "0 is not allowed: forcing periods per orbit, an integer >= 1".into() });
         }
         let value = lookup(&doc, path)?;
-        let family = Self { doc, path: path.to_string(), periods, limits: Limits::machine() };
+        let family = Self { doc, path: path.to_string(), periods, limits };
         family.build(value)?;
         Ok((family, value))
+    }
+
+    /// The same scene and parameter for orbits of `periods` forcing periods
+    /// (a period-doubled branch's family).
+    pub fn with_periods(&self, periods: usize) -> Self {
+        Self { periods: periods.max(1), ..self.clone() }
+    }
+
+    /// Forcing periods per orbit.
+    pub fn periods(&self) -> usize {
+        self.periods
     }
 
     /// The scene at `param`, built.
@@ -66,7 +103,7 @@ impl SceneFamily {
         }
         let model = Model::new(sim.stepper.dynamics().clone(), spec.args()[0])?;
         let start = model.pack(&sim.u0, &sim.v0);
-        Ok(Built { model, horizon: self.periods as f64 * std::f64::consts::TAU / omega, start, omega })
+        Ok(Built { model, horizon: self.periods as f64 * std::f64::consts::TAU / omega, start, omega, sim })
     }
 }
 

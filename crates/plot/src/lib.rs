@@ -330,8 +330,15 @@ where
 /// to its right, the legend. Errors only if no point can be drawn
 /// ([`PlotError::NothingToPlot`]) or plotters fails ([`PlotError::Drawing`]).
 pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, PlotError> {
+    line_chart_over(chart, series, &[], 1)
+}
+
+/// [`line_chart`] drawn over `dots`, each of their points a dot of radius
+/// `radius` pixels as in [`scatter`] (a continuation's branch over a
+/// sweep's bifurcation diagram); the dots' series join the legend.
+pub fn line_chart_over(chart: &Chart<'_>, series: &[Series], dots: &[Series], radius: u32) -> Result<String, PlotError> {
     let keep = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (chart.scale == Scale::Linear || (p.0 > 0.0 && p.1 > 0.0));
-    let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.points.iter().copied().filter(keep)).collect();
+    let all: Vec<(f64, f64)> = series.iter().chain(dots).flat_map(|s| s.points.iter().copied().filter(keep)).collect();
     if all.is_empty() {
         return Err(PlotError::NothingToPlot { chart: chart.title.to_string() });
     }
@@ -354,9 +361,11 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, PlotEr
         y0 /= 1.5;
         y1 *= 1.5;
     }
-    let legend_w = legend_width(series);
+    let dot_series: Vec<Series> = dots.iter().map(|s| Series { style: Style { variant: Some(0), ..s.style }, ..s.clone() }).collect();
+    let legend_entries: Vec<Series> = dot_series.iter().cloned().chain(series.iter().cloned()).collect();
+    let legend_w = legend_width(&legend_entries);
     let title_h = 36;
-    let legend_h = title_h + 12 + LEGEND_ROW * series.len() as i32 + 16;
+    let legend_h = title_h + 12 + LEGEND_ROW * legend_entries.len() as i32 + 16;
     let size = (chart.size.0 + legend_w, chart.size.1.max(legend_h as u32));
     let mut svg = String::new();
     {
@@ -381,8 +390,12 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, PlotEr
                     mesh.x_label_formatter(&linear_label).y_label_formatter(&linear_label);
                 }
                 mesh.draw().map_err(|e| err(e.into()))?;
+                for (i, s) in dots.iter().enumerate() {
+                    let color = Look::of(s, i).color;
+                    ctx.draw_series(s.points.iter().copied().filter(keep).map(|p| Circle::new(p, radius, color.filled()))).map_err(|e| err(e.into()))?;
+                }
                 for (i, s) in series.iter().enumerate() {
-                    let look = Look::of(s, i);
+                    let look = Look::of(s, i + dots.len());
                     let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
                     match look.dash {
                         None => ctx.draw_series(LineSeries::new(pts.iter().copied(), look.line())).map(|_| ()),
@@ -396,7 +409,7 @@ pub fn line_chart(chart: &Chart<'_>, series: &[Series]) -> Result<String, PlotEr
                     }
                 }
                 let top = ctx.plotting_area().get_pixel_range().1.start - legend.get_base_pixel().1;
-                draw_legend(&legend, series, top.max(0)).map_err(err)?;
+                draw_legend(&legend, &legend_entries, top.max(0)).map_err(err)?;
             }};
         }
         match chart.scale {

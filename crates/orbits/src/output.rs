@@ -1,0 +1,135 @@
+//! The branch as text: `branch.csv`, `bifurcations.csv` and `branch.svg`
+//! (strings; the front ends write them).
+
+use crate::continuation::Branch;
+use signorini_plot::{Chart, PlotError, Scale, Series, Style};
+use std::f64::consts::TAU;
+use std::fmt::Write;
+
+/// The columns of `branch.csv` before the state's.
+pub const BRANCH_COLUMNS: &str = "param,period,stable,mu_max,impact_velocity,impact_phase,impacts_per_period,releases_per_period,displacement,branch,residual";
+
+/// The columns of `bifurcations.csv`.
+pub const BIFURCATION_COLUMNS: &str = "param,kind,mu_re,mu_im,impacts_before,impacts_after,releases_before,releases_after,displacement,branch";
+
+/// One branch with what the front end knows of it: the forcing periods
+/// per orbit, the forcing frequency at each point, and each point's tip
+/// displacement on the section (the quantity a sweep's bifurcation
+/// diagram shows).
+pub struct Labelled<'a> {
+    /// The branch.
+    pub branch: &'a Branch,
+    /// Forcing periods per orbit.
+    pub periods: usize,
+    /// The forcing frequency Ω at each point.
+    pub omega: Vec<f64>,
+    /// The tip displacement at each point.
+    pub displacement: Vec<f64>,
+    /// The tip displacement at each bifurcation.
+    pub bif_displacement: Vec<f64>,
+}
+
+fn cell(x: f64) -> String {
+    if x.is_nan() {
+        String::new()
+    } else {
+        format!("{x:.12e}")
+    }
+}
+
+/// `branch.csv`: a header ([`BRANCH_COLUMNS`], then `q<dof>` and `v<dof>`
+/// of each state dof) and one row per point of every branch, numbered in
+/// the `branch` column.
+pub fn branch_csv(branches: &[Labelled<'_>], state_dofs: &[usize]) -> String {
+    let mut out = String::from(BRANCH_COLUMNS);
+    for d in state_dofs {
+        let _ = write!(out, ",q{d}");
+    }
+    for d in state_dofs {
+        let _ = write!(out, ",v{d}");
+    }
+    out.push('\n');
+    for (b, lb) in branches.iter().enumerate() {
+        for (i, p) in lb.branch.points.iter().enumerate() {
+            let (speed, phase) =
+                match p.orbit.events.iter().filter(|e| e.kind == signorini_schemes::events::EventKind::Impact).max_by(|a, b| a.velocity_before.abs().total_cmp(&b.velocity_before.abs())) {
+                    Some(e) => (e.velocity_before.abs(), (lb.omega[i] * e.t).rem_euclid(TAU)),
+                    None => (f64::NAN, f64::NAN),
+                };
+            let _ = write!(
+                out,
+                "{},{},{},{},{},{},{},{},{},{b},{}",
+                cell(p.param),
+                lb.periods,
+                u8::from(p.stable()),
+                cell(p.orbit.mu_max()),
+                cell(speed),
+                cell(phase),
+                p.orbit.impacts(),
+                p.orbit.releases(),
+                cell(lb.displacement[i]),
+                cell(p.orbit.residual)
+            );
+            for x in &p.orbit.x {
+                let _ = write!(out, ",{}", cell(*x));
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// `bifurcations.csv` ([`BIFURCATION_COLUMNS`]).
+pub fn bifurcations_csv(branches: &[Labelled<'_>]) -> String {
+    let mut out = format!("{BIFURCATION_COLUMNS}\n");
+    for (b, lb) in branches.iter().enumerate() {
+        for (k, f) in lb.branch.bifurcations.iter().enumerate() {
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{},{},{},{b}",
+                cell(f.param),
+                f.kind.name(),
+                cell(f.mu.re),
+                cell(f.mu.im),
+                f.impacts.0,
+                f.impacts.1,
+                f.releases.0,
+                f.releases.1,
+                cell(lb.bif_displacement[k])
+            );
+        }
+    }
+    out
+}
+
+/// `branch.svg`: the tip displacement on the section against the
+/// parameter, stable stretches solid, unstable dashed, over `sweep` (a
+/// sweep's bifurcation diagram: `(param, displacement)` dots) if given.
+pub fn branch_svg(branches: &[Labelled<'_>], param: &str, sweep: &[(f64, f64)]) -> Result<String, PlotError> {
+    let mut series = Vec::new();
+    for (b, lb) in branches.iter().enumerate() {
+        let pts = &lb.branch.points;
+        let mut start = 0;
+        while start < pts.len() {
+            let stable = pts[start].stable();
+            let mut end = start;
+            while end + 1 < pts.len() && pts[end + 1].stable() == stable {
+                end += 1;
+            }
+            // Each stretch joins the next one's first point.
+            let last = (end + 1).min(pts.len() - 1);
+            let points: Vec<(f64, f64)> = (start..=last).map(|i| (pts[i].param, lb.displacement[i])).collect();
+            let label = format!("{} ({} T{})", if stable { "stable" } else { "unstable" }, lb.periods, if b > 0 { format!(", branch {b}") } else { String::new() });
+            series.push(Series { label, points, reference: false, style: Style { group: Some(b), variant: if stable { None } else { Some(1) } } });
+            start = end + 1;
+        }
+    }
+    let dots: Vec<Series> = if sweep.is_empty() {
+        Vec::new()
+    } else {
+        vec![Series { label: "sweep (stroboscopic samples)".into(), points: sweep.to_vec(), reference: false, style: Style { group: Some(7), variant: None } }]
+    };
+    let title = format!("Periodic orbits in {param}");
+    let chart = Chart { title: &title, x_label: param, y_label: "tip displacement on the section", scale: Scale::Linear, size: (900, 560) };
+    signorini_plot::line_chart_over(&chart, &series, &dots, 1)
+}
