@@ -122,6 +122,8 @@ fn fundamental_family_against_the_courant_one_bar() {
     let cases = [
         // Clearance: t_f = 2.5, t_c = 0.75, T = 3.25.
         Case { length: 1.0, c: 1.0, gap: -0.25, energy: 0.5, family: 1, m: 40 },
+        // Just above the threshold 1/32 (E = 1.5625 × it): t_c = 0.2, T = 3.8.
+        Case { length: 1.0, c: 1.0, gap: -0.25, energy: 0.048828125, family: 1, m: 40 },
         // Another length and wave speed: τ = 8, Q = 1/2, T = 12.2, t_c = 3.8.
         Case { length: 2.0, c: 0.5, gap: -0.1, energy: 0.25, family: 1, m: 40 },
         // Prestress: t_f = 1.5, t_c = 1.25, T = 2.75.
