@@ -152,6 +152,22 @@ pub struct BackbonePoint {
 
 /// The backbone of the family `k` of nonsmooth modes of a bar (see the
 /// module docs and docs/theory.md §11).
+///
+/// ```
+/// use signorini_exact::{Backbone, ExactSolution, FarEnd, ModeBar};
+///
+/// // L = c = 1 with a clearance 1/4 (the obstacle at g = -1/4).
+/// let bar = ModeBar { length: 1.0, wave_speed: 1.0, gap: -0.25, far_end: FarEnd::Clamped };
+/// let first = Backbone::new(bar, 1).unwrap();
+/// // Contact starts at c² g²/(2L) = 1/32; below it the linear period 4L/c.
+/// assert_eq!((first.threshold(), first.point(0.01).unwrap().period), (1.0 / 32.0, 4.0));
+/// // At E = 1/2 the end hits at Q = √(2E/L) = 1: T = 3L/c − g/Q, t_c = L/c + g/Q.
+/// let p = first.point(0.5).unwrap();
+/// assert_eq!((p.period, p.contact_time, p.impacts_per_period), (3.25, 0.75, 1));
+/// // The motion: the bar stretched linearly, u = (Q/c)(L − x), at rest at t = 0.
+/// let mode = first.mode(0.5).unwrap();
+/// assert_eq!((mode.fields(0.25, 0.0).u, mode.fields(0.25, 0.0).ut), (0.75, 0.0));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Backbone {
     bar: ModeBar,
