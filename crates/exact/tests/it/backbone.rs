@@ -143,22 +143,28 @@ fn fundamental_family_against_the_courant_one_bar() {
     }
 }
 
-/// The second family (`k = 2`, through the linear period `4L/(3c)`), from
-/// the closed form's own two first levels: the run must still come back
-/// after the closed form's period, with its contact time, every node
-/// exact. `L = c = 1`, `g = −1/4`, `Q = 1`: `t_f = 5/4`, `T = 21/16`,
-/// `t_c = 1/16`; `m = 80`.
+/// The higher families, from the closed form's own two first levels: the
+/// run must still come back after the closed form's period, with its
+/// contact time, every node exact. `L = c = 1`, `g = −1/4`. `k = 2`
+/// (through the linear period `4L/(3c)`), `Q = 1`: `t_f = 5/4`,
+/// `T = 21/16`, `t_c = 1/16`, `m = 80`. `k = 3` (through `4L/(5c)`, its
+/// threshold `Q = 5/4`), `Q = 2`: `t_f = 3/4`, `T = 19/24`, `t_c = 1/24`,
+/// `m = 48`.
 #[test]
-fn second_family_against_the_courant_one_bar() {
-    let case = Case { length: 1.0, c: 1.0, gap: -0.25, energy: 0.5, family: 2, m: 80 };
-    let mode = case.backbone().mode(case.energy).unwrap();
-    let p = mode.point();
-    assert_eq!((p.period, p.contact_time), (21.0 / 16.0, 1.0 / 16.0));
-    let level = |t: f64| (0..=case.m).map(|i| mode.fields(case.x(i), t).u).collect::<Vec<_>>();
-    let got = run(&case, &mode, level(0.0), level(case.dt()));
-    assert!((got.period - p.period).abs() < 1e-9, "period measured {}, closed form {}", got.period, p.period);
-    assert!((got.contact_time - p.contact_time).abs() < 1e-9, "contact measured {}, closed form {}", got.contact_time, p.contact_time);
-    assert_eq!(got.contact_phases, 1);
+fn higher_families_against_the_courant_one_bar() {
+    for (case, period, contact) in [
+        (Case { length: 1.0, c: 1.0, gap: -0.25, energy: 0.5, family: 2, m: 80 }, 21.0 / 16.0, 1.0 / 16.0),
+        (Case { length: 1.0, c: 1.0, gap: -0.25, energy: 2.0, family: 3, m: 48 }, 19.0 / 24.0, 1.0 / 24.0),
+    ] {
+        let mode = case.backbone().mode(case.energy).unwrap();
+        let p = mode.point();
+        assert!((p.period - period).abs() < 1e-15 && (p.contact_time - contact).abs() < 1e-15, "k = {}: {p:?}", case.family);
+        let level = |t: f64| (0..=case.m).map(|i| mode.fields(case.x(i), t).u).collect::<Vec<_>>();
+        let got = run(&case, &mode, level(0.0), level(case.dt()));
+        assert!((got.period - p.period).abs() < 1e-9, "k = {}: period measured {}, closed form {}", case.family, got.period, p.period);
+        assert!((got.contact_time - p.contact_time).abs() < 1e-9, "k = {}: contact measured {}, closed form {}", case.family, got.contact_time, p.contact_time);
+        assert_eq!(got.contact_phases, 1, "k = {}", case.family);
+    }
 }
 
 /// Below the threshold the family is the linear motion: no contact, period
