@@ -15,11 +15,11 @@ import numpy as _np
 
 from . import _check, _signorini
 
-__all__ = ["Solution", "solution", "NAMES", "Value"]
+__all__ = ["Backbone", "Solution", "backbone", "solution", "NAMES", "Value"]
 
-NAMES = ("bar-dirichlet", "bar-mirrored", "bar-neumann-gravity", "bar-neumann-gravity-0.11")
+NAMES = ("bar-dirichlet", "bar-mirrored", "bar-neumann-gravity", "bar-neumann-gravity-0.11", "nonsmooth-mode")
 
-_PARAMS = {"g", "u0", "length", "t_max"}
+_PARAMS = {"g", "u0", "length", "t_max", "energy", "wave_speed", "gap", "family"}
 
 
 #: What the methods return: a float for scalar arguments, else a float64
@@ -107,11 +107,76 @@ class Solution:
 
 def solution(name: str, **params) -> Solution:
     """The exact solution ``name``: 'bar-dirichlet', 'bar-mirrored',
-    'bar-neumann-gravity' (g = 1/9; parameters g, u0, length, t_max) or
-    'bar-neumann-gravity-0.11'. Raises SceneError naming a bad parameter."""
+    'bar-neumann-gravity' (g = 1/9; parameters g, u0, length, t_max),
+    'bar-neumann-gravity-0.11', or 'nonsmooth-mode' (the periodic motion of
+    the clamped bar with a contact at x = 0 at a given energy,
+    docs/theory.md §11; parameters energy (required), length, wave_speed,
+    gap, family; t = 0 at the top of the flight). Raises SceneError naming a
+    bad parameter."""
     unknown = sorted(set(params) - _PARAMS)
     if unknown:
         raise _signorini.SceneError(f"{unknown[0]}: not a parameter of solution(); allowed: {', '.join(sorted(_PARAMS))}")
     # The ranges are the Rust side's (the exact crate's): a wrongly typed
     # value is refused with the range it states for that parameter.
     return Solution(_signorini.exact_solution(name, **{k: _check.real(k, v, probe=lambda x, k=k: _signorini.exact_solution(name, **{k: x})) for k, v in params.items()}))
+
+
+class Backbone:
+    """The backbone of a family of nonsmooth modes; see :func:`backbone`."""
+
+    def __init__(self, inner):
+        self._inner = inner
+
+    @property
+    def family(self) -> int:
+        """The family index k (1: through the first linear period 4L/c)."""
+        return self._inner.family
+
+    @property
+    def threshold(self) -> float:
+        """The least energy with contact: (2k-1)² c² g²/(2L) for a clearance
+        (g < 0), the static state's energy c² g²/(2L) for g > 0, 0 for g = 0."""
+        return self._inner.threshold
+
+    @property
+    def linear_period(self) -> float:
+        """The period below the threshold, 4L/((2k-1)c)."""
+        return self._inner.linear_period
+
+    @property
+    def limit_period(self) -> float:
+        """The period at g = 0 (every energy) and as the energy grows
+        without bound (any g): (2k+1)L/(k² c)."""
+        return self._inner.limit_period
+
+    def __call__(self, energy) -> dict:
+        """The family at each energy (a number or an array): a dict of
+        ``period``, ``contact_time``, ``flight_time``, ``impacts_per_period``
+        (int64), ``impact_velocity`` (the end's speed Q = √(2E/L)) and
+        ``contact_force`` (−cQ, 0 without contact), each a float (int) for
+        a scalar energy, else an array of its shape. A negative or
+        non-finite energy, or one below the static energy when g > 0, raises
+        SceneError naming ``energy``."""
+        e = _reals("energy", energy)
+        got = self._inner.at(_np.ascontiguousarray(e).ravel())
+        if e.shape == ():
+            return {k: (int(v[0]) if v.dtype.kind == "i" else float(v[0])) for k, v in got.items()}
+        return {k: v.reshape(e.shape) for k, v in got.items()}
+
+    def __repr__(self) -> str:
+        return f"signorini.exact.Backbone(family={self.family})"
+
+
+def backbone(length: float = 1.0, wave_speed: float = 1.0, gap: float = 0.0, far_end: str = "clamped", family: int = 1) -> Backbone:
+    """The exact backbone of the nonsmooth modes of the bar (docs/theory.md
+    §11): the ``[bar]`` scene's ``length``, ``wave_speed``, ``gap`` (the
+    obstacle's position: < 0 a clearance, > 0 a prestress) and ``far_end``,
+    and the family ``family`` (1: the one through the first linear period
+    4L/c, the family of ``bar-dirichlet``). ``backbone(...)(energy)`` gives
+    the period, contact time and impacts per period. A free far end has no
+    periodic motion with contact: SceneError naming ``far_end``, as for
+    every bad value."""
+    probe = lambda **kw: _signorini.exact_backbone(**kw)  # noqa: E731
+    args = {k: _check.real(k, v, probe=lambda x, k=k: probe(**{k: x})) for k, v in (("length", length), ("wave_speed", wave_speed), ("gap", gap))}
+    k = _check.integer("family", family, 1, (1 << 32) - 1)
+    return Backbone(_signorini.exact_backbone(far_end=_check.string("far_end", far_end, ("clamped", "free")), family=k, **args))

@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use signorini_exact::{BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution, NeumannError};
+use signorini_exact::{Backbone, BackboneError, BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution, FarEnd, ModeBar, NeumannError};
 
 mod fem;
 mod run;
@@ -111,14 +111,98 @@ impl Exact {
     }
 }
 
-/// The exact solution `name` ("bar-dirichlet", "bar-mirrored",
-/// "bar-neumann-gravity"; the falling bar takes g, u0, length, t_max).
+/// A backbone error as the SceneError naming its field and range.
+fn backbone_error(e: BackboneError) -> PyErr {
+    SceneError::new_err(format!("{}: {} is not allowed: {}", e.field(), e.value(), e.allowed()))
+}
+
+/// The `[bar]` data of a nonsmooth mode (defaults: L = 1, c = 1, g = 0,
+/// clamped, the family 1), checked by the exact crate.
+fn mode_backbone(length: Option<f64>, wave_speed: Option<f64>, gap: Option<f64>, far_end: Option<&str>, family: Option<i64>) -> PyResult<Backbone> {
+    let far_end = match far_end.unwrap_or("clamped") {
+        "clamped" => FarEnd::Clamped,
+        "free" => FarEnd::Free,
+        other => return Err(SceneError::new_err(format!("far_end: {other:?} is not allowed: \"clamped\" or \"free\""))),
+    };
+    let family = family.unwrap_or(1);
+    let family = u32::try_from(family).map_err(|_| SceneError::new_err(format!("family: {family} is not allowed: >= 1")))?;
+    Backbone::new(ModeBar { length: length.unwrap_or(1.0), wave_speed: wave_speed.unwrap_or(1.0), gap: gap.unwrap_or(0.0), far_end }, family).map_err(backbone_error)
+}
+
+/// The backbone of a family of nonsmooth modes (see `signorini.exact.backbone`).
+#[pyclass(module = "signorini._signorini", frozen)]
+struct ExactBackbone {
+    inner: Backbone,
+}
+
+#[pymethods]
+impl ExactBackbone {
+    /// The family index k.
+    #[getter]
+    fn family(&self) -> u32 {
+        self.inner.family()
+    }
+    /// The least energy with contact (g < 0: where the linear motion first
+    /// touches; g > 0: the static state's energy; 0 for g = 0).
+    #[getter]
+    fn threshold(&self) -> f64 {
+        self.inner.threshold()
+    }
+    /// The linear period 4L/((2k-1)c).
+    #[getter]
+    fn linear_period(&self) -> f64 {
+        self.inner.linear_period()
+    }
+    /// The period at g = 0, and the limit E -> inf: (2k+1)L/(k^2 c).
+    #[getter]
+    fn limit_period(&self) -> f64 {
+        self.inner.limit_period()
+    }
+    /// The backbone at each energy: a dict of arrays (period, contact_time,
+    /// flight_time, impacts_per_period, impact_velocity, contact_force).
+    fn at<'py>(&self, py: Python<'py>, energy: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let points = guarded(|| energy.as_slice()?.iter().map(|&e| self.inner.point(e).map_err(backbone_error)).collect::<PyResult<Vec<_>>>())?;
+        let d = pyo3::types::PyDict::new(py);
+        let col = |f: fn(&signorini_exact::BackbonePoint) -> f64| points.iter().map(f).collect::<Vec<f64>>().into_pyarray(py);
+        d.set_item("period", col(|p| p.period))?;
+        d.set_item("contact_time", col(|p| p.contact_time))?;
+        d.set_item("flight_time", col(|p| p.flight_time))?;
+        d.set_item("impacts_per_period", points.iter().map(|p| i64::from(p.impacts_per_period)).collect::<Vec<i64>>().into_pyarray(py))?;
+        d.set_item("impact_velocity", col(|p| p.impact_velocity))?;
+        d.set_item("contact_force", col(|p| p.contact_force))?;
+        Ok(d)
+    }
+}
+
+/// The backbone of the family `family` of nonsmooth modes of the bar
+/// (docs/theory.md §11).
 #[pyfunction]
-#[pyo3(signature = (name, g=None, u0=None, length=None, t_max=None))]
-fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f64>, t_max: Option<f64>) -> PyResult<Exact> {
+#[pyo3(signature = (length=None, wave_speed=None, gap=None, far_end=None, family=None))]
+fn exact_backbone(length: Option<f64>, wave_speed: Option<f64>, gap: Option<f64>, far_end: Option<&str>, family: Option<i64>) -> PyResult<ExactBackbone> {
+    guarded(|| Ok(ExactBackbone { inner: mode_backbone(length, wave_speed, gap, far_end, family)? }))
+}
+
+/// The exact solution `name` ("bar-dirichlet", "bar-mirrored",
+/// "bar-neumann-gravity"; the falling bar takes g, u0, length, t_max;
+/// "nonsmooth-mode" takes energy, length, wave_speed, gap, family).
+#[pyfunction]
+#[pyo3(signature = (name, g=None, u0=None, length=None, t_max=None, energy=None, wave_speed=None, gap=None, family=None))]
+#[allow(clippy::too_many_arguments)]
+fn exact_solution(
+    name: &str,
+    g: Option<f64>,
+    u0: Option<f64>,
+    length: Option<f64>,
+    t_max: Option<f64>,
+    energy: Option<f64>,
+    wave_speed: Option<f64>,
+    gap: Option<f64>,
+    family: Option<f64>,
+) -> PyResult<Exact> {
     guarded(|| {
+        let mode_only = [("energy", energy), ("wave_speed", wave_speed), ("gap", gap), ("family", family)];
         let no_params = |bench: &str| -> PyResult<()> {
-            for (k, v) in [("g", g), ("u0", u0), ("length", length), ("t_max", t_max)] {
+            for (k, v) in [("g", g), ("u0", u0), ("length", length), ("t_max", t_max)].into_iter().chain(mode_only) {
                 if v.is_some() {
                     return Err(SceneError::new_err(format!("{k}: {bench} takes no parameters (its data are fixed); allowed: none")));
                 }
@@ -134,7 +218,26 @@ fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f6
                 no_params(name)?;
                 Box::new(BarMirrored)
             }
+            "nonsmooth-mode" => {
+                for (k, v) in [("g", g), ("u0", u0), ("t_max", t_max)] {
+                    if v.is_some() {
+                        return Err(SceneError::new_err(format!("{k}: not a parameter of nonsmooth-mode; allowed: energy, length, wave_speed, gap, family")));
+                    }
+                }
+                let energy = energy.ok_or_else(|| SceneError::new_err("energy: required by nonsmooth-mode; allowed: finite and >= 0"))?;
+                let family = match family {
+                    None => None,
+                    Some(k) if k.is_finite() && k.fract() == 0.0 && k >= 1.0 && k <= f64::from(u32::MAX) => Some(k as i64),
+                    Some(k) => return Err(SceneError::new_err(format!("family: {k} is not allowed: an integer >= 1"))),
+                };
+                Box::new(mode_backbone(length, wave_speed, gap, None, family)?.mode(energy).map_err(backbone_error)?)
+            }
             "bar-neumann-gravity" | "bar-neumann-gravity-0.11" => {
+                for (k, v) in mode_only {
+                    if v.is_some() {
+                        return Err(SceneError::new_err(format!("{k}: not a parameter of {name}; allowed: g, u0, length, t_max")));
+                    }
+                }
                 let paper = name.ends_with("0.11");
                 let t_max = t_max.unwrap_or(16.0);
                 let s = match (g, u0, length) {
@@ -151,7 +254,7 @@ fn exact_solution(name: &str, g: Option<f64>, u0: Option<f64>, length: Option<f6
                     _ => SceneError::new_err(format!("{}: {} is not allowed: {}", e.field(), e.value(), e.allowed())),
                 })?)
             }
-            other => return Err(SceneError::new_err(format!("name: {other:?} is not allowed: bar-dirichlet, bar-mirrored, bar-neumann-gravity, bar-neumann-gravity-0.11"))),
+            other => return Err(SceneError::new_err(format!("name: {other:?} is not allowed: bar-dirichlet, bar-mirrored, bar-neumann-gravity, bar-neumann-gravity-0.11, nonsmooth-mode"))),
         };
         Ok(Exact { inner })
     })
@@ -448,6 +551,8 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InternalError", py.get_type::<InternalError>())?;
     m.add_class::<Exact>()?;
     m.add_function(wrap_pyfunction!(exact_solution, m)?)?;
+    m.add_function(wrap_pyfunction!(exact_backbone, m)?)?;
+    m.add_class::<ExactBackbone>()?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_scene, m)?)?;
     m.add_class::<run::RunArrays>()?;

@@ -44,6 +44,12 @@
 //! [`BarMirrored`] (`bar-mirrored`, the Dirichlet bar mirrored onto `[0, 2]`
 //! between two stops, docs/theory.md §5.4).
 //!
+//! [`Backbone`]: the nonsmooth modes of the bar with a clamped far end
+//! (docs/theory.md §11) — for a bar's length, wave speed and gap and an
+//! energy, the period, contact time and impacts per period of each family
+//! of periodic motions with one contact phase per period, and the motion
+//! itself ([`NonsmoothMode`], an [`ExactSolution`]).
+//!
 //! Besides the bar benchmarks: [`ImpactOscillator`], the forced impact
 //! oscillator `m x'' + c x' + k x = F cos Ωt` below a rigid stop with
 //! Newton's restitution law — its exact flow between impacts, its period-1
@@ -64,11 +70,13 @@
 //! Architecture invariant: pure functions of `(x, t)`; no IO, no knowledge of
 //! meshes or schemes.
 
+mod backbone;
 mod dirichlet;
 mod mirrored;
 mod neumann;
 mod oscillator;
 
+pub use backbone::{Backbone, BackboneError, BackbonePoint, ModeBar, NonsmoothMode};
 pub use dirichlet::BarDirichlet;
 pub use mirrored::BarMirrored;
 pub use neumann::{BarNeumannGravity, Event, EventKind, NeumannError};

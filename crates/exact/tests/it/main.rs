@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod backbone;
 mod dirichlet;
 mod domain;
 mod mirrored;
