@@ -208,3 +208,59 @@ fn period_doublings_on_the_branch_are_where_the_closed_form_multiplier_is_minus_
         }
     }
 }
+
+/// The closed form's saddle-node in `[lo, hi]` (its two period-1 roots
+/// there, none beyond): bisection on the number of roots, which the closed
+/// form gets from `|α| <= R` (docs of `signorini_exact::ImpactOscillator`).
+fn closed_fold(gap: f64, lo: f64, hi: f64) -> f64 {
+    let roots = |w: f64| ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: w, gap, restitution: 0.8 }).unwrap().period1_roots().len();
+    let (mut a, mut b) = (lo, hi);
+    assert!(roots(a) == 2 && roots(b) == 0);
+    for _ in 0..100 {
+        let m = 0.5 * (a + b);
+        if roots(m) == 2 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+#[test]
+fn a_fold_is_located_at_the_closed_form_saddle_node_and_the_branch_turns_back_unstable() {
+    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    let doc: toml::Table = SCENE.replace("stop = 0.2", "stop = 0.5").parse().unwrap();
+    let fam = SceneFamily::new(doc, "forcing.omega", 1).unwrap().0;
+    let osc = |w: f64| ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: w, gap: 0.5, restitution: 0.8 }).unwrap();
+    let t = TAU / 1.6;
+    let o = osc(1.6).period1_orbits().into_iter().find(|o| o.is_admissible() && o.is_stable()).unwrap();
+    let z = osc(1.6).flow(o.impact_time.rem_euclid(t), State { x: 0.5, v: -0.8 * o.impact_velocity }, t);
+    let branch = continuation(&fam, &[z.x, z.v], &ContinuationOptions::new(1.6, 1.95)).unwrap();
+    let folds: Vec<_> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::Fold).collect();
+    assert_eq!(folds.len(), 1, "{:?}", branch.bifurcations);
+    let want = closed_fold(0.5, 1.85, 1.95);
+    eprintln!("fold at {} vs closed form {want}; branch end: {}", folds[0].param, branch.end);
+    assert!((folds[0].param - want).abs() <= 1e-8 * want, "fold at {} vs closed form {want}", folds[0].param);
+    assert!((folds[0].mu.re - 1.0).abs() < 1e-6, "the critical multiplier {:?}", folds[0].mu);
+    // Before the fold stable, after it (the other orbit of the pair) unstable;
+    // every one-impact point equal to a closed-form orbit.
+    let k = folds[0].between.1;
+    assert!(branch.points[..k].iter().all(|p| p.stable() || (p.param - want).abs() < 1e-4));
+    assert!(branch.points[k..].iter().filter(|p| p.orbit.impacts() == 1 && (p.param - want).abs() > 1e-4).all(|p| !p.stable()));
+    for p in branch.points.iter().filter(|p| p.orbit.impacts() == 1) {
+        let t = TAU / p.param;
+        let best = osc(p.param)
+            .period1_orbits()
+            .into_iter()
+            .filter(|o| o.is_admissible())
+            .map(|o| {
+                let z = osc(p.param).flow(o.impact_time.rem_euclid(t), State { x: 0.5, v: -0.8 * o.impact_velocity }, t);
+                (p.orbit.x[0] - z.x).abs().max((p.orbit.x[1] - z.v).abs())
+            })
+            .fold(f64::INFINITY, f64::min);
+        // Near the fold the closed form's roots carry √ε errors.
+        let tol = if (p.param - want).abs() < 1e-3 { 1e-6 } else { 1e-8 };
+        assert!(best <= tol, "Ω = {}: state error {best:e}", p.param);
+    }
+}
