@@ -1,2 +1,3 @@
 //! signorini-orbits' integration tests (one binary, one module per concern).
+mod chain;
 mod oscillator;

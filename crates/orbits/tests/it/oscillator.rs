@@ -213,7 +213,8 @@ fn period_doublings_on_the_branch_are_where_the_closed_form_multiplier_is_minus_
 /// there, none beyond): bisection on the number of roots, which the closed
 /// form gets from `|α| <= R` (docs of `signorini_exact::ImpactOscillator`).
 fn closed_fold(gap: f64, lo: f64, hi: f64) -> f64 {
-    let roots = |w: f64| ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: w, gap, restitution: 0.8 }).unwrap().period1_roots().len();
+    let roots =
+        |w: f64| ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: w, gap, restitution: 0.8 }).unwrap().period1_roots().len();
     let (mut a, mut b) = (lo, hi);
     assert!(roots(a) == 2 && roots(b) == 0);
     for _ in 0..100 {
