@@ -1,3 +1,4 @@
 //! signorini-orbits' integration tests (one binary, one module per concern).
 mod chain;
 mod oscillator;
+mod reach;
