@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 use signorini_exact::{Backbone, BackboneError, BarDirichlet, BarMirrored, BarNeumannGravity, ExactSolution, FarEnd, ModeBar, NeumannError};
 
 mod fem;
+mod orbits;
 mod run;
 mod studies;
 mod sweep;
@@ -561,6 +562,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::study_check, m)?)?;
     m.add_function(wrap_pyfunction!(studies::study_fields, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(orbits::run_continuation, m)?)?;
     m.add_function(wrap_pyfunction!(scene_text, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene_numbers, m)?)?;

@@ -263,7 +263,8 @@ fn main() -> ExitCode {
         Cmd::Continue { scene, param, from, to, period, transient, max_points, switch, sweep, out, max_memory } => {
             let text = signorini_cli::read_scene_file(&scene)?;
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-continue", scene.file_stem().unwrap_or_default().to_string_lossy())));
-            let opts = signorini_cli::orbits::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep };
+            let sweep = sweep.as_deref().map(signorini_cli::orbits::sweep_points).transpose()?.unwrap_or_default();
+            let opts = signorini_orbits::front::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep };
             for l in signorini_cli::orbits::continue_scene(&text, &opts, &out, limits(max_memory))? {
                 say(&format!("{l}\n"));
             }

@@ -11,6 +11,7 @@
 //! `signorini sweep` does.
 
 mod continuation;
+pub mod front;
 mod map;
 pub mod output;
 mod scene;

@@ -1,0 +1,106 @@
+//! One continuation as every front end runs it (`signorini continue`,
+//! Python's `signorini.continuation`): the scene document in one key, the
+//! start after a transient, the branch, the period-doubled branches, and
+//! the files' text. No IO: the front ends read and write the files.
+
+use crate::output::{bifurcations_csv, branch_csv, branch_svg, Labelled};
+use crate::{continuation, doubled_branch, BifurcationKind, Branch, ContinuationOptions, OrbitError, SceneFamily};
+use signorini_scene::Limits;
+
+/// What a continuation is asked (the options of `signorini continue`).
+#[derive(Clone, Debug)]
+pub struct ContinueOptions {
+    /// The parameter's dotted path (`forcing.omega`).
+    pub param: String,
+    /// From.
+    pub from: f64,
+    /// To.
+    pub to: f64,
+    /// Forcing periods per orbit.
+    pub period: usize,
+    /// Forcing periods run from the scene's initial state before Newton.
+    pub transient: f64,
+    /// Most points per branch.
+    pub max_points: usize,
+    /// Continue the period-doubled branch at each period doubling.
+    pub switch: bool,
+    /// A sweep's bifurcation diagram `(param, displacement)` drawn under the branch.
+    pub sweep: Vec<(f64, f64)>,
+}
+
+/// A continuation's result: its files (`branch.csv`, `bifurcations.csv`,
+/// `branch.svg` when it could be drawn) and the lines a front end prints.
+#[derive(Clone, Debug)]
+pub struct Continued {
+    /// `(file name, contents)`.
+    pub files: Vec<(&'static str, String)>,
+    /// What to print (one line per branch, one per bifurcation, notes).
+    pub lines: Vec<String>,
+}
+
+fn opt(option: &'static str, message: String) -> OrbitError {
+    OrbitError::Option { option, message }
+}
+
+/// Runs the continuation of `doc` (a scene document) with `opts`.
+pub fn continue_scene(doc: toml::Table, opts: &ContinueOptions, limits: Limits) -> Result<Continued, OrbitError> {
+    if !(opts.transient.is_finite() && opts.transient >= 0.0) {
+        return Err(opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", opts.transient)));
+    }
+    let (family, _) = SceneFamily::with_limits(doc, &opts.param, opts.period, limits)?;
+    let mut copts = ContinuationOptions::new(opts.from, opts.to);
+    copts.max_points = opts.max_points;
+    // The start: the scene's own initial state after the transient.
+    let built = family.build(opts.from)?;
+    let guess = if opts.transient > 0.0 { built.model.flow(0.0, &built.start, opts.transient * std::f64::consts::TAU / built.omega, false)?.x } else { built.start.clone() };
+    let main = continuation(&family, &guess, &copts)?;
+    let mut branches: Vec<(Branch, SceneFamily)> = vec![(main, family.clone())];
+    let mut notes = Vec::new();
+    if opts.switch {
+        let doubled = family.with_periods(2 * opts.period);
+        let pds: Vec<_> = branches[0].0.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).cloned().collect();
+        for b in pds {
+            match doubled_branch(&family, &doubled, &b, (opts.from, opts.to), &copts) {
+                Ok(br) => branches.push((br, doubled.clone())),
+                Err(e) => notes.push(format!("note: no period-doubled branch continued from {}: {e}", b.param)),
+            }
+        }
+    }
+    let mut labelled = Vec::new();
+    for (b, fam) in &branches {
+        let (mut omega, mut disp, mut bd) = (Vec::new(), Vec::new(), Vec::new());
+        for p in &b.points {
+            let built = fam.build(p.param)?;
+            omega.push(built.omega);
+            disp.push(built.tip(&p.orbit.x)?);
+        }
+        for f in &b.bifurcations {
+            bd.push(fam.build(f.param)?.tip(&f.x)?);
+        }
+        labelled.push(Labelled { branch: b, periods: fam.periods(), omega, displacement: disp, bif_displacement: bd });
+    }
+    let mut files = vec![("branch.csv", branch_csv(&labelled, built.model.state_dofs())), ("bifurcations.csv", bifurcations_csv(&labelled))];
+    match branch_svg(&labelled, &opts.param, &opts.sweep) {
+        Ok(svg) => files.push(("branch.svg", svg)),
+        Err(e) => notes.push(format!("note: branch.svg not drawn: {e}")),
+    }
+    let mut lines = Vec::new();
+    for (i, (b, fam)) in branches.iter().enumerate() {
+        let stable = b.points.iter().filter(|p| p.stable()).count();
+        lines.push(format!(
+            "branch {i} ({} forcing period{}): {} points from {} to {} ({stable} stable, {} unstable); {}",
+            fam.periods(),
+            if fam.periods() == 1 { "" } else { "s" },
+            b.points.len(),
+            b.points.first().map_or(f64::NAN, |p| p.param),
+            b.points.last().map_or(f64::NAN, |p| p.param),
+            b.points.len() - stable,
+            b.end
+        ));
+        for f in &b.bifurcations {
+            lines.push(format!("  {} at {} = {:.12} (multiplier {:.6}{:+.6}i; impacts per period {} -> {})", f.kind.name(), opts.param, f.param, f.mu.re, f.mu.im, f.impacts.0, f.impacts.1));
+        }
+    }
+    lines.extend(notes);
+    Ok(Continued { files, lines })
+}

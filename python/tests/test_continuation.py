@@ -1,0 +1,70 @@
+"""signorini.continuation: the oscillator's branch through grazing against
+the closed-form grazing frequency (written here), the result's columns,
+and bad input."""
+
+import math
+
+import pytest
+
+import signorini
+
+SCENE = """
+[oscillator]
+mass = 1.0
+stiffness = 1.0
+damping_ratio = 0.05
+stop = 0.2
+restitution = 0.8
+dt = 1e-2
+t_end = 10.0
+scheme = "event-driven"
+[forcing]
+amplitude = 1.0
+omega = 2.2
+"""
+
+
+def grazing_frequency(m, k, zeta, force, gap):
+    # The linear steady state's amplitude reaches the stop: (1 - u)^2 + 4 zeta^2 u = q^2, u = (Omega/omega)^2.
+    q = abs(force) / (k * gap)
+    u = (1 - 2 * zeta**2) + math.sqrt(q**2 - 4 * zeta**2 * (1 - zeta**2))
+    return math.sqrt(k / m) * math.sqrt(u)
+
+
+def test_the_branch_grazes_at_the_closed_form_frequency(tmp_path):
+    r = signorini.continuation(SCENE, "forcing.omega", 2.2, 3.0, out=tmp_path)
+    kinds = r.bifurcations["kind"]
+    assert "grazing" in kinds
+    g = r.bifurcations["param"][kinds.index("grazing")]
+    want = grazing_frequency(1.0, 1.0, 0.05, 1.0, 0.2)
+    assert abs(g - want) <= 1e-8 * want
+    b = r.branch
+    assert b["period"].dtype.kind == "i" and b["impacts_per_period"].dtype.kind == "i"
+    # One impact a period below the grazing, none above it.
+    assert all(n == 1 for p, n in zip(b["param"], b["impacts_per_period"]) if p < want - 1e-6)
+    assert all(n == 0 for p, n in zip(b["param"], b["impacts_per_period"]) if p > want + 1e-6)
+    assert {"q0", "v0"} <= set(b)
+    for f in ("branch.csv", "bifurcations.csv", "branch.svg"):
+        assert (tmp_path / f).exists()
+    assert r.svg.startswith("<svg")
+
+
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        (dict(param="oscillator.scheme"), "not a number"),
+        (dict(param="oscillator.nothing"), "not in the scene"),
+        (dict(period=0), "period"),
+        (dict(start=1.0, stop=1.0), "start/stop"),
+    ],
+)
+def test_bad_input_is_a_scene_error_naming_it(change, words):
+    kw = dict(param="forcing.omega", start=2.2, stop=3.0)
+    kw.update(change)
+    with pytest.raises(signorini.SceneError, match=words):
+        signorini.continuation(SCENE, kw.pop("param"), kw.pop("start"), kw.pop("stop"), **kw)
+
+
+def test_a_scheme_other_than_the_exact_one_is_refused():
+    with pytest.raises(signorini.SceneError, match="event-driven"):
+        signorini.continuation(SCENE.replace('scheme = "event-driven"', 'scheme = "ps(0.8, 0.25)"'), "forcing.omega", 2.2, 3.0)
