@@ -32,6 +32,11 @@ pub trait Family {
     fn model(&self, param: f64) -> Result<Model, OrbitError>;
     /// The map's horizon at `param` (p forcing periods).
     fn period(&self, param: f64) -> Result<f64, OrbitError>;
+    /// Both at once (a family that builds its model once per value
+    /// overrides it).
+    fn model_and_period(&self, param: f64) -> Result<(Model, f64), OrbitError> {
+        Ok((self.model(param)?, self.period(param)?))
+    }
 }
 
 /// What a continuation is asked.
@@ -177,14 +182,15 @@ struct Point {
 
 impl<F: Family> Ctx<'_, F> {
     fn residual_and_jacobian(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
-        let model = self.family.model(param)?;
-        let period = self.family.period(param)?;
+        let (model, period) = self.family.model_and_period(param)?;
         let img = model.flow(0.0, x, period, true)?;
         let g: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
-        let h = 1e-6 * self.ls;
-        let plus = self.family.model(param + h)?.flow(0.0, x, self.family.period(param + h)?, false)?;
-        let minus = self.family.model(param - h)?.flow(0.0, x, self.family.period(param - h)?, false)?;
-        let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - minus.x[i]) / (2.0 * h)).collect();
+        // G_λ by a forward difference: it steers Newton and the tangent
+        // only; the points themselves solve G = 0 to the tolerance.
+        let h = 1e-7 * self.ls;
+        let (m, t) = self.family.model_and_period(param + h)?;
+        let plus = m.flow(0.0, x, t, false)?;
+        let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / h).collect();
         Ok((g, img.jacobian.expect("asked for"), gl))
     }
 
@@ -250,11 +256,13 @@ impl<F: Family> Ctx<'_, F> {
     }
 
     fn point(&self, x: Vec<f64>, param: f64, prev_tangent: &[f64]) -> Result<Point, OrbitError> {
-        let (_, jac, gl) = self.residual_and_jacobian(&x, param)?;
+        let (model, period) = self.family.model_and_period(param)?;
+        let img = model.flow(0.0, &x, period, true)?;
+        let jac = img.jacobian.clone().expect("asked for");
+        let (m, t) = self.family.model_and_period(param + 1e-7 * self.ls)?;
+        let plus = m.flow(0.0, &x, t, false)?;
+        let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / (1e-7 * self.ls)).collect();
         let tangent = self.tangent(&jac, &gl, prev_tangent);
-        let model = self.family.model(param)?;
-        let period = self.family.period(param)?;
-        let img = model.flow(0.0, &x, period, false)?;
         let residual = img.x.iter().zip(&x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
         let multipliers = eigenvalues(&jac)?;
         let orbit = Orbit { x: x.clone(), t0: 0.0, period, events: img.events, monodromy: jac, multipliers, residual, iterations: 0 };

@@ -115,6 +115,11 @@ impl Family for SceneFamily {
     fn period(&self, param: f64) -> Result<f64, OrbitError> {
         Ok(self.build(param)?.horizon)
     }
+
+    fn model_and_period(&self, param: f64) -> Result<(Model, f64), OrbitError> {
+        let b = self.build(param)?;
+        Ok((b.model, b.horizon))
+    }
 }
 
 /// The number at `path` in `doc` (a missing key: the scene's default is
