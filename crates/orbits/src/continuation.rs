@@ -1,5 +1,5 @@
 //! Pseudo-arclength continuation of periodic orbits in a parameter, with
-//! the bifurcations located on the way (docs/theory.md §10.4).
+//! the bifurcations located on the way (docs/theory.md §12.3).
 //!
 //! Unknowns `y = (x, λ)`, scaled (`x/X`, `λ/Λ`) so that the arclength
 //! weighs state and parameter alike. `G(x, λ) = P_λ(x) − x` with

@@ -1,5 +1,5 @@
 //! Periodic motions of signorini's models on the exact event-driven flow
-//! (docs/theory.md §10): the flow map and its Jacobian from the
+//! (docs/theory.md §12): the flow map and its Jacobian from the
 //! variational equations with a saltation matrix at each impact
 //! ([`Model`]), periodic orbits by shooting with their Floquet multipliers
 //! ([`periodic_orbit`], [`autonomous_orbit`]), and pseudo-arclength

@@ -9,7 +9,7 @@ use signorini_schemes::Dynamics;
 /// A linear structure with unilateral contacts, as the shooting sees it:
 /// its exact event-driven flow ([`EventDriven`]) and that flow's
 /// linearisation (the variational equations with the saltation matrices:
-/// docs/theory.md §10).
+/// docs/theory.md §12).
 pub struct Model {
     dy: Dynamics,
     e: f64,

@@ -1,6 +1,6 @@
 //! The linearisation of the exact flow: per phase (a set of held contacts)
 //! the state-transition matrix of the linear system, in closed form from
-//! its modes, and at each event the saltation matrix (docs/theory.md §10).
+//! its modes, and at each event the saltation matrix (docs/theory.md §12).
 //!
 //! The state is `x = (q_s, v_s)`, `s` the dofs with mass (every dof of a
 //! massive model; the massless contact dofs of mass redistribution and
