@@ -59,7 +59,7 @@ pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
     let (steps, series_cols, nodes) = match scene {
         Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.last_node() as f64 + 1.0),
         Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
-        Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 8, 1.0),
+        Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 7, 1.0),
     };
     let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
     let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
