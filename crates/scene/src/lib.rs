@@ -99,10 +99,12 @@
 //! every front end: [`Scene::instantiate`].
 
 pub mod excitation;
+mod facts;
 mod instantiate;
 pub mod presets;
 mod report;
 
+pub use facts::{ExactCurve, Facts, Kind, Norms, Plot, SnapshotNodes};
 pub use instantiate::{BuildError, Lift, Reads, Ready, Simulation};
 pub use report::{check_report, energy_warning, event_probe, free_space, io_reason, output_estimate, sig12, sig6, CheckReport, EventProbe, ProbeEnd};
 
