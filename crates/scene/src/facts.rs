@@ -144,6 +144,8 @@ pub struct Facts<'a> {
     pub t_end_key: &'static str,
     /// The norms, where the scene has an exact solution.
     pub norms: Option<Norms<'a>>,
+    /// The reduced model's modes, if `reduce` is given.
+    pub reduce: Option<signorini_reduce::Keep>,
     /// The first words of the run's summary line.
     headline: Headline,
 }
@@ -219,6 +221,7 @@ impl Scene {
                     memory_bytes: crate::memory_estimate(p.bar.last_node(), false) + per_contact(contacts, p.bar.dofs()),
                     t_end_key: "bar.t_end",
                     norms: b.benchmark.map(|benchmark| Norms { problem: p, benchmark }),
+                    reduce: b.reduce,
                     headline: Headline::Bar { elements: p.bar.elements, mass: p.mass.to_string() },
                 }
             }
@@ -238,9 +241,10 @@ impl Scene {
                 memory_bytes: crate::memory_estimate(1, false) + per_contact(None, 1),
                 t_end_key: "oscillator.t_end",
                 norms: None,
+                reduce: None,
                 headline: Headline::Oscillator,
             },
-            Scene::Beam { pipe, scene, contacts, omega, .. } => Facts {
+            Scene::Beam { pipe, scene, contacts, omega, reduce, .. } => Facts {
                 kind: Kind::Beam,
                 scheme: scene.scheme,
                 dt: scene.dt,
@@ -256,6 +260,7 @@ impl Scene {
                 memory_bytes: crate::memory_estimate(scene.elements, true) + per_contact(contacts.as_ref(), 2 * scene.elements),
                 t_end_key: "beam.t_end",
                 norms: None,
+                reduce: *reduce,
                 headline: Headline::Beam {
                     stops: match contacts {
                         Some(c) => format!("{} contacts", c.sites.len()),

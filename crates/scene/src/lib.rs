@@ -660,11 +660,8 @@ impl Scene {
     /// The forcing frequency `Ω` (`None` without a periodic forcing) and
     /// the horizon `t_end`.
     pub fn forcing_and_horizon(&self) -> (Option<f64>, f64) {
-        match self {
-            Scene::Oscillator { omega, t_end, .. } => (*omega, *t_end),
-            Scene::Beam { omega, scene, .. } => (*omega, scene.t_end),
-            Scene::Bar(b) => (b.omega, b.t_end),
-        }
+        let f = self.facts();
+        (f.omega, f.t_end)
     }
 
     /// What a sweep needs of the scene's clock: the forcing frequency `Ω`
@@ -672,11 +669,8 @@ impl Scene {
     /// of its horizon (which a sweep sets to `transient + record` forcing
     /// periods). `None` without a periodic forcing.
     pub fn sweep_clock(&self) -> Option<(f64, f64, &'static str)> {
-        match self {
-            Scene::Oscillator { omega, dt, .. } => omega.map(|w| (w, *dt, "oscillator.t_end")),
-            Scene::Beam { omega, scene, .. } => omega.map(|w| (w, scene.dt, "beam.t_end")),
-            Scene::Bar(b) => b.omega.map(|w| (w, b.dt, "bar.t_end")),
-        }
+        let f = self.facts();
+        f.omega.map(|w| (w, f.dt, f.t_end_key))
     }
 }
 

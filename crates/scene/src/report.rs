@@ -2,7 +2,7 @@
 //! `check()`), its output estimate, and the texts every front end prints
 //! the same way (the energy warning, IO reasons).
 
-use crate::{BuildError, ContactSet, OutputToml, Scene, SceneFile};
+use crate::{BuildError, OutputToml, Scene, SceneFile};
 use signorini_run::beam::stability_limit;
 use signorini_run::RunConfig;
 use std::path::Path;
@@ -55,12 +55,8 @@ fn row_bytes(cols: usize) -> f64 {
 /// The size of what a run of `scene` writes (bytes), estimated from its
 /// row counts (the plots are bounded: 20 000 points each).
 pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
-    let per_contact = |c: &Option<ContactSet>| 3 * c.as_ref().map_or(0, |c| c.sites.len());
-    let (steps, series_cols, nodes) = match scene {
-        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.last_node() as f64 + 1.0),
-        Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
-        Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 7, 1.0),
-    };
+    let f = scene.facts();
+    let (steps, series_cols, nodes) = (f.t_end / f.dt, f.series_width(), f.nodes as f64);
     let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
     let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
     let plots = if output.plots { 4.0 * 2e6 } else { 0.0 };
@@ -69,12 +65,8 @@ pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
 
 /// The event-driven scheme of a scene and its event limit, if it has one.
 fn event_driven(scene: &Scene) -> Option<(signorini_schemes::SchemeSpec, f64, f64)> {
-    let (spec, dt, t_end) = match scene {
-        Scene::Bar(b) => (b.scheme, b.dt, b.t_end),
-        Scene::Oscillator { scheme, dt, t_end, .. } => (*scheme, *dt, *t_end),
-        Scene::Beam { scene, .. } => (scene.scheme, scene.dt, scene.t_end),
-    };
-    (spec.family().name == "event-driven").then_some((spec, dt, t_end))
+    let f = scene.facts();
+    (f.scheme.family().name == "event-driven").then_some((f.scheme, f.dt, f.t_end))
 }
 
 /// Search steps a probe may take: 512 polls of the event search (one per
@@ -319,22 +311,18 @@ pub struct CheckReport {
 
 /// What `signorini check` states, with its numbers (the Python `check()` returns them).
 pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<CheckReport, BuildError> {
-    let (elements, is_beam, unknowns, contacts) = match scene {
-        Scene::Bar(b) => (b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
-        Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
-        Scene::Oscillator { .. } => (1, false, 1, &None),
-    };
+    let facts = scene.facts();
     let probe = event_probe(scene)?;
     let need = output_estimate(scene, &file.output) + probe.as_ref().map_or(0.0, EventProbe::bytes_estimate);
     let free = free_space(out)
         .map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", crate::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
-    let memory = crate::memory_estimate(elements, is_beam) + crate::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
+    let memory = facts.memory_bytes;
     let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", crate::bytes(memory), crate::bytes(need), out.display());
     if let Some(p) = &probe {
         resources.push_str(" (events.csv included: the probe's estimate)\n");
         resources.push_str(&p.describe());
     }
-    if let Some(c) = contacts {
+    if let Some(c) = facts.contacts {
         resources = format!("\n{}{resources}", c.describe());
     }
     // An event-driven run's cost is its events', from the probe.
@@ -459,16 +447,13 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
             (text, steps, limit)
         }
     };
-    let reduced = match scene {
-        Scene::Bar(b) => b.reduce.map(|keep| signorini_run::reduced::reduce(&b.problem.dynamics(), &b.problem.initial, keep)).transpose()?,
-        Scene::Beam { reduce: Some(keep), .. } => {
-            let (_, dy, init) = scene.beam_setup().expect("a beam scene").problem()?;
-            Some(signorini_run::reduced::reduce(&dy, &init, *keep)?)
-        }
-        _ => None,
+    // A reduced model's basis: the validated simulation's (or, once a probe
+    // took it, built anew).
+    let reduced = match facts.reduce {
+        Some(_) => scene.instantiate(None)?.reduction,
+        None => None,
     };
-    let reduced = reduced.map_or(String::new(), |r| {
-        let red = &r.reduction;
+    let reduced = reduced.map_or(String::new(), |red| {
         format!(
             "\nreduced model (docs/theory.md §2.5): {} contact(s) + {} of {} fixed-interface modes = {} unknowns (highest kept {:.6e} Hz); explicit CD limit of the reduced pencil 2/ω_r = {:.6e}",
             red.contacts().len(),
