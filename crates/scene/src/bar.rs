@@ -244,3 +244,36 @@ pub(crate) fn validate_bar(b: &BarToml, stops: &[StopToml], obstacle: Option<&Ob
     let ready = Ready::keep(Simulation { stepper, u0: init.u, v0: init.v, tip, lift: None, reduction });
     Ok(BarRun { problem, benchmark, scheme, dt, t_end, contacts, omega, reduce, ready })
 }
+
+/// What `signorini check` states of a valid bar scene: the text (the
+/// cost line replaced by an event-driven run's `probe_cost`), its steps and
+/// stability limit.
+pub(crate) fn check_text(b: &BarRun, probe_cost: Option<&str>) -> Result<(String, usize, Option<f64>), crate::BuildError> {
+    let steps = signorini_run::RunConfig::new(b.dt, b.t_end)?.steps();
+    let dofs = b.problem.bar.dofs();
+    let limit = b.scheme.cfl_limit(&b.problem.dynamics())?;
+    let stability = match limit {
+        None => "unconditionally stable".to_string(),
+        // Validation refuses a dt at or beyond the limit.
+        Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is below it", b.scheme.stability_rule().unwrap_or(""), b.dt),
+    };
+    let text = format!(
+        "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
+             stability: {stability}\n\
+             cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
+        b.problem.bar.elements,
+        dofs,
+        b.problem.mass,
+        b.scheme,
+        b.dt,
+        b.t_end,
+        steps,
+        (dofs * steps) as f64,
+        1e-8 * (dofs * steps) as f64
+    );
+    let text = match probe_cost {
+        Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c]).collect::<Vec<_>>().join("\n"),
+        None => text,
+    };
+    Ok((text, steps, limit))
+}

@@ -279,6 +279,17 @@ impl Scene {
         }
     }
 
+    /// What `signorini check` states of the scene's kind: the text (with
+    /// `probe_cost`, an event-driven run's cost line, in place of the
+    /// estimate), the steps and the stability limit.
+    pub(crate) fn check_text(&self, probe_cost: Option<&str>) -> Result<(String, usize, Option<f64>), crate::BuildError> {
+        match self {
+            Scene::Bar(b) => crate::bar::check_text(b, probe_cost),
+            Scene::Beam { pipe, scene, force, .. } => crate::beam::check_text(&self.beam_setup().expect("a beam scene"), pipe, scene, *force, probe_cost),
+            Scene::Oscillator { osc, scheme, dt, t_end, omega, .. } => crate::oscillator::check_text(osc, *scheme, *dt, *t_end, *omega, probe_cost),
+        }
+    }
+
     /// The nodes of `snapshots.csv` (`None`: the scene has no mesh, and
     /// validation refuses `snapshots_every`).
     pub fn snapshot_nodes(&self) -> Option<SnapshotNodes> {

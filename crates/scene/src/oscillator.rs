@@ -120,3 +120,31 @@ fn oscillator_scheme(o: &OscillatorToml) -> Result<(Option<SchemeSpec>, f64), Sc
         _ => Ok((Some(spec), e)),
     }
 }
+
+/// What `signorini check` states of a valid oscillator scene: the text (the
+/// cost line replaced by an event-driven run's `probe_cost`), its steps and
+/// stability limit.
+pub(crate) fn check_text(osc: &Oscillator, scheme: SchemeSpec, dt: f64, t_end: f64, omega: Option<f64>, probe_cost: Option<&str>) -> Result<(String, usize, Option<f64>), crate::BuildError> {
+    let steps = signorini_run::RunConfig::new(dt, t_end)?.steps();
+    let (dy, _) = osc.dynamics()?;
+    let limit = scheme.cfl_limit(&dy)?;
+    let stability = match limit {
+        None => "unconditionally stable".to_string(),
+        Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e}; dt = {dt:e} is below it"),
+    };
+    let wn = (osc.stiffness / osc.mass).sqrt();
+    let text = format!(
+        "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
+        osc.mass,
+        osc.stiffness,
+        osc.damping_ratio,
+        osc.stop,
+        signorini_run::text::num(osc.restitution),
+        omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
+    );
+    let text = match probe_cost {
+        Some(c) => format!("{text}\n{c}"),
+        None => text,
+    };
+    Ok((text, steps, limit))
+}

@@ -3,7 +3,6 @@
 //! the same way (the energy warning, IO reasons).
 
 use crate::{BuildError, OutputToml, Scene, SceneFile};
-use signorini_run::beam::stability_limit;
 use signorini_run::RunConfig;
 use std::path::Path;
 
@@ -330,123 +329,8 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
         Some(s) => format!("cost estimate: about {s:.3} s stepping (event-driven: from the probe of its events below; the run's writing and norms come on top)"),
         None => "cost estimate: unknown (event-driven: the probe below covered no time)".to_string(),
     });
-    let beam_setup = scene.beam_setup();
-    let (text, steps, stability_limit) = match scene {
-        Scene::Bar(b) => {
-            let steps = RunConfig::new(b.dt, b.t_end)?.steps();
-            let dofs = b.problem.bar.dofs();
-            let limit = b.scheme.cfl_limit(&b.problem.dynamics())?;
-            let stability = match limit {
-                None => "unconditionally stable".to_string(),
-                // Validation refuses a dt at or beyond the limit.
-                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is below it", b.scheme.stability_rule().unwrap_or(""), b.dt),
-            };
-            let text = format!(
-                "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
-                 stability: {stability}\n\
-                 cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
-                b.problem.bar.elements,
-                dofs,
-                b.problem.mass,
-                b.scheme,
-                b.dt,
-                b.t_end,
-                steps,
-                (dofs * steps) as f64,
-                1e-8 * (dofs * steps) as f64
-            );
-            let text = match &probe_cost {
-                Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c.as_str()]).collect::<Vec<_>>().join("\n"),
-                None => text,
-            };
-            (text, steps, limit)
-        }
-        Scene::Beam { pipe, scene, force, .. } => {
-            let scene_setup = beam_setup.as_ref().expect("a beam scene");
-            let (_, _, beam_) = pipe.dynamics(scene.elements).map(|(b, d, i)| (d, i, b))?;
-            let steps = RunConfig::new(scene.dt, scene.t_end)?.steps();
-            let spec = scene.scheme;
-            // The paper's β-scheme (the projection, ps(0, β)) is reported with
-            // the paper's sufficient condition (3.1); a penalty spring with
-            // Newmark β = 1/4; any other scheme by its registry limit.
-            let paper_beta = scene.projection_beta();
-            let registry = match paper_beta {
-                None => {
-                    let (_, dy, _) = scene_setup.problem()?;
-                    Some(spec.cfl_limit(&dy).map_err(signorini_run::RunError::from)?)
-                }
-                Some(_) => None,
-            };
-            let lim = stability_limit(&beam_, paper_beta.unwrap_or(0.25))?;
-            let stab = match paper_beta {
-                Some(beta) if beta < 0.25 => format!(
-                    "conditionally stable (β = {beta} < 1/4): κ_h = {:.6e}, exact critical dt = 2/sqrt((1-4β) κ_h) = {:.6e} s (the paper's sufficient condition (3.1) gives {:.6e} s; with its κ bound {:.6e} s); dt = {:e} is {}",
-                    lim.kappa,
-                    lim.dt_critical,
-                    lim.dt_sufficient,
-                    lim.dt_paper,
-                    scene.dt,
-                    if scene.dt < lim.dt_critical {
-                        "below it"
-                    } else if *force {
-                        "BEYOND it (forced)"
-                    } else {
-                        "BEYOND it: the run will be refused"
-                    }
-                ),
-                Some(beta) => {
-                    format!("unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)", lim.kappa, lim.dt_sufficient)
-                }
-                None if scene.spring.is_some() => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
-                None => match registry.flatten() {
-                    None => format!("{spec}: unconditionally stable; κ_h = {:.6e}", lim.kappa),
-                    Some(l) => format!("{spec}: conditionally stable: exact limit dt < {l:.6e} s ({}); dt = {:e} is below it", spec.stability_rule().unwrap_or(""), scene.dt),
-                },
-            };
-            let text = format!(
-                "valid beam scene: J = {} ({} unknowns), dt = {:e} s, T = {} s: {} steps\nstability: {stab}\ncost estimate: {:.2} s (0.42 µs per step at J = 19, measured)",
-                scene.elements,
-                beam_.dofs(),
-                scene.dt,
-                scene.t_end,
-                steps,
-                4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
-            );
-            let text = match &probe_cost {
-                Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c.as_str()]).collect::<Vec<_>>().join("\n"),
-                None => text,
-            };
-            let limit = match registry {
-                Some(l) => l,
-                None => paper_beta.filter(|&b| b < 0.25).map(|_| lim.dt_critical),
-            };
-            (text, steps, limit)
-        }
-        Scene::Oscillator { osc, scheme, dt, t_end, omega, .. } => {
-            let steps = RunConfig::new(*dt, *t_end)?.steps();
-            let (dy, _) = osc.dynamics()?;
-            let limit = scheme.cfl_limit(&dy)?;
-            let stability = match limit {
-                None => "unconditionally stable".to_string(),
-                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e}; dt = {dt:e} is below it"),
-            };
-            let wn = (osc.stiffness / osc.mass).sqrt();
-            let text = format!(
-                "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
-                osc.mass,
-                osc.stiffness,
-                osc.damping_ratio,
-                osc.stop,
-                signorini_run::text::num(osc.restitution),
-                omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
-            );
-            let text = match &probe_cost {
-                Some(c) => format!("{text}\n{c}"),
-                None => text,
-            };
-            (text, steps, limit)
-        }
-    };
+    let (text, steps, stability_limit) = scene.check_text(probe_cost.as_deref())?;
+
     // A reduced model's basis: the validated simulation's (or, once a probe
     // took it, built anew).
     let reduced = match facts.reduce {
