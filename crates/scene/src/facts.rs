@@ -23,17 +23,6 @@ pub enum Kind {
     Oscillator,
 }
 
-impl Kind {
-    /// The scene's table: `bar`, `beam` or `oscillator`.
-    pub fn table(self) -> &'static str {
-        match self {
-            Kind::Bar => "bar",
-            Kind::Beam => "beam",
-            Kind::Oscillator => "oscillator",
-        }
-    }
-}
-
 /// The exact curve a plot draws against the numerical one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]

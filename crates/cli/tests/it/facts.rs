@@ -64,10 +64,13 @@ fn estimated_columns(text: &str) -> f64 {
     (series / rows - 11.0) / 21.0
 }
 
+/// A scene, its series header, files, summary line and snapshots header.
+type Case = (&'static str, &'static str, &'static str, BTreeSet<String>, &'static str, Option<&'static str>);
+
 #[test]
 fn every_kind_writes_its_documented_files_and_columns() {
     let energy = "n,t,u_contact,v_contact,lambda_t,lambda,energy_t,energy";
-    let cases: [(&str, &str, &str, BTreeSet<String>, &str, Option<&str>); 5] = [
+    let cases: [Case; 5] = [
         (
             "bar benchmark",
             BAR_BENCH,
