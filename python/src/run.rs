@@ -140,8 +140,8 @@ fn python_status(e: &RunError) -> String {
 #[pyfunction]
 #[pyo3(signature = (scene, energy=None, fields_every=0, energy_warn=None))]
 pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>, fields_every: i64, energy_warn: Option<f64>) -> PyResult<RunArrays> {
-    use signorini_run::{Cancel, NormObserver, RunConfig};
-    use signorini_scene::{Reads, Scene};
+    use signorini_run::{Cancel, RunConfig};
+    use signorini_scene::Reads;
     if fields_every < 0 {
         return Err(SceneError::new_err(format!("fields_every: {fields_every} is not allowed: an int >= 0 (0: no fields, k: every k steps)")));
     }
@@ -157,18 +157,10 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     if !signorini_run::energy::check_factor(factor) {
         return Err(bad_factor(factor));
     }
-    let (dt, t_end, energy_default) = match &s {
-        Scene::Bar(b) => (b.dt, b.t_end, true),
-        Scene::Beam { scene, .. } => (scene.dt, scene.t_end, false),
-        Scene::Oscillator { dt, t_end, .. } => (*dt, *t_end, true),
-    };
-    let exact = match &s {
-        Scene::Bar(b) => match b.benchmark {
-            Some(bench) => Some(bench.exact(b.t_end).map_err(|e| SceneError::new_err(e.to_string()))?),
-            None => None,
-        },
-        _ => None,
-    };
+    // The scene's facts: its clock, whether its series has energies, its norms.
+    let facts = s.facts();
+    let (dt, t_end, energy_default) = (facts.dt, facts.t_end, facts.columns.energy);
+    let exact = s.exact().map_err(|e| SceneError::new_err(e.to_string()))?;
     // One instantiation for every front end: a reduced model (`reduce = {…}`)
     // steps in reduced coordinates, and the recorder and the norms see the
     // scene's unknowns, reconstructed, as `signorini run` does.
@@ -183,10 +175,7 @@ pub fn run_scene(py: Python<'_>, scene: &Bound<'_, PyAny>, energy: Option<bool>,
     let dofs: Vec<usize> = contacts.iter().map(|c| c.0).collect();
     let (lo, hi): (Vec<f64>, Vec<f64>) = contacts.iter().map(|c| (c.1.lo, c.1.hi)).unzip();
     let mut rec = Recorder::new(built.tip, dofs.clone(), energy.unwrap_or(energy_default), fields_every as usize, levels, unknowns);
-    let mut norms = match (&s, exact.as_deref()) {
-        (Scene::Bar(b), Some(e)) => Some(NormObserver::with_degree(e, b.problem.bar.elements, b.problem.bar.degree, b.problem.vnorm(), dt, signorini_norms::NormKind::Exact)),
-        _ => None,
-    };
+    let mut norms = facts.norms.zip(exact.as_deref()).map(|(n, e)| n.observer(e, dt));
     let (res, signal) = crate::interruptible(py, &cancel, || {
         // The recorder reads the fields when asked, else the contacts and the tip.
         let mut obs: Vec<(Reads, &mut dyn Observer)> = vec![(if fields_every > 0 { Reads::Full } else { Reads::Contacts }, &mut rec)];

@@ -1,6 +1,6 @@
 //! `docs/generated/scene-keys.md`: the reference of every key of a scene
 //! file, generated from the scene schema itself — the serde structs of
-//! `crates/scene/src/lib.rs` and `crates/scene/src/excitation.rs`.
+//! `crates/scene/src/schema.rs` and `crates/scene/src/excitation.rs`.
 //!
 //! # Why `syn` on the sources (and not a derived JSON schema)
 //!
@@ -33,7 +33,7 @@ use std::path::Path;
 use syn::{Attribute, Expr, Fields, GenericArgument, Item, Lit, PathArguments, Type};
 
 /// The files the schema lives in, relative to the workspace root.
-pub const SOURCES: [&str; 2] = ["crates/scene/src/lib.rs", "crates/scene/src/excitation.rs"];
+pub const SOURCES: [&str; 2] = ["crates/scene/src/schema.rs", "crates/scene/src/excitation.rs"];
 
 /// The root struct: the whole scene file.
 const ROOT: &str = "SceneFile";

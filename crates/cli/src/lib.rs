@@ -71,10 +71,10 @@ pub use signorini_sweep as sweep;
 pub mod orbits;
 
 pub use scene::{check_report, energy_warning, CheckReport};
-use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, BarRun, ContactSet, Reads, Scene, SceneFile};
+use scene::{free_space, io_reason as reason, output_estimate, sig12, sig6, ContactSet, Reads, Scene, SceneFile};
 use signorini_plot::{heat_map, line_chart, Chart, Scale, Series, Style};
 use signorini_run::study::{norm_value, LEVEL_COLUMNS, NORMS};
-use signorini_run::{NormObserver, Observer, RowSink, RunConfig, RunError, Sample, SeriesColumns, SeriesWriter};
+use signorini_run::{Observer, RowSink, RunConfig, RunError, Sample, SeriesWriter};
 use signorini_schemes::TimeProfile;
 use std::fs::File;
 use std::io::Write;
@@ -603,141 +603,32 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
         }
     }
     prepare_output(out, opts.clean)?;
-    match scene {
-        Scene::Bar(b) => run_bar(scene, b, scene_file, out, opts),
-        Scene::Oscillator { scheme, dt, t_end, omega, .. } => {
-            let mut sim = scene.instantiate(None)?;
-            let mut cfg = RunConfig::new(*dt, *t_end)?.with_energy_warn(scene_file.energy_warn())?;
-            cfg.interrupt = opts.interrupt.clone();
-            let steps = cfg.steps();
-            let cols = SeriesColumns { t: "t", u: "x", v: "v", energy: true, exact: None, contacts: None };
-            let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, 0, cols)?;
-            let mut data = PlotData::new(steps, 0, None);
-            let mut vib = Analysis::new(scene_file, out, sim.stepper.dynamics(), 0, *dt, *t_end, *omega)?;
-            let mut prog = progress(steps, opts.progress);
-            let start = std::time::Instant::now();
-            let res = run_observed(
-                &mut sim,
-                &cfg,
-                vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
-                [vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))],
-            );
-            write_events(out, &sim)?;
-            let wall = start.elapsed().as_secs_f64();
-            let mut notes = Vec::new();
-            if scene_file.output.plots {
-                plot(&mut notes, out, "x.svg", "oscillator displacement x(t)", ("t", "x"), data.points.iter().map(|p| (p.0, p.1)).collect(), None);
-            }
-            let mut lines = Vec::new();
-            if let Some(v) = vib {
-                lines.extend(v.finish(scene_file.output.plots, &mut notes)?);
-            }
-            let s = match res {
-                Ok(s) => s,
-                Err(error) => return Err(stopped(error, notes, out)),
-            };
-            lines.insert(0, format!("oscillator ({scheme}, dt = {dt:e}): {} steps in {wall:.3} s, {} contact steps; max |x| = {:.6}", s.steps, s.contact_steps, data.max_abs));
-            let warnings = energy_report(&s, &mut lines);
-            lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
-            lines.push(format!("wrote {}", out.display()));
-            Ok(Summary { lines, warnings })
-        }
-        Scene::Beam { pipe, scene: bs, contacts, excitation, omega, .. } => {
-            let mut sim = scene.instantiate(None)?;
-            // The scene's problem: the stepper's own, or a reduced model's parent.
-            let parent = match &sim.reduction {
-                None => sim.stepper.dynamics().clone(),
-                Some(_) => scene.beam_setup().expect("a beam scene").problem()?.1,
-            };
-            let mut cfg = RunConfig::new(bs.dt, bs.t_end)?.with_energy_warn(scene_file.energy_warn())?;
-            cfg.interrupt = opts.interrupt.clone();
-            let steps = cfg.steps();
-            let dofs: Option<Vec<usize>> = contacts.as_ref().map(|c| c.stops.iter().map(|st| 2 * (st.node - 1)).collect());
-            let cols = SeriesColumns { t: "t_s", u: "tip_m", v: "v_tip_m_s", energy: false, exact: None, contacts: dofs.as_deref() };
-            let mut series = SeriesWriter::new(create(out, "series.csv")?, scene_file.output.every, sim.tip, cols)?;
-            let mut data = PlotData::new(steps, sim.tip, contacts.as_ref());
-            let mut snaps = if scene_file.output.snapshots_every > 0 {
-                // Node i at x = i h; its value unknown is 2(i - 1); node 0 is clamped to the support.
-                let h = pipe.length / bs.elements as f64;
-                let nodes = (0..=bs.elements).map(|i| (i as f64 * h, i.checked_sub(1).map(|k| 2 * k), pipe.lifting(i as f64 * h).0)).collect();
-                let phi = excitation.support.clone().unwrap_or(TimeProfile::Sine { amplitude: pipe.support.0, omega: pipe.support.1 });
-                Some(Snapshots::new(out, "n,t_s,x_m,u_m", scene_file.output.snapshots_every, nodes, Some(phi))?)
-            } else {
-                None
-            };
-            let mut vib = Analysis::new(scene_file, out, &parent, sim.tip, bs.dt, bs.t_end, *omega)?;
-            let mut prog = progress(steps, opts.progress);
-            let start = std::time::Instant::now();
-            let res = run_observed(
-                &mut sim,
-                &cfg,
-                vec![(Reads::Contacts, &mut series), (Reads::Contacts, &mut data), (Reads::Nothing, &mut prog)],
-                [snaps.as_mut().map(|s| (Reads::Full, s as &mut dyn Observer)), vib.as_mut().map(|v| (Reads::Contacts, &mut v.vibro as &mut dyn Observer))],
-            );
-            write_events(out, &sim)?;
-            let wall = start.elapsed().as_secs_f64();
-            let mut notes = Vec::new();
-            if scene_file.output.plots {
-                let pts: Vec<(f64, f64)> = data.points.iter().map(|p| (p.0, p.1)).collect();
-                plot(&mut notes, out, "tip.svg", "tip of the beam ũ(L,t)", ("t (s)", "ũ(L,t) (m)"), pts, None);
-                if let (Some(set), Some(f)) = (contacts, &data.forces) {
-                    plot_forces(&mut notes, out, set, f, bs.t_end, " (scaled equation: force / ρS, m² s⁻²)");
-                }
-            }
-            let analysis_lines = match vib {
-                Some(v) => v.finish(scene_file.output.plots, &mut notes)?,
-                None => Vec::new(),
-            };
-            let s = match res {
-                Ok(s) => s,
-                Err(error) => return Err(stopped(error, notes, out)),
-            };
-            let max = data.max_abs;
-            let stops = match contacts {
-                Some(c) => format!("{} contacts", c.sites.len()),
-                None => format!("stops {:?}", pipe.stops),
-            };
-            let mut lines = vec![format!("{} steps in {wall:.3} s; {} contact steps; max |tip| = {max:.6} m ({stops})", s.steps, s.contact_steps)];
-            lines.extend(analysis_lines);
-            let warnings = energy_report(&s, &mut lines);
-            lines.extend(notes.into_iter().map(|n| format!("note: {n}")));
-            lines.push(format!("wrote {}", out.display()));
-            Ok(Summary { lines, warnings })
-        }
-    }
-}
-
-fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOptions) -> Result<Summary, CliError> {
     // norms.csv's setup_s: from here to the loop (the scene's problem was
     // built, and its integrator once for validation, when it was read).
     let setup_start = std::time::Instant::now();
-    let p = &b.problem;
-    let exact = match b.benchmark {
-        Some(bench) => Some(bench.exact(b.t_end)?),
-        None => None,
-    };
+    let facts = scene.facts();
+    let file = scene_file;
+    let exact = scene.exact()?;
     // A reduced model steps in reduced coordinates; the observers see the
-    // parent's field, reconstructed (only the contact rows for those that
+    // scene's unknowns, reconstructed (only the contact rows for those that
     // read the contacts alone): `run_observed`.
     let mut sim = scene.instantiate(None)?;
-    let mut cfg = RunConfig::new(b.dt, b.t_end)?.with_energy_warn(file.energy_warn())?;
+    let mut cfg = RunConfig::new(facts.dt, facts.t_end)?.with_energy_warn(file.energy_warn())?;
     cfg.interrupt = opts.interrupt.clone();
     let steps = cfg.steps();
-    // With stops, u_contact / lambda are contact 0's (the first stop).
-    let dofs: Option<Vec<usize>> = b.contacts.as_ref().map(|c| c.stops.iter().map(|st| st.node).collect());
-    let dof0 = dofs.as_ref().map_or(0, |d| d[0]);
-    let cols = SeriesColumns { exact: exact.as_deref(), contacts: dofs.as_deref(), ..SeriesColumns::default() };
-    let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, dof0, cols)?;
-    let mut data = PlotData::new(steps, dof0, b.contacts.as_ref());
-    let mut norms = exact.as_deref().map(|e| NormObserver::with_degree(e, p.bar.elements, p.bar.degree, p.vnorm(), b.dt, Default::default()));
-    let mut snaps = if file.output.snapshots_every > 0 {
-        let nodes = (0..=p.bar.last_node()).map(|i| (p.bar.node(i), (i < p.bar.dofs()).then_some(i), 0.0)).collect();
-        Some(Snapshots::new(out, "n,t,x,u", file.output.snapshots_every, nodes, None)?)
-    } else {
-        None
+    // The series' tip is contact 0's dof (the bar's first stop, the
+    // oscillator's dof, the beam's tip); with a contact set, every contact's
+    // dof of the scene's unknowns, in contact order.
+    let dofs: Option<Vec<usize>> = facts.contacts.map(|_| sim.contacts().iter().map(|c| c.0).collect());
+    let cols = facts.series_columns(exact.as_deref(), dofs.as_deref());
+    let mut series = SeriesWriter::new(create(out, "series.csv")?, file.output.every, sim.tip, cols)?;
+    let mut data = PlotData::new(steps, sim.tip, facts.contacts);
+    let mut norms = facts.norms.zip(exact.as_deref()).map(|(n, e)| n.observer(e, facts.dt));
+    let mut snaps = match scene.snapshot_nodes().filter(|_| file.output.snapshots_every > 0) {
+        Some(s) => Some(Snapshots::new(out, s.header, file.output.snapshots_every, s.nodes, s.support)?),
+        None => None,
     };
-    let parent = p.dynamics();
-    let mut vib = Analysis::new(file, out, &parent, dof0, b.dt, b.t_end, b.omega)?;
+    let mut vib = Analysis::new(file, out, &sim, facts.dt, facts.t_end, facts.omega)?;
     let mut prog = progress(steps, opts.progress);
     let setup_s = setup_start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
@@ -757,19 +648,25 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
     if file.output.plots {
         let t_max = data.points.last().map_or(0.0, |p| p.0);
         let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=2000).map(|i| t_max * i as f64 / 2000.0).map(|t| (t, f(t))).collect() };
-        let ex = exact.as_deref();
-        match (&b.contacts, &data.forces) {
-            (Some(set), Some(f)) => {
-                let title = format!("u at contact 0 (x = {})", set.sites[0].x);
-                plot(&mut notes, out, "u_contact.svg", &title, ("t", "u"), data.points.iter().map(|p| (p.0, p.1)).collect(), None);
-                plot_forces(&mut notes, out, set, f, b.t_end, "");
-            }
-            _ => {
-                plot(&mut notes, out, "u_contact.svg", "u(0,t)", ("t", "u(0,t)"), data.points.iter().map(|p| (p.0, p.1)).collect(), ex.map(|e| grid(&|t| e.fields(0.0, t).u)));
-                plot(&mut notes, out, "lambda.svg", "contact force λ(t)", ("t", "λ"), data.points.iter().filter_map(|p| p.2).collect(), ex.map(|e| grid(&|t| e.lambda(t))));
-            }
+        let exact_curve = |p: &scene::Plot| {
+            let e = exact.as_deref()?;
+            Some(match p.exact? {
+                scene::ExactCurve::U(x) => grid(&|t| e.fields(x, t).u),
+                scene::ExactCurve::Lambda => grid(&|t| e.lambda(t)),
+                scene::ExactCurve::Energy => grid(&|_| e.energy()),
+                _ => return None,
+            })
+        };
+        let p = &facts.tip_plot;
+        plot(&mut notes, out, p.file, &p.title, p.axes, data.points.iter().map(|p| (p.0, p.1)).collect(), exact_curve(p));
+        match (facts.contacts, &data.forces, &facts.lambda_plot) {
+            (Some(set), Some(f), _) => plot_forces(&mut notes, out, set, f, facts.t_end, facts.force_unit),
+            (_, _, Some(p)) => plot(&mut notes, out, p.file, &p.title, p.axes, data.points.iter().filter_map(|p| p.2).collect(), exact_curve(p)),
+            _ => {}
         }
-        plot(&mut notes, out, "energy.svg", "discrete energy", ("t", "E"), data.points.iter().filter_map(|p| p.3).collect(), ex.map(|e| grid(&|_| e.energy())));
+        if let Some(p) = &facts.energy_plot {
+            plot(&mut notes, out, p.file, &p.title, p.axes, data.points.iter().filter_map(|p| p.3).collect(), exact_curve(p));
+        }
     }
     let analysis_lines = match vib {
         Some(v) => v.finish(file.output.plots, &mut notes)?,
@@ -780,25 +677,16 @@ fn run_bar(scene: &Scene, b: &BarRun, file: &SceneFile, out: &Path, opts: &RunOp
         Ok(s) => s,
         Err(error) => return Err(stopped(error, notes, out)),
     };
-    let mut lines = vec![format!(
-        "{} ({} elements, mass {}, scheme {}, dt = {:e}): {} steps in {wall:.3} s, {} contact steps",
-        file.bar.as_ref().and_then(|b| b.benchmark.clone()).unwrap_or_else(|| "bar".into()),
-        p.bar.elements,
-        p.mass,
-        b.scheme,
-        b.dt,
-        s.steps,
-        s.contact_steps
-    )];
+    let mut lines = vec![facts.run_line(file, s.steps, s.contact_steps, wall, data.max_abs)];
     lines.extend(analysis_lines);
-    if let Some(n) = norms {
+    if let (Some(n), Some(f)) = (norms, facts.norms) {
         let r = n.report();
         let mut w = csv::Writer::from_writer(create(out, "norms.csv")?);
         let csv_err = |source| CliError::Csv { path: out.join("norms.csv"), source };
         w.write_record(LEVEL_COLUMNS).map_err(csv_err)?;
-        // The study's level m: bar-mirrored's m elements per half-bar.
-        let level = if b.benchmark == Some(signorini_run::Benchmark::BarMirrored) { p.bar.elements / 2 } else { p.bar.elements };
-        let mut rec = vec![level.to_string(), format!("{:.10e}", p.bar.h()), format!("{:.10e}", b.dt), s.steps.to_string()];
+        // The study's level m (bar-mirrored's m elements per half-bar) and dx.
+        let (level, dx) = f.level();
+        let mut rec = vec![level.to_string(), format!("{dx:.10e}"), format!("{:.10e}", facts.dt), s.steps.to_string()];
         rec.extend(NORMS.iter().map(|k| format!("{:.10e}", norm_value(&r, k))));
         // wall_s (the loop, as always), then setup_s and step_s (= wall_s here).
         rec.extend([format!("{wall:.6}"), format!("{setup_s:.6}"), format!("{wall:.6}")]);
@@ -881,7 +769,7 @@ struct Analysis {
 }
 
 impl Analysis {
-    fn new(file: &SceneFile, out: &Path, dy: &signorini_schemes::Dynamics, tip: usize, dt: f64, t_end: f64, omega: Option<f64>) -> Result<Option<Self>, CliError> {
+    fn new(file: &SceneFile, out: &Path, sim: &signorini_scene::Simulation, dt: f64, t_end: f64, omega: Option<f64>) -> Result<Option<Self>, CliError> {
         use signorini_run::vibro::{Piece, VibroConfig};
         let o = &file.output;
         if !(o.impacts || o.poincare || o.summary) {
@@ -889,7 +777,8 @@ impl Analysis {
         }
         // `poincare` without a forcing and an empty record window are refused by the scene's validation.
         let record_from = o.record_from(omega);
-        let mut cfg = VibroConfig::for_dynamics(dy, dt, omega, record_from, tip)?;
+        // The tip and the contacts in the scene's unknowns (a reduced model's parent's).
+        let mut cfg = VibroConfig::new(dt, omega, record_from, sim.tip, sim.contacts())?;
         cfg.t_end = Some(t_end);
         cfg.period_tol = o.period_tol.unwrap_or(cfg.period_tol);
         let impacts = if o.impacts {

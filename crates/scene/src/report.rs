@@ -2,8 +2,7 @@
 //! `check()`), its output estimate, and the texts every front end prints
 //! the same way (the energy warning, IO reasons).
 
-use crate::{BuildError, ContactSet, OutputToml, Scene, SceneFile};
-use signorini_run::beam::stability_limit;
+use crate::{BuildError, OutputToml, Scene, SceneFile};
 use signorini_run::RunConfig;
 use std::path::Path;
 
@@ -55,12 +54,8 @@ fn row_bytes(cols: usize) -> f64 {
 /// The size of what a run of `scene` writes (bytes), estimated from its
 /// row counts (the plots are bounded: 20 000 points each).
 pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
-    let per_contact = |c: &Option<ContactSet>| 3 * c.as_ref().map_or(0, |c| c.sites.len());
-    let (steps, series_cols, nodes) = match scene {
-        Scene::Bar(b) => (b.t_end / b.dt, if b.benchmark.is_some() { 10 } else { 7 } + per_contact(&b.contacts), b.problem.bar.last_node() as f64 + 1.0),
-        Scene::Beam { scene, contacts, .. } => (scene.t_end / scene.dt, 5 + per_contact(contacts), scene.elements as f64 + 1.0),
-        Scene::Oscillator { dt, t_end, .. } => (t_end / dt, 8, 1.0),
-    };
+    let f = scene.facts();
+    let (steps, series_cols, nodes) = (f.t_end / f.dt, f.series_width(), f.nodes as f64);
     let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
     let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
     let plots = if output.plots { 4.0 * 2e6 } else { 0.0 };
@@ -69,12 +64,8 @@ pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
 
 /// The event-driven scheme of a scene and its event limit, if it has one.
 fn event_driven(scene: &Scene) -> Option<(signorini_schemes::SchemeSpec, f64, f64)> {
-    let (spec, dt, t_end) = match scene {
-        Scene::Bar(b) => (b.scheme, b.dt, b.t_end),
-        Scene::Oscillator { scheme, dt, t_end, .. } => (*scheme, *dt, *t_end),
-        Scene::Beam { scene, .. } => (scene.scheme, scene.dt, scene.t_end),
-    };
-    (spec.family().name == "event-driven").then_some((spec, dt, t_end))
+    let f = scene.facts();
+    (f.scheme.family().name == "event-driven").then_some((f.scheme, f.dt, f.t_end))
 }
 
 /// Search steps a probe may take: 512 polls of the event search (one per
@@ -319,22 +310,18 @@ pub struct CheckReport {
 
 /// What `signorini check` states, with its numbers (the Python `check()` returns them).
 pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<CheckReport, BuildError> {
-    let (elements, is_beam, unknowns, contacts) = match scene {
-        Scene::Bar(b) => (b.problem.bar.last_node(), false, b.problem.bar.dofs(), &b.contacts),
-        Scene::Beam { scene, contacts, .. } => (scene.elements, true, 2 * scene.elements, contacts),
-        Scene::Oscillator { .. } => (1, false, 1, &None),
-    };
+    let facts = scene.facts();
     let probe = event_probe(scene)?;
     let need = output_estimate(scene, &file.output) + probe.as_ref().map_or(0.0, EventProbe::bytes_estimate);
     let free = free_space(out)
         .map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", crate::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
-    let memory = crate::memory_estimate(elements, is_beam) + crate::contact_memory(contacts.as_ref().map_or(1, |c| c.sites.len()), unknowns);
+    let memory = facts.memory_bytes;
     let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", crate::bytes(memory), crate::bytes(need), out.display());
     if let Some(p) = &probe {
         resources.push_str(" (events.csv included: the probe's estimate)\n");
         resources.push_str(&p.describe());
     }
-    if let Some(c) = contacts {
+    if let Some(c) = facts.contacts {
         resources = format!("\n{}{resources}", c.describe());
     }
     // An event-driven run's cost is its events', from the probe.
@@ -342,133 +329,15 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
         Some(s) => format!("cost estimate: about {s:.3} s stepping (event-driven: from the probe of its events below; the run's writing and norms come on top)"),
         None => "cost estimate: unknown (event-driven: the probe below covered no time)".to_string(),
     });
-    let beam_setup = scene.beam_setup();
-    let (text, steps, stability_limit) = match scene {
-        Scene::Bar(b) => {
-            let steps = RunConfig::new(b.dt, b.t_end)?.steps();
-            let dofs = b.problem.bar.dofs();
-            let limit = b.scheme.cfl_limit(&b.problem.dynamics())?;
-            let stability = match limit {
-                None => "unconditionally stable".to_string(),
-                // Validation refuses a dt at or beyond the limit.
-                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e} ({}); dt = {:e} is below it", b.scheme.stability_rule().unwrap_or(""), b.dt),
-            };
-            let text = format!(
-                "valid bar scene: {} elements ({} unknowns), mass {}, scheme {}, dt = {:e}, T = {}: {} steps, {:.3e} dof-steps\n\
-                 stability: {stability}\n\
-                 cost estimate: {:.2} s stepping with all norms (10 ns per dof-step, measured on 2 cores)",
-                b.problem.bar.elements,
-                dofs,
-                b.problem.mass,
-                b.scheme,
-                b.dt,
-                b.t_end,
-                steps,
-                (dofs * steps) as f64,
-                1e-8 * (dofs * steps) as f64
-            );
-            let text = match &probe_cost {
-                Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c.as_str()]).collect::<Vec<_>>().join("\n"),
-                None => text,
-            };
-            (text, steps, limit)
-        }
-        Scene::Beam { pipe, scene, force, .. } => {
-            let scene_setup = beam_setup.as_ref().expect("a beam scene");
-            let (_, _, beam_) = pipe.dynamics(scene.elements).map(|(b, d, i)| (d, i, b))?;
-            let steps = RunConfig::new(scene.dt, scene.t_end)?.steps();
-            let spec = scene.scheme;
-            // The paper's β-scheme (the projection, ps(0, β)) is reported with
-            // the paper's sufficient condition (3.1); a penalty spring with
-            // Newmark β = 1/4; any other scheme by its registry limit.
-            let paper_beta = scene.projection_beta();
-            let registry = match paper_beta {
-                None => {
-                    let (_, dy, _) = scene_setup.problem()?;
-                    Some(spec.cfl_limit(&dy).map_err(signorini_run::RunError::from)?)
-                }
-                Some(_) => None,
-            };
-            let lim = stability_limit(&beam_, paper_beta.unwrap_or(0.25))?;
-            let stab = match paper_beta {
-                Some(beta) if beta < 0.25 => format!(
-                    "conditionally stable (β = {beta} < 1/4): κ_h = {:.6e}, exact critical dt = 2/sqrt((1-4β) κ_h) = {:.6e} s (the paper's sufficient condition (3.1) gives {:.6e} s; with its κ bound {:.6e} s); dt = {:e} is {}",
-                    lim.kappa,
-                    lim.dt_critical,
-                    lim.dt_sufficient,
-                    lim.dt_paper,
-                    scene.dt,
-                    if scene.dt < lim.dt_critical {
-                        "below it"
-                    } else if *force {
-                        "BEYOND it (forced)"
-                    } else {
-                        "BEYOND it: the run will be refused"
-                    }
-                ),
-                Some(beta) => {
-                    format!("unconditionally stable (β = {beta} >= 1/4); κ_h = {:.6e} (the paper's sufficient condition (3.1) would ask dt < {:.6e} s: not a limit)", lim.kappa, lim.dt_sufficient)
-                }
-                None if scene.spring.is_some() => format!("Newmark β = 1/4 with a penalty spring: unconditionally stable; κ_h = {:.6e}", lim.kappa),
-                None => match registry.flatten() {
-                    None => format!("{spec}: unconditionally stable; κ_h = {:.6e}", lim.kappa),
-                    Some(l) => format!("{spec}: conditionally stable: exact limit dt < {l:.6e} s ({}); dt = {:e} is below it", spec.stability_rule().unwrap_or(""), scene.dt),
-                },
-            };
-            let text = format!(
-                "valid beam scene: J = {} ({} unknowns), dt = {:e} s, T = {} s: {} steps\nstability: {stab}\ncost estimate: {:.2} s (0.42 µs per step at J = 19, measured)",
-                scene.elements,
-                beam_.dofs(),
-                scene.dt,
-                scene.t_end,
-                steps,
-                4.2e-7 * steps as f64 * (scene.elements as f64 / 19.0)
-            );
-            let text = match &probe_cost {
-                Some(c) => text.lines().filter(|l| !l.starts_with("cost estimate")).chain([c.as_str()]).collect::<Vec<_>>().join("\n"),
-                None => text,
-            };
-            let limit = match registry {
-                Some(l) => l,
-                None => paper_beta.filter(|&b| b < 0.25).map(|_| lim.dt_critical),
-            };
-            (text, steps, limit)
-        }
-        Scene::Oscillator { osc, scheme, dt, t_end, omega, .. } => {
-            let steps = RunConfig::new(*dt, *t_end)?.steps();
-            let (dy, _) = osc.dynamics()?;
-            let limit = scheme.cfl_limit(&dy)?;
-            let stability = match limit {
-                None => "unconditionally stable".to_string(),
-                Some(limit) => format!("conditionally stable: exact limit dt < {limit:.6e}; dt = {dt:e} is below it"),
-            };
-            let wn = (osc.stiffness / osc.mass).sqrt();
-            let text = format!(
-                "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
-                osc.mass,
-                osc.stiffness,
-                osc.damping_ratio,
-                osc.stop,
-                signorini_run::text::num(osc.restitution),
-                omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
-            );
-            let text = match &probe_cost {
-                Some(c) => format!("{text}\n{c}"),
-                None => text,
-            };
-            (text, steps, limit)
-        }
+    let (text, steps, stability_limit) = scene.check_text(probe_cost.as_deref())?;
+
+    // A reduced model's basis: the validated simulation's (or, once a probe
+    // took it, built anew).
+    let reduced = match facts.reduce {
+        Some(_) => scene.instantiate(None)?.reduction,
+        None => None,
     };
-    let reduced = match scene {
-        Scene::Bar(b) => b.reduce.map(|keep| signorini_run::reduced::reduce(&b.problem.dynamics(), &b.problem.initial, keep)).transpose()?,
-        Scene::Beam { reduce: Some(keep), .. } => {
-            let (_, dy, init) = scene.beam_setup().expect("a beam scene").problem()?;
-            Some(signorini_run::reduced::reduce(&dy, &init, *keep)?)
-        }
-        _ => None,
-    };
-    let reduced = reduced.map_or(String::new(), |r| {
-        let red = &r.reduction;
+    let reduced = reduced.map_or(String::new(), |red| {
         format!(
             "\nreduced model (docs/theory.md §2.5): {} contact(s) + {} of {} fixed-interface modes = {} unknowns (highest kept {:.6e} Hz); explicit CD limit of the reduced pencil 2/ω_r = {:.6e}",
             red.contacts().len(),

@@ -7,6 +7,7 @@ mod degree;
 mod energy_warn;
 mod event_driven;
 mod event_estimate;
+mod facts;
 mod follow;
 mod lockstep;
 mod new_user;
