@@ -13,6 +13,7 @@
 //! * [`plot`]: SVG line charts and heat maps;
 //! * [`scene`]: the TOML scene format, its validation and one instantiation;
 //! * [`sweep`]: parameter sweeps (grid, manifest, lockstep batches, merge);
+//! * [`orbits`]: periodic orbits on the exact flow (shooting, Floquet multipliers, continuation, bifurcations);
 //! * [`studies`]: every study as a library function.
 //!
 //! Every library crate of the workspace is here; the `signorini` command
@@ -43,3 +44,4 @@ pub use signorini_scene as scene;
 pub use signorini_schemes as schemes;
 pub use signorini_studies as studies;
 pub use signorini_sweep as sweep;
+pub use signorini_orbits as orbits;
