@@ -13,7 +13,8 @@ fn main() {
     divan::main();
 }
 
-const SCENE: &str = "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.8\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = 2.2\n";
+const SCENE: &str =
+    "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.8\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = 2.2\n";
 
 fn family() -> SceneFamily {
     SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0

@@ -48,6 +48,14 @@ pub fn continue_scene(doc: toml::Table, opts: &ContinueOptions, limits: Limits) 
         return Err(opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", opts.transient)));
     }
     let (family, _) = SceneFamily::with_limits(doc, &opts.param, opts.period, limits)?;
+    // Both ends of the range must be valid scenes (a branch that meets an
+    // invalid one between them ends there, with the scene's error).
+    if let Err(e) = family.build(opts.to) {
+        return Err(match e {
+            OrbitError::Scene(m) => OrbitError::Option { option: "to", message: format!("the scene at the end of the range is invalid: {m}") },
+            other => other,
+        });
+    }
     let mut copts = ContinuationOptions::new(opts.from, opts.to);
     copts.max_points = opts.max_points;
     // The start: the scene's own initial state after the transient.

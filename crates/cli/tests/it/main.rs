@@ -3,6 +3,7 @@
 //! `contacts.rs` are still test binaries of their own.
 
 mod cli;
+mod continue_cmd;
 mod degree;
 mod energy_warn;
 mod event_driven;

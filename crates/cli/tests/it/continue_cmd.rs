@@ -1,0 +1,76 @@
+//! `signorini continue` end to end: the files and their contract columns,
+//! the oscillator's grazing frequency against its closed form (written
+//! here), the period-doubled branch, and bad input (exit 2, the option
+//! named).
+
+use std::path::Path;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+}
+
+const SCENE: &str =
+    "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.8\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = 2.2\n";
+
+fn run(dir: &Path, scene: &str, args: &[&str]) -> std::process::Output {
+    let p = dir.join("scene.toml");
+    std::fs::write(&p, scene).unwrap();
+    bin().arg("continue").arg(&p).args(args).arg("--out").arg(dir.join("out")).output().unwrap()
+}
+
+#[test]
+fn the_files_their_columns_and_the_grazing_frequency() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(dir.path(), SCENE, &["--param", "forcing.omega", "--from", "2.2", "--to", "3.0"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.path().join("out");
+    let branch = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+    assert_eq!(branch.lines().next().unwrap(), "param,period,stable,mu_max,impact_velocity,impact_phase,impacts_per_period,releases_per_period,displacement,branch,residual,q0,v0");
+    let bif = std::fs::read_to_string(out.join("bifurcations.csv")).unwrap();
+    assert_eq!(bif.lines().next().unwrap(), "param,kind,mu_re,mu_im,impacts_before,impacts_after,releases_before,releases_after,displacement,branch");
+    let row: Vec<&str> = bif.lines().nth(1).expect("one bifurcation").split(',').collect();
+    assert_eq!(row[1], "grazing");
+    // (1 − u)² + 4ζ²u = (F/kg)², u = (Ω/ω)²: the larger root.
+    let (zeta, q): (f64, f64) = (0.05, 1.0 / 0.2);
+    let want = ((1.0 - 2.0 * zeta * zeta) + (q * q - 4.0 * zeta * zeta * (1.0 - zeta * zeta)).sqrt()).sqrt();
+    let got: f64 = row[0].parse().unwrap();
+    assert!((got - want).abs() <= 1e-8 * want, "grazing at {got}, closed form {want}");
+    assert!(std::fs::read_to_string(out.join("branch.svg")).unwrap().starts_with("<svg"));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("grazing at forcing.omega"), "{text}");
+}
+
+#[test]
+fn switch_continues_the_period_doubled_branch() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(dir.path(), SCENE, &["--param", "forcing.omega", "--from", "2.2", "--to", "1.03", "--switch"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let branch = std::fs::read_to_string(dir.path().join("out/branch.csv")).unwrap();
+    // Rows of branch 1 have period 2 and lie between the two period doublings.
+    let doubled: Vec<Vec<String>> = branch.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).filter(|r: &Vec<String>| r[9] == "1").collect();
+    assert!(doubled.len() > 5, "a doubled branch: {} rows", doubled.len());
+    for r in &doubled {
+        assert_eq!(r[1], "2");
+        let p: f64 = r[0].parse().unwrap();
+        assert!((1.0648..=1.1301).contains(&p), "a period-2 orbit at {p}");
+    }
+}
+
+#[test]
+fn bad_input_exits_2_naming_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    for (scene, args, words) in [
+        (SCENE.to_string(), vec!["--param", "oscillator.scheme", "--from", "1", "--to", "2"], "not a number"),
+        (SCENE.to_string(), vec!["--param", "forcing.nothing", "--from", "1", "--to", "2"], "not in the scene"),
+        (SCENE.to_string(), vec!["--param", "forcing.omega", "--from", "2.2", "--to", "3", "--period", "0"], "period"),
+        (SCENE.to_string(), vec!["--param", "forcing.omega", "--from", "2.2", "--to", "2.2"], "from/to"),
+        (SCENE.replace("scheme = \"event-driven\"", "scheme = \"ps(0.8, 0.25)\""), vec!["--param", "forcing.omega", "--from", "2.2", "--to", "3"], "event-driven"),
+        (SCENE.to_string(), vec!["--param", "oscillator.mass", "--from", "1", "--to", "-1"], "oscillator.mass"),
+    ] {
+        let o = run(dir.path(), &scene, &args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(words), "{args:?}: {err}");
+    }
+}
