@@ -2,3 +2,4 @@
 mod chain;
 mod oscillator;
 mod reach;
+mod two_stops;
