@@ -52,6 +52,7 @@ fn python_error(e: OrbitError) -> PyErr {
             SceneError::new_err(format!("{}: {message}", name.replace('-', "_")))
         }
         OrbitError::Scene(m) => SceneError::new_err(m),
+        OrbitError::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err("interrupted"),
         other => pyo3::exceptions::PyRuntimeError::new_err(other.to_string()),
     }
 }
@@ -79,7 +80,9 @@ pub fn run_continuation<'py>(
     guarded(|| signorini_scene::SceneFile::from_table(doc.clone()).map(|_| ()).map_err(|e| crate::py_scene_error(e, false)))?;
     let opts = ContinueOptions { param: param.to_string(), from: start, to: stop, period, transient, max_points, switch, sweep };
     let cancel = signorini_run::Cancel::new();
-    let (done, signal) = interruptible(py, &cancel, || continue_scene(doc, &opts, signorini_scene::Limits::machine()).map_err(python_error));
+    let c = cancel.clone();
+    let poll: std::sync::Arc<dyn Fn() -> bool + Send + Sync> = std::sync::Arc::new(move || c.is_cancelled());
+    let (done, signal) = interruptible(py, &cancel, || continue_scene(doc, &opts, signorini_scene::Limits::machine(), Some(poll.clone()), &mut |_, _, _| !cancel.is_cancelled()).map_err(python_error));
     if let Some(e) = signal {
         return Err(e);
     }

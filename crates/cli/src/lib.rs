@@ -111,6 +111,13 @@ pub enum CliError {
     /// The run failed (blow-up, instability, …).
     #[error(transparent)]
     Run(#[from] RunError),
+    /// `signorini continue` was interrupted (SIGINT/SIGTERM): the branch so
+    /// far is written.
+    #[error("interrupted: the branch so far is written in {dir}")]
+    ContinueInterrupted {
+        /// The folder.
+        dir: String,
+    },
     /// A continuation's options, scene or Newton solve (`signorini continue`).
     #[error(transparent)]
     Orbits(#[from] signorini_orbits::OrbitError),
@@ -243,7 +250,9 @@ impl CliError {
         match self {
             CliError::Orbits(signorini_orbits::OrbitError::Option { .. } | signorini_orbits::OrbitError::Scene(_)) => 2,
             CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } | CliError::SceneFile { .. } | CliError::OutFolder { .. } => 2,
-            CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } => 130,
+            CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } | CliError::ContinueInterrupted { .. } => {
+                130
+            }
             CliError::SweepFailed { .. } => 3,
             _ => 1,
         }
@@ -492,6 +501,17 @@ fn progress(total: usize, show: bool) -> Progress {
 }
 
 /// A progress bar with an ETA on stderr (hidden unless `show`).
+/// A spinner with a message on stderr (hidden unless `show`): a
+/// continuation's points as they come (their number is not known ahead).
+pub(crate) fn progress_spinner(show: bool) -> indicatif::ProgressBar {
+    if !show {
+        return indicatif::ProgressBar::hidden();
+    }
+    let b = indicatif::ProgressBar::new_spinner();
+    b.set_style(indicatif::ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}").unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()));
+    b
+}
+
 fn progress_bar(total: u64, show: bool, unit: &str) -> indicatif::ProgressBar {
     let target = if show { indicatif::ProgressDrawTarget::stderr() } else { indicatif::ProgressDrawTarget::hidden() };
     let bar = indicatif::ProgressBar::with_draw_target(Some(total), target);

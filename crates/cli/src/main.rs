@@ -265,7 +265,7 @@ fn main() -> ExitCode {
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-continue", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = sweep.as_deref().map(signorini_cli::orbits::sweep_points).transpose()?.unwrap_or_default();
             let opts = signorini_orbits::front::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep };
-            for l in signorini_cli::orbits::continue_scene(&text, &opts, &out, limits(max_memory))? {
+            for l in signorini_cli::orbits::continue_scene(&text, &opts, &out, limits(max_memory), std::io::stderr().is_terminal(), interrupt_token())? {
                 say(&format!("{l}\n"));
             }
             Ok(())

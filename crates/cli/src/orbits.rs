@@ -31,16 +31,33 @@ pub fn sweep_points(dir: &Path) -> Result<Vec<(f64, f64)>, CliError> {
 
 /// Runs `signorini continue` on the scene text `text` into `out`; returns
 /// the lines to print.
-pub fn continue_scene(text: &str, opts: &ContinueOptions, out: &Path, limits: Limits) -> Result<Vec<String>, CliError> {
+/// A progress line on stderr when `show_progress`; `interrupt` (SIGINT)
+/// ends the branch at its last point, writes the files and returns
+/// [`CliError::ContinueInterrupted`].
+pub fn continue_scene(text: &str, opts: &ContinueOptions, out: &Path, limits: Limits, show_progress: bool, interrupt: Option<signorini_run::Cancel>) -> Result<Vec<String>, CliError> {
     let started = std::time::Instant::now();
     let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| CliError::Scene(signorini_scene::SceneError::Toml(e)))?;
     // Parse the scene as such first: its own errors name its fields.
     signorini_scene::SceneFile::from_table(doc.clone())?;
-    let done = compute(doc, opts, limits)?;
+    let bar = crate::progress_spinner(show_progress);
+    let mut watch = |branch: usize, points: usize, param: f64| {
+        bar.set_message(format!("branch {branch}: {points} points, {} = {param:.9}", opts.param));
+        bar.tick();
+        !interrupt.as_ref().is_some_and(|c| c.is_cancelled())
+    };
+    let poll: Option<signorini_schemes::Interrupt> = interrupt.clone().map(|c| std::sync::Arc::new(move || c.is_cancelled()) as signorini_schemes::Interrupt);
+    let done = match compute(doc, opts, limits, poll, &mut watch) {
+        Err(OrbitError::Interrupted) => return Err(CliError::ContinueInterrupted { dir: format!("{} (nothing: interrupted before the first orbit)", out.display()) }),
+        other => other?,
+    };
+    bar.finish_and_clear();
     std::fs::create_dir_all(out).map_err(|source| CliError::OutFolder { path: out.to_path_buf(), source })?;
     for (name, body) in &done.files {
         let path = out.join(name);
         std::fs::write(&path, body).map_err(|source| CliError::Write { path, source })?;
+    }
+    if done.interrupted {
+        return Err(CliError::ContinueInterrupted { dir: out.display().to_string() });
     }
     let mut lines = done.lines;
     let names: Vec<&str> = done.files.iter().map(|f| f.0).collect();

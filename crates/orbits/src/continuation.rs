@@ -301,6 +301,13 @@ fn ns_test(p: &Point) -> f64 {
 /// Continues the branch of the family's periodic orbits from `guess` (a
 /// state near an orbit at `opts.from`) toward `opts.to`.
 pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions) -> Result<Branch, OrbitError> {
+    continuation_watched(family, guess, opts, &mut |_| true)
+}
+
+/// [`continuation`] with `watch` called after each new point (a progress
+/// display, an interrupt): when it returns `false` the branch ends there,
+/// its points so far kept, `end` saying so.
+pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions, watch: &mut dyn FnMut(&BranchPoint) -> bool) -> Result<Branch, OrbitError> {
     opts.validate()?;
     let model = family.model(opts.from)?;
     let start = periodic_orbit(&model, 0.0, family.period(opts.from)?, guess, &opts.newton)?;
@@ -319,7 +326,17 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
     let (lo, hi) = (opts.from.min(opts.to), opts.from.max(opts.to));
     let beyond = |p: f64| (p - opts.to) * dir > 0.0;
     while branch.points.len() < opts.max_points {
+        if let Some(last) = branch.points.last() {
+            if !watch(last) {
+                branch.end = format!("interrupted at param = {}", last.param);
+                return Ok(branch);
+            }
+        }
         let trial = ctx.at(&cur, ds);
+        if matches!(trial, Err(OrbitError::Interrupted)) {
+            branch.end = format!("interrupted at param = {}", cur.param);
+            return Ok(branch);
+        }
         let next = match trial {
             Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 => p,
             // A corner where the number of impacts or held phases changes

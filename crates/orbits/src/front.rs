@@ -4,7 +4,7 @@
 //! the files' text. No IO: the front ends read and write the files.
 
 use crate::output::{bifurcations_csv, branch_csv, branch_svg, Labelled};
-use crate::{continuation, doubled_branch, BifurcationKind, Branch, ContinuationOptions, OrbitError, SceneFamily};
+use crate::{continuation_watched, doubled_branch, BifurcationKind, Branch, ContinuationOptions, OrbitError, SceneFamily};
 use signorini_scene::Limits;
 
 /// What a continuation is asked (the options of `signorini continue`).
@@ -36,18 +36,34 @@ pub struct Continued {
     pub files: Vec<(&'static str, String)>,
     /// What to print (one line per branch, one per bifurcation, notes).
     pub lines: Vec<String>,
+    /// `watch` stopped the run: the files hold the points so far.
+    pub interrupted: bool,
 }
 
 fn opt(option: &'static str, message: String) -> OrbitError {
     OrbitError::Option { option, message }
 }
 
-/// Runs the continuation of `doc` (a scene document) with `opts`.
-pub fn continue_scene(doc: toml::Table, opts: &ContinueOptions, limits: Limits) -> Result<Continued, OrbitError> {
+/// Runs the continuation of `doc` (a scene document) with `opts`; `watch`
+/// sees each point as it comes (`(branch, points so far, param)`) and
+/// stops the run by returning `false` (the points so far are kept and
+/// written: [`Continued::interrupted`]).
+///
+/// `interrupt` is polled inside every run of the flow too (a slow first
+/// orbit): it ends the branch like `watch`, or, before the first point,
+/// fails with [`OrbitError::Interrupted`].
+pub fn continue_scene(
+    doc: toml::Table,
+    opts: &ContinueOptions,
+    limits: Limits,
+    interrupt: Option<signorini_schemes::Interrupt>,
+    watch: &mut dyn FnMut(usize, usize, f64) -> bool,
+) -> Result<Continued, OrbitError> {
     if !(opts.transient.is_finite() && opts.transient >= 0.0) {
         return Err(opt("transient", format!("{} is not allowed: forcing periods, finite and >= 0", opts.transient)));
     }
     let (family, _) = SceneFamily::with_limits(doc, &opts.param, opts.period, limits)?;
+    let family = family.with_interrupt(interrupt);
     // Both ends of the range must be valid scenes (a branch that meets an
     // invalid one between them ends there, with the scene's error).
     if let Err(e) = family.build(opts.to) {
@@ -61,13 +77,29 @@ pub fn continue_scene(doc: toml::Table, opts: &ContinueOptions, limits: Limits) 
     // The start: the scene's own initial state after the transient.
     let built = family.build(opts.from)?;
     let guess = if opts.transient > 0.0 { built.model.flow(0.0, &built.start, opts.transient * std::f64::consts::TAU / built.omega, false)?.x } else { built.start.clone() };
-    let main = continuation(&family, &guess, &copts)?;
+    let mut stopped = false;
+    // An interrupt inside a flow ends the branch with `end` saying so.
+    let main = {
+        let mut count = 0;
+        let mut w = |p: &crate::BranchPoint| {
+            count += 1;
+            let go = watch(0, count, p.param);
+            stopped |= !go;
+            go
+        };
+        continuation_watched(&family, &guess, &copts, &mut w)?
+    };
+    stopped |= main.end.starts_with("interrupted");
     let mut branches: Vec<(Branch, SceneFamily)> = vec![(main, family.clone())];
     let mut notes = Vec::new();
-    if opts.switch {
+    if opts.switch && !stopped {
         let doubled = family.with_periods(2 * opts.period);
         let pds: Vec<_> = branches[0].0.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).cloned().collect();
         for b in pds {
+            if stopped || !watch(branches.len(), 0, b.param) {
+                stopped = true;
+                break;
+            }
             match doubled_branch(&family, &doubled, &b, (opts.from, opts.to), &copts) {
                 Ok(br) => branches.push((br, doubled.clone())),
                 Err(e) => notes.push(format!("note: no period-doubled branch continued from {}: {e}", b.param)),
@@ -110,5 +142,5 @@ pub fn continue_scene(doc: toml::Table, opts: &ContinueOptions, limits: Limits) 
         }
     }
     lines.extend(notes);
-    Ok(Continued { files, lines })
+    Ok(Continued { files, lines, interrupted: stopped })
 }

@@ -18,7 +18,7 @@ mod scene;
 mod shoot;
 mod variational;
 
-pub use continuation::{continuation, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family};
+pub use continuation::{continuation, continuation_watched, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family};
 pub use map::{Image, Model};
 pub use scene::{Built, SceneFamily};
 pub use shoot::{autonomous_orbit, eigenvalues, periodic_orbit, Newton, Orbit};
@@ -29,7 +29,10 @@ pub use shoot::{autonomous_orbit, eigenvalues, periodic_orbit, Newton, Orbit};
 pub enum OrbitError {
     /// The exact run failed.
     #[error("the exact run: {0}")]
-    Events(#[from] signorini_schemes::events::EventsError),
+    Events(signorini_schemes::events::EventsError),
+    /// Interrupted (a front end's SIGINT, Python's Ctrl-C).
+    #[error("interrupted")]
+    Interrupted,
     /// The model has no linearisation here.
     #[error("{0}")]
     Model(String),
@@ -70,4 +73,13 @@ pub enum OrbitError {
     /// The scene at a parameter value.
     #[error("{0}")]
     Scene(String),
+}
+
+impl From<signorini_schemes::events::EventsError> for OrbitError {
+    fn from(e: signorini_schemes::events::EventsError) -> Self {
+        match e {
+            signorini_schemes::events::EventsError::Interrupted { .. } => OrbitError::Interrupted,
+            other => OrbitError::Events(other),
+        }
+    }
 }

@@ -15,6 +15,7 @@ pub struct Model {
     e: f64,
     lin: Linear,
     max_events: usize,
+    interrupt: Option<signorini_schemes::Interrupt>,
 }
 
 /// Where the flow took a state: the state after `τ`, its Jacobian, and the
@@ -42,7 +43,14 @@ impl Model {
             return Err(OrbitError::Model(format!("restitution {e} is not allowed: [0, 1]")));
         }
         let lin = Linear::new(&dy, e)?;
-        Ok(Self { dy, e, lin, max_events: 1_000_000 })
+        Ok(Self { dy, e, lin, max_events: 1_000_000, interrupt: None })
+    }
+
+    /// With a poll every run of the flow calls (every 256 steps of its
+    /// event search): `true` stops it with [`OrbitError::Interrupted`].
+    pub fn with_interrupt(mut self, poll: Option<signorini_schemes::Interrupt>) -> Self {
+        self.interrupt = poll;
+        self
     }
 
     /// The structure.
@@ -108,6 +116,7 @@ impl Model {
             q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
         }
         let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        run.set_interrupt(self.interrupt.clone());
         let dim = self.dim();
         let mut jac = jacobian.then(|| Mat::<f64>::identity(dim, dim));
         let mut seen = run.events().len();

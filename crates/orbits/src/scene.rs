@@ -9,12 +9,19 @@ use signorini_schemes::SchemeSpec;
 
 /// A scene in a parameter: its document, the parameter's dotted path, and
 /// the orbit's period in forcing periods.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct SceneFamily {
     doc: toml::Table,
     path: String,
     periods: usize,
     limits: Limits,
+    interrupt: Option<signorini_schemes::Interrupt>,
+}
+
+impl std::fmt::Debug for SceneFamily {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SceneFamily({} in {} periods)", self.path, self.periods)
+    }
 }
 
 /// One scene of the family, built: its model, the map's horizon, and the
@@ -66,7 +73,7 @@ impl SceneFamily {
             return Err(OrbitError::Option { option: "period", message: "0 is not allowed: forcing periods per orbit, an integer >= 1".into() });
         }
         let value = lookup(&doc, path)?;
-        let family = Self { doc, path: path.to_string(), periods, limits };
+        let family = Self { doc, path: path.to_string(), periods, limits, interrupt: None };
         family.build(value)?;
         Ok((family, value))
     }
@@ -75,6 +82,12 @@ impl SceneFamily {
     /// (a period-doubled branch's family).
     pub fn with_periods(&self, periods: usize) -> Self {
         Self { periods: periods.max(1), ..self.clone() }
+    }
+
+    /// Every model built with the poll `interrupt` ([`Model::with_interrupt`]).
+    pub fn with_interrupt(mut self, interrupt: Option<signorini_schemes::Interrupt>) -> Self {
+        self.interrupt = interrupt;
+        self
     }
 
     /// Forcing periods per orbit.
@@ -101,7 +114,7 @@ impl SceneFamily {
                 message: format!("{label} is not allowed: periodic orbits are computed on the exact flow; allowed: event-driven(e) (set the scene's scheme = \"event-driven(e)\")"),
             });
         }
-        let model = Model::new(sim.stepper.dynamics().clone(), spec.args()[0])?;
+        let model = Model::new(sim.stepper.dynamics().clone(), spec.args()[0])?.with_interrupt(self.interrupt.clone());
         let start = model.pack(&sim.u0, &sim.v0);
         Ok(Built { model, horizon: self.periods as f64 * std::f64::consts::TAU / omega, start, omega, sim })
     }
