@@ -14,6 +14,8 @@
 //! * `docs/generated/test-record.md` (test counts and timings) is not
 //!   written here but by `cargo xtask test --record`, a measurement that no
 //!   check can reproduce.
+//! * The module graphs of the crates in `module_graph::ACYCLIC`: `--check`
+//!   fails on a cycle among a crate's modules, naming it.
 //! * README.md and ARCHITECTURE.md (outside the guide, so outside MkDocs'
 //!   link validation): at most 200 README lines, the README opening with the
 //!   two commands, and every relative link of both resolving to a file, and
@@ -92,6 +94,10 @@ pub fn check(root: &Path) -> Result<(), String> {
         stale.push(format!("the study functions of {} differ from the studies' Configs (crates/studies)", crate::py_studies::FILE));
     }
     stale.extend(crate::crate_graph::check(root)?);
+    let cycles = crate::module_graph::check(root)?;
+    if !cycles.is_empty() {
+        return Err(format!("{}: move what the modules of a cycle share to a module below them", cycles.join("; ")));
+    }
     if !stale.is_empty() {
         return Err(format!("{}; regenerate with `cargo xtask docs`", stale.join("; ")));
     }

@@ -21,12 +21,14 @@
 //! * `fuzz`: the scene reader and validator on generated and mutated scenes.
 //! * `docs`: the user guide's generated tables, from `data/reference`,
 //!   and ARCHITECTURE.md's crate graph, from `cargo tree` (`--check`: fail
-//!   when a committed one is out of date).
+//!   when a committed one is out of date, or when the modules of
+//!   signorini-schemes, -sweep or -fuzz name each other in a circle).
 //! * `test`: every test, and the guide's strict build.
 
 mod crate_graph;
 mod docs;
 mod fuzz;
+mod module_graph;
 mod py_studies;
 mod pytest;
 mod scene_keys;

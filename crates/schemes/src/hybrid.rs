@@ -100,12 +100,7 @@ impl Reduced {
         }
         let n = dy.n();
         if dy.k() > 1 {
-            return Err(SchemeError::NotTaken {
-                scheme: label,
-                what: "several contacts",
-                why: " (the reduced schemes eliminate one massless contact node at dof 0)",
-                by: crate::registry::families_with(|c| c.several_contacts),
-            });
+            return Err(crate::family::not_taken(label, crate::family::Refused::SeveralContacts, " (the reduced schemes eliminate one massless contact node at dof 0)"));
         }
         if !dy.massless_contact() {
             return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massless contact node (mass mod, mod1, mod2, mod3, transfer or singular)" });
@@ -335,8 +330,7 @@ impl Reduced {
 
 // ---- The registry's rows of this file: hybrid, reduced-cn, cd-massless.
 
-use crate::family::{kappa_bound, Capabilities, Family, Group, Node, Preset};
-use crate::SchemeSpec;
+use crate::family::{kappa_bound, Capabilities, Family, Group, Node, Preset, SchemeSpec};
 
 /// The reduced formulations' capabilities: a massless contact node at dof
 /// 0, one contact, a steady load, no damping.

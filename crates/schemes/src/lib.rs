@@ -118,7 +118,7 @@ mod paoli;
 mod profile;
 mod registry;
 
-pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, MAX_PARAMS};
+pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
 pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
@@ -126,7 +126,7 @@ pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, SplitMix64, TimeProfile, MAX_RANDOM_COUNT};
-pub use registry::{families_with, syntax_list, SchemeSpec, FAMILIES};
+pub use registry::{families_with, syntax_list, FAMILIES};
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
 

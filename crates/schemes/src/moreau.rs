@@ -241,8 +241,7 @@ impl Stepper for MoreauJean {
 
 // ---- The registry's row of this file: moreau-jean.
 
-use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset};
-use crate::SchemeSpec;
+use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec};
 
 /// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1].
 pub(crate) static MOREAU_JEAN: Family = Family {

@@ -63,12 +63,11 @@ impl Nitsche {
         }
         let n = dy.n();
         if dy.k() > 1 {
-            return Err(SchemeError::NotTaken {
-                scheme: label,
-                what: "several contacts",
-                why: " (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's)",
-                by: crate::registry::families_with(|c| c.several_contacts),
-            });
+            return Err(crate::family::not_taken(
+                label,
+                crate::family::Refused::SeveralContacts,
+                " (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's)",
+            ));
         }
         if dy.contact().dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
             return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
@@ -232,8 +231,7 @@ impl Stepper for Nitsche {
 
 // ---- The registry's row of this file: nitsche.
 
-use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset};
-use crate::SchemeSpec;
+use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec};
 
 /// Nitsche's method with Newmark-CN: γ = γ_0 c²/h (γ_0 > 0), θ ∈ [-1, 1].
 pub(crate) static NITSCHE: Family = Family {

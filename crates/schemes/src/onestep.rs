@@ -241,7 +241,7 @@ impl OneStep {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
         if dy.damping.is_some() && prm.a_new == 0.0 {
-            return Err(SchemeError::NotTaken { scheme: label, what: "damping matrix", why: " (an explicit step, β = 0: it would need a solve with M + γ dt C)", by: families_with(|c| c.damping) });
+            return Err(not_taken(label, Refused::Damping, " (an explicit step, β = 0: it would need a solve with M + γ dt C)"));
         }
         let a_mat = dy.step_matrix(prm.gamma * dt, prm.a_new * dt * dt);
         let a = a_mat.factor()?;
@@ -758,9 +758,7 @@ fn penalty_solve(proj: &Projection, y: &mut [f64], lo: f64, hi: f64, kappa: f64,
 
 // ---- The registry's rows of this file: newmark, theta, penalty, penalty-cd.
 
-use crate::family::{check, kappa_bound, Capabilities, Family, Group, Node, Param, Preset};
-use crate::registry::families_with;
-use crate::SchemeSpec;
+use crate::family::{check, kappa_bound, not_taken, Capabilities, Family, Group, Node, Param, Preset, Refused, SchemeSpec};
 
 /// Newmark(β, γ), contact at `t_{n+1}`; β ∈ (0, 1/2], γ ∈ [1/2, 2β].
 pub(crate) static NEWMARK: Family = Family {
@@ -876,5 +874,5 @@ impl SchemeSpec {
 
 /// The damping refusal of the constructors whose schemes take none.
 pub(crate) fn no_damping(label: &str) -> SchemeError {
-    SchemeError::NotTaken { scheme: label.to_string(), what: "damping matrix", why: "", by: families_with(|c| c.damping) }
+    not_taken(label.to_string(), Refused::Damping, "")
 }

@@ -719,8 +719,7 @@ impl Stepper for PaoliSchatzman {
 
 // ---- The registry's rows of this file: ps (the β-scheme, taylor-flanagan) and cd-taylor.
 
-use crate::family::{check, kappa_bound, Capabilities, Family, Group, Node, Param, Preset};
-use crate::SchemeSpec;
+use crate::family::{check, kappa_bound, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec};
 
 /// Paoli–Schatzman / the β-scheme, restitution e ∈ [0, 1], β ∈ [0, 1/2]
 /// (β >= 1/4 is unconditionally stable; β < 1/4 needs a massive contact

@@ -60,8 +60,9 @@
 //! **Massless contact dofs** (every contact massless: mass redistribution,
 //! reduced models) have no impacts: see `massless.rs`.
 
-use super::flow::{dense, EventsError, Loads, ModalFlow, Piece};
-use super::search::{time_resolution, Cursor, Found, Functional, Search};
+use super::flow::{dense, Functional, Loads, ModalFlow, Piece};
+use super::record::{EventKind, EventRecord, EventsError};
+use super::search::{time_resolution, Cursor, Found, Search};
 use super::Bound;
 use crate::Dynamics;
 use faer::Mat;
@@ -70,46 +71,6 @@ use std::collections::HashMap;
 
 #[path = "massless.rs"]
 mod massless;
-
-/// What happened at an event (`events.csv`'s `kind`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EventKind {
-    /// An impact (Newton's law).
-    Impact,
-    /// A held contact's force reached 0: it leaves its bound.
-    Release,
-    /// Impacts accumulated (chattering): the contact comes to rest.
-    Accumulation,
-}
-
-impl EventKind {
-    /// The name in `events.csv`: `impact`, `release`, `accumulation`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Impact => "impact",
-            Self::Release => "release",
-            Self::Accumulation => "accumulation",
-        }
-    }
-}
-
-/// One event of an [`EventDriven`] run.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EventRecord {
-    /// Its time.
-    pub t: f64,
-    /// What happened.
-    pub kind: EventKind,
-    /// The contact (its index in `Dynamics::contacts`).
-    pub contact: usize,
-    /// The contact dof's velocity before.
-    pub velocity_before: f64,
-    /// And after.
-    pub velocity_after: f64,
-    /// The impulse (the contact force's integral over the instant; `r` of
-    /// `M q'' + C q' + K q = f + Σ r_i e_{c_i}`: positive at a lower bound).
-    pub impulse: f64,
-}
 
 /// An impact slower than this fraction of the contact's fastest impact so
 /// far ends its run of impacts as an accumulation (module docs).

@@ -45,105 +45,11 @@
 //! the series' breakpoints, where only the slope changes (the load is
 //! continuous, so is the state).
 
+use super::record::EventsError;
 use super::Bound;
 use crate::{Dynamics, Series, TimeProfile};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, Side};
-
-/// Why a problem has no exact event-driven solution here.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum EventsError {
-    /// The mass matrix is not positive definite.
-    #[error("mass: not positive definite")]
-    MassNotDefinite,
-    /// A restitution other than 0 at a contact dof without mass (a
-    /// reduced model's or mass redistribution's contact boundary): its
-    /// force is static, it lands without an impact.
-    #[error("contacts[{contact}].restitution = {restitution}: a massless contact dof lands on its bound without an impact (its force is statically condensed), so no restitution acts there; allowed: 0 (event-driven(0))")]
-    MasslessRestitution {
-        /// The contact.
-        contact: usize,
-        /// Its restitution.
-        restitution: f64,
-    },
-    /// A non-classical damping whose first-order form has no basis of
-    /// real two-dimensional invariant subspaces here (a defective or
-    /// repeated eigenvalue: critical damping, a rigid mode without damping
-    /// beside a non-classical one).
-    #[error("damping: the first-order form of the non-classical damping C is defective or nearly so (its modal basis has the condition number {condition:e}, above 1e8): no exact modal flow; allowed: classical damping (e.g. Rayleigh C = a M + b K) or a non-classical one whose first-order eigenvalues are distinct")]
-    Defective {
-        /// `‖T‖∞ ‖T⁻¹‖∞` of the modal basis (infinite: no basis).
-        condition: f64,
-    },
-    /// A load profile without a closed-form particular solution here.
-    #[error("forcing[{index}]: a piecewise-linear series is taken piece by piece by the event-driven run (EventDriven, EventStepper), not by one ModalFlow; allowed here: constant loads, sine or harmonics")]
-    Profile {
-        /// The forcing term.
-        index: usize,
-    },
-    /// The symmetric eigensolver failed.
-    #[error("the modal decomposition of (K, M) failed")]
-    Eigen,
-    /// A restitution outside [0, 1].
-    #[error("contacts[{contact}].restitution = {restitution}: allowed [0, 1]")]
-    Restitution {
-        /// The contact.
-        contact: usize,
-        /// Its restitution.
-        restitution: f64,
-    },
-    /// More events than allowed.
-    #[error("{events} events by t = {t} (max_events): the run stops there, the events so far are kept; if the impacts are real, raise the limit with the scheme's second parameter: scheme = \"event-driven(E,MAX_EVENTS)\" (default 1e7, at most 1e12)")]
-    TooManyEvents {
-        /// Where it stopped.
-        t: f64,
-        /// Events taken.
-        events: usize,
-    },
-    /// Events repeat at one instant without the time advancing (a cycle
-    /// of releases and impacts that the rules do not settle).
-    #[error("{events} events at t = {t} without the time advancing (the last: {cycle}): the run stops there, the events so far are kept; this is a defect of the event rules for this case, please report it with the scene")]
-    NoProgress {
-        /// Where it stalled.
-        t: f64,
-        /// Events at that instant.
-        events: usize,
-        /// The last events, in words.
-        cycle: String,
-    },
-    /// The poll of [`crate::Stepper::set_interrupt`] asked the run to
-    /// stop: the state is whole, at `t` (inside an output step).
-    #[error("interrupted at t = {t}")]
-    Interrupted {
-        /// The time the run stopped at.
-        t: f64,
-    },
-    /// The event search took too many steps (a contact grazing its bound).
-    #[error("the event search stopped at t = {t} after {steps} steps (a contact grazing its bound without reaching it)")]
-    NoConvergence {
-        /// Where it stopped.
-        t: f64,
-        /// Steps taken.
-        steps: usize,
-    },
-    /// The contacts' Delassus matrix could not be set up or solved (two
-    /// contacts on one dof, say).
-    #[error("contacts: {0}")]
-    Contacts(String),
-    /// The start is outside a contact's bounds.
-    #[error("contacts[{contact}]: the initial state q = {q} is outside [{lo}, {hi}]")]
-    Outside {
-        /// The contact.
-        contact: usize,
-        /// Its dof's displacement.
-        q: f64,
-        /// Lower bound.
-        lo: f64,
-        /// Upper bound.
-        hi: f64,
-    },
-}
 
 /// Orders of a mode's jet: `η, η', …, η⁽⁵⁾`.
 pub(crate) const JET: usize = 6;
@@ -615,9 +521,9 @@ impl ModalFlow {
     /// `ramps` has one entry per series of the loads. A classical flow and
     /// a zero `row_v` (a position) leave `α` empty: the search then skips
     /// the `η'` terms.
-    pub(crate) fn linear(&self, row_q: &[f64], row_v: &[f64]) -> super::search::Functional {
+    pub(crate) fn linear(&self, row_q: &[f64], row_v: &[f64]) -> Functional {
         let n = self.n;
-        let mut f = super::search::Functional { beta: vec![0.0; n], alpha: vec![0.0; n], ramps: vec![0.0; self.ramp_modal.len()], ..Default::default() };
+        let mut f = Functional { beta: vec![0.0; n], alpha: vec![0.0; n], ramps: vec![0.0; self.ramp_modal.len()], ..Default::default() };
         match &self.general {
             None => {
                 for i in 0..n {
@@ -1107,29 +1013,25 @@ impl ModalFlow {
         self.advance_modal(t0, &mut eta, &mut deta, tau, &mut [Vec::new(), Vec::new()]);
         self.to_physical(t0 + tau, &eta, &deta, q, v);
     }
+}
 
-    /// The first time in `(t0, t0 + horizon]` at which the contact dof `dof`
-    /// of the trajectory from `(q0, v0)` reaches `lo` (from above) or `hi`
-    /// (from below), with the state there; `None` if it stays strictly
-    /// inside. The state must start inside (`lo < q_c < hi`, or on a bound
-    /// and leaving it). The search is the module `search`'s (docs/theory.md
-    /// §9.2): no event is missed, each is located to a relative 1e-15.
-    #[allow(clippy::too_many_arguments)]
-    pub fn first_crossing(&self, t0: f64, q0: &[f64], v0: &[f64], dof: usize, lo: f64, hi: f64, horizon: f64) -> Result<Option<Event>, EventsError> {
-        let n = self.n;
-        let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
-        self.to_modal(t0, q0, v0, &mut eta, &mut deta);
-        let mut unit = vec![0.0; n];
-        unit[dof] = 1.0;
-        let (sides, fns): (Vec<Bound>, Vec<_>) = self.linear(&unit, &vec![0.0; n]).gaps(lo, hi).into_iter().unzip();
-        let mut search = super::search::Search::new(n);
-        let Some((t, which)) = search.first_zero(self, t0, &mut eta, &mut deta, &fns, &[false; 2][..fns.len()], t0 + horizon)? else {
-            return Ok(None);
-        };
-        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-        self.to_physical(t, &eta, &deta, &mut q, &mut v);
-        Ok(Some(Event { t, bound: sides[which], q, v }))
-    }
+/// `g(t) = Σ β_i η_i + α_i η_i' + c₀ + c₁ (t − t_p) + Σ_j c_j sin(Ω_j t + p_j)`: a quantity
+/// whose sign change is an event, on the modal state ([`ModalFlow::linear`]
+/// builds one; the event search, `search.rs`, owns its methods and its
+/// module docs the details).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Functional {
+    pub beta: Vec<f64>,
+    /// Empty: no `η'` terms.
+    pub alpha: Vec<f64>,
+    /// `c₀` without the series (`c₀` is `constant` plus the series' values).
+    pub constant: f64,
+    /// `(c_j, Ω_j, p_j)`.
+    pub waves: Vec<(f64, f64, f64)>,
+    /// The coefficient of each piecewise-linear series `s_l(t)`.
+    pub ramps: Vec<f64>,
+    /// `c₀` and `c₁` on the current piece, and `t_p`.
+    pub now: (f64, f64, f64),
 }
 
 /// The first event of a free flight ([`ModalFlow::first_crossing`]).

@@ -23,8 +23,9 @@
 //! There are no impacts, so no restitution acts (refused above 0) and the
 //! energy `½ vᵀ M v + ½ qᵀ K q − fᵀ q` is conserved under a steady load.
 
-use super::{EventDriven, EventKind, EventRecord, Hold, Site, System};
-use crate::events::flow::{EventsError, ModalFlow, Piece};
+use super::{EventDriven, Hold, Site, System};
+use crate::events::flow::{ModalFlow, Piece};
+use crate::events::record::{EventKind, EventRecord, EventsError};
 use crate::events::Bound;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};

@@ -47,11 +47,13 @@
 
 mod driven;
 mod flow;
+mod record;
 mod search;
 mod stepper;
 
-pub use driven::{EventDriven, EventKind, EventRecord, MAX_EVENTS};
-pub use flow::{Event, EventsError, ModalFlow};
+pub use driven::{EventDriven, MAX_EVENTS};
+pub use flow::{Event, ModalFlow};
+pub use record::{EventKind, EventRecord, EventsError};
 pub use stepper::EventStepper;
 pub(crate) use stepper::EVENT_DRIVEN;
 

@@ -29,24 +29,9 @@
 //! is an event now; `d > 0` gives the safe lift-off step `τ < (m + 1) d / B`
 //! from `g(τ) >= d τᵐ/m! − B τᵐ⁺¹/(m + 1)!` (`B` bounding `|g⁽ᵐ⁺¹⁾|`).
 
-use super::flow::{EventsError, ModalFlow, Piece, JET};
+use super::flow::{Event, Functional, ModalFlow, Piece, JET};
+use super::record::EventsError;
 use super::Bound;
-
-/// `g(t) = Σ β_i η_i + α_i η_i' + c₀ + c₁ (t − t_p) + Σ_j c_j sin(Ω_j t + p_j)` (module docs).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Functional {
-    pub beta: Vec<f64>,
-    /// Empty: no `η'` terms.
-    pub alpha: Vec<f64>,
-    /// `c₀` without the series (`c₀` is `constant` plus the series' values).
-    pub constant: f64,
-    /// `(c_j, Ω_j, p_j)`.
-    pub waves: Vec<(f64, f64, f64)>,
-    /// The coefficient of each piecewise-linear series `s_l(t)`.
-    pub ramps: Vec<f64>,
-    /// `c₀` and `c₁` on the current piece, and `t_p`.
-    pub now: (f64, f64, f64),
-}
 
 /// Orders of a functional's jet.
 const GJET: usize = JET - 1;
@@ -548,4 +533,31 @@ enum Reach {
     Free(f64),
     /// A safe step toward its zero.
     Root(f64),
+}
+
+// ---- The search applied to one free flight: `ModalFlow::first_crossing`.
+
+impl ModalFlow {
+    /// The first time in `(t0, t0 + horizon]` at which the contact dof `dof`
+    /// of the trajectory from `(q0, v0)` reaches `lo` (from above) or `hi`
+    /// (from below), with the state there; `None` if it stays strictly
+    /// inside. The state must start inside (`lo < q_c < hi`, or on a bound
+    /// and leaving it). The search is the module `search`'s (docs/theory.md
+    /// §9.2): no event is missed, each is located to a relative 1e-15.
+    #[allow(clippy::too_many_arguments)]
+    pub fn first_crossing(&self, t0: f64, q0: &[f64], v0: &[f64], dof: usize, lo: f64, hi: f64, horizon: f64) -> Result<Option<Event>, EventsError> {
+        let n = self.n();
+        let (mut eta, mut deta) = (vec![0.0; n], vec![0.0; n]);
+        self.to_modal(t0, q0, v0, &mut eta, &mut deta);
+        let mut unit = vec![0.0; n];
+        unit[dof] = 1.0;
+        let (sides, fns): (Vec<Bound>, Vec<_>) = self.linear(&unit, &vec![0.0; n]).gaps(lo, hi).into_iter().unzip();
+        let mut search = Search::new(n);
+        let Some((t, which)) = search.first_zero(self, t0, &mut eta, &mut deta, &fns, &[false; 2][..fns.len()], t0 + horizon)? else {
+            return Ok(None);
+        };
+        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+        self.to_physical(t, &eta, &deta, &mut q, &mut v);
+        Ok(Some(Event { t, bound: sides[which], q, v }))
+    }
 }

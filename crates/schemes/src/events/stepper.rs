@@ -9,7 +9,8 @@
 //! a contact is active in a step if it is held at its end or took an
 //! impulse during it.
 
-use super::driven::{EventDriven, EventRecord, MAX_EVENTS};
+use super::driven::{EventDriven, MAX_EVENTS};
+use super::record::EventRecord;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 

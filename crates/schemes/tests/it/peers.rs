@@ -16,7 +16,7 @@ use crate::common;
 use common::*;
 use proptest::prelude::*;
 use signorini_fem::BarMass;
-use signorini_schemes::{Bounds, Initial, Nitsche, OneStep, OneStepParams, Reduced, ReducedLaw, SchemeError, SchemeSpec, Stepper};
+use signorini_schemes::{Bounds, Contact, Initial, Nitsche, OneStep, OneStepParams, Reduced, ReducedLaw, SchemeError, SchemeSpec, Stepper};
 
 const TOL: f64 = 1e-11;
 
@@ -575,4 +575,28 @@ fn schemes_without_forcing_refuse_a_time_dependent_load() {
             Ok(_) => panic!("{name}: a time-dependent load was accepted and would be ignored"),
         }
     }
+}
+
+/// A refusal of several contacts names the schemes that take them: through
+/// `SchemeSpec::build` the registry's list — stored here as `signorini
+/// check` printed it for a two-stop bar before the scheme files stopped
+/// naming the registry (they are below it; the registry fills the list in)
+/// — and from a constructor called directly, words that point to it.
+#[test]
+fn several_contacts_refusals_name_the_schemes_that_take_them() {
+    const TAKERS: &str = "newmark, theta, ps, penalty, penalty-cd, moreau-jean, cd-taylor or event-driven";
+    let (mut dy, o) = bar_scene(10, BarMass::Std, false, -0.05, -0.5, None);
+    dy.contacts.push(Contact::new(o.n() - 1, Bounds::obstacle(-1.0), false));
+    let init = Initial { u: vec![0.0; o.n()], v: vec![0.0; o.n()] };
+    for spec in ["nitsche-cn", "hybrid"] {
+        match spec.parse::<SchemeSpec>().unwrap().build(dy.clone(), 1e-3, &init) {
+            Err(SchemeError::NotTaken { scheme, what: "several contacts", by, .. }) => {
+                assert_eq!(scheme, spec);
+                assert_eq!(by, TAKERS, "{spec}");
+            }
+            other => panic!("{spec}: {:?}", other.err()),
+        }
+    }
+    let e = Nitsche::new("n".into(), dy.clone(), 0.25, 0.5, 10.0, 1.0, 1e-3, &init).err().expect("refused");
+    assert_eq!(e.to_string(), "unsupported structure: n takes no several contacts (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's): allowed a scheme whose capabilities take it (signorini_schemes::families_with names them)");
 }

@@ -1,0 +1,128 @@
+//! Runs that share a step matrix stepped together ([`simulate_lockstep`],
+//! up to [`LANES`] lanes), each lane bit for bit its single run.
+
+use crate::error::Error;
+use crate::simulate::{observers, rows_of, text_cell, Plan, RunRows, ScenePlan};
+use signorini_run::reduced::Need;
+use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError};
+use signorini_scene::Scene;
+use signorini_schemes::{Bounds, Initial, LockstepLane, PaoliSchatzmanLockstep};
+
+/// Runs per lockstep group: the paper beam's sweeps step up to this many
+/// runs together (crates/run/benches/lockstep.rs: 112 ns per run-step at 8
+/// lanes, 125 at 4, 417 for one run alone); a smaller group takes the
+/// narrowest engine that holds it (2, 4 or 8 lanes).
+pub const LANES: usize = 8;
+
+/// A run the lockstep engine takes: a beam (full model) on its tip's two
+/// stops, not continued from another run, whose scheme can run in lockstep
+/// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
+/// them), within its stability limit or forced past it as its single run.
+/// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
+/// one its validation built): its problem and initial state.
+pub(crate) fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
+    let (beta, e) = lockstep_params(scene)?;
+    let Scene::Beam { scene: bs, .. } = scene else { return None };
+    let sim = scene.instantiate(None).ok()?;
+    let lane = LockstepLane { dynamics: sim.stepper.dynamics().clone(), initial: Initial { u: sim.u0, v: sim.v0 }, restitution: e };
+    Some((lane, beta, bs.dt, sim.tip))
+}
+
+/// The β and restitution of a scene the lockstep engine takes (see
+/// [`lane_of`]), or `None`.
+pub(crate) fn lockstep_params(scene: &Scene) -> Option<(f64, f64)> {
+    match scene {
+        // A reduced model steps other matrices: one run at a time.
+        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() && bs.spring.is_none() && bs.scheme.capabilities().lockstep => {
+            Some((bs.scheme.param("beta")?, bs.scheme.param("e")?))
+        }
+        _ => None,
+    }
+}
+
+/// The batch's runs as jobs: consecutive lockstep-able runs in groups of up
+/// to [`LANES`], every other run alone (indices into `prepared`).
+pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]) -> Vec<Vec<usize>> {
+    let mut jobs: Vec<Vec<usize>> = Vec::new();
+    let mut open: Vec<usize> = Vec::new();
+    for (k, p) in prepared.iter().enumerate() {
+        let ok = p.2.as_ref().is_ok_and(|(scene, _)| lockstep_params(scene).is_some());
+        if ok {
+            open.push(k);
+            if open.len() == LANES {
+                jobs.push(std::mem::take(&mut open));
+            }
+        } else {
+            jobs.push(vec![k]);
+        }
+    }
+    if !open.is_empty() {
+        jobs.push(open);
+    }
+    jobs
+}
+
+/// Runs `group` (beam runs sharing a step matrix) in lockstep
+/// ([`PaoliSchatzmanLockstep`] stepped by [`signorini_run::run_lockstep`]):
+/// each lane performs the single run's arithmetic and feeds its observers
+/// the samples [`signorini_run::run`] would, so its rows are the ones
+/// [`simulate`](fn@crate::simulate) writes, bit for bit.
+/// `None` when the runs cannot share the engine (then run them one by one).
+pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
+    match group.len() {
+        2 => lockstep_width::<2>(group, interrupt),
+        3..=4 => lockstep_width::<4>(group, interrupt),
+        5..=8 => lockstep_width::<8>(group, interrupt),
+        _ => None,
+    }
+}
+
+/// [`simulate_lockstep`] on an engine of `L` lanes.
+pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
+    let mut lanes = Vec::with_capacity(group.len());
+    let mut tips = Vec::with_capacity(group.len());
+    let (mut beta, mut dt) = (f64::NAN, f64::NAN);
+    for (k, (scene, plan)) in group.iter().enumerate() {
+        let (lane, b, d, tip) = lane_of(scene)?;
+        if k > 0 && (b != beta || d != dt) || plan.dt != d {
+            return None;
+        }
+        (beta, dt) = (b, d);
+        tips.push(tip);
+        lanes.push(lane);
+    }
+    let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
+    let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
+    let mut eng = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?;
+    // The vibro observers read the tip and the contact only.
+    let mut need: Vec<usize> = tips.iter().copied().chain(std::iter::once(eng.contact_dof())).collect();
+    need.sort_unstable();
+    need.dedup();
+    let mut vibs = Vec::with_capacity(group.len());
+    let mut cfgs = Vec::with_capacity(group.len());
+    for (k, (_, plan)) in group.iter().enumerate() {
+        vibs.push(observers(plan, tips[k], contacts[k].clone()).ok()?);
+        let mut rc = RunConfig::new(plan.dt, plan.t_end).ok()?;
+        rc.interrupt = interrupt.cloned();
+        cfgs.push(rc);
+    }
+    let ends = {
+        let mut runs: Vec<LockstepRun<'_>> = vibs.iter_mut().zip(&cfgs).zip(&inits).map(|((v, rc), u0)| LockstepRun::new(u0, rc, vec![v as &mut dyn Observer])).collect();
+        run_lockstep(&mut eng, &mut runs, &Need::Dofs(need)).ok()?
+    };
+    Some(
+        vibs.iter()
+            .zip(ends)
+            .zip(group)
+            .map(|((vib, end), (_, plan))| {
+                // What `simulate` makes of `run`'s result.
+                let (steps, status) = match &end.result {
+                    Ok(s) => (s.steps, "ok".to_string()),
+                    Err(RunError::Interrupted { .. }) => (0, "interrupted".to_string()),
+                    Err(e) => (end.level, text_cell(&e.to_string())),
+                };
+                rows_of(vib, plan, steps, status, None)
+            })
+            .collect(),
+    )
+}
