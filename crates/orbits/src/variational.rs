@@ -223,8 +223,10 @@ impl Linear {
         Ok(())
     }
 
-    /// The vector field `(v, a)` at `(t, q, v)` with the contacts `held`
-    /// (massive models): `a_f = M_ff⁻¹ (F − K q − C v)_f`, `a_h = 0`.
+    /// The vector field `(v, a)` at `(t, q, v)` with the contacts `held`:
+    /// `a_f = M_ff⁻¹ (F − K q − C v)_f`, `a_h = 0`, `f` the dofs with mass
+    /// not held (a massless contact dof's row carries its reaction and no
+    /// acceleration: `q` must hold it where the run put it, condensed).
     pub fn field(&self, dy: &Dynamics, held: &[usize], t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
         let n = self.n;
         let mut r = vec![0.0; n];
@@ -237,7 +239,7 @@ impl Linear {
             r[i] -= s;
         }
         let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
-        let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d)).collect();
+        let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d) && self.zero.binary_search(d).is_err()).collect();
         let mut a = vec![0.0; n];
         if !free.is_empty() {
             let mff = sub(&self.m, &free, &free);
