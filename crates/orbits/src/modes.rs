@@ -232,3 +232,66 @@ pub fn contact_of(orbit: &Orbit) -> (f64, usize) {
     }
     (total, orbit.impacts())
 }
+
+/// Where the flow from `x0` comes back closest to it: the time `t` in
+/// `[(1 − w) T, (1 + w) T]` (`T` = `period`, `w` = `window`) minimising
+/// `‖x(t) − x0‖₂ / ‖x0‖₂`, sampled at 200 instants and refined by golden
+/// section, with that distance and the contact time and impacts over
+/// `(0, t]`. A periodic motion returns at distance 0 (to round-off); a
+/// motion that is not periodic says how far from it it is.
+pub fn closest_return(model: &Model, x0: &[f64], period: f64, window: f64) -> Result<Return, OrbitError> {
+    if !(window > 0.0 && window < 1.0) {
+        return Err(OrbitError::Option { option: "window", message: format!("{window} is not allowed: in (0, 1)") });
+    }
+    let norm = x0.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let dist = |x: &[f64]| x.iter().zip(x0).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt() / norm;
+    let (a, b) = ((1.0 - window) * period, (1.0 + window) * period);
+    let samples = 200;
+    let h = (b - a) / samples as f64;
+    let mut x = model.flow(0.0, x0, a, false)?.x;
+    let mut best = (dist(&x), a);
+    for i in 1..=samples {
+        x = model.flow(0.0, &x, h, false)?.x;
+        let d = dist(&x);
+        if d < best.0 {
+            best = (d, a + h * i as f64);
+        }
+    }
+    let at = |t: f64| -> Result<f64, OrbitError> { Ok(dist(&model.flow(0.0, x0, t, false)?.x)) };
+    let (mut lo, mut hi) = ((best.1 - h).max(a), (best.1 + h).min(b));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut fc, mut fd) = (at(c)?, at(d)?);
+    for _ in 0..60 {
+        if hi - lo <= 1e-13 * period {
+            break;
+        }
+        if fc < fd {
+            (hi, d, fd) = (d, c, fc);
+            c = hi - g * (hi - lo);
+            fc = at(c)?;
+        } else {
+            (lo, c, fc) = (c, d, fd);
+            d = lo + g * (hi - lo);
+            fd = at(d)?;
+        }
+    }
+    let (distance, time) = [(best.0, best.1), (fc, c), (fd, d)].into_iter().min_by(|p, q| p.0.total_cmp(&q.0)).expect("three");
+    let img = model.flow(0.0, x0, time, false)?;
+    let orbit = Orbit { x: x0.to_vec(), t0: 0.0, period: time, events: img.events, monodromy: faer::Mat::zeros(0, 0), multipliers: Vec::new(), residual: distance, iterations: 0 };
+    let (contact_time, impacts) = contact_of(&orbit);
+    Ok(Return { time, distance, contact_time, impacts })
+}
+
+/// What [`closest_return`] found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Return {
+    /// The time of the closest return.
+    pub time: f64,
+    /// `‖x(time) − x0‖₂ / ‖x0‖₂`.
+    pub distance: f64,
+    /// The contact time over `(0, time]`.
+    pub contact_time: f64,
+    /// Impacts over `(0, time]`.
+    pub impacts: usize,
+}

@@ -164,7 +164,10 @@ pub fn autonomous_orbit(model: &Model, guess: &[f64], period: f64, energy: f64, 
     let f0 = {
         let f = field_at_start(model, &x_ref, period)?;
         let norm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(norm > 0.0 && norm.is_finite()) {
+        if !norm.is_finite() {
+            return Err(OrbitError::Model("the vector field at the start is not finite".into()));
+        }
+        if norm == 0.0 {
             return Err(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: "the start is an equilibrium (no flow to fix a phase on)".into() });
         }
         f.into_iter().map(|v| v / norm).collect::<Vec<f64>>()
