@@ -6,7 +6,8 @@
 //! Each point is an [`autonomous_orbit`]: Gauss–Newton on
 //! `(P_T(x) − x, phase, E(x) − E) = 0` with the period unknown. The first
 //! start is the exact mode sampled at the nodes (the bar stretched linearly,
-//! at rest, at the top of its flight), each next one the secant predictor
+//! at rest, at the top of its flight) — below the exact threshold of a
+//! clearance, the discrete bar's first linear mode —, each next one the secant predictor
 //! through the last two points (natural-parameter continuation in the
 //! energy, geometric steps). A point where Newton fails ends the family:
 //! [`Modes::stopped`] says at which energy and why.
@@ -127,6 +128,24 @@ impl ModeScene {
         Ok(self.model.pack(&q, &v))
     }
 
+    /// The discrete bar's lowest linear mode at `energy`, at rest with the
+    /// contact end at its highest, as a state of the model, and its period
+    /// `2π/ω`: the start below the exact threshold, where the continuous
+    /// family is a linear motion whose square-wave end velocity the
+    /// discrete bar does not carry.
+    pub fn linear_state(&self, energy: f64) -> Result<(Vec<f64>, f64), OrbitError> {
+        let (omega, shape) = self.model.lowest_mode()?;
+        if !(omega > 0.0) {
+            return Err(OrbitError::Model("the bar's lowest mode has no frequency".into()));
+        }
+        let a = (2.0 * energy).sqrt() / omega;
+        // The first state dof is the one next to the contact (dof 0 or 1).
+        let sign = if shape.first().copied().unwrap_or(1.0) < 0.0 { -1.0 } else { 1.0 };
+        let mut x: Vec<f64> = shape.iter().map(|p| sign * a * p).collect();
+        x.extend(std::iter::repeat_n(0.0, shape.len()));
+        Ok((x, std::f64::consts::TAU / omega))
+    }
+
     /// The continuous bar's backbone point at `energy` (family 1).
     pub fn exact_point(&self, energy: f64) -> Option<BackbonePoint> {
         Backbone::new(self.bar, 1).and_then(|b| b.point(energy)).ok()
@@ -171,7 +190,11 @@ pub fn backbone_of(scene: &ModeScene, energies: &[f64], newton: &Newton) -> Resu
     let mut stopped = None;
     for (i, &energy) in energies.iter().enumerate() {
         let (guess, period) = match points.len() {
-            0 => (scene.exact_state(energy)?, scene.exact_point(energy).map_or(4.0 * scene.bar.length / scene.bar.wave_speed, |p| p.period)),
+            0 => match scene.exact_point(energy) {
+                // Below the threshold: the discrete bar's first linear mode.
+                Some(p) if p.impacts_per_period == 0 && scene.bar.gap < 0.0 => scene.linear_state(energy)?,
+                p => (scene.exact_state(energy)?, p.map_or(4.0 * scene.bar.length / scene.bar.wave_speed, |p| p.period)),
+            },
             1 => {
                 // The homogeneity of the bar without gap, a scaling of the
                 // state by √(E/E₀) otherwise as good a start.

@@ -190,6 +190,22 @@ impl Linear {
         Ok(())
     }
 
+    /// The lowest mode with no contact held: `ω²` and its shape on the
+    /// state's dofs, mass-normalised (`φᵀ M φ = 1`; massless dofs condensed).
+    pub fn lowest_mode(&self) -> Result<(f64, Vec<f64>), OrbitError> {
+        self.phase_of(&[])?;
+        let phases = self.phases.borrow();
+        let ph = &phases[&Vec::<usize>::new()];
+        let Some(i) = (0..ph.k.len()).min_by(|&a, &b| ph.k[a].total_cmp(&ph.k[b])) else {
+            return Err(OrbitError::Model("the model has no dof with mass".into()));
+        };
+        let mut shape = vec![0.0; self.state.len()];
+        for (r, &pos) in ph.free.iter().enumerate() {
+            shape[pos] = ph.phi[(r, i)];
+        }
+        Ok((ph.k[i], shape))
+    }
+
     /// `jac ← Φ_H(τ) jac`: the state-transition matrix of the phase with
     /// the contacts `held` (sorted) over `τ`, applied to the rows of `jac`.
     pub fn transport(&self, held: &[usize], tau: f64, jac: &mut Mat<f64>) -> Result<(), OrbitError> {

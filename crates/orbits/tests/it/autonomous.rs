@@ -130,3 +130,43 @@ fn modes_refuse_bad_input() {
     assert_eq!(opt(backbone(&free, 0.5, 1.0, 3)), "bar.far_end");
     assert_eq!(energies(1.0, 4.0, 3).unwrap(), vec![1.0, 2.0, 4.0]);
 }
+
+/// Below the threshold of a clearance (`E < c² g²/(2L)`) the backbone
+/// starts from the discrete bar's first linear mode: its period must be
+/// `2π/ω₁` of the bar's own matrices, computed here by inverse iteration
+/// on `(K, M)` with the massless contact node condensed (`mod`: the first
+/// element carries no mass), no contact, the multipliers on the unit circle.
+#[test]
+fn below_the_threshold_the_backbone_is_the_discrete_first_mode() {
+    use signorini_fem::{Bar, BarMass, RightEnd};
+    let m = 20;
+    let b = Bar::new(1.0, m, 1.0, RightEnd::Clamped).unwrap();
+    let (k, mm) = (b.stiffness(), b.mass(BarMass::Mod));
+    let n = b.dofs();
+    let kd = |i: usize, j: usize| if i.abs_diff(j) <= k.half_bandwidth() { k.get(i, j) } else { 0.0 };
+    let md = |i: usize, j: usize| if i.abs_diff(j) <= mm.half_bandwidth() { mm.get(i, j) } else { 0.0 };
+    assert_eq!(md(0, 0), 0.0, "mod: a massless contact node");
+    // Condensed stiffness on dofs 1..n.
+    let s = n - 1;
+    let keff = faer::Mat::from_fn(s, s, |i, j| kd(i + 1, j + 1) - kd(i + 1, 0) * kd(0, j + 1) / kd(0, 0));
+    let mss = faer::Mat::from_fn(s, s, |i, j| md(i + 1, j + 1));
+    let lu = keff.partial_piv_lu();
+    let mut x = faer::Mat::from_fn(s, 1, |i, _| 1.0 - i as f64 / s as f64);
+    for _ in 0..400 {
+        use faer::linalg::solvers::Solve;
+        x = lu.solve(&(&mss * &x));
+        let norm = (0..s).map(|i| x[(i, 0)] * x[(i, 0)]).sum::<f64>().sqrt();
+        x = x * faer::Scale(1.0 / norm);
+    }
+    let (kx, mx) = (&keff * &x, &mss * &x);
+    let w2 = (0..s).map(|i| x[(i, 0)] * kx[(i, 0)]).sum::<f64>() / (0..s).map(|i| x[(i, 0)] * mx[(i, 0)]).sum::<f64>();
+    let period = std::f64::consts::TAU / w2.sqrt();
+    let modes = backbone(&bar(m, "mod", "event-driven", -0.25), 0.01, 0.02, 3).unwrap();
+    assert_eq!(modes.points.len(), 3);
+    for p in &modes.points {
+        assert!((p.period - period).abs() <= 1e-9 * period, "E = {}: T = {} against 2π/ω₁ = {period}", p.energy, p.period);
+        assert_eq!((p.impacts_per_period, p.contact_time), (0, 0.0));
+        assert!(p.multipliers.iter().all(|mu| (mu.norm() - 1.0).abs() <= 1e-6), "{:?}", p.multipliers);
+        assert_eq!(p.exact.map(|e| e.period), Some(4.0));
+    }
+}
