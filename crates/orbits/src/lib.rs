@@ -4,7 +4,8 @@
 //! ([`Model`]), periodic orbits by shooting with their Floquet multipliers
 //! ([`periodic_orbit`], [`autonomous_orbit`]), and pseudo-arclength
 //! continuation in a scene parameter with its bifurcations
-//! ([`continuation`]).
+//! ([`continuation`]), and the nonsmooth modes of the bar, continued in
+//! the energy ([`modes::backbone`]).
 //!
 //! The numerical parts do no IO; the scene side ([`SceneFamily`]) builds a
 //! [`Model`] from a scene document at each parameter value, the way
@@ -13,6 +14,7 @@
 mod continuation;
 pub mod front;
 mod map;
+pub mod modes;
 pub mod output;
 mod scene;
 mod shoot;

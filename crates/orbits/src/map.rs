@@ -69,6 +69,14 @@ impl Model {
         &self.lin.state
     }
 
+    /// The lowest linear mode with no contact held: its circular
+    /// frequency `ω` and its shape on the state dofs (`q_s`, mass-normalised;
+    /// massless contact dofs condensed).
+    pub fn lowest_mode(&self) -> Result<(f64, Vec<f64>), OrbitError> {
+        let (k, shape) = self.lin.lowest_mode()?;
+        Ok((k.max(0.0).sqrt(), shape))
+    }
+
     /// The state of a full `(q, v)`.
     pub fn pack(&self, q: &[f64], v: &[f64]) -> Vec<f64> {
         self.lin.pack(q, v)

@@ -133,3 +133,33 @@ pub fn branch_svg(branches: &[Labelled<'_>], param: &str, sweep: &[(f64, f64)]) 
     let chart = Chart { title: &title, x_label: param, y_label: "tip displacement on the section", scale: Scale::Linear, size: (900, 560) };
     signorini_plot::line_chart_over(&chart, &series, &dots, 1)
 }
+
+/// The columns of `backbone.csv` (the contract's five, then what the
+/// shooting adds: the exact contact time, the largest multiplier's modulus
+/// and Newton's residual).
+pub const BACKBONE_COLUMNS: &str = "energy,period,contact_time,impacts_per_period,exact_period,exact_contact_time,mu_max,residual";
+
+/// `backbone.csv` ([`BACKBONE_COLUMNS`]): one row per point; the exact
+/// columns empty where no closed form is known.
+pub fn backbone_csv(modes: &crate::modes::Modes) -> String {
+    let mut out = format!("{BACKBONE_COLUMNS}\n");
+    for p in &modes.points {
+        let (ep, ec) = p.exact.map_or((f64::NAN, f64::NAN), |e| (e.period, e.contact_time));
+        let _ = writeln!(out, "{},{},{},{},{},{},{},{}", cell(p.energy), cell(p.period), cell(p.contact_time), p.impacts_per_period, cell(ep), cell(ec), cell(p.mu_max()), cell(p.residual));
+    }
+    out
+}
+
+/// The frequency–energy plot of a backbone (`backbone.svg`): the
+/// frequency `1/T` against the energy, log–log, the discrete bar's points
+/// and the continuous bar's closed form (a reference line) where known.
+pub fn backbone_svg(modes: &crate::modes::Modes) -> Result<String, PlotError> {
+    let own: Vec<(f64, f64)> = modes.points.iter().map(|p| (p.energy, 1.0 / p.period)).collect();
+    let exact: Vec<(f64, f64)> = modes.points.iter().filter_map(|p| p.exact.map(|e| (p.energy, 1.0 / e.period))).collect();
+    let mut series = vec![Series { label: format!("discrete bar, m = {}", modes.elements), points: own, reference: false, style: Style { group: Some(0), variant: Some(0) } }];
+    if !exact.is_empty() {
+        series.push(Series { label: "continuous bar (closed form, §11.3)".into(), points: exact, reference: true, style: Style::default() });
+    }
+    let chart = Chart { title: "Nonsmooth modes: frequency against energy", x_label: "energy", y_label: "frequency 1/T", scale: Scale::LogLog, size: (900, 560) };
+    signorini_plot::line_chart(&chart, &series)
+}

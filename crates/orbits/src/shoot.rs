@@ -148,19 +148,48 @@ pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton
 /// conserved energy makes `P' − I` singular along the family).
 pub fn autonomous_orbit(model: &Model, guess: &[f64], period: f64, energy: f64, newton: &Newton) -> Result<Orbit, OrbitError> {
     let n = guess.len();
+    if n != model.dim() {
+        return Err(OrbitError::Size { given: n, expected: model.dim() });
+    }
+    if !(energy.is_finite() && energy > 0.0) {
+        return Err(OrbitError::Option { option: "energy", message: format!("{energy} is not allowed: finite and > 0") });
+    }
+    if !(period.is_finite() && period > 0.0) {
+        return Err(OrbitError::Option { option: "period", message: format!("{period} is not allowed: a guess of the period, finite and > 0") });
+    }
     let x_ref = guess.to_vec();
-    let f0 = field_at_start(model, &x_ref, period)?;
+    // The phase condition's normal, of unit length; the energy's row
+    // weighed so that a relative error of the energy counts as half that
+    // of the state (E is quadratic in it).
+    let f0 = {
+        let f = field_at_start(model, &x_ref, period)?;
+        let norm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !norm.is_finite() {
+            return Err(OrbitError::Model("the vector field at the start is not finite".into()));
+        }
+        if norm == 0.0 {
+            return Err(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: "the start is an equilibrium (no flow to fix a phase on)".into() });
+        }
+        f.into_iter().map(|v| v / norm).collect::<Vec<f64>>()
+    };
+    let w_e = inf_norm(&x_ref).max(newton.scale) / (2.0 * energy);
+    // The residuals at (x, t): the image, the energy's gradient, the rows.
+    let eval = |x: &[f64], t: f64| -> Result<(Image, Vec<f64>, Vec<f64>), OrbitError> {
+        let img = model.flow(0.0, x, t, true)?;
+        let (e, ge) = model.energy(0.0, x)?;
+        let mut rows: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
+        rows.push((0..n).map(|i| f0[i] * (x[i] - x_ref[i])).sum());
+        rows.push(w_e * (e - energy));
+        Ok((img, ge, rows))
+    };
+    let merit = |rows: &[f64]| rows.iter().map(|r| r * r).sum::<f64>();
     let (mut x, mut t) = (guess.to_vec(), period);
-    let mut last_res = f64::INFINITY;
+    let (mut img, mut ge, mut rows) = eval(&x, t)?;
     for it in 0..=newton.max_iter {
-        let img = model.flow(0.0, &x, t, true)?;
-        let (e, ge) = model.energy(0.0, &x)?;
-        let g: Vec<f64> = img.x.iter().zip(&x).map(|(a, b)| a - b).collect();
-        let phase: f64 = (0..n).map(|i| f0[i] * (x[i] - x_ref[i])).sum();
-        let res = inf_norm(&g);
-        let escale = energy.abs().max(1e-300);
-        if res <= newton.tol * inf_norm(&x).max(newton.scale) && (e - energy).abs() <= 1e3 * newton.tol * escale {
-            let monodromy = img.jacobian.expect("asked for");
+        let res = inf_norm(&rows[..n]);
+        let tol = newton.tol * inf_norm(&x).max(newton.scale);
+        if res <= tol && rows[n + 1].abs() <= tol {
+            let monodromy = img.jacobian.take().expect("asked for");
             let mut multipliers = eigenvalues(&monodromy)?;
             // The two trivial multipliers (flow direction, energy) at +1.
             for _ in 0..2 {
@@ -171,54 +200,42 @@ pub fn autonomous_orbit(model: &Model, guess: &[f64], period: f64, energy: f64, 
             return Ok(Orbit { x, t0: 0.0, period: t, events: img.events, monodromy, multipliers, residual: res, iterations: it });
         }
         if it == newton.max_iter {
-            last_res = res;
             break;
         }
         let j = img.jacobian.as_ref().expect("asked for");
-        // Rows scaled so that each block weighs alike.
-        let a = Mat::from_fn(n + 2, n + 1, |r, c| {
-            if r < n {
-                if c < n {
-                    j[(r, c)] - if r == c { 1.0 } else { 0.0 }
-                } else {
-                    img.field[r]
-                }
-            } else if r == n {
-                if c < n {
-                    f0[c]
-                } else {
-                    0.0
-                }
-            } else if c < n {
-                ge[c]
-            } else {
-                0.0
-            }
+        let a = Mat::from_fn(n + 2, n + 1, |r, c| match (r, c) {
+            (r, c) if r < n && c < n => j[(r, c)] - if r == c { 1.0 } else { 0.0 },
+            (r, _) if r < n => img.field[r],
+            (r, c) if r == n && c < n => f0[c],
+            (r, c) if r == n + 1 && c < n => w_e * ge[c],
+            _ => 0.0,
         });
-        let mut rhs = Mat::from_fn(n + 2, 1, |r, _| {
-            if r < n {
-                -g[r]
-            } else if r == n {
-                -phase
-            } else {
-                -(e - energy)
-            }
-        });
-        let qr = a.qr();
-        qr.solve_lstsq_in_place(rhs.as_mut());
-        if (0..=n).any(|r| !rhs[(r, 0)].is_finite()) {
+        let mut step = Mat::from_fn(n + 2, 1, |r, _| -rows[r]);
+        a.qr().solve_lstsq_in_place(step.as_mut());
+        if (0..=n).any(|r| !step[(r, 0)].is_finite()) {
             return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: "the shooting matrix is singular".into() });
         }
-        for i in 0..n {
-            x[i] += rhs[(i, 0)];
+        // Backtracking on the residuals' squares (the map is only piecewise
+        // smooth): a step that does not lower them is halved.
+        let m0 = merit(&rows);
+        let mut lambda = 1.0;
+        loop {
+            let tx: Vec<f64> = (0..n).map(|i| x[i] + lambda * step[(i, 0)]).collect();
+            let tt = t + lambda * step[(n, 0)];
+            let attempt = if tt > 0.0 { eval(&tx, tt).ok() } else { None };
+            match attempt {
+                Some((ti, tg, tr)) if merit(&tr) < m0 || lambda < 1.0 / 256.0 => {
+                    (x, t, img, ge, rows) = (tx, tt, ti, tg, tr);
+                    break;
+                }
+                None if lambda < 1.0 / 256.0 => {
+                    return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("no admissible step (the period went to {tt}, or the flow has no derivative there)") });
+                }
+                _ => lambda *= 0.5,
+            }
         }
-        t += rhs[(n, 0)];
-        if !(t > 0.0) {
-            return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("the period went to {t}") });
-        }
-        last_res = res;
     }
-    Err(OrbitError::NoConvergence { residual: last_res, iterations: newton.max_iter, why: "no periodic orbit at this energy near the start".into() })
+    Err(OrbitError::NoConvergence { residual: inf_norm(&rows[..n]), iterations: newton.max_iter, why: "no periodic orbit at this energy near the start".into() })
 }
 
 /// The vector field at the start state (the flow over a vanishing time).

@@ -190,6 +190,22 @@ impl Linear {
         Ok(())
     }
 
+    /// The lowest mode with no contact held: `ω²` and its shape on the
+    /// state's dofs, mass-normalised (`φᵀ M φ = 1`; massless dofs condensed).
+    pub fn lowest_mode(&self) -> Result<(f64, Vec<f64>), OrbitError> {
+        self.phase_of(&[])?;
+        let phases = self.phases.borrow();
+        let ph = &phases[&Vec::<usize>::new()];
+        let Some(i) = (0..ph.k.len()).min_by(|&a, &b| ph.k[a].total_cmp(&ph.k[b])) else {
+            return Err(OrbitError::Model("the model has no dof with mass".into()));
+        };
+        let mut shape = vec![0.0; self.state.len()];
+        for (r, &pos) in ph.free.iter().enumerate() {
+            shape[pos] = ph.phi[(r, i)];
+        }
+        Ok((ph.k[i], shape))
+    }
+
     /// `jac ← Φ_H(τ) jac`: the state-transition matrix of the phase with
     /// the contacts `held` (sorted) over `τ`, applied to the rows of `jac`.
     pub fn transport(&self, held: &[usize], tau: f64, jac: &mut Mat<f64>) -> Result<(), OrbitError> {
@@ -223,8 +239,10 @@ impl Linear {
         Ok(())
     }
 
-    /// The vector field `(v, a)` at `(t, q, v)` with the contacts `held`
-    /// (massive models): `a_f = M_ff⁻¹ (F − K q − C v)_f`, `a_h = 0`.
+    /// The vector field `(v, a)` at `(t, q, v)` with the contacts `held`:
+    /// `a_f = M_ff⁻¹ (F − K q − C v)_f`, `a_h = 0`, `f` the dofs with mass
+    /// not held (a massless contact dof's row carries its reaction and no
+    /// acceleration: `q` must hold it where the run put it, condensed).
     pub fn field(&self, dy: &Dynamics, held: &[usize], t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
         let n = self.n;
         let mut r = vec![0.0; n];
@@ -237,7 +255,7 @@ impl Linear {
             r[i] -= s;
         }
         let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
-        let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d)).collect();
+        let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d) && self.zero.binary_search(d).is_err()).collect();
         let mut a = vec![0.0; n];
         if !free.is_empty() {
             let mff = sub(&self.m, &free, &free);

@@ -1,0 +1,189 @@
+//! The autonomous shooting (period unknown, a phase condition, the energy
+//! fixed) on a conservative oscillator against its period in closed form
+//! (derived here), and the nonsmooth modes of the bar (`modes`) against
+//! what holds independently of the code: the positive homogeneity of the
+//! bar without gap, the continuous bar's closed form, and bad input.
+
+use signorini_fem::SymBand;
+use signorini_orbits::modes::{backbone, energies};
+use signorini_orbits::{autonomous_orbit, Model, Newton, OrbitError};
+use signorini_schemes::{Bounds, Contact, Dynamics};
+
+/// `x'' + ω² x = 0` (mass `MASS`, stiffness `MASS ω²`) under an elastic
+/// stop at `x = D`.
+const MASS: f64 = 2.0;
+const OMEGA: f64 = 1.5;
+const D: f64 = 0.3;
+
+fn oscillator(stop: f64) -> Model {
+    let mut m = SymBand::zeros(1, 0);
+    m.set(0, 0, MASS);
+    let mut k = SymBand::zeros(1, 0);
+    k.set(0, 0, MASS * OMEGA * OMEGA);
+    Model::new(Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: stop }, false)]), 1.0).unwrap()
+}
+
+/// The closed form: the energy `E` gives the amplitude `A = √(2E/(M ω²))`;
+/// from `x = −A` at rest the mass rises as `−A cos ωt`, reaches the stop
+/// `D < A` at `ωt₁ = arccos(−D/A)`, is reflected (e = 1) and retraces its
+/// path: `T = 2 arccos(−D/A)/ω`; without touching (`D ≥ A`), `2π/ω`.
+fn period(energy: f64, stop: f64) -> f64 {
+    let a = (2.0 * energy / (MASS * OMEGA * OMEGA)).sqrt();
+    if stop >= a {
+        std::f64::consts::TAU / OMEGA
+    } else {
+        2.0 * (-stop / a).acos() / OMEGA
+    }
+}
+
+#[test]
+fn the_autonomous_shooting_finds_the_oscillators_period_and_energy() {
+    let model = oscillator(D);
+    for energy in [0.2, 0.21, 0.5, 1.0, 4.0] {
+        let a = (2.0 * energy / (MASS * OMEGA * OMEGA)).sqrt();
+        // A start off the orbit: 10 % too low, moving, and the period 20 % off.
+        let guess = [-0.9 * a, 0.1 * a * OMEGA];
+        let exact = period(energy, D);
+        let orbit = autonomous_orbit(&model, &guess, 1.2 * exact, energy, &Newton::default()).unwrap();
+        let (e, _) = model.energy(0.0, &orbit.x).unwrap();
+        assert!((orbit.period - exact).abs() <= 1e-10 * exact, "E = {energy}: T = {} against {exact}", orbit.period);
+        assert!((e - energy).abs() <= 1e-10 * energy, "E = {energy}: the orbit's energy {e}");
+        assert_eq!(orbit.impacts(), usize::from(D < a), "one impact a period above the contact threshold E = M ω² D²/2 = 0.2025, none below");
+        // The phase condition: the orbit is on the section through the
+        // guess normal to the flow there (here: the mass at rest at its
+        // lowest point moves along v; the section fixes the phase).
+        assert!(orbit.residual <= 1e-10 * a);
+    }
+}
+
+#[test]
+fn the_autonomous_shooting_refuses_bad_input() {
+    let model = oscillator(D);
+    let n = Newton::default();
+    assert!(matches!(autonomous_orbit(&model, &[0.1], 1.0, 1.0, &n), Err(OrbitError::Size { given: 1, expected: 2 })));
+    assert!(matches!(autonomous_orbit(&model, &[-0.1, 0.0], 1.0, -1.0, &n), Err(OrbitError::Option { option: "energy", .. })));
+    assert!(matches!(autonomous_orbit(&model, &[-0.1, 0.0], 0.0, 1.0, &n), Err(OrbitError::Option { option: "period", .. })));
+    assert!(matches!(autonomous_orbit(&model, &[0.0, 0.0], 1.0, 1.0, &n), Err(OrbitError::NoConvergence { .. })));
+}
+
+fn bar(m: usize, mass: &str, scheme: &str, gap: f64) -> toml::Table {
+    format!("[bar]\nlength = 1.0\nwave_speed = 1.0\nfar_end = \"clamped\"\ngap = {gap:?}\nelements = {m}\nmass = \"{mass}\"\nscheme = \"{scheme}\"\ndt = 0.01\nt_end = 10.0\n").parse().unwrap()
+}
+
+/// The bar without gap is positively homogeneous (`u ↦ αu` maps motions
+/// onto motions, docs/theory.md §11.3), and so is its discretisation with a
+/// massless contact node: the discrete backbone must be flat, each point
+/// the first one scaled. Measured at m = 10: T = 3.01764 (the exact
+/// `3L/c` to 0.6 %), 13 landings a period (the massless node chatters),
+/// unstable (|μ| = 2.51).
+#[test]
+fn the_redistributed_bar_without_gap_has_a_flat_backbone() {
+    let modes = backbone(&bar(10, "mod", "event-driven", 0.0), 0.1, 2.0, 5).unwrap();
+    assert!(modes.stopped.is_none(), "{:?}", modes.stopped);
+    assert_eq!(modes.points.len(), 5);
+    let (t0, x0) = (modes.points[0].period, &modes.points[0].orbit.x);
+    for p in &modes.points {
+        assert!((p.period - t0).abs() <= 1e-9 * t0, "E = {}: T = {} against {t0}", p.energy, p.period);
+        let s = (p.energy / modes.points[0].energy).sqrt();
+        let scaled = x0.iter().zip(&p.orbit.x).map(|(a, b)| (a * s - b).abs()).fold(0.0, f64::max);
+        assert!(scaled <= 1e-8 * s, "E = {}: the orbit is not the first one scaled ({scaled:e})", p.energy);
+        assert!((p.period - 3.0).abs() <= 0.02 * 3.0, "the period {} against 3L/c", p.period);
+        assert_eq!(p.exact.map(|e| e.period), Some(3.0));
+    }
+    let csv = signorini_orbits::output::backbone_csv(&modes);
+    let mut lines = csv.lines();
+    assert!(lines.next().unwrap().starts_with("energy,period,contact_time,impacts_per_period,exact_period"));
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!((row[0], row[4]), ("1.000000000000e-1", "3.000000000000e0"));
+    assert!(signorini_orbits::output::backbone_svg(&modes).unwrap().contains("<svg"));
+}
+
+/// The discrete flow from the continuous mode sampled at the nodes comes
+/// back closest to its start at a time that tends to the exact period as
+/// m grows (measured, g = 0, E = 1/2: error −0.225 at m = 10, −0.0315 at
+/// m = 80 — about first order); at m = 80 within 0.05 of `3L/c`, at
+/// m = 10 not within 0.2.
+#[test]
+fn the_closest_return_of_the_redistributed_bar_tends_to_the_exact_period() {
+    let doc = |m| signorini_orbits::modes::ModeScene::new(&bar(m, "mod", "event-driven", 0.0)).unwrap();
+    let t = |m| {
+        let sc = doc(m);
+        signorini_orbits::modes::closest_return(&sc.model, &sc.exact_state(0.5).unwrap(), 3.0, 0.2).unwrap().time
+    };
+    let (coarse, fine) = (t(10), t(80));
+    assert!((fine - 3.0).abs() <= 0.05, "m = 80: {fine}");
+    assert!((coarse - 3.0).abs() > 0.2, "m = 10: {coarse}");
+}
+
+#[test]
+fn modes_refuse_bad_input() {
+    let opt = |r: Result<signorini_orbits::modes::Modes, OrbitError>| match r {
+        Err(OrbitError::Option { option, .. }) => option,
+        other => panic!("{other:?}"),
+    };
+    let ok = bar(10, "mod", "event-driven", 0.0);
+    assert_eq!(opt(backbone(&ok, -1.0, 1.0, 3)), "from");
+    assert_eq!(opt(backbone(&ok, 1.0, 0.5, 3)), "to");
+    assert_eq!(opt(backbone(&ok, 0.5, 1.0, 0)), "points");
+    assert_eq!(opt(backbone(&bar(10, "mod", "newmark-cn", 0.0), 0.5, 1.0, 3)), "scheme");
+    let free = ok.to_string().replace("\"clamped\"", "\"free\"").parse().unwrap();
+    assert_eq!(opt(backbone(&free, 0.5, 1.0, 3)), "bar.far_end");
+    assert_eq!(energies(1.0, 4.0, 3).unwrap(), vec![1.0, 2.0, 4.0]);
+}
+
+/// Below the threshold of a clearance (`E < c² g²/(2L)`) the backbone
+/// starts from the discrete bar's first linear mode: its period must be
+/// `2π/ω₁` of the bar's own matrices, computed here by inverse iteration
+/// on `(K, M)` with the massless contact node condensed (`mod`: the first
+/// element carries no mass), no contact, the multipliers on the unit circle.
+#[test]
+fn below_the_threshold_the_backbone_is_the_discrete_first_mode() {
+    use signorini_fem::{Bar, BarMass, RightEnd};
+    let m = 20;
+    let b = Bar::new(1.0, m, 1.0, RightEnd::Clamped).unwrap();
+    let (k, mm) = (b.stiffness(), b.mass(BarMass::Mod));
+    let n = b.dofs();
+    let kd = |i: usize, j: usize| if i.abs_diff(j) <= k.half_bandwidth() { k.get(i, j) } else { 0.0 };
+    let md = |i: usize, j: usize| if i.abs_diff(j) <= mm.half_bandwidth() { mm.get(i, j) } else { 0.0 };
+    assert_eq!(md(0, 0), 0.0, "mod: a massless contact node");
+    // Condensed stiffness on dofs 1..n.
+    let s = n - 1;
+    let keff = faer::Mat::from_fn(s, s, |i, j| kd(i + 1, j + 1) - kd(i + 1, 0) * kd(0, j + 1) / kd(0, 0));
+    let mss = faer::Mat::from_fn(s, s, |i, j| md(i + 1, j + 1));
+    let lu = keff.partial_piv_lu();
+    let mut x = faer::Mat::from_fn(s, 1, |i, _| 1.0 - i as f64 / s as f64);
+    for _ in 0..400 {
+        use faer::linalg::solvers::Solve;
+        x = lu.solve(&(&mss * &x));
+        let norm = (0..s).map(|i| x[(i, 0)] * x[(i, 0)]).sum::<f64>().sqrt();
+        x *= faer::Scale(1.0 / norm);
+    }
+    let (kx, mx) = (&keff * &x, &mss * &x);
+    let w2 = (0..s).map(|i| x[(i, 0)] * kx[(i, 0)]).sum::<f64>() / (0..s).map(|i| x[(i, 0)] * mx[(i, 0)]).sum::<f64>();
+    let period = std::f64::consts::TAU / w2.sqrt();
+    let modes = backbone(&bar(m, "mod", "event-driven", -0.25), 0.01, 0.02, 3).unwrap();
+    assert_eq!(modes.points.len(), 3);
+    for p in &modes.points {
+        assert!((p.period - period).abs() <= 1e-9 * period, "E = {}: T = {} against 2π/ω₁ = {period}", p.energy, p.period);
+        assert_eq!((p.impacts_per_period, p.contact_time), (0, 0.0));
+        assert!(p.multipliers.iter().all(|mu| (mu.norm() - 1.0).abs() <= 1e-6), "{:?}", p.multipliers);
+        assert_eq!(p.exact.map(|e| e.period), Some(4.0));
+    }
+}
+
+/// `mod3` (the first element's mass moved onto the second: the total mass
+/// kept) has, near the mode, a periodic orbit with one contact phase a
+/// period whose period converges to the exact one (measured, g = 0,
+/// E = 1/2: T − 3 = −4.6e-3, −2.6e-3, (no convergence at m = 40), −2.0e-4,
+/// −4.6e-5 at m = 10, 20, 40, 80, 160). At m = 80 within 1e-3 of `3L/c`
+/// (five times the measured error), one landing a period, the contact time
+/// within 0.05 of `L/c` (measured 0.989), nearly neutral (|μ| = 1.03).
+#[test]
+fn mod3_has_a_periodic_orbit_near_the_mode_with_the_exact_period() {
+    let modes = backbone(&bar(80, "mod3", "event-driven", 0.0), 0.5, 0.5, 1).unwrap();
+    let p = &modes.points[0];
+    assert!((p.period - 3.0).abs() <= 1e-3, "T = {}", p.period);
+    assert_eq!(p.impacts_per_period, 1);
+    assert!((p.contact_time - 1.0).abs() <= 0.05, "t_c = {}", p.contact_time);
+    assert!(p.mu_max() < 1.1, "|μ| = {}", p.mu_max());
+}
