@@ -10,6 +10,7 @@
 //! [`Model`] from a scene document at each parameter value, the way
 //! `signorini sweep` does.
 
+pub mod basins;
 mod continuation;
 mod map;
 pub mod output;
