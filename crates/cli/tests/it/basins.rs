@@ -237,3 +237,37 @@ fn bad_input_names_the_option() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("error: tol: 0 is not allowed"), "{err}");
 }
+
+/// `--orbits`: a continuation's branch through the impacting orbit (from
+/// the scene's start (−2, −2), which the grid shows on it) labels exactly
+/// the cells the unlabelled grid puts on `p1-i1`, by the branch's point at
+/// the scene's Ω (`branch0:0`, the first); the free orbit's cells keep
+/// their description.
+#[test]
+fn known_orbits_label_their_basins() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path());
+    let start = dir.path().join("start.toml");
+    std::fs::write(&start, scene_text(-2.0, -2.0, 10.0, "")).unwrap();
+    let cont = dir.path().join("c");
+    let o = bin().args(["continue", start.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.85", "--to", "1.87", "--out", cont.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let branch = std::fs::read_to_string(cont.join("branch.csv")).unwrap();
+    let first: Vec<&str> = branch.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!((first[0], first[6]), ("1.850000000000e0", "1"), "the branch starts at Ω = 1.85 on the impacting orbit");
+    let plain = dir.path().join("plain");
+    assert!(basins(&scene, &plain, &[]).status.success());
+    let labelled = dir.path().join("labelled");
+    let o = basins(&scene, &labelled, &["--orbits", cont.join("branch.csv").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (a, b) = (rows(&plain), rows(&labelled));
+    for (p, l) in a.iter().zip(&b) {
+        let want = if p[8] == "p1-i1" { "branch0:0" } else { p[8].as_str() };
+        assert_eq!(l[8], want, "{p:?} / {l:?}");
+        assert_eq!(p[..8], l[..8]);
+    }
+    // A file that is no branch.csv is refused naming the option.
+    let o = basins(&scene, &dir.path().join("bad"), &["--orbits", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("error: orbits: no param column"), "{}", String::from_utf8_lossy(&o.stderr));
+}
