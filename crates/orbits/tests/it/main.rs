@@ -1,4 +1,5 @@
 //! signorini-orbits' integration tests (one binary, one module per concern).
+mod basins;
 mod chain;
 mod oscillator;
 mod reach;
