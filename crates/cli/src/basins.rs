@@ -246,8 +246,7 @@ pub fn basins(text: &str, opts: &BasinsOptions, out: &Path, limits: Limits) -> R
     let mut failed = 0usize;
     let batch = 256usize;
     let cancelled = || opts.interrupt.as_ref().is_some_and(Cancel::is_cancelled);
-    let mut ids: Vec<Option<usize>> = Vec::with_capacity(cells.len());
-    let mut labels: Vec<String> = Vec::new();
+    let mut map = MapData::default();
     while done < cells.end && !cancelled() {
         let end = (done + batch).min(cells.end);
         let outcomes: Vec<Option<Outcome>> = pool.install(|| {
@@ -269,8 +268,7 @@ pub fn basins(text: &str, opts: &BasinsOptions, out: &Path, limits: Limits) -> R
             let r = row(&scene, done + k, o, &known, opts.classify.match_tol, 2 * dofs.len());
             let id = grouper.id(r.period, &r.state);
             failed += usize::from(matches!(o, Outcome::Failed(_)));
-            ids.push(id);
-            labels.push(r.tail.split(',').nth(3).unwrap_or("").to_string());
+            map.push(id, r.tail.split(',').nth(3).unwrap_or(""));
             let _ = writeln!(text, "{},{},{}", r.head, id_cell(id), r.tail);
         }
         let written = outcomes.iter().take_while(|o| o.is_some()).count();
@@ -293,7 +291,7 @@ pub fn basins(text: &str, opts: &BasinsOptions, out: &Path, limits: Limits) -> R
         if failed > 0 { format!(", {failed} cells failed (label failed)") } else { String::new() }
     )];
     if opts.shard.is_none() {
-        lines.extend(plot(out, &manifest, &ids, &labels)?);
+        lines.extend(plot(out, &manifest, &map)?);
     }
     lines.push(format!("wrote {}", out.display()));
     Ok(BasinsReport { lines })
@@ -311,29 +309,53 @@ fn header(dofs: &[usize]) -> String {
     h
 }
 
+/// What the map needs of each cell: its attractor (`>= 0`), `-1` for a
+/// non-periodic cell, `-2` for a failed one; each attractor's name (its
+/// first cell's label).
+#[derive(Default)]
+struct MapData {
+    cells: Vec<i64>,
+    names: Vec<String>,
+}
+
+impl MapData {
+    fn push(&mut self, id: Option<usize>, label: &str) {
+        let k = match id {
+            Some(k) => {
+                if self.names.len() <= k {
+                    self.names.resize(k + 1, String::new());
+                }
+                if self.names[k].is_empty() {
+                    self.names[k] = format!("{k}: {label}");
+                }
+                k as i64
+            }
+            None if label == "failed" => -2,
+            None => -1,
+        };
+        self.cells.push(k);
+    }
+}
+
 /// `basins.svg`: each cell coloured by its attractor, grey for
 /// non-periodic cells, black for failed ones; the legend names each
 /// attractor by its first cell's label.
-fn plot(out: &Path, m: &Manifest, ids: &[Option<usize>], labels: &[String]) -> Result<Vec<String>, CliError> {
-    let n_attr = ids.iter().flatten().max().map_or(0, |k| k + 1);
-    let mut names = vec![String::new(); n_attr];
+fn plot(out: &Path, m: &Manifest, map: &MapData) -> Result<Vec<String>, CliError> {
+    let n_attr = map.names.len();
     let mut counts = vec![0usize; n_attr + 2];
     let mut cells = vec![vec![None; m.nx]; m.ny];
-    for (c, (id, label)) in ids.iter().zip(labels).enumerate() {
-        let k = match id {
-            Some(k) => {
-                if names[*k].is_empty() {
-                    names[*k] = format!("{k}: {label}");
-                }
-                *k
-            }
-            None if label == "failed" => n_attr + 1,
-            None => n_attr,
+    for (c, &id) in map.cells.iter().enumerate() {
+        let k = if id >= 0 {
+            id as usize
+        } else if id == -1 {
+            n_attr
+        } else {
+            n_attr + 1
         };
         counts[k] += 1;
         cells[c / m.nx][c % m.nx] = Some(k);
     }
-    let mut cats: Vec<Category> = names.into_iter().enumerate().map(|(k, name)| Category { name: format!("{name} ({} cells)", counts[k]), color: None }).collect();
+    let mut cats: Vec<Category> = map.names.iter().enumerate().map(|(k, name)| Category { name: format!("{name} ({} cells)", counts[k]), color: None }).collect();
     cats.push(Category { name: format!("non-periodic ({} cells)", counts[n_attr]), color: Some((190, 190, 190)) });
     cats.push(Category { name: format!("failed ({} cells)", counts[n_attr + 1]), color: Some((0, 0, 0)) });
     let title = "Basins of attraction";
@@ -422,7 +444,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     let header = header.unwrap_or_default();
     let state_at = BASIN_COLUMNS.split(',').count();
     let mut grouper = Grouper::new(m0.match_tol);
-    let (mut ids, mut labels) = (Vec::with_capacity(total), Vec::with_capacity(total));
+    let mut map = MapData::default();
     let mut text = header.clone();
     for r in &mut rows {
         let period: usize = r.get(5).and_then(|p| p.parse().ok()).unwrap_or(0);
@@ -431,8 +453,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
         if r.len() > 4 {
             r[4] = id_cell(id);
         }
-        ids.push(id);
-        labels.push(r.get(8).cloned().unwrap_or_default());
+        map.push(id, r.get(8).map_or("", String::as_str));
         text.push_str(&r.join(","));
         text.push('\n');
     }
@@ -442,7 +463,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Vec<String>, CliError> {
     let path = out.join("basins.toml");
     std::fs::write(&path, m0.text()).map_err(|source| CliError::Write { path, source })?;
     let mut lines = vec![format!("merged {n0} shards of grid {id0}: {total} cells, {} attractors", grouper.len())];
-    lines.extend(plot(out, &m0, &ids, &labels)?);
+    lines.extend(plot(out, &m0, &map)?);
     lines.push(format!("wrote {}", out.display()));
     Ok(lines)
 }

@@ -294,6 +294,9 @@ pub fn describe(a: &Attractor) -> String {
     format!("p{}-i{}{}", a.period, a.impacts, if a.sticking { "-sticking" } else { "" })
 }
 
+/// The most cells of one grid (5000 × 5000).
+pub const MAX_CELLS: usize = 25_000_000;
+
 /// A scene over a grid of initial states: the two keys' axes, the scene's
 /// forcing frequency and the model (built once per cell: a key may be any
 /// numeric one).
@@ -324,6 +327,9 @@ impl BasinScene {
             if !(a.from.is_finite() && a.to.is_finite()) {
                 return Err(OrbitError::Option { option, message: format!("{} {} is not allowed: two finite numbers", a.from, a.to) });
             }
+        }
+        if x.count * v.count > MAX_CELLS {
+            return Err(OrbitError::Option { option: "grid", message: format!("{} x {} is not allowed: at most {MAX_CELLS} cells (split a larger map into several grids)", x.count, v.count) });
         }
         if x.path == v.path {
             return Err(OrbitError::Option { option: "v", message: format!("{} is also --x: two different keys", v.path) });

@@ -646,6 +646,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn category_maps_draw_one_rectangle_per_run_of_equal_cells() {
+        let c = Chart { title: "basins", x_label: "x", y_label: "v", scale: Scale::Linear, size: (600, 400) };
+        let cats = [Category { name: "zero".into(), color: Some((1, 2, 3)) }, Category { name: "one".into(), color: Some((4, 5, 6)) }];
+        // Row 0: 0 0 1 (two runs), row 1: 1 1 1 (one run), row 2: none, 0, none (one run).
+        let cells = vec![vec![Some(0), Some(0), Some(1)], vec![Some(1); 3], vec![None, Some(0), None]];
+        let svg = category_map(&c, (0.0, 1.0), (-1.0, 1.0), &cells, &cats).unwrap();
+        let fill = |rgb: &str| svg.matches(&format!("fill=\"{rgb}\"")).count();
+        // Each colour: its runs on the map and one legend swatch.
+        assert_eq!((fill("#010203"), fill("#040506")), (2 + 1, 2 + 1), "{svg}");
+        assert!(svg.contains("zero") && svg.contains("one") && svg.contains("basins"));
+        assert!(category_map(&c, (0.0, 1.0), (0.0, 1.0), &[], &cats).is_err());
+    }
+
+    #[test]
     fn stacked_panels_sit_one_under_the_other() {
         let a = "<svg width=\"100\" height=\"50\" viewBox=\"0 0 100 50\" xmlns=\"http://www.w3.org/2000/svg\">\n<text>first</text>\n</svg>\n".to_string();
         let b = "<svg width=\"80\" height=\"30\" viewBox=\"0 0 80 30\" xmlns=\"http://www.w3.org/2000/svg\">\n<text>second</text>\n</svg>\n".to_string();
