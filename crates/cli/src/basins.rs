@@ -244,6 +244,7 @@ pub fn basins(text: &str, opts: &BasinsOptions, out: &Path, limits: Limits) -> R
     let mut grouper = Grouper::new(opts.classify.match_tol);
     let mut done = cells.start;
     let mut failed = 0usize;
+    let mut first_failure: Option<String> = None;
     let batch = 256usize;
     let cancelled = || opts.interrupt.as_ref().is_some_and(Cancel::is_cancelled);
     let mut map = MapData::default();
@@ -267,7 +268,10 @@ pub fn basins(text: &str, opts: &BasinsOptions, out: &Path, limits: Limits) -> R
             let Some(o) = o else { break };
             let r = row(&scene, done + k, o, &known, opts.classify.match_tol, 2 * dofs.len());
             let id = grouper.id(r.period, &r.state);
-            failed += usize::from(matches!(o, Outcome::Failed(_)));
+            if let Outcome::Failed(why) = o {
+                failed += 1;
+                first_failure.get_or_insert_with(|| format!("cell {} (i, j = {}, {}): {why}", done + k, r.head.split(',').next().unwrap_or(""), r.head.split(',').nth(1).unwrap_or("")));
+            }
             map.push(id, r.tail.split(',').nth(3).unwrap_or(""));
             let _ = writeln!(text, "{},{},{}", r.head, id_cell(id), r.tail);
         }
@@ -288,7 +292,10 @@ pub fn basins(text: &str, opts: &BasinsOptions, out: &Path, limits: Limits) -> R
         started.elapsed().as_secs_f64(),
         grouper.len(),
         if grouper.len() == 1 { "" } else { "s" },
-        if failed > 0 { format!(", {failed} cells failed (label failed)") } else { String::new() }
+        match &first_failure {
+            Some(f) => format!(", {failed} cells failed (label failed; the first, {f})"),
+            None => String::new(),
+        }
     )];
     if opts.shard.is_none() {
         lines.extend(plot(out, &manifest, &map)?);
