@@ -68,6 +68,7 @@
 pub use signorini_scene as scene;
 pub use signorini_scene::excitation;
 pub use signorini_sweep as sweep;
+pub mod basins;
 pub mod orbits;
 
 pub use scene::{check_report, energy_warning, CheckReport};
@@ -197,6 +198,17 @@ pub enum CliError {
         /// The folder.
         dir: String,
     },
+    /// `signorini basins` was interrupted (SIGINT/SIGTERM) between cells:
+    /// whole rows kept.
+    #[error("interrupted after {done} of {total} cells (whole rows kept in {dir}/basins.csv)")]
+    BasinsInterrupted {
+        /// Cells written.
+        done: usize,
+        /// Cells of the grid (or shard).
+        total: usize,
+        /// The folder.
+        dir: String,
+    },
     /// A sweep ran to its end, and some of its runs failed (blow-up, …):
     /// their rows are kept, their status says why.
     #[error("{failed} of {total} runs failed (their status in {dir}/summary.csv says why; the rows they wrote are kept)")]
@@ -250,9 +262,11 @@ impl CliError {
         match self {
             CliError::Orbits(signorini_orbits::OrbitError::Option { .. } | signorini_orbits::OrbitError::Scene(_)) => 2,
             CliError::Scene(_) | CliError::Sweep(_) | CliError::Stale { .. } | CliError::Disk { .. } | CliError::SceneFile { .. } | CliError::OutFolder { .. } => 2,
-            CliError::Run(RunError::Interrupted { .. }) | CliError::Stopped { error: RunError::Interrupted { .. }, .. } | CliError::SweepInterrupted { .. } | CliError::ContinueInterrupted { .. } => {
-                130
-            }
+            CliError::Run(RunError::Interrupted { .. })
+            | CliError::Stopped { error: RunError::Interrupted { .. }, .. }
+            | CliError::SweepInterrupted { .. }
+            | CliError::ContinueInterrupted { .. }
+            | CliError::BasinsInterrupted { .. } => 130,
             CliError::SweepFailed { .. } => 3,
             _ => 1,
         }

@@ -116,7 +116,6 @@ enum Cmd {
         #[arg(long, value_parser = parse_bytes)]
         max_memory: Option<f64>,
     },
-    /// Merge the folders of a sharded sweep into the files of the unsharded one.
     /// The branch of periodic orbits of an event-driven scene in a numeric
     /// key, with stability and bifurcations: branch.csv, bifurcations.csv,
     /// branch.svg.
@@ -154,6 +153,55 @@ enum Cmd {
         #[arg(long, value_parser = parse_bytes)]
         max_memory: Option<f64>,
     },
+    /// Basins of attraction of an event-driven scene over a grid of initial
+    /// states: basins.csv (each cell's attractor), basins.svg.
+    Basins {
+        /// The scene (TOML; scheme = "event-driven(e)", a periodic forcing).
+        scene: PathBuf,
+        /// Dotted path of the initial displacement key (e.g. oscillator.initial_displacement), written in the scene.
+        #[arg(long)]
+        x: String,
+        /// Dotted path of the initial velocity key (e.g. oscillator.initial_velocity), written in the scene.
+        #[arg(long)]
+        v: String,
+        /// Cells along x and along v (each >= 1).
+        #[arg(long, num_args = 2, value_names = ["NX", "NY"], required = true)]
+        grid: Vec<usize>,
+        /// First and last value of --x (cell centres).
+        #[arg(long, num_args = 2, value_names = ["A", "B"], allow_negative_numbers = true, required = true)]
+        x_range: Vec<f64>,
+        /// First and last value of --v (cell centres).
+        #[arg(long, num_args = 2, value_names = ["C", "D"], allow_negative_numbers = true, required = true)]
+        v_range: Vec<f64>,
+        /// Forcing periods run before the attractor is read.
+        #[arg(long, default_value_t = 200)]
+        transient: usize,
+        /// Longest period looked for, in forcing periods.
+        #[arg(long, default_value_t = 16)]
+        max_period: usize,
+        /// Period test: |P^k(x) - x|_inf <= tol * max(1, |x|_inf), P the stroboscopic map.
+        #[arg(long, default_value_t = 1e-6)]
+        tol: f64,
+        /// Tolerance (relative, as --tol) of grouping cells into attractors and matching --orbits.
+        #[arg(long, default_value_t = 1e-3)]
+        match_tol: f64,
+        /// A continuation's branch.csv (signorini continue): label cells by the known orbits they reach.
+        #[arg(long)]
+        orbits: Option<PathBuf>,
+        /// Run only the I-th of N blocks of cells (I from 0), for `signorini merge`.
+        #[arg(long, value_parser = parse_shard)]
+        shard: Option<(usize, usize)>,
+        /// Threads (default: all cores); the output does not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Output folder (default out/SCENE-basins).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Memory a scene may use (e.g. 4G); default: the machine's available memory.
+        #[arg(long, value_parser = parse_bytes)]
+        max_memory: Option<f64>,
+    },
+    /// Merge the shard folders of a sharded sweep (or basins) into the files of the unsharded one.
     Merge {
         /// The shard folders.
         #[arg(required = true)]
@@ -266,6 +314,31 @@ fn main() -> ExitCode {
             let sweep = sweep.as_deref().map(signorini_cli::orbits::sweep_points).transpose()?.unwrap_or_default();
             let opts = signorini_orbits::front::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep };
             for l in signorini_cli::orbits::continue_scene(&text, &opts, &out, limits(max_memory), std::io::stderr().is_terminal(), interrupt_token())? {
+                say(&format!("{l}\n"));
+            }
+            Ok(())
+        }
+        Cmd::Basins { scene, x, v, grid, x_range, v_range, transient, max_period, tol, match_tol, orbits, shard, threads, out, max_memory } => {
+            let text = signorini_cli::read_scene_file(&scene)?;
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-basins", scene.file_stem().unwrap_or_default().to_string_lossy())));
+            use signorini_orbits::basins::{Axis, BasinOptions};
+            let opts = signorini_cli::basins::BasinsOptions {
+                x: Axis { path: x, from: x_range[0], to: x_range[1], count: grid[0] },
+                v: Axis { path: v, from: v_range[0], to: v_range[1], count: grid[1] },
+                classify: BasinOptions { transient, max_period, tol, match_tol },
+                orbits,
+                shard,
+                threads,
+                interrupt: interrupt_token(),
+                progress: std::io::stderr().is_terminal(),
+            };
+            for l in signorini_cli::basins::basins(&text, &opts, &out, limits(max_memory))?.lines {
+                say(&format!("{l}\n"));
+            }
+            Ok(())
+        }
+        Cmd::Merge { shards, out } if shards.first().is_some_and(|d| signorini_cli::basins::is_basins_folder(d)) => {
+            for l in signorini_cli::basins::merge(&shards, &out)? {
                 say(&format!("{l}\n"));
             }
             Ok(())

@@ -11,6 +11,7 @@
 //! [`Model`] from a scene document at each parameter value, the way
 //! `signorini sweep` does.
 
+pub mod basins;
 mod continuation;
 pub mod front;
 mod map;

@@ -97,9 +97,17 @@ impl SceneFamily {
 
     /// The scene at `param`, built.
     pub fn build(&self, param: f64) -> Result<Built, OrbitError> {
+        self.build_with(&[("param", &self.path, param)])
+    }
+
+    /// The scene with each `(option, path, value)` of `sets` set, built
+    /// (an option names the flag whose path it is, for errors).
+    pub(crate) fn build_with(&self, sets: &[(&'static str, &str, f64)]) -> Result<Built, OrbitError> {
         let mut doc = self.doc.clone();
-        signorini_sweep::set_path(&mut doc, &self.path, param).map_err(|e| OrbitError::Option { option: "param", message: e.to_string() })?;
-        let at = |e: String| OrbitError::Scene(format!("{} = {param}: {e}", self.path));
+        for (option, path, value) in sets {
+            signorini_sweep::set_path(&mut doc, path, *value).map_err(|e| OrbitError::Option { option, message: e.to_string() })?;
+        }
+        let at = |e: String| OrbitError::Scene(format!("{}: {e}", sets.iter().map(|(_, p, v)| format!("{p} = {v}")).collect::<Vec<_>>().join(", ")));
         let file = SceneFile::from_table(doc).map_err(|e| at(e.to_string()))?;
         let scene = file.validate_clock(&self.limits).map_err(|e| at(e.to_string()))?;
         let Some((omega, _, _)) = scene.sweep_clock() else {
@@ -138,7 +146,12 @@ impl Family for SceneFamily {
 /// The number at `path` in `doc` (a missing key: the scene's default is
 /// not known here, so the path must be written in the scene).
 fn lookup(doc: &toml::Table, path: &str) -> Result<f64, OrbitError> {
-    let err = |m: String| OrbitError::Option { option: "param", message: format!("{path}: {m}") };
+    lookup_as(doc, path, "param")
+}
+
+/// [`lookup`] for the option `option`.
+pub(crate) fn lookup_as(doc: &toml::Table, path: &str, option: &'static str) -> Result<f64, OrbitError> {
+    let err = |m: String| OrbitError::Option { option, message: format!("{path}: {m}") };
     let mut cur = doc.get(path.split('.').next().unwrap_or("")).ok_or_else(|| err("is not in the scene (write the key in the scene file with its start value)".into()))?;
     for seg in path.split('.').skip(1) {
         cur = match cur {

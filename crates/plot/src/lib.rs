@@ -567,9 +567,97 @@ pub fn heat_map(title: &str, rows: &[String], cols: &[String], values: &[Vec<f64
     Ok(svg)
 }
 
+/// One category of a [`category_map`]: its legend name and colour (`None`:
+/// the palette's colour of its index).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Category {
+    /// Legend name.
+    pub name: String,
+    /// Colour `(r, g, b)`; `None` picks the palette's.
+    pub color: Option<(u8, u8, u8)>,
+}
+
+/// A map of categories over a regular grid (a basin of attraction):
+/// `cells[j][i]` is the category index (into `categories`) of the cell
+/// centred at `(x_i, y_j)`, the `x_i` evenly spaced over `x` and the `y_j`
+/// over `y` (`None`: left white). Runs of equal cells along a row are drawn
+/// as one rectangle; the legend lists the categories. Errors only if
+/// plotters fails ([`PlotError::Drawing`]) or there is nothing to draw.
+pub fn category_map(chart: &Chart, x: (f64, f64), y: (f64, f64), cells: &[Vec<Option<usize>>], categories: &[Category]) -> Result<String, PlotError> {
+    let (ny, nx) = (cells.len(), cells.iter().map(Vec::len).max().unwrap_or(0));
+    if nx == 0 {
+        return Err(PlotError::NothingToPlot { chart: chart.title.to_string() });
+    }
+    let step = |(a, b): (f64, f64), n: usize| if n > 1 && b != a { (b - a) / (n - 1) as f64 } else { 1.0 };
+    let (dx, dy) = (step(x, nx), step(y, ny));
+    let span = |a: f64, d: f64, n: usize| {
+        let (lo, hi) = (a.min(a + d * (n as f64 - 1.0)), a.max(a + d * (n as f64 - 1.0)));
+        (lo - 0.5 * d.abs(), hi + 0.5 * d.abs())
+    };
+    let (xs, ys) = (span(x.0, dx, nx), span(y.0, dy, ny));
+    let color = |k: usize| match categories.get(k).and_then(|c| c.color) {
+        Some((r, g, b)) => RGBColor(r, g, b),
+        None => PALETTE[k % PALETTE.len()],
+    };
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, chart.size).into_drawing_area();
+        let err = |source: Boxed| PlotError::Drawing { chart: chart.title.to_string(), source };
+        root.fill(&WHITE).map_err(|e| err(e.into()))?;
+        let legend_w = 220u32.min(chart.size.0 / 3);
+        let (plot_area, legend_area) = root.split_horizontally(chart.size.0 - legend_w);
+        let mut ctx = ChartBuilder::on(&plot_area)
+            .caption(chart.title, ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(xs.0..xs.1, ys.0..ys.1)
+            .map_err(|e| err(e.into()))?;
+        ctx.configure_mesh().disable_mesh().x_desc(chart.x_label).y_desc(chart.y_label).draw().map_err(|e| err(e.into()))?;
+        for (j, row) in cells.iter().enumerate() {
+            let yc = y.0 + dy * j as f64;
+            let mut i = 0;
+            while i < row.len() {
+                let mut e = i;
+                while e + 1 < row.len() && row[e + 1] == row[i] {
+                    e += 1;
+                }
+                if let Some(k) = row[i] {
+                    let (x0, x1) = (x.0 + dx * (i as f64 - 0.5), x.0 + dx * (e as f64 + 0.5));
+                    let corners = [(x0, yc - 0.5 * dy), (x1, yc + 0.5 * dy)];
+                    ctx.draw_series(std::iter::once(Rectangle::new(corners, color(k).filled()))).map_err(|e| err(e.into()))?;
+                }
+                i = e + 1;
+            }
+        }
+        let e = |e: DrawingAreaErrorKind<std::io::Error>| err(Box::new(e));
+        for (k, c) in categories.iter().enumerate() {
+            let top = 40 + LEGEND_ROW * k as i32;
+            legend_area.draw(&Rectangle::new([(8, top), (22, top + 14)], color(k).filled())).map_err(e)?;
+            legend_area.draw(&Text::new(c.name.clone(), (28, top), ("sans-serif", 13).into_font())).map_err(e)?;
+        }
+        root.present().map_err(|e| err(e.into()))?;
+    }
+    Ok(svg)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn category_maps_draw_one_rectangle_per_run_of_equal_cells() {
+        let c = Chart { title: "basins", x_label: "x", y_label: "v", scale: Scale::Linear, size: (600, 400) };
+        let cats = [Category { name: "zero".into(), color: Some((1, 2, 3)) }, Category { name: "one".into(), color: Some((4, 5, 6)) }];
+        // Row 0: 0 0 1 (two runs), row 1: 1 1 1 (one run), row 2: none, 0, none (one run).
+        let cells = vec![vec![Some(0), Some(0), Some(1)], vec![Some(1); 3], vec![None, Some(0), None]];
+        let svg = category_map(&c, (0.0, 1.0), (-1.0, 1.0), &cells, &cats).unwrap();
+        let fill = |rgb: &str| svg.matches(&format!("fill=\"{rgb}\"")).count();
+        // Each colour: its runs on the map and one legend swatch.
+        assert_eq!((fill("#010203"), fill("#040506")), (2 + 1, 2 + 1), "{svg}");
+        assert!(svg.contains("zero") && svg.contains("one") && svg.contains("basins"));
+        assert!(category_map(&c, (0.0, 1.0), (0.0, 1.0), &[], &cats).is_err());
+    }
 
     #[test]
     fn stacked_panels_sit_one_under_the_other() {

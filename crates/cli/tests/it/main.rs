@@ -2,6 +2,7 @@
 //! module: one link instead of one per file). `beam_scheme.rs` and
 //! `contacts.rs` are still test binaries of their own.
 
+mod basins;
 mod cli;
 mod continue_cmd;
 mod degree;

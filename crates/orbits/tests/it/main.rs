@@ -1,5 +1,6 @@
 //! signorini-orbits' integration tests (one binary, one module per concern).
 mod autonomous;
+mod basins;
 mod chain;
 mod oscillator;
 mod reach;

@@ -1,0 +1,382 @@
+//! Basins of attraction on the exact flow: each initial state of a grid
+//! in two numeric scene keys (an initial displacement and velocity) run
+//! for a transient of forcing periods, then its attractor read off the
+//! stroboscopic map `P` (the flow over one forcing period `2π/Ω`, section
+//! at forcing phase 0):
+//!
+//! * **period k** — the smallest `k ≤ max_period` with
+//!   `‖P^k(x) − x‖∞ ≤ tol · max(1, ‖x‖∞)`, `x` the state after the
+//!   transient (the state is the displacements and velocities of the dofs
+//!   with mass);
+//! * **impacts per period** — the impacts of the flow over those `k`
+//!   forcing periods (one period of the orbit);
+//! * **sticking** — a held phase on the way (a release or an
+//!   accumulation of impacts over those `k` periods, or a contact held at
+//!   the section);
+//! * **non-periodic** — no such `k` (chaos, a longer period, or a
+//!   transient not yet over: the tolerance is stated, the transient a
+//!   choice).
+//!
+//! Cells on one attractor are grouped ([`Grouper`]): two periodic cells
+//! share an attractor when their periods agree and a point of one's cycle
+//! is within `match_tol · max(1, ‖x‖∞)` of the other's canonical point
+//! (the cycle point with the smallest first coordinate, ties broken by the
+//! next ones). Ids are given in cell order, each new attractor the next
+//! id, so a prefix of the grid has the ids the whole grid gives it.
+//! Known orbits (a continuation's `branch.csv` rows, [`parse_branch`])
+//! label the attractors they match within the same tolerance.
+//!
+//! Nothing here does IO; the CLI writes `basins.csv` and `basins.svg`.
+
+use crate::map::Model;
+use crate::scene::{lookup_as, Built, SceneFamily};
+use crate::OrbitError;
+use signorini_scene::Limits;
+use signorini_schemes::events::EventKind;
+use std::f64::consts::TAU;
+
+/// One axis of the grid: a numeric scene key and its values
+/// `from + (to − from)·i/(count − 1)`, `i = 0, …, count − 1` (`from`
+/// alone when `count = 1`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// The dotted path in the scene (`oscillator.initial_displacement`).
+    pub path: String,
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Values (>= 1).
+    pub count: usize,
+}
+
+impl Axis {
+    /// The `i`-th value.
+    pub fn value(&self, i: usize) -> f64 {
+        if self.count <= 1 {
+            self.from
+        } else {
+            self.from + (self.to - self.from) * i as f64 / (self.count - 1) as f64
+        }
+    }
+}
+
+/// What is asked of the classification.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BasinOptions {
+    /// Forcing periods run before the attractor is read (default 200).
+    pub transient: usize,
+    /// The longest period looked for, in forcing periods (default 16).
+    pub max_period: usize,
+    /// The periodicity tolerance, relative to `max(1, ‖x‖∞)` (default 1e-6).
+    pub tol: f64,
+    /// The tolerance of grouping cells into attractors and matching known
+    /// orbits, relative to `max(1, ‖x‖∞)` (default 1e-3).
+    pub match_tol: f64,
+}
+
+impl Default for BasinOptions {
+    fn default() -> Self {
+        Self { transient: 200, max_period: 16, tol: 1e-6, match_tol: 1e-3 }
+    }
+}
+
+impl BasinOptions {
+    /// Checks every value: a typed error naming the option otherwise.
+    pub fn validate(&self) -> Result<(), OrbitError> {
+        let bad = |option: &'static str, message: String| Err(OrbitError::Option { option, message });
+        if self.max_period == 0 || self.max_period > 1000 {
+            return bad("max-period", format!("{} is not allowed: forcing periods, an integer in [1, 1000]", self.max_period));
+        }
+        if !(self.tol.is_finite() && self.tol > 0.0 && self.tol < 1.0) {
+            return bad("tol", format!("{} is not allowed: a relative tolerance in (0, 1)", self.tol));
+        }
+        if !(self.match_tol.is_finite() && self.match_tol > 0.0 && self.match_tol < 1.0) {
+            return bad("match-tol", format!("{} is not allowed: a relative tolerance in (0, 1)", self.match_tol));
+        }
+        Ok(())
+    }
+}
+
+/// The attractor a cell went to.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attractor {
+    /// Its period in forcing periods (0: non-periodic).
+    pub period: usize,
+    /// Impacts over one period of the orbit (`period` forcing periods; over
+    /// `max_period` forcing periods for a non-periodic cell).
+    pub impacts: usize,
+    /// A held phase on the orbit.
+    pub sticking: bool,
+    /// The canonical point of its cycle on the section (the state after the
+    /// transient for a non-periodic cell).
+    pub state: Vec<f64>,
+    /// Every point of its cycle on the section, in the map's order
+    /// (empty for a non-periodic cell).
+    pub cycle: Vec<Vec<f64>>,
+}
+
+impl Attractor {
+    /// Periodic.
+    pub fn periodic(&self) -> bool {
+        self.period > 0
+    }
+}
+
+/// What became of a cell.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// It reached (or did not reach) an attractor.
+    Attractor(Attractor),
+    /// The scene at this cell's values is not valid, or the exact run
+    /// failed (the reason, in words).
+    Failed(String),
+}
+
+/// The infinity norm.
+fn norm(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+fn dist(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The index of the canonical point of a cycle: the smallest first
+/// coordinate, ties by the next ones.
+fn canonical(cycle: &[Vec<f64>]) -> usize {
+    (0..cycle.len()).min_by(|&a, &b| cycle[a].iter().zip(&cycle[b]).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()).unwrap_or(std::cmp::Ordering::Equal)).unwrap_or(0)
+}
+
+/// Classifies the state `x0` at `t = 0` of `model` forced at `omega`:
+/// `opts.transient` forcing periods of the exact flow, then the period test
+/// on the stroboscopic map (module docs). Errors are the exact run's.
+pub fn classify(model: &Model, omega: f64, x0: &[f64], opts: &BasinOptions) -> Result<Attractor, OrbitError> {
+    let period = TAU / omega;
+    let mut x = x0.to_vec();
+    if opts.transient > 0 {
+        x = model.flow(0.0, &x, opts.transient as f64 * period, false)?.x;
+    }
+    let tol = opts.tol * norm(&x).max(1.0);
+    let mut cycle = vec![x.clone()];
+    let (mut impacts, mut sticking) = (0usize, false);
+    let mut t = opts.transient as f64 * period;
+    for k in 1..=opts.max_period {
+        // From t = (transient + k − 1)·T, whole forcing periods: the load's
+        // phase is the section's.
+        let img = model.flow(t, cycle.last().expect("the cycle starts with x"), period, false)?;
+        t += period;
+        impacts += img.events.iter().filter(|e| e.kind == EventKind::Impact && e.t > t - period).count();
+        sticking |= img.events.iter().any(|e| matches!(e.kind, EventKind::Release | EventKind::Accumulation)) || !img.held.is_empty();
+        if dist(&img.x, &x) <= tol {
+            let c = canonical(&cycle);
+            return Ok(Attractor { period: k, impacts, sticking, state: cycle[c].clone(), cycle });
+        }
+        cycle.push(img.x);
+    }
+    Ok(Attractor { period: 0, impacts, sticking, state: x, cycle: Vec::new() })
+}
+
+/// Groups attractors, in the order they are given (module docs).
+#[derive(Clone, Debug, Default)]
+pub struct Grouper {
+    reps: Vec<(usize, Vec<f64>)>,
+    tol: f64,
+}
+
+impl Grouper {
+    /// A grouper with the relative tolerance `match_tol`.
+    pub fn new(match_tol: f64) -> Self {
+        Self { reps: Vec::new(), tol: match_tol }
+    }
+
+    /// The id of the attractor of period `period` through the section
+    /// point `state` (a new id if it matches none so far); `None` for a
+    /// non-periodic one (`period` 0).
+    pub fn id(&mut self, period: usize, state: &[f64]) -> Option<usize> {
+        if period == 0 {
+            return None;
+        }
+        let tol = self.tol * norm(state).max(1.0);
+        if let Some(i) = self.reps.iter().position(|(p, s)| *p == period && dist(s, state) <= tol) {
+            return Some(i);
+        }
+        self.reps.push((period, state.to_vec()));
+        Some(self.reps.len() - 1)
+    }
+
+    /// Attractors seen so far.
+    pub fn len(&self) -> usize {
+        self.reps.len()
+    }
+
+    /// None seen yet.
+    pub fn is_empty(&self) -> bool {
+        self.reps.is_empty()
+    }
+}
+
+/// A known periodic orbit: a row of a continuation's `branch.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KnownOrbit {
+    /// Its name in `basins.csv`: `branch<B>:<N>`, the `N`-th point (from 0)
+    /// of branch `B`.
+    pub label: String,
+    /// Forcing periods per orbit.
+    pub period: usize,
+    /// Stable.
+    pub stable: bool,
+    /// The continuation parameter's value.
+    pub param: f64,
+    /// The state on the section (`q…` then `v…` of the state dofs).
+    pub state: Vec<f64>,
+}
+
+/// The known orbits of a `branch.csv` text (`signorini continue`'s):
+/// columns `param`, `period`, `stable`, `branch` and the state's `q<dof>`,
+/// `v<dof>`. Errors name the option `orbits` and the line.
+pub fn parse_branch(text: &str) -> Result<Vec<KnownOrbit>, OrbitError> {
+    let bad = |m: String| OrbitError::Option { option: "orbits", message: m };
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).ok_or_else(|| bad(format!("no {name} column: a branch.csv of signorini continue is expected")));
+    let (cp, cper, cst, cbr) = (col("param")?, col("period")?, col("stable")?, col("branch")?);
+    let first_q = header.iter().position(|h| h.starts_with('q') && h[1..].parse::<usize>().is_ok()).ok_or_else(|| bad("no state columns (q<dof>, v<dof>)".into()))?;
+    let mut out = Vec::new();
+    let mut index: Vec<usize> = Vec::new();
+    for (n, line) in lines.enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let c: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| -> Result<f64, OrbitError> {
+            c.get(i).and_then(|s| s.parse::<f64>().ok()).ok_or_else(|| bad(format!("line {}: column {} is not a number", n + 2, header.get(i).unwrap_or(&"?"))))
+        };
+        let branch = num(cbr)? as usize;
+        if index.len() <= branch {
+            index.resize(branch + 1, 0);
+        }
+        let state = (first_q..header.len()).map(num).collect::<Result<Vec<_>, _>>()?;
+        out.push(KnownOrbit { label: format!("branch{branch}:{}", index[branch]), period: num(cper)? as usize, stable: num(cst)? != 0.0, param: num(cp)?, state });
+        index[branch] += 1;
+    }
+    if out.is_empty() {
+        return Err(bad("no orbit in the file".into()));
+    }
+    Ok(out)
+}
+
+/// The known orbit an attractor is, if any: the same period (a known
+/// orbit of period p also matches a cycle whose period divides p) and a
+/// point of its cycle within `match_tol · max(1, ‖x‖∞)` of the orbit's
+/// state; the nearest if several.
+pub fn match_known<'a>(a: &Attractor, known: &'a [KnownOrbit], match_tol: f64) -> Option<&'a KnownOrbit> {
+    if !a.periodic() {
+        return None;
+    }
+    let mut best: Option<(f64, &KnownOrbit)> = None;
+    for o in known.iter().filter(|o| o.period > 0 && o.period % a.period == 0 && o.state.len() == a.state.len()) {
+        let d = a.cycle.iter().map(|p| dist(p, &o.state)).fold(f64::INFINITY, f64::min);
+        if d <= match_tol * norm(&o.state).max(1.0) && best.is_none_or(|(b, _)| d < b) {
+            best = Some((d, o));
+        }
+    }
+    best.map(|(_, o)| o)
+}
+
+/// The label of an attractor without a known orbit: `p<k>-i<n>` (period
+/// and impacts per period), `-sticking` appended for a held phase;
+/// `non-periodic`.
+pub fn describe(a: &Attractor) -> String {
+    if !a.periodic() {
+        return "non-periodic".into();
+    }
+    format!("p{}-i{}{}", a.period, a.impacts, if a.sticking { "-sticking" } else { "" })
+}
+
+/// The most cells of one grid (5000 × 5000).
+pub const MAX_CELLS: usize = 25_000_000;
+
+/// A scene over a grid of initial states: the two keys' axes, the scene's
+/// forcing frequency and the model (built once per cell: a key may be any
+/// numeric one).
+#[derive(Clone, Debug)]
+pub struct BasinScene {
+    family: SceneFamily,
+    /// The displacement axis (`i`).
+    pub x: Axis,
+    /// The velocity axis (`j`).
+    pub v: Axis,
+}
+
+impl BasinScene {
+    /// The grid of `x` and `v` over the scene `doc` (scheme
+    /// `event-driven(e)`, a periodic forcing). Checks both paths name
+    /// numbers written in the scene, the counts and ranges, and the scene
+    /// at the four corners of the grid.
+    pub fn new(doc: toml::Table, x: Axis, v: Axis, limits: Limits) -> Result<Self, OrbitError> {
+        for (option, a) in [("x", &x), ("v", &v)] {
+            lookup_as(&doc, &a.path, option)?;
+        }
+        for (option, a) in [("grid", &x), ("grid", &v)] {
+            if a.count == 0 || a.count > 100_000 {
+                return Err(OrbitError::Option { option, message: format!("{} is not allowed: cells per axis, an integer in [1, 100000]", a.count) });
+            }
+        }
+        for (option, a) in [("x-range", &x), ("v-range", &v)] {
+            if !(a.from.is_finite() && a.to.is_finite()) {
+                return Err(OrbitError::Option { option, message: format!("{} {} is not allowed: two finite numbers", a.from, a.to) });
+            }
+        }
+        if x.count * v.count > MAX_CELLS {
+            return Err(OrbitError::Option { option: "grid", message: format!("{} x {} is not allowed: at most {MAX_CELLS} cells (split a larger map into several grids)", x.count, v.count) });
+        }
+        if x.path == v.path {
+            return Err(OrbitError::Option { option: "v", message: format!("{} is also --x: two different keys", v.path) });
+        }
+        let (family, _) = SceneFamily::with_limits(doc, &x.path, 1, limits)?;
+        let s = Self { family, x, v };
+        for (i, j) in [(0, 0), (s.x.count - 1, 0), (0, s.v.count - 1), (s.x.count - 1, s.v.count - 1)] {
+            s.build(i, j).map_err(|e| match e {
+                OrbitError::Scene(m) => {
+                    OrbitError::Option { option: "x-range", message: format!("a corner of the grid is not a valid scene ({m}); allowed: --x-range and --v-range within the scene's ranges") }
+                }
+                other => other,
+            })?;
+        }
+        Ok(s)
+    }
+
+    /// Cells: `nx · ny`, numbered `c = j·nx + i`.
+    pub fn cells(&self) -> usize {
+        self.x.count * self.v.count
+    }
+
+    /// `(i, j)` of cell `c`.
+    pub fn ij(&self, c: usize) -> (usize, usize) {
+        (c % self.x.count, c / self.x.count)
+    }
+
+    /// The scene at cell `(i, j)`, built.
+    pub fn build(&self, i: usize, j: usize) -> Result<Built, OrbitError> {
+        self.family.build_with(&[("x", &self.x.path, self.x.value(i)), ("v", &self.v.path, self.v.value(j))])
+    }
+
+    /// Cell `c`: its scene built and its start classified.
+    pub fn classify(&self, c: usize, opts: &BasinOptions) -> Outcome {
+        let (i, j) = self.ij(c);
+        let built = match self.build(i, j) {
+            Ok(b) => b,
+            Err(e) => return Outcome::Failed(e.to_string()),
+        };
+        match classify(&built.model, built.omega, &built.start, opts) {
+            Ok(a) => Outcome::Attractor(a),
+            Err(e) => Outcome::Failed(e.to_string()),
+        }
+    }
+
+    /// The state dofs of the model (the columns of a state).
+    pub fn state_dofs(&self) -> Result<Vec<usize>, OrbitError> {
+        Ok(self.build(0, 0)?.model.state_dofs().to_vec())
+    }
+}

@@ -1,0 +1,83 @@
+//! Basins: the oscillator with its stop at 0.5 forced at Ω = 1.85 has two
+//! stable period-1 orbits, the free response (no impact) and an impacting
+//! one; every cell of a grid goes to one of them, each found at its closed
+//! form (signorini-exact's period-1 orbits, the linear steady state).
+
+use signorini_exact::{ImpactOscillator, OscillatorParams, State};
+use signorini_orbits::basins::{classify, Axis, BasinOptions, BasinScene, Grouper, Outcome};
+use signorini_scene::Limits;
+use std::f64::consts::TAU;
+
+const OMEGA: f64 = 1.85;
+const SCENE: &str = "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.5\nrestitution = 0.8\ninitial_displacement = 0.0\ninitial_velocity = 0.0\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven(0.8)\"\n[forcing]\namplitude = 1.0\nomega = 1.85\n";
+
+/// The stable impacting period-1 orbit on the section, in closed form.
+fn impacting() -> [f64; 2] {
+    let osc = ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: OMEGA, gap: 0.5, restitution: 0.8 }).unwrap();
+    let t = TAU / OMEGA;
+    let stable: Vec<[f64; 2]> = osc
+        .period1_orbits()
+        .into_iter()
+        .filter(|o| o.is_admissible() && o.is_stable())
+        .map(|o| {
+            let z = osc.flow(o.impact_time.rem_euclid(t), State { x: 0.5, v: -0.8 * o.impact_velocity }, t);
+            [z.x, z.v]
+        })
+        .collect();
+    assert_eq!(stable.len(), 1, "one stable impacting period-1 orbit at Ω = 1.85");
+    stable[0]
+}
+
+#[test]
+fn two_coexisting_period_1_attractors_at_their_closed_forms() {
+    let doc: toml::Table = SCENE.parse().unwrap();
+    let x = Axis { path: "oscillator.initial_displacement".into(), from: -2.0, to: 0.4, count: 7 };
+    let v = Axis { path: "oscillator.initial_velocity".into(), from: -1.5, to: 1.5, count: 5 };
+    let scene = BasinScene::new(doc, x, v, Limits::machine()).unwrap();
+    let opts = BasinOptions::default();
+    let mut g = Grouper::new(opts.match_tol);
+    let (c, k) = (2.0 * 0.05, 1.0 - OMEGA * OMEGA);
+    let (amp, phi) = (1.0 / (k * k + (c * OMEGA).powi(2)).sqrt(), (c * OMEGA).atan2(k));
+    let free = [amp * phi.cos(), amp * OMEGA * phi.sin()];
+    let hit = impacting();
+    let mut seen = [0usize; 2];
+    for cell in 0..scene.cells() {
+        let Outcome::Attractor(a) = scene.classify(cell, &opts) else { panic!("cell {cell} failed") };
+        assert_eq!(a.period, 1, "cell {cell}");
+        g.id(a.period, &a.state);
+        let (want, n) = if a.impacts == 0 { (free, 0) } else { (hit, 1) };
+        assert_eq!(a.impacts, n, "cell {cell}");
+        assert!(!a.sticking);
+        assert!((a.state[0] - want[0]).abs() < 1e-7 && (a.state[1] - want[1]).abs() < 1e-7, "cell {cell}: {:?} against {want:?}", a.state);
+        seen[n] += 1;
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "both basins on the grid: {seen:?}");
+    assert_eq!(g.len(), 2);
+}
+
+/// The period is the smallest k with P^k(x) = x: the oscillator with its
+/// stop at its rest position, forced at Ω = 2.9, settles on a period-4
+/// orbit (9 impacts per period), which an independent scan of the map, one
+/// forcing period at a time, confirms (the classification flows the
+/// transient in one piece).
+#[test]
+fn the_period_is_the_smallest() {
+    let doc: toml::Table = SCENE.replace("stop = 0.5", "stop = 0.0").replace("omega = 1.85", "omega = 2.9").parse().unwrap();
+    let x = Axis { path: "oscillator.initial_displacement".into(), from: -0.5, to: -0.5, count: 1 };
+    let v = Axis { path: "oscillator.initial_velocity".into(), from: 0.0, to: 0.0, count: 1 };
+    let scene = BasinScene::new(doc, x, v, Limits::machine()).unwrap();
+    let built = scene.build(0, 0).unwrap();
+    let opts = BasinOptions { transient: 400, ..BasinOptions::default() };
+    let a = classify(&built.model, built.omega, &built.start, &opts).unwrap();
+    // Independently: iterate the map one period at a time and test each k.
+    let t = TAU / built.omega;
+    let mut xs = vec![built.model.flow(0.0, &built.start, 400.0 * t, false).unwrap().x];
+    for n in 0..16 {
+        let next = built.model.flow((400 + n) as f64 * t, xs.last().unwrap(), t, false).unwrap().x;
+        xs.push(next);
+    }
+    let tol = 1e-6 * xs[0].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    let k = (1..=16).find(|&k| xs[k].iter().zip(&xs[0]).all(|(a, b)| (a - b).abs() <= tol)).unwrap_or(0);
+    assert_eq!(a.period, k, "{a:?}");
+    assert_eq!((k, a.impacts, a.cycle.len()), (4, 9, 4));
+}
