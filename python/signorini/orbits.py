@@ -19,7 +19,7 @@ from ._signorini import SceneError as _SceneError
 from .sweep import SweepResult as _SweepResult
 from .sweep import _scene
 
-__all__ = ["ContinuationResult", "continuation"]
+__all__ = ["ContinuationResult", "ModesResult", "continuation", "modes"]
 
 
 class ContinuationResult:
@@ -84,3 +84,37 @@ def continuation(scene, param, start, stop, *, period=1, transient=100.0, max_po
     points = _sweep_points(sweep)
     d = _signorini.run_continuation(text, param, start, stop, period, transient, max_points, switch, points, None if out is None else str(out))
     return ContinuationResult(d, out)
+
+
+class ModesResult:
+    """A backbone's file as columns: ``backbone`` (``energy, period,
+    contact_time, impacts_per_period, exact_period``, then
+    ``exact_contact_time, mu_max, residual``; the exact columns NaN where no
+    closed form is known), ``svg`` (backbone.svg's text), ``lines``,
+    ``out``."""
+
+    def __init__(self, d, out):
+        self.tables = d["tables"]
+        self.backbone = self.tables.get("backbone.csv")
+        self.svg = d["svg"]
+        self.lines = list(d["lines"])
+        self.out = out
+
+    def __repr__(self) -> str:
+        n = len(self.backbone["energy"]) if self.backbone else 0
+        return f"<signorini.ModesResult: {n} energies>"
+
+
+def modes(scene, start, stop, *, points=40, out=None) -> ModesResult:
+    """The nonsmooth modes of an unforced ``[bar]`` scene (``scheme =
+    "event-driven"``, far end clamped): its periodic motions continued in
+    the energy from ``start`` to ``stop`` over ``points`` energies
+    (``signorini modes``), with the exact backbone of the continuous bar
+    beside them. A start with no periodic motion nearby raises RuntimeError
+    with Newton's residual; bad input raises SceneError naming it."""
+    text, _name, _base = _scene(scene)
+    start = _check.real("start", start)
+    stop = _check.real("stop", stop)
+    points = _check.integer("points", points)
+    d = _signorini.run_modes(text, start, stop, points, None if out is None else str(out))
+    return ModesResult(d, out)

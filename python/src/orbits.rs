@@ -14,7 +14,7 @@ const COUNTS: &[&str] = &["period", "stable", "impacts_per_period", "releases_pe
 
 /// A CSV text as `{column: array}` (a counting column int64, a numeric one
 /// float64 with an empty cell NaN, any other a list of str).
-fn columns<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyDict>> {
+fn columns<'py>(py: Python<'py>, text: &str, counts: &[&str]) -> PyResult<Bound<'py, PyDict>> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     let mut cols: Vec<Vec<&str>> = vec![Vec::new(); header.len()];
@@ -25,7 +25,7 @@ fn columns<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyDict>> {
     }
     let d = PyDict::new(py);
     for (name, c) in header.iter().zip(cols) {
-        if COUNTS.contains(name) {
+        if counts.contains(name) {
             if let Some(v) = c.iter().map(|v| v.parse::<i64>().ok()).collect::<Option<Vec<i64>>>() {
                 d.set_item(name, v.into_pyarray(py))?;
                 continue;
@@ -97,7 +97,7 @@ pub fn run_continuation<'py>(
     let mut svg = None;
     for (name, body) in &done.files {
         if name.ends_with(".csv") {
-            tables.set_item(*name, columns(py, body)?)?;
+            tables.set_item(*name, columns(py, body, COUNTS)?)?;
         } else {
             svg = Some(body.clone());
         }
@@ -106,5 +106,41 @@ pub fn run_continuation<'py>(
     d.set_item("tables", tables)?;
     d.set_item("svg", svg)?;
     d.set_item("lines", PyList::new(py, &done.lines)?)?;
+    Ok(d)
+}
+
+/// The backbone of `scene_text`'s nonsmooth modes from energy `start` to
+/// `stop`; returns `{"tables": {"backbone.csv": columns}, "svg": str or
+/// None, "lines": [...]}` and writes the files to `out` if given.
+#[pyfunction]
+#[pyo3(signature = (scene_text, start, stop, points, out))]
+pub fn run_modes<'py>(py: Python<'py>, scene_text: &str, start: f64, stop: f64, points: usize, out: Option<String>) -> PyResult<Bound<'py, PyDict>> {
+    let doc: toml::Table = guarded(|| scene_text.parse().map_err(|e: toml::de::Error| SceneError::new_err(e.to_string())))?;
+    guarded(|| signorini_scene::SceneFile::from_table(doc.clone()).map(|_| ()).map_err(|e| crate::py_scene_error(e, false)))?;
+    let cancel = signorini_run::Cancel::new();
+    let (modes, signal) = interruptible(py, &cancel, || signorini_orbits::modes::backbone(&doc, start, stop, points).map_err(python_error));
+    if let Some(e) = signal {
+        return Err(e);
+    }
+    let modes = modes?;
+    let csv = signorini_orbits::output::backbone_csv(&modes);
+    let svg = signorini_orbits::output::backbone_svg(&modes).ok();
+    if let Some(dir) = &out {
+        std::fs::create_dir_all(dir).map_err(|e| SceneError::new_err(format!("out {dir}: {e}")))?;
+        std::fs::write(std::path::Path::new(dir).join("backbone.csv"), &csv).map_err(|e| SceneError::new_err(format!("out {dir}/backbone.csv: {e}")))?;
+        if let Some(s) = &svg {
+            std::fs::write(std::path::Path::new(dir).join("backbone.svg"), s).map_err(|e| SceneError::new_err(format!("out {dir}/backbone.svg: {e}")))?;
+        }
+    }
+    let tables = PyDict::new(py);
+    tables.set_item("backbone.csv", columns(py, &csv, &["impacts_per_period"])?)?;
+    let mut lines = vec![format!("{} of {points} energies on the backbone ({} elements)", modes.points.len(), modes.elements)];
+    if let Some((e, why)) = &modes.stopped {
+        lines.push(format!("the family ended at energy {e}: {why}"));
+    }
+    let d = PyDict::new(py);
+    d.set_item("tables", tables)?;
+    d.set_item("svg", svg)?;
+    d.set_item("lines", PyList::new(py, &lines)?)?;
     Ok(d)
 }

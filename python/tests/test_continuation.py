@@ -68,3 +68,34 @@ def test_bad_input_is_a_scene_error_naming_it(change, words):
 def test_a_scheme_other_than_the_exact_one_is_refused():
     with pytest.raises(signorini.SceneError, match="event-driven"):
         signorini.continuation(SCENE.replace('scheme = "event-driven"', 'scheme = "ps(0.8, 0.25)"'), "forcing.omega", 2.2, 3.0)
+
+
+BAR = """
+[bar]
+length = 1.0
+wave_speed = 1.0
+far_end = "clamped"
+gap = 0.0
+elements = 80
+mass = "mod3"
+scheme = "event-driven"
+dt = 0.01
+t_end = 10.0
+"""
+
+
+def test_modes_of_the_bar_with_gap_zero_have_the_period_3l_over_c():
+    # At g = 0 the continuous bar's first family has T = 3L/c at every
+    # energy (the problem scales with the energy); mod3 at m = 80 within
+    # 1e-3 of it (theory §11.7).
+    r = signorini.modes(BAR, 0.1, 10.0, points=4)
+    b = r.backbone
+    assert len(b["energy"]) == 4
+    assert all(abs(t - 3.0) < 1e-3 for t in b["period"])
+    assert all(abs(t - 3.0) < 1e-12 for t in b["exact_period"])
+    assert b["impacts_per_period"].dtype.kind == "i"
+
+
+def test_modes_bad_input_names_it():
+    with pytest.raises(signorini.SceneError, match="start"):
+        signorini.modes(BAR, -1.0, 10.0)

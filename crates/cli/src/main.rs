@@ -119,6 +119,24 @@ enum Cmd {
     /// The branch of periodic orbits of an event-driven scene in a numeric
     /// key, with stability and bifurcations: branch.csv, bifurcations.csv,
     /// branch.svg.
+    /// The nonsmooth modes of an unforced bar (scheme = "event-driven"): its
+    /// periodic motions continued in the energy, backbone.csv and backbone.svg.
+    Modes {
+        /// The scene (an unforced [bar], far end clamped).
+        scene: PathBuf,
+        /// The lowest energy.
+        #[arg(long, allow_hyphen_values = true)]
+        from: f64,
+        /// The highest energy.
+        #[arg(long, allow_hyphen_values = true)]
+        to: f64,
+        /// Energies on the backbone (geometric steps; linear from 0).
+        #[arg(long, default_value_t = 40)]
+        points: usize,
+        /// Output folder (default out/<scene>-modes).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     Continue {
         /// The scene (TOML; scheme = "event-driven(e)", a periodic forcing).
         scene: PathBuf,
@@ -305,6 +323,14 @@ fn main() -> ExitCode {
             }
             if report.failed > 0 {
                 return Err(CliError::SweepFailed { failed: report.failed, total: report.runs, dir: out.display().to_string() });
+            }
+            Ok(())
+        }
+        Cmd::Modes { scene, from, to, points, out } => {
+            let text = signorini_cli::read_scene_file(&scene)?;
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", scene.file_stem().unwrap_or_default().to_string_lossy())));
+            for l in signorini_cli::orbits::modes_scene(&text, from, to, points, &out)? {
+                say(&format!("{l}\n"));
             }
             Ok(())
         }

@@ -64,3 +64,33 @@ pub fn continue_scene(text: &str, opts: &ContinueOptions, out: &Path, limits: Li
     lines.push(format!("wrote {} to {} in {:.2} s", names.join(", "), out.display(), started.elapsed().as_secs_f64()));
     Ok(lines)
 }
+
+/// Runs `signorini modes` on the scene text `text` (an unforced `[bar]`
+/// with `scheme = "event-driven"`): the backbone from energy `from` to `to`
+/// in `points` energies, written as `backbone.csv` and `backbone.svg` in
+/// `out`; returns the lines to print.
+pub fn modes_scene(text: &str, from: f64, to: f64, points: usize, out: &Path) -> Result<Vec<String>, CliError> {
+    let started = std::time::Instant::now();
+    let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| CliError::Scene(signorini_scene::SceneError::Toml(e)))?;
+    signorini_scene::SceneFile::from_table(doc.clone())?;
+    let modes = signorini_orbits::modes::backbone(&doc, from, to, points)?;
+    std::fs::create_dir_all(out).map_err(|source| CliError::OutFolder { path: out.to_path_buf(), source })?;
+    let mut written = vec!["backbone.csv"];
+    let path = out.join("backbone.csv");
+    std::fs::write(&path, signorini_orbits::output::backbone_csv(&modes)).map_err(|source| CliError::Write { path, source })?;
+    let mut lines = Vec::new();
+    match signorini_orbits::output::backbone_svg(&modes) {
+        Ok(svg) => {
+            let path = out.join("backbone.svg");
+            std::fs::write(&path, svg).map_err(|source| CliError::Write { path, source })?;
+            written.push("backbone.svg");
+        }
+        Err(e) => lines.push(format!("note: backbone.svg not drawn: {e}")),
+    }
+    lines.insert(0, format!("{} of {points} energies on the backbone ({} elements)", modes.points.len(), modes.elements));
+    if let Some((e, why)) = &modes.stopped {
+        lines.push(format!("the family ended at energy {e}: {why}"));
+    }
+    lines.push(format!("wrote {} to {} in {:.2} s", written.join(", "), out.display(), started.elapsed().as_secs_f64()));
+    Ok(lines)
+}

@@ -74,3 +74,29 @@ fn bad_input_exits_2_naming_the_option() {
         assert!(err.contains(words), "{args:?}: {err}");
     }
 }
+
+const BAR: &str = "[bar]\nlength = 1.0\nwave_speed = 1.0\nfar_end = \"clamped\"\ngap = 0.0\nelements = 80\nmass = \"mod3\"\nscheme = \"event-driven\"\ndt = 0.01\nt_end = 10.0\n";
+
+#[test]
+fn modes_writes_the_backbone_against_the_exact_period() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bar.toml");
+    std::fs::write(&p, BAR).unwrap();
+    let out = dir.path().join("out");
+    let o = bin().arg("modes").arg(&p).args(["--from", "0.1", "--to", "10", "--points", "3", "--out"]).arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("backbone.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert!(lines.next().unwrap().starts_with("energy,period,contact_time,impacts_per_period,exact_period"));
+    // g = 0: the continuous bar's period is 3L/c at every energy.
+    for l in lines {
+        let c: Vec<f64> = l.split(',').take(5).map(|v| v.parse().unwrap()).collect();
+        assert!((c[1] - 3.0).abs() < 1e-3 && c[4] == 3.0, "{l}");
+    }
+    for (args, words) in [(vec!["--from", "-1", "--to", "1"], "from"), (vec!["--from", "1", "--to", "2", "--points", "0"], "points")] {
+        let o = bin().arg("modes").arg(&p).args(&args).arg("--out").arg(&out).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(words), "{args:?}: {err}");
+    }
+}
