@@ -208,25 +208,9 @@ impl Model {
             let (_, q, _) = r.state();
             Ok(dist(&q))
         };
-        let (mut a, mut b) = (t0 + h * (best.1 as f64 - 1.0).max(0.0), t0 + h * (best.1 as f64 + 1.0).min(samples as f64));
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-        let (mut fc, mut fd) = (at(c)?, at(d)?);
-        for _ in 0..60 {
-            if b - a <= 1e-14 * tau {
-                break;
-            }
-            if fc < fd {
-                (b, d, fd) = (d, c, fc);
-                c = b - g * (b - a);
-                fc = at(c)?;
-            } else {
-                (a, c, fc) = (c, d, fd);
-                d = a + g * (b - a);
-                fd = at(d)?;
-            }
-        }
-        Ok(best.0.min(fc).min(fd))
+        let (a, b) = (t0 + h * (best.1 as f64 - 1.0).max(0.0), t0 + h * (best.1 as f64 + 1.0).min(samples as f64));
+        let (d, _) = golden_min(a, b, 1e-14 * tau, at)?;
+        Ok(best.0.min(d))
     }
 
     fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>) -> Result<(), OrbitError> {
@@ -262,4 +246,27 @@ fn sorted_held(run: &EventDriven) -> Vec<usize> {
     let mut h: Vec<usize> = run.held_iter().map(|(c, _)| c).collect();
     h.sort_unstable();
     h
+}
+
+/// The minimum of `f` on `[a, b]` by golden-section search, to an
+/// interval of `tol`: `(f there, where)`.
+pub(crate) fn golden_min(mut a: f64, mut b: f64, tol: f64, f: impl Fn(f64) -> Result<f64, OrbitError>) -> Result<(f64, f64), OrbitError> {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (f(c)?, f(d)?);
+    for _ in 0..80 {
+        if b - a <= tol {
+            break;
+        }
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - g * (b - a);
+            fc = f(c)?;
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + g * (b - a);
+            fd = f(d)?;
+        }
+    }
+    Ok(if fc < fd { (fc, c) } else { (fd, d) })
 }

@@ -281,25 +281,9 @@ pub fn closest_return(model: &Model, x0: &[f64], period: f64, window: f64) -> Re
         }
     }
     let at = |t: f64| -> Result<f64, OrbitError> { Ok(dist(&model.flow(0.0, x0, t, false)?.x)) };
-    let (mut lo, mut hi) = ((best.1 - h).max(a), (best.1 + h).min(b));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-    let (mut fc, mut fd) = (at(c)?, at(d)?);
-    for _ in 0..60 {
-        if hi - lo <= 1e-13 * period {
-            break;
-        }
-        if fc < fd {
-            (hi, d, fd) = (d, c, fc);
-            c = hi - g * (hi - lo);
-            fc = at(c)?;
-        } else {
-            (lo, c, fc) = (c, d, fd);
-            d = lo + g * (hi - lo);
-            fd = at(d)?;
-        }
-    }
-    let (distance, time) = [(best.0, best.1), (fc, c), (fd, d)].into_iter().min_by(|p, q| p.0.total_cmp(&q.0)).expect("three");
+    let (lo, hi) = ((best.1 - h).max(a), (best.1 + h).min(b));
+    let (fc, c) = crate::map::golden_min(lo, hi, 1e-13 * period, at)?;
+    let (distance, time) = [(best.0, best.1), (fc, c)].into_iter().min_by(|p, q| p.0.total_cmp(&q.0)).expect("three");
     let img = model.flow(0.0, x0, time, false)?;
     let orbit = Orbit { x: x0.to_vec(), t0: 0.0, period: time, events: img.events, monodromy: faer::Mat::zeros(0, 0), multipliers: Vec::new(), residual: distance, iterations: 0 };
     let (contact_time, impacts) = contact_of(&orbit);
