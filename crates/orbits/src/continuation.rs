@@ -221,9 +221,11 @@ impl<F: Family> Ctx<'_, F> {
         let n = self.n;
         let (x0, p0) = (x.clone(), param);
         let nt = self.opts.newton;
+        let mut last = f64::NAN;
         for it in 0..nt.max_iter.min(12) {
             let (g, jac, gl) = self.residual_and_jacobian(&x, param)?;
             let res = g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            last = res;
             let plane: f64 = (0..n).map(|i| t[i] * (x[i] - x0[i]) / self.xs).sum::<f64>() + t[n] * (param - p0) / self.ls;
             let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(nt.scale);
             if res <= nt.tol * xn && plane.abs() <= 1e-12 {
@@ -252,7 +254,7 @@ impl<F: Family> Ctx<'_, F> {
             }
             param += d[(n, 0)];
         }
-        Err(OrbitError::NoConvergence { residual: f64::NAN, iterations: 12, why: "the corrector did not converge".into() })
+        Err(OrbitError::NoConvergence { residual: last, iterations: nt.max_iter.min(12), why: "the corrector did not converge".into() })
     }
 
     fn point(&self, x: Vec<f64>, param: f64, prev_tangent: &[f64]) -> Result<Point, OrbitError> {
