@@ -281,6 +281,15 @@ impl<F: Family> Ctx<'_, F> {
     }
 }
 
+/// How far the multipliers near the unit circle (modulus below 2) moved
+/// from `a` to `b` (each list by decreasing modulus, compared in order): a
+/// step over which they move more than 0.25 is halved, so that a step
+/// cannot straddle two crossings of the unit circle (a window between two
+/// period doublings) and see none.
+fn mu_change(a: &Point, b: &Point) -> f64 {
+    a.orbit.multipliers.iter().zip(&b.orbit.multipliers).filter(|(x, y)| x.norm().min(y.norm()) < 2.0).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max)
+}
+
 /// Test functions whose sign change marks a bifurcation.
 fn fold_test(p: &Point) -> f64 {
     p.tangent[p.tangent.len() - 1]
@@ -340,7 +349,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
             return Ok(branch);
         }
         let next = match trial {
-            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 => p,
+            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 && (ds <= 16.0 * opts.min_step || mu_change(&cur, &p) <= 0.25) => p,
             // A corner where the number of impacts or held phases changes
             // (a grazing, where a branch may also turn back): taken, the
             // change located on the arclength.
@@ -370,6 +379,15 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                         branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
                         cur = p;
                         ds = opts.step;
+                        continue;
+                    }
+                    // An orbit without impacts grazing a stop: the grazing
+                    // located on its smooth side, the impacting orbit beyond.
+                    if let Some((bif, away)) = appearing_impact(&ctx, &cur, &branch.points, dir) {
+                        branch.bifurcations.push(bif);
+                        branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone() }));
+                        cur = away.into_iter().last().expect("at least one");
+                        ds = opts.min_step.max(1e-4);
                         continue;
                     }
                     // A corner where impacts appear or held phases start
@@ -500,6 +518,90 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
         }
     }
     Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no period-doubled orbit found beside the period doubling at {}", bif.param) }))
+}
+
+/// An orbit without impacts whose branch stops (the corrector fails at
+/// every step) because its motion reaches a stop: the grazing parameter as
+/// the zero of the orbit's distance to the stops (secant steps on the
+/// smooth side, each a Newton solve), then the impacting orbit just beyond
+/// it (Newton from the grazing orbit's state at parameters `1e-9` … `1e-3`
+/// of the range past it; its Jacobian grows as the inverse of the new
+/// impact's speed, so the nearest that converges is taken).
+fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>)> {
+    if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
+        return None;
+    }
+    let margin = |p: &Point| ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok());
+    let prev = &points[points.len() - 2];
+    let mut p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
+    let mut p1 = cur.clone();
+    let (mut m0, mut m1) = (margin(&p0)?, margin(&p1)?);
+    if !(m1 < m0 && m1 >= 0.0) {
+        return None;
+    }
+    let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
+    let mut estimate = p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
+    for _ in 0..40 {
+        if m1 == 0.0 || m0 == m1 {
+            break;
+        }
+        estimate = p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
+        if (estimate - p1.param).abs() <= 1e-14 * ctx.ls.max(estimate.abs()) {
+            break;
+        }
+        // Short of the estimate, on the side without the impact.
+        let at = p1.param + 0.9 * (estimate - p1.param);
+        let guess = lerp(&p0, &p1, (at - p0.param) / (p1.param - p0.param));
+        match solve_at(ctx, &guess, at, dir) {
+            Some(p) if p.orbit.impacts() == 0 => {
+                let m = margin(&p)?;
+                (p0, m0, p1, m1) = (p1, m1, p, m);
+            }
+            _ => break,
+        }
+    }
+    let side = (estimate - cur.param).signum();
+    let mut beyond = None;
+    for f in [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
+        let param = estimate + side * f * ctx.ls;
+        if let Some(p) = solve_at(ctx, &p1.x, param, dir) {
+            if p.orbit.impacts() > 0 {
+                beyond = Some(p);
+                break;
+            }
+        }
+    }
+    let b = beyond?;
+    let bif = Bifurcation {
+        param: estimate,
+        kind: BifurcationKind::Grazing,
+        mu: critical(BifurcationKind::Grazing, &p1),
+        impacts: (0, b.orbit.impacts()),
+        releases: (0, b.orbit.releases()),
+        between: (points.len() - 1, points.len()),
+        x: p1.x.clone(),
+    };
+    // Away from the grazing by natural-parameter steps doubling
+    // (each from the last two orbits' extrapolation) until the new impact's
+    // speed has grown a hundredfold: the arclength steps take over there.
+    let v0 = b.orbit.slowest_impact().unwrap_or(0.0);
+    let mut away = vec![b];
+    for _ in 0..20 {
+        let last = &away[away.len() - 1];
+        if last.orbit.slowest_impact().unwrap_or(0.0) >= 100.0 * v0 {
+            break;
+        }
+        let param = estimate + 2.0 * (last.param - estimate);
+        // Linear in the distance to the grazing: from the grazing orbit
+        // and the last one, then from the last two.
+        let before = if away.len() == 1 { &p1 } else { &away[away.len() - 2] };
+        let guess = lerp(before, last, (param - before.param) / (last.param - before.param));
+        match solve_at(ctx, &guess, param, dir) {
+            Some(p) if p.orbit.impacts() == away[0].orbit.impacts() => away.push(p),
+            _ => break,
+        }
+    }
+    Some((bif, away))
 }
 
 /// At a corner of the branch (the corrector fails at every step): an orbit

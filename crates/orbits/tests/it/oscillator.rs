@@ -151,6 +151,14 @@ fn a_branch_through_grazing_matches_the_closed_forms_and_the_grazing_frequency()
     assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
     assert_eq!(grazing[0].impacts, (1, 0));
     assert!(branch.points.iter().any(|p| p.orbit.impacts() == 0 && p.param > want), "the branch goes on without impacts");
+    // The window between the two period doublings is not stepped over.
+    let mut pds: Vec<f64> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).map(|b| b.param).collect();
+    pds.sort_by(f64::total_cmp);
+    let want_pd = closed_pd(2.2, 2.44);
+    assert_eq!(pds.len(), want_pd.len(), "period doublings {pds:?} vs closed form {want_pd:?}");
+    for (g, w) in pds.iter().zip(&want_pd) {
+        assert!((g - w).abs() <= 1e-8 * w, "period doubling at {g} vs closed form {w}");
+    }
 }
 
 /// The closed form's period-doubling frequencies in `[lo, hi]`: where its
@@ -263,5 +271,28 @@ fn a_fold_is_located_at_the_closed_form_saddle_node_and_the_branch_turns_back_un
         // Near the fold the closed form's roots carry √ε errors.
         let tol = if (p.param - want).abs() < 1e-3 { 1e-6 } else { 1e-8 };
         assert!(best <= tol, "Ω = {}: state error {best:e}", p.param);
+    }
+}
+
+#[test]
+fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
+    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    let fam = family();
+    // The linear steady state at Ω = 3 (no impact), continued down.
+    let z = exact(3.0).steady_state(0.0);
+    let branch = continuation(&fam, &[z.x, z.v], &ContinuationOptions::new(3.0, 2.2)).unwrap();
+    assert_eq!(branch.end, "reached to");
+    check_branch(&branch);
+    let want = exact(2.0).grazing_frequencies()[0];
+    let grazing: Vec<_> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::Grazing).collect();
+    assert_eq!(grazing.len(), 1, "{:?}", branch.bifurcations);
+    assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
+    assert_eq!(grazing[0].impacts, (0, 1));
+    let mut pds: Vec<f64> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).map(|b| b.param).collect();
+    pds.sort_by(f64::total_cmp);
+    let want_pd = closed_pd(2.2, 2.44);
+    assert_eq!(pds.len(), want_pd.len(), "period doublings {pds:?} vs closed form {want_pd:?}");
+    for (g, w) in pds.iter().zip(&want_pd) {
+        assert!((g - w).abs() <= 1e-8 * w, "period doubling at {g} vs closed form {w}");
     }
 }
