@@ -152,11 +152,16 @@ fn a_branch_through_grazing_matches_the_closed_forms_and_the_grazing_frequency()
     assert_eq!(grazing[0].impacts, (1, 0));
     assert!(branch.points.iter().any(|p| p.orbit.impacts() == 0 && p.param > want), "the branch goes on without impacts");
     // The window between the two period doublings is not stepped over.
-    let mut pds: Vec<f64> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).map(|b| b.param).collect();
-    pds.sort_by(f64::total_cmp);
-    let want_pd = closed_pd(2.2, 2.44);
-    assert_eq!(pds.len(), want_pd.len(), "period doublings {pds:?} vs closed form {want_pd:?}");
-    for (g, w) in pds.iter().zip(&want_pd) {
+    assert_period_doublings(&branch, 2.2, 2.44);
+}
+
+/// The branch's period doublings in `[lo, hi]` are the closed form's, to 1e-8.
+fn assert_period_doublings(branch: &signorini_orbits::Branch, lo: f64, hi: f64) {
+    let mut got: Vec<f64> = branch.bifurcations.iter().filter(|b| b.kind == signorini_orbits::BifurcationKind::PeriodDoubling && (lo..=hi).contains(&b.param)).map(|b| b.param).collect();
+    got.sort_by(f64::total_cmp);
+    let want = closed_pd(lo, hi);
+    assert_eq!(got.len(), want.len(), "period doublings {got:?} vs closed form {want:?}");
+    for (g, w) in got.iter().zip(&want) {
         assert!((g - w).abs() <= 1e-8 * w, "period doubling at {g} vs closed form {w}");
     }
 }
@@ -288,11 +293,5 @@ fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
     assert_eq!(grazing.len(), 1, "{:?}", branch.bifurcations);
     assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
     assert_eq!(grazing[0].impacts, (0, 1));
-    let mut pds: Vec<f64> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).map(|b| b.param).collect();
-    pds.sort_by(f64::total_cmp);
-    let want_pd = closed_pd(2.2, 2.44);
-    assert_eq!(pds.len(), want_pd.len(), "period doublings {pds:?} vs closed form {want_pd:?}");
-    for (g, w) in pds.iter().zip(&want_pd) {
-        assert!((g - w).abs() <= 1e-8 * w, "period doubling at {g} vs closed form {w}");
-    }
+    assert_period_doublings(&branch, 2.2, 2.44);
 }
