@@ -4,8 +4,9 @@
 //! ([`Model`]), periodic orbits by shooting with their Floquet multipliers
 //! ([`periodic_orbit`], [`autonomous_orbit`]), and pseudo-arclength
 //! continuation in a scene parameter with its bifurcations
-//! ([`continuation`]), and the nonsmooth modes of the bar, continued in
-//! the energy ([`modes::backbone`]).
+//! ([`continuation`]), the nonsmooth modes of the bar, continued in the
+//! energy ([`modes::backbone`]), and basins of attraction on a grid of
+//! initial states ([`basins`]).
 //!
 //! The numerical parts do no IO; the scene side ([`SceneFamily`]) builds a
 //! [`Model`] from a scene document at each parameter value, the way
