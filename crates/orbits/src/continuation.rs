@@ -158,8 +158,15 @@ pub struct Branch {
     pub end: String,
 }
 
-/// `G`, `G_x + I` (the map's Jacobian) and `G_λ` at a point.
-type Linearised = (Vec<f64>, Mat<f64>, Vec<f64>);
+/// The map linearised at a point: `G = P(x) − x`, `G_x + I` (the map's
+/// Jacobian), `G_λ`, and the period's events and horizon.
+struct Linearised {
+    g: Vec<f64>,
+    jac: Mat<f64>,
+    gl: Vec<f64>,
+    events: Vec<signorini_schemes::events::EventRecord>,
+    period: f64,
+}
 
 struct Ctx<'a, F: Family> {
     family: &'a F,
@@ -191,7 +198,7 @@ impl<F: Family> Ctx<'_, F> {
         let (m, t) = self.family.model_and_period(param + h)?;
         let plus = m.flow(0.0, x, t, false)?;
         let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / h).collect();
-        Ok((g, img.jacobian.expect("asked for"), gl))
+        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl, events: img.events, period })
     }
 
     /// The tangent at `(x, λ)` oriented along `prev` (scaled; unit).
@@ -217,19 +224,20 @@ impl<F: Family> Ctx<'_, F> {
 
     /// Newton on the branch from the prediction `(x, λ)`, on the hyperplane
     /// through it normal to `t`. Returns the point and the iterations.
-    fn correct(&self, mut x: Vec<f64>, mut param: f64, t: &[f64]) -> Result<(Vec<f64>, f64, usize), OrbitError> {
+    fn correct(&self, mut x: Vec<f64>, mut param: f64, t: &[f64]) -> Result<(Vec<f64>, f64, Linearised), OrbitError> {
         let n = self.n;
         let (x0, p0) = (x.clone(), param);
         let nt = self.opts.newton;
         let mut last = f64::NAN;
-        for it in 0..nt.max_iter.min(12) {
-            let (g, jac, gl) = self.residual_and_jacobian(&x, param)?;
+        for _ in 0..nt.max_iter.min(12) {
+            let lin = self.residual_and_jacobian(&x, param)?;
+            let (g, jac, gl) = (&lin.g, &lin.jac, &lin.gl);
             let res = g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             last = res;
             let plane: f64 = (0..n).map(|i| t[i] * (x[i] - x0[i]) / self.xs).sum::<f64>() + t[n] * (param - p0) / self.ls;
             let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(nt.scale);
             if res <= nt.tol * xn && plane.abs() <= 1e-12 {
-                return Ok((x, param, it));
+                return Ok((x, param, lin));
             }
             let a = Mat::from_fn(n + 1, n + 1, |r, c| {
                 if r < n {
@@ -258,16 +266,17 @@ impl<F: Family> Ctx<'_, F> {
     }
 
     fn point(&self, x: Vec<f64>, param: f64, prev_tangent: &[f64]) -> Result<Point, OrbitError> {
-        let (model, period) = self.family.model_and_period(param)?;
-        let img = model.flow(0.0, &x, period, true)?;
-        let jac = img.jacobian.clone().expect("asked for");
-        let (m, t) = self.family.model_and_period(param + 1e-7 * self.ls)?;
-        let plus = m.flow(0.0, &x, t, false)?;
-        let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / (1e-7 * self.ls)).collect();
-        let tangent = self.tangent(&jac, &gl, prev_tangent);
-        let residual = img.x.iter().zip(&x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
-        let multipliers = eigenvalues(&jac)?;
-        let orbit = Orbit { x: x.clone(), t0: 0.0, period, events: img.events, monodromy: jac, multipliers, residual, iterations: 0 };
+        let lin = self.residual_and_jacobian(&x, param)?;
+        self.point_from(x, param, lin, prev_tangent)
+    }
+
+    /// The branch point at `(x, λ)` from the map linearised there (the
+    /// corrector's last linearisation: not computed again).
+    fn point_from(&self, x: Vec<f64>, param: f64, lin: Linearised, prev_tangent: &[f64]) -> Result<Point, OrbitError> {
+        let tangent = self.tangent(&lin.jac, &lin.gl, prev_tangent);
+        let residual = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let multipliers = eigenvalues(&lin.jac)?;
+        let orbit = Orbit { x: x.clone(), t0: 0.0, period: lin.period, events: lin.events, monodromy: lin.jac, multipliers, residual, iterations: 0 };
         Ok(Point { x, param, orbit, tangent })
     }
 
@@ -276,8 +285,8 @@ impl<F: Family> Ctx<'_, F> {
         let n = self.n;
         let x: Vec<f64> = (0..n).map(|i| a.x[i] + s * a.tangent[i] * self.xs).collect();
         let param = a.param + s * a.tangent[n] * self.ls;
-        let (x, param, _) = self.correct(x, param, &a.tangent)?;
-        self.point(x, param, &a.tangent)
+        let (x, param, lin) = self.correct(x, param, &a.tangent)?;
+        self.point_from(x, param, lin, &a.tangent)
     }
 }
 
@@ -416,8 +425,8 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
             t[n] = 1.0;
             let frac = (opts.to - cur.param) / (next.param - cur.param);
             let x: Vec<f64> = (0..n).map(|i| cur.x[i] + frac * (next.x[i] - cur.x[i])).collect();
-            let (x, p, _) = ctx.correct(x, opts.to, &t)?;
-            ctx.point(x, p, &cur.tangent)?
+            let (x, p, lin) = ctx.correct(x, opts.to, &t)?;
+            ctx.point_from(x, p, lin, &cur.tangent)?
         } else {
             next
         };
