@@ -16,6 +16,9 @@
 //!   check can reproduce.
 //! * The module graphs of the crates in `module_graph::ACYCLIC`: `--check`
 //!   fails on a cycle among a crate's modules, naming it.
+//! * Packages whose manifest turns the unit-test harness off (`test =
+//!   false`, `crate::unit_tests`): `--check` fails on a `#[test]` in their
+//!   `src/`, which would never run.
 //! * README.md and ARCHITECTURE.md (outside the guide, so outside MkDocs'
 //!   link validation): at most 200 README lines, the README opening with the
 //!   two commands, and every relative link of both resolving to a file, and
@@ -94,6 +97,10 @@ pub fn check(root: &Path) -> Result<(), String> {
         stale.push(format!("the study functions of {} differ from the studies' Configs (crates/studies)", crate::py_studies::FILE));
     }
     stale.extend(crate::crate_graph::check(root)?);
+    let harness = crate::unit_tests::check(root)?;
+    if !harness.is_empty() {
+        return Err(harness.join("; "));
+    }
     let cycles = crate::module_graph::check(root)?;
     if !cycles.is_empty() {
         return Err(format!("{}: move what the modules of a cycle share to a module below them", cycles.join("; ")));

@@ -33,6 +33,7 @@ mod py_studies;
 mod pytest;
 mod scene_keys;
 mod studies;
+mod unit_tests;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
