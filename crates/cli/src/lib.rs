@@ -12,7 +12,7 @@
 //!
 //! ```
 //! let text = signorini_cli::list();
-//! assert!(text.contains("newmark-cn") && text.contains("cd-taylor") && text.contains("moreau-jean(THETA,E)"));
+//! assert!(text.contains("newmark-cn") && text.contains("cd-taylor") && text.contains("moreau-jean(THETA,E[,GAMMA])"));
 //! ```
 //!
 //! Output files of `signorini run` (a contract: columns only ever added):

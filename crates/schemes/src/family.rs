@@ -8,7 +8,7 @@ use crate::{Dynamics, Initial, SchemeError, Stepper};
 use std::fmt;
 
 /// The most parameters a family takes.
-pub const MAX_PARAMS: usize = 2;
+pub const MAX_PARAMS: usize = 3;
 
 /// One parameter of a scheme family.
 #[derive(Clone, Copy, Debug)]

@@ -4,7 +4,7 @@
 //! ```text
 //! M (V^{n+1} - V^n) + dt K (U^n + θ dt V^{n+θ}) = dt F + p e_c,
 //! U^{n+1} = U^n + dt V^{n+θ},   V^{n+θ} = (1-θ) V^n + θ V^{n+1},
-//! if the contact is predicted active (u_c^n + dt/2 v_c^n <= g):
+//! if the contact is predicted active (u_c^n + γ dt v_c^n <= g; γ = 1/2 by default):
 //!     0 <= v_c^{n+1} + e v_c^n  ⊥  p >= 0,   else p = 0,
 //! ```
 //!
@@ -39,6 +39,9 @@ pub struct MoreauJean {
     label: String,
     theta: f64,
     restitution: f64,
+    /// The activation predictor's weight: a contact is predicted active when
+    /// `u_c + γ dt v_c` reaches its bound (Siconos's `MoreauJeanOSI(θ, γ)`).
+    gamma: f64,
     dt: f64,
     n: usize,
     dy: Dynamics,
@@ -61,8 +64,9 @@ pub struct MoreauJean {
 }
 
 impl MoreauJean {
-    /// Sets up the scheme (needs a massive contact node; θ ∈ [1/2, 1], e ∈ [0, 1]).
-    pub fn new(label: String, dy: Dynamics, theta: f64, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+    /// Sets up the scheme (needs a massive contact node; θ ∈ [1/2, 1], e ∈ [0, 1],
+    /// the activation predictor's γ ∈ [0, 1]).
+    pub fn new(label: String, dy: Dynamics, theta: f64, restitution: f64, gamma: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         if dy.massless_contact() {
             return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the impact law acts on its velocity" });
@@ -90,6 +94,7 @@ impl MoreauJean {
             label,
             theta,
             restitution,
+            gamma,
             dt,
             n: 0,
             a,
@@ -115,7 +120,7 @@ impl MoreauJean {
     }
 
     /// Several contacts: each contact predicted active at its lower
-    /// (upper) stop, `u_c + dt/2 v_c <= lo` (`>= hi`), gets Newton's law
+    /// (upper) stop, `u_c + γ dt v_c <= lo` (`>= hi`), gets Newton's law
     /// `v_c^{n+1} >= -e_i v_c^n` (`<=`); the others are free; one exact
     /// solve for all (`rhs` holds the unconstrained `V^{n+1}`).
     fn finish_multi(&mut self) -> Result<StepReport, SchemeError> {
@@ -124,11 +129,11 @@ impl MoreauJean {
         for (i, ct) in self.dy.contacts.iter().enumerate() {
             let (vc, uc) = (self.v[ct.dof], self.u[ct.dof]);
             let e = ct.restitution.unwrap_or(self.restitution);
-            let pred = uc + 0.5 * dt * vc;
+            let pred = uc + self.gamma * dt * vc;
             ms.lo[i] = if pred <= ct.bounds.lo { -e * vc } else { f64::NEG_INFINITY };
             ms.hi[i] = if pred >= ct.bounds.hi { -e * vc } else { f64::INFINITY };
             if ms.lo[i] > ms.hi[i] {
-                // Both stops predicted active (a gap below dt/2 v): the lower wins.
+                // Both stops predicted active (a gap below γ dt v): the lower wins.
                 ms.hi[i] = f64::INFINITY;
             }
         }
@@ -206,8 +211,8 @@ impl Stepper for MoreauJean {
         let (vc, uc) = (self.v[c], self.u[c]);
         // The contact predicted active at its lower (upper) stop gets
         // Newton's law v_c^{n+1} >= -e v_c^n (<=); both predicted (a gap
-        // below dt/2 |v|): the lower wins, as in `finish_multi`.
-        let (bounds, pred) = (self.dy.contact().bounds, uc + 0.5 * dt * vc);
+        // below γ dt |v|): the lower wins, as in `finish_multi`.
+        let (bounds, pred) = (self.dy.contact().bounds, uc + self.gamma * dt * vc);
         let e = self.dy.contact().restitution.unwrap_or(self.restitution);
         let (p, active) = if pred <= bounds.lo {
             let pr = self.proj.project(&mut self.rhs, -e * vc, f64::INFINITY);
@@ -243,25 +248,37 @@ impl Stepper for MoreauJean {
 
 use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec};
 
-/// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1].
+/// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1],
+/// the activation predictor's γ ∈ [0, 1] (default 1/2).
 pub(crate) static MOREAU_JEAN: Family = Family {
     name: "moreau-jean",
-    about: "Moreau–Jean: velocity-level θ-scheme with Newton's impact law (docs/theory.md §4.7)",
-    params: &[Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None }, Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None }],
-    presets: &[Preset { name: "moreau-jean", args: &[0.5, 0.0], group: Group::Peer, rank: 3 }],
+    about: "Moreau–Jean: velocity-level θ-scheme with Newton's impact law, activation predicted by u + γ dt v (docs/theory.md §4.6.4)",
+    params: &[
+        Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None },
+        Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None },
+        Param { name: "gamma", symbol: "γ", syntax: "GAMMA", allowed: "∈ [0, 1]", default: Some(0.5) },
+    ],
+    presets: &[Preset { name: "moreau-jean", args: &[0.5, 0.0, 0.5], group: Group::Peer, rank: 3 }],
     validate: |a| {
         check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]")?;
-        check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")
+        check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")?;
+        check("gamma", a[2], (0.0..=1.0).contains(&a[2]), "[0, 1]")
     },
     capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
-    build: |s, dy, dt, init| Ok(Box::new(MoreauJean::new(s.to_string(), dy, s.args()[0], s.args()[1], dt, init)?)),
+    build: |s, dy, dt, init| Ok(Box::new(MoreauJean::new(s.to_string(), dy, s.args()[0], s.args()[1], s.args()[2], dt, init)?)),
 };
 
 impl SchemeSpec {
-    /// Moreau–Jean with θ and restitution `e` (not validated until built).
+    /// Moreau–Jean with θ and restitution `e`, the predictor's γ = 1/2 (not validated until built).
     pub fn moreau_jean(theta: f64, restitution: f64) -> Self {
-        MOREAU_JEAN.with(&[theta, restitution])
+        MOREAU_JEAN.with(&[theta, restitution, 0.5])
+    }
+
+    /// Moreau–Jean with θ, restitution `e` and the activation predictor's
+    /// γ (`u_c + γ dt v_c` reaching a bound; not validated until built).
+    pub fn moreau_jean_gamma(theta: f64, restitution: f64, gamma: f64) -> Self {
+        MOREAU_JEAN.with(&[theta, restitution, gamma])
     }
 }

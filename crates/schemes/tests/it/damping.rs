@@ -104,7 +104,7 @@ fn one_dof_one_step_schemes_follow_their_recurrence() {
     }
     for th in [0.5, 0.7] {
         let a = moreau_map(M1, C1, K1, th, dt);
-        let mut s = MoreauJean::new("mj".into(), oscillator(M1, C1, K1, None), th, 0.0, dt, &init).unwrap();
+        let mut s = MoreauJean::new("mj".into(), oscillator(M1, C1, K1, None), th, 0.0, 0.5, dt, &init).unwrap();
         let err = compare(&mut s, steps, |n| power_apply(a, n, [u0, v0])[0]);
         println!("moreau-jean({th}): relative error vs the closed-form recurrence {err:.2e}");
         assert!(err < 1e-12, "moreau-jean({th}): {err:e}");

@@ -26,3 +26,4 @@ mod lockstep;
 mod peers;
 mod profile;
 mod several_contacts;
+mod siconos;

@@ -1,0 +1,118 @@
+//! `moreau-jean(θ,e,γ)` against Siconos's `MoreauJeanOSI(θ, γ)`, step by
+//! step, on the systems of `tests/siconos/moreau_jean.py` (its numbers are
+//! kept in `data/siconos/moreau-jean.csv`, written by Siconos 4.4.0 from
+//! Debian's python3-siconos: rerun the script to regenerate them).
+//!
+//! Three dofs, `M q'' + C q' + K q = F`, a steady load, one contact
+//! (`q_0 >= 0`, e = ½) or two (`q_0 >= 0` and `q_2 <= 0.08`, e = ½ or 0
+//! and 0.8, each its own restitution), with and without Rayleigh damping;
+//! θ ∈ {½, ¾, 1}, γ ∈ {0, ½, 1}; 300 steps of 0.01 with resting contact,
+//! impacts and releases. Siconos solves its LCP by Lemke's method, we by
+//! the closed-form projection (one contact) or the exact multi-contact
+//! solve: positions, velocities and impulses agree to 1e-10 of their
+//! scale at every step.
+
+use signorini_fem::SymBand;
+use signorini_schemes::{Bounds, Contact, Dynamics, Initial, SchemeSpec};
+
+const M: [[f64; 3]; 3] = [[2.0 / 6.0, 1.0 / 6.0, 0.0], [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0], [0.0, 1.0 / 6.0, 2.0 / 6.0]];
+const K: [[f64; 3]; 3] = [[30.0, -30.0, 0.0], [-30.0, 60.0, -30.0], [0.0, -30.0, 30.0]];
+const F: [f64; 3] = [-2.0, 0.1, 1.5];
+const F_DOWN: [f64; 3] = [-2.0, -0.5, -0.5];
+const Q0: [f64; 3] = [0.05, 0.0, -0.02];
+const V0: [f64; 3] = [-1.0, 0.3, 0.8];
+const HI: f64 = 0.08;
+const DT: f64 = 0.01;
+
+fn band(a: impl Fn(usize, usize) -> f64) -> SymBand {
+    let mut s = SymBand::zeros(3, 2);
+    for i in 0..3 {
+        for j in 0..=i {
+            s.set(i, j, a(i, j));
+        }
+    }
+    s
+}
+
+/// The case's problem, as the script builds it for Siconos.
+fn dynamics(case: &str) -> Dynamics {
+    let (contacts, damped, load) = match case {
+        "one-contact" => (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(0.5))], false, F_DOWN),
+        "two-contacts" | "two-contacts-damped" => {
+            let e0 = if case == "two-contacts" { 0.5 } else { 0.0 };
+            let upper = Bounds { lo: f64::NEG_INFINITY, hi: HI };
+            (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(e0)), Contact::new(2, upper, false).with_restitution(Some(0.8))], case.ends_with("damped"), F)
+        }
+        other => panic!("unknown case {other}"),
+    };
+    // Siconos's M, and its C = 0.1 M + 0.05 K, written as the script does (M = [..] / 6).
+    let m = |i: usize, j: usize| [[2.0, 1.0, 0.0], [1.0, 4.0, 1.0], [0.0, 1.0, 2.0]][i][j] / 6.0;
+    assert!((0..3).all(|i| (0..3).all(|j| m(i, j) == M[i][j])));
+    let dy = Dynamics::new(band(m), band(|i, j| K[i][j]), load.to_vec(), contacts);
+    dy.with_damping(damped.then(|| band(|i, j| 0.1 * m(i, j) + 0.05 * K[i][j])))
+}
+
+struct Row {
+    step: usize,
+    q: [f64; 3],
+    v: [f64; 3],
+    p: [f64; 2],
+}
+
+fn siconos_runs() -> Vec<((String, f64, f64), Vec<Row>)> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/siconos/moreau-jean.csv");
+    let text = std::fs::read_to_string(path).expect("data/siconos/moreau-jean.csv (tests/siconos/moreau_jean.py writes it)");
+    let mut runs: Vec<((String, f64, f64), Vec<Row>)> = Vec::new();
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let x = |i: usize| f[i].parse::<f64>().unwrap();
+        let key = (f[0].to_string(), x(1), x(2));
+        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)] };
+        match runs.last_mut() {
+            Some((k, rows)) if *k == key => rows.push(row),
+            _ => runs.push((key, vec![row])),
+        }
+    }
+    runs
+}
+
+#[test]
+fn moreau_jean_equals_siconos_moreau_jean_osi_step_by_step() {
+    let runs = siconos_runs();
+    assert_eq!(runs.len(), 15, "3 systems × 5 (θ, γ)");
+    let mut worst = 0.0f64;
+    let mut impulses = 0;
+    for ((case, theta, gamma), rows) in &runs {
+        let dy = dynamics(case);
+        let k = dy.contacts.len();
+        let init = Initial { u: Q0.to_vec(), v: V0.to_vec() };
+        assert_eq!((rows[0].q, rows[0].v), (Q0, V0), "{case}: the script's initial state");
+        // The scheme's own restitution is overridden by each contact's.
+        let spec = SchemeSpec::moreau_jean_gamma(*theta, 0.0, *gamma);
+        let mut s = spec.build(dy, DT, &init).unwrap();
+        for r in &rows[1..] {
+            let rep = s.step().unwrap();
+            assert_eq!(rep.n, r.step);
+            let st = s.state().unwrap();
+            let (q, v) = (&st[..3], &st[3..]);
+            let scale = 1.0 + r.v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for i in 0..3 {
+                let d = ((q[i] - r.q[i]).abs() / scale).max((v[i] - r.v[i]).abs() / scale);
+                worst = worst.max(d);
+                assert!(d <= 1e-10, "{spec} on {case}, step {}: dof {i}: q {} vs Siconos {}, v {} vs {}", r.step, q[i], r.q[i], v[i], r.v[i]);
+            }
+            // The impulses: ours is signed along the dof (λ = −p/dt), Siconos's
+            // along its constraint's normal (`y = hi − q_2`: the opposite sign
+            // at an upper bound); the second column is dof 2's contact.
+            let lams = s.contact_forces();
+            for (j, lam) in lams.iter().enumerate().take(k) {
+                let normal = if j == 1 { -1.0 } else { 1.0 };
+                let p = -normal * lam * DT;
+                impulses += usize::from(r.p[j] != 0.0);
+                assert!((p - r.p[j]).abs() <= 1e-10 * scale, "{spec} on {case}, step {}: impulse {j} {p} vs Siconos {}", r.step, r.p[j]);
+            }
+        }
+    }
+    println!("moreau-jean vs Siconos MoreauJeanOSI: 15 runs × 300 steps, {impulses} impulses, worst difference {worst:.1e} of the velocity scale");
+    assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
+}
