@@ -186,11 +186,11 @@ struct MjStats {
 /// with the dense `M`, then
 ///
 /// * `ΔU = dt ((1 − θ) Vⁿ + θ Vⁿ⁺¹)`;
-/// * the activation predictor: `p = 0` unless `u_cⁿ + (dt/2) v_cⁿ <= g`; when
+/// * the activation predictor: `p = 0` unless `u_cⁿ + γ dt v_cⁿ <= g`; when
 ///   predicted, `0 <= v_cⁿ⁺¹ + e v_cⁿ ⊥ p >= 0`;
 /// * `ΔE = (½ − θ)(ΔVᵀMΔV + ΔUᵀKΔU) + p ((1 − θ) v_cⁿ + θ v_cⁿ⁺¹)`, and for
 ///   θ = ½ an approaching node (`v_cⁿ <= 0`) never gains energy.
-fn check_moreau_jean(o: &Oracle, theta: f64, e: f64, init: &Initial, traj: &Traj) -> MjStats {
+fn check_moreau_jean(o: &Oracle, theta: f64, e: f64, gamma: f64, init: &Initial, traj: &Traj) -> MjStats {
     let (dt, c) = (traj.dt, o.c);
     let chol = Chol::new(&o.m);
     let (nm, nk) = (norm_inf(&o.m), norm_inf(&o.k));
@@ -213,10 +213,10 @@ fn check_moreau_jean(o: &Oracle, theta: f64, e: f64, init: &Initial, traj: &Traj
         let res = sub(&du, &vt.iter().map(|x| dt * x).collect::<Vec<_>>());
         st.residual.check(&format!("step {l}: ΔU − dt V^(n+θ)"), max_abs(&res), max_abs(u0) + max_abs(u1) + dt * vscale, TOL);
         // The predictor and the impact law.
-        let pred = u0[c] + 0.5 * dt * v[c] - o.lo;
+        let pred = u0[c] + gamma * dt * v[c] - o.lo;
         if pred.abs() > 1e-12 * (u0[c].abs() + o.lo.abs() + dt * v[c].abs()) {
             if pred > 0.0 {
-                assert_eq!(p, 0.0, "step {l}: an impulse {p} although u_c + dt/2 v_c = g + {pred:e} predicts no contact");
+                assert_eq!(p, 0.0, "step {l}: an impulse {p} although u_c + γ dt v_c = g + {pred:e} predicts no contact");
             } else {
                 st.predicted += 1;
                 let gap_v = v1[c] + e * v[c];
@@ -248,9 +248,11 @@ fn check_moreau_jean(o: &Oracle, theta: f64, e: f64, init: &Initial, traj: &Traj
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
-    /// Moreau–Jean (θ = ½ or any θ ∈ [½, 1], any e, std or lumped mass).
+    /// Moreau–Jean (θ = ½ or any θ ∈ [½, 1], any e, the predictor's γ = ½
+    /// or any γ ∈ [0, 1], std or lumped mass).
     #[test]
     fn moreau_jean_equations_predictor_impact_law_and_energy(m in 2usize..25, lumped in proptest::bool::ANY, theta in prop_oneof![Just(0.5), 0.5f64..=1.0],
+                                                             gamma in prop_oneof![Just(0.5), Just(0.0), Just(1.0), 0.0f64..=1.0],
                                                              e in 0.0f64..=1.0, cfl in 0.05f64..20.0, phi in gap_strategy(), body in -0.5f64..-0.1,
                                                              offset in 0.0f64..0.02, speed in 0.5f64..2.0, wiggle in 0.0f64..0.5, seed in 0.1f64..3.0, free in proptest::bool::ANY) {
         let gap = gap_of(phi, body);
@@ -259,10 +261,10 @@ proptest! {
         let (dy, o) = bar_scene(m, mass, free, gap, body, None);
         let init = approaching(n, m, gap, offset, speed, wiggle, seed);
         let dt = cfl / m as f64;
-        let spec = SchemeSpec::moreau_jean(theta, e);
+        let spec = SchemeSpec::moreau_jean_gamma(theta, e, gamma);
         let mut s = spec.build(dy, dt, &init).unwrap();
         let traj = record(s.as_mut(), steps_for(dt, 60));
-        let st = check_moreau_jean(&o, theta, e, &init, &traj);
+        let st = check_moreau_jean(&o, theta, e, gamma, &init, &traj);
         // A large step can carry the node through a contact phase without
         // an impulse (the free velocity already satisfies the law): require
         // predicted-active steps here, impulses in the deterministic test below.
@@ -281,7 +283,7 @@ fn moreau_jean_contact_heavy_runs() {
             let init = approaching(10, 10, 0.1, 0.3, 1.0, 0.0, 1.0);
             let mut s = SchemeSpec::moreau_jean(theta, e).build(dy, 0.05, &init).unwrap();
             let traj = record(s.as_mut(), 200);
-            let st = check_moreau_jean(&o, theta, e, &init, &traj);
+            let st = check_moreau_jean(&o, theta, e, 0.5, &init, &traj);
             assert!(st.impulses > 10, "θ = {theta}, e = {e}, {mass}: {} impulses", st.impulses);
             println!("moreau-jean({theta},{e}) {mass}: residual {:.1e}, energy {:.1e}, {} impulses, {} predicted", st.residual.ratio, st.energy.ratio, st.impulses, st.predicted);
         }
