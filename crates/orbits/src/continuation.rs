@@ -540,35 +540,14 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
-    let margin = |p: &Point| ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok());
     let prev = &points[points.len() - 2];
-    let mut p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
-    let mut p1 = cur.clone();
-    let (mut m0, mut m1) = (margin(&p0)?, margin(&p1)?);
+    let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
+    let (m0, m1) = (margin(ctx, &p0)?, margin(ctx, cur)?);
     if !(m1 < m0 && m1 >= 0.0) {
         return None;
     }
+    let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), 0, None, OnFailure::Stop, dir)?;
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
-    let mut estimate = p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
-    for _ in 0..40 {
-        if m1 == 0.0 || m0 == m1 {
-            break;
-        }
-        estimate = p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
-        if (estimate - p1.param).abs() <= 1e-14 * ctx.ls.max(estimate.abs()) {
-            break;
-        }
-        // Short of the estimate, on the side without the impact.
-        let at = p1.param + 0.9 * (estimate - p1.param);
-        let guess = lerp(&p0, &p1, (at - p0.param) / (p1.param - p0.param));
-        match solve_at(ctx, &guess, at, dir) {
-            Some(p) if p.orbit.impacts() == 0 => {
-                let m = margin(&p)?;
-                (p0, m0, p1, m1) = (p1, m1, p, m);
-            }
-            _ => break,
-        }
-    }
     let side = (estimate - cur.param).signum();
     let mut beyond = None;
     for f in [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
@@ -710,6 +689,99 @@ fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) ->
     ctx.point(orbit.x, param, &seed).ok()
 }
 
+/// The smallest distance of `p`'s orbit to a bound over its period.
+fn margin<F: Family>(ctx: &Ctx<'_, F>, p: &Point) -> Option<f64> {
+    ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok())
+}
+
+/// What [`grazing_parameter`] does when a trial is not an orbit of the
+/// smooth side (Newton fails, or the orbit has the grazing impact).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum OnFailure {
+    /// The search ends: its steps stop 0.9 of the way to each secant
+    /// estimate, so as to stay on the smooth side.
+    Stop,
+    /// The step is shortened (the trial becomes the nearest parameter known
+    /// to be beyond) and tried again, at most 30 times in a row: full secant
+    /// steps, never past that parameter.
+    Shorten,
+}
+
+/// The grazing parameter from the smooth side of a grazing — the orbits
+/// with `smooth` impacts, which do not have the grazing impact and are
+/// smooth in the parameter — as the zero of the orbit's smallest distance
+/// to a bound (its margin): secant steps, each a Newton solve from the
+/// state extrapolated from the last two orbits. Starts from `p1` (and `p0`
+/// with their margins); `beyond` is `(first estimate, a parameter known to
+/// be past the grazing)`, with which the first step goes halfway there
+/// (for [`OnFailure::Shorten`]; [`OnFailure::Stop`] starts from the secant
+/// of `p0`, `p1`). Returns the estimate and the last orbit of the smooth
+/// side; `None` if a margin cannot be computed.
+fn grazing_parameter<F: Family>(ctx: &Ctx<'_, F>, p0: Option<(Point, f64)>, p1: (Point, f64), smooth: usize, beyond: Option<(f64, f64)>, fail: OnFailure, dir: f64) -> Option<(f64, Point)> {
+    let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
+    let (mut p1, mut m1) = p1;
+    let (mut p0, mut m0) = p0.unwrap_or_else(|| (p1.clone(), f64::NAN));
+    let secant = |p0: &Point, m0: f64, p1: &Point, m1: f64| p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
+    let (mut estimate, mut limit) = match beyond {
+        Some((first, limit)) => (first, limit),
+        None => (secant(&p0, m0, &p1, m1), f64::NAN),
+    };
+    let (iterations, tiny) = if fail == OnFailure::Stop { (40, 1e-14) } else { (60, 1e-15) };
+    let mut tries = 0;
+    for k in 0..iterations {
+        let next = match fail {
+            OnFailure::Stop => {
+                if m1 == 0.0 || m0 == m1 {
+                    break;
+                }
+                estimate = secant(&p0, m0, &p1, m1);
+                if (estimate - p1.param).abs() <= tiny * ctx.ls.max(estimate.abs()) {
+                    break;
+                }
+                // Short of the estimate, on the smooth side.
+                p1.param + 0.9 * (estimate - p1.param)
+            }
+            OnFailure::Shorten => {
+                let mut next = if k == 0 || m0 == m1 || !m0.is_finite() {
+                    // First step: halfway toward the nearest orbit beyond.
+                    p1.param + 0.5 * (limit - p1.param)
+                } else {
+                    secant(&p0, m0, &p1, m1)
+                };
+                // Never past the nearest orbit beyond.
+                if (next - limit) * (p1.param - limit) <= 0.0 {
+                    next = p1.param + 0.5 * (limit - p1.param);
+                }
+                if (next - p1.param).abs() <= tiny * ctx.ls.max(next.abs()) || m1 == 0.0 {
+                    estimate = next;
+                    break;
+                }
+                next
+            }
+        };
+        let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
+        match solve_at(ctx, &guess, next, dir) {
+            Some(p) if p.orbit.impacts() == smooth => {
+                let m = margin(ctx, &p)?;
+                (p0, m0, p1, m1) = (p1, m1, p, m);
+                if fail == OnFailure::Shorten {
+                    estimate = if m0.is_finite() && m0 != m1 { secant(&p0, m0, &p1, m1) } else { p1.param };
+                    tries = 0;
+                }
+            }
+            _ if fail == OnFailure::Stop => break,
+            _ => {
+                tries += 1;
+                if tries > 30 {
+                    break;
+                }
+                limit = next;
+            }
+        }
+    }
+    Some((estimate, p1))
+}
+
 /// When the slowest impact of `b` is slowing down toward 0 (the orbit is
 /// near grazing: its Jacobian grows as 1/speed and the steps shrink),
 /// the grazing parameter extrapolated from `a`, `b`: an orbit is sought
@@ -749,49 +821,8 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
     // smallest distance to a bound (secant steps, each a Newton solve from
     // the extrapolated state). The impacting side's Jacobian grows as the
     // inverse of the impact speed: it is used only for the first estimate.
-    let margin = |p: &Point| ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok());
-    let mut p1 = c.clone();
-    let mut m1 = margin(&p1)?;
-    let mut p0 = p1.clone();
-    let mut m0 = f64::NAN;
-    let mut estimate = graze;
-    let mut tries = 0;
-    // The nearest parameter known to give the impacting orbit.
-    let mut limit = b.param;
-    for k in 0..60 {
-        let mut next = if k == 0 || m0 == m1 || !m0.is_finite() {
-            // First step: halfway toward the nearest impacting orbit.
-            p1.param + 0.5 * (limit - p1.param)
-        } else {
-            p1.param - m1 * (p1.param - p0.param) / (m1 - m0)
-        };
-        // Never past the nearest impacting orbit.
-        if (next - limit) * (p1.param - limit) <= 0.0 {
-            next = p1.param + 0.5 * (limit - p1.param);
-        }
-        if (next - p1.param).abs() <= 1e-15 * ctx.ls.max(next.abs()) || m1 == 0.0 {
-            estimate = next;
-            break;
-        }
-        let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
-        match solve_at(ctx, &guess, next, dir) {
-            Some(p) if p.orbit.impacts() == c.orbit.impacts() => {
-                let m = margin(&p)?;
-                (p0, m0, p1, m1) = (p1, m1, p, m);
-                estimate = if m0.is_finite() && m0 != m1 { p1.param - m1 * (p1.param - p0.param) / (m1 - m0) } else { p1.param };
-                tries = 0;
-            }
-            // Beyond the grazing (the orbit impacts) or no convergence:
-            // a shorter step from the last orbit.
-            _ => {
-                tries += 1;
-                if tries > 30 {
-                    break;
-                }
-                limit = next;
-            }
-        }
-    }
+    let m1 = margin(ctx, &c)?;
+    let (estimate, _) = grazing_parameter(ctx, None, (c.clone(), m1), c.orbit.impacts(), Some((graze, b.param)), OnFailure::Shorten, dir)?;
     let lo = b.clone();
     let bif = Bifurcation {
         param: estimate,
