@@ -37,7 +37,32 @@ pub trait Family {
     fn model_and_period(&self, param: f64) -> Result<(Model, f64), OrbitError> {
         Ok((self.model(param)?, self.period(param)?))
     }
+    /// The model and horizon at `param`, and what marks an orbit there for
+    /// the front ends ([`Mark`], from the model and the orbit's state): a
+    /// family of scenes marks each point with the scene it built for the
+    /// point's model, so that no one builds it again to label the point.
+    /// The default marks nothing.
+    fn model_period_marker(&self, param: f64) -> Result<(Model, f64, Option<Marker>), OrbitError> {
+        let (model, period) = self.model_and_period(param)?;
+        Ok((model, period, None))
+    }
 }
+
+/// What a branch point (or a bifurcation located at one) of a family of
+/// scenes carries for the front ends: the scene's forcing frequency Ω and
+/// its tip's displacement on the section (the quantities `branch.csv`'s
+/// `impact_phase` and `displacement` are made of).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mark {
+    /// The forcing frequency Ω.
+    pub omega: f64,
+    /// The tip's displacement on the section.
+    pub tip: f64,
+}
+
+/// Marks the orbit through a state of the model it is given
+/// ([`Family::model_period_marker`]); `None` when it cannot.
+pub type Marker = Box<dyn Fn(&Model, &[f64]) -> Option<Mark>>;
 
 /// What a continuation is asked.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,6 +113,8 @@ pub struct BranchPoint {
     pub param: f64,
     /// The orbit.
     pub orbit: Orbit,
+    /// Its [`Mark`] (a family of scenes).
+    pub mark: Option<Mark>,
 }
 
 impl BranchPoint {
@@ -145,6 +172,10 @@ pub struct Bifurcation {
     pub between: (usize, usize),
     /// The orbit's state there.
     pub x: Vec<f64>,
+    /// The [`Mark`] of that orbit when it is a point of the branch's
+    /// family at `param` (a bifurcation located on the arclength); `None`
+    /// for a grazing located by its distance to the stop.
+    pub mark: Option<Mark>,
 }
 
 /// A branch: its points in order, its bifurcations, and why it ended.
@@ -166,6 +197,9 @@ struct Linearised {
     gl: Vec<f64>,
     events: Vec<signorini_schemes::events::EventRecord>,
     period: f64,
+    /// The model at the point and its marker.
+    model: Model,
+    marker: Option<Marker>,
 }
 
 struct Ctx<'a, F: Family> {
@@ -185,11 +219,12 @@ struct Point {
     orbit: Orbit,
     /// The unit tangent (scaled coordinates; last entry: the parameter's).
     tangent: Vec<f64>,
+    mark: Option<Mark>,
 }
 
 impl<F: Family> Ctx<'_, F> {
     fn residual_and_jacobian(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
-        let (model, period) = self.family.model_and_period(param)?;
+        let (model, period, marker) = self.family.model_period_marker(param)?;
         let img = model.flow(0.0, x, period, true)?;
         let g: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
         // G_λ by a forward difference: it steers Newton and the tangent
@@ -198,7 +233,7 @@ impl<F: Family> Ctx<'_, F> {
         let (m, t) = self.family.model_and_period(param + h)?;
         let plus = m.flow(0.0, x, t, false)?;
         let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / h).collect();
-        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl, events: img.events, period })
+        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl, events: img.events, period, model, marker })
     }
 
     /// The tangent at `(x, λ)` oriented along `prev` (scaled; unit).
@@ -276,8 +311,9 @@ impl<F: Family> Ctx<'_, F> {
         let tangent = self.tangent(&lin.jac, &lin.gl, prev_tangent);
         let residual = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let multipliers = eigenvalues(&lin.jac)?;
+        let mark = lin.marker.as_ref().and_then(|m| m(&lin.model, &x));
         let orbit = Orbit { x: x.clone(), t0: 0.0, period: lin.period, events: lin.events, monodromy: lin.jac, multipliers, residual, iterations: 0 };
-        Ok(Point { x, param, orbit, tangent })
+        Ok(Point { x, param, orbit, tangent, mark })
     }
 
     /// The point at arclength `s` from `a` along its tangent.
@@ -339,7 +375,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
     let mut seed = vec![0.0; n + 1];
     seed[n] = dir;
     let mut cur = ctx.point(start.x.clone(), opts.from, &seed)?;
-    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone() }], bifurcations: Vec::new(), end: String::new() };
+    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone(), mark: cur.mark }], bifurcations: Vec::new(), end: String::new() };
     let mut ds = opts.step;
     // The impact speeds' scale, for the grazing test.
     let mut vref = cur.orbit.fastest_impact().map_or(0.0, |f| f.0);
@@ -375,6 +411,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     releases: (cur.orbit.releases(), p.orbit.releases()),
                     between: (i, i + 1),
                     x: at.x.clone(),
+                    mark: at.mark,
                 });
                 p
             }
@@ -385,7 +422,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // state jumps by its impulse; the branch goes on from
                     // the state on the other side.
                     if let Some(p) = across_section(&ctx, &cur, &branch.points, dir) {
-                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
+                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark });
                         cur = p;
                         ds = opts.step;
                         continue;
@@ -394,7 +431,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // located on its smooth side, the impacting orbit beyond.
                     if let Some((bif, away)) = appearing_impact(&ctx, &cur, &branch.points, dir) {
                         branch.bifurcations.push(bif);
-                        branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone() }));
+                        branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark }));
                         cur = away.into_iter().last().expect("at least one");
                         ds = opts.min_step.max(1e-4);
                         continue;
@@ -403,7 +440,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // (a free flight grazing a stop): the orbit just beyond.
                     if let Some((bif, p)) = corner(&ctx, &cur, &branch.points, dir) {
                         branch.bifurcations.push(bif);
-                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
+                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark });
                         cur = p;
                         ds = opts.step;
                         continue;
@@ -432,7 +469,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
         };
         let i = branch.points.len() - 1;
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
-        branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone() });
+        branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone(), mark: next.mark });
         if beyond(next.param) || next.param == opts.to {
             branch.end = "reached to".into();
             return Ok(branch);
@@ -449,7 +486,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
             branch.bifurcations.push(bif);
             let beyond_to = beyond(across.param);
             if !beyond_to {
-                branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone() });
+                branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone(), mark: across.mark });
                 cur = across;
                 ds = opts.step;
                 continue;
@@ -568,6 +605,7 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
         releases: (0, b.orbit.releases()),
         between: (points.len() - 1, points.len()),
         x: p1.x.clone(),
+        mark: None,
     };
     // Away from the grazing by natural-parameter steps doubling
     // (each from the last two orbits' extrapolation) until the new impact's
@@ -634,6 +672,7 @@ fn corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir:
         releases: (cur.orbit.releases(), b.orbit.releases()),
         between: (points.len() - 1, points.len()),
         x: cur.x.clone(),
+        mark: None,
     };
     Some((bif, b))
 }
@@ -832,6 +871,7 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
         releases: (b.orbit.releases(), c.orbit.releases()),
         between: (i, i + 1),
         x: lo.x.clone(),
+        mark: None,
     };
     Some((bif, c))
 }
@@ -865,7 +905,16 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     }
     for (kind, p) in found {
         let mu = critical(kind, &p);
-        out.push(Bifurcation { param: p.param, kind, mu, impacts: (a.orbit.impacts(), b.orbit.impacts()), releases: (a.orbit.releases(), b.orbit.releases()), between: (i, i + 1), x: p.x.clone() });
+        out.push(Bifurcation {
+            param: p.param,
+            kind,
+            mu,
+            impacts: (a.orbit.impacts(), b.orbit.impacts()),
+            releases: (a.orbit.releases(), b.orbit.releases()),
+            between: (i, i + 1),
+            x: p.x.clone(),
+            mark: p.mark,
+        });
     }
     out.sort_by_key(|p| p.between);
 }
@@ -914,6 +963,8 @@ fn bisect<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: im
         let mut p = pa.clone();
         p.param = pa.param + w * (pb.param - pa.param);
         p.x = pa.x.iter().zip(&pb.x).map(|(x, y)| x + w * (y - x)).collect();
+        // Not an orbit computed there: no mark (the front end builds it).
+        p.mark = None;
         p
     } else {
         pa

@@ -295,3 +295,35 @@ fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
     assert_eq!(grazing[0].impacts, (0, 1));
     assert_period_doublings(&branch, 2.2, 2.44);
 }
+
+/// The front end labels each branch point with what the point carries (its
+/// scene's Ω and tip, not built again): for the oscillator the tip is the
+/// displacement itself, so `branch.csv`'s `displacement` is its `q0`, on
+/// the period-1 branch and the period-doubled ones alike; and a period-1
+/// point's impact phase is Ω·t of its impact with Ω its own parameter
+/// (the closed-form orbit's phase there).
+#[test]
+fn every_point_carries_its_own_omega_and_tip() {
+    use signorini_orbits::front::{continue_scene, ContinueOptions};
+    let doc: toml::Table = SCENE.replace("omega = 2.0", "omega = 2.2").parse().unwrap();
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
+    let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
+    let csv = &done.files.iter().find(|f| f.0 == "branch.csv").unwrap().1;
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (cd, cq, cp, cb, cph, cper) = (col("displacement"), col("q0"), col("param"), col("branch"), col("impact_phase"), col("period"));
+    let mut doubled = 0;
+    for l in lines {
+        let c: Vec<&str> = l.split(',').collect();
+        assert_eq!(c[cd], c[cq], "{l}");
+        doubled += usize::from(c[cb] != "0");
+        if c[cper] == "1" && !c[cph].is_empty() {
+            let omega: f64 = c[cp].parse().unwrap();
+            let phase: f64 = c[cph].parse().unwrap();
+            let want: Vec<f64> = exact(omega).period1_orbits().into_iter().filter(|o| o.is_admissible()).map(|o| o.phase.rem_euclid(TAU)).collect();
+            assert!(want.iter().any(|w| (w - phase).abs() < 1e-6 || (TAU - (w - phase).abs()) < 1e-6), "Ω = {omega}: phase {phase} vs closed form {want:?}");
+        }
+    }
+    assert!(doubled > 10, "the period-doubled branches are there: {doubled} rows");
+}
