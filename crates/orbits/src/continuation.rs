@@ -894,6 +894,17 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     for (kind, f) in tests {
         if smooth && f(a) * f(b) < 0.0 {
             let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
+            // The period-doubling and Neimark–Sacker tests jump where
+            // they change the multiplier they follow (the real multiplier
+            // nearest −1 passes from one of two negative ones to the other,
+            // equally far from −1 on either side of it; a complex pair
+            // meets on the real axis): a sign change whose located point is
+            // not at the crossing (test value beyond 1e-4, where a
+            // crossing's bracket ends within 1e-12 of it) is such a jump,
+            // not a bifurcation.
+            if kind != BifurcationKind::Fold && f(&p).abs() > 1e-4 {
+                continue;
+            }
             found.push((kind, p));
         }
     }
