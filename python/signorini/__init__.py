@@ -17,9 +17,9 @@ from ._signorini import BlowUp, InternalError, SceneError, __version__
 from . import _check, _signorini, exact, fem, studies
 from .studies import convergence
 from .sweep import SweepResult, sweep
-from .orbits import ContinuationResult, ModesResult, continuation, modes
+from .orbits import BasinsResult, ContinuationResult, ModesResult, basins, continuation, modes
 
-__all__ = ["BlowUp", "CheckResult", "ContinuationResult", "ModesResult", "continuation", "modes", "EnergyGrowthWarning", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
+__all__ = ["BasinsResult", "BlowUp", "CheckResult", "ContinuationResult", "ModesResult", "basins", "continuation", "modes", "EnergyGrowthWarning", "InternalError", "RunResult", "SceneError", "SweepResult", "check", "convergence", "exact", "fem", "run", "studies", "sweep", "__version__"]
 
 _Scene = _Union[dict, str, "_os.PathLike[str]"]
 

@@ -19,7 +19,7 @@ from ._signorini import SceneError as _SceneError
 from .sweep import SweepResult as _SweepResult
 from .sweep import _scene
 
-__all__ = ["ContinuationResult", "ModesResult", "continuation", "modes"]
+__all__ = ["BasinsResult", "ContinuationResult", "ModesResult", "basins", "continuation", "modes"]
 
 
 class ContinuationResult:
@@ -33,6 +33,7 @@ class ContinuationResult:
 
     def __init__(self, d, out):
         self.tables = d["tables"]
+        self._files = d.get("files", {})
         self.branch = self.tables.get("branch.csv")
         self.bifurcations = self.tables.get("bifurcations.csv")
         self.svg = d["svg"]
@@ -118,3 +119,141 @@ def modes(scene, start, stop, *, points=40, out=None) -> ModesResult:
     points = _check.integer("points", points)
     d = _signorini.run_modes(text, start, stop, points, None if out is None else str(out))
     return ModesResult(d, out)
+
+
+class BasinsResult:
+    """A grid of basins (``signorini basins``), cell ``c = j*nx + i`` of the
+    cells run (a shard's block, or the whole rows before a Ctrl-C):
+
+    * per cell (numpy arrays): ``i``, ``j``, ``x``, ``v`` (the cell's values
+      of the two keys), ``attractor`` (int64: the attractor's id, numbered
+      in the order the cells first reach them; -1 non-periodic, -2 failed),
+      ``period`` (forcing periods; 0 non-periodic or failed),
+      ``impacts_per_period``, ``sticking`` (bool), ``label`` (list of str:
+      ``branch<B>:<N>`` of a known orbit, else ``p<k>-i<n>[-sticking]``,
+      ``non-periodic`` or ``failed``), ``state`` (cells x ``2·dofs``: the
+      attractor's point on the section, columns ``state_columns``, NaN for
+      a failed cell);
+    * ``attractors``: a dict of arrays by attractor id — ``id``,
+      ``period``, ``label`` (its first cell's), ``state`` (attractors x
+      ``2·dofs``), ``cells`` (how many), ``first_cell``;
+    * ``map``: ``attractor`` as a (ny, nx) array for a whole grid (None
+      otherwise); ``grid`` ``(nx, ny)``; ``cells`` ``(first, end)``;
+      ``complete``; ``id`` (the grid's, as ``basins.toml`` states it);
+      ``files`` (name -> text of ``basins.csv``, ``basins.toml`` and, for a
+      whole grid, ``basins.svg``: byte for byte the command's); ``svg``;
+      ``lines``; ``out``. ``write(folder)`` writes the files."""
+
+    def __init__(self, d, out=None):
+        import numpy as _np
+
+        self.i, self.j, self.x, self.v = d["i"], d["j"], d["x"], d["v"]
+        self.attractor, self.period = d["attractor"], d["period"]
+        self.impacts_per_period, self.sticking = d["impacts_per_period"], d["sticking"]
+        self.label = list(d["label"])
+        w = int(d["width"])
+        self.state = _np.asarray(d["state"]).reshape(-1, w) if w else _np.zeros((len(self.attractor), 0))
+        self.state_columns = list(d["state_columns"])
+        a = dict(d["attractors"])
+        a["label"] = list(a["label"])
+        a["state"] = _np.asarray(a["state"]).reshape(-1, w) if w else _np.zeros((len(a["id"]), 0))
+        self.attractors = a
+        self.grid = tuple(d["grid"])
+        self.cells = tuple(d["cells"])
+        self.complete = bool(d["complete"])
+        self.id = d["id"]
+        self.files = dict(d["files"])
+        self.svg = self.files.get("basins.svg")
+        self.lines = list(d["lines"])
+        nx, ny = self.grid
+        whole = self.complete and self.cells == (0, nx * ny)
+        self.map = self.attractor.reshape(ny, nx) if whole else None
+        self.out = out
+
+    def write(self, folder):
+        """Writes ``files`` into ``folder`` (created if absent): the files
+        ``signorini basins`` writes, byte for byte. Returns the folder."""
+        folder = _pathlib.Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        for name, text in self.files.items():
+            (folder / name).write_bytes(text.encode("utf-8"))
+        return folder
+
+    def __repr__(self) -> str:
+        nx, ny = self.grid
+        return f"<signorini.BasinsResult: {len(self.attractor)} of {nx}x{ny} cells, {len(self.attractors['id'])} attractors>"
+
+
+def _pair(name, v, item):
+    if not isinstance(v, (tuple, list)) or len(v) != 2:
+        raise _SceneError(f"{name}: {v!r} is not allowed: a pair ({'nx, ny' if name == 'grid' else 'first, last'})")
+    return (item(f"{name}[0]", v[0]), item(f"{name}[1]", v[1]))
+
+
+def _orbits_text(orbits):
+    if orbits is None:
+        return None
+    if isinstance(orbits, ContinuationResult):
+        text = orbits._files.get("branch.csv")
+        if text is None and orbits.out is not None:
+            text = (_pathlib.Path(orbits.out) / "branch.csv").read_text()
+        if text is None:
+            raise _SceneError("orbits: a ContinuationResult without its branch.csv is not allowed: a ContinuationResult, a branch.csv or its folder")
+        return text
+    if not isinstance(orbits, (str, _pathlib.PurePath)):
+        raise _SceneError(f"orbits: {orbits!r} is not allowed: a ContinuationResult, a branch.csv or its folder")
+    p = _pathlib.Path(orbits)
+    if p.is_dir():
+        p = p / "branch.csv"
+    try:
+        return p.read_text()
+    except OSError as e:
+        raise _SceneError(f"orbits: {p}: {e.strerror or e} (a branch.csv of signorini continue)") from None
+
+
+def basins(scene, x, v, grid, x_range, v_range, *, transient=200, max_period=16, tol=1e-6, match_tol=1e-3, orbits=None, shard=None, threads=None, out=None) -> BasinsResult:
+    """The basins of attraction of an event-driven scene (``scheme =
+    "event-driven(e)"``, a periodic forcing) over a grid of initial states
+    (``signorini basins``): ``x`` and ``v`` are dotted paths of numeric keys
+    written in the scene (``oscillator.initial_displacement``), ``grid =
+    (nx, ny)`` the cells along each, ``x_range``/``v_range`` their first and
+    last values. Each cell runs ``transient`` forcing periods, then its
+    period (the smallest k <= ``max_period`` with ``|P^k(x) - x| <= tol *
+    max(1, |x|)`` on the stroboscopic map P), impacts per period and
+    sticking are read; cells within ``match_tol`` of one attractor share
+    its id. ``orbits`` (a :class:`ContinuationResult`, a ``branch.csv`` or
+    its folder) labels the cells that reach a known orbit; ``shard=(i, n)``
+    runs the i-th of n blocks of cells (``signorini merge`` joins the
+    folders); ``threads`` (default: all cores) changes nothing in the
+    result; ``out`` writes the files (as :meth:`BasinsResult.write`).
+    Ctrl-C stops between cells and raises KeyboardInterrupt whose
+    ``partial`` is the BasinsResult of the whole rows so far (written to
+    ``out`` too). Bad input raises SceneError naming the argument."""
+    text, _name, _base = _scene(scene)
+    x = _check.string("x", x)
+    v = _check.string("v", v)
+    grid = _pair("grid", grid, lambda n, k: _check.integer(n, k, 0, (1 << 63) - 1))
+    x_range = _pair("x_range", x_range, _check.real)
+    v_range = _pair("v_range", v_range, _check.real)
+    transient = _check.integer("transient", transient, 0, (1 << 63) - 1)
+    max_period = _check.integer("max_period", max_period, 0, (1 << 63) - 1)
+    tol = _check.real("tol", tol)
+    match_tol = _check.real("match_tol", match_tol)
+    if shard is not None:
+        shard = _pair("shard", shard, lambda n, k: _check.integer(n, k, 0, (1 << 63) - 1))
+    if threads is not None:
+        threads = _check.integer("threads", threads, 0, (1 << 63) - 1)
+    orbits = _orbits_text(orbits)
+    try:
+        d = _signorini.run_basins(text, x, v, grid, x_range, v_range, transient, max_period, tol, match_tol, orbits, shard, threads)
+    except KeyboardInterrupt as e:
+        part = getattr(e, "partial", None)
+        if isinstance(part, dict):
+            e.partial = BasinsResult(part, out)
+            if out is not None:
+                e.partial.write(out)
+        raise
+    r = BasinsResult(d, out)
+    if out is not None:
+        r.write(out)
+    return r

@@ -564,6 +564,7 @@ fn _signorini(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(orbits::run_continuation, m)?)?;
     m.add_function(wrap_pyfunction!(orbits::run_modes, m)?)?;
+    m.add_function(wrap_pyfunction!(orbits::run_basins, m)?)?;
     m.add_function(wrap_pyfunction!(scene_text, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene, m)?)?;
     m.add_function(wrap_pyfunction!(check_scene_numbers, m)?)?;

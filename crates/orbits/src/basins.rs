@@ -26,7 +26,15 @@
 //! Known orbits (a continuation's `branch.csv` rows, [`parse_branch`])
 //! label the attractors they match within the same tolerance.
 //!
-//! Nothing here does IO; the CLI writes `basins.csv` and `basins.svg`.
+//! A whole grid as the front ends run it — options, known orbits, cells in
+//! parallel, attractor ids, shards and their merge, and the text of
+//! `basins.csv`, `basins.svg` and `basins.toml` — is [`Grid`] ([`basins_csv`]
+//! gives the columns). Nothing here does IO; the front ends write the
+//! files.
+
+mod grid;
+
+pub use grid::{basins_csv, basins_svg, basins_toml, block, merge, AttractorEntry, Basins, Grid, GridOptions, Manifest, Merged, BASIN_COLUMNS, FAILED, NON_PERIODIC};
 
 use crate::map::Model;
 use crate::scene::{lookup_as, Built, SceneFamily};

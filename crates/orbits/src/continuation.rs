@@ -37,7 +37,32 @@ pub trait Family {
     fn model_and_period(&self, param: f64) -> Result<(Model, f64), OrbitError> {
         Ok((self.model(param)?, self.period(param)?))
     }
+    /// The model and horizon at `param`, and what marks an orbit there for
+    /// the front ends ([`Mark`], from the model and the orbit's state): a
+    /// family of scenes marks each point with the scene it built for the
+    /// point's model, so that no one builds it again to label the point.
+    /// The default marks nothing.
+    fn model_period_marker(&self, param: f64) -> Result<(Model, f64, Option<Marker>), OrbitError> {
+        let (model, period) = self.model_and_period(param)?;
+        Ok((model, period, None))
+    }
 }
+
+/// What a branch point (or a bifurcation located at one) of a family of
+/// scenes carries for the front ends: the scene's forcing frequency Ω and
+/// its tip's displacement on the section (the quantities `branch.csv`'s
+/// `impact_phase` and `displacement` are made of).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mark {
+    /// The forcing frequency Ω.
+    pub omega: f64,
+    /// The tip's displacement on the section.
+    pub tip: f64,
+}
+
+/// Marks the orbit through a state of the model it is given
+/// ([`Family::model_period_marker`]); `None` when it cannot.
+pub type Marker = Box<dyn Fn(&Model, &[f64]) -> Option<Mark>>;
 
 /// What a continuation is asked.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,6 +113,8 @@ pub struct BranchPoint {
     pub param: f64,
     /// The orbit.
     pub orbit: Orbit,
+    /// Its [`Mark`] (a family of scenes).
+    pub mark: Option<Mark>,
 }
 
 impl BranchPoint {
@@ -145,6 +172,10 @@ pub struct Bifurcation {
     pub between: (usize, usize),
     /// The orbit's state there.
     pub x: Vec<f64>,
+    /// The [`Mark`] of that orbit when it is a point of the branch's
+    /// family at `param` (a bifurcation located on the arclength); `None`
+    /// for a grazing located by its distance to the stop.
+    pub mark: Option<Mark>,
 }
 
 /// A branch: its points in order, its bifurcations, and why it ended.
@@ -166,6 +197,9 @@ struct Linearised {
     gl: Vec<f64>,
     events: Vec<signorini_schemes::events::EventRecord>,
     period: f64,
+    /// The model at the point and its marker.
+    model: Model,
+    marker: Option<Marker>,
 }
 
 struct Ctx<'a, F: Family> {
@@ -185,11 +219,12 @@ struct Point {
     orbit: Orbit,
     /// The unit tangent (scaled coordinates; last entry: the parameter's).
     tangent: Vec<f64>,
+    mark: Option<Mark>,
 }
 
 impl<F: Family> Ctx<'_, F> {
     fn residual_and_jacobian(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
-        let (model, period) = self.family.model_and_period(param)?;
+        let (model, period, marker) = self.family.model_period_marker(param)?;
         let img = model.flow(0.0, x, period, true)?;
         let g: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
         // G_λ by a forward difference: it steers Newton and the tangent
@@ -198,7 +233,7 @@ impl<F: Family> Ctx<'_, F> {
         let (m, t) = self.family.model_and_period(param + h)?;
         let plus = m.flow(0.0, x, t, false)?;
         let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / h).collect();
-        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl, events: img.events, period })
+        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl, events: img.events, period, model, marker })
     }
 
     /// The tangent at `(x, λ)` oriented along `prev` (scaled; unit).
@@ -276,8 +311,9 @@ impl<F: Family> Ctx<'_, F> {
         let tangent = self.tangent(&lin.jac, &lin.gl, prev_tangent);
         let residual = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let multipliers = eigenvalues(&lin.jac)?;
+        let mark = lin.marker.as_ref().and_then(|m| m(&lin.model, &x));
         let orbit = Orbit { x: x.clone(), t0: 0.0, period: lin.period, events: lin.events, monodromy: lin.jac, multipliers, residual, iterations: 0 };
-        Ok(Point { x, param, orbit, tangent })
+        Ok(Point { x, param, orbit, tangent, mark })
     }
 
     /// The point at arclength `s` from `a` along its tangent.
@@ -339,7 +375,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
     let mut seed = vec![0.0; n + 1];
     seed[n] = dir;
     let mut cur = ctx.point(start.x.clone(), opts.from, &seed)?;
-    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone() }], bifurcations: Vec::new(), end: String::new() };
+    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone(), mark: cur.mark }], bifurcations: Vec::new(), end: String::new() };
     let mut ds = opts.step;
     // The impact speeds' scale, for the grazing test.
     let mut vref = cur.orbit.fastest_impact().map_or(0.0, |f| f.0);
@@ -375,6 +411,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     releases: (cur.orbit.releases(), p.orbit.releases()),
                     between: (i, i + 1),
                     x: at.x.clone(),
+                    mark: at.mark,
                 });
                 p
             }
@@ -385,7 +422,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // state jumps by its impulse; the branch goes on from
                     // the state on the other side.
                     if let Some(p) = across_section(&ctx, &cur, &branch.points, dir) {
-                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
+                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark });
                         cur = p;
                         ds = opts.step;
                         continue;
@@ -394,7 +431,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // located on its smooth side, the impacting orbit beyond.
                     if let Some((bif, away)) = appearing_impact(&ctx, &cur, &branch.points, dir) {
                         branch.bifurcations.push(bif);
-                        branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone() }));
+                        branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark }));
                         cur = away.into_iter().last().expect("at least one");
                         ds = opts.min_step.max(1e-4);
                         continue;
@@ -403,7 +440,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // (a free flight grazing a stop): the orbit just beyond.
                     if let Some((bif, p)) = corner(&ctx, &cur, &branch.points, dir) {
                         branch.bifurcations.push(bif);
-                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone() });
+                        branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark });
                         cur = p;
                         ds = opts.step;
                         continue;
@@ -432,7 +469,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
         };
         let i = branch.points.len() - 1;
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
-        branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone() });
+        branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone(), mark: next.mark });
         if beyond(next.param) || next.param == opts.to {
             branch.end = "reached to".into();
             return Ok(branch);
@@ -449,7 +486,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
             branch.bifurcations.push(bif);
             let beyond_to = beyond(across.param);
             if !beyond_to {
-                branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone() });
+                branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone(), mark: across.mark });
                 cur = across;
                 ds = opts.step;
                 continue;
@@ -540,35 +577,14 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
-    let margin = |p: &Point| ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok());
     let prev = &points[points.len() - 2];
-    let mut p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
-    let mut p1 = cur.clone();
-    let (mut m0, mut m1) = (margin(&p0)?, margin(&p1)?);
+    let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
+    let (m0, m1) = (margin(ctx, &p0)?, margin(ctx, cur)?);
     if !(m1 < m0 && m1 >= 0.0) {
         return None;
     }
+    let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), 0, None, OnFailure::Stop, dir)?;
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
-    let mut estimate = p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
-    for _ in 0..40 {
-        if m1 == 0.0 || m0 == m1 {
-            break;
-        }
-        estimate = p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
-        if (estimate - p1.param).abs() <= 1e-14 * ctx.ls.max(estimate.abs()) {
-            break;
-        }
-        // Short of the estimate, on the side without the impact.
-        let at = p1.param + 0.9 * (estimate - p1.param);
-        let guess = lerp(&p0, &p1, (at - p0.param) / (p1.param - p0.param));
-        match solve_at(ctx, &guess, at, dir) {
-            Some(p) if p.orbit.impacts() == 0 => {
-                let m = margin(&p)?;
-                (p0, m0, p1, m1) = (p1, m1, p, m);
-            }
-            _ => break,
-        }
-    }
     let side = (estimate - cur.param).signum();
     let mut beyond = None;
     for f in [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
@@ -589,6 +605,7 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
         releases: (0, b.orbit.releases()),
         between: (points.len() - 1, points.len()),
         x: p1.x.clone(),
+        mark: None,
     };
     // Away from the grazing by natural-parameter steps doubling
     // (each from the last two orbits' extrapolation) until the new impact's
@@ -655,6 +672,7 @@ fn corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir:
         releases: (cur.orbit.releases(), b.orbit.releases()),
         between: (points.len() - 1, points.len()),
         x: cur.x.clone(),
+        mark: None,
     };
     Some((bif, b))
 }
@@ -710,6 +728,99 @@ fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) ->
     ctx.point(orbit.x, param, &seed).ok()
 }
 
+/// The smallest distance of `p`'s orbit to a bound over its period.
+fn margin<F: Family>(ctx: &Ctx<'_, F>, p: &Point) -> Option<f64> {
+    ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok())
+}
+
+/// What [`grazing_parameter`] does when a trial is not an orbit of the
+/// smooth side (Newton fails, or the orbit has the grazing impact).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum OnFailure {
+    /// The search ends: its steps stop 0.9 of the way to each secant
+    /// estimate, so as to stay on the smooth side.
+    Stop,
+    /// The step is shortened (the trial becomes the nearest parameter known
+    /// to be beyond) and tried again, at most 30 times in a row: full secant
+    /// steps, never past that parameter.
+    Shorten,
+}
+
+/// The grazing parameter from the smooth side of a grazing — the orbits
+/// with `smooth` impacts, which do not have the grazing impact and are
+/// smooth in the parameter — as the zero of the orbit's smallest distance
+/// to a bound (its margin): secant steps, each a Newton solve from the
+/// state extrapolated from the last two orbits. Starts from `p1` (and `p0`
+/// with their margins); `beyond` is `(first estimate, a parameter known to
+/// be past the grazing)`, with which the first step goes halfway there
+/// (for [`OnFailure::Shorten`]; [`OnFailure::Stop`] starts from the secant
+/// of `p0`, `p1`). Returns the estimate and the last orbit of the smooth
+/// side; `None` if a margin cannot be computed.
+fn grazing_parameter<F: Family>(ctx: &Ctx<'_, F>, p0: Option<(Point, f64)>, p1: (Point, f64), smooth: usize, beyond: Option<(f64, f64)>, fail: OnFailure, dir: f64) -> Option<(f64, Point)> {
+    let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
+    let (mut p1, mut m1) = p1;
+    let (mut p0, mut m0) = p0.unwrap_or_else(|| (p1.clone(), f64::NAN));
+    let secant = |p0: &Point, m0: f64, p1: &Point, m1: f64| p1.param - m1 * (p1.param - p0.param) / (m1 - m0);
+    let (mut estimate, mut limit) = match beyond {
+        Some((first, limit)) => (first, limit),
+        None => (secant(&p0, m0, &p1, m1), f64::NAN),
+    };
+    let (iterations, tiny) = if fail == OnFailure::Stop { (40, 1e-14) } else { (60, 1e-15) };
+    let mut tries = 0;
+    for k in 0..iterations {
+        let next = match fail {
+            OnFailure::Stop => {
+                if m1 == 0.0 || m0 == m1 {
+                    break;
+                }
+                estimate = secant(&p0, m0, &p1, m1);
+                if (estimate - p1.param).abs() <= tiny * ctx.ls.max(estimate.abs()) {
+                    break;
+                }
+                // Short of the estimate, on the smooth side.
+                p1.param + 0.9 * (estimate - p1.param)
+            }
+            OnFailure::Shorten => {
+                let mut next = if k == 0 || m0 == m1 || !m0.is_finite() {
+                    // First step: halfway toward the nearest orbit beyond.
+                    p1.param + 0.5 * (limit - p1.param)
+                } else {
+                    secant(&p0, m0, &p1, m1)
+                };
+                // Never past the nearest orbit beyond.
+                if (next - limit) * (p1.param - limit) <= 0.0 {
+                    next = p1.param + 0.5 * (limit - p1.param);
+                }
+                if (next - p1.param).abs() <= tiny * ctx.ls.max(next.abs()) || m1 == 0.0 {
+                    estimate = next;
+                    break;
+                }
+                next
+            }
+        };
+        let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
+        match solve_at(ctx, &guess, next, dir) {
+            Some(p) if p.orbit.impacts() == smooth => {
+                let m = margin(ctx, &p)?;
+                (p0, m0, p1, m1) = (p1, m1, p, m);
+                if fail == OnFailure::Shorten {
+                    estimate = if m0.is_finite() && m0 != m1 { secant(&p0, m0, &p1, m1) } else { p1.param };
+                    tries = 0;
+                }
+            }
+            _ if fail == OnFailure::Stop => break,
+            _ => {
+                tries += 1;
+                if tries > 30 {
+                    break;
+                }
+                limit = next;
+            }
+        }
+    }
+    Some((estimate, p1))
+}
+
 /// When the slowest impact of `b` is slowing down toward 0 (the orbit is
 /// near grazing: its Jacobian grows as 1/speed and the steps shrink),
 /// the grazing parameter extrapolated from `a`, `b`: an orbit is sought
@@ -749,49 +860,8 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
     // smallest distance to a bound (secant steps, each a Newton solve from
     // the extrapolated state). The impacting side's Jacobian grows as the
     // inverse of the impact speed: it is used only for the first estimate.
-    let margin = |p: &Point| ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok());
-    let mut p1 = c.clone();
-    let mut m1 = margin(&p1)?;
-    let mut p0 = p1.clone();
-    let mut m0 = f64::NAN;
-    let mut estimate = graze;
-    let mut tries = 0;
-    // The nearest parameter known to give the impacting orbit.
-    let mut limit = b.param;
-    for k in 0..60 {
-        let mut next = if k == 0 || m0 == m1 || !m0.is_finite() {
-            // First step: halfway toward the nearest impacting orbit.
-            p1.param + 0.5 * (limit - p1.param)
-        } else {
-            p1.param - m1 * (p1.param - p0.param) / (m1 - m0)
-        };
-        // Never past the nearest impacting orbit.
-        if (next - limit) * (p1.param - limit) <= 0.0 {
-            next = p1.param + 0.5 * (limit - p1.param);
-        }
-        if (next - p1.param).abs() <= 1e-15 * ctx.ls.max(next.abs()) || m1 == 0.0 {
-            estimate = next;
-            break;
-        }
-        let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
-        match solve_at(ctx, &guess, next, dir) {
-            Some(p) if p.orbit.impacts() == c.orbit.impacts() => {
-                let m = margin(&p)?;
-                (p0, m0, p1, m1) = (p1, m1, p, m);
-                estimate = if m0.is_finite() && m0 != m1 { p1.param - m1 * (p1.param - p0.param) / (m1 - m0) } else { p1.param };
-                tries = 0;
-            }
-            // Beyond the grazing (the orbit impacts) or no convergence:
-            // a shorter step from the last orbit.
-            _ => {
-                tries += 1;
-                if tries > 30 {
-                    break;
-                }
-                limit = next;
-            }
-        }
-    }
+    let m1 = margin(ctx, &c)?;
+    let (estimate, _) = grazing_parameter(ctx, None, (c.clone(), m1), c.orbit.impacts(), Some((graze, b.param)), OnFailure::Shorten, dir)?;
     let lo = b.clone();
     let bif = Bifurcation {
         param: estimate,
@@ -801,6 +871,7 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
         releases: (b.orbit.releases(), c.orbit.releases()),
         between: (i, i + 1),
         x: lo.x.clone(),
+        mark: None,
     };
     Some((bif, c))
 }
@@ -823,6 +894,17 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     for (kind, f) in tests {
         if smooth && f(a) * f(b) < 0.0 {
             let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
+            // The period-doubling and Neimark–Sacker tests jump where
+            // they change the multiplier they follow (the real multiplier
+            // nearest −1 passes from one of two negative ones to the other,
+            // equally far from −1 on either side of it; a complex pair
+            // meets on the real axis): a sign change whose located point is
+            // not at the crossing (test value beyond 1e-4, where a
+            // crossing's bracket ends within 1e-12 of it) is such a jump,
+            // not a bifurcation.
+            if kind != BifurcationKind::Fold && f(&p).abs() > 1e-4 {
+                continue;
+            }
             found.push((kind, p));
         }
     }
@@ -834,7 +916,16 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     }
     for (kind, p) in found {
         let mu = critical(kind, &p);
-        out.push(Bifurcation { param: p.param, kind, mu, impacts: (a.orbit.impacts(), b.orbit.impacts()), releases: (a.orbit.releases(), b.orbit.releases()), between: (i, i + 1), x: p.x.clone() });
+        out.push(Bifurcation {
+            param: p.param,
+            kind,
+            mu,
+            impacts: (a.orbit.impacts(), b.orbit.impacts()),
+            releases: (a.orbit.releases(), b.orbit.releases()),
+            between: (i, i + 1),
+            x: p.x.clone(),
+            mark: p.mark,
+        });
     }
     out.sort_by_key(|p| p.between);
 }
@@ -883,6 +974,8 @@ fn bisect<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: im
         let mut p = pa.clone();
         p.param = pa.param + w * (pb.param - pa.param);
         p.x = pa.x.iter().zip(&pb.x).map(|(x, y)| x + w * (y - x)).collect();
+        // Not an orbit computed there: no mark (the front end builds it).
+        p.mark = None;
         p
     } else {
         pa

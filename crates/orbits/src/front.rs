@@ -109,13 +109,25 @@ pub fn continue_scene(
     let mut labelled = Vec::new();
     for (b, fam) in &branches {
         let (mut omega, mut disp, mut bd) = (Vec::new(), Vec::new(), Vec::new());
+        // Each point carries its Ω and tip (the scene built for its
+        // model); only a point or bifurcation without one (a grazing
+        // located by its distance to the stop) builds its scene here.
         for p in &b.points {
-            let built = fam.build(p.param)?;
-            omega.push(built.omega);
-            disp.push(built.tip(&p.orbit.x)?);
+            let m = match p.mark {
+                Some(m) => m,
+                None => {
+                    let built = fam.build(p.param)?;
+                    crate::Mark { omega: built.omega, tip: built.tip(&p.orbit.x)? }
+                }
+            };
+            omega.push(m.omega);
+            disp.push(m.tip);
         }
         for f in &b.bifurcations {
-            bd.push(fam.build(f.param)?.tip(&f.x)?);
+            bd.push(match f.mark {
+                Some(m) => m.tip,
+                None => fam.build(f.param)?.tip(&f.x)?,
+            });
         }
         labelled.push(Labelled { branch: b, periods: fam.periods(), omega, displacement: disp, bif_displacement: bd });
     }

@@ -44,18 +44,24 @@ impl Built {
     /// at the section (t = 0): the quantity a sweep's bifurcation diagram
     /// shows. A reduced model's state is reconstructed, a beam's lifted.
     pub fn tip(&self, x: &[f64]) -> Result<f64, OrbitError> {
-        let (q, v) = self.model.settle(0.0, x)?;
-        let (q, v) = match &self.sim.reduction {
-            None => (q, v),
-            Some(r) => {
-                let (mut qf, mut vf) = (vec![0.0; r.parent_dofs()], vec![0.0; r.parent_dofs()]);
-                r.reconstruct(&q, &mut qf);
-                r.reconstruct(&v, &mut vf);
-                (qf, vf)
-            }
-        };
-        Ok(self.sim.absolute(&q, &v, 0.0).0[self.sim.tip])
+        tip(&self.model, &self.sim, x)
     }
+}
+
+/// The tip's displacement on the section of the orbit through `x` of
+/// `model`, the model of `sim`.
+fn tip(model: &Model, sim: &signorini_scene::Simulation, x: &[f64]) -> Result<f64, OrbitError> {
+    let (q, v) = model.settle(0.0, x)?;
+    let (q, v) = match &sim.reduction {
+        None => (q, v),
+        Some(r) => {
+            let (mut qf, mut vf) = (vec![0.0; r.parent_dofs()], vec![0.0; r.parent_dofs()]);
+            r.reconstruct(&q, &mut qf);
+            r.reconstruct(&v, &mut vf);
+            (qf, vf)
+        }
+    };
+    Ok(sim.absolute(&q, &v, 0.0).0[sim.tip])
 }
 
 impl SceneFamily {
@@ -140,6 +146,14 @@ impl Family for SceneFamily {
     fn model_and_period(&self, param: f64) -> Result<(Model, f64), OrbitError> {
         let b = self.build(param)?;
         Ok((b.model, b.horizon))
+    }
+
+    /// Each point marked with its scene's Ω and tip ([`Built::tip`]), from
+    /// the scene built for its model.
+    fn model_period_marker(&self, param: f64) -> Result<(Model, f64, Option<crate::continuation::Marker>), OrbitError> {
+        let Built { model, horizon, omega, sim, .. } = self.build(param)?;
+        let marker: crate::continuation::Marker = Box::new(move |model, x| tip(model, &sim, x).ok().map(|tip| crate::continuation::Mark { omega, tip }));
+        Ok((model, horizon, Some(marker)))
     }
 }
 

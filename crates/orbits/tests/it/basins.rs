@@ -4,7 +4,7 @@
 //! form (signorini-exact's period-1 orbits, the linear steady state).
 
 use signorini_exact::{ImpactOscillator, OscillatorParams, State};
-use signorini_orbits::basins::{classify, Axis, BasinOptions, BasinScene, Grouper, Outcome};
+use signorini_orbits::basins::{basins_csv, basins_svg, basins_toml, classify, merge, Axis, BasinOptions, BasinScene, Basins, Grid, GridOptions, Grouper, Outcome};
 use signorini_scene::Limits;
 use std::f64::consts::TAU;
 
@@ -80,4 +80,86 @@ fn the_period_is_the_smallest() {
     let k = (1..=16).find(|&k| xs[k].iter().zip(&xs[0]).all(|(a, b)| (a - b).abs() <= tol)).unwrap_or(0);
     assert_eq!(a.period, k, "{a:?}");
     assert_eq!((k, a.impacts, a.cycle.len()), (4, 9, 4));
+}
+
+fn grid_options(shard: Option<(usize, usize)>, keep: bool) -> GridOptions {
+    let x = Axis { path: "oscillator.initial_displacement".into(), from: -2.0, to: 0.4, count: 20 };
+    let v = Axis { path: "oscillator.initial_velocity".into(), from: -1.5, to: 1.5, count: 15 };
+    let mut o = GridOptions::new(x, v);
+    o.shard = shard;
+    o.keep = keep;
+    o
+}
+
+/// Runs `opts` on [`SCENE`]; the streamed text (header and rows) and the result.
+fn run_grid(opts: GridOptions, stop_after: Option<usize>) -> (String, Basins) {
+    let g = Grid::new(SCENE, opts, Limits::machine()).unwrap();
+    let mut text = g.header();
+    let mut batches = 0;
+    let b = g
+        .run(&|| {}, &|| false, &mut |rows| {
+            text.push_str(rows);
+            batches += 1;
+            stop_after != Some(batches)
+        })
+        .unwrap();
+    (text, b)
+}
+
+/// The grid as the front ends run it (300 cells, two batches): each kept
+/// cell's columns are its attractor at its closed form, ids numbered in the
+/// order the cells first reach them, `basins_csv` is the streamed text byte
+/// for byte, four shards merged (read from memory) give the whole grid's
+/// three files, and a run stopped after its first batch keeps its 256
+/// whole rows.
+#[test]
+fn a_grid_streams_its_columns_and_its_shards_merge_to_the_whole() {
+    let (text, b) = run_grid(grid_options(None, true), None);
+    assert!(b.complete() && b.attractor.len() == 300 && b.failed == 0);
+    let (c, k) = (2.0 * 0.05, 1.0 - OMEGA * OMEGA);
+    let (amp, phi) = (1.0 / (k * k + (c * OMEGA).powi(2)).sqrt(), (c * OMEGA).atan2(k));
+    let (free, hit) = ([amp * phi.cos(), amp * OMEGA * phi.sin()], impacting());
+    // Ids by first appearance, from the closed forms' classes.
+    let mut order: Vec<usize> = Vec::new();
+    for cell in 0..300 {
+        let n = b.impacts[cell];
+        assert_eq!((b.period[cell], b.sticking[cell]), (1, false), "cell {cell}");
+        let want = if n == 0 { free } else { hit };
+        let s = &b.state[2 * cell..2 * cell + 2];
+        assert!((s[0] - want[0]).abs() < 1e-7 && (s[1] - want[1]).abs() < 1e-7, "cell {cell}: {s:?} against {want:?}");
+        if !order.contains(&n) {
+            order.push(n);
+        }
+        let id = order.iter().position(|&m| m == n).unwrap() as i64;
+        assert_eq!(b.attractor[cell], id, "cell {cell}");
+        assert_eq!(b.label[cell], format!("p1-i{n}"));
+    }
+    assert_eq!(order.len(), 2, "both basins on the grid");
+    assert_eq!(b.attractors.iter().map(|a| a.cells).sum::<usize>(), 300);
+    assert_eq!(basins_csv(&b), text);
+    // A row as the columns say, e.g. cell 21 = (i, j) = (1, 1).
+    let row: Vec<&str> = text.lines().nth(22).unwrap().split(',').collect();
+    assert_eq!(&row[..2], ["1", "1"]);
+    assert!((row[2].parse::<f64>().unwrap() - (-2.0 + 2.4 / 19.0)).abs() < 1e-12 && (row[3].parse::<f64>().unwrap() - (-1.5 + 3.0 / 14.0)).abs() < 1e-12);
+    // Shards, merged from memory.
+    let mut files = std::collections::HashMap::new();
+    let dirs: Vec<std::path::PathBuf> = (0..4).map(|i| std::path::PathBuf::from(format!("s{i}"))).collect();
+    for i in [3, 1, 0, 2] {
+        let (t, s) = run_grid(grid_options(Some((i, 4)), false), None);
+        assert!(s.complete() && s.period.is_empty());
+        files.insert(dirs[i].join("basins.csv"), t);
+        files.insert(dirs[i].join("basins.toml"), basins_toml(&s));
+    }
+    let m = merge(&dirs, &mut |p| files.get(p).cloned().ok_or_else(|| "no such file".to_string())).unwrap();
+    let got: std::collections::HashMap<&str, &String> = m.files.iter().map(|(n, t)| (*n, t)).collect();
+    assert_eq!(got["basins.csv"], &text);
+    assert_eq!(got["basins.toml"], &basins_toml(&b));
+    assert_eq!(got["basins.svg"], &basins_svg(&b).unwrap());
+    // A missing shard is refused, named.
+    let e = merge(&dirs[..3], &mut |p| files.get(p).cloned().ok_or_else(|| "no such file".to_string())).unwrap_err();
+    assert!(e.to_string().contains("shard 3 of 4 is missing"), "{e}");
+    // Stopped after the first batch.
+    let (t, s) = run_grid(grid_options(None, true), Some(1));
+    assert!(!s.complete() && s.attractor.len() == 256 && s.period.len() == 256);
+    assert_eq!(t, text.lines().take(257).map(|l| format!("{l}\n")).collect::<String>());
 }

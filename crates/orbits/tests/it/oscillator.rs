@@ -151,7 +151,9 @@ fn a_branch_through_grazing_matches_the_closed_forms_and_the_grazing_frequency()
     assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
     assert_eq!(grazing[0].impacts, (1, 0));
     assert!(branch.points.iter().any(|p| p.orbit.impacts() == 0 && p.param > want), "the branch goes on without impacts");
-    // The window between the two period doublings is not stepped over.
+    // The period doubling is the closed form's, the jump of the test
+    // function at 2.278 (where the multiplier nearest −1 passes from −1.72
+    // to −0.28) is not one.
     assert_period_doublings(&branch, 2.2, 2.44);
 }
 
@@ -166,8 +168,8 @@ fn assert_period_doublings(branch: &signorini_orbits::Branch, lo: f64, hi: f64) 
     }
 }
 
-/// The closed form's period-doubling frequencies in `[lo, hi]`: where its
-/// stable orbit's most negative real multiplier crosses −1 (bisection).
+/// The closed form's period-doubling frequencies in `[lo, hi]`: where a
+/// real multiplier of its orbits crosses −1 (bisection).
 fn closed_pd(lo: f64, hi: f64) -> Vec<f64> {
     let test = |w: f64| -> Option<f64> {
         closed_orbits(w)
@@ -191,7 +193,12 @@ fn closed_pd(lo: f64, hi: f64) -> Vec<f64> {
                     b = m;
                 }
             }
-            out.push(0.5 * (a + b));
+            // A crossing of −1, not the jump where the multiplier nearest
+            // −1 passes from one negative multiplier to the other (both
+            // equally far from −1 there).
+            if test(0.5 * (a + b)).is_some_and(|f| f.abs() < 1e-6) {
+                out.push(0.5 * (a + b));
+            }
         }
     }
     out
@@ -294,4 +301,62 @@ fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
     assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
     assert_eq!(grazing[0].impacts, (0, 1));
     assert_period_doublings(&branch, 2.2, 2.44);
+}
+
+/// The front end labels each branch point with what the point carries (its
+/// scene's Ω and tip, not built again): for the oscillator the tip is the
+/// displacement itself, so `branch.csv`'s `displacement` is its `q0`, on
+/// the period-1 branch and the period-doubled ones alike; and a period-1
+/// point's impact phase is Ω·t of its impact with Ω its own parameter
+/// (the closed-form orbit's phase there).
+#[test]
+fn every_point_carries_its_own_omega_and_tip() {
+    use signorini_orbits::front::{continue_scene, ContinueOptions};
+    let doc: toml::Table = SCENE.replace("omega = 2.0", "omega = 2.2").parse().unwrap();
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
+    let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
+    let csv = &done.files.iter().find(|f| f.0 == "branch.csv").unwrap().1;
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (cd, cq, cp, cb, cph, cper) = (col("displacement"), col("q0"), col("param"), col("branch"), col("impact_phase"), col("period"));
+    let mut doubled = 0;
+    for l in lines {
+        let c: Vec<&str> = l.split(',').collect();
+        assert_eq!(c[cd], c[cq], "{l}");
+        doubled += usize::from(c[cb] != "0");
+        if c[cper] == "1" && !c[cph].is_empty() {
+            let omega: f64 = c[cp].parse().unwrap();
+            let phase: f64 = c[cph].parse().unwrap();
+            let want: Vec<f64> = exact(omega).period1_orbits().into_iter().filter(|o| o.is_admissible()).map(|o| o.phase.rem_euclid(TAU)).collect();
+            assert!(want.iter().any(|w| (w - phase).abs() < 1e-6 || (TAU - (w - phase).abs()) < 1e-6), "Ω = {omega}: phase {phase} vs closed form {want:?}");
+        }
+    }
+    assert!(doubled > 10, "the period-doubled branches are there: {doubled} rows");
+}
+
+/// Each period doubling listed, in both directions along the branch,
+/// carries the multiplier of the orbit where it is located: within 1e-6 of
+/// −1, and the closed form's multiplier nearest −1 at that Ω (an
+/// interpolated point keeps the multipliers of the bracket's end nearer
+/// `a`; a jump of the test function between two negative multipliers
+/// equally far from −1 — −1.717 and −0.283 at Ω = 2.2784 — listed its
+/// end's multiplier as a "period doubling").
+#[test]
+fn a_period_doublings_multiplier_is_minus_one_at_the_closed_forms_frequency() {
+    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    let fam = family();
+    let want = closed_pd(2.2, 2.44);
+    assert_eq!(want.len(), 1, "{want:?}");
+    for (from, to) in [(2.2, 3.0), (2.44, 2.2)] {
+        let start = closed_orbits(from).into_iter().find(|o| o.2 || from > 2.3).expect("an orbit at the start").0;
+        let branch = continuation(&fam, &start, &ContinuationOptions::new(from, to)).unwrap();
+        let pds: Vec<_> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling && (2.2..=2.44).contains(&b.param)).collect();
+        assert_eq!(pds.len(), 1, "{from} -> {to}: {pds:?}");
+        let b = pds[0];
+        assert!((b.param - want[0]).abs() <= 1e-8 * want[0], "{from} -> {to}: at {} vs closed form {}", b.param, want[0]);
+        let closed = closed_orbits(b.param).into_iter().flat_map(|(_, mu, _)| mu).filter(|m| m[1] == 0.0).map(|m| m[0]).min_by(|x, y| (x + 1.0).abs().total_cmp(&(y + 1.0).abs())).unwrap();
+        assert!((b.mu.re + 1.0).abs() < 1e-6 && b.mu.im == 0.0, "{from} -> {to}: multiplier {}", b.mu);
+        assert!((b.mu.re - closed).abs() < 1e-6, "{from} -> {to}: multiplier {} vs closed form {closed}", b.mu.re);
+    }
 }
