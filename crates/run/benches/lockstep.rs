@@ -87,6 +87,17 @@ fn two_threads<const L: usize>(bencher: Bencher) {
     });
 }
 
+/// The AVX2 build of the step where the CPU also has AVX-512 (`without_avx512()`), frequency sweep: ns per run-step.
+#[divan::bench(consts = [8, 16])]
+fn frequency_avx2<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true).without_avx512()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
+}
+
 /// The baseline x86-64 build of the step (SSE2, `portable()`), frequency sweep: ns per run-step.
 #[divan::bench(consts = [4, 8, 16])]
 fn frequency_baseline<const L: usize>(bencher: Bencher) {
