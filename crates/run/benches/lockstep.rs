@@ -1,12 +1,14 @@
 //! A sweep of the paper's beam (J = 19, β = 1/2, e = 0, dt = 5e-6): the
 //! single `PaoliSchatzman` step against `PaoliSchatzmanLockstep` with
-//! `L = 1, 2, 4, 8, 16` runs sharing the step matrix, in ns per run-step.
+//! `L = 1, 2, 4, 8, 16` runs sharing the step matrix, in ns per run-step
+//! (the sweeps use up to 16).
 //!
 //! `cargo bench -p signorini-run --bench lockstep`; divan's throughput is in
 //! run-steps/s (one item = one step of one run). `frequency_*`: every lane
 //! its own ω (one `mean` per lane and step); `amplitude_*`: one ω, the
 //! amplitudes differ (the profile's mean is computed once per step);
 //! `two_threads_*`: two batches of `L` on two rayon threads;
+//! `frequency_avx2_*`: the AVX2 build where the CPU also has AVX-512;
 //! `frequency_baseline_*`: the baseline x86-64 (SSE2) build where the CPU has AVX2.
 
 use divan::counter::ItemsCount;
@@ -74,7 +76,7 @@ fn amplitude<const L: usize>(bencher: Bencher) {
 }
 
 /// Two frequency batches of `L` on two rayon threads: ns per run-step.
-#[divan::bench(consts = [4, 8])]
+#[divan::bench(consts = [4, 8, 16])]
 fn two_threads<const L: usize>(bencher: Bencher) {
     bencher.counter(ItemsCount::new(2 * STEPS * L)).with_inputs(|| (batch::<L>(true), batch::<L>(true))).bench_local_values(|(mut a, mut b)| {
         let go = |s: &mut PaoliSchatzmanLockstep<L>| {
@@ -84,6 +86,17 @@ fn two_threads<const L: usize>(bencher: Bencher) {
         };
         rayon::join(|| go(&mut a), || go(&mut b));
         (a, b)
+    });
+}
+
+/// The AVX2 build of the step where the CPU also has AVX-512 (`without_avx512()`), frequency sweep: ns per run-step.
+#[divan::bench(consts = [8, 16])]
+fn frequency_avx2<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true).without_avx512()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
     });
 }
 

@@ -35,8 +35,14 @@
 //! of lane 0, whose results are never reported.
 //!
 //! Cost (crates/run/benches/lockstep.rs, the paper's beam): the step is
-//! compiled for the baseline x86-64 target and with AVX2, chosen at run
-//! time (no FMA in either, so the same bits). Lanes with the same profile
+//! compiled for the baseline x86-64 target, with AVX2 and with AVX-512F,
+//! the widest the CPU has chosen at run time (no FMA contraction in any, so
+//! the same bits). The products, the substitutions and `2U^n - U^{n-1}`
+//! are written so that the compiler keeps the lanes in vector registers:
+//! the edge rows lane-innermost like the interior ones, the row loops over
+//! local slices (no reloads through `self`), and the level combination
+//! over flat arrays (by rows, the compiler vectorised it across rows with
+//! gathers and scatters of stride `L`). Lanes with the same profile
 //! share its means; a `Sine` profile's mean is `TimeProfile::mean`'s
 //! formula with its factor `sin(ω δ/2)/(ω δ/2)` looked up by the bits of
 //! `δ = t_{n+2} - t_{n+1}` (a copy of that formula: the bit-identity tests
@@ -96,8 +102,9 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     t_mass: Vec<[f64; L]>,
     t_stiff: Vec<[f64; L]>,
     load: Vec<[f64; L]>,
-    /// Per forcing term: its shape per row and lane.
-    shapes: Vec<Vec<[f64; L]>>,
+    /// The forcing terms' shapes, row by row: entry `i·terms + j` is term
+    /// `j`'s shape at row `i`, per lane.
+    shape_rows: Vec<[f64; L]>,
     /// Per forcing term: the profile of each lane in use.
     profiles: Vec<Vec<TimeProfile>>,
     /// Per forcing term and lane, its means step after step as the single
@@ -121,6 +128,8 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     failed: [Option<SchemeError>; L],
     /// Run the AVX2 build of the step.
     avx2: bool,
+    /// Run the AVX-512 build of the step (implies `avx2`).
+    avx512: bool,
     /// The last few step lengths `δ = t1 - t0` (bits) of the means...
     sinc_keys: [Option<u64>; SINC_SLOTS],
     /// ... the slot replaced next ...
@@ -138,6 +147,17 @@ fn avx2_available() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+fn avx512_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx2")
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -255,7 +275,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             t_mass: zeros.clone(),
             t_stiff: zeros.clone(),
             load: zeros.clone(),
-            shapes: vec![zeros; terms],
+            shape_rows: Vec::new(),
             profiles: vec![Vec::with_capacity(lanes.len()); terms],
             samplers: (0..terms).map(|_| Vec::with_capacity(lanes.len())).collect(),
             mean_src: vec![[0; L]; terms],
@@ -269,11 +289,13 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             acts: [Active::None; L],
             failed: std::array::from_fn(|_| None),
             avx2: avx2_available(),
+            avx512: avx512_available(),
             sinc_keys: [None; SINC_SLOTS],
             sinc_next: 0,
             sinc: vec![[[0.0; L]; SINC_SLOTS]; terms],
         };
         let used = lanes.len();
+        let mut shapes = vec![zeros; terms];
         for (k, ln) in lanes.into_iter().enumerate() {
             let LockstepLane { dynamics: dy, initial, restitution } = ln;
             let ct = *dy.contact();
@@ -286,7 +308,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
                 s.means[j][1][k] = sp.next_value();
                 s.samplers[j].push(sp);
                 s.mean_src[j][k] = s.profiles[j].iter().position(|q| same_profile(q, &f.time)).unwrap_or(k);
-                for (row, g) in s.shapes[j].iter_mut().zip(&f.shape) {
+                for (row, g) in shapes[j].iter_mut().zip(&f.shape) {
                     row[k] = *g;
                 }
             }
@@ -301,7 +323,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         }
         // Padding lanes copy lane 0 (and its means, every step).
         for k in used..L {
-            for v in [&mut s.u, &mut s.u_prev, &mut s.load].into_iter().chain(s.shapes.iter_mut()) {
+            for v in [&mut s.u, &mut s.u_prev, &mut s.load].into_iter().chain(shapes.iter_mut()) {
                 for row in v.iter_mut() {
                     row[k] = row[0];
                 }
@@ -311,6 +333,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             }
             (s.lo[k], s.hi[k], s.e[k]) = (s.lo[0], s.hi[0], s.e[0]);
         }
+        s.shape_rows = (0..dofs).flat_map(|i| shapes.iter().map(move |sh| sh[i])).collect();
         Ok(s)
     }
 
@@ -413,7 +436,21 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     /// (the results are the same bits; for tests and measurements).
     pub fn portable(mut self) -> Self {
         self.avx2 = false;
+        self.avx512 = false;
         self
+    }
+
+    /// Uses at most the AVX2 build, even where the CPU has AVX-512 (the
+    /// results are the same bits; for tests and measurements).
+    pub fn without_avx512(mut self) -> Self {
+        self.avx512 = false;
+        self
+    }
+
+    /// Whether [`step`](Self::step) runs the AVX-512 build of the step
+    /// (chosen at construction from the running CPU; never FMA).
+    pub fn uses_avx512(&self) -> bool {
+        self.avx512
     }
 
     /// Whether [`step`](Self::step) runs the AVX2 build of the step (chosen
@@ -425,12 +462,17 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     /// Advances every lane one step (module docs); returns the new level.
     /// A lane that turns non-finite is recorded ([`lane_failure`](Self::lane_failure)).
     ///
-    /// The same code is compiled twice, for the baseline x86-64 target and
-    /// with AVX2 enabled (4 lanes per instruction instead of 2), and the
-    /// second runs when the CPU has AVX2. Neither enables FMA, and Rust never
-    /// contracts `a * b + c`, so both builds round every operation alike.
+    /// The same code is compiled three times, for the baseline x86-64 target,
+    /// with AVX2 (4 lanes per instruction instead of 2) and with AVX-512F
+    /// (8), and the widest the CPU has runs. Rust never contracts
+    /// `a * b + c` into an FMA, so every build rounds every operation alike.
     pub fn step(&mut self) -> usize {
         #[cfg(target_arch = "x86_64")]
+        if self.avx512 {
+            // SAFETY: `avx512` is true only if `is_x86_feature_detected!`
+            // reported AVX-512F and AVX2 on the running CPU (set in `new`).
+            return unsafe { self.step_avx512() };
+        }
         if self.avx2 {
             // SAFETY: `avx2` is true only if `is_x86_feature_detected!("avx2")`
             // reported AVX2 on the running CPU (set in `new`).
@@ -446,6 +488,18 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn step_avx2(&mut self) -> usize {
+        self.step_body()
+    }
+
+    /// [`step_body`](Self::step_body) compiled with AVX-512F (8 lanes per
+    /// instruction). `avx512f` brings `fma` along as a target feature, but
+    /// Rust never contracts `a * b + c` into an FMA: the same bits.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F and AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx2")]
+    unsafe fn step_avx512(&mut self) -> usize {
         self.step_body()
     }
 
@@ -480,58 +534,36 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             *m = [m[1], next];
         }
         // 2U^n - U^{n-1} and (1-2β) U^n + β U^{n-1}.
-        for (((tm, ts), u), up) in self.t_mass.iter_mut().zip(self.t_stiff.iter_mut()).zip(&self.u).zip(&self.u_prev) {
-            for k in 0..L {
-                tm[k] = 2.0 * u[k] - up[k];
-                ts[k] = a * u[k] + beta * up[k];
-            }
-        }
+        combine::<L>(&mut self.t_mass, &mut self.t_stiff, &self.u, &self.u_prev, a, beta);
         // rhs = M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j, row by
         // row, each row then eliminated at once (the forward sweep of
         // `BandLdlt::solve_p3`, its last three results kept in w1, w2, w3).
         let n = self.dofs;
+        let terms = self.dt2_gc.len();
         let (l, lt, inv_d) = (&self.l[..n], &self.lt[..n], &self.inv_d[..n]);
-        let (mut w1, mut w2, mut w3) = ([0.0; L], [0.0; L], [0.0; L]);
-        for i in 0..n {
-            let (mv, kv) = if (3..n - 3).contains(&i) {
-                (interior::<L>(&self.mass[i], &self.t_mass[i - 3..i + 4]), interior::<L>(&self.stiff[i], &self.t_stiff[i - 3..i + 4]))
-            } else {
-                (edge::<L>(&self.mass, &self.t_mass, i), edge::<L>(&self.stiff, &self.t_stiff, i))
-            };
-            let f = &self.load[i];
-            let mut r = [0.0; L];
-            for k in 0..L {
-                r[k] = mv[k] + dt2 * (f[k] - kv[k]);
-            }
-            for (g, sh) in self.dt2_gc.iter().zip(&self.shapes) {
-                let sh = &sh[i];
-                for k in 0..L {
-                    r[k] += g[k] * sh[k];
-                }
-            }
-            match i {
-                0 => {}
-                1 => {
-                    for k in 0..L {
-                        r[k] -= l[1][0] * w1[k];
-                    }
-                }
-                2 => {
-                    for k in 0..L {
-                        r[k] -= l[2][1] * w2[k] + l[2][0] * w1[k];
-                    }
-                }
-                _ => {
-                    let row = l[i];
-                    for k in 0..L {
-                        r[k] = (r[k] - row[2] * w3[k] - row[1] * w2[k]) - row[0] * w1[k];
-                    }
-                }
-            }
-            w3 = w2;
-            w2 = w1;
-            w1 = r;
-            self.rhs[i] = r;
+        let (mass, stiff, tm, ts, load) = (&self.mass[..n], &self.stiff[..n], &self.t_mass[..n], &self.t_stiff[..n], &self.load[..n]);
+        let (gs, shape_rows) = (&self.dt2_gc[..terms], &self.shape_rows[..n * terms]);
+        let rhs = &mut self.rhs[..n];
+        // Row i of M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j,
+        // from its two products.
+        // Rows 0, 1, 2: fewer predecessors.
+        let r0 = rhs_row::<L>(dt2, edge::<L>(mass, tm, 0), edge::<L>(stiff, ts, 0), &load[0], gs, chunk(shape_rows, 0, terms));
+        let mut r1 = rhs_row::<L>(dt2, edge::<L>(mass, tm, 1), edge::<L>(stiff, ts, 1), &load[1], gs, chunk(shape_rows, 1, terms));
+        for k in 0..L {
+            r1[k] -= l[1][0] * r0[k];
+        }
+        let mut r2 = rhs_row::<L>(dt2, edge::<L>(mass, tm, 2), edge::<L>(stiff, ts, 2), &load[2], gs, chunk(shape_rows, 2, terms));
+        for k in 0..L {
+            r2[k] -= l[2][1] * r0[k] + l[2][0] * r1[k];
+        }
+        (rhs[0], rhs[1], rhs[2]) = (r0, r1, r2);
+        let (mut w1, mut w2, mut w3) = (r2, r1, r0);
+        // Every further row: its products, then eliminated at once.
+        for (((i, (rm, rk)), (xm, xk)), out) in (3..n - 3).zip(mass[3..n - 3].iter().zip(&stiff[3..n - 3])).zip(tm.windows(7).zip(ts.windows(7))).zip(rhs[3..n - 3].iter_mut()) {
+            *out = eliminate::<L>(&l[i], rhs_row::<L>(dt2, interior::<L>(rm, xm), interior::<L>(rk, xk), &load[i], gs, chunk(shape_rows, i, terms)), &mut w1, &mut w2, &mut w3);
+        }
+        for i in n - 3..n {
+            rhs[i] = eliminate::<L>(&l[i], rhs_row::<L>(dt2, edge::<L>(mass, tm, i), edge::<L>(stiff, ts, i), &load[i], gs, chunk(shape_rows, i, terms)), &mut w1, &mut w2, &mut w3);
         }
         // Backward: rows n-3..n have fewer successors.
         let b = &mut self.rhs[..n];
@@ -632,12 +664,60 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     }
 }
 
+/// `t_mass = 2U^n - U^{n-1}`, `t_stiff = (1-2β) U^n + β U^{n-1}` (`a = 1-2β`).
+/// A function of its own so that the compiler knows the four arrays apart
+/// (and vectorises over the lanes).
+#[inline(always)]
+fn combine<const L: usize>(t_mass: &mut [[f64; L]], t_stiff: &mut [[f64; L]], u: &[[f64; L]], up: &[[f64; L]], a: f64, beta: f64) {
+    // Flat, so that the compiler vectorises along memory (by rows it
+    // gathers and scatters with a stride of `L`).
+    for (((tm, ts), u), up) in t_mass.as_flattened_mut().iter_mut().zip(t_stiff.as_flattened_mut().iter_mut()).zip(u.as_flattened()).zip(up.as_flattened()) {
+        *tm = 2.0 * u - up;
+        *ts = a * u + beta * up;
+    }
+}
+
+/// Entries `i·w .. (i+1)·w` of `v`: row `i` of a table of width `w`.
+#[inline(always)]
+fn chunk<T>(v: &[T], i: usize, w: usize) -> &[T] {
+    &v[i * w..(i + 1) * w]
+}
+
+/// Row `r` of `M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j` from
+/// its products `mv`, `kv`, its load `f` and the terms' `dt² g_j`, `shape_j`.
+#[inline(always)]
+fn rhs_row<const L: usize>(dt2: f64, mv: [f64; L], kv: [f64; L], f: &[f64; L], gs: &[[f64; L]], shapes: &[[f64; L]]) -> [f64; L] {
+    let mut r = [0.0; L];
+    for k in 0..L {
+        r[k] = mv[k] + dt2 * (f[k] - kv[k]);
+    }
+    for (g, sh) in gs.iter().zip(shapes) {
+        for k in 0..L {
+            r[k] += g[k] * sh[k];
+        }
+    }
+    r
+}
+
+/// The forward elimination of a row `r` with three predecessors (`w1` the
+/// last), `BandLdlt::solve_p3`'s order; the window moves on by one.
+#[inline(always)]
+fn eliminate<const L: usize>(lr: &[f64; 3], mut r: [f64; L], w1: &mut [f64; L], w2: &mut [f64; L], w3: &mut [f64; L]) -> [f64; L] {
+    for k in 0..L {
+        r[k] = (r[k] - lr[2] * w3[k] - lr[1] * w2[k]) - lr[0] * w1[k];
+    }
+    *w3 = *w2;
+    *w2 = *w1;
+    *w1 = r;
+    r
+}
+
 /// An interior row of a half-bandwidth-3 product (`SymBand::mul_vec_p3`'s
 /// order): `(r0 x_i + r1 x_{i-1} + r2 x_{i-2} + r3 x_{i-3}) + (c1 x_{i+1} + c2 x_{i+2} + c3 x_{i+3})`,
 /// `x` the window `i-3..=i+3`.
 #[inline(always)]
 fn interior<const L: usize>(r: &Row7, x: &[[f64; L]]) -> [f64; L] {
-    let x: &[[f64; L]; 7] = x.try_into().expect("window of 7");
+    let x: &[[f64; L]; 7] = x.try_into().expect("a window of 7");
     let mut y = [0.0; L];
     for k in 0..L {
         y[k] = (r[0] * x[3][k] + r[1] * x[2][k] + r[2] * x[1][k] + r[3] * x[0][k]) + (r[4] * x[4][k] + r[5] * x[5][k] + r[6] * x[6][k]);
@@ -653,16 +733,21 @@ fn edge<const L: usize>(a: &[Row7], x: &[[f64; L]], i: usize) -> [f64; L] {
     let r = &a[i];
     let mut y = [0.0; L];
     for lane in 0..L {
-        let mut s = r[0] * x[i][lane];
-        for k in 1..=3 {
-            if i >= k {
-                s += r[k] * x[i - k][lane];
-            }
-            if i + k < n {
-                s += r[3 + k] * x[i + k][lane];
+        y[lane] = r[0] * x[i][lane];
+    }
+    for k in 1..=3 {
+        if i >= k {
+            let (c, xs) = (r[k], &x[i - k]);
+            for lane in 0..L {
+                y[lane] += c * xs[lane];
             }
         }
-        y[lane] = s;
+        if i + k < n {
+            let (c, xs) = (r[3 + k], &x[i + k]);
+            for lane in 0..L {
+                y[lane] += c * xs[lane];
+            }
+        }
     }
     y
 }

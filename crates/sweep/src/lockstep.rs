@@ -8,11 +8,13 @@ use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunE
 use signorini_scene::Scene;
 use signorini_schemes::{Bounds, Initial, LockstepLane, PaoliSchatzmanLockstep};
 
-/// Runs per lockstep group: the paper beam's sweeps step up to this many
-/// runs together (crates/run/benches/lockstep.rs: 112 ns per run-step at 8
-/// lanes, 125 at 4, 417 for one run alone); a smaller group takes the
-/// narrowest engine that holds it (2, 4 or 8 lanes).
-pub const LANES: usize = 8;
+/// Runs per lockstep group at most: the paper beam's sweeps step up to this
+/// many runs together (crates/run/benches/lockstep.rs: per run-step, 16
+/// lanes cost less than 8, 8 less than 4, and all far less than one run
+/// alone); a smaller group takes the narrowest engine that holds it (2, 4,
+/// 8 or 16 lanes). A batch's runs are split into groups of equal size so
+/// that every thread gets one ([`lockstep_jobs`]).
+pub const LANES: usize = 16;
 
 /// A run the lockstep engine takes: a beam (full model) on its tip's two
 /// stops, not continued from another run, whose scheme can run in lockstep
@@ -41,15 +43,18 @@ pub(crate) fn lockstep_params(scene: &Scene) -> Option<(f64, f64)> {
 }
 
 /// The batch's runs as jobs: consecutive lockstep-able runs in groups of up
-/// to [`LANES`], every other run alone (indices into `prepared`).
-pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]) -> Vec<Vec<usize>> {
+/// to [`LANES`], every other run alone (indices into `prepared`). The groups
+/// hold `⌈R / threads⌉` runs (at most [`LANES`]), `R` the batch's
+/// lockstep-able runs, so that `threads` threads all have a group.
+pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)], threads: usize) -> Vec<Vec<usize>> {
+    let ok: Vec<bool> = prepared.iter().map(|p| p.2.as_ref().is_ok_and(|(scene, _)| lockstep_params(scene).is_some())).collect();
+    let group = ok.iter().filter(|&&o| o).count().div_ceil(threads.max(1)).clamp(1, LANES);
     let mut jobs: Vec<Vec<usize>> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
-    for (k, p) in prepared.iter().enumerate() {
-        let ok = p.2.as_ref().is_ok_and(|(scene, _)| lockstep_params(scene).is_some());
+    for (k, ok) in ok.into_iter().enumerate() {
         if ok {
             open.push(k);
-            if open.len() == LANES {
+            if open.len() == group {
                 jobs.push(std::mem::take(&mut open));
             }
         } else {
@@ -73,6 +78,7 @@ pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) 
         2 => lockstep_width::<2>(group, interrupt),
         3..=4 => lockstep_width::<4>(group, interrupt),
         5..=8 => lockstep_width::<8>(group, interrupt),
+        9..=16 => lockstep_width::<16>(group, interrupt),
         _ => None,
     }
 }

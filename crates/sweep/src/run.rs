@@ -150,7 +150,7 @@ where
         } else {
             pool.install(|| {
                 let prepared: Vec<Prepared> = (next..end).into_par_iter().map(|i| (i, o.value(i), sweep.scene(o.value(i)).map(|(_, s, p)| (s, p)))).collect();
-                let jobs = lockstep_jobs(&prepared);
+                let jobs = lockstep_jobs(&prepared, pool.current_num_threads());
                 let done: Vec<Vec<(usize, RunRows)>> = jobs
                     .into_par_iter()
                     .map(|job| {

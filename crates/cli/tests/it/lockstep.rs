@@ -34,6 +34,30 @@ fn lockstep_lanes_are_the_single_runs_bit_for_bit() {
     }
 }
 
+/// A group of 11 runs takes the 16-lane engine (5 lanes padded): every lane
+/// still writes its single run's rows, bit for bit.
+#[test]
+fn a_group_of_eleven_takes_the_sixteen_lane_engine_bit_for_bit() {
+    let text = "[beam]\nscene = \"fig2\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n";
+    let mut o = SweepOptions::new("support.omega", 8.0, 13.0, 11);
+    o.transient = 1.0;
+    o.record = 2.0;
+    let sweep = Sweep::new(text, "beam.toml", None, o, Limits { max_memory: 1e9 }).unwrap();
+    let runs: Vec<_> = (0..11).map(|r| sweep.scene(sweep.options().value(r)).unwrap()).collect();
+    let pairs: Vec<_> = runs.iter().map(|(_, s, p)| (s, p)).collect();
+    let lock = simulate_lockstep(&pairs, None).expect("11 beam runs on the tip's stops share one engine");
+    assert_eq!(lock.len(), 11);
+    let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
+    for (k, ((_, scene, plan), l)) in runs.iter().zip(&lock).enumerate() {
+        let one = simulate(scene, plan, None, false, None);
+        assert_eq!(one.status, "ok");
+        assert!(!one.impacts.is_empty(), "run {k} must reach the stops for the test to mean anything");
+        assert_eq!((l.steps, &l.status, &l.summary), (one.steps, &one.status, &one.summary), "run {k}");
+        assert_eq!(bits(&l.poincare), bits(&one.poincare), "run {k}");
+        assert_eq!(l.impacts.len(), one.impacts.len(), "run {k}");
+    }
+}
+
 #[test]
 fn runs_that_do_not_share_a_matrix_are_not_locked() {
     // A sweep over the mesh: different matrices, one run at a time.

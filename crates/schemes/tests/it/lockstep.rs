@@ -3,8 +3,9 @@
 //! through repeated impacts on both stops; partial batches; restitution;
 //! typed refusals. The oracle is the single run (a separate code path:
 //! `SymBand::mul_vec`, `BandLdlt::solve_in_place`, `Projection::project`).
-//! Both builds of the step are checked: the one the CPU selects (AVX2 where
-//! available) and the baseline x86-64 one (`portable()`).
+//! Every build of the step is checked: the one the CPU selects (AVX-512 or
+//! AVX2 where available), the AVX2 one (`without_avx512()`) and the
+//! baseline x86-64 one (`portable()`).
 
 use signorini_fem::{Beam, SymBand};
 use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, SchemeError, Stepper, TimeProfile};
@@ -64,11 +65,12 @@ fn bits(x: &[f64]) -> Vec<u64> {
 /// lower and upper bound.
 fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
     let mut singles: Vec<PaoliSchatzman> = lanes.iter().map(|l| PaoliSchatzman::new("single".into(), l.dynamics.clone(), beta, l.restitution, dt, &l.initial).unwrap()).collect();
-    // The build the CPU selects (AVX2 here) and the baseline x86-64 build.
-    let (beta2, lanes2) = (beta, lanes.clone());
+    // The build the CPU selects (AVX-512 or AVX2 here), the AVX2 build and
+    // the baseline x86-64 build.
+    let mut portable = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap().portable();
+    let mut avx2 = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap().without_avx512();
     let mut batch = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).unwrap();
-    let mut portable = PaoliSchatzmanLockstep::<L>::new(beta2, dt, lanes2).unwrap().portable();
-    assert!(!portable.uses_avx2());
+    assert!(!portable.uses_avx2() && !portable.uses_avx512() && !avx2.uses_avx512());
     let n = batch.dofs();
     let mut buf = vec![0.0; n];
     let mut counts = vec![(0, 0); singles.len()];
@@ -81,6 +83,7 @@ fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: 
         if step > 0 {
             batch.step();
             portable.step();
+            avx2.step();
         }
         for (k, s) in singles.iter_mut().enumerate() {
             if done[k] {
@@ -93,6 +96,7 @@ fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: 
                         // The single run stops here: the lane must report the same error.
                         assert_eq!(batch.lane_failure(k), Some(&e), "lane {k}");
                         assert_eq!(portable.lane_failure(k), Some(&e), "lane {k}");
+                        assert_eq!(avx2.lane_failure(k), Some(&e), "lane {k}");
                         done[k] = true;
                         continue;
                     }
@@ -119,6 +123,9 @@ fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: 
             portable.displacement_into(k, &mut buf);
             assert_eq!(bits(&buf), bits(want), "lane {k} level {}: baseline build", s.level());
             assert_eq!(portable.contact_force(k).to_bits(), batch.contact_force(k).to_bits());
+            avx2.displacement_into(k, &mut buf);
+            assert_eq!(bits(&buf), bits(want), "lane {k} level {}: AVX2 build", s.level());
+            assert_eq!(avx2.contact_force(k).to_bits(), batch.contact_force(k).to_bits());
             let c = batch.contact_dof();
             assert_eq!(batch.value(k, c).to_bits(), want[c].to_bits());
         }
@@ -165,6 +172,22 @@ fn partial_batches_are_bit_identical() {
     let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 31.0, stops), 0.0), lane(pipe(19, 0.1, 55.0, stops), 0.0), lane(pipe(19, 1e-4, 2e4, stops), 0.0)];
     compare::<8>(0.5, 5e-5, lanes, 3000);
     compare::<2>(0.5, 5e-5, vec![lane(pipe(19, 0.25, 44.0, stops), 0.0)], 2000);
+}
+
+/// 16 lanes (the sweeps' widest engine), 11 of them in use: frequencies,
+/// amplitudes, restitutions, and two lanes at rest with zero forcing (A = 0
+/// and A = -0: zeros of both signs in the data), β = 1/2.
+#[test]
+fn sixteen_lanes_with_lanes_at_rest_are_bit_identical() {
+    let stops = (-0.01, 0.01);
+    let mut lanes: Vec<LockstepLane> = (0..7).map(|i| lane(pipe(19, 0.1 + 0.05 * i as f64, 9.5 + 7.0 * i as f64, stops), 0.0)).collect();
+    lanes.push(lane(pipe(19, 0.0, 10.0, stops), 0.0));
+    lanes.push(lane(pipe(19, -0.0, 12.0, stops), 0.0));
+    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 0.5));
+    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 1.0));
+    let counts = compare::<16>(0.5, 5e-5, lanes, 3000);
+    assert_eq!(&counts[7..9], &[(0, 0), (0, 0)], "the lanes at rest stay at rest");
+    assert!(counts[..7].iter().chain(&counts[9..]).all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
 }
 
 /// Restitution per lane (e = 0.5, 1, a contact's own e overriding the
