@@ -125,3 +125,37 @@ proptest! {
         prop_assert!(!a.is_empty());
     }
 }
+
+/// A simultaneous plastic impact that must hold both contacts (issue 32):
+/// the lumped bar above, in rigid translation at `−0.5` onto both stops
+/// with `e = 0`. At `t = 0.1` both ends stop at once and the bar is
+/// undeformed, so the gaps' accelerations are exactly zero and only their
+/// third derivatives (the interior still moving down: the springs pull the
+/// ends into their stops) decide: both contacts are held. Held, the two
+/// interior nodes (mass `h`, a spring `1/h` to their held end, the middle
+/// spring unstretched by symmetry) move as `h x'' = −(1/h) x`, `x'' = −9 x`,
+/// `x = −(0.5/3) sin 3τ` (τ = t − 0.1); each end's force
+/// `(1/h)(x − 0) < 0` presses it until `x` returns to zero at `τ = π/3`.
+/// So: two impacts at `0.1` (`v⁻ = −0.5`, `v⁺ = 0`, impulse `h/2 · 0.5 =
+/// 1/12`), two releases at `0.1 + π/3`, and nothing else (the bar then
+/// leaves upwards at its mean speed `1/3`).
+#[test]
+fn a_simultaneous_plastic_impact_holds_both_ends_until_the_closed_form_release() {
+    let (m, k) = bar(true);
+    let stops = vec![Contact::new(0, Bounds::obstacle(-0.05), false), Contact::new(3, Bounds::obstacle(-0.05), false)];
+    let dy = Dynamics::new(m, k, vec![0.0; 4], stops);
+    let mut run = EventDriven::new(&dy, 0.0, &[0.0; 4], &[-0.5; 4], 0.0).unwrap();
+    run.run_until(3.0, 1000).unwrap();
+    let ev = run.events();
+    let kinds: Vec<(EventKind, usize)> = ev.iter().map(|e| (e.kind, e.contact)).collect();
+    assert_eq!(kinds, [(EventKind::Impact, 0), (EventKind::Impact, 1), (EventKind::Release, 0), (EventKind::Release, 1)], "{ev:?}");
+    let release = 0.1 + std::f64::consts::PI / 3.0;
+    for e in &ev[..2] {
+        assert!((e.t - 0.1).abs() <= 1e-15, "{e:?}");
+        assert!((e.velocity_before + 0.5).abs() <= 1e-15 && e.velocity_after == 0.0, "{e:?}");
+        assert!((e.impulse - 1.0 / 12.0).abs() <= 1e-15, "{e:?}");
+    }
+    for e in &ev[2..] {
+        assert!((e.t - release).abs() <= 1e-12, "{e:?} against 0.1 + π/3 = {release}");
+    }
+}
