@@ -163,6 +163,31 @@ struct Tridiagonals {
     ms: Vec<f64>,
     kd: Vec<f64>,
     ks: Vec<f64>,
+    /// The CPU has AVX2: [`update_and_assemble`] is compiled with it too
+    /// (chosen at run time; no FMA, so the same bits).
+    avx2: bool,
+}
+
+/// [`update_and_assemble`], compiled with AVX2 when the CPU has it.
+#[allow(clippy::too_many_arguments)]
+fn update_and_assemble_dispatch(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], terms: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+    #[cfg(target_arch = "x86_64")]
+    if t.avx2 {
+        // SAFETY: `avx2` is set only when the CPU reports AVX2.
+        return unsafe { update_and_assemble_avx2(t, u, f, mom, r, rhs, terms, dt, g, c) };
+    }
+    update_and_assemble(t, u, f, mom, r, rhs, terms, dt, g, c)
+}
+
+/// [`update_and_assemble`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn update_and_assemble_avx2(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], terms: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+    update_and_assemble(t, u, f, mom, r, rhs, terms, dt, g, c)
 }
 
 /// `y_i = (A x)_i + c_i` for a tridiagonal `A` given by its diagonal `d` and
@@ -418,6 +443,10 @@ impl OneStep {
             ms: dy.mass.diagonal(1),
             kd: dy.stiffness.diagonal(0),
             ks: dy.stiffness.diagonal(1),
+            #[cfg(target_arch = "x86_64")]
+            avx2: std::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            avx2: false,
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
         let mut loads = Loads::values(&dy, dt);
@@ -834,7 +863,7 @@ impl Stepper for OneStep {
         // potential's terms in one pass.
         let fused = match (&self.tri, self.fuse_energy) {
             (Some(t), true) => {
-                update_and_assemble(t, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, &mut self.pot_terms, dt, g, [dt, ao, an]);
+                update_and_assemble_dispatch(t, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, &mut self.pot_terms, dt, g, [dt, ao, an]);
                 true
             }
             _ => {
