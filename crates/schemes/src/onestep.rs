@@ -741,7 +741,9 @@ impl OneStep {
     fn finish_fused(&mut self, c: usize, coef: [f64; 3]) {
         let (Some(t), Some((l_a, _)), Some((l_m, inv_d_m))) = (&self.tri, self.a.tridiagonal_factors(), self.m_massive.tridiagonal_factors()) else { return };
         self.rhs[c] = rhs_row(&t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, coef, c);
-        self.sums = Some(forward_with_energy(l_a, &mut self.rhs, l_m, inv_d_m, self.dy.massive_start(), &self.mom, &self.pot_terms, &self.u, &self.dy.load));
+        // `f` is the steady load here (no forcing: `fuse_energy`), the same
+        // values as `dy.load`, one stream fewer.
+        self.sums = Some(forward_with_energy(l_a, &mut self.rhs, l_m, inv_d_m, self.dy.massive_start(), &self.mom, &self.pot_terms, &self.u, &self.f));
         self.ahead = true;
     }
 
