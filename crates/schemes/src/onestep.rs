@@ -139,9 +139,6 @@ pub struct OneStep {
     /// The energy sums `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` of the current level,
     /// when the step computed them.
     sums: Option<(f64, f64, f64)>,
-    /// Per row, `U_i (K_ii U_i + 2 K_{i,i-1} U_{i-1})` (the potential's
-    /// terms, vectorised ahead of its ordered sum); empty off that path.
-    pot_terms: Vec<f64>,
 }
 
 /// The state a damped step needs besides `P`, `R` (module docs, "Damping").
@@ -170,13 +167,13 @@ struct Tridiagonals {
 
 /// [`update_and_assemble`], compiled with AVX2 when the CPU has it.
 #[allow(clippy::too_many_arguments)]
-fn update_and_assemble_dispatch(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], terms: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+fn update_and_assemble_dispatch(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
     #[cfg(target_arch = "x86_64")]
     if t.avx2 {
         // SAFETY: `avx2` is set only when the CPU reports AVX2.
-        return unsafe { update_and_assemble_avx2(t, u, f, mom, r, rhs, terms, dt, g, c) };
+        return unsafe { update_and_assemble_avx2(t, u, f, mom, r, rhs, dt, g, c) };
     }
-    update_and_assemble(t, u, f, mom, r, rhs, terms, dt, g, c)
+    update_and_assemble(t, u, f, mom, r, rhs, dt, g, c)
 }
 
 /// [`update_and_assemble`] compiled with AVX2.
@@ -186,8 +183,8 @@ fn update_and_assemble_dispatch(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mu
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn update_and_assemble_avx2(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], terms: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
-    update_and_assemble(t, u, f, mom, r, rhs, terms, dt, g, c)
+unsafe fn update_and_assemble_avx2(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+    update_and_assemble(t, u, f, mom, r, rhs, dt, g, c)
 }
 
 /// `y_i = (A x)_i + c_i` for a tridiagonal `A` given by its diagonal `d` and
@@ -264,34 +261,30 @@ fn rhs_row(m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64],
 /// rows): `R ← F − K U`, `P ← P + dt((1−γ) R_old + γ R)` (the operations of
 /// [`OneStep::update_acceleration_and_momentum`]), the next step's
 /// right-hand side `M U + c₀ P + c₁ R + c₂ F` into `rhs` (those of
-/// [`forward_backward_fused`], [`rhs_row`]) and the potential's terms
-/// `U_i (K_ii U_i + 2 (0 + K_{i,i−1} U_{i−1}))` into `terms` (those of
-/// [`energy_sums_tri`]). The caller then fixes the contact row's `P`, `R`
-/// and its `rhs` row.
+/// [`forward_backward_fused`], [`rhs_row`]). The caller then fixes the
+/// contact row's `P`, `R` and its `rhs` row.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn update_and_assemble(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], terms: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+fn update_and_assemble(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
     let n = u.len();
     let (kd, ks, md, ms) = (&t.kd[..n], &t.ks[..n], &t.md[..n], &t.ms[..n]);
-    let (f, mom, r, rhs, terms) = (&f[..n], &mut mom[..n], &mut r[..n], &mut rhs[..n], &mut terms[..n]);
+    let (f, mom, r, rhs) = (&f[..n], &mut mom[..n], &mut r[..n], &mut rhs[..n]);
     // Row 0.
     let rn = f[0] - (kd[0] * u[0] + ks[1] * u[1]);
     mom[0] += dt * ((1.0 - g) * r[0] + g * rn);
     r[0] = rn;
     rhs[0] = md[0] * u[0] + ms[1] * u[1] + (c[0] * mom[0] + c[1] * r[0] + c[2] * f[0]);
-    terms[0] = u[0] * (kd[0] * u[0] + 2.0 * 0.0);
     // Interior rows 1..n-1, over equal-length slices (vectorised).
     let m = n - 2;
     let (ul, uc, ur) = (&u[..m], &u[1..m + 1], &u[2..m + 2]);
     let (kdc, ksl, ksr, mdc, msl, msr) = (&kd[1..m + 1], &ks[1..m + 1], &ks[2..m + 2], &md[1..m + 1], &ms[1..m + 1], &ms[2..m + 2]);
-    let (fc, pc, rc, bc, tc) = (&f[1..m + 1], &mut mom[1..m + 1], &mut r[1..m + 1], &mut rhs[1..m + 1], &mut terms[1..m + 1]);
+    let (fc, pc, rc, bc) = (&f[1..m + 1], &mut mom[1..m + 1], &mut r[1..m + 1], &mut rhs[1..m + 1]);
     for j in 0..m {
         let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
         let p = pc[j] + dt * ((1.0 - g) * rc[j] + g * rn);
         pc[j] = p;
         rc[j] = rn;
         bc[j] = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * p + c[1] * rn + c[2] * fc[j];
-        tc[j] = uc[j] * (kdc[j] * uc[j] + 2.0 * (0.0 + ksl[j] * ul[j]));
     }
     // Row n-1.
     let l = n - 1;
@@ -299,7 +292,6 @@ fn update_and_assemble(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], 
     mom[l] += dt * ((1.0 - g) * r[l] + g * rn);
     r[l] = rn;
     rhs[l] = ms[l] * u[l - 1] + md[l] * u[l] + (c[0] * mom[l] + c[1] * r[l] + c[2] * f[l]);
-    terms[l] = u[l] * (kd[l] * u[l] + 2.0 * (0.0 + ks[l] * u[l - 1]));
 }
 
 /// Second pass of the fused end of a step: the forward sweep of the step
@@ -307,19 +299,20 @@ fn update_and_assemble(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], 
 /// does it, the last row included, unscaled) and, in the same loop, the
 /// energy sums `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` of [`energy_sums_tri`] (the
 /// kinetic form's forward sweep with the massive block's factor
-/// `(l_m, inv_d_m)` from dof `s`, the potential's terms from
-/// [`update_and_assemble`] summed in row order, the load's dot product from
-/// `-0.0`): two independent ordered chains side by side, each in its own
+/// `(l_m, inv_d_m)` from dof `s`, the potential's with `K`'s diagonal `kd`
+/// and sub-diagonal `ks`, the load's dot product from `-0.0`): independent
+/// ordered chains side by side, each with its own operations in its own
 /// order, so the same bits as the separate loops.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn forward_with_energy(l_a: &[f64], b: &mut [f64], l_m: &[f64], inv_d_m: &[f64], s: usize, p: &[f64], terms: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
+fn forward_with_energy(l_a: &[f64], b: &mut [f64], l_m: &[f64], inv_d_m: &[f64], s: usize, p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
     let n = b.len();
-    let (l_a, p, terms, u, load) = (&l_a[..n], &p[..n], &terms[..n], &u[..n], &load[..n]);
+    let (l_a, p, kd, ks, u, load) = (&l_a[..n], &p[..n], &kd[..n], &ks[..n], &u[..n], &load[..n]);
     let (l_m, inv_d_m) = (&l_m[..n - s], &inv_d_m[..n - s]);
     let (mut pot, mut lw) = (0.0, -0.0);
     for i in 0..=s {
-        pot += terms[i];
+        let off = if i == 0 { 0.0 } else { 0.0 + ks[i] * u[i - 1] };
+        pot += u[i] * (kd[i] * u[i] + 2.0 * off);
         lw += load[i] * u[i];
     }
     let mut prev_a = b[0];
@@ -329,13 +322,15 @@ fn forward_with_energy(l_a: &[f64], b: &mut [f64], l_m: &[f64], inv_d_m: &[f64],
     }
     let mut prev = p[s];
     let mut kin = prev * prev * inv_d_m[0];
-    let it = b[s + 1..].iter_mut().zip(&l_a[s + 1..]).zip(&p[s + 1..]).zip(l_m[1..].iter().zip(&inv_d_m[1..])).zip(terms[s + 1..].iter().zip(&load[s + 1..]).zip(&u[s + 1..]));
-    for ((((bi, lai), pi), (li, ldi)), ((ti, fi), ui)) in it {
+    let it = b[s + 1..].iter_mut().zip(&l_a[s + 1..]).zip(&p[s + 1..]).zip(l_m[1..].iter().zip(&inv_d_m[1..]));
+    let it = it.zip(kd[s + 1..].iter().zip(&ks[s + 1..]).zip(&load[s + 1..]).zip(u[s..n - 1].iter().zip(&u[s + 1..])));
+    for ((((bi, lai), pi), (li, ldi)), (((di, si), fi), (ul, ui))) in it {
         prev_a = *bi - lai * prev_a;
         *bi = prev_a;
         prev = pi - li * prev;
         kin += prev * prev * ldi;
-        pot += ti;
+        let off = 0.0 + si * ul;
+        pot += ui * (di * ui + 2.0 * off);
         lw += fi * ui;
     }
     (kin, pot, lw)
@@ -463,7 +458,6 @@ impl OneStep {
             fuse_energy: false,
             ahead: false,
             sums: None,
-            pot_terms: if tri.is_some() { vec![0.0; n] } else { Vec::new() },
             tri,
             law: ContactLaw::Projection,
             u_prev: if dy.forcing.is_empty() { Vec::new() } else { init.u.clone() },
@@ -743,7 +737,7 @@ impl OneStep {
         self.rhs[c] = rhs_row(&t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, coef, c);
         // `f` is the steady load here (no forcing: `fuse_energy`), the same
         // values as `dy.load`, one stream fewer.
-        self.sums = Some(forward_with_energy(l_a, &mut self.rhs, l_m, inv_d_m, self.dy.massive_start(), &self.mom, &self.pot_terms, &self.u, &self.f));
+        self.sums = Some(forward_with_energy(l_a, &mut self.rhs, l_m, inv_d_m, self.dy.massive_start(), &self.mom, &t.kd, &t.ks, &self.u, &self.f));
         self.ahead = true;
     }
 
@@ -861,11 +855,11 @@ impl Stepper for OneStep {
         self.lambda = lambda;
         self.damped_kinematics(an, dt, g);
         // `fuse_energy` (the bar's tridiagonal path, one contact, no
-        // forcing, no damping): R, P, the next step's b and the
-        // potential's terms in one pass.
+        // forcing, no damping): R, P and the next step's b
+        // in one pass.
         let fused = match (&self.tri, self.fuse_energy) {
             (Some(t), true) => {
-                update_and_assemble_dispatch(t, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, &mut self.pot_terms, dt, g, [dt, ao, an]);
+                update_and_assemble_dispatch(t, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, dt, g, [dt, ao, an]);
                 true
             }
             _ => {
