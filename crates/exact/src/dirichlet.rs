@@ -98,6 +98,33 @@ pub(crate) fn eval_zone(p: u8, tau: f64, x: f64, a: bool, b: bool) -> Fields {
     }
 }
 
+/// [`BarDirichlet`]'s `u_at` compiled with AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn u_at_avx2(t: f64, xs: &[f64], out: &mut [f64]) {
+    u_at_body(t, xs, out)
+}
+
+/// The body of [`BarDirichlet`]'s `u_at`.
+#[inline(always)]
+fn u_at_body(t: f64, xs: &[f64], out: &mut [f64]) {
+    let Some((p, tau)) = phase(t) else {
+        out.iter_mut().take(xs.len()).for_each(|o| *o = f64::NAN);
+        return;
+    };
+    // `eval_zone`'s values that depend on τ alone.
+    let (approach, contact_left, contact_right, flight) = ((1.0 - tau) / 2.0, -tau / 2.0, (tau - 1.0) / 2.0, tau / 2.0);
+    // One loop per phase (a `match` inside would keep it scalar).
+    match p {
+        0 => each_on_bar(xs, out, |x| select(x < tau, approach, (1.0 - x) / 2.0)),
+        1 => each_on_bar(xs, out, |x| select(x + tau < 1.0, select(x < tau, -x / 2.0, contact_left), select(x < tau, contact_right, (x - 1.0) / 2.0))),
+        _ => each_on_bar(xs, out, |x| select(x + tau < 1.0, flight, (1.0 - x) / 2.0)),
+    }
+}
+
 impl ExactSolution for BarDirichlet {
     fn name(&self) -> &str {
         "bar-dirichlet"
@@ -121,19 +148,15 @@ impl ExactSolution for BarDirichlet {
     /// [`fields`](Self::fields)' `u` at every point, the phase found once
     /// and each zone's value chosen without a branch (so the loop
     /// vectorises): the same operations on the same clamped `x`, the same bits.
+    /// Compiled for the baseline target and with AVX2, chosen at run time
+    /// (no FMA: the same bits either way).
     fn u_at(&self, t: f64, xs: &[f64], out: &mut [f64]) {
-        let Some((p, tau)) = phase(t) else {
-            out.iter_mut().take(xs.len()).for_each(|o| *o = f64::NAN);
-            return;
-        };
-        // `eval_zone`'s values that depend on τ alone.
-        let (approach, contact_left, contact_right, flight) = ((1.0 - tau) / 2.0, -tau / 2.0, (tau - 1.0) / 2.0, tau / 2.0);
-        // One loop per phase (a `match` inside would keep it scalar).
-        match p {
-            0 => each_on_bar(xs, out, |x| select(x < tau, approach, (1.0 - x) / 2.0)),
-            1 => each_on_bar(xs, out, |x| select(x + tau < 1.0, select(x < tau, -x / 2.0, contact_left), select(x < tau, contact_right, (x - 1.0) / 2.0))),
-            _ => each_on_bar(xs, out, |x| select(x + tau < 1.0, flight, (1.0 - x) / 2.0)),
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU reports AVX2.
+            return unsafe { u_at_avx2(t, xs, out) };
         }
+        u_at_body(t, xs, out)
     }
     /// NaN for a non-finite `t`.
     fn lambda(&self, t: f64) -> f64 {

@@ -288,15 +288,19 @@ impl<'a> SpaceIntegrator<'a> {
             (l2, semi) = piece(d, h, &e[..=d]);
         } else if d == 1 {
             let mut e0 = err(0);
+            // `e0 * e0` is the element before's `e1 * e1`: carried, not
+            // computed again (the same value).
+            let mut sq0 = e0 * e0;
             // Interior nodes 1..m-1 straight from u; the last node separately.
             for (ui, xi) in u[1..m].iter().zip(&ex[1..m]) {
                 let e1 = ui - xi;
-                l2 += e0 * e0 + e0 * e1 + e1 * e1;
+                let sq1 = e1 * e1;
+                l2 += sq0 + e0 * e1 + sq1;
                 semi += (e1 - e0) * (e1 - e0);
-                e0 = e1;
+                (e0, sq0) = (e1, sq1);
             }
             let e1 = err(m);
-            l2 += e0 * e0 + e0 * e1 + e1 * e1;
+            l2 += sq0 + e0 * e1 + e1 * e1;
             semi += (e1 - e0) * (e1 - e0);
             l2 *= h / 3.0;
             semi /= h;

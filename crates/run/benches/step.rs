@@ -62,8 +62,9 @@ fn b_stepping_with_all_norms(bencher: Bencher, m: usize) {
 }
 
 /// Where (b)'s extra time goes, part by part, per dof and step: the scheme's
-/// discrete energy (`Stepper::energy`, asked for at every level by the
-/// norm observer), the exact space errors (`SpaceIntegrator::errors`:
+/// discrete energy asked for on its own (`Stepper::energy` outside a step;
+/// in (b) the runner sets `Stepper::fuse_energy` and the step computes it
+/// inside its own loops, for less), the exact space errors (`SpaceIntegrator::errors`:
 /// the exact solution at the nodes, the element sums, the kinked
 /// elements), and the exact solution at the nodes alone.
 #[divan::bench(args = SIZES)]

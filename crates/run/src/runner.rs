@@ -274,7 +274,11 @@ pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &m
     if let Some(cancel) = cfg.interrupt.clone() {
         stepper.set_interrupt(Some(std::sync::Arc::new(move || cancel.is_cancelled())));
     }
+    // Energy at every level: a scheme may fuse it with its step.
+    let want_energy = observers.iter().any(|o| o.wants_energy()) || cfg.energy_warn.is_some();
+    stepper.fuse_energy(want_energy);
     let result = run_inner(stepper, u0, cfg, observers);
+    stepper.fuse_energy(false);
     if cfg.interrupt.is_some() {
         stepper.set_interrupt(None);
     }

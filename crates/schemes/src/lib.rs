@@ -663,6 +663,14 @@ pub trait Stepper: Send {
         let _ = s;
         Err(SchemeError::Structure("this scheme does not offer its state (set_state)"))
     }
+    /// The caller will ask for [`energy`](Self::energy) after every step
+    /// (`on`; the runner does while an observer wants it): a scheme may
+    /// then compute it inside the step, where its loops overlap with the
+    /// step's, and must give the same bits as without. Ignored by
+    /// default (and by every scheme but the bar's Newmark/θ path).
+    fn fuse_energy(&mut self, on: bool) {
+        let _ = on;
+    }
     /// The events so far of an event-driven scheme (`events.csv`);
     /// `None` for time-stepping schemes.
     fn events(&self) -> Option<&[events::EventRecord]> {

@@ -128,6 +128,17 @@ pub struct OneStep {
     /// the step, the penalty stiffness of each stop.
     multi: Option<MultiSolve>,
     kappas: Vec<f64>,
+    /// The caller asks for the energy after every step
+    /// ([`Stepper::fuse_energy`]): on the bar's tridiagonal path the step
+    /// then ends by assembling and forward-sweeping the next step's
+    /// right-hand side in one loop with this level's energy sums.
+    fuse_energy: bool,
+    /// `rhs` holds the next step's right-hand side, forward-swept (the
+    /// step starts with its backward sweep).
+    ahead: bool,
+    /// The energy sums `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` of the current level,
+    /// when the step computed them.
+    sums: Option<(f64, f64, f64)>,
 }
 
 /// The state a damped step needs besides `P`, `R` (module docs, "Damping").
@@ -149,6 +160,31 @@ struct Tridiagonals {
     ms: Vec<f64>,
     kd: Vec<f64>,
     ks: Vec<f64>,
+    /// The CPU has AVX2: [`update_and_assemble`] is compiled with it too
+    /// (chosen at run time; no FMA, so the same bits).
+    avx2: bool,
+}
+
+/// [`update_and_assemble`], compiled with AVX2 when the CPU has it.
+#[allow(clippy::too_many_arguments)]
+fn update_and_assemble_dispatch(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+    #[cfg(target_arch = "x86_64")]
+    if t.avx2 {
+        // SAFETY: `avx2` is set only when the CPU reports AVX2.
+        return unsafe { update_and_assemble_avx2(t, u, f, mom, r, rhs, dt, g, c) };
+    }
+    update_and_assemble(t, u, f, mom, r, rhs, dt, g, c)
+}
+
+/// [`update_and_assemble`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn update_and_assemble_avx2(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+    update_and_assemble(t, u, f, mom, r, rhs, dt, g, c)
 }
 
 /// `y_i = (A x)_i + c_i` for a tridiagonal `A` given by its diagonal `d` and
@@ -185,12 +221,119 @@ fn forward_backward_fused(l: &[f64], inv_d: &[f64], m_d: &[f64], m_s: &[f64], u:
         *oi = prev;
     }
     let b_last = m_s[n - 1] * u[n - 2] + m_d[n - 1] * u[n - 1] + extra(n - 1);
-    let mut next = (b_last - l[n - 1] * prev) * inv_d[n - 1];
+    out[n - 1] = b_last - l[n - 1] * prev;
+    backward_sweep(l, inv_d, out);
+}
+
+/// The backward sweep of the tridiagonal factor `(l, inv_d)` on a
+/// forward-swept right-hand side `out` (the second half of
+/// [`forward_backward_fused`]).
+#[inline(always)]
+fn backward_sweep(l: &[f64], inv_d: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let (l, inv_d) = (&l[..n], &inv_d[..n]);
+    let mut next = out[n - 1] * inv_d[n - 1];
     out[n - 1] = next;
     for ((o, li1), di) in out[..n - 1].iter_mut().rev().zip(l[1..].iter().rev()).zip(inv_d[..n - 1].iter().rev()) {
         next = *o * di - li1 * next;
         *o = next;
     }
+}
+
+/// Row `i` of the right-hand side `M U + c₀ P + c₁ R + c₂ F` with the
+/// operations, in their order, of [`forward_backward_fused`]'s row `i`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn rhs_row(m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], i: usize) -> f64 {
+    let n = u.len();
+    let extra = c[0] * p[i] + c[1] * r[i] + c[2] * f[i];
+    if i == 0 {
+        m_d[0] * u[0] + m_s[1] * u[1] + extra
+    } else if i == n - 1 {
+        m_s[n - 1] * u[n - 2] + m_d[n - 1] * u[n - 1] + extra
+    } else {
+        m_s[i] * u[i - 1] + m_d[i] * u[i] + m_s[i + 1] * u[i + 1] + c[0] * p[i] + c[1] * r[i] + c[2] * f[i]
+    }
+}
+
+/// The end of a step on the bar's tridiagonal path when the energy is
+/// wanted at every level, first pass (branch-free, vectorised across
+/// rows): `R ← F − K U`, `P ← P + dt((1−γ) R_old + γ R)` (the operations of
+/// [`OneStep::update_acceleration_and_momentum`]), the next step's
+/// right-hand side `M U + c₀ P + c₁ R + c₂ F` into `rhs` (those of
+/// [`forward_backward_fused`], [`rhs_row`]). The caller then fixes the
+/// contact row's `P`, `R` and its `rhs` row.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn update_and_assemble(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+    let n = u.len();
+    let (kd, ks, md, ms) = (&t.kd[..n], &t.ks[..n], &t.md[..n], &t.ms[..n]);
+    let (f, mom, r, rhs) = (&f[..n], &mut mom[..n], &mut r[..n], &mut rhs[..n]);
+    // Row 0.
+    let rn = f[0] - (kd[0] * u[0] + ks[1] * u[1]);
+    mom[0] += dt * ((1.0 - g) * r[0] + g * rn);
+    r[0] = rn;
+    rhs[0] = md[0] * u[0] + ms[1] * u[1] + (c[0] * mom[0] + c[1] * r[0] + c[2] * f[0]);
+    // Interior rows 1..n-1, over equal-length slices (vectorised).
+    let m = n - 2;
+    let (ul, uc, ur) = (&u[..m], &u[1..m + 1], &u[2..m + 2]);
+    let (kdc, ksl, ksr, mdc, msl, msr) = (&kd[1..m + 1], &ks[1..m + 1], &ks[2..m + 2], &md[1..m + 1], &ms[1..m + 1], &ms[2..m + 2]);
+    let (fc, pc, rc, bc) = (&f[1..m + 1], &mut mom[1..m + 1], &mut r[1..m + 1], &mut rhs[1..m + 1]);
+    for j in 0..m {
+        let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
+        let p = pc[j] + dt * ((1.0 - g) * rc[j] + g * rn);
+        pc[j] = p;
+        rc[j] = rn;
+        bc[j] = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * p + c[1] * rn + c[2] * fc[j];
+    }
+    // Row n-1.
+    let l = n - 1;
+    let rn = f[l] - (ks[l] * u[l - 1] + kd[l] * u[l]);
+    mom[l] += dt * ((1.0 - g) * r[l] + g * rn);
+    r[l] = rn;
+    rhs[l] = ms[l] * u[l - 1] + md[l] * u[l] + (c[0] * mom[l] + c[1] * r[l] + c[2] * f[l]);
+}
+
+/// Second pass of the fused end of a step: the forward sweep of the step
+/// matrix's factor `(l_a, ·)` on `b` in place (as [`forward_backward_fused`]
+/// does it, the last row included, unscaled) and, in the same loop, the
+/// energy sums `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` of [`energy_sums_tri`] (the
+/// kinetic form's forward sweep with the massive block's factor
+/// `(l_m, inv_d_m)` from dof `s`, the potential's with `K`'s diagonal `kd`
+/// and sub-diagonal `ks`, the load's dot product from `-0.0`): independent
+/// ordered chains side by side, each with its own operations in its own
+/// order, so the same bits as the separate loops.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn forward_with_energy(l_a: &[f64], b: &mut [f64], l_m: &[f64], inv_d_m: &[f64], s: usize, p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
+    let n = b.len();
+    let (l_a, p, kd, ks, u, load) = (&l_a[..n], &p[..n], &kd[..n], &ks[..n], &u[..n], &load[..n]);
+    let (l_m, inv_d_m) = (&l_m[..n - s], &inv_d_m[..n - s]);
+    let (mut pot, mut lw) = (0.0, -0.0);
+    for i in 0..=s {
+        let off = if i == 0 { 0.0 } else { 0.0 + ks[i] * u[i - 1] };
+        pot += u[i] * (kd[i] * u[i] + 2.0 * off);
+        lw += load[i] * u[i];
+    }
+    let mut prev_a = b[0];
+    for i in 1..=s {
+        prev_a = b[i] - l_a[i] * prev_a;
+        b[i] = prev_a;
+    }
+    let mut prev = p[s];
+    let mut kin = prev * prev * inv_d_m[0];
+    let it = b[s + 1..].iter_mut().zip(&l_a[s + 1..]).zip(&p[s + 1..]).zip(l_m[1..].iter().zip(&inv_d_m[1..]));
+    let it = it.zip(kd[s + 1..].iter().zip(&ks[s + 1..]).zip(&load[s + 1..]).zip(u[s..n - 1].iter().zip(&u[s + 1..])));
+    for ((((bi, lai), pi), (li, ldi)), (((di, si), fi), (ul, ui))) in it {
+        prev_a = *bi - lai * prev_a;
+        *bi = prev_a;
+        prev = pi - li * prev;
+        kin += prev * prev * ldi;
+        let off = 0.0 + si * ul;
+        pot += ui * (di * ui + 2.0 * off);
+        lw += fi * ui;
+    }
+    (kin, pot, lw)
 }
 
 /// `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` on the tridiagonal path in one pass: the
@@ -295,6 +438,10 @@ impl OneStep {
             ms: dy.mass.diagonal(1),
             kd: dy.stiffness.diagonal(0),
             ks: dy.stiffness.diagonal(1),
+            #[cfg(target_arch = "x86_64")]
+            avx2: std::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            avx2: false,
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
         let mut loads = Loads::values(&dy, dt);
@@ -308,6 +455,9 @@ impl OneStep {
             acts: vec![Active::None; k],
             multi,
             kappas: Vec::new(),
+            fuse_energy: false,
+            ahead: false,
+            sums: None,
             tri,
             law: ContactLaw::Projection,
             u_prev: if dy.forcing.is_empty() { Vec::new() } else { init.u.clone() },
@@ -579,6 +729,18 @@ impl OneStep {
         }
     }
 
+    /// The end of a fused step (after [`update_and_assemble`] and the
+    /// contact row's fix): the contact row of the next step's `b`, then its
+    /// forward sweep with this level's energy sums.
+    fn finish_fused(&mut self, c: usize, coef: [f64; 3]) {
+        let (Some(t), Some((l_a, _)), Some((l_m, inv_d_m))) = (&self.tri, self.a.tridiagonal_factors(), self.m_massive.tridiagonal_factors()) else { return };
+        self.rhs[c] = rhs_row(&t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, coef, c);
+        // `f` is the steady load here (no forcing: `fuse_energy`), the same
+        // values as `dy.load`, one stream fewer.
+        self.sums = Some(forward_with_energy(l_a, &mut self.rhs, l_m, inv_d_m, self.dy.massive_start(), &self.mom, &t.kd, &t.ks, &self.u, &self.f));
+        self.ahead = true;
+    }
+
     /// Gives back the problem (to start a two-step scheme).
     pub(crate) fn into_dynamics(self) -> Dynamics {
         self.dy
@@ -607,7 +769,18 @@ impl Stepper for OneStep {
         self.u.copy_from_slice(&s[..n]);
         self.dy.mass.mul_vec(&s[n..2 * n], &mut self.mom);
         self.r.copy_from_slice(&s[2 * n..]);
+        (self.ahead, self.sums) = (false, None);
         Ok(())
+    }
+
+    /// On the bar's tridiagonal path (one contact, no forcing): each step
+    /// ends by assembling and forward-sweeping the next step's right-hand
+    /// side in one loop with the new level's energy sums (two independent
+    /// ordered chains side by side); [`energy`](Stepper::energy) then
+    /// returns them. The same bits as without (tested).
+    fn fuse_energy(&mut self, on: bool) {
+        let tri = self.tri.is_some() && self.a.tridiagonal_factors().is_some() && self.m_massive.tridiagonal_factors().is_some();
+        self.fuse_energy = on && tri && self.dy.k() == 1 && self.dy.forcing.is_empty() && self.damp.is_none();
     }
 
     fn contact_pivots(&self) -> Option<(u64, u64)> {
@@ -626,11 +799,17 @@ impl Stepper for OneStep {
             self.f.copy_from_slice(&self.dy.load);
             add_terms(&mut self.f, &self.dy.forcing, 1.0, &self.s_next);
         }
+        self.sums = None;
         // b = M U^n + dt P^n + b dt² R^n + a dt² F
         if let (Some(t), Some((l, inv_d))) = (&self.tri, self.a.tridiagonal_factors()) {
-            // Bar: b is assembled inside the forward sweep, whose loop-carried
-            // dependency leaves the core idle enough to do it for free.
-            forward_backward_fused(l, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs);
+            if std::mem::take(&mut self.ahead) {
+                // The step before assembled and forward-swept b (`fuse_energy`).
+                backward_sweep(l, inv_d, &mut self.rhs);
+            } else {
+                // Bar: b is assembled inside the forward sweep, whose loop-carried
+                // dependency leaves the core idle enough to do it for free.
+                forward_backward_fused(l, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs);
+            }
         } else {
             self.dy.mass.mul_vec(&self.u, &mut self.rhs);
             for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.r).zip(&self.f) {
@@ -675,7 +854,19 @@ impl Stepper for OneStep {
         self.add_forcing_work();
         self.lambda = lambda;
         self.damped_kinematics(an, dt, g);
-        self.update_acceleration_and_momentum(dt, g);
+        // `fuse_energy` (the bar's tridiagonal path, one contact, no
+        // forcing, no damping): R, P and the next step's b
+        // in one pass.
+        let fused = match (&self.tri, self.fuse_energy) {
+            (Some(t), true) => {
+                update_and_assemble_dispatch(t, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, dt, g, [dt, ao, an]);
+                true
+            }
+            _ => {
+                self.update_acceleration_and_momentum(dt, g);
+                false
+            }
+        };
         // The contact row: the force term (or, massless, R_c = P_c = 0).
         if self.dy.contacts[0].massless {
             self.r[c] = 0.0;
@@ -683,6 +874,9 @@ impl Stepper for OneStep {
         } else {
             self.r[c] -= lambda;
             self.mom[c] -= dt * g * lambda;
+        }
+        if fused {
+            self.finish_fused(c, [dt, ao, an]);
         }
         self.lams[0] = lambda;
         self.acts[0] = active;
@@ -705,8 +899,9 @@ impl Stepper for OneStep {
 
     fn energy(&mut self) -> Option<(f64, f64)> {
         let s = self.dy.massive_start();
-        let (kin, pot, load) = match (&self.tri, self.m_massive.tridiagonal_factors()) {
-            (Some(t), Some((l, inv_d))) => energy_sums_tri(l, inv_d, s, &self.mom, &t.kd, &t.ks, &self.u, &self.dy.load),
+        let (kin, pot, load) = match (self.sums, &self.tri, self.m_massive.tridiagonal_factors()) {
+            (Some(sums), _, _) => sums,
+            (None, Some(t), Some((l, inv_d))) => energy_sums_tri(l, inv_d, s, &self.mom, &t.kd, &t.ks, &self.u, &self.dy.load),
             _ => (self.m_massive.inverse_quad_form(&self.mom[s..]), self.dy.stiffness.quad_form(&self.u), self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum()),
         };
         let spring = match self.law {

@@ -359,3 +359,36 @@ fn two_and_three_kinks_in_one_element_of_degree_one_and_two() {
         }
     }
 }
+
+/// The P1 element sums are the per-element formula `h/3 (e₀² + e₀e₁ + e₁²)`,
+/// `(e₁ − e₀)²/h` summed element by element in order, bit for bit (the loop
+/// carries `e₁²` to the next element instead of squaring again): a kink on a
+/// node splits nothing, so no element is re-integrated; a free end (m + 1
+/// values) and a clamped one (m values, the last 0).
+#[test]
+fn p1_element_sums_are_the_plain_formula_bit_for_bit() {
+    for m in [1usize, 2, 7, 100] {
+        let h = 1.0 / m as f64;
+        let exact = Kinked { a: 0.0, p: 1, square: false };
+        let nodes: Vec<f64> = (0..=m).map(|i| if i == m { 1.0 } else { i as f64 * h }).collect();
+        let ex: Vec<f64> = nodes.iter().map(|&x| exact.fields(x, 0.0).u).collect();
+        for clamped in [false, true] {
+            let u: Vec<f64> = (0..m + usize::from(!clamped)).map(|i| (0.7 * i as f64 + 0.3).sin()).collect();
+            let node_u = |i: usize| if i < u.len() { u[i] } else { 0.0 };
+            let (mut l2, mut semi) = (0.0, 0.0);
+            for j in 0..m {
+                let (e0, e1) = (node_u(j) - ex[j], node_u(j + 1) - ex[j + 1]);
+                l2 += e0 * e0 + e0 * e1 + e1 * e1;
+                semi += (e1 - e0) * (e1 - e0);
+            }
+            if m == 1 {
+                // One element: the piece formula scales before summing.
+                (l2, semi) = (h * l2 / 3.0, semi / h);
+            } else {
+                (l2, semi) = (l2 * (h / 3.0), semi / h);
+            }
+            let e = SpaceIntegrator::new(&exact, m, VNorm::H1Seminorm).errors(0.0, &u);
+            assert_eq!((e.l2.to_bits(), e.v.to_bits()), (l2.sqrt().to_bits(), semi.sqrt().to_bits()), "m = {m}, clamped {clamped}");
+        }
+    }
+}

@@ -430,3 +430,70 @@ fn bar_energy_is_the_three_separate_forms_bit_for_bit() {
         }
     }
 }
+
+/// With [`Stepper::fuse_energy`] on, the bar's Newmark/θ step ends by
+/// assembling and forward-sweeping the next step's right-hand side in one
+/// loop with the new level's energy sums. That changes no bit: against the
+/// same scheme with it off, `U`, `P`, `R`, the contact force and status are
+/// equal (`to_bits`) at every step, and the fused energy equals, bit for
+/// bit, the three separate forms of `signorini-fem` on the scheme's own `P`
+/// and `U` — every mass treatment, free and clamped ends, Newmark-CN, θ,
+/// the penalty law, through impacts and releases, across a `set_state`
+/// (which drops the step assembled ahead) and with the hint switched off
+/// and on again mid-run.
+#[test]
+fn fused_energy_step_is_the_plain_step_bit_for_bit() {
+    use signorini_schemes::{ContactLaw, OneStep, OneStepParams, Stepper};
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+    for mass in MASSES {
+        for free in [false, true] {
+            for m in [2usize, 3, 17, 64] {
+                for (prm, law) in [
+                    (OneStepParams::newmark(0.25, 0.5), ContactLaw::Projection),
+                    (OneStepParams::theta(0.7), ContactLaw::Projection),
+                    (OneStepParams::newmark(0.3, 0.6), ContactLaw::Penalty { stiffness: 50.0 }),
+                ] {
+                    let (dy, _) = bar_scene(m, mass, free, 0.0, -0.2, None);
+                    let n = dy.n();
+                    let init = approaching(n, m, 0.0, 0.01, 0.6, 0.3, 2.0);
+                    let s = usize::from(mass.massless_contact_node());
+                    let m_massive = dy.mass.trailing(s).factor().unwrap();
+                    let (k, load) = (dy.stiffness.clone(), dy.load.clone());
+                    let build = || OneStep::new("cn".into(), dy.clone(), prm, 0.01, &init).unwrap().with_contact_law(law).unwrap();
+                    let (mut plain, mut fused) = (build(), build());
+                    fused.fuse_energy(true);
+                    let mut contacts = 0;
+                    for step in 0..120 {
+                        // A perturbed state through `set_state` on both
+                        // (offered with a massive contact node).
+                        if let (50, Some(mut st)) = (step, plain.state()) {
+                            st.iter_mut().enumerate().for_each(|(i, x)| *x += 1e-3 * (i as f64).sin());
+                            plain.set_state(&st).unwrap();
+                            fused.set_state(&st).unwrap();
+                        }
+                        if step == 80 || step == 83 {
+                            fused.fuse_energy(step == 83);
+                        }
+                        let (ra, rb) = (plain.step().unwrap(), fused.step().unwrap());
+                        assert_eq!(ra, rb, "{mass:?} free {free} m = {m} {prm:?}: report at step {step}");
+                        for (what, a, b) in [("U", plain.displacement(), fused.displacement()), ("P", plain.momentum(), fused.momentum()), ("R", plain.mass_acceleration(), fused.mass_acceleration())]
+                        {
+                            assert!(bits(a) == bits(b), "{mass:?} free {free} m = {m} {prm:?}: {what} at step {step}");
+                        }
+                        let (u, p) = (fused.displacement().to_vec(), fused.momentum().to_vec());
+                        let lw: f64 = load.iter().zip(&u).map(|(f, u)| f * u).sum();
+                        let spring = match law {
+                            ContactLaw::Penalty { stiffness } => 0.5 * stiffness * (0.0 - u[0]).max(0.0).powi(2),
+                            ContactLaw::Projection => 0.0,
+                        };
+                        let expected = 0.5 * m_massive.inverse_quad_form(&p[s..]) + 0.5 * k.quad_form(&u) - lw + spring;
+                        let (ea, eb) = (plain.energy().unwrap(), fused.energy().unwrap());
+                        assert!(eb.1.to_bits() == expected.to_bits() && ea == eb, "{mass:?} free {free} m = {m} {prm:?}, step {step}: {:e} vs {expected:e}", eb.1);
+                        contacts += usize::from(rb.lambda.is_some_and(|l| l.1 != 0.0));
+                    }
+                    assert!(contacts > 3, "{mass:?} free {free} m = {m} {prm:?}: {contacts} contact steps");
+                }
+            }
+        }
+    }
+}
