@@ -27,7 +27,8 @@ The projected runs: the same systems and (θ, γ) under
 `MLCPProjectOnConstraints()` (its defaults: no mass normalisation, α = 1,
 the enumerative MLCP solver; the index set's thresholds 1e-7, the
 projection's tolerance 1e-8, at most 10 projections a step); one more
-column, projections (the projection iterations of the step).
+column, projections (the projection iterations of the step); and one more
+system, PROJECTED_EXTRA.
 """
 
 import csv
@@ -53,6 +54,10 @@ CASES = [
     ("two-contacts-damped", ((0, "lo", LO, 0.0), (2, "hi", HI, 0.8)), True, F),
 ]
 SCHEMES = [(0.5, 0.5), (0.5, 1.0), (0.75, 0.5), (1.0, 0.0), (1.0, 1.0)]
+# The projected runs only, one more: twice the load, θ = ½, γ = 0, where
+# contacts stay in the index set while their predicted gap is open and
+# they approach (Siconos's hysteresis: 50 such steps).
+PROJECTED_EXTRA = [("two-contacts-loaded", ((0, "lo", LO, 0.5), (2, "hi", HI, 0.8)), False, 2.0 * F, [(0.5, 0.0)])]
 
 
 def run(contacts, damped, load, theta, gamma, projected=False):
@@ -99,8 +104,9 @@ def main():
         with open(out, "w", newline="") as f:
             w = csv.writer(f, lineterminator="\n")
             w.writerow(["case", "theta", "gamma", "step", "t", "q0", "q1", "q2", "v0", "v1", "v2", "p0", "p2"] + (["projections"] if projected else []))
-            for name, contacts, damped, load in CASES:
-                for theta, gamma in SCHEMES:
+            cases = [c + (SCHEMES,) for c in CASES] + (PROJECTED_EXTRA if projected else [])
+            for name, contacts, damped, load, schemes in cases:
+                for theta, gamma in schemes:
                     for k, t, q, v, p, nproj in run(contacts, damped, load, theta, gamma, projected):
                         row = [name, repr(theta), repr(gamma), k, repr(float(t))] + [repr(float(x)) for x in q] + [repr(float(x)) for x in v] + [repr(x) for x in p]
                         w.writerow(row + ([nproj] if projected else []))

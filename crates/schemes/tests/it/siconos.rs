@@ -38,10 +38,12 @@ fn band(a: impl Fn(usize, usize) -> f64) -> SymBand {
 fn dynamics(case: &str) -> Dynamics {
     let (contacts, damped, load) = match case {
         "one-contact" => (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(0.5))], false, F_DOWN),
-        "two-contacts" | "two-contacts-damped" => {
-            let e0 = if case == "two-contacts" { 0.5 } else { 0.0 };
+        "two-contacts" | "two-contacts-damped" | "two-contacts-loaded" => {
+            let e0 = if case == "two-contacts-damped" { 0.0 } else { 0.5 };
             let upper = Bounds { lo: f64::NEG_INFINITY, hi: HI };
-            (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(e0)), Contact::new(2, upper, false).with_restitution(Some(0.8))], case.ends_with("damped"), F)
+            // The loaded case (projected runs only): twice F.
+            let load = if case == "two-contacts-loaded" { F.map(|f| 2.0 * f) } else { F };
+            (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(e0)), Contact::new(2, upper, false).with_restitution(Some(0.8))], case.ends_with("damped"), load)
         }
         other => panic!("unknown case {other}"),
     };
@@ -81,9 +83,9 @@ fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
 
 /// Runs `spec(θ, γ)` next to every run of `file`; the worst difference
 /// (of the velocity scale), the impulses and the steps Siconos projected.
-fn compare(file: &str, spec: impl Fn(f64, f64) -> SchemeSpec) -> (f64, usize, usize) {
+fn compare(file: &str, n_runs: usize, spec: impl Fn(f64, f64) -> SchemeSpec) -> (f64, usize, usize) {
     let runs = siconos_runs(file);
-    assert_eq!(runs.len(), 15, "3 systems × 5 (θ, γ)");
+    assert_eq!(runs.len(), n_runs, "3 systems × 5 (θ, γ), and the projected runs' loaded one");
     let mut worst = 0.0f64;
     let (mut impulses, mut projected) = (0, 0);
     for ((case, theta, gamma), rows) in &runs {
@@ -123,7 +125,7 @@ fn compare(file: &str, spec: impl Fn(f64, f64) -> SchemeSpec) -> (f64, usize, us
 
 #[test]
 fn moreau_jean_equals_siconos_moreau_jean_osi_step_by_step() {
-    let (worst, impulses, _) = compare("moreau-jean.csv", |theta, gamma| SchemeSpec::moreau_jean_gamma(theta, 0.0, gamma));
+    let (worst, impulses, _) = compare("moreau-jean.csv", 15, |theta, gamma| SchemeSpec::moreau_jean_gamma(theta, 0.0, gamma));
     println!("moreau-jean vs Siconos MoreauJeanOSI: 15 runs × 300 steps, {impulses} impulses, worst difference {worst:.1e} of the velocity scale");
     assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
 }
@@ -134,9 +136,9 @@ fn moreau_jean_equals_siconos_moreau_jean_osi_step_by_step() {
 /// projection's tolerance and metric at Siconos's defaults), step by step.
 #[test]
 fn moreau_jean_projected_equals_siconos_direct_projection_step_by_step() {
-    let (worst, impulses, projected) = compare("moreau-jean-projected.csv", |theta, gamma| SchemeSpec::moreau_jean_projected(theta, 0.0, gamma));
+    let (worst, impulses, projected) = compare("moreau-jean-projected.csv", 16, |theta, gamma| SchemeSpec::moreau_jean_projected(theta, 0.0, gamma));
     println!(
-        "moreau-jean-projected vs Siconos MoreauJeanDirectProjectionOSI: 15 runs × 300 steps, {impulses} impulses, {projected} projected steps, worst difference {worst:.1e} of the velocity scale"
+        "moreau-jean-projected vs Siconos MoreauJeanDirectProjectionOSI: 16 runs × 300 steps, {impulses} impulses, {projected} projected steps, worst difference {worst:.1e} of the velocity scale"
     );
     assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
     assert!(projected > 1000, "{projected} projected steps: the projection must act");
