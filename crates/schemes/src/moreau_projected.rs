@@ -40,18 +40,31 @@ pub struct MoreauJeanProjected {
     mj: MoreauJean,
     /// The steps whose projection acted.
     projections: u64,
+    /// The change of the discrete energy made by the projections so far.
+    projection_energy: f64,
 }
 
 impl MoreauJeanProjected {
     /// Sets up the scheme (as [`MoreauJean::new`]).
     pub fn new(label: String, dy: Dynamics, theta: f64, restitution: f64, gamma: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         let mj = MoreauJean::new(label, dy, theta, restitution, gamma, dt, init)?.with_index_set(INDEX_SET_THRESHOLD, INDEX_SET_THRESHOLD);
-        Ok(Self { mj, projections: 0 })
+        Ok(Self { mj, projections: 0, projection_energy: 0.0 })
     }
 
     /// The steps whose projection acted so far.
     pub fn projections(&self) -> u64 {
         self.projections
+    }
+
+    /// The change of the discrete energy `½ VᵀMV + ½ UᵀKU − FᵀU` made by
+    /// the projections so far (their potential energy: the velocities are
+    /// kept).
+    pub fn projection_energy(&self) -> f64 {
+        self.projection_energy
+    }
+
+    fn energy_now(&self) -> f64 {
+        self.mj.dynamics().energy(self.mj.displacement(), self.mj.velocity())
     }
 
     /// The projection after the step: the sides in the index set put back
@@ -71,6 +84,8 @@ impl MoreauJeanProjected {
         if worst <= PROJECTION_TOLERANCE {
             return;
         }
+        let before = self.energy_now();
+        let Some((u, contacts, set)) = self.mj.projection_parts() else { return };
         for (ct, &(lo, hi)) in contacts.iter().zip(&set.sides) {
             let (b, x) = (ct.bounds, &mut u[ct.dof]);
             if lo && *x < b.lo {
@@ -81,6 +96,7 @@ impl MoreauJeanProjected {
             }
         }
         self.projections += 1;
+        self.projection_energy += self.energy_now() - before;
     }
 }
 
