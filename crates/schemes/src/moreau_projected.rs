@@ -35,7 +35,10 @@ pub const INDEX_SET_THRESHOLD: f64 = 1e-7;
 /// projection acts when a side of the index set is violated by more.
 pub const PROJECTION_TOLERANCE: f64 = 1e-8;
 
-/// Moreau–Jean followed by the direct projection of the positions.
+/// Moreau–Jean followed by the direct projection of the positions. Its
+/// state ([`Stepper::state`]) is `U^n, V^n` as Moreau–Jean's; the index
+/// set is kept across [`Stepper::set_state`] (it is decided again, with
+/// its thresholds, at the next step).
 pub struct MoreauJeanProjected {
     mj: MoreauJean,
     /// The steps whose projection acted.
