@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """Siconos's Moreau–Jean integrator on small systems: the numbers that
-`crates/schemes/tests/it/siconos.rs` compares `moreau-jean(θ,e,γ)` with,
-step by step.
+`crates/schemes/tests/it/siconos.rs` compares `moreau-jean(θ,e,γ)` and
+`moreau-jean-projected(θ,e,γ)` with, step by step.
 
 Needs Siconos's Python bindings (Debian: `apt install python3-siconos`, 4.4.0
 when these numbers were written; run with the system's /usr/bin/python3).
-Writes data/siconos/moreau-jean.csv (every digit: `repr` of each double):
+Writes data/siconos/moreau-jean.csv and data/siconos/moreau-jean-projected.csv
+(every digit: `repr` of each double):
 
     /usr/bin/python3 tests/siconos/moreau_jean.py
 
@@ -20,6 +21,14 @@ contact (`y = H q + b >= 0`), `NewtonImpactNSL(e)`, `MoreauJeanOSI(θ, γ)`
 (activation `y_k + γ h ẏ_k <= 0`), `LCP()` (Lemke), `TimeStepping`.
 Columns: case, theta, gamma, step, t, q0..q2, v0..v2, p0, p2 (the
 impulses of the contacts over the step; p2 is 0 in one-contact cases).
+
+The projected runs: the same systems and (θ, γ) under
+`MoreauJeanDirectProjectionOSI(θ, γ)`, `TimeSteppingDirectProjection` and
+`MLCPProjectOnConstraints()` (its defaults: no mass normalisation, α = 1,
+the enumerative MLCP solver; the index set's thresholds 1e-7, the
+projection's tolerance 1e-8, at most 10 projections a step); one more
+column, projections (the projection iterations of the step); and one more
+system, PROJECTED_EXTRA.
 """
 
 import csv
@@ -45,9 +54,13 @@ CASES = [
     ("two-contacts-damped", ((0, "lo", LO, 0.0), (2, "hi", HI, 0.8)), True, F),
 ]
 SCHEMES = [(0.5, 0.5), (0.5, 1.0), (0.75, 0.5), (1.0, 0.0), (1.0, 1.0)]
+# The projected runs only, one more: twice the load, θ = ½, γ = 0, where
+# contacts stay in the index set while their predicted gap is open and
+# they approach (Siconos's hysteresis: 50 such steps).
+PROJECTED_EXTRA = [("two-contacts-loaded", ((0, "lo", LO, 0.5), (2, "hi", HI, 0.8)), False, 2.0 * F, [(0.5, 0.0)])]
 
 
-def run(contacts, damped, load, theta, gamma):
+def run(contacts, damped, load, theta, gamma, projected=False):
     c = 0.1 * M + 0.05 * K if damped else np.zeros((3, 3))
     ds = sk.LagrangianLinearTIDS(Q0.copy(), V0.copy(), M, K, c)
     ds.setFExtPtr(load.copy())
@@ -62,9 +75,14 @@ def run(contacts, damped, load, theta, gamma):
         inter = sk.Interaction(sk.NewtonImpactNSL(e), sk.LagrangianLinearTIR(h, b))
         nsds.link(inter, ds)
         inters.append(inter)
-    osi = sk.MoreauJeanOSI(theta, gamma)
-    sim = sk.TimeStepping(nsds, sk.TimeDiscretisation(0.0, H_STEP), osi, sk.LCP())
-    rows = [(0, 0.0, ds.q().copy(), ds.velocity().copy(), [0.0, 0.0])]
+    td = sk.TimeDiscretisation(0.0, H_STEP)
+    if projected:
+        osi = sk.MoreauJeanDirectProjectionOSI(theta, gamma)
+        sim = sk.TimeSteppingDirectProjection(nsds, td, osi, sk.LCP(), sk.MLCPProjectOnConstraints())
+    else:
+        osi = sk.MoreauJeanOSI(theta, gamma)
+        sim = sk.TimeStepping(nsds, td, osi, sk.LCP())
+    rows = [(0, 0.0, ds.q().copy(), ds.velocity().copy(), [0.0, 0.0], 0)]
     k = 0
     while sim.hasNextEvent() and k < STEPS:
         sim.computeOneStep()
@@ -72,23 +90,27 @@ def run(contacts, damped, load, theta, gamma):
         p = [float(i.lambda_(1)[0]) for i in inters]
         # p per contact, the second column for dof 2's contact.
         pp = [p[0], p[1] if len(p) > 1 else 0.0]
-        rows.append((k, sim.nextTime(), ds.q().copy(), ds.velocity().copy(), pp))
+        nproj = sim.nbProjectionIteration() if projected else 0
+        rows.append((k, sim.nextTime(), ds.q().copy(), ds.velocity().copy(), pp, nproj))
         sim.nextStep()
     return rows
 
 
 def main():
     root = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-    out = os.path.join(root, "data", "siconos", "moreau-jean.csv")
-    os.makedirs(os.path.dirname(out), exist_ok=True)
-    with open(out, "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(["case", "theta", "gamma", "step", "t", "q0", "q1", "q2", "v0", "v1", "v2", "p0", "p2"])
-        for name, contacts, damped, load in CASES:
-            for theta, gamma in SCHEMES:
-                for k, t, q, v, p in run(contacts, damped, load, theta, gamma):
-                    w.writerow([name, repr(theta), repr(gamma), k, repr(float(t))] + [repr(float(x)) for x in q] + [repr(float(x)) for x in v] + [repr(x) for x in p])
-    print(f"wrote {out} (Siconos {getattr(sk, '__version__', '4.x')}, Python {sys.version.split()[0]})")
+    for file, projected in [("moreau-jean.csv", False), ("moreau-jean-projected.csv", True)]:
+        out = os.path.join(root, "data", "siconos", file)
+        os.makedirs(os.path.dirname(out), exist_ok=True)
+        with open(out, "w", newline="") as f:
+            w = csv.writer(f, lineterminator="\n")
+            w.writerow(["case", "theta", "gamma", "step", "t", "q0", "q1", "q2", "v0", "v1", "v2", "p0", "p2"] + (["projections"] if projected else []))
+            cases = [c + (SCHEMES,) for c in CASES] + (PROJECTED_EXTRA if projected else [])
+            for name, contacts, damped, load, schemes in cases:
+                for theta, gamma in schemes:
+                    for k, t, q, v, p, nproj in run(contacts, damped, load, theta, gamma, projected):
+                        row = [name, repr(theta), repr(gamma), k, repr(float(t))] + [repr(float(x)) for x in q] + [repr(float(x)) for x in v] + [repr(x) for x in p]
+                        w.writerow(row + ([nproj] if projected else []))
+        print(f"wrote {out} (Siconos {getattr(sk, '__version__', '4.x')}, Python {sys.version.split()[0]})")
 
 
 if __name__ == "__main__":

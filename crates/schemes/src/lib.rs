@@ -111,6 +111,7 @@ mod hybrid;
 mod loads;
 mod lockstep;
 mod moreau;
+mod moreau_projected;
 mod multi;
 mod nitsche;
 mod onestep;
@@ -122,6 +123,7 @@ pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, Sche
 pub use hybrid::{Reduced, ReducedLaw};
 pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
+pub use moreau_projected::{MoreauJeanProjected, INDEX_SET_THRESHOLD, PROJECTION_TOLERANCE};
 pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;

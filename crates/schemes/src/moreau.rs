@@ -61,6 +61,32 @@ pub struct MoreauJean {
     loads: Loads,
     /// Their latest means.
     svals: Vec<f64>,
+    /// A persistent index set with thresholds (Siconos's
+    /// `MoreauJeanDirectProjectionOSI`) instead of the plain prediction.
+    index_set: Option<IndexSet>,
+}
+
+/// The contacts' sides predicted active, kept from step to step with
+/// Siconos's thresholds (`MoreauJeanDirectProjectionOSI`'s index set 1):
+/// a side whose predicted gap `y + γ dt ẏ` (`y = u_c − lo` at a lower
+/// bound, `hi − u_c` at an upper one, `ẏ` its rate) is `<= enter` joins;
+/// a member leaves when `y + γ dt ẏ > leave` and `ẏ >= 0`.
+#[derive(Clone, Debug)]
+pub(crate) struct IndexSet {
+    pub(crate) enter: f64,
+    pub(crate) leave: f64,
+    /// Per contact, its lower and its upper side in the set.
+    pub(crate) sides: Vec<(bool, bool)>,
+}
+
+impl IndexSet {
+    fn keep(member: bool, y: f64, ydot: f64, enter: f64, leave: f64) -> bool {
+        if member {
+            !(y > leave && ydot >= 0.0)
+        } else {
+            y <= enter
+        }
+    }
 }
 
 impl MoreauJean {
@@ -110,8 +136,41 @@ impl MoreauJean {
             multi,
             loads,
             svals,
+            index_set: None,
             dy,
         })
+    }
+
+    /// Keeps the predicted-active sides as a persistent index set with
+    /// thresholds ([`IndexSet`]) instead of predicting afresh each step.
+    pub(crate) fn with_index_set(mut self, enter: f64, leave: f64) -> Self {
+        self.index_set = Some(IndexSet { enter, leave, sides: vec![(false, false); self.dy.k()] });
+        self
+    }
+
+    /// `U^n` to be changed (a position projection after the step), the
+    /// contacts and the persistent index set, if kept.
+    pub(crate) fn projection_parts(&mut self) -> Option<(&mut [f64], &[crate::Contact], &IndexSet)> {
+        let set = self.index_set.as_ref()?;
+        Some((&mut self.u, &self.dy.contacts, set))
+    }
+
+    /// Contact `i`'s lower and upper sides predicted active at the start of
+    /// the step: `u_c + γ dt v_c <= lo` (`>= hi`), or the index set's rule.
+    fn predict(&mut self, i: usize) -> (bool, bool) {
+        let ct = &self.dy.contacts[i];
+        let (uc, vc) = (self.u[ct.dof], self.v[ct.dof]);
+        let pred = uc + self.gamma * self.dt * vc;
+        match &mut self.index_set {
+            None => (pred <= ct.bounds.lo, pred >= ct.bounds.hi),
+            Some(s) => {
+                let (lo, hi) = s.sides[i];
+                let lo = IndexSet::keep(lo, pred - ct.bounds.lo, vc, s.enter, s.leave);
+                let hi = IndexSet::keep(hi, ct.bounds.hi - pred, -vc, s.enter, s.leave);
+                s.sides[i] = (lo, hi);
+                (lo, hi)
+            }
+        }
     }
 
     /// Velocity `V^n`.
@@ -125,18 +184,20 @@ impl MoreauJean {
     /// solve for all (`rhs` holds the unconstrained `V^{n+1}`).
     fn finish_multi(&mut self) -> Result<StepReport, SchemeError> {
         let (dt, th) = (self.dt, self.theta);
-        let ms = self.multi.as_mut().expect("several contacts");
-        for (i, ct) in self.dy.contacts.iter().enumerate() {
-            let (vc, uc) = (self.v[ct.dof], self.u[ct.dof]);
+        for i in 0..self.dy.k() {
+            let (at_lo, at_hi) = self.predict(i);
+            let ct = &self.dy.contacts[i];
+            let vc = self.v[ct.dof];
             let e = ct.restitution.unwrap_or(self.restitution);
-            let pred = uc + self.gamma * dt * vc;
-            ms.lo[i] = if pred <= ct.bounds.lo { -e * vc } else { f64::NEG_INFINITY };
-            ms.hi[i] = if pred >= ct.bounds.hi { -e * vc } else { f64::INFINITY };
+            let ms = self.multi.as_mut().expect("several contacts");
+            ms.lo[i] = if at_lo { -e * vc } else { f64::NEG_INFINITY };
+            ms.hi[i] = if at_hi { -e * vc } else { f64::INFINITY };
             if ms.lo[i] > ms.hi[i] {
                 // Both stops predicted active (a gap below γ dt v): the lower wins.
                 ms.hi[i] = f64::INFINITY;
             }
         }
+        let ms = self.multi.as_mut().expect("several contacts");
         let (mu, st) = ms.solve(&mut self.rhs)?;
         for (i, (&m, &a)) in mu.iter().zip(st).enumerate() {
             self.lams[i] = -m / dt;
@@ -208,16 +269,16 @@ impl Stepper for MoreauJean {
         if self.multi.is_some() {
             return self.finish_multi();
         }
-        let (vc, uc) = (self.v[c], self.u[c]);
+        let vc = self.v[c];
         // The contact predicted active at its lower (upper) stop gets
         // Newton's law v_c^{n+1} >= -e v_c^n (<=); both predicted (a gap
         // below γ dt |v|): the lower wins, as in `finish_multi`.
-        let (bounds, pred) = (self.dy.contact().bounds, uc + self.gamma * dt * vc);
+        let (at_lo, at_hi) = self.predict(0);
         let e = self.dy.contact().restitution.unwrap_or(self.restitution);
-        let (p, active) = if pred <= bounds.lo {
+        let (p, active) = if at_lo {
             let pr = self.proj.project(&mut self.rhs, -e * vc, f64::INFINITY);
             (pr.mu, pr.active)
-        } else if pred >= bounds.hi {
+        } else if at_hi {
             let pr = self.proj.project(&mut self.rhs, f64::NEG_INFINITY, -e * vc);
             (pr.mu, pr.active)
         } else {

@@ -38,10 +38,12 @@ fn band(a: impl Fn(usize, usize) -> f64) -> SymBand {
 fn dynamics(case: &str) -> Dynamics {
     let (contacts, damped, load) = match case {
         "one-contact" => (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(0.5))], false, F_DOWN),
-        "two-contacts" | "two-contacts-damped" => {
-            let e0 = if case == "two-contacts" { 0.5 } else { 0.0 };
+        "two-contacts" | "two-contacts-damped" | "two-contacts-loaded" => {
+            let e0 = if case == "two-contacts-damped" { 0.0 } else { 0.5 };
             let upper = Bounds { lo: f64::NEG_INFINITY, hi: HI };
-            (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(e0)), Contact::new(2, upper, false).with_restitution(Some(0.8))], case.ends_with("damped"), F)
+            // The loaded case (projected runs only): twice F.
+            let load = if case == "two-contacts-loaded" { F.map(|f| 2.0 * f) } else { F };
+            (vec![Contact::new(0, Bounds::obstacle(0.0), false).with_restitution(Some(e0)), Contact::new(2, upper, false).with_restitution(Some(0.8))], case.ends_with("damped"), load)
         }
         other => panic!("unknown case {other}"),
     };
@@ -57,17 +59,20 @@ struct Row {
     q: [f64; 3],
     v: [f64; 3],
     p: [f64; 2],
+    /// Siconos's projection iterations in the step (the projected runs).
+    projections: usize,
 }
 
-fn siconos_runs() -> Vec<((String, f64, f64), Vec<Row>)> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/siconos/moreau-jean.csv");
-    let text = std::fs::read_to_string(path).expect("data/siconos/moreau-jean.csv (tests/siconos/moreau_jean.py writes it)");
+fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
+    let path = format!("{}/../../data/siconos/{file}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("data/siconos/{file} (tests/siconos/moreau_jean.py writes it): {e}"));
     let mut runs: Vec<((String, f64, f64), Vec<Row>)> = Vec::new();
     for line in text.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
         let x = |i: usize| f[i].parse::<f64>().unwrap();
         let key = (f[0].to_string(), x(1), x(2));
-        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)] };
+        let projections = f.get(13).map_or(0, |n| n.parse().unwrap());
+        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)], projections };
         match runs.last_mut() {
             Some((k, rows)) if *k == key => rows.push(row),
             _ => runs.push((key, vec![row])),
@@ -76,23 +81,25 @@ fn siconos_runs() -> Vec<((String, f64, f64), Vec<Row>)> {
     runs
 }
 
-#[test]
-fn moreau_jean_equals_siconos_moreau_jean_osi_step_by_step() {
-    let runs = siconos_runs();
-    assert_eq!(runs.len(), 15, "3 systems × 5 (θ, γ)");
+/// Runs `spec(θ, γ)` next to every run of `file`; the worst difference
+/// (of the velocity scale), the impulses and the steps Siconos projected.
+fn compare(file: &str, n_runs: usize, spec: impl Fn(f64, f64) -> SchemeSpec) -> (f64, usize, usize) {
+    let runs = siconos_runs(file);
+    assert_eq!(runs.len(), n_runs, "3 systems × 5 (θ, γ), and the projected runs' loaded one");
     let mut worst = 0.0f64;
-    let mut impulses = 0;
+    let (mut impulses, mut projected) = (0, 0);
     for ((case, theta, gamma), rows) in &runs {
         let dy = dynamics(case);
         let k = dy.contacts.len();
         let init = Initial { u: Q0.to_vec(), v: V0.to_vec() };
         assert_eq!((rows[0].q, rows[0].v), (Q0, V0), "{case}: the script's initial state");
         // The scheme's own restitution is overridden by each contact's.
-        let spec = SchemeSpec::moreau_jean_gamma(*theta, 0.0, *gamma);
+        let spec = spec(*theta, *gamma);
         let mut s = spec.build(dy, DT, &init).unwrap();
         for r in &rows[1..] {
             let rep = s.step().unwrap();
             assert_eq!(rep.n, r.step);
+            projected += usize::from(r.projections > 0);
             let st = s.state().unwrap();
             let (q, v) = (&st[..3], &st[3..]);
             let scale = 1.0 + r.v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -113,6 +120,26 @@ fn moreau_jean_equals_siconos_moreau_jean_osi_step_by_step() {
             }
         }
     }
+    (worst, impulses, projected)
+}
+
+#[test]
+fn moreau_jean_equals_siconos_moreau_jean_osi_step_by_step() {
+    let (worst, impulses, _) = compare("moreau-jean.csv", 15, |theta, gamma| SchemeSpec::moreau_jean_gamma(theta, 0.0, gamma));
     println!("moreau-jean vs Siconos MoreauJeanOSI: 15 runs × 300 steps, {impulses} impulses, worst difference {worst:.1e} of the velocity scale");
     assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
+}
+
+/// `moreau-jean-projected(θ,e,γ)` against Siconos's
+/// `MoreauJeanDirectProjectionOSI(θ, γ)` with `TimeSteppingDirectProjection`
+/// and `MLCPProjectOnConstraints` (the index set's thresholds, the
+/// projection's tolerance and metric at Siconos's defaults), step by step.
+#[test]
+fn moreau_jean_projected_equals_siconos_direct_projection_step_by_step() {
+    let (worst, impulses, projected) = compare("moreau-jean-projected.csv", 16, |theta, gamma| SchemeSpec::moreau_jean_projected(theta, 0.0, gamma));
+    println!(
+        "moreau-jean-projected vs Siconos MoreauJeanDirectProjectionOSI: 16 runs × 300 steps, {impulses} impulses, {projected} projected steps, worst difference {worst:.1e} of the velocity scale"
+    );
+    assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
+    assert!(projected > 1000, "{projected} projected steps: the projection must act");
 }
