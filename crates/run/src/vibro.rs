@@ -654,6 +654,7 @@ impl WindowObserver {
 }
 
 impl Observer for WindowObserver {
+    #[inline]
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
         let Some(&u) = s.u.get(self.tip) else {
             return Err(RunError::Invalid { field: "vibro.tip", value: self.tip as f64, allowed: "a dof of the problem" });
