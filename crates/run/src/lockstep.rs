@@ -136,7 +136,7 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
         .iter_mut()
         .map(|run| {
             let first = all.len();
-            all.extend(run.observers.drain(..));
+            all.append(&mut run.observers);
             Lane { u: run.u0.to_vec(), total: run.cfg.steps(), interrupt: run.cfg.interrupt.clone(), obs: first..all.len(), run, contact_steps: 0, end: None, level: 1 }
         })
         .collect();
