@@ -20,7 +20,7 @@
 
 use crate::reduced::Need;
 use crate::runner::{check_finite, FINITE_CHECK_EVERY};
-use crate::{Observer, RunConfig, RunError, RunSummary, Sample};
+use crate::{Cancel, Observer, RunConfig, RunError, RunSummary, Sample};
 use signorini_contact::Active;
 use signorini_schemes::PaoliSchatzmanLockstep;
 use std::time::Instant;
@@ -67,15 +67,21 @@ struct Lane<'r, 'a> {
     contact_steps: usize,
     end: Option<Result<(), RunError>>,
     level: usize,
+    /// Its interrupt (the config's, held here: read before every step).
+    interrupt: Option<Cancel>,
+    /// Its observers' places in the batch's one array of observers (held
+    /// there, lane after lane, while the batch runs: one short array read
+    /// per step instead of each lane's own list).
+    obs: std::ops::Range<usize>,
 }
 
 impl Lane<'_, '_> {
     /// Stops the lane at `level` with `result`, finishing every observer
     /// (also after an error; the run's error first, then the first
     /// observer's, as `run` reports them).
-    fn stop(&mut self, level: usize, result: Result<(), RunError>) {
+    fn stop(&mut self, all: &mut [&mut dyn Observer], level: usize, result: Result<(), RunError>) {
         let mut fin = Ok(());
-        for o in self.run.observers.iter_mut() {
+        for o in all[self.obs.clone()].iter_mut() {
             let r = o.finish();
             if fin.is_ok() {
                 fin = r;
@@ -124,33 +130,42 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
         Need::Dofs(d) => d.iter().copied().filter(|&i| i < dofs).collect(),
     };
     let (zero, free) = ([0.0], [Active::None]);
-    let mut lanes: Vec<Lane<'_, '_>> = runs.iter_mut().map(|run| Lane { u: run.u0.to_vec(), total: run.cfg.steps(), run, contact_steps: 0, end: None, level: 1 }).collect();
+    // Every lane's observers in one array, lane after lane (given back at the end).
+    let mut all: Vec<&mut dyn Observer> = Vec::with_capacity(runs.iter().map(|r| r.observers.len()).sum());
+    let mut lanes: Vec<Lane<'_, '_>> = runs
+        .iter_mut()
+        .map(|run| {
+            let first = all.len();
+            all.append(&mut run.observers);
+            Lane { u: run.u0.to_vec(), total: run.cfg.steps(), interrupt: run.cfg.interrupt.clone(), obs: first..all.len(), run, contact_steps: 0, end: None, level: 1 }
+        })
+        .collect();
     // Level 0 (the initial displacement) and level 1 (the start step).
     for (k, l) in lanes.iter_mut().enumerate() {
         let s0 = Sample { n: 0, t: 0.0, u: l.run.u0, lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
-        if let Err(e) = l.run.observers.iter_mut().try_for_each(|o| o.observe(&s0)) {
-            l.stop(1, Err(e));
+        if let Err(e) = all[l.obs.clone()].iter_mut().try_for_each(|o| o.observe(&s0)) {
+            l.stop(&mut all, 1, Err(e));
             continue;
         }
         engine.displacement_into(k, &mut l.u);
         if let Err(e) = check_finite(&l.u, 1, engine.time()) {
-            l.stop(1, Err(e));
+            l.stop(&mut all, 1, Err(e));
             continue;
         }
         let s1 = Sample { n: 1, t: engine.time(), u: &l.u, lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
-        let r = l.run.observers.iter_mut().try_for_each(|o| o.observe(&s1));
+        let r = all[l.obs.clone()].iter_mut().try_for_each(|o| o.observe(&s1));
         if let Err(e) = r {
-            l.stop(1, Err(e));
+            l.stop(&mut all, 1, Err(e));
         } else if l.total <= 1 {
-            l.stop(1, Ok(()));
+            l.stop(&mut all, 1, Ok(()));
         }
     }
     loop {
         // Every lane still going checks its interrupt before the step.
         let level = engine.level();
         for l in lanes.iter_mut().filter(|l| l.end.is_none()) {
-            if l.run.cfg.interrupt.as_ref().is_some_and(|c| c.is_cancelled()) {
-                l.stop(level, Err(RunError::Interrupted { step: level, time: engine.time() }));
+            if l.interrupt.as_ref().is_some_and(Cancel::is_cancelled) {
+                l.stop(&mut all, level, Err(RunError::Interrupted { step: level, time: engine.time() }));
             }
         }
         if lanes.iter().all(|l| l.end.is_some()) {
@@ -164,7 +179,7 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
                 continue;
             }
             if let Some(e) = engine.lane_failure(k) {
-                l.stop(level, Err(RunError::from(e.clone())));
+                l.stop(&mut all, level, Err(RunError::from(e.clone())));
                 continue;
             }
             // The runner's whole-state check; between checks, with
@@ -172,7 +187,7 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
             if level % FINITE_CHECK_EVERY == 0 || level == l.total {
                 engine.displacement_into(k, &mut l.u);
                 if let Err(e) = check_finite(&l.u, level, t) {
-                    l.stop(level, Err(e));
+                    l.stop(&mut all, level, Err(e));
                     continue;
                 }
             } else if matches!(need, Need::Full) {
@@ -186,19 +201,21 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
             let active = st[0] != Active::None;
             l.contact_steps += usize::from(active);
             let s = Sample { n: level, t, u: &l.u, lambda: Some((tl, lam[0])), energy: None, active, work: None, forces: &lam, status: &st };
-            if let Err(e) = l.run.observers.iter_mut().try_for_each(|o| o.observe(&s)) {
-                l.stop(level, Err(e));
+            if let Err(e) = all[l.obs.clone()].iter_mut().try_for_each(|o| o.observe(&s)) {
+                l.stop(&mut all, level, Err(e));
                 continue;
             }
             if level >= l.total {
-                l.stop(level, Ok(()));
+                l.stop(&mut all, level, Ok(()));
             }
         }
     }
     let wall_s = start.elapsed().as_secs_f64();
+    let mut all = all.into_iter();
     Ok(lanes
         .into_iter()
         .map(|l| {
+            l.run.observers.extend(all.by_ref().take(l.obs.len()));
             // Every lane has stopped (and finished its observers).
             let result = l.end.unwrap_or(Ok(())).map(|()| RunSummary { steps: l.level, t_end: l.level as f64 * dt, contact_steps: l.contact_steps, wall_s, energy: None });
             LaneEnd { result, level: l.level }

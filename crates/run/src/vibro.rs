@@ -147,6 +147,54 @@ struct Track {
     open: Option<Open>,
 }
 
+/// The [`Track`]s of an [`ImpactObserver`]: up to two held in the observer
+/// itself (a beam on its tip's stops has one contact), so that a step reads
+/// no other memory for them; more in a `Vec`.
+#[derive(Clone, Debug)]
+// Inline on purpose: the point is not to read elsewhere at every step.
+#[allow(clippy::large_enum_variant)]
+enum Tracks {
+    Few([Track; 2], usize),
+    Many(Vec<Track>),
+}
+
+impl Tracks {
+    fn new(contacts: &[(usize, Bounds)]) -> Self {
+        let track = |&(dof, bounds): &(usize, Bounds)| Track { dof, bounds, hist: [(f64::NAN, f64::NAN); 3], seen: 0, free: 0, open: None };
+        if contacts.len() <= 2 {
+            let blank = track(&(0, Bounds { lo: 0.0, hi: 0.0 }));
+            let mut few = [blank; 2];
+            for (f, c) in few.iter_mut().zip(contacts) {
+                *f = track(c);
+            }
+            Tracks::Few(few, contacts.len())
+        } else {
+            Tracks::Many(contacts.iter().map(track).collect())
+        }
+    }
+}
+
+impl std::ops::Deref for Tracks {
+    type Target = [Track];
+    #[inline]
+    fn deref(&self) -> &[Track] {
+        match self {
+            Tracks::Few(t, n) => &t[..*n],
+            Tracks::Many(v) => v,
+        }
+    }
+}
+
+impl std::ops::DerefMut for Tracks {
+    #[inline]
+    fn deref_mut(&mut self) -> &mut [Track] {
+        match self {
+            Tracks::Few(t, n) => &mut t[..*n],
+            Tracks::Many(v) => v,
+        }
+    }
+}
+
 /// The crossing of `bound` by the quadratic through `u(−2), u(−1), u(0)`
 /// (levels in units of `dt`, `s = 0` the last free level): the root of
 /// `a₂ s² + a₁ s + (u₀ − b)`, `a₁ = (3u₀ − 4u₋₁ + u₋₂)/2`, `a₂ = (u₀ − 2u₋₁
@@ -224,7 +272,7 @@ fn linear_crossing(ua: f64, ub: f64, bound: f64, inward: f64, hi: f64, away: f64
 ///
 /// **Duration**: (number of active levels)·`dt`. **Phase**: `Ω t* mod 2π`.
 pub struct ImpactObserver<W: Write> {
-    tracks: Vec<Track>,
+    tracks: Tracks,
     dt: f64,
     omega: Option<f64>,
     record_from: f64,
@@ -243,7 +291,7 @@ impl<W: Write> ImpactObserver<W> {
     /// impacts from `record_from` on (room for `capacity` reserved), writing
     /// to `csv` when given (header at once).
     pub fn new(contacts: &[(usize, Bounds)], dt: f64, omega: Option<f64>, record_from: f64, capacity: usize, csv: Option<W>) -> Result<Self, RunError> {
-        let tracks = contacts.iter().map(|&(dof, bounds)| Track { dof, bounds, hist: [(f64::NAN, f64::NAN); 3], seen: 0, free: 0, open: None }).collect();
+        let tracks = Tracks::new(contacts);
         let out = csv.map(|w| header_sink(w, Self::HEADER)).transpose()?;
         Ok(Self { tracks, dt, omega, record_from, out, kept: Vec::with_capacity(capacity), total: 0, t_last: f64::NAN })
     }
@@ -654,6 +702,7 @@ impl WindowObserver {
 }
 
 impl Observer for WindowObserver {
+    #[inline]
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
         let Some(&u) = s.u.get(self.tip) else {
             return Err(RunError::Invalid { field: "vibro.tip", value: self.tip as f64, allowed: "a dof of the problem" });

@@ -181,3 +181,33 @@ fn observers_that_want_the_energy_are_refused() {
     let mut runs = vec![LockstepRun::new(&l.initial.u, &cfg, vec![&mut w as &mut dyn Observer])];
     assert!(matches!(run_lockstep(&mut eng, &mut runs, &Need::Full), Err(RunError::NotAllowed { field: "energy", .. })));
 }
+
+#[test]
+fn lanes_with_different_numbers_of_observers_each_feed_their_own_and_get_them_back() {
+    // Lane 0 has two observers, lane 1 none, lane 2 one, lane 3 two: each
+    // observer sees its own lane's single run, and every lane's list is
+    // given back, in order, when the batch ends.
+    let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
+    let steps = [300, 200, 257, 130];
+    let counts = [2, 0, 1, 2];
+    let mut eng = PaoliSchatzmanLockstep::<4>::new(0.5, DT, lanes.clone()).unwrap();
+    let cfgs: Vec<RunConfig> = steps.iter().map(|&n| RunConfig::new(DT, n as f64 * DT).unwrap()).collect();
+    let mut recs: Vec<Vec<Recorder>> =
+        counts.iter().map(|&c| (0..c).map(|_| Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist: Twist::None, cancel: Cancel::new() }).collect()).collect();
+    {
+        let mut runs: Vec<LockstepRun<'_>> =
+            recs.iter_mut().zip(&cfgs).zip(&lanes).map(|((r, c), l)| LockstepRun::new(&l.initial.u, c, r.iter_mut().map(|r| r as &mut dyn Observer).collect())).collect();
+        let ends = run_lockstep(&mut eng, &mut runs, &Need::Full).unwrap();
+        for (k, (run, end)) in runs.iter().zip(&ends).enumerate() {
+            assert_eq!(run.observers.len(), counts[k], "lane {k}: observers given back");
+            assert_eq!(end.level, steps[k], "lane {k}: level");
+        }
+    }
+    for (k, rs) in recs.iter().enumerate() {
+        let want = single(&lanes[k], steps[k], Twist::None);
+        for (j, r) in rs.iter().enumerate() {
+            assert_eq!(r.recs, want.0, "lane {k}, observer {j}: samples");
+            assert_eq!(r.finished, 1, "lane {k}, observer {j}: finished once");
+        }
+    }
+}

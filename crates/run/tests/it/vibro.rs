@@ -152,9 +152,18 @@ fn fallbacks_with_few_free_levels() {
 /// each impact lie on lines, so the crossing is the line's. `record_from`
 /// drops the first impact (`t* = 1.75`) from memory, not from the CSV. Checks
 /// impulses, durations, times, velocities, the count, mean and max `|J|`,
-/// the impact power `Σ|J||v|/W` and impacts per period, from hand values.
+/// the impact power `Σ|J||v|/W` and impacts per period, from hand values;
+/// with one and three more contacts that never touch (wide stops, never
+/// active): the same impacts (the observer holds up to two contacts in
+/// itself and more elsewhere).
 #[test]
 fn impulses_and_statistics_by_hand() {
+    for idle in [0, 1, 3] {
+        impulses_and_statistics_by_hand_with(idle);
+    }
+}
+
+fn impulses_and_statistics_by_hand_with(idle: usize) {
     let dt = 0.5;
     let omega = TAU / 3.5; // period 3.5
     let mut levels = Vec::new();
@@ -183,11 +192,19 @@ fn impulses_and_statistics_by_hand() {
         if n > 10 {
             u1 = 0.9;
         }
-        levels.push(Level { u: vec![u0, u1], forces: vec![f0, f1], status: vec![s0, s1] });
+        let (mut u, mut forces, mut status) = (vec![u0, u1], vec![f0, f1], vec![s0, s1]);
+        for _ in 0..idle {
+            u.push(0.5);
+            forces.push(0.0);
+            status.push(Active::None);
+        }
+        levels.push(Level { u, forces, status });
     }
     let mut csv = Vec::new();
     let record_from = 3.5;
-    let mut obs = ImpactObserver::new(&[(0, Bounds::obstacle(0.0)), (1, Bounds { lo: f64::NEG_INFINITY, hi: 1.0 })], dt, Some(omega), record_from, 1, Some(&mut csv)).unwrap();
+    let mut contacts = vec![(0, Bounds::obstacle(0.0)), (1, Bounds { lo: f64::NEG_INFINITY, hi: 1.0 })];
+    contacts.extend((0..idle).map(|k| (2 + k, Bounds { lo: -100.0, hi: 100.0 })));
+    let mut obs = ImpactObserver::new(&contacts, dt, Some(omega), record_from, 1, Some(&mut csv)).unwrap();
     feed(&mut obs, dt, &levels).unwrap();
     assert_eq!(obs.total(), 3);
     let imps = obs.impacts().to_vec();
