@@ -85,7 +85,7 @@ fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
 /// (of the velocity scale), the impulses and the steps Siconos projected.
 fn compare(file: &str, n_runs: usize, spec: impl Fn(f64, f64) -> SchemeSpec) -> (f64, usize, usize) {
     let runs = siconos_runs(file);
-    assert_eq!(runs.len(), n_runs, "3 systems × 5 (θ, γ), and the projected runs' loaded one");
+    assert_eq!(runs.len(), n_runs, "3 systems × 5 (θ, γ) (× 3 θ, combined), and the projected runs' loaded one");
     let mut worst = 0.0f64;
     let (mut impulses, mut projected) = (0, 0);
     for ((case, theta, gamma), rows) in &runs {
@@ -142,4 +142,19 @@ fn moreau_jean_projected_equals_siconos_direct_projection_step_by_step() {
     );
     assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
     assert!(projected > 1000, "{projected} projected steps: the projection must act");
+}
+
+/// `moreau-jean-combined(θ,e)` against Siconos's
+/// `MoreauJeanCombinedProjectionOSI(θ)` with `TimeSteppingCombinedProjection`
+/// and `MLCPProjectOnConstraints` (index set from the step's positions, the
+/// step redone while it grows, projection on equalities, tolerance 1e-8),
+/// step by step: the 3 systems at θ ∈ {½, ¾, 1} and the loaded one at ½.
+#[test]
+fn moreau_jean_combined_equals_siconos_combined_projection_step_by_step() {
+    let (worst, impulses, projected) = compare("moreau-jean-combined.csv", 10, |theta, _| SchemeSpec::moreau_jean_combined(theta, 0.0));
+    println!(
+        "moreau-jean-combined vs Siconos MoreauJeanCombinedProjectionOSI: 10 runs × 300 steps, {impulses} impulses, {projected} projected steps, worst difference {worst:.1e} of the velocity scale"
+    );
+    assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
+    assert!(projected > 300, "{projected} projected steps: the projection must act");
 }
