@@ -11,6 +11,11 @@
 //! the closed-form projection (one contact) or the exact multi-contact
 //! solve: positions, velocities and impulses agree to 1e-10 of their
 //! scale at every step.
+//!
+//! The same for `moreau-jean-projected(θ,e,γ)` (Siconos's direct
+//! projection, `data/siconos/moreau-jean-projected.csv`) and
+//! `moreau-jean-combined(θ,e)` (its combined projection,
+//! `data/siconos/moreau-jean-combined.csv`).
 
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Initial, SchemeSpec};
