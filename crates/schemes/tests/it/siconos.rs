@@ -18,7 +18,7 @@
 //! `data/siconos/moreau-jean-combined.csv`).
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, Dynamics, Initial, SchemeSpec};
+use signorini_schemes::{Bounds, Contact, Dynamics, Initial, MoreauJeanCombined, SchemeSpec, Stepper};
 
 const M: [[f64; 3]; 3] = [[2.0 / 6.0, 1.0 / 6.0, 0.0], [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0], [0.0, 1.0 / 6.0, 2.0 / 6.0]];
 const K: [[f64; 3]; 3] = [[30.0, -30.0, 0.0], [-30.0, 60.0, -30.0], [0.0, -30.0, 30.0]];
@@ -66,6 +66,8 @@ struct Row {
     p: [f64; 2],
     /// Siconos's projection iterations in the step (the projected runs).
     projections: usize,
+    /// Siconos's index-set passes in the step (the combined runs).
+    passes: u64,
 }
 
 fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
@@ -77,7 +79,8 @@ fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
         let x = |i: usize| f[i].parse::<f64>().unwrap();
         let key = (f[0].to_string(), x(1), x(2));
         let projections = f.get(13).map_or(0, |n| n.parse().unwrap());
-        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)], projections };
+        let passes = f.get(14).map_or(0, |n| n.parse().unwrap());
+        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)], projections, passes };
         match runs.last_mut() {
             Some((k, rows)) if *k == key => rows.push(row),
             _ => runs.push((key, vec![row])),
@@ -162,4 +165,17 @@ fn moreau_jean_combined_equals_siconos_combined_projection_step_by_step() {
     );
     assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
     assert!(projected > 300, "{projected} projected steps: the projection must act");
+    // The passes (steps redone while the index set grows), step by step.
+    let mut redone = 0;
+    for ((case, theta, _), rows) in siconos_runs("moreau-jean-combined.csv") {
+        let init = Initial { u: Q0.to_vec(), v: V0.to_vec() };
+        let mut s = MoreauJeanCombined::new("c".into(), dynamics(&case), theta, 0.0, DT, &init).unwrap();
+        for r in &rows[1..] {
+            let before = s.passes();
+            s.step().unwrap();
+            assert_eq!(s.passes() - before, r.passes, "{case}, θ = {theta}, step {}: passes", r.step);
+            redone += usize::from(r.passes > 1);
+        }
+    }
+    assert!(redone > 1000, "{redone} redone steps: the index set must grow within steps");
 }
