@@ -5,7 +5,8 @@
 
 Needs Siconos's Python bindings (Debian: `apt install python3-siconos`, 4.4.0
 when these numbers were written; run with the system's /usr/bin/python3).
-Writes data/siconos/moreau-jean.csv and data/siconos/moreau-jean-projected.csv
+Writes data/siconos/moreau-jean.csv, data/siconos/moreau-jean-projected.csv
+and data/siconos/moreau-jean-combined.csv
 (every digit: `repr` of each double):
 
     /usr/bin/python3 tests/siconos/moreau_jean.py
@@ -29,6 +30,15 @@ the enumerative MLCP solver; the index set's thresholds 1e-7, the
 projection's tolerance 1e-8, at most 10 projections a step); one more
 column, projections (the projection iterations of the step); and one more
 system, PROJECTED_EXTRA.
+
+The combined runs (data/siconos/moreau-jean-combined.csv): the same
+systems and PROJECTED_EXTRA, one run per θ (γ plays no part; written as
+0), under `MoreauJeanCombinedProjectionOSI(θ)`,
+`TimeSteppingCombinedProjection` and `MLCPProjectOnConstraints()` (its
+defaults: the contacts of index set 2 projected as equalities `y = 0`,
+tolerance 1e-8, at most 50 projections and 50 index-set passes a step);
+two more columns, projections (the projection iterations of the step,
+cumulated over its passes) and passes (the step's index-set passes).
 """
 
 import csv
@@ -60,7 +70,7 @@ SCHEMES = [(0.5, 0.5), (0.5, 1.0), (0.75, 0.5), (1.0, 0.0), (1.0, 1.0)]
 PROJECTED_EXTRA = [("two-contacts-loaded", ((0, "lo", LO, 0.5), (2, "hi", HI, 0.8)), False, 2.0 * F, [(0.5, 0.0)])]
 
 
-def run(contacts, damped, load, theta, gamma, projected=False):
+def run(contacts, damped, load, theta, gamma, projected=False, combined=False):
     c = 0.1 * M + 0.05 * K if damped else np.zeros((3, 3))
     ds = sk.LagrangianLinearTIDS(Q0.copy(), V0.copy(), M, K, c)
     ds.setFExtPtr(load.copy())
@@ -76,13 +86,18 @@ def run(contacts, damped, load, theta, gamma, projected=False):
         nsds.link(inter, ds)
         inters.append(inter)
     td = sk.TimeDiscretisation(0.0, H_STEP)
-    if projected:
+    if combined:
+        # Its constructor takes θ only: no γ (the index set is decided on
+        # the step's positions, not on a prediction).
+        osi = sk.MoreauJeanCombinedProjectionOSI(theta)
+        sim = sk.TimeSteppingCombinedProjection(nsds, td, osi, sk.LCP(), sk.MLCPProjectOnConstraints())
+    elif projected:
         osi = sk.MoreauJeanDirectProjectionOSI(theta, gamma)
         sim = sk.TimeSteppingDirectProjection(nsds, td, osi, sk.LCP(), sk.MLCPProjectOnConstraints())
     else:
         osi = sk.MoreauJeanOSI(theta, gamma)
         sim = sk.TimeStepping(nsds, td, osi, sk.LCP())
-    rows = [(0, 0.0, ds.q().copy(), ds.velocity().copy(), [0.0, 0.0], 0)]
+    rows = [(0, 0.0, ds.q().copy(), ds.velocity().copy(), [0.0, 0.0], (0, 0) if combined else 0)]
     k = 0
     while sim.hasNextEvent() and k < STEPS:
         sim.computeOneStep()
@@ -91,6 +106,8 @@ def run(contacts, damped, load, theta, gamma, projected=False):
         # p per contact, the second column for dof 2's contact.
         pp = [p[0], p[1] if len(p) > 1 else 0.0]
         nproj = sim.nbProjectionIteration() if projected else 0
+        if combined:
+            nproj = (sim.nbCumulatedProjectionIteration(), sim.nbIndexSetsIteration())
         rows.append((k, sim.nextTime(), ds.q().copy(), ds.velocity().copy(), pp, nproj))
         sim.nextStep()
     return rows
@@ -111,6 +128,18 @@ def main():
                         row = [name, repr(theta), repr(gamma), k, repr(float(t))] + [repr(float(x)) for x in q] + [repr(float(x)) for x in v] + [repr(x) for x in p]
                         w.writerow(row + ([nproj] if projected else []))
         print(f"wrote {out} (Siconos {getattr(sk, '__version__', '4.x')}, Python {sys.version.split()[0]})")
+    out = os.path.join(root, "data", "siconos", "moreau-jean-combined.csv")
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(["case", "theta", "gamma", "step", "t", "q0", "q1", "q2", "v0", "v1", "v2", "p0", "p2", "projections", "passes"])
+        cases = [c + (SCHEMES,) for c in CASES] + PROJECTED_EXTRA
+        for name, contacts, damped, load, schemes in cases:
+            # γ plays no part: one run per θ (written with γ = 0).
+            for theta in sorted({th for th, _ in schemes}):
+                for k, t, q, v, p, (nproj, passes) in run(contacts, damped, load, theta, 0.0, combined=True):
+                    row = [name, repr(theta), repr(0.0), k, repr(float(t))] + [repr(float(x)) for x in q] + [repr(float(x)) for x in v] + [repr(x) for x in p]
+                    w.writerow(row + [nproj, passes])
+    print(f"wrote {out} (Siconos {getattr(sk, '__version__', '4.x')}, Python {sys.version.split()[0]})")
 
 
 if __name__ == "__main__":

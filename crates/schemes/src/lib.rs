@@ -111,6 +111,7 @@ mod hybrid;
 mod loads;
 mod lockstep;
 mod moreau;
+mod moreau_combined;
 mod moreau_projected;
 mod multi;
 mod nitsche;
@@ -123,6 +124,7 @@ pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, Sche
 pub use hybrid::{Reduced, ReducedLaw};
 pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
+pub use moreau_combined::{MoreauJeanCombined, COMBINED_TOLERANCE};
 pub use moreau_projected::{MoreauJeanProjected, INDEX_SET_THRESHOLD, PROJECTION_TOLERANCE};
 pub use nitsche::Nitsche;
 pub use onestep::{OneStep, OneStepParams};

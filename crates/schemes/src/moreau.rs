@@ -77,6 +77,9 @@ pub(crate) struct IndexSet {
     pub(crate) leave: f64,
     /// Per contact, its lower and its upper side in the set.
     pub(crate) sides: Vec<(bool, bool)>,
+    /// The sides are set by the caller ([`MoreauJean::with_given_index_set`]):
+    /// the step uses them as they are.
+    pub(crate) given: bool,
 }
 
 impl IndexSet {
@@ -144,8 +147,34 @@ impl MoreauJean {
     /// Keeps the predicted-active sides as a persistent index set with
     /// thresholds ([`IndexSet`]) instead of predicting afresh each step.
     pub(crate) fn with_index_set(mut self, enter: f64, leave: f64) -> Self {
-        self.index_set = Some(IndexSet { enter, leave, sides: vec![(false, false); self.dy.k()] });
+        self.index_set = Some(IndexSet { enter, leave, sides: vec![(false, false); self.dy.k()], given: false });
         self
+    }
+
+    /// The sides with Newton's law are chosen by the caller
+    /// ([`Self::index_set_mut`]), not predicted: a step uses them as set.
+    pub(crate) fn with_given_index_set(mut self) -> Self {
+        self.index_set = Some(IndexSet { enter: 0.0, leave: 0.0, sides: vec![(false, false); self.dy.k()], given: true });
+        self
+    }
+
+    /// `U^n`, the contacts and the index set to be chosen (with
+    /// [`Self::with_given_index_set`]).
+    pub(crate) fn index_set_parts(&mut self) -> Option<(&mut [f64], &[crate::Contact], &mut IndexSet)> {
+        let set = self.index_set.as_mut()?;
+        Some((&mut self.u, &self.dy.contacts, set))
+    }
+
+    /// `U^n, V^n` and the step count, to redo a step from its start
+    /// ([`Self::free_velocity`] computed once, then [`Self::finish_step`]).
+    pub(crate) fn step_start_mut(&mut self) -> (&mut [f64], &mut [f64], &mut usize) {
+        (&mut self.u, &mut self.v, &mut self.n)
+    }
+
+    /// The unconstrained `V^{n+1}` of the step ([`Self::free_velocity`]'s
+    /// result, consumed by [`Self::finish_step`]).
+    pub(crate) fn free_mut(&mut self) -> &mut [f64] {
+        &mut self.rhs
     }
 
     /// `U^n` to be changed (a position projection after the step), the
@@ -163,6 +192,7 @@ impl MoreauJean {
         let pred = uc + self.gamma * self.dt * vc;
         match &mut self.index_set {
             None => (pred <= ct.bounds.lo, pred >= ct.bounds.hi),
+            Some(s) if s.given => s.sides[i],
             Some(s) => {
                 let (lo, hi) = s.sides[i];
                 let lo = IndexSet::keep(lo, pred - ct.bounds.lo, vc, s.enter, s.leave);
@@ -244,8 +274,20 @@ impl Stepper for MoreauJean {
     }
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
+        self.free_velocity();
+        self.finish_step()
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        Some((self.time(), self.dy.energy(&self.u, &self.v)))
+    }
+}
+
+impl MoreauJean {
+    /// The step's unconstrained `V^{n+1}`, left in `rhs` (the forcing
+    /// terms' means advance: once a step).
+    pub(crate) fn free_velocity(&mut self) {
         let (dt, th) = (self.dt, self.theta);
-        let c = self.dy.contact().dof;
         // rhs = M V - dt K (U + θ(1-θ) dt V) + dt F
         self.dy.mass.mul_vec(&self.v, &mut self.rhs);
         for ((t, u), v) in self.tmp.iter_mut().zip(&self.u).zip(&self.v) {
@@ -266,6 +308,13 @@ impl Stepper for MoreauJean {
             self.rhs.iter_mut().zip(&self.ktmp).for_each(|(b, k)| *b -= w * k);
         }
         self.a.solve_in_place(&mut self.rhs);
+    }
+
+    /// The rest of the step from the unconstrained `V^{n+1}` in `rhs`:
+    /// Newton's law on the sides predicted (or given), `U^{n+1}, V^{n+1}`.
+    pub(crate) fn finish_step(&mut self) -> Result<StepReport, SchemeError> {
+        let (dt, th) = (self.dt, self.theta);
+        let c = self.dy.contact().dof;
         if self.multi.is_some() {
             return self.finish_multi();
         }
@@ -298,10 +347,6 @@ impl Stepper for MoreauJean {
         }
         (self.lams[0], self.acts[0]) = (lambda, active);
         Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active })
-    }
-
-    fn energy(&mut self) -> Option<(f64, f64)> {
-        Some((self.time(), self.dy.energy(&self.u, &self.v)))
     }
 }
 

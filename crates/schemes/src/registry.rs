@@ -30,6 +30,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::onestep::PENALTY_CD,
     &crate::moreau::MOREAU_JEAN,
     &crate::moreau_projected::MOREAU_JEAN_PROJECTED,
+    &crate::moreau_combined::MOREAU_JEAN_COMBINED,
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,
     &crate::paoli::CD_TAYLOR,

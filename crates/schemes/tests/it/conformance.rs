@@ -73,7 +73,7 @@ fn problem_for(spec: &SchemeSpec, lo: f64) -> (Dynamics, Initial) {
 /// The values at which a family without a preset is checked (such a
 /// family is spelled only by its call, so it has no values of its own):
 /// `every_family_has_a_reference` fails on a preset-less family missing here.
-const PRESETLESS: &[(&str, &[f64])] = &[("moreau-jean-projected", &[0.5, 0.0, 0.5])];
+const PRESETLESS: &[(&str, &[f64])] = &[("moreau-jean-projected", &[0.5, 0.0, 0.5]), ("moreau-jean-combined", &[0.5, 0.0])];
 
 /// Every scheme the registry names: the presets, and each family without
 /// one at its [`PRESETLESS`] values.
@@ -156,6 +156,7 @@ fn reference(spec: &SchemeSpec) -> Option<Reference> {
         "cd-taylor" => Reference::TwoStep { beta: 0.0, start: None },
         "moreau-jean" => Reference::Elsewhere("peers.rs: moreau_jean_contact_heavy_runs"),
         "moreau-jean-projected" => Reference::Elsewhere("siconos.rs: moreau_jean_projected_equals_siconos_direct_projection_step_by_step"),
+        "moreau-jean-combined" => Reference::Elsewhere("siconos.rs: moreau_jean_combined_equals_siconos_combined_projection_step_by_step"),
         "nitsche" => Reference::Elsewhere("peers.rs: nitsche_tends_to_the_projection and its step oracle"),
         "hybrid" | "reduced-cn" | "cd-massless" => Reference::Elsewhere("peers.rs: check_reduced (the reduced ODE step by step)"),
         "event-driven" => Reference::Exact,

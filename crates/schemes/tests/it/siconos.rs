@@ -11,9 +11,14 @@
 //! the closed-form projection (one contact) or the exact multi-contact
 //! solve: positions, velocities and impulses agree to 1e-10 of their
 //! scale at every step.
+//!
+//! The same for `moreau-jean-projected(θ,e,γ)` (Siconos's direct
+//! projection, `data/siconos/moreau-jean-projected.csv`) and
+//! `moreau-jean-combined(θ,e)` (its combined projection,
+//! `data/siconos/moreau-jean-combined.csv`).
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, Dynamics, Initial, SchemeSpec};
+use signorini_schemes::{Bounds, Contact, Dynamics, Initial, MoreauJeanCombined, SchemeSpec, Stepper};
 
 const M: [[f64; 3]; 3] = [[2.0 / 6.0, 1.0 / 6.0, 0.0], [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0], [0.0, 1.0 / 6.0, 2.0 / 6.0]];
 const K: [[f64; 3]; 3] = [[30.0, -30.0, 0.0], [-30.0, 60.0, -30.0], [0.0, -30.0, 30.0]];
@@ -61,6 +66,8 @@ struct Row {
     p: [f64; 2],
     /// Siconos's projection iterations in the step (the projected runs).
     projections: usize,
+    /// Siconos's index-set passes in the step (the combined runs).
+    passes: u64,
 }
 
 fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
@@ -72,7 +79,8 @@ fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
         let x = |i: usize| f[i].parse::<f64>().unwrap();
         let key = (f[0].to_string(), x(1), x(2));
         let projections = f.get(13).map_or(0, |n| n.parse().unwrap());
-        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)], projections };
+        let passes = f.get(14).map_or(0, |n| n.parse().unwrap());
+        let row = Row { step: f[3].parse().unwrap(), q: [x(5), x(6), x(7)], v: [x(8), x(9), x(10)], p: [x(11), x(12)], projections, passes };
         match runs.last_mut() {
             Some((k, rows)) if *k == key => rows.push(row),
             _ => runs.push((key, vec![row])),
@@ -85,7 +93,7 @@ fn siconos_runs(file: &str) -> Vec<((String, f64, f64), Vec<Row>)> {
 /// (of the velocity scale), the impulses and the steps Siconos projected.
 fn compare(file: &str, n_runs: usize, spec: impl Fn(f64, f64) -> SchemeSpec) -> (f64, usize, usize) {
     let runs = siconos_runs(file);
-    assert_eq!(runs.len(), n_runs, "3 systems × 5 (θ, γ), and the projected runs' loaded one");
+    assert_eq!(runs.len(), n_runs, "3 systems × 5 (θ, γ) (× 3 θ, combined), and the projected runs' loaded one");
     let mut worst = 0.0f64;
     let (mut impulses, mut projected) = (0, 0);
     for ((case, theta, gamma), rows) in &runs {
@@ -142,4 +150,32 @@ fn moreau_jean_projected_equals_siconos_direct_projection_step_by_step() {
     );
     assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
     assert!(projected > 1000, "{projected} projected steps: the projection must act");
+}
+
+/// `moreau-jean-combined(θ,e)` against Siconos's
+/// `MoreauJeanCombinedProjectionOSI(θ)` with `TimeSteppingCombinedProjection`
+/// and `MLCPProjectOnConstraints` (index set from the step's positions, the
+/// step redone while it grows, projection on equalities, tolerance 1e-8),
+/// step by step: the 3 systems at θ ∈ {½, ¾, 1} and the loaded one at ½.
+#[test]
+fn moreau_jean_combined_equals_siconos_combined_projection_step_by_step() {
+    let (worst, impulses, projected) = compare("moreau-jean-combined.csv", 10, |theta, _| SchemeSpec::moreau_jean_combined(theta, 0.0));
+    println!(
+        "moreau-jean-combined vs Siconos MoreauJeanCombinedProjectionOSI: 10 runs × 300 steps, {impulses} impulses, {projected} projected steps, worst difference {worst:.1e} of the velocity scale"
+    );
+    assert!(impulses > 1000, "{impulses} impulses: the runs must be contact-heavy");
+    assert!(projected > 300, "{projected} projected steps: the projection must act");
+    // The passes (steps redone while the index set grows), step by step.
+    let mut redone = 0;
+    for ((case, theta, _), rows) in siconos_runs("moreau-jean-combined.csv") {
+        let init = Initial { u: Q0.to_vec(), v: V0.to_vec() };
+        let mut s = MoreauJeanCombined::new("c".into(), dynamics(&case), theta, 0.0, DT, &init).unwrap();
+        for r in &rows[1..] {
+            let before = s.passes();
+            s.step().unwrap();
+            assert_eq!(s.passes() - before, r.passes, "{case}, θ = {theta}, step {}: passes", r.step);
+            redone += usize::from(r.passes > 1);
+        }
+    }
+    assert!(redone > 1000, "{redone} redone steps: the index set must grow within steps");
 }
