@@ -354,22 +354,29 @@ impl MoreauJean {
 
 use crate::family::{check, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec};
 
+/// θ of the Moreau–Jean family and its projected variants.
+pub(crate) const THETA: Param = Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None };
+/// Their restitution `e`.
+pub(crate) const E: Param = Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None };
+/// The activation predictor's γ (default ½).
+pub(crate) const GAMMA: Param = Param { name: "gamma", symbol: "γ", syntax: "GAMMA", allowed: "∈ [0, 1]", default: Some(0.5) };
+
+/// The ranges of [`THETA`], [`E`] and, when the family takes it, [`GAMMA`]
+/// (`a` holds one value per parameter of the family).
+pub(crate) fn check_params(a: &[f64]) -> Result<(), SchemeError> {
+    check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]")?;
+    check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")?;
+    a.get(2).map_or(Ok(()), |&g| check("gamma", g, (0.0..=1.0).contains(&g), "[0, 1]"))
+}
+
 /// Moreau–Jean (velocity-level θ-scheme, Newton's impact law), θ ∈ [1/2, 1], e ∈ [0, 1],
 /// the activation predictor's γ ∈ [0, 1] (default 1/2).
 pub(crate) static MOREAU_JEAN: Family = Family {
     name: "moreau-jean",
     about: "Moreau–Jean: velocity-level θ-scheme with Newton's impact law, activation predicted by u + γ dt v (docs/theory.md §4.6.4)",
-    params: &[
-        Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None },
-        Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None },
-        Param { name: "gamma", symbol: "γ", syntax: "GAMMA", allowed: "∈ [0, 1]", default: Some(0.5) },
-    ],
+    params: &[THETA, E, GAMMA],
     presets: &[Preset { name: "moreau-jean", args: &[0.5, 0.0, 0.5], group: Group::Peer, rank: 3 }],
-    validate: |a| {
-        check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]")?;
-        check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")?;
-        check("gamma", a[2], (0.0..=1.0).contains(&a[2]), "[0, 1]")
-    },
+    validate: check_params,
     capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,

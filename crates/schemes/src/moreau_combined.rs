@@ -190,22 +190,17 @@ impl Stepper for MoreauJeanCombined {
 
 // ---- The registry's row of this file: moreau-jean-combined.
 
-use crate::family::{check, Capabilities, Family, Node, Param, SchemeSpec};
+use crate::family::{Capabilities, Family, Node, SchemeSpec};
+use crate::moreau;
 
 /// Moreau–Jean with the combined projection (Siconos's
 /// `MoreauJeanCombinedProjectionOSI`), θ ∈ [1/2, 1], e ∈ [0, 1].
 pub(crate) static MOREAU_JEAN_COMBINED: Family = Family {
     name: "moreau-jean-combined",
     about: "Moreau–Jean with the combined projection: the index set decided on the step's positions (the step redone while it grows), its contacts' positions projected on their bounds (Siconos's MoreauJeanCombinedProjectionOSI; docs/theory.md §4.6.4)",
-    params: &[
-        Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None },
-        Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None },
-    ],
+    params: &[moreau::THETA, moreau::E],
     presets: &[],
-    validate: |a| {
-        check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]")?;
-        check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")
-    },
+    validate: moreau::check_params,
     capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,

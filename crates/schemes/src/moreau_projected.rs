@@ -146,24 +146,17 @@ impl Stepper for MoreauJeanProjected {
 
 // ---- The registry's row of this file: moreau-jean-projected.
 
-use crate::family::{check, Capabilities, Family, Node, Param, SchemeSpec};
+use crate::family::{Capabilities, Family, Node, SchemeSpec};
+use crate::moreau;
 
 /// Moreau–Jean with the direct projection of the positions (Siconos's
 /// `MoreauJeanDirectProjectionOSI`), θ ∈ [1/2, 1], e ∈ [0, 1], γ ∈ [0, 1].
 pub(crate) static MOREAU_JEAN_PROJECTED: Family = Family {
     name: "moreau-jean-projected",
     about: "Moreau–Jean followed by the projection of the positions of the contacts in its index set on their bounds (Siconos's MoreauJeanDirectProjectionOSI; docs/theory.md §4.6.4)",
-    params: &[
-        Param { name: "theta", symbol: "θ", syntax: "THETA", allowed: "∈ [1/2, 1]", default: None },
-        Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None },
-        Param { name: "gamma", symbol: "γ", syntax: "GAMMA", allowed: "∈ [0, 1]", default: Some(0.5) },
-    ],
+    params: &[moreau::THETA, moreau::E, moreau::GAMMA],
     presets: &[],
-    validate: |a| {
-        check("theta", a[0], (0.5..=1.0).contains(&a[0]), "[1/2, 1]")?;
-        check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")?;
-        check("gamma", a[2], (0.0..=1.0).contains(&a[2]), "[0, 1]")
-    },
+    validate: moreau::check_params,
     capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
