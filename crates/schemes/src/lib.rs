@@ -105,6 +105,44 @@ macro_rules! stepper_accessors {
     };
 }
 
+/// The [`Stepper`] methods of a scheme that wraps another in its field
+/// `$inner` (a Moreau–Jean variant around [`MoreauJean`]): everything but
+/// `step` and `energy`, which the wrapper writes.
+macro_rules! delegate_stepper {
+    ($inner:ident) => {
+        fn label(&self) -> String {
+            self.$inner.label()
+        }
+        fn dt(&self) -> f64 {
+            self.$inner.dt()
+        }
+        fn level(&self) -> usize {
+            self.$inner.level()
+        }
+        fn displacement(&self) -> &[f64] {
+            self.$inner.displacement()
+        }
+        fn dynamics(&self) -> &crate::Dynamics {
+            self.$inner.dynamics()
+        }
+        fn contact_forces(&self) -> &[f64] {
+            self.$inner.contact_forces()
+        }
+        fn contact_status(&self) -> &[signorini_contact::Active] {
+            self.$inner.contact_status()
+        }
+        fn contact_pivots(&self) -> Option<(u64, u64)> {
+            self.$inner.contact_pivots()
+        }
+        fn state(&self) -> Option<Vec<f64>> {
+            self.$inner.state()
+        }
+        fn set_state(&mut self, s: &[f64]) -> Result<(), crate::SchemeError> {
+            self.$inner.set_state(s)
+        }
+    };
+}
+
 pub mod events;
 mod family;
 mod hybrid;

@@ -124,36 +124,7 @@ impl MoreauJeanCombined {
 }
 
 impl Stepper for MoreauJeanCombined {
-    fn label(&self) -> String {
-        self.mj.label()
-    }
-    fn dt(&self) -> f64 {
-        self.mj.dt()
-    }
-    fn level(&self) -> usize {
-        self.mj.level()
-    }
-    fn displacement(&self) -> &[f64] {
-        self.mj.displacement()
-    }
-    fn dynamics(&self) -> &Dynamics {
-        self.mj.dynamics()
-    }
-    fn contact_forces(&self) -> &[f64] {
-        self.mj.contact_forces()
-    }
-    fn contact_status(&self) -> &[signorini_contact::Active] {
-        self.mj.contact_status()
-    }
-    fn contact_pivots(&self) -> Option<(u64, u64)> {
-        self.mj.contact_pivots()
-    }
-    fn state(&self) -> Option<Vec<f64>> {
-        self.mj.state()
-    }
-    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
-        self.mj.set_state(s)
-    }
+    delegate_stepper!(mj);
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         if let Some((_, _, set)) = self.mj.index_set_parts() {
             set.sides.iter_mut().for_each(|s| *s = (false, false));

@@ -13,7 +13,7 @@ use signorini_schemes::{Bounds, Initial, LockstepLane, PaoliSchatzmanLockstep};
 /// lanes cost less than 8, 8 less than 4, and all far less than one run
 /// alone); a smaller group takes the narrowest engine that holds it (2, 4,
 /// 8 or 16 lanes). A batch's runs are split into groups of equal size so
-/// that every thread gets one ([`lockstep_jobs`]).
+/// that every thread gets one.
 pub const LANES: usize = 16;
 
 /// A run the lockstep engine takes: a beam (full model) on its tip's two
