@@ -152,14 +152,14 @@ impl MoreauJean {
     }
 
     /// The sides with Newton's law are chosen by the caller
-    /// ([`Self::index_set_mut`]), not predicted: a step uses them as set.
+    /// ([`Self::index_set_parts`]), not predicted: a step uses them as set.
     pub(crate) fn with_given_index_set(mut self) -> Self {
         self.index_set = Some(IndexSet { enter: 0.0, leave: 0.0, sides: vec![(false, false); self.dy.k()], given: true });
         self
     }
 
-    /// `U^n`, the contacts and the index set to be chosen (with
-    /// [`Self::with_given_index_set`]).
+    /// `U^n`, the contacts and the index set, if kept (to be chosen with
+    /// [`Self::with_given_index_set`], read by a position projection).
     pub(crate) fn index_set_parts(&mut self) -> Option<(&mut [f64], &[crate::Contact], &mut IndexSet)> {
         let set = self.index_set.as_mut()?;
         Some((&mut self.u, &self.dy.contacts, set))
@@ -177,11 +177,10 @@ impl MoreauJean {
         &mut self.rhs
     }
 
-    /// `U^n` to be changed (a position projection after the step), the
-    /// contacts and the persistent index set, if kept.
-    pub(crate) fn projection_parts(&mut self) -> Option<(&mut [f64], &[crate::Contact], &IndexSet)> {
-        let set = self.index_set.as_ref()?;
-        Some((&mut self.u, &self.dy.contacts, set))
+    /// The mechanical energy of the current state (what [`Stepper::energy`]
+    /// reports; the projections' energy bookkeeping reads it too).
+    pub(crate) fn energy_now(&self) -> f64 {
+        self.dy.energy(&self.u, &self.v)
     }
 
     /// Contact `i`'s lower and upper sides predicted active at the start of
@@ -279,7 +278,7 @@ impl Stepper for MoreauJean {
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {
-        Some((self.time(), self.dy.energy(&self.u, &self.v)))
+        Some((self.time(), self.energy_now()))
     }
 }
 

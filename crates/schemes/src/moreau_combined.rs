@@ -73,10 +73,6 @@ impl MoreauJeanCombined {
         self.projection_energy
     }
 
-    fn energy_now(&self) -> f64 {
-        self.mj.dynamics().energy(self.mj.displacement(), self.mj.velocity())
-    }
-
     /// One pass's projection: the sides of the set put on their bounds if
     /// one is off by `tol` or more. Returns the energy it added, if it acted.
     fn project(&mut self) -> Option<f64> {
@@ -93,7 +89,7 @@ impl MoreauJeanCombined {
         if worst < COMBINED_TOLERANCE {
             return None;
         }
-        let before = self.energy_now();
+        let before = self.mj.energy_now();
         let (u, contacts, set) = self.mj.index_set_parts()?;
         for (ct, &(lo, hi)) in contacts.iter().zip(&set.sides) {
             // Both sides in the set (a gap closed from both): the lower wins.
@@ -103,7 +99,7 @@ impl MoreauJeanCombined {
                 u[ct.dof] = ct.bounds.hi;
             }
         }
-        Some(self.energy_now() - before)
+        Some(self.mj.energy_now() - before)
     }
 
     /// Adds to the set the sides out of it whose gap is `<= 0`; whether

@@ -66,14 +66,10 @@ impl MoreauJeanProjected {
         self.projection_energy
     }
 
-    fn energy_now(&self) -> f64 {
-        self.mj.dynamics().energy(self.mj.displacement(), self.mj.velocity())
-    }
-
     /// The projection after the step: the sides in the index set put back
     /// on their bounds if one is violated by more than the tolerance.
     fn project(&mut self) {
-        let Some((u, contacts, set)) = self.mj.projection_parts() else { return };
+        let Some((u, contacts, set)) = self.mj.index_set_parts() else { return };
         // Siconos's criterion: the largest violation max(0, −y) over the set.
         let mut worst = 0.0f64;
         for (ct, &(lo, hi)) in contacts.iter().zip(&set.sides) {
@@ -87,8 +83,8 @@ impl MoreauJeanProjected {
         if worst <= PROJECTION_TOLERANCE {
             return;
         }
-        let before = self.energy_now();
-        let Some((u, contacts, set)) = self.mj.projection_parts() else { return };
+        let before = self.mj.energy_now();
+        let Some((u, contacts, set)) = self.mj.index_set_parts() else { return };
         for (ct, &(lo, hi)) in contacts.iter().zip(&set.sides) {
             let (b, x) = (ct.bounds, &mut u[ct.dof]);
             if lo && *x < b.lo {
@@ -99,7 +95,7 @@ impl MoreauJeanProjected {
             }
         }
         self.projections += 1;
-        self.projection_energy += self.energy_now() - before;
+        self.projection_energy += self.mj.energy_now() - before;
     }
 }
 
