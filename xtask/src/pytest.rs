@@ -1,14 +1,14 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
 //! workspace's (`cargo test --workspace --release`, the Python crate
-//! excluded: maturin builds it with its own environment), then the lints
-//! with warnings denied (`cargo fmt --check`, `cargo clippy --workspace
-//! --all-targets -- -D warnings`, `cargo doc --workspace --no-deps` with
-//! `RUSTDOCFLAGS=-D warnings`), then the Python
+//! excluded: maturin builds it with its own environment), then the Python
 //! package built by maturin into a virtual environment this command creates
 //! while the Rust tests build and run (`target/py-venv`, with maturin,
 //! numpy, pytest, dask.distributed (the scale-out test) and matplotlib (the
-//! examples) from the package index) and its pytest suite
-//! (`python/tests`), then the user guide: the
+//! examples) from the package index), then its pytest suite
+//! (`python/tests`) and, beside it, the lints with warnings denied (`cargo
+//! fmt --check`, `cargo clippy --workspace --all-targets -- -D warnings`,
+//! `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`),
+//! then the user guide: the
 //! generated tables checked against `data/reference` (`cargo xtask docs
 //! --check`) and `mkdocs build --strict` (MkDocs, the Material theme and
 //! mkdocstrings from the package index into the same environment) into
@@ -298,9 +298,6 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
         if let Err(e) = r {
             failed.push((e, rec.rust.1 > 0));
         }
-        if let Err(e) = rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings`", || lints(&cargo, &root)) {
-            failed.push((e, false));
-        }
     }
     let env = match env.join() {
         Ok((r, t)) => {
@@ -338,16 +335,34 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     // running binary's file (its features unified over the workspace), and
     // then /proc/self/exe names a deleted file: the path, when it is there.
     let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
-    if python_ready {
-        let (lines, r) = rec.time("Python: the tests", || {
-            Ok(run_capture(
-                Command::new(&py).current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]),
-                "pytest",
-            ))
-        })?;
-        rec.python = python_counts(&lines);
-        if let Err(e) = r {
-            failed.push((e, rec.python.1 > 0));
+    // The Python tests and the lints side by side: pytest runs built
+    // programs and never cargo (which the lints hold), and on two cores
+    // each fills the other's gaps (clippy and rustdoc work through the
+    // workspace's crates largely one at a time).
+    let pytest = python_ready.then(|| {
+        let mut cmd = Command::new(&py);
+        cmd.current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]);
+        std::thread::spawn(move || {
+            let t = Instant::now();
+            let (lines, r) = run_capture(&mut cmd, "pytest");
+            (lines, r, t.elapsed().as_secs_f64())
+        })
+    });
+    if !a.python_only {
+        if let Err(e) = rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (the Python tests run beside them)", || lints(&cargo, &root)) {
+            failed.push((e, false));
+        }
+    }
+    if let Some(pytest) = pytest {
+        match pytest.join() {
+            Ok((lines, r, t)) => {
+                rec.phases.push(("Python: the tests (beside the lints)", t));
+                rec.python = python_counts(&lines);
+                if let Err(e) = r {
+                    failed.push((e, rec.python.1 > 0));
+                }
+            }
+            Err(_) => failed.push(("the Python tests' thread panicked".into(), false)),
         }
     }
     if a.record {
