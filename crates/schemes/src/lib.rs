@@ -157,6 +157,7 @@ mod onestep;
 mod paoli;
 mod profile;
 mod registry;
+mod stabilized;
 
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
@@ -171,6 +172,7 @@ pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, Spli
 pub use registry::{families_with, syntax_list, FAMILIES};
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
+pub use stabilized::ContactStabilized;
 
 use signorini_contact::ContactError;
 use signorini_fem::{FemError, SymBand};

@@ -27,3 +27,4 @@ mod peers;
 mod profile;
 mod several_contacts;
 mod siconos;
+mod stabilized;
