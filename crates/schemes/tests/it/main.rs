@@ -9,6 +9,7 @@ mod common;
 #[path = "../events_common/mod.rs"]
 mod events_common;
 
+mod carpenter;
 mod conformance;
 mod damping;
 mod energy;

@@ -13,19 +13,19 @@
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, SchemeSpec, SplitMix64, TimeProfile};
 
-type Dense = Vec<Vec<f64>>;
+pub(crate) type Dense = Vec<Vec<f64>>;
 
-fn mv(a: &Dense, x: &[f64]) -> Vec<f64> {
+pub(crate) fn mv(a: &Dense, x: &[f64]) -> Vec<f64> {
     a.iter().map(|r| r.iter().zip(x).map(|(a, x)| a * x).sum()).collect()
 }
 
-fn dense(b: &SymBand) -> Dense {
+pub(crate) fn dense(b: &SymBand) -> Dense {
     let n = b.n();
     (0..n).map(|i| (0..n).map(|j| if i.abs_diff(j) <= b.half_bandwidth() { b.get(i.max(j), i.min(j)) } else { 0.0 }).collect()).collect()
 }
 
 /// Gaussian elimination with partial pivoting.
-fn solve(mut a: Dense, mut b: Vec<f64>) -> Vec<f64> {
+pub(crate) fn solve(mut a: Dense, mut b: Vec<f64>) -> Vec<f64> {
     let n = b.len();
     for c in 0..n {
         let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
@@ -91,7 +91,7 @@ fn box_qp(h: &Dense, y: &[f64], cons: &[(usize, f64, f64)]) -> (Vec<f64>, Vec<f6
 
 /// A random 4-dof chain: a tridiagonal SPD mass (lumped if asked), springs
 /// to a wall, optional Rayleigh-like damping, a steady and a sine load.
-fn system(rng: &mut SplitMix64, lumped: bool, damped: bool, two: bool) -> (Dynamics, Initial) {
+pub(crate) fn system(rng: &mut SplitMix64, lumped: bool, damped: bool, two: bool) -> (Dynamics, Initial) {
     let n = 4;
     let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
     for i in 0..n {
