@@ -430,7 +430,9 @@ pub(crate) fn assemble_contacts(picks: ContactPicks, ctx: &ContactCtx) -> (Vec<T
                     let v = if k == "stiffness" && ctx.beam { "1e8" } else { v };
                     let nonzero = v.parse::<f64>().is_ok_and(|x| x != 0.0);
                     let class = if k == "restitution" && ctx.restitution_zero_only && nonzero {
-                        valid = false;
+                        // A conflict with the scheme, not with the site: the
+                        // stop still counts for the mass's placement rules,
+                        // which the scene checks first.
                         Class::Bad(vec!["bar.scheme".to_string(), key(k)])
                     } else if acts {
                         Class::Good

@@ -278,7 +278,8 @@ pub(crate) fn node_of(spec: &SchemeSpec) -> Node {
 /// preset, and each family's call with each preset's values (written with
 /// and without spaces) and, where trailing parameters have defaults,
 /// without them; with the contact node they need and whether they are
-/// conditionally stable (then a stricter validation may refuse a dt).
+/// conditionally stable (then a stricter validation may refuse a dt); and
+/// each family without a preset, at values it accepts.
 pub(crate) fn schemes() -> Vec<(String, Node, bool)> {
     let mut out = Vec::new();
     for (name, spec, _) in SchemeSpec::presets() {
@@ -294,6 +295,17 @@ pub(crate) fn schemes() -> Vec<(String, Node, bool)> {
         let defaults_hold = f.params.iter().zip(spec.args()).skip(required).all(|(p, a)| p.default == Some(*a));
         if required < f.params.len() && defaults_hold {
             out.push((format!("{}({})", f.name, args[..required].join(",")), node_of(&spec), conditional));
+        }
+    }
+    // A family without presets (run by name only): its bare name, or its
+    // call with the first values from {½, 0, 1} per parameter it accepts.
+    for f in signorini_schemes::FAMILIES.iter().filter(|f| f.presets.is_empty()) {
+        let k = f.params.len();
+        let tuple = (0..3usize.pow(k as u32)).map(|code| (0..k).map(|i| [0.5, 0.0, 1.0][code / 3usize.pow(i as u32) % 3]).collect::<Vec<f64>>()).find(|a| f.with(a).validate().is_ok());
+        if let Some(a) = tuple {
+            let spec = f.with(&a);
+            let text = if k == 0 { f.name.to_string() } else { format!("{}({})", f.name, a.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",")) };
+            out.push((text, node_of(&spec), spec.stability_rule().is_some()));
         }
     }
     out
