@@ -1,0 +1,63 @@
+//! The paper's beam driven by its support: the free (non-impacting)
+//! period-1 orbit continued in the support amplitude ends at the tip's
+//! grazing, located against the linear steady state solved here
+//! independently, and named even where no impacting orbit is found beyond.
+
+use faer::linalg::solvers::Solve;
+use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions, Family, SceneFamily};
+
+const GAP: f64 = 0.1;
+
+fn scene(elements: usize) -> String {
+    format!("[beam]\nscene = \"fig2\"\nscheme = \"event-driven\"\nelements = {elements}\n[support]\namplitude = 0.01\nomega = 10.0\n")
+}
+
+/// The support amplitude at which the undamped linear steady state's tip
+/// reaches the stops: the load is `F sin Ωt` (every term of the lifted
+/// support load is a sine of Ωt), the response `U sin Ωt` with
+/// `(K − Ω² M) U = F`, and the tip's amplitude is linear in the support's.
+fn grazing_amplitude(fam: &SceneFamily, amplitude: f64) -> f64 {
+    let built = fam.build(amplitude).unwrap();
+    let dy = built.model.dynamics();
+    let n = dy.mass.n();
+    let omega = built.omega;
+    let column = |m: &signorini_fem::SymBand, c: usize| {
+        let mut e = vec![0.0; n];
+        e[c] = 1.0;
+        let mut y = vec![0.0; n];
+        m.mul_vec(&e, &mut y);
+        y
+    };
+    let (kc, mc): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (0..n).map(|c| (column(&dy.stiffness, c), column(&dy.mass, c))).unzip();
+    let a = faer::Mat::from_fn(n, n, |r, c| kc[c][r] - omega * omega * mc[c][r]);
+    let mut f = vec![0.0; n];
+    dy.load_at(0.25 * std::f64::consts::TAU / omega, &mut f);
+    let rhs = faer::Mat::from_fn(n, 1, |r, _| f[r]);
+    let u = a.partial_piv_lu().solve(&rhs);
+    let tip = u[(dy.contacts[0].dof, 0)].abs();
+    GAP * amplitude / tip
+}
+
+#[test]
+fn the_free_orbit_ends_at_the_tips_grazing_which_is_named() {
+    let doc: toml::Table = scene(3).parse().unwrap();
+    let (fam, a0) = SceneFamily::new(doc, "support.amplitude", 1).unwrap();
+    let want = grazing_amplitude(&fam, a0);
+    // The free orbit from the scene's start (at rest: the transient's free
+    // vibration stays inside the stops at this amplitude).
+    let start = fam.build(a0).unwrap().start;
+    let branch = continuation(&fam, &start, &ContinuationOptions::new(a0, 0.2)).unwrap();
+    eprintln!("{} points, end: {}; grazing amplitude {want}", branch.points.len(), branch.end);
+    for b in &branch.bifurcations {
+        eprintln!("  {} at {} impacts {:?}", b.kind.name(), b.param, b.impacts);
+    }
+    assert!(branch.points.iter().all(|p| p.orbit.impacts() == 0 && p.param < want), "the free orbit, below the grazing");
+    let g = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing).unwrap_or_else(|| panic!("no grazing named; end: {}", branch.end));
+    assert!((g.param - want).abs() <= 1e-9 * want, "grazing at {} against {want}", g.param);
+    // The points of the free orbit: its tip's amplitude is linear in the
+    // support's, so the last point's margin to the stops is small.
+    let last = branch.points.last().unwrap();
+    let model = fam.model(last.param).unwrap();
+    let margin = model.margin(0.0, &last.orbit.x, last.orbit.period).unwrap();
+    assert!((margin - GAP * (1.0 - last.param / want)).abs() <= 1e-9, "margin {margin} at {}", last.param);
+}
