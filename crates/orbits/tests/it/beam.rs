@@ -4,6 +4,7 @@
 //! independently, and named even where no impacting orbit is found beyond.
 
 use faer::linalg::solvers::Solve;
+use signorini_orbits::output::{branch_svg, Labelled};
 use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions, Family, SceneFamily};
 
 const GAP: f64 = 0.1;
@@ -52,6 +53,16 @@ fn the_free_orbit_ends_at_the_tips_grazing_which_is_named() {
         eprintln!("  {} at {} impacts {:?}", b.kind.name(), b.param, b.impacts);
     }
     assert!(branch.points.iter().all(|p| p.orbit.impacts() == 0 && p.param < want), "the free orbit, below the grazing");
+    // Undamped and without impacts: the map is linear with the modal
+    // rotations e^{±iω_k T}, every multiplier on the unit circle; the plot
+    // calls such a stretch neutral (the CSV's `stable` is 0 for it).
+    for p in &branch.points {
+        assert!(p.orbit.multipliers.iter().all(|m| (m.norm() - 1.0).abs() <= 1e-9), "at {}: {:?}", p.param, p.orbit.multipliers);
+    }
+    let n = branch.points.len();
+    let labelled = Labelled { branch: &branch, periods: 1, omega: vec![10.0; n], displacement: vec![0.0; n], bif_displacement: vec![0.0; branch.bifurcations.len()] };
+    let svg = branch_svg(&[labelled], "support.amplitude", &[]).unwrap();
+    assert!(svg.contains("neutral (1 T)") && !svg.contains("unstable") && !svg.contains(">stable"), "the free branch drawn as neutral");
     let g = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing).unwrap_or_else(|| panic!("no grazing named; end: {}", branch.end));
     assert!((g.param - want).abs() <= 1e-9 * want, "grazing at {} against {want}", g.param);
     // The points of the free orbit: its tip's amplitude is linear in the
