@@ -104,12 +104,14 @@ pub fn bifurcations_csv(branches: &[Labelled<'_>]) -> String {
 
 /// A point's class in `branch.svg`: 0 stable (every multiplier inside the
 /// unit circle), 1 unstable, 2 neutral (every multiplier on the unit
-/// circle to 1e-9: an undamped structure's orbit without impacts, which
-/// `branch.csv`'s `stable` counts as 0).
+/// circle to 1e-4: an undamped structure's orbit without impacts, whose
+/// multipliers `e^{±iω_k T}` the paper's beam (J = 19) gets to 2e-5, the
+/// condition of its monodromy's eigenproblem; `branch.csv`'s `stable`
+/// counts it as 0).
 fn class(p: &crate::BranchPoint) -> usize {
     if p.stable() {
         0
-    } else if !p.orbit.multipliers.is_empty() && p.orbit.multipliers.iter().all(|m| (m.norm() - 1.0).abs() <= 1e-9) {
+    } else if !p.orbit.multipliers.is_empty() && p.orbit.multipliers.iter().all(|m| (m.norm() - 1.0).abs() <= 1e-4) {
         2
     } else {
         1
