@@ -332,8 +332,9 @@ impl<F: Family> Ctx<'_, F> {
 /// cannot straddle two crossings of the unit circle (a window between two
 /// period doublings) and see none. Multipliers on the circle at both ends
 /// (to 1e-4: an undamped structure's free orbit, whose multipliers
-/// `e^{±iω_k T}` turn by `ω_k ΔT` along the circle, the highest mode's by
-/// radians per 1e-4 of Ω) are left out: they turn without crossing it.
+/// `e^{±iω_k T}` turn by `ω_k ΔT` along the circle, the highest modes'
+/// fastest: on the beam (J = 3) the steps fell to 2e-6 of Ω) are left
+/// out: they turn without crossing it.
 fn mu_change(a: &Point, b: &Point) -> f64 {
     let on_circle = |m: &c64| (m.norm() - 1.0).abs() <= 1e-4;
     a.orbit.multipliers.iter().zip(&b.orbit.multipliers).filter(|(x, y)| x.norm().min(y.norm()) < 2.0 && !(on_circle(x) && on_circle(y))).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max)
