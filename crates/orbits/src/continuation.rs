@@ -333,7 +333,7 @@ impl<F: Family> Ctx<'_, F> {
 /// period doublings) and see none. Multipliers on the circle at both ends
 /// (to 1e-4: an undamped structure's free orbit, whose multipliers
 /// `e^{±iω_k T}` turn by `ω_k ΔT` along the circle, the highest modes'
-/// fastest: on the beam (J = 3) the steps fell to 2e-6 of Ω) are left
+/// fastest: on the beam (J = 3) the steps fell to 2.4e-6 rad/s) are left
 /// out: they turn without crossing it.
 fn mu_change(a: &Point, b: &Point) -> f64 {
     let on_circle = |m: &c64| (m.norm() - 1.0).abs() <= 1e-4;
