@@ -330,9 +330,14 @@ impl<F: Family> Ctx<'_, F> {
 /// from `a` to `b` (each list by decreasing modulus, compared in order): a
 /// step over which they move more than 0.25 is halved, so that a step
 /// cannot straddle two crossings of the unit circle (a window between two
-/// period doublings) and see none.
+/// period doublings) and see none. Multipliers on the circle at both ends
+/// (to 1e-4: an undamped structure's free orbit, whose multipliers
+/// `e^{±iω_k T}` turn by `ω_k ΔT` along the circle, the highest modes'
+/// fastest: on the beam (J = 3) the steps fell to 2.4e-6 rad/s) are left
+/// out: they turn without crossing it.
 fn mu_change(a: &Point, b: &Point) -> f64 {
-    a.orbit.multipliers.iter().zip(&b.orbit.multipliers).filter(|(x, y)| x.norm().min(y.norm()) < 2.0).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max)
+    let on_circle = |m: &c64| (m.norm() - 1.0).abs() <= 1e-4;
+    a.orbit.multipliers.iter().zip(&b.orbit.multipliers).filter(|(x, y)| x.norm().min(y.norm()) < 2.0 && !(on_circle(x) && on_circle(y))).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max)
 }
 
 /// Test functions whose sign change marks a bifurcation.
@@ -430,9 +435,18 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // An orbit without impacts grazing a stop: the grazing
                     // located on its smooth side, the impacting orbit beyond.
                     if let Some((bif, away)) = appearing_impact(&ctx, &cur, &branch.points, dir) {
+                        let at = bif.param;
                         branch.bifurcations.push(bif);
+                        // No impacting orbit beyond: the branch ends at
+                        // the grazing, which is named.
+                        let Some(last) = away.last().cloned() else {
+                            branch.end = format!(
+                                "ended at the grazing at param = {at}: no periodic orbit with the new impact found beyond it (Newton from the grazing orbit at 1e-9 … 1e-3 of the range past it)"
+                            );
+                            return Ok(branch);
+                        };
                         branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark }));
-                        cur = away.into_iter().last().expect("at least one");
+                        cur = last;
                         ds = opts.min_step.max(1e-4);
                         continue;
                     }
@@ -572,7 +586,10 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
 /// smooth side, each a Newton solve), then the impacting orbit just beyond
 /// it (Newton from the grazing orbit's state at parameters `1e-9` … `1e-3`
 /// of the range past it; its Jacobian grows as the inverse of the new
-/// impact's speed, so the nearest that converges is taken).
+/// impact's speed, so the nearest that converges is taken). When none
+/// converges the grazing is returned with no orbit beyond (the branch ends
+/// there, the event named; `impacts` and `releases` then read 0 on both
+/// sides).
 fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>)> {
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
@@ -596,17 +613,17 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
             }
         }
     }
-    let b = beyond?;
     let bif = Bifurcation {
         param: estimate,
         kind: BifurcationKind::Grazing,
         mu: critical(BifurcationKind::Grazing, &p1),
-        impacts: (0, b.orbit.impacts()),
-        releases: (0, b.orbit.releases()),
+        impacts: (0, beyond.as_ref().map_or(0, |b| b.orbit.impacts())),
+        releases: (0, beyond.as_ref().map_or(0, |b| b.orbit.releases())),
         between: (points.len() - 1, points.len()),
         x: p1.x.clone(),
         mark: None,
     };
+    let Some(b) = beyond else { return Some((bif, Vec::new())) };
     // Away from the grazing by natural-parameter steps doubling
     // (each from the last two orbits' extrapolation) until the new impact's
     // speed has grown a hundredfold: the arclength steps take over there.

@@ -102,25 +102,42 @@ pub fn bifurcations_csv(branches: &[Labelled<'_>]) -> String {
     out
 }
 
+/// A point's class in `branch.svg`: 0 stable (every multiplier inside the
+/// unit circle), 1 unstable, 2 neutral (every multiplier on the unit
+/// circle to 1e-4: an undamped structure's orbit without impacts, whose
+/// multipliers `e^{±iω_k T}` the paper's beam (J = 19) gets to 2e-5, the
+/// condition of its monodromy's eigenproblem; `branch.csv`'s `stable`
+/// counts it as 0).
+fn class(p: &crate::BranchPoint) -> usize {
+    if p.stable() {
+        0
+    } else if !p.orbit.multipliers.is_empty() && p.orbit.multipliers.iter().all(|m| (m.norm() - 1.0).abs() <= 1e-4) {
+        2
+    } else {
+        1
+    }
+}
+
 /// `branch.svg`: the tip displacement on the section against the
-/// parameter, stable stretches solid, unstable dashed, over `sweep` (a
-/// sweep's bifurcation diagram: `(param, displacement)` dots) if given.
+/// parameter, stable stretches solid, unstable dashed, neutral ones (every
+/// multiplier on the unit circle) dotted, over `sweep` (a sweep's
+/// bifurcation diagram: `(param, displacement)` dots) if given.
 pub fn branch_svg(branches: &[Labelled<'_>], param: &str, sweep: &[(f64, f64)]) -> Result<String, PlotError> {
     let mut series = Vec::new();
     for (b, lb) in branches.iter().enumerate() {
         let pts = &lb.branch.points;
         let mut start = 0;
         while start < pts.len() {
-            let stable = pts[start].stable();
+            let kind = class(&pts[start]);
             let mut end = start;
-            while end + 1 < pts.len() && pts[end + 1].stable() == stable {
+            while end + 1 < pts.len() && class(&pts[end + 1]) == kind {
                 end += 1;
             }
             // Each stretch joins the next one's first point.
             let last = (end + 1).min(pts.len() - 1);
             let points: Vec<(f64, f64)> = (start..=last).map(|i| (pts[i].param, lb.displacement[i])).collect();
-            let label = format!("{} ({} T{})", if stable { "stable" } else { "unstable" }, lb.periods, if b > 0 { format!(", branch {b}") } else { String::new() });
-            series.push(Series { label, points, reference: false, style: Style { group: Some(b), variant: if stable { None } else { Some(1) } } });
+            let label = format!("{} ({} T{})", ["stable", "unstable", "neutral"][kind], lb.periods, if b > 0 { format!(", branch {b}") } else { String::new() });
+            series.push(Series { label, points, reference: false, style: Style { group: Some(b), variant: [None, Some(1), Some(2)][kind] } });
             start = end + 1;
         }
     }
