@@ -52,8 +52,8 @@ use signorini_fem::BandLdlt;
 
 /// Chung and Hulbert's coefficients `(α_m, α_f, β, γ)` for the spectral
 /// radius at infinity `rho_inf` (Chung, Hulbert, J. Appl. Mech. 60 (1993)
-/// 371–375, eq. (25), (17), (20); in Arnold and Brüls's convention, as
-/// Siconos's `NewMarkAlphaOSI::setParametersFromRho_infty`).
+/// 371–375; in Arnold and Brüls's convention, as Siconos's
+/// `NewMarkAlphaOSI::setParametersFromRho_infty`).
 pub fn chung_hulbert(rho_inf: f64) -> (f64, f64, f64, f64) {
     let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
     let alpha_f = rho_inf / (rho_inf + 1.0);

@@ -14,7 +14,7 @@
 //!   matrix against its closed-form limit `(λ + ρ∞)³`), second order off
 //!   contact (a forced oscillator against its exact solution), and ρ∞ = 1
 //!   conserving the energy off contact;
-//! * the energy identity of docs/theory.md §7.7 at ρ∞ = 1 with impacts.
+//! * the energy identity of docs/theory.md §7.6 at ρ∞ = 1 with impacts.
 
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, SchemeSpec, SplitMix64, TimeProfile};
