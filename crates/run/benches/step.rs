@@ -114,10 +114,12 @@ fn parts_exact_at_nodes(bencher: Bencher, m: usize) {
 
 /// The velocity-level schemes on the same bar with `std` mass (they need a
 /// massive contact node), `bar-dirichlet` with its impacts: the nonsmooth
-/// generalized-α step (`nsga(0.8)`: a band mat-vec `K Û`, one banded solve
-/// with `S = M + c β dt² K`, the updates of `U, V, a, q̈`; at a contact step
-/// two closed-form projections) and Moreau–Jean's (`M V`, `K(U + …)`, one
-/// solve), against the floor below.
+/// generalized-α step (`nsga(0.8)`: the predictor, `F − K Û` and the
+/// forward sweep of `S = M + c β dt² K` fused in one pass, the backward
+/// sweep and the updates of `U, V, a, q̈` in another; at a contact step two
+/// closed-form projections) and Moreau–Jean's (`M V`, `K(U + …)`, one
+/// solve), against the floor below (docs/theory.md §4.6.5 records the
+/// ratios).
 #[divan::bench(args = [1000], consts = [0, 1])]
 fn velocity_level_stepping<const MJ: usize>(bencher: Bencher, m: usize) {
     let n = steps(m);

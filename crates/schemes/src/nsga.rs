@@ -95,6 +95,9 @@ pub struct Nsga {
     vc0: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
+    /// `K` tridiagonal (and `S`'s factor): its diagonal and sub-diagonal
+    /// (`K[i][i−1]`), for the fused sweeps.
+    tri: Option<(Vec<f64>, Vec<f64>)>,
     /// Per forcing term, its values at the levels; the latest (`t_n`).
     loads: Loads,
     svals: Vec<f64>,
@@ -148,6 +151,7 @@ impl Nsga {
         let mut loads = Loads::values(&dy, dt);
         let mut svals = vec![0.0; dy.forcing.len()];
         loads.next_into(&mut svals);
+        let tri = (dy.stiffness.half_bandwidth() == 1 && n >= 2 && s.tridiagonal_factors().is_some()).then(|| (dy.stiffness.diagonal(0), dy.stiffness.diagonal(1)));
         let mut me = Self {
             label,
             restitution,
@@ -173,6 +177,7 @@ impl Nsga {
             vc0: vec![0.0; k],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
+            tri,
             loads,
             svals,
             dy,
@@ -208,19 +213,18 @@ impl Nsga {
     }
 
     /// The free generalized-α step: `U, V, a, q̈` become the step's values
-    /// without contact.
+    /// without contact (the fused sweeps of [`Self::free_step_tri`] for a
+    /// tridiagonal `K` and `S`).
     fn free_step(&mut self) {
-        let (h, am, af, b, g) = (self.dt, self.alpha_m, self.alpha_f, self.beta, self.gamma);
-        let c = (1.0 - af) / (1.0 - am);
-        // â = (α_f q̈ − α_m a)/(1 − α_m); the predictors with a^{n+1} = â.
+        self.loads.next_into(&mut self.svals);
+        if self.tri.is_some() {
+            return self.free_step_tri();
+        }
+        let p = Predictor::new(self);
         for (((u, v), a), q) in self.u.iter_mut().zip(self.v.iter_mut()).zip(self.a.iter_mut()).zip(&self.qdd) {
-            let ah = (af * q - am * *a) / (1.0 - am);
-            *u += h * *v + h * h * ((0.5 - b) * *a + b * ah);
-            *v += h * ((1.0 - g) * *a + g * ah);
-            *a = ah;
+            p.apply(u, v, a, *q);
         }
         // S q̈ = F(t_{n+1}) − K Û.
-        self.loads.next_into(&mut self.svals);
         self.dy.stiffness.mul_vec(&self.u, &mut self.rhs);
         for (x, f) in self.rhs.iter_mut().zip(&self.dy.load) {
             *x = f - *x;
@@ -228,11 +232,51 @@ impl Nsga {
         add_terms(&mut self.rhs, &self.dy.forcing, 1.0, &self.svals);
         self.s.solve_in_place(&mut self.rhs);
         std::mem::swap(&mut self.qdd, &mut self.rhs);
-        let (cu, cv) = (c * b * h * h, c * g * h);
         for (((u, v), a), q) in self.u.iter_mut().zip(self.v.iter_mut()).zip(self.a.iter_mut()).zip(&self.qdd) {
-            *u += cu * q;
-            *v += cv * q;
-            *a += c * q;
+            p.update(u, v, a, *q);
+        }
+    }
+
+    /// [`Self::free_step`] with `K` and `S` tridiagonal: the predictor,
+    /// `F − K Û` and the forward sweep of `S`'s factor in one pass (the
+    /// predictor one dof ahead), the backward sweep and the updates in a
+    /// second; the same arithmetic per entry as the general path but for
+    /// the order of `(K Û)_i`'s three terms.
+    fn free_step_tri(&mut self) {
+        let p = Predictor::new(self);
+        let (Some((kd, ko)), Some((l, inv_d))) = (&self.tri, self.s.tridiagonal_factors()) else { unreachable!("a tridiagonal K and S") };
+        let n = self.u.len();
+        let (u, v, a, q) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n], &mut self.qdd[..n]);
+        let (kd, ko, l, inv_d, f) = (&kd[..n], &ko[..n], &l[..n], &inv_d[..n], &self.dy.load[..n]);
+        let terms = &self.dy.forcing;
+        let svals = &self.svals;
+        // F_i − (K Û)_i + Σ_j s_j shape_j[i], `ku` the row's product.
+        let rhs = |i: usize, ku: f64| {
+            let mut r = f[i] - ku;
+            for (t, &s) in terms.iter().zip(svals) {
+                r += s * t.shape[i];
+            }
+            r
+        };
+        // The ends peeled off, the loops below branch-free.
+        p.apply(&mut u[0], &mut v[0], &mut a[0], q[0]);
+        p.apply(&mut u[1], &mut v[1], &mut a[1], q[1]);
+        let mut prev = rhs(0, kd[0] * u[0] + ko[1] * u[1]);
+        q[0] = prev;
+        for i in 1..n - 1 {
+            p.apply(&mut u[i + 1], &mut v[i + 1], &mut a[i + 1], q[i + 1]);
+            prev = rhs(i, kd[i] * u[i] + ko[i] * u[i - 1] + ko[i + 1] * u[i + 1]) - l[i] * prev;
+            q[i] = prev;
+        }
+        let last = n - 1;
+        prev = rhs(last, kd[last] * u[last] + ko[last] * u[last - 1]) - l[last] * prev;
+        let mut next = prev * inv_d[last];
+        q[last] = next;
+        p.update(&mut u[last], &mut v[last], &mut a[last], next);
+        for i in (0..last).rev() {
+            next = q[i] * inv_d[i] - l[i + 1] * next;
+            q[i] = next;
+            p.update(&mut u[i], &mut v[i], &mut a[i], next);
         }
     }
 
@@ -246,6 +290,48 @@ impl Nsga {
             *a -= ka * d;
             *v -= kv * d;
         }
+    }
+}
+
+/// The generalized-α predictor and update of one entry: `â = (α_f q̈ −
+/// α_m a)/(1 − α_m)`, `Û = U + dt V + dt²((½−β) a + β â)`, `V̂ = V +
+/// dt((1−γ) a + γ â)`; after the solve, `U += c β dt² q̈`, `V += c γ dt q̈`,
+/// `a = â + c q̈`.
+#[derive(Clone, Copy)]
+struct Predictor {
+    af: f64,
+    am: f64,
+    inv: f64,
+    h: f64,
+    hh_a: f64,
+    hh_b: f64,
+    h_a: f64,
+    h_g: f64,
+    cu: f64,
+    cv: f64,
+    c: f64,
+}
+
+impl Predictor {
+    fn new(s: &Nsga) -> Self {
+        let (h, am, af, b, g) = (s.dt, s.alpha_m, s.alpha_f, s.beta, s.gamma);
+        let c = (1.0 - af) / (1.0 - am);
+        Self { af, am, inv: 1.0 / (1.0 - am), h, hh_a: h * h * (0.5 - b), hh_b: h * h * b, h_a: h * (1.0 - g), h_g: h * g, cu: c * b * h * h, cv: c * g * h, c }
+    }
+
+    #[inline(always)]
+    fn apply(&self, u: &mut f64, v: &mut f64, a: &mut f64, q: f64) {
+        let ah = (self.af * q - self.am * *a) * self.inv;
+        *u += self.h * *v + self.hh_a * *a + self.hh_b * ah;
+        *v += self.h_a * *a + self.h_g * ah;
+        *a = ah;
+    }
+
+    #[inline(always)]
+    fn update(&self, u: &mut f64, v: &mut f64, a: &mut f64, q: f64) {
+        *u += self.cu * q;
+        *v += self.cv * q;
+        *a += self.c * q;
     }
 }
 
