@@ -112,6 +112,34 @@ fn parts_exact_at_nodes(bencher: Bencher, m: usize) {
     });
 }
 
+/// The velocity-level schemes on the same bar with `std` mass (they need a
+/// massive contact node), `bar-dirichlet` with its impacts: the nonsmooth
+/// generalized-α step (`nsga(0.8)`: the predictor, `F − K Û` and the
+/// forward sweep of `S = M + c β dt² K` fused in one pass, the backward
+/// sweep and the updates of `U, V, a, q̈` in another; at a contact step two
+/// closed-form projections) and Moreau–Jean's (`M V`, `K(U + …)`, one
+/// solve), against the floor below (docs/theory.md §4.6.5 records the
+/// ratios).
+#[divan::bench(args = [1000], consts = [0, 1])]
+fn velocity_level_stepping<const MJ: usize>(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    let spec = if MJ == 1 { SchemeSpec::moreau_jean(0.5, 0.0) } else { SchemeSpec::nsga(0.8, 0.0) };
+    bencher
+        .counter(ItemsCount::new(m * n))
+        .with_inputs(|| {
+            let b = Benchmark::BarDirichlet;
+            let exact = b.exact(3.0).unwrap();
+            let p = b.problem(exact.as_ref(), m, BarMass::Std).unwrap();
+            spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..n {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
 /// The floor: forward/backward sweeps of a factored tridiagonal system
 /// (`l` sub-diagonal of L, `inv_d` inverse pivots), written out by hand.
 #[divan::bench(args = SIZES)]

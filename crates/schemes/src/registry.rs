@@ -31,6 +31,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::moreau::MOREAU_JEAN,
     &crate::moreau_projected::MOREAU_JEAN_PROJECTED,
     &crate::moreau_combined::MOREAU_JEAN_COMBINED,
+    &crate::nsga::NSGA,
     &crate::stabilized::CONTACT_STABILIZED,
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,

@@ -1,6 +1,6 @@
 //! The contact-stabilized Newmark scheme of Deuflhard, Krause and Ertel
 //! (IJNME 73, 2008; Krause and Walloth, Appl. Numer. Math. 62, 2012;
-//! docs/theory.md §4.6.5): the trapezoidal Newmark rule (β = 1/4, γ = 1/2)
+//! docs/theory.md §4.6.6): the trapezoidal Newmark rule (β = 1/4, γ = 1/2)
 //! whose predictor is projected onto the admissible set in the mass norm
 //! and whose old contact force is dropped. With `τ = dt`, `K` the set
 //! `lo_i <= u_{c_i} <= hi_i`,
@@ -209,7 +209,7 @@ use crate::family::{Capabilities, Family, Node};
 /// Contact-stabilized Newmark (Deuflhard–Krause–Ertel): no parameters.
 pub(crate) static CONTACT_STABILIZED: Family = Family {
     name: "contact-stabilized",
-    about: "contact-stabilized Newmark (Deuflhard–Krause–Ertel): trapezoidal rule, predictor projected in the mass norm, no old contact force (docs/theory.md §4.6.5)",
+    about: "contact-stabilized Newmark (Deuflhard–Krause–Ertel): trapezoidal rule, predictor projected in the mass norm, no old contact force (docs/theory.md §4.6.6)",
     params: &[],
     presets: &[],
     validate: |_| Ok(()),

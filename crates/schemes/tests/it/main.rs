@@ -24,6 +24,7 @@ mod events_series;
 mod events_tiny_restitution;
 mod events_two_stops;
 mod lockstep;
+mod nsga;
 mod peers;
 mod profile;
 mod several_contacts;
