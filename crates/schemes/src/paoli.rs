@@ -49,6 +49,7 @@ use crate::onestep::{OneStep, OneStepParams};
 use crate::{Bounds, Dynamics, Forcing, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
+use std::cell::Cell;
 
 /// The Paoli–Schatzman scheme.
 pub struct PaoliSchatzman {
@@ -65,7 +66,9 @@ pub struct PaoliSchatzman {
     rhs: Vec<f64>,
     tmp: Vec<f64>,
     ktmp: Vec<f64>,
-    work_forcing: f64,
+    /// Work of the forcing since `t_{1/2}` (a `Cell`: [`Stepper::work`]
+    /// settles the fused step's pending sum).
+    work_forcing: Cell<f64>,
     work_contact: f64,
     /// Work of the damping force since `t_{1/2}` (module docs).
     work_damping: f64,
@@ -103,9 +106,9 @@ pub struct PaoliSchatzman {
     g_next: Vec<f64>,
     work_acc: Vec<f64>,
     /// The fused step leaves the forcing's work of the step just taken to
-    /// the next step's forward pass (it rides on the sweep there);
-    /// [`Stepper::work`] adds it itself meanwhile.
-    work_pending: bool,
+    /// the next step's forward pass (it rides on the sweep there), unless
+    /// [`Stepper::work`] is asked first: then `work` adds it.
+    work_pending: Cell<bool>,
     /// `g_next` holds the next step's coefficients already (the fused step
     /// finds them during its backward sweep).
     coefs_ahead: bool,
@@ -619,7 +622,7 @@ impl PaoliSchatzman {
             rhs: vec![0.0; n],
             tmp: vec![0.0; n],
             ktmp: vec![0.0; n],
-            work_forcing: 0.0,
+            work_forcing: Cell::new(0.0),
             work_contact: 0.0,
             work_damping: 0.0,
             means: vec![[0.0; 2]; terms],
@@ -638,7 +641,7 @@ impl PaoliSchatzman {
             g_w: vec![0.0; terms],
             g_next: vec![0.0; terms],
             work_acc: vec![0.0; terms],
-            work_pending: false,
+            work_pending: Cell::new(false),
             coefs_ahead: false,
         }
         .with_means())
@@ -677,12 +680,18 @@ impl PaoliSchatzman {
         }
     }
 
+    /// [`add_step_work`](Self::add_step_work)'s forcing part (all of it
+    /// without damping, so on the fused step's path).
+    fn add_forcing_work(&self) {
+        let mut wf = self.work_forcing.get();
+        self.step_work_forcing(|w| wf += w);
+        self.work_forcing.set(wf);
+    }
+
     /// Work of the forcing terms over the step just taken, `½ G^nᵀ(U^{n+1} - U^{n-1})`
     /// (`U^{n+1}` in `u`, `U^{n-1}` in `rhs`), and of the damping.
     fn add_step_work(&mut self) {
-        let mut wf = self.work_forcing;
-        self.step_work_forcing(|w| wf += w);
-        self.work_forcing = wf;
+        self.add_forcing_work();
         if let Some(cm) = &self.dy.damping {
             for ((t, a), b) in self.tmp.iter_mut().zip(&self.u).zip(&self.rhs) {
                 *t = a - b;
@@ -768,15 +777,17 @@ impl PaoliSchatzman {
         // `add_step_work`'s sums start as `Iterator::sum` starts.
         let zero: f64 = std::iter::empty::<f64>().sum();
         self.work_acc.iter_mut().for_each(|s| *s = zero);
-        let pending = std::mem::take(&mut self.work_pending);
+        let pending = self.work_pending.take();
         let b3 = self.bands.as_ref().expect("the fused step has the bands");
         let (l, _, _) = self.a.band_factors();
         let fa = Forward { dt2, x: &self.tmp, y: &self.ktmp, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: pending.then_some((&self.u[..], &mut self.work_acc[..])) };
         b3.forward(fa, &mut self.rhs);
         if pending {
+            let mut wf = self.work_forcing.get();
             for (gc, s) in self.g_coefs.iter().zip(&self.work_acc) {
-                self.work_forcing += 0.5 * gc * s;
+                wf += 0.5 * gc * s;
             }
+            self.work_forcing.set(wf);
         }
         std::mem::swap(&mut self.g_coefs, &mut self.g_next);
         // The next step's coefficients (a `sin` or a rotation per term):
@@ -801,8 +812,8 @@ impl PaoliSchatzman {
     /// The last step's work of the forcing terms, if the fused step left it
     /// to the next one: added now (before `u` or `rhs` change).
     fn settle_work(&mut self) {
-        if std::mem::take(&mut self.work_pending) {
-            self.add_step_work();
+        if self.work_pending.take() {
+            self.add_forcing_work();
         }
     }
 
@@ -992,7 +1003,7 @@ impl Stepper for PaoliSchatzman {
         // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs` (the
         // fused step adds the forcing's in the next step's forward pass).
         if self.fused.on {
-            self.work_pending = true;
+            self.work_pending.set(true);
         } else {
             self.add_step_work();
         }
@@ -1004,11 +1015,10 @@ impl Stepper for PaoliSchatzman {
     /// Work of the time-dependent load and of the contact force since
     /// `t_{1/2}` (see the module docs).
     fn work(&self) -> Option<(f64, f64)> {
-        let mut wf = self.work_forcing;
-        if self.work_pending {
-            self.step_work_forcing(|w| wf += w);
+        if self.work_pending.take() {
+            self.add_forcing_work();
         }
-        Some((wf, self.work_contact))
+        Some((self.work_forcing.get(), self.work_contact))
     }
 
     /// `D = Σ (U^{n+1} - U^{n-1})ᵀ C (U^{n+1} - U^{n-1}) / (4 dt)` since

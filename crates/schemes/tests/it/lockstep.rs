@@ -324,8 +324,13 @@ fn fused_beam_step_is_the_plain_step_bit_for_bit() {
                         assert_eq!(ra.lambda.map(|l| l.1.to_bits()), rb.lambda.map(|l| l.1.to_bits()), "{what}: λ");
                         assert!(bits(plain.displacement()) == bits(fused.displacement()), "{what}: U");
                         assert!(bits(plain.previous_displacement()) == bits(fused.previous_displacement()), "{what}: U^(n-1)");
-                        let (wa, wb) = (plain.work().unwrap(), fused.work().unwrap());
-                        assert!(wa.0.to_bits() == wb.0.to_bits() && wa.1.to_bits() == wb.1.to_bits(), "{what}: work {wa:?} vs {wb:?}");
+                        // The work every fifth step: asked for, `work` adds the
+                        // pending sum itself; not asked for, the next step's
+                        // forward pass does.
+                        if step % 5 == 4 {
+                            let (wa, wb) = (plain.work().unwrap(), fused.work().unwrap());
+                            assert!(wa.0.to_bits() == wb.0.to_bits() && wa.1.to_bits() == wb.1.to_bits(), "{what}: work {wa:?} vs {wb:?}");
+                        }
                         if step % 7 == 0 {
                             let (ea, eb) = (plain.energy().unwrap(), fused.energy().unwrap());
                             assert!(ea.1.to_bits() == eb.1.to_bits(), "{what}: energy");
