@@ -817,7 +817,7 @@ impl PaoliSchatzman {
         }
     }
 
-    /// Switches the beam's fused step ([`FusedStep`]) off or back on (where
+    /// Switches the beam's fused step (`FusedStep`) off or back on (where
     /// it applies; on by default): for tests comparing it with the plain
     /// step, and benchmarks. Changes no result.
     #[doc(hidden)]
@@ -832,7 +832,7 @@ impl PaoliSchatzman {
         self.fused.on
     }
 
-    /// The beam's kernels ([`Bands3`]) in their baseline x86-64 build,
+    /// The beam's kernels (`Bands3`) in their baseline x86-64 build,
     /// AVX2 or not: for tests. Changes no result.
     #[doc(hidden)]
     pub fn portable(mut self) -> Self {
