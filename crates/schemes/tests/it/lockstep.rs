@@ -2,10 +2,13 @@
 //! `PaoliSchatzman` run of its data (U^n, λ, active bound at every step),
 //! through repeated impacts on both stops; partial batches; restitution;
 //! typed refusals. The oracle is the single run (a separate code path:
-//! `SymBand::mul_vec`, `BandLdlt::solve_in_place`, `Projection::project`).
+//! on the beam its fused β-step — the right-hand side inside the solve's
+//! forward sweep, `BandLdlt::backward_in_place`, `Projection::project`).
 //! Every build of the step is checked: the one the CPU selects (AVX-512 or
 //! AVX2 where available), the AVX2 one (`without_avx512()`) and the
-//! baseline x86-64 one (`portable()`).
+//! baseline x86-64 one (`portable()`). The fused β-step is itself checked
+//! bit for bit against the plain one (`Bands3::rhs`, `BandLdlt::solve_in_place`)
+//! at the end of this file.
 
 use signorini_fem::{Beam, SymBand};
 use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, SchemeError, SchemeSpec, Stepper, TimeProfile};
