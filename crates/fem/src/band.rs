@@ -407,6 +407,24 @@ impl BandLdlt {
         }
     }
 
+    /// The second half of [`solve_in_place`](Self::solve_in_place): from
+    /// `y = L⁻¹ b` (a forward sweep the caller ran itself, with
+    /// [`band_factors`](Self::band_factors), fused with other work),
+    /// `b` becomes `x = L⁻ᵀ D⁻¹ y` — the backward sweep of `solve_in_place`,
+    /// the same operations in the same order, so the same bits. Allocates nothing.
+    #[track_caller]
+    #[inline]
+    pub fn backward_in_place(&self, b: &mut [f64]) {
+        assert_eq!(b.len(), self.n, "length mismatch");
+        match self.p {
+            0 => b.iter_mut().zip(&self.inv_d).for_each(|(x, s)| *x *= s),
+            1 => self.backward_tridiag(b),
+            2 if self.n > 2 => self.backward_p::<2>(b),
+            3 if self.n > 3 => self.backward_p3(b),
+            _ => self.backward_generic(b),
+        }
+    }
+
     fn solve_tridiag(&self, b: &mut [f64]) {
         let n = self.n;
         let l = &self.l[..n];
@@ -419,6 +437,17 @@ impl BandLdlt {
             prev = b[i] - l[i] * prev;
             b[i] = prev;
         }
+        Self::backward_tridiag_body(l, inv_d, b);
+    }
+
+    fn backward_tridiag(&self, b: &mut [f64]) {
+        let n = self.n;
+        Self::backward_tridiag_body(&self.l[..n], &self.inv_d[..n], &mut b[..n]);
+    }
+
+    #[inline(always)]
+    fn backward_tridiag_body(l: &[f64], inv_d: &[f64], b: &mut [f64]) {
+        let n = b.len();
         let mut next = b[n - 1] * inv_d[n - 1];
         b[n - 1] = next;
         for i in (0..n - 1).rev() {
@@ -432,7 +461,7 @@ impl BandLdlt {
         if n <= P {
             return self.solve_generic(b);
         }
-        let (l, lt, inv_d, b) = (&self.l[..n * P], &self.lt[..n * P], &self.inv_d[..n], &mut b[..n]);
+        let (l, b) = (&self.l[..n * P], &mut b[..n]);
         for i in 1..P {
             let mut s = b[i];
             for k in 1..=i {
@@ -460,6 +489,13 @@ impl BandLdlt {
             win[0] = s;
             b[i] = s;
         }
+        self.backward_p::<P>(b);
+    }
+
+    #[inline(always)]
+    fn backward_p<const P: usize>(&self, b: &mut [f64]) {
+        let n = self.n;
+        let (lt, inv_d, b) = (&self.lt[..n * P], &self.inv_d[..n], &mut b[..n]);
         for i in (n - P..n).rev() {
             let mut s = b[i] * inv_d[i];
             for k in 1..n - i {
@@ -493,7 +529,7 @@ impl BandLdlt {
     /// the loop-carried dependency is one fused multiply-add.
     fn solve_p3(&self, b: &mut [f64]) {
         let n = self.n;
-        let (l, lt, inv_d, b) = (&self.l[..n * 3], &self.lt[..n * 3], &self.inv_d[..n], &mut b[..n]);
+        let (l, b) = (&self.l[..n * 3], &mut b[..n]);
         // Forward: rows 0..3 have fewer predecessors.
         b[1] -= l[3] * b[0];
         b[2] -= l[7] * b[0] + l[6] * b[1];
@@ -505,6 +541,14 @@ impl BandLdlt {
             w1 = s;
             *bi = s;
         }
+        self.backward_p3(b);
+    }
+
+    /// The backward sweep of [`solve_p3`](Self::solve_p3).
+    #[inline(always)]
+    fn backward_p3(&self, b: &mut [f64]) {
+        let n = self.n;
+        let (lt, inv_d, b) = (&self.lt[..n * 3], &self.inv_d[..n], &mut b[..n]);
         // Backward: rows n-3..n have fewer successors.
         b[n - 1] *= inv_d[n - 1];
         b[n - 2] = b[n - 2] * inv_d[n - 2] - lt[(n - 2) * 3] * b[n - 1];
@@ -528,6 +572,11 @@ impl BandLdlt {
             }
             b[i] = s;
         }
+        self.backward_generic(b);
+    }
+
+    fn backward_generic(&self, b: &mut [f64]) {
+        let (n, p) = (self.n, self.p);
         for i in (0..n).rev() {
             let mut s = b[i] * self.inv_d[i];
             for k in 1..=p {

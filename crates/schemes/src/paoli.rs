@@ -46,9 +46,10 @@
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
-use crate::{Bounds, Dynamics, Initial, SchemeError, StepReport, Stepper};
+use crate::{Bounds, Dynamics, Forcing, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
+use std::cell::Cell;
 
 /// The Paoli–Schatzman scheme.
 pub struct PaoliSchatzman {
@@ -65,7 +66,9 @@ pub struct PaoliSchatzman {
     rhs: Vec<f64>,
     tmp: Vec<f64>,
     ktmp: Vec<f64>,
-    work_forcing: f64,
+    /// Work of the forcing since `t_{1/2}` (a `Cell`: [`Stepper::work`]
+    /// settles the fused step's pending sum).
+    work_forcing: Cell<f64>,
     work_contact: f64,
     /// Work of the damping force since `t_{1/2}` (module docs).
     work_damping: f64,
@@ -94,6 +97,36 @@ pub struct PaoliSchatzman {
     /// Half-bandwidth 3 (the beam): `M` and `K` by diagonals, for the
     /// right-hand side in one vectorised pass (see [`Bands3`]).
     bands: Option<Bands3>,
+    /// The beam's fused step ([`FusedStep`]): whether it applies, and whether it is on.
+    fused: FusedStep,
+    /// Per forcing term, `dt² × g_coefs` (the fused step's weights).
+    g_w: Vec<f64>,
+    /// The fused step's scratch: the step's new coefficients, and the
+    /// last step's work sums, one per forcing term.
+    g_next: Vec<f64>,
+    work_acc: Vec<f64>,
+    /// The fused step leaves the forcing's work of the step just taken to
+    /// the next step's forward pass (it rides on the sweep there), unless
+    /// [`Stepper::work`] is asked first: then `work` adds it.
+    work_pending: Cell<bool>,
+    /// `g_next` holds the next step's coefficients already (the fused step
+    /// finds them during its backward sweep).
+    coefs_ahead: bool,
+}
+
+/// The beam's β-step fused (half-bandwidth 3, one massive contact, no
+/// damping, no characteristic release): the right-hand side is assembled
+/// chunk by chunk inside the forward sweep of the solve
+/// ([`Bands3::forward`]), then [`BandLdlt::backward_in_place`] — every
+/// value the same operations in the same order as the plain path
+/// ([`Bands3::rhs`], `add_terms`, [`BandLdlt::solve_in_place`]), so the
+/// same bits; the right-hand side's work overlaps the sweep's latency
+/// instead of preceding it (cost: `crates/run/benches/step.rs`,
+/// `beam_beta_scheme_step` against `beam_band_solve`).
+#[derive(Clone, Copy, Debug)]
+struct FusedStep {
+    applies: bool,
+    on: bool,
 }
 
 /// `M` and `K` of half-bandwidth 3 stored by diagonals (`m[k][i] =
@@ -182,7 +215,179 @@ impl Bands3 {
             out[j] = mx + dt2 * (f[j] - ky);
         }
     }
+
+    /// Interior rows `a..a + len` of [`rhs_body`](Self::rhs_body)'s
+    /// right-hand side (`3 <= a`, `a + len <= n − 3`), the same
+    /// arithmetic row by row.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn interior(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64], out: &mut [f64], a: usize, len: usize) {
+        let r = a..a + len;
+        let (m0, m1, m2, m3) = (&self.m[0][r.clone()], &self.m[1][r.clone()], &self.m[2][r.clone()], &self.m[3][r.clone()]);
+        let (mc1, mc2, mc3) = (&self.m[1][a + 1..a + 1 + len], &self.m[2][a + 2..a + 2 + len], &self.m[3][a + 3..a + 3 + len]);
+        let (k0, k1, k2, k3) = (&self.k[0][r.clone()], &self.k[1][r.clone()], &self.k[2][r.clone()], &self.k[3][r.clone()]);
+        let (kc1, kc2, kc3) = (&self.k[1][a + 1..a + 1 + len], &self.k[2][a + 2..a + 2 + len], &self.k[3][a + 3..a + 3 + len]);
+        let (x0, x1, x2, x3, x4, x5, x6) =
+            (&x[a - 3..a - 3 + len], &x[a - 2..a - 2 + len], &x[a - 1..a - 1 + len], &x[a..a + len], &x[a + 1..a + 1 + len], &x[a + 2..a + 2 + len], &x[a + 3..a + 3 + len]);
+        let (y0, y1, y2, y3, y4, y5, y6) =
+            (&y[a - 3..a - 3 + len], &y[a - 2..a - 2 + len], &y[a - 1..a - 1 + len], &y[a..a + len], &y[a + 1..a + 1 + len], &y[a + 2..a + 2 + len], &y[a + 3..a + 3 + len]);
+        let (f, out) = (&f[r.clone()], &mut out[r]);
+        for j in 0..len {
+            let mx = (m0[j] * x3[j] + m1[j] * x2[j] + m2[j] * x1[j] + m3[j] * x0[j]) + (mc1[j] * x4[j] + mc2[j] * x5[j] + mc3[j] * x6[j]);
+            let ky = (k0[j] * y3[j] + k1[j] * y2[j] + k2[j] * y1[j] + k3[j] * y0[j]) + (kc1[j] * y4[j] + kc2[j] * y5[j] + kc3[j] * y6[j]);
+            out[j] = mx + dt2 * (f[j] - ky);
+        }
+    }
+
+    /// An edge row (`i < 3` or `i >= n − 3`) of `M x + dt² (f − K y)`:
+    /// `mul_vec_p3`'s `row` closure.
+    #[inline(always)]
+    fn edge_row(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64], i: usize) -> f64 {
+        #[inline(always)]
+        fn row(d: &[Vec<f64>; 4], v: &[f64], i: usize) -> f64 {
+            let n = v.len();
+            let mut s = d[0][i] * v[i];
+            for k in 1..=3 {
+                if i >= k {
+                    s += d[k][i] * v[i - k];
+                }
+                if i + k < n {
+                    s += d[k][i + k] * v[i + k];
+                }
+            }
+            s
+        }
+        row(&self.m, x, i) + dt2 * (f[i] - row(&self.k, y, i))
+    }
+
+    /// The beam's right-hand side and the forward sweep of its solve in one
+    /// pass (see [`FusedStep`]): `out = L⁻¹ (M x + dt² (f − K y) + Σ_j w_j g_j)`
+    /// with `A = L D Lᵀ` of half-bandwidth 3.
+    fn forward(&self, fa: Forward<'_>, out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the CPU reports AVX2.
+            return unsafe { self.forward_avx2(fa, out) };
+        }
+        self.forward_body(fa, out)
+    }
+
+    /// [`forward_body`](Self::forward_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn forward_avx2(&self, fa: Forward<'_>, out: &mut [f64]) {
+        self.forward_body(fa, out)
+    }
+
+    #[inline(always)]
+    fn forward_body(&self, fa: Forward<'_>, out: &mut [f64]) {
+        let Forward { dt2, x, y, f, forcing, w, l, mut pending } = fa;
+        let n = x.len();
+        let (x, y, f, out, l) = (&x[..n], &y[..n], &f[..n], &mut out[..n], &l[..3 * n]);
+        // Each block of rows: the last step's work terms (reading `U^{n−1}`
+        // before it is overwritten), the right-hand side, the forcing, the sweep.
+        let mut work = |out: &[f64], a: usize, len: usize| {
+            if let Some((u, acc)) = pending.as_mut() {
+                work_terms(forcing, u, out, acc, a, len);
+            }
+        };
+        // Rows 0..3: the edge rows, then `solve_p3`'s first rows.
+        work(out, 0, 3);
+        for i in 0..3 {
+            out[i] = self.edge_row(dt2, x, y, f, i);
+        }
+        add_forcing(forcing, w, out, 0, 3);
+        out[1] -= l[3] * out[0];
+        out[2] -= l[7] * out[0] + l[6] * out[1];
+        let mut win = (out[2], out[1], out[0]);
+        // Interior rows in chunks: a chunk's right-hand side (vectorised
+        // across its rows) is independent of the sweep through the chunk
+        // before, so the two overlap.
+        let mut a = 3;
+        while a < n - 3 {
+            let len = FUSED_CHUNK.min(n - 3 - a);
+            work(out, a, len);
+            if len == FUSED_CHUNK {
+                self.interior(dt2, x, y, f, out, a, FUSED_CHUNK);
+                add_forcing(forcing, w, out, a, FUSED_CHUNK);
+                sweep_p3(l, out, a, FUSED_CHUNK, &mut win);
+            } else {
+                self.interior(dt2, x, y, f, out, a, len);
+                add_forcing(forcing, w, out, a, len);
+                sweep_p3(l, out, a, len, &mut win);
+            }
+            a += len;
+        }
+        work(out, n - 3, 3);
+        for i in n - 3..n {
+            out[i] = self.edge_row(dt2, x, y, f, i);
+        }
+        add_forcing(forcing, w, out, n - 3, 3);
+        sweep_p3(l, out, n - 3, 3, &mut win);
+    }
 }
+
+/// What [`Bands3::forward`] reads: `M x + dt² (f − K y) + Σ_j w_j g_j`
+/// and the factor's `l` ([`BandLdlt::band_factors`]); with `pending`
+/// (`U^n` and one sum per forcing term), the last step's work sums
+/// `Σ_i g_i (U^n_i − U^{n−2}_i)` continued over the rows, read from `out`
+/// before the rows are overwritten.
+struct Forward<'a> {
+    dt2: f64,
+    x: &'a [f64],
+    y: &'a [f64],
+    f: &'a [f64],
+    forcing: &'a [Forcing],
+    w: &'a [f64],
+    l: &'a [f64],
+    pending: Option<(&'a [f64], &'a mut [f64])>,
+}
+
+/// `add_step_work`'s sums over rows `a..a + len`, continued: term by term,
+/// `acc_j += g_j[i] (u[i] − old[i])`, rows in order.
+#[inline(always)]
+fn work_terms(forcing: &[Forcing], u: &[f64], old: &[f64], acc: &mut [f64], a: usize, len: usize) {
+    let (u, old) = (&u[a..a + len], &old[a..a + len]);
+    for (fc, s) in forcing.iter().zip(acc.iter_mut()) {
+        let mut sum = *s;
+        for ((g, x), y) in fc.shape[a..a + len].iter().zip(u).zip(old) {
+            sum += g * (x - y);
+        }
+        *s = sum;
+    }
+}
+
+/// `add_terms`' arithmetic on rows `a..a + len`: term by term, `out += w_j g_j`.
+#[inline(always)]
+fn add_forcing(forcing: &[Forcing], w: &[f64], out: &mut [f64], a: usize, len: usize) {
+    let out = &mut out[a..a + len];
+    for (fc, &wj) in forcing.iter().zip(w) {
+        for (b, g) in out.iter_mut().zip(&fc.shape[a..a + len]) {
+            *b += wj * g;
+        }
+    }
+}
+
+/// `solve_p3`'s forward rows `a..a + len` (`a >= 3`), the last three
+/// results in `win` (`(y_{i−1}, y_{i−2}, y_{i−3})`).
+#[inline(always)]
+fn sweep_p3(l: &[f64], out: &mut [f64], a: usize, len: usize, win: &mut (f64, f64, f64)) {
+    let (mut w1, mut w2, mut w3) = *win;
+    for (bi, row) in out[a..a + len].iter_mut().zip(l[3 * a..3 * (a + len)].chunks_exact(3)) {
+        let s = (*bi - row[2] * w3 - row[1] * w2) - row[0] * w1;
+        w3 = w2;
+        w2 = w1;
+        w1 = s;
+        *bi = s;
+    }
+    *win = (w1, w2, w3);
+}
+
+/// Rows per chunk of the fused forward pass ([`Bands3::forward`]).
+const FUSED_CHUNK: usize = 8;
 
 /// The characteristic release rule (docs/theory.md §4.10): at Courant number
 /// one the free update of a contact node held at its bound must continue
@@ -372,6 +577,8 @@ impl PaoliSchatzman {
             }
         }
         let mut s = Self::from_levels(label, dy, 0.0, restitution, dt, init, u)?;
+        s.fused.applies &= release.is_none();
+        s.fused.on &= release.is_none();
         s.release = release;
         Ok(s)
     }
@@ -400,6 +607,7 @@ impl PaoliSchatzman {
         let terms = dy.forcing.len();
         let explicit = ExplicitDiagonal::new(&dy, beta, &a);
         let bands = Bands3::new(&dy);
+        let applies = bands.is_some() && k == 1 && !dy.massless_contact() && dy.damping.is_none() && a.half_bandwidth() == 3 && n > 6;
         Ok(Self {
             label,
             beta,
@@ -414,7 +622,7 @@ impl PaoliSchatzman {
             rhs: vec![0.0; n],
             tmp: vec![0.0; n],
             ktmp: vec![0.0; n],
-            work_forcing: 0.0,
+            work_forcing: Cell::new(0.0),
             work_contact: 0.0,
             work_damping: 0.0,
             means: vec![[0.0; 2]; terms],
@@ -429,6 +637,12 @@ impl PaoliSchatzman {
             release: None,
             explicit,
             bands,
+            fused: FusedStep { applies, on: applies },
+            g_w: vec![0.0; terms],
+            g_next: vec![0.0; terms],
+            work_acc: vec![0.0; terms],
+            work_pending: Cell::new(false),
+            coefs_ahead: false,
         }
         .with_means())
     }
@@ -458,12 +672,26 @@ impl PaoliSchatzman {
         }
     }
 
+    /// Each forcing term's work over the step just taken, `½ g_j G_jᵀ(U^{n+1} - U^{n-1})`,
+    /// to `add` in the order of the terms.
+    fn step_work_forcing(&self, mut add: impl FnMut(f64)) {
+        for (f, gc) in self.dy.forcing.iter().zip(&self.g_coefs) {
+            add(0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>());
+        }
+    }
+
+    /// [`add_step_work`](Self::add_step_work)'s forcing part (all of it
+    /// without damping, so on the fused step's path).
+    fn add_forcing_work(&self) {
+        let mut wf = self.work_forcing.get();
+        self.step_work_forcing(|w| wf += w);
+        self.work_forcing.set(wf);
+    }
+
     /// Work of the forcing terms over the step just taken, `½ G^nᵀ(U^{n+1} - U^{n-1})`
     /// (`U^{n+1}` in `u`, `U^{n-1}` in `rhs`), and of the damping.
     fn add_step_work(&mut self) {
-        for (f, gc) in self.dy.forcing.iter().zip(&self.g_coefs) {
-            self.work_forcing += 0.5 * gc * f.shape.iter().zip(&self.u).zip(&self.rhs).map(|((g, a), b)| g * (a - b)).sum::<f64>();
-        }
+        self.add_forcing_work();
         if let Some(cm) = &self.dy.damping {
             for ((t, a), b) in self.tmp.iter_mut().zip(&self.u).zip(&self.rhs) {
                 *t = a - b;
@@ -527,6 +755,93 @@ impl PaoliSchatzman {
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, self.lams[0])), active: self.acts[0] })
     }
 
+    /// [`general_unconstrained`](Self::general_unconstrained) on the beam
+    /// ([`FusedStep`]).
+    fn fused_unconstrained(&mut self) {
+        let dt2 = self.dt * self.dt;
+        let beta = self.beta;
+        for (((t, k), u), up) in self.tmp.iter_mut().zip(self.ktmp.iter_mut()).zip(&self.u).zip(&self.u_prev) {
+            *t = 2.0 * u - up;
+            *k = (1.0 - 2.0 * beta) * u + beta * up;
+        }
+        // This step's coefficients in `g_next` (found during the last step's
+        // backward sweep): `g_coefs` still holds the last step's, for its
+        // pending work.
+        if !self.coefs_ahead {
+            self.advance_coefs();
+        }
+        // `add_terms`' weights.
+        for (w, g) in self.g_w.iter_mut().zip(&self.g_next) {
+            *w = dt2 * g;
+        }
+        // `add_step_work`'s sums start as `Iterator::sum` starts.
+        let zero: f64 = std::iter::empty::<f64>().sum();
+        self.work_acc.iter_mut().for_each(|s| *s = zero);
+        let pending = self.work_pending.take();
+        let b3 = self.bands.as_ref().expect("the fused step has the bands");
+        let (l, _, _) = self.a.band_factors();
+        let fa = Forward { dt2, x: &self.tmp, y: &self.ktmp, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: pending.then_some((&self.u[..], &mut self.work_acc[..])) };
+        b3.forward(fa, &mut self.rhs);
+        if pending {
+            let mut wf = self.work_forcing.get();
+            for (gc, s) in self.g_coefs.iter().zip(&self.work_acc) {
+                wf += 0.5 * gc * s;
+            }
+            self.work_forcing.set(wf);
+        }
+        std::mem::swap(&mut self.g_coefs, &mut self.g_next);
+        // The next step's coefficients (a `sin` or a rotation per term):
+        // independent of the backward sweep, so they overlap it.
+        self.advance_coefs();
+        self.a.backward_in_place(&mut self.rhs);
+    }
+
+    /// The next step's forcing coefficients into `g_next` (the means over the
+    /// next step rolled in), `general_unconstrained`'s arithmetic.
+    fn advance_coefs(&mut self) {
+        let beta = self.beta;
+        self.loads.next_into(&mut self.g_next);
+        for (m, gc) in self.means.iter_mut().zip(self.g_next.iter_mut()) {
+            let next = *gc;
+            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
+            *m = [m[1], next];
+        }
+        self.coefs_ahead = true;
+    }
+
+    /// The last step's work of the forcing terms, if the fused step left it
+    /// to the next one: added now (before `u` or `rhs` change).
+    fn settle_work(&mut self) {
+        if self.work_pending.take() {
+            self.add_forcing_work();
+        }
+    }
+
+    /// Switches the beam's fused step (`FusedStep`) off or back on (where
+    /// it applies; on by default): for tests comparing it with the plain
+    /// step, and benchmarks. Changes no result.
+    #[doc(hidden)]
+    pub fn set_fused(&mut self, on: bool) {
+        self.settle_work();
+        self.fused.on = on && self.fused.applies;
+    }
+
+    /// Whether the fused step is in use.
+    #[doc(hidden)]
+    pub fn fused(&self) -> bool {
+        self.fused.on
+    }
+
+    /// The beam's kernels (`Bands3`) in their baseline x86-64 build,
+    /// AVX2 or not: for tests. Changes no result.
+    #[doc(hidden)]
+    pub fn portable(mut self) -> Self {
+        if let Some(b) = self.bands.as_mut() {
+            b.avx2 = false;
+        }
+        self
+    }
+
     /// `rhs = U^{n+1}` before the contact projection, in general: the
     /// right-hand side `M (2U^n − U^{n−1}) − dt² K ((1−2β) U^n + β U^{n−1}) + dt² G^n`
     /// (damping, forcing means, a massless node's quasi-static row), then
@@ -561,11 +876,16 @@ impl PaoliSchatzman {
         }
         // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
         // (the means over [t_{n+1}, t_{n+2}] first, into g_coefs).
-        self.loads.next_into(&mut self.g_coefs);
-        for (m, gc) in self.means.iter_mut().zip(self.g_coefs.iter_mut()) {
-            let next = *gc;
-            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
-            *m = [m[1], next];
+        // (found ahead by the fused step if it ran before).
+        if std::mem::take(&mut self.coefs_ahead) {
+            std::mem::swap(&mut self.g_coefs, &mut self.g_next);
+        } else {
+            self.loads.next_into(&mut self.g_coefs);
+            for (m, gc) in self.means.iter_mut().zip(self.g_coefs.iter_mut()) {
+                let next = *gc;
+                *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
+                *m = [m[1], next];
+            }
         }
         add_terms(&mut self.rhs, &self.dy.forcing, dt2, &self.g_coefs);
         if self.dy.massless_contact() {
@@ -618,6 +938,7 @@ impl Stepper for PaoliSchatzman {
         let n = self.u.len();
         let shifts = self.release.as_ref().map_or(0, |r| r.shift.len());
         crate::check_state_len(s, 2 * n + shifts)?;
+        self.settle_work();
         let (u, rest) = s.split_at(n);
         let (v, shift) = rest.split_at(n);
         self.u.copy_from_slice(u);
@@ -641,6 +962,8 @@ impl Stepper for PaoliSchatzman {
         let c = self.dy.contact().dof;
         if let Some(ex) = &self.explicit {
             ex.unconstrained(dt2, &self.u, &self.u_prev, &self.dy.load, &mut self.rhs);
+        } else if self.fused.on {
+            self.fused_unconstrained();
         } else {
             self.general_unconstrained();
         }
@@ -677,8 +1000,13 @@ impl Stepper for PaoliSchatzman {
         if !(self.u[c].is_finite() && lambda.is_finite()) {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
-        // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs`.
-        self.add_step_work();
+        // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs` (the
+        // fused step adds the forcing's in the next step's forward pass).
+        if self.fused.on {
+            self.work_pending.set(true);
+        } else {
+            self.add_step_work();
+        }
         self.work_contact += -0.5 * lambda * (self.u[c] - self.rhs[c]);
         (self.lams[0], self.acts[0]) = (lambda, pr.active);
         Ok(StepReport { n: self.n, t, lambda: Some((t_lambda, lambda)), active: pr.active })
@@ -687,7 +1015,10 @@ impl Stepper for PaoliSchatzman {
     /// Work of the time-dependent load and of the contact force since
     /// `t_{1/2}` (see the module docs).
     fn work(&self) -> Option<(f64, f64)> {
-        Some((self.work_forcing, self.work_contact))
+        if self.work_pending.take() {
+            self.add_forcing_work();
+        }
+        Some((self.work_forcing.get(), self.work_contact))
     }
 
     /// `D = Σ (U^{n+1} - U^{n-1})ᵀ C (U^{n+1} - U^{n-1}) / (4 dt)` since

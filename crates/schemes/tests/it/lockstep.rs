@@ -2,13 +2,16 @@
 //! `PaoliSchatzman` run of its data (U^n, λ, active bound at every step),
 //! through repeated impacts on both stops; partial batches; restitution;
 //! typed refusals. The oracle is the single run (a separate code path:
-//! `SymBand::mul_vec`, `BandLdlt::solve_in_place`, `Projection::project`).
+//! on the beam its fused β-step — the right-hand side inside the solve's
+//! forward sweep, `BandLdlt::backward_in_place`, `Projection::project`).
 //! Every build of the step is checked: the one the CPU selects (AVX-512 or
 //! AVX2 where available), the AVX2 one (`without_avx512()`) and the
-//! baseline x86-64 one (`portable()`).
+//! baseline x86-64 one (`portable()`). The fused β-step is itself checked
+//! bit for bit against the plain one (`Bands3::rhs`, `BandLdlt::solve_in_place`)
+//! at the end of this file.
 
 use signorini_fem::{Beam, SymBand};
-use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, SchemeError, Stepper, TimeProfile};
+use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, SchemeError, SchemeSpec, Stepper, TimeProfile};
 
 const LENGTH: f64 = 1.501;
 const K2: f64 = 282.84;
@@ -275,4 +278,80 @@ fn beta_zero_lanes_are_bit_identical() {
     let stops = (-0.01, 0.01);
     let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 37.0, stops), 0.5)];
     compare::<2>(0.0, 2e-6, lanes, 3000);
+}
+
+/// The beam's fused β-step (right-hand side inside the solve's forward
+/// sweep, the forcing's work summed in the next step's forward pass) is
+/// the plain step bit for bit: against the same scheme with it switched off
+/// (`Bands3::rhs`, `add_terms`, `BandLdlt::solve_in_place`,
+/// `add_step_work`), `U^n`, `U^{n−1}`, the report, λ, the work of the
+/// forcing and of the contact force and the energy are equal (`to_bits`)
+/// at every step — sizes with no, a partial and several full chunks of
+/// rows, β = 1/2, 1/4 and 0.1, e = 0 and 1/2, one and two forcing terms
+/// with a static load, the baseline x86-64 build and the one the CPU
+/// selects, across a `set_state` (which settles the pending work) and
+/// with the fused step switched off and on mid-run.
+#[test]
+fn fused_beam_step_is_the_plain_step_bit_for_bit() {
+    let h = |f: f64, w: f64, p: f64| Harmonic { amplitude: 0.02 * f, omega: w, phase: p };
+    let mut fused_steps = 0;
+    for j in [4usize, 5, 7, 12, 19] {
+        for beta in [0.5, 0.25, 0.1] {
+            for e in [0.0, 0.5] {
+                for terms in [1, 2] {
+                    // β = 0.1 within its stability limit, nearer stops.
+                    let (dt, stops) =
+                        if beta < 0.25 { (0.5 * SchemeSpec::ps(e, beta).cfl_limit(&pipe(j, 0.2, 10.0, (-1.0, 1.0)).0).unwrap().unwrap(), (-2e-4, 1e-4)) } else { (1e-4, (-0.004, 0.003)) };
+                    let (mut dy, init) = if terms == 1 { pipe(j, 0.2, 10.0, stops) } else { pipe_harmonics(j, vec![h(1.0, 10.0, 0.3), h(0.5, 23.0, 1.1)], stops) };
+                    let n = dy.n();
+                    dy.load = (0..n).map(|i| 0.3 * (i as f64 * 0.7).sin()).collect();
+                    let build = || PaoliSchatzman::new("ps".into(), dy.clone(), beta, e, dt, &init).unwrap();
+                    let (mut plain, mut fused) = (build(), if j == 12 { build().portable() } else { build() });
+                    plain.set_fused(false);
+                    assert!(!plain.fused() && fused.fused(), "J = {j}: the fused step applies to the beam");
+                    let mut contacts = 0;
+                    for step in 0..400 {
+                        if step == 150 {
+                            let mut st = plain.state().unwrap();
+                            st.iter_mut().enumerate().for_each(|(i, x)| *x += 1e-5 * (i as f64).sin());
+                            plain.set_state(&st).unwrap();
+                            fused.set_state(&st).unwrap();
+                        }
+                        if step == 250 || step == 253 {
+                            fused.set_fused(step == 253);
+                        }
+                        fused_steps += usize::from(fused.fused());
+                        let (ra, rb) = (plain.step().unwrap(), fused.step().unwrap());
+                        let what = format!("J = {j} β = {beta} e = {e} terms {terms}, step {step}");
+                        assert_eq!(ra, rb, "{what}: report");
+                        assert_eq!(ra.lambda.map(|l| l.1.to_bits()), rb.lambda.map(|l| l.1.to_bits()), "{what}: λ");
+                        assert!(bits(plain.displacement()) == bits(fused.displacement()), "{what}: U");
+                        assert!(bits(plain.previous_displacement()) == bits(fused.previous_displacement()), "{what}: U^(n-1)");
+                        // The work every fifth step: asked for, `work` adds the
+                        // pending sum itself; not asked for, the next step's
+                        // forward pass does.
+                        if step % 5 == 4 {
+                            let (wa, wb) = (plain.work().unwrap(), fused.work().unwrap());
+                            assert!(wa.0.to_bits() == wb.0.to_bits() && wa.1.to_bits() == wb.1.to_bits(), "{what}: work {wa:?} vs {wb:?}");
+                        }
+                        if step % 7 == 0 {
+                            let (ea, eb) = (plain.energy().unwrap(), fused.energy().unwrap());
+                            assert!(ea.1.to_bits() == eb.1.to_bits(), "{what}: energy");
+                        }
+                        contacts += usize::from(rb.active != Active::None);
+                    }
+                    // The work read only at the end (the pending sum added by `work` itself).
+                    let (mut a, mut b) = (build(), build());
+                    a.set_fused(false);
+                    for _ in 0..57 {
+                        a.step().unwrap();
+                        b.step().unwrap();
+                    }
+                    assert_eq!(a.work().map(|w| (w.0.to_bits(), w.1.to_bits())), b.work().map(|w| (w.0.to_bits(), w.1.to_bits())), "J = {j} β = {beta}: work at the end");
+                    assert!(contacts > 10, "J = {j} β = {beta} e = {e}: {contacts} contact steps");
+                }
+            }
+        }
+    }
+    assert!(fused_steps > 20_000, "{fused_steps} fused steps");
 }
