@@ -734,6 +734,20 @@ pub trait Stepper: Send {
     }
 }
 
+/// Checks a stepper's time step (finite, > 0) and its start: the initial
+/// displacement and velocity have the problem's `n` entries.
+pub(crate) fn check_start(dt: f64, n: usize, init: &Initial) -> Result<(), SchemeError> {
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
+    }
+    for (what, v) in [("initial displacement", &init.u), ("initial velocity", &init.v)] {
+        if v.len() != n {
+            return Err(SchemeError::Size { what, got: v.len(), expected: n });
+        }
+    }
+    Ok(())
+}
+
 /// Checks a state's length for [`Stepper::set_state`].
 pub(crate) fn check_state_len(s: &[f64], expected: usize) -> Result<(), SchemeError> {
     if s.len() != expected {

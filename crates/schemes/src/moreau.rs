@@ -100,15 +100,8 @@ impl MoreauJean {
         if dy.massless_contact() {
             return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the impact law acts on its velocity" });
         }
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
-        }
         let n = dy.n();
-        for (what, v) in [("initial displacement", &init.u), ("initial velocity", &init.v)] {
-            if v.len() != n {
-                return Err(SchemeError::Size { what, got: v.len(), expected: n });
-            }
-        }
+        crate::check_start(dt, n, init)?;
         let a_mat = dy.step_matrix(theta * dt, theta * theta * dt * dt);
         let a = a_mat.factor()?;
         let c = dy.contact().dof;

@@ -116,15 +116,8 @@ impl Nsga {
         if dy.damping.is_some() {
             return Err(not_taken(label, Refused::Damping, " (the monolithic step is triangular only without damping: C W would couple the velocity jump to the positions)"));
         }
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
-        }
         let n = dy.n();
-        for (what, v) in [("initial displacement", &init.u), ("initial velocity", &init.v)] {
-            if v.len() != n {
-                return Err(SchemeError::Size { what, got: v.len(), expected: n });
-            }
-        }
+        crate::check_start(dt, n, init)?;
         let (alpha_m, alpha_f, beta, gamma) = chung_hulbert(rho_inf);
         let c = (1.0 - alpha_f) / (1.0 - alpha_m);
         let s_mat = dy.step_matrix(0.0, c * beta * dt * dt);

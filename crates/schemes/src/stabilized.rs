@@ -69,15 +69,8 @@ impl ContactStabilized {
         if dy.contacts.iter().any(|c| c.massless) {
             return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the predictor is projected in the mass norm" });
         }
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
-        }
         let n = dy.n();
-        for (what, v) in [("initial displacement", &init.u), ("initial velocity", &init.v)] {
-            if v.len() != n {
-                return Err(SchemeError::Size { what, got: v.len(), expected: n });
-            }
-        }
+        crate::check_start(dt, n, init)?;
         let a_mat = dy.step_matrix(0.5 * dt, 0.25 * dt * dt);
         let a = a_mat.factor()?;
         let m = dy.mass.factor()?;

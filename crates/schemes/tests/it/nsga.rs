@@ -30,27 +30,9 @@ fn mv(a: &Mat, x: &[f64]) -> Vec<f64> {
     a.iter().map(|r| r.iter().zip(x).map(|(p, q)| p * q).sum()).collect()
 }
 
-/// Gaussian elimination with partial pivoting.
+/// Gaussian elimination with partial pivoting (`stabilized.rs`'s).
 fn solve(a: &Mat, b: &[f64]) -> Vec<f64> {
-    let n = b.len();
-    let (mut a, mut b) = (a.clone(), b.to_vec());
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
-        a.swap(c, p);
-        b.swap(c, p);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for r in (0..n).rev() {
-        x[r] = (b[r] - (r + 1..n).map(|k| a[r][k] * x[k]).sum::<f64>()) / a[r][r];
-    }
-    x
+    crate::stabilized::solve(a.clone(), b.to_vec())
 }
 
 /// The coefficients from ρ∞, written from Chung and Hulbert (1993).
