@@ -781,6 +781,12 @@ pub fn list() -> String {
     for f in FAMILIES {
         let ranges = if f.params.is_empty() { String::new() } else { format!("  {}", f.ranges()) };
         s.push_str(&format!("  {}\n      {}\n", format!("{:<24}{ranges}", f.syntax()).trim_end(), f.about));
+        // A family without presets is listed above by no preset: what it
+        // takes (at its defaults, as `families_with` reads it) goes here.
+        if f.presets.is_empty() {
+            let defaults: Vec<f64> = f.params.iter().map(|p| p.default.unwrap_or(f64::NAN)).collect();
+            s.push_str(&format!("      [{}]\n", needs(&(f.capabilities)(&defaults))));
+        }
     }
     s.push_str("masses (bar): std, lumped (massive contact node); mod = mod1, mod2, mod3, transfer, singular (massless contact node)\n");
     s.push_str("benchmarks (bar, with exact solutions): bar-dirichlet, bar-neumann-gravity (g = 1/9), bar-neumann-gravity-0.11 (T <= 225), bar-mirrored (bar-dirichlet mirrored onto [0, 2] between two stops; elements = m per half)\n");

@@ -130,6 +130,13 @@ fn list_and_check_print_ranges_and_limits() {
     for w in ["newmark-cn", "hybrid", "mod3", "bar-neumann-gravity", "fig8", "θ ∈ [1/2, 1]"] {
         assert!(s.contains(w), "list lacks {w}");
     }
+    // A family without presets says what it takes under its call, as the
+    // presets do (the beam line points at "a family marked beam above"):
+    // contact-stabilized Newmark projects in the mass norm (a massive node),
+    // has no impact law, takes damping and the beam (theory §4.6.6).
+    let block: Vec<&str> = s.lines().skip_while(|l| l.trim() != "contact-stabilized").take(3).collect();
+    assert_eq!(block.len(), 3, "{s}");
+    assert_eq!(block[2].trim(), "[implicit, std or lumped only, damping, time-dependent load, several contacts, beam]", "{s}");
     let o = bin().args(["check", scenes().join("beam-fig8.toml").to_str().unwrap()]).output().unwrap();
     let s = String::from_utf8_lossy(&o.stdout);
     // β = 1/4: no limit; the paper's sufficient condition is reported as what it is.
