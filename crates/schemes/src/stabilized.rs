@@ -17,7 +17,8 @@
 //! exactly; with `C = 0`, `F = 0` its energy `E = ½VᵀMV + ½UᵀKU` does not
 //! grow (docs/theory.md §7.7): the stabilisation only removes kinetic
 //! energy, and the implicit contact force does non-positive work over
-//! the step. Both constrained minimisations are solved exactly: the
+//! the step; the scheme reports that balance's terms ([`Stepper::work`],
+//! [`Stepper::dissipation`]). Both constrained minimisations are solved exactly: the
 //! box-constrained QPs of the mass (stabilisation) and of `A` by the
 //! workspace's exact contact solve ([`MultiSolve`], influence columns of
 //! `M⁻¹` and `A⁻¹`). The contact force reported at `t_{n+1}` is the step's
@@ -59,6 +60,12 @@ pub struct ContactStabilized {
     s_new: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
+    /// Since t = 0: the time-dependent load's work `Σ ½(F̃ⁿ + F̃ⁿ⁺¹)·ΔU`,
+    /// the contacts' `Σ 2/τ² [μ·Δu_c − ν·(u_cⁿ⁺¹ − p_c)]` (≤ 0) and the
+    /// damping's `Σ ½ ΔU·C(Vⁿ + Vⁿ⁺¹)` (docs/theory.md §7.9).
+    work_forcing: f64,
+    work_contact: f64,
+    work_damping: f64,
 }
 
 impl ContactStabilized {
@@ -98,6 +105,9 @@ impl ContactStabilized {
             loads,
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
+            work_forcing: 0.0,
+            work_contact: 0.0,
+            work_damping: 0.0,
             dy,
         })
     }
@@ -158,7 +168,6 @@ impl Stepper for ContactStabilized {
         self.loads.next_into(&mut self.s_new);
         add_terms(&mut self.rhs, &self.dy.forcing, q, &self.s_old);
         add_terms(&mut self.rhs, &self.dy.forcing, q, &self.s_new);
-        self.s_old.copy_from_slice(&self.s_new);
         if let Some(cm) = &self.dy.damping {
             // + τ/2 C U_pred − τ²/2 C V
             for ((t, p), v) in self.tmp.iter_mut().zip(&self.pred).zip(&self.v) {
@@ -174,8 +183,26 @@ impl Stepper for ContactStabilized {
             self.lams[i] = -2.0 * m / (dt * dt);
             self.acts[i] = a;
         }
-        // V^{n+1} = V^n + 2/τ (U^{n+1} − U_pred); U^{n+1}.
+        // The step's work (docs/theory.md §7.9), before U and V move on.
         let w = 2.0 / dt;
+        for ((f, a), b) in self.dy.forcing.iter().zip(&self.s_old).zip(&self.s_new) {
+            let du: f64 = f.shape.iter().zip(&self.rhs).zip(&self.u).map(|((g, un), u)| g * (un - u)).sum();
+            self.work_forcing += 0.5 * (a + b) * du;
+        }
+        self.s_old.copy_from_slice(&self.s_new);
+        let nu = self.mass_solve.multipliers();
+        for ((ct, m), n) in self.dy.contacts.iter().zip(self.step_solve.multipliers()).zip(nu) {
+            let c = ct.dof;
+            self.work_contact += w / dt * (m * (self.rhs[c] - self.u[c]) - n * (self.rhs[c] - self.pred[c]));
+        }
+        if let Some(cm) = &self.dy.damping {
+            for (((t, v), un), p) in self.tmp.iter_mut().zip(&self.v).zip(&self.rhs).zip(&self.pred) {
+                *t = 2.0 * v + w * (un - p);
+            }
+            cm.mul_vec(&self.tmp, &mut self.ctmp);
+            self.work_damping += 0.5 * self.ctmp.iter().zip(&self.rhs).zip(&self.u).map(|((c, un), u)| c * (un - u)).sum::<f64>();
+        }
+        // V^{n+1} = V^n + 2/τ (U^{n+1} − U_pred); U^{n+1}.
         for (((u, v), un), p) in self.u.iter_mut().zip(self.v.iter_mut()).zip(&self.rhs).zip(&self.pred) {
             *v += w * (un - p);
             *u = *un;
@@ -192,6 +219,14 @@ impl Stepper for ContactStabilized {
 
     fn energy(&mut self) -> Option<(f64, f64)> {
         Some((self.time(), self.dy.energy(&self.u, &self.v)))
+    }
+
+    fn work(&self) -> Option<(f64, f64)> {
+        Some((self.work_forcing, self.work_contact))
+    }
+
+    fn dissipation(&self) -> Option<f64> {
+        Some(self.work_damping)
     }
 }
 
