@@ -105,6 +105,23 @@ macro_rules! stepper_accessors {
     };
 }
 
+/// [`Stepper::state`] and [`Stepper::set_state`] of a scheme whose state is
+/// its displacement and velocity, `U ++ V` (fields `u`, `v`).
+macro_rules! displacement_velocity_state {
+    () => {
+        fn state(&self) -> Option<Vec<f64>> {
+            Some(self.u.iter().chain(&self.v).copied().collect())
+        }
+        fn set_state(&mut self, s: &[f64]) -> Result<(), crate::SchemeError> {
+            let n = self.u.len();
+            crate::check_state_len(s, 2 * n)?;
+            self.u.copy_from_slice(&s[..n]);
+            self.v.copy_from_slice(&s[n..]);
+            Ok(())
+        }
+    };
+}
+
 /// The [`Stepper`] methods of a scheme that wraps another in its field
 /// `$inner` (a Moreau–Jean variant around [`MoreauJean`]): everything but
 /// `step` and `energy`, which the wrapper writes.

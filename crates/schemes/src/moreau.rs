@@ -249,17 +249,7 @@ impl MoreauJean {
 impl Stepper for MoreauJean {
     stepper_accessors!();
 
-    fn state(&self) -> Option<Vec<f64>> {
-        Some(self.u.iter().chain(&self.v).copied().collect())
-    }
-
-    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
-        let n = self.u.len();
-        crate::check_state_len(s, 2 * n)?;
-        self.u.copy_from_slice(&s[..n]);
-        self.v.copy_from_slice(&s[n..]);
-        Ok(())
-    }
+    displacement_velocity_state!();
 
     fn contact_pivots(&self) -> Option<(u64, u64)> {
         self.multi.as_ref().map(|m| (m.pivoting_solves, m.pivots))

@@ -180,40 +180,16 @@ impl Bands3 {
         self.rhs_body(dt2, x, y, f, out)
     }
 
+    /// The whole right-hand side: the three edge rows at each end
+    /// ([`edge_row`](Self::edge_row)) and the interior rows
+    /// ([`interior`](Self::interior)), the fused step's two pieces.
     #[inline(always)]
     fn rhs_body(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64], out: &mut [f64]) {
         let n = x.len();
-        let (x, y, f, out) = (&x[..n], &y[..n], &f[..n], &mut out[..n]);
-        // The first and last three rows: `mul_vec_p3`'s `row` closure.
-        let edge = |d: &[Vec<f64>; 4], v: &[f64], i: usize| -> f64 {
-            let mut s = d[0][i] * v[i];
-            for k in 1..=3 {
-                if i >= k {
-                    s += d[k][i] * v[i - k];
-                }
-                if i + k < n {
-                    s += d[k][i + k] * v[i + k];
-                }
-            }
-            s
-        };
         for i in (0..3).chain(n - 3..n) {
-            out[i] = edge(&self.m, x, i) + dt2 * (f[i] - edge(&self.k, y, i));
+            out[i] = self.edge_row(dt2, x, y, f, i);
         }
-        // Interior rows 3..n-3, every slice aligned on row i.
-        let r = 3..n - 3;
-        let (m0, m1, m2, m3) = (&self.m[0][r.clone()], &self.m[1][r.clone()], &self.m[2][r.clone()], &self.m[3][r.clone()]);
-        let (mc1, mc2, mc3) = (&self.m[1][4..n - 2], &self.m[2][5..n - 1], &self.m[3][6..n]);
-        let (k0, k1, k2, k3) = (&self.k[0][r.clone()], &self.k[1][r.clone()], &self.k[2][r.clone()], &self.k[3][r.clone()]);
-        let (kc1, kc2, kc3) = (&self.k[1][4..n - 2], &self.k[2][5..n - 1], &self.k[3][6..n]);
-        let xs: [&[f64]; 7] = std::array::from_fn(|j| &x[j..n - 6 + j]);
-        let ys: [&[f64]; 7] = std::array::from_fn(|j| &y[j..n - 6 + j]);
-        let (f, out) = (&f[r.clone()], &mut out[r]);
-        for j in 0..n - 6 {
-            let mx = (m0[j] * xs[3][j] + m1[j] * xs[2][j] + m2[j] * xs[1][j] + m3[j] * xs[0][j]) + (mc1[j] * xs[4][j] + mc2[j] * xs[5][j] + mc3[j] * xs[6][j]);
-            let ky = (k0[j] * ys[3][j] + k1[j] * ys[2][j] + k2[j] * ys[1][j] + k3[j] * ys[0][j]) + (kc1[j] * ys[4][j] + kc2[j] * ys[5][j] + kc3[j] * ys[6][j]);
-            out[j] = mx + dt2 * (f[j] - ky);
-        }
+        self.interior(dt2, x, y, f, out, 3, n - 6);
     }
 
     /// Interior rows `a..a + len` of [`rhs_body`](Self::rhs_body)'s

@@ -134,17 +134,7 @@ impl ContactStabilized {
 impl Stepper for ContactStabilized {
     stepper_accessors!();
 
-    fn state(&self) -> Option<Vec<f64>> {
-        Some(self.u.iter().chain(&self.v).copied().collect())
-    }
-
-    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
-        let n = self.u.len();
-        crate::check_state_len(s, 2 * n)?;
-        self.u.copy_from_slice(&s[..n]);
-        self.v.copy_from_slice(&s[n..]);
-        Ok(())
-    }
+    displacement_velocity_state!();
 
     fn contact_pivots(&self) -> Option<(u64, u64)> {
         Some((self.mass_solve.pivoting_solves + self.step_solve.pivoting_solves, self.mass_solve.pivots + self.step_solve.pivots))
