@@ -298,3 +298,78 @@ fn contact_stabilized_reports_its_work_and_the_balance_closes() {
     assert!(contact_drops > 20, "the contacts worked in only {contact_drops} steps");
     eprintln!("contact-stabilized energy balance: worst {worst:.1e}, {contact_drops} dissipating contact steps");
 }
+
+/// The cases a user meets first. (a) Starting in contact, held: from the
+/// static state with the contact node on its stop under a load pressing
+/// it there (solved here, densely, with the node fixed), the scheme stays
+/// at rest for 2 000 steps and reports the static reaction as its force.
+/// (b) Symmetric contacts reached together: a mirror-symmetric chain with
+/// opposite stops at both ends and antisymmetric data stays antisymmetric,
+/// both contacts engaging at the same steps, and every step is the dense
+/// step's.
+#[test]
+fn contact_stabilized_held_starts_and_symmetric_contacts() {
+    let spec: SchemeSpec = "contact-stabilized".parse().unwrap();
+    // (a) Held start: lumped and consistent masses.
+    for lumped in [true, false] {
+        let mut rng = SplitMix64::new(5);
+        let (dy, _) = system(&mut rng, lumped, false, false);
+        let n = dy.n();
+        let lo = dy.contacts[0].bounds.lo;
+        let mut load = vec![0.3, 0.1, -0.2, 0.05];
+        load[0] = -2.0; // presses the node onto its lower stop
+        let dy = Dynamics::new(dy.mass.clone(), dy.stiffness.clone(), load.clone(), dy.contacts.clone());
+        let k = dense(&dy.stiffness);
+        let kf: Dense = (1..n).map(|i| (1..n).map(|j| k[i][j]).collect()).collect();
+        let rf: Vec<f64> = (1..n).map(|i| load[i] - k[i][0] * lo).collect();
+        let mut u_static = vec![lo];
+        u_static.extend(solve(kf, rf));
+        let reaction = mv(&k, &u_static)[0] - load[0];
+        assert!(reaction > 0.0, "the load must press the node onto the stop");
+        let mut s = spec.build(dy, 0.05, &Initial { u: u_static.clone(), v: vec![0.0; n] }).unwrap();
+        for step in 0..2000 {
+            s.step().unwrap();
+            let st = s.state().unwrap();
+            for i in 0..n {
+                assert!((st[i] - u_static[i]).abs() <= 1e-12 && st[n + i].abs() <= 1e-10, "lumped {lumped}, step {step}: left the static state: {st:?}");
+            }
+            let lam = s.contact_forces()[0];
+            assert!((lam + reaction).abs() <= 1e-10 * (1.0 + reaction), "lumped {lumped}, step {step}: λ {lam} vs the static reaction −{reaction}");
+        }
+    }
+    // (b) A mirror-symmetric chain: uniform lumped mass, springs between
+    // nodes and to the ground, stops at −g (node 0) and +g (node 3).
+    let n = 4;
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    for i in 0..n {
+        m.set(i, i, 1.0);
+        k.set(i, i, if i == 0 || i == n - 1 { 1.5 } else { 2.5 });
+        if i > 0 {
+            k.set(i, i - 1, -1.0);
+        }
+    }
+    let g = 0.05;
+    let contacts = vec![Contact::new(0, Bounds { lo: -g, hi: f64::INFINITY }, false), Contact::new(3, Bounds { lo: f64::NEG_INFINITY, hi: g }, false)];
+    let dy = Dynamics::new(m, k, vec![0.0; n], contacts);
+    let init = Initial { u: vec![0.0; n], v: vec![-1.0, -0.3, 0.3, 1.0] };
+    let dt = 0.05;
+    let oracle = Oracle::new(&dy, dt);
+    let mut s = spec.build(dy, dt, &init).unwrap();
+    let (mut u, mut v) = (init.u.clone(), init.v.clone());
+    let mut together = 0;
+    for step in 0..400 {
+        let (u1, v1, lam, _) = oracle.step(&u, &v, step);
+        s.step().unwrap();
+        let st = s.state().unwrap();
+        for (i, (a, b)) in st.iter().zip(u1.iter().chain(&v1)).enumerate() {
+            assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "step {step}, state {i}: {a} vs the dense step's {b}");
+        }
+        assert!((st[0] + st[3]).abs() <= 1e-13 && (st[1] + st[2]).abs() <= 1e-13, "step {step}: symmetry lost {st:?}");
+        let f = s.contact_forces();
+        assert_eq!(f[0] != 0.0, f[1] != 0.0, "step {step}: one contact engaged without its mirror: {f:?}");
+        assert!((f[0] + f[1]).abs() <= 1e-10 * (1.0 + f[0].abs()), "step {step}: mirror forces {f:?}");
+        together += usize::from(lam[0] != 0.0);
+        (u, v) = (u1, v1);
+    }
+    assert!(together > 10, "the two contacts engaged together in only {together} steps");
+}
