@@ -336,7 +336,7 @@ def lyapunov(scenes=None, refine=None, dts=None, elements=None, omegas=None, per
     return _run("lyapunov", out, dict(scenes=scenes, refine=refine, dts=dts, elements=elements, omegas=omegas, perturbation=perturbation, transient=transient, window=window, per_period=per_period, batches=batches), StudyResult)
 
 
-def beam_statistics(scenes=None, dts=None, elements=None, transient=None, window=None, batches=None, episode_gap=None, out=None) -> StudyResult:
+def beam_statistics(scenes=None, dts=None, elements=None, transient=None, window=None, batches=None, episode_gap=None, out=None, schemes=None) -> StudyResult:
     """Statistics that converge: the beam ``scenes`` at every ``dts`` and ``elements``
     over ``window`` forcing periods after ``transient``, each statistic with a 95 %
     interval from ``batches`` batch means, against the finest level. statistics.csv:
@@ -359,8 +359,11 @@ def beam_statistics(scenes=None, dts=None, elements=None, transient=None, window
     * ``episode_gap``: Active runs closer than this (s) form one contact episode.
       Default: ``0.005``.
     * ``out``: Output folder. ``None``: a temporary folder, removed afterwards.
+    * ``schemes``: Schemes, comma-separated (default: the scene's own, the paper's
+      projection scheme `ps(0,0.5)`). Every scheme runs every level, and every level is
+      compared with the finest level of the first.
     """
-    return _run("beam_statistics", out, dict(scenes=scenes, dts=dts, elements=elements, transient=transient, window=window, batches=batches, episode_gap=episode_gap), StudyResult)
+    return _run("beam_statistics", out, dict(scenes=scenes, dts=dts, elements=elements, transient=transient, window=window, batches=batches, episode_gap=episode_gap, schemes=schemes), StudyResult)
 
 
 def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, beam_stat_dts=None, beam_stat_ref_dt=None, beam_stat_window=None, out=None, reference=None, repeats=None) -> StudyResult:
@@ -407,7 +410,7 @@ def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_re
     return _run("work_precision", out, dict(levels=levels, degrees=degrees, modes=modes, beam_dts=beam_dts, beam_ref_dt=beam_ref_dt, beam_window=beam_window, beam_t_end=beam_t_end, beam_stat_dts=beam_stat_dts, beam_stat_ref_dt=beam_stat_ref_dt, beam_stat_window=beam_stat_window, reference=reference, repeats=repeats), StudyResult)
 
 
-def stress(steps=None, elements=None, seed=None, out=None) -> StudyResult:
+def stress(steps=None, elements=None, seed=None, out=None, schemes=None) -> StudyResult:
     """Stability stress: long runs at extreme dx/dt with random initial data; energy
     drift and blow-ups.
 
@@ -419,7 +422,10 @@ def stress(steps=None, elements=None, seed=None, out=None) -> StudyResult:
     * ``seed``: Random seed; run `k` of a (scheme, mass) row uses `seed · 1000 + k`
       (wrapping), written as an `I64` (wrapping too). Default: ``1``.
     * ``out``: Output folder. ``None``: a temporary folder, removed afterwards.
+    * ``schemes``: Schemes, comma-separated (default: every named scheme of `signorini
+      list`, by name); a family without presets by its call (`contact-stabilized`,
+      `nsga(0.5)`). Each runs with every mass it accepts.
     """
-    return _run("stress", out, dict(steps=steps, elements=elements, seed=seed), StudyResult)
+    return _run("stress", out, dict(steps=steps, elements=elements, seed=seed, schemes=schemes), StudyResult)
 
 # </generated>

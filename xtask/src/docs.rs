@@ -519,12 +519,15 @@ fn sig3(x: f64) -> String {
 
 fn beam_statistics(data: &Path) -> Result<String, String> {
     let t = Table::read(&data.join("beam-statistics/statistics.csv"))?;
-    let by = grouped(&t, &["scene", "statistic"])?;
+    // One table per scene and scheme (the scheme named when there are several).
+    let by = grouped(&t, &["scene", "scheme", "statistic"])?;
+    let several = by.iter().any(|(k, _)| k[1] != by[0].0[1]);
     let mut s = String::new();
     let mut scene = String::new();
     for (k, rows) in &by {
-        if k[0] != scene {
-            scene = k[0].clone();
+        let title = if several { format!("{}, {}", k[0], k[1]) } else { k[0].clone() };
+        if title != scene {
+            scene = title;
             // Columns: the (J, dt) levels of this scene, grouped by J.
             let mut js: Vec<&str> = Vec::new();
             for r in rows {
@@ -545,7 +548,7 @@ fn beam_statistics(data: &Path) -> Result<String, String> {
                 js.push(r["elements"]);
             }
         }
-        let mut row = vec![format!("`{}`", k[1])];
+        let mut row = vec![format!("`{}`", k[2])];
         for j in &js {
             let v: Vec<String> = rows.iter().filter(|r| r["elements"] == *j).map(|r| getf(r, "mean").map(sig3)).collect::<Result<_, _>>()?;
             row.push(v.join(" / "));

@@ -29,11 +29,13 @@
 //!   the time in contact is about runs × dt and falls as dt → 0).
 //!
 //! Outputs (`--out`, default `out/beam-statistics`):
-//! * `statistics.csv`: `scene,dt,elements,statistic,mean,ci_low,ci_high,finest_mean,rel_diff,within_ci,kind`
+//! * `statistics.csv`: `scene,dt,elements,statistic,mean,ci_low,ci_high,finest_mean,rel_diff,within_ci,kind,scheme,wall_s`
 //!   — `rel_diff = mean/finest_mean − 1` against the scene's finest level
-//!   (smallest dt, then largest J), `within_ci` 1 when the two intervals
-//!   overlap, `kind` `converges` or `step-dependent` (as declared above:
-//!   what the statistic is expected to do, not a verdict);
+//!   (smallest dt, then largest J, of the first scheme), `within_ci` 1 when
+//!   the two intervals overlap, `kind` `converges` or `step-dependent` (as
+//!   declared above: what the statistic is expected to do, not a verdict),
+//!   `scheme` the run's scheme (`--schemes`; the scene's own by default),
+//!   `wall_s` the run's wall time (its cost);
 //! * `statistics.svg`: |rel_diff| against dt at the largest J (not drawn,
 //!   with a note, when that J has no level but the finest: one dt given).
 //!
@@ -44,12 +46,12 @@
 //! converge look alike from one pair of levels), a step-dependent one
 //! `differs`.
 
-use crate::{create_dir, fde, fe, int, since, txt, Kind, StudyError, TableOut};
+use crate::{create_dir, fde, fe, ff, int, since, txt, Kind, StudyError, TableOut};
 use signorini_plot::{Chart, Scale, Series, Style};
 use signorini_run::stats::{batch_means, Interval};
 use signorini_run::{run as run_steps, ImpactObserver, Observer, RunConfig, RunError, Sample};
 use signorini_scene::{Limits, Scene};
-use signorini_schemes::Active;
+use signorini_schemes::{Active, SchemeSpec};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -95,6 +97,11 @@ crate::options::study_config! {
         pub episode_gap: f64 = 5e-3,
         /// Output folder.
         pub out: PathBuf = PathBuf::from("out/beam-statistics"),
+        /// Schemes, comma-separated (default: the scene's own, the paper's
+        /// projection scheme `ps(0,0.5)`). Every scheme runs every level,
+        /// and every level is compared with the finest level of the first.
+        #[serde(deserialize_with = "crate::options::with::some_schemes")]
+        pub schemes: Option<Vec<SchemeSpec>> = None,
     }
 }
 
@@ -125,6 +132,12 @@ impl Config {
         if !(self.episode_gap.is_finite() && self.episode_gap >= 0.0 && self.episode_gap <= 1.0) {
             return Err(StudyError::config("episode_gap", format!("⟨episode_gap⟩ {}: allowed finite, in [0, 1] s", self.episode_gap)));
         }
+        if let Some(s) = &self.schemes {
+            crate::time_stepping_schemes("schemes", Some(s))?;
+            if let Some(s) = s.iter().find(|s| !s.capabilities().beam) {
+                return Err(StudyError::config("schemes", format!("⟨schemes⟩ {s}: it does not take the beam (`signorini list` marks the families that do)")));
+            }
+        }
         let steps = (self.transient + self.window) * std::f64::consts::TAU / 10.0 / self.dts.iter().copied().fold(f64::INFINITY, f64::min);
         if steps > 2e9 {
             return Err(StudyError::config("window", format!("⟨window⟩ {}: {steps:.2e} steps at the smallest dt, allowed at most 2e9", self.window)));
@@ -153,10 +166,12 @@ pub fn verdict(c: &Interval, f: &Interval, step_dependent: bool, finest: bool) -
 /// What the study computed and wrote ([`crate::Report`]); its table: `statistics.csv`.
 pub type Output = crate::Report;
 
-/// The scene `name` at step `dt`, `j` elements, horizon `t_end` (the
-/// Lyapunov study's scene text, validated).
-fn scene(name: &str, dt: f64, j: usize, t_end: f64) -> Result<Scene, StudyError> {
-    let file = crate::lyapunov::scene_file(&crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j) }, t_end).map_err(|e| StudyError::failed(name, e))?;
+/// The scene `name` at step `dt`, `j` elements, horizon `t_end`, with
+/// `scheme` (`None`: the scene's own) (the Lyapunov study's scene text,
+/// validated).
+fn scene(name: &str, dt: f64, j: usize, t_end: f64, scheme: Option<&SchemeSpec>) -> Result<Scene, StudyError> {
+    let case = crate::lyapunov::Case::Beam { name: name.to_string(), dt: Some(dt), elements: Some(j), scheme: scheme.cloned() };
+    let file = crate::lyapunov::scene_file(&case, t_end).map_err(|e| StudyError::failed(name, e))?;
     file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))
 }
 
@@ -197,14 +212,14 @@ impl Observer for Levels {
 
 /// The per-batch values of every statistic of one run, in [`STATISTICS`]
 /// order, and the steps it took.
-pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<(Vec<Vec<f64>>, usize), StudyError> {
+pub(crate) fn run_case(name: &str, dt: f64, j: usize, scheme: Option<&SchemeSpec>, a: &Config) -> Result<(Vec<Vec<f64>>, usize), StudyError> {
     let fail = |e: String| StudyError::Run(format!("{name}, dt = {dt:e}, J = {j}: {e}"));
-    let probe = scene(name, dt, j, 1.0)?;
+    let probe = scene(name, dt, j, 1.0, scheme)?;
     let (omega, _, _) = probe.sweep_clock().ok_or_else(|| fail("no periodic forcing".into()))?;
     let period = std::f64::consts::TAU / omega;
     let t0 = (a.transient * period / dt).round() * dt;
     let t_end = ((a.transient + a.window) * period / dt).round() * dt;
-    let sc = scene(name, dt, j, t_end)?;
+    let sc = scene(name, dt, j, t_end, scheme)?;
     let mut built = sc.instantiate(None).map_err(|e| StudyError::failed(format!("{name}, dt = {dt:e}, J = {j}"), e))?;
     let contacts = built.contacts();
     let w = t_end - t0;
@@ -279,23 +294,51 @@ pub(crate) fn run_case(name: &str, dt: f64, j: usize, a: &Config) -> Result<(Vec
 /// Runs the study; `progress` after every run.
 pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
     a.validate()?;
-    let cases: Vec<(String, f64, usize)> = a.scenes.iter().flat_map(|s| a.elements.iter().flat_map(move |&j| a.dts.iter().map(move |&dt| (s.clone(), dt, j)))).collect();
-    for (s, dt, j) in &cases {
-        scene(s, *dt, *j, 1.0)?;
+    // The schemes: the given ones, or the scene's own (`None`).
+    let schemes: Vec<Option<SchemeSpec>> = match &a.schemes {
+        Some(v) => v.iter().cloned().map(Some).collect(),
+        None => vec![None],
+    };
+    // Cases: scene, then scheme, then J, then dt.
+    let cases: Vec<(String, usize, f64, usize)> =
+        a.scenes.iter().flat_map(|s| (0..schemes.len()).flat_map(move |k| a.elements.iter().flat_map(move |&j| a.dts.iter().map(move |&dt| (s.clone(), k, dt, j))))).collect();
+    // Every scene is read (and its scheme named) before a file is created.
+    let mut names = Vec::with_capacity(cases.len());
+    for (s, k, dt, j) in &cases {
+        names.push(scene(s, *dt, *j, 1.0, schemes[*k].as_ref())?.facts().scheme.to_string());
     }
     create_dir(&a.out)?;
     let start = std::time::Instant::now();
-    let results = crate::run_cases(&cases, progress, &|c: &(String, f64, usize)| run_case(&c.0, c.1, c.2, a));
+    let results = crate::run_cases(&cases, progress, &|c: &(String, usize, f64, usize)| {
+        let t = std::time::Instant::now();
+        run_case(&c.0, c.2, c.3, schemes[c.1].as_ref(), a).map(|r| (r, since(t)))
+    });
     let mut cis: Vec<Vec<Interval>> = Vec::new();
+    let mut walls = Vec::new();
     for r in results {
-        let (r, _) = r?;
+        let ((r, _), wall) = r?;
         cis.push(r.iter().map(|v| batch_means(v, a.batches, 0.95).expect("validated batches")).collect());
+        walls.push(wall);
     }
     let (f_, i_, s_) = (Kind::F, Kind::I, Kind::S);
     let mut t = TableOut::create(
         &a.out,
         "statistics.csv",
-        &[("scene", s_), ("dt", f_), ("elements", i_), ("statistic", s_), ("mean", f_), ("ci_low", f_), ("ci_high", f_), ("finest_mean", f_), ("rel_diff", f_), ("within_ci", i_), ("kind", s_)],
+        &[
+            ("scene", s_),
+            ("dt", f_),
+            ("elements", i_),
+            ("statistic", s_),
+            ("mean", f_),
+            ("ci_low", f_),
+            ("ci_high", f_),
+            ("finest_mean", f_),
+            ("rel_diff", f_),
+            ("within_ci", i_),
+            ("kind", s_),
+            ("scheme", s_),
+            ("wall_s", f_),
+        ],
     )?;
     let mut md = format!(
         "# Beam statistics over {} forcing periods after {} ({} batches, 95 % batch-means intervals; output in {})\n\n`expected`: what the statistic is expected to do as dt → 0. Last column: a level *agrees* with the finest when their intervals overlap; when they do not, a statistic expected to converge is *undecided* at that level (a coarse level's error and a statistic that does not converge look alike from one pair of levels), a step-dependent one *differs*.\n",
@@ -308,32 +351,53 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let mut series = Vec::new();
     let jmax = a.elements.iter().copied().max().expect("validated");
     for sname in &a.scenes {
-        let idx: Vec<usize> = (0..cases.len()).filter(|&i| &cases[i].0 == sname).collect();
-        // The finest: smallest dt, then largest J.
-        let finest = *idx.iter().min_by(|&&x, &&y| cases[x].1.total_cmp(&cases[y].1).then(cases[y].2.cmp(&cases[x].2))).expect("one case at least");
-        w_(writeln!(
-            md,
-            "\n## {sname} (finest: dt = {:e}, J = {})\n\n| statistic | expected | dt | J | mean [95 % interval] | relative to the finest | against the finest |\n|---|---|---|---|---|---|---|",
-            cases[finest].1, cases[finest].2
-        ));
-        for (k, (stat, dep)) in STATISTICS.iter().enumerate() {
-            let f = cis[finest][k];
-            let kind = if *dep { "step-dependent" } else { "converges" };
-            let mut pts = Vec::new();
-            for &i in &idx {
-                let c = cis[i][k];
-                let rel = c.mean / f.mean - 1.0;
-                let within = c.low <= f.high && f.low <= c.high;
-                t.row(vec![txt(sname), fde(cases[i].1), int(cases[i].2), txt(*stat), fe(c.mean, 6), fe(c.low, 6), fe(c.high, 6), fe(f.mean, 6), fe(rel, 4), int(usize::from(within)), txt(kind)])?;
-                let shown = if rel.is_finite() { format!("{:+.2} %", 100.0 * rel) } else { "—".to_string() };
-                w_(writeln!(md, "| {stat} | {kind} | {:e} | {} | {:.4} [{:.4}, {:.4}] | {shown} | {} |", cases[i].1, cases[i].2, c.mean, c.low, c.high, verdict(&c, &f, *dep, i == finest)));
-                // Log-log: a zero or undefined difference has no point.
-                if cases[i].2 == jmax && i != finest && rel.is_finite() && rel != 0.0 {
-                    pts.push((cases[i].1, rel.abs()));
+        let of_scene: Vec<usize> = (0..cases.len()).filter(|&i| &cases[i].0 == sname).collect();
+        // The finest: the first scheme's smallest dt, then largest J.
+        let finest = *of_scene.iter().filter(|&&i| cases[i].1 == 0).min_by(|&&x, &&y| cases[x].2.total_cmp(&cases[y].2).then(cases[y].3.cmp(&cases[x].3))).expect("one case at least");
+        for k in 0..schemes.len() {
+            let idx: Vec<usize> = of_scene.iter().copied().filter(|&i| cases[i].1 == k).collect();
+            let label = if schemes.len() > 1 { format!("{sname}, {}", names[idx[0]]) } else { sname.clone() };
+            w_(writeln!(
+                md,
+                "\n## {label} (finest: dt = {:e}, J = {}{})\n\n| statistic | expected | dt | J | mean [95 % interval] | relative to the finest | against the finest |\n|---|---|---|---|---|---|---|",
+                cases[finest].2,
+                cases[finest].3,
+                if schemes.len() > 1 { format!(", {}", names[finest]) } else { String::new() }
+            ));
+            for (s, (stat, dep)) in STATISTICS.iter().enumerate() {
+                let f = cis[finest][s];
+                let kind = if *dep { "step-dependent" } else { "converges" };
+                let mut pts = Vec::new();
+                for &i in &idx {
+                    let c = cis[i][s];
+                    let rel = c.mean / f.mean - 1.0;
+                    let within = c.low <= f.high && f.low <= c.high;
+                    t.row(vec![
+                        txt(sname),
+                        fde(cases[i].2),
+                        int(cases[i].3),
+                        txt(*stat),
+                        fe(c.mean, 6),
+                        fe(c.low, 6),
+                        fe(c.high, 6),
+                        fe(f.mean, 6),
+                        fe(rel, 4),
+                        int(usize::from(within)),
+                        txt(kind),
+                        txt(&names[i]),
+                        ff(walls[i], 3),
+                    ])?;
+                    let shown = if rel.is_finite() { format!("{:+.2} %", 100.0 * rel) } else { "—".to_string() };
+                    w_(writeln!(md, "| {stat} | {kind} | {:e} | {} | {:.4} [{:.4}, {:.4}] | {shown} | {} |", cases[i].2, cases[i].3, c.mean, c.low, c.high, verdict(&c, &f, *dep, i == finest)));
+                    // Log-log: a zero or undefined difference has no point.
+                    if cases[i].3 == jmax && i != finest && rel.is_finite() && rel != 0.0 {
+                        pts.push((cases[i].2, rel.abs()));
+                    }
                 }
-            }
-            if !pts.is_empty() {
-                series.push(Series { label: format!("{sname}: {stat}{}", if *dep { " (step-dependent)" } else { "" }), points: pts, reference: false, style: Style::default() });
+                if !pts.is_empty() {
+                    let who = if schemes.len() > 1 { format!("{sname}, {}", names[idx[0]]) } else { sname.clone() };
+                    series.push(Series { label: format!("{who}: {stat}{}", if *dep { " (step-dependent)" } else { "" }), points: pts, reference: false, style: Style::default() });
+                }
             }
         }
     }

@@ -59,7 +59,7 @@ pub mod weighted;
 pub mod work_precision;
 
 use signorini_fem::BarMass;
-use signorini_schemes::SchemeSpec;
+use signorini_schemes::{Group, SchemeSpec};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -449,6 +449,34 @@ pub fn split_schemes(raw: &[String]) -> Vec<String> {
 /// error names `--schemes`.
 pub fn parse_schemes(raw: &[String]) -> Result<Vec<SchemeSpec>, StudyError> {
     split_schemes(raw).iter().map(|s| s.parse::<SchemeSpec>().map_err(|e| StudyError::config("schemes", format!("⟨schemes⟩: {e}")))).collect()
+}
+
+/// The time-stepping schemes of a study over every scheme and mass: the
+/// `given` list (its own call as the name: `contact-stabilized`,
+/// `nsga(0.5)`), or every named preset (`SchemeSpec::named`, by its name)
+/// when none is given. A scheme of one mass treatment only (`cd-taylor`,
+/// which `cargo xtask courant1` runs) or the event-driven reference, which
+/// has no time step, is refused naming `field`.
+pub(crate) fn time_stepping_schemes(field: &str, given: Option<&[SchemeSpec]>) -> Result<Vec<(String, SchemeSpec)>, StudyError> {
+    let Some(given) = given else {
+        return Ok(SchemeSpec::named().map(|(n, s)| (n.to_string(), s)).collect());
+    };
+    if given.is_empty() {
+        return Err(StudyError::config(field, format!("⟨{field}⟩: allowed one or more time-stepping schemes")));
+    }
+    let of = |g: Group, s: &SchemeSpec| SchemeSpec::group(g).any(|(_, p)| std::ptr::eq(p.family(), s.family()));
+    for s in given {
+        let (single, reference) = (of(Group::SingleMass, s), of(Group::Reference, s));
+        if single || reference {
+            let why = if reference {
+                "the exact event-driven reference has no time step"
+            } else {
+                "it takes one mass treatment only (the loops over every scheme and mass leave it out; `cargo xtask courant1` runs it)"
+            };
+            return Err(StudyError::config(field, format!("⟨{field}⟩ {s}: {why}; allowed the time-stepping schemes of `signorini list` for the bar")));
+        }
+    }
+    Ok(given.iter().map(|s| (s.to_string(), *s)).collect())
 }
 
 /// Parses mass treatments (`std`, `lumped`, `mod`, ...), each piece trimmed; an error names `--masses`.

@@ -33,6 +33,7 @@ use signorini_exact::{ImpactOscillator, OscillatorParams};
 use signorini_run::chaos::{energy_norm, lyapunov, predictability_horizon, Benettin, Flow, StepperFlow};
 use signorini_scene::presets::{self, Preset};
 use signorini_scene::{Limits, Scene, SceneError, SceneFile};
+use signorini_schemes::SchemeSpec;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -136,11 +137,11 @@ impl Config {
 
     /// The cases: (scene, dt, elements; `None` = the scene's own) then the oscillator's Ω.
     fn cases(&self) -> Vec<Case> {
-        let mut v: Vec<Case> = self.scenes.iter().map(|s| Case::Beam { name: s.clone(), dt: None, elements: None }).collect();
+        let mut v: Vec<Case> = self.scenes.iter().map(|s| Case::Beam { name: s.clone(), dt: None, elements: None, scheme: None }).collect();
         for s in &self.refine {
             for &j in &self.elements {
                 for &dt in &self.dts {
-                    v.push(Case::Beam { name: s.clone(), dt: Some(dt), elements: Some(j) });
+                    v.push(Case::Beam { name: s.clone(), dt: Some(dt), elements: Some(j), scheme: None });
                 }
             }
         }
@@ -155,17 +156,18 @@ pub type Output = crate::Report;
 
 #[derive(Clone, Debug)]
 pub(crate) enum Case {
-    Beam { name: String, dt: Option<f64>, elements: Option<usize> },
+    Beam { name: String, dt: Option<f64>, elements: Option<usize>, scheme: Option<SchemeSpec> },
     Oscillator { omega: f64 },
 }
 
 /// The scene of a case with horizon `t_end` (s) (the beam statistics'
 /// scenes too): a preset of the scene crate with its horizon, and the beam
-/// scenes' dt and J or the oscillator's Ω, set by path (an edit of a key
+/// scenes' dt, J and scheme (the beam statistics' `schemes`) or the
+/// oscillator's Ω, set by path (an edit of a key
 /// the scene does not have fails, [`presets::set_path`]).
 pub(crate) fn scene_file(case: &Case, t_end: f64) -> Result<SceneFile, SceneError> {
     match case {
-        Case::Beam { name, dt, elements } => {
+        Case::Beam { name, dt, elements, scheme } => {
             let doc = match name.as_str() {
                 "fig2-support" => Preset::Fig2Support.document()?,
                 "beam-obstacles" => Preset::BeamObstacles.document()?,
@@ -181,6 +183,9 @@ pub(crate) fn scene_file(case: &Case, t_end: f64) -> Result<SceneFile, SceneErro
             }
             if let Some(j) = elements {
                 edits.push(("beam.elements", toml::Value::Integer(*j as i64)));
+            }
+            if let Some(s) = scheme {
+                edits.push(("beam.scheme", s.call().into()));
             }
             presets::edit(doc, &edits)
         }
@@ -363,7 +368,7 @@ mod tests {
     fn old_text(case: &Case, t_end: f64) -> String {
         let file = |name: &str| std::fs::read_to_string(format!("{}/../../data/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("the data file");
         match case {
-            Case::Beam { name, dt, elements } => {
+            Case::Beam { name, dt, elements, .. } => {
                 let mut keys = format!("t_end = {t_end:e}\n");
                 if let Some(dt) = dt {
                     keys.push_str(&format!("dt = {dt:e}\n"));
@@ -386,10 +391,10 @@ mod tests {
     #[test]
     fn the_edited_presets_are_the_scenes_the_text_edits_gave() {
         let cases = [
-            Case::Beam { name: "fig2-support".into(), dt: None, elements: None },
-            Case::Beam { name: "fig2-support".into(), dt: Some(2.5e-5), elements: Some(38) },
-            Case::Beam { name: "beam-obstacles".into(), dt: None, elements: None },
-            Case::Beam { name: "fig5".into(), dt: Some(1e-5), elements: Some(19) },
+            Case::Beam { name: "fig2-support".into(), dt: None, elements: None, scheme: None },
+            Case::Beam { name: "fig2-support".into(), dt: Some(2.5e-5), elements: Some(38), scheme: None },
+            Case::Beam { name: "beam-obstacles".into(), dt: None, elements: None, scheme: None },
+            Case::Beam { name: "fig5".into(), dt: Some(1e-5), elements: Some(19), scheme: None },
             Case::Oscillator { omega: 1.7 },
         ];
         for case in &cases {

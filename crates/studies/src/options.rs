@@ -673,6 +673,12 @@ pub(crate) mod with {
         list(d, crate::parse_schemes)
     }
 
+    /// Scheme names, given (`None` when the option is not: the study's
+    /// default list).
+    pub fn some_schemes<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec<signorini_schemes::SchemeSpec>>, D::Error> {
+        schemes(d).map(Some)
+    }
+
     /// Mass treatments.
     pub fn masses<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<signorini_fem::BarMass>, D::Error> {
         list(d, crate::parse_masses)

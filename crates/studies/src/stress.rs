@@ -31,6 +31,12 @@ crate::options::study_config! {
         pub seed: u64 = 1,
         /// Output folder.
         pub out: PathBuf = PathBuf::from("out/stress"),
+        /// Schemes, comma-separated (default: every named scheme of
+        /// `signorini list`, by name); a family without presets by its call
+        /// (`contact-stabilized`, `nsga(0.5)`). Each runs with every mass
+        /// it accepts.
+        #[serde(deserialize_with = "crate::options::with::some_schemes")]
+        pub schemes: Option<Vec<SchemeSpec>> = None,
     }
 }
 
@@ -43,6 +49,7 @@ impl Config {
         if !(2..=signorini_fem::MAX_ELEMENTS).contains(&self.elements) {
             return Err(StudyError::config("elements", format!("⟨elements⟩ {}: allowed an integer >= 2", self.elements)));
         }
+        crate::time_stepping_schemes("schemes", self.schemes.as_deref())?;
         crate::fits_memory("elements", self.elements, 1)
     }
 }
@@ -100,7 +107,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let ratios = RATIOS;
     // Every mass treatment (mod1 is mod under another name).
     let masses: Vec<BarMass> = BarMass::ALL.into_iter().filter(|m| *m != BarMass::Mod1).collect();
-    let total = (SchemeSpec::named().map(|(_, s)| masses.iter().filter(|m| s.accepts_massless_node(m.massless_contact_node())).count()).sum::<usize>() * ratios.len()) as u64;
+    let schemes = crate::time_stepping_schemes("schemes", a.schemes.as_deref())?;
+    let total = (schemes.iter().map(|(_, s)| masses.iter().filter(|m| s.accepts_massless_node(m.massless_contact_node())).count()).sum::<usize>() * ratios.len()) as u64;
     let mut done = 0u64;
     let (s_, f_, i_) = (Kind::S, Kind::F, Kind::I);
     let mut w = TableOut::create(
@@ -110,7 +118,8 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     )?;
     let (mut rows, mut grid) = (Vec::new(), Vec::new());
     let mut md = String::from("| scheme | mass | worst relative energy change, dx/dt = 0.1 … 100 | largest E/E₀ | blow-ups | refused (CFL) |\n|---|---|---|---|---|---|\n");
-    for (name, scheme) in SchemeSpec::named() {
+    for (name, scheme) in &schemes {
+        let name = name.as_str();
         for &mass in &masses {
             if !scheme.accepts_massless_node(mass.massless_contact_node()) {
                 continue;

@@ -248,7 +248,7 @@ pub const BEAM_STATS: &str = "beam-fig2-support";
 fn impact_power(a: &Config, dt: f64) -> Result<(Interval, usize, f64), StudyError> {
     let sc = a.stat_config(&[dt]);
     let start = std::time::Instant::now();
-    let (values, steps) = crate::beam_statistics::run_case("fig2-support", dt, 19, &sc)?;
+    let (values, steps) = crate::beam_statistics::run_case("fig2-support", dt, 19, None, &sc)?;
     let wall = since(start);
     let power = batch_means(&values[0], sc.batches, 0.95).ok_or_else(|| StudyError::Run(format!("{BEAM_STATS}, dt = {dt:e}: no interval")))?;
     Ok((power, steps, wall))

@@ -28,7 +28,7 @@ fn converging_and_step_dependent_statistics_of_fig2() {
     let o = beam_statistics::run(&cfg, &|_, _| {}).unwrap();
     let t = &o.tables[0];
     let head: Vec<&str> = t.columns.iter().map(|c| c.0.as_str()).collect();
-    assert_eq!(head, ["scene", "dt", "elements", "statistic", "mean", "ci_low", "ci_high", "finest_mean", "rel_diff", "within_ci", "kind"]);
+    assert_eq!(head, ["scene", "dt", "elements", "statistic", "mean", "ci_low", "ci_high", "finest_mean", "rel_diff", "within_ci", "kind", "scheme", "wall_s"]);
     assert!(out.join("statistics.svg").exists());
     let (stat, kind, dt) = (col_s(t, "statistic"), col_s(t, "kind"), col_f(t, "dt"));
     let (mean, lo, hi, rel) = (col_f(t, "mean"), col_f(t, "ci_low"), col_f(t, "ci_high"), col_f(t, "rel_diff"));

@@ -8,6 +8,7 @@ mod frontier;
 mod long_horizon;
 mod lyapunov;
 mod options;
+mod scheme_lists;
 mod tables;
 mod time_error;
 mod wp_quantities;

@@ -65,7 +65,7 @@ fn errors_name_the_field_in_each_front_ends_spelling() {
     // A field the study does not have.
     let (field, flag, _) = refused::<stress::Config>(&flags(&[("stesp", "10")]));
     assert_eq!(field, "stesp");
-    assert!(flag.starts_with("--stesp: not an argument of the stress study (allowed: --steps, --elements, --seed, --out)"), "{flag}");
+    assert!(flag.starts_with("--stesp: not an argument of the stress study (allowed: --steps, --elements, --seed, --out, --schemes)"), "{flag}");
     // A name its parser refuses, for a field read through it (long_horizon's two lists of runs).
     let (field, flag, _) = refused::<long_horizon::Config>(&flags(&[("energy_runs", "ps-e0:heavy")]));
     assert_eq!(field, "energy_runs");

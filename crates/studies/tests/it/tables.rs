@@ -138,7 +138,7 @@ fn convergence_tables_are_the_files() {
 #[test]
 fn stress_table_is_the_file() {
     let out = temp_out("stress");
-    let cfg = stress::Config { out: out.clone(), steps: 100, elements: 4, seed: 7 };
+    let cfg = stress::Config { out: out.clone(), steps: 100, elements: 4, seed: 7, schemes: None };
     let o = stress::run(&cfg, &|_, _| {}).expect("the study runs");
     assert_tables_match_files(&out, &o.tables);
     let t = &o.tables[0];
