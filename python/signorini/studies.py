@@ -366,7 +366,7 @@ def beam_statistics(scenes=None, dts=None, elements=None, transient=None, window
     return _run("beam_statistics", out, dict(scenes=scenes, dts=dts, elements=elements, transient=transient, window=window, batches=batches, episode_gap=episode_gap, schemes=schemes), StudyResult)
 
 
-def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, beam_stat_dts=None, beam_stat_ref_dt=None, beam_stat_window=None, out=None, reference=None, repeats=None) -> StudyResult:
+def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_ref_dt=None, beam_window=None, beam_t_end=None, beam_stat_dts=None, beam_stat_ref_dt=None, beam_stat_window=None, out=None, reference=None, repeats=None, schemes=None) -> StudyResult:
     """Work–precision: error against wall time for every scheme and mass, then the
     frontier on the same axes: Courant-one central difference, P2/P3 (``degrees``),
     reduced bar and beam models (``modes``), and the beam of figure 2 at ``beam_dts``
@@ -406,8 +406,11 @@ def work_precision(levels=None, degrees=None, modes=None, beam_dts=None, beam_re
       refused. Default: ``"fine-step"``.
     * ``repeats``: Timed runs per configuration, in [1, 100]: the cost is their median,
       and two configurations whose ranges [min, max] overlap are a tie. Default: ``5``.
+    * ``schemes``: The bar rows' schemes, comma-separated (default: every named scheme
+      of `signorini list`, by name); a family without presets by its call
+      (`contact-stabilized`, `nsga(0.5)`). Each runs with every mass it accepts.
     """
-    return _run("work_precision", out, dict(levels=levels, degrees=degrees, modes=modes, beam_dts=beam_dts, beam_ref_dt=beam_ref_dt, beam_window=beam_window, beam_t_end=beam_t_end, beam_stat_dts=beam_stat_dts, beam_stat_ref_dt=beam_stat_ref_dt, beam_stat_window=beam_stat_window, reference=reference, repeats=repeats), StudyResult)
+    return _run("work_precision", out, dict(levels=levels, degrees=degrees, modes=modes, beam_dts=beam_dts, beam_ref_dt=beam_ref_dt, beam_window=beam_window, beam_t_end=beam_t_end, beam_stat_dts=beam_stat_dts, beam_stat_ref_dt=beam_stat_ref_dt, beam_stat_window=beam_stat_window, reference=reference, repeats=repeats, schemes=schemes), StudyResult)
 
 
 def stress(steps=None, elements=None, seed=None, out=None, schemes=None) -> StudyResult:

@@ -117,6 +117,12 @@ crate::options::study_config! {
         /// median, and two configurations whose ranges [min, max] overlap
         /// are a tie.
         pub repeats: usize = 5,
+        /// The bar rows' schemes, comma-separated (default: every named
+        /// scheme of `signorini list`, by name); a family without presets by
+        /// its call (`contact-stabilized`, `nsga(0.5)`). Each runs with
+        /// every mass it accepts.
+        #[serde(deserialize_with = "crate::options::with::some_schemes")]
+        pub schemes: Option<Vec<SchemeSpec>> = None,
     }
 }
 
@@ -177,7 +183,7 @@ fn courant1_levels(levels: &[usize]) -> Vec<usize> {
 impl Config {
     /// Every check done before a file is created; an error names the flag.
     pub fn validate(&self) -> Result<(), StudyError> {
-        let schemes: Vec<SchemeSpec> = SchemeSpec::named().map(|(_, s)| s).collect();
+        let schemes: Vec<SchemeSpec> = crate::time_stepping_schemes("schemes", self.schemes.as_deref())?.into_iter().map(|(_, s)| s).collect();
         for benchmark in BARS {
             let (ratio, t_end) = benchmark.default_ratio_and_horizon();
             for r in [ratio, ratio.max(10.0)] {
@@ -991,9 +997,9 @@ fn beam_points(a: &Config) -> Result<(Vec<Point>, (f64, f64)), StudyError> {
 /// Runs the study; `progress` after every (benchmark, scheme) sweep and its
 /// timings, then after each block of the frontier rows.
 pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, StudyError> {
-    let schemes: Vec<SchemeSpec> = SchemeSpec::named().map(|(_, s)| s).collect();
     // Everything is checked before a file is created.
     a.validate()?;
+    let schemes: Vec<SchemeSpec> = crate::time_stepping_schemes("schemes", a.schemes.as_deref())?.into_iter().map(|(_, s)| s).collect();
     let start = std::time::Instant::now();
     create_dir(&a.out)?;
     let frontier = 2 * (1 + a.degrees.len() + a.modes.len()) as u64 + u64::from(!a.beam_dts.is_empty()) + u64::from(!a.beam_stat_dts.is_empty());

@@ -3,7 +3,7 @@
 //! with the masses it takes, and nothing else; schemes without a time step
 //! or with one mass treatment only are refused naming the option.
 
-use signorini_studies::{beam_statistics, stress, Column, StudyError};
+use signorini_studies::{beam_statistics, stress, work_precision, Column, StudyError};
 use std::path::PathBuf;
 
 fn temp_out(name: &str) -> PathBuf {
@@ -115,4 +115,36 @@ fn beam_statistics_compares_every_scheme_with_the_first_schemes_finest() {
     for p in [d, g] {
         let _ = std::fs::remove_dir_all(p);
     }
+}
+
+/// Work–precision with `schemes`: the bar rows are the given schemes' (each
+/// with the masses it takes) beside the Courant-one frontier rows, which
+/// every run has; the reference is refused naming the option.
+#[test]
+fn work_precision_runs_the_given_schemes() {
+    let out = temp_out("wp");
+    let cfg = work_precision::Config {
+        out: out.clone(),
+        levels: vec![10, 20],
+        degrees: vec![],
+        modes: vec![],
+        beam_dts: vec![],
+        beam_stat_dts: vec![],
+        repeats: 1,
+        schemes: Some(vec!["contact-stabilized".parse().unwrap()]),
+        ..Default::default()
+    };
+    let o = work_precision::run(&cfg, &|_, _| {}).expect("the study runs");
+    let t = o.tables.iter().find(|t| t.file == "work_precision.csv").expect("work_precision.csv");
+    let mut pairs: Vec<(String, String)> = strs(t, "scheme").into_iter().zip(strs(t, "mass")).collect();
+    pairs.sort();
+    pairs.dedup();
+    let want: Vec<(String, String)> = [("cd-taylor", "lumped"), ("contact-stabilized", "lumped"), ("contact-stabilized", "std")].iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    assert_eq!(pairs, want);
+    let cfg = work_precision::Config { out: out.clone(), schemes: Some(vec!["event-driven".parse().unwrap()]), ..Default::default() };
+    match work_precision::run(&cfg, &|_, _| {}) {
+        Err(StudyError::Config { field, .. }) => assert_eq!(field, "schemes"),
+        other => panic!("expected a refusal naming schemes, got {:?}", other.map(|o| o.report)),
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }
