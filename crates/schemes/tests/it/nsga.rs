@@ -14,7 +14,10 @@
 //!   matrix against its closed-form limit `(λ + ρ∞)³`), second order off
 //!   contact (a forced oscillator against its exact solution), and ρ∞ = 1
 //!   conserving the energy off contact;
-//! * the energy identity of docs/theory.md §7.6 at ρ∞ = 1 with impacts.
+//! * the energy identity of docs/theory.md §7.6 at ρ∞ = 1 with impacts;
+//! * the cases a user meets first against the same transcription, 2000
+//!   steps each: a held start under a load that reverses, and
+//!   mirror-symmetric stops reached together.
 
 use signorini_fem::SymBand;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, SchemeSpec, SplitMix64, TimeProfile};
@@ -267,6 +270,56 @@ fn max_abs(x: &[f64]) -> f64 {
     x.iter().fold(0.0f64, |a, b| a.max(b.abs()))
 }
 
+/// Runs `cs` for `steps` steps with the scheme and with the dense
+/// transcription side by side, asserting every step equal to 1e-12;
+/// returns the worst relative difference, the steps with an impulse and
+/// every step's `(U, V)` of the scheme.
+fn follow(label: &str, cs: &Case, steps: usize) -> (f64, usize, Vec<Vec<f64>>) {
+    let spec = SchemeSpec::nsga(cs.rho, cs.e);
+    let mut s = spec.build(cs.dy.clone(), cs.dt, &cs.init).unwrap();
+    let ([load, shape], prof) = ([cs.dy.load.clone(), cs.dy.forcing[0].shape.clone()], cs.dy.forcing[0].time.clone());
+    let dn = Dense {
+        m: dense(&cs.dy.mass),
+        k: dense(&cs.dy.stiffness),
+        load,
+        shape,
+        prof,
+        dofs: cs.dy.contacts.iter().map(|c| c.dof).collect(),
+        lo: cs.dy.contacts.iter().map(|c| c.bounds.lo).collect(),
+        hi: cs.dy.contacts.iter().map(|c| c.bounds.hi).collect(),
+        e: cs.dy.contacts.iter().map(|c| c.restitution.unwrap_or(cs.e)).collect(),
+        rho: cs.rho,
+        dt: cs.dt,
+    };
+    let f0 = dn.force(0.0);
+    let ku = mv(&dn.k, &cs.init.u);
+    let q0 = solve(&dn.m, &(0..f0.len()).map(|i| f0[i] - ku[i]).collect::<Vec<f64>>());
+    let mut st = (cs.init.u.clone(), cs.init.v.clone(), q0.clone(), q0);
+    let n = st.0.len();
+    let (mut worst, mut hit, mut states) = (0.0f64, 0, Vec::with_capacity(steps));
+    for step in 1..=steps {
+        let (next, big) = dn.step(&st, step as f64 * cs.dt);
+        st = next;
+        s.step().unwrap();
+        let got = s.state().unwrap();
+        for (what, want, have) in [("U", &st.0, &got[..n]), ("V", &st.1, &got[n..2 * n]), ("a", &st.2, &got[2 * n..])] {
+            let scale = max_abs(want).max(1.0);
+            for (x, y) in want.iter().zip(have) {
+                let r = (x - y).abs() / scale;
+                worst = worst.max(r);
+                assert!(r <= 1e-12, "{label} ({spec}, {} contacts) step {step}: {what} {have:?} against {want:?}", dn.dofs.len());
+            }
+        }
+        let scale = max_abs(&big).max(1e-3);
+        for (l, b) in s.contact_forces().iter().zip(&big) {
+            assert!((-l * cs.dt - b).abs() <= 1e-12 * scale, "{label} step {step}: impulse {} against {b}", -l * cs.dt);
+        }
+        hit += usize::from(big.iter().any(|&b| b != 0.0));
+        states.push(got[..2 * n].to_vec());
+    }
+    (worst, hit, states)
+}
+
 /// The scheme against the dense transcription, 300 steps on each of 24
 /// random systems; at least 20 of them hit a stop.
 #[test]
@@ -274,53 +327,82 @@ fn contact_steps_follow_the_dense_transcription() {
     let mut worst = 0.0f64;
     let (mut impacts, mut struck) = (0, 0);
     for seed in 0..24u64 {
-        let cs = case(seed);
-        let spec = SchemeSpec::nsga(cs.rho, cs.e);
-        let mut s = spec.build(cs.dy.clone(), cs.dt, &cs.init).unwrap();
-        let ([load, shape], prof) = ([cs.dy.load.clone(), cs.dy.forcing[0].shape.clone()], cs.dy.forcing[0].time.clone());
-        let dn = Dense {
-            m: dense(&cs.dy.mass),
-            k: dense(&cs.dy.stiffness),
-            load,
-            shape,
-            prof,
-            dofs: cs.dy.contacts.iter().map(|c| c.dof).collect(),
-            lo: cs.dy.contacts.iter().map(|c| c.bounds.lo).collect(),
-            hi: cs.dy.contacts.iter().map(|c| c.bounds.hi).collect(),
-            e: cs.dy.contacts.iter().map(|c| c.restitution.unwrap_or(cs.e)).collect(),
-            rho: cs.rho,
-            dt: cs.dt,
-        };
-        let f0 = dn.force(0.0);
-        let ku = mv(&dn.k, &cs.init.u);
-        let q0 = solve(&dn.m, &(0..f0.len()).map(|i| f0[i] - ku[i]).collect::<Vec<f64>>());
-        let mut st = (cs.init.u.clone(), cs.init.v.clone(), q0.clone(), q0);
-        let n = st.0.len();
-        let mut hit = 0;
-        for step in 1..=300 {
-            let (next, big) = dn.step(&st, step as f64 * cs.dt);
-            st = next;
-            s.step().unwrap();
-            let got = s.state().unwrap();
-            for (what, want, have) in [("U", &st.0, &got[..n]), ("V", &st.1, &got[n..2 * n]), ("a", &st.2, &got[2 * n..])] {
-                let scale = max_abs(want).max(1.0);
-                for (x, y) in want.iter().zip(have) {
-                    let r = (x - y).abs() / scale;
-                    worst = worst.max(r);
-                    assert!(r <= 1e-12, "seed {seed} ({spec}, {} contacts) step {step}: {what} {have:?} against {want:?}", dn.dofs.len());
-                }
-            }
-            let scale = max_abs(&big).max(1e-3);
-            for (l, b) in s.contact_forces().iter().zip(&big) {
-                assert!((-l * cs.dt - b).abs() <= 1e-12 * scale, "seed {seed} step {step}: impulse {} against {b}", -l * cs.dt);
-            }
-            hit += usize::from(big.iter().any(|&b| b != 0.0));
-        }
+        let (w, hit, _) = follow(&format!("seed {seed}"), &case(seed), 300);
+        worst = worst.max(w);
         impacts += hit;
         struck += usize::from(hit > 0);
     }
     assert!(struck >= 20, "{struck} of 24 systems hit a stop");
     eprintln!("nsga vs its dense transcription: 24 systems x 300 steps ({struck} hit a stop), {impacts} steps with an impulse, worst relative difference {worst:.1e}");
+}
+
+/// A chain of `n` dofs, mirror-symmetric (`M`, `K` equal under
+/// `i ↦ n − 1 − i`): tridiagonal `M` (2/3 on the diagonal, 1/6 beside it),
+/// unit springs, both ends tied.
+fn symmetric_chain(n: usize) -> (SymBand, SymBand) {
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    for i in 0..n {
+        m.set(i, i, 2.0 / 3.0);
+        k.set(i, i, 2.0);
+        if i > 0 {
+            m.set(i, i - 1, 1.0 / 6.0);
+            k.set(i, i - 1, -1.0);
+        }
+    }
+    (m, k)
+}
+
+/// The cases a user meets first, against the same dense transcription,
+/// 2000 steps each (long runs):
+/// * a held start: the chain at rest on its stop (`U = 0`, `lo = 0`)
+///   pressed by a load on the contact dof, `−1 + 2 sin t`, which reverses
+///   at t = π/6 — held, released, struck again; while the load presses
+///   (t < π/6) the contact dof stays on the stop and every dof at rest;
+/// * mirror-symmetric contacts reached together: the symmetric chain with
+///   a lower stop at dof 0 and an upper one at dof n − 1, each 0.05 away,
+///   an antisymmetric start (v_i = −v_{n−1−i}) — both contacts strike at
+///   the same step, and the motion stays antisymmetric to round-off.
+#[test]
+fn held_starts_and_symmetric_contacts_follow_the_dense_transcription() {
+    let n = 6;
+    for rho in [0.0, 0.5, 1.0] {
+        // Held, under a load that reverses.
+        let (m, k) = symmetric_chain(n);
+        let mut load = vec![0.0; n];
+        load[0] = -1.0;
+        let mut shape = vec![0.0; n];
+        shape[0] = 1.0;
+        let forcing = vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 2.0, omega: 1.0 } }];
+        let dy = Dynamics::new(m, k, load, vec![Contact::new(0, Bounds::obstacle(0.0), false)]).with_forcing(forcing);
+        let cs = Case { dy, init: Initial { u: vec![0.0; n], v: vec![0.0; n] }, rho, e: 0.0, dt: 0.01 };
+        let (w, hit, states) = follow(&format!("held start, ρ∞ = {rho}"), &cs, 2000);
+        let pressing = (std::f64::consts::FRAC_PI_6 / 0.01) as usize - 1;
+        for (j, x) in states.iter().take(pressing).enumerate() {
+            assert!(max_abs(x) <= 1e-12, "held start, ρ∞ = {rho}: moved at step {} while the load presses: {x:?}", j + 1);
+        }
+        assert!(hit >= pressing, "held start, ρ∞ = {rho}: {hit} steps with an impulse");
+        assert!(states.iter().skip(pressing).any(|x| x[0] > 1e-3), "held start, ρ∞ = {rho}: never released");
+        eprintln!("nsga held start, ρ∞ = {rho}: 2000 steps, {hit} with an impulse, worst {w:.1e}");
+        // Two stops reached together.
+        for e in [0.0, 0.5] {
+            let (m, k) = symmetric_chain(n);
+            let contacts = vec![Contact::new(0, Bounds { lo: -0.05, hi: f64::INFINITY }, false), Contact::new(n - 1, Bounds { lo: f64::NEG_INFINITY, hi: 0.05 }, false)];
+            let forcing = vec![Forcing { shape: vec![0.0; n], time: TimeProfile::Sine { amplitude: 0.0, omega: 1.0 } }];
+            let dy = Dynamics::new(m, k, vec![0.0; n], contacts).with_forcing(forcing);
+            let v: Vec<f64> = (0..n).map(|i| -0.5 * (1.0 - 2.0 * i as f64 / (n - 1) as f64)).collect();
+            let cs = Case { dy, init: Initial { u: vec![0.0; n], v }, rho, e, dt: 0.01 };
+            let (w, hit, states) = follow(&format!("symmetric stops, ρ∞ = {rho}, e = {e}"), &cs, 2000);
+            assert!(hit > 0, "symmetric stops, ρ∞ = {rho}, e = {e}: no impact");
+            for (j, x) in states.iter().enumerate() {
+                for i in 0..n {
+                    for (a, b) in [(x[i], x[n - 1 - i]), (x[n + i], x[2 * n - 1 - i])] {
+                        assert!((a + b).abs() <= 1e-13, "symmetric stops, ρ∞ = {rho}, e = {e}: step {}: not antisymmetric at dof {i}: {a} against {b}", j + 1);
+                    }
+                }
+            }
+            eprintln!("nsga symmetric stops, ρ∞ = {rho}, e = {e}: 2000 steps, {hit} with an impulse, worst {w:.1e}");
+        }
+    }
 }
 
 /// One dof, `M = 1`, `K = ω²`, the stop far away: the amplification
