@@ -90,3 +90,82 @@ fn carpenters_forward_increment_multipliers_are_taylor_flanagan() {
     assert!(active > 50, "only {active} constrained contact-steps: the test would be vacuous");
     eprintln!("Carpenter–Taylor–Katona vs taylor-flanagan: worst {worst:.1e}, {active} constrained contact-steps");
 }
+
+/// The cases a user meets first, 2000 steps each against the same dense
+/// step, with a consistent (tridiagonal) and a lumped mass:
+/// * a held start: a chain at rest on its stop (`U = 0`, `lo = 0`) pressed
+///   by a steady load on the contact dof — it stays at rest (every dof
+///   within 1e-15 of 0), the contact held at every step;
+/// * mirror-symmetric stops reached together: a lower stop at dof 0 and an
+///   upper one at dof n − 1, each 0.05 away, an antisymmetric start — the
+///   motion stays antisymmetric to round-off through repeated impacts.
+#[test]
+fn held_starts_and_symmetric_contacts_are_carpenters() {
+    use signorini_fem::SymBand;
+    use signorini_schemes::{Bounds, Contact, Initial};
+    let spec: SchemeSpec = "taylor-flanagan".parse().unwrap();
+    let n = 6;
+    for lumped in [false, true] {
+        let chain = || {
+            let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+            for i in 0..n {
+                m.set(i, i, if lumped { 1.0 } else { 2.0 / 3.0 });
+                k.set(i, i, 2.0);
+                if i > 0 {
+                    if !lumped {
+                        m.set(i, i - 1, 1.0 / 6.0);
+                    }
+                    k.set(i, i - 1, -1.0);
+                }
+            }
+            (m, k)
+        };
+        let run = |dy: Dynamics, init: Initial, label: &str| {
+            let (m, k, f) = (dense(&dy.mass), dense(&dy.stiffness), dy.load.clone());
+            let cons: Vec<(usize, f64, f64)> = dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi)).collect();
+            let dt = 0.5 * spec.cfl_limit(&dy).unwrap().expect("explicit");
+            let mut s = spec.build(dy, dt, &init).unwrap();
+            let (mut um, mut u) = (init.u.clone(), s.displacement().to_vec());
+            let (mut worst, mut active, mut states) = (0.0f64, 0usize, vec![u.clone()]);
+            for step in 1..2000 {
+                let want = carpenter_step(&m, &k, &f, &cons, dt, &um, &u);
+                s.step().unwrap();
+                let scale = 1.0 + want.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+                for (i, (g, w)) in s.displacement().iter().zip(&want).enumerate() {
+                    let e = (g - w).abs() / scale;
+                    worst = worst.max(e);
+                    assert!(e <= 1e-12, "{label}, lumped {lumped}, step {step}, dof {i}: {g} vs Carpenter's {w}");
+                }
+                active += cons.iter().filter(|&&(c, lo, hi)| want[c] == lo || want[c] == hi).count();
+                states.push(s.displacement().to_vec());
+                (um, u) = (u, want);
+            }
+            eprintln!("Carpenter {label}, lumped {lumped}: worst {worst:.1e}, {active} constrained contact-steps");
+            (active, states)
+        };
+        // Held.
+        let (m, k) = chain();
+        let mut load = vec![0.0; n];
+        load[0] = -1.0;
+        let dy = Dynamics::new(m, k, load, vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+        let (active, states) = run(dy, Initial { u: vec![0.0; n], v: vec![0.0; n] }, "held start");
+        assert_eq!(active, 1999, "held start, lumped {lumped}: the contact must be held at every step");
+        for (j, x) in states.iter().enumerate() {
+            // At rest to round-off (the consistent mass spreads the pressing
+            // load and the multiplier over the chain; they cancel to 1e-18).
+            assert!(x.iter().all(|&v| v.abs() <= 1e-15), "held start, lumped {lumped}: moved at level {j}: {x:?}");
+        }
+        // Two stops reached together.
+        let (m, k) = chain();
+        let contacts = vec![Contact::new(0, Bounds { lo: -0.05, hi: f64::INFINITY }, false), Contact::new(n - 1, Bounds { lo: f64::NEG_INFINITY, hi: 0.05 }, false)];
+        let dy = Dynamics::new(m, k, vec![0.0; n], contacts);
+        let v: Vec<f64> = (0..n).map(|i| -0.5 * (1.0 - 2.0 * i as f64 / (n - 1) as f64)).collect();
+        let (active, states) = run(dy, Initial { u: vec![0.0; n], v }, "symmetric stops");
+        assert!(active > 20, "symmetric stops, lumped {lumped}: {active} constrained contact-steps");
+        for (j, x) in states.iter().enumerate() {
+            for i in 0..n {
+                assert!((x[i] + x[n - 1 - i]).abs() <= 1e-13, "symmetric stops, lumped {lumped}, level {j}: dof {i} {} against {}", x[i], x[n - 1 - i]);
+            }
+        }
+    }
+}
