@@ -98,7 +98,8 @@ fn rust_counts(lines: &[String]) -> (u64, u64, u64) {
 fn python_counts(lines: &[String]) -> (u64, u64, u64) {
     let summary = lines.iter().rev().map(|l| l.trim().trim_matches('=').trim()).find(|l| {
         l.starts_with(|c: char| c.is_ascii_digit())
-            && l.split(" in ").last().is_some_and(|t| t.ends_with('s') && t.trim_end_matches('s').parse::<f64>().is_ok())
+            // `in 15.32s`, or `in 81.19s (0:01:21)` past a minute.
+            && l.split(" in ").last().map(|t| t.split(" (").next().unwrap_or(t)).is_some_and(|t| t.ends_with('s') && t.trim_end_matches('s').parse::<f64>().is_ok())
             && ["passed", "failed", "skipped", "error", "errors", "deselected", "xfailed", "xpassed", "warning", "warnings"].iter().any(|w| count(l, w) > 0)
     });
     summary.map_or((0, 0, 0), |l| (count(l, "passed"), count(l, "failed") + count(l, "error") + count(l, "errors"), count(l, "skipped")))
@@ -425,6 +426,9 @@ mod tests {
         let py = lines("....F..s\nFAILED python/tests/test_x.py::test_y - AssertionError: 2 passed, 9 failed in 1.0s?\n1 failed, 110 passed, 3 skipped, 1 error in 15.20s");
         assert_eq!(python_counts(&py), (110, 2, 3));
         assert_eq!(python_counts(&lines("========= 114 passed in 15.32s =========")), (114, 0, 0));
+        // Past a minute pytest adds the time as h:mm:ss.
+        assert_eq!(python_counts(&lines("245 passed in 81.19s (0:01:21)")), (245, 0, 0));
+        assert_eq!(python_counts(&lines("==== 1 failed, 244 passed in 95.02s (0:01:35) ====")), (244, 1, 0));
         let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (114, 0, 0) };
         let (detail, total) = verdict_lines(&rec, &[], &[], None);
         assert_eq!(detail, "signorini tests: PASS — 443 passed, 0 failed, 1 ignored (Rust); 114 passed, 0 failed, 0 skipped (Python)");
