@@ -441,13 +441,19 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // An orbit with impacts whose flight between them grazes
                     // a stop: the same, with the further impact beyond.
                     let grazed = appearing_impact(&ctx, &cur, &branch.points, dir).or_else(|| further_impact(&ctx, &cur, &branch.points, dir));
-                    if let Some((bif, away)) = grazed {
+                    if let Some((bif, away, retraced)) = grazed {
                         let at = bif.param;
-                        branch.bifurcations.push(bif);
+                        // Retraced: the grazing is the one the branch just
+                        // crossed, listed then.
+                        if !retraced {
+                            branch.bifurcations.push(bif);
+                        }
                         // No impacting orbit beyond: the branch ends at
                         // the grazing, which is named.
                         let Some(last) = away.last().cloned() else {
-                            branch.end = if cur.orbit.impacts() == 0 {
+                            branch.end = if retraced {
+                                format!("ended at the grazing at param = {at}: the orbit with the further impact there is the one the branch came along (it would retrace itself)")
+                            } else if cur.orbit.impacts() == 0 {
                                 format!(
                                     "ended at the grazing at param = {at}: no periodic orbit with the new impact found beyond it (Newton from the grazing orbit at 1e-9 … 1e-3 of the range past it)"
                                 )
@@ -497,6 +503,13 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
         };
         let i = branch.points.len() - 1;
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
+        // Across a change of the impacts onto an orbit the branch has
+        // passed through (a corrector falling onto the orbit it came along,
+        // near a grazing where the two meet): it would retrace itself.
+        if next.orbit.impacts() != cur.orbit.impacts() && retraces(&branch.points, &next, &cur) {
+            branch.end = format!("returned onto itself at param = {}: the orbit with {} impacts per period there is one the branch has passed through", next.param, next.orbit.impacts());
+            return Ok(branch);
+        }
         branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone(), mark: next.mark });
         if beyond(next.param) || next.param == opts.to {
             branch.end = "reached to".into();
@@ -512,6 +525,11 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
         // Grazing ahead: jump across it (module docs).
         if let Some((bif, across)) = graze(&ctx, &prev, &cur, dir, branch.points.len() - 1, vref) {
             branch.bifurcations.push(bif);
+            if retraces(&branch.points, &across, &cur) {
+                branch.end =
+                    format!("returned onto itself at param = {}: the orbit with {} impacts per period across the grazing is one the branch has passed through", across.param, across.orbit.impacts());
+                return Ok(branch);
+            }
             let beyond_to = beyond(across.param);
             if !beyond_to {
                 branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone(), mark: across.mark });
@@ -599,7 +617,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
 /// the zero of the orbit's distance to the stops ([`margin`]), and the
 /// impacting orbit beyond ([`impact_beyond_grazing`]; `impacts` and
 /// `releases` read 0 on both sides when there is none).
-fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>)> {
+fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
@@ -613,7 +631,7 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
 /// bound at an interior extremum of a flight ([`flight_margin`]), and the
 /// orbit with the further impact beyond ([`impact_beyond_grazing`]; with
 /// none, `impacts` and `releases` read the orbit's on both sides).
-fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>)> {
+fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
     if cur.orbit.impacts() == 0 || points.len() < 2 {
         return None;
     }
@@ -629,7 +647,7 @@ fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
 /// natural-parameter steps away from the grazing. When none converges the
 /// grazing is returned with no orbit beyond (the branch ends there, the
 /// event named).
-fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>)> {
+fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>, bool)> {
     let smooth = cur.orbit.impacts();
     let prev = &points[points.len() - 2];
     let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
@@ -679,7 +697,13 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
         x: p1.x.clone(),
         mark: None,
     };
-    let Some(b) = beyond else { return Some((bif, Vec::new())) };
+    let Some(b) = beyond else { return Some((bif, Vec::new(), false)) };
+    // An orbit the branch has already passed through (it came to this
+    // grazing along the orbit with the further impact, and crossed to the
+    // smooth one at it): going on from it would retrace the branch.
+    if smooth > 0 && retraces(points, &b, &p1) {
+        return Some((bif, Vec::new(), true));
+    }
     let side = (b.param - estimate).signum();
     // Turned back: the smooth orbit is as near as the orbit is to the
     // grazing, and the corrector (plain Newton) would fall onto it.
@@ -722,7 +746,26 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
             None => break,
         }
     }
-    Some((bif, away))
+    Some((bif, away, false))
+}
+
+/// Whether `b` lies on the branch so far: between two of its points with
+/// `b`'s impacts that bracket its parameter, their linear interpolation
+/// there is within 1 % of `b`'s distance from `p1` (the grazing orbit, or
+/// the point it jumped from: an orbit that differs from the branch's does
+/// by as much as it differs from `p1`; the interpolation's error is of the
+/// square of the spacing).
+fn retraces(points: &[BranchPoint], b: &Point, p1: &Point) -> bool {
+    let scale = b.x.iter().zip(&p1.x).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+    points.windows(2).any(|w| {
+        let (q, r) = (&w[0], &w[1]);
+        if q.orbit.impacts() != b.orbit.impacts() || r.orbit.impacts() != b.orbit.impacts() || (q.param - b.param) * (r.param - b.param) > 0.0 || q.param == r.param {
+            return false;
+        }
+        let s = (b.param - q.param) / (r.param - q.param);
+        let gap = q.orbit.x.iter().zip(&r.orbit.x).zip(&b.x).fold(0.0f64, |a, ((u, v), x)| a.max((u + s * (v - u) - x).abs()));
+        gap <= 1e-2 * scale
+    })
 }
 
 /// At a corner of the branch (the corrector fails at every step): an orbit
