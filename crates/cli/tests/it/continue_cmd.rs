@@ -60,6 +60,11 @@ fn switch_continues_the_period_doubled_branch() {
         }
     }
     assert!(doubled.iter().filter(|r| r[6] == "2").count() > 5);
+    // Its loop of period-2 orbits (through grazings, folds and its mirror
+    // image shifted by a period) is run once: the branch ends where it
+    // comes back onto itself, not at the most points allowed.
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(!text.contains("max points"), "{text}");
 }
 
 #[test]
