@@ -3,6 +3,7 @@ mod autonomous;
 mod basins;
 mod beam;
 mod chain;
+mod chatter;
 mod further_impact;
 mod oscillator;
 mod reach;
