@@ -192,3 +192,32 @@ fn the_flight_reaching_the_other_stop_is_a_grazing_where_the_branch_turns_back()
     let signs: Vec<f64> = p.orbit.events.iter().filter(|e| e.velocity_before != 0.0).map(|e| e.velocity_before.signum()).collect();
     assert!(signs.contains(&1.0) && signs.contains(&-1.0), "both stops hit: {signs:?}");
 }
+
+/// The other way: from the stable two-impact orbit at Ω = 0.8 (the
+/// attractor of a run from rest) up, through its fold, back down to where
+/// its slow impact vanishes — the same grazing, now 2 → 1 — and on along
+/// the one-impact orbit (the closed form's) to Ω = 1.
+#[test]
+fn from_the_two_impact_orbit_the_branch_reaches_the_same_grazing_and_goes_on_with_one() {
+    let want = zero(0.89, 0.90, |w| GAP - extremum(w, true));
+    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let (m, t) = (fam.model(0.8).unwrap(), fam.period(0.8).unwrap());
+    let mut x = vec![0.0, 0.0];
+    for _ in 0..1000 {
+        x = m.flow(0.0, &x, t, false).unwrap().x;
+    }
+    let branch = continuation(&fam, &x, &ContinuationOptions::new(0.8, 1.0)).unwrap();
+    assert_eq!(branch.end, "reached to");
+    let grazing: Vec<_> = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::Grazing).collect();
+    assert_eq!(grazing.len(), 1, "{:?}", branch.bifurcations);
+    eprintln!("grazing at {} vs closed form {want}: {:e} apart", grazing[0].param, (grazing[0].param - want).abs());
+    assert!((grazing[0].param - want).abs() <= 1e-8 * want, "grazing at {} vs closed form {want}", grazing[0].param);
+    assert_eq!(grazing[0].impacts, (2, 1));
+    let after = &branch.points[grazing[0].between.1..];
+    assert!(after.len() >= 5 && after.iter().all(|p| p.orbit.impacts() == 1));
+    for p in after {
+        let x = section_state(p.param);
+        let err = (p.orbit.x[0] - x[0]).abs().max((p.orbit.x[1] - x[1]).abs());
+        assert!(err <= 1e-8, "Ω = {}: state error {err:e} against the closed form", p.param);
+    }
+}
