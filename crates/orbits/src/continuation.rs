@@ -13,14 +13,18 @@
 //! - **period doubling**: a real multiplier passes through −1;
 //! - **Neimark–Sacker**: a complex pair leaves or enters the unit circle;
 //! - **grazing**: the number of impacts per period changes (an impact at
-//!   zero speed separates the two);
+//!   zero speed separates the two) — an impact vanishing, a free orbit's
+//!   first, or a further one where a flight between two impacts reaches a
+//!   stop (its interior extremum: [`Model::flight_margin`]), after which
+//!   the branch goes on past the grazing or turns back from it with the
+//!   further impact, wherever that orbit is;
 //! - **sticking**: the number of held phases per period changes.
 //!
 //! Each is located by bisection on the arclength (the test function's sign,
 //! or the event count), every trial point corrected onto the branch.
 
 use crate::map::Model;
-use crate::shoot::{eigenvalues, periodic_orbit, Newton, Orbit};
+use crate::shoot::{eigenvalues, periodic_orbit, periodic_orbit_keeping, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -434,15 +438,31 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     }
                     // An orbit without impacts grazing a stop: the grazing
                     // located on its smooth side, the impacting orbit beyond.
-                    if let Some((bif, away)) = appearing_impact(&ctx, &cur, &branch.points, dir) {
+                    // An orbit with impacts whose flight between them grazes
+                    // a stop: the same, with the further impact beyond.
+                    let grazed = appearing_impact(&ctx, &cur, &branch.points, dir).or_else(|| further_impact(&ctx, &cur, &branch.points, dir));
+                    if let Some((bif, away, retraced)) = grazed {
                         let at = bif.param;
-                        branch.bifurcations.push(bif);
+                        // Retraced: the grazing is the one the branch just
+                        // crossed, listed then.
+                        if !retraced {
+                            branch.bifurcations.push(bif);
+                        }
                         // No impacting orbit beyond: the branch ends at
                         // the grazing, which is named.
                         let Some(last) = away.last().cloned() else {
-                            branch.end = format!(
-                                "ended at the grazing at param = {at}: no periodic orbit with the new impact found beyond it (Newton from the grazing orbit at 1e-9 … 1e-3 of the range past it)"
-                            );
+                            branch.end = if retraced {
+                                format!("ended at the grazing at param = {at}: the orbit with the further impact there is the one the branch came along (it would retrace itself)")
+                            } else if cur.orbit.impacts() == 0 {
+                                format!(
+                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found beyond it (Newton from the grazing orbit at 1e-9 … 1e-3 of the range past it)"
+                                )
+                            } else {
+                                format!(
+                                    "ended at the grazing at param = {at}, where a flight between the {} impacts per period reaches a stop: no periodic orbit with the further impact found past it or turning back from it (Newton at 1e-9 … 1e-3 of the range on either side)",
+                                    cur.orbit.impacts()
+                                )
+                            };
                             return Ok(branch);
                         };
                         branch.points.extend(away.iter().map(|p| BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark }));
@@ -483,6 +503,13 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
         };
         let i = branch.points.len() - 1;
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
+        // Across a change of the impacts onto an orbit the branch has
+        // passed through (a corrector falling onto the orbit it came along,
+        // near a grazing where the two meet): it would retrace itself.
+        if next.orbit.impacts() != cur.orbit.impacts() && retraces(&branch.points, &next, &cur) {
+            branch.end = format!("returned onto itself at param = {}: the orbit with {} impacts per period there is one the branch has passed through", next.param, next.orbit.impacts());
+            return Ok(branch);
+        }
         branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone(), mark: next.mark });
         if beyond(next.param) || next.param == opts.to {
             branch.end = "reached to".into();
@@ -498,6 +525,11 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
         // Grazing ahead: jump across it (module docs).
         if let Some((bif, across)) = graze(&ctx, &prev, &cur, dir, branch.points.len() - 1, vref) {
             branch.bifurcations.push(bif);
+            if retraces(&branch.points, &across, &cur) {
+                branch.end =
+                    format!("returned onto itself at param = {}: the orbit with {} impacts per period across the grazing is one the branch has passed through", across.param, across.orbit.impacts());
+                return Ok(branch);
+            }
             let beyond_to = beyond(across.param);
             if !beyond_to {
                 branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone(), mark: across.mark });
@@ -582,32 +614,74 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
 
 /// An orbit without impacts whose branch stops (the corrector fails at
 /// every step) because its motion reaches a stop: the grazing parameter as
-/// the zero of the orbit's distance to the stops (secant steps on the
-/// smooth side, each a Newton solve), then the impacting orbit just beyond
-/// it (Newton from the grazing orbit's state at parameters `1e-9` … `1e-3`
-/// of the range past it; its Jacobian grows as the inverse of the new
-/// impact's speed, so the nearest that converges is taken). When none
-/// converges the grazing is returned with no orbit beyond (the branch ends
-/// there, the event named; `impacts` and `releases` then read 0 on both
-/// sides).
-fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>)> {
+/// the zero of the orbit's distance to the stops ([`margin`]), and the
+/// impacting orbit beyond ([`impact_beyond_grazing`]; `impacts` and
+/// `releases` read 0 on both sides when there is none).
+fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
+    impact_beyond_grazing(ctx, cur, points, dir, &margin)
+}
+
+/// An orbit with impacts whose branch stops because a free flight between
+/// them reaches a stop (a further impact appears: the oscillator's flight
+/// touching the other stop, or a second, slow impact at the same stop):
+/// the grazing parameter as the zero of the orbit's smallest distance to a
+/// bound at an interior extremum of a flight ([`flight_margin`]), and the
+/// orbit with the further impact beyond ([`impact_beyond_grazing`]; with
+/// none, `impacts` and `releases` read the orbit's on both sides).
+fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
+    if cur.orbit.impacts() == 0 || points.len() < 2 {
+        return None;
+    }
+    impact_beyond_grazing(ctx, cur, points, dir, &flight_margin)
+}
+
+/// The grazing ahead of `cur` where `measure` (the distance to grazing)
+/// reaches 0: its parameter by secant steps on the smooth side (each a
+/// Newton solve), then the orbit just beyond it with more impacts (Newton
+/// from the grazing orbit's state at parameters `1e-9` … `1e-3` of the
+/// range past it; its Jacobian grows as the inverse of the new impact's
+/// speed, so the nearest that converges is taken), and from it
+/// natural-parameter steps away from the grazing. When none converges the
+/// grazing is returned with no orbit beyond (the branch ends there, the
+/// event named).
+fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>, bool)> {
+    let smooth = cur.orbit.impacts();
     let prev = &points[points.len() - 2];
     let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
-    let (m0, m1) = (margin(ctx, &p0)?, margin(ctx, cur)?);
+    let (m0, m1) = (measure(ctx, &p0)?, measure(ctx, cur)?);
     if !(m1 < m0 && m1 >= 0.0) {
         return None;
     }
-    let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), 0, None, OnFailure::Stop, dir)?;
+    let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), (smooth, measure), None, OnFailure::Stop, dir)?;
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let side = (estimate - cur.param).signum();
     let mut beyond = None;
     for f in [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
         let param = estimate + side * f * ctx.ls;
-        if let Some(p) = solve_at(ctx, &p1.x, param, dir) {
-            if p.orbit.impacts() > 0 {
+        // Plain Newton, then (an orbit that already impacts) Newton
+        // keeping the guess's further impacts (the square-root side:
+        // [`periodic_orbit_keeping`]; the search from an orbit without
+        // impacts is as it was before it).
+        let found = solve_at(ctx, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth).or_else(|| (smooth > 0).then(|| solve_keeping(ctx, &p1.x, param, side, smooth)).flatten());
+        if let Some(p) = found {
+            beyond = Some(p);
+            break;
+        }
+    }
+    // None past it, on an orbit that already impacts: the orbit with the
+    // further impact on the near side (the branch turns back at the
+    // grazing, where the two orbits meet: a nonsmooth fold), from the
+    // smooth orbit there pushed past the stop.
+    // Nearer than 1e-6 of the range, the new impact is too slow for Newton
+    // to converge: the map's round-off grows as the inverse of its speed.
+    if beyond.is_none() && smooth > 0 {
+        for f in [1e-6, 1e-5, 1e-4, 1e-3, 1e-2] {
+            let param = estimate - side * f * ctx.ls;
+            let Some(near) = solve_at(ctx, &p1.x, param, -side).filter(|p| p.orbit.impacts() == smooth) else { continue };
+            if let Some(p) = past_the_stop(ctx, &near, -side) {
                 beyond = Some(p);
                 break;
             }
@@ -617,34 +691,81 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
         param: estimate,
         kind: BifurcationKind::Grazing,
         mu: critical(BifurcationKind::Grazing, &p1),
-        impacts: (0, beyond.as_ref().map_or(0, |b| b.orbit.impacts())),
-        releases: (0, beyond.as_ref().map_or(0, |b| b.orbit.releases())),
+        impacts: (smooth, beyond.as_ref().map_or(smooth, |b| b.orbit.impacts())),
+        releases: (cur.orbit.releases(), beyond.as_ref().map_or(cur.orbit.releases(), |b| b.orbit.releases())),
         between: (points.len() - 1, points.len()),
         x: p1.x.clone(),
         mark: None,
     };
-    let Some(b) = beyond else { return Some((bif, Vec::new())) };
+    let Some(b) = beyond else { return Some((bif, Vec::new(), false)) };
+    // An orbit the branch has already passed through (it came to this
+    // grazing along the orbit with the further impact, and crossed to the
+    // smooth one at it): going on from it would retrace the branch.
+    if smooth > 0 && retraces(points, &b, &p1) {
+        return Some((bif, Vec::new(), true));
+    }
+    let side = (b.param - estimate).signum();
+    // Turned back: the smooth orbit is as near as the orbit is to the
+    // grazing, and the corrector (plain Newton) would fall onto it.
+    let turned = side * (estimate - cur.param).signum() < 0.0;
     // Away from the grazing by natural-parameter steps doubling
     // (each from the last two orbits' extrapolation) until the new impact's
-    // speed has grown a hundredfold: the arclength steps take over there.
+    // speed has grown a hundredfold (turned back: and the orbit is 1 % of
+    // the range from the grazing): the arclength steps take over there.
     let v0 = b.orbit.slowest_impact().unwrap_or(0.0);
     let mut away = vec![b];
-    for _ in 0..20 {
+    let (mut dist, mut misses) = ((away[0].param - estimate).abs(), 0);
+    for _ in 0..30 {
         let last = &away[away.len() - 1];
-        if last.orbit.slowest_impact().unwrap_or(0.0) >= 100.0 * v0 {
+        if last.orbit.slowest_impact().unwrap_or(0.0) >= 100.0 * v0 && (!turned || (last.param - estimate).abs() >= 1e-2 * ctx.ls) {
             break;
         }
-        let param = estimate + 2.0 * (last.param - estimate);
+        dist *= 2.0;
+        let param = estimate + side * dist;
         // Linear in the distance to the grazing: from the grazing orbit
         // and the last one, then from the last two.
         let before = if away.len() == 1 { &p1 } else { &away[away.len() - 2] };
         let guess = lerp(before, last, (param - before.param) / (last.param - before.param));
-        match solve_at(ctx, &guess, param, dir) {
-            Some(p) if p.orbit.impacts() == away[0].orbit.impacts() => away.push(p),
-            _ => break,
+        let k = away[0].orbit.impacts();
+        let found = solve_at(ctx, &guess, param, side)
+            .filter(|p| p.orbit.impacts() == k)
+            .or_else(|| (smooth > 0).then(|| solve_keeping(ctx, &guess, param, side, k - 1)).flatten().filter(|p| p.orbit.impacts() == k));
+        // Turned back: the smooth orbit there, pushed past the stop.
+        let found = found.or_else(|| {
+            (turned && smooth > 0)
+                .then(|| solve_at(ctx, &guess, param, side).filter(|p| p.orbit.impacts() == smooth))
+                .flatten()
+                .and_then(|near| past_the_stop(ctx, &near, side))
+                .filter(|p| p.orbit.impacts() == k)
+        });
+        match found {
+            Some(p) => away.push(p),
+            // Turned back, a miss near the grazing (Newton at the map's
+            // round-off there) is skipped, at most 4 times.
+            None if turned && misses < 4 => misses += 1,
+            None => break,
         }
     }
-    Some((bif, away))
+    Some((bif, away, false))
+}
+
+/// Whether `b` lies on the branch so far: between two of its points with
+/// `b`'s impacts that bracket its parameter, their linear interpolation
+/// there is within 1 % of `b`'s distance from `p1` (the grazing orbit, or
+/// the point it jumped from: an orbit that differs from the branch's does
+/// by as much as it differs from `p1`; the interpolation's error is of the
+/// square of the spacing).
+fn retraces(points: &[BranchPoint], b: &Point, p1: &Point) -> bool {
+    let scale = b.x.iter().zip(&p1.x).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+    points.windows(2).any(|w| {
+        let (q, r) = (&w[0], &w[1]);
+        if q.orbit.impacts() != b.orbit.impacts() || r.orbit.impacts() != b.orbit.impacts() || (q.param - b.param) * (r.param - b.param) > 0.0 || q.param == r.param {
+            return false;
+        }
+        let s = (b.param - q.param) / (r.param - q.param);
+        let gap = q.orbit.x.iter().zip(&r.orbit.x).zip(&b.x).fold(0.0f64, |a, ((u, v), x)| a.max((u + s * (v - u) - x).abs()));
+        gap <= 1e-2 * scale
+    })
 }
 
 /// At a corner of the branch (the corrector fails at every step): an orbit
@@ -745,10 +866,59 @@ fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) ->
     ctx.point(orbit.x, param, &seed).ok()
 }
 
+/// [`solve_at`] for an orbit with the impacts of `guess`'s own period at
+/// `param` when it has more than `fewer` of them: Newton keeping them
+/// ([`periodic_orbit_keeping`]).
+fn solve_keeping<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Option<Point> {
+    let (model, period) = ctx.family.model_and_period(param).ok()?;
+    let k = model.flow(0.0, guess, period, false).ok()?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
+    if k <= fewer {
+        return None;
+    }
+    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k).ok()?;
+    let mut seed = vec![0.0; ctx.n + 1];
+    seed[ctx.n] = dir;
+    ctx.point(orbit.x, param, &seed).ok()
+}
+
+/// The orbit with a further impact beside the smooth orbit `near` (at its
+/// parameter): Newton keeping the impacts ([`periodic_orbit_keeping`]) from
+/// `near`'s state moved along the gradient of its flight's extremum
+/// ([`Model::flight_extremum`]) until the flight reaches past the stop by
+/// 1, 4 or 1/4 times its distance to it. `None` for an extremum of a
+/// massless contact dof (not in the state).
+fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, dir: f64) -> Option<Point> {
+    let model = ctx.family.model(near.param).ok()?;
+    let e = model.flight_extremum(0.0, &near.x, near.orbit.period).ok()??;
+    let grad = model.displacement_gradient(0.0, &near.x, e.t, e.contact).ok()??;
+    let norm2: f64 = grad.iter().map(|g| g * g).sum();
+    if !(norm2 > 0.0 && norm2.is_finite()) {
+        return None;
+    }
+    let toward = if e.upper { 1.0 } else { -1.0 };
+    let smooth = near.orbit.impacts();
+    [1.0, 4.0, 0.25].into_iter().find_map(|reach| {
+        let dq = toward * e.distance * (1.0 + reach);
+        let guess: Vec<f64> = near.x.iter().zip(&grad).map(|(x, g)| x + dq * g / norm2).collect();
+        solve_keeping(ctx, &guess, near.param, dir, smooth)
+    })
+}
+
 /// The smallest distance of `p`'s orbit to a bound over its period.
 fn margin<F: Family>(ctx: &Ctx<'_, F>, p: &Point) -> Option<f64> {
     ctx.family.model(p.param).ok().and_then(|m| m.margin(0.0, &p.x, p.orbit.period).ok())
 }
+
+/// The smallest distance of `p`'s orbit to a bound at an interior extremum
+/// of a free flight over its period ([`Model::flight_margin`]): 0 where a
+/// flight between two impacts grazes a stop.
+fn flight_margin<F: Family>(ctx: &Ctx<'_, F>, p: &Point) -> Option<f64> {
+    ctx.family.model(p.param).ok().and_then(|m| m.flight_margin(0.0, &p.x, p.orbit.period).ok())
+}
+
+/// The distance to grazing a bound of a point's orbit ([`margin`] or
+/// [`flight_margin`]).
+type Measure<'a, F> = &'a dyn Fn(&Ctx<'_, F>, &Point) -> Option<f64>;
 
 /// What [`grazing_parameter`] does when a trial is not an orbit of the
 /// smooth side (Newton fails, or the orbit has the grazing impact).
@@ -765,15 +935,24 @@ enum OnFailure {
 
 /// The grazing parameter from the smooth side of a grazing — the orbits
 /// with `smooth` impacts, which do not have the grazing impact and are
-/// smooth in the parameter — as the zero of the orbit's smallest distance
-/// to a bound (its margin): secant steps, each a Newton solve from the
+/// smooth in the parameter — as the zero of `measure` (the orbit's
+/// smallest distance to a bound, [`margin`], or that of its flights
+/// between impacts, [`flight_margin`]): secant steps, each a Newton solve from the
 /// state extrapolated from the last two orbits. Starts from `p1` (and `p0`
 /// with their margins); `beyond` is `(first estimate, a parameter known to
 /// be past the grazing)`, with which the first step goes halfway there
 /// (for [`OnFailure::Shorten`]; [`OnFailure::Stop`] starts from the secant
 /// of `p0`, `p1`). Returns the estimate and the last orbit of the smooth
 /// side; `None` if a margin cannot be computed.
-fn grazing_parameter<F: Family>(ctx: &Ctx<'_, F>, p0: Option<(Point, f64)>, p1: (Point, f64), smooth: usize, beyond: Option<(f64, f64)>, fail: OnFailure, dir: f64) -> Option<(f64, Point)> {
+fn grazing_parameter<F: Family>(
+    ctx: &Ctx<'_, F>,
+    p0: Option<(Point, f64)>,
+    p1: (Point, f64),
+    (smooth, measure): (usize, Measure<'_, F>),
+    beyond: Option<(f64, f64)>,
+    fail: OnFailure,
+    dir: f64,
+) -> Option<(f64, Point)> {
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let (mut p1, mut m1) = p1;
     let (mut p0, mut m0) = p0.unwrap_or_else(|| (p1.clone(), f64::NAN));
@@ -818,7 +997,7 @@ fn grazing_parameter<F: Family>(ctx: &Ctx<'_, F>, p0: Option<(Point, f64)>, p1: 
         let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
         match solve_at(ctx, &guess, next, dir) {
             Some(p) if p.orbit.impacts() == smooth => {
-                let m = margin(ctx, &p)?;
+                let m = measure(ctx, &p)?;
                 (p0, m0, p1, m1) = (p1, m1, p, m);
                 if fail == OnFailure::Shorten {
                     estimate = if m0.is_finite() && m0 != m1 { secant(&p0, m0, &p1, m1) } else { p1.param };
@@ -877,8 +1056,11 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
     // smallest distance to a bound (secant steps, each a Newton solve from
     // the extrapolated state). The impacting side's Jacobian grows as the
     // inverse of the impact speed: it is used only for the first estimate.
-    let m1 = margin(ctx, &c)?;
-    let (estimate, _) = grazing_parameter(ctx, None, (c.clone(), m1), c.orbit.impacts(), Some((graze, b.param)), OnFailure::Shorten, dir)?;
+    // Without impacts left, the distance over the whole period; with
+    // impacts left, at the interior extrema of the flights between them.
+    let measure: Measure<'_, F> = if c.orbit.impacts() == 0 { &margin } else { &flight_margin };
+    let m1 = measure(ctx, &c)?;
+    let (estimate, _) = grazing_parameter(ctx, None, (c.clone(), m1), (c.orbit.impacts(), measure), Some((graze, b.param)), OnFailure::Shorten, dir)?;
     let lo = b.clone();
     let bif = Bifurcation {
         param: estimate,

@@ -139,14 +139,19 @@ pub fn continue_scene(
     let mut lines = Vec::new();
     for (i, (b, fam)) in branches.iter().enumerate() {
         let stable = b.points.iter().filter(|p| p.stable()).count();
+        // Neutral orbits (every multiplier on the unit circle: an undamped
+        // structure's orbit without impacts) are neither: counted apart,
+        // as branch.svg draws them (said only when there are some).
+        let neutral = b.points.iter().filter(|p| crate::output::neutral(p)).count();
+        let neutral_text = if neutral > 0 { format!(", {neutral} neutral") } else { String::new() };
         lines.push(format!(
-            "branch {i} ({} forcing period{}): {} points from {} to {} ({stable} stable, {} unstable); {}",
+            "branch {i} ({} forcing period{}): {} points from {} to {} ({stable} stable, {} unstable{neutral_text}); {}",
             fam.periods(),
             if fam.periods() == 1 { "" } else { "s" },
             b.points.len(),
             b.points.first().map_or(f64::NAN, |p| p.param),
             b.points.last().map_or(f64::NAN, |p| p.param),
-            b.points.len() - stable,
+            b.points.len() - stable - neutral,
             b.end
         ));
         for f in &b.bifurcations {

@@ -18,6 +18,19 @@ pub struct Model {
     interrupt: Option<signorini_schemes::Interrupt>,
 }
 
+/// An interior extremum of a free flight ([`Model::flight_extremum`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Extremum {
+    /// Its distance to the bound it nears.
+    pub distance: f64,
+    /// When.
+    pub t: f64,
+    /// The contact.
+    pub contact: usize,
+    /// A maximum below the upper bound (`false`: a minimum above the lower).
+    pub upper: bool,
+}
+
 /// Where the flow took a state: the state after `τ`, its Jacobian, and the
 /// events on the way.
 #[derive(Clone, Debug)]
@@ -213,9 +226,111 @@ impl Model {
         Ok(best.0.min(d))
     }
 
+    /// The smallest distance to a bound at an interior extremum of a free
+    /// flight over `[t0, t0 + τ]` from `x0`: at each local maximum of a
+    /// contact dof's displacement between two events, its distance to the
+    /// upper bound; at each local minimum, to the lower one. It reaches 0
+    /// where a flight grazes a stop — a further impact appearing on an
+    /// orbit that already impacts (its impacts, where the distance is 0,
+    /// are ends of flights, not extrema), or the first one on an orbit
+    /// without. `f64::INFINITY` when no flight has such an extremum.
+    /// Sampled at 512 instants (and two beyond `t0 + τ`, so that an
+    /// extremum at the section of a periodic orbit is seen); each extremum
+    /// with no event within a sample of it is refined by golden-section
+    /// search, each trial a run from the sample before it. A pair of
+    /// extrema closer than a sample apart is not seen.
+    pub fn flight_margin(&self, t0: f64, x0: &[f64], tau: f64) -> Result<f64, OrbitError> {
+        Ok(self.flight_extremum(t0, x0, tau)?.map_or(f64::INFINITY, |e| e.distance))
+    }
+
+    /// The extremum of [`Model::flight_margin`]: where it is and which
+    /// bound it nears (`None` when no flight has one).
+    pub(crate) fn flight_extremum(&self, t0: f64, x0: &[f64], tau: f64) -> Result<Option<Extremum>, OrbitError> {
+        if x0.len() != self.dim() {
+            return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
+        }
+        if !(tau.is_finite() && tau > 0.0) {
+            return Err(OrbitError::Model(format!("the flight margin's horizon {tau} is not allowed: > 0 and finite")));
+        }
+        let (q0, v0) = self.lin.unpack(x0);
+        let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        let samples = 512;
+        let h = tau / samples as f64;
+        // (t, q, v, events so far) at each sample.
+        let mut at = Vec::with_capacity(samples + 3);
+        for i in 0..=samples + 2 {
+            let t = t0 + h * i as f64;
+            run.run_until(t, self.max_events)?;
+            let (_, q, v) = run.state();
+            at.push((t, q, v, run.events().len()));
+        }
+        let mut best: Option<Extremum> = None;
+        let mut keep = |distance: f64, t: f64, contact: usize, upper: bool| {
+            if best.is_none_or(|b| distance < b.distance) {
+                best = Some(Extremum { distance, t, contact, upper });
+            }
+        };
+        for i in 1..at.len() - 1 {
+            let (prev, mid, next) = (&at[i - 1], &at[i], &at[i + 1]);
+            if prev.3 != next.3 {
+                continue;
+            }
+            for (j, c) in self.dy.contacts.iter().enumerate() {
+                let d = c.dof;
+                let (a, b, z) = (prev.1[d], mid.1[d], next.1[d]);
+                let upper = b > a;
+                // A local maximum below the upper bound, a minimum above the lower.
+                // The distance to the bound: `sign · (bound − q)`.
+                let (bound, sign) = if b > a && b >= z && c.bounds.hi.is_finite() {
+                    (c.bounds.hi, 1.0)
+                } else if b < a && b <= z && c.bounds.lo.is_finite() {
+                    (c.bounds.lo, -1.0)
+                } else {
+                    continue;
+                };
+                let dist = |q: &[f64]| sign * (bound - q[d]);
+                keep(dist(&mid.1), mid.0, j, upper);
+                let trial = |t: f64| -> Result<f64, OrbitError> {
+                    let mut r = EventDriven::new(&self.dy, prev.0, &prev.1, &prev.2, self.e)?;
+                    r.run_until(t, self.max_events)?;
+                    let (_, q, _) = r.state();
+                    Ok(dist(&q))
+                };
+                let (m, t) = golden_min(prev.0, next.0, 1e-14 * tau, trial)?;
+                keep(m, t, j, upper);
+            }
+        }
+        Ok(best)
+    }
+
+    /// The gradient in the start state `x0` (at `t0`) of the displacement
+    /// of the contact `contact`'s dof at `t` (the row of the flow's
+    /// Jacobian to `t`); `None` for a massless contact dof (not in the
+    /// state).
+    pub(crate) fn displacement_gradient(&self, t0: f64, x0: &[f64], t: f64, contact: usize) -> Result<Option<Vec<f64>>, OrbitError> {
+        let Some(row) = self.dy.contacts.get(contact).and_then(|c| self.lin.state.iter().position(|&d| d == c.dof)) else { return Ok(None) };
+        let img = self.flow(t0, x0, t - t0, true)?;
+        let j = img.jacobian.expect("asked for");
+        Ok(Some((0..self.dim()).map(|c| j[(row, c)]).collect()))
+    }
+
     fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>) -> Result<(), OrbitError> {
         if let Some(r) = recs.iter().find(|r| r.kind == EventKind::Accumulation) {
-            return Err(OrbitError::NoDerivative { t: r.t, why: format!("an accumulation of impacts of contact {} (chattering): its linearisation is not implemented", r.contact) });
+            // Chattering to rest ends in a held phase. When it holds every
+            // dof with mass (the oscillator), the state is on the bound at
+            // rest until the held force's zero, a time the start does not
+            // move: every start near this one leaves the phase in the same
+            // state, so the map's Jacobian is exactly 0 from here on
+            // (central differences of the map: 0 to round-off).
+            let all_held = !self.lin.massless() && self.lin.state.iter().all(|d| after.iter().any(|&j| self.lin.sites[j].dof == *d));
+            if all_held {
+                *jac = Mat::zeros(jac.nrows(), jac.ncols());
+                return Ok(());
+            }
+            return Err(OrbitError::NoDerivative {
+                t: r.t,
+                why: format!("an accumulation of impacts of contact {} (chattering) with dofs left free: its linearisation (the limit of its saltations) is not implemented", r.contact),
+            });
         }
         // Massless contacts: the vector field is continuous at every event.
         if self.lin.massless() {

@@ -118,6 +118,12 @@ fn class(p: &crate::BranchPoint) -> usize {
     }
 }
 
+/// Neutral: every multiplier on the unit circle to 1e-4 (not stable, yet
+/// not unstable either: [`class`] 2).
+pub(crate) fn neutral(p: &crate::BranchPoint) -> bool {
+    class(p) == 2
+}
+
 /// `branch.svg`: the tip displacement on the section against the
 /// parameter, stable stretches solid, unstable dashed, neutral ones (every
 /// multiplier on the unit circle) dotted, over `sweep` (a sweep's

@@ -97,12 +97,39 @@ pub fn eigenvalues(m: &Mat<f64>) -> Result<Vec<c64>, OrbitError> {
 /// A fixed point of the map over `period` from `t0` (a forced scene's
 /// stroboscopic map: `period` = p forcing periods), by Newton from `guess`.
 pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton) -> Result<Orbit, OrbitError> {
+    newton_orbit(model, t0, period, guess, newton, None)
+}
+
+/// [`periodic_orbit`] for an orbit with `impacts` impacts per period, from
+/// a guess that has them: each Newton step is halved (at most 60 times)
+/// until the trial keeps that many impacts. Just past a grazing the map
+/// has a square-root singularity (a new impact's speed grows as the square
+/// root of how far the flight reaches past the stop, and the orbit reaches
+/// past it by the square of its distance to the grazing): a full step from
+/// a guess that reaches too far lands on the side without the impact, from
+/// where plain Newton steps back — it cycles. A halved step takes about
+/// the geometric mean of the guess's reach and the orbit's, so that a few
+/// steps bring the iterate within reach of full ones.
+pub(crate) fn periodic_orbit_keeping(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, impacts: usize) -> Result<Orbit, OrbitError> {
+    newton_orbit(model, t0, period, guess, newton, Some(impacts))
+}
+
+fn count_impacts(events: &[EventRecord]) -> usize {
+    events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count()
+}
+
+fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, keep: Option<usize>) -> Result<Orbit, OrbitError> {
     let mut x = guess.to_vec();
     let n = x.len();
     let tol = |x: &[f64]| newton.tol * inf_norm(x).max(newton.scale);
     let mut img: Image = model.flow(t0, &x, period, true)?;
     let mut g: Vec<f64> = img.x.iter().zip(&x).map(|(a, b)| a - b).collect();
     let mut res = inf_norm(&g);
+    if let Some(k) = keep {
+        if count_impacts(&img.events) != k {
+            return Err(OrbitError::NoConvergence { residual: res, iterations: 0, why: format!("the start has {} impacts per period, not {k}", count_impacts(&img.events)) });
+        }
+    }
     for it in 0..=newton.max_iter {
         if res <= tol(&x) {
             let monodromy = img.jacobian.take().expect("asked for");
@@ -125,7 +152,21 @@ pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton
         loop {
             let trial: Vec<f64> = (0..n).map(|r| x[r] + lambda * step[(r, 0)]).collect();
             let attempt = model.flow(t0, &trial, period, true);
-            if let Ok(ti) = attempt {
+            if let Some(k) = keep {
+                // Halved until the trial keeps its impacts (the residual
+                // may grow: the square-root side is reached from afar).
+                match attempt {
+                    Ok(ti) if count_impacts(&ti.events) == k => {
+                        let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
+                        (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
+                        break;
+                    }
+                    _ if lambda < 1e-18 => {
+                        return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("no step keeps the {k} impacts per period") });
+                    }
+                    _ => {}
+                }
+            } else if let Ok(ti) = attempt {
                 let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                 let tr = inf_norm(&tg);
                 if tr < res || lambda < 1.0 / 64.0 {

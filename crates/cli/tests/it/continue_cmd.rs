@@ -46,14 +46,25 @@ fn switch_continues_the_period_doubled_branch() {
     let o = run(dir.path(), SCENE, &["--param", "forcing.omega", "--from", "2.2", "--to", "1.03", "--switch"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let branch = std::fs::read_to_string(dir.path().join("out/branch.csv")).unwrap();
-    // Rows of branch 1 have period 2 and lie between the two period doublings.
+    // Rows of branch 1 have period 2; those of the period-doubled orbit
+    // (one impact each forcing period, two per orbit) lie between the two
+    // period doublings. (Past a grazing of its flight the branch goes on
+    // with a third impact: those rows reach beyond.)
     let doubled: Vec<Vec<String>> = branch.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).filter(|r: &Vec<String>| r[9] == "1").collect();
     assert!(doubled.len() > 5, "a doubled branch: {} rows", doubled.len());
     for r in &doubled {
         assert_eq!(r[1], "2");
         let p: f64 = r[0].parse().unwrap();
-        assert!((1.0648..=1.1301).contains(&p), "a period-2 orbit at {p}");
+        if r[6] == "2" {
+            assert!((1.0648..=1.1301).contains(&p), "a period-2 orbit at {p}");
+        }
     }
+    assert!(doubled.iter().filter(|r| r[6] == "2").count() > 5);
+    // Its loop of period-2 orbits (through grazings, folds and its mirror
+    // image shifted by a period) is run once: the branch ends where it
+    // comes back onto itself, not at the most points allowed.
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(!text.contains("max points"), "{text}");
 }
 
 #[test]
@@ -98,4 +109,51 @@ fn modes_writes_the_backbone_against_the_exact_period() {
         assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(words), "{args:?}: {err}");
     }
+}
+
+/// The summary line of a branch: `(S stable, U unstable[, N neutral])`.
+fn counts(stdout: &str) -> (usize, usize, usize) {
+    let line = stdout.lines().find(|l| l.starts_with("branch 0 ")).unwrap_or_else(|| panic!("no branch line: {stdout}"));
+    let inner = &line[line.find("points from").unwrap()..];
+    let inner = &inner[inner.find('(').unwrap() + 1..inner.find(')').unwrap()];
+    let mut c = (0, 0, 0);
+    for part in inner.split(", ") {
+        let (n, what) = part.split_once(' ').unwrap();
+        let n: usize = n.parse().unwrap();
+        match what {
+            "stable" => c.0 = n,
+            "unstable" => c.1 = n,
+            "neutral" => c.2 = n,
+            other => panic!("{other} in {line}"),
+        }
+    }
+    c
+}
+
+/// Undamped and far from its stop, the oscillator's period-1 orbit is the
+/// linear steady state, amplitude `F/(k |1 − s²|)` (0.26 at most over
+/// Ω = 2.2 … 3.0, against a stop at 10: no impact), and its multipliers
+/// are `e^{±i ω T}`, both of modulus 1: every point is neutral — neither
+/// stable nor unstable — as branch.csv (`mu_max` 1) and branch.svg say; a
+/// damped branch's summary keeps its two counts alone.
+#[test]
+fn the_summary_counts_neutral_orbits_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let undamped = SCENE.replace("damping_ratio = 0.05", "damping_ratio = 0.0").replace("stop = 0.2", "stop = 10.0");
+    let o = run(dir.path(), &undamped, &["--param", "forcing.omega", "--from", "2.2", "--to", "3.0"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let rows: Vec<Vec<String>> = std::fs::read_to_string(dir.path().join("out/branch.csv")).unwrap().lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect();
+    assert!(rows.len() > 3, "{text}");
+    for r in &rows {
+        let (omega, mu): (f64, f64) = (r[0].parse().unwrap(), r[3].parse().unwrap());
+        assert!((mu - 1.0).abs() < 1e-9 && r[6] == "0", "Ω = {omega}: |μ| = {mu}, impacts {}", r[6]);
+    }
+    assert_eq!(counts(&text), (0, 0, rows.len()), "{text}");
+    // Damped (the reference scene): no neutral orbit, and the line as it was.
+    let o = run(dir.path(), SCENE, &["--param", "forcing.omega", "--from", "2.2", "--to", "3.0"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    let (s, u, n) = counts(&text);
+    let rows = std::fs::read_to_string(dir.path().join("out/branch.csv")).unwrap().lines().count() - 1;
+    assert!(n == 0 && s > 0 && u > 0 && s + u == rows && !text.contains("neutral"), "{text}");
 }

@@ -3,6 +3,8 @@ mod autonomous;
 mod basins;
 mod beam;
 mod chain;
+mod chatter;
+mod further_impact;
 mod oscillator;
 mod reach;
 mod two_stops;
