@@ -40,9 +40,12 @@
 //! the same bits). The products, the substitutions and `2U^n - U^{n-1}`
 //! are written so that the compiler keeps the lanes in vector registers:
 //! the edge rows lane-innermost like the interior ones, the row loops over
-//! local slices (no reloads through `self`), and the level combination
-//! over flat arrays (by rows, the compiler vectorised it across rows with
-//! gathers and scatters of stride `L`). Lanes with the same profile
+//! local slices (no reloads through `self`), and the level combinations
+//! `2U^n - U^{n-1}`, `(1-2β) U^n + β U^{n-1}` made row by row just ahead of
+//! the forward sweep into a ring of 8 rows (so `U^n`, `U^{n-1}` are read
+//! once per step and the two combinations never leave the first-level
+//! cache; stored whole, they cost two arrays of `dofs × L` more to stream).
+//! Lanes with the same profile
 //! share its means; a `Sine` profile's mean is `TimeProfile::mean`'s
 //! formula with its factor `sin(ω δ/2)/(ω δ/2)` looked up by the bits of
 //! `δ = t_{n+2} - t_{n+1}` (a copy of that formula: the bit-identity tests
@@ -98,9 +101,10 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     u_prev: Vec<[f64; L]>,
     u: Vec<[f64; L]>,
     rhs: Vec<[f64; L]>,
-    /// `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}`.
-    t_mass: Vec<[f64; L]>,
-    t_stiff: Vec<[f64; L]>,
+    /// `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}`, made row by row
+    /// as the forward sweep reaches them: row `j` in slot `j % RING`.
+    t_mass: [[f64; L]; RING],
+    t_stiff: [[f64; L]; RING],
     load: Vec<[f64; L]>,
     /// The forcing terms' shapes, row by row: entry `i·terms + j` is term
     /// `j`'s shape at row `i`, per lane.
@@ -138,6 +142,10 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     /// `sin(ω δ/2)/(ω δ/2)` for that `δ` (as `TimeProfile::mean` computes it).
     sinc: Vec<[[f64; L]; SINC_SLOTS]>,
 }
+
+/// Rows of `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}` kept at once
+/// (a product's row reads seven): a power of two, at least 7.
+const RING: usize = 8;
 
 /// Step lengths `δ` remembered by [`PaoliSchatzmanLockstep`] (the rounding
 /// of `(n+2) dt - (n+1) dt` gives a handful of values; four catch > 99.99%).
@@ -272,8 +280,8 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             u_prev: zeros.clone(),
             u: zeros.clone(),
             rhs: zeros.clone(),
-            t_mass: zeros.clone(),
-            t_stiff: zeros.clone(),
+            t_mass: [[0.0; L]; RING],
+            t_stiff: [[0.0; L]; RING],
             load: zeros.clone(),
             shape_rows: Vec::new(),
             profiles: vec![Vec::with_capacity(lanes.len()); terms],
@@ -533,34 +541,43 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             }
             *m = [m[1], next];
         }
-        // 2U^n - U^{n-1} and (1-2β) U^n + β U^{n-1}.
-        combine::<L>(&mut self.t_mass, &mut self.t_stiff, &self.u, &self.u_prev, a, beta);
         // rhs = M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j, row by
         // row, each row then eliminated at once (the forward sweep of
-        // `BandLdlt::solve_p3`, its last three results kept in w1, w2, w3).
+        // `BandLdlt::solve_p3`, its last three results kept in w1, w2, w3);
+        // t_mass = 2U^n - U^{n-1} and t_stiff = (1-2β) U^n + β U^{n-1} are
+        // made row by row just ahead of the products that read them (a ring
+        // of RING rows: U^n and U^{n-1} are read once, and t stays in L1).
         let n = self.dofs;
         let terms = self.dt2_gc.len();
         let (l, lt, inv_d) = (&self.l[..n], &self.lt[..n], &self.inv_d[..n]);
-        let (mass, stiff, tm, ts, load) = (&self.mass[..n], &self.stiff[..n], &self.t_mass[..n], &self.t_stiff[..n], &self.load[..n]);
+        let (mass, stiff, load) = (&self.mass[..n], &self.stiff[..n], &self.load[..n]);
+        let (u, up) = (&self.u[..n], &self.u_prev[..n]);
+        let (tm, ts) = (&mut self.t_mass, &mut self.t_stiff);
         let (gs, shape_rows) = (&self.dt2_gc[..terms], &self.shape_rows[..n * terms]);
         let rhs = &mut self.rhs[..n];
         // Row i of M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j,
         // from its two products.
-        // Rows 0, 1, 2: fewer predecessors.
+        // Rows 0, 1, 2: fewer predecessors (each needs t up to row i + 3).
+        for j in 0..4 {
+            combine_row::<L>(tm, ts, &u[j], &up[j], j, a, beta);
+        }
         let r0 = rhs_row::<L>(dt2, edge::<L>(mass, tm, 0), edge::<L>(stiff, ts, 0), &load[0], gs, chunk(shape_rows, 0, terms));
+        combine_row::<L>(tm, ts, &u[4], &up[4], 4, a, beta);
         let mut r1 = rhs_row::<L>(dt2, edge::<L>(mass, tm, 1), edge::<L>(stiff, ts, 1), &load[1], gs, chunk(shape_rows, 1, terms));
         for k in 0..L {
             r1[k] -= l[1][0] * r0[k];
         }
+        combine_row::<L>(tm, ts, &u[5], &up[5], 5, a, beta);
         let mut r2 = rhs_row::<L>(dt2, edge::<L>(mass, tm, 2), edge::<L>(stiff, ts, 2), &load[2], gs, chunk(shape_rows, 2, terms));
         for k in 0..L {
             r2[k] -= l[2][1] * r0[k] + l[2][0] * r1[k];
         }
         (rhs[0], rhs[1], rhs[2]) = (r0, r1, r2);
         let (mut w1, mut w2, mut w3) = (r2, r1, r0);
-        // Every further row: its products, then eliminated at once.
-        for (((i, (rm, rk)), (xm, xk)), out) in (3..n - 3).zip(mass[3..n - 3].iter().zip(&stiff[3..n - 3])).zip(tm.windows(7).zip(ts.windows(7))).zip(rhs[3..n - 3].iter_mut()) {
-            *out = eliminate::<L>(&l[i], rhs_row::<L>(dt2, interior::<L>(rm, xm), interior::<L>(rk, xk), &load[i], gs, chunk(shape_rows, i, terms)), &mut w1, &mut w2, &mut w3);
+        // Every further row: t's row i + 3, the products, then eliminated at once.
+        for (((i, (rm, rk)), (un, upn)), out) in (3..n - 3).zip(mass[3..n - 3].iter().zip(&stiff[3..n - 3])).zip(u[6..].iter().zip(&up[6..])).zip(rhs[3..n - 3].iter_mut()) {
+            combine_row::<L>(tm, ts, un, upn, i + 3, a, beta);
+            *out = eliminate::<L>(&l[i], rhs_row::<L>(dt2, interior::<L>(rm, tm, i), interior::<L>(rk, ts, i), &load[i], gs, chunk(shape_rows, i, terms)), &mut w1, &mut w2, &mut w3);
         }
         for i in n - 3..n {
             rhs[i] = eliminate::<L>(&l[i], rhs_row::<L>(dt2, edge::<L>(mass, tm, i), edge::<L>(stiff, ts, i), &load[i], gs, chunk(shape_rows, i, terms)), &mut w1, &mut w2, &mut w3);
@@ -664,16 +681,14 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     }
 }
 
-/// `t_mass = 2U^n - U^{n-1}`, `t_stiff = (1-2β) U^n + β U^{n-1}` (`a = 1-2β`).
-/// A function of its own so that the compiler knows the four arrays apart
-/// (and vectorises over the lanes).
+/// Row `j` of `t_mass = 2U^n - U^{n-1}` and `t_stiff = (1-2β) U^n + β U^{n-1}`
+/// (`a = 1-2β`) from `u = U^n_j`, `up = U^{n-1}_j`, into slot `j % RING`.
 #[inline(always)]
-fn combine<const L: usize>(t_mass: &mut [[f64; L]], t_stiff: &mut [[f64; L]], u: &[[f64; L]], up: &[[f64; L]], a: f64, beta: f64) {
-    // Flat, so that the compiler vectorises along memory (by rows it
-    // gathers and scatters with a stride of `L`).
-    for (((tm, ts), u), up) in t_mass.as_flattened_mut().iter_mut().zip(t_stiff.as_flattened_mut().iter_mut()).zip(u.as_flattened()).zip(up.as_flattened()) {
-        *tm = 2.0 * u - up;
-        *ts = a * u + beta * up;
+fn combine_row<const L: usize>(t_mass: &mut [[f64; L]; RING], t_stiff: &mut [[f64; L]; RING], u: &[f64; L], up: &[f64; L], j: usize, a: f64, beta: f64) {
+    let (tm, ts) = (&mut t_mass[j % RING], &mut t_stiff[j % RING]);
+    for k in 0..L {
+        tm[k] = 2.0 * u[k] - up[k];
+        ts[k] = a * u[k] + beta * up[k];
     }
 }
 
@@ -712,38 +727,40 @@ fn eliminate<const L: usize>(lr: &[f64; 3], mut r: [f64; L], w1: &mut [f64; L], 
     r
 }
 
-/// An interior row of a half-bandwidth-3 product (`SymBand::mul_vec_p3`'s
+/// An interior row `i` of a half-bandwidth-3 product (`SymBand::mul_vec_p3`'s
 /// order): `(r0 x_i + r1 x_{i-1} + r2 x_{i-2} + r3 x_{i-3}) + (c1 x_{i+1} + c2 x_{i+2} + c3 x_{i+3})`,
-/// `x` the window `i-3..=i+3`.
+/// `x` a ring holding rows `i-3..=i+3` (row `j` in slot `j % RING`).
 #[inline(always)]
-fn interior<const L: usize>(r: &Row7, x: &[[f64; L]]) -> [f64; L] {
-    let x: &[[f64; L]; 7] = x.try_into().expect("a window of 7");
+fn interior<const L: usize>(r: &Row7, x: &[[f64; L]; RING], i: usize) -> [f64; L] {
+    let at = |d: usize| &x[(i + d - 3) % RING];
+    let (x0, x1, x2, x3, x4, x5, x6) = (at(0), at(1), at(2), at(3), at(4), at(5), at(6));
     let mut y = [0.0; L];
     for k in 0..L {
-        y[k] = (r[0] * x[3][k] + r[1] * x[2][k] + r[2] * x[1][k] + r[3] * x[0][k]) + (r[4] * x[4][k] + r[5] * x[5][k] + r[6] * x[6][k]);
+        y[k] = (r[0] * x3[k] + r[1] * x2[k] + r[2] * x1[k] + r[3] * x0[k]) + (r[4] * x4[k] + r[5] * x5[k] + r[6] * x6[k]);
     }
     y
 }
 
 /// A first or last row (`SymBand::mul_vec_p3`'s `row` closure): the
-/// diagonal term, then for `k = 1..=3` the left and the right neighbour.
+/// diagonal term, then for `k = 1..=3` the left and the right neighbour;
+/// `x` a ring holding rows `i-3..=i+3` that exist (row `j` in slot `j % RING`).
 #[inline(always)]
-fn edge<const L: usize>(a: &[Row7], x: &[[f64; L]], i: usize) -> [f64; L] {
-    let n = a.len();
-    let r = &a[i];
+fn edge<const L: usize>(a: &[Row7], x: &[[f64; L]; RING], i: usize) -> [f64; L] {
+    let (n, r) = (a.len(), &a[i]);
     let mut y = [0.0; L];
+    let xi = &x[i % RING];
     for lane in 0..L {
-        y[lane] = r[0] * x[i][lane];
+        y[lane] = r[0] * xi[lane];
     }
     for k in 1..=3 {
         if i >= k {
-            let (c, xs) = (r[k], &x[i - k]);
+            let (c, xs) = (r[k], &x[(i - k) % RING]);
             for lane in 0..L {
                 y[lane] += c * xs[lane];
             }
         }
         if i + k < n {
-            let (c, xs) = (r[3 + k], &x[i + k]);
+            let (c, xs) = (r[3 + k], &x[(i + k) % RING]);
             for lane in 0..L {
                 y[lane] += c * xs[lane];
             }

@@ -193,6 +193,41 @@ fn sixteen_lanes_with_lanes_at_rest_are_bit_identical() {
     assert!(counts[..7].iter().chain(&counts[9..]).all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
 }
 
+/// Short beams, J = 4, 5, 6, 8 (8 to 16 unknowns: the fewest the engine
+/// takes, and about as many as the ring of 8 rows that holds `2U^n - U^{n-1}`
+/// and `(1-2β) U^n + β U^{n-1}`, so its first and last rows overlap), 4
+/// lanes each, β = 1/2 and 1/4: bit for bit.
+#[test]
+fn short_beams_are_bit_identical() {
+    let stops = (-0.01, 0.01);
+    for j in [4, 5, 6, 8] {
+        for beta in [0.5, 0.25] {
+            let lanes = vec![lane(pipe(j, 0.2, 10.0, stops), 0.0), lane(pipe(j, 0.3, 31.0, stops), 0.0), lane(pipe(j, 0.35, 23.5, stops), 0.5), lane(pipe(j, 0.1, 55.0, stops), 0.0)];
+            let counts = compare::<4>(beta, 5e-5, lanes, 2000);
+            assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "J = {j}, β = {beta}: {counts:?}");
+        }
+    }
+}
+
+/// The contact elsewhere than the tip's displacement (row n-2): mid-beam
+/// (row 20), row n-4, and the tip's slope (rows n-3 and n-1): the
+/// projection's column and the row it sets differ. J = 19, β = 1/2, 4
+/// lanes each: bit for bit.
+#[test]
+fn contacts_off_the_tip_are_bit_identical() {
+    let n = 38;
+    for (dof, gap) in [(20, 0.004), (n - 4, 0.008), (n - 3, 0.01), (n - 1, 0.01)] {
+        let at = |amp: f64, omega: f64| {
+            let (mut dy, init) = pipe(19, amp, omega, (-gap, gap));
+            dy.contacts[0].dof = dof;
+            lane((dy, init), 0.0)
+        };
+        let lanes = vec![at(0.2, 10.0), at(0.3, 31.0), at(0.35, 23.5), at(0.1, 55.0)];
+        let counts = compare::<4>(0.5, 5e-5, lanes, 2000);
+        assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "dof {dof}: {counts:?}");
+    }
+}
+
 /// Restitution per lane (e = 0.5, 1, a contact's own e overriding the
 /// lane's), a one-sided obstacle, β = 1/4.
 #[test]
