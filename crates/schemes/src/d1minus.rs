@@ -352,12 +352,11 @@ impl Stepper for D1MinusLinear {
 
 use crate::family::{check, kappa_bound, Capabilities, Family, Node, Param, SchemeSpec};
 
-/// The restitution `e` (default 0).
-const E: Param = Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: Some(0.0) };
+/// The restitution `e`.
+const E: Param = Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None };
 
 /// Schindler and Acary's time-discontinuous Galerkin scheme (Siconos's
-/// `D1MinusLinearOSI`, half-explicit on the acceleration level), e ∈ [0, 1]
-/// (default 0).
+/// `D1MinusLinearOSI`, half-explicit on the acceleration level), e ∈ [0, 1].
 pub(crate) static D1_MINUS_LINEAR: Family = Family {
     name: "d1-minus-linear",
     about: "time-discontinuous Galerkin (Schindler–Acary 2014; Siconos's D1MinusLinearOSI, half-explicit on the acceleration level): explicit velocity Verlet smooth part, contact forces at both ends of the step on the closed contacts with vanishing velocity, Newton's impact law at velocity level (docs/theory.md §4.6.7)",
