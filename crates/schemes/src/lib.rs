@@ -160,6 +160,7 @@ macro_rules! delegate_stepper {
     };
 }
 
+mod d1minus;
 pub mod events;
 mod family;
 mod hybrid;
@@ -177,6 +178,7 @@ mod profile;
 mod registry;
 mod stabilized;
 
+pub use d1minus::{D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
 pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};

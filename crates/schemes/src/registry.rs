@@ -33,6 +33,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::moreau_combined::MOREAU_JEAN_COMBINED,
     &crate::nsga::NSGA,
     &crate::stabilized::CONTACT_STABILIZED,
+    &crate::d1minus::D1_MINUS_LINEAR,
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,
     &crate::paoli::CD_TAYLOR,

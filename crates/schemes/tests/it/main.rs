@@ -11,6 +11,7 @@ mod events_common;
 
 mod carpenter;
 mod conformance;
+mod d1minus;
 mod damping;
 mod energy;
 mod events_driven;

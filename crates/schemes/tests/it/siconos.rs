@@ -18,7 +18,7 @@
 //! `data/siconos/moreau-jean-combined.csv`).
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, Dynamics, Initial, MoreauJeanCombined, SchemeSpec, Stepper};
+use signorini_schemes::{Bounds, Contact, D1MinusLinear, Dynamics, Initial, MoreauJeanCombined, SchemeSpec, Stepper};
 
 const M: [[f64; 3]; 3] = [[2.0 / 6.0, 1.0 / 6.0, 0.0], [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0], [0.0, 1.0 / 6.0, 2.0 / 6.0]];
 const K: [[f64; 3]; 3] = [[30.0, -30.0, 0.0], [-30.0, 60.0, -30.0], [0.0, -30.0, 30.0]];
@@ -178,4 +178,71 @@ fn moreau_jean_combined_equals_siconos_combined_projection_step_by_step() {
         }
     }
     assert!(redone > 1000, "{redone} redone steps: the index set must grow within steps");
+}
+
+/// `d1-minus-linear(e)` against Siconos's `D1MinusLinearOSI`
+/// (`halfexplicit_acceleration_level`) with `TimeSteppingD1Minus` and two
+/// `LCP()`, step by step, on the same three systems
+/// (`data/siconos/d1-minus-linear.csv`, written by the C++ harness
+/// `tests/siconos/d1_minus_linear.cpp` against Siconos 4.4.0's shared
+/// libraries; its recipe is in its header). The damped system goes
+/// through [`D1MinusLinear::new`] (the registry refuses a damping matrix
+/// for this explicit scheme), the others through the registry as well,
+/// bit for bit the same. Positions, velocities and the impulses `Λ`
+/// (Siconos's `lambda(1)`) agree to 1e-10 of the velocity scale.
+#[test]
+fn d1_minus_linear_equals_siconos_d1_minus_linear_osi_step_by_step() {
+    let path = format!("{}/../../data/siconos/d1-minus-linear.csv", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("data/siconos/d1-minus-linear.csv (tests/siconos/d1_minus_linear.cpp writes it): {e}"));
+    let mut runs: Vec<(String, Vec<Row>)> = Vec::new();
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[1] != "acceleration" {
+            continue;
+        }
+        let x = |i: usize| f[i].parse::<f64>().unwrap();
+        let row = Row { step: f[2].parse().unwrap(), q: [x(4), x(5), x(6)], v: [x(7), x(8), x(9)], p: [x(10), x(11)], projections: 0, passes: 0 };
+        match runs.last_mut() {
+            Some((k, rows)) if k == f[0] => rows.push(row),
+            _ => runs.push((f[0].to_string(), vec![row])),
+        }
+    }
+    assert_eq!(runs.len(), 3, "three systems");
+    let (mut worst, mut impulses, mut impacts) = (0.0f64, 0, 0);
+    for (case, rows) in &runs {
+        let init = Initial { u: Q0.to_vec(), v: V0.to_vec() };
+        assert_eq!((rows[0].q, rows[0].v), (Q0, V0), "{case}: the harness's initial state");
+        let dy = dynamics(case);
+        let damped = dy.damping.is_some();
+        let mut s = D1MinusLinear::new("d1".into(), dy.clone(), 0.0, DT, &init).unwrap();
+        let mut via_registry = (!damped).then(|| SchemeSpec::d1_minus_linear(0.0).build(dy.clone(), DT, &init).unwrap());
+        if damped {
+            assert!(SchemeSpec::d1_minus_linear(0.0).build(dy, DT, &init).is_err(), "the registry refuses damping");
+        }
+        for r in &rows[1..] {
+            let rep = s.step().unwrap();
+            assert_eq!(rep.n, r.step);
+            impacts += usize::from(s.impact());
+            let (q, v) = (s.displacement(), s.velocity());
+            if let Some(o) = via_registry.as_mut() {
+                o.step().unwrap();
+                assert_eq!(o.state().unwrap(), s.state().unwrap(), "{case}, step {}: the registry's run", r.step);
+            }
+            let scale = 1.0 + r.v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for i in 0..3 {
+                let d = ((q[i] - r.q[i]).abs() / scale).max((v[i] - r.v[i]).abs() / scale);
+                worst = worst.max(d);
+                assert!(d <= 1e-10, "d1-minus-linear on {case}, step {}: dof {i}: q {} vs Siconos {}, v {} vs {}", r.step, q[i], r.q[i], v[i], r.v[i]);
+            }
+            // Λ along the dof; Siconos's along its constraint's normal (the
+            // opposite sign at the upper stop of dof 2, contact 1).
+            for (j, big) in s.impulses().iter().enumerate() {
+                let p = if j == 1 { -big } else { *big };
+                impulses += usize::from(r.p[j] != 0.0);
+                assert!((p - r.p[j]).abs() <= 1e-10 * scale, "d1-minus-linear on {case}, step {}: impulse {j} {p} vs Siconos {}", r.step, r.p[j]);
+            }
+        }
+    }
+    println!("d1-minus-linear vs Siconos D1MinusLinearOSI: 3 runs × 300 steps, {impulses} impulses, {impacts} impact steps, worst difference {worst:.1e} of the velocity scale");
+    assert!(impulses > 300 && impacts > 5, "{impulses} impulses, {impacts} impact steps: the runs must be contact-heavy");
 }

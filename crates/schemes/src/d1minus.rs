@@ -1,0 +1,380 @@
+//! The time-discontinuous Galerkin scheme of Schindler and Acary
+//! (Math. Comput. Simul. 95 (2014) 180–199; docs/theory.md §4.6.7), in
+//! Siconos's half-explicit form on the acceleration level
+//! (`D1MinusLinearOSI` with `TimeSteppingD1Minus`): the velocity is
+//! piecewise linear and discontinuous at the levels, the position
+//! continuous; the non-impulsive contact forces are computed on the
+//! acceleration level at both ends of the step for the contacts that are
+//! closed with vanishing velocity, the impulses on the velocity level by
+//! Newton's law at the step's end. With `a(t, U, V) = M⁻¹(F(t) − K U − C V)`
+//! and `H` the contacts' normals,
+//!
+//! ```text
+//! a⁺   = a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀλ⁺,   0 <= λ⁺ ⊥ H a⁺ >= 0       on I₂ⁿ
+//! V₁   = Vⁿ + dt a⁺,   Uⁿ⁺¹ = Uⁿ + dt/2 (Vⁿ + V₁)
+//! I₁ = {y(Uⁿ⁺¹) <= ε},  I₂ = I₁ ∩ {ẏ(V₁) <= ε},  I₃ = I₁ ∩ {y(Uⁿ) > ε}
+//! no contact closed in the step (I₃ = ∅):
+//!     a⁻ = a(t_{n+1}, Uⁿ⁺¹, V₁) + M⁻¹Hᵀλ⁻,   0 <= λ⁻ ⊥ H a⁻ >= 0  on I₂
+//!     V_f = Vⁿ + dt/2 (a⁺ + a⁻)
+//! a contact closed in the step (I₃ ≠ ∅): no contact force in the step,
+//!     V_f = Vⁿ + dt/2 (a(t_n, Uⁿ, Vⁿ) + a(t_{n+1}, Uⁿ⁺¹, V₁))
+//! Vⁿ⁺¹ = V_f + M⁻¹HᵀΛ,   0 <= Λ ⊥ H Vⁿ⁺¹ + e H V_f >= 0           on I₁
+//! ```
+//!
+//! with `y` each contact's gap (`u_c − lo` at a lower stop, `hi − u_c` at
+//! an upper one), `ẏ` its rate, `I₂ⁿ` the closed contacts with `ẏ(Vⁿ) <= ε`
+//! at the start, and Siconos's threshold `ε = 1e-8` ([`INDEX_SET_TOLERANCE`],
+//! absolute, in the problem's units). Each complementarity problem is a
+//! box problem on the contact dofs with the influence columns of `M⁻¹`,
+//! solved exactly. The contact force reported at `t_{n+1}` is the step's
+//! mean, `λ = −(Λ + dt/2 (λ⁺ + λ⁻))/dt` (the impulse alone in a step where a
+//! contact closed), signed as the other schemes' (negative at a lower stop);
+//! [`D1MinusLinear::impulses`] and [`D1MinusLinear::forces`] give the parts.
+//!
+//! Without contact and without damping the step is the velocity Verlet
+//! (central difference) scheme: explicit, stable for `dt < 2/sqrt(κ_max)`.
+//! The damping force enters explicitly (`a` is evaluated at the predicted
+//! `V₁`), which lowers that limit by an amount not certified here: the
+//! registry refuses a damping matrix; [`D1MinusLinear::new`] takes one
+//! (Siconos's `LagrangianLinearTIDS` with `C`, for the comparison).
+//! When `I₂` is empty at the end of a step without impact, `λ⁻ = 0`
+//! (Siconos then keeps the last force it computed, `λ⁺`; the two agree on
+//! every step of the stored comparisons).
+
+use crate::loads::{add_terms, Loads};
+use crate::multi::MultiSolve;
+use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
+use signorini_contact::Active;
+use signorini_fem::BandLdlt;
+
+/// Siconos's threshold of the index sets (`DEFAULT_TOL_D1MINUS`): a
+/// contact is closed when its gap is at most this, its velocity vanishing
+/// when its rate is at most this (absolute).
+pub const INDEX_SET_TOLERANCE: f64 = 1e-8;
+
+/// Schindler and Acary's time-discontinuous Galerkin scheme, half-explicit
+/// on the acceleration level.
+pub struct D1MinusLinear {
+    label: String,
+    restitution: f64,
+    dt: f64,
+    n: usize,
+    dy: Dynamics,
+    /// `M`, factorised.
+    mf: BandLdlt,
+    /// The force problems (acceleration level) and the impact problem
+    /// (velocity level), both with the influence columns of `M⁻¹`.
+    force_solve: MultiSolve,
+    impact_solve: MultiSolve,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    /// `a(t_n, Uⁿ, Vⁿ)` (kept from the last step's `a(t_{n+1}, Uⁿ⁺¹, V₁)` when undamped).
+    a_free: Vec<f64>,
+    /// `a⁺`, then `a⁻`; `a(t_{n+1}, Uⁿ⁺¹, V₁)`.
+    acc: Vec<f64>,
+    a_end: Vec<f64>,
+    v1: Vec<f64>,
+    /// `C V` (damped problems only).
+    ctmp: Vec<f64>,
+    /// Per contact, the side of `I₂ⁿ` (the start's force problem).
+    start: Vec<Active>,
+    /// Per contact, the side of `I₁` and of `I₂` at the step's end.
+    closed: Vec<Active>,
+    end: Vec<Active>,
+    loads: Loads,
+    s_old: Vec<f64>,
+    s_new: Vec<f64>,
+    lams: Vec<f64>,
+    acts: Vec<Active>,
+    /// Per contact, the last step's `Λ`, `λ⁺` and `λ⁻` (along the dof).
+    impulses: Vec<f64>,
+    f_plus: Vec<f64>,
+    f_minus: Vec<f64>,
+    /// Whether the last step had a contact close (`I₃ ≠ ∅`).
+    impact: bool,
+}
+
+/// The closed side of a contact at `x` (`None` if open).
+fn side(lo: f64, hi: f64, x: f64) -> Active {
+    if x - lo <= INDEX_SET_TOLERANCE {
+        Active::Lower
+    } else if hi - x <= INDEX_SET_TOLERANCE {
+        Active::Upper
+    } else {
+        Active::None
+    }
+}
+
+/// `out = M⁻¹(F(t) − K u − C v)`, `svals` the forcing terms' values at `t`.
+fn accel(dy: &Dynamics, mf: &BandLdlt, svals: &[f64], u: &[f64], v: &[f64], out: &mut [f64], ctmp: &mut [f64]) {
+    dy.stiffness.mul_vec(u, out);
+    for (o, f) in out.iter_mut().zip(&dy.load) {
+        *o = f - *o;
+    }
+    add_terms(out, &dy.forcing, 1.0, svals);
+    if let Some(c) = &dy.damping {
+        c.mul_vec(v, ctmp);
+        out.iter_mut().zip(ctmp.iter()).for_each(|(o, c)| *o -= c);
+    }
+    mf.solve_in_place(out);
+}
+
+impl D1MinusLinear {
+    /// Sets up the scheme (e ∈ [0, 1], each contact's own restitution
+    /// overriding it; a massive contact node; damping and time-dependent
+    /// loads taken, the damping explicitly).
+    pub fn new(label: String, dy: Dynamics, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+        dy.validate()?;
+        crate::family::check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
+        if dy.massless_contact() {
+            return Err(SchemeError::MassNotSupported { scheme: label, needs: "a massive contact node (mass std or lumped): the contact forces and impulses act through M⁻¹" });
+        }
+        let n = dy.n();
+        crate::check_start(dt, n, init)?;
+        let mf = dy.mass.factor()?;
+        let force_solve = MultiSolve::new(&dy, &mf)?.with_banded(dy.mass.clone())?;
+        let impact_solve = MultiSolve::new(&dy, &mf)?.with_banded(dy.mass.clone())?;
+        let k = dy.k();
+        let mut loads = Loads::values(&dy, dt);
+        let mut s_old = vec![0.0; dy.forcing.len()];
+        loads.next_into(&mut s_old);
+        let mut me = Self {
+            label,
+            restitution,
+            dt,
+            n: 0,
+            mf,
+            force_solve,
+            impact_solve,
+            u: init.u.clone(),
+            v: init.v.clone(),
+            a_free: vec![0.0; n],
+            acc: vec![0.0; n],
+            a_end: vec![0.0; n],
+            v1: vec![0.0; n],
+            ctmp: vec![0.0; if dy.damping.is_some() { n } else { 0 }],
+            start: vec![Active::None; k],
+            closed: vec![Active::None; k],
+            end: vec![Active::None; k],
+            s_new: s_old.clone(),
+            s_old,
+            loads,
+            lams: vec![0.0; k],
+            acts: vec![Active::None; k],
+            impulses: vec![0.0; k],
+            f_plus: vec![0.0; k],
+            f_minus: vec![0.0; k],
+            impact: false,
+            dy,
+        };
+        me.refresh();
+        Ok(me)
+    }
+
+    /// From `Uⁿ, Vⁿ`: `a(t_n, Uⁿ, Vⁿ)` and the start's index set `I₂ⁿ`.
+    fn refresh(&mut self) {
+        accel(&self.dy, &self.mf, &self.s_old, &self.u, &self.v, &mut self.a_free, &mut self.ctmp);
+        for (s, ct) in self.start.iter_mut().zip(&self.dy.contacts) {
+            let x = self.u[ct.dof];
+            let rate = self.v[ct.dof];
+            *s = match side(ct.bounds.lo, ct.bounds.hi, x) {
+                Active::Lower if rate <= INDEX_SET_TOLERANCE => Active::Lower,
+                Active::Upper if -rate <= INDEX_SET_TOLERANCE => Active::Upper,
+                _ => Active::None,
+            };
+        }
+    }
+
+    /// Velocity `Vⁿ`.
+    pub fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    /// Per contact, the last step's impulse `Λ` along the dof (positive
+    /// pushes the dof up).
+    pub fn impulses(&self) -> &[f64] {
+        &self.impulses
+    }
+
+    /// Per contact, the last step's forces `λ⁺` (at `t_n`) and `λ⁻` (at
+    /// `t_{n+1}`) along the dof; zeros in a step where a contact closed.
+    pub fn forces(&self) -> (&[f64], &[f64]) {
+        (&self.f_plus, &self.f_minus)
+    }
+
+    /// Whether a contact closed in the last step (`I₃ ≠ ∅`: no contact
+    /// force, the impulse alone).
+    pub fn impact(&self) -> bool {
+        self.impact
+    }
+
+    /// The force problem on `acc` with the sides `sides` (skipped when
+    /// none is closed): the multipliers into `out`.
+    fn force_problem(ms: &mut MultiSolve, sides: &[Active], acc: &mut [f64], out: &mut [f64]) -> Result<(), SchemeError> {
+        if sides.iter().all(|s| *s == Active::None) {
+            out.iter_mut().for_each(|x| *x = 0.0);
+            return Ok(());
+        }
+        for (i, s) in sides.iter().enumerate() {
+            (ms.lo[i], ms.hi[i]) = match s {
+                Active::Lower => (0.0, f64::INFINITY),
+                Active::Upper => (f64::NEG_INFINITY, 0.0),
+                Active::None => (f64::NEG_INFINITY, f64::INFINITY),
+            };
+        }
+        let (mu, _) = ms.solve(acc)?;
+        out.copy_from_slice(mu);
+        Ok(())
+    }
+}
+
+impl Stepper for D1MinusLinear {
+    stepper_accessors!();
+
+    fn state(&self) -> Option<Vec<f64>> {
+        Some(self.u.iter().chain(&self.v).copied().collect())
+    }
+
+    /// `Uⁿ, Vⁿ`; `a(t_n, Uⁿ, Vⁿ)` and `I₂ⁿ` are recomputed from them.
+    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
+        let n = self.u.len();
+        crate::check_state_len(s, 2 * n)?;
+        self.u.copy_from_slice(&s[..n]);
+        self.v.copy_from_slice(&s[n..]);
+        self.refresh();
+        Ok(())
+    }
+
+    fn contact_pivots(&self) -> Option<(u64, u64)> {
+        let (f, i) = (&self.force_solve, &self.impact_solve);
+        Some((f.pivoting_solves + i.pivoting_solves, f.pivots + i.pivots))
+    }
+
+    fn step(&mut self) -> Result<StepReport, SchemeError> {
+        let h = self.dt;
+        self.loads.next_into(&mut self.s_new);
+        // a⁺ = a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀλ⁺ on I₂ⁿ.
+        self.acc.copy_from_slice(&self.a_free);
+        Self::force_problem(&mut self.force_solve, &self.start, &mut self.acc, &mut self.f_plus)?;
+        // V₁ = Vⁿ + h a⁺.
+        for ((v1, v), a) in self.v1.iter_mut().zip(&self.v).zip(&self.acc) {
+            *v1 = v + h * a;
+        }
+        // The index sets at the step's end (I₃ from Uⁿ, before U moves on).
+        let mut impact = false;
+        for (i, ct) in self.dy.contacts.iter().enumerate() {
+            let c = ct.dof;
+            let x1 = self.u[c] + 0.5 * h * (self.v[c] + self.v1[c]);
+            let s = side(ct.bounds.lo, ct.bounds.hi, x1);
+            self.closed[i] = s;
+            let (old_gap, rate) = match s {
+                Active::Lower => (self.u[c] - ct.bounds.lo, self.v1[c]),
+                Active::Upper => (ct.bounds.hi - self.u[c], -self.v1[c]),
+                Active::None => (0.0, 0.0),
+            };
+            if s != Active::None && old_gap > INDEX_SET_TOLERANCE {
+                impact = true;
+            }
+            self.end[i] = if s != Active::None && rate <= INDEX_SET_TOLERANCE { s } else { Active::None };
+        }
+        // Uⁿ⁺¹ = Uⁿ + h/2 (Vⁿ + V₁).
+        for ((u, v), v1) in self.u.iter_mut().zip(&self.v).zip(&self.v1) {
+            *u += 0.5 * h * (v + v1);
+        }
+        // a(t_{n+1}, Uⁿ⁺¹, V₁).
+        accel(&self.dy, &self.mf, &self.s_new, &self.u, &self.v1, &mut self.a_end, &mut self.ctmp);
+        if impact {
+            // No contact force: V_f = Vⁿ + h/2 (a(t_n) + a(t_{n+1})).
+            for ((v, a0), a1) in self.v.iter_mut().zip(&self.a_free).zip(&self.a_end) {
+                *v += 0.5 * h * (a0 + a1);
+            }
+            self.f_plus.iter_mut().chain(self.f_minus.iter_mut()).for_each(|x| *x = 0.0);
+        } else {
+            // a⁻ = a(t_{n+1}) + M⁻¹Hᵀλ⁻ on I₂ (into v1: V₁ is no longer needed), V_f = Vⁿ + h/2 (a⁺ + a⁻).
+            self.v1.copy_from_slice(&self.a_end);
+            Self::force_problem(&mut self.force_solve, &self.end, &mut self.v1, &mut self.f_minus)?;
+            for ((v, a0), a1) in self.v.iter_mut().zip(&self.acc).zip(&self.v1) {
+                *v += 0.5 * h * (a0 + a1);
+            }
+        }
+        // Newton's law on I₁: Vⁿ⁺¹ = V_f + M⁻¹HᵀΛ.
+        if self.closed.iter().any(|s| *s != Active::None) {
+            let ms = &mut self.impact_solve;
+            for (i, (ct, s)) in self.dy.contacts.iter().zip(&self.closed).enumerate() {
+                let target = -ct.restitution.unwrap_or(self.restitution) * self.v[ct.dof];
+                (ms.lo[i], ms.hi[i]) = match s {
+                    Active::Lower => (target, f64::INFINITY),
+                    Active::Upper => (f64::NEG_INFINITY, target),
+                    Active::None => (f64::NEG_INFINITY, f64::INFINITY),
+                };
+            }
+            let (mu, _) = ms.solve(&mut self.v)?;
+            self.impulses.copy_from_slice(mu);
+        } else {
+            self.impulses.iter_mut().for_each(|x| *x = 0.0);
+        }
+        self.impact = impact;
+        std::mem::swap(&mut self.s_old, &mut self.s_new);
+        // The next step's a(t_n, Uⁿ, Vⁿ): undamped, a(t_{n+1}, Uⁿ⁺¹) itself.
+        if self.dy.damping.is_none() {
+            std::mem::swap(&mut self.a_free, &mut self.a_end);
+            for (s, ct) in self.start.iter_mut().zip(&self.dy.contacts) {
+                let rate = self.v[ct.dof];
+                *s = match side(ct.bounds.lo, ct.bounds.hi, self.u[ct.dof]) {
+                    Active::Lower if rate <= INDEX_SET_TOLERANCE => Active::Lower,
+                    Active::Upper if -rate <= INDEX_SET_TOLERANCE => Active::Upper,
+                    _ => Active::None,
+                };
+            }
+        } else {
+            self.refresh();
+        }
+        self.n += 1;
+        let t = self.time();
+        for i in 0..self.lams.len() {
+            let smooth = if impact { 0.0 } else { 0.5 * h * (self.f_plus[i] + self.f_minus[i]) };
+            self.lams[i] = -(self.impulses[i] + smooth) / h;
+            self.acts[i] = self.closed[i];
+            let c = self.dy.contacts[i].dof;
+            if !(self.u[c].is_finite() && self.v[c].is_finite() && self.lams[i].is_finite()) {
+                return Err(SchemeError::NonFinite { step: self.n, time: t });
+            }
+        }
+        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        Some((self.time(), self.dy.energy(&self.u, &self.v)))
+    }
+}
+
+// ---- The registry's row of this file: d1-minus-linear.
+
+use crate::family::{check, kappa_bound, Capabilities, Family, Node, Param, SchemeSpec};
+
+/// The restitution `e`.
+const E: Param = Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None };
+
+/// Schindler and Acary's time-discontinuous Galerkin scheme (Siconos's
+/// `D1MinusLinearOSI`, half-explicit on the acceleration level), e ∈ [0, 1].
+pub(crate) static D1_MINUS_LINEAR: Family = Family {
+    name: "d1-minus-linear",
+    about: "time-discontinuous Galerkin (Schindler–Acary 2014; Siconos's D1MinusLinearOSI, half-explicit on the acceleration level): explicit velocity Verlet smooth part, contact forces at both ends of the step on the closed contacts with vanishing velocity, Newton's impact law at velocity level (docs/theory.md §4.6.7)",
+    params: &[E],
+    presets: &[],
+    validate: |a| check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]"),
+    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, restitution: true, ..Capabilities::IMPLICIT },
+    cfl_limit: |_, dy| Ok(Some(2.0 / kappa_bound(&dy.stiffness, &dy.mass)?.sqrt())),
+    stability_rule: |_| Some("half-explicit (velocity Verlet without contact): dt < 2/sqrt(κ_max) of the pencil (K, M)"),
+    build: |s, dy, dt, init| {
+        s.check_cfl(&dy, dt, false)?;
+        Ok(Box::new(D1MinusLinear::new(s.to_string(), dy, s.args()[0], dt, init)?))
+    },
+};
+
+impl SchemeSpec {
+    /// Schindler and Acary's scheme with restitution `e` (not validated until built).
+    pub fn d1_minus_linear(restitution: f64) -> Self {
+        D1_MINUS_LINEAR.with(&[restitution])
+    }
+}

@@ -1,0 +1,333 @@
+//! `d1-minus-linear(e)` (Schindler and Acary 2014, in Siconos's
+//! half-explicit acceleration-level form; docs/theory.md §4.6.7) against a
+//! dense transcription of the step written here from the equations of
+//! §4.6.7: the index sets from the gaps and rates with Siconos's threshold
+//! 1e-8, the two force problems on the acceleration level and the impact
+//! problem on the velocity level, each a linear complementarity problem
+//! `0 <= x ⊥ W x + q >= 0` with `W = H M⁻¹ Hᵀ`, solved by brute force
+//! (every active set tried, dense Gaussian elimination), independently of
+//! the crate's contact solves. Random small systems with lumped and
+//! consistent masses, damping, a time-dependent load, gaps, a two-sided
+//! contact and a second contact, step by step to 1e-12; the discrete energy
+//! identity of §7.10; a held start and symmetric contacts.
+
+use crate::stabilized::{dense, mv, solve, system, Dense};
+use signorini_fem::SymBand;
+use signorini_schemes::{Bounds, Contact, D1MinusLinear, Dynamics, Initial, SchemeSpec, SplitMix64, Stepper};
+
+/// Siconos's `DEFAULT_TOL_D1MINUS`: the index sets' threshold.
+const TOL: f64 = 1e-8;
+
+/// `0 <= x ⊥ W x + q >= 0` by trying every active set.
+fn lcp(w: &Dense, q: &[f64]) -> Vec<f64> {
+    let k = q.len();
+    let scale = 1.0 + q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for code in 0..1usize << k {
+        let set: Vec<usize> = (0..k).filter(|i| code >> i & 1 == 1).collect();
+        let mut x = vec![0.0; k];
+        if !set.is_empty() {
+            let ws: Dense = set.iter().map(|&i| set.iter().map(|&j| w[i][j]).collect()).collect();
+            let xs = solve(ws, set.iter().map(|&i| -q[i]).collect());
+            for (&i, v) in set.iter().zip(xs) {
+                x[i] = v;
+            }
+        }
+        let r: Vec<f64> = mv(w, &x).iter().zip(q).map(|(a, b)| a + b).collect();
+        if x.iter().all(|v| *v >= -1e-13 * scale) && r.iter().all(|v| *v >= -1e-13 * scale) {
+            return x;
+        }
+    }
+    panic!("no active set solves the LCP");
+}
+
+/// A contact's closed side at `x`: +1 at its lower stop, −1 at its upper, 0 open.
+fn side(lo: f64, hi: f64, x: f64) -> f64 {
+    if x - lo <= TOL {
+        1.0
+    } else if hi - x <= TOL {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// One step's results.
+struct Step {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    /// Per contact, along the dof: the impulse `Λ`, the forces `λ⁺`, `λ⁻`.
+    big: Vec<f64>,
+    plus: Vec<f64>,
+    minus: Vec<f64>,
+    impact: bool,
+    /// The change of `E_h` the identity of docs/theory.md §7.10 gives.
+    de: f64,
+}
+
+/// The step of §4.6.7, dense.
+struct Oracle {
+    m: Dense,
+    minv: Dense,
+    k: Dense,
+    c: Option<Dense>,
+    f: Vec<f64>,
+    shape: Vec<f64>,
+    /// (dof, lo, hi, e).
+    cons: Vec<(usize, f64, f64, f64)>,
+    dt: f64,
+}
+
+impl Oracle {
+    fn new(dy: &Dynamics, e: f64, dt: f64) -> Self {
+        let (m, k) = (dense(&dy.mass), dense(&dy.stiffness));
+        let n = m.len();
+        let cols: Vec<Vec<f64>> = (0..n).map(|j| solve(m.clone(), (0..n).map(|i| f64::from(u8::from(i == j))).collect())).collect();
+        let minv = (0..n).map(|i| (0..n).map(|j| cols[j][i]).collect()).collect();
+        let cons = dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi, c.restitution.unwrap_or(e))).collect();
+        let shape = dy.forcing.first().map_or(vec![0.0; n], |f| f.shape.clone());
+        Self { m, minv, k, c: dy.damping.as_ref().map(dense), f: dy.load.clone(), shape, cons, dt }
+    }
+
+    fn load(&self, t: f64) -> Vec<f64> {
+        let s = 0.8 * (3.0 * t).sin();
+        self.f.iter().zip(&self.shape).map(|(f, g)| f + s * g).collect()
+    }
+
+    /// `M⁻¹(F(t) − K u − C v)`.
+    fn acc(&self, t: f64, u: &[f64], v: &[f64]) -> Vec<f64> {
+        let (ku, cv) = (mv(&self.k, u), self.c.as_ref().map_or(vec![0.0; u.len()], |c| mv(c, v)));
+        let r: Vec<f64> = self.load(t).iter().zip(&ku).zip(&cv).map(|((f, k), c)| f - k - c).collect();
+        mv(&self.minv, &r)
+    }
+
+    /// The problem on the contacts with the signs `s` (0: not in the set):
+    /// `0 <= x ⊥ H(y + M⁻¹Hᵀx) + scale·H y >= 0`; returns `y + M⁻¹Hᵀx` and
+    /// `x` along each dof (`s_i x_i`).
+    fn solve_on(&self, s: &[f64], y: &[f64], extra: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let set: Vec<usize> = (0..s.len()).filter(|&i| s[i] != 0.0).collect();
+        let mut along = vec![0.0; s.len()];
+        if set.is_empty() {
+            return (y.to_vec(), along);
+        }
+        let dof = |i: usize| self.cons[i].0;
+        let w: Dense = set.iter().map(|&i| set.iter().map(|&j| s[i] * s[j] * self.minv[dof(i)][dof(j)]).collect()).collect();
+        let q: Vec<f64> = set.iter().map(|&i| s[i] * y[dof(i)] * (1.0 + extra[i])).collect();
+        let x = lcp(&w, &q);
+        let mut out = y.to_vec();
+        for (&i, xi) in set.iter().zip(&x) {
+            along[i] = s[i] * xi;
+            for (r, o) in out.iter_mut().enumerate() {
+                *o += self.minv[r][dof(i)] * along[i];
+            }
+        }
+        (out, along)
+    }
+
+    /// The start's index set `I₂ⁿ` from `(u, v)`.
+    fn start_set(&self, u: &[f64], v: &[f64]) -> Vec<f64> {
+        self.cons.iter().map(|&(c, lo, hi, _)| side(lo, hi, u[c])).zip(&self.cons).map(|(s, &(c, ..))| if s != 0.0 && s * v[c] <= TOL { s } else { 0.0 }).collect()
+    }
+
+    fn step(&self, u: &[f64], v: &[f64], n: usize) -> Step {
+        let (h, k, nn) = (self.dt, self.cons.len(), u.len());
+        let (t0, t1) = (n as f64 * h, (n + 1) as f64 * h);
+        let zero = vec![0.0; k];
+        let a0 = self.acc(t0, u, v);
+        let (ap, plus) = self.solve_on(&self.start_set(u, v), &a0, &zero);
+        let v1: Vec<f64> = (0..nn).map(|i| v[i] + h * ap[i]).collect();
+        let u1: Vec<f64> = (0..nn).map(|i| u[i] + h * v[i] + 0.5 * h * h * ap[i]).collect();
+        let closed: Vec<f64> = self.cons.iter().map(|&(c, lo, hi, _)| side(lo, hi, u1[c])).collect();
+        let impact = self.cons.iter().zip(&closed).any(|(&(c, lo, hi, _), &s)| (s > 0.0 && u[c] - lo > TOL) || (s < 0.0 && hi - u[c] > TOL));
+        let end: Vec<f64> = self.cons.iter().zip(&closed).map(|(&(c, ..), &s)| if s != 0.0 && s * v1[c] <= TOL { s } else { 0.0 }).collect();
+        let a1 = self.acc(t1, &u1, &v1);
+        let (vf, mplus, minus) = if impact {
+            ((0..nn).map(|i| v[i] + 0.5 * h * (a0[i] + a1[i])).collect::<Vec<f64>>(), zero.clone(), zero.clone())
+        } else {
+            let (am, minus) = self.solve_on(&end, &a1, &zero);
+            ((0..nn).map(|i| v[i] + 0.5 * h * (ap[i] + am[i])).collect(), plus.clone(), minus)
+        };
+        let es: Vec<f64> = self.cons.iter().map(|c| c.3).collect();
+        let (v2, big) = self.solve_on(&closed, &vf, &es);
+        // §7.10: ΔE_h = h/4 Σ(μ⁺+μ⁻)(vⁿ+V_f)_c + h²/8 Σ(μ⁺+μ⁻−2λ⁺)(aⁿ+aⁿ⁺¹)_c + ½ ΣΛ(V_f+Vⁿ⁺¹)_c
+        // (along the dofs; μ± = λ± without impact, 0 with).
+        let mut de = 0.0;
+        for (i, &(c, ..)) in self.cons.iter().enumerate() {
+            de += 0.25 * h * (mplus[i] + minus[i]) * (v[c] + vf[c]) + h * h / 8.0 * (mplus[i] + minus[i] - 2.0 * plus[i]) * (a0[c] + a1[c]) + 0.5 * big[i] * (vf[c] + v2[c]);
+        }
+        let plus = if impact { zero } else { plus };
+        Step { u: u1, v: v2, big, plus, minus, impact, de }
+    }
+
+    /// `E_h = ½VᵀMV + ½UᵀKU − FᵀU − h²/8 aᵀMa`, `a = M⁻¹(F − KU)` (steady load).
+    fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
+        let a = self.acc(0.0, u, &vec![0.0; u.len()]);
+        0.5 * dot(&mv(&self.m, v), v) + 0.5 * dot(&mv(&self.k, u), u) - dot(&self.f, u) - self.dt * self.dt / 8.0 * dot(&mv(&self.m, &a), &a)
+    }
+}
+
+/// The scheme on `dy` (damped problems through the constructor: the
+/// registry refuses them).
+fn build(dy: Dynamics, e: f64, dt: f64, init: &Initial) -> Box<dyn Stepper> {
+    if dy.damping.is_some() {
+        return Box::new(D1MinusLinear::new("d1".into(), dy, e, dt, init).unwrap());
+    }
+    SchemeSpec::d1_minus_linear(e).build(dy, dt, init).unwrap()
+}
+
+/// Step by step against the dense transcription, 150 steps, on lumped and
+/// consistent masses, with and without damping, one and two contacts,
+/// restitutions of the scheme and of each contact; positions, velocities,
+/// and the reported mean force `−(Λ + dt/2(λ⁺ + λ⁻))/dt`.
+#[test]
+fn d1_minus_linear_follows_the_dense_step_step_by_step() {
+    let mut rng = SplitMix64::new(2014);
+    let (mut forces, mut impulses, mut impacts, mut worst) = (0usize, 0usize, 0usize, 0.0f64);
+    for case in 0..24 {
+        let (lumped, damped, two) = (case & 1 == 1, case & 2 == 2, case & 4 == 4);
+        let (mut dy, init) = system(&mut rng, lumped, damped, two);
+        let e = [0.0, 0.5, 1.0][case % 3];
+        if case >= 8 {
+            dy.contacts[0].restitution = Some(rng.next_f64());
+        }
+        let limit = SchemeSpec::d1_minus_linear(e).cfl_limit(&dy).unwrap().unwrap();
+        let dt = limit * if damped { 0.2 } else { 0.3 + 0.6 * rng.next_f64() };
+        let oracle = Oracle::new(&dy, e, dt);
+        let mut s = build(dy, e, dt, &init);
+        let (mut u, mut v) = (init.u.clone(), init.v.clone());
+        for n in 0..150 {
+            let o = oracle.step(&u, &v, n);
+            s.step().unwrap();
+            let st = s.state().unwrap();
+            let scale = 1.0 + o.u.iter().chain(&o.v).fold(0.0f64, |m, x| m.max(x.abs()));
+            for (i, (got, want)) in st.iter().zip(o.u.iter().chain(&o.v)).enumerate() {
+                let err = (got - want).abs() / scale;
+                worst = worst.max(err);
+                assert!(err <= 1e-12, "case {case}, step {n}, state {i}: {got} vs {want}");
+            }
+            for (i, got) in s.contact_forces().iter().enumerate() {
+                let want = -(o.big[i] + 0.5 * dt * (o.plus[i] + o.minus[i])) / dt;
+                assert!((got - want).abs() <= 1e-10 * (1.0 + want.abs()), "case {case}, step {n}: λ_{i} {got} vs {want}");
+            }
+            forces += o.plus.iter().chain(&o.minus).filter(|x| **x != 0.0).count();
+            impulses += o.big.iter().filter(|x| **x != 0.0).count();
+            impacts += usize::from(o.impact);
+            (u, v) = (o.u, o.v);
+        }
+    }
+    // Not vacuous: contact forces, impulses and impact steps in many steps.
+    assert!(forces > 200 && impulses > 200 && impacts > 30, "forces {forces}, impulses {impulses}, impacts {impacts}");
+    eprintln!("d1-minus-linear vs the dense step: worst {worst:.1e}; {forces} contact forces, {impulses} impulses, {impacts} impact steps");
+}
+
+/// The discrete energy identity of docs/theory.md §7.10, steady load and
+/// no damping: `E_h = ½VᵀMV + ½UᵀKU − FᵀU − dt²/8 aᵀMa` (computed here,
+/// dense, on the scheme's states) changes by the contact terms the
+/// identity names (from the oracle's multipliers); with one restitution
+/// for all contacts the impact term is ≤ 0, and off contact `E_h` is
+/// conserved.
+#[test]
+fn d1_minus_linear_keeps_its_discrete_energy_identity() {
+    let mut rng = SplitMix64::new(95);
+    let (mut worst, mut dissipating) = (0.0f64, 0);
+    for case in 0..8 {
+        let (dy, init) = system(&mut rng, case & 1 == 1, false, true);
+        let dy = Dynamics::new(dy.mass.clone(), dy.stiffness.clone(), dy.load.clone(), dy.contacts.clone());
+        let n = dy.n();
+        let e = [0.0, 0.3, 0.7, 1.0][case % 4];
+        let dt = 0.5 * SchemeSpec::d1_minus_linear(e).cfl_limit(&dy).unwrap().unwrap();
+        let oracle = Oracle::new(&dy, e, dt);
+        let mut s = build(dy, e, dt, &init);
+        let (mut u, mut v) = (init.u.clone(), init.v.clone());
+        let mut e0 = oracle.energy(&u, &v);
+        for step in 0..400 {
+            let o = oracle.step(&u, &v, step);
+            s.step().unwrap();
+            let st = s.state().unwrap();
+            (u, v) = (st[..n].to_vec(), st[n..].to_vec());
+            let e1 = oracle.energy(&u, &v);
+            let err = ((e1 - e0) - o.de).abs() / (1.0 + e0.abs());
+            worst = worst.max(err);
+            assert!(err <= 1e-12, "case {case}, step {step}: ΔE_h {} vs the identity's {}", e1 - e0, o.de);
+            // The impact term alone: ½ ΣΛ(V_f + Vⁿ⁺¹)_c = −(1−e)/(2(1+e)) ΛᵀWΛ <= 0.
+            if o.big.iter().all(|x| *x == 0.0) && o.plus.iter().chain(&o.minus).all(|x| *x == 0.0) {
+                assert!((e1 - e0).abs() <= 1e-13 * (1.0 + e0.abs()), "case {case}, step {step}: off contact E_h moved {e0} -> {e1}");
+            }
+            dissipating += usize::from(o.big.iter().any(|x| *x != 0.0) && e < 1.0);
+            e0 = e1;
+        }
+    }
+    assert!(dissipating > 20, "only {dissipating} impulse steps");
+    eprintln!("d1-minus-linear energy identity: worst {worst:.1e}, {dissipating} impulse steps with e < 1");
+}
+
+/// The cases a user meets first. (a) Starting in contact, held: from the
+/// static state with the contact node on its stop under a load pressing it
+/// there (solved here, densely, with the node fixed), the scheme stays at
+/// rest for 2 000 steps and reports the static reaction as its force.
+/// (b) Symmetric contacts reached together: a mirror-symmetric chain with
+/// opposite stops at both ends and antisymmetric data stays antisymmetric,
+/// both contacts engaging in the same steps, every step the dense step's.
+#[test]
+fn d1_minus_linear_held_starts_and_symmetric_contacts() {
+    for lumped in [true, false] {
+        let mut rng = SplitMix64::new(5);
+        let (dy, _) = system(&mut rng, lumped, false, false);
+        let n = dy.n();
+        let lo = dy.contacts[0].bounds.lo;
+        let mut load = vec![0.3, 0.1, -0.2, 0.05];
+        load[0] = -2.0;
+        let dy = Dynamics::new(dy.mass.clone(), dy.stiffness.clone(), load.clone(), dy.contacts.clone());
+        let k = dense(&dy.stiffness);
+        let kf: Dense = (1..n).map(|i| (1..n).map(|j| k[i][j]).collect()).collect();
+        let rf: Vec<f64> = (1..n).map(|i| load[i] - k[i][0] * lo).collect();
+        let mut u_static = vec![lo];
+        u_static.extend(solve(kf, rf));
+        let reaction = mv(&k, &u_static)[0] - load[0];
+        assert!(reaction > 0.0, "the load must press the node onto the stop");
+        let dt = 0.5 * SchemeSpec::d1_minus_linear(0.5).cfl_limit(&dy).unwrap().unwrap();
+        let mut s = build(dy, 0.5, dt, &Initial { u: u_static.clone(), v: vec![0.0; n] });
+        for step in 0..2000 {
+            s.step().unwrap();
+            let st = s.state().unwrap();
+            for i in 0..n {
+                assert!((st[i] - u_static[i]).abs() <= 1e-12 && st[n + i].abs() <= 1e-10, "lumped {lumped}, step {step}: left the static state: {st:?}");
+            }
+            let lam = s.contact_forces()[0];
+            assert!((lam + reaction).abs() <= 1e-10 * (1.0 + reaction), "lumped {lumped}, step {step}: λ {lam} vs the static reaction −{reaction}");
+        }
+    }
+    let n = 4;
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    for i in 0..n {
+        m.set(i, i, 1.0);
+        k.set(i, i, if i == 0 || i == n - 1 { 1.5 } else { 2.5 });
+        if i > 0 {
+            k.set(i, i - 1, -1.0);
+        }
+    }
+    let g = 0.05;
+    let contacts = vec![Contact::new(0, Bounds { lo: -g, hi: f64::INFINITY }, false), Contact::new(3, Bounds { lo: f64::NEG_INFINITY, hi: g }, false)];
+    let dy = Dynamics::new(m, k, vec![0.0; n], contacts);
+    let init = Initial { u: vec![0.0; n], v: vec![-1.0, -0.3, 0.3, 1.0] };
+    let dt = 0.05;
+    let oracle = Oracle::new(&dy, 1.0, dt);
+    let mut s = build(dy, 1.0, dt, &init);
+    let (mut u, mut v) = (init.u.clone(), init.v.clone());
+    let mut together = 0;
+    for step in 0..1000 {
+        let o = oracle.step(&u, &v, step);
+        s.step().unwrap();
+        let st = s.state().unwrap();
+        for (i, (a, b)) in st.iter().zip(o.u.iter().chain(&o.v)).enumerate() {
+            assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "step {step}, state {i}: {a} vs the dense step's {b}");
+        }
+        assert!((st[0] + st[3]).abs() <= 1e-13 && (st[1] + st[2]).abs() <= 1e-13, "step {step}: symmetry lost {st:?}");
+        let f = s.contact_forces();
+        assert_eq!(f[0] != 0.0, f[1] != 0.0, "step {step}: one contact engaged without its mirror: {f:?}");
+        assert!((f[0] + f[1]).abs() <= 1e-10 * (1.0 + f[0].abs()), "step {step}: mirror forces {f:?}");
+        together += usize::from(f[0] != 0.0);
+        (u, v) = (o.u, o.v);
+    }
+    assert!(together > 12, "the two contacts engaged together in only {together} steps");
+}
