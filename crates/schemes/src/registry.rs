@@ -35,6 +35,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::stabilized::CONTACT_STABILIZED,
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,
+    &crate::verlet_nitsche::VERLET_NITSCHE,
     &crate::paoli::CD_TAYLOR,
     &crate::events::EVENT_DRIVEN,
 ];
