@@ -194,3 +194,26 @@ fn beam_band_solve(bencher: Bencher) {
         x
     });
 }
+
+/// The explicit Nitsche step (`verlet-nitsche(10,1)`, docs/theory.md
+/// §4.6.8) next to `penalty-cd` (the same central difference with a
+/// penalty spring), lumped mass, `bar-dirichlet` at dx/dt = 10 (below both
+/// limits): stepping only, per dof-step.
+#[divan::bench(args = ["verlet-nitsche(10,1)", "penalty-cd"])]
+fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
+    let m = 1000;
+    let n = steps(m);
+    let setup = || {
+        let b = Benchmark::BarDirichlet;
+        let exact = b.exact(3.0).unwrap();
+        let p = b.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
+        let spec: SchemeSpec = scheme.parse().unwrap();
+        spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap()
+    };
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(setup).bench_local_values(|mut s| {
+        for _ in 0..n {
+            divan::black_box(s.step().unwrap());
+        }
+        s
+    });
+}

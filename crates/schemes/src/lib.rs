@@ -177,6 +177,7 @@ mod paoli;
 mod profile;
 mod registry;
 mod stabilized;
+mod verlet_nitsche;
 
 pub use d1minus::{D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
@@ -194,6 +195,7 @@ pub use registry::{families_with, syntax_list, FAMILIES};
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
 pub use stabilized::ContactStabilized;
+pub use verlet_nitsche::VerletNitsche;
 
 use signorini_contact::ContactError;
 use signorini_fem::{FemError, SymBand};

@@ -36,6 +36,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::d1minus::D1_MINUS_LINEAR,
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,
+    &crate::verlet_nitsche::VERLET_NITSCHE,
     &crate::paoli::CD_TAYLOR,
     &crate::events::EVENT_DRIVEN,
 ];

@@ -31,3 +31,4 @@ mod profile;
 mod several_contacts;
 mod siconos;
 mod stabilized;
+mod verlet_nitsche;
