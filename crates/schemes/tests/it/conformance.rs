@@ -73,7 +73,8 @@ fn problem_for(spec: &SchemeSpec, lo: f64) -> (Dynamics, Initial) {
 /// The values at which a family without a preset is checked (such a
 /// family is spelled only by its call, so it has no values of its own):
 /// `every_family_has_a_reference` fails on a preset-less family missing here.
-const PRESETLESS: &[(&str, &[f64])] = &[("moreau-jean-projected", &[0.5, 0.0, 0.5]), ("moreau-jean-combined", &[0.5, 0.0]), ("nsga", &[0.8, 0.0]), ("d1-minus-linear", &[0.0]), ("verlet-nitsche", &[10.0, 1.0])];
+const PRESETLESS: &[(&str, &[f64])] =
+    &[("moreau-jean-projected", &[0.5, 0.0, 0.5]), ("moreau-jean-combined", &[0.5, 0.0]), ("nsga", &[0.8, 0.0]), ("d1-minus-linear", &[0.0]), ("verlet-nitsche", &[10.0, 1.0])];
 
 /// Every scheme the registry names: the presets, and each family without
 /// one at its [`PRESETLESS`] values.
