@@ -29,16 +29,16 @@ const MASSLESS: [BarMass; 6] = [BarMass::Mod, BarMass::Mod1, BarMass::Mod2, BarM
 /// `k = c²/h = m`, `d = k (e₁ − e₀)`, `γ = γ₀ k`,
 /// `K_N = K − (θ/γ) d dᵀ`, and the force vector
 /// `N(U) = (1/γ) min(0, P_γ(U)) (θ d + γ e₀)`, `P_γ(U) = dᵀU + γ (u₀ − g)`.
-struct NitscheOracle {
-    k_n: Dense,
-    gamma: f64,
-    theta: f64,
-    kk: f64,
+pub(crate) struct NitscheOracle {
+    pub(crate) k_n: Dense,
+    pub(crate) gamma: f64,
+    pub(crate) theta: f64,
+    pub(crate) kk: f64,
     gap: f64,
 }
 
 impl NitscheOracle {
-    fn new(o: &Oracle, m: usize, gamma0: f64, theta: f64) -> Self {
+    pub(crate) fn new(o: &Oracle, m: usize, gamma0: f64, theta: f64) -> Self {
         let kk = m as f64;
         let gamma = gamma0 * kk;
         let n = o.n();
@@ -49,11 +49,12 @@ impl NitscheOracle {
         Self { k_n, gamma, theta, kk, gap: o.lo }
     }
 
-    fn p_gamma(&self, u: &[f64]) -> f64 {
+    pub(crate) fn p_gamma(&self, u: &[f64]) -> f64 {
         self.kk * (u[1] - u[0]) + self.gamma * (u[0] - self.gap)
     }
 
-    fn force(&self, u: &[f64]) -> Vec<f64> {
+    /// `N(U)`.
+    pub(crate) fn force(&self, u: &[f64]) -> Vec<f64> {
         let s = self.p_gamma(u).min(0.0) / self.gamma;
         let mut f = vec![0.0; u.len()];
         f[0] = s * (-self.theta * self.kk + self.gamma);

@@ -11,48 +11,19 @@
 //! and a long run.
 
 use crate::common::{bar_scene, kappa_max, Chol, Dense, Oracle, Sine};
+use crate::peers::NitscheOracle;
+use crate::stabilized::solve;
 use signorini_fem::BarMass;
 use signorini_schemes::{Initial, SchemeError, SchemeSpec, SplitMix64};
 
-/// The test's own Nitsche data for the bar with `m` elements (`k = m`).
-struct Nit {
-    k_n: Dense,
-    kk: f64,
-    gamma: f64,
-    theta: f64,
-    gap: f64,
-}
+/// Nitsche's data of the bar with `m` elements (`k = m`): the peers
+/// suite's oracle (`K_N`, `P_γ`, `N(U)`), written from theory §4.6.2.
+type Nit = NitscheOracle;
 
-impl Nit {
-    fn new(o: &Oracle, m: usize, gamma0: f64, theta: f64) -> Self {
-        let kk = m as f64;
-        let gamma = gamma0 * kk;
-        let n = o.n();
-        let mut d = vec![0.0; n];
-        d[0] = -kk;
-        d[1] = kk;
-        let k_n = (0..n).map(|i| (0..n).map(|j| o.k[i][j] - theta / gamma * d[i] * d[j]).collect()).collect();
-        Self { k_n, kk, gamma, theta, gap: o.lo }
-    }
-
-    fn p_gamma(&self, u: &[f64]) -> f64 {
-        self.kk * (u[1] - u[0]) + self.gamma * (u[0] - self.gap)
-    }
-
-    /// `N(U)`.
-    fn force(&self, u: &[f64]) -> Vec<f64> {
-        let s = self.p_gamma(u).min(0.0) / self.gamma;
-        let mut f = vec![0.0; u.len()];
-        f[0] = s * (self.gamma - self.theta * self.kk);
-        f[1] = s * self.theta * self.kk;
-        f
-    }
-
-    /// `F(t) − K_N U − N(U)`.
-    fn residual(&self, o: &Oracle, u: &[f64], t: f64) -> Vec<f64> {
-        let (f, ku, nu) = (o.load_at(t), mv(&self.k_n, u), self.force(u));
-        (0..u.len()).map(|i| f[i] - ku[i] - nu[i]).collect()
-    }
+/// `F(t) − K_N U − N(U)`.
+fn residual(nit: &Nit, o: &Oracle, u: &[f64], t: f64) -> Vec<f64> {
+    let (f, ku, nu) = (o.load_at(t), mv(&nit.k_n, u), nit.force(u));
+    (0..u.len()).map(|i| f[i] - ku[i] - nu[i]).collect()
 }
 
 fn mv(a: &Dense, x: &[f64]) -> Vec<f64> {
@@ -66,11 +37,11 @@ fn dot(x: &[f64], y: &[f64]) -> f64 {
 /// The dense step sequence `U⁰, U¹, …, U^steps`.
 fn dense_run(o: &Oracle, nit: &Nit, init: &Initial, dt: f64, steps: usize) -> Vec<Vec<f64>> {
     let chol = Chol::new(&o.m);
-    let a0 = chol.solve(&nit.residual(o, &init.u, 0.0));
+    let a0 = chol.solve(&residual(nit, o, &init.u, 0.0));
     let u1: Vec<f64> = (0..o.n()).map(|i| init.u[i] + dt * init.v[i] + 0.5 * dt * dt * a0[i]).collect();
     let mut out = vec![init.u.clone(), u1];
     for n in 1..steps {
-        let a = chol.solve(&nit.residual(o, &out[n], n as f64 * dt));
+        let a = chol.solve(&residual(nit, o, &out[n], n as f64 * dt));
         let next = (0..o.n()).map(|i| 2.0 * out[n][i] - out[n - 1][i] + dt * dt * a[i]).collect();
         out.push(next);
     }
@@ -162,7 +133,7 @@ fn steps_follow_the_dense_transcription_and_the_energy_identity() {
             let local = if n == 1 {
                 want[1].clone()
             } else {
-                let a = chol.solve(&nit.residual(&c.o, &got[n - 1], (n - 1) as f64 * dt));
+                let a = chol.solve(&residual(&nit, &c.o, &got[n - 1], (n - 1) as f64 * dt));
                 (0..c.o.n()).map(|i| 2.0 * got[n - 1][i] - got[n - 2][i] + dt * dt * a[i]).collect()
             };
             let err = u.iter().zip(&local).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
@@ -254,7 +225,7 @@ fn a_held_start_stays_at_rest_with_the_total_load_as_its_force() {
             }
             b[i] += gap * r[i];
         }
-        let u_static = gauss(a, b);
+        let u_static = solve(a, b);
         let total: f64 = o.load.iter().sum();
         assert!((nit.p_gamma(&u_static) - total).abs() <= 1e-12 * total.abs(), "static P_γ {} vs total load {total}", nit.p_gamma(&u_static));
         let spec = SchemeSpec::verlet_nitsche(gamma0, theta);
@@ -337,26 +308,4 @@ fn refusals_name_the_field() {
     for dt in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert!(SchemeSpec::verlet_nitsche(10.0, 1.0).build(dy.clone(), dt, &init).is_err(), "dt = {dt}");
     }
-}
-
-/// Solves `a x = b` by Gaussian elimination with partial pivoting.
-fn gauss(mut a: Dense, mut b: Vec<f64>) -> Vec<f64> {
-    let n = b.len();
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
-        a.swap(c, p);
-        b.swap(c, p);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for r in (0..n).rev() {
-        x[r] = (b[r] - (r + 1..n).map(|k| a[r][k] * x[k]).sum::<f64>()) / a[r][r];
-    }
-    x
 }
