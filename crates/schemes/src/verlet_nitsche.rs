@@ -251,7 +251,10 @@ pub(crate) static VERLET_NITSCHE: Family = Family {
     capabilities: |a| Capabilities {
         explicit: true,
         node: Node::Massive,
-        diagonal_mass: a[1] != 1.0,
+        // θ = 1 takes either massive-node mass, θ ≠ 1 the lumped one only; a
+        // θ not given (NaN: `signorini list` reads a family at its defaults,
+        // and θ has none) needs no diagonal mass: the range line says θ ≠ 1's.
+        diagonal_mass: a[1] != 1.0 && !a[1].is_nan(),
         damping: false,
         forcing: true,
         restitution: false,
