@@ -331,3 +331,27 @@ fn d1_minus_linear_held_starts_and_symmetric_contacts() {
     }
     assert!(together > 12, "the two contacts engaged together in only {together} steps");
 }
+
+/// The limit is strict: on the lumped free bar the exact limit is the
+/// closed form `2/sqrt(4c²/h²) = h/c` (the highest mode of the lumped P1
+/// bar), and a step equal to it — the Courant-one step, which
+/// `cd-taylor` takes — is refused (the stress study's runs there gained
+/// ×10⁶ in energy through the contact steps), a step 1e-6 below it taken.
+#[test]
+fn d1_minus_linear_refuses_the_limit_itself() {
+    use crate::common::bar_scene;
+    use signorini_fem::BarMass;
+    let m = 8;
+    let (dy, _) = bar_scene(m, BarMass::Lumped, true, -0.01, -0.5, None);
+    let init = Initial { u: vec![0.0; m + 1], v: vec![-1.0; m + 1] };
+    let h = 1.0 / m as f64;
+    for e in [0.0, 1.0] {
+        let spec = SchemeSpec::d1_minus_linear(e);
+        match spec.build(dy.clone(), h, &init) {
+            Err(signorini_schemes::SchemeError::Unstable { limit, .. }) => assert!((limit - h).abs() <= 1e-12 * h, "limit {limit} against h/c = {h}"),
+            Err(other) => panic!("e = {e}: dt = h/c refused for another reason: {other}"),
+            Ok(_) => panic!("e = {e}: dt = h/c, the limit itself, accepted"),
+        }
+        assert!(spec.build(dy.clone(), h * (1.0 - 1e-6), &init).is_ok(), "e = {e}: a step just below the limit refused");
+    }
+}
