@@ -479,6 +479,12 @@ pub(crate) fn time_stepping_schemes(field: &str, given: Option<&[SchemeSpec]>) -
     Ok(given.iter().map(|s| (s.to_string(), *s)).collect())
 }
 
+/// Whether `scheme` runs with `mass`: the contact node it needs, and the
+/// lumped mass when it needs a diagonal one (`verlet-nitsche` with θ ≠ 1).
+pub(crate) fn takes_mass(scheme: &SchemeSpec, mass: BarMass) -> bool {
+    scheme.accepts_massless_node(mass.massless_contact_node()) && (!scheme.needs_diagonal_mass() || mass == BarMass::Lumped)
+}
+
 /// Parses mass treatments (`std`, `lumped`, `mod`, ...), each piece trimmed; an error names `--masses`.
 pub fn parse_masses(raw: &[String]) -> Result<Vec<BarMass>, StudyError> {
     raw.iter().map(|s| s.trim().parse::<BarMass>().map_err(|e| StudyError::config("masses", format!("⟨masses⟩: {e}")))).collect()

@@ -108,7 +108,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     // Every mass treatment (mod1 is mod under another name).
     let masses: Vec<BarMass> = BarMass::ALL.into_iter().filter(|m| *m != BarMass::Mod1).collect();
     let schemes = crate::time_stepping_schemes("schemes", a.schemes.as_deref())?;
-    let total = (schemes.iter().map(|(_, s)| masses.iter().filter(|m| s.accepts_massless_node(m.massless_contact_node())).count()).sum::<usize>() * ratios.len()) as u64;
+    let total = (schemes.iter().map(|(_, s)| masses.iter().filter(|&&m| crate::takes_mass(s, m)).count()).sum::<usize>() * ratios.len()) as u64;
     let mut done = 0u64;
     let (s_, f_, i_) = (Kind::S, Kind::F, Kind::I);
     let mut w = TableOut::create(
@@ -121,7 +121,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     for (name, scheme) in &schemes {
         let name = name.as_str();
         for &mass in &masses {
-            if !scheme.accepts_massless_node(mass.massless_contact_node()) {
+            if !crate::takes_mass(scheme, mass) {
                 continue;
             }
             let mut line = Vec::new();

@@ -1042,7 +1042,7 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     for benchmark in BARS {
         let (ratio, t_end) = benchmark.default_ratio_and_horizon();
         for scheme in &schemes {
-            let ok: Vec<BarMass> = masses.iter().copied().filter(|m| scheme.accepts_massless_node(m.massless_contact_node())).collect();
+            let ok: Vec<BarMass> = masses.iter().copied().filter(|&m| crate::takes_mass(scheme, m)).collect();
             // Explicit schemes cannot take dt = h (their CFL limit is below it):
             // they run at dx/dt = 10 on every benchmark.
             let ratio = if scheme.is_explicit() { ratio.max(10.0) } else { ratio };

@@ -28,19 +28,23 @@ fn floats(t: &signorini_studies::Table, name: &str) -> Vec<f64> {
 
 /// The rows are the given schemes' and only theirs: contact-stabilized with
 /// the two masses whose contact node has mass (std, lumped), newmark-cn with
-/// all seven, seven dx/dt each, in that order. And contact-stabilized
+/// all seven, verlet-nitsche(10,0) with the lumped one only (θ ≠ 1), seven
+/// dx/dt each, in that order. And contact-stabilized
 /// dissipates (theory §7.9: without load or damping ΔE ≤ 0 at every step),
 /// so its energy never exceeds the initial one.
 #[test]
 fn stress_runs_the_given_schemes_with_the_masses_they_take() {
     let out = temp_out("stress");
-    let schemes = Some(vec!["contact-stabilized".parse().unwrap(), "newmark-cn".parse().unwrap()]);
+    let schemes = Some(vec!["contact-stabilized".parse().unwrap(), "newmark-cn".parse().unwrap(), "verlet-nitsche(10,0)".parse().unwrap()]);
     let cfg = stress::Config { out: out.clone(), steps: 400, elements: 8, seed: 3, schemes };
     let o = stress::run(&cfg, &|_, _| {}).expect("the study runs");
     let t = &o.tables[0];
     let (scheme, mass) = (strs(t, "scheme"), strs(t, "mass"));
     let mut want = Vec::new();
-    for (s, masses) in [("contact-stabilized", &["std", "lumped"][..]), ("newmark-cn", &["std", "lumped", "mod", "mod2", "mod3", "transfer", "singular"][..])] {
+    // verlet-nitsche with θ ≠ 1 takes the lumped mass only.
+    for (s, masses) in
+        [("contact-stabilized", &["std", "lumped"][..]), ("newmark-cn", &["std", "lumped", "mod", "mod2", "mod3", "transfer", "singular"][..]), ("verlet-nitsche(10,0)", &["lumped"][..])]
+    {
         for m in masses {
             want.extend(std::iter::repeat_n((s.to_string(), m.to_string()), stress::RATIOS.len()));
         }
