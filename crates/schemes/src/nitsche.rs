@@ -24,6 +24,43 @@ use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
 
+/// The structure Nitsche's method is written for here (theory §4.6.2): the
+/// P1 bar's node 0 as the contact node, a one-sided obstacle.
+pub(crate) fn bar_end(dy: &Dynamics) -> Result<(), SchemeError> {
+    if dy.contact().dof != 0 || dy.n() < 2 || dy.stiffness.half_bandwidth() != 1 {
+        return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
+    }
+    if dy.contact().bounds.hi.is_finite() {
+        return Err(SchemeError::Structure("Nitsche here handles a one-sided obstacle"));
+    }
+    Ok(())
+}
+
+/// Nitsche's terms at the bar's end (theory §4.6.2), for `nitsche` and
+/// `verlet-nitsche`: with `k = −K_01` and `γ = γ_0 k`, `K_N = K − (θ/γ) d dᵀ`
+/// (`d = k (e_1 − e_0)`), `q = d + γ e_0` and `r = (θ d + γ e_0)/γ` on dofs
+/// (0, 1).
+pub(crate) struct NitscheTerms {
+    pub(crate) gamma_n: f64,
+    pub(crate) k_n: SymBand,
+    pub(crate) q: [f64; 2],
+    pub(crate) r: [f64; 2],
+}
+
+impl NitscheTerms {
+    /// The terms of `dy` (its structure checked by [`bar_end`]).
+    pub(crate) fn new(dy: &Dynamics, gamma0: f64, theta: f64) -> Self {
+        let k = -dy.stiffness.get(0, 1);
+        let gamma_n = gamma0 * k;
+        let mut k_n = dy.stiffness.clone();
+        let c = theta / gamma_n * k * k;
+        k_n.add(0, 0, -c);
+        k_n.add(1, 1, -c);
+        k_n.add(0, 1, c);
+        Self { gamma_n, k_n, q: [-k + gamma_n, k], r: [(-theta * k + gamma_n) / gamma_n, theta * k / gamma_n] }
+    }
+}
+
 /// Nitsche + Newmark integrator on the P1 bar.
 pub struct Nitsche {
     label: String,
@@ -69,32 +106,17 @@ impl Nitsche {
                 " (Nitsche's method is formulated here at the bar's end node 0: its flux σ = c² u_x(0) is one element's)",
             ));
         }
-        if dy.contact().dof != 0 || n < 2 || dy.stiffness.half_bandwidth() != 1 {
-            return Err(SchemeError::Structure("Nitsche needs the P1 bar's contact node 0"));
-        }
-        if dy.contact().bounds.hi.is_finite() {
-            return Err(SchemeError::Structure("Nitsche here handles a one-sided obstacle"));
-        }
+        bar_end(&dy)?;
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
-        let k = -dy.stiffness.get(0, 1);
-        let gamma_n = gamma0 * k;
-        // K_N = K - (θ/γ) d dᵀ on dofs 0, 1.
-        let mut k_n = dy.stiffness.clone();
-        let c = theta / gamma_n * k * k;
-        k_n.add(0, 0, -c);
-        k_n.add(1, 1, -c);
-        k_n.add(0, 1, c);
+        let NitscheTerms { gamma_n, k_n, q, r } = NitscheTerms::new(&dy, gamma0, theta);
         let a = dy.mass.lin_comb(1.0, &k_n, beta * dt * dt).factor().map_err(|_| SchemeError::Invalid {
             field: "gamma0",
             value: gamma0,
             allowed: "large enough that K - (θ/γ) d dᵀ keeps the step matrix positive definite (γ_0 > θ c² suffices)",
         })?;
         let m_massive = dy.mass.trailing(dy.massive_start()).factor()?;
-        // q = d + γ e_0, r = (θ d + γ e_0)/γ on dofs (0, 1).
-        let q = [-k + gamma_n, k];
-        let r = [(-theta * k + gamma_n) / gamma_n, theta * k / gamma_n];
         let mut ar = vec![0.0; n];
         ar[0] = r[0];
         ar[1] = r[1];

@@ -31,6 +31,7 @@
 //! node 0, `(K, M)` without dof 0. The limit is `2/sqrt(κ)` of the larger
 //! `κ_max` of the two phases (θ ≠ 1 needs the lumped mass).
 
+use crate::nitsche::NitscheTerms;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
@@ -58,15 +59,10 @@ pub struct VerletNitsche {
     acts: [Active; 1],
 }
 
-/// The structure the scheme needs: the P1 bar's node 0, one one-sided
-/// obstacle. Returns `k = −K_01`.
+/// The structure the scheme needs ([`crate::nitsche::bar_end`]) and a P1
+/// bar's stiffness: returns `k = −K_01`.
 fn bar_end(dy: &Dynamics) -> Result<f64, SchemeError> {
-    if dy.contact().dof != 0 || dy.n() < 2 || dy.stiffness.half_bandwidth() != 1 {
-        return Err(SchemeError::Structure("verlet-nitsche needs the P1 bar's contact node 0"));
-    }
-    if dy.contact().bounds.hi.is_finite() {
-        return Err(SchemeError::Structure("verlet-nitsche handles a one-sided obstacle"));
-    }
+    crate::nitsche::bar_end(dy)?;
     let k = -dy.stiffness.get(0, 1);
     if !(k > 0.0 && k.is_finite()) {
         return Err(SchemeError::Structure("verlet-nitsche needs the P1 bar's stiffness (K_01 < 0)"));
@@ -79,21 +75,11 @@ fn node0_decoupled(m: &SymBand) -> bool {
     (1..m.n().min(m.half_bandwidth() + 1)).all(|j| m.get(0, j) == 0.0)
 }
 
-/// `K_N = K − (θ/γ) d dᵀ`: the first element's stiffness times `1 − θ/γ_0`.
-fn nitsche_stiffness(k_mat: &SymBand, k: f64, gamma0: f64, theta: f64) -> SymBand {
-    let mut k_n = k_mat.clone();
-    let c = theta / gamma0 * k;
-    k_n.add(0, 0, -c);
-    k_n.add(1, 1, -c);
-    k_n.add(0, 1, c);
-    k_n
-}
-
 /// The exact critical step of the two phases (module docs).
 fn critical_dt(gamma0: f64, theta: f64, dy: &Dynamics) -> Result<f64, SchemeError> {
     let k = bar_end(dy)?;
     let gamma = gamma0 * k;
-    let free = crate::family::kappa_bound(&nitsche_stiffness(&dy.stiffness, k, gamma0, theta), &dy.mass)?;
+    let free = crate::family::kappa_bound(&NitscheTerms::new(dy, gamma0, theta).k_n, &dy.mass)?;
     let contact = if theta == 1.0 {
         // K_C = K + d e_0ᵀ + e_0 dᵀ + γ e_0 e_0ᵀ: (0,0) += γ − 2k, (0,1) += k.
         let mut k_c = dy.stiffness.clone();
@@ -138,9 +124,8 @@ impl VerletNitsche {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "finite and > 0" });
         }
-        let k = bar_end(&dy)?;
-        let gamma_n = gamma0 * k;
-        let k_n = nitsche_stiffness(&dy.stiffness, k, gamma0, theta);
+        bar_end(&dy)?;
+        let NitscheTerms { gamma_n, k_n, q, r } = NitscheTerms::new(&dy, gamma0, theta);
         let m = dy.mass.factor()?;
         let n = dy.n();
         let mut s = Self {
@@ -149,9 +134,8 @@ impl VerletNitsche {
             n: 0,
             k_n,
             m,
-            // q = d + γ e_0, r = (θ d + γ e_0)/γ on dofs (0, 1).
-            q: [-k + gamma_n, k],
-            r: [(-theta * k + gamma_n) / gamma_n, theta * k / gamma_n],
+            q,
+            r,
             gamma_n,
             u: init.u.clone(),
             v: init.v.clone(),
