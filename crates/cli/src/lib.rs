@@ -339,7 +339,7 @@ struct PlotData {
 
 impl PlotData {
     fn new(steps: usize, dof: usize, contacts: Option<&ContactSet>) -> Self {
-        let every = (steps / 20_000).max(1);
+        let every = scene::plot_every(steps);
         let forces = contacts.map(|c| {
             let k = c.sites.len();
             if k <= MAX_FORCE_LINES {
@@ -352,10 +352,9 @@ impl PlotData {
     }
 }
 
-/// Contacts beyond which the force plot is a heat map, not one line each.
-const MAX_FORCE_LINES: usize = 12;
-/// Time bins of the force heat map.
-const MAP_BINS: usize = 60;
+/// Contacts beyond which the force plot is a heat map, not one line each,
+/// and its time bins (the output estimate counts the same).
+use scene::{FORCE_MAP_BINS as MAP_BINS, MAX_FORCE_LINES};
 
 /// Every contact's force for `lambda.svg`: one line per contact (at the
 /// decimated levels), or, beyond [`MAX_FORCE_LINES`] contacts, the force of
@@ -681,7 +680,7 @@ pub fn run_scene(scene: &Scene, scene_file: &SceneFile, out: &Path, opts: &RunOp
     let mut notes = Vec::new();
     if file.output.plots {
         let t_max = data.points.last().map_or(0.0, |p| p.0);
-        let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=2000).map(|i| t_max * i as f64 / 2000.0).map(|t| (t, f(t))).collect() };
+        let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=scene::EXACT_CURVE_SEGMENTS).map(|i| t_max * i as f64 / scene::EXACT_CURVE_SEGMENTS as f64).map(|t| (t, f(t))).collect() };
         let exact_curve = |p: &scene::Plot| {
             let e = exact.as_deref()?;
             Some(match p.exact? {

@@ -123,7 +123,10 @@ pub use field::{real_literals, InitialField, MAX_EXPRESSION_CHARS};
 pub use instantiate::{BuildError, Lift, Reads, Ready, Simulation};
 pub use limits::{bytes, contact_memory, memory_estimate, Limits};
 pub(crate) use limits::{contacts_fit, fits};
-pub use report::{check_report, energy_warning, event_probe, free_space, io_reason, output_estimate, sig12, sig6, CheckReport, EventProbe, ProbeEnd};
+pub use report::{
+    check_report, energy_warning, event_probe, free_space, io_reason, output_estimate, output_estimate_note, plot_every, sig12, sig6, CheckReport, EventProbe, ProbeEnd, EXACT_CURVE_SEGMENTS,
+    FORCE_MAP_BINS, MAX_FORCE_LINES, SCATTER_POINTS,
+};
 pub use scene::{BarRun, Scene};
 pub(crate) use schema::reduce_error;
 pub use schema::{BarToml, BeamToml, FieldToml, ObstacleToml, OscillatorToml, OutputToml, ReduceToml, SceneFile, StopToml, DEFAULT_ENERGY_WARN};

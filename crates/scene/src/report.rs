@@ -51,15 +51,76 @@ fn row_bytes(cols: usize) -> f64 {
     11.0 + 21.0 * cols as f64
 }
 
+/// Levels a run's line plots keep: every `plot_every(steps)`-th level
+/// (under 40 000 points a line).
+pub fn plot_every(steps: usize) -> usize {
+    (steps / 20_000).max(1)
+}
+
+/// The exact curve of a line plot: its value at this many equal intervals
+/// of the plotted time, and the ends.
+pub const EXACT_CURVE_SEGMENTS: usize = 2000;
+
+/// An SVG plot's frame (axes, ticks, labels, legend), bytes, and a line
+/// plot's bytes per point (plotters writes a polyline's points as pixel
+/// pairs: 6–10 bytes each, measured on the scenes of `data/scenes`).
+const SVG_FRAME: f64 = 20e3;
+const SVG_POINT: f64 = 10.0;
+/// A Poincaré sample's row in `poincare.csv` and dot in `poincare.svg`.
+const POINCARE_ROW: f64 = 70.0;
+const SCATTER_DOT: f64 = 40.0;
+
 /// The size of what a run of `scene` writes (bytes), estimated from its
-/// row counts (the plots are bounded: 20 000 points each).
+/// row counts and the plots it draws (line plots are decimated to under
+/// 40 000 points a line, [`plot_every`]). `impacts.csv` and the impact map
+/// are not included: they grow with the impacts, which are not known
+/// before the run ([`output_estimate_note`] says so).
 pub fn output_estimate(scene: &Scene, output: &OutputToml) -> f64 {
     let f = scene.facts();
     let (steps, series_cols, nodes) = (f.t_end / f.dt, f.series_width(), f.nodes as f64);
     let series = (steps / output.every.max(1) as f64 + 2.0) * row_bytes(series_cols);
     let snaps = if output.snapshots_every > 0 { (steps / output.snapshots_every as f64 + 1.0) * nodes * row_bytes(3) } else { 0.0 };
-    let plots = if output.plots { 4.0 * 2e6 } else { 0.0 };
-    series + snaps + plots
+    // The Poincaré section: a sample per forcing period of the record window.
+    let periods = f.omega.map_or(0.0, |w| ((f.t_end - output.record_from(f.omega)).max(0.0) * w / std::f64::consts::TAU).floor() + 1.0);
+    let poincare = if output.poincare { periods * POINCARE_ROW } else { 0.0 };
+    let plots = if output.plots { plots_estimate(&f, steps) + if output.poincare { SVG_FRAME + periods.min(SCATTER_POINTS as f64) * SCATTER_DOT } else { 0.0 } } else { 0.0 };
+    series + snaps + poincare + plots
+}
+
+/// The scatter plots' point bound: `signorini_plot::MAX_PLOT_POINTS`
+/// (the plot crate thins beyond it; the CLI's tests check the two agree).
+pub const SCATTER_POINTS: usize = 100_000;
+/// Contacts beyond which `lambda.svg` is a heat map, not one line each.
+pub const MAX_FORCE_LINES: usize = 12;
+/// Time bins of that heat map.
+pub const FORCE_MAP_BINS: usize = 60;
+
+/// The line plots' bytes: the tip, the contact force(s), the energy, each
+/// with its exact curve where the scene has an exact solution.
+fn plots_estimate(f: &crate::Facts<'_>, steps: f64) -> f64 {
+    let steps = steps.max(0.0).ceil() as usize;
+    let points = (steps / plot_every(steps) + 1) as f64;
+    let exact = if f.norms.is_some() { EXACT_CURVE_SEGMENTS as f64 + 1.0 } else { 0.0 };
+    let line = |p: &crate::Plot| SVG_FRAME + SVG_POINT * (points + if p.exact.is_some() { exact } else { 0.0 });
+    let tip = line(&f.tip_plot);
+    let forces = match (f.contacts, &f.lambda_plot) {
+        // One line a contact, or a heat map of 60 time bins a contact.
+        (Some(set), _) if set.sites.len() <= MAX_FORCE_LINES => SVG_FRAME + SVG_POINT * points * set.sites.len() as f64,
+        (Some(set), _) => SVG_FRAME + (FORCE_MAP_BINS * set.sites.len()) as f64 * SCATTER_DOT,
+        (None, Some(p)) => line(p),
+        (None, None) => 0.0,
+    };
+    tip + forces + f.energy_plot.as_ref().map_or(0.0, line)
+}
+
+/// What the output estimate leaves out, for the check's text (empty when
+/// nothing is left out).
+pub fn output_estimate_note(output: &OutputToml) -> &'static str {
+    if output.impacts {
+        " (impacts.csv and impact_map.svg not included: they grow with the impacts)"
+    } else {
+        ""
+    }
 }
 
 /// The event-driven scheme of a scene and its event limit, if it has one.
@@ -316,7 +377,7 @@ pub fn check_report(scene: &Scene, file: &SceneFile, out: &Path) -> Result<Check
     let free = free_space(out)
         .map_or_else(|| "free space unknown".to_string(), |f| format!("{} free there{}", crate::bytes(f), if need > f { ": the run will be refused (--no-disk-check to force)" } else { "" }));
     let memory = facts.memory_bytes;
-    let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free})", crate::bytes(memory), crate::bytes(need), out.display());
+    let mut resources = format!("\nmemory estimate: {}\noutput estimate: {} into {} ({free}){}", crate::bytes(memory), crate::bytes(need), out.display(), output_estimate_note(&file.output));
     if let Some(p) = &probe {
         resources.push_str(" (events.csv included: the probe's estimate)\n");
         resources.push_str(&p.describe());
