@@ -14,17 +14,32 @@
 use crate::FemError;
 
 /// A real symmetric matrix with half-bandwidth `p` (`A[i][j] = 0` for `|i-j| > p`).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SymBand {
     n: usize,
     p: usize,
     data: Vec<f64>,
+    /// Half-bandwidth 3 (the beam): the band by diagonals for
+    /// [`mul_vec`](Self::mul_vec), made at the first product after the
+    /// last change (every `&mut` method resets it).
+    diagonals: std::sync::OnceLock<Diagonals3>,
+}
+
+impl PartialEq for SymBand {
+    fn eq(&self, other: &Self) -> bool {
+        (self.n, self.p) == (other.n, other.p) && self.data == other.data
+    }
 }
 
 impl SymBand {
     /// The zero `n × n` matrix with half-bandwidth `p`.
     pub fn zeros(n: usize, p: usize) -> Self {
-        Self { n, p, data: vec![0.0; n * (p + 1)] }
+        Self { n, p, data: vec![0.0; n * (p + 1)], diagonals: std::sync::OnceLock::new() }
+    }
+
+    /// The product by diagonals is stale after a change.
+    fn changed(&mut self) {
+        self.diagonals = std::sync::OnceLock::new();
     }
 
     /// Dimension.
@@ -68,6 +83,7 @@ impl SymBand {
     pub fn set(&mut self, i: usize, j: usize, v: f64) {
         let k = self.idx(i, j).unwrap_or_else(|| panic!("({i},{j}) outside the band"));
         self.data[k] = v;
+        self.changed();
     }
 
     /// Adds `v` to entry `(i, j)` (and so to its mirror).
@@ -75,6 +91,7 @@ impl SymBand {
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         let k = self.idx(i, j).unwrap_or_else(|| panic!("({i},{j}) outside the band"));
         self.data[k] += v;
+        self.changed();
     }
 
     /// `a * self + b * other` (same shape).
@@ -82,7 +99,7 @@ impl SymBand {
     pub fn lin_comb(&self, a: f64, other: &SymBand, b: f64) -> SymBand {
         assert_eq!((self.n, self.p), (other.n, other.p), "shape mismatch");
         let data = self.data.iter().zip(&other.data).map(|(x, y)| a * x + b * y).collect();
-        SymBand { n: self.n, p: self.p, data }
+        SymBand { n: self.n, p: self.p, data, diagonals: std::sync::OnceLock::new() }
     }
 
     /// `out = a * self + b * other` (same shape), without allocating: the
@@ -93,6 +110,7 @@ impl SymBand {
         for ((o, x), y) in out.data.iter_mut().zip(&self.data).zip(&other.data) {
             *o = a * x + b * y;
         }
+        out.changed();
     }
 
     /// The trailing principal submatrix on indices `start..n`.
@@ -126,7 +144,7 @@ impl SymBand {
         assert!(x.len() == self.n && y.len() == self.n, "length mismatch");
         match self.p {
             1 if self.n >= 2 => self.mul_vec_tridiag(x, y),
-            3 if self.n > 6 => self.mul_vec_p3(x, y),
+            3 if self.n > 6 => self.diagonals.get_or_init(|| Diagonals3::new(self)).mul_vec(x, y),
             3 => self.mul_vec_p::<3>(x, y),
             _ => self.mul_vec_generic(x, y),
         }
@@ -188,9 +206,13 @@ impl SymBand {
         y[n - 1] = d[2 * n - 1] * x[n - 2] + d[2 * n - 2] * x[n - 1];
     }
 
-    /// Half-bandwidth 3: interior rows read a fixed window of 7 entries of x
-    /// (bounds checked once per row) and the row's 7 coefficients.
-    fn mul_vec_p3(&self, x: &[f64], y: &mut [f64]) {
+    /// Half-bandwidth 3, row by row: interior rows read a fixed window of 7
+    /// entries of x (bounds checked once per row) and the row's 7
+    /// coefficients. [`Diagonals3::mul_vec`] is the same arithmetic by
+    /// diagonals (what [`mul_vec`](Self::mul_vec) uses); this is its
+    /// reference in the tests.
+    #[doc(hidden)]
+    pub fn mul_vec_p3(&self, x: &[f64], y: &mut [f64]) {
         let n = self.n;
         let d = &self.data[..n * 4];
         let row = |i: usize| -> f64 {
@@ -251,11 +273,14 @@ impl SymBand {
         }
     }
 
-    /// Copies `other` (same size and bandwidth) into `self` without allocating.
+    /// Copies `other` (same size and bandwidth) into `self` without
+    /// allocating (the product by diagonals is made again at the next
+    /// product).
     #[track_caller]
     pub fn copy_from(&mut self, other: &SymBand) {
         assert!(self.n == other.n && self.p == other.p, "size mismatch");
         self.data.copy_from_slice(&other.data);
+        self.changed();
     }
 
     /// Banded LDLᵀ factorisation (no pivoting). Fails with
@@ -585,6 +610,80 @@ impl BandLdlt {
                 }
             }
             b[i] = s;
+        }
+    }
+}
+
+/// A symmetric matrix of half-bandwidth 3 (`n > 6`) by diagonals
+/// (`d[k][i] = A[i][i−k]`), for [`SymBand::mul_vec`]: one pass over
+/// contiguous slices that the compiler vectorises across rows, where the
+/// row-major [`SymBand::mul_vec_p3`] gathers each row's window: 48 against
+/// 67 ns a product on the beam's 38 unknowns (`signorini-run`'s
+/// `benches/step.rs`, `beam_band_product`). Every row is
+/// summed in `mul_vec_p3`'s order — interior rows as
+/// `(r₀x_i + r₁x_{i−1} + r₂x_{i−2} + r₃x_{i−3}) + (c₁x_{i+1} + c₂x_{i+2} + c₃x_{i+3})`,
+/// the three first and last rows the diagonal term then each neighbour
+/// left and right — so the same bits (tested against it). Compiled for the
+/// baseline target and with AVX2, chosen at run time (no FMA in either).
+#[derive(Clone, Debug)]
+struct Diagonals3 {
+    d: [Vec<f64>; 4],
+    avx2: bool,
+}
+
+impl Diagonals3 {
+    fn new(a: &SymBand) -> Self {
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        Self { d: std::array::from_fn(|k| a.diagonal(k)), avx2 }
+    }
+
+    fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the CPU reports AVX2.
+            return unsafe { self.mul_vec_avx2(x, y) };
+        }
+        self.mul_vec_body(x, y)
+    }
+
+    /// [`mul_vec_body`](Self::mul_vec_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn mul_vec_avx2(&self, x: &[f64], y: &mut [f64]) {
+        self.mul_vec_body(x, y)
+    }
+
+    #[inline(always)]
+    fn mul_vec_body(&self, x: &[f64], y: &mut [f64]) {
+        let n = x.len();
+        let d = &self.d;
+        for i in (0..3).chain(n - 3..n) {
+            let mut s = d[0][i] * x[i];
+            for k in 1..=3 {
+                if i >= k {
+                    s += d[k][i] * x[i - k];
+                }
+                if i + k < n {
+                    s += d[k][i + k] * x[i + k];
+                }
+            }
+            y[i] = s;
+        }
+        let (a, len) = (3, n - 6);
+        let r = a..a + len;
+        let (r0, r1, r2, r3) = (&d[0][r.clone()], &d[1][r.clone()], &d[2][r.clone()], &d[3][r.clone()]);
+        let (c1, c2, c3) = (&d[1][a + 1..a + 1 + len], &d[2][a + 2..a + 2 + len], &d[3][a + 3..a + 3 + len]);
+        let (x0, x1, x2, x3, x4, x5, x6) =
+            (&x[a - 3..a - 3 + len], &x[a - 2..a - 2 + len], &x[a - 1..a - 1 + len], &x[a..a + len], &x[a + 1..a + 1 + len], &x[a + 2..a + 2 + len], &x[a + 3..a + 3 + len]);
+        let y = &mut y[r];
+        for j in 0..len {
+            y[j] = (r0[j] * x3[j] + r1[j] * x2[j] + r2[j] * x1[j] + r3[j] * x0[j]) + (c1[j] * x4[j] + c2[j] * x5[j] + c3[j] * x6[j]);
         }
     }
 }

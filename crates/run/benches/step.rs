@@ -195,6 +195,28 @@ fn beam_band_solve(bencher: Bencher) {
     });
 }
 
+/// The beam's banded product (half-bandwidth 3, n = 38: `K x`), as every
+/// scheme but the fused β-step makes it (Moreau–Jean, nsga,
+/// contact-stabilized, d1-minus-linear on the beam): by rows (`ROWS = 1`,
+/// `SymBand::mul_vec_p3`, the old path) and by diagonals (`ROWS = 0`,
+/// `SymBand::mul_vec`), the same bits: ns per product.
+#[divan::bench(consts = [0, 1])]
+fn beam_band_product<const ROWS: usize>(bencher: Bencher) {
+    let b = signorini_fem::Beam::new(1.501, 19, 282.84).unwrap();
+    let k = b.stiffness();
+    let x: Vec<f64> = (0..38).map(|i| (i as f64).sin()).collect();
+    bencher.counter(ItemsCount::new(10_000usize)).with_inputs(|| vec![0.0; 38]).bench_local_values(|mut y| {
+        for _ in 0..10_000 {
+            if ROWS == 1 {
+                k.mul_vec_p3(divan::black_box(&x), &mut y);
+            } else {
+                k.mul_vec(divan::black_box(&x), &mut y);
+            }
+        }
+        y
+    });
+}
+
 /// The explicit Nitsche step (`verlet-nitsche(10,1)`, docs/theory.md
 /// §4.6.8) next to `penalty-cd` (the same central difference with a
 /// penalty spring), lumped mass, `bar-dirichlet` at dx/dt = 10 (below both
