@@ -84,10 +84,11 @@ pub struct SpaceErrors {
 
 /// Exact space integration of `u_h - u` for P1 nodal values on a uniform mesh.
 ///
-/// Per call: one batch evaluation of the exact solution at the nodes (and
-/// element midpoints for degree 2), a branch-free pass over the elements,
-/// and, for the few elements a kink crosses, the unsplit contribution is
-/// replaced by the sum over the pieces.
+/// Per call: one batch evaluation of the exact solution at the nodes and at
+/// the points of the few elements a kink crosses (and at the element
+/// midpoints for degree 2), a branch-free pass over the elements, and, for
+/// the elements a kink crosses, the unsplit contribution is replaced by the
+/// sum over the pieces.
 pub struct SpaceIntegrator<'a> {
     exact: &'a dyn ExactSolution,
     length: f64,
@@ -96,14 +97,16 @@ pub struct SpaceIntegrator<'a> {
     degree: usize,
     nodes: Vec<f64>,
     mids: Vec<f64>,
-    ex_nodes: Vec<f64>,
     ex_mids: Vec<f64>,
     kinks: Vec<f64>,
     ends: Vec<f64>,
+    /// Degree 1: the nodes, then a level's split elements' points (`ex`:
+    /// the exact solution there, `uh`: `u_h` at the split points). Degree
+    /// `k >= 2`: the split points alone.
     pts: Vec<f64>,
     uh: Vec<f64>,
     ex: Vec<f64>,
-    /// The P1/P2 path's split elements: `(j, index of its first point in pts)`.
+    /// The degree-1 path's split elements: `(j, index of its first point in pts)`.
     split: Vec<(usize, usize)>,
     /// Element degree `k` of `u_h`.
     k: usize,
@@ -271,6 +274,13 @@ impl<'a> SpaceIntegrator<'a> {
                 (0..=q).map(|r| g.iter().map(|p| lagrange_d(q, r, p.0)).collect()).collect(),
             )
         };
+        // Degree 1: the nodes, then each level's split elements' points
+        // (`errors`); degree >= 2: the split elements' points alone.
+        let mut pts = Vec::with_capacity(nodes.len() + 64);
+        if k == 1 {
+            pts.extend_from_slice(&nodes);
+        }
+        let pts_len = pts.len();
         Self {
             k,
             ex_lnodes: vec![0.0; lnodes.len()],
@@ -284,15 +294,14 @@ impl<'a> SpaceIntegrator<'a> {
             h,
             vnorm,
             degree,
-            ex_nodes: vec![0.0; nodes.len()],
             ex_mids: vec![0.0; mids.len()],
             nodes,
             mids,
             kinks: Vec::with_capacity(16),
             ends: Vec::with_capacity(16),
-            pts: Vec::with_capacity(64),
+            pts,
             uh: Vec::with_capacity(64),
-            ex: Vec::with_capacity(64),
+            ex: Vec::with_capacity(pts_len + 64),
             split: Vec::with_capacity(16),
             #[cfg(target_arch = "x86_64")]
             avx2: std::is_x86_feature_detected!("avx2"),
@@ -358,39 +367,12 @@ impl<'a> SpaceIntegrator<'a> {
         let u_last = if u.len() == m + 1 { u[m] } else { 0.0 };
         let node_u = |i: usize| if i < m { u[i] } else { u_last };
         let (h, d) = (self.h, self.degree);
-        self.exact.u_at(t, &self.nodes, &mut self.ex_nodes);
-        if d == 2 {
-            self.exact.u_at(t, &self.mids, &mut self.ex_mids);
-        }
-        // Unsplit element sums (the kinked elements are corrected below).
-        let (mut l2, mut semi) = (0.0, 0.0);
-        let ex = &self.ex_nodes[..=m];
-        let err = |i: usize| node_u(i) - ex[i];
-        if m == 1 {
-            let e = [err(0), 0.5 * (node_u(0) + node_u(1)) - self.ex_mids.first().copied().unwrap_or(0.0), err(1)];
-            let e = if d == 1 { [e[0], e[2], 0.0] } else { e };
-            (l2, semi) = piece(d, h, &e[..=d]);
-        } else if d == 1 {
-            (l2, semi) = p1_sums(self.avx2, &u[..m], ex, u_last, &mut self.p1_buf);
-            l2 *= h / 3.0;
-            semi /= h;
-        } else {
-            for j in 0..m {
-                let (ua, ub) = (node_u(j), node_u(j + 1));
-                let e = [ua - ex[j], 0.5 * (ua + ub) - self.ex_mids[j], ub - ex[j + 1]];
-                let (a, b) = piece(2, h, &e);
-                l2 += a;
-                semi += b;
-            }
-        }
-        // Elements crossed by kinks: replace their contribution. First every
-        // such element's sample points (with midpoints for degree 2) and
-        // `u_h` there, then the exact solution at all of them in one call
-        // (pointwise: the values of one call per element), then, element by
-        // element in order, the unsplit contribution removed and the
-        // pieces' added.
+        // The elements crossed by kinks first: their sample points (with
+        // midpoints for degree 2) go after the nodes in `pts`, and `u_h`
+        // there into `uh`, so that the exact solution at the nodes and at
+        // all of them is one call (pointwise: the values of one call each).
         self.exact.kinks(t, &mut self.kinks);
-        self.pts.clear();
+        self.pts.truncate(m + 1);
         self.uh.clear();
         self.split.clear();
         let mut k = 0;
@@ -409,21 +391,43 @@ impl<'a> SpaceIntegrator<'a> {
             self.uh.extend(self.pts[first..].iter().map(|x| ua + (ub - ua) * ((x - a) / h)));
             self.split.push((j, first));
         }
-        if self.split.is_empty() {
-            return self.errors_from_integrals(l2, semi);
-        }
         self.ex.resize(self.pts.len(), 0.0);
         self.exact.u_at(t, &self.pts, &mut self.ex);
+        if d == 2 {
+            self.exact.u_at(t, &self.mids, &mut self.ex_mids);
+        }
+        // Unsplit element sums.
+        let (mut l2, mut semi) = (0.0, 0.0);
+        let ex = &self.ex[..=m];
+        let err = |i: usize| node_u(i) - ex[i];
+        if m == 1 {
+            let e = [err(0), 0.5 * (node_u(0) + node_u(1)) - self.ex_mids.first().copied().unwrap_or(0.0), err(1)];
+            let e = if d == 1 { [e[0], e[2], 0.0] } else { e };
+            (l2, semi) = piece(d, h, &e[..=d]);
+        } else if d == 1 {
+            (l2, semi) = p1_sums(self.avx2, &u[..m], ex, u_last, &mut self.p1_buf);
+            l2 *= h / 3.0;
+            semi /= h;
+        } else {
+            for j in 0..m {
+                let (ua, ub) = (node_u(j), node_u(j + 1));
+                let e = [ua - ex[j], 0.5 * (ua + ub) - self.ex_mids[j], ub - ex[j + 1]];
+                let (a, b) = piece(2, h, &e);
+                l2 += a;
+                semi += b;
+            }
+        }
+        // The split elements, in order: the unsplit contribution removed,
+        // the pieces' added.
         for (s, &(j, first)) in self.split.iter().enumerate() {
             let last = self.split.get(s + 1).map_or(self.pts.len(), |n| n.1);
             let (ua, ub) = (node_u(j), node_u(j + 1));
-            let (xa, xb) = (self.ex_nodes[j], self.ex_nodes[j + 1]);
-            // Remove the unsplit contribution.
+            let (xa, xb) = (self.ex[j], self.ex[j + 1]);
             let e_whole = if d == 1 { [ua - xa, ub - xb, 0.0] } else { [ua - xa, 0.5 * (ua + ub) - self.ex_mids[j], ub - xb] };
             let (wa, wb) = piece(d, h, &e_whole[..=d]);
             l2 -= wa;
             semi -= wb;
-            let (pts, uh, ex) = (&self.pts[first..last], &self.uh[first..last], &self.ex[first..last]);
+            let (pts, uh, ex) = (&self.pts[first..last], &self.uh[first - m - 1..last - m - 1], &self.ex[first..last]);
             let mut i = 0;
             while i + d < pts.len() {
                 let len = pts[i + d] - pts[i];
