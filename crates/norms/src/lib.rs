@@ -176,9 +176,9 @@ fn piece(d: usize, len: f64, e: &[f64]) -> (f64, f64) {
     }
 }
 
-/// Elements per chunk of [`p1_sums_body`] (its two buffers, 2 KiB, held by
+/// Elements per chunk of [`p1_sums_body`] (its two buffers, 512 B, held by
 /// the integrator: no allocation per call).
-const P1_CHUNK: usize = 128;
+const P1_CHUNK: usize = 32;
 
 /// The unsplit P1 element sums `(Σ_j (e_j² + e_j e_{j+1} + e_{j+1}²),
 /// Σ_j (e_{j+1} − e_j)²)` over the `m = ex.len() − 1 >= 2` elements, with
@@ -188,7 +188,9 @@ const P1_CHUNK: usize = 128;
 /// bit. In chunks of [`P1_CHUNK`] elements: the terms first, branch-free
 /// over equal-length slices (vectorised across elements), then the two
 /// ordered sums, one addition per element each, so the sums' dependency
-/// chains are all that stays serial.
+/// chains are all that stays serial. (Chunks of 32 measured fastest of
+/// 16 to 512 at m = 100, 1000 and 10 000: behind longer ones the sums wait
+/// for the terms' loads from L2 instead of overlapping them.)
 #[inline(always)]
 fn p1_sums_body(u: &[f64], ex: &[f64], u_last: f64, ta: &mut [f64; P1_CHUNK], td: &mut [f64; P1_CHUNK]) -> (f64, f64) {
     let m = ex.len() - 1;
