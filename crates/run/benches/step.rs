@@ -85,6 +85,33 @@ fn parts_energy(bencher: Bencher, m: usize) {
         });
 }
 
+/// (b) without the norms: the same run with one observer that wants the
+/// energy at every level and does nothing else (so the step fuses the
+/// energy as in (b)): (b) minus this is what the norms cost inside a run,
+/// this minus (a) what the fused energy and the runner add to the step.
+#[divan::bench(args = SIZES)]
+fn parts_run_energy_only(bencher: Bencher, m: usize) {
+    struct EnergyOnly(f64);
+    impl signorini_run::Observer for EnergyOnly {
+        fn wants_energy(&self) -> bool {
+            true
+        }
+        fn observe(&mut self, s: &signorini_run::Sample<'_>) -> Result<(), signorini_run::RunError> {
+            if let Some((_, e)) = s.energy {
+                self.0 += e;
+            }
+            Ok(())
+        }
+    }
+    let n = steps(m);
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| setup(m)).bench_local_values(|(mut s, u0, dt, _)| {
+        let mut energy = EnergyOnly(0.0);
+        let cfg = RunConfig::new(dt, dt * n as f64).unwrap();
+        run(s.as_mut(), &u0, &cfg, &mut [&mut energy]).unwrap();
+        divan::black_box(energy.0);
+    });
+}
+
 #[divan::bench(args = SIZES)]
 fn parts_space_errors(bencher: Bencher, m: usize) {
     let n = steps(m);
