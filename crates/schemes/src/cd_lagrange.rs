@@ -33,7 +33,7 @@
 //! is reported (as `λ = −Λ/dt`, negative at a lower stop; `−Λ⁰/(dt/2)` for
 //! the start's half step) after the step that used it, at `t_n`; the energy is the central difference's
 //! `E^{n−½} = ½ V^{n−½}ᵀ M V^{n−½} + ½ Uⁿᵀ K U^{n−1} − Fᵀ(Uⁿ + U^{n−1})/2`
-//! at `t_{n−½}` (theory §7.12: conserved off contact for a steady load,
+//! at `t_{n−½}` (theory §7.11: conserved off contact for a steady load,
 //! changed at a contact step by `½ Λᵀ H (V^{n+½} + V^{n−½})`).
 //!
 //! Without contact the step is the central difference: stable for

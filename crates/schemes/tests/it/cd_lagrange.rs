@@ -9,7 +9,7 @@
 //! solves; the start `V^{½} = V⁰ + dt/2 a⁰` with the same law against `V⁰`.
 //! Random small systems with lumped and consistent masses, a time-dependent
 //! load, gaps, a two-sided contact and a second one, step by step to
-//! 1e-12; the discrete energy identity of §7.12; a held start under a
+//! 1e-12; the discrete energy identity of §7.11; a held start under a
 //! reversing load; mirror stops reached together; a long run; the limit.
 
 use crate::common::bar_scene;
@@ -214,7 +214,7 @@ fn cd_lagrange_follows_the_dense_equations_step_by_step() {
     eprintln!("cd-lagrange vs the dense equations: worst {worst:.1e}; {impulses} impulses, {both} steps with both contacts");
 }
 
-/// The discrete energy identity of docs/theory.md §7.12: with
+/// The discrete energy identity of docs/theory.md §7.11: with
 /// `E^{k+½} = ½ V^{k+½}ᵀ M V^{k+½} + ½ U^{k+1}ᵀ K U^k − Fᵀ(U^{k+1} + U^k)/2`
 /// (computed here, dense, on the scheme's states),
 /// `E^{k+½} − E^{k−½} = ½ (F(t_k) − F)ᵀ (U^{k+1} − U^{k−1}) + ½ Σ Λ_i (V^{k+½} + V^{k−½})_{c_i}`
@@ -363,7 +363,7 @@ fn cd_lagrange_reaches_mirror_stops_together() {
 
 /// A long run: the lumped bar (m = 20) falling on its stop under gravity,
 /// 2·10⁵ steps at 0.9 of the limit (some 300 bounces). With e = 1 its
-/// energy `E^{k+½}` is conserved through every impact (§7.12: each impulse
+/// energy `E^{k+½}` is conserved through every impact (§7.11: each impulse
 /// term is `½ Λ (1 − e) V^{k−½}_c`) — measured to 1e-9 of the start's; with
 /// e = 0 it stays bounded (at most 1.01× the start's) and the bar comes to
 /// rest on the stop; no contact dof ever sits more than one step's travel
