@@ -245,10 +245,12 @@ fn beam_band_product<const ROWS: usize>(bencher: Bencher) {
 }
 
 /// The explicit Nitsche step (`verlet-nitsche(10,1)`, docs/theory.md
-/// §4.6.8) next to `penalty-cd` (the same central difference with a
-/// penalty spring), lumped mass, `bar-dirichlet` at dx/dt = 10 (below both
-/// limits): stepping only, per dof-step.
-#[divan::bench(args = ["verlet-nitsche(10,1)", "penalty-cd"])]
+/// §4.6.8) and the CD-Lagrange step (`cd-lagrange(0)`, §4.6.9: the central
+/// difference and a velocity-level impulse where a contact is closed) next
+/// to `penalty-cd` (the same central difference with a penalty spring),
+/// lumped mass, `bar-dirichlet` at dx/dt = 10 (below every limit):
+/// stepping only, per dof-step.
+#[divan::bench(args = ["verlet-nitsche(10,1)", "cd-lagrange(0)", "penalty-cd"])]
 fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
     let m = 1000;
     let n = steps(m);

@@ -160,6 +160,7 @@ macro_rules! delegate_stepper {
     };
 }
 
+mod cd_lagrange;
 mod d1minus;
 pub mod events;
 mod family;
@@ -179,6 +180,7 @@ mod registry;
 mod stabilized;
 mod verlet_nitsche;
 
+pub use cd_lagrange::CdLagrange;
 pub use d1minus::{D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};

@@ -10,6 +10,7 @@ mod common;
 mod events_common;
 
 mod carpenter;
+mod cd_lagrange;
 mod conformance;
 mod d1minus;
 mod damping;
