@@ -441,7 +441,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // An orbit with impacts whose flight between them grazes
                     // a stop: the same, with the further impact beyond.
                     let grazed = appearing_impact(&ctx, &cur, &branch.points, dir).or_else(|| further_impact(&ctx, &cur, &branch.points, dir));
-                    if let Some((bif, away, retraced)) = grazed {
+                    if let Some((bif, away, retraced, least)) = grazed {
                         let at = bif.param;
                         // Retraced: the grazing is the one the branch just
                         // crossed, listed then.
@@ -455,7 +455,8 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                                 format!("ended at the grazing at param = {at}: the orbit with the further impact there is the one the branch came along (it would retrace itself)")
                             } else if cur.orbit.impacts() == 0 {
                                 format!(
-                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found beyond it (Newton from the grazing orbit at 1e-9 … 1e-3 of the range past it)"
+                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found past it or turning back from it (Newton from the grazing orbit, and from it pushed past the stop, at 1e-9 … 1e-3 of the range past it; from the free orbit pushed past the stop at 1e-6 … 1e-2 before it){}",
+                                    if least.is_finite() { format!("; the least residual {least:e}") } else { String::new() }
                                 )
                             } else {
                                 format!(
@@ -617,7 +618,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
 /// the zero of the orbit's distance to the stops ([`margin`]), and the
 /// impacting orbit beyond ([`impact_beyond_grazing`]; `impacts` and
 /// `releases` read 0 on both sides when there is none).
-fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
+fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool, f64)> {
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
@@ -631,7 +632,7 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
 /// bound at an interior extremum of a flight ([`flight_margin`]), and the
 /// orbit with the further impact beyond ([`impact_beyond_grazing`]; with
 /// none, `impacts` and `releases` read the orbit's on both sides).
-fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
+fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool, f64)> {
     if cur.orbit.impacts() == 0 || points.len() < 2 {
         return None;
     }
@@ -647,7 +648,7 @@ fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
 /// natural-parameter steps away from the grazing. When none converges the
 /// grazing is returned with no orbit beyond (the branch ends there, the
 /// event named).
-fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>, bool)> {
+fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>, bool, f64)> {
     let smooth = cur.orbit.impacts();
     let prev = &points[points.len() - 2];
     let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
@@ -655,33 +656,50 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     if !(m1 < m0 && m1 >= 0.0) {
         return None;
     }
+    // How fast the distance to grazing closes in the parameter: how far
+    // past the stop the smooth orbit's flight would reach past the grazing.
+    let slope = ((m1 - m0) / (cur.param - p0.param)).abs();
     let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), (smooth, measure), None, OnFailure::Stop, dir)?;
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let side = (estimate - cur.param).signum();
-    let mut beyond = None;
-    for f in [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
-        let param = estimate + side * f * ctx.ls;
-        // Plain Newton, then (an orbit that already impacts) Newton
-        // keeping the guess's further impacts (the square-root side:
-        // [`periodic_orbit_keeping`]; the search from an orbit without
-        // impacts is as it was before it).
-        let found = solve_at(ctx, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth).or_else(|| (smooth > 0).then(|| solve_keeping(ctx, &p1.x, param, side, smooth)).flatten());
-        if let Some(p) = found {
-            beyond = Some(p);
-            break;
-        }
-    }
-    // None past it, on an orbit that already impacts: the orbit with the
-    // further impact on the near side (the branch turns back at the
-    // grazing, where the two orbits meet: a nonsmooth fold), from the
-    // smooth orbit there pushed past the stop.
+    // The smallest Newton residual of the searches that failed (said when
+    // the branch ends at the grazing).
+    let mut least = f64::INFINITY;
+    // Plain Newton from the grazing orbit's state, then Newton keeping the
+    // guess's new impacts (the square-root side: [`periodic_orbit_keeping`])
+    // at each offset in turn. From an orbit without impacts, plain Newton at
+    // every offset first (the nearest orbit it finds is the one it found
+    // before the keeping search was added), then Newton keeping from that
+    // state and from it pushed past the stop: the impacting orbit born at
+    // the grazing, one slow impact a period near the grazing phase.
+    let offsets = [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
+    let (plain, keeping) = (
+        |param: f64| solve_at(ctx, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth),
+        |param: f64, least: &mut f64| {
+            solve_keeping_or(ctx, &p1.x, param, side, smooth)
+                .map_err(|r| *least = least.min(r))
+                .ok()
+                .or_else(|| (smooth == 0).then(|| past_the_stop(ctx, &p1, param, slope * (param - estimate).abs(), side, least)).flatten())
+        },
+    );
+    let param_at = |f: f64| estimate + side * f * ctx.ls;
+    let mut beyond = if smooth > 0 {
+        offsets.iter().find_map(|&f| plain(param_at(f)).or_else(|| keeping(param_at(f), &mut least)))
+    } else {
+        offsets.iter().find_map(|&f| plain(param_at(f))).or_else(|| offsets.iter().find_map(|&f| keeping(param_at(f), &mut least)))
+    };
+    // None past it: the impacting orbit on the near side (the branch turns
+    // back at the grazing, where the two orbits meet: a nonsmooth fold),
+    // from the smooth orbit there pushed past the stop. A free orbit's
+    // grazing has it there when the square-root map's fixed point lies on
+    // that side (theory §12.3: the oscillator between Ω = ω and 2ω).
     // Nearer than 1e-6 of the range, the new impact is too slow for Newton
     // to converge: the map's round-off grows as the inverse of its speed.
-    if beyond.is_none() && smooth > 0 {
+    if beyond.is_none() {
         for f in [1e-6, 1e-5, 1e-4, 1e-3, 1e-2] {
             let param = estimate - side * f * ctx.ls;
             let Some(near) = solve_at(ctx, &p1.x, param, -side).filter(|p| p.orbit.impacts() == smooth) else { continue };
-            if let Some(p) = past_the_stop(ctx, &near, -side) {
+            if let Some(p) = past_the_stop(ctx, &near, param, 0.0, -side, &mut least) {
                 beyond = Some(p);
                 break;
             }
@@ -697,12 +715,12 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
         x: p1.x.clone(),
         mark: None,
     };
-    let Some(b) = beyond else { return Some((bif, Vec::new(), false)) };
+    let Some(b) = beyond else { return Some((bif, Vec::new(), false, least)) };
     // An orbit the branch has already passed through (it came to this
     // grazing along the orbit with the further impact, and crossed to the
     // smooth one at it): going on from it would retrace the branch.
-    if smooth > 0 && retraces(points, &b, &p1) {
-        return Some((bif, Vec::new(), true));
+    if retraces(points, &b, &p1) {
+        return Some((bif, Vec::new(), true, least));
     }
     let side = (b.param - estimate).signum();
     // Turned back: the smooth orbit is as near as the orbit is to the
@@ -727,15 +745,13 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
         let before = if away.len() == 1 { &p1 } else { &away[away.len() - 2] };
         let guess = lerp(before, last, (param - before.param) / (last.param - before.param));
         let k = away[0].orbit.impacts();
-        let found = solve_at(ctx, &guess, param, side)
-            .filter(|p| p.orbit.impacts() == k)
-            .or_else(|| (smooth > 0).then(|| solve_keeping(ctx, &guess, param, side, k - 1)).flatten().filter(|p| p.orbit.impacts() == k));
+        let found = solve_at(ctx, &guess, param, side).filter(|p| p.orbit.impacts() == k).or_else(|| solve_keeping(ctx, &guess, param, side, k - 1).filter(|p| p.orbit.impacts() == k));
         // Turned back: the smooth orbit there, pushed past the stop.
         let found = found.or_else(|| {
-            (turned && smooth > 0)
+            turned
                 .then(|| solve_at(ctx, &guess, param, side).filter(|p| p.orbit.impacts() == smooth))
                 .flatten()
-                .and_then(|near| past_the_stop(ctx, &near, side))
+                .and_then(|near| past_the_stop(ctx, &near, param, 0.0, side, &mut least))
                 .filter(|p| p.orbit.impacts() == k)
         });
         match found {
@@ -746,7 +762,7 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
             None => break,
         }
     }
-    Some((bif, away, false))
+    Some((bif, away, false, least))
 }
 
 /// Whether `b` lies on the branch so far: between two of its points with
@@ -870,24 +886,37 @@ fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) ->
 /// `param` when it has more than `fewer` of them: Newton keeping them
 /// ([`periodic_orbit_keeping`]).
 fn solve_keeping<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Option<Point> {
-    let (model, period) = ctx.family.model_and_period(param).ok()?;
-    let k = model.flow(0.0, guess, period, false).ok()?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
-    if k <= fewer {
-        return None;
-    }
-    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k).ok()?;
-    let mut seed = vec![0.0; ctx.n + 1];
-    seed[ctx.n] = dir;
-    ctx.point(orbit.x, param, &seed).ok()
+    solve_keeping_or(ctx, guess, param, dir, fewer).ok()
 }
 
-/// The orbit with a further impact beside the smooth orbit `near` (at its
-/// parameter): Newton keeping the impacts ([`periodic_orbit_keeping`]) from
-/// `near`'s state moved along the gradient of its flight's extremum
-/// ([`Model::flight_extremum`]) until the flight reaches past the stop by
-/// 1, 4 or 1/4 times its distance to it. `None` for an extremum of a
-/// massless contact dof (not in the state).
-fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, dir: f64) -> Option<Point> {
+/// [`solve_keeping`], or Newton's last residual when it fails (infinite
+/// when the guess has no more than `fewer` impacts or the map fails).
+fn solve_keeping_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Result<Point, f64> {
+    let (model, period) = ctx.family.model_and_period(param).map_err(|_| f64::INFINITY)?;
+    let k = model.flow(0.0, guess, period, false).map_err(|_| f64::INFINITY)?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
+    if k <= fewer {
+        return Err(f64::INFINITY);
+    }
+    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k).map_err(|e| match e {
+        OrbitError::NoConvergence { residual, .. } if residual.is_finite() => residual,
+        _ => f64::INFINITY,
+    })?;
+    let mut seed = vec![0.0; ctx.n + 1];
+    seed[ctx.n] = dir;
+    ctx.point(orbit.x, param, &seed).map_err(|_| f64::INFINITY)
+}
+
+/// The orbit with a further impact beside the smooth orbit `near` (at
+/// `param`, `near`'s parameter or one just past a grazing): Newton keeping
+/// the impacts ([`periodic_orbit_keeping`]) from `near`'s state moved along
+/// the gradient of its flight's extremum ([`Model::flight_extremum`]; an
+/// orbit without impacts: its extremum over the period) until the flight
+/// reaches past the stop by 1, 4 or 1/4 times its distance to it, or to
+/// `reach` when that is larger (the grazing orbit, its distance 0, moved
+/// as far as the flight would reach past the stop at `param`). `None` for
+/// an extremum of a massless contact dof (not in the state); `least` takes
+/// the smallest residual of a Newton that failed.
+fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, param: f64, reach: f64, dir: f64, least: &mut f64) -> Option<Point> {
     let model = ctx.family.model(near.param).ok()?;
     let e = model.flight_extremum(0.0, &near.x, near.orbit.period).ok()??;
     let grad = model.displacement_gradient(0.0, &near.x, e.t, e.contact).ok()??;
@@ -897,10 +926,11 @@ fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, dir: f64) -> Option<
     }
     let toward = if e.upper { 1.0 } else { -1.0 };
     let smooth = near.orbit.impacts();
-    [1.0, 4.0, 0.25].into_iter().find_map(|reach| {
-        let dq = toward * e.distance * (1.0 + reach);
+    let distance = e.distance.max(reach);
+    [1.0, 4.0, 0.25].into_iter().find_map(|f| {
+        let dq = toward * distance * (1.0 + f);
         let guess: Vec<f64> = near.x.iter().zip(&grad).map(|(x, g)| x + dq * g / norm2).collect();
-        solve_keeping(ctx, &guess, near.param, dir, smooth)
+        solve_keeping_or(ctx, &guess, param, dir, smooth).map_err(|r| *least = least.min(r)).ok()
     })
 }
 
