@@ -8,4 +8,5 @@ mod free_grazing;
 mod further_impact;
 mod oscillator;
 mod reach;
+mod switch;
 mod two_stops;
