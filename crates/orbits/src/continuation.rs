@@ -737,12 +737,19 @@ impl<F: Family> Copies<'_, F> {
     }
 }
 
+/// A grazing ahead of a branch ([`impact_beyond_grazing`]): the grazing,
+/// the orbits with the new impact away from it (none: the branch ends
+/// there), whether that orbit is one the branch passed through, and
+/// Newton's least residual `(residual, offset)` past the grazing and
+/// before it when none was found.
+type Grazed = (Bifurcation, Vec<Point>, bool, [(f64, f64); 2]);
+
 /// An orbit without impacts whose branch stops (the corrector fails at
 /// every step) because its motion reaches a stop: the grazing parameter as
 /// the zero of the orbit's distance to the stops ([`margin`]), and the
 /// impacting orbit beyond ([`impact_beyond_grazing`]; `impacts` and
 /// `releases` read 0 on both sides when there is none).
-fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool, [(f64, f64); 2])> {
+fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<Grazed> {
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
@@ -756,7 +763,7 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
 /// bound at an interior extremum of a flight ([`flight_margin`]), and the
 /// orbit with the further impact beyond ([`impact_beyond_grazing`]; with
 /// none, `impacts` and `releases` read the orbit's on both sides).
-fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool, [(f64, f64); 2])> {
+fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<Grazed> {
     if cur.orbit.impacts() == 0 || points.len() < 2 {
         return None;
     }
@@ -772,7 +779,7 @@ fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
 /// natural-parameter steps away from the grazing. When none converges the
 /// grazing is returned with no orbit beyond (the branch ends there, the
 /// event named).
-fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>, bool, [(f64, f64); 2])> {
+fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<Grazed> {
     let smooth = cur.orbit.impacts();
     let prev = &points[points.len() - 2];
     let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
