@@ -708,9 +708,9 @@ impl<F: Family> Copies<'_, F> {
             self.cut = Some((keep, rejoin));
             let at = points[keep - 1].param;
             return Some(match rejoin {
-                Some(r) => format!(
-                    "rejoined the branch of half its period at param = {r} (its period doubling); past it the orbits are the phase-shifted copies of the branch's own (the image after half the period of the orbit at param = {} is the branch's at {}): not traced again",
-                    p.param, points[on].param
+                Some(_) => format!(
+                    "rejoined the branch of half its period (at its period doubling) between param = {at} and {}; past it the orbits are the phase-shifted copies of the branch's own (the image after half the period of the orbit at param = {} is the branch's at {}): not traced again",
+                    points[keep].param, p.param, points[on].param
                 ),
                 None => format!(
                     "ended at param = {at}: the next orbit is the phase-shifted copy of one the branch has passed through (the image after half the period of the orbit at param = {} is the branch's at {}): not traced again",
