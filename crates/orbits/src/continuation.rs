@@ -191,6 +191,10 @@ pub struct Branch {
     pub bifurcations: Vec<Bifurcation>,
     /// Why the branch ended (`"reached to"`, or what stopped it).
     pub end: String,
+    /// A period-doubled branch ([`doubled_branch`]) that ends where it
+    /// rejoins the branch of half its period: the parameter there (a
+    /// period doubling of that branch, the other end of the loop).
+    pub rejoins: Option<f64>,
 }
 
 /// The map linearised at a point: `G = P(x) − x`, `G_x + I` (the map's
@@ -373,6 +377,18 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
 /// display, an interrupt): when it returns `false` the branch ends there,
 /// its points so far kept, `end` saying so.
 pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions, watch: &mut dyn FnMut(&BranchPoint) -> bool) -> Result<Branch, OrbitError> {
+    continuation_until(family, guess, opts, watch, &mut |_| None)
+}
+
+/// [`continuation_watched`] that also ends the branch when `stop`, shown
+/// the points so far after each step, returns why (the branch's `end`).
+fn continuation_until<F: Family>(
+    family: &F,
+    guess: &[f64],
+    opts: &ContinuationOptions,
+    watch: &mut dyn FnMut(&BranchPoint) -> bool,
+    stop: &mut dyn FnMut(&[BranchPoint]) -> Option<String>,
+) -> Result<Branch, OrbitError> {
     opts.validate()?;
     let model = family.model(opts.from)?;
     let start = periodic_orbit(&model, 0.0, family.period(opts.from)?, guess, &opts.newton)?;
@@ -384,7 +400,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
     let mut seed = vec![0.0; n + 1];
     seed[n] = dir;
     let mut cur = ctx.point(start.x.clone(), opts.from, &seed)?;
-    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone(), mark: cur.mark }], bifurcations: Vec::new(), end: String::new() };
+    let mut branch = Branch { points: vec![BranchPoint { param: opts.from, orbit: cur.orbit.clone(), mark: cur.mark }], bifurcations: Vec::new(), end: String::new(), rejoins: None };
     let mut ds = opts.step;
     // The impact speeds' scale, for the grazing test.
     let mut vref = cur.orbit.fastest_impact().map_or(0.0, |f| f.0);
@@ -396,6 +412,10 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                 branch.end = format!("interrupted at param = {}", last.param);
                 return Ok(branch);
             }
+        }
+        if let Some(why) = stop(&branch.points) {
+            branch.end = why;
+            return Ok(branch);
         }
         let trial = ctx.at(&cur, ds);
         if matches!(trial, Err(OrbitError::Interrupted)) {
@@ -441,7 +461,7 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                     // An orbit with impacts whose flight between them grazes
                     // a stop: the same, with the further impact beyond.
                     let grazed = appearing_impact(&ctx, &cur, &branch.points, dir).or_else(|| further_impact(&ctx, &cur, &branch.points, dir));
-                    if let Some((bif, away, retraced)) = grazed {
+                    if let Some((bif, away, retraced, least)) = grazed {
                         let at = bif.param;
                         // Retraced: the grazing is the one the branch just
                         // crossed, listed then.
@@ -455,7 +475,8 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
                                 format!("ended at the grazing at param = {at}: the orbit with the further impact there is the one the branch came along (it would retrace itself)")
                             } else if cur.orbit.impacts() == 0 {
                                 format!(
-                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found beyond it (Newton from the grazing orbit at 1e-9 … 1e-3 of the range past it)"
+                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found past it or turning back from it (Newton from the grazing orbit, and from it pushed past the stop, at 1e-9 … 1e-3 of the range past it; from the free orbit pushed past the stop at 1e-6 … 1e-2 before it){}",
+                                    residuals(least)
                                 )
                             } else {
                                 format!(
@@ -586,8 +607,19 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                 }
                 let mut o = *opts;
                 (o.from, o.to) = (param, end);
-                match continuation(double, &orbit.x, &o) {
+                let mut copies = Copies { single, xs, ls: span, images: Vec::new(), cut: None };
+                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |pts| copies.check(pts)) {
                     Ok(mut b) => {
+                        // The points the last step added (a branch that
+                        // ended otherwise) are checked too.
+                        if let Some(why) = copies.check(&b.points) {
+                            b.end = why;
+                        }
+                        if let Some((keep, rejoin)) = copies.cut {
+                            b.points.truncate(keep);
+                            b.bifurcations.retain(|f| f.between.1 < keep);
+                            b.rejoins = rejoin;
+                        }
                         // Cut where the branch rejoins the p-periodic one
                         // (its orbits are then fixed points of the p map).
                         let rejoin = b.points.iter().skip(1).position(|p| {
@@ -601,6 +633,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                             b.points.truncate(k + 2);
                             b.bifurcations.retain(|f| f.between.1 <= k + 1);
                             b.end = format!("rejoined the branch of half its period at param = {at}");
+                            b.rejoins = Some(at);
                         }
                         return Ok(b);
                     }
@@ -612,12 +645,111 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
     Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no period-doubled orbit found beside the period doubling at {}", bif.param) }))
 }
 
+/// Recognises, on a period-doubled branch, the phase-shifted copy of an
+/// orbit it has already traced: the orbits of 2p periods come in pairs
+/// `x`, `S(x)` (`S` the map over p periods, which commutes with the map
+/// over 2p), and a branch that passes through the period doubling at its
+/// other end (the pitchfork of the 2p map) goes on along the copies of its
+/// own orbits, listing every bifurcation of the loop a second time.
+struct Copies<'a, F: Family> {
+    /// The family of p periods.
+    single: &'a F,
+    /// Scales of the state and the parameter.
+    xs: f64,
+    ls: f64,
+    /// `S(x) − x` of each point checked so far (empty when `S` failed).
+    images: Vec<Vec<f64>>,
+    /// Where the branch is cut (points kept) and the parameter where it
+    /// rejoins the branch of p periods, once a copy is seen.
+    cut: Option<(usize, Option<f64>)>,
+}
+
+impl<F: Family> Copies<'_, F> {
+    /// Checks the points not yet checked: a point `k` whose image `S(x_k)`
+    /// lies on the branch traced before it (within a quarter of a
+    /// segment's length of the segment, in the continuation's scaled
+    /// coordinates: a chord of a step the tangent turns by less than 25°
+    /// over stays within 6 % of its length of the curve; another orbit of
+    /// the same parameter is a fixed point of its own, isolated) is a copy.
+    /// The branch is cut where it crossed the period doubling — the last
+    /// step of the four before `k` over which `S(x) − x` turns back on
+    /// itself, the orbit passing through the one of p periods — or before
+    /// `k`.
+    fn check(&mut self, points: &[BranchPoint]) -> Option<String> {
+        if self.cut.is_some() {
+            return None;
+        }
+        while self.images.len() < points.len() {
+            let k = self.images.len();
+            let p = &points[k];
+            let image = self
+                .single
+                .model(p.param)
+                .and_then(|m| Ok(m.flow(0.0, &p.orbit.x, self.single.period(p.param)?, false)?.x))
+                .map(|y| y.iter().zip(&p.orbit.x).map(|(a, b)| a - b).collect())
+                .unwrap_or_default();
+            self.images.push(image);
+            if k < 2 || self.images[k].is_empty() {
+                continue;
+            }
+            let y: Vec<f64> = p.orbit.x.iter().zip(&self.images[k]).map(|(x, d)| x + d).collect();
+            let Some(on) = (0..k - 1).find(|&j| self.near_segment(&points[j], &points[j + 1], &y, p.param)) else { continue };
+            let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| u * v).sum::<f64>();
+            // Within the last four steps: the copy is seen within a step or
+            // two of the crossing (the traced copy is there).
+            let flip = (k.saturating_sub(4)..k).rev().find(|&j| !self.images[j].is_empty() && dot(&self.images[j], &self.images[j + 1]) < 0.0);
+            let (keep, rejoin) = match flip {
+                Some(j) => {
+                    let (a, b) = (dot(&self.images[j], &self.images[j]).sqrt(), dot(&self.images[j + 1], &self.images[j + 1]).sqrt());
+                    (j + 1, Some(points[j].param + a / (a + b) * (points[j + 1].param - points[j].param)))
+                }
+                None => (k, None),
+            };
+            self.cut = Some((keep, rejoin));
+            let at = points[keep - 1].param;
+            return Some(match rejoin {
+                Some(_) => format!(
+                    "rejoined the branch of half its period (at its period doubling) between param = {at} and {}; past it the orbits are the phase-shifted copies of the branch's own (the image after half the period of the orbit at param = {} is the branch's at {}): not traced again",
+                    points[keep].param, p.param, points[on].param
+                ),
+                None => format!(
+                    "ended at param = {at}: the next orbit is the phase-shifted copy of one the branch has passed through (the image after half the period of the orbit at param = {} is the branch's at {}): not traced again",
+                    p.param, points[on].param
+                ),
+            });
+        }
+        None
+    }
+
+    /// Whether `(y, λ)` lies within a quarter of the segment's length of
+    /// the segment from `a` to `b` (scaled coordinates).
+    fn near_segment(&self, a: &BranchPoint, b: &BranchPoint, y: &[f64], param: f64) -> bool {
+        let scaled = |x: &[f64], l: f64| -> Vec<f64> { x.iter().map(|v| v / self.xs).chain(std::iter::once(l / self.ls)).collect() };
+        let (pa, pb, py) = (scaled(&a.orbit.x, a.param), scaled(&b.orbit.x, b.param), scaled(y, param));
+        let ab: Vec<f64> = pa.iter().zip(&pb).map(|(u, v)| v - u).collect();
+        let len2: f64 = ab.iter().map(|v| v * v).sum();
+        if !(len2 > 0.0) {
+            return false;
+        }
+        let w = (pa.iter().zip(&py).zip(&ab).map(|((u, v), d)| (v - u) * d).sum::<f64>() / len2).clamp(0.0, 1.0);
+        let d2: f64 = pa.iter().zip(&ab).zip(&py).map(|((u, d), v)| (u + w * d - v).powi(2)).sum();
+        d2 <= 0.0625 * len2
+    }
+}
+
+/// A grazing ahead of a branch ([`impact_beyond_grazing`]): the grazing,
+/// the orbits with the new impact away from it (none: the branch ends
+/// there), whether that orbit is one the branch passed through, and
+/// Newton's least residual `(residual, offset)` past the grazing and
+/// before it when none was found.
+type Grazed = (Bifurcation, Vec<Point>, bool, [(f64, f64); 2]);
+
 /// An orbit without impacts whose branch stops (the corrector fails at
 /// every step) because its motion reaches a stop: the grazing parameter as
 /// the zero of the orbit's distance to the stops ([`margin`]), and the
 /// impacting orbit beyond ([`impact_beyond_grazing`]; `impacts` and
 /// `releases` read 0 on both sides when there is none).
-fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
+fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<Grazed> {
     if cur.orbit.impacts() != 0 || cur.orbit.releases() != 0 || points.len() < 2 {
         return None;
     }
@@ -631,7 +763,7 @@ fn appearing_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPo
 /// bound at an interior extremum of a flight ([`flight_margin`]), and the
 /// orbit with the further impact beyond ([`impact_beyond_grazing`]; with
 /// none, `impacts` and `releases` read the orbit's on both sides).
-fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<(Bifurcation, Vec<Point>, bool)> {
+fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<Grazed> {
     if cur.orbit.impacts() == 0 || points.len() < 2 {
         return None;
     }
@@ -647,7 +779,7 @@ fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
 /// natural-parameter steps away from the grazing. When none converges the
 /// grazing is returned with no orbit beyond (the branch ends there, the
 /// event named).
-fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<(Bifurcation, Vec<Point>, bool)> {
+fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64, measure: Measure<'_, F>) -> Option<Grazed> {
     let smooth = cur.orbit.impacts();
     let prev = &points[points.len() - 2];
     let p0 = ctx.point(prev.orbit.x.clone(), prev.param, &cur.tangent).ok()?;
@@ -655,34 +787,72 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     if !(m1 < m0 && m1 >= 0.0) {
         return None;
     }
+    // How fast the distance to grazing closes in the parameter: how far
+    // past the stop the smooth orbit's flight would reach past the grazing.
+    let slope = ((m1 - m0) / (cur.param - p0.param)).abs();
     let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), (smooth, measure), None, OnFailure::Stop, dir)?;
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let side = (estimate - cur.param).signum();
-    let mut beyond = None;
-    for f in [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
-        let param = estimate + side * f * ctx.ls;
-        // Plain Newton, then (an orbit that already impacts) Newton
-        // keeping the guess's further impacts (the square-root side:
-        // [`periodic_orbit_keeping`]; the search from an orbit without
-        // impacts is as it was before it).
-        let found = solve_at(ctx, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth).or_else(|| (smooth > 0).then(|| solve_keeping(ctx, &p1.x, param, side, smooth)).flatten());
-        if let Some(p) = found {
-            beyond = Some(p);
-            break;
+    // The smallest Newton residual of the searches that failed past the
+    // grazing and before it, each with the offset (a fraction of the
+    // range) where it was reached: said when the branch ends there.
+    let mut least = [(f64::INFINITY, 0.0); 2];
+    let mut note = |side: usize, f: f64, r: f64| {
+        if r < least[side].0 {
+            least[side] = (r, f);
         }
-    }
-    // None past it, on an orbit that already impacts: the orbit with the
-    // further impact on the near side (the branch turns back at the
-    // grazing, where the two orbits meet: a nonsmooth fold), from the
-    // smooth orbit there pushed past the stop.
+    };
+    // Plain Newton from the grazing orbit's state, then Newton keeping the
+    // guess's new impacts (the square-root side: [`periodic_orbit_keeping`])
+    // at each offset in turn. From an orbit without impacts, plain Newton at
+    // every offset first (the nearest orbit it finds is the one it found
+    // before the keeping search was added), then Newton keeping from that
+    // state and from it pushed past the stop: the impacting orbit born at
+    // the grazing, one slow impact a period near the grazing phase.
+    let offsets = [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
+    let (plain, keeping) = (
+        |param: f64| solve_at(ctx, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth),
+        |param: f64, least: &mut f64| {
+            solve_keeping_or(ctx, &p1.x, param, side, smooth)
+                .map_err(|r| *least = least.min(r))
+                .ok()
+                .or_else(|| (smooth == 0).then(|| past_the_stop(ctx, &p1, param, slope * (param - estimate).abs(), side, least)).flatten())
+        },
+    );
+    let param_at = |f: f64| estimate + side * f * ctx.ls;
+    let mut beyond = if smooth > 0 {
+        offsets.iter().find_map(|&f| {
+            let mut r = f64::INFINITY;
+            let found = plain(param_at(f)).or_else(|| keeping(param_at(f), &mut r));
+            note(0, f, r);
+            found
+        })
+    } else {
+        offsets.iter().find_map(|&f| plain(param_at(f))).or_else(|| {
+            offsets.iter().find_map(|&f| {
+                let mut r = f64::INFINITY;
+                let found = keeping(param_at(f), &mut r);
+                note(0, f, r);
+                found
+            })
+        })
+    };
+    // None past it: the impacting orbit on the near side (the branch turns
+    // back at the grazing, where the two orbits meet: a nonsmooth fold),
+    // from the smooth orbit there pushed past the stop. A free orbit's
+    // grazing has it there when the square-root map's fixed point lies on
+    // that side (theory §12.3: the oscillator between Ω = ω and 2ω).
     // Nearer than 1e-6 of the range, the new impact is too slow for Newton
     // to converge: the map's round-off grows as the inverse of its speed.
-    if beyond.is_none() && smooth > 0 {
+    if beyond.is_none() {
         for f in [1e-6, 1e-5, 1e-4, 1e-3, 1e-2] {
             let param = estimate - side * f * ctx.ls;
             let Some(near) = solve_at(ctx, &p1.x, param, -side).filter(|p| p.orbit.impacts() == smooth) else { continue };
-            if let Some(p) = past_the_stop(ctx, &near, -side) {
-                beyond = Some(p);
+            let mut r = f64::INFINITY;
+            let found = past_the_stop(ctx, &near, param, 0.0, -side, &mut r);
+            note(1, f, r);
+            if found.is_some() {
+                beyond = found;
                 break;
             }
         }
@@ -697,12 +867,12 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
         x: p1.x.clone(),
         mark: None,
     };
-    let Some(b) = beyond else { return Some((bif, Vec::new(), false)) };
+    let Some(b) = beyond else { return Some((bif, Vec::new(), false, least)) };
     // An orbit the branch has already passed through (it came to this
     // grazing along the orbit with the further impact, and crossed to the
     // smooth one at it): going on from it would retrace the branch.
-    if smooth > 0 && retraces(points, &b, &p1) {
-        return Some((bif, Vec::new(), true));
+    if retraces(points, &b, &p1) {
+        return Some((bif, Vec::new(), true, least));
     }
     let side = (b.param - estimate).signum();
     // Turned back: the smooth orbit is as near as the orbit is to the
@@ -715,6 +885,7 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     let v0 = b.orbit.slowest_impact().unwrap_or(0.0);
     let mut away = vec![b];
     let (mut dist, mut misses) = ((away[0].param - estimate).abs(), 0);
+    let mut ignored = f64::INFINITY;
     for _ in 0..30 {
         let last = &away[away.len() - 1];
         if last.orbit.slowest_impact().unwrap_or(0.0) >= 100.0 * v0 && (!turned || (last.param - estimate).abs() >= 1e-2 * ctx.ls) {
@@ -727,15 +898,13 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
         let before = if away.len() == 1 { &p1 } else { &away[away.len() - 2] };
         let guess = lerp(before, last, (param - before.param) / (last.param - before.param));
         let k = away[0].orbit.impacts();
-        let found = solve_at(ctx, &guess, param, side)
-            .filter(|p| p.orbit.impacts() == k)
-            .or_else(|| (smooth > 0).then(|| solve_keeping(ctx, &guess, param, side, k - 1)).flatten().filter(|p| p.orbit.impacts() == k));
+        let found = solve_at(ctx, &guess, param, side).filter(|p| p.orbit.impacts() == k).or_else(|| solve_keeping(ctx, &guess, param, side, k - 1).filter(|p| p.orbit.impacts() == k));
         // Turned back: the smooth orbit there, pushed past the stop.
         let found = found.or_else(|| {
-            (turned && smooth > 0)
+            turned
                 .then(|| solve_at(ctx, &guess, param, side).filter(|p| p.orbit.impacts() == smooth))
                 .flatten()
-                .and_then(|near| past_the_stop(ctx, &near, side))
+                .and_then(|near| past_the_stop(ctx, &near, param, 0.0, side, &mut ignored))
                 .filter(|p| p.orbit.impacts() == k)
         });
         match found {
@@ -746,7 +915,14 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
             None => break,
         }
     }
-    Some((bif, away, false))
+    Some((bif, away, false, least))
+}
+
+/// The least residuals of the Newton searches past a grazing and before
+/// it, as the end of a branch says them.
+fn residuals(least: [(f64, f64); 2]) -> String {
+    let say = |(r, f): (f64, f64)| if r.is_finite() { format!("{r:.1e} (at {f:e} of the range)") } else { "none (no start with the impact)".into() };
+    format!("; Newton's least residual past it {}, before it {}", say(least[0]), say(least[1]))
 }
 
 /// Whether `b` lies on the branch so far: between two of its points with
@@ -870,24 +1046,37 @@ fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) ->
 /// `param` when it has more than `fewer` of them: Newton keeping them
 /// ([`periodic_orbit_keeping`]).
 fn solve_keeping<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Option<Point> {
-    let (model, period) = ctx.family.model_and_period(param).ok()?;
-    let k = model.flow(0.0, guess, period, false).ok()?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
-    if k <= fewer {
-        return None;
-    }
-    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k).ok()?;
-    let mut seed = vec![0.0; ctx.n + 1];
-    seed[ctx.n] = dir;
-    ctx.point(orbit.x, param, &seed).ok()
+    solve_keeping_or(ctx, guess, param, dir, fewer).ok()
 }
 
-/// The orbit with a further impact beside the smooth orbit `near` (at its
-/// parameter): Newton keeping the impacts ([`periodic_orbit_keeping`]) from
-/// `near`'s state moved along the gradient of its flight's extremum
-/// ([`Model::flight_extremum`]) until the flight reaches past the stop by
-/// 1, 4 or 1/4 times its distance to it. `None` for an extremum of a
-/// massless contact dof (not in the state).
-fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, dir: f64) -> Option<Point> {
+/// [`solve_keeping`], or Newton's last residual when it fails (infinite
+/// when the guess has no more than `fewer` impacts or the map fails).
+fn solve_keeping_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Result<Point, f64> {
+    let (model, period) = ctx.family.model_and_period(param).map_err(|_| f64::INFINITY)?;
+    let k = model.flow(0.0, guess, period, false).map_err(|_| f64::INFINITY)?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
+    if k <= fewer {
+        return Err(f64::INFINITY);
+    }
+    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k).map_err(|e| match e {
+        OrbitError::NoConvergence { residual, .. } if residual.is_finite() => residual,
+        _ => f64::INFINITY,
+    })?;
+    let mut seed = vec![0.0; ctx.n + 1];
+    seed[ctx.n] = dir;
+    ctx.point(orbit.x, param, &seed).map_err(|_| f64::INFINITY)
+}
+
+/// The orbit with a further impact beside the smooth orbit `near` (at
+/// `param`, `near`'s parameter or one just past a grazing): Newton keeping
+/// the impacts ([`periodic_orbit_keeping`]) from `near`'s state moved along
+/// the gradient of its flight's extremum ([`Model::flight_extremum`]; an
+/// orbit without impacts: its extremum over the period) until the flight
+/// reaches past the stop by 1, 4 or 1/4 times its distance to it, or to
+/// `reach` when that is larger (the grazing orbit, its distance 0, moved
+/// as far as the flight would reach past the stop at `param`). `None` for
+/// an extremum of a massless contact dof (not in the state); `least` takes
+/// the smallest residual of a Newton that failed.
+fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, param: f64, reach: f64, dir: f64, least: &mut f64) -> Option<Point> {
     let model = ctx.family.model(near.param).ok()?;
     let e = model.flight_extremum(0.0, &near.x, near.orbit.period).ok()??;
     let grad = model.displacement_gradient(0.0, &near.x, e.t, e.contact).ok()??;
@@ -897,10 +1086,11 @@ fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, dir: f64) -> Option<
     }
     let toward = if e.upper { 1.0 } else { -1.0 };
     let smooth = near.orbit.impacts();
-    [1.0, 4.0, 0.25].into_iter().find_map(|reach| {
-        let dq = toward * e.distance * (1.0 + reach);
+    let distance = e.distance.max(reach);
+    [1.0, 4.0, 0.25].into_iter().find_map(|f| {
+        let dq = toward * distance * (1.0 + f);
         let guess: Vec<f64> = near.x.iter().zip(&grad).map(|(x, g)| x + dq * g / norm2).collect();
-        solve_keeping(ctx, &guess, near.param, dir, smooth)
+        solve_keeping_or(ctx, &guess, param, dir, smooth).map_err(|r| *least = least.min(r)).ok()
     })
 }
 

@@ -95,13 +95,34 @@ pub fn continue_scene(
     if opts.switch && !stopped {
         let doubled = family.with_periods(2 * opts.period);
         let pds: Vec<_> = branches[0].0.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).cloned().collect();
-        for b in pds {
+        // A doubled branch that rejoins the branch at another period
+        // doubling is the loop of orbits between the two: the branch from
+        // that one is the same loop (its orbits or their phase-shifted
+        // copies) and is not listed again.
+        let span = (opts.to - opts.from).abs();
+        let nearest = |at: f64| pds.iter().map(|p| p.param).min_by(|a, b| (a - at).abs().total_cmp(&(b - at).abs())).filter(|p| (p - at).abs() <= 1e-2 * span);
+        let mut from_pd: Vec<f64> = Vec::new();
+        for b in &pds {
             if stopped || !watch(branches.len(), 0, b.param) {
                 stopped = true;
                 break;
             }
-            match doubled_branch(&family, &doubled, &b, (opts.from, opts.to), &copts) {
-                Ok(br) => branches.push((br, doubled.clone())),
+            if let Some(i) = branches[1..].iter().position(|(br, _)| br.rejoins.and_then(nearest) == Some(b.param)) {
+                notes.push(format!("note: the period-doubled branch from {} is branch {}'s loop, which rejoins there: not continued again", b.param, i + 1));
+                continue;
+            }
+            match doubled_branch(&family, &doubled, b, (opts.from, opts.to), &copts) {
+                Ok(br) => {
+                    // An earlier branch from the period doubling this one
+                    // rejoins at is part of this loop: dropped.
+                    if let Some(i) = br.rejoins.and_then(nearest).and_then(|back| from_pd.iter().position(|&f| f == back)) {
+                        notes.push(format!("note: the period-doubled branch from {} is part of the loop of the branch from {}, which rejoins there: listed once", from_pd[i], b.param));
+                        branches.remove(i + 1);
+                        from_pd.remove(i);
+                    }
+                    branches.push((br, doubled.clone()));
+                    from_pd.push(b.param);
+                }
                 Err(e) => notes.push(format!("note: no period-doubled branch continued from {}: {e}", b.param)),
             }
         }

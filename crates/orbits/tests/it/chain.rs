@@ -6,7 +6,7 @@
 //! Jacobian against differences of the exact map.
 
 use signorini_fem::SymBand;
-use signorini_orbits::{periodic_orbit, Model, Newton};
+use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, BranchPoint, ContinuationOptions, Family, Model, Newton, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 
@@ -38,8 +38,13 @@ fn model() -> Model {
 /// With the restitution `e` and a steady load `p` on the second dof
 /// toward the stop (its static position `2p`: pressed on the stop for `p > G/2`).
 fn model_with(e: f64, p: f64) -> Model {
+    model_full(e, p, G)
+}
+
+/// With the stop at `g` too.
+fn model_full(e: f64, p: f64, g: f64) -> Model {
     let c = [[A * M[0][0] + B * K[0][0], A * M[0][1] + B * K[0][1]], [A * M[1][0] + B * K[1][0], A * M[1][1] + B * K[1][1]]];
-    let dy = Dynamics::new(band(M), band(K), vec![0.0, p], vec![Contact::new(1, Bounds { lo: f64::NEG_INFINITY, hi: G }, false)])
+    let dy = Dynamics::new(band(M), band(K), vec![0.0, p], vec![Contact::new(1, Bounds { lo: f64::NEG_INFINITY, hi: g }, false)])
         .with_forcing(vec![Forcing { shape: vec![F, 0.0], time: TimeProfile::Sine { amplitude: 1.0, omega: W } }])
         .with_damping(Some(band(c)));
     Model::new(dy, e).unwrap()
@@ -71,6 +76,11 @@ fn rk4(t: f64, y: [f64; 4], h: f64) -> [f64; 4] {
 /// The stroboscopic map by RK4 (steps of T/20000), each impact located by
 /// bisection on the step and Newton's law applied.
 fn rk_map(y0: [f64; 4]) -> [f64; 4] {
+    rk_map_with(y0, G)
+}
+
+/// [`rk_map`] with the stop at `g`.
+fn rk_map_with(y0: [f64; 4], g: f64) -> [f64; 4] {
     let t_end = TAU / W;
     let n = 20_000;
     let h = t_end / f64::from(n);
@@ -78,12 +88,12 @@ fn rk_map(y0: [f64; 4]) -> [f64; 4] {
     while t < t_end - 1e-14 {
         let step = h.min(t_end - t);
         let z = rk4(t, y, step);
-        if z[1] > G {
+        if z[1] > g {
             // Bisection for the crossing.
             let (mut lo, mut hi) = (0.0, step);
             while hi - lo > 1e-14 {
                 let m = 0.5 * (lo + hi);
-                if rk4(t, y, m)[1] > G {
+                if rk4(t, y, m)[1] > g {
                     hi = m;
                 } else {
                     lo = m;
@@ -95,7 +105,7 @@ fn rk_map(y0: [f64; 4]) -> [f64; 4] {
             let p = -(1.0 + E) * vn / mi[1][1];
             w[2] += mi[0][1] * p;
             w[3] += mi[1][1] * p;
-            w[1] = w[1].min(G);
+            w[1] = w[1].min(g);
             (t, y) = (t + lo, w);
         } else {
             (t, y) = (t + step, z);
@@ -104,7 +114,13 @@ fn rk_map(y0: [f64; 4]) -> [f64; 4] {
     y
 }
 
-fn rk_fixed_point(mut y: [f64; 4]) -> ([f64; 4], [[f64; 4]; 4]) {
+fn rk_fixed_point(y: [f64; 4]) -> ([f64; 4], [[f64; 4]; 4]) {
+    rk_fixed_point_with(y, G)
+}
+
+/// [`rk_fixed_point`] with the stop at `g`.
+fn rk_fixed_point_with(mut y: [f64; 4], g: f64) -> ([f64; 4], [[f64; 4]; 4]) {
+    let rk_map = |y| rk_map_with(y, g);
     let jac = |y: [f64; 4]| -> [[f64; 4]; 4] {
         let mut j = [[0.0; 4]; 4];
         for c in 0..4 {
@@ -189,5 +205,85 @@ fn jacobian_check(e: f64, p: f64, releases: usize) {
             let fd = (fp[r] - fm[r]) / (2.0 * h);
             assert!((fd - j[(r, c)]).abs() <= 1e-6 * (1.0 + fd.abs()), "J[{r},{c}] = {} vs {fd}", j[(r, c)]);
         }
+    }
+}
+
+/// The chain in the height of its stop.
+struct Stop;
+
+impl Family for Stop {
+    fn model(&self, g: f64) -> Result<Model, OrbitError> {
+        Ok(model_full(E, 0.0, g))
+    }
+
+    fn period(&self, _: f64) -> Result<f64, OrbitError> {
+        Ok(TAU / W)
+    }
+}
+
+/// The chain's linear steady state `Re(U e^{iWt})` (no contact), from
+/// `(K − W² M + i W C) U = F e_1` solved by hand (2×2, complex): `U`.
+fn steady_state() -> [(f64, f64); 2] {
+    let c = |i: usize, j: usize| A * M[i][j] + B * K[i][j];
+    // a = K − W² M (real part), b = W C (imaginary part).
+    let a = |i: usize, j: usize| K[i][j] - W * W * M[i][j];
+    let b = |i: usize, j: usize| W * c(i, j);
+    let mul = |x: (f64, f64), y: (f64, f64)| (x.0 * y.0 - x.1 * y.1, x.0 * y.1 + x.1 * y.0);
+    let z = |i, j| (a(i, j), b(i, j));
+    let det = {
+        let (p, q) = (mul(z(0, 0), z(1, 1)), mul(z(0, 1), z(1, 0)));
+        (p.0 - q.0, p.1 - q.1)
+    };
+    let inv = |x: (f64, f64)| {
+        let n = x.0 * x.0 + x.1 * x.1;
+        (x.0 / n, -x.1 / n)
+    };
+    // The load is F sin Wt = Re(−i F e^{iWt}): right-hand side (0, −F) in the first row.
+    let f = (0.0, -F);
+    let u0 = mul(mul(z(1, 1), f), inv(det));
+    let u1 = mul(mul((-z(1, 0).0, -z(1, 0).1), f), inv(det));
+    [u0, u1]
+}
+
+/// The free orbit continued down in the stop's height reaches it where the
+/// steady state's amplitude of the second dof equals the height (closed
+/// form above); the impacting orbit born there is found and continued, and
+/// its points are fixed points of the independent Runge–Kutta map, where
+/// RK's own Newton from 1e-4 away lands on them.
+#[test]
+fn the_impacting_orbit_born_at_the_free_orbits_grazing_agrees_with_the_runge_kutta_shooting() {
+    let u = steady_state();
+    let want = u[1].0.hypot(u[1].1);
+    // The free orbit's section state: q = Re U, v = Re(i W U) = −W Im U.
+    let start = [u[0].0, u[1].0, -W * u[0].1, -W * u[1].1];
+    let branch = continuation(&Stop, &start, &ContinuationOptions::new(1.5 * want, 0.5 * want)).unwrap();
+    eprintln!("{} points, end: {}; grazing height {want}", branch.points.len(), branch.end);
+    for b in &branch.bifurcations {
+        eprintln!("  {} at {:.15} impacts {:?}", b.kind.name(), b.param, b.impacts);
+    }
+    for p in &branch.points {
+        eprintln!("  {:.9} {} {:.3e} {}", p.param, p.orbit.impacts(), p.orbit.slowest_impact().unwrap_or(0.0), p.stable());
+    }
+    let g = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing).unwrap_or_else(|| panic!("no grazing; end: {}", branch.end));
+    assert!((g.param - want).abs() <= 1e-9 * want, "grazing at {} vs the steady state's {want}", g.param);
+    assert_eq!(g.impacts, (0, 1));
+    let k = g.between.1;
+    for p in &branch.points[..k] {
+        let err = (0..4).map(|i| (p.orbit.x[i] - start[i]).abs()).fold(0.0, f64::max);
+        assert!(p.orbit.impacts() == 0 && err <= 1e-10, "g = {}: the free orbit ({err:e})", p.param);
+    }
+    let after = &branch.points[k..];
+    assert!(after.len() >= 5 && after.iter().all(|p| p.orbit.impacts() == 1), "the impacting branch");
+    // Three of its points, away from the grazing (RK4's impact location
+    // needs a speed well above its error).
+    let picks: Vec<&BranchPoint> = after.iter().filter(|p| p.orbit.slowest_impact().unwrap() > 1e-2).step_by(4).take(3).collect();
+    assert_eq!(picks.len(), 3);
+    for p in picks {
+        let x = [p.orbit.x[0], p.orbit.x[1], p.orbit.x[2], p.orbit.x[3]];
+        let r = rk_map_with(x, p.param).iter().zip(&x).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let (y, _) = rk_fixed_point_with(x.map(|v| v + 1e-4), p.param);
+        let err = (0..4).map(|i| (y[i] - x[i]).abs()).fold(0.0, f64::max);
+        eprintln!("g = {}: RK residual {r:e}, RK Newton {err:e} away", p.param);
+        assert!(r < 1e-9 && err < 1e-8, "g = {}: RK residual {r:e}, RK's orbit {err:e} away", p.param);
     }
 }

@@ -1,0 +1,104 @@
+//! `--switch` on the impact oscillator from Ω = 2.2 down to 1.03: the
+//! period-1 branch doubles its period at 1.1300 and 1.0648 (closed form:
+//! `oscillator.rs`), and the period-2 orbits born at the two form one loop
+//! between them. Its orbits come in pairs `x`, `S(x)` (`S` the map over one
+//! forcing period): a branch run through the period doubling at the loop's
+//! other end goes on along the copies and listed every bifurcation of the
+//! loop twice, and the branch from the other period doubling a third time.
+//! Each is listed once, and what a brute-force run of the map finds at
+//! parameters between them agrees with the list.
+
+use signorini_orbits::front::{continue_scene, ContinueOptions};
+use signorini_orbits::{Family, SceneFamily};
+
+const SCENE: &str = r#"
+[oscillator]
+mass = 1.0
+stiffness = 1.0
+damping_ratio = 0.05
+stop = 0.2
+restitution = 0.8
+dt = 1e-2
+t_end = 10.0
+scheme = "event-driven"
+[forcing]
+amplitude = 1.0
+omega = 2.2
+"#;
+
+/// The rows of a CSV as (header, rows).
+fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut lines = csv.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    (head, lines.map(|l| l.split(',').map(String::from).collect()).collect())
+}
+
+/// The attractor a long run of the map reaches from `x` at `omega`: its
+/// period in forcing periods (1, 2, 4 or 8; 0 for none of them) and its
+/// impacts in that many periods.
+fn attractor(omega: f64, x: &[f64]) -> (usize, usize) {
+    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let (m, t) = (fam.model(omega).unwrap(), fam.period(omega).unwrap());
+    let mut x = x.to_vec();
+    for _ in 0..4000 {
+        x = m.flow(0.0, &x, t, false).unwrap().x;
+    }
+    for p in [1, 2, 4, 8] {
+        let img = m.flow(0.0, &x, p as f64 * t, false).unwrap();
+        if img.x.iter().zip(&x).all(|(a, b)| (a - b).abs() < 1e-7) {
+            let impacts = img.events.iter().filter(|e| e.kind == signorini_schemes::events::EventKind::Impact && e.velocity_before != 0.0).count();
+            return (p, impacts);
+        }
+    }
+    (0, 0)
+}
+
+#[test]
+fn each_bifurcation_of_the_period_two_loop_is_listed_once() {
+    let doc: toml::Table = SCENE.parse().unwrap();
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
+    let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
+    for l in &done.lines {
+        eprintln!("{l}");
+    }
+    let (head, bifs) = rows(&done.files.iter().find(|f| f.0 == "bifurcations.csv").unwrap().1);
+    let col = |n: &str| head.iter().position(|h| h == n).unwrap();
+    let (cp, ck, cb) = (col("param"), col("kind"), col("branch"));
+    let doubled: Vec<(f64, &str)> = bifs.iter().filter(|r| r[cb] != "0").map(|r| (r[cp].parse().unwrap(), r[ck].as_str())).collect();
+    // Each once: no two of a kind at one parameter.
+    for (i, a) in doubled.iter().enumerate() {
+        for b in &doubled[i + 1..] {
+            assert!(a.1 != b.1 || (a.0 - b.0).abs() > 1e-6, "{} listed twice: at {} and {}", a.1, a.0, b.0);
+        }
+    }
+    let count = |k: &str| doubled.iter().filter(|b| b.1 == k).count();
+    assert_eq!((count("fold"), count("period-doubling"), count("grazing")), (2, 2, 2), "{doubled:?}");
+    let at = |k: &str| {
+        let mut v: Vec<f64> = doubled.iter().filter(|b| b.1 == k).map(|b| b.0).collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let (folds, pds) = (at("fold"), at("period-doubling"));
+    eprintln!("folds {folds:?}, period doublings {pds:?}");
+    // The brute-force runs, each from the loop's orbit listed nearest to
+    // its parameter: period 2 between the lower fold and the first period
+    // doubling, beyond the period doubling (4 or 8) between the two, period
+    // 2 again above the second, up to the upper fold; above it the
+    // period-1 orbit.
+    let (hb, pts) = rows(&done.files.iter().find(|f| f.0 == "branch.csv").unwrap().1);
+    let c = |n: &str| hb.iter().position(|h| h == n).unwrap();
+    let (pp, pb, ps, pq, pv) = (c("param"), c("branch"), c("stable"), c("q0"), c("v0"));
+    let near = |omega: f64| -> Vec<f64> {
+        let r = pts.iter().filter(|r| r[pb] != "0" && r[ps] == "1").min_by(|a, b| (a[pp].parse::<f64>().unwrap() - omega).abs().total_cmp(&(b[pp].parse::<f64>().unwrap() - omega).abs())).unwrap();
+        vec![r[pq].parse().unwrap(), r[pv].parse().unwrap()]
+    };
+    for (omega, want) in [(folds[0] + 0.3 * (pds[0] - folds[0]), 2), (0.5 * (pds[0] + pds[1]), 4), (0.5 * (pds[1] + folds[1]), 2), (folds[1] - 1e-3, 2), (folds[1] + 1e-3, 1)] {
+        let (p, k) = attractor(omega, &near(omega));
+        eprintln!("Ω = {omega}: period {p}, {k} impacts");
+        if want == 4 {
+            assert!(p == 4 || p == 8 || p == 0, "Ω = {omega}: period {p}");
+        } else {
+            assert_eq!(p, want, "Ω = {omega}");
+        }
+    }
+}
