@@ -330,17 +330,12 @@ impl Stepper for D1MinusLinear {
             self.refresh();
         }
         self.n += 1;
-        let t = self.time();
         for i in 0..self.lams.len() {
             let smooth = if impact { 0.0 } else { 0.5 * h * (self.f_plus[i] + self.f_minus[i]) };
             self.lams[i] = -(self.impulses[i] + smooth) / h;
-            self.acts[i] = self.closed[i];
-            let c = self.dy.contacts[i].dof;
-            if !(self.u[c].is_finite() && self.v[c].is_finite() && self.lams[i].is_finite()) {
-                return Err(SchemeError::NonFinite { step: self.n, time: t });
-            }
         }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+        self.acts.copy_from_slice(&self.closed);
+        crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, Some(&self.v), &self.lams, &self.acts)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {
