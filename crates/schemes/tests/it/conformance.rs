@@ -73,8 +73,14 @@ fn problem_for(spec: &SchemeSpec, lo: f64) -> (Dynamics, Initial) {
 /// The values at which a family without a preset is checked (such a
 /// family is spelled only by its call, so it has no values of its own):
 /// `every_family_has_a_reference` fails on a preset-less family missing here.
-const PRESETLESS: &[(&str, &[f64])] =
-    &[("moreau-jean-projected", &[0.5, 0.0, 0.5]), ("moreau-jean-combined", &[0.5, 0.0]), ("nsga", &[0.8, 0.0]), ("d1-minus-linear", &[0.0]), ("verlet-nitsche", &[10.0, 1.0])];
+const PRESETLESS: &[(&str, &[f64])] = &[
+    ("moreau-jean-projected", &[0.5, 0.0, 0.5]),
+    ("moreau-jean-combined", &[0.5, 0.0]),
+    ("nsga", &[0.8, 0.0]),
+    ("d1-minus-linear", &[0.0]),
+    ("d1-minus-linear-velocity", &[0.0]),
+    ("verlet-nitsche", &[10.0, 1.0]),
+];
 
 /// Every scheme the registry names: the presets, and each family without
 /// one at its [`PRESETLESS`] values.
@@ -173,6 +179,8 @@ fn reference(spec: &SchemeSpec) -> Option<Reference> {
         "nsga" => Reference::GenAlpha { rho_inf: a[0] },
         // Off contact the velocity Verlet step: the central difference in momentum form.
         "d1-minus-linear" => Reference::OneStep { a: 0.0, b: 0.5, gamma: 0.5 },
+        // The same smooth part on the velocity level.
+        "d1-minus-linear-velocity" => Reference::OneStep { a: 0.0, b: 0.5, gamma: 0.5 },
         _ => return None,
     })
 }
@@ -467,8 +475,9 @@ fn position_level_schemes_keep_the_bound() {
         // contacts already in its index set: a penetration is corrected a
         // step late (theory §4.6.4), so the bound can fail at one level.
         // d1-minus-linear (Schindler–Acary) constrains velocities and
-        // accelerations only: a contact closes inside a step (theory §4.6.7).
-        let velocity_level = ["moreau-jean", "moreau-jean-projected", "nitsche", "d1-minus-linear", "verlet-nitsche"].contains(&spec.family().name);
+        // accelerations only: a contact closes inside a step (theory §4.6.7);
+        // so does its velocity level.
+        let velocity_level = ["moreau-jean", "moreau-jean-projected", "nitsche", "d1-minus-linear", "d1-minus-linear-velocity", "verlet-nitsche"].contains(&spec.family().name);
         if c.stiffness || velocity_level || spec.param("e").is_some_and(|e| e > 0.0) {
             continue;
         }
