@@ -1,8 +1,9 @@
 // Siconos's D1MinusLinearOSI (Schindler & Acary's time-discontinuous
 // Galerkin scheme) with TimeSteppingD1Minus on the small systems of
 // tests/siconos/moreau_jean.py: the numbers that
-// crates/schemes/tests/it/siconos.rs compares `d1-minus-linear(e)` with,
-// step by step. Writes data/siconos/d1-minus-linear.csv (every digit, %.17g).
+// crates/schemes/tests/it/siconos.rs compares `d1-minus-linear(e)` (the
+// acceleration-level rows) and `d1-minus-linear-velocity(e)` (the
+// velocity-level rows) with, step by step. Writes data/siconos/d1-minus-linear.csv (every digit, %.17g).
 //
 // Siconos 4.4.0 (Debian bookworm) ships libsiconos_kernel.so.7 but its
 // Python bindings lack D1MinusLinearOSI and its -dev packages do not

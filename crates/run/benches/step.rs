@@ -248,9 +248,10 @@ fn beam_band_product<const ROWS: usize>(bencher: Bencher) {
 /// §4.6.8) and the CD-Lagrange step (`cd-lagrange(0)`, §4.6.9: the central
 /// difference and a velocity-level impulse where a contact is closed) next
 /// to `penalty-cd` (the same central difference with a penalty spring),
-/// lumped mass, `bar-dirichlet` at dx/dt = 10 (below every limit):
-/// stepping only, per dof-step.
-#[divan::bench(args = ["verlet-nitsche(10,1)", "cd-lagrange(0)", "penalty-cd"])]
+/// and Schindler–Acary's scheme on its two levels (§4.6.7) next to
+/// `newmark-cn`; lumped mass, `bar-dirichlet` at dx/dt = 10 (below every
+/// limit): stepping only, per dof-step.
+#[divan::bench(args = ["verlet-nitsche(10,1)", "cd-lagrange(0)", "penalty-cd", "d1-minus-linear(0)", "d1-minus-linear-velocity(0)", "newmark-cn"])]
 fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
     let m = 1000;
     let n = steps(m);

@@ -40,6 +40,28 @@
 //! When `I₂` is empty at the end of a step without impact, `λ⁻ = 0`
 //! (Siconos then keeps the last force it computed, `λ⁺`; the two agree on
 //! every step of the stored comparisons).
+//!
+//! **The velocity level** ([`D1Level::Velocity`], the registry's
+//! `d1-minus-linear-velocity(e)`; Siconos's
+//! `halfexplicit_velocity_level`) keeps the step and the impact problem and
+//! puts the non-impulsive contact forces on the velocity level, as impulses
+//! `μ±` on every closed contact (no condition on the rate):
+//!
+//! ```text
+//! V₁   = Vⁿ + dt a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀμ⁺,   0 <= μ⁺ ⊥ H V₁ >= 0          on I₁ⁿ
+//! Uⁿ⁺¹ = Uⁿ + dt/2 (Vⁿ + V₁),   I₁, I₃ as above
+//! I₃ = ∅:  V_f = ½(Vⁿ + V₁) + dt/2 a(t_{n+1}, Uⁿ⁺¹, V₁) + M⁻¹Hᵀμ⁻,
+//!          0 <= μ⁻ ⊥ H V_f >= 0                                         on I₁
+//! I₃ ≠ ∅:  V_f = Vⁿ + dt/2 (a(t_n, Uⁿ, Vⁿ) + a(t_{n+1}, Uⁿ⁺¹, V₁))
+//! Vⁿ⁺¹ = V_f + M⁻¹HᵀΛ,   0 <= Λ ⊥ H Vⁿ⁺¹ + e H V_f >= 0                   on I₁
+//! ```
+//!
+//! (`I₁ⁿ` the contacts closed at `Uⁿ`; `½(Vⁿ + V₁)` carries half of `μ⁺`
+//! into `V_f`, as Siconos's residual does). Without an impact `H V_f >= 0`
+//! on `I₁` already, so `Λ = 0`; the force reported is
+//! `λ = −(Λ + μ⁺/2 + μ⁻)/dt`, the step's contact impulse over `dt`
+//! (the impulse alone where a contact closed); [`D1MinusLinear::forces`]
+//! gives `μ⁺` and `μ⁻` (impulses) on this level.
 
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
@@ -52,10 +74,23 @@ use signorini_fem::BandLdlt;
 /// when its rate is at most this (absolute).
 pub const INDEX_SET_TOLERANCE: f64 = 1e-8;
 
+/// Where the half-explicit step of [`D1MinusLinear`] puts its
+/// non-impulsive contact forces (Siconos's `D1MinusLinearOSI` types).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum D1Level {
+    /// `halfexplicit_acceleration_level` (Siconos's default): forces
+    /// `λ±` with `H a >= 0` on the closed contacts with vanishing rate.
+    Acceleration,
+    /// `halfexplicit_velocity_level`: impulses `μ±` with `H V >= 0` on
+    /// the closed contacts.
+    Velocity,
+}
+
 /// Schindler and Acary's time-discontinuous Galerkin scheme, half-explicit
-/// on the acceleration level.
+/// on the acceleration level or on the velocity level ([`D1Level`]).
 pub struct D1MinusLinear {
     label: String,
+    level: D1Level,
     restitution: f64,
     dt: f64,
     n: usize,
@@ -76,9 +111,11 @@ pub struct D1MinusLinear {
     v1: Vec<f64>,
     /// `C V` (damped problems only).
     ctmp: Vec<f64>,
-    /// Per contact, the side of `I₂ⁿ` (the start's force problem).
+    /// Per contact, the side of the start's force problem (`I₂ⁿ` on the
+    /// acceleration level, `I₁ⁿ` on the velocity level).
     start: Vec<Active>,
-    /// Per contact, the side of `I₁` and of `I₂` at the step's end.
+    /// Per contact, the side of `I₁` and of the end's force problem (`I₂`
+    /// on the acceleration level, `I₁` on the velocity level).
     closed: Vec<Active>,
     end: Vec<Active>,
     loads: Loads,
@@ -86,7 +123,8 @@ pub struct D1MinusLinear {
     s_new: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
-    /// Per contact, the last step's `Λ`, `λ⁺` and `λ⁻` (along the dof).
+    /// Per contact, the last step's `Λ`, `λ⁺` and `λ⁻` (`μ⁺`, `μ⁻` on the
+    /// velocity level), along the dof.
     impulses: Vec<f64>,
     f_plus: Vec<f64>,
     f_minus: Vec<f64>,
@@ -120,10 +158,15 @@ fn accel(dy: &Dynamics, mf: &BandLdlt, svals: &[f64], u: &[f64], v: &[f64], out:
 }
 
 impl D1MinusLinear {
-    /// Sets up the scheme (e ∈ [0, 1], each contact's own restitution
-    /// overriding it; a massive contact node; damping and time-dependent
-    /// loads taken, the damping explicitly).
+    /// Sets up the scheme on the acceleration level (e ∈ [0, 1], each
+    /// contact's own restitution overriding it; a massive contact node;
+    /// damping and time-dependent loads taken, the damping explicitly).
     pub fn new(label: String, dy: Dynamics, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
+        Self::at_level(D1Level::Acceleration, label, dy, restitution, dt, init)
+    }
+
+    /// Sets up the scheme on the given level (otherwise as [`D1MinusLinear::new`]).
+    pub fn at_level(level: D1Level, label: String, dy: Dynamics, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         dy.validate()?;
         crate::family::check("e", restitution, (0.0..=1.0).contains(&restitution), "[0, 1]")?;
         if dy.massless_contact() {
@@ -140,6 +183,7 @@ impl D1MinusLinear {
         loads.next_into(&mut s_old);
         let mut me = Self {
             label,
+            level,
             restitution,
             dt,
             n: 0,
@@ -171,18 +215,29 @@ impl D1MinusLinear {
         Ok(me)
     }
 
-    /// From `Uⁿ, Vⁿ`: `a(t_n, Uⁿ, Vⁿ)` and the start's index set `I₂ⁿ`.
+    /// From `Uⁿ, Vⁿ`: `a(t_n, Uⁿ, Vⁿ)` and the start's index set.
     fn refresh(&mut self) {
         accel(&self.dy, &self.mf, &self.s_old, &self.u, &self.v, &mut self.a_free, &mut self.ctmp);
+        self.start_set();
+    }
+
+    /// The start's index set from `Uⁿ, Vⁿ`: the closed contacts with
+    /// `ẏ <= ε` (`I₂ⁿ`, acceleration level), or all closed ones (`I₁ⁿ`,
+    /// velocity level).
+    fn start_set(&mut self) {
         for (s, ct) in self.start.iter_mut().zip(&self.dy.contacts) {
-            let x = self.u[ct.dof];
             let rate = self.v[ct.dof];
-            *s = match side(ct.bounds.lo, ct.bounds.hi, x) {
-                Active::Lower if rate <= INDEX_SET_TOLERANCE => Active::Lower,
-                Active::Upper if -rate <= INDEX_SET_TOLERANCE => Active::Upper,
+            *s = match side(ct.bounds.lo, ct.bounds.hi, self.u[ct.dof]) {
+                Active::Lower if self.level == D1Level::Velocity || rate <= INDEX_SET_TOLERANCE => Active::Lower,
+                Active::Upper if self.level == D1Level::Velocity || -rate <= INDEX_SET_TOLERANCE => Active::Upper,
                 _ => Active::None,
             };
         }
+    }
+
+    /// The level the contact forces are computed on.
+    pub fn level(&self) -> D1Level {
+        self.level
     }
 
     /// Velocity `Vⁿ`.
@@ -197,7 +252,8 @@ impl D1MinusLinear {
     }
 
     /// Per contact, the last step's forces `λ⁺` (at `t_n`) and `λ⁻` (at
-    /// `t_{n+1}`) along the dof; zeros in a step where a contact closed.
+    /// `t_{n+1}`) along the dof — on the velocity level the impulses `μ⁺`
+    /// and `μ⁻`; zeros in a step where a contact closed.
     pub fn forces(&self) -> (&[f64], &[f64]) {
         (&self.f_plus, &self.f_minus)
     }
@@ -208,8 +264,10 @@ impl D1MinusLinear {
         self.impact
     }
 
-    /// The force problem on `acc` with the sides `sides` (skipped when
-    /// none is closed): the multipliers into `out`.
+    /// The force problem on `acc` (an acceleration, or on the velocity
+    /// level a velocity) with the sides `sides` (skipped when none is
+    /// closed): `acc += M⁻¹Hᵀx`, `0 <= x ⊥ H acc >= 0`, the multipliers
+    /// into `out`.
     fn force_problem(ms: &mut MultiSolve, sides: &[Active], acc: &mut [f64], out: &mut [f64]) -> Result<(), SchemeError> {
         if sides.iter().all(|s| *s == Active::None) {
             out.iter_mut().for_each(|x| *x = 0.0);
@@ -253,12 +311,21 @@ impl Stepper for D1MinusLinear {
     fn step(&mut self) -> Result<StepReport, SchemeError> {
         let h = self.dt;
         self.loads.next_into(&mut self.s_new);
-        // a⁺ = a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀλ⁺ on I₂ⁿ.
-        self.acc.copy_from_slice(&self.a_free);
-        Self::force_problem(&mut self.force_solve, &self.start, &mut self.acc, &mut self.f_plus)?;
-        // V₁ = Vⁿ + h a⁺.
-        for ((v1, v), a) in self.v1.iter_mut().zip(&self.v).zip(&self.acc) {
-            *v1 = v + h * a;
+        let velocity_level = self.level == D1Level::Velocity;
+        if velocity_level {
+            // V₁ = Vⁿ + h a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀμ⁺ on I₁ⁿ.
+            for ((v1, v), a) in self.v1.iter_mut().zip(&self.v).zip(&self.a_free) {
+                *v1 = v + h * a;
+            }
+            Self::force_problem(&mut self.force_solve, &self.start, &mut self.v1, &mut self.f_plus)?;
+        } else {
+            // a⁺ = a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀλ⁺ on I₂ⁿ.
+            self.acc.copy_from_slice(&self.a_free);
+            Self::force_problem(&mut self.force_solve, &self.start, &mut self.acc, &mut self.f_plus)?;
+            // V₁ = Vⁿ + h a⁺.
+            for ((v1, v), a) in self.v1.iter_mut().zip(&self.v).zip(&self.acc) {
+                *v1 = v + h * a;
+            }
         }
         // The index sets at the step's end (I₃ from Uⁿ, before U moves on).
         let mut impact = false;
@@ -275,7 +342,8 @@ impl Stepper for D1MinusLinear {
             if s != Active::None && old_gap > INDEX_SET_TOLERANCE {
                 impact = true;
             }
-            self.end[i] = if s != Active::None && rate <= INDEX_SET_TOLERANCE { s } else { Active::None };
+            // The end's force problem: I₂ (acceleration level), I₁ (velocity level).
+            self.end[i] = if s != Active::None && (velocity_level || rate <= INDEX_SET_TOLERANCE) { s } else { Active::None };
         }
         // Uⁿ⁺¹ = Uⁿ + h/2 (Vⁿ + V₁).
         for ((u, v), v1) in self.u.iter_mut().zip(&self.v).zip(&self.v1) {
@@ -289,6 +357,12 @@ impl Stepper for D1MinusLinear {
                 *v += 0.5 * h * (a0 + a1);
             }
             self.f_plus.iter_mut().chain(self.f_minus.iter_mut()).for_each(|x| *x = 0.0);
+        } else if velocity_level {
+            // V_f = ½(Vⁿ + V₁) + h/2 a(t_{n+1}) + M⁻¹Hᵀμ⁻ on I₁.
+            for ((v, v1), a1) in self.v.iter_mut().zip(&self.v1).zip(&self.a_end) {
+                *v = 0.5 * (*v + v1) + 0.5 * h * a1;
+            }
+            Self::force_problem(&mut self.force_solve, &self.end, &mut self.v, &mut self.f_minus)?;
         } else {
             // a⁻ = a(t_{n+1}) + M⁻¹Hᵀλ⁻ on I₂ (into v1: V₁ is no longer needed), V_f = Vⁿ + h/2 (a⁺ + a⁻).
             self.v1.copy_from_slice(&self.a_end);
@@ -318,29 +392,21 @@ impl Stepper for D1MinusLinear {
         // The next step's a(t_n, Uⁿ, Vⁿ): undamped, a(t_{n+1}, Uⁿ⁺¹) itself.
         if self.dy.damping.is_none() {
             std::mem::swap(&mut self.a_free, &mut self.a_end);
-            for (s, ct) in self.start.iter_mut().zip(&self.dy.contacts) {
-                let rate = self.v[ct.dof];
-                *s = match side(ct.bounds.lo, ct.bounds.hi, self.u[ct.dof]) {
-                    Active::Lower if rate <= INDEX_SET_TOLERANCE => Active::Lower,
-                    Active::Upper if -rate <= INDEX_SET_TOLERANCE => Active::Upper,
-                    _ => Active::None,
-                };
-            }
+            self.start_set();
         } else {
             self.refresh();
         }
         self.n += 1;
-        let t = self.time();
         for i in 0..self.lams.len() {
-            let smooth = if impact { 0.0 } else { 0.5 * h * (self.f_plus[i] + self.f_minus[i]) };
+            let smooth = match (impact, velocity_level) {
+                (true, _) => 0.0,
+                (false, false) => 0.5 * h * (self.f_plus[i] + self.f_minus[i]),
+                (false, true) => 0.5 * self.f_plus[i] + self.f_minus[i],
+            };
             self.lams[i] = -(self.impulses[i] + smooth) / h;
-            self.acts[i] = self.closed[i];
-            let c = self.dy.contacts[i].dof;
-            if !(self.u[c].is_finite() && self.v[c].is_finite() && self.lams[i].is_finite()) {
-                return Err(SchemeError::NonFinite { step: self.n, time: t });
-            }
         }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+        self.acts.copy_from_slice(&self.closed);
+        crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, Some(&self.v), &self.lams, &self.acts)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {
@@ -348,12 +414,34 @@ impl Stepper for D1MinusLinear {
     }
 }
 
-// ---- The registry's row of this file: d1-minus-linear.
+// ---- The registry's rows of this file: d1-minus-linear, d1-minus-linear-velocity.
 
 use crate::family::{check, kappa_bound, Capabilities, Family, Node, Param, SchemeSpec};
 
 /// The restitution `e`.
 const E: Param = Param { name: "e", symbol: "e", syntax: "E", allowed: "∈ [0, 1]", default: None };
+
+/// The stability rule of both levels (the same smooth part).
+const RULE: &str =
+    "half-explicit (velocity Verlet without contact): dt < 2/sqrt(κ_max) of the pencil (K, M), strictly (at the limit itself the highest mode is neutral and the contact steps excite it)";
+
+/// Both rows' builder: the limit checked, strictly, then the scheme on `level`.
+fn build_at(level: D1Level, s: &SchemeSpec, dy: Dynamics, dt: f64, init: &Initial) -> Result<Box<dyn crate::Stepper>, SchemeError> {
+    s.check_cfl(&dy, dt, false)?;
+    // Strictly below the limit, unlike the Courant-one central
+    // difference: at dt = 2/sqrt(κ_max) (the lumped free bar at
+    // dx/dt = 1) the highest mode has the double eigenvalue −1 and the
+    // contact steps feed it — the stress study's runs there gained
+    // ×10⁶ in energy (theory §4.6.7).
+    if !s.limit_waived() {
+        if let Some(limit) = s.cfl_limit(&dy)? {
+            if dt >= limit * (1.0 - 1e-9) {
+                return Err(SchemeError::Unstable { dt, limit, scheme: s.to_string(), rule: s.stability_rule().unwrap_or("") });
+            }
+        }
+    }
+    Ok(Box::new(D1MinusLinear::at_level(level, s.to_string(), dy, s.args()[0], dt, init)?))
+}
 
 /// Schindler and Acary's time-discontinuous Galerkin scheme (Siconos's
 /// `D1MinusLinearOSI`, half-explicit on the acceleration level), e ∈ [0, 1].
@@ -365,28 +453,27 @@ pub(crate) static D1_MINUS_LINEAR: Family = Family {
     validate: |a| check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]"),
     capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, restitution: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, dy| Ok(Some(2.0 / kappa_bound(&dy.stiffness, &dy.mass)?.sqrt())),
-    stability_rule: |_| Some("half-explicit (velocity Verlet without contact): dt < 2/sqrt(κ_max) of the pencil (K, M), strictly (at the limit itself the highest mode is neutral and the contact steps excite it)"),
-    build: |s, dy, dt, init| {
-        s.check_cfl(&dy, dt, false)?;
-        // Strictly below the limit, unlike the Courant-one central
-        // difference: at dt = 2/sqrt(κ_max) (the lumped free bar at
-        // dx/dt = 1) the highest mode has the double eigenvalue −1 and the
-        // contact forces feed it — the stress study's runs there gained
-        // ×10⁶ in energy (theory §4.6.7).
-        if !s.limit_waived() {
-            if let Some(limit) = s.cfl_limit(&dy)? {
-                if dt >= limit * (1.0 - 1e-9) {
-                    return Err(SchemeError::Unstable { dt, limit, scheme: s.to_string(), rule: s.stability_rule().unwrap_or("") });
-                }
-            }
-        }
-        Ok(Box::new(D1MinusLinear::new(s.to_string(), dy, s.args()[0], dt, init)?))
-    },
+    stability_rule: |_| Some(RULE),
+    build: |s, dy, dt, init| build_at(D1Level::Acceleration, s, dy, dt, init),
+};
+
+/// The same scheme half-explicit on the velocity level (Siconos's
+/// `halfexplicit_velocity_level`), e ∈ [0, 1].
+pub(crate) static D1_MINUS_LINEAR_VELOCITY: Family = Family {
+    name: "d1-minus-linear-velocity",
+    about: "time-discontinuous Galerkin as d1-minus-linear, half-explicit on the velocity level (Siconos's D1MinusLinearOSI halfexplicit_velocity_level): contact impulses at both ends of the step keep the closed contacts' velocities non-negative, Newton's impact law at velocity level (docs/theory.md §4.6.7)",
+    build: |s, dy, dt, init| build_at(D1Level::Velocity, s, dy, dt, init),
+    ..D1_MINUS_LINEAR
 };
 
 impl SchemeSpec {
     /// Schindler and Acary's scheme with restitution `e` (not validated until built).
     pub fn d1_minus_linear(restitution: f64) -> Self {
         D1_MINUS_LINEAR.with(&[restitution])
+    }
+
+    /// Its velocity-level variant with restitution `e` (not validated until built).
+    pub fn d1_minus_linear_velocity(restitution: f64) -> Self {
+        D1_MINUS_LINEAR_VELOCITY.with(&[restitution])
     }
 }

@@ -181,7 +181,7 @@ mod stabilized;
 mod verlet_nitsche;
 
 pub use cd_lagrange::CdLagrange;
-pub use d1minus::{D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
+pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
 pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
@@ -769,6 +769,20 @@ pub(crate) fn check_start(dt: f64, n: usize, init: &Initial) -> Result<(), Schem
         }
     }
     Ok(())
+}
+
+/// The end of a contact scheme's step at level `n`, time `t`: every
+/// contact's position `u[dof]` (with `v`, its velocity too) and force
+/// `lams[i]` checked finite ([`SchemeError::NonFinite`] otherwise), then
+/// the report with contact 0's force `lams[0]` at `t` and status `acts[0]`.
+pub(crate) fn contact_step_report(n: usize, t: f64, contacts: &[Contact], u: &[f64], v: Option<&[f64]>, lams: &[f64], acts: &[signorini_contact::Active]) -> Result<StepReport, SchemeError> {
+    for (ct, lam) in contacts.iter().zip(lams) {
+        let c = ct.dof;
+        if !(u[c].is_finite() && v.is_none_or(|v| v[c].is_finite()) && lam.is_finite()) {
+            return Err(SchemeError::NonFinite { step: n, time: t });
+        }
+    }
+    Ok(StepReport { n, t, lambda: Some((t, lams[0])), active: acts[0] })
 }
 
 /// Checks a state's length for [`Stepper::set_state`].

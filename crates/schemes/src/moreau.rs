@@ -231,13 +231,7 @@ impl MoreauJean {
         }
         self.impulse = -self.lams[0] * dt;
         self.n += 1;
-        let t = self.time();
-        for (ct, lam) in self.dy.contacts.iter().zip(&self.lams) {
-            if !(self.u[ct.dof].is_finite() && lam.is_finite()) {
-                return Err(SchemeError::NonFinite { step: self.n, time: t });
-            }
-        }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+        crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, None, &self.lams, &self.acts)
     }
 
     /// The impulse `p` of the last step.
@@ -322,13 +316,8 @@ impl MoreauJean {
         }
         self.impulse = p;
         self.n += 1;
-        let t = self.time();
-        let lambda = -p / dt;
-        if !(self.u[c].is_finite() && lambda.is_finite()) {
-            return Err(SchemeError::NonFinite { step: self.n, time: t });
-        }
-        (self.lams[0], self.acts[0]) = (lambda, active);
-        Ok(StepReport { n: self.n, t, lambda: Some((t, lambda)), active })
+        (self.lams[0], self.acts[0]) = (-p / dt, active);
+        crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, None, &self.lams, &self.acts)
     }
 }
 

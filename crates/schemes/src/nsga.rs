@@ -421,13 +421,7 @@ impl Stepper for Nsga {
             }
         }
         self.n += 1;
-        let t = self.time();
-        for (ct, lam) in self.dy.contacts.iter().zip(&self.lams) {
-            if !(self.u[ct.dof].is_finite() && self.v[ct.dof].is_finite() && lam.is_finite()) {
-                return Err(SchemeError::NonFinite { step: self.n, time: t });
-            }
-        }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+        crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, Some(&self.v), &self.lams, &self.acts)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {

@@ -34,6 +34,7 @@ pub static FAMILIES: &[&Family] = &[
     &crate::nsga::NSGA,
     &crate::stabilized::CONTACT_STABILIZED,
     &crate::d1minus::D1_MINUS_LINEAR,
+    &crate::d1minus::D1_MINUS_LINEAR_VELOCITY,
     &crate::cd_lagrange::CD_LAGRANGE,
     &crate::hybrid::CD_MASSLESS,
     &crate::nitsche::NITSCHE,

@@ -198,13 +198,7 @@ impl Stepper for ContactStabilized {
             *u = *un;
         }
         self.n += 1;
-        let t = self.time();
-        for (ct, lam) in self.dy.contacts.iter().zip(&self.lams) {
-            if !(self.u[ct.dof].is_finite() && lam.is_finite()) {
-                return Err(SchemeError::NonFinite { step: self.n, time: t });
-            }
-        }
-        Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+        crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, None, &self.lams, &self.acts)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {

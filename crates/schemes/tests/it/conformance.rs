@@ -78,6 +78,7 @@ const PRESETLESS: &[(&str, &[f64])] = &[
     ("moreau-jean-combined", &[0.5, 0.0]),
     ("nsga", &[0.8, 0.0]),
     ("d1-minus-linear", &[0.0]),
+    ("d1-minus-linear-velocity", &[0.0]),
     ("verlet-nitsche", &[10.0, 1.0]),
     ("cd-lagrange", &[0.0]),
 ];
@@ -182,6 +183,8 @@ fn reference(spec: &SchemeSpec) -> Option<Reference> {
         // Off contact the central difference started by Taylor's formula
         // (its half step V^{1/2} = V⁰ + dt/2 a⁰): positions compared.
         "cd-lagrange" => Reference::TwoStep { beta: 0.0, start: None },
+        // The same smooth part on the velocity level.
+        "d1-minus-linear-velocity" => Reference::OneStep { a: 0.0, b: 0.5, gamma: 0.5 },
         _ => return None,
     })
 }
@@ -476,10 +479,11 @@ fn position_level_schemes_keep_the_bound() {
         // contacts already in its index set: a penetration is corrected a
         // step late (theory §4.6.4), so the bound can fail at one level.
         // d1-minus-linear (Schindler–Acary) constrains velocities and
-        // accelerations only: a contact closes inside a step (theory §4.6.7).
-        // cd-lagrange never corrects positions: a contact closes past its
-        // stop by up to one step's travel (theory §4.6.9).
-        let velocity_level = ["moreau-jean", "moreau-jean-projected", "nitsche", "d1-minus-linear", "verlet-nitsche", "cd-lagrange"].contains(&spec.family().name);
+        // accelerations only: a contact closes inside a step (theory §4.6.7);
+        // so does its velocity level. cd-lagrange never corrects positions:
+        // a contact closes past its stop by up to one step's travel (theory
+        // §4.6.9).
+        let velocity_level = ["moreau-jean", "moreau-jean-projected", "nitsche", "d1-minus-linear", "d1-minus-linear-velocity", "verlet-nitsche", "cd-lagrange"].contains(&spec.family().name);
         if c.stiffness || velocity_level || spec.param("e").is_some_and(|e| e > 0.0) {
             continue;
         }

@@ -10,10 +10,15 @@
 //! consistent masses, damping, a time-dependent load, gaps, a two-sided
 //! contact and a second contact, step by step to 1e-12; the discrete energy
 //! identity of §7.10; a held start and symmetric contacts.
+//!
+//! The same for `d1-minus-linear-velocity(e)`, the velocity level (§4.6.7):
+//! its step transcribed here as Siconos's `computeResiduHalfExplicitVelocityLevel`
+//! writes it (the residual `−h/2 a⁺ − ½M⁻¹Hᵀμ⁺ − h/2 a⁻`), its energy
+//! identity (§7.10), and a long run.
 
 use crate::stabilized::{dense, mv, solve, system, Dense};
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, D1MinusLinear, Dynamics, Initial, SchemeSpec, SplitMix64, Stepper};
+use signorini_schemes::{Bounds, Contact, D1Level, D1MinusLinear, Dynamics, Initial, SchemeSpec, SplitMix64, Stepper};
 
 /// Siconos's `DEFAULT_TOL_D1MINUS`: the index sets' threshold.
 const TOL: f64 = 1e-8;
@@ -55,13 +60,16 @@ fn side(lo: f64, hi: f64, x: f64) -> f64 {
 struct Step {
     u: Vec<f64>,
     v: Vec<f64>,
-    /// Per contact, along the dof: the impulse `Λ`, the forces `λ⁺`, `λ⁻`.
+    /// Per contact, along the dof: the impulse `Λ`, the forces `λ⁺`, `λ⁻`
+    /// (on the velocity level the impulses `μ⁺`, `μ⁻`; zero where a contact closed).
     big: Vec<f64>,
     plus: Vec<f64>,
     minus: Vec<f64>,
     impact: bool,
     /// The change of `E_h` the identity of docs/theory.md §7.10 gives.
     de: f64,
+    /// The force the scheme reports, per contact.
+    lambda: Vec<f64>,
 }
 
 /// The step of §4.6.7, dense.
@@ -75,6 +83,7 @@ struct Oracle {
     /// (dof, lo, hi, e).
     cons: Vec<(usize, f64, f64, f64)>,
     dt: f64,
+    level: D1Level,
 }
 
 impl Oracle {
@@ -85,7 +94,11 @@ impl Oracle {
         let minv = (0..n).map(|i| (0..n).map(|j| cols[j][i]).collect()).collect();
         let cons = dy.contacts.iter().map(|c| (c.dof, c.bounds.lo, c.bounds.hi, c.restitution.unwrap_or(e))).collect();
         let shape = dy.forcing.first().map_or(vec![0.0; n], |f| f.shape.clone());
-        Self { m, minv, k, c: dy.damping.as_ref().map(dense), f: dy.load.clone(), shape, cons, dt }
+        Self { m, minv, k, c: dy.damping.as_ref().map(dense), f: dy.load.clone(), shape, cons, dt, level: D1Level::Acceleration }
+    }
+
+    fn at(self, level: D1Level) -> Self {
+        Self { level, ..self }
     }
 
     fn load(&self, t: f64) -> Vec<f64> {
@@ -129,6 +142,55 @@ impl Oracle {
     }
 
     fn step(&self, u: &[f64], v: &[f64], n: usize) -> Step {
+        match self.level {
+            D1Level::Acceleration => self.step_acceleration(u, v, n),
+            D1Level::Velocity => self.step_velocity(u, v, n),
+        }
+    }
+
+    /// The velocity level, as Siconos writes it: `vfree = v + h a⁺_free`,
+    /// `μ⁺` on the contacts closed at `u` (`H V₁ >= 0`), `q = u + h/2 (v + V₁)`;
+    /// `I₁`, `I₂` (closed in the step) at `q`; with an impact the residual
+    /// `−h/2 (a⁺_free + a⁻_free)`, else `−h/2 a⁺_free − ½M⁻¹Hᵀμ⁺ − h/2 a⁻_free`,
+    /// `V_f = v − residual + M⁻¹Hᵀμ⁻` with `μ⁻` on `I₁` (`H V_f >= 0`); Newton's
+    /// law on `I₁` with `V_f`.
+    fn step_velocity(&self, u: &[f64], v: &[f64], n: usize) -> Step {
+        let (h, k, nn) = (self.dt, self.cons.len(), u.len());
+        let (t0, t1) = (n as f64 * h, (n + 1) as f64 * h);
+        let zero = vec![0.0; k];
+        let a0 = self.acc(t0, u, v);
+        let vfree: Vec<f64> = (0..nn).map(|i| v[i] + h * a0[i]).collect();
+        let start: Vec<f64> = self.cons.iter().map(|&(c, lo, hi, _)| side(lo, hi, u[c])).collect();
+        let (v1, plus) = self.solve_on(&start, &vfree, &zero);
+        let u1: Vec<f64> = (0..nn).map(|i| u[i] + 0.5 * h * (v[i] + v1[i])).collect();
+        let closed: Vec<f64> = self.cons.iter().map(|&(c, lo, hi, _)| side(lo, hi, u1[c])).collect();
+        let impact = self.cons.iter().zip(&closed).any(|(&(c, lo, hi, _), &s)| (s > 0.0 && u[c] - lo > TOL) || (s < 0.0 && hi - u[c] > TOL));
+        let a1 = self.acc(t1, &u1, &v1);
+        // M⁻¹Hᵀμ⁺ (along the dofs: Σ_i M⁻¹ e_{c_i} plus_i).
+        let push: Vec<f64> = (0..nn).map(|r| self.cons.iter().zip(&plus).map(|(&(c, ..), p)| self.minv[r][c] * p).sum()).collect();
+        let (vf, nu, minus) = if impact {
+            ((0..nn).map(|i| v[i] + 0.5 * h * (a0[i] + a1[i])).collect::<Vec<f64>>(), zero.clone(), zero.clone())
+        } else {
+            let residual: Vec<f64> = (0..nn).map(|i| -0.5 * h * a0[i] - 0.5 * push[i] - 0.5 * h * a1[i]).collect();
+            let free: Vec<f64> = (0..nn).map(|i| v[i] - residual[i]).collect();
+            let (vf, minus) = self.solve_on(&closed, &free, &zero);
+            let nu = plus.iter().zip(&minus).map(|(p, m)| 0.5 * p + m).collect();
+            (vf, nu, minus)
+        };
+        let es: Vec<f64> = self.cons.iter().map(|c| c.3).collect();
+        let (v2, big) = self.solve_on(&closed, &vf, &es);
+        // §7.10, velocity level: ΔE_h = ½ Σν(vⁿ+V_f)_c + h/4 Σ(ν−μ⁺)(aⁿ+aⁿ⁺¹)_c + ½ ΣΛ(V_f+Vⁿ⁺¹)_c
+        // (ν = μ⁺/2 + μ⁻ without impact, 0 with).
+        let mut de = 0.0;
+        for (i, &(c, ..)) in self.cons.iter().enumerate() {
+            de += 0.5 * nu[i] * (v[c] + vf[c]) + 0.25 * h * (nu[i] - plus[i]) * (a0[c] + a1[c]) + 0.5 * big[i] * (vf[c] + v2[c]);
+        }
+        let lambda = big.iter().zip(&nu).map(|(b, n)| -(b + n) / h).collect();
+        let plus = if impact { zero } else { plus };
+        Step { u: u1, v: v2, big, plus, minus, impact, de, lambda }
+    }
+
+    fn step_acceleration(&self, u: &[f64], v: &[f64], n: usize) -> Step {
         let (h, k, nn) = (self.dt, self.cons.len(), u.len());
         let (t0, t1) = (n as f64 * h, (n + 1) as f64 * h);
         let zero = vec![0.0; k];
@@ -155,7 +217,8 @@ impl Oracle {
             de += 0.25 * h * (mplus[i] + minus[i]) * (v[c] + vf[c]) + h * h / 8.0 * (mplus[i] + minus[i] - 2.0 * plus[i]) * (a0[c] + a1[c]) + 0.5 * big[i] * (vf[c] + v2[c]);
         }
         let plus = if impact { zero } else { plus };
-        Step { u: u1, v: v2, big, plus, minus, impact, de }
+        let lambda = (0..k).map(|i| -(big[i] + 0.5 * h * (plus[i] + minus[i])) / h).collect();
+        Step { u: u1, v: v2, big, plus, minus, impact, de, lambda }
     }
 
     /// `E_h = ½VᵀMV + ½UᵀKU − FᵀU − h²/8 aᵀMa`, `a = M⁻¹(F − KU)` (steady load).
@@ -166,13 +229,21 @@ impl Oracle {
     }
 }
 
+/// The registry's row of `level`.
+fn spec(level: D1Level, e: f64) -> SchemeSpec {
+    match level {
+        D1Level::Acceleration => SchemeSpec::d1_minus_linear(e),
+        D1Level::Velocity => SchemeSpec::d1_minus_linear_velocity(e),
+    }
+}
+
 /// The scheme on `dy` (damped problems through the constructor: the
 /// registry refuses them).
-fn build(dy: Dynamics, e: f64, dt: f64, init: &Initial) -> Box<dyn Stepper> {
+fn build(level: D1Level, dy: Dynamics, e: f64, dt: f64, init: &Initial) -> Box<dyn Stepper> {
     if dy.damping.is_some() {
-        return Box::new(D1MinusLinear::new("d1".into(), dy, e, dt, init).unwrap());
+        return Box::new(D1MinusLinear::at_level(level, "d1".into(), dy, e, dt, init).unwrap());
     }
-    SchemeSpec::d1_minus_linear(e).build(dy, dt, init).unwrap()
+    spec(level, e).build(dy, dt, init).unwrap()
 }
 
 /// Step by step against the dense transcription, 150 steps, on lumped and
@@ -181,6 +252,17 @@ fn build(dy: Dynamics, e: f64, dt: f64, init: &Initial) -> Box<dyn Stepper> {
 /// and the reported mean force `−(Λ + dt/2(λ⁺ + λ⁻))/dt`.
 #[test]
 fn d1_minus_linear_follows_the_dense_step_step_by_step() {
+    follow_the_dense_step(D1Level::Acceleration);
+}
+
+/// The same on the velocity level: the reported force
+/// `−(Λ + μ⁺/2 + μ⁻)/dt` (`−Λ/dt` where a contact closed).
+#[test]
+fn d1_minus_linear_velocity_follows_the_dense_step_step_by_step() {
+    follow_the_dense_step(D1Level::Velocity);
+}
+
+fn follow_the_dense_step(level: D1Level) {
     let mut rng = SplitMix64::new(2014);
     let (mut forces, mut impulses, mut impacts, mut worst) = (0usize, 0usize, 0usize, 0.0f64);
     for case in 0..24 {
@@ -190,10 +272,10 @@ fn d1_minus_linear_follows_the_dense_step_step_by_step() {
         if case >= 8 {
             dy.contacts[0].restitution = Some(rng.next_f64());
         }
-        let limit = SchemeSpec::d1_minus_linear(e).cfl_limit(&dy).unwrap().unwrap();
+        let limit = spec(level, e).cfl_limit(&dy).unwrap().unwrap();
         let dt = limit * if damped { 0.2 } else { 0.3 + 0.6 * rng.next_f64() };
-        let oracle = Oracle::new(&dy, e, dt);
-        let mut s = build(dy, e, dt, &init);
+        let oracle = Oracle::new(&dy, e, dt).at(level);
+        let mut s = build(level, dy, e, dt, &init);
         let (mut u, mut v) = (init.u.clone(), init.v.clone());
         for n in 0..150 {
             let o = oracle.step(&u, &v, n);
@@ -203,11 +285,10 @@ fn d1_minus_linear_follows_the_dense_step_step_by_step() {
             for (i, (got, want)) in st.iter().zip(o.u.iter().chain(&o.v)).enumerate() {
                 let err = (got - want).abs() / scale;
                 worst = worst.max(err);
-                assert!(err <= 1e-12, "case {case}, step {n}, state {i}: {got} vs {want}");
+                assert!(err <= 1e-12, "{level:?}: case {case}, step {n}, state {i}: {got} vs {want}");
             }
-            for (i, got) in s.contact_forces().iter().enumerate() {
-                let want = -(o.big[i] + 0.5 * dt * (o.plus[i] + o.minus[i])) / dt;
-                assert!((got - want).abs() <= 1e-10 * (1.0 + want.abs()), "case {case}, step {n}: λ_{i} {got} vs {want}");
+            for (i, (got, want)) in s.contact_forces().iter().zip(&o.lambda).enumerate() {
+                assert!((got - want).abs() <= 1e-10 * (1.0 + want.abs()), "{level:?}: case {case}, step {n}: λ_{i} {got} vs {want}");
             }
             forces += o.plus.iter().chain(&o.minus).filter(|x| **x != 0.0).count();
             impulses += o.big.iter().filter(|x| **x != 0.0).count();
@@ -216,8 +297,8 @@ fn d1_minus_linear_follows_the_dense_step_step_by_step() {
         }
     }
     // Not vacuous: contact forces, impulses and impact steps in many steps.
-    assert!(forces > 200 && impulses > 200 && impacts > 30, "forces {forces}, impulses {impulses}, impacts {impacts}");
-    eprintln!("d1-minus-linear vs the dense step: worst {worst:.1e}; {forces} contact forces, {impulses} impulses, {impacts} impact steps");
+    assert!(forces > 200 && impulses > 30 && impacts > 30, "{level:?}: forces {forces}, impulses {impulses}, impacts {impacts}");
+    eprintln!("d1-minus-linear ({level:?} level) vs the dense step: worst {worst:.1e}; {forces} contact forces, {impulses} impulses, {impacts} impact steps");
 }
 
 /// The discrete energy identity of docs/theory.md §7.10, steady load and
@@ -228,6 +309,18 @@ fn d1_minus_linear_follows_the_dense_step_step_by_step() {
 /// conserved.
 #[test]
 fn d1_minus_linear_keeps_its_discrete_energy_identity() {
+    energy_identity(D1Level::Acceleration);
+}
+
+/// The velocity level's identity (docs/theory.md §7.10): the same `E_h`,
+/// its change `½ Σν(Vⁿ + V_f)_c + dt/4 Σ(ν − μ⁺)(aⁿ + aⁿ⁺¹)_c` plus the
+/// impulse's term, `ν = μ⁺/2 + μ⁻` (0 where a contact closed).
+#[test]
+fn d1_minus_linear_velocity_keeps_its_discrete_energy_identity() {
+    energy_identity(D1Level::Velocity);
+}
+
+fn energy_identity(level: D1Level) {
     let mut rng = SplitMix64::new(95);
     let (mut worst, mut dissipating) = (0.0f64, 0);
     for case in 0..8 {
@@ -235,9 +328,9 @@ fn d1_minus_linear_keeps_its_discrete_energy_identity() {
         let dy = Dynamics::new(dy.mass.clone(), dy.stiffness.clone(), dy.load.clone(), dy.contacts.clone());
         let n = dy.n();
         let e = [0.0, 0.3, 0.7, 1.0][case % 4];
-        let dt = 0.5 * SchemeSpec::d1_minus_linear(e).cfl_limit(&dy).unwrap().unwrap();
-        let oracle = Oracle::new(&dy, e, dt);
-        let mut s = build(dy, e, dt, &init);
+        let dt = 0.5 * spec(level, e).cfl_limit(&dy).unwrap().unwrap();
+        let oracle = Oracle::new(&dy, e, dt).at(level);
+        let mut s = build(level, dy, e, dt, &init);
         let (mut u, mut v) = (init.u.clone(), init.v.clone());
         let mut e0 = oracle.energy(&u, &v);
         for step in 0..400 {
@@ -248,17 +341,17 @@ fn d1_minus_linear_keeps_its_discrete_energy_identity() {
             let e1 = oracle.energy(&u, &v);
             let err = ((e1 - e0) - o.de).abs() / (1.0 + e0.abs());
             worst = worst.max(err);
-            assert!(err <= 1e-12, "case {case}, step {step}: ΔE_h {} vs the identity's {}", e1 - e0, o.de);
+            assert!(err <= 1e-12, "{level:?}: case {case}, step {step}: ΔE_h {} vs the identity's {}", e1 - e0, o.de);
             // The impact term alone: ½ ΣΛ(V_f + Vⁿ⁺¹)_c = −(1−e)/(2(1+e)) ΛᵀWΛ <= 0.
             if o.big.iter().all(|x| *x == 0.0) && o.plus.iter().chain(&o.minus).all(|x| *x == 0.0) {
-                assert!((e1 - e0).abs() <= 1e-13 * (1.0 + e0.abs()), "case {case}, step {step}: off contact E_h moved {e0} -> {e1}");
+                assert!((e1 - e0).abs() <= 1e-13 * (1.0 + e0.abs()), "{level:?}: case {case}, step {step}: off contact E_h moved {e0} -> {e1}");
             }
             dissipating += usize::from(o.big.iter().any(|x| *x != 0.0) && e < 1.0);
             e0 = e1;
         }
     }
-    assert!(dissipating > 20, "only {dissipating} impulse steps");
-    eprintln!("d1-minus-linear energy identity: worst {worst:.1e}, {dissipating} impulse steps with e < 1");
+    assert!(dissipating > 20, "{level:?}: only {dissipating} impulse steps");
+    eprintln!("d1-minus-linear ({level:?} level) energy identity: worst {worst:.1e}, {dissipating} impulse steps with e < 1");
 }
 
 /// The cases a user meets first. (a) Starting in contact, held: from the
@@ -270,6 +363,17 @@ fn d1_minus_linear_keeps_its_discrete_energy_identity() {
 /// both contacts engaging in the same steps, every step the dense step's.
 #[test]
 fn d1_minus_linear_held_starts_and_symmetric_contacts() {
+    held_starts_and_symmetric_contacts(D1Level::Acceleration);
+}
+
+/// The same on the velocity level (held: `μ⁺ = dt r`, `μ⁻ = dt r/2`, so the
+/// reported force `−(μ⁺/2 + μ⁻)/dt` is the reaction).
+#[test]
+fn d1_minus_linear_velocity_held_starts_and_symmetric_contacts() {
+    held_starts_and_symmetric_contacts(D1Level::Velocity);
+}
+
+fn held_starts_and_symmetric_contacts(level: D1Level) {
     for lumped in [true, false] {
         let mut rng = SplitMix64::new(5);
         let (dy, _) = system(&mut rng, lumped, false, false);
@@ -285,16 +389,16 @@ fn d1_minus_linear_held_starts_and_symmetric_contacts() {
         u_static.extend(solve(kf, rf));
         let reaction = mv(&k, &u_static)[0] - load[0];
         assert!(reaction > 0.0, "the load must press the node onto the stop");
-        let dt = 0.5 * SchemeSpec::d1_minus_linear(0.5).cfl_limit(&dy).unwrap().unwrap();
-        let mut s = build(dy, 0.5, dt, &Initial { u: u_static.clone(), v: vec![0.0; n] });
+        let dt = 0.5 * spec(level, 0.5).cfl_limit(&dy).unwrap().unwrap();
+        let mut s = build(level, dy, 0.5, dt, &Initial { u: u_static.clone(), v: vec![0.0; n] });
         for step in 0..2000 {
             s.step().unwrap();
             let st = s.state().unwrap();
             for i in 0..n {
-                assert!((st[i] - u_static[i]).abs() <= 1e-12 && st[n + i].abs() <= 1e-10, "lumped {lumped}, step {step}: left the static state: {st:?}");
+                assert!((st[i] - u_static[i]).abs() <= 1e-12 && st[n + i].abs() <= 1e-10, "{level:?}: lumped {lumped}, step {step}: left the static state: {st:?}");
             }
             let lam = s.contact_forces()[0];
-            assert!((lam + reaction).abs() <= 1e-10 * (1.0 + reaction), "lumped {lumped}, step {step}: λ {lam} vs the static reaction −{reaction}");
+            assert!((lam + reaction).abs() <= 1e-10 * (1.0 + reaction), "{level:?}: lumped {lumped}, step {step}: λ {lam} vs the static reaction −{reaction}");
         }
     }
     let n = 4;
@@ -311,8 +415,8 @@ fn d1_minus_linear_held_starts_and_symmetric_contacts() {
     let dy = Dynamics::new(m, k, vec![0.0; n], contacts);
     let init = Initial { u: vec![0.0; n], v: vec![-1.0, -0.3, 0.3, 1.0] };
     let dt = 0.05;
-    let oracle = Oracle::new(&dy, 1.0, dt);
-    let mut s = build(dy, 1.0, dt, &init);
+    let oracle = Oracle::new(&dy, 1.0, dt).at(level);
+    let mut s = build(level, dy, 1.0, dt, &init);
     let (mut u, mut v) = (init.u.clone(), init.v.clone());
     let mut together = 0;
     for step in 0..1000 {
@@ -320,16 +424,16 @@ fn d1_minus_linear_held_starts_and_symmetric_contacts() {
         s.step().unwrap();
         let st = s.state().unwrap();
         for (i, (a, b)) in st.iter().zip(o.u.iter().chain(&o.v)).enumerate() {
-            assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "step {step}, state {i}: {a} vs the dense step's {b}");
+            assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "{level:?}: step {step}, state {i}: {a} vs the dense step's {b}");
         }
-        assert!((st[0] + st[3]).abs() <= 1e-13 && (st[1] + st[2]).abs() <= 1e-13, "step {step}: symmetry lost {st:?}");
+        assert!((st[0] + st[3]).abs() <= 1e-13 && (st[1] + st[2]).abs() <= 1e-13, "{level:?}: step {step}: symmetry lost {st:?}");
         let f = s.contact_forces();
-        assert_eq!(f[0] != 0.0, f[1] != 0.0, "step {step}: one contact engaged without its mirror: {f:?}");
-        assert!((f[0] + f[1]).abs() <= 1e-10 * (1.0 + f[0].abs()), "step {step}: mirror forces {f:?}");
+        assert_eq!(f[0] != 0.0, f[1] != 0.0, "{level:?}: step {step}: one contact engaged without its mirror: {f:?}");
+        assert!((f[0] + f[1]).abs() <= 1e-10 * (1.0 + f[0].abs()), "{level:?}: step {step}: mirror forces {f:?}");
         together += usize::from(f[0] != 0.0);
         (u, v) = (o.u, o.v);
     }
-    assert!(together > 12, "the two contacts engaged together in only {together} steps");
+    assert!(together > 12, "{level:?}: the two contacts engaged together in only {together} steps");
 }
 
 /// The limit is strict: on the lumped free bar the exact limit is the
@@ -345,13 +449,87 @@ fn d1_minus_linear_refuses_the_limit_itself() {
     let (dy, _) = bar_scene(m, BarMass::Lumped, true, -0.01, -0.5, None);
     let init = Initial { u: vec![0.0; m + 1], v: vec![-1.0; m + 1] };
     let h = 1.0 / m as f64;
-    for e in [0.0, 1.0] {
-        let spec = SchemeSpec::d1_minus_linear(e);
+    for (level, e) in [(D1Level::Acceleration, 0.0), (D1Level::Acceleration, 1.0), (D1Level::Velocity, 0.0), (D1Level::Velocity, 1.0)] {
+        let spec = spec(level, e);
         match spec.build(dy.clone(), h, &init) {
             Err(signorini_schemes::SchemeError::Unstable { limit, .. }) => assert!((limit - h).abs() <= 1e-12 * h, "limit {limit} against h/c = {h}"),
-            Err(other) => panic!("e = {e}: dt = h/c refused for another reason: {other}"),
-            Ok(_) => panic!("e = {e}: dt = h/c, the limit itself, accepted"),
+            Err(other) => panic!("{level:?}, e = {e}: dt = h/c refused for another reason: {other}"),
+            Ok(_) => panic!("{level:?}, e = {e}: dt = h/c, the limit itself, accepted"),
         }
-        assert!(spec.build(dy.clone(), h * (1.0 - 1e-6), &init).is_ok(), "e = {e}: a step just below the limit refused");
+        assert!(spec.build(dy.clone(), h * (1.0 - 1e-6), &init).is_ok(), "{level:?}, e = {e}: a step just below the limit refused");
     }
+}
+
+/// A long run: the free lumped or consistent P1 bar (m = 20) under its
+/// weight (body force −0.2) thrown at its floor, to t = 2 000 (8·10⁴ and
+/// 1.4·10⁵ steps at half the limit), e = 0, ½, 1. On the velocity level a
+/// closed contact's velocity is kept non-negative at both ends of every
+/// step, so (one contact) its gap never decreases while it is closed: a
+/// penetration made when it closes is never deepened; with e < 1 the energy
+/// `E = ½VᵀMV + ½UᵀKU − FᵀU` never rises above its start (to 10⁻³). With
+/// e = 1 it does not hold: the multipliers push on contacts that are
+/// still penetrated and already separating (theory §7.10), and `E` grows
+/// (printed: ×5–×6.5 by t = 2 000; ×40–×50 by t = 10⁴). The acceleration level on the same
+/// lumped bar with e = ½ sinks through the floor: a resting contact
+/// leaves its index set after each bounce (its rate `e w > ε`), so
+/// each step moves the bar by the closed form `−dt² a_c/(2(1 + e))`,
+/// `a_c = W/m₀` (W the bar's weight, m₀ the contact node's mass) — the
+/// scheme's own behaviour, Siconos's as well (theory §4.6.7).
+#[test]
+fn d1_minus_linear_velocity_long_run_never_deepens_a_closed_contact() {
+    use crate::common::bar_scene;
+    use signorini_fem::BarMass;
+    let (m, weight, gap) = (20, 0.2, -0.01);
+    let mut closed_steps = 0usize;
+    for mass in [BarMass::Lumped, BarMass::Std] {
+        for e in [0.0, 0.5, 1.0] {
+            let (dy, _) = bar_scene(m, mass, true, gap, -weight, None);
+            let n = dy.n();
+            let init = Initial { u: vec![0.0; n], v: vec![-0.5; n] };
+            let sp = spec(D1Level::Velocity, e);
+            let dt = 0.5 * sp.cfl_limit(&dy).unwrap().unwrap();
+            let steps = (2000.0 / dt) as usize;
+            let mut s = sp.build(dy.clone(), dt, &init).unwrap();
+            let e0 = dy.energy(&init.u, &init.v);
+            let (mut emax, mut y) = (e0, init.u[0] - gap);
+            for step in 0..steps {
+                s.step().unwrap();
+                let y1 = s.displacement()[0] - gap;
+                if y <= TOL {
+                    closed_steps += 1;
+                    assert!(y1 >= y - 1e-15, "{mass:?}, e = {e}, step {step}: a closed contact deepened {y} -> {y1}");
+                }
+                y = y1;
+                if e < 1.0 || step % 64 == 0 {
+                    let st = s.state().unwrap();
+                    emax = emax.max(dy.energy(&st[..n], &st[n..]));
+                }
+            }
+            if e < 1.0 {
+                assert!(emax <= e0 * (1.0 + 1e-3), "{mass:?}, e = {e}: E rose to {emax} from {e0}");
+            }
+            eprintln!("d1-minus-linear-velocity({e}) {mass:?}, {steps} steps: E from {e0:.4} to at most {emax:.4}, gap at the end {y:.2e}");
+        }
+    }
+    assert!(closed_steps > 100_000, "only {closed_steps} steps with the contact closed");
+    // The acceleration level sinks (lumped: m₀ = h/2).
+    let e = 0.5;
+    let (dy, _) = bar_scene(m, BarMass::Lumped, true, gap, -weight, None);
+    let n = dy.n();
+    let sp = spec(D1Level::Acceleration, e);
+    let dt = 0.5 * sp.cfl_limit(&dy).unwrap().unwrap();
+    let mut s = sp.build(dy, dt, &Initial { u: vec![0.0; n], v: vec![-0.5; n] }).unwrap();
+    for _ in 0..40_000 {
+        s.step().unwrap();
+    }
+    // The mean over 20 000 steps (the bar's own vibration rides on it).
+    let first = s.displacement()[0];
+    for _ in 0..20_000 {
+        s.step().unwrap();
+    }
+    let drift = (s.displacement()[0] - first) / 20_000.0;
+    let a_c = weight / (0.5 / m as f64);
+    let want = -dt * dt * a_c / (2.0 * (1.0 + e));
+    assert!((drift - want).abs() <= 1e-4 * want.abs(), "the acceleration level's drift per step {drift} vs −dt² a_c/(2(1+e)) = {want}");
+    eprintln!("d1-minus-linear({e}) lumped: sinks {drift:.6e} per step, the closed form {want:.6e}");
 }

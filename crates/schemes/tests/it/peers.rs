@@ -588,7 +588,7 @@ fn schemes_without_forcing_refuse_a_time_dependent_load() {
 #[test]
 fn several_contacts_refusals_name_the_schemes_that_take_them() {
     const TAKERS: &str =
-        "newmark, theta, ps, penalty, penalty-cd, moreau-jean, moreau-jean-projected, moreau-jean-combined, nsga, contact-stabilized, d1-minus-linear, cd-lagrange, cd-taylor or event-driven";
+        "newmark, theta, ps, penalty, penalty-cd, moreau-jean, moreau-jean-projected, moreau-jean-combined, nsga, contact-stabilized, d1-minus-linear, d1-minus-linear-velocity, cd-lagrange, cd-taylor or event-driven";
     let (mut dy, o) = bar_scene(10, BarMass::Std, false, -0.05, -0.5, None);
     dy.contacts.push(Contact::new(o.n() - 1, Bounds::obstacle(-1.0), false));
     let init = Initial { u: vec![0.0; o.n()], v: vec![0.0; o.n()] };

@@ -18,7 +18,7 @@
 //! `data/siconos/moreau-jean-combined.csv`).
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, D1MinusLinear, Dynamics, Initial, MoreauJeanCombined, SchemeSpec, Stepper};
+use signorini_schemes::{Bounds, Contact, D1Level, D1MinusLinear, Dynamics, Initial, MoreauJeanCombined, SchemeSpec, Stepper};
 
 const M: [[f64; 3]; 3] = [[2.0 / 6.0, 1.0 / 6.0, 0.0], [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0], [0.0, 1.0 / 6.0, 2.0 / 6.0]];
 const K: [[f64; 3]; 3] = [[30.0, -30.0, 0.0], [-30.0, 60.0, -30.0], [0.0, -30.0, 30.0]];
@@ -192,34 +192,68 @@ fn moreau_jean_combined_equals_siconos_combined_projection_step_by_step() {
 /// (Siconos's `lambda(1)`) agree to 1e-10 of the velocity scale.
 #[test]
 fn d1_minus_linear_equals_siconos_d1_minus_linear_osi_step_by_step() {
+    let (worst, impulses, impacts, _) = d1_against_siconos(D1Level::Acceleration, 1e-10);
+    println!("d1-minus-linear vs Siconos D1MinusLinearOSI: 3 runs × 300 steps, {impulses} impulses, {impacts} impact steps, worst difference {worst:.1e} of the velocity scale");
+    assert!(impulses > 300 && impacts > 5, "{impulses} impulses, {impacts} impact steps: the runs must be contact-heavy");
+}
+
+/// `d1-minus-linear-velocity(e)` against the same harness's
+/// `halfexplicit_velocity_level` rows of `data/siconos/d1-minus-linear.csv`,
+/// step by step: positions, velocities, the impulses `Λ` (`lambda(1)`) and
+/// the end's velocity-level multipliers `μ⁻` (`lambda(2)`, zero in a step
+/// where a contact closed) to 1e-12 of the velocity scale.
+#[test]
+fn d1_minus_linear_velocity_equals_siconos_velocity_level_step_by_step() {
+    let (worst, impulses, impacts, smooth) = d1_against_siconos(D1Level::Velocity, 1e-12);
+    println!("d1-minus-linear-velocity vs Siconos D1MinusLinearOSI(halfexplicit_velocity_level): 3 runs × 300 steps, {impulses} impulses above 1e-9, {smooth} end impulses μ⁻, {impacts} impact steps, worst difference {worst:.1e} of the velocity scale");
+    // Without an impact Λ is zero up to rounding (H V_f >= 0 already):
+    // the impulses counted are those above 1e-9.
+    assert!(impulses > 30 && impacts > 5 && smooth > 300, "{impulses} impulses, {smooth} end impulses, {impacts} impact steps: the runs must be contact-heavy");
+}
+
+/// The rows of `level` against the scheme on that level; the worst
+/// difference and the counts of impulses (nonzero; above 1e-9 on the
+/// velocity level), impact steps and nonzero `lambda(2)` compared
+/// (velocity level only).
+fn d1_against_siconos(level: D1Level, tol: f64) -> (f64, usize, usize, usize) {
+    let name = match level {
+        D1Level::Acceleration => "acceleration",
+        D1Level::Velocity => "velocity",
+    };
+    let spec = |e: f64| match level {
+        D1Level::Acceleration => SchemeSpec::d1_minus_linear(e),
+        D1Level::Velocity => SchemeSpec::d1_minus_linear_velocity(e),
+    };
     let path = format!("{}/../../data/siconos/d1-minus-linear.csv", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("data/siconos/d1-minus-linear.csv (tests/siconos/d1_minus_linear.cpp writes it): {e}"));
-    let mut runs: Vec<(String, Vec<Row>)> = Vec::new();
+    // Per case, the rows with Siconos's lambda(2) (f0, f2).
+    type Run = (String, Vec<(Row, [f64; 2])>);
+    let mut runs: Vec<Run> = Vec::new();
     for line in text.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
-        if f[1] != "acceleration" {
+        if f[1] != name {
             continue;
         }
         let x = |i: usize| f[i].parse::<f64>().unwrap();
         let row = Row { step: f[2].parse().unwrap(), q: [x(4), x(5), x(6)], v: [x(7), x(8), x(9)], p: [x(10), x(11)], projections: 0, passes: 0 };
         match runs.last_mut() {
-            Some((k, rows)) if k == f[0] => rows.push(row),
-            _ => runs.push((f[0].to_string(), vec![row])),
+            Some((k, rows)) if k == f[0] => rows.push((row, [x(12), x(13)])),
+            _ => runs.push((f[0].to_string(), vec![(row, [x(12), x(13)])])),
         }
     }
     assert_eq!(runs.len(), 3, "three systems");
-    let (mut worst, mut impulses, mut impacts) = (0.0f64, 0, 0);
+    let (mut worst, mut impulses, mut impacts, mut smooth) = (0.0f64, 0, 0, 0);
     for (case, rows) in &runs {
         let init = Initial { u: Q0.to_vec(), v: V0.to_vec() };
-        assert_eq!((rows[0].q, rows[0].v), (Q0, V0), "{case}: the harness's initial state");
+        assert_eq!((rows[0].0.q, rows[0].0.v), (Q0, V0), "{case}: the harness's initial state");
         let dy = dynamics(case);
         let damped = dy.damping.is_some();
-        let mut s = D1MinusLinear::new("d1".into(), dy.clone(), 0.0, DT, &init).unwrap();
-        let mut via_registry = (!damped).then(|| SchemeSpec::d1_minus_linear(0.0).build(dy.clone(), DT, &init).unwrap());
+        let mut s = D1MinusLinear::at_level(level, "d1".into(), dy.clone(), 0.0, DT, &init).unwrap();
+        let mut via_registry = (!damped).then(|| spec(0.0).build(dy.clone(), DT, &init).unwrap());
         if damped {
-            assert!(SchemeSpec::d1_minus_linear(0.0).build(dy, DT, &init).is_err(), "the registry refuses damping");
+            assert!(spec(0.0).build(dy, DT, &init).is_err(), "the registry refuses damping");
         }
-        for r in &rows[1..] {
+        for (r, f) in &rows[1..] {
             let rep = s.step().unwrap();
             assert_eq!(rep.n, r.step);
             impacts += usize::from(s.impact());
@@ -232,17 +266,30 @@ fn d1_minus_linear_equals_siconos_d1_minus_linear_osi_step_by_step() {
             for i in 0..3 {
                 let d = ((q[i] - r.q[i]).abs() / scale).max((v[i] - r.v[i]).abs() / scale);
                 worst = worst.max(d);
-                assert!(d <= 1e-10, "d1-minus-linear on {case}, step {}: dof {i}: q {} vs Siconos {}, v {} vs {}", r.step, q[i], r.q[i], v[i], r.v[i]);
+                assert!(d <= tol, "{name} level on {case}, step {}: dof {i}: q {} vs Siconos {}, v {} vs {}", r.step, q[i], r.q[i], v[i], r.v[i]);
             }
-            // Λ along the dof; Siconos's along its constraint's normal (the
+            // Along the dof; Siconos's along its constraint's normal (the
             // opposite sign at the upper stop of dof 2, contact 1).
+            let normal = |j: usize, x: f64| if j == 1 { -x } else { x };
             for (j, big) in s.impulses().iter().enumerate() {
-                let p = if j == 1 { -big } else { *big };
-                impulses += usize::from(r.p[j] != 0.0);
-                assert!((p - r.p[j]).abs() <= 1e-10 * scale, "d1-minus-linear on {case}, step {}: impulse {j} {p} vs Siconos {}", r.step, r.p[j]);
+                let p = normal(j, *big);
+                impulses += usize::from(match level {
+                    D1Level::Acceleration => r.p[j] != 0.0,
+                    D1Level::Velocity => r.p[j].abs() > 1e-9,
+                });
+                worst = worst.max((p - r.p[j]).abs() / scale);
+                assert!((p - r.p[j]).abs() <= tol * scale, "{name} level on {case}, step {}: impulse {j} {p} vs Siconos {}", r.step, r.p[j]);
+            }
+            // On the velocity level Siconos's lambda(2) at the step's end is μ⁻.
+            if level == D1Level::Velocity {
+                for (j, mu) in s.forces().1.iter().enumerate() {
+                    let m = normal(j, *mu);
+                    smooth += usize::from(f[j] != 0.0);
+                    worst = worst.max((m - f[j]).abs() / scale);
+                    assert!((m - f[j]).abs() <= tol * scale, "{name} level on {case}, step {}: μ⁻ {j} {m} vs Siconos's lambda(2) {}", r.step, f[j]);
+                }
             }
         }
     }
-    println!("d1-minus-linear vs Siconos D1MinusLinearOSI: 3 runs × 300 steps, {impulses} impulses, {impacts} impact steps, worst difference {worst:.1e} of the velocity scale");
-    assert!(impulses > 300 && impacts > 5, "{impulses} impulses, {impacts} impact steps: the runs must be contact-heavy");
+    (worst, impulses, impacts, smooth)
 }
