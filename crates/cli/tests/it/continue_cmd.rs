@@ -62,7 +62,9 @@ fn switch_continues_the_period_doubled_branch() {
     assert!(doubled.iter().filter(|r| r[6] == "2").count() > 5);
     // Its loop of period-2 orbits (through grazings, folds and its mirror
     // image shifted by a period) is run once: the branch ends where it
-    // comes back onto itself, not at the most points allowed.
+    // rejoins the period-1 branch through the other period doubling, onto
+    // the phase-shifted copies of its own orbits (docs/theory.md §12.3),
+    // not at the most points allowed.
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(!text.contains("max points"), "{text}");
 }
