@@ -160,31 +160,205 @@ struct Tridiagonals {
     ms: Vec<f64>,
     kd: Vec<f64>,
     ks: Vec<f64>,
-    /// The CPU has AVX2: [`update_and_assemble`] is compiled with it too
+    /// The CPU has AVX2: [`update_forward_energy`] is compiled with it too
     /// (chosen at run time; no FMA, so the same bits).
     avx2: bool,
 }
 
-/// [`update_and_assemble`], compiled with AVX2 when the CPU has it.
+/// Rows per block of the fused end of a step ([`update_forward_energy`]):
+/// the 12 arrays a block touches (96 bytes a row, 3 kB) stay in the core's L1
+/// between the update pass and the forward sweep that reads them again,
+/// and a block's update (throughput) can overlap the sweep's chains
+/// (latency) of the block before (an explanation consistent with the
+/// timings). Measured fastest of 16 to 1024 rows and one block
+/// (docs/performance.md).
+const FUSED_BLOCK: usize = 32;
+
+/// The contact row's fix after the update pass: `R_c −= λ`,
+/// `P_c −= γ dt λ` (or, massless, `R_c = P_c = 0`), the operations of the
+/// plain step.
+#[derive(Clone, Copy)]
+struct ContactFix {
+    dof: usize,
+    massless: bool,
+    lambda: f64,
+}
+
+/// The factors the fused end of a step sweeps with: the step matrix's
+/// `l_a` (forward sweep) and the massive block's `(l_m, inv_d_m)` from
+/// dof `s` (the kinetic energy's forward sweep).
+#[derive(Clone, Copy)]
+struct FusedFactors<'a> {
+    l_a: &'a [f64],
+    l_m: &'a [f64],
+    inv_d_m: &'a [f64],
+    s: usize,
+}
+
+/// [`update_forward_energy`], compiled with AVX2 when the CPU has it.
 #[allow(clippy::too_many_arguments)]
-fn update_and_assemble_dispatch(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+fn update_forward_energy_dispatch(
+    t: &Tridiagonals,
+    fa: FusedFactors<'_>,
+    fix: ContactFix,
+    u: &[f64],
+    f: &[f64],
+    mom: &mut [f64],
+    r: &mut [f64],
+    rhs: &mut [f64],
+    dt: f64,
+    g: f64,
+    c: [f64; 3],
+) -> (f64, f64, f64) {
     #[cfg(target_arch = "x86_64")]
     if t.avx2 {
         // SAFETY: `avx2` is set only when the CPU reports AVX2.
-        return unsafe { update_and_assemble_avx2(t, u, f, mom, r, rhs, dt, g, c) };
+        return unsafe { update_forward_energy_avx2(t, fa, fix, u, f, mom, r, rhs, dt, g, c) };
     }
-    update_and_assemble(t, u, f, mom, r, rhs, dt, g, c)
+    update_forward_energy(t, fa, fix, u, f, mom, r, rhs, dt, g, c)
 }
 
-/// [`update_and_assemble`] compiled with AVX2.
+/// [`update_forward_energy`] compiled with AVX2.
 ///
 /// # Safety
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn update_and_assemble_avx2(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
-    update_and_assemble(t, u, f, mom, r, rhs, dt, g, c)
+unsafe fn update_forward_energy_avx2(
+    t: &Tridiagonals,
+    fa: FusedFactors<'_>,
+    fix: ContactFix,
+    u: &[f64],
+    f: &[f64],
+    mom: &mut [f64],
+    r: &mut [f64],
+    rhs: &mut [f64],
+    dt: f64,
+    g: f64,
+    c: [f64; 3],
+) -> (f64, f64, f64) {
+    update_forward_energy(t, fa, fix, u, f, mom, r, rhs, dt, g, c)
+}
+
+/// The end of a step on the bar's tridiagonal path when the energy is
+/// wanted at every level, in blocks of [`FUSED_BLOCK`] rows: for each
+/// block, [`update_rows`] (`R`, `P` and the next step's right-hand side),
+/// the contact row's fix if the block holds it (and its `rhs` row again,
+/// [`rhs_row`]), then [`ForwardEnergy::rows`] (the next step's forward
+/// sweep and this level's energy sums, carried from block to block). A
+/// block's rows are updated from `U` alone, so the blocks are independent
+/// of each other in the first pass, and each chain of the second runs in
+/// row order: the operations of the whole first pass and then the whole
+/// second, in their order, so the same bits — with the arrays the two
+/// passes share read from L1 the second time (at m = 10 000 they stream
+/// from L2 otherwise).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn update_forward_energy(
+    t: &Tridiagonals,
+    fa: FusedFactors<'_>,
+    fix: ContactFix,
+    u: &[f64],
+    f: &[f64],
+    mom: &mut [f64],
+    r: &mut [f64],
+    rhs: &mut [f64],
+    dt: f64,
+    g: f64,
+    c: [f64; 3],
+) -> (f64, f64, f64) {
+    let n = u.len();
+    let mut fe = ForwardEnergy { prev_a: 0.0, prev: 0.0, kin: 0.0, pot: 0.0, lw: -0.0 };
+    let mut lo = 0;
+    while lo < n {
+        // The first block holds rows 0..=s (s ≤ 1 < FUSED_BLOCK − 1).
+        let hi = (lo + FUSED_BLOCK).min(n);
+        update_rows(t, u, f, mom, r, rhs, dt, g, c, lo, hi);
+        if (lo..hi).contains(&fix.dof) {
+            let k = fix.dof;
+            if fix.massless {
+                r[k] = 0.0;
+                mom[k] = 0.0;
+            } else {
+                r[k] -= fix.lambda;
+                mom[k] -= dt * g * fix.lambda;
+            }
+            rhs[k] = rhs_row(&t.md, &t.ms, u, mom, r, f, c, k);
+        }
+        let from = if lo == 0 {
+            fe.head(fa, rhs, mom, &t.kd, &t.ks, u, f);
+            fa.s + 1
+        } else {
+            lo
+        };
+        fe.rows(fa, rhs, mom, &t.kd, &t.ks, u, f, from, hi);
+        lo = hi;
+    }
+    (fe.kin, fe.pot, fe.lw)
+}
+
+/// Second pass of the fused end of a step, carried from block to block:
+/// the forward sweep of the step matrix's factor `l_a` on `b` in place (as
+/// [`forward_backward_fused`] does it, the last row included, unscaled;
+/// running value `prev_a`) and, in the same loop, the energy sums
+/// `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` of [`energy_sums_tri`] (the kinetic form's
+/// forward sweep with the massive block's factor from dof `s`, `prev`,
+/// `kin`; the potential's with `K`'s diagonal and sub-diagonal, `pot`; the
+/// load's dot product from `-0.0`, `lw`): independent ordered chains side
+/// by side, each with its own operations in its own order, so the same
+/// bits as the separate loops.
+struct ForwardEnergy {
+    prev_a: f64,
+    prev: f64,
+    kin: f64,
+    pot: f64,
+    lw: f64,
+}
+
+impl ForwardEnergy {
+    /// Rows `0..=s` (before the rows the two forward sweeps share).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn head(&mut self, fa: FusedFactors<'_>, b: &mut [f64], p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) {
+        let s = fa.s;
+        let (mut pot, mut lw) = (0.0, -0.0);
+        for i in 0..=s {
+            let off = if i == 0 { 0.0 } else { 0.0 + ks[i] * u[i - 1] };
+            pot += u[i] * (kd[i] * u[i] + 2.0 * off);
+            lw += load[i] * u[i];
+        }
+        let mut prev_a = b[0];
+        for i in 1..=s {
+            prev_a = b[i] - fa.l_a[i] * prev_a;
+            b[i] = prev_a;
+        }
+        let prev = p[s];
+        *self = ForwardEnergy { prev_a, prev, kin: prev * prev * fa.inv_d_m[0], pot, lw };
+    }
+
+    /// Rows `lo..hi` (`lo > s`).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn rows(&mut self, fa: FusedFactors<'_>, b: &mut [f64], p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64], lo: usize, hi: usize) {
+        if lo >= hi {
+            return;
+        }
+        let s = fa.s;
+        let ForwardEnergy { mut prev_a, mut prev, mut kin, mut pot, mut lw } = *self;
+        let it = b[lo..hi].iter_mut().zip(&fa.l_a[lo..hi]).zip(&p[lo..hi]).zip(fa.l_m[lo - s..hi - s].iter().zip(&fa.inv_d_m[lo - s..hi - s]));
+        let it = it.zip(kd[lo..hi].iter().zip(&ks[lo..hi]).zip(&load[lo..hi]).zip(u[lo - 1..hi - 1].iter().zip(&u[lo..hi])));
+        for ((((bi, lai), pi), (li, ldi)), (((di, si), fi), (ul, ui))) in it {
+            prev_a = *bi - lai * prev_a;
+            *bi = prev_a;
+            prev = pi - li * prev;
+            kin += prev * prev * ldi;
+            let off = 0.0 + si * ul;
+            pot += ui * (di * ui + 2.0 * off);
+            lw += fi * ui;
+        }
+        *self = ForwardEnergy { prev_a, prev, kin, pot, lw };
+    }
 }
 
 /// `y_i = (A x)_i + c_i` for a tridiagonal `A` given by its diagonal `d` and
@@ -256,84 +430,47 @@ fn rhs_row(m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64],
     }
 }
 
-/// The end of a step on the bar's tridiagonal path when the energy is
-/// wanted at every level, first pass (branch-free, vectorised across
-/// rows): `R ← F − K U`, `P ← P + dt((1−γ) R_old + γ R)` (the operations of
+/// First pass of the fused end of a step, rows `lo..hi` (branch-free,
+/// vectorised across the interior rows): `R ← F − K U`,
+/// `P ← P + dt((1−γ) R_old + γ R)` (the operations of
 /// [`OneStep::update_acceleration_and_momentum`]), the next step's
 /// right-hand side `M U + c₀ P + c₁ R + c₂ F` into `rhs` (those of
 /// [`forward_backward_fused`], [`rhs_row`]). The caller then fixes the
 /// contact row's `P`, `R` and its `rhs` row.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn update_and_assemble(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3]) {
+fn update_rows(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3], lo: usize, hi: usize) {
     let n = u.len();
     let (kd, ks, md, ms) = (&t.kd[..n], &t.ks[..n], &t.md[..n], &t.ms[..n]);
     let (f, mom, r, rhs) = (&f[..n], &mut mom[..n], &mut r[..n], &mut rhs[..n]);
-    // Row 0.
-    let rn = f[0] - (kd[0] * u[0] + ks[1] * u[1]);
-    mom[0] += dt * ((1.0 - g) * r[0] + g * rn);
-    r[0] = rn;
-    rhs[0] = md[0] * u[0] + ms[1] * u[1] + (c[0] * mom[0] + c[1] * r[0] + c[2] * f[0]);
-    // Interior rows 1..n-1, over equal-length slices (vectorised).
-    let m = n - 2;
-    let (ul, uc, ur) = (&u[..m], &u[1..m + 1], &u[2..m + 2]);
-    let (kdc, ksl, ksr, mdc, msl, msr) = (&kd[1..m + 1], &ks[1..m + 1], &ks[2..m + 2], &md[1..m + 1], &ms[1..m + 1], &ms[2..m + 2]);
-    let (fc, pc, rc, bc) = (&f[1..m + 1], &mut mom[1..m + 1], &mut r[1..m + 1], &mut rhs[1..m + 1]);
-    for j in 0..m {
-        let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
-        let p = pc[j] + dt * ((1.0 - g) * rc[j] + g * rn);
-        pc[j] = p;
-        rc[j] = rn;
-        bc[j] = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * p + c[1] * rn + c[2] * fc[j];
+    let mut a = lo;
+    if a == 0 {
+        let rn = f[0] - (kd[0] * u[0] + ks[1] * u[1]);
+        mom[0] += dt * ((1.0 - g) * r[0] + g * rn);
+        r[0] = rn;
+        rhs[0] = md[0] * u[0] + ms[1] * u[1] + (c[0] * mom[0] + c[1] * r[0] + c[2] * f[0]);
+        a = 1;
     }
-    // Row n-1.
-    let l = n - 1;
-    let rn = f[l] - (ks[l] * u[l - 1] + kd[l] * u[l]);
-    mom[l] += dt * ((1.0 - g) * r[l] + g * rn);
-    r[l] = rn;
-    rhs[l] = ms[l] * u[l - 1] + md[l] * u[l] + (c[0] * mom[l] + c[1] * r[l] + c[2] * f[l]);
-}
-
-/// Second pass of the fused end of a step: the forward sweep of the step
-/// matrix's factor `(l_a, ·)` on `b` in place (as [`forward_backward_fused`]
-/// does it, the last row included, unscaled) and, in the same loop, the
-/// energy sums `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` of [`energy_sums_tri`] (the
-/// kinetic form's forward sweep with the massive block's factor
-/// `(l_m, inv_d_m)` from dof `s`, the potential's with `K`'s diagonal `kd`
-/// and sub-diagonal `ks`, the load's dot product from `-0.0`): independent
-/// ordered chains side by side, each with its own operations in its own
-/// order, so the same bits as the separate loops.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn forward_with_energy(l_a: &[f64], b: &mut [f64], l_m: &[f64], inv_d_m: &[f64], s: usize, p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
-    let n = b.len();
-    let (l_a, p, kd, ks, u, load) = (&l_a[..n], &p[..n], &kd[..n], &ks[..n], &u[..n], &load[..n]);
-    let (l_m, inv_d_m) = (&l_m[..n - s], &inv_d_m[..n - s]);
-    let (mut pot, mut lw) = (0.0, -0.0);
-    for i in 0..=s {
-        let off = if i == 0 { 0.0 } else { 0.0 + ks[i] * u[i - 1] };
-        pot += u[i] * (kd[i] * u[i] + 2.0 * off);
-        lw += load[i] * u[i];
+    let b = if hi == n { n - 1 } else { hi };
+    if b > a {
+        let (ul, uc, ur) = (&u[a - 1..b - 1], &u[a..b], &u[a + 1..b + 1]);
+        let (kdc, ksl, ksr, mdc, msl, msr) = (&kd[a..b], &ks[a..b], &ks[a + 1..b + 1], &md[a..b], &ms[a..b], &ms[a + 1..b + 1]);
+        let (fc, pc, rc, bc) = (&f[a..b], &mut mom[a..b], &mut r[a..b], &mut rhs[a..b]);
+        for j in 0..b - a {
+            let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
+            let p = pc[j] + dt * ((1.0 - g) * rc[j] + g * rn);
+            pc[j] = p;
+            rc[j] = rn;
+            bc[j] = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * p + c[1] * rn + c[2] * fc[j];
+        }
     }
-    let mut prev_a = b[0];
-    for i in 1..=s {
-        prev_a = b[i] - l_a[i] * prev_a;
-        b[i] = prev_a;
+    if hi == n {
+        let l = n - 1;
+        let rn = f[l] - (ks[l] * u[l - 1] + kd[l] * u[l]);
+        mom[l] += dt * ((1.0 - g) * r[l] + g * rn);
+        r[l] = rn;
+        rhs[l] = ms[l] * u[l - 1] + md[l] * u[l] + (c[0] * mom[l] + c[1] * r[l] + c[2] * f[l]);
     }
-    let mut prev = p[s];
-    let mut kin = prev * prev * inv_d_m[0];
-    let it = b[s + 1..].iter_mut().zip(&l_a[s + 1..]).zip(&p[s + 1..]).zip(l_m[1..].iter().zip(&inv_d_m[1..]));
-    let it = it.zip(kd[s + 1..].iter().zip(&ks[s + 1..]).zip(&load[s + 1..]).zip(u[s..n - 1].iter().zip(&u[s + 1..])));
-    for ((((bi, lai), pi), (li, ldi)), (((di, si), fi), (ul, ui))) in it {
-        prev_a = *bi - lai * prev_a;
-        *bi = prev_a;
-        prev = pi - li * prev;
-        kin += prev * prev * ldi;
-        let off = 0.0 + si * ul;
-        pot += ui * (di * ui + 2.0 * off);
-        lw += fi * ui;
-    }
-    (kin, pot, lw)
 }
 
 /// `(Pᵀ M⁺ P, Uᵀ K U, Fᵀ U)` on the tridiagonal path in one pass: the
@@ -729,16 +866,18 @@ impl OneStep {
         }
     }
 
-    /// The end of a fused step (after [`update_and_assemble`] and the
-    /// contact row's fix): the contact row of the next step's `b`, then its
-    /// forward sweep with this level's energy sums.
-    fn finish_fused(&mut self, c: usize, coef: [f64; 3]) {
-        let (Some(t), Some((l_a, _)), Some((l_m, inv_d_m))) = (&self.tri, self.a.tridiagonal_factors(), self.m_massive.tridiagonal_factors()) else { return };
-        self.rhs[c] = rhs_row(&t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, coef, c);
+    /// The end of a fused step ([`update_forward_energy`]): `R`, `P` with
+    /// the contact row's fix, the next step's `b` forward-swept, this
+    /// level's energy sums. False (nothing done) off the tridiagonal path.
+    fn finish_fused(&mut self, fix: ContactFix, coef: [f64; 3]) -> bool {
+        let (Some(t), Some((l_a, _)), Some((l_m, inv_d_m))) = (&self.tri, self.a.tridiagonal_factors(), self.m_massive.tridiagonal_factors()) else { return false };
+        let fa = FusedFactors { l_a, l_m, inv_d_m, s: self.dy.massive_start() };
         // `f` is the steady load here (no forcing: `fuse_energy`), the same
         // values as `dy.load`, one stream fewer.
-        self.sums = Some(forward_with_energy(l_a, &mut self.rhs, l_m, inv_d_m, self.dy.massive_start(), &self.mom, &t.kd, &t.ks, &self.u, &self.f));
+        let (dt, g) = (self.dt, self.prm.gamma);
+        self.sums = Some(update_forward_energy_dispatch(t, fa, fix, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, dt, g, coef));
         self.ahead = true;
+        true
     }
 
     /// Gives back the problem (to start a two-step scheme).
@@ -855,28 +994,18 @@ impl Stepper for OneStep {
         self.lambda = lambda;
         self.damped_kinematics(an, dt, g);
         // `fuse_energy` (the bar's tridiagonal path, one contact, no
-        // forcing, no damping): R, P and the next step's b
-        // in one pass.
-        let fused = match (&self.tri, self.fuse_energy) {
-            (Some(t), true) => {
-                update_and_assemble_dispatch(t, &self.u, &self.f, &mut self.mom, &mut self.r, &mut self.rhs, dt, g, [dt, ao, an]);
-                true
+        // forcing, no damping): R, P, the contact row, the next step's b,
+        // its forward sweep and the energy sums, block by block.
+        if !(self.fuse_energy && self.finish_fused(ContactFix { dof: c, massless: self.dy.contacts[0].massless, lambda }, [dt, ao, an])) {
+            self.update_acceleration_and_momentum(dt, g);
+            // The contact row: the force term (or, massless, R_c = P_c = 0).
+            if self.dy.contacts[0].massless {
+                self.r[c] = 0.0;
+                self.mom[c] = 0.0;
+            } else {
+                self.r[c] -= lambda;
+                self.mom[c] -= dt * g * lambda;
             }
-            _ => {
-                self.update_acceleration_and_momentum(dt, g);
-                false
-            }
-        };
-        // The contact row: the force term (or, massless, R_c = P_c = 0).
-        if self.dy.contacts[0].massless {
-            self.r[c] = 0.0;
-            self.mom[c] = 0.0;
-        } else {
-            self.r[c] -= lambda;
-            self.mom[c] -= dt * g * lambda;
-        }
-        if fused {
-            self.finish_fused(c, [dt, ao, an]);
         }
         self.lams[0] = lambda;
         self.acts[0] = active;

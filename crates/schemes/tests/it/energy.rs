@@ -440,14 +440,18 @@ fn bar_energy_is_the_three_separate_forms_bit_for_bit() {
 /// and `U` — every mass treatment, free and clamped ends, Newmark-CN, θ,
 /// the penalty law, through impacts and releases, across a `set_state`
 /// (which drops the step assembled ahead) and with the hint switched off
-/// and on again mid-run.
+/// and on again mid-run; on bars of one block of the fused step's rows and
+/// of several.
 #[test]
 fn fused_energy_step_is_the_plain_step_bit_for_bit() {
     use signorini_schemes::{ContactLaw, OneStep, OneStepParams, Stepper};
     let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
     for mass in MASSES {
         for free in [false, true] {
-            for m in [2usize, 3, 17, 64] {
+            // The fused step works in blocks of 32 rows: 64 is two blocks
+            // (clamped, n = m) or two and one row (free, n = m + 1); 700
+            // many, the last one partial.
+            for m in [2usize, 3, 17, 64, 700] {
                 for (prm, law) in [
                     (OneStepParams::newmark(0.25, 0.5), ContactLaw::Projection),
                     (OneStepParams::theta(0.7), ContactLaw::Projection),
