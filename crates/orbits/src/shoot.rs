@@ -118,6 +118,13 @@ fn count_impacts(events: &[EventRecord]) -> usize {
     events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count()
 }
 
+/// Newton keeping a number of impacts halves a step until the trial keeps
+/// them, down to this fraction of the step. The current point keeps them,
+/// so a trial that far along the step that still does not sits at a
+/// grazing boundary of the current point: halving further (each a run of
+/// the map) is the cost of a search that fails, not a way to succeed.
+const KEEP_STEP_FLOOR: f64 = 1.0 / (1u64 << 30) as f64;
+
 fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, keep: Option<usize>) -> Result<Orbit, OrbitError> {
     let mut x = guess.to_vec();
     let n = x.len();
@@ -161,7 +168,7 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
                         (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
                         break;
                     }
-                    _ if lambda < 1e-18 => {
+                    _ if lambda < KEEP_STEP_FLOOR => {
                         return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("no step keeps the {k} impacts per period") });
                     }
                     _ => {}
