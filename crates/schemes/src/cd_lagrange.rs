@@ -142,28 +142,22 @@ impl CdLagrange {
     pub fn impulses(&self) -> &[f64] {
         &self.impulses
     }
+
+    /// `U^{n−1} = Uⁿ − dt V^{n−½}` (after `set_state`; the energy reads it).
+    fn previous_from_velocity(&mut self) {
+        let h = self.dt;
+        for ((up, u), v) in self.u_prev.iter_mut().zip(&self.u).zip(&self.v) {
+            *up = u - h * v;
+        }
+    }
 }
 
 impl Stepper for CdLagrange {
     stepper_accessors!();
 
-    /// `(Uⁿ, V^{n−½})` (`V⁰` before the first step).
-    fn state(&self) -> Option<Vec<f64>> {
-        Some(self.u.iter().chain(&self.v).copied().collect())
-    }
-
-    /// `Uⁿ, V^{n−½}` (`V⁰` at level 0); `U^{n−1} = Uⁿ − dt V^{n−½}`.
-    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
-        let n = self.u.len();
-        crate::check_state_len(s, 2 * n)?;
-        self.u.copy_from_slice(&s[..n]);
-        self.v.copy_from_slice(&s[n..]);
-        let h = self.dt;
-        for ((up, u), v) in self.u_prev.iter_mut().zip(&self.u).zip(&self.v) {
-            *up = u - h * v;
-        }
-        Ok(())
-    }
+    // `(Uⁿ, V^{n−½})` (`V⁰` before the first step); `U^{n−1}` (the
+    // energy's) from them.
+    displacement_velocity_state!(previous_from_velocity);
 
     fn contact_pivots(&self) -> Option<(u64, u64)> {
         Some((self.impact_solve.pivoting_solves, self.impact_solve.pivots))

@@ -289,19 +289,8 @@ impl D1MinusLinear {
 impl Stepper for D1MinusLinear {
     stepper_accessors!();
 
-    fn state(&self) -> Option<Vec<f64>> {
-        Some(self.u.iter().chain(&self.v).copied().collect())
-    }
-
-    /// `Uⁿ, Vⁿ`; `a(t_n, Uⁿ, Vⁿ)` and `I₂ⁿ` are recomputed from them.
-    fn set_state(&mut self, s: &[f64]) -> Result<(), SchemeError> {
-        let n = self.u.len();
-        crate::check_state_len(s, 2 * n)?;
-        self.u.copy_from_slice(&s[..n]);
-        self.v.copy_from_slice(&s[n..]);
-        self.refresh();
-        Ok(())
-    }
+    // `Uⁿ, Vⁿ`; `a(t_n, Uⁿ, Vⁿ)` and `I₂ⁿ` are recomputed from them.
+    displacement_velocity_state!(refresh);
 
     fn contact_pivots(&self) -> Option<(u64, u64)> {
         let (f, i) = (&self.force_solve, &self.impact_solve);

@@ -106,9 +106,11 @@ macro_rules! stepper_accessors {
 }
 
 /// [`Stepper::state`] and [`Stepper::set_state`] of a scheme whose state is
-/// its displacement and velocity, `U ++ V` (fields `u`, `v`).
+/// its displacement and velocity, `U ++ V` (fields `u`, `v`); with a method
+/// name, `set_state` then calls it to rebuild what the scheme derives from
+/// them.
 macro_rules! displacement_velocity_state {
-    () => {
+    ($($then:ident)?) => {
         fn state(&self) -> Option<Vec<f64>> {
             Some(self.u.iter().chain(&self.v).copied().collect())
         }
@@ -117,6 +119,7 @@ macro_rules! displacement_velocity_state {
             crate::check_state_len(s, 2 * n)?;
             self.u.copy_from_slice(&s[..n]);
             self.v.copy_from_slice(&s[n..]);
+            $(self.$then();)?
             Ok(())
         }
     };
