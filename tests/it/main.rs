@@ -1,8 +1,7 @@
 //! The facade's cross-crate integration tests, one test binary (each file a
 //! module: one link instead of one per file, and the generic code compiled
-//! once). `beam.rs`, `stability.rs` and `independent.rs` are still test
-//! binaries of their own (`independent` is named in the files it
-//! regenerates).
+//! once). `independent.rs` is still a test binary of its own (`independent`
+//! is named in the files it regenerates).
 
 #[path = "../../crates/schemes/tests/common/mod.rs"]
 mod common;
@@ -10,8 +9,10 @@ mod common;
 mod independent_bar;
 
 mod bad_input;
+mod beam;
 mod convergence;
 mod mirrored;
 mod readme;
 mod several_contacts;
+mod stability;
 mod weighted;

@@ -1,13 +1,15 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
-//! workspace's (`cargo test --workspace --release`, the Python crate
-//! excluded: maturin builds it with its own environment), then the Python
-//! package built by maturin into a virtual environment this command creates
-//! while the Rust tests build and run (`target/py-venv`, with maturin,
-//! numpy, pytest, dask.distributed (the scale-out test) and matplotlib (the
-//! examples) from the package index), then its pytest suite
-//! (`python/tests`) and, beside it, the lints with warnings denied (`cargo
-//! fmt --check`, `cargo clippy --workspace --all-targets -- -D warnings`,
-//! `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`),
+//! workspace's (`cargo test --workspace --release --tests`, then `--doc`;
+//! the Python crate excluded: maturin builds it with its own environment),
+//! then the Python package built by maturin into a virtual environment this
+//! command creates while the Rust tests build and run (`target/py-venv`,
+//! with maturin, numpy, pytest, dask.distributed (the scale-out test) and
+//! matplotlib (the examples) from the package index), then its pytest suite
+//! (`python/tests`); from the start, beside all of these at the lowest
+//! priority, the lints with warnings denied (`cargo fmt --check`, `cargo
+//! clippy --workspace --all-targets -- -D warnings`, which also compiles the
+//! examples, `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D
+//! warnings`, in `target/lint`),
 //! then the user guide: the
 //! generated tables checked against `data/reference` (`cargo xtask docs
 //! --check`) and `mkdocs build --strict` (MkDocs, the Material theme and
@@ -49,7 +51,7 @@ pub struct Args {
 /// pulls in; mkdocstrings 1 with mkdocstrings-python 2 works).
 const GUIDE_PACKAGES: [&str; 4] = ["mkdocs>=1.6,<2", "mkdocs-material>=9.5,<10", "mkdocstrings[python]>=1,<2", "mkdocstrings-python>=2,<3"];
 
-fn root() -> PathBuf {
+pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
@@ -87,7 +89,7 @@ fn run_capture(cmd: &mut Command, what: &str) -> (Vec<String>, Result<(), String
 }
 
 /// Passed, failed and ignored tests over cargo's `test result:` lines.
-fn rust_counts(lines: &[String]) -> (u64, u64, u64) {
+pub fn rust_counts(lines: &[String]) -> (u64, u64, u64) {
     lines.iter().filter_map(|l| l.find("test result:").map(|i| &l[i..])).fold((0, 0, 0), |(p, f, i), l| (p + count(l, "passed"), f + count(l, "failed"), i + count(l, "ignored")))
 }
 
@@ -95,7 +97,7 @@ fn rust_counts(lines: &[String]) -> (u64, u64, u64) {
 /// set up) and skipped tests from pytest's summary line, its last line of
 /// the form `1 failed, 113 passed, 2 skipped in 15.20s` (with `=` around
 /// it or not).
-fn python_counts(lines: &[String]) -> (u64, u64, u64) {
+pub fn python_counts(lines: &[String]) -> (u64, u64, u64) {
     let summary = lines.iter().rev().map(|l| l.trim().trim_matches('=').trim()).find(|l| {
         l.starts_with(|c: char| c.is_ascii_digit())
             // `in 15.32s`, or `in 81.19s (0:01:21)` past a minute.
@@ -110,7 +112,7 @@ fn python_counts(lines: &[String]) -> (u64, u64, u64) {
 /// form CI reads (`tests: N passed, M failed`). A phase that failed without
 /// reporting a failed test (a lint, a build, the guide) counts as one
 /// failed; a phase not run is named.
-fn verdict_lines(rec: &Record, failed_phases: &[(String, bool)], not_run: &[&str], skipped: Option<&str>) -> (String, String) {
+pub fn verdict_lines(rec: &Record, failed_phases: &[(String, bool)], not_run: &[&str], skipped: Option<&str>) -> (String, String) {
     let pass = failed_phases.is_empty() && not_run.is_empty() && rec.rust.1 == 0 && rec.python.1 == 0;
     let extra = failed_phases.iter().filter(|(_, counted)| !counted).count() as u64;
     let mut detail = format!(
@@ -168,10 +170,13 @@ fn count(line: &str, word: &str) -> u64 {
 
 /// What `--record` measures.
 #[derive(Default)]
-struct Record {
-    phases: Vec<(&'static str, f64)>,
-    rust: (u64, u64, u64),   // passed, failed, ignored
-    python: (u64, u64, u64), // passed, failed, skipped
+pub struct Record {
+    /// Each phase's name and wall time (s).
+    pub phases: Vec<(&'static str, f64)>,
+    /// Rust tests passed, failed, ignored.
+    pub rust: (u64, u64, u64),
+    /// Python tests passed, failed, skipped.
+    pub python: (u64, u64, u64),
 }
 
 impl Record {
@@ -216,7 +221,7 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
         if cold { "empty (every crate compiled, the virtual environment created: a fresh clone's time)" } else { "warm (an earlier build reused)" }
     ));
     s.push_str("| | passed | failed | ignored / skipped |\n|---|---|---|---|\n");
-    s.push_str(&format!("| Rust tests (`cargo test --workspace --release`) | {} | {} | {} |\n", rec.rust.0, rec.rust.1, rec.rust.2));
+    s.push_str(&format!("| Rust tests (`cargo test --workspace --release --tests`, then `--doc`) | {} | {} | {} |\n", rec.rust.0, rec.rust.1, rec.rust.2));
     s.push_str(&format!("| Python tests (pytest, `python/tests`) | {} | {} | {} |\n\n", rec.python.0, rec.python.1, rec.python.2));
     s.push_str("| phase of `cargo xtask test` | wall time |\n|---|---|\n");
     for (name, t) in &rec.phases {
@@ -241,11 +246,41 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
 
 /// The workspace's lints, warnings denied: formatting (`rustfmt.toml`),
 /// clippy on every target (`[workspace.lints]` in Cargo.toml), and the API
-/// docs (broken intra-doc links, bad HTML).
-fn lints(cargo: &str, root: &Path) -> Result<(), String> {
-    run(Command::new(cargo).current_dir(root).args(["fmt", "--all", "--check"]), "cargo fmt --check (run `cargo fmt --all`)")?;
-    run(Command::new(cargo).current_dir(root).args(["clippy", "--workspace", "--all-targets", "--release", "--", "-D", "warnings"]), "cargo clippy -D warnings")?;
-    run(Command::new(cargo).current_dir(root).env("RUSTDOCFLAGS", "-D warnings").args(["doc", "--workspace", "--no-deps", "--release"]), "cargo doc (warnings denied)")
+/// docs (broken intra-doc links, bad HTML). They run beside every other
+/// phase, at the lowest priority (`nice -n 19` where there is one) and in a
+/// build directory of their own (`target/lint`: clippy and rustdoc need the
+/// dependencies' metadata, which the release build's artifacts do not
+/// provide, so nothing is shared but the proc-macros): on two cores they
+/// take the time the test build, the test binaries and the wheel leave
+/// idle. Their output is printed when one fails.
+fn lints(cargo: &str, root: &Path, target: &Path) -> Result<(), String> {
+    let lint_dir = target.join("lint");
+    let niced = |args: &[&str]| {
+        let mut c = if Command::new("nice").arg("true").status().is_ok_and(|s| s.success()) {
+            let mut c = Command::new("nice");
+            c.args(["-n", "19", cargo]);
+            c
+        } else {
+            Command::new(cargo)
+        };
+        c.current_dir(root).env("CARGO_TARGET_DIR", &lint_dir).args(args);
+        c
+    };
+    run_quiet(Command::new(cargo).current_dir(root).args(["fmt", "--all", "--check"]), "cargo fmt --check (run `cargo fmt --all`)")?;
+    run_quiet(&mut niced(&["clippy", "--workspace", "--all-targets", "--release", "--", "-D", "warnings"]), "cargo clippy -D warnings")?;
+    run_quiet(niced(&["doc", "--workspace", "--no-deps", "--release"]).env("RUSTDOCFLAGS", "-D warnings"), "cargo doc (warnings denied)")
+}
+
+/// [`run`] with the output kept and printed only when the command fails
+/// (the lints run beside the tests, whose output stays readable).
+fn run_quiet(cmd: &mut Command, what: &str) -> Result<(), String> {
+    let out = cmd.output().map_err(|e| format!("{what}: cannot start: {e}"))?;
+    if out.status.success() {
+        Ok(())
+    } else {
+        eprintln!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        Err(format!("{what} failed ({})", out.status))
+    }
 }
 
 /// The test environment: `target/py-venv` (created when absent) with the
@@ -291,9 +326,25 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             (r, t.elapsed().as_secs_f64())
         })
     };
+    let lint = (!a.python_only).then(|| {
+        let (cargo, root, target) = (cargo.clone(), root.clone(), target.clone());
+        std::thread::spawn(move || {
+            let t = Instant::now();
+            let r = lints(&cargo, &root, &target);
+            (r, t.elapsed().as_secs_f64())
+        })
+    });
     if !a.python_only {
         let (lines, r) = rec.time("Rust: build and run the tests", || {
-            Ok(run_capture(Command::new(&cargo).current_dir(&root).args(["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"]), "cargo test"))
+            // `--tests` (every library's, binary's and integration test's
+            // harness), then the doc tests: cargo's default selection would
+            // also build the examples, which test nothing; clippy
+            // (`--all-targets`, beside) still compiles and lints them.
+            let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
+            let (mut lines, r) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--tests"), "cargo test --tests");
+            let (doc, r_doc) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--doc"), "cargo test --doc");
+            lines.extend(doc);
+            Ok((lines, r.and(r_doc)))
         })?;
         rec.rust = rust_counts(&lines);
         if let Err(e) = r {
@@ -336,10 +387,8 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     // running binary's file (its features unified over the workspace), and
     // then /proc/self/exe names a deleted file: the path, when it is there.
     let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
-    // The Python tests and the lints side by side: pytest runs built
-    // programs and never cargo (which the lints hold), and on two cores
-    // each fills the other's gaps (clippy and rustdoc work through the
-    // workspace's crates largely one at a time).
+    // The Python tests, with the lints still beside them when they are
+    // not done (pytest runs built programs and never cargo).
     let pytest = python_ready.then(|| {
         let mut cmd = Command::new(&py);
         cmd.current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]);
@@ -349,15 +398,21 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             (lines, r, t.elapsed().as_secs_f64())
         })
     });
-    if !a.python_only {
-        if let Err(e) = rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (the Python tests run beside them)", || lints(&cargo, &root)) {
-            failed.push((e, false));
+    if let Some(lint) = lint {
+        match lint.join() {
+            Ok((r, t)) => {
+                rec.phases.push(("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (from the start, beside every phase above, at the lowest priority)", t));
+                if let Err(e) = r {
+                    failed.push((e, false));
+                }
+            }
+            Err(_) => failed.push(("the lints' thread panicked".into(), false)),
         }
     }
     if let Some(pytest) = pytest {
         match pytest.join() {
             Ok((lines, r, t)) => {
-                rec.phases.push(("Python: the tests (beside the lints)", t));
+                rec.phases.push(("Python: the tests", t));
                 rec.python = python_counts(&lines);
                 if let Err(e) = r {
                     failed.push((e, rec.python.1 > 0));
@@ -402,81 +457,5 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     } else {
         // The errors are printed above the verdict, which stays the last line.
         Err(crate::Failure::Reported)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn lines(s: &str) -> Vec<String> {
-        s.lines().map(String::from).collect()
-    }
-
-    /// Issue 31 §12: the command ends with one line totalling every test,
-    /// in the form CI reads, after the verdict per language.
-    #[test]
-    fn the_last_line_totals_every_test() {
-        let rust = lines(
-            "running 3 tests\ntest a ... ok\ntest result: ok. 3 passed; 0 failed; 1 ignored; 0 measured; 0 filtered out; finished in 0.1s\n\
-             running 0 tests\ntest result: ok. 0 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out\n\
-             test result: FAILED. 438 passed; 2 failed; 0 ignored; 0 measured; 0 filtered out; finished in 9s",
-        );
-        assert_eq!(rust_counts(&rust), (441, 2, 1));
-        let py = lines("....F..s\nFAILED python/tests/test_x.py::test_y - AssertionError: 2 passed, 9 failed in 1.0s?\n1 failed, 110 passed, 3 skipped, 1 error in 15.20s");
-        assert_eq!(python_counts(&py), (110, 2, 3));
-        assert_eq!(python_counts(&lines("========= 114 passed in 15.32s =========")), (114, 0, 0));
-        // Past a minute pytest adds the time as h:mm:ss.
-        assert_eq!(python_counts(&lines("245 passed in 81.19s (0:01:21)")), (245, 0, 0));
-        assert_eq!(python_counts(&lines("==== 1 failed, 244 passed in 95.02s (0:01:35) ====")), (244, 1, 0));
-        let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (114, 0, 0) };
-        let (detail, total) = verdict_lines(&rec, &[], &[], None);
-        assert_eq!(detail, "signorini tests: PASS — 443 passed, 0 failed, 1 ignored (Rust); 114 passed, 0 failed, 0 skipped (Python)");
-        assert_eq!(total, "tests: 557 passed, 0 failed");
-        // A failed test fails the verdict; its phase is not counted twice.
-        let rec = Record { phases: Vec::new(), rust: (441, 2, 1), python: (114, 0, 0) };
-        let (detail, total) = verdict_lines(&rec, &[("cargo test failed (exit status: 101)".into(), true)], &[], None);
-        assert!(detail.starts_with("signorini tests: FAIL — 441 passed, 2 failed") && detail.ends_with("; failed: cargo test failed (exit status: 101)"), "{detail}");
-        assert_eq!(total, "tests: 555 passed, 2 failed");
-        // A lint that fails, and Python that could not run: failed, never "0 failed".
-        let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (0, 0, 0) };
-        let (detail, total) = verdict_lines(&rec, &[("cargo clippy -D warnings failed".into(), false), ("maturin build failed".into(), false)], &["the Python tests"], None);
-        assert!(detail.starts_with("signorini tests: FAIL") && detail.contains("not run: the Python tests"), "{detail}");
-        assert_eq!(total, "tests: 443 passed, 3 failed");
-    }
-
-    /// The packages of one build as `cargo tree` resolves them: each
-    /// package (name, version, source) with the feature sets it is built
-    /// with (a package built for the host and for the target has two).
-    fn features(args: &[&str]) -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let out = Command::new(cargo).current_dir(root()).arg("tree").args(args).args(["--prefix", "none", "--no-dedupe", "-f", "{p}|{f}"]).output().expect("cargo tree starts");
-        assert!(out.status.success(), "cargo tree {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-        let mut map = std::collections::BTreeMap::<String, std::collections::BTreeSet<String>>::new();
-        for line in String::from_utf8_lossy(&out.stdout).lines() {
-            let Some((p, f)) = line.split_once('|') else { continue };
-            let p = p.replace(" (proc-macro)", "").replace(" (*)", "");
-            map.entry(p.trim().to_string()).or_default().insert(f.trim().to_string());
-        }
-        map
-    }
-
-    /// The README's test command reuses what `cargo xtask convergence`
-    /// built, and the wheel what the tests built (ARCHITECTURE.md, "One
-    /// set of dependency artifacts"): every package the xtask binary's
-    /// build and the wheel's share with the workspace's test build is
-    /// resolved to the same features (a feature one build adds — syn 3's
-    /// `extra-traits`, turned on by the wheel's pyo3 macros — changes that
-    /// package's artifact and recompiles everything built on it: thiserror,
-    /// serde, clap and every workspace crate).
-    #[test]
-    fn the_main_job_the_tests_and_the_wheel_build_the_same_crates() {
-        let tests = features(&["--workspace", "--exclude", "signorini-py", "-e", "normal,build,dev"]);
-        for (build, args) in [("cargo xtask convergence", ["-p", "xtask", "-e", "normal,build"]), ("the wheel", ["-p", "signorini-py", "-e", "normal,build"])] {
-            let other = features(&args);
-            let differ: Vec<String> = other.iter().filter_map(|(p, f)| tests.get(p).filter(|g| *g != f).map(|g| format!("{p}: {f:?} in {build}, {g:?} in the tests"))).collect();
-            assert!(differ.is_empty(), "pin these features where {build} sees them:\n{}", differ.join("\n"));
-            assert!(other.keys().filter(|p| tests.contains_key(*p)).count() > 50, "{build}: too few packages shared with the tests");
-        }
     }
 }

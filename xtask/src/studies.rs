@@ -12,7 +12,7 @@ use signorini_studies::options::{self, Input, Kind, Message, Spelling, Study};
 use signorini_studies::{beam, beam_statistics, convergence, courant1, long_horizon, lyapunov, obstacles, oscillator, stress, weighted, work_precision, StudyError};
 
 /// A study: its `Config`, the help line, whether it reports progress, and its run.
-pub(crate) struct Entry {
+pub struct Entry {
     name: &'static str,
     command: fn() -> Command,
     run: fn(&ArgMatches) -> Result<(), Failure>,
@@ -20,15 +20,15 @@ pub(crate) struct Entry {
 
 impl Entry {
     /// `cargo xtask <name>`'s command.
-    pub(crate) fn command(&self) -> Command {
+    pub fn command(&self) -> Command {
         (self.command)()
     }
     /// Its name as a subcommand (`beam-statistics`).
-    pub(crate) fn name(&self) -> &'static str {
+    pub fn name(&self) -> &'static str {
         self.name
     }
     /// Reads the flags into the study's `Config` and runs it.
-    pub(crate) fn run(&self, m: &ArgMatches) -> Result<(), Failure> {
+    pub fn run(&self, m: &ArgMatches) -> Result<(), Failure> {
         (self.run)(m)
     }
 }
@@ -41,7 +41,7 @@ fn subcommand<C: Study>() -> &'static str {
 
 /// One flag per field of `C`, its help from the field's document and
 /// its default from `C::default()`.
-pub(crate) fn command<C: Study>(about: &'static str) -> Command {
+pub fn command<C: Study>(about: &'static str) -> Command {
     let defaults = C::default();
     let doc = C::DOC.split("\n\n").map(|p| Message::new(&p.split_whitespace().collect::<Vec<_>>().join(" ")).render(Spelling::Flag)).collect::<Vec<_>>().join("\n\n");
     let mut cmd = Command::new(subcommand::<C>()).about(about).long_about(doc);
@@ -94,7 +94,7 @@ fn given<C: Study>(m: &ArgMatches) -> Vec<(String, Input)> {
 }
 
 /// The study's `Config` from the command line, validated; an error names the flag.
-pub(crate) fn config<C: Study>(m: &ArgMatches) -> Result<C, Failure> {
+pub fn config<C: Study>(m: &ArgMatches) -> Result<C, Failure> {
     options::read_valid::<C>(&given::<C>(m)).map_err(Failure::from)
 }
 
@@ -115,7 +115,7 @@ macro_rules! entry {
 }
 
 /// Every study, in the order `cargo xtask --help` lists them.
-pub(crate) fn entries() -> Vec<Entry> {
+pub fn entries() -> Vec<Entry> {
     vec![
         entry!(convergence, "Convergence study: error norms against dx at fixed dx/dt, and their rates.", true),
         entry!(weighted, "Weighted mass redistribution and the hybrid scheme: figure runs, phase shift, energy, rates.", true),
@@ -139,55 +139,5 @@ impl From<StudyError> for Failure {
             StudyError::Config { .. } => Failure::Input(e.render(Spelling::Flag)),
             other => Failure::Failed(other.to_string()),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Every flag each study had when its flags were written by hand (before
-    /// issue 33): the flags are a contract, kept when they came to be built
-    /// from the `Config`s. The switches take no value.
-    const FLAGS: [(&str, &[&str]); 11] = [
-        ("convergence", &["benchmark", "schemes", "masses", "levels", "ratio", "t-end", "out", "norms", "reduce", "degree", "clean", "reference"]),
-        ("weighted", &["out", "t-end"]),
-        ("beam", &["out", "scenes", "force", "penalty-dts"]),
-        ("beam-obstacles", &["out", "gap", "beta", "t-end", "dts", "j", "js", "j-dt"]),
-        ("oscillator", &["out", "omegas", "dts", "transient", "record"]),
-        (
-            "work-precision",
-            &["out", "levels", "degrees", "modes", "beam-dts", "beam-ref-dt", "beam-window", "beam-t-end", "beam-stat-dts", "beam-stat-ref-dt", "beam-stat-window", "reference", "repeats"],
-        ),
-        ("stress", &["out", "steps", "elements", "seed"]),
-        ("courant1", &["out", "benchmarks", "levels", "t-end"]),
-        ("long-horizon", &["out", "runs", "levels", "ratio", "t-end", "no-energy", "energy-runs", "energy-all", "energy-ratios", "energy-m", "energy-t-end"]),
-        ("lyapunov", &["out", "scenes", "refine", "dts", "elements", "omegas", "perturbation", "transient", "window", "per-period", "batches"]),
-        ("beam-statistics", &["out", "scenes", "dts", "elements", "transient", "window", "batches", "episode-gap"]),
-    ];
-    const SWITCHES: [&str; 4] = ["clean", "force", "no-energy", "energy-all"];
-
-    #[test]
-    fn every_flag_of_before_is_there() {
-        let entries = entries();
-        assert_eq!(entries.iter().map(|e| e.name()).collect::<Vec<_>>(), FLAGS.iter().map(|f| f.0).collect::<Vec<_>>());
-        for (sub, flags) in FLAGS {
-            let cmd = entries.iter().find(|e| e.name() == sub).expect("the study").command();
-            for flag in flags {
-                let arg = cmd.get_arguments().find(|a| a.get_long() == Some(flag)).unwrap_or_else(|| panic!("{sub}: --{flag} is gone"));
-                assert_eq!(arg.get_num_args().is_some_and(|n| n.takes_values()), !SWITCHES.contains(flag), "{sub} --{flag}");
-            }
-        }
-    }
-
-    #[test]
-    fn a_list_flag_may_be_repeated_and_a_switch_on_by_default_turns_off() {
-        let m = command::<long_horizon::Config>("").get_matches_from(["long-horizon", "--levels", "10,20", "--levels", "40", "--no-energy", "--t-end", "-3"]);
-        let c = config::<long_horizon::Config>(&m).expect_err("t-end -3 is refused");
-        assert!(matches!(&c, Failure::Input(m) if m.starts_with("--t-end -3: allowed")), "{c:?}");
-        let m = command::<long_horizon::Config>("").get_matches_from(["long-horizon", "--levels", "10,20", "--levels", "40", "--no-energy"]);
-        let c = config::<long_horizon::Config>(&m).expect("valid");
-        assert_eq!(c.levels, vec![10, 20, 40]);
-        assert!(!c.energy);
     }
 }

@@ -191,6 +191,8 @@ pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
 pub use moreau_combined::{MoreauJeanCombined, COMBINED_TOLERANCE};
 pub use moreau_projected::{MoreauJeanProjected, INDEX_SET_THRESHOLD, PROJECTION_TOLERANCE};
+#[doc(hidden)]
+pub use multi::MultiSolve;
 pub use nitsche::Nitsche;
 pub use nsga::{chung_hulbert, Nsga};
 pub use onestep::{OneStep, OneStepParams};

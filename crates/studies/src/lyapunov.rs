@@ -155,7 +155,8 @@ impl Config {
 pub type Output = crate::Report;
 
 #[derive(Clone, Debug)]
-pub(crate) enum Case {
+#[doc(hidden)]
+pub enum Case {
     Beam { name: String, dt: Option<f64>, elements: Option<usize>, scheme: Option<SchemeSpec> },
     Oscillator { omega: f64 },
 }
@@ -165,7 +166,8 @@ pub(crate) enum Case {
 /// scenes' dt, J and scheme (the beam statistics' `schemes`) or the
 /// oscillator's Ω, set by path (an edit of a key
 /// the scene does not have fails, [`presets::set_path`]).
-pub(crate) fn scene_file(case: &Case, t_end: f64) -> Result<SceneFile, SceneError> {
+#[doc(hidden)]
+pub fn scene_file(case: &Case, t_end: f64) -> Result<SceneFile, SceneError> {
     match case {
         Case::Beam { name, dt, elements, scheme } => {
             let doc = match name.as_str() {
@@ -210,7 +212,8 @@ fn scene_of(case: &Case, t_end: f64) -> Result<Scene, StudyError> {
     file.validate_with(&Limits::machine()).map_err(|e| StudyError::failed(label(case), e))
 }
 
-fn label(case: &Case) -> String {
+#[doc(hidden)]
+pub fn label(case: &Case) -> String {
     match case {
         Case::Beam { name, .. } => name.clone(),
         Case::Oscillator { omega } => format!("oscillator-{omega}"),
@@ -357,76 +360,4 @@ pub fn run(a: &Config, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Output, S
     let wall_s = since(start);
     w_(writeln!(md, "\nwrote {} in {wall_s:.1} s", a.out.display()));
     Ok(Output { tables, report: md, wall_s, notes: Vec::new() })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The scene as the study built it before the presets: the data file's
-    /// text with keys inserted after `[beam]`, or two values replaced.
-    fn old_text(case: &Case, t_end: f64) -> String {
-        let file = |name: &str| std::fs::read_to_string(format!("{}/../../data/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("the data file");
-        match case {
-            Case::Beam { name, dt, elements, .. } => {
-                let mut keys = format!("t_end = {t_end:e}\n");
-                if let Some(dt) = dt {
-                    keys.push_str(&format!("dt = {dt:e}\n"));
-                }
-                if let Some(j) = elements {
-                    keys.push_str(&format!("elements = {j}\n"));
-                }
-                let base = match name.as_str() {
-                    "fig2-support" => file("beam-fig2-support.toml"),
-                    "beam-obstacles" => file("beam-obstacles.toml"),
-                    fig => format!("[beam]\nscene = \"{fig}\"\n"),
-                };
-                let (head, tail) = base.split_once("[beam]\n").expect("a beam scene");
-                format!("{head}[beam]\n{keys}{tail}")
-            }
-            Case::Oscillator { omega } => file("oscillator.toml").replace("t_end = 100.0", &format!("t_end = {t_end:e}")).replace("omega = 2.0", &format!("omega = {omega:e}")),
-        }
-    }
-
-    #[test]
-    fn the_edited_presets_are_the_scenes_the_text_edits_gave() {
-        let cases = [
-            Case::Beam { name: "fig2-support".into(), dt: None, elements: None, scheme: None },
-            Case::Beam { name: "fig2-support".into(), dt: Some(2.5e-5), elements: Some(38), scheme: None },
-            Case::Beam { name: "beam-obstacles".into(), dt: None, elements: None, scheme: None },
-            Case::Beam { name: "fig5".into(), dt: Some(1e-5), elements: Some(19), scheme: None },
-            Case::Oscillator { omega: 1.7 },
-        ];
-        for case in &cases {
-            let t_end = 1.0_f64 / 3.0 + 2.0;
-            let old = SceneFile::parse(&old_text(case, t_end)).expect("the old text parses");
-            let new = scene_file(case, t_end).expect("the preset edits");
-            assert_eq!(new, old, "{}", label(case));
-            // And each edit took: the values are the ones asked for, not the file's.
-            match (case, &new) {
-                (Case::Oscillator { omega }, f) => {
-                    assert_eq!(f.oscillator.as_ref().map(|o| o.t_end), Some(t_end));
-                    assert!(format!("{:?}", f.forcing).contains(&format!("{omega:?}")), "{:?}", f.forcing);
-                }
-                (Case::Beam { dt, elements, .. }, f) => {
-                    let b = f.beam.as_ref().expect("a beam");
-                    assert_eq!(b.t_end, Some(t_end));
-                    assert_eq!(b.dt, *dt);
-                    assert_eq!(b.elements, *elements);
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn an_edit_of_a_key_the_preset_does_not_have_fails() {
-        // A table that is not there: set_path itself refuses, naming the path.
-        let e = Preset::Oscillator.edited(&[("forcing2.omega", 1.8.into())]).expect_err("forcing2 is not a table of the scene");
-        assert!(e.to_string().starts_with("forcing2.omega: forcing2 is not in the scene"), "{e}");
-        // A key the scene does not have: the scene reader refuses it.
-        assert!(Preset::Oscillator.edited(&[("forcing.omga", 1.8.into())]).is_err());
-        assert!(Preset::Fig2Support.edited(&[("beam.t_ned", 1.0.into())]).is_err());
-        // A value where a table is: refused.
-        assert!(Preset::Oscillator.edited(&[("oscillator.mass.x", 1.0.into())]).is_err());
-    }
 }

@@ -1,9 +1,10 @@
 //! The `signorini` command's integration tests, one test binary (each file a
-//! module: one link instead of one per file). `beam_scheme.rs` and
-//! `contacts.rs` are still test binaries of their own.
+//! module: one link instead of one per file).
 
 mod basins;
+mod beam_scheme;
 mod cli;
+mod contacts;
 mod continue_cmd;
 mod degree;
 mod energy_warn;

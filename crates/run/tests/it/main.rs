@@ -1,6 +1,7 @@
 //! The run layer's integration tests, one test binary (each file a module: one
 //! link instead of one per file, and the generic code compiled once).
 
+mod beam_src;
 mod chaos;
 mod energy_growth;
 mod event_interrupt;
@@ -8,4 +9,6 @@ mod lockstep;
 mod pk;
 mod reduced;
 mod runner;
+mod stats_src;
+mod text_src;
 mod vibro;

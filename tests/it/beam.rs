@@ -225,7 +225,7 @@ fn penalty_force_law() {
     ));
 }
 
-// The β-scheme's stability limit and its refusal: tests/stability.rs.
+// The β-scheme's stability limit and its refusal: tests/it/stability.rs.
 
 /// Fig. 2 data (β = 1/2, dt = 5e-5): the tip never leaves [-0.1, 0.1] and
 /// first touches the upper stop at t = 0.0878 s, as every finer run does.

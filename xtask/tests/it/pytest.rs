@@ -1,0 +1,75 @@
+//! The tests of `xtask::pytest` (xtask/src/pytest.rs).
+
+use std::process::Command;
+use xtask::pytest::*;
+
+fn lines(s: &str) -> Vec<String> {
+    s.lines().map(String::from).collect()
+}
+
+/// Issue 31 §12: the command ends with one line totalling every test,
+/// in the form CI reads, after the verdict per language.
+#[test]
+fn the_last_line_totals_every_test() {
+    let rust = lines(
+        "running 3 tests\ntest a ... ok\ntest result: ok. 3 passed; 0 failed; 1 ignored; 0 measured; 0 filtered out; finished in 0.1s\n\
+         running 0 tests\ntest result: ok. 0 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out\n\
+         test result: FAILED. 438 passed; 2 failed; 0 ignored; 0 measured; 0 filtered out; finished in 9s",
+    );
+    assert_eq!(rust_counts(&rust), (441, 2, 1));
+    let py = lines("....F..s\nFAILED python/tests/test_x.py::test_y - AssertionError: 2 passed, 9 failed in 1.0s?\n1 failed, 110 passed, 3 skipped, 1 error in 15.20s");
+    assert_eq!(python_counts(&py), (110, 2, 3));
+    assert_eq!(python_counts(&lines("========= 114 passed in 15.32s =========")), (114, 0, 0));
+    // Past a minute pytest adds the time as h:mm:ss.
+    assert_eq!(python_counts(&lines("245 passed in 81.19s (0:01:21)")), (245, 0, 0));
+    assert_eq!(python_counts(&lines("==== 1 failed, 244 passed in 95.02s (0:01:35) ====")), (244, 1, 0));
+    let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (114, 0, 0) };
+    let (detail, total) = verdict_lines(&rec, &[], &[], None);
+    assert_eq!(detail, "signorini tests: PASS — 443 passed, 0 failed, 1 ignored (Rust); 114 passed, 0 failed, 0 skipped (Python)");
+    assert_eq!(total, "tests: 557 passed, 0 failed");
+    // A failed test fails the verdict; its phase is not counted twice.
+    let rec = Record { phases: Vec::new(), rust: (441, 2, 1), python: (114, 0, 0) };
+    let (detail, total) = verdict_lines(&rec, &[("cargo test failed (exit status: 101)".into(), true)], &[], None);
+    assert!(detail.starts_with("signorini tests: FAIL — 441 passed, 2 failed") && detail.ends_with("; failed: cargo test failed (exit status: 101)"), "{detail}");
+    assert_eq!(total, "tests: 555 passed, 2 failed");
+    // A lint that fails, and Python that could not run: failed, never "0 failed".
+    let rec = Record { phases: Vec::new(), rust: (443, 0, 1), python: (0, 0, 0) };
+    let (detail, total) = verdict_lines(&rec, &[("cargo clippy -D warnings failed".into(), false), ("maturin build failed".into(), false)], &["the Python tests"], None);
+    assert!(detail.starts_with("signorini tests: FAIL") && detail.contains("not run: the Python tests"), "{detail}");
+    assert_eq!(total, "tests: 443 passed, 3 failed");
+}
+
+/// The packages of one build as `cargo tree` resolves them: each
+/// package (name, version, source) with the feature sets it is built
+/// with (a package built for the host and for the target has two).
+fn features(args: &[&str]) -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo).current_dir(root()).arg("tree").args(args).args(["--prefix", "none", "--no-dedupe", "-f", "{p}|{f}"]).output().expect("cargo tree starts");
+    assert!(out.status.success(), "cargo tree {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    let mut map = std::collections::BTreeMap::<String, std::collections::BTreeSet<String>>::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let Some((p, f)) = line.split_once('|') else { continue };
+        let p = p.replace(" (proc-macro)", "").replace(" (*)", "");
+        map.entry(p.trim().to_string()).or_default().insert(f.trim().to_string());
+    }
+    map
+}
+
+/// The README's test command reuses what `cargo xtask convergence`
+/// built, and the wheel what the tests built (ARCHITECTURE.md, "One
+/// set of dependency artifacts"): every package the xtask binary's
+/// build and the wheel's share with the workspace's test build is
+/// resolved to the same features (a feature one build adds — syn 3's
+/// `extra-traits`, turned on by the wheel's pyo3 macros — changes that
+/// package's artifact and recompiles everything built on it: thiserror,
+/// serde, clap and every workspace crate).
+#[test]
+fn the_main_job_the_tests_and_the_wheel_build_the_same_crates() {
+    let tests = features(&["--workspace", "--exclude", "signorini-py", "-e", "normal,build,dev"]);
+    for (build, args) in [("cargo xtask convergence", ["-p", "xtask", "-e", "normal,build"]), ("the wheel", ["-p", "signorini-py", "-e", "normal,build"])] {
+        let other = features(&args);
+        let differ: Vec<String> = other.iter().filter_map(|(p, f)| tests.get(p).filter(|g| *g != f).map(|g| format!("{p}: {f:?} in {build}, {g:?} in the tests"))).collect();
+        assert!(differ.is_empty(), "pin these features where {build} sees them:\n{}", differ.join("\n"));
+        assert!(other.keys().filter(|p| tests.contains_key(*p)).count() > 50, "{build}: too few packages shared with the tests");
+    }
+}
