@@ -19,11 +19,44 @@ pub struct Newton {
     pub scale: f64,
     /// Most iterations.
     pub max_iter: usize,
+    /// Give up when the residual has not halved in this many iterations
+    /// while still above `1e4 · tol` of the state (relative, as `tol`):
+    /// Newton converging, however slowly from afar (a square-root side of
+    /// a grazing), halves it every few; one wandering on a map that has
+    /// no fixed point near does not (the paper's beam past its grazing).
+    /// 0: never (every iteration up to `max_iter` is taken). Only
+    /// [`periodic_orbit`] (and the continuation's searches at a grazing)
+    /// read it; [`autonomous_orbit`] takes every iteration.
+    pub stall: usize,
 }
 
 impl Default for Newton {
     fn default() -> Self {
-        Self { tol: 1e-12, scale: 1e-300, max_iter: 40 }
+        Self { tol: 1e-12, scale: 1e-300, max_iter: 40, stall: 0 }
+    }
+}
+
+/// The stall test of [`Newton::stall`]: the residual at the last halving
+/// and the iterations since.
+struct Stall {
+    reference: f64,
+    since: usize,
+}
+
+impl Stall {
+    fn new(res: f64) -> Self {
+        Self { reference: res, since: 0 }
+    }
+
+    /// After an iteration to the residual `res`: whether Newton has stalled
+    /// far from an orbit (`far`: the residual's level above which it counts).
+    fn stalled(&mut self, newton: &Newton, res: f64, far: f64) -> bool {
+        if res < 0.5 * self.reference {
+            (self.reference, self.since) = (res, 0);
+            return false;
+        }
+        self.since += 1;
+        newton.stall > 0 && self.since >= newton.stall && self.reference.min(res) > far
     }
 }
 
@@ -137,11 +170,15 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
             return Err(OrbitError::NoConvergence { residual: res, iterations: 0, why: format!("the start has {} impacts per period, not {k}", count_impacts(&img.events)) });
         }
     }
+    let mut stall = Stall::new(res);
     for it in 0..=newton.max_iter {
         if res <= tol(&x) {
             let monodromy = img.jacobian.take().expect("asked for");
             let multipliers = eigenvalues(&monodromy)?;
             return Ok(Orbit { x, t0, period, events: img.events, monodromy, multipliers, residual: res, iterations: it });
+        }
+        if it > 0 && stall.stalled(newton, res, 1e4 * tol(&x)) {
+            return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("stalled: the residual did not halve in {} iterations", newton.stall) });
         }
         if it == newton.max_iter {
             break;
