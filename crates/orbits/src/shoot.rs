@@ -195,12 +195,12 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
         let mut lambda = 1.0;
         loop {
             let trial: Vec<f64> = (0..n).map(|r| x[r] + lambda * step[(r, 0)]).collect();
-            let attempt = model.flow(t0, &trial, period, true);
             if let Some(k) = keep {
                 // Halved until the trial keeps its impacts (the residual
-                // may grow: the square-root side is reached from afar).
-                match attempt {
-                    Ok(ti) if count_impacts(&ti.events) == k => {
+                // may grow: the square-root side is reached from afar); a
+                // trial's run stops at its (k + 1)-th impact.
+                match model.flow_within(t0, &trial, period, true, k) {
+                    Ok(Some(ti)) if count_impacts(&ti.events) == k => {
                         let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                         (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
                         break;
@@ -210,7 +210,11 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
                     }
                     _ => {}
                 }
-            } else if let Ok(ti) = attempt {
+                lambda *= 0.5;
+                continue;
+            }
+            let attempt = model.flow(t0, &trial, period, true);
+            if let Ok(ti) = attempt {
                 let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                 let tr = inf_norm(&tg);
                 if tr < res || lambda < 1.0 / 64.0 {
