@@ -134,7 +134,7 @@ pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton
 }
 
 /// [`periodic_orbit`] for an orbit with `impacts` impacts per period, from
-/// a guess that has them: each Newton step is halved (at most 60 times)
+/// a guess that has them: each Newton step is halved (down to 2⁻³⁰ of it)
 /// until the trial keeps that many impacts. Just past a grazing the map
 /// has a square-root singularity (a new impact's speed grows as the square
 /// root of how far the flight reaches past the stop, and the orbit reaches
