@@ -2,7 +2,10 @@
 //! impact oscillator to 1e-12 (Newton from 1 % off, the scene built once;
 //! target < 1 ms), and a branch of the oscillator from Ω = 2.2 to 3.0
 //! through its grazing (scene rebuilt at every parameter value, as
-//! `signorini continue` does; target < 0.2 s for 200 points).
+//! `signorini continue` does; target < 0.2 s for 200 points), and the
+//! paper's beam (J = 19, A = 0.07 m) continued in the support frequency
+//! over 4 … 16 rad/s to its grazing, with the searches for an impacting
+//! orbit there that fail (target < 1 min on 2 cores; one run).
 //!
 //! `cargo bench -p signorini-orbits --bench orbits`.
 
@@ -60,4 +63,15 @@ fn one_period_map_with_jacobian(b: Bencher) {
     let model = fam.model(2.2).unwrap();
     let x = orbit_state(&fam);
     b.bench_local(|| model.flow(0.0, &x, fam.period(2.2).unwrap(), true).unwrap().x[0]);
+}
+
+/// `signorini continue beam-07-exact.toml --param support.omega --from 4
+/// --to 16 --transient 0` without the files: the free branch to the
+/// grazing at 12.216 rad/s and the Newton searches on both sides of it.
+#[divan::bench(sample_count = 1, sample_size = 1)]
+fn beam_frequency_branch_to_its_grazing(b: Bencher) {
+    let doc = "[beam]\nscene = \"fig2\"\nscheme = \"event-driven\"\n[support]\namplitude = 0.07\nomega = 4.0\n";
+    let fam = SceneFamily::new(doc.parse().unwrap(), "support.omega", 1).unwrap().0;
+    let start = fam.build(4.0).unwrap().start;
+    b.bench_local(|| continuation(&fam, &start, &ContinuationOptions::new(4.0, 16.0)).unwrap().points.len());
 }

@@ -607,7 +607,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                 }
                 let mut o = *opts;
                 (o.from, o.to) = (param, end);
-                let mut copies = Copies { single, xs, ls: span, images: Vec::new(), cut: None };
+                let mut copies = Copies { single, xs, ls: span, images: Vec::new(), cut: None, copy: None };
                 match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |pts| copies.check(pts)) {
                     Ok(mut b) => {
                         // The points the last step added (a branch that
@@ -616,6 +616,15 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                             b.end = why;
                         }
                         if let Some((keep, rejoin)) = copies.cut {
+                            // The crossing located between the two points
+                            // of the step where it was seen.
+                            let rejoin = rejoin.map(|at| rejoin_parameter(single, &b.points[keep - 1], &b.points[keep], &o.newton).unwrap_or(at));
+                            if let (Some(at), Some((copy, on))) = (rejoin, copies.copy) {
+                                b.end = format!(
+                                    "rejoined the branch of half its period at its period doubling at param = {at} (between param = {} and {}); past it the orbits are the phase-shifted copies of the branch's own (the image after half the period of the orbit at param = {copy} is the branch's at {on}): not traced again",
+                                    b.points[keep - 1].param, b.points[keep].param
+                                );
+                            }
                             b.points.truncate(keep);
                             b.bifurcations.retain(|f| f.between.1 < keep);
                             b.rejoins = rejoin;
@@ -660,8 +669,12 @@ struct Copies<'a, F: Family> {
     /// `S(x) − x` of each point checked so far (empty when `S` failed).
     images: Vec<Vec<f64>>,
     /// Where the branch is cut (points kept) and the parameter where it
-    /// rejoins the branch of p periods, once a copy is seen.
+    /// rejoins the branch of p periods, once a copy is seen (interpolated
+    /// between the two points of the crossing; [`rejoin_parameter`]
+    /// locates it).
     cut: Option<(usize, Option<f64>)>,
+    /// The parameters of the copy seen and of the branch's orbit it copies.
+    copy: Option<(f64, f64)>,
 }
 
 impl<F: Family> Copies<'_, F> {
@@ -706,6 +719,7 @@ impl<F: Family> Copies<'_, F> {
                 None => (k, None),
             };
             self.cut = Some((keep, rejoin));
+            self.copy = Some((p.param, points[on].param));
             let at = points[keep - 1].param;
             return Some(match rejoin {
                 Some(_) => format!(
@@ -735,6 +749,49 @@ impl<F: Family> Copies<'_, F> {
         let d2: f64 = pa.iter().zip(&ab).zip(&py).map(|((u, d), v)| (u + w * d - v).powi(2)).sum();
         d2 <= 0.0625 * len2
     }
+}
+
+/// Where a period-doubled branch rejoins the branch of half its period,
+/// seen between its points `a` and `b` (the phase-shift distance
+/// `S(x) − x`, `S` the map over p periods, turns back on itself between
+/// them: the orbit passes through the one of p periods). That point is a
+/// period doubling of the p-periodic branch, and is located as one: the
+/// parameter where a real multiplier of the p-periodic orbit (Newton on
+/// `S` from `a`'s and `b`'s states) is −1, by secant steps in the
+/// parameter, each a Newton solve from the last orbit, to 1e-14 of the
+/// parameter. (The phase-shift distance itself vanishes on the whole
+/// p-periodic branch, which crosses the doubled one there: a corrector on
+/// the doubled branch near the crossing falls onto it, and a bisection on
+/// that distance lands beyond the crossing.) `None` when an orbit cannot be
+/// computed or the steps do not converge.
+fn rejoin_parameter<F: Family>(single: &F, a: &BranchPoint, b: &BranchPoint, newton: &Newton) -> Option<f64> {
+    // The p-periodic orbit at `param` from `guess` and its multiplier
+    // nearest −1 (real), plus 1.
+    let at = |param: f64, guess: &[f64]| -> Option<(Vec<f64>, f64)> {
+        let orbit = periodic_orbit(&single.model(param).ok()?, 0.0, single.period(param).ok()?, guess, newton).ok()?;
+        let mu = orbit.multipliers.iter().filter(|m| is_real(m) && m.re < 0.0).map(|m| m.re + 1.0).min_by(|u, v| u.abs().total_cmp(&v.abs()))?;
+        Some((orbit.x, mu))
+    };
+    let (mut l0, (_, mut f0)) = (a.param, at(a.param, &a.orbit.x)?);
+    let (mut l1, (mut x1, mut f1)) = (b.param, at(b.param, &b.orbit.x)?);
+    for _ in 0..40 {
+        if f1 == 0.0 {
+            return Some(l1);
+        }
+        if f0 == f1 {
+            return None;
+        }
+        let next = l1 - f1 * (l1 - l0) / (f1 - f0);
+        if !next.is_finite() {
+            return None;
+        }
+        let (x, f) = at(next, &x1)?;
+        (l0, f0, l1, x1, f1) = (l1, f1, next, x, f);
+        if (l1 - l0).abs() <= 1e-14 * l1.abs().max(1.0) {
+            return Some(l1);
+        }
+    }
+    None
 }
 
 /// A grazing ahead of a branch ([`impact_beyond_grazing`]): the grazing,
@@ -810,13 +867,20 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     // state and from it pushed past the stop: the impacting orbit born at
     // the grazing, one slow impact a period near the grazing phase.
     let offsets = [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
+    // The searches from seeds give up when Newton stalls far from an orbit
+    // ([`Newton::stall`]; converging ones halve the residual every few
+    // iterations): on a map that has no orbit near (the paper's beam, each
+    // iteration a run of a map with many impacts) the rest of the
+    // iterations are the cost of a search that fails.
+    let stalling = ContinuationOptions { newton: Newton { stall: SEARCH_STALL, ..ctx.opts.newton }, ..*ctx.opts };
+    let search = Ctx { opts: &stalling, ..*ctx };
     let (plain, keeping) = (
-        |param: f64| solve_at(ctx, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth),
+        |param: f64| solve_at(&search, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth),
         |param: f64, least: &mut f64| {
-            solve_keeping_or(ctx, &p1.x, param, side, smooth)
+            solve_keeping_or(&search, &p1.x, param, side, smooth)
                 .map_err(|r| *least = least.min(r))
                 .ok()
-                .or_else(|| (smooth == 0).then(|| past_the_stop(ctx, &p1, param, slope * (param - estimate).abs(), side, least)).flatten())
+                .or_else(|| (smooth == 0).then(|| past_the_stop(&search, &p1, param, slope * (param - estimate).abs(), side, least)).flatten())
         },
     );
     let param_at = |f: f64| estimate + side * f * ctx.ls;
@@ -849,7 +913,7 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
             let param = estimate - side * f * ctx.ls;
             let Some(near) = solve_at(ctx, &p1.x, param, -side).filter(|p| p.orbit.impacts() == smooth) else { continue };
             let mut r = f64::INFINITY;
-            let found = past_the_stop(ctx, &near, param, 0.0, -side, &mut r);
+            let found = past_the_stop(&search, &near, param, 0.0, -side, &mut r);
             note(1, f, r);
             if found.is_some() {
                 beyond = found;
@@ -917,6 +981,11 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     }
     Some((bif, away, false, least))
 }
+
+/// Iterations without the residual halving after which a search for the
+/// orbit born at a grazing gives up ([`Newton::stall`]): the searches that
+/// converge on the oscillator and the chain (`tests/it`) go at most 6.
+const SEARCH_STALL: usize = 10;
 
 /// The least residuals of the Newton searches past a grazing and before
 /// it, as the end of a branch says them.

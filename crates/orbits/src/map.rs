@@ -125,6 +125,15 @@ impl Model {
     /// reached at one instant, an impact at zero speed: grazing) or whose
     /// linearisation is not implemented (an accumulation of impacts).
     pub fn flow(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool) -> Result<Image, OrbitError> {
+        Ok(self.flow_within(t0, x0, tau, jacobian, usize::MAX)?.expect("no bound on the impacts"))
+    }
+
+    /// [`Model::flow`] that stops as soon as the run has had more than
+    /// `impacts` impacts (at a nonzero speed, as [`crate::Orbit::impacts`]
+    /// counts them): `None` then. Newton keeping a number of impacts
+    /// rejects such a trial whatever the rest of its run (on a map that
+    /// chatters, the most of it).
+    pub(crate) fn flow_within(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, impacts: usize) -> Result<Option<Image>, OrbitError> {
         if x0.len() != self.dim() {
             return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
         }
@@ -150,10 +159,17 @@ impl Model {
         let mut held = sorted_held(&run);
         let mut t_prev = t0;
         let t_end = t0 + tau;
+        // Impacts so far, over the events counted so far.
+        let (mut hits, mut counted) = (0, 0);
         loop {
             let event = run.next_event(t_end)?;
             if run.events().len() > self.max_events {
                 return Err(OrbitError::Events(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }));
+            }
+            hits += run.events()[counted..].iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
+            counted = run.events().len();
+            if hits > impacts {
+                return Ok(None);
             }
             let t_now = run.time();
             if let Some(j) = jac.as_mut() {
@@ -174,7 +190,7 @@ impl Model {
         }
         let (t, q, v) = run.state();
         let field = if self.lin.massless() { self.lin.field(&self.dy, &[], t, &q, &v) } else { self.lin.field(&self.dy, &held, t, &q, &v) };
-        Ok(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field })
+        Ok(Some(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field }))
     }
 
     /// The state `x` with the impulse `r` of the contact `contact` added

@@ -179,7 +179,7 @@ pub fn energies(from: f64, to: f64, points: usize) -> Result<Vec<f64>, OrbitErro
 /// backbone ([`Modes::stopped`]); none at the first energy is an error.
 pub fn backbone(scene_doc: &toml::Table, from: f64, to: f64, points: usize) -> Result<Modes, OrbitError> {
     let scene = ModeScene::new(scene_doc)?;
-    backbone_of(&scene, &energies(from, to, points)?, &Newton { tol: 1e-11, scale: 1e-300, max_iter: 30 })
+    backbone_of(&scene, &energies(from, to, points)?, &Newton { tol: 1e-11, scale: 1e-300, max_iter: 30, stall: 0 })
 }
 
 /// The backbone of `scene` at `energies` (increasing), Newton's settings

@@ -19,11 +19,44 @@ pub struct Newton {
     pub scale: f64,
     /// Most iterations.
     pub max_iter: usize,
+    /// Give up when the residual has not halved in this many iterations
+    /// while still above `1e4 · tol` of the state (relative, as `tol`):
+    /// Newton converging, however slowly from afar (a square-root side of
+    /// a grazing), halves it every few; one wandering on a map that has
+    /// no fixed point near does not (the paper's beam past its grazing).
+    /// 0: never (every iteration up to `max_iter` is taken). Only
+    /// [`periodic_orbit`] (and the continuation's searches at a grazing)
+    /// read it; [`autonomous_orbit`] takes every iteration.
+    pub stall: usize,
 }
 
 impl Default for Newton {
     fn default() -> Self {
-        Self { tol: 1e-12, scale: 1e-300, max_iter: 40 }
+        Self { tol: 1e-12, scale: 1e-300, max_iter: 40, stall: 0 }
+    }
+}
+
+/// The stall test of [`Newton::stall`]: the residual at the last halving
+/// and the iterations since.
+struct Stall {
+    reference: f64,
+    since: usize,
+}
+
+impl Stall {
+    fn new(res: f64) -> Self {
+        Self { reference: res, since: 0 }
+    }
+
+    /// After an iteration to the residual `res`: whether Newton has stalled
+    /// far from an orbit (`far`: the residual's level above which it counts).
+    fn stalled(&mut self, newton: &Newton, res: f64, far: f64) -> bool {
+        if res < 0.5 * self.reference {
+            (self.reference, self.since) = (res, 0);
+            return false;
+        }
+        self.since += 1;
+        newton.stall > 0 && self.since >= newton.stall && self.reference.min(res) > far
     }
 }
 
@@ -101,7 +134,7 @@ pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton
 }
 
 /// [`periodic_orbit`] for an orbit with `impacts` impacts per period, from
-/// a guess that has them: each Newton step is halved (at most 60 times)
+/// a guess that has them: each Newton step is halved (down to 2⁻³⁰ of it)
 /// until the trial keeps that many impacts. Just past a grazing the map
 /// has a square-root singularity (a new impact's speed grows as the square
 /// root of how far the flight reaches past the stop, and the orbit reaches
@@ -137,11 +170,15 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
             return Err(OrbitError::NoConvergence { residual: res, iterations: 0, why: format!("the start has {} impacts per period, not {k}", count_impacts(&img.events)) });
         }
     }
+    let mut stall = Stall::new(res);
     for it in 0..=newton.max_iter {
         if res <= tol(&x) {
             let monodromy = img.jacobian.take().expect("asked for");
             let multipliers = eigenvalues(&monodromy)?;
             return Ok(Orbit { x, t0, period, events: img.events, monodromy, multipliers, residual: res, iterations: it });
+        }
+        if it > 0 && stall.stalled(newton, res, 1e4 * tol(&x)) {
+            return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("stalled: the residual did not halve in {} iterations", newton.stall) });
         }
         if it == newton.max_iter {
             break;
@@ -158,12 +195,12 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
         let mut lambda = 1.0;
         loop {
             let trial: Vec<f64> = (0..n).map(|r| x[r] + lambda * step[(r, 0)]).collect();
-            let attempt = model.flow(t0, &trial, period, true);
             if let Some(k) = keep {
                 // Halved until the trial keeps its impacts (the residual
-                // may grow: the square-root side is reached from afar).
-                match attempt {
-                    Ok(ti) if count_impacts(&ti.events) == k => {
+                // may grow: the square-root side is reached from afar); a
+                // trial's run stops at its (k + 1)-th impact.
+                match model.flow_within(t0, &trial, period, true, k) {
+                    Ok(Some(ti)) if count_impacts(&ti.events) == k => {
                         let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                         (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
                         break;
@@ -173,7 +210,11 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
                     }
                     _ => {}
                 }
-            } else if let Ok(ti) = attempt {
+                lambda *= 0.5;
+                continue;
+            }
+            let attempt = model.flow(t0, &trial, period, true);
+            if let Ok(ti) = attempt {
                 let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                 let tr = inf_norm(&tg);
                 if tr < res || lambda < 1.0 / 64.0 {

@@ -28,7 +28,7 @@ fn exact(omega: f64) -> ImpactOscillator {
 
 /// The closed-form period-1 orbits at `omega`: the state at t = 0 (the
 /// stroboscopic section) and the multipliers.
-fn closed_orbits(omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> {
+pub(crate) fn closed_orbits(omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> {
     let osc = exact(omega);
     let t = TAU / omega;
     osc.period1_orbits()
@@ -170,7 +170,7 @@ fn assert_period_doublings(branch: &signorini_orbits::Branch, lo: f64, hi: f64) 
 
 /// The closed form's period-doubling frequencies in `[lo, hi]`: where a
 /// real multiplier of its orbits crosses −1 (bisection).
-fn closed_pd(lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn closed_pd(lo: f64, hi: f64) -> Vec<f64> {
     let test = |w: f64| -> Option<f64> {
         closed_orbits(w)
             .into_iter()
