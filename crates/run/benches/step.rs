@@ -6,8 +6,9 @@
 //! `cargo bench -p signorini-run --bench step`; divan prints the time per
 //! iteration (one iteration = `STEPS` steps) and the throughput in
 //! dof-steps/s. docs/performance.md records the ratios (a)/floor and
-//! (b)/floor, the `parts_*` (what (b) adds, piece by piece) and the beam's
-//! β-step against its band solve.
+//! (b)/floor, the `parts_*` (what (b) adds, piece by piece), the beam's
+//! β-step against its band solve and issue 35's implicit schemes
+//! (`implicit_scheme_step`) against the floor at m = 1000.
 //!
 //! On a machine shared with other processes, shorter samples fit between
 //! their time slices: `DOF_STEPS=200000 cargo bench ...` (default 2·10⁶
