@@ -6,8 +6,9 @@
 //! `cargo bench -p signorini-run --bench step`; divan prints the time per
 //! iteration (one iteration = `STEPS` steps) and the throughput in
 //! dof-steps/s. docs/performance.md records the ratios (a)/floor and
-//! (b)/floor, the `parts_*` (what (b) adds, piece by piece) and the beam's
-//! β-step against its band solve.
+//! (b)/floor, the `parts_*` (what (b) adds, piece by piece), the beam's
+//! β-step against its band solve and issue 35's implicit schemes
+//! (`implicit_scheme_step`) against the floor at m = 1000.
 //!
 //! On a machine shared with other processes, shorter samples fit between
 //! their time slices: `DOF_STEPS=200000 cargo bench ...` (default 2·10⁶
@@ -165,6 +166,32 @@ fn velocity_level_stepping<const MJ: usize>(bencher: Bencher, m: usize) {
             }
             s
         });
+}
+
+/// Issue 35's implicit schemes on the same bar and mass as
+/// `velocity_level_stepping` (`bar-dirichlet`, m = 1000, std mass,
+/// dt = h/10, its impacts), stepping only, per dof-step, against the floor
+/// below: `contact-stabilized` (one banded solve a step — its mass-norm
+/// projection of the predictor is a bound check, and an axpy with `M⁻¹e_c`
+/// at a contact step, not a solve), `nsga(0.8)` and `newmark-cn` for
+/// reference (docs/performance.md records the ratios).
+#[divan::bench(args = ["contact-stabilized", "nsga(0.8)", "newmark-cn"])]
+fn implicit_scheme_step(bencher: Bencher, scheme: &str) {
+    let m = 1000;
+    let n = steps(m);
+    let setup = || {
+        let b = Benchmark::BarDirichlet;
+        let exact = b.exact(3.0).unwrap();
+        let p = b.problem(exact.as_ref(), m, BarMass::Std).unwrap();
+        let spec: SchemeSpec = scheme.parse().unwrap();
+        spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap()
+    };
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(setup).bench_local_values(|mut s| {
+        for _ in 0..n {
+            divan::black_box(s.step().unwrap());
+        }
+        s
+    });
 }
 
 /// The floor: forward/backward sweeps of a factored tridiagonal system

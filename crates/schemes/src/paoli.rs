@@ -104,6 +104,9 @@ pub struct PaoliSchatzman {
     /// The fused step's scratch: the step's new coefficients, and the
     /// last step's work sums, one per forcing term.
     g_next: Vec<f64>,
+    /// The next step's coefficients, found by the fused step before its
+    /// sweeps (its scratch; rotated into `g_next` at the end of the step).
+    g_ahead: Vec<f64>,
     work_acc: Vec<f64>,
     /// The fused step leaves the forcing's work of the step just taken to
     /// the next step's forward pass (it rides on the sweep there), unless
@@ -117,12 +120,15 @@ pub struct PaoliSchatzman {
 /// The beam's β-step fused (half-bandwidth 3, one massive contact, no
 /// damping, no characteristic release): the right-hand side is assembled
 /// chunk by chunk inside the forward sweep of the solve
-/// ([`Bands3::forward`]), then [`BandLdlt::backward_in_place`] — every
-/// value the same operations in the same order as the plain path
-/// ([`Bands3::rhs`], `add_terms`, [`BandLdlt::solve_in_place`]), so the
-/// same bits; the right-hand side's work overlaps the sweep's latency
-/// instead of preceding it (cost: `crates/run/benches/step.rs`,
-/// `beam_beta_scheme_step` against `beam_band_solve`).
+/// ([`Bands3::forward_body`]), then the backward sweep ([`backward_p3`]),
+/// all in one function ([`Bands3::unconstrained`]) compiled for AVX2 where
+/// the CPU has it — every value the same operations in the same order as
+/// the plain path ([`Bands3::rhs`], `add_terms`,
+/// [`BandLdlt::solve_in_place`]), so the same bits; the right-hand side's
+/// work overlaps the sweep's latency instead of preceding it, and the next
+/// step's forcing means (a `sin`) are found before the sweeps, which they
+/// overlap (cost: `crates/run/benches/step.rs`, `beam_beta_scheme_step`
+/// against `beam_band_solve`).
 #[derive(Clone, Copy, Debug)]
 struct FusedStep {
     applies: bool,
@@ -239,28 +245,44 @@ impl Bands3 {
     /// The beam's right-hand side and the forward sweep of its solve in one
     /// pass (see [`FusedStep`]): `out = L⁻¹ (M x + dt² (f − K y) + Σ_j w_j g_j)`
     /// with `A = L D Lᵀ` of half-bandwidth 3.
-    fn forward(&self, fa: Forward<'_>, out: &mut [f64]) {
+    /// The fused step's unconstrained `U^{n+1}` into `out`: `x = 2U^n − U^{n−1}`,
+    /// `y = (1−2β) U^n + β U^{n−1}` ([`Levels`]), then [`forward_body`](Self::forward_body)
+    /// and the factor's backward sweep, in one function compiled for AVX2
+    /// where the CPU has it.
+    fn unconstrained(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is set only when the CPU reports AVX2.
-            return unsafe { self.forward_avx2(fa, out) };
+            return unsafe { self.unconstrained_avx2(fa, xy, a, out) };
         }
-        self.forward_body(fa, out)
+        self.unconstrained_body(fa, xy, a, out)
     }
 
-    /// [`forward_body`](Self::forward_body) compiled with AVX2.
+    /// [`unconstrained_body`](Self::unconstrained_body) compiled with AVX2.
     ///
     /// # Safety
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn forward_avx2(&self, fa: Forward<'_>, out: &mut [f64]) {
-        self.forward_body(fa, out)
+    unsafe fn unconstrained_avx2(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64]) {
+        self.unconstrained_body(fa, xy, a, out)
     }
 
     #[inline(always)]
-    fn forward_body(&self, fa: Forward<'_>, out: &mut [f64]) {
-        let Forward { dt2, x, y, f, forcing, w, l, mut pending } = fa;
+    fn unconstrained_body(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64]) {
+        let Levels { beta, u, up, x, y } = xy;
+        for (((t, k), u), up) in x.iter_mut().zip(y.iter_mut()).zip(u).zip(up) {
+            *t = 2.0 * u - up;
+            *k = (1.0 - 2.0 * beta) * u + beta * up;
+        }
+        self.forward_body(fa, x, y, out);
+        let (_, lt, inv_d) = a.band_factors();
+        backward_p3(lt, inv_d, out);
+    }
+
+    #[inline(always)]
+    fn forward_body(&self, fa: Forward<'_>, x: &[f64], y: &[f64], out: &mut [f64]) {
+        let Forward { dt2, f, forcing, w, l, mut pending } = fa;
         let n = x.len();
         let (x, y, f, out, l) = (&x[..n], &y[..n], &f[..n], &mut out[..n], &l[..3 * n]);
         // Each block of rows: the last step's work terms (reading `U^{n−1}`
@@ -306,20 +328,28 @@ impl Bands3 {
     }
 }
 
-/// What [`Bands3::forward`] reads: `M x + dt² (f − K y) + Σ_j w_j g_j`
+/// What [`Bands3::forward_body`] reads besides the two levels: `M x + dt² (f − K y) + Σ_j w_j g_j`
 /// and the factor's `l` ([`BandLdlt::band_factors`]); with `pending`
 /// (`U^n` and one sum per forcing term), the last step's work sums
 /// `Σ_i g_i (U^n_i − U^{n−2}_i)` continued over the rows, read from `out`
 /// before the rows are overwritten.
 struct Forward<'a> {
     dt2: f64,
-    x: &'a [f64],
-    y: &'a [f64],
     f: &'a [f64],
     forcing: &'a [Forcing],
     w: &'a [f64],
     l: &'a [f64],
     pending: Option<(&'a [f64], &'a mut [f64])>,
+}
+
+/// The two levels the fused step's right-hand side is made of, and where
+/// [`Bands3::unconstrained`] puts `x = 2U^n − U^{n−1}` and `y = (1−2β) U^n + β U^{n−1}`.
+struct Levels<'a> {
+    beta: f64,
+    u: &'a [f64],
+    up: &'a [f64],
+    x: &'a mut [f64],
+    y: &'a mut [f64],
 }
 
 /// `add_step_work`'s sums over rows `a..a + len`, continued: term by term,
@@ -362,7 +392,28 @@ fn sweep_p3(l: &[f64], out: &mut [f64], a: usize, len: usize, win: &mut (f64, f6
     *win = (w1, w2, w3);
 }
 
-/// Rows per chunk of the fused forward pass ([`Bands3::forward`]).
+/// `BandLdlt::backward_in_place`'s sweep at half-bandwidth 3 (`n > 3`),
+/// the same operations in the same order, inlined into the fused step (so
+/// compiled with it, for AVX2 where the CPU has it).
+#[inline(always)]
+fn backward_p3(lt: &[f64], inv_d: &[f64], b: &mut [f64]) {
+    let n = b.len();
+    let (lt, inv_d) = (&lt[..n * 3], &inv_d[..n]);
+    // Rows n-3..n have fewer successors.
+    b[n - 1] *= inv_d[n - 1];
+    b[n - 2] = b[n - 2] * inv_d[n - 2] - lt[(n - 2) * 3] * b[n - 1];
+    b[n - 3] = b[n - 3] * inv_d[n - 3] - lt[(n - 3) * 3 + 1] * b[n - 1] - lt[(n - 3) * 3] * b[n - 2];
+    let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
+    for ((bi, col), di) in b[..n - 3].iter_mut().rev().zip(lt[..(n - 3) * 3].chunks_exact(3).rev()).zip(inv_d[..n - 3].iter().rev()) {
+        let s = (*bi * di - col[2] * x3 - col[1] * x2) - col[0] * x1;
+        x3 = x2;
+        x2 = x1;
+        x1 = s;
+        *bi = s;
+    }
+}
+
+/// Rows per chunk of the fused forward pass ([`Bands3::forward_body`]).
 const FUSED_CHUNK: usize = 8;
 
 /// The characteristic release rule (docs/theory.md §4.10): at Courant number
@@ -616,6 +667,7 @@ impl PaoliSchatzman {
             fused: FusedStep { applies, on: applies },
             g_w: vec![0.0; terms],
             g_next: vec![0.0; terms],
+            g_ahead: vec![0.0; terms],
             work_acc: vec![0.0; terms],
             work_pending: Cell::new(false),
             coefs_ahead: false,
@@ -736,13 +788,8 @@ impl PaoliSchatzman {
     fn fused_unconstrained(&mut self) {
         let dt2 = self.dt * self.dt;
         let beta = self.beta;
-        for (((t, k), u), up) in self.tmp.iter_mut().zip(self.ktmp.iter_mut()).zip(&self.u).zip(&self.u_prev) {
-            *t = 2.0 * u - up;
-            *k = (1.0 - 2.0 * beta) * u + beta * up;
-        }
-        // This step's coefficients in `g_next` (found during the last step's
-        // backward sweep): `g_coefs` still holds the last step's, for its
-        // pending work.
+        // This step's coefficients in `g_next` (found during the last step):
+        // `g_coefs` still holds the last step's, for its pending work.
         if !self.coefs_ahead {
             self.advance_coefs();
         }
@@ -750,14 +797,18 @@ impl PaoliSchatzman {
         for (w, g) in self.g_w.iter_mut().zip(&self.g_next) {
             *w = dt2 * g;
         }
+        // The next step's coefficients (a `sin` or a rotation per term) into
+        // `g_ahead`: independent of the sweeps, so they overlap them.
+        Self::roll_coefs(beta, &mut self.loads, &mut self.means, &mut self.g_ahead);
         // `add_step_work`'s sums start as `Iterator::sum` starts.
         let zero: f64 = std::iter::empty::<f64>().sum();
         self.work_acc.iter_mut().for_each(|s| *s = zero);
         let pending = self.work_pending.take();
         let b3 = self.bands.as_ref().expect("the fused step has the bands");
         let (l, _, _) = self.a.band_factors();
-        let fa = Forward { dt2, x: &self.tmp, y: &self.ktmp, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: pending.then_some((&self.u[..], &mut self.work_acc[..])) };
-        b3.forward(fa, &mut self.rhs);
+        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: pending.then_some((&self.u[..], &mut self.work_acc[..])) };
+        let xy = Levels { beta, u: &self.u, up: &self.u_prev, x: &mut self.tmp, y: &mut self.ktmp };
+        b3.unconstrained(fa, xy, &self.a, &mut self.rhs);
         if pending {
             let mut wf = self.work_forcing.get();
             for (gc, s) in self.g_coefs.iter().zip(&self.work_acc) {
@@ -766,22 +817,25 @@ impl PaoliSchatzman {
             self.work_forcing.set(wf);
         }
         std::mem::swap(&mut self.g_coefs, &mut self.g_next);
-        // The next step's coefficients (a `sin` or a rotation per term):
-        // independent of the backward sweep, so they overlap it.
-        self.advance_coefs();
-        self.a.backward_in_place(&mut self.rhs);
+        std::mem::swap(&mut self.g_next, &mut self.g_ahead);
+        self.coefs_ahead = true;
+    }
+
+    /// `out` = the next step's coefficients `β m^{n+1} + (1−2β) m^n + β m^{n−1}`
+    /// per forcing term, the means rolled: `general_unconstrained`'s arithmetic.
+    fn roll_coefs(beta: f64, loads: &mut Loads, means: &mut [[f64; 2]], out: &mut [f64]) {
+        loads.next_into(out);
+        for (m, gc) in means.iter_mut().zip(out.iter_mut()) {
+            let next = *gc;
+            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
+            *m = [m[1], next];
+        }
     }
 
     /// The next step's forcing coefficients into `g_next` (the means over the
     /// next step rolled in), `general_unconstrained`'s arithmetic.
     fn advance_coefs(&mut self) {
-        let beta = self.beta;
-        self.loads.next_into(&mut self.g_next);
-        for (m, gc) in self.means.iter_mut().zip(self.g_next.iter_mut()) {
-            let next = *gc;
-            *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
-            *m = [m[1], next];
-        }
+        Self::roll_coefs(self.beta, &mut self.loads, &mut self.means, &mut self.g_next);
         self.coefs_ahead = true;
     }
 

@@ -66,6 +66,127 @@ pub struct ContactStabilized {
     work_forcing: f64,
     work_contact: f64,
     work_damping: f64,
+    /// The P1 bar's tridiagonal step, fused ([`Tridiagonal`]), if it
+    /// applies; `fused_on` switches it off (tests, benchmarks).
+    fused: Option<Tridiagonal>,
+    fused_on: bool,
+    /// Per forcing term, `τ²/4 s^n` and `τ²/4 s^{n+1}` (`add_terms`' weights).
+    w_old: Vec<f64>,
+    w_new: Vec<f64>,
+}
+
+/// `M`, `K` and the step matrix's factor tridiagonal (the P1 bar), no
+/// damping: the right-hand side `M U_pred − τ²/4 K Uⁿ + τ²/4 (2F + …)` and
+/// the forward sweep of the solve in one pass, in chunks of [`CHUNK`] rows
+/// (a chunk's right-hand side, vectorised across its rows — AVX2 chosen at
+/// run time, no FMA —, is independent of the sweep through the chunk
+/// before, so the two overlap), then the solve's backward sweep. Every
+/// value is the plain step's operations in the same order
+/// (`SymBand::mul_vec`'s tridiagonal rows, the sum, `add_terms` term by
+/// term, `BandLdlt::solve_in_place`'s forward sweep), so the same bits
+/// (cost: `crates/run/benches/step.rs`, `implicit_scheme_step`).
+struct Tridiagonal {
+    m_d: Vec<f64>,
+    m_s: Vec<f64>,
+    k_d: Vec<f64>,
+    k_s: Vec<f64>,
+    avx2: bool,
+}
+
+/// Rows per chunk of [`Tridiagonal`]'s fused pass.
+const CHUNK: usize = 32;
+
+impl Tridiagonal {
+    fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
+        let n = dy.n();
+        let applies = n >= 2 && dy.damping.is_none() && dy.mass.half_bandwidth() == 1 && dy.stiffness.half_bandwidth() == 1 && a.tridiagonal_factors().is_some();
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        applies.then(|| Self { m_d: dy.mass.diagonal(0), m_s: dy.mass.diagonal(1), k_d: dy.stiffness.diagonal(0), k_s: dy.stiffness.diagonal(1), avx2 })
+    }
+
+    /// `out = L⁻¹ b`, `b = M p + q (2f − K u) + Σ_j w_old_j g_j + Σ_j w_new_j g_j`.
+    #[allow(clippy::too_many_arguments)]
+    fn forward(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the CPU reports AVX2.
+            return unsafe { self.forward_avx2(q, p, u, f, forcing, w_old, w_new, l, out) };
+        }
+        self.forward_body(q, p, u, f, forcing, w_old, w_new, l, out)
+    }
+
+    /// [`forward_body`](Self::forward_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn forward_avx2(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
+        self.forward_body(q, p, u, f, forcing, w_old, w_new, l, out)
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn forward_body(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
+        let n = p.len();
+        let (md, ms, kd, ks) = (&self.m_d[..n], &self.m_s[..n], &self.k_d[..n], &self.k_s[..n]);
+        let (p, u, f, l, out) = (&p[..n], &u[..n], &f[..n], &l[..n], &mut out[..n]);
+        // `mul_vec_tridiag`'s rows: the first, the interior, the last.
+        let row = |i: usize| -> f64 {
+            let (mp, ku) = if i == 0 {
+                (md[0] * p[0] + ms[1] * p[1], kd[0] * u[0] + ks[1] * u[1])
+            } else if i == n - 1 {
+                (ms[n - 1] * p[n - 2] + md[n - 1] * p[n - 1], ks[n - 1] * u[n - 2] + kd[n - 1] * u[n - 1])
+            } else {
+                (ms[i] * p[i - 1] + md[i] * p[i] + ms[i + 1] * p[i + 1], ks[i] * u[i - 1] + kd[i] * u[i] + ks[i + 1] * u[i + 1])
+            };
+            mp + q * (2.0 * f[i] - ku)
+        };
+        let terms = |out: &mut [f64], a: usize, len: usize| {
+            for w in [w_old, w_new] {
+                for (fc, &wj) in forcing.iter().zip(w) {
+                    for (b, g) in out[a..a + len].iter_mut().zip(&fc.shape[a..a + len]) {
+                        *b += wj * g;
+                    }
+                }
+            }
+        };
+        out[0] = row(0);
+        terms(out, 0, 1);
+        let mut prev = out[0];
+        let mut a = 1;
+        while a < n {
+            // Interior rows of the chunk branch-free (vectorised), the last row apart.
+            let end = (a + CHUNK).min(n);
+            let stop = end.min(n - 1);
+            if stop > a {
+                let (o, r) = (&mut out[a..stop], a..stop);
+                let (pl, pc, pr) = (&p[a - 1..stop - 1], &p[r.clone()], &p[a + 1..stop + 1]);
+                let (ul, uc, ur) = (&u[a - 1..stop - 1], &u[r.clone()], &u[a + 1..stop + 1]);
+                let (msl, mdc, msr) = (&ms[r.clone()], &md[r.clone()], &ms[a + 1..stop + 1]);
+                let (ksl, kdc, ksr) = (&ks[r.clone()], &kd[r.clone()], &ks[a + 1..stop + 1]);
+                let fr = &f[r];
+                for j in 0..o.len() {
+                    let mp = msl[j] * pl[j] + mdc[j] * pc[j] + msr[j] * pr[j];
+                    let ku = ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j];
+                    o[j] = mp + q * (2.0 * fr[j] - ku);
+                }
+            }
+            if end == n {
+                out[n - 1] = row(n - 1);
+            }
+            terms(out, a, end - a);
+            for (b, li) in out[a..end].iter_mut().zip(&l[a..end]) {
+                prev = *b - li * prev;
+                *b = prev;
+            }
+            a = end;
+        }
+    }
 }
 
 impl ContactStabilized {
@@ -87,7 +208,12 @@ impl ContactStabilized {
         let mut loads = Loads::values(&dy, dt);
         let mut s_old = vec![0.0; dy.forcing.len()];
         loads.next_into(&mut s_old);
+        let fused = Tridiagonal::new(&dy, &a);
         Ok(Self {
+            fused_on: fused.is_some(),
+            fused,
+            w_old: vec![0.0; dy.forcing.len()],
+            w_new: vec![0.0; dy.forcing.len()],
             label,
             dt,
             n: 0,
@@ -149,6 +275,17 @@ impl Stepper for ContactStabilized {
         }
         Self::bounds_into(&self.dy, &mut self.mass_solve);
         self.mass_solve.solve(&mut self.pred)?;
+        if let Some(tri) = self.fused.as_ref().filter(|_| self.fused_on) {
+            // The same right-hand side and solve, fused ([`Tridiagonal`]).
+            self.loads.next_into(&mut self.s_new);
+            for ((wo, wn), (a, b)) in self.w_old.iter_mut().zip(self.w_new.iter_mut()).zip(self.s_old.iter().zip(&self.s_new)) {
+                (*wo, *wn) = (q * a, q * b);
+            }
+            let (l, _) = self.a.tridiagonal_factors().expect("tridiagonal");
+            tri.forward(q, &self.pred, &self.u, &self.dy.load, &self.dy.forcing, &self.w_old, &self.w_new, l, &mut self.rhs);
+            self.a.backward_in_place(&mut self.rhs);
+            return self.finish();
+        }
         // b = M U_pred − τ²/4 K U + τ²/4 (F^n + F^{n+1}) (+ the damping's terms).
         self.dy.mass.mul_vec(&self.pred, &mut self.rhs);
         self.dy.stiffness.mul_vec(&self.u, &mut self.tmp);
@@ -167,6 +304,51 @@ impl Stepper for ContactStabilized {
             self.rhs.iter_mut().zip(&self.ctmp).for_each(|(b, c)| *b += c);
         }
         self.a.solve_in_place(&mut self.rhs);
+        self.finish()
+    }
+
+    fn energy(&mut self) -> Option<(f64, f64)> {
+        Some((self.time(), self.dy.energy(&self.u, &self.v)))
+    }
+
+    fn work(&self) -> Option<(f64, f64)> {
+        Some((self.work_forcing, self.work_contact))
+    }
+
+    fn dissipation(&self) -> Option<f64> {
+        Some(self.work_damping)
+    }
+}
+
+impl ContactStabilized {
+    /// Switches the fused tridiagonal step ([`Tridiagonal`]) off or back on
+    /// (where it applies; on by default): for tests comparing it with the
+    /// plain step, and benchmarks. Changes no result.
+    #[doc(hidden)]
+    pub fn set_fused(&mut self, on: bool) {
+        self.fused_on = on && self.fused.is_some();
+    }
+
+    /// Whether the fused step is in use.
+    #[doc(hidden)]
+    pub fn fused(&self) -> bool {
+        self.fused_on
+    }
+
+    /// The fused step's kernel in its baseline x86-64 build, AVX2 or not:
+    /// for tests. Changes no result.
+    #[doc(hidden)]
+    pub fn portable(mut self) -> Self {
+        if let Some(t) = self.fused.as_mut() {
+            t.avx2 = false;
+        }
+        self
+    }
+
+    /// The rest of a step from `A⁻¹ b` in `rhs`: the contact solve, the
+    /// works, `V` and `U`.
+    fn finish(&mut self) -> Result<StepReport, SchemeError> {
+        let dt = self.dt;
         Self::bounds_into(&self.dy, &mut self.step_solve);
         let (mu, st) = self.step_solve.solve(&mut self.rhs)?;
         for (i, (&m, &a)) in mu.iter().zip(st).enumerate() {
@@ -199,18 +381,6 @@ impl Stepper for ContactStabilized {
         }
         self.n += 1;
         crate::contact_step_report(self.n, self.time(), &self.dy.contacts, &self.u, None, &self.lams, &self.acts)
-    }
-
-    fn energy(&mut self) -> Option<(f64, f64)> {
-        Some((self.time(), self.dy.energy(&self.u, &self.v)))
-    }
-
-    fn work(&self) -> Option<(f64, f64)> {
-        Some((self.work_forcing, self.work_contact))
-    }
-
-    fn dissipation(&self) -> Option<f64> {
-        Some(self.work_damping)
     }
 }
 

@@ -3,7 +3,8 @@
 //! through repeated impacts on both stops; partial batches; restitution;
 //! typed refusals. The oracle is the single run (a separate code path:
 //! on the beam its fused β-step — the right-hand side inside the solve's
-//! forward sweep, `BandLdlt::backward_in_place`, `Projection::project`).
+//! forward sweep, then its own copy of `BandLdlt::backward_in_place`'s sweep,
+//! `Projection::project`).
 //! Every build of the step is checked: the one the CPU selects (AVX-512 or
 //! AVX2 where available), the AVX2 one (`without_avx512()`) and the
 //! baseline x86-64 one (`portable()`). The fused β-step is itself checked
@@ -389,4 +390,66 @@ fn fused_beam_step_is_the_plain_step_bit_for_bit() {
         }
     }
     assert!(fused_steps > 20_000, "{fused_steps} fused steps");
+}
+
+/// The fused β-step (the whole unconstrained step — `2U^n − U^{n−1}`,
+/// `(1−2β) U^n + β U^{n−1}`, the right-hand side in the forward sweep and
+/// its own copy of `BandLdlt::backward_in_place`'s sweep, compiled together)
+/// from random states: every 40 steps both runs are put in the same random
+/// state (`set_state`: displacements around the stops, random velocities),
+/// so contacts start active and inactive; the contact at the tip, at a dof
+/// in the middle and at dof 0; the sine support with a static load; the
+/// baseline build (`portable`) and the one the CPU selects. `U^n`, `U^{n−1}`,
+/// the report and λ are equal (`to_bits`) at every step, the works and the
+/// energy at every state change.
+#[test]
+fn fused_beam_step_from_random_states_is_the_plain_step_bit_for_bit() {
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut rand = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut active, mut free) = (0, 0);
+    for j in [7usize, 19] {
+        let n = 2 * j;
+        for c in [n - 2, n / 2 + 1, 0] {
+            for portable in [false, true] {
+                let stops = (-0.004, 0.003);
+                let (mut dy, init) = pipe(j, 0.2, 10.0, stops);
+                dy.contacts[0].dof = c;
+                dy.load = (0..n).map(|i| 0.3 * (i as f64 * 0.7).sin()).collect();
+                let build = || PaoliSchatzman::new("ps".into(), dy.clone(), 0.5, 0.0, 1e-4, &init).unwrap();
+                let (mut plain, mut fused) = (build(), if portable { build().portable() } else { build() });
+                plain.set_fused(false);
+                assert!(fused.fused(), "J = {j}, c = {c}: the fused step applies");
+                for step in 0..600 {
+                    let what = format!("J = {j}, c = {c}, portable {portable}, step {step}");
+                    if step % 40 == 0 {
+                        if step > 0 {
+                            let (wa, wb) = (plain.work().unwrap(), fused.work().unwrap());
+                            assert!(wa.0.to_bits() == wb.0.to_bits() && wa.1.to_bits() == wb.1.to_bits(), "{what}: work {wa:?} vs {wb:?}");
+                            let (ea, eb) = (plain.energy().unwrap(), fused.energy().unwrap());
+                            assert_eq!(ea.1.to_bits(), eb.1.to_bits(), "{what}: energy");
+                        }
+                        let st: Vec<f64> = (0..2 * n).map(|i| if i < n { 0.01 * (rand() - 0.5) } else { 0.2 * (rand() - 0.5) }).collect();
+                        plain.set_state(&st).unwrap();
+                        fused.set_state(&st).unwrap();
+                    }
+                    let (ra, rb) = (plain.step().unwrap(), fused.step().unwrap());
+                    assert_eq!(ra, rb, "{what}: report");
+                    assert_eq!(ra.lambda.map(|l| l.1.to_bits()), rb.lambda.map(|l| l.1.to_bits()), "{what}: λ");
+                    assert!(bits(plain.displacement()) == bits(fused.displacement()), "{what}: U");
+                    assert!(bits(plain.previous_displacement()) == bits(fused.previous_displacement()), "{what}: U^(n-1)");
+                    if rb.active == Active::None {
+                        free += 1;
+                    } else {
+                        active += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(active > 500 && free > 1000, "{active} steps with the contact active, {free} free");
 }
