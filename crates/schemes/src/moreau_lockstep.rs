@@ -93,6 +93,9 @@ pub struct MoreauJeanLockstep<const L: usize> {
     hi: [f64; L],
     e: [f64; L],
     mu: [f64; L],
+    /// The contacts predicted active at their lower, upper stop this step.
+    at_lo: [bool; L],
+    at_hi: [bool; L],
     lams: [f64; L],
     acts: [Active; L],
     failed: [Option<SchemeError>; L],
@@ -199,6 +202,8 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             hi: [0.0; L],
             e: [0.0; L],
             mu: [0.0; L],
+            at_lo: [false; L],
+            at_hi: [false; L],
             lams: [0.0; L],
             acts: [Active::None; L],
             failed: std::array::from_fn(|_| None),
@@ -334,6 +339,13 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         // row by row, each row eliminated at once (the forward sweep of
         // `BandLdlt::solve_p3`); V and U + θ(1-θ) dt V are made row by row
         // into a ring just ahead of the products that read them.
+        // Which lanes' contacts are predicted active (from U^n, V^n: known
+        // before the solve). None: V^{n+1} is the solve's result, and
+        // U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}) is made row by row in
+        // the backward sweep (work that fills the recurrence's latency);
+        // else after the impact law, in a pass of its own. The same
+        // operations either way.
+        let any = self.predict();
         let cv = th * (1.0 - th) * dt;
         let n = self.dofs;
         let terms = self.dt_s.len();
@@ -367,15 +379,22 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             rhs[i] = eliminate::<L>(&l[i], rhs_row::<L>(dt, edge::<L>(mass, tm, i), edge::<L>(stiff, ts, i), &load[i], gs, chunk(shape_rows, i, terms)), &mut w1, &mut w2, &mut w3);
         }
         // Backward (`BandLdlt::solve_p3`'s order).
+        let a = 1.0 - th;
         let b = &mut self.rhs[..n];
+        let (uw, vr) = (&mut self.u[..n], &self.v[..n]);
         let (c2, c3) = (lt[n - 2], lt[n - 3]);
         for k in 0..L {
             b[n - 1][k] *= inv_d[n - 1];
             b[n - 2][k] = b[n - 2][k] * inv_d[n - 2] - c2[0] * b[n - 1][k];
             b[n - 3][k] = b[n - 3][k] * inv_d[n - 3] - c3[1] * b[n - 1][k] - c3[0] * b[n - 2][k];
         }
+        if !any {
+            for i in n - 3..n {
+                advance::<L>(&mut uw[i], &vr[i], &b[i], dt, a, th);
+            }
+        }
         let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
-        for ((bi, col), di) in b[..n - 3].iter_mut().rev().zip(lt[..n - 3].iter().rev()).zip(inv_d[..n - 3].iter().rev()) {
+        for (((bi, col), di), (ui, vi)) in b[..n - 3].iter_mut().rev().zip(lt[..n - 3].iter().rev()).zip(inv_d[..n - 3].iter().rev()).zip(uw[..n - 3].iter_mut().rev().zip(vr[..n - 3].iter().rev())) {
             let mut s = [0.0; L];
             for k in 0..L {
                 s[k] = (bi[k] * di - col[2] * x3[k] - col[1] * x2[k]) - col[0] * x1[k];
@@ -384,14 +403,18 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             x2 = x1;
             x1 = s;
             *bi = s;
-        }
-        self.impact();
-        // U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}); V^{n+1}.
-        let a = 1.0 - th;
-        for ((ur, vr), vnr) in self.u.iter_mut().zip(&self.v).zip(&self.rhs) {
-            for k in 0..L {
-                ur[k] += dt * (a * vr[k] + th * vnr[k]);
+            if !any {
+                advance::<L>(ui, vi, &s, dt, a, th);
             }
+        }
+        if any {
+            self.impact();
+            for ((ur, vr), vnr) in self.u.iter_mut().zip(&self.v).zip(&self.rhs) {
+                advance::<L>(ur, vr, vnr, dt, a, th);
+            }
+        } else {
+            self.mu = [0.0; L];
+            self.acts = [Active::None; L];
         }
         std::mem::swap(&mut self.v, &mut self.rhs);
         self.n += 1;
@@ -430,29 +453,43 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         s
     }
 
+    /// Each lane's contact predicted active at its lower stop
+    /// (`u_c + γ dt v_c <= lo`) or upper stop (`>= hi`), as
+    /// `MoreauJean::predict` computes it, into `at_lo`, `at_hi`; whether any is.
+    #[inline(always)]
+    fn predict(&mut self) -> bool {
+        let gdt = self.gamma * self.dt;
+        let (uc, vc) = (&self.u[self.c], &self.v[self.c]);
+        let mut any = false;
+        for k in 0..L {
+            let pred = uc[k] + gdt * vc[k];
+            self.at_lo[k] = pred <= self.lo[k];
+            self.at_hi[k] = pred >= self.hi[k];
+            any |= self.at_lo[k] | self.at_hi[k];
+        }
+        any
+    }
+
     /// Newton's impact law on every lane (`MoreauJean::finish_step` with
     /// `Projection::project`'s operations): a contact predicted active at
-    /// its lower stop (`u_c + γ dt v_c <= lo`) gets `v_c^{n+1} >= -e v_c^n`,
-    /// else one predicted at its upper stop `v_c^{n+1} <= -e v_c^n`; `mu`
-    /// per lane (0 when free).
+    /// its lower stop gets `v_c^{n+1} >= -e v_c^n`, else one predicted at
+    /// its upper stop `v_c^{n+1} <= -e v_c^n`; `mu` per lane (0 when free).
     #[inline(always)]
     fn impact(&mut self) {
         let c = self.c;
-        let gdt = self.gamma * self.dt;
-        let (yc, uc, vc) = (self.rhs[c], self.u[c], self.v[c]);
+        let (yc, vc) = (self.rhs[c], self.v[c]);
         let mut xc = [0.0; L];
         let mut act = [false; L];
         for k in 0..L {
-            let pred = uc[k] + gdt * vc[k];
             let bound = -self.e[k] * vc[k];
             let y = yc[k];
-            (xc[k], self.acts[k]) = if pred <= self.lo[k] {
+            (xc[k], self.acts[k]) = if self.at_lo[k] {
                 if y < bound {
                     (bound, Active::Lower)
                 } else {
                     (y, Active::None)
                 }
-            } else if pred >= self.hi[k] {
+            } else if self.at_hi[k] {
                 if y > bound {
                     (bound, Active::Upper)
                 } else {
@@ -478,6 +515,15 @@ impl<const L: usize> MoreauJeanLockstep<L> {
                 self.rhs[c][k] = xc[k];
             }
         }
+    }
+}
+
+/// Row `i` of `U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1})` (`a = 1-θ`):
+/// `MoreauJean::finish_step`'s update.
+#[inline(always)]
+fn advance<const L: usize>(u: &mut [f64; L], v: &[f64; L], vn: &[f64; L], dt: f64, a: f64, th: f64) {
+    for k in 0..L {
+        u[k] += dt * (a * v[k] + th * vn[k]);
     }
 }
 
