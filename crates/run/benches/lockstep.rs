@@ -10,11 +10,14 @@
 //! `two_threads_*`: two batches of `L` on two rayon threads;
 //! `frequency_avx2_*`: the AVX2 build where the CPU also has AVX-512;
 //! `frequency_baseline_*`: the baseline x86-64 (SSE2) build where the CPU has AVX2.
+//! `moreau_jean_single` and `moreau_jean_frequency_*`: the same for
+//! `moreau-jean` (θ = 1/2, e = 0, γ = 1/2): the single `MoreauJean` step
+//! against `MoreauJeanLockstep`.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
 use signorini_run::beam::Pipe;
-use signorini_schemes::{LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_schemes::{Lockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
 
 fn main() {
     divan::main();
@@ -104,6 +107,34 @@ fn frequency_avx2<const L: usize>(bencher: Bencher) {
 #[divan::bench(consts = [4, 8, 16])]
 fn frequency_baseline<const L: usize>(bencher: Bencher) {
     bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| batch::<L>(true).portable()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
+}
+
+/// One run, `MoreauJean::step` (θ = 1/2, e = 0, γ = 1/2): ns per step.
+#[divan::bench]
+fn moreau_jean_single(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS))
+        .with_inputs(|| {
+            let l = lane(0, true);
+            MoreauJean::new("single".into(), l.dynamics, 0.5, 0.0, 0.5, DT, &l.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+/// `L` runs of a frequency sweep with `MoreauJeanLockstep`: ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn moreau_jean_frequency<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| MoreauJeanLockstep::<L>::new(0.5, 0.5, DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
         for _ in 0..STEPS {
             divan::black_box(b.step());
         }

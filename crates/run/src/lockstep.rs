@@ -1,10 +1,11 @@
-//! The time loop of a lockstep batch: `L` runs of the Paoli–Schatzman
-//! scheme that share one step matrix ([`PaoliSchatzmanLockstep`]), each
-//! lane feeding its own observers exactly the [`Sample`]s that [`run`]
-//! would feed them for that lane's single run.
+//! The time loop of a lockstep batch: `L` runs of one scheme that share
+//! one step matrix (a [`Lockstep`] engine: [`PaoliSchatzmanLockstep`],
+//! [`MoreauJeanLockstep`]), each lane feeding its own observers exactly the
+//! [`Sample`]s that [`run`] would feed them for that lane's single run.
 //!
 //! The contract of [`run`], lane by lane: level 0 (the lane's `u0`), level 1
-//! (the start step, the whole state checked for finite values), then every
+//! when the engine arrives there (a two-step scheme's start step, the whole
+//! state checked for finite values), then every
 //! step up to the lane's own horizon ([`RunConfig::t_end`]), the whole state
 //! checked every 64 steps and at the horizon; a lane stops on its own at a
 //! blow-up (the step its single run stops at, with the same
@@ -22,7 +23,9 @@ use crate::reduced::Need;
 use crate::runner::{check_finite, FINITE_CHECK_EVERY};
 use crate::{Cancel, Observer, RunConfig, RunError, RunSummary, Sample};
 use signorini_contact::Active;
-use signorini_schemes::PaoliSchatzmanLockstep;
+use signorini_schemes::Lockstep;
+#[cfg(doc)]
+use signorini_schemes::{MoreauJeanLockstep, PaoliSchatzmanLockstep};
 use std::time::Instant;
 
 /// One lane of [`run_lockstep`]: what [`run`](crate::run) takes for one run
@@ -92,7 +95,7 @@ impl Lane<'_, '_> {
     }
 }
 
-/// Runs every lane of `engine` (built on the lanes' problems, at level 1)
+/// Runs every lane of `engine` (built on the lanes' problems, at level 0 or 1)
 /// to its own horizon, feeding each lane's observers the samples [`run`]
 /// would (module docs). `need` says which unknowns the observers read:
 /// with [`Need::Full`] the whole displacement is copied out of the engine
@@ -107,7 +110,7 @@ impl Lane<'_, '_> {
 /// is in its [`LaneEnd`], in lane order.
 ///
 /// [`run`]: crate::run
-pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs: &mut [LockstepRun<'_>], need: &Need) -> Result<Vec<LaneEnd>, RunError> {
+pub fn run_lockstep<E: Lockstep>(engine: &mut E, runs: &mut [LockstepRun<'_>], need: &Need) -> Result<Vec<LaneEnd>, RunError> {
     let start = Instant::now();
     if runs.len() != engine.lanes() {
         return Err(RunError::Invalid { field: "lanes", value: runs.len() as f64, allowed: "as many runs as the engine has lanes" });
@@ -125,6 +128,10 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
         }
     }
     let dt = engine.dt();
+    let level0 = engine.level();
+    if level0 > 1 {
+        return Err(RunError::Invalid { field: "level", value: level0 as f64, allowed: "an engine at level 0 or 1 (not stepped yet)" });
+    }
     let some: Vec<usize> = match need {
         Need::Full => Vec::new(),
         Need::Dofs(d) => d.iter().copied().filter(|&i| i < dofs).collect(),
@@ -137,14 +144,21 @@ pub fn run_lockstep<const L: usize>(engine: &mut PaoliSchatzmanLockstep<L>, runs
         .map(|run| {
             let first = all.len();
             all.append(&mut run.observers);
-            Lane { u: run.u0.to_vec(), total: run.cfg.steps(), interrupt: run.cfg.interrupt.clone(), obs: first..all.len(), run, contact_steps: 0, end: None, level: 1 }
+            Lane { u: run.u0.to_vec(), total: run.cfg.steps(), interrupt: run.cfg.interrupt.clone(), obs: first..all.len(), run, contact_steps: 0, end: None, level: level0 }
         })
         .collect();
-    // Level 0 (the initial displacement) and level 1 (the start step).
+    // Level 0 (the initial displacement) and, for a two-step scheme, level
+    // 1 (the start step).
     for (k, l) in lanes.iter_mut().enumerate() {
         let s0 = Sample { n: 0, t: 0.0, u: l.run.u0, lambda: None, energy: None, active: false, work: None, forces: &zero, status: &free };
         if let Err(e) = all[l.obs.clone()].iter_mut().try_for_each(|o| o.observe(&s0)) {
-            l.stop(&mut all, 1, Err(e));
+            l.stop(&mut all, level0, Err(e));
+            continue;
+        }
+        if level0 == 0 {
+            if l.total == 0 {
+                l.stop(&mut all, 0, Ok(()));
+            }
             continue;
         }
         engine.displacement_into(k, &mut l.u);

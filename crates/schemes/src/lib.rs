@@ -64,7 +64,10 @@
 //! * [`PaoliSchatzman`]: the two-step scheme with restitution `e` (eq. (34)),
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
 //!   [`PaoliSchatzmanLockstep`] steps `L` runs that share its step matrix
-//!   together (a sweep), each lane bit-identical to its single run.
+//!   together (a sweep), each lane bit-identical to its single run;
+//!   [`MoreauJeanLockstep`] does the same for [`MoreauJean`] (both behind
+//!   the [`Lockstep`] trait; [`LockstepScheme`] says which engine a
+//!   registry scheme takes).
 //!
 //! * [`Reduced`]: the massless contact node eliminated (`u_0 = max(u_1, g)`),
 //!   with the hybrid Crank–Nicolson/midpoint scheme of the weighted-mass paper
@@ -172,6 +175,7 @@ mod loads;
 mod lockstep;
 mod moreau;
 mod moreau_combined;
+mod moreau_lockstep;
 mod moreau_projected;
 mod multi;
 mod nitsche;
@@ -187,9 +191,10 @@ pub use cd_lagrange::CdLagrange;
 pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
-pub use lockstep::{LockstepLane, PaoliSchatzmanLockstep};
+pub use lockstep::{Lockstep, LockstepLane, LockstepScheme, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
 pub use moreau_combined::{MoreauJeanCombined, COMBINED_TOLERANCE};
+pub use moreau_lockstep::MoreauJeanLockstep;
 pub use moreau_projected::{MoreauJeanProjected, INDEX_SET_THRESHOLD, PROJECTION_TOLERANCE};
 #[doc(hidden)]
 pub use multi::MultiSolve;

@@ -76,7 +76,7 @@ pub struct LockstepLane {
 
 /// A band row of half-bandwidth 3: `[A_ii, A_i,i-1, A_i,i-2, A_i,i-3,
 /// A_i+1,i, A_i+2,i, A_i+3,i]` (zeros outside the matrix).
-type Row7 = [f64; 7];
+pub(crate) type Row7 = [f64; 7];
 
 /// `L` runs of the Paoli–Schatzman scheme sharing one step matrix, stepped
 /// together (module docs). Allocates only at construction.
@@ -145,13 +145,13 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
 
 /// Rows of `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}` kept at once
 /// (a product's row reads seven): a power of two, at least 7.
-const RING: usize = 8;
+pub(crate) const RING: usize = 8;
 
 /// Step lengths `δ` remembered by [`PaoliSchatzmanLockstep`] (the rounding
 /// of `(n+2) dt - (n+1) dt` gives a handful of values; four catch > 99.99%).
-const SINC_SLOTS: usize = 4;
+pub(crate) const SINC_SLOTS: usize = 4;
 
-fn avx2_available() -> bool {
+pub(crate) fn avx2_available() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::is_x86_feature_detected!("avx2")
@@ -162,7 +162,7 @@ fn avx2_available() -> bool {
     }
 }
 
-fn avx512_available() -> bool {
+pub(crate) fn avx512_available() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx2")
@@ -174,7 +174,7 @@ fn avx512_available() -> bool {
 }
 
 /// Bitwise equality of two band matrices (`-0.0 ≠ 0.0`: the products differ in sign).
-fn same_band(a: &SymBand, b: &SymBand) -> bool {
+pub(crate) fn same_band(a: &SymBand, b: &SymBand) -> bool {
     let (n, p) = (a.n(), a.half_bandwidth());
     if (n, p) != (b.n(), b.half_bandwidth()) {
         return false;
@@ -183,7 +183,7 @@ fn same_band(a: &SymBand, b: &SymBand) -> bool {
 }
 
 /// Bitwise equality of two profiles (then their means are the same bits).
-fn same_profile(a: &TimeProfile, b: &TimeProfile) -> bool {
+pub(crate) fn same_profile(a: &TimeProfile, b: &TimeProfile) -> bool {
     let bits = |x: &[f64], y: &[f64]| x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
     match (a, b) {
         (TimeProfile::Sine { amplitude: a0, omega: w0 }, TimeProfile::Sine { amplitude: a1, omega: w1 }) => bits(&[*a0, *w0], &[*a1, *w1]),
@@ -193,7 +193,7 @@ fn same_profile(a: &TimeProfile, b: &TimeProfile) -> bool {
     }
 }
 
-fn rows7(a: &SymBand) -> Vec<Row7> {
+pub(crate) fn rows7(a: &SymBand) -> Vec<Row7> {
     let n = a.n();
     let d: Vec<Vec<f64>> = (0..=3).map(|k| a.diagonal(k)).collect();
     (0..n)
@@ -681,6 +681,127 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
     }
 }
 
+/// What a time loop needs of a lockstep engine ([`PaoliSchatzmanLockstep`],
+/// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep)): `L` runs sharing one
+/// step matrix, stepped together, each lane bit for bit its single run.
+/// Every lane-indexed method asserts `k < lanes()`.
+pub trait Lockstep {
+    /// Lanes in use.
+    fn lanes(&self) -> usize;
+    /// Number of unknowns per lane.
+    fn dofs(&self) -> usize;
+    /// The contact dof (shared).
+    fn contact_dof(&self) -> usize;
+    /// Time step.
+    fn dt(&self) -> f64;
+    /// Index `n` of the current level (every lane's): 1 after construction
+    /// for a two-step scheme (its start step taken), else 0.
+    fn level(&self) -> usize;
+    /// `t_n = n dt`.
+    fn time(&self) -> f64;
+    /// The time the contact forces of the last step belong to (what the
+    /// single run's report gives).
+    fn lambda_time(&self) -> f64;
+    /// Advances every lane one step; returns the new level.
+    fn step(&mut self) -> usize;
+    /// Lane `k`'s `U^n` into `out` (length [`dofs`](Self::dofs)).
+    fn displacement_into(&self, k: usize, out: &mut [f64]);
+    /// Lane `k`'s `u_i^n`.
+    fn value(&self, k: usize, i: usize) -> f64;
+    /// Lane `k`'s contact force of the last step (the single run's report).
+    fn contact_force(&self, k: usize) -> f64;
+    /// Which bound held lane `k`'s contact in the last step.
+    fn contact_status(&self, k: usize) -> Active;
+    /// The error lane `k`'s single run would have returned, if it has.
+    fn lane_failure(&self, k: usize) -> Option<&SchemeError>;
+}
+
+impl<const L: usize> Lockstep for PaoliSchatzmanLockstep<L> {
+    fn lanes(&self) -> usize {
+        PaoliSchatzmanLockstep::lanes(self)
+    }
+    fn dofs(&self) -> usize {
+        PaoliSchatzmanLockstep::dofs(self)
+    }
+    fn contact_dof(&self) -> usize {
+        PaoliSchatzmanLockstep::contact_dof(self)
+    }
+    fn dt(&self) -> f64 {
+        PaoliSchatzmanLockstep::dt(self)
+    }
+    fn level(&self) -> usize {
+        PaoliSchatzmanLockstep::level(self)
+    }
+    fn time(&self) -> f64 {
+        PaoliSchatzmanLockstep::time(self)
+    }
+    fn lambda_time(&self) -> f64 {
+        PaoliSchatzmanLockstep::lambda_time(self)
+    }
+    fn step(&mut self) -> usize {
+        PaoliSchatzmanLockstep::step(self)
+    }
+    fn displacement_into(&self, k: usize, out: &mut [f64]) {
+        PaoliSchatzmanLockstep::displacement_into(self, k, out)
+    }
+    fn value(&self, k: usize, i: usize) -> f64 {
+        PaoliSchatzmanLockstep::value(self, k, i)
+    }
+    fn contact_force(&self, k: usize) -> f64 {
+        PaoliSchatzmanLockstep::contact_force(self, k)
+    }
+    fn contact_status(&self, k: usize) -> Active {
+        PaoliSchatzmanLockstep::contact_status(self, k)
+    }
+    fn lane_failure(&self, k: usize) -> Option<&SchemeError> {
+        PaoliSchatzmanLockstep::lane_failure(self, k)
+    }
+}
+
+/// The registry schemes a lockstep engine takes, with their parameters
+/// (from a [`SchemeSpec`](crate::SchemeSpec) whose
+/// [`Capabilities::lockstep`](crate::Capabilities::lockstep) is set).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LockstepScheme {
+    /// `ps(e, β)`: [`PaoliSchatzmanLockstep`].
+    PaoliSchatzman {
+        /// β.
+        beta: f64,
+        /// Restitution `e`.
+        restitution: f64,
+    },
+    /// `moreau-jean(θ, e, γ)`: [`MoreauJeanLockstep`](crate::MoreauJeanLockstep).
+    MoreauJean {
+        /// θ.
+        theta: f64,
+        /// Restitution `e`.
+        restitution: f64,
+        /// The activation predictor's γ.
+        gamma: f64,
+    },
+}
+
+impl LockstepScheme {
+    /// The engine and parameters of `spec`, if it can run in lockstep.
+    pub fn of(spec: &crate::SchemeSpec) -> Option<Self> {
+        if !spec.capabilities().lockstep {
+            return None;
+        }
+        match spec.family().name {
+            "ps" => Some(Self::PaoliSchatzman { beta: spec.param("beta")?, restitution: spec.param("e")? }),
+            "moreau-jean" => Some(Self::MoreauJean { theta: spec.param("theta")?, restitution: spec.param("e")?, gamma: spec.param("gamma")? }),
+            _ => None,
+        }
+    }
+
+    /// The restitution of the scheme (a lane's [`LockstepLane::restitution`]).
+    pub fn restitution(&self) -> f64 {
+        match *self {
+            Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } => restitution,
+        }
+    }
+}
+
 /// Row `j` of `t_mass = 2U^n - U^{n-1}` and `t_stiff = (1-2β) U^n + β U^{n-1}`
 /// (`a = 1-2β`) from `u = U^n_j`, `up = U^{n-1}_j`, into slot `j % RING`.
 #[inline(always)]
@@ -694,14 +815,14 @@ fn combine_row<const L: usize>(t_mass: &mut [[f64; L]; RING], t_stiff: &mut [[f6
 
 /// Entries `i·w .. (i+1)·w` of `v`: row `i` of a table of width `w`.
 #[inline(always)]
-fn chunk<T>(v: &[T], i: usize, w: usize) -> &[T] {
+pub(crate) fn chunk<T>(v: &[T], i: usize, w: usize) -> &[T] {
     &v[i * w..(i + 1) * w]
 }
 
 /// Row `r` of `M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j` from
 /// its products `mv`, `kv`, its load `f` and the terms' `dt² g_j`, `shape_j`.
 #[inline(always)]
-fn rhs_row<const L: usize>(dt2: f64, mv: [f64; L], kv: [f64; L], f: &[f64; L], gs: &[[f64; L]], shapes: &[[f64; L]]) -> [f64; L] {
+pub(crate) fn rhs_row<const L: usize>(dt2: f64, mv: [f64; L], kv: [f64; L], f: &[f64; L], gs: &[[f64; L]], shapes: &[[f64; L]]) -> [f64; L] {
     let mut r = [0.0; L];
     for k in 0..L {
         r[k] = mv[k] + dt2 * (f[k] - kv[k]);
@@ -717,7 +838,7 @@ fn rhs_row<const L: usize>(dt2: f64, mv: [f64; L], kv: [f64; L], f: &[f64; L], g
 /// The forward elimination of a row `r` with three predecessors (`w1` the
 /// last), `BandLdlt::solve_p3`'s order; the window moves on by one.
 #[inline(always)]
-fn eliminate<const L: usize>(lr: &[f64; 3], mut r: [f64; L], w1: &mut [f64; L], w2: &mut [f64; L], w3: &mut [f64; L]) -> [f64; L] {
+pub(crate) fn eliminate<const L: usize>(lr: &[f64; 3], mut r: [f64; L], w1: &mut [f64; L], w2: &mut [f64; L], w3: &mut [f64; L]) -> [f64; L] {
     for k in 0..L {
         r[k] = (r[k] - lr[2] * w3[k] - lr[1] * w2[k]) - lr[0] * w1[k];
     }
@@ -731,7 +852,7 @@ fn eliminate<const L: usize>(lr: &[f64; 3], mut r: [f64; L], w1: &mut [f64; L], 
 /// order): `(r0 x_i + r1 x_{i-1} + r2 x_{i-2} + r3 x_{i-3}) + (c1 x_{i+1} + c2 x_{i+2} + c3 x_{i+3})`,
 /// `x` a ring holding rows `i-3..=i+3` (row `j` in slot `j % RING`).
 #[inline(always)]
-fn interior<const L: usize>(r: &Row7, x: &[[f64; L]; RING], i: usize) -> [f64; L] {
+pub(crate) fn interior<const L: usize>(r: &Row7, x: &[[f64; L]; RING], i: usize) -> [f64; L] {
     let at = |d: usize| &x[(i + d - 3) % RING];
     let (x0, x1, x2, x3, x4, x5, x6) = (at(0), at(1), at(2), at(3), at(4), at(5), at(6));
     let mut y = [0.0; L];
@@ -745,7 +866,7 @@ fn interior<const L: usize>(r: &Row7, x: &[[f64; L]; RING], i: usize) -> [f64; L
 /// diagonal term, then for `k = 1..=3` the left and the right neighbour;
 /// `x` a ring holding rows `i-3..=i+3` that exist (row `j` in slot `j % RING`).
 #[inline(always)]
-fn edge<const L: usize>(a: &[Row7], x: &[[f64; L]; RING], i: usize) -> [f64; L] {
+pub(crate) fn edge<const L: usize>(a: &[Row7], x: &[[f64; L]; RING], i: usize) -> [f64; L] {
     let (n, r) = (a.len(), &a[i]);
     let mut y = [0.0; L];
     let xi = &x[i % RING];

@@ -348,7 +348,7 @@ pub(crate) static MOREAU_JEAN: Family = Family {
     params: &[THETA, E, GAMMA],
     presets: &[Preset { name: "moreau-jean", args: &[0.5, 0.0, 0.5], group: Group::Peer, rank: 3 }],
     validate: check_params,
-    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(MoreauJean::new(s.to_string(), dy, s.args()[0], s.args()[1], s.args()[2], dt, init)?)),

@@ -6,7 +6,7 @@ use crate::simulate::{observers, rows_of, text_cell, Plan, RunRows, ScenePlan};
 use signorini_run::reduced::Need;
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError};
 use signorini_scene::Scene;
-use signorini_schemes::{Bounds, Initial, LockstepLane, PaoliSchatzmanLockstep};
+use signorini_schemes::{Bounds, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, PaoliSchatzmanLockstep};
 
 /// Runs per lockstep group at most: the paper beam's sweeps step up to this
 /// many runs together (crates/run/benches/lockstep.rs: per run-step, 16
@@ -19,25 +19,24 @@ pub const LANES: usize = 16;
 /// A run the lockstep engine takes: a beam (full model) on its tip's two
 /// stops, not continued from another run, whose scheme can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
-/// them), within its stability limit or forced past it as its single run.
+/// them, and `moreau-jean(θ, e, γ)`; [`LockstepScheme`]), within its
+/// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
 /// one its validation built): its problem and initial state.
-pub(crate) fn lane_of(scene: &Scene) -> Option<(LockstepLane, f64, f64, usize)> {
-    let (beta, e) = lockstep_params(scene)?;
+pub(crate) fn lane_of(scene: &Scene) -> Option<(LockstepLane, LockstepScheme, f64, usize)> {
+    let scheme = lockstep_params(scene)?;
     let Scene::Beam { scene: bs, .. } = scene else { return None };
     let sim = scene.instantiate(None).ok()?;
-    let lane = LockstepLane { dynamics: sim.stepper.dynamics().clone(), initial: Initial { u: sim.u0, v: sim.v0 }, restitution: e };
-    Some((lane, beta, bs.dt, sim.tip))
+    let lane = LockstepLane { dynamics: sim.stepper.dynamics().clone(), initial: Initial { u: sim.u0, v: sim.v0 }, restitution: scheme.restitution() };
+    Some((lane, scheme, bs.dt, sim.tip))
 }
 
-/// The β and restitution of a scene the lockstep engine takes (see
+/// The engine and parameters of a scene the lockstep engines take (see
 /// [`lane_of`]), or `None`.
-pub(crate) fn lockstep_params(scene: &Scene) -> Option<(f64, f64)> {
+pub(crate) fn lockstep_params(scene: &Scene) -> Option<LockstepScheme> {
     match scene {
         // A reduced model steps other matrices: one run at a time.
-        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() && bs.spring.is_none() && bs.scheme.capabilities().lockstep => {
-            Some((bs.scheme.param("beta")?, bs.scheme.param("e")?))
-        }
+        Scene::Beam { scene: bs, contacts: None, excitation, reduce: None, .. } if excitation.start.is_none() && bs.spring.is_none() => LockstepScheme::of(&bs.scheme),
         _ => None,
     }
 }
@@ -68,7 +67,8 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 }
 
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
-/// ([`PaoliSchatzmanLockstep`] stepped by [`signorini_run::run_lockstep`]):
+/// ([`PaoliSchatzmanLockstep`] or [`MoreauJeanLockstep`] stepped by
+/// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
 /// [`simulate`](fn@crate::simulate) writes, bit for bit.
@@ -87,19 +87,46 @@ pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) 
 pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     let mut lanes = Vec::with_capacity(group.len());
     let mut tips = Vec::with_capacity(group.len());
-    let (mut beta, mut dt) = (f64::NAN, f64::NAN);
-    for (k, (scene, plan)) in group.iter().enumerate() {
-        let (lane, b, d, tip) = lane_of(scene)?;
-        if k > 0 && (b != beta || d != dt) || plan.dt != d {
+    let mut first: Option<(LockstepScheme, f64)> = None;
+    for (scene, plan) in group {
+        let (lane, scheme, d, tip) = lane_of(scene)?;
+        // One engine: the same scheme, parameters and step (the
+        // restitution may differ from lane to lane).
+        let same = |s: LockstepScheme| match (s, scheme) {
+            (LockstepScheme::PaoliSchatzman { beta: a, .. }, LockstepScheme::PaoliSchatzman { beta: b, .. }) => a == b,
+            (LockstepScheme::MoreauJean { theta: a, gamma: g, .. }, LockstepScheme::MoreauJean { theta: b, gamma: h, .. }) => a == b && g == h,
+            _ => false,
+        };
+        if first.is_some_and(|(s, dt)| !same(s) || dt != d) || plan.dt != d {
             return None;
         }
-        (beta, dt) = (b, d);
+        first = first.or(Some((scheme, d)));
         tips.push(tip);
         lanes.push(lane);
     }
+    let (scheme, dt) = first?;
     let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
     let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
-    let mut eng = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?;
+    let lanes_of = Lanes { group, tips: &tips, inits: &inits, contacts: &contacts };
+    match scheme {
+        LockstepScheme::PaoliSchatzman { beta, .. } => run_group(PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::MoreauJean { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::new(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
+    }
+}
+
+/// What a group's lanes bring besides their problems: scene and plan, tip,
+/// initial displacement and contacts.
+struct Lanes<'g, 's> {
+    group: &'g [(&'s Scene, &'s Plan)],
+    tips: &'g [usize],
+    inits: &'g [Vec<f64>],
+    contacts: &'g [Vec<(usize, Bounds)>],
+}
+
+/// Steps `eng` (built on the lanes of `lanes`) with each lane's observers,
+/// and gives each lane's rows.
+fn run_group<E: Lockstep>(mut eng: E, lanes: &Lanes<'_, '_>, interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
+    let Lanes { group, tips, inits, contacts } = *lanes;
     // The vibro observers read the tip and the contact only.
     let mut need: Vec<usize> = tips.iter().copied().chain(std::iter::once(eng.contact_dof())).collect();
     need.sort_unstable();
@@ -113,7 +140,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         cfgs.push(rc);
     }
     let ends = {
-        let mut runs: Vec<LockstepRun<'_>> = vibs.iter_mut().zip(&cfgs).zip(&inits).map(|((v, rc), u0)| LockstepRun::new(u0, rc, vec![v as &mut dyn Observer])).collect();
+        let mut runs: Vec<LockstepRun<'_>> = vibs.iter_mut().zip(&cfgs).zip(inits).map(|((v, rc), u0)| LockstepRun::new(u0, rc, vec![v as &mut dyn Observer])).collect();
         run_lockstep(&mut eng, &mut runs, &Need::Dofs(need)).ok()?
     };
     Some(

@@ -100,14 +100,27 @@ fn a_lane_that_blows_up_stops_where_its_single_run_does() {
 }
 
 /// A sweep of a registry-named scheme that can run in lockstep
-/// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β) takes
-/// the engine, each lane its single run bit for bit; schemes that cannot
-/// (penalty, Newmark, the event-driven reference) run one at a time.
+/// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β, and
+/// `moreau-jean(θ, e, γ)`) takes its engine, each lane its single run bit
+/// for bit; schemes that cannot (penalty, Newmark, nsga, the event-driven
+/// reference) run one at a time.
 #[test]
 fn registry_schemes_that_can_run_in_lockstep_do() {
     let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
     let ibits = |v: &[(usize, [f64; 5])]| v.iter().flat_map(|(s, r)| std::iter::once(*s as u64).chain(r.map(f64::to_bits))).collect::<Vec<_>>();
-    for (scheme, locks) in [("ps(0.5,0.5)", true), ("ps-e1", true), ("ps(0.8,0.3)", true), ("penalty-cn", false), ("newmark-cn", false), ("event-driven", false)] {
+    for (scheme, locks) in [
+        ("ps(0.5,0.5)", true),
+        ("ps-e1", true),
+        ("ps(0.8,0.3)", true),
+        ("moreau-jean", true),
+        ("moreau-jean(0.7,0.5)", true),
+        ("moreau-jean(0.5,0,0.3)", true),
+        ("moreau-jean(1,1)", true),
+        ("nsga(0.5)", false),
+        ("penalty-cn", false),
+        ("newmark-cn", false),
+        ("event-driven", false),
+    ] {
         let text = format!("[beam]\nscene = \"fig2\"\nscheme = \"{scheme}\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n");
         let mut o = SweepOptions::new("support.omega", 9.0, 11.0, 3);
         o.transient = 1.0;

@@ -716,3 +716,34 @@ fn a_followed_map_restarts_each_row_from_the_scene() {
         }
     }
 }
+
+/// A sweep of the beam with `moreau-jean` (its runs stepped in lockstep by
+/// `MoreauJeanLockstep`) writes, with 1 and with 3 threads, exactly the
+/// files of the same runs one at a time: five shards of one run each (a
+/// group of one is run alone, by `run`), in five processes, merged.
+#[test]
+fn a_moreau_jean_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = dir.path().join("beam.toml");
+    std::fs::write(&sc, "[beam]\nscene = \"fig2\"\nscheme = \"moreau-jean(0.5,0.3)\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n").unwrap();
+    let run = |out: &Path, extra: &[&str]| {
+        let mut c = bin();
+        c.args(["sweep", sc.to_str().unwrap(), "--param", "support.omega", "--from", "8", "--to", "12", "--count", "5", "--transient", "1", "--record", "2", "--out", out.to_str().unwrap()]);
+        ok(&c.args(extra).output().unwrap());
+    };
+    let shards: Vec<PathBuf> = (0..5).map(|i| dir.path().join(format!("s{i}"))).collect();
+    for (i, s) in shards.iter().enumerate() {
+        run(s, &["--shard", &format!("{i}/5"), "--threads", "1"]);
+    }
+    let merged = dir.path().join("merged");
+    let mut m = bin();
+    m.arg("merge").args(shards.iter().map(|s| s.to_str().unwrap())).args(["--out", merged.to_str().unwrap()]);
+    ok(&m.output().unwrap());
+    let impacts = std::fs::read_to_string(merged.join("impacts.csv")).unwrap();
+    assert!(impacts.lines().count() > 20, "the runs must reach the stops for the test to mean anything:\n{impacts}");
+    for threads in ["1", "3"] {
+        let out = dir.path().join(format!("t{threads}"));
+        run(&out, &["--threads", threads]);
+        same_files(&merged, &out, &FILES);
+    }
+}

@@ -5,13 +5,15 @@
 //! level, bit for bit — and end alike (summary, error, level reached),
 //! for lanes with different forcing and horizons, a lane that blows up, a
 //! lane whose observer cancels its token, a lane whose observer fails, and
-//! a partial batch. The one documented difference: the engine does not
-//! track the works, so a lockstep sample's `work` is `None`.
+//! a partial batch — with the Paoli–Schatzman engine (level 1 after its
+//! start step) and the Moreau–Jean one (a one-step scheme: level 0). The
+//! one documented difference: the engine does not track the works, so a
+//! lockstep sample's `work` is `None`.
 
 use signorini_run::beam::Pipe;
 use signorini_run::reduced::Need;
 use signorini_run::{run, run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, RunSummary, Sample};
-use signorini_schemes::{LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_schemes::{LockstepLane, MoreauJean, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
 
 const DT: f64 = 5e-6;
 
@@ -80,31 +82,60 @@ fn summary(r: Result<RunSummary, RunError>) -> Result<(usize, u64, usize, bool),
     r.map(|s| (s.steps, s.t_end.to_bits(), s.contact_steps, s.energy.is_some())).map_err(|e| e.to_string())
 }
 
+/// The scheme of a test: `ps(e, 1/2)` or `moreau-jean(1/2, e, 1/2)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scheme {
+    Ps,
+    Mj,
+}
+
 fn single(l: &LockstepLane, steps: usize, twist: Twist) -> Outcome {
-    let mut s = PaoliSchatzman::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, DT, &l.initial).unwrap();
+    single_of(Scheme::Ps, l, steps, twist)
+}
+
+fn single_of(scheme: Scheme, l: &LockstepLane, steps: usize, twist: Twist) -> Outcome {
+    let mut s: Box<dyn Stepper> = match scheme {
+        Scheme::Ps => Box::new(PaoliSchatzman::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, DT, &l.initial).unwrap()),
+        Scheme::Mj => Box::new(MoreauJean::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, 0.5, DT, &l.initial).unwrap()),
+    };
     let cancel = Cancel::new();
     let cfg = RunConfig::new(DT, steps as f64 * DT).unwrap().with_interrupt(cancel.clone());
     let mut rec = Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist, cancel };
-    let r = run(&mut s, &l.initial.u, &cfg, &mut [&mut rec]);
+    let r = run(s.as_mut(), &l.initial.u, &cfg, &mut [&mut rec]);
     (rec.recs, rec.works, rec.finished, summary(r), s.level())
 }
 
 fn lockstep<const L: usize>(lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
     let mut eng = PaoliSchatzmanLockstep::<L>::new(0.5, DT, lanes.to_vec()).unwrap();
+    lockstep_on(&mut eng, lanes, steps, twists, need)
+}
+
+fn lockstep_of<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
+    match scheme {
+        Scheme::Ps => lockstep::<L>(lanes, steps, twists, need),
+        Scheme::Mj => lockstep_on(&mut MoreauJeanLockstep::<L>::new(0.5, 0.5, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
+    }
+}
+
+fn lockstep_on<E: signorini_schemes::Lockstep>(eng: &mut E, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
     let cancels: Vec<Cancel> = lanes.iter().map(|_| Cancel::new()).collect();
     let cfgs: Vec<RunConfig> = steps.iter().zip(&cancels).map(|(&n, c)| RunConfig::new(DT, n as f64 * DT).unwrap().with_interrupt(c.clone())).collect();
     let mut recs: Vec<Recorder> = twists.iter().zip(&cancels).map(|(&twist, c)| Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist, cancel: c.clone() }).collect();
     let ends = {
         let mut runs: Vec<LockstepRun<'_>> = recs.iter_mut().zip(&cfgs).zip(lanes).map(|((r, c), l)| LockstepRun::new(&l.initial.u, c, vec![r as &mut dyn Observer])).collect();
-        run_lockstep(&mut eng, &mut runs, need).unwrap()
+        run_lockstep(eng, &mut runs, need).unwrap()
     };
     recs.into_iter().zip(ends).map(|(r, e)| (r.recs, r.works, r.finished, summary(e.result), e.level)).collect()
 }
 
 fn check(lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], got: Vec<Outcome>) {
+    check_of(Scheme::Ps, lanes, steps, twists, got)
+}
+
+fn check_of(scheme: Scheme, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], got: Vec<Outcome>) {
     assert_eq!(got.len(), lanes.len());
     for (k, (l, g)) in lanes.iter().zip(got).enumerate() {
-        let want = single(l, steps[k], twists[k]);
+        let want = single_of(scheme, l, steps[k], twists[k]);
         assert!(want.0.len() >= 2, "lane {k}: the reference recorded levels 0 and 1 at least");
         assert_eq!(g.0.len(), want.0.len(), "lane {k}: number of samples");
         for (a, b) in g.0.iter().zip(&want.0) {
@@ -113,7 +144,9 @@ fn check(lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], got: Vec<Out
         // The documented difference: no works from the engine; the single
         // run has them from level 1 on.
         assert!(g.1.iter().all(Option::is_none), "lane {k}: lockstep works");
-        assert!(want.1[1..].iter().all(Option::is_some), "lane {k}: the single run's works");
+        if scheme == Scheme::Ps {
+            assert!(want.1[1..].iter().all(Option::is_some), "lane {k}: the single run's works");
+        }
         assert_eq!((g.2, &g.3, g.4), (want.2, &want.3, want.4), "lane {k}: finish count, end, level");
     }
 }
@@ -210,4 +243,28 @@ fn lanes_with_different_numbers_of_observers_each_feed_their_own_and_get_them_ba
             assert_eq!(r.finished, 1, "lane {k}, observer {j}: finished once");
         }
     }
+}
+
+/// The Moreau–Jean engine (level 0 after construction: no start step) in
+/// `run_lockstep`: lanes with different forcing and horizons, one cancelled
+/// by its observer, one whose observer fails, two that blow up in a
+/// partial batch — each lane's samples and end are its single run's.
+#[test]
+fn moreau_jean_lanes_feed_their_observers_the_single_runs_samples() {
+    let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
+    let steps = [700, 640, 1000, 333];
+    let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
+    let got = lockstep_of::<4>(Scheme::Mj, &lanes, &steps, &twists, &Need::Full);
+    assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
+    assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
+    assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
+    assert!(got.iter().all(|g| g.0[0].n == 0 && g.0[1].n == 1 && g.0[1].lambda.is_some()), "level 1 is a step's sample");
+    check_of(Scheme::Mj, &lanes, &steps, &twists, got);
+    let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
+    let got = lockstep_of::<8>(Scheme::Mj, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
+    for k in [1, 3] {
+        assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
+        assert!(got[k].4 < 500, "lane {k} stopped early");
+    }
+    check_of(Scheme::Mj, &lanes, &[500; 5], &[Twist::None; 5], got);
 }

@@ -26,7 +26,7 @@ fn lifting(x: f64) -> (f64, f64) {
 /// The paper's pipe (`Pipe::dynamics`, copied) with support `A sin(ω t)`
 /// and stops `stops` at the tip: forcing `(A ω² h + 8 A k²/L⁴) sin(ω t)`,
 /// `u = 0`, `u_t = -A ω h`.
-fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial) {
+pub(crate) fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial) {
     let beam = Beam::new(LENGTH, j, K2).unwrap();
     let l4 = LENGTH.powi(4);
     let shape = beam.load(|x| amp * omega * omega * lifting(x).0 + 8.0 * amp * K2 / l4);
@@ -39,7 +39,7 @@ fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial
 
 /// The pipe driven by a support motion `φ` of two harmonics (`Pipe::excite`'s
 /// two lifting terms, `-h φ''` and `8 k²/L⁴ φ`), starting at rest.
-fn pipe_harmonics(j: usize, terms: Vec<Harmonic>, stops: (f64, f64)) -> (Dynamics, Initial) {
+pub(crate) fn pipe_harmonics(j: usize, terms: Vec<Harmonic>, stops: (f64, f64)) -> (Dynamics, Initial) {
     let (beam, mut dy, _) = {
         let (dy, init) = pipe(j, 0.0, 1.0, stops);
         (Beam::new(LENGTH, j, K2).unwrap(), dy, init)
@@ -54,11 +54,11 @@ fn pipe_harmonics(j: usize, terms: Vec<Harmonic>, stops: (f64, f64)) -> (Dynamic
     (dy, Initial { u, v })
 }
 
-fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
+pub(crate) fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
     LockstepLane { dynamics: d.0, initial: d.1, restitution: e }
 }
 
-fn bits(x: &[f64]) -> Vec<u64> {
+pub(crate) fn bits(x: &[f64]) -> Vec<u64> {
     x.iter().map(|v| v.to_bits()).collect()
 }
 

@@ -26,6 +26,7 @@ mod events_series;
 mod events_tiny_restitution;
 mod events_two_stops;
 mod lockstep;
+mod moreau_lockstep;
 mod multi_solve;
 mod nsga;
 mod peers;
