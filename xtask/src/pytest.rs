@@ -5,11 +5,10 @@
 //! command creates while the Rust tests build and run (`target/py-venv`,
 //! with maturin, numpy, pytest, dask.distributed (the scale-out test) and
 //! matplotlib (the examples) from the package index), then its pytest suite
-//! (`python/tests`); from the start, beside all of these at the lowest
-//! priority, the lints with warnings denied (`cargo fmt --check`, `cargo
-//! clippy --workspace --all-targets -- -D warnings`, which also compiles the
-//! examples, `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D
-//! warnings`, in `target/lint`),
+//! (`python/tests`) and, beside it, the lints with warnings denied (`cargo
+//! fmt --check`, `cargo clippy --workspace --all-targets -- -D warnings`,
+//! which also compiles the examples, `cargo doc --workspace --no-deps` with
+//! `RUSTDOCFLAGS=-D warnings`),
 //! then the user guide: the
 //! generated tables checked against `data/reference` (`cargo xtask docs
 //! --check`) and `mkdocs build --strict` (MkDocs, the Material theme and
@@ -245,34 +244,18 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
 }
 
 /// The workspace's lints, warnings denied: formatting (`rustfmt.toml`),
-/// clippy on every target (`[workspace.lints]` in Cargo.toml), and the API
-/// docs (broken intra-doc links, bad HTML). They run beside every other
-/// phase, at the lowest priority (`nice -n 19` where there is one) and in a
-/// build directory of their own (`target/lint`: clippy and rustdoc need the
-/// dependencies' metadata, which the release build's artifacts do not
-/// provide, so nothing is shared but the proc-macros): on two cores they
-/// take the time the test build, the test binaries and the wheel leave
-/// idle. Their output is printed when one fails.
-fn lints(cargo: &str, root: &Path, target: &Path) -> Result<(), String> {
-    let lint_dir = target.join("lint");
-    let niced = |args: &[&str]| {
-        let mut c = if Command::new("nice").arg("true").status().is_ok_and(|s| s.success()) {
-            let mut c = Command::new("nice");
-            c.args(["-n", "19", cargo]);
-            c
-        } else {
-            Command::new(cargo)
-        };
-        c.current_dir(root).env("CARGO_TARGET_DIR", &lint_dir).args(args);
-        c
-    };
+/// clippy on every target (`[workspace.lints]` in Cargo.toml; the examples
+/// are compiled here), and the API docs (broken intra-doc links, bad HTML).
+/// Their output is printed when one fails (the Python tests run beside
+/// them).
+fn lints(cargo: &str, root: &Path) -> Result<(), String> {
     run_quiet(Command::new(cargo).current_dir(root).args(["fmt", "--all", "--check"]), "cargo fmt --check (run `cargo fmt --all`)")?;
-    run_quiet(&mut niced(&["clippy", "--workspace", "--all-targets", "--release", "--", "-D", "warnings"]), "cargo clippy -D warnings")?;
-    run_quiet(niced(&["doc", "--workspace", "--no-deps", "--release"]).env("RUSTDOCFLAGS", "-D warnings"), "cargo doc (warnings denied)")
+    run_quiet(Command::new(cargo).current_dir(root).args(["clippy", "--workspace", "--all-targets", "--release", "--", "-D", "warnings"]), "cargo clippy -D warnings")?;
+    run_quiet(Command::new(cargo).current_dir(root).env("RUSTDOCFLAGS", "-D warnings").args(["doc", "--workspace", "--no-deps", "--release"]), "cargo doc (warnings denied)")
 }
 
 /// [`run`] with the output kept and printed only when the command fails
-/// (the lints run beside the tests, whose output stays readable).
+/// (the lints run beside the Python tests, whose output stays readable).
 fn run_quiet(cmd: &mut Command, what: &str) -> Result<(), String> {
     let out = cmd.output().map_err(|e| format!("{what}: cannot start: {e}"))?;
     if out.status.success() {
@@ -285,14 +268,16 @@ fn run_quiet(cmd: &mut Command, what: &str) -> Result<(), String> {
 
 /// The test environment: `target/py-venv` (created when absent) with the
 /// build tools, the test dependencies and the guide's tools from the
-/// package index (upgraded when newer ones are allowed).
+/// package index (upgraded when newer ones are allowed), without compiling
+/// every installed module to bytecode (`--no-compile`: Python compiles what
+/// the tests and the guide import, when they import it).
 fn python_env(py: &Path, venv: &Path) -> Result<(), String> {
     if !py.exists() {
         run(Command::new("python3").args(["-m", "venv"]).arg(venv), "python3 -m venv")?;
     }
     run(
         Command::new(py)
-            .args(["-m", "pip", "install", "-q", "--disable-pip-version-check", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"])
+            .args(["-m", "pip", "install", "-q", "--disable-pip-version-check", "--no-compile", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"])
             .args(GUIDE_PACKAGES),
         "pip install maturin numpy pytest dask[distributed] matplotlib mkdocs mkdocs-material mkdocstrings[python]",
     )
@@ -326,20 +311,12 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             (r, t.elapsed().as_secs_f64())
         })
     };
-    let lint = (!a.python_only).then(|| {
-        let (cargo, root, target) = (cargo.clone(), root.clone(), target.clone());
-        std::thread::spawn(move || {
-            let t = Instant::now();
-            let r = lints(&cargo, &root, &target);
-            (r, t.elapsed().as_secs_f64())
-        })
-    });
     if !a.python_only {
         let (lines, r) = rec.time("Rust: build and run the tests", || {
             // `--tests` (every library's, binary's and integration test's
             // harness), then the doc tests: cargo's default selection would
             // also build the examples, which test nothing; clippy
-            // (`--all-targets`, beside) still compiles and lints them.
+            // (`--all-targets`, below) still compiles and lints them.
             let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
             let (mut lines, r) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--tests"), "cargo test --tests");
             let (doc, r_doc) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--doc"), "cargo test --doc");
@@ -387,8 +364,10 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     // running binary's file (its features unified over the workspace), and
     // then /proc/self/exe names a deleted file: the path, when it is there.
     let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
-    // The Python tests, with the lints still beside them when they are
-    // not done (pytest runs built programs and never cargo).
+    // The Python tests and the lints side by side: pytest runs built
+    // programs and never cargo (which the lints hold), and on two cores
+    // each fills the other's gaps (clippy and rustdoc work through the
+    // workspace's crates largely one at a time).
     let pytest = python_ready.then(|| {
         let mut cmd = Command::new(&py);
         cmd.current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]);
@@ -398,21 +377,15 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             (lines, r, t.elapsed().as_secs_f64())
         })
     });
-    if let Some(lint) = lint {
-        match lint.join() {
-            Ok((r, t)) => {
-                rec.phases.push(("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (from the start, beside every phase above, at the lowest priority)", t));
-                if let Err(e) = r {
-                    failed.push((e, false));
-                }
-            }
-            Err(_) => failed.push(("the lints' thread panicked".into(), false)),
+    if !a.python_only {
+        if let Err(e) = rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (the Python tests run beside them)", || lints(&cargo, &root)) {
+            failed.push((e, false));
         }
     }
     if let Some(pytest) = pytest {
         match pytest.join() {
             Ok((lines, r, t)) => {
-                rec.phases.push(("Python: the tests", t));
+                rec.phases.push(("Python: the tests (beside the lints)", t));
                 rec.python = python_counts(&lines);
                 if let Err(e) = r {
                     failed.push((e, rec.python.1 > 0));
