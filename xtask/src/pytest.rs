@@ -1,8 +1,9 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
 //! workspace's (`cargo test --workspace --release --tests`, then `--doc`;
 //! the Python crate excluded: maturin builds it with its own environment),
-//! then the Python package built by maturin into a virtual environment this
-//! command creates while the Rust tests build and run (`target/py-venv`,
+//! then the Python package built by maturin (while the Rust test binaries
+//! run) into a virtual environment this command creates while the Rust
+//! tests build (`target/py-venv`,
 //! with maturin, numpy, pytest, dask.distributed (the scale-out test) and
 //! matplotlib (the examples) from the package index), then its pytest suite
 //! (`python/tests`) and, beside it, the lints with warnings denied (`cargo
@@ -266,18 +267,32 @@ fn run_quiet(cmd: &mut Command, what: &str) -> Result<(), String> {
     }
 }
 
+/// The wheel built by maturin and installed into the environment, and the
+/// `signorini` command the Python tests compare with (a no-op after `cargo
+/// test`, which builds it for the CLI's tests).
+fn build_wheel(cargo: &str, root: &Path, target: &Path, venv: &Path, py: &Path) -> Result<(), String> {
+    let wheels = target.join("wheels");
+    let _ = std::fs::remove_dir_all(&wheels);
+    run(Command::new(venv.join("bin/maturin")).current_dir(root).args(["build", "--release", "-m", "python/Cargo.toml", "-i"]).arg(py).arg("-o").arg(&wheels), "maturin build")?;
+    let wheel = std::fs::read_dir(&wheels)
+        .map_err(|e| format!("{}: {e}", wheels.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|x| x == "whl"))
+        .ok_or("maturin wrote no wheel")?;
+    run(Command::new(py).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel), "pip install the wheel")?;
+    run(Command::new(cargo).current_dir(root).args(["build", "--release", "-p", "signorini-cli", "--bin", "signorini"]), "cargo build signorini")
+}
+
 /// The test environment: `target/py-venv` (created when absent) with the
 /// build tools, the test dependencies and the guide's tools from the
-/// package index (upgraded when newer ones are allowed), without compiling
-/// every installed module to bytecode (`--no-compile`: Python compiles what
-/// the tests and the guide import, when they import it).
+/// package index (upgraded when newer ones are allowed).
 fn python_env(py: &Path, venv: &Path) -> Result<(), String> {
     if !py.exists() {
         run(Command::new("python3").args(["-m", "venv"]).arg(venv), "python3 -m venv")?;
     }
     run(
         Command::new(py)
-            .args(["-m", "pip", "install", "-q", "--disable-pip-version-check", "--no-compile", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"])
+            .args(["-m", "pip", "install", "-q", "--disable-pip-version-check", "--upgrade", "maturin>=1.9.4,<2", "numpy", "pytest", "dask[distributed]", "matplotlib"])
             .args(GUIDE_PACKAGES),
         "pip install maturin numpy pytest dask[distributed] matplotlib mkdocs mkdocs-material mkdocstrings[python]",
     )
@@ -311,14 +326,34 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             (r, t.elapsed().as_secs_f64())
         })
     };
+    // The environment, then the wheel (maturin) and the `signorini`
+    // command, in a thread of their own: started once the Rust tests are
+    // built, since cargo holds its build directory's lock while it compiles
+    // but not while the test binaries run, and the wheel's compilation
+    // fills what the test binaries leave of the two cores.
+    let spawn_wheel = {
+        let (cargo, root, target, venv, py) = (cargo.clone(), root.clone(), target.clone(), venv.clone(), py.clone());
+        move || {
+            std::thread::spawn(move || {
+                let env = env.join().unwrap_or_else(|_| (Err("the Python environment's thread panicked".into()), 0.0));
+                let t = Instant::now();
+                let wheel = env.0.clone().and_then(|()| build_wheel(&cargo, &root, &target, &venv, &py));
+                (env, wheel, t.elapsed().as_secs_f64())
+            })
+        }
+    };
+    let mut spawn_wheel = Some(spawn_wheel);
+    let mut handle = None;
     if !a.python_only {
-        let (lines, r) = rec.time("Rust: build and run the tests", || {
+        let (lines, r) = rec.time("Rust: build and run the tests (the wheel is built beside the test binaries)", || {
             // `--tests` (every library's, binary's and integration test's
             // harness), then the doc tests: cargo's default selection would
             // also build the examples, which test nothing; clippy
             // (`--all-targets`, below) still compiles and lints them.
             let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
-            let (mut lines, r) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--tests"), "cargo test --tests");
+            let (built, r_built) = run_capture(Command::new(&cargo).current_dir(&root).args(base).args(["--tests", "--no-run"]), "cargo test --tests --no-run");
+            handle = spawn_wheel.take().map(|f| f());
+            let (mut lines, r) = if r_built.is_ok() { run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--tests"), "cargo test --tests") } else { (built, r_built) };
             let (doc, r_doc) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--doc"), "cargo test --doc");
             lines.extend(doc);
             Ok((lines, r.and(r_doc)))
@@ -328,29 +363,20 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             failed.push((e, rec.rust.1 > 0));
         }
     }
-    let env = match env.join() {
-        Ok((r, t)) => {
-            rec.phases.push(("Python: the environment and the packages (made while the Rust tests build and run)", t));
-            r
-        }
-        Err(_) => Err("the Python environment's thread panicked".into()),
+    let wheel_thread = handle.or_else(|| spawn_wheel.take().map(|f| f()));
+    let wheel = match wheel_thread.map(|h| h.join()) {
+        None => Err("the wheel's thread was not started".into()),
+        Some(j) => match j {
+            Ok(((env, env_t), wheel, t)) => {
+                rec.phases.push(("Python: the environment and the packages (made while the Rust tests build and run)", env_t));
+                if env.is_ok() {
+                    rec.phases.push(("Python: build and install the wheel, build the command (beside the Rust test binaries)", t));
+                }
+                wheel
+            }
+            Err(_) => Err("the wheel's thread panicked".into()),
+        },
     };
-    let wheel = env.and_then(|()| {
-        rec.time("Python: build and install the wheel, build the command", || {
-            let wheels = target.join("wheels");
-            let _ = std::fs::remove_dir_all(&wheels);
-            run(Command::new(venv.join("bin/maturin")).current_dir(&root).args(["build", "--release", "-m", "python/Cargo.toml", "-i"]).arg(&py).arg("-o").arg(&wheels), "maturin build")?;
-            let wheel = std::fs::read_dir(&wheels)
-                .map_err(|e| format!("{}: {e}", wheels.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .find(|p| p.extension().is_some_and(|x| x == "whl"))
-                .ok_or("maturin wrote no wheel")?;
-            run(Command::new(&py).args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"]).arg(&wheel), "pip install the wheel")?;
-            // The tests compare with the `signorini` command's files: build it (a
-            // no-op after `cargo test`) and tell them where it is.
-            run(Command::new(&cargo).current_dir(&root).args(["build", "--release", "-p", "signorini-cli", "--bin", "signorini"]), "cargo build signorini")
-        })
-    });
     let python_ready = match wheel {
         Ok(()) => true,
         Err(e) => {
