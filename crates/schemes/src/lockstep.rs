@@ -134,13 +134,8 @@ pub struct PaoliSchatzmanLockstep<const L: usize> {
     avx2: bool,
     /// Run the AVX-512 build of the step (implies `avx2`).
     avx512: bool,
-    /// The last few step lengths `δ = t1 - t0` (bits) of the means...
-    sinc_keys: [Option<u64>; SINC_SLOTS],
-    /// ... the slot replaced next ...
-    sinc_next: usize,
-    /// ... and per forcing term, slot and lane, a Sine profile's
-    /// `sin(ω δ/2)/(ω δ/2)` for that `δ` (as `TimeProfile::mean` computes it).
-    sinc: Vec<[[f64; L]; SINC_SLOTS]>,
+    /// A Sine profile's `sin(ω δ/2)/(ω δ/2)` per step length `δ`.
+    sinc: SincTable<L>,
 }
 
 /// Rows of `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}` kept at once
@@ -150,6 +145,44 @@ pub(crate) const RING: usize = 8;
 /// Step lengths `δ` remembered by [`PaoliSchatzmanLockstep`] (the rounding
 /// of `(n+2) dt - (n+1) dt` gives a handful of values; four catch > 99.99%).
 pub(crate) const SINC_SLOTS: usize = 4;
+
+/// The lockstep engines' forcing means of Sine profiles: for the last few
+/// step lengths `δ = t1 - t0` (their bits), per forcing term, slot and lane,
+/// `sin(ω δ/2)/(ω δ/2)` (as `TimeProfile::mean` computes it).
+pub(crate) struct SincTable<const L: usize> {
+    keys: [Option<u64>; SINC_SLOTS],
+    /// The slot replaced next.
+    next: usize,
+    pub(crate) table: Vec<[[f64; L]; SINC_SLOTS]>,
+}
+
+impl<const L: usize> SincTable<L> {
+    pub(crate) fn new(terms: usize) -> Self {
+        Self { keys: [None; SINC_SLOTS], next: 0, table: vec![[[0.0; L]; SINC_SLOTS]; terms] }
+    }
+
+    /// The slot holding the factors for `δ`, filled (for every Sine
+    /// profile of `profiles`, per forcing term and lane) if `δ` is new.
+    #[inline(always)]
+    pub(crate) fn slot(&mut self, profiles: &[Vec<TimeProfile>], delta: f64) -> usize {
+        let key = delta.to_bits();
+        if let Some(s) = self.keys.iter().position(|&d| d == Some(key)) {
+            return s;
+        }
+        let s = self.next;
+        self.next = (s + 1) % SINC_SLOTS;
+        self.keys[s] = Some(key);
+        for (prof, sc) in profiles.iter().zip(self.table.iter_mut()) {
+            for (k, p) in prof.iter().enumerate() {
+                if let &TimeProfile::Sine { omega, .. } = p {
+                    let half = 0.5 * omega * delta;
+                    sc[s][k] = if half.abs() < 1e-8 { 1.0 - half * half / 6.0 } else { half.sin() / half };
+                }
+            }
+        }
+        s
+    }
+}
 
 pub(crate) fn avx2_available() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -298,9 +331,7 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             failed: std::array::from_fn(|_| None),
             avx2: avx2_available(),
             avx512: avx512_available(),
-            sinc_keys: [None; SINC_SLOTS],
-            sinc_next: 0,
-            sinc: vec![[[0.0; L]; SINC_SLOTS]; terms],
+            sinc: SincTable::new(terms),
         };
         let used = lanes.len();
         let mut shapes = vec![zeros; terms];
@@ -523,8 +554,8 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         // Sine profiles: `TimeProfile::mean`'s formula, its factor
         // sin(ω δ/2)/(ω δ/2) looked up by δ = t1 - t0 (which takes a few
         // values only, by rounding): one `sin` per lane and step instead of two.
-        let slot = self.sinc_slot(t1 - t0);
-        for (((((prof, src), m), g), sc), sps) in self.profiles.iter().zip(&self.mean_src).zip(self.means.iter_mut()).zip(self.dt2_gc.iter_mut()).zip(&self.sinc).zip(self.samplers.iter_mut()) {
+        let slot = self.sinc.slot(&self.profiles, t1 - t0);
+        for (((((prof, src), m), g), sc), sps) in self.profiles.iter().zip(&self.mean_src).zip(self.means.iter_mut()).zip(self.dt2_gc.iter_mut()).zip(&self.sinc.table).zip(self.samplers.iter_mut()) {
             let mut next = [0.0; L];
             for k in 0..L {
                 next[k] = if src[k] != k {
@@ -617,28 +648,6 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             }
         }
         self.n
-    }
-
-    /// The slot of `sinc` holding the factors for `δ`, filled (for every
-    /// Sine profile) if `δ` is new.
-    #[inline(always)]
-    fn sinc_slot(&mut self, delta: f64) -> usize {
-        let key = delta.to_bits();
-        if let Some(s) = self.sinc_keys.iter().position(|&d| d == Some(key)) {
-            return s;
-        }
-        let s = self.sinc_next;
-        self.sinc_next = (s + 1) % SINC_SLOTS;
-        self.sinc_keys[s] = Some(key);
-        for (prof, sc) in self.profiles.iter().zip(self.sinc.iter_mut()) {
-            for (k, p) in prof.iter().enumerate() {
-                if let &TimeProfile::Sine { omega, .. } = p {
-                    let half = 0.5 * omega * delta;
-                    sc[s][k] = if half.abs() < 1e-8 { 1.0 - half * half / 6.0 } else { half.sin() / half };
-                }
-            }
-        }
-        s
     }
 
     /// The projection of every lane (`Projection::project`'s operations),

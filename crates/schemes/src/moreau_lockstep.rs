@@ -44,7 +44,7 @@
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::lockstep::{avx2_available, avx512_available, chunk, edge, eliminate, interior, rhs_row, rows7, same_band, same_profile, Lockstep, Row7, RING, SINC_SLOTS};
+use crate::lockstep::{avx2_available, avx512_available, chunk, edge, eliminate, interior, rhs_row, rows7, same_band, same_profile, Lockstep, Row7, SincTable, RING};
 use crate::{Active, LockstepLane, MoreauJean, Sampler, SchemeError, TimeProfile};
 
 /// `L` runs of the Moreau–Jean scheme sharing one step matrix, stepped
@@ -101,12 +101,8 @@ pub struct MoreauJeanLockstep<const L: usize> {
     failed: [Option<SchemeError>; L],
     avx2: bool,
     avx512: bool,
-    /// The last few step lengths `δ = t_{n+1} - t_n` (bits), the slot
-    /// replaced next, and per forcing term, slot and lane a Sine profile's
-    /// `sin(ω δ/2)/(ω δ/2)` (as `TimeProfile::mean` computes it).
-    sinc_keys: [Option<u64>; SINC_SLOTS],
-    sinc_next: usize,
-    sinc: Vec<[[f64; L]; SINC_SLOTS]>,
+    /// A Sine profile's `sin(ω δ/2)/(ω δ/2)` per step length `δ`.
+    sinc: SincTable<L>,
 }
 
 impl<const L: usize> MoreauJeanLockstep<L> {
@@ -209,9 +205,7 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             failed: std::array::from_fn(|_| None),
             avx2: avx2_available(),
             avx512: avx512_available(),
-            sinc_keys: [None; SINC_SLOTS],
-            sinc_next: 0,
-            sinc: vec![[[0.0; L]; SINC_SLOTS]; terms],
+            sinc: SincTable::new(terms),
         };
         let used = lanes.len();
         let mut shapes = vec![zeros; terms];
@@ -319,8 +313,8 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         // a = 0 + n dt, b = 0 + (n+1) dt), times dt (`add_terms`' scale).
         let nf = self.n as f64;
         let (t0, t1) = (nf * dt, (nf + 1.0) * dt);
-        let slot = self.sinc_slot(t1 - t0);
-        for ((((prof, src), g), sc), sps) in self.profiles.iter().zip(&self.mean_src).zip(self.dt_s.iter_mut()).zip(&self.sinc).zip(self.samplers.iter_mut()) {
+        let slot = self.sinc.slot(&self.profiles, t1 - t0);
+        for ((((prof, src), g), sc), sps) in self.profiles.iter().zip(&self.mean_src).zip(self.dt_s.iter_mut()).zip(&self.sinc.table).zip(self.samplers.iter_mut()) {
             let mut next = [0.0; L];
             for k in 0..L {
                 next[k] = if src[k] != k {
@@ -429,28 +423,6 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             }
         }
         self.n
-    }
-
-    /// The slot of `sinc` holding the factors for `δ`, filled (for every
-    /// Sine profile) if `δ` is new.
-    #[inline(always)]
-    fn sinc_slot(&mut self, delta: f64) -> usize {
-        let key = delta.to_bits();
-        if let Some(s) = self.sinc_keys.iter().position(|&d| d == Some(key)) {
-            return s;
-        }
-        let s = self.sinc_next;
-        self.sinc_next = (s + 1) % SINC_SLOTS;
-        self.sinc_keys[s] = Some(key);
-        for (prof, sc) in self.profiles.iter().zip(self.sinc.iter_mut()) {
-            for (k, p) in prof.iter().enumerate() {
-                if let &TimeProfile::Sine { omega, .. } = p {
-                    let half = 0.5 * omega * delta;
-                    sc[s][k] = if half.abs() < 1e-8 { 1.0 - half * half / 6.0 } else { half.sin() / half };
-                }
-            }
-        }
-        s
     }
 
     /// Each lane's contact predicted active at its lower stop
