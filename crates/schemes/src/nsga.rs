@@ -95,9 +95,11 @@ pub struct Nsga {
     vc0: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
-    /// `K` tridiagonal (and `S`'s factor): its diagonal and sub-diagonal
-    /// (`K[i][i−1]`), for the fused sweeps.
-    tri: Option<(Vec<f64>, Vec<f64>)>,
+    /// The free step fused into `S`'s sweeps ([`Tridiagonal`]) where `K`
+    /// and `S` are tridiagonal; `fused_on` switches it off (tests,
+    /// benchmarks).
+    fused: Option<Tridiagonal>,
+    fused_on: bool,
     /// Per forcing term, its values at the levels; the latest (`t_n`).
     loads: Loads,
     svals: Vec<f64>,
@@ -144,7 +146,7 @@ impl Nsga {
         let mut loads = Loads::values(&dy, dt);
         let mut svals = vec![0.0; dy.forcing.len()];
         loads.next_into(&mut svals);
-        let tri = (dy.stiffness.half_bandwidth() == 1 && n >= 2 && s.tridiagonal_factors().is_some()).then(|| (dy.stiffness.diagonal(0), dy.stiffness.diagonal(1)));
+        let fused = Tridiagonal::new(&dy, &s);
         let mut me = Self {
             label,
             restitution,
@@ -170,7 +172,8 @@ impl Nsga {
             vc0: vec![0.0; k],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
-            tri,
+            fused_on: fused.is_some(),
+            fused,
             loads,
             svals,
             dy,
@@ -206,14 +209,17 @@ impl Nsga {
     }
 
     /// The free generalized-α step: `U, V, a, q̈` become the step's values
-    /// without contact (the fused sweeps of [`Self::free_step_tri`] for a
-    /// tridiagonal `K` and `S`).
+    /// without contact (fused into `S`'s sweeps by [`Tridiagonal`] for a
+    /// tridiagonal `K` and `S`, the same bits).
     fn free_step(&mut self) {
         self.loads.next_into(&mut self.svals);
-        if self.tri.is_some() {
-            return self.free_step_tri();
-        }
         let p = Predictor::new(self);
+        if let Some(tri) = self.fused.as_ref().filter(|_| self.fused_on) {
+            let (l, inv_d) = self.s.tridiagonal_factors().expect("tridiagonal");
+            let st = Sweep { u: &mut self.u, v: &mut self.v, a: &mut self.a, q: &mut self.qdd };
+            tri.step(&p, st, &self.dy.load, &self.dy.forcing, &self.svals, l, inv_d);
+            return;
+        }
         for (((u, v), a), q) in self.u.iter_mut().zip(self.v.iter_mut()).zip(self.a.iter_mut()).zip(&self.qdd) {
             p.apply(u, v, a, *q);
         }
@@ -230,47 +236,28 @@ impl Nsga {
         }
     }
 
-    /// [`Self::free_step`] with `K` and `S` tridiagonal: the predictor,
-    /// `F − K Û` and the forward sweep of `S`'s factor in one pass (the
-    /// predictor one dof ahead), the backward sweep and the updates in a
-    /// second; the same arithmetic per entry as the general path but for
-    /// the order of `(K Û)_i`'s three terms.
-    fn free_step_tri(&mut self) {
-        let p = Predictor::new(self);
-        let (Some((kd, ko)), Some((l, inv_d))) = (&self.tri, self.s.tridiagonal_factors()) else { unreachable!("a tridiagonal K and S") };
-        let n = self.u.len();
-        let (u, v, a, q) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n], &mut self.qdd[..n]);
-        let (kd, ko, l, inv_d, f) = (&kd[..n], &ko[..n], &l[..n], &inv_d[..n], &self.dy.load[..n]);
-        let terms = &self.dy.forcing;
-        let svals = &self.svals;
-        // F_i − (K Û)_i + Σ_j s_j shape_j[i], `ku` the row's product.
-        let rhs = |i: usize, ku: f64| {
-            let mut r = f[i] - ku;
-            for (t, &s) in terms.iter().zip(svals) {
-                r += s * t.shape[i];
-            }
-            r
-        };
-        // The ends peeled off, the loops below branch-free.
-        p.apply(&mut u[0], &mut v[0], &mut a[0], q[0]);
-        p.apply(&mut u[1], &mut v[1], &mut a[1], q[1]);
-        let mut prev = rhs(0, kd[0] * u[0] + ko[1] * u[1]);
-        q[0] = prev;
-        for i in 1..n - 1 {
-            p.apply(&mut u[i + 1], &mut v[i + 1], &mut a[i + 1], q[i + 1]);
-            prev = rhs(i, kd[i] * u[i] + ko[i] * u[i - 1] + ko[i + 1] * u[i + 1]) - l[i] * prev;
-            q[i] = prev;
+    /// Switches the fused free step ([`Tridiagonal`]) off or back on
+    /// (where it applies; on by default): for tests comparing it with the
+    /// plain step, and benchmarks. Changes no result.
+    #[doc(hidden)]
+    pub fn set_fused(&mut self, on: bool) {
+        self.fused_on = on && self.fused.is_some();
+    }
+
+    /// Whether the fused free step is in use.
+    #[doc(hidden)]
+    pub fn fused(&self) -> bool {
+        self.fused_on
+    }
+
+    /// The fused step's kernel in its baseline x86-64 build, AVX2 or not:
+    /// for tests. Changes no result.
+    #[doc(hidden)]
+    pub fn portable(mut self) -> Self {
+        if let Some(t) = self.fused.as_mut() {
+            t.avx2 = false;
         }
-        let last = n - 1;
-        prev = rhs(last, kd[last] * u[last] + ko[last] * u[last - 1]) - l[last] * prev;
-        let mut next = prev * inv_d[last];
-        q[last] = next;
-        p.update(&mut u[last], &mut v[last], &mut a[last], next);
-        for i in (0..last).rev() {
-            next = q[i] * inv_d[i] - l[i + 1] * next;
-            q[i] = next;
-            p.update(&mut u[i], &mut v[i], &mut a[i], next);
-        }
+        self
     }
 
     /// The position correction's effect on the smooth part: `q̈ −= d/(c β dt²)`,
@@ -325,6 +312,140 @@ impl Predictor {
         *u += self.cu * q;
         *v += self.cv * q;
         *a += self.c * q;
+    }
+}
+
+/// The state a free step updates: `U, V, a` and `q̈` (in: `q̈ⁿ`; out: `q̈ⁿ⁺¹`).
+struct Sweep<'a> {
+    u: &'a mut [f64],
+    v: &'a mut [f64],
+    a: &'a mut [f64],
+    q: &'a mut [f64],
+}
+
+/// `K` and `S`'s factor tridiagonal (the P1 bar; no damping, as always
+/// here): the free step in two passes over the rows, in chunks of
+/// [`CHUNK`] rows. Forward: a chunk's predictor (one row ahead, for
+/// `K Û`'s upper neighbour), its right-hand sides `F − K Û + Σ s_j g_j`,
+/// both vectorised across the chunk's rows (AVX2 chosen at run time, no
+/// FMA) and independent of the forward sweep's chain through the chunk
+/// before, so the two overlap; then the chain through the chunk. Backward:
+/// the chain through a chunk, then the chunk's updates of `U, V, a`,
+/// vectorised, overlapping the chain through the next chunk. Every value is
+/// the plain step's operations in the same order ([`Predictor`]'s, the
+/// rows of `SymBand::mul_vec` for a tridiagonal matrix, `F − ·`,
+/// `add_terms` term by term, `BandLdlt::solve_in_place`'s two sweeps), so
+/// the same bits (cost: `crates/run/benches/step.rs`,
+/// `implicit_scheme_step`).
+struct Tridiagonal {
+    /// `K`'s diagonal and sub-diagonal (`k_s[i] = K[i][i−1]`, `k_s[0] = 0`).
+    k_d: Vec<f64>,
+    k_s: Vec<f64>,
+    avx2: bool,
+}
+
+/// Rows per chunk of [`Tridiagonal`]'s passes.
+const CHUNK: usize = 32;
+
+impl Tridiagonal {
+    fn new(dy: &Dynamics, s: &BandLdlt) -> Option<Self> {
+        let applies = dy.n() >= 2 && dy.stiffness.half_bandwidth() == 1 && s.tridiagonal_factors().is_some();
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        applies.then(|| Self { k_d: dy.stiffness.diagonal(0), k_s: dy.stiffness.diagonal(1), avx2 })
+    }
+
+    /// The free step: predictor, `S q̈ = F − K Û + Σ s_j g_j`, update.
+    #[allow(clippy::too_many_arguments)]
+    fn step(&self, p: &Predictor, st: Sweep<'_>, f: &[f64], forcing: &[crate::Forcing], s: &[f64], l: &[f64], inv_d: &[f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the CPU reports AVX2.
+            return unsafe { self.step_avx2(p, st, f, forcing, s, l, inv_d) };
+        }
+        self.step_body(p, st, f, forcing, s, l, inv_d)
+    }
+
+    /// [`step_body`](Self::step_body) compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn step_avx2(&self, p: &Predictor, st: Sweep<'_>, f: &[f64], forcing: &[crate::Forcing], s: &[f64], l: &[f64], inv_d: &[f64]) {
+        self.step_body(p, st, f, forcing, s, l, inv_d)
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn step_body(&self, p: &Predictor, st: Sweep<'_>, f: &[f64], forcing: &[crate::Forcing], s: &[f64], l: &[f64], inv_d: &[f64]) {
+        let n = st.u.len();
+        let (u, v, a, q) = (&mut st.u[..n], &mut st.v[..n], &mut st.a[..n], &mut st.q[..n]);
+        let (kd, ks, f, l, inv_d) = (&self.k_d[..n], &self.k_s[..n], &f[..n], &l[..n], &inv_d[..n]);
+        // The predictor on entries [lo, hi).
+        let predict = |u: &mut [f64], v: &mut [f64], a: &mut [f64], q: &[f64], lo: usize, hi: usize| {
+            for (((u, v), a), q) in u[lo..hi].iter_mut().zip(&mut v[lo..hi]).zip(&mut a[lo..hi]).zip(&q[lo..hi]) {
+                p.apply(u, v, a, *q);
+            }
+        };
+        // + Σ_j s_j g_j on rows [lo, hi), term by term.
+        let terms = |q: &mut [f64], lo: usize, hi: usize| {
+            for (fc, &sj) in forcing.iter().zip(s) {
+                for (b, g) in q[lo..hi].iter_mut().zip(&fc.shape[lo..hi]) {
+                    *b += sj * g;
+                }
+            }
+        };
+        // Row 0 (`mul_vec`'s first row), its predictor and its neighbour's first.
+        predict(u, v, a, q, 0, 2);
+        q[0] = f[0] - (kd[0] * u[0] + ks[1] * u[1]);
+        terms(q, 0, 1);
+        let mut prev = q[0];
+        let mut lo = 1;
+        while lo < n {
+            let hi = (lo + CHUNK).min(n);
+            // The predictor one row ahead; the interior rows branch-free, the last apart.
+            predict(u, v, a, q, lo + 1, (hi + 1).min(n));
+            let stop = hi.min(n - 1);
+            if stop > lo {
+                let r = lo..stop;
+                let (ul, uc, ur) = (&u[lo - 1..stop - 1], &u[r.clone()], &u[lo + 1..stop + 1]);
+                let (ksl, kdc, ksr) = (&ks[r.clone()], &kd[r.clone()], &ks[lo + 1..stop + 1]);
+                let (fr, o) = (&f[r.clone()], &mut q[r]);
+                for j in 0..o.len() {
+                    o[j] = fr[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
+                }
+            }
+            if hi == n {
+                q[n - 1] = f[n - 1] - (ks[n - 1] * u[n - 2] + kd[n - 1] * u[n - 1]);
+            }
+            terms(q, lo, hi);
+            for (b, li) in q[lo..hi].iter_mut().zip(&l[lo..hi]) {
+                prev = *b - li * prev;
+                *b = prev;
+            }
+            lo = hi;
+        }
+        // The backward sweep, a chunk at a time, each chunk's updates after its chain.
+        let last = n - 1;
+        let mut next = q[last] * inv_d[last];
+        q[last] = next;
+        p.update(&mut u[last], &mut v[last], &mut a[last], next);
+        let mut hi = last;
+        while hi > 0 {
+            let lo = hi.saturating_sub(CHUNK);
+            for i in (lo..hi).rev() {
+                next = q[i] * inv_d[i] - l[i + 1] * next;
+                q[i] = next;
+            }
+            for (((u, v), a), q) in u[lo..hi].iter_mut().zip(&mut v[lo..hi]).zip(&mut a[lo..hi]).zip(&q[lo..hi]) {
+                p.update(u, v, a, *q);
+            }
+            hi = lo;
+        }
     }
 }
 
