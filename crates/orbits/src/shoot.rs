@@ -192,61 +192,37 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
         }
         // Backtracking: a step that does not lower the residual is halved
         // (the map is only piecewise smooth).
-        // The full step is run with the Jacobian (Newton converging takes
-        // it); a halved trial without, and again with it when taken: the
-        // run of the state does not depend on whether its Jacobian is
-        // carried, so the same trials are taken (a taken trial whose
-        // Jacobian fails is rejected, as when it was carried), and a
-        // rejected one costs no Jacobian (Newton far from an orbit halves
-        // most of its steps: 7 to 30 trials an iteration).
         let mut lambda = 1.0;
         loop {
             let trial: Vec<f64> = (0..n).map(|r| x[r] + lambda * step[(r, 0)]).collect();
-            let full = lambda == 1.0;
             if let Some(k) = keep {
                 // Halved until the trial keeps its impacts (the residual
                 // may grow: the square-root side is reached from afar); a
                 // trial's run stops at its (k + 1)-th impact.
-                let taken = match model.flow_within(t0, &trial, period, full, k) {
-                    Ok(Some(ti)) if count_impacts(&ti.events) == k && full => Some(ti),
-                    Ok(Some(ti)) if count_impacts(&ti.events) == k => model.flow_within(t0, &trial, period, true, k).ok().flatten(),
-                    _ => None,
-                };
-                match taken {
-                    Some(ti) => {
+                match model.flow_within(t0, &trial, period, true, k) {
+                    Ok(Some(ti)) if count_impacts(&ti.events) == k => {
                         let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                         (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
                         break;
                     }
-                    None if lambda < KEEP_STEP_FLOOR => {
+                    _ if lambda < KEEP_STEP_FLOOR => {
                         return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("no step keeps the {k} impacts per period") });
                     }
-                    None => {}
+                    _ => {}
                 }
                 lambda *= 0.5;
                 continue;
             }
-            let attempt = model.flow(t0, &trial, period, full).and_then(|ti| {
-                let tr = inf_norm(&ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect::<Vec<f64>>());
-                if !(tr < res || lambda < 1.0 / 64.0) {
-                    Ok(None)
-                } else if full {
-                    Ok(Some(ti))
-                } else {
-                    model.flow(t0, &trial, period, true).map(Some)
-                }
-            });
-            match attempt {
-                Ok(Some(ti)) => {
-                    let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
-                    (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
+            let attempt = model.flow(t0, &trial, period, true);
+            if let Ok(ti) = attempt {
+                let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
+                let tr = inf_norm(&tg);
+                if tr < res || lambda < 1.0 / 64.0 {
+                    (x, img, g, res) = (trial, ti, tg, tr);
                     break;
                 }
-                Ok(None) => {}
-                Err(_) if lambda >= 1.0 / 64.0 => {}
-                // The error the run with the Jacobian gives (it may fail
-                // at an earlier event, where the flow has no derivative).
-                Err(e) => return Err(model.flow(t0, &trial, period, true).err().unwrap_or(e)),
+            } else if lambda < 1.0 / 64.0 {
+                attempt?;
             }
             lambda *= 0.5;
         }
