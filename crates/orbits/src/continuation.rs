@@ -23,7 +23,7 @@
 //! Each is located by bisection on the arclength (the test function's sign,
 //! or the event count), every trial point corrected onto the branch.
 
-use crate::map::Model;
+use crate::map::{Extremum, Model};
 use crate::shoot::{eigenvalues, periodic_orbit, periodic_orbit_keeping, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
@@ -874,13 +874,17 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     // iterations are the cost of a search that fails.
     let stalling = ContinuationOptions { newton: Newton { stall: SEARCH_STALL, ..ctx.opts.newton }, ..*ctx.opts };
     let search = Ctx { opts: &stalling, ..*ctx };
+    // The grazing orbit's push past the stop, the same at every offset:
+    // computed once, when first needed.
+    let push = std::cell::OnceCell::new();
     let (plain, keeping) = (
         |param: f64| solve_at(&search, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth),
         |param: f64, least: &mut f64| {
-            solve_keeping_or(&search, &p1.x, param, side, smooth)
-                .map_err(|r| *least = least.min(r))
-                .ok()
-                .or_else(|| (smooth == 0).then(|| past_the_stop(&search, &p1, param, slope * (param - estimate).abs(), side, least)).flatten())
+            solve_keeping_or(&search, &p1.x, param, side, smooth).map_err(|r| *least = least.min(r)).ok().or_else(|| {
+                (smooth == 0)
+                    .then(|| push.get_or_init(|| push_of(&search, &p1)).as_ref().and_then(|push| past_the_stop_along(&search, &p1, push, param, slope * (param - estimate).abs(), side, least)))
+                    .flatten()
+            })
         },
     );
     let param_at = |f: f64| estimate + side * f * ctx.ls;
@@ -1146,19 +1150,37 @@ fn solve_keeping_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir:
 /// an extremum of a massless contact dof (not in the state); `least` takes
 /// the smallest residual of a Newton that failed.
 fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, param: f64, reach: f64, dir: f64, least: &mut f64) -> Option<Point> {
+    past_the_stop_along(ctx, near, &push_of(ctx, near)?, param, reach, dir, least)
+}
+
+/// The extremum of `near`'s flight nearest a bound and the gradient of its
+/// displacement in `near`'s state, with the squared norm of that gradient:
+/// how [`past_the_stop`] pushes `near` past the stop (computed once for a
+/// seed tried at several parameters).
+struct Push {
+    extremum: Extremum,
+    grad: Vec<f64>,
+    norm2: f64,
+}
+
+/// [`Push`] for `near`: `None` as [`past_the_stop`] says.
+fn push_of<F: Family>(ctx: &Ctx<'_, F>, near: &Point) -> Option<Push> {
     let model = ctx.family.model(near.param).ok()?;
-    let e = model.flight_extremum(0.0, &near.x, near.orbit.period).ok()??;
-    let grad = model.displacement_gradient(0.0, &near.x, e.t, e.contact).ok()??;
+    let extremum = model.flight_extremum(0.0, &near.x, near.orbit.period).ok()??;
+    let grad = model.displacement_gradient(0.0, &near.x, extremum.t, extremum.contact).ok()??;
     let norm2: f64 = grad.iter().map(|g| g * g).sum();
-    if !(norm2 > 0.0 && norm2.is_finite()) {
-        return None;
-    }
+    (norm2 > 0.0 && norm2.is_finite()).then_some(Push { extremum, grad, norm2 })
+}
+
+/// [`past_the_stop`] with `near`'s [`Push`] given.
+fn past_the_stop_along<F: Family>(ctx: &Ctx<'_, F>, near: &Point, push: &Push, param: f64, reach: f64, dir: f64, least: &mut f64) -> Option<Point> {
+    let Push { extremum: e, ref grad, norm2 } = *push;
     let toward = if e.upper { 1.0 } else { -1.0 };
     let smooth = near.orbit.impacts();
     let distance = e.distance.max(reach);
     [1.0, 4.0, 0.25].into_iter().find_map(|f| {
         let dq = toward * distance * (1.0 + f);
-        let guess: Vec<f64> = near.x.iter().zip(&grad).map(|(x, g)| x + dq * g / norm2).collect();
+        let guess: Vec<f64> = near.x.iter().zip(grad.iter()).map(|(x, g)| x + dq * g / norm2).collect();
         solve_keeping_or(ctx, &guess, param, dir, smooth).map_err(|r| *least = least.min(r)).ok()
     })
 }
