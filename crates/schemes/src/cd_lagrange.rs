@@ -183,21 +183,7 @@ impl Stepper for CdLagrange {
         for (s, ct) in self.closed.iter_mut().zip(&self.dy.contacts) {
             *s = side(ct.bounds.lo, ct.bounds.hi, self.u[ct.dof]);
         }
-        if self.closed.iter().any(|s| *s != Active::None) {
-            let ms = &mut self.impact_solve;
-            for (i, (ct, s)) in self.dy.contacts.iter().zip(&self.closed).enumerate() {
-                let target = -ct.restitution.unwrap_or(self.restitution) * self.v_old[ct.dof];
-                (ms.lo[i], ms.hi[i]) = match s {
-                    Active::Lower => (target, f64::INFINITY),
-                    Active::Upper => (f64::NEG_INFINITY, target),
-                    Active::None => (f64::NEG_INFINITY, f64::INFINITY),
-                };
-            }
-            let (mu, _) = ms.solve(&mut self.v)?;
-            self.impulses.copy_from_slice(mu);
-        } else {
-            self.impulses.iter_mut().for_each(|x| *x = 0.0);
-        }
+        self.impact_solve.newton_law(&self.dy.contacts, &self.closed, self.restitution, Some(&self.v_old), &mut self.v, &mut self.impulses)?;
         // U^{n+1} = Uⁿ + dt V^{n+½}.
         std::mem::swap(&mut self.u_prev, &mut self.u);
         for ((u, up), v) in self.u.iter_mut().zip(&self.u_prev).zip(&self.v) {

@@ -361,21 +361,7 @@ impl Stepper for D1MinusLinear {
             }
         }
         // Newton's law on I₁: Vⁿ⁺¹ = V_f + M⁻¹HᵀΛ.
-        if self.closed.iter().any(|s| *s != Active::None) {
-            let ms = &mut self.impact_solve;
-            for (i, (ct, s)) in self.dy.contacts.iter().zip(&self.closed).enumerate() {
-                let target = -ct.restitution.unwrap_or(self.restitution) * self.v[ct.dof];
-                (ms.lo[i], ms.hi[i]) = match s {
-                    Active::Lower => (target, f64::INFINITY),
-                    Active::Upper => (f64::NEG_INFINITY, target),
-                    Active::None => (f64::NEG_INFINITY, f64::INFINITY),
-                };
-            }
-            let (mu, _) = ms.solve(&mut self.v)?;
-            self.impulses.copy_from_slice(mu);
-        } else {
-            self.impulses.iter_mut().for_each(|x| *x = 0.0);
-        }
+        self.impact_solve.newton_law(&self.dy.contacts, &self.closed, self.restitution, None, &mut self.v, &mut self.impulses)?;
         self.impact = impact;
         std::mem::swap(&mut self.s_old, &mut self.s_new);
         // The next step's a(t_n, Uⁿ, Vⁿ): undamped, a(t_{n+1}, Uⁿ⁺¹) itself.

@@ -3,7 +3,7 @@
 //! exact box-complementarity solve of [`MultiProjection`] and the per-step
 //! bound buffers, shared by every scheme that takes several contacts.
 
-use crate::{Dynamics, SchemeError};
+use crate::{Contact, Dynamics, SchemeError};
 use signorini_contact::{Active, ContactError, MultiProjection, PivotRule};
 use signorini_fem::{BandLdlt, SymBand};
 
@@ -49,6 +49,31 @@ struct Banded {
 }
 
 impl MultiSolve {
+    /// Newton's impact law on the contacts closed in `closed`: the velocity
+    /// `v` corrected by impulses so that each closed contact leaves its stop
+    /// no slower than `−e` times its velocity before (`before`, or `v`
+    /// itself when `None`; `e` the contact's own restitution or
+    /// `restitution`), the others unconstrained; the impulses into
+    /// `impulses` (zero when none is closed). The explicit velocity-level
+    /// schemes' step (cd-lagrange, d1-minus-linear).
+    pub(crate) fn newton_law(&mut self, contacts: &[Contact], closed: &[Active], restitution: f64, before: Option<&[f64]>, v: &mut [f64], impulses: &mut [f64]) -> Result<(), SchemeError> {
+        if closed.iter().all(|s| *s == Active::None) {
+            impulses.iter_mut().for_each(|x| *x = 0.0);
+            return Ok(());
+        }
+        for (i, (ct, s)) in contacts.iter().zip(closed).enumerate() {
+            let target = -ct.restitution.unwrap_or(restitution) * before.map_or(v[ct.dof], |b| b[ct.dof]);
+            (self.lo[i], self.hi[i]) = match s {
+                Active::Lower => (target, f64::INFINITY),
+                Active::Upper => (f64::NEG_INFINITY, target),
+                Active::None => (f64::NEG_INFINITY, f64::INFINITY),
+            };
+        }
+        let (mu, _) = self.solve(v)?;
+        impulses.copy_from_slice(mu);
+        Ok(())
+    }
+
     /// For the tests: the largest active set the dense Delassus pivots take
     /// (beyond it the banded solve, when enabled).
     #[doc(hidden)]
