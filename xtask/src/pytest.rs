@@ -1,6 +1,8 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
-//! workspace's (`cargo test --workspace --release --tests`, then `--doc`;
-//! the Python crate excluded: maturin builds it with its own environment),
+//! workspace's (`cargo test --workspace --release --tests --no-run`, then
+//! the test binaries two at a time, as cargo would run them, with `cargo
+//! test --doc` beside them; the Python crate excluded: maturin builds it
+//! with its own environment),
 //! then the Python package built by maturin (while the Rust test binaries
 //! run) into a virtual environment this command creates while the Rust
 //! tests build (`target/py-venv`,
@@ -91,6 +93,149 @@ fn run_capture(cmd: &mut Command, what: &str) -> (Vec<String>, Result<(), String
 /// Passed, failed and ignored tests over cargo's `test result:` lines.
 pub fn rust_counts(lines: &[String]) -> (u64, u64, u64) {
     lines.iter().filter_map(|l| l.find("test result:").map(|i| &l[i..])).fold((0, 0, 0), |(p, f, i), l| (p + count(l, "passed"), f + count(l, "failed"), i + count(l, "ignored")))
+}
+
+/// One test executable of `cargo test --no-run`: the file, its package's
+/// directory (where cargo runs it, and its `CARGO_MANIFEST_DIR`) and its
+/// source (`tests/it/main.rs`, `src/lib.rs`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TestBinary {
+    pub exe: PathBuf,
+    pub dir: PathBuf,
+    pub src: String,
+}
+
+/// A string field of one line of cargo's JSON messages (`"key":"value"`,
+/// the first occurrence; `\\` and `\"` unescaped): xtask has no JSON reader,
+/// and cargo writes each message on one line with these keys once.
+fn json_str(line: &str, key: &str) -> Option<String> {
+    let start = line.find(&format!("\"{key}\":\""))? + key.len() + 4;
+    let mut out = String::new();
+    let mut chars = line[start..].chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' => return Some(out),
+            '\\' => out.push(match chars.next()? {
+                'n' => '\n',
+                't' => '\t',
+                c => c,
+            }),
+            c => out.push(c),
+        }
+    }
+    None
+}
+
+/// The test executables among cargo's JSON messages (`--message-format
+/// json`): the artifacts whose profile says `"test":true` (a binary built
+/// for the integration tests has an executable too, and its target's own
+/// `"test":true` says only that it could be tested), in the order cargo
+/// built them.
+pub fn test_binaries(messages: &[String]) -> Vec<TestBinary> {
+    messages
+        .iter()
+        .filter(|l| l.contains("\"reason\":\"compiler-artifact\"") && l.split("\"profile\":{").nth(1).and_then(|p| p.split('}').next()).is_some_and(|p| p.contains("\"test\":true")))
+        .filter_map(|l| {
+            let exe = PathBuf::from(json_str(l, "executable")?);
+            let dir = PathBuf::from(json_str(l, "manifest_path")?).parent()?.to_path_buf();
+            let src = json_str(l, "src_path")?;
+            let src = Path::new(&src).strip_prefix(&dir).map_or(src.clone(), |p| p.display().to_string());
+            Some(TestBinary { exe, dir, src })
+        })
+        .collect()
+}
+
+/// Runs the test binaries `jobs` at a time (each with the test harness's
+/// own threads), as `cargo test` would run them one after the other: in
+/// its package's directory with its `CARGO_MANIFEST_DIR`. The largest
+/// files start first (on two cores a long binary started last would run
+/// alone). Each binary's output is printed whole when it ends, under
+/// cargo's `Running` line; the lines of every binary are returned, and an
+/// error names each binary that failed.
+fn run_binaries(mut bins: Vec<TestBinary>, jobs: usize) -> (Vec<String>, Result<(), String>) {
+    bins.sort_by_key(|b| std::cmp::Reverse(std::fs::metadata(&b.exe).map_or(0, |m| m.len())));
+    let queue = std::sync::Mutex::new(bins.into_iter().collect::<std::collections::VecDeque<_>>());
+    let done = std::sync::Mutex::new((Vec::<String>::new(), Vec::<String>::new()));
+    let (queue, done) = (&queue, &done);
+    std::thread::scope(|s| {
+        for _ in 0..jobs.max(1) {
+            // The queue's lock is held only to take the next binary.
+            let next = || queue.lock().ok().and_then(|mut q| q.pop_front());
+            s.spawn(move || {
+                while let Some(b) = next() {
+                    let head = format!("     Running {} ({})", b.src, b.exe.display());
+                    let out = Command::new(&b.exe).current_dir(&b.dir).env("CARGO_MANIFEST_DIR", &b.dir).stdin(Stdio::null()).output();
+                    let (mut lines, err) = match out {
+                        Ok(o) => {
+                            let text = |b: &[u8]| String::from_utf8_lossy(b).lines().map(|l| l.trim_end_matches('\r').to_string()).collect::<Vec<_>>();
+                            let mut lines = text(&o.stdout);
+                            lines.extend(text(&o.stderr));
+                            (lines, (!o.status.success()).then(|| format!("{} ({}) failed ({})", b.src, b.exe.display(), o.status)))
+                        }
+                        Err(e) => (Vec::new(), Some(format!("{}: cannot start: {e}", b.exe.display()))),
+                    };
+                    lines.insert(0, head);
+                    if let Ok(mut d) = done.lock() {
+                        println!("{}", lines.join("\n"));
+                        d.0.append(&mut lines);
+                        d.1.extend(err);
+                    }
+                }
+            });
+        }
+    });
+    let (lines, errors) = std::mem::take(&mut *done.lock().unwrap_or_else(|e| e.into_inner()));
+    let r = if errors.is_empty() { Ok(()) } else { Err(format!("cargo test --tests: {}", errors.join("; "))) };
+    (lines, r)
+}
+
+/// `cargo test --doc` in a thread of its own, with a signal once it has
+/// passed cargo's build phase (its first `Doc-tests` line on stderr, or
+/// its end), after which it holds no lock on the build directory. Its
+/// stdout is printed whole when it ends.
+#[allow(clippy::type_complexity)]
+fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandle<(Vec<String>, Result<(), String>)>, std::sync::mpsc::Receiver<()>) {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(root).args(base).arg("--doc").stdout(Stdio::piped()).stderr(Stdio::piped());
+    let handle = std::thread::spawn(move || {
+        let mut child = match cmd.spawn() {
+            Ok(c) => c,
+            Err(e) => {
+                let _ = tx.send(());
+                return (Vec::new(), Err(format!("cargo test --doc: cannot start: {e}")));
+            }
+        };
+        let err = child.stderr.take().map(|e| {
+            std::thread::spawn(move || {
+                let mut tx = Some(tx);
+                let mut lines = Vec::new();
+                for line in BufReader::new(e).split(b'\n').map_while(Result::ok) {
+                    let line = String::from_utf8_lossy(&line).trim_end_matches('\r').to_string();
+                    if line.contains("Doc-tests") {
+                        tx.take().map(|t| t.send(()));
+                    }
+                    lines.push(line);
+                }
+                lines
+            })
+        });
+        let mut lines = Vec::new();
+        if let Some(out) = child.stdout.take() {
+            lines = BufReader::new(out).split(b'\n').map_while(Result::ok).map(|l| String::from_utf8_lossy(&l).trim_end_matches('\r').to_string()).collect();
+        }
+        let err = err.and_then(|h| h.join().ok()).unwrap_or_default();
+        let status = child.wait();
+        eprintln!("{}", err.join("\n"));
+        println!("{}", lines.join("\n"));
+        let r = match status {
+            Ok(s) if s.success() => Ok(()),
+            Ok(s) => Err(format!("cargo test --doc failed ({s})")),
+            Err(e) => Err(format!("cargo test --doc: {e}")),
+        };
+        (lines, r)
+    });
+    (handle, rx)
 }
 
 /// Passed, failed (errors included: a test that could not be collected or
@@ -345,17 +490,33 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let mut spawn_wheel = Some(spawn_wheel);
     let mut handle = None;
     if !a.python_only {
-        let (lines, r) = rec.time("Rust: build and run the tests (the wheel is built beside the test binaries)", || {
+        let (lines, r) = rec.time("Rust: build the tests, then run them: the test binaries two at a time, the doc tests and the wheel's build beside them", || {
             // `--tests` (every library's, binary's and integration test's
             // harness), then the doc tests: cargo's default selection would
             // also build the examples, which test nothing; clippy
             // (`--all-targets`, below) still compiles and lints them.
             let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
-            let (built, r_built) = run_capture(Command::new(&cargo).current_dir(&root).args(base).args(["--tests", "--no-run"]), "cargo test --tests --no-run");
+            // Cargo's messages as JSON on stdout (the executables), its
+            // progress and diagnostics rendered on stderr as usual.
+            let built = Command::new(&cargo).current_dir(&root).args(base).args(["--tests", "--no-run", "--message-format=json-render-diagnostics"]).stderr(Stdio::inherit()).output();
+            let (built, r_built) = match built {
+                Ok(o) if o.status.success() => (String::from_utf8_lossy(&o.stdout).lines().map(str::to_string).collect::<Vec<_>>(), Ok(())),
+                Ok(o) => (Vec::new(), Err(format!("cargo test --tests --no-run failed ({})", o.status))),
+                Err(e) => (Vec::new(), Err(format!("cargo test --tests --no-run: cannot start: {e}"))),
+            };
+            if let Err(e) = r_built {
+                handle = spawn_wheel.take().map(|f| f());
+                return Ok((Vec::new(), Err(e)));
+            }
+            // The doc tests first: cargo takes its build directory's lock
+            // only until they start, and the wheel's build holds it while
+            // it compiles. The test binaries need no lock at all.
+            let (doc, doc_started) = doc_tests(&cargo, &root, &base);
+            let _ = doc_started.recv();
             handle = spawn_wheel.take().map(|f| f());
-            let (mut lines, r) = if r_built.is_ok() { run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--tests"), "cargo test --tests") } else { (built, r_built) };
-            let (doc, r_doc) = run_capture(Command::new(&cargo).current_dir(&root).args(base).arg("--doc"), "cargo test --doc");
-            lines.extend(doc);
+            let (mut lines, r) = run_binaries(test_binaries(&built), 2);
+            let (doc_lines, r_doc) = doc.join().unwrap_or_else(|_| (Vec::new(), Err("the doc tests' thread panicked".into())));
+            lines.extend(doc_lines);
             Ok((lines, r.and(r_doc)))
         })?;
         rec.rust = rust_counts(&lines);

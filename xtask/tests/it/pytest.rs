@@ -73,3 +73,25 @@ fn the_main_job_the_tests_and_the_wheel_build_the_same_crates() {
         assert!(other.keys().filter(|p| tests.contains_key(*p)).count() > 50, "{build}: too few packages shared with the tests");
     }
 }
+
+/// The test executables are read from cargo's own messages (lines as
+/// `cargo test --no-run --message-format json` writes them, copied from
+/// cargo 1.95): a test harness is run, the command built for the
+/// integration tests (an executable whose target is testable but whose
+/// profile is not the test profile) and a library (no executable) are
+/// not; escaped characters in a path are read back.
+#[test]
+fn the_test_binaries_are_the_test_profiles_executables() {
+    let lib = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/crates/exact#signorini-exact@0.1.0","manifest_path":"/w/crates/exact/Cargo.toml","target":{"kind":["lib"],"crate_types":["lib"],"name":"signorini_exact","src_path":"/w/crates/exact/src/lib.rs","edition":"2021","doc":true,"doctest":true,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":false},"features":[],"filenames":["/w/target/release/deps/libsignorini_exact-1.rlib"],"executable":null,"fresh":true}"##;
+    let unit = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/crates/exact#signorini-exact@0.1.0","manifest_path":"/w/crates/exact/Cargo.toml","target":{"kind":["lib"],"crate_types":["lib"],"name":"signorini_exact","src_path":"/w/crates/exact/src/lib.rs","edition":"2021","doc":true,"doctest":true,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":true},"features":[],"filenames":["/w/target/release/deps/signorini_exact-58c1"],"executable":"/w/target/release/deps/signorini_exact-58c1","fresh":false}"##;
+    let bin = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/crates/cli#signorini-cli@0.1.0","manifest_path":"/w/crates/cli/Cargo.toml","target":{"kind":["bin"],"crate_types":["bin"],"name":"signorini","src_path":"/w/crates/cli/src/main.rs","edition":"2021","doc":true,"doctest":false,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":false},"features":[],"filenames":["/w/target/release/signorini"],"executable":"/w/target/release/signorini","fresh":true}"##;
+    let it = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/a \"b\"#signorini-cli@0.1.0","manifest_path":"/w/a \"b\"/Cargo.toml","target":{"kind":["test"],"crate_types":["bin"],"name":"it","src_path":"/w/a \"b\"/tests/it/main.rs","edition":"2021","doc":false,"doctest":false,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":true},"features":[],"filenames":["/w/target/release/deps/it-8d5c"],"executable":"/w/target/release/deps/it-8d5c","fresh":false}"##;
+    let done = r##"{"reason":"build-finished","success":true}"##;
+    let lines: Vec<String> = [lib, unit, bin, it, done].iter().map(|s| s.to_string()).collect();
+    let bins = xtask::pytest::test_binaries(&lines);
+    let want = [("/w/target/release/deps/signorini_exact-58c1", "/w/crates/exact", "src/lib.rs"), ("/w/target/release/deps/it-8d5c", "/w/a \"b\"", "tests/it/main.rs")];
+    assert_eq!(bins.len(), want.len(), "{bins:?}");
+    for (b, (exe, dir, src)) in bins.iter().zip(want) {
+        assert_eq!((b.exe.to_str(), b.dir.to_str(), b.src.as_str()), (Some(exe), Some(dir), src));
+    }
+}
