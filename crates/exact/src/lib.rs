@@ -78,6 +78,8 @@ mod oscillator;
 
 pub use backbone::{Backbone, BackboneError, BackbonePoint, ModeBar, NonsmoothMode};
 pub use dirichlet::BarDirichlet;
+#[doc(hidden)]
+pub use dirichlet::{phase, rem3};
 pub use mirrored::BarMirrored;
 pub use neumann::{BarNeumannGravity, Event, EventKind, NeumannError};
 pub use oscillator::{Admissibility, ImpactOscillator, Multiplier, OscillatorError, OscillatorParams, Period1Orbit, State};

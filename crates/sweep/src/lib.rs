@@ -70,6 +70,8 @@ pub use lockstep::{simulate_lockstep, LANES};
 pub use options::{set_path, Axis, SweepOptions};
 pub use output::{merge, summary_header, IMPACT_COLUMNS, SWEEP_COLUMNS, SWEEP_FILES};
 pub use run::{run, NoProgress, Progress, SweepReport};
+#[doc(hidden)]
+pub use setup::Manifest;
 pub use setup::Sweep;
 pub use signorini_run::text::num;
 pub use simulate::{simulate, Plan, RunRows};

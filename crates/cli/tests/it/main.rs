@@ -20,4 +20,5 @@ mod reduce;
 mod reliability;
 mod semidiscrete_rates;
 mod sweep;
+mod sweep_setup_src;
 mod vibro;

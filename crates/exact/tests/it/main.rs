@@ -8,6 +8,7 @@ mod common;
 
 mod backbone;
 mod dirichlet;
+mod dirichlet_src;
 mod domain;
 mod mirrored;
 mod neumann;
