@@ -7,7 +7,9 @@
 //! iteration (one iteration = `STEPS` steps) and the throughput in
 //! dof-steps/s. docs/performance.md records the ratios (a)/floor and
 //! (b)/floor, the `parts_*` (what (b) adds, piece by piece), the beam's
-//! β-step against its band solve and issue 35's implicit schemes
+//! β-step against its band solve (and against that solve when each solve
+//! waits for the one before, `beam_band_solve_chained`, as the β-step's
+//! must) and issue 35's implicit schemes
 //! (`implicit_scheme_step`) against the floor at m = 1000.
 //!
 //! On a machine shared with other processes, shorter samples fit between
@@ -247,6 +249,95 @@ fn beam_band_solve(bencher: Bencher) {
         }
         x
     });
+}
+
+/// The band solve of `beam_band_solve` with each solve waiting for the one
+/// before, as the β-step's must (its right-hand side is made of the last
+/// step's solution): the first entry of each right-hand side is
+/// `rhs₀ + 0 × x₀` of the last solution (the same numbers), so the next
+/// forward sweep cannot start before the last backward sweep has ended —
+/// where `beam_band_solve`'s solves, independent of each other, overlap in
+/// the processor's out-of-order window. `AVX2 = 0`: `BandLdlt::solve_in_place`
+/// (the floor's code, compiled for the baseline target); `AVX2 = 1`: the same
+/// two sweeps (`solve_p3`'s operations, written out here) compiled for AVX2,
+/// as the fused β-step's are (the baseline build where the CPU has no AVX2).
+/// ns per solve.
+#[divan::bench(consts = [0, 1])]
+fn beam_band_solve_chained<const AVX2: usize>(bencher: Bencher) {
+    let b = signorini_fem::Beam::new(1.501, 19, 282.84).unwrap();
+    let f = b.mass().lin_comb(1.0, &b.stiffness(), 0.25e-12).factor().unwrap();
+    let rhs: Vec<f64> = (0..38).map(|i| (i as f64).sin()).collect();
+    // The written-out sweeps are the solve's: the same bits.
+    let (mut mine, mut theirs) = (vec![0.0; 38], rhs.clone());
+    chained_p3::solves(&f, &rhs, &mut mine, 1);
+    f.solve_in_place(&mut theirs);
+    assert!(mine.iter().zip(&theirs).all(|(a, b)| a.to_bits() == b.to_bits()), "chained_p3 is not solve_p3");
+    bencher.counter(ItemsCount::new(10_000usize)).with_inputs(|| vec![0.0; 38]).bench_local_values(|mut x| {
+        if AVX2 == 1 {
+            chained_p3::solves(&f, &rhs, &mut x, 10_000);
+        } else {
+            for _ in 0..10_000 {
+                let last = x[0];
+                x.copy_from_slice(&rhs);
+                x[0] += 0.0 * last;
+                f.solve_in_place(divan::black_box(&mut x));
+            }
+        }
+        x
+    });
+}
+
+/// `beam_band_solve_chained`'s solves with the two sweeps of
+/// `BandLdlt::solve_p3` written out and compiled for AVX2 where the CPU has it.
+mod chained_p3 {
+    use signorini_fem::BandLdlt;
+
+    pub fn solves(f: &BandLdlt, rhs: &[f64], x: &mut [f64], count: usize) {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU reports AVX2.
+            return unsafe { solves_avx2(f, rhs, x, count) };
+        }
+        solves_body(f, rhs, x, count)
+    }
+
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn solves_avx2(f: &BandLdlt, rhs: &[f64], x: &mut [f64], count: usize) {
+        solves_body(f, rhs, x, count)
+    }
+
+    #[inline(always)]
+    fn solves_body(f: &BandLdlt, rhs: &[f64], x: &mut [f64], count: usize) {
+        let (l, lt, inv_d) = f.band_factors();
+        let n = x.len();
+        let (l, lt, inv_d) = (&l[..3 * n], &lt[..3 * n], &inv_d[..n]);
+        for _ in 0..count {
+            let last = x[0];
+            x.copy_from_slice(rhs);
+            x[0] += 0.0 * last;
+            let b = &mut *divan::black_box(&mut *x);
+            b[1] -= l[3] * b[0];
+            b[2] -= l[7] * b[0] + l[6] * b[1];
+            let (mut w1, mut w2, mut w3) = (b[2], b[1], b[0]);
+            for (bi, row) in b[3..].iter_mut().zip(l[9..].chunks_exact(3)) {
+                let s = (*bi - row[2] * w3 - row[1] * w2) - row[0] * w1;
+                (w3, w2, w1) = (w2, w1, s);
+                *bi = s;
+            }
+            b[n - 1] *= inv_d[n - 1];
+            b[n - 2] = b[n - 2] * inv_d[n - 2] - lt[(n - 2) * 3] * b[n - 1];
+            b[n - 3] = b[n - 3] * inv_d[n - 3] - lt[(n - 3) * 3 + 1] * b[n - 1] - lt[(n - 3) * 3] * b[n - 2];
+            let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
+            for ((bi, col), di) in b[..n - 3].iter_mut().rev().zip(lt[..(n - 3) * 3].chunks_exact(3).rev()).zip(inv_d[..n - 3].iter().rev()) {
+                let s = (*bi * di - col[2] * x3 - col[1] * x2) - col[0] * x1;
+                (x3, x2, x1) = (x2, x1, s);
+                *bi = s;
+            }
+        }
+    }
 }
 
 /// The beam's banded product (half-bandwidth 3, n = 38: `K x`), as every

@@ -385,30 +385,34 @@ impl Tridiagonal {
         let n = st.u.len();
         let (u, v, a, q) = (&mut st.u[..n], &mut st.v[..n], &mut st.a[..n], &mut st.q[..n]);
         let (kd, ks, f, l, inv_d) = (&self.k_d[..n], &self.k_s[..n], &f[..n], &l[..n], &inv_d[..n]);
-        // The predictor on entries [lo, hi).
-        let predict = |u: &mut [f64], v: &mut [f64], a: &mut [f64], q: &[f64], lo: usize, hi: usize| {
+        // The predictor on entries [lo, hi) (functions, not closures: a
+        // closure is compiled apart, for the baseline target, and was not
+        // inlined into the AVX2 build).
+        #[inline(always)]
+        fn predict(p: &Predictor, u: &mut [f64], v: &mut [f64], a: &mut [f64], q: &[f64], lo: usize, hi: usize) {
             for (((u, v), a), q) in u[lo..hi].iter_mut().zip(&mut v[lo..hi]).zip(&mut a[lo..hi]).zip(&q[lo..hi]) {
                 p.apply(u, v, a, *q);
             }
-        };
+        }
         // + Σ_j s_j g_j on rows [lo, hi), term by term.
-        let terms = |q: &mut [f64], lo: usize, hi: usize| {
+        #[inline(always)]
+        fn terms(forcing: &[crate::Forcing], s: &[f64], q: &mut [f64], lo: usize, hi: usize) {
             for (fc, &sj) in forcing.iter().zip(s) {
                 for (b, g) in q[lo..hi].iter_mut().zip(&fc.shape[lo..hi]) {
                     *b += sj * g;
                 }
             }
-        };
+        }
         // Row 0 (`mul_vec`'s first row), its predictor and its neighbour's first.
-        predict(u, v, a, q, 0, 2);
+        predict(p, u, v, a, q, 0, 2);
         q[0] = f[0] - (kd[0] * u[0] + ks[1] * u[1]);
-        terms(q, 0, 1);
+        terms(forcing, s, q, 0, 1);
         let mut prev = q[0];
         let mut lo = 1;
         while lo < n {
             let hi = (lo + CHUNK).min(n);
             // The predictor one row ahead; the interior rows branch-free, the last apart.
-            predict(u, v, a, q, lo + 1, (hi + 1).min(n));
+            predict(p, u, v, a, q, lo + 1, (hi + 1).min(n));
             let stop = hi.min(n - 1);
             if stop > lo {
                 let r = lo..stop;
@@ -422,7 +426,7 @@ impl Tridiagonal {
             if hi == n {
                 q[n - 1] = f[n - 1] - (ks[n - 1] * u[n - 2] + kd[n - 1] * u[n - 1]);
             }
-            terms(q, lo, hi);
+            terms(forcing, s, q, lo, hi);
             for (b, li) in q[lo..hi].iter_mut().zip(&l[lo..hi]) {
                 prev = *b - li * prev;
                 *b = prev;
