@@ -12,8 +12,9 @@
 //! §12.1), the Jacobian through the accumulation against central
 //! differences of the exact map (a lumped mass, coupled by the stiffness
 //! alone, and a consistent one, whose impacts kick the free dof too),
-//! against the plastic impact's Jacobian as the restitution goes to 0, and
-//! Newton converging quadratically to the orbit.
+//! against the plastic impact's Jacobian as the restitution goes to 0,
+//! Newton converging quadratically to the orbit, and a continuation in the
+//! stop's height through such orbits.
 
 use signorini_fem::SymBand;
 use signorini_orbits::{periodic_orbit, Model, Newton, OrbitError};
@@ -233,5 +234,48 @@ fn as_the_restitution_goes_to_zero_the_jacobian_tends_to_the_plastic_impacts() {
         let d = (0..4).flat_map(|r| (0..4).map(move |c| (r, c))).map(|(r, c)| (j[(r, c)] - j0[(r, c)]).abs()).fold(0.0, f64::max);
         eprintln!("e = {e:e}: |J(e) − J(0)| = {d:.2e}");
         assert!(d <= 2.0 * e * e, "e = {e}: |J(e) − J(0)| = {d:e}");
+    }
+}
+
+/// The consistent chain in the height of its stop, the section one time
+/// unit after the forcing's maximum (in the flight after the release).
+struct Stop;
+
+impl signorini_orbits::Family for Stop {
+    fn model(&self, g: f64) -> Result<Model, OrbitError> {
+        let m = CONSISTENT;
+        let c = [[0.05 * m[0][0] + 0.02 * K2[0][0], 0.05 * m[0][1] + 0.02 * K2[0][1]], [0.05 * m[1][0] + 0.02 * K2[1][0], 0.05 * m[1][1] + 0.02 * K2[1][1]]];
+        let dy = Dynamics::new(band(m), band(K2), vec![0.0, 0.0], vec![Contact::new(1, Bounds { lo: f64::NEG_INFINITY, hi: g }, false)])
+            .with_forcing(vec![Forcing { shape: vec![0.0, 1.0], time: TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: 1.0, omega: W2, phase: FRAC_PI_2 + W2 * section(CONSISTENT) }])) }])
+            .with_damping(Some(band(c)));
+        Model::new(dy, R)
+    }
+
+    fn period(&self, _: f64) -> Result<f64, OrbitError> {
+        Ok(TAU / W2)
+    }
+}
+
+/// Continuation in the stop's height goes through orbits that chatter to
+/// rest every period (before, the first Jacobian failed): every point a
+/// fixed point of the map to its tolerance, with an accumulation and a
+/// release a period.
+#[test]
+fn a_branch_of_orbits_through_accumulations_is_continued() {
+    use signorini_orbits::{continuation, ContinuationOptions, Family};
+    let (_, _, orbit) = chain_orbit(CONSISTENT);
+    let branch = continuation(&Stop, &orbit.x, &ContinuationOptions::new(G, 0.3)).unwrap();
+    eprintln!("{} points, end: {}", branch.points.len(), branch.end);
+    for b in &branch.bifurcations {
+        eprintln!("  {} at {}", b.kind.name(), b.param);
+    }
+    let last = branch.points.last().unwrap();
+    assert!((last.param - 0.3).abs() <= 1e-12, "the branch ends at {}: {}", last.param, branch.end);
+    for p in &branch.points {
+        let m = Stop.model(p.param).unwrap();
+        let img = m.flow(0.0, &p.orbit.x, TAU / W2, false).unwrap();
+        let r = (0..4).map(|i| (img.x[i] - p.orbit.x[i]).abs()).fold(0.0, f64::max);
+        let acc = img.events.iter().filter(|e| e.kind == EventKind::Accumulation).count();
+        assert!(r <= 1e-11 && acc >= 1 && p.orbit.releases() == acc, "g = {}: residual {r:e}, {acc} accumulations", p.param);
     }
 }
