@@ -122,8 +122,9 @@ impl Model {
     /// `jacobian` (a contact dof beyond its bound in `x0`, as a Newton
     /// iterate may put it, starts on the bound). Errors: the run's ([`OrbitError::Events`]); for the
     /// Jacobian, an event where the flow has no derivative (two contacts
-    /// reached at one instant, an impact at zero speed: grazing) or whose
-    /// linearisation is not implemented (an accumulation of impacts).
+    /// reached at one instant, an impact at zero speed: grazing). Through
+    /// an accumulation of impacts the Jacobian is the limit of the
+    /// saltations (docs/theory.md §12.1.1).
     pub fn flow(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool) -> Result<Image, OrbitError> {
         Ok(self.flow_within(t0, x0, tau, jacobian, usize::MAX)?.expect("no bound on the impacts"))
     }
@@ -331,22 +332,36 @@ impl Model {
     }
 
     fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>) -> Result<(), OrbitError> {
-        if let Some(r) = recs.iter().find(|r| r.kind == EventKind::Accumulation) {
-            // Chattering to rest ends in a held phase. When it holds every
-            // dof with mass (the oscillator), the state is on the bound at
-            // rest until the held force's zero, a time the start does not
-            // move: every start near this one leaves the phase in the same
-            // state, so the map's Jacobian is exactly 0 from here on
-            // (central differences of the map: 0 to round-off).
+        // Chattering to rest: the run ends an accumulation of impacts at
+        // its last located impact, the contact put at rest there (then
+        // held if pressed); the contacts that accumulate jump plastically.
+        let accumulated: Vec<usize> = recs.iter().filter(|r| r.kind == EventKind::Accumulation).map(|r| r.contact).collect();
+        if !accumulated.is_empty() {
+            // When the held phase holds every dof with mass (the
+            // oscillator), the state is on the bound at rest until the held
+            // force's zero, a time the start does not move: every start
+            // near this one leaves the phase in the same state, so the
+            // map's Jacobian is exactly 0 from here on (central differences
+            // of the map: 0 to round-off).
             let all_held = !self.lin.massless() && self.lin.state.iter().all(|d| after.iter().any(|&j| self.lin.sites[j].dof == *d));
             if all_held {
                 *jac = Mat::zeros(jac.nrows(), jac.ncols());
                 return Ok(());
             }
-            return Err(OrbitError::NoDerivative {
-                t: r.t,
-                why: format!("an accumulation of impacts of contact {} (chattering) with dofs left free: its linearisation (the limit of its saltations) is not implemented", r.contact),
-            });
+            // A run ended at rest on the bound but not held: an impact
+            // slower than the run resolves (§9, micro-impacts), as at a
+            // grazing, not a chatter pressed onto its bound.
+            if let Some(r) = recs.iter().find(|r| r.kind == EventKind::Accumulation && !after.contains(&r.contact)) {
+                return Err(OrbitError::NoDerivative {
+                    t: r.t,
+                    why: format!("contact {}'s impacts ended at rest on its bound without being held there (an impact too slow for the run to resolve, as at a grazing)", r.contact),
+                });
+            }
+            // With dofs left free, the product of the chattering run's
+            // saltations converges (the time shift carried, the rest
+            // shrinking by e an impact), and the run's last located impact,
+            // where it puts the contact at rest, closes it as a plastic
+            // impact into the phase after (docs/theory.md §12.1.1).
         }
         // Massless contacts: the vector field is continuous at every event.
         if self.lin.massless() {
@@ -358,16 +373,22 @@ impl Model {
             return Err(OrbitError::NoDerivative { t: guard.t, why: format!("contacts {} and {} reached their bounds at one instant", guard.contact, other.contact) });
         }
         let (t, q, vplus) = run.state();
-        let impulses: Vec<(usize, f64)> = impacts.iter().map(|r| (r.contact, r.impulse)).collect();
+        // The impulses of the instant: the impacts' and the accumulations'
+        // (that bring their contacts to rest).
+        let jumps: Vec<&EventRecord> = recs.iter().filter(|r| r.kind == EventKind::Impact || r.kind == EventKind::Accumulation).collect();
+        let impulses: Vec<(usize, f64)> = jumps.iter().map(|r| (r.contact, r.impulse)).collect();
         let dv = self.lin.minv_impulse(&impulses);
         let vminus: Vec<f64> = vplus.iter().zip(&dv).map(|(a, b)| a - b).collect();
         let vn = vminus[self.lin.sites[guard.contact].dof];
         if vn == 0.0 {
             return Err(OrbitError::NoDerivative { t, why: format!("contact {} reached its bound at zero speed (grazing)", guard.contact) });
         }
-        let active: Vec<usize> = impacts.iter().filter(|r| r.impulse != 0.0).map(|r| r.contact).collect();
+        let mut active: Vec<usize> = jumps.iter().filter(|r| r.impulse != 0.0).map(|r| r.contact).collect();
+        active.sort_unstable();
+        active.dedup();
         let f_minus = self.lin.field(&self.dy, before, t, &q, &vminus);
         let f_plus = self.lin.field(&self.dy, after, t, &q, &vplus);
+        let active: Vec<(usize, f64)> = active.into_iter().map(|j| (j, if accumulated.contains(&j) { 0.0 } else { self.lin.sites[j].restitution })).collect();
         self.lin.saltation(guard.contact, &active, &f_minus, &f_plus, vn, jac);
         Ok(())
     }

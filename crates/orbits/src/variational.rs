@@ -36,6 +36,11 @@
 //! plastic impact that leaves the contact held takes the held field). A
 //! release (a held force through 0) and every event of a massless contact
 //! leave the vector field continuous: `S = I`, only the phase changes.
+//! Where a run of impacts accumulates (chattering to rest), the run puts
+//! the contact at rest at its last located impact: that instant's jump is
+//! a plastic one (`e = 0` for the contact), and its saltation into the
+//! phase after closes the product, whose limit is the map's Jacobian
+//! (docs/theory.md §12.1.1).
 
 use crate::OrbitError;
 use faer::linalg::solvers::{DenseSolveCore, Solve};
@@ -281,19 +286,20 @@ impl Linear {
     }
 
     /// `jac ← S jac`, the saltation matrix of an impact located on the
-    /// contact `guard` with the LCP's active contacts `active` (module
-    /// docs); `f_minus`, `f_plus` the vector fields, `vn` the guard's
-    /// velocity before.
-    pub fn saltation(&self, guard: usize, active: &[usize], f_minus: &[f64], f_plus: &[f64], vn: f64, jac: &mut Mat<f64>) {
+    /// contact `guard` with the LCP's active contacts `active`, each with
+    /// the restitution of its jump (its own; 0 where an accumulation of
+    /// its impacts ends: docs/theory.md §12.1.1) (module docs); `f_minus`,
+    /// `f_plus` the vector fields, `vn` the guard's velocity before.
+    pub fn saltation(&self, guard: usize, active: &[(usize, f64)], f_minus: &[f64], f_plus: &[f64], vn: f64, jac: &mut Mat<f64>) {
         let n = self.n;
         let cols = jac.ncols();
         // D = I − M⁻¹ E_A W_AA⁻¹ (I + diag e_A) E_Aᵀ on the velocity rows.
         let na = active.len();
-        let dofs: Vec<usize> = active.iter().map(|&j| self.sites[j].dof).collect();
+        let dofs: Vec<usize> = active.iter().map(|&(j, _)| self.sites[j].dof).collect();
         let w = Mat::from_fn(na, na, |a, b| self.minv[(dofs[a], dofs[b])]);
         let winv = if na > 0 { w.partial_piv_lu().inverse() } else { Mat::zeros(0, 0) };
         let apply_d = |v: &[f64]| -> Vec<f64> {
-            let ev: Vec<f64> = active.iter().map(|&j| (1.0 + self.sites[j].restitution) * v[self.sites[j].dof]).collect();
+            let ev: Vec<f64> = active.iter().map(|&(j, e)| (1.0 + e) * v[self.sites[j].dof]).collect();
             let mut out = v.to_vec();
             for a in 0..na {
                 let z: f64 = (0..na).map(|b| winv[(a, b)] * ev[b]).sum();
