@@ -3,7 +3,7 @@
 use crate::variational::Linear;
 use crate::OrbitError;
 use faer::Mat;
-use signorini_schemes::events::{EventDriven, EventKind, EventRecord};
+use signorini_schemes::events::{EventDriven, EventKind, EventRecord, Reached};
 use signorini_schemes::Dynamics;
 
 /// A linear structure with unilateral contacts, as the shooting sees it:
@@ -163,7 +163,9 @@ impl Model {
         // Impacts so far, over the events counted so far.
         let (mut hits, mut counted) = (0, 0);
         loop {
-            let event = run.next_event(t_end)?;
+            // Every applied event, those that log nothing included (a
+            // landing at zero speed may start a held phase without a record).
+            let event = run.next_change(t_end)?;
             if run.events().len() > self.max_events {
                 return Err(OrbitError::Events(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }));
             }
@@ -179,11 +181,17 @@ impl Model {
                 }
             }
             t_prev = t_now;
-            if event.is_none() {
+            if event == Reached::End {
                 break;
             }
             let new_held = sorted_held(&run);
             if let Some(j) = jac.as_mut() {
+                if event == Reached::Event(None) && new_held != held {
+                    // A contact that lands at zero speed and is held from
+                    // there: a grazing, where the map has no derivative
+                    // (nearby starts land with a speed, or fly on).
+                    return Err(OrbitError::NoDerivative { t: t_now, why: "a contact landed on its bound at zero speed and is held there (grazing)".into() });
+                }
                 self.linearise_event(&run, &run.events()[seen..], &held, &new_held, j)?;
             }
             seen = run.events().len();

@@ -324,42 +324,60 @@ impl EventDriven {
         Ok(())
     }
 
-    /// Advances to the next event, applies it and returns it (the located
-    /// one; simultaneous impacts of other contacts are logged too), or to
-    /// `t_end` if none comes before (then `None`). A run of events that
-    /// makes no progress in time (more than 8 events per contact at one
-    /// instant) stops with [`EventsError::NoProgress`] at once.
+    /// Advances to the next event that logs a record, applies it and
+    /// returns it (the located one; simultaneous impacts of other contacts
+    /// are logged too), or to `t_end` if none comes before (then `None`).
+    /// An event that logs nothing (a contact landing at zero speed: no
+    /// impact, docs/theory.md §9.3) is applied and the run goes on: `None`
+    /// always means the run stands at `t_end`. A run of events that makes
+    /// no progress in time (more than 8 events per contact at one instant,
+    /// logged or not) stops with [`EventsError::NoProgress`] at once.
     pub fn next_event(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
-        let event = self.next_event_unchecked(t_end)?;
-        if let Some(e) = &event {
-            if e.t == self.stall.0 {
+        loop {
+            match self.next_change(t_end)? {
+                Reached::End => return Ok(None),
+                Reached::Event(Some(e)) => return Ok(Some(e)),
+                Reached::Event(None) => {}
+            }
+        }
+    }
+
+    /// [`next_event`](Self::next_event) one applied event at a time,
+    /// those that log nothing included (where the active set may change
+    /// without a record: a caller that follows the phases, as the orbits'
+    /// linearisation does, sees each).
+    pub fn next_change(&mut self, t_end: f64) -> Result<Reached, EventsError> {
+        let reached = self.next_event_unchecked(t_end)?;
+        if let Reached::Event(e) = &reached {
+            let t = e.map_or(self.t, |e| e.t);
+            if t == self.stall.0 {
                 self.stall.1 += 1;
                 if self.stall.1 > STALL * (self.sites.len() + 1) {
                     let recent = self.events.len().saturating_sub(6);
                     let kinds: Vec<String> = self.events[recent..].iter().map(|e| format!("{} of contact {}", e.kind.name(), e.contact)).collect();
-                    return Err(EventsError::NoProgress { t: e.t, events: self.stall.1, cycle: kinds.join(", ") });
+                    return Err(EventsError::NoProgress { t, events: self.stall.1, cycle: kinds.join(", ") });
                 }
             } else {
-                self.stall = (e.t, 1);
+                self.stall = (t, 1);
             }
         }
-        Ok(event)
+        Ok(reached)
     }
 
-    fn next_event_unchecked(&mut self, t_end: f64) -> Result<Option<EventRecord>, EventsError> {
+    fn next_event_unchecked(&mut self, t_end: f64) -> Result<Reached, EventsError> {
         loop {
             if t_end <= self.t {
-                return Ok(None);
+                return Ok(Reached::End);
             }
             if let Some((te, which)) = self.pending {
                 if te > t_end {
                     // Beyond the time asked: the state there, read from the base.
                     self.read_at(t_end);
-                    return Ok(None);
+                    return Ok(Reached::End);
                 }
                 self.pending = None;
                 match which {
-                    Some(which) => return self.apply(te, which),
+                    Some(which) => return Ok(Reached::Event(self.apply(te, which)?)),
                     None => self.next_piece(te),
                 }
                 continue;
@@ -375,7 +393,7 @@ impl EventDriven {
                 Found::End => self.pending = Some((self.piece.next, None)),
                 Found::Paused => {
                     self.read_at(t_end);
-                    return Ok(None);
+                    return Ok(Reached::End);
                 }
             }
         }
@@ -1016,4 +1034,15 @@ fn accumulation(times: &[f64]) -> Option<(f64, f64)> {
     }
     let rest = d3 * r2 / (1.0 - r2);
     Some((times[k - 1] + rest, rest))
+}
+
+/// What one call of [`EventDriven::next_change`] reached.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reached {
+    /// An event, applied: the located one as logged, or `None` when it
+    /// logged nothing (a contact landing at zero speed, held there from
+    /// now on or flying on: no impact, docs/theory.md §9.3).
+    Event(Option<EventRecord>),
+    /// `t_end`, with no event before it: the run stands there.
+    End,
 }

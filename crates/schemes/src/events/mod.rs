@@ -51,7 +51,7 @@ mod record;
 mod search;
 mod stepper;
 
-pub use driven::{EventDriven, MAX_EVENTS};
+pub use driven::{EventDriven, Reached, MAX_EVENTS};
 pub use flow::{Event, ModalFlow};
 pub use record::{EventKind, EventRecord, EventsError};
 pub use stepper::EventStepper;

@@ -23,6 +23,7 @@ mod events_massless;
 mod events_planted;
 mod events_proptest;
 mod events_series;
+mod events_silent;
 mod events_tiny_restitution;
 mod events_two_stops;
 mod lockstep;
