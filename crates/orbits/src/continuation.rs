@@ -24,7 +24,7 @@
 //! or the event count), every trial point corrected onto the branch.
 
 use crate::map::{Extremum, Model};
-use crate::shoot::{eigenvalues, periodic_orbit, periodic_orbit_keeping, Newton, Orbit};
+use crate::shoot::{eigenvalues, periodic_orbit, periodic_orbit_keeping, periodic_orbit_least, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -797,9 +797,73 @@ fn rejoin_parameter<F: Family>(single: &F, a: &BranchPoint, b: &BranchPoint, new
 /// A grazing ahead of a branch ([`impact_beyond_grazing`]): the grazing,
 /// the orbits with the new impact away from it (none: the branch ends
 /// there), whether that orbit is one the branch passed through, and
-/// Newton's least residual `(residual, offset)` past the grazing and
-/// before it when none was found.
-type Grazed = (Bifurcation, Vec<Point>, bool, [(f64, f64); 2]);
+/// the searches past the grazing and before it ([`Searches`]: Newton's
+/// least residual when none was found).
+type Grazed = (Bifurcation, Vec<Point>, bool, [Searches; 2]);
+
+/// The Newton searches for the orbit born at a grazing on one side of it
+/// ([`impact_beyond_grazing`]): the smallest residual of those that failed
+/// (`‖P(x) − x‖∞` at Newton's last iterate) with the offset where it was
+/// reached (a fraction of the range), and how many failed far from any
+/// orbit ([`Searches::failed`]). Once [`FAR_STALLS`] have, the side's
+/// remaining searches are skipped.
+#[derive(Clone, Copy, Debug)]
+struct Searches {
+    least: (f64, f64),
+    /// Plain Newton's smallest residual (said when the side was given up
+    /// before any other search failed).
+    plain: (f64, f64),
+    far: usize,
+}
+
+impl Searches {
+    fn new() -> Self {
+        Self { least: (f64::INFINITY, 0.0), plain: (f64::INFINITY, 0.0), far: 0 }
+    }
+
+    /// Whether the side's searches go on.
+    fn open(&self) -> bool {
+        self.far < FAR_STALLS
+    }
+
+    /// A search at the offset `f` that failed with Newton's last residual
+    /// `residual` and its least relative residual `relative`
+    /// ([`periodic_orbit_least`]) (`plain`: plain Newton's).
+    fn failed(&mut self, f: f64, residual: f64, relative: f64, plain: bool) {
+        let slot = if plain { &mut self.plain } else { &mut self.least };
+        if residual < slot.0 {
+            *slot = (residual, f);
+        }
+        if relative.is_finite() && relative > far_level(f) {
+            self.far += 1;
+        }
+    }
+
+    /// The residual to say: plain Newton's when the side was given up
+    /// before any other search failed.
+    fn said(&self) -> (f64, f64) {
+        if self.least.0.is_infinite() && !self.open() {
+            self.plain
+        } else {
+            self.least
+        }
+    }
+}
+
+/// Searches (on one side of a grazing) that fail far from any orbit
+/// ([`far_level`]) after which the side's remaining searches are skipped.
+const FAR_STALLS: usize = 2;
+
+/// The least relative residual above which a search at the offset `f` (a
+/// fraction of the range from the grazing) that fails counts as far from
+/// any orbit: `max(1e-3, 100 f)`. Where an orbit is found at some offset
+/// (the oscillator, the chain, `tests/it`), the searches that fail at the
+/// others come within `5 f + 2e-6` of their state (20 times below this);
+/// on the paper's beam every search stays above 7e-3, at 1e-9 of the range
+/// already (docs/orbits.md).
+fn far_level(f: f64) -> f64 {
+    (1e2 * f).max(1e-4)
+}
 
 /// An orbit without impacts whose branch stops (the corrector fails at
 /// every step) because its motion reaches a stop: the grazing parameter as
@@ -850,15 +914,10 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), (smooth, measure), None, OnFailure::Stop, dir)?;
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let side = (estimate - cur.param).signum();
-    // The smallest Newton residual of the searches that failed past the
-    // grazing and before it, each with the offset (a fraction of the
-    // range) where it was reached: said when the branch ends there.
-    let mut least = [(f64::INFINITY, 0.0); 2];
-    let mut note = |side: usize, f: f64, r: f64| {
-        if r < least[side].0 {
-            least[side] = (r, f);
-        }
-    };
+    // The searches past the grazing and before it: their smallest
+    // residual, said when the branch ends there, and how many failed far
+    // from any orbit (after [`FAR_STALLS`] the side's others are skipped).
+    let (mut past, mut before) = (Searches::new(), Searches::new());
     // Plain Newton from the grazing orbit's state, then Newton keeping the
     // guess's new impacts (the square-root side: [`periodic_orbit_keeping`])
     // at each offset in turn. From an orbit without impacts, plain Newton at
@@ -871,40 +930,60 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     // ([`Newton::stall`]; converging ones halve the residual every few
     // iterations): on a map that has no orbit near (the paper's beam, each
     // iteration a run of a map with many impacts) the rest of the
-    // iterations are the cost of a search that fails.
+    // iterations are the cost of a search that fails. And once two
+    // searches on a side have failed far from any orbit ([`far_level`]:
+    // the beam's, at every offset), the side's others are not run.
     let stalling = ContinuationOptions { newton: Newton { stall: SEARCH_STALL, ..ctx.opts.newton }, ..*ctx.opts };
     let search = Ctx { opts: &stalling, ..*ctx };
     // The grazing orbit's push past the stop, the same at every offset:
     // computed once, when first needed.
     let push = std::cell::OnceCell::new();
-    let (plain, keeping) = (
-        |param: f64| solve_at(&search, &p1.x, param, side).filter(|p| p.orbit.impacts() > smooth),
-        |param: f64, least: &mut f64| {
-            solve_keeping_or(&search, &p1.x, param, side, smooth).map_err(|r| *least = least.min(r)).ok().or_else(|| {
-                (smooth == 0)
-                    .then(|| push.get_or_init(|| push_of(&search, &p1)).as_ref().and_then(|push| past_the_stop_along(&search, &p1, push, param, slope * (param - estimate).abs(), side, least)))
-                    .flatten()
-            })
-        },
-    );
     let param_at = |f: f64| estimate + side * f * ctx.ls;
-    let mut beyond = if smooth > 0 {
-        offsets.iter().find_map(|&f| {
-            let mut r = f64::INFINITY;
-            let found = plain(param_at(f)).or_else(|| keeping(param_at(f), &mut r));
-            note(0, f, r);
-            found
-        })
-    } else {
-        offsets.iter().find_map(|&f| plain(param_at(f))).or_else(|| {
-            offsets.iter().find_map(|&f| {
-                let mut r = f64::INFINITY;
-                let found = keeping(param_at(f), &mut r);
-                note(0, f, r);
-                found
-            })
-        })
+    let plain = |f: f64, past: &mut Searches| match solve_at_or(&search, &p1.x, param_at(f), side) {
+        Ok(p) => (p.orbit.impacts() > smooth).then_some(p),
+        Err(miss) => {
+            past.failed(f, miss.residual, miss.relative, true);
+            None
+        }
     };
+    let keeping = |f: f64, past: &mut Searches| {
+        let param = param_at(f);
+        let miss = match solve_keeping_or(&search, &p1.x, param, side, smooth) {
+            Ok(p) => return Some(p),
+            Err(miss) => miss,
+        };
+        past.failed(f, miss.residual, miss.relative, false);
+        let push = (smooth == 0 && past.open()).then(|| push.get_or_init(|| push_of(&search, &p1)).as_ref()).flatten()?;
+        past_the_stop_along(&search, &p1, push, param, slope * (param - estimate).abs(), side, past, f)
+    };
+    let mut beyond = None;
+    if smooth > 0 {
+        for &f in &offsets {
+            if !past.open() {
+                break;
+            }
+            beyond = plain(f, &mut past).or_else(|| past.open().then(|| keeping(f, &mut past)).flatten());
+            if beyond.is_some() {
+                break;
+            }
+        }
+    } else {
+        for &f in &offsets {
+            if !past.open() {
+                break;
+            }
+            beyond = plain(f, &mut past);
+            if beyond.is_some() {
+                break;
+            }
+        }
+        for &f in &offsets {
+            if beyond.is_some() || !past.open() {
+                break;
+            }
+            beyond = keeping(f, &mut past);
+        }
+    }
     // None past it: the impacting orbit on the near side (the branch turns
     // back at the grazing, where the two orbits meet: a nonsmooth fold),
     // from the smooth orbit there pushed past the stop. A free orbit's
@@ -914,17 +993,19 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     // to converge: the map's round-off grows as the inverse of its speed.
     if beyond.is_none() {
         for f in [1e-6, 1e-5, 1e-4, 1e-3, 1e-2] {
+            if !before.open() {
+                break;
+            }
             let param = estimate - side * f * ctx.ls;
             let Some(near) = solve_at(ctx, &p1.x, param, -side).filter(|p| p.orbit.impacts() == smooth) else { continue };
-            let mut r = f64::INFINITY;
-            let found = past_the_stop(&search, &near, param, 0.0, -side, &mut r);
-            note(1, f, r);
+            let found = past_the_stop(&search, &near, param, 0.0, -side, &mut before, f);
             if found.is_some() {
                 beyond = found;
                 break;
             }
         }
     }
+    let least = [past, before];
     let bif = Bifurcation {
         param: estimate,
         kind: BifurcationKind::Grazing,
@@ -953,7 +1034,7 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     let v0 = b.orbit.slowest_impact().unwrap_or(0.0);
     let mut away = vec![b];
     let (mut dist, mut misses) = ((away[0].param - estimate).abs(), 0);
-    let mut ignored = f64::INFINITY;
+    let mut ignored = Searches::new();
     for _ in 0..30 {
         let last = &away[away.len() - 1];
         if last.orbit.slowest_impact().unwrap_or(0.0) >= 100.0 * v0 && (!turned || (last.param - estimate).abs() >= 1e-2 * ctx.ls) {
@@ -972,7 +1053,7 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
             turned
                 .then(|| solve_at(ctx, &guess, param, side).filter(|p| p.orbit.impacts() == smooth))
                 .flatten()
-                .and_then(|near| past_the_stop(ctx, &near, param, 0.0, side, &mut ignored))
+                .and_then(|near| past_the_stop(ctx, &near, param, 0.0, side, &mut ignored, f64::INFINITY))
                 .filter(|p| p.orbit.impacts() == k)
         });
         match found {
@@ -993,9 +1074,17 @@ const SEARCH_STALL: usize = 10;
 
 /// The least residuals of the Newton searches past a grazing and before
 /// it, as the end of a branch says them.
-fn residuals(least: [(f64, f64); 2]) -> String {
-    let say = |(r, f): (f64, f64)| if r.is_finite() { format!("{r:.1e} (at {f:e} of the range)") } else { "none (no start with the impact)".into() };
-    format!("; Newton's least residual past it {}, before it {}", say(least[0]), say(least[1]))
+fn residuals(least: [Searches; 2]) -> String {
+    let say = |s: &Searches| {
+        let (r, f) = s.said();
+        let given_up = if s.open() { String::new() } else { format!(", the rest given up after {FAR_STALLS} searches failed far from any orbit") };
+        if r.is_finite() {
+            format!("{r:.1e} (at {f:e} of the range{given_up})")
+        } else {
+            "none (no start with the impact)".into()
+        }
+    };
+    format!("; Newton's least residual past it {}, before it {}", say(&least[0]), say(&least[1]))
 }
 
 /// Whether `b` lies on the branch so far: between two of its points with
@@ -1115,6 +1204,38 @@ fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) ->
     ctx.point(orbit.x, param, &seed).ok()
 }
 
+/// A Newton search that failed: its last residual `‖P(x) − x‖∞` (infinite
+/// when the map or the model failed, or the start lacked the impacts to
+/// keep) and its least relative one ([`periodic_orbit_least`]).
+#[derive(Clone, Copy, Debug)]
+struct Miss {
+    residual: f64,
+    relative: f64,
+}
+
+impl Miss {
+    const NONE: Self = Self { residual: f64::INFINITY, relative: f64::INFINITY };
+}
+
+/// [`solve_at`], or how near Newton came when it fails.
+fn solve_at_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) -> Result<Point, Miss> {
+    let (model, period) = ctx.family.model_and_period(param).map_err(|_| Miss::NONE)?;
+    let mut relative = f64::INFINITY;
+    let orbit = periodic_orbit_least(&model, 0.0, period, guess, &ctx.opts.newton, &mut relative).map_err(|e| miss(e, relative))?;
+    let mut seed = vec![0.0; ctx.n + 1];
+    seed[ctx.n] = dir;
+    ctx.point(orbit.x, param, &seed).map_err(|_| Miss::NONE)
+}
+
+/// The [`Miss`] of a Newton that failed with `e`, its least relative
+/// residual `relative`.
+fn miss(e: OrbitError, relative: f64) -> Miss {
+    match e {
+        OrbitError::NoConvergence { residual, .. } if residual.is_finite() => Miss { residual, relative },
+        _ => Miss { relative, ..Miss::NONE },
+    }
+}
+
 /// [`solve_at`] for an orbit with the impacts of `guess`'s own period at
 /// `param` when it has more than `fewer` of them: Newton keeping them
 /// ([`periodic_orbit_keeping`]).
@@ -1122,21 +1243,20 @@ fn solve_keeping<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f6
     solve_keeping_or(ctx, guess, param, dir, fewer).ok()
 }
 
-/// [`solve_keeping`], or Newton's last residual when it fails (infinite
-/// when the guess has no more than `fewer` impacts or the map fails).
-fn solve_keeping_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Result<Point, f64> {
-    let (model, period) = ctx.family.model_and_period(param).map_err(|_| f64::INFINITY)?;
-    let k = model.flow(0.0, guess, period, false).map_err(|_| f64::INFINITY)?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
+/// [`solve_keeping`], or how near Newton came when it fails ([`Miss`]:
+/// infinite when the guess has no more than `fewer` impacts or the map
+/// fails).
+fn solve_keeping_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64, fewer: usize) -> Result<Point, Miss> {
+    let (model, period) = ctx.family.model_and_period(param).map_err(|_| Miss::NONE)?;
+    let k = model.flow(0.0, guess, period, false).map_err(|_| Miss::NONE)?.events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
     if k <= fewer {
-        return Err(f64::INFINITY);
+        return Err(Miss::NONE);
     }
-    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k).map_err(|e| match e {
-        OrbitError::NoConvergence { residual, .. } if residual.is_finite() => residual,
-        _ => f64::INFINITY,
-    })?;
+    let mut relative = f64::INFINITY;
+    let orbit = periodic_orbit_keeping(&model, 0.0, period, guess, &ctx.opts.newton, k, &mut relative).map_err(|e| miss(e, relative))?;
     let mut seed = vec![0.0; ctx.n + 1];
     seed[ctx.n] = dir;
-    ctx.point(orbit.x, param, &seed).map_err(|_| f64::INFINITY)
+    ctx.point(orbit.x, param, &seed).map_err(|_| Miss::NONE)
 }
 
 /// The orbit with a further impact beside the smooth orbit `near` (at
@@ -1147,10 +1267,11 @@ fn solve_keeping_or<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir:
 /// reaches past the stop by 1, 4 or 1/4 times its distance to it, or to
 /// `reach` when that is larger (the grazing orbit, its distance 0, moved
 /// as far as the flight would reach past the stop at `param`). `None` for
-/// an extremum of a massless contact dof (not in the state); `least` takes
-/// the smallest residual of a Newton that failed.
-fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, param: f64, reach: f64, dir: f64, least: &mut f64) -> Option<Point> {
-    past_the_stop_along(ctx, near, &push_of(ctx, near)?, param, reach, dir, least)
+/// an extremum of a massless contact dof (not in the state). Each Newton
+/// that fails counts in `searches`, as a search at the offset `f` (the
+/// remaining ones skipped once it gives up; `f` infinite: never).
+fn past_the_stop<F: Family>(ctx: &Ctx<'_, F>, near: &Point, param: f64, reach: f64, dir: f64, searches: &mut Searches, f: f64) -> Option<Point> {
+    past_the_stop_along(ctx, near, &push_of(ctx, near)?, param, reach, dir, searches, f)
 }
 
 /// The extremum of `near`'s flight nearest a bound and the gradient of its
@@ -1173,16 +1294,24 @@ fn push_of<F: Family>(ctx: &Ctx<'_, F>, near: &Point) -> Option<Push> {
 }
 
 /// [`past_the_stop`] with `near`'s [`Push`] given.
-fn past_the_stop_along<F: Family>(ctx: &Ctx<'_, F>, near: &Point, push: &Push, param: f64, reach: f64, dir: f64, least: &mut f64) -> Option<Point> {
+#[allow(clippy::too_many_arguments)]
+fn past_the_stop_along<F: Family>(ctx: &Ctx<'_, F>, near: &Point, push: &Push, param: f64, reach: f64, dir: f64, searches: &mut Searches, f: f64) -> Option<Point> {
     let Push { extremum: e, ref grad, norm2 } = *push;
     let toward = if e.upper { 1.0 } else { -1.0 };
     let smooth = near.orbit.impacts();
     let distance = e.distance.max(reach);
-    [1.0, 4.0, 0.25].into_iter().find_map(|f| {
-        let dq = toward * distance * (1.0 + f);
+    for beyond in [1.0, 4.0, 0.25] {
+        if !searches.open() {
+            break;
+        }
+        let dq = toward * distance * (1.0 + beyond);
         let guess: Vec<f64> = near.x.iter().zip(grad.iter()).map(|(x, g)| x + dq * g / norm2).collect();
-        solve_keeping_or(ctx, &guess, param, dir, smooth).map_err(|r| *least = least.min(r)).ok()
-    })
+        match solve_keeping_or(ctx, &guess, param, dir, smooth) {
+            Ok(p) => return Some(p),
+            Err(miss) => searches.failed(f, miss.residual, miss.relative, false),
+        }
+    }
+    None
 }
 
 /// The smallest distance of `p`'s orbit to a bound over its period.

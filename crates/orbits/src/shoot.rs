@@ -130,7 +130,8 @@ pub fn eigenvalues(m: &Mat<f64>) -> Result<Vec<c64>, OrbitError> {
 /// A fixed point of the map over `period` from `t0` (a forced scene's
 /// stroboscopic map: `period` = p forcing periods), by Newton from `guess`.
 pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton) -> Result<Orbit, OrbitError> {
-    newton_orbit(model, t0, period, guess, newton, None)
+    let mut least = f64::INFINITY;
+    newton_orbit(model, t0, period, guess, newton, None, &mut least)
 }
 
 /// [`periodic_orbit`] for an orbit with `impacts` impacts per period, from
@@ -142,9 +143,20 @@ pub fn periodic_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton
 /// a guess that reaches too far lands on the side without the impact, from
 /// where plain Newton steps back — it cycles. A halved step takes about
 /// the geometric mean of the guess's reach and the orbit's, so that a few
-/// steps bring the iterate within reach of full ones.
-pub(crate) fn periodic_orbit_keeping(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, impacts: usize) -> Result<Orbit, OrbitError> {
-    newton_orbit(model, t0, period, guess, newton, Some(impacts))
+/// steps bring the iterate within reach of full ones. `least` as
+/// [`periodic_orbit_least`] says.
+pub(crate) fn periodic_orbit_keeping(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, impacts: usize, least: &mut f64) -> Result<Orbit, OrbitError> {
+    *least = f64::INFINITY;
+    newton_orbit(model, t0, period, guess, newton, Some(impacts), least)
+}
+
+/// [`periodic_orbit`] that also says how near an orbit Newton came when
+/// it fails: `least` takes the smallest residual over its iterates, each
+/// relative to its own state as [`Newton::tol`] is (`‖P(x) − x‖∞ /
+/// max(‖x‖∞, scale)`; infinite when the start could not be mapped).
+pub(crate) fn periodic_orbit_least(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, least: &mut f64) -> Result<Orbit, OrbitError> {
+    *least = f64::INFINITY;
+    newton_orbit(model, t0, period, guess, newton, None, least)
 }
 
 fn count_impacts(events: &[EventRecord]) -> usize {
@@ -158,13 +170,15 @@ fn count_impacts(events: &[EventRecord]) -> usize {
 /// the map) is the cost of a search that fails, not a way to succeed.
 const KEEP_STEP_FLOOR: f64 = 1.0 / (1u64 << 30) as f64;
 
-fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, keep: Option<usize>) -> Result<Orbit, OrbitError> {
+fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &Newton, keep: Option<usize>, least: &mut f64) -> Result<Orbit, OrbitError> {
     let mut x = guess.to_vec();
     let n = x.len();
     let tol = |x: &[f64]| newton.tol * inf_norm(x).max(newton.scale);
+    let relative = |res: f64, x: &[f64]| res / inf_norm(x).max(newton.scale);
     let mut img: Image = model.flow(t0, &x, period, true)?;
     let mut g: Vec<f64> = img.x.iter().zip(&x).map(|(a, b)| a - b).collect();
     let mut res = inf_norm(&g);
+    *least = least.min(relative(res, &x));
     if let Some(k) = keep {
         if count_impacts(&img.events) != k {
             return Err(OrbitError::NoConvergence { residual: res, iterations: 0, why: format!("the start has {} impacts per period, not {k}", count_impacts(&img.events)) });
@@ -203,6 +217,7 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
                     Ok(Some(ti)) if count_impacts(&ti.events) == k => {
                         let tg: Vec<f64> = ti.x.iter().zip(&trial).map(|(a, b)| a - b).collect();
                         (res, g, img, x) = (inf_norm(&tg), tg, ti, trial);
+                        *least = least.min(relative(res, &x));
                         break;
                     }
                     _ if lambda < KEEP_STEP_FLOOR => {
@@ -219,6 +234,7 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
                 let tr = inf_norm(&tg);
                 if tr < res || lambda < 1.0 / 64.0 {
                     (x, img, g, res) = (trial, ti, tg, tr);
+                    *least = least.min(relative(res, &x));
                     break;
                 }
             } else if lambda < 1.0 / 64.0 {

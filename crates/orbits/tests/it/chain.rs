@@ -287,3 +287,26 @@ fn the_impacting_orbit_born_at_the_free_orbits_grazing_agrees_with_the_runge_kut
         assert!(r < 1e-9 && err < 1e-8, "g = {}: RK residual {r:e}, RK's orbit {err:e} away", p.param);
     }
 }
+
+/// The orbit born at the chain's grazing is found by plain Newton only at
+/// the last offset, 1e-3 of the range past the grazing, after the six
+/// nearer ones failed: near an orbit (Newton's least residual within 1.5
+/// times the offset, relative to the state). The searches on a side give
+/// up after two that fail far from any orbit (above `max(1e-4, 100 f)` of
+/// the state at the offset `f`: the paper's beam's, docs/orbits.md); a rule
+/// that gave up on these would end the branch at the grazing. The first
+/// impacting point is the one found there, at the steady state's grazing
+/// height less 1e-3 of the range (the range is that height).
+#[test]
+fn the_searches_that_fail_near_the_chains_grazing_go_on_to_its_impacting_orbit() {
+    let u = steady_state();
+    let want = u[1].0.hypot(u[1].1);
+    let start = [u[0].0, u[1].0, -W * u[0].1, -W * u[1].1];
+    let branch = continuation(&Stop, &start, &ContinuationOptions::new(1.5 * want, 0.5 * want)).unwrap();
+    let g = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing).unwrap_or_else(|| panic!("no grazing; end: {}", branch.end));
+    assert_eq!(g.impacts, (0, 1), "end: {}", branch.end);
+    let first = &branch.points[g.between.1];
+    assert_eq!(first.orbit.impacts(), 1);
+    let at = want - 1e-3 * want;
+    assert!((first.param - at).abs() <= 1e-9 * want, "the first impacting orbit at {} vs {at}", first.param);
+}
