@@ -1,5 +1,5 @@
 //! What every lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
-//! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep))
+//! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep))
 //! shares: the lane of a batch ([`LockstepLane`]), the time loop's view of
 //! an engine ([`Lockstep`]), and one lane state ([`LaneState`]: the shared
 //! matrices' rows, the factor's rows and projection column, the loads and
@@ -40,7 +40,7 @@ pub struct LockstepLane {
 }
 
 /// What a time loop needs of a lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
-/// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep)):
+/// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep)):
 /// `L` runs sharing one step matrix, stepped together, each lane bit for
 /// bit its single run. Every lane-indexed method asserts `k < lanes()`.
 pub trait Lockstep {
@@ -140,6 +140,9 @@ pub(crate) struct LaneState<const L: usize> {
     /// Per forcing term and lane: the first lane with the same profile
     /// (its samples are computed once and copied).
     pub(crate) mean_src: Vec<[usize; L]>,
+    /// Per forcing term: its latest samples ([`means`](Self::means),
+    /// [`samples`](Self::samples)).
+    pub(crate) next: Vec<[f64; L]>,
     pub(crate) lo: [f64; L],
     pub(crate) hi: [f64; L],
     pub(crate) e: [f64; L],
@@ -245,6 +248,7 @@ impl<const L: usize> LaneState<L> {
             profiles: vec![Vec::with_capacity(used); terms],
             samplers: (0..terms).map(|_| Vec::with_capacity(used)).collect(),
             mean_src: vec![[0; L]; terms],
+            next: vec![[0.0; L]; terms],
             lo: [0.0; L],
             hi: [0.0; L],
             e: [0.0; L],
@@ -296,17 +300,16 @@ impl<const L: usize> LaneState<L> {
         self.shape_rows = (0..self.dofs).flat_map(|i| shapes.iter().map(move |sh| sh[i])).collect();
     }
 
-    /// Each forcing term's means over `[t0, t1]` on every lane, handed to
-    /// `take(j, means)` term by term: a `Sine`'s by `TimeProfile::mean`'s
+    /// Each forcing term's means over `[t0, t1]` on every lane, into
+    /// [`next`](Self::next) term by term: a `Sine`'s by `TimeProfile::mean`'s
     /// formula with its factor `sin(ω δ/2)/(ω δ/2)` looked up by the bits of
     /// `δ = t1 - t0` (one `sin` per lane and step instead of two), any other
     /// profile's from its sampler (which must give the means over
     /// `[t0, t1]`); lanes with the same profile share them.
     #[inline(always)]
-    pub(crate) fn means(&mut self, t0: f64, t1: f64, mut take: impl FnMut(usize, &[f64; L])) {
+    pub(crate) fn means(&mut self, t0: f64, t1: f64) {
         let slot = self.sinc.slot(&self.profiles, t1 - t0);
-        for (j, (((prof, src), sc), sps)) in self.profiles.iter().zip(&self.mean_src).zip(&self.sinc.table).zip(self.samplers.iter_mut()).enumerate() {
-            let mut next = [0.0; L];
+        for ((((prof, src), sc), sps), next) in self.profiles.iter().zip(&self.mean_src).zip(&self.sinc.table).zip(self.samplers.iter_mut()).zip(self.next.iter_mut()) {
             for k in 0..L {
                 next[k] = if src[k] != k {
                     next[src[k]]
@@ -316,7 +319,18 @@ impl<const L: usize> LaneState<L> {
                     sps[k].next_value()
                 };
             }
-            take(j, &next);
+        }
+    }
+
+    /// Each forcing term's next sample from its sampler on every lane,
+    /// into [`next`](Self::next) term by term; lanes with the same profile
+    /// share them.
+    #[inline(always)]
+    pub(crate) fn samples(&mut self) {
+        for ((src, sps), next) in self.mean_src.iter().zip(self.samplers.iter_mut()).zip(self.next.iter_mut()) {
+            for k in 0..L {
+                next[k] = if src[k] != k { next[src[k]] } else { sps[k].next_value() };
+            }
         }
     }
 
@@ -329,7 +343,11 @@ impl<const L: usize> LaneState<L> {
         let t = self.n as f64 * self.dt;
         let uc = self.u[self.c];
         for k in 0..self.lanes {
-            if self.failed[k].is_none() && !(uc[k].is_finite() && vc.is_none_or(|v| v[k].is_finite()) && self.lams[k].is_finite()) {
+            let v_ok = match vc {
+                Some(v) => v[k].is_finite(),
+                None => true,
+            };
+            if self.failed[k].is_none() && !(uc[k].is_finite() && v_ok && self.lams[k].is_finite()) {
                 self.failed[k] = Some(SchemeError::NonFinite { step: self.n, time: t });
             }
         }
@@ -647,12 +665,22 @@ pub(crate) fn forward<const L: usize, R: Rows<L>>(src: &mut R, l: &[[f64; 3]], r
     }
 }
 
+/// Work on each row of the backward sweep's result as soon as it is known
+/// (it fills the row-to-row recurrence's latency); `()` does none.
+pub(crate) trait Done<const L: usize> {
+    fn done(&mut self, i: usize, x: &[f64; L]);
+}
+
+impl<const L: usize> Done<L> for () {
+    #[inline(always)]
+    fn done(&mut self, _: usize, _: &[f64; L]) {}
+}
+
 /// The backward sweep of `BandLdlt::solve_p3` on every lane, in place;
-/// `done(i, x_i)` is called with each row's result as soon as it is known
-/// (rows `n-3..n` in that order, then `n-4` down to 0): work on it fills
-/// the row-to-row recurrence's latency.
+/// `done.done(i, x_i)` is called with each row's result as soon as it is
+/// known (rows `n-3..n` in that order, then `n-4` down to 0).
 #[inline(always)]
-pub(crate) fn backward<const L: usize>(b: &mut [[f64; L]], lt: &[[f64; 3]], inv_d: &[f64], mut done: impl FnMut(usize, &[f64; L])) {
+pub(crate) fn backward<const L: usize, D: Done<L>>(b: &mut [[f64; L]], lt: &[[f64; 3]], inv_d: &[f64], done: &mut D) {
     let n = b.len();
     let (lt, inv_d) = (&lt[..n], &inv_d[..n]);
     // Rows n-3..n have fewer successors.
@@ -663,7 +691,7 @@ pub(crate) fn backward<const L: usize>(b: &mut [[f64; L]], lt: &[[f64; 3]], inv_
         b[n - 3][k] = b[n - 3][k] * inv_d[n - 3] - c3[1] * b[n - 1][k] - c3[0] * b[n - 2][k];
     }
     for i in n - 3..n {
-        done(i, &b[i]);
+        done.done(i, &b[i]);
     }
     let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
     for (i, ((bi, col), di)) in (0..n - 3).rev().zip(b[..n - 3].iter_mut().rev().zip(lt[..n - 3].iter().rev()).zip(inv_d[..n - 3].iter().rev())) {
@@ -675,7 +703,7 @@ pub(crate) fn backward<const L: usize>(b: &mut [[f64; L]], lt: &[[f64; 3]], inv_
         x2 = x1;
         x1 = s;
         *bi = s;
-        done(i, &s);
+        done.done(i, &s);
     }
 }
 
@@ -719,10 +747,16 @@ pub(crate) fn project_lanes<const L: usize>(y: &mut [[f64; L]], w: &[f64], inv_w
     }
 }
 
+/// Rows `j` of the two products' arguments `(t_mass, t_stiff)` from an
+/// engine's vectors ([`TwoProducts`]).
+pub(crate) trait Combine<const L: usize> {
+    fn combine(&self, j: usize) -> ([f64; L], [f64; L]);
+}
+
 /// [`Rows`] of `M t_mass + s (F - K t_stiff) + Σ_j g_j shape_j` (`s` = `dt²`
 /// for Paoli–Schatzman, `dt` for Moreau–Jean), the rings' rows made by
-/// `combine(j)` from the engine's vectors.
-pub(crate) struct TwoProducts<'a, const L: usize, C: Fn(usize) -> ([f64; L], [f64; L])> {
+/// `combine` from the engine's vectors.
+pub(crate) struct TwoProducts<'a, const L: usize, C: Combine<L>> {
     pub(crate) mass: &'a [Row7],
     pub(crate) stiff: &'a [Row7],
     pub(crate) load: &'a [[f64; L]],
@@ -734,10 +768,10 @@ pub(crate) struct TwoProducts<'a, const L: usize, C: Fn(usize) -> ([f64; L], [f6
     pub(crate) combine: C,
 }
 
-impl<const L: usize, C: Fn(usize) -> ([f64; L], [f64; L])> Rows<L> for TwoProducts<'_, L, C> {
+impl<const L: usize, C: Combine<L>> Rows<L> for TwoProducts<'_, L, C> {
     #[inline(always)]
     fn prepare(&mut self, j: usize) {
-        (self.t_mass[j % RING], self.t_stiff[j % RING]) = (self.combine)(j);
+        (self.t_mass[j % RING], self.t_stiff[j % RING]) = self.combine.combine(j);
     }
 
     #[inline(always)]

@@ -55,7 +55,7 @@
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::lanes::{backward, check_count, check_lanes, clamp, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, LaneState, Refusals, TwoProducts};
+use crate::lanes::{backward, check_count, check_lanes, clamp, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Combine, LaneState, Refusals, TwoProducts};
 use crate::{Active, LockstepLane, PaoliSchatzman, Sampler, SchemeError, Stepper};
 
 /// `L` runs of the Paoli–Schatzman scheme sharing one step matrix, stepped
@@ -236,15 +236,14 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
         // g = β m_{n+1} + (1-2β) m_n + β m_{n-1}, then dt² g.
         let (dt, nf) = (st.dt, st.n as f64);
         let (t0, t1) = ((nf + 1.0) * dt, (nf + 2.0) * dt);
-        let (means, gs) = (&mut self.means, &mut self.dt2_gc);
-        st.means(t0, t1, |j, next| {
-            let (m, g) = (&mut means[j], &mut gs[j]);
+        st.means(t0, t1);
+        for ((m, g), next) in self.means.iter_mut().zip(self.dt2_gc.iter_mut()).zip(&st.next) {
             for k in 0..L {
                 let gc = beta * next[k] + a * m[1][k] + beta * m[0][k];
                 g[k] = dt2 * gc;
             }
             *m = [m[1], *next];
-        });
+        }
         // rhs = M t_mass + dt² (F - K t_stiff) + Σ_j dt² g_j shape_j, row by
         // row, each row then eliminated at once (the forward sweep of
         // `BandLdlt::solve_p3`); t_mass = 2U^n - U^{n-1} and t_stiff =
@@ -262,18 +261,10 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
             t_mass: &mut st.t_mass,
             t_stiff: &mut st.t_stiff,
             scale: dt2,
-            combine: |j: usize| {
-                let (u, up) = (&u[j], &up[j]);
-                let (mut tm, mut ts) = ([0.0; L], [0.0; L]);
-                for k in 0..L {
-                    tm[k] = 2.0 * u[k] - up[k];
-                    ts[k] = a * u[k] + beta * up[k];
-                }
-                (tm, ts)
-            },
+            combine: Levels { u, up, a, beta },
         };
         forward::<L, _>(&mut rows, &st.l, &mut st.rhs[..n]);
-        backward::<L>(&mut st.rhs[..n], &st.lt, &st.inv_d, |_, _| {});
+        backward::<L, _>(&mut st.rhs[..n], &st.lt, &st.inv_d, &mut ());
         self.project();
         // Rotate: U^{n-1} <- U^n <- U^{n+1}.
         let st = &mut self.state;
@@ -307,6 +298,27 @@ impl<const L: usize> PaoliSchatzmanLockstep<L> {
 
 impl_lockstep!(PaoliSchatzmanLockstep);
 
+/// Rows of `2U^n - U^{n-1}` and `(1-2β) U^n + β U^{n-1}` (`a = 1-2β`).
+struct Levels<'a, const L: usize> {
+    u: &'a [[f64; L]],
+    up: &'a [[f64; L]],
+    a: f64,
+    beta: f64,
+}
+
+impl<const L: usize> Combine<L> for Levels<'_, L> {
+    #[inline(always)]
+    fn combine(&self, j: usize) -> ([f64; L], [f64; L]) {
+        let (u, up) = (&self.u[j], &self.up[j]);
+        let (mut tm, mut ts) = ([0.0; L], [0.0; L]);
+        for k in 0..L {
+            tm[k] = 2.0 * u[k] - up[k];
+            ts[k] = self.a * u[k] + self.beta * up[k];
+        }
+        (tm, ts)
+    }
+}
+
 /// The registry schemes a lockstep engine takes, with their parameters
 /// (from a [`SchemeSpec`](crate::SchemeSpec) whose
 /// [`Capabilities::lockstep`](crate::Capabilities::lockstep) is set).
@@ -328,6 +340,13 @@ pub enum LockstepScheme {
         /// The activation predictor's γ.
         gamma: f64,
     },
+    /// `nsga(ρ∞, e)`: [`NsgaLockstep`](crate::NsgaLockstep).
+    Nsga {
+        /// ρ∞.
+        rho_inf: f64,
+        /// Restitution `e`.
+        restitution: f64,
+    },
 }
 
 impl LockstepScheme {
@@ -339,6 +358,7 @@ impl LockstepScheme {
         match spec.family().name {
             "ps" => Some(Self::PaoliSchatzman { beta: spec.param("beta")?, restitution: spec.param("e")? }),
             "moreau-jean" => Some(Self::MoreauJean { theta: spec.param("theta")?, restitution: spec.param("e")?, gamma: spec.param("gamma")? }),
+            "nsga" => Some(Self::Nsga { rho_inf: spec.param("rho_inf")?, restitution: spec.param("e")? }),
             _ => None,
         }
     }
@@ -346,7 +366,7 @@ impl LockstepScheme {
     /// The restitution of the scheme (a lane's [`LockstepLane::restitution`]).
     pub fn restitution(&self) -> f64 {
         match *self {
-            Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } => restitution,
+            Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } | Self::Nsga { restitution, .. } => restitution,
         }
     }
 }

@@ -44,7 +44,7 @@
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::lanes::{backward, check_count, check_lanes, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, LaneState, Refusals, TwoProducts};
+use crate::lanes::{backward, check_count, check_lanes, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Combine, Done, LaneState, Refusals, TwoProducts};
 use crate::{Active, LockstepLane, MoreauJean, Sampler, SchemeError};
 
 /// `L` runs of the Moreau–Jean scheme sharing one step matrix, stepped
@@ -140,12 +140,12 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         // a = 0 + n dt, b = 0 + (n+1) dt), times dt (`add_terms`' scale).
         let nf = self.state.n as f64;
         let (t0, t1) = (nf * dt, (nf + 1.0) * dt);
-        let gs = &mut self.dt_s;
-        self.state.means(t0, t1, |j, next| {
+        self.state.means(t0, t1);
+        for (g, next) in self.dt_s.iter_mut().zip(&self.state.next) {
             for k in 0..L {
-                gs[j][k] = dt * next[k];
+                g[k] = dt * next[k];
             }
-        });
+        }
         // Which lanes' contacts are predicted active (from U^n, V^n: known
         // before the solve). None: V^{n+1} is the solve's result, and
         // U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}) is made row by row in
@@ -170,24 +170,17 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             t_mass: &mut st.t_mass,
             t_stiff: &mut st.t_stiff,
             scale: dt,
-            combine: |j: usize| {
-                let (u, v) = (&u[j], &v[j]);
-                let (tm, mut ts) = (*v, [0.0; L]);
-                for k in 0..L {
-                    ts[k] = u[k] + cv * v[k];
-                }
-                (tm, ts)
-            },
+            combine: Velocities { u, v, cv },
         };
         forward::<L, _>(&mut rows, &st.l, &mut st.rhs[..n]);
         // Backward (`BandLdlt::solve_p3`'s order).
         let a = 1.0 - th;
-        let (uw, vr) = (&mut st.u[..n], &self.v[..n]);
-        backward::<L>(&mut st.rhs[..n], &st.lt, &st.inv_d, |i, s| {
-            if !any {
-                advance::<L>(&mut uw[i], &vr[i], s, dt, a, th);
-            }
-        });
+        if any {
+            backward::<L, _>(&mut st.rhs[..n], &st.lt, &st.inv_d, &mut ());
+        } else {
+            let mut adv = Advance { u: &mut st.u[..n], v: &self.v[..n], dt, a, th };
+            backward::<L, _>(&mut st.rhs[..n], &st.lt, &st.inv_d, &mut adv);
+        }
         if any {
             self.impact();
             let st = &mut self.state;
@@ -261,11 +254,51 @@ impl<const L: usize> MoreauJeanLockstep<L> {
 
 impl_lockstep!(MoreauJeanLockstep);
 
+/// Rows of `V^n` and `U^n + θ(1-θ) dt V^n` (`cv = θ(1-θ) dt`).
+struct Velocities<'a, const L: usize> {
+    u: &'a [[f64; L]],
+    v: &'a [[f64; L]],
+    cv: f64,
+}
+
+impl<const L: usize> Combine<L> for Velocities<'_, L> {
+    #[inline(always)]
+    fn combine(&self, j: usize) -> ([f64; L], [f64; L]) {
+        let (u, v) = (&self.u[j], &self.v[j]);
+        let (tm, mut ts) = (*v, [0.0; L]);
+        for k in 0..L {
+            ts[k] = u[k] + self.cv * v[k];
+        }
+        (tm, ts)
+    }
+}
+
+/// [`advance`] on each row of `V^{n+1}` as the backward sweep makes it
+/// (when no contact is predicted active).
+struct Advance<'a, const L: usize> {
+    u: &'a mut [[f64; L]],
+    v: &'a [[f64; L]],
+    dt: f64,
+    a: f64,
+    th: f64,
+}
+
+impl<const L: usize> Done<L> for Advance<'_, L> {
+    #[inline(always)]
+    fn done(&mut self, i: usize, x: &[f64; L]) {
+        advance::<L>(&mut self.u[i], &self.v[i], x, self.dt, self.a, self.th);
+    }
+}
+
 /// Row `i` of `U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1})` (`a = 1-θ`):
 /// `MoreauJean::finish_step`'s update.
 #[inline(always)]
 fn advance<const L: usize>(u: &mut [f64; L], v: &[f64; L], vn: &[f64; L], dt: f64, a: f64, th: f64) {
+    // Whole rows in, whole row out: no store can alias a load, so the lane
+    // loop is vectorised wherever it is inlined.
+    let (mut r, v, vn) = (*u, *v, *vn);
     for k in 0..L {
-        u[k] += dt * (a * v[k] + th * vn[k]);
+        r[k] += dt * (a * v[k] + th * vn[k]);
     }
+    *u = r;
 }
