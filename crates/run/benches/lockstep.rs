@@ -12,12 +12,14 @@
 //! `frequency_baseline_*`: the baseline x86-64 (SSE2) build where the CPU has AVX2.
 //! `moreau_jean_single` and `moreau_jean_frequency_*`: the same for
 //! `moreau-jean` (θ = 1/2, e = 0, γ = 1/2): the single `MoreauJean` step
-//! against `MoreauJeanLockstep`.
+//! against `MoreauJeanLockstep`; `nsga_single` and `nsga_frequency_*`:
+//! the same for `nsga(0.5)` (ρ∞ = 1/2, e = 0): the single `Nsga` step
+//! against `NsgaLockstep`.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
 use signorini_run::beam::Pipe;
-use signorini_schemes::{Lockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_schemes::{Lockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, Nsga, NsgaLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
 
 fn main() {
     divan::main();
@@ -135,6 +137,34 @@ fn moreau_jean_single(bencher: Bencher) {
 #[divan::bench(consts = [4, 8, 16])]
 fn moreau_jean_frequency<const L: usize>(bencher: Bencher) {
     bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| MoreauJeanLockstep::<L>::new(0.5, 0.5, DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
+}
+
+/// One run, `Nsga::step` (ρ∞ = 1/2, e = 0): ns per step.
+#[divan::bench]
+fn nsga_single(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS))
+        .with_inputs(|| {
+            let l = lane(0, true);
+            Nsga::new("single".into(), l.dynamics, 0.5, 0.0, DT, &l.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+/// `L` runs of a frequency sweep with `NsgaLockstep`: ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn nsga_frequency<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| NsgaLockstep::<L>::new(0.5, DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
         for _ in 0..STEPS {
             divan::black_box(b.step());
         }

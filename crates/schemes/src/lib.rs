@@ -65,9 +65,10 @@
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
 //!   [`PaoliSchatzmanLockstep`] steps `L` runs that share its step matrix
 //!   together (a sweep), each lane bit-identical to its single run;
-//!   [`MoreauJeanLockstep`] does the same for [`MoreauJean`] (both behind
-//!   the [`Lockstep`] trait; [`LockstepScheme`] says which engine a
-//!   registry scheme takes).
+//!   [`MoreauJeanLockstep`] and [`NsgaLockstep`] do the same for
+//!   [`MoreauJean`] and [`Nsga`] (all three behind the [`Lockstep`] trait,
+//!   on one lane state; [`LockstepScheme`] says which engine a registry
+//!   scheme takes).
 //!
 //! * [`Reduced`]: the massless contact node eliminated (`u_0 = max(u_1, g)`),
 //!   with the hybrid Crank–Nicolson/midpoint scheme of the weighted-mass paper
@@ -171,6 +172,7 @@ mod d1minus;
 pub mod events;
 mod family;
 mod hybrid;
+mod lanes;
 mod loads;
 mod lockstep;
 mod moreau;
@@ -180,6 +182,7 @@ mod moreau_projected;
 mod multi;
 mod nitsche;
 mod nsga;
+mod nsga_lockstep;
 mod onestep;
 mod paoli;
 mod profile;
@@ -191,7 +194,8 @@ pub use cd_lagrange::CdLagrange;
 pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
-pub use lockstep::{Lockstep, LockstepLane, LockstepScheme, PaoliSchatzmanLockstep};
+pub use lanes::{Lockstep, LockstepLane};
+pub use lockstep::{LockstepScheme, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
 pub use moreau_combined::{MoreauJeanCombined, COMBINED_TOLERANCE};
 pub use moreau_lockstep::MoreauJeanLockstep;
@@ -200,6 +204,7 @@ pub use moreau_projected::{MoreauJeanProjected, INDEX_SET_THRESHOLD, PROJECTION_
 pub use multi::MultiSolve;
 pub use nitsche::Nitsche;
 pub use nsga::{chung_hulbert, Nsga};
+pub use nsga_lockstep::NsgaLockstep;
 pub use onestep::{OneStep, OneStepParams};
 pub use paoli::PaoliSchatzman;
 pub use profile::{Harmonic, ProfileError, Psd, RandomSpec, Sampler, Series, SplitMix64, TimeProfile, MAX_RANDOM_COUNT};

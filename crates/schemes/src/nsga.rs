@@ -208,6 +208,15 @@ impl Nsga {
         (self.alpha_m, self.alpha_f, self.beta, self.gamma)
     }
 
+    /// What [`NsgaLockstep`](crate::NsgaLockstep) takes of a single run
+    /// (one contact, after [`new`](Self::new)): the factor of `S`, the
+    /// position and velocity projections (`S⁻¹ e_c`, `M⁻¹ e_c`),
+    /// `M⁻¹ e_c − S⁻¹ e_c`, and `a^0`, `q̈^0`; `None` with several contacts.
+    pub(crate) fn lockstep_parts(&self) -> Option<NsgaParts<'_>> {
+        let (proj_u, proj_v) = (self.proj_u.as_ref()?, self.proj_v.as_ref()?);
+        Some(NsgaParts { s: &self.s, proj_u, proj_v, dz: &self.dz, a: &self.a, qdd: &self.qdd })
+    }
+
     /// The free generalized-α step: `U, V, a, q̈` become the step's values
     /// without contact (fused into `S`'s sweeps by [`Tridiagonal`] for a
     /// tridiagonal `K` and `S`, the same bits).
@@ -271,6 +280,16 @@ impl Nsga {
             *v -= kv * d;
         }
     }
+}
+
+/// A single run's parts the lockstep engine shares ([`Nsga::lockstep_parts`]).
+pub(crate) struct NsgaParts<'a> {
+    pub(crate) s: &'a BandLdlt,
+    pub(crate) proj_u: &'a Projection,
+    pub(crate) proj_v: &'a Projection,
+    pub(crate) dz: &'a [f64],
+    pub(crate) a: &'a [f64],
+    pub(crate) qdd: &'a [f64],
 }
 
 /// The generalized-α predictor and update of one entry: `â = (α_f q̈ −
@@ -573,7 +592,7 @@ pub(crate) static NSGA: Family = Family {
         check("rho_inf", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]")?;
         check("e", a[1], (0.0..=1.0).contains(&a[1]), "[0, 1]")
     },
-    capabilities: |_| Capabilities { node: Node::Massive, damping: false, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { node: Node::Massive, damping: false, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(Nsga::new(s.to_string(), dy, s.args()[0], s.args()[1], dt, init)?)),

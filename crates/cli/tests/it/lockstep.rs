@@ -76,7 +76,18 @@ fn runs_that_do_not_share_a_matrix_are_not_locked() {
 /// on to their horizons.
 #[test]
 fn a_lane_that_blows_up_stops_where_its_single_run_does() {
-    let text = "[beam]\nscene = \"fig2\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n";
+    for scheme in ["projection", "nsga(0.5)"] {
+        lane_blows_up(scheme);
+    }
+}
+
+fn lane_blows_up(scheme: &str) {
+    let text = if scheme == "projection" {
+        "[beam]\nscene = \"fig2\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n".to_string()
+    } else {
+        format!("[beam]\nscene = \"fig2\"\nscheme = \"{scheme}\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n")
+    };
+    let text = text.as_str();
     let mut o = SweepOptions::new("support.amplitude", 0.2, 1e303, 3);
     o.transient = 0.0;
     o.record = 1.0;
@@ -90,20 +101,20 @@ fn a_lane_that_blows_up_stops_where_its_single_run_does() {
         if k == 0 {
             assert_eq!(one.status, "ok");
         } else {
-            assert!(one.status.contains("blew up"), "run {k}: {}", one.status);
-            assert!(one.steps < 12_566, "run {k} stopped early: {}", one.steps);
+            assert!(one.status.contains("blew up"), "{scheme} run {k}: {}", one.status);
+            assert!(one.steps < 12_566, "{scheme} run {k} stopped early: {}", one.steps);
         }
-        assert_eq!((l.steps, &l.status), (one.steps, &one.status), "run {k}");
-        assert_eq!(l.summary, one.summary, "run {k}");
-        assert_eq!(bits(&l.poincare), bits(&one.poincare), "run {k}");
+        assert_eq!((l.steps, &l.status), (one.steps, &one.status), "{scheme} run {k}");
+        assert_eq!(l.summary, one.summary, "{scheme} run {k}");
+        assert_eq!(bits(&l.poincare), bits(&one.poincare), "{scheme} run {k}");
     }
 }
 
 /// A sweep of a registry-named scheme that can run in lockstep
-/// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β, and
-/// `moreau-jean(θ, e, γ)`) takes its engine, each lane its single run bit
-/// for bit; schemes that cannot (penalty, Newmark, nsga, the event-driven
-/// reference) run one at a time.
+/// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β,
+/// `moreau-jean(θ, e, γ)` and `nsga(ρ∞, e)`) takes its engine, each lane
+/// its single run bit for bit; schemes that cannot (penalty, Newmark,
+/// contact-stabilized, the event-driven reference) run one at a time.
 #[test]
 fn registry_schemes_that_can_run_in_lockstep_do() {
     let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
@@ -116,7 +127,10 @@ fn registry_schemes_that_can_run_in_lockstep_do() {
         ("moreau-jean(0.7,0.5)", true),
         ("moreau-jean(0.5,0,0.3)", true),
         ("moreau-jean(1,1)", true),
-        ("nsga(0.5)", false),
+        ("nsga(0.5)", true),
+        ("nsga(0,0.5)", true),
+        ("nsga(1,1)", true),
+        ("contact-stabilized", false),
         ("penalty-cn", false),
         ("newmark-cn", false),
         ("event-driven", false),

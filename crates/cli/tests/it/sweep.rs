@@ -723,9 +723,22 @@ fn a_followed_map_restarts_each_row_from_the_scene() {
 /// group of one is run alone, by `run`), in five processes, merged.
 #[test]
 fn a_moreau_jean_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_is_its_runs_one_at_a_time("moreau-jean(0.5,0.3)");
+}
+
+/// The same for `nsga` with a restitution (`NsgaLockstep`).
+#[test]
+fn an_nsga_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_is_its_runs_one_at_a_time("nsga(0.5,0.3)");
+}
+
+/// A sweep of the fig. 2 beam with `scheme` over five frequencies, with 1
+/// and 3 threads (in lockstep), against its five runs one at a time
+/// (five one-run shards, merged): the same files, byte for byte.
+fn lockstep_sweep_is_its_runs_one_at_a_time(scheme: &str) {
     let dir = tempfile::tempdir().unwrap();
     let sc = dir.path().join("beam.toml");
-    std::fs::write(&sc, "[beam]\nscene = \"fig2\"\nscheme = \"moreau-jean(0.5,0.3)\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n").unwrap();
+    std::fs::write(&sc, format!("[beam]\nscene = \"fig2\"\nscheme = \"{scheme}\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n")).unwrap();
     let run = |out: &Path, extra: &[&str]| {
         let mut c = bin();
         c.args(["sweep", sc.to_str().unwrap(), "--param", "support.omega", "--from", "8", "--to", "12", "--count", "5", "--transient", "1", "--record", "2", "--out", out.to_str().unwrap()]);
@@ -740,7 +753,7 @@ fn a_moreau_jean_sweep_in_lockstep_is_its_runs_one_at_a_time() {
     m.arg("merge").args(shards.iter().map(|s| s.to_str().unwrap())).args(["--out", merged.to_str().unwrap()]);
     ok(&m.output().unwrap());
     let impacts = std::fs::read_to_string(merged.join("impacts.csv")).unwrap();
-    assert!(impacts.lines().count() > 20, "the runs must reach the stops for the test to mean anything:\n{impacts}");
+    assert!(impacts.lines().count() > 20, "{scheme}: the runs must reach the stops for the test to mean anything:\n{impacts}");
     for threads in ["1", "3"] {
         let out = dir.path().join(format!("t{threads}"));
         run(&out, &["--threads", threads]);

@@ -30,6 +30,7 @@ mod lockstep;
 mod moreau_lockstep;
 mod multi_solve;
 mod nsga;
+mod nsga_lockstep;
 mod peers;
 mod profile;
 mod several_contacts;
