@@ -296,24 +296,29 @@ pub(crate) struct NsgaParts<'a> {
 /// α_m a)/(1 − α_m)`, `Û = U + dt V + dt²((½−β) a + β â)`, `V̂ = V +
 /// dt((1−γ) a + γ â)`; after the solve, `U += c β dt² q̈`, `V += c γ dt q̈`,
 /// `a = â + c q̈`.
+/// (The lockstep engine's rows use the same coefficients.)
 #[derive(Clone, Copy)]
-struct Predictor {
-    af: f64,
-    am: f64,
-    inv: f64,
-    h: f64,
-    hh_a: f64,
-    hh_b: f64,
-    h_a: f64,
-    h_g: f64,
-    cu: f64,
-    cv: f64,
-    c: f64,
+pub(crate) struct Predictor {
+    pub(crate) af: f64,
+    pub(crate) am: f64,
+    pub(crate) inv: f64,
+    pub(crate) h: f64,
+    pub(crate) hh_a: f64,
+    pub(crate) hh_b: f64,
+    pub(crate) h_a: f64,
+    pub(crate) h_g: f64,
+    pub(crate) cu: f64,
+    pub(crate) cv: f64,
+    pub(crate) c: f64,
 }
 
 impl Predictor {
     fn new(s: &Nsga) -> Self {
-        let (h, am, af, b, g) = (s.dt, s.alpha_m, s.alpha_f, s.beta, s.gamma);
+        Self::of(s.dt, s.alpha_m, s.alpha_f, s.beta, s.gamma)
+    }
+
+    /// The coefficients for the step `h` and `α_m, α_f, β, γ`.
+    pub(crate) fn of(h: f64, am: f64, af: f64, b: f64, g: f64) -> Self {
         let c = (1.0 - af) / (1.0 - am);
         Self { af, am, inv: 1.0 / (1.0 - am), h, hh_a: h * h * (0.5 - b), hh_b: h * h * b, h_a: h * (1.0 - g), h_g: h * g, cu: c * b * h * h, cv: c * g * h, c }
     }

@@ -47,7 +47,7 @@ use crate::lanes::{
     add_shapes, backward, check_count, check_lanes, chunk, clamp, edge, forward, impl_lockstep, interior, lane_into, lockstep_builds, project_lanes, set_lane, Done, LaneState, Refusals, Row7, Rows,
     RING,
 };
-use crate::nsga::chung_hulbert;
+use crate::nsga::{chung_hulbert, Predictor};
 use crate::{Active, LockstepLane, Nsga, Sampler, SchemeError};
 
 /// `L` runs of the nonsmooth generalized-α scheme sharing one step matrix,
@@ -72,21 +72,11 @@ pub struct NsgaLockstep<const L: usize> {
     dz: Vec<f64>,
 }
 
-/// The step's coefficients, as [`Nsga`] computes them (its `Predictor`
-/// and `correct_smooth`).
+/// The step's coefficients, as [`Nsga`] computes them: its `Predictor`'s
+/// (one constructor), and `correct_smooth`'s.
 #[derive(Clone, Copy)]
 struct Coefficients {
-    af: f64,
-    am: f64,
-    inv: f64,
-    h: f64,
-    hh_a: f64,
-    hh_b: f64,
-    h_a: f64,
-    h_g: f64,
-    cu: f64,
-    cv: f64,
-    c: f64,
+    p: Predictor,
     gamma: f64,
     /// `c β dt²`, `β dt²`, `β dt` (the correction's denominators).
     den_q: f64,
@@ -97,24 +87,8 @@ struct Coefficients {
 impl Coefficients {
     fn new(rho_inf: f64, h: f64) -> Self {
         let (am, af, b, g) = chung_hulbert(rho_inf);
-        let c = (1.0 - af) / (1.0 - am);
-        Self {
-            af,
-            am,
-            inv: 1.0 / (1.0 - am),
-            h,
-            hh_a: h * h * (0.5 - b),
-            hh_b: h * h * b,
-            h_a: h * (1.0 - g),
-            h_g: h * g,
-            cu: c * b * h * h,
-            cv: c * g * h,
-            c,
-            gamma: g,
-            den_q: c * b * h * h,
-            den_a: b * h * h,
-            den_v: b * h,
-        }
+        let p = Predictor::of(h, am, af, b, g);
+        Self { p, gamma: g, den_q: p.c * b * h * h, den_a: b * h * h, den_v: b * h }
     }
 }
 
@@ -283,7 +257,7 @@ impl<const L: usize> NsgaLockstep<L> {
         let mut big = [0.0; L];
         project_lanes::<L>(&mut self.v, &self.wm, self.inv_wmc, c, &xv, &held, &mut big);
         for k in 0..L {
-            st.lams[k] = -big[k] / kc.h;
+            st.lams[k] = -big[k] / kc.p.h;
         }
         st.n += 1;
         st.check_finite(Some(&self.v[c]));
@@ -305,7 +279,7 @@ struct Update<'a, const L: usize> {
 impl<const L: usize> Done<L> for Update<'_, L> {
     #[inline(always)]
     fn done(&mut self, i: usize, q: &[f64; L]) {
-        update_row::<L>(&mut self.u[i], &mut self.v[i], &mut self.a[i], q, &self.k);
+        update_row::<L>(&mut self.u[i], &mut self.v[i], &mut self.a[i], q, &self.k.p);
     }
 }
 
@@ -328,7 +302,7 @@ struct Predicted<'a, const L: usize> {
 impl<const L: usize> Rows<L> for Predicted<'_, L> {
     #[inline(always)]
     fn prepare(&mut self, j: usize) {
-        predict_row::<L>(&mut self.u[j], &mut self.v[j], &mut self.a[j], &self.q[j], &mut self.ring[j % RING], &self.k);
+        predict_row::<L>(&mut self.u[j], &mut self.v[j], &mut self.a[j], &self.q[j], &mut self.ring[j % RING], &self.k.p);
     }
 
     #[inline(always)]
@@ -347,7 +321,7 @@ impl<const L: usize> Rows<L> for Predicted<'_, L> {
 /// `V`, `a`), `Û`'s row also into `ring`. (Whole rows in, whole rows out:
 /// no store can alias a load, so the lane loop is vectorised.)
 #[inline(always)]
-fn predict_row<const L: usize>(u: &mut [f64; L], v: &mut [f64; L], a: &mut [f64; L], q: &[f64; L], ring: &mut [f64; L], p: &Coefficients) {
+fn predict_row<const L: usize>(u: &mut [f64; L], v: &mut [f64; L], a: &mut [f64; L], q: &[f64; L], ring: &mut [f64; L], p: &Predictor) {
     let (mut un, mut vn, mut an, q) = (*u, *v, *a, *q);
     for k in 0..L {
         let ah = (p.af * q[k] - p.am * an[k]) * p.inv;
@@ -361,7 +335,7 @@ fn predict_row<const L: usize>(u: &mut [f64; L], v: &mut [f64; L], a: &mut [f64;
 /// `Nsga`'s `Predictor::update` on one row: `U += c β dt² q̈`,
 /// `V += c γ dt q̈`, `a += c q̈`.
 #[inline(always)]
-fn update_row<const L: usize>(u: &mut [f64; L], v: &mut [f64; L], a: &mut [f64; L], q: &[f64; L], p: &Coefficients) {
+fn update_row<const L: usize>(u: &mut [f64; L], v: &mut [f64; L], a: &mut [f64; L], q: &[f64; L], p: &Predictor) {
     let (mut un, mut vn, mut an, q) = (*u, *v, *a, *q);
     for k in 0..L {
         un[k] += p.cu * q[k];
