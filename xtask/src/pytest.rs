@@ -366,7 +366,7 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
         if cold { "empty (every crate compiled, the virtual environment created: a fresh clone's time)" } else { "warm (an earlier build reused)" }
     ));
     s.push_str("| | passed | failed | ignored / skipped |\n|---|---|---|---|\n");
-    s.push_str(&format!("| Rust tests (`cargo test --workspace --release --tests`, then `--doc`) | {} | {} | {} |\n", rec.rust.0, rec.rust.1, rec.rust.2));
+    s.push_str(&format!("| Rust tests (`cargo test --workspace --release --tests`, the binaries two at a time, and `--doc`) | {} | {} | {} |\n", rec.rust.0, rec.rust.1, rec.rust.2));
     s.push_str(&format!("| Python tests (pytest, `python/tests`) | {} | {} | {} |\n\n", rec.python.0, rec.python.1, rec.python.2));
     s.push_str("| phase of `cargo xtask test` | wall time |\n|---|---|\n");
     for (name, t) in &rec.phases {
