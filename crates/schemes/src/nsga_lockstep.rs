@@ -63,8 +63,6 @@ pub struct NsgaLockstep<const L: usize> {
     v: Vec<[f64; L]>,
     a: Vec<[f64; L]>,
     qdd: Vec<[f64; L]>,
-    /// Per forcing term: its value at `t_{n+1}` (times 1: `add_terms`' scale).
-    vals: Vec<[f64; L]>,
     /// `M⁻¹ e_c` and `1/(M⁻¹ e_c)_c` (the velocity projection), and
     /// `d = M⁻¹ e_c − S⁻¹ e_c`.
     wm: Vec<f64>,
@@ -124,7 +122,7 @@ impl<const L: usize> NsgaLockstep<L> {
         let first = single(&lanes[0])?;
         let parts = first.lockstep_parts().expect("one contact");
         let dy0 = &lanes[0].dynamics;
-        let (n, terms) = (dy0.n(), dy0.forcing.len());
+        let n = dy0.n();
         let state = LaneState::new(dy0, dt, 0, lanes.len(), parts.s, parts.proj_u);
         let zeros = vec![[0.0; L]; n];
         let mut s = Self {
@@ -134,7 +132,6 @@ impl<const L: usize> NsgaLockstep<L> {
             v: zeros.clone(),
             a: zeros.clone(),
             qdd: zeros,
-            vals: vec![[0.0; L]; terms],
             wm: parts.proj_v.influence().to_vec(),
             // 1/w_c as Projection computes it.
             inv_wmc: 1.0 / parts.proj_v.wc(),
@@ -193,13 +190,9 @@ impl<const L: usize> NsgaLockstep<L> {
         let c = st.c;
         // v_c^n, the impact law's pre-step velocity.
         let vc0 = self.v[c];
-        // The forcing terms' values at t_{n+1}, times 1.0 (`add_terms`).
+        // The forcing terms' values at t_{n+1} (`add_terms`' scale is 1.0,
+        // whose product changes no bit: the values themselves).
         st.samples();
-        for (g, next) in self.vals.iter_mut().zip(&st.next) {
-            for k in 0..L {
-                g[k] = 1.0 * next[k];
-            }
-        }
         // S q̈ = F(t_{n+1}) − K Û: the predictor made row by row just ahead
         // of the forward sweep (Û into the ring K Û reads), each row of the
         // right-hand side eliminated as it is made; the update of U, V, a
@@ -208,7 +201,7 @@ impl<const L: usize> NsgaLockstep<L> {
         let mut rows = Predicted {
             stiff: &st.stiff[..n],
             load: &st.load[..n],
-            gs: &self.vals[..],
+            gs: &st.next[..],
             shape_rows: &st.shape_rows[..],
             ring: &mut st.t_stiff,
             u: &mut st.u[..n],
