@@ -66,6 +66,12 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
     }
 }
 
+/// One line of a program's output as bytes, without its end (`\r` before
+/// the `\n` the line was split at); invalid UTF-8 kept, replaced.
+fn line_text(line: &[u8]) -> String {
+    String::from_utf8_lossy(line).trim_end_matches('\r').to_string()
+}
+
 /// [`run`], with stdout passed through line by line and kept: the lines
 /// and whether the command succeeded (the lines of a failed run count too).
 fn run_capture(cmd: &mut Command, what: &str) -> (Vec<String>, Result<(), String>) {
@@ -77,7 +83,7 @@ fn run_capture(cmd: &mut Command, what: &str) -> (Vec<String>, Result<(), String
     if let Some(out) = child.stdout.take() {
         // Invalid UTF-8 in a test's output is kept, replaced.
         for line in BufReader::new(out).split(b'\n').map_while(Result::ok) {
-            let line = String::from_utf8_lossy(&line).trim_end_matches('\r').to_string();
+            let line = line_text(&line);
             println!("{line}");
             lines.push(line);
         }
@@ -130,9 +136,10 @@ fn json_str(line: &str, key: &str) -> Option<String> {
 /// json`): the artifacts whose profile says `"test":true` (a binary built
 /// for the integration tests has an executable too, and its target's own
 /// `"test":true` says only that it could be tested), in the order cargo
-/// built them.
-pub fn test_binaries(messages: &[String]) -> Vec<TestBinary> {
-    messages
+/// built them. None is an error: a format of cargo's that this does not
+/// read would otherwise run no test and count none.
+pub fn test_binaries(messages: &[String]) -> Result<Vec<TestBinary>, String> {
+    let bins: Vec<TestBinary> = messages
         .iter()
         .filter(|l| l.contains("\"reason\":\"compiler-artifact\"") && l.split("\"profile\":{").nth(1).and_then(|p| p.split('}').next()).is_some_and(|p| p.contains("\"test\":true")))
         .filter_map(|l| {
@@ -142,7 +149,11 @@ pub fn test_binaries(messages: &[String]) -> Vec<TestBinary> {
             let src = Path::new(&src).strip_prefix(&dir).map_or(src.clone(), |p| p.display().to_string());
             Some(TestBinary { exe, dir, src })
         })
-        .collect()
+        .collect();
+    if bins.is_empty() {
+        return Err("cargo test --tests --no-run: no test executable in cargo's JSON messages".into());
+    }
+    Ok(bins)
 }
 
 /// Runs the test binaries `jobs` at a time (each with the test harness's
@@ -211,7 +222,7 @@ fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandl
                 let mut tx = Some(tx);
                 let mut lines = Vec::new();
                 for line in BufReader::new(e).split(b'\n').map_while(Result::ok) {
-                    let line = String::from_utf8_lossy(&line).trim_end_matches('\r').to_string();
+                    let line = line_text(&line);
                     if line.contains("Doc-tests") {
                         tx.take().map(|t| t.send(()));
                     }
@@ -222,7 +233,7 @@ fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandl
         });
         let mut lines = Vec::new();
         if let Some(out) = child.stdout.take() {
-            lines = BufReader::new(out).split(b'\n').map_while(Result::ok).map(|l| String::from_utf8_lossy(&l).trim_end_matches('\r').to_string()).collect();
+            lines = BufReader::new(out).split(b'\n').map_while(Result::ok).map(|l| line_text(&l)).collect();
         }
         let err = err.and_then(|h| h.join().ok()).unwrap_or_default();
         let status = child.wait();
@@ -499,22 +510,25 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             // Cargo's messages as JSON on stdout (the executables), its
             // progress and diagnostics rendered on stderr as usual.
             let built = Command::new(&cargo).current_dir(&root).args(base).args(["--tests", "--no-run", "--message-format=json-render-diagnostics"]).stderr(Stdio::inherit()).output();
-            let (built, r_built) = match built {
-                Ok(o) if o.status.success() => (String::from_utf8_lossy(&o.stdout).lines().map(str::to_string).collect::<Vec<_>>(), Ok(())),
-                Ok(o) => (Vec::new(), Err(format!("cargo test --tests --no-run failed ({})", o.status))),
-                Err(e) => (Vec::new(), Err(format!("cargo test --tests --no-run: cannot start: {e}"))),
+            let bins = match built {
+                Ok(o) if o.status.success() => test_binaries(&String::from_utf8_lossy(&o.stdout).lines().map(str::to_string).collect::<Vec<_>>()),
+                Ok(o) => Err(format!("cargo test --tests --no-run failed ({})", o.status)),
+                Err(e) => Err(format!("cargo test --tests --no-run: cannot start: {e}")),
             };
-            if let Err(e) = r_built {
-                handle = spawn_wheel.take().map(|f| f());
-                return Ok((Vec::new(), Err(e)));
-            }
+            let bins = match bins {
+                Ok(b) => b,
+                Err(e) => {
+                    handle = spawn_wheel.take().map(|f| f());
+                    return Ok((Vec::new(), Err(e)));
+                }
+            };
             // The doc tests first: cargo takes its build directory's lock
             // only until they start, and the wheel's build holds it while
             // it compiles. The test binaries need no lock at all.
             let (doc, doc_started) = doc_tests(&cargo, &root, &base);
             let _ = doc_started.recv();
             handle = spawn_wheel.take().map(|f| f());
-            let (mut lines, r) = run_binaries(test_binaries(&built), 2);
+            let (mut lines, r) = run_binaries(bins, 2);
             let (doc_lines, r_doc) = doc.join().unwrap_or_else(|_| (Vec::new(), Err("the doc tests' thread panicked".into())));
             lines.extend(doc_lines);
             Ok((lines, r.and(r_doc)))

@@ -88,10 +88,21 @@ fn the_test_binaries_are_the_test_profiles_executables() {
     let it = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/a \"b\"#signorini-cli@0.1.0","manifest_path":"/w/a \"b\"/Cargo.toml","target":{"kind":["test"],"crate_types":["bin"],"name":"it","src_path":"/w/a \"b\"/tests/it/main.rs","edition":"2021","doc":false,"doctest":false,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":true},"features":[],"filenames":["/w/target/release/deps/it-8d5c"],"executable":"/w/target/release/deps/it-8d5c","fresh":false}"##;
     let done = r##"{"reason":"build-finished","success":true}"##;
     let lines: Vec<String> = [lib, unit, bin, it, done].iter().map(|s| s.to_string()).collect();
-    let bins = xtask::pytest::test_binaries(&lines);
+    let bins = xtask::pytest::test_binaries(&lines).expect("two test executables");
     let want = [("/w/target/release/deps/signorini_exact-58c1", "/w/crates/exact", "src/lib.rs"), ("/w/target/release/deps/it-8d5c", "/w/a \"b\"", "tests/it/main.rs")];
     assert_eq!(bins.len(), want.len(), "{bins:?}");
     for (b, (exe, dir, src)) in bins.iter().zip(want) {
         assert_eq!((b.exe.to_str(), b.dir.to_str(), b.src.as_str()), (Some(exe), Some(dir), src));
+    }
+}
+
+/// Messages with no test executable (a format of cargo's that is not read,
+/// or a build of nothing) are an error, not a run of no test that passes.
+#[test]
+fn no_test_executable_is_an_error() {
+    let bin = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/crates/cli#signorini-cli@0.1.0","manifest_path":"/w/crates/cli/Cargo.toml","target":{"kind":["bin"],"crate_types":["bin"],"name":"signorini","src_path":"/w/crates/cli/src/main.rs","edition":"2021","doc":true,"doctest":false,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":false},"features":[],"filenames":["/w/target/release/signorini"],"executable":"/w/target/release/signorini","fresh":true}"##;
+    for lines in [vec![], vec![bin.to_string(), r#"{"reason":"build-finished","success":true}"#.to_string()]] {
+        let e = xtask::pytest::test_binaries(&lines).expect_err("no test executable");
+        assert!(e.contains("no test executable"), "{e}");
     }
 }
