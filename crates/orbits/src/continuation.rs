@@ -1198,11 +1198,7 @@ fn across_section<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
 /// A fixed point of the map at the parameter `param` from `guess`
 /// (natural-parameter Newton), as a branch point oriented along `dir`.
 fn solve_at<F: Family>(ctx: &Ctx<'_, F>, guess: &[f64], param: f64, dir: f64) -> Option<Point> {
-    let model = ctx.family.model(param).ok()?;
-    let orbit = periodic_orbit(&model, 0.0, ctx.family.period(param).ok()?, guess, &ctx.opts.newton).ok()?;
-    let mut seed = vec![0.0; ctx.n + 1];
-    seed[ctx.n] = dir;
-    ctx.point(orbit.x, param, &seed).ok()
+    solve_at_or(ctx, guess, param, dir).ok()
 }
 
 /// A Newton search that failed: its last residual `‖P(x) − x‖∞` (infinite
