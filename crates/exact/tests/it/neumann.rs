@@ -2,8 +2,9 @@
 //! docs/theory.md §5.2: the exact test vectors of §5.2.7, the explicit phases
 //! of §5.2.3 and the periodic table of §5.2.4, the event formulas, the defining
 //! identities of §5.2.6 (parallelogram identity, energy, boundary and contact
-//! conditions, derivatives), and an independent numerical solution (the
-//! CFL = 1 leapfrog of §2.6).
+//! conditions, derivatives), an independent numerical solution (the
+//! CFL = 1 leapfrog of §2.6), and Doyen, Ern and Piperno's modal series of
+//! the same bar in their units (§5.2.1).
 
 use proptest::prelude::*;
 use signorini_exact::{BarNeumannGravity, EventKind, ExactSolution, FarEnd, NeumannError};
@@ -238,6 +239,78 @@ fn periodicity_sixteen_not_eight() {
     for (a, b) in bp.iter().zip(&want) {
         assert_close("breakpoint", *a, *b, 1e-12);
     }
+}
+
+/// Doyen, Ern and Piperno's bouncing bar (SIAM J. Sci. Comput. 33, 2011,
+/// §3.1–3.2, eqs. (28)–(31)) in their units, as the two codes that reproduce
+/// it write it (docs/theory.md §5.2.1): `L = 10`, `E = 900`, `ρ = 1`
+/// (`c = 30`), `g = 10`, `h0 = 5` (`τ_f = √(2h0/g) = 1 = 3τ_w`, `τ_w = L/c`).
+/// The displacement at `(x, t)` by their five phases, the two elastic ones
+/// by modal series truncated after `n` terms: fall, contact
+/// `H + S1` (`ν_k = (k − ½)π/L`, `a_k = −2g/(c²Lν_k³)`), flight
+/// `P + S2` (`λ_k = kπ/L`, `b_k = 4g/(c²λ_k²)`), the time-reversed contact,
+/// the rise. Nothing here is taken from this crate.
+fn dep_bouncing_bar(x: f64, t: f64, n: usize) -> f64 {
+    let (l, c, g, h0) = (10.0_f64, 900.0_f64.sqrt(), 10.0_f64, 5.0_f64);
+    let (tw, tf) = (l / c, (2.0 * h0 / g).sqrt());
+    let vf = (2.0 * h0 * g).sqrt();
+    let p = |s: f64| h0 - g * (s - tf).powi(2) / 2.0;
+    let h = |s: f64| -vf * (x / c).min(tw - (s - tw).abs());
+    let s1 = |s: f64| {
+        (1..=n)
+            .map(|k| {
+                let nu = (k as f64 - 0.5) * std::f64::consts::PI / l;
+                -2.0 * g / (c * c * l * nu.powi(3)) * (nu * x).sin() * (1.0 - (c * nu * s).cos())
+            })
+            .sum::<f64>()
+    };
+    let s2 = |s: f64| {
+        -2.0 * g * l * l / (3.0 * c * c)
+            + (1..=n)
+                .map(|k| {
+                    let lam = k as f64 * std::f64::consts::PI / l;
+                    4.0 * g / (c * c * lam * lam) * (lam * x).cos() * (c * lam * s).cos()
+                })
+                .sum::<f64>()
+    };
+    let (t1, period) = (tf, 4.0 * (tf + tw));
+    let (t2, t3, t4) = (t1 + 2.0 * tw, t1 + 2.0 * tw + 2.0 * tf, t1 + 4.0 * tw + 2.0 * tf);
+    let t = t.rem_euclid(period);
+    if t < t1 {
+        p(t + tf)
+    } else if t < t2 {
+        h(t - t1) + s1(t - t1)
+    } else if t < t3 {
+        p(t - t2) + s2(t - t2)
+    } else if t < t4 {
+        h(t4 - t) + s1(t4 - t)
+    } else {
+        p(t - t4)
+    }
+}
+
+#[test]
+fn doyen_ern_piperno_bouncing_bar_is_this_benchmark() {
+    // Their data in units L = 1, c = 1 (x = 10 x', t = t'/3, u = 10 u') are
+    // g' = g L / c² = 1/9 and u0' = h0 / L = 1/2: `bar-neumann-gravity`.
+    let s = BarNeumannGravity::periodic(32.0).unwrap();
+    let n = 20_000;
+    // Truncation: the flight's cosine series leaves at most
+    // Σ_{k>n} b_k < 4 g L² / (c² π² n) in u, i.e. 4 g L / (c² π² n) ≈ 0.045/n
+    // in u' (the contact's sine series, with a_k ~ k⁻³, much less).
+    let tol = 4.0 * 10.0 * 10.0 / (900.0 * std::f64::consts::PI.powi(2) * n as f64) + 1e-12;
+    let mut worst = 0.0_f64;
+    for it in 0..=64 {
+        // Two periods (t' ∈ [0, 32]), every phase sampled several times.
+        let t = it as f64 * 0.5 + 0.013;
+        for ix in 0..=8 {
+            let x = ix as f64 / 8.0;
+            let theirs = dep_bouncing_bar(10.0 * x, t / 3.0, n) / 10.0;
+            worst = worst.max((s.fields(x, t).u - theirs).abs());
+        }
+    }
+    eprintln!("Doyen–Ern–Piperno series ({n} terms) vs closed form: max |Δu'| {worst:.2e} (bound {tol:.1e})");
+    assert!(worst <= tol, "bar-neumann-gravity vs DEP's bouncing bar: {worst:e} > {tol:e}");
 }
 
 #[test]
