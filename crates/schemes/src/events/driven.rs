@@ -57,6 +57,19 @@
 //! ends as an accumulation at `t + τ∞`, the contact at rest (then held if
 //! pressed), as `e = 0` would leave it (docs/theory.md §9.3).
 //!
+//! **Rebounds below the position's resolution.** The same rebound rises
+//! `w²/(2|a|)` off its bound. When that height is within the band where a
+//! contact counts as at its bound (1e-12 of its length scale) its
+//! rebounds cannot be told from rest: the positions that decide the next
+//! landing are round-off, so the landings come at speeds set by the
+//! round-off (`w ≈ √(2|a| ε)`), and they stop shrinking (a consistent-mass
+//! bar nudged off its stop chattered at 3e-9 s intervals, speeds 2e-8,
+//! until the event limit) or, with `e = 1`, never shrink (a landing at a
+//! round-off speed where the force starts to press: 2.5e7 rebounds in 8 s).
+//! The run of impacts then ends as an accumulation (for `0 < e < 1` at
+//! `t + τ∞`, for `e = 1` at the impact), the contact at rest (then held if
+//! pressed), the state within `w` and the band of the rebounding one.
+//!
 //! **Massless contact dofs** (every contact massless: mass redistribution,
 //! reduced models) have no impacts: see `massless.rs`.
 
@@ -578,12 +591,16 @@ impl EventDriven {
             self.vmax[j] = self.vmax[j].max(speed);
             self.streak[j].push(t);
             let e = self.sites[j].restitution;
+            let unresolved = || self.unresolved_rebound(t, &q, &v, j, at[j] == Some(true));
             if e > 0.0 && e < 1.0 {
                 let streak = &self.streak[j];
                 let geometric = accumulation(streak);
                 let close = geometric.filter(|g| g.1 <= 1e-9 * t.abs().max(streak[streak.len() - 1] - streak[0])).map(|g| g.0);
-                let unresolved = || self.unresolved_rebound(t, &q, &v, j, at[j] == Some(true));
                 if let Some(t_inf) = close.or(micro.then(|| geometric.map_or(t, |g| g.0))).or_else(unresolved) {
+                    due.push((j, t_inf, v[self.sites[j].dof]));
+                }
+            } else if e == 1.0 {
+                if let Some(t_inf) = unresolved() {
                     due.push((j, t_inf, v[self.sites[j].dof]));
                 }
             }
@@ -662,9 +679,11 @@ impl EventDriven {
     }
 
     /// The limit `t + τ∞` of contact `j`'s rebounds after an impact at `t`
-    /// if the time resolution cannot resolve them (module docs): leaving
-    /// its bound at the speed `w` against an acceleration `a` back to it,
-    /// they take `τ∞ = 2 w / (|a| (1 − e))`, here at most `4 δ(t)`.
+    /// if they cannot be resolved (module docs): leaving its bound at the
+    /// speed `w` against an acceleration `a` back to it, they take
+    /// `τ∞ = 2 w / (|a| (1 − e))`, here at most `4 δ(t)`, or rise
+    /// `w²/(2|a|)`, here within the band where the contact counts as at its
+    /// bound (`settle`'s); with `e = 1` (no limit) `t` itself.
     fn unresolved_rebound(&self, t: f64, q: &[f64], v: &[f64], j: usize, upper: bool) -> Option<f64> {
         let (s, sign) = (&self.sites[j], if upper { -1.0 } else { 1.0 });
         let w = sign * v[s.dof];
@@ -682,8 +701,14 @@ impl EventDriven {
             f += dot(m, h) * series.value(t);
         }
         let a = sign * (f - dot(km, q) - dot(cm, v));
-        let tau = 2.0 * w / (-a * (1.0 - s.restitution));
-        (a < 0.0 && tau <= 4.0 * time_resolution(t)).then_some(t + tau)
+        if !(a < 0.0) {
+            return None;
+        }
+        let e = s.restitution;
+        let tau = if e < 1.0 { 2.0 * w / (-a * (1.0 - e)) } else { 0.0 };
+        let below_time = e < 1.0 && tau <= 4.0 * time_resolution(t);
+        let below_position = w * w / (-2.0 * a) <= 1e-12 * s.scale;
+        (below_time || below_position).then_some(t + tau)
     }
 
     /// `M⁻¹ (f(t) − C v − K q)`.
