@@ -15,6 +15,7 @@ mod conformance;
 mod d1minus;
 mod damping;
 mod energy;
+mod events_degenerate;
 mod events_driven;
 mod events_events;
 mod events_flow;
