@@ -68,7 +68,12 @@
 //! round-off speed where the force starts to press: 2.5e7 rebounds in 8 s).
 //! The run of impacts then ends as an accumulation (for `0 < e < 1` at
 //! `t + τ∞`, for `e = 1` at the impact), the contact at rest (then held if
-//! pressed), the state within `w` and the band of the rebounding one.
+//! pressed), the state within `w` and the band of the rebounding one. The
+//! same holds for any contact an impact leaves moving off its bound that
+//! low (lifted by another's impulse through the mass). The band's length
+//! is the largest of the bounds and the start's displacements (every
+//! dof's), or, when those are all 0, the displacements at the first event
+//! where they are not.
 //!
 //! **Massless contact dofs** (every contact massless: mass redistribution,
 //! reduced models) have no impacts: see `massless.rs`.
@@ -226,7 +231,11 @@ impl EventDriven {
             }
             let (lo, hi) = (c.bounds.lo, c.bounds.hi);
             let q = q0[c.dof];
-            let scale = [lo, hi, hi - lo, q].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
+            // The displacements' size at the start, and the bounds': the
+            // round-off of a contact's position is the whole field's (its
+            // modes), not its own (a held contact at a stop at 0 has none).
+            let field = q0.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let scale = [lo, hi, hi - lo, field].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
             // A massless dof's start is the static solution (module docs).
             let inside = q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale;
             if !(c.massless || inside) {
@@ -513,6 +522,14 @@ impl EventDriven {
     /// The impacts, accumulation and new active set at time `t` from the
     /// state `(q, v)`; `primary` is the located event's contact.
     fn settle(&mut self, t: f64, mut q: Vec<f64>, mut v: Vec<f64>, primary: Option<(usize, Bound)>) -> Result<(), EventsError> {
+        // A contact whose bounds and start are all 0 has no length of its
+        // own (its band was exact equality: two stops reached together at
+        // 0 were located 1e-16 apart and taken one by one); it takes the
+        // displacements' at the first event where they are not 0.
+        let qmax = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for s in self.sites.iter_mut().filter(|s| s.scale == f64::MIN_POSITIVE && qmax > 0.0) {
+            s.scale = qmax;
+        }
         if !self.zero.is_empty() {
             return self.settle_static(t, q, v, primary);
         }
@@ -605,6 +622,20 @@ impl EventDriven {
                 }
             }
         }
+        // Any other contact on its bound that leaves it too low to be told
+        // from rest (lifted by another contact's impulse through the mass,
+        // held before or not): at rest as well. Two contacts coupled so
+        // that each one's plastic impact lifts the other landed in turn,
+        // 1/15 as fast each time, down to heights of 3e-18 and no lower,
+        // at 5e-9 s intervals, until the event limit.
+        for j in 0..kc {
+            if at[j].is_none() || due.iter().any(|d| d.0 == j) {
+                continue;
+            }
+            if let Some((w, a)) = self.departure(t, &q, &v, j, at[j] == Some(true)).filter(|(w, a)| w * w / (2.0 * a) <= 1e-12 * self.sites[j].scale) {
+                due.push((j, t + self.rebounds_last(w, a, j), v[self.sites[j].dof]));
+            }
+        }
         if !due.is_empty() {
             // At rest on their bounds (lo = hi = 0: an equality), the
             // others at their bounds not pushed through.
@@ -685,6 +716,29 @@ impl EventDriven {
     /// `w²/(2|a|)`, here within the band where the contact counts as at its
     /// bound (`settle`'s); with `e = 1` (no limit) `t` itself.
     fn unresolved_rebound(&self, t: f64, q: &[f64], v: &[f64], j: usize, upper: bool) -> Option<f64> {
+        let (w, a) = self.departure(t, q, v, j, upper)?;
+        let tau = self.rebounds_last(w, a, j);
+        let below_time = self.sites[j].restitution < 1.0 && tau <= 4.0 * time_resolution(t);
+        let below_position = w * w / (2.0 * a) <= 1e-12 * self.sites[j].scale;
+        (below_time || below_position).then_some(t + tau)
+    }
+
+    /// How long contact `j`'s rebounds last, leaving at the speed `w`
+    /// against the acceleration `a`: `τ∞ = 2 w / (a (1 − e))`; 0 for
+    /// `e = 1` (they have no end; taken at rest at once).
+    fn rebounds_last(&self, w: f64, a: f64, j: usize) -> f64 {
+        let e = self.sites[j].restitution;
+        if e < 1.0 {
+            2.0 * w / (a * (1.0 - e))
+        } else {
+            0.0
+        }
+    }
+
+    /// Contact `j` leaving its bound (its upper one if `upper`): its speed
+    /// away `w > 0` and the free acceleration's size `a > 0` that brings
+    /// it back, if it does.
+    fn departure(&self, t: f64, q: &[f64], v: &[f64], j: usize, upper: bool) -> Option<(f64, f64)> {
         let (s, sign) = (&self.sites[j], if upper { -1.0 } else { 1.0 });
         let w = sign * v[s.dof];
         if !(w > 0.0) {
@@ -701,14 +755,7 @@ impl EventDriven {
             f += dot(m, h) * series.value(t);
         }
         let a = sign * (f - dot(km, q) - dot(cm, v));
-        if !(a < 0.0) {
-            return None;
-        }
-        let e = s.restitution;
-        let tau = if e < 1.0 { 2.0 * w / (-a * (1.0 - e)) } else { 0.0 };
-        let below_time = e < 1.0 && tau <= 4.0 * time_resolution(t);
-        let below_position = w * w / (-2.0 * a) <= 1e-12 * s.scale;
-        (below_time || below_position).then_some(t + tau)
+        (a < 0.0).then_some((w, -a))
     }
 
     /// `M⁻¹ (f(t) − C v − K q)`.
