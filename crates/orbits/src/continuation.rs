@@ -6,7 +6,10 @@
 //! `G_x = P' − I` (the variational Jacobian) and `G_λ` by central
 //! differences of the map. Predictor along the tangent `t` (the null vector
 //! of `[G_x G_λ]`, oriented by the previous one), Newton corrector on the
-//! hyperplane `tᵀ (y − y_pred) = 0`. Between two points:
+//! hyperplane `tᵀ (y − y_pred) = 0`; a step that fails is halved (a trial
+//! predicted past a grazing, with more impacts than the orbit it starts
+//! from, is given up at its first Newton step that does not lower the
+//! residual). Between two points:
 //!
 //! - **fold**: the tangent's `λ` component changes sign (a multiplier
 //!   passes through +1 at the turning point);
@@ -224,15 +227,18 @@ struct Ctx<'a, F: Family> {
 /// Why a trial step of the branch was given up early ([`Ctx::correct`]):
 /// its prediction lies past a grazing — the map there has more impacts per
 /// period than the orbit the step starts from, a new impact whose speed
-/// grows as the square root of how far past the stop it reaches — and
-/// Newton's step did not lower the residual. Logged on every run that
-/// continues through a grazing (the tests' and the paper's beam's,
-/// docs/orbits.md): such a trial never converged to a point the branch
-/// took; the ones that did contracted from their first step (by 0.14 or
-/// better), and on the beam every one that failed had the residual grow
-/// within its first few steps, then ran its 12 iterations on iterates
-/// chattering with hundreds of impacts a period. The step is halved
-/// either way.
+/// grows as the square root of how far past the stop it reaches, where
+/// Newton has no quadratic convergence to rely on — and a Newton step did
+/// not lower the residual `‖P(x) − x‖∞`. The step is halved either way.
+/// Logged on every test that continues through a grazing and on the
+/// paper's beam (docs/orbits.md, the table): of the trials it gives up, the
+/// code before it ran every one to a failure (its 12 iterations, or the map
+/// refusing a run through a grazing) or to a point the branch did not take
+/// (three, on the oscillator's period-2 loop: the tangent turned by more
+/// than 25°), so every branch is the same; the one trial past a grazing
+/// that the branch took lowered the residual at each step, about 7 times at the
+/// first. On the beam the trials given up had run their 12 iterations on
+/// iterates chattering with up to 12 099 impacts a period.
 const PAST_A_GRAZING: &str = "the trial step's prediction lies past a grazing (more impacts per period than the orbit it starts from) and Newton's step did not lower the residual";
 
 /// A converged point with its tangent.
