@@ -6,7 +6,10 @@
 //! `G_x = P' − I` (the variational Jacobian) and `G_λ` by central
 //! differences of the map. Predictor along the tangent `t` (the null vector
 //! of `[G_x G_λ]`, oriented by the previous one), Newton corrector on the
-//! hyperplane `tᵀ (y − y_pred) = 0`. Between two points:
+//! hyperplane `tᵀ (y − y_pred) = 0`; a step that fails is halved (a trial
+//! predicted past a grazing, with more impacts than the orbit it starts
+//! from, is given up at its first Newton step that does not lower the
+//! residual). Between two points:
 //!
 //! - **fold**: the tangent's `λ` component changes sign (a multiplier
 //!   passes through +1 at the turning point);
@@ -24,7 +27,7 @@
 //! or the event count), every trial point corrected onto the branch.
 
 use crate::map::{Extremum, Model};
-use crate::shoot::{eigenvalues, periodic_orbit, periodic_orbit_keeping, periodic_orbit_least, Newton, Orbit};
+use crate::shoot::{count_impacts, eigenvalues, periodic_orbit, periodic_orbit_keeping, periodic_orbit_least, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -203,6 +206,8 @@ struct Linearised {
     g: Vec<f64>,
     jac: Mat<f64>,
     gl: Vec<f64>,
+    /// `P(x)`.
+    image: Vec<f64>,
     events: Vec<signorini_schemes::events::EventRecord>,
     period: f64,
     /// The model at the point and its marker.
@@ -219,6 +224,23 @@ struct Ctx<'a, F: Family> {
     n: usize,
 }
 
+/// Why a trial step of the branch was given up early ([`Ctx::correct`]):
+/// its prediction lies past a grazing — the map there has more impacts per
+/// period than the orbit the step starts from, a new impact whose speed
+/// grows as the square root of how far past the stop it reaches, where
+/// Newton has no quadratic convergence to rely on — and a Newton step did
+/// not lower the residual `‖P(x) − x‖∞`. The step is halved either way.
+/// Logged on every test that continues through a grazing and on the
+/// paper's beam (docs/orbits.md, the table): of the trials it gives up, the
+/// code before it ran every one to a failure (its 12 iterations, or the map
+/// refusing a run through a grazing) or to a point the branch did not take
+/// (three, on the oscillator's period-2 loop: the tangent turned by more
+/// than 25°), so every branch is the same; the one trial past a grazing
+/// that the branch took lowered the residual at each step, about 7 times at the
+/// first. On the beam the trials given up had run their 12 iterations on
+/// iterates chattering with up to 12 099 impacts a period.
+const PAST_A_GRAZING: &str = "the trial step's prediction lies past a grazing (more impacts per period than the orbit it starts from) and Newton's step did not lower the residual";
+
 /// A converged point with its tangent.
 #[derive(Clone)]
 struct Point {
@@ -232,16 +254,29 @@ struct Point {
 
 impl<F: Family> Ctx<'_, F> {
     fn residual_and_jacobian(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
+        let mut lin = self.image(x, param)?;
+        self.param_derivative(&mut lin, x, param)?;
+        Ok(lin)
+    }
+
+    /// The map at `(x, λ)` with its Jacobian: [`Linearised`] without `G_λ`
+    /// (empty until [`Ctx::param_derivative`]).
+    fn image(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
         let (model, period, marker) = self.family.model_period_marker(param)?;
         let img = model.flow(0.0, x, period, true)?;
         let g: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
-        // G_λ by a forward difference: it steers Newton and the tangent
-        // only; the points themselves solve G = 0 to the tolerance.
+        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl: Vec::new(), image: img.x, events: img.events, period, model, marker })
+    }
+
+    /// `G_λ` at the point `lin` linearises, by a forward difference (a
+    /// second run of the map): it steers Newton and the tangent only; the
+    /// points themselves solve G = 0 to the tolerance.
+    fn param_derivative(&self, lin: &mut Linearised, x: &[f64], param: f64) -> Result<(), OrbitError> {
         let h = 1e-7 * self.ls;
         let (m, t) = self.family.model_and_period(param + h)?;
         let plus = m.flow(0.0, x, t, false)?;
-        let gl: Vec<f64> = (0..self.n).map(|i| (plus.x[i] - img.x[i]) / h).collect();
-        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl, events: img.events, period, model, marker })
+        lin.gl = (0..self.n).map(|i| (plus.x[i] - lin.image[i]) / h).collect();
+        Ok(())
     }
 
     /// The tangent at `(x, λ)` oriented along `prev` (scaled; unit).
@@ -266,22 +301,37 @@ impl<F: Family> Ctx<'_, F> {
     }
 
     /// Newton on the branch from the prediction `(x, λ)`, on the hyperplane
-    /// through it normal to `t`. Returns the point and the iterations.
-    fn correct(&self, mut x: Vec<f64>, mut param: f64, t: &[f64]) -> Result<(Vec<f64>, f64, Linearised), OrbitError> {
+    /// through it normal to `t`. Returns the point and the map linearised
+    /// there.
+    ///
+    /// `trial`: for a trial step of the branch ([`Ctx::trial`]), the
+    /// impacts per period of the orbit it starts from. When the map at the
+    /// prediction has more (the step crossed a grazing where an impact
+    /// appears), Newton gives up at the first iteration that does not lower
+    /// the residual ([`PAST_A_GRAZING`]).
+    fn correct(&self, mut x: Vec<f64>, mut param: f64, t: &[f64], trial: Option<usize>) -> Result<(Vec<f64>, f64, Linearised), OrbitError> {
         let n = self.n;
         let (x0, p0) = (x.clone(), param);
         let nt = self.opts.newton;
         let mut last = f64::NAN;
-        for _ in 0..nt.max_iter.min(12) {
-            let lin = self.residual_and_jacobian(&x, param)?;
-            let (g, jac, gl) = (&lin.g, &lin.jac, &lin.gl);
-            let res = g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            last = res;
+        let mut past = false;
+        for k in 0..nt.max_iter.min(12) {
+            let mut lin = self.image(&x, param)?;
+            let res = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             let plane: f64 = (0..n).map(|i| t[i] * (x[i] - x0[i]) / self.xs).sum::<f64>() + t[n] * (param - p0) / self.ls;
             let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(nt.scale);
             if res <= nt.tol * xn && plane.abs() <= 1e-12 {
+                self.param_derivative(&mut lin, &x, param)?;
                 return Ok((x, param, lin));
             }
+            if k == 0 {
+                past = trial.is_some_and(|from| count_impacts(&lin.events) > from);
+            } else if past && res > nt.tol * xn && res >= last {
+                return Err(OrbitError::NoConvergence { residual: res, iterations: k, why: PAST_A_GRAZING.into() });
+            }
+            last = res;
+            self.param_derivative(&mut lin, &x, param)?;
+            let (g, jac, gl) = (&lin.g, &lin.jac, &lin.gl);
             let a = Mat::from_fn(n + 1, n + 1, |r, c| {
                 if r < n {
                     if c < n {
@@ -326,10 +376,23 @@ impl<F: Family> Ctx<'_, F> {
 
     /// The point at arclength `s` from `a` along its tangent.
     fn at(&self, a: &Point, s: f64) -> Result<Point, OrbitError> {
+        self.along(a, s, None)
+    }
+
+    /// [`Ctx::at`] for a trial step of the branch, which the corrector
+    /// gives up early past a grazing ([`Ctx::correct`]): a step that fails
+    /// is halved and tried again, so giving up costs nothing but the
+    /// iterations left. (A bisection's steps are not: a bisection ends at
+    /// its first step that fails.)
+    fn trial(&self, a: &Point, s: f64) -> Result<Point, OrbitError> {
+        self.along(a, s, Some(a.orbit.impacts()))
+    }
+
+    fn along(&self, a: &Point, s: f64, trial: Option<usize>) -> Result<Point, OrbitError> {
         let n = self.n;
         let x: Vec<f64> = (0..n).map(|i| a.x[i] + s * a.tangent[i] * self.xs).collect();
         let param = a.param + s * a.tangent[n] * self.ls;
-        let (x, param, lin) = self.correct(x, param, &a.tangent)?;
+        let (x, param, lin) = self.correct(x, param, &a.tangent, trial)?;
         self.point_from(x, param, lin, &a.tangent)
     }
 }
@@ -417,7 +480,7 @@ fn continuation_until<F: Family>(
             branch.end = why;
             return Ok(branch);
         }
-        let trial = ctx.at(&cur, ds);
+        let trial = ctx.trial(&cur, ds);
         if matches!(trial, Err(OrbitError::Interrupted)) {
             branch.end = format!("interrupted at param = {}", cur.param);
             return Ok(branch);
@@ -517,7 +580,7 @@ fn continuation_until<F: Family>(
             t[n] = 1.0;
             let frac = (opts.to - cur.param) / (next.param - cur.param);
             let x: Vec<f64> = (0..n).map(|i| cur.x[i] + frac * (next.x[i] - cur.x[i])).collect();
-            let (x, p, lin) = ctx.correct(x, opts.to, &t)?;
+            let (x, p, lin) = ctx.correct(x, opts.to, &t, None)?;
             ctx.point_from(x, p, lin, &cur.tangent)?
         } else {
             next

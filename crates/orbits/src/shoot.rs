@@ -159,7 +159,8 @@ pub(crate) fn periodic_orbit_least(model: &Model, t0: f64, period: f64, guess: &
     newton_orbit(model, t0, period, guess, newton, None, least)
 }
 
-fn count_impacts(events: &[EventRecord]) -> usize {
+/// Impacts at a nonzero speed among `events` (as [`Orbit::impacts`] counts them).
+pub(crate) fn count_impacts(events: &[EventRecord]) -> usize {
     events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count()
 }
 
