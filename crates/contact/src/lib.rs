@@ -130,7 +130,7 @@ pub struct Projected {
 }
 
 mod multi;
-pub use multi::{MultiProjected, MultiProjection, PivotRule};
+pub use multi::{MultiProjected, MultiProjection, OneDof, PivotRule};
 
 /// Which bound is active after a projection.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -217,6 +217,13 @@ impl MultiProjection {
         Ok(self)
     }
 
+    /// The influence column `W_j = A⁻¹ e_{c_j}` of dof `j` (as given to
+    /// [`new`](Self::new)).
+    #[track_caller]
+    pub fn column(&self, j: usize) -> &[f64] {
+        &self.columns[j * self.n..(j + 1) * self.n]
+    }
+
     /// The constrained dofs, in the order of the bounds and multipliers.
     pub fn dofs(&self) -> &[usize] {
         &self.dofs
@@ -426,6 +433,85 @@ impl MultiProjection {
             }
         }
         residual
+    }
+}
+
+/// [`MultiProjection`]'s solve for one rigid dof, as scalar arithmetic: the
+/// same operations in the same order (the bound checks, the warm start
+/// from the last status, [`PivotRule`]'s tolerance and passes, the
+/// Cholesky solve of the 1 × 1 Delassus system `μ = ((bound − y_c)/√D)/√D`,
+/// `z = y_c + D μ`), so the same bits — for callers that solve one contact
+/// on many problems at once (the lockstep engines), lane by lane. The
+/// caller keeps each problem's status (the warm start) and applies the
+/// result as [`MultiProjection::project`] does: where the status returned
+/// is not [`Active::None`], `y += μ W` and `y_c` set to the bound held.
+#[derive(Clone, Copy, Debug)]
+pub struct OneDof {
+    /// `D = (A⁻¹)_cc` (symmetrised as [`MultiProjection::new`] does) and `√D`.
+    d: f64,
+    sq: f64,
+}
+
+impl OneDof {
+    /// The scalar solve of a one-dof, rigid `mp`; `None` for several dofs
+    /// or a compliant one.
+    pub fn of(mp: &MultiProjection) -> Option<Self> {
+        (mp.dofs.len() == 1 && mp.compliance[0] == 0.0).then(|| Self { d: mp.delassus[0], sq: mp.delassus[0].sqrt() })
+    }
+
+    /// The solve of `y_c` (`yc`) on `[lo, hi]` from the last `status` (the
+    /// warm start; updated): the multiplier `μ` (0 when the status returned
+    /// is [`Active::None`], and then `y` is left as it is). Errors as
+    /// [`MultiProjection::project`] (which for one dof ends in at most
+    /// three passes).
+    #[inline]
+    pub fn solve(&self, status: &mut Active, yc: f64, lo: f64, hi: f64) -> Result<f64, ContactError> {
+        // Nothing held: the bound checks (`project_capped`'s first pass).
+        if *status == Active::None && !((yc < lo) | (yc > hi)) {
+            return Ok(0.0);
+        }
+        // The warm start.
+        if (*status == Active::Lower && !lo.is_finite()) || (*status == Active::Upper && !hi.is_finite()) {
+            *status = Active::None;
+        }
+        if *status == Active::None {
+            if yc < lo {
+                *status = Active::Lower;
+            } else if yc > hi {
+                *status = Active::Upper;
+            }
+        }
+        if *status == Active::None {
+            return Ok(0.0);
+        }
+        // `PivotRule::new`'s tolerance and `pass` (one dof: every pass
+        // changes at most the one status, so block and single pivots agree).
+        let scale = 0.0_f64.max(yc.abs().max(finite_or_zero(lo).abs()).max(finite_or_zero(hi).abs())).max(f64::MIN_POSITIVE);
+        let tol = 64.0 * f64::EPSILON * scale;
+        for _ in 0..PivotRule::max_iterations(1) {
+            // `solve_on_status`: D μ = bound − y_c by Cholesky, then z.
+            let (mu, z) = match *status {
+                Active::None => (0.0, yc),
+                s => {
+                    let bound = if s == Active::Lower { lo } else { hi };
+                    let mu = ((bound - yc) / self.sq) / self.sq;
+                    (mu, yc + self.d * mu)
+                }
+            };
+            let md = mu * self.d;
+            let next = match *status {
+                Active::None if z < lo - tol => Some(Active::Lower),
+                Active::None if z > hi + tol => Some(Active::Upper),
+                Active::Lower if md < -tol => Some(Active::None),
+                Active::Upper if md > tol => Some(Active::None),
+                _ => None,
+            };
+            match next {
+                Some(s) => *status = s,
+                None => return Ok(mu),
+            }
+        }
+        Err(ContactError::NoConvergence { iterations: PivotRule::max_iterations(1) })
     }
 }
 

@@ -14,12 +14,14 @@
 //! `moreau-jean` (θ = 1/2, e = 0, γ = 1/2): the single `MoreauJean` step
 //! against `MoreauJeanLockstep`; `nsga_single` and `nsga_frequency_*`:
 //! the same for `nsga(0.5)` (ρ∞ = 1/2, e = 0): the single `Nsga` step
-//! against `NsgaLockstep`.
+//! against `NsgaLockstep`; `stabilized_single` and
+//! `stabilized_frequency_*`: the same for `contact-stabilized`: the single
+//! `ContactStabilized` step against `ContactStabilizedLockstep`.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
 use signorini_run::beam::Pipe;
-use signorini_schemes::{Lockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, Nsga, NsgaLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_schemes::{ContactStabilized, ContactStabilizedLockstep, Lockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, Nsga, NsgaLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
 
 fn main() {
     divan::main();
@@ -165,6 +167,34 @@ fn nsga_single(bencher: Bencher) {
 #[divan::bench(consts = [4, 8, 16])]
 fn nsga_frequency<const L: usize>(bencher: Bencher) {
     bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| NsgaLockstep::<L>::new(0.5, DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
+}
+
+/// One run, `ContactStabilized::step`: ns per step.
+#[divan::bench]
+fn stabilized_single(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS))
+        .with_inputs(|| {
+            let l = lane(0, true);
+            ContactStabilized::new("single".into(), l.dynamics, DT, &l.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+/// `L` runs of a frequency sweep with `ContactStabilizedLockstep`: ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn stabilized_frequency<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| ContactStabilizedLockstep::<L>::new(DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
         for _ in 0..STEPS {
             divan::black_box(b.step());
         }

@@ -1,5 +1,6 @@
 //! What every lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
-//! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep))
+//! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
+//! [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep))
 //! shares: the lane of a batch ([`LockstepLane`]), the time loop's view of
 //! an engine ([`Lockstep`]), and one lane state ([`LaneState`]: the shared
 //! matrices' rows, the factor's rows and projection column, the loads and
@@ -40,7 +41,8 @@ pub struct LockstepLane {
 }
 
 /// What a time loop needs of a lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
-/// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep)):
+/// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
+/// [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep)):
 /// `L` runs sharing one step matrix, stepped together, each lane bit for
 /// bit its single run. Every lane-indexed method asserts `k < lanes()`.
 pub trait Lockstep {

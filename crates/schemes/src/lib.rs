@@ -65,9 +65,10 @@
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
 //!   [`PaoliSchatzmanLockstep`] steps `L` runs that share its step matrix
 //!   together (a sweep), each lane bit-identical to its single run;
-//!   [`MoreauJeanLockstep`] and [`NsgaLockstep`] do the same for
-//!   [`MoreauJean`] and [`Nsga`] (all three behind the [`Lockstep`] trait,
-//!   on one lane state; [`LockstepScheme`] says which engine a registry
+//!   [`MoreauJeanLockstep`], [`NsgaLockstep`] and
+//!   [`ContactStabilizedLockstep`] do the same for [`MoreauJean`], [`Nsga`]
+//!   and [`ContactStabilized`] (all four behind the [`Lockstep`] trait, on
+//!   one lane state; [`LockstepScheme`] says which engine a registry
 //!   scheme takes).
 //!
 //! * [`Reduced`]: the massless contact node eliminated (`u_0 = max(u_1, g)`),
@@ -171,6 +172,7 @@ mod cd_lagrange;
 mod d1minus;
 pub mod events;
 mod family;
+mod fused;
 mod hybrid;
 mod lanes;
 mod loads;
@@ -188,6 +190,7 @@ mod paoli;
 mod profile;
 mod registry;
 mod stabilized;
+mod stabilized_lockstep;
 mod verlet_nitsche;
 
 pub use cd_lagrange::CdLagrange;
@@ -212,6 +215,7 @@ pub use registry::{families_with, syntax_list, FAMILIES};
 /// The status of a contact (re-exported from signorini-contact).
 pub use signorini_contact::Active;
 pub use stabilized::ContactStabilized;
+pub use stabilized_lockstep::ContactStabilizedLockstep;
 pub use verlet_nitsche::VerletNitsche;
 
 use signorini_contact::ContactError;

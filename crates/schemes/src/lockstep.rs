@@ -347,6 +347,9 @@ pub enum LockstepScheme {
         /// Restitution `e`.
         restitution: f64,
     },
+    /// `contact-stabilized` (no parameters, no restitution):
+    /// [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep).
+    ContactStabilized,
 }
 
 impl LockstepScheme {
@@ -359,6 +362,7 @@ impl LockstepScheme {
             "ps" => Some(Self::PaoliSchatzman { beta: spec.param("beta")?, restitution: spec.param("e")? }),
             "moreau-jean" => Some(Self::MoreauJean { theta: spec.param("theta")?, restitution: spec.param("e")?, gamma: spec.param("gamma")? }),
             "nsga" => Some(Self::Nsga { rho_inf: spec.param("rho_inf")?, restitution: spec.param("e")? }),
+            "contact-stabilized" => Some(Self::ContactStabilized),
             _ => None,
         }
     }
@@ -367,6 +371,7 @@ impl LockstepScheme {
     pub fn restitution(&self) -> f64 {
         match *self {
             Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } | Self::Nsga { restitution, .. } => restitution,
+            Self::ContactStabilized => 0.0,
         }
     }
 }

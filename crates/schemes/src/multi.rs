@@ -4,7 +4,7 @@
 //! bound buffers, shared by every scheme that takes several contacts.
 
 use crate::{Contact, Dynamics, SchemeError};
-use signorini_contact::{Active, ContactError, MultiProjection, PivotRule};
+use signorini_contact::{Active, ContactError, MultiProjection, OneDof, PivotRule};
 use signorini_fem::{BandLdlt, SymBand};
 
 /// `y ← y + Σ μ_i A⁻¹ e_{c_i}` with `lo_i <= y_{c_i} <= hi_i` (or the spring
@@ -134,6 +134,13 @@ impl MultiSolve {
             }
         }
         Ok(self)
+    }
+
+    /// With one rigid contact: its solve as scalar arithmetic ([`OneDof`],
+    /// the same bits as [`solve`](Self::solve)) and its influence column
+    /// `A⁻¹ e_c`; `None` otherwise.
+    pub(crate) fn one_dof(&self) -> Option<(OneDof, &[f64])> {
+        Some((OneDof::of(&self.mp)?, self.mp.column(0)))
     }
 
     /// `(A⁻¹)_{c_i c_i}`.

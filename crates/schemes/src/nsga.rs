@@ -44,6 +44,8 @@
 //! Needs a massive contact node (`M⁻¹`) and no damping matrix.
 
 use crate::family::{not_taken, Refused};
+use crate::fused::{fused_switches, FusedSwitch};
+use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
@@ -96,10 +98,8 @@ pub struct Nsga {
     lams: Vec<f64>,
     acts: Vec<Active>,
     /// The free step fused into `S`'s sweeps ([`Tridiagonal`]) where `K`
-    /// and `S` are tridiagonal; `fused_on` switches it off (tests,
-    /// benchmarks).
-    fused: Option<Tridiagonal>,
-    fused_on: bool,
+    /// and `S` are tridiagonal, and its switches (tests, benchmarks).
+    fused: FusedSwitch<Tridiagonal>,
     /// Per forcing term, its values at the levels; the latest (`t_n`).
     loads: Loads,
     svals: Vec<f64>,
@@ -146,7 +146,7 @@ impl Nsga {
         let mut loads = Loads::values(&dy, dt);
         let mut svals = vec![0.0; dy.forcing.len()];
         loads.next_into(&mut svals);
-        let fused = Tridiagonal::new(&dy, &s);
+        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &s));
         let mut me = Self {
             label,
             restitution,
@@ -172,7 +172,6 @@ impl Nsga {
             vc0: vec![0.0; k],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
-            fused_on: fused.is_some(),
             fused,
             loads,
             svals,
@@ -223,7 +222,7 @@ impl Nsga {
     fn free_step(&mut self) {
         self.loads.next_into(&mut self.svals);
         let p = Predictor::new(self);
-        if let Some(tri) = self.fused.as_ref().filter(|_| self.fused_on) {
+        if let Some(tri) = self.fused.active() {
             let (l, inv_d) = self.s.tridiagonal_factors().expect("tridiagonal");
             let st = Sweep { u: &mut self.u, v: &mut self.v, a: &mut self.a, q: &mut self.qdd };
             tri.step(&p, st, &self.dy.load, &self.dy.forcing, &self.svals, l, inv_d);
@@ -245,29 +244,7 @@ impl Nsga {
         }
     }
 
-    /// Switches the fused free step ([`Tridiagonal`]) off or back on
-    /// (where it applies; on by default): for tests comparing it with the
-    /// plain step, and benchmarks. Changes no result.
-    #[doc(hidden)]
-    pub fn set_fused(&mut self, on: bool) {
-        self.fused_on = on && self.fused.is_some();
-    }
-
-    /// Whether the fused free step is in use.
-    #[doc(hidden)]
-    pub fn fused(&self) -> bool {
-        self.fused_on
-    }
-
-    /// The fused step's kernel in its baseline x86-64 build, AVX2 or not:
-    /// for tests. Changes no result.
-    #[doc(hidden)]
-    pub fn portable(mut self) -> Self {
-        if let Some(t) = self.fused.as_mut() {
-            t.avx2 = false;
-        }
-        self
-    }
+    fused_switches!(fused);
 
     /// The position correction's effect on the smooth part: `q̈ −= d/(c β dt²)`,
     /// `a −= d/(β dt²)`, `V −= γ d/(β dt)`, `d = z_M − z_S`, scaled by `s`.
@@ -374,10 +351,7 @@ const CHUNK: usize = 32;
 impl Tridiagonal {
     fn new(dy: &Dynamics, s: &BandLdlt) -> Option<Self> {
         let applies = dy.n() >= 2 && dy.stiffness.half_bandwidth() == 1 && s.tridiagonal_factors().is_some();
-        #[cfg(target_arch = "x86_64")]
-        let avx2 = std::is_x86_feature_detected!("avx2");
-        #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = false;
+        let avx2 = avx2_available();
         applies.then(|| Self { k_d: dy.stiffness.diagonal(0), k_s: dy.stiffness.diagonal(1), avx2 })
     }
 

@@ -48,6 +48,7 @@
 //! undamped problems take exactly the arithmetic they took before damping
 //! existed (and the fused tridiagonal path, which damped ones do not).
 
+use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::{ContactLaw, Dynamics, Initial, SchemeError, StepReport, Stepper};
@@ -575,10 +576,7 @@ impl OneStep {
             ms: dy.mass.diagonal(1),
             kd: dy.stiffness.diagonal(0),
             ks: dy.stiffness.diagonal(1),
-            #[cfg(target_arch = "x86_64")]
-            avx2: std::is_x86_feature_detected!("avx2"),
-            #[cfg(not(target_arch = "x86_64"))]
-            avx2: false,
+            avx2: avx2_available(),
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
         let mut loads = Loads::values(&dy, dt);

@@ -43,6 +43,7 @@
 //! `E^{n+1/2} - E^{1/2} = W_f + W_c - D` with
 //! `D = Σ (U^{n+1} - U^{n-1})ᵀ C (U^{n+1} - U^{n-1}) / (4 dt) >= 0`.
 
+use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
@@ -159,10 +160,7 @@ impl Bands3 {
     fn new(dy: &Dynamics) -> Option<Self> {
         let n = dy.n();
         let applies = n > 6 && dy.mass.half_bandwidth() == 3 && dy.stiffness.half_bandwidth() == 3;
-        #[cfg(target_arch = "x86_64")]
-        let avx2 = std::is_x86_feature_detected!("avx2");
-        #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = false;
+        let avx2 = avx2_available();
         applies.then(|| Self { m: std::array::from_fn(|k| dy.mass.diagonal(k)), k: std::array::from_fn(|k| dy.stiffness.diagonal(k)), avx2 })
     }
 

@@ -29,10 +29,12 @@
 //! The contact nodes must carry mass (the stabilisation projects in the
 //! mass norm); the node has no impact law (a restitution is refused).
 
+use crate::fused::{fused_switches, FusedSwitch};
+use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
-use signorini_contact::Active;
+use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
 
 /// The contact-stabilized Newmark scheme.
@@ -67,12 +69,18 @@ pub struct ContactStabilized {
     work_contact: f64,
     work_damping: f64,
     /// The P1 bar's tridiagonal step, fused ([`Tridiagonal`]), if it
-    /// applies; `fused_on` switches it off (tests, benchmarks).
-    fused: Option<Tridiagonal>,
-    fused_on: bool,
+    /// applies, and its switches (tests, benchmarks).
+    fused: FusedSwitch<Tridiagonal>,
     /// Per forcing term, `τ²/4 s^n` and `τ²/4 s^{n+1}` (`add_terms`' weights).
     w_old: Vec<f64>,
     w_new: Vec<f64>,
+}
+
+/// A single run's parts the lockstep engine shares ([`ContactStabilized::lockstep_parts`]).
+pub(crate) struct StabilizedParts<'a> {
+    pub(crate) a: &'a BandLdlt,
+    pub(crate) mass: (OneDof, &'a [f64]),
+    pub(crate) step: (OneDof, &'a [f64]),
 }
 
 /// `M`, `K` and the step matrix's factor tridiagonal (the P1 bar), no
@@ -100,10 +108,7 @@ impl Tridiagonal {
     fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
         let n = dy.n();
         let applies = n >= 2 && dy.damping.is_none() && dy.mass.half_bandwidth() == 1 && dy.stiffness.half_bandwidth() == 1 && a.tridiagonal_factors().is_some();
-        #[cfg(target_arch = "x86_64")]
-        let avx2 = std::is_x86_feature_detected!("avx2");
-        #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = false;
+        let avx2 = avx2_available();
         applies.then(|| Self { m_d: dy.mass.diagonal(0), m_s: dy.mass.diagonal(1), k_d: dy.stiffness.diagonal(0), k_s: dy.stiffness.diagonal(1), avx2 })
     }
 
@@ -208,9 +213,8 @@ impl ContactStabilized {
         let mut loads = Loads::values(&dy, dt);
         let mut s_old = vec![0.0; dy.forcing.len()];
         loads.next_into(&mut s_old);
-        let fused = Tridiagonal::new(&dy, &a);
+        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &a));
         Ok(Self {
-            fused_on: fused.is_some(),
             fused,
             w_old: vec![0.0; dy.forcing.len()],
             w_new: vec![0.0; dy.forcing.len()],
@@ -248,6 +252,15 @@ impl ContactStabilized {
         &self.pred
     }
 
+    /// What [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep)
+    /// takes of a single run (one rigid contact, after [`new`](Self::new)):
+    /// the factor of `A`, and the stabilisation's and the step's contact
+    /// solves as scalar arithmetic with their columns `M⁻¹ e_c`, `A⁻¹ e_c`;
+    /// `None` with several contacts.
+    pub(crate) fn lockstep_parts(&self) -> Option<StabilizedParts<'_>> {
+        Some(StabilizedParts { a: &self.a, mass: self.mass_solve.one_dof()?, step: self.step_solve.one_dof()? })
+    }
+
     /// Each contact's bounds into a solve's buffers.
     fn bounds_into(dy: &Dynamics, ms: &mut MultiSolve) {
         for (i, ct) in dy.contacts.iter().enumerate() {
@@ -275,7 +288,7 @@ impl Stepper for ContactStabilized {
         }
         Self::bounds_into(&self.dy, &mut self.mass_solve);
         self.mass_solve.solve(&mut self.pred)?;
-        if let Some(tri) = self.fused.as_ref().filter(|_| self.fused_on) {
+        if let Some(tri) = self.fused.active() {
             // The same right-hand side and solve, fused ([`Tridiagonal`]).
             self.loads.next_into(&mut self.s_new);
             for ((wo, wn), (a, b)) in self.w_old.iter_mut().zip(self.w_new.iter_mut()).zip(self.s_old.iter().zip(&self.s_new)) {
@@ -321,29 +334,7 @@ impl Stepper for ContactStabilized {
 }
 
 impl ContactStabilized {
-    /// Switches the fused tridiagonal step ([`Tridiagonal`]) off or back on
-    /// (where it applies; on by default): for tests comparing it with the
-    /// plain step, and benchmarks. Changes no result.
-    #[doc(hidden)]
-    pub fn set_fused(&mut self, on: bool) {
-        self.fused_on = on && self.fused.is_some();
-    }
-
-    /// Whether the fused step is in use.
-    #[doc(hidden)]
-    pub fn fused(&self) -> bool {
-        self.fused_on
-    }
-
-    /// The fused step's kernel in its baseline x86-64 build, AVX2 or not:
-    /// for tests. Changes no result.
-    #[doc(hidden)]
-    pub fn portable(mut self) -> Self {
-        if let Some(t) = self.fused.as_mut() {
-            t.avx2 = false;
-        }
-        self
-    }
+    fused_switches!(fused);
 
     /// The rest of a step from `A⁻¹ b` in `rhs`: the contact solve, the
     /// works, `V` and `U`.
@@ -395,7 +386,7 @@ pub(crate) static CONTACT_STABILIZED: Family = Family {
     params: &[],
     presets: &[],
     validate: |_| Ok(()),
-    capabilities: |_| Capabilities { node: Node::Massive, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { node: Node::Massive, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(ContactStabilized::new(s.to_string(), dy, dt, init)?)),

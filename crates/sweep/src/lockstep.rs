@@ -6,7 +6,7 @@ use crate::simulate::{observers, rows_of, text_cell, Plan, RunRows, ScenePlan};
 use signorini_run::reduced::Need;
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError};
 use signorini_scene::Scene;
-use signorini_schemes::{Bounds, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep};
+use signorini_schemes::{Bounds, ContactStabilizedLockstep, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep};
 
 /// Runs per lockstep group at most: the paper beam's sweeps step up to this
 /// many runs together (crates/run/benches/lockstep.rs: per run-step, 16
@@ -19,7 +19,8 @@ pub const LANES: usize = 16;
 /// A run the lockstep engine takes: a beam (full model) on its tip's two
 /// stops, not continued from another run, whose scheme can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
-/// them, `moreau-jean(θ, e, γ)` and `nsga(ρ∞, e)`; [`LockstepScheme`]), within its
+/// them, `moreau-jean(θ, e, γ)`, `nsga(ρ∞, e)` and `contact-stabilized`;
+/// [`LockstepScheme`]), within its
 /// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
 /// one its validation built): its problem and initial state.
@@ -67,7 +68,8 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 }
 
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
-/// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] or [`NsgaLockstep`] stepped by
+/// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`], [`NsgaLockstep`] or
+/// [`ContactStabilizedLockstep`] stepped by
 /// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
@@ -96,6 +98,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
             (LockstepScheme::PaoliSchatzman { beta: a, .. }, LockstepScheme::PaoliSchatzman { beta: b, .. }) => a == b,
             (LockstepScheme::MoreauJean { theta: a, gamma: g, .. }, LockstepScheme::MoreauJean { theta: b, gamma: h, .. }) => a == b && g == h,
             (LockstepScheme::Nsga { rho_inf: a, .. }, LockstepScheme::Nsga { rho_inf: b, .. }) => a == b,
+            (LockstepScheme::ContactStabilized, LockstepScheme::ContactStabilized) => true,
             _ => false,
         };
         if first.is_some_and(|(s, dt)| !same(s) || dt != d) || plan.dt != d {
@@ -113,6 +116,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         LockstepScheme::PaoliSchatzman { beta, .. } => run_group(PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::MoreauJean { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::new(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::Nsga { rho_inf, .. } => run_group(NsgaLockstep::<L>::new(rho_inf, dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
     }
 }
 

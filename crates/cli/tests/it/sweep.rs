@@ -732,6 +732,12 @@ fn an_nsga_sweep_in_lockstep_is_its_runs_one_at_a_time() {
     lockstep_sweep_is_its_runs_one_at_a_time("nsga(0.5,0.3)");
 }
 
+/// The same for `contact-stabilized` (`ContactStabilizedLockstep`).
+#[test]
+fn a_contact_stabilized_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_is_its_runs_one_at_a_time("contact-stabilized");
+}
+
 /// A sweep of the fig. 2 beam with `scheme` over five frequencies, with 1
 /// and 3 threads (in lockstep), against its five runs one at a time
 /// (five one-run shards, merged): the same files, byte for byte.

@@ -8,7 +8,7 @@
 //! with complementarity, all to round-off.
 
 use proptest::prelude::*;
-use signorini_contact::{Active, ContactError, MultiProjection, PivotRule};
+use signorini_contact::{Active, ContactError, MultiProjection, OneDof, PivotRule};
 
 /// Dense `n × n` solve by Gaussian elimination with partial pivoting.
 fn solve(a: &[Vec<f64>], b: &[f64]) -> Vec<f64> {
@@ -570,4 +570,76 @@ fn warm_start_releases_a_bound_that_became_infinite() {
         assert!(all_close(mp.multipliers(), &[0.0, -4.0 / 3.0 * sign, -sign / 3.0], 1e-15), "μ = {:?}", mp.multipliers());
         assert_eq!(mp.status(), [Active::None, held, held]);
     }
+}
+
+/// `OneDof` is `MultiProjection`'s one-dof solve bit for bit: over 400
+/// sequences of 60 solves each (so the warm start carries a status from
+/// solve to solve), random SPD matrices and dofs, bounds one- and
+/// two-sided, finite and infinite, values inside, outside, on a bound and
+/// within a few ulps of it (inside the pivoting's tolerance), a bound that
+/// becomes infinite under a held dof, and now and then ±∞ or NaN: the
+/// same multiplier, status and `y` (applied as `project` does) every time.
+#[test]
+fn one_dof_is_the_multi_projection_bit_for_bit() {
+    let mut r: u64 = 0x5eed;
+    let mut next = move || {
+        r = r.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (r >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut seen = [0usize; 3];
+    for seq in 0..400 {
+        let n = 2 + seq % 5;
+        let vals: Vec<f64> = (0..n * n).map(|_| next()).collect();
+        let a = spd(n, n - 1, &vals, true);
+        let c = seq % n;
+        let w = column(&a, c);
+        let mut mp = MultiProjection::new(vec![c], vec![w.clone()]).unwrap();
+        let one = OneDof::of(&mp).expect("one rigid dof");
+        let mut status = Active::None;
+        for _ in 0..60 {
+            let (mut lo, mut hi) = match (next() * 5.0) as u32 {
+                0 => (-0.1, 0.1),
+                1 => (f64::NEG_INFINITY, 0.05 * next()),
+                2 => (-0.05 * next(), f64::INFINITY),
+                3 => (-1e-3, 1e-3),
+                _ => (0.0, 0.0),
+            };
+            if next() < 0.05 {
+                (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
+            }
+            let mut y: Vec<f64> = (0..n).map(|_| 0.3 * (next() - 0.5)).collect();
+            // On a bound, a few ulps off it, or far out.
+            let pick = next();
+            let near = |b: f64, k: f64| if b.is_finite() { b + k * b.abs().max(1e-3) * f64::EPSILON } else { 0.0 };
+            y[c] = if pick < 0.15 {
+                near(lo, (next() * 20.0).round() - 10.0)
+            } else if pick < 0.3 {
+                near(hi, (next() * 20.0).round() - 10.0)
+            } else if pick < 0.31 {
+                [f64::INFINITY, f64::NEG_INFINITY, f64::NAN][(next() * 3.0) as usize]
+            } else {
+                y[c]
+            };
+            let mut y2 = y.clone();
+            let want = mp.project(&mut y, &[lo], &[hi]);
+            let got = one.solve(&mut status, y2[c], lo, hi);
+            let mu = match (want, got) {
+                (Ok(_), Ok(mu)) => mu,
+                (w, g) => panic!("{w:?} vs {g:?}"),
+            };
+            assert_eq!(status, mp.status()[0]);
+            assert_eq!(mu.to_bits(), mp.multipliers()[0].to_bits(), "μ {mu:e} vs {:e}", mp.multipliers()[0]);
+            if status != Active::None {
+                for (yi, wi) in y2.iter_mut().zip(&w) {
+                    *yi += mu * wi;
+                }
+                y2[c] = if status == Active::Lower { lo } else { hi };
+            }
+            let b = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(b(&y2), b(&y), "{y2:?} vs {y:?}");
+            seen[status as usize] += 1;
+        }
+    }
+    // Every status reached often (the test means something).
+    assert!(seen.iter().all(|&s| s > 2000), "{seen:?}");
 }

@@ -37,4 +37,5 @@ mod profile;
 mod several_contacts;
 mod siconos;
 mod stabilized;
+mod stabilized_lockstep;
 mod verlet_nitsche;
