@@ -114,9 +114,9 @@ fn chain(m: [[f64; 2]; 2], e: f64) -> Model {
     Model::new(dy, e).unwrap()
 }
 
-/// The section's time: in the free flight after the release (the map's
-/// Jacobian on a section inside the held phase has no derivative across
-/// the bound).
+/// The section's time: in the free flight after the release (a section
+/// inside the held phase is tested below: the same orbit and multipliers,
+/// though the Jacobian's columns of the held dof are one-sided there).
 fn section(m: [[f64; 2]; 2]) -> f64 {
     if m == LUMPED {
         10.0
@@ -376,6 +376,56 @@ fn a_held_bar_nudged_off_its_stop_chatters_back_to_rest() {
             let far = img.x.iter().zip(&base.x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
             assert!(acc >= 1, "nudge {size:e} on slot {slot} ({sign}): no accumulation: {:?}", img.events);
             assert!(far <= 10.0 * size, "nudge {size:e} on slot {slot} ({sign}): {far:e} from the unnudged run");
+        }
+    }
+}
+
+/// The section inside the held phase (halfway between the accumulation and
+/// the release) of the chain's orbit, lumped and consistent mass: Newton
+/// from 1e-3 off finds the orbit, the state the flight section's orbit
+/// flows to there (to 1e-12), with the same multipliers (to 1e-10: the
+/// spectrum does not depend on the section), and the Jacobian's columns of
+/// the free dofs are the map's central differences (to 1e-6). Its rows of
+/// the held dof are 0 (a period later it is held again, exactly on its
+/// bound at rest), so its columns — one-sided across the bound: a start
+/// off the stop falls back and chatters to rest — change no multiplier.
+#[test]
+fn an_orbit_with_its_section_in_a_held_phase_has_the_flight_sections_multipliers() {
+    for (name, m) in [("lumped", LUMPED), ("consistent", CONSISTENT)] {
+        let (model, _, orbit) = chain_orbit(m);
+        let (t0, t) = (section(m), TAU / W2);
+        let acc = orbit.events.iter().find(|e| e.kind == EventKind::Accumulation).unwrap().t;
+        let rel = orbit.events.iter().find(|e| e.kind == EventKind::Release).unwrap().t;
+        let th = 0.5 * (acc + rel);
+        let there = model.flow(t0, &orbit.x, th - t0, false).unwrap();
+        assert_eq!(there.held, vec![0], "{name}: held at {th}");
+        let mut guess = there.x.clone();
+        guess[0] += 1e-3;
+        guess[2] -= 1e-3;
+        let held = periodic_orbit(&model, th, t, &guess, &Newton::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let off = held.x.iter().zip(&there.x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+        assert!(off <= 1e-12, "{name}: {off:e} from the flight section's orbit flowed there");
+        let mut a: Vec<_> = orbit.multipliers.clone();
+        let mut b: Vec<_> = held.multipliers.clone();
+        for v in [&mut a, &mut b] {
+            v.sort_by(|x, y| x.norm().total_cmp(&y.norm()).then(x.im.total_cmp(&y.im)));
+        }
+        let worst = a.iter().zip(&b).fold(0.0f64, |w, (x, y)| w.max((x - y).norm()));
+        assert!(worst <= 1e-10, "{name}: multipliers {a:?} against {b:?}");
+        let j = model.flow(th, &held.x, t, true).unwrap().jacobian.unwrap();
+        let h = 1e-6;
+        for c in [0, 2] {
+            let (mut p, mut q) = (held.x.clone(), held.x.clone());
+            p[c] += h;
+            q[c] -= h;
+            let (fp, fq) = (model.flow(th, &p, t, false).unwrap().x, model.flow(th, &q, t, false).unwrap().x);
+            for r in 0..4 {
+                let fd = (fp[r] - fq[r]) / (2.0 * h);
+                assert!((fd - j[(r, c)]).abs() <= 1e-6, "{name}: J[{r}][{c}] = {} against {fd}", j[(r, c)]);
+            }
+        }
+        for c in 0..4 {
+            assert!(j[(1, c)] == 0.0 && j[(3, c)] == 0.0, "{name}: the held dof's rows {:?}", (j[(1, c)], j[(3, c)]));
         }
     }
 }
