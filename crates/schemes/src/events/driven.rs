@@ -72,8 +72,8 @@
 //! same holds for any contact an impact leaves moving off its bound that
 //! low (lifted by another's impulse through the mass). The band's length
 //! is the largest of the bounds and the start's displacements (every
-//! dof's), or, when those are all 0, the displacements at the first event
-//! where they are not.
+//! dof's), or, when those are all 0, the largest displacement met at an
+//! event so far.
 //!
 //! **Massless contact dofs** (every contact massless: mass redistribution,
 //! reduced models) have no impacts: see `massless.rs`.
@@ -110,6 +110,9 @@ struct Site {
     restitution: f64,
     /// Its length scale (for the tolerances).
     scale: f64,
+    /// Its bounds and the start gave no length (all 0): the scale is the
+    /// largest displacement met at an event so far.
+    grows: bool,
 }
 
 /// A held contact: which, and at which bound.
@@ -241,7 +244,7 @@ impl EventDriven {
             if !(c.massless || inside) {
                 return Err(EventsError::Outside { contact: i, q, lo, hi });
             }
-            sites.push(Site { dof: c.dof, lo, hi, restitution, scale });
+            sites.push(Site { dof: c.dof, lo, hi, restitution, scale, grows: scale == f64::MIN_POSITIVE });
         }
         let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
         let mut zero: Vec<usize> = dy.contacts.iter().filter(|c| c.massless).map(|c| c.dof).collect();
@@ -525,10 +528,11 @@ impl EventDriven {
         // A contact whose bounds and start are all 0 has no length of its
         // own (its band was exact equality: two stops reached together at
         // 0 were located 1e-16 apart and taken one by one); it takes the
-        // displacements' at the first event where they are not 0.
+        // largest displacement met at an event so far (the first ones may
+        // be round-off: a bar squeezed between stops at 0 met 1e-26 first).
         let qmax = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        for s in self.sites.iter_mut().filter(|s| s.scale == f64::MIN_POSITIVE && qmax > 0.0) {
-            s.scale = qmax;
+        for s in self.sites.iter_mut().filter(|s| s.grows) {
+            s.scale = s.scale.max(qmax);
         }
         if !self.zero.is_empty() {
             return self.settle_static(t, q, v, primary);
