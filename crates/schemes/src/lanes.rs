@@ -778,13 +778,21 @@ impl<const L: usize, C: Combine<L>> Rows<L> for TwoProducts<'_, L, C> {
 
     #[inline(always)]
     fn row(&self, i: usize, interior_row: bool) -> [f64; L] {
-        let (mv, kv) = if interior_row {
-            (interior::<L>(&self.mass[i], self.t_mass, i), interior::<L>(&self.stiff[i], self.t_stiff, i))
-        } else {
-            (edge::<L>(self.mass, self.t_mass, i), edge::<L>(self.stiff, self.t_stiff, i))
-        };
+        let (mv, kv) = two_products::<L>((self.mass, self.t_mass), (self.stiff, self.t_stiff), i, interior_row);
         let terms = self.gs.len();
         rhs_row::<L>(self.scale, mv, kv, &self.load[i], self.gs, chunk(self.shape_rows, i, terms))
+    }
+}
+
+/// Row `i` of the products `A t_a` and `B t_b` of two band matrices
+/// (7-wide rows) with their ring-buffered arguments: an interior row
+/// without bound checks, or a row at the band's edges.
+#[inline(always)]
+pub(crate) fn two_products<const L: usize>((a, ta): (&[Row7], &[[f64; L]; RING]), (b, tb): (&[Row7], &[[f64; L]; RING]), i: usize, interior_row: bool) -> ([f64; L], [f64; L]) {
+    if interior_row {
+        (interior::<L>(&a[i], ta, i), interior::<L>(&b[i], tb, i))
+    } else {
+        (edge::<L>(a, ta, i), edge::<L>(b, tb, i))
     }
 }
 

@@ -49,7 +49,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::lanes::{
-    add_shapes, backward, check_count, check_lanes, chunk, column, edge, forward, impl_lockstep, interior, lane_into, lockstep_builds, set_lane, Done, LaneState, Refusals, Row7, Rows, RING,
+    add_shapes, backward, check_count, check_lanes, chunk, column, forward, impl_lockstep, lane_into, lockstep_builds, set_lane, two_products, Done, LaneState, Refusals, Row7, Rows, RING,
 };
 use crate::{Active, ContactStabilized, LockstepLane, Sampler, SchemeError};
 use signorini_contact::OneDof;
@@ -404,11 +404,7 @@ impl<const L: usize> Rows<L> for Predicted<'_, L> {
 
     #[inline(always)]
     fn row(&self, i: usize, interior_row: bool) -> [f64; L] {
-        let (mv, kv) = if interior_row {
-            (interior::<L>(&self.mass[i], self.t_mass, i), interior::<L>(&self.stiff[i], self.t_stiff, i))
-        } else {
-            (edge::<L>(self.mass, self.t_mass, i), edge::<L>(self.stiff, self.t_stiff, i))
-        };
+        let (mv, kv) = two_products::<L>((self.mass, self.t_mass), (self.stiff, self.t_stiff), i, interior_row);
         let f = &self.load[i];
         let mut r = [0.0; L];
         for k in 0..L {
