@@ -324,13 +324,16 @@ impl EventDriven {
         self.max_events = max_events;
     }
 
-    /// Runs to `t_end` exactly; more than `max_events` events on the way
-    /// stop it with [`EventsError::TooManyEvents`] (the state is then the
-    /// one after the last event taken, the events so far kept).
+    /// Runs to `t_end` exactly; more than `max_events` events logged on
+    /// the way (records, as [`events`](Self::events) lists them and the
+    /// run's own limit counts them: impacts of several contacts at one
+    /// instant count one each) stop it with [`EventsError::TooManyEvents`]
+    /// (the state is then the one after the last event taken, the events
+    /// so far kept).
     pub fn run_until(&mut self, t_end: f64, max_events: usize) -> Result<(), EventsError> {
-        let mut taken = 0;
+        let start = self.events.len();
         while self.next_event(t_end)?.is_some() {
-            taken += 1;
+            let taken = self.events.len() - start;
             if taken > max_events {
                 return Err(EventsError::TooManyEvents { t: self.t, events: taken });
             }

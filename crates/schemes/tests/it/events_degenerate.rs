@@ -14,6 +14,8 @@
 //! - a bar between two stops reached at the same instant (an antisymmetric
 //!   start) keeps its mirror symmetry through every impact, held phase and
 //!   release.
+//! - the event limit counts records on both paths (`run_until` and the
+//!   stepper), two per instant where two contacts are hit together.
 
 use signorini_fem::{Bar, BarMass, RightEnd, SymBand};
 use signorini_schemes::events::{EventDriven, EventKind, EventRecord, EventStepper};
@@ -219,6 +221,36 @@ fn a_bar_between_two_stops_reached_together_stays_antisymmetric() {
                 assert!((a.t - b.t).abs() <= 1e-12 && a.kind == b.kind && a.contact != b.contact, "{mass:?}, e = {e}: not a pair {a:?} {b:?}");
                 assert!((a.impulse + b.impulse).abs() <= 1e-12 && (a.velocity_before + b.velocity_before).abs() <= 1e-12, "{mass:?}, e = {e}: {a:?} {b:?}");
             }
+        }
+    }
+}
+
+/// The event limit counts the same thing on both paths: `run_until(t,
+/// max)` (the library's) and the stepper's `max_events` (`signorini run`'s
+/// `event-driven(E,MAX_EVENTS)`) each allow exactly `max` records, however
+/// many of them one located instant logs. On the bar between two stops
+/// reached together (above), every located impact logs two records (one
+/// per end, in pairs: checked), so a limit of one less than the records
+/// must stop both paths, and the records themselves pass both. `run_until`
+/// counted located instants, half the records, and let 2·max through.
+#[test]
+fn the_event_limit_counts_records_on_every_path() {
+    for e in [0.0, 1.0] {
+        let bar = Bar::new(1.0, 3, 1.0, RightEnd::Free).unwrap();
+        let stops = vec![Contact::new(0, Bounds::obstacle(-0.05), false), Contact::new(3, Bounds { lo: f64::NEG_INFINITY, hi: 0.05 }, false)];
+        let dy = Dynamics::new(bar.mass(BarMass::Std), bar.stiffness(), vec![-0.2, 0.0, 0.0, 0.2], stops);
+        let (q0, v0) = ([0.0; 4], [-0.5, -1.0 / 6.0, 1.0 / 6.0, 0.5]);
+        let t_end = 3.0;
+        let mut free = EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
+        free.run_until(t_end, usize::MAX).unwrap();
+        let records = free.events().len();
+        assert!(records >= 4 && free.events().chunks(2).all(|p| p[0].t == p[1].t && p[0].contact != p[1].contact), "e = {e}: not in pairs: {:?}", free.events());
+        for (max, passes) in [(records, true), (records - 1, false)] {
+            let mut r = EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
+            assert_eq!(r.run_until(t_end, max).is_ok(), passes, "e = {e}: run_until with max = {max} of {records} records");
+            let mut stepper = EventStepper::new("event-driven".into(), dy.clone(), e, 0.5, &Initial { u: q0.to_vec(), v: v0.to_vec() }).unwrap().with_max_events(max);
+            let stepped = (0..6).try_for_each(|_| stepper.step().map(|_| ()));
+            assert_eq!(stepped.is_ok(), passes, "e = {e}: the stepper with max_events = {max} of {records} records");
         }
     }
 }
