@@ -1,6 +1,6 @@
 //! The arclength corrector's trial steps past a grazing: a trial whose
 //! prediction has more impacts per period than the orbit it starts from is
-//! given up at the first Newton step that does not lower the residual
+//! given up before its first Newton step
 //! (docs/orbits.md, "Where the time goes"). On the paper's beam every such
 //! trial fails, and the ones that ran their 12 iterations did so on iterates
 //! chattering with hundreds to thousands of impacts a period; a trial on

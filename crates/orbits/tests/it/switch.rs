@@ -125,3 +125,58 @@ fn the_doubled_branch_rejoins_at_the_closed_forms_other_period_doubling() {
     eprintln!("rejoins at {at} vs closed form {}: {:e} apart", want[1], (at - want[1]).abs());
     assert!((at - want[1]).abs() <= 1e-10 * want[1], "rejoins at {at} vs closed form {}", want[1]);
 }
+
+/// The doubled branch from the lower period doubling, against values of an
+/// independent transcription (a scratch program sharing no code with the
+/// crate: the oscillator's closed-form flow between impacts, its own root
+/// search for the impacts, the orbits solved as impact times and speeds,
+/// `x(τ_{i+1}) = g`, `v(τ_{i+1}) = V_{i+1}` from `(g, −e V_i)` at `τ_i`, by
+/// Newton on central differences; each value found twice, from either
+/// side). Its 2-impact orbit grazes the stop at Ω = 1.07354164497 (the
+/// third flight's maximum reaches it: 1.073541644968766; the 3-impact
+/// orbit's slowest impact speed reaches 0: 1.0735416449688242), where it
+/// turns back as an unstable 3-impact orbit (both exist below, none above),
+/// which folds at 1.0731671479347 (the least Ω of the 3-impact family,
+/// parametrised by that slowest speed) into the stable one. Higher up the
+/// unstable 3-impact orbits from the fold at 1.1351199819570 (the largest
+/// Ω, the same way) end at the grazing at
+/// 1.10010534994727 (speed 0: 1.1001053499472673; the 2-impact orbit's
+/// flight: 1.100105349947253), where the stable 2-impact orbit of the
+/// upper period doubling turns back. A trial step predicted past the lower
+/// grazing that the corrector ran on converged onto the stable 3-impact
+/// orbit beyond the fold: the fold and the unstable orbits were skipped and
+/// the grazing listed twice, 9.3e-7 and 4.6e-6 off.
+#[test]
+fn the_doubled_branch_turns_back_at_its_grazings_and_folds() {
+    use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions};
+    const LOWER_GRAZING: f64 = 1.0735416449688;
+    const FOLD: f64 = 1.0731671479347;
+    const UPPER_GRAZING: f64 = 1.1001053499473;
+    const UPPER_FOLD: f64 = 1.1351199819570;
+    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let start = crate::oscillator::closed_orbits(1.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
+    let opts = ContinuationOptions::new(1.2, 1.03);
+    let branch = continuation(&fam, &start, &opts).unwrap();
+    let lower = branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).min_by(|a, b| a.param.total_cmp(&b.param)).unwrap();
+    let doubled = doubled_branch(&fam, &fam.with_periods(2), lower, (1.2, 1.03), &opts).unwrap();
+    for b in &doubled.bifurcations {
+        eprintln!("{} at {:.13} (impacts {:?}, points {:?})", b.kind.name(), b.param, b.impacts, b.between);
+    }
+    let near = |kind: BifurcationKind, at: f64, within: f64| doubled.bifurcations.iter().filter(|b| b.kind == kind && (b.param - at).abs() <= within).map(|b| b.param).collect::<Vec<f64>>();
+    // The lower grazing once (nothing else listed within 1e-5), to 1e-9.
+    let g = near(BifurcationKind::Grazing, LOWER_GRAZING, 1e-5);
+    assert_eq!(g.len(), 1, "grazings near {LOWER_GRAZING}: {g:?}");
+    assert!((g[0] - LOWER_GRAZING).abs() <= 1e-9, "grazing at {} vs {LOWER_GRAZING}", g[0]);
+    // The fold, to 1e-9, and the unstable 3-impact orbits between it and
+    // the grazing traced.
+    let f = near(BifurcationKind::Fold, FOLD, 1e-5);
+    assert_eq!(f.len(), 1, "folds near {FOLD}: {f:?}");
+    assert!((f[0] - FOLD).abs() <= 1e-9, "fold at {} vs {FOLD}", f[0]);
+    let unstable = doubled.points.iter().filter(|p| p.param > FOLD && p.param < LOWER_GRAZING && p.orbit.impacts() == 3 && !p.stable()).count();
+    assert!(unstable >= 3, "{unstable} unstable 3-impact orbits between the fold and the grazing");
+    // The upper fold and grazing, to 1e-9.
+    for (kind, at) in [(BifurcationKind::Fold, UPPER_FOLD), (BifurcationKind::Grazing, UPPER_GRAZING)] {
+        let u = near(kind, at, 1e-5);
+        assert!(!u.is_empty() && u.iter().all(|p| (p - at).abs() <= 1e-9), "{}s near {at}: {u:?}", kind.name());
+    }
+}
