@@ -443,6 +443,12 @@ fn det_test(p: &Point) -> f64 {
     p.orbit.multipliers.iter().fold(c64::new(1.0, 0.0), |a, m| a * (m - c64::new(1.0, 0.0))).re
 }
 
+/// The multipliers' product has modulus 1 (to 1e-6): the map preserves
+/// volume (a conservative structure: no damping, elastic impacts).
+fn on_circle(p: &Point) -> bool {
+    (p.orbit.multipliers.iter().map(|m| m.norm()).product::<f64>() - 1.0).abs() <= 1e-6
+}
+
 fn is_real(m: &c64) -> bool {
     m.im.abs() <= 1e-9 * m.norm().max(1e-300)
 }
@@ -1621,6 +1627,16 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
         }
     }
     for (kind, f) in tests {
+        // A volume-preserving map (`∏ |μ| = 1`: no damping, elastic
+        // impacts) whose complex multipliers are on the unit circle at
+        // both ends: `|μ| − 1` is round-off, its sign changes are no
+        // Neimark–Sacker point (a pair leaves the circle only where it
+        // meets another or the real axis: there a pair is off it, or
+        // real, at one end).
+        let conservative = on_circle(a) && on_circle(b);
+        if kind == BifurcationKind::NeimarkSacker && conservative && [a, b].iter().all(|p| p.orbit.multipliers.iter().filter(|m| !is_real(m)).all(|m| (m.norm() - 1.0).abs() <= 1e-4)) {
+            continue;
+        }
         if smooth && f(a) * f(b) < 0.0 {
             let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
             let kind = if kind == BifurcationKind::Fold && !det_sign { BifurcationKind::BranchPoint } else { kind };

@@ -23,6 +23,26 @@ const E: f64 = 0.8;
 
 struct Between;
 
+/// The same between its stops without damping and with elastic impacts
+/// (a conservative structure: every multiplier product is 1).
+struct Elastic;
+
+impl Family for Elastic {
+    fn model(&self, w: f64) -> Result<Model, OrbitError> {
+        let one = |v: f64| {
+            let mut b = SymBand::zeros(1, 0);
+            b.set(0, 0, v);
+            b
+        };
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 1.5, omega: w } }]);
+        Model::new(dy, 1.0)
+    }
+    fn period(&self, w: f64) -> Result<f64, OrbitError> {
+        Ok(TAU / w)
+    }
+}
+
 impl Between {
     fn at(&self, w: f64) -> Model {
         let one = |v: f64| {
@@ -235,4 +255,34 @@ fn a_fold_of_the_symmetric_orbit_stays_a_fold_and_each_grazing_is_listed_once() 
             assert!(!(x.kind == y.kind && x.param == y.param), "{} at {} listed twice", x.kind.name(), x.param);
         }
     }
+}
+
+/// Conservative: the free orbit of the undamped oscillator between its
+/// stops, `x = 1.5 sin Ωt / (1 − Ω²)` (closed form), from Ω = 3.47 down
+/// to its grazing (`|1.5 / (1 − Ω²)| = 1`: Ω² = 2.5). Its multipliers
+/// are `e^{±2πi/Ω}`, on the unit circle at every Ω: no Neimark–Sacker
+/// point anywhere (the round-off of `|μ| − 1` changed sign twice).
+#[test]
+fn a_conservative_orbit_has_no_neimark_sacker_point() {
+    let w0 = 3.47;
+    let v = |w: f64| 1.5 * w / (1.0 - w * w);
+    // From the state 200 periods after rest (the free vibration rides on
+    // the orbit: Newton takes it off).
+    let m = Elastic.model(w0).unwrap();
+    let x0 = m.flow(0.0, &[0.0, 0.0], 200.0 * TAU / w0, false).unwrap().x;
+    let start = periodic_orbit(&m, 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    let branch = continuation(&Elastic, &start.x, &ContinuationOptions::new(w0, 0.45)).unwrap();
+    assert!(branch.points.len() > 10);
+    for p in &branch.points {
+        assert_eq!(p.orbit.impacts(), 0);
+        assert!(p.orbit.x[0].abs() < 1e-9 && (p.orbit.x[1] - v(p.param)).abs() < 1e-9 * v(p.param).abs(), "Ω = {}: {:?}", p.param, p.orbit.x);
+        let th = TAU / p.param;
+        let want = [faer::c64::new(th.cos(), th.sin()), faer::c64::new(th.cos(), -th.sin())];
+        for m in &p.orbit.multipliers {
+            assert!(want.iter().any(|w| (m - w).norm() < 1e-9), "Ω = {}: {m} vs e^±2πi/Ω", p.param);
+        }
+    }
+    // It ends at its grazing, the only bifurcation named.
+    let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+    assert!(kinds.len() == 1 && kinds[0].0 == "grazing" && (kinds[0].1 - 2.5f64.sqrt()).abs() < 1e-9, "{kinds:?}");
 }
