@@ -6,7 +6,8 @@ and columns).
 the scene's motion settles on at the first value (its exact event-driven
 flow: ``scheme = "event-driven(e)"``), then follows it by pseudo-arclength
 continuation in the field, stable and unstable alike, and locates folds,
-period doublings, Neimark-Sacker pairs, grazing and sticking on the way.
+branch points, period doublings, Neimark-Sacker pairs, grazing and sticking
+on the way.
 The result's ``branch`` and ``bifurcations`` are the CSV files' columns as
 numpy arrays.
 """

@@ -10,8 +10,13 @@
 //! predicted past a grazing, with more impacts than the orbit it starts
 //! from, is given up before its first Newton step). Between two points:
 //!
-//! - **fold**: the tangent's `λ` component changes sign (a multiplier
-//!   passes through +1 at the turning point);
+//! - **fold**: the tangent's `λ` component changes sign and so does
+//!   `det(P' − I)` (a multiplier passes through +1 at the turning point);
+//! - **branch point**: a multiplier reaches +1 without a fold — `det(P' −
+//!   I)` changes sign where the branch goes on in `λ` (the symmetric orbit
+//!   of a symmetric structure at its symmetry-breaking pitchfork), or the
+//!   branch turns in `λ` where it does not (the asymmetric orbit meeting
+//!   the symmetric one there, the branch going on onto its mirror image);
 //! - **period doubling**: a real multiplier passes through −1;
 //! - **Neimark–Sacker**: a complex pair leaves or enters the unit circle;
 //! - **grazing**: the number of impacts per period changes (an impact at
@@ -136,6 +141,13 @@ impl BranchPoint {
 pub enum BifurcationKind {
     /// A turning point (a multiplier through +1).
     Fold,
+    /// A multiplier at +1 that is no turning point: a branch point where
+    /// another branch of orbits crosses this one (the symmetry-breaking
+    /// pitchfork of a symmetric orbit, where its asymmetric mirror pair
+    /// is born; seen from the pair, the point where the branch turns in
+    /// the parameter onto the mirror image, its multiplier touching +1
+    /// without passing it).
+    BranchPoint,
     /// A real multiplier through −1.
     PeriodDoubling,
     /// A complex pair through the unit circle.
@@ -151,6 +163,7 @@ impl BifurcationKind {
     pub fn name(self) -> &'static str {
         match self {
             Self::Fold => "fold",
+            Self::BranchPoint => "branch-point",
             Self::PeriodDoubling => "period-doubling",
             Self::NeimarkSacker => "neimark-sacker",
             Self::Grazing => "grazing",
@@ -166,9 +179,9 @@ pub struct Bifurcation {
     pub param: f64,
     /// What.
     pub kind: BifurcationKind,
-    /// The critical multiplier there (fold: nearest +1; period doubling:
-    /// nearest −1; Neimark–Sacker: the pair's, upper half plane; grazing
-    /// and sticking: the largest).
+    /// The critical multiplier there (fold and branch point: nearest +1;
+    /// period doubling: nearest −1; Neimark–Sacker: the pair's, upper half
+    /// plane; grazing and sticking: the largest).
     pub mu: c64,
     /// Impacts per period on the two sides (the branch's direction).
     pub impacts: (usize, usize),
@@ -272,8 +285,16 @@ impl<F: Family> Ctx<'_, F> {
     /// second run of the map): it steers Newton and the tangent only; the
     /// points themselves solve G = 0 to the tolerance.
     fn param_derivative(&self, lin: &mut Linearised, x: &[f64], param: f64) -> Result<(), OrbitError> {
-        let h = 1e-7 * self.ls;
-        let (m, t) = self.family.model_and_period(param + h)?;
+        // Backward where the forward value is no valid scene (a range that
+        // starts at the end of the parameter's domain: a restitution of 1).
+        let mut h = 1e-7 * self.ls;
+        let (m, t) = match self.family.model_and_period(param + h) {
+            Err(e @ (OrbitError::Option { .. } | OrbitError::Scene(_) | OrbitError::Model(_))) => {
+                h = -h;
+                self.family.model_and_period(param + h).map_err(|_| e)?
+            }
+            other => other?,
+        };
         let plus = m.flow(0.0, x, t, false)?;
         lin.gl = (0..self.n).map(|i| (plus.x[i] - lin.image[i]) / h).collect();
         Ok(())
@@ -413,6 +434,18 @@ fn fold_test(p: &Point) -> f64 {
     p.tangent[p.tangent.len() - 1]
 }
 
+/// The sign of `det(P' − I)` = `∏ (μ − 1)` (a complex pair contributes
+/// `|μ − 1|² >= 0`): it changes where a real multiplier passes through +1.
+fn det_test(p: &Point) -> f64 {
+    p.orbit.multipliers.iter().fold(c64::new(1.0, 0.0), |a, m| a * (m - c64::new(1.0, 0.0))).re
+}
+
+/// The multipliers' product has modulus 1 (to 1e-6): the map preserves
+/// volume (a conservative structure: no damping, elastic impacts).
+fn on_circle(p: &Point) -> bool {
+    (p.orbit.multipliers.iter().map(|m| m.norm()).product::<f64>() - 1.0).abs() <= 1e-6
+}
+
 fn is_real(m: &c64) -> bool {
     m.im.abs() <= 1e-9 * m.norm().max(1e-300)
 }
@@ -453,8 +486,25 @@ fn continuation_until<F: Family>(
     let model = family.model(opts.from)?;
     let start = periodic_orbit(&model, 0.0, family.period(opts.from)?, guess, &opts.newton)?;
     let n = start.x.len();
-    let xs = start.x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(opts.newton.scale).max(1e-300);
     let ls = (opts.to - opts.from).abs();
+    let xs = match start.x.iter().fold(0.0f64, |a, v| a.max(v.abs())) {
+        // A start at rest (no forcing at `from`: an amplitude from 0) has
+        // no size to scale the state by: the change of the orbit over the
+        // range, `|dx/dλ| |to − from|`, from `(P' − I) dx/dλ = −G_λ`.
+        0.0 => {
+            let ctx = Ctx { family, opts, xs: 1.0, ls, n };
+            let lin = ctx.residual_and_jacobian(&start.x, opts.from)?;
+            let a = Mat::from_fn(n, n, |r, c| lin.jac[(r, c)] - if r == c { 1.0 } else { 0.0 });
+            let d = a.partial_piv_lu().solve(Mat::from_fn(n, 1, |r, _| -lin.gl[r]));
+            let size = (0..n).fold(0.0f64, |m, i| m.max(d[(i, 0)].abs())) * ls;
+            if size.is_finite() && size > 0.0 {
+                size
+            } else {
+                1.0
+            }
+        }
+        norm => norm.max(opts.newton.scale).max(1e-300),
+    };
     let ctx = Ctx { family, opts, xs, ls, n };
     let dir = (opts.to - opts.from).signum();
     let mut seed = vec![0.0; n + 1];
@@ -1557,9 +1607,36 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     // sign changes there belong to the grazing (or sticking), not to a
     // smooth bifurcation.
     let smooth = a.orbit.impacts() == b.orbit.impacts() && a.orbit.releases() == b.orbit.releases();
+    // A multiplier through +1: a fold where the branch turns in λ, a
+    // branch point where it does not; a turn in λ without one, a branch
+    // point too (the multiplier touches +1: a pitchfork seen from the
+    // asymmetric branch, which goes on onto its mirror image).
+    let det_sign = det_test(a) * det_test(b) < 0.0;
+    let turns = fold_test(a) * fold_test(b) < 0.0;
+    if smooth && det_sign && !turns {
+        let p = bisect(ctx, a, s_b, b, det_test, |p, q| det_test(p) * det_test(q) < 0.0);
+        // The corrector is singular at a branch point (two branches cross
+        // there), so the bisection ends at a bracket whose multiplier is
+        // within about 1e-2 of +1 (0.0035 on the symmetric oscillator,
+        // its parameter to 1e-8): farther, the sign change is no crossing.
+        if (critical(BifurcationKind::BranchPoint, &p) - c64::new(1.0, 0.0)).norm() <= 1e-2 {
+            found.push((BifurcationKind::BranchPoint, p));
+        }
+    }
     for (kind, f) in tests {
+        // A volume-preserving map (`∏ |μ| = 1`: no damping, elastic
+        // impacts) whose complex multipliers are on the unit circle at
+        // both ends: `|μ| − 1` is round-off, its sign changes are no
+        // Neimark–Sacker point (a pair leaves the circle only where it
+        // meets another or the real axis: there a pair is off it, or
+        // real, at one end).
+        let conservative = on_circle(a) && on_circle(b);
+        if kind == BifurcationKind::NeimarkSacker && conservative && [a, b].iter().all(|p| p.orbit.multipliers.iter().filter(|m| !is_real(m)).all(|m| (m.norm() - 1.0).abs() <= 1e-4)) {
+            continue;
+        }
         if smooth && f(a) * f(b) < 0.0 {
             let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
+            let kind = if kind == BifurcationKind::Fold && !det_sign { BifurcationKind::BranchPoint } else { kind };
             // The period-doubling and Neimark–Sacker tests jump where
             // they change the multiplier they follow (the real multiplier
             // nearest −1 passes from one of two negative ones to the other,
@@ -1568,14 +1645,15 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
             // not at the crossing (test value beyond 1e-4, where a
             // crossing's bracket ends within 1e-12 of it) is such a jump,
             // not a bifurcation.
-            if kind != BifurcationKind::Fold && f(&p).abs() > 1e-4 {
+            if matches!(kind, BifurcationKind::PeriodDoubling | BifurcationKind::NeimarkSacker) && f(&p).abs() > 1e-4 {
                 continue;
             }
             found.push((kind, p));
         }
     }
     for (kind, count) in [(BifurcationKind::Grazing, Orbit::impacts as fn(&Orbit) -> usize), (BifurcationKind::Sticking, Orbit::releases)] {
-        if count(&a.orbit) != count(&b.orbit) {
+        // Not again when the step was taken as a corner, located there.
+        if count(&a.orbit) != count(&b.orbit) && !out.iter().any(|o| o.kind == kind && o.between == (i, i + 1)) {
             let p = bisect(ctx, a, s_b, b, |p| count(&p.orbit) as f64, |p, q| count(&p.orbit) != count(&q.orbit));
             found.push((kind, p));
         }
@@ -1599,7 +1677,7 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
 fn critical(kind: BifurcationKind, p: &Point) -> c64 {
     let near = |z: c64| p.orbit.multipliers.iter().copied().min_by(|a, b| (a - z).norm().total_cmp(&(b - z).norm())).unwrap_or(c64::new(f64::NAN, 0.0));
     match kind {
-        BifurcationKind::Fold => near(c64::new(1.0, 0.0)),
+        BifurcationKind::Fold | BifurcationKind::BranchPoint => near(c64::new(1.0, 0.0)),
         BifurcationKind::PeriodDoubling => near(c64::new(-1.0, 0.0)),
         BifurcationKind::NeimarkSacker => {
             p.orbit.multipliers.iter().copied().filter(|m| m.im > 0.0).min_by(|a, b| (a.norm() - 1.0).abs().total_cmp(&(b.norm() - 1.0).abs())).unwrap_or(c64::new(f64::NAN, 0.0))

@@ -10,4 +10,5 @@ mod further_impact;
 mod oscillator;
 mod reach;
 mod switch;
+mod symmetric;
 mod two_stops;

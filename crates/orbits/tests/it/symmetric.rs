@@ -1,0 +1,288 @@
+//! Symmetric stops: the impact oscillator between `−g` and `g`, forced
+//! `2 sin Ωt`. Its symmetric orbit (`x(t + T/2) = −x(t)`) loses stability
+//! by symmetry-breaking pitchforks — a multiplier through +1 where the
+//! branch goes on in Ω — and the asymmetric pair born there meets it
+//! again. Checked against oracles the continuation knows nothing of: the
+//! symmetry itself (the state half a period on, by the flow), runs of the
+//! flow from either side of the symmetric orbit (which leave it for a
+//! mirror pair of attractors where it is unstable and return to it where
+//! it is stable), and Liouville's formula for every multiplier product
+//! (`det P' = e^{2N} e^{−cT/m}`: each impact's saltation has determinant
+//! `e²`, the damping contracts areas by `e^{−cT/m}`).
+//! Also two starts at the edge of a scene's domain: a restitution of 1
+//! (the corrector's difference in the parameter stepped out of it) and a
+//! forcing amplitude of 0 (the orbit at rest gave the state no scale).
+
+use signorini_fem::SymBand;
+use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Model, Newton, OrbitError, SceneFamily};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
+use std::f64::consts::TAU;
+
+const C: f64 = 0.1;
+const E: f64 = 0.8;
+
+struct Between;
+
+/// The same between its stops without damping and with elastic impacts
+/// (a conservative structure: every multiplier product is 1).
+struct Elastic;
+
+impl Family for Elastic {
+    fn model(&self, w: f64) -> Result<Model, OrbitError> {
+        let one = |v: f64| {
+            let mut b = SymBand::zeros(1, 0);
+            b.set(0, 0, v);
+            b
+        };
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 1.5, omega: w } }]);
+        Model::new(dy, 1.0)
+    }
+    fn period(&self, w: f64) -> Result<f64, OrbitError> {
+        Ok(TAU / w)
+    }
+}
+
+impl Between {
+    fn at(&self, w: f64) -> Model {
+        let one = |v: f64| {
+            let mut b = SymBand::zeros(1, 0);
+            b.set(0, 0, v);
+            b
+        };
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 2.0, omega: w } }])
+            .with_damping(Some(one(C)));
+        Model::new(dy, E).unwrap()
+    }
+}
+
+impl Family for Between {
+    fn model(&self, w: f64) -> Result<Model, OrbitError> {
+        Ok(self.at(w))
+    }
+    fn period(&self, w: f64) -> Result<f64, OrbitError> {
+        Ok(TAU / w)
+    }
+}
+
+/// `x(0) + x(T/2)` along the orbit through `x` at Ω = `w`: 0 on a
+/// symmetric orbit, of opposite signs on the two mirror images.
+fn asymmetry(w: f64, x: &[f64]) -> f64 {
+    let half = Between.at(w).flow(0.0, x, TAU / w / 2.0, false).unwrap().x;
+    x[0] + half[0]
+}
+
+/// Where the flow from `x` is after `k` periods at Ω = `w`.
+fn settle(w: f64, x: &[f64], k: f64) -> Vec<f64> {
+    Between.at(w).flow(0.0, x, k * TAU / w, false).unwrap().x
+}
+
+fn liouville(branch: &Branch) {
+    for p in &branch.points {
+        let j = &p.orbit.monodromy;
+        let det = j[(0, 0)] * j[(1, 1)] - j[(0, 1)] * j[(1, 0)];
+        let want = E.powi(2 * p.orbit.impacts() as i32) * (-C * TAU / p.param).exp();
+        let prod = p.orbit.multipliers[0] * p.orbit.multipliers[1];
+        assert!((det - want).abs() <= 1e-9 * want && (prod.re - want).abs() <= 1e-8 * want && prod.im.abs() <= 1e-8, "Ω = {}: det {det}, μ₁μ₂ {prod} vs e^2N e^-cT {want}", p.param);
+    }
+}
+
+/// The symmetric branch from Ω = 2 down to 0.9: two branch points, where
+/// the runs of the flow leave the symmetric orbit for two mirror-image
+/// attractors between them and return to it outside; no fold.
+fn symmetric_branch() -> Branch {
+    let w0 = 2.0;
+    let x0 = settle(w0, &[0.0, 0.0], 400.0);
+    let start = periodic_orbit(&Between.at(w0), 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    assert!(asymmetry(w0, &start.x).abs() < 1e-10);
+    continuation(&Between, &start.x, &ContinuationOptions::new(w0, 0.9)).unwrap()
+}
+
+/// `det(J − I)` of the map's Jacobian by central differences of the flow
+/// at the orbit through `x` (Ω = `w`).
+fn det_fd(w: f64, x: &[f64]) -> f64 {
+    let m = Between.at(w);
+    let mut j = [[0.0; 2]; 2];
+    for c in 0..2 {
+        let h = 1e-7;
+        let (mut p, mut q) = (x.to_vec(), x.to_vec());
+        p[c] += h;
+        q[c] -= h;
+        let (fp, fq) = (m.flow(0.0, &p, TAU / w, false).unwrap().x, m.flow(0.0, &q, TAU / w, false).unwrap().x);
+        for r in 0..2 {
+            j[r][c] = (fp[r] - fq[r]) / (2.0 * h);
+        }
+    }
+    (j[0][0] - 1.0) * (j[1][1] - 1.0) - j[0][1] * j[1][0]
+}
+
+#[test]
+fn the_symmetric_orbit_loses_stability_at_two_branch_points_not_folds() {
+    let branch = symmetric_branch();
+    assert_eq!(branch.end, "reached to");
+    liouville(&branch);
+    for p in &branch.points {
+        assert!(asymmetry(p.param, &p.orbit.x).abs() < 1e-9, "Ω = {}: the branch left the symmetric orbit", p.param);
+    }
+    let kinds: Vec<&str> = branch.bifurcations.iter().map(|b| b.kind.name()).collect();
+    assert_eq!(kinds, ["branch-point", "branch-point"], "{:?}", branch.bifurcations);
+    let (hi, lo) = (branch.bifurcations[0].param, branch.bifurcations[1].param);
+    // The oracle: runs of the flow from the symmetric orbit nudged either
+    // way, 400 periods, just inside and just outside each branch point.
+    for (k, w, unstable) in [(0, hi - 0.02, true), (0, hi + 0.02, false), (1, lo + 0.02, true), (1, lo - 0.02, false)] {
+        let sym = periodic_orbit(&Between.at(w), 0.0, TAU / w, &branch.bifurcations[k].x, &Newton::default()).unwrap();
+        assert!(asymmetry(w, &sym.x).abs() < 1e-10);
+        let ends: Vec<Vec<f64>> = [1e-6, -1e-6].iter().map(|d| settle(w, &[sym.x[0] + d, sym.x[1]], 400.0)).collect();
+        let (a, b) = (asymmetry(w, &ends[0]), asymmetry(w, &ends[1]));
+        if unstable {
+            assert!(a.abs() > 1e-2 && b.abs() > 1e-2, "Ω = {w}: the runs should leave the symmetric orbit: {a}, {b}");
+            if k == 1 {
+                // Below the upper branch point the two runs end on
+                // attractors that are no mirror pair (the pair born at the
+                // lower one is not what they settle on).
+                continue;
+            }
+            assert!((a + b).abs() < 1e-8 * a.abs().max(1.0), "Ω = {w}: the runs should leave for a mirror pair: {a}, {b}");
+            // Mirror images: the one's section state is minus the other's half a period on.
+            let half = Between.at(w).flow(0.0, &ends[0], TAU / w / 2.0, false).unwrap().x;
+            assert!((half[0] + ends[1][0]).abs() < 1e-8 && (half[1] + ends[1][1]).abs() < 1e-8, "Ω = {w}: {half:?} vs −{:?}", ends[1]);
+        } else {
+            assert!(a.abs() < 1e-8 && b.abs() < 1e-8, "Ω = {w}: the runs should return to the symmetric orbit: {a}, {b}");
+        }
+    }
+    // A multiplier of the map's differences passes +1 within 1e-6 of each.
+    for b in &branch.bifurcations {
+        let d: Vec<f64> = [b.param - 1e-6, b.param + 1e-6].iter().map(|&w| det_fd(w, &periodic_orbit(&Between.at(w), 0.0, TAU / w, &b.x, &Newton::default()).unwrap().x)).collect();
+        assert!(d[0] * d[1] < 0.0, "Ω = {}: det(J − I) {d:?}", b.param);
+    }
+}
+
+/// The asymmetric orbit continued up to the branch point where it meets
+/// the symmetric one: the branch turns in Ω there onto the mirror image
+/// (the asymmetry changes sign), a branch point where the symmetric
+/// branch has its own, not a fold.
+#[test]
+fn the_asymmetric_orbit_turns_onto_its_mirror_image_at_a_branch_point() {
+    let w0 = 1.5;
+    let x0 = settle(w0, &[0.0, 0.0], 400.0);
+    let start = periodic_orbit(&Between.at(w0), 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    let a0 = asymmetry(w0, &start.x);
+    assert!(a0.abs() > 0.1, "an asymmetric orbit: {a0}");
+    let mut opts = ContinuationOptions::new(w0, 3.0);
+    opts.max_points = 14;
+    let branch = continuation(&Between, &start.x, &opts).unwrap();
+    liouville(&branch);
+    let first = &branch.bifurcations[0];
+    assert_eq!(first.kind, BifurcationKind::BranchPoint, "{:?}", branch.bifurcations);
+    assert!(!branch.bifurcations.iter().any(|b| b.kind == BifurcationKind::Fold), "{:?}", branch.bifurcations);
+    let (before, after) = branch.points.split_at(first.between.1);
+    assert!(before.iter().all(|p| asymmetry(p.param, &p.orbit.x) * a0 > 0.0));
+    assert!(after.iter().all(|p| asymmetry(p.param, &p.orbit.x) * a0 < 0.0), "the branch goes on onto the mirror image");
+    // Where the symmetric branch has its upper branch point.
+    let sym = symmetric_branch().bifurcations[0].param;
+    assert!((first.param - sym).abs() < 1e-7, "{} vs the symmetric branch's {sym}", first.param);
+}
+
+const OSC: &str = r#"
+[oscillator]
+mass = 1.0
+stiffness = 1.0
+damping_ratio = 0.05
+stop = 0.2
+restitution = 1.0
+dt = 1e-2
+t_end = 10.0
+scheme = "event-driven"
+[forcing]
+amplitude = 1.0
+omega = 2.0
+"#;
+
+/// A range from a restitution of 1 (the end of its domain): every point
+/// obeys Liouville's formula with its own restitution.
+#[test]
+fn a_range_from_the_end_of_the_parameters_domain_starts() {
+    let doc: toml::Table = OSC.parse().unwrap();
+    let (fam, _) = SceneFamily::new(doc, "oscillator.restitution", 1).unwrap();
+    let built = fam.build(1.0).unwrap();
+    let x0 = built.model.flow(0.0, &built.start, 200.0 * built.horizon, false).unwrap().x;
+    let branch = continuation(&fam, &x0, &ContinuationOptions::new(1.0, 0.5)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(branch.end, "reached to");
+    let t = TAU / 2.0;
+    for p in &branch.points {
+        let j = &p.orbit.monodromy;
+        let det = j[(0, 0)] * j[(1, 1)] - j[(0, 1)] * j[(1, 0)];
+        let want = p.param.powi(2 * p.orbit.impacts() as i32) * (-0.1 * t).exp();
+        assert!(p.orbit.impacts() > 0 && (det - want).abs() <= 1e-9 * want, "e = {}: det {det} vs {want}", p.param);
+    }
+}
+
+/// A range from a forcing amplitude of 0 (the orbit at rest): the free
+/// orbit grows with the amplitude and grazes the stop where the linear
+/// steady state's amplitude `A / √((k − mΩ²)² + (cΩ)²)` reaches it.
+#[test]
+fn a_range_from_rest_reaches_the_grazing() {
+    let doc: toml::Table = OSC.replace("amplitude = 1.0", "amplitude = 0.0").parse().unwrap();
+    let (fam, _) = SceneFamily::new(doc, "forcing.amplitude", 1).unwrap();
+    let branch = continuation(&fam, &[0.0, 0.0], &ContinuationOptions::new(0.0, 1.0)).unwrap();
+    let g = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing).unwrap_or_else(|| panic!("no grazing; end: {}", branch.end));
+    let want = 0.2 * ((1.0f64 - 4.0).powi(2) + (0.1f64 * 2.0).powi(2)).sqrt();
+    assert!((g.param - want).abs() <= 1e-9, "grazing at {} vs {want}", g.param);
+}
+
+/// The symmetric four-impact orbit from Ω = 0.6 up: its own turning point
+/// (symmetric on both sides, `det(J − I)` of the map's differences
+/// changing sign across it) stays a fold, and the grazing met where the
+/// corrector takes a corner step is listed once.
+#[test]
+fn a_fold_of_the_symmetric_orbit_stays_a_fold_and_each_grazing_is_listed_once() {
+    let w0 = 0.6;
+    let x0 = settle(w0, &[0.0, 0.0], 400.0);
+    let start = periodic_orbit(&Between.at(w0), 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    assert!(asymmetry(w0, &start.x).abs() < 1e-10);
+    let branch = continuation(&Between, &start.x, &ContinuationOptions::new(w0, 3.5)).unwrap();
+    liouville(&branch);
+    let fold = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Fold).unwrap_or_else(|| panic!("{:?}", branch.bifurcations));
+    for p in &branch.points[..=fold.between.1] {
+        assert!(asymmetry(p.param, &p.orbit.x).abs() < 1e-9, "Ω = {}", p.param);
+    }
+    let (a, b) = (&branch.points[fold.between.0], &branch.points[fold.between.1]);
+    assert!(det_fd(a.param, &a.orbit.x) * det_fd(b.param, &b.orbit.x) < 0.0);
+    assert!(a.param < fold.param + 1e-12 && b.param < fold.param + 1e-12, "a turning point in Ω");
+    for (i, x) in branch.bifurcations.iter().enumerate() {
+        for y in &branch.bifurcations[i + 1..] {
+            assert!(!(x.kind == y.kind && x.param == y.param), "{} at {} listed twice", x.kind.name(), x.param);
+        }
+    }
+}
+
+/// Conservative: the free orbit of the undamped oscillator between its
+/// stops, `x = 1.5 sin Ωt / (1 − Ω²)` (closed form), from Ω = 3.47 down
+/// to its grazing (`|1.5 / (1 − Ω²)| = 1`: Ω² = 2.5). Its multipliers
+/// are `e^{±2πi/Ω}`, on the unit circle at every Ω: no Neimark–Sacker
+/// point anywhere (the round-off of `|μ| − 1` changed sign twice).
+#[test]
+fn a_conservative_orbit_has_no_neimark_sacker_point() {
+    let w0 = 3.47;
+    let v = |w: f64| 1.5 * w / (1.0 - w * w);
+    // From the state 200 periods after rest (the free vibration rides on
+    // the orbit: Newton takes it off).
+    let m = Elastic.model(w0).unwrap();
+    let x0 = m.flow(0.0, &[0.0, 0.0], 200.0 * TAU / w0, false).unwrap().x;
+    let start = periodic_orbit(&m, 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    let branch = continuation(&Elastic, &start.x, &ContinuationOptions::new(w0, 0.45)).unwrap();
+    assert!(branch.points.len() > 10);
+    for p in &branch.points {
+        assert_eq!(p.orbit.impacts(), 0);
+        assert!(p.orbit.x[0].abs() < 1e-9 && (p.orbit.x[1] - v(p.param)).abs() < 1e-9 * v(p.param).abs(), "Ω = {}: {:?}", p.param, p.orbit.x);
+        let th = TAU / p.param;
+        let want = [faer::c64::new(th.cos(), th.sin()), faer::c64::new(th.cos(), -th.sin())];
+        for m in &p.orbit.multipliers {
+            assert!(want.iter().any(|w| (m - w).norm() < 1e-9), "Ω = {}: {m} vs e^±2πi/Ω", p.param);
+        }
+    }
+    // It ends at its grazing, the only bifurcation named.
+    let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+    assert!(kinds.len() == 1 && kinds[0].0 == "grazing" && (kinds[0].1 - 2.5f64.sqrt()).abs() < 1e-9, "{kinds:?}");
+}
