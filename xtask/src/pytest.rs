@@ -1,8 +1,8 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
-//! workspace's (`cargo test --workspace --release --tests --no-run`, then
-//! the test binaries two at a time, as cargo would run them, with `cargo
-//! test --doc` beside them; the Python crate excluded: maturin builds it
-//! with its own environment),
+//! workspace's (`cargo test --workspace --release --tests --no-run`, each
+//! test binary run as soon as cargo has built it, two at a time, as cargo
+//! would run them, then `cargo test --doc` beside the last ones; the Python
+//! crate excluded: maturin builds it with its own environment),
 //! then the Python package built by maturin (while the Rust test binaries
 //! run) into a virtual environment this command creates while the Rust
 //! tests build (`target/py-venv`,
@@ -132,46 +132,84 @@ fn json_str(line: &str, key: &str) -> Option<String> {
     None
 }
 
-/// The test executables among cargo's JSON messages (`--message-format
-/// json`): the artifacts whose profile says `"test":true` (a binary built
-/// for the integration tests has an executable too, and its target's own
-/// `"test":true` says only that it could be tested), in the order cargo
-/// built them. None is an error: a format of cargo's that this does not
-/// read would otherwise run no test and count none.
+/// The test executable of one of cargo's JSON messages (`--message-format
+/// json`), if it names one: an artifact whose profile says `"test":true`
+/// (a binary built for the integration tests has an executable too, and
+/// its target's own `"test":true` says only that it could be tested).
+pub fn test_binary(line: &str) -> Option<TestBinary> {
+    let profile = line.split("\"profile\":{").nth(1).and_then(|p| p.split('}').next());
+    if !line.contains("\"reason\":\"compiler-artifact\"") || !profile.is_some_and(|p| p.contains("\"test\":true")) {
+        return None;
+    }
+    let exe = PathBuf::from(json_str(line, "executable")?);
+    let dir = PathBuf::from(json_str(line, "manifest_path")?).parent()?.to_path_buf();
+    let src = json_str(line, "src_path")?;
+    let src = Path::new(&src).strip_prefix(&dir).map_or(src.clone(), |p| p.display().to_string());
+    Some(TestBinary { exe, dir, src })
+}
+
+/// The test executables among cargo's JSON messages ([`test_binary`]), in
+/// the order cargo built them. None is an error: a format of cargo's that
+/// this does not read would otherwise run no test and count none.
 pub fn test_binaries(messages: &[String]) -> Result<Vec<TestBinary>, String> {
-    let bins: Vec<TestBinary> = messages
-        .iter()
-        .filter(|l| l.contains("\"reason\":\"compiler-artifact\"") && l.split("\"profile\":{").nth(1).and_then(|p| p.split('}').next()).is_some_and(|p| p.contains("\"test\":true")))
-        .filter_map(|l| {
-            let exe = PathBuf::from(json_str(l, "executable")?);
-            let dir = PathBuf::from(json_str(l, "manifest_path")?).parent()?.to_path_buf();
-            let src = json_str(l, "src_path")?;
-            let src = Path::new(&src).strip_prefix(&dir).map_or(src.clone(), |p| p.display().to_string());
-            Some(TestBinary { exe, dir, src })
-        })
-        .collect();
+    let bins: Vec<TestBinary> = messages.iter().filter_map(|l| test_binary(l)).collect();
     if bins.is_empty() {
-        return Err("cargo test --tests --no-run: no test executable in cargo's JSON messages".into());
+        return Err(NO_TEST_EXECUTABLE.into());
     }
     Ok(bins)
 }
 
+const NO_TEST_EXECUTABLE: &str = "cargo test --tests --no-run: no test executable in cargo's JSON messages";
+
+/// `cargo test --tests --no-run` (`args`: the test command's own), each
+/// test executable sent to `bins` as soon as cargo has built it (cargo
+/// writes an artifact's message once it is linked), so that the binaries
+/// built first run while cargo compiles the others: on two cores the last
+/// test crates compile largely one at a time, and the runs fill the other
+/// core. Cargo's progress and diagnostics go to stderr as usual. The error
+/// says when the build failed or built no test executable.
+pub fn build_tests(cargo: &str, root: &Path, args: &[&str], bins: std::sync::mpsc::Sender<TestBinary>) -> Result<(), String> {
+    let mut child = Command::new(cargo)
+        .current_dir(root)
+        .args(args)
+        .args(["--tests", "--no-run", "--message-format=json-render-diagnostics"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .map_err(|e| format!("cargo test --tests --no-run: cannot start: {e}"))?;
+    let mut built = 0usize;
+    if let Some(out) = child.stdout.take() {
+        for line in BufReader::new(out).split(b'\n').map_while(Result::ok) {
+            if let Some(b) = test_binary(&line_text(&line)) {
+                built += 1;
+                // The runners end only after this sender is dropped.
+                let _ = bins.send(b);
+            }
+        }
+    }
+    match child.wait() {
+        Ok(s) if !s.success() => Err(format!("cargo test --tests --no-run failed ({s})")),
+        Err(e) => Err(format!("cargo test --tests --no-run: {e}")),
+        Ok(_) if built == 0 => Err(NO_TEST_EXECUTABLE.into()),
+        Ok(_) => Ok(()),
+    }
+}
+
 /// Runs the test binaries `jobs` at a time (each with the test harness's
-/// own threads), as `cargo test` would run them one after the other: in
-/// its package's directory with its `CARGO_MANIFEST_DIR`. The largest
-/// files start first (on two cores a long binary started last would run
-/// alone). Each binary's output is printed whole when it ends, under
-/// cargo's `Running` line; the lines of every binary are returned, and an
-/// error names each binary that failed.
-fn run_binaries(mut bins: Vec<TestBinary>, jobs: usize) -> (Vec<String>, Result<(), String>) {
-    bins.sort_by_key(|b| std::cmp::Reverse(std::fs::metadata(&b.exe).map_or(0, |m| m.len())));
-    let queue = std::sync::Mutex::new(bins.into_iter().collect::<std::collections::VecDeque<_>>());
+/// own threads) as they arrive from `bins` (cargo's build, [`build_tests`],
+/// in the order it built them) until it is closed, as `cargo test` would
+/// run them one after the other: in its package's directory with its
+/// `CARGO_MANIFEST_DIR`. Each binary's output is printed whole when it
+/// ends, under cargo's `Running` line; the lines of every binary are
+/// returned, and an error names each binary that failed.
+fn run_binaries(bins: std::sync::mpsc::Receiver<TestBinary>, jobs: usize) -> (Vec<String>, Result<(), String>) {
+    let queue = std::sync::Mutex::new(bins);
     let done = std::sync::Mutex::new((Vec::<String>::new(), Vec::<String>::new()));
     let (queue, done) = (&queue, &done);
     std::thread::scope(|s| {
         for _ in 0..jobs.max(1) {
-            // The queue's lock is held only to take the next binary.
-            let next = || queue.lock().ok().and_then(|mut q| q.pop_front());
+            // The queue's lock is held while waiting for the next binary.
+            let next = || queue.lock().ok().and_then(|q| q.recv().ok());
             s.spawn(move || {
                 while let Some(b) = next() {
                     let head = format!("     Running {} ({})", b.src, b.exe.display());
@@ -501,34 +539,33 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let mut spawn_wheel = Some(spawn_wheel);
     let mut handle = None;
     if !a.python_only {
-        let (lines, r) = rec.time("Rust: build the tests, then run them: the test binaries two at a time, the doc tests and the wheel's build beside them", || {
+        let (lines, r) = rec.time("Rust: build the tests and run them: each test binary as soon as it is built, two at a time, then the doc tests and the wheel's build beside them", || {
             // `--tests` (every library's, binary's and integration test's
             // harness), then the doc tests: cargo's default selection would
             // also build the examples, which test nothing; clippy
             // (`--all-targets`, below) still compiles and lints them.
             let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
-            // Cargo's messages as JSON on stdout (the executables), its
-            // progress and diagnostics rendered on stderr as usual.
-            let built = Command::new(&cargo).current_dir(&root).args(base).args(["--tests", "--no-run", "--message-format=json-render-diagnostics"]).stderr(Stdio::inherit()).output();
-            let bins = match built {
-                Ok(o) if o.status.success() => test_binaries(&String::from_utf8_lossy(&o.stdout).lines().map(str::to_string).collect::<Vec<_>>()),
-                Ok(o) => Err(format!("cargo test --tests --no-run failed ({})", o.status)),
-                Err(e) => Err(format!("cargo test --tests --no-run: cannot start: {e}")),
-            };
-            let bins = match bins {
-                Ok(b) => b,
-                Err(e) => {
-                    handle = spawn_wheel.take().map(|f| f());
-                    return Ok((Vec::new(), Err(e)));
-                }
-            };
+            // The test binaries run, two at a time, as cargo builds them.
+            let (tx, rx) = std::sync::mpsc::channel();
+            let runners = std::thread::spawn(move || run_binaries(rx, 2));
+            if let Err(e) = build_tests(&cargo, &root, &base, tx) {
+                handle = spawn_wheel.take().map(|f| f());
+                let (lines, r) = runners.join().unwrap_or_else(|_| (Vec::new(), Err("the test runners' thread panicked".into())));
+                return Ok((
+                    lines,
+                    Err(match r {
+                        Ok(()) => e,
+                        Err(r) => format!("{e}; {r}"),
+                    }),
+                ));
+            }
             // The doc tests first: cargo takes its build directory's lock
             // only until they start, and the wheel's build holds it while
             // it compiles. The test binaries need no lock at all.
             let (doc, doc_started) = doc_tests(&cargo, &root, &base);
             let _ = doc_started.recv();
             handle = spawn_wheel.take().map(|f| f());
-            let (mut lines, r) = run_binaries(bins, 2);
+            let (mut lines, r) = runners.join().unwrap_or_else(|_| (Vec::new(), Err("the test runners' thread panicked".into())));
             let (doc_lines, r_doc) = doc.join().unwrap_or_else(|_| (Vec::new(), Err("the doc tests' thread panicked".into())));
             lines.extend(doc_lines);
             Ok((lines, r.and(r_doc)))

@@ -106,3 +106,29 @@ fn no_test_executable_is_an_error() {
         assert!(e.contains("no test executable"), "{e}");
     }
 }
+
+/// Each test executable is handed to the runners as soon as cargo writes
+/// its message, not when the build ends: the binaries built first run
+/// while cargo compiles the rest. Here `cargo` is a shell that writes one
+/// test artifact's message, then waits until this test has received it
+/// (a file the test creates), and fails if it never comes (after a minute,
+/// a bound only against a hang): a build that handed the executables over
+/// only at its end would hand this one over after the shell failed.
+#[cfg(unix)]
+#[test]
+fn each_test_executable_runs_as_soon_as_it_is_built() {
+    let dir = std::env::temp_dir().join(format!("signorini-build-tests-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let flag = dir.join("received");
+    let it = r##"{"reason":"compiler-artifact","package_id":"path+file:///w/crates/cli#signorini-cli@0.1.0","manifest_path":"/w/crates/cli/Cargo.toml","target":{"kind":["test"],"crate_types":["bin"],"name":"it","src_path":"/w/crates/cli/tests/it/main.rs","edition":"2021","doc":false,"doctest":false,"test":true},"profile":{"opt_level":"3","debuginfo":"line-tables-only","debug_assertions":false,"overflow_checks":false,"test":true},"features":[],"filenames":["/w/target/release/deps/it-8d5c"],"executable":"/w/target/release/deps/it-8d5c","fresh":false}"##;
+    let script = format!("printf '%s\\n' '{it}'; i=0; while [ ! -e '{}' ]; do i=$((i+1)); [ $i -gt 600 ] && exit 1; sleep 0.1; done", flag.display());
+    let (tx, rx) = std::sync::mpsc::channel();
+    let build = std::thread::spawn(move || build_tests("sh", std::path::Path::new("."), &["-c", &script, "sh"], tx));
+    let b = rx.recv().expect("the executable, handed over");
+    std::fs::write(&flag, "").expect("the flag");
+    assert_eq!((b.exe.to_str(), b.src.as_str()), (Some("/w/target/release/deps/it-8d5c"), "tests/it/main.rs"));
+    assert_eq!(build.join().expect("the build's thread"), Ok(()), "the build ends once the executable was received");
+    assert!(rx.recv().is_err(), "one executable only, and the channel closed");
+    let _ = std::fs::remove_dir_all(&dir);
+}
