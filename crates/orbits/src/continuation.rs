@@ -8,7 +8,13 @@
 //! of `[G_x G_λ]`, oriented by the previous one), Newton corrector on the
 //! hyperplane `tᵀ (y − y_pred) = 0`; a step that fails is halved (a trial
 //! predicted past a grazing, with more impacts than the orbit it starts
-//! from, is given up before its first Newton step). Between two points:
+//! from, is given up before its first Newton step). A trial of a short
+//! step (at most 1e-3) whose orbit has another number of impacts or held
+//! phases is a corner, the change located on the arclength, only when the
+//! bisection's last two points meet (no further apart than the step);
+//! otherwise it fell onto another arc: the other arc of a grazing where
+//! the branch turns back (`turned_back`), or the step is halved. Between
+//! two points:
 //!
 //! - **fold**: the tangent's `λ` component changes sign and so does
 //!   `det(P' − I)` (a multiplier passes through +1 at the turning point);
@@ -541,7 +547,23 @@ fn continuation_until<F: Family>(
                 let i = branch.points.len() - 1;
                 let kind = if p.orbit.impacts() != cur.orbit.impacts() { BifurcationKind::Grazing } else { BifurcationKind::Sticking };
                 let count = |q: &Point| (q.orbit.impacts(), q.orbit.releases());
-                let at = bisect(&ctx, &cur, ds, &p, |q| (count(q).0 * 1000 + count(q).1) as f64, |a, b| count(a) != count(b));
+                let (at, far) = bracket(&ctx, &cur, ds, &p, |q| (count(q).0 * 1000 + count(q).1) as f64, |a, b| count(a) != count(b));
+                // The bracket's ends further apart than the step: no
+                // corner (where the orbits on either side meet) but a
+                // trial fallen onto another arc of the branch: the two
+                // arcs of a grazing where the branch turns back
+                // ([`turned_back`]), or the step halved.
+                if arclength(&ctx, &at, &far) > ds {
+                    if let Some((bif, across)) = turned_back(&ctx, &branch.points, &cur, &p, vref) {
+                        branch.bifurcations.push(bif);
+                        branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone(), mark: across.mark });
+                        cur = across;
+                        ds = opts.step;
+                        continue;
+                    }
+                    ds *= 0.5;
+                    continue;
+                }
                 branch.bifurcations.push(Bifurcation {
                     param: at.param,
                     kind,
@@ -1592,6 +1614,59 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
     Some((bif, c))
 }
 
+/// A trial from `cur` on an orbit whose slowest impact is slowing down
+/// toward 0 (as [`graze`] asks) that converged onto `p`, an orbit of
+/// another arc with fewer impacts, on the same side of the grazing: a
+/// nonsmooth fold, where `cur`'s arc (its slow impact vanishing) and `p`'s
+/// (a flight reaching the stop) meet and turn back, neither continuing
+/// past it. The grazing is located on `p`'s arc, where the orbit is smooth
+/// in the parameter, as the zero of its distance to grazing ([`margin`],
+/// [`flight_margin`]: secant steps, as [`graze`] does); it must agree with
+/// the extrapolation of `cur`'s slowest impact to 0 to within the distance
+/// between them. The branch goes on from `p`, oriented away from the
+/// grazing. `None` otherwise (the trial is then taken for a jump and the
+/// step halved).
+fn turned_back<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, p: &Point, vref: f64) -> Option<(Bifurcation, Point)> {
+    let prev = &points[points.len().checked_sub(2)?];
+    let (va, vb) = (prev.orbit.slowest_impact()?, cur.orbit.slowest_impact()?);
+    if !(vb < va && vb < 0.02 * vref) || prev.orbit.impacts() != cur.orbit.impacts() || p.orbit.impacts() >= cur.orbit.impacts() {
+        return None;
+    }
+    // The slowest impact's speed extrapolated linearly to 0.
+    let graze = cur.param + (cur.param - prev.param) / (va - vb) * vb;
+    if (p.param - graze) * (cur.param - graze) <= 0.0 {
+        return None;
+    }
+    let measure: Measure<'_, F> = if p.orbit.impacts() == 0 { &margin } else { &flight_margin };
+    let m1 = measure(ctx, p)?;
+    let dir = (p.param - graze).signum();
+    let (estimate, _) = grazing_parameter(ctx, None, (p.clone(), m1), (p.orbit.impacts(), measure), Some((graze, cur.param)), OnFailure::Shorten, dir)?;
+    if (estimate - graze).abs() > (cur.param - graze).abs() || (p.param - estimate) * (cur.param - estimate) <= 0.0 {
+        return None;
+    }
+    let mut seed = vec![0.0; ctx.n + 1];
+    seed[ctx.n] = (p.param - estimate).signum();
+    let across = ctx.point(p.x.clone(), p.param, &seed).ok()?;
+    let i = points.len() - 1;
+    let bif = Bifurcation {
+        param: estimate,
+        kind: BifurcationKind::Grazing,
+        mu: critical(BifurcationKind::Grazing, cur),
+        impacts: (cur.orbit.impacts(), p.orbit.impacts()),
+        releases: (cur.orbit.releases(), p.orbit.releases()),
+        between: (i, i + 1),
+        x: cur.x.clone(),
+        mark: None,
+    };
+    Some((bif, across))
+}
+
+/// The scaled distance between two points, as the arclength measures it.
+fn arclength<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point) -> f64 {
+    let d: f64 = (0..ctx.n).map(|k| (b.x[k] - a.x[k]) / ctx.xs).map(|v| v * v).sum::<f64>() + ((b.param - a.param) / ctx.ls).powi(2);
+    d.sqrt()
+}
+
 /// The bifurcations between `a` and `b` (points `i`, `i + 1`), each
 /// located by bisection on the arclength from `a`.
 fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut Vec<Bifurcation>) {
@@ -1691,6 +1766,12 @@ fn critical(kind: BifurcationKind, p: &Point) -> c64 {
 /// point on `a`'s side of the change nearest to it (its limit from `a`).
 /// A trial that fails to converge ends the bisection at the bracket so far.
 fn bisect<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: impl Fn(&Point) -> f64, differs: impl Fn(&Point, &Point) -> bool) -> Point {
+    bracket(ctx, a, s_b, b, value, differs).0
+}
+
+/// [`bisect`], with the bracket's end on `b`'s side (the point beyond the
+/// change nearest to it).
+fn bracket<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: impl Fn(&Point) -> f64, differs: impl Fn(&Point, &Point) -> bool) -> (Point, Point) {
     let (mut lo, mut hi) = (0.0, s_b);
     let (mut pa, mut pb) = (a.clone(), b.clone());
     for _ in 0..60 {
@@ -1720,8 +1801,8 @@ fn bisect<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: im
         p.x = pa.x.iter().zip(&pb.x).map(|(x, y)| x + w * (y - x)).collect();
         // Not an orbit computed there: no mark (the front end builds it).
         p.mark = None;
-        p
+        (p, pb)
     } else {
-        pa
+        (pa, pb)
     }
 }

@@ -174,9 +174,24 @@ fn the_doubled_branch_turns_back_at_its_grazings_and_folds() {
     assert!((f[0] - FOLD).abs() <= 1e-9, "fold at {} vs {FOLD}", f[0]);
     let unstable = doubled.points.iter().filter(|p| p.param > FOLD && p.param < LOWER_GRAZING && p.orbit.impacts() == 3 && !p.stable()).count();
     assert!(unstable >= 3, "{unstable} unstable 3-impact orbits between the fold and the grazing");
-    // The upper fold and grazing, to 1e-9.
+    // The upper fold and grazing once each, to 1e-9: the loop between
+    // them (stable and unstable 3-impact orbits) traced once, the branch
+    // turning back at the grazing onto the stable 2-impact orbits.
     for (kind, at) in [(BifurcationKind::Fold, UPPER_FOLD), (BifurcationKind::Grazing, UPPER_GRAZING)] {
         let u = near(kind, at, 1e-5);
-        assert!(!u.is_empty() && u.iter().all(|p| (p - at).abs() <= 1e-9), "{}s near {at}: {u:?}", kind.name());
+        assert!(u.len() == 1 && (u[0] - at).abs() <= 1e-9, "{}s near {at}: {u:?}", kind.name());
+    }
+    // No other grazing within 1e-3 of Ω = 1.1006, where the unstable
+    // 3-impact orbit's slowest impact is 1.3e-3 and the 2-impact orbit's
+    // flight 4.7e-3 below the stop (the transcription's). A trial from the
+    // one converging onto the other, taken as a corner, listed one at
+    // 1.1006186 (twice).
+    let spurious = near(BifurcationKind::Grazing, 1.1006, 1e-3);
+    assert!(spurious.iter().all(|p| (p - UPPER_GRAZING).abs() <= 1e-9), "grazings within 1e-3 of 1.1006: {spurious:?}");
+    // Each of the branch's bifurcations once: the two grazings, the two
+    // folds and the two period doublings.
+    let count = |kind: BifurcationKind| doubled.bifurcations.iter().filter(|b| b.kind == kind).count();
+    for kind in [BifurcationKind::Grazing, BifurcationKind::Fold, BifurcationKind::PeriodDoubling] {
+        assert_eq!(count(kind), 2, "{}s: {:?}", kind.name(), doubled.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect::<Vec<_>>());
     }
 }
