@@ -995,7 +995,7 @@ pub fn bits(x: &[f64]) -> Vec<u64> {
 /// step in every build (and is no longer compared). Returns per lane the
 /// number of steps held at the lower and upper bound.
 #[track_caller]
-pub fn check_lockstep<B: Builds, S: Stepper>(make: impl Fn() -> B, mut singles: Vec<S>, extras: &[Extra<B, S>], steps: usize) -> Vec<(usize, usize)> {
+pub fn check_lockstep<B: Builds, S: Stepper>(make: impl Fn() -> B, singles: &mut [S], extras: &[Extra<B, S>], steps: usize) -> Vec<(usize, usize)> {
     let mut builds = [("selected", make()), ("baseline", make().portable()), ("AVX2", make().without_avx512())];
     assert!(!builds[1].1.uses_avx2() && !builds[1].1.uses_avx512() && !builds[2].1.uses_avx512());
     assert_eq!(builds[0].1.lanes(), singles.len(), "a single run per lane");

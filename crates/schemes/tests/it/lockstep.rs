@@ -65,9 +65,9 @@ pub(crate) fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
 /// `U^{n-1}`); returns per lane the number of steps held at the lower and
 /// upper bound.
 fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
-    let singles: Vec<PaoliSchatzman> = lanes.iter().map(|l| PaoliSchatzman::new("single".into(), l.dynamics.clone(), beta, l.restitution, dt, &l.initial).unwrap()).collect();
+    let mut singles: Vec<PaoliSchatzman> = lanes.iter().map(|l| PaoliSchatzman::new("single".into(), l.dynamics.clone(), beta, l.restitution, dt, &l.initial).unwrap()).collect();
     let prev = Extra { name: "U^(n-1)", lane: |b: &PaoliSchatzmanLockstep<L>, k, out| b.previous_displacement_into(k, out), single: |s: &PaoliSchatzman| s.previous_displacement(), from: 0 };
-    check_lockstep(|| PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap(), singles, &[prev], steps)
+    check_lockstep(|| PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap(), &mut singles, &[prev], steps)
 }
 
 /// Four lanes of the paper beam (J = 19, β = 1/2, e = 0) with different

@@ -18,9 +18,9 @@ use signorini_schemes::{Harmonic, LockstepLane, MoreauJean, MoreauJeanLockstep, 
 /// V); returns per lane the number of steps held at the
 /// lower and upper bound.
 fn compare<const L: usize>(theta: f64, gamma: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
-    let singles: Vec<MoreauJean> = lanes.iter().map(|l| MoreauJean::new("single".into(), l.dynamics.clone(), theta, l.restitution, gamma, dt, &l.initial).unwrap()).collect();
+    let mut singles: Vec<MoreauJean> = lanes.iter().map(|l| MoreauJean::new("single".into(), l.dynamics.clone(), theta, l.restitution, gamma, dt, &l.initial).unwrap()).collect();
     let extras = [Extra { name: "V", lane: |b: &MoreauJeanLockstep<L>, k, out| b.velocity_into(k, out), single: |s: &MoreauJean| s.velocity(), from: 0 }];
-    check_lockstep(|| MoreauJeanLockstep::<L>::new(theta, gamma, dt, lanes.clone()).unwrap(), singles, &extras, steps)
+    check_lockstep(|| MoreauJeanLockstep::<L>::new(theta, gamma, dt, lanes.clone()).unwrap(), &mut singles, &extras, steps)
 }
 
 /// Four lanes of the paper beam (J = 19, θ = 1/2, γ = 1/2, e = 0) with

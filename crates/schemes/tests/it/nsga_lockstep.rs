@@ -19,12 +19,12 @@ use signorini_schemes::{Harmonic, LockstepLane, Nsga, NsgaLockstep, SchemeError,
 /// V, a); returns per lane the number of steps held at the
 /// lower and upper bound.
 fn compare<const L: usize>(rho: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
-    let singles: Vec<Nsga> = lanes.iter().map(|l| Nsga::new("single".into(), l.dynamics.clone(), rho, l.restitution, dt, &l.initial).unwrap()).collect();
+    let mut singles: Vec<Nsga> = lanes.iter().map(|l| Nsga::new("single".into(), l.dynamics.clone(), rho, l.restitution, dt, &l.initial).unwrap()).collect();
     let extras = [
         Extra { name: "V", lane: |b: &NsgaLockstep<L>, k, out| b.velocity_into(k, out), single: |s: &Nsga| s.velocity(), from: 0 },
         Extra { name: "a", lane: |b: &NsgaLockstep<L>, k, out| b.acceleration_like_into(k, out), single: |s: &Nsga| s.acceleration_like(), from: 0 },
     ];
-    check_lockstep(|| NsgaLockstep::<L>::new(rho, dt, lanes.clone()).unwrap(), singles, &extras, steps)
+    check_lockstep(|| NsgaLockstep::<L>::new(rho, dt, lanes.clone()).unwrap(), &mut singles, &extras, steps)
 }
 
 /// Four lanes of the paper beam (J = 19, e = 0) with different ω and A,

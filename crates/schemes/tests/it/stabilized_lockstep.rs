@@ -20,12 +20,12 @@ use signorini_schemes::{Bounds, ContactStabilized, ContactStabilizedLockstep, Ha
 /// V, predictor); returns per lane the number of steps held at the
 /// lower and upper bound.
 fn compare<const L: usize>(dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
-    let singles: Vec<ContactStabilized> = lanes.iter().map(|l| ContactStabilized::new("single".into(), l.dynamics.clone(), dt, &l.initial).unwrap()).collect();
+    let mut singles: Vec<ContactStabilized> = lanes.iter().map(|l| ContactStabilized::new("single".into(), l.dynamics.clone(), dt, &l.initial).unwrap()).collect();
     let extras = [
         Extra { name: "V", lane: |b: &ContactStabilizedLockstep<L>, k, out| b.velocity_into(k, out), single: |s: &ContactStabilized| s.velocity(), from: 0 },
         Extra { name: "predictor", lane: |b: &ContactStabilizedLockstep<L>, k, out| b.predictor_into(k, out), single: |s: &ContactStabilized| s.predictor(), from: 1 },
     ];
-    check_lockstep(|| ContactStabilizedLockstep::<L>::new(dt, lanes.clone()).unwrap(), singles, &extras, steps)
+    check_lockstep(|| ContactStabilizedLockstep::<L>::new(dt, lanes.clone()).unwrap(), &mut singles, &extras, steps)
 }
 
 /// Four lanes of the paper beam (J = 19) with different ω and A, narrow
