@@ -340,6 +340,15 @@ pub enum LockstepScheme {
         /// The activation predictor's γ.
         gamma: f64,
     },
+    /// `moreau-jean-projected(θ, e, γ)`: [`MoreauJeanLockstep::projected`](crate::MoreauJeanLockstep::projected).
+    MoreauJeanProjected {
+        /// θ.
+        theta: f64,
+        /// Restitution `e`.
+        restitution: f64,
+        /// The index set's predictor γ.
+        gamma: f64,
+    },
     /// `nsga(ρ∞, e)`: [`NsgaLockstep`](crate::NsgaLockstep).
     Nsga {
         /// ρ∞.
@@ -361,6 +370,7 @@ impl LockstepScheme {
         match spec.family().name {
             "ps" => Some(Self::PaoliSchatzman { beta: spec.param("beta")?, restitution: spec.param("e")? }),
             "moreau-jean" => Some(Self::MoreauJean { theta: spec.param("theta")?, restitution: spec.param("e")?, gamma: spec.param("gamma")? }),
+            "moreau-jean-projected" => Some(Self::MoreauJeanProjected { theta: spec.param("theta")?, restitution: spec.param("e")?, gamma: spec.param("gamma")? }),
             "nsga" => Some(Self::Nsga { rho_inf: spec.param("rho_inf")?, restitution: spec.param("e")? }),
             "contact-stabilized" => Some(Self::ContactStabilized),
             _ => None,
@@ -370,7 +380,7 @@ impl LockstepScheme {
     /// The restitution of the scheme (a lane's [`LockstepLane::restitution`]).
     pub fn restitution(&self) -> f64 {
         match *self {
-            Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } | Self::Nsga { restitution, .. } => restitution,
+            Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } | Self::MoreauJeanProjected { restitution, .. } | Self::Nsga { restitution, .. } => restitution,
             Self::ContactStabilized => 0.0,
         }
     }

@@ -39,12 +39,24 @@
 //! dof or the number of forcing terms, and a lane count outside `1..=L` are
 //! refused with a [`SchemeError`]. Fewer lanes than `L` are padded with
 //! copies of lane 0, whose results are never reported.
+//!
+//! [`MoreauJeanLockstep::projected`] is the engine of
+//! `moreau-jean-projected(θ, e, γ)` ([`MoreauJeanProjected`](crate::MoreauJeanProjected)):
+//! the same step with the single run's index set kept per lane (a side
+//! joins when `u_c + γ dt v_c − lo <= 1e-7`, or `hi − (u_c + γ dt v_c)`,
+//! leaves when that is `> 1e-7` with a non-negative rate) in place of the
+//! plain prediction, and after it, on the lanes whose sides in the set are
+//! violated by more than `1e-8`, `u_c` clamped on their bounds (the
+//! positions' projection; a lane's failure is checked before it, as the
+//! single run's report is made before it). Each lane is the single
+//! `MoreauJeanProjected` run bit for bit.
 
 // The lane loops index several per-lane arrays by the lane on purpose:
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
 use crate::lanes::{backward, check_count, check_lanes, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Combine, Done, LaneState, Refusals, TwoProducts};
+use crate::moreau_projected::{INDEX_SET_THRESHOLD, PROJECTION_TOLERANCE};
 use crate::{Active, LockstepLane, MoreauJean, Sampler, SchemeError};
 
 /// `L` runs of the Moreau–Jean scheme sharing one step matrix, stepped
@@ -62,6 +74,10 @@ pub struct MoreauJeanLockstep<const L: usize> {
     /// The contacts predicted active at their lower, upper stop this step.
     at_lo: [bool; L],
     at_hi: [bool; L],
+    /// `moreau-jean-projected`'s index set (per lane, its lower and its
+    /// upper side in the set), kept from step to step; `None` for
+    /// `moreau-jean`.
+    sides: Option<([bool; L], [bool; L])>,
 }
 
 /// The Moreau–Jean engine's structural refusals.
@@ -100,7 +116,7 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         let proj = column(&a, dy0.contact().dof)?;
         let terms = dy0.forcing.len();
         let state = LaneState::new(dy0, dt, 0, lanes.len(), &a, &proj);
-        let mut s = Self { state, theta, gamma, v: vec![[0.0; L]; dy0.n()], dt_s: vec![[0.0; L]; terms], at_lo: [false; L], at_hi: [false; L] };
+        let mut s = Self { state, theta, gamma, v: vec![[0.0; L]; dy0.n()], dt_s: vec![[0.0; L]; terms], at_lo: [false; L], at_hi: [false; L], sides: None };
         for (k, ln) in lanes.into_iter().enumerate() {
             let LockstepLane { dynamics: dy, initial, restitution } = ln;
             let e = dy.contact().restitution.unwrap_or(restitution);
@@ -112,6 +128,19 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         }
         // Padding lanes copy lane 0 (and its means, every step).
         s.state.finish(&mut [&mut s.v]);
+        Ok(s)
+    }
+
+    /// Sets up `lanes.len()` runs (`1..=L`) of `moreau-jean-projected(θ,
+    /// e, γ)` ([`MoreauJeanProjected`](crate::MoreauJeanProjected): Moreau–Jean with an index set kept
+    /// with thresholds and the positions of its sides projected on their
+    /// bounds; module docs) with step `dt`; the batch is at level 0.
+    ///
+    /// Errors: those of [`new`](Self::new) (what [`MoreauJeanProjected::new`](crate::MoreauJeanProjected::new)
+    /// refuses is what [`MoreauJean::new`] refuses).
+    pub fn projected(theta: f64, gamma: f64, dt: f64, lanes: Vec<LockstepLane>) -> Result<Self, SchemeError> {
+        let mut s = Self::new(theta, gamma, dt, lanes)?;
+        s.sides = Some(([false; L], [false; L]));
         Ok(s)
     }
 
@@ -198,7 +227,42 @@ impl<const L: usize> MoreauJeanLockstep<L> {
             st.lams[k] = -st.mu[k] / dt;
         }
         st.check_finite(None);
-        st.n
+        let n = st.n;
+        if any {
+            self.project_positions();
+        }
+        n
+    }
+
+    /// `moreau-jean-projected`'s projection of the positions
+    /// (`MoreauJeanProjected::project` on each lane): where a side in the
+    /// set is violated by more than the tolerance, `u_c` is put back on the
+    /// bounds of the sides in the set.
+    #[inline(always)]
+    fn project_positions(&mut self) {
+        let Some((in_lo, in_hi)) = &self.sides else { return };
+        let st = &mut self.state;
+        let c = st.c;
+        let uc = &mut st.u[c];
+        for k in 0..L {
+            let mut x = uc[k];
+            let mut worst = 0.0f64;
+            if in_lo[k] {
+                worst = worst.max(st.lo[k] - x);
+            }
+            if in_hi[k] {
+                worst = worst.max(x - st.hi[k]);
+            }
+            if worst > PROJECTION_TOLERANCE {
+                if in_lo[k] && x < st.lo[k] {
+                    x = st.lo[k];
+                }
+                if in_hi[k] && x > st.hi[k] {
+                    x = st.hi[k];
+                }
+                uc[k] = x;
+            }
+        }
     }
 
     /// Each lane's contact predicted active at its lower stop
@@ -210,6 +274,19 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         let gdt = self.gamma * st.dt;
         let (uc, vc) = (&st.u[st.c], &self.v[st.c]);
         let mut any = false;
+        if let Some((in_lo, in_hi)) = &mut self.sides {
+            // The index set (`MoreauJean::predict` with `IndexSet::keep`,
+            // enter = leave = INDEX_SET_THRESHOLD).
+            let keep = |member: bool, y: f64, ydot: f64| if member { !(y > INDEX_SET_THRESHOLD && ydot >= 0.0) } else { y <= INDEX_SET_THRESHOLD };
+            for k in 0..L {
+                let pred = uc[k] + gdt * vc[k];
+                in_lo[k] = keep(in_lo[k], pred - st.lo[k], vc[k]);
+                in_hi[k] = keep(in_hi[k], st.hi[k] - pred, -vc[k]);
+                (self.at_lo[k], self.at_hi[k]) = (in_lo[k], in_hi[k]);
+                any |= in_lo[k] | in_hi[k];
+            }
+            return any;
+        }
         for k in 0..L {
             let pred = uc[k] + gdt * vc[k];
             self.at_lo[k] = pred <= st.lo[k];

@@ -54,6 +54,11 @@ impl MoreauJeanProjected {
         Ok(Self { mj, projections: 0, projection_energy: 0.0 })
     }
 
+    /// Velocity `V^n`.
+    pub fn velocity(&self) -> &[f64] {
+        self.mj.velocity()
+    }
+
     /// The steps whose projection acted so far.
     pub fn projections(&self) -> u64 {
         self.projections
@@ -124,7 +129,7 @@ pub(crate) static MOREAU_JEAN_PROJECTED: Family = Family {
     params: &[moreau::THETA, moreau::E, moreau::GAMMA],
     presets: &[],
     validate: moreau::check_params,
-    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(MoreauJeanProjected::new(s.to_string(), dy, s.args()[0], s.args()[1], s.args()[2], dt, init)?)),

@@ -19,7 +19,8 @@ pub const LANES: usize = 16;
 /// A run the lockstep engine takes: a beam (full model) on its tip's two
 /// stops, not continued from another run, whose scheme can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
-/// them, `moreau-jean(θ, e, γ)`, `nsga(ρ∞, e)` and `contact-stabilized`;
+/// them, `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`,
+/// `nsga(ρ∞, e)` and `contact-stabilized`;
 /// [`LockstepScheme`]), within its
 /// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
@@ -68,7 +69,8 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 }
 
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
-/// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`], [`NsgaLockstep`] or
+/// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] (also
+/// `moreau-jean-projected`), [`NsgaLockstep`] or
 /// [`ContactStabilizedLockstep`] stepped by
 /// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
@@ -97,6 +99,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         let same = |s: LockstepScheme| match (s, scheme) {
             (LockstepScheme::PaoliSchatzman { beta: a, .. }, LockstepScheme::PaoliSchatzman { beta: b, .. }) => a == b,
             (LockstepScheme::MoreauJean { theta: a, gamma: g, .. }, LockstepScheme::MoreauJean { theta: b, gamma: h, .. }) => a == b && g == h,
+            (LockstepScheme::MoreauJeanProjected { theta: a, gamma: g, .. }, LockstepScheme::MoreauJeanProjected { theta: b, gamma: h, .. }) => a == b && g == h,
             (LockstepScheme::Nsga { rho_inf: a, .. }, LockstepScheme::Nsga { rho_inf: b, .. }) => a == b,
             (LockstepScheme::ContactStabilized, LockstepScheme::ContactStabilized) => true,
             _ => false,
@@ -115,6 +118,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
     match scheme {
         LockstepScheme::PaoliSchatzman { beta, .. } => run_group(PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::MoreauJean { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::new(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::MoreauJeanProjected { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::projected(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::Nsga { rho_inf, .. } => run_group(NsgaLockstep::<L>::new(rho_inf, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
     }

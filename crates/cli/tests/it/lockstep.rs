@@ -76,7 +76,7 @@ fn runs_that_do_not_share_a_matrix_are_not_locked() {
 /// on to their horizons.
 #[test]
 fn a_lane_that_blows_up_stops_where_its_single_run_does() {
-    for scheme in ["projection", "nsga(0.5)", "contact-stabilized"] {
+    for scheme in ["projection", "nsga(0.5)", "contact-stabilized", "moreau-jean-projected(1,0)"] {
         lane_blows_up(scheme);
     }
 }
@@ -112,7 +112,8 @@ fn lane_blows_up(scheme: &str) {
 
 /// A sweep of a registry-named scheme that can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β,
-/// `moreau-jean(θ, e, γ)`, `nsga(ρ∞, e)` and `contact-stabilized`) takes
+/// `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`, `nsga(ρ∞, e)`
+/// and `contact-stabilized`) takes
 /// its engine, each lane its single run bit for bit; schemes that cannot
 /// (penalty, Newmark, the event-driven reference) run one at a time.
 #[test]
@@ -131,6 +132,9 @@ fn registry_schemes_that_can_run_in_lockstep_do() {
         ("nsga(0,0.5)", true),
         ("nsga(1,1)", true),
         ("contact-stabilized", true),
+        ("moreau-jean-projected(0.5,0)", true),
+        ("moreau-jean-projected(0.7,0.5,0.3)", true),
+        ("moreau-jean-combined(0.5,0)", false),
         ("penalty-cn", false),
         ("newmark-cn", false),
         ("event-driven", false),

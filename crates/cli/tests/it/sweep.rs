@@ -732,6 +732,14 @@ fn an_nsga_sweep_in_lockstep_is_its_runs_one_at_a_time() {
     lockstep_sweep_is_its_runs_one_at_a_time("nsga(0.5,0.3)");
 }
 
+/// The same for `moreau-jean-projected` with a restitution and γ
+/// (`MoreauJeanLockstep::projected`; θ = 1/2 blows up on fig. 2 within a
+/// few periods, one at a time as in lockstep: its projection adds energy).
+#[test]
+fn a_moreau_jean_projected_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_is_its_runs_one_at_a_time("moreau-jean-projected(0.7,0.5,0.3)");
+}
+
 /// The same for `contact-stabilized` (`ContactStabilizedLockstep`).
 #[test]
 fn a_contact_stabilized_sweep_in_lockstep_is_its_runs_one_at_a_time() {

@@ -19,7 +19,7 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use signorini_fem::{Bar, BarMass, Beam, RightEnd, SymBand};
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, StepReport, Stepper, TimeProfile};
+use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Initial, Lockstep, LockstepLane, SchemeError, StepReport, Stepper, TimeProfile};
 
 /// A dense square matrix, row by row.
 pub type Dense = Vec<Vec<f64>>;
@@ -934,4 +934,165 @@ pub fn check_moreau_jean(o: &Oracle, e: f64, init: &Initial, traj: &Traj) -> (Wo
         v = v1;
     }
     (res_w, en_w, active)
+}
+
+// ---- The lockstep engines' oracle: their single runs.
+
+/// The builds of a lockstep engine's step (its `lockstep_builds!`
+/// methods): the one the CPU selects, the AVX2 one and the baseline
+/// x86-64 one, for [`check_lockstep`].
+pub trait Builds: Lockstep + Sized {
+    fn portable(self) -> Self;
+    fn without_avx512(self) -> Self;
+    fn uses_avx2(&self) -> bool;
+    fn uses_avx512(&self) -> bool;
+}
+
+macro_rules! builds {
+    ($($engine:ident),*) => {$(
+        impl<const L: usize> Builds for signorini_schemes::$engine<L> {
+            fn portable(self) -> Self {
+                signorini_schemes::$engine::portable(self)
+            }
+            fn without_avx512(self) -> Self {
+                signorini_schemes::$engine::without_avx512(self)
+            }
+            fn uses_avx2(&self) -> bool {
+                signorini_schemes::$engine::uses_avx2(self)
+            }
+            fn uses_avx512(&self) -> bool {
+                signorini_schemes::$engine::uses_avx512(self)
+            }
+        }
+    )*};
+}
+builds!(PaoliSchatzmanLockstep, MoreauJeanLockstep, NsgaLockstep, ContactStabilizedLockstep);
+
+/// A vector of an engine's lanes beyond `U^n` (`V^n`, a predictor, …),
+/// compared with its single run's bit for bit from level `from` on.
+pub struct Extra<B, S> {
+    pub name: &'static str,
+    /// Lane `k`'s vector into the buffer.
+    pub lane: fn(&B, usize, &mut [f64]),
+    /// The single run's.
+    pub single: fn(&S) -> &[f64],
+    /// The first step after which it is compared (0: from the start).
+    pub from: usize,
+}
+
+/// Bit patterns of `x`.
+pub fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+/// Steps three builds of a lockstep engine (`make()` as the CPU selects,
+/// its AVX2 build and its baseline x86-64 build) and each lane's single
+/// run (`singles`, lane `k` the `k`-th) `steps` times, and compares, for
+/// every build, lane and step, bit for bit: the level, `t_n`, the time of
+/// the contact force, `U^n` (and `u_c` through `value`), every `extras`
+/// vector, the contact force and status of the single run's report, and no
+/// failure; a lane whose single run fails must report that error at that
+/// step in every build (and is no longer compared). Returns per lane the
+/// number of steps held at the lower and upper bound.
+#[track_caller]
+pub fn check_lockstep<B: Builds, S: Stepper>(make: impl Fn() -> B, singles: &mut [S], extras: &[Extra<B, S>], steps: usize) -> Vec<(usize, usize)> {
+    let mut builds = [("selected", make()), ("baseline", make().portable()), ("AVX2", make().without_avx512())];
+    assert!(!builds[1].1.uses_avx2() && !builds[1].1.uses_avx512() && !builds[2].1.uses_avx512());
+    assert_eq!(builds[0].1.lanes(), singles.len(), "a single run per lane");
+    let n = builds[0].1.dofs();
+    let mut buf = vec![0.0; n];
+    let mut counts = vec![(0, 0); singles.len()];
+    let mut done = vec![false; singles.len()];
+    for step in 0..=steps {
+        if step > 0 {
+            for (_, b) in builds.iter_mut() {
+                b.step();
+            }
+        }
+        for (k, s) in singles.iter_mut().enumerate() {
+            if done[k] {
+                continue;
+            }
+            let report = if step > 0 {
+                match s.step() {
+                    Ok(r) => Some(r),
+                    Err(e) => {
+                        // The single run stops here: the lane must report the same error.
+                        for (what, b) in &builds {
+                            assert_eq!(b.lane_failure(k), Some(&e), "lane {k} step {step}: {what} build");
+                        }
+                        done[k] = true;
+                        continue;
+                    }
+                }
+            } else {
+                None
+            };
+            if let Some(r) = &report {
+                match r.active {
+                    Active::Lower => counts[k].0 += 1,
+                    Active::Upper => counts[k].1 += 1,
+                    Active::None => {}
+                }
+            }
+            let want = s.displacement();
+            for (what, b) in &builds {
+                let at = format!("lane {k} level {} ({what} build)", s.level());
+                assert_eq!(b.level(), s.level(), "{at}: level");
+                assert_eq!(b.time().to_bits(), s.time().to_bits(), "{at}: time");
+                b.displacement_into(k, &mut buf);
+                if bits(&buf) != bits(want) {
+                    let i = (0..n).find(|&i| buf[i].to_bits() != want[i].to_bits()).unwrap();
+                    panic!("{at}: u[{i}] = {:e}, single run {:e}", buf[i], want[i]);
+                }
+                let c = b.contact_dof();
+                assert_eq!(b.value(k, c).to_bits(), want[c].to_bits(), "{at}: u_c");
+                for x in extras.iter().filter(|x| step >= x.from) {
+                    (x.lane)(b, k, &mut buf);
+                    let want = (x.single)(s);
+                    if bits(&buf) != bits(want) {
+                        let i = (0..n).find(|&i| buf[i].to_bits() != want[i].to_bits()).unwrap();
+                        panic!("{at}: {}[{i}] = {:e}, single run {:e}", x.name, buf[i], want[i]);
+                    }
+                }
+                if let Some(r) = &report {
+                    let (tl, lam) = r.lambda.expect("a contact force");
+                    assert_eq!(tl.to_bits(), b.lambda_time().to_bits(), "{at}: the contact force's time");
+                    assert_eq!(lam.to_bits(), b.contact_force(k).to_bits(), "{at}: λ {lam} vs {}", b.contact_force(k));
+                    assert_eq!(r.active, b.contact_status(k), "{at}: status");
+                    assert!(b.lane_failure(k).is_none(), "{at}: {:?}", b.lane_failure(k));
+                }
+            }
+        }
+    }
+    counts
+}
+
+/// The refusals every lockstep engine makes of its lanes (`new` an
+/// engine of 4 lanes, `base` a lane it takes): no lane, 5 lanes,
+/// damping, two contacts, a massless contact, a mass matrix off by an ulp,
+/// another contact dof, another number of forcing terms.
+pub fn check_lane_refusals(new: impl Fn(Vec<LockstepLane>) -> Option<SchemeError>, base: impl Fn() -> LockstepLane) {
+    let new = |lanes| new(lanes).expect("refused");
+    assert!(matches!(new(vec![]), SchemeError::Size { got: 0, expected: 4, .. }));
+    assert!(matches!(new(vec![base(), base(), base(), base(), base()]), SchemeError::Size { got: 5, expected: 4, .. }));
+    let mut d = base();
+    d.dynamics.damping = Some(d.dynamics.mass.clone());
+    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("undamped")));
+    let mut d = base();
+    d.dynamics.contacts.push(Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false));
+    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("one contact")));
+    let mut d = base();
+    d.dynamics.contacts[0].massless = true;
+    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("massive")));
+    let mut d = base();
+    let m = d.dynamics.mass.get(5, 5);
+    d.dynamics.mass.set(5, 5, m * (1.0 + 1e-15));
+    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("mass and stiffness")));
+    let mut d = base();
+    d.dynamics.contacts[0].dof = 10;
+    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("contact dof")));
+    let mut d = base();
+    d.dynamics.forcing.clear();
+    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("forcing terms")));
 }

@@ -11,6 +11,8 @@
 //! bit for bit against the plain one (`Bands3::rhs`, `BandLdlt::solve_in_place`)
 //! at the end of this file.
 
+pub(crate) use crate::common::bits;
+use crate::common::{check_lane_refusals, check_lockstep, Extra};
 use signorini_fem::{Beam, SymBand};
 use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, SchemeError, SchemeSpec, Stepper, TimeProfile};
 
@@ -58,83 +60,14 @@ pub(crate) fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
     LockstepLane { dynamics: d.0, initial: d.1, restitution: e }
 }
 
-pub(crate) fn bits(x: &[f64]) -> Vec<u64> {
-    x.iter().map(|v| v.to_bits()).collect()
-}
-
-/// Steps the batch and each lane's single run `steps` times, comparing
-/// U^n, U^{n-1} (at the start), λ and the status bit for bit at every step;
-/// a lane whose single run fails must report that error at that step (and
-/// is no longer compared); returns per lane the number of steps held at the
-/// lower and upper bound.
+/// Steps the batch (every build) and each lane's single run `steps` times
+/// and compares them bit for bit at every step ([`check_lockstep`]; and
+/// `U^{n-1}`); returns per lane the number of steps held at the lower and
+/// upper bound.
 fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
     let mut singles: Vec<PaoliSchatzman> = lanes.iter().map(|l| PaoliSchatzman::new("single".into(), l.dynamics.clone(), beta, l.restitution, dt, &l.initial).unwrap()).collect();
-    // The build the CPU selects (AVX-512 or AVX2 here), the AVX2 build and
-    // the baseline x86-64 build.
-    let mut portable = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap().portable();
-    let mut avx2 = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap().without_avx512();
-    let mut batch = PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).unwrap();
-    assert!(!portable.uses_avx2() && !portable.uses_avx512() && !avx2.uses_avx512());
-    let n = batch.dofs();
-    let mut buf = vec![0.0; n];
-    let mut counts = vec![(0, 0); singles.len()];
-    let mut done = vec![false; singles.len()];
-    for (k, s) in singles.iter().enumerate() {
-        batch.previous_displacement_into(k, &mut buf);
-        assert_eq!(bits(&buf), bits(s.previous_displacement()), "lane {k}: U^0");
-    }
-    for step in 0..=steps {
-        if step > 0 {
-            batch.step();
-            portable.step();
-            avx2.step();
-        }
-        for (k, s) in singles.iter_mut().enumerate() {
-            if done[k] {
-                continue;
-            }
-            if step > 0 {
-                let r = match s.step() {
-                    Ok(r) => r,
-                    Err(e) => {
-                        // The single run stops here: the lane must report the same error.
-                        assert_eq!(batch.lane_failure(k), Some(&e), "lane {k}");
-                        assert_eq!(portable.lane_failure(k), Some(&e), "lane {k}");
-                        assert_eq!(avx2.lane_failure(k), Some(&e), "lane {k}");
-                        done[k] = true;
-                        continue;
-                    }
-                };
-                assert_eq!(r.n, batch.level());
-                assert_eq!(r.t.to_bits(), batch.time().to_bits());
-                let (tl, lam) = r.lambda.unwrap();
-                assert_eq!(tl.to_bits(), batch.lambda_time().to_bits());
-                assert_eq!(lam.to_bits(), batch.contact_force(k).to_bits(), "lane {k} step {}: λ {lam} vs {}", r.n, batch.contact_force(k));
-                assert_eq!(r.active, batch.contact_status(k), "lane {k} step {}", r.n);
-                match r.active {
-                    Active::Lower => counts[k].0 += 1,
-                    Active::Upper => counts[k].1 += 1,
-                    Active::None => {}
-                }
-                assert!(batch.lane_failure(k).is_none());
-            }
-            batch.displacement_into(k, &mut buf);
-            let want = s.displacement();
-            if bits(&buf) != bits(want) {
-                let i = (0..n).find(|&i| buf[i].to_bits() != want[i].to_bits()).unwrap();
-                panic!("lane {k} level {}: u[{i}] = {:e}, single run {:e}", s.level(), buf[i], want[i]);
-            }
-            portable.displacement_into(k, &mut buf);
-            assert_eq!(bits(&buf), bits(want), "lane {k} level {}: baseline build", s.level());
-            assert_eq!(portable.contact_force(k).to_bits(), batch.contact_force(k).to_bits());
-            avx2.displacement_into(k, &mut buf);
-            assert_eq!(bits(&buf), bits(want), "lane {k} level {}: AVX2 build", s.level());
-            assert_eq!(avx2.contact_force(k).to_bits(), batch.contact_force(k).to_bits());
-            let c = batch.contact_dof();
-            assert_eq!(batch.value(k, c).to_bits(), want[c].to_bits());
-        }
-    }
-    counts
+    let prev = Extra { name: "U^(n-1)", lane: |b: &PaoliSchatzmanLockstep<L>, k, out| b.previous_displacement_into(k, out), single: |s: &PaoliSchatzman| s.previous_displacement(), from: 0 };
+    check_lockstep(|| PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap(), &mut singles, &[prev], steps)
 }
 
 /// Four lanes of the paper beam (J = 19, β = 1/2, e = 0) with different
@@ -244,28 +177,8 @@ fn restitution_lanes_are_bit_identical() {
 #[test]
 fn refusals_are_typed() {
     let base = || lane(pipe(19, 0.2, 10.0, (-0.1, 0.1)), 0.0);
+    check_lane_refusals(|lanes| PaoliSchatzmanLockstep::<4>::new(0.5, 5e-5, lanes).err(), base);
     let new = |lanes: Vec<LockstepLane>| PaoliSchatzmanLockstep::<4>::new(0.5, 5e-5, lanes).err().expect("refused");
-    assert!(matches!(new(vec![]), SchemeError::Size { got: 0, expected: 4, .. }));
-    assert!(matches!(new(vec![base(), base(), base(), base(), base()]), SchemeError::Size { got: 5, expected: 4, .. }));
-    let mut d = base();
-    d.dynamics.damping = Some(d.dynamics.mass.clone());
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("undamped")));
-    let mut d = base();
-    d.dynamics.contacts.push(Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false));
-    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("one contact")));
-    let mut d = base();
-    d.dynamics.contacts[0].massless = true;
-    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("massive")));
-    let mut d = base();
-    let m = d.dynamics.mass.get(5, 5);
-    d.dynamics.mass.set(5, 5, m * (1.0 + 1e-15));
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("mass and stiffness")));
-    let mut d = base();
-    d.dynamics.contacts[0].dof = 10;
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("contact dof")));
-    let mut d = base();
-    d.dynamics.forcing.clear();
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("forcing terms")));
     let mut d = base();
     d.restitution = 1.5;
     assert!(matches!(new(vec![d]), SchemeError::Invalid { field: "restitution", .. }));

@@ -29,6 +29,7 @@ mod events_tiny_restitution;
 mod events_two_stops;
 mod lockstep;
 mod moreau_lockstep;
+mod moreau_projected_lockstep;
 mod multi_solve;
 mod nsga;
 mod nsga_lockstep;

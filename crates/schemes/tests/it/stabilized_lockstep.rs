@@ -11,83 +11,21 @@
 //! (`portable()`). The problems are the Paoli–Schatzman engine's
 //! (`lockstep.rs`: the paper's pipe with its support motion).
 
-use super::lockstep::{bits, lane, pipe, pipe_harmonics};
-use signorini_schemes::{Active, Bounds, Contact, ContactStabilized, ContactStabilizedLockstep, Harmonic, Lockstep, LockstepLane, SchemeError, Stepper, TimeProfile};
+use super::lockstep::{lane, pipe, pipe_harmonics};
+use crate::common::{check_lane_refusals, check_lockstep, Extra};
+use signorini_schemes::{Bounds, ContactStabilized, ContactStabilizedLockstep, Harmonic, LockstepLane, SchemeError, Stepper, TimeProfile};
 
-/// Steps the batch (three builds) and each lane's single run `steps`
-/// times, comparing U^n, V^n, the predictor, λ, the status, the level and
-/// the times bit for bit at every step; a lane whose single run fails must
-/// report that error at that step (and is no longer compared); returns per
-/// lane the number of steps held at the lower and upper bound.
+/// Steps the batch (every build) and each lane's single run `steps` times
+/// and compares them bit for bit at every step ([`check_lockstep`]; and
+/// V, predictor); returns per lane the number of steps held at the
+/// lower and upper bound.
 fn compare<const L: usize>(dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
     let mut singles: Vec<ContactStabilized> = lanes.iter().map(|l| ContactStabilized::new("single".into(), l.dynamics.clone(), dt, &l.initial).unwrap()).collect();
-    let mut portable = ContactStabilizedLockstep::<L>::new(dt, lanes.clone()).unwrap().portable();
-    let mut avx2 = ContactStabilizedLockstep::<L>::new(dt, lanes.clone()).unwrap().without_avx512();
-    let mut batch = ContactStabilizedLockstep::<L>::new(dt, lanes).unwrap();
-    assert!(!portable.uses_avx2() && !portable.uses_avx512() && !avx2.uses_avx512());
-    assert_eq!(batch.level(), 0);
-    let n = batch.dofs();
-    let mut buf = vec![0.0; n];
-    let mut counts = vec![(0, 0); singles.len()];
-    let mut done = vec![false; singles.len()];
-    for step in 0..=steps {
-        if step > 0 {
-            batch.step();
-            portable.step();
-            avx2.step();
-        }
-        for (k, s) in singles.iter_mut().enumerate() {
-            if done[k] {
-                continue;
-            }
-            if step > 0 {
-                let r = match s.step() {
-                    Ok(r) => r,
-                    Err(e) => {
-                        // The single run stops here: the lane must report the same error.
-                        for (b, what) in [(&batch, "selected"), (&portable, "baseline"), (&avx2, "AVX2")] {
-                            assert_eq!(b.lane_failure(k), Some(&e), "lane {k}: {what} build");
-                        }
-                        done[k] = true;
-                        continue;
-                    }
-                };
-                assert_eq!(r.n, batch.level());
-                assert_eq!(r.t.to_bits(), batch.time().to_bits());
-                let (tl, lam) = r.lambda.unwrap();
-                assert_eq!(tl.to_bits(), batch.lambda_time().to_bits());
-                assert_eq!(lam.to_bits(), batch.contact_force(k).to_bits(), "lane {k} step {}: λ {lam} vs {}", r.n, batch.contact_force(k));
-                assert_eq!(r.active, batch.contact_status(k), "lane {k} step {}", r.n);
-                match r.active {
-                    Active::Lower => counts[k].0 += 1,
-                    Active::Upper => counts[k].1 += 1,
-                    Active::None => {}
-                }
-                for (b, what) in [(&batch, "selected"), (&portable, "baseline"), (&avx2, "AVX2")] {
-                    assert!(b.lane_failure(k).is_none(), "lane {k} step {} ({what} build): {:?}", r.n, b.lane_failure(k));
-                }
-            }
-            for (b, what) in [(&batch, "selected"), (&portable, "baseline"), (&avx2, "AVX2")] {
-                b.displacement_into(k, &mut buf);
-                let want = s.displacement();
-                if bits(&buf) != bits(want) {
-                    let i = (0..n).find(|&i| buf[i].to_bits() != want[i].to_bits()).unwrap();
-                    panic!("lane {k} level {} ({what} build): u[{i}] = {:e}, single run {:e}", s.level(), buf[i], want[i]);
-                }
-                b.velocity_into(k, &mut buf);
-                assert_eq!(bits(&buf), bits(s.velocity()), "lane {k} level {} ({what} build): V", s.level());
-                if step > 0 {
-                    b.predictor_into(k, &mut buf);
-                    assert_eq!(bits(&buf), bits(s.predictor()), "lane {k} level {} ({what} build): predictor", s.level());
-                }
-                assert_eq!(b.contact_force(k).to_bits(), batch.contact_force(k).to_bits(), "{what} build");
-                assert_eq!(b.contact_status(k), batch.contact_status(k), "{what} build");
-                let c = b.contact_dof();
-                assert_eq!(b.value(k, c).to_bits(), want[c].to_bits());
-            }
-        }
-    }
-    counts
+    let extras = [
+        Extra { name: "V", lane: |b: &ContactStabilizedLockstep<L>, k, out| b.velocity_into(k, out), single: |s: &ContactStabilized| s.velocity(), from: 0 },
+        Extra { name: "predictor", lane: |b: &ContactStabilizedLockstep<L>, k, out| b.predictor_into(k, out), single: |s: &ContactStabilized| s.predictor(), from: 1 },
+    ];
+    check_lockstep(|| ContactStabilizedLockstep::<L>::new(dt, lanes.clone()).unwrap(), &mut singles, &extras, steps)
 }
 
 /// Four lanes of the paper beam (J = 19) with different ω and A, narrow
@@ -192,28 +130,8 @@ fn a_failing_lane_reports_the_single_runs_error_and_spares_the_others() {
 #[test]
 fn refusals_are_typed() {
     let base = || lane(pipe(19, 0.2, 10.0, (-0.1, 0.1)), 0.0);
+    check_lane_refusals(|lanes| ContactStabilizedLockstep::<4>::new(5e-5, lanes).err(), base);
     let new = |lanes: Vec<LockstepLane>| ContactStabilizedLockstep::<4>::new(5e-5, lanes).err().expect("refused");
-    assert!(matches!(new(vec![]), SchemeError::Size { got: 0, expected: 4, .. }));
-    assert!(matches!(new(vec![base(), base(), base(), base(), base()]), SchemeError::Size { got: 5, expected: 4, .. }));
-    let mut d = base();
-    d.dynamics.damping = Some(d.dynamics.mass.clone());
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("undamped")));
-    let mut d = base();
-    d.dynamics.contacts.push(Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false));
-    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("one contact")));
-    let mut d = base();
-    d.dynamics.contacts[0].massless = true;
-    assert!(matches!(new(vec![d]), SchemeError::Structure(m) if m.contains("massive")));
-    let mut d = base();
-    let m = d.dynamics.mass.get(5, 5);
-    d.dynamics.mass.set(5, 5, m * (1.0 + 1e-15));
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("mass and stiffness")));
-    let mut d = base();
-    d.dynamics.contacts[0].dof = 10;
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("contact dof")));
-    let mut d = base();
-    d.dynamics.forcing.clear();
-    assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("forcing terms")));
     // No impact law: a restitution is refused, in range or not.
     for e in [0.5, 1.0, 1.5] {
         let mut d = base();
