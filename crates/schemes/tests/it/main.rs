@@ -1,13 +1,14 @@
-//! The scheme crate's integration tests, one test binary (each file a module:
-//! one link instead of one per file, and the generic code compiled once).
+//! The scheme crate's integration tests but the event-driven reference's
+//! (`tests/events`), one test binary (each file a module: one link instead
+//! of one per file, and the generic code compiled once). Two binaries, not
+//! one: the crate's tests are the largest of the workspace and compile last,
+//! and on two cores two halves compile side by side.
 //! Proptest's regression files for these modules are in
 //! `tests/proptest-regressions/` (where proptest looks for a test binary with
 //! a `main.rs`).
 
 #[path = "../common/mod.rs"]
 mod common;
-#[path = "../events_common/mod.rs"]
-mod events_common;
 
 mod carpenter;
 mod cd_lagrange;
@@ -15,18 +16,6 @@ mod conformance;
 mod d1minus;
 mod damping;
 mod energy;
-mod events_degenerate;
-mod events_driven;
-mod events_events;
-mod events_flow;
-mod events_held_starts;
-mod events_massless;
-mod events_planted;
-mod events_proptest;
-mod events_series;
-mod events_silent;
-mod events_tiny_restitution;
-mod events_two_stops;
 mod lockstep;
 mod moreau_lockstep;
 mod moreau_projected_lockstep;
