@@ -11,6 +11,7 @@ mod events_common;
 
 mod carpenter;
 mod cd_lagrange;
+mod cd_lagrange_lockstep;
 mod conformance;
 mod d1minus;
 mod damping;
