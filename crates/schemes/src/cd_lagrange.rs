@@ -46,7 +46,7 @@
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
-use signorini_contact::Active;
+use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
 
 /// The CD-Lagrange scheme.
@@ -143,6 +143,14 @@ impl CdLagrange {
         &self.impulses
     }
 
+    /// What [`CdLagrangeLockstep`](crate::CdLagrangeLockstep) takes of a
+    /// single run (one rigid contact, after [`new`](Self::new)): the factor
+    /// of `M`, and Newton's law as scalar arithmetic with its column
+    /// `M⁻¹ e_c`; `None` with several contacts.
+    pub(crate) fn lockstep_parts(&self) -> Option<(&BandLdlt, (OneDof, &[f64]))> {
+        Some((&self.mf, self.impact_solve.one_dof()?))
+    }
+
     /// `U^{n−1} = Uⁿ − dt V^{n−½}` (after `set_state`; the energy reads it).
     fn previous_from_velocity(&mut self) {
         let h = self.dt;
@@ -234,7 +242,7 @@ pub(crate) static CD_LAGRANGE: Family = Family {
     params: &[E],
     presets: &[],
     validate: |a| check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]"),
-    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, dy| Ok(Some(2.0 / kappa_bound(&dy.stiffness, &dy.mass)?.sqrt())),
     stability_rule: |_| Some("explicit central difference: dt < 2/sqrt(κ_max) of the pencil (K, M), strictly (at the limit itself the highest mode is neutral)"),
     build: |s, dy, dt, init| {

@@ -1,6 +1,7 @@
 //! What every lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
 //! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
-//! [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep))
+//! [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep),
+//! [`CdLagrangeLockstep`](crate::CdLagrangeLockstep))
 //! shares: the lane of a batch ([`LockstepLane`]), the time loop's view of
 //! an engine ([`Lockstep`]), and one lane state ([`LaneState`]: the shared
 //! matrices' rows, the factor's rows and projection column, the loads and
@@ -42,7 +43,8 @@ pub struct LockstepLane {
 
 /// What a time loop needs of a lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
 /// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
-/// [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep)):
+/// [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep),
+/// [`CdLagrangeLockstep`](crate::CdLagrangeLockstep)):
 /// `L` runs sharing one step matrix, stepped together, each lane bit for
 /// bit its single run. Every lane-indexed method asserts `k < lanes()`.
 pub trait Lockstep {

@@ -65,9 +65,9 @@
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
 //!   [`PaoliSchatzmanLockstep`] steps `L` runs that share its step matrix
 //!   together (a sweep), each lane bit-identical to its single run;
-//!   [`MoreauJeanLockstep`], [`NsgaLockstep`] and
-//!   [`ContactStabilizedLockstep`] do the same for [`MoreauJean`], [`Nsga`]
-//!   and [`ContactStabilized`] (all four behind the [`Lockstep`] trait, on
+//!   [`MoreauJeanLockstep`], [`NsgaLockstep`], [`ContactStabilizedLockstep`]
+//!   and [`CdLagrangeLockstep`] do the same for [`MoreauJean`], [`Nsga`],
+//!   [`ContactStabilized`] and [`CdLagrange`] (all five behind the [`Lockstep`] trait, on
 //!   one lane state; [`LockstepScheme`] says which engine a registry
 //!   scheme takes).
 //!
@@ -169,6 +169,7 @@ macro_rules! delegate_stepper {
 }
 
 mod cd_lagrange;
+mod cd_lockstep;
 mod d1minus;
 pub mod events;
 mod family;
@@ -194,6 +195,7 @@ mod stabilized_lockstep;
 mod verlet_nitsche;
 
 pub use cd_lagrange::CdLagrange;
+pub use cd_lockstep::CdLagrangeLockstep;
 pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};

@@ -359,6 +359,11 @@ pub enum LockstepScheme {
     /// `contact-stabilized` (no parameters, no restitution):
     /// [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep).
     ContactStabilized,
+    /// `cd-lagrange(e)`: [`CdLagrangeLockstep`](crate::CdLagrangeLockstep).
+    CdLagrange {
+        /// Restitution `e`.
+        restitution: f64,
+    },
 }
 
 impl LockstepScheme {
@@ -373,6 +378,7 @@ impl LockstepScheme {
             "moreau-jean-projected" => Some(Self::MoreauJeanProjected { theta: spec.param("theta")?, restitution: spec.param("e")?, gamma: spec.param("gamma")? }),
             "nsga" => Some(Self::Nsga { rho_inf: spec.param("rho_inf")?, restitution: spec.param("e")? }),
             "contact-stabilized" => Some(Self::ContactStabilized),
+            "cd-lagrange" => Some(Self::CdLagrange { restitution: spec.param("e")? }),
             _ => None,
         }
     }
@@ -380,7 +386,11 @@ impl LockstepScheme {
     /// The restitution of the scheme (a lane's [`LockstepLane::restitution`]).
     pub fn restitution(&self) -> f64 {
         match *self {
-            Self::PaoliSchatzman { restitution, .. } | Self::MoreauJean { restitution, .. } | Self::MoreauJeanProjected { restitution, .. } | Self::Nsga { restitution, .. } => restitution,
+            Self::PaoliSchatzman { restitution, .. }
+            | Self::MoreauJean { restitution, .. }
+            | Self::MoreauJeanProjected { restitution, .. }
+            | Self::Nsga { restitution, .. }
+            | Self::CdLagrange { restitution } => restitution,
             Self::ContactStabilized => 0.0,
         }
     }

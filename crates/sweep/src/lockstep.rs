@@ -6,7 +6,7 @@ use crate::simulate::{observers, rows_of, text_cell, Plan, RunRows, ScenePlan};
 use signorini_run::reduced::Need;
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError};
 use signorini_scene::Scene;
-use signorini_schemes::{Bounds, ContactStabilizedLockstep, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep};
+use signorini_schemes::{Bounds, CdLagrangeLockstep, ContactStabilizedLockstep, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep};
 
 /// Runs per lockstep group at most: the paper beam's sweeps step up to this
 /// many runs together (crates/run/benches/lockstep.rs: per run-step, 16
@@ -20,7 +20,7 @@ pub const LANES: usize = 16;
 /// stops, not continued from another run, whose scheme can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
 /// them, `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`,
-/// `nsga(ρ∞, e)` and `contact-stabilized`;
+/// `nsga(ρ∞, e)`, `contact-stabilized` and `cd-lagrange(e)`;
 /// [`LockstepScheme`]), within its
 /// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
@@ -70,8 +70,8 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
 /// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] (also
-/// `moreau-jean-projected`), [`NsgaLockstep`] or
-/// [`ContactStabilizedLockstep`] stepped by
+/// `moreau-jean-projected`), [`NsgaLockstep`],
+/// [`ContactStabilizedLockstep`] or [`CdLagrangeLockstep`] stepped by
 /// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
@@ -102,6 +102,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
             (LockstepScheme::MoreauJeanProjected { theta: a, gamma: g, .. }, LockstepScheme::MoreauJeanProjected { theta: b, gamma: h, .. }) => a == b && g == h,
             (LockstepScheme::Nsga { rho_inf: a, .. }, LockstepScheme::Nsga { rho_inf: b, .. }) => a == b,
             (LockstepScheme::ContactStabilized, LockstepScheme::ContactStabilized) => true,
+            (LockstepScheme::CdLagrange { .. }, LockstepScheme::CdLagrange { .. }) => true,
             _ => false,
         };
         if first.is_some_and(|(s, dt)| !same(s) || dt != d) || plan.dt != d {
@@ -121,6 +122,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         LockstepScheme::MoreauJeanProjected { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::projected(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::Nsga { rho_inf, .. } => run_group(NsgaLockstep::<L>::new(rho_inf, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::CdLagrange { .. } => run_group(CdLagrangeLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
     }
 }
 

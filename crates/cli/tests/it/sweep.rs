@@ -746,13 +746,26 @@ fn a_contact_stabilized_sweep_in_lockstep_is_its_runs_one_at_a_time() {
     lockstep_sweep_is_its_runs_one_at_a_time("contact-stabilized");
 }
 
+/// The same for `cd-lagrange` with a restitution (`CdLagrangeLockstep`;
+/// explicit: dt = 1e-5, below its limit 1.2395e-5 on fig. 2).
+#[test]
+fn a_cd_lagrange_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_at_dt_is_its_runs_one_at_a_time("cd-lagrange(0.3)", Some(1e-5));
+}
+
 /// A sweep of the fig. 2 beam with `scheme` over five frequencies, with 1
 /// and 3 threads (in lockstep), against its five runs one at a time
 /// (five one-run shards, merged): the same files, byte for byte.
 fn lockstep_sweep_is_its_runs_one_at_a_time(scheme: &str) {
+    lockstep_sweep_at_dt_is_its_runs_one_at_a_time(scheme, None)
+}
+
+/// The same, with `[beam] dt` set when given.
+fn lockstep_sweep_at_dt_is_its_runs_one_at_a_time(scheme: &str, dt: Option<f64>) {
     let dir = tempfile::tempdir().unwrap();
     let sc = dir.path().join("beam.toml");
-    std::fs::write(&sc, format!("[beam]\nscene = \"fig2\"\nscheme = \"{scheme}\"\n\n[support]\namplitude = 0.2\nomega = 10.0\n")).unwrap();
+    let dt = dt.map_or(String::new(), |dt| format!("dt = {dt:e}\n"));
+    std::fs::write(&sc, format!("[beam]\nscene = \"fig2\"\nscheme = \"{scheme}\"\n{dt}\n[support]\namplitude = 0.2\nomega = 10.0\n")).unwrap();
     let run = |out: &Path, extra: &[&str]| {
         let mut c = bin();
         c.args(["sweep", sc.to_str().unwrap(), "--param", "support.omega", "--from", "8", "--to", "12", "--count", "5", "--transient", "1", "--record", "2", "--out", out.to_str().unwrap()]);

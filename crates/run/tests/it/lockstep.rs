@@ -6,15 +6,15 @@
 //! for lanes with different forcing and horizons, a lane that blows up, a
 //! lane whose observer cancels its token, a lane whose observer fails, and
 //! a partial batch — with the Paoli–Schatzman engine (level 1 after its
-//! start step), the Moreau–Jean one (a one-step scheme: level 0) and the
-//! contact-stabilized one. The
+//! start step), the Moreau–Jean one (a one-step scheme: level 0), the
+//! contact-stabilized one and the CD-Lagrange one. The
 //! one documented difference: the engine does not track the works, so a
 //! lockstep sample's `work` is `None`.
 
 use signorini_run::beam::Pipe;
 use signorini_run::reduced::Need;
 use signorini_run::{run, run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, RunSummary, Sample};
-use signorini_schemes::{ContactStabilized, ContactStabilizedLockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_schemes::{CdLagrange, CdLagrangeLockstep, ContactStabilized, ContactStabilizedLockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
 
 const DT: f64 = 5e-6;
 
@@ -90,6 +90,8 @@ enum Scheme {
     Mj,
     /// `contact-stabilized` (no restitution).
     Cs,
+    /// `cd-lagrange(e)` (explicit: DT is below its limit on J = 19).
+    Cd,
 }
 
 fn single(l: &LockstepLane, steps: usize, twist: Twist) -> Outcome {
@@ -101,6 +103,7 @@ fn single_of(scheme: Scheme, l: &LockstepLane, steps: usize, twist: Twist) -> Ou
         Scheme::Ps => Box::new(PaoliSchatzman::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, DT, &l.initial).unwrap()),
         Scheme::Mj => Box::new(MoreauJean::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, 0.5, DT, &l.initial).unwrap()),
         Scheme::Cs => Box::new(ContactStabilized::new("single".into(), l.dynamics.clone(), DT, &l.initial).unwrap()),
+        Scheme::Cd => Box::new(CdLagrange::new("single".into(), l.dynamics.clone(), l.restitution, DT, &l.initial).unwrap()),
     };
     let cancel = Cancel::new();
     let cfg = RunConfig::new(DT, steps as f64 * DT).unwrap().with_interrupt(cancel.clone());
@@ -119,6 +122,7 @@ fn lockstep_of<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[
         Scheme::Ps => lockstep::<L>(lanes, steps, twists, need),
         Scheme::Mj => lockstep_on(&mut MoreauJeanLockstep::<L>::new(0.5, 0.5, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
         Scheme::Cs => lockstep_on(&mut ContactStabilizedLockstep::<L>::new(DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
+        Scheme::Cd => lockstep_on(&mut CdLagrangeLockstep::<L>::new(DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
     }
 }
 
@@ -296,4 +300,29 @@ fn contact_stabilized_lanes_feed_their_observers_the_single_runs_samples() {
         assert!(got[k].4 < 500, "lane {k} stopped early");
     }
     check_of(Scheme::Cs, &lanes, &[500; 5], &[Twist::None; 5], got);
+}
+
+/// The CD-Lagrange engine (level 0 after construction; its first step the
+/// start's half step) in `run_lockstep`: as the Moreau–Jean one above —
+/// lanes with different forcing, restitutions and horizons, one cancelled
+/// by its observer, one whose observer fails, two that blow up in a
+/// partial batch.
+#[test]
+fn cd_lagrange_lanes_feed_their_observers_the_single_runs_samples() {
+    let lanes: Vec<LockstepLane> = (0..4).map(|k| LockstepLane { restitution: 0.25 * k as f64, ..lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64) }).collect();
+    let steps = [700, 640, 1000, 333];
+    let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
+    let got = lockstep_of::<4>(Scheme::Cd, &lanes, &steps, &twists, &Need::Full);
+    assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
+    assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
+    assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
+    assert!(got.iter().all(|g| g.0[0].n == 0 && g.0[1].n == 1 && g.0[1].lambda.is_some()), "level 1 is a step's sample");
+    check_of(Scheme::Cd, &lanes, &steps, &twists, got);
+    let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
+    let got = lockstep_of::<8>(Scheme::Cd, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
+    for k in [1, 3] {
+        assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
+        assert!(got[k].4 < 500, "lane {k} stopped early");
+    }
+    check_of(Scheme::Cd, &lanes, &[500; 5], &[Twist::None; 5], got);
 }

@@ -12,6 +12,7 @@ mod common;
 
 mod carpenter;
 mod cd_lagrange;
+mod cd_lagrange_lockstep;
 mod conformance;
 mod d1minus;
 mod damping;
