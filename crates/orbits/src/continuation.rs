@@ -462,6 +462,24 @@ fn pd_test(p: &Point) -> f64 {
     p.orbit.multipliers.iter().filter(|m| is_real(m) && m.re < 0.0).map(|m| -m.re - 1.0).min_by(|a, b| a.abs().total_cmp(&b.abs())).unwrap_or(-1.0)
 }
 
+/// The sign of `det(P' + I)` = `∏ (μ + 1)`: a complex pair contributes
+/// `|μ + 1|² >= 0`, a real pair `(μ, 1/μ)` of a volume-preserving map
+/// `(μ + 1)²/μ`, negative when the pair is. It changes where such a pair
+/// meets at −1 and leaves the unit circle along the negative real axis —
+/// a period doubling of the conservative map, where no single multiplier
+/// passes through −1 ([`pd_test`] keeps its sign: of the pair `−1 − ε`
+/// and `−1 + ε/(1 + ε)` the nearer to −1 is inside the circle).
+fn pair_pd_test(p: &Point) -> f64 {
+    p.orbit.multipliers.iter().fold(c64::new(1.0, 0.0), |a, m| a * (m + c64::new(1.0, 0.0))).re
+}
+
+/// A real negative multiplier off the unit circle by more than 1e-6: a
+/// pair that has left it (not a pair on it near −1 that round-off split
+/// onto the real axis).
+fn negative_pair_off_circle(p: &Point) -> bool {
+    p.orbit.multipliers.iter().any(|m| is_real(m) && m.re < 0.0 && (m.norm() - 1.0).abs() > 1e-6)
+}
+
 fn ns_test(p: &Point) -> f64 {
     p.orbit.multipliers.iter().filter(|m| !is_real(m)).map(|m| m.norm() - 1.0).max_by(f64::total_cmp).unwrap_or(-1.0)
 }
@@ -1696,6 +1714,17 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
         // its parameter to 1e-8): farther, the sign change is no crossing.
         if (critical(BifurcationKind::BranchPoint, &p) - c64::new(1.0, 0.0)).norm() <= 1e-2 {
             found.push((BifurcationKind::BranchPoint, p));
+        }
+    }
+    // A volume-preserving map (no damping, elastic impacts) whose pair of
+    // multipliers meets at −1 and leaves the circle along the real axis:
+    // its period doubling, seen by `∏ (μ + 1)` alone. The bisection ends
+    // within about 1e-6 of the double multiplier −1 (the pair's distance
+    // from it grows as the square root of the parameter's).
+    if smooth && on_circle(a) && on_circle(b) && pd_test(a) * pd_test(b) >= 0.0 && pair_pd_test(a) * pair_pd_test(b) < 0.0 && (negative_pair_off_circle(a) || negative_pair_off_circle(b)) {
+        let p = bisect(ctx, a, s_b, b, pair_pd_test, |p, q| pair_pd_test(p) * pair_pd_test(q) < 0.0);
+        if (critical(BifurcationKind::PeriodDoubling, &p) + c64::new(1.0, 0.0)).norm() <= 1e-2 {
+            found.push((BifurcationKind::PeriodDoubling, p));
         }
     }
     for (kind, f) in tests {

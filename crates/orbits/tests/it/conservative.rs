@@ -1,0 +1,128 @@
+//! A conservative impact oscillator (no damping, elastic impacts: the
+//! Poincaré map preserves area, its multipliers a pair `μ, 1/μ`). Its
+//! period-1 orbit's pair of multipliers goes round the unit circle, meets
+//! at −1 and leaves it along the negative real axis: a period doubling of
+//! the area-preserving map, where no single multiplier passes through −1
+//! (of the pair `−1 − ε`, `−1 + ε/(1 + ε)` the one nearer −1 stays inside
+//! the circle). It was named nothing. Checked against the closed form of
+//! `signorini_exact::oscillator` (the orbit's monodromy written out by
+//! hand: the trace of an area-preserving 2×2 map is −2 there), and the
+//! doubled orbit against a transcription of the map from the exact crate's
+//! free flow with the impacts found here.
+
+use signorini_exact::{ImpactOscillator, OscillatorParams, State};
+use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions, SceneFamily};
+use std::f64::consts::TAU;
+
+const GAP: f64 = 0.2;
+
+const SCENE: &str = r#"
+[oscillator]
+mass = 1.0
+stiffness = 1.0
+damping_ratio = 0.0
+stop = 0.2
+restitution = 1.0
+dt = 1e-2
+t_end = 10.0
+scheme = "event-driven"
+[forcing]
+amplitude = 1.0
+omega = 2.2
+"#;
+
+fn exact(omega: f64) -> ImpactOscillator {
+    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.0, force: 1.0, forcing_frequency: omega, gap: GAP, restitution: 1.0 }).unwrap()
+}
+
+/// The admissible closed-form period-1 orbit at `omega` (one between 2.1
+/// and 2.4: its impact at phase π) and its monodromy's trace.
+fn closed(omega: f64) -> ([f64; 2], f64) {
+    let osc = exact(omega);
+    let orbits = osc.period1_orbits();
+    assert_eq!(orbits.len(), 1, "Ω = {omega}: one admissible period-1 orbit");
+    let o = &orbits[0];
+    let t = TAU / omega;
+    let z = osc.flow(o.impact_time.rem_euclid(t), State { x: GAP, v: -o.impact_velocity }, t);
+    ([z.x, z.v], o.monodromy[0][0] + o.monodromy[1][1])
+}
+
+/// Where the closed-form trace is −2, by bisection between 2.2 and 2.3.
+fn closed_pd() -> f64 {
+    let (mut lo, mut hi) = (2.2, 2.3);
+    let f = |w: f64| closed(w).1 + 2.0;
+    assert!(f(lo) > 0.0 && f(hi) < 0.0);
+    for _ in 0..100 {
+        let m = 0.5 * (lo + hi);
+        if f(m) > 0.0 {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The map over `periods` forcing periods, transcribed: the exact crate's
+/// free flow, each impact (the first crossing of the stop, sampled at 1e-3
+/// of the period and bisected) reflecting the velocity.
+fn map(omega: f64, x: [f64; 2], periods: usize) -> [f64; 2] {
+    let osc = exact(omega);
+    let end = periods as f64 * TAU / omega;
+    let (mut t0, mut z0) = (0.0, State { x: x[0], v: x[1] });
+    let h = 1e-3 * TAU / omega;
+    let mut t = t0;
+    while t < end {
+        let t1 = (t + h).min(end);
+        let z1 = osc.flow(t0, z0, t1);
+        if z1.x > GAP {
+            let (mut a, mut b) = (t, t1);
+            for _ in 0..100 {
+                let m = 0.5 * (a + b);
+                if osc.flow(t0, z0, m).x > GAP {
+                    b = m;
+                } else {
+                    a = m;
+                }
+            }
+            let hit = osc.flow(t0, z0, b);
+            (t0, z0) = (b, State { x: GAP, v: -hit.v });
+            t = b;
+            continue;
+        }
+        t = t1;
+    }
+    let z = osc.flow(t0, z0, end);
+    [z.x, z.v]
+}
+
+#[test]
+fn a_pair_meeting_at_minus_one_on_the_conservative_map_is_a_period_doubling() {
+    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let want = closed_pd();
+    // From the elliptic side (the pair on the circle) and from the
+    // hyperbolic one (a real negative pair).
+    for (from, to) in [(2.1, 2.4), (2.4, 2.1)] {
+        let start = closed(from).0;
+        let opts = ContinuationOptions::new(from, to);
+        let branch = continuation(&fam, &start, &opts).unwrap();
+        let bifs: Vec<_> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+        eprintln!("{from} -> {to}: {bifs:?}, {}", branch.end);
+        assert_eq!(branch.bifurcations.len(), 1, "{from} -> {to}: {bifs:?}");
+        let pd = &branch.bifurcations[0];
+        assert_eq!(pd.kind, BifurcationKind::PeriodDoubling, "{bifs:?}");
+        assert!((pd.param - want).abs() <= 1e-9, "{from} -> {to}: at {} vs closed form {want}", pd.param);
+        assert!((pd.mu.re + 1.0).abs() <= 1e-5 && pd.mu.im.abs() <= 1e-5, "multiplier {:?}", pd.mu);
+        // The doubled branch from it: its first orbit a fixed point of
+        // the transcribed map over two periods, not over one.
+        if from < to {
+            let d = doubled_branch(&fam, &fam.with_periods(2), pd, (from, to), &opts).unwrap();
+            let p = &d.points[0];
+            let x = [p.orbit.x[0], p.orbit.x[1]];
+            let (one, two) = (map(p.param, x, 1), map(p.param, x, 2));
+            let off = |y: [f64; 2]| (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+            eprintln!("doubled orbit at {}: {x:?}, P(x) − x {:e}, P²(x) − x {:e}", p.param, off(one), off(two));
+            assert!(off(two) <= 1e-8 && off(one) >= 1e-3, "at {}: P(x) − x {:e}, P²(x) − x {:e}", p.param, off(one), off(two));
+        }
+    }
+}
