@@ -1062,7 +1062,19 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     // How fast the distance to grazing closes in the parameter: how far
     // past the stop the smooth orbit's flight would reach past the grazing.
     let slope = ((m1 - m0) / (cur.param - p0.param)).abs();
+    let step = (cur.param - p0.param).abs();
     let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), (smooth, measure), None, OnFailure::Stop, dir)?;
+    // A grazing no orbit of the smooth side came near (the secant's
+    // extrapolation from the last two points, its first Newton solve
+    // failed): not located, not named. From an orbit whose impact sits on
+    // the section (the corrector stalls there, its steps shrinking to
+    // 1e-6 of the range) the distance to grazing, barely changing, was
+    // extrapolated 0.53 beyond the branch's last point and named a
+    // grazing where the branch ended (at 0.8687, the orbit's grazing
+    // between 0.880 and 0.885).
+    if (estimate - p1.param).abs() > 2.0 * step {
+        return None;
+    }
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let side = (estimate - cur.param).signum();
     // The searches past the grazing and before it: their smallest

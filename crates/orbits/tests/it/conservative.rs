@@ -8,7 +8,9 @@
 //! `signorini_exact::oscillator` (the orbit's monodromy written out by
 //! hand: the trace of an area-preserving 2×2 map is −2 there), and the
 //! doubled orbit against a transcription of the map from the exact crate's
-//! free flow with the impacts found here.
+//! free flow with the impacts found here. Below Ω = 2 its orbit impacts
+//! on the section: a branch stalled there names no grazing it never
+//! reached.
 
 use signorini_exact::{ImpactOscillator, OscillatorParams, State};
 use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions, SceneFamily};
@@ -124,5 +126,49 @@ fn a_pair_meeting_at_minus_one_on_the_conservative_map_is_a_period_doubling() {
             eprintln!("doubled orbit at {}: {x:?}, P(x) − x {:e}, P²(x) − x {:e}", p.param, off(one), off(two));
             assert!(off(two) <= 1e-8 && off(one) >= 1e-3, "at {}: P(x) − x {:e}, P²(x) − x {:e}", p.param, off(one), off(two));
         }
+    }
+}
+
+/// Below Ω = 2 the admissible period-1 orbit impacts at phase 0: its
+/// impact sits on the section `t = 0` along the whole branch, where the
+/// map jumps (docs/orbits.md's limits), and the corrector stalls within
+/// 1e-5 of the start. The grazing of its flight (where the closed-form
+/// orbit stops being admissible: between 0.880 and 0.885) is far below;
+/// the distance to it, barely changing over the stalled steps, was
+/// extrapolated and named a grazing at 0.8687, 0.53 beyond the branch's
+/// last point, the branch said to end there. Every bifurcation listed must
+/// lie among the branch's points, a grazing at the closed form's.
+#[test]
+fn a_branch_stalled_on_its_section_names_no_grazing_it_never_reached() {
+    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let admissible = |w: f64| exact(w).period1_roots().iter().any(|o| o.phase.abs() < 1e-9 && o.is_admissible());
+    let (mut lo, mut hi) = (0.86, 0.9);
+    assert!(!admissible(lo) && admissible(hi));
+    for _ in 0..60 {
+        let m = 0.5 * (lo + hi);
+        if admissible(m) {
+            hi = m;
+        } else {
+            lo = m;
+        }
+    }
+    let grazing = 0.5 * (lo + hi);
+    // The closed-form orbit at 1.4: on the stop at t = 0, moving in.
+    let osc = exact(1.4);
+    let o = osc.period1_orbits().into_iter().find(|o| o.phase.abs() < 1e-9).unwrap();
+    let t = TAU / 1.4;
+    let z = osc.flow(o.impact_time.rem_euclid(t), State { x: GAP, v: -o.impact_velocity }, t);
+    let branch = continuation(&fam, &[z.x, z.v], &ContinuationOptions::new(1.4, 1.05)).unwrap();
+    let (a, b) = branch.points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.param), b.max(p.param)));
+    let bifs: Vec<_> = branch.bifurcations.iter().map(|f| (f.kind.name(), f.param)).collect();
+    eprintln!("points {a} … {b}; {bifs:?}; closed-form grazing {grazing}; {}", branch.end);
+    for f in &branch.bifurcations {
+        let near = if f.kind == BifurcationKind::Grazing { (f.param - grazing).abs() <= 1e-6 } else { true };
+        assert!(
+            near && f.param >= a - 1e-3 * (b - a).max(1e-3) && f.param <= b + 1e-3 * (b - a).max(1e-3),
+            "{} at {} (branch from {a} to {b}; the closed form's grazing at {grazing})",
+            f.kind.name(),
+            f.param
+        );
     }
 }
