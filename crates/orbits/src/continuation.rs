@@ -557,7 +557,17 @@ fn continuation_until<F: Family>(
             return Ok(branch);
         }
         let next = match trial {
-            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 && (ds <= 16.0 * opts.min_step || mu_change(&cur, &p) <= 0.25) => p,
+            // Not a trial whose corrector ran far along the hyperplane
+            // (more than 3 steps from `cur`: a jump onto another arc; on
+            // a conservative map the multipliers on the circle do not
+            // say so, [`mu_change`] leaves them out).
+            Ok(p)
+                if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9
+                    && (ds <= 16.0 * opts.min_step || mu_change(&cur, &p) <= 0.25)
+                    && arclength(&ctx, &cur, &p) <= 3.0 * ds =>
+            {
+                p
+            }
             // A corner where the number of impacts or held phases changes
             // (a grazing, where a branch may also turn back): taken, the
             // change located on the arclength.

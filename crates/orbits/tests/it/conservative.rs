@@ -172,3 +172,54 @@ fn a_branch_stalled_on_its_section_names_no_grazing_it_never_reached() {
         );
     }
 }
+
+/// The same between stops at ±1 (forced `1.5 sin Ωt`, undamped, elastic).
+struct Between;
+
+impl signorini_orbits::Family for Between {
+    fn model(&self, w: f64) -> Result<signorini_orbits::Model, signorini_orbits::OrbitError> {
+        use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
+        let one = |v: f64| {
+            let mut b = signorini_fem::SymBand::zeros(1, 0);
+            b.set(0, 0, v);
+            b
+        };
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 1.5, omega: w } }]);
+        signorini_orbits::Model::new(dy, 1.0)
+    }
+    fn period(&self, w: f64) -> Result<f64, signorini_orbits::OrbitError> {
+        Ok(TAU / w)
+    }
+}
+
+/// From the 4-impact orbit at Ω = 2 down: a trial step's corrector ran
+/// from the orbit at 1.634 along its hyperplane onto the free orbit at
+/// 2.207 (0.37 of the range for a step of 1e-2 or so; the multipliers,
+/// on the unit circle at both ends, did not flag it), the step was taken
+/// and the change of impacts between them bisected to a grazing at 0.796,
+/// where no free orbit exists (its closed-form amplitude `1.5/|1 − Ω²|`
+/// reaches the stops at Ω = √2.5 and is 4.1 there). A free orbit on the
+/// branch must be the closed form's steady state, above √2.5, and every
+/// bifurcation must lie between the two points it is listed between.
+#[test]
+fn a_trial_that_runs_onto_another_arc_is_no_step() {
+    let start = signorini_orbits::Family::model(&Between, 2.0).unwrap();
+    let x0 = start.flow(0.0, &[0.0, 0.0], 400.0 * TAU / 2.0, false).unwrap().x;
+    let orbit = signorini_orbits::periodic_orbit(&start, 0.0, TAU / 2.0, &x0, &signorini_orbits::Newton::default()).unwrap();
+    assert_eq!(orbit.impacts(), 4);
+    let mut opts = ContinuationOptions::new(2.0, 0.45);
+    opts.max_points = 40;
+    let branch = continuation(&Between, &orbit.x, &opts).unwrap();
+    let bifs: Vec<_> = branch.bifurcations.iter().map(|f| (f.kind.name(), f.param, f.between)).collect();
+    eprintln!("{bifs:?}; {}", branch.end);
+    for p in branch.points.iter().filter(|p| p.orbit.impacts() == 0) {
+        let w = p.param;
+        let v = 1.5 * w / (1.0 - w * w);
+        assert!(w >= 2.5f64.sqrt() && p.orbit.x[0].abs() <= 1e-9 && (p.orbit.x[1] - v).abs() <= 1e-9, "free orbit at {w}: {:?} vs the steady state (0, {v})", p.orbit.x);
+    }
+    for f in &branch.bifurcations {
+        let (a, b) = (branch.points[f.between.0].param, branch.points[f.between.1].param);
+        assert!((f.param - a) * (f.param - b) <= 1e-12, "{} at {} listed between points at {a} and {b}", f.kind.name(), f.param);
+    }
+}
