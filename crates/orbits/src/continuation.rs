@@ -462,6 +462,24 @@ fn pd_test(p: &Point) -> f64 {
     p.orbit.multipliers.iter().filter(|m| is_real(m) && m.re < 0.0).map(|m| -m.re - 1.0).min_by(|a, b| a.abs().total_cmp(&b.abs())).unwrap_or(-1.0)
 }
 
+/// The sign of `det(P' + I)` = `∏ (μ + 1)`: a complex pair contributes
+/// `|μ + 1|² >= 0`, a real pair `(μ, 1/μ)` of a volume-preserving map
+/// `(μ + 1)²/μ`, negative when the pair is. It changes where such a pair
+/// meets at −1 and leaves the unit circle along the negative real axis —
+/// a period doubling of the conservative map, where no single multiplier
+/// passes through −1 ([`pd_test`] keeps its sign: of the pair `−1 − ε`
+/// and `−1 + ε/(1 + ε)` the nearer to −1 is inside the circle).
+fn pair_pd_test(p: &Point) -> f64 {
+    p.orbit.multipliers.iter().fold(c64::new(1.0, 0.0), |a, m| a * (m + c64::new(1.0, 0.0))).re
+}
+
+/// A real negative multiplier off the unit circle by more than 1e-6: a
+/// pair that has left it (not a pair on it near −1 that round-off split
+/// onto the real axis).
+fn negative_pair_off_circle(p: &Point) -> bool {
+    p.orbit.multipliers.iter().any(|m| is_real(m) && m.re < 0.0 && (m.norm() - 1.0).abs() > 1e-6)
+}
+
 fn ns_test(p: &Point) -> f64 {
     p.orbit.multipliers.iter().filter(|m| !is_real(m)).map(|m| m.norm() - 1.0).max_by(f64::total_cmp).unwrap_or(-1.0)
 }
@@ -539,7 +557,17 @@ fn continuation_until<F: Family>(
             return Ok(branch);
         }
         let next = match trial {
-            Ok(p) if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9 && (ds <= 16.0 * opts.min_step || mu_change(&cur, &p) <= 0.25) => p,
+            // Not a trial whose corrector ran far along the hyperplane
+            // (more than 3 steps from `cur`: a jump onto another arc; on
+            // a conservative map the multipliers on the circle do not
+            // say so, [`mu_change`] leaves them out).
+            Ok(p)
+                if p.tangent.iter().zip(&cur.tangent).map(|(a, b)| a * b).sum::<f64>() > 0.9
+                    && (ds <= 16.0 * opts.min_step || mu_change(&cur, &p) <= 0.25)
+                    && arclength(&ctx, &cur, &p) <= 3.0 * ds =>
+            {
+                p
+            }
             // A corner where the number of impacts or held phases changes
             // (a grazing, where a branch may also turn back): taken, the
             // change located on the arclength.
@@ -1044,7 +1072,19 @@ fn impact_beyond_grazing<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[Bra
     // How fast the distance to grazing closes in the parameter: how far
     // past the stop the smooth orbit's flight would reach past the grazing.
     let slope = ((m1 - m0) / (cur.param - p0.param)).abs();
+    let step = (cur.param - p0.param).abs();
     let (estimate, p1) = grazing_parameter(ctx, Some((p0, m0)), (cur.clone(), m1), (smooth, measure), None, OnFailure::Stop, dir)?;
+    // A grazing no orbit of the smooth side came near (the secant's
+    // extrapolation from the last two points, its first Newton solve
+    // failed): not located, not named. From an orbit whose impact sits on
+    // the section (the corrector stalls there, its steps shrinking to
+    // 1e-6 of the range) the distance to grazing, barely changing, was
+    // extrapolated 0.53 beyond the branch's last point and named a
+    // grazing where the branch ended (at 0.8687, the orbit's grazing
+    // between 0.880 and 0.885).
+    if (estimate - p1.param).abs() > 2.0 * step {
+        return None;
+    }
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
     let side = (estimate - cur.param).signum();
     // The searches past the grazing and before it: their smallest
@@ -1696,6 +1736,17 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
         // its parameter to 1e-8): farther, the sign change is no crossing.
         if (critical(BifurcationKind::BranchPoint, &p) - c64::new(1.0, 0.0)).norm() <= 1e-2 {
             found.push((BifurcationKind::BranchPoint, p));
+        }
+    }
+    // A volume-preserving map (no damping, elastic impacts) whose pair of
+    // multipliers meets at −1 and leaves the circle along the real axis:
+    // its period doubling, seen by `∏ (μ + 1)` alone. The bisection ends
+    // within about 1e-6 of the double multiplier −1 (the pair's distance
+    // from it grows as the square root of the parameter's).
+    if smooth && on_circle(a) && on_circle(b) && pd_test(a) * pd_test(b) >= 0.0 && pair_pd_test(a) * pair_pd_test(b) < 0.0 && (negative_pair_off_circle(a) || negative_pair_off_circle(b)) {
+        let p = bisect(ctx, a, s_b, b, pair_pd_test, |p, q| pair_pd_test(p) * pair_pd_test(q) < 0.0);
+        if (critical(BifurcationKind::PeriodDoubling, &p) + c64::new(1.0, 0.0)).norm() <= 1e-2 {
+            found.push((BifurcationKind::PeriodDoubling, p));
         }
     }
     for (kind, f) in tests {

@@ -4,6 +4,7 @@ mod basins;
 mod beam;
 mod chain;
 mod chatter;
+mod conservative;
 mod corrector;
 mod free_grazing;
 mod further_impact;
