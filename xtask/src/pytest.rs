@@ -166,8 +166,12 @@ const NO_TEST_EXECUTABLE: &str = "cargo test --tests --no-run: no test executabl
 /// writes an artifact's message once it is linked), so that the binaries
 /// built first run while cargo compiles the others: on two cores the last
 /// test crates compile largely one at a time, and the runs fill the other
-/// core. Cargo's progress and diagnostics go to stderr as usual. The error
-/// says when the build failed or built no test executable.
+/// core. The tests of a package with binaries of its own ([`has_binaries`]:
+/// the CLI's tests call `signorini`) are sent only once cargo
+/// has ended: cargo links a package's binaries beside its tests, and a test
+/// run before its binary is there fails (every CLI test did on a fresh
+/// clone). Cargo's progress and diagnostics go to stderr as usual. The
+/// error says when the build failed or built no test executable.
 pub fn build_tests(cargo: &str, root: &Path, args: &[&str], bins: std::sync::mpsc::Sender<TestBinary>) -> Result<(), String> {
     let mut child = Command::new(cargo)
         .current_dir(root)
@@ -178,21 +182,39 @@ pub fn build_tests(cargo: &str, root: &Path, args: &[&str], bins: std::sync::mps
         .spawn()
         .map_err(|e| format!("cargo test --tests --no-run: cannot start: {e}"))?;
     let mut built = 0usize;
+    let mut after = Vec::new();
     if let Some(out) = child.stdout.take() {
         for line in BufReader::new(out).split(b'\n').map_while(Result::ok) {
             if let Some(b) = test_binary(&line_text(&line)) {
                 built += 1;
-                // The runners end only after this sender is dropped.
-                let _ = bins.send(b);
+                if has_binaries(&b.dir) {
+                    after.push(b);
+                } else {
+                    // The runners end only after this sender is dropped.
+                    let _ = bins.send(b);
+                }
             }
         }
     }
-    match child.wait() {
+    let end = match child.wait() {
         Ok(s) if !s.success() => Err(format!("cargo test --tests --no-run failed ({s})")),
         Err(e) => Err(format!("cargo test --tests --no-run: {e}")),
         Ok(_) if built == 0 => Err(NO_TEST_EXECUTABLE.into()),
         Ok(_) => Ok(()),
+    };
+    if end.is_ok() {
+        for b in after {
+            let _ = bins.send(b);
+        }
     }
+    end
+}
+
+/// Whether the package in `dir` has binary targets (`src/main.rs`,
+/// `src/bin/`, or a `[[bin]]` in its manifest), whose executables its
+/// tests may run (`CARGO_BIN_EXE_…`).
+pub fn has_binaries(dir: &Path) -> bool {
+    dir.join("src/main.rs").exists() || dir.join("src/bin").is_dir() || std::fs::read_to_string(dir.join("Cargo.toml")).is_ok_and(|m| m.lines().any(|l| l.trim() == "[[bin]]"))
 }
 
 /// Runs the test binaries `jobs` at a time (each with the test harness's

@@ -115,6 +115,35 @@ fn no_test_executable_is_an_error() {
 /// a bound only against a hang): a build that handed the executables over
 /// only at its end would hand this one over after the shell failed.
 #[cfg(unix)]
+/// The tests of a package with a binary of its own (the CLI's tests run
+/// `signorini`) are handed over only once cargo has ended, when every
+/// binary is linked: a fake cargo writes such a test's message, then a
+/// marker, then exits; the executable must come after the marker. Handed
+/// over at once, as other tests are, every CLI test failed on a fresh clone
+/// (the binary not yet there).
+#[test]
+fn tests_of_a_package_with_binaries_wait_for_the_build_to_end() {
+    let dir = std::env::temp_dir().join(format!("signorini-build-bins-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("pkg/src")).expect("a scratch package");
+    std::fs::write(dir.join("pkg/Cargo.toml"), "[package]\nname = \"pkg\"\n\n[[bin]]\nname = \"pkg\"\npath = \"src/main.rs\"\n").expect("its manifest");
+    assert!(has_binaries(&dir.join("pkg")) && !has_binaries(&dir), "the scratch package has a binary, the folder none");
+    let (pkg, marker) = (dir.join("pkg"), dir.join("ended"));
+    let it = format!(
+        r##"{{"reason":"compiler-artifact","package_id":"pkg","manifest_path":"{}/Cargo.toml","target":{{"kind":["test"],"crate_types":["bin"],"name":"it","src_path":"{}/tests/it/main.rs","test":true}},"profile":{{"opt_level":"3","test":true}},"filenames":["/w/it-1"],"executable":"/w/it-1","fresh":false}}"##,
+        pkg.display(),
+        pkg.display()
+    );
+    let script = format!("printf '%s\\n' '{it}'; sleep 0.5; : > '{}'", marker.display());
+    let (tx, rx) = std::sync::mpsc::channel();
+    let build = std::thread::spawn(move || build_tests("sh", std::path::Path::new("."), &["-c", &script, "sh"], tx));
+    let b = rx.recv().expect("the executable, handed over");
+    assert!(marker.exists(), "handed over before the build ended");
+    assert_eq!(b.src, "tests/it/main.rs");
+    assert_eq!(build.join().expect("the build's thread"), Ok(()));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn each_test_executable_runs_as_soon_as_it_is_built() {
     let dir = std::env::temp_dir().join(format!("signorini-build-tests-{}", std::process::id()));
