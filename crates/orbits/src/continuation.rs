@@ -1710,11 +1710,7 @@ fn arclength<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point) -> f64 {
 /// The bifurcations between `a` and `b` (points `i`, `i + 1`), each
 /// located by bisection on the arclength from `a`.
 fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut Vec<Bifurcation>) {
-    let s_b = {
-        let n = ctx.n;
-        let d: f64 = (0..n).map(|k| (b.x[k] - a.x[k]) / ctx.xs).map(|v| v * v).sum::<f64>() + ((b.param - a.param) / ctx.ls).powi(2);
-        d.sqrt()
-    };
+    let s_b = arclength(ctx, a, b);
     type Test = fn(&Point) -> f64;
     let tests: [(BifurcationKind, Test); 3] = [(BifurcationKind::Fold, fold_test), (BifurcationKind::PeriodDoubling, pd_test), (BifurcationKind::NeimarkSacker, ns_test)];
     let mut found = Vec::new();
