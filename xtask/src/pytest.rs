@@ -1,7 +1,8 @@
 //! `cargo xtask test`: every test of the project in one command — the Rust
 //! workspace's (`cargo test --workspace --release --tests --no-run`, each
-//! test binary run as soon as cargo has built it, two at a time, as cargo
-//! would run them, then `cargo test --doc` beside the last ones; the Python
+//! test binary run as soon as cargo has built it — those of a package with
+//! binaries of its own, the CLI's and xtask's, once the build has ended —
+//! two at a time, as cargo would run them, then `cargo test --doc` beside the last ones; the Python
 //! crate excluded: maturin builds it with its own environment),
 //! then the Python package built by maturin (while the Rust test binaries
 //! run) into a virtual environment this command creates while the Rust
@@ -167,7 +168,7 @@ const NO_TEST_EXECUTABLE: &str = "cargo test --tests --no-run: no test executabl
 /// built first run while cargo compiles the others: on two cores the last
 /// test crates compile largely one at a time, and the runs fill the other
 /// core. The tests of a package with binaries of its own ([`has_binaries`]:
-/// the CLI's tests call `signorini`) are sent only once cargo
+/// the CLI's tests call `signorini`, xtask's call `xtask`) are sent only once cargo
 /// has ended: cargo links a package's binaries beside its tests, and a test
 /// run before its binary is there fails (every CLI test did on a fresh
 /// clone). Cargo's progress and diagnostics go to stderr as usual. The
@@ -561,7 +562,7 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     let mut spawn_wheel = Some(spawn_wheel);
     let mut handle = None;
     if !a.python_only {
-        let (lines, r) = rec.time("Rust: build the tests and run them: each test binary as soon as it is built, two at a time, then the doc tests and the wheel's build beside them", || {
+        let (lines, r) = rec.time("Rust: build the tests and run them: each test binary as soon as it is built (the CLI's and xtask's, packages with binaries of their own, once the build has ended), two at a time, then the doc tests and the wheel's build beside them", || {
             // `--tests` (every library's, binary's and integration test's
             // harness), then the doc tests: cargo's default selection would
             // also build the examples, which test nothing; clippy
