@@ -590,6 +590,22 @@ fn continuation_until<F: Family>(
                         continue;
                     }
                     ds *= 0.5;
+                    // Below the least step the trials still fall onto the
+                    // other arc: the branch ends there, named (as the
+                    // other failures below it end), not halving on until
+                    // the step underflows or some later trial is taken
+                    // from the other arc (which went back along it).
+                    if ds < opts.min_step {
+                        branch.end = format!(
+                            "stopped at param = {}: trial steps down to the least step ({:e}) fall onto another arc of orbits (one with {} impacts per period at param = {}, where this one has {}), not a corner of this one: the branch is not continued onto it",
+                            cur.param,
+                            opts.min_step,
+                            p.orbit.impacts(),
+                            p.param,
+                            cur.orbit.impacts()
+                        );
+                        return Ok(branch);
+                    }
                     continue;
                 }
                 branch.bifurcations.push(Bifurcation {

@@ -208,7 +208,18 @@ pub fn backbone_of(scene: &ModeScene, energies: &[f64], newton: &Newton) -> Resu
                 (b.orbit.x.iter().zip(&a.orbit.x).map(|(xb, xa)| xb + r * (xb - xa)).collect(), b.period + r * (b.period - a.period))
             }
         };
-        match autonomous_orbit(model, &guess, period, energy, newton) {
+        // A step long beside the last two (the energies' ratio far from
+        // 1) extrapolates the state and the period far off (a period
+        // below 0): then the last point scaled by √(E/E_b), as for the
+        // second point.
+        let found = autonomous_orbit(model, &guess, period, energy, newton).or_else(|e| match points.last() {
+            Some(b) if points.len() >= 2 => {
+                let s = (energy / b.energy).sqrt();
+                autonomous_orbit(model, &b.orbit.x.iter().map(|x| x * s).collect::<Vec<_>>(), b.period, energy, newton).map_err(|_| e)
+            }
+            _ => Err(e),
+        });
+        match found {
             Ok(orbit) => points.push(point(scene, energy, orbit)),
             Err(e) if i == 0 => return Err(e),
             Err(e) => {

@@ -187,3 +187,31 @@ fn mod3_has_a_periodic_orbit_near_the_mode_with_the_exact_period() {
     assert!((p.contact_time - 1.0).abs() <= 0.05, "t_c = {}", p.contact_time);
     assert!(p.mu_max() < 1.1, "|μ| = {}", p.mu_max());
 }
+
+/// Huge energies in long steps (`modes --from 1e-2 --to 1e10 --points 4`,
+/// the redistributed bar with a clearance): the guess extrapolated
+/// linearly in the energy from the last two points is far off when the
+/// energies' ratio is far from 1 (here a period of −181 at 1e6, and the
+/// family ended there). The bar's positive homogeneity (`u ↦ αu` maps the
+/// bar with gap `g` at energy `E` onto the one with `αg` at `α²E`) makes
+/// the period a function of `g/√E` alone, smooth where no event changes:
+/// `T(E) = T∞ + C g/√E + O(g²/E)`, so the periods at 1e2, 1e6, 1e10 step
+/// down in the ratio √1e4 = 100 (measured: 100.0). Each orbit returns to
+/// its state under the flow over its period.
+#[test]
+fn the_backbone_reaches_huge_energies_in_long_steps() {
+    let doc = bar(10, "mod", "event-driven", -0.1);
+    let modes = backbone(&doc, 1e-2, 1e10, 4).unwrap();
+    assert!(modes.stopped.is_none(), "{:?}", modes.stopped.as_ref().map(|s| (s.0, s.1.to_string())));
+    let t: Vec<f64> = modes.points.iter().map(|p| p.period).collect();
+    assert_eq!(t.len(), 4);
+    let ratio = (t[1] - t[2]) / (t[2] - t[3]);
+    assert!((ratio - 100.0).abs() <= 1.0, "periods {t:?}: steps in the ratio {ratio}, not √(1e4) = 100");
+    let scene = signorini_orbits::modes::ModeScene::new(&doc).unwrap();
+    for p in &modes.points {
+        let y = scene.model.flow(0.0, &p.orbit.x, p.period, false).unwrap().x;
+        let size = p.orbit.x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let d = y.iter().zip(&p.orbit.x).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+        assert!(d <= 1e-9 * size, "E = {}: the flow over T = {} ends {d:e} from the orbit's state (size {size:e})", p.energy, p.period);
+    }
+}

@@ -9,6 +9,7 @@ mod corrector;
 mod free_grazing;
 mod further_impact;
 mod oscillator;
+mod period_two;
 mod reach;
 mod switch;
 mod symmetric;

@@ -1,0 +1,98 @@
+//! A period-2 branch of the impact oscillator (ζ = 0.05, e = 0.3, stop at
+//! 0.2) from Ω = 2.42 down: its 2-impact orbits gain a further impact at
+//! 2.3843, the 3-impact ones fold at 2.4010, double their period at 2.3962
+//! and gain a fourth impact at 2.3835123, where the branch turns back onto
+//! the 4-impact orbits (the slow impact's speed growing from 0 with Ω).
+//! Up that arc, trial steps of every length fall onto the 3-impact orbits
+//! the branch came down (their states 1e-5 apart): the step was halved
+//! below the least step and a later trial taken, and the branch went back
+//! up the 3-impact arc, listing its period doubling and fold twice. It now
+//! ends there, saying so. Every point is checked against runs of the map
+//! (stable ones: a run from a nudged state settles on it; all: a fixed
+//! point of the 2-period map), and no point lies on an arc the branch has
+//! already traced.
+
+use signorini_orbits::front::{continue_scene, ContinueOptions};
+use signorini_orbits::{Family, SceneFamily};
+
+const SCENE: &str = r#"
+[oscillator]
+mass = 1.0
+stiffness = 1.0
+damping_ratio = 0.05
+stop = 0.2
+restitution = 0.3
+dt = 1e-2
+t_end = 10.0
+scheme = "event-driven"
+[forcing]
+amplitude = 1.0
+omega = 2.42
+"#;
+
+fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut lines = csv.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    (head, lines.map(|l| l.split(',').map(String::from).collect()).collect())
+}
+
+#[test]
+fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
+    let doc: toml::Table = SCENE.parse().unwrap();
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new() };
+    let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
+    for l in &done.lines {
+        eprintln!("{l}");
+    }
+    let file = |n: &str| &done.files.iter().find(|f| f.0 == n).unwrap().1;
+    let (head, pts) = rows(file("branch.csv"));
+    let col = |n: &str| head.iter().position(|h| h == n).unwrap();
+    let num = |r: &Vec<String>, n: &str| r[col(n)].parse::<f64>().unwrap();
+    let pts: Vec<(f64, [f64; 2], usize, bool, f64)> =
+        pts.iter().map(|r| (num(r, "param"), [num(r, "q0"), num(r, "v0")], r[col("impacts_per_period")].parse().unwrap(), r[col("stable")] == "1", num(r, "mu_max"))).collect();
+    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 2).unwrap().0;
+    let (mut fixed, mut settled) = (0.0f64, 0.0f64);
+    for (w, x, k, stable, mu) in &pts {
+        let (m, t) = (fam.model(*w).unwrap(), fam.period(*w).unwrap());
+        let img = m.flow(0.0, x, t, false).unwrap();
+        // The slow impact's orbits (|μ| up to 2e5) amplify the round-off.
+        let d = img.x.iter().zip(x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+        assert!(d <= 1e-12 * mu.max(1.0) + 1e-10, "Ω = {w} ({k} impacts, |μ| {mu}): |P(x) − x| = {d:e}");
+        fixed = fixed.max(d);
+        if *stable && *mu < 0.9 {
+            let mut y = vec![x[0] + 1e-6, x[1] - 1e-6];
+            for _ in 0..400 {
+                y = m.flow(0.0, &y, t, false).unwrap().x;
+            }
+            let d = (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+            assert!(d <= 1e-8, "Ω = {w}: a run from the nudged orbit ends {d:e} from it");
+            settled = settled.max(d);
+        }
+    }
+    eprintln!("{} points: fixed to {fixed:e}, stable ones attract to {settled:e}", pts.len());
+    // No point on an arc already traced: on no earlier step with as many
+    // impacts and bracketing its parameter, within 1e-6 of the step's chord.
+    for (j, (w, x, k, _, _)) in pts.iter().enumerate() {
+        for i in 0..j.saturating_sub(2) {
+            let (a, b) = (&pts[i], &pts[i + 1]);
+            if a.2 != *k || b.2 != *k || (w - a.0) * (w - b.0) > 0.0 || a.0 == b.0 {
+                continue;
+            }
+            let f = (w - a.0) / (b.0 - a.0);
+            let d = (0..2).fold(0.0f64, |m, c| m.max((a.1[c] + f * (b.1[c] - a.1[c]) - x[c]).abs()));
+            assert!(d > 1e-6 * (b.1[0] - a.1[0]).abs().max(1e-3), "point {j} (Ω = {w}, {k} impacts) lies on the step {i}–{} it traced before ({d:e})", i + 1);
+        }
+    }
+    // Each bifurcation once.
+    let (bh, bifs) = rows(file("bifurcations.csv"));
+    let (cp, ck) = (bh.iter().position(|h| h == "param").unwrap(), bh.iter().position(|h| h == "kind").unwrap());
+    let bifs: Vec<(f64, &str)> = bifs.iter().map(|r| (r[cp].parse().unwrap(), r[ck].as_str())).collect();
+    for (i, a) in bifs.iter().enumerate() {
+        for b in &bifs[i + 1..] {
+            assert!(a.1 != b.1 || (a.0 - b.0).abs() > 1e-6, "{} listed twice: at {} and {}", a.1, a.0, b.0);
+        }
+    }
+    // The 4-impact arc reached, and the end says why the branch stops.
+    assert!(pts.iter().any(|p| p.2 == 4), "the 4-impact orbits past the grazing at 2.3835123");
+    assert!(done.lines[0].contains("fall onto another arc"), "{}", done.lines[0]);
+}
