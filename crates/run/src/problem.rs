@@ -121,7 +121,12 @@ impl BarProblem {
             return Err(RunError::Invalid { field: "initial data", value: *bad, allowed: "finite values at every node" });
         }
         if u[0] < gap {
-            return Err(RunError::Invalid { field: "initial u(0)", value: u[0], allowed: "at or above the obstacle position gap" });
+            return Err(RunError::Invalid {
+                field: "initial u(0)",
+                value: u[0],
+                allowed:
+                    "at or above the obstacle position `gap` (set `initial_displacement`, u(x, 0), with u(0) >= gap; `signorini modes` needs it too, though its orbits start from their own states)",
+            });
         }
         Ok(Self { bar, mass, gap, body_force, initial: Initial { u, v }, stops: Vec::new(), forcing: Vec::new() })
     }
