@@ -357,7 +357,11 @@ impl ModalFlow {
                     let minv = linv.transpose() * &linv;
                     return Self::general(&m, &k, cm, minv, loads);
                 }
-                (0..n).map(|i| modal[(i, i)].max(0.0)).collect()
+                // A modal damping of round-off size is 0, as a rigid
+                // mode's ω² is: a free chain with `C = b K` gave its rigid
+                // mode c = 1e-17, and the steady load's particular
+                // solution `f t / c` put the chain at 9e15.
+                (0..n).map(|i| modal[(i, i)]).map(|c| if c <= 1e-12 * diag { 0.0 } else { c }).collect()
             }
         };
         let project = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| (0..n).map(|r| phi[(r, i)] * g[r]).sum()).collect() };
@@ -442,6 +446,23 @@ impl ModalFlow {
         let condition = norm(&t) * norm(&tinv);
         if !(condition <= 1e8) {
             return Err(EventsError::Defective { condition });
+        }
+        // Each plane invariant: `A x_a = −k x_b` (`A x_b = x_a − c x_b`
+        // holds by construction). A nearly defective real pair (a rigid
+        // mode of a free structure that the damping leaves undamped: ±1.5e-8
+        // for ±0) gives `x_b = u₁ + u₂` from two nearly parallel
+        // eigenvectors: the sum cancels, its error out of the plane grows
+        // to 1e-8 while `T` stays well conditioned (15), and the flow was
+        // off the exponential by 3e-10 to 0.93 (events_flow.rs). No
+        // basis: refused (docs/schemes.md).
+        let an = norm(&a);
+        for (i, (ki, ..)) in modes.iter().enumerate() {
+            let size = |col: usize| (0..nn).fold(0.0f64, |m, r| m.max(t[(r, col)].abs()));
+            let scale = an * size(2 * i) + ki.abs() * size(2 * i + 1);
+            let res = (0..nn).map(|r| ((0..nn).map(|s| a[(r, s)] * t[(s, 2 * i)]).sum::<f64>() + ki * t[(r, 2 * i + 1)]).abs()).fold(0.0, f64::max);
+            if !(res <= 1e-11 * scale) {
+                return Err(EventsError::Defective { condition: f64::INFINITY });
+            }
         }
         let kv: Vec<f64> = modes.iter().map(|m| if m.0.abs() <= 1e-12 * kmax { 0.0 } else { m.0 }).collect();
         let cv: Vec<f64> = modes.iter().map(|m| m.1).collect();
