@@ -66,7 +66,7 @@
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
-use signorini_contact::Active;
+use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
 
 /// Siconos's threshold of the index sets (`DEFAULT_TOL_D1MINUS`): a
@@ -133,7 +133,7 @@ pub struct D1MinusLinear {
 }
 
 /// The closed side of a contact at `x` (`None` if open).
-fn side(lo: f64, hi: f64, x: f64) -> Active {
+pub(crate) fn side(lo: f64, hi: f64, x: f64) -> Active {
     if x - lo <= INDEX_SET_TOLERANCE {
         Active::Lower
     } else if hi - x <= INDEX_SET_TOLERANCE {
@@ -262,6 +262,20 @@ impl D1MinusLinear {
     /// force, the impulse alone).
     pub fn impact(&self) -> bool {
         self.impact
+    }
+
+    /// What [`D1MinusLinearLockstep`](crate::D1MinusLinearLockstep) takes
+    /// of a single run (one rigid contact, after [`at_level`](Self::at_level)):
+    /// the factor of `M`, and the contact solve as scalar arithmetic with
+    /// its column `M⁻¹ e_c` (the force and impact problems' alike: the
+    /// same bits); `None` with several contacts.
+    pub(crate) fn lockstep_parts(&self) -> Option<(&BandLdlt, (OneDof, &[f64]))> {
+        Some((&self.mf, self.impact_solve.one_dof()?))
+    }
+
+    /// `a(t_n, Uⁿ, Vⁿ)` (the lockstep engine takes the start's).
+    pub(crate) fn free_acceleration(&self) -> &[f64] {
+        &self.a_free
     }
 
     /// The force problem on `acc` (an acceleration, or on the velocity
@@ -426,7 +440,7 @@ pub(crate) static D1_MINUS_LINEAR: Family = Family {
     params: &[E],
     presets: &[],
     validate: |a| check("e", a[0], (0.0..=1.0).contains(&a[0]), "[0, 1]"),
-    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { explicit: true, node: Node::Massive, damping: false, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, dy| Ok(Some(2.0 / kappa_bound(&dy.stiffness, &dy.mass)?.sqrt())),
     stability_rule: |_| Some(RULE),
     build: |s, dy, dt, init| build_at(D1Level::Acceleration, s, dy, dt, init),

@@ -1,7 +1,8 @@
 //! What every lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
 //! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
 //! [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep),
-//! [`CdLagrangeLockstep`](crate::CdLagrangeLockstep))
+//! [`CdLagrangeLockstep`](crate::CdLagrangeLockstep),
+//! [`D1MinusLinearLockstep`](crate::D1MinusLinearLockstep))
 //! shares: the lane of a batch ([`LockstepLane`]), the time loop's view of
 //! an engine ([`Lockstep`]), and one lane state ([`LaneState`]: the shared
 //! matrices' rows, the factor's rows and projection column, the loads and
@@ -44,7 +45,8 @@ pub struct LockstepLane {
 /// What a time loop needs of a lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
 /// [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
 /// [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep),
-/// [`CdLagrangeLockstep`](crate::CdLagrangeLockstep)):
+/// [`CdLagrangeLockstep`](crate::CdLagrangeLockstep),
+/// [`D1MinusLinearLockstep`](crate::D1MinusLinearLockstep)):
 /// `L` runs sharing one step matrix, stepped together, each lane bit for
 /// bit its single run. Every lane-indexed method asserts `k < lanes()`.
 pub trait Lockstep {

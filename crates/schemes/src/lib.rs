@@ -170,6 +170,7 @@ macro_rules! delegate_stepper {
 
 mod cd_lagrange;
 mod cd_lockstep;
+mod d1_lockstep;
 mod d1minus;
 pub mod events;
 mod family;
@@ -196,6 +197,7 @@ mod verlet_nitsche;
 
 pub use cd_lagrange::CdLagrange;
 pub use cd_lockstep::CdLagrangeLockstep;
+pub use d1_lockstep::D1MinusLinearLockstep;
 pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};

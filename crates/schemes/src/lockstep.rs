@@ -364,6 +364,14 @@ pub enum LockstepScheme {
         /// Restitution `e`.
         restitution: f64,
     },
+    /// `d1-minus-linear(e)` and `d1-minus-linear-velocity(e)`:
+    /// [`D1MinusLinearLockstep`](crate::D1MinusLinearLockstep).
+    D1MinusLinear {
+        /// The level of the contact forces.
+        level: crate::D1Level,
+        /// Restitution `e`.
+        restitution: f64,
+    },
 }
 
 impl LockstepScheme {
@@ -379,6 +387,8 @@ impl LockstepScheme {
             "nsga" => Some(Self::Nsga { rho_inf: spec.param("rho_inf")?, restitution: spec.param("e")? }),
             "contact-stabilized" => Some(Self::ContactStabilized),
             "cd-lagrange" => Some(Self::CdLagrange { restitution: spec.param("e")? }),
+            "d1-minus-linear" => Some(Self::D1MinusLinear { level: crate::D1Level::Acceleration, restitution: spec.param("e")? }),
+            "d1-minus-linear-velocity" => Some(Self::D1MinusLinear { level: crate::D1Level::Velocity, restitution: spec.param("e")? }),
             _ => None,
         }
     }
@@ -390,7 +400,8 @@ impl LockstepScheme {
             | Self::MoreauJean { restitution, .. }
             | Self::MoreauJeanProjected { restitution, .. }
             | Self::Nsga { restitution, .. }
-            | Self::CdLagrange { restitution } => restitution,
+            | Self::CdLagrange { restitution }
+            | Self::D1MinusLinear { restitution, .. } => restitution,
             Self::ContactStabilized => 0.0,
         }
     }

@@ -6,7 +6,9 @@ use crate::simulate::{observers, rows_of, text_cell, Plan, RunRows, ScenePlan};
 use signorini_run::reduced::Need;
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError};
 use signorini_scene::Scene;
-use signorini_schemes::{Bounds, CdLagrangeLockstep, ContactStabilizedLockstep, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep};
+use signorini_schemes::{
+    Bounds, CdLagrangeLockstep, ContactStabilizedLockstep, D1MinusLinearLockstep, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep,
+};
 
 /// Runs per lockstep group at most: the paper beam's sweeps step up to this
 /// many runs together (crates/run/benches/lockstep.rs: per run-step, 16
@@ -20,7 +22,8 @@ pub const LANES: usize = 16;
 /// stops, not continued from another run, whose scheme can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
 /// them, `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`,
-/// `nsga(ρ∞, e)`, `contact-stabilized` and `cd-lagrange(e)`;
+/// `nsga(ρ∞, e)`, `contact-stabilized`, `cd-lagrange(e)` and
+/// `d1-minus-linear(e)` on both levels;
 /// [`LockstepScheme`]), within its
 /// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
@@ -71,7 +74,8 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
 /// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] (also
 /// `moreau-jean-projected`), [`NsgaLockstep`],
-/// [`ContactStabilizedLockstep`] or [`CdLagrangeLockstep`] stepped by
+/// [`ContactStabilizedLockstep`], [`CdLagrangeLockstep`] or
+/// [`D1MinusLinearLockstep`] stepped by
 /// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
@@ -103,6 +107,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
             (LockstepScheme::Nsga { rho_inf: a, .. }, LockstepScheme::Nsga { rho_inf: b, .. }) => a == b,
             (LockstepScheme::ContactStabilized, LockstepScheme::ContactStabilized) => true,
             (LockstepScheme::CdLagrange { .. }, LockstepScheme::CdLagrange { .. }) => true,
+            (LockstepScheme::D1MinusLinear { level: a, .. }, LockstepScheme::D1MinusLinear { level: b, .. }) => a == b,
             _ => false,
         };
         if first.is_some_and(|(s, dt)| !same(s) || dt != d) || plan.dt != d {
@@ -123,6 +128,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         LockstepScheme::Nsga { rho_inf, .. } => run_group(NsgaLockstep::<L>::new(rho_inf, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::CdLagrange { .. } => run_group(CdLagrangeLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::D1MinusLinear { level, .. } => run_group(D1MinusLinearLockstep::<L>::new(level, dt, lanes).ok()?, &lanes_of, interrupt),
     }
 }
 

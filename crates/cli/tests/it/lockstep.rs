@@ -76,7 +76,7 @@ fn runs_that_do_not_share_a_matrix_are_not_locked() {
 /// on to their horizons.
 #[test]
 fn a_lane_that_blows_up_stops_where_its_single_run_does() {
-    for scheme in ["projection", "nsga(0.5)", "contact-stabilized", "moreau-jean-projected(1,0)", "cd-lagrange(0)"] {
+    for scheme in ["projection", "nsga(0.5)", "contact-stabilized", "moreau-jean-projected(1,0)", "cd-lagrange(0)", "d1-minus-linear(0)", "d1-minus-linear-velocity(0.5)"] {
         lane_blows_up(scheme);
     }
 }
@@ -123,10 +123,10 @@ fn explicit_dt(scheme: &str) -> &'static str {
 /// A sweep of a registry-named scheme that can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β,
 /// `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`, `nsga(ρ∞, e)`,
-/// `contact-stabilized` and `cd-lagrange(e)`) takes
-/// its engine, each lane its single run bit for bit; schemes that cannot
-/// (penalty, Newmark, `d1-minus-linear`, the event-driven reference) run
-/// one at a time.
+/// `contact-stabilized`, `cd-lagrange(e)` and `d1-minus-linear(e)` on both
+/// levels) takes its engine, each lane its single run bit for bit; schemes
+/// that cannot (penalty, Newmark, the event-driven reference) run one at a
+/// time.
 #[test]
 fn registry_schemes_that_can_run_in_lockstep_do() {
     let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
@@ -147,8 +147,10 @@ fn registry_schemes_that_can_run_in_lockstep_do() {
         ("moreau-jean-projected(0.7,0.5,0.3)", true),
         ("cd-lagrange(0)", true),
         ("cd-lagrange(0.5)", true),
-        ("d1-minus-linear(0)", false),
-        ("d1-minus-linear-velocity(0.5)", false),
+        ("d1-minus-linear(0)", true),
+        ("d1-minus-linear(0.5)", true),
+        ("d1-minus-linear-velocity(0)", true),
+        ("d1-minus-linear-velocity(0.5)", true),
         ("moreau-jean-combined(0.5,0)", false),
         ("penalty-cn", false),
         ("newmark-cn", false),

@@ -753,6 +753,15 @@ fn a_cd_lagrange_sweep_in_lockstep_is_its_runs_one_at_a_time() {
     lockstep_sweep_at_dt_is_its_runs_one_at_a_time("cd-lagrange(0.3)", Some(1e-5));
 }
 
+/// The same for `d1-minus-linear` with a restitution, on both levels
+/// (`D1MinusLinearLockstep`; explicit: dt = 1e-5, below its limit
+/// 1.2395e-5 on fig. 2).
+#[test]
+fn a_d1_minus_linear_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_at_dt_is_its_runs_one_at_a_time("d1-minus-linear(0.3)", Some(1e-5));
+    lockstep_sweep_at_dt_is_its_runs_one_at_a_time("d1-minus-linear-velocity(0.3)", Some(1e-5));
+}
+
 /// A sweep of the fig. 2 beam with `scheme` over five frequencies, with 1
 /// and 3 threads (in lockstep), against its five runs one at a time
 /// (five one-run shards, merged): the same files, byte for byte.

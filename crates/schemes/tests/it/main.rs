@@ -14,6 +14,7 @@ mod carpenter;
 mod cd_lagrange;
 mod cd_lagrange_lockstep;
 mod conformance;
+mod d1_minus_linear_lockstep;
 mod d1minus;
 mod damping;
 mod energy;
