@@ -43,8 +43,9 @@
 //! (docs/theory.md §12.1.1).
 
 use crate::OrbitError;
+use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::{DenseSolveCore, Solve};
-use faer::{Mat, Side};
+use faer::{Accum, Mat, Side};
 use signorini_schemes::Dynamics;
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -82,6 +83,19 @@ struct Phase {
     phit_m: Mat<f64>,
     k: Vec<f64>,
     c: Vec<f64>,
+    /// The buffers of [`Linear::transport`] (every product of its step
+    /// written into one of these: the variational step allocates nothing
+    /// once a phase has been met with a Jacobian of its width).
+    work: RefCell<Work>,
+}
+
+/// [`Linear::transport`]'s buffers: `qf`, `vf` the free rows of the
+/// Jacobian, `p`, `q` their modal coordinates, `a`, `b` those moved over
+/// the phase, `dq`, `dv` back on the free dofs (each `nf × cols`, the
+/// shapes the products had when they were allocated per call).
+#[derive(Default)]
+struct Work {
+    bufs: Vec<Mat<f64>>,
 }
 
 fn dense(b: &signorini_fem::SymBand) -> Mat<f64> {
@@ -162,7 +176,7 @@ impl Linear {
         let mff = sub(&self.m, &dofs, &dofs);
         let nf = dofs.len();
         let phase = if nf == 0 {
-            Phase { free, phi: Mat::zeros(0, 0), phit_m: Mat::zeros(0, 0), k: vec![], c: vec![] }
+            Phase { free, phi: Mat::zeros(0, 0), phit_m: Mat::zeros(0, 0), k: vec![], c: vec![], work: RefCell::default() }
         } else {
             let llt = mff.llt(Side::Lower).map_err(|_| OrbitError::Model("the mass matrix of the free dofs is not positive definite".into()))?;
             let l = llt.L().to_owned();
@@ -189,7 +203,7 @@ impl Linear {
                 }
             };
             let phit_m = phi.transpose() * &mff;
-            Phase { free, phi, phit_m, k: kv, c: cv }
+            Phase { free, phi, phit_m, k: kv, c: cv, work: RefCell::default() }
         };
         self.phases.borrow_mut().insert(held.to_vec(), phase);
         Ok(())
@@ -220,11 +234,22 @@ impl Linear {
         let s = self.state.len();
         let cols = jac.ncols();
         let nf = ph.free.len();
-        let qf = Mat::from_fn(nf, cols, |i, j| jac[(ph.free[i], j)]);
-        let vf = Mat::from_fn(nf, cols, |i, j| jac[(s + ph.free[i], j)]);
-        let (p, q) = (&ph.phit_m * &qf, &ph.phit_m * &vf);
-        let mut a = Mat::<f64>::zeros(nf, cols);
-        let mut b = Mat::<f64>::zeros(nf, cols);
+        let mut work = ph.work.borrow_mut();
+        if work.bufs.len() != 8 || work.bufs[0].ncols() != cols {
+            work.bufs = (0..8).map(|_| Mat::<f64>::zeros(nf, cols)).collect();
+        }
+        let [qf, vf, p, q, a, b, dq, dv] = work.bufs.as_mut_slice() else { unreachable!("eight buffers") };
+        for j in 0..cols {
+            for (i, &r) in ph.free.iter().enumerate() {
+                qf[(i, j)] = jac[(r, j)];
+                vf[(i, j)] = jac[(s + r, j)];
+            }
+        }
+        // The products as `Mat * Mat` computes them (faer's matmul, replace,
+        // the global parallelism), into the buffers: the same bits.
+        let par = faer::get_global_parallelism();
+        matmul(p.as_mut(), Accum::Replace, ph.phit_m.as_ref(), qf.as_ref(), 1.0, par);
+        matmul(q.as_mut(), Accum::Replace, ph.phit_m.as_ref(), vf.as_ref(), 1.0, par);
         for i in 0..nf {
             let [a11, a12, a21, a22] = modal_transition(ph.k[i], ph.c[i], tau);
             for j in 0..cols {
@@ -232,15 +257,16 @@ impl Linear {
                 b[(i, j)] = a21 * p[(i, j)] + a22 * q[(i, j)];
             }
         }
-        let (dq, dv) = (&ph.phi * a, &ph.phi * b);
-        let mut out = Mat::<f64>::zeros(2 * s, cols);
+        matmul(dq.as_mut(), Accum::Replace, ph.phi.as_ref(), a.as_ref(), 1.0, par);
+        matmul(dv.as_mut(), Accum::Replace, ph.phi.as_ref(), b.as_ref(), 1.0, par);
+        // The held dofs' rows are 0.
+        jac.fill(0.0);
         for (i, &r) in ph.free.iter().enumerate() {
             for j in 0..cols {
-                out[(r, j)] = dq[(i, j)];
-                out[(s + r, j)] = dv[(i, j)];
+                jac[(r, j)] = dq[(i, j)];
+                jac[(s + r, j)] = dv[(i, j)];
             }
         }
-        *jac = out;
         Ok(())
     }
 
