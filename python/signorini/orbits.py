@@ -67,7 +67,11 @@ def continuation(scene, param, start, stop, *, period=1, transient=100.0, max_po
     ``signorini continue``). The first orbit is found by Newton from the
     scene's own initial state after ``transient`` forcing periods; at most
     ``max_points`` points; ``switch=True`` also continues the period-doubled
-    branch born at each period doubling; ``sweep`` (a :class:`SweepResult`
+    branch born at each period doubling, and the doubled branches' own (a
+    cascade p → 2p → 4p → 8p: the doublings of orbits of 8p periods are
+    listed, not followed, a line of ``lines`` saying so), and at each
+    branch point the branch crossing there (at most 24 branches in all);
+    ``sweep`` (a :class:`SweepResult`
     or a sweep folder) is drawn under the branch in ``svg``; ``out`` keeps
     the files. A start with no periodic orbit nearby raises RuntimeError
     with Newton's residual; bad input raises SceneError naming it."""

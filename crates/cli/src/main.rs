@@ -158,7 +158,7 @@ enum Cmd {
         /// Most points per branch.
         #[arg(long, default_value_t = 400)]
         max_points: usize,
-        /// At each period doubling, continue the period-doubled branch too.
+        /// At each period doubling, continue the period-doubled branch too (and theirs, a cascade of up to 3 doublings); at each branch point, the branch crossing there.
         #[arg(long)]
         switch: bool,
         /// A sweep folder (signorini sweep --out) whose bifurcation diagram the plot draws under the branch.

@@ -22,7 +22,9 @@
 //!   I)` changes sign where the branch goes on in `λ` (the symmetric orbit
 //!   of a symmetric structure at its symmetry-breaking pitchfork), or the
 //!   branch turns in `λ` where it does not (the asymmetric orbit meeting
-//!   the symmetric one there, the branch going on onto its mirror image);
+//!   the symmetric one there, the branch going on onto its mirror image),
+//!   named only where a multiplier is at +1 there (a turn at a corner is
+//!   no branch point); [`crossing_branch`] follows the other branch;
 //! - **period doubling**: a real multiplier passes through −1;
 //! - **Neimark–Sacker**: a complex pair leaves or enters the unit circle;
 //! - **grazing**: the number of impacts per period changes (an impact at
@@ -214,7 +216,9 @@ pub struct Branch {
     pub end: String,
     /// A period-doubled branch ([`doubled_branch`]) that ends where it
     /// rejoins the branch of half its period: the parameter there (a
-    /// period doubling of that branch, the other end of the loop).
+    /// period doubling of that branch, the other end of the loop); a
+    /// crossing branch ([`crossing_branch`]) that ends where it meets the
+    /// branch it crossed again: the parameter of that branch point.
     pub rejoins: Option<f64>,
 }
 
@@ -498,13 +502,13 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
 }
 
 /// [`continuation_watched`] that also ends the branch when `stop`, shown
-/// the points so far after each step, returns why (the branch's `end`).
+/// the branch so far after each step, returns why (the branch's `end`).
 fn continuation_until<F: Family>(
     family: &F,
     guess: &[f64],
     opts: &ContinuationOptions,
     watch: &mut dyn FnMut(&BranchPoint) -> bool,
-    stop: &mut dyn FnMut(&[BranchPoint]) -> Option<String>,
+    stop: &mut dyn FnMut(&Branch) -> Option<String>,
 ) -> Result<Branch, OrbitError> {
     opts.validate()?;
     let model = family.model(opts.from)?;
@@ -547,7 +551,7 @@ fn continuation_until<F: Family>(
                 return Ok(branch);
             }
         }
-        if let Some(why) = stop(&branch.points) {
+        if let Some(why) = stop(&branch) {
             branch.end = why;
             return Ok(branch);
         }
@@ -784,7 +788,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                 let mut o = *opts;
                 (o.from, o.to) = (param, end);
                 let mut copies = Copies { single, xs, ls: span, images: Vec::new(), cut: None, copy: None };
-                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |pts| copies.check(pts)) {
+                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |b| copies.check(&b.points)) {
                     Ok(mut b) => {
                         // The points the last step added (a branch that
                         // ended otherwise) are checked too.
@@ -828,6 +832,121 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
         }
     }
     Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no period-doubled orbit found beside the period doubling at {}", bif.param) }))
+}
+
+/// The branch that crosses `parent` at its branch point `bif` (a multiplier
+/// at +1 where two branches of orbits of the family cross): the asymmetric
+/// orbits born at a symmetric orbit's symmetry-breaking pitchfork, or, seen
+/// from one of those, the symmetric branch. At the crossing the kernel of
+/// `[G_x G_λ]` is two-dimensional: it holds the parent's tangent (the
+/// chord of the parent's step across `bif`, `c`) and the crossing branch's
+/// direction `w`, the null vector of `[G_x G_λ; cᵀ]` (scaled coordinates;
+/// inverse iteration). The first point is Newton from `bif ± s w` on the
+/// hyperplane through it normal to `w` (`s` = 1e-3, 1e-2, 3e-2 in turn: the
+/// corrector is singular at `bif` itself), one that lands more than `3 s`
+/// from the prediction being taken for another arc; the branch is
+/// continued from it away from `bif` to the end of `range` on its side.
+/// It ends where it meets the parent again (a branch point within 1e-4 of
+/// the range and 1e-2 of the state's size of one of the parent's, or of
+/// `bif`: located from either branch, near the crossing where the
+/// corrector is singular, their states differ by up to 3e-3 of it on the
+/// oscillator between its stops): there the asymmetric orbit turns onto its mirror image, the
+/// other half of the pair, which is not traced (`rejoins` says where).
+/// Of the two halves `±w` the first that converges is followed: at a
+/// pitchfork they are the mirror pair.
+pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation, range: (f64, f64), opts: &ContinuationOptions) -> Result<Branch, OrbitError> {
+    if bif.kind != BifurcationKind::BranchPoint {
+        return Err(OrbitError::Option { option: "switch", message: format!("a crossing branch at a {}: only at a branch point", bif.kind.name()) });
+    }
+    let (Some(a), Some(b)) = (parent.points.get(bif.between.0), parent.points.get(bif.between.1)) else {
+        return Err(OrbitError::Option { option: "switch", message: format!("the branch point at {} lies between no two points of its branch", bif.param) });
+    };
+    let n = bif.x.len();
+    let span = (range.1 - range.0).abs();
+    let xs = bif.x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(opts.newton.scale).max(1e-300);
+    let ctx = Ctx { family, opts, xs, ls: span, n };
+    let lin = ctx.residual_and_jacobian(&bif.x, bif.param)?;
+    let unit = |v: Vec<f64>| -> Vec<f64> {
+        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        v.into_iter().map(|x| x / norm).collect()
+    };
+    let c = unit((0..n).map(|i| (b.orbit.x[i] - a.orbit.x[i]) / xs).chain(std::iter::once((b.param - a.param) / span)).collect());
+    let m = Mat::from_fn(n + 1, n + 1, |r, col| {
+        if r < n {
+            if col < n {
+                (lin.jac[(r, col)] - if r == col { 1.0 } else { 0.0 }) * xs
+            } else {
+                lin.gl[r] * span
+            }
+        } else {
+            c[col]
+        }
+    });
+    let lu = m.partial_piv_lu();
+    let mut w: Vec<f64> = (0..=n).map(|i| 1.0 / (1.0 + i as f64)).collect();
+    for _ in 0..4 {
+        let z = lu.solve(Mat::from_fn(n + 1, 1, |r, _| w[r]));
+        let z: Vec<f64> = (0..=n).map(|i| z[(i, 0)]).collect();
+        if !z.iter().all(|v| v.is_finite()) || z.iter().all(|v| *v == 0.0) {
+            break;
+        }
+        w = unit(z);
+    }
+    // Exactly orthogonal to the parent's chord.
+    let wc: f64 = w.iter().zip(&c).map(|(u, v)| u * v).sum();
+    let w = unit(w.iter().zip(&c).map(|(u, v)| u - wc * v).collect());
+    if !w.iter().all(|v| v.is_finite()) {
+        return Err(OrbitError::Model(format!("no crossing direction at the branch point at {}", bif.param)));
+    }
+    let mut last = None;
+    for s in [1e-3, 1e-2, 3e-2] {
+        for sign in [1.0, -1.0] {
+            let x: Vec<f64> = (0..n).map(|i| bif.x[i] + sign * s * w[i] * xs).collect();
+            let param = bif.param + sign * s * w[n] * span;
+            let (x, param) = match ctx.correct(x.clone(), param, &w, None) {
+                Ok((y, l, _)) if ((0..n).map(|i| ((y[i] - x[i]) / xs).powi(2)).sum::<f64>() + ((l - param) / span).powi(2)).sqrt() <= 3.0 * s => (y, l),
+                Ok(_) => continue,
+                Err(e) => {
+                    last = Some(e);
+                    continue;
+                }
+            };
+            let side = if param != bif.param { (param - bif.param).signum() } else { sign * w[n].signum() };
+            let end = if side > 0.0 { range.0.max(range.1) } else { range.0.min(range.1) };
+            if (end - param) * side <= 0.0 {
+                continue;
+            }
+            let mut o = *opts;
+            (o.from, o.to) = (param, end);
+            // Where the branch meets the parent again: at one of its branch
+            // points, or at `bif`.
+            let meets = |f: &Bifurcation| {
+                f.kind == BifurcationKind::BranchPoint
+                    && parent
+                        .bifurcations
+                        .iter()
+                        .chain(std::iter::once(bif))
+                        .any(|g| g.kind == BifurcationKind::BranchPoint && (g.param - f.param).abs() <= 1e-4 * span && g.x.iter().zip(&f.x).all(|(u, v)| (u - v).abs() <= 1e-2 * xs))
+            };
+            let mut met = None;
+            let stop = &mut |br: &Branch| {
+                let f = br.bifurcations.iter().find(|f| meets(f))?;
+                met = Some(f.param);
+                Some(format!(
+                    "met the branch it crossed again at its branch point at param = {}: past it the orbits are the other half of the pair born there (on a symmetric structure, the mirror images of this branch's): not traced",
+                    f.param
+                ))
+            };
+            match continuation_until(family, &x, &o, &mut |_| true, stop) {
+                Ok(mut br) => {
+                    br.rejoins = met;
+                    return Ok(br);
+                }
+                Err(e) => last = Some(e),
+            }
+        }
+    }
+    Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no crossing branch found beside the branch point at {}", bif.param) }))
 }
 
 /// Recognises, on a period-doubled branch, the phase-shifted copy of an
@@ -1775,6 +1894,15 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
         if smooth && f(a) * f(b) < 0.0 {
             let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
             let kind = if kind == BifurcationKind::Fold && !det_sign { BifurcationKind::BranchPoint } else { kind };
+            // A turn in λ is a branch point only where a multiplier is at
+            // +1 there: elsewhere the branch turns at a corner (a flight
+            // grazing a stop, named a grazing) and the multipliers say
+            // nothing crosses. On the elastic oscillator between its stops
+            // two such turns were named, their multipliers 0.73 ± 0.68i
+            // (at a grazing) and a real pair near −0.1.
+            if kind == BifurcationKind::BranchPoint && !at_plus_one(&p) {
+                continue;
+            }
             // The period-doubling and Neimark–Sacker tests jump where
             // they change the multiplier they follow (the real multiplier
             // nearest −1 passes from one of two negative ones to the other,
@@ -1810,6 +1938,18 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
         });
     }
     out.sort_by_key(|p| p.between);
+}
+
+/// A multiplier at +1 at a located turn: within 1e-2 of it (as a branch
+/// point located by `det(P' − I)` is), or, on a volume-preserving map
+/// ([`on_circle`]), a pair whose `|μ − 1|²` is within 1e-2 — there the
+/// pair meets at +1 on the circle and its distance from +1 grows as the
+/// square root of the distance from the turn (the elastic oscillator's
+/// asymmetric orbit meeting the symmetric one: `0.9967 ± 0.0815i` at the
+/// bisection's end, 2.7e-7 in Ω from the symmetric branch's branch point).
+fn at_plus_one(p: &Point) -> bool {
+    let d = (critical(BifurcationKind::BranchPoint, p) - c64::new(1.0, 0.0)).norm();
+    d <= 1e-2 || (on_circle(p) && d * d <= 1e-2)
 }
 
 fn critical(kind: BifurcationKind, p: &Point) -> c64 {

@@ -4,7 +4,7 @@
 //! the files' text. No IO: the front ends read and write the files.
 
 use crate::output::{bifurcations_csv, branch_csv, branch_svg, Labelled};
-use crate::{continuation_watched, doubled_branch, BifurcationKind, Branch, ContinuationOptions, OrbitError, SceneFamily};
+use crate::{continuation_watched, crossing_branch, doubled_branch, BifurcationKind, Branch, ContinuationOptions, OrbitError, SceneFamily};
 use signorini_scene::Limits;
 
 /// What a continuation is asked (the options of `signorini continue`).
@@ -39,6 +39,17 @@ pub struct Continued {
     /// `watch` stopped the run: the files hold the points so far.
     pub interrupted: bool,
 }
+
+/// How many period doublings `--switch` follows in a cascade: from the
+/// branch of p forcing periods to the doubled branches born on it, theirs,
+/// and so on, down to orbits of `2^SWITCH_LEVELS p` periods. The period
+/// doublings of those are listed and not followed, a note saying so.
+pub const SWITCH_LEVELS: usize = 3;
+
+/// The most branches `--switch` lists (the first included); a period
+/// doubling or branch point met beyond is listed and not followed, a note
+/// saying so.
+pub const SWITCH_BRANCHES: usize = 24;
 
 fn opt(option: &'static str, message: String) -> OrbitError {
     OrbitError::Option { option, message }
@@ -93,38 +104,96 @@ pub fn continue_scene(
     let mut branches: Vec<(Branch, SceneFamily)> = vec![(main, family.clone())];
     let mut notes = Vec::new();
     if opts.switch && !stopped {
-        let doubled = family.with_periods(2 * opts.period);
-        let pds: Vec<_> = branches[0].0.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).cloned().collect();
-        // A doubled branch that rejoins the branch at another period
-        // doubling is the loop of orbits between the two: the branch from
-        // that one is the same loop (its orbits or their phase-shifted
-        // copies) and is not listed again.
+        // Each branch in turn, the doubled ones as they come (a cascade:
+        // p → 2p → 4p …, down to [`SWITCH_LEVELS`] doublings).
         let span = (opts.to - opts.from).abs();
-        let nearest = |at: f64| pds.iter().map(|p| p.param).min_by(|a, b| (a - at).abs().total_cmp(&(b - at).abs())).filter(|p| (p - at).abs() <= 1e-2 * span);
-        let mut from_pd: Vec<f64> = Vec::new();
-        for b in &pds {
-            if stopped || !watch(branches.len(), 0, b.param) {
-                stopped = true;
-                break;
-            }
-            if let Some(i) = branches[1..].iter().position(|(br, _)| br.rejoins.and_then(nearest) == Some(b.param)) {
-                notes.push(format!("note: the period-doubled branch from {} is branch {}'s loop, which rejoins there: not continued again", b.param, i + 1));
-                continue;
-            }
-            match doubled_branch(&family, &doubled, b, (opts.from, opts.to), &copts) {
-                Ok(br) => {
-                    // An earlier branch from the period doubling this one
-                    // rejoins at is part of this loop: dropped.
-                    if let Some(i) = br.rejoins.and_then(nearest).and_then(|back| from_pd.iter().position(|&f| f == back)) {
-                        notes.push(format!("note: the period-doubled branch from {} is part of the loop of the branch from {}, which rejoins there: listed once", from_pd[i], b.param));
-                        branches.remove(i + 1);
-                        from_pd.remove(i);
-                    }
-                    branches.push((br, doubled.clone()));
-                    from_pd.push(b.param);
+        // The branch points switched at or met again, with the branch.
+        let mut crossed: Vec<(f64, Vec<f64>, usize)> = Vec::new();
+        let mut i = 0;
+        while i < branches.len() && !stopped {
+            let fam = branches[i].1.clone();
+            let pds: Vec<_> = branches[i].0.bifurcations.iter().filter(|b| b.kind == BifurcationKind::PeriodDoubling).cloned().collect();
+            let deepest = fam.periods() >= opts.period << SWITCH_LEVELS;
+            if deepest {
+                for b in &pds {
+                    notes.push(format!(
+                        "note: the period doubling of branch {i} ({} forcing periods) at {} is not followed: --switch follows {SWITCH_LEVELS} doublings, to orbits of {} forcing periods",
+                        fam.periods(),
+                        b.param,
+                        opts.period << SWITCH_LEVELS
+                    ));
                 }
-                Err(e) => notes.push(format!("note: no period-doubled branch continued from {}: {e}", b.param)),
             }
+            let doubled = fam.with_periods(2 * fam.periods());
+            // A doubled branch that rejoins its branch at another period
+            // doubling is the loop of orbits between the two: the branch
+            // from that one is the same loop (its orbits or their
+            // phase-shifted copies) and is not listed again.
+            let nearest = |at: f64| pds.iter().map(|p| p.param).min_by(|a, b| (a - at).abs().total_cmp(&(b - at).abs())).filter(|p| (p - at).abs() <= 1e-2 * span);
+            // This branch's doubled ones: from `first` on.
+            let first = branches.len();
+            let mut from_pd: Vec<f64> = Vec::new();
+            for b in pds.iter().filter(|_| !deepest) {
+                if branches.len() >= SWITCH_BRANCHES {
+                    notes.push(format!("note: the period-doubled branch from {} (branch {i}) is not followed: --switch lists at most {SWITCH_BRANCHES} branches", b.param));
+                    continue;
+                }
+                if stopped || !watch(branches.len(), 0, b.param) {
+                    stopped = true;
+                    break;
+                }
+                if let Some(k) = branches[first..].iter().position(|(br, _)| br.rejoins.and_then(nearest) == Some(b.param)) {
+                    notes.push(format!("note: the period-doubled branch from {} is branch {}'s loop, which rejoins there: not continued again", b.param, first + k));
+                    continue;
+                }
+                match doubled_branch(&fam, &doubled, b, (opts.from, opts.to), &copts) {
+                    Ok(br) => {
+                        // An earlier branch from the period doubling this one
+                        // rejoins at is part of this loop: dropped.
+                        if let Some(k) = br.rejoins.and_then(nearest).and_then(|back| from_pd.iter().position(|&f| f == back)) {
+                            notes.push(format!("note: the period-doubled branch from {} is part of the loop of the branch from {}, which rejoins there: listed once", from_pd[k], b.param));
+                            branches.remove(first + k);
+                            from_pd.remove(k);
+                        }
+                        branches.push((br, doubled.clone()));
+                        from_pd.push(b.param);
+                    }
+                    Err(e) => notes.push(format!("note: no period-doubled branch continued from {}: {e}", b.param)),
+                }
+            }
+            // Its branch points: the branch crossing there, unless one
+            // listed already starts or ends at it (the asymmetric branch
+            // born at one pitchfork of a symmetric orbit that meets it
+            // again at the other; the point where a crossing branch
+            // rejoined the branch it crossed).
+            let bps: Vec<_> = branches[i].0.bifurcations.iter().filter(|b| b.kind == BifurcationKind::BranchPoint).cloned().collect();
+            for b in &bps {
+                let scale = b.x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
+                if let Some(&(_, _, k)) = crossed.iter().find(|(p, x, _)| (p - b.param).abs() <= 1e-4 * span && x.iter().zip(&b.x).all(|(u, v)| (u - v).abs() <= 1e-2 * scale)) {
+                    notes.push(format!("note: the branch crossing branch {i} at its branch point at {} is branch {k}, which starts or ends there: not continued again", b.param));
+                    continue;
+                }
+                if branches.len() >= SWITCH_BRANCHES {
+                    notes.push(format!("note: the branch crossing branch {i} at its branch point at {} is not followed: --switch lists at most {SWITCH_BRANCHES} branches", b.param));
+                    continue;
+                }
+                if stopped || !watch(branches.len(), 0, b.param) {
+                    stopped = true;
+                    break;
+                }
+                match crossing_branch(&fam, &branches[i].0, b, (opts.from, opts.to), &copts) {
+                    Ok(br) => {
+                        let k = branches.len();
+                        crossed.push((b.param, b.x.clone(), k));
+                        if let Some(met) = br.rejoins.and_then(|at| br.bifurcations.iter().find(|f| f.kind == BifurcationKind::BranchPoint && f.param == at)) {
+                            crossed.push((met.param, met.x.clone(), k));
+                        }
+                        branches.push((br, fam.clone()));
+                    }
+                    Err(e) => notes.push(format!("note: no branch continued from the branch point at {}: {e}", b.param)),
+                }
+            }
+            i += 1;
         }
     }
     let mut labelled = Vec::new();

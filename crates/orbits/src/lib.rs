@@ -22,7 +22,7 @@ mod scene;
 mod shoot;
 mod variational;
 
-pub use continuation::{continuation, continuation_watched, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family, Mark, Marker};
+pub use continuation::{continuation, continuation_watched, crossing_branch, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family, Mark, Marker};
 pub use map::{Image, Model};
 pub use scene::{Built, SceneFamily};
 pub use shoot::{autonomous_orbit, eigenvalues, periodic_orbit, Newton, Orbit};

@@ -2,6 +2,7 @@
 mod autonomous;
 mod basins;
 mod beam;
+mod cascade;
 mod chain;
 mod chatter;
 mod conservative;

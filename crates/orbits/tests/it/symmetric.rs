@@ -286,3 +286,140 @@ fn a_conservative_orbit_has_no_neimark_sacker_point() {
     let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
     assert!(kinds.len() == 1 && kinds[0].0 == "grazing" && (kinds[0].1 - 2.5f64.sqrt()).abs() < 1e-9, "{kinds:?}");
 }
+
+/// The elastic oscillator's map over one period, transcribed: the
+/// closed-form flow of `x'' + x = 1.5 sin Ωt` between impacts, each
+/// crossing of a stop `±1` (sampled at 1/4000 of the period, bisected to
+/// round-off) reflecting the velocity.
+fn elastic_map(w: f64, x: [f64; 2]) -> [f64; 2] {
+    let a = 1.5 / (1.0 - w * w);
+    let flow = |t0: f64, z: (f64, f64), t: f64| {
+        let (c1, c2) = (z.0 - a * (w * t0).sin(), z.1 - a * w * (w * t0).cos());
+        let (sn, cs) = (t - t0).sin_cos();
+        (c1 * cs + c2 * sn + a * (w * t).sin(), -c1 * sn + c2 * cs + a * w * (w * t).cos())
+    };
+    let (end, h) = (TAU / w, TAU / w / 4000.0);
+    let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);
+    while t < end {
+        let t1 = (t + h).min(end);
+        if flow(t0, z, t1).0.abs() > 1.0 {
+            let (mut lo, mut hi) = (t, t1);
+            for _ in 0..200 {
+                let m = 0.5 * (lo + hi);
+                if m <= lo || m >= hi {
+                    break;
+                }
+                if flow(t0, z, m).0.abs() > 1.0 {
+                    hi = m;
+                } else {
+                    lo = m;
+                }
+            }
+            let y = flow(t0, z, lo);
+            (t0, z, t) = (lo, (y.0.signum(), -y.1), lo);
+            continue;
+        }
+        t = t1;
+    }
+    let y = flow(t0, z, end);
+    [y.0, y.1]
+}
+
+/// The elastic oscillator between its stops from Ω = 1.2 down: its
+/// two-impact orbit turns in Ω where a flight between its impacts grazes a
+/// stop (1.0817624, named a grazing): a corner, where no multiplier is at
+/// +1 (the transcription's: 0.73 ± 0.68i). The turn was also named a
+/// branch point. Every branch point named must have a multiplier of the
+/// transcribed map (central differences at the listed state) at +1: within
+/// 0.15 of it (the pair of this area-preserving map meets +1 on the circle
+/// and leaves it as the square root of the distance from the point).
+#[test]
+fn a_turn_at_a_grazing_is_no_branch_point() {
+    let w0 = 1.2;
+    let m = Elastic.model(w0).unwrap();
+    let x0 = m.flow(0.0, &[0.0, 0.0], 400.0 * TAU / w0, false).unwrap().x;
+    let start = periodic_orbit(&m, 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    let mut opts = ContinuationOptions::new(w0, 0.45);
+    opts.max_points = 40;
+    let branch = continuation(&Elastic, &start.x, &opts).unwrap();
+    let bifs: Vec<_> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param, b.mu)).collect();
+    eprintln!("{bifs:?}; {}", branch.end);
+    let grazing = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing && (b.param - 1.0817624).abs() < 1e-6).expect("the grazing at 1.0817624");
+    for b in branch.bifurcations.iter().filter(|b| b.kind == BifurcationKind::BranchPoint) {
+        let x = [b.x[0], b.x[1]];
+        let mut j = [[0.0; 2]; 2];
+        for c in 0..2 {
+            let (mut p, mut q) = (x, x);
+            p[c] += 1e-7;
+            q[c] -= 1e-7;
+            let (fp, fq) = (elastic_map(b.param, p), elastic_map(b.param, q));
+            for r in 0..2 {
+                j[r][c] = (fp[r] - fq[r]) / 2e-7;
+            }
+        }
+        // The multiplier nearest +1 from the trace and determinant.
+        let (tr, det) = (j[0][0] + j[1][1], j[0][0] * j[1][1] - j[0][1] * j[1][0]);
+        let disc = tr * tr / 4.0 - det;
+        let near = if disc >= 0.0 { [tr / 2.0 + disc.sqrt(), tr / 2.0 - disc.sqrt()].iter().map(|m| (m - 1.0).abs()).fold(f64::INFINITY, f64::min) } else { (tr / 2.0 - 1.0).hypot((-disc).sqrt()) };
+        eprintln!("branch point at {}: the transcription's multiplier nearest +1 is {near:e} from it", b.param);
+        assert!(near <= 0.15 && (b.param - grazing.param).abs() > 1e-6, "branch point at {} (grazing at {}): the transcription's multipliers are {near:e} from +1", b.param, grazing.param);
+    }
+}
+
+/// `--switch` at the symmetric orbit's upper branch point
+/// ([`signorini_orbits::crossing_branch`]): the branch crossing there is
+/// the asymmetric one. Its orbits are no symmetric ones (`x(0) + x(T/2)`
+/// by the flow is off 0), the mirror image of each (`−x(T/2)`) is a
+/// periodic orbit too (a run of the flow over a period returns to it),
+/// and where a point is listed stable (`|μ|max < 0.95`; not within 1e-2
+/// of a grazing, where a run may cross it) a run from 1e-4
+/// beside it returns to it, where unstable (`|μ|max > 1.05`), leaves it.
+#[test]
+fn the_switch_at_a_branch_point_follows_the_asymmetric_branch() {
+    let sym = symmetric_branch();
+    let upper = &sym.bifurcations[0];
+    assert_eq!(upper.kind, BifurcationKind::BranchPoint);
+    let opts = ContinuationOptions::new(2.0, 0.9);
+    let br = signorini_orbits::crossing_branch(&Between, &sym, upper, (2.0, 0.9), &opts).unwrap();
+    eprintln!("{} points from {} to {}: {}", br.points.len(), br.points[0].param, br.points.last().unwrap().param, br.end);
+    for b in &br.bifurcations {
+        eprintln!("  {} at {}", b.kind.name(), b.param);
+    }
+    assert!(br.points.len() >= 5, "{} points", br.points.len());
+    // It ends where it meets the symmetric branch again: at its lower
+    // branch point (the asymmetric orbit turning onto its mirror image).
+    let lower = sym.bifurcations[1].param;
+    assert!(br.rejoins.is_some_and(|at| (at - lower).abs() <= 1e-6), "ends at {:?}, the lower branch point at {lower}: {}", br.rejoins, br.end);
+    let (mut stable, mut unstable) = (0, 0);
+    for p in br.points.iter().step_by(3) {
+        let w = p.param;
+        let a = asymmetry(w, &p.orbit.x);
+        // Past the branch point where it meets the symmetric orbit again
+        // the asymmetry is small: checked away from it.
+        if (w - upper.param).abs() < 1e-3 {
+            continue;
+        }
+        assert!(a.abs() > 1e-3, "Ω = {w}: a symmetric orbit ({a})");
+        let half = Between.at(w).flow(0.0, &p.orbit.x, TAU / w / 2.0, false).unwrap().x;
+        let mirror = [-half[0], -half[1]];
+        let back = settle(w, &mirror, 1.0);
+        let d = (back[0] - mirror[0]).abs().max((back[1] - mirror[1]).abs());
+        assert!(d <= 1e-9 && (mirror[0] - p.orbit.x[0]).abs() > 1e-4, "Ω = {w}: the mirror image is {d:e} from periodic");
+        // Not beside a grazing (a run from beside may cross it).
+        if br.bifurcations.iter().any(|b| b.kind == BifurcationKind::Grazing && (b.param - w).abs() <= 1e-2) {
+            continue;
+        }
+        let end = settle(w, &[p.orbit.x[0] + 1e-4, p.orbit.x[1]], 400.0);
+        let gone = (end[0] - p.orbit.x[0]).abs().max((end[1] - p.orbit.x[1]).abs());
+        // Away from +1 (near it the run closes in too slowly to tell).
+        if p.stable() && p.orbit.mu_max() < 0.95 {
+            stable += 1;
+            assert!(gone <= 1e-8, "Ω = {w}: stable, but the run ends {gone:e} from it");
+        } else if p.orbit.mu_max() > 1.05 {
+            unstable += 1;
+            assert!(gone >= 1e-4, "Ω = {w}: unstable, but the run ends {gone:e} from it");
+        }
+    }
+    eprintln!("{stable} stable, {unstable} unstable checked");
+    assert!(stable >= 2, "{stable} stable points checked");
+}
