@@ -63,8 +63,8 @@ pub struct Capabilities {
     /// Runs that share a step matrix can be stepped together by the
     /// lockstep engine ([`crate::PaoliSchatzmanLockstep`],
     /// [`crate::MoreauJeanLockstep`], [`crate::NsgaLockstep`],
-    /// [`crate::ContactStabilizedLockstep`], [`crate::CdLagrangeLockstep`];
-    /// [`crate::LockstepScheme`]: one contact,
+    /// [`crate::ContactStabilizedLockstep`], [`crate::CdLagrangeLockstep`],
+    /// [`crate::MoreauJeanCombinedLockstep`]; [`crate::LockstepScheme`]: one contact,
     /// undamped, a massive contact node, half-bandwidth 3), each lane bit
     /// for bit its single run; a sweep batches such runs.
     pub lockstep: bool,

@@ -1,7 +1,8 @@
 //! What every lockstep engine ([`PaoliSchatzmanLockstep`](crate::PaoliSchatzmanLockstep),
 //! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
 //! [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep),
-//! [`CdLagrangeLockstep`](crate::CdLagrangeLockstep))
+//! [`CdLagrangeLockstep`](crate::CdLagrangeLockstep),
+//! [`MoreauJeanCombinedLockstep`](crate::MoreauJeanCombinedLockstep))
 //! shares: the lane of a batch ([`LockstepLane`]), the time loop's view of
 //! an engine ([`Lockstep`]), and one lane state ([`LaneState`]: the shared
 //! matrices' rows, the factor's rows and projection column, the loads and

@@ -364,6 +364,13 @@ pub enum LockstepScheme {
         /// Restitution `e`.
         restitution: f64,
     },
+    /// `moreau-jean-combined(θ, e)`: [`MoreauJeanCombinedLockstep`](crate::MoreauJeanCombinedLockstep).
+    MoreauJeanCombined {
+        /// θ.
+        theta: f64,
+        /// Restitution `e`.
+        restitution: f64,
+    },
 }
 
 impl LockstepScheme {
@@ -379,6 +386,7 @@ impl LockstepScheme {
             "nsga" => Some(Self::Nsga { rho_inf: spec.param("rho_inf")?, restitution: spec.param("e")? }),
             "contact-stabilized" => Some(Self::ContactStabilized),
             "cd-lagrange" => Some(Self::CdLagrange { restitution: spec.param("e")? }),
+            "moreau-jean-combined" => Some(Self::MoreauJeanCombined { theta: spec.param("theta")?, restitution: spec.param("e")? }),
             _ => None,
         }
     }
@@ -390,7 +398,8 @@ impl LockstepScheme {
             | Self::MoreauJean { restitution, .. }
             | Self::MoreauJeanProjected { restitution, .. }
             | Self::Nsga { restitution, .. }
-            | Self::CdLagrange { restitution } => restitution,
+            | Self::CdLagrange { restitution }
+            | Self::MoreauJeanCombined { restitution, .. } => restitution,
             Self::ContactStabilized => 0.0,
         }
     }

@@ -20,7 +20,8 @@ pub const LANES: usize = 16;
 /// stops, not continued from another run, whose scheme can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
 /// them, `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`,
-/// `nsga(ρ∞, e)`, `contact-stabilized` and `cd-lagrange(e)`;
+/// `nsga(ρ∞, e)`, `contact-stabilized`, `cd-lagrange(e)` and
+/// `moreau-jean-combined(θ, e)`;
 /// [`LockstepScheme`]), within its
 /// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
@@ -71,7 +72,8 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 /// Runs `group` (beam runs sharing a step matrix) in lockstep
 /// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] (also
 /// `moreau-jean-projected`), [`NsgaLockstep`],
-/// [`ContactStabilizedLockstep`] or [`CdLagrangeLockstep`] stepped by
+/// [`ContactStabilizedLockstep`], [`CdLagrangeLockstep`] or
+/// `MoreauJeanCombinedLockstep` stepped by
 /// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
@@ -103,6 +105,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
             (LockstepScheme::Nsga { rho_inf: a, .. }, LockstepScheme::Nsga { rho_inf: b, .. }) => a == b,
             (LockstepScheme::ContactStabilized, LockstepScheme::ContactStabilized) => true,
             (LockstepScheme::CdLagrange { .. }, LockstepScheme::CdLagrange { .. }) => true,
+            (LockstepScheme::MoreauJeanCombined { theta: a, .. }, LockstepScheme::MoreauJeanCombined { theta: b, .. }) => a == b,
             _ => false,
         };
         if first.is_some_and(|(s, dt)| !same(s) || dt != d) || plan.dt != d {
@@ -123,6 +126,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         LockstepScheme::Nsga { rho_inf, .. } => run_group(NsgaLockstep::<L>::new(rho_inf, dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::CdLagrange { .. } => run_group(CdLagrangeLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::MoreauJeanCombined { theta, .. } => run_group(signorini_schemes::MoreauJeanCombinedLockstep::<L>::new(theta, dt, lanes).ok()?, &lanes_of, interrupt),
     }
 }
 

@@ -123,7 +123,7 @@ fn explicit_dt(scheme: &str) -> &'static str {
 /// A sweep of a registry-named scheme that can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β,
 /// `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`, `nsga(ρ∞, e)`,
-/// `contact-stabilized` and `cd-lagrange(e)`) takes
+/// `contact-stabilized`, `cd-lagrange(e)` and `moreau-jean-combined(θ, e)`) takes
 /// its engine, each lane its single run bit for bit; schemes that cannot
 /// (penalty, Newmark, `d1-minus-linear`, the event-driven reference) run
 /// one at a time.
@@ -147,9 +147,10 @@ fn registry_schemes_that_can_run_in_lockstep_do() {
         ("moreau-jean-projected(0.7,0.5,0.3)", true),
         ("cd-lagrange(0)", true),
         ("cd-lagrange(0.5)", true),
+        ("moreau-jean-combined(0.7,0.3)", true),
         ("d1-minus-linear(0)", false),
         ("d1-minus-linear-velocity(0.5)", false),
-        ("moreau-jean-combined(0.5,0)", false),
+        ("moreau-jean-combined(0.5,0)", true),
         ("penalty-cn", false),
         ("newmark-cn", false),
         ("event-driven", false),
