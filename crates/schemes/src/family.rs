@@ -64,8 +64,8 @@ pub struct Capabilities {
     /// lockstep engine ([`crate::PaoliSchatzmanLockstep`],
     /// [`crate::MoreauJeanLockstep`], [`crate::NsgaLockstep`],
     /// [`crate::ContactStabilizedLockstep`], [`crate::CdLagrangeLockstep`],
-    /// [`crate::D1MinusLinearLockstep`];
-    /// [`crate::LockstepScheme`]: one contact,
+    /// [`crate::D1MinusLinearLockstep`],
+    /// [`crate::MoreauJeanCombinedLockstep`]; [`crate::LockstepScheme`]: one contact,
     /// undamped, a massive contact node, half-bandwidth 3), each lane bit
     /// for bit its single run; a sweep batches such runs.
     pub lockstep: bool,

@@ -2,7 +2,8 @@
 //! [`MoreauJeanLockstep`](crate::MoreauJeanLockstep), [`NsgaLockstep`](crate::NsgaLockstep),
 //! [`ContactStabilizedLockstep`](crate::ContactStabilizedLockstep),
 //! [`CdLagrangeLockstep`](crate::CdLagrangeLockstep),
-//! [`D1MinusLinearLockstep`](crate::D1MinusLinearLockstep))
+//! [`D1MinusLinearLockstep`](crate::D1MinusLinearLockstep),
+//! [`MoreauJeanCombinedLockstep`](crate::MoreauJeanCombinedLockstep))
 //! shares: the lane of a batch ([`LockstepLane`]), the time loop's view of
 //! an engine ([`Lockstep`]), and one lane state ([`LaneState`]: the shared
 //! matrices' rows, the factor's rows and projection column, the loads and

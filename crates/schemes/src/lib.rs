@@ -65,9 +65,10 @@
 //!   started by one [`OneStep`] Newmark(β, 1/2) step.
 //!   [`PaoliSchatzmanLockstep`] steps `L` runs that share its step matrix
 //!   together (a sweep), each lane bit-identical to its single run;
-//!   [`MoreauJeanLockstep`], [`NsgaLockstep`], [`ContactStabilizedLockstep`]
-//!   and [`CdLagrangeLockstep`] do the same for [`MoreauJean`], [`Nsga`],
-//!   [`ContactStabilized`] and [`CdLagrange`] (all five behind the [`Lockstep`] trait, on
+//!   [`MoreauJeanLockstep`], [`NsgaLockstep`], [`ContactStabilizedLockstep`],
+//!   [`CdLagrangeLockstep`] and [`MoreauJeanCombinedLockstep`] do the same
+//!   for [`MoreauJean`], [`Nsga`], [`ContactStabilized`], [`CdLagrange`]
+//!   and [`MoreauJeanCombined`] (all six behind the [`Lockstep`] trait, on
 //!   one lane state; [`LockstepScheme`] says which engine a registry
 //!   scheme takes).
 //!
@@ -170,6 +171,7 @@ macro_rules! delegate_stepper {
 
 mod cd_lagrange;
 mod cd_lockstep;
+mod combined_lockstep;
 mod d1_lockstep;
 mod d1minus;
 pub mod events;
@@ -197,6 +199,7 @@ mod verlet_nitsche;
 
 pub use cd_lagrange::CdLagrange;
 pub use cd_lockstep::CdLagrangeLockstep;
+pub use combined_lockstep::MoreauJeanCombinedLockstep;
 pub use d1_lockstep::D1MinusLinearLockstep;
 pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};

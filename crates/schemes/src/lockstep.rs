@@ -372,6 +372,13 @@ pub enum LockstepScheme {
         /// Restitution `e`.
         restitution: f64,
     },
+    /// `moreau-jean-combined(θ, e)`: [`MoreauJeanCombinedLockstep`](crate::MoreauJeanCombinedLockstep).
+    MoreauJeanCombined {
+        /// θ.
+        theta: f64,
+        /// Restitution `e`.
+        restitution: f64,
+    },
 }
 
 impl LockstepScheme {
@@ -389,6 +396,7 @@ impl LockstepScheme {
             "cd-lagrange" => Some(Self::CdLagrange { restitution: spec.param("e")? }),
             "d1-minus-linear" => Some(Self::D1MinusLinear { level: crate::D1Level::Acceleration, restitution: spec.param("e")? }),
             "d1-minus-linear-velocity" => Some(Self::D1MinusLinear { level: crate::D1Level::Velocity, restitution: spec.param("e")? }),
+            "moreau-jean-combined" => Some(Self::MoreauJeanCombined { theta: spec.param("theta")?, restitution: spec.param("e")? }),
             _ => None,
         }
     }
@@ -401,7 +409,8 @@ impl LockstepScheme {
             | Self::MoreauJeanProjected { restitution, .. }
             | Self::Nsga { restitution, .. }
             | Self::CdLagrange { restitution }
-            | Self::D1MinusLinear { restitution, .. } => restitution,
+            | Self::D1MinusLinear { restitution, .. }
+            | Self::MoreauJeanCombined { restitution, .. } => restitution,
             Self::ContactStabilized => 0.0,
         }
     }

@@ -56,6 +56,11 @@ impl MoreauJeanCombined {
         Ok(Self { mj, u0: vec![0.0; n], v0: vec![0.0; n], free: vec![0.0; n], projections: 0, passes: 0, projection_energy: 0.0 })
     }
 
+    /// Velocity `V^n`.
+    pub fn velocity(&self) -> &[f64] {
+        self.mj.velocity()
+    }
+
     /// The steps whose projection acted so far.
     pub fn projections(&self) -> u64 {
         self.projections
@@ -168,7 +173,7 @@ pub(crate) static MOREAU_JEAN_COMBINED: Family = Family {
     params: &[moreau::THETA, moreau::E],
     presets: &[],
     validate: moreau::check_params,
-    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, ..Capabilities::IMPLICIT },
+    capabilities: |_| Capabilities { node: Node::Massive, restitution: true, lockstep: true, ..Capabilities::IMPLICIT },
     cfl_limit: |_, _| Ok(None),
     stability_rule: |_| None,
     build: |s, dy, dt, init| Ok(Box::new(MoreauJeanCombined::new(s.to_string(), dy, s.args()[0], s.args()[1], dt, init)?)),

@@ -23,7 +23,7 @@ pub const LANES: usize = 16;
 /// (`Capabilities::lockstep`: `ps(e, β)`, the paper's projection among
 /// them, `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`,
 /// `nsga(ρ∞, e)`, `contact-stabilized`, `cd-lagrange(e)` and
-/// `d1-minus-linear(e)` on both levels;
+/// `d1-minus-linear(e)` on both levels, `moreau-jean-combined(θ, e)`;
 /// [`LockstepScheme`]), within its
 /// stability limit or forced past it as its single run.
 /// The lane is the run's [`Simulation`](signorini_scene::Simulation) (the
@@ -75,7 +75,7 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
 /// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] (also
 /// `moreau-jean-projected`), [`NsgaLockstep`],
 /// [`ContactStabilizedLockstep`], [`CdLagrangeLockstep`] or
-/// [`D1MinusLinearLockstep`] stepped by
+/// [`D1MinusLinearLockstep`] or `MoreauJeanCombinedLockstep` stepped by
 /// [`signorini_run::run_lockstep`]):
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
@@ -108,6 +108,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
             (LockstepScheme::ContactStabilized, LockstepScheme::ContactStabilized) => true,
             (LockstepScheme::CdLagrange { .. }, LockstepScheme::CdLagrange { .. }) => true,
             (LockstepScheme::D1MinusLinear { level: a, .. }, LockstepScheme::D1MinusLinear { level: b, .. }) => a == b,
+            (LockstepScheme::MoreauJeanCombined { theta: a, .. }, LockstepScheme::MoreauJeanCombined { theta: b, .. }) => a == b,
             _ => false,
         };
         if first.is_some_and(|(s, dt)| !same(s) || dt != d) || plan.dt != d {
@@ -129,6 +130,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
         LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::CdLagrange { .. } => run_group(CdLagrangeLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
         LockstepScheme::D1MinusLinear { level, .. } => run_group(D1MinusLinearLockstep::<L>::new(level, dt, lanes).ok()?, &lanes_of, interrupt),
+        LockstepScheme::MoreauJeanCombined { theta, .. } => run_group(signorini_schemes::MoreauJeanCombinedLockstep::<L>::new(theta, dt, lanes).ok()?, &lanes_of, interrupt),
     }
 }
 

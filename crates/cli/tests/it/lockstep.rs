@@ -123,10 +123,10 @@ fn explicit_dt(scheme: &str) -> &'static str {
 /// A sweep of a registry-named scheme that can run in lockstep
 /// (`Capabilities::lockstep`: `ps(e, β)`, with restitution and any β,
 /// `moreau-jean(θ, e, γ)`, `moreau-jean-projected(θ, e, γ)`, `nsga(ρ∞, e)`,
-/// `contact-stabilized`, `cd-lagrange(e)` and `d1-minus-linear(e)` on both
-/// levels) takes its engine, each lane its single run bit for bit; schemes
-/// that cannot (penalty, Newmark, the event-driven reference) run one at a
-/// time.
+/// `contact-stabilized`, `cd-lagrange(e)`, `d1-minus-linear(e)` on both
+/// levels and `moreau-jean-combined(θ, e)`) takes its engine, each lane its
+/// single run bit for bit; schemes that cannot (penalty, Newmark, the
+/// event-driven reference) run one at a time.
 #[test]
 fn registry_schemes_that_can_run_in_lockstep_do() {
     let bits = |v: &[[f64; 4]]| v.iter().flat_map(|r| r.map(f64::to_bits)).collect::<Vec<_>>();
@@ -151,7 +151,8 @@ fn registry_schemes_that_can_run_in_lockstep_do() {
         ("d1-minus-linear(0.5)", true),
         ("d1-minus-linear-velocity(0)", true),
         ("d1-minus-linear-velocity(0.5)", true),
-        ("moreau-jean-combined(0.5,0)", false),
+        ("moreau-jean-combined(0.7,0.3)", true),
+        ("moreau-jean-combined(0.5,0)", true),
         ("penalty-cn", false),
         ("newmark-cn", false),
         ("event-driven", false),

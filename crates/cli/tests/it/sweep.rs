@@ -746,6 +746,14 @@ fn a_contact_stabilized_sweep_in_lockstep_is_its_runs_one_at_a_time() {
     lockstep_sweep_is_its_runs_one_at_a_time("contact-stabilized");
 }
 
+/// The same for `moreau-jean-combined` with a restitution
+/// (`MoreauJeanCombinedLockstep`: lanes that redo their step while the
+/// others wait; θ = 0.7, as θ = 1/2 blows up on fig. 2).
+#[test]
+fn a_moreau_jean_combined_sweep_in_lockstep_is_its_runs_one_at_a_time() {
+    lockstep_sweep_is_its_runs_one_at_a_time("moreau-jean-combined(0.7,0.3)");
+}
+
 /// The same for `cd-lagrange` with a restitution (`CdLagrangeLockstep`;
 /// explicit: dt = 1e-5, below its limit 1.2395e-5 on fig. 2).
 #[test]

@@ -967,6 +967,7 @@ macro_rules! builds {
     )*};
 }
 builds!(PaoliSchatzmanLockstep, MoreauJeanLockstep, NsgaLockstep, ContactStabilizedLockstep, CdLagrangeLockstep, D1MinusLinearLockstep);
+builds!(MoreauJeanCombinedLockstep);
 
 /// A vector of an engine's lanes beyond `U^n` (`V^n`, a predictor, …),
 /// compared with its single run's bit for bit from level `from` on.

@@ -14,7 +14,7 @@
 
 use super::lockstep::{failing_lanes, lane, pipe, pipe_harmonics};
 use crate::common::{check_lane_refusals, check_lockstep, Extra};
-use signorini_schemes::{CdLagrange, CdLagrangeLockstep, Harmonic, LockstepLane, SchemeError, Stepper};
+use signorini_schemes::{CdLagrange, CdLagrangeLockstep, Harmonic, LockstepLane, SchemeError, Stepper, TimeProfile};
 
 const DT: f64 = 1e-5;
 
@@ -154,4 +154,66 @@ fn refusals_are_typed() {
     assert!(matches!(CdLagrangeLockstep::<4>::new(DT, vec![d]).err(), Some(SchemeError::Invalid { field: "restitution", .. })));
     // What the single run refuses: a non-positive step.
     assert!(CdLagrangeLockstep::<4>::new(0.0, vec![base()]).is_err() && CdLagrange::new("s".into(), base().dynamics, 0.0, 0.0, &base().initial).is_err());
+}
+
+/// A lane whose Newton's law lands in its warm start's window: the contact
+/// held at step 1 (status `Lower` kept per lane) and at step 2 its free
+/// velocity `y_c` above the bound `−e v_c^{n−½}` by less than the pivoting
+/// tolerance (`64 ε` of their size), where the warm start keeps the contact
+/// held (a multiplier `<= 0`, `v_c` put on the bound) and a cold start
+/// would leave it free. The lane starts at `U = 0` below its lower stop
+/// (`lo = 1e-3`: closed at steps 1 and 2), `V = −e_c`, e = ½, driven by the
+/// pipe's forcing shape with the profile `A sin t` (0 at step 1, so step 1
+/// is held whatever `A`; `y_c` at step 2 affine in `A`). `A` is found here
+/// by bisection on the single run (its step-2 force: `< 0` held by a
+/// genuine violation, `> 0` only from the warm start's window, `−0` free).
+/// Its mirror image at the upper stop, and two rattling lanes beside them;
+/// checked bit for bit, and on the single runs that step 2's force is
+/// `> 0` (lower) and `< 0` (upper): the window reached.
+#[test]
+fn lanes_in_the_warm_starts_window_are_bit_identical() {
+    let window = |amp: f64, sign: f64| {
+        let (mut dy, mut init) = pipe(19, 1.0, 10.0, if sign > 0.0 { (1e-3, 1.0) } else { (-1.0, -1e-3) });
+        dy.forcing[0].time = TimeProfile::Sine { amplitude: sign * amp, omega: 1.0 };
+        let c = dy.contacts[0].dof;
+        init.u.iter_mut().for_each(|u| *u = 0.0);
+        init.v.iter_mut().for_each(|v| *v = 0.0);
+        init.v[c] = -sign;
+        lane((dy, init), 0.5)
+    };
+    // The single run's forces at steps 1 and 2.
+    let forces = |l: &LockstepLane| {
+        let mut s = CdLagrange::new("s".into(), l.dynamics.clone(), l.restitution, DT, &l.initial).unwrap();
+        let first = s.step().unwrap().lambda.unwrap().1;
+        (first, s.step().unwrap().lambda.unwrap().1)
+    };
+    let second = |amp: f64| {
+        let (first, second) = forces(&window(amp, 1.0));
+        assert!(first < 0.0, "step 1 is held: A = {amp:e}");
+        second
+    };
+    // Bisection on A between a held (λ < 0) and a free (λ = −0) step 2.
+    let (mut held, mut free) = (-1e12, 1e12);
+    assert!(second(held) < 0.0 && second(free) == 0.0, "{} {}", second(held), second(free));
+    let mut found = None;
+    for _ in 0..300 {
+        let mid = 0.5 * (held + free);
+        let lam = second(mid);
+        if lam > 0.0 {
+            found = Some(mid);
+            break;
+        }
+        if lam < 0.0 {
+            held = mid;
+        } else {
+            free = mid;
+        }
+    }
+    let amp = found.expect("an amplitude whose step 2 lands in the warm start's window");
+    let (lower, upper) = (window(amp, 1.0), window(amp, -1.0));
+    assert!(forces(&lower).1 > 0.0 && forces(&upper).1 < 0.0, "the window at both stops: A = {amp:e}");
+    let stops = (-0.01, 0.01);
+    let lanes = vec![lower, lane(pipe(19, 0.2, 10.0, stops), 0.5), upper, lane(pipe(19, 0.3, 31.0, stops), 0.0)];
+    let counts = compare::<4>(DT, lanes, 2000);
+    assert!(counts[0].0 > 1 && counts[2].1 > 1, "{counts:?}");
 }

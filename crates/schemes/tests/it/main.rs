@@ -13,6 +13,7 @@ mod common;
 mod carpenter;
 mod cd_lagrange;
 mod cd_lagrange_lockstep;
+mod combined_lockstep;
 mod conformance;
 mod d1_minus_linear_lockstep;
 mod d1minus;
