@@ -247,6 +247,12 @@ fn newton_orbit(model: &Model, t0: f64, period: f64, guess: &[f64], newton: &New
     Err(OrbitError::NoConvergence { residual: res, iterations: newton.max_iter, why: "no periodic orbit near the start (Newton's residual did not fall below the tolerance)".into() })
 }
 
+/// The longest trial period of [`autonomous_orbit`], in multiples of the
+/// guess: a Newton step that goes beyond is halved (a lumped bar above its
+/// contact threshold stepped from the guess 2.09 to 1.9e11, whose flow,
+/// an event every ~80 time units, did not end).
+const PERIOD_REACH: f64 = 4.0;
+
 /// A periodic orbit of an autonomous model at the energy `energy`, its
 /// period unknown: Gauss–Newton on `P_T(x) − x = 0`, the phase condition
 /// `f(x_ref)ᵀ (x − x_ref) = 0` (`x_ref` = `guess`) and `E(x) = energy`
@@ -328,14 +334,20 @@ pub fn autonomous_orbit(model: &Model, guess: &[f64], period: f64, energy: f64, 
         loop {
             let tx: Vec<f64> = (0..n).map(|i| x[i] + lambda * step[(i, 0)]).collect();
             let tt = t + lambda * step[(n, 0)];
-            let attempt = if tt > 0.0 { eval(&tx, tt).ok() } else { None };
+            // A trial period beyond `PERIOD_REACH` times the guess is not
+            // run: the flow's cost grows with it (docs/orbits.md).
+            let attempt = if tt > 0.0 && tt <= PERIOD_REACH * period { eval(&tx, tt).ok() } else { None };
             match attempt {
                 Some((ti, tg, tr)) if merit(&tr) < m0 || lambda < 1.0 / 256.0 => {
                     (x, t, img, ge, rows) = (tx, tt, ti, tg, tr);
                     break;
                 }
                 None if lambda < 1.0 / 256.0 => {
-                    return Err(OrbitError::NoConvergence { residual: res, iterations: it, why: format!("no admissible step (the period went to {tt}, or the flow has no derivative there)") });
+                    return Err(OrbitError::NoConvergence {
+                        residual: res,
+                        iterations: it,
+                        why: format!("no admissible step (the period went to {tt}, allowed: > 0 and at most {PERIOD_REACH} times the guess {period}; or the flow has no derivative there)"),
+                    });
                 }
                 _ => lambda *= 0.5,
             }

@@ -215,3 +215,41 @@ fn the_backbone_reaches_huge_energies_in_long_steps() {
         assert!(d <= 1e-9 * size, "E = {}: the flow over T = {} ends {d:e} from the orbit's state (size {size:e})", p.energy, p.period);
     }
 }
+
+/// The lumped bar of 10 elements, gap 0.1, just above its contact
+/// threshold (E = 0.006; 0.005 is the energy at which the exact bar's end
+/// reaches the gap): Newton's first step took the period from the guess
+/// 2.09 to 1.9e11, a flow of an event every ~80 time units that did not
+/// end (`modes --from 0.006 --to 0.006 --points 1`). Now every trial
+/// period is at most 4 times the guess. The search's work is counted
+/// through the interrupt (polled every 256 steps): the whole shooting
+/// must take fewer than a bound that the trial periods allow (31 Newton
+/// iterations of 9 trials of at most 4 × 2.09, a few thousand steps
+/// each), where the unbounded flow exhausted it; and the point found (or
+/// the typed error) is checked against what holds independently.
+#[test]
+fn the_lumped_bar_above_its_threshold_ends() {
+    use signorini_orbits::modes::{backbone_of, ModeScene};
+    use std::sync::atomic::{AtomicU64, Ordering};
+    use std::sync::Arc;
+    let mut doc = bar(10, "lumped", "event-driven", 0.1);
+    doc["bar"].as_table_mut().unwrap().insert("initial_displacement".into(), "0.1*(1-x)".into());
+    let scene = ModeScene::new(&doc).unwrap();
+    let polls = Arc::new(AtomicU64::new(0));
+    let count = polls.clone();
+    // 2e4 polls: 5e6 search steps.
+    const BUDGET: u64 = 20_000;
+    let model = scene.model.with_interrupt(Some(Arc::new(move || count.fetch_add(1, Ordering::Relaxed) >= BUDGET)));
+    let scene = ModeScene { model, ..scene };
+    let modes = backbone_of(&scene, &[0.006], &Newton { tol: 1e-11, scale: 1e-300, max_iter: 30, stall: 0 });
+    let used = polls.load(Ordering::Relaxed);
+    assert!(used < BUDGET, "the shooting took {used} polls of the search: a trial flow far beyond the period");
+    match modes {
+        Ok(m) => {
+            let p = &m.points[0];
+            assert!(p.period > 0.0 && p.period <= 4.0 * 2.1);
+        }
+        Err(OrbitError::NoConvergence { why, .. }) => assert!(why.contains("period"), "{why}"),
+        Err(e) => panic!("{e}"),
+    }
+}
