@@ -70,7 +70,10 @@
 //! `t + τ∞`, for `e = 1` at the impact), the contact at rest (then held if
 //! pressed), the state within `w` and the band of the rebounding one. The
 //! same holds for any contact an impact leaves moving off its bound that
-//! low (lifted by another's impulse through the mass). The band's length
+//! low (lifted by another's impulse through the mass), and for one that an
+//! accumulation's impulse lifts that low or so little that it would land
+//! again before the accumulation's limit `t∞` (a joint accumulation: the
+//! impulses projected again with it at rest too). The band's length
 //! is the largest of the bounds and the start's displacements (every
 //! dof's), or, when those are all 0, the largest displacement met at an
 //! event so far.
@@ -639,8 +642,8 @@ impl EventDriven {
             if at[j].is_none() || due.iter().any(|d| d.0 == j) {
                 continue;
             }
-            if let Some((w, a)) = self.departure(t, &q, &v, j, at[j] == Some(true)).filter(|(w, a)| w * w / (2.0 * a) <= 1e-12 * self.sites[j].scale) {
-                due.push((j, t + self.rebounds_last(w, a, j), v[self.sites[j].dof]));
+            if let Some(t_inf) = self.lifted_to_rest(t, &q, &v, j, at[j] == Some(true), 0.0) {
+                due.push((j, t_inf, v[self.sites[j].dof]));
             }
         }
         if !due.is_empty() {
@@ -653,11 +656,35 @@ impl EventDriven {
                     None => {}
                 }
             }
-            for &(j, ..) in &due {
-                (lo[j], hi[j]) = (0.0, 0.0);
-            }
-            self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-            let mu = self.delassus.multipliers().to_vec();
+            // The accumulations' impulses lift the other contacts on their
+            // bounds through a consistent mass (they stand for the smooth
+            // forces over the tail [t, t∞], during which those stay on):
+            // one lifted within the band, or landing again before the
+            // latest t∞, is at rest too (a joint accumulation), the
+            // impulses projected again from the impacts' velocities. Two
+            // contacts whose accumulations lifted each other landed in turn
+            // at 1e-10 and 1e-8 m/s to the event limit, or before the
+            // other's logged t∞ (docs/theory.md §9.3).
+            let impacts = v.clone();
+            let mu = loop {
+                for &(j, ..) in &due {
+                    (lo[j], hi[j]) = (0.0, 0.0);
+                }
+                self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+                let joined = due.len();
+                let tail = due.iter().fold(t, |m, d| m.max(d.1)) - t;
+                for j in 0..kc {
+                    if at[j].is_some() && !due.iter().any(|d| d.0 == j) {
+                        if let Some(t_inf) = self.lifted_to_rest(t, &q, &v, j, at[j] == Some(true), tail) {
+                            due.push((j, t_inf, v[self.sites[j].dof]));
+                        }
+                    }
+                }
+                if due.len() == joined {
+                    break self.delassus.multipliers().to_vec();
+                }
+                v.clone_from(&impacts);
+            };
             for (i, m) in mu.iter().enumerate() {
                 self.impulses[i] += m;
             }
@@ -728,6 +755,17 @@ impl EventDriven {
         let below_time = self.sites[j].restitution < 1.0 && tau <= 4.0 * time_resolution(t);
         let below_position = w * w / (2.0 * a) <= 1e-12 * self.sites[j].scale;
         (below_time || below_position).then_some(t + tau)
+    }
+
+    /// Contact `j` on its bound (its upper one if `upper`) leaving it at a
+    /// speed `w` against the acceleration `a` back: taken at rest if its
+    /// rise `w²/(2|a|)` is within the band where it counts as at its bound,
+    /// or if it would land again within `tail` (`2w/|a| <= tail`: inside
+    /// an accumulation's neglected tail); then the limit `t + τ∞` of its
+    /// rebounds (module docs), where it is logged.
+    fn lifted_to_rest(&self, t: f64, q: &[f64], v: &[f64], j: usize, upper: bool, tail: f64) -> Option<f64> {
+        let (w, a) = self.departure(t, q, v, j, upper).filter(|(w, a)| w * w / (2.0 * a) <= 1e-12 * self.sites[j].scale || 2.0 * w / a <= tail)?;
+        Some(t + self.rebounds_last(w, a, j))
     }
 
     /// How long contact `j`'s rebounds last, leaving at the speed `w`

@@ -8,6 +8,7 @@
 #[path = "../events_common/mod.rs"]
 mod events_common;
 
+mod events_chatter;
 mod events_degenerate;
 mod events_driven;
 mod events_events;
