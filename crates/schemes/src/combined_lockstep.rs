@@ -45,7 +45,8 @@
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::lanes::{backward, check_count, check_lanes, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Combine, Done, LaneState, Refusals, TwoProducts};
+use crate::lanes::{backward, check_count, check_lanes, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Done, LaneState, Refusals, TwoProducts};
+use crate::moreau_lockstep::Velocities;
 use crate::{Active, LockstepLane, MoreauJeanCombined, Sampler, SchemeError, COMBINED_TOLERANCE};
 
 /// `L` runs of Moreau–Jean with the combined projection sharing one step
@@ -318,25 +319,6 @@ impl<const L: usize> MoreauJeanCombinedLockstep<L> {
 }
 
 impl_lockstep!(MoreauJeanCombinedLockstep);
-
-/// Rows of `V^n` and `U^n + θ(1-θ) dt V^n` (`cv = θ(1-θ) dt`).
-struct Velocities<'a, const L: usize> {
-    u: &'a [[f64; L]],
-    v: &'a [[f64; L]],
-    cv: f64,
-}
-
-impl<const L: usize> Combine<L> for Velocities<'_, L> {
-    #[inline(always)]
-    fn combine(&self, j: usize) -> ([f64; L], [f64; L]) {
-        let (u, v) = (&self.u[j], &self.v[j]);
-        let (tm, mut ts) = (*v, [0.0; L]);
-        for k in 0..L {
-            ts[k] = u[k] + self.cv * v[k];
-        }
-        (tm, ts)
-    }
-}
 
 /// The first pass's `U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1})` (`a = 1-θ`)
 /// row by row as the backward sweep makes `V^{n+1}`.

@@ -331,11 +331,12 @@ impl<const L: usize> MoreauJeanLockstep<L> {
 
 impl_lockstep!(MoreauJeanLockstep);
 
-/// Rows of `V^n` and `U^n + θ(1-θ) dt V^n` (`cv = θ(1-θ) dt`).
-struct Velocities<'a, const L: usize> {
-    u: &'a [[f64; L]],
-    v: &'a [[f64; L]],
-    cv: f64,
+/// Rows of `V^n` and `U^n + θ(1-θ) dt V^n` (`cv = θ(1-θ) dt`); also the
+/// combined engine's ([`crate::MoreauJeanCombinedLockstep`]).
+pub(crate) struct Velocities<'a, const L: usize> {
+    pub(crate) u: &'a [[f64; L]],
+    pub(crate) v: &'a [[f64; L]],
+    pub(crate) cv: f64,
 }
 
 impl<const L: usize> Combine<L> for Velocities<'_, L> {
