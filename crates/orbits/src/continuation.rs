@@ -1675,6 +1675,7 @@ fn grazing_parameter<F: Family>(
         Some((first, limit)) => (first, limit),
         None => (secant(&p0, m0, &p1, m1), f64::NAN),
     };
+    let first = estimate;
     let (iterations, tiny) = if fail == OnFailure::Stop { (40, 1e-14) } else { (60, 1e-15) };
     let mut tries = 0;
     for k in 0..iterations {
@@ -1727,6 +1728,12 @@ fn grazing_parameter<F: Family>(
                 limit = next;
             }
         }
+    }
+    // A margin without a finite value (a flight left without an interior
+    // extremum) makes the secant NaN: the first estimate stands (the
+    // extrapolation that brought the search here), never a NaN parameter.
+    if !estimate.is_finite() && first.is_finite() {
+        estimate = first;
     }
     Some((estimate, p1))
 }

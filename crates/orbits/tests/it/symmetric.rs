@@ -385,6 +385,13 @@ fn the_switch_at_a_branch_point_follows_the_asymmetric_branch() {
     for b in &br.bifurcations {
         eprintln!("  {} at {}", b.kind.name(), b.param);
     }
+    // Every bifurcation at a parameter (a grazing located from an orbit
+    // whose flights have no interior extremum was listed at NaN: an empty
+    // cell of bifurcations.csv), within the branch's range.
+    let (lo, hi) = br.points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.param), b.max(p.param)));
+    for b in &br.bifurcations {
+        assert!(b.param.is_finite() && b.param >= lo - 1e-2 && b.param <= hi + 1e-2, "{} at {} (the branch from {lo} to {hi})", b.kind.name(), b.param);
+    }
     assert!(br.points.len() >= 5, "{} points", br.points.len());
     // It ends where it meets the symmetric branch again: at its lower
     // branch point (the asymmetric orbit turning onto its mirror image).
