@@ -45,8 +45,8 @@
 // that is the shape the compiler vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use crate::lanes::{backward, check_count, check_lanes, column, forward, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Done, LaneState, Refusals, TwoProducts};
-use crate::moreau_lockstep::Velocities;
+use crate::lanes::{backward, check_count, check_lanes, column, impl_lockstep, lane_into, lockstep_builds, project_lanes, set_lane, Done, LaneState, Refusals};
+use crate::moreau_lockstep::free_forward;
 use crate::{Active, LockstepLane, MoreauJeanCombined, Sampler, SchemeError, COMBINED_TOLERANCE};
 
 /// `L` runs of Moreau–Jean with the combined projection sharing one step
@@ -150,34 +150,14 @@ impl<const L: usize> MoreauJeanCombinedLockstep<L> {
     #[inline(always)]
     fn step_body(&mut self) -> usize {
         let (dt, th) = (self.state.dt, self.theta);
-        // The forcing terms' means over [t_n, t_{n+1}], times dt.
-        let nf = self.state.n as f64;
-        self.state.means(nf * dt, (nf + 1.0) * dt);
-        for (g, next) in self.dt_s.iter_mut().zip(&self.state.next) {
-            for k in 0..L {
-                g[k] = dt * next[k];
-            }
-        }
-        // The unconstrained V^{n+1} (`MoreauJean::free_velocity`), and the
-        // first pass's U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}) row by
-        // row in the backward sweep (the set is empty: no impact).
-        let cv = th * (1.0 - th) * dt;
+        // The unconstrained V^{n+1} (`MoreauJean::free_velocity`): the
+        // Moreau–Jean engine's forward sweep, and the first pass's
+        // U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}) row by row in the
+        // backward sweep (the set is empty: no impact).
+        free_forward::<L>(&mut self.state, &self.v, &mut self.dt_s, th);
         let a = 1.0 - th;
         let st = &mut self.state;
         let n = st.dofs;
-        let (u, v) = (&st.u[..n], &self.v[..n]);
-        let mut rows = TwoProducts {
-            mass: &st.mass[..n],
-            stiff: &st.stiff[..n],
-            load: &st.load[..n],
-            gs: &self.dt_s[..],
-            shape_rows: &st.shape_rows[..],
-            t_mass: &mut st.t_mass,
-            t_stiff: &mut st.t_stiff,
-            scale: dt,
-            combine: Velocities { u, v, cv },
-        };
-        forward::<L, _>(&mut rows, &st.l, &mut st.rhs[..n]);
         let mut adv = Advance { un: &mut self.un[..n], u: &st.u[..n], v: &self.v[..n], dt, a, th };
         backward::<L, _>(&mut st.rhs[..n], &st.lt, &st.inv_d, &mut adv);
         st.mu = [0.0; L];

@@ -165,16 +165,6 @@ impl<const L: usize> MoreauJeanLockstep<L> {
     #[inline(always)]
     fn step_body(&mut self) -> usize {
         let (dt, th) = (self.state.dt, self.theta);
-        // The forcing terms' means over [t_n, t_{n+1}] (`Sampler::means`:
-        // a = 0 + n dt, b = 0 + (n+1) dt), times dt (`add_terms`' scale).
-        let nf = self.state.n as f64;
-        let (t0, t1) = (nf * dt, (nf + 1.0) * dt);
-        self.state.means(t0, t1);
-        for (g, next) in self.dt_s.iter_mut().zip(&self.state.next) {
-            for k in 0..L {
-                g[k] = dt * next[k];
-            }
-        }
         // Which lanes' contacts are predicted active (from U^n, V^n: known
         // before the solve). None: V^{n+1} is the solve's result, and
         // U^{n+1} = U^n + dt ((1-θ) V^n + θ V^{n+1}) is made row by row in
@@ -182,26 +172,9 @@ impl<const L: usize> MoreauJeanLockstep<L> {
         // else after the impact law, in a pass of its own. The same
         // operations either way.
         let any = self.predict();
-        // rhs = M V + dt (F - K (U + θ(1-θ) dt V)) + Σ_j (dt s_j) shape_j,
-        // row by row, each row eliminated at once (the forward sweep of
-        // `BandLdlt::solve_p3`); V and U + θ(1-θ) dt V are made row by row
-        // into a ring just ahead of the products that read them.
-        let cv = th * (1.0 - th) * dt;
+        free_forward::<L>(&mut self.state, &self.v, &mut self.dt_s, th);
         let st = &mut self.state;
         let n = st.dofs;
-        let (u, v) = (&st.u[..n], &self.v[..n]);
-        let mut rows = TwoProducts {
-            mass: &st.mass[..n],
-            stiff: &st.stiff[..n],
-            load: &st.load[..n],
-            gs: &self.dt_s[..],
-            shape_rows: &st.shape_rows[..],
-            t_mass: &mut st.t_mass,
-            t_stiff: &mut st.t_stiff,
-            scale: dt,
-            combine: Velocities { u, v, cv },
-        };
-        forward::<L, _>(&mut rows, &st.l, &mut st.rhs[..n]);
         // Backward (`BandLdlt::solve_p3`'s order).
         let a = 1.0 - th;
         if any {
@@ -331,12 +304,48 @@ impl<const L: usize> MoreauJeanLockstep<L> {
 
 impl_lockstep!(MoreauJeanLockstep);
 
-/// Rows of `V^n` and `U^n + θ(1-θ) dt V^n` (`cv = θ(1-θ) dt`); also the
-/// combined engine's ([`crate::MoreauJeanCombinedLockstep`]).
-pub(crate) struct Velocities<'a, const L: usize> {
-    pub(crate) u: &'a [[f64; L]],
-    pub(crate) v: &'a [[f64; L]],
-    pub(crate) cv: f64,
+/// The forward half of the free solve of a Moreau–Jean step, shared with
+/// [`crate::MoreauJeanCombinedLockstep`]: the forcing terms' means over
+/// `[t_n, t_{n+1}]` (`Sampler::means`: a = 0 + n dt, b = 0 + (n+1) dt),
+/// times dt (`add_terms`' scale) into `dt_s`; then
+/// `rhs = M V + dt (F - K (U + θ(1-θ) dt V)) + Σ_j (dt s_j) shape_j`, row by
+/// row, each row eliminated at once (the forward sweep of
+/// `BandLdlt::solve_p3`), `V` and `U + θ(1-θ) dt V` made row by row into a
+/// ring just ahead of the products that read them. The backward sweep is
+/// the caller's.
+#[inline(always)]
+pub(crate) fn free_forward<const L: usize>(st: &mut LaneState<L>, v: &[[f64; L]], dt_s: &mut [[f64; L]], th: f64) {
+    let dt = st.dt;
+    let nf = st.n as f64;
+    let (t0, t1) = (nf * dt, (nf + 1.0) * dt);
+    st.means(t0, t1);
+    for (g, next) in dt_s.iter_mut().zip(&st.next) {
+        for k in 0..L {
+            g[k] = dt * next[k];
+        }
+    }
+    let cv = th * (1.0 - th) * dt;
+    let n = st.dofs;
+    let (u, v) = (&st.u[..n], &v[..n]);
+    let mut rows = TwoProducts {
+        mass: &st.mass[..n],
+        stiff: &st.stiff[..n],
+        load: &st.load[..n],
+        gs: &dt_s[..],
+        shape_rows: &st.shape_rows[..],
+        t_mass: &mut st.t_mass,
+        t_stiff: &mut st.t_stiff,
+        scale: dt,
+        combine: Velocities { u, v, cv },
+    };
+    forward::<L, _>(&mut rows, &st.l, &mut st.rhs[..n]);
+}
+
+/// Rows of `V^n` and `U^n + θ(1-θ) dt V^n` (`cv = θ(1-θ) dt`).
+struct Velocities<'a, const L: usize> {
+    u: &'a [[f64; L]],
+    v: &'a [[f64; L]],
+    cv: f64,
 }
 
 impl<const L: usize> Combine<L> for Velocities<'_, L> {
