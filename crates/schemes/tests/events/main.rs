@@ -9,6 +9,7 @@
 mod events_common;
 
 mod events_chatter;
+mod events_dashpot;
 mod events_degenerate;
 mod events_driven;
 mod events_events;
