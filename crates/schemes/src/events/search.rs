@@ -412,15 +412,26 @@ impl Search {
         for (m, x) in gb.iter_mut().enumerate() {
             *x = if m == 0 { f.constant_abs(t) + f.now.1.abs() * h + f.wave_bound(0) } else { f.wave_bound(m) };
         }
+        // In the first-order form (a non-classical damping) the basis `T⁻¹`
+        // mixes every dof: a modal state's round-off is relative to the
+        // whole state, not to its own term. A contact at rest whose modes
+        // a held dof decouples from the moving ones has terms of round-off
+        // size only (the general eigensolver mixes the blocks at 1e-17,
+        // where the classical one returns exact zeros), so each
+        // derivative's scale also counts `Σ|β| + |α|` times the largest
+        // jet (docs/theory.md §9.2, "Zeros at the time resolution").
+        let (mut coef, mut jmax) = (0.0f64, [0.0f64; GJET]);
         for i in 0..eta.len() {
             let (b, a) = (f.beta[i], f.alpha(i));
             if b == 0.0 && a == 0.0 {
                 continue;
             }
             let (j, bd) = flow.jet_and_bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
+            coef += b.abs() + a.abs();
             for m in 0..GJET {
                 gj[m] += b * j[m] + a * j[m + 1];
                 gs[m] += (b * j[m]).abs() + (a * j[m + 1]).abs();
+                jmax[m] = jmax[m].max(j[m].abs()).max(j[m + 1].abs());
             }
             for m in 0..=GJET {
                 gb[m] += b.abs() * bd[m] + a.abs() * bd[m + 1];
@@ -434,6 +445,11 @@ impl Search {
         // 0, and the free phase's g'' ∝ r inherits it; the velocity is
         // decided exactly by the impact law: docs/theory.md §9.2, "Zeros at
         // the time resolution").
+        if !flow.classical() {
+            for m in 0..GJET {
+                gs[m] = gs[m].max(coef * jmax[m]);
+            }
+        }
         let dt_res = 4.0 * res;
         let mut d = [0.0; 4];
         for m in 1..4 {

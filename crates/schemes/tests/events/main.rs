@@ -9,8 +9,10 @@
 mod events_common;
 
 mod events_chatter;
+mod events_dashpot;
 mod events_degenerate;
 mod events_driven;
+mod events_energy_balance;
 mod events_events;
 mod events_flow;
 mod events_held_starts;
