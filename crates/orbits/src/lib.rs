@@ -77,12 +77,29 @@ pub enum OrbitError {
     /// The scene at a parameter value.
     #[error("{0}")]
     Scene(String),
+    /// More events in one evaluation of the map than the model allows
+    /// ([`Model::with_max_events`], [`MAX_EVENTS_PER_MAP`] by default): the
+    /// exact run's own limit, a scheme parameter, does not act here.
+    #[error("{events} events by t = {t} within one evaluation of the map, more than the orbit layer allows there (10⁶ unless the model sets another limit): the motion chatters without end there, or the state is far from a periodic orbit")]
+    TooManyEvents {
+        /// Where the run stopped.
+        t: f64,
+        /// Events taken.
+        events: usize,
+    },
 }
+
+/// The most events one evaluation of the map may take, unless
+/// [`Model::with_max_events`] says otherwise.
+pub const MAX_EVENTS_PER_MAP: usize = 1_000_000;
 
 impl From<signorini_schemes::events::EventsError> for OrbitError {
     fn from(e: signorini_schemes::events::EventsError) -> Self {
         match e {
             signorini_schemes::events::EventsError::Interrupted { .. } => OrbitError::Interrupted,
+            // Every exact run of this crate runs under the model's limit;
+            // the run's own message would point at a scheme parameter.
+            signorini_schemes::events::EventsError::TooManyEvents { t, events } => OrbitError::TooManyEvents { t, events },
             other => OrbitError::Events(other),
         }
     }

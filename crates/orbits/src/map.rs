@@ -56,7 +56,15 @@ impl Model {
             return Err(OrbitError::Model(format!("restitution {e} is not allowed: [0, 1]")));
         }
         let lin = Linear::new(&dy, e)?;
-        Ok(Self { dy, e, lin, max_events: 1_000_000, interrupt: None })
+        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None })
+    }
+
+    /// With at most `n` events in one evaluation of the map (beyond:
+    /// [`OrbitError::TooManyEvents`]; [`crate::MAX_EVENTS_PER_MAP`] by
+    /// default).
+    pub fn with_max_events(mut self, n: usize) -> Self {
+        self.max_events = n;
+        self
     }
 
     /// With a poll every run of the flow calls (every 256 steps of its
@@ -167,7 +175,7 @@ impl Model {
             // landing at zero speed may start a held phase without a record).
             let event = run.next_change(t_end)?;
             if run.events().len() > self.max_events {
-                return Err(OrbitError::Events(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }));
+                return Err(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }.into());
             }
             hits += run.events()[counted..].iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).count();
             counted = run.events().len();

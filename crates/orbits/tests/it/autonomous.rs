@@ -253,3 +253,26 @@ fn the_lumped_bar_above_its_threshold_ends() {
         Err(e) => panic!("{e}"),
     }
 }
+
+/// A map evaluation with more events than the model allows stops with the
+/// orbit layer's own error, not the exact run's, whose message tells the
+/// user to raise a scheme parameter that does not act here. The elastic
+/// oscillator below its stop hits it once a period `2 arccos(−D/A)/ω`
+/// (closed form above: about 3 s from `x = −0.5` at rest), so 20 s of flow
+/// takes at least 6 impacts: over a limit of 3 events it must stop.
+#[test]
+fn a_map_with_more_events_than_allowed_names_the_orbit_layers_limit() {
+    let model = oscillator(D).with_max_events(3);
+    let x0 = model.pack(&[-0.5], &[0.0]);
+    match model.flow(0.0, &x0, 20.0, false) {
+        Err(e @ OrbitError::TooManyEvents { events, .. }) => {
+            assert!(events > 3, "{events}");
+            let m = e.to_string();
+            assert!(!m.contains("scheme") && m.contains("evaluation of the map"), "{m}");
+        }
+        other => panic!("expected the orbit layer's event limit, got {other:?}"),
+    }
+    // Below the limit the same flow runs through.
+    let within = oscillator(D).with_max_events(1000).flow(0.0, &x0, 20.0, false).unwrap();
+    assert!(within.events.len() >= 6, "{}", within.events.len());
+}
