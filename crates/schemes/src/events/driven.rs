@@ -36,7 +36,9 @@
 //! contact dof to rest (`−v_c/W_cc` for one contact): the remaining
 //! impacts' impulses net of the smooth forces over `[t_k, t∞]` (momentum
 //! balance); the held phase that follows starts at `t_k`, within the
-//! relative 1e-9 of `t∞`.
+//! relative 1e-9 of `t∞`. An event the run applies before an
+//! accumulation's logged time ends its tail: that row takes the event's
+//! time, so the rows are in time order (docs/theory.md §9.3).
 //!
 //! **Micro-impacts.** A consistent-mass structure pressed on a stop can
 //! chatter without accumulating: impacts 1e-9 s apart at speeds of 1e-8,
@@ -451,6 +453,17 @@ impl EventDriven {
         self.deta.clone_from(&self.found.1);
         let watch = self.systems[&self.holds].watch[which];
         let (q, v) = self.physical();
+        // An event inside an accumulation's tail [t_k, t∞] ends it: the
+        // run has held that contact at rest since t_k, and this event's
+        // impulses (or release) are not the tail the limit extrapolated;
+        // its row takes this time (docs/theory.md §9.3, "An event inside
+        // an accumulation's tail"). Only the last instant's accumulations
+        // can lie beyond `t`.
+        for r in self.events.iter_mut().rev().take_while(|r| r.t > t) {
+            if r.kind == EventKind::Accumulation {
+                r.t = t;
+            }
+        }
         let before = self.events.len();
         match watch {
             Watch::Gap { contact, bound } => self.settle(t, q, v, Some((contact, bound)))?,

@@ -21,5 +21,6 @@ mod events_planted;
 mod events_proptest;
 mod events_series;
 mod events_silent;
+mod events_tail;
 mod events_tiny_restitution;
 mod events_two_stops;
