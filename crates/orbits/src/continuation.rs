@@ -305,7 +305,32 @@ impl<F: Family> Ctx<'_, F> {
             }
             other => other?,
         };
-        let plus = m.flow(0.0, x, t, false)?;
+        let mut plus = m.flow(0.0, x, t, false)?;
+        // Backward where the point has an impact within 1e-4 of a period of
+        // the section's time and the forward run has another number of
+        // impacts, the backward one the point's: the difference moved that
+        // impact across the end of the period, and the image jumped by its
+        // impulse. On the oscillator between symmetric stops the forward
+        // difference 1e-7 of the range on put an impact at 3e-9 of a
+        // period after the section into the period's end: G_λ was 1.8e8
+        // (the backward difference's −1.56) and the corrector stalled
+        // (docs/orbits.md, `tests/it/section.rs`). Elsewhere (a grazing
+        // ahead) the forward difference stands, as before.
+        let k = count_impacts(&lin.events);
+        let on_section = lin.events.iter().any(|e| {
+            e.kind == EventKind::Impact && {
+                let phase = (e.t / lin.period).rem_euclid(1.0);
+                !(1e-4..=1.0 - 1e-4).contains(&phase)
+            }
+        });
+        if h > 0.0 && on_section && count_impacts(&plus.events) != k {
+            if let Ok((m, t)) = self.family.model_and_period(param - h) {
+                let minus = m.flow(0.0, x, t, false)?;
+                if count_impacts(&minus.events) == k {
+                    (plus, h) = (minus, -h);
+                }
+            }
+        }
         lin.gl = (0..self.n).map(|i| (plus.x[i] - lin.image[i]) / h).collect();
         Ok(())
     }
@@ -1465,7 +1490,24 @@ fn corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir:
 /// section's time, the orbit with that impact on the other side of the
 /// section: its section state is `cur`'s with the impulse added (the
 /// impact moves before the section) or taken back (after it), sought a
-/// little further along the branch's direction in the parameter.
+/// little further along the branch's direction in the parameter (at 0.1,
+/// 1 and 4 times the last step, then 1e-7, 1e-6 and 1e-5 of the range).
+///
+/// Only the same orbit with that impact moved is taken: as many impacts
+/// and held phases per period as `cur`, an impact of that contact within
+/// 1e-2 of a period of the section on the other side, and the state within
+/// a tenth of the impulse's jump (plus 1e-3 of the state's scale) of the
+/// guess. Newton from the guess at a parameter where the impact lies
+/// within round-off of the section may land on another orbit of the same
+/// parameter: on the oscillator between symmetric stops (the asymmetric
+/// orbit from Ω = 1.5 down) the stable 3-impact orbit's impact at −1
+/// reached the section at Ω = 1.32838440; Newton 2.3e-9 further on landed
+/// on the stable 2-impact orbit 0.3 away, which was taken (its impacts at
+/// both stops, one "on the other side"), and the branch went back along
+/// the 2-impact arc it had traced, listing nothing at the jump
+/// (`tests/it/section.rs`). 1e-7 of the range on, Newton from the same
+/// guess finds the 3-impact orbit, its impact at 6e-8 of a period before
+/// the section.
 fn across_section<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir: f64) -> Option<Point> {
     let period = cur.orbit.period;
     let model = ctx.family.model(cur.param).ok()?;
@@ -1480,20 +1522,25 @@ fn across_section<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
             continue;
         };
         let guess = model.with_impulse(&cur.x, e.contact, e.impulse, sign);
-        for f in [0.1, 1.0, 4.0] {
-            let param = cur.param + f * trend.abs().max(1e-9 * ctx.ls) * trend.signum();
+        let jump = guess.iter().zip(&cur.x).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+        let step = trend.abs().max(1e-9 * ctx.ls);
+        let further = [1e-7, 1e-6, 1e-5].map(|f| f * ctx.ls).into_iter().filter(|d| *d > 4.0 * step);
+        for d in [0.1 * step, step, 4.0 * step].into_iter().chain(further) {
+            let param = cur.param + d * trend.signum();
             if let Some(p) = solve_at(ctx, &guess, param, cur.tangent[ctx.n].signum()) {
                 let moved = p.orbit.events.iter().any(|q| {
                     q.kind == EventKind::Impact && q.contact == e.contact && {
                         let ph = (q.t - p.orbit.t0) / period;
                         if sign > 0.0 {
-                            ph > 0.5
+                            ph > 1.0 - 1e-2
                         } else {
-                            ph < 0.5
+                            ph < 1e-2
                         }
                     }
                 });
-                if moved {
+                let same = p.orbit.impacts() == cur.orbit.impacts() && p.orbit.releases() == cur.orbit.releases();
+                let near = p.x.iter().zip(&guess).fold(0.0f64, |a, (u, v)| a.max((u - v).abs())) <= 0.1 * jump + 1e-3 * ctx.xs;
+                if moved && same && near {
                     return Some(p);
                 }
             }

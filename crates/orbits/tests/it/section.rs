@@ -1,0 +1,168 @@
+//! An impact crossing the section's time along a branch: the oscillator
+//! between symmetric stops (`x'' + 0.1 x' + x = 2 sin Ωt`, `|x| <= 1`,
+//! e = 0.8), its asymmetric orbit continued from Ω = 1.5 down. Past the
+//! fold at 1.3311 its stable 3-impact orbit's impact at −1 reaches the
+//! section (`x(0) = −1`) at Ω = 1.32838440, and again, back, at
+//! 1.08871925. At the first the branch took the stable 2-impact orbit
+//! that coexists there, 0.3 away in the state (Newton from the state with
+//! the impulse applied, 2.3e-9 further on, landed on it), went back along
+//! the 2-impact arc it had traced, and listed nothing at the jump; at the
+//! second the corrector stalled (its difference in Ω put the impact into
+//! the period's end: `G_λ` 1.8e8). Checked against a transcription of the
+//! oscillator sharing no code with the crate (its closed-form flow between
+//! impacts, its own impact search, the restitution by hand): every point
+//! is a fixed point of the transcribed map with the crate's number of
+//! impacts, and the period doubling is where `det(P' + I)` of the
+//! transcribed map changes sign.
+
+use signorini_fem::SymBand;
+use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
+use std::f64::consts::TAU;
+
+const F: f64 = 2.0;
+const C: f64 = 0.1;
+const E: f64 = 0.8;
+
+struct Between;
+
+impl Family for Between {
+    fn model(&self, w: f64) -> Result<Model, OrbitError> {
+        let one = |v: f64| {
+            let mut b = SymBand::zeros(1, 0);
+            b.set(0, 0, v);
+            b
+        };
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: F, omega: w } }])
+            .with_damping(Some(one(C)));
+        Model::new(dy, E)
+    }
+    fn period(&self, w: f64) -> Result<f64, OrbitError> {
+        Ok(TAU / w)
+    }
+}
+
+/// The transcription's flow of `x'' + c x' + x = F sin Ωt` from `(x, v)`
+/// at `t0` to `t`: the underdamped free motion plus the steady state.
+fn flow(w: f64, t0: f64, x: f64, v: f64, t: f64) -> (f64, f64) {
+    let d = (1.0 - w * w).powi(2) + (C * w).powi(2);
+    let (a, b) = (F * (1.0 - w * w) / d, -F * C * w / d);
+    let xp = |t: f64| a * (w * t).sin() + b * (w * t).cos();
+    let vp = |t: f64| w * (a * (w * t).cos() - b * (w * t).sin());
+    let z = 0.5 * C;
+    let wd = (1.0 - z * z).sqrt();
+    let c1 = x - xp(t0);
+    let c2 = (v - vp(t0) + z * c1) / wd;
+    let (ex, (sn, cs)) = ((-z * (t - t0)).exp(), (wd * (t - t0)).sin_cos());
+    (ex * (c1 * cs + c2 * sn) + xp(t), ex * (-z * (c1 * cs + c2 * sn) + wd * (-c1 * sn + c2 * cs)) + vp(t))
+}
+
+/// The transcription's map over a forcing period and its impacts: the flow
+/// sampled at 1/4000 of the period, each crossing of a stop bisected to
+/// round-off, the velocity reversed times e.
+fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
+    let end = TAU / w;
+    let h = end / 4000.0;
+    let (mut t0, mut z, mut t, mut impacts) = (0.0, (x[0], x[1]), 0.0, 0);
+    while t < end {
+        let t1 = (t + h).min(end);
+        if flow(w, t0, z.0, z.1, t1).0.abs() > 1.0 {
+            let (mut lo, mut hi) = (t, t1);
+            for _ in 0..200 {
+                let m = 0.5 * (lo + hi);
+                if m <= lo || m >= hi {
+                    break;
+                }
+                if flow(w, t0, z.0, z.1, m).0.abs() > 1.0 {
+                    hi = m;
+                } else {
+                    lo = m;
+                }
+            }
+            let y = flow(w, t0, z.0, z.1, lo);
+            (t0, z, t) = (lo, (y.0.signum(), -E * y.1), lo);
+            impacts += 1;
+            continue;
+        }
+        t = t1;
+    }
+    let y = flow(w, t0, z.0, z.1, end);
+    ([y.0, y.1], impacts)
+}
+
+/// `det(J + I)` of the transcribed map's central differences at `x`.
+fn det_plus_i(w: f64, x: [f64; 2]) -> f64 {
+    let mut j = [[0.0; 2]; 2];
+    for c in 0..2 {
+        let (mut p, mut q) = (x, x);
+        p[c] += 1e-7;
+        q[c] -= 1e-7;
+        let (fp, fq) = (map(w, p).0, map(w, q).0);
+        for r in 0..2 {
+            j[r][c] = (fp[r] - fq[r]) / 2e-7;
+        }
+    }
+    (j[0][0] + 1.0) * (j[1][1] + 1.0) - j[0][1] * j[1][0]
+}
+
+#[test]
+fn an_impact_crossing_the_section_keeps_the_branch_on_its_orbits() {
+    let w0 = 1.5;
+    let m = Between.model(w0).unwrap();
+    let x0 = m.flow(0.0, &[0.0, 0.0], 400.0 * TAU / w0, false).unwrap().x;
+    let start = periodic_orbit(&m, 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    let branch = continuation(&Between, &start.x, &ContinuationOptions::new(w0, 0.9)).unwrap();
+    eprintln!("{} points to {}: {}", branch.points.len(), branch.points.last().unwrap().param, branch.end);
+    for b in &branch.bifurcations {
+        eprintln!("  {} at {:.12} (impacts {:?})", b.kind.name(), b.param, b.impacts);
+    }
+    // Every point whose slowest impact the transcription's sampling sees
+    // (speed 1e-2 and more) is a fixed point of the transcribed map, with
+    // as many impacts.
+    let mut checked = 0;
+    for p in &branch.points {
+        if p.orbit.slowest_impact().is_some_and(|v| v < 1e-2) {
+            continue;
+        }
+        let x = [p.orbit.x[0], p.orbit.x[1]];
+        let (y, k) = map(p.param, x);
+        let off = (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+        assert!(off <= 1e-9 && k == p.orbit.impacts(), "Ω = {}: {x:?} maps {off:e} away, {k} impacts against {}", p.param, p.orbit.impacts());
+        checked += 1;
+    }
+    // Past both crossings of the section (1.32838440 and 1.08871925) the
+    // branch goes on along the 3-impact orbits, its state near −1 on the
+    // section there (within 1e-2: the impact just before or after it),
+    // not on another arc.
+    for at in [1.3283844, 1.0887193] {
+        let i = branch
+            .points
+            .iter()
+            .position(|p| (p.param - at).abs() < 1e-6 && (p.orbit.x[0] + 1.0).abs() < 1e-6)
+            .unwrap_or_else(|| panic!("the branch never reaches the section crossing at {at}: {}", branch.end));
+        let next: Vec<_> = branch.points[i + 1..].iter().take(4).map(|p| (p.param, p.orbit.impacts(), p.orbit.x[0])).collect();
+        assert!(next.len() == 4 && next.iter().all(|&(w, k, x)| k == 3 && (x + 1.0).abs() < 1e-2 && w < at + 1e-6), "past Ω = {at}: {next:?} ({})", branch.end);
+    }
+    assert!(branch.points.iter().any(|p| p.param < 1.06 && p.orbit.impacts() == 3), "the branch ends at {}", branch.end);
+    // The period doubling of the 3-impact orbits, where the transcribed
+    // map's det(P' + I) changes sign (its orbits from the crate's nearest
+    // points, refined by Newton on the transcription's differences: here
+    // the map's own points bracket it to 1e-6).
+    let pd = branch
+        .bifurcations
+        .iter()
+        .find(|b| b.kind == BifurcationKind::PeriodDoubling)
+        .unwrap_or_else(|| panic!("no period doubling listed: {:?}", branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect::<Vec<_>>()));
+    let orbit_at = |w: f64| periodic_orbit(&Between.model(w).unwrap(), 0.0, TAU / w, &pd.x, &Newton { tol: 1e-11, ..Newton::default() }).unwrap().x;
+    let (lo, hi) = (pd.param - 1e-6, pd.param + 1e-6);
+    let (a, b) = (orbit_at(lo), orbit_at(hi));
+    for (w, x) in [(lo, &a), (hi, &b)] {
+        let (y, _) = map(w, [x[0], x[1]]);
+        assert!((y[0] - x[0]).abs().max((y[1] - x[1]).abs()) <= 1e-9, "Ω = {w}: not a fixed point of the transcription");
+    }
+    let (da, db) = (det_plus_i(lo, [a[0], a[1]]), det_plus_i(hi, [b[0], b[1]]));
+    assert!(da * db < 0.0, "det(P' + I) keeps its sign across the period doubling at {}: {da} {db}", pd.param);
+    eprintln!("{checked} points checked against the transcription");
+    assert!(checked >= 100, "{checked} points checked");
+}
