@@ -5,6 +5,7 @@ use crate::OrbitError;
 use faer::Mat;
 use signorini_schemes::events::{EventDriven, EventKind, EventRecord, Reached};
 use signorini_schemes::Dynamics;
+use std::cell::RefCell;
 
 /// A linear structure with unilateral contacts, as the shooting sees it:
 /// its exact event-driven flow ([`EventDriven`]) and that flow's
@@ -16,7 +17,15 @@ pub struct Model {
     lin: Linear,
     max_events: usize,
     interrupt: Option<signorini_schemes::Interrupt>,
+    /// Runs of the flow done with, started again for the next one
+    /// ([`EventDriven::restart`]: the flows of the active sets met are
+    /// kept, the same run bit for bit as a new one).
+    runs: RefCell<Vec<EventDriven>>,
 }
+
+/// The most runs a model keeps ([`Model::run_from`]): a flow and the
+/// searches nested in it (a margin's golden-section trials).
+const KEPT_RUNS: usize = 4;
 
 /// An interior extremum of a free flight ([`Model::flight_extremum`]).
 #[derive(Clone, Copy, Debug)]
@@ -56,7 +65,7 @@ impl Model {
             return Err(OrbitError::Model(format!("restitution {e} is not allowed: [0, 1]")));
         }
         let lin = Linear::new(&dy, e)?;
-        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None })
+        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None, runs: RefCell::new(Vec::new()) })
     }
 
     /// With at most `n` events in one evaluation of the map (beyond:
@@ -65,6 +74,34 @@ impl Model {
     pub fn with_max_events(mut self, n: usize) -> Self {
         self.max_events = n;
         self
+    }
+
+    /// A run of the flow from `(q0, v0)` at `t0`, without the interrupt
+    /// (as [`EventDriven::new`] makes it): one kept from an earlier flow,
+    /// started again, or a new one. Given back with [`Model::done`].
+    fn run_from(&self, t0: f64, q0: &[f64], v0: &[f64]) -> Result<EventDriven, OrbitError> {
+        let kept = self.runs.borrow_mut().pop();
+        match kept {
+            Some(mut run) => {
+                run.set_interrupt(None);
+                match run.restart(t0, q0, v0) {
+                    Ok(()) => Ok(run),
+                    Err(e) => {
+                        self.done(run);
+                        Err(e.into())
+                    }
+                }
+            }
+            None => Ok(EventDriven::new(&self.dy, t0, q0, v0, self.e)?),
+        }
+    }
+
+    /// Keeps `run` for the next flow.
+    fn done(&self, run: EventDriven) {
+        let mut runs = self.runs.borrow_mut();
+        if runs.len() < KEPT_RUNS {
+            runs.push(run);
+        }
     }
 
     /// With a poll every run of the flow calls (every 256 steps of its
@@ -107,8 +144,9 @@ impl Model {
     /// (massless dofs condensed, a contact on its bound held if pressed).
     pub fn settle(&self, t: f64, x: &[f64]) -> Result<(Vec<f64>, Vec<f64>), OrbitError> {
         let (q, v) = self.lin.unpack(x);
-        let run = EventDriven::new(&self.dy, t, &q, &v, self.e)?;
+        let run = self.run_from(t, &q, &v)?;
         let (_, q, v) = run.state();
+        self.done(run);
         Ok((q, v))
     }
 
@@ -154,18 +192,25 @@ impl Model {
         for c in self.dy.contacts.iter().filter(|c| !c.massless) {
             q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
         }
-        let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        let mut run = self.run_from(t0, &q0, &v0)?;
         run.set_interrupt(self.interrupt.clone());
+        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts);
+        self.done(run);
+        out
+    }
+
+    /// [`Model::flow_within`] on `run`, started at `t0`.
+    fn flow_run(&self, run: &mut EventDriven, t0: f64, tau: f64, jacobian: bool, impacts: usize) -> Result<Option<Image>, OrbitError> {
         let dim = self.dim();
         let mut jac = jacobian.then(|| Mat::<f64>::identity(dim, dim));
         let mut seen = run.events().len();
         // The events of the start (a contact on its bound, approaching).
         if seen > 0 {
             if let Some(j) = jac.as_mut() {
-                self.linearise_event(&run, run.events(), &[], &sorted_held(&run), j)?;
+                self.linearise_event(run, run.events(), &[], &sorted_held(run), j)?;
             }
         }
-        let mut held = sorted_held(&run);
+        let mut held = sorted_held(run);
         let mut t_prev = t0;
         let t_end = t0 + tau;
         // Impacts so far, over the events counted so far.
@@ -192,7 +237,7 @@ impl Model {
             if event == Reached::End {
                 break;
             }
-            let new_held = sorted_held(&run);
+            let new_held = sorted_held(run);
             if let Some(j) = jac.as_mut() {
                 if event == Reached::Event(None) && new_held != held {
                     // A contact that lands at zero speed and is held from
@@ -200,7 +245,7 @@ impl Model {
                     // (nearby starts land with a speed, or fly on).
                     return Err(OrbitError::NoDerivative { t: t_now, why: "a contact landed on its bound at zero speed and is held there (grazing)".into() });
                 }
-                self.linearise_event(&run, &run.events()[seen..], &held, &new_held, j)?;
+                self.linearise_event(run, &run.events()[seen..], &held, &new_held, j)?;
             }
             seen = run.events().len();
             held = new_held;
@@ -234,7 +279,7 @@ impl Model {
     pub fn margin(&self, t0: f64, x0: &[f64], tau: f64) -> Result<f64, OrbitError> {
         let dist = |q: &[f64]| -> f64 { self.dy.contacts.iter().map(|c| (q[c.dof] - c.bounds.lo).min(c.bounds.hi - q[c.dof])).fold(f64::INFINITY, f64::min) };
         let (q0, v0) = self.lin.unpack(x0);
-        let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        let mut run = self.run_from(t0, &q0, &v0)?;
         let samples = 256;
         let mut best = (f64::INFINITY, 0usize);
         let (mut q, mut v) = (vec![0.0; q0.len()], vec![0.0; q0.len()]);
@@ -246,13 +291,14 @@ impl Model {
                 best = (d, i);
             }
         }
+        self.done(run);
         // Golden section on [t_{i−1}, t_{i+1}].
         let h = tau / samples as f64;
         let at = |t: f64| -> Result<f64, OrbitError> {
-            let mut r = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
-            r.run_until(t, self.max_events)?;
-            let (_, q, _) = r.state();
-            Ok(dist(&q))
+            let mut r = self.run_from(t0, &q0, &v0)?;
+            let d = r.run_until(t, self.max_events).map(|()| dist(&r.state().1));
+            self.done(r);
+            Ok(d?)
         };
         let (a, b) = (t0 + h * (best.1 as f64 - 1.0).max(0.0), t0 + h * (best.1 as f64 + 1.0).min(samples as f64));
         let (d, _) = golden_min(a, b, 1e-14 * tau, at)?;
@@ -286,7 +332,7 @@ impl Model {
             return Err(OrbitError::Model(format!("the flight margin's horizon {tau} is not allowed: > 0 and finite")));
         }
         let (q0, v0) = self.lin.unpack(x0);
-        let mut run = EventDriven::new(&self.dy, t0, &q0, &v0, self.e)?;
+        let mut run = self.run_from(t0, &q0, &v0)?;
         let samples = 512;
         let h = tau / samples as f64;
         // (t, q, v, events so far) at each sample.
@@ -297,6 +343,7 @@ impl Model {
             let (_, q, v) = run.state();
             at.push((t, q, v, run.events().len()));
         }
+        self.done(run);
         let mut best: Option<Extremum> = None;
         let mut keep = |distance: f64, t: f64, contact: usize, upper: bool| {
             if best.is_none_or(|b| distance < b.distance) {
@@ -324,10 +371,10 @@ impl Model {
                 let dist = |q: &[f64]| sign * (bound - q[d]);
                 keep(dist(&mid.1), mid.0, j, upper);
                 let trial = |t: f64| -> Result<f64, OrbitError> {
-                    let mut r = EventDriven::new(&self.dy, prev.0, &prev.1, &prev.2, self.e)?;
-                    r.run_until(t, self.max_events)?;
-                    let (_, q, _) = r.state();
-                    Ok(dist(&q))
+                    let mut r = self.run_from(prev.0, &prev.1, &prev.2)?;
+                    let d = r.run_until(t, self.max_events).map(|()| dist(&r.state().1));
+                    self.done(r);
+                    Ok(d?)
                 };
                 let (m, t) = golden_min(prev.0, next.0, 1e-14 * tau, trial)?;
                 keep(m, t, j, upper);

@@ -72,6 +72,17 @@ pub(crate) struct Linear {
     zero: Vec<usize>,
     pub sites: Vec<Site>,
     phases: RefCell<HashMap<Vec<usize>, Phase>>,
+    /// Per held set met by [`Linear::field`]: its free massive dofs and the
+    /// LU factors of `M_ff` (the same factors, hence the same solves, as
+    /// factoring at every call).
+    fields: RefCell<HashMap<Vec<usize>, FreeMass>>,
+}
+
+/// The free massive dofs of a held set and the factors of their `M_ff`
+/// (`None`: no free dof).
+struct FreeMass {
+    free: Vec<usize>,
+    lu: Option<faer::linalg::solvers::PartialPivLu<f64>>,
 }
 
 /// The free dofs' modes of one held set.
@@ -123,7 +134,7 @@ impl Linear {
             Mat::zeros(0, 0)
         };
         let sites = dy.contacts.iter().map(|c| Site { dof: c.dof, restitution: c.restitution.unwrap_or(e) }).collect();
-        Ok(Self { n, m, k, c, minv, state, zero, sites, phases: RefCell::new(HashMap::new()) })
+        Ok(Self { n, m, k, c, minv, state, zero, sites, phases: RefCell::new(HashMap::new()), fields: RefCell::new(HashMap::new()) })
     }
 
     /// Unknowns of the state `(q_s, v_s)`.
@@ -285,13 +296,18 @@ impl Linear {
             }
             r[i] -= s;
         }
-        let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
-        let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d) && self.zero.binary_search(d).is_err()).collect();
+        let mut fields = self.fields.borrow_mut();
+        let fm = fields.entry(held.to_vec()).or_insert_with(|| {
+            let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
+            let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d) && self.zero.binary_search(d).is_err()).collect();
+            let lu = (!free.is_empty()).then(|| sub(&self.m, &free, &free).partial_piv_lu());
+            FreeMass { free, lu }
+        });
         let mut a = vec![0.0; n];
-        if !free.is_empty() {
-            let mff = sub(&self.m, &free, &free);
+        if let Some(lu) = &fm.lu {
+            let free = &fm.free;
             let rhs = Mat::from_fn(free.len(), 1, |i, _| r[free[i]]);
-            let sol = mff.partial_piv_lu().solve(&rhs);
+            let sol = lu.solve(&rhs);
             for (i, &d) in free.iter().enumerate() {
                 a[d] = sol[(i, 0)];
             }

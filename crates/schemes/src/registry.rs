@@ -142,8 +142,12 @@ impl FromStr for SchemeSpec {
     /// with a default may be left out). The parameters are validated.
     fn from_str(s: &str) -> Result<Self, SchemeError> {
         let s = s.trim();
-        if let Some((_, spec, _)) = Self::presets().find(|(n, _, _)| *n == s) {
-            return Ok(spec);
+        // The first preset of that name in [`SchemeSpec::presets`]'s order
+        // (the least group and rank, ties in the families' order), found
+        // without building and sorting the whole list: a scene family
+        // parses its scheme at every parameter value.
+        if let Some((f, p)) = FAMILIES.iter().flat_map(|f| f.presets.iter().map(move |p| (f, p))).filter(|(_, p)| p.name == s).min_by_key(|(_, p)| (p.group, p.rank)) {
+            return Ok(f.with(p.args));
         }
         let unknown = || SchemeError::UnknownScheme { name: s.to_string(), allowed: syntax_list() };
         if let Some(f) = FAMILIES.iter().find(|f| f.params.is_empty() && f.name == s) {

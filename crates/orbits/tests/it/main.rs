@@ -12,6 +12,7 @@ mod further_impact;
 mod oscillator;
 mod period_two;
 mod reach;
+mod reuse;
 mod section;
 mod switch;
 mod symmetric;

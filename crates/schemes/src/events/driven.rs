@@ -110,6 +110,7 @@ pub const MAX_EVENTS: usize = 10_000_000;
 
 struct Site {
     dof: usize,
+    massless: bool,
     lo: f64,
     hi: f64,
     restitution: f64,
@@ -175,6 +176,9 @@ pub struct EventDriven {
     /// The contacts' Delassus matrix `M⁻¹` (massive contact dofs) or, for
     /// massless ones, `K_ZZ⁻¹` of the static condensation.
     delassus: MultiProjection,
+    /// The same as built, before any solve (its statuses are a warm
+    /// start): what [`restart`](Self::restart) starts from.
+    delassus0: MultiProjection,
     /// The massless dofs (the massless contacts'), sorted, and `K_ZZ⁻¹`.
     zero: Vec<usize>,
     kzz_inv: Mat<f64>,
@@ -249,7 +253,7 @@ impl EventDriven {
             if !(c.massless || inside) {
                 return Err(EventsError::Outside { contact: i, q, lo, hi });
             }
-            sites.push(Site { dof: c.dof, lo, hi, restitution, scale, grows: scale == f64::MIN_POSITIVE });
+            sites.push(Site { dof: c.dof, massless: c.massless, lo, hi, restitution, scale, grows: scale == f64::MIN_POSITIVE });
         }
         let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
         let mut zero: Vec<usize> = dy.contacts.iter().filter(|c| c.massless).map(|c| c.dof).collect();
@@ -289,6 +293,7 @@ impl EventDriven {
             piece: Piece::default(),
             full,
             sites,
+            delassus0: delassus.clone(),
             delassus,
             zero,
             kzz_inv,
@@ -327,6 +332,52 @@ impl EventDriven {
     /// [`with_max_events`](Self::with_max_events) in place.
     pub fn set_max_events(&mut self, max_events: usize) {
         self.max_events = max_events;
+    }
+
+    /// Starts the run again at `(q0, v0)` at `t0`, on the same structure
+    /// and loads: the same run as [`new`](Self::new) with these arguments
+    /// would make (the same errors, the same events and states, bit for
+    /// bit), without building again the flow of each active set met so far
+    /// (their modes and functionals are kept: they depend on the structure
+    /// and loads only). The event limit and the interrupt stay as set.
+    /// After an error the run must be started again before it is used.
+    pub fn restart(&mut self, t0: f64, q0: &[f64], v0: &[f64]) -> Result<(), EventsError> {
+        // As `new` places the contacts (their restitutions were checked there).
+        let field = q0.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for (i, s) in self.sites.iter_mut().enumerate() {
+            let (lo, hi) = (s.lo, s.hi);
+            let q = q0[s.dof];
+            let scale = [lo, hi, hi - lo, field].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
+            let inside = q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale;
+            if !(s.massless || inside) {
+                return Err(EventsError::Outside { contact: i, q, lo, hi });
+            }
+            (s.scale, s.grows) = (scale, scale == f64::MIN_POSITIVE);
+        }
+        self.delassus.clone_from(&self.delassus0);
+        self.piece = Piece::default();
+        self.holds.clear();
+        self.t = t0;
+        self.eta.clear();
+        self.deta.clear();
+        self.base.0 = t0;
+        self.base.1.clear();
+        self.base.2.clear();
+        self.cursor = Cursor { tau: 0.0, window: 1.0 };
+        self.pending = None;
+        self.base_zero.clear();
+        self.found.0.clear();
+        self.found.1.clear();
+        self.taken.iter_mut().for_each(|x| *x = 0.0);
+        let interrupt = self.search.interrupt.take();
+        self.search = Search::new(self.n);
+        self.search.interrupt = interrupt;
+        self.events.clear();
+        self.streak.iter_mut().for_each(Vec::clear);
+        self.vmax.iter_mut().for_each(|x| *x = 0.0);
+        self.impulses.iter_mut().for_each(|x| *x = 0.0);
+        self.stall = (f64::NAN, 0);
+        self.settle(t0, q0.to_vec(), v0.to_vec(), None)
     }
 
     /// Runs to `t_end` exactly; more than `max_events` events logged on

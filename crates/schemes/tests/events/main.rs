@@ -19,6 +19,7 @@ mod events_held_starts;
 mod events_massless;
 mod events_planted;
 mod events_proptest;
+mod events_restart;
 mod events_series;
 mod events_silent;
 mod events_tail;
