@@ -378,7 +378,7 @@ fn d1_minus_linear_force_parts_follow_the_dense_step() {
             let k = dense(&dy.stiffness);
             let kf: Dense = (1..4).map(|i| (1..4).map(|j| k[i][j]).collect()).collect();
             u[1..].copy_from_slice(&solve(kf, (1..4).map(|i| load[i] - k[i][0] * lo).collect()));
-            let contacts = vec![dy.contacts[0].clone(), Contact::new(3, Bounds { lo: f64::NEG_INFINITY, hi: u[3] + 0.01 }, false)];
+            let contacts = vec![dy.contacts[0], Contact::new(3, Bounds { lo: f64::NEG_INFINITY, hi: u[3] + 0.01 }, false)];
             let dy = Dynamics::new(dy.mass.clone(), dy.stiffness.clone(), load, contacts);
             let dt = 0.4 * spec(level, 0.0).cfl_limit(&dy).unwrap().unwrap();
             for e in [0.0, 0.5] {
