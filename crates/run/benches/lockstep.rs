@@ -16,12 +16,23 @@
 //! the same for `nsga(0.5)` (ρ∞ = 1/2, e = 0): the single `Nsga` step
 //! against `NsgaLockstep`; `stabilized_single` and
 //! `stabilized_frequency_*`: the same for `contact-stabilized`: the single
-//! `ContactStabilized` step against `ContactStabilizedLockstep`.
+//! `ContactStabilized` step against `ContactStabilizedLockstep`;
+//! `d1_single`, `d1_frequency_*`, `d1_velocity_single` and
+//! `d1_velocity_frequency_*`: the same for `d1-minus-linear(0)` on the
+//! acceleration and the velocity level (explicit: dt = 5e-6 is below its
+//! limit 1.2395e-5 on J = 19): the single `D1MinusLinear` step against
+//! `D1MinusLinearLockstep`; `combined_single` and `combined_frequency_*`:
+//! the same for `moreau-jean-combined(1,0)` (θ = 1, the sweeps' setting:
+//! with θ = 1/2 the paper's beam blows up): the single `MoreauJeanCombined`
+//! step against `MoreauJeanCombinedLockstep`.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
 use signorini_run::beam::Pipe;
-use signorini_schemes::{ContactStabilized, ContactStabilizedLockstep, Lockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, Nsga, NsgaLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_schemes::{
+    ContactStabilized, ContactStabilizedLockstep, D1Level, D1MinusLinear, D1MinusLinearLockstep, Lockstep, LockstepLane, MoreauJean, MoreauJeanCombined, MoreauJeanCombinedLockstep,
+    MoreauJeanLockstep, Nsga, NsgaLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper,
+};
 
 fn main() {
     divan::main();
@@ -195,6 +206,84 @@ fn stabilized_single(bencher: Bencher) {
 #[divan::bench(consts = [4, 8, 16])]
 fn stabilized_frequency<const L: usize>(bencher: Bencher) {
     bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| ContactStabilizedLockstep::<L>::new(DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
+}
+
+/// One run, `D1MinusLinear::step` on `level` (e = 0): ns per step.
+fn d1_single_on(bencher: Bencher, level: D1Level) {
+    bencher
+        .counter(ItemsCount::new(STEPS))
+        .with_inputs(|| {
+            let l = lane(0, true);
+            D1MinusLinear::at_level(level, "single".into(), l.dynamics, 0.0, DT, &l.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+/// `L` runs of a frequency sweep with `D1MinusLinearLockstep` on `level`: ns per run-step.
+fn d1_frequency_on<const L: usize>(bencher: Bencher, level: D1Level) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| D1MinusLinearLockstep::<L>::new(level, DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
+        for _ in 0..STEPS {
+            divan::black_box(b.step());
+        }
+        b
+    });
+}
+
+/// One run, `D1MinusLinear::step` (acceleration level, e = 0): ns per step.
+#[divan::bench]
+fn d1_single(bencher: Bencher) {
+    d1_single_on(bencher, D1Level::Acceleration);
+}
+
+/// `L` runs of a frequency sweep with `D1MinusLinearLockstep` (acceleration level): ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn d1_frequency<const L: usize>(bencher: Bencher) {
+    d1_frequency_on::<L>(bencher, D1Level::Acceleration);
+}
+
+/// One run, `D1MinusLinear::step` (velocity level, e = 0): ns per step.
+#[divan::bench]
+fn d1_velocity_single(bencher: Bencher) {
+    d1_single_on(bencher, D1Level::Velocity);
+}
+
+/// `L` runs of a frequency sweep with `D1MinusLinearLockstep` (velocity level): ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn d1_velocity_frequency<const L: usize>(bencher: Bencher) {
+    d1_frequency_on::<L>(bencher, D1Level::Velocity);
+}
+
+/// One run, `MoreauJeanCombined::step` (θ = 1, e = 0): ns per step.
+#[divan::bench]
+fn combined_single(bencher: Bencher) {
+    bencher
+        .counter(ItemsCount::new(STEPS))
+        .with_inputs(|| {
+            let l = lane(0, true);
+            MoreauJeanCombined::new("single".into(), l.dynamics, 1.0, 0.0, DT, &l.initial).unwrap()
+        })
+        .bench_local_values(|mut s| {
+            for _ in 0..STEPS {
+                divan::black_box(s.step().unwrap());
+            }
+            s
+        });
+}
+
+/// `L` runs of a frequency sweep with `MoreauJeanCombinedLockstep` (θ = 1): ns per run-step.
+#[divan::bench(consts = [4, 8, 16])]
+fn combined_frequency<const L: usize>(bencher: Bencher) {
+    bencher.counter(ItemsCount::new(STEPS * L)).with_inputs(|| MoreauJeanCombinedLockstep::<L>::new(1.0, DT, (0..L).map(|k| lane(k, true)).collect()).unwrap()).bench_local_values(|mut b| {
         for _ in 0..STEPS {
             divan::black_box(b.step());
         }

@@ -7,14 +7,19 @@
 //! lane whose observer cancels its token, a lane whose observer fails, and
 //! a partial batch — with the Paoli–Schatzman engine (level 1 after its
 //! start step), the Moreau–Jean one (a one-step scheme: level 0), the
-//! contact-stabilized one and the CD-Lagrange one. The
+//! contact-stabilized one, the CD-Lagrange one, Schindler and Acary's
+//! (both levels) and Moreau–Jean with the combined projection; for the
+//! last two also the rows a `SeriesWriter` writes every 7 levels. The
 //! one documented difference: the engine does not track the works, so a
 //! lockstep sample's `work` is `None`.
 
 use signorini_run::beam::Pipe;
 use signorini_run::reduced::Need;
-use signorini_run::{run, run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, RunSummary, Sample};
-use signorini_schemes::{CdLagrange, CdLagrangeLockstep, ContactStabilized, ContactStabilizedLockstep, LockstepLane, MoreauJean, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper};
+use signorini_run::{run, run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, RunSummary, Sample, SeriesColumns, SeriesWriter};
+use signorini_schemes::{
+    CdLagrange, CdLagrangeLockstep, ContactStabilized, ContactStabilizedLockstep, D1Level, D1MinusLinear, D1MinusLinearLockstep, LockstepLane, MoreauJean, MoreauJeanCombined,
+    MoreauJeanCombinedLockstep, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper,
+};
 
 const DT: f64 = 5e-6;
 
@@ -92,6 +97,10 @@ enum Scheme {
     Cs,
     /// `cd-lagrange(e)` (explicit: DT is below its limit on J = 19).
     Cd,
+    /// `d1-minus-linear(e)` on a level (explicit: DT is below its limit).
+    D1(D1Level),
+    /// `moreau-jean-combined(1, e)`.
+    Mjc,
 }
 
 fn single(l: &LockstepLane, steps: usize, twist: Twist) -> Outcome {
@@ -104,6 +113,8 @@ fn single_of(scheme: Scheme, l: &LockstepLane, steps: usize, twist: Twist) -> Ou
         Scheme::Mj => Box::new(MoreauJean::new("single".into(), l.dynamics.clone(), 0.5, l.restitution, 0.5, DT, &l.initial).unwrap()),
         Scheme::Cs => Box::new(ContactStabilized::new("single".into(), l.dynamics.clone(), DT, &l.initial).unwrap()),
         Scheme::Cd => Box::new(CdLagrange::new("single".into(), l.dynamics.clone(), l.restitution, DT, &l.initial).unwrap()),
+        Scheme::D1(level) => Box::new(D1MinusLinear::at_level(level, "single".into(), l.dynamics.clone(), l.restitution, DT, &l.initial).unwrap()),
+        Scheme::Mjc => Box::new(MoreauJeanCombined::new("single".into(), l.dynamics.clone(), 1.0, l.restitution, DT, &l.initial).unwrap()),
     };
     let cancel = Cancel::new();
     let cfg = RunConfig::new(DT, steps as f64 * DT).unwrap().with_interrupt(cancel.clone());
@@ -123,6 +134,8 @@ fn lockstep_of<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[
         Scheme::Mj => lockstep_on(&mut MoreauJeanLockstep::<L>::new(0.5, 0.5, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
         Scheme::Cs => lockstep_on(&mut ContactStabilizedLockstep::<L>::new(DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
         Scheme::Cd => lockstep_on(&mut CdLagrangeLockstep::<L>::new(DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
+        Scheme::D1(level) => lockstep_on(&mut D1MinusLinearLockstep::<L>::new(level, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
+        Scheme::Mjc => lockstep_on(&mut MoreauJeanCombinedLockstep::<L>::new(1.0, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
     }
 }
 
@@ -325,4 +338,105 @@ fn cd_lagrange_lanes_feed_their_observers_the_single_runs_samples() {
         assert!(got[k].4 < 500, "lane {k} stopped early");
     }
     check_of(Scheme::Cd, &lanes, &[500; 5], &[Twist::None; 5], got);
+}
+
+/// The lanes of the engines below: the paper's beam at four forcings and
+/// restitutions, on stops at ±2e-4, which the tip reaches within the
+/// first 200 steps (so contacts and their forces appear in the samples).
+fn rattling_lanes() -> Vec<LockstepLane> {
+    (0..4)
+        .map(|k| {
+            let mut l = lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64);
+            l.dynamics.contacts[0].bounds = signorini_schemes::Bounds { lo: -2e-4, hi: 2e-4 };
+            LockstepLane { restitution: 0.25 * k as f64, ..l }
+        })
+        .collect()
+}
+
+/// What the CSV series of a lane says: each lane's `SeriesWriter` (every
+/// `every` levels, with the contact's columns, no energy) in lockstep,
+/// against the same writer fed by the single run; returns the number of
+/// rows with the contact active.
+fn series_rows<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[usize], every: usize) -> usize {
+    let dof = lanes[0].dynamics.contacts[0].dof;
+    let dofs = [dof];
+    let cols = SeriesColumns { energy: false, contacts: Some(&dofs), ..SeriesColumns::default() };
+    let cfgs: Vec<RunConfig> = steps.iter().map(|&n| RunConfig::new(DT, n as f64 * DT).unwrap()).collect();
+    let mut bufs: Vec<Vec<u8>> = vec![Vec::new(); lanes.len()];
+    {
+        let mut ws: Vec<SeriesWriter<'_, &mut Vec<u8>>> = bufs.iter_mut().map(|b| SeriesWriter::new(b, every, dof, cols).unwrap()).collect();
+        let mut runs: Vec<LockstepRun<'_>> = ws.iter_mut().zip(&cfgs).zip(lanes).map(|((w, c), l)| LockstepRun::new(&l.initial.u, c, vec![w as &mut dyn Observer])).collect();
+        let ends = match scheme {
+            Scheme::D1(level) => run_lockstep(&mut D1MinusLinearLockstep::<L>::new(level, DT, lanes.to_vec()).unwrap(), &mut runs, &Need::Full),
+            Scheme::Mjc => run_lockstep(&mut MoreauJeanCombinedLockstep::<L>::new(1.0, DT, lanes.to_vec()).unwrap(), &mut runs, &Need::Full),
+            _ => unreachable!("the series test's engines"),
+        }
+        .unwrap();
+        assert!(ends.iter().all(|e| e.result.is_ok()), "every lane reaches its horizon");
+    }
+    let mut active = 0;
+    for (k, (l, got)) in lanes.iter().zip(&bufs).enumerate() {
+        let mut s: Box<dyn Stepper> = match scheme {
+            Scheme::D1(level) => Box::new(D1MinusLinear::at_level(level, "single".into(), l.dynamics.clone(), l.restitution, DT, &l.initial).unwrap()),
+            _ => Box::new(MoreauJeanCombined::new("single".into(), l.dynamics.clone(), 1.0, l.restitution, DT, &l.initial).unwrap()),
+        };
+        let mut want = Vec::new();
+        {
+            let mut w = SeriesWriter::new(&mut want, every, dof, cols).unwrap();
+            run(s.as_mut(), &l.initial.u, &cfgs[k], &mut [&mut w]).unwrap();
+        }
+        let text = String::from_utf8(want.clone()).unwrap();
+        let rows: Vec<&str> = text.lines().collect();
+        // Level 0, then every `every`-th level up to the horizon: the last
+        // row is the last multiple of `every`, not the horizon itself.
+        assert_eq!(rows.len(), 1 + 1 + steps[k] / every, "{scheme:?} lane {k}: the single run's rows");
+        active += rows.iter().skip(2).filter(|r| !r.ends_with(",0")).count();
+        assert!(got == &want, "{scheme:?} lane {k}: the series differs from its single run's (first differing row {:?})", String::from_utf8_lossy(got).lines().zip(text.lines()).find(|(a, b)| a != b));
+    }
+    active
+}
+
+/// Schindler and Acary's engine (level 0 after construction: no start
+/// step), both levels, in `run_lockstep`: lanes with different forcing,
+/// restitutions and horizons, one cancelled by its observer, one whose
+/// observer fails, two that blow up in a partial batch — each lane's
+/// samples and end are its single run's; and the CSV series every 7 levels
+/// (horizons off the multiples of 7 and of the 64-step checks).
+#[test]
+fn d1_minus_linear_lanes_feed_their_observers_the_single_runs_samples() {
+    for level in [D1Level::Acceleration, D1Level::Velocity] {
+        lanes_feed_the_single_runs_samples(Scheme::D1(level));
+    }
+}
+
+/// Moreau–Jean with the combined projection (θ = 1; level 0 after
+/// construction) in `run_lockstep`: as Schindler and Acary's above.
+#[test]
+fn moreau_jean_combined_lanes_feed_their_observers_the_single_runs_samples() {
+    lanes_feed_the_single_runs_samples(Scheme::Mjc);
+}
+
+fn lanes_feed_the_single_runs_samples(scheme: Scheme) {
+    let lanes = rattling_lanes();
+    let steps = [700, 640, 1000, 333];
+    let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
+    let got = lockstep_of::<4>(scheme, &lanes, &steps, &twists, &Need::Full);
+    assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{scheme:?}: {:?}", got[1].3);
+    assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{scheme:?}: {:?}", got[3].3);
+    assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
+    assert!(got.iter().all(|g| g.0[0].n == 0 && g.0[1].n == 1 && g.0[1].lambda.is_some()), "{scheme:?}: level 1 is a step's sample");
+    // Not vacuous: the contact acts in the samples.
+    let held = got.iter().flat_map(|g| g.0.iter()).filter(|r| r.status[0] != signorini_contact::Active::None).count();
+    eprintln!("{scheme:?}: {held} samples with the contact active");
+    assert!(held > 100, "{scheme:?}: only {held} samples with the contact active");
+    check_of(scheme, &lanes, &steps, &twists, got);
+    let blow: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
+    let got = lockstep_of::<8>(scheme, &blow, &[500; 5], &[Twist::None; 5], &Need::Full);
+    for k in [1, 3] {
+        assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "{scheme:?} lane {k}: {:?}", got[k].3);
+        assert!(got[k].4 < 500, "{scheme:?}: lane {k} stopped early");
+    }
+    check_of(scheme, &blow, &[500; 5], &[Twist::None; 5], got);
+    let active = series_rows::<4>(scheme, &lanes, &[703, 640, 1000, 333], 7);
+    assert!(active > 10, "{scheme:?}: only {active} series rows with the contact active");
 }

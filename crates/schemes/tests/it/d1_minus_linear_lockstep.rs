@@ -191,6 +191,76 @@ fn lanes_pressed_on_a_stop_by_a_steady_load_are_bit_identical() {
     }
 }
 
+/// A lane whose two stops are closer than a step's travel, pressed down by
+/// a steady load while its tip moves up (`V⁰` at the tip only): on the
+/// velocity level `μ⁺` holds the tip at the lower stop and the step's
+/// travel `dt/2 V⁰_c` closes the upper one, an impact step (`I₃ ≠ ∅`)
+/// that starts with a held contact, whose `μ⁺` the impact drops (its mean
+/// force and state do not read it: only the parts show it). Each lane
+/// against the dense transcription of the step (`d1minus.rs`'s `Oracle`,
+/// stepped from the lane's own state) to 1e-9, and against its single run
+/// bit for bit; on both levels (the acceleration level holds only contacts
+/// with a rate `<= 1e-8`, which cannot cross such stops: there no held
+/// impact is asked for).
+#[test]
+fn a_held_lane_that_closes_its_other_stop_drops_its_start_force() {
+    use crate::d1minus::Oracle;
+    use crate::stabilized::{dense, solve};
+    use signorini_schemes::Lockstep;
+    let narrow = |v0: f64, gap: f64, e: f64| {
+        let (mut dy, mut init) = pipe(19, 0.0, 10.0, (0.0, gap));
+        let c = dy.contacts[0].dof;
+        // The load whose free acceleration at the tip is −10 V⁰/dt.
+        let shape = pipe(19, 1.0, 10.0, (0.0, 0.0)).0.forcing[0].shape.clone();
+        let a_unit = solve(dense(&dy.mass), shape.clone())[c];
+        let p = -10.0 * v0 / (DT * a_unit);
+        dy.load = shape.iter().map(|g| p * g).collect();
+        init.v.iter_mut().for_each(|v| *v = 0.0);
+        init.v[c] = v0;
+        lane((dy, init), e)
+    };
+    let lanes = vec![narrow(1.0, 2e-6, 0.0), narrow(2.0, 5e-6, 0.5), lane(pipe(19, 0.2, 10.0, (-0.01, 0.01)), 0.0), narrow(0.5, 1e-6, 1.0)];
+    for level in LEVELS {
+        compare_parts::<4>(level, DT, &lanes, 300);
+        let oracles: Vec<Oracle> = lanes.iter().map(|l| Oracle::new(&l.dynamics, l.restitution, DT).at(level)).collect();
+        let mut b = D1MinusLinearLockstep::<4>::new(level, DT, lanes.clone()).unwrap();
+        let n = b.dofs();
+        let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
+        let mut held = vec![0usize; lanes.len()];
+        for step in 0..300 {
+            let want: Vec<_> = (0..lanes.len())
+                .map(|k| {
+                    b.displacement_into(k, &mut u);
+                    b.velocity_into(k, &mut v);
+                    oracles[k].step(&u, &v, step)
+                })
+                .collect();
+            b.step();
+            for (k, o) in want.iter().enumerate() {
+                let at = format!("{level:?}, lane {k}, step {step}");
+                b.displacement_into(k, &mut u);
+                b.velocity_into(k, &mut v);
+                let scale = 1.0 + o.u.iter().chain(&o.v).fold(0.0f64, |m, x| m.max(x.abs()));
+                for (i, (g, w)) in u.iter().chain(&v).zip(o.u.iter().chain(&o.v)).enumerate() {
+                    assert!((g - w).abs() <= 1e-12 * scale, "{at}: state {i}: {g} vs the dense step's {w}");
+                }
+                assert_eq!(b.impact(k), o.impact, "{at}: impact");
+                let (fp, fm) = b.forces(k);
+                for (name, g, w) in [("Λ", b.impulse(k), o.big[0]), ("λ⁺", fp, o.plus[0]), ("λ⁻", fm, o.minus[0])] {
+                    assert!((g - w).abs() <= 1e-9 * (1.0 + w.abs()), "{at}: {name} {g} vs the dense step's {w}");
+                }
+                held[k] += usize::from(o.impact && o.held);
+            }
+        }
+        if level == D1Level::Velocity {
+            for k in [0, 1, 3] {
+                assert!(held[k] > 0, "lane {k}: no impact step that starts with a held contact: {held:?}");
+            }
+        }
+        eprintln!("{level:?}: impact steps that start with a held contact, per lane: {held:?}");
+    }
+}
+
 /// Lanes whose forcing overflows report the single run's `NonFinite`
 /// error at that step; the other lanes carry on bit for bit; on each level.
 #[test]
