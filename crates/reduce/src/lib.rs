@@ -126,7 +126,7 @@ pub struct Reduction {
 /// decades) returned orthonormal vectors that were not eigenvectors
 /// (relative residual 3e-4 of the largest eigenvalue at n = 151, and the
 /// reduced contact stiffness 4e-4 off); the QR path keeps the residual at
-/// round-off (tests/reduction.rs, a fine beam).
+/// round-off (tests/it/reduction.rs, a fine beam).
 fn sym_eigen(c: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors, SelfAdjointEvdParams};
