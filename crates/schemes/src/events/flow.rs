@@ -297,6 +297,67 @@ fn resonant(k: f64, c: f64, w: f64) -> bool {
     c == 0.0 && (k - w * w).abs() <= 1e-13 * w * w
 }
 
+/// Complex eigenvalues of the first-order form within this fraction of its
+/// spectral radius are one repeated eigenvalue (round-off splits a repeated
+/// pair by ~1e-16 of the radius, a Jordan block by ~1e-8: the latter stays
+/// split and is refused by the basis checks of [`ModalFlow::general`]).
+const REPEATED: f64 = 1e-12;
+
+/// The planes of a complex eigenvalue `σ ± iω` of `a` repeated `m` times
+/// (`k = σ² + ω²`, `c = −2σ`): one real vector `x` per plane `{x, a x}`.
+/// The real invariant subspace is the null space of
+/// `Q = a² + c a + k I = (a − λ)(a − λ̄)` (its right singular vectors of
+/// singular value ≤ 1e-10 of the largest); of dimension `2m` when the
+/// eigenvalue is semisimple, below when defective (a Jordan block):
+/// refused. Each `x` is the subspace's vector farthest from the planes
+/// taken so far (orthogonal to them); an invariant plane meeting another
+/// in a line would meet it in an invariant line, which a pair without
+/// real eigenvalues has not: the planes are independent.
+fn repeated_planes(a: &Mat<f64>, k: f64, c: f64, m: usize) -> Result<Vec<Vec<f64>>, EventsError> {
+    let nn = a.nrows();
+    let q = a * a + Mat::from_fn(nn, nn, |i, j| c * a[(i, j)] + if i == j { k } else { 0.0 });
+    let svd = q.svd().map_err(|_| EventsError::Eigen)?;
+    let s = svd.S().column_vector();
+    let smax = (0..nn).fold(0.0f64, |x, i| x.max(s[i]));
+    let null: Vec<usize> = (0..nn).filter(|&i| s[i] <= 1e-10 * smax).collect();
+    if null.len() != 2 * m {
+        return Err(EventsError::Defective { condition: f64::INFINITY });
+    }
+    let v = svd.V();
+    let mut z: Vec<Vec<f64>> = null.iter().map(|&i| (0..nn).map(|r| v[(r, i)]).collect()).collect();
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(2 * m);
+    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    // Gram–Schmidt, twice, against the basis; the result and its norm.
+    let orth = |basis: &[Vec<f64>], mut x: Vec<f64>| -> (Vec<f64>, f64) {
+        for _ in 0..2 {
+            for b in basis {
+                let d = dot(b, &x);
+                x.iter_mut().zip(b).for_each(|(p, q)| *p -= d * q);
+            }
+        }
+        let norm = dot(&x, &x).sqrt();
+        (x.into_iter().map(|p| p / norm).collect(), norm)
+    };
+    let mut xs = Vec::with_capacity(m);
+    for _ in 0..m {
+        let (best, _) = z.iter().enumerate().map(|(i, zi)| (i, orth(&basis, zi.clone()).1)).fold((0, -1.0), |b, c| if c.1 > b.1 { c } else { b });
+        let (x, norm) = orth(&basis, z.swap_remove(best));
+        if !(norm > 1e-8) {
+            return Err(EventsError::Defective { condition: f64::INFINITY });
+        }
+        let ax: Vec<f64> = (0..nn).map(|r| (0..nn).map(|t| a[(r, t)] * x[t]).sum()).collect();
+        let size = dot(&ax, &ax).sqrt();
+        basis.push(x.clone());
+        let (y, norm) = orth(&basis, ax);
+        if !(norm > 1e-8 * size) {
+            return Err(EventsError::Defective { condition: f64::INFINITY });
+        }
+        basis.push(y);
+        xs.push(x);
+    }
+    Ok(xs)
+}
+
 impl ModalFlow {
     /// The flow of `dy`'s free motion (its contacts ignored): `M` positive
     /// definite, `C` classical or not (the first-order form), each forcing profile a sine or a sum of
@@ -380,7 +441,9 @@ impl ModalFlow {
     /// `k = σ² + ω²`); two real eigenvalues `λ₁ ≠ λ₂` (taken in ascending
     /// order, pairwise) give `x_b = u₁ + u₂` (`c = −λ₁ − λ₂`, `k = λ₁λ₂`).
     /// On each plane `A x_a = −k x_b`, `A x_b = x_a − c x_b`: the
-    /// companion block of `η'' + c η' + k η`.
+    /// companion block of `η'' + c η' + k η`. A complex eigenvalue repeated
+    /// to round-off ([`REPEATED`]) gives its planes from the real invariant
+    /// subspace ([`repeated_planes`]; a defective one is refused).
     fn general(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>, minv: Mat<f64>, loads: &Loads) -> Result<Self, EventsError> {
         let n = m.nrows();
         let nn = 2 * n;
@@ -402,9 +465,26 @@ impl ModalFlow {
             let s = size(&x);
             x.into_iter().map(|v| v / s).collect()
         };
+        // A complex eigenvalue repeated to round-off (docs/theory.md §9.1):
+        // one cluster, its planes from the real invariant subspace.
+        let radius = (0..nn).fold(0.0f64, |r, j| r.max(sv[j].re.hypot(sv[j].im)));
+        let mut done = vec![false; nn];
         for j in 0..nn {
             let l = sv[j];
-            if l.im > 0.0 {
+            if l.im > 0.0 && !done[j] {
+                let near: Vec<usize> = (j..nn).filter(|&i| sv[i].im > 0.0 && !done[i] && (sv[i].re - l.re).hypot(sv[i].im - l.im) <= REPEATED * radius).collect();
+                if near.len() > 1 {
+                    let m = near.len() as f64;
+                    let (re, im) = near.iter().fold((0.0, 0.0), |(a, b), &i| (a + sv[i].re / m, b + sv[i].im / m));
+                    let (ki, ci) = (re * re + im * im, -2.0 * re);
+                    for x in repeated_planes(&a, ki, ci, near.len())? {
+                        modes.push((ki, ci, unit(x)));
+                    }
+                    for i in near {
+                        done[i] = true;
+                    }
+                    continue;
+                }
                 // Any nonzero real vector of the plane: the real or the
                 // imaginary part of the eigenvector, the larger.
                 let (re, im): (Vec<f64>, Vec<f64>) = (0..nn).map(|r| (u[(r, j)].re, u[(r, j)].im)).unzip();
@@ -1066,4 +1146,43 @@ pub struct Event {
     pub q: Vec<f64>,
     /// The velocity there.
     pub v: Vec<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `J = [0 ω; −ω 0]` has `±iω`: `[J 0; 0 J]` has it twice with a
+    /// 4-dimensional real invariant subspace (two planes, each invariant:
+    /// `A² x = −ω² x`, together a basis), `[J I; 0 J]` twice with only one
+    /// eigenvector (a Jordan block): refused.
+    #[test]
+    fn a_repeated_pair_gives_independent_planes_unless_defective() {
+        let w = 1.7;
+        let block = |jordan: bool| {
+            Mat::from_fn(4, 4, |i, j| match (i / 2 == j / 2, i % 2, j % 2) {
+                (true, 0, 1) => w,
+                (true, 1, 0) => -w,
+                (false, _, _) if jordan && j == i + 2 => 1.0,
+                _ => 0.0,
+            })
+        };
+        let a = block(false);
+        let xs = repeated_planes(&a, w * w, 0.0, 2).unwrap();
+        let mut t = Mat::<f64>::zeros(4, 4);
+        for (p, x) in xs.iter().enumerate() {
+            // A x by hand: rows (ω x₁, −ω x₀, ω x₃, −ω x₂).
+            let ax = [w * x[1], -w * x[0], w * x[3], -w * x[2]];
+            let a2x = [w * ax[1], -w * ax[0], w * ax[3], -w * ax[2]];
+            for r in 0..4 {
+                assert!((a2x[r] + w * w * x[r]).abs() <= 1e-13, "plane {p} not invariant");
+                t[(r, 2 * p)] = x[r];
+                t[(r, 2 * p + 1)] = ax[r];
+            }
+        }
+        let tinv = t.full_piv_lu().inverse();
+        let norm = |x: &Mat<f64>| (0..4).map(|i| (0..4).map(|j| x[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
+        assert!(norm(&t) * norm(&tinv) <= 100.0, "planes not independent: condition {}", norm(&t) * norm(&tinv));
+        assert!(matches!(repeated_planes(&block(true), w * w, 0.0, 2), Err(EventsError::Defective { .. })));
+    }
 }

@@ -311,3 +311,42 @@ fn a_free_chain_with_an_undamped_rigid_mode_is_refused_or_exact() {
     }
     assert_eq!(taken + refused, 120);
 }
+
+/// Two blocks with a shared undamped frequency, one damped: the part
+/// {0, 1, 2} of a uniform free consistent chain held at its node 3 (its
+/// mode (1, 0, −1) at ω² = 3 has a node at the dashpot on dof 1) and the
+/// lone end node 4 (k/m = 1/(1/3) = 3). The first-order form has `±i√3`
+/// twice, with two independent eigenvectors (not defective): the flow
+/// takes a real basis of the 4-dimensional invariant subspace (docs/theory.md
+/// §9.1) and matches the exponential; a detuned lone node (mass 0.35)
+/// separates the eigenvalues.
+fn shared_frequency(lone_mass: f64, d: f64) -> Dynamics {
+    let (mut m, mut k) = (SymBand::zeros(4, 1), SymBand::zeros(4, 1));
+    for (i, (mi, ki)) in [(1.0 / 3.0, 1.0), (2.0 / 3.0, 2.0), (2.0 / 3.0, 2.0), (lone_mass, 1.0)].into_iter().enumerate() {
+        m.set(i, i, mi);
+        k.set(i, i, ki);
+    }
+    for i in 1..3 {
+        m.set(i, i - 1, 1.0 / 6.0);
+        k.set(i, i - 1, -1.0);
+    }
+    let mut c = SymBand::zeros(4, 1);
+    c.set(1, 1, d);
+    let mut dy = Dynamics::new(m, k, vec![0.1, -0.05, 0.2, -0.1], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]);
+    dy.damping = Some(c);
+    forced(dy)
+}
+
+#[test]
+fn a_repeated_undamped_frequency_across_blocks_is_exact() {
+    for d in [0.05, 0.4, 1.0, 2.5] {
+        for lone in [1.0 / 3.0, 0.35] {
+            let dy = shared_frequency(lone, d);
+            let flow = ModalFlow::new(&dy).unwrap_or_else(|e| panic!("lone mass {lone}, d = {d}: {e}"));
+            assert!(!flow.classical());
+            for (t0, tau) in [(0.0, 0.7), (3.1, 4.0), (1.3, 11.0)] {
+                check(&dy, t0, tau, 1e-12);
+            }
+        }
+    }
+}
