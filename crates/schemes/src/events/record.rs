@@ -64,7 +64,7 @@ pub enum EventsError {
     /// real two-dimensional invariant subspaces here (a defective or
     /// repeated eigenvalue: critical damping, a rigid mode without damping
     /// beside a non-classical one).
-    #[error("damping: the first-order form of the non-classical damping C is defective or nearly so (its modal basis has the condition number {condition:e}, above 1e8): no exact modal flow; allowed: classical damping (e.g. Rayleigh C = a M + b K) or a non-classical one whose first-order eigenvalues are distinct")]
+    #[error("damping: the first-order form of the non-classical damping C is defective or nearly so (its modal basis has the condition number {condition:e}, above 1e8): no exact modal flow; allowed: classical damping (e.g. Rayleigh C = a M + b K) or a non-classical one whose first-order form is not defective (distinct eigenvalues, or a repeated complex pair with as many independent eigenvectors as its multiplicity)")]
     Defective {
         /// `‖T‖∞ ‖T⁻¹‖∞` of the modal basis (infinite: no basis).
         condition: f64,
