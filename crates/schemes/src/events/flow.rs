@@ -313,7 +313,7 @@ const REPEATED: f64 = 1e-12;
 /// taken so far (orthogonal to them); an invariant plane meeting another
 /// in a line would meet it in an invariant line, which a pair without
 /// real eigenvalues has not: the planes are independent.
-fn repeated_planes(a: &Mat<f64>, k: f64, c: f64, m: usize) -> Result<Vec<Vec<f64>>, EventsError> {
+pub fn repeated_planes(a: &Mat<f64>, k: f64, c: f64, m: usize) -> Result<Vec<Vec<f64>>, EventsError> {
     let nn = a.nrows();
     let q = a * a + Mat::from_fn(nn, nn, |i, j| c * a[(i, j)] + if i == j { k } else { 0.0 });
     let svd = q.svd().map_err(|_| EventsError::Eigen)?;
@@ -1146,43 +1146,4 @@ pub struct Event {
     pub q: Vec<f64>,
     /// The velocity there.
     pub v: Vec<f64>,
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// `J = [0 ω; −ω 0]` has `±iω`: `[J 0; 0 J]` has it twice with a
-    /// 4-dimensional real invariant subspace (two planes, each invariant:
-    /// `A² x = −ω² x`, together a basis), `[J I; 0 J]` twice with only one
-    /// eigenvector (a Jordan block): refused.
-    #[test]
-    fn a_repeated_pair_gives_independent_planes_unless_defective() {
-        let w = 1.7;
-        let block = |jordan: bool| {
-            Mat::from_fn(4, 4, |i, j| match (i / 2 == j / 2, i % 2, j % 2) {
-                (true, 0, 1) => w,
-                (true, 1, 0) => -w,
-                (false, _, _) if jordan && j == i + 2 => 1.0,
-                _ => 0.0,
-            })
-        };
-        let a = block(false);
-        let xs = repeated_planes(&a, w * w, 0.0, 2).unwrap();
-        let mut t = Mat::<f64>::zeros(4, 4);
-        for (p, x) in xs.iter().enumerate() {
-            // A x by hand: rows (ω x₁, −ω x₀, ω x₃, −ω x₂).
-            let ax = [w * x[1], -w * x[0], w * x[3], -w * x[2]];
-            let a2x = [w * ax[1], -w * ax[0], w * ax[3], -w * ax[2]];
-            for r in 0..4 {
-                assert!((a2x[r] + w * w * x[r]).abs() <= 1e-13, "plane {p} not invariant");
-                t[(r, 2 * p)] = x[r];
-                t[(r, 2 * p + 1)] = ax[r];
-            }
-        }
-        let tinv = t.full_piv_lu().inverse();
-        let norm = |x: &Mat<f64>| (0..4).map(|i| (0..4).map(|j| x[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
-        assert!(norm(&t) * norm(&tinv) <= 100.0, "planes not independent: condition {}", norm(&t) * norm(&tinv));
-        assert!(matches!(repeated_planes(&block(true), w * w, 0.0, 2), Err(EventsError::Defective { .. })));
-    }
 }

@@ -52,6 +52,8 @@ mod search;
 mod stepper;
 
 pub use driven::{EventDriven, Reached, MAX_EVENTS};
+#[doc(hidden)]
+pub use flow::repeated_planes;
 pub use flow::{Event, ModalFlow};
 pub use record::{EventKind, EventRecord, EventsError};
 pub use stepper::EventStepper;
