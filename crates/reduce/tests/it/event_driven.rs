@@ -57,6 +57,9 @@ fn inverse_massive(a: &[f64], n: usize, nz: usize) -> Vec<f64> {
     out
 }
 
+/// The largest reduced model the oracle's stack buffers hold.
+const MAXN: usize = 40;
+
 impl Oracle {
     fn load(&self, i: usize, t: f64) -> f64 {
         self.f0[i] + self.shape[i] * self.wave.0 * (self.wave.1 * t).sin()
@@ -67,28 +70,41 @@ impl Oracle {
     /// `r >= 0` at `lo`, `<= 0` at `hi`, `0` between (every combination of
     /// free, lower, upper tried; `K_ZZ` SPD: one fits), into `q[..nz]`;
     /// which are held.
-    fn contacts(&self, q: &mut [f64], t: f64) -> Vec<bool> {
+    fn contacts(&self, q: &mut [f64], t: f64) -> [bool; 2] {
         let (n, nz) = (self.n, self.nz);
-        let b: Vec<f64> = (0..nz).map(|i| self.load(i, t) - (nz..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>()).collect();
+        assert!(nz <= 2, "at most two contacts here");
+        let mut b = [0.0; 2];
+        for (i, bi) in b.iter_mut().enumerate().take(nz) {
+            *bi = self.load(i, t) - (nz..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>();
+        }
         for code in 0..3usize.pow(nz as u32) {
-            let side: Vec<usize> = (0..nz).map(|i| code / 3usize.pow(i as u32) % 3).collect();
-            let mut x = vec![0.0; nz];
+            let mut side = [0usize; 2];
+            let mut x = [0.0; 2];
             for i in 0..nz {
+                side[i] = code / 3usize.pow(i as u32) % 3;
                 x[i] = [0.0, self.bounds[i].0, self.bounds[i].1][side[i]];
             }
-            let free: Vec<usize> = (0..nz).filter(|&i| side[i] == 0).collect();
+            let (mut free, mut nf) = ([0usize; 2], 0);
+            for i in 0..nz {
+                if side[i] == 0 {
+                    free[nf] = i;
+                    nf += 1;
+                }
+            }
             // The free ones: K_FF x_F = b_F − K_FC x_C (at most 2 × 2 here).
-            let rhs: Vec<f64> = free.iter().map(|&i| b[i] - (0..nz).filter(|j| side[*j] != 0).map(|j| self.k[i * n + j] * x[j]).sum::<f64>()).collect();
-            match free.len() {
+            let mut rhs = [0.0; 2];
+            for (f, &i) in free[..nf].iter().enumerate() {
+                rhs[f] = b[i] - (0..nz).filter(|j| side[*j] != 0).map(|j| self.k[i * n + j] * x[j]).sum::<f64>();
+            }
+            match nf {
                 0 => {}
                 1 => x[free[0]] = rhs[0] / self.k[free[0] * n + free[0]],
-                2 => {
+                _ => {
                     let (a, c, d) = (self.k[free[0] * n + free[0]], self.k[free[0] * n + free[1]], self.k[free[1] * n + free[1]]);
                     let det = a * d - c * c;
                     x[free[0]] = (d * rhs[0] - c * rhs[1]) / det;
                     x[free[1]] = (a * rhs[1] - c * rhs[0]) / det;
                 }
-                _ => unreachable!("at most two contacts here"),
             }
             let fits = (0..nz).all(|i| {
                 let r: f64 = (0..nz).map(|j| self.k[i * n + j] * x[j]).sum::<f64>() - b[i];
@@ -99,8 +115,8 @@ impl Oracle {
                 }
             });
             if fits {
-                q[..nz].copy_from_slice(&x);
-                return side.iter().map(|&s| s != 0).collect();
+                q[..nz].copy_from_slice(&x[..nz]);
+                return [side[0] != 0, side[1] != 0];
             }
         }
         panic!("no solution of the static LCP at t = {t}");
@@ -110,7 +126,10 @@ impl Oracle {
     fn rate(&self, t: f64, q: &mut [f64], v: &[f64], dq: &mut [f64], dv: &mut [f64]) {
         let (n, nz) = (self.n, self.nz);
         self.contacts(q, t);
-        let r: Vec<f64> = (0..n).map(|i| self.load(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>()).collect();
+        let mut r = [0.0; MAXN];
+        for (i, ri) in r.iter_mut().enumerate().take(n) {
+            *ri = self.load(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j]).sum::<f64>();
+        }
         for i in nz..n {
             dq[i] = v[i];
             dv[i] = (nz..n).map(|j| self.minv[i * n + j] * r[j]).sum();
@@ -119,8 +138,11 @@ impl Oracle {
 
     fn step(&self, t: f64, h: f64, q: &mut [f64], v: &mut [f64]) {
         let (n, nz) = (self.n, self.nz);
-        let mut k = [[vec![0.0; n], vec![0.0; n]], [vec![0.0; n], vec![0.0; n]], [vec![0.0; n], vec![0.0; n]], [vec![0.0; n], vec![0.0; n]]];
-        let (mut qs, mut vs) = (q.to_vec(), v.to_vec());
+        assert!(n <= MAXN);
+        let mut k = [[[0.0; MAXN]; 2]; 4];
+        let (mut qs, mut vs) = ([0.0; MAXN], [0.0; MAXN]);
+        qs[..n].copy_from_slice(q);
+        vs[..n].copy_from_slice(v);
         for s in 0..4 {
             let c = [0.0, 0.5, 0.5, 1.0][s];
             if s > 0 {
@@ -130,7 +152,7 @@ impl Oracle {
                 }
             }
             let [dq, dv] = &mut k[s];
-            self.rate(t + c * h, &mut qs, &vs, dq, dv);
+            self.rate(t + c * h, &mut qs[..n], &vs[..n], &mut dq[..n], &mut dv[..n]);
         }
         for i in nz..n {
             q[i] += h / 6.0 * (k[0][0][i] + 2.0 * k[1][0][i] + 2.0 * k[2][0][i] + k[3][0][i]);
