@@ -108,6 +108,23 @@ const STALL: usize = 8;
 /// The most events of a run by default.
 pub const MAX_EVENTS: usize = 10_000_000;
 
+/// Contact `i` (on `dof`, between `lo` and `hi`) at the start `q0`: the
+/// length its round-off is measured on, or [`EventsError::Outside`]. The
+/// displacements' size at the start, and the bounds': the round-off of a
+/// contact's position is the whole field's (its modes), not its own (a
+/// held contact at a stop at 0 has none). A massless dof's start is the
+/// static solution (module docs): not checked.
+fn start_scale(i: usize, dof: usize, massless: bool, lo: f64, hi: f64, q0: &[f64]) -> Result<f64, EventsError> {
+    let q = q0[dof];
+    let field = q0.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let scale = [lo, hi, hi - lo, field].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
+    let inside = q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale;
+    if !(massless || inside) {
+        return Err(EventsError::Outside { contact: i, q, lo, hi });
+    }
+    Ok(scale)
+}
+
 struct Site {
     dof: usize,
     massless: bool,
@@ -242,17 +259,7 @@ impl EventDriven {
                 return Err(EventsError::MasslessRestitution { contact: i, restitution });
             }
             let (lo, hi) = (c.bounds.lo, c.bounds.hi);
-            let q = q0[c.dof];
-            // The displacements' size at the start, and the bounds': the
-            // round-off of a contact's position is the whole field's (its
-            // modes), not its own (a held contact at a stop at 0 has none).
-            let field = q0.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-            let scale = [lo, hi, hi - lo, field].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
-            // A massless dof's start is the static solution (module docs).
-            let inside = q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale;
-            if !(c.massless || inside) {
-                return Err(EventsError::Outside { contact: i, q, lo, hi });
-            }
+            let scale = start_scale(i, c.dof, c.massless, lo, hi, q0)?;
             sites.push(Site { dof: c.dof, massless: c.massless, lo, hi, restitution, scale, grows: scale == f64::MIN_POSITIVE });
         }
         let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
@@ -343,15 +350,8 @@ impl EventDriven {
     /// After an error the run must be started again before it is used.
     pub fn restart(&mut self, t0: f64, q0: &[f64], v0: &[f64]) -> Result<(), EventsError> {
         // As `new` places the contacts (their restitutions were checked there).
-        let field = q0.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         for (i, s) in self.sites.iter_mut().enumerate() {
-            let (lo, hi) = (s.lo, s.hi);
-            let q = q0[s.dof];
-            let scale = [lo, hi, hi - lo, field].iter().filter(|x| x.is_finite()).fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
-            let inside = q >= lo - 1e-12 * scale && q <= hi + 1e-12 * scale;
-            if !(s.massless || inside) {
-                return Err(EventsError::Outside { contact: i, q, lo, hi });
-            }
+            let scale = start_scale(i, s.dof, s.massless, s.lo, s.hi, q0)?;
             (s.scale, s.grows) = (scale, scale == f64::MIN_POSITIVE);
         }
         self.delassus.clone_from(&self.delassus0);
