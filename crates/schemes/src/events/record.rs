@@ -87,7 +87,7 @@ pub enum EventsError {
         restitution: f64,
     },
     /// More events than allowed.
-    #[error("{events} events by t = {t} (max_events): the run stops there, the events so far are kept; if the impacts are real, raise the limit with the scheme's second parameter: scheme = \"event-driven(E,MAX_EVENTS)\" (default 1e7, at most 1e12)")]
+    #[error("{events} events by t = {t} (max_events): the run stops there, the events so far are kept; if the impacts are real, raise the limit with the scheme's second parameter: scheme = \"event-driven(E,MAX_EVENTS)\" (default 1e7, at most 1e12); impacts that come ever faster without accumulating (an elastic contact, E = 1, pressed on its stop under damping: its hops shrink only as e^(-rt), r = C_cc/(3 M_cc)) gain a fixed time, ln(10)/r, per tenfold limit: use a restitution below 1 or a time stepper there (docs/theory.md §9.3)")]
     TooManyEvents {
         /// Where it stopped.
         t: f64,
