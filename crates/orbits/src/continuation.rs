@@ -699,6 +699,14 @@ fn continuation_until<F: Family>(
                     // A corner where impacts appear or held phases start
                     // (a free flight grazing a stop): the orbit just beyond.
                     if let Some((bif, p)) = corner(&ctx, &cur, &branch.points, dir) {
+                        // An orbit with fewer impacts beside one whose slow
+                        // impact is vanishing: the two arcs of a nonsmooth
+                        // fold, which meet at the grazing of `p`'s arc
+                        // ([`turned_back`]), not a corner between them.
+                        let (bif, p) = match (p.orbit.impacts() < cur.orbit.impacts()).then(|| turned_back(&ctx, &branch.points, &cur, &p, vref)).flatten() {
+                            Some(turned) => turned,
+                            None => (bif, p),
+                        };
                         branch.bifurcations.push(bif);
                         branch.points.push(BranchPoint { param: p.param, orbit: p.orbit.clone(), mark: p.mark });
                         cur = p;
@@ -1829,6 +1837,21 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
     let measure: Measure<'_, F> = if c.orbit.impacts() == 0 { &margin } else { &flight_margin };
     let m1 = measure(ctx, &c)?;
     let (estimate, _) = grazing_parameter(ctx, None, (c.clone(), m1), (c.orbit.impacts(), measure), Some((graze, b.param)), OnFailure::Shorten, dir)?;
+    // `c` on `b`'s side of the grazing: both orbits exist there, the two
+    // arcs of a nonsmooth fold that meet at the grazing (`c`'s flight
+    // reaches the stop there, `b`'s slow impact vanishes): the branch
+    // turns back along `c`'s arc, away from the grazing. Oriented along
+    // `dir` it went on down `c`'s arc to the grazing, turned back there
+    // onto `b`'s and traced it again (the oscillator's 2-impact orbit from
+    // Ω = 0.905 down, its extrapolated grazing 1.5e-5 short: `c` the
+    // 1-impact orbit 3e-6 above the grazing; `tests/it/nonsmooth_fold.rs`).
+    let c = if (c.param - estimate) * (b.param - estimate) > 0.0 {
+        let mut away = vec![0.0; ctx.n + 1];
+        away[ctx.n] = (c.param - estimate).signum();
+        ctx.point(c.x.clone(), c.param, &away).ok()?
+    } else {
+        c
+    };
     let lo = b.clone();
     let bif = Bifurcation {
         param: estimate,

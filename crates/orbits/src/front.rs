@@ -51,6 +51,54 @@ pub const SWITCH_LEVELS: usize = 3;
 /// saying so.
 pub const SWITCH_BRANCHES: usize = 24;
 
+/// When Newton from the state after the transient finds no orbit of the
+/// family's periods at `from` (the continuation failed at its start): that
+/// error, saying what the transient settled on — the smallest number of
+/// forcing periods (up to 8 times the family's) after which its state
+/// returns to itself (to 1e-3 of its size: after the default 100 periods
+/// the oscillator below was still 3e-4 of it from its 2-period orbit), or
+/// none. `None` when the start
+/// is not what failed (Newton converges from the guess: the failure came
+/// later) or a flow fails. On the oscillator (`osc.toml`) at Ω = 1.1,
+/// between the period doublings at 1.0648 and 1.1300, the period-1 orbit
+/// is unstable and the transient settles on an orbit of 2 periods (3
+/// impacts); Newton from it wandered (residual 0.73 after 40 iterations)
+/// and the message said only that no orbit was near. (`--period 2` from
+/// the same transient fails too, 3.3e-4 from that orbit: from 400 periods
+/// it converges, hence the message's advice.)
+fn unfound_start(family: &SceneFamily, built: &crate::Built, guess: &[f64], opts: &ContinueOptions, newton: &crate::Newton) -> Option<OrbitError> {
+    let (model, p) = (&built.model, family.periods());
+    let period = built.horizon;
+    let Err(OrbitError::NoConvergence { residual, iterations, why }) = crate::periodic_orbit(model, 0.0, period, guess, newton) else { return None };
+    let size = guess.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(newton.scale);
+    let mut x = guess.to_vec();
+    let mut returns = None;
+    for k in 1..=8 {
+        x = model.flow(0.0, &x, period, false).ok()?.x;
+        let d = x.iter().zip(guess).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+        if d <= 1e-3 * size {
+            returns = Some((k * p, d));
+            break;
+        }
+    }
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
+    let settled = match returns {
+        Some((q, d)) if q != p => format!(
+            "the transient settled on a motion that returns to itself after {q} forcing periods (to {d:.1e}), not {p} (continue it with --period {q}, with a longer --transient where Newton does not converge from {d:.1e} away); an orbit of {p} forcing period{} at {} = {}, if there is one, is unstable or not near it: start the range where it is stable",
+            plural(p),
+            opts.param,
+            opts.from
+        ),
+        Some(_) => "the transient's state returns to itself after the period to 1e-3 of its size but Newton cannot refine it (an orbit at a grazing, or a sliding/held motion)".into(),
+        None => format!(
+            "after the {} forcing periods of the transient the state returns to itself after none of 1 … 8 times the orbit's {p} forcing period{} (to 1e-3 of its size): the motion has not settled (a longer --transient) or is not periodic",
+            opts.transient,
+            plural(p)
+        ),
+    };
+    Some(OrbitError::NoConvergence { residual, iterations, why: format!("{why}; from the state after the {}-period transient: {settled}", opts.transient) })
+}
+
 fn opt(option: &'static str, message: String) -> OrbitError {
     OrbitError::Option { option, message }
 }
@@ -98,7 +146,11 @@ pub fn continue_scene(
             stopped |= !go;
             go
         };
-        continuation_watched(&family, &guess, &copts, &mut w)?
+        match continuation_watched(&family, &guess, &copts, &mut w) {
+            Ok(b) => b,
+            Err(e @ OrbitError::NoConvergence { .. }) => return Err(unfound_start(&family, &built, &guess, opts, &copts.newton).unwrap_or(e)),
+            Err(e) => return Err(e),
+        }
     };
     stopped |= main.end.starts_with("interrupted");
     let mut branches: Vec<(Branch, SceneFamily)> = vec![(main, family.clone())];

@@ -276,3 +276,39 @@ fn a_map_with_more_events_than_allowed_names_the_orbit_layers_limit() {
     let within = oscillator(D).with_max_events(1000).flow(0.0, &x0, 20.0, false).unwrap();
     assert!(within.events.len() >= 6, "{}", within.events.len());
 }
+
+/// The same lumped bar at E = 0.006 with restitution 0 (the scheme's
+/// default): Newton finds no orbit, and there is none with a flight to
+/// find (theory §11.7). Independently of the shooting, a run of the flow
+/// from the mode's start shows why: the contact node lands and is held
+/// for good (no release over 10 periods of the mode). The error says so,
+/// with Newton's residual, where it said only that Newton failed.
+#[test]
+fn the_lumped_bar_with_restitution_zero_says_its_node_stays_held() {
+    use signorini_orbits::modes::ModeScene;
+    use signorini_schemes::events::EventKind;
+    let mut doc = bar(10, "lumped", "event-driven", 0.1);
+    doc["bar"].as_table_mut().unwrap().insert("initial_displacement".into(), "0.1*(1-x)".into());
+    let scene = ModeScene::new(&doc).unwrap();
+    let x0 = scene.exact_state(0.006).unwrap();
+    let period = scene.exact_point(0.006).unwrap().period;
+    let run = scene.model.flow(0.0, &x0, 10.0 * period, false).unwrap();
+    let kinds: Vec<_> = run.events.iter().map(|e| (e.kind, e.velocity_after)).collect();
+    let landed = run.events.iter().any(|e| e.kind == EventKind::Accumulation || (e.kind == EventKind::Impact && e.velocity_after == 0.0));
+    let released = run.events.iter().any(|e| e.kind == EventKind::Release);
+    assert!(landed && !released, "the node lands and stays held: {kinds:?}");
+    match backbone(&doc, 0.006, 0.006, 1) {
+        Err(e @ OrbitError::NoConvergence { residual, .. }) => {
+            let m = e.to_string();
+            assert!(residual.is_finite() && m.contains(&format!("{residual:e}")), "{m}");
+            assert!(m.contains("restitution 0") && m.contains("stays held") && m.contains("no periodic orbit with a flight"), "{m}");
+        }
+        other => panic!("expected Newton's failure, got {other:?}"),
+    }
+    // With restitution 0.5 nothing of the kind is said.
+    let mut elastic = doc.clone();
+    elastic["bar"].as_table_mut().unwrap().insert("scheme".into(), "event-driven(0.5)".into());
+    if let Err(e) = backbone(&elastic, 0.006, 0.006, 1) {
+        assert!(!e.to_string().contains("restitution 0"), "{e}");
+    }
+}
