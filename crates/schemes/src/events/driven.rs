@@ -276,6 +276,11 @@ impl EventDriven {
             if let Some(&d) = zero.iter().find(|&&d| (0..n).any(|j| m[(d, j)] != 0.0)) {
                 return Err(EventsError::Contacts(format!("the massless contact dof {d} has a nonzero row of M")));
             }
+            // Nor of C: the node has no velocity of its own (its equation
+            // would not be static; docs/theory.md §9.3).
+            if let Some(d) = c.as_ref().and_then(|c| zero.iter().copied().find(|&d| (0..n).any(|j| c[(d, j)] != 0.0))) {
+                return Err(EventsError::Contacts(format!("the massless contact dof {d} has a nonzero row of C (the damping matrix): a massless node has no velocity of its own")));
+            }
         }
         let (full, delassus, kzz_inv) = if zero.is_empty() {
             let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;

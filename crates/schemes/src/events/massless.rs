@@ -210,6 +210,16 @@ impl EventDriven {
                 holds.push(Hold { contact: j, upper });
             }
         }
+        // At a start (no event located) the massless dofs' entries of the
+        // state given are not data: they take the static solution and its
+        // rate (enter reads them: an entry on a bound with a speed away
+        // from it would mark that gap exactly 0 at the base; docs/theory.md
+        // §9.3). After an event they are the condensed ones already.
+        if primary.is_none() {
+            for (i, &d) in self.zero.iter().enumerate() {
+                (q[d], v[d]) = (y[i], dy[i]);
+            }
+        }
         let was_held: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
         if primary.is_some() {
             for j in 0..kc {

@@ -17,6 +17,7 @@ mod events_events;
 mod events_flow;
 mod events_held_starts;
 mod events_massless;
+mod events_massless_coupled;
 mod events_planted;
 mod events_proptest;
 mod events_restart;
