@@ -297,7 +297,7 @@ impl<F: Family> Ctx<'_, F> {
     fn param_derivative(&self, lin: &mut Linearised, x: &[f64], param: f64) -> Result<(), OrbitError> {
         // Backward where the forward value is no valid scene (a range that
         // starts at the end of the parameter's domain: a restitution of 1).
-        let mut h = 1e-7 * self.ls;
+        let mut h = 1e-7 * self.ls * slow_impact_scale(&lin.events);
         let (m, t) = match self.family.model_and_period(param + h) {
             Err(e @ (OrbitError::Option { .. } | OrbitError::Scene(_) | OrbitError::Model(_))) => {
                 h = -h;
@@ -447,6 +447,29 @@ impl<F: Family> Ctx<'_, F> {
         let param = a.param + s * a.tangent[n] * self.ls;
         let (x, param, lin) = self.correct(x, param, &a.tangent, trial)?;
         self.point_from(x, param, lin, &a.tangent)
+    }
+}
+
+/// The factor on `G_λ`'s difference step at an orbit whose slowest impact
+/// (speed `v`) is below 1e-2 of its fastest (`V`): `(100 v / V)²`, at
+/// least 1e-6; 1 otherwise. Near a slow impact the map's second
+/// derivative in the parameter grows as `1/v³` (the impact's time moves
+/// as `1/v`), so a forward difference errs by about `h/v²` of `G_λ`: on
+/// the oscillator between stops (`x'' + 0.1x' + x = 2 sin Ωt`, `|x| <= 1`,
+/// e = 0.8, period 3, a range of 3) at Ω = 3.8264736, the 3-impact orbit's
+/// slow impact at 8.75e-4, the step 3e-7 gave `G_λ` 2642 where it is 1490
+/// (its differences at 3e-9 and 3e-10: 1494, 1490.8), and the corrector
+/// failed at every step from there (`tests/it/slow_impact.rs`; the
+/// period-2 branch of `tests/it/period_two.rs` the same way, up its
+/// 4-impact arc). With the factor from a tenth of `V` the switched
+/// period-4 branch of `tests/it/cascade.rs` fell onto period-2 orbits.
+fn slow_impact_scale(events: &[signorini_schemes::events::EventRecord]) -> f64 {
+    let speeds = events.iter().filter(|e| e.kind == EventKind::Impact && e.velocity_before != 0.0).map(|e| e.velocity_before.abs());
+    let (v, vmax) = speeds.fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)));
+    if v < 1e-2 * vmax {
+        (100.0 * v / vmax).powi(2).max(1e-6)
+    } else {
+        1.0
     }
 }
 
