@@ -297,11 +297,43 @@ fn resonant(k: f64, c: f64, w: f64) -> bool {
     c == 0.0 && (k - w * w).abs() <= 1e-13 * w * w
 }
 
-/// Complex eigenvalues of the first-order form within this fraction of its
-/// spectral radius are one repeated eigenvalue (round-off splits a repeated
-/// pair by ~1e-16 of the radius, a Jordan block by ~1e-8: the latter stays
-/// split and is refused by the basis checks of [`ModalFlow::general`]).
+/// Eigenvalues of the first-order form (complex or real) within this
+/// fraction of its spectral radius are one repeated eigenvalue (round-off
+/// splits a repeated one by ~1e-16 of the radius, a Jordan block by ~1e-8:
+/// the latter stays split and is refused by the basis checks of
+/// [`ModalFlow::general`]).
 const REPEATED: f64 = 1e-12;
+
+/// Real eigenvalues of the first-order form closer than this fraction of
+/// its spectral radius are not paired with each other (docs/theory.md
+/// §9.1): the plane of `λ₁, λ₂` has a basis of condition ~`|λ|²/|λ₁ − λ₂|`,
+/// which reaches the 1e8 that [`ModalFlow::general`] refuses about here.
+const CLOSE: f64 = 1e-8;
+
+/// `a x` (dense, each entry summed from the first column on).
+fn times(a: &Mat<f64>, x: &[f64]) -> Vec<f64> {
+    (0..a.nrows()).map(|r| (0..a.ncols()).map(|t| a[(r, t)] * x[t]).sum()).collect()
+}
+
+/// The eigenvectors of a real eigenvalue `λ` of `a` repeated `m` times: an
+/// orthonormal basis of the null space of `a − λ I` (its right singular
+/// vectors of singular value ≤ 1e-10 of the largest), whatever basis of
+/// it the eigen-decomposition gave (possibly nearly parallel vectors). Of
+/// dimension `m` when the eigenvalue is semisimple, below when defective
+/// (a real Jordan block): refused.
+pub fn repeated_line(a: &Mat<f64>, lambda: f64, m: usize) -> Result<Vec<Vec<f64>>, EventsError> {
+    let nn = a.nrows();
+    let shifted = Mat::from_fn(nn, nn, |i, j| a[(i, j)] - if i == j { lambda } else { 0.0 });
+    let svd = shifted.svd().map_err(|_| EventsError::Eigen)?;
+    let s = svd.S().column_vector();
+    let smax = (0..nn).fold(0.0f64, |x, i| x.max(s[i]));
+    let null: Vec<usize> = (0..nn).filter(|&i| s[i] <= 1e-10 * smax).collect();
+    if null.len() != m {
+        return Err(EventsError::Defective { condition: f64::INFINITY });
+    }
+    let v = svd.V();
+    Ok(null.iter().map(|&i| (0..nn).map(|r| v[(r, i)]).collect()).collect())
+}
 
 /// The planes of a complex eigenvalue `σ ± iω` of `a` repeated `m` times
 /// (`k = σ² + ω²`, `c = −2σ`): one real vector `x` per plane `{x, a x}`.
@@ -345,7 +377,7 @@ pub fn repeated_planes(a: &Mat<f64>, k: f64, c: f64, m: usize) -> Result<Vec<Vec
         if !(norm > 1e-8) {
             return Err(EventsError::Defective { condition: f64::INFINITY });
         }
-        let ax: Vec<f64> = (0..nn).map(|r| (0..nn).map(|t| a[(r, t)] * x[t]).sum()).collect();
+        let ax = times(a, &x);
         let size = dot(&ax, &ax).sqrt();
         basis.push(x.clone());
         let (y, norm) = orth(&basis, ax);
@@ -443,7 +475,11 @@ impl ModalFlow {
     /// On each plane `A x_a = −k x_b`, `A x_b = x_a − c x_b`: the
     /// companion block of `η'' + c η' + k η`. A complex eigenvalue repeated
     /// to round-off ([`REPEATED`]) gives its planes from the real invariant
-    /// subspace ([`repeated_planes`]; a defective one is refused).
+    /// subspace ([`repeated_planes`]; a defective one is refused); a real
+    /// one (a pair `λ ± iε`, `ε` within [`REPEATED`], counts as `λ` twice)
+    /// its eigenvectors from the eigenspace ([`repeated_line`]), and with
+    /// two real eigenvalues within [`CLOSE`] the `R` reals pair the `i`-th
+    /// with the `(i + R/2)`-th, so that no plane holds one eigenvalue twice.
     fn general(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>, minv: Mat<f64>, loads: &Loads) -> Result<Self, EventsError> {
         let n = m.nrows();
         let nn = 2 * n;
@@ -471,8 +507,15 @@ impl ModalFlow {
         let mut done = vec![false; nn];
         for j in 0..nn {
             let l = sv[j];
-            if l.im > 0.0 && !done[j] {
-                let near: Vec<usize> = (j..nn).filter(|&i| sv[i].im > 0.0 && !done[i] && (sv[i].re - l.re).hypot(sv[i].im - l.im) <= REPEATED * radius).collect();
+            // A pair `λ ± iε` with `ε` within [`REPEATED`] of the radius:
+            // a real eigenvalue repeated, split by round-off into a complex
+            // pair (two identical overdamped blocks do); its cluster
+            // (below) gives both their vectors.
+            let split = l.im != 0.0 && l.im.abs() <= REPEATED * radius;
+            if split {
+                reals.push((l.re, vec![0.0; nn]));
+            } else if l.im > 0.0 && !done[j] {
+                let near: Vec<usize> = (j..nn).filter(|&i| sv[i].im > REPEATED * radius && !done[i] && (sv[i].re - l.re).hypot(sv[i].im - l.im) <= REPEATED * radius).collect();
                 if near.len() > 1 {
                     let m = near.len() as f64;
                     let (re, im) = near.iter().fold((0.0, 0.0), |(a, b), &i| (a + sv[i].re / m, b + sv[i].im / m));
@@ -495,10 +538,34 @@ impl ModalFlow {
             }
         }
         reals.sort_by(|x, y| x.0.total_cmp(&y.0));
-        for pair in reals.chunks(2) {
-            let [(l1, u1), (l2, u2)] = pair else {
-                return Err(EventsError::Defective { condition: f64::INFINITY });
-            };
+        // A real eigenvalue repeated to round-off (docs/theory.md §9.1):
+        // one cluster, its mean and an orthonormal basis of its eigenspace.
+        if reals.windows(2).any(|w| w[1].0 - w[0].0 <= REPEATED * radius) {
+            let mut grouped = Vec::with_capacity(reals.len());
+            let mut i = 0;
+            while i < reals.len() {
+                let end = (i..reals.len()).take_while(|&j| reals[j].0 - reals[i].0 <= REPEATED * radius).last().map_or(i + 1, |j| j + 1);
+                if end - i == 1 {
+                    grouped.push(reals[i].clone());
+                } else {
+                    let l = reals[i..end].iter().map(|r| r.0).sum::<f64>() / (end - i) as f64;
+                    grouped.extend(repeated_line(&a, l, end - i)?.into_iter().map(|x| (l, unit(x))));
+                }
+                i = end;
+            }
+            reals = grouped;
+        }
+        // Adjacent in ascending order; with two eigenvalues closer than
+        // CLOSE (a repeated one among them), the i-th with the (i + R/2)-th
+        // of the R: no pair is from one cluster unless a cluster holds more
+        // than half of them (then no pairing avoids it; refused below).
+        let half = reals.len() / 2;
+        let close = reals.windows(2).any(|w| w[1].0 - w[0].0 <= CLOSE * radius);
+        if reals.len() % 2 == 1 {
+            return Err(EventsError::Defective { condition: f64::INFINITY });
+        }
+        for p in 0..half {
+            let ((l1, u1), (l2, u2)) = if close { (&reals[p], &reals[p + half]) } else { (&reals[2 * p], &reals[2 * p + 1]) };
             let x = unit(u1.iter().zip(u2).map(|(a, b)| a + b).collect());
             modes.push((l1 * l2, -(l1 + l2), x));
         }
@@ -539,7 +606,8 @@ impl ModalFlow {
         for (i, (ki, ..)) in modes.iter().enumerate() {
             let size = |col: usize| (0..nn).fold(0.0f64, |m, r| m.max(t[(r, col)].abs()));
             let scale = an * size(2 * i) + ki.abs() * size(2 * i + 1);
-            let res = (0..nn).map(|r| ((0..nn).map(|s| a[(r, s)] * t[(s, 2 * i)]).sum::<f64>() + ki * t[(r, 2 * i + 1)]).abs()).fold(0.0, f64::max);
+            let xa: Vec<f64> = (0..nn).map(|r| t[(r, 2 * i)]).collect();
+            let res = times(&a, &xa).iter().enumerate().map(|(r, ax)| (ax + ki * t[(r, 2 * i + 1)]).abs()).fold(0.0, f64::max);
             if !(res <= 1e-11 * scale) {
                 return Err(EventsError::Defective { condition: f64::INFINITY });
             }

@@ -10,7 +10,7 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use proptest::prelude::*;
 use signorini_fem::SymBand;
-use signorini_schemes::events::{repeated_planes, EventsError, ModalFlow};
+use signorini_schemes::events::{repeated_line, repeated_planes, EventsError, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
 type Dense = Vec<Vec<f64>>;
@@ -385,4 +385,163 @@ fn a_repeated_pair_gives_independent_planes_unless_defective() {
     let norm = |x: &Mat<f64>| (0..4).map(|i| (0..4).map(|j| x[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
     assert!(norm(&t) * norm(&tinv) <= 100.0, "planes not independent: condition {}", norm(&t) * norm(&tinv));
     assert!(matches!(repeated_planes(&block(true), w * w, 0.0, 2), Err(EventsError::Defective { .. })));
+}
+
+/// A block of two lumped masses `m` between walls (springs 1, 1, 1) with a
+/// dashpot `d` at its first mass and `2d` at its second (not proportional
+/// to `M` or `K`: non-classical), its time stretched by `s` (mass `m/s²`,
+/// damping `d/s`: every eigenvalue of its first-order form times `s`).
+fn overdamped_block(m: f64, d: f64, s: f64) -> (Dense, Dense, Dense) {
+    let mass = vec![vec![m / (s * s), 0.0], vec![0.0, m / (s * s)]];
+    let stiffness = vec![vec![2.0, -1.0], vec![-1.0, 2.0]];
+    let damping = vec![vec![d / s, 0.0], vec![0.0, 2.0 * d / s]];
+    (mass, stiffness, damping)
+}
+
+/// The decoupled blocks (block-diagonal `M`, `K`, `C`), loaded and forced:
+/// a chain split by held dofs into parts, as an active set of the
+/// event-driven run sees it. With `mix`, seen through the dofs `p = Q q`
+/// (`Q` orthogonal): `Qᵀ M Q`, `Qᵀ K Q`, `Qᵀ C Q`, the first-order form
+/// `diag(Q, Q)ᵀ A diag(Q, Q)`, with the same eigenvalues but no longer
+/// block-diagonal (the eigen-decomposition sees no blocks).
+fn blocks(parts: &[(Dense, Dense, Dense)], mix: Option<&Dense>) -> Dynamics {
+    let n: usize = parts.iter().map(|p| p.0.len()).sum();
+    let (mut m, mut k, mut c) = (zeros(n), zeros(n), zeros(n));
+    let mut at = 0;
+    for (pm, pk, pc) in parts {
+        for i in 0..pm.len() {
+            for j in 0..pm.len() {
+                m[at + i][at + j] = pm[i][j];
+                k[at + i][at + j] = pk[i][j];
+                c[at + i][at + j] = pc[i][j];
+            }
+        }
+        at += pm.len();
+    }
+    if let Some(q) = mix {
+        let qt: Dense = (0..n).map(|i| (0..n).map(|j| q[j][i]).collect()).collect();
+        let congruence = |a: &Dense| mul(&qt, &mul(a, q));
+        (m, k, c) = (congruence(&m), congruence(&k), congruence(&c));
+    }
+    let band = |a: &Dense| {
+        let mut b = SymBand::zeros(n, n - 1);
+        for i in 0..n {
+            for j in 0..=i {
+                b.set(i, j, 0.5 * (a[i][j] + a[j][i]));
+            }
+        }
+        b
+    };
+    let mut dy = Dynamics::new(band(&m), band(&k), (0..n).map(|i| 0.1 * (i as f64 - 1.0)).collect(), vec![Contact::new(0, Bounds::obstacle(-1e9), false)]);
+    dy.damping = Some(band(&c));
+    forced(dy)
+}
+
+/// A fixed mixing of four dofs: the reflection `I − 2 w wᵀ/(wᵀw)`,
+/// `w = (1, 2, −1, 3)` (orthogonal, so the mixed first-order form is as
+/// well conditioned as the blocks', and dense).
+fn mixing() -> Dense {
+    let w = [1.0, 2.0, -1.0, 3.0];
+    let ww: f64 = w.iter().map(|x| x * x).sum();
+    (0..4).map(|i| (0..4).map(|j| f64::from(u8::from(i == j)) - 2.0 * w[i] * w[j] / ww).collect()).collect()
+}
+
+/// The eigenvalues of a block's first-order form, by faer (the test's set-up,
+/// not its oracle): all real (overdamped), ascending.
+fn block_eigenvalues(part: &(Dense, Dense, Dense)) -> Vec<f64> {
+    let (m, k, c) = part;
+    let minv = inverse(m);
+    let a = Mat::from_fn(4, 4, |i, j| match (i < 2, j < 2) {
+        (true, true) => 0.0,
+        (true, false) => f64::from(u8::from(j - 2 == i)),
+        (false, true) => -(0..2).map(|r| minv[i - 2][r] * k[r][j]).sum::<f64>(),
+        (false, false) => -(0..2).map(|r| minv[i - 2][r] * c[r][j - 2]).sum::<f64>(),
+    });
+    let s = a.eigenvalues().unwrap();
+    assert!(s.iter().all(|l| l.im == 0.0), "not overdamped: {s:?}");
+    let mut l: Vec<f64> = s.iter().map(|l| l.re).collect();
+    l.sort_by(f64::total_cmp);
+    l
+}
+
+/// Two identical overdamped blocks: each real eigenvalue of the
+/// first-order form twice, with two independent eigenvectors (not
+/// defective). The ascending pairs put both copies of one eigenvalue into
+/// one plane `{x, A x}` (a line): refused before (`condition inf`); round-off
+/// may also split a copy pair into `λ ± iε` (`m = 1/2`, `d = 4`: `ε` of
+/// 1e-16), and seen through a mixing of the dofs the decomposition's
+/// vectors are any basis of the eigenspace. Now each eigenspace's
+/// orthonormal basis, each copy paired with another eigenvalue
+/// (docs/theory.md §9.1): the exponential to 1e-12 over several dampings,
+/// masses and stretches, decoupled and mixed.
+#[test]
+fn identical_overdamped_blocks_are_exact() {
+    let cases = [0.3, 1.0, 3.0].into_iter().flat_map(|m| [6.0, 12.0, 50.0].map(|f| (m, f * f64::sqrt(m))));
+    for (m, d) in cases.chain([(0.5, 4.0)]) {
+        for mix in [None, Some(mixing())] {
+            let part = overdamped_block(m, d, 1.0);
+            block_eigenvalues(&part);
+            let dy = blocks(&[part.clone(), part], mix.as_ref());
+            let flow = ModalFlow::new(&dy).unwrap_or_else(|e| panic!("m = {m}, d = {d}, mixed {}: {e}", mix.is_some()));
+            assert!(!flow.classical());
+            for (t0, tau) in [(0.0, 0.7), (3.1, 4.0), (1.3, 11.0)] {
+                check(&dy, t0, tau, 1e-12);
+            }
+        }
+    }
+}
+
+/// The tolerance's edge: the second block stretched by `1 + ε` splits each
+/// repeated eigenvalue `λ` into `λ, (1 + ε) λ`. Inside (`ε = 5e-13`, every
+/// split within 1e-12 of the spectral radius): one repeated eigenvalue,
+/// its mean and its eigenspace. Just outside (every split 2e-12 of the
+/// radius or more): simple eigenvalues, but closer than 1e-8 of the
+/// radius, so not paired with each other. Between (`ε = 2e-12`: the
+/// fastest pair split by 2e-12 of the radius, the slower ones within
+/// 1e-12): both kinds at once. All the exponential to 1e-12.
+#[test]
+fn a_nearly_repeated_real_eigenvalue_is_exact_either_side_of_the_tolerance() {
+    for (m, d) in [(1.0, 4.0), (0.5, 10.0)] {
+        let l = block_eigenvalues(&overdamped_block(m, d, 1.0));
+        let (radius, slowest) = (l[0].abs(), l[3].abs());
+        for eps in [5e-13, 2e-12, 2e-12 * radius / slowest] {
+            let dy = blocks(&[overdamped_block(m, d, 1.0), overdamped_block(m, d, 1.0 + eps)], None);
+            let flow = ModalFlow::new(&dy).unwrap_or_else(|e| panic!("m = {m}, d = {d}, ε = {eps}: {e}"));
+            assert!(!flow.classical());
+            for (t0, tau) in [(0.0, 0.7), (3.1, 4.0), (1.3, 11.0)] {
+                check(&dy, t0, tau, 1e-12);
+            }
+        }
+    }
+}
+
+/// `repeated_line`: a real eigenvalue twice with two eigenvectors (`λ I`
+/// on a plane, seen through a non-orthogonal change of basis) gives an
+/// orthonormal basis of its eigenspace, each vector checked by `A x = λ x`
+/// written here; `λ` twice with one eigenvector (the real Jordan block
+/// `[λ 1; 0 λ]`) is refused.
+#[test]
+fn a_repeated_real_eigenvalue_gives_its_eigenspace_unless_defective() {
+    let (l, mu, nu) = (-1.3, -0.4, -7.0);
+    // S (unit upper triangular, far from orthogonal) and its inverse.
+    let s = [[1.0, 3.0, -2.0, 0.5], [0.0, 1.0, 4.0, 1.0], [0.0, 0.0, 1.0, -3.0], [0.0, 0.0, 0.0, 1.0]];
+    let sinv = inverse(&s.iter().map(|r| r.to_vec()).collect());
+    let similar = |jordan: bool| {
+        let d = [[l, if jordan { 1.0 } else { 0.0 }, 0.0, 0.0], [0.0, l, 0.0, 0.0], [0.0, 0.0, mu, 0.0], [0.0, 0.0, 0.0, nu]];
+        Mat::from_fn(4, 4, |i, j| (0..4).map(|p| (0..4).map(|q| s[i][p] * d[p][q] * sinv[q][j]).sum::<f64>()).sum::<f64>())
+    };
+    let a = similar(false);
+    let xs = repeated_line(&a, l, 2).unwrap();
+    assert_eq!(xs.len(), 2);
+    for (p, x) in xs.iter().enumerate() {
+        for r in 0..4 {
+            let ax: f64 = (0..4).map(|c| a[(r, c)] * x[c]).sum();
+            assert!((ax - l * x[r]).abs() <= 1e-12, "vector {p} not an eigenvector: row {r}");
+        }
+        for (q, y) in xs.iter().enumerate() {
+            let dot: f64 = x.iter().zip(y).map(|(u, v)| u * v).sum();
+            assert!((dot - f64::from(u8::from(p == q))).abs() <= 1e-12, "not orthonormal: {p}, {q}: {dot}");
+        }
+    }
+    assert!(matches!(repeated_line(&similar(true), l, 2), Err(EventsError::Defective { .. })));
 }
