@@ -14,6 +14,7 @@ mod period_two;
 mod reach;
 mod reuse;
 mod section;
+mod shared;
 mod switch;
 mod symmetric;
 mod two_stops;
