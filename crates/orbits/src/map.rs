@@ -1,11 +1,12 @@
 //! The flow map of the exact event-driven run and its Jacobian.
 
-use crate::variational::Linear;
+use crate::variational::{Core, Linear};
 use crate::OrbitError;
 use faer::Mat;
-use signorini_schemes::events::{EventDriven, EventKind, EventRecord, Reached};
+use signorini_schemes::events::{EventDriven, EventKind, EventRecord, FlowBases, Reached, MAX_EVENTS};
 use signorini_schemes::Dynamics;
 use std::cell::RefCell;
+use std::sync::Arc;
 
 /// A linear structure with unilateral contacts, as the shooting sees it:
 /// its exact event-driven flow ([`EventDriven`]) and that flow's
@@ -21,6 +22,29 @@ pub struct Model {
     /// ([`EventDriven::restart`]: the flows of the active sets met are
     /// kept, the same run bit for bit as a new one).
     runs: RefCell<Vec<EventDriven>>,
+    /// The flows' load-free bases, shared with the other models of the
+    /// structure ([`Shared`]).
+    bases: Arc<FlowBases>,
+}
+
+/// What the models of one structure (the same matrices and contact dofs;
+/// loads, bounds and restitutions free) share: the linearisation's core
+/// (its matrices, `M⁻¹`, each held set's modes) and the flows' bases (each
+/// active set's modes). A family of scenes in a forcing's parameter keeps
+/// it across the parameter's values ([`crate::SceneFamily`]): each
+/// eigen-decomposition is computed once, and every model's flow and
+/// Jacobian are the same bits as a model built alone.
+#[derive(Clone)]
+pub(crate) struct Shared {
+    core: Arc<Core>,
+    bases: Arc<FlowBases>,
+}
+
+impl Shared {
+    /// Whether `dy` is of this structure.
+    pub fn fits(&self, dy: &Dynamics) -> bool {
+        self.bases.fits(dy) && self.core.fits(dy)
+    }
 }
 
 /// The most runs a model keeps ([`Model::run_from`]): a flow and the
@@ -61,11 +85,34 @@ impl Model {
     /// The model of `dy` with restitution `e` for every contact without
     /// its own (as the `event-driven(e)` scheme takes it).
     pub fn new(dy: Dynamics, e: f64) -> Result<Self, OrbitError> {
+        Self::new_shared(dy, e, None, None)
+    }
+
+    /// [`Model::new`] on `shared` where it is `dy`'s structure (else on
+    /// parts of its own), with `first` (a run of `dy` with restitution `e`,
+    /// as [`EventDriven::new`] makes it: a scene's validated integrator) kept
+    /// for its first flow: the same model, bit for bit.
+    pub(crate) fn new_shared(dy: Dynamics, e: f64, shared: Option<&Shared>, first: Option<EventDriven>) -> Result<Self, OrbitError> {
         if !(0.0..=1.0).contains(&e) {
             return Err(OrbitError::Model(format!("restitution {e} is not allowed: [0, 1]")));
         }
-        let lin = Linear::new(&dy, e)?;
-        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None, runs: RefCell::new(Vec::new()) })
+        let shared = shared.filter(|s| s.fits(&dy));
+        let lin = Linear::with_core(&dy, e, shared.map(|s| s.core.clone()))?;
+        let bases = shared.map_or_else(|| Arc::new(FlowBases::new(&dy)), |s| s.bases.clone());
+        let runs = first
+            .map(|mut run| {
+                run.set_max_events(MAX_EVENTS);
+                run.share_bases(bases.clone());
+                run
+            })
+            .into_iter()
+            .collect();
+        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None, runs: RefCell::new(runs), bases })
+    }
+
+    /// What this model shares with the others of its structure.
+    pub(crate) fn shared(&self) -> Shared {
+        Shared { core: self.lin.core().clone(), bases: self.bases.clone() }
     }
 
     /// With at most `n` events in one evaluation of the map (beyond:
@@ -92,7 +139,7 @@ impl Model {
                     }
                 }
             }
-            None => Ok(EventDriven::new(&self.dy, t0, q0, v0, self.e)?),
+            None => Ok(EventDriven::new_with(&self.dy, t0, q0, v0, self.e, Some(self.bases.clone()))?),
         }
     }
 
@@ -124,7 +171,7 @@ impl Model {
 
     /// The dofs with mass, whose displacements and velocities make the state.
     pub fn state_dofs(&self) -> &[usize] {
-        &self.lin.state
+        self.lin.state()
     }
 
     /// The lowest linear mode with no contact held: its circular
@@ -264,9 +311,9 @@ impl Model {
             return x.to_vec();
         }
         let dv = self.lin.minv_impulse(&[(contact, sign * r)]);
-        let s = self.lin.state.len();
+        let s = self.lin.state().len();
         let mut out = x.to_vec();
-        for (i, &d) in self.lin.state.iter().enumerate() {
+        for (i, &d) in self.lin.state().iter().enumerate() {
             out[s + i] += dv[d];
         }
         out
@@ -388,7 +435,7 @@ impl Model {
     /// Jacobian to `t`); `None` for a massless contact dof (not in the
     /// state).
     pub(crate) fn displacement_gradient(&self, t0: f64, x0: &[f64], t: f64, contact: usize) -> Result<Option<Vec<f64>>, OrbitError> {
-        let Some(row) = self.dy.contacts.get(contact).and_then(|c| self.lin.state.iter().position(|&d| d == c.dof)) else { return Ok(None) };
+        let Some(row) = self.dy.contacts.get(contact).and_then(|c| self.lin.state().iter().position(|&d| d == c.dof)) else { return Ok(None) };
         let img = self.flow(t0, x0, t - t0, true)?;
         let j = img.jacobian.expect("asked for");
         Ok(Some((0..self.dim()).map(|c| j[(row, c)]).collect()))
@@ -406,7 +453,7 @@ impl Model {
             // near this one leaves the phase in the same state, so the
             // map's Jacobian is exactly 0 from here on (central differences
             // of the map: 0 to round-off).
-            let all_held = !self.lin.massless() && self.lin.state.iter().all(|d| after.iter().any(|&j| self.lin.sites[j].dof == *d));
+            let all_held = !self.lin.massless() && self.lin.state().iter().all(|d| after.iter().any(|&j| self.lin.sites[j].dof == *d));
             if all_held {
                 *jac = Mat::zeros(jac.nrows(), jac.ncols());
                 return Ok(());

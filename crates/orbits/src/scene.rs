@@ -2,10 +2,11 @@
 //! dotted paths of `signorini sweep --param`).
 
 use crate::continuation::Family;
-use crate::map::Model;
+use crate::map::{Model, Shared};
 use crate::OrbitError;
-use signorini_scene::{Limits, SceneFile};
+use signorini_scene::{Lift, Limits, SceneFile, Simulation};
 use signorini_schemes::SchemeSpec;
+use std::sync::{Arc, Mutex};
 
 /// A scene in a parameter: its document, the parameter's dotted path, and
 /// the orbit's period in forcing periods.
@@ -16,6 +17,14 @@ pub struct SceneFamily {
     periods: usize,
     limits: Limits,
     interrupt: Option<signorini_schemes::Interrupt>,
+    /// What the models built so far share ([`Shared`]: the linearisation's
+    /// core and the flows' bases, each eigen-decomposition computed once):
+    /// a model whose structure is the last one's (the same matrices and
+    /// contact dofs, bit for bit: a parameter that moves only a load, a
+    /// bound, a restitution or the start) is built on it; another
+    /// structure (a stiffness, a mass) starts a new one. The clones of the
+    /// family (its period-doubled families, a basin's threads) share it.
+    shared: Arc<Mutex<Option<Shared>>>,
 }
 
 impl std::fmt::Debug for SceneFamily {
@@ -35,7 +44,15 @@ pub struct Built {
     pub start: Vec<f64>,
     /// The forcing frequency Ω (rad/s).
     pub omega: f64,
-    sim: signorini_scene::Simulation,
+    tip: Tip,
+}
+
+/// What the tip's displacement needs of a built scene's simulation (its
+/// stepper's run went to the model).
+struct Tip {
+    tip: usize,
+    lift: Option<Lift>,
+    reduction: Option<signorini_reduce::Reduction>,
 }
 
 impl Built {
@@ -44,13 +61,13 @@ impl Built {
     /// at the section (t = 0): the quantity a sweep's bifurcation diagram
     /// shows. A reduced model's state is reconstructed, a beam's lifted.
     pub fn tip(&self, x: &[f64]) -> Result<f64, OrbitError> {
-        tip(&self.model, &self.sim, x)
+        tip(&self.model, &self.tip, x)
     }
 }
 
 /// The tip's displacement on the section of the orbit through `x` of
-/// `model`, the model of `sim`.
-fn tip(model: &Model, sim: &signorini_scene::Simulation, x: &[f64]) -> Result<f64, OrbitError> {
+/// `model`, the model of the scene `sim` was built from.
+fn tip(model: &Model, sim: &Tip, x: &[f64]) -> Result<f64, OrbitError> {
     let (q, v) = model.settle(0.0, x)?;
     let (q, v) = match &sim.reduction {
         None => (q, v),
@@ -61,7 +78,12 @@ fn tip(model: &Model, sim: &signorini_scene::Simulation, x: &[f64]) -> Result<f6
             (qf, vf)
         }
     };
-    Ok(sim.absolute(&q, &v, 0.0).0[sim.tip])
+    // As `Simulation::absolute` at t = 0.
+    let q = match &sim.lift {
+        None => q,
+        Some(l) => l.absolute(&q, &v, 0.0).0,
+    };
+    Ok(q[sim.tip])
 }
 
 impl SceneFamily {
@@ -79,7 +101,7 @@ impl SceneFamily {
             return Err(OrbitError::Option { option: "period", message: "0 is not allowed: forcing periods per orbit, an integer >= 1".into() });
         }
         let value = lookup(&doc, path)?;
-        let family = Self { doc, path: path.to_string(), periods, limits, interrupt: None };
+        let family = Self { doc, path: path.to_string(), periods, limits, interrupt: None, shared: Arc::default() };
         family.build(value)?;
         Ok((family, value))
     }
@@ -119,8 +141,8 @@ impl SceneFamily {
         let Some((omega, _, _)) = scene.sweep_clock() else {
             return Err(OrbitError::Option { option: "scene", message: "periodic orbits of the forcing period need a periodic forcing (an oscillator's [forcing], a beam's support or load, a bar's [[forcing]]); an unforced bar's periodic motions are its nonsmooth modes (signorini modes)".into() });
         };
-        let sim = scene.instantiate(None).map_err(|e| at(e.to_string()))?;
-        let label = sim.stepper.label();
+        let Simulation { stepper, u0, v0, tip, lift, reduction } = scene.instantiate(None).map_err(|e| at(e.to_string()))?;
+        let label = stepper.label();
         let spec: SchemeSpec = label.parse().map_err(|_| at(format!("scheme {label}: not a registry scheme")))?;
         if spec.family().name != "event-driven" {
             return Err(OrbitError::Option {
@@ -128,9 +150,19 @@ impl SceneFamily {
                 message: format!("{label} is not allowed: periodic orbits are computed on the exact flow; allowed: event-driven(e) (set the scene's scheme = \"event-driven(e)\")"),
             });
         }
-        let model = Model::new(sim.stepper.dynamics().clone(), spec.args()[0])?.with_interrupt(self.interrupt.clone());
-        let start = model.pack(&sim.u0, &sim.v0);
-        Ok(Built { model, horizon: self.periods as f64 * std::f64::consts::TAU / omega, start, omega, sim })
+        // The scene's validated run (event-driven(e) of its dynamics from
+        // its start) is the model's first: no second set-up of the same run.
+        let dy = stepper.dynamics().clone();
+        let first = stepper.into_event_run();
+        let shared = self.shared.lock().ok().and_then(|s| s.clone());
+        let model = Model::new_shared(dy, spec.args()[0], shared.as_ref(), first)?.with_interrupt(self.interrupt.clone());
+        if !shared.is_some_and(|s| s.fits(model.dynamics())) {
+            if let Ok(mut s) = self.shared.lock() {
+                *s = Some(model.shared());
+            }
+        }
+        let start = model.pack(&u0, &v0);
+        Ok(Built { model, horizon: self.periods as f64 * std::f64::consts::TAU / omega, start, omega, tip: Tip { tip, lift, reduction } })
     }
 }
 
@@ -151,8 +183,8 @@ impl Family for SceneFamily {
     /// Each point marked with its scene's Ω and tip ([`Built::tip`]), from
     /// the scene built for its model.
     fn model_period_marker(&self, param: f64) -> Result<(Model, f64, Option<crate::continuation::Marker>), OrbitError> {
-        let Built { model, horizon, omega, sim, .. } = self.build(param)?;
-        let marker: crate::continuation::Marker = Box::new(move |model, x| tip(model, &sim, x).ok().map(|tip| crate::continuation::Mark { omega, tip }));
+        let Built { model, horizon, omega, tip: at, .. } = self.build(param)?;
+        let marker: crate::continuation::Marker = Box::new(move |model, x| tip(model, &at, x).ok().map(|tip| crate::continuation::Mark { omega, tip }));
         Ok((model, horizon, Some(marker)))
     }
 }

@@ -49,6 +49,7 @@ use faer::{Accum, Mat, Side};
 use signorini_schemes::Dynamics;
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// A contact as the linearisation needs it.
 #[derive(Clone, Copy, Debug)]
@@ -57,9 +58,22 @@ pub(crate) struct Site {
     pub restitution: f64,
 }
 
-/// The linear structure: dense matrices, the state's dofs, and the modal
-/// data of each held set met (cached).
+/// The linear structure: its load-free core (shared by the models of one
+/// structure: [`Core`]), its contacts, and per held set met its parts and
+/// buffers (one map, one entry per held set).
 pub(crate) struct Linear {
+    core: Arc<Core>,
+    pub sites: Vec<Site>,
+    held: RefCell<HashMap<Vec<usize>, Held>>,
+}
+
+/// What the linearisation of one structure needs and no load, bound or
+/// restitution enters: the dense matrices, `M⁻¹`, the state's dofs, and
+/// per held set met its modes and free mass (each built lazily, when first
+/// asked for, by whichever model of the structure asks: a continuation in
+/// a forcing's frequency or amplitude builds each once). Shared across
+/// threads (a basin's cells).
+pub(crate) struct Core {
     n: usize,
     m: Mat<f64>,
     k: Mat<f64>,
@@ -67,15 +81,32 @@ pub(crate) struct Linear {
     /// `M⁻¹` (massive models).
     minv: Mat<f64>,
     /// The dofs with mass, in order: the state's.
-    pub state: Vec<usize>,
+    state: Vec<usize>,
     /// The massless dofs.
     zero: Vec<usize>,
-    pub sites: Vec<Site>,
-    phases: RefCell<HashMap<Vec<usize>, Phase>>,
-    /// Per held set met by [`Linear::field`]: its free massive dofs and the
-    /// LU factors of `M_ff` (the same factors, hence the same solves, as
-    /// factoring at every call).
-    fields: RefCell<HashMap<Vec<usize>, FreeMass>>,
+    /// Each contact's `(dof, massless)`.
+    contacts: Vec<(usize, bool)>,
+    parts: Mutex<HashMap<Vec<usize>, Arc<Parts>>>,
+}
+
+/// One held set's load-free parts.
+#[derive(Default)]
+struct Parts {
+    /// Its free dofs' modes ([`Linear::transport`]).
+    phase: OnceLock<Phase>,
+    /// Its free massive dofs and the LU factors of `M_ff` (the same
+    /// factors, hence the same solves, as factoring at every call:
+    /// [`Linear::field`]).
+    mass: OnceLock<FreeMass>,
+}
+
+/// A held set as one model meets it: its shared parts and the buffers of
+/// [`Linear::transport`] (every product of its step written into one of
+/// these: the variational step allocates nothing once a phase has been
+/// met with a Jacobian of its width).
+struct Held {
+    parts: Arc<Parts>,
+    work: Work,
 }
 
 /// The free massive dofs of a held set and the factors of their `M_ff`
@@ -94,10 +125,6 @@ struct Phase {
     phit_m: Mat<f64>,
     k: Vec<f64>,
     c: Vec<f64>,
-    /// The buffers of [`Linear::transport`] (every product of its step
-    /// written into one of these: the variational step allocates nothing
-    /// once a phase has been met with a Jacobian of its width).
-    work: RefCell<Work>,
 }
 
 /// [`Linear::transport`]'s buffers: `qf`, `vf` the free rows of the
@@ -119,8 +146,13 @@ fn sub(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
     Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
 }
 
-impl Linear {
-    pub fn new(dy: &Dynamics, e: f64) -> Result<Self, OrbitError> {
+fn contacts_of(dy: &Dynamics) -> Vec<(usize, bool)> {
+    dy.contacts.iter().map(|c| (c.dof, c.massless)).collect()
+}
+
+impl Core {
+    /// The core of `dy`'s structure.
+    pub fn new(dy: &Dynamics) -> Result<Self, OrbitError> {
         let n = dy.n();
         let (m, k, c) = (dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense));
         let mut zero: Vec<usize> = dy.contacts.iter().filter(|c| c.massless).map(|c| c.dof).collect();
@@ -133,61 +165,119 @@ impl Linear {
         } else {
             Mat::zeros(0, 0)
         };
+        Ok(Self { n, m, k, c, minv, state, zero, contacts: contacts_of(dy), parts: Mutex::new(HashMap::new()) })
+    }
+
+    /// Whether `dy` has this structure: the same mass, stiffness and
+    /// damping, bit for bit, and the same contact dofs (loads, bounds and
+    /// restitutions may differ).
+    pub fn fits(&self, dy: &Dynamics) -> bool {
+        // Entry by entry, as `dense` reads the bands (no copy made).
+        let p = |b: &signorini_fem::SymBand, i: usize, j: usize| if i.abs_diff(j) <= b.half_bandwidth() { b.get(i, j) } else { 0.0 };
+        let same = |a: &Mat<f64>, b: &signorini_fem::SymBand| a.nrows() == b.n() && (0..b.n()).all(|i| (0..b.n()).all(|j| a[(i, j)].to_bits() == p(b, i, j).to_bits()));
+        let damping = match (&self.c, &dy.damping) {
+            (None, None) => true,
+            (Some(a), Some(b)) => same(a, b),
+            _ => false,
+        };
+        damping && self.contacts == contacts_of(dy) && same(&self.m, &dy.mass) && same(&self.k, &dy.stiffness)
+    }
+
+    /// The parts of the held set `held` (made empty if new).
+    fn parts(&self, held: &[usize]) -> Arc<Parts> {
+        match self.parts.lock() {
+            Ok(mut map) => map.entry(held.to_vec()).or_default().clone(),
+            Err(_) => Arc::default(),
+        }
+    }
+}
+
+impl Linear {
+    /// The linearisation of `dy` with restitution `e` for every contact
+    /// without its own, on `core` if it is `dy`'s structure
+    /// ([`Core::fits`]), else on a new one.
+    pub fn with_core(dy: &Dynamics, e: f64, core: Option<Arc<Core>>) -> Result<Self, OrbitError> {
+        let core = match core.filter(|c| c.fits(dy)) {
+            Some(c) => c,
+            None => Arc::new(Core::new(dy)?),
+        };
         let sites = dy.contacts.iter().map(|c| Site { dof: c.dof, restitution: c.restitution.unwrap_or(e) }).collect();
-        Ok(Self { n, m, k, c, minv, state, zero, sites, phases: RefCell::new(HashMap::new()), fields: RefCell::new(HashMap::new()) })
+        Ok(Self { core, sites, held: RefCell::new(HashMap::new()) })
+    }
+
+    /// The shared core.
+    pub fn core(&self) -> &Arc<Core> {
+        &self.core
+    }
+
+    /// The dofs with mass, in order: the state's.
+    pub fn state(&self) -> &[usize] {
+        &self.core.state
     }
 
     /// Unknowns of the state `(q_s, v_s)`.
     pub fn dim(&self) -> usize {
-        2 * self.state.len()
+        2 * self.core.state.len()
     }
 
     pub fn massless(&self) -> bool {
-        !self.zero.is_empty()
+        !self.core.zero.is_empty()
     }
 
     /// The state of the full `(q, v)`.
     pub fn pack(&self, q: &[f64], v: &[f64]) -> Vec<f64> {
-        self.state.iter().map(|&d| q[d]).chain(self.state.iter().map(|&d| v[d])).collect()
+        let state = &self.core.state;
+        state.iter().map(|&d| q[d]).chain(state.iter().map(|&d| v[d])).collect()
     }
 
     /// The full `(q, v)` of a state (massless dofs 0: the run condenses them).
     pub fn unpack(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        let (mut q, mut v) = (vec![0.0; self.n], vec![0.0; self.n]);
-        let s = self.state.len();
-        for (i, &d) in self.state.iter().enumerate() {
+        let core = &*self.core;
+        let (mut q, mut v) = (vec![0.0; core.n], vec![0.0; core.n]);
+        let s = core.state.len();
+        for (i, &d) in core.state.iter().enumerate() {
             (q[d], v[d]) = (x[i], x[s + i]);
         }
         (q, v)
     }
 
-    fn phase_of(&self, held: &[usize]) -> Result<(), OrbitError> {
-        if self.phases.borrow().contains_key(held) {
+    /// The entry of the held set `held` (made if new: its parts from the core).
+    fn held_entry<'a>(&self, map: &'a mut HashMap<Vec<usize>, Held>, held: &[usize]) -> &'a mut Held {
+        if !map.contains_key(held) {
+            map.insert(held.to_vec(), Held { parts: self.core.parts(held), work: Work::default() });
+        }
+        map.get_mut(held).expect("just made")
+    }
+
+    /// The modes of the held set `held` into its parts (unless there).
+    fn phase_of(&self, held: &[usize], parts: &Parts) -> Result<(), OrbitError> {
+        if parts.phase.get().is_some() {
             return Ok(());
         }
+        let core = &*self.core;
         let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
-        let (free, keff): (Vec<usize>, Mat<f64>) = if self.zero.is_empty() {
-            let free: Vec<usize> = (0..self.state.len()).filter(|&i| !held_dofs.contains(&self.state[i])).collect();
-            let dofs: Vec<usize> = free.iter().map(|&i| self.state[i]).collect();
-            (free, sub(&self.k, &dofs, &dofs))
+        let (free, keff): (Vec<usize>, Mat<f64>) = if core.zero.is_empty() {
+            let free: Vec<usize> = (0..core.state.len()).filter(|&i| !held_dofs.contains(&core.state[i])).collect();
+            let dofs: Vec<usize> = free.iter().map(|&i| core.state[i]).collect();
+            (free, sub(&core.k, &dofs, &dofs))
         } else {
-            let s = &self.state;
-            let cond: Vec<usize> = self.zero.iter().copied().filter(|d| !held_dofs.contains(d)).collect();
-            let mut keff = sub(&self.k, s, s);
+            let s = &core.state;
+            let cond: Vec<usize> = core.zero.iter().copied().filter(|d| !held_dofs.contains(d)).collect();
+            let mut keff = sub(&core.k, s, s);
             if !cond.is_empty() {
-                let kzz = sub(&self.k, &cond, &cond);
-                let kzs = sub(&self.k, &cond, s);
+                let kzz = sub(&core.k, &cond, &cond);
+                let kzs = sub(&core.k, &cond, s);
                 let lu = kzz.partial_piv_lu();
                 let x = lu.solve(&kzs);
-                keff -= sub(&self.k, s, &cond) * x;
+                keff -= sub(&core.k, s, &cond) * x;
             }
             ((0..s.len()).collect(), keff)
         };
-        let dofs: Vec<usize> = free.iter().map(|&i| self.state[i]).collect();
-        let mff = sub(&self.m, &dofs, &dofs);
+        let dofs: Vec<usize> = free.iter().map(|&i| core.state[i]).collect();
+        let mff = sub(&core.m, &dofs, &dofs);
         let nf = dofs.len();
         let phase = if nf == 0 {
-            Phase { free, phi: Mat::zeros(0, 0), phit_m: Mat::zeros(0, 0), k: vec![], c: vec![], work: RefCell::default() }
+            Phase { free, phi: Mat::zeros(0, 0), phit_m: Mat::zeros(0, 0), k: vec![], c: vec![] }
         } else {
             let llt = mff.llt(Side::Lower).map_err(|_| OrbitError::Model("the mass matrix of the free dofs is not positive definite".into()))?;
             let l = llt.L().to_owned();
@@ -199,7 +289,7 @@ impl Linear {
             let kmax = (0..nf).map(|i| evd.S().column_vector()[i].abs()).fold(0.0, f64::max);
             let kv: Vec<f64> = (0..nf).map(|i| evd.S().column_vector()[i]).map(|w2| if w2.abs() <= 1e-12 * kmax { 0.0 } else { w2 }).collect();
             let phi = linv.transpose() * evd.U();
-            let cv = match &self.c {
+            let cv = match &core.c {
                 None => vec![0.0; nf],
                 Some(cm) => {
                     let modal = phi.transpose() * sub(cm, &dofs, &dofs) * &phi;
@@ -214,22 +304,24 @@ impl Linear {
                 }
             };
             let phit_m = phi.transpose() * &mff;
-            Phase { free, phi, phit_m, k: kv, c: cv, work: RefCell::default() }
+            Phase { free, phi, phit_m, k: kv, c: cv }
         };
-        self.phases.borrow_mut().insert(held.to_vec(), phase);
+        // Another model of the structure may have set it meanwhile: the same bits.
+        let _ = parts.phase.set(phase);
         Ok(())
     }
 
     /// The lowest mode with no contact held: `ω²` and its shape on the
     /// state's dofs, mass-normalised (`φᵀ M φ = 1`; massless dofs condensed).
     pub fn lowest_mode(&self) -> Result<(f64, Vec<f64>), OrbitError> {
-        self.phase_of(&[])?;
-        let phases = self.phases.borrow();
-        let ph = &phases[&Vec::<usize>::new()];
+        let mut map = self.held.borrow_mut();
+        let parts = self.held_entry(&mut map, &[]).parts.clone();
+        self.phase_of(&[], &parts)?;
+        let ph = parts.phase.get().expect("just built");
         let Some(i) = (0..ph.k.len()).min_by(|&a, &b| ph.k[a].total_cmp(&ph.k[b])) else {
             return Err(OrbitError::Model("the model has no dof with mass".into()));
         };
-        let mut shape = vec![0.0; self.state.len()];
+        let mut shape = vec![0.0; self.core.state.len()];
         for (r, &pos) in ph.free.iter().enumerate() {
             shape[pos] = ph.phi[(r, i)];
         }
@@ -239,13 +331,14 @@ impl Linear {
     /// `jac ← Φ_H(τ) jac`: the state-transition matrix of the phase with
     /// the contacts `held` (sorted) over `τ`, applied to the rows of `jac`.
     pub fn transport(&self, held: &[usize], tau: f64, jac: &mut Mat<f64>) -> Result<(), OrbitError> {
-        self.phase_of(held)?;
-        let phases = self.phases.borrow();
-        let ph = &phases[held];
-        let s = self.state.len();
+        let mut map = self.held.borrow_mut();
+        let entry = self.held_entry(&mut map, held);
+        self.phase_of(held, &entry.parts)?;
+        let ph = entry.parts.phase.get().expect("just built");
+        let s = self.core.state.len();
         let cols = jac.ncols();
         let nf = ph.free.len();
-        let mut work = ph.work.borrow_mut();
+        let work = &mut entry.work;
         if work.bufs.len() != 8 || work.bufs[0].ncols() != cols {
             work.bufs = (0..8).map(|_| Mat::<f64>::zeros(nf, cols)).collect();
         }
@@ -286,21 +379,23 @@ impl Linear {
     /// not held (a massless contact dof's row carries its reaction and no
     /// acceleration: `q` must hold it where the run put it, condensed).
     pub fn field(&self, dy: &Dynamics, held: &[usize], t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
-        let n = self.n;
+        let core = &*self.core;
+        let n = core.n;
         let mut r = vec![0.0; n];
         dy.load_at(t, &mut r);
         for i in 0..n {
             let mut s = 0.0;
             for j in 0..n {
-                s += self.k[(i, j)] * q[j] + self.c.as_ref().map_or(0.0, |c| c[(i, j)] * v[j]);
+                s += core.k[(i, j)] * q[j] + core.c.as_ref().map_or(0.0, |c| c[(i, j)] * v[j]);
             }
             r[i] -= s;
         }
-        let mut fields = self.fields.borrow_mut();
-        let fm = fields.entry(held.to_vec()).or_insert_with(|| {
+        let mut map = self.held.borrow_mut();
+        let parts = &self.held_entry(&mut map, held).parts;
+        let fm = parts.mass.get_or_init(|| {
             let held_dofs: Vec<usize> = held.iter().map(|&j| self.sites[j].dof).collect();
-            let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d) && self.zero.binary_search(d).is_err()).collect();
-            let lu = (!free.is_empty()).then(|| sub(&self.m, &free, &free).partial_piv_lu());
+            let free: Vec<usize> = (0..n).filter(|d| !held_dofs.contains(d) && core.zero.binary_search(d).is_err()).collect();
+            let lu = (!free.is_empty()).then(|| sub(&core.m, &free, &free).partial_piv_lu());
             FreeMass { free, lu }
         });
         let mut a = vec![0.0; n];
@@ -317,11 +412,12 @@ impl Linear {
 
     /// `M⁻¹ Σ r_i e_{c_i}` (massive models).
     pub fn minv_impulse(&self, impulses: &[(usize, f64)]) -> Vec<f64> {
-        let mut out = vec![0.0; self.n];
+        let core = &*self.core;
+        let mut out = vec![0.0; core.n];
         for &(j, r) in impulses {
             let d = self.sites[j].dof;
-            for i in 0..self.n {
-                out[i] += self.minv[(i, d)] * r;
+            for i in 0..core.n {
+                out[i] += core.minv[(i, d)] * r;
             }
         }
         out
@@ -333,12 +429,13 @@ impl Linear {
     /// its impacts ends: docs/theory.md §12.1.1) (module docs); `f_minus`,
     /// `f_plus` the vector fields, `vn` the guard's velocity before.
     pub fn saltation(&self, guard: usize, active: &[(usize, f64)], f_minus: &[f64], f_plus: &[f64], vn: f64, jac: &mut Mat<f64>) {
-        let n = self.n;
+        let n = self.core.n;
+        let minv = &self.core.minv;
         let cols = jac.ncols();
         // D = I − M⁻¹ E_A W_AA⁻¹ (I + diag e_A) E_Aᵀ on the velocity rows.
         let na = active.len();
         let dofs: Vec<usize> = active.iter().map(|&(j, _)| self.sites[j].dof).collect();
-        let w = Mat::from_fn(na, na, |a, b| self.minv[(dofs[a], dofs[b])]);
+        let w = Mat::from_fn(na, na, |a, b| minv[(dofs[a], dofs[b])]);
         let winv = if na > 0 { w.partial_piv_lu().inverse() } else { Mat::zeros(0, 0) };
         let apply_d = |v: &[f64]| -> Vec<f64> {
             let ev: Vec<f64> = active.iter().map(|&(j, e)| (1.0 + e) * v[self.sites[j].dof]).collect();
@@ -346,7 +443,7 @@ impl Linear {
             for a in 0..na {
                 let z: f64 = (0..na).map(|b| winv[(a, b)] * ev[b]).sum();
                 for i in 0..n {
-                    out[i] -= self.minv[(i, dofs[a])] * z;
+                    out[i] -= minv[(i, dofs[a])] * z;
                 }
             }
             out

@@ -167,8 +167,16 @@ impl Simulation {
     pub fn absolute(&self, u: &[f64], v: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
         match &self.lift {
             None => (u.to_vec(), v.to_vec()),
-            Some(l) => l.pipe.absolute_state(&l.beam, &l.exc, u, v, t),
+            Some(l) => l.absolute(u, v, t),
         }
+    }
+}
+
+impl Lift {
+    /// The absolute state `(ũ, ũ_t)` of the beam's unknowns `(u, u_t)` at
+    /// `t` ([`Simulation::absolute`] of a beam, without its stepper).
+    pub fn absolute(&self, u: &[f64], v: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
+        self.pipe.absolute_state(&self.beam, &self.exc, u, v, t)
     }
 }
 

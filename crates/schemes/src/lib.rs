@@ -771,6 +771,12 @@ pub trait Stepper: Send {
     fn events(&self) -> Option<&[events::EventRecord]> {
         None
     }
+    /// The exact run an event-driven scheme samples, taken out of it (the
+    /// orbits' map starts its own runs from it: [`events::EventDriven::restart`]);
+    /// `None` for time-stepping schemes.
+    fn into_event_run(self: Box<Self>) -> Option<events::EventDriven> {
+        None
+    }
     /// A poll for a step whose work is unbounded (the event-driven scheme:
     /// any number of events in one output step): while it returns `true`
     /// the step stops within a bounded amount of work with

@@ -15,6 +15,7 @@ mod period_two;
 mod reach;
 mod reuse;
 mod section;
+mod shared;
 mod slow_impact;
 mod start;
 mod switch;

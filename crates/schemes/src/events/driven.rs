@@ -83,7 +83,7 @@
 //! **Massless contact dofs** (every contact massless: mass redistribution,
 //! reduced models) have no impacts: see `massless.rs`.
 
-use super::flow::{dense, Functional, Loads, ModalFlow, Piece};
+use super::flow::{dense, Basis, Functional, Loads, ModalFlow, Piece};
 use super::record::{EventKind, EventRecord, EventsError};
 use super::search::{time_resolution, Cursor, Found, Search};
 use super::Bound;
@@ -91,6 +91,7 @@ use crate::Dynamics;
 use faer::Mat;
 use signorini_contact::MultiProjection;
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 #[path = "massless.rs"]
 mod massless;
@@ -123,6 +124,92 @@ fn start_scale(i: usize, dof: usize, massless: bool, lo: f64, hi: f64, q0: &[f64
         return Err(EventsError::Outside { contact: i, q, lo, hi });
     }
     Ok(scale)
+}
+
+/// The load-free part of the flows of one structure: per active set met
+/// (its held contacts), the modes of its free dofs — the eigen-decomposition
+/// each phase's [`ModalFlow`] is made of, which no load enters. Runs of the
+/// same matrices and contact dofs with other loads (another forcing
+/// frequency, amplitude or phase), other bounds, restitutions or starts
+/// share it ([`EventDriven::new_with`]): each active set's modes are
+/// computed once, by the first run that meets it, and every run's flows
+/// are the same bits as without it. Shared across threads.
+pub struct FlowBases {
+    m: Mat<f64>,
+    k: Mat<f64>,
+    c: Option<Mat<f64>>,
+    /// Each contact's `(dof, massless)`.
+    contacts: Vec<(usize, bool)>,
+    /// Per held set (its contacts, sorted): the basis of its phase.
+    map: Mutex<HashMap<Vec<usize>, Arc<Basis>>>,
+}
+
+impl FlowBases {
+    /// An empty store for the structure of `dy` (its matrices and contact dofs).
+    pub fn new(dy: &Dynamics) -> Self {
+        Self { m: dense(&dy.mass), k: dense(&dy.stiffness), c: dy.damping.as_ref().map(dense), contacts: Self::contacts_of(dy), map: Mutex::new(HashMap::new()) }
+    }
+
+    fn contacts_of(dy: &Dynamics) -> Vec<(usize, bool)> {
+        dy.contacts.iter().map(|c| (c.dof, c.massless)).collect()
+    }
+
+    /// Whether `dy` has this store's structure: the same mass, stiffness
+    /// and damping, bit for bit, and the same contact dofs (its loads,
+    /// bounds and restitutions may differ).
+    pub fn fits(&self, dy: &Dynamics) -> bool {
+        // Entry by entry, as `dense` reads the bands (no copy made).
+        let same = |a: &Mat<f64>, b: &signorini_fem::SymBand| a.nrows() == b.n() && (0..b.n()).all(|i| (0..b.n()).all(|j| a[(i, j)].to_bits() == b.get(i, j).to_bits()));
+        let damping = match (&self.c, &dy.damping) {
+            (None, None) => true,
+            (Some(a), Some(b)) => same(a, b),
+            _ => false,
+        };
+        damping && self.contacts == Self::contacts_of(dy) && same(&self.m, &dy.mass) && same(&self.k, &dy.stiffness)
+    }
+
+    /// Whether these are this store's matrices and contacts, bit for bit.
+    fn same(&self, m: &Mat<f64>, k: &Mat<f64>, c: Option<&Mat<f64>>, contacts: &[(usize, bool)]) -> bool {
+        let same = |a: &Mat<f64>, b: &Mat<f64>| a.nrows() == b.nrows() && a.ncols() == b.ncols() && (0..a.nrows()).all(|i| (0..a.ncols()).all(|j| a[(i, j)].to_bits() == b[(i, j)].to_bits()));
+        let damping = match (&self.c, c) {
+            (None, None) => true,
+            (Some(a), Some(b)) => same(a, b),
+            _ => false,
+        };
+        damping && same(&self.m, m) && same(&self.k, k) && self.contacts == contacts
+    }
+
+    /// Active sets whose basis is stored.
+    pub fn len(&self) -> usize {
+        self.map.lock().map_or(0, |m| m.len())
+    }
+
+    /// Whether no basis is stored.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The basis of the held set `key`, built by `build` if not stored
+    /// (outside the lock: another thread may build it too, the same bits;
+    /// the first stored is kept). An error is not stored.
+    fn basis(&self, key: &[usize], build: impl FnOnce() -> Result<Basis, EventsError>) -> Result<Arc<Basis>, EventsError> {
+        if let Some(b) = self.map.lock().ok().and_then(|m| m.get(key).cloned()) {
+            return Ok(b);
+        }
+        let b = Arc::new(build()?);
+        Ok(match self.map.lock() {
+            Ok(mut m) => m.entry(key.to_vec()).or_insert(b).clone(),
+            Err(_) => b,
+        })
+    }
+}
+
+/// The basis of the held set `key` from `bases` if given, else built.
+fn basis_of(bases: Option<&FlowBases>, key: &[usize], build: impl FnOnce() -> Result<Basis, EventsError>) -> Result<Arc<Basis>, EventsError> {
+    match bases {
+        Some(b) => b.basis(key, build),
+        None => Ok(Arc::new(build()?)),
+    }
 }
 
 struct Site {
@@ -240,6 +327,8 @@ pub struct EventDriven {
     /// Per massive contact: its dof's row of `M⁻¹`, and that row times `K`
     /// and `C` (its free acceleration in O(n): `unresolved_rebound`).
     rebound: Vec<[Vec<f64>; 3]>,
+    /// The structure's load-free bases, shared with other runs ([`FlowBases`]).
+    bases: Option<Arc<FlowBases>>,
 }
 
 impl EventDriven {
@@ -247,6 +336,14 @@ impl EventDriven {
     /// (on a bound is allowed: an approaching contact impacts at once); a
     /// contact's restitution is its own (`Contact::restitution`) or `e`.
     pub fn new(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], e: f64) -> Result<Self, EventsError> {
+        Self::new_with(dy, t0, q0, v0, e, None)
+    }
+
+    /// [`new`](Self::new) with the flows' bases taken from `bases` and
+    /// those it builds stored there ([`FlowBases`]; ignored unless it
+    /// [fits](FlowBases::fits) `dy`): the same run, bit for bit.
+    pub fn new_with(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], e: f64, bases: Option<Arc<FlowBases>>) -> Result<Self, EventsError> {
+        let bases = bases.filter(|b| b.fits(dy));
         let n = dy.n();
         let loads = Loads::of(dy)?;
         let mut sites = Vec::new();
@@ -283,7 +380,9 @@ impl EventDriven {
             }
         }
         let (full, delassus, kzz_inv) = if zero.is_empty() {
-            let full = ModalFlow::from_parts(m.clone(), k.clone(), c.clone(), &loads)?;
+            // The active set without a held contact: the same matrices as the full problem's.
+            let basis = basis_of(bases.as_deref(), &[], || Basis::new(m.clone(), k.clone(), c.clone()))?;
+            let full = ModalFlow::with_loads(&basis, &loads);
             let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();
             let columns = dofs.iter().map(|&d| full.minv_column(d)).collect();
             let delassus = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
@@ -296,6 +395,9 @@ impl EventDriven {
         };
         let k_contacts = sites.len();
         let rebound = if zero.is_empty() { sites.iter().map(|s| rebound_rows(&full, &k, c.as_ref(), s.dof)).collect() } else { Vec::new() };
+        // The structure, built once; the run's state (its time, phase,
+        // search, events and impulses) is placed by `restart`, so that a
+        // new run and a restarted one cannot start differently.
         let mut r = Self {
             n,
             m,
@@ -329,8 +431,9 @@ impl EventDriven {
             max_events: MAX_EVENTS,
             stall: (f64::NAN, 0),
             rebound,
+            bases,
         };
-        r.settle(t0, q0.to_vec(), v0.to_vec(), None)?;
+        r.restart(t0, q0, v0)?;
         Ok(r)
     }
 
@@ -354,7 +457,9 @@ impl EventDriven {
     /// and loads only). The event limit and the interrupt stay as set.
     /// After an error the run must be started again before it is used.
     pub fn restart(&mut self, t0: f64, q0: &[f64], v0: &[f64]) -> Result<(), EventsError> {
-        // As `new` places the contacts (their restitutions were checked there).
+        // [`new`](Self::new) starts through here. The contacts placed (their
+        // restitutions were checked by `new`, which placed them first: its
+        // errors in their order).
         for (i, s) in self.sites.iter_mut().enumerate() {
             let scale = start_scale(i, s.dof, s.massless, s.lo, s.hi, q0)?;
             (s.scale, s.grows) = (scale, scale == f64::MIN_POSITIVE);
@@ -949,7 +1054,8 @@ impl EventDriven {
         let nf = free.len();
         let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
         let loads = self.phase_loads(&held, |x| free.iter().map(|&d| x[d]).collect());
-        let flow = ModalFlow::from_parts(sub(&self.m), sub(&self.k), self.c.as_ref().map(sub), &loads)?;
+        let basis = self.basis(holds, || Basis::new(sub(&self.m), sub(&self.k), self.c.as_ref().map(sub)))?;
+        let flow = ModalFlow::with_loads(&basis, &loads);
         let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
         for (j, s) in self.sites.iter().enumerate() {
             if holds.iter().any(|h| h.contact == j) {
@@ -970,6 +1076,13 @@ impl EventDriven {
         let mut sys = System { flow, free, held, fns, quiet, watch, forces, cond: Vec::new(), g: Mat::zeros(0, 0) };
         sys.set_piece(piece);
         Ok(sys)
+    }
+
+    /// The basis of the phase of `holds` ([`FlowBases`]), built by `build`
+    /// unless the shared store has it.
+    fn basis(&self, holds: &[Hold], build: impl FnOnce() -> Result<Basis, EventsError>) -> Result<Arc<Basis>, EventsError> {
+        let key: Vec<usize> = holds.iter().map(|h| h.contact).collect();
+        basis_of(self.bases.as_deref(), &key, build)
     }
 
     /// The loads of a phase's flow: `f − K_·A q_A` (the held dofs'
@@ -1178,6 +1291,16 @@ impl EventDriven {
     /// state whole there; the run can go on from it). `None` removes it.
     pub fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
         self.search.interrupt = poll;
+    }
+
+    /// Shares `bases` ([`FlowBases`]) for the flows of the active sets this
+    /// run meets from now on (ignored unless they are of the run's
+    /// structure: [`FlowBases::fits`]): the same run, bit for bit.
+    pub fn share_bases(&mut self, bases: Arc<FlowBases>) {
+        let contacts: Vec<(usize, bool)> = self.sites.iter().map(|s| (s.dof, s.massless)).collect();
+        if bases.same(&self.m, &self.k, self.c.as_ref(), &contacts) {
+            self.bases = Some(bases);
+        }
     }
 
     /// Replaces the state (a twin run), at the current time, as [`new`](Self::new) starts.

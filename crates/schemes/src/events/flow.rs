@@ -390,41 +390,35 @@ pub fn repeated_planes(a: &Mat<f64>, k: f64, c: f64, m: usize) -> Result<Vec<Vec
     Ok(xs)
 }
 
-impl ModalFlow {
-    /// The flow of `dy`'s free motion (its contacts ignored): `M` positive
-    /// definite, `C` classical or not (the first-order form), each forcing profile a sine or a sum of
-    /// harmonics (a piecewise-linear series is [`super::EventDriven`]'s:
-    /// [`EventsError::Profile`] here).
-    pub fn new(dy: &Dynamics) -> Result<Self, EventsError> {
-        let loads = Loads::of(dy)?;
-        if let Some((_, _, index)) = loads.ramps.first() {
-            return Err(EventsError::Profile { index: *index });
-        }
-        Self::from_parts(dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense), &loads)
-    }
+/// The load-free part of a [`ModalFlow`]: the modes of `(K, M)` (`Φ`,
+/// `M Φ`) or the first-order form's planes (`T`, `T⁻¹`, `M⁻¹`), and each
+/// mode's `k_i`, `c_i`. It depends on the matrices only: flows of the same
+/// matrices with other loads are made from it
+/// ([`ModalFlow::with_loads`], [`super::FlowBases`]).
+#[derive(Clone, Debug)]
+pub(crate) struct Basis {
+    n: usize,
+    phi: Mat<f64>,
+    m_phi: Mat<f64>,
+    k: Vec<f64>,
+    c: Vec<f64>,
+    general: Option<GeneralBasis>,
+}
 
-    /// The flow of `M q'' + C q' + K q = loads` (dense, any size, 0 included).
-    pub(crate) fn from_parts(m: Mat<f64>, k: Mat<f64>, c: Option<Mat<f64>>, loads: &Loads) -> Result<Self, EventsError> {
+/// The first-order form's basis (non-classical damping).
+#[derive(Clone, Debug)]
+struct GeneralBasis {
+    t: Mat<f64>,
+    tinv: Mat<f64>,
+    minv: Mat<f64>,
+}
+
+impl Basis {
+    /// The basis of `M q'' + C q' + K q` (dense, any size, 0 included).
+    pub(crate) fn new(m: Mat<f64>, k: Mat<f64>, c: Option<Mat<f64>>) -> Result<Self, EventsError> {
         let n = m.nrows();
         if n == 0 {
-            let ramp_modal = vec![Vec::new(); loads.ramps.len()];
-            let piece = vec![(0.0, 0.0); loads.ramps.len()];
-            return Ok(Self {
-                n,
-                phi: Mat::zeros(0, 0),
-                m_phi: Mat::zeros(0, 0),
-                k: vec![],
-                c: vec![],
-                g0: vec![],
-                harmonics: vec![],
-                ramp_modal,
-                general: None,
-                piece,
-                ga: vec![],
-                gb: vec![],
-                tp: 0.0,
-                time_dependent: loads.time_dependent(),
-            });
+            return Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: vec![], c: vec![], general: None });
         }
         let llt = m.llt(Side::Lower).map_err(|_| EventsError::MassNotDefinite)?;
         let l = llt.L().to_owned();
@@ -448,7 +442,7 @@ impl ModalFlow {
                 let off = (0..n).flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| modal[(i, j)].abs()).fold(0.0, f64::max);
                 if off > 1e-10 * diag.max(f64::MIN_POSITIVE) {
                     let minv = linv.transpose() * &linv;
-                    return Self::general(&m, &k, cm, minv, loads);
+                    return ModalFlow::general(&m, &k, cm, minv);
                 }
                 // A modal damping of round-off size is 0, as a rigid
                 // mode's ω² is: a free chain with `C = b K` gave its rigid
@@ -457,16 +451,67 @@ impl ModalFlow {
                 (0..n).map(|i| modal[(i, i)]).map(|c| if c <= 1e-12 * diag { 0.0 } else { c }).collect()
             }
         };
+        Ok(Self { n, phi, m_phi, k: kv, c: cv, general: None })
+    }
+}
+
+impl ModalFlow {
+    /// The flow of `dy`'s free motion (its contacts ignored): `M` positive
+    /// definite, `C` classical or not (the first-order form), each forcing profile a sine or a sum of
+    /// harmonics (a piecewise-linear series is [`super::EventDriven`]'s:
+    /// [`EventsError::Profile`] here).
+    pub fn new(dy: &Dynamics) -> Result<Self, EventsError> {
+        let loads = Loads::of(dy)?;
+        if let Some((_, _, index)) = loads.ramps.first() {
+            return Err(EventsError::Profile { index: *index });
+        }
+        Self::from_parts(dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense), &loads)
+    }
+
+    /// The flow of `M q'' + C q' + K q = loads` (dense, any size, 0 included).
+    pub(crate) fn from_parts(m: Mat<f64>, k: Mat<f64>, c: Option<Mat<f64>>, loads: &Loads) -> Result<Self, EventsError> {
+        Ok(Self::with_loads(&Basis::new(m, k, c)?, loads))
+    }
+
+    /// The flow of `basis`'s matrices with `loads`: the loads' projections
+    /// and particular parts on the basis' modes (the same bits as
+    /// [`from_parts`](Self::from_parts) of the matrices `basis` was built from).
+    pub(crate) fn with_loads(basis: &Basis, loads: &Loads) -> Self {
+        let n = basis.n;
+        if n == 0 {
+            let ramp_modal = vec![Vec::new(); loads.ramps.len()];
+            let piece = vec![(0.0, 0.0); loads.ramps.len()];
+            return Self {
+                n,
+                phi: Mat::zeros(0, 0),
+                m_phi: Mat::zeros(0, 0),
+                k: vec![],
+                c: vec![],
+                g0: vec![],
+                harmonics: vec![],
+                ramp_modal,
+                general: None,
+                piece,
+                ga: vec![],
+                gb: vec![],
+                tp: 0.0,
+                time_dependent: loads.time_dependent(),
+            };
+        }
+        if let Some(gb) = &basis.general {
+            return Self::general_loads(basis, gb, loads);
+        }
+        let (phi, kv, cv) = (&basis.phi, &basis.k, &basis.c);
         let project = |g: &[f64]| -> Vec<f64> { (0..n).map(|i| (0..n).map(|r| phi[(r, i)] * g[r]).sum()).collect() };
         let g0 = project(&loads.constant);
-        let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic::new(project(g), *a, *w, *p, &kv, &cv)).collect();
+        let harmonics = loads.waves.iter().map(|(g, a, w, p)| Harmonic::new(project(g), *a, *w, *p, kv, cv)).collect();
         let ramp_modal = loads.ramps.iter().map(|(h, _, _)| project(h)).collect();
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
         let piece = vec![(0.0, 0.0); loads.ramps.len()];
-        Ok(Self { n, phi, m_phi, k: kv, c: cv, g0, harmonics, ramp_modal, general: None, piece, ga, gb, tp: 0.0, time_dependent: loads.time_dependent() })
+        Self { n, phi: phi.clone(), m_phi: basis.m_phi.clone(), k: kv.clone(), c: cv.clone(), g0, harmonics, ramp_modal, general: None, piece, ga, gb, tp: 0.0, time_dependent: loads.time_dependent() }
     }
 
-    /// The flow with a non-classical damping `c` (docs/theory.md §9.1): the
+    /// The basis of a non-classical damping `c` (docs/theory.md §9.1): the
     /// real eigenvectors of the first-order matrix `A = [0 I; −M⁻¹K −M⁻¹C]`
     /// give, per complex pair `σ ± iω` with eigenvector `u + iy`, the basis
     /// `x_b = u`, `x_a = (A + c) x_b` of its invariant plane (`c = −2σ`,
@@ -480,7 +525,7 @@ impl ModalFlow {
     /// its eigenvectors from the eigenspace ([`repeated_line`]), and with
     /// two real eigenvalues within [`CLOSE`] the `R` reals pair the `i`-th
     /// with the `(i + R/2)`-th, so that no plane holds one eigenvalue twice.
-    fn general(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>, minv: Mat<f64>, loads: &Loads) -> Result<Self, EventsError> {
+    fn general(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>, minv: Mat<f64>) -> Result<Basis, EventsError> {
         let n = m.nrows();
         let nn = 2 * n;
         let mk = &minv * k;
@@ -614,6 +659,16 @@ impl ModalFlow {
         }
         let kv: Vec<f64> = modes.iter().map(|m| if m.0.abs() <= 1e-12 * kmax { 0.0 } else { m.0 }).collect();
         let cv: Vec<f64> = modes.iter().map(|m| m.1).collect();
+        Ok(Basis { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: kv, c: cv, general: Some(GeneralBasis { t, tinv, minv }) })
+    }
+}
+
+impl ModalFlow {
+    /// [`with_loads`](Self::with_loads) on a first-order basis `gb`.
+    fn general_loads(basis: &Basis, gb: &GeneralBasis, loads: &Loads) -> Self {
+        let n = basis.n;
+        let (kv, cv) = (&basis.k, &basis.c);
+        let (t, tinv, minv) = (&gb.t, &gb.tinv, &gb.minv);
         // P and R: the rows of T⁻¹ on the velocity part, times M⁻¹.
         let proj = |row: usize, g: &[f64]| -> f64 {
             let mut s = 0.0;
@@ -630,25 +685,25 @@ impl ModalFlow {
         let mut harmonics = Vec::new();
         let (mut ph, mut waves) = (Vec::new(), Vec::new());
         for (g, amp, w, ph0) in &loads.waves {
-            harmonics.push(Harmonic::new(load_of(g), *amp, *w, *ph0, &kv, &cv));
+            harmonics.push(Harmonic::new(load_of(g), *amp, *w, *ph0, kv, cv));
             // p' of a p ∝ a sin θ: a Ω cos θ = a Ω sin(θ + π/2).
             let pg = p_of(g);
-            harmonics.push(Harmonic::new(pg.clone(), amp * w, *w, ph0 + std::f64::consts::FRAC_PI_2, &kv, &cv));
+            harmonics.push(Harmonic::new(pg.clone(), amp * w, *w, ph0 + std::f64::consts::FRAC_PI_2, kv, cv));
             ph.push(pg);
             waves.push((*amp, *w, *ph0));
         }
         let ramp_modal = loads.ramps.iter().map(|(h, _, _)| load_of(h)).collect();
         let pr = loads.ramps.iter().map(|(h, _, _)| p_of(h)).collect();
         let pf0 = p_of(&loads.constant);
-        let general = General { t, tinv, minv, pf0, ph, waves, pr };
+        let general = General { t: t.clone(), tinv: tinv.clone(), minv: minv.clone(), pf0, ph, waves, pr };
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
         let piece = vec![(0.0, 0.0); loads.ramps.len()];
-        Ok(Self {
+        Self {
             n,
             phi: Mat::zeros(0, 0),
             m_phi: Mat::zeros(0, 0),
-            k: kv,
-            c: cv,
+            k: kv.clone(),
+            c: cv.clone(),
             g0,
             harmonics,
             ramp_modal,
@@ -658,7 +713,7 @@ impl ModalFlow {
             gb,
             tp: 0.0,
             time_dependent: loads.time_dependent(),
-        })
+        }
     }
 
     /// Whether the damping is classical (the modes `Φ` of `(K, M)`), else

@@ -24,7 +24,7 @@
 //! energy `½ vᵀ M v + ½ qᵀ K q − fᵀ q` is conserved under a steady load.
 
 use super::{EventDriven, Hold, Site, System};
-use crate::events::flow::{ModalFlow, Piece};
+use crate::events::flow::{Basis, ModalFlow, Piece};
 use crate::events::record::{EventKind, EventRecord, EventsError};
 use crate::events::Bound;
 use faer::linalg::solvers::Solve;
@@ -79,7 +79,8 @@ impl EventDriven {
         let keff = Mat::from_fn(nf, nf, |r, c| 0.5 * (keff[(r, c)] + keff[(c, r)]));
         let loads = self.phase_loads(&held, |x| (0..nf).map(|r| x[free[r]] - (0..ns).map(|j| krs_g[(r, j)] * x[cond[j]]).sum::<f64>()).collect());
         let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
-        let flow = ModalFlow::from_parts(sub(m), keff, self.c.as_ref().map(sub), &loads)?;
+        let basis = self.basis(holds, || Basis::new(sub(m), keff, self.c.as_ref().map(sub)))?;
+        let flow = ModalFlow::with_loads(&basis, &loads);
         let zeros = vec![0.0; nf];
         let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
         for (j, s) in self.sites.iter().enumerate() {

@@ -129,6 +129,10 @@ impl Stepper for EventStepper {
         Some(self.run.events())
     }
 
+    fn into_event_run(self: Box<Self>) -> Option<EventDriven> {
+        Some(self.run)
+    }
+
     fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
         self.run.set_interrupt(poll);
     }
