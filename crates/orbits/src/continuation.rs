@@ -1713,7 +1713,8 @@ fn flight_margin<F: Family>(ctx: &Ctx<'_, F>, p: &Point) -> Option<f64> {
 type Measure<'a, F> = &'a dyn Fn(&Ctx<'_, F>, &Point) -> Option<f64>;
 
 /// What [`grazing_parameter`] does when a trial is not an orbit of the
-/// smooth side (Newton fails, or the orbit has the grazing impact).
+/// smooth side (Newton fails, or the orbit has the grazing impact; for
+/// [`OnFailure::Shorten`], also an orbit whose margin is not finite).
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum OnFailure {
     /// The search ends: its steps stop 0.9 of the way to each secant
@@ -1788,9 +1789,16 @@ fn grazing_parameter<F: Family>(
             }
         };
         let guess = if m0.is_finite() { lerp(&p0, &p1, (next - p0.param) / (p1.param - p0.param)) } else { p1.x.clone() };
-        match solve_at(ctx, &guess, next, dir) {
-            Some(p) if p.orbit.impacts() == smooth => {
-                let m = measure(ctx, &p)?;
+        let found = match solve_at(ctx, &guess, next, dir) {
+            Some(p) if p.orbit.impacts() == smooth => Some((measure(ctx, &p)?, p)),
+            _ => None,
+        };
+        match found {
+            // Shortening, a margin without a finite value (a flight
+            // without an interior extremum: Newton landed on an orbit of
+            // another arc, past the grazing) is a failed trial: its secant
+            // would be NaN, and every later one with it.
+            Some((m, p)) if m.is_finite() || fail == OnFailure::Stop => {
                 (p0, m0, p1, m1) = (p1, m1, p, m);
                 if fail == OnFailure::Shorten {
                     estimate = if m0.is_finite() && m0 != m1 { secant(&p0, m0, &p1, m1) } else { p1.param };

@@ -430,3 +430,176 @@ fn the_switch_at_a_branch_point_follows_the_asymmetric_branch() {
     eprintln!("{stable} stable, {unstable} unstable checked");
     assert!(stable >= 2, "{stable} stable points checked");
 }
+
+/// The transcription's flow of `x'' + c x' + x = 2 sin Ωt` from `(x, v)`
+/// at `t0` to `t`: the underdamped free motion plus the steady state
+/// (closed forms, no code of the crate).
+fn free(w: f64, t0: f64, (x, v): (f64, f64), t: f64) -> (f64, f64) {
+    let d = (1.0 - w * w).powi(2) + (C * w).powi(2);
+    let (a, b) = (2.0 * (1.0 - w * w) / d, -2.0 * C * w / d);
+    let (z, wd) = (0.5 * C, (1.0 - 0.25 * C * C).sqrt());
+    let c1 = x - (a * (w * t0).sin() + b * (w * t0).cos());
+    let c2 = (v - w * (a * (w * t0).cos() - b * (w * t0).sin()) + z * c1) / wd;
+    let (ex, (sn, cs)) = ((-z * (t - t0)).exp(), (wd * (t - t0)).sin_cos());
+    let q = c1 * cs + c2 * sn;
+    (ex * q + a * (w * t).sin() + b * (w * t).cos(), ex * (-z * q + wd * (c2 * cs - c1 * sn)) + w * (a * (w * t).cos() - b * (w * t).sin()))
+}
+
+/// Bisection on `[lo, hi]` for the sign change of `f` (`f(lo) <= 0 < f(hi)`
+/// or the reverse) to round-off.
+fn bisect_time(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> bool) -> f64 {
+    let at_lo = f(lo);
+    loop {
+        let m = 0.5 * (lo + hi);
+        if m <= lo || m >= hi {
+            return lo;
+        }
+        if f(m) == at_lo {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+}
+
+/// The transcription's map over a period with the stop `s` (±1) left out
+/// for `t` in `skip`: every other crossing of a stop, and every excursion
+/// past one between samples (its interior extremum found by bisection on
+/// the velocity), is bisected to round-off and the velocity reversed
+/// times e. Returns the state after a period, the impacts (time, stop,
+/// speed), and the largest `s x - 1` over `skip` (the flight's distance
+/// past the left-out stop at its extremum there).
+fn virtual_map(w: f64, x: [f64; 2], s: f64, skip: (f64, f64)) -> ([f64; 2], Vec<(f64, f64, f64)>, f64) {
+    let end = TAU / w;
+    let h = end / 4000.0;
+    let (mut t0, mut z, mut t, mut impacts, mut reach) = (0.0, (x[0], x[1]), 0.0, Vec::new(), f64::NEG_INFINITY);
+    while t < end {
+        let t1 = (t + h).min(end);
+        let at = |u: f64| free(w, t0, z, u);
+        let mut hit: Option<(f64, f64)> = None;
+        for stop in [-1.0, 1.0] {
+            let left_out = |u: f64| stop == s && u >= skip.0 && u <= skip.1;
+            let past = |u: f64| stop * at(u).0 > 1.0 && !left_out(u);
+            // An extremum toward this stop inside the interval.
+            let top = if stop * at(t).1 > 0.0 && stop * at(t1).1 <= 0.0 { Some(bisect_time(t, t1, |u| stop * at(u).1 <= 0.0)) } else { None };
+            if let Some(m) = top {
+                if left_out(m) {
+                    reach = reach.max(stop * at(m).0 - 1.0);
+                }
+            }
+            let cross = if past(t1) { Some(t1) } else { top.filter(|&m| past(m)) };
+            if let Some(c) = cross {
+                let tc = bisect_time(t, c, past);
+                if hit.is_none_or(|(u, _)| tc < u) {
+                    hit = Some((tc, stop));
+                }
+            }
+        }
+        if let Some((tc, stop)) = hit {
+            let y = at(tc);
+            impacts.push((tc, stop, y.1.abs()));
+            (t0, z, t) = (tc, (stop, -E * y.1), tc);
+            continue;
+        }
+        t = t1;
+    }
+    let y = free(w, t0, z, end);
+    ([y.0, y.1], impacts, reach)
+}
+
+/// The fixed point of [`virtual_map`] at `w` from `x` (Newton on central
+/// differences) and its reach past the left-out stop.
+fn virtual_orbit(w: f64, mut x: [f64; 2], s: f64, skip: (f64, f64)) -> ([f64; 2], Vec<(f64, f64, f64)>, f64) {
+    for _ in 0..30 {
+        let (y, _, _) = virtual_map(w, x, s, skip);
+        let r = [y[0] - x[0], y[1] - x[1]];
+        if r[0].abs().max(r[1].abs()) <= 1e-13 {
+            break;
+        }
+        let mut j = [[0.0; 2]; 2];
+        for c in 0..2 {
+            let (mut p, mut q) = (x, x);
+            p[c] += 1e-7;
+            q[c] -= 1e-7;
+            let (fp, fq) = (virtual_map(w, p, s, skip).0, virtual_map(w, q, s, skip).0);
+            for (k, row) in j.iter_mut().enumerate() {
+                row[c] = (fp[k] - p[k] - fq[k] + q[k]) / 2e-7;
+            }
+        }
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        x[0] -= (j[1][1] * r[0] - j[0][1] * r[1]) / det;
+        x[1] -= (j[0][0] * r[1] - j[1][0] * r[0]) / det;
+    }
+    let (_, k, reach) = virtual_map(w, x, s, skip);
+    (x, k, reach)
+}
+
+/// The grazing the switched (asymmetric) branch lists near Ω = 1.0383,
+/// where the slow impact of its 3-impact orbits vanishes and its 2-impact
+/// orbits begin: located independently as where the 2-impact orbit's
+/// flight reaches the stop (the transcription's map with that stop left
+/// out around the flight's extremum, its fixed point by Newton, the
+/// extremum's distance past the stop by bisection on Ω to 1e-10). A
+/// trial of the location that landed on an orbit of another arc (its
+/// flight margin NaN) made every later secant NaN, and the linear
+/// extrapolation of the slow impact's speed was listed, 2.9e-5 off.
+#[test]
+fn the_switched_branch_lists_its_grazing_where_the_flight_reaches_the_stop() {
+    let sym = symmetric_branch();
+    let upper = &sym.bifurcations[0];
+    let br = signorini_orbits::crossing_branch(&Between, &sym, upper, (2.0, 0.9), &ContinuationOptions::new(2.0, 0.9)).unwrap();
+    let g = br
+        .bifurcations
+        .iter()
+        .find(|b| b.kind == BifurcationKind::Grazing && b.param < 1.05)
+        .unwrap_or_else(|| panic!("no grazing listed below 1.05: {:?}", br.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect::<Vec<_>>()));
+    // The point on the side without the slow impact (its smooth side).
+    let (b, c) = (&br.points[g.between.0], &br.points[g.between.1]);
+    let smooth = if b.orbit.impacts() < c.orbit.impacts() { b } else { c };
+    let beyond = if smooth.param == b.param { c } else { b };
+    eprintln!("grazing listed at {}: {} impacts at {}, {} at {}", g.param, smooth.orbit.impacts(), smooth.param, beyond.orbit.impacts(), beyond.param);
+    // The slow impact of the orbit beyond, by the transcription: its stop
+    // `s` and time `tg`; that stop is left out within 0.3 of `tg`, where
+    // no other impact falls.
+    let (_, seen, _) = virtual_map(beyond.param, [beyond.orbit.x[0], beyond.orbit.x[1]], 0.0, (0.0, 0.0));
+    assert_eq!(seen.len(), beyond.orbit.impacts(), "{seen:?}");
+    let &(tg, s, slow) = seen.iter().min_by(|p, q| p.2.total_cmp(&q.2)).unwrap();
+    let skip = (tg - 0.3, tg + 0.3);
+    assert!(skip.0 > 0.0 && skip.1 < TAU / beyond.param && seen.iter().all(|i| i.0 == tg || (i.0 - tg).abs() > 0.5), "{seen:?}");
+    eprintln!("slow impact at {s}, t = {tg}, speed {slow:e} at {}: {seen:?}", beyond.param);
+    let x0 = [smooth.orbit.x[0], smooth.orbit.x[1]];
+    let reach = |w: f64, x: [f64; 2]| {
+        let (y, k, r) = virtual_orbit(w, x, s, skip);
+        assert_eq!(k.len(), smooth.orbit.impacts(), "Ω = {w}: the left-out orbit's impacts {k:?}");
+        (y, r)
+    };
+    // From the smooth side toward the other, in steps of 1e-5 (each
+    // Newton from the last orbit), to the first past the stop; then
+    // bisection.
+    let (mut lo, mut xlo, step) = (smooth.param, x0, 1e-5 * (beyond.param - smooth.param).signum());
+    let (_, r0) = reach(lo, x0);
+    assert!(r0 < 0.0, "Ω = {lo}: the flight is {r0:e} past the stop");
+    let mut hi = lo;
+    for _ in 0..1000 {
+        hi = lo + step;
+        let (x, r) = reach(hi, xlo);
+        if r >= 0.0 {
+            break;
+        }
+        (lo, xlo) = (hi, x);
+    }
+    eprintln!("the flight reaches the stop between {lo} and {hi}");
+    assert!((hi - smooth.param) * (beyond.param - hi) > 0.0, "no grazing between {} and {}", smooth.param, beyond.param);
+    while (hi - lo).abs() > 1e-10 {
+        let m = 0.5 * (lo + hi);
+        let (xm, rm) = reach(m, xlo);
+        if rm < 0.0 {
+            (lo, xlo) = (m, xm);
+        } else {
+            hi = m;
+        }
+    }
+    let want = 0.5 * (lo + hi);
+    eprintln!("grazing: listed {}, the transcription's {want} ({:e} apart)", g.param, g.param - want);
+    assert!((g.param - want).abs() <= 1e-8, "the grazing listed at {} is {:e} from the transcription's {want}", g.param, g.param - want);
+}
