@@ -17,6 +17,16 @@
 //!   transient not yet over: the tolerance is stated, the transient a
 //!   choice).
 //!
+//! A slow transient is refined before it is read: where `P^j(x)` is within
+//! `match_tol · max(1, ‖x‖∞)` of `x` for a `j` that divides the `k` found
+//! (or for any `j ≤ max_period` when none is found), Newton on `P^j` from
+//! `x` is tried, and a stable orbit it converges to within that distance
+//! is the cell's attractor, its period and impacts read from the orbit's
+//! point. A lightly damped free vibration left over after the transient
+//! returns nearly whole after as many forcing periods as make one natural
+//! period, and was called a longer period (the oscillator forced at
+//! Ω = 5: "period 5" where the attractor is the free period-1 orbit).
+//!
 //! Cells on one attractor are grouped ([`Grouper`]): two periodic cells
 //! share an attractor when their periods agree and a point of one's cycle
 //! is within `match_tol · max(1, ‖x‖∞)` of the other's canonical point
@@ -38,6 +48,7 @@ pub use grid::{basins_csv, basins_svg, basins_toml, block, merge, AttractorEntry
 
 use crate::map::Model;
 use crate::scene::{lookup_as, Built, SceneFamily};
+use crate::shoot::{periodic_orbit, Newton};
 use crate::OrbitError;
 use signorini_scene::Limits;
 use signorini_schemes::events::EventKind;
@@ -158,31 +169,89 @@ fn canonical(cycle: &[Vec<f64>]) -> usize {
 
 /// Classifies the state `x0` at `t = 0` of `model` forced at `omega`:
 /// `opts.transient` forcing periods of the exact flow, then the period test
-/// on the stroboscopic map (module docs). Errors are the exact run's.
+/// on the stroboscopic map, with a slow transient's refinement (module
+/// docs). Errors are the exact run's.
 pub fn classify(model: &Model, omega: f64, x0: &[f64], opts: &BasinOptions) -> Result<Attractor, OrbitError> {
     let period = TAU / omega;
     let mut x = x0.to_vec();
     if opts.transient > 0 {
         x = model.flow(0.0, &x, opts.transient as f64 * period, false)?.x;
     }
-    let tol = opts.tol * norm(&x).max(1.0);
-    let mut cycle = vec![x.clone()];
-    let (mut impacts, mut sticking) = (0usize, false);
-    let mut t = opts.transient as f64 * period;
-    for k in 1..=opts.max_period {
-        // From t = (transient + k − 1)·T, whole forcing periods: the load's
-        // phase is the section's.
-        let img = model.flow(t, cycle.last().expect("the cycle starts with x"), period, false)?;
-        t += period;
-        impacts += img.events.iter().filter(|e| e.kind == EventKind::Impact && e.t > t - period).count();
-        sticking |= img.events.iter().any(|e| matches!(e.kind, EventKind::Release | EventKind::Accumulation)) || !img.held.is_empty();
-        if dist(&img.x, &x) <= tol {
-            let c = canonical(&cycle);
-            return Ok(Attractor { period: k, impacts, sticking, state: cycle[c].clone(), cycle });
+    let t0 = opts.transient as f64 * period;
+    let scale = norm(&x).max(1.0);
+    let it = iterate(model, t0, period, &x, opts.max_period, opts.tol * scale)?;
+    // A slow transient: the smallest j whose iterate is within `match_tol`
+    // of `x`, a divisor of the period found, or any j without one.
+    let near = |j: &usize| dist(&it.cycle[*j], &x) <= opts.match_tol * scale;
+    let slow = match it.period {
+        0 => (1..=opts.max_period).find(near),
+        k => (1..k).filter(|j| k % j == 0).find(near),
+    };
+    if let Some(j) = slow {
+        if let Some(a) = refined(model, t0, period, j, &x, opts)? {
+            return Ok(a);
         }
-        cycle.push(img.x);
     }
-    Ok(Attractor { period: 0, impacts, sticking, state: x, cycle: Vec::new() })
+    if it.period == 0 {
+        return Ok(Attractor { period: 0, impacts: it.impacts, sticking: it.sticking, state: x, cycle: Vec::new() });
+    }
+    let c = canonical(&it.cycle);
+    Ok(Attractor { period: it.period, impacts: it.impacts, sticking: it.sticking, state: it.cycle[c].clone(), cycle: it.cycle })
+}
+
+/// A slow transient's attractor: Newton on `P^j` from `x` (the state after
+/// the transient, at `t0`), taken when it converges within `match_tol` of
+/// `x` to a stable orbit; the period test from that orbit's point then
+/// gives the period (a divisor of `j`) and the impacts. `None` otherwise
+/// (the plain period test stands).
+fn refined(model: &Model, t0: f64, period: f64, j: usize, x: &[f64], opts: &BasinOptions) -> Result<Option<Attractor>, OrbitError> {
+    let orbit = match periodic_orbit(model, t0, j as f64 * period, x, &Newton::default()) {
+        Ok(o) => o,
+        Err(OrbitError::Interrupted) => return Err(OrbitError::Interrupted),
+        Err(_) => return Ok(None),
+    };
+    if !(orbit.mu_max() < 1.0) || dist(&orbit.x, x) > opts.match_tol * norm(x).max(1.0) {
+        return Ok(None);
+    }
+    let it = iterate(model, t0, period, &orbit.x, j, opts.tol * norm(&orbit.x).max(1.0))?;
+    if it.period == 0 {
+        return Ok(None);
+    }
+    let c = canonical(&it.cycle);
+    Ok(Some(Attractor { period: it.period, impacts: it.impacts, sticking: it.sticking, state: it.cycle[c].clone(), cycle: it.cycle }))
+}
+
+/// The map's iterates from `x` at `t0`, up to the first return within
+/// `tol` (at most `max` forcing periods).
+struct Iterates {
+    /// `P^j(x)`, `j = 0, 1, …`: up to the one before the return (`period`
+    /// of them), or all `max + 1` without one.
+    cycle: Vec<Vec<f64>>,
+    /// The smallest `k` with `P^k(x)` within `tol` of `x` (0: none).
+    period: usize,
+    /// Impacts over the periods flowed.
+    impacts: usize,
+    /// A held phase on the way.
+    sticking: bool,
+}
+
+fn iterate(model: &Model, t0: f64, period: f64, x: &[f64], max: usize, tol: f64) -> Result<Iterates, OrbitError> {
+    let mut it = Iterates { cycle: vec![x.to_vec()], period: 0, impacts: 0, sticking: false };
+    let mut t = t0;
+    for k in 1..=max {
+        // From t = t0 + (k − 1)·T, whole forcing periods: the load's phase
+        // is the section's.
+        let img = model.flow(t, it.cycle.last().expect("the cycle starts with x"), period, false)?;
+        t += period;
+        it.impacts += img.events.iter().filter(|e| e.kind == EventKind::Impact && e.t > t - period).count();
+        it.sticking |= img.events.iter().any(|e| matches!(e.kind, EventKind::Release | EventKind::Accumulation)) || !img.held.is_empty();
+        if dist(&img.x, x) <= tol {
+            it.period = k;
+            return Ok(it);
+        }
+        it.cycle.push(img.x);
+    }
+    Ok(it)
 }
 
 /// Groups attractors, in the order they are given (module docs).
