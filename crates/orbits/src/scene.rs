@@ -5,6 +5,7 @@ use crate::continuation::Family;
 use crate::map::{Model, Shared};
 use crate::OrbitError;
 use signorini_scene::{Lift, Limits, SceneFile, Simulation};
+use signorini_schemes::events::EventDriven;
 use signorini_schemes::SchemeSpec;
 use std::sync::{Arc, Mutex};
 
@@ -153,7 +154,7 @@ impl SceneFamily {
         // The scene's validated run (event-driven(e) of its dynamics from
         // its start) is the model's first: no second set-up of the same run.
         let dy = stepper.dynamics().clone();
-        let first = stepper.into_event_run();
+        let first = stepper.into_event_run().and_then(|run| run.downcast::<EventDriven>().ok()).map(|run| *run);
         let shared = self.shared.lock().ok().and_then(|s| s.clone());
         let model = Model::new_shared(dy, spec.args()[0], shared.as_ref(), first)?.with_interrupt(self.interrupt.clone());
         if !shared.is_some_and(|s| s.fits(model.dynamics())) {

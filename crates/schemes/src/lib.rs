@@ -771,10 +771,12 @@ pub trait Stepper: Send {
     fn events(&self) -> Option<&[events::EventRecord]> {
         None
     }
-    /// The exact run an event-driven scheme samples, taken out of it (the
-    /// orbits' map starts its own runs from it: [`events::EventDriven::restart`]);
-    /// `None` for time-stepping schemes.
-    fn into_event_run(self: Box<Self>) -> Option<events::EventDriven> {
+    /// The exact run an event-driven scheme samples, taken out of it (an
+    /// [`events::EventDriven`] behind `Any`, so that the crate root does not
+    /// name the events' driver, which depends on it; the orbits' map starts
+    /// its own runs from it: `EventDriven::restart`); `None` for
+    /// time-stepping schemes.
+    fn into_event_run(self: Box<Self>) -> Option<Box<dyn std::any::Any>> {
         None
     }
     /// A poll for a step whose work is unbounded (the event-driven scheme:

@@ -10,7 +10,11 @@
 //! ended there, saying so; with `G_λ`'s difference step shrunk at a slow
 //! impact (`slow_impact.rs`) it goes up the 4-impact arc to its fold at
 //! 2.386056 and back down until the corrector stops at the map's round-off
-//! (the slow impact 7.9e-5), saying so. Every point is checked against runs of the map
+//! (the slow impact 7.9e-5), saying so; with a trial of NaN flight margin
+//! counted as failed in the grazing search (the switched branch's grazing,
+//! `symmetric.rs`) it lists a grazing there at 2.380653 onto 2-impact
+//! orbits, their period doubling at 2.426949 and fold at 2.434936, and
+//! ends at the grazing at 2.367853 with no orbit found past it. Every point is checked against runs of the map
 //! (stable ones: a run from a nudged state settles on it; all: a fixed
 //! point of the 2-period map), and no point lies on an arc the branch has
 //! already traced.
@@ -97,5 +101,5 @@ fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
     }
     // The 4-impact arc reached, and the end says why the branch stops.
     assert!(pts.iter().any(|p| p.2 == 4), "the 4-impact orbits past the grazing at 2.3835123");
-    assert!(done.lines[0].contains("stopped at param"), "{}", done.lines[0]);
+    assert!(done.lines[0].contains("stopped at param") || done.lines[0].contains("ended at the grazing"), "{}", done.lines[0]);
 }

@@ -129,8 +129,8 @@ impl Stepper for EventStepper {
         Some(self.run.events())
     }
 
-    fn into_event_run(self: Box<Self>) -> Option<EventDriven> {
-        Some(self.run)
+    fn into_event_run(self: Box<Self>) -> Option<Box<dyn std::any::Any>> {
+        Some(Box::new(self.run))
     }
 
     fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
