@@ -84,8 +84,6 @@ pub(crate) struct Core {
     state: Vec<usize>,
     /// The massless dofs.
     zero: Vec<usize>,
-    /// Each contact's `(dof, massless)`.
-    contacts: Vec<(usize, bool)>,
     parts: Mutex<HashMap<Vec<usize>, Arc<Parts>>>,
 }
 
@@ -146,10 +144,6 @@ fn sub(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
     Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
 }
 
-fn contacts_of(dy: &Dynamics) -> Vec<(usize, bool)> {
-    dy.contacts.iter().map(|c| (c.dof, c.massless)).collect()
-}
-
 impl Core {
     /// The core of `dy`'s structure.
     pub fn new(dy: &Dynamics) -> Result<Self, OrbitError> {
@@ -165,22 +159,7 @@ impl Core {
         } else {
             Mat::zeros(0, 0)
         };
-        Ok(Self { n, m, k, c, minv, state, zero, contacts: contacts_of(dy), parts: Mutex::new(HashMap::new()) })
-    }
-
-    /// Whether `dy` has this structure: the same mass, stiffness and
-    /// damping, bit for bit, and the same contact dofs (loads, bounds and
-    /// restitutions may differ).
-    pub fn fits(&self, dy: &Dynamics) -> bool {
-        // Entry by entry, as `dense` reads the bands (no copy made).
-        let p = |b: &signorini_fem::SymBand, i: usize, j: usize| if i.abs_diff(j) <= b.half_bandwidth() { b.get(i, j) } else { 0.0 };
-        let same = |a: &Mat<f64>, b: &signorini_fem::SymBand| a.nrows() == b.n() && (0..b.n()).all(|i| (0..b.n()).all(|j| a[(i, j)].to_bits() == p(b, i, j).to_bits()));
-        let damping = match (&self.c, &dy.damping) {
-            (None, None) => true,
-            (Some(a), Some(b)) => same(a, b),
-            _ => false,
-        };
-        damping && self.contacts == contacts_of(dy) && same(&self.m, &dy.mass) && same(&self.k, &dy.stiffness)
+        Ok(Self { n, m, k, c, minv, state, zero, parts: Mutex::new(HashMap::new()) })
     }
 
     /// The parts of the held set `held` (made empty if new).
@@ -194,10 +173,11 @@ impl Core {
 
 impl Linear {
     /// The linearisation of `dy` with restitution `e` for every contact
-    /// without its own, on `core` if it is `dy`'s structure
-    /// ([`Core::fits`]), else on a new one.
+    /// without its own, on `core` (which the caller has found to be `dy`'s
+    /// structure: [`crate::map::Model`]'s shared parts, whose flow bases
+    /// were built from the same matrices, fit it), else on a new one.
     pub fn with_core(dy: &Dynamics, e: f64, core: Option<Arc<Core>>) -> Result<Self, OrbitError> {
-        let core = match core.filter(|c| c.fits(dy)) {
+        let core = match core {
             Some(c) => c,
             None => Arc::new(Core::new(dy)?),
         };

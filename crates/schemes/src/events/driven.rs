@@ -158,14 +158,7 @@ impl FlowBases {
     /// and damping, bit for bit, and the same contact dofs (its loads,
     /// bounds and restitutions may differ).
     pub fn fits(&self, dy: &Dynamics) -> bool {
-        // Entry by entry, as `dense` reads the bands (no copy made).
-        let same = |a: &Mat<f64>, b: &signorini_fem::SymBand| a.nrows() == b.n() && (0..b.n()).all(|i| (0..b.n()).all(|j| a[(i, j)].to_bits() == b.get(i, j).to_bits()));
-        let damping = match (&self.c, &dy.damping) {
-            (None, None) => true,
-            (Some(a), Some(b)) => same(a, b),
-            _ => false,
-        };
-        damping && self.contacts == Self::contacts_of(dy) && same(&self.m, &dy.mass) && same(&self.k, &dy.stiffness)
+        self.same(&dense(&dy.mass), &dense(&dy.stiffness), dy.damping.as_ref().map(dense).as_ref(), &Self::contacts_of(dy))
     }
 
     /// Whether these are this store's matrices and contacts, bit for bit.
