@@ -2,6 +2,7 @@
 mod autonomous;
 mod basins;
 mod beam;
+mod between;
 mod cascade;
 mod chain;
 mod chatter;

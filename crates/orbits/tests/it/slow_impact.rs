@@ -18,48 +18,21 @@
 //! transcription's flight touches the stop, and the 3-impact orbits' fold
 //! (3.9627076) is where its central differences have a multiplier at +1.
 
-use signorini_fem::SymBand;
+use crate::between::{flow, E};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 
-const F: f64 = 2.0;
-const C: f64 = 0.1;
-const E: f64 = 0.8;
 const P: usize = 3;
 
 struct Between;
 
 impl Family for Between {
     fn model(&self, w: f64) -> Result<Model, OrbitError> {
-        let one = |v: f64| {
-            let mut b = SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
-            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: F, omega: w } }])
-            .with_damping(Some(one(C)));
-        Model::new(dy, E)
+        crate::between::model(w)
     }
     fn period(&self, w: f64) -> Result<f64, OrbitError> {
         Ok(P as f64 * TAU / w)
     }
-}
-
-/// The transcription's flow of `x'' + c x' + x = F sin Ωt` from `(x, v)`
-/// at `t0` to `t`: the underdamped free motion plus the steady state.
-fn flow(w: f64, t0: f64, x: f64, v: f64, t: f64) -> (f64, f64) {
-    let d = (1.0 - w * w).powi(2) + (C * w).powi(2);
-    let (a, b) = (F * (1.0 - w * w) / d, -F * C * w / d);
-    let xp = |t: f64| a * (w * t).sin() + b * (w * t).cos();
-    let vp = |t: f64| w * (a * (w * t).cos() - b * (w * t).sin());
-    let z = 0.5 * C;
-    let wd = (1.0 - z * z).sqrt();
-    let c1 = x - xp(t0);
-    let c2 = (v - vp(t0) + z * c1) / wd;
-    let (ex, (sn, cs)) = ((-z * (t - t0)).exp(), (wd * (t - t0)).sin_cos());
-    (ex * (c1 * cs + c2 * sn) + xp(t), ex * (-z * (c1 * cs + c2 * sn) + wd * (-c1 * sn + c2 * cs)) + vp(t))
 }
 
 /// The last time of `[lo, hi]` where `inside` holds, by bisection.

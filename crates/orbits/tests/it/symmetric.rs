@@ -13,13 +13,11 @@
 //! (the corrector's difference in the parameter stepped out of it) and a
 //! forcing amplitude of 0 (the orbit at rest gave the state no scale).
 
+use crate::between::{flow, C, E};
 use signorini_fem::SymBand;
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Model, Newton, OrbitError, SceneFamily};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
-
-const C: f64 = 0.1;
-const E: f64 = 0.8;
 
 struct Between;
 
@@ -45,15 +43,7 @@ impl Family for Elastic {
 
 impl Between {
     fn at(&self, w: f64) -> Model {
-        let one = |v: f64| {
-            let mut b = SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
-            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 2.0, omega: w } }])
-            .with_damping(Some(one(C)));
-        Model::new(dy, E).unwrap()
+        crate::between::model(w).unwrap()
     }
 }
 
@@ -431,20 +421,6 @@ fn the_switch_at_a_branch_point_follows_the_asymmetric_branch() {
     assert!(stable >= 2, "{stable} stable points checked");
 }
 
-/// The transcription's flow of `x'' + c x' + x = 2 sin Ωt` from `(x, v)`
-/// at `t0` to `t`: the underdamped free motion plus the steady state
-/// (closed forms, no code of the crate).
-fn free(w: f64, t0: f64, (x, v): (f64, f64), t: f64) -> (f64, f64) {
-    let d = (1.0 - w * w).powi(2) + (C * w).powi(2);
-    let (a, b) = (2.0 * (1.0 - w * w) / d, -2.0 * C * w / d);
-    let (z, wd) = (0.5 * C, (1.0 - 0.25 * C * C).sqrt());
-    let c1 = x - (a * (w * t0).sin() + b * (w * t0).cos());
-    let c2 = (v - w * (a * (w * t0).cos() - b * (w * t0).sin()) + z * c1) / wd;
-    let (ex, (sn, cs)) = ((-z * (t - t0)).exp(), (wd * (t - t0)).sin_cos());
-    let q = c1 * cs + c2 * sn;
-    (ex * q + a * (w * t).sin() + b * (w * t).cos(), ex * (-z * q + wd * (c2 * cs - c1 * sn)) + w * (a * (w * t).cos() - b * (w * t).sin()))
-}
-
 /// Bisection on `[lo, hi]` for the sign change of `f` (`f(lo) <= 0 < f(hi)`
 /// or the reverse) to round-off.
 fn bisect_time(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> bool) -> f64 {
@@ -475,7 +451,7 @@ fn virtual_map(w: f64, x: [f64; 2], s: f64, skip: (f64, f64)) -> ([f64; 2], Vec<
     let (mut t0, mut z, mut t, mut impacts, mut reach) = (0.0, (x[0], x[1]), 0.0, Vec::new(), f64::NEG_INFINITY);
     while t < end {
         let t1 = (t + h).min(end);
-        let at = |u: f64| free(w, t0, z, u);
+        let at = |u: f64| flow(w, t0, z.0, z.1, u);
         let mut hit: Option<(f64, f64)> = None;
         for stop in [-1.0, 1.0] {
             let left_out = |u: f64| stop == s && u >= skip.0 && u <= skip.1;
@@ -503,7 +479,7 @@ fn virtual_map(w: f64, x: [f64; 2], s: f64, skip: (f64, f64)) -> ([f64; 2], Vec<
         }
         t = t1;
     }
-    let y = free(w, t0, z, end);
+    let y = flow(w, t0, z.0, z.1, end);
     ([y.0, y.1], impacts, reach)
 }
 
