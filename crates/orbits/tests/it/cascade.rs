@@ -14,21 +14,6 @@
 
 use signorini_orbits::front::{continue_scene, ContinueOptions};
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.2
-"#;
-
 const ZETA: f64 = 0.05;
 const GAP: f64 = 0.2;
 const E: f64 = 0.8;
@@ -138,7 +123,7 @@ fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
 
 #[test]
 fn the_switch_follows_the_cascade_to_period_four() {
-    let doc: toml::Table = SCENE.parse().unwrap();
+    let doc = crate::oscillator(ZETA, GAP, E, 2.2);
     let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     for l in &done.lines {

@@ -18,21 +18,6 @@ use std::f64::consts::TAU;
 
 const GAP: f64 = 0.2;
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.0
-stop = 0.2
-restitution = 1.0
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.2
-"#;
-
 fn exact(omega: f64) -> ImpactOscillator {
     ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.0, force: 1.0, forcing_frequency: omega, gap: GAP, restitution: 1.0 }).unwrap()
 }
@@ -100,7 +85,7 @@ fn map(omega: f64, x: [f64; 2], periods: usize) -> [f64; 2] {
 
 #[test]
 fn a_pair_meeting_at_minus_one_on_the_conservative_map_is_a_period_doubling() {
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.0, GAP, 1.0, 2.2), "forcing.omega", 1).unwrap().0;
     let want = closed_pd();
     // From the elliptic side (the pair on the circle) and from the
     // hyperbolic one (a real negative pair).
@@ -145,7 +130,7 @@ fn a_pair_meeting_at_minus_one_on_the_conservative_map_is_a_period_doubling() {
 /// paired runs).
 #[test]
 fn a_branch_stalled_on_its_section_names_no_grazing_it_never_reached() {
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.0, GAP, 1.0, 2.2), "forcing.omega", 1).unwrap().0;
     let admissible = |w: f64| exact(w).period1_roots().iter().any(|o| o.phase.abs() < 1e-9 && o.is_admissible());
     let (mut lo, mut hi) = (0.86, 0.9);
     assert!(!admissible(lo) && admissible(hi));

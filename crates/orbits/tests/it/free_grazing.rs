@@ -13,21 +13,6 @@ use std::f64::consts::TAU;
 
 /// The stop at 0.8: the free orbit's amplitude reaches it at Ω = 1.497
 /// (between ω = 1 and 2ω).
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.8
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.0
-"#;
-
 const GAP: f64 = 0.8;
 
 fn exact(omega: f64) -> ImpactOscillator {
@@ -86,7 +71,7 @@ fn check_points(branch: &Branch) {
 
 #[test]
 fn between_omega_and_twice_omega_the_impacting_orbit_born_at_the_free_grazing_turns_back() {
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, GAP, 0.8, 2.0), "forcing.omega", 1).unwrap().0;
     let want = exact(2.0).grazing_frequencies();
     assert_eq!(want.len(), 1, "{want:?}");
     let want = want[0];

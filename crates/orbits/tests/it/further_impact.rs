@@ -20,21 +20,6 @@ use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfil
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 1.0
-"#;
-
 const GAP: f64 = 0.2;
 const R: f64 = 0.8;
 
@@ -162,7 +147,7 @@ fn check(branch: &Branch, want: f64, dir: f64) {
 #[test]
 fn a_second_impact_at_the_same_stop_is_a_grazing_where_the_branch_turns_back() {
     let want = zero(0.89, 0.90, |w| GAP - extremum(w, true));
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, GAP, R, 1.0), "forcing.omega", 1).unwrap().0;
     let branch = continuation(&fam, &section_state(1.0), &ContinuationOptions::new(1.0, 0.8)).unwrap();
     check(&branch, want, -1.0);
     // The two-impact branch folds and comes back stable: at its end (Ω =
@@ -200,7 +185,7 @@ fn the_flight_reaching_the_other_stop_is_a_grazing_where_the_branch_turns_back()
 #[test]
 fn from_the_two_impact_orbit_the_branch_reaches_the_same_grazing_and_goes_on_with_one() {
     let want = zero(0.89, 0.90, |w| GAP - extremum(w, true));
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, GAP, R, 1.0), "forcing.omega", 1).unwrap().0;
     let (m, t) = (fam.model(0.8).unwrap(), fam.period(0.8).unwrap());
     let mut x = vec![0.0, 0.0];
     for _ in 0..1000 {

@@ -22,3 +22,14 @@ mod start;
 mod switch;
 mod symmetric;
 mod two_stops;
+
+/// The impact oscillator most modules trace: `x'' + 2ζx' + x = sin Ωt`
+/// against one stop at `stop` (mass, stiffness and forcing amplitude 1),
+/// run event-driven with restitution `e`, as a scene's TOML table.
+pub fn oscillator(zeta: f64, stop: f64, e: f64, omega: f64) -> toml::Table {
+    let text = format!(
+        "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = {zeta:?}\nstop = {stop:?}\nrestitution = {e:?}\n\
+         dt = 1e-2\nt_end = 10.0\nscheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = {omega:?}\n"
+    );
+    text.parse().expect("the oscillator's scene text")
+}

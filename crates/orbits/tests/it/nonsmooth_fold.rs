@@ -25,21 +25,6 @@ use signorini_exact::{ImpactOscillator, OscillatorParams, State};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Newton, SceneFamily};
 use std::f64::consts::TAU;
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 0.9
-"#;
-
 /// The largest interior maximum of the closed-form 1-impact orbit's flight
 /// at Ω, less the stop (negative: the flight stays below it). `None`
 /// where the closed form has no such orbit.
@@ -109,7 +94,7 @@ fn listed_once(branch: &Branch, wg: f64) {
 #[test]
 fn the_branch_from_half_the_frequency_passes_the_nonsmooth_fold_once() {
     let wg = grazing();
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.8, 0.9), "forcing.omega", 1).unwrap().0;
     let (m, t) = (fam.model(0.5).unwrap(), fam.period(0.5).unwrap());
     let x0 = m.flow(0.0, &[0.0, 0.0], 100.0 * t, false).unwrap().x;
     let branch = continuation(&fam, &x0, &ContinuationOptions::new(0.5, 5.0)).unwrap();
@@ -126,7 +111,7 @@ fn the_branch_from_half_the_frequency_passes_the_nonsmooth_fold_once() {
 #[test]
 fn a_nonsmooth_fold_met_from_the_unstable_arc_turns_back_at_the_grazing() {
     let wg = grazing();
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.8, 0.9), "forcing.omega", 1).unwrap().0;
     // The unstable 2-impact orbit at 0.9048735 (from its branch).
     let w0 = 0.9048735164774;
     let start = periodic_orbit(&fam.model(w0).unwrap(), 0.0, TAU / w0, &[-2.215954665578e-2, -1.520075255640], &Newton::default()).unwrap();

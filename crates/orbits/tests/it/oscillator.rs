@@ -7,21 +7,6 @@ use signorini_exact::{ImpactOscillator, OscillatorParams, State};
 use signorini_orbits::{periodic_orbit, Family, Newton, SceneFamily};
 use std::f64::consts::TAU;
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.0
-"#;
-
 fn exact(omega: f64) -> ImpactOscillator {
     ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).unwrap()
 }
@@ -45,7 +30,7 @@ pub(crate) fn closed_orbits(omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> 
 }
 
 fn family() -> SceneFamily {
-    let doc: toml::Table = SCENE.parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.2, 0.8, 2.0);
     SceneFamily::new(doc, "forcing.omega", 1).unwrap().0
 }
 
@@ -251,7 +236,7 @@ fn closed_fold(gap: f64, lo: f64, hi: f64) -> f64 {
 #[test]
 fn a_fold_is_located_at_the_closed_form_saddle_node_and_the_branch_turns_back_unstable() {
     use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
-    let doc: toml::Table = SCENE.replace("stop = 0.2", "stop = 0.5").parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.5, 0.8, 2.0);
     let fam = SceneFamily::new(doc, "forcing.omega", 1).unwrap().0;
     let osc = |w: f64| ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: w, gap: 0.5, restitution: 0.8 }).unwrap();
     let t = TAU / 1.6;
@@ -312,7 +297,7 @@ fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
 #[test]
 fn every_point_carries_its_own_omega_and_tip() {
     use signorini_orbits::front::{continue_scene, ContinueOptions};
-    let doc: toml::Table = SCENE.replace("omega = 2.0", "omega = 2.2").parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.2, 0.8, 2.2);
     let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     let csv = &done.files.iter().find(|f| f.0 == "branch.csv").unwrap().1;

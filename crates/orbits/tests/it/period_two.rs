@@ -22,21 +22,6 @@
 use signorini_orbits::front::{continue_scene, ContinueOptions};
 use signorini_orbits::{Family, SceneFamily};
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.3
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.42
-"#;
-
 fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = csv.lines();
     let head = lines.next().unwrap().split(',').map(String::from).collect();
@@ -45,7 +30,7 @@ fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
 
 #[test]
 fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
-    let doc: toml::Table = SCENE.parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.2, 0.3, 2.42);
     let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new() };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     for l in &done.lines {
@@ -57,7 +42,7 @@ fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
     let num = |r: &Vec<String>, n: &str| r[col(n)].parse::<f64>().unwrap();
     let pts: Vec<(f64, [f64; 2], usize, bool, f64)> =
         pts.iter().map(|r| (num(r, "param"), [num(r, "q0"), num(r, "v0")], r[col("impacts_per_period")].parse().unwrap(), r[col("stable")] == "1", num(r, "mu_max"))).collect();
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 2).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.3, 2.42), "forcing.omega", 2).unwrap().0;
     let (mut fixed, mut settled) = (0.0f64, 0.0f64);
     for (w, x, k, stable, mu) in &pts {
         let (m, t) = (fam.model(*w).unwrap(), fam.period(*w).unwrap());

@@ -10,21 +10,6 @@ use signorini_exact::{ImpactOscillator, OscillatorParams, State};
 use signorini_orbits::{periodic_orbit, Family, Newton, SceneFamily};
 use std::f64::consts::TAU;
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.0
-"#;
-
 /// `(k, ζ, gap, Ω)` of the scene with one of them set.
 type Params = (f64, f64, f64, f64);
 
@@ -52,7 +37,7 @@ fn sorted(mut m: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
 /// The family in `path` at each of `values` in turn (`params` the closed
 /// form's at a value): each orbit and its multipliers to 1e-9.
 fn check(path: &str, values: &[f64], params: impl Fn(f64) -> Params) {
-    let doc: toml::Table = SCENE.parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.2, 0.8, 2.0);
     let fam = SceneFamily::new(doc, path, 1).unwrap().0;
     for &p in values {
         let mut seen = 0;

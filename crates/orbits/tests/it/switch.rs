@@ -11,21 +11,6 @@
 use signorini_orbits::front::{continue_scene, ContinueOptions};
 use signorini_orbits::{Family, SceneFamily};
 
-const SCENE: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 0.8
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.2
-"#;
-
 /// The rows of a CSV as (header, rows).
 fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = csv.lines();
@@ -37,7 +22,7 @@ fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
 /// period in forcing periods (1, 2, 4 or 8; 0 for none of them) and its
 /// impacts in that many periods.
 fn attractor(omega: f64, x: &[f64]) -> (usize, usize) {
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.8, 2.2), "forcing.omega", 1).unwrap().0;
     let (m, t) = (fam.model(omega).unwrap(), fam.period(omega).unwrap());
     let mut x = x.to_vec();
     for _ in 0..4000 {
@@ -55,7 +40,7 @@ fn attractor(omega: f64, x: &[f64]) -> (usize, usize) {
 
 #[test]
 fn each_bifurcation_of_the_period_two_loop_is_listed_once() {
-    let doc: toml::Table = SCENE.parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.2, 0.8, 2.2);
     let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     for l in &done.lines {
@@ -112,7 +97,7 @@ fn each_bifurcation_of_the_period_two_loop_is_listed_once() {
 #[test]
 fn the_doubled_branch_rejoins_at_the_closed_forms_other_period_doubling() {
     use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions};
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.8, 2.2), "forcing.omega", 1).unwrap().0;
     let want = crate::oscillator::closed_pd(1.03, 1.2);
     assert_eq!(want.len(), 2, "{want:?}");
     let start = crate::oscillator::closed_orbits(1.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
@@ -153,7 +138,7 @@ fn the_doubled_branch_turns_back_at_its_grazings_and_folds() {
     const FOLD: f64 = 1.0731671479347;
     const UPPER_GRAZING: f64 = 1.1001053499473;
     const UPPER_FOLD: f64 = 1.1351199819570;
-    let fam = SceneFamily::new(SCENE.parse().unwrap(), "forcing.omega", 1).unwrap().0;
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.8, 2.2), "forcing.omega", 1).unwrap().0;
     let start = crate::oscillator::closed_orbits(1.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
     let opts = ContinuationOptions::new(1.2, 1.03);
     let branch = continuation(&fam, &start, &opts).unwrap();

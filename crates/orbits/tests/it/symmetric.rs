@@ -16,6 +16,7 @@
 use crate::between::{flow, C, E};
 use signorini_fem::SymBand;
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Model, Newton, OrbitError, SceneFamily};
+use signorini_scene::presets::set_path;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 
@@ -174,26 +175,11 @@ fn the_asymmetric_orbit_turns_onto_its_mirror_image_at_a_branch_point() {
     assert!((first.param - sym).abs() < 1e-7, "{} vs the symmetric branch's {sym}", first.param);
 }
 
-const OSC: &str = r#"
-[oscillator]
-mass = 1.0
-stiffness = 1.0
-damping_ratio = 0.05
-stop = 0.2
-restitution = 1.0
-dt = 1e-2
-t_end = 10.0
-scheme = "event-driven"
-[forcing]
-amplitude = 1.0
-omega = 2.0
-"#;
-
 /// A range from a restitution of 1 (the end of its domain): every point
 /// obeys Liouville's formula with its own restitution.
 #[test]
 fn a_range_from_the_end_of_the_parameters_domain_starts() {
-    let doc: toml::Table = OSC.parse().unwrap();
+    let doc = crate::oscillator(0.05, 0.2, 1.0, 2.0);
     let (fam, _) = SceneFamily::new(doc, "oscillator.restitution", 1).unwrap();
     let built = fam.build(1.0).unwrap();
     let x0 = built.model.flow(0.0, &built.start, 200.0 * built.horizon, false).unwrap().x;
@@ -213,7 +199,8 @@ fn a_range_from_the_end_of_the_parameters_domain_starts() {
 /// steady state's amplitude `A / √((k − mΩ²)² + (cΩ)²)` reaches it.
 #[test]
 fn a_range_from_rest_reaches_the_grazing() {
-    let doc: toml::Table = OSC.replace("amplitude = 1.0", "amplitude = 0.0").parse().unwrap();
+    let mut doc = crate::oscillator(0.05, 0.2, 1.0, 2.0);
+    set_path(&mut doc, "forcing.amplitude", 0.0.into()).unwrap();
     let (fam, _) = SceneFamily::new(doc, "forcing.amplitude", 1).unwrap();
     let branch = continuation(&fam, &[0.0, 0.0], &ContinuationOptions::new(0.0, 1.0)).unwrap();
     let g = branch.bifurcations.iter().find(|b| b.kind == BifurcationKind::Grazing).unwrap_or_else(|| panic!("no grazing; end: {}", branch.end));
