@@ -16,7 +16,6 @@
 //! `events` in time order, and the run reaching its end.
 
 use crate::events_common as common;
-use signorini_fem::SymBand;
 use signorini_schemes::events::EventStepper;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, Stepper, TimeProfile};
 use std::sync::Arc;
@@ -56,15 +55,7 @@ fn case(name: &'static str, n: usize, (e, b, dt): (f64, f64, f64), load: Load, c
         ramp[0] = 1.0;
         forcing.push(Forcing { shape: ramp.clone(), time: TimeProfile::series(points.iter().map(|p| p.0).collect(), points.iter().map(|p| p.1).collect()).unwrap() });
     }
-    let c = (b > 0.0).then(|| {
-        let mut c = SymBand::zeros(n, 1);
-        for i in 0..n {
-            for j in i.saturating_sub(1)..=i {
-                c.set(i, j, b * k.get(i, j));
-            }
-        }
-        c
-    });
+    let c = (b > 0.0).then(|| common::rayleigh(&m, &k, 0.0, b));
     let dy = Dynamics::new(m, k, f0.clone(), contacts).with_forcing(forcing).with_damping(c);
     Case { name, dy, e, v0, dt, f0, shape, wave, ramp, points }
 }

@@ -33,6 +33,7 @@
 //! `r = C_cc/(3 M_cc)`, so its impacts come ever faster and never
 //! accumulate (docs/theory.md §9.3, "Elastic impacts under damping").
 
+use crate::events_common as common;
 use signorini_fem::SymBand;
 use signorini_schemes::events::{EventDriven, EventKind, EventRecord, Reached};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
@@ -168,7 +169,7 @@ fn oscillator(zeta: f64, f0: f64, wave: (f64, f64), stops: (f64, f64), e: f64) -
 /// and forced on dof `n − 1`.
 #[allow(clippy::too_many_arguments)]
 fn chain(n: usize, free: bool, lumped: bool, (a, b): (f64, f64), gap: f64, e: f64, f0: f64) -> Prob {
-    let (mut m, mut k, mut c) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
     for i in 0..n {
         let end = i == 0 || (free && i == n - 1);
         let half = if end { 0.5 } else { 1.0 };
@@ -179,11 +180,7 @@ fn chain(n: usize, free: bool, lumped: bool, (a, b): (f64, f64), gap: f64, e: f6
             k.set(i, i - 1, -1.0);
         }
     }
-    for i in 0..n {
-        for j in i.saturating_sub(1)..=i {
-            c.set(i, j, a * m.get(i, j) + b * k.get(i, j));
-        }
-    }
+    let c = common::rayleigh(&m, &k, a, b);
     let mut load = vec![0.0; n];
     load[0] = f0;
     let mut shape = vec![0.0; n];

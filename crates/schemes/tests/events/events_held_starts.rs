@@ -117,15 +117,7 @@ fn held_chain(n: usize, free: bool, lumped: bool, upper: bool, load: (f64, f64, 
     let mut shape = vec![0.0; n];
     shape[0] = if upper { 1.0 } else { -1.0 };
     let (a, w, p) = load;
-    let c = damping.map(|(alpha, beta)| {
-        let mut c = SymBand::zeros(n, 1);
-        for i in 0..n {
-            for j in i.saturating_sub(1)..=i {
-                c.set(i, j, alpha * m.get(i, j) + beta * k.get(i, j));
-            }
-        }
-        c
-    });
+    let c = damping.map(|(alpha, beta)| common::rayleigh(&m, &k, alpha, beta));
     Dynamics::new(m, k, vec![0.0; n], vec![Contact::new(0, bounds, false)]).with_forcing(vec![Forcing { shape, time: sine(a, w, p) }]).with_damping(c)
 }
 

@@ -5,13 +5,14 @@
 //! chatter to rest, the contact solver's warm start) from another start.
 //! The orbits' shooting starts one run again at every map evaluation.
 
+use crate::events_common as common;
 use signorini_fem::SymBand;
 use signorini_schemes::events::{EventDriven, EventsError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 
 /// A chain of `n` unit masses and springs (the last grounded), `C = 0.02 K`.
 fn chain(n: usize) -> (SymBand, SymBand, SymBand) {
-    let (mut m, mut k, mut c) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
     for i in 0..n {
         m.set(i, i, 1.0);
         k.set(i, i, if i + 1 < n { 2.0 } else { 1.0 });
@@ -19,11 +20,7 @@ fn chain(n: usize) -> (SymBand, SymBand, SymBand) {
             k.set(i, i - 1, -1.0);
         }
     }
-    for i in 0..n {
-        for j in i.saturating_sub(1)..=i {
-            c.set(i, j, 0.02 * k.get(i, j));
-        }
-    }
+    let c = common::rayleigh(&m, &k, 0.0, 0.02);
     (m, k, c)
 }
 

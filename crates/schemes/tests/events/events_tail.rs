@@ -17,7 +17,6 @@
 //! time order.
 
 use crate::events_common as common;
-use signorini_fem::SymBand;
 use signorini_schemes::events::{EventKind, EventStepper};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, Stepper, TimeProfile};
 use std::sync::Arc;
@@ -40,15 +39,7 @@ fn case(name: &'static str, (e, b): (f64, f64), (lo0, lo1, mid): (f64, f64, usiz
     let (m, k) = common::chain_matrices(n, true);
     let contacts = vec![Contact::new(0, Bounds::obstacle(lo0), false), Contact::new(n - 1, Bounds::obstacle(lo1), false), Contact::new(mid, Bounds { lo: -0.2, hi: 0.2 }, false)];
     let forcing = vec![Forcing { shape: shape.clone(), time: TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: wave.0, omega: wave.1, phase: wave.2 }])) }];
-    let c = (b > 0.0).then(|| {
-        let mut c = SymBand::zeros(n, 1);
-        for i in 0..n {
-            for j in i.saturating_sub(1)..=i {
-                c.set(i, j, b * k.get(i, j));
-            }
-        }
-        c
-    });
+    let c = (b > 0.0).then(|| common::rayleigh(&m, &k, 0.0, b));
     let dy = Dynamics::new(m, k, f0.clone(), contacts).with_forcing(forcing).with_damping(c);
     Case { name, dy, e, v0, f0, shape, wave }
 }

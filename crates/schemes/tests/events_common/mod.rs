@@ -21,6 +21,19 @@ pub fn chain_matrices(n: usize, free: bool) -> (SymBand, SymBand) {
     (m, k)
 }
 
+/// Rayleigh damping `C = a M + b K` on the chain's band (half-bandwidth
+/// 1), entry by entry.
+#[allow(dead_code)]
+pub fn rayleigh(m: &SymBand, k: &SymBand, a: f64, b: f64) -> SymBand {
+    let mut c = SymBand::zeros(m.n(), 1);
+    for i in 0..m.n() {
+        for j in i.saturating_sub(1)..=i {
+            c.set(i, j, a * m.get(i, j) + b * k.get(i, j));
+        }
+    }
+    c
+}
+
 /// The inverse of the dense `a` restricted to the dofs `keep` (Gauss–Jordan
 /// with partial pivoting), embedded in `n × n` with zeros elsewhere.
 #[allow(dead_code)]
