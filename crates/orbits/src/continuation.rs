@@ -65,6 +65,13 @@ pub trait Family {
         let (model, period) = self.model_and_period(param)?;
         Ok((model, period, None))
     }
+    /// The forcing periods `p` the map's horizon spans: an orbit's state
+    /// after `k` forcing periods (`k < p`) is the section state of the same
+    /// orbit, shifted in phase, a fixed point of the map too. The default
+    /// is 1 (no shifted copies).
+    fn periods(&self) -> usize {
+        1
+    }
 }
 
 /// What a branch point (or a bifurcation located at one) of a family of
@@ -546,17 +553,22 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
 /// display, an interrupt): when it returns `false` the branch ends there,
 /// its points so far kept, `end` saying so.
 pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions, watch: &mut dyn FnMut(&BranchPoint) -> bool) -> Result<Branch, OrbitError> {
-    continuation_until(family, guess, opts, watch, &mut |_| None)
+    continuation_until(family, guess, opts, watch, &mut |_| None, true)
 }
 
 /// [`continuation_watched`] that also ends the branch when `stop`, shown
 /// the branch so far after each step, returns why (the branch's `end`).
+/// `closing`: the branch ends where it returns onto itself ([`Returns`]);
+/// off for a period-doubled branch, whose copies [`doubled_branch`] cuts
+/// where the branch rejoins the one of half its period (there its orbits
+/// and their copies shifted by half the period meet).
 fn continuation_until<F: Family>(
     family: &F,
     guess: &[f64],
     opts: &ContinuationOptions,
     watch: &mut dyn FnMut(&BranchPoint) -> bool,
     stop: &mut dyn FnMut(&Branch) -> Option<String>,
+    closing: bool,
 ) -> Result<Branch, OrbitError> {
     opts.validate()?;
     let model = family.model(opts.from)?;
@@ -592,6 +604,7 @@ fn continuation_until<F: Family>(
     let mut vref = cur.orbit.fastest_impact().map_or(0.0, |f| f.0);
     let (lo, hi) = (opts.from.min(opts.to), opts.from.max(opts.to));
     let beyond = |p: f64| (p - opts.to) * dir > 0.0;
+    let mut returns = closing.then(|| Returns::new(family.periods().max(1), &cur));
     while branch.points.len() < opts.max_points {
         if let Some(last) = branch.points.last() {
             if !watch(last) {
@@ -759,6 +772,33 @@ fn continuation_until<F: Family>(
             next
         };
         let i = branch.points.len() - 1;
+        // Back at the first orbit (a closed branch: an isola, or a loop of
+        // copies shifted in phase), or onto orbits already traced.
+        match returns.as_mut().and_then(|r| r.check(&ctx, &branch.points, &cur, &next)) {
+            Some(Returned::Closed { at, shift }) => {
+                locate(&ctx, &cur, &at, i, &mut branch.bifurcations);
+                branch.points.push(BranchPoint { param: at.param, orbit: at.orbit.clone(), mark: at.mark });
+                let shifted = if shift == 0 { String::new() } else { format!(" shifted by {shift} forcing period{}", if shift == 1 { "" } else { "s" }) };
+                branch.end = format!(
+                    "closed: an isola/loop of {} points (the branch returned to its first orbit{shifted}, at param = {}; the last point repeats it): each bifurcation listed once",
+                    branch.points.len() - 1,
+                    at.param
+                );
+                return Ok(branch);
+            }
+            Some(Returned::Copy { shift, on }) => {
+                let shifted = if shift == 0 { String::new() } else { format!(", shifted by {shift} forcing period{},", if shift == 1 { "" } else { "s" }) };
+                branch.end = format!(
+                    "returned onto itself at param = {}: the next orbit (param = {}){shifted} is one the branch has traced (between param = {} and {}): not traced again",
+                    cur.param,
+                    next.param,
+                    branch.points[on].param,
+                    branch.points[on + 1].param
+                );
+                return Ok(branch);
+            }
+            None => {}
+        }
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
         // Across a change of the impacts onto an orbit the branch has
         // passed through (a corrector falling onto the orbit it came along,
@@ -844,7 +884,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                 let mut o = *opts;
                 (o.from, o.to) = (param, end);
                 let mut copies = Copies { single, xs, ls: span, images: Vec::new(), cut: None, copy: None };
-                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |b| copies.check(&b.points)) {
+                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |b| copies.check(&b.points), false) {
                     Ok(mut b) => {
                         // The points the last step added (a branch that
                         // ended otherwise) are checked too.
@@ -993,7 +1033,7 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
                     f.param
                 ))
             };
-            match continuation_until(family, &x, &o, &mut |_| true, stop) {
+            match continuation_until(family, &x, &o, &mut |_| true, stop, true) {
                 Ok(mut br) => {
                     br.rejoins = met;
                     return Ok(br);
@@ -1942,6 +1982,183 @@ fn turned_back<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point,
         mark: None,
     };
     Some((bif, across))
+}
+
+/// How a branch came back onto itself ([`Returns::check`]).
+enum Returned {
+    /// The step passes the first orbit (shifted by `shift` forcing
+    /// periods): the branch is closed, `at` that orbit as a point of it.
+    Closed { at: Box<Point>, shift: usize },
+    /// The step's end, shifted by `shift` forcing periods, lies on the
+    /// branch's segment `on` (its points `on`, `on + 1`).
+    Copy { shift: usize, on: usize },
+}
+
+/// Watches a branch for its return onto itself. A closed branch (an isola,
+/// or any loop of orbits) was traced round and round until the point
+/// budget, each bifurcation listed once a lap: the two-stop oscillator's
+/// isola of period 5 (`x'' + 0.1x' + x = 2 sin Ωt`, stops −1 and 0.5,
+/// e = 0.3, Ω from 5.6) listed its folds at 5.5419 and 6.0079 ten times
+/// each (`tests/it/isola.rs`). An orbit of `p` forcing periods has `p`
+/// section states (its state after `k` forcing periods, `k < p`), each a
+/// fixed point of the map: a loop of such orbits may close only on a
+/// shifted copy of its first state, and a branch may come back onto a
+/// shifted copy of an arc it has traced (the period-3 orbits of that
+/// oscillator, e = 0.3, from Ω = 4 down, listed a fold and a period
+/// doubling twice, at two section states of the same orbits).
+struct Returns {
+    /// The forcing periods of the map.
+    p: usize,
+    /// The first point, and its state after `k` forcing periods (`k = 1 …
+    /// p − 1`).
+    first: Point,
+    first_shifted: Vec<Option<Vec<f64>>>,
+    /// The shifted states of the branch's points so far (`[k − 1]`).
+    images: Vec<Vec<Option<Vec<f64>>>>,
+}
+
+impl Returns {
+    fn new(p: usize, first: &Point) -> Self {
+        Self { p, first: first.clone(), first_shifted: Vec::new(), images: Vec::new() }
+    }
+
+    /// `x`'s state after `k` forcing periods at `param` (`None` when the
+    /// map fails).
+    fn shifted<F: Family>(ctx: &Ctx<'_, F>, x: &[f64], param: f64, k: usize, p: usize) -> Option<Vec<f64>> {
+        let (model, period) = ctx.family.model_and_period(param).ok()?;
+        Some(model.flow(0.0, x, period * k as f64 / p as f64, false).ok()?.x)
+    }
+
+    fn all_shifted<F: Family>(&self, ctx: &Ctx<'_, F>, x: &[f64], param: f64) -> Vec<Option<Vec<f64>>> {
+        (1..self.p).map(|k| Self::shifted(ctx, x, param, k, self.p)).collect()
+    }
+
+    /// Whether the step from `cur` to `next` closes the branch (it passes
+    /// within a quarter of its length of the first orbit or one of its
+    /// shifted states, and the corrector from there lands on it:
+    /// [`Returned::Closed`]), or ends on orbits the branch has traced
+    /// (`next`, or its state shifted by `k` forcing periods, within a
+    /// quarter of a segment's length of a traced segment with as many
+    /// impacts, the two steps parallel: [`Returned::Copy`]).
+    fn check<F: Family>(&mut self, ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, next: &Point) -> Option<Returned> {
+        let i = points.len() - 1;
+        if i == 0 {
+            return None;
+        }
+        if self.first_shifted.len() + 1 < self.p {
+            self.first_shifted = self.all_shifted(ctx, &self.first.x, self.first.param);
+        }
+        let scaled = |x: &[f64], l: f64| -> Vec<f64> { x.iter().map(|v| v / ctx.xs).chain(std::iter::once(l / ctx.ls)).collect() };
+        let (a, b) = (scaled(&cur.x, cur.param), scaled(&next.x, next.param));
+        // The first orbit on the step.
+        for shift in 0..self.p {
+            let c = if shift == 0 { Some(&self.first.x) } else { self.first_shifted[shift - 1].as_ref() };
+            let Some(c) = c else { continue };
+            if cur.orbit.impacts() != self.first.orbit.impacts() && next.orbit.impacts() != self.first.orbit.impacts() {
+                continue;
+            }
+            if !near_segment(&a, &b, &scaled(c, self.first.param)) {
+                continue;
+            }
+            // The branch through it, oriented along the step: the same
+            // orbit, where the corrector from the step's chord lands.
+            let Ok(at) = ctx.point(c.clone(), self.first.param, &cur.tangent) else { continue };
+            if shift == 0 && at.tangent.iter().zip(&self.first.tangent).map(|(u, v)| u * v).sum::<f64>() <= 0.0 {
+                continue;
+            }
+            if !self.lands(ctx, cur, next, &at) {
+                continue;
+            }
+            return Some(Returned::Closed { at: Box::new(at), shift });
+        }
+        // Onto a traced segment.
+        while self.images.len() < points.len() {
+            let q = &points[self.images.len()];
+            let im = self.all_shifted(ctx, &q.orbit.x, q.param);
+            self.images.push(im);
+        }
+        let next_images = self.all_shifted(ctx, &next.x, next.param);
+        for shift in 0..self.p {
+            let (y, y0) = if shift == 0 { (Some(&next.x), Some(&cur.x)) } else { (next_images[shift - 1].as_ref(), self.images[i][shift - 1].as_ref()) };
+            let (Some(y), Some(y0)) = (y, y0) else { continue };
+            let (sy, sy0) = (scaled(y, next.param), scaled(y0, cur.param));
+            // Not the step's own segment, nor the one before (unshifted).
+            let last = if shift == 0 { i.saturating_sub(1) } else { i };
+            for on in 0..last {
+                let (q, r) = (&points[on], &points[on + 1]);
+                if q.orbit.impacts() != next.orbit.impacts() || r.orbit.impacts() != next.orbit.impacts() {
+                    continue;
+                }
+                let (sq, sr) = (scaled(&q.orbit.x, q.param), scaled(&r.orbit.x, r.param));
+                if inside_segment(&sq, &sr, &sy, &sy0) && parallel(&sq, &sr, &sy0, &sy) {
+                    return Some(Returned::Copy { shift, on });
+                }
+            }
+        }
+        None
+    }
+
+    /// Whether the corrector from the step's chord, on the hyperplane
+    /// through `at` normal to its tangent, lands on `at` (to 1e-6 of the
+    /// scaled state: the same orbit, not another one nearby).
+    fn lands<F: Family>(&self, ctx: &Ctx<'_, F>, cur: &Point, next: &Point, at: &Point) -> bool {
+        let n = ctx.n;
+        let t = &at.tangent;
+        let side = |x: &[f64], l: f64| (0..n).map(|k| t[k] * (x[k] - at.x[k]) / ctx.xs).sum::<f64>() + t[n] * (l - at.param) / ctx.ls;
+        let (sa, sb) = (side(&cur.x, cur.param), side(&next.x, next.param));
+        if !(sa * sb <= 0.0 && sa != sb) {
+            return false;
+        }
+        let w = sa / (sa - sb);
+        let x: Vec<f64> = (0..n).map(|k| cur.x[k] + w * (next.x[k] - cur.x[k])).collect();
+        let l = cur.param + w * (next.param - cur.param);
+        match ctx.correct(x, l, t, None) {
+            Ok((y, lam, _)) => (0..n).map(|k| ((y[k] - at.x[k]) / ctx.xs).abs()).fold(((lam - at.param) / ctx.ls).abs(), f64::max) <= 1e-6,
+            Err(_) => false,
+        }
+    }
+}
+
+/// Whether `y` lies within a quarter of the segment's length of the
+/// segment from `a` to `b` (scaled coordinates).
+fn near_segment(a: &[f64], b: &[f64], y: &[f64]) -> bool {
+    let ab: Vec<f64> = a.iter().zip(b).map(|(u, v)| v - u).collect();
+    let len2: f64 = ab.iter().map(|v| v * v).sum();
+    if !(len2 > 0.0) {
+        return false;
+    }
+    let w = (a.iter().zip(y).zip(&ab).map(|((u, v), d)| (v - u) * d).sum::<f64>() / len2).clamp(0.0, 1.0);
+    let d2: f64 = a.iter().zip(&ab).zip(y).map(|((u, d), v)| (u + w * d - v).powi(2)).sum();
+    d2 <= 0.0625 * len2
+}
+
+/// Whether `y` lies beside the inside of the segment from `a` to `b` (its
+/// projection not at an end), within a quarter of the shorter of that
+/// segment and the step from `y0` to `y`: a step shorter than a traced
+/// segment, ahead of its end, is not on it.
+fn inside_segment(a: &[f64], b: &[f64], y: &[f64], y0: &[f64]) -> bool {
+    let ab: Vec<f64> = a.iter().zip(b).map(|(u, v)| v - u).collect();
+    let len2: f64 = ab.iter().map(|v| v * v).sum();
+    let step2: f64 = y.iter().zip(y0).map(|(u, v)| (u - v).powi(2)).sum();
+    if !(len2 > 0.0 && step2 > 0.0) {
+        return false;
+    }
+    let w = a.iter().zip(y).zip(&ab).map(|((u, v), d)| (v - u) * d).sum::<f64>() / len2;
+    if !(w > 0.0 && w < 1.0) {
+        return false;
+    }
+    let d2: f64 = a.iter().zip(&ab).zip(y).map(|((u, d), v)| (u + w * d - v).powi(2)).sum();
+    d2 <= 0.0625 * len2.min(step2)
+}
+
+/// Whether the step from `c` to `d` is parallel (either way, within about
+/// 25°) to the segment from `a` to `b`.
+fn parallel(a: &[f64], b: &[f64], c: &[f64], d: &[f64]) -> bool {
+    let u: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+    let v: Vec<f64> = c.iter().zip(d).map(|(x, y)| y - x).collect();
+    let dot: f64 = u.iter().zip(&v).map(|(x, y)| x * y).sum();
+    let (nu, nv) = (u.iter().map(|x| x * x).sum::<f64>().sqrt(), v.iter().map(|x| x * x).sum::<f64>().sqrt());
+    nu > 0.0 && nv > 0.0 && dot.abs() >= 0.9 * nu * nv
 }
 
 /// The scaled distance between two points, as the arclength measures it.

@@ -181,6 +181,10 @@ impl Family for SceneFamily {
         Ok((b.model, b.horizon))
     }
 
+    fn periods(&self) -> usize {
+        self.periods
+    }
+
     /// Each point marked with its scene's Ω and tip ([`Built::tip`]), from
     /// the scene built for its model.
     fn model_period_marker(&self, param: f64) -> Result<(Model, f64, Option<crate::continuation::Marker>), OrbitError> {

@@ -10,6 +10,7 @@ mod conservative;
 mod corrector;
 mod free_grazing;
 mod further_impact;
+mod isola;
 mod nonsmooth_fold;
 mod oscillator;
 mod period_two;
@@ -21,6 +22,7 @@ mod slow_impact;
 mod start;
 mod switch;
 mod symmetric;
+mod turn;
 mod two_stops;
 
 /// The impact oscillator most modules trace: `x'' + 2ζx' + x = sin Ωt`

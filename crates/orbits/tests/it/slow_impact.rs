@@ -22,9 +22,9 @@ use crate::between::{flow, E};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
 
-const P: usize = 3;
+pub(crate) const P: usize = 3;
 
-struct Between;
+pub(crate) struct Between;
 
 impl Family for Between {
     fn model(&self, w: f64) -> Result<Model, OrbitError> {
@@ -58,7 +58,7 @@ fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
 /// velocity reversed times e. Returns the image, the impacts, and the
 /// smallest distance to a stop of a flight's extremum that does not reach
 /// one.
-fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize, f64) {
+pub(crate) fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize, f64) {
     let end = P as f64 * TAU / w;
     let h = TAU / w / 4000.0;
     let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);

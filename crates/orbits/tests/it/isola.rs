@@ -1,0 +1,219 @@
+//! A closed branch: the oscillator `x'' + 0.1 x' + x = 2 sin Ωt` between
+//! the stops −1 and 0.5 (e = 0.3) has an isola of period-5 orbits with one
+//! impact, from Ω = 5.54 to 6.01, through the stable orbit at Ω = 5.6.
+//! Continued from there it was traced round and round until the point
+//! budget (400 points), each of its two folds listed ten times. The branch
+//! now ends where it returns to its first orbit, each fold listed once.
+//! Checked against a transcription sharing no code with the crate (the
+//! closed-form flow between impacts of `between.rs`, its own impact search,
+//! the restitution by hand): every point a fixed point of the transcribed
+//! map over five periods, and each fold where Newton on that map (central
+//! differences) finds an orbit just before it and none just past it.
+
+use crate::between::flow;
+use signorini_fem::SymBand;
+use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
+use std::f64::consts::TAU;
+
+const LO: f64 = -1.0;
+const HI: f64 = 0.5;
+const E: f64 = 0.3;
+
+/// The family of orbits of `p` forcing periods.
+struct Isola(usize);
+
+impl Family for Isola {
+    fn model(&self, w: f64) -> Result<Model, OrbitError> {
+        let one = |v: f64| {
+            let mut b = SymBand::zeros(1, 0);
+            b.set(0, 0, v);
+            b
+        };
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: LO, hi: HI }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: crate::between::F, omega: w } }])
+            .with_damping(Some(one(crate::between::C)));
+        Model::new(dy, E)
+    }
+    fn period(&self, w: f64) -> Result<f64, OrbitError> {
+        Ok(self.0 as f64 * TAU / w)
+    }
+    fn periods(&self) -> usize {
+        self.0
+    }
+}
+
+/// The last time of `[lo, hi]` where `inside` holds, by bisection.
+fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if m <= lo || m >= hi {
+            break;
+        }
+        if inside(m) {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    lo
+}
+
+/// The transcription's map over `p` forcing periods: the flow sampled at
+/// 1/1000 of a period, each step split at an extremum of `x`, each
+/// crossing of a stop bisected to round-off, the velocity reversed times
+/// e. Returns the image and the impacts.
+fn map_over(p: usize, w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
+    let end = p as f64 * TAU / w;
+    let h = TAU / w / 1000.0;
+    let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);
+    let mut impacts = 0;
+    let out = |x: f64| !(LO..=HI).contains(&x);
+    while t < end {
+        let t1 = (t + h).min(end);
+        let (v0, v1) = (flow(w, t0, z.0, z.1, t).1, flow(w, t0, z.0, z.1, t1).1);
+        let ends = if v0 * v1 < 0.0 { vec![bisect(t, t1, |m| flow(w, t0, z.0, z.1, m).1 * v0 > 0.0), t1] } else { vec![t1] };
+        let mut a = t;
+        let mut hit = None;
+        for &b in &ends {
+            if out(flow(w, t0, z.0, z.1, b).0) {
+                hit = Some(bisect(a, b, |m| !out(flow(w, t0, z.0, z.1, m).0)));
+                break;
+            }
+            a = b;
+        }
+        match hit {
+            Some(ti) => {
+                let y = flow(w, t0, z.0, z.1, ti);
+                let stop = if y.0 > 0.5 * (LO + HI) { HI } else { LO };
+                (t0, z, t) = (ti, (stop, -E * y.1), ti);
+                impacts += 1;
+            }
+            None => t = t1,
+        }
+    }
+    let y = flow(w, t0, z.0, z.1, end);
+    ([y.0, y.1], impacts)
+}
+
+/// The transcription's map over 5 forcing periods.
+fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
+    map_over(5, w, x)
+}
+
+/// Newton on the transcribed map (central differences) from `x`: the fixed
+/// point when its residual falls below 1e-10 within 60 iterations (near a
+/// fold, where the map's Jacobian is nearly singular, Newton converges
+/// slowly).
+fn fixed_point(w: f64, mut x: [f64; 2]) -> Option<[f64; 2]> {
+    for _ in 0..60 {
+        let g = map(w, x).0;
+        let r = [g[0] - x[0], g[1] - x[1]];
+        if r[0].abs().max(r[1].abs()) <= 1e-10 {
+            return Some(x);
+        }
+        let mut j = [[0.0; 2]; 2];
+        for c in 0..2 {
+            let (mut a, mut b) = (x, x);
+            a[c] += 1e-7;
+            b[c] -= 1e-7;
+            let (ya, yb) = (map(w, a).0, map(w, b).0);
+            for k in 0..2 {
+                j[k][c] = (ya[k] - yb[k]) / 2e-7 - if k == c { 1.0 } else { 0.0 };
+            }
+        }
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        x = [x[0] - (j[1][1] * r[0] - j[0][1] * r[1]) / det, x[1] - (-j[1][0] * r[0] + j[0][0] * r[1]) / det];
+        if !(x[0].is_finite() && x[1].is_finite()) || x[0].abs() > 2.0 {
+            return None;
+        }
+    }
+    None
+}
+
+#[test]
+fn an_isola_is_traced_once_and_closed() {
+    let w0 = 5.6;
+    let start = periodic_orbit(&Isola(5).model(w0).unwrap(), 0.0, 5.0 * TAU / w0, &[-0.5385, -0.1181], &Newton::default()).unwrap();
+    assert_eq!(start.impacts(), 1, "the 1-impact orbit at {w0}: {:?}", start.x);
+    let branch = continuation(&Isola(5), &start.x, &ContinuationOptions::new(w0, 6.5)).unwrap();
+    eprintln!("{} points to {}: {}", branch.points.len(), branch.points.last().unwrap().param, branch.end);
+    for b in &branch.bifurcations {
+        eprintln!("  {} at {:.12} {:?}", b.kind.name(), b.param, b.x);
+    }
+    // Closed where it started: the last point is the first orbit.
+    assert!(branch.end.starts_with("closed"), "{}", branch.end);
+    let (first, last) = (&branch.points[0], branch.points.last().unwrap());
+    let off = first.orbit.x.iter().zip(&last.orbit.x).fold((first.param - last.param).abs(), |a, (u, v)| a.max((u - v).abs()));
+    assert!(off <= 1e-9, "the last point is {off:e} from the first");
+    // Every point a fixed point of the transcribed map, one impact.
+    for p in &branch.points {
+        let x = [p.orbit.x[0], p.orbit.x[1]];
+        let (y, k) = map(p.param, x);
+        let d = (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+        assert!(d <= 1e-9 && k == 1 && p.orbit.impacts() == 1, "Ω = {}: {x:?} maps {d:e} away, {k} impacts", p.param);
+    }
+    // Both ends of the isola in Ω, each fold once.
+    let (lo, hi) = branch.points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.param), b.max(p.param)));
+    assert!(lo < 5.545 && hi > 6.005, "the branch spans {lo} to {hi}");
+    let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+    assert!(branch.bifurcations.len() == 2 && branch.bifurcations.iter().all(|b| b.kind == BifurcationKind::Fold), "{kinds:?}");
+    // Each fold where the transcription's orbits end: Newton from the
+    // fold's state and from the branch's points on either side of it finds
+    // one 1e-6 inside the isola and none 1e-6 outside (within 0.05 of it).
+    for b in &branch.bifurcations {
+        let inside = if b.param > 5.8 { -1.0 } else { 1.0 };
+        let x = [b.x[0], b.x[1]];
+        let seeds = [x, [branch.points[b.between.0].orbit.x[0], branch.points[b.between.0].orbit.x[1]], [branch.points[b.between.1].orbit.x[0], branch.points[b.between.1].orbit.x[1]]];
+        let near = |w: f64| seeds.iter().filter_map(|s| fixed_point(w, *s)).any(|y| (y[0] - x[0]).abs().max((y[1] - x[1]).abs()) <= 0.05);
+        assert!(near(b.param + inside * 1e-6), "no transcribed orbit inside the fold at {}", b.param);
+        assert!(!near(b.param - inside * 1e-6), "a transcribed orbit past the fold at {}", b.param);
+    }
+}
+
+/// The period-3 orbits of the same oscillator from Ω = 4 down (a range of
+/// 2) form a loop that closes on its first orbit one forcing period on
+/// (its state after one forcing period, another fixed point of the map):
+/// the branch was traced three times over, its period doubling, grazings
+/// and fold listed once a lap, each lap at another section state of the
+/// same orbits. Now it ends where it reaches that shifted state.
+#[test]
+fn a_loop_closes_on_its_first_orbit_shifted_in_phase() {
+    let (w0, p) = (4.0, 3);
+    let start = periodic_orbit(&Isola(p).model(w0).unwrap(), 0.0, 3.0 * TAU / w0, &[-0.78, -0.30], &Newton::default()).unwrap();
+    assert_eq!(start.impacts(), 1, "the 1-impact orbit at {w0}: {:?}", start.x);
+    let branch = continuation(&Isola(p), &start.x, &ContinuationOptions::new(w0, 2.0)).unwrap();
+    eprintln!("{} points to {}: {}", branch.points.len(), branch.points.last().unwrap().param, branch.end);
+    for b in &branch.bifurcations {
+        eprintln!("  {} at {:.12} {:?}", b.kind.name(), b.param, b.x);
+    }
+    assert!(branch.end.starts_with("closed"), "{}", branch.end);
+    // The last point is the first orbit's state after one or two forcing
+    // periods, by the transcription's flow.
+    let (first, last) = (&branch.points[0], branch.points.last().unwrap());
+    let x0 = [first.orbit.x[0], first.orbit.x[1]];
+    let shifted = [map_over(1, w0, x0).0, map_over(2, w0, x0).0];
+    let off = shifted.iter().map(|y| (y[0] - last.orbit.x[0]).abs().max((y[1] - last.orbit.x[1]).abs())).fold(f64::INFINITY, f64::min);
+    assert!(last.param == w0 && off <= 1e-9, "the last point at {} is {off:e} from the first orbit's shifted states", last.param);
+    // Every point (its slowest impact above 1e-3) a fixed point of the
+    // transcribed map over three periods with as many impacts.
+    let mut checked = 0;
+    for q in &branch.points {
+        if q.orbit.slowest_impact().is_some_and(|v| v < 1e-3) {
+            continue;
+        }
+        let x = [q.orbit.x[0], q.orbit.x[1]];
+        let (y, k) = map_over(p, q.param, x);
+        let d = (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+        assert!(d <= 1e-9 && k == q.orbit.impacts(), "Ω = {}: {x:?} maps {d:e} away, {k} impacts against {}", q.param, q.orbit.impacts());
+        checked += 1;
+    }
+    assert!(checked >= 40, "{checked} points checked");
+    // No bifurcation listed twice (a second lap lists each again, at a
+    // shifted state: the same parameter to 1e-8).
+    for (i, a) in branch.bifurcations.iter().enumerate() {
+        for b in &branch.bifurcations[..i] {
+            assert!(!(a.kind == b.kind && (a.param - b.param).abs() <= 1e-8), "{} at {} listed twice", a.kind.name(), a.param);
+        }
+    }
+}

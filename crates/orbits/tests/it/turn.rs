@@ -1,0 +1,63 @@
+//! A turn in the parameter where a multiplier touches +1 without passing
+//! it: the oscillator between symmetric stops (`x'' + 0.1 x' + x = 2 sin
+//! Ωt`, `|x| <= 1`, e = 0.8), its asymmetric period-3 orbits with two
+//! impacts, continued from Ω = 5 up, turn at Ω = 5.0609 onto their mirror
+//! images, where they meet the symmetric orbit (its pitchfork). Traced
+//! over a range of 3 (the hunt's) the turn was listed on one pass and not
+//! on another, the bisection's multiplier farther than 1e-2 from +1 at
+//! one of them. A turn is a fold only where a multiplier passes through
+//! +1 (the orbits on one side of it stable, on the other unstable);
+//! checked against a transcription of the map sharing no code with the
+//! crate (`slow_impact.rs`'s: the closed-form flow between impacts, its
+//! own impact search): at the branch's points on either side of the turn
+//! its central differences put both multipliers inside the unit circle
+//! and `det(J − I)` of one sign, so the turn is no fold. From either
+//! start (the orbit at Ω = 5 and its mirror image) the branch lists it
+//! once, a branch point, at the same Ω.
+
+use crate::slow_impact::{map, Between, P};
+use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Newton};
+use std::f64::consts::TAU;
+
+/// The transcription's multipliers at `x` (central differences, step
+/// 1e-7): the largest modulus and `det(J − I)`.
+fn multipliers(w: f64, x: [f64; 2]) -> (f64, f64) {
+    let mut j = [[0.0; 2]; 2];
+    for c in 0..2 {
+        let (mut a, mut b) = (x, x);
+        a[c] += 1e-7;
+        b[c] -= 1e-7;
+        let (ya, yb) = (map(w, a).0, map(w, b).0);
+        for r in 0..2 {
+            j[r][c] = (ya[r] - yb[r]) / 2e-7;
+        }
+    }
+    let (tr, det) = (j[0][0] + j[1][1], j[0][0] * j[1][1] - j[0][1] * j[1][0]);
+    let disc = 0.25 * tr * tr - det;
+    let largest = if disc >= 0.0 { (0.5 * tr).abs() + disc.sqrt() } else { det.sqrt() };
+    (largest, (j[0][0] - 1.0) * (j[1][1] - 1.0) - j[0][1] * j[1][0])
+}
+
+#[test]
+fn a_turn_onto_the_mirror_image_is_a_branch_point_from_either_side() {
+    let w0 = 5.0;
+    let mut at = Vec::new();
+    for (guess, to) in [([-0.851, 0.644], 8.0), ([-0.894, 0.729], 6.0)] {
+        let start = periodic_orbit(&Between.model(w0).unwrap(), 0.0, P as f64 * TAU / w0, &guess, &Newton::default()).unwrap();
+        let branch = continuation(&Between, &start.x, &ContinuationOptions { max_points: 12, ..ContinuationOptions::new(w0, to) }).unwrap();
+        let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+        eprintln!("from {:?} to {to}: {} points to {}: {kinds:?}", start.x, branch.points.len(), branch.points.last().unwrap().param);
+        let turns: Vec<_> = branch.bifurcations.iter().filter(|b| b.param > 5.05).collect();
+        assert!(turns.len() == 1 && turns[0].kind == BifurcationKind::BranchPoint, "from {:?}: {kinds:?}", start.x);
+        let b = turns[0];
+        // Either side of the turn: no multiplier of the transcription
+        // outside the unit circle, det(J − I) of one sign.
+        let (p, q) = (&branch.points[b.between.0], &branch.points[b.between.1]);
+        let (mp, dp) = multipliers(p.param, [p.orbit.x[0], p.orbit.x[1]]);
+        let (mq, dq) = multipliers(q.param, [q.orbit.x[0], q.orbit.x[1]]);
+        assert!(mp < 1.0 && mq < 1.0 && dp * dq > 0.0, "at {} and {}: |μ| {mp}, {mq}, det(J − I) {dp:e}, {dq:e}", p.param, q.param);
+        assert!((p.param - b.param) * (q.param - b.param) >= 0.0 && p.param.min(q.param) < b.param, "the turn at {} between {} and {}", b.param, p.param, q.param);
+        at.push(b.param);
+    }
+    assert!((at[0] - at[1]).abs() <= 1e-4, "the turn at {} and at {}", at[0], at[1]);
+}
