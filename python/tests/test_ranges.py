@@ -107,7 +107,7 @@ STUDY_NUMBERS = {
     "stress": {"steps": "int", "elements": "int", "seed": "int"},
 }
 #: The studies' other keywords (names, switches, the folder).
-STUDY_OTHERS = {"benchmark", "schemes", "masses", "norms", "out", "clean", "scenes", "force", "benchmarks", "runs", "energy", "energy_runs", "energy_all", "refine", "reduce", "reference"}
+STUDY_OTHERS = {"benchmark", "schemes", "masses", "norms", "out", "clean", "scenes", "force", "benchmarks", "runs", "energy", "energy_runs", "energy_all", "energy_benchmark", "refine", "reduce", "reference"}
 
 #: Ranges that depend on other options or couple two of them (stated in
 #: words the boundary check below cannot read as one interval): only the

@@ -26,7 +26,11 @@
 //! `T = 10⁴` (`--energy-m`, `--energy-t-end`), with the run crate's energy
 //! monitor (`signorini_run::energy`: bar-dirichlet has no load and no
 //! damping, so the budget is the first energy the scheme reports, `E(0)` or
-//! `E^{1/2}`). The default runs are the schemes and masses the long-run
+//! `E^{1/2}`). `--energy-benchmark` starts the runs from another benchmark
+//! instead: `bar-neumann-gravity`, Doyen–Ern–Piperno's bouncing bar (two
+//! impacts every 16 time units; its steady load is in the energy, so the
+//! budget is again the first energy the scheme reports, `g u0 L = 1/18` or
+//! within a relative 1e-7 of it), the 0.11 bar, or the mirrored bar. The default runs are the schemes and masses the long-run
 //! question is about; `--energy-all` takes every named scheme with every
 //! mass it accepts (explicit schemes at a dx/dt beyond their stability
 //! limit are left out, with a note).
@@ -59,7 +63,8 @@ crate::options::study_config! {
     /// scheme with every mass it accepts) at each dx/dt of ⟨energy_ratios⟩ on
     /// ⟨energy_m⟩ elements to ⟨energy_t_end⟩: the largest E/budget and when it
     /// first exceeds 2 (energy_growth.csv, energy_vs_time.csv,
-    /// energy_growth.svg). The default table takes minutes; a shorter
+    /// energy_growth.svg), from bar-dirichlet's initial data or
+    /// ⟨energy_benchmark⟩'s. The default table takes minutes; a shorter
     /// ⟨energy_t_end⟩ shortens it.
     study "long_horizon";
     pub struct Config {
@@ -92,11 +97,21 @@ crate::options::study_config! {
         pub energy_t_end: f64 = EnergyTable::default().t_end,
         /// Output folder.
         pub out: PathBuf = PathBuf::from("out/long-horizon"),
+        /// Energy-growth table: the benchmark whose initial data, load and
+        /// far end the runs start from (bar-dirichlet; bar-neumann-gravity:
+        /// Doyen–Ern–Piperno's bouncing bar, two impacts every 16 time
+        /// units; bar-neumann-gravity-0.11 to ⟨energy_t_end⟩ ≤ 225;
+        /// bar-mirrored).
+        #[serde(deserialize_with = "de_energy_benchmark")]
+        pub energy_benchmark: Benchmark = Benchmark::BarDirichlet,
     }
 }
 
 fn de_runs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<(SchemeSpec, BarMass)>, D::Error> {
     crate::options::with::list(d, |r| parse_runs_of("runs", r))
+}
+fn de_energy_benchmark<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Benchmark, D::Error> {
+    crate::options::with::text(d, |s| s.parse::<Benchmark>().map_err(|e| StudyError::config("energy_benchmark", format!("⟨energy_benchmark⟩: {e}"))))
 }
 fn de_energy_runs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<(SchemeSpec, BarMass)>>, D::Error> {
     crate::options::with::list(d, |r| parse_runs_of("energy_runs", r)).map(Some)
@@ -117,7 +132,7 @@ impl Config {
     pub fn energy_table(&self) -> Option<EnergyTable> {
         self.energy.then(|| {
             let runs = if self.energy_all { EnergyTable::all_runs() } else { self.energy_runs.clone().unwrap_or_else(|| EnergyTable::default().runs) };
-            EnergyTable { runs, ratios: self.energy_ratios.clone(), m: self.energy_m, t_end: self.energy_t_end }
+            EnergyTable { runs, ratios: self.energy_ratios.clone(), m: self.energy_m, t_end: self.energy_t_end, benchmark: self.energy_benchmark }
         })
     }
 }
@@ -133,6 +148,9 @@ pub struct EnergyTable {
     pub m: usize,
     /// Horizon (`--energy-t-end`, default 10⁴).
     pub t_end: f64,
+    /// The benchmark the runs start from (`--energy-benchmark`, default
+    /// bar-dirichlet).
+    pub benchmark: Benchmark,
 }
 
 /// Windows of `energy_vs_time.csv`.
@@ -147,7 +165,7 @@ impl Default for EnergyTable {
         let four = [BarMass::Std, BarMass::Lumped, BarMass::Mod, BarMass::Mod3];
         let mut runs: Vec<(SchemeSpec, BarMass)> = four.iter().map(|&m| (cn, m)).chain(four.iter().map(|&m| (ps0, m))).collect();
         runs.extend([(ps1, BarMass::Std), (ps1, BarMass::Mod3), (mj, BarMass::Std), (mj, BarMass::Lumped), (hy, BarMass::Mod), (hy, BarMass::Mod3)]);
-        Self { runs, ratios: vec![1.0, 2.0, 10.0], m: 100, t_end: 1e4 }
+        Self { runs, ratios: vec![1.0, 2.0, 10.0], m: 100, t_end: 1e4, benchmark: Benchmark::BarDirichlet }
     }
 }
 
@@ -185,6 +203,8 @@ impl EnergyTable {
         if steps > 1e9 {
             return Err(StudyError::config("energy_t_end", format!("⟨energy_t_end⟩ {}: {steps:.2e} steps at the largest dx/dt, allowed at most 1e9", self.t_end)));
         }
+        // bar-neumann-gravity-0.11 has its closed form only up to t ≈ 225.
+        self.benchmark.exact(self.t_end).map_err(|e| StudyError::config("energy_t_end", format!("⟨energy_t_end⟩ {} with ⟨energy_benchmark⟩ {}: {e}", self.t_end, self.benchmark)))?;
         Ok(())
     }
 }
@@ -234,10 +254,17 @@ impl Config {
             return Err(StudyError::config("t_end", format!("⟨t_end⟩ {}: {steps:.2e} steps at the finest level, allowed at most 1e9", self.t_end)));
         }
         let d = Config::default();
-        if !self.energy && (self.energy_runs.is_some() || self.energy_all || self.energy_ratios != d.energy_ratios || self.energy_m != d.energy_m || self.energy_t_end != d.energy_t_end) {
+        if !self.energy
+            && (self.energy_runs.is_some()
+                || self.energy_all
+                || self.energy_ratios != d.energy_ratios
+                || self.energy_m != d.energy_m
+                || self.energy_t_end != d.energy_t_end
+                || self.energy_benchmark != d.energy_benchmark)
+        {
             return Err(StudyError::config(
                 "energy",
-                "⟨energy⟩ off: ⟨energy_runs⟩, ⟨energy_all⟩, ⟨energy_ratios⟩, ⟨energy_m⟩ and ⟨energy_t_end⟩ act only with the energy table: remove them, or turn it on",
+                "⟨energy⟩ off: ⟨energy_runs⟩, ⟨energy_all⟩, ⟨energy_ratios⟩, ⟨energy_m⟩, ⟨energy_t_end⟩ and ⟨energy_benchmark⟩ act only with the energy table: remove them, or turn it on",
             ));
         }
         if self.energy_all && self.energy_runs.is_some() {
@@ -371,8 +398,9 @@ struct Growth {
     stopped: Option<f64>,
 }
 
-/// E/E_ref at every level (bar-dirichlet: no load, no damping, so the
-/// first energy E_ref is the budget of every scheme, closed or open): its
+/// E/E_ref at every level (no damping, and a steady load at most, whose
+/// potential is in the energy, so the first energy E_ref is the budget of
+/// every scheme, closed or open): its
 /// largest value per window of `[0, T]` and over the run, the first time it
 /// exceeds 2, the last energy and level.
 struct Windows {
@@ -428,7 +456,7 @@ fn energy_growth(
     notes: &mut Vec<String>,
 ) -> Result<(), StudyError> {
     use rayon::prelude::*;
-    let b = Benchmark::BarDirichlet;
+    let b = e.benchmark;
     let exact = b.exact(e.t_end)?;
     let jobs: Vec<(SchemeSpec, BarMass, f64)> = e.runs.iter().flat_map(|&(s, m)| e.ratios.iter().map(move |&r| (s, m, r))).collect();
     let done = AtomicU64::new(done0);
@@ -476,7 +504,8 @@ fn energy_growth(
         ]),
     )?;
     let mut vt = TableOut::create(&a.out, "energy_vs_time.csv", &with(&[("window", Kind::I), ("t_to", Kind::F), ("max_ratio", Kind::F)]))?;
-    let mut md = format!("\n# Energy growth: bar-dirichlet, m = {}, to T = {} (E/budget; budget = the first energy, no load, no damping)\n\n| scheme | mass | dx/dt | max E/budget | at t | first t with E/budget > 2 | final E/budget (or where the run's 1e6 energy guard stopped it) |\n|---|---|---|---|---|---|---|\n", e.m, e.t_end);
+    let budget = if exact.body_force() == 0.0 { "no load, no damping" } else { "a steady load, in the energy; no damping" };
+    let mut md = format!("\n# Energy growth: {b}, m = {}, to T = {} (E/budget; budget = the first energy, {budget})\n\n| scheme | mass | dx/dt | max E/budget | at t | first t with E/budget > 2 | final E/budget (or where the run's 1e6 energy guard stopped it) |\n|---|---|---|---|---|---|---|\n", e.m, e.t_end);
     let mut kept = Vec::new();
     for (r, &(scheme, mass, ratio)) in results.into_iter().zip(&jobs) {
         let Some(g) = r? else {
@@ -528,7 +557,7 @@ fn energy_growth(
                     Series { label: format!("{} {}", g.scheme, g.mass), points, reference: false, style }
                 })
                 .collect();
-            let title = format!("bar-dirichlet, m = {}, dx/dt = {r}: largest E/budget per window of T/{ENERGY_WINDOWS}", e.m);
+            let title = format!("{b}, m = {}, dx/dt = {r}: largest E/budget per window of T/{ENERGY_WINDOWS}", e.m);
             line_chart(&Chart { title: &title, x_label: "t", y_label: "E / budget", scale: Scale::LogLog, size: (900, 500) }, &series)
         })
         .collect();
