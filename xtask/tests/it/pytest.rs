@@ -161,3 +161,27 @@ fn each_test_executable_runs_as_soon_as_it_is_built() {
     assert!(rx.recv().is_err(), "one executable only, and the channel closed");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `cargo doc` in the lints reuses clippy's checks of the workspace's
+/// libraries only with the wrapper and the arguments `cargo clippy` itself
+/// sets: asked of the installed `cargo-clippy`, run with a stand-in cargo
+/// that prints the environment it was given.
+#[cfg(unix)]
+#[test]
+fn the_docs_see_clippy_s_own_wrapper_and_arguments() {
+    use std::os::unix::fs::PermissionsExt;
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| env!("CARGO").to_string());
+    let bin = std::path::Path::new(&cargo).parent().expect("the toolchain's bin directory");
+    let dir = std::env::temp_dir().join(format!("signorini-clippy-env-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let fake = dir.join("cargo");
+    std::fs::write(&fake, "#!/bin/sh\nprintf '%s\\n' \"RUSTC_WORKSPACE_WRAPPER=$RUSTC_WORKSPACE_WRAPPER\" \"CLIPPY_ARGS=$CLIPPY_ARGS\"\n").expect("the stand-in");
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).expect("executable");
+    let out = Command::new(bin.join("cargo-clippy")).args(["clippy", "--release", "--", "-D", "warnings"]).env("CARGO", &fake).output().expect("cargo-clippy runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let driver = clippy_driver(&cargo).expect("clippy-driver beside cargo");
+    let want = format!("RUSTC_WORKSPACE_WRAPPER={}\nCLIPPY_ARGS={}\n", driver.display(), clippy_env_args(&["-D", "warnings"]));
+    assert_eq!(text, want, "stderr: {}", String::from_utf8_lossy(&out.stderr));
+}
