@@ -10,6 +10,7 @@ mod conservative;
 mod corrector;
 mod free_grazing;
 mod further_impact;
+mod mirror;
 mod nonsmooth_fold;
 mod oscillator;
 mod period_two;
