@@ -99,3 +99,31 @@ def test_modes_of_the_bar_with_gap_zero_have_the_period_3l_over_c():
 def test_modes_bad_input_names_it():
     with pytest.raises(signorini.SceneError, match="start"):
         signorini.modes(BAR, -1.0, 10.0)
+
+
+TWO_STOPS = SCENE.replace("stop = 0.2", "stops = [-0.5, 0.8]").replace("omega = 2.2", "omega = 3.0")
+
+
+def test_the_oscillator_between_two_stops_grazes_the_nearer_one():
+    """stops = [-0.5, 0.8]: the free orbit continued from 3 down grazes the
+    lower stop, where its amplitude reaches 0.5 (closed form); with the upper
+    stop alone (0.8) nothing happens down to 1.5. A run between the stops
+    (the free elastic oscillator from x' = 1) meets -0.5 at the closed form's
+    time and speed, 2 asin 0.8 + pi/6 and -sqrt(3)/2."""
+    r = signorini.continuation(TWO_STOPS, "forcing.omega", 3.0, 1.5)
+    kinds = list(r.bifurcations["kind"])
+    assert "grazing" in kinds, kinds
+    g = r.bifurcations["param"][kinds.index("grazing")]
+    want = grazing_frequency(1.0, 1.0, 0.05, 1.0, 0.5)
+    assert abs(g - want) <= 1e-9 * want
+    one = signorini.continuation(TWO_STOPS.replace("stops = [-0.5, 0.8]", "stop = 0.8"), "forcing.omega", 3.0, 1.5)
+    assert len(one.bifurcations["kind"]) == 0
+    free = {"oscillator": {"mass": 1.0, "stiffness": 1.0, "stops": [-0.5, 0.8], "restitution": 1.0, "initial_velocity": 1.0,
+                           "dt": 1e-2, "t_end": 4.0, "scheme": "event-driven"}}
+    run = signorini.run(free)
+    assert list(run.contact_lo) == [-0.5] and list(run.contact_hi) == [0.8]
+    t1 = math.asin(0.8)
+    assert abs(run.events["t"][1] - (2 * t1 + math.pi / 6)) <= 1e-12
+    assert abs(run.events["velocity_before"][1] + math.sqrt(3) / 2) <= 1e-12
+    with pytest.raises(signorini.SceneError, match="oscillator.stops"):
+        signorini.run({"oscillator": {**free["oscillator"], "stop": 0.8}})

@@ -112,7 +112,9 @@ pub(crate) fn given(file: &SceneFile, path: &str) -> Option<bool> {
                 "initial_displacement" => o.initial_displacement.is_some(),
                 "initial_velocity" => o.initial_velocity.is_some(),
                 "scheme" => o.scheme.is_some(),
-                "mass" | "stiffness" | "stop" | "dt" | "t_end" => true,
+                "stop" => o.stop.is_some(),
+                "stops" => o.stops.is_some(),
+                "mass" | "stiffness" | "dt" | "t_end" => true,
                 _ => return None,
             }
         }

@@ -2,8 +2,9 @@
 //! vibro-impact studies:
 //!
 //! `m x'' + c x' + k x = F cos(Ω t)` (or any [`TimeProfile`] times `F`),
-//! `x <= stop`, `c = 2 ζ sqrt(k m)`, Newton's impact law `x'⁺ = −r x'⁻` at the
-//! stop, `x(0) = x₀`, `x'(0) = v₀`.
+//! `x <= stop` (between two stops: `lower <= x <= stop`), `c = 2 ζ sqrt(k m)`,
+//! Newton's impact law `x'⁺ = −r x'⁻` at the stop (at each, with one `r`),
+//! `x(0) = x₀`, `x'(0) = v₀`.
 //!
 //! It is one dof of the same [`Dynamics`] the bar and the beam use, so every
 //! scheme that takes a massive contact node and a damping runs it; the
@@ -23,8 +24,11 @@ pub struct Oscillator {
     pub stiffness: f64,
     /// Damping ratio `ζ` (>= 0): `c = 2 ζ sqrt(k m)`.
     pub damping_ratio: f64,
-    /// The stop: `x <= stop`.
+    /// The stop: `x <= stop` (the upper bound).
     pub stop: f64,
+    /// A second stop below it, `lower <= x` (`None`: one stop). One
+    /// contact with the two bounds, as the beam's tip between its stops.
+    pub lower: Option<f64>,
     /// Restitution coefficient `r` in [0, 1].
     pub restitution: f64,
     /// `x(0)`.
@@ -66,11 +70,22 @@ impl Oscillator {
         if !self.stop.is_finite() {
             return bad("oscillator.stop", self.stop, "a finite number");
         }
+        if let Some(lo) = self.lower {
+            if !lo.is_finite() {
+                return bad("oscillator.lower", lo, "a finite number");
+            }
+            if lo >= self.stop {
+                return bad("oscillator.lower", lo, "< stop (the lower stop below the upper one)");
+            }
+        }
         if !(0.0..=1.0).contains(&self.restitution) {
             return bad("oscillator.restitution", self.restitution, "[0, 1]");
         }
         if !self.x0.is_finite() || self.x0 > self.stop {
             return bad("oscillator.initial_displacement", self.x0, "finite and <= stop (the initial state satisfies the constraint)");
+        }
+        if self.lower.is_some_and(|lo| self.x0 < lo) {
+            return bad("oscillator.initial_displacement", self.x0, "finite and >= the lower stop (the initial state satisfies the constraint)");
         }
         if !self.v0.is_finite() {
             return bad("oscillator.initial_velocity", self.v0, "a finite number");
@@ -87,7 +102,7 @@ impl Oscillator {
             b
         };
         let c = self.damping();
-        let contact = Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: self.stop }, false).with_restitution(Some(self.restitution));
+        let contact = Contact::new(0, Bounds { lo: self.lower.unwrap_or(f64::NEG_INFINITY), hi: self.stop }, false).with_restitution(Some(self.restitution));
         let dy = Dynamics::new(one(self.mass), one(self.stiffness), vec![0.0], vec![contact])
             .with_forcing(self.load.iter().map(|p| Forcing { shape: vec![1.0], time: p.clone() }).collect())
             .with_damping((c > 0.0).then(|| one(c)));

@@ -10,7 +10,7 @@ use signorini_schemes::{families_with, SchemeError, SchemeSpec};
 impl SceneFile {
     pub(crate) fn validate_oscillator(&self, o: &OscillatorToml, one_step: bool) -> Result<Scene, SceneError> {
         if !self.stop.is_empty() || self.obstacle.is_some() {
-            return Err(field(contacts_table(&self.stop), "acts only with [bar] or [beam]: the oscillator's stop is oscillator.stop"));
+            return Err(field(contacts_table(&self.stop), "acts only with [bar] or [beam]: the oscillator's stop is oscillator.stop (two: oscillator.stops)"));
         }
         for (k, t) in [("support", self.support.is_some()), ("load", self.load.is_some())] {
             if t {
@@ -20,6 +20,7 @@ impl SceneFile {
         if self.output.snapshots_every > 0 {
             return Err(field("output.snapshots_every", "acts only with [bar] or [beam] (the oscillator has one dof): remove it"));
         }
+        let (lower, stop) = oscillator_stops(o)?;
         let exc = self.forcing.as_ref().map(|f| f.build(Table::Forcing, self.base.as_deref())).transpose()?;
         // The scheme first: its e (when it states one) is the restitution that acts.
         let (scheme, restitution) = oscillator_scheme(o)?;
@@ -27,17 +28,23 @@ impl SceneFile {
             mass: o.mass,
             stiffness: o.stiffness,
             damping_ratio: o.damping_ratio.unwrap_or(0.0),
-            stop: o.stop,
+            stop,
+            lower,
             restitution,
             x0: o.initial_displacement.unwrap_or(0.0),
             v0: o.initial_velocity.unwrap_or(0.0),
             load: exc.as_ref().map(|e| e.profile.clone()),
         };
         osc.validate().map_err(|e| match e {
-            // x(0) above the stop: the stop's fault when x(0) is the default.
-            RunError::Invalid { field: "oscillator.initial_displacement", value, .. } if value.is_finite() && o.initial_displacement.is_none() => {
-                field("oscillator.stop", format!("{} is not allowed: >= initial_displacement (default 0): the initial state must satisfy x <= stop", o.stop))
+            // x(0) outside the stops: the stops' fault when x(0) is the default.
+            RunError::Invalid { field: "oscillator.initial_displacement", value, .. } if value.is_finite() && o.initial_displacement.is_none() => match lower {
+                None => field("oscillator.stop", format!("{stop} is not allowed: >= initial_displacement (default 0): the initial state must satisfy x <= stop")),
+                Some(lo) => field("oscillator.stops", format!("[{lo}, {stop}] is not allowed: lo <= initial_displacement (default 0) <= hi: the initial state must lie between the stops")),
+            },
+            RunError::Invalid { field: "oscillator.initial_displacement", value, .. } if lower.is_some() => {
+                field("oscillator.initial_displacement", format!("{value} is not allowed: finite and between the stops, in [{}, {stop}] (oscillator.stops)", lower.unwrap_or(f64::NEG_INFINITY)))
             }
+            RunError::Invalid { field: "oscillator.lower", value, allowed } => field("oscillator.stops", format!("lo = {value} is not allowed: {allowed}")),
             RunError::Invalid { field: f, value, allowed } => field(f, format!("{value} is not allowed: {allowed}")),
             e => field("oscillator", e),
         })?;
@@ -64,6 +71,29 @@ impl SceneFile {
         })?;
         let ready = Ready::keep(Simulation { stepper, u0: own.u, v0: own.v, tip: 0, lift: None, reduction: None });
         Ok(Scene::Oscillator { omega, osc, scheme, dt, t_end, ready })
+    }
+}
+
+/// The oscillator's bounds `(lower, upper)` from `stop` (one side: `x <=
+/// stop`) or `stops = [lo, hi]` (`lo <= x <= hi`, as `beam.stops`): exactly
+/// one of them, finite, lo < hi.
+fn oscillator_stops(o: &OscillatorToml) -> Result<(Option<f64>, f64), SceneError> {
+    match (o.stop, o.stops) {
+        (Some(_), Some(_)) => Err(field(
+            "oscillator.stops",
+            "and oscillator.stop are both given; one acts: stop = g is one stop (x <= g), stops = [lo, hi] two (lo <= x <= hi): remove oscillator.stop, or oscillator.stops",
+        )),
+        (None, None) => Err(field("oscillator.stop", "missing: give the stop, stop = g (x <= g), or two, stops = [lo, hi] (lo <= x <= hi)")),
+        (Some(g), None) => Ok((None, g)),
+        (None, Some([lo, hi])) => {
+            if !(lo.is_finite() && hi.is_finite()) {
+                return Err(field("oscillator.stops", format!("[{lo}, {hi}] is not allowed: finite numbers [lo, hi], lo < hi")));
+            }
+            if lo >= hi {
+                return Err(field("oscillator.stops", format!("[{lo}, {hi}] is not allowed: lo < hi (lo <= x <= hi)")));
+            }
+            Ok((Some(lo), hi))
+        }
     }
 }
 
@@ -134,11 +164,14 @@ pub(crate) fn check_text(osc: &Oscillator, scheme: SchemeSpec, dt: f64, t_end: f
     };
     let wn = (osc.stiffness / osc.mass).sqrt();
     let text = format!(
-        "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, stop {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
+        "valid oscillator scene: m = {}, k = {}, ζ = {}, ω_n = {wn:.6}, {}, r = {}, scheme {scheme}, dt = {dt:e}, T = {t_end}: {steps} steps{}\nstability: {stability}",
         osc.mass,
         osc.stiffness,
         osc.damping_ratio,
-        osc.stop,
+        match osc.lower {
+            None => format!("stop {}", osc.stop),
+            Some(lo) => format!("stops [{lo}, {}]", osc.stop),
+        },
         signorini_run::text::num(osc.restitution),
         omega.map_or(String::new(), |w| format!("; forcing Ω = {w} ({:.3} forcing periods)", t_end * w / std::f64::consts::TAU))
     );

@@ -37,7 +37,8 @@ pub struct SceneFile {
     pub base: Option<std::path::PathBuf>,
 }
 
-/// `[oscillator]`: `m x'' + c x' + k x = F(t)`, `x <= stop`, `c = 2 ζ sqrt(k m)`.
+/// `[oscillator]`: `m x'' + c x' + k x = F(t)`, `x <= stop` (or `lo <= x <= hi`
+/// with `stops = [lo, hi]`), `c = 2 ζ sqrt(k m)`.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct OscillatorToml {
@@ -47,9 +48,12 @@ pub struct OscillatorToml {
     pub stiffness: f64,
     /// Damping ratio ζ (>= 0; default 0).
     pub damping_ratio: Option<f64>,
-    /// The stop: x <= stop.
-    pub stop: f64,
-    /// Restitution r in [0, 1] (default 0): the e of the default scheme, and
+    /// The stop: x <= stop (one of `stop`, `stops`).
+    pub stop: Option<f64>,
+    /// Two stops `[lo, hi]`: lo <= x <= hi, finite, lo < hi, the start
+    /// between them (as `beam.stops`; one of `stop`, `stops`).
+    pub stops: Option<[f64; 2]>,
+    /// Restitution r in [0, 1] (default 0), at both stops: the e of the default scheme, and
     /// of a scheme written without its e (`event-driven`); with a scheme
     /// that states its e (`ps(0.5)`) it may only repeat it.
     pub restitution: Option<f64>,

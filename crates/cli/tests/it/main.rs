@@ -21,4 +21,5 @@ mod reliability;
 mod semidiscrete_rates;
 mod sweep;
 mod sweep_setup_src;
+mod two_stops;
 mod vibro;

@@ -11,6 +11,7 @@ mod corrector;
 mod free_grazing;
 mod further_impact;
 mod isola;
+mod mirror;
 mod nonsmooth_fold;
 mod oscillator;
 mod period_two;

@@ -1,0 +1,93 @@
+//! The mirror 3-impact orbit past the grazing at 1.038307 of the
+//! oscillator between symmetric stops (`x'' + 0.1 x' + x = 2 sin Ωt`,
+//! `|x| <= 1`, e = 0.8; `section.rs`'s branch), where the branch ends.
+//! A transcription sharing no code with the crate (a scratch program: the
+//! closed-form flow between impacts, impacts by bisection on it, the orbit
+//! solved as impact times and signed speeds by Newton on central
+//! differences) puts the grazing at 1.0383070501555 (the 3-impact orbit
+//! with its slow impact at −1 of speed 0, solved for Ω) and its mirror
+//! image (times + T/2, sides and speeds negated) there too; Newton on the
+//! mirror 3-impact equations from that grazing orbit converges on both
+//! sides (to 1e-14), admissible past it (Ω above: the slow impact at +1
+//! arrives at +2.23 (Ω − Ω_g), 1.34e-3 at 6e-4 past) and not before it
+//! (the speed of the other sign). So the orbit exists past the grazing:
+//! the mirror image of every 3-impact orbit the branch traced above it.
+//! The states below are the transcription's, to 16 digits.
+
+use crate::between::model;
+use signorini_orbits::{periodic_orbit, Newton};
+use std::f64::consts::TAU;
+
+/// The transcription's grazing.
+const GRAZING: f64 = 1.0383070501555;
+/// The branch's grazing orbit on the mirror side (its last point, 1.2e-12
+/// below the grazing): the state the searches start from.
+const GRAZING_ORBIT: [f64; 2] = [0.4272603007551, 0.2509852574797];
+/// The transcription's mirror 3-impact orbit at `GRAZING + 0.6 f`, for
+/// f = 1e-5, 1e-4, 1e-3 of the branch's range.
+const PAST: [(f64, [f64; 2]); 3] = [(1e-5, [0.427257791098679, 0.25099501747308395]), (1e-4, [0.42723504104373866, 0.2510828311828792]), (1e-3, [0.4270077404336803, 0.25196147442841266])];
+
+fn impacts(img: &signorini_orbits::Image) -> usize {
+    img.events.iter().filter(|e| e.kind == signorini_schemes::events::EventKind::Impact && e.velocity_before != 0.0).count()
+}
+
+/// The orbit is in the crate's own model: each transcribed state is a
+/// fixed point of the crate's map with three impacts. Newton with its
+/// default tolerance (1e-12) does not converge even from the orbit itself
+/// (its residual stalls at 2.4e-10, 1.5e-11 and 7.6e-13 at 1e-5, 1e-4 and
+/// 1e-3 of the range: the slow impact's multiplier, near the inverse of its
+/// speed, lifts the map's round-off above the tolerance); with 1e-8 it
+/// does. From the grazing orbit, the seed of the branch's searches, it
+/// reaches it at neither tolerance.
+#[test]
+fn the_mirror_three_impact_orbit_exists_past_the_grazing() {
+    let mut seen = Vec::new();
+    for (f, x) in PAST {
+        let w = GRAZING + 0.6 * f;
+        let m = model(w).unwrap();
+        let img = m.flow(0.0, &x, TAU / w, false).unwrap();
+        let d = (img.x[0] - x[0]).abs().max((img.x[1] - x[1]).abs());
+        // The slow impact's speed, 2.23·0.6 f, amplifies the states'
+        // round-off (|μ| ≈ 1/speed): within 1e-12 of it, over that speed.
+        let tol = 1e-12 / (2.23 * 0.6 * f);
+        let reached = |seed: &[f64], tol_newton: f64| match periodic_orbit(&m, 0.0, TAU / w, seed, &Newton { tol: tol_newton, ..Newton::default() }) {
+            Ok(o) => format!(
+                "{} ({} impacts, {:.1e} from it)",
+                if (o.x[0] - x[0]).abs().max((o.x[1] - x[1]).abs()) <= tol && o.impacts() == 3 { "reached" } else { "elsewhere" },
+                o.impacts(),
+                (o.x[0] - x[0]).abs().max((o.x[1] - x[1]).abs())
+            ),
+            Err(e) => format!("failed: {e}"),
+        };
+        let default = Newton::default().tol;
+        let (own, own_loose) = (reached(&x, default), reached(&x, 1e-8));
+        let (graze, graze_loose) = (reached(&GRAZING_ORBIT, default), reached(&GRAZING_ORBIT, 1e-8));
+        eprintln!("f = {f:e}: |P(x) − x| = {d:e}, {} impacts\n  Newton (tol {default:e}) from it: {own}\n  (tol 1e-8) from it: {own_loose}\n  (tol {default:e}) from the grazing orbit: {graze}\n  (tol 1e-8) from the grazing orbit: {graze_loose}", impacts(&img));
+        seen.push((f, d, tol, impacts(&img), own_loose, graze));
+    }
+    for (f, d, tol, k, own, graze) in &seen {
+        assert!(d <= tol && *k == 3, "f = {f:e}: |P(x) − x| = {d:e} > {tol:e}, {k} impacts");
+        assert!(!graze.starts_with("reached"), "f = {f:e}: Newton from the grazing orbit {graze}");
+        assert!(own.starts_with("reached"), "f = {f:e}: Newton (tol 1e-8) from the orbit {own}");
+    }
+}
+
+/// The mirror image of an orbit the branch traced above the grazing (its
+/// 3-impact point at Ω = 1.039819015677, `branch.csv` of `signorini
+/// continue`) is a fixed point of the crate's map with three impacts:
+/// `−x(T/2)`, as the symmetry `x → −x, t → t + T/2` of the forcing says.
+#[test]
+fn the_mirror_image_of_a_traced_orbit_is_an_orbit() {
+    let (w, x) = (1.039819015677, [-0.9960664685493, -0.09150763112566]);
+    let m = model(w).unwrap();
+    let o = periodic_orbit(&m, 0.0, TAU / w, &x, &Newton::default()).unwrap();
+    let half = m.flow(0.0, &o.x, 0.5 * TAU / w, false).unwrap();
+    let y = [-half.x[0], -half.x[1]];
+    let img = m.flow(0.0, &y, TAU / w, false).unwrap();
+    let d = (img.x[0] - y[0]).abs().max((img.x[1] - y[1]).abs());
+    assert!(d <= 1e-9 && impacts(&img) == 3, "the mirror image {y:?}: |P(y) − y| = {d:e}, {} impacts", impacts(&img));
+    // And it is the transcription's mirror family: nearer the grazing
+    // orbit than the offset's own 3e-3 times the state's pace (the
+    // transcription's orbit at 1e-3 of the range is 1e-3 from it).
+    assert!((y[0] - GRAZING_ORBIT[0]).abs().max((y[1] - GRAZING_ORBIT[1]).abs()) <= 5e-3, "{y:?}");
+}
