@@ -315,6 +315,63 @@ fn times(a: &Mat<f64>, x: &[f64]) -> Vec<f64> {
     (0..a.nrows()).map(|r| (0..a.ncols()).map(|t| a[(r, t)] * x[t]).sum()).collect()
 }
 
+/// The sine of the angle between `x_a = (a + c) x` and `x` (1: the plane's
+/// columns orthogonal; 0: parallel).
+fn pair_sine(a: &Mat<f64>, c: f64, x: &[f64]) -> f64 {
+    let ax: Vec<f64> = times(a, x).iter().zip(x).map(|(p, q)| p + c * q).collect();
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
+    let (aa, xx, ax_x) = (dot(&ax, &ax), dot(x, x), dot(&ax, x));
+    if !(aa > 0.0 && xx > 0.0) {
+        return 0.0;
+    }
+    (1.0 - (ax_x * ax_x) / (aa * xx)).max(0.0).sqrt()
+}
+
+/// The vector `x_b` of a mode's invariant plane (spanned by `u₁`, `u₂`: a
+/// real pair's eigenvectors, or a complex one's real and imaginary parts),
+/// `x_a = (a + c) x_b` the plane's other column of `T`: `first` (the
+/// vector taken before) if the two columns are at least 30° apart (sine
+/// 1/2), else of it and 64 directions of the half turn the one that makes
+/// them most nearly orthogonal (docs/theory.md §9.1). A
+/// free chain's rigid pair (`λ₁ = 0` and the slow decay `λ₂ = −c` of its
+/// translation under a weak dashpot) has nearly parallel eigenvectors: from
+/// `x_b = u₁ + u₂`, `x_a = c u₁` was parallel to it within `~c`, `T`'s
+/// condition 6e4 at `c = 0.025`, the flow off the exponential by 3.9e-11
+/// of the state (events_flow.rs); orthogonal to `u₁`, `x_a ∥ u₁ ⟂ x_b`.
+fn pair_vector(a: &Mat<f64>, c: f64, u1: &[f64], u2: &[f64], first: Vec<f64>) -> Vec<f64> {
+    // An orthonormal basis `(p₁, p₂)` of the plane (Gram–Schmidt, twice).
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
+    let n1 = dot(u1, u1).sqrt();
+    let p1: Vec<f64> = u1.iter().map(|x| x / n1).collect();
+    let mut p2 = u2.to_vec();
+    for _ in 0..2 {
+        let d = dot(&p1, &p2);
+        p2.iter_mut().zip(&p1).for_each(|(x, y)| *x -= d * y);
+    }
+    let n2 = dot(&p2, &p2).sqrt();
+    if !(n2 > 0.0) {
+        return first;
+    }
+    p2.iter_mut().for_each(|x| *x /= n2);
+    // `cos θ p₁ + sin θ p₂` over 64 angles of the half turn: the best.
+    let sine0 = pair_sine(a, c, &first);
+    if sine0 >= 0.5 {
+        return first;
+    }
+    let (mut best, mut best_sine) = (first, sine0);
+    for i in 0..64 {
+        let th = std::f64::consts::PI * f64::from(i) / 64.0;
+        let (s, co) = th.sin_cos();
+        let x: Vec<f64> = p1.iter().zip(&p2).map(|(x, y)| co * x + s * y).collect();
+        let sine = pair_sine(a, c, &x);
+        if sine > best_sine {
+            (best, best_sine) = (x, sine);
+        }
+    }
+    let size = best.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    best.into_iter().map(|v| v / size).collect()
+}
+
 /// The eigenvectors of a real eigenvalue `λ` of `a` repeated `m` times: an
 /// orthonormal basis of the null space of `a − λ I` (its right singular
 /// vectors of singular value ≤ 1e-10 of the largest), whatever basis of
@@ -516,8 +573,9 @@ impl ModalFlow {
     /// give, per complex pair `σ ± iω` with eigenvector `u + iy`, the basis
     /// `x_b = u`, `x_a = (A + c) x_b` of its invariant plane (`c = −2σ`,
     /// `k = σ² + ω²`); two real eigenvalues `λ₁ ≠ λ₂` (taken in ascending
-    /// order, pairwise) give `x_b = u₁ + u₂` (`c = −λ₁ − λ₂`, `k = λ₁λ₂`).
-    /// On each plane `A x_a = −k x_b`, `A x_b = x_a − c x_b`: the
+    /// order, pairwise) give `x_b = u₁ + u₂` (`c = −λ₁ − λ₂`, `k = λ₁λ₂`);
+    /// either `x_b` replaced by a better-conditioned vector of its plane
+    /// when `x_a` is within 30° of it ([`pair_vector`]). On each plane `A x_a = −k x_b`, `A x_b = x_a − c x_b`: the
     /// companion block of `η'' + c η' + k η`. A complex eigenvalue repeated
     /// to round-off ([`REPEATED`]) gives its planes from the real invariant
     /// subspace ([`repeated_planes`]; a defective one is refused); a real
@@ -573,10 +631,12 @@ impl ModalFlow {
                     }
                     continue;
                 }
-                // Any nonzero real vector of the plane: the real or the
-                // imaginary part of the eigenvector, the larger.
+                // A real vector of the plane: the real or the imaginary
+                // part of the eigenvector, the larger, unless another
+                // direction of the plane conditions `T` better.
                 let (re, im): (Vec<f64>, Vec<f64>) = (0..nn).map(|r| (u[(r, j)].re, u[(r, j)].im)).unzip();
-                let x = unit(if size(&re) >= size(&im) { re } else { im });
+                let x = unit(if size(&re) >= size(&im) { re.clone() } else { im.clone() });
+                let x = pair_vector(&a, -2.0 * l.re, &re, &im, x);
                 modes.push((l.re * l.re + l.im * l.im, -2.0 * l.re, x));
             } else if l.im == 0.0 {
                 reals.push((l.re, unit((0..nn).map(|r| u[(r, j)].re).collect())));
@@ -611,8 +671,10 @@ impl ModalFlow {
         }
         for p in 0..half {
             let ((l1, u1), (l2, u2)) = if close { (&reals[p], &reals[p + half]) } else { (&reals[2 * p], &reals[2 * p + 1]) };
+            let c = -(l1 + l2);
             let x = unit(u1.iter().zip(u2).map(|(a, b)| a + b).collect());
-            modes.push((l1 * l2, -(l1 + l2), x));
+            let x = pair_vector(&a, c, u1, u2, x);
+            modes.push((l1 * l2, c, x));
         }
         if modes.len() != n {
             return Err(EventsError::Defective { condition: f64::INFINITY });

@@ -10,6 +10,7 @@ mod events_common;
 
 mod events_chatter;
 mod events_dashpot;
+mod events_dashpot_chatter;
 mod events_degenerate;
 mod events_driven;
 mod events_energy_balance;
