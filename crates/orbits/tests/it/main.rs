@@ -19,6 +19,7 @@ mod section;
 mod shared;
 mod slow_impact;
 mod start;
+mod store;
 mod switch;
 mod symmetric;
 mod two_stops;
