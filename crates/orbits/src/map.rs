@@ -41,10 +41,9 @@ pub(crate) struct Shared {
 }
 
 impl Shared {
-    /// Whether `dy` is of this structure (the core was built from the
-    /// same matrices and contact dofs as the bases: [`Model::shared`]).
-    pub fn fits(&self, dy: &Dynamics) -> bool {
-        self.bases.fits(dy)
+    /// The flows' bases.
+    pub fn bases(&self) -> Arc<FlowBases> {
+        self.bases.clone()
     }
 }
 
@@ -86,20 +85,25 @@ impl Model {
     /// The model of `dy` with restitution `e` for every contact without
     /// its own (as the `event-driven(e)` scheme takes it).
     pub fn new(dy: Dynamics, e: f64) -> Result<Self, OrbitError> {
-        Self::new_shared(dy, e, None, None)
+        Self::new_shared(dy, e, None, None, None)
     }
 
-    /// [`Model::new`] on `shared` where it is `dy`'s structure (else on
-    /// parts of its own), with `first` (a run of `dy` with restitution `e`,
-    /// as [`EventDriven::new`] makes it: a scene's validated integrator) kept
+    /// [`Model::new`] on `shared`, which the caller has found to be `dy`'s
+    /// structure (its bases' [`FlowBases::fits`]: the core was built from
+    /// the same matrices and contact dofs, [`Model::shared`]; `None`: on
+    /// parts of its own, the flows' bases in `bases` where it is `dy`'s
+    /// structure), with `first` (a run of `dy` with restitution `e`, as
+    /// [`EventDriven::new`] makes it: a scene's validated integrator) kept
     /// for its first flow: the same model, bit for bit.
-    pub(crate) fn new_shared(dy: Dynamics, e: f64, shared: Option<&Shared>, first: Option<EventDriven>) -> Result<Self, OrbitError> {
+    pub(crate) fn new_shared(dy: Dynamics, e: f64, shared: Option<&Shared>, bases: Option<Arc<FlowBases>>, first: Option<EventDriven>) -> Result<Self, OrbitError> {
         if !(0.0..=1.0).contains(&e) {
             return Err(OrbitError::Model(format!("restitution {e} is not allowed: [0, 1]")));
         }
-        let shared = shared.filter(|s| s.fits(&dy));
         let lin = Linear::with_core(&dy, e, shared.map(|s| s.core.clone()))?;
-        let bases = shared.map_or_else(|| Arc::new(FlowBases::new(&dy)), |s| s.bases.clone());
+        let bases = match shared {
+            Some(s) => s.bases.clone(),
+            None => bases.filter(|b| b.fits(&dy)).unwrap_or_else(|| Arc::new(FlowBases::new(&dy))),
+        };
         let runs = first
             .map(|mut run| {
                 run.set_max_events(MAX_EVENTS);

@@ -5,7 +5,7 @@ use crate::continuation::Family;
 use crate::map::{Model, Shared};
 use crate::OrbitError;
 use signorini_scene::{Lift, Limits, SceneFile, Simulation};
-use signorini_schemes::events::EventDriven;
+use signorini_schemes::events::{EventDriven, FlowBases};
 use signorini_schemes::SchemeSpec;
 use std::sync::{Arc, Mutex};
 
@@ -142,7 +142,13 @@ impl SceneFamily {
         let Some((omega, _, _)) = scene.sweep_clock() else {
             return Err(OrbitError::Option { option: "scene", message: "periodic orbits of the forcing period need a periodic forcing (an oscillator's [forcing], a beam's support or load, a bar's [[forcing]]); an unforced bar's periodic motions are its nonsmooth modes (signorini modes)".into() });
         };
-        let Simulation { stepper, u0, v0, tip, lift, reduction } = scene.instantiate(None).map_err(|e| at(e.to_string()))?;
+        // The scene's validated run builds its flows' bases through the
+        // family's store (lent: the store of the structure built last; a
+        // new structure's run starts its own, found in `lent` after).
+        let shared = self.shared.lock().ok().and_then(|s| s.clone());
+        let mut lent = shared.as_ref().map(Shared::bases);
+        let sim = FlowBases::lend(&mut lent, || scene.instantiate(None));
+        let Simulation { stepper, u0, v0, tip, lift, reduction } = sim.map_err(|e| at(e.to_string()))?;
         let label = stepper.label();
         let spec: SchemeSpec = label.parse().map_err(|_| at(format!("scheme {label}: not a registry scheme")))?;
         if spec.family().name != "event-driven" {
@@ -155,9 +161,13 @@ impl SceneFamily {
         // its start) is the model's first: no second set-up of the same run.
         let dy = stepper.dynamics().clone();
         let first = stepper.into_event_run().and_then(|run| run.downcast::<EventDriven>().ok()).map(|run| *run);
-        let shared = self.shared.lock().ok().and_then(|s| s.clone());
-        let model = Model::new_shared(dy, spec.args()[0], shared.as_ref(), first)?.with_interrupt(self.interrupt.clone());
-        if !shared.is_some_and(|s| s.fits(model.dynamics())) {
+        // The run kept the family's store only if it is its structure
+        // (checked there, `FlowBases::fits`): the same store, the same
+        // structure, not compared again.
+        let shared = shared.filter(|s| lent.as_ref().is_some_and(|l| Arc::ptr_eq(l, &s.bases())));
+        let fits = shared.is_some();
+        let model = Model::new_shared(dy, spec.args()[0], shared.as_ref(), lent, first)?.with_interrupt(self.interrupt.clone());
+        if !fits {
             if let Ok(mut s) = self.shared.lock() {
                 *s = Some(model.shared());
             }

@@ -129,8 +129,13 @@ fn name_takers(e: SchemeError) -> SchemeError {
 impl fmt::Display for SchemeSpec {
     /// The preset name when it is one, else the call form `newmark(β,γ)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let Some((name, _, _)) = Self::presets().find(|(_, s, _)| s == self) {
-            return f.write_str(name);
+        // The first preset equal to it in [`SchemeSpec::presets`]'s order
+        // (the least group and rank, ties in the families' order), found
+        // without building and sorting the whole list: every integrator's
+        // label is written so (a scene family builds one at every
+        // parameter value).
+        if let Some((_, p)) = FAMILIES.iter().flat_map(|fam| fam.presets.iter().map(move |p| (fam, p))).filter(|(fam, p)| fam.with(p.args) == *self).min_by_key(|(_, p)| (p.group, p.rank)) {
+            return f.write_str(p.name);
         }
         f.write_str(&self.call())
     }

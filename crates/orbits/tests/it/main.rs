@@ -21,6 +21,7 @@ mod section;
 mod shared;
 mod slow_impact;
 mod start;
+mod store;
 mod switch;
 mod symmetric;
 mod turn;

@@ -197,8 +197,76 @@ impl FlowBases {
     }
 }
 
+thread_local! {
+    /// The store [`FlowBases::lend`] lends to the runs made on this thread.
+    static LENT: std::cell::RefCell<Lent> = const { std::cell::RefCell::new(Lent::None) };
+    /// The flow bases the runs of this thread have built ([`bases_built`]).
+    static BUILT: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// How many flow bases (a phase's eigen-decomposition, [`FlowBases`]'
+/// unit) the event-driven runs made on this thread have built so far,
+/// through a store or without one: a count a caller compares, before and
+/// after its runs, with the active sets they met, to see that each was
+/// built once (a test's observable, no timing).
+pub fn bases_built() -> u64 {
+    BUILT.with(std::cell::Cell::get)
+}
+
+impl FlowBases {
+    /// Runs `f` with the store in `slot` lent to every run
+    /// [`EventDriven::new`] makes on this thread meanwhile: a run of its
+    /// structure ([`fits`](Self::fits)) takes its flows' bases from it and
+    /// stores those it builds there; a run of another structure (or with
+    /// `slot` empty) starts a new store for its own, which takes the
+    /// slot's place (a run given its own store keeps it). So an integrator
+    /// that a front end builds deep inside its set-up (a scene's validated
+    /// run) builds through its caller's store, and the caller finds in
+    /// `slot` the store of the structure built last. The same runs, bit
+    /// for bit. What was lent before is lent again when `f` returns (or
+    /// unwinds).
+    pub fn lend<R>(slot: &mut Option<Arc<FlowBases>>, f: impl FnOnce() -> R) -> R {
+        struct Restore<'a>(Lent, &'a mut Option<Arc<FlowBases>>);
+        impl Drop for Restore<'_> {
+            fn drop(&mut self) {
+                let before = std::mem::replace(&mut self.0, Lent::None);
+                let lent = LENT.with(|l| std::mem::replace(&mut *l.borrow_mut(), before));
+                if let Lent::Slot(store) = lent {
+                    *self.1 = store;
+                }
+            }
+        }
+        let before = LENT.with(|l| std::mem::replace(&mut *l.borrow_mut(), Lent::Slot(slot.take())));
+        let _restore = Restore(before, slot);
+        f()
+    }
+}
+
+/// What [`FlowBases::lend`] lends: nothing, or a slot for a store.
+enum Lent {
+    None,
+    Slot(Option<Arc<FlowBases>>),
+}
+
+/// The store lent to this thread for a run of `dy` ([`FlowBases::lend`]):
+/// the slot's where it fits, else a new one put in the slot; `None` with
+/// nothing lent.
+fn lent_for(dy: &Dynamics) -> Option<Arc<FlowBases>> {
+    LENT.with(|l| match &mut *l.borrow_mut() {
+        Lent::None => None,
+        Lent::Slot(slot) => Some(match slot {
+            Some(b) if b.fits(dy) => b.clone(),
+            _ => slot.insert(Arc::new(FlowBases::new(dy))).clone(),
+        }),
+    })
+}
+
 /// The basis of the held set `key` from `bases` if given, else built.
 fn basis_of(bases: Option<&FlowBases>, key: &[usize], build: impl FnOnce() -> Result<Basis, EventsError>) -> Result<Arc<Basis>, EventsError> {
+    let build = || {
+        BUILT.with(|b| b.set(b.get() + 1));
+        build()
+    };
     match bases {
         Some(b) => b.basis(key, build),
         None => Ok(Arc::new(build()?)),
@@ -335,8 +403,10 @@ impl EventDriven {
     /// [`new`](Self::new) with the flows' bases taken from `bases` and
     /// those it builds stored there ([`FlowBases`]; ignored unless it
     /// [fits](FlowBases::fits) `dy`): the same run, bit for bit.
+    /// Without one that fits: the store [lent](FlowBases::lend) to this
+    /// thread, if any.
     pub fn new_with(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], e: f64, bases: Option<Arc<FlowBases>>) -> Result<Self, EventsError> {
-        let bases = bases.filter(|b| b.fits(dy));
+        let bases = bases.filter(|b| b.fits(dy)).or_else(|| lent_for(dy));
         let n = dy.n();
         let loads = Loads::of(dy)?;
         let mut sites = Vec::new();

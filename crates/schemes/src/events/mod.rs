@@ -51,7 +51,7 @@ mod record;
 mod search;
 mod stepper;
 
-pub use driven::{EventDriven, FlowBases, Reached, MAX_EVENTS};
+pub use driven::{bases_built, EventDriven, FlowBases, Reached, MAX_EVENTS};
 #[doc(hidden)]
 pub use flow::{repeated_line, repeated_planes};
 pub use flow::{Event, ModalFlow};

@@ -375,6 +375,24 @@ fn every_scheme_round_trips_and_refuses_its_parameters_out_of_range() {
     assert!(matches!("no-such-scheme".parse::<SchemeSpec>(), Err(SchemeError::UnknownScheme { .. })));
 }
 
+/// A scheme's label (every integrator's, written at each build) is the
+/// name of the first preset equal to it in the presets' listed order
+/// (group, then rank), else its call form: the rule transcribed on the
+/// sorted list, against `Display`'s search without the sort, on every
+/// scheme (the presets, and families' calls that are none).
+#[test]
+fn a_schemes_label_is_its_first_listed_preset_else_its_call() {
+    let listed: Vec<(&str, SchemeSpec)> = SchemeSpec::presets().map(|p| (p.0, p.1)).collect();
+    let (mut named, mut called) = (0, 0);
+    for spec in every_scheme() {
+        let want = listed.iter().find(|p| p.1 == spec).map_or_else(|| spec.call(), |p| p.0.to_string());
+        named += usize::from(want != spec.call());
+        called += usize::from(want == spec.call());
+        assert_eq!(spec.to_string(), want, "{}", spec.call());
+    }
+    assert!(named > 10 && called > 0, "{named} presets, {called} calls");
+}
+
 /// Runs `steps` steps; the displacements.
 fn trajectory(spec: &SchemeSpec, dy: Dynamics, init: &Initial, dt: f64, steps: usize) -> Result<Vec<Vec<f64>>, SchemeError> {
     let mut s = spec.build(dy, dt, init)?;
