@@ -70,13 +70,10 @@ pub struct Axis {
 }
 
 impl Axis {
-    /// The `i`-th value.
+    /// The `i`-th value, spaced as a sweep's axis ([`signorini_sweep::grid`]):
+    /// the ends exact, so a range that ends on the stop starts a cell on it.
     pub fn value(&self, i: usize) -> f64 {
-        if self.count <= 1 {
-            self.from
-        } else {
-            self.from + (self.to - self.from) * i as f64 / (self.count - 1) as f64
-        }
+        signorini_sweep::grid(self.from, self.to, self.count, false, i)
     }
 }
 

@@ -67,7 +67,7 @@ mod simulate;
 
 pub use error::{Error, SweepError};
 pub use lockstep::{simulate_lockstep, LANES};
-pub use options::{set_path, Axis, SweepOptions};
+pub use options::{grid, set_path, Axis, SweepOptions};
 pub use output::{merge, summary_header, IMPACT_COLUMNS, SWEEP_COLUMNS, SWEEP_FILES};
 pub use run::{run, NoProgress, Progress, SweepReport};
 #[doc(hidden)]

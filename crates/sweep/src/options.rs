@@ -22,8 +22,9 @@ pub struct Axis {
 }
 
 /// The value `i` of `count` on `[from, to]`, linear or logarithmic, the
-/// ends exact.
-pub(crate) fn grid(from: f64, to: f64, count: usize, log: bool, i: usize) -> f64 {
+/// ends exact (a range that ends on a bound, a stop, gives the bound
+/// itself). The sweeps' axes and the basins' grid.
+pub fn grid(from: f64, to: f64, count: usize, log: bool, i: usize) -> f64 {
     if count == 1 || i == 0 {
         return from;
     }

@@ -196,3 +196,16 @@ fn a_slow_transient_is_not_called_a_longer_period() {
     }
     assert!(free_cells >= scene.cells() / 2, "{free_cells} free cells of {}", scene.cells());
 }
+
+/// A range that ends on the stop starts its last column on the stop
+/// itself: `−1.7 + (0.5 + 1.7)·6/6` rounds to 0.5000000000000002, above
+/// the stop, which refused the whole grid as a corner outside the scene.
+#[test]
+fn a_range_ending_on_the_stop_is_a_grid() {
+    let doc: toml::Table = SCENE.parse().unwrap();
+    let x = Axis { path: "oscillator.initial_displacement".into(), from: -1.7, to: 0.5, count: 7 };
+    let v = Axis { path: "oscillator.initial_velocity".into(), from: -1.0, to: 1.0, count: 3 };
+    assert_eq!((x.value(0), x.value(6)), (-1.7, 0.5));
+    let scene = BasinScene::new(doc, x, v, Limits::machine()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.cells(), 21);
+}
