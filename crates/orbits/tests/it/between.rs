@@ -2,7 +2,7 @@
 //! `|x| <= 1`, e = 0.8 (section.rs, slow_impact.rs, symmetric.rs): the
 //! crate's model of it, and the closed-form flow between impacts that
 //! those tests' transcriptions of the map are built on (no code of the
-//! crate).
+//! crate), with its map between any two stops (slow_impact.rs, isola.rs).
 
 use signorini_fem::SymBand;
 use signorini_orbits::{Model, OrbitError};
@@ -41,4 +41,68 @@ pub fn flow(w: f64, t0: f64, x: f64, v: f64, t: f64) -> (f64, f64) {
     let c2 = (v - vp(t0) + z * c1) / wd;
     let (ex, (sn, cs)) = ((-z * (t - t0)).exp(), (wd * (t - t0)).sin_cos());
     (ex * (c1 * cs + c2 * sn) + xp(t), ex * (-z * (c1 * cs + c2 * sn) + wd * (-c1 * sn + c2 * cs)) + vp(t))
+}
+
+/// The last time of `[lo, hi]` where `inside` holds, by bisection.
+pub fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if m <= lo || m >= hi {
+            break;
+        }
+        if inside(m) {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    lo
+}
+
+/// The transcription's map over `p` forcing periods between the stops
+/// `lo <= x <= hi` with restitution `e`: the flow sampled at `1/samples`
+/// of a period, each sample step split at an extremum of `x` (found by
+/// bisection on `v`, so that a slow impact inside a step is not stepped
+/// over), each crossing of a stop bisected to round-off, the velocity
+/// reversed times `e`. Returns the image, the impacts, and the smallest
+/// distance to a stop of a flight's extremum that does not reach one.
+pub fn map_between(w: f64, x: [f64; 2], p: usize, (lo, hi): (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
+    let end = p as f64 * std::f64::consts::TAU / w;
+    let h = std::f64::consts::TAU / w / samples;
+    let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);
+    let (mut impacts, mut margin) = (0, f64::INFINITY);
+    let out = |x: f64| !(lo..=hi).contains(&x);
+    while t < end {
+        let t1 = (t + h).min(end);
+        let (v0, v1) = (flow(w, t0, z.0, z.1, t).1, flow(w, t0, z.0, z.1, t1).1);
+        let mut ends = vec![t1];
+        if v0 * v1 < 0.0 {
+            let te = bisect(t, t1, |m| flow(w, t0, z.0, z.1, m).1 * v0 > 0.0);
+            let xe = flow(w, t0, z.0, z.1, te).0;
+            if !out(xe) {
+                margin = margin.min((hi - xe).min(xe - lo));
+            }
+            ends = vec![te, t1];
+        }
+        let mut a = t;
+        let mut hit = None;
+        for &b in &ends {
+            if out(flow(w, t0, z.0, z.1, b).0) {
+                hit = Some(bisect(a, b, |m| !out(flow(w, t0, z.0, z.1, m).0)));
+                break;
+            }
+            a = b;
+        }
+        match hit {
+            Some(ti) => {
+                let y = flow(w, t0, z.0, z.1, ti);
+                let stop = if y.0 > 0.5 * (lo + hi) { hi } else { lo };
+                (t0, z, t) = (ti, (stop, -e * y.1), ti);
+                impacts += 1;
+            }
+            None => t = t1,
+        }
+    }
+    let y = flow(w, t0, z.0, z.1, end);
+    ([y.0, y.1], impacts, margin)
 }

@@ -10,7 +10,7 @@
 //! map over five periods, and each fold where Newton on that map (central
 //! differences) finds an orbit just before it and none just past it.
 
-use crate::between::flow;
+use crate::between::map_between;
 use signorini_fem::SymBand;
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
@@ -43,57 +43,12 @@ impl Family for Isola {
     }
 }
 
-/// The last time of `[lo, hi]` where `inside` holds, by bisection.
-fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
-    for _ in 0..200 {
-        let m = 0.5 * (lo + hi);
-        if m <= lo || m >= hi {
-            break;
-        }
-        if inside(m) {
-            lo = m;
-        } else {
-            hi = m;
-        }
-    }
-    lo
-}
-
-/// The transcription's map over `p` forcing periods: the flow sampled at
-/// 1/1000 of a period, each step split at an extremum of `x`, each
-/// crossing of a stop bisected to round-off, the velocity reversed times
-/// e. Returns the image and the impacts.
+/// The transcription's map over `p` forcing periods between the stops
+/// ([`map_between`], the flow sampled at 1/1000 of a period): the image
+/// and the impacts.
 fn map_over(p: usize, w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
-    let end = p as f64 * TAU / w;
-    let h = TAU / w / 1000.0;
-    let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);
-    let mut impacts = 0;
-    let out = |x: f64| !(LO..=HI).contains(&x);
-    while t < end {
-        let t1 = (t + h).min(end);
-        let (v0, v1) = (flow(w, t0, z.0, z.1, t).1, flow(w, t0, z.0, z.1, t1).1);
-        let ends = if v0 * v1 < 0.0 { vec![bisect(t, t1, |m| flow(w, t0, z.0, z.1, m).1 * v0 > 0.0), t1] } else { vec![t1] };
-        let mut a = t;
-        let mut hit = None;
-        for &b in &ends {
-            if out(flow(w, t0, z.0, z.1, b).0) {
-                hit = Some(bisect(a, b, |m| !out(flow(w, t0, z.0, z.1, m).0)));
-                break;
-            }
-            a = b;
-        }
-        match hit {
-            Some(ti) => {
-                let y = flow(w, t0, z.0, z.1, ti);
-                let stop = if y.0 > 0.5 * (LO + HI) { HI } else { LO };
-                (t0, z, t) = (ti, (stop, -E * y.1), ti);
-                impacts += 1;
-            }
-            None => t = t1,
-        }
-    }
-    let y = flow(w, t0, z.0, z.1, end);
-    ([y.0, y.1], impacts)
+    let (y, impacts, _) = map_between(w, x, p, (LO, HI), E, 1000.0);
+    (y, impacts)
 }
 
 /// The transcription's map over 5 forcing periods.

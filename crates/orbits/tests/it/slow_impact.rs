@@ -18,7 +18,7 @@
 //! transcription's flight touches the stop, and the 3-impact orbits' fold
 //! (3.9627076) is where its central differences have a multiplier at +1.
 
-use crate::between::{flow, E};
+use crate::between::{map_between, E};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
 
@@ -35,67 +35,12 @@ impl Family for Between {
     }
 }
 
-/// The last time of `[lo, hi]` where `inside` holds, by bisection.
-fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
-    for _ in 0..200 {
-        let m = 0.5 * (lo + hi);
-        if m <= lo || m >= hi {
-            break;
-        }
-        if inside(m) {
-            lo = m;
-        } else {
-            hi = m;
-        }
-    }
-    lo
-}
-
-/// The transcription's map over `P` forcing periods: the flow sampled at
-/// 1/4000 of a period, each sample step split at an extremum of `x`
-/// (found by bisection on `v`, so that a slow impact inside a step is not
-/// stepped over), each crossing of a stop bisected to round-off, the
-/// velocity reversed times e. Returns the image, the impacts, and the
-/// smallest distance to a stop of a flight's extremum that does not reach
-/// one.
+/// The transcription's map over `P` forcing periods between `|x| <= 1`
+/// ([`map_between`]: the flow sampled at 1/4000 of a period, split at
+/// extrema), with the image, the impacts and the smallest margin of a
+/// flight's extremum to a stop.
 pub(crate) fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize, f64) {
-    let end = P as f64 * TAU / w;
-    let h = TAU / w / 4000.0;
-    let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);
-    let (mut impacts, mut margin) = (0, f64::INFINITY);
-    let out = |x: f64| x.abs() > 1.0;
-    while t < end {
-        let t1 = (t + h).min(end);
-        let (v0, v1) = (flow(w, t0, z.0, z.1, t).1, flow(w, t0, z.0, z.1, t1).1);
-        let mut ends = vec![t1];
-        if v0 * v1 < 0.0 {
-            let te = bisect(t, t1, |m| flow(w, t0, z.0, z.1, m).1 * v0 > 0.0);
-            let xe = flow(w, t0, z.0, z.1, te).0;
-            if !out(xe) {
-                margin = margin.min(1.0 - xe.abs());
-            }
-            ends = vec![te, t1];
-        }
-        let mut a = t;
-        let mut hit = None;
-        for &b in &ends {
-            if out(flow(w, t0, z.0, z.1, b).0) {
-                hit = Some(bisect(a, b, |m| !out(flow(w, t0, z.0, z.1, m).0)));
-                break;
-            }
-            a = b;
-        }
-        match hit {
-            Some(ti) => {
-                let y = flow(w, t0, z.0, z.1, ti);
-                (t0, z, t) = (ti, (y.0.signum(), -E * y.1), ti);
-                impacts += 1;
-            }
-            None => t = t1,
-        }
-    }
-    let y = flow(w, t0, z.0, z.1, end);
-    ([y.0, y.1], impacts, margin)
+    map_between(w, x, P, (-1.0, 1.0), E, 4000.0)
 }
 
 #[test]
