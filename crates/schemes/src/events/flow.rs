@@ -316,23 +316,35 @@ fn times(a: &Mat<f64>, x: &[f64]) -> Vec<f64> {
 }
 
 /// The sine of the angle between `x_a = (a + c) x` and `x` (1: the plane's
-/// columns orthogonal; 0: parallel).
-fn pair_sine(a: &Mat<f64>, c: f64, x: &[f64]) -> f64 {
+/// columns orthogonal; 0: parallel), and `|x_a| / |x|`.
+fn pair_sine(a: &Mat<f64>, c: f64, x: &[f64]) -> (f64, f64) {
     let ax: Vec<f64> = times(a, x).iter().zip(x).map(|(p, q)| p + c * q).collect();
     let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
     let (aa, xx, ax_x) = (dot(&ax, &ax), dot(x, x), dot(&ax, x));
     if !(aa > 0.0 && xx > 0.0) {
-        return 0.0;
+        return (0.0, 0.0);
     }
-    (1.0 - (ax_x * ax_x) / (aa * xx)).max(0.0).sqrt()
+    ((1.0 - (ax_x * ax_x) / (aa * xx)).max(0.0).sqrt(), (aa / xx).sqrt())
+}
+
+/// How well the columns `x_a = (a + c) x`, `x` condition their block of
+/// `T`: `sin θ · r / (1 + r²)` with `r = |x_a| / |x|` (at most ½, for
+/// orthogonal columns of one length; 0 for parallel ones or a vanishing
+/// `x_a`). Near an eigenvector of `λ₂` in a pair with `λ₁ ≈ 0`, `x_a =
+/// −λ₁ x` is round-off whose direction, and so its sine, means nothing:
+/// the sine alone chose such a vector once (a free chain, a dashpot of
+/// 1.17 at dof 1: `T`'s condition 3e16, the run refused).
+fn pair_score(a: &Mat<f64>, c: f64, x: &[f64]) -> f64 {
+    let (sine, r) = pair_sine(a, c, x);
+    sine * r / (1.0 + r * r)
 }
 
 /// The vector `x_b` of a mode's invariant plane (spanned by `u₁`, `u₂`: a
 /// real pair's eigenvectors, or a complex one's real and imaginary parts),
 /// `x_a = (a + c) x_b` the plane's other column of `T`: `first` (the
 /// vector taken before) if the two columns are at least 30° apart (sine
-/// 1/2), else of it and 64 directions of the half turn the one that makes
-/// them most nearly orthogonal (docs/theory.md §9.1). A
+/// 1/2), else of it and 64 directions of the half turn the one whose
+/// columns condition `T` best ([`pair_score`]) (docs/theory.md §9.1). A
 /// free chain's rigid pair (`λ₁ = 0` and the slow decay `λ₂ = −c` of its
 /// translation under a weak dashpot) has nearly parallel eigenvectors: from
 /// `x_b = u₁ + u₂`, `x_a = c u₁` was parallel to it within `~c`, `T`'s
@@ -354,18 +366,17 @@ fn pair_vector(a: &Mat<f64>, c: f64, u1: &[f64], u2: &[f64], first: Vec<f64>) ->
     }
     p2.iter_mut().for_each(|x| *x /= n2);
     // `cos θ p₁ + sin θ p₂` over 64 angles of the half turn: the best.
-    let sine0 = pair_sine(a, c, &first);
-    if sine0 >= 0.5 {
+    if pair_sine(a, c, &first).0 >= 0.5 {
         return first;
     }
-    let (mut best, mut best_sine) = (first, sine0);
+    let (mut best, mut best_score) = (first.clone(), pair_score(a, c, &first));
     for i in 0..64 {
         let th = std::f64::consts::PI * f64::from(i) / 64.0;
         let (s, co) = th.sin_cos();
         let x: Vec<f64> = p1.iter().zip(&p2).map(|(x, y)| co * x + s * y).collect();
-        let sine = pair_sine(a, c, &x);
-        if sine > best_sine {
-            (best, best_sine) = (x, sine);
+        let score = pair_score(a, c, &x);
+        if score > best_score {
+            (best, best_score) = (x, score);
         }
     }
     let size = best.iter().fold(0.0f64, |m, v| m.max(v.abs()));

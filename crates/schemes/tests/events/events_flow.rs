@@ -568,3 +568,14 @@ fn a_repeated_real_eigenvalue_gives_its_eigenspace_unless_defective() {
     }
     assert!(matches!(repeated_line(&similar(true), l, 2), Err(EventsError::Defective { .. })));
 }
+
+/// The plane's best vector chosen by its columns' sine alone took, in a
+/// rigid pair (`λ₁ ≈ 0`), a direction near the other eigenvector, whose
+/// `x_a = −λ₁ x` is round-off: `T`'s condition 3e16 and the run refused
+/// (a proptest draw: a free chain, a dashpot of 1.17 at dof 1).
+#[test]
+fn a_rigid_pair_under_a_strong_dashpot_is_not_refused() {
+    let dy = nonclassical(forced(chain(5, true)), 1, 1.167048062702446, 0.7011207647557629);
+    check(&dy, 0.0, 0.01, 2e-12);
+    check(&dy, 3.0, 4.0, 2e-12);
+}
