@@ -106,3 +106,19 @@ pub fn map_between(w: f64, x: [f64; 2], p: usize, (lo, hi): (f64, f64), e: f64, 
     let y = flow(w, t0, z.0, z.1, end);
     ([y.0, y.1], impacts, margin)
 }
+
+/// The Jacobian of a map of the section state by central differences of
+/// step 1e-7 (`j[r][c]`: row `r` of the image, column `c` of the state).
+pub fn jacobian(x: [f64; 2], map: impl Fn([f64; 2]) -> [f64; 2]) -> [[f64; 2]; 2] {
+    let mut j = [[0.0; 2]; 2];
+    for c in 0..2 {
+        let (mut a, mut b) = (x, x);
+        a[c] += 1e-7;
+        b[c] -= 1e-7;
+        let (ya, yb) = (map(a), map(b));
+        for r in 0..2 {
+            j[r][c] = (ya[r] - yb[r]) / 2e-7;
+        }
+    }
+    j
+}

@@ -10,7 +10,7 @@
 //! map over five periods, and each fold where Newton on that map (central
 //! differences) finds an orbit just before it and none just past it.
 
-use crate::between::map_between;
+use crate::between::{jacobian, map_between};
 use signorini_fem::SymBand;
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
@@ -67,16 +67,10 @@ fn fixed_point(w: f64, mut x: [f64; 2]) -> Option<[f64; 2]> {
         if r[0].abs().max(r[1].abs()) <= 1e-10 {
             return Some(x);
         }
-        let mut j = [[0.0; 2]; 2];
-        for c in 0..2 {
-            let (mut a, mut b) = (x, x);
-            a[c] += 1e-7;
-            b[c] -= 1e-7;
-            let (ya, yb) = (map(w, a).0, map(w, b).0);
-            for k in 0..2 {
-                j[k][c] = (ya[k] - yb[k]) / 2e-7 - if k == c { 1.0 } else { 0.0 };
-            }
-        }
+        // J − I of the map.
+        let mut j = jacobian(x, |y| map(w, y).0);
+        j[0][0] -= 1.0;
+        j[1][1] -= 1.0;
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         x = [x[0] - (j[1][1] * r[0] - j[0][1] * r[1]) / det, x[1] - (-j[1][0] * r[0] + j[0][0] * r[1]) / det];
         if !(x[0].is_finite() && x[1].is_finite()) || x[0].abs() > 2.0 {

@@ -15,7 +15,7 @@
 //! impacts, and the period doubling is where `det(P' + I)` of the
 //! transcribed map changes sign.
 
-use crate::between::{flow, E};
+use crate::between::{flow, jacobian, E};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
 
@@ -65,16 +65,7 @@ fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
 
 /// `det(J + I)` of the transcribed map's central differences at `x`.
 fn det_plus_i(w: f64, x: [f64; 2]) -> f64 {
-    let mut j = [[0.0; 2]; 2];
-    for c in 0..2 {
-        let (mut p, mut q) = (x, x);
-        p[c] += 1e-7;
-        q[c] -= 1e-7;
-        let (fp, fq) = (map(w, p).0, map(w, q).0);
-        for r in 0..2 {
-            j[r][c] = (fp[r] - fq[r]) / 2e-7;
-        }
-    }
+    let j = jacobian(x, |y| map(w, y).0);
     (j[0][0] + 1.0) * (j[1][1] + 1.0) - j[0][1] * j[1][0]
 }
 

@@ -15,6 +15,7 @@
 //! start (the orbit at Ω = 5 and its mirror image) the branch lists it
 //! once, a branch point, at the same Ω.
 
+use crate::between::jacobian;
 use crate::slow_impact::{map, Between, P};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Newton};
 use std::f64::consts::TAU;
@@ -22,16 +23,7 @@ use std::f64::consts::TAU;
 /// The transcription's multipliers at `x` (central differences, step
 /// 1e-7): the largest modulus and `det(J − I)`.
 fn multipliers(w: f64, x: [f64; 2]) -> (f64, f64) {
-    let mut j = [[0.0; 2]; 2];
-    for c in 0..2 {
-        let (mut a, mut b) = (x, x);
-        a[c] += 1e-7;
-        b[c] -= 1e-7;
-        let (ya, yb) = (map(w, a).0, map(w, b).0);
-        for r in 0..2 {
-            j[r][c] = (ya[r] - yb[r]) / 2e-7;
-        }
-    }
+    let j = jacobian(x, |y| map(w, y).0);
     let (tr, det) = (j[0][0] + j[1][1], j[0][0] * j[1][1] - j[0][1] * j[1][0]);
     let disc = 0.25 * tr * tr - det;
     let largest = if disc >= 0.0 { (0.5 * tr).abs() + disc.sqrt() } else { det.sqrt() };
