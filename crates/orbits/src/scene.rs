@@ -213,15 +213,7 @@ fn lookup(doc: &toml::Table, path: &str) -> Result<f64, OrbitError> {
 /// [`lookup`] for the option `option`.
 pub(crate) fn lookup_as(doc: &toml::Table, path: &str, option: &'static str) -> Result<f64, OrbitError> {
     let err = |m: String| OrbitError::Option { option, message: format!("{path}: {m}") };
-    let mut cur = doc.get(path.split('.').next().unwrap_or("")).ok_or_else(|| err("is not in the scene (write the key in the scene file with its start value)".into()))?;
-    for seg in path.split('.').skip(1) {
-        cur = match cur {
-            toml::Value::Table(t) => t.get(seg),
-            toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(|i| a.get(i)),
-            _ => None,
-        }
-        .ok_or_else(|| err("is not in the scene (write the key in the scene file with its start value)".into()))?;
-    }
+    let cur = signorini_scene::presets::get_path(doc, path).ok_or_else(|| err("is not in the scene (write the key in the scene file with its start value)".into()))?;
     match cur {
         toml::Value::Float(x) => Ok(*x),
         toml::Value::Integer(i) => Ok(*i as f64),

@@ -74,26 +74,89 @@ pub fn edit(mut doc: toml::Table, edits: &[(&str, toml::Value)]) -> Result<Scene
     SceneFile::from_table(doc)
 }
 
-/// Sets the value at the dotted `path` (table keys, `forcing.omega`) of a
-/// scene document. Every table on the way must exist (an error names the
-/// path otherwise); the last key is replaced, or added when the document
-/// leaves it at its default, and the scene reader then decides whether
-/// the scene has such a key.
+/// Sets the value at the dotted `path` of a scene document: segments are
+/// table keys or array indices (`forcing.omega`, `stop.0.hi`). Every table
+/// or list on the way must exist (an error names the path and, for a
+/// missing key, the keys that are there); the last key is replaced, or
+/// added when the document leaves it at its default, and the scene reader
+/// then decides whether the scene has such a key; the last index of a list
+/// must be one of its entries. The one path editor of scene documents: the
+/// sweep's and the orbit families' numeric edits go through it.
 pub fn set_path(doc: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), SceneError> {
+    let segs = segments(path)?;
+    let (last, parents) = segs.split_last().expect("segments are never empty");
+    let mut here = toml::Value::Table(std::mem::take(doc));
+    let result = (|| {
+        let (cur, walked) = walk(&mut here, parents, path)?;
+        match cur {
+            toml::Value::Table(t) => {
+                t.insert(last.to_string(), value);
+                Ok(())
+            }
+            toml::Value::Array(a) => {
+                let len = a.len();
+                let i: usize = last.parse().map_err(|_| field(path, format!("{walked} is a list: the next segment is an index 0..{len}")))?;
+                let slot = a.get_mut(i).ok_or_else(|| field(path, format!("{walked} has {len} entries: index {i} is out of range")))?;
+                *slot = value;
+                Ok(())
+            }
+            _ => Err(field(path, format!("{walked} is a value, not a table"))),
+        }
+    })();
+    if let toml::Value::Table(t) = here {
+        *doc = t;
+    }
+    result
+}
+
+/// The value at the dotted `path` (keys and array indices, as for
+/// [`set_path`]) of a scene document, `None` where a segment is missing.
+pub fn get_path<'a>(doc: &'a toml::Table, path: &str) -> Option<&'a toml::Value> {
+    let mut segs = path.split('.');
+    let mut cur = doc.get(segs.next()?)?;
+    for s in segs {
+        cur = match cur {
+            toml::Value::Table(t) => t.get(s),
+            toml::Value::Array(a) => s.parse::<usize>().ok().and_then(|i| a.get(i)),
+            _ => None,
+        }?;
+    }
+    Some(cur)
+}
+
+fn segments(path: &str) -> Result<Vec<&str>, SceneError> {
     let segs: Vec<&str> = path.split('.').collect();
-    let Some((last, parents)) = segs.split_last().filter(|_| segs.iter().all(|s| !s.is_empty())) else {
-        return Err(field(path, "allowed a dotted path of keys, e.g. forcing.omega"));
-    };
-    let mut table = doc;
+    if segs.iter().any(|s| s.is_empty()) {
+        return Err(field(path, "allowed a dotted path of keys and array indices, e.g. forcing.omega, support.amplitude, stop.0.hi"));
+    }
+    Ok(segs)
+}
+
+/// Walks `parents` from `root`: the value reached and its dotted name.
+fn walk<'a>(root: &'a mut toml::Value, parents: &[&str], path: &str) -> Result<(&'a mut toml::Value, String), SceneError> {
+    let mut cur = root;
     let mut walked = String::new();
     for s in parents {
-        walked = if walked.is_empty() { s.to_string() } else { format!("{walked}.{s}") };
-        table = match table.get_mut(*s) {
-            Some(toml::Value::Table(t)) => t,
-            Some(_) => return Err(field(path, format!("{walked} is not a table"))),
-            None => return Err(field(path, format!("{walked} is not in the scene"))),
-        };
+        let name = if walked.is_empty() { s.to_string() } else { format!("{walked}.{s}") };
+        let hint = keys_hint(cur, &walked);
+        cur = match cur {
+            toml::Value::Table(t) => t.get_mut(*s),
+            toml::Value::Array(a) => s.parse::<usize>().ok().and_then(move |i| a.get_mut(i)),
+            _ => None,
+        }
+        .ok_or_else(|| field(path, format!("{name} is not in the scene{hint}")))?;
+        walked = name;
     }
-    table.insert(last.to_string(), value);
-    Ok(())
+    Ok((cur, walked))
+}
+
+/// The keys of a table, for an error about a key that is not there.
+fn keys_hint(v: &toml::Value, walked: &str) -> String {
+    match v {
+        toml::Value::Table(t) if !t.is_empty() => {
+            let keys: Vec<&str> = t.keys().map(String::as_str).collect();
+            format!(" ({} has: {})", if walked.is_empty() { "the scene" } else { walked }, keys.join(", "))
+        }
+        _ => String::new(),
+    }
 }

@@ -4,7 +4,7 @@
 use crate::error::SweepError;
 use signorini_run::text::num;
 use signorini_run::Cancel;
-use signorini_scene::SceneFile;
+use signorini_scene::{presets, SceneError, SceneFile};
 
 /// A second axis of a two-parameter map.
 #[derive(Clone, Debug, PartialEq)]
@@ -212,47 +212,25 @@ impl SweepOptions {
 /// an integer field (and [`Sweep::new`](crate::Sweep::new) refuses a grid that gives one).
 pub fn set_path(doc: &mut toml::Table, path: &str, value: f64) -> Result<(), SweepError> {
     let err = |m: String| SweepError::Param { path: path.into(), message: m };
-    let segs: Vec<&str> = path.split('.').collect();
-    if segs.iter().any(|s| s.is_empty()) {
-        return Err(err("a dotted path of keys and array indices, e.g. forcing.omega, support.amplitude, stop.0.hi".into()));
-    }
-    let (last, parents) = segs.split_last().ok_or_else(|| err("empty".into()))?;
-    let mut here = toml::Value::Table(std::mem::take(doc));
-    let result = (|| {
-        let mut cur = &mut here;
-        let mut walked = String::new();
-        for s in parents {
-            let name = if walked.is_empty() { s.to_string() } else { format!("{walked}.{s}") };
-            let hint = keys_hint(cur, &walked);
-            cur = step(cur, s).ok_or_else(|| err(format!("{name} is not in the scene{hint}")))?;
-            walked = name;
-        }
-        let table = match cur {
-            toml::Value::Table(t) => t,
-            toml::Value::Array(a) => {
-                let i: usize = last.parse().map_err(|_| err(format!("{walked} is a list: the next segment is an index 0..{}", a.len())))?;
-                let len = a.len();
-                let slot = a.get_mut(i).ok_or_else(|| err(format!("{walked} has {len} entries: index {i} is out of range")))?;
-                return put(slot, value, path);
-            }
-            _ => return Err(err(format!("{walked} is a value, not a table"))),
-        };
-        match table.get_mut(*last) {
-            Some(slot) => put(slot, value, path),
-            None => {
-                // A key the scene leaves at its default: validation decides.
-                // An integral value goes in as an integer, which integer
-                // fields need and real fields take.
-                let v = if value.fract() == 0.0 && value.abs() <= 9.0e15 { toml::Value::Integer(value as i64) } else { toml::Value::Float(value) };
-                table.insert(last.to_string(), v);
-                Ok(())
-            }
-        }
-    })();
-    if let toml::Value::Table(t) = here {
-        *doc = t;
-    }
-    result
+    let integral = value.fract() == 0.0 && value.abs() <= 9.0e15;
+    let v = match presets::get_path(doc, path) {
+        Some(toml::Value::Float(_)) => toml::Value::Float(value),
+        // An integer literal: an integral value stays one; another goes in
+        // as a float, which a real field written `omega = 10` takes and an
+        // integer field refuses ([`Sweep::new`] checks the grid of one).
+        Some(toml::Value::Integer(_)) if integral => toml::Value::Integer(value as i64),
+        Some(toml::Value::Integer(_)) => toml::Value::Float(value),
+        Some(other) => return Err(err(format!("names a {} value, not a number", other.type_str()))),
+        // A key the scene leaves at its default (validation decides), or a
+        // path the editor refuses. An integral value goes in as an integer,
+        // which integer fields need and real fields take.
+        None if integral => toml::Value::Integer(value as i64),
+        None => toml::Value::Float(value),
+    };
+    presets::set_path(doc, path, v).map_err(|e| match e {
+        SceneError::Field { message, .. } => err(message),
+        other => err(other.to_string()),
+    })
 }
 
 /// Whether `path` names an integer field of the scene: the document parses
@@ -292,36 +270,4 @@ pub(crate) fn integral_grid(doc: &toml::Table, path: &str, suffix: &str, from: f
         Some(message) if integer_field(doc, path) => Err(SweepError::Param { path: path.into(), message }),
         _ => Ok(()),
     }
-}
-
-pub(crate) fn step<'a>(v: &'a mut toml::Value, seg: &str) -> Option<&'a mut toml::Value> {
-    match v {
-        toml::Value::Table(t) => t.get_mut(seg),
-        toml::Value::Array(a) => seg.parse::<usize>().ok().and_then(move |i| a.get_mut(i)),
-        _ => None,
-    }
-}
-
-pub(crate) fn keys_hint(v: &toml::Value, walked: &str) -> String {
-    match v {
-        toml::Value::Table(t) if !t.is_empty() => {
-            let keys: Vec<&str> = t.keys().map(String::as_str).collect();
-            format!(" ({} has: {})", if walked.is_empty() { "the scene" } else { walked }, keys.join(", "))
-        }
-        _ => String::new(),
-    }
-}
-
-pub(crate) fn put(slot: &mut toml::Value, value: f64, path: &str) -> Result<(), SweepError> {
-    let err = |m: String| SweepError::Param { path: path.into(), message: m };
-    match slot {
-        toml::Value::Float(_) => *slot = toml::Value::Float(value),
-        // An integer literal: an integral value stays one; another goes in
-        // as a float, which a real field written `omega = 10` takes and an
-        // integer field refuses ([`Sweep::new`] checks the grid of one).
-        toml::Value::Integer(_) if value.fract() == 0.0 && value.abs() <= 9.0e15 => *slot = toml::Value::Integer(value as i64),
-        toml::Value::Integer(_) => *slot = toml::Value::Float(value),
-        other => return Err(err(format!("names a {} value, not a number", other.type_str()))),
-    }
-    Ok(())
 }

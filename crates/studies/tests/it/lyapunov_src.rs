@@ -71,3 +71,43 @@ fn an_edit_of_a_key_the_preset_does_not_have_fails() {
     // A value where a table is: refused.
     assert!(Preset::Oscillator.edited(&[("oscillator.mass.x", 1.0.into())]).is_err());
 }
+
+#[test]
+fn one_path_editor_walks_keys_and_list_entries_for_presets_and_sweeps() {
+    // The studies' edits (any value) and the sweeps' and orbit families'
+    // (numbers) walk a document the same way: keys, then list indices.
+    let text = "[a]\nn = 3\nx = 1.5\nname = \"s\"\n[[stop]]\nhi = 0.1\n";
+    let mut doc: toml::Table = text.parse().unwrap();
+    signorini_scene::presets::set_path(&mut doc, "stop.0.hi", 0.25.into()).unwrap();
+    assert_eq!(doc["stop"].as_array().unwrap()[0]["hi"].as_float(), Some(0.25));
+    assert_eq!(signorini_scene::presets::get_path(&doc, "stop.0.hi").and_then(|v| v.as_float()), Some(0.25));
+    assert_eq!(signorini_scene::presets::get_path(&doc, "stop.1.hi"), None);
+    // The sweep's numeric edit keeps an integer literal integral where it can.
+    signorini_sweep::set_path(&mut doc, "a.n", 4.0).unwrap();
+    assert_eq!(doc["a"]["n"].as_integer(), Some(4));
+    signorini_sweep::set_path(&mut doc, "a.n", 4.5).unwrap();
+    assert_eq!(doc["a"]["n"].as_float(), Some(4.5));
+    signorini_sweep::set_path(&mut doc, "stop.0.hi", 2.0).unwrap();
+    assert_eq!(doc["stop"].as_array().unwrap()[0]["hi"].as_float(), Some(2.0));
+    signorini_sweep::set_path(&mut doc, "a.new", 7.0).unwrap();
+    assert_eq!(doc["a"]["new"].as_integer(), Some(7));
+    // Refusals, each naming where the walk stopped.
+    let sweep_err = |doc: &mut toml::Table, path: &str| signorini_sweep::set_path(doc, path, 1.0).unwrap_err().to_string();
+    for (path, needle) in [
+        ("stop.1", "stop has 1 entries: index 1 is out of range"),
+        ("stop.1.hi", "stop.1 is not in the scene"),
+        ("stop.x", "stop is a list: the next segment is an index 0..1"),
+        ("a.x.y", "a.x is a value, not a table"),
+        ("b.x", "b is not in the scene (the scene has: a, stop)"),
+        ("a.name", "names a string value, not a number"),
+        ("a..x", "a dotted path of keys and array indices"),
+    ] {
+        let e = sweep_err(&mut doc, path);
+        assert!(e.contains(needle), "{path}: {e}");
+    }
+    let e = signorini_scene::presets::set_path(&mut doc, "stop.x", 1.0.into()).unwrap_err().to_string();
+    assert!(e.starts_with("stop.x: stop is a list"), "{e}");
+    // A refused edit leaves the document as it was.
+    assert_eq!(doc["stop"].as_array().unwrap()[0]["hi"].as_float(), Some(2.0));
+    assert_eq!(doc["a"]["x"].as_float(), Some(1.5));
+}
