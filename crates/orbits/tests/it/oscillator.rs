@@ -8,13 +8,23 @@ use signorini_orbits::{periodic_orbit, Family, Newton, SceneFamily};
 use std::f64::consts::TAU;
 
 fn exact(omega: f64) -> ImpactOscillator {
-    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: omega, gap: 0.2, restitution: 0.8 }).unwrap()
+    exact_at(1.0, 0.05, 0.2, omega)
+}
+
+fn exact_at(k: f64, zeta: f64, gap: f64, omega: f64) -> ImpactOscillator {
+    ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: k, damping_ratio: zeta, force: 1.0, forcing_frequency: omega, gap, restitution: 0.8 }).unwrap()
 }
 
 /// The closed-form period-1 orbits at `omega`: the state at t = 0 (the
-/// stroboscopic section) and the multipliers.
+/// stroboscopic section), the multipliers and whether the orbit is stable.
 pub(crate) fn closed_orbits(omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> {
-    let osc = exact(omega);
+    closed_orbits_at(1.0, 0.05, 0.2, omega)
+}
+
+/// [`closed_orbits`] of the oscillator with stiffness `k`, damping ratio
+/// `zeta` and the stop at `gap` (unit mass and force, e = 0.8).
+pub(crate) fn closed_orbits_at(k: f64, zeta: f64, gap: f64, omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> {
+    let osc = exact_at(k, zeta, gap, omega);
     let t = TAU / omega;
     osc.period1_orbits()
         .into_iter()
@@ -22,7 +32,7 @@ pub(crate) fn closed_orbits(omega: f64) -> Vec<([f64; 2], [[f64; 2]; 2], bool)> 
         .map(|o| {
             // Post-impact state at τ, flowed (no impact in between) to T.
             let tau = o.impact_time.rem_euclid(t);
-            let z = osc.flow(tau, State { x: 0.2, v: -0.8 * o.impact_velocity }, t);
+            let z = osc.flow(tau, State { x: gap, v: -0.8 * o.impact_velocity }, t);
             let mu = [[o.multipliers[0].re, o.multipliers[0].im], [o.multipliers[1].re, o.multipliers[1].im]];
             ([z.x, z.v], mu, o.is_stable())
         })
@@ -34,7 +44,7 @@ fn family() -> SceneFamily {
     SceneFamily::new(doc, "forcing.omega", 1).unwrap().0
 }
 
-fn sorted(mut m: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+pub(crate) fn sorted(mut m: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     m.sort_by(|a, b| (b[0].hypot(b[1]), b[1]).partial_cmp(&(a[0].hypot(a[1]), a[1])).unwrap());
     m
 }

@@ -6,33 +6,11 @@
 //! period-1 orbits of `signorini_exact::oscillator` and their multipliers:
 //! a model on another structure's modes misses both.
 
-use signorini_exact::{ImpactOscillator, OscillatorParams, State};
+use crate::oscillator::{closed_orbits_at, sorted};
 use signorini_orbits::{periodic_orbit, Family, Newton, SceneFamily};
-use std::f64::consts::TAU;
 
 /// `(k, ζ, gap, Ω)` of the scene with one of them set.
 type Params = (f64, f64, f64, f64);
-
-/// The closed-form admissible period-1 orbits: the state on the section and the multipliers.
-fn closed(p: Params) -> Vec<([f64; 2], Vec<[f64; 2]>)> {
-    let (k, zeta, gap, omega) = p;
-    let osc = ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: k, damping_ratio: zeta, force: 1.0, forcing_frequency: omega, gap, restitution: 0.8 }).unwrap();
-    let t = TAU / omega;
-    osc.period1_orbits()
-        .into_iter()
-        .filter(|o| o.is_admissible())
-        .map(|o| {
-            let tau = o.impact_time.rem_euclid(t);
-            let z = osc.flow(tau, State { x: gap, v: -0.8 * o.impact_velocity }, t);
-            ([z.x, z.v], o.multipliers.iter().map(|m| [m.re, m.im]).collect())
-        })
-        .collect()
-}
-
-fn sorted(mut m: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
-    m.sort_by(|a, b| (b[0].hypot(b[1]), b[1]).partial_cmp(&(a[0].hypot(a[1]), a[1])).unwrap());
-    m
-}
 
 /// The family in `path` at each of `values` in turn (`params` the closed
 /// form's at a value): each orbit and its multipliers to 1e-9.
@@ -43,13 +21,14 @@ fn check(path: &str, values: &[f64], params: impl Fn(f64) -> Params) {
         let mut seen = 0;
         let model = fam.model(p).unwrap();
         let t = fam.period(p).unwrap();
-        for (x, mu) in closed(params(p)) {
+        let (k, zeta, gap, omega) = params(p);
+        for (x, mu, _) in closed_orbits_at(k, zeta, gap, omega) {
             let guess = [x[0] * 1.01 + 1e-3, x[1] * 0.99];
             let orbit = periodic_orbit(&model, 0.0, t, &guess, &Newton::default()).unwrap_or_else(|e| panic!("{path} = {p}: {e}"));
             let err = (orbit.x[0] - x[0]).abs().max((orbit.x[1] - x[1]).abs());
             assert!(err <= 1e-9, "{path} = {p}: state {:?} vs closed form {x:?} (error {err:e})", orbit.x);
             let got = sorted(orbit.multipliers.iter().map(|m| [m.re, m.im]).collect());
-            for (a, b) in got.iter().zip(&sorted(mu)) {
+            for (a, b) in got.iter().zip(&sorted(mu.to_vec())) {
                 let e = (a[0] - b[0]).hypot(a[1] - b[1]);
                 assert!(e <= 1e-9 * a[0].hypot(a[1]).max(1.0), "{path} = {p}: multiplier {a:?} vs closed form {b:?} (error {e:e})");
             }
