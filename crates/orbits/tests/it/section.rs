@@ -15,7 +15,7 @@
 //! impacts, and the period doubling is where `det(P' + I)` of the
 //! transcribed map changes sign.
 
-use crate::between::{flow, jacobian, E};
+use crate::between::{jacobian, map_between, E};
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
 
@@ -30,37 +30,12 @@ impl Family for Between {
     }
 }
 
-/// The transcription's map over a forcing period and its impacts: the flow
-/// sampled at 1/4000 of the period, each crossing of a stop bisected to
-/// round-off, the velocity reversed times e.
+/// The transcription's map over a forcing period and its impacts
+/// (between.rs's `map_between` at 1/4000 of the period between the stops
+/// ±1).
 fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
-    let end = TAU / w;
-    let h = end / 4000.0;
-    let (mut t0, mut z, mut t, mut impacts) = (0.0, (x[0], x[1]), 0.0, 0);
-    while t < end {
-        let t1 = (t + h).min(end);
-        if flow(w, t0, z.0, z.1, t1).0.abs() > 1.0 {
-            let (mut lo, mut hi) = (t, t1);
-            for _ in 0..200 {
-                let m = 0.5 * (lo + hi);
-                if m <= lo || m >= hi {
-                    break;
-                }
-                if flow(w, t0, z.0, z.1, m).0.abs() > 1.0 {
-                    hi = m;
-                } else {
-                    lo = m;
-                }
-            }
-            let y = flow(w, t0, z.0, z.1, lo);
-            (t0, z, t) = (lo, (y.0.signum(), -E * y.1), lo);
-            impacts += 1;
-            continue;
-        }
-        t = t1;
-    }
-    let y = flow(w, t0, z.0, z.1, end);
-    ([y.0, y.1], impacts)
+    let (y, impacts, _) = map_between(w, x, 1, (-1.0, 1.0), E, 4000.0);
+    (y, impacts)
 }
 
 /// `det(J + I)` of the transcribed map's central differences at `x`.
