@@ -10,7 +10,9 @@
 //! β-step against its band solve (and against that solve when each solve
 //! waits for the one before, `beam_band_solve_chained`, as the β-step's
 //! must) and issue 35's implicit schemes
-//! (`implicit_scheme_step`) against the floor at m = 1000.
+//! (`implicit_scheme_step`, `massless_node_scheme_step`) against the floor
+//! at m = 1000, its explicit ones (`c_explicit_contact_step`, the explicit
+//! `cd-massless`) against one tridiagonal product (`floor_tridiagonal_product`).
 //!
 //! On a machine shared with other processes, shorter samples fit between
 //! their time slices: `DOF_STEPS=200000 cargo bench ...` (default 2·10⁶
@@ -176,15 +178,30 @@ fn velocity_level_stepping<const MJ: usize>(bencher: Bencher, m: usize) {
 /// below: `contact-stabilized` (one banded solve a step — its mass-norm
 /// projection of the predictor is a bound check, and an axpy with `M⁻¹e_c`
 /// at a contact step, not a solve), `nsga(0.8)` and `newmark-cn` for
-/// reference (docs/performance.md records the ratios).
-#[divan::bench(args = ["contact-stabilized", "nsga(0.8)", "newmark-cn"])]
+/// reference (docs/performance.md records the ratios); and the registry's
+/// other implicit schemes that take a massive node, for the same table.
+#[divan::bench(args = ["contact-stabilized", "nsga(0.8)", "newmark-cn", "newmark-i", "newmark-ii", "backward-euler", "ps-e0", "ps-e0.5", "ps-e1",
+                       "penalty-cn", "nitsche-cn", "moreau-jean", "moreau-jean-projected(0.5,0)", "moreau-jean-combined(0.5,0)"])]
 fn implicit_scheme_step(bencher: Bencher, scheme: &str) {
+    scheme_step(bencher, scheme, BarMass::Std);
+}
+
+/// The schemes of a massless contact node on the same bar with `mod` mass
+/// (`hybrid`, `reduced-cn`, the explicit `cd-massless`) and, for
+/// comparison, `newmark-cn` and `ps-e0` with it.
+#[divan::bench(args = ["hybrid", "reduced-cn", "cd-massless", "newmark-cn", "ps-e0"])]
+fn massless_node_scheme_step(bencher: Bencher, scheme: &str) {
+    scheme_step(bencher, scheme, BarMass::Mod);
+}
+
+/// `bar-dirichlet`, m = 1000, dt = h/10, the given mass: stepping only.
+fn scheme_step(bencher: Bencher, scheme: &str, mass: BarMass) {
     let m = 1000;
     let n = steps(m);
     let setup = || {
         let b = Benchmark::BarDirichlet;
         let exact = b.exact(3.0).unwrap();
-        let p = b.problem(exact.as_ref(), m, BarMass::Std).unwrap();
+        let p = b.problem(exact.as_ref(), m, mass).unwrap();
         let spec: SchemeSpec = scheme.parse().unwrap();
         spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap()
     };
@@ -220,6 +237,29 @@ fn floor_tridiagonal_solve(bencher: Bencher, m: usize) {
             divan::black_box(&mut *b);
         }
         b
+    });
+}
+
+/// The explicit schemes' floor: `y = K x` for the P1 bar's tridiagonal
+/// stiffness (three diagonals, hand-written, one pass), the product each
+/// explicit step needs at least once.
+#[divan::bench(args = [1000])]
+fn floor_tridiagonal_product(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    let d: Vec<f64> = (0..m).map(|i| 2.0 + 1e-6 * i as f64).collect();
+    let off: Vec<f64> = (0..m).map(|i| -1.0 - 1e-6 * i as f64).collect();
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| ((0..m).map(|i| (i as f64).sin()).collect::<Vec<f64>>(), vec![0.0; m])).bench_local_values(|(mut x, mut y)| {
+        for _ in 0..n {
+            // x may change between products (as a step's U does): not hoisted.
+            let (d, off, x, y) = (&d[..m], &off[..m], &divan::black_box(&mut x)[..m], &mut y[..m]);
+            y[0] = d[0] * x[0] + off[1] * x[1];
+            for i in 1..m - 1 {
+                y[i] = off[i] * x[i - 1] + d[i] * x[i] + off[i + 1] * x[i + 1];
+            }
+            y[m - 1] = off[m - 1] * x[m - 2] + d[m - 1] * x[m - 1];
+            divan::black_box(&mut *y);
+        }
+        (x, y)
     });
 }
 
@@ -369,7 +409,7 @@ fn beam_band_product<const ROWS: usize>(bencher: Bencher) {
 /// and Schindler–Acary's scheme on its two levels (§4.6.7) next to
 /// `newmark-cn`; lumped mass, `bar-dirichlet` at dx/dt = 10 (below every
 /// limit): stepping only, per dof-step.
-#[divan::bench(args = ["verlet-nitsche(10,1)", "cd-lagrange(0)", "penalty-cd", "d1-minus-linear(0)", "d1-minus-linear-velocity(0)", "newmark-cn"])]
+#[divan::bench(args = ["verlet-nitsche(10,1)", "cd-lagrange(0)", "penalty-cd", "d1-minus-linear(0)", "d1-minus-linear-velocity(0)", "newmark-cn", "taylor-flanagan", "cd-taylor"])]
 fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
     let m = 1000;
     let n = steps(m);

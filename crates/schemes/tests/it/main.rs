@@ -27,6 +27,7 @@ mod nsga;
 mod nsga_lockstep;
 mod peers;
 mod profile;
+mod ps_massless;
 mod several_contacts;
 mod siconos;
 mod stabilized;
