@@ -356,6 +356,9 @@ fn pair_score(a: &Mat<f64>, c: f64, x: &[f64]) -> f64 {
 /// `x_b = u₁ + u₂`, `x_a = c u₁` was parallel to it within `~c`, `T`'s
 /// condition 6e4 at `c = 0.025`, the flow off the exponential by 3.9e-11
 /// of the state (events_flow.rs); orthogonal to `u₁`, `x_a ∥ u₁ ⟂ x_b`.
+/// The score's exact maximiser over the plane (a 2 × 2 generalized
+/// eigenproblem) conditions `T` no better than the scan, within 1 %
+/// either way: not taken (docs/theory.md §9.1).
 fn pair_vector(a: &Mat<f64>, c: f64, u1: &[f64], u2: &[f64], first: Vec<f64>) -> Vec<f64> {
     // An orthonormal basis `(p₁, p₂)` of the plane (Gram–Schmidt, twice).
     let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
