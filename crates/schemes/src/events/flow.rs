@@ -304,6 +304,12 @@ fn resonant(k: f64, c: f64, w: f64) -> bool {
 /// [`ModalFlow::general`]).
 const REPEATED: f64 = 1e-12;
 
+/// A damping matrix whose modal entries `|φ_iᵀ C φ_j|` are all within
+/// this fraction of the fastest mode's `ω` is round-off (docs/theory.md
+/// §9.1): none. Its effect over a time `τ` is `c τ`, at most `1e-15 ω τ`:
+/// below the flow's own round-off over a thousand of the fastest periods.
+const ROUND_OFF_DAMPING: f64 = 1e-15;
+
 /// Real eigenvalues of the first-order form closer than this fraction of
 /// its spectral radius are not paired with each other (docs/theory.md
 /// §9.1): the plane of `λ₁, λ₂` has a basis of condition ~`|λ|²/|λ₁ − λ₂|`,
@@ -350,6 +356,9 @@ fn pair_score(a: &Mat<f64>, c: f64, x: &[f64]) -> f64 {
 /// `x_b = u₁ + u₂`, `x_a = c u₁` was parallel to it within `~c`, `T`'s
 /// condition 6e4 at `c = 0.025`, the flow off the exponential by 3.9e-11
 /// of the state (events_flow.rs); orthogonal to `u₁`, `x_a ∥ u₁ ⟂ x_b`.
+/// The score's exact maximiser over the plane (a 2 × 2 generalized
+/// eigenproblem) conditions `T` no better than the scan, within 1 %
+/// either way: not taken (docs/theory.md §9.1).
 fn pair_vector(a: &Mat<f64>, c: f64, u1: &[f64], u2: &[f64], first: Vec<f64>) -> Vec<f64> {
     // An orthonormal basis `(p₁, p₂)` of the plane (Gram–Schmidt, twice).
     let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
@@ -508,15 +517,23 @@ impl Basis {
                 let modal = phi.transpose() * cm * &phi;
                 let diag = (0..n).map(|i| modal[(i, i)].abs()).fold(0.0, f64::max);
                 let off = (0..n).flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| modal[(i, j)].abs()).fold(0.0, f64::max);
-                if off > 1e-10 * diag.max(f64::MIN_POSITIVE) {
+                if diag.max(off) <= ROUND_OFF_DAMPING * kmax.sqrt() {
+                    // A damping of round-off size against the stiffness (a
+                    // 1e-17 dashpot) is none: the first-order form refused a
+                    // free chain's (its rigid pair defective to round-off,
+                    // condition 2e16), and a modal damping that small makes
+                    // a rigid mode's particular solution `g₀ t/c` (docs/theory.md §9.1).
+                    vec![0.0; n]
+                } else if off > 1e-10 * diag.max(f64::MIN_POSITIVE) {
                     let minv = linv.transpose() * &linv;
                     return ModalFlow::general(&m, &k, cm, minv);
+                } else {
+                    // A modal damping of round-off size is 0, as a rigid
+                    // mode's ω² is: a free chain with `C = b K` gave its rigid
+                    // mode c = 1e-17, and the steady load's particular
+                    // solution `f t / c` put the chain at 9e15.
+                    (0..n).map(|i| modal[(i, i)]).map(|c| if c <= 1e-12 * diag { 0.0 } else { c }).collect()
                 }
-                // A modal damping of round-off size is 0, as a rigid
-                // mode's ω² is: a free chain with `C = b K` gave its rigid
-                // mode c = 1e-17, and the steady load's particular
-                // solution `f t / c` put the chain at 9e15.
-                (0..n).map(|i| modal[(i, i)]).map(|c| if c <= 1e-12 * diag { 0.0 } else { c }).collect()
             }
         };
         Ok(Self { n, phi, m_phi, k: kv, c: cv, general: None })

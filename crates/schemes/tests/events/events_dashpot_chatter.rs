@@ -15,7 +15,7 @@
 //! dashpot"). Each plane now takes its best-conditioned vector (flow.rs,
 //! `pair_vector`).
 //!
-//! Oracle: an event-located RK4 of the chain written here (dense `M`, `K`,
+//! Oracle: the event-located RK4 of `events_rk4.rs` (dense `M`, `K`,
 //! `C` from the data; Newton's law `v⁺ = v⁻ − (1 + e) v_c⁻ M⁻¹ e_c / W_cc`
 //! at each impact located by bisection, from the state at the impact),
 //! which resolves the hops to 1e-6 of the fastest impact (its positions are
@@ -24,7 +24,8 @@
 //! (the reduced chain, its force `r = (M q'' + C v + K q − f)_c` from the
 //! same RK4) until that force turns, then free again.
 
-use crate::events_common::{chain_matrices, inverse};
+use crate::events_common::chain_matrices;
+use crate::events_rk4::{Rk4, Stop};
 use signorini_fem::SymBand;
 use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
@@ -80,149 +81,16 @@ impl Case {
     }
 }
 
-/// The oracle's events: `(t, kind, v_c before)`.
-type Row = (f64, EventKind, f64);
-
-/// The event-located RK4 (module docs) over `[0, t_end]` with step `h`.
-struct Rk4 {
-    n: usize,
-    dof: usize,
-    lo: f64,
-    e: f64,
-    m: Vec<f64>,
-    k: Vec<f64>,
-    c: Vec<f64>,
-    minv: Vec<f64>,
-    /// `M_ff⁻¹` (the contact dof held), embedded.
-    minv_f: Vec<f64>,
-    f0: Vec<f64>,
-    shape: Vec<f64>,
-    wave: (f64, f64, f64),
-    v0: Vec<f64>,
-}
-
-impl Rk4 {
-    fn new(case: &Case) -> Self {
-        let n = case.n;
+impl Case {
+    /// The shared event-located RK4 (`events_rk4.rs`) of this case.
+    fn oracle(&self) -> Rk4 {
+        let n = self.n;
         let (mb, kb) = chain_matrices(n, true);
         let dense = |b: &SymBand| (0..n * n).map(|x| b.get(x / n, x % n)).collect::<Vec<f64>>();
-        let (m, k) = (dense(&mb), dense(&kb));
         let mut c = vec![0.0; n * n];
-        c[case.damper.0 * n + case.damper.0] = case.damper.1;
-        let all: Vec<usize> = (0..n).collect();
-        let free: Vec<usize> = (0..n).filter(|&i| i != case.dof).collect();
-        let (minv, minv_f) = (inverse(&m, n, &all), inverse(&m, n, &free));
-        Self { n, dof: case.dof, lo: case.lo, e: case.e, m, k, c, minv, minv_f, f0: case.f0.to_vec(), shape: case.shape.to_vec(), wave: case.wave, v0: case.v0.to_vec() }
-    }
-
-    fn load(&self, i: usize, t: f64) -> f64 {
-        self.f0[i] + self.shape[i] * self.wave.0 * (self.wave.1 * t + self.wave.2).sin()
-    }
-
-    /// `f − K q − C v` at `t`.
-    fn residual(&self, t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
-        let n = self.n;
-        (0..n).map(|i| self.load(i, t) - (0..n).map(|j| self.k[i * n + j] * q[j] + self.c[i * n + j] * v[j]).sum::<f64>()).collect()
-    }
-
-    /// The acceleration, free or with the contact dof held.
-    fn acc(&self, held: bool, t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
-        let n = self.n;
-        let r = self.residual(t, q, v);
-        let minv = if held { &self.minv_f } else { &self.minv };
-        (0..n).map(|i| (0..n).map(|j| minv[i * n + j] * r[j]).sum()).collect()
-    }
-
-    /// The stop's force on the held contact dof: `(M a + C v + K q − f)_c`.
-    fn force(&self, t: f64, q: &[f64], v: &[f64]) -> f64 {
-        let (n, d) = (self.n, self.dof);
-        let a = self.acc(true, t, q, v);
-        (0..n).map(|j| self.m[d * n + j] * a[j]).sum::<f64>() - self.residual(t, q, v)[d]
-    }
-
-    fn step(&self, held: bool, t: f64, q: &[f64], v: &[f64], h: f64) -> (Vec<f64>, Vec<f64>) {
-        let ax = |x: &[f64], a: f64, y: &[f64]| x.iter().zip(y).map(|(x, y)| x + a * y).collect::<Vec<f64>>();
-        let a1 = self.acc(held, t, q, v);
-        let (q2, v2) = (ax(q, h / 2.0, v), ax(v, h / 2.0, &a1));
-        let a2 = self.acc(held, t + h / 2.0, &q2, &v2);
-        let (q3, v3) = (ax(q, h / 2.0, &v2), ax(v, h / 2.0, &a2));
-        let a3 = self.acc(held, t + h / 2.0, &q3, &v3);
-        let (q4, v4) = (ax(q, h, &v3), ax(v, h, &a3));
-        let a4 = self.acc(held, t + h, &q4, &v4);
-        let q1 = (0..self.n).map(|i| q[i] + h / 6.0 * (v[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i])).collect();
-        let v1 = (0..self.n).map(|i| v[i] + h / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i])).collect();
-        (q1, v1)
-    }
-
-    /// The earliest `s` in `(0, end]` where `bad` holds after a step of `s`
-    /// (bisection; `bad` holds at `end`, not near 0).
-    fn locate(&self, held: bool, t: f64, q: &[f64], v: &[f64], end: f64, bad: impl Fn(&[f64], &[f64], f64) -> bool) -> f64 {
-        let (mut a, mut b) = (0.0, end);
-        for _ in 0..200 {
-            let mid = 0.5 * (a + b);
-            if mid <= a || mid >= b {
-                break;
-            }
-            let (qs, vs) = self.step(held, t, q, v, mid);
-            if bad(&qs, &vs, t + mid) {
-                b = mid;
-            } else {
-                a = mid;
-            }
-        }
-        b
-    }
-
-    fn run(&self, t_end: f64, h: f64) -> Vec<Row> {
-        let (n, d) = (self.n, self.dof);
-        let wcc = self.minv[d * n + d];
-        let (mut t, mut q, mut v) = (0.0, vec![0.0; n], self.v0.clone());
-        let (mut held, mut rows, mut streak, mut vmax): (bool, Vec<Row>, Vec<f64>, f64) = (false, Vec::new(), Vec::new(), 0.0);
-        while t < t_end {
-            let hh = h.min(t_end - t);
-            let (q1, v1) = self.step(held, t, &q, &v, hh);
-            if held {
-                if self.force(t + hh, &q1, &v1) >= 0.0 {
-                    (t, q, v) = (t + hh, q1, v1);
-                    continue;
-                }
-                let s = self.locate(true, t, &q, &v, hh, |qs, vs, ts| self.force(ts, qs, vs) < 0.0);
-                (q, v) = self.step(true, t, &q, &v, s);
-                t += s;
-                held = false;
-                rows.push((t, EventKind::Release, 0.0));
-                continue;
-            }
-            if q1[d] >= self.lo {
-                (t, q, v) = (t + hh, q1, v1);
-                continue;
-            }
-            let s = self.locate(false, t, &q, &v, hh, |qs, _, _| qs[d] < self.lo);
-            (q, v) = self.step(false, t, &q, &v, s);
-            t += s;
-            q[d] = self.lo;
-            let vc = v[d];
-            vmax = vmax.max(vc.abs());
-            streak.push(t);
-            if vc.abs() > 1e-6 * vmax {
-                let p = -(1.0 + self.e) * vc / wcc;
-                (0..n).for_each(|i| v[i] += self.minv[i * n + d] * p);
-                rows.push((t, EventKind::Impact, vc));
-                continue;
-            }
-            // The geometric limit of the run of impacts, the contact at
-            // rest (held if pressed).
-            let k = streak.len();
-            let (d1, d0) = (streak[k - 1] - streak[k - 2], streak[k - 2] - streak[k - 3]);
-            let rho = d1 / d0;
-            rows.push((t + d1 * rho / (1.0 - rho), EventKind::Accumulation, vc));
-            let p = -vc / wcc;
-            (0..n).for_each(|i| v[i] += self.minv[i * n + d] * p);
-            v[d] = 0.0;
-            streak.clear();
-            held = self.force(t, &q, &v) > 0.0;
-        }
-        rows
+        c[self.damper.0 * n + self.damper.0] = self.damper.1;
+        let stops = vec![Stop { dof: self.dof, lo: self.lo, hi: f64::INFINITY }];
+        Rk4 { n, m: dense(&mb), k: dense(&kb), c, f0: self.f0.to_vec(), shape: self.shape.to_vec(), wave: self.wave, stops, e: self.e }
     }
 }
 
@@ -235,7 +103,7 @@ fn chatter_under_a_dashpot_accumulates_at_the_rk4_oracles_limit() {
         // Before: 2·10⁵ impacts by t = 0.45 (case 0) and 2.47 (case 1).
         run.run_until(t_end, 10_000).unwrap_or_else(|e| panic!("case {ci}: {e}"));
         let got = run.events();
-        let want = Rk4::new(case).run(t_end, 1e-3);
+        let want: Vec<(f64, EventKind, f64)> = case.oracle().run(&vec![0.0; case.n], case.v0, t_end, 1e-3, &[]).rows.into_iter().map(|r| (r.0, r.1, r.3)).collect();
         // The impacts agree while faster than 1e-3 of the first (measured:
         // 3e-11 s, 1.6e-12 m/s; slower, a position error of 1e-16 of the
         // field moves a landing at speed `w` by `1e-16 |a|/w` in speed, and
