@@ -18,30 +18,9 @@
 //! `U⁺` and `λ⁺` are compared with the transcription's.
 
 use crate::common::*;
+use crate::stabilized::solve as gauss;
 use signorini_fem::BarMass;
 use signorini_schemes::{Initial, SchemeSpec};
-
-/// `a x = b` by Gaussian elimination with partial pivoting (dense).
-fn gauss(mut a: Dense, mut b: Vec<f64>) -> Vec<f64> {
-    let n = b.len();
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
-        a.swap(c, p);
-        b.swap(c, p);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for r in (0..n).rev() {
-        x[r] = (b[r] - (r + 1..n).map(|k| a[r][k] * x[k]).sum::<f64>()) / a[r][r];
-    }
-    x
-}
 
 /// One step of the scheme with a massless contact node `c`, bound `g`,
 /// written from docs/theory.md §4.3: returns `(U⁺, λ⁺)`.
