@@ -39,7 +39,7 @@
 //! or the event count), every trial point corrected onto the branch.
 
 use crate::map::{Extremum, Model};
-use crate::shoot::{count_impacts, eigenvalues, periodic_orbit, periodic_orbit_keeping, periodic_orbit_least, Newton, Orbit};
+use crate::shoot::{count_impacts, eigenvalues, periodic_orbit, periodic_orbit_keeping, periodic_orbit_least, periodic_orbit_strict, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -874,7 +874,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
             for (eps, sign) in [0.3, 1.0, 3.0].iter().flat_map(|f| [(f * delta.sqrt() * xs, 1.0), (f * delta.sqrt() * xs, -1.0)]) {
                 let guess: Vec<f64> = (0..n).map(|i| bif.x[i] + sign * eps * w[i] / wn).collect();
                 let Ok(model) = double.model(param) else { continue };
-                let Ok(orbit) = periodic_orbit(&model, 0.0, double.period(param)?, &guess, &opts.newton) else { continue };
+                let Ok(orbit) = periodic_orbit_strict(&model, 0.0, double.period(param)?, &guess, &opts.newton) else { continue };
                 // Not the p-periodic orbit: its image after p periods differs.
                 let half = single.model(param)?.flow(0.0, &orbit.x, single.period(param)?, false)?;
                 let gap = half.x.iter().zip(&orbit.x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
@@ -1159,7 +1159,7 @@ fn rejoin_parameter<F: Family>(single: &F, a: &BranchPoint, b: &BranchPoint, new
     // The p-periodic orbit at `param` from `guess` and its multiplier
     // nearest −1 (real), plus 1.
     let at = |param: f64, guess: &[f64]| -> Option<(Vec<f64>, f64)> {
-        let orbit = periodic_orbit(&single.model(param).ok()?, 0.0, single.period(param).ok()?, guess, newton).ok()?;
+        let orbit = periodic_orbit_strict(&single.model(param).ok()?, 0.0, single.period(param).ok()?, guess, newton).ok()?;
         let mu = orbit.multipliers.iter().filter(|m| is_real(m) && m.re < 0.0).map(|m| m.re + 1.0).min_by(|u, v| u.abs().total_cmp(&v.abs()))?;
         Some((orbit.x, mu))
     };
@@ -1939,16 +1939,30 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
 
 /// A trial from `cur` on an orbit whose slowest impact is slowing down
 /// toward 0 (as [`graze`] asks) that converged onto `p`, an orbit of
-/// another arc with fewer impacts, on the same side of the grazing: a
-/// nonsmooth fold, where `cur`'s arc (its slow impact vanishing) and `p`'s
-/// (a flight reaching the stop) meet and turn back, neither continuing
-/// past it. The grazing is located on `p`'s arc, where the orbit is smooth
-/// in the parameter, as the zero of its distance to grazing ([`margin`],
-/// [`flight_margin`]: secant steps, as [`graze`] does); it must agree with
-/// the extrapolation of `cur`'s slowest impact to 0 to within the distance
-/// between them. The branch goes on from `p`, oriented away from the
-/// grazing. `None` otherwise (the trial is then taken for a jump and the
-/// step halved).
+/// another arc with fewer impacts: `cur`'s arc (its slow impact vanishing)
+/// ends at a grazing, where it meets and turns back into an arc whose
+/// flight reaches the stop there (a nonsmooth fold), neither continuing
+/// past it. When `p` lies on that arc ([`turn_onto`]: on `cur`'s side of
+/// the grazing, the two arcs meeting where it is located) the branch goes
+/// on from `p`; otherwise from the orbit of that arc found beside the
+/// grazing ([`beside_the_grazing`]). `None` when neither is found (the
+/// trial is then taken for a jump and the step halved).
+///
+/// The trial need not land on the arc that turns back: on the period-2
+/// orbits of the oscillator (ζ = 0.05, e = 0.3, stop 0.2; `tests/it/
+/// period_two.rs`) the 4-impact orbits' third impact vanishes at Ω =
+/// 2.3806475600, where they turn back into unstable 3-impact orbits; the
+/// trial from 2.381266 landed on a 2-impact orbit at 2.382314, 0.23 away
+/// in the state, and was taken: its grazing search found no orbit of its
+/// arc near the extrapolated grazing, so the extrapolation itself
+/// (2.3806534, 5.9e-6 off) stood as the grazing and "agreed" with itself.
+/// The branch ran that arc and skipped the 3-impact orbits and their fold.
+/// Now the arcs must meet, and Newton from `cur`'s arc extrapolated to
+/// 1e-3 of its distance to the grazing finds the 3-impact orbit there
+/// (|μ| 752, 3e-6 from the extrapolation): the grazing is located on its
+/// arc at 2.3806475600435 (the transcription's, to 1e-13), the fold at
+/// 2.3927018 follows, and at 2.3678525 the same turn back onto the
+/// 2-impact orbits (the trial there landed 0.23 away too).
 fn turned_back<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, p: &Point, vref: f64) -> Option<(Bifurcation, Point)> {
     let prev = &points[points.len().checked_sub(2)?];
     let (va, vb) = (prev.orbit.slowest_impact()?, cur.orbit.slowest_impact()?);
@@ -1957,14 +1971,40 @@ fn turned_back<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point,
     }
     // The slowest impact's speed extrapolated linearly to 0.
     let graze = cur.param + (cur.param - prev.param) / (va - vb) * vb;
-    if (p.param - graze) * (cur.param - graze) <= 0.0 {
-        return None;
+    if (p.param - graze) * (cur.param - graze) > 0.0 {
+        if let Some(turned) = turn_onto(ctx, points, cur, p, graze, cur.param) {
+            return Some(turned);
+        }
     }
+    let q = beside_the_grazing(ctx, points, cur, graze)?;
+    // Its grazing search never past `cur`'s grazing mirrored (where the
+    // turning arc has no orbit).
+    turn_onto(ctx, points, cur, &q, graze, graze - (cur.param - graze))
+}
+
+/// The grazing where `cur`'s arc (its slowest impact vanishing, `graze`
+/// that speed's linear extrapolation to 0) turns back into `p`'s (fewer
+/// impacts, on the same side), located on `p`'s arc as the zero of its
+/// distance to grazing ([`margin`], [`flight_margin`]: secant steps, never
+/// past `limit`, as [`graze`] does), and the branch's point at `p`,
+/// oriented away from it. Only where the two arcs meet there: the grazing
+/// within `cur`'s distance from `graze`, `p` on `cur`'s side of it, and
+/// the orbit of `p`'s arc nearest the grazing within 1e-2 of the state's
+/// scale of `cur`'s arc extrapolated linearly to its parameter (3e-5 and
+/// 6e-6 at the period-2 oscillator's two turns, 5e-6 at `switch.rs`'s;
+/// the 2-impact orbits the trials fell onto there, 1.0).
+fn turn_onto<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, p: &Point, graze: f64, limit: f64) -> Option<(Bifurcation, Point)> {
+    let prev = &points[points.len().checked_sub(2)?];
     let measure: Measure<'_, F> = if p.orbit.impacts() == 0 { &margin } else { &flight_margin };
     let m1 = measure(ctx, p)?;
     let dir = (p.param - graze).signum();
-    let (estimate, _) = grazing_parameter(ctx, None, (p.clone(), m1), (p.orbit.impacts(), measure), Some((graze, cur.param)), OnFailure::Shorten, dir)?;
+    let (estimate, p1) = grazing_parameter(ctx, None, (p.clone(), m1), (p.orbit.impacts(), measure), Some((graze, limit)), OnFailure::Shorten, dir)?;
     if (estimate - graze).abs() > (cur.param - graze).abs() || (p.param - estimate) * (cur.param - estimate) <= 0.0 {
+        return None;
+    }
+    let w = (p1.param - cur.param) / (cur.param - prev.param);
+    let meet = p1.x.iter().zip(&cur.x).zip(&prev.orbit.x).fold(0.0f64, |a, ((y, c), b)| a.max((y - (c + w * (c - b))).abs()));
+    if !(meet <= 1e-2 * ctx.xs) {
         return None;
     }
     let mut seed = vec![0.0; ctx.n + 1];
@@ -1982,6 +2022,36 @@ fn turned_back<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point,
         mark: None,
     };
     Some((bif, across))
+}
+
+/// The orbit with one impact fewer than `cur` beside the grazing where
+/// `cur`'s slowest impact vanishes (`graze`, extrapolated), on `cur`'s
+/// side: plain Newton (giving up where it stalls) from `cur`'s arc
+/// extrapolated linearly to 1e-3, 1e-2 and 1e-1 of the way from `graze`
+/// to `cur`. Near the grazing the two arcs are near each other, the slow
+/// impact's speed near 0, and the extrapolated state lies on the side
+/// without it; farther, the orbit of fewer impacts is strongly unstable
+/// (|μ| about 750 on the period-2 oscillator) and Newton from `cur`'s own
+/// state stalls at a residual of 1.5e-3. Taken only with one impact fewer
+/// and within 1e-2 of the state's scale of its guess.
+fn beside_the_grazing<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, graze: f64) -> Option<Point> {
+    let prev = &points[points.len().checked_sub(2)?];
+    let k = cur.orbit.impacts();
+    let newton = Newton { stall: SEARCH_STALL, ..ctx.opts.newton };
+    for f in [1e-3, 1e-2, 0.1] {
+        let param = graze + f * (cur.param - graze);
+        let w = (param - cur.param) / (cur.param - prev.param);
+        let guess: Vec<f64> = cur.x.iter().zip(&prev.orbit.x).map(|(c, b)| c + w * (c - b)).collect();
+        let (model, period) = ctx.family.model_and_period(param).ok()?;
+        let Ok(o) = periodic_orbit_strict(&model, 0.0, period, &guess, &newton) else { continue };
+        let d = o.x.iter().zip(&guess).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+        if o.impacts() + 1 == k && d <= 1e-2 * ctx.xs {
+            let mut seed = vec![0.0; ctx.n + 1];
+            seed[ctx.n] = (cur.param - graze).signum();
+            return ctx.point(o.x, param, &seed).ok();
+        }
+    }
+    None
 }
 
 /// How a branch came back onto itself ([`Returns::check`]).

@@ -32,13 +32,13 @@ fn impacts(img: &signorini_orbits::Image) -> usize {
 }
 
 /// The orbit is in the crate's own model: each transcribed state is a
-/// fixed point of the crate's map with three impacts. Newton with its
-/// default tolerance (1e-12) does not converge even from the orbit itself
-/// (its residual stalls at 2.4e-10, 1.5e-11 and 7.6e-13 at 1e-5, 1e-4 and
-/// 1e-3 of the range: the slow impact's multiplier, near the inverse of its
-/// speed, lifts the map's round-off above the tolerance); with 1e-8 it
-/// does. From the grazing orbit, the seed of the branch's searches, it
-/// reaches it at neither tolerance.
+/// fixed point of the crate's map with three impacts. Newton's residual
+/// from the orbit itself stalls at 2.4e-10, 1.5e-11 and 7.6e-13 at 1e-5,
+/// 1e-4 and 1e-3 of the range (the slow impact's multiplier, near the
+/// inverse of its speed, lifts the map's round-off above the tolerance
+/// 1e-12), where it now stops, converged at that round-off (below); with
+/// the tolerance 1e-8 it converges. From the grazing orbit, the seed of
+/// the branch's searches, it reaches it at neither tolerance.
 #[test]
 fn the_mirror_three_impact_orbit_exists_past_the_grazing() {
     let mut seen = Vec::new();
@@ -90,4 +90,42 @@ fn the_mirror_image_of_a_traced_orbit_is_an_orbit() {
     // orbit than the offset's own 3e-3 times the state's pace (the
     // transcription's orbit at 1e-3 of the range is 1e-3 from it).
     assert!((y[0] - GRAZING_ORBIT[0]).abs().max((y[1] - GRAZING_ORBIT[1]).abs()) <= 5e-3, "{y:?}");
+}
+
+/// Newton's stopping rule at the map's round-off: 1e-4 of the range past
+/// the grazing the slow impact (1.3e-4) makes the map ill-conditioned, and
+/// Newton with its default tolerance (1e-12 of the state) stalled at
+/// 1.5e-11 and failed, even from the orbit itself. It now stops where its
+/// residual no longer falls within `64 ε ‖P'‖∞ ‖x‖∞` and reports what it
+/// reached. From 1e-8 beside the transcription's orbit (each way), the
+/// orbit found is the transcription's to the tolerance its conditioning
+/// sets (1e-12 over the slow impact's speed), with its three impacts, and
+/// a fixed point of the transcription's own map (`between.rs`, no code of
+/// the crate) to that tolerance with three impacts.
+#[test]
+fn newton_finds_the_mirror_orbit_at_the_maps_round_off() {
+    let f = 1e-4;
+    let x = PAST[1].1;
+    let w = GRAZING + 0.6 * f;
+    let m = model(w).unwrap();
+    let tol = 1e-12 / (2.23 * 0.6 * f);
+    for (dx, dv) in [(0.0, 0.0), (1e-8, -1e-8), (-1e-8, 1e-8)] {
+        let seed = [x[0] + dx, x[1] + dv];
+        let o = match periodic_orbit(&m, 0.0, TAU / w, &seed, &Newton::default()) {
+            Ok(o) => o,
+            Err(e) => panic!("from {seed:?}: {e}"),
+        };
+        let d = (o.x[0] - x[0]).abs().max((o.x[1] - x[1]).abs());
+        let (y, k, _) = crate::between::map_between(w, [o.x[0], o.x[1]], 1, (-1.0, 1.0), crate::between::E, 4000.0);
+        let e = (y[0] - o.x[0]).abs().max((y[1] - o.x[1]).abs());
+        eprintln!(
+            "from {seed:?}: {} impacts, {d:e} from the transcription's, its map's residual {e:e} ({k} impacts), Newton's {:e} after {} iterations, |μ| {:e}",
+            o.impacts(),
+            o.residual,
+            o.iterations,
+            o.mu_max()
+        );
+        assert!(d <= tol && o.impacts() == 3, "from {seed:?}: {d:e} from the transcription's orbit (tolerance {tol:e}), {} impacts", o.impacts());
+        assert!(e <= tol && k == 3, "from {seed:?}: the transcription's map moves the orbit by {e:e} ({k} impacts)");
+    }
 }

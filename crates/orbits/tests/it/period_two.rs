@@ -17,10 +17,14 @@
 //! ends at the grazing at 2.367853 with no orbit found past it. An
 //! independent transcription of the 2-period map confirms the 2-impact
 //! orbits' period doubling, fold and end grazing to 1e-9, and says the
-//! change from 4 to 2 impacts is a jump: the 4-impact orbits' third impact
+//! change from 4 to 2 impacts was a jump: the 4-impact orbits' third impact
 //! vanishes at 2.3806475600435, where they turn back onto 3-impact orbits
 //! that fold at 2.3927018 and end at 2.3678525 (the 2-impact orbits' end
-//! grazing); that branch is the ignored test below, open. Every point is checked against runs of the map
+//! grazing). A turn back is now taken only where the two arcs meet, the
+//! orbit with an impact fewer sought beside the grazing: the branch
+//! follows the 3-impact orbits through their fold, turns back at 2.3678525
+//! onto the 2-impact ones and runs them until it returns onto itself (the
+//! last test below). Every point is checked against runs of the map
 //! (stable ones: a run from a nudged state settles on it; all: a fixed
 //! point of the 2-period map), and no point lies on an arc the branch has
 //! already traced.
@@ -119,9 +123,12 @@ fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
         let near: Vec<f64> = bifs.iter().filter(|b| b.1 == kind && (b.0 - at).abs() <= 1e-5).map(|b| b.0).collect();
         assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "{kind}s near the transcription's {at}: {near:?}");
     }
-    // The 4-impact arc reached, and the end says why the branch stops.
+    // The 4-impact arc reached, and the end says why the branch stops:
+    // past the two turns back (the vanishing impact, the 2-impact orbits'
+    // end grazing) it runs the 2-impact arc through its period doubling
+    // and fold down to where it returns onto itself.
     assert!(pts.iter().any(|p| p.2 == 4), "the 4-impact orbits past the grazing at 2.3835123");
-    assert!(done.lines[0].contains("stopped at param") || done.lines[0].contains("ended at the grazing"), "{}", done.lines[0]);
+    assert!(done.lines[0].contains("returned onto itself") || done.lines[0].contains("closed:"), "{}", done.lines[0]);
 }
 
 /// The crate's own map (`Model::flow` over two forcing periods) has the
@@ -150,16 +157,15 @@ fn the_orbits_at_the_vanishing_impact_are_fixed_points_of_the_crates_map() {
     }
 }
 
-/// What the branch should do at the 4-impact orbits' vanishing impact
-/// (the transcription's): turn back there onto the unstable 3-impact
-/// orbits, which fold at 2.3927017995113 and end at the grazing at
-/// 2.3678525327577 where the 2-impact orbits begin (the new impact's speed
-/// → 0 there: the same Ω to 1e-13). It lists the grazing 5.9e-6 off, at
-/// 2.380653424790, and jumps onto the 2-impact orbits at 2.382314 (the
-/// other end of that arc, 0.23 away in the state), then runs them the
-/// other way down to 2.3678525, where it ends, the 3-impact arc not found.
+/// At the 4-impact orbits' vanishing impact (the transcription's) the
+/// branch turns back onto the unstable 3-impact orbits, which fold at
+/// 2.3927017995113 and end at the grazing at 2.3678525327577 where the
+/// 2-impact orbits begin (the new impact's speed → 0 there: the same Ω to
+/// 1e-13). With the rule before it listed the grazing 5.9e-6 off, at
+/// 2.380653424790, and jumped onto the 2-impact orbits at 2.382314 (the
+/// other end of that arc, 0.23 away in the state), then ran them the
+/// other way down to 2.3678525, the 3-impact arc not found.
 #[test]
-#[ignore = "open (issue 34): the branch jumps at the vanishing impact; docs/orbits.md"]
 fn the_branch_turns_back_at_the_vanishing_impact_onto_the_three_impact_orbits() {
     let doc = crate::oscillator(0.05, 0.2, 0.3, 2.42);
     let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new() };
