@@ -263,6 +263,7 @@ pub fn check_doc(doc: &Doc, cfg: Config) -> Result<(), String> {
             }
             if allowed.is_empty() {
                 check_known_fields(doc, &scene)?;
+                check_runs(&scene)?;
             }
             Ok(())
         }
@@ -274,6 +275,24 @@ pub fn check_doc(doc: &Doc, cfg: Config) -> Result<(), String> {
         }
         Outcome::Parsed(_, Some(Err(e))) => Err(format!("unexpected error {e:?}")),
     }
+}
+
+/// An accepted oscillator's scene runs: its simulation is instantiated and
+/// steps to its horizon (at most 64 steps; the generator writes at most
+/// 39), without an error or a panic.
+pub(crate) fn check_runs(scene: &Scene) -> Result<(), String> {
+    let Scene::Oscillator { dt, t_end, .. } = scene else {
+        return Ok(());
+    };
+    let steps = (t_end / dt).round().min(64.0) as usize;
+    let run = catch_unwind(AssertUnwindSafe(|| -> Result<(), String> {
+        let mut sim = scene.instantiate(None).map_err(|e| format!("an accepted oscillator scene does not instantiate: {e}"))?;
+        for k in 0..steps {
+            sim.stepper.step().map_err(|e| format!("an accepted oscillator scene does not run: step {} of {steps}: {e}", k + 1))?;
+        }
+        Ok(())
+    }));
+    run.unwrap_or_else(|_| Err("an accepted oscillator scene panics in its run".into()))
 }
 
 /// The initial displacement and velocity of an accepted custom bar against

@@ -5,6 +5,7 @@ use crate::beam::{assemble_beam, beam_picks};
 use crate::config::Config;
 use crate::contacts::{assemble_contacts, bar_ctx, beam_ctx, contact_documents, contact_picks};
 use crate::doc::{bad, val, Class, Doc, Form, Table};
+use crate::oscillator::oscillator_documents;
 use crate::pools::{form, maybe, output_entries, pick};
 use proptest::prelude::*;
 use proptest::sample::Index;
@@ -12,9 +13,10 @@ use proptest::strategy::BoxedStrategy;
 
 /// Scene documents from the grammar, with what the reader must answer: one
 /// in four may hold wrong types, unknown or duplicate keys (which stop the
-/// reader at parsing), the others only values of the right type.
+/// reader at parsing), the others only values of the right type; one in
+/// five is an `[oscillator]` scene ([`crate::oscillator`]).
 pub fn documents(cfg: Config) -> BoxedStrategy<Doc> {
-    prop_oneof![3 => documents_with(cfg, 0), 1 => documents_with(cfg, 1), 1 => contact_documents(cfg)].boxed()
+    prop_oneof![6 => documents_with(cfg, 0), 2 => documents_with(cfg, 1), 2 => contact_documents(cfg), 2 => oscillator_documents(0), 1 => oscillator_documents(1)].boxed()
 }
 
 /// Documents; `tw` is the weight of wrong-type options (0: none).

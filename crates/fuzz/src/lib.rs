@@ -48,6 +48,7 @@ mod contacts;
 mod doc;
 mod documents;
 mod mutations;
+mod oscillator;
 mod pools;
 mod runner;
 

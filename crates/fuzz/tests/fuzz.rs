@@ -42,6 +42,8 @@ fn generator_reaches_every_answer() {
     let mut answers: BTreeMap<String, u32> = BTreeMap::new();
     // Documents with [[stop]] or [obstacle]: (with the bar, with the beam) accepted.
     let mut contacts_accepted = (0, 0);
+    // `[oscillator]` scenes accepted (each then run by `check_doc`).
+    let mut oscillators_accepted = 0;
     let n = 4000;
     for _ in 0..n {
         let doc = docs.new_tree(&mut runner).unwrap().current();
@@ -58,6 +60,10 @@ fn generator_reaches_every_answer() {
             }
             Outcome::ParseError(_) => "parse error".to_string(),
             Outcome::Parsed(_, None) => "not validated".to_string(),
+            Outcome::Parsed(_, Some(Ok(Scene::Oscillator { .. }))) => {
+                oscillators_accepted += 1;
+                "accepted".to_string()
+            }
             Outcome::Parsed(_, Some(Ok(_))) => "accepted".to_string(),
             Outcome::Parsed(_, Some(Err(SceneError::Field { field, .. }))) => field,
             Outcome::Parsed(_, Some(Err(e))) => format!("{e:?}"),
@@ -105,9 +111,25 @@ fn generator_reaches_every_answer() {
         "obstacle",
         "obstacle.lo",
         "obstacle.hi",
+        "oscillator.mass",
+        "oscillator.stiffness",
+        "oscillator.damping_ratio",
+        "oscillator.stop",
+        "oscillator.stops",
+        "oscillator.restitution",
+        "oscillator.initial_displacement",
+        "oscillator.initial_velocity",
+        "oscillator.scheme",
+        "oscillator.dt",
+        "oscillator.t_end",
+        "forcing.amplitude",
+        "forcing.omega",
+        "support",
+        "load",
     ] {
         assert!(answers.contains_key(field), "no document refused naming {field}: {answers:?}");
     }
     // Valid stops and obstacles are accepted, with the bar and with the beam.
     assert!(contacts_accepted.0 >= 10 && contacts_accepted.1 >= 10, "documents with contacts accepted (bar, beam): {contacts_accepted:?}");
+    assert!(oscillators_accepted >= 20, "oscillator scenes accepted: {oscillators_accepted}");
 }

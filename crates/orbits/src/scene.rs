@@ -4,9 +4,9 @@
 use crate::continuation::Family;
 use crate::map::{Model, Shared};
 use crate::OrbitError;
-use signorini_scene::{Lift, Limits, SceneFile, Simulation};
+use signorini_scene::{Lift, Limits, Scene, SceneFile, Simulation};
 use signorini_schemes::events::{EventDriven, FlowBases};
-use signorini_schemes::SchemeSpec;
+use signorini_schemes::{Dynamics, SchemeSpec};
 use std::sync::{Arc, Mutex};
 
 /// A scene in a parameter: its document, the parameter's dotted path, and
@@ -26,7 +26,30 @@ pub struct SceneFamily {
     /// structure (a stiffness, a mass) starts a new one. The clones of the
     /// family (its period-doubled families, a basin's threads) share it.
     shared: Arc<Mutex<Option<Shared>>>,
+    /// The last models built for a model alone ([`SceneFamily::model_only`]:
+    /// a map's image, `G_λ`'s shifted run, a margin): their parameter's
+    /// bits, dynamics, restitution, forcing frequency and tip. A value built again (a
+    /// converged point's margins and grazing searches at its own
+    /// parameter) is a model of the same structure, not a scene parsed,
+    /// validated and instantiated again.
+    memo: Arc<Mutex<Vec<Memo>>>,
 }
+
+/// A model built for a parameter value ([`SceneFamily::memo`]).
+#[derive(Clone)]
+struct Memo {
+    param: u64,
+    dy: Dynamics,
+    e: f64,
+    /// The forcing frequency (the horizon is the family's periods of it:
+    /// a period-doubled family shares the memo).
+    omega: f64,
+    /// The tip dof (the oscillator's, a bar's contact end).
+    tip: usize,
+}
+
+/// The most models [`SceneFamily::memo`] keeps.
+const MEMO: usize = 4;
 
 impl std::fmt::Debug for SceneFamily {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -102,7 +125,7 @@ impl SceneFamily {
             return Err(OrbitError::Option { option: "period", message: "0 is not allowed: forcing periods per orbit, an integer >= 1".into() });
         }
         let value = lookup(&doc, path)?;
-        let family = Self { doc, path: path.to_string(), periods, limits, interrupt: None, shared: Arc::default() };
+        let family = Self { doc, path: path.to_string(), periods, limits, interrupt: None, shared: Arc::default(), memo: Arc::default() };
         family.build(value)?;
         Ok((family, value))
     }
@@ -127,6 +150,68 @@ impl SceneFamily {
     /// The scene at `param`, built.
     pub fn build(&self, param: f64) -> Result<Built, OrbitError> {
         self.build_with(&[("param", &self.path, param)])
+    }
+
+    /// The model, horizon, forcing frequency and tip at `param`, as
+    /// [`SceneFamily::build`] makes them (the same model, bit for bit),
+    /// without the start state and without the scene's own
+    /// validated run where the model does not need it: once the family
+    /// knows its structure (the first build), an oscillator's or an
+    /// unreduced bar's scene at another value is parsed and validated (its
+    /// refusals are the same: an invalid value is refused as by `build`),
+    /// and its model made from the dynamics the scene defines on the
+    /// family's structure, its first flow's run made by the model itself
+    /// (`EventDriven::restart` of the scene's run and a new run from the
+    /// same state are the same run). A value among the last [`MEMO`] built
+    /// this way is not parsed again. Another structure, a reduced bar, a
+    /// beam (whose lifting the instantiation builds with its run), or a
+    /// scheme other than the exact one: [`SceneFamily::build`].
+    fn model_only(&self, param: f64) -> Result<(Model, f64, f64, Tip), OrbitError> {
+        let full = |b: Built| (b.model, b.horizon, b.omega, b.tip);
+        let shared = self.shared.lock().ok().and_then(|s| s.clone());
+        let Some(shared) = shared else {
+            return self.build(param).map(full);
+        };
+        // A value kept is taken where its structure is the store's (a
+        // parameter that changes the structure moves the store on).
+        let hit = self.memo.lock().ok().and_then(|m| m.iter().find(|m| m.param == param.to_bits()).cloned()).filter(|m| shared.bases().fits(&m.dy));
+        let memo = match hit {
+            Some(m) => m,
+            None => {
+                let mut doc = self.doc.clone();
+                signorini_sweep::set_path(&mut doc, &self.path, param).map_err(|e| OrbitError::Option { option: "param", message: e.to_string() })?;
+                let at = |e: String| OrbitError::Scene(format!("{} = {param}: {e}", self.path));
+                let file = SceneFile::from_table(doc).map_err(|e| at(e.to_string()))?;
+                let scene = file.validate_clock(&self.limits).map_err(|e| at(e.to_string()))?;
+                // As `Scene::instantiate` builds them: the same dynamics,
+                // the same tip.
+                let direct = match &scene {
+                    Scene::Oscillator { osc, scheme, .. } => Some((osc.dynamics().map_err(|e| at(e.to_string()))?.0, scheme)),
+                    Scene::Bar(b) if b.reduce.is_none() => Some((b.problem.dynamics(), &b.scheme)),
+                    _ => None,
+                };
+                let (Some((dy, scheme)), Some((omega, _, _))) = (direct, scene.sweep_clock()) else {
+                    return self.build(param).map(full);
+                };
+                let Some(tip) = dy.contacts.first().map(|c| c.dof) else {
+                    return self.build(param).map(full);
+                };
+                if scheme.family().name != "event-driven" || !shared.bases().fits(&dy) {
+                    return self.build(param).map(full);
+                }
+                let m = Memo { param: param.to_bits(), dy, e: scheme.args()[0], omega, tip };
+                if let Ok(mut memo) = self.memo.lock() {
+                    if memo.len() == MEMO {
+                        memo.remove(0);
+                    }
+                    memo.push(m.clone());
+                }
+                m
+            }
+        };
+        let model = Model::new_shared(memo.dy, memo.e, Some(&shared), None, None)?.with_interrupt(self.interrupt.clone());
+        let horizon = self.periods as f64 * std::f64::consts::TAU / memo.omega;
+        Ok((model, horizon, memo.omega, Tip { tip: memo.tip, lift: None, reduction: None }))
     }
 
     /// The scene with each `(option, path, value)` of `sets` set, built
@@ -179,16 +264,16 @@ impl SceneFamily {
 
 impl Family for SceneFamily {
     fn model(&self, param: f64) -> Result<Model, OrbitError> {
-        Ok(self.build(param)?.model)
+        Ok(self.model_only(param)?.0)
     }
 
     fn period(&self, param: f64) -> Result<f64, OrbitError> {
-        Ok(self.build(param)?.horizon)
+        Ok(self.model_only(param)?.1)
     }
 
     fn model_and_period(&self, param: f64) -> Result<(Model, f64), OrbitError> {
-        let b = self.build(param)?;
-        Ok((b.model, b.horizon))
+        let (model, horizon, ..) = self.model_only(param)?;
+        Ok((model, horizon))
     }
 
     fn periods(&self) -> usize {
@@ -196,9 +281,9 @@ impl Family for SceneFamily {
     }
 
     /// Each point marked with its scene's Ω and tip ([`Built::tip`]), from
-    /// the scene built for its model.
+    /// the scene built for its model (without a second build).
     fn model_period_marker(&self, param: f64) -> Result<(Model, f64, Option<crate::continuation::Marker>), OrbitError> {
-        let Built { model, horizon, omega, tip: at, .. } = self.build(param)?;
+        let (model, horizon, omega, at) = self.model_only(param)?;
         let marker: crate::continuation::Marker = Box::new(move |model, x| tip(model, &at, x).ok().map(|tip| crate::continuation::Mark { omega, tip }));
         Ok((model, horizon, Some(marker)))
     }

@@ -51,7 +51,9 @@ pub struct OscillatorToml {
     /// The stop: x <= stop (one of `stop`, `stops`).
     pub stop: Option<f64>,
     /// Two stops `[lo, hi]`: lo <= x <= hi, finite, lo < hi, the start
-    /// between them (as `beam.stops`; one of `stop`, `stops`).
+    /// between them (as `beam.stops`; one of `stop`, `stops`). Exactly
+    /// two numbers: `[lo, hi, x]` is refused, as `beam.stops` refuses it.
+    #[serde(default, deserialize_with = "optional_pair")]
     pub stops: Option<[f64; 2]>,
     /// Restitution r in [0, 1] (default 0), at both stops: the e of the default scheme, and
     /// of a scheme written without its e (`event-driven`); with a scheme

@@ -16,6 +16,7 @@ mod nonsmooth_fold;
 mod oscillator;
 mod period_two;
 mod reach;
+mod rebuilt;
 mod reuse;
 mod section;
 mod shared;
