@@ -110,7 +110,7 @@ impl Lane<'_, '_> {
 /// is in its [`LaneEnd`], in lane order.
 ///
 /// [`run`]: crate::run
-pub fn run_lockstep<E: Lockstep>(engine: &mut E, runs: &mut [LockstepRun<'_>], need: &Need) -> Result<Vec<LaneEnd>, RunError> {
+pub fn run_lockstep(engine: &mut dyn Lockstep, runs: &mut [LockstepRun<'_>], need: &Need) -> Result<Vec<LaneEnd>, RunError> {
     let start = Instant::now();
     if runs.len() != engine.lanes() {
         return Err(RunError::Invalid { field: "lanes", value: runs.len() as f64, allowed: "as many runs as the engine has lanes" });
@@ -188,30 +188,32 @@ pub fn run_lockstep<E: Lockstep>(engine: &mut E, runs: &mut [LockstepRun<'_>], n
         let level = engine.step();
         let t = engine.time();
         let tl = engine.lambda_time();
+        // Every lane's results in one view (no call into the engine per lane).
+        let res = engine.results();
         for (k, l) in lanes.iter_mut().enumerate() {
             if l.end.is_some() {
                 continue;
             }
-            if let Some(e) = engine.lane_failure(k) {
+            if let Some(e) = res.failure(k) {
                 l.stop(&mut all, level, Err(RunError::from(e.clone())));
                 continue;
             }
             // The runner's whole-state check; between checks, with
             // `Need::Dofs`, only the unknowns the observers read are copied.
             if level % FINITE_CHECK_EVERY == 0 || level == l.total {
-                engine.displacement_into(k, &mut l.u);
+                res.displacement_into(k, &mut l.u);
                 if let Err(e) = check_finite(&l.u, level, t) {
                     l.stop(&mut all, level, Err(e));
                     continue;
                 }
             } else if matches!(need, Need::Full) {
-                engine.displacement_into(k, &mut l.u);
+                res.displacement_into(k, &mut l.u);
             } else {
                 for &i in &some {
-                    l.u[i] = engine.value(k, i);
+                    l.u[i] = res.value(k, i);
                 }
             }
-            let (lam, st) = ([engine.contact_force(k)], [engine.contact_status(k)]);
+            let (lam, st) = ([res.contact_force(k)], [res.contact_status(k)]);
             let active = st[0] != Active::None;
             l.contact_steps += usize::from(active);
             let s = Sample { n: level, t, u: &l.u, lambda: Some((tl, lam[0])), energy: None, active, work: None, forces: &lam, status: &st };

@@ -79,6 +79,74 @@ pub trait Lockstep {
     fn contact_status(&self, k: usize) -> Active;
     /// The error lane `k`'s single run would have returned, if it has.
     fn lane_failure(&self, k: usize) -> Option<&SchemeError>;
+    /// Every lane's results of the last step at once (`U^n`, the contact
+    /// force and status, the failure): what a time loop reads after each
+    /// step, without a call per lane.
+    fn results(&self) -> LaneResults<'_>;
+}
+
+/// Every lane's results of a lockstep engine's last step ([`Lockstep::results`]),
+/// read in place: the same values as the engine's lane-indexed methods.
+/// Every lane-indexed method asserts `k < lanes()`.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneResults<'a> {
+    lanes: usize,
+    /// The engine's width `L` (row `i` of `U^n` is `u[i L..(i + 1) L]`).
+    width: usize,
+    u: &'a [f64],
+    forces: &'a [f64],
+    status: &'a [Active],
+    failures: &'a [Option<SchemeError>],
+}
+
+impl<'a> LaneResults<'a> {
+    /// Lanes in use.
+    #[inline]
+    pub fn lanes(&self) -> usize {
+        self.lanes
+    }
+
+    /// Lane `k`'s `u_i^n`.
+    #[inline]
+    #[track_caller]
+    pub fn value(&self, k: usize, i: usize) -> f64 {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.u[i * self.width + k]
+    }
+
+    /// Lane `k`'s `U^n` into `out` (one value per unknown).
+    #[inline]
+    #[track_caller]
+    pub fn displacement_into(&self, k: usize, out: &mut [f64]) {
+        assert!(k < self.lanes && out.len() * self.width == self.u.len(), "lane {k} of {}, out of length {} (expected {})", self.lanes, out.len(), self.u.len() / self.width);
+        for (o, row) in out.iter_mut().zip(self.u.chunks_exact(self.width)) {
+            *o = row[k];
+        }
+    }
+
+    /// Lane `k`'s contact force of the last step.
+    #[inline]
+    #[track_caller]
+    pub fn contact_force(&self, k: usize) -> f64 {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.forces[k]
+    }
+
+    /// Which bound held lane `k`'s contact in the last step.
+    #[inline]
+    #[track_caller]
+    pub fn contact_status(&self, k: usize) -> Active {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.status[k]
+    }
+
+    /// The error lane `k`'s single run would have returned, if it has.
+    #[inline]
+    #[track_caller]
+    pub fn failure(&self, k: usize) -> Option<&'a SchemeError> {
+        assert!(k < self.lanes, "lane {k} of {}", self.lanes);
+        self.failures[k].as_ref()
+    }
 }
 
 /// A band row of half-bandwidth 3: `[A_ii, A_i,i-1, A_i,i-2, A_i,i-3,
@@ -390,6 +458,11 @@ impl<const L: usize> LaneState<L> {
         self.failed[k].as_ref()
     }
 
+    /// Every lane's results ([`Lockstep::results`]).
+    pub(crate) fn results(&self) -> LaneResults<'_> {
+        LaneResults { lanes: self.lanes, width: L, u: self.u.as_flattened(), forces: &self.lams, status: &self.acts, failures: &self.failed }
+    }
+
     pub(crate) fn failed_lanes(&self) -> usize {
         self.failed[..self.lanes].iter().filter(|f| f.is_some()).count()
     }
@@ -431,6 +504,13 @@ macro_rules! lockstep_builds {
         pub fn without_avx512(mut self) -> Self {
             self.state.avx512 = false;
             self
+        }
+
+        /// Keeps the AVX2 build only if `avx2`, the AVX-512 one only if
+        /// `avx512` and `avx2` (the same bits; for [`LockstepBatch`](crate::LockstepBatch)).
+        pub(crate) fn restrict_builds(&mut self, avx2: bool, avx512: bool) {
+            self.state.avx2 &= avx2;
+            self.state.avx512 &= avx512 && avx2;
         }
 
         /// Whether the step runs the AVX-512 build (chosen at construction
@@ -531,6 +611,9 @@ macro_rules! impl_lockstep {
             }
             fn lane_failure(&self, k: usize) -> Option<&$crate::SchemeError> {
                 self.state.lane_failure(k)
+            }
+            fn results(&self) -> $crate::LaneResults<'_> {
+                self.state.results()
             }
         }
     };

@@ -70,7 +70,9 @@
 //!   for [`MoreauJean`], [`Nsga`], [`ContactStabilized`], [`CdLagrange`]
 //!   and [`MoreauJeanCombined`] (all six behind the [`Lockstep`] trait, on
 //!   one lane state; [`LockstepScheme`] says which engine a registry
-//!   scheme takes).
+//!   scheme takes). [`LockstepBatch`] is their one non-generic entry (the
+//!   scheme and the width chosen at run time, every engine compiled once
+//!   here), the one the sweep and the tests take.
 //!
 //! * [`Reduced`]: the massless contact node eliminated (`u_0 = max(u_1, g)`),
 //!   with the hybrid Crank–Nicolson/midpoint scheme of the weighted-mass paper
@@ -169,6 +171,7 @@ macro_rules! delegate_stepper {
     };
 }
 
+mod batch;
 mod cd_lagrange;
 mod cd_lockstep;
 mod combined_lockstep;
@@ -197,6 +200,7 @@ mod stabilized;
 mod stabilized_lockstep;
 mod verlet_nitsche;
 
+pub use batch::{ImpactParts, LaneVector, LockstepBatch, LOCKSTEP_WIDTHS};
 pub use cd_lagrange::CdLagrange;
 pub use cd_lockstep::CdLagrangeLockstep;
 pub use combined_lockstep::MoreauJeanCombinedLockstep;
@@ -204,7 +208,7 @@ pub use d1_lockstep::D1MinusLinearLockstep;
 pub use d1minus::{D1Level, D1MinusLinear, INDEX_SET_TOLERANCE as D1_INDEX_SET_TOLERANCE};
 pub use family::{BuildFn, Capabilities, Family, Group, Node, Param, Preset, SchemeSpec, MAX_PARAMS};
 pub use hybrid::{Reduced, ReducedLaw};
-pub use lanes::{Lockstep, LockstepLane};
+pub use lanes::{LaneResults, Lockstep, LockstepLane};
 pub use lockstep::{LockstepScheme, PaoliSchatzmanLockstep};
 pub use moreau::MoreauJean;
 pub use moreau_combined::{MoreauJeanCombined, COMBINED_TOLERANCE};

@@ -6,9 +6,7 @@ use crate::simulate::{observers, rows_of, text_cell, Plan, RunRows, ScenePlan};
 use signorini_run::reduced::Need;
 use signorini_run::{run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError};
 use signorini_scene::Scene;
-use signorini_schemes::{
-    Bounds, CdLagrangeLockstep, ContactStabilizedLockstep, D1MinusLinearLockstep, Initial, Lockstep, LockstepLane, LockstepScheme, MoreauJeanLockstep, NsgaLockstep, PaoliSchatzmanLockstep,
-};
+use signorini_schemes::{Bounds, Initial, Lockstep, LockstepBatch, LockstepLane, LockstepScheme};
 
 /// Runs per lockstep group at most: the paper beam's sweeps step up to this
 /// many runs together (crates/run/benches/lockstep.rs: per run-step, 16
@@ -71,28 +69,18 @@ pub(crate) fn lockstep_jobs<T>(prepared: &[(usize, T, Result<ScenePlan, Error>)]
     jobs
 }
 
-/// Runs `group` (beam runs sharing a step matrix) in lockstep
-/// ([`PaoliSchatzmanLockstep`], [`MoreauJeanLockstep`] (also
-/// `moreau-jean-projected`), [`NsgaLockstep`],
-/// [`ContactStabilizedLockstep`], [`CdLagrangeLockstep`] or
-/// [`D1MinusLinearLockstep`] or `MoreauJeanCombinedLockstep` stepped by
-/// [`signorini_run::run_lockstep`]):
+/// Runs `group` (beam runs sharing a step matrix) in lockstep on one
+/// [`LockstepBatch`] (the engine of their scheme, of the narrowest width
+/// that holds them: 2, 4, 8 or 16 lanes) stepped by
+/// [`signorini_run::run_lockstep`]:
 /// each lane performs the single run's arithmetic and feeds its observers
 /// the samples [`signorini_run::run`] would, so its rows are the ones
 /// [`simulate`](fn@crate::simulate) writes, bit for bit.
 /// `None` when the runs cannot share the engine (then run them one by one).
 pub fn simulate_lockstep(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
-    match group.len() {
-        2 => lockstep_width::<2>(group, interrupt),
-        3..=4 => lockstep_width::<4>(group, interrupt),
-        5..=8 => lockstep_width::<8>(group, interrupt),
-        9..=16 => lockstep_width::<16>(group, interrupt),
-        _ => None,
+    if !(2..=LANES).contains(&group.len()) {
+        return None;
     }
-}
-
-/// [`simulate_lockstep`] on an engine of `L` lanes.
-pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     let mut lanes = Vec::with_capacity(group.len());
     let mut tips = Vec::with_capacity(group.len());
     let mut first: Option<(LockstepScheme, f64)> = None;
@@ -122,16 +110,7 @@ pub(crate) fn lockstep_width<const L: usize>(group: &[(&Scene, &Plan)], interrup
     let inits: Vec<Vec<f64>> = lanes.iter().map(|l| l.initial.u.clone()).collect();
     let contacts: Vec<Vec<(usize, Bounds)>> = lanes.iter().map(|l| l.dynamics.contacts.iter().map(|c| (c.dof, c.bounds)).collect()).collect();
     let lanes_of = Lanes { group, tips: &tips, inits: &inits, contacts: &contacts };
-    match scheme {
-        LockstepScheme::PaoliSchatzman { beta, .. } => run_group(PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::MoreauJean { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::new(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::MoreauJeanProjected { theta, gamma, .. } => run_group(MoreauJeanLockstep::<L>::projected(theta, gamma, dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::Nsga { rho_inf, .. } => run_group(NsgaLockstep::<L>::new(rho_inf, dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::ContactStabilized => run_group(ContactStabilizedLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::CdLagrange { .. } => run_group(CdLagrangeLockstep::<L>::new(dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::D1MinusLinear { level, .. } => run_group(D1MinusLinearLockstep::<L>::new(level, dt, lanes).ok()?, &lanes_of, interrupt),
-        LockstepScheme::MoreauJeanCombined { theta, .. } => run_group(signorini_schemes::MoreauJeanCombinedLockstep::<L>::new(theta, dt, lanes).ok()?, &lanes_of, interrupt),
-    }
+    run_group(LockstepBatch::new(scheme, dt, lanes).ok()?, &lanes_of, interrupt)
 }
 
 /// What a group's lanes bring besides their problems: scene and plan, tip,
@@ -145,7 +124,7 @@ struct Lanes<'g, 's> {
 
 /// Steps `eng` (built on the lanes of `lanes`) with each lane's observers,
 /// and gives each lane's rows.
-fn run_group<E: Lockstep>(mut eng: E, lanes: &Lanes<'_, '_>, interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
+fn run_group(mut eng: LockstepBatch, lanes: &Lanes<'_, '_>, interrupt: Option<&Cancel>) -> Option<Vec<RunRows>> {
     let Lanes { group, tips, inits, contacts } = *lanes;
     // The vibro observers read the tip and the contact only.
     let mut need: Vec<usize> = tips.iter().copied().chain(std::iter::once(eng.contact_dof())).collect();

@@ -16,10 +16,7 @@
 use signorini_run::beam::Pipe;
 use signorini_run::reduced::Need;
 use signorini_run::{run, run_lockstep, Cancel, LockstepRun, Observer, RunConfig, RunError, RunSummary, Sample, SeriesColumns, SeriesWriter};
-use signorini_schemes::{
-    CdLagrange, CdLagrangeLockstep, ContactStabilized, ContactStabilizedLockstep, D1Level, D1MinusLinear, D1MinusLinearLockstep, LockstepLane, MoreauJean, MoreauJeanCombined,
-    MoreauJeanCombinedLockstep, MoreauJeanLockstep, PaoliSchatzman, PaoliSchatzmanLockstep, Stepper,
-};
+use signorini_schemes::{CdLagrange, ContactStabilized, D1Level, D1MinusLinear, LockstepBatch, LockstepLane, LockstepScheme, MoreauJean, MoreauJeanCombined, PaoliSchatzman, Stepper};
 
 const DT: f64 = 5e-6;
 
@@ -103,6 +100,26 @@ enum Scheme {
     Mjc,
 }
 
+impl Scheme {
+    /// The batch's scheme (the restitution is each lane's).
+    fn lockstep(self) -> LockstepScheme {
+        match self {
+            Scheme::Ps => LockstepScheme::PaoliSchatzman { beta: 0.5, restitution: 0.0 },
+            Scheme::Mj => LockstepScheme::MoreauJean { theta: 0.5, restitution: 0.0, gamma: 0.5 },
+            Scheme::Cs => LockstepScheme::ContactStabilized,
+            Scheme::Cd => LockstepScheme::CdLagrange { restitution: 0.0 },
+            Scheme::D1(level) => LockstepScheme::D1MinusLinear { level, restitution: 0.0 },
+            Scheme::Mjc => LockstepScheme::MoreauJeanCombined { theta: 1.0, restitution: 0.0 },
+        }
+    }
+
+    /// The batch of `width` lanes on `lanes` (the one non-generic entry:
+    /// this crate compiles no engine).
+    fn batch(self, width: usize, lanes: &[LockstepLane]) -> LockstepBatch {
+        LockstepBatch::with_width(self.lockstep(), width, DT, lanes.to_vec()).unwrap()
+    }
+}
+
 fn single(l: &LockstepLane, steps: usize, twist: Twist) -> Outcome {
     single_of(Scheme::Ps, l, steps, twist)
 }
@@ -123,29 +140,18 @@ fn single_of(scheme: Scheme, l: &LockstepLane, steps: usize, twist: Twist) -> Ou
     (rec.recs, rec.works, rec.finished, summary(r), s.level())
 }
 
-fn lockstep<const L: usize>(lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
-    let mut eng = PaoliSchatzmanLockstep::<L>::new(0.5, DT, lanes.to_vec()).unwrap();
-    lockstep_on(&mut eng, lanes, steps, twists, need)
+fn lockstep(width: usize, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
+    lockstep_of(Scheme::Ps, width, lanes, steps, twists, need)
 }
 
-fn lockstep_of<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
-    match scheme {
-        Scheme::Ps => lockstep::<L>(lanes, steps, twists, need),
-        Scheme::Mj => lockstep_on(&mut MoreauJeanLockstep::<L>::new(0.5, 0.5, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
-        Scheme::Cs => lockstep_on(&mut ContactStabilizedLockstep::<L>::new(DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
-        Scheme::Cd => lockstep_on(&mut CdLagrangeLockstep::<L>::new(DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
-        Scheme::D1(level) => lockstep_on(&mut D1MinusLinearLockstep::<L>::new(level, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
-        Scheme::Mjc => lockstep_on(&mut MoreauJeanCombinedLockstep::<L>::new(1.0, DT, lanes.to_vec()).unwrap(), lanes, steps, twists, need),
-    }
-}
-
-fn lockstep_on<E: signorini_schemes::Lockstep>(eng: &mut E, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
+fn lockstep_of(scheme: Scheme, width: usize, lanes: &[LockstepLane], steps: &[usize], twists: &[Twist], need: &Need) -> Vec<Outcome> {
+    let mut eng = scheme.batch(width, lanes);
     let cancels: Vec<Cancel> = lanes.iter().map(|_| Cancel::new()).collect();
     let cfgs: Vec<RunConfig> = steps.iter().zip(&cancels).map(|(&n, c)| RunConfig::new(DT, n as f64 * DT).unwrap().with_interrupt(c.clone())).collect();
     let mut recs: Vec<Recorder> = twists.iter().zip(&cancels).map(|(&twist, c)| Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist, cancel: c.clone() }).collect();
     let ends = {
         let mut runs: Vec<LockstepRun<'_>> = recs.iter_mut().zip(&cfgs).zip(lanes).map(|((r, c), l)| LockstepRun::new(&l.initial.u, c, vec![r as &mut dyn Observer])).collect();
-        run_lockstep(eng, &mut runs, need).unwrap()
+        run_lockstep(&mut eng, &mut runs, need).unwrap()
     };
     recs.into_iter().zip(ends).map(|(r, e)| (r.recs, r.works, r.finished, summary(e.result), e.level)).collect()
 }
@@ -180,7 +186,7 @@ fn lockstep_lanes_feed_their_observers_the_single_runs_samples() {
     let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
     let steps = [700, 640, 1000, 333];
     let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
-    let got = lockstep::<4>(&lanes, &steps, &twists, &Need::Full);
+    let got = lockstep(4, &lanes, &steps, &twists, &Need::Full);
     assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
     assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
     assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
@@ -193,7 +199,7 @@ fn a_lane_that_blows_up_stops_where_its_single_run_does_in_a_partial_batch() {
     let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
     let steps = [500; 5];
     let twists = [Twist::None; 5];
-    let got = lockstep::<8>(&lanes, &steps, &twists, &Need::Full);
+    let got = lockstep(8, &lanes, &steps, &twists, &Need::Full);
     for k in [1, 3] {
         assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
         assert!(got[k].4 < 500, "lane {k} stopped early");
@@ -207,7 +213,7 @@ fn with_a_few_dofs_needed_those_dofs_are_the_single_runs() {
     let steps = [300, 300];
     let twists = [Twist::None; 2];
     let tip = lanes[0].dynamics.contacts[0].dof;
-    let got = lockstep::<2>(&lanes, &steps, &twists, &Need::Dofs(vec![tip]));
+    let got = lockstep(2, &lanes, &steps, &twists, &Need::Dofs(vec![tip]));
     for (l, g) in lanes.iter().zip(got) {
         let want = single(l, 300, Twist::None);
         assert_eq!(g.0.len(), want.0.len());
@@ -230,7 +236,7 @@ fn observers_that_want_the_energy_are_refused() {
         }
     }
     let l = lane(0.2, 10.0);
-    let mut eng = PaoliSchatzmanLockstep::<2>::new(0.5, DT, vec![l.clone()]).unwrap();
+    let mut eng = Scheme::Ps.batch(2, std::slice::from_ref(&l));
     let cfg = RunConfig::new(DT, 100.0 * DT).unwrap();
     let mut w = Wants;
     let mut runs = vec![LockstepRun::new(&l.initial.u, &cfg, vec![&mut w as &mut dyn Observer])];
@@ -245,7 +251,7 @@ fn lanes_with_different_numbers_of_observers_each_feed_their_own_and_get_them_ba
     let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
     let steps = [300, 200, 257, 130];
     let counts = [2, 0, 1, 2];
-    let mut eng = PaoliSchatzmanLockstep::<4>::new(0.5, DT, lanes.clone()).unwrap();
+    let mut eng = Scheme::Ps.batch(4, &lanes);
     let cfgs: Vec<RunConfig> = steps.iter().map(|&n| RunConfig::new(DT, n as f64 * DT).unwrap()).collect();
     let mut recs: Vec<Vec<Recorder>> =
         counts.iter().map(|&c| (0..c).map(|_| Recorder { recs: Vec::new(), works: Vec::new(), finished: 0, twist: Twist::None, cancel: Cancel::new() }).collect()).collect();
@@ -276,14 +282,14 @@ fn moreau_jean_lanes_feed_their_observers_the_single_runs_samples() {
     let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
     let steps = [700, 640, 1000, 333];
     let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
-    let got = lockstep_of::<4>(Scheme::Mj, &lanes, &steps, &twists, &Need::Full);
+    let got = lockstep_of(Scheme::Mj, 4, &lanes, &steps, &twists, &Need::Full);
     assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
     assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
     assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
     assert!(got.iter().all(|g| g.0[0].n == 0 && g.0[1].n == 1 && g.0[1].lambda.is_some()), "level 1 is a step's sample");
     check_of(Scheme::Mj, &lanes, &steps, &twists, got);
     let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
-    let got = lockstep_of::<8>(Scheme::Mj, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
+    let got = lockstep_of(Scheme::Mj, 8, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
     for k in [1, 3] {
         assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
         assert!(got[k].4 < 500, "lane {k} stopped early");
@@ -300,14 +306,14 @@ fn contact_stabilized_lanes_feed_their_observers_the_single_runs_samples() {
     let lanes: Vec<LockstepLane> = (0..4).map(|k| lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64)).collect();
     let steps = [700, 640, 1000, 333];
     let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
-    let got = lockstep_of::<4>(Scheme::Cs, &lanes, &steps, &twists, &Need::Full);
+    let got = lockstep_of(Scheme::Cs, 4, &lanes, &steps, &twists, &Need::Full);
     assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
     assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
     assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
     assert!(got.iter().all(|g| g.0[0].n == 0 && g.0[1].n == 1 && g.0[1].lambda.is_some()), "level 1 is a step's sample");
     check_of(Scheme::Cs, &lanes, &steps, &twists, got);
     let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
-    let got = lockstep_of::<8>(Scheme::Cs, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
+    let got = lockstep_of(Scheme::Cs, 8, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
     for k in [1, 3] {
         assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
         assert!(got[k].4 < 500, "lane {k} stopped early");
@@ -325,14 +331,14 @@ fn cd_lagrange_lanes_feed_their_observers_the_single_runs_samples() {
     let lanes: Vec<LockstepLane> = (0..4).map(|k| LockstepLane { restitution: 0.25 * k as f64, ..lane(0.2 + 0.05 * k as f64, 10.0 + 3.0 * k as f64) }).collect();
     let steps = [700, 640, 1000, 333];
     let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
-    let got = lockstep_of::<4>(Scheme::Cd, &lanes, &steps, &twists, &Need::Full);
+    let got = lockstep_of(Scheme::Cd, 4, &lanes, &steps, &twists, &Need::Full);
     assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{:?}", got[1].3);
     assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{:?}", got[3].3);
     assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
     assert!(got.iter().all(|g| g.0[0].n == 0 && g.0[1].n == 1 && g.0[1].lambda.is_some()), "level 1 is a step's sample");
     check_of(Scheme::Cd, &lanes, &steps, &twists, got);
     let lanes: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
-    let got = lockstep_of::<8>(Scheme::Cd, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
+    let got = lockstep_of(Scheme::Cd, 8, &lanes, &[500; 5], &[Twist::None; 5], &Need::Full);
     for k in [1, 3] {
         assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "lane {k}: {:?}", got[k].3);
         assert!(got[k].4 < 500, "lane {k} stopped early");
@@ -357,7 +363,7 @@ fn rattling_lanes() -> Vec<LockstepLane> {
 /// `every` levels, with the contact's columns, no energy) in lockstep,
 /// against the same writer fed by the single run; returns the number of
 /// rows with the contact active.
-fn series_rows<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[usize], every: usize) -> usize {
+fn series_rows(scheme: Scheme, width: usize, lanes: &[LockstepLane], steps: &[usize], every: usize) -> usize {
     let dof = lanes[0].dynamics.contacts[0].dof;
     let dofs = [dof];
     let cols = SeriesColumns { energy: false, contacts: Some(&dofs), ..SeriesColumns::default() };
@@ -366,12 +372,8 @@ fn series_rows<const L: usize>(scheme: Scheme, lanes: &[LockstepLane], steps: &[
     {
         let mut ws: Vec<SeriesWriter<'_, &mut Vec<u8>>> = bufs.iter_mut().map(|b| SeriesWriter::new(b, every, dof, cols).unwrap()).collect();
         let mut runs: Vec<LockstepRun<'_>> = ws.iter_mut().zip(&cfgs).zip(lanes).map(|((w, c), l)| LockstepRun::new(&l.initial.u, c, vec![w as &mut dyn Observer])).collect();
-        let ends = match scheme {
-            Scheme::D1(level) => run_lockstep(&mut D1MinusLinearLockstep::<L>::new(level, DT, lanes.to_vec()).unwrap(), &mut runs, &Need::Full),
-            Scheme::Mjc => run_lockstep(&mut MoreauJeanCombinedLockstep::<L>::new(1.0, DT, lanes.to_vec()).unwrap(), &mut runs, &Need::Full),
-            _ => unreachable!("the series test's engines"),
-        }
-        .unwrap();
+        assert!(matches!(scheme, Scheme::D1(_) | Scheme::Mjc), "the series test's engines");
+        let ends = run_lockstep(&mut scheme.batch(width, lanes), &mut runs, &Need::Full).unwrap();
         assert!(ends.iter().all(|e| e.result.is_ok()), "every lane reaches its horizon");
     }
     let mut active = 0;
@@ -420,7 +422,7 @@ fn lanes_feed_the_single_runs_samples(scheme: Scheme) {
     let lanes = rattling_lanes();
     let steps = [700, 640, 1000, 333];
     let twists = [Twist::None, Twist::CancelAt(129), Twist::None, Twist::FailAt(200)];
-    let got = lockstep_of::<4>(scheme, &lanes, &steps, &twists, &Need::Full);
+    let got = lockstep_of(scheme, 4, &lanes, &steps, &twists, &Need::Full);
     assert!(got[1].3.as_ref().is_err_and(|e| e.contains("interrupted at step 129")), "{scheme:?}: {:?}", got[1].3);
     assert!(got[3].3.as_ref().is_err_and(|e| e.contains("planted")), "{scheme:?}: {:?}", got[3].3);
     assert_eq!(got[2].3.as_ref().map(|s| s.0), Ok(1000));
@@ -431,12 +433,12 @@ fn lanes_feed_the_single_runs_samples(scheme: Scheme) {
     assert!(held > 100, "{scheme:?}: only {held} samples with the contact active");
     check_of(scheme, &lanes, &steps, &twists, got);
     let blow: Vec<LockstepLane> = [0.2, 1e303, 0.3, 4e303, 0.25].iter().map(|&a| lane(a, 12.0)).collect();
-    let got = lockstep_of::<8>(scheme, &blow, &[500; 5], &[Twist::None; 5], &Need::Full);
+    let got = lockstep_of(scheme, 8, &blow, &[500; 5], &[Twist::None; 5], &Need::Full);
     for k in [1, 3] {
         assert!(got[k].3.as_ref().is_err_and(|e| e.contains("blew up")), "{scheme:?} lane {k}: {:?}", got[k].3);
         assert!(got[k].4 < 500, "{scheme:?}: lane {k} stopped early");
     }
     check_of(scheme, &blow, &[500; 5], &[Twist::None; 5], got);
-    let active = series_rows::<4>(scheme, &lanes, &[703, 640, 1000, 333], 7);
+    let active = series_rows(scheme, 4, &lanes, &[703, 640, 1000, 333], 7);
     assert!(active > 10, "{scheme:?}: only {active} series rows with the contact active");
 }

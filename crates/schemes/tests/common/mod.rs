@@ -19,7 +19,9 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use signorini_fem::{Bar, BarMass, Beam, RightEnd, SymBand};
-use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Initial, Lockstep, LockstepLane, SchemeError, StepReport, Stepper, TimeProfile};
+use signorini_schemes::{
+    Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LaneVector, Lockstep, LockstepBatch, LockstepLane, LockstepScheme, SchemeError, StepReport, Stepper, TimeProfile,
+};
 
 /// A dense square matrix, row by row.
 pub type Dense = Vec<Vec<f64>>;
@@ -937,44 +939,17 @@ pub fn check_moreau_jean(o: &Oracle, e: f64, init: &Initial, traj: &Traj) -> (Wo
 }
 
 // ---- The lockstep engines' oracle: their single runs.
-
-/// The builds of a lockstep engine's step (its `lockstep_builds!`
-/// methods): the one the CPU selects, the AVX2 one and the baseline
-/// x86-64 one, for [`check_lockstep`].
-pub trait Builds: Lockstep + Sized {
-    fn portable(self) -> Self;
-    fn without_avx512(self) -> Self;
-    fn uses_avx2(&self) -> bool;
-    fn uses_avx512(&self) -> bool;
-}
-
-macro_rules! builds {
-    ($($engine:ident),*) => {$(
-        impl<const L: usize> Builds for signorini_schemes::$engine<L> {
-            fn portable(self) -> Self {
-                signorini_schemes::$engine::portable(self)
-            }
-            fn without_avx512(self) -> Self {
-                signorini_schemes::$engine::without_avx512(self)
-            }
-            fn uses_avx2(&self) -> bool {
-                signorini_schemes::$engine::uses_avx2(self)
-            }
-            fn uses_avx512(&self) -> bool {
-                signorini_schemes::$engine::uses_avx512(self)
-            }
-        }
-    )*};
-}
-builds!(PaoliSchatzmanLockstep, MoreauJeanLockstep, NsgaLockstep, ContactStabilizedLockstep, CdLagrangeLockstep, D1MinusLinearLockstep);
-builds!(MoreauJeanCombinedLockstep);
+//
+// Every engine is reached through the one non-generic entry,
+// `LockstepBatch` (compiled once in the library): the tests build no
+// engine of their own width, so this crate compiles none of their code.
 
 /// A vector of an engine's lanes beyond `U^n` (`V^n`, a predictor, …),
 /// compared with its single run's bit for bit from level `from` on.
-pub struct Extra<B, S> {
+pub struct Extra<S> {
     pub name: &'static str,
-    /// Lane `k`'s vector into the buffer.
-    pub lane: fn(&B, usize, &mut [f64]),
+    /// The lane's vector ([`LockstepBatch::vector_into`]).
+    pub vector: LaneVector,
     /// The single run's.
     pub single: fn(&S) -> &[f64],
     /// The first step after which it is compared (0: from the start).
@@ -986,17 +961,27 @@ pub fn bits(x: &[f64]) -> Vec<u64> {
     x.iter().map(|v| v.to_bits()).collect()
 }
 
-/// Steps three builds of a lockstep engine (`make()` as the CPU selects,
+/// Panics at the first entry of `got` whose bits differ from `want`'s.
+#[track_caller]
+fn same_bits(at: &str, name: &str, got: &[f64], want: &[f64]) {
+    if bits(got) != bits(want) {
+        let i = (0..got.len()).find(|&i| got[i].to_bits() != want[i].to_bits()).unwrap_or(got.len().min(want.len()));
+        panic!("{at}: {name}[{i}] = {:e}, single run {:e}", got.get(i).copied().unwrap_or(f64::NAN), want.get(i).copied().unwrap_or(f64::NAN));
+    }
+}
+
+/// Steps three builds of a lockstep batch (`make()` as the CPU selects,
 /// its AVX2 build and its baseline x86-64 build) and each lane's single
 /// run (`singles`, lane `k` the `k`-th) `steps` times, and compares, for
 /// every build, lane and step, bit for bit: the level, `t_n`, the time of
-/// the contact force, `U^n` (and `u_c` through `value`), every `extras`
-/// vector, the contact force and status of the single run's report, and no
-/// failure; a lane whose single run fails must report that error at that
-/// step in every build (and is no longer compared). Returns per lane the
-/// number of steps held at the lower and upper bound.
+/// the contact force, `U^n` (and `u_c` through `value`, and the whole view
+/// of [`Lockstep::results`]), every `extras` vector, the contact force and
+/// status of the single run's report, and no failure; a lane whose single
+/// run fails must report that error at that step in every build (and is
+/// no longer compared). Returns per lane the number of steps held at the
+/// lower and upper bound.
 #[track_caller]
-pub fn check_lockstep<B: Builds, S: Stepper>(make: impl Fn() -> B, singles: &mut [S], extras: &[Extra<B, S>], steps: usize) -> Vec<(usize, usize)> {
+pub fn check_lockstep<S: Stepper>(make: impl Fn() -> LockstepBatch, singles: &mut [S], extras: &[Extra<S>], steps: usize) -> Vec<(usize, usize)> {
     let mut builds = [("selected", make()), ("baseline", make().portable()), ("AVX2", make().without_avx512())];
     assert!(!builds[1].1.uses_avx2() && !builds[1].1.uses_avx512() && !builds[2].1.uses_avx512());
     assert_eq!(builds[0].1.lanes(), singles.len(), "a single run per lane");
@@ -1021,6 +1006,7 @@ pub fn check_lockstep<B: Builds, S: Stepper>(make: impl Fn() -> B, singles: &mut
                         // The single run stops here: the lane must report the same error.
                         for (what, b) in &builds {
                             assert_eq!(b.lane_failure(k), Some(&e), "lane {k} step {step}: {what} build");
+                            assert_eq!(b.results().failure(k), Some(&e), "lane {k} step {step}: {what} build's results");
                         }
                         done[k] = true;
                         continue;
@@ -1041,27 +1027,26 @@ pub fn check_lockstep<B: Builds, S: Stepper>(make: impl Fn() -> B, singles: &mut
                 let at = format!("lane {k} level {} ({what} build)", s.level());
                 assert_eq!(b.level(), s.level(), "{at}: level");
                 assert_eq!(b.time().to_bits(), s.time().to_bits(), "{at}: time");
+                let res = b.results();
                 b.displacement_into(k, &mut buf);
-                if bits(&buf) != bits(want) {
-                    let i = (0..n).find(|&i| buf[i].to_bits() != want[i].to_bits()).unwrap();
-                    panic!("{at}: u[{i}] = {:e}, single run {:e}", buf[i], want[i]);
-                }
+                same_bits(&at, "u", &buf, want);
+                res.displacement_into(k, &mut buf);
+                same_bits(&at, "the results' u", &buf, want);
                 let c = b.contact_dof();
                 assert_eq!(b.value(k, c).to_bits(), want[c].to_bits(), "{at}: u_c");
+                assert_eq!(res.value(k, c).to_bits(), want[c].to_bits(), "{at}: the results' u_c");
                 for x in extras.iter().filter(|x| step >= x.from) {
-                    (x.lane)(b, k, &mut buf);
-                    let want = (x.single)(s);
-                    if bits(&buf) != bits(want) {
-                        let i = (0..n).find(|&i| buf[i].to_bits() != want[i].to_bits()).unwrap();
-                        panic!("{at}: {}[{i}] = {:e}, single run {:e}", x.name, buf[i], want[i]);
-                    }
+                    assert!(b.vector_into(x.vector, k, &mut buf), "{at}: the engine keeps no {}", x.name);
+                    same_bits(&at, x.name, &buf, (x.single)(s));
                 }
                 if let Some(r) = &report {
                     let (tl, lam) = r.lambda.expect("a contact force");
                     assert_eq!(tl.to_bits(), b.lambda_time().to_bits(), "{at}: the contact force's time");
                     assert_eq!(lam.to_bits(), b.contact_force(k).to_bits(), "{at}: λ {lam} vs {}", b.contact_force(k));
+                    assert_eq!(lam.to_bits(), res.contact_force(k).to_bits(), "{at}: the results' λ");
                     assert_eq!(r.active, b.contact_status(k), "{at}: status");
-                    assert!(b.lane_failure(k).is_none(), "{at}: {:?}", b.lane_failure(k));
+                    assert_eq!(r.active, res.contact_status(k), "{at}: the results' status");
+                    assert!(b.lane_failure(k).is_none() && res.failure(k).is_none(), "{at}: {:?}", b.lane_failure(k));
                 }
             }
         }
@@ -1096,4 +1081,302 @@ pub fn check_lane_refusals(new: impl Fn(Vec<LockstepLane>) -> Option<SchemeError
     let mut d = base();
     d.dynamics.forcing.clear();
     assert!(matches!(new(vec![base(), d]), SchemeError::Structure(m) if m.contains("forcing terms")));
+}
+
+/// An engine under test: its scheme (the batch's: the restitution is each
+/// lane's), each lane's single run (`single(lane, dt)`, the oracle), the
+/// vectors compared besides `U^n`, and what else a comparison checks
+/// (`also(width, dt, lanes, steps)`, after [`check_lockstep`]).
+pub struct Engine<S> {
+    pub scheme: LockstepScheme,
+    pub single: SingleRun<S>,
+    pub extras: Vec<Extra<S>>,
+    pub also: Option<AlsoCheck>,
+}
+
+/// A lane's single run with step `dt` ([`Engine::single`]).
+pub type SingleRun<S> = Box<dyn Fn(&LockstepLane, f64) -> S>;
+
+/// What a comparison also checks ([`Engine::also`]): `(width, dt, lanes, steps)`.
+pub type AlsoCheck = Box<dyn Fn(usize, f64, &[LockstepLane], usize)>;
+
+/// What a comparison saw: per lane the steps held at the lower and upper
+/// bound, and the single runs at its end.
+pub struct Seen<S> {
+    pub counts: Vec<(usize, usize)>,
+    pub singles: Vec<S>,
+}
+
+impl<S: Stepper> Engine<S> {
+    pub fn new(scheme: LockstepScheme, single: impl Fn(&LockstepLane, f64) -> S + 'static, extras: Vec<Extra<S>>) -> Self {
+        Self { scheme, single: Box::new(single), extras, also: None }
+    }
+
+    /// The batch of `width` lanes on `lanes`, or its refusal.
+    pub fn batch(&self, width: usize, dt: f64, lanes: Vec<LockstepLane>) -> Result<LockstepBatch, SchemeError> {
+        LockstepBatch::with_width(self.scheme, width, dt, lanes)
+    }
+
+    /// Steps a batch of `width` lanes (every build) and each lane's single
+    /// run `steps` times and compares them bit for bit at every step
+    /// ([`check_lockstep`], then `also`).
+    #[track_caller]
+    pub fn compare(&self, width: usize, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Seen<S> {
+        let mut singles: Vec<S> = lanes.iter().map(|l| (self.single)(l, dt)).collect();
+        let counts = check_lockstep(|| self.batch(width, dt, lanes.clone()).unwrap(), &mut singles, &self.extras, steps);
+        if let Some(also) = &self.also {
+            also(width, dt, &lanes, steps);
+        }
+        Seen { counts, singles }
+    }
+
+    /// [`compare`](Self::compare)'s counts.
+    #[track_caller]
+    pub fn counts(&self, width: usize, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
+        self.compare(width, dt, lanes, steps).counts
+    }
+
+    /// Four lanes of the paper beam ([`rattling_lanes`]), `steps` steps: the
+    /// first three rattle between both stops (more than 20 steps on each).
+    #[track_caller]
+    pub fn rattles(&self, dt: f64, steps: usize) -> Seen<S> {
+        let seen = self.compare(4, dt, rattling_lanes(), steps);
+        for (k, &(lo, hi)) in seen.counts.iter().enumerate().take(3) {
+            assert!(lo > 20 && hi > 20, "{:?}: lane {k} should rattle between both stops: {lo} lower, {hi} upper steps", self.scheme);
+        }
+        seen
+    }
+
+    /// An amplitude sweep on 8 lanes ([`amplitude_lanes`], step `dt`) and
+    /// two forcing terms per lane on 4 ([`two_term_lanes`], step `dt_two`),
+    /// `steps` steps each: every lane in contact (more than 10 steps).
+    /// Returns what the amplitude sweep saw.
+    #[track_caller]
+    pub fn amplitude_and_two_terms(&self, dt: f64, dt_two: f64, steps: usize) -> Seen<S> {
+        let seen = self.compare(8, dt, amplitude_lanes(), steps);
+        assert_contacts(&seen.counts, "amplitude sweep");
+        assert_contacts(&self.counts(4, dt_two, two_term_lanes(), steps), "two forcing terms");
+        seen
+    }
+
+    /// Partial batches: 4 lanes in a batch of 8 ([`partial_lanes`] with the
+    /// fast forcing `fast`, `steps.0` steps) and 1 lane in a batch of 2
+    /// (`pipe(19, 0.25, 44)`, `steps.1` steps); returns the lone lane's counts.
+    #[track_caller]
+    pub fn partial_batches(&self, dt: f64, fast: f64, steps: (usize, usize)) -> (usize, usize) {
+        self.compare(8, dt, partial_lanes(fast), steps.0);
+        self.counts(2, dt, vec![lane(pipe(19, 0.25, 44.0, (-0.01, 0.01)), 0.0)], steps.1)[0]
+    }
+
+    /// 16 lanes, 11 in use ([`sixteen_lanes`]): the two at rest (lanes 7
+    /// and 8) stay at rest, the others are in contact.
+    #[track_caller]
+    pub fn sixteen(&self, dt: f64, steps: usize) -> Seen<S> {
+        let seen = self.compare(16, dt, sixteen_lanes(), steps);
+        assert_eq!(&seen.counts[7..9], &[(0, 0), (0, 0)], "{:?}: the lanes at rest stay at rest", self.scheme);
+        assert_contacts(&seen.counts[..7], "sixteen lanes");
+        assert_contacts(&seen.counts[9..], "sixteen lanes");
+        seen
+    }
+
+    /// Short beams, J = 4, 5, 6, 8, with restitutions and a one-sided
+    /// obstacle ([`short_beam_lanes`]), `steps` steps: every lane in contact.
+    #[track_caller]
+    pub fn short_beams(&self, dt: f64, steps: usize) {
+        for j in [4, 5, 6, 8] {
+            assert_contacts(&self.counts(4, dt, short_beam_lanes(j), steps), &format!("J = {j}"));
+        }
+    }
+
+    /// The contact at each `(dof, gap)` of `at` ([`off_tip_lanes`]), 4
+    /// lanes, `steps` steps: every lane in contact.
+    #[track_caller]
+    pub fn off_the_tip(&self, dt: f64, at: &[(usize, f64)], steps: usize) {
+        for &(dof, gap) in at {
+            assert_contacts(&self.counts(4, dt, off_tip_lanes(dof, gap), steps), &format!("dof {dof}"));
+        }
+    }
+
+    /// Lanes whose forcing overflows ([`failing_lanes`], checked on this
+    /// engine's single runs over `steps` steps) report the single run's
+    /// `NonFinite` error at that step; the other lanes carry on bit for bit.
+    #[track_caller]
+    pub fn failing_lane(&self, dt: f64, steps: usize) {
+        let lanes = failing_lanes(|l| {
+            let mut s = (self.single)(l, dt);
+            (0..steps).find_map(|_| s.step().err())
+        });
+        self.compare(4, dt, lanes, steps);
+    }
+
+    /// [`check_lane_refusals`] on a batch of 4 lanes, and a restitution
+    /// of 1.5 refused as [`SchemeError::Invalid`].
+    pub fn refusals(&self, dt: f64) {
+        let base = || lane(pipe(19, 0.2, 10.0, (-0.1, 0.1)), 0.0);
+        check_lane_refusals(|lanes| self.batch(4, dt, lanes).err(), base);
+        let mut d = base();
+        d.restitution = 1.5;
+        assert!(matches!(self.batch(4, dt, vec![d]).err(), Some(SchemeError::Invalid { field: "restitution", .. })), "{:?}", self.scheme);
+    }
+}
+
+/// Every lane held at a bound more than 10 steps.
+#[track_caller]
+pub fn assert_contacts(counts: &[(usize, usize)], what: &str) {
+    assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "{what}: {counts:?}");
+}
+
+// ---- The lockstep tests' problems: the paper's pipe with its support motion.
+
+const LENGTH: f64 = 1.501;
+const K2: f64 = 282.84;
+
+/// `h(x)` of the lifting (crates/run/src/beam.rs, `Pipe::lifting`) and `h'`.
+fn lifting(x: f64) -> (f64, f64) {
+    let y = x / LENGTH;
+    (1.0 - 2.0 * y * y + 4.0 / 3.0 * y.powi(3) - y.powi(4) / 3.0, (-4.0 * y + 4.0 * y * y - 4.0 / 3.0 * y.powi(3)) / LENGTH)
+}
+
+/// The paper's pipe (`Pipe::dynamics`, copied) with support `A sin(ω t)`
+/// and stops `stops` at the tip: forcing `(A ω² h + 8 A k²/L⁴) sin(ω t)`,
+/// `u = 0`, `u_t = -A ω h`.
+pub fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial) {
+    let beam = Beam::new(LENGTH, j, K2).unwrap();
+    let l4 = LENGTH.powi(4);
+    let shape = beam.load(|x| amp * omega * omega * lifting(x).0 + 8.0 * amp * K2 / l4);
+    let n = beam.dofs();
+    let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(beam.tip_dof(), Bounds { lo: stops.0, hi: stops.1 }, false)])
+        .with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega } }]);
+    let v = beam.interpolate(|x| -amp * omega * lifting(x).0, |x| -amp * omega * lifting(x).1);
+    (dy, Initial { u: vec![0.0; n], v })
+}
+
+/// The pipe driven by a support motion `φ` of two harmonics (`Pipe::excite`'s
+/// two lifting terms, `-h φ''` and `8 k²/L⁴ φ`), starting at rest.
+pub fn pipe_harmonics(j: usize, terms: Vec<Harmonic>, stops: (f64, f64)) -> (Dynamics, Initial) {
+    let (beam, mut dy, _) = {
+        let (dy, init) = pipe(j, 0.0, 1.0, stops);
+        (Beam::new(LENGTH, j, K2).unwrap(), dy, init)
+    };
+    let phi = TimeProfile::harmonics(terms).unwrap();
+    let acc = phi.second_derivative().unwrap();
+    let l4 = LENGTH.powi(4);
+    dy.forcing = vec![Forcing { shape: beam.load(|x| -lifting(x).0), time: acc }, Forcing { shape: beam.load(|_| 8.0 * K2 / l4), time: phi.clone() }];
+    let (p0, dp0) = (phi.value(0.0), phi.derivative_at(0.0).unwrap());
+    let u = beam.interpolate(|x| -p0 * lifting(x).0, |x| -p0 * lifting(x).1);
+    let v = beam.interpolate(|x| -dp0 * lifting(x).0, |x| -dp0 * lifting(x).1);
+    (dy, Initial { u, v })
+}
+
+pub fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
+    LockstepLane { dynamics: d.0, initial: d.1, restitution: e }
+}
+
+/// Four lanes of the paper beam (J = 19, e = 0) with different ω and A,
+/// narrow stops (±0.01) so the tip rattles, the last on stops at ±0.1.
+pub fn rattling_lanes() -> Vec<LockstepLane> {
+    let stops = (-0.01, 0.01);
+    vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.2, 37.0, stops), 0.0), lane(pipe(19, 0.35, 23.5, stops), 0.0), lane(pipe(19, 0.05, 61.0, (-0.1, 0.1)), 0.0)]
+}
+
+/// An amplitude sweep: 5 lanes of one profile (ω = 30: means shared),
+/// A = 0.1 … 0.38, stops (-0.01, 0.02).
+pub fn amplitude_lanes() -> Vec<LockstepLane> {
+    (0..5).map(|i| lane(pipe(19, 0.1 + 0.07 * i as f64, 30.0, (-0.01, 0.02)), 0.0)).collect()
+}
+
+/// Three lanes with two forcing terms each (a support motion of two
+/// harmonics: `Sampler`'s phasors), stops (-0.01, 0.02).
+pub fn two_term_lanes() -> Vec<LockstepLane> {
+    [(0.01, 40.0), (0.012, 70.0), (0.02, 25.0)]
+        .iter()
+        .map(|&(a, w)| lane(pipe_harmonics(19, vec![Harmonic { amplitude: a, omega: w, phase: 0.3 }, Harmonic { amplitude: 0.5 * a, omega: 2.7 * w, phase: -1.0 }], (-0.01, 0.02)), 0.0))
+        .collect()
+}
+
+/// Four lanes for a partial batch, one of them with the fast forcing
+/// `fast` (A = 1e-4; ω dt = 1 at ω = 2·10⁴ and dt = 5e-5: its factor
+/// sin(ω δ/2)/(ω δ/2) changes with the rounding of δ, so a stale δ shows).
+pub fn partial_lanes(fast: f64) -> Vec<LockstepLane> {
+    let stops = (-0.01, 0.01);
+    vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 31.0, stops), 0.0), lane(pipe(19, 0.1, 55.0, stops), 0.0), lane(pipe(19, 1e-4, fast, stops), 0.0)]
+}
+
+/// 11 lanes for an engine of 16: frequencies and amplitudes, two lanes at
+/// rest with zero forcing (A = 0 and A = -0: zeros of both signs in the
+/// data; lanes 7 and 8), restitutions 1/2 and 1.
+pub fn sixteen_lanes() -> Vec<LockstepLane> {
+    let stops = (-0.01, 0.01);
+    let mut lanes: Vec<LockstepLane> = (0..7).map(|i| lane(pipe(19, 0.1 + 0.05 * i as f64, 9.5 + 7.0 * i as f64, stops), 0.0)).collect();
+    lanes.push(lane(pipe(19, 0.0, 10.0, stops), 0.0));
+    lanes.push(lane(pipe(19, -0.0, 12.0, stops), 0.0));
+    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 0.5));
+    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 1.0));
+    lanes
+}
+
+/// A short beam of `j` elements (J = 4 … 8: 8 to 16 unknowns, about as
+/// many as the ring of 8 rows, whose first and last rows overlap): a
+/// contact's own restitution (0.8), restitutions 1/2 and 0.7, a one-sided
+/// obstacle.
+pub fn short_beam_lanes(j: usize) -> Vec<LockstepLane> {
+    let stops = (-0.01, 0.01);
+    let mut own = pipe(j, 0.2, 37.0, stops);
+    own.0.contacts[0].restitution = Some(0.8);
+    vec![lane(pipe(j, 0.2, 10.0, stops), 0.0), lane(own, 0.0), lane(pipe(j, 0.35, 23.5, stops), 0.5), lane(pipe(j, 0.3, 20.0, (-0.01, f64::INFINITY)), 0.7)]
+}
+
+/// Four lanes of J = 19 with the contact at `dof` (off the tip's
+/// displacement, row n-2) on stops at ±`gap`.
+pub fn off_tip_lanes(dof: usize, gap: f64) -> Vec<LockstepLane> {
+    let at = |amp: f64, omega: f64| {
+        let (mut dy, init) = pipe(19, amp, omega, (-gap, gap));
+        dy.contacts[0].dof = dof;
+        lane((dy, init), 0.0)
+    };
+    vec![at(0.2, 10.0), at(0.3, 31.0), at(0.35, 23.5), at(0.1, 55.0)]
+}
+
+/// A lane at rest on a stop at 0 (the lower one for `p > 0`, the upper one
+/// for `p < 0`; the other at ±0.01) pressed onto it by the steady load
+/// `-p` times the forcing's shape (`U = 0`, `V = 0`, no forcing).
+pub fn pressed(p: f64) -> LockstepLane {
+    let stops = if p > 0.0 { (0.0, 0.01) } else { (-0.01, 0.0) };
+    let (mut dy, mut init) = pipe(19, 0.0, 10.0, stops);
+    let shape = pipe(19, 1.0, 10.0, (0.0, 0.0)).0.forcing[0].shape.clone();
+    dy.load = shape.iter().map(|g| -p * g).collect();
+    init.v.iter_mut().for_each(|v| *v = 0.0);
+    lane((dy, init), 0.0)
+}
+
+/// A vibrating lane (stops ±0.01) with a steady load `p` times its forcing's shape.
+pub fn loaded(amp: f64, omega: f64, p: f64) -> LockstepLane {
+    let (mut dy, init) = pipe(19, amp, omega, (-0.01, 0.01));
+    dy.load = dy.forcing[0].shape.iter().map(|g| p * g).collect();
+    lane((dy, init), 0.0)
+}
+
+/// Three lanes pressed on a stop (lanes 0, 2, 4: loads 0.1, 1e-3 and
+/// `last`) beside two vibrating lanes with steady loads.
+pub fn pressed_lanes(last: f64) -> Vec<LockstepLane> {
+    vec![pressed(0.1), loaded(0.2, 10.0, 0.05), pressed(1e-3), loaded(0.3, 31.0, -0.02), pressed(last)]
+}
+
+/// The four lanes of every engine's failing-lane test: the pipe between
+/// stops at ±0.01, lanes 1 and 3 forced with amplitudes 1e306 and 1e304
+/// (their single runs turn non-finite at some step), lanes 0 and 2
+/// ordinary. The oracle is checked here, on the scheme's own single runs:
+/// `single_fails` (a lane's single run stepped as long as the test steps
+/// the batch, its first error) fails on lanes 1 and 3 and on no other.
+pub fn failing_lanes(single_fails: impl Fn(&LockstepLane) -> Option<SchemeError>) -> Vec<LockstepLane> {
+    let stops = (-0.01, 0.01);
+    let huge = |amp: f64| {
+        let (mut dy, init) = pipe(19, 0.2, 37.0, stops);
+        dy.forcing[0].time = TimeProfile::Sine { amplitude: amp, omega: 37.0 };
+        lane((dy, init), 0.0)
+    };
+    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), huge(1e306), lane(pipe(19, 0.3, 31.0, stops), 0.0), huge(1e304)];
+    let fails: Vec<Option<SchemeError>> = lanes.iter().map(single_fails).collect();
+    assert!(fails[0].is_none() && fails[2].is_none() && fails[1].is_some() && fails[3].is_some(), "the single runs' failures: {fails:?}");
+    lanes
 }

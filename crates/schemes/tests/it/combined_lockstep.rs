@@ -1,5 +1,5 @@
-//! `MoreauJeanCombinedLockstep` (`moreau-jean-combined(θ, e)` in
-//! lockstep): every lane bit for bit the single `MoreauJeanCombined` run of
+//! `MoreauJeanCombinedLockstep` (through `LockstepBatch`,
+//! `moreau-jean-combined(θ, e)`): every lane bit for bit the single `MoreauJeanCombined` run of
 //! its data (U^n, V^n, λ, the active bound at every step), with lanes that
 //! redo their step a different number of times in the same step (their
 //! index sets grow differently), the projection acting; partial batches;
@@ -11,12 +11,11 @@
 //! in every build of the step (the one the CPU selects, AVX2, baseline
 //! x86-64); the passes each single run took (`MoreauJeanCombined::passes`,
 //! step by step) say which lanes redid their step and how often. The
-//! problems are the Paoli–Schatzman engine's (`lockstep.rs`: the paper's
-//! pipe with its support motion).
+//! problems and the shared cases are in `common`'s lockstep part (the
+//! paper's pipe with its support motion).
 
-use super::lockstep::{failing_lanes, lane, pipe};
-use crate::common::{check_lane_refusals, check_lockstep, Extra};
-use signorini_schemes::{Lockstep, LockstepLane, MoreauJeanCombined, MoreauJeanCombinedLockstep, SchemeError, Stepper};
+use crate::common::{lane, pipe, Engine, Extra, Seen};
+use signorini_schemes::{LaneVector, Lockstep, LockstepBatch, LockstepLane, LockstepScheme, MoreauJeanCombined, SchemeError, Stepper};
 
 const DT: f64 = 5e-5;
 
@@ -44,46 +43,44 @@ fn passes_per_step(theta: f64, dt: f64, lanes: &[LockstepLane], steps: usize) ->
         .collect()
 }
 
-/// What a comparison saw, from the single runs: per lane the steps held at
-/// the lower and upper bound, the steps whose projection acted, the passes.
-#[derive(Debug)]
-struct Seen {
-    counts: Vec<(usize, usize)>,
-    projections: Vec<u64>,
-    passes: Vec<u64>,
+/// `moreau-jean-combined(θ, e)`'s engine against its single runs (and V);
+/// each comparison also checks that the batch took, step by step, as many
+/// passes as its slowest lane's single run (no more: the lanes that did
+/// not grow wait).
+fn mjc(theta: f64) -> Engine<MoreauJeanCombined> {
+    let mut eng = Engine::new(
+        LockstepScheme::MoreauJeanCombined { theta, restitution: 0.0 },
+        move |l, dt| single(theta, dt, l),
+        vec![Extra { name: "V", vector: LaneVector::Velocity, single: |s: &MoreauJeanCombined| s.velocity(), from: 0 }],
+    );
+    eng.also = Some(Box::new(move |width, dt, lanes, steps| {
+        // The bound on the passes: Σ over steps of the slowest lane's passes
+        // (a failed lane takes none after its failure; padding lanes copy lane 0).
+        let per = passes_per_step(theta, dt, lanes, steps);
+        let want: u64 = (0..steps).map(|n| per.iter().filter_map(|p| p.get(n)).copied().max().unwrap_or(1)).sum();
+        let mut b = LockstepBatch::with_width(LockstepScheme::MoreauJeanCombined { theta, restitution: 0.0 }, width, dt, lanes.to_vec()).unwrap();
+        for _ in 0..steps {
+            b.step();
+        }
+        assert_eq!(b.passes(), Some(want), "the batch's passes against its slowest lane's, step by step");
+    }));
+    eng
 }
 
-/// Steps the batch (every build) and each lane's single run `steps` times
-/// and compares them bit for bit at every step ([`check_lockstep`]; and
-/// V); checks that the batch took, step by step, as many passes as its
-/// slowest lane's single run (no more: the lanes that did not grow wait).
-fn compare<const L: usize>(theta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Seen {
-    let mut singles: Vec<MoreauJeanCombined> = lanes.iter().map(|l| single(theta, dt, l)).collect();
-    let extras = [Extra { name: "V", lane: |b: &MoreauJeanCombinedLockstep<L>, k, out| b.velocity_into(k, out), single: |s: &MoreauJeanCombined| s.velocity(), from: 0 }];
-    let counts = check_lockstep(|| MoreauJeanCombinedLockstep::<L>::new(theta, dt, lanes.clone()).unwrap(), &mut singles, &extras, steps);
-    // The bound on the passes: Σ over steps of the slowest lane's passes
-    // (a failed lane takes none after its failure; padding lanes copy lane 0).
-    let per = passes_per_step(theta, dt, &lanes, steps);
-    let want: u64 = (0..steps).map(|n| per.iter().filter_map(|p| p.get(n)).copied().max().unwrap_or(1)).sum();
-    let mut b = MoreauJeanCombinedLockstep::<L>::new(theta, dt, lanes).unwrap();
-    for _ in 0..steps {
-        b.step();
-    }
-    assert_eq!(b.passes(), want, "the batch's passes against its slowest lane's, step by step");
-    Seen { counts, projections: singles.iter().map(|s| s.projections()).collect(), passes: singles.iter().map(|s| s.passes()).collect() }
+/// The steps whose projection acted and the passes of each single run.
+fn projections_and_passes(seen: &Seen<MoreauJeanCombined>) -> (Vec<u64>, Vec<u64>) {
+    (seen.singles.iter().map(|s| s.projections()).collect(), seen.singles.iter().map(|s| s.passes()).collect())
 }
 
-/// Four lanes of the paper beam (J = 19, θ = 1/2, e = 0) with different ω
-/// and A, narrow stops so the tip rattles, the projection acts and steps
-/// are redone: 4000 steps.
+/// Four lanes of the paper beam (θ = 1/2, e = 0) with different ω and A,
+/// narrow stops so the tip rattles, the projection acts and steps are
+/// redone: 4000 steps.
 #[test]
 fn frequency_and_amplitude_lanes_are_bit_identical_to_single_runs() {
-    let stops = (-0.01, 0.01);
-    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.2, 37.0, stops), 0.0), lane(pipe(19, 0.35, 23.5, stops), 0.0), lane(pipe(19, 0.05, 61.0, (-0.1, 0.1)), 0.0)];
-    let seen = compare::<4>(0.5, DT, lanes, 4000);
+    let seen = mjc(0.5).rattles(DT, 4000);
+    let (projections, passes) = projections_and_passes(&seen);
     for k in 0..3 {
-        let (lo, hi) = seen.counts[k];
-        assert!(lo > 20 && hi > 20 && seen.projections[k] > 5 && seen.passes[k] > 4000 + 5, "lane {k} should rattle between both stops, projected and redone: {seen:?}");
+        assert!(projections[k] > 5 && passes[k] > 4000 + 5, "lane {k} should be projected and redone: {projections:?} {passes:?}");
     }
 }
 
@@ -114,27 +111,18 @@ fn lanes_redoing_their_step_different_numbers_of_times_are_bit_identical() {
     let mixed = (0..steps).filter(|&n| [1, 2, 3].iter().all(|want| per.iter().any(|p| p[n] == *want))).count();
     let two = (0..steps).filter(|&n| per[1][n] == 2 && per[2][n] == 1).count() + (0..steps).filter(|&n| per[1][n] == 1 && per[2][n] == 2).count();
     assert!(mixed > 100 && two > 50, "steps with 1, 2 and 3 passes at once: {mixed}; the rattling lanes apart: {two}");
-    let seen = compare::<8>(0.7, DT, lanes, steps);
-    assert!(seen.counts[1].0 + seen.counts[1].1 > 10 && seen.counts[2].0 + seen.counts[2].1 > 10, "{seen:?}");
+    let seen = mjc(0.7).compare(8, DT, lanes, steps);
+    assert!(seen.counts[1].0 + seen.counts[1].1 > 10 && seen.counts[2].0 + seen.counts[2].1 > 10, "{:?}", seen.counts);
 }
 
 /// Partial batches: 4 lanes in a batch of 8 (one with ω dt = 1), 1 lane in
-/// a batch of 2; 16 lanes, 11 in use, two at rest (A = 0 and A = -0).
+/// a batch of 2; 16 lanes, 11 in use, two at rest (A = 0 and A = -0)
+/// that never redo a step.
 #[test]
 fn partial_batches_and_sixteen_lanes_are_bit_identical() {
-    let stops = (-0.01, 0.01);
-    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 31.0, stops), 0.0), lane(pipe(19, 0.1, 55.0, stops), 0.0), lane(pipe(19, 1e-4, 2e4, stops), 0.0)];
-    compare::<8>(0.5, DT, lanes, 2000);
-    compare::<2>(0.5, DT, vec![lane(pipe(19, 0.25, 44.0, stops), 0.0)], 1500);
-    let mut lanes: Vec<LockstepLane> = (0..7).map(|i| lane(pipe(19, 0.1 + 0.05 * i as f64, 9.5 + 7.0 * i as f64, stops), 0.0)).collect();
-    lanes.push(lane(pipe(19, 0.0, 10.0, stops), 0.0));
-    lanes.push(lane(pipe(19, -0.0, 12.0, stops), 0.0));
-    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 0.5));
-    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 1.0));
-    let seen = compare::<16>(1.0, DT, lanes, 2000);
-    assert_eq!(&seen.counts[7..9], &[(0, 0), (0, 0)], "the lanes at rest stay at rest");
-    assert_eq!(&seen.passes[7..9], &[2000, 2000], "and never redo a step");
-    assert!(seen.counts[..7].iter().chain(&seen.counts[9..]).all(|&(lo, hi)| lo + hi > 10), "{seen:?}");
+    mjc(0.5).partial_batches(DT, 2e4, (2000, 1500));
+    let seen = mjc(1.0).sixteen(DT, 2000);
+    assert_eq!(&projections_and_passes(&seen).1[7..9], &[2000, 2000], "the lanes at rest never redo a step");
 }
 
 /// Short beams, J = 4, 5, 6, 8, θ = 1/2 and 1, a contact's own
@@ -142,47 +130,24 @@ fn partial_batches_and_sixteen_lanes_are_bit_identical() {
 /// row n-4, the tip's slope).
 #[test]
 fn short_beams_restitutions_and_contacts_off_the_tip_are_bit_identical() {
-    let stops = (-0.01, 0.01);
-    for j in [4, 5, 6, 8] {
-        for theta in [0.5, 1.0] {
-            let mut own = pipe(j, 0.2, 37.0, stops);
-            own.0.contacts[0].restitution = Some(0.8);
-            let lanes = vec![lane(pipe(j, 0.2, 10.0, stops), 0.0), lane(own, 0.0), lane(pipe(j, 0.35, 23.5, stops), 0.5), lane(pipe(j, 0.3, 20.0, (-0.01, f64::INFINITY)), 0.7)];
-            let seen = compare::<4>(theta, DT, lanes, 1500);
-            assert!(seen.counts.iter().all(|&(lo, hi)| lo + hi > 10), "J = {j}, θ = {theta}: {seen:?}");
-        }
+    for theta in [0.5, 1.0] {
+        mjc(theta).short_beams(DT, 1500);
     }
-    let n = 38;
-    for (dof, gap) in [(20, 0.004), (n - 4, 0.008), (n - 1, 0.01)] {
-        let at = |amp: f64, omega: f64| {
-            let (mut dy, init) = pipe(19, amp, omega, (-gap, gap));
-            dy.contacts[0].dof = dof;
-            lane((dy, init), 0.0)
-        };
-        let seen = compare::<4>(0.5, DT, vec![at(0.2, 10.0), at(0.3, 31.0), at(0.35, 23.5), at(0.1, 55.0)], 1500);
-        assert!(seen.counts.iter().all(|&(lo, hi)| lo + hi > 10), "dof {dof}: {seen:?}");
-    }
+    mjc(0.5).off_the_tip(DT, &[(20, 0.004), (34, 0.008), (37, 0.01)], 1500);
 }
 
 /// Lanes whose forcing overflows report the single run's `NonFinite` error
 /// at that step; the other lanes carry on bit for bit.
 #[test]
 fn a_failing_lane_reports_the_single_runs_error_and_spares_the_others() {
-    let lanes = failing_lanes(|l| {
-        let mut s = MoreauJeanCombined::new("s".into(), l.dynamics.clone(), 0.5, 0.0, DT, &l.initial).unwrap();
-        (0..1500).find_map(|_| s.step().err())
-    });
-    compare::<4>(0.5, DT, lanes, 1500);
+    mjc(0.5).failing_lane(DT, 1500);
 }
 
 #[test]
 fn refusals_are_typed() {
+    mjc(0.5).refusals(DT);
     let base = || lane(pipe(19, 0.2, 10.0, (-0.1, 0.1)), 0.0);
-    check_lane_refusals(|lanes| MoreauJeanCombinedLockstep::<4>::new(0.5, DT, lanes).err(), base);
-    assert!(matches!(MoreauJeanCombinedLockstep::<4>::new(0.4, DT, vec![base()]).err(), Some(SchemeError::Invalid { field: "theta", .. })));
-    let mut d = base();
-    d.restitution = 1.5;
-    assert!(matches!(MoreauJeanCombinedLockstep::<4>::new(0.5, DT, vec![d]).err(), Some(SchemeError::Invalid { field: "restitution", .. })));
+    assert!(matches!(mjc(0.4).batch(4, DT, vec![base()]).err(), Some(SchemeError::Invalid { field: "theta", .. })));
     // What the single run refuses: a non-positive step.
-    assert!(MoreauJeanCombinedLockstep::<4>::new(0.5, 0.0, vec![base()]).is_err());
+    assert!(mjc(0.5).batch(4, 0.0, vec![base()]).is_err());
 }

@@ -1,122 +1,44 @@
-//! `PaoliSchatzmanLockstep`: every lane bit for bit the single
-//! `PaoliSchatzman` run of its data (U^n, λ, active bound at every step),
-//! through repeated impacts on both stops; partial batches; restitution;
-//! typed refusals. The oracle is the single run (a separate code path:
-//! on the beam its fused β-step — the right-hand side inside the solve's
-//! forward sweep, then its own copy of `BandLdlt::backward_in_place`'s sweep,
-//! `Projection::project`).
+//! `PaoliSchatzmanLockstep` (through `LockstepBatch`, `ps(e, β)`): every
+//! lane bit for bit the single `PaoliSchatzman` run of its data (U^n,
+//! U^{n-1}, λ, active bound at every step), through repeated impacts on
+//! both stops; partial batches; restitution; typed refusals. The oracle is
+//! the single run (a separate code path: on the beam its fused β-step —
+//! the right-hand side inside the solve's forward sweep, then its own copy
+//! of `BandLdlt::backward_in_place`'s sweep, `Projection::project`).
 //! Every build of the step is checked: the one the CPU selects (AVX-512 or
 //! AVX2 where available), the AVX2 one (`without_avx512()`) and the
-//! baseline x86-64 one (`portable()`). The fused β-step is itself checked
-//! bit for bit against the plain one (`Bands3::rhs`, `BandLdlt::solve_in_place`)
-//! at the end of this file.
+//! baseline x86-64 one (`portable()`). The problems and the cases shared by
+//! every engine are in `common`'s lockstep part (the paper's pipe with its
+//! support motion). The fused β-step is itself checked bit for bit against
+//! the plain one (`Bands3::rhs`, `BandLdlt::solve_in_place`) at the end of
+//! this file.
 
-pub(crate) use crate::common::bits;
-use crate::common::{check_lane_refusals, check_lockstep, Extra};
-use signorini_fem::{Beam, SymBand};
-use signorini_schemes::{Active, Bounds, Contact, Dynamics, Forcing, Harmonic, Initial, LockstepLane, PaoliSchatzman, PaoliSchatzmanLockstep, SchemeError, SchemeSpec, Stepper, TimeProfile};
+use crate::common::{assert_contacts, bits, lane, pipe, pipe_harmonics, Engine, Extra};
+use signorini_fem::SymBand;
+use signorini_schemes::{Active, Bounds, Contact, Dynamics, Harmonic, Initial, LaneVector, LockstepLane, LockstepScheme, PaoliSchatzman, SchemeError, SchemeSpec, Stepper};
 
-const LENGTH: f64 = 1.501;
-const K2: f64 = 282.84;
-
-/// `h(x)` of the lifting (crates/run/src/beam.rs, `Pipe::lifting`) and `h'`.
-fn lifting(x: f64) -> (f64, f64) {
-    let y = x / LENGTH;
-    (1.0 - 2.0 * y * y + 4.0 / 3.0 * y.powi(3) - y.powi(4) / 3.0, (-4.0 * y + 4.0 * y * y - 4.0 / 3.0 * y.powi(3)) / LENGTH)
-}
-
-/// The paper's pipe (`Pipe::dynamics`, copied) with support `A sin(ω t)`
-/// and stops `stops` at the tip: forcing `(A ω² h + 8 A k²/L⁴) sin(ω t)`,
-/// `u = 0`, `u_t = -A ω h`.
-pub(crate) fn pipe(j: usize, amp: f64, omega: f64, stops: (f64, f64)) -> (Dynamics, Initial) {
-    let beam = Beam::new(LENGTH, j, K2).unwrap();
-    let l4 = LENGTH.powi(4);
-    let shape = beam.load(|x| amp * omega * omega * lifting(x).0 + 8.0 * amp * K2 / l4);
-    let n = beam.dofs();
-    let dy = Dynamics::new(beam.mass(), beam.stiffness(), vec![0.0; n], vec![Contact::new(beam.tip_dof(), Bounds { lo: stops.0, hi: stops.1 }, false)])
-        .with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 1.0, omega } }]);
-    let v = beam.interpolate(|x| -amp * omega * lifting(x).0, |x| -amp * omega * lifting(x).1);
-    (dy, Initial { u: vec![0.0; n], v })
-}
-
-/// The pipe driven by a support motion `φ` of two harmonics (`Pipe::excite`'s
-/// two lifting terms, `-h φ''` and `8 k²/L⁴ φ`), starting at rest.
-pub(crate) fn pipe_harmonics(j: usize, terms: Vec<Harmonic>, stops: (f64, f64)) -> (Dynamics, Initial) {
-    let (beam, mut dy, _) = {
-        let (dy, init) = pipe(j, 0.0, 1.0, stops);
-        (Beam::new(LENGTH, j, K2).unwrap(), dy, init)
-    };
-    let phi = TimeProfile::harmonics(terms).unwrap();
-    let acc = phi.second_derivative().unwrap();
-    let l4 = LENGTH.powi(4);
-    dy.forcing = vec![Forcing { shape: beam.load(|x| -lifting(x).0), time: acc }, Forcing { shape: beam.load(|_| 8.0 * K2 / l4), time: phi.clone() }];
-    let (p0, dp0) = (phi.value(0.0), phi.derivative_at(0.0).unwrap());
-    let u = beam.interpolate(|x| -p0 * lifting(x).0, |x| -p0 * lifting(x).1);
-    let v = beam.interpolate(|x| -dp0 * lifting(x).0, |x| -dp0 * lifting(x).1);
-    (dy, Initial { u, v })
-}
-
-pub(crate) fn lane(d: (Dynamics, Initial), e: f64) -> LockstepLane {
-    LockstepLane { dynamics: d.0, initial: d.1, restitution: e }
-}
-
-/// The four lanes of every engine's failing-lane test: the pipe between
-/// stops at ±0.01, lanes 1 and 3 forced with amplitudes 1e306 and 1e304
-/// (their single runs turn non-finite at some step), lanes 0 and 2
-/// ordinary. The oracle is checked here, on the scheme's own single runs:
-/// `single_fails` (a lane's single run stepped as long as the test steps
-/// the batch, its first error) fails on lanes 1 and 3 and on no other.
-pub(crate) fn failing_lanes(single_fails: impl Fn(&LockstepLane) -> Option<SchemeError>) -> Vec<LockstepLane> {
-    let stops = (-0.01, 0.01);
-    let huge = |amp: f64| {
-        let (mut dy, init) = pipe(19, 0.2, 37.0, stops);
-        dy.forcing[0].time = TimeProfile::Sine { amplitude: amp, omega: 37.0 };
-        lane((dy, init), 0.0)
-    };
-    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), huge(1e306), lane(pipe(19, 0.3, 31.0, stops), 0.0), huge(1e304)];
-    let fails: Vec<Option<SchemeError>> = lanes.iter().map(single_fails).collect();
-    assert!(fails[0].is_none() && fails[2].is_none() && fails[1].is_some() && fails[3].is_some(), "the single runs' failures: {fails:?}");
-    lanes
-}
-
-/// Steps the batch (every build) and each lane's single run `steps` times
-/// and compares them bit for bit at every step ([`check_lockstep`]; and
-/// `U^{n-1}`); returns per lane the number of steps held at the lower and
-/// upper bound.
-fn compare<const L: usize>(beta: f64, dt: f64, lanes: Vec<LockstepLane>, steps: usize) -> Vec<(usize, usize)> {
-    let mut singles: Vec<PaoliSchatzman> = lanes.iter().map(|l| PaoliSchatzman::new("single".into(), l.dynamics.clone(), beta, l.restitution, dt, &l.initial).unwrap()).collect();
-    let prev = Extra { name: "U^(n-1)", lane: |b: &PaoliSchatzmanLockstep<L>, k, out| b.previous_displacement_into(k, out), single: |s: &PaoliSchatzman| s.previous_displacement(), from: 0 };
-    check_lockstep(|| PaoliSchatzmanLockstep::<L>::new(beta, dt, lanes.clone()).unwrap(), &mut singles, &[prev], steps)
+/// `ps(e, β)`'s engine against its single runs (and U^{n-1}).
+fn ps(beta: f64) -> Engine<PaoliSchatzman> {
+    Engine::new(
+        LockstepScheme::PaoliSchatzman { beta, restitution: 0.0 },
+        move |l, dt| PaoliSchatzman::new("single".into(), l.dynamics.clone(), beta, l.restitution, dt, &l.initial).unwrap(),
+        vec![Extra { name: "U^(n-1)", vector: LaneVector::PreviousDisplacement, single: |s: &PaoliSchatzman| s.previous_displacement(), from: 0 }],
+    )
 }
 
 /// Four lanes of the paper beam (J = 19, β = 1/2, e = 0) with different
 /// ω and A, narrow stops so the tip rattles: 4000 steps, bit for bit.
 #[test]
 fn beam_frequency_and_amplitude_lanes_are_bit_identical_to_single_runs() {
-    let stops = (-0.01, 0.01);
-    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.2, 37.0, stops), 0.0), lane(pipe(19, 0.35, 23.5, stops), 0.0), lane(pipe(19, 0.05, 61.0, (-0.1, 0.1)), 0.0)];
-    let counts = compare::<4>(0.5, 5e-5, lanes, 4000);
-    for (k, &(lo, hi)) in counts.iter().enumerate().take(3) {
-        assert!(lo > 20 && hi > 20, "lane {k} should rattle between both stops: {lo} lower, {hi} upper steps");
-    }
+    ps(0.5).rattles(5e-5, 4000);
 }
 
-/// An amplitude sweep (same profile in every lane: means shared) and two
-/// forcing terms per lane (support motion of two harmonics), β = 1/4, 8 lanes.
+/// An amplitude sweep (same profile in every lane: means shared) on 8
+/// lanes and two forcing terms per lane (support motion of two harmonics)
+/// on 4 (one forcing term vs two is refused: two groups), β = 1/4.
 #[test]
 fn amplitude_sweep_and_two_forcing_terms_are_bit_identical() {
-    let stops = (-0.01, 0.02);
-    let mut lanes: Vec<LockstepLane> = (0..5).map(|i| lane(pipe(19, 0.1 + 0.07 * i as f64, 30.0, stops), 0.0)).collect();
-    for (a, w) in [(0.01, 40.0), (0.012, 70.0), (0.02, 25.0)] {
-        let terms = vec![Harmonic { amplitude: a, omega: w, phase: 0.3 }, Harmonic { amplitude: 0.5 * a, omega: 2.7 * w, phase: -1.0 }];
-        lanes.push(lane(pipe_harmonics(19, terms, stops), 0.0));
-    }
-    // Mixing: one forcing term vs two is refused; run the two groups separately.
-    let two: Vec<LockstepLane> = lanes.split_off(5);
-    let counts = compare::<8>(0.25, 5e-5, lanes, 3000);
-    assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
-    let counts = compare::<4>(0.25, 5e-5, two, 3000);
-    assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
+    ps(0.25).amplitude_and_two_terms(5e-5, 5e-5, 3000);
 }
 
 /// A partial batch: 4 lanes in a batch of 8, 1 lane in a batch of 2. One
@@ -124,10 +46,7 @@ fn amplitude_sweep_and_two_forcing_terms_are_bit_identical() {
 /// the rounding of δ = (n+2) dt - (n+1) dt, so a stale δ shows.
 #[test]
 fn partial_batches_are_bit_identical() {
-    let stops = (-0.01, 0.01);
-    let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 31.0, stops), 0.0), lane(pipe(19, 0.1, 55.0, stops), 0.0), lane(pipe(19, 1e-4, 2e4, stops), 0.0)];
-    compare::<8>(0.5, 5e-5, lanes, 3000);
-    compare::<2>(0.5, 5e-5, vec![lane(pipe(19, 0.25, 44.0, stops), 0.0)], 2000);
+    ps(0.5).partial_batches(5e-5, 2e4, (3000, 2000));
 }
 
 /// 16 lanes (the sweeps' widest engine), 11 of them in use: frequencies,
@@ -135,15 +54,7 @@ fn partial_batches_are_bit_identical() {
 /// and A = -0: zeros of both signs in the data), β = 1/2.
 #[test]
 fn sixteen_lanes_with_lanes_at_rest_are_bit_identical() {
-    let stops = (-0.01, 0.01);
-    let mut lanes: Vec<LockstepLane> = (0..7).map(|i| lane(pipe(19, 0.1 + 0.05 * i as f64, 9.5 + 7.0 * i as f64, stops), 0.0)).collect();
-    lanes.push(lane(pipe(19, 0.0, 10.0, stops), 0.0));
-    lanes.push(lane(pipe(19, -0.0, 12.0, stops), 0.0));
-    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 0.5));
-    lanes.push(lane(pipe(19, 0.2, 37.0, stops), 1.0));
-    let counts = compare::<16>(0.5, 5e-5, lanes, 3000);
-    assert_eq!(&counts[7..9], &[(0, 0), (0, 0)], "the lanes at rest stay at rest");
-    assert!(counts[..7].iter().chain(&counts[9..]).all(|&(lo, hi)| lo + hi > 10), "{counts:?}");
+    ps(0.5).sixteen(5e-5, 3000);
 }
 
 /// Short beams, J = 4, 5, 6, 8 (8 to 16 unknowns: the fewest the engine
@@ -156,8 +67,7 @@ fn short_beams_are_bit_identical() {
     for j in [4, 5, 6, 8] {
         for beta in [0.5, 0.25] {
             let lanes = vec![lane(pipe(j, 0.2, 10.0, stops), 0.0), lane(pipe(j, 0.3, 31.0, stops), 0.0), lane(pipe(j, 0.35, 23.5, stops), 0.5), lane(pipe(j, 0.1, 55.0, stops), 0.0)];
-            let counts = compare::<4>(beta, 5e-5, lanes, 2000);
-            assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "J = {j}, β = {beta}: {counts:?}");
+            assert_contacts(&ps(beta).counts(4, 5e-5, lanes, 2000), &format!("J = {j}, β = {beta}"));
         }
     }
 }
@@ -168,17 +78,7 @@ fn short_beams_are_bit_identical() {
 /// lanes each: bit for bit.
 #[test]
 fn contacts_off_the_tip_are_bit_identical() {
-    let n = 38;
-    for (dof, gap) in [(20, 0.004), (n - 4, 0.008), (n - 3, 0.01), (n - 1, 0.01)] {
-        let at = |amp: f64, omega: f64| {
-            let (mut dy, init) = pipe(19, amp, omega, (-gap, gap));
-            dy.contacts[0].dof = dof;
-            lane((dy, init), 0.0)
-        };
-        let lanes = vec![at(0.2, 10.0), at(0.3, 31.0), at(0.35, 23.5), at(0.1, 55.0)];
-        let counts = compare::<4>(0.5, 5e-5, lanes, 2000);
-        assert!(counts.iter().all(|&(lo, hi)| lo + hi > 10), "dof {dof}: {counts:?}");
-    }
+    ps(0.5).off_the_tip(5e-5, &[(20, 0.004), (34, 0.008), (35, 0.01), (37, 0.01)], 2000);
 }
 
 /// Restitution per lane (e = 0.5, 1, a contact's own e overriding the
@@ -189,18 +89,13 @@ fn restitution_lanes_are_bit_identical() {
     let mut own = pipe(19, 0.2, 37.0, stops);
     own.0.contacts[0].restitution = Some(0.8);
     let lanes = vec![lane(pipe(19, 0.2, 37.0, stops), 0.5), lane(pipe(19, 0.2, 37.0, stops), 1.0), lane(own, 0.0), lane(pipe(19, 0.3, 20.0, (-0.01, f64::INFINITY)), 0.7)];
-    let counts = compare::<4>(0.25, 5e-5, lanes, 3000);
+    let counts = ps(0.25).counts(4, 5e-5, lanes, 3000);
     assert!(counts.iter().all(|&(lo, _)| lo > 0), "{counts:?}");
 }
 
 #[test]
 fn refusals_are_typed() {
-    let base = || lane(pipe(19, 0.2, 10.0, (-0.1, 0.1)), 0.0);
-    check_lane_refusals(|lanes| PaoliSchatzmanLockstep::<4>::new(0.5, 5e-5, lanes).err(), base);
-    let new = |lanes: Vec<LockstepLane>| PaoliSchatzmanLockstep::<4>::new(0.5, 5e-5, lanes).err().expect("refused");
-    let mut d = base();
-    d.restitution = 1.5;
-    assert!(matches!(new(vec![d]), SchemeError::Invalid { field: "restitution", .. }));
+    ps(0.5).refusals(5e-5);
     // Half-bandwidth 1 (a P1 bar) is not supported.
     let n = 10;
     let mut m = SymBand::zeros(n, 1);
@@ -214,7 +109,7 @@ fn refusals_are_typed() {
     }
     let dy = Dynamics::new(m, k, vec![0.0; n], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let bar = LockstepLane { dynamics: dy, initial: Initial { u: vec![0.1; n], v: vec![0.0; n] }, restitution: 0.0 };
-    assert!(matches!(new(vec![bar]), SchemeError::Structure(m) if m.contains("half-bandwidth 3")));
+    assert!(matches!(ps(0.5).batch(4, 5e-5, vec![bar]).err(), Some(SchemeError::Structure(m)) if m.contains("half-bandwidth 3")));
 }
 
 /// Lanes whose forcing overflows (amplitudes 1e306, 1e304: the single runs
@@ -222,11 +117,7 @@ fn refusals_are_typed() {
 /// at that step; the other lanes carry on bit for bit.
 #[test]
 fn a_failing_lane_reports_the_single_runs_error_and_spares_the_others() {
-    let lanes = failing_lanes(|l| {
-        let mut s = PaoliSchatzman::new("s".into(), l.dynamics.clone(), 0.5, 0.0, 5e-5, &l.initial).unwrap();
-        (0..1500).find_map(|_| s.step().err())
-    });
-    compare::<4>(0.5, 5e-5, lanes, 1500);
+    ps(0.5).failing_lane(5e-5, 1500);
 }
 
 /// β = 0 (the start step is Newmark(1/4, 1/2), the step matrix is `M`): the
@@ -235,7 +126,7 @@ fn a_failing_lane_reports_the_single_runs_error_and_spares_the_others() {
 fn beta_zero_lanes_are_bit_identical() {
     let stops = (-0.01, 0.01);
     let lanes = vec![lane(pipe(19, 0.2, 10.0, stops), 0.0), lane(pipe(19, 0.3, 37.0, stops), 0.5)];
-    compare::<2>(0.0, 2e-6, lanes, 3000);
+    ps(0.0).counts(2, 2e-6, lanes, 3000);
 }
 
 /// The beam's fused β-step (right-hand side inside the solve's forward
