@@ -284,6 +284,34 @@ fn steady_terms(k: f64, c: f64, a: f64, b: f64, tau: f64) -> [[f64; 3]; 4] {
     t
 }
 
+/// `φ_1 … φ_4` of `z <= 0`: `φ_k(z) = (e^z − Σ_{j<k} z^j/j!)/z^k` (`φ_k(0)
+/// = 1/k!`), each to a few ulps: the series `Σ_j z^j/(j + k)!` for `|z| <=
+/// 1` (its 20th term below 1e-19 of `φ_k`), else `φ_1 = expm1(z)/z` and
+/// `φ_{k+1} = (φ_k − 1/k!)/z`, which lose at most a few ulps once `|z| >= 1`.
+/// A damped free mode (`k = 0 < c`, a free chain's rigid pair) responds to
+/// a load `a + b τ` with `η' = η₀' e^z + a τ φ_1 + b τ² φ_2`, `η = η₀ +
+/// η₀' τ φ_1 + a τ² φ_2 + b τ³ φ_3` (`z = −c τ`): no `1/c` (docs/theory.md §9.1).
+fn phis(z: f64) -> [f64; 4] {
+    if z.abs() <= 1.0 {
+        // φ_4 by its series, then φ_k = 1/k! + z φ_{k+1} downwards.
+        let mut term = 1.0 / 24.0;
+        let mut p4 = term;
+        for j in 1..=20 {
+            term *= z / f64::from(j + 4);
+            p4 += term;
+        }
+        let p3 = 1.0 / 6.0 + z * p4;
+        let p2 = 0.5 + z * p3;
+        let p1 = 1.0 + z * p2;
+        [p1, p2, p3, p4]
+    } else {
+        let p1 = z.exp_m1() / z;
+        let p2 = (p1 - 1.0) / z;
+        let p3 = (p2 - 0.5) / z;
+        [p1, p2, p3, (p3 - 1.0 / 6.0) / z]
+    }
+}
+
 /// `e^{−ατ} cosh(βτ)` and `e^{−ατ} sinh(βτ)/β` for `0 < β <= α`, without
 /// overflow or cancellation.
 fn overdamped(alpha: f64, beta: f64, tau: f64) -> (f64, f64) {
@@ -1009,6 +1037,12 @@ impl ModalFlow {
         for (pm, terms) in p.iter_mut().zip(steady_terms(k, c, g0, b, st)) {
             *pm = terms[0] + terms[1] + terms[2];
         }
+        self.add_harmonic_particular(i, st, tr, &mut p);
+        p
+    }
+
+    /// Adds the harmonics' part of [`particular`](Self::particular) (`st = t − t_ref`) to `p`.
+    fn add_harmonic_particular<const N: usize>(&self, i: usize, st: f64, tr: &[(f64, f64)], p: &mut [f64; N]) {
         for (h, &(s, co)) in self.harmonics.iter().zip(tr) {
             let w = h.omega;
             // d^m/dt^m of (a sin θ + b cos θ): Ω^m times the quarter-turns.
@@ -1042,7 +1076,6 @@ impl ModalFlow {
                 }
             }
         }
-        p
     }
 
     /// Bounds of `|P⁽ᵐ⁾|` (orders `0..=JET`) over `[t0, t0 + h]`, `P` the
@@ -1151,9 +1184,26 @@ impl ModalFlow {
     /// [`increments`](Self::trig_increments) over the step).
     #[inline]
     pub(crate) fn advance_mode(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)], dtr: &[(f64, f64)]) -> (f64, f64) {
+        let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
+        if k == 0.0 && alpha > 0.0 {
+            // A damped free mode (`λ = 0, −c`): the steady load's response
+            // from rest by the φ-functions, whose form has no `1/c` to
+            // cancel (`a τ/c` against `a (1 − e^{−cτ})/c²` lost `ε/(cτ)` of
+            // the motion: 1e-3 of the state at c = 1e-13, docs/theory.md §9.1),
+            // plus the free decay of the rest (the harmonics' particular
+            // solution taken off as before).
+            let mut ph = [0.0; 2];
+            self.add_harmonic_particular(i, 0.0, tr0, &mut ph);
+            let mut dph = [0.0; 2];
+            self.add_harmonic_delta(i, tau, tr0, dtr, &mut dph);
+            let de0 = deta - ph[1];
+            let z = -self.c[i] * tau;
+            let [p1, p2, p3, _] = phis(z);
+            let (g0, b) = self.steady(i, t0);
+            return (de0 * tau * p1 + tau * tau * (g0 * p2 + b * tau * p3) + dph[0], de0 * z.exp_m1() + tau * (g0 * p1 + b * tau * p2) + dph[1]);
+        }
         let p0 = self.particular::<2>(i, t0, t0, tr0);
         let (e0, de0) = (eta - p0[0], deta - p0[1]);
-        let (k, alpha) = (self.k[i], 0.5 * self.c[i]);
         let dp = self.particular_delta(i, t0, tau, tr0, dtr);
         let p1 = [p0[0] + dp[0], p0[1] + dp[1]];
         let lambda = k - alpha * alpha;
@@ -1201,6 +1251,12 @@ impl ModalFlow {
         for m in 0..2 {
             d[m] = (at1[m][0] - at0[m][0]) + (at1[m][1] - at0[m][1]) + (at1[m][2] - at0[m][2]);
         }
+        self.add_harmonic_delta(i, tau, tr0, dtr, &mut d);
+        d
+    }
+
+    /// Adds the harmonics' part of [`particular_delta`](Self::particular_delta) to `d`.
+    fn add_harmonic_delta(&self, i: usize, tau: f64, tr0: &[(f64, f64)], dtr: &[(f64, f64)], d: &mut [f64; 2]) {
         for ((h, &(s0, c0)), &(ds, dc)) in self.harmonics.iter().zip(tr0).zip(dtr) {
             let w = h.omega;
             match h.coef[i] {
@@ -1217,7 +1273,6 @@ impl ModalFlow {
                 }
             }
         }
-        d
     }
 
     /// `sin, cos (Ω_j t + p_j)` of every harmonic into `out` (shared by
@@ -1267,7 +1322,9 @@ impl ModalFlow {
         let t1 = t0 + tau;
         let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
         let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
-        // The remainder: e'' + c e' + k e = 0.
+        // The remainder: e'' + c e' + k e = 0. (A damped free mode, `k = 0
+        // < c`, still loses `ε/(cτ)` here as `advance_mode` did before its
+        // φ-functions, docs/theory.md §9.1.)
         let mut s = if k > 0.0 {
             -((de1 - de0) + c * (e1 - e0)) / k
         } else if c > 0.0 {
