@@ -9,7 +9,9 @@
 //! The solve is specialised for the half-bandwidths that occur (1: P1 bar,
 //! 3: Hermite beam) so the inner loops have compile-time trip counts; the
 //! benchmark `benches/step.rs` of `signorini-schemes` measures it against a
-//! bare hand-written tridiagonal solve.
+//! bare hand-written tridiagonal solve. A tridiagonal factor whose `L` is
+//! the identity (a lumped mass) is solved by a product per row, with the
+//! sweeps' bits (`BandLdlt::solve_diagonal`).
 
 use crate::FemError;
 
@@ -287,7 +289,7 @@ impl SymBand {
     /// [`FemError::NotPositiveDefinite`] if a pivot is not positive and finite.
     pub fn factor(&self) -> Result<BandLdlt, FemError> {
         let (n, p) = (self.n, self.p);
-        let mut out = BandLdlt { n, p, l: vec![0.0; n * p.max(1)], lt: vec![0.0; n * p.max(1)], d: vec![0.0; n], inv_d: vec![0.0; n] };
+        let mut out = BandLdlt::zeros(n, p);
         self.factor_into(&mut out)?;
         Ok(out)
     }
@@ -299,6 +301,7 @@ impl SymBand {
     pub fn factor_into(&self, out: &mut BandLdlt) -> Result<(), FemError> {
         let (n, p) = (self.n, self.p);
         assert!(out.n == n && out.p == p, "size mismatch");
+        out.diagonal = None;
         let (l, d) = (&mut out.l, &mut out.d);
         l.iter_mut().for_each(|x| *x = 0.0);
         // l[i*p + k-1] = L[i][i-k], k = 1..=p.
@@ -332,8 +335,17 @@ impl SymBand {
                 out.lt[i * p + k - 1] = if i + k < n { l[(i + k) * p + k - 1] } else { 0.0 };
             }
         }
+        out.diagonal = (p == 1 && n >= 1 && out.l.iter().all(|x| *x == 0.0)).then(avx2_available);
         Ok(())
     }
+}
+
+/// Whether the CPU has AVX2 (false off x86-64).
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    false
 }
 
 /// The factor `L D Lᵀ` of a [`SymBand`] (unit lower triangular `L` with the
@@ -346,13 +358,59 @@ pub struct BandLdlt {
     lt: Vec<f64>,
     d: Vec<f64>,
     inv_d: Vec<f64>,
+    /// A tridiagonal factor whose `L` is the identity (every sub-diagonal
+    /// entry zero: a lumped mass): [`solve_in_place`](Self::solve_in_place)
+    /// takes the diagonal path ([`solve_diagonal`](Self::solve_diagonal));
+    /// `Some(avx2)`, whether the CPU has AVX2 (chosen at run time, no FMA,
+    /// so the same bits).
+    diagonal: Option<bool>,
+}
+
+/// `x` is infinite, NaN or `−0`: where `b − 0·y` is not `b` (a sweep's
+/// step over a zero entry of `L`), as 0 or 1.
+#[inline(always)]
+fn not_plain(x: f64) -> u64 {
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    let b = x.to_bits();
+    u64::from(b & EXP == EXP) | u64::from(b == 1 << 63)
+}
+
+/// The diagonal path's body: if no `b_i · (1/D_i)` is infinite, NaN or
+/// `−0`, `b_i ← b_i · (1/D_i)` and true; otherwise false and `b`
+/// untouched. (With `1/D_i > 0`, possibly `+∞`, a `b_i` that is infinite,
+/// NaN or `−0` makes its product so: `b` needs no check of its own.)
+#[inline(always)]
+fn diagonal_body(inv_d: &[f64], b: &mut [f64]) -> bool {
+    let n = b.len();
+    let inv_d = &inv_d[..n];
+    let mut odd = 0;
+    for (x, s) in b.iter().zip(inv_d) {
+        odd |= not_plain(x * s);
+    }
+    if odd != 0 {
+        return false;
+    }
+    for (x, s) in b.iter_mut().zip(inv_d) {
+        *x *= s;
+    }
+    true
+}
+
+/// [`diagonal_body`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn diagonal_body_avx2(inv_d: &[f64], b: &mut [f64]) -> bool {
+    diagonal_body(inv_d, b)
 }
 
 impl BandLdlt {
     /// Storage for the factor of an `n × n` matrix of half-bandwidth `p`,
     /// to be filled by [`SymBand::factor_into`].
     pub fn zeros(n: usize, p: usize) -> Self {
-        BandLdlt { n, p, l: vec![0.0; n * p.max(1)], lt: vec![0.0; n * p.max(1)], d: vec![0.0; n], inv_d: vec![0.0; n] }
+        BandLdlt { n, p, l: vec![0.0; n * p.max(1)], lt: vec![0.0; n * p.max(1)], d: vec![0.0; n], inv_d: vec![0.0; n], diagonal: None }
     }
 
     /// Dimension.
@@ -424,6 +482,7 @@ impl BandLdlt {
         assert_eq!(b.len(), self.n, "length mismatch");
         match self.p {
             0 => b.iter_mut().zip(&self.inv_d).for_each(|(x, s)| *x *= s),
+            1 if self.diagonal.is_some() => self.solve_diagonal(b),
             1 => self.solve_tridiag(b),
             2 => self.solve_p::<2>(b),
             3 if self.n > 3 => self.solve_p3(b),
@@ -447,6 +506,31 @@ impl BandLdlt {
             2 if self.n > 2 => self.backward_p::<2>(b),
             3 if self.n > 3 => self.backward_p3(b),
             _ => self.backward_generic(b),
+        }
+    }
+
+    /// The tridiagonal solve when `L` is the identity (a lumped mass),
+    /// the same bits as the sweeps ([`solve_tridiag`](Self::solve_tridiag)):
+    /// with every `l_i = ±0`, the forward sweep's `y_i = b_i − l_i y_{i−1}`
+    /// is `b_i` while every `b_i` is finite and not `−0`, and the backward
+    /// sweep's `x_i = y_i/D_i − l_{i+1} x_{i+1}` is `y_i (1/D_i)` while every
+    /// such product is finite and not `−0` (`b − (±0)` is `b` for any other
+    /// finite `b`). So one check pass and one product pass (vectorised;
+    /// AVX2 chosen at run time, no FMA) where the sweeps' two dependency
+    /// chains cost a multiplication and a subtraction's latency a row
+    /// each; if any value is infinite, NaN or `−0` (a zero's sign or a
+    /// NaN that the sweeps would carry to the other rows), the sweeps.
+    fn solve_diagonal(&self, b: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.diagonal == Some(true) {
+            // SAFETY: `Some(true)` is set only when the CPU reports AVX2.
+            if unsafe { diagonal_body_avx2(&self.inv_d, b) } {
+                return;
+            }
+            return self.solve_tridiag(b);
+        }
+        if !diagonal_body(&self.inv_d, b) {
+            self.solve_tridiag(b);
         }
     }
 

@@ -7,6 +7,7 @@ mod common;
 
 mod beam;
 mod contacts;
+mod diagonal_solve;
 mod kappa_bound;
 mod matrices;
 mod pk;

@@ -18,6 +18,7 @@ mod conformance;
 mod d1_minus_linear_lockstep;
 mod d1minus;
 mod damping;
+mod diagonal_mass;
 mod energy;
 mod lockstep;
 mod moreau_lockstep;

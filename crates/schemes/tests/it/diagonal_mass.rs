@@ -1,0 +1,148 @@
+//! The explicit schemes on a diagonal (lumped) mass, against stored
+//! outputs of the code before `BandLdlt`'s diagonal path (commit 1679ea4,
+//! where every solve with a lumped `M` ran the tridiagonal sweeps over its
+//! zero sub-diagonal): random chains of 2–100 dofs, random lumped masses
+//! and springs, a steady load and a sine forcing, one and two contacts,
+//! random initial states and a random state set halfway (where the scheme
+//! offers it). Every bit of every step's report (`n`, `t`, `λ` and its
+//! time, the status), of `U`, of the state, of each contact's force and
+//! status, of the energy, the works and the dissipation is folded into
+//! one FNV-1a hash per scheme, compared with the hash the old code gave
+//! (printed with `SIGNORINI_PRINT_HASHES=1`).
+
+use signorini_contact::Active;
+use signorini_fem::SymBand;
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, SchemeSpec, SplitMix64, TimeProfile};
+
+/// FNV-1a over 64-bit words.
+struct Fnv(u64);
+
+impl Fnv {
+    fn word(&mut self, w: u64) {
+        for b in w.to_le_bytes() {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x100_0000_01b3);
+        }
+    }
+    fn f(&mut self, x: f64) {
+        self.word(x.to_bits());
+    }
+    fn all(&mut self, xs: &[f64]) {
+        xs.iter().for_each(|x| self.f(*x));
+    }
+    fn active(&mut self, a: Active) {
+        self.word(match a {
+            Active::None => 0,
+            Active::Lower => 1,
+            Active::Upper => 2,
+        });
+    }
+}
+
+/// A chain of `n` dofs: lumped masses, springs to the neighbours (the
+/// first and last also to the wall), contact 0 at dof 0 (a lower stop, an
+/// upper one too if `two_sided`), a second at the last dof if `two`.
+fn chain(rng: &mut SplitMix64, n: usize, two: bool, two_sided: bool) -> (Dynamics, Initial) {
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    for i in 0..n {
+        m.set(i, i, 0.5 + rng.next_f64());
+        let ki = 1.0 + 3.0 * rng.next_f64();
+        k.set(i, i, 2.0 * ki);
+        if i > 0 {
+            k.set(i, i - 1, -ki);
+        }
+    }
+    let load: Vec<f64> = (0..n).map(|_| 0.3 * (rng.next_f64() - 0.7)).collect();
+    let hi = if two_sided { 0.05 + 0.05 * rng.next_f64() } else { f64::INFINITY };
+    let mut contacts = vec![Contact::new(0, Bounds { lo: -0.03 * rng.next_f64(), hi }, false)];
+    if two && n > 1 {
+        contacts.push(Contact::new(n - 1, Bounds { lo: f64::NEG_INFINITY, hi: 0.02 * rng.next_f64() }, false));
+    }
+    let shape: Vec<f64> = (0..n).map(|_| rng.next_f64() - 0.5).collect();
+    let dy = Dynamics::new(m, k, load, contacts).with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 0.8, omega: 3.0 } }]);
+    let u = (0..n).map(|_| 0.02 * (rng.next_f64() - 0.5)).collect();
+    let v = (0..n).map(|_| 2.0 * rng.next_f64() - 1.0).collect();
+    (dy, Initial { u, v })
+}
+
+/// One run of `spec` on `(dy, init)`, 80 steps (a random state set at
+/// step 40 where offered), folded into `h`.
+fn fold(h: &mut Fnv, rng: &mut SplitMix64, spec: &SchemeSpec, dy: Dynamics, init: &Initial, dt: f64) {
+    let mut s = spec.build(dy, dt, init).unwrap_or_else(|e| panic!("{spec}: {e}"));
+    for step in 0..80 {
+        if step == 40 {
+            if let Some(st) = s.state() {
+                let st: Vec<f64> = st.iter().map(|x| x + 0.01 * (rng.next_f64() - 0.5)).collect();
+                s.set_state(&st).unwrap();
+                h.all(&st);
+            }
+        }
+        let r = s.step().unwrap_or_else(|e| panic!("{spec}: {e}"));
+        h.word(r.n as u64);
+        h.f(r.t);
+        if let Some((t, l)) = r.lambda {
+            h.f(t);
+            h.f(l);
+        }
+        h.active(r.active);
+        h.all(s.displacement());
+        if let Some(st) = s.state() {
+            h.all(&st);
+        }
+        h.all(s.contact_forces());
+        for a in s.contact_status() {
+            h.active(*a);
+        }
+        if let Some((t, e)) = s.energy() {
+            h.f(t);
+            h.f(e);
+        }
+        if let Some((wf, wc)) = s.work() {
+            h.f(wf);
+            h.f(wc);
+        }
+        if let Some(d) = s.dissipation() {
+            h.f(d);
+        }
+    }
+}
+
+/// The old code's hashes (commit 1679ea4).
+const EXPECTED: [(&str, u64); 6] = [
+    ("cd-lagrange(0)", 0x2aeb211a36b8eb4a),
+    ("cd-lagrange(0.7)", 0x2ad9716f7dd817ac),
+    ("d1-minus-linear(0)", 0xa4eac765593c6d3b),
+    ("d1-minus-linear-velocity(0.5)", 0x9fc59da90c222728),
+    ("verlet-nitsche(10,1)", 0xe2a8fd5cccaa88ba),
+    ("penalty-cd", 0x2c84f0b60e904a77),
+];
+
+#[test]
+fn explicit_schemes_on_a_lumped_mass_are_the_old_code_bit_for_bit() {
+    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
+    let mut wrong = Vec::new();
+    for (name, expected) in EXPECTED {
+        let spec: SchemeSpec = name.parse().unwrap();
+        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        let mut rng = SplitMix64::new(35);
+        for (case, n) in [2usize, 3, 5, 17, 64, 100].into_iter().enumerate() {
+            for two in [false, true] {
+                if two && one_contact {
+                    continue;
+                }
+                // Verlet–Nitsche takes a one-sided stop.
+                let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
+                let (dy, init) = chain(&mut rng, n, two, two_sided);
+                fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
+            }
+        }
+        if print {
+            println!("    (\"{name}\", {:#x}),", h.0);
+        }
+        if h.0 != expected {
+            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:?}");
+}
