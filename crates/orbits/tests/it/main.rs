@@ -17,6 +17,7 @@ mod oscillator;
 mod period_two;
 mod reach;
 mod reuse;
+mod scale;
 mod section;
 mod shared;
 mod slow_impact;
