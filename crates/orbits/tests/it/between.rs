@@ -66,10 +66,17 @@ pub fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
 /// over), each crossing of a stop bisected to round-off, the velocity
 /// reversed times `e`. Returns the image, the impacts, and the smallest
 /// distance to a stop of a flight's extremum that does not reach one.
-pub fn map_between(w: f64, x: [f64; 2], p: usize, (lo, hi): (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
-    let end = p as f64 * std::f64::consts::TAU / w;
+pub fn map_between(w: f64, x: [f64; 2], p: usize, stops: (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
+    map_between_from(w, 0.0, x, p, stops, e, samples)
+}
+
+/// [`map_between`] with the section at time `start` (the forcing
+/// `F sin Ω(t + start)` seen from `t = 0`: `start` a quarter of the period,
+/// `F cos Ωt`).
+pub fn map_between_from(w: f64, start: f64, x: [f64; 2], p: usize, (lo, hi): (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
+    let end = start + p as f64 * std::f64::consts::TAU / w;
     let h = std::f64::consts::TAU / w / samples;
-    let (mut t0, mut z, mut t) = (0.0, (x[0], x[1]), 0.0);
+    let (mut t0, mut z, mut t) = (start, (x[0], x[1]), start);
     let (mut impacts, mut margin) = (0, f64::INFINITY);
     let out = |x: f64| !(lo..=hi).contains(&x);
     while t < end {

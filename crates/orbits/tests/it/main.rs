@@ -18,6 +18,7 @@ mod period_two;
 mod reach;
 mod rebuilt;
 mod reuse;
+mod scale;
 mod section;
 mod shared;
 mod slow_impact;
