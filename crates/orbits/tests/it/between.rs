@@ -129,3 +129,26 @@ pub fn jacobian(x: [f64; 2], map: impl Fn([f64; 2]) -> [f64; 2]) -> [[f64; 2]; 2
     }
     j
 }
+
+/// Newton on a transcribed map of the section state (its `J − I` by
+/// [`jacobian`]) from `x`: the fixed point when the residual falls below
+/// 1e-10 within `iterations` (near a fold, where `J − I` is nearly
+/// singular, it converges slowly); `None` when a step leaves `|x₀| ≤ 2`.
+pub fn fixed_point(mut x: [f64; 2], iterations: usize, map: impl Fn([f64; 2]) -> [f64; 2]) -> Option<[f64; 2]> {
+    for _ in 0..iterations {
+        let g = map(x);
+        let r = [g[0] - x[0], g[1] - x[1]];
+        if r[0].abs().max(r[1].abs()) <= 1e-10 {
+            return Some(x);
+        }
+        let mut j = jacobian(x, &map);
+        j[0][0] -= 1.0;
+        j[1][1] -= 1.0;
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        x = [x[0] - (j[1][1] * r[0] - j[0][1] * r[1]) / det, x[1] - (-j[1][0] * r[0] + j[0][0] * r[1]) / det];
+        if !(x[0].is_finite() && x[1].is_finite()) || x[0].abs() > 2.0 {
+            return None;
+        }
+    }
+    None
+}

@@ -10,7 +10,7 @@
 //! map over five periods, and each fold where Newton on that map (central
 //! differences) finds an orbit just before it and none just past it.
 
-use crate::between::{jacobian, map_between};
+use crate::between::map_between;
 use signorini_fem::SymBand;
 use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
@@ -56,28 +56,10 @@ fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
     map_over(5, w, x)
 }
 
-/// Newton on the transcribed map (central differences) from `x`: the fixed
-/// point when its residual falls below 1e-10 within 60 iterations (near a
-/// fold, where the map's Jacobian is nearly singular, Newton converges
-/// slowly).
-fn fixed_point(w: f64, mut x: [f64; 2]) -> Option<[f64; 2]> {
-    for _ in 0..60 {
-        let g = map(w, x).0;
-        let r = [g[0] - x[0], g[1] - x[1]];
-        if r[0].abs().max(r[1].abs()) <= 1e-10 {
-            return Some(x);
-        }
-        // J − I of the map.
-        let mut j = jacobian(x, |y| map(w, y).0);
-        j[0][0] -= 1.0;
-        j[1][1] -= 1.0;
-        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        x = [x[0] - (j[1][1] * r[0] - j[0][1] * r[1]) / det, x[1] - (-j[1][0] * r[0] + j[0][0] * r[1]) / det];
-        if !(x[0].is_finite() && x[1].is_finite()) || x[0].abs() > 2.0 {
-            return None;
-        }
-    }
-    None
+/// Newton on the transcribed map from `x` (between.rs's `fixed_point`,
+/// within 60 iterations).
+fn fixed_point(w: f64, x: [f64; 2]) -> Option<[f64; 2]> {
+    crate::between::fixed_point(x, 60, |y| map(w, y).0)
 }
 
 #[test]

@@ -55,25 +55,10 @@ fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize) {
     (y, k)
 }
 
-/// Newton on the transcription (central differences) from `x`: the fixed
-/// point and its impacts when the residual falls below 1e-10.
-fn fixed_point(w: f64, mut x: [f64; 2]) -> Option<([f64; 2], usize)> {
-    for _ in 0..40 {
-        let (g, k) = map(w, x);
-        let r = [g[0] - x[0], g[1] - x[1]];
-        if r[0].abs().max(r[1].abs()) <= 1e-10 {
-            return Some((x, k));
-        }
-        let mut j = jacobian(x, |y| map(w, y).0);
-        j[0][0] -= 1.0;
-        j[1][1] -= 1.0;
-        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        x = [x[0] - (j[1][1] * r[0] - j[0][1] * r[1]) / det, x[1] - (-j[1][0] * r[0] + j[0][0] * r[1]) / det];
-        if !(x[0].is_finite() && x[1].is_finite()) || x[0].abs() > 2.0 {
-            return None;
-        }
-    }
-    None
+/// Newton on the transcription from `x` (between.rs's `fixed_point`,
+/// within 40 iterations): the fixed point and its impacts.
+fn fixed_point(w: f64, x: [f64; 2]) -> Option<([f64; 2], usize)> {
+    crate::between::fixed_point(x, 40, |y| map(w, y).0).map(|y| (y, map(w, y).1))
 }
 
 /// `det(P' + s I)` of the transcription at its fixed point near `x`.
