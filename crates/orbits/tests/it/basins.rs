@@ -209,3 +209,73 @@ fn a_range_ending_on_the_stop_is_a_grid() {
     let scene = BasinScene::new(doc, x, v, Limits::machine()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.cells(), 21);
 }
+
+/// An independent event-driven run of [`SCENE`]'s oscillator from `(x, v)`
+/// at `t = 0` to `t_end`: the closed-form free flight (signorini-exact's
+/// `flow`) in steps of `T/400`, each crossing of the stop bisected to
+/// round-off and Newton's law applied there.
+fn independent(x: f64, v: f64, t_end: f64) -> [f64; 2] {
+    let osc = ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: OMEGA, gap: 0.5, restitution: 0.8 }).unwrap();
+    let h = TAU / OMEGA / 400.0;
+    let (mut t, mut z) = (0.0, State { x, v });
+    while t < t_end {
+        if z.x >= 0.5 && z.v > 0.0 {
+            z = State { x: 0.5, v: -0.8 * z.v };
+        }
+        let s = (t + h).min(t_end);
+        let next = osc.flow(t, z, s);
+        if next.x <= 0.5 {
+            (t, z) = (s, next);
+            continue;
+        }
+        let (mut a, mut b) = (t, s);
+        for _ in 0..200 {
+            let m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+            if osc.flow(t, z, m).x > 0.5 {
+                b = m;
+            } else {
+                a = m;
+            }
+        }
+        let hit = osc.flow(t, z, b);
+        (t, z) = (b, State { x: 0.5, v: -0.8 * hit.v.max(0.0) });
+    }
+    [z.x, z.v]
+}
+
+/// Each cell's start: for sampled cells of both basins, the cell's model's
+/// flow from the cell's start over three forcing periods (impacts on the
+/// way) is an independent event-driven run from the cell's `(x, v)`, and
+/// the attractor the cell is classified to is the one the independent run
+/// reaches after the transient.
+#[test]
+fn each_cell_starts_from_its_own_state() {
+    let doc: toml::Table = SCENE.parse().unwrap();
+    let x = Axis { path: "oscillator.initial_displacement".into(), from: -2.0, to: 0.4, count: 7 };
+    let v = Axis { path: "oscillator.initial_velocity".into(), from: -1.5, to: 1.5, count: 5 };
+    let scene = BasinScene::new(doc, x.clone(), v.clone(), Limits::machine()).unwrap();
+    let opts = BasinOptions::default();
+    let t = TAU / OMEGA;
+    let hit = impacting();
+    let mut seen = [0usize; 2];
+    for cell in [0, 3, 6, 9, 13, 17, 20, 24, 27, 31, 34] {
+        let (i, j) = scene.ij(cell);
+        let (x0, v0) = (x.value(i), v.value(j));
+        let built = scene.build(i, j).unwrap();
+        assert_eq!(built.omega, OMEGA);
+        let near = built.model.flow(0.0, &built.start, 3.0 * t, false).unwrap().x;
+        let want = independent(x0, v0, 3.0 * t);
+        assert!((near[0] - want[0]).abs() < 1e-8 && (near[1] - want[1]).abs() < 1e-8, "cell {cell} ({x0}, {v0}): {near:?} against {want:?}");
+        // The attractor the independent run reaches: the impacting orbit
+        // or the free response.
+        let end = independent(x0, v0, opts.transient as f64 * t);
+        let on_hit = (end[0] - hit[0]).abs().max((end[1] - hit[1]).abs()) < 1e-3;
+        let Outcome::Attractor(a) = scene.classify(cell, &opts) else { panic!("cell {cell} failed") };
+        assert_eq!((a.period, a.impacts), (1, usize::from(on_hit)), "cell {cell} ({x0}, {v0}): the independent run ends at {end:?}");
+        seen[usize::from(on_hit)] += 1;
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "cells of both basins sampled: {seen:?}");
+}
