@@ -14,7 +14,7 @@ use proptest::strategy::BoxedStrategy;
 /// Scene documents from the grammar, with what the reader must answer: one
 /// in four may hold wrong types, unknown or duplicate keys (which stop the
 /// reader at parsing), the others only values of the right type; one in
-/// five is an `[oscillator]` scene ([`crate::oscillator`]).
+/// five is an `[oscillator]` scene (the `oscillator` module).
 pub fn documents(cfg: Config) -> BoxedStrategy<Doc> {
     prop_oneof![6 => documents_with(cfg, 0), 2 => documents_with(cfg, 1), 2 => contact_documents(cfg), 2 => oscillator_documents(0), 1 => oscillator_documents(1)].boxed()
 }
