@@ -84,7 +84,9 @@ pub fn edit(mut doc: toml::Table, edits: &[(&str, toml::Value)]) -> Result<Scene
 /// sweep's and the orbit families' numeric edits go through it.
 pub fn set_path(doc: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), SceneError> {
     let segs = segments(path)?;
-    let (last, parents) = segs.split_last().expect("segments are never empty");
+    let Some((last, parents)) = segs.split_last() else {
+        return Err(field(path, PATH_FORM));
+    };
     let mut here = toml::Value::Table(std::mem::take(doc));
     let result = (|| {
         let (cur, walked) = walk(&mut here, parents, path)?;
@@ -124,10 +126,13 @@ pub fn get_path<'a>(doc: &'a toml::Table, path: &str) -> Option<&'a toml::Value>
     Some(cur)
 }
 
+/// What a dotted path is, for an error about one.
+const PATH_FORM: &str = "allowed a dotted path of keys and array indices, e.g. forcing.omega, support.amplitude, stop.0.hi";
+
 fn segments(path: &str) -> Result<Vec<&str>, SceneError> {
     let segs: Vec<&str> = path.split('.').collect();
     if segs.iter().any(|s| s.is_empty()) {
-        return Err(field(path, "allowed a dotted path of keys and array indices, e.g. forcing.omega, support.amplitude, stop.0.hi"));
+        return Err(field(path, PATH_FORM));
     }
     Ok(segs)
 }
