@@ -22,9 +22,10 @@
 //!   I)` changes sign where the branch goes on in `λ` (the symmetric orbit
 //!   of a symmetric structure at its symmetry-breaking pitchfork), or the
 //!   branch turns in `λ` where it does not (the asymmetric orbit meeting
-//!   the symmetric one there, the branch going on onto its mirror image),
-//!   named only where a multiplier is at +1 there (a turn at a corner is
-//!   no branch point); [`crossing_branch`] follows the other branch;
+//!   the symmetric one there, the branch going on onto its mirror image,
+//!   where it ends: [`Returns`]), named only where a multiplier is at +1
+//!   there (a turn at a corner is no branch point); [`crossing_branch`]
+//!   follows the other branch;
 //! - **period doubling**: a real multiplier passes through −1;
 //! - **Neimark–Sacker**: a complex pair leaves or enters the unit circle;
 //! - **grazing**: the number of impacts per period changes (an impact at
@@ -558,7 +559,8 @@ pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &Continu
 
 /// [`continuation_watched`] that also ends the branch when `stop`, shown
 /// the branch so far after each step, returns why (the branch's `end`).
-/// `closing`: the branch ends where it returns onto itself ([`Returns`]);
+/// `closing`: the branch ends where it returns onto itself, or onto the
+/// mirror image of its orbits on a symmetric structure ([`Returns`]);
 /// off for a period-doubled branch, whose copies [`doubled_branch`] cuts
 /// where the branch rejoins the one of half its period (there its orbits
 /// and their copies shifted by half the period meet).
@@ -604,7 +606,9 @@ fn continuation_until<F: Family>(
     let mut vref = cur.orbit.fastest_impact().map_or(0.0, |f| f.0);
     let (lo, hi) = (opts.from.min(opts.to), opts.from.max(opts.to));
     let beyond = |p: f64| (p - opts.to) * dir > 0.0;
-    let mut returns = closing.then(|| Returns::new(family.periods().max(1), &cur));
+    let periods = family.periods().max(1);
+    let symmetric = closing && family.model_and_period(opts.from).is_ok_and(|(m, t)| mirror_symmetric(&m, 0.5 * t / periods as f64));
+    let mut returns = closing.then(|| Returns::new(periods, &cur, symmetric));
     while branch.points.len() < opts.max_points {
         if let Some(last) = branch.points.last() {
             if !watch(last) {
@@ -795,6 +799,26 @@ fn continuation_until<F: Family>(
                     branch.points[on].param,
                     branch.points[on + 1].param
                 );
+                return Ok(branch);
+            }
+            // Onto the mirror image of the branch's own orbits (a turn
+            // where it meets a symmetric orbit): the step is the branch's,
+            // its bifurcations located (the branch point of the turn), and
+            // the branch ends at its end, the rest of it the traced one
+            // mirrored. A caller's stop (a crossing branch meeting the
+            // branch it crossed) says why first.
+            Some(Returned::Mirror { shift, on }) => {
+                locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
+                branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone(), mark: next.mark });
+                let half = if shift == 0 { "half a forcing period".to_string() } else { format!("{shift}½ forcing periods") };
+                branch.end = stop(&branch).unwrap_or_else(|| {
+                    format!(
+                        "returned onto its mirror image at param = {}: the orbit there, mirrored (−x(t + τ), τ {half}), is one the branch has traced (between param = {} and {}): the branch beyond is the traced one mirrored, not traced again",
+                        next.param,
+                        branch.points[on].param,
+                        branch.points[on + 1].param
+                    )
+                });
                 return Ok(branch);
             }
             None => {}
@@ -2073,6 +2097,10 @@ enum Returned {
     /// The step's end, shifted by `shift` forcing periods, lies on the
     /// branch's segment `on` (its points `on`, `on + 1`).
     Copy { shift: usize, on: usize },
+    /// The step's end mirrored (`−x(t + (shift + ½) T)`, `T` the forcing
+    /// period: [`mirror_images`]) lies on the branch's segment `on`: the
+    /// branch has turned onto the mirror image of its own orbits.
+    Mirror { shift: usize, on: usize },
 }
 
 /// Watches a branch for its return onto itself. A closed branch (an isola,
@@ -2086,7 +2114,13 @@ enum Returned {
 /// shifted copy of its first state, and a branch may come back onto a
 /// shifted copy of an arc it has traced (the period-3 orbits of that
 /// oscillator, e = 0.3, from Ω = 4 down, listed a fold and a period
-/// doubling twice, at two section states of the same orbits).
+/// doubling twice, at two section states of the same orbits). On a
+/// structure symmetric under `x → −x` ([`mirror_symmetric`]) the mirror
+/// images of the branch's orbits are orbits too: a branch that turns onto
+/// them where it meets a symmetric orbit (a branch point) traced itself
+/// again, mirrored — the two-stop oscillator from Ω = 1.5 down listed its
+/// grazings, fold and period doubling twice and closed on its first orbit
+/// after 254 points (`tests/it/mirror.rs`).
 struct Returns {
     /// The forcing periods of the map.
     p: usize,
@@ -2096,11 +2130,17 @@ struct Returns {
     first_shifted: Vec<Option<Vec<f64>>>,
     /// The shifted states of the branch's points so far (`[k − 1]`).
     images: Vec<Vec<Option<Vec<f64>>>>,
+    /// Whether the structure at the range's start is symmetric under
+    /// `x → −x` with the forcing's half-period shift ([`mirror_symmetric`]):
+    /// then the branch's points' mirror images (`mirrors`, `[k]` for
+    /// `(k + ½)` forcing periods) are watched too.
+    symmetric: bool,
+    mirrors: Vec<Vec<Option<Vec<f64>>>>,
 }
 
 impl Returns {
-    fn new(p: usize, first: &Point) -> Self {
-        Self { p, first: first.clone(), first_shifted: Vec::new(), images: Vec::new() }
+    fn new(p: usize, first: &Point, symmetric: bool) -> Self {
+        Self { p, first: first.clone(), first_shifted: Vec::new(), images: Vec::new(), symmetric, mirrors: Vec::new() }
     }
 
     /// `x`'s state after `k` forcing periods at `param` (`None` when the
@@ -2176,6 +2216,36 @@ impl Returns {
                 }
             }
         }
+        // Onto the mirror image of a traced segment (a symmetric
+        // structure): the step mirrored, from `cur`'s image to `next`'s,
+        // lies on it. Every segment traced counts, the step's last one too
+        // (a turn onto the mirror image: the step's end mirrored lies
+        // beside the segment before it). A symmetric orbit is its own
+        // mirror image: a branch of them mirrors each step onto itself,
+        // ahead of its traced segments, never inside one.
+        if !self.symmetric {
+            return None;
+        }
+        while self.mirrors.len() < points.len() {
+            let q = &points[self.mirrors.len()];
+            let im = mirror_images(ctx, &q.orbit.x, q.param, self.p);
+            self.mirrors.push(im);
+        }
+        let next_mirrors = mirror_images(ctx, &next.x, next.param, self.p);
+        for shift in 0..self.p {
+            let (Some(y), Some(y0)) = (next_mirrors[shift].as_ref(), self.mirrors[i][shift].as_ref()) else { continue };
+            let (sy, sy0) = (scaled(y, next.param), scaled(y0, cur.param));
+            for on in 0..i {
+                let (q, r) = (&points[on], &points[on + 1]);
+                if q.orbit.impacts() != next.orbit.impacts() || r.orbit.impacts() != next.orbit.impacts() {
+                    continue;
+                }
+                let (sq, sr) = (scaled(&q.orbit.x, q.param), scaled(&r.orbit.x, r.param));
+                if inside_segment(&sq, &sr, &sy, &sy0) && parallel(&sq, &sr, &sy0, &sy) {
+                    return Some(Returned::Mirror { shift, on });
+                }
+            }
+        }
         None
     }
 
@@ -2198,6 +2268,45 @@ impl Returns {
             Err(_) => false,
         }
     }
+}
+
+/// Whether `model` is symmetric under `x → −x` with the time shifted by
+/// `half` (half a forcing period): no steady load, every contact between
+/// stops at `−g` and `g` (a contact's restitution serves both), and every
+/// forcing term odd under the shift (a sine, or harmonics, each of whose
+/// frequencies `ω` puts `ω · half` at an odd multiple of π, to 1e-9; a
+/// series is not looked at). Then `x(t)` an orbit, so is `−x(t + half)`:
+/// its mirror image, with the same multipliers. Unforced structures are
+/// left out (the shift is then no forcing's).
+fn mirror_symmetric(model: &Model, half: f64) -> bool {
+    use signorini_schemes::TimeProfile;
+    let dy = model.dynamics();
+    let odd = |w: f64| {
+        let k = w * half / std::f64::consts::PI;
+        let r = k.round();
+        r.rem_euclid(2.0) == 1.0 && (k - r).abs() <= 1e-9 * r.abs()
+    };
+    !dy.forcing.is_empty()
+        && dy.load.iter().all(|&f| f == 0.0)
+        && dy.contacts.iter().all(|c| c.bounds.hi.is_finite() && c.bounds.lo == -c.bounds.hi)
+        && dy.forcing.iter().all(|f| match &f.time {
+            TimeProfile::Sine { omega, .. } => odd(*omega),
+            TimeProfile::Harmonics(h) => h.iter().all(|t| t.amplitude == 0.0 || odd(t.omega)),
+            _ => false,
+        })
+}
+
+/// The mirror images of the orbit through `x` at `param` on a map of `p`
+/// forcing periods: `−x((k + ½) T)` (`T` the forcing period, `k = 0 …
+/// p − 1`), each `None` where the structure there is not symmetric
+/// ([`mirror_symmetric`]) or the flow fails.
+fn mirror_images<F: Family>(ctx: &Ctx<'_, F>, x: &[f64], param: f64, p: usize) -> Vec<Option<Vec<f64>>> {
+    let Ok((model, period)) = ctx.family.model_and_period(param) else { return vec![None; p] };
+    let half = 0.5 * period / p as f64;
+    if !mirror_symmetric(&model, half) {
+        return vec![None; p];
+    }
+    (0..p).map(|k| model.flow(0.0, x, (2 * k + 1) as f64 * half, false).ok().map(|img| img.x.iter().map(|v| -v).collect())).collect()
 }
 
 /// Whether `y` lies within a quarter of the segment's length of the

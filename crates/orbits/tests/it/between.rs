@@ -73,8 +73,13 @@ pub fn map_between(w: f64, x: [f64; 2], p: usize, stops: (f64, f64), e: f64, sam
 /// [`map_between`] with the section at time `start` (the forcing
 /// `F sin Ω(t + start)` seen from `t = 0`: `start` a quarter of the period,
 /// `F cos Ωt`).
-pub fn map_between_from(w: f64, start: f64, x: [f64; 2], p: usize, (lo, hi): (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
-    let end = start + p as f64 * std::f64::consts::TAU / w;
+pub fn map_between_from(w: f64, start: f64, x: [f64; 2], p: usize, stops: (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
+    flow_between(w, start, start + p as f64 * std::f64::consts::TAU / w, x, stops, e, samples)
+}
+
+/// [`map_between_from`]'s flow from `(x, v)` at `start` to `end` (any
+/// span: half a period for an orbit's mirror image `−x(T/2)`).
+pub fn flow_between(w: f64, start: f64, end: f64, x: [f64; 2], (lo, hi): (f64, f64), e: f64, samples: f64) -> ([f64; 2], usize, f64) {
     let h = std::f64::consts::TAU / w / samples;
     let (mut t0, mut z, mut t) = (start, (x[0], x[1]), start);
     let (mut impacts, mut margin) = (0, f64::INFINITY);

@@ -129,3 +129,73 @@ fn newton_finds_the_mirror_orbit_at_the_maps_round_off() {
         assert!(e <= tol && k == 3, "from {seed:?}: the transcription's map moves the orbit by {e:e} ({k} impacts)");
     }
 }
+
+/// The branch from Ω = 1.5 down (`section.rs`'s) turns at its branch point
+/// at 1.0376 onto the mirror images of its own orbits, and went on along
+/// them, back up to the mirror grazing at 1.0383, listing that grazing a
+/// second time (and, where the searches found the orbit beyond, every
+/// bifurcation of the branch again). It now ends at the first point past
+/// the turn, each bifurcation listed once. Checked against the
+/// transcription (`between.rs`, no code of the crate): the last point's
+/// mirror image `−x(T/2)` by the transcription's own half-period flow is
+/// a fixed point of its map with as many impacts, and an orbit the branch
+/// traced before the turn (Newton on that map at the last point's Ω, from
+/// the chord of a traced step across that Ω, lands on it), while the last
+/// point itself is another orbit (its asymmetry `x(0) + x(T/2)` of the
+/// other sign).
+#[test]
+fn a_branch_turned_onto_its_mirror_image_ends_there() {
+    use crate::between::{fixed_point, flow_between, map_between, E};
+    use signorini_orbits::{continuation, ContinuationOptions, Family, OrbitError};
+    struct Between;
+    impl Family for Between {
+        fn model(&self, w: f64) -> Result<signorini_orbits::Model, OrbitError> {
+            model(w)
+        }
+        fn period(&self, w: f64) -> Result<f64, OrbitError> {
+            Ok(TAU / w)
+        }
+    }
+    let w0 = 1.5;
+    let m = model(w0).unwrap();
+    let x0 = m.flow(0.0, &[0.0, 0.0], 400.0 * TAU / w0, false).unwrap().x;
+    let start = periodic_orbit(&m, 0.0, TAU / w0, &x0, &Newton::default()).unwrap();
+    let branch = continuation(&Between, &start.x, &ContinuationOptions::new(w0, 0.9)).unwrap();
+    let listed: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+    eprintln!("{} points: {}\n{listed:?}", branch.points.len(), branch.end);
+    assert!(branch.end.starts_with("returned onto its mirror image"), "{}", branch.end);
+    // Each bifurcation once: no two of a kind within 1e-6 of each other;
+    // the branch point of the turn the last.
+    for (k, a) in listed.iter().enumerate() {
+        assert!(!listed[k + 1..].iter().any(|b| b.0 == a.0 && (b.1 - a.1).abs() <= 1e-6), "{} at {} listed twice: {listed:?}", a.0, a.1);
+    }
+    assert!(listed.last().is_some_and(|&(kind, w)| kind == "branch-point" && (w - 1.0376426).abs() < 1e-6), "{listed:?}");
+    // The transcription's mirror image of the last point.
+    let last = &branch.points[branch.points.len() - 1];
+    let w = last.param;
+    let map = |x: [f64; 2]| map_between(w, x, 1, (-1.0, 1.0), E, 4000.0);
+    let half = |x: [f64; 2]| flow_between(w, 0.0, 0.5 * TAU / w, x, (-1.0, 1.0), E, 4000.0).0;
+    let x = [last.orbit.x[0], last.orbit.x[1]];
+    let h = half(x);
+    let y = [-h[0], -h[1]];
+    let (py, k, _) = map(y);
+    let off = (py[0] - y[0]).abs().max((py[1] - y[1]).abs());
+    assert!(off <= 1e-9 && k == last.orbit.impacts(), "the mirror image {y:?} at Ω = {w}: |P(y) − y| = {off:e}, {k} impacts");
+    let (ax, ay) = (x[0] + h[0], y[0] + half(y)[0]);
+    let n = branch.points.len() - 1;
+    let mut nearest = f64::INFINITY;
+    for s in branch.points[..n].windows(2) {
+        let (a, b) = (&s[0], &s[1]);
+        if (a.param - w) * (b.param - w) > 0.0 || a.param == b.param || a.orbit.impacts() != last.orbit.impacts() || b.orbit.impacts() != last.orbit.impacts() {
+            continue;
+        }
+        let f = (w - a.param) / (b.param - a.param);
+        let seed = [a.orbit.x[0] + f * (b.orbit.x[0] - a.orbit.x[0]), a.orbit.x[1] + f * (b.orbit.x[1] - a.orbit.x[1])];
+        if let Some(z) = fixed_point(seed, 60, |x| map(x).0) {
+            nearest = nearest.min((z[0] - y[0]).abs().max((z[1] - y[1]).abs()));
+        }
+    }
+    eprintln!("Ω = {w}: mirror image {y:?}, {nearest:e} from the nearest orbit found from the traced steps; asymmetry {ax:e} and {ay:e}");
+    assert!(nearest <= 1e-8, "no traced step across Ω = {w} leads to the mirror image {y:?} (nearest {nearest:e})");
+    assert!(ax * ay < 0.0 && ax.abs() > 1e-3, "the last point is no other orbit than its mirror image: asymmetry {ax:e}, {ay:e}");
+}
