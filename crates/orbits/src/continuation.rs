@@ -24,8 +24,10 @@
 //!   branch turns in `λ` where it does not (the asymmetric orbit meeting
 //!   the symmetric one there, the branch going on onto its mirror image,
 //!   where it ends: [`Returns`]), named only where a multiplier is at +1
-//!   there (a turn at a corner is no branch point); [`crossing_branch`]
-//!   follows the other branch;
+//!   there (a turn at a corner is no branch point); or, on a symmetric
+//!   structure, the branch passes from asymmetric orbits onto symmetric
+//!   ones with no test changing sign, named where the asymmetry reaches 0
+//!   ([`pitchfork`]); [`crossing_branch`] follows the other branch;
 //! - **period doubling**: a real multiplier passes through −1;
 //! - **Neimark–Sacker**: a complex pair leaves or enters the unit circle;
 //! - **grazing**: the number of impacts per period changes (an impact at
@@ -609,6 +611,8 @@ fn continuation_until<F: Family>(
     let periods = family.periods().max(1);
     let symmetric = closing && family.model_and_period(opts.from).is_ok_and(|(m, t)| mirror_symmetric(&m, 0.5 * t / periods as f64));
     let mut returns = closing.then(|| Returns::new(periods, &cur, symmetric));
+    // The last point's asymmetry (its parameter and state, and the value).
+    let mut asym: Option<(f64, Vec<f64>, f64)> = None;
     while branch.points.len() < opts.max_points {
         if let Some(last) = branch.points.last() {
             if !watch(last) {
@@ -823,7 +827,26 @@ fn continuation_until<F: Family>(
             }
             None => {}
         }
+        let found = branch.bifurcations.len();
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
+        // A pitchfork passed from asymmetric orbits onto symmetric ones
+        // (or back) where no test changed sign: named where the asymmetry
+        // reaches 0 ([`pitchfork`]), unless the step's own branch point
+        // or fold is there.
+        if symmetric {
+            let ac = match &asym {
+                Some((l, x, v)) if *l == cur.param && *x == cur.x => Some(*v),
+                _ => asymmetry(&ctx, &cur.x, cur.param, periods),
+            };
+            let an = asymmetry(&ctx, &next.x, next.param, periods);
+            let turned = branch.bifurcations[found..].iter().any(|b| matches!(b.kind, BifurcationKind::Fold | BifurcationKind::BranchPoint));
+            if let (false, Some(ac), Some(an)) = (turned, ac, an) {
+                if let Some(b) = pitchfork(&ctx, &cur, &next, i, periods, ac, an) {
+                    branch.bifurcations.push(b);
+                }
+            }
+            asym = an.map(|v| (next.param, next.x.clone(), v));
+        }
         // Across a change of the impacts onto an orbit the branch has
         // passed through (a corrector falling onto the orbit it came along,
         // near a grazing where the two meet): it would retrace itself.
@@ -2307,6 +2330,45 @@ fn mirror_images<F: Family>(ctx: &Ctx<'_, F>, x: &[f64], param: f64, p: usize) -
         return vec![None; p];
     }
     (0..p).map(|k| model.flow(0.0, x, (2 * k + 1) as f64 * half, false).ok().map(|img| img.x.iter().map(|v| -v).collect())).collect()
+}
+
+/// The asymmetry of the orbit through `x` at `param` on a map of `p`
+/// forcing periods: the least distance (max norm, over the state's scale)
+/// of its mirror images ([`mirror_images`]) from its state, 0 on a
+/// symmetric orbit; `None` where the structure is not symmetric.
+fn asymmetry<F: Family>(ctx: &Ctx<'_, F>, x: &[f64], param: f64, p: usize) -> Option<f64> {
+    mirror_images(ctx, x, param, p).iter().flatten().map(|y| y.iter().zip(x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / ctx.xs).reduce(f64::min)
+}
+
+/// At most this asymmetry ([`asymmetry`]) an orbit is symmetric.
+const SYMMETRIC: f64 = 1e-7;
+
+/// The pitchfork between `a` and `b` (points `i`, `i + 1`) where the
+/// branch passes from asymmetric orbits onto symmetric ones (or back): the
+/// asymmetric pair born at a symmetric orbit's pitchfork meets it there,
+/// and a branch coming along one of the pair may go on along the
+/// symmetric orbits, its multiplier touching +1 with no test changing
+/// sign (the period-3 orbits of the oscillator between symmetric stops
+/// from Ω = 5 to 5.5: `tests/it/turn.rs`). Located by bisection on the
+/// arclength on whether the orbit is symmetric, named a branch point.
+fn pitchfork<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, p: usize, aa: f64, ab: f64) -> Option<Bifurcation> {
+    let sym = |v: f64| v <= SYMMETRIC;
+    if sym(aa) == sym(ab) {
+        return None;
+    }
+    let test = |q: &Point| asymmetry(ctx, &q.x, q.param, p).map_or(f64::NAN, |v| if sym(v) { 0.0 } else { 1.0 });
+    let at = bisect(ctx, a, arclength(ctx, a, b), b, test, |u, v| test(u) != test(v));
+    let kind = BifurcationKind::BranchPoint;
+    Some(Bifurcation {
+        param: at.param,
+        kind,
+        mu: critical(kind, &at),
+        impacts: (a.orbit.impacts(), b.orbit.impacts()),
+        releases: (a.orbit.releases(), b.orbit.releases()),
+        between: (i, i + 1),
+        x: at.x.clone(),
+        mark: at.mark,
+    })
 }
 
 /// Whether `y` lies within a quarter of the segment's length of the

@@ -53,3 +53,49 @@ fn a_turn_onto_the_mirror_image_is_a_branch_point_from_either_side() {
     }
     assert!((at[0] - at[1]).abs() <= 1e-4, "the turn at {} and at {}", at[0], at[1]);
 }
+
+/// The same orbits continued from Ω = 5 to 5.5 (a range of 0.5) do not
+/// turn: at the pitchfork they pass onto the symmetric orbits, the
+/// multiplier touching +1 with no test changing sign, and the branch
+/// listed nothing there. It now names a branch point where the
+/// asymmetry (the least distance of the mirror images `−x((k + ½)T)`
+/// from the state) reaches 0. Checked against the transcription
+/// (`between.rs`'s flow, no code of the crate): the branch's points on
+/// either side of it are fixed points of its map, the one before
+/// asymmetric (by its own half-period flows, above 1e-3), the one after
+/// symmetric (below 1e-8), `det(J − I)` of one sign at both (no
+/// multiplier through +1: no fold, nothing for the determinant's test).
+#[test]
+fn a_pass_onto_the_symmetric_orbits_is_a_branch_point() {
+    use crate::between::{flow_between, E};
+    let w0 = 5.0;
+    let start = periodic_orbit(&Between.model(w0).unwrap(), 0.0, P as f64 * TAU / w0, &[-0.851, 0.644], &Newton::default()).unwrap();
+    let branch = continuation(&Between, &start.x, &ContinuationOptions::new(w0, 5.5)).unwrap();
+    let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
+    eprintln!("{} points to {}: {}: {kinds:?}", branch.points.len(), branch.points.last().unwrap().param, branch.end);
+    assert_eq!(branch.end, "reached to");
+    let near: Vec<_> = branch.bifurcations.iter().filter(|b| (b.param - 5.0609).abs() < 2e-3).collect();
+    assert!(near.len() == 1 && near[0].kind == BifurcationKind::BranchPoint, "{kinds:?}");
+    let b = near[0];
+    let asymmetry = |w: f64, x: [f64; 2]| {
+        (0..P)
+            .map(|k| {
+                let y = flow_between(w, 0.0, (k as f64 + 0.5) * TAU / w, x, (-1.0, 1.0), E, 4000.0).0;
+                (y[0] + x[0]).abs().max((y[1] + x[1]).abs())
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (p, q) = (&branch.points[b.between.0], &branch.points[b.between.1]);
+    let (xp, xq) = ([p.orbit.x[0], p.orbit.x[1]], [q.orbit.x[0], q.orbit.x[1]]);
+    for (w, x) in [(p.param, xp), (q.param, xq)] {
+        let (y, _, _) = map(w, x);
+        let off = (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+        assert!(off <= 1e-9, "Ω = {w}: {x:?} is no fixed point of the transcription ({off:e})");
+    }
+    let (ap, aq) = (asymmetry(p.param, xp), asymmetry(q.param, xq));
+    let ((mp, dp), (mq, dq)) = (multipliers(p.param, xp), multipliers(q.param, xq));
+    eprintln!("branch point at {}: Ω = {} asymmetry {ap:e}, |μ| {mp}, det(J − I) {dp:e}; Ω = {} asymmetry {aq:e}, |μ| {mq}, det(J − I) {dq:e}", b.param, p.param, q.param);
+    assert!(ap > 1e-3 && aq < 1e-8, "asymmetry {ap:e} at {} and {aq:e} at {}", p.param, q.param);
+    assert!((b.param - p.param) * (b.param - q.param) <= 0.0, "the branch point at {} outside its step {} … {}", b.param, p.param, q.param);
+    assert!(dp * dq > 0.0 && mp < 1.0 && mq < 1.0, "det(J − I) {dp:e}, {dq:e}; |μ| {mp}, {mq}");
+}
