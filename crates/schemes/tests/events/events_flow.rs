@@ -10,7 +10,7 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use proptest::prelude::*;
 use signorini_fem::SymBand;
-use signorini_schemes::events::{repeated_line, repeated_planes, EventsError, ModalFlow};
+use signorini_schemes::events::{repeated_line, repeated_planes, slow_plane, EventsError, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
 type Dense = Vec<Vec<f64>>;
@@ -768,4 +768,35 @@ fn a_weak_dashpot_on_a_free_chain_is_taken_and_exact() {
         }
     }
     assert!(bad.is_empty(), "{} off the exponential or refused:\n{}", bad.len(), bad.join("\n"));
+}
+
+/// `slow_plane` on a matrix whose slow plane is known by construction:
+/// `A = S D S⁻¹` with `D` the blocks `[0 1; 0 −c]` (a rigid pair: `λ = 0,
+/// −c`, its eigenvectors `S e₁` and `S (e₁ − c e₂)` parallel within `~c`)
+/// and `[−0.3 2; −2 −0.3]`, `S` far from orthogonal. The vector `x` it
+/// returns lies in `span(S e₁, S e₂)` (the last two entries of `S⁻¹ x`
+/// vanish, to 1e-13 of its first two), and spans an invariant plane with
+/// `x_a = (A + c) x`: `A x_a = 0` (`k = 0`) to 1e-13 of `|A| |x_a|`, the two
+/// columns at least 30° apart; `c = 0` is the Jordan block, whose plane
+/// is exact too. Plant: the null space of `A²` (the pair's `c A` left
+/// out of `Q`) is off the plane by `~c`: fails at `c = 1e-6` and `1e-3`.
+#[test]
+fn a_slow_pairs_plane_is_found_without_its_eigenvectors() {
+    let s = [[1.0, 3.0, -2.0, 0.5], [0.0, 1.0, 4.0, 1.0], [0.0, 0.0, 1.0, -3.0], [0.0, 0.0, 0.0, 1.0]];
+    let sinv = inverse(&s.iter().map(|r| r.to_vec()).collect());
+    for c in [0.0, 1e-13, 1e-10, 1e-6, 1e-3] {
+        let d = [[0.0, 1.0, 0.0, 0.0], [0.0, -c, 0.0, 0.0], [0.0, 0.0, -0.3, 2.0], [0.0, 0.0, -2.0, -0.3]];
+        let a = Mat::from_fn(4, 4, |i, j| (0..4).map(|p| (0..4).map(|q| s[i][p] * d[p][q] * sinv[q][j]).sum::<f64>()).sum::<f64>());
+        let x = slow_plane(&a, 0.0, c).unwrap_or_else(|| panic!("c = {c:e}: no plane"));
+        let y: Vec<f64> = (0..4).map(|i| (0..4).map(|j| sinv[i][j] * x[j]).sum()).collect();
+        let inside = y[0].abs().max(y[1].abs());
+        assert!(y[2].abs().max(y[3].abs()) <= 1e-13 * inside, "c = {c:e}: off the plane, S⁻¹ x = {y:?}");
+        let xa: Vec<f64> = (0..4).map(|i| (0..4).map(|j| a[(i, j)] * x[j]).sum::<f64>() + c * x[i]).collect();
+        let axa: Vec<f64> = (0..4).map(|i| (0..4).map(|j| a[(i, j)] * xa[j]).sum()).collect();
+        let norm = |v: &[f64]| v.iter().map(|p| p * p).sum::<f64>().sqrt();
+        let anorm = (0..4).map(|i| (0..4).map(|j| a[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
+        assert!(norm(&axa) <= 1e-13 * anorm * norm(&xa), "c = {c:e}: A x_a = {axa:?}");
+        let cos = xa.iter().zip(&x).map(|(p, q)| p * q).sum::<f64>() / (norm(&xa) * norm(&x));
+        assert!(cos.abs() <= 0.87, "c = {c:e}: columns within 30°: cos {cos}");
+    }
 }
