@@ -5,8 +5,9 @@
 
 use faer::linalg::solvers::Solve;
 use signorini_orbits::output::{branch_svg, Labelled};
-use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions, Family, SceneFamily};
+use signorini_orbits::{BifurcationKind, ContinuationOptions, Family, SceneFamily};
 
+use crate::continuation;
 const GAP: f64 = 0.1;
 
 fn scene(elements: usize) -> String {

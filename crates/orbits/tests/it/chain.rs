@@ -5,8 +5,9 @@
 //! `M⁻¹`, the map's Jacobian by central differences), and the variational
 //! Jacobian against differences of the exact map.
 
+use crate::continuation;
 use signorini_fem::SymBand;
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, BranchPoint, ContinuationOptions, Family, Model, Newton, OrbitError};
+use signorini_orbits::{periodic_orbit, BifurcationKind, BranchPoint, ContinuationOptions, Family, Model, Newton, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 

@@ -264,7 +264,8 @@ impl signorini_orbits::Family for Stop {
 /// release a period.
 #[test]
 fn a_branch_of_orbits_through_accumulations_is_continued() {
-    use signorini_orbits::{continuation, ContinuationOptions, Family};
+    use crate::continuation;
+    use signorini_orbits::{ContinuationOptions, Family};
     let (_, _, orbit) = chain_orbit(CONSISTENT);
     let branch = continuation(&Stop, &orbit.x, &ContinuationOptions::new(G, 0.3)).unwrap();
     eprintln!("{} points, end: {}", branch.points.len(), branch.end);

@@ -12,8 +12,9 @@
 //! on the section: a branch stalled there names no grazing it never
 //! reached.
 
+use crate::{continuation, doubled_branch};
 use signorini_exact::{ImpactOscillator, OscillatorParams, State};
-use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions, SceneFamily};
+use signorini_orbits::{BifurcationKind, ContinuationOptions, SceneFamily};
 use std::f64::consts::TAU;
 
 const GAP: f64 = 0.2;

@@ -7,7 +7,8 @@
 //! the smooth side whose residual grows before it converges is taken as
 //! before.
 
-use signorini_orbits::{continuation, ContinuationOptions, Family, Marker, Model, OrbitError, SceneFamily};
+use crate::continuation;
+use signorini_orbits::{ContinuationOptions, Family, Marker, Model, OrbitError, SceneFamily};
 use std::cell::Cell;
 
 /// A family that counts its linearisations: the runs of the map with its

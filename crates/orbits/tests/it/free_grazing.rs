@@ -7,8 +7,9 @@
 //! it: past the grazing for Ω > 2ω (`oscillator.rs`), on the near side for
 //! ω < Ω < 2ω (here).
 
+use crate::continuation;
 use signorini_exact::{ImpactOscillator, OscillatorParams, State};
-use signorini_orbits::{continuation, BifurcationKind, Branch, ContinuationOptions, SceneFamily};
+use signorini_orbits::{BifurcationKind, Branch, ContinuationOptions, SceneFamily};
 use std::f64::consts::TAU;
 
 /// The stop at 0.8: the free orbit's amplitude reaches it at Ω = 1.497

@@ -13,9 +13,10 @@
 //! stop) and the continuation must find it to 1e-8, list it as a grazing
 //! from 1 to 2 impacts per period, and go on with the two-impact orbit.
 
+use crate::continuation;
 use signorini_exact::{ImpactOscillator, OscillatorParams, State};
 use signorini_fem::SymBand;
-use signorini_orbits::{continuation, BifurcationKind, Branch, ContinuationOptions, Family, Model, OrbitError, SceneFamily};
+use signorini_orbits::{BifurcationKind, Branch, ContinuationOptions, Family, Model, OrbitError, SceneFamily};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;

@@ -11,8 +11,9 @@
 //! differences) finds an orbit just before it and none just past it.
 
 use crate::between::map_between;
+use crate::continuation;
 use signorini_fem::SymBand;
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
+use signorini_orbits::{periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 

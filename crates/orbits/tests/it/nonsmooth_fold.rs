@@ -20,9 +20,10 @@
 //! `signorini_exact` (the 1-impact orbit, its flight's maximum reaching
 //! the stop found by bisection here).
 
+use crate::continuation;
 use crate::oscillator::closed_orbits;
 use signorini_exact::{ImpactOscillator, OscillatorParams, State};
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Newton, SceneFamily};
+use signorini_orbits::{periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Newton, SceneFamily};
 use std::f64::consts::TAU;
 
 /// The largest interior maximum of the closed-form 1-impact orbit's flight

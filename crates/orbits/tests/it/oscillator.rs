@@ -134,7 +134,8 @@ fn check_branch(branch: &signorini_orbits::Branch) {
 
 #[test]
 fn a_branch_through_grazing_matches_the_closed_forms_and_the_grazing_frequency() {
-    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    use crate::continuation;
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     let fam = family();
     let start = closed_orbits(2.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
     let branch = continuation(&fam, &start, &ContinuationOptions::new(2.2, 3.0)).unwrap();
@@ -201,7 +202,8 @@ pub(crate) fn closed_pd(lo: f64, hi: f64) -> Vec<f64> {
 
 #[test]
 fn period_doublings_on_the_branch_are_where_the_closed_form_multiplier_is_minus_one() {
-    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    use crate::continuation;
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     let fam = family();
     let start = closed_orbits(2.2).into_iter().find(|o| o.2).expect("a stable orbit at the start").0;
     let branch = continuation(&fam, &start, &ContinuationOptions::new(2.2, 1.03)).unwrap();
@@ -245,7 +247,8 @@ fn closed_fold(gap: f64, lo: f64, hi: f64) -> f64 {
 
 #[test]
 fn a_fold_is_located_at_the_closed_form_saddle_node_and_the_branch_turns_back_unstable() {
-    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    use crate::continuation;
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     let doc = crate::oscillator(0.05, 0.5, 0.8, 2.0);
     let fam = SceneFamily::new(doc, "forcing.omega", 1).unwrap().0;
     let osc = |w: f64| ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: w, gap: 0.5, restitution: 0.8 }).unwrap();
@@ -283,7 +286,8 @@ fn a_fold_is_located_at_the_closed_form_saddle_node_and_the_branch_turns_back_un
 
 #[test]
 fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
-    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    use crate::continuation;
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     let fam = family();
     // The linear steady state at Ω = 3 (no impact), continued down.
     let z = exact(3.0).steady_state(0.0);
@@ -339,7 +343,8 @@ fn every_point_carries_its_own_omega_and_tip() {
 /// end's multiplier as a "period doubling").
 #[test]
 fn a_period_doublings_multiplier_is_minus_one_at_the_closed_forms_frequency() {
-    use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions};
+    use crate::continuation;
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     let fam = family();
     let want = closed_pd(2.2, 2.44);
     assert_eq!(want.len(), 1, "{want:?}");

@@ -14,8 +14,9 @@
 //! changes sign across the period doubling.
 
 use crate::between::{jacobian, map_between_from};
+use crate::continuation;
 use signorini_fem::SymBand;
-use signorini_orbits::{continuation, BifurcationKind, ContinuationOptions, Family, Model, OrbitError};
+use signorini_orbits::{BifurcationKind, ContinuationOptions, Family, Model, OrbitError};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;

@@ -16,7 +16,8 @@
 //! transcribed map changes sign.
 
 use crate::between::{jacobian, map_between, E};
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
+use crate::continuation;
+use signorini_orbits::{periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
 
 struct Between;

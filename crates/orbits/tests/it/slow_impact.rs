@@ -19,7 +19,8 @@
 //! (3.9627076) is where its central differences have a multiplier at +1.
 
 use crate::between::{map_between, E};
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
+use crate::continuation;
+use signorini_orbits::{periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
 
 pub(crate) const P: usize = 3;

@@ -10,7 +10,8 @@
 //! a time). A run outside the store, or a store not kept from one value to
 //! the next, builds the free phase's basis once per scene: hundreds.
 
-use signorini_orbits::{continuation, periodic_orbit, ContinuationOptions, Family, Newton, SceneFamily};
+use crate::continuation;
+use signorini_orbits::{periodic_orbit, ContinuationOptions, Family, Newton, SceneFamily};
 use signorini_schemes::events::{bases_built, EventKind};
 use std::collections::BTreeSet;
 

@@ -96,7 +96,8 @@ fn each_bifurcation_of_the_period_two_loop_is_listed_once() {
 /// points of the crossing step, as it was, it is 3.3e-4 off.
 #[test]
 fn the_doubled_branch_rejoins_at_the_closed_forms_other_period_doubling() {
-    use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions};
+    use crate::{continuation, doubled_branch};
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.8, 2.2), "forcing.omega", 1).unwrap().0;
     let want = crate::oscillator::closed_pd(1.03, 1.2);
     assert_eq!(want.len(), 2, "{want:?}");
@@ -133,7 +134,8 @@ fn the_doubled_branch_rejoins_at_the_closed_forms_other_period_doubling() {
 /// the grazing listed twice, 9.3e-7 and 4.6e-6 off.
 #[test]
 fn the_doubled_branch_turns_back_at_its_grazings_and_folds() {
-    use signorini_orbits::{continuation, doubled_branch, BifurcationKind, ContinuationOptions};
+    use crate::{continuation, doubled_branch};
+    use signorini_orbits::{BifurcationKind, ContinuationOptions};
     const LOWER_GRAZING: f64 = 1.0735416449688;
     const FOLD: f64 = 1.0731671479347;
     const UPPER_GRAZING: f64 = 1.1001053499473;

@@ -14,8 +14,9 @@
 //! forcing amplitude of 0 (the orbit at rest gave the state no scale).
 
 use crate::between::{flow, C, E};
+use crate::continuation;
 use signorini_fem::SymBand;
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Model, Newton, OrbitError, SceneFamily};
+use signorini_orbits::{periodic_orbit, BifurcationKind, Branch, ContinuationOptions, Family, Model, Newton, OrbitError, SceneFamily};
 use signorini_scene::presets::set_path;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
@@ -357,7 +358,7 @@ fn the_switch_at_a_branch_point_follows_the_asymmetric_branch() {
     let upper = &sym.bifurcations[0];
     assert_eq!(upper.kind, BifurcationKind::BranchPoint);
     let opts = ContinuationOptions::new(2.0, 0.9);
-    let br = signorini_orbits::crossing_branch(&Between, &sym, upper, (2.0, 0.9), &opts).unwrap();
+    let br = crate::crossing_branch(&Between, &sym, upper, (2.0, 0.9), &opts).unwrap();
     eprintln!("{} points from {} to {}: {}", br.points.len(), br.points[0].param, br.points.last().unwrap().param, br.end);
     for b in &br.bifurcations {
         eprintln!("  {} at {}", b.kind.name(), b.param);
@@ -510,7 +511,7 @@ fn virtual_orbit(w: f64, mut x: [f64; 2], s: f64, skip: (f64, f64)) -> ([f64; 2]
 fn the_switched_branch_lists_its_grazing_where_the_flight_reaches_the_stop() {
     let sym = symmetric_branch();
     let upper = &sym.bifurcations[0];
-    let br = signorini_orbits::crossing_branch(&Between, &sym, upper, (2.0, 0.9), &ContinuationOptions::new(2.0, 0.9)).unwrap();
+    let br = crate::crossing_branch(&Between, &sym, upper, (2.0, 0.9), &ContinuationOptions::new(2.0, 0.9)).unwrap();
     let g = br
         .bifurcations
         .iter()

@@ -16,8 +16,9 @@
 //! once, a branch point, at the same Ω.
 
 use crate::between::jacobian;
+use crate::continuation;
 use crate::slow_impact::{map, Between, P};
-use signorini_orbits::{continuation, periodic_orbit, BifurcationKind, ContinuationOptions, Family, Newton};
+use signorini_orbits::{periodic_orbit, BifurcationKind, ContinuationOptions, Family, Newton};
 use std::f64::consts::TAU;
 
 /// The transcription's multipliers at `x` (central differences, step
