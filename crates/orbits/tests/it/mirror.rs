@@ -146,7 +146,8 @@ fn newton_finds_the_mirror_orbit_at_the_maps_round_off() {
 #[test]
 fn a_branch_turned_onto_its_mirror_image_ends_there() {
     use crate::between::{fixed_point, flow_between, map_between, E};
-    use signorini_orbits::{continuation, ContinuationOptions, Family, OrbitError};
+    use crate::continuation;
+    use signorini_orbits::{ContinuationOptions, Family, OrbitError};
     struct Between;
     impl Family for Between {
         fn model(&self, w: f64) -> Result<signorini_orbits::Model, OrbitError> {
