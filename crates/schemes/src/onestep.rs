@@ -415,6 +415,79 @@ pub(crate) fn not_plain(x: f64) -> u64 {
     u64::from(b & EXP == EXP) | u64::from(b == 1 << 63)
 }
 
+/// A lumped mass and a tridiagonal stiffness (the P1 bar's lumped
+/// explicit schemes: `cd-lagrange`, `d1-minus-linear`, `verlet-nitsche`):
+/// `K`'s diagonal and sub-diagonal by themselves and the inverse pivots of
+/// `M`'s factor (whose `L` is the identity), for steps fused into one or two
+/// vectorised passes (AVX2 when the CPU has it, no FMA) with the operations,
+/// in their order, of `SymBand::mul_vec` and `BandLdlt::solve_in_place`
+/// (the products `b_i (1/D_i)`, checked with [`not_plain`]).
+pub(crate) struct LumpedTri {
+    pub(crate) kd: Vec<f64>,
+    pub(crate) ks: Vec<f64>,
+    pub(crate) inv_d: Vec<f64>,
+    pub(crate) avx2: bool,
+}
+
+impl LumpedTri {
+    /// `Some` when `mf` is a tridiagonal factor with `L = I` and `k` is
+    /// tridiagonal, of size 2 or more.
+    pub(crate) fn new(mf: &BandLdlt, k: &signorini_fem::SymBand) -> Option<Self> {
+        let (l, inv_d) = mf.tridiagonal_factors()?;
+        (k.half_bandwidth() == 1 && k.n() == l.len() && l.len() >= 2 && l.iter().all(|x| *x == 0.0)).then(|| LumpedTri {
+            kd: k.diagonal(0),
+            ks: k.diagonal(1),
+            inv_d: inv_d.to_vec(),
+            avx2: avx2_available(),
+        })
+    }
+
+    /// Rows 0 and `n − 1` of `K u` with `SymBand::mul_vec`'s operations.
+    #[inline(always)]
+    pub(crate) fn ku_ends(&self, u: &[f64]) -> (f64, f64) {
+        let (kd, ks, l) = (&self.kd, &self.ks, u.len() - 1);
+        (kd[0] * u[0] + ks[1] * u[1], ks[l] * u[l - 1] + kd[l] * u[l])
+    }
+
+    /// The interior rows' slices, `1..n−1`: `(K_{i,i−1}, K_ii, K_{i,i+1},
+    /// u_{i−1}, u_i, u_{i+1}, 1/D_i)`, row `i` of `K u` being
+    /// `ksl·ul + kdc·uc + ksr·ur` in that order.
+    #[allow(clippy::type_complexity)]
+    #[inline(always)]
+    pub(crate) fn interior<'a>(&'a self, u: &'a [f64]) -> ([&'a [f64]; 3], [&'a [f64]; 3], &'a [f64]) {
+        let n = u.len();
+        let (kd, ks, inv_d) = (&self.kd[..n], &self.ks[..n], &self.inv_d[..n]);
+        ([&ks[1..n - 1], &kd[1..n - 1], &ks[2..]], [&u[..n - 2], &u[1..n - 1], &u[2..]], &inv_d[1..n - 1])
+    }
+}
+
+/// Runs `$body` (an expression) compiled with AVX2 when `$avx2` (the CPU
+/// has it; no FMA, so the same bits), in a nested function of the given
+/// arguments.
+macro_rules! with_avx2 {
+    ($avx2:expr, fn($($a:ident: $t:ty),* $(,)?) -> $r:ty $body:block) => {{
+        #[inline(always)]
+        #[allow(clippy::too_many_arguments)]
+        fn plain($($a: $t),*) -> $r $body
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn avx2($($a: $t),*) -> $r {
+            plain($($a),*)
+        }
+        // SAFETY: the flag is set only when the CPU reports AVX2.
+        #[cfg(target_arch = "x86_64")]
+        let r = if $avx2 { unsafe { avx2($($a),*) } } else { plain($($a),*) };
+        #[cfg(not(target_arch = "x86_64"))]
+        let r = {
+            let _ = $avx2;
+            plain($($a),*)
+        };
+        r
+    }};
+}
+pub(crate) use with_avx2;
+
 /// [`forward_backward_fused`] when the factor's `L` is the identity (`A =
 /// M` lumped: `penalty-cd`): row `i` of the right-hand side with the
 /// operations of the sweep's row `i`, times `1/D_i`, in one vectorised
