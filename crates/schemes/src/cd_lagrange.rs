@@ -45,6 +45,7 @@
 
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
+use crate::onestep::{not_plain, with_avx2, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
@@ -76,6 +77,53 @@ pub struct CdLagrange {
     impulses: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
+    /// A lumped mass on the P1 bar: the step's fused pass ([`lumped_pass`]).
+    lumped: Option<LumpedTri>,
+}
+
+/// The step on a lumped mass and a tridiagonal `K` in one vectorised pass
+/// (with at most one forcing term, `FORCED`): per row, `a = F − K U`
+/// (`+ w g`), `x = a (1/D)` (`M⁻¹` as `BandLdlt::solve_in_place`'s
+/// diagonal path, checked by [`not_plain`]), `V_new = V + kick x` into
+/// `v_new` and, if `MOVE` (no contact closed: Newton's law changes
+/// nothing), `U_new = U + dt V_new` into `u_new` — each row with the plain
+/// step's operations in their order. False if some `x` is infinite, NaN
+/// or `−0` (then the caller runs the plain step: `U`, `V` are untouched).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn lumped_pass<const FORCED: bool, const MOVE: bool>(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], kick: f64, h: f64, v_new: &mut [f64], u_new: &mut [f64]) -> bool {
+    let n = u.len();
+    let l = n - 1;
+    let (load, v, v_new, u_new, inv_d) = (&load[..n], &v[..n], &mut v_new[..n], &mut u_new[..n], &lt.inv_d[..n]);
+    let row = |ku: f64, f: f64, gi: f64, s: f64, vi: f64, ui: f64| {
+        let a = f - ku;
+        let a = if FORCED { a + w * gi } else { a };
+        let x = a * s;
+        let vn = vi + kick * x;
+        (x, vn, ui + h * vn)
+    };
+    let gi = |i: usize| if FORCED { g[i] } else { 0.0 };
+    let (k0, kl) = lt.ku_ends(u);
+    let (x0, v0, u0) = row(k0, load[0], gi(0), inv_d[0], v[0], u[0]);
+    let (xl, vl, ul) = row(kl, load[l], gi(l), inv_d[l], v[l], u[l]);
+    let mut odd = not_plain(x0) | not_plain(xl);
+    (v_new[0], v_new[l]) = (v0, vl);
+    if MOVE {
+        (u_new[0], u_new[l]) = (u0, ul);
+    }
+    let ([ksl, kdc, ksr], [um, uc, up], dc) = lt.interior(u);
+    let (fc, vc, gc) = (&load[1..l], &v[1..l], if FORCED { &g[1..l] } else { &g[..0] });
+    let (vnc, unc) = (&mut v_new[1..l], &mut u_new[1..l]);
+    for j in 0..n - 2 {
+        let ku = ksl[j] * um[j] + kdc[j] * uc[j] + ksr[j] * up[j];
+        let (x, vn, un) = row(ku, fc[j], if FORCED { gc[j] } else { 0.0 }, dc[j], vc[j], uc[j]);
+        odd |= not_plain(x);
+        vnc[j] = vn;
+        if MOVE {
+            unc[j] = un;
+        }
+    }
+    odd == 0
 }
 
 /// The closed side of a contact at `x` (`None` if open): its gap `<= 0`.
@@ -105,6 +153,7 @@ impl CdLagrange {
         let n = dy.n();
         crate::check_start(dt, n, init)?;
         let mf = dy.mass.factor()?;
+        let lumped = LumpedTri::new(&mf, &dy.stiffness);
         let impact_solve = MultiSolve::new(&dy, &mf)?.with_banded(dy.mass.clone())?;
         let k = dy.k();
         let mut loads = Loads::values(&dy, dt);
@@ -128,8 +177,39 @@ impl CdLagrange {
             impulses: vec![0.0; k],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
+            lumped,
             dy,
         })
+    }
+
+    /// The step's first part on a lumped mass ([`lumped_pass`]): `V^{n+½}`
+    /// before Newton's law into `v` (`V^{n−½}` into `v_old`) and, if `open`,
+    /// `U^{n+1}` into `u` (`Uⁿ` into `u_prev`). False, nothing done, where
+    /// the fused pass does not apply (no lumped mass, several forcing terms)
+    /// or gives up (a product infinite, NaN or `−0`).
+    fn fused_start(&mut self, kick: f64, open: bool) -> bool {
+        let Some(lt) = &self.lumped else { return false };
+        let (g, w) = match self.dy.forcing.as_slice() {
+            [] => (&[][..], 0.0),
+            [f] => (&f.shape[..], 1.0 * self.svals[0]),
+            _ => return false,
+        };
+        let (u, load, v, v_new, u_new, h) = (&self.u[..], &self.dy.load[..], &self.v[..], &mut self.v_old[..], &mut self.u_prev[..], self.dt);
+        let done = with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], kick: f64, h: f64, v_new: &mut [f64], u_new: &mut [f64], open: bool) -> bool {
+            match (g.is_empty(), open) {
+                (true, true) => lumped_pass::<false, true>(lt, u, load, g, w, v, kick, h, v_new, u_new),
+                (true, false) => lumped_pass::<false, false>(lt, u, load, g, w, v, kick, h, v_new, u_new),
+                (false, true) => lumped_pass::<true, true>(lt, u, load, g, w, v, kick, h, v_new, u_new),
+                (false, false) => lumped_pass::<true, false>(lt, u, load, g, w, v, kick, h, v_new, u_new),
+            }
+        });
+        if done {
+            std::mem::swap(&mut self.v, &mut self.v_old);
+            if open {
+                std::mem::swap(&mut self.u, &mut self.u_prev);
+            }
+        }
+        done
     }
 
     /// `V^{n−½}` (`V⁰` before the first step).
@@ -175,27 +255,35 @@ impl Stepper for CdLagrange {
         let h = self.dt;
         // The first step is the start's half step.
         let kick = if self.n == 0 { 0.5 * h } else { h };
-        // a(t_n, Uⁿ) = M⁻¹(F(t_n) − K Uⁿ) (the load's values at t_n are in svals).
-        self.dy.stiffness.mul_vec(&self.u, &mut self.acc);
-        for (a, f) in self.acc.iter_mut().zip(&self.dy.load) {
-            *a = f - *a;
-        }
-        add_terms(&mut self.acc, &self.dy.forcing, 1.0, &self.svals);
-        self.mf.solve_in_place(&mut self.acc);
-        // V_free = V^{n−½} + kick a; the law compares with V^{n−½}.
-        self.v_old.copy_from_slice(&self.v);
-        for (v, a) in self.v.iter_mut().zip(&self.acc) {
-            *v += kick * a;
-        }
-        // Iⁿ from the gaps at Uⁿ; Newton's law on it.
+        // Iⁿ from the gaps at Uⁿ.
         for (s, ct) in self.closed.iter_mut().zip(&self.dy.contacts) {
             *s = side(ct.bounds.lo, ct.bounds.hi, self.u[ct.dof]);
         }
+        // None closed: Newton's law changes nothing, U moves in the same pass.
+        let open = self.closed.iter().all(|s| *s == Active::None);
+        let fused = self.fused_start(kick, open);
+        if !fused {
+            // a(t_n, Uⁿ) = M⁻¹(F(t_n) − K Uⁿ) (the load's values at t_n are in svals).
+            self.dy.stiffness.mul_vec(&self.u, &mut self.acc);
+            for (a, f) in self.acc.iter_mut().zip(&self.dy.load) {
+                *a = f - *a;
+            }
+            add_terms(&mut self.acc, &self.dy.forcing, 1.0, &self.svals);
+            self.mf.solve_in_place(&mut self.acc);
+            // V_free = V^{n−½} + kick a; the law compares with V^{n−½}.
+            self.v_old.copy_from_slice(&self.v);
+            for (v, a) in self.v.iter_mut().zip(&self.acc) {
+                *v += kick * a;
+            }
+        }
+        // Newton's law on Iⁿ.
         self.impact_solve.newton_law(&self.dy.contacts, &self.closed, self.restitution, Some(&self.v_old), &mut self.v, &mut self.impulses)?;
-        // U^{n+1} = Uⁿ + dt V^{n+½}.
-        std::mem::swap(&mut self.u_prev, &mut self.u);
-        for ((u, up), v) in self.u.iter_mut().zip(&self.u_prev).zip(&self.v) {
-            *u = up + h * v;
+        if !(fused && open) {
+            // U^{n+1} = Uⁿ + dt V^{n+½}.
+            std::mem::swap(&mut self.u_prev, &mut self.u);
+            for ((u, up), v) in self.u.iter_mut().zip(&self.u_prev).zip(&self.v) {
+                *u = up + h * v;
+            }
         }
         self.loads.next_into(&mut self.svals);
         self.n += 1;

@@ -65,6 +65,7 @@
 
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
+use crate::onestep::{not_plain, with_avx2, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
@@ -130,6 +131,72 @@ pub struct D1MinusLinear {
     f_minus: Vec<f64>,
     /// Whether the last step had a contact close (`I₃ ≠ ∅`).
     impact: bool,
+    /// A lumped mass on the P1 bar, undamped: the step's fused passes
+    /// ([`predict_pass`], [`end_pass`]).
+    lumped: Option<LumpedTri>,
+}
+
+/// The start of the step on a lumped mass when no force problem acts at
+/// its start: per row, `V₁ = Vⁿ + dt a(t_n)` into `v1` and `Uⁿ⁺¹ = Uⁿ +
+/// dt/2 (Vⁿ + V₁)` into `u`, in one vectorised pass with the plain step's
+/// operations.
+#[inline(always)]
+fn predict_pass(a_free: &[f64], v: &[f64], h: f64, v1: &mut [f64], u: &mut [f64]) {
+    let n = u.len();
+    let (a_free, v, v1) = (&a_free[..n], &v[..n], &mut v1[..n]);
+    for i in 0..n {
+        let w = v[i] + h * a_free[i];
+        v1[i] = w;
+        u[i] += 0.5 * h * (v[i] + w);
+    }
+}
+
+/// The end of the step on a lumped mass and a tridiagonal `K` (undamped,
+/// at most one forcing term, `FORCED`) when no force problem acts at its
+/// end, in one vectorised pass: per row `a_end = M⁻¹(F(t_{n+1}) − K Uⁿ⁺¹
+/// (+ w g))` (`M⁻¹` as `BandLdlt::solve_in_place`'s diagonal path, checked
+/// by [`not_plain`]) into `a_end`, and `V_f` into `out`: `Vⁿ + dt/2 (a0 +
+/// a_end)` or, `VEL` (the velocity level without impact), `½(Vⁿ + V₁) +
+/// dt/2 a_end` — the plain step's operations in their order. False if
+/// some product is infinite, NaN or `−0` (`v`, `a0`, `v1` untouched:
+/// the plain end runs instead).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn end_pass<const FORCED: bool, const VEL: bool>(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], a0: &[f64], v1: &[f64], h: f64, a_end: &mut [f64], out: &mut [f64]) -> bool {
+    let n = u.len();
+    let l = n - 1;
+    let (load, v, a_end, out, inv_d) = (&load[..n], &v[..n], &mut a_end[..n], &mut out[..n], &lt.inv_d[..n]);
+    // Only the form's own input is read (`a0` or `v1`).
+    let (a0, v1) = if VEL { (&v1[..0], &v1[..n]) } else { (&a0[..n], &a0[..0]) };
+    let row = |ku: f64, f: f64, gi: f64, s: f64, vi: f64, a0i: f64, v1i: f64| {
+        let a = f - ku;
+        let a = if FORCED { a + w * gi } else { a };
+        let x = a * s;
+        let vf = if VEL { 0.5 * (vi + v1i) + 0.5 * h * x } else { vi + 0.5 * h * (a0i + x) };
+        (x, vf)
+    };
+    let gi = |i: usize| if FORCED { g[i] } else { 0.0 };
+    let a0i = |i: usize| if VEL { 0.0 } else { a0[i] };
+    let v1i = |i: usize| if VEL { v1[i] } else { 0.0 };
+    let (k0, kl) = lt.ku_ends(u);
+    let (x0, f0) = row(k0, load[0], gi(0), inv_d[0], v[0], a0i(0), v1i(0));
+    let (xl, fl) = row(kl, load[l], gi(l), inv_d[l], v[l], a0i(l), v1i(l));
+    let mut odd = not_plain(x0) | not_plain(xl);
+    (a_end[0], a_end[l], out[0], out[l]) = (x0, xl, f0, fl);
+    let ([ksl, kdc, ksr], [um, uc, up], dc) = lt.interior(u);
+    let (fc, vc) = (&load[1..l], &v[1..l]);
+    let gc = if FORCED { &g[1..l] } else { &g[..0] };
+    let ac = if VEL { &a0[..0] } else { &a0[1..l] };
+    let v1c = if VEL { &v1[1..l] } else { &v1[..0] };
+    let (ec, oc) = (&mut a_end[1..l], &mut out[1..l]);
+    for j in 0..n - 2 {
+        let ku = ksl[j] * um[j] + kdc[j] * uc[j] + ksr[j] * up[j];
+        let (x, vf) = row(ku, fc[j], if FORCED { gc[j] } else { 0.0 }, dc[j], vc[j], if VEL { 0.0 } else { ac[j] }, if VEL { v1c[j] } else { 0.0 });
+        odd |= not_plain(x);
+        ec[j] = x;
+        oc[j] = vf;
+    }
+    odd == 0
 }
 
 /// The closed side of a contact at `x` (`None` if open).
@@ -175,6 +242,7 @@ impl D1MinusLinear {
         let n = dy.n();
         crate::check_start(dt, n, init)?;
         let mf = dy.mass.factor()?;
+        let lumped = if dy.damping.is_none() { LumpedTri::new(&mf, &dy.stiffness) } else { None };
         let force_solve = MultiSolve::new(&dy, &mf)?.with_banded(dy.mass.clone())?;
         let impact_solve = MultiSolve::new(&dy, &mf)?.with_banded(dy.mass.clone())?;
         let k = dy.k();
@@ -209,6 +277,7 @@ impl D1MinusLinear {
             f_plus: vec![0.0; k],
             f_minus: vec![0.0; k],
             impact: false,
+            lumped,
             dy,
         };
         me.refresh();
@@ -278,6 +347,87 @@ impl D1MinusLinear {
         &self.a_free
     }
 
+    /// The end of the step in one pass ([`end_pass`]): `a(t_{n+1}, Uⁿ⁺¹)`
+    /// into `a_end`, `V_f` into `v` (by a swap with the buffer it was made
+    /// in: `acc` on the velocity level, which does not use it, `v1` on the
+    /// acceleration level, where `V₁` is no longer needed), the force
+    /// problem's multipliers zero. False, nothing done, where it does not
+    /// apply (no lumped mass, several forcing terms, a force problem at the
+    /// end) or gives up (a product infinite, NaN or `−0`).
+    fn fused_end(&mut self, impact: bool, fast_start: bool) -> bool {
+        let Some(lt) = &self.lumped else { return false };
+        if !impact && self.end.iter().any(|s| *s != Active::None) {
+            return false;
+        }
+        let (g, w) = match self.dy.forcing.as_slice() {
+            [] => (&[][..], 0.0),
+            [f] => (&f.shape[..], 1.0 * self.s_new[0]),
+            _ => return false,
+        };
+        let vel = self.level == D1Level::Velocity && !impact;
+        let (u, load, v, h) = (&self.u[..], &self.dy.load[..], &self.v[..], self.dt);
+        let done = if vel {
+            let (v1, a_end, out) = (&self.v1[..], &mut self.a_end[..], &mut self.acc[..]);
+            with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], v1: &[f64], h: f64, a_end: &mut [f64], out: &mut [f64]) -> bool {
+                if g.is_empty() {
+                    end_pass::<false, true>(lt, u, load, g, w, v, v1, v1, h, a_end, out)
+                } else {
+                    end_pass::<true, true>(lt, u, load, g, w, v, v1, v1, h, a_end, out)
+                }
+            })
+        } else {
+            // a⁺ = a(t_n) where no force acted at the start, and with an impact.
+            let a0 = if impact || fast_start { &self.a_free[..] } else { &self.acc[..] };
+            let (a_end, out) = (&mut self.a_end[..], &mut self.v1[..]);
+            with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], a0: &[f64], h: f64, a_end: &mut [f64], out: &mut [f64]) -> bool {
+                if g.is_empty() {
+                    end_pass::<false, false>(lt, u, load, g, w, v, a0, a0, h, a_end, out)
+                } else {
+                    end_pass::<true, false>(lt, u, load, g, w, v, a0, a0, h, a_end, out)
+                }
+            })
+        };
+        if done {
+            std::mem::swap(&mut self.v, if vel { &mut self.acc } else { &mut self.v1 });
+            self.f_minus.iter_mut().for_each(|x| *x = 0.0);
+            if impact {
+                self.f_plus.iter_mut().for_each(|x| *x = 0.0);
+            }
+        }
+        done
+    }
+
+    /// The end of the step as written (module docs): `a(t_{n+1}, Uⁿ⁺¹,
+    /// V₁)`, then `V_f` with the force problem at the end (no impact).
+    fn plain_end(&mut self, impact: bool, velocity_level: bool, fast_start: bool) -> Result<(), SchemeError> {
+        let h = self.dt;
+        // a(t_{n+1}, Uⁿ⁺¹, V₁).
+        accel(&self.dy, &self.mf, &self.s_new, &self.u, &self.v1, &mut self.a_end, &mut self.ctmp);
+        if impact {
+            // No contact force: V_f = Vⁿ + h/2 (a(t_n) + a(t_{n+1})).
+            for ((v, a0), a1) in self.v.iter_mut().zip(&self.a_free).zip(&self.a_end) {
+                *v += 0.5 * h * (a0 + a1);
+            }
+            self.f_plus.iter_mut().chain(self.f_minus.iter_mut()).for_each(|x| *x = 0.0);
+        } else if velocity_level {
+            // V_f = ½(Vⁿ + V₁) + h/2 a(t_{n+1}) + M⁻¹Hᵀμ⁻ on I₁.
+            for ((v, v1), a1) in self.v.iter_mut().zip(&self.v1).zip(&self.a_end) {
+                *v = 0.5 * (*v + v1) + 0.5 * h * a1;
+            }
+            Self::force_problem(&mut self.force_solve, &self.end, &mut self.v, &mut self.f_minus)?;
+        } else {
+            // a⁻ = a(t_{n+1}) + M⁻¹Hᵀλ⁻ on I₂ (into v1: V₁ is no longer needed), V_f = Vⁿ + h/2 (a⁺ + a⁻).
+            // (a⁺ = a(t_n) where no force problem acted at the start.)
+            self.v1.copy_from_slice(&self.a_end);
+            Self::force_problem(&mut self.force_solve, &self.end, &mut self.v1, &mut self.f_minus)?;
+            let a_plus = if fast_start { &self.a_free } else { &self.acc };
+            for ((v, a0), a1) in self.v.iter_mut().zip(a_plus).zip(&self.v1) {
+                *v += 0.5 * h * (a0 + a1);
+            }
+        }
+        Ok(())
+    }
+
     /// The force problem on `acc` (an acceleration, or on the velocity
     /// level a velocity) with the sides `sides` (skipped when none is
     /// closed): `acc += M⁻¹Hᵀx`, `0 <= x ⊥ H acc >= 0`, the multipliers
@@ -315,7 +465,12 @@ impl Stepper for D1MinusLinear {
         let h = self.dt;
         self.loads.next_into(&mut self.s_new);
         let velocity_level = self.level == D1Level::Velocity;
-        if velocity_level {
+        // On a lumped mass with no force problem at the start: V₁ and Uⁿ⁺¹ in
+        // one pass after the index sets (V₁ at the contacts by the same
+        // operations first).
+        let fast_start = self.lumped.is_some() && self.start.iter().all(|s| *s == Active::None);
+        if fast_start {
+        } else if velocity_level {
             // V₁ = Vⁿ + h a(t_n, Uⁿ, Vⁿ) + M⁻¹Hᵀμ⁺ on I₁ⁿ.
             for ((v1, v), a) in self.v1.iter_mut().zip(&self.v).zip(&self.a_free) {
                 *v1 = v + h * a;
@@ -334,12 +489,14 @@ impl Stepper for D1MinusLinear {
         let mut impact = false;
         for (i, ct) in self.dy.contacts.iter().enumerate() {
             let c = ct.dof;
-            let x1 = self.u[c] + 0.5 * h * (self.v[c] + self.v1[c]);
+            // (No force problem at the start: λ⁺ = μ⁺ = 0, and V₁ as the pass makes it.)
+            let v1c = if fast_start { self.v[c] + h * self.a_free[c] } else { self.v1[c] };
+            let x1 = self.u[c] + 0.5 * h * (self.v[c] + v1c);
             let s = side(ct.bounds.lo, ct.bounds.hi, x1);
             self.closed[i] = s;
             let (old_gap, rate) = match s {
-                Active::Lower => (self.u[c] - ct.bounds.lo, self.v1[c]),
-                Active::Upper => (ct.bounds.hi - self.u[c], -self.v1[c]),
+                Active::Lower => (self.u[c] - ct.bounds.lo, v1c),
+                Active::Upper => (ct.bounds.hi - self.u[c], -v1c),
                 Active::None => (0.0, 0.0),
             };
             if s != Active::None && old_gap > INDEX_SET_TOLERANCE {
@@ -348,31 +505,22 @@ impl Stepper for D1MinusLinear {
             // The end's force problem: I₂ (acceleration level), I₁ (velocity level).
             self.end[i] = if s != Active::None && (velocity_level || rate <= INDEX_SET_TOLERANCE) { s } else { Active::None };
         }
-        // Uⁿ⁺¹ = Uⁿ + h/2 (Vⁿ + V₁).
-        for ((u, v), v1) in self.u.iter_mut().zip(&self.v).zip(&self.v1) {
-            *u += 0.5 * h * (v + v1);
-        }
-        // a(t_{n+1}, Uⁿ⁺¹, V₁).
-        accel(&self.dy, &self.mf, &self.s_new, &self.u, &self.v1, &mut self.a_end, &mut self.ctmp);
-        if impact {
-            // No contact force: V_f = Vⁿ + h/2 (a(t_n) + a(t_{n+1})).
-            for ((v, a0), a1) in self.v.iter_mut().zip(&self.a_free).zip(&self.a_end) {
-                *v += 0.5 * h * (a0 + a1);
-            }
-            self.f_plus.iter_mut().chain(self.f_minus.iter_mut()).for_each(|x| *x = 0.0);
-        } else if velocity_level {
-            // V_f = ½(Vⁿ + V₁) + h/2 a(t_{n+1}) + M⁻¹Hᵀμ⁻ on I₁.
-            for ((v, v1), a1) in self.v.iter_mut().zip(&self.v1).zip(&self.a_end) {
-                *v = 0.5 * (*v + v1) + 0.5 * h * a1;
-            }
-            Self::force_problem(&mut self.force_solve, &self.end, &mut self.v, &mut self.f_minus)?;
+        if fast_start {
+            self.f_plus.iter_mut().for_each(|x| *x = 0.0);
+            let (a_free, v, v1, u) = (&self.a_free[..], &self.v[..], &mut self.v1[..], &mut self.u[..]);
+            with_avx2!(self.lumped.as_ref().is_some_and(|l| l.avx2), fn(a_free: &[f64], v: &[f64], h: f64, v1: &mut [f64], u: &mut [f64]) -> () {
+                predict_pass(a_free, v, h, v1, u)
+            });
         } else {
-            // a⁻ = a(t_{n+1}) + M⁻¹Hᵀλ⁻ on I₂ (into v1: V₁ is no longer needed), V_f = Vⁿ + h/2 (a⁺ + a⁻).
-            self.v1.copy_from_slice(&self.a_end);
-            Self::force_problem(&mut self.force_solve, &self.end, &mut self.v1, &mut self.f_minus)?;
-            for ((v, a0), a1) in self.v.iter_mut().zip(&self.acc).zip(&self.v1) {
-                *v += 0.5 * h * (a0 + a1);
+            // Uⁿ⁺¹ = Uⁿ + h/2 (Vⁿ + V₁).
+            for ((u, v), v1) in self.u.iter_mut().zip(&self.v).zip(&self.v1) {
+                *u += 0.5 * h * (v + v1);
             }
+        }
+        // a(t_{n+1}, Uⁿ⁺¹, V₁) and V_f: in one pass on a lumped mass where no
+        // force problem acts at the end.
+        if !self.fused_end(impact, fast_start) {
+            self.plain_end(impact, velocity_level, fast_start)?;
         }
         // Newton's law on I₁: Vⁿ⁺¹ = V_f + M⁻¹HᵀΛ.
         self.impact_solve.newton_law(&self.dy.contacts, &self.closed, self.restitution, None, &mut self.v, &mut self.impulses)?;

@@ -164,6 +164,10 @@ struct Tridiagonals {
     /// The CPU has AVX2: [`update_forward_energy`] is compiled with it too
     /// (chosen at run time; no FMA, so the same bits).
     avx2: bool,
+    /// The step matrix's factor has `L = I` (`A = M` lumped, an explicit
+    /// step): the step takes [`diagonal_step_dispatch`] and
+    /// [`update_momentum_dispatch`] (the same bits as the sweeps).
+    diagonal: bool,
 }
 
 /// Rows per block of the fused end of a step ([`update_forward_energy`]):
@@ -400,6 +404,182 @@ fn forward_backward_fused(l: &[f64], inv_d: &[f64], m_d: &[f64], m_s: &[f64], u:
     backward_sweep(l, inv_d, out);
 }
 
+/// `x` is infinite, NaN or `−0`, as 0 or 1: where a sweep's step over a
+/// zero entry of `L`, `b − (±0)·y`, may not be `b` (the check of
+/// `BandLdlt::solve_in_place`'s diagonal path; with `1/D_i > 0`, possibly
+/// `+∞`, a `b_i` that is infinite, NaN or `−0` makes `b_i (1/D_i)` so).
+#[inline(always)]
+pub(crate) fn not_plain(x: f64) -> u64 {
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    let b = x.to_bits();
+    u64::from(b & EXP == EXP) | u64::from(b == 1 << 63)
+}
+
+/// A lumped mass and a tridiagonal stiffness (the P1 bar's lumped
+/// explicit schemes: `cd-lagrange`, `d1-minus-linear`, `verlet-nitsche`):
+/// `K`'s diagonal and sub-diagonal by themselves and the inverse pivots of
+/// `M`'s factor (whose `L` is the identity), for steps fused into one or two
+/// vectorised passes (AVX2 when the CPU has it, no FMA) with the operations,
+/// in their order, of `SymBand::mul_vec` and `BandLdlt::solve_in_place`
+/// (the products `b_i (1/D_i)`, checked with [`not_plain`]).
+pub(crate) struct LumpedTri {
+    pub(crate) kd: Vec<f64>,
+    pub(crate) ks: Vec<f64>,
+    pub(crate) inv_d: Vec<f64>,
+    pub(crate) avx2: bool,
+}
+
+impl LumpedTri {
+    /// `Some` when `mf` is a tridiagonal factor with `L = I` and `k` is
+    /// tridiagonal, of size 2 or more.
+    pub(crate) fn new(mf: &BandLdlt, k: &signorini_fem::SymBand) -> Option<Self> {
+        let (l, inv_d) = mf.tridiagonal_factors()?;
+        (k.half_bandwidth() == 1 && k.n() == l.len() && l.len() >= 2 && l.iter().all(|x| *x == 0.0)).then(|| LumpedTri {
+            kd: k.diagonal(0),
+            ks: k.diagonal(1),
+            inv_d: inv_d.to_vec(),
+            avx2: avx2_available(),
+        })
+    }
+
+    /// Rows 0 and `n − 1` of `K u` with `SymBand::mul_vec`'s operations.
+    #[inline(always)]
+    pub(crate) fn ku_ends(&self, u: &[f64]) -> (f64, f64) {
+        let (kd, ks, l) = (&self.kd, &self.ks, u.len() - 1);
+        (kd[0] * u[0] + ks[1] * u[1], ks[l] * u[l - 1] + kd[l] * u[l])
+    }
+
+    /// The interior rows' slices, `1..n−1`: `(K_{i,i−1}, K_ii, K_{i,i+1},
+    /// u_{i−1}, u_i, u_{i+1}, 1/D_i)`, row `i` of `K u` being
+    /// `ksl·ul + kdc·uc + ksr·ur` in that order.
+    #[allow(clippy::type_complexity)]
+    #[inline(always)]
+    pub(crate) fn interior<'a>(&'a self, u: &'a [f64]) -> ([&'a [f64]; 3], [&'a [f64]; 3], &'a [f64]) {
+        let n = u.len();
+        let (kd, ks, inv_d) = (&self.kd[..n], &self.ks[..n], &self.inv_d[..n]);
+        ([&ks[1..n - 1], &kd[1..n - 1], &ks[2..]], [&u[..n - 2], &u[1..n - 1], &u[2..]], &inv_d[1..n - 1])
+    }
+}
+
+/// Runs `$body` (an expression) compiled with AVX2 when `$avx2` (the CPU
+/// has it; no FMA, so the same bits), in a nested function of the given
+/// arguments.
+macro_rules! with_avx2 {
+    ($avx2:expr, fn($($a:ident: $t:ty),* $(,)?) -> $r:ty $body:block) => {{
+        #[inline(always)]
+        #[allow(clippy::too_many_arguments)]
+        fn plain($($a: $t),*) -> $r $body
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn avx2($($a: $t),*) -> $r {
+            plain($($a),*)
+        }
+        // SAFETY: the flag is set only when the CPU reports AVX2.
+        #[cfg(target_arch = "x86_64")]
+        let r = if $avx2 { unsafe { avx2($($a),*) } } else { plain($($a),*) };
+        #[cfg(not(target_arch = "x86_64"))]
+        let r = {
+            let _ = $avx2;
+            plain($($a),*)
+        };
+        r
+    }};
+}
+pub(crate) use with_avx2;
+
+/// [`forward_backward_fused`] when the factor's `L` is the identity (`A =
+/// M` lumped: `penalty-cd`): row `i` of the right-hand side with the
+/// operations of the sweep's row `i`, times `1/D_i`, in one vectorised
+/// pass. With every `l_i = ±0` the sweeps' values are these products
+/// unless one is infinite, NaN or `−0` ([`not_plain`]): then false, and
+/// the caller runs the sweeps (its inputs are untouched: `out` only is
+/// written).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn diagonal_step(inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
+    let n = u.len();
+    let (inv_d, m_d, m_s, p, r, f, out) = (&inv_d[..n], &m_d[..n], &m_s[..n], &p[..n], &r[..n], &f[..n], &mut out[..n]);
+    let extra = |i: usize| c[0] * p[i] + c[1] * r[i] + c[2] * f[i];
+    let first = (m_d[0] * u[0] + m_s[1] * u[1] + extra(0)) * inv_d[0];
+    let last = (m_s[n - 1] * u[n - 2] + m_d[n - 1] * u[n - 1] + extra(n - 1)) * inv_d[n - 1];
+    let mut odd = not_plain(first) | not_plain(last);
+    out[0] = first;
+    out[n - 1] = last;
+    let (ul, uc, ur) = (&u[..n - 2], &u[1..n - 1], &u[2..]);
+    let (msl, mdc, msr, pc, rc, fc, dc) = (&m_s[1..n - 1], &m_d[1..n - 1], &m_s[2..], &p[1..n - 1], &r[1..n - 1], &f[1..n - 1], &inv_d[1..n - 1]);
+    let oc = &mut out[1..n - 1];
+    for j in 0..n - 2 {
+        let b = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * pc[j] + c[1] * rc[j] + c[2] * fc[j];
+        let x = b * dc[j];
+        odd |= not_plain(x);
+        oc[j] = x;
+    }
+    odd == 0
+}
+
+/// [`diagonal_step`] compiled with AVX2 when the CPU has it (no FMA: the
+/// same bits).
+#[allow(clippy::too_many_arguments)]
+fn diagonal_step_dispatch(avx2: bool, inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn with_avx2(inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
+            diagonal_step(inv_d, m_d, m_s, u, p, r, f, c, out)
+        }
+        // SAFETY: `avx2` is set only when the CPU reports AVX2.
+        return unsafe { with_avx2(inv_d, m_d, m_s, u, p, r, f, c, out) };
+    }
+    let _ = avx2;
+    diagonal_step(inv_d, m_d, m_s, u, p, r, f, c, out)
+}
+
+/// `R ← F − K U`, `P ← P + dt((1−γ) R_old + γ R)` on the tridiagonal
+/// path in one vectorised pass: the operations of
+/// [`OneStep::update_acceleration_and_momentum`]'s ([`tri_apply`]'s rows),
+/// row by row in the same order, so the same bits.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn update_momentum(kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
+    let n = u.len();
+    let (kd, ks, f, mom, r) = (&kd[..n], &ks[..n], &f[..n], &mut mom[..n], &mut r[..n]);
+    let row = |ku: f64, f: f64, p: &mut f64, r: &mut f64| {
+        let rn = f - ku;
+        *p += dt * ((1.0 - g) * *r + g * rn);
+        *r = rn;
+    };
+    row(kd[0] * u[0] + ks[1] * u[1], f[0], &mut mom[0], &mut r[0]);
+    let l = n - 1;
+    row(ks[l] * u[l - 1] + kd[l] * u[l], f[l], &mut mom[l], &mut r[l]);
+    let (ul, uc, ur) = (&u[..n - 2], &u[1..n - 1], &u[2..]);
+    let (ksl, kdc, ksr, fc) = (&ks[1..n - 1], &kd[1..n - 1], &ks[2..], &f[1..n - 1]);
+    let (pc, rc) = (&mut mom[1..n - 1], &mut r[1..n - 1]);
+    for j in 0..n - 2 {
+        let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
+        pc[j] += dt * ((1.0 - g) * rc[j] + g * rn);
+        rc[j] = rn;
+    }
+}
+
+/// [`update_momentum`] compiled with AVX2 when the CPU has it.
+#[allow(clippy::too_many_arguments)]
+fn update_momentum_dispatch(avx2: bool, kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn with_avx2(kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
+            update_momentum(kd, ks, u, f, mom, r, dt, g)
+        }
+        // SAFETY: `avx2` is set only when the CPU reports AVX2.
+        return unsafe { with_avx2(kd, ks, u, f, mom, r, dt, g) };
+    }
+    let _ = avx2;
+    update_momentum(kd, ks, u, f, mom, r, dt, g)
+}
+
 /// The backward sweep of the tridiagonal factor `(l, inv_d)` on a
 /// forward-swept right-hand side `out` (the second half of
 /// [`forward_backward_fused`]).
@@ -577,6 +757,7 @@ impl OneStep {
             kd: dy.stiffness.diagonal(0),
             ks: dy.stiffness.diagonal(1),
             avx2: avx2_available(),
+            diagonal: a.tridiagonal_factors().is_some_and(|(l, _)| l.iter().all(|x| *x == 0.0)),
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
         let mut loads = Loads::values(&dy, dt);
@@ -847,6 +1028,8 @@ impl OneStep {
                 *p += dt * ((1.0 - g) * *r + g * rn);
                 *r = rn;
             }
+        } else if let Some(t) = self.tri.as_ref().filter(|t| t.diagonal) {
+            update_momentum_dispatch(t.avx2, &t.kd, &t.ks, &self.u, &self.f, &mut self.mom, &mut self.r, dt, g);
         } else if let Some(t) = &self.tri {
             let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
             tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
@@ -942,9 +1125,11 @@ impl Stepper for OneStep {
             if std::mem::take(&mut self.ahead) {
                 // The step before assembled and forward-swept b (`fuse_energy`).
                 backward_sweep(l, inv_d, &mut self.rhs);
-            } else {
+            } else if !(t.diagonal && diagonal_step_dispatch(t.avx2, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs)) {
                 // Bar: b is assembled inside the forward sweep, whose loop-carried
                 // dependency leaves the core idle enough to do it for free.
+                // (A lumped `A = M` takes one pass instead, but where a
+                // product is infinite, NaN or `−0`.)
                 forward_backward_fused(l, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs);
             }
         } else {

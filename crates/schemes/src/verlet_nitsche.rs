@@ -32,6 +32,7 @@
 //! `κ_max` of the two phases (θ ≠ 1 needs the lumped mass).
 
 use crate::nitsche::NitscheTerms;
+use crate::onestep::{not_plain, with_avx2, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
@@ -57,6 +58,50 @@ pub struct VerletNitsche {
     force: f64,
     lams: [f64; 1],
     acts: [Active; 1],
+    /// A lumped mass: `K_N` and `M`'s inverse pivots for the step's fused
+    /// end ([`end_pass`]).
+    lumped: Option<LumpedTri>,
+}
+
+/// The end of the step on a lumped mass in one vectorised pass: per row
+/// `Aⁿ⁺¹ = M⁻¹ (F − K_N Uⁿ⁺¹ − N(Uⁿ⁺¹))` (the force's terms `n0`, `n1` on
+/// rows 0 and 1; `M⁻¹` as `BandLdlt::solve_in_place`'s diagonal path,
+/// checked by [`not_plain`]) into `acc` and `Vⁿ⁺¹ = V^{n+½} + dt/2 Aⁿ⁺¹`
+/// into `v_new`, with the plain step's operations in their order. False
+/// if some product is infinite, NaN or `−0` (`v` untouched).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn end_pass(lt: &LumpedTri, u: &[f64], f: &[f64], v: &[f64], n0: f64, n1: f64, h: f64, acc: &mut [f64], v_new: &mut [f64]) -> bool {
+    let n = u.len();
+    let l = n - 1;
+    let (f, v, acc, v_new, inv_d) = (&f[..n], &v[..n], &mut acc[..n], &mut v_new[..n], &lt.inv_d[..n]);
+    let (kd, ks) = (&lt.kd[..n], &lt.ks[..n]);
+    let (k0, kl) = lt.ku_ends(u);
+    // Rows 0, 1 and n − 1 (row 1 may be the last).
+    let k1 = if n > 2 { ks[1] * u[0] + kd[1] * u[1] + ks[2] * u[2] } else { kl };
+    let a0 = (f[0] - k0 - n0) * inv_d[0];
+    let a1 = (f[1] - k1 - n1) * inv_d[1];
+    let al = (f[l] - kl) * inv_d[l];
+    let mut odd = not_plain(a0) | not_plain(a1);
+    (acc[0], acc[1]) = (a0, a1);
+    (v_new[0], v_new[1]) = (v[0] + h * a0, v[1] + h * a1);
+    if n > 2 {
+        odd |= not_plain(al);
+        acc[l] = al;
+        v_new[l] = v[l] + h * al;
+    }
+    if n > 3 {
+        let ([ksl, kdc, ksr], [um, uc, up], dc) = lt.interior(u);
+        let (ksl, kdc, ksr, um, uc, up, dc) = (&ksl[1..], &kdc[1..], &ksr[1..], &um[1..], &uc[1..], &up[1..], &dc[1..]);
+        let (fc, vc, ac, vnc) = (&f[2..l], &v[2..l], &mut acc[2..l], &mut v_new[2..l]);
+        for j in 0..n - 3 {
+            let x = (fc[j] - (ksl[j] * um[j] + kdc[j] * uc[j] + ksr[j] * up[j])) * dc[j];
+            odd |= not_plain(x);
+            ac[j] = x;
+            vnc[j] = vc[j] + h * x;
+        }
+    }
+    odd == 0
 }
 
 /// The structure the scheme needs ([`crate::nitsche::bar_end`]) and a P1
@@ -127,6 +172,7 @@ impl VerletNitsche {
         bar_end(&dy)?;
         let NitscheTerms { gamma_n, k_n, q, r } = NitscheTerms::new(&dy, gamma0, theta);
         let m = dy.mass.factor()?;
+        let lumped = LumpedTri::new(&m, &k_n);
         let n = dy.n();
         let mut s = Self {
             label,
@@ -145,6 +191,7 @@ impl VerletNitsche {
             force: 0.0,
             lams: [0.0],
             acts: [Active::None],
+            lumped,
             dy,
         };
         s.update_acc();
@@ -165,6 +212,30 @@ impl VerletNitsche {
         self.acc[0] -= self.force * self.r[0];
         self.acc[1] -= self.force * self.r[1];
         self.m.solve_in_place(&mut self.acc);
+    }
+
+    /// [`update_acc`](Self::update_acc) and the half kick `V += dt/2 A` in
+    /// one pass on a lumped mass ([`end_pass`]; `Vⁿ⁺¹` made in `ku`, then
+    /// swapped in). False, `V` untouched, without a lumped mass or where the
+    /// pass gives up.
+    fn fused_end(&mut self, h: f64) -> bool {
+        let Some(lt) = &self.lumped else { return false };
+        if !self.dy.forcing.is_empty() {
+            self.dy.load_at(self.n as f64 * self.dt, &mut self.f);
+        }
+        // (Without forcing `f` holds the steady load since `new`.)
+        let p = self.q[0] * self.u[0] + self.q[1] * self.u[1] - self.gamma_n * self.dy.contact().bounds.lo;
+        let force = p.min(0.0);
+        let (n0, n1) = (force * self.r[0], force * self.r[1]);
+        let (u, f, v, acc, v_new) = (&self.u[..], &self.f[..], &self.v[..], &mut self.acc[..], &mut self.ku[..]);
+        let done = with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], f: &[f64], v: &[f64], n0: f64, n1: f64, h: f64, acc: &mut [f64], v_new: &mut [f64]) -> bool {
+            end_pass(lt, u, f, v, n0, n1, h, acc, v_new)
+        });
+        if done {
+            self.force = force;
+            std::mem::swap(&mut self.v, &mut self.ku);
+        }
+        done
     }
 
     fn report(&mut self) {
@@ -193,9 +264,11 @@ impl Stepper for VerletNitsche {
             *u += self.dt * *v;
         }
         self.n += 1;
-        self.update_acc();
-        for (v, a) in self.v.iter_mut().zip(&self.acc) {
-            *v += h * a;
+        if !self.fused_end(h) {
+            self.update_acc();
+            for (v, a) in self.v.iter_mut().zip(&self.acc) {
+                *v += h * a;
+            }
         }
         let t = self.time();
         if !(self.u[0].is_finite() && self.force.is_finite()) {

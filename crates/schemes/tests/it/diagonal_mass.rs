@@ -146,3 +146,77 @@ fn explicit_schemes_on_a_lumped_mass_are_the_old_code_bit_for_bit() {
     }
     assert!(wrong.is_empty(), "{wrong:?}");
 }
+
+/// A chain as [`chain`]'s without forcing (the explicit schemes' fused
+/// passes on a lumped mass take this case without the forcing's term);
+/// `rest`: `U⁰ = V⁰ = −0` and a load with `−0` entries, so that some
+/// `M⁻¹(F − K U)` is `−0` — where the fused passes give the step back to
+/// the plain one — and the sweeps' zeros' signs (`+0` after a negative
+/// row) reach `V` and `U`.
+fn chain_unforced(rng: &mut SplitMix64, n: usize, two: bool, two_sided: bool, rest: bool) -> (Dynamics, Initial) {
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    for i in 0..n {
+        m.set(i, i, 0.5 + rng.next_f64());
+        let ki = 1.0 + 3.0 * rng.next_f64();
+        k.set(i, i, 2.0 * ki);
+        if i > 0 {
+            k.set(i, i - 1, -ki);
+        }
+    }
+    let load: Vec<f64> = (0..n).map(|i| if rest && i % 3 != 1 { -0.0 } else { 0.3 * (rng.next_f64() - 0.7) }).collect();
+    let hi = if two_sided { 0.05 + 0.05 * rng.next_f64() } else { f64::INFINITY };
+    let mut contacts = vec![Contact::new(0, Bounds { lo: -0.03 * rng.next_f64(), hi }, false)];
+    if two && n > 1 {
+        contacts.push(Contact::new(n - 1, Bounds { lo: f64::NEG_INFINITY, hi: 0.02 * rng.next_f64() }, false));
+    }
+    let dy = Dynamics::new(m, k, load, contacts);
+    let (u, v) = if rest { (vec![-0.0; n], vec![-0.0; n]) } else { ((0..n).map(|_| 0.02 * (rng.next_f64() - 0.5)).collect(), (0..n).map(|_| 2.0 * rng.next_f64() - 1.0).collect()) };
+    (dy, Initial { u, v })
+}
+
+/// The old code's hashes (commit 9ca2869, before the fused passes) of
+/// the runs of [`explicit_schemes_unforced_and_from_rest_are_the_old_code_bit_for_bit`].
+const EXPECTED_UNFORCED: [(&str, u64); 7] = [
+    ("cd-lagrange(0)", 0xefee4ab956d238a3),
+    ("cd-lagrange(0.7)", 0x5b83bfab80b3dfd1),
+    ("d1-minus-linear(0)", 0x1576d78c856db85b),
+    ("d1-minus-linear-velocity(0)", 0xd4bc107bd7348311),
+    ("d1-minus-linear-velocity(0.5)", 0xd4cad8c992985a00),
+    ("verlet-nitsche(10,1)", 0x9eef954a1e5e528d),
+    ("penalty-cd", 0xde0a3f8a5f21a557),
+];
+
+/// [`explicit_schemes_on_a_lumped_mass_are_the_old_code_bit_for_bit`]
+/// without forcing (the fused passes' unforced builds), and from rest
+/// with `−0` loads (their fall-back to the plain step), against the hashes
+/// of the code before them.
+#[test]
+fn explicit_schemes_unforced_and_from_rest_are_the_old_code_bit_for_bit() {
+    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
+    let mut wrong = Vec::new();
+    for (name, expected) in EXPECTED_UNFORCED {
+        let spec: SchemeSpec = name.parse().unwrap();
+        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        let mut rng = SplitMix64::new(36);
+        for rest in [false, true] {
+            for (case, n) in [2usize, 3, 4, 5, 17, 64, 100].into_iter().enumerate() {
+                for two in [false, true] {
+                    if two && one_contact {
+                        continue;
+                    }
+                    let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
+                    let (dy, init) = chain_unforced(&mut rng, n, two, two_sided, rest);
+                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
+                }
+            }
+        }
+        if print {
+            println!("    (\"{name}\", {:#x}),", h.0);
+        }
+        if h.0 != expected {
+            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:?}");
+}
