@@ -2,9 +2,12 @@
 //! `basins.rs` (stop 0.5, Ω = 1.85: the free response and an impacting
 //! period-1 orbit, both stable), each cell whose transient stops early on
 //! a seed's target is classified as an independent event-driven run
-//! (closed-form flights, impacts bisected) ends after 260 forcing periods;
-//! and every cell not stopped is `classify`'s result bit for bit (the same
-//! run, read at each period on the way).
+//! (closed-form flights, impacts bisected) ends after 260 forcing periods
+//! (all 120 cells stop, after 9 to 34 periods; a radius made infinite
+//! stops cell 49 on the wrong attractor after 3); and with a transient of
+//! 16 periods, too short for most cells to stop, every cell not stopped is
+//! `classify`'s result bit for bit (the same run, read at each period on
+//! the way; a run started again at each reading differs in the last bits).
 
 use crate::basins::{impacting, independent, OMEGA, SCENE};
 use signorini_orbits::basins::{classify, Axis, BasinOptions, BasinScene, Outcome};
@@ -47,4 +50,17 @@ fn a_stopped_transient_ends_where_an_independent_run_ends() {
         }
     }
     assert!(stopped > scene.cells() / 2, "{stopped} cells stopped early, {whole} ran their whole transient");
+    // A transient too short for most cells to stop: those that run it
+    // whole are `classify`'s cells, bit for bit.
+    let short = BasinOptions { transient: 16, ..BasinOptions::default() };
+    let mut whole = 0;
+    for cell in 0..scene.cells() {
+        let (i, j) = scene.ij(cell);
+        if let (Outcome::Attractor(a), None) = scene.classify_near(cell, &short, &targets) {
+            let built = scene.build(i, j).unwrap();
+            assert_eq!(a, classify(&built.model, built.omega, &built.start, &short).unwrap(), "cell {cell}, a transient of 16 periods");
+            whole += 1;
+        }
+    }
+    assert!(whole > 20, "{whole} cells ran the short transient whole");
 }
