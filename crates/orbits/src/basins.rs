@@ -27,6 +27,29 @@
 //! period, and was called a longer period (the oscillator forced at
 //! Ω = 5: "period 5" where the attractor is the free period-1 orbit).
 //!
+//! **A transient stopped on a known attractor.** A grid first classifies
+//! its seed cells ([`BasinScene::seeds`], 8 × 8 spread over the grid) in
+//! full; each distinct stable periodic attractor they reach becomes a
+//! [`Target`]: Newton on `P^p` from its point converges to a fixed point
+//! `x*` whose multipliers are all inside the unit circle, and its radius
+//! `r` is the largest of `0.05 · max(1, ‖x*‖∞) · 2^−m` (`m ≤ 14`) at which
+//! `P^p` maps `x* ± r·d` to within `r/10` of its linearisation
+//! `x* ± r·J d` for every coordinate direction `d` and the two diagonals
+//! (no impact appears, vanishes or moves beyond what the Jacobian says
+//! within that distance). Every other cell's transient is read at each
+//! forcing period ([`Model::flow_read`]: the same run as one flow), and
+//! stops at the first `n` where `d_n = ‖P^n(x0) − x*‖∞ <= r` and
+//! `d_{n+2p} < d_{n+p} < d_n` (`p` periods apart: the same phase of the
+//! cycle; two contractions in a row where the map is its contracting
+//! linearisation): the cell is then the target's attractor, written as the
+//! target's period, impacts, held phase and canonical point. A cell that
+//! never stops so runs its whole transient and is classified as above,
+//! bit for bit. The targets come from the seeds alone (not from the cells
+//! classified so far), so every shard and thread count makes the same
+//! decisions, and a merge is the unsharded grid byte for byte; a key that
+//! changes the map (not only the start) makes each cell's map its own, and
+//! no target fits it ([`Target::fits`]).
+//!
 //! Cells on one attractor are grouped ([`Grouper`]): two periodic cells
 //! share an attractor when their periods agree and a point of one's cycle
 //! is within `match_tol · max(1, ‖x‖∞)` of the other's canonical point
@@ -52,6 +75,7 @@ use crate::shoot::{periodic_orbit, Newton};
 use crate::OrbitError;
 use signorini_scene::Limits;
 use signorini_schemes::events::EventKind;
+use signorini_schemes::Dynamics;
 use std::f64::consts::TAU;
 
 /// One axis of the grid: a numeric scene key and its values
@@ -174,6 +198,52 @@ pub fn classify(model: &Model, omega: f64, x0: &[f64], opts: &BasinOptions) -> R
     if opts.transient > 0 {
         x = model.flow(0.0, &x, opts.transient as f64 * period, false)?.x;
     }
+    after_transient(model, period, x, opts)
+}
+
+/// [`classify`] with `targets`, the stable attractors a transient may stop
+/// on (module docs, "A transient stopped on a known attractor"): the
+/// transient's flow is read at each forcing period, and where its iterates
+/// come within a target's radius of its point and their distances to it
+/// shrink twice, `p` periods apart (the same phase), the cell is the
+/// target's attractor: the target's own classification is returned with
+/// the forcing period the transient stopped at. A target of another map
+/// (another structure, loads, restitution or forcing frequency) is not
+/// used. Without a target stopped on, the transient runs whole and the
+/// result is [`classify`]'s, bit for bit (the same run read on the way).
+pub fn classify_near(model: &Model, omega: f64, x0: &[f64], opts: &BasinOptions, targets: &[Target]) -> Result<(Attractor, Option<usize>), OrbitError> {
+    let near: Vec<&Target> = targets.iter().filter(|t| t.fits(model, omega)).collect();
+    if near.is_empty() || opts.transient == 0 {
+        return Ok((classify(model, omega, x0, opts)?, None));
+    }
+    let period = TAU / omega;
+    // The last 2p + 1 distances to each target's point, by period.
+    let mut seen: Vec<Vec<f64>> = near.iter().map(|t| vec![f64::INFINITY; 2 * t.attractor.period + 1]).collect();
+    let mut stop = None;
+    let (_, x) = model.flow_read(0.0, x0, period, opts.transient, |k, x| {
+        for (n, t) in near.iter().enumerate() {
+            let (p, ring) = (t.attractor.period, &mut seen[n]);
+            let len = ring.len();
+            ring[k % len] = dist(x, &t.point);
+            if k > 2 * p {
+                let (a, b, c) = (ring[(k - 2 * p) % len], ring[(k - p) % len], ring[k % len]);
+                if a <= t.radius && b < a && c < b {
+                    stop = Some((n, k));
+                    return false;
+                }
+            }
+        }
+        true
+    })?;
+    if let Some((n, k)) = stop {
+        return Ok((near[n].attractor.clone(), Some(k)));
+    }
+    Ok((after_transient(model, period, x, opts)?, None))
+}
+
+/// The period test and a slow transient's refinement from `x`, the state
+/// after the transient (at `t = transient · period`).
+fn after_transient(model: &Model, period: f64, x: Vec<f64>, opts: &BasinOptions) -> Result<Attractor, OrbitError> {
     let t0 = opts.transient as f64 * period;
     let scale = norm(&x).max(1.0);
     let it = iterate(model, t0, period, &x, opts.max_period, opts.tol * scale)?;
@@ -194,6 +264,121 @@ pub fn classify(model: &Model, omega: f64, x0: &[f64], opts: &BasinOptions) -> R
     }
     let c = canonical(&it.cycle);
     Ok(Attractor { period: it.period, impacts: it.impacts, sticking: it.sticking, state: it.cycle[c].clone(), cycle: it.cycle })
+}
+
+/// A stable periodic attractor a transient may stop on ([`classify_near`]).
+#[derive(Clone, Debug)]
+pub struct Target {
+    /// What a cell stopped on it is: the period, impacts and held phase
+    /// of the orbit Newton converged to, its canonical point and cycle.
+    pub attractor: Attractor,
+    /// A fixed point of `P^p` on the orbit (Newton's), which the
+    /// distances are taken to.
+    pub point: Vec<f64>,
+    /// The radius (∞-norm) within which `P^p` is its linearisation at
+    /// `point` to a tenth of the distance ([`Target::new`]).
+    pub radius: f64,
+    dy: Dynamics,
+    e: f64,
+    omega: f64,
+}
+
+/// A target's radius tried first, relative to `max(1, ‖x‖∞)`.
+const RADIUS_START: f64 = 0.05;
+
+/// The most halvings of a target's radius from [`RADIUS_START`].
+const RADIUS_HALVINGS: usize = 14;
+
+impl Target {
+    /// The target of the attractor `a` a cell of `model` (forced at
+    /// `omega`) reached: Newton on `P^p` from its point (`p` its period,
+    /// [`periodic_orbit`]) must converge within `match_tol · max(1,
+    /// ‖x‖∞)` of it to an orbit whose multipliers are all inside the unit
+    /// circle and whose period test gives `p` again. Its radius `r` is the
+    /// largest of `0.05 · max(1, ‖x*‖∞) · 2^−m`, `m = 0, …, 14`, at which
+    /// each start `x* ± r d` (`d` each coordinate direction and the two
+    /// diagonals `(1, 1, …)`, `(1, −1, 1, …)`) is mapped by `P^p` to within
+    /// `r/10` of its linearisation `x* ± r J d` (`J` the monodromy matrix):
+    /// no impact appears, vanishes or moves its phase more than the
+    /// Jacobian says within that distance, in those directions. `None`
+    /// when Newton fails, the orbit is not stable or no radius passes (the
+    /// attractor is not a target: its cells run their whole transient).
+    /// Errors: only an interrupt.
+    pub fn new(model: &Model, omega: f64, a: &Attractor, opts: &BasinOptions) -> Result<Option<Self>, OrbitError> {
+        if !a.periodic() {
+            return Ok(None);
+        }
+        let (period, p) = (TAU / omega, a.period);
+        let horizon = p as f64 * period;
+        let orbit = match periodic_orbit(model, 0.0, horizon, &a.state, &Newton::default()) {
+            Ok(o) => o,
+            Err(OrbitError::Interrupted) => return Err(OrbitError::Interrupted),
+            Err(_) => return Ok(None),
+        };
+        let scale = norm(&orbit.x).max(1.0);
+        if !(orbit.mu_max() < 1.0) || dist(&orbit.x, &a.state) > opts.match_tol * scale {
+            return Ok(None);
+        }
+        let it = match iterate(model, 0.0, period, &orbit.x, p, opts.tol * scale) {
+            Ok(it) if it.period == p => it,
+            Err(OrbitError::Interrupted) => return Err(OrbitError::Interrupted),
+            _ => return Ok(None),
+        };
+        let j = &orbit.monodromy;
+        let dim = orbit.x.len();
+        // The directions tried: each coordinate and the two diagonals
+        // (1, 1, …, 1) and (1, −1, 1, …), both signs.
+        let mut dirs: Vec<Vec<f64>> = (0..dim).map(|i| (0..dim).map(|k| f64::from(u8::from(k == i))).collect()).collect();
+        dirs.push(vec![1.0; dim]);
+        dirs.push((0..dim).map(|k| if k % 2 == 0 { 1.0 } else { -1.0 }).collect());
+        let mut r = RADIUS_START * scale;
+        let mut radius = None;
+        'radius: for _ in 0..=RADIUS_HALVINGS {
+            for d in &dirs {
+                for s in [r, -r] {
+                    let y: Vec<f64> = orbit.x.iter().zip(d).map(|(x, d)| x + s * d).collect();
+                    let img = match model.flow(0.0, &y, horizon, false) {
+                        Ok(img) => img.x,
+                        Err(OrbitError::Interrupted) => return Err(OrbitError::Interrupted),
+                        Err(_) => {
+                            r *= 0.5;
+                            continue 'radius;
+                        }
+                    };
+                    let off = (0..dim).fold(0.0f64, |w, k| {
+                        let jd: f64 = (0..dim).map(|i| j[(k, i)] * d[i]).sum();
+                        w.max((img[k] - orbit.x[k] - s * jd).abs())
+                    });
+                    if !(off <= 0.1 * r) {
+                        r *= 0.5;
+                        continue 'radius;
+                    }
+                }
+            }
+            radius = Some(r);
+            break;
+        }
+        let Some(radius) = radius else { return Ok(None) };
+        let c = canonical(&it.cycle);
+        let attractor = Attractor { period: p, impacts: it.impacts, sticking: it.sticking, state: it.cycle[c].clone(), cycle: it.cycle };
+        Ok(Some(Self { attractor, point: orbit.x, radius, dy: model.dynamics().clone(), e: model.restitution(), omega }))
+    }
+
+    /// Whether `model` forced at `omega` is this target's map: the same
+    /// matrices, loads, contacts, restitution and frequency, bit for bit
+    /// (a grid whose keys move only the start; another key makes each
+    /// cell's map its own).
+    pub fn fits(&self, model: &Model, omega: f64) -> bool {
+        let dy = model.dynamics();
+        omega.to_bits() == self.omega.to_bits()
+            && model.restitution().to_bits() == self.e.to_bits()
+            && dy.mass == self.dy.mass
+            && dy.stiffness == self.dy.stiffness
+            && dy.damping == self.dy.damping
+            && dy.load == self.dy.load
+            && dy.contacts == self.dy.contacts
+            && dy.forcing == self.dy.forcing
+    }
 }
 
 /// A slow transient's attractor: Newton on `P^j` from `x` (the state after
@@ -368,6 +553,11 @@ pub fn describe(a: &Attractor) -> String {
     format!("p{}-i{}{}", a.period, a.impacts, if a.sticking { "-sticking" } else { "" })
 }
 
+/// Seed cells a side of a grid ([`BasinScene::seeds`]): classified in full
+/// first, their stable attractors the targets the other cells' transients
+/// may stop on.
+pub const SEEDS: usize = 8;
+
 /// The most cells of one grid (5000 × 5000).
 pub const MAX_CELLS: usize = 25_000_000;
 
@@ -447,6 +637,57 @@ impl BasinScene {
             Ok(a) => Outcome::Attractor(a),
             Err(e) => Outcome::Failed(e.to_string()),
         }
+    }
+
+    /// Cell `c` classified with `targets` ([`classify_near`]): its
+    /// outcome and the forcing period its transient stopped at, if it did.
+    pub fn classify_near(&self, c: usize, opts: &BasinOptions, targets: &[Target]) -> (Outcome, Option<usize>) {
+        let (i, j) = self.ij(c);
+        let built = match self.build(i, j) {
+            Ok(b) => b,
+            Err(e) => return (Outcome::Failed(e.to_string()), None),
+        };
+        match classify_near(&built.model, built.omega, &built.start, opts, targets) {
+            Ok((a, k)) => (Outcome::Attractor(a), k),
+            Err(e) => (Outcome::Failed(e.to_string()), None),
+        }
+    }
+
+    /// The seed cells of the grid ([`SEEDS`] a side, fewer on a shorter
+    /// axis): `i = ⌊(2a + 1)·nx / 2s⌋`, `a = 0, …, s − 1`, and the same in
+    /// `j`, in cell order. Every shard of a grid has the same seeds.
+    pub fn seeds(&self) -> Vec<usize> {
+        let along = |n: usize| -> Vec<usize> {
+            let s = SEEDS.min(n);
+            let mut v: Vec<usize> = (0..s).map(|a| (2 * a + 1) * n / (2 * s)).collect();
+            v.dedup();
+            v
+        };
+        let (xs, vs) = (along(self.x.count), along(self.v.count));
+        vs.iter().flat_map(|&j| xs.iter().map(move |&i| j * self.x.count + i)).collect()
+    }
+
+    /// The targets of the attractors the cells `cells` reached
+    /// (`outcomes`, classified in full): one per distinct stable periodic
+    /// attractor (grouped as [`Grouper`] does, in the cells' order), each
+    /// made on its first cell's model ([`Target::new`]). Errors: only an
+    /// interrupt.
+    pub fn targets(&self, cells: &[usize], outcomes: &[Outcome], opts: &BasinOptions) -> Result<Vec<Target>, OrbitError> {
+        let mut grouper = Grouper::new(opts.match_tol);
+        let mut out = Vec::new();
+        for (&c, o) in cells.iter().zip(outcomes) {
+            let Outcome::Attractor(a) = o else { continue };
+            let seen = grouper.len();
+            if grouper.id(a.period, &a.state).is_none_or(|k| k < seen) {
+                continue;
+            }
+            let (i, j) = self.ij(c);
+            let Ok(built) = self.build(i, j) else { continue };
+            if let Some(t) = Target::new(&built.model, built.omega, a, opts)? {
+                out.push(t);
+            }
+        }
+        Ok(out)
     }
 
     /// The state dofs of the model (the columns of a state).

@@ -163,6 +163,11 @@ impl Model {
         self
     }
 
+    /// The restitution of every contact without its own.
+    pub(crate) fn restitution(&self) -> f64 {
+        self.e
+    }
+
     /// The structure.
     pub fn dynamics(&self) -> &Dynamics {
         &self.dy
@@ -249,6 +254,56 @@ impl Model {
         let out = self.flow_run(&mut run, t0, tau, jacobian, impacts);
         self.done(run);
         out
+    }
+
+    /// The exact flow from `x0` at `t0` read at `t0 + k·step`, `k = 1, …,
+    /// n`: `visit(k, x_k)` after each reading, which stops the flow there
+    /// by returning `false` (the last reading ends it whatever `visit` says). The run is [`Model::flow`]'s over `n·step`,
+    /// read on the way (a reading does not start the run again: the same
+    /// trajectory, the same bound on its events), so the last state, `k =
+    /// n`, is `flow(t0, x0, n·step)`'s bit for bit. Returns the last `k`
+    /// and its state.
+    pub fn flow_read(&self, t0: f64, x0: &[f64], step: f64, n: usize, mut visit: impl FnMut(usize, &[f64]) -> bool) -> Result<(usize, Vec<f64>), OrbitError> {
+        if x0.len() != self.dim() {
+            return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
+        }
+        if !(step.is_finite() && step > 0.0 && n > 0) {
+            return Err(OrbitError::Model(format!("the flow's readings every {step} ({n} of them) are not allowed: a step > 0 and finite, at least one")));
+        }
+        let (mut q0, v0) = self.lin.unpack(x0);
+        for c in self.dy.contacts.iter().filter(|c| !c.massless) {
+            q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
+        }
+        let mut run = self.run_from(t0, &q0, &v0)?;
+        run.set_interrupt(self.interrupt.clone());
+        let out = self.read_run(&mut run, t0, step, n, &mut visit);
+        self.done(run);
+        out
+    }
+
+    /// [`Model::flow_read`] on `run`, started at `t0`.
+    fn read_run(&self, run: &mut EventDriven, t0: f64, step: f64, n: usize, visit: &mut dyn FnMut(usize, &[f64]) -> bool) -> Result<(usize, Vec<f64>), OrbitError> {
+        let size = self.dy.mass.n();
+        let (mut q, mut v) = (vec![0.0; size], vec![0.0; size]);
+        let mut x = Vec::new();
+        for k in 1..=n {
+            // As `flow` ends: `t0 + τ` with `τ = k·step`.
+            let t_end = t0 + k as f64 * step;
+            while run.next_change(t_end)? != Reached::End {
+                if run.events().len() > self.max_events {
+                    return Err(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }.into());
+                }
+            }
+            run.state_into(&mut q, &mut v);
+            // `Linear::pack` into the same vector.
+            x.clear();
+            x.extend(self.lin.state().iter().map(|&d| q[d]));
+            x.extend(self.lin.state().iter().map(|&d| v[d]));
+            if !visit(k, &x) || k == n {
+                return Ok((k, x));
+            }
+        }
+        Ok((n, x))
     }
 
     /// [`Model::flow_within`] on `run`, started at `t0`.

@@ -449,6 +449,19 @@ impl Grid {
             failed: 0,
             first_failure: None,
         };
+        // The seeds, classified in full, and their attractors' targets: the
+        // same for every shard and thread count (module docs).
+        let seeds = self.scene.seeds();
+        let seeded: Vec<Option<Outcome>> = pool.install(|| seeds.par_iter().map(|&c| (!cancel()).then(|| self.scene.classify(c, copts))).collect());
+        if seeded.iter().any(Option::is_none) {
+            return Ok(b);
+        }
+        let seeded: Vec<Outcome> = seeded.into_iter().flatten().collect();
+        let targets = match self.scene.targets(&seeds, &seeded, copts) {
+            Ok(t) => t,
+            Err(OrbitError::Interrupted) => return Ok(b),
+            Err(e) => return Err(e),
+        };
         let mut grouper = Grouper::new(copts.match_tol);
         let mut done = cells.start;
         let batch = 256usize;
@@ -461,7 +474,10 @@ impl Grid {
                         if cancel() {
                             return None;
                         }
-                        let o = self.scene.classify(c, copts);
+                        let o = match seeds.binary_search(&c) {
+                            Ok(k) => seeded[k].clone(),
+                            Err(_) => self.scene.classify_near(c, copts, &targets).0,
+                        };
                         progress();
                         Some(o)
                     })

@@ -8,11 +8,11 @@ use signorini_orbits::basins::{basins_csv, basins_svg, basins_toml, classify, me
 use signorini_scene::Limits;
 use std::f64::consts::TAU;
 
-const OMEGA: f64 = 1.85;
-const SCENE: &str = "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.5\nrestitution = 0.8\ninitial_displacement = 0.0\ninitial_velocity = 0.0\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven(0.8)\"\n[forcing]\namplitude = 1.0\nomega = 1.85\n";
+pub(crate) const OMEGA: f64 = 1.85;
+pub(crate) const SCENE: &str = "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.5\nrestitution = 0.8\ninitial_displacement = 0.0\ninitial_velocity = 0.0\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven(0.8)\"\n[forcing]\namplitude = 1.0\nomega = 1.85\n";
 
 /// The stable impacting period-1 orbit on the section, in closed form.
-fn impacting() -> [f64; 2] {
+pub(crate) fn impacting() -> [f64; 2] {
     let osc = ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: OMEGA, gap: 0.5, restitution: 0.8 }).unwrap();
     let t = TAU / OMEGA;
     let stable: Vec<[f64; 2]> = osc
@@ -214,7 +214,7 @@ fn a_range_ending_on_the_stop_is_a_grid() {
 /// at `t = 0` to `t_end`: the closed-form free flight (signorini-exact's
 /// `flow`) in steps of `T/400`, each crossing of the stop bisected to
 /// round-off and Newton's law applied there.
-fn independent(x: f64, v: f64, t_end: f64) -> [f64; 2] {
+pub(crate) fn independent(x: f64, v: f64, t_end: f64) -> [f64; 2] {
     let osc = ImpactOscillator::new(OscillatorParams { mass: 1.0, stiffness: 1.0, damping_ratio: 0.05, force: 1.0, forcing_frequency: OMEGA, gap: 0.5, restitution: 0.8 }).unwrap();
     let h = TAU / OMEGA / 400.0;
     let (mut t, mut z) = (0.0, State { x, v });
