@@ -12,7 +12,7 @@
 //! the works and the energy.
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, PaoliSchatzman, SplitMix64, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, PaoliSchatzman, SplitMix64, Stepper, TimeProfile};
 
 /// A random P1-like chain of `n` dofs: `M` consistent (or lumped), node 0
 /// massless if asked (its row of `M` zero, `K_00 = −K_01`: the end node of
@@ -118,4 +118,35 @@ fn ps_fused_bar_step_is_the_general_path_bit_for_bit() {
     }
     // Per size: four massive cases × 4 (e, β) × 2 builds, four massless × 3 × 2.
     assert!(runs == 6 * (4 * 8 + 4 * 6) && held > 3000, "{runs} runs, {held} steps with a contact force");
+}
+
+#[test]
+fn moreau_jean_fused_bar_step_is_the_general_path_bit_for_bit() {
+    let mut rng = SplitMix64::new(352);
+    let (mut held, mut runs) = (0, 0);
+    for n in SIZES {
+        for case in 0..4 {
+            let (lumped, two) = (case & 1 == 1, case & 2 == 2 && n > 2);
+            let (m, k) = chain(&mut rng, n, lumped, false);
+            let load: Vec<f64> = (0..n).map(|_| rng.next_f64() - 0.7).collect();
+            let mut contacts = vec![Contact::new(0, Bounds { lo: -0.02, hi: f64::INFINITY }, false)];
+            if two {
+                contacts.push(Contact::new(n / 2, Bounds { lo: -0.03, hi: 0.01 }, false).with_restitution(Some(0.3)));
+            }
+            let dy = Dynamics::new(m, k, load, contacts).with_forcing(forcing(&mut rng, n));
+            let init = Initial { u: vec![0.0; n], v: (0..n).map(|_| rng.next_f64() - 0.5).collect() };
+            for (theta, e, gamma) in [(0.5, 0.0, 0.5), (0.7, 0.5, 1.0), (1.0, 1.0, 0.0)] {
+                for portable in [false, true] {
+                    let build = || MoreauJean::new("mj".into(), dy.clone(), theta, e, gamma, 0.05, &init).unwrap();
+                    let (mut plain, mut fused) = (build(), if portable { build().portable() } else { build() });
+                    plain.set_fused(false);
+                    assert!(!plain.fused() && fused.fused(), "n = {n}, case {case}: the fused step applies");
+                    let what = format!("n = {n}, case {case}, θ = {theta}, e = {e}, γ = {gamma}, portable {portable}");
+                    held += compare(&what, &mut plain, &mut fused, &mut rng, 150);
+                    runs += 1;
+                }
+            }
+        }
+    }
+    assert!(runs == 6 * 4 * 6 && held > 1000, "{runs} runs, {held} steps with a contact force");
 }
