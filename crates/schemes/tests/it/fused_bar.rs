@@ -12,7 +12,7 @@
 //! the works and the energy.
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, PaoliSchatzman, SplitMix64, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, Nitsche, PaoliSchatzman, SplitMix64, Stepper, TimeProfile};
 
 /// A random P1-like chain of `n` dofs: `M` consistent (or lumped), node 0
 /// massless if asked (its row of `M` zero, `K_00 = −K_01`: the end node of
@@ -143,6 +143,37 @@ fn moreau_jean_fused_bar_step_is_the_general_path_bit_for_bit() {
                     assert!(!plain.fused() && fused.fused(), "n = {n}, case {case}: the fused step applies");
                     let what = format!("n = {n}, case {case}, θ = {theta}, e = {e}, γ = {gamma}, portable {portable}");
                     held += compare(&what, &mut plain, &mut fused, &mut rng, 150);
+                    runs += 1;
+                }
+            }
+        }
+    }
+    assert!(runs == 6 * 4 * 6 && held > 1000, "{runs} runs, {held} steps with a contact force");
+}
+
+#[test]
+fn nitsche_fused_bar_step_is_the_general_path_bit_for_bit() {
+    let mut rng = SplitMix64::new(353);
+    let (mut held, mut runs) = (0, 0);
+    for n in SIZES {
+        for case in 0..4 {
+            let (lumped, massless) = (case & 1 == 1, case & 2 == 2);
+            let (m, k) = chain(&mut rng, n, lumped, massless);
+            let load: Vec<f64> = (0..n).map(|_| rng.next_f64() - 0.7).collect();
+            let dy = Dynamics::new(m, k, load, vec![Contact::new(0, Bounds { lo: -0.02, hi: f64::INFINITY }, massless)]);
+            for (gamma0, theta) in [(10.0, 1.0), (5.0, 0.0), (20.0, -1.0)] {
+                for portable in [false, true] {
+                    let init = Initial { u: (0..n).map(|_| 0.02 * (rng.next_f64() - 0.5)).collect(), v: (0..n).map(|_| rng.next_f64() - 0.6).collect() };
+                    let build = || Nitsche::new("nitsche".into(), dy.clone(), 0.25, 0.5, gamma0, theta, 0.05, &init).unwrap();
+                    let (mut plain, mut fused) = (build(), if portable { build().portable() } else { build() });
+                    plain.set_fused(false);
+                    assert!(!plain.fused() && fused.fused(), "n = {n}, case {case}: the fused step applies");
+                    let what = format!("n = {n}, case {case}, γ0 = {gamma0}, θ = {theta}, portable {portable}");
+                    held += compare(&what, &mut plain, &mut fused, &mut rng, 150);
+                    let (mut va, mut vb) = (vec![0.0; n], vec![0.0; n]);
+                    plain.velocity(&mut va);
+                    fused.velocity(&mut vb);
+                    assert!(bits(&va) == bits(&vb), "{what}: V");
                     runs += 1;
                 }
             }
