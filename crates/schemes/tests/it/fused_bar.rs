@@ -12,7 +12,7 @@
 //! the works and the energy.
 
 use signorini_fem::SymBand;
-use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, Nitsche, PaoliSchatzman, SplitMix64, Stepper, TimeProfile};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean, Nitsche, PaoliSchatzman, Reduced, ReducedLaw, SplitMix64, Stepper, TimeProfile};
 
 /// A random P1-like chain of `n` dofs: `M` consistent (or lumped), node 0
 /// massless if asked (its row of `M` zero, `K_00 = −K_01`: the end node of
@@ -180,4 +180,31 @@ fn nitsche_fused_bar_step_is_the_general_path_bit_for_bit() {
         }
     }
     assert!(runs == 6 * 4 * 6 && held > 1000, "{runs} runs, {held} steps with a contact force");
+}
+
+#[test]
+fn reduced_fused_bar_step_is_the_general_path_bit_for_bit() {
+    let mut rng = SplitMix64::new(354);
+    let (mut held, mut runs) = (0, 0);
+    for n in [3usize, 4, 5, 34, 41, 101] {
+        for lumped in [false, true] {
+            let (m, k) = chain(&mut rng, n, lumped, true);
+            let load: Vec<f64> = (0..n).map(|_| rng.next_f64() - 0.7).collect();
+            let dy = Dynamics::new(m, k, load, vec![Contact::new(0, Bounds { lo: -0.02, hi: f64::INFINITY }, true)]);
+            for law in [ReducedLaw::Hybrid, ReducedLaw::CrankNicolson] {
+                for portable in [false, true] {
+                    let init = Initial { u: (0..n).map(|_| 0.02 * (rng.next_f64() - 0.5)).collect(), v: (0..n).map(|_| rng.next_f64() - 0.6).collect() };
+                    let build = || Reduced::new("reduced".into(), dy.clone(), law, 0.05, &init).unwrap();
+                    let (mut plain, mut fused) = (build(), if portable { build().portable() } else { build() });
+                    plain.set_fused(false);
+                    assert!(!plain.fused() && fused.fused(), "n = {n}, lumped {lumped}: the fused step applies");
+                    let what = format!("n = {n}, lumped {lumped}, {law:?}, portable {portable}");
+                    held += compare(&what, &mut plain, &mut fused, &mut rng, 150);
+                    assert!(bits(plain.velocity()) == bits(fused.velocity()), "{what}: V");
+                    runs += 1;
+                }
+            }
+        }
+    }
+    assert!(runs == 6 * 2 * 4 && held > 500, "{runs} runs, {held} steps with a contact force");
 }
