@@ -42,6 +42,9 @@
 //! physical one, `½ V*ᵀM*V* + ½ UᵀKU - FᵀU` on the full vector (equal to `E`
 //! above up to a constant).
 
+use crate::fused::{fused_switches, FusedSwitch};
+use crate::lanes::avx2_available;
+use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear};
 use signorini_fem::{BandLdlt, SymBand};
@@ -87,6 +90,69 @@ pub struct Reduced {
     acc: Vec<f64>,
     lams: [f64; 1],
     acts: [Active; 1],
+    /// The implicit step fused on the P1 bar ([`Tridiagonal`]), if it applies, and its switches.
+    fused: FusedSwitch<Tridiagonal>,
+}
+
+/// The implicit step fused on the P1 bar (`M*`, `K'` and the factor of `A`
+/// tridiagonal, `L` not the identity): the right-hand side
+/// `M*(U + dt V) − dt²/4 K' U + dt²/2 F'` made row by row inside the
+/// forward sweep of the solve (the shared
+/// [`tridiagonal_forward`](crate::stabilized::tridiagonal_forward), as
+/// `contact-stabilized`'s), `U + dt V` computed where a row needs it
+/// instead of in a pass of its own, then the factor's backward sweep. Every
+/// value is the general path's operations in the same order (its pass,
+/// `SymBand::mul_vec`'s tridiagonal rows, the sum,
+/// `BandLdlt::solve_in_place`'s sweeps), so the same bits (cost:
+/// `crates/run/benches/step.rs`, `massless_node_scheme_step`).
+struct Tridiagonal {
+    m: TriMatrix,
+    k: TriMatrix,
+    avx2: bool,
+}
+
+impl Tridiagonal {
+    fn new(m_star: &SymBand, k_free: &SymBand, a: &BandLdlt) -> Option<Self> {
+        let (l, _) = a.tridiagonal_factors()?;
+        (m_star.n() >= 2 && l.iter().any(|x| *x != 0.0)).then_some(())?;
+        Some(Self { m: TriMatrix::of(m_star)?, k: TriMatrix::of(k_free)?, avx2: avx2_available() })
+    }
+}
+
+/// [`Tridiagonal`]'s rows for one step: `M* (u + dt v) + (−q K' u + 2q f)`.
+struct ReducedRows<'a> {
+    t: &'a Tridiagonal,
+    dt: f64,
+    q: f64,
+    u: &'a [f64],
+    v: &'a [f64],
+    f: &'a [f64],
+}
+
+impl TriRows for ReducedRows<'_> {
+    #[inline(always)]
+    fn interior(&self, a: usize, o: &mut [f64]) {
+        let len = o.len();
+        let (u, v, dt, q) = (self.u, self.v, self.dt, self.q);
+        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (vl, vc, vr) = (&v[a - 1..a - 1 + len], &v[a..a + len], &v[a + 1..a + 1 + len]);
+        let (msl, mdc, msr) = self.t.m.window(a, len);
+        let (ksl, kdc, ksr) = self.t.k.window(a, len);
+        let fr = &self.f[a..a + len];
+        for j in 0..len {
+            let mt = msl[j] * (ul[j] + dt * vl[j]) + mdc[j] * (uc[j] + dt * vc[j]) + msr[j] * (ur[j] + dt * vr[j]);
+            let ku = ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j];
+            o[j] = mt + (-q * ku + 2.0 * q * fr[j]);
+        }
+    }
+
+    #[inline(always)]
+    fn edge(&self, i: usize) -> f64 {
+        let (u, v, n) = (self.u, self.v, self.u.len());
+        let mt = self.t.m.row(n, i, |j| u[j] + self.dt * v[j]);
+        let ku = self.t.k.row(n, i, |j| u[j]);
+        mt + (-self.q * ku + 2.0 * self.q * self.f[i])
+    }
 }
 
 impl Reduced {
@@ -132,6 +198,7 @@ impl Reduced {
         let mut w = vec![0.0; n - 1];
         w[0] = 1.0;
         a.solve_in_place(&mut w);
+        let fused = FusedSwitch::new(if explicit { None } else { Tridiagonal::new(&m_star, &k_free, &a) });
         let g = dy.contact().bounds.lo;
         let a_shift = dy.load[0] / k;
         let mut f_eff = dy.load[1..].to_vec();
@@ -157,6 +224,7 @@ impl Reduced {
             acc: vec![0.0; n - 1],
             lams: [0.0],
             acts: [Active::None],
+            fused,
             dy,
         };
         s.equilibrate();
@@ -284,12 +352,20 @@ impl Stepper for Reduced {
 }
 
 impl Reduced {
+    fused_switches!(fused);
+
     fn step_implicit(&mut self) -> Result<StepReport, SchemeError> {
         let dt = self.dt;
         let q = dt * dt / 4.0;
         let wn = self.u[1] - self.g_hat;
         // rhs = M*(U + dt V) - dt²/4 K* U + dt²/2 F_eff
-        {
+        if let Some(tri) = self.fused.active() {
+            // The same right-hand side and solve, fused ([`Tridiagonal`]).
+            let rows = ReducedRows { t: tri, dt, q, u: &self.u[1..], v: &self.v, f: &self.f_eff };
+            let (l, _) = self.a.tridiagonal_factors().expect("tridiagonal");
+            tridiagonal_forward_dispatch(tri.avx2, &rows, &[], &[], &[], l, &mut self.rhs);
+            self.a.backward_in_place(&mut self.rhs);
+        } else {
             let us = &self.u[1..];
             for ((t, u), v) in self.tmp.iter_mut().zip(us).zip(&self.v) {
                 *t = u + dt * v;
@@ -299,8 +375,8 @@ impl Reduced {
             for ((b, ku), f) in self.rhs.iter_mut().zip(&self.tmp).zip(&self.f_eff) {
                 *b += -q * ku + 2.0 * q * f;
             }
+            self.a.solve_in_place(&mut self.rhs);
         }
-        self.a.solve_in_place(&mut self.rhs);
         // u_1^{n+1} = y_1 + (dt²/2) w_1 N  →  x = (y_1 - ĝ) + W N(x).
         let big_w = 2.0 * q * self.w[0];
         let (breaks, branches) = self.law(wn);

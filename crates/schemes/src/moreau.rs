@@ -28,8 +28,11 @@
 //! but a gain when the predicted-active node is already separating
 //! (`v_c^n > 0`) and the impulse holds it — the velocity-level law's price.
 
+use crate::fused::{fused_switches, FusedSwitch};
+use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
+use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -64,6 +67,73 @@ pub struct MoreauJean {
     /// A persistent index set with thresholds (Siconos's
     /// `MoreauJeanDirectProjectionOSI`) instead of the plain prediction.
     index_set: Option<IndexSet>,
+    /// The bar's free velocity fused ([`Tridiagonal`]), if it applies, and its switches.
+    fused: FusedSwitch<Tridiagonal>,
+    /// Per forcing term, `dt` times its mean (`add_terms`' weights).
+    s_w: Vec<f64>,
+}
+
+/// The P1 bar's free velocity fused (`M`, `K` and the factor of `A`
+/// tridiagonal, `L` not the identity, no damping): the right-hand side
+/// `M V + dt (F − K (U + θ(1−θ) dt V)) + Σ_j dt m_j g_j` made row by row
+/// inside the forward sweep of the solve (the shared
+/// [`tridiagonal_forward`](crate::stabilized::tridiagonal_forward), as
+/// `contact-stabilized`'s), `U + θ(1−θ) dt V` computed where a row needs it
+/// instead of in a pass of its own, then the factor's backward sweep.
+/// Every value is the general path's operations in the same order (its
+/// pass, `SymBand::mul_vec`'s tridiagonal rows, the sum, `add_terms`,
+/// `BandLdlt::solve_in_place`'s sweeps), so the same bits (cost:
+/// `crates/run/benches/step.rs`, `implicit_scheme_step`).
+struct Tridiagonal {
+    m: TriMatrix,
+    k: TriMatrix,
+    avx2: bool,
+}
+
+impl Tridiagonal {
+    fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
+        let (l, _) = a.tridiagonal_factors()?;
+        // A diagonal factor solves faster by its own path.
+        let applies = dy.n() >= 2 && dy.damping.is_none() && l.iter().any(|x| *x != 0.0);
+        applies.then_some(())?;
+        Some(Self { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2: avx2_available() })
+    }
+}
+
+/// [`Tridiagonal`]'s rows for one step: `M v + dt (f − K (u + c v))`, `c = θ(1−θ) dt`.
+struct MjRows<'a> {
+    t: &'a Tridiagonal,
+    dt: f64,
+    c: f64,
+    u: &'a [f64],
+    v: &'a [f64],
+    f: &'a [f64],
+}
+
+impl TriRows for MjRows<'_> {
+    #[inline(always)]
+    fn interior(&self, a: usize, o: &mut [f64]) {
+        let len = o.len();
+        let (u, v, c, dt) = (self.u, self.v, self.c, self.dt);
+        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (vl, vc, vr) = (&v[a - 1..a - 1 + len], &v[a..a + len], &v[a + 1..a + 1 + len]);
+        let (msl, mdc, msr) = self.t.m.window(a, len);
+        let (ksl, kdc, ksr) = self.t.k.window(a, len);
+        let fr = &self.f[a..a + len];
+        for j in 0..len {
+            let mv = msl[j] * vl[j] + mdc[j] * vc[j] + msr[j] * vr[j];
+            let kt = ksl[j] * (ul[j] + c * vl[j]) + kdc[j] * (uc[j] + c * vc[j]) + ksr[j] * (ur[j] + c * vr[j]);
+            o[j] = mv + dt * (fr[j] - kt);
+        }
+    }
+
+    #[inline(always)]
+    fn edge(&self, i: usize) -> f64 {
+        let (u, v, n) = (self.u, self.v, self.u.len());
+        let mv = self.t.m.row(n, i, |j| v[j]);
+        let kt = self.t.k.row(n, i, |j| u[j] + self.c * v[j]);
+        mv + self.dt * (self.f[i] - kt)
+    }
 }
 
 /// The contacts' sides predicted active, kept from step to step with
@@ -112,6 +182,7 @@ impl MoreauJean {
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
         let (loads, svals) = (Loads::means(&dy, dt), vec![0.0; dy.forcing.len()]);
+        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &a));
         Ok(Self {
             label,
             theta,
@@ -133,6 +204,8 @@ impl MoreauJean {
             loads,
             svals,
             index_set: None,
+            fused,
+            s_w: vec![0.0; dy.forcing.len()],
             dy,
         })
     }
@@ -260,10 +333,24 @@ impl Stepper for MoreauJean {
 }
 
 impl MoreauJean {
+    fused_switches!(fused);
+
     /// The step's unconstrained `V^{n+1}`, left in `rhs` (the forcing
     /// terms' means advance: once a step).
     pub(crate) fn free_velocity(&mut self) {
         let (dt, th) = (self.dt, self.theta);
+        if let Some(tri) = self.fused.active() {
+            // The same right-hand side and solve, fused ([`Tridiagonal`]).
+            self.loads.next_into(&mut self.svals);
+            for (w, s) in self.s_w.iter_mut().zip(&self.svals) {
+                *w = dt * s;
+            }
+            let (l, _) = self.a.tridiagonal_factors().expect("tridiagonal");
+            let rows = MjRows { t: tri, dt, c: th * (1.0 - th) * dt, u: &self.u, v: &self.v, f: &self.dy.load };
+            tridiagonal_forward_dispatch(tri.avx2, &rows, &self.dy.forcing, &[&self.s_w], &[], l, &mut self.rhs);
+            self.a.backward_in_place(&mut self.rhs);
+            return;
+        }
         // rhs = M V - dt K (U + θ(1-θ) dt V) + dt F
         self.dy.mass.mul_vec(&self.v, &mut self.rhs);
         for ((t, u), v) in self.tmp.iter_mut().zip(&self.u).zip(&self.v) {

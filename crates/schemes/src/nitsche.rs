@@ -20,6 +20,9 @@
 //! Crank–Nicolson, `ΔE = -ΔUᵀ(N^n + N^{n+1})/2` (tested). For θ = 1 the
 //! force derives from the potential `(1/2γ) min(0, qᵀU - γg)²`.
 
+use crate::fused::{fused_switches, FusedSwitch};
+use crate::lanes::avx2_available;
+use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
@@ -86,6 +89,67 @@ pub struct Nitsche {
     force: f64,
     lams: [f64; 1],
     acts: [Active; 1],
+    /// The step fused on the P1 bar ([`Tridiagonal`]), if it applies, and its switches.
+    fused: FusedSwitch<Tridiagonal>,
+}
+
+/// The step fused on the P1 bar (`M` and the factor of `A` tridiagonal,
+/// `L` not the identity): the right-hand side
+/// `M U + dt P + (½ − β) dt² R + β dt² F` made row by row inside the
+/// forward sweep of the solve (the shared
+/// [`tridiagonal_forward`](crate::stabilized::tridiagonal_forward), as
+/// `contact-stabilized`'s), the factor's backward sweep, and after the
+/// contact, `R^{n+1} = F − K_N U^{n+1} − N` and `P^{n+1}` in one pass
+/// ([`Nitsche::fused_update`]) where the general path copies `R^n`, makes
+/// `K_N U^{n+1}` and runs two passes. Every value is the general path's
+/// operations in the same order (`SymBand::mul_vec`'s tridiagonal rows,
+/// the sums, `BandLdlt::solve_in_place`'s sweeps, `update_r`'s rows), so
+/// the same bits (cost: `crates/run/benches/step.rs`, `implicit_scheme_step`).
+struct Tridiagonal {
+    m: TriMatrix,
+    k_n: TriMatrix,
+    avx2: bool,
+}
+
+impl Tridiagonal {
+    fn new(dy: &Dynamics, k_n: &SymBand, a: &BandLdlt) -> Option<Self> {
+        let (l, _) = a.tridiagonal_factors()?;
+        (dy.n() >= 2 && l.iter().any(|x| *x != 0.0)).then_some(())?;
+        Some(Self { m: TriMatrix::of(&dy.mass)?, k_n: TriMatrix::of(k_n)?, avx2: avx2_available() })
+    }
+}
+
+/// [`Tridiagonal`]'s rows for one step: `M u + ((dt p + ao r) + an f)`.
+struct NitscheRows<'a> {
+    m: &'a TriMatrix,
+    dt: f64,
+    ao: f64,
+    an: f64,
+    u: &'a [f64],
+    p: &'a [f64],
+    r: &'a [f64],
+    f: &'a [f64],
+}
+
+impl TriRows for NitscheRows<'_> {
+    #[inline(always)]
+    fn interior(&self, a: usize, o: &mut [f64]) {
+        let len = o.len();
+        let (u, dt, ao, an) = (self.u, self.dt, self.ao, self.an);
+        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (msl, mdc, msr) = self.m.window(a, len);
+        let (p, r, f) = (&self.p[a..a + len], &self.r[a..a + len], &self.f[a..a + len]);
+        for j in 0..len {
+            let mu = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j];
+            o[j] = mu + (dt * p[j] + ao * r[j] + an * f[j]);
+        }
+    }
+
+    #[inline(always)]
+    fn edge(&self, i: usize) -> f64 {
+        let mu = self.m.row(self.u.len(), i, |j| self.u[j]);
+        mu + (self.dt * self.p[i] + self.ao * self.r[i] + self.an * self.f[i])
+    }
 }
 
 impl Nitsche {
@@ -127,6 +191,7 @@ impl Nitsche {
         }
         let mut mom = vec![0.0; n];
         dy.mass.mul_vec(&init.v, &mut mom);
+        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &k_n, &a));
         let mut s = Self {
             label,
             beta,
@@ -149,6 +214,7 @@ impl Nitsche {
             force: 0.0,
             lams: [0.0],
             acts: [Active::None],
+            fused,
             dy,
         };
         if s.dy.massless_contact() {
@@ -173,6 +239,53 @@ impl Nitsche {
         self.acc_r[1] -= self.force * self.r[1];
         if self.dy.massless_contact() {
             self.acc_r[0] = 0.0;
+        }
+    }
+
+    fused_switches!(fused);
+
+    /// [`update_r`](Self::update_r) and the momentum's update
+    /// `P += dt ((1−γ) R^n + γ R^{n+1})` in one pass, `R^n` read from
+    /// `acc_r` before it is overwritten ([`Tridiagonal`]): each row the
+    /// general path's operations in its order.
+    fn fused_update(&mut self) {
+        let (dt, g) = (self.dt, self.gamma_t);
+        let tri = self.fused.active().expect("the fused step applies");
+        self.force = self.p_gamma().min(0.0);
+        let n = self.u.len();
+        let massless = self.dy.massless_contact();
+        let (u, f, k) = (&self.u[..n], &self.dy.load[..n], &tri.k_n);
+        let (acc, mom) = (&mut self.acc_r[..n], &mut self.mom[..n]);
+        // Rows 0, 1 (the Nitsche force) and the last, as `update_r` and the step.
+        let mut edge = |i: usize| {
+            let mut rn = f[i] - k.row(n, i, |j| u[j]);
+            if i < 2 {
+                rn -= self.force * self.r[i];
+            }
+            if i == 0 && massless {
+                rn = 0.0;
+            }
+            mom[i] += dt * ((1.0 - g) * acc[i] + g * rn);
+            acc[i] = rn;
+        };
+        edge(0);
+        edge(1);
+        if n > 2 {
+            edge(n - 1);
+        }
+        if n > 3 {
+            let (a, len) = (2, n - 3);
+            let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+            let (ksl, kdc, ksr) = k.window(a, len);
+            let (fr, acc, mom) = (&f[a..a + len], &mut acc[a..a + len], &mut mom[a..a + len]);
+            for j in 0..len {
+                let rn = fr[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
+                mom[j] += dt * ((1.0 - g) * acc[j] + g * rn);
+                acc[j] = rn;
+            }
+        }
+        if massless {
+            self.mom[0] = 0.0;
         }
     }
 
@@ -204,11 +317,19 @@ impl Stepper for Nitsche {
         let dt = self.dt;
         let (an, ao, g) = (self.beta * dt * dt, (0.5 - self.beta) * dt * dt, self.gamma_t);
         // b = M U + dt P + (1/2 - β) dt² R + β dt² F;  A U = b - β dt² N(U).
-        self.dy.mass.mul_vec(&self.u, &mut self.rhs);
-        for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.acc_r).zip(&self.dy.load) {
-            *b += dt * p + ao * r + an * f;
+        if let Some(tri) = self.fused.active() {
+            // The same right-hand side and solve, fused ([`Tridiagonal`]).
+            let rows = NitscheRows { m: &tri.m, dt, ao, an, u: &self.u, p: &self.mom, r: &self.acc_r, f: &self.dy.load };
+            let (l, _) = self.a.tridiagonal_factors().expect("tridiagonal");
+            tridiagonal_forward_dispatch(tri.avx2, &rows, &[], &[], &[], l, &mut self.rhs);
+            self.a.backward_in_place(&mut self.rhs);
+        } else {
+            self.dy.mass.mul_vec(&self.u, &mut self.rhs);
+            for (((b, p), r), f) in self.rhs.iter_mut().zip(&self.mom).zip(&self.acc_r).zip(&self.dy.load) {
+                *b += dt * p + ao * r + an * f;
+            }
+            self.a.solve_in_place(&mut self.rhs);
         }
-        self.a.solve_in_place(&mut self.rhs);
         let gg = self.gamma_n * self.dy.contact().bounds.lo;
         let s_y = self.q[0] * self.rhs[0] + self.q[1] * self.rhs[1];
         // s = s_y - W min(0, s - γg): free branch if s_y >= γg.
@@ -220,17 +341,22 @@ impl Stepper for Nitsche {
             }
         }
         std::mem::swap(&mut self.u, &mut self.rhs);
-        // P^{n+1} = P^n + dt ((1-γ) R^n + γ R^{n+1}).
-        // The old R into the (now free) rhs buffer: no allocation.
-        let mut r_old = std::mem::take(&mut self.rhs);
-        r_old.copy_from_slice(&self.acc_r);
-        self.update_r();
-        for ((p, ro), rn) in self.mom.iter_mut().zip(&r_old).zip(&self.acc_r) {
-            *p += dt * ((1.0 - g) * ro + g * rn);
-        }
-        self.rhs = r_old;
-        if self.dy.massless_contact() {
-            self.mom[0] = 0.0;
+        if self.fused.active().is_some() {
+            // R^{n+1} and P^{n+1} in one pass ([`Nitsche::fused_update`]).
+            self.fused_update();
+        } else {
+            // P^{n+1} = P^n + dt ((1-γ) R^n + γ R^{n+1}).
+            // The old R into the (now free) rhs buffer: no allocation.
+            let mut r_old = std::mem::take(&mut self.rhs);
+            r_old.copy_from_slice(&self.acc_r);
+            self.update_r();
+            for ((p, ro), rn) in self.mom.iter_mut().zip(&r_old).zip(&self.acc_r) {
+                *p += dt * ((1.0 - g) * ro + g * rn);
+            }
+            self.rhs = r_old;
+            if self.dy.massless_contact() {
+                self.mom[0] = 0.0;
+            }
         }
         self.n += 1;
         let t = self.time();

@@ -47,6 +47,7 @@ use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
+use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
 use crate::{Bounds, Dynamics, Forcing, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -100,6 +101,12 @@ pub struct PaoliSchatzman {
     bands: Option<Bands3>,
     /// The beam's fused step ([`FusedStep`]): whether it applies, and whether it is on.
     fused: FusedStep,
+    /// The bar's fused step ([`TriStep`]), if it applies, and whether it is on.
+    tri: Option<TriStep>,
+    tri_on: bool,
+    /// [`TriStep`]'s rows set after the sums: a massless contact's
+    /// quasi-static row (`β dt² F_c(t_{n+1})`), per contact.
+    tri_set: Vec<(usize, f64)>,
     /// Per forcing term, `dt² × g_coefs` (the fused step's weights).
     g_w: Vec<f64>,
     /// The fused step's scratch: the step's new coefficients, and the
@@ -411,6 +418,76 @@ fn backward_p3(lt: &[f64], inv_d: &[f64], b: &mut [f64]) {
     }
 }
 
+/// The bar's β-step fused (`M`, `K` and the factor of `A` tridiagonal,
+/// `L` not the identity, no damping, no characteristic release): the right-hand
+/// side `M (2U^n − U^{n−1}) + dt² (F − K ((1−2β) U^n + β U^{n−1})) + Σ_j dt² G_j g_j`
+/// made row by row inside the forward sweep of the solve (the shared
+/// [`tridiagonal_forward`](crate::stabilized::tridiagonal_forward), as
+/// `contact-stabilized`'s), `2U^n − U^{n−1}` and `(1−2β) U^n + β U^{n−1}`
+/// computed where a row needs them instead of in two passes of their own,
+/// a massless contact's quasi-static row set after the sums, then the
+/// factor's backward sweep. Every value is the general path's operations
+/// in the same order (its two passes, `SymBand::mul_vec`'s tridiagonal
+/// rows, the sum, `add_terms`, the row set,
+/// `BandLdlt::solve_in_place`'s sweeps), so the same bits (cost:
+/// `crates/run/benches/step.rs`, `implicit_scheme_step`).
+struct TriStep {
+    m: TriMatrix,
+    k: TriMatrix,
+    avx2: bool,
+}
+
+impl TriStep {
+    fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
+        let (l, _) = a.tridiagonal_factors()?;
+        // A diagonal factor (the lumped mass with β = 0) solves faster by its own path.
+        let applies = dy.n() >= 2 && dy.damping.is_none() && l.iter().any(|x| *x != 0.0);
+        applies.then_some(())?;
+        Some(Self { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2: avx2_available() })
+    }
+}
+
+/// [`TriStep`]'s rows for one step: `M x + dt² (f − K y)`, `x = 2u − up`,
+/// `y = (1−2β) u + β up`.
+struct PsRows<'a> {
+    t: &'a TriStep,
+    dt2: f64,
+    /// `1 − 2β` and β.
+    c: f64,
+    beta: f64,
+    u: &'a [f64],
+    up: &'a [f64],
+    f: &'a [f64],
+}
+
+impl TriRows for PsRows<'_> {
+    #[inline(always)]
+    fn interior(&self, a: usize, o: &mut [f64]) {
+        let len = o.len();
+        let (u, up, c, beta, dt2) = (self.u, self.up, self.c, self.beta, self.dt2);
+        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (pl, pc, pr) = (&up[a - 1..a - 1 + len], &up[a..a + len], &up[a + 1..a + 1 + len]);
+        let (msl, mdc, msr) = self.t.m.window(a, len);
+        let (ksl, kdc, ksr) = self.t.k.window(a, len);
+        let fr = &self.f[a..a + len];
+        for j in 0..len {
+            let (xl, xc, xr) = (2.0 * ul[j] - pl[j], 2.0 * uc[j] - pc[j], 2.0 * ur[j] - pr[j]);
+            let (yl, yc, yr) = (c * ul[j] + beta * pl[j], c * uc[j] + beta * pc[j], c * ur[j] + beta * pr[j]);
+            let mx = msl[j] * xl + mdc[j] * xc + msr[j] * xr;
+            let ky = ksl[j] * yl + kdc[j] * yc + ksr[j] * yr;
+            o[j] = mx + dt2 * (fr[j] - ky);
+        }
+    }
+
+    #[inline(always)]
+    fn edge(&self, i: usize) -> f64 {
+        let (u, up, n) = (self.u, self.up, self.u.len());
+        let mx = self.t.m.row(n, i, |j| 2.0 * u[j] - up[j]);
+        let ky = self.t.k.row(n, i, |j| self.c * u[j] + self.beta * up[j]);
+        mx + self.dt2 * (self.f[i] - ky)
+    }
+}
+
 /// Rows per chunk of the fused forward pass ([`Bands3::forward_body`]).
 const FUSED_CHUNK: usize = 8;
 
@@ -604,6 +681,9 @@ impl PaoliSchatzman {
         let mut s = Self::from_levels(label, dy, 0.0, restitution, dt, init, u)?;
         s.fused.applies &= release.is_none();
         s.fused.on &= release.is_none();
+        if release.is_some() {
+            (s.tri, s.tri_on) = (None, false);
+        }
         s.release = release;
         Ok(s)
     }
@@ -633,6 +713,8 @@ impl PaoliSchatzman {
         let explicit = ExplicitDiagonal::new(&dy, beta, &a);
         let bands = Bands3::new(&dy);
         let applies = bands.is_some() && k == 1 && !dy.massless_contact() && dy.damping.is_none() && a.half_bandwidth() == 3 && n > 6;
+        let tri = if explicit.is_none() { TriStep::new(&dy, &a) } else { None };
+        let tri_set = if dy.massless_contact() { dy.contacts.iter().map(|ct| (ct.dof, 0.0)).collect() } else { Vec::new() };
         Ok(Self {
             label,
             beta,
@@ -663,6 +745,9 @@ impl PaoliSchatzman {
             explicit,
             bands,
             fused: FusedStep { applies, on: applies },
+            tri_on: tri.is_some(),
+            tri,
+            tri_set,
             g_w: vec![0.0; terms],
             g_next: vec![0.0; terms],
             g_ahead: vec![0.0; terms],
@@ -852,22 +937,75 @@ impl PaoliSchatzman {
     pub fn set_fused(&mut self, on: bool) {
         self.settle_work();
         self.fused.on = on && self.fused.applies;
+        self.tri_on = on && self.tri.is_some();
     }
 
-    /// Whether the fused step is in use.
+    /// Whether a fused step (the beam's or the bar's) is in use.
     #[doc(hidden)]
     pub fn fused(&self) -> bool {
-        self.fused.on
+        self.fused.on || self.tri_on
     }
 
-    /// The beam's kernels (`Bands3`) in their baseline x86-64 build,
-    /// AVX2 or not: for tests. Changes no result.
+    /// The beam's kernels (`Bands3`) and the bar's ([`TriStep`]) in their
+    /// baseline x86-64 build, AVX2 or not: for tests. Changes no result.
     #[doc(hidden)]
     pub fn portable(mut self) -> Self {
         if let Some(b) = self.bands.as_mut() {
             b.avx2 = false;
         }
+        if let Some(t) = self.tri.as_mut() {
+            t.avx2 = false;
+        }
         self
+    }
+
+    /// This step's forcing coefficients into `g_coefs`
+    /// (`general_unconstrained`'s and the bar's fused step's).
+    fn step_coefs(&mut self) {
+        // (found ahead by the fused step if it ran before).
+        if std::mem::take(&mut self.coefs_ahead) {
+            std::mem::swap(&mut self.g_coefs, &mut self.g_next);
+        } else {
+            let beta = self.beta;
+            self.loads.next_into(&mut self.g_coefs);
+            for (m, gc) in self.means.iter_mut().zip(self.g_coefs.iter_mut()) {
+                let next = *gc;
+                *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
+                *m = [m[1], next];
+            }
+        }
+    }
+
+    /// A massless contact's quasi-static row at `t_{n+1}`, `β dt² F_c(t_{n+1})`.
+    fn massless_row(&self, c: usize) -> f64 {
+        let t1 = (self.n + 1) as f64 * self.dt;
+        // `load + 0.0` without forcing, `load + term_0` with one: as before.
+        let mut fc = self.dy.load[c] + self.dy.forcing.first().map_or(0.0, |f| f.shape[c] * f.time.value(t1));
+        for f in self.dy.forcing.iter().skip(1) {
+            fc += f.shape[c] * f.time.value(t1);
+        }
+        self.beta * (self.dt * self.dt) * fc
+    }
+
+    /// [`general_unconstrained`](Self::general_unconstrained) on the bar
+    /// ([`TriStep`]).
+    fn tri_unconstrained(&mut self) {
+        let dt2 = self.dt * self.dt;
+        let beta = self.beta;
+        self.step_coefs();
+        // `add_terms`' weights.
+        for (w, g) in self.g_w.iter_mut().zip(&self.g_coefs) {
+            *w = dt2 * g;
+        }
+        for i in 0..self.tri_set.len() {
+            let c = self.tri_set[i].0;
+            self.tri_set[i].1 = self.massless_row(c);
+        }
+        let tri = self.tri.as_ref().expect("the bar's fused step applies");
+        let (l, _) = self.a.tridiagonal_factors().expect("tridiagonal");
+        let rows = PsRows { t: tri, dt2, c: 1.0 - 2.0 * beta, beta, u: &self.u, up: &self.u_prev, f: &self.dy.load };
+        tridiagonal_forward_dispatch(tri.avx2, &rows, &self.dy.forcing, &[&self.g_w], &self.tri_set, l, &mut self.rhs);
+        self.a.backward_in_place(&mut self.rhs);
     }
 
     /// `rhs = U^{n+1}` before the contact projection, in general: the
@@ -904,29 +1042,12 @@ impl PaoliSchatzman {
         }
         // Time-dependent load: G^n = Σ_j shape_j (β m_{n+1} + (1-2β) m_n + β m_{n-1}).
         // (the means over [t_{n+1}, t_{n+2}] first, into g_coefs).
-        // (found ahead by the fused step if it ran before).
-        if std::mem::take(&mut self.coefs_ahead) {
-            std::mem::swap(&mut self.g_coefs, &mut self.g_next);
-        } else {
-            self.loads.next_into(&mut self.g_coefs);
-            for (m, gc) in self.means.iter_mut().zip(self.g_coefs.iter_mut()) {
-                let next = *gc;
-                *gc = beta * next + (1.0 - 2.0 * beta) * m[1] + beta * m[0];
-                *m = [m[1], next];
-            }
-        }
+        self.step_coefs();
         add_terms(&mut self.rhs, &self.dy.forcing, dt2, &self.g_coefs);
         if self.dy.massless_contact() {
             // Row c projected on the orthogonal of ker M: equilibrium at t_{n+1}.
-            let t1 = (self.n + 1) as f64 * self.dt;
             for ct in &self.dy.contacts {
-                let c = ct.dof;
-                // `load + 0.0` without forcing, `load + term_0` with one: as before.
-                let mut fc = self.dy.load[c] + self.dy.forcing.first().map_or(0.0, |f| f.shape[c] * f.time.value(t1));
-                for f in self.dy.forcing.iter().skip(1) {
-                    fc += f.shape[c] * f.time.value(t1);
-                }
-                self.rhs[c] = beta * dt2 * fc;
+                self.rhs[ct.dof] = self.massless_row(ct.dof);
             }
         }
         self.a.solve_in_place(&mut self.rhs);
@@ -992,6 +1113,8 @@ impl Stepper for PaoliSchatzman {
             ex.unconstrained(dt2, &self.u, &self.u_prev, &self.dy.load, &mut self.rhs);
         } else if self.fused.on {
             self.fused_unconstrained();
+        } else if self.tri_on {
+            self.tri_unconstrained();
         } else {
             self.general_unconstrained();
         }

@@ -83,114 +83,196 @@ pub(crate) struct StabilizedParts<'a> {
     pub(crate) step: (OneDof, &'a [f64]),
 }
 
+/// A tridiagonal right-hand side made row by row, for [`tridiagonal_forward`]:
+/// each scheme's own arithmetic for its rows (the plain step's operations
+/// in its order), so that the fused pass gives the plain path's bits.
+pub(crate) trait TriRows {
+    /// Rows `a..a + out.len()` (all interior: `1 <= a`, `a + out.len() <= n − 1`),
+    /// branch-free so that the compiler vectorises them across rows.
+    fn interior(&self, a: usize, out: &mut [f64]);
+    /// The first (`i = 0`) or the last (`i = n − 1`) row.
+    fn edge(&self, i: usize) -> f64;
+}
+
+/// The P1 bar's fused forward pass, shared by the implicit schemes' fused
+/// steps on a tridiagonal step matrix (this file's [`Tridiagonal`],
+/// `paoli.rs`, `moreau.rs`, `nitsche.rs`, `hybrid.rs`): `out = L⁻¹ b` with
+/// `b` the rows of `rows`, then `Σ_w Σ_j w_j g_j` (each list of `weights`
+/// in turn, term by term: `add_terms`' arithmetic), then the rows of `set`
+/// overwritten (`(row, value)`), in chunks of [`CHUNK`] rows: a chunk's
+/// rows (vectorised across the chunk — AVX2 chosen at run time by the
+/// caller, no FMA) are independent of the sweep through the chunk before,
+/// so the two overlap. The forward sweep is `BandLdlt::solve_in_place`'s
+/// (`y_i = b_i − l_i y_{i−1}`); the caller runs the backward one
+/// (`BandLdlt::backward_in_place`). Needs `n = out.len() >= 2`.
+#[inline(always)]
+pub(crate) fn tridiagonal_forward<R: TriRows>(rows: &R, forcing: &[crate::Forcing], weights: &[&[f64]], set: &[(usize, f64)], l: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let l = &l[..n];
+    let terms = |out: &mut [f64], a: usize, len: usize| {
+        for w in weights {
+            for (fc, &wj) in forcing.iter().zip(*w) {
+                for (b, g) in out[a..a + len].iter_mut().zip(&fc.shape[a..a + len]) {
+                    *b += wj * g;
+                }
+            }
+        }
+        for &(c, v) in set {
+            if (a..a + len).contains(&c) {
+                out[c] = v;
+            }
+        }
+    };
+    out[0] = rows.edge(0);
+    terms(out, 0, 1);
+    let mut prev = out[0];
+    let mut a = 1;
+    while a < n {
+        // Interior rows of the chunk branch-free (vectorised), the last row apart.
+        let end = (a + CHUNK).min(n);
+        let stop = end.min(n - 1);
+        if stop > a {
+            rows.interior(a, &mut out[a..stop]);
+        }
+        if end == n {
+            out[n - 1] = rows.edge(n - 1);
+        }
+        terms(out, a, end - a);
+        for (b, li) in out[a..end].iter_mut().zip(&l[a..end]) {
+            prev = *b - li * prev;
+            *b = prev;
+        }
+        a = end;
+    }
+}
+
+/// [`tridiagonal_forward`], compiled with AVX2 where `avx2` says the CPU
+/// has it, else for the baseline target.
+#[inline]
+pub(crate) fn tridiagonal_forward_dispatch<R: TriRows>(avx2: bool, rows: &R, forcing: &[crate::Forcing], weights: &[&[f64]], set: &[(usize, f64)], l: &[f64], out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: callers set `avx2` only when the CPU reports AVX2.
+        return unsafe { tridiagonal_forward_avx2(rows, forcing, weights, set, l, out) };
+    }
+    let _ = avx2;
+    tridiagonal_forward(rows, forcing, weights, set, l, out)
+}
+
+/// [`tridiagonal_forward`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn tridiagonal_forward_avx2<R: TriRows>(rows: &R, forcing: &[crate::Forcing], weights: &[&[f64]], set: &[(usize, f64)], l: &[f64], out: &mut [f64]) {
+    tridiagonal_forward(rows, forcing, weights, set, l, out)
+}
+
+/// A P1 bar's matrix by its two diagonals (`d[i] = A_ii`, `s[i] = A_{i,i−1}`,
+/// `s[0]` unused), for the fused steps' rows: `SymBand::mul_vec`'s
+/// tridiagonal rows, `s_i x_{i−1} + d_i x_i + s_{i+1} x_{i+1}` in that
+/// order (the first row `d_0 x_0 + s_1 x_1`, the last `s_{n−1} x_{n−2} + d_{n−1} x_{n−1}`).
+pub(crate) struct TriMatrix {
+    pub(crate) d: Vec<f64>,
+    pub(crate) s: Vec<f64>,
+}
+
+impl TriMatrix {
+    /// `a`'s diagonals, if it is tridiagonal.
+    pub(crate) fn of(a: &signorini_fem::SymBand) -> Option<Self> {
+        (a.half_bandwidth() == 1).then(|| Self { d: a.diagonal(0), s: a.diagonal(1) })
+    }
+
+    /// Row `i` of `A x`, `x` given by its values (`x(j)`), any row of `n`.
+    #[inline(always)]
+    pub(crate) fn row(&self, n: usize, i: usize, x: impl Fn(usize) -> f64) -> f64 {
+        let (d, s) = (&self.d, &self.s);
+        if i == 0 {
+            d[0] * x(0) + s[1] * x(1)
+        } else if i == n - 1 {
+            s[n - 1] * x(n - 2) + d[n - 1] * x(n - 1)
+        } else {
+            s[i] * x(i - 1) + d[i] * x(i) + s[i + 1] * x(i + 1)
+        }
+    }
+
+    /// The coefficients of interior rows `a..a + len`: `(s_i, d_i, s_{i+1})`.
+    #[inline(always)]
+    pub(crate) fn window(&self, a: usize, len: usize) -> (&[f64], &[f64], &[f64]) {
+        (&self.s[a..a + len], &self.d[a..a + len], &self.s[a + 1..a + 1 + len])
+    }
+}
+
 /// `M`, `K` and the step matrix's factor tridiagonal (the P1 bar), no
 /// damping: the right-hand side `M U_pred − τ²/4 K Uⁿ + τ²/4 (2F + …)` and
-/// the forward sweep of the solve in one pass, in chunks of [`CHUNK`] rows
-/// (a chunk's right-hand side, vectorised across its rows — AVX2 chosen at
-/// run time, no FMA —, is independent of the sweep through the chunk
-/// before, so the two overlap), then the solve's backward sweep. Every
-/// value is the plain step's operations in the same order
-/// (`SymBand::mul_vec`'s tridiagonal rows, the sum, `add_terms` term by
-/// term, `BandLdlt::solve_in_place`'s forward sweep), so the same bits
-/// (cost: `crates/run/benches/step.rs`, `implicit_scheme_step`).
+/// the forward sweep of the solve in one pass ([`tridiagonal_forward`]),
+/// then the solve's backward sweep. Every value is the plain step's
+/// operations in the same order (`SymBand::mul_vec`'s tridiagonal rows,
+/// the sum, `add_terms` term by term, `BandLdlt::solve_in_place`'s forward
+/// sweep), so the same bits (cost: `crates/run/benches/step.rs`,
+/// `implicit_scheme_step`).
 struct Tridiagonal {
-    m_d: Vec<f64>,
-    m_s: Vec<f64>,
-    k_d: Vec<f64>,
-    k_s: Vec<f64>,
+    m: TriMatrix,
+    k: TriMatrix,
     avx2: bool,
 }
 
-/// Rows per chunk of [`Tridiagonal`]'s fused pass.
-const CHUNK: usize = 32;
+/// Rows per chunk of [`tridiagonal_forward`]'s fused pass.
+pub(crate) const CHUNK: usize = 32;
+
+/// [`Tridiagonal`]'s rows for one step: `M p + q (2f − K u)`.
+struct StabilizedRows<'a> {
+    t: &'a Tridiagonal,
+    q: f64,
+    p: &'a [f64],
+    u: &'a [f64],
+    f: &'a [f64],
+}
+
+impl TriRows for StabilizedRows<'_> {
+    #[inline(always)]
+    fn interior(&self, a: usize, o: &mut [f64]) {
+        let len = o.len();
+        let (p, u, q) = (self.p, self.u, self.q);
+        let (pl, pc, pr) = (&p[a - 1..a - 1 + len], &p[a..a + len], &p[a + 1..a + 1 + len]);
+        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (msl, mdc, msr) = self.t.m.window(a, len);
+        let (ksl, kdc, ksr) = self.t.k.window(a, len);
+        let fr = &self.f[a..a + len];
+        for j in 0..len {
+            let mp = msl[j] * pl[j] + mdc[j] * pc[j] + msr[j] * pr[j];
+            let ku = ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j];
+            o[j] = mp + q * (2.0 * fr[j] - ku);
+        }
+    }
+
+    #[inline(always)]
+    fn edge(&self, i: usize) -> f64 {
+        let n = self.p.len();
+        let mp = self.t.m.row(n, i, |j| self.p[j]);
+        let ku = self.t.k.row(n, i, |j| self.u[j]);
+        mp + self.q * (2.0 * self.f[i] - ku)
+    }
+}
 
 impl Tridiagonal {
     fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
         let n = dy.n();
-        let applies = n >= 2 && dy.damping.is_none() && dy.mass.half_bandwidth() == 1 && dy.stiffness.half_bandwidth() == 1 && a.tridiagonal_factors().is_some();
+        let applies = n >= 2 && dy.damping.is_none() && a.tridiagonal_factors().is_some();
         let avx2 = avx2_available();
-        applies.then(|| Self { m_d: dy.mass.diagonal(0), m_s: dy.mass.diagonal(1), k_d: dy.stiffness.diagonal(0), k_s: dy.stiffness.diagonal(1), avx2 })
+        if !applies {
+            return None;
+        }
+        Some(Self { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2 })
     }
 
     /// `out = L⁻¹ b`, `b = M p + q (2f − K u) + Σ_j w_old_j g_j + Σ_j w_new_j g_j`.
     #[allow(clippy::too_many_arguments)]
     fn forward(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if self.avx2 {
-            // SAFETY: `avx2` is set only when the CPU reports AVX2.
-            return unsafe { self.forward_avx2(q, p, u, f, forcing, w_old, w_new, l, out) };
-        }
-        self.forward_body(q, p, u, f, forcing, w_old, w_new, l, out)
-    }
-
-    /// [`forward_body`](Self::forward_body) compiled with AVX2.
-    ///
-    /// # Safety
-    /// The CPU must support AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[allow(clippy::too_many_arguments)]
-    unsafe fn forward_avx2(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
-        self.forward_body(q, p, u, f, forcing, w_old, w_new, l, out)
-    }
-
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn forward_body(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
         let n = p.len();
-        let (md, ms, kd, ks) = (&self.m_d[..n], &self.m_s[..n], &self.k_d[..n], &self.k_s[..n]);
-        let (p, u, f, l, out) = (&p[..n], &u[..n], &f[..n], &l[..n], &mut out[..n]);
-        // `mul_vec_tridiag`'s rows: the first, the interior, the last.
-        let row = |i: usize| -> f64 {
-            let (mp, ku) = if i == 0 {
-                (md[0] * p[0] + ms[1] * p[1], kd[0] * u[0] + ks[1] * u[1])
-            } else if i == n - 1 {
-                (ms[n - 1] * p[n - 2] + md[n - 1] * p[n - 1], ks[n - 1] * u[n - 2] + kd[n - 1] * u[n - 1])
-            } else {
-                (ms[i] * p[i - 1] + md[i] * p[i] + ms[i + 1] * p[i + 1], ks[i] * u[i - 1] + kd[i] * u[i] + ks[i + 1] * u[i + 1])
-            };
-            mp + q * (2.0 * f[i] - ku)
-        };
-        let terms = |out: &mut [f64], a: usize, len: usize| {
-            for w in [w_old, w_new] {
-                for (fc, &wj) in forcing.iter().zip(w) {
-                    for (b, g) in out[a..a + len].iter_mut().zip(&fc.shape[a..a + len]) {
-                        *b += wj * g;
-                    }
-                }
-            }
-        };
-        out[0] = row(0);
-        terms(out, 0, 1);
-        let mut prev = out[0];
-        let mut a = 1;
-        while a < n {
-            // Interior rows of the chunk branch-free (vectorised), the last row apart.
-            let end = (a + CHUNK).min(n);
-            let stop = end.min(n - 1);
-            if stop > a {
-                let (o, r) = (&mut out[a..stop], a..stop);
-                let (pl, pc, pr) = (&p[a - 1..stop - 1], &p[r.clone()], &p[a + 1..stop + 1]);
-                let (ul, uc, ur) = (&u[a - 1..stop - 1], &u[r.clone()], &u[a + 1..stop + 1]);
-                let (msl, mdc, msr) = (&ms[r.clone()], &md[r.clone()], &ms[a + 1..stop + 1]);
-                let (ksl, kdc, ksr) = (&ks[r.clone()], &kd[r.clone()], &ks[a + 1..stop + 1]);
-                let fr = &f[r];
-                for j in 0..o.len() {
-                    let mp = msl[j] * pl[j] + mdc[j] * pc[j] + msr[j] * pr[j];
-                    let ku = ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j];
-                    o[j] = mp + q * (2.0 * fr[j] - ku);
-                }
-            }
-            if end == n {
-                out[n - 1] = row(n - 1);
-            }
-            terms(out, a, end - a);
-            for (b, li) in out[a..end].iter_mut().zip(&l[a..end]) {
-                prev = *b - li * prev;
-                *b = prev;
-            }
-            a = end;
-        }
+        let rows = StabilizedRows { t: self, q, p: &p[..n], u: &u[..n], f: &f[..n] };
+        tridiagonal_forward_dispatch(self.avx2, &rows, forcing, &[w_old, w_new], &[], l, &mut out[..n]);
     }
 }
 

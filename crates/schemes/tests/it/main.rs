@@ -20,6 +20,7 @@ mod d1minus;
 mod damping;
 mod diagonal_mass;
 mod energy;
+mod fused_bar;
 mod lockstep;
 mod moreau_lockstep;
 mod moreau_projected_lockstep;
