@@ -43,8 +43,7 @@
 //! above up to a constant).
 
 use crate::fused::{fused_switches, FusedSwitch};
-use crate::lanes::avx2_available;
-use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
+use crate::stabilized::{tridiagonal_forward_dispatch, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear};
 use signorini_fem::{BandLdlt, SymBand};
@@ -105,19 +104,7 @@ pub struct Reduced {
 /// `SymBand::mul_vec`'s tridiagonal rows, the sum,
 /// `BandLdlt::solve_in_place`'s sweeps), so the same bits (cost:
 /// `crates/run/benches/step.rs`, `massless_node_scheme_step`).
-struct Tridiagonal {
-    m: TriMatrix,
-    k: TriMatrix,
-    avx2: bool,
-}
-
-impl Tridiagonal {
-    fn new(m_star: &SymBand, k_free: &SymBand, a: &BandLdlt) -> Option<Self> {
-        let (l, _) = a.tridiagonal_factors()?;
-        (m_star.n() >= 2 && l.iter().any(|x| *x != 0.0)).then_some(())?;
-        Some(Self { m: TriMatrix::of(m_star)?, k: TriMatrix::of(k_free)?, avx2: avx2_available() })
-    }
-}
+type Tridiagonal = crate::stabilized::TriPair;
 
 /// [`Tridiagonal`]'s rows for one step: `M* (u + dt v) + (−q K' u + 2q f)`.
 struct ReducedRows<'a> {
@@ -198,7 +185,7 @@ impl Reduced {
         let mut w = vec![0.0; n - 1];
         w[0] = 1.0;
         a.solve_in_place(&mut w);
-        let fused = FusedSwitch::new(if explicit { None } else { Tridiagonal::new(&m_star, &k_free, &a) });
+        let fused = FusedSwitch::new(if explicit { None } else { Tridiagonal::beside(&m_star, &k_free, &a) });
         let g = dy.contact().bounds.lo;
         let a_shift = dy.load[0] / k;
         let mut f_eff = dy.load[1..].to_vec();

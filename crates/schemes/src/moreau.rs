@@ -29,10 +29,9 @@
 //! (`v_c^n > 0`) and the impulse holds it — the velocity-level law's price.
 
 use crate::fused::{fused_switches, FusedSwitch};
-use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
+use crate::stabilized::{tridiagonal_forward_dispatch, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -84,20 +83,12 @@ pub struct MoreauJean {
 /// pass, `SymBand::mul_vec`'s tridiagonal rows, the sum, `add_terms`,
 /// `BandLdlt::solve_in_place`'s sweeps), so the same bits (cost:
 /// `crates/run/benches/step.rs`, `implicit_scheme_step`).
-struct Tridiagonal {
-    m: TriMatrix,
-    k: TriMatrix,
-    avx2: bool,
-}
+type Tridiagonal = crate::stabilized::TriPair;
 
-impl Tridiagonal {
-    fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
-        let (l, _) = a.tridiagonal_factors()?;
-        // A diagonal factor solves faster by its own path.
-        let applies = dy.n() >= 2 && dy.damping.is_none() && l.iter().any(|x| *x != 0.0);
-        applies.then_some(())?;
-        Some(Self { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2: avx2_available() })
-    }
+/// [`Tridiagonal`] of an undamped `dy` (`M`, `K`) beside the factor `a`.
+fn fused_step(dy: &Dynamics, a: &BandLdlt) -> Option<Tridiagonal> {
+    dy.damping.is_none().then_some(())?;
+    Tridiagonal::beside(&dy.mass, &dy.stiffness, a)
 }
 
 /// [`Tridiagonal`]'s rows for one step: `M v + dt (f − K (u + c v))`, `c = θ(1−θ) dt`.
@@ -182,7 +173,7 @@ impl MoreauJean {
         a.solve_in_place(&mut w);
         let proj = Projection::new(c, w)?;
         let (loads, svals) = (Loads::means(&dy, dt), vec![0.0; dy.forcing.len()]);
-        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &a));
+        let fused = FusedSwitch::new(fused_step(&dy, &a));
         Ok(Self {
             label,
             theta,

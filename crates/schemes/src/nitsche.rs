@@ -21,7 +21,6 @@
 //! force derives from the potential `(1/2γ) min(0, qᵀU - γg)²`.
 
 use crate::fused::{fused_switches, FusedSwitch};
-use crate::lanes::avx2_available;
 use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
@@ -105,19 +104,7 @@ pub struct Nitsche {
 /// operations in the same order (`SymBand::mul_vec`'s tridiagonal rows,
 /// the sums, `BandLdlt::solve_in_place`'s sweeps, `update_r`'s rows), so
 /// the same bits (cost: `crates/run/benches/step.rs`, `implicit_scheme_step`).
-struct Tridiagonal {
-    m: TriMatrix,
-    k_n: TriMatrix,
-    avx2: bool,
-}
-
-impl Tridiagonal {
-    fn new(dy: &Dynamics, k_n: &SymBand, a: &BandLdlt) -> Option<Self> {
-        let (l, _) = a.tridiagonal_factors()?;
-        (dy.n() >= 2 && l.iter().any(|x| *x != 0.0)).then_some(())?;
-        Some(Self { m: TriMatrix::of(&dy.mass)?, k_n: TriMatrix::of(k_n)?, avx2: avx2_available() })
-    }
-}
+type Tridiagonal = crate::stabilized::TriPair;
 
 /// [`Tridiagonal`]'s rows for one step: `M u + ((dt p + ao r) + an f)`.
 struct NitscheRows<'a> {
@@ -191,7 +178,7 @@ impl Nitsche {
         }
         let mut mom = vec![0.0; n];
         dy.mass.mul_vec(&init.v, &mut mom);
-        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &k_n, &a));
+        let fused = FusedSwitch::new(Tridiagonal::beside(&dy.mass, &k_n, &a));
         let mut s = Self {
             label,
             beta,
@@ -254,7 +241,7 @@ impl Nitsche {
         self.force = self.p_gamma().min(0.0);
         let n = self.u.len();
         let massless = self.dy.massless_contact();
-        let (u, f, k) = (&self.u[..n], &self.dy.load[..n], &tri.k_n);
+        let (u, f, k) = (&self.u[..n], &self.dy.load[..n], &tri.k);
         let (acc, mom) = (&mut self.acc_r[..n], &mut self.mom[..n]);
         // Rows 0, 1 (the Nitsche force) and the last, as `update_r` and the step.
         let mut edge = |i: usize| {

@@ -47,7 +47,7 @@ use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
-use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
+use crate::stabilized::{tridiagonal_forward_dispatch, TriRows};
 use crate::{Bounds, Dynamics, Forcing, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -431,20 +431,12 @@ fn backward_p3(lt: &[f64], inv_d: &[f64], b: &mut [f64]) {
 /// rows, the sum, `add_terms`, the row set,
 /// `BandLdlt::solve_in_place`'s sweeps), so the same bits (cost:
 /// `crates/run/benches/step.rs`, `implicit_scheme_step`).
-struct TriStep {
-    m: TriMatrix,
-    k: TriMatrix,
-    avx2: bool,
-}
+type TriStep = crate::stabilized::TriPair;
 
-impl TriStep {
-    fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
-        let (l, _) = a.tridiagonal_factors()?;
-        // A diagonal factor (the lumped mass with β = 0) solves faster by its own path.
-        let applies = dy.n() >= 2 && dy.damping.is_none() && l.iter().any(|x| *x != 0.0);
-        applies.then_some(())?;
-        Some(Self { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2: avx2_available() })
-    }
+/// [`TriStep`] of an undamped `dy` (`M`, `K`) beside the factor `a`.
+fn tri_step(dy: &Dynamics, a: &BandLdlt) -> Option<TriStep> {
+    dy.damping.is_none().then_some(())?;
+    TriStep::beside(&dy.mass, &dy.stiffness, a)
 }
 
 /// [`TriStep`]'s rows for one step: `M x + dt² (f − K y)`, `x = 2u − up`,
@@ -713,7 +705,7 @@ impl PaoliSchatzman {
         let explicit = ExplicitDiagonal::new(&dy, beta, &a);
         let bands = Bands3::new(&dy);
         let applies = bands.is_some() && k == 1 && !dy.massless_contact() && dy.damping.is_none() && a.half_bandwidth() == 3 && n > 6;
-        let tri = if explicit.is_none() { TriStep::new(&dy, &a) } else { None };
+        let tri = if explicit.is_none() { tri_step(&dy, &a) } else { None };
         let tri_set = if dy.massless_contact() { dy.contacts.iter().map(|ct| (ct.dof, 0.0)).collect() } else { Vec::new() };
         Ok(Self {
             label,

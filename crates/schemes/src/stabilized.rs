@@ -212,10 +212,26 @@ impl TriMatrix {
 /// the sum, `add_terms` term by term, `BandLdlt::solve_in_place`'s forward
 /// sweep), so the same bits (cost: `crates/run/benches/step.rs`,
 /// `implicit_scheme_step`).
-struct Tridiagonal {
-    m: TriMatrix,
-    k: TriMatrix,
-    avx2: bool,
+type Tridiagonal = TriPair;
+
+/// The two tridiagonal matrices a fused P1-bar step reads (`M` and `K`;
+/// `nitsche-cn`'s `M` and `K_N`; the reduced schemes' `M*` and `K'`) and
+/// whether its kernel runs the AVX2 build ([`tridiagonal_forward_dispatch`]).
+pub(crate) struct TriPair {
+    pub(crate) m: TriMatrix,
+    pub(crate) k: TriMatrix,
+    pub(crate) avx2: bool,
+}
+
+impl TriPair {
+    /// `m` and `k` for a step of at least 2 dofs whose factor `a` is
+    /// tridiagonal with a non-zero `L` (a diagonal factor, the lumped mass
+    /// with β = 0, solves faster by its own path); `None` otherwise.
+    pub(crate) fn beside(m: &signorini_fem::SymBand, k: &signorini_fem::SymBand, a: &BandLdlt) -> Option<Self> {
+        let (l, _) = a.tridiagonal_factors()?;
+        (m.n() >= 2 && l.iter().any(|x| *x != 0.0)).then_some(())?;
+        Some(Self { m: TriMatrix::of(m)?, k: TriMatrix::of(k)?, avx2: avx2_available() })
+    }
 }
 
 /// Rows per chunk of [`tridiagonal_forward`]'s fused pass.
@@ -256,17 +272,15 @@ impl TriRows for StabilizedRows<'_> {
     }
 }
 
-impl Tridiagonal {
-    fn new(dy: &Dynamics, a: &BandLdlt) -> Option<Self> {
-        let n = dy.n();
-        let applies = n >= 2 && dy.damping.is_none() && a.tridiagonal_factors().is_some();
-        let avx2 = avx2_available();
-        if !applies {
-            return None;
-        }
-        Some(Self { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2 })
-    }
+/// [`Tridiagonal`] of an undamped `dy` (`M`, `K`) beside a tridiagonal
+/// factor `a` (a diagonal one too: this scheme's step matrix is never the
+/// lumped mass alone).
+fn fused_step(dy: &Dynamics, a: &BandLdlt) -> Option<Tridiagonal> {
+    (dy.n() >= 2 && dy.damping.is_none() && a.tridiagonal_factors().is_some()).then_some(())?;
+    Some(TriPair { m: TriMatrix::of(&dy.mass)?, k: TriMatrix::of(&dy.stiffness)?, avx2: avx2_available() })
+}
 
+impl Tridiagonal {
     /// `out = L⁻¹ b`, `b = M p + q (2f − K u) + Σ_j w_old_j g_j + Σ_j w_new_j g_j`.
     #[allow(clippy::too_many_arguments)]
     fn forward(&self, q: f64, p: &[f64], u: &[f64], f: &[f64], forcing: &[crate::Forcing], w_old: &[f64], w_new: &[f64], l: &[f64], out: &mut [f64]) {
@@ -295,7 +309,7 @@ impl ContactStabilized {
         let mut loads = Loads::values(&dy, dt);
         let mut s_old = vec![0.0; dy.forcing.len()];
         loads.next_into(&mut s_old);
-        let fused = FusedSwitch::new(Tridiagonal::new(&dy, &a));
+        let fused = FusedSwitch::new(fused_step(&dy, &a));
         Ok(Self {
             fused,
             w_old: vec![0.0; dy.forcing.len()],
