@@ -12,7 +12,16 @@
 //! run's error is `Δ/15`); the run must agree with the `h/2` oracle within
 //! `4 Δ` plus a round-off floor (`1e-12` in time and speed, `1e-12` of the
 //! state's scale), measured per quantity (event times, impact speeds, the
-//! accumulation time, the state at fixed times).
+//! accumulation time) and, for the state at fixed times, with `Δ` the
+//! largest over the state's entries. Per entry `Δ` can cancel: the oracle's
+//! error is its RK4 truncation (`O(h⁴)`) plus a part that grows as its
+//! step count (`1/h`; taken for round-off), of either sign. Run 686 at `t = 6`, `h = 1e-3`:
+//! from `h/2` to `h/16` the oracle's successive differences double, of
+//! alternating sign, on every entry (velocity 2: 9.6e-12, −1.8e-11,
+//! 3.7e-11), the run within 1.1e-12 of the `h/2` oracle and 2.7e-11 of
+//! the `h/16` one; at `h` against `h/2` that entry's difference is 1.8e-13
+//! (truncation and round-off of opposite signs), the state's largest
+//! 9.8e-12.
 
 use crate::events_common::chain_matrices;
 use crate::events_rk4::{Output, Rk4, Stop};
@@ -237,8 +246,11 @@ fn check(case: &Case, h: f64) -> [f64; 4] {
     for (i, (q, v)) in states.iter().enumerate() {
         let ((qw, vw), (qc, vc)) = (&fine.samples[i], &coarse.samples[i]);
         let scale = qw.iter().chain(vw).fold(1.0f64, |m, x| m.max(x.abs()));
-        for (j, (x, (y, z))) in q.iter().chain(v).zip(qw.iter().chain(vw).zip(qc.iter().chain(vc))).enumerate() {
-            let tol = 4.0 * (z - y).abs() + 1e-12 * scale;
+        // Δ over the whole state, not per entry: an entry's own Δ can
+        // cancel (module docs).
+        let delta = qw.iter().chain(vw).zip(qc.iter().chain(vc)).fold(0.0f64, |m, (y, z)| m.max((z - y).abs()));
+        let tol = 4.0 * delta + 1e-12 * scale;
+        for (j, (x, y)) in q.iter().chain(v).zip(qw.iter().chain(vw)).enumerate() {
             assert!((x - y).abs() <= tol, "{name}: at t = {}, entry {j} of (q, v): {x} against {y} (tolerance {tol:.1e})", case.samples[i]);
             worst[3] = worst[3].max((x - y).abs() / tol);
         }
