@@ -517,7 +517,7 @@ const SLOW: f64 = 1e-2;
 /// (refused, or 6e-11 off the exponential). Of that plane, `x_b`
 /// orthogonal to `(a + c) g` (`g` the plane's basis vector it is largest
 /// for): for `k = 0`, `(a + c) x` is the line of the eigenvector of 0
-/// whatever `x`, so `x_a ⟂ x_b` ([`pair_vector`] keeps it, or scans the
+/// whatever `x`, so `x_a ⟂ x_b` (`pair_vector` keeps it, or scans the
 /// plane if its columns are within 30°). `None` when the null space is not
 /// two-dimensional (the pair not apart from the rest).
 pub fn slow_plane(a: &Mat<f64>, k: f64, c: f64) -> Option<Vec<f64>> {
