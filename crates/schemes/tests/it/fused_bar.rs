@@ -17,7 +17,7 @@ use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean,
 /// A random P1-like chain of `n` dofs: `M` consistent (or lumped), node 0
 /// massless if asked (its row of `M` zero, `K_00 = −K_01`: the end node of
 /// one element), `K` tridiagonal and positive definite.
-fn chain(rng: &mut SplitMix64, n: usize, lumped: bool, massless: bool) -> (SymBand, SymBand) {
+pub(crate) fn chain(rng: &mut SplitMix64, n: usize, lumped: bool, massless: bool) -> (SymBand, SymBand) {
     let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
     for i in 0..n {
         let mi = 0.5 + rng.next_f64();

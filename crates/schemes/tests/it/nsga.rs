@@ -650,19 +650,7 @@ fn fused_tridiagonal_step_is_the_plain_step_bit_for_bit() {
     for n in [2usize, 3, 33, 34, 40, 100] {
         for case in 0..4 {
             let (lumped, two) = (case & 1 == 1, case & 2 == 2);
-            let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
-            for i in 0..n {
-                let mi = 0.5 + rng.next_f64();
-                m.set(i, i, if lumped { mi } else { 2.0 * mi / 3.0 });
-                if i > 0 && !lumped {
-                    m.set(i, i - 1, mi / 6.0);
-                }
-                let ki = 1.0 + 3.0 * rng.next_f64();
-                k.set(i, i, 2.0 * ki);
-                if i > 0 {
-                    k.set(i, i - 1, -ki);
-                }
-            }
+            let (m, k) = crate::fused_bar::chain(&mut rng, n, lumped, false);
             let load: Vec<f64> = (0..n).map(|_| rng.next_f64() - 0.7).collect();
             let mut contacts = vec![Contact::new(0, Bounds { lo: -0.02, hi: f64::INFINITY }, false)];
             if two && n > 2 {
