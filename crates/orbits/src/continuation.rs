@@ -2228,15 +2228,8 @@ impl Returns {
             let (sy, sy0) = (scaled(y, next.param), scaled(y0, cur.param));
             // Not the step's own segment, nor the one before (unshifted).
             let last = if shift == 0 { i.saturating_sub(1) } else { i };
-            for on in 0..last {
-                let (q, r) = (&points[on], &points[on + 1]);
-                if q.orbit.impacts() != next.orbit.impacts() || r.orbit.impacts() != next.orbit.impacts() {
-                    continue;
-                }
-                let (sq, sr) = (scaled(&q.orbit.x, q.param), scaled(&r.orbit.x, r.param));
-                if inside_segment(&sq, &sr, &sy, &sy0) && parallel(&sq, &sr, &sy0, &sy) {
-                    return Some(Returned::Copy { shift, on });
-                }
+            if let Some(on) = beside_a_segment(&points[..=last], next.orbit.impacts(), &sy, &sy0, &scaled) {
+                return Some(Returned::Copy { shift, on });
             }
         }
         // Onto the mirror image of a traced segment (a symmetric
@@ -2258,15 +2251,8 @@ impl Returns {
         for shift in 0..self.p {
             let (Some(y), Some(y0)) = (next_mirrors[shift].as_ref(), self.mirrors[i][shift].as_ref()) else { continue };
             let (sy, sy0) = (scaled(y, next.param), scaled(y0, cur.param));
-            for on in 0..i {
-                let (q, r) = (&points[on], &points[on + 1]);
-                if q.orbit.impacts() != next.orbit.impacts() || r.orbit.impacts() != next.orbit.impacts() {
-                    continue;
-                }
-                let (sq, sr) = (scaled(&q.orbit.x, q.param), scaled(&r.orbit.x, r.param));
-                if inside_segment(&sq, &sr, &sy, &sy0) && parallel(&sq, &sr, &sy0, &sy) {
-                    return Some(Returned::Mirror { shift, on });
-                }
+            if let Some(on) = beside_a_segment(&points[..=i], next.orbit.impacts(), &sy, &sy0, &scaled) {
+                return Some(Returned::Mirror { shift, on });
             }
         }
         None
@@ -2368,6 +2354,20 @@ fn pitchfork<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, p: usi
         between: (i, i + 1),
         x: at.x.clone(),
         mark: at.mark,
+    })
+}
+
+/// The first segment of `points` (`on` to `on + 1`, both with `impacts`)
+/// that the step from `y0` to `y` (scaled as `scaled` does) lies inside of
+/// and runs parallel to: where a step ends on orbits already traced.
+fn beside_a_segment(points: &[BranchPoint], impacts: usize, y: &[f64], y0: &[f64], scaled: &impl Fn(&[f64], f64) -> Vec<f64>) -> Option<usize> {
+    points.windows(2).position(|w| {
+        let (q, r) = (&w[0], &w[1]);
+        if q.orbit.impacts() != impacts || r.orbit.impacts() != impacts {
+            return false;
+        }
+        let (sq, sr) = (scaled(&q.orbit.x, q.param), scaled(&r.orbit.x, r.param));
+        inside_segment(&sq, &sr, y, y0) && parallel(&sq, &sr, y0, y)
     })
 }
 
