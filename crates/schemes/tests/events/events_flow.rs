@@ -158,6 +158,19 @@ fn check(dy: &Dynamics, t0: f64, tau: f64, tol: f64) {
     }
 }
 
+/// The flow's largest error against [`reference`] over `τ` from `t0`, over
+/// the state's scale (at least 1), from [`check`]'s initial state.
+fn scaled_error(flow: &ModalFlow, dy: &Dynamics, t0: f64, tau: f64) -> f64 {
+    let n = dy.n();
+    let q0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
+    let v0: Vec<f64> = (0..n).map(|i| 0.2 * (2.0 * i as f64 + 0.5).cos()).collect();
+    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+    flow.advance(t0, &q0, &v0, tau, &mut q, &mut v);
+    let (qr, vr) = reference(dy, t0, &q0, &v0, tau);
+    let scale = qr.iter().chain(&vr).fold(1.0f64, |a, x| a.max(x.abs()));
+    q.iter().zip(&qr).chain(v.iter().zip(&vr)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale
+}
+
 fn forced(mut dy: Dynamics) -> Dynamics {
     let n = dy.n();
     dy.forcing = vec![
@@ -697,14 +710,8 @@ fn a_weak_dashpot_keeps_the_steady_loads_digits() {
             let flow = ModalFlow::new(&dy).unwrap_or_else(|e| panic!("c = {c:e}: {e}"));
             assert_eq!(flow.classical(), classical);
             let tol = if classical || c <= 1e-6 { 1e-13 } else { 1e-12 };
-            let q0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
-            let v0: Vec<f64> = (0..n).map(|i| 0.2 * (2.0 * i as f64 + 0.5).cos()).collect();
             for tau in [0.1, 1.0, 4.0, 10.0] {
-                let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-                flow.advance(1.3, &q0, &v0, tau, &mut q, &mut v);
-                let (qr, vr) = reference(&dy, 1.3, &q0, &v0, tau);
-                let scale = qr.iter().chain(&vr).fold(1.0f64, |a, x| a.max(x.abs()));
-                let err = q.iter().zip(&qr).chain(v.iter().zip(&vr)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale;
+                let err = scaled_error(&flow, &dy, 1.3, tau);
                 if !(err <= tol) {
                     worst.push(format!("{} c = {c:e}, τ = {tau}: {err:.1e} > {tol:e}", if classical { "C = c M" } else { "dashpot" }));
                 }
@@ -751,14 +758,8 @@ fn a_weak_dashpot_on_a_free_chain_is_taken_and_exact() {
                         }
                     };
                     assert!(!flow.classical());
-                    let q0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
-                    let v0: Vec<f64> = (0..n).map(|i| 0.2 * (2.0 * i as f64 + 0.5).cos()).collect();
                     for tau in [0.1, 1.0, 4.0, 10.0] {
-                        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-                        flow.advance(1.3, &q0, &v0, tau, &mut q, &mut v);
-                        let (qr, vr) = reference(&dy, 1.3, &q0, &v0, tau);
-                        let scale = qr.iter().chain(&vr).fold(1.0f64, |a, x| a.max(x.abs()));
-                        let err = q.iter().zip(&qr).chain(v.iter().zip(&vr)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale;
+                        let err = scaled_error(&flow, &dy, 1.3, tau);
                         if !(err <= 1e-13) {
                             bad.push(format!("n = {n}, dof {at}, c = {c:e}, harmonics {loads}, τ = {tau}: {err:.1e}"));
                         }
