@@ -12,6 +12,7 @@ mod corrector;
 mod free_grazing;
 mod further_impact;
 mod isola;
+mod marks;
 mod mirror;
 mod nonsmooth_fold;
 mod oscillator;
