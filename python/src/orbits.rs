@@ -79,7 +79,7 @@ pub fn run_continuation<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let doc: toml::Table = guarded(|| scene_text.parse().map_err(|e: toml::de::Error| SceneError::new_err(e.to_string())))?;
     guarded(|| signorini_scene::SceneFile::from_table(doc.clone()).map(|_| ()).map_err(|e| crate::py_scene_error(e, false)))?;
-    let opts = ContinueOptions { param: param.to_string(), from: start, to: stop, period, transient, max_points, switch, sweep };
+    let opts = ContinueOptions { param: param.to_string(), from: start, to: stop, period, transient, max_points, switch, sweep, param_scale: None };
     let cancel = signorini_run::Cancel::new();
     let c = cancel.clone();
     let poll: std::sync::Arc<dyn Fn() -> bool + Send + Sync> = std::sync::Arc::new(move || c.is_cancelled());

@@ -158,6 +158,9 @@ enum Cmd {
         /// Most points per branch.
         #[arg(long, default_value_t = 400)]
         max_points: usize,
+        /// The parameter's scale for the steps (scaled arclength) and the searches' offsets, which are fractions of it; default: the range |to - from|. Given, runs from one start to different ends take the same steps where they overlap.
+        #[arg(long)]
+        param_scale: Option<f64>,
         /// At each period doubling, continue the period-doubled branch too (and theirs, a cascade of up to 3 doublings); at each branch point, the branch crossing there.
         #[arg(long)]
         switch: bool,
@@ -334,11 +337,11 @@ fn main() -> ExitCode {
             }
             Ok(())
         }
-        Cmd::Continue { scene, param, from, to, period, transient, max_points, switch, sweep, out, max_memory } => {
+        Cmd::Continue { scene, param, from, to, period, transient, max_points, param_scale, switch, sweep, out, max_memory } => {
             let text = signorini_cli::read_scene_file(&scene)?;
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-continue", scene.file_stem().unwrap_or_default().to_string_lossy())));
             let sweep = sweep.as_deref().map(signorini_cli::orbits::sweep_points).transpose()?.unwrap_or_default();
-            let opts = signorini_orbits::front::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep };
+            let opts = signorini_orbits::front::ContinueOptions { param, from, to, period, transient, max_points, switch, sweep, param_scale };
             for l in signorini_cli::orbits::continue_scene(&text, &opts, &out, limits(max_memory), std::io::stderr().is_terminal(), interrupt_token())? {
                 say(&format!("{l}\n"));
             }

@@ -102,7 +102,8 @@ pub struct ContinuationOptions {
     pub to: f64,
     /// Most points.
     pub max_points: usize,
-    /// The first step (scaled arclength; the range `|to − from|` is 1).
+    /// The first step (scaled arclength: the state over the first orbit's
+    /// size, the parameter over [`ContinuationOptions::param_scale`]).
     pub step: f64,
     /// The smallest step before the branch is given up.
     pub min_step: f64,
@@ -110,6 +111,14 @@ pub struct ContinuationOptions {
     pub max_step: f64,
     /// Newton's settings.
     pub newton: Newton,
+    /// The parameter's scale Λ: the scaled arclength divides the parameter
+    /// by it, and the steps, the bisections locating a bifurcation and the
+    /// searches' offsets at a grazing are fractions of it. `None`: the
+    /// range `|to − from|`. Given, runs from one start to different ends
+    /// take the same steps and list the same bifurcations where their
+    /// ranges overlap (the range then only says where to stop, as the
+    /// interval does for AUTO's and COCO's step bounds).
+    pub scale: Option<f64>,
 }
 
 impl ContinuationOptions {
@@ -117,13 +126,33 @@ impl ContinuationOptions {
     /// (scaled arclength) from 1e-7 to 0.25, the first 0.02, a step
     /// accepted when the tangent turns by less than 25°, Newton to 1e-11.
     pub fn new(from: f64, to: f64) -> Self {
-        Self { from, to, max_points: 400, step: 0.02, min_step: 1e-7, max_step: 0.25, newton: Newton { tol: 1e-11, ..Newton::default() } }
+        Self { from, to, max_points: 400, step: 0.02, min_step: 1e-7, max_step: 0.25, newton: Newton { tol: 1e-11, ..Newton::default() }, scale: None }
+    }
+
+    /// The parameter's scale Λ ([`ContinuationOptions::scale`]): the one
+    /// given, else the range `|to − from|`.
+    pub fn param_scale(&self) -> f64 {
+        self.scale.unwrap_or((self.to - self.from).abs())
+    }
+
+    /// What the searches' offsets are said to be fractions of.
+    fn scale_name(&self) -> &'static str {
+        if self.scale.is_some() {
+            "the parameter's scale"
+        } else {
+            "the range"
+        }
     }
 
     fn validate(&self) -> Result<(), OrbitError> {
         let opt = |option, message: String| Err(OrbitError::Option { option, message });
         if !(self.from.is_finite() && self.to.is_finite()) || self.from == self.to {
             return opt("from/to", format!("{} to {} is not allowed: two finite, different values", self.from, self.to));
+        }
+        if let Some(s) = self.scale {
+            if !(s.is_finite() && s > 0.0) {
+                return opt("param-scale", format!("{s} is not allowed: finite, > 0"));
+            }
         }
         if self.max_points < 2 {
             return opt("max-points", format!("{} is not allowed: >= 2", self.max_points));
@@ -578,11 +607,11 @@ fn continuation_until<F: Family>(
     let model = family.model(opts.from)?;
     let start = periodic_orbit(&model, 0.0, family.period(opts.from)?, guess, &opts.newton)?;
     let n = start.x.len();
-    let ls = (opts.to - opts.from).abs();
+    let ls = opts.param_scale();
     let xs = match start.x.iter().fold(0.0f64, |a, v| a.max(v.abs())) {
         // A start at rest (no forcing at `from`: an amplitude from 0) has
         // no size to scale the state by: the change of the orbit over the
-        // range, `|dx/dλ| |to − from|`, from `(P' − I) dx/dλ = −G_λ`.
+        // parameter's scale, `|dx/dλ| Λ`, from `(P' − I) dx/dλ = −G_λ`.
         0.0 => {
             let ctx = Ctx { family, opts, xs: 1.0, ls, n };
             let lin = ctx.residual_and_jacobian(&start.x, opts.from)?;
@@ -720,16 +749,17 @@ fn continuation_until<F: Family>(
                         // No impacting orbit beyond: the branch ends at
                         // the grazing, which is named.
                         let Some(last) = away.last().cloned() else {
+                            let unit = opts.scale_name();
                             branch.end = if retraced {
                                 format!("ended at the grazing at param = {at}: the orbit with the further impact there is the one the branch came along (it would retrace itself)")
                             } else if cur.orbit.impacts() == 0 {
                                 format!(
-                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found past it or turning back from it (Newton from the grazing orbit, and from it pushed past the stop, at 1e-9 … 1e-3 of the range past it; from the free orbit pushed past the stop at 1e-6 … 1e-2 before it){}",
-                                    residuals(least)
+                                    "ended at the grazing at param = {at}: no periodic orbit with the new impact found past it or turning back from it (Newton from the grazing orbit, and from it pushed past the stop, at 1e-9 … 1e-3 of {unit} past it; from the free orbit pushed past the stop at 1e-6 … 1e-2 before it){}",
+                                    residuals(least, unit)
                                 )
                             } else {
                                 format!(
-                                    "ended at the grazing at param = {at}, where a flight between the {} impacts per period reaches a stop: no periodic orbit with the further impact found past it or turning back from it (Newton at 1e-9 … 1e-3 of the range on either side)",
+                                    "ended at the grazing at param = {at}, where a flight between the {} impacts per period reaches a stop: no periodic orbit with the further impact found past it or turning back from it (Newton at 1e-9 … 1e-3 of {unit} on either side)",
                                     cur.orbit.impacts()
                                 )
                             };
@@ -910,10 +940,13 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
     let wn = w.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-300);
     let xs = bif.x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-300);
     let span = (range.1 - range.0).abs();
+    // The offsets from the bifurcation: fractions of the parameter's scale
+    // (by default the range).
+    let scale = opts.scale.unwrap_or(span);
     let mut last = None;
     for delta in [1e-4, 1e-3, 1e-2] {
         for side in [1.0, -1.0] {
-            let param = bif.param + side * delta * span;
+            let param = bif.param + side * delta * scale;
             let end = if side > 0.0 { range.0.max(range.1) } else { range.0.min(range.1) };
             if (end - param) * side <= 0.0 {
                 continue;
@@ -930,7 +963,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                 }
                 let mut o = *opts;
                 (o.from, o.to) = (param, end);
-                let mut copies = Copies { single, xs, ls: span, images: Vec::new(), cut: None, copy: None };
+                let mut copies = Copies { single, xs, ls: scale, images: Vec::new(), cut: None, copy: None };
                 match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |b| copies.check(&b.points), false) {
                     Ok(mut b) => {
                         // The points the last step added (a branch that
@@ -1006,20 +1039,22 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
     };
     let n = bif.x.len();
     let span = (range.1 - range.0).abs();
+    // The arclength's parameter scale (by default the range).
+    let scale = opts.scale.unwrap_or(span);
     let xs = bif.x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(opts.newton.scale).max(1e-300);
-    let ctx = Ctx { family, opts, xs, ls: span, n };
+    let ctx = Ctx { family, opts, xs, ls: scale, n };
     let lin = ctx.residual_and_jacobian(&bif.x, bif.param)?;
     let unit = |v: Vec<f64>| -> Vec<f64> {
         let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         v.into_iter().map(|x| x / norm).collect()
     };
-    let c = unit((0..n).map(|i| (b.orbit.x[i] - a.orbit.x[i]) / xs).chain(std::iter::once((b.param - a.param) / span)).collect());
+    let c = unit((0..n).map(|i| (b.orbit.x[i] - a.orbit.x[i]) / xs).chain(std::iter::once((b.param - a.param) / scale)).collect());
     let m = Mat::from_fn(n + 1, n + 1, |r, col| {
         if r < n {
             if col < n {
                 (lin.jac[(r, col)] - if r == col { 1.0 } else { 0.0 }) * xs
             } else {
-                lin.gl[r] * span
+                lin.gl[r] * scale
             }
         } else {
             c[col]
@@ -1045,9 +1080,9 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
     for s in [1e-3, 1e-2, 3e-2] {
         for sign in [1.0, -1.0] {
             let x: Vec<f64> = (0..n).map(|i| bif.x[i] + sign * s * w[i] * xs).collect();
-            let param = bif.param + sign * s * w[n] * span;
+            let param = bif.param + sign * s * w[n] * scale;
             let (x, param) = match ctx.correct(x.clone(), param, &w, None) {
-                Ok((y, l, _)) if ((0..n).map(|i| ((y[i] - x[i]) / xs).powi(2)).sum::<f64>() + ((l - param) / span).powi(2)).sqrt() <= 3.0 * s => (y, l),
+                Ok((y, l, _)) if ((0..n).map(|i| ((y[i] - x[i]) / xs).powi(2)).sum::<f64>() + ((l - param) / scale).powi(2)).sqrt() <= 3.0 * s => (y, l),
                 Ok(_) => continue,
                 Err(e) => {
                     last = Some(e);
@@ -1069,7 +1104,7 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
                         .bifurcations
                         .iter()
                         .chain(std::iter::once(bif))
-                        .any(|g| g.kind == BifurcationKind::BranchPoint && (g.param - f.param).abs() <= 1e-4 * span && g.x.iter().zip(&f.x).all(|(u, v)| (u - v).abs() <= 1e-2 * xs))
+                        .any(|g| g.kind == BifurcationKind::BranchPoint && (g.param - f.param).abs() <= 1e-4 * scale && g.x.iter().zip(&f.x).all(|(u, v)| (u - v).abs() <= 1e-2 * xs))
             };
             let mut met = None;
             let stop = &mut |br: &Branch| {
@@ -1242,7 +1277,7 @@ type Grazed = (Bifurcation, Vec<Point>, bool, [Searches; 2]);
 /// The Newton searches for the orbit born at a grazing on one side of it
 /// ([`impact_beyond_grazing`]): the smallest residual of those that failed
 /// (`‖P(x) − x‖∞` at Newton's last iterate) with the offset where it was
-/// reached (a fraction of the range), and how many failed far from any
+/// reached (a fraction of the parameter's scale, by default the range), and how many failed far from any
 /// orbit ([`Searches::failed`]). Once [`FAR_STALLS`] have, the side's
 /// remaining searches are skipped.
 #[derive(Clone, Copy, Debug)]
@@ -1293,7 +1328,7 @@ impl Searches {
 const FAR_STALLS: usize = 2;
 
 /// The least relative residual above which a search at the offset `f` (a
-/// fraction of the range from the grazing) that fails counts as far from
+/// fraction of the parameter's scale from the grazing) that fails counts as far from
 /// any orbit: `max(1e-4, 100 f)`. Where an orbit is found at some offset
 /// (the oscillator, the chain, `tests/it`), the searches that fail at the
 /// others come within `4.9 f` (`1.6e-6` below `f = 1e-6`) of their state
@@ -1334,7 +1369,7 @@ fn further_impact<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoin
 /// reaches 0: its parameter by secant steps on the smooth side (each a
 /// Newton solve), then the orbit just beyond it with more impacts (Newton
 /// from the grazing orbit's state at parameters `1e-9` … `1e-3` of the
-/// range past it; its Jacobian grows as the inverse of the new impact's
+/// parameter's scale (by default the range) past it; its Jacobian grows as the inverse of the new impact's
 /// speed, so the nearest that converges is taken, within 1e-2 of the
 /// state's scale of the grazing orbit), and from it
 /// natural-parameter steps away from the grazing. When none converges the
@@ -1536,12 +1571,12 @@ const SEARCH_STALL: usize = 10;
 
 /// The least residuals of the Newton searches past a grazing and before
 /// it, as the end of a branch says them.
-fn residuals(least: [Searches; 2]) -> String {
+fn residuals(least: [Searches; 2], unit: &str) -> String {
     let say = |s: &Searches| {
         let (r, f) = s.said();
         let given_up = if s.open() { String::new() } else { format!(", the rest given up after {FAR_STALLS} searches failed far from any orbit") };
         if r.is_finite() {
-            format!("{r:.1e} (at {f:e} of the range{given_up})")
+            format!("{r:.1e} (at {f:e} of {unit}{given_up})")
         } else {
             "none (no start with the impact)".into()
         }
@@ -1620,7 +1655,8 @@ fn corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, points: &[BranchPoint], dir:
 /// section: its section state is `cur`'s with the impulse added (the
 /// impact moves before the section) or taken back (after it), sought a
 /// little further along the branch's direction in the parameter (at 0.1,
-/// 1 and 4 times the last step, then 1e-7, 1e-6 and 1e-5 of the range).
+/// 1 and 4 times the last step, then 1e-7, 1e-6 and 1e-5 of the
+/// parameter's scale, by default the range).
 ///
 /// Only the same orbit with that impact moved is taken: as many impacts
 /// and held phases per period as `cur`, an impact of that contact within
@@ -2542,7 +2578,8 @@ fn critical(kind: BifurcationKind, p: &Point) -> c64 {
 }
 
 /// Bisection on the arclength `s ∈ (0, s_b)` from `a` for where `differs`
-/// (a sign change, a count change) happens, to 1e-12 of the range: the
+/// (a sign change, a count change) happens, to 1e-12 of the parameter's
+/// scale (by default the range): the
 /// point on `a`'s side of the change nearest to it (its limit from `a`).
 /// A trial that fails to converge ends the bisection at the bracket so far.
 fn bisect<F: Family>(ctx: &Ctx<'_, F>, a: &Point, s_b: f64, b: &Point, value: impl Fn(&Point) -> f64, differs: impl Fn(&Point, &Point) -> bool) -> Point {

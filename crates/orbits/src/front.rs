@@ -26,6 +26,9 @@ pub struct ContinueOptions {
     pub switch: bool,
     /// A sweep's bifurcation diagram `(param, displacement)` drawn under the branch.
     pub sweep: Vec<(f64, f64)>,
+    /// The parameter's scale for the steps and the searches' offsets
+    /// ([`ContinuationOptions::scale`]); `None`: the range.
+    pub param_scale: Option<f64>,
 }
 
 /// A continuation's result: its files (`branch.csv`, `bifurcations.csv`,
@@ -133,6 +136,7 @@ pub fn continue_scene(
     }
     let mut copts = ContinuationOptions::new(opts.from, opts.to);
     copts.max_points = opts.max_points;
+    copts.scale = opts.param_scale;
     // The start: the scene's own initial state after the transient.
     let built = family.build(opts.from)?;
     let guess = if opts.transient > 0.0 { built.model.flow(0.0, &built.start, opts.transient * std::f64::consts::TAU / built.omega, false)?.x } else { built.start.clone() };

@@ -124,7 +124,7 @@ fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
 #[test]
 fn the_switch_follows_the_cascade_to_period_four() {
     let doc = crate::oscillator(ZETA, GAP, E, 2.2);
-    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new(), param_scale: None };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     for l in &done.lines {
         eprintln!("{l}");

@@ -312,7 +312,7 @@ fn from_the_free_orbit_into_grazing_the_branch_goes_on_with_the_impact() {
 fn every_point_carries_its_own_omega_and_tip() {
     use signorini_orbits::front::{continue_scene, ContinueOptions};
     let doc = crate::oscillator(0.05, 0.2, 0.8, 2.2);
-    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new(), param_scale: None };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     let csv = &done.files.iter().find(|f| f.0 == "branch.csv").unwrap().1;
     let mut lines = csv.lines();

@@ -56,7 +56,7 @@ fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
 #[test]
 fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
     let doc = crate::oscillator(0.05, 0.2, 0.3, 2.42);
-    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new() };
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new(), param_scale: None };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     for l in &done.lines {
         eprintln!("{l}");
@@ -168,7 +168,7 @@ fn the_orbits_at_the_vanishing_impact_are_fixed_points_of_the_crates_map() {
 #[test]
 fn the_branch_turns_back_at_the_vanishing_impact_onto_the_three_impact_orbits() {
     let doc = crate::oscillator(0.05, 0.2, 0.3, 2.42);
-    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new() };
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new(), param_scale: None };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     let (bh, bifs) = rows(&done.files.iter().find(|f| f.0 == "bifurcations.csv").unwrap().1);
     let (cp, ck) = (bh.iter().position(|h| h == "param").unwrap(), bh.iter().position(|h| h == "kind").unwrap());

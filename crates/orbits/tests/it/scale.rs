@@ -102,3 +102,59 @@ fn the_fold_and_period_doubling_past_the_grazing_are_listed_whatever_the_range()
         assert!((f - listed[0].0).abs() <= 1e-9 && (p - listed[0].1).abs() <= 1e-9, "{listed:?}");
     }
 }
+
+/// Given the parameter's scale (`scale`: Λ = 4, the start's magnitude),
+/// the runs from 4 to 1 and to 2 take the same steps: the arclength's
+/// parameter scale, the searches' offsets at a grazing and the steps'
+/// bounds are fractions of Λ, not of the range. Over their common part, [2, 4],
+/// the two branches are the same points, every one a fixed point of the
+/// transcription's map (1e-9 of the state, as many impacts), and list the
+/// same bifurcations: the period doubling and fold of the 1-impact orbits
+/// and the fold and period doubling past the grazing, each against the
+/// transcription (`det(P' ∓ I)` changing sign between the points around
+/// it). With offsets and steps of the range (no `scale`) the two runs'
+/// points differ (200 and 355 of them before each closes its loop).
+#[test]
+fn the_runs_to_1_and_to_2_take_the_same_steps_and_list_the_same_bifurcations() {
+    let run = |to: f64| continuation(&Cosine, &[-0.78, -0.30], &ContinuationOptions { scale: Some(4.0), ..ContinuationOptions::new(4.0, to) }).unwrap();
+    let (one, two) = (run(1.0), run(2.0));
+    let common = |b: &signorini_orbits::Branch| b.points.iter().take_while(|p| p.param >= 2.0).count();
+    let (n1, n2) = (common(&one), common(&two));
+    assert_eq!(n1, n2, "points over [2, 4]: {n1} to 1, {n2} to 2 ({} and {} in all; ends: {} / {})", one.points.len(), two.points.len(), one.end, two.end);
+    for (k, (a, b)) in one.points.iter().zip(&two.points).take(n1).enumerate() {
+        let d = a.orbit.x.iter().zip(&b.orbit.x).fold((a.param - b.param).abs(), |m, (u, v)| m.max((u - v).abs()));
+        assert!(d <= 1e-12, "point {k}: 4 → 1 at {} {:?}, 4 → 2 at {} {:?}", a.param, a.orbit.x, b.param, b.orbit.x);
+        let x = [a.orbit.x[0], a.orbit.x[1]];
+        let (y, impacts) = map(a.param, x);
+        let r = (y[0] - x[0]).abs().max((y[1] - x[1]).abs());
+        assert!(r <= 1e-9 && impacts == a.orbit.impacts(), "point {k} at {}: the transcription's residual {r:e}, {impacts} impacts (the branch's {})", a.param, a.orbit.impacts());
+    }
+    let within = |b: &signorini_orbits::Branch| b.bifurcations.iter().filter(|f| f.between.1 < n1).map(|f| (f.kind, f.param)).collect::<Vec<_>>();
+    let (l1, l2) = (within(&one), within(&two));
+    assert_eq!(l1.len(), l2.len(), "{l1:?} / {l2:?}");
+    for ((k1, p1), (k2, p2)) in l1.iter().zip(&l2) {
+        assert!(k1 == k2 && (p1 - p2).abs() <= 1e-12, "{l1:?} / {l2:?}");
+    }
+    // The fold and period doubling past the grazing at 3.4277 and those of
+    // the 1-impact orbits (3.837, 4.2609), against the transcription.
+    let st = |p: &signorini_orbits::BranchPoint| [p.orbit.x[0], p.orbit.x[1]];
+    let mut seen = (0, 0);
+    for f in one.bifurcations.iter().filter(|f| f.between.1 < n1) {
+        let s = match f.kind {
+            BifurcationKind::Fold => -1.0,
+            BifurcationKind::PeriodDoubling => 1.0,
+            _ => continue,
+        };
+        let (a, b) = (&one.points[f.between.0], &one.points[f.between.1]);
+        assert!(det(a.param, st(a), s) * det(b.param, st(b), s) < 0.0, "det(P' + {s} I) keeps its sign across the {:?} at {}", f.kind, f.param);
+        if s < 0.0 {
+            seen.0 += 1;
+        } else {
+            seen.1 += 1;
+        }
+    }
+    assert_eq!(seen, (2, 2), "folds and period doublings over [2, 4]: {l1:?}");
+    for (want, kind) in [(3.502239242907, BifurcationKind::Fold), (3.501917507165, BifurcationKind::PeriodDoubling)] {
+        assert!(l1.iter().any(|(k, p)| *k == kind && (p - want).abs() <= 1e-9), "no {kind:?} at {want}: {l1:?}");
+    }
+}

@@ -72,7 +72,7 @@ fn a_start_on_a_period_two_attractor_says_so() {
     assert!(gap(two) <= 1e-6 && gap(one) > 1e-2, "the transcription's attractor: {:e} after 1 period, {:e} after 2", gap(one), gap(two));
     let scene =
         "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.8\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = 1.1\n";
-    let opts = ContinueOptions { param: "forcing.omega".into(), from: 1.1, to: 4.0, period: 1, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new() };
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 1.1, to: 4.0, period: 1, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new(), param_scale: None };
     match continue_scene(scene.parse().unwrap(), &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true) {
         Err(e @ OrbitError::NoConvergence { residual, .. }) => {
             let m = e.to_string();

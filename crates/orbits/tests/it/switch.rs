@@ -41,7 +41,7 @@ fn attractor(omega: f64, x: &[f64]) -> (usize, usize) {
 #[test]
 fn each_bifurcation_of_the_period_two_loop_is_listed_once() {
     let doc = crate::oscillator(0.05, 0.2, 0.8, 2.2);
-    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new() };
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.2, to: 1.03, period: 1, transient: 100.0, max_points: 400, switch: true, sweep: Vec::new(), param_scale: None };
     let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
     for l in &done.lines {
         eprintln!("{l}");
