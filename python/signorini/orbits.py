@@ -60,7 +60,7 @@ def _sweep_points(sweep):
         return [(float(r["param"]), float(r["displacement"])) for r in _csv.DictReader(f)]
 
 
-def continuation(scene, param, start, stop, *, period=1, transient=100.0, max_points=400, switch=False, sweep=None, out=None) -> ContinuationResult:
+def continuation(scene, param, start, stop, *, period=1, transient=100.0, max_points=400, switch=False, sweep=None, out=None, param_scale=None) -> ContinuationResult:
     """Continues the scene's periodic orbits of ``period`` forcing periods in
     its numeric field ``param`` (a dotted path written in the scene, e.g.
     ``forcing.omega``) from ``start`` to ``stop`` (``--from``/``--to`` of
@@ -73,7 +73,10 @@ def continuation(scene, param, start, stop, *, period=1, transient=100.0, max_po
     branch point the branch crossing there (at most 24 branches in all);
     ``sweep`` (a :class:`SweepResult`
     or a sweep folder) is drawn under the branch in ``svg``; ``out`` keeps
-    the files. A start with no periodic orbit nearby raises RuntimeError
+    the files. ``param_scale`` (``--param-scale``) is the parameter's scale
+    of which the steps and the searches' offsets are fractions (default:
+    the range ``|stop - start|``): runs from one start with the same
+    ``param_scale`` take the same steps where their ranges overlap. A start with no periodic orbit nearby raises RuntimeError
     with Newton's residual; bad input raises SceneError naming it."""
     text, _name, _base = _scene(scene)
     param = _check.string("param", param)
@@ -88,7 +91,9 @@ def continuation(scene, param, start, stop, *, period=1, transient=100.0, max_po
         raise _SceneError(f"max_points: {max_points} is not allowed: >= 2")
     switch = _check.boolean("switch", switch)
     points = _sweep_points(sweep)
-    d = _signorini.run_continuation(text, param, start, stop, period, transient, max_points, switch, points, None if out is None else str(out))
+    if param_scale is not None:
+        param_scale = _check.real("param_scale", param_scale)
+    d = _signorini.run_continuation(text, param, start, stop, period, transient, max_points, switch, points, None if out is None else str(out), param_scale)
     return ContinuationResult(d, out)
 
 

@@ -62,7 +62,7 @@ fn python_error(e: OrbitError) -> PyErr {
 /// columns}, "files": {file: text}, "svg": str or None, "lines": [...]}`
 /// and writes the files to `out` if given.
 #[pyfunction]
-#[pyo3(signature = (scene_text, param, start, stop, period, transient, max_points, switch, sweep, out))]
+#[pyo3(signature = (scene_text, param, start, stop, period, transient, max_points, switch, sweep, out, param_scale))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_continuation<'py>(
     py: Python<'py>,
@@ -76,10 +76,11 @@ pub fn run_continuation<'py>(
     switch: bool,
     sweep: Vec<(f64, f64)>,
     out: Option<String>,
+    param_scale: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let doc: toml::Table = guarded(|| scene_text.parse().map_err(|e: toml::de::Error| SceneError::new_err(e.to_string())))?;
     guarded(|| signorini_scene::SceneFile::from_table(doc.clone()).map(|_| ()).map_err(|e| crate::py_scene_error(e, false)))?;
-    let opts = ContinueOptions { param: param.to_string(), from: start, to: stop, period, transient, max_points, switch, sweep, param_scale: None };
+    let opts = ContinueOptions { param: param.to_string(), from: start, to: stop, period, transient, max_points, switch, sweep, param_scale };
     let cancel = signorini_run::Cancel::new();
     let c = cancel.clone();
     let poll: std::sync::Arc<dyn Fn() -> bool + Send + Sync> = std::sync::Arc::new(move || c.is_cancelled());

@@ -127,3 +127,26 @@ def test_the_oscillator_between_two_stops_grazes_the_nearer_one():
     assert abs(run.events["velocity_before"][1] + math.sqrt(3) / 2) <= 1e-12
     with pytest.raises(signorini.SceneError, match="oscillator.stops"):
         signorini.run({"oscillator": {**free["oscillator"], "stop": 0.8}})
+
+
+def test_param_scale_gives_runs_to_two_ends_the_same_steps():
+    # The steps are fractions of the range by default: the runs to 3.0 and
+    # to 2.6 step differently over their common range. With one
+    # param_scale they take the same points there (each run's last point
+    # is its own end).
+    def points(stop, **kw):
+        b = signorini.continuation(SCENE, "forcing.omega", 2.2, stop, **kw).branch
+        return list(zip(b["param"], b["q0"], b["v0"]))
+
+    far, near = points(3.0), points(2.6)
+    assert far[: len(near) - 1] != near[:-1]
+    far, near = points(3.0, param_scale=1.0), points(2.6, param_scale=1.0)
+    assert len(near) > 3 and far[: len(near) - 1] == near[:-1]
+    # The range's length (2.6 - 2.2 in floating point) as the scale is the default.
+    assert points(2.6, param_scale=2.6 - 2.2) == points(2.6)
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf"), "1"])
+def test_a_param_scale_not_finite_and_positive_is_refused_by_name(bad):
+    with pytest.raises(signorini.SceneError, match="param_scale"):
+        signorini.continuation(SCENE, "forcing.omega", 2.2, 3.0, param_scale=bad)
