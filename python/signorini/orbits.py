@@ -232,7 +232,9 @@ def basins(scene, x, v, grid, x_range, v_range, *, transient=200, max_period=16,
     max(1, |x|)`` on the stroboscopic map P), impacts per period and
     sticking are read; cells within ``match_tol`` of one attractor share
     its id. ``orbits`` (a :class:`ContinuationResult`, a ``branch.csv`` or
-    its folder) labels the cells that reach a known orbit; ``shard=(i, n)``
+    its folder) labels the cells that reach a known orbit, and its stable
+    orbits at the scene's value stop the cells' transients as the seeds'
+    attractors do (as ``signorini basins --orbits``); ``shard=(i, n)``
     runs the i-th of n blocks of cells (``signorini merge`` joins the
     folders); ``threads`` (default: all cores) changes nothing in the
     result; ``out`` writes the files (as :meth:`BasinsResult.write`).

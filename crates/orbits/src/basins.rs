@@ -48,7 +48,10 @@
 //! classified so far), so every shard and thread count makes the same
 //! decisions, and a merge is the unsharded grid byte for byte; a key that
 //! changes the map (not only the start) makes each cell's map its own, and
-//! no target fits it ([`Target::fits`]).
+//! no target fits it ([`Target::fits`]). Known orbits (below) add their
+//! stable points at the scene's map as targets beside the seeds'
+//! ([`BasinScene::known_targets`]: the same [`Target::new`], so the same
+//! Newton, stability test and radius); an unstable one never is.
 //!
 //! Cells on one attractor are grouped ([`Grouper`]): two periodic cells
 //! share an attractor when their periods agree and a point of one's cycle
@@ -684,6 +687,51 @@ impl BasinScene {
             let (i, j) = self.ij(c);
             let Ok(built) = self.build(i, j) else { continue };
             if let Some(t) = Target::new(&built.model, built.omega, a, opts)? {
+                out.push(t);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The targets of the known orbits (a continuation's `branch.csv`,
+    /// [`parse_branch`]) at this grid's map, beside `have` (the seeds'):
+    /// each orbit marked stable, of a period `p <= max_period` and with a
+    /// state of the model's size, whose residual `‖P^p(x) − x‖∞` at the map
+    /// of cell 0 is within `match_tol · max(1, ‖x‖∞)` (a point at the
+    /// scene's value of the continued parameter; a point of another value
+    /// is another map's orbit), taken in the order of that residual (the
+    /// file's order among equals), and not within `match_tol · max(1,
+    /// ‖x‖∞)` of a point of the cycle of a target of its period already
+    /// made, becomes a [`Target`] as a seed's attractor does
+    /// ([`Target::new`]: Newton at this map within `match_tol` of it, its
+    /// multipliers inside the unit circle, the same radius). An unstable
+    /// orbit is never a target (the file's `stable` column, and Newton's
+    /// multipliers at this map). Errors: only an interrupt.
+    pub fn known_targets(&self, known: &[KnownOrbit], have: &[Target], opts: &BasinOptions) -> Result<Vec<Target>, OrbitError> {
+        let Ok(built) = self.build(0, 0) else { return Ok(Vec::new()) };
+        let (model, omega) = (&built.model, built.omega);
+        let dim = 2 * model.state_dofs().len();
+        let period = TAU / omega;
+        let mut near: Vec<(f64, &KnownOrbit)> = Vec::new();
+        for o in known.iter().filter(|o| o.stable && o.period > 0 && o.period <= opts.max_period && o.state.len() == dim) {
+            let residual = match model.flow(0.0, &o.state, o.period as f64 * period, false) {
+                Ok(img) => dist(&img.x, &o.state),
+                Err(OrbitError::Interrupted) => return Err(OrbitError::Interrupted),
+                Err(_) => continue,
+            };
+            if residual <= opts.match_tol * norm(&o.state).max(1.0) {
+                near.push((residual, o));
+            }
+        }
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut out: Vec<Target> = Vec::new();
+        for (_, o) in near {
+            let tol = opts.match_tol * norm(&o.state).max(1.0);
+            if have.iter().chain(&out).any(|t| t.attractor.period == o.period && t.attractor.cycle.iter().any(|c| dist(c, &o.state) <= tol)) {
+                continue;
+            }
+            let a = Attractor { period: o.period, impacts: 0, sticking: false, state: o.state.clone(), cycle: Vec::new() };
+            if let Some(t) = Target::new(model, omega, &a, opts)? {
                 out.push(t);
             }
         }

@@ -457,11 +457,17 @@ impl Grid {
             return Ok(b);
         }
         let seeded: Vec<Outcome> = seeded.into_iter().flatten().collect();
-        let targets = match self.scene.targets(&seeds, &seeded, copts) {
+        let mut targets = match self.scene.targets(&seeds, &seeded, copts) {
             Ok(t) => t,
             Err(OrbitError::Interrupted) => return Ok(b),
             Err(e) => return Err(e),
         };
+        // The known orbits' stable points at the scene's map, beside them.
+        match self.scene.known_targets(&self.known, &targets, copts) {
+            Ok(t) => targets.extend(t),
+            Err(OrbitError::Interrupted) => return Ok(b),
+            Err(e) => return Err(e),
+        }
         let mut grouper = Grouper::new(copts.match_tol);
         let mut done = cells.start;
         let batch = 256usize;

@@ -1,6 +1,7 @@
 //! signorini-orbits' integration tests (one binary, one module per concern).
 mod autonomous;
 mod basins;
+mod basins_branch;
 mod basins_stop;
 mod beam;
 mod between;
