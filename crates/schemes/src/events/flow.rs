@@ -1403,33 +1403,30 @@ impl ModalFlow {
         let (k, c) = (self.k[i], self.c[i]);
         let (g0, b) = self.steady(i, t0);
         let t1 = t0 + tau;
-        let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
-        let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
-        // The remainder: e'' + c e' + k e = 0. (A damped free mode, `k = 0
-        // < c`, still loses `ε/(cτ)` here as `advance_mode` did before its
-        // φ-functions, docs/theory.md §9.1.)
-        let mut s = if k > 0.0 {
-            -((de1 - de0) + c * (e1 - e0)) / k
-        } else if c > 0.0 {
-            e0 * tau + de0 * (tau + (-c * tau).exp_m1() / c) / c
+        let mut s = if k == 0.0 && c > 0.0 {
+            // A damped free mode (`λ = 0, −c`): `advance_mode`'s φ-form
+            // integrated, `∫₀^τ s^j φ_j(−cs) ds = τ^{j+1} φ_{j+1}(−cτ)`:
+            // `e₀ τ + e₀' τ² φ₂ + g₀ τ³ φ₃ + b τ⁴ φ₄` (`e₀, e₀'` less the
+            // harmonics' particular part, whose integral is added below).
+            // The `1/c` form, `e₀ τ + e₀' (τ + expm1(−cτ)/c)/c + g₀ τ²/(2c)`
+            // with `e₀' = η₀' − g₀/c`, cancelled to `~ε/(cτ)` of its terms:
+            // 1e10 of the integral at `c = 1e-13` (docs/theory.md §9.1).
+            let mut ph = [0.0; 2];
+            self.add_harmonic_particular(i, 0.0, &tr[0], &mut ph);
+            let (e0, de0) = (eta - ph[0], deta - ph[1]);
+            let [_, p2, p3, p4] = phis(-c * tau);
+            e0 * tau + tau * tau * (de0 * p2 + tau * (g0 * p3 + b * tau * p4))
+        } else if k > 0.0 {
+            let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
+            let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
+            // The remainder: e'' + c e' + k e = 0.
+            -((de1 - de0) + c * (e1 - e0)) / k + g0 * tau / k
         } else {
-            e0 * tau + 0.5 * de0 * tau * tau
+            let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
+            e0 * tau + 0.5 * de0 * tau * tau + g0 * tau * tau * tau / 6.0
         };
-        s += if k > 0.0 {
-            g0 * tau / k
-        } else if c > 0.0 {
-            g0 * tau * tau / (2.0 * c)
-        } else {
-            g0 * tau * tau * tau / 6.0
-        };
-        if b != 0.0 {
-            s += if k > 0.0 {
-                b * tau * tau / (2.0 * k) - c * b * tau / (k * k)
-            } else if c > 0.0 {
-                -b * tau * tau / (2.0 * c * c) + b * tau * tau * tau / (6.0 * c)
-            } else {
-                b * tau * tau * tau * tau / 24.0
-            };
+        if b != 0.0 && !(k == 0.0 && c > 0.0) {
+            s += if k > 0.0 { b * tau * tau / (2.0 * k) - c * b * tau / (k * k) } else { b * tau * tau * tau * tau / 24.0 };
         }
         for h in &self.harmonics {
             let g = h.modal[i] * h.amplitude;
@@ -1451,6 +1448,29 @@ impl ModalFlow {
             }
         }
         s
+    }
+
+    /// `∫ q_dof` over `[t0, t0 + tau]` along the flow from `(q0, v0)` at
+    /// `t0`, taken as a held force's impulse is (the position's functional,
+    /// [`linear`](Self::linear), integrated from the modal states at both
+    /// ends, docs/theory.md §9.3): for the tests, which check it against
+    /// an independent oracle.
+    ///
+    /// # Panics
+    /// If a slice's length is not the problem's or `dof` is not one of its
+    /// dofs (a programmer error).
+    #[doc(hidden)]
+    #[track_caller]
+    pub fn position_integral(&self, t0: f64, q0: &[f64], v0: &[f64], tau: f64, dof: usize) -> f64 {
+        let n = self.n;
+        assert!(q0.len() == n && v0.len() == n && dof < n, "state slices of {n} entries, a dof below {n}");
+        let (mut eta0, mut deta0) = (vec![0.0; n], vec![0.0; n]);
+        self.to_modal(t0, q0, v0, &mut eta0, &mut deta0);
+        let (mut eta, mut deta, mut d, mut dd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        self.advance_modal_from(t0, (&eta0, &deta0), tau, (&mut eta, &mut deta), (&mut d, &mut dd), &mut [Vec::new(), Vec::new()]);
+        let mut unit = vec![0.0; n];
+        unit[dof] = 1.0;
+        self.linear(&unit, &vec![0.0; n]).integral(self, t0, (&eta0, &deta0), (&eta, &deta), tau)
     }
 
     /// Advances the state `(q0, v0)` at time `t0` by `tau` exactly into

@@ -801,3 +801,54 @@ fn a_slow_pairs_plane_is_found_without_its_eigenvectors() {
         assert!(cos.abs() <= 0.87, "c = {c:e}: columns within 30°: cos {cos}");
     }
 }
+
+/// `∫ q` over a flight of a damped free mode (`k = 0 < c`: a lone damped
+/// mass, and a free chain's rigid pair under a dashpot, the first-order
+/// form), taken as a held force's impulse is (`ModalFlow::position_integral`),
+/// against a 50-digit exponential of the state augmented with the
+/// integral (`oracles/position_integral.py`, mpmath; `cτ` from 1e-15 to
+/// 10, a steady load and a harmonic). The mode's integral was
+/// `e₀ τ + e₀' (τ + expm1(−cτ)/c)/c + g₀ τ²/(2c)`, `e₀' = η₀' − g₀/c`:
+/// its terms cancel to `~ε/(cτ)` of them: off by up to 4.6e9 of the
+/// integral's scale (`max(|∫ q|, τ)`) at `c = 1e-13`, 4e-3 at `1e-7`,
+/// 4e-11 at `1e-3`; now the φ-form `e₀ τ + τ² (e₀' φ₂ + τ (g₀ φ₃ + b τ
+/// φ₄))` (docs/theory.md §9.1): within 3.6e-16 (the lone mass) and 3.0e-14
+/// (the chain's first-order form, the shortest flight, every `c` alike:
+/// 3.2e-15 at `c = 1` before and after). Asserts 1e-13. Plant: the `1/c`
+/// form fails 35 of the 48.
+#[test]
+fn a_damped_free_modes_integral_keeps_its_digits() {
+    let text = include_str!("../oracles/position_integral.csv");
+    let mut bad = Vec::new();
+    let mut worst = 0.0f64;
+    for line in text.lines().skip(1) {
+        let cols: Vec<&str> = line.split(',').collect();
+        let (name, c, tau): (&str, f64, f64) = (cols[0], cols[1].parse().unwrap(), cols[2].parse().unwrap());
+        let want: Vec<f64> = cols[3..].iter().map(|x| x.parse().unwrap()).collect();
+        let sine = TimeProfile::Sine { amplitude: 0.4, omega: 1.7 };
+        let (dy, q0, v0) = if name == "one" {
+            let (mut m, k, mut d) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0), SymBand::zeros(1, 0));
+            m.set(0, 0, 1.3);
+            d.set(0, 0, c);
+            let mut dy = Dynamics::new(m, k, vec![0.7], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]).with_damping(Some(d));
+            dy.forcing = vec![Forcing { shape: vec![1.0], time: sine }];
+            (dy, vec![0.3], vec![-0.2])
+        } else {
+            let (m, k) = common::chain_matrices(3, true);
+            let mut d = SymBand::zeros(3, 1);
+            d.set(0, 0, c);
+            let mut dy = Dynamics::new(m, k, vec![0.2, 0.0, 0.1], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]).with_damping(Some(d));
+            dy.forcing = vec![Forcing { shape: vec![1.0, 0.5, 0.0], time: sine }];
+            (dy, vec![0.3, -0.1, 0.25], vec![-0.2, 0.15, 0.05])
+        };
+        let flow = ModalFlow::new(&dy).unwrap_or_else(|e| panic!("{name}, c = {c:e}: {e}"));
+        assert_eq!(flow.classical(), name == "one");
+        let scale = want.iter().fold(tau, |a, x| a.max(x.abs()));
+        let err = (0..want.len()).map(|j| (flow.position_integral(1.3, &q0, &v0, tau, j) - want[j]).abs()).fold(0.0f64, f64::max) / scale;
+        worst = worst.max(err);
+        if !(err <= 1e-13) {
+            bad.push(format!("{name}, c = {c:e}, τ = {tau}: {err:.1e}"));
+        }
+    }
+    assert!(bad.is_empty(), "{} integrals off the 50-digit ones (worst {worst:.1e}):\n{}", bad.len(), bad.join("\n"));
+}
