@@ -548,6 +548,125 @@ pub fn slow_plane(a: &Mat<f64>, k: f64, c: f64) -> Option<Vec<f64>> {
     Some(pair_vector(a, c, &g1, &g2, x))
 }
 
+/// The rigid modes of a free structure with two or more of them (parts
+/// without a spring to the ground or to each other: `K`'s null space of
+/// dimension `r >= 2`), under a damping that the modes of `(K, M)` do not
+/// diagonalise (docs/theory.md §9.1): one plane `{x_b, x_a}` per rigid
+/// mode, `k = 0` and its decay `c_j` (`A x_a = 0`, `A x_b = x_a − c_j
+/// x_b`), from the structure, not from the first-order form's `2r`
+/// eigenvalues near 0 (an undamped one defective, a weakly damped one's
+/// eigenvectors parallel within `~c`). With `Z` the rigid modes (the
+/// M-orthonormal null space of `K`, from the symmetric pencil), `Φ_e` the
+/// elastic ones (`ω²`) and `D = Φᵀ C Φ`, the slow invariant subspace is
+/// `{y, s; x = P s, x' = R s}` (`q = Z y + Φ_e x`, `s = y'`): the rigid
+/// velocities `s` obey `s' = −G s`, `G = D_yy + D_yx R`, with `R = −P G`
+/// and `ω² P = R G − D_xx R − D_xy` (the elastic part slaved to them),
+/// solved by that fixed point (a contraction while the rigid decays are
+/// slow against the elastic frequencies; `P = R = 0` when the damping
+/// leaves the rigid modes alone). Each eigenpair `G g_j = c_j g_j` gives
+/// `x_b = (Φ_e P g_j, Z g_j + Φ_e R g_j)` (the state `y = 0, s = g_j`),
+/// whose `(A + c_j) x_b = (Z g_j, 0)` is a rigid displacement, `A`'s null
+/// vector. `None` (the eigenvalue path) with fewer than two rigid modes, a
+/// fixed point that does not converge, or `G` without a well-conditioned
+/// real eigenbasis.
+fn rigid_block(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>) -> Option<Vec<(f64, Vec<f64>)>> {
+    let n = m.nrows();
+    let llt = m.llt(Side::Lower).ok()?;
+    let mut linv = Mat::<f64>::identity(n, n);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(llt.L(), linv.as_mut(), faer::Par::Seq);
+    let s = &linv * k * linv.transpose();
+    let s = Mat::from_fn(n, n, |i, j| 0.5 * (s[(i, j)] + s[(j, i)]));
+    let evd = s.self_adjoint_eigen(Side::Lower).ok()?;
+    let w2: Vec<f64> = (0..n).map(|i| evd.S().column_vector()[i]).collect();
+    let kmax = w2.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let (rigid, elastic): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| w2[i].abs() <= 1e-12 * kmax);
+    let (r, ne) = (rigid.len(), elastic.len());
+    if r < 2 || elastic.iter().any(|&i| !(w2[i] > 0.0)) {
+        return None;
+    }
+    let phi = linv.transpose() * evd.U();
+    let d = phi.transpose() * c * &phi;
+    let dyy = Mat::from_fn(r, r, |i, j| d[(rigid[i], rigid[j])]);
+    let dyx = Mat::from_fn(r, ne, |i, j| d[(rigid[i], elastic[j])]);
+    let dxy = Mat::from_fn(ne, r, |i, j| d[(elastic[i], rigid[j])]);
+    let dxx = Mat::from_fn(ne, ne, |i, j| d[(elastic[i], elastic[j])]);
+    let big = |x: &Mat<f64>| (0..x.nrows()).flat_map(|i| (0..x.ncols()).map(move |j| (i, j))).fold(0.0f64, |a, (i, j)| a.max(x[(i, j)].abs()));
+    let (mut p, mut rr) = (Mat::<f64>::zeros(ne, r), Mat::<f64>::zeros(ne, r));
+    let mut settled = None;
+    for it in 0..400 {
+        let g = &dyy + &dyx * &rr;
+        rr = Mat::from_fn(ne, r, |i, j| -(0..r).map(|l| p[(i, l)] * g[(l, j)]).sum::<f64>());
+        let rhs = &rr * &g - &dxx * &rr - &dxy;
+        let next = Mat::from_fn(ne, r, |i, j| rhs[(i, j)] / w2[elastic[i]]);
+        let change = big(&(&next - &p));
+        let size = big(&next);
+        p = next;
+        if !change.is_finite() {
+            return None;
+        }
+        match settled {
+            // Two more sweeps once the change is at round-off.
+            Some(at) if it >= at + 2 => break,
+            None if change <= 1e-14 * size => settled = Some(it),
+            _ => {}
+        }
+    }
+    settled?;
+    let g = &dyy + &dyx * &rr;
+    rr = Mat::from_fn(ne, r, |i, j| -(0..r).map(|l| p[(i, l)] * g[(l, j)]).sum::<f64>());
+    // G's eigenpairs: real (G is nearly D_yy, symmetric semidefinite).
+    let gscale = big(&g);
+    let evg = g.eigen().ok()?;
+    let lam: Vec<f64> = (0..r).map(|j| evg.S().column_vector()[j].re).collect();
+    if (0..r).any(|j| evg.S().column_vector()[j].im.abs() > 1e-10 * gscale) {
+        return None;
+    }
+    let mut vecs: Vec<Vec<f64>> = (0..r).map(|j| (0..r).map(|i| evg.U()[(i, j)].re).collect()).collect();
+    let v = Mat::from_fn(r, r, |i, j| vecs[j][i]);
+    let norm1 = |x: &Mat<f64>| (0..x.ncols()).map(|j| (0..x.nrows()).map(|i| x[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
+    let cond = norm1(&v) * norm1(&v.full_piv_lu().inverse());
+    let mut lam = lam;
+    if !(cond <= 1e6) {
+        // A repeated decay (identical parts): its eigenspace from the null
+        // space of `G − λ̄`, an orthonormal basis.
+        let mut order: Vec<usize> = (0..r).collect();
+        order.sort_by(|&a, &b| lam[a].total_cmp(&lam[b]));
+        let (mut l2, mut v2) = (Vec::with_capacity(r), Vec::with_capacity(r));
+        let mut i = 0;
+        while i < r {
+            let end = (i..r).take_while(|&j| lam[order[j]] - lam[order[i]] <= 1e-12 * gscale.max(f64::MIN_POSITIVE)).last().map_or(i + 1, |j| j + 1);
+            let mean = order[i..end].iter().map(|&j| lam[j]).sum::<f64>() / (end - i) as f64;
+            let shifted = Mat::from_fn(r, r, |a, b| g[(a, b)] - if a == b { mean } else { 0.0 });
+            let svd = shifted.svd().ok()?;
+            let sv = svd.S().column_vector();
+            let smax = (0..r).fold(0.0f64, |x, q| x.max(sv[q]));
+            let null: Vec<usize> = (0..r).filter(|&q| sv[q] <= 1e-10 * smax.max(gscale)).collect();
+            if null.len() != end - i {
+                return None;
+            }
+            for &q in &null {
+                l2.push(mean);
+                v2.push((0..r).map(|a| svd.V()[(a, q)]).collect());
+            }
+            i = end;
+        }
+        (lam, vecs) = (l2, v2);
+    }
+    let zc = Mat::from_fn(n, r, |i, j| phi[(i, rigid[j])]);
+    let ec = Mat::from_fn(n, ne, |i, j| phi[(i, elastic[j])]);
+    Some(
+        lam.iter()
+            .zip(&vecs)
+            .map(|(&cj, gj)| {
+                let gm = Mat::from_fn(r, 1, |i, _| gj[i]);
+                let (pq, zv, rv) = (&ec * (&p * &gm), &zc * &gm, &ec * (&rr * &gm));
+                let x: Vec<f64> = (0..n).map(|i| pq[(i, 0)]).chain((0..n).map(|i| zv[(i, 0)] + rv[(i, 0)])).collect();
+                (cj.max(0.0), x)
+            })
+            .collect(),
+    )
+}
+
 /// The load-free part of a [`ModalFlow`]: the modes of `(K, M)` (`Φ`,
 /// `M Φ`) or the first-order form's planes (`T`, `T⁻¹`, `M⁻¹`), and each
 /// mode's `k_i`, `c_i`. It depends on the matrices only: flows of the same
@@ -695,7 +814,9 @@ impl ModalFlow {
     /// A slow pair (the two eigenvalues of smallest modulus within
     /// [`SLOW`] of every other's: a free structure's rigid pair under a
     /// weak damping) takes its plane from `(A − λ₁)(A − λ₂)`
-    /// ([`slow_plane`]), not from its nearly parallel eigenvectors.
+    /// ([`slow_plane`]), not from its nearly parallel eigenvectors; two or
+    /// more rigid modes (free parts) take theirs from `K`'s null space
+    /// ([`rigid_block`]).
     fn general(m: &Mat<f64>, k: &Mat<f64>, c: &Mat<f64>, minv: Mat<f64>) -> Result<Basis, EventsError> {
         let n = m.nrows();
         let nn = 2 * n;
@@ -727,7 +848,21 @@ impl ModalFlow {
         let modulus = |j: usize| sv[j].re.hypot(sv[j].im);
         let mut order: Vec<usize> = (0..nn).collect();
         order.sort_by(|&x, &y| modulus(x).total_cmp(&modulus(y)));
-        if nn >= 4 && modulus(order[1]) <= SLOW * modulus(order[2]) {
+        // Two or more rigid modes (free parts): one block from `K`'s null
+        // space ([`rigid_block`]); its `2r` eigenvalues (0 and each `−c_j`)
+        // are the nearest ones, taken off the list.
+        let block = rigid_block(m, k, c);
+        if let Some(block) = &block {
+            let want = block.iter().map(|_| 0.0).chain(block.iter().map(|b| -b.0));
+            for w in want.collect::<Vec<f64>>() {
+                let near = (0..nn).filter(|&j| !done[j]).min_by(|&x, &y| (sv[x].re - w).hypot(sv[x].im).total_cmp(&(sv[y].re - w).hypot(sv[y].im)));
+                if let Some(j) = near {
+                    done[j] = true;
+                }
+            }
+            modes.extend(block.iter().map(|(cj, x)| (0.0, *cj, unit(x.clone()))));
+        }
+        if block.is_none() && nn >= 4 && modulus(order[1]) <= SLOW * modulus(order[2]) {
             let (l1, l2) = (sv[order[0]], sv[order[1]]);
             let pair = if l1.im == 0.0 && l2.im == 0.0 {
                 Some((l1.re * l2.re, -(l1.re + l2.re)))
@@ -1403,33 +1538,30 @@ impl ModalFlow {
         let (k, c) = (self.k[i], self.c[i]);
         let (g0, b) = self.steady(i, t0);
         let t1 = t0 + tau;
-        let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
-        let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
-        // The remainder: e'' + c e' + k e = 0. (A damped free mode, `k = 0
-        // < c`, still loses `ε/(cτ)` here as `advance_mode` did before its
-        // φ-functions, docs/theory.md §9.1.)
-        let mut s = if k > 0.0 {
-            -((de1 - de0) + c * (e1 - e0)) / k
-        } else if c > 0.0 {
-            e0 * tau + de0 * (tau + (-c * tau).exp_m1() / c) / c
+        let mut s = if k == 0.0 && c > 0.0 {
+            // A damped free mode (`λ = 0, −c`): `advance_mode`'s φ-form
+            // integrated, `∫₀^τ s^j φ_j(−cs) ds = τ^{j+1} φ_{j+1}(−cτ)`:
+            // `e₀ τ + e₀' τ² φ₂ + g₀ τ³ φ₃ + b τ⁴ φ₄` (`e₀, e₀'` less the
+            // harmonics' particular part, whose integral is added below).
+            // The `1/c` form, `e₀ τ + e₀' (τ + expm1(−cτ)/c)/c + g₀ τ²/(2c)`
+            // with `e₀' = η₀' − g₀/c`, cancelled to `~ε/(cτ)` of its terms:
+            // 1e10 of the integral at `c = 1e-13` (docs/theory.md §9.1).
+            let mut ph = [0.0; 2];
+            self.add_harmonic_particular(i, 0.0, &tr[0], &mut ph);
+            let (e0, de0) = (eta - ph[0], deta - ph[1]);
+            let [_, p2, p3, p4] = phis(-c * tau);
+            e0 * tau + tau * tau * (de0 * p2 + tau * (g0 * p3 + b * tau * p4))
+        } else if k > 0.0 {
+            let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
+            let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
+            // The remainder: e'' + c e' + k e = 0.
+            -((de1 - de0) + c * (e1 - e0)) / k + g0 * tau / k
         } else {
-            e0 * tau + 0.5 * de0 * tau * tau
+            let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
+            e0 * tau + 0.5 * de0 * tau * tau + g0 * tau * tau * tau / 6.0
         };
-        s += if k > 0.0 {
-            g0 * tau / k
-        } else if c > 0.0 {
-            g0 * tau * tau / (2.0 * c)
-        } else {
-            g0 * tau * tau * tau / 6.0
-        };
-        if b != 0.0 {
-            s += if k > 0.0 {
-                b * tau * tau / (2.0 * k) - c * b * tau / (k * k)
-            } else if c > 0.0 {
-                -b * tau * tau / (2.0 * c * c) + b * tau * tau * tau / (6.0 * c)
-            } else {
-                b * tau * tau * tau * tau / 24.0
-            };
+        if b != 0.0 && !(k == 0.0 && c > 0.0) {
+            s += if k > 0.0 { b * tau * tau / (2.0 * k) - c * b * tau / (k * k) } else { b * tau * tau * tau * tau / 24.0 };
         }
         for h in &self.harmonics {
             let g = h.modal[i] * h.amplitude;
@@ -1451,6 +1583,29 @@ impl ModalFlow {
             }
         }
         s
+    }
+
+    /// `∫ q_dof` over `[t0, t0 + tau]` along the flow from `(q0, v0)` at
+    /// `t0`, taken as a held force's impulse is (the position's functional,
+    /// [`linear`](Self::linear), integrated from the modal states at both
+    /// ends, docs/theory.md §9.3): for the tests, which check it against
+    /// an independent oracle.
+    ///
+    /// # Panics
+    /// If a slice's length is not the problem's or `dof` is not one of its
+    /// dofs (a programmer error).
+    #[doc(hidden)]
+    #[track_caller]
+    pub fn position_integral(&self, t0: f64, q0: &[f64], v0: &[f64], tau: f64, dof: usize) -> f64 {
+        let n = self.n;
+        assert!(q0.len() == n && v0.len() == n && dof < n, "state slices of {n} entries, a dof below {n}");
+        let (mut eta0, mut deta0) = (vec![0.0; n], vec![0.0; n]);
+        self.to_modal(t0, q0, v0, &mut eta0, &mut deta0);
+        let (mut eta, mut deta, mut d, mut dd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        self.advance_modal_from(t0, (&eta0, &deta0), tau, (&mut eta, &mut deta), (&mut d, &mut dd), &mut [Vec::new(), Vec::new()]);
+        let mut unit = vec![0.0; n];
+        unit[dof] = 1.0;
+        self.linear(&unit, &vec![0.0; n]).integral(self, t0, (&eta0, &deta0), (&eta, &deta), tau)
     }
 
     /// Advances the state `(q0, v0)` at time `t0` by `tau` exactly into

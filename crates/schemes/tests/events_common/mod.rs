@@ -125,3 +125,20 @@ impl Load {
         self.points.iter().map(|p| p.0).find(|&b| b > t).map_or(f64::INFINITY, |b| b - t)
     }
 }
+
+/// [`chain_matrices`] of a free chain with the links `cuts` cut (link `i`
+/// joins dofs `i − 1` and `i`: its spring and its mass coupling removed):
+/// free parts, each with a rigid mode.
+#[allow(dead_code)]
+pub fn cut_chain_matrices(n: usize, cuts: &[usize]) -> (SymBand, SymBand) {
+    let (mut m, mut k) = chain_matrices(n, true);
+    for &i in cuts {
+        k.set(i, i - 1, 0.0);
+        m.set(i, i - 1, 0.0);
+        for j in [i - 1, i] {
+            k.set(j, j, k.get(j, j) - 1.0);
+            m.set(j, j, m.get(j, j) - 1.0 / 3.0);
+        }
+    }
+    (m, k)
+}
