@@ -390,6 +390,53 @@ pub struct EventDriven {
     rebound: Vec<[Vec<f64>; 3]>,
     /// The structure's load-free bases, shared with other runs ([`FlowBases`]).
     bases: Option<Arc<FlowBases>>,
+    /// Work storage of each event (`settle`): no allocation per event.
+    work: Work,
+    /// The free dofs' state entering a phase (`enter`'s work storage).
+    entering: (Vec<f64>, Vec<f64>),
+}
+
+/// The vectors of one event's settling ([`EventDriven::settle`] and
+/// `settle_static`), kept by the run and reused:
+/// sized by the first events, then no event allocates (the flows of the
+/// active sets are built once each and cached). Empty at the start (no
+/// allocation until used).
+#[derive(Default)]
+struct Work {
+    /// The full state at the event.
+    q: Vec<f64>,
+    v: Vec<f64>,
+    /// Per contact: at a bound (upper?), its velocity before, held before,
+    /// the LCP's bounds and multipliers, impacted.
+    at: Vec<Option<bool>>,
+    vbefore: Vec<f64>,
+    held_before: Vec<bool>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    mu: Vec<f64>,
+    impacted: Vec<bool>,
+    /// Accumulations due `(contact, t∞, v_c)`, and the velocities after
+    /// the impacts (a joint accumulation projects again from them).
+    due: Vec<(usize, f64, f64)>,
+    impacts: Vec<f64>,
+    /// Contacts at rest on a bound, and the new active set.
+    candidates: Vec<usize>,
+    holds: Vec<Hold>,
+    /// The free acceleration and jerk, a load or residual, a modal vector.
+    a: Vec<f64>,
+    jerk: Vec<f64>,
+    f: Vec<f64>,
+    y: Vec<f64>,
+    piece: Piece,
+    /// `settle_static`'s: the massless dofs' loads and their rates, their
+    /// static positions and rates, the contacts' places among them, and
+    /// which contacts their force presses on a bound.
+    b: Vec<f64>,
+    db: Vec<f64>,
+    ys: Vec<f64>,
+    dys: Vec<f64>,
+    pos: Vec<usize>,
+    pressed: Vec<bool>,
 }
 
 impl EventDriven {
@@ -495,6 +542,8 @@ impl EventDriven {
             stall: (f64::NAN, 0),
             rebound,
             bases,
+            work: Work::default(),
+            entering: (Vec::new(), Vec::new()),
         };
         r.restart(t0, q0, v0)?;
         Ok(r)
@@ -550,7 +599,8 @@ impl EventDriven {
         self.vmax.iter_mut().for_each(|x| *x = 0.0);
         self.impulses.iter_mut().for_each(|x| *x = 0.0);
         self.stall = (f64::NAN, 0);
-        self.settle(t0, q0.to_vec(), v0.to_vec(), None)
+        let (q, v) = self.work_state(q0, v0);
+        self.settle(t0, q, v, None)
     }
 
     /// Runs to `t_end` exactly; more than `max_events` events logged on
@@ -676,7 +726,7 @@ impl EventDriven {
         self.eta.clone_from(&self.found.0);
         self.deta.clone_from(&self.found.1);
         let watch = self.systems[&self.holds].watch[which];
-        let (q, v) = self.physical();
+        let (q, v) = self.physical_work();
         // An event inside an accumulation's tail [t_k, t∞] ends it: the
         // run has held that contact at rest since t_k, and this event's
         // impulses (or release) are not the tail the limit extrapolated;
@@ -694,8 +744,12 @@ impl EventDriven {
             Watch::Release { contact } => {
                 self.streak[contact].clear();
                 self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
-                let rest: Vec<Hold> = self.holds.iter().copied().filter(|h| h.contact != contact).collect();
-                self.enter(rest, q, v, t)?;
+                let mut rest = std::mem::take(&mut self.work.holds);
+                rest.clear();
+                rest.extend(self.holds.iter().copied().filter(|h| h.contact != contact));
+                let entered = self.enter(&mut rest, &q, &v, t);
+                (self.work.holds, self.work.q, self.work.v) = (rest, q, v);
+                entered?;
             }
         }
         Ok(self.events.get(before).copied())
@@ -719,7 +773,7 @@ impl EventDriven {
         let sys = &self.systems[&self.holds];
         let base = (&self.base.1[..], &self.base.2[..]);
         for (contact, r) in &sys.forces {
-            let i = r.integral(&sys.flow, self.base.0, base, (&self.found.0, &self.found.1), t - self.base.0);
+            let i = r.integral(&sys.flow, self.base.0, base, (&self.found.0, &self.found.1), t - self.base.0, &mut self.tr);
             self.impulses[*contact] += i - self.taken[*contact];
             self.taken[*contact] = 0.0;
         }
@@ -739,6 +793,29 @@ impl EventDriven {
         self.taken.iter_mut().for_each(|x| *x = 0.0);
         self.found.0.resize(self.eta.len(), 0.0);
         self.found.1.resize(self.eta.len(), 0.0);
+    }
+
+    /// [`physical`](Self::physical) in the work storage's vectors, taken
+    /// out of it (a caller puts them back: no allocation per event).
+    fn physical_work(&mut self) -> (Vec<f64>, Vec<f64>) {
+        let (mut q, mut v) = (std::mem::take(&mut self.work.q), std::mem::take(&mut self.work.v));
+        for x in [&mut q, &mut v] {
+            x.clear();
+            x.resize(self.n, 0.0);
+        }
+        self.state_into(&mut q, &mut v);
+        (q, v)
+    }
+
+    /// `(q, v)` copied into the work storage's vectors, taken out of it
+    /// (a caller puts them back).
+    fn work_state(&mut self, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (mut wq, mut wv) = (std::mem::take(&mut self.work.q), std::mem::take(&mut self.work.v));
+        wq.clear();
+        wq.extend_from_slice(q);
+        wv.clear();
+        wv.extend_from_slice(v);
+        (wq, wv)
     }
 
     /// The full state of the current phase.
@@ -767,6 +844,9 @@ impl EventDriven {
 
     /// The impacts, accumulation and new active set at time `t` from the
     /// state `(q, v)`; `primary` is the located event's contact.
+    /// The vectors `q`, `v` (the work storage's, taken out of it) are put
+    /// back there, with the rest of the work storage (no allocation per
+    /// event).
     fn settle(&mut self, t: f64, mut q: Vec<f64>, mut v: Vec<f64>, primary: Option<(usize, Bound)>) -> Result<(), EventsError> {
         // A contact whose bounds and start are all 0 has no length of its
         // own (its band was exact equality: two stops reached together at
@@ -777,12 +857,21 @@ impl EventDriven {
         for s in self.sites.iter_mut().filter(|s| s.grows) {
             s.scale = s.scale.max(qmax);
         }
-        if !self.zero.is_empty() {
-            return self.settle_static(t, q, v, primary);
-        }
+        let mut w = std::mem::take(&mut self.work);
+        let settled = if self.zero.is_empty() { self.settle_massive(t, &mut q, &mut v, primary, &mut w) } else { self.settle_static(t, &mut q, &mut v, primary, &mut w) };
+        (w.q, w.v) = (q, v);
+        self.work = w;
+        settled
+    }
+
+    /// [`settle`](Self::settle) with contacts at massive dofs (`w`: the
+    /// work storage).
+    fn settle_massive(&mut self, t: f64, q: &mut [f64], v: &mut [f64], primary: Option<(usize, Bound)>, w: &mut Work) -> Result<(), EventsError> {
         let kc = self.sites.len();
         // Which contacts are at a bound (side: upper?).
-        let mut at: Vec<Option<bool>> = vec![None; kc];
+        let at = &mut w.at;
+        at.clear();
+        at.resize(kc, None);
         for (j, s) in self.sites.iter().enumerate() {
             let qc = q[s.dof];
             let tol = 1e-12 * s.scale;
@@ -812,9 +901,14 @@ impl EventDriven {
             }
         }
         // Newton's law for all of them at once: the velocity LCP.
-        let vbefore: Vec<f64> = self.sites.iter().map(|s| v[s.dof]).collect();
-        let held_before: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
-        let (mut lo, mut hi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
+        let vbefore = &mut w.vbefore;
+        vbefore.clear();
+        vbefore.extend(self.sites.iter().map(|s| v[s.dof]));
+        let held_before = &mut w.held_before;
+        held_before.clear();
+        held_before.extend((0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)));
+        let (lo, hi) = (&mut w.lo, &mut w.hi);
+        unbounded(lo, hi, kc);
         for j in 0..kc {
             let e = self.sites[j].restitution;
             match at[j] {
@@ -825,12 +919,16 @@ impl EventDriven {
                 None => {}
             }
         }
-        self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-        let mu = self.delassus.multipliers().to_vec();
+        self.delassus.project(v, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        let mu = &mut w.mu;
+        mu.clear();
+        mu.extend_from_slice(self.delassus.multipliers());
         // The impacts: every contact the LCP gives an impulse, and the
         // located one when it arrives with a speed (a landing at zero speed
         // without impulse is no impact: docs/theory.md §9.3).
-        let mut impacted = vec![false; kc];
+        let impacted = &mut w.impacted;
+        impacted.clear();
+        impacted.resize(kc, false);
         for j in 0..kc {
             let located = primary.is_some_and(|p| p.0 == j);
             if at[j].is_some() && (mu[j] != 0.0 || (located && vbefore[j] != 0.0)) {
@@ -842,7 +940,8 @@ impl EventDriven {
         // Accumulation, per contact: each contact's run of impacts (two
         // contacts chattering together each have theirs), and micro-impacts
         // (module docs), end with the contact at rest.
-        let mut due: Vec<(usize, f64, f64)> = Vec::new();
+        let due = &mut w.due;
+        due.clear();
         for j in 0..kc {
             if held_before[j] {
                 self.streak[j].clear();
@@ -855,7 +954,7 @@ impl EventDriven {
             self.vmax[j] = self.vmax[j].max(speed);
             self.streak[j].push(t);
             let e = self.sites[j].restitution;
-            let unresolved = || self.unresolved_rebound(t, &q, &v, j, at[j] == Some(true));
+            let unresolved = || self.unresolved_rebound(t, q, v, j, at[j] == Some(true));
             if e > 0.0 && e < 1.0 {
                 let streak = &self.streak[j];
                 let geometric = accumulation(streak);
@@ -879,7 +978,7 @@ impl EventDriven {
             if at[j].is_none() || due.iter().any(|d| d.0 == j) {
                 continue;
             }
-            if let Some(t_inf) = self.lifted_to_rest(t, &q, &v, j, at[j] == Some(true), 0.0) {
+            if let Some(t_inf) = self.lifted_to_rest(t, q, v, j, at[j] == Some(true), 0.0) {
                 due.push((j, t_inf, v[self.sites[j].dof]));
             }
         }
@@ -902,32 +1001,36 @@ impl EventDriven {
             // contacts whose accumulations lifted each other landed in turn
             // at 1e-10 and 1e-8 m/s to the event limit, or before the
             // other's logged t∞ (docs/theory.md §9.3).
-            let impacts = v.clone();
-            let mu = loop {
-                for &(j, ..) in &due {
+            let impacts = &mut w.impacts;
+            impacts.clear();
+            impacts.extend_from_slice(v);
+            loop {
+                for &(j, ..) in due.iter() {
                     (lo[j], hi[j]) = (0.0, 0.0);
                 }
-                self.delassus.project(&mut v, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+                self.delassus.project(v, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
                 let joined = due.len();
                 let tail = due.iter().fold(t, |m, d| m.max(d.1)) - t;
                 for j in 0..kc {
                     if at[j].is_some() && !due.iter().any(|d| d.0 == j) {
-                        if let Some(t_inf) = self.lifted_to_rest(t, &q, &v, j, at[j] == Some(true), tail) {
+                        if let Some(t_inf) = self.lifted_to_rest(t, q, v, j, at[j] == Some(true), tail) {
                             due.push((j, t_inf, v[self.sites[j].dof]));
                         }
                     }
                 }
                 if due.len() == joined {
-                    break self.delassus.multipliers().to_vec();
+                    mu.clear();
+                    mu.extend_from_slice(self.delassus.multipliers());
+                    break;
                 }
-                v.clone_from(&impacts);
-            };
+                v.copy_from_slice(impacts);
+            }
             for (i, m) in mu.iter().enumerate() {
                 self.impulses[i] += m;
             }
             // Logged in time order.
             due.sort_by(|a, b| a.1.total_cmp(&b.1));
-            for &(j, t_inf, vb) in &due {
+            for &(j, t_inf, vb) in due.iter() {
                 self.events.push(EventRecord { t: t_inf, kind: EventKind::Accumulation, contact: j, velocity_before: vb, velocity_after: v[self.sites[j].dof], impulse: mu[j] });
                 self.streak[j].clear();
             }
@@ -935,16 +1038,20 @@ impl EventDriven {
         // The new active set: contacts at rest on their bound that the
         // acceleration LCP presses against it.
         let vscale = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        let candidates: Vec<usize> = (0..kc).filter(|&j| at[j].is_some() && v[self.sites[j].dof].abs() <= 1e-13 * vscale.max(f64::MIN_POSITIVE)).collect();
-        let mut holds = Vec::new();
+        let candidates = &mut w.candidates;
+        candidates.clear();
+        candidates.extend((0..kc).filter(|&j| at[j].is_some() && v[self.sites[j].dof].abs() <= 1e-13 * vscale.max(f64::MIN_POSITIVE)));
+        let holds = &mut w.holds;
+        holds.clear();
         if !candidates.is_empty() {
-            for &j in &candidates {
+            for &j in candidates.iter() {
                 v[self.sites[j].dof] = 0.0;
             }
-            let mut a = self.free_acceleration(t, &q, &v);
+            let a = &mut w.a;
+            self.free_acceleration(t, q, v, (&mut w.f, &mut w.y, a));
             let ascale = a.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(f64::MIN_POSITIVE);
-            let (mut lo, mut hi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
-            for &j in &candidates {
+            unbounded(lo, hi, kc);
+            for &j in candidates.iter() {
                 if self.sites[j].lo == self.sites[j].hi {
                     (lo[j], hi[j]) = (0.0, 0.0);
                 } else if at[j] == Some(true) {
@@ -953,16 +1060,17 @@ impl EventDriven {
                     lo[j] = 0.0;
                 }
             }
-            self.delassus.project(&mut a, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-            let r = self.delassus.multipliers().to_vec();
+            self.delassus.project(a, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+            let r = self.delassus.multipliers();
             // The search's rule for a zero (docs/theory.md §9.2, "Zeros at
             // the time resolution"): an acceleration that the jerk moves by
             // more than itself within the time resolution does not decide;
             // the contact stays held, and its force's rate decides.
-            let jerk = self.free_jerk(t, &v, &a);
+            let jerk = &mut w.jerk;
+            self.free_jerk(t, v, a, &mut w.piece, (&mut w.f, &mut w.y, jerk));
             // The search's resolution (relative to the phase without time-dependent loads).
             let dt_res = 4.0 * time_resolution(if self.loads.time_dependent() { t } else { t - self.base.0 });
-            for &j in &candidates {
+            for &j in candidates.iter() {
                 let (bilateral, dof) = (self.sites[j].lo == self.sites[j].hi, self.sites[j].dof);
                 let leaving = !bilateral && r[j] == 0.0 && a[dof].abs() > 1e-12 * ascale + jerk[dof].abs() * dt_res;
                 if !leaving {
@@ -970,7 +1078,7 @@ impl EventDriven {
                 }
             }
         }
-        for h in &holds {
+        for h in holds.iter() {
             self.streak[h.contact].clear();
         }
         // On an error (an active set without an exact flow) the state stays
@@ -1040,37 +1148,41 @@ impl EventDriven {
         (a < 0.0).then_some((w, -a))
     }
 
-    /// `M⁻¹ (f(t) − C v − K q)`.
-    fn free_acceleration(&self, t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
-        self.minv_residual((0..self.n).map(|r| self.loads.value(r, t)).collect(), q, v)
+    /// `M⁻¹ (f(t) − C v − K q)` into `out` (`f`, `y`: work storage).
+    fn free_acceleration(&self, t: f64, q: &[f64], v: &[f64], (f, y, out): (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>)) {
+        f.clear();
+        f.extend((0..self.n).map(|r| self.loads.value(r, t)));
+        self.minv_residual(f, q, v, y, out);
     }
 
-    /// `M⁻¹ (f − K x − C y)`.
-    fn minv_residual(&self, mut f: Vec<f64>, x: &[f64], y: &[f64]) -> Vec<f64> {
+    /// `M⁻¹ (f − K x − C y)` into `out` (`f` overwritten; `work`: work storage).
+    fn minv_residual(&self, f: &mut [f64], x: &[f64], y: &[f64], work: &mut Vec<f64>, out: &mut Vec<f64>) {
         for (r, fr) in f.iter_mut().enumerate() {
             for s in 0..self.n {
                 *fr -= self.k[(r, s)] * x[s] + self.c.as_ref().map_or(0.0, |c| c[(r, s)] * y[s]);
             }
         }
-        self.full.minv(&f)
+        self.full.minv_into(f, work, out);
     }
 
-    /// `M⁻¹ (f'(t) − C a − K v)`: the jerk of the free system (a scale for
-    /// the hold decision's round-off, not a phase's exact jerk).
-    fn free_jerk(&self, t: f64, v: &[f64], a: &[f64]) -> Vec<f64> {
-        let mut piece = Piece::default();
-        self.loads.piece_into(t, &mut piece);
-        self.minv_residual((0..self.n).map(|r| self.loads.rate(r, t, &piece)).collect(), v, a)
+    /// `M⁻¹ (f'(t) − C a − K v)` into `out`: the jerk of the free system (a
+    /// scale for the hold decision's round-off, not a phase's exact jerk;
+    /// `piece`, `f`, `y`: work storage).
+    fn free_jerk(&self, t: f64, v: &[f64], a: &[f64], piece: &mut Piece, (f, y, out): (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>)) {
+        self.loads.piece_into(t, piece);
+        f.clear();
+        f.extend((0..self.n).map(|r| self.loads.rate(r, t, piece)));
+        self.minv_residual(f, v, a, y, out);
     }
 
     /// Switches to the phase of `holds` from the full state at `t` (its
     /// flow built first: on an error nothing changes).
-    fn enter(&mut self, mut holds: Vec<Hold>, q: Vec<f64>, v: Vec<f64>, t: f64) -> Result<(), EventsError> {
+    fn enter(&mut self, holds: &mut [Hold], q: &[f64], v: &[f64], t: f64) -> Result<(), EventsError> {
         holds.sort();
         let mut piece = std::mem::take(&mut self.piece);
         self.loads.piece_into(t, &mut piece);
-        if !self.systems.contains_key(&holds) {
-            let built = self.build(&holds, &piece);
+        if !self.systems.contains_key(&*holds) {
+            let built = self.build(holds, &piece);
             let sys = match built {
                 Ok(sys) => sys,
                 Err(e) => {
@@ -1078,18 +1190,25 @@ impl EventDriven {
                     return Err(e);
                 }
             };
-            self.systems.insert(holds.clone(), sys);
+            self.systems.insert(holds.to_vec(), sys);
         } else if !self.loads.ramps.is_empty() {
-            self.systems.get_mut(&holds).expect("a cached phase").set_piece(&piece);
+            self.systems.get_mut(&*holds).expect("a cached phase").set_piece(&piece);
         }
         self.piece = piece;
-        self.holds = holds;
+        self.holds.clear();
+        self.holds.extend_from_slice(holds);
         let sys = &self.systems[&self.holds];
         let nf = sys.free.len();
-        let qf: Vec<f64> = sys.free.iter().map(|&d| q[d]).collect();
-        let vf: Vec<f64> = sys.free.iter().map(|&d| v[d]).collect();
-        (self.eta, self.deta) = (vec![0.0; nf], vec![0.0; nf]);
-        sys.flow.to_modal(t, &qf, &vf, &mut self.eta, &mut self.deta);
+        let (qf, vf) = (&mut self.entering.0, &mut self.entering.1);
+        qf.clear();
+        qf.extend(sys.free.iter().map(|&d| q[d]));
+        vf.clear();
+        vf.extend(sys.free.iter().map(|&d| v[d]));
+        for x in [&mut self.eta, &mut self.deta] {
+            x.clear();
+            x.resize(nf, 0.0);
+        }
+        sys.flow.to_modal(t, qf, vf, &mut self.eta, &mut self.deta);
         self.t = t;
         self.start_phase();
         let sys = &self.systems[&self.holds];
@@ -1337,7 +1456,7 @@ impl EventDriven {
         if self.t != self.base.0 {
             let base = (&self.base.1[..], &self.base.2[..]);
             for (contact, r) in &sys.forces {
-                let i = r.integral(&sys.flow, self.base.0, base, (&self.eta, &self.deta), self.t - self.base.0);
+                let i = r.integral(&sys.flow, self.base.0, base, (&self.eta, &self.deta), self.t - self.base.0, &mut self.tr);
                 out[*contact] += i - self.taken[*contact];
                 self.taken[*contact] = i;
             }
@@ -1371,7 +1490,8 @@ impl EventDriven {
         // The new state decides what is held; the old phase is kept on an error.
         let saved = std::mem::take(&mut self.holds);
         self.streak.iter_mut().for_each(Vec::clear);
-        let r = self.settle(self.t, q.to_vec(), v.to_vec(), None);
+        let (q, v) = self.work_state(q, v);
+        let r = self.settle(self.t, q, v, None);
         if r.is_err() {
             self.holds = saved;
         }
@@ -1386,6 +1506,15 @@ fn rebound_rows(full: &ModalFlow, k: &Mat<f64>, c: Option<&Mat<f64>>, dof: usize
     let times = |a: &Mat<f64>| (0..m.len()).map(|s| (0..m.len()).map(|r| m[r] * a[(r, s)]).sum()).collect();
     let (km, cm) = (times(k), c.map_or_else(|| vec![0.0; m.len()], times));
     [m, km, cm]
+}
+
+/// `lo`, `hi` set to `kc` entries of `−∞`, `+∞` (no allocation once they
+/// have the capacity).
+fn unbounded(lo: &mut Vec<f64>, hi: &mut Vec<f64>, kc: usize) {
+    lo.clear();
+    lo.resize(kc, f64::NEG_INFINITY);
+    hi.clear();
+    hi.resize(kc, f64::INFINITY);
 }
 
 /// The accumulation time `t∞` of a run of impact times shrinking

@@ -1159,11 +1159,22 @@ impl ModalFlow {
 
     /// `M⁻¹ x`.
     pub(crate) fn minv(&self, x: &[f64]) -> Vec<f64> {
+        let (mut y, mut out) = (Vec::new(), Vec::new());
+        self.minv_into(x, &mut y, &mut out);
+        out
+    }
+
+    /// [`minv`](Self::minv) into `out` (`y`: work storage; no allocation
+    /// once both have the capacity).
+    pub(crate) fn minv_into(&self, x: &[f64], y: &mut Vec<f64>, out: &mut Vec<f64>) {
+        out.clear();
         if let Some(g) = &self.general {
-            return (0..self.n).map(|r| (0..self.n).map(|s| g.minv[(r, s)] * x[s]).sum()).collect();
+            out.extend((0..self.n).map(|r| (0..self.n).map(|s| g.minv[(r, s)] * x[s]).sum::<f64>()));
+            return;
         }
-        let y: Vec<f64> = (0..self.n).map(|i| (0..self.n).map(|r| self.phi[(r, i)] * x[r]).sum()).collect();
-        (0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * y[i]).sum()).collect()
+        y.clear();
+        y.extend((0..self.n).map(|i| (0..self.n).map(|r| self.phi[(r, i)] * x[r]).sum::<f64>()));
+        out.extend((0..self.n).map(|r| (0..self.n).map(|i| self.phi[(r, i)] * y[i]).sum::<f64>()));
     }
 
     /// Whether its loads depend on time ([`Loads::time_dependent`]).
@@ -1605,7 +1616,7 @@ impl ModalFlow {
         self.advance_modal_from(t0, (&eta0, &deta0), tau, (&mut eta, &mut deta), (&mut d, &mut dd), &mut [Vec::new(), Vec::new()]);
         let mut unit = vec![0.0; n];
         unit[dof] = 1.0;
-        self.linear(&unit, &vec![0.0; n]).integral(self, t0, (&eta0, &deta0), (&eta, &deta), tau)
+        self.linear(&unit, &vec![0.0; n]).integral(self, t0, (&eta0, &deta0), (&eta, &deta), tau, &mut [Vec::new(), Vec::new()])
     }
 
     /// Advances the state `(q0, v0)` at time `t0` by `tau` exactly into

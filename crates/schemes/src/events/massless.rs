@@ -23,7 +23,7 @@
 //! There are no impacts, so no restitution acts (refused above 0) and the
 //! energy `½ vᵀ M v + ½ qᵀ K q − fᵀ q` is conserved under a steady load.
 
-use super::{EventDriven, Hold, Site, System};
+use super::{EventDriven, Hold, Site, System, Work};
 use crate::events::flow::{Basis, ModalFlow, Piece};
 use crate::events::record::{EventKind, EventRecord, EventsError};
 use crate::events::Bound;
@@ -146,32 +146,52 @@ impl EventDriven {
     /// [`settle`](EventDriven::settle) with massless contacts (module docs):
     /// the static LCP decides which contacts are at a bound, the rate LCP
     /// which of those without force stay.
-    pub(super) fn settle_static(&mut self, t: f64, mut q: Vec<f64>, mut v: Vec<f64>, primary: Option<(usize, Bound)>) -> Result<(), EventsError> {
+    pub(super) fn settle_static(&mut self, t: f64, q: &mut [f64], v: &mut [f64], primary: Option<(usize, Bound)>, w: &mut Work) -> Result<(), EventsError> {
         let (n, nz, kc) = (self.n, self.zero.len(), self.sites.len());
-        let mut piece = Piece::default();
-        self.loads.piece_into(t, &mut piece);
+        let piece = &mut w.piece;
+        self.loads.piece_into(t, piece);
         // K_ZZ⁻¹ (f_Z − K_ZR q_R) and its rate.
-        let (mut b, mut db) = (vec![0.0; nz], vec![0.0; nz]);
+        let (b, db) = (&mut w.b, &mut w.db);
+        for x in [&mut *b, &mut *db] {
+            x.clear();
+            x.resize(nz, 0.0);
+        }
         for (i, &d) in self.zero.iter().enumerate() {
             b[i] = self.loads.value(d, t);
-            db[i] = self.loads.rate(d, t, &piece);
+            db[i] = self.loads.rate(d, t, piece);
             for r in (0..n).filter(|&r| !self.is_zero(r)) {
                 b[i] -= self.k[(d, r)] * q[r];
                 db[i] -= self.k[(d, r)] * v[r];
             }
         }
-        let apply = |x: &[f64]| -> Vec<f64> { (0..nz).map(|i| (0..nz).map(|j| self.kzz_inv[(i, j)] * x[j]).sum()).collect() };
-        let (mut y, mut dy) = (apply(&b), apply(&db));
-        let pos: Vec<usize> = self.delassus.dofs().to_vec();
-        let lo: Vec<f64> = self.sites.iter().map(|s| s.lo).collect();
-        let hi: Vec<f64> = self.sites.iter().map(|s| s.hi).collect();
-        self.delassus.project(&mut y, &lo, &hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-        let r0 = self.delassus.multipliers().to_vec();
+        let apply = |x: &[f64], out: &mut Vec<f64>| {
+            out.clear();
+            out.extend((0..nz).map(|i| (0..nz).map(|j| self.kzz_inv[(i, j)] * x[j]).sum::<f64>()));
+        };
+        let (y, dy) = (&mut w.ys, &mut w.dys);
+        apply(b, y);
+        apply(db, dy);
+        let pos = &mut w.pos;
+        pos.clear();
+        pos.extend_from_slice(self.delassus.dofs());
+        let (lo, hi) = (&mut w.lo, &mut w.hi);
+        lo.clear();
+        lo.extend(self.sites.iter().map(|s| s.lo));
+        hi.clear();
+        hi.extend(self.sites.iter().map(|s| s.hi));
+        self.delassus.project(y, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        let r0 = &mut w.mu;
+        r0.clear();
+        r0.extend_from_slice(self.delassus.multipliers());
         // Which bound each contact is at (the located one at the bound it
         // reached), and whether its static force presses it there (a
         // multiplier of the other sign is round-off of a landing).
-        let mut at: Vec<Option<bool>> = vec![None; kc];
-        let mut pressed = vec![false; kc];
+        let at = &mut w.at;
+        at.clear();
+        at.resize(kc, None);
+        let pressed = &mut w.pressed;
+        pressed.clear();
+        pressed.resize(kc, false);
         for (j, s) in self.sites.iter().enumerate() {
             let (yc, tol) = (y[pos[j]], 1e-12 * s.scale);
             at[j] = match primary {
@@ -188,7 +208,9 @@ impl EventDriven {
         }
         // The rates: pressed contacts stay (an equality), those at a bound
         // without force may leave it.
-        let (mut rlo, mut rhi) = (vec![f64::NEG_INFINITY; kc], vec![f64::INFINITY; kc]);
+        // (In the static LCP's bounds: not used again.)
+        let (rlo, rhi) = (lo, hi);
+        super::unbounded(rlo, rhi, kc);
         for j in 0..kc {
             match at[j] {
                 // Pressed, or equal bounds (a bilateral constraint).
@@ -198,11 +220,14 @@ impl EventDriven {
                 None => {}
             }
         }
-        let before: Vec<f64> = self.sites.iter().map(|s| v[s.dof]).collect();
-        self.delassus.project(&mut dy, &rlo, &rhi).map_err(|e| EventsError::Contacts(e.to_string()))?;
-        let mu = self.delassus.multipliers().to_vec();
+        let before = &mut w.vbefore;
+        before.clear();
+        before.extend(self.sites.iter().map(|s| v[s.dof]));
+        self.delassus.project(dy, rlo, rhi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        let mu = self.delassus.multipliers();
         let dscale = dy.iter().fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
-        let mut holds = Vec::new();
+        let holds = &mut w.holds;
+        holds.clear();
         for j in 0..kc {
             let Some(upper) = at[j] else { continue };
             let bilateral = self.sites[j].lo == self.sites[j].hi;
@@ -221,7 +246,9 @@ impl EventDriven {
                 (q[d], v[d]) = (y[i], dy[i]);
             }
         }
-        let was_held: Vec<bool> = (0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)).collect();
+        let was_held = &mut w.held_before;
+        was_held.clear();
+        was_held.extend((0..kc).map(|j| self.holds.iter().any(|h| h.contact == j)));
         if primary.is_some() {
             for j in 0..kc {
                 let now = holds.iter().any(|h| h.contact == j);
@@ -232,7 +259,7 @@ impl EventDriven {
                 }
             }
         }
-        for h in &holds {
+        for h in holds.iter() {
             let s = &self.sites[h.contact];
             (q[s.dof], v[s.dof]) = (if h.upper { s.hi } else { s.lo }, 0.0);
         }

@@ -127,9 +127,9 @@ impl Functional {
     }
 
     /// `∫ g` over `[t0, t0 + tau]` from the modal states at both ends.
-    pub fn integral(&self, flow: &ModalFlow, t0: f64, start: (&[f64], &[f64]), end: (&[f64], &[f64]), tau: f64) -> f64 {
+    /// (`tr`: work storage, no allocation once it has the capacity.)
+    pub fn integral(&self, flow: &ModalFlow, t0: f64, start: (&[f64], &[f64]), end: (&[f64], &[f64]), tau: f64, tr: &mut [Vec<(f64, f64)>; 2]) -> f64 {
         let t1 = t0 + tau;
-        let mut tr = [Vec::new(), Vec::new()];
         flow.trig(t0, &mut tr[0]);
         flow.trig(t1, &mut tr[1]);
         let (c0, c1, tp) = self.now;
@@ -142,7 +142,7 @@ impl Functional {
         }
         for i in 0..start.0.len() {
             if self.beta[i] != 0.0 {
-                s += self.beta[i] * flow.integral(i, t0, (start.0[i], start.1[i]), (end.0[i], end.1[i]), tau, &tr);
+                s += self.beta[i] * flow.integral(i, t0, (start.0[i], start.1[i]), (end.0[i], end.1[i]), tau, tr);
             }
             s += self.alpha(i) * (end.0[i] - start.0[i]);
         }
@@ -237,9 +237,22 @@ impl Search {
     ) -> Result<Found, EventsError> {
         let n = flow.n();
         if self.jet.len() != n {
-            let (steps, interrupt) = (self.steps, self.interrupt.take());
-            *self = Self::new(n);
-            (self.steps, self.interrupt) = (steps, interrupt);
+            // Another phase's size (a held phase has fewer free modes): the
+            // storage of `new(n)`, in the buffers already there (no
+            // allocation once they have had the largest size).
+            let zeros = |x: &mut Vec<f64>, len: usize| {
+                x.clear();
+                x.resize(len, 0.0);
+            };
+            self.jet.clear();
+            self.jet.resize(n, [0.0; 3]);
+            self.bnd.clear();
+            self.bnd.resize(n, [0.0; 4]);
+            zeros(&mut self.suffix, n + 1);
+            self.inc.iter_mut().for_each(|x| zeros(x, n));
+            self.tr.iter_mut().for_each(Vec::clear);
+            self.prefix.clear();
+            self.load0.clear();
         }
         let (eta, deta) = state;
         // Each functional at the base, split at every mode index: a value
