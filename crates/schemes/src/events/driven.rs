@@ -390,6 +390,10 @@ pub struct EventDriven {
     rebound: Vec<[Vec<f64>; 3]>,
     /// The structure's load-free bases, shared with other runs ([`FlowBases`]).
     bases: Option<Arc<FlowBases>>,
+    /// The state before the located event being applied, whose modal state
+    /// is the phase's (`eta`, `deta`): an impact that keeps the phase adds
+    /// its changes to it ([`enter`](Self::enter)).
+    pre: (Vec<f64>, Vec<f64>),
 }
 
 impl EventDriven {
@@ -495,6 +499,7 @@ impl EventDriven {
             stall: (f64::NAN, 0),
             rebound,
             bases,
+            pre: (Vec::new(), Vec::new()),
         };
         r.restart(t0, q0, v0)?;
         Ok(r)
@@ -695,7 +700,7 @@ impl EventDriven {
                 self.streak[contact].clear();
                 self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
                 let rest: Vec<Hold> = self.holds.iter().copied().filter(|h| h.contact != contact).collect();
-                self.enter(rest, q, v, t)?;
+                self.enter(rest, q, v, t, false)?;
             }
         }
         Ok(self.events.get(before).copied())
@@ -779,6 +784,13 @@ impl EventDriven {
         }
         if !self.zero.is_empty() {
             return self.settle_static(t, q, v, primary);
+        }
+        // A located event: the modal state (`eta`, `deta`) is the phase's
+        // at `t`, of this state (`enter` adds the event's changes to it).
+        let located = primary.is_some();
+        if located {
+            self.pre.0.clone_from(&q);
+            self.pre.1.clone_from(&v);
         }
         let kc = self.sites.len();
         // Which contacts are at a bound (side: upper?).
@@ -975,7 +987,7 @@ impl EventDriven {
         }
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
-        self.enter(holds, q, v, t)?;
+        self.enter(holds, q, v, t, located)?;
         self.t = t;
         Ok(())
     }
@@ -1064,9 +1076,17 @@ impl EventDriven {
     }
 
     /// Switches to the phase of `holds` from the full state at `t` (its
-    /// flow built first: on an error nothing changes).
-    fn enter(&mut self, mut holds: Vec<Hold>, q: Vec<f64>, v: Vec<f64>, t: f64) -> Result<(), EventsError> {
+    /// flow built first: on an error nothing changes). After a located
+    /// event (`jump`: `eta, deta` the phase's state at `t`, of the state
+    /// `pre`) that keeps the phase, the modal state goes on with the
+    /// event's changes added (`Φᵀ M (q − q⁻, v − v⁻)`: the velocity jump,
+    /// the contacts placed on their bounds), not re-made from `(q, v)`:
+    /// the round trip `Φ Φᵀ M` of the whole state, the identity but for the
+    /// basis' round-off, drifted the energy by a fixed fraction of ε per
+    /// event (docs/theory.md §9.3).
+    fn enter(&mut self, mut holds: Vec<Hold>, q: Vec<f64>, v: Vec<f64>, t: f64, jump: bool) -> Result<(), EventsError> {
         holds.sort();
+        let goes_on = jump && holds == self.holds;
         let mut piece = std::mem::take(&mut self.piece);
         self.loads.piece_into(t, &mut piece);
         if !self.systems.contains_key(&holds) {
@@ -1086,10 +1106,16 @@ impl EventDriven {
         self.holds = holds;
         let sys = &self.systems[&self.holds];
         let nf = sys.free.len();
-        let qf: Vec<f64> = sys.free.iter().map(|&d| q[d]).collect();
-        let vf: Vec<f64> = sys.free.iter().map(|&d| v[d]).collect();
-        (self.eta, self.deta) = (vec![0.0; nf], vec![0.0; nf]);
-        sys.flow.to_modal(t, &qf, &vf, &mut self.eta, &mut self.deta);
+        if goes_on {
+            let dq: Vec<f64> = sys.free.iter().map(|&d| q[d] - self.pre.0[d]).collect();
+            let dv: Vec<f64> = sys.free.iter().map(|&d| v[d] - self.pre.1[d]).collect();
+            sys.flow.add_change(&dq, &dv, &mut self.eta, &mut self.deta);
+        } else {
+            let qf: Vec<f64> = sys.free.iter().map(|&d| q[d]).collect();
+            let vf: Vec<f64> = sys.free.iter().map(|&d| v[d]).collect();
+            (self.eta, self.deta) = (vec![0.0; nf], vec![0.0; nf]);
+            sys.flow.to_modal(t, &qf, &vf, &mut self.eta, &mut self.deta);
+        }
         self.t = t;
         self.start_phase();
         let sys = &self.systems[&self.holds];
