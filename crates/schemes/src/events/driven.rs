@@ -394,6 +394,10 @@ pub struct EventDriven {
     work: Work,
     /// The free dofs' state entering a phase (`enter`'s work storage).
     entering: (Vec<f64>, Vec<f64>),
+    /// The state before the located event being applied, whose modal state
+    /// is the phase's (`eta`, `deta`): an impact that keeps the phase adds
+    /// its changes to it ([`enter`](Self::enter)).
+    pre: (Vec<f64>, Vec<f64>),
 }
 
 /// The vectors of one event's settling ([`EventDriven::settle`] and
@@ -544,6 +548,7 @@ impl EventDriven {
             bases,
             work: Work::default(),
             entering: (Vec::new(), Vec::new()),
+            pre: (Vec::new(), Vec::new()),
         };
         r.restart(t0, q0, v0)?;
         Ok(r)
@@ -747,7 +752,7 @@ impl EventDriven {
                 let mut rest = std::mem::take(&mut self.work.holds);
                 rest.clear();
                 rest.extend(self.holds.iter().copied().filter(|h| h.contact != contact));
-                let entered = self.enter(&mut rest, &q, &v, t);
+                let entered = self.enter(&mut rest, &q, &v, t, false);
                 (self.work.holds, self.work.q, self.work.v) = (rest, q, v);
                 entered?;
             }
@@ -867,6 +872,15 @@ impl EventDriven {
     /// [`settle`](Self::settle) with contacts at massive dofs (`w`: the
     /// work storage).
     fn settle_massive(&mut self, t: f64, q: &mut [f64], v: &mut [f64], primary: Option<(usize, Bound)>, w: &mut Work) -> Result<(), EventsError> {
+        // A located event: the modal state (`eta`, `deta`) is the phase's
+        // at `t`, of this state (`enter` adds the event's changes to it).
+        let located = primary.is_some();
+        if located {
+            self.pre.0.clear();
+            self.pre.0.extend_from_slice(q);
+            self.pre.1.clear();
+            self.pre.1.extend_from_slice(v);
+        }
         let kc = self.sites.len();
         // Which contacts are at a bound (side: upper?).
         let at = &mut w.at;
@@ -1083,7 +1097,7 @@ impl EventDriven {
         }
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
-        self.enter(holds, q, v, t)?;
+        self.enter(holds, q, v, t, located)?;
         self.t = t;
         Ok(())
     }
@@ -1176,9 +1190,17 @@ impl EventDriven {
     }
 
     /// Switches to the phase of `holds` from the full state at `t` (its
-    /// flow built first: on an error nothing changes).
-    fn enter(&mut self, holds: &mut [Hold], q: &[f64], v: &[f64], t: f64) -> Result<(), EventsError> {
+    /// flow built first: on an error nothing changes). After a located
+    /// event (`jump`: `eta, deta` the phase's state at `t`, of the state
+    /// `pre`) that keeps the phase, the modal state goes on with the
+    /// event's changes added (`Φᵀ M (q − q⁻, v − v⁻)`: the velocity jump,
+    /// the contacts placed on their bounds), not re-made from `(q, v)`:
+    /// the round trip `Φ Φᵀ M` of the whole state, the identity but for the
+    /// basis' round-off, drifted the energy by a fixed fraction of ε per
+    /// event (docs/theory.md §9.3).
+    fn enter(&mut self, holds: &mut [Hold], q: &[f64], v: &[f64], t: f64, jump: bool) -> Result<(), EventsError> {
         holds.sort();
+        let goes_on = jump && *holds == self.holds[..];
         let mut piece = std::mem::take(&mut self.piece);
         self.loads.piece_into(t, &mut piece);
         if !self.systems.contains_key(&*holds) {
@@ -1199,16 +1221,25 @@ impl EventDriven {
         self.holds.extend_from_slice(holds);
         let sys = &self.systems[&self.holds];
         let nf = sys.free.len();
-        let (qf, vf) = (&mut self.entering.0, &mut self.entering.1);
-        qf.clear();
-        qf.extend(sys.free.iter().map(|&d| q[d]));
-        vf.clear();
-        vf.extend(sys.free.iter().map(|&d| v[d]));
-        for x in [&mut self.eta, &mut self.deta] {
-            x.clear();
-            x.resize(nf, 0.0);
+        if goes_on {
+            let (dq, dv) = (&mut self.entering.0, &mut self.entering.1);
+            dq.clear();
+            dq.extend(sys.free.iter().map(|&d| q[d] - self.pre.0[d]));
+            dv.clear();
+            dv.extend(sys.free.iter().map(|&d| v[d] - self.pre.1[d]));
+            sys.flow.add_change(dq, dv, &mut self.eta, &mut self.deta);
+        } else {
+            let (qf, vf) = (&mut self.entering.0, &mut self.entering.1);
+            qf.clear();
+            qf.extend(sys.free.iter().map(|&d| q[d]));
+            vf.clear();
+            vf.extend(sys.free.iter().map(|&d| v[d]));
+            for x in [&mut self.eta, &mut self.deta] {
+                x.clear();
+                x.resize(nf, 0.0);
+            }
+            sys.flow.to_modal(t, qf, vf, &mut self.eta, &mut self.deta);
         }
-        sys.flow.to_modal(t, qf, vf, &mut self.eta, &mut self.deta);
         self.t = t;
         self.start_phase();
         let sys = &self.systems[&self.holds];

@@ -1207,6 +1207,32 @@ impl ModalFlow {
         }
     }
 
+    /// Adds to `(eta, deta)` the modal coordinates of a change `(dq, dv)`
+    /// of the state (`η += Φᵀ M dq`, `η' += Φᵀ M dv`; the first-order
+    /// form: `(η, η') += T⁻¹ (dq, dv)`, its load shift unchanged): the modal
+    /// state of `(q + dq, v + dv)` from that of `(q, v)` without the round
+    /// trip through the state, whose map `Φ Φᵀ M` differs from the identity
+    /// by the basis' round-off ([`super::EventDriven`]'s impacts,
+    /// docs/theory.md §9.3).
+    pub(crate) fn add_change(&self, dq: &[f64], dv: &[f64], eta: &mut [f64], deta: &mut [f64]) {
+        let n = self.n;
+        if let Some(g) = &self.general {
+            for i in 0..n {
+                let (mut a, mut b) = (0.0, 0.0);
+                for r in 0..n {
+                    a += g.tinv[(2 * i, r)] * dq[r] + g.tinv[(2 * i, n + r)] * dv[r];
+                    b += g.tinv[(2 * i + 1, r)] * dq[r] + g.tinv[(2 * i + 1, n + r)] * dv[r];
+                }
+                (eta[i], deta[i]) = (eta[i] + a, deta[i] + b);
+            }
+            return;
+        }
+        for i in 0..n {
+            let (a, b) = (0..n).fold((0.0, 0.0), |(a, b), r| (a + self.m_phi[(r, i)] * dq[r], b + self.m_phi[(r, i)] * dv[r]));
+            (eta[i], deta[i]) = (eta[i] + a, deta[i] + b);
+        }
+    }
+
     /// `q = Φ η`, `v = Φ η'` at `t` (the first-order form: `T (η, η' − p(t))`).
     pub(crate) fn to_physical(&self, t: f64, eta: &[f64], deta: &[f64], q: &mut [f64], v: &mut [f64]) {
         let free: Vec<usize> = (0..self.n).collect();

@@ -263,7 +263,7 @@ impl EventDriven {
             let s = &self.sites[h.contact];
             (q[s.dof], v[s.dof]) = (if h.upper { s.hi } else { s.lo }, 0.0);
         }
-        self.enter(holds, q, v, t)?;
+        self.enter(holds, q, v, t, false)?;
         self.t = t;
         Ok(())
     }
