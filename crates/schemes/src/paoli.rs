@@ -116,9 +116,13 @@ pub struct PaoliSchatzman {
     /// sweeps (its scratch; rotated into `g_next` at the end of the step).
     g_ahead: Vec<f64>,
     work_acc: Vec<f64>,
+    /// The fused step's fourth level: `U^{n−1}` of the step just taken, kept
+    /// through the next step so its forcing work is summed beside the sweeps.
+    old: Vec<f64>,
     /// The fused step leaves the forcing's work of the step just taken to
-    /// the next step's forward pass (it rides on the sweep there), unless
-    /// [`Stepper::work`] is asked first: then `work` adds it.
+    /// the next step, which sums it between its two sweeps (beside the
+    /// backward one, from `old`), unless [`Stepper::work`] is asked first:
+    /// then `work` adds it.
     work_pending: Cell<bool>,
     /// `g_next` holds the next step's coefficients already (the fused step
     /// finds them between its two sweeps).
@@ -342,7 +346,8 @@ impl Bands3 {
 /// and the factor's `l` ([`BandLdlt::band_factors`]); with `pending`
 /// (`U^n` and one sum per forcing term), the last step's work sums
 /// `Σ_i g_i (U^n_i − U^{n−2}_i)` continued over the rows, read from `out`
-/// before the rows are overwritten.
+/// before the rows are overwritten (the beam's step passes `None`: it sums
+/// them between its sweeps, from a buffer the forward pass does not write).
 struct Forward<'a> {
     dt2: f64,
     f: &'a [f64],
@@ -749,6 +754,7 @@ impl PaoliSchatzman {
             g_next: vec![0.0; terms],
             g_ahead: vec![0.0; terms],
             work_acc: vec![0.0; terms],
+            old: vec![0.0; n],
             work_pending: Cell::new(false),
             coefs_ahead: false,
         }
@@ -881,15 +887,25 @@ impl PaoliSchatzman {
         let zero: f64 = std::iter::empty::<f64>().sum();
         self.work_acc.iter_mut().for_each(|s| *s = zero);
         let pending = self.work_pending.take();
+        if pending {
+            // `rhs` holds the last step's `U^{n−1}`: kept in `old` for its work sum.
+            std::mem::swap(&mut self.rhs, &mut self.old);
+        }
         let b3 = self.bands.as_ref().expect("the fused step has the bands");
         let (l, _, _) = self.a.band_factors();
-        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: pending.then_some((&self.u[..], &mut self.work_acc[..])) };
+        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: None };
         let xy = Levels { beta, u: &self.u, up: &self.u_prev, x: &mut self.tmp, y: &mut self.ktmp };
         // The next step's coefficients (a `sin` or a rotation per term) into
         // `g_ahead`: independent of the sweeps, found between them, where
         // they overlap the backward sweep's chain.
         let (loads, means, ahead) = (&mut self.loads, &mut self.means, &mut self.g_ahead);
-        b3.unconstrained(fa, xy, &self.a, &mut self.rhs, || Self::roll_coefs(beta, loads, means, ahead));
+        let (forcing, u, old, acc) = (&self.dy.forcing, &self.u, &self.old, &mut self.work_acc);
+        b3.unconstrained(fa, xy, &self.a, &mut self.rhs, || {
+            if pending {
+                work_terms(forcing, u, old, acc, 0, u.len());
+            }
+            Self::roll_coefs(beta, loads, means, ahead)
+        });
         if pending {
             let mut wf = self.work_forcing.get();
             for (gc, s) in self.g_coefs.iter().zip(&self.work_acc) {
@@ -1150,7 +1166,7 @@ impl Stepper for PaoliSchatzman {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs` (the
-        // fused step adds the forcing's in the next step's forward pass).
+        // fused step adds the forcing's in the next step, between its sweeps).
         if self.fused.on {
             self.work_pending.set(true);
         } else {
