@@ -37,6 +37,9 @@ pub const COMBINED_TOLERANCE: f64 = 1e-8;
 /// decided afresh each step).
 pub struct MoreauJeanCombined {
     mj: MoreauJean,
+    /// `dt` and θ, for [`Self::first_pass_may_grow`].
+    dt: f64,
+    theta: f64,
     /// The step's start `U^n, V^n` and its unconstrained `V^{n+1}`.
     u0: Vec<f64>,
     v0: Vec<f64>,
@@ -53,7 +56,7 @@ impl MoreauJeanCombined {
     pub fn new(label: String, dy: Dynamics, theta: f64, restitution: f64, dt: f64, init: &Initial) -> Result<Self, SchemeError> {
         let mj = MoreauJean::new(label, dy, theta, restitution, 0.0, dt, init)?.with_given_index_set();
         let n = init.u.len();
-        Ok(Self { mj, u0: vec![0.0; n], v0: vec![0.0; n], free: vec![0.0; n], projections: 0, passes: 0, projection_energy: 0.0 })
+        Ok(Self { mj, dt, theta, u0: vec![0.0; n], v0: vec![0.0; n], free: vec![0.0; n], projections: 0, passes: 0, projection_energy: 0.0 })
     }
 
     /// Velocity `V^n`.
@@ -107,6 +110,23 @@ impl MoreauJeanCombined {
         Some(self.mj.energy_now() - before)
     }
 
+    /// Whether the first pass (an empty set: no Newton's law, no
+    /// projection) can end with a side to add, so that the step's start
+    /// must be kept for a redo: with several contacts always (their solve
+    /// decides), with one whether its `u_c + dt ((1−θ) v_c + θ v_c^{n+1})`
+    /// (the unconstrained `V^{n+1}` in `free_mut`: `finish_step`'s own
+    /// arithmetic, so its value) reaches a bound as [`Self::grow`] asks.
+    fn first_pass_may_grow(&mut self) -> bool {
+        let (dt, th) = (self.dt, self.theta);
+        let Some((_, contacts, _)) = self.mj.index_set_parts() else { return true };
+        let [ct] = contacts else { return true };
+        let (c, bounds) = (ct.dof, ct.bounds);
+        let (u, v, _) = self.mj.step_start_mut();
+        let (uc, vc) = (u[c], v[c]);
+        let u1 = uc + dt * ((1.0 - th) * vc + th * self.mj.free_mut()[c]);
+        u1 - bounds.lo <= 0.0 || bounds.hi - u1 <= 0.0
+    }
+
     /// Adds to the set the sides out of it whose gap is `<= 0`; whether
     /// one was added.
     fn grow(&mut self) -> bool {
@@ -131,16 +151,27 @@ impl Stepper for MoreauJeanCombined {
             set.sides.iter_mut().for_each(|s| *s = (false, false));
         }
         self.mj.free_velocity();
-        self.free.copy_from_slice(self.mj.free_mut());
-        let (u, v, n) = self.mj.step_start_mut();
-        self.u0.copy_from_slice(u);
-        self.v0.copy_from_slice(v);
-        let n0 = *n;
+        // The step's start is kept for a redo only where the first pass can
+        // end with a side to add: most steps of one contact cannot, and
+        // skip the three copies.
+        let keep = self.first_pass_may_grow();
+        if keep {
+            self.free.copy_from_slice(self.mj.free_mut());
+            let (u, v, _) = self.mj.step_start_mut();
+            self.u0.copy_from_slice(u);
+            self.v0.copy_from_slice(v);
+        }
+        let n0 = *self.mj.step_start_mut().2;
         loop {
             self.passes += 1;
             let rep = self.mj.finish_step()?;
             let projected = self.project();
-            if !self.grow() {
+            let grew = self.grow();
+            if grew && !keep {
+                // Unreachable: `first_pass_may_grow` is the first pass's own test.
+                return Err(SchemeError::Structure("moreau-jean-combined: a redo without the step's start"));
+            }
+            if !grew {
                 if let Some(de) = projected {
                     self.projections += 1;
                     self.projection_energy += de;

@@ -112,16 +112,20 @@ pub struct PaoliSchatzman {
     /// The fused step's scratch: the step's new coefficients, and the
     /// last step's work sums, one per forcing term.
     g_next: Vec<f64>,
-    /// The next step's coefficients, found by the fused step before its
+    /// The next step's coefficients, found by the fused step between its
     /// sweeps (its scratch; rotated into `g_next` at the end of the step).
     g_ahead: Vec<f64>,
     work_acc: Vec<f64>,
+    /// The fused step's fourth level: `U^{n−1}` of the step just taken, kept
+    /// through the next step so its forcing work is summed beside the sweeps.
+    old: Vec<f64>,
     /// The fused step leaves the forcing's work of the step just taken to
-    /// the next step's forward pass (it rides on the sweep there), unless
-    /// [`Stepper::work`] is asked first: then `work` adds it.
+    /// the next step, which sums it between its two sweeps (beside the
+    /// backward one, from `old`), unless [`Stepper::work`] is asked first:
+    /// then `work` adds it.
     work_pending: Cell<bool>,
     /// `g_next` holds the next step's coefficients already (the fused step
-    /// finds them during its backward sweep).
+    /// finds them between its two sweeps).
     coefs_ahead: bool,
 }
 
@@ -134,8 +138,8 @@ pub struct PaoliSchatzman {
 /// the plain path ([`Bands3::rhs`], `add_terms`,
 /// [`BandLdlt::solve_in_place`]), so the same bits; the right-hand side's
 /// work overlaps the sweep's latency instead of preceding it, and the next
-/// step's forcing means (a `sin`) are found before the sweeps, which they
-/// overlap (cost: `crates/run/benches/step.rs`, `beam_beta_scheme_step`
+/// step's forcing means (a `sin`) are found between the two sweeps, in the
+/// backward sweep's shadow (cost: `crates/run/benches/step.rs`, `beam_beta_scheme_step`
 /// against `beam_band_solve`).
 #[derive(Clone, Copy, Debug)]
 struct FusedStep {
@@ -254,13 +258,13 @@ impl Bands3 {
     /// `y = (1−2β) U^n + β U^{n−1}` ([`Levels`]), then [`forward_body`](Self::forward_body)
     /// and the factor's backward sweep, in one function compiled for AVX2
     /// where the CPU has it.
-    fn unconstrained(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64]) {
+    fn unconstrained(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], between: impl FnOnce()) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is set only when the CPU reports AVX2.
-            return unsafe { self.unconstrained_avx2(fa, xy, a, out) };
+            return unsafe { self.unconstrained_avx2(fa, xy, a, out, between) };
         }
-        self.unconstrained_body(fa, xy, a, out)
+        self.unconstrained_body(fa, xy, a, out, between)
     }
 
     /// [`unconstrained_body`](Self::unconstrained_body) compiled with AVX2.
@@ -269,18 +273,23 @@ impl Bands3 {
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn unconstrained_avx2(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64]) {
-        self.unconstrained_body(fa, xy, a, out)
+    unsafe fn unconstrained_avx2(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], between: impl FnOnce()) {
+        self.unconstrained_body(fa, xy, a, out, between)
     }
 
+    /// `between` runs after the forward pass, before the backward sweep:
+    /// work independent of the sweeps (the next step's forcing means),
+    /// which there runs in the shadow of the sweep's chain instead of
+    /// between one step's backward sweep and the next step's forward one.
     #[inline(always)]
-    fn unconstrained_body(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64]) {
+    fn unconstrained_body(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], between: impl FnOnce()) {
         let Levels { beta, u, up, x, y } = xy;
         for (((t, k), u), up) in x.iter_mut().zip(y.iter_mut()).zip(u).zip(up) {
             *t = 2.0 * u - up;
             *k = (1.0 - 2.0 * beta) * u + beta * up;
         }
         self.forward_body(fa, x, y, out);
+        between();
         let (_, lt, inv_d) = a.band_factors();
         backward_p3(lt, inv_d, out);
     }
@@ -337,7 +346,8 @@ impl Bands3 {
 /// and the factor's `l` ([`BandLdlt::band_factors`]); with `pending`
 /// (`U^n` and one sum per forcing term), the last step's work sums
 /// `Σ_i g_i (U^n_i − U^{n−2}_i)` continued over the rows, read from `out`
-/// before the rows are overwritten.
+/// before the rows are overwritten (the beam's step passes `None`: it sums
+/// them between its sweeps, from a buffer the forward pass does not write).
 struct Forward<'a> {
     dt2: f64,
     f: &'a [f64],
@@ -744,6 +754,7 @@ impl PaoliSchatzman {
             g_next: vec![0.0; terms],
             g_ahead: vec![0.0; terms],
             work_acc: vec![0.0; terms],
+            old: vec![0.0; n],
             work_pending: Cell::new(false),
             coefs_ahead: false,
         }
@@ -872,18 +883,29 @@ impl PaoliSchatzman {
         for (w, g) in self.g_w.iter_mut().zip(&self.g_next) {
             *w = dt2 * g;
         }
-        // The next step's coefficients (a `sin` or a rotation per term) into
-        // `g_ahead`: independent of the sweeps, so they overlap them.
-        Self::roll_coefs(beta, &mut self.loads, &mut self.means, &mut self.g_ahead);
         // `add_step_work`'s sums start as `Iterator::sum` starts.
         let zero: f64 = std::iter::empty::<f64>().sum();
         self.work_acc.iter_mut().for_each(|s| *s = zero);
         let pending = self.work_pending.take();
+        if pending {
+            // `rhs` holds the last step's `U^{n−1}`: kept in `old` for its work sum.
+            std::mem::swap(&mut self.rhs, &mut self.old);
+        }
         let b3 = self.bands.as_ref().expect("the fused step has the bands");
         let (l, _, _) = self.a.band_factors();
-        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: pending.then_some((&self.u[..], &mut self.work_acc[..])) };
+        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: None };
         let xy = Levels { beta, u: &self.u, up: &self.u_prev, x: &mut self.tmp, y: &mut self.ktmp };
-        b3.unconstrained(fa, xy, &self.a, &mut self.rhs);
+        // The next step's coefficients (a `sin` or a rotation per term) into
+        // `g_ahead`: independent of the sweeps, found between them, where
+        // they overlap the backward sweep's chain.
+        let (loads, means, ahead) = (&mut self.loads, &mut self.means, &mut self.g_ahead);
+        let (forcing, u, old, acc) = (&self.dy.forcing, &self.u, &self.old, &mut self.work_acc);
+        b3.unconstrained(fa, xy, &self.a, &mut self.rhs, || {
+            if pending {
+                work_terms(forcing, u, old, acc, 0, u.len());
+            }
+            Self::roll_coefs(beta, loads, means, ahead)
+        });
         if pending {
             let mut wf = self.work_forcing.get();
             for (gc, s) in self.g_coefs.iter().zip(&self.work_acc) {
@@ -1144,7 +1166,7 @@ impl Stepper for PaoliSchatzman {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs` (the
-        // fused step adds the forcing's in the next step's forward pass).
+        // fused step adds the forcing's in the next step, between its sweeps).
         if self.fused.on {
             self.work_pending.set(true);
         } else {
