@@ -1958,6 +1958,60 @@ fn grazing_parameter<F: Family>(
     Some((estimate, p1))
 }
 
+/// The last two orbits `a`, `b` before a grazing ahead of them (the
+/// slowest impact's speed extrapolated linearly to 0 at `graze`, `step`
+/// from `b`), brought nearer it along their own arc until that
+/// extrapolation holds: halfway toward `graze` (the corrector at that
+/// parameter from `b`'s tangent), the speed there extrapolated again with
+/// `b`; while the new estimate moves by more than 1e-2 of the step (the
+/// offset of [`graze`]'s first search beyond), the two orbits nearer it
+/// are kept and the next halfway step taken (at most 30 times). Stops
+/// where the corrector fails, or finds an orbit with other impacts or not
+/// slowing down.
+/// Returns the two orbits, the grazing extrapolated from them and its
+/// distance from the last.
+///
+/// The linear extrapolation from far off lands the jump past a narrow arc:
+/// the oscillator between stops ±1 (`data/scenes/oscillator-two-stops.
+/// toml`) loses the slow impact of its asymmetric 3-impact orbits at Ω =
+/// 1.0383070501555, whose 2-impact orbits beyond meet the symmetric ones
+/// at a branch point 6.6e-4 below it; from Ω = 1.0574 (speed 0.041) the
+/// extrapolation said 1.036678 and the jump landed on a symmetric orbit
+/// past the branch point (`tests/it/graze_approach.rs`).
+fn approach<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, graze: f64) -> (Point, Point, f64, f64) {
+    let (mut a, mut b, mut graze) = (a.clone(), b.clone(), graze);
+    for _ in 0..30 {
+        let (Some(vb), step) = (b.orbit.slowest_impact(), (graze - b.param).abs()) else { break };
+        let m = b.param + 0.5 * (graze - b.param);
+        let Some(p) = on_tangent(ctx, &b, m) else { break };
+        let Some(vp) = p.orbit.slowest_impact().filter(|v| *v < vb && p.orbit.impacts() == b.orbit.impacts()) else { break };
+        let next = m + (m - b.param) / (vb - vp) * vp;
+        if !next.is_finite() || (next - graze).abs() <= 1e-2 * step {
+            break;
+        }
+        (a, b, graze) = (b, p, next);
+    }
+    let step = (graze - b.param).abs();
+    (a, b, graze, step)
+}
+
+/// The orbit of `b`'s arc at `param`: `b`'s tangent predicts it, the
+/// corrector solves on the plane of that parameter. `None` where the
+/// tangent has no component along the parameter or the corrector fails.
+fn on_tangent<F: Family>(ctx: &Ctx<'_, F>, b: &Point, param: f64) -> Option<Point> {
+    let n = ctx.n;
+    let tl = b.tangent[n] * ctx.ls;
+    if tl.abs() < 1e-12 * ctx.ls {
+        return None;
+    }
+    let s = (param - b.param) / tl;
+    let x: Vec<f64> = (0..n).map(|i| b.x[i] + s * b.tangent[i] * ctx.xs).collect();
+    let mut t = vec![0.0; n + 1];
+    t[n] = 1.0;
+    let (x, p, lin) = ctx.correct(x, param, &t, None).ok()?;
+    ctx.point_from(x, p, lin, &b.tangent).ok()
+}
+
 /// When the slowest impact of `b` is slowing down toward 0 (the orbit is
 /// near grazing: its Jacobian grows as 1/speed and the steps shrink),
 /// the grazing parameter extrapolated from `a`, `b`: an orbit is sought
@@ -1977,8 +2031,10 @@ fn graze<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, dir: f64, i: usize, 
     if step > 2.0 * (b.param - a.param).abs() || step == 0.0 {
         return None;
     }
-    let sign = (graze - b.param).signum();
     let lerp = |p: &Point, q: &Point, w: f64| -> Vec<f64> { p.x.iter().zip(&q.x).map(|(x, y)| x + w * (y - x)).collect() };
+    let (a, b, graze, step) = approach(ctx, a, b, graze);
+    let (a, b) = (&a, &b);
+    let sign = (graze - b.param).signum();
     // An orbit just beyond, with another number of impacts.
     let mut across = None;
     for f in [0.01, 0.1, 1.0] {

@@ -12,6 +12,7 @@ mod conservative;
 mod corrector;
 mod free_grazing;
 mod further_impact;
+mod graze_approach;
 mod isola;
 mod marks;
 mod mirror;

@@ -19,7 +19,7 @@ use signorini_orbits::{periodic_orbit, Newton};
 use std::f64::consts::TAU;
 
 /// The transcription's grazing.
-const GRAZING: f64 = 1.0383070501555;
+pub const GRAZING: f64 = 1.0383070501555;
 /// The branch's grazing orbit on the mirror side (its last point, 1.2e-12
 /// below the grazing): the state the searches start from.
 const GRAZING_ORBIT: [f64; 2] = [0.4272603007551, 0.2509852574797];
