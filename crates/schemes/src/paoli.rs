@@ -296,18 +296,11 @@ impl Bands3 {
 
     #[inline(always)]
     fn forward_body(&self, fa: Forward<'_>, x: &[f64], y: &[f64], out: &mut [f64]) {
-        let Forward { dt2, f, forcing, w, l, mut pending } = fa;
+        let Forward { dt2, f, forcing, w, l } = fa;
         let n = x.len();
         let (x, y, f, out, l) = (&x[..n], &y[..n], &f[..n], &mut out[..n], &l[..3 * n]);
-        // Each block of rows: the last step's work terms (reading `U^{n−1}`
-        // before it is overwritten), the right-hand side, the forcing, the sweep.
-        let mut work = |out: &[f64], a: usize, len: usize| {
-            if let Some((u, acc)) = pending.as_mut() {
-                work_terms(forcing, u, out, acc, a, len);
-            }
-        };
+        // Each block of rows: the right-hand side, the forcing, the sweep.
         // Rows 0..3: the edge rows, then `solve_p3`'s first rows.
-        work(out, 0, 3);
         for i in 0..3 {
             out[i] = self.edge_row(dt2, x, y, f, i);
         }
@@ -321,7 +314,6 @@ impl Bands3 {
         let mut a = 3;
         while a < n - 3 {
             let len = FUSED_CHUNK.min(n - 3 - a);
-            work(out, a, len);
             if len == FUSED_CHUNK {
                 self.interior(dt2, x, y, f, out, a, FUSED_CHUNK);
                 add_forcing(forcing, w, out, a, FUSED_CHUNK);
@@ -333,7 +325,6 @@ impl Bands3 {
             }
             a += len;
         }
-        work(out, n - 3, 3);
         for i in n - 3..n {
             out[i] = self.edge_row(dt2, x, y, f, i);
         }
@@ -343,18 +334,15 @@ impl Bands3 {
 }
 
 /// What [`Bands3::forward_body`] reads besides the two levels: `M x + dt² (f − K y) + Σ_j w_j g_j`
-/// and the factor's `l` ([`BandLdlt::band_factors`]); with `pending`
-/// (`U^n` and one sum per forcing term), the last step's work sums
-/// `Σ_i g_i (U^n_i − U^{n−2}_i)` continued over the rows, read from `out`
-/// before the rows are overwritten (the beam's step passes `None`: it sums
-/// them between its sweeps, from a buffer the forward pass does not write).
+/// and the factor's `l` ([`BandLdlt::band_factors`]). (The last step's
+/// forcing work is summed between the sweeps, from a buffer the forward
+/// pass does not write: [`Bands3::unconstrained`]'s `between`.)
 struct Forward<'a> {
     dt2: f64,
     f: &'a [f64],
     forcing: &'a [Forcing],
     w: &'a [f64],
     l: &'a [f64],
-    pending: Option<(&'a [f64], &'a mut [f64])>,
 }
 
 /// The two levels the fused step's right-hand side is made of, and where
@@ -367,14 +355,13 @@ struct Levels<'a> {
     y: &'a mut [f64],
 }
 
-/// `add_step_work`'s sums over rows `a..a + len`, continued: term by term,
-/// `acc_j += g_j[i] (u[i] − old[i])`, rows in order.
+/// `add_step_work`'s sums, continued: term by term, `acc_j += g_j[i] (u[i]
+/// − old[i])`, rows in order (the fused step's `between`).
 #[inline(always)]
-fn work_terms(forcing: &[Forcing], u: &[f64], old: &[f64], acc: &mut [f64], a: usize, len: usize) {
-    let (u, old) = (&u[a..a + len], &old[a..a + len]);
+fn work_terms(forcing: &[Forcing], u: &[f64], old: &[f64], acc: &mut [f64]) {
     for (fc, s) in forcing.iter().zip(acc.iter_mut()) {
         let mut sum = *s;
-        for ((g, x), y) in fc.shape[a..a + len].iter().zip(u).zip(old) {
+        for ((g, x), y) in fc.shape.iter().zip(u).zip(old) {
             sum += g * (x - y);
         }
         *s = sum;
@@ -893,7 +880,7 @@ impl PaoliSchatzman {
         }
         let b3 = self.bands.as_ref().expect("the fused step has the bands");
         let (l, _, _) = self.a.band_factors();
-        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l, pending: None };
+        let fa = Forward { dt2, f: &self.dy.load, forcing: &self.dy.forcing, w: &self.g_w, l };
         let xy = Levels { beta, u: &self.u, up: &self.u_prev, x: &mut self.tmp, y: &mut self.ktmp };
         // The next step's coefficients (a `sin` or a rotation per term) into
         // `g_ahead`: independent of the sweeps, found between them, where
@@ -902,7 +889,7 @@ impl PaoliSchatzman {
         let (forcing, u, old, acc) = (&self.dy.forcing, &self.u, &self.old, &mut self.work_acc);
         b3.unconstrained(fa, xy, &self.a, &mut self.rhs, || {
             if pending {
-                work_terms(forcing, u, old, acc, 0, u.len());
+                work_terms(forcing, u, old, acc);
             }
             Self::roll_coefs(beta, loads, means, ahead)
         });
