@@ -43,7 +43,7 @@
 //! above up to a constant).
 
 use crate::fused::{fused_switches, FusedSwitch};
-use crate::stabilized::{tridiagonal_forward_dispatch, TriRows};
+use crate::stabilized::{neighbours, tridiagonal_forward_dispatch, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{solve_piecewise_linear, Active, PiecewiseLinear};
 use signorini_fem::{BandLdlt, SymBand};
@@ -121,8 +121,8 @@ impl TriRows for ReducedRows<'_> {
     fn interior(&self, a: usize, o: &mut [f64]) {
         let len = o.len();
         let (u, v, dt, q) = (self.u, self.v, self.dt, self.q);
-        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
-        let (vl, vc, vr) = (&v[a - 1..a - 1 + len], &v[a..a + len], &v[a + 1..a + 1 + len]);
+        let (ul, uc, ur) = neighbours(u, a, len);
+        let (vl, vc, vr) = neighbours(v, a, len);
         let (msl, mdc, msr) = self.t.m.window(a, len);
         let (ksl, kdc, ksr) = self.t.k.window(a, len);
         let fr = &self.f[a..a + len];

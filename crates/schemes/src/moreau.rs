@@ -31,7 +31,7 @@
 use crate::fused::{fused_switches, FusedSwitch};
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::stabilized::{tridiagonal_forward_dispatch, TriRows};
+use crate::stabilized::{neighbours, tridiagonal_forward_dispatch, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -106,8 +106,8 @@ impl TriRows for MjRows<'_> {
     fn interior(&self, a: usize, o: &mut [f64]) {
         let len = o.len();
         let (u, v, c, dt) = (self.u, self.v, self.c, self.dt);
-        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
-        let (vl, vc, vr) = (&v[a - 1..a - 1 + len], &v[a..a + len], &v[a + 1..a + 1 + len]);
+        let (ul, uc, ur) = neighbours(u, a, len);
+        let (vl, vc, vr) = neighbours(v, a, len);
         let (msl, mdc, msr) = self.t.m.window(a, len);
         let (ksl, kdc, ksr) = self.t.k.window(a, len);
         let fr = &self.f[a..a + len];

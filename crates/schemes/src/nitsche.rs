@@ -21,7 +21,7 @@
 //! force derives from the potential `(1/2γ) min(0, qᵀU - γg)²`.
 
 use crate::fused::{fused_switches, FusedSwitch};
-use crate::stabilized::{tridiagonal_forward_dispatch, TriMatrix, TriRows};
+use crate::stabilized::{neighbours, tridiagonal_forward_dispatch, TriMatrix, TriRows};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
@@ -123,7 +123,7 @@ impl TriRows for NitscheRows<'_> {
     fn interior(&self, a: usize, o: &mut [f64]) {
         let len = o.len();
         let (u, dt, ao, an) = (self.u, self.dt, self.ao, self.an);
-        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (ul, uc, ur) = neighbours(u, a, len);
         let (msl, mdc, msr) = self.m.window(a, len);
         let (p, r, f) = (&self.p[a..a + len], &self.r[a..a + len], &self.f[a..a + len]);
         for j in 0..len {
@@ -262,7 +262,7 @@ impl Nitsche {
         }
         if n > 3 {
             let (a, len) = (2, n - 3);
-            let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+            let (ul, uc, ur) = neighbours(u, a, len);
             let (ksl, kdc, ksr) = k.window(a, len);
             let (fr, acc, mom) = (&f[a..a + len], &mut acc[a..a + len], &mut mom[a..a + len]);
             for j in 0..len {

@@ -47,7 +47,7 @@ use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
 use crate::onestep::{OneStep, OneStepParams};
-use crate::stabilized::{tridiagonal_forward_dispatch, TriRows};
+use crate::stabilized::{neighbours, tridiagonal_forward_dispatch, TriRows};
 use crate::{Bounds, Dynamics, Forcing, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
 use signorini_fem::BandLdlt;
@@ -454,8 +454,8 @@ impl TriRows for PsRows<'_> {
     fn interior(&self, a: usize, o: &mut [f64]) {
         let len = o.len();
         let (u, up, c, beta, dt2) = (self.u, self.up, self.c, self.beta, self.dt2);
-        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
-        let (pl, pc, pr) = (&up[a - 1..a - 1 + len], &up[a..a + len], &up[a + 1..a + 1 + len]);
+        let (ul, uc, ur) = neighbours(u, a, len);
+        let (pl, pc, pr) = neighbours(up, a, len);
         let (msl, mdc, msr) = self.t.m.window(a, len);
         let (ksl, kdc, ksr) = self.t.k.window(a, len);
         let fr = &self.f[a..a + len];

@@ -204,6 +204,14 @@ impl TriMatrix {
     }
 }
 
+/// Rows `a − 1`, `a` and `a + 1` onwards of `x`, `len` each: the left,
+/// centre and right neighbours a tridiagonal product reads for its rows
+/// `a..a + len` (the fused steps' [`TriRows::interior`]).
+#[inline(always)]
+pub(crate) fn neighbours(x: &[f64], a: usize, len: usize) -> (&[f64], &[f64], &[f64]) {
+    (&x[a - 1..a - 1 + len], &x[a..a + len], &x[a + 1..a + 1 + len])
+}
+
 /// `M`, `K` and the step matrix's factor tridiagonal (the P1 bar), no
 /// damping: the right-hand side `M U_pred − τ²/4 K Uⁿ + τ²/4 (2F + …)` and
 /// the forward sweep of the solve in one pass ([`tridiagonal_forward`]),
@@ -251,8 +259,8 @@ impl TriRows for StabilizedRows<'_> {
     fn interior(&self, a: usize, o: &mut [f64]) {
         let len = o.len();
         let (p, u, q) = (self.p, self.u, self.q);
-        let (pl, pc, pr) = (&p[a - 1..a - 1 + len], &p[a..a + len], &p[a + 1..a + 1 + len]);
-        let (ul, uc, ur) = (&u[a - 1..a - 1 + len], &u[a..a + len], &u[a + 1..a + 1 + len]);
+        let (pl, pc, pr) = neighbours(p, a, len);
+        let (ul, uc, ur) = neighbours(u, a, len);
         let (msl, mdc, msr) = self.t.m.window(a, len);
         let (ksl, kdc, ksr) = self.t.k.window(a, len);
         let fr = &self.f[a..a + len];
