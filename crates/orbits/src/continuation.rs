@@ -274,6 +274,24 @@ struct Linearised {
     /// The model at the point and its marker.
     model: Model,
     marker: Option<Marker>,
+    /// The orbit's states the flow passed through ([`Readings`]).
+    readings: Readings,
+}
+
+/// The states of the orbit through a point at the intermediate times
+/// [`Returns`] watches, read on the way by the map's flow at the point
+/// ([`Model::flow_reading`]: the same bits as a flow to each): a closing
+/// check costs no flow of its own. `None` where not read (then flowed to).
+#[derive(Clone, Default)]
+struct Readings {
+    /// Its state after `k` forcing periods, `k = 1 … p − 1`, as
+    /// [`Returns::all_shifted`] flows to them (read on maps of `p > 1`
+    /// forcing periods).
+    shifted: Option<Vec<Option<Vec<f64>>>>,
+    /// Its mirror images, as [`mirror_images`] makes them (read on maps of
+    /// a structure symmetric at the point's parameter; each `None` where
+    /// not).
+    mirrors: Option<Vec<Option<Vec<f64>>>>,
 }
 
 struct Ctx<'a, F: Family> {
@@ -312,6 +330,8 @@ struct Point {
     /// The unit tangent (scaled coordinates; last entry: the parameter's).
     tangent: Vec<f64>,
     mark: Option<Mark>,
+    /// The orbit's states at the intermediate times [`Returns`] watches.
+    readings: Readings,
 }
 
 impl<F: Family> Ctx<'_, F> {
@@ -323,11 +343,47 @@ impl<F: Family> Ctx<'_, F> {
 
     /// The map at `(x, λ)` with its Jacobian: [`Linearised`] without `G_λ`
     /// (empty until [`Ctx::param_derivative`]).
+    ///
+    /// On a map of `p > 1` forcing periods, or of a structure symmetric
+    /// under `x → −x` ([`mirror_symmetric`]), the flow also reads the
+    /// orbit's states at the times [`Returns`] watches ([`Readings`]),
+    /// at the times [`Returns::shifted`] and [`mirror_images`] flow to.
     fn image(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
         let (model, period, marker) = self.family.model_period_marker(param)?;
-        let img = model.flow(0.0, x, period, true)?;
+        let p = self.family.periods().max(1);
+        let half = 0.5 * period / p as f64;
+        let symmetric = mirror_symmetric(&model, half);
+        // (time, k, mirror): the shifted states' `period · k / p`, the
+        // mirror images' `(2k + 1) · half`, in order of time.
+        let mut reads: Vec<(f64, usize, bool)> = (1..p).map(|k| (period * k as f64 / p as f64, k, false)).collect();
+        if symmetric {
+            reads.extend((0..p).map(|k| ((2 * k + 1) as f64 * half, k, true)));
+        }
+        let (img, readings) = if reads.is_empty() {
+            (model.flow(0.0, x, period, true)?, Readings::default())
+        } else {
+            reads.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let times: Vec<f64> = reads.iter().map(|r| r.0).collect();
+            let (img, states) = model.flow_reading(0.0, x, period, true, &times)?;
+            // A time not below the period (round-off): not read, flowed to.
+            let readings = if states.len() < reads.len() {
+                Readings::default()
+            } else {
+                let mut shifted = vec![None; p - 1];
+                let mut mirrors = vec![None; p];
+                for (&(_, k, mirror), state) in reads.iter().zip(states) {
+                    if mirror {
+                        mirrors[k] = Some(state.iter().map(|v| -v).collect());
+                    } else {
+                        shifted[k - 1] = Some(state);
+                    }
+                }
+                Readings { shifted: (p > 1).then_some(shifted), mirrors: Some(mirrors) }
+            };
+            (img, readings)
+        };
         let g: Vec<f64> = img.x.iter().zip(x).map(|(a, b)| a - b).collect();
-        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl: Vec::new(), image: img.x, events: img.events, period, model, marker })
+        Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl: Vec::new(), image: img.x, events: img.events, period, model, marker, readings })
     }
 
     /// `G_λ` at the point `lin` linearises, by a forward difference (a
@@ -463,7 +519,7 @@ impl<F: Family> Ctx<'_, F> {
         let multipliers = eigenvalues(&lin.jac)?;
         let mark = lin.marker.as_ref().and_then(|m| m(&lin.model, &x));
         let orbit = Orbit { x: x.clone(), t0: 0.0, period: lin.period, events: lin.events, monodromy: lin.jac, multipliers, residual, iterations: 0 };
-        Ok(Point { x, param, orbit, tangent, mark })
+        Ok(Point { x, param, orbit, tangent, mark, readings: lin.readings })
     }
 
     /// The point at arclength `s` from `a` along its tangent.
@@ -866,9 +922,9 @@ fn continuation_until<F: Family>(
         if symmetric {
             let ac = match &asym {
                 Some((l, x, v)) if *l == cur.param && *x == cur.x => Some(*v),
-                _ => asymmetry(&ctx, &cur.x, cur.param, periods),
+                _ => asymmetry(&ctx, &cur, periods),
             };
-            let an = asymmetry(&ctx, &next.x, next.param, periods);
+            let an = asymmetry(&ctx, &next, periods);
             let turned = branch.bifurcations[found..].iter().any(|b| matches!(b.kind, BifurcationKind::Fold | BifurcationKind::BranchPoint));
             if let (false, Some(ac), Some(an)) = (turned, ac, an) {
                 if let Some(b) = pitchfork(&ctx, &cur, &next, i, periods, ac, an) {
@@ -2269,6 +2325,15 @@ impl Returns {
         (1..self.p).map(|k| Self::shifted(ctx, x, param, k, self.p)).collect()
     }
 
+    /// [`Returns::all_shifted`] of the point `q`: read by its map's flow
+    /// ([`Readings`]), else flowed to.
+    fn shifted_of<F: Family>(&self, ctx: &Ctx<'_, F>, q: &Point) -> Vec<Option<Vec<f64>>> {
+        match &q.readings.shifted {
+            Some(s) if s.len() + 1 == self.p => s.clone(),
+            _ => self.all_shifted(ctx, &q.x, q.param),
+        }
+    }
+
     /// Whether the step from `cur` to `next` closes the branch (it passes
     /// within a quarter of its length of the first orbit or one of its
     /// shifted states, and the corrector from there lands on it:
@@ -2282,7 +2347,7 @@ impl Returns {
             return None;
         }
         if self.first_shifted.len() + 1 < self.p {
-            self.first_shifted = self.all_shifted(ctx, &self.first.x, self.first.param);
+            self.first_shifted = self.shifted_of(ctx, &self.first);
         }
         let scaled = |x: &[f64], l: f64| -> Vec<f64> { x.iter().map(|v| v / ctx.xs).chain(std::iter::once(l / ctx.ls)).collect() };
         let (a, b) = (scaled(&cur.x, cur.param), scaled(&next.x, next.param));
@@ -2308,12 +2373,15 @@ impl Returns {
             return Some(Returned::Closed { at: Box::new(at), shift });
         }
         // Onto a traced segment.
+        // The branch's last point is `cur` (its states read by its flow).
+        let is_cur = |j: usize, q: &BranchPoint| j == i && q.param == cur.param && q.orbit.x == cur.x;
         while self.images.len() < points.len() {
-            let q = &points[self.images.len()];
-            let im = self.all_shifted(ctx, &q.orbit.x, q.param);
+            let j = self.images.len();
+            let q = &points[j];
+            let im = if is_cur(j, q) { self.shifted_of(ctx, cur) } else { self.all_shifted(ctx, &q.orbit.x, q.param) };
             self.images.push(im);
         }
-        let next_images = self.all_shifted(ctx, &next.x, next.param);
+        let next_images = self.shifted_of(ctx, next);
         for shift in 0..self.p {
             let (y, y0) = if shift == 0 { (Some(&next.x), Some(&cur.x)) } else { (next_images[shift - 1].as_ref(), self.images[i][shift - 1].as_ref()) };
             let (Some(y), Some(y0)) = (y, y0) else { continue };
@@ -2335,11 +2403,12 @@ impl Returns {
             return None;
         }
         while self.mirrors.len() < points.len() {
-            let q = &points[self.mirrors.len()];
-            let im = mirror_images(ctx, &q.orbit.x, q.param, self.p);
+            let j = self.mirrors.len();
+            let q = &points[j];
+            let im = if is_cur(j, q) { mirrors_of(ctx, cur, self.p) } else { mirror_images(ctx, &q.orbit.x, q.param, self.p) };
             self.mirrors.push(im);
         }
-        let next_mirrors = mirror_images(ctx, &next.x, next.param, self.p);
+        let next_mirrors = mirrors_of(ctx, next, self.p);
         for shift in 0..self.p {
             let (Some(y), Some(y0)) = (next_mirrors[shift].as_ref(), self.mirrors[i][shift].as_ref()) else { continue };
             let (sy, sy0) = (scaled(y, next.param), scaled(y0, cur.param));
@@ -2410,12 +2479,22 @@ fn mirror_images<F: Family>(ctx: &Ctx<'_, F>, x: &[f64], param: f64, p: usize) -
     (0..p).map(|k| model.flow(0.0, x, (2 * k + 1) as f64 * half, false).ok().map(|img| img.x.iter().map(|v| -v).collect())).collect()
 }
 
-/// The asymmetry of the orbit through `x` at `param` on a map of `p`
+/// [`mirror_images`] of the point `q`: read by its map's flow
+/// ([`Readings`]), else flowed to.
+fn mirrors_of<F: Family>(ctx: &Ctx<'_, F>, q: &Point, p: usize) -> Vec<Option<Vec<f64>>> {
+    match &q.readings.mirrors {
+        Some(m) if m.len() == p => m.clone(),
+        _ => mirror_images(ctx, &q.x, q.param, p),
+    }
+}
+
+/// The asymmetry of the orbit through the point `q` on a map of `p`
 /// forcing periods: the least distance (max norm, over the state's scale)
-/// of its mirror images ([`mirror_images`]) from its state, 0 on a
+/// of its mirror images ([`mirrors_of`]) from its state, 0 on a
 /// symmetric orbit; `None` where the structure is not symmetric.
-fn asymmetry<F: Family>(ctx: &Ctx<'_, F>, x: &[f64], param: f64, p: usize) -> Option<f64> {
-    mirror_images(ctx, x, param, p).iter().flatten().map(|y| y.iter().zip(x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / ctx.xs).reduce(f64::min)
+fn asymmetry<F: Family>(ctx: &Ctx<'_, F>, q: &Point, p: usize) -> Option<f64> {
+    let x = &q.x;
+    mirrors_of(ctx, q, p).iter().flatten().map(|y| y.iter().zip(x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / ctx.xs).reduce(f64::min)
 }
 
 /// At most this asymmetry ([`asymmetry`]) an orbit is symmetric.
@@ -2434,7 +2513,7 @@ fn pitchfork<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, p: usi
     if sym(aa) == sym(ab) {
         return None;
     }
-    let test = |q: &Point| asymmetry(ctx, &q.x, q.param, p).map_or(f64::NAN, |v| if sym(v) { 0.0 } else { 1.0 });
+    let test = |q: &Point| asymmetry(ctx, q, p).map_or(f64::NAN, |v| if sym(v) { 0.0 } else { 1.0 });
     let at = bisect(ctx, a, arclength(ctx, a, b), b, test, |u, v| test(u) != test(v));
     let kind = BifurcationKind::BranchPoint;
     Some(Bifurcation {

@@ -251,9 +251,37 @@ impl Model {
         }
         let mut run = self.run_from(t0, &q0, &v0)?;
         run.set_interrupt(self.interrupt.clone());
-        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts);
+        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts, &[], &mut Vec::new());
         self.done(run);
         out
+    }
+
+    /// [`Model::flow`] that also reads the state at `t0 + r` for each `r`
+    /// of `reads` (increasing, each below `τ`) on the way: the same run,
+    /// which a reading neither starts again nor re-bases (its event search
+    /// goes on from where it stands), and the Jacobian carried from event
+    /// to event as without them. So the image is `flow(t0, x0, τ,
+    /// jacobian)`'s and each state read `flow(t0, x0, r, false).x`, bit for
+    /// bit (`tests/it/readings.rs`): a continuation's return check takes
+    /// the states of its orbits at the intermediate periods from the
+    /// corrector's last flow, instead of flowing again to each.
+    pub fn flow_reading(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, reads: &[f64]) -> Result<(Image, Vec<Vec<f64>>), OrbitError> {
+        if x0.len() != self.dim() {
+            return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
+        }
+        if !(tau.is_finite() && tau > 0.0) {
+            return Err(OrbitError::Model(format!("the flow's horizon {tau} is not allowed: > 0 and finite")));
+        }
+        let (mut q0, v0) = self.lin.unpack(x0);
+        for c in self.dy.contacts.iter().filter(|c| !c.massless) {
+            q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
+        }
+        let mut run = self.run_from(t0, &q0, &v0)?;
+        run.set_interrupt(self.interrupt.clone());
+        let mut states = Vec::with_capacity(reads.len());
+        let out = self.flow_run(&mut run, t0, tau, jacobian, usize::MAX, reads, &mut states);
+        self.done(run);
+        Ok((out?.expect("no bound on the impacts"), states))
     }
 
     /// The exact flow from `x0` at `t0` read at `t0 + k·step`, `k = 1, …,
@@ -306,8 +334,11 @@ impl Model {
         Ok((n, x))
     }
 
-    /// [`Model::flow_within`] on `run`, started at `t0`.
-    fn flow_run(&self, run: &mut EventDriven, t0: f64, tau: f64, jacobian: bool, impacts: usize) -> Result<Option<Image>, OrbitError> {
+    /// [`Model::flow_within`] on `run`, started at `t0`, its states at
+    /// `t0 + r` (`r` in `reads`, increasing, below `τ`) into `states`
+    /// ([`Model::flow_reading`]).
+    #[allow(clippy::too_many_arguments)]
+    fn flow_run(&self, run: &mut EventDriven, t0: f64, tau: f64, jacobian: bool, impacts: usize, reads: &[f64], states: &mut Vec<Vec<f64>>) -> Result<Option<Image>, OrbitError> {
         let dim = self.dim();
         let mut jac = jacobian.then(|| Mat::<f64>::identity(dim, dim));
         let mut seen = run.events().len();
@@ -322,10 +353,24 @@ impl Model {
         let t_end = t0 + tau;
         // Impacts so far, over the events counted so far.
         let (mut hits, mut counted) = (0, 0);
+        let mut read = 0;
         loop {
+            // The next reading's time, as `flow` ends: `t0 + r`.
+            let stop = match reads.get(read) {
+                Some(&r) if t0 + r < t_end => t0 + r,
+                _ => t_end,
+            };
             // Every applied event, those that log nothing included (a
             // landing at zero speed may start a held phase without a record).
-            let event = run.next_change(t_end)?;
+            let event = run.next_change(stop)?;
+            if stop < t_end && event == Reached::End {
+                // A reading: the run stands at `stop` (read from its phase's
+                // base, which stays); no event, nothing carried.
+                let (_, q, v) = run.state();
+                states.push(self.lin.pack(&q, &v));
+                read += 1;
+                continue;
+            }
             if run.events().len() > self.max_events {
                 return Err(signorini_schemes::events::EventsError::TooManyEvents { t: run.time(), events: run.events().len() }.into());
             }

@@ -60,11 +60,13 @@ pub(crate) struct Site {
 
 /// The linear structure: its load-free core (shared by the models of one
 /// structure: [`Core`]), its contacts, and per held set met its parts and
-/// buffers (one map, one entry per held set).
+/// buffers (one entry per held set, in the order met: a run meets a few,
+/// and each event's lookup compares the held set with theirs, without
+/// hashing the set or allocating).
 pub(crate) struct Linear {
     core: Arc<Core>,
     pub sites: Vec<Site>,
-    held: RefCell<HashMap<Vec<usize>, Held>>,
+    held: RefCell<Vec<(Vec<usize>, Held)>>,
 }
 
 /// What the linearisation of one structure needs and no load, bound or
@@ -182,7 +184,7 @@ impl Linear {
             None => Arc::new(Core::new(dy)?),
         };
         let sites = dy.contacts.iter().map(|c| Site { dof: c.dof, restitution: c.restitution.unwrap_or(e) }).collect();
-        Ok(Self { core, sites, held: RefCell::new(HashMap::new()) })
+        Ok(Self { core, sites, held: RefCell::new(Vec::new()) })
     }
 
     /// The shared core.
@@ -222,11 +224,15 @@ impl Linear {
     }
 
     /// The entry of the held set `held` (made if new: its parts from the core).
-    fn held_entry<'a>(&self, map: &'a mut HashMap<Vec<usize>, Held>, held: &[usize]) -> &'a mut Held {
-        if !map.contains_key(held) {
-            map.insert(held.to_vec(), Held { parts: self.core.parts(held), work: Work::default() });
-        }
-        map.get_mut(held).expect("just made")
+    fn held_entry<'a>(&self, sets: &'a mut Vec<(Vec<usize>, Held)>, held: &[usize]) -> &'a mut Held {
+        let i = match sets.iter().position(|(set, _)| set == held) {
+            Some(i) => i,
+            None => {
+                sets.push((held.to_vec(), Held { parts: self.core.parts(held), work: Work::default() }));
+                sets.len() - 1
+            }
+        };
+        &mut sets[i].1
     }
 
     /// The modes of the held set `held` into its parts (unless there).

@@ -20,6 +20,7 @@ mod nonsmooth_fold;
 mod oscillator;
 mod period_two;
 mod reach;
+mod readings;
 mod rebuilt;
 mod reuse;
 mod scale;
