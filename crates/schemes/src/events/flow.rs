@@ -328,8 +328,9 @@ fn resonant(k: f64, c: f64, w: f64) -> bool {
 /// Eigenvalues of the first-order form (complex or real) within this
 /// fraction of its spectral radius are one repeated eigenvalue (round-off
 /// splits a repeated one by ~1e-16 of the radius, a Jordan block by ~1e-8:
-/// the latter stays split and is refused by the basis checks of
-/// [`ModalFlow::general`]).
+/// the latter stays split, a nearly critically damped mode
+/// ([`NEAR_CRITICAL`]); one that lands within this is a cluster whose
+/// eigenspace is a line, its plane from `(A − λ)²` ([`critical_plane`])).
 const REPEATED: f64 = 1e-12;
 
 /// A damping matrix whose modal entries `|φ_iᵀ C φ_j|` are all within
@@ -505,6 +506,36 @@ pub fn repeated_planes(a: &Mat<f64>, k: f64, c: f64, m: usize) -> Result<Vec<Vec
 /// (6.7e-3) takes it, its flow 1.6e-13 → 1.6e-14 off the exponential
 /// (docs/theory.md §9.1). Above 1e-2 the eigenvectors' plane stays.
 const SLOW: f64 = 1e-2;
+
+/// Two real eigenvalues of the first-order form split by at most this
+/// fraction of its spectral radius, or a complex pair `σ ± iω` with `2ω`
+/// within it, are one nearly critically damped mode when their plane's
+/// columns are apart ([`critical_plane`]; docs/theory.md §9.1). A
+/// critically damped mode of a non-classical `C` is a Jordan block of `A`,
+/// which round-off splits by ~`√ε` of the radius (measured: 1.3e-8 to
+/// 9.3e-8 on three exact ones) into two reals or a complex pair with
+/// eigenvectors parallel within that: their plane known to ε over their
+/// angle, `T` refused. The eigenvectors' plane of a genuinely split pair
+/// was off the exponential by 1.1e-12 at a split of 1.7e-4 of the radius,
+/// 3.3e-13 at 6e-4, 1.3e-13 at 1.7e-3, 2e-14 at 6e-3; the plane of
+/// `(A − λ₁)(A − λ₂)` by at most 6e-14 from 1.3e-8 to 2e-2.
+const NEAR_CRITICAL: f64 = 1e-2;
+
+/// The plane of a nearly critically damped mode `λ₁, λ₂` of `a` split by
+/// `split` (`k = λ₁λ₂`, or `σ² + ω²` for `σ ± iω`; `c = −λ₁ − λ₂`;
+/// docs/theory.md §9.1): [`slow_plane`]'s null space of `(a − λ₁)(a − λ₂)`,
+/// known to round-off however close `λ₁` and `λ₂` are (for a Jordan block
+/// it is `(a + c/2)²`'s), and of it the vector whose columns condition `T`
+/// best. Kept when those columns are apart: the sine of their angle above
+/// `10 split/|λ̄|` (`λ̄ = −c/2`) and 1e-6. A nearly repeated eigenvalue
+/// with two eigenvectors apart (two identical blocks, one detuned) has on
+/// that plane `a ≈ λ̄`, every `x_a` within `split/(2|λ̄|)` of its `x_b`:
+/// `None`, its eigenvectors stay.
+pub fn critical_plane(a: &Mat<f64>, k: f64, c: f64, split: f64) -> Option<Vec<f64>> {
+    let x = slow_plane(a, k, c)?;
+    let (sine, _) = pair_sine(a, c, &x);
+    (sine > (10.0 * split / (0.5 * c).abs()).max(1e-6)).then_some(x)
+}
 
 /// The invariant plane of a slow pair `λ₁, λ₂` of `a` (`k = λ₁λ₂`, `c = −λ₁
 /// − λ₂`; docs/theory.md §9.1), without its eigenvectors: the null space of
@@ -811,6 +842,11 @@ impl ModalFlow {
     /// its eigenvectors from the eigenspace ([`repeated_line`]), and with
     /// two real eigenvalues within [`CLOSE`] the `R` reals pair the `i`-th
     /// with the `(i + R/2)`-th, so that no plane holds one eigenvalue twice.
+    /// Two reals split by at most [`NEAR_CRITICAL`] of the radius, or a
+    /// complex pair as close, with their plane's columns apart (a
+    /// critically damped mode, a Jordan block that round-off split, or a
+    /// nearly critical one) take their plane from `(A − λ₁)(A − λ₂)`
+    /// ([`critical_plane`]), not from their nearly parallel eigenvectors.
     /// A slow pair (the two eigenvalues of smallest modulus within
     /// [`SLOW`] of every other's: a free structure's rigid pair under a
     /// weak damping) takes its plane from `(A − λ₁)(A − λ₂)`
@@ -905,6 +941,16 @@ impl ModalFlow {
                     }
                     continue;
                 }
+                // A nearly critically damped mode split into `σ ± iω`
+                // (docs/theory.md §9.1): its plane from `(A − λ)(A − λ̄)`.
+                if 2.0 * l.im <= NEAR_CRITICAL * radius {
+                    let (ki, ci) = (l.re * l.re + l.im * l.im, -2.0 * l.re);
+                    if let Some(x) = critical_plane(&a, ki, ci, 2.0 * l.im) {
+                        modes.push((ki, ci, unit(x)));
+                        done[j] = true;
+                        continue;
+                    }
+                }
                 // A real vector of the plane: the real or the imaginary
                 // part of the eigenvector, the larger, unless another
                 // direction of the plane conditions `T` better.
@@ -917,8 +963,34 @@ impl ModalFlow {
             }
         }
         reals.sort_by(|x, y| x.0.total_cmp(&y.0));
+        // Two reals split by more than round-off of a repeated one and at
+        // most NEAR_CRITICAL: a nearly critically damped mode when their
+        // plane's columns are apart (docs/theory.md §9.1), its plane from
+        // `(A − λ₁)(A − λ₂)`.
+        if reals.windows(2).any(|w| w[1].0 - w[0].0 > REPEATED * radius && w[1].0 - w[0].0 <= NEAR_CRITICAL * radius) {
+            let mut kept = Vec::with_capacity(reals.len());
+            let mut i = 0;
+            while i < reals.len() {
+                if i + 1 < reals.len() {
+                    let (l1, l2) = (reals[i].0, reals[i + 1].0);
+                    let split = l2 - l1;
+                    if split > REPEATED * radius && split <= NEAR_CRITICAL * radius {
+                        if let Some(x) = critical_plane(&a, l1 * l2, -(l1 + l2), split) {
+                            modes.push((l1 * l2, -(l1 + l2), unit(x)));
+                            i += 2;
+                            continue;
+                        }
+                    }
+                }
+                kept.push(reals[i].clone());
+                i += 1;
+            }
+            reals = kept;
+        }
         // A real eigenvalue repeated to round-off (docs/theory.md §9.1):
-        // one cluster, its mean and an orthonormal basis of its eigenspace.
+        // one cluster, its mean and an orthonormal basis of its eigenspace;
+        // a pair whose eigenspace is a line is a Jordan block (a critically
+        // damped mode), its plane from `(A − λ)²`.
         if reals.windows(2).any(|w| w[1].0 - w[0].0 <= REPEATED * radius) {
             let mut grouped = Vec::with_capacity(reals.len());
             let mut i = 0;
@@ -928,7 +1000,13 @@ impl ModalFlow {
                     grouped.push(reals[i].clone());
                 } else {
                     let l = reals[i..end].iter().map(|r| r.0).sum::<f64>() / (end - i) as f64;
-                    grouped.extend(repeated_line(&a, l, end - i)?.into_iter().map(|x| (l, unit(x))));
+                    match repeated_line(&a, l, end - i) {
+                        Ok(xs) => grouped.extend(xs.into_iter().map(|x| (l, unit(x)))),
+                        Err(e) => match critical_plane(&a, l * l, -2.0 * l, reals[end - 1].0 - reals[i].0) {
+                            Some(x) if end - i == 2 => modes.push((l * l, -2.0 * l, unit(x))),
+                            _ => return Err(e),
+                        },
+                    }
                 }
                 i = end;
             }
@@ -981,8 +1059,9 @@ impl ModalFlow {
         // for ±0) gives `x_b = u₁ + u₂` from two nearly parallel
         // eigenvectors: the sum cancels, its error out of the plane grows
         // to 1e-8 while `T` stays well conditioned (15), and the flow was
-        // off the exponential by 3e-10 to 0.93 (events_flow.rs). No
-        // basis: refused (docs/schemes.md).
+        // off the exponential by 3e-10 to 0.93 (events_flow.rs); such a
+        // pair now takes its slow or critical plane. No basis: refused
+        // (docs/schemes.md).
         let an = norm(&a);
         for (i, (ki, ..)) in modes.iter().enumerate() {
             let size = |col: usize| (0..nn).fold(0.0f64, |m, r| m.max(t[(r, col)].abs()));

@@ -10,7 +10,7 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use proptest::prelude::*;
 use signorini_fem::SymBand;
-use signorini_schemes::events::{repeated_line, repeated_planes, slow_plane, EventsError, ModalFlow};
+use signorini_schemes::events::{critical_plane, repeated_line, repeated_planes, slow_plane, EventsError, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
 type Dense = Vec<Vec<f64>>;
@@ -305,7 +305,8 @@ fn refusals_are_typed() {
     // Two equal modes (K = M = I) and C with eigenvalues 2 and 3: the
     // first one critically damped, a defective eigenvalue −1 of the
     // first-order form (C's off-diagonal makes the identity modes see it as
-    // non-classical).
+    // non-classical). Refused before (`condition` above 1e8); its plane
+    // from `(A + 1)²`, now taken and exact.
     let (mut m, mut k, mut c) = (SymBand::zeros(2, 1), SymBand::zeros(2, 1), SymBand::zeros(2, 1));
     for i in 0..2 {
         m.set(i, i, 1.0);
@@ -316,7 +317,21 @@ fn refusals_are_typed() {
     let mut dy = Dynamics::new(m, k, vec![0.0; 2], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     dy.damping = Some(c);
     let r = ModalFlow::new(&dy);
-    assert!(matches!(r, Err(EventsError::Defective { .. })), "{r:?}");
+    assert!(r.is_ok(), "{r:?}");
+    check(&forced(dy), 0.4, 3.0, 1e-13);
+    // Still refused: a defective complex pair (`±iω` twice with one
+    // eigenvector, `[J I; 0 J]`), whose message names the condition.
+    let w = 1.7;
+    let jordan = Mat::from_fn(4, 4, |i, j| match (i / 2 == j / 2, i % 2, j % 2) {
+        (true, 0, 1) => w,
+        (true, 1, 0) => -w,
+        (false, _, _) if j == i + 2 => 1.0,
+        _ => 0.0,
+    });
+    let r = repeated_planes(&jordan, w * w, 0.0, 2);
+    assert!(matches!(r, Err(EventsError::Defective { condition }) if condition == f64::INFINITY), "{r:?}");
+    let text = r.unwrap_err().to_string();
+    assert!(text.starts_with("damping:") && text.contains("condition number") && text.contains("1e8"), "{text}");
     let mut dy = chain(3, false);
     dy.forcing = vec![Forcing { shape: vec![1.0; 3], time: TimeProfile::series(vec![0.0, 1.0], vec![0.0, 1.0]).unwrap() }];
     assert!(matches!(ModalFlow::new(&dy), Err(EventsError::Profile { index: 0 })));
@@ -941,4 +956,260 @@ fn several_rigid_modes_at_once_are_exact() {
         }
     }
     assert!(bad.is_empty(), "{} off the exponential or refused (worst {worst:.1e}):\n{}", bad.len(), bad.join("\n"));
+}
+
+/// A chain of two unit masses with an exactly critically damped mode under
+/// a non-classical damping, by construction: springs `k₁` (wall–0), `s`
+/// (0–1), `k₃` (1–wall), a dashpot `d` at dof 0 (`C = d e₀e₀ᵀ`, which the
+/// modes of `(K, I)` do not diagonalise). `λ` is a root of `p(λ) =
+/// det(λ² + λ C + K) = (λ² + dλ + k₁₁)(λ² + k₂₂) − s²` with eigenvector
+/// `φ` iff `(λ² + λC + K) φ = 0`, and a double one with the single
+/// eigenvector `φ` (a Jordan block of the first-order form) iff moreover
+/// `φᵀ (2λ + C) φ = 0` (`p'(λ)` is that times `p`'s cofactor, the
+/// solvability of the Jordan chain `(λ² + λC + K) ψ = −(2λ + C) φ`). With
+/// `λ = −a`, `φ = (1, r)`: the second gives `d = 2a (1 + r²)`, the first
+/// `k₁₁ + r k₁₂ = a² − a d` … written out, `k₁₁ = a² (1 + 2r²) + r s`,
+/// `k₂₂ = s/r − a²` (`k₁₂ = −s`). Then `p(λ) = (λ + a)² (λ² + bλ + e)`
+/// with `b = d − 2a`, `e = (k₁₁ k₂₂ − s²)/a²`: the critical mode `(k, c) =
+/// (a², 2a)` and an underdamped one `(e, b)`. `(a, r, s) = (1, ½, 2)`:
+/// `d = 5/2`, `K = [5/2 −2; −2 3]`, exact in binary (the block exact),
+/// `p = (λ + 1)² (λ² + λ/2 + 7/2)`. The dashpot scaled by `1 + η` splits
+/// the double root by `~√|η|` (reals for one sign, a complex pair for
+/// the other): a nearly critical mode.
+fn critical_chain(a: f64, r: f64, s: f64, eta: f64) -> (Dynamics, f64, f64) {
+    let d = 2.0 * a * (1.0 + r * r);
+    let (k11, k22) = (a * a * (1.0 + 2.0 * r * r) + r * s, s / r - a * a);
+    let (mut m, mut k, mut c) = (SymBand::zeros(2, 1), SymBand::zeros(2, 1), SymBand::zeros(2, 1));
+    m.set(0, 0, 1.0);
+    m.set(1, 1, 1.0);
+    k.set(0, 0, k11);
+    k.set(1, 1, k22);
+    k.set(1, 0, -s);
+    c.set(0, 0, d * (1.0 + eta));
+    let e = (k11 * k22 - s * s) / (a * a);
+    let mut dy = Dynamics::new(m, k, vec![0.3, -0.2], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]);
+    dy.damping = Some(c);
+    (dy, e, d - 2.0 * a)
+}
+
+/// `p(λ)` and `p'(λ)` of [`critical_chain`] from its matrices, by the
+/// determinant of `λ² M + λ C + K` (2 × 2).
+fn char_poly(dy: &Dynamics, l: f64) -> (f64, f64) {
+    let (m, k) = (band(&dy.mass), band(&dy.stiffness));
+    let c = band(dy.damping.as_ref().unwrap());
+    let q = |l: f64, i: usize, j: usize| l * l * m[i][j] + l * c[i][j] + k[i][j];
+    let dq = |l: f64, i: usize, j: usize| 2.0 * l * m[i][j] + c[i][j];
+    let p = q(l, 0, 0) * q(l, 1, 1) - q(l, 0, 1) * q(l, 1, 0);
+    let dp = dq(l, 0, 0) * q(l, 1, 1) + q(l, 0, 0) * dq(l, 1, 1) - dq(l, 0, 1) * q(l, 1, 0) - q(l, 0, 1) * dq(l, 1, 0);
+    (p, dp)
+}
+
+/// A critically damped mode of a non-classical damping (a Jordan block of
+/// the first-order form, split by round-off into two nearly parallel
+/// eigenvectors) was refused (`T`'s condition above 1e8); its plane from
+/// `(A + c/2)²` it is exact: free, under a steady load and harmonics,
+/// against the exponential. Measured: 1.2e-14, 1.6e-14, 3.9e-14 of the
+/// state (`a` = 1, 0.7, 1.9, forced) over
+/// these horizons (to 12: 12 to 23 e-foldings of the critical mode).
+/// Plants, each failing: the old refusal (no `critical_plane`:
+/// `Defective`); the plane from the eigenvectors (`x_b = u₁ + u₂`, or a
+/// complex pair's `u`: refused, `condition inf`); the critical mode's `k`
+/// off by 1e-6 relative (its `k` against `a²`), its `c` (2.6e-8 of the
+/// state against the exponential).
+#[test]
+fn a_critically_damped_mode_of_a_nonclassical_damping_is_exact() {
+    for (a, r, s) in [(1.0, 0.5, 2.0), (0.7, 0.3, 0.5), (1.9, 0.6, 7.0)] {
+        let (dy, e, b) = critical_chain(a, r, s, 0.0);
+        // The construction: `−a` a double root (to round-off of `p`'s terms).
+        let (p, dp) = char_poly(&dy, -a);
+        assert!(p.abs() <= 1e-14 * (1.0 + a.powi(4)) && dp.abs() <= 1e-14 * (1.0 + a.powi(3)), "a = {a}: p = {p:e}, p' = {dp:e}");
+        let flow = ModalFlow::new(&dy).unwrap_or_else(|err| panic!("a = {a}, r = {r}, s = {s}: {err}"));
+        assert!(!flow.classical());
+        // The modes' `k`: `a²` (critical) and `e`, ascending.
+        let mut want = [a * a, e];
+        want.sort_by(f64::total_cmp);
+        for (got, want) in flow.omega2().iter().zip(want) {
+            assert!((got - want).abs() <= 1e-13 * want, "a = {a}: k {got} against {want} (b = {b})");
+        }
+        for damped_free in [false, true] {
+            let dy = if damped_free { dy.clone() } else { forced(dy.clone()) };
+            for (t0, tau) in [(0.0, 0.3), (1.3, 2.0), (4.1, 7.0), (0.6, 12.0)] {
+                check(&dy, t0, tau, 1e-13);
+            }
+        }
+    }
+}
+
+/// A nearly critical mode (the dashpot of [`critical_chain`] scaled by `1 +
+/// η`, `|η|` from 1e-16 to 1e-4: the double root split by 1.3e-8 to 2e-2
+/// of the spectral radius, into two reals for `η > 0` and a complex pair
+/// for `η < 0`), either side of flow.rs's `NEAR_CRITICAL` (1e-2), against
+/// the exponential. Measured: at most 5.9e-14 of the state (1.2e-14 to
+/// 5.9e-14 over the three chains, the largest on the stiffest). Before,
+/// two reals' eigenvectors: refused up to a split of ~2e-6, 3.5e-11 off at
+/// 1.7e-6, 1.1e-12 at 1.7e-4, 3.3e-13 at 6e-4, 1.3e-13 at 1.7e-3, 2.2e-14
+/// at 6e-3 (two reals; a complex pair's plane from its `u`, `y` was within
+/// 5e-14 once taken). Plants, each failing: the threshold at 1e-4 (1.1e-12
+/// at a split of 1.7e-4), at 0 (refused).
+#[test]
+fn a_nearly_critical_mode_is_exact_either_side_of_the_threshold() {
+    for (a, r, s) in [(1.0, 0.5, 2.0), (0.7, 0.3, 0.5), (1.9, 0.6, 7.0)] {
+        for sign in [1.0, -1.0] {
+            for x in [0.0, 1e-16, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4] {
+                let (dy, _, _) = critical_chain(a, r, s, sign * x);
+                let dy = forced(dy);
+                let flow = ModalFlow::new(&dy).unwrap_or_else(|e| panic!("a = {a}, η = {}: {e}", sign * x));
+                for (t0, tau) in [(0.0, 0.3), (1.3, 2.0), (4.1, 7.0), (0.6, 12.0)] {
+                    let err = scaled_error(&flow, &dy, t0, tau);
+                    assert!(err <= 1e-13, "a = {a}, η = {}, t0 = {t0}, τ = {tau}: {err:e} of the state", sign * x);
+                }
+            }
+        }
+    }
+}
+
+/// An event-located exponential (written here): each flight by
+/// [`reference`] from the last event, the first crossing of `q₀ = lo`
+/// bracketed on a grid of `h` and bisected to round-off in time, Newton's
+/// law `v⁺ = v⁻ − (1 + e) v₀⁻ M⁻¹e₀/(M⁻¹)₀₀` there, the contact put on
+/// its bound. Impacts only (no chatter within `t_end`): the impacts' `(t,
+/// v₀⁻)` and the state at `t_end`.
+fn exponential_impacts(dy: &Dynamics, lo: f64, e: f64, q0: &[f64], v0: &[f64], t_end: f64, h: f64) -> (Vec<(f64, f64)>, Vec<f64>, Vec<f64>) {
+    let minv = inverse(&band(&dy.mass));
+    let (mut t, mut q, mut v) = (0.0, q0.to_vec(), v0.to_vec());
+    let mut rows = Vec::new();
+    loop {
+        let mut hit = None;
+        let mut s = 0.0;
+        while t + s < t_end {
+            let next = (s + h).min(t_end - t);
+            if reference(dy, t, &q, &v, next).0[0] < lo {
+                hit = Some((s, next));
+                break;
+            }
+            s = next;
+        }
+        let Some((mut a, mut b)) = hit else {
+            let (qe, ve) = reference(dy, t, &q, &v, t_end - t);
+            return (rows, qe, ve);
+        };
+        for _ in 0..200 {
+            let mid = 0.5 * (a + b);
+            if mid <= a || mid >= b {
+                break;
+            }
+            if reference(dy, t, &q, &v, mid).0[0] < lo {
+                b = mid;
+            } else {
+                a = mid;
+            }
+        }
+        let (qi, mut vi) = reference(dy, t, &q, &v, b);
+        let w = vi[0];
+        let p = -(1.0 + e) * w / minv[0][0];
+        for (x, row) in vi.iter_mut().zip(&minv) {
+            *x += row[0] * p;
+        }
+        rows.push((t + b, w));
+        (t, q, v) = (t + b, qi, vi);
+        q[0] = lo;
+    }
+}
+
+/// The critically damped chain (`a, r, s = 1, ½, 2`) under its steady
+/// load and [`forced`]'s harmonics, on a stop under dof 0 (`e = 0.8`):
+/// its impacts against the event-located exponential above. Measured:
+/// 9 impacts to `t = 20` (the slowest at 0.061), times within 2.3e-14 s,
+/// speeds within 8.2e-15, the final state within 6.4e-15. Plants, each
+/// failing: the old refusal and the eigenvectors' plane (`EventDriven::new`
+/// refused, `condition inf`); the critical mode's `k` off by 1e-6
+/// relative (times off by 2.2e-6 s), its `c` (4.2e-6 s).
+#[test]
+fn a_critically_damped_chain_meets_its_stop_as_the_exponential_does() {
+    let (dy, _, _) = critical_chain(1.0, 0.5, 2.0, 0.0);
+    let mut dy = forced(dy);
+    let lo = 0.05;
+    dy.contacts = vec![Contact::new(0, Bounds::obstacle(lo), false)];
+    let (q0, v0, e, t_end) = ([0.1, 0.1], [-0.8, 0.3], 0.8, 20.0);
+    let mut run = signorini_schemes::events::EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
+    run.run_until(t_end, 1000).unwrap();
+    let (_, q, v) = run.state();
+    let (rows, qw, vw) = exponential_impacts(&dy, lo, e, &q0, &v0, t_end, 0.01);
+    let got: Vec<(f64, f64)> = run.events().iter().map(|r| (r.t, r.velocity_before)).collect();
+    assert!(got.len() == rows.len() && rows.len() >= 5, "{} events against {}:\n{got:?}\n{rows:?}", got.len(), rows.len());
+    let (mut dt, mut dw) = (0.0f64, 0.0f64);
+    for (g, w) in got.iter().zip(&rows) {
+        (dt, dw) = (dt.max((g.0 - w.0).abs()), dw.max((g.1 - w.1).abs()));
+    }
+    let dz = q.iter().chain(&v).zip(qw.iter().chain(&vw)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(dt <= 1e-12 && dw <= 1e-12 && dz <= 1e-12, "times {dt:e} s, speeds {dw:e}, state {dz:e}");
+}
+
+/// `critical_plane` on the first-order matrix of the exactly critical
+/// chain (`a, r, s = 1, ½, 2`): its plane is the Jordan chain's, written
+/// out here — `λ = −1`, `φ = (1, ½)`, and `ψ = (−½, 0)` solving
+/// `(λ² + λC + K) ψ = −(2λ + C) φ`: `z₁ = (φ, λφ)`, `z₂ = (ψ, φ + λψ)`,
+/// `(A + 1) z₂ = z₁`. Both columns `x_b`, `(A + 2) x_b` lie in it to round-off, and they
+/// are apart. On `A = diag(−1, −1, −3, −4)` (`−1` semisimple: every vector
+/// of its plane an eigenvector, `x_a ∥ x_b`) it gives no plane.
+#[test]
+fn a_critical_plane_is_the_jordan_chains() {
+    let (dy, _, _) = critical_chain(1.0, 0.5, 2.0, 0.0);
+    let (k, c) = (band(&dy.stiffness), band(dy.damping.as_ref().unwrap()));
+    let a = Mat::from_fn(4, 4, |i, j| match (i < 2, j < 2) {
+        (true, true) => 0.0,
+        (true, false) => f64::from(u8::from(j - 2 == i)),
+        (false, true) => -k[i - 2][j],
+        (false, false) => -c[i - 2][j - 2],
+    });
+    let (z1, z2) = ([1.0, 0.5, -1.0, -0.5], [-0.5, 0.0, 1.5, 0.5]);
+    let x = critical_plane(&a, 1.0, 2.0, 0.0).expect("a plane");
+    let xa: Vec<f64> = (0..4).map(|i| (0..4).map(|j| a[(i, j)] * x[j]).sum::<f64>() + 2.0 * x[i]).collect();
+    // The distance of `y` from span{z₁, z₂} (the 2 × 2 normal equations).
+    let off = |y: &[f64]| {
+        let dot = |p: &[f64], q: &[f64]| p.iter().zip(q).map(|(a, b)| a * b).sum::<f64>();
+        let (g11, g12, g22) = (dot(&z1, &z1), dot(&z1, &z2), dot(&z2, &z2));
+        let (b1, b2) = (dot(&z1, y), dot(&z2, y));
+        let det = g11 * g22 - g12 * g12;
+        let (c1, c2) = ((b1 * g22 - g12 * b2) / det, (g11 * b2 - g12 * b1) / det);
+        let r = (0..4).map(|i| (y[i] - c1 * z1[i] - c2 * z2[i]).abs()).fold(0.0, f64::max);
+        r / y.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    assert!(off(&x) <= 1e-14 && off(&xa) <= 1e-14, "x_b off the plane by {:e}, x_a by {:e}", off(&x), off(&xa));
+    let dot = |p: &[f64], q: &[f64]| p.iter().zip(q).map(|(a, b)| a * b).sum::<f64>();
+    let cosine = dot(&x, &xa) / (dot(&x, &x) * dot(&xa, &xa)).sqrt();
+    assert!(cosine.abs() <= 0.9, "columns within {:.1}°", cosine.acos().to_degrees());
+    let semisimple = Mat::from_fn(4, 4, |i, j| if i == j { [-1.0, -1.0, -3.0, -4.0][i] } else { 0.0 });
+    assert!(critical_plane(&semisimple, 1.0, 2.0, 0.0).is_none());
+}
+
+/// A triple root (a Jordan block of three, beyond a critically damped
+/// pair): `M = I`, `C = diag(4, 1)`, `K = [13/3 −s; −s 2/3]`, `s² = 8/9`,
+/// so that `det(λ² + λC + K) = (λ² + 4λ + 13/3)(λ² + λ + 2/3) − 8/9 =
+/// (λ + 1)³ (λ + 2)`. Round-off splits it by ~`ε^{1/3}`: refused (typed)
+/// or exact, never a wrong flow (measured: refused, `Defective`).
+#[test]
+fn a_triple_root_is_refused_or_exact() {
+    let (mut m, mut k, mut c) = (SymBand::zeros(2, 1), SymBand::zeros(2, 1), SymBand::zeros(2, 1));
+    m.set(0, 0, 1.0);
+    m.set(1, 1, 1.0);
+    k.set(0, 0, 13.0 / 3.0);
+    k.set(1, 1, 2.0 / 3.0);
+    k.set(1, 0, -(8.0f64 / 9.0).sqrt());
+    c.set(0, 0, 4.0);
+    c.set(1, 1, 1.0);
+    let mut dy = Dynamics::new(m, k, vec![0.3, -0.2], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]);
+    dy.damping = Some(c);
+    let (p, dp) = char_poly(&dy, -1.0);
+    assert!(p.abs() <= 1e-14 && dp.abs() <= 1e-14, "p = {p:e}, p' = {dp:e}");
+    let dy = forced(dy);
+    match ModalFlow::new(&dy) {
+        Err(EventsError::Defective { .. }) => println!("triple root: refused"),
+        Err(e) => panic!("{e}"),
+        Ok(flow) => {
+            let err = [(0.0, 0.3), (1.3, 2.0), (4.1, 7.0)].iter().map(|&(t0, tau)| scaled_error(&flow, &dy, t0, tau)).fold(0.0, f64::max);
+            println!("triple root: taken, {err:.1e} of the state");
+            assert!(err <= 1e-10, "{err:e}");
+        }
+    }
 }
