@@ -37,7 +37,8 @@
 //! 3.6e-11 of its terms): each impact re-made the modal state from the
 //! physical one, a round trip `Φ Φᵀ M` off the identity by the basis'
 //! round-off; an impact that keeps the phase now adds its changes to it
-//! (−1.9e-13 after 10⁶ events, against −3.6e-11, §9.3). The balance does
+//! (−1.9e-13 after 10⁶ events, against −3.6e-11; −1.2e-12 at the hold,
+//! against −5.4e-10, no longer one-signed: §9.3). The balance does
 //! not move at the hold or over the held phase; the tests below are that
 //! mechanism in 1.6·10⁴ events, and its drift per impact in 4·10³.
 
