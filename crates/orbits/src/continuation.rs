@@ -2210,7 +2210,12 @@ fn turn_onto<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, p
     }
     let w = (p1.param - cur.param) / (cur.param - prev.param);
     let meet = p1.x.iter().zip(&cur.x).zip(&prev.orbit.x).fold(0.0f64, |a, ((y, c), b)| a.max((y - (c + w * (c - b))).abs()));
-    if !(meet <= 1e-2 * ctx.xs) {
+    // The arcs meet: `cur`'s extrapolated reaches `p1`, or, where that
+    // extrapolation spans more than 100 of `cur`'s last steps, the orbit
+    // beside the grazing on `p`'s side has `cur`'s impact slowing as
+    // `cur`'s does ([`meets_by_speed`]).
+    let meets = meet <= 1e-2 * ctx.xs || (w.abs() > 100.0 && meets_by_speed(ctx, cur, p, &p1, estimate));
+    if !meets {
         return None;
     }
     let mut seed = vec![0.0; ctx.n + 1];
@@ -2228,6 +2233,36 @@ fn turn_onto<F: Family>(ctx: &Ctx<'_, F>, points: &[BranchPoint], cur: &Point, p
         mark: None,
     };
     Some((bif, across))
+}
+
+/// Whether the arc of `cur` (its slowest impact vanishing) meets `p`'s
+/// arc (one impact fewer) at the grazing `estimate` located on `p`'s arc
+/// (`p1` its orbit there), seen from `p`'s side where `cur`'s two last
+/// points are too near each other for their extrapolation (by more than
+/// 100 times their distance): the orbit of `p`'s arc at 1e-2 of the way
+/// from the grazing to `cur`, pushed past the stop ([`past_the_stop`]),
+/// gives an orbit with `cur`'s impacts whose slowest impact's speed is
+/// `cur`'s scaled linearly to that distance, within a factor 2.
+///
+/// On the sine-forced period-3 loop of `tests/it/isola.rs` with the
+/// parameter's scale 4 the branch crawled (the corrector at its residual
+/// floor) and met the 1-impact orbits from two 2-impact points 2.2e-7
+/// apart at Ω = 3.1387640, 1.5e-2 above the grazing at 3.1238288: their
+/// extrapolation missed the 1-impact orbit there by 0.83 (the state's
+/// scale 0.78), the turn was refused, a grazing was listed at 3.1387178
+/// where there is none and the loop did not close. The orbit found at
+/// 1e-2 of the way has its new impact at 8.020e-5 where `cur`'s speed
+/// scaled gives 8.041e-5 (`tests/it/turned_back.rs`).
+fn meets_by_speed<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, p: &Point, p1: &Point, estimate: f64) -> bool {
+    let (Some(vb), k) = (cur.orbit.slowest_impact(), cur.orbit.impacts()) else { return false };
+    let at = estimate + 1e-2 * (cur.param - estimate);
+    let w = (at - p1.param) / (p.param - p1.param);
+    let guess: Vec<f64> = p1.x.iter().zip(&p.x).map(|(a, b)| a + w * (b - a)).collect();
+    let dir = (cur.param - estimate).signum();
+    let Some(r) = solve_at(ctx, &guess, at, dir).filter(|r| r.orbit.impacts() + 1 == k) else { return false };
+    let Some(q) = past_the_stop(ctx, &r, at, 0.0, dir, &mut Searches::new(), f64::INFINITY) else { return false };
+    let want = vb * (at - estimate) / (cur.param - estimate);
+    q.orbit.impacts() == k && q.orbit.slowest_impact().is_some_and(|v| v > 0.5 * want && v < 2.0 * want)
 }
 
 /// The orbit with one impact fewer than `cur` beside the grazing where

@@ -17,12 +17,12 @@ use signorini_orbits::{periodic_orbit, BifurcationKind, ContinuationOptions, Fam
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 
-const LO: f64 = -1.0;
-const HI: f64 = 0.5;
-const E: f64 = 0.3;
+pub(crate) const LO: f64 = -1.0;
+pub(crate) const HI: f64 = 0.5;
+pub(crate) const E: f64 = 0.3;
 
 /// The family of orbits of `p` forcing periods.
-struct Isola(usize);
+pub(crate) struct Isola(pub(crate) usize);
 
 impl Family for Isola {
     fn model(&self, w: f64) -> Result<Model, OrbitError> {

@@ -32,6 +32,7 @@ mod store;
 mod switch;
 mod symmetric;
 mod turn;
+mod turned_back;
 mod two_stops;
 
 use signorini_orbits::{Bifurcation, Branch, ContinuationOptions, Family, Marker, Model, OrbitError};
