@@ -294,6 +294,21 @@ impl Bands3 {
         backward_p3(lt, inv_d, out);
     }
 
+    /// [`edge_row`](Self::edge_row) on the three first rows (`TAIL =
+    /// false`) or the three last (`TAIL = true`; `n > 6`), read from windows
+    /// of six rows whose bounds the compiler knows ([`row6`]): the same terms
+    /// in the same order, with no bounds check and no test per term (the
+    /// fused step's; the plain path keeps `edge_row`).
+    #[inline(always)]
+    fn edge_rows<const TAIL: bool>(&self, dt2: f64, x: &[f64], y: &[f64], f: &[f64]) -> [f64; 3] {
+        let a = if TAIL { x.len() - 6 } else { 0 };
+        let (m, k) = (&self.m, &self.k);
+        let (m, k) = ([six(&m[0], a), six(&m[1], a), six(&m[2], a), six(&m[3], a)], [six(&k[0], a), six(&k[1], a), six(&k[2], a), six(&k[3], a)]);
+        let (x, y, f) = (six(x, a), six(y, a), six(f, a));
+        let o = if TAIL { 3 } else { 0 };
+        [edge6(&m, &k, dt2, x, y, f, o), edge6(&m, &k, dt2, x, y, f, o + 1), edge6(&m, &k, dt2, x, y, f, o + 2)]
+    }
+
     #[inline(always)]
     fn forward_body(&self, fa: Forward<'_>, x: &[f64], y: &[f64], out: &mut [f64]) {
         let Forward { dt2, f, forcing, w, l } = fa;
@@ -301,35 +316,116 @@ impl Bands3 {
         let (x, y, f, out, l) = (&x[..n], &y[..n], &f[..n], &mut out[..n], &l[..3 * n]);
         // Each block of rows: the right-hand side, the forcing, the sweep.
         // Rows 0..3: the edge rows, then `solve_p3`'s first rows.
-        for i in 0..3 {
-            out[i] = self.edge_row(dt2, x, y, f, i);
-        }
+        out[..3].copy_from_slice(&self.edge_rows::<false>(dt2, x, y, f));
         add_forcing(forcing, w, out, 0, 3);
         out[1] -= l[3] * out[0];
         out[2] -= l[7] * out[0] + l[6] * out[1];
         let mut win = (out[2], out[1], out[0]);
         // Interior rows in chunks: a chunk's right-hand side (vectorised
         // across its rows) is independent of the sweep through the chunk
-        // before, so the two overlap.
-        let mut a = 3;
-        while a < n - 3 {
-            let len = FUSED_CHUNK.min(n - 3 - a);
-            if len == FUSED_CHUNK {
-                self.interior(dt2, x, y, f, out, a, FUSED_CHUNK);
-                add_forcing(forcing, w, out, a, FUSED_CHUNK);
-                sweep_p3(l, out, a, FUSED_CHUNK, &mut win);
-            } else {
-                self.interior(dt2, x, y, f, out, a, len);
-                add_forcing(forcing, w, out, a, len);
-                sweep_p3(l, out, a, len, &mut win);
-            }
-            a += len;
+        // before, so the two overlap. Their operands sliced once
+        // ([`InteriorRows`]), so a chunk's slices share one bounds check.
+        let rows = InteriorRows::new(self, x, y, f);
+        let len = n - 6;
+        let mut c = 0;
+        while c + FUSED_CHUNK <= len {
+            let a = 3 + c;
+            rows.chunk(dt2, &mut out[a..a + FUSED_CHUNK], c);
+            add_forcing(forcing, w, out, a, FUSED_CHUNK);
+            sweep_p3(l, out, a, FUSED_CHUNK, &mut win);
+            c += FUSED_CHUNK;
         }
-        for i in n - 3..n {
-            out[i] = self.edge_row(dt2, x, y, f, i);
+        if c < len {
+            let (a, rest) = (3 + c, len - c);
+            rows.chunk(dt2, &mut out[a..a + rest], c);
+            add_forcing(forcing, w, out, a, rest);
+            sweep_p3(l, out, a, rest, &mut win);
         }
+        out[n - 3..].copy_from_slice(&self.edge_rows::<true>(dt2, x, y, f));
         add_forcing(forcing, w, out, n - 3, 3);
         sweep_p3(l, out, n - 3, 3, &mut win);
+    }
+}
+
+/// Six rows of `v` from `a` (`a + 6 <= v.len()`).
+#[inline(always)]
+fn six(v: &[f64], a: usize) -> &[f64; 6] {
+    v[a..a + 6].try_into().expect("a window of six rows")
+}
+
+/// `edge_row` on row `i` of a window of six rows ([`row6`]).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn edge6(m: &[&[f64; 6]; 4], k: &[&[f64; 6]; 4], dt2: f64, x: &[f64; 6], y: &[f64; 6], f: &[f64; 6], i: usize) -> f64 {
+    row6(m, x, i) + dt2 * (f[i] - row6(k, y, i))
+}
+
+/// `edge_row`'s `row` on row `i` of a window of six rows (`d[k]` the
+/// window of diagonal `k`): its terms are those of the whole matrix when
+/// the window is the first six rows (`i < 3`) or the last six (`i >= 3`).
+#[inline(always)]
+fn row6(d: &[&[f64; 6]; 4], v: &[f64; 6], i: usize) -> f64 {
+    let mut s = d[0][i] * v[i];
+    for k in 1..=3 {
+        if i >= k {
+            s += d[k][i] * v[i - k];
+        }
+        if i + k < 6 {
+            s += d[k][i + k] * v[i + k];
+        }
+    }
+    s
+}
+
+/// [`InteriorRows`]' bands: a row's diagonal and left neighbours, then its right ones.
+#[inline(always)]
+fn bands7(d: &[Vec<f64>; 4], len: usize) -> [&[f64]; 7] {
+    [&d[0][3..3 + len], &d[1][3..3 + len], &d[2][3..3 + len], &d[3][3..3 + len], &d[1][4..4 + len], &d[2][5..5 + len], &d[3][6..6 + len]]
+}
+
+/// [`InteriorRows`]' levels: `v` at `i − 3..=i + 3`.
+#[inline(always)]
+fn levels7(v: &[f64], len: usize) -> [&[f64]; 7] {
+    [&v[..len], &v[1..1 + len], &v[2..2 + len], &v[3..3 + len], &v[4..4 + len], &v[5..5 + len], &v[6..6 + len]]
+}
+
+/// [`Bands3::interior`]'s operands on all the interior rows `3..n − 3`,
+/// each sliced once a step to their number, `n − 6`: `m[0..4]`, `k[0..4]`
+/// the row's diagonal and left neighbours, `m[4..7]`, `k[4..7]` its right
+/// neighbours; `x[d]`, `y[d]` the levels at `i + d − 3`.
+struct InteriorRows<'a> {
+    m: [&'a [f64]; 7],
+    k: [&'a [f64]; 7],
+    x: [&'a [f64]; 7],
+    y: [&'a [f64]; 7],
+    f: &'a [f64],
+}
+
+impl<'a> InteriorRows<'a> {
+    #[inline(always)]
+    fn new(b: &'a Bands3, x: &'a [f64], y: &'a [f64], f: &'a [f64]) -> Self {
+        let len = x.len() - 6;
+        Self { m: bands7(&b.m, len), k: bands7(&b.k, len), x: levels7(x, len), y: levels7(y, len), f: &f[3..3 + len] }
+    }
+
+    /// Interior rows `3 + c..3 + c + out.len()` into `out`: [`Bands3::interior`]'s arithmetic.
+    #[inline(always)]
+    fn chunk(&self, dt2: f64, out: &mut [f64], c: usize) {
+        let e = c + out.len();
+        let [m0, m1, m2, m3, mc1, mc2, mc3] = self.m;
+        let (m0, m1, m2, m3, mc1, mc2, mc3) = (&m0[c..e], &m1[c..e], &m2[c..e], &m3[c..e], &mc1[c..e], &mc2[c..e], &mc3[c..e]);
+        let [k0, k1, k2, k3, kc1, kc2, kc3] = self.k;
+        let (k0, k1, k2, k3, kc1, kc2, kc3) = (&k0[c..e], &k1[c..e], &k2[c..e], &k3[c..e], &kc1[c..e], &kc2[c..e], &kc3[c..e]);
+        let [x0, x1, x2, x3, x4, x5, x6] = self.x;
+        let (x0, x1, x2, x3, x4, x5, x6) = (&x0[c..e], &x1[c..e], &x2[c..e], &x3[c..e], &x4[c..e], &x5[c..e], &x6[c..e]);
+        let [y0, y1, y2, y3, y4, y5, y6] = self.y;
+        let (y0, y1, y2, y3, y4, y5, y6) = (&y0[c..e], &y1[c..e], &y2[c..e], &y3[c..e], &y4[c..e], &y5[c..e], &y6[c..e]);
+        let f = &self.f[c..e];
+        for j in 0..out.len() {
+            let mx = (m0[j] * x3[j] + m1[j] * x2[j] + m2[j] * x1[j] + m3[j] * x0[j]) + (mc1[j] * x4[j] + mc2[j] * x5[j] + mc3[j] * x6[j]);
+            let ky = (k0[j] * y3[j] + k1[j] * y2[j] + k2[j] * y1[j] + k3[j] * y0[j]) + (kc1[j] * y4[j] + kc2[j] * y5[j] + kc3[j] * y6[j]);
+            out[j] = mx + dt2 * (f[j] - ky);
+        }
     }
 }
 
