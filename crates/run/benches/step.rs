@@ -12,7 +12,9 @@
 //! must) and issue 35's implicit schemes
 //! (`implicit_scheme_step`, `massless_node_scheme_step`) against the floor
 //! at m = 1000, its explicit ones (`c_explicit_contact_step`, the explicit
-//! `cd-massless`) against one tridiagonal product (`floor_tridiagonal_product`).
+//! `cd-massless`) against one tridiagonal product (`floor_tridiagonal_product`)
+//! and the minimal explicit step (`floor_explicit_step`: the central
+//! difference without contact, one pass over its two levels).
 //!
 //! On a machine shared with other processes, shorter samples fit between
 //! their time slices: `DOF_STEPS=200000 cargo bench ...` (default 2·10⁶
@@ -243,7 +245,7 @@ fn floor_tridiagonal_solve(bencher: Bencher, m: usize) {
 /// The explicit schemes' floor: `y = K x` for the P1 bar's tridiagonal
 /// stiffness (three diagonals, hand-written, one pass), the product each
 /// explicit step needs at least once.
-#[divan::bench(args = [1000])]
+#[divan::bench(args = [1000, 4000])]
 fn floor_tridiagonal_product(bencher: Bencher, m: usize) {
     let n = steps(m);
     let d: Vec<f64> = (0..m).map(|i| 2.0 + 1e-6 * i as f64).collect();
@@ -261,6 +263,157 @@ fn floor_tridiagonal_product(bencher: Bencher, m: usize) {
         }
         (x, y)
     });
+}
+
+/// The explicit schemes' second floor: the minimal explicit step, the
+/// central difference without contact `U⁺ = 2U − U⁻ + dt² M⁻¹ (F − K U)`
+/// on a lumped `M` (`w = dt² M⁻¹` precomputed) and the P1 bar's
+/// tridiagonal `K`, hand-written, one pass: per dof it reads `U` (three
+/// neighbours), `U⁻`, `K`'s two diagonals, `w` and `F` and writes `U⁺`
+/// over `U⁻` (56 bytes a dof, six arrays of `m` doubles, against the
+/// product's 32 bytes and four arrays), the least a scheme that keeps two
+/// levels and the general coefficients must move. At m = 1000 the
+/// product's four arrays (32 kB) fit the 48 kB L1 data cache of this
+/// machine's cores, the step's six (48 kB) do not quite; m = 4000 puts
+/// both in L2.
+#[divan::bench(args = [1000, 4000])]
+fn floor_explicit_step(bencher: Bencher, m: usize) {
+    explicit_floor::<false>(bencher, m, 0);
+}
+
+/// The floors' kernels compiled with AVX2 (no FMA), as the schemes' fused
+/// passes are where the CPU has it (`floor_tridiagonal_product` and
+/// `floor_explicit_step` are compiled for the baseline target: SSE2, two
+/// doubles a vector), at m = 1000: `product`, `explicit-step`, and
+/// `explicit-step-uniform`, the step with `K`'s diagonals and `w`
+/// constant (as on a uniform mesh: scalars, not arrays), whose three arrays
+/// (24 kB) leave the L1 cache room.
+#[divan::bench(args = ["product", "explicit-step", "explicit-step-uniform"])]
+fn floor_avx2(bencher: Bencher, which: &str) {
+    let m = 1000;
+    match which {
+        "product" => product_floor::<true>(bencher, m),
+        "explicit-step" => explicit_floor::<true>(bencher, m, 0),
+        _ => explicit_floor::<true>(bencher, m, 1),
+    }
+}
+
+fn product_floor<const AVX2: bool>(bencher: Bencher, m: usize) {
+    let n = steps(m);
+    let d: Vec<f64> = (0..m).map(|i| 2.0 + 1e-6 * i as f64).collect();
+    let off: Vec<f64> = (0..m).map(|i| -1.0 - 1e-6 * i as f64).collect();
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(|| ((0..m).map(|i| (i as f64).sin()).collect::<Vec<f64>>(), vec![0.0; m])).bench_local_values(|(mut x, mut y)| {
+        for _ in 0..n {
+            // x may change between products (as a step's U does): not hoisted.
+            divan::black_box(&mut x);
+            floor_kernels::product::<AVX2>(&d, &off, &x, &mut y);
+            divan::black_box(&mut y);
+        }
+        (x, y)
+    });
+}
+
+/// `uniform = 1`: the coefficients as scalars.
+fn explicit_floor<const AVX2: bool>(bencher: Bencher, m: usize, uniform: usize) {
+    let n = steps(m);
+    let d: Vec<f64> = (0..m).map(|i| 2.0 + 1e-6 * i as f64).collect();
+    let off: Vec<f64> = (0..m).map(|i| -1.0 - 1e-6 * i as f64).collect();
+    // dt² M⁻¹ well inside the stability limit (w λ_max(K) < 4: |U| stays bounded).
+    let w: Vec<f64> = (0..m).map(|i| 0.01 + 1e-9 * i as f64).collect();
+    let f: Vec<f64> = (0..m).map(|i| 1e-3 * (i as f64).cos()).collect();
+    let start = || {
+        let u: Vec<f64> = (0..m).map(|i| (i as f64).sin()).collect();
+        (u.clone(), u)
+    };
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(start).bench_local_values(|(mut u, mut um)| {
+        for _ in 0..n {
+            if uniform == 1 {
+                floor_kernels::explicit_uniform::<AVX2>(d[1], off[1], w[1], &f, &u, &mut um);
+            } else {
+                floor_kernels::explicit::<AVX2>(&d, &off, &w, &f, &u, &mut um);
+            }
+            // U⁻ now holds U⁺: the levels swap, as a step's do.
+            std::mem::swap(&mut u, &mut um);
+            divan::black_box(&mut u);
+        }
+        (u, um)
+    });
+}
+
+/// The floors' passes, hand-written; `AVX2`: compiled with it (when the
+/// CPU has it).
+mod floor_kernels {
+    macro_rules! dispatch {
+        ($avx2:expr, fn $name:ident($($a:ident: $t:ty),*) $body:block) => {{
+            #[inline(always)]
+            fn plain($($a: $t),*) $body
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2")]
+            unsafe fn avx2($($a: $t),*) {
+                plain($($a),*)
+            }
+            #[cfg(target_arch = "x86_64")]
+            if $avx2 && std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU reports AVX2.
+                return unsafe { avx2($($a),*) };
+            }
+            plain($($a),*)
+        }};
+    }
+
+    /// `y = K x`, `K` by its diagonal `d` and sub-diagonal `off`
+    /// (`floor_tridiagonal_product`'s rows, the interior by sub-slices as
+    /// the schemes' fused passes take them).
+    pub fn product<const AVX2: bool>(d: &[f64], off: &[f64], x: &[f64], y: &mut [f64]) {
+        dispatch!(
+            AVX2,
+            fn product(d: &[f64], off: &[f64], x: &[f64], y: &mut [f64]) {
+                let m = x.len();
+                let (d, off, y) = (&d[..m], &off[..m], &mut y[..m]);
+                y[0] = d[0] * x[0] + off[1] * x[1];
+                y[m - 1] = off[m - 1] * x[m - 2] + d[m - 1] * x[m - 1];
+                let (sl, dc, sr, xl, xc, xr) = (&off[1..m - 1], &d[1..m - 1], &off[2..], &x[..m - 2], &x[1..m - 1], &x[2..]);
+                for (j, yj) in y[1..m - 1].iter_mut().enumerate() {
+                    *yj = sl[j] * xl[j] + dc[j] * xc[j] + sr[j] * xr[j];
+                }
+            }
+        )
+    }
+
+    /// `U⁻ ← 2U − U⁻ + w (F − K U)`.
+    pub fn explicit<const AVX2: bool>(d: &[f64], off: &[f64], w: &[f64], f: &[f64], u: &[f64], um: &mut [f64]) {
+        dispatch!(
+            AVX2,
+            fn explicit(d: &[f64], off: &[f64], w: &[f64], f: &[f64], u: &[f64], um: &mut [f64]) {
+                let m = u.len();
+                let (d, off, w, f, um) = (&d[..m], &off[..m], &w[..m], &f[..m], &mut um[..m]);
+                um[0] = 2.0 * u[0] - um[0] + w[0] * (f[0] - (d[0] * u[0] + off[1] * u[1]));
+                um[m - 1] = 2.0 * u[m - 1] - um[m - 1] + w[m - 1] * (f[m - 1] - (off[m - 1] * u[m - 2] + d[m - 1] * u[m - 1]));
+                let (sl, dc, sr, ul, uc, ur) = (&off[1..m - 1], &d[1..m - 1], &off[2..], &u[..m - 2], &u[1..m - 1], &u[2..]);
+                let (wc, fc) = (&w[1..m - 1], &f[1..m - 1]);
+                for (j, o) in um[1..m - 1].iter_mut().enumerate() {
+                    *o = 2.0 * uc[j] - *o + wc[j] * (fc[j] - (sl[j] * ul[j] + dc[j] * uc[j] + sr[j] * ur[j]));
+                }
+            }
+        )
+    }
+
+    /// [`explicit`] with `d`, `off`, `w` the same on every row.
+    pub fn explicit_uniform<const AVX2: bool>(d: f64, off: f64, w: f64, f: &[f64], u: &[f64], um: &mut [f64]) {
+        dispatch!(
+            AVX2,
+            fn explicit_uniform(d: f64, off: f64, w: f64, f: &[f64], u: &[f64], um: &mut [f64]) {
+                let m = u.len();
+                let (f, um) = (&f[..m], &mut um[..m]);
+                um[0] = 2.0 * u[0] - um[0] + w * (f[0] - (d * u[0] + off * u[1]));
+                um[m - 1] = 2.0 * u[m - 1] - um[m - 1] + w * (f[m - 1] - (off * u[m - 2] + d * u[m - 1]));
+                let (ul, uc, ur, fc) = (&u[..m - 2], &u[1..m - 1], &u[2..], &f[1..m - 1]);
+                for (j, o) in um[1..m - 1].iter_mut().enumerate() {
+                    *o = 2.0 * uc[j] - *o + w * (fc[j] - (off * ul[j] + d * uc[j] + off * ur[j]));
+                }
+            }
+        )
+    }
 }
 
 /// The beam's step (β-scheme, J = 19, dt = 1e-6): ns per step.
@@ -423,6 +576,31 @@ fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
     bencher.counter(ItemsCount::new(m * n)).with_inputs(setup).bench_local_values(|mut s| {
         for _ in 0..n {
             divan::black_box(s.step().unwrap());
+        }
+        s
+    });
+}
+
+/// `c_explicit_contact_step` with the energy after every step, as
+/// `signorini run` asks for it (`Stepper::fuse_energy`, then `energy()`):
+/// what the energy's sums add to each explicit step.
+#[divan::bench(args = ["verlet-nitsche(10,1)", "cd-lagrange(0)", "penalty-cd", "d1-minus-linear(0)", "taylor-flanagan"])]
+fn d_explicit_step_with_energy(bencher: Bencher, scheme: &str) {
+    let m = 1000;
+    let n = steps(m);
+    let setup = || {
+        let b = Benchmark::BarDirichlet;
+        let exact = b.exact(3.0).unwrap();
+        let p = b.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
+        let spec: SchemeSpec = scheme.parse().unwrap();
+        let mut s = spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap();
+        s.fuse_energy(true);
+        s
+    };
+    bencher.counter(ItemsCount::new(m * n)).with_inputs(setup).bench_local_values(|mut s| {
+        for _ in 0..n {
+            divan::black_box(s.step().unwrap());
+            divan::black_box(s.energy());
         }
         s
     });

@@ -45,7 +45,7 @@
 
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::onestep::{not_plain, with_avx2, LumpedTri};
+use crate::onestep::{energy_sums_lumped, not_plain, with_avx2, Col, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
@@ -79,6 +79,9 @@ pub struct CdLagrange {
     acts: Vec<Active>,
     /// A lumped mass on the P1 bar: the step's fused pass ([`lumped_pass`]).
     lumped: Option<LumpedTri>,
+    /// With `lumped`: `M`'s diagonal and sub-diagonal (the energy's sums in
+    /// one pass, [`energy_sums_lumped`]).
+    mass_tri: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 /// The step on a lumped mass and a tridiagonal `K` in one vectorised pass
@@ -91,7 +94,19 @@ pub struct CdLagrange {
 /// or `−0` (then the caller runs the plain step: `U`, `V` are untouched).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn lumped_pass<const FORCED: bool, const MOVE: bool>(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], kick: f64, h: f64, v_new: &mut [f64], u_new: &mut [f64]) -> bool {
+fn lumped_pass<const FORCED: bool, const MOVE: bool, C: Col>(
+    lt: &LumpedTri,
+    [ksl, kdc, ksr, dc]: [C; 4],
+    u: &[f64],
+    load: &[f64],
+    g: &[f64],
+    w: f64,
+    v: &[f64],
+    kick: f64,
+    h: f64,
+    v_new: &mut [f64],
+    u_new: &mut [f64],
+) -> bool {
     let n = u.len();
     let l = n - 1;
     let (load, v, v_new, u_new, inv_d) = (&load[..n], &v[..n], &mut v_new[..n], &mut u_new[..n], &lt.inv_d[..n]);
@@ -111,12 +126,13 @@ fn lumped_pass<const FORCED: bool, const MOVE: bool>(lt: &LumpedTri, u: &[f64], 
     if MOVE {
         (u_new[0], u_new[l]) = (u0, ul);
     }
-    let ([ksl, kdc, ksr], [um, uc, up], dc) = lt.interior(u);
+    // The coefficient columns `cols` (slices or `Same`): [`LumpedTri::columns`].
+    let (_, [um, uc, up], _) = lt.interior(u);
     let (fc, vc, gc) = (&load[1..l], &v[1..l], if FORCED { &g[1..l] } else { &g[..0] });
     let (vnc, unc) = (&mut v_new[1..l], &mut u_new[1..l]);
     for j in 0..n - 2 {
-        let ku = ksl[j] * um[j] + kdc[j] * uc[j] + ksr[j] * up[j];
-        let (x, vn, un) = row(ku, fc[j], if FORCED { gc[j] } else { 0.0 }, dc[j], vc[j], uc[j]);
+        let ku = ksl.at(j) * um[j] + kdc.at(j) * uc[j] + ksr.at(j) * up[j];
+        let (x, vn, un) = row(ku, fc[j], if FORCED { gc[j] } else { 0.0 }, dc.at(j), vc[j], uc[j]);
         odd |= not_plain(x);
         vnc[j] = vn;
         if MOVE {
@@ -177,6 +193,7 @@ impl CdLagrange {
             impulses: vec![0.0; k],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
+            mass_tri: (lumped.is_some() && dy.mass.half_bandwidth() == 1).then(|| (dy.mass.diagonal(0), dy.mass.diagonal(1))),
             lumped,
             dy,
         })
@@ -196,11 +213,16 @@ impl CdLagrange {
         };
         let (u, load, v, v_new, u_new, h) = (&self.u[..], &self.dy.load[..], &self.v[..], &mut self.v_old[..], &mut self.u_prev[..], self.dt);
         let done = with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], kick: f64, h: f64, v_new: &mut [f64], u_new: &mut [f64], open: bool) -> bool {
-            match (g.is_empty(), open) {
-                (true, true) => lumped_pass::<false, true>(lt, u, load, g, w, v, kick, h, v_new, u_new),
-                (true, false) => lumped_pass::<false, false>(lt, u, load, g, w, v, kick, h, v_new, u_new),
-                (false, true) => lumped_pass::<true, true>(lt, u, load, g, w, v, kick, h, v_new, u_new),
-                (false, false) => lumped_pass::<true, false>(lt, u, load, g, w, v, kick, h, v_new, u_new),
+            // A uniform mesh's coefficients as scalars (the same values: the same bits).
+            match (g.is_empty(), open, lt.uniform) {
+                (true, true, Some(c)) => lumped_pass::<false, true, _>(lt, c, u, load, g, w, v, kick, h, v_new, u_new),
+                (true, true, None) => lumped_pass::<false, true, _>(lt, lt.columns(u.len()), u, load, g, w, v, kick, h, v_new, u_new),
+                (true, false, Some(c)) => lumped_pass::<false, false, _>(lt, c, u, load, g, w, v, kick, h, v_new, u_new),
+                (true, false, None) => lumped_pass::<false, false, _>(lt, lt.columns(u.len()), u, load, g, w, v, kick, h, v_new, u_new),
+                (false, true, Some(c)) => lumped_pass::<true, true, _>(lt, c, u, load, g, w, v, kick, h, v_new, u_new),
+                (false, true, None) => lumped_pass::<true, true, _>(lt, lt.columns(u.len()), u, load, g, w, v, kick, h, v_new, u_new),
+                (false, false, Some(c)) => lumped_pass::<true, false, _>(lt, c, u, load, g, w, v, kick, h, v_new, u_new),
+                (false, false, None) => lumped_pass::<true, false, _>(lt, lt.columns(u.len()), u, load, g, w, v, kick, h, v_new, u_new),
             }
         });
         if done {
@@ -307,10 +329,16 @@ impl Stepper for CdLagrange {
         if self.n == 0 {
             return None;
         }
-        let kin = self.dy.mass.quad_form(&self.v);
-        self.dy.stiffness.mul_vec(&self.u_prev, &mut self.acc);
-        let pot: f64 = self.u.iter().zip(&self.acc).map(|(u, k)| u * k).sum();
-        let load: f64 = self.dy.load.iter().zip(self.u.iter().zip(&self.u_prev)).map(|(f, (u, up))| f * 0.5 * (u + up)).sum();
+        let (kin, pot, load) = if let (Some(lt), Some((md, ms))) = (&self.lumped, &self.mass_tri) {
+            // The three sums in one pass, the same bits (`acc`, scratch, is not written).
+            energy_sums_lumped(md, ms, &lt.kd, &lt.ks, &self.v, &self.u, Some(&self.u_prev), &self.dy.load, 0.5)
+        } else {
+            let kin = self.dy.mass.quad_form(&self.v);
+            self.dy.stiffness.mul_vec(&self.u_prev, &mut self.acc);
+            let pot: f64 = self.u.iter().zip(&self.acc).map(|(u, k)| u * k).sum();
+            let load: f64 = self.dy.load.iter().zip(self.u.iter().zip(&self.u_prev)).map(|(f, (u, up))| f * 0.5 * (u + up)).sum();
+            (kin, pot, load)
+        };
         Some((self.time() - 0.5 * self.dt, 0.5 * kin + 0.5 * pot - load))
     }
 }

@@ -65,7 +65,7 @@
 
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::onestep::{not_plain, with_avx2, LumpedTri};
+use crate::onestep::{not_plain, with_avx2, Col, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
@@ -162,7 +162,20 @@ fn predict_pass(a_free: &[f64], v: &[f64], h: f64, v1: &mut [f64], u: &mut [f64]
 /// the plain end runs instead).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn end_pass<const FORCED: bool, const VEL: bool>(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], a0: &[f64], v1: &[f64], h: f64, a_end: &mut [f64], out: &mut [f64]) -> bool {
+fn end_pass<const FORCED: bool, const VEL: bool, C: Col>(
+    lt: &LumpedTri,
+    [ksl, kdc, ksr, dc]: [C; 4],
+    u: &[f64],
+    load: &[f64],
+    g: &[f64],
+    w: f64,
+    v: &[f64],
+    a0: &[f64],
+    v1: &[f64],
+    h: f64,
+    a_end: &mut [f64],
+    out: &mut [f64],
+) -> bool {
     let n = u.len();
     let l = n - 1;
     let (load, v, a_end, out, inv_d) = (&load[..n], &v[..n], &mut a_end[..n], &mut out[..n], &lt.inv_d[..n]);
@@ -183,15 +196,16 @@ fn end_pass<const FORCED: bool, const VEL: bool>(lt: &LumpedTri, u: &[f64], load
     let (xl, fl) = row(kl, load[l], gi(l), inv_d[l], v[l], a0i(l), v1i(l));
     let mut odd = not_plain(x0) | not_plain(xl);
     (a_end[0], a_end[l], out[0], out[l]) = (x0, xl, f0, fl);
-    let ([ksl, kdc, ksr], [um, uc, up], dc) = lt.interior(u);
+    // The coefficient columns (slices or `Same`): [`LumpedTri::columns`].
+    let (_, [um, uc, up], _) = lt.interior(u);
     let (fc, vc) = (&load[1..l], &v[1..l]);
     let gc = if FORCED { &g[1..l] } else { &g[..0] };
     let ac = if VEL { &a0[..0] } else { &a0[1..l] };
     let v1c = if VEL { &v1[1..l] } else { &v1[..0] };
     let (ec, oc) = (&mut a_end[1..l], &mut out[1..l]);
     for j in 0..n - 2 {
-        let ku = ksl[j] * um[j] + kdc[j] * uc[j] + ksr[j] * up[j];
-        let (x, vf) = row(ku, fc[j], if FORCED { gc[j] } else { 0.0 }, dc[j], vc[j], if VEL { 0.0 } else { ac[j] }, if VEL { v1c[j] } else { 0.0 });
+        let ku = ksl.at(j) * um[j] + kdc.at(j) * uc[j] + ksr.at(j) * up[j];
+        let (x, vf) = row(ku, fc[j], if FORCED { gc[j] } else { 0.0 }, dc.at(j), vc[j], if VEL { 0.0 } else { ac[j] }, if VEL { v1c[j] } else { 0.0 });
         odd |= not_plain(x);
         ec[j] = x;
         oc[j] = vf;
@@ -370,9 +384,15 @@ impl D1MinusLinear {
             let (v1, a_end, out) = (&self.v1[..], &mut self.a_end[..], &mut self.acc[..]);
             with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], v1: &[f64], h: f64, a_end: &mut [f64], out: &mut [f64]) -> bool {
                 if g.is_empty() {
-                    end_pass::<false, true>(lt, u, load, g, w, v, v1, v1, h, a_end, out)
+                    match lt.uniform {
+                        Some(c) => end_pass::<false, true, _>(lt, c, u, load, g, w, v, v1, v1, h, a_end, out),
+                        None => end_pass::<false, true, _>(lt, lt.columns(u.len()), u, load, g, w, v, v1, v1, h, a_end, out),
+                    }
                 } else {
-                    end_pass::<true, true>(lt, u, load, g, w, v, v1, v1, h, a_end, out)
+                    match lt.uniform {
+                        Some(c) => end_pass::<true, true, _>(lt, c, u, load, g, w, v, v1, v1, h, a_end, out),
+                        None => end_pass::<true, true, _>(lt, lt.columns(u.len()), u, load, g, w, v, v1, v1, h, a_end, out),
+                    }
                 }
             })
         } else {
@@ -381,9 +401,15 @@ impl D1MinusLinear {
             let (a_end, out) = (&mut self.a_end[..], &mut self.v1[..]);
             with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], load: &[f64], g: &[f64], w: f64, v: &[f64], a0: &[f64], h: f64, a_end: &mut [f64], out: &mut [f64]) -> bool {
                 if g.is_empty() {
-                    end_pass::<false, false>(lt, u, load, g, w, v, a0, a0, h, a_end, out)
+                    match lt.uniform {
+                        Some(c) => end_pass::<false, false, _>(lt, c, u, load, g, w, v, a0, a0, h, a_end, out),
+                        None => end_pass::<false, false, _>(lt, lt.columns(u.len()), u, load, g, w, v, a0, a0, h, a_end, out),
+                    }
                 } else {
-                    end_pass::<true, false>(lt, u, load, g, w, v, a0, a0, h, a_end, out)
+                    match lt.uniform {
+                        Some(c) => end_pass::<true, false, _>(lt, c, u, load, g, w, v, a0, a0, h, a_end, out),
+                        None => end_pass::<true, false, _>(lt, lt.columns(u.len()), u, load, g, w, v, a0, a0, h, a_end, out),
+                    }
                 }
             })
         };

@@ -168,6 +168,12 @@ struct Tridiagonals {
     /// step): the step takes [`diagonal_step_dispatch`] and
     /// [`update_momentum_dispatch`] (the same bits as the sweeps).
     diagonal: bool,
+    /// With `diagonal`: the interior rows' `(M_{i,i−1}, M_ii, M_{i,i+1},
+    /// 1/D_i)` and `(K_{i,i−1}, K_ii, K_{i,i+1}, ·)` when each is one value
+    /// on every interior row (a uniform mesh): those passes' [`Same`]
+    /// columns.
+    uniform_m: Option<[Same; 4]>,
+    uniform_k: Option<[Same; 4]>,
 }
 
 /// Rows per block of the fused end of a step ([`update_forward_energy`]):
@@ -427,18 +433,86 @@ pub(crate) struct LumpedTri {
     pub(crate) ks: Vec<f64>,
     pub(crate) inv_d: Vec<f64>,
     pub(crate) avx2: bool,
+    /// The interior rows' `(K_{i,i−1}, K_ii, K_{i,i+1}, 1/D_i)` when each is
+    /// one value on every interior row (bit for bit: a uniform mesh), for
+    /// the passes' [`Same`] columns.
+    pub(crate) uniform: Option<[Same; 4]>,
+}
+
+/// A column of per-row coefficients of a fused pass's interior rows: a
+/// slice, or [`Same`] (one value on every row). A pass generic over it
+/// does the same operations on the same values either way, so the same
+/// bits; the scalar form streams no array (on a uniform mesh the lumped
+/// explicit steps' coefficient arrays, four of their seven to ten, are
+/// what keeps their arrays out of the L1 cache at m = 1000,
+/// docs/performance.md).
+pub(crate) trait Col: Copy {
+    /// Row `j`'s coefficient.
+    fn at(self, j: usize) -> f64;
+    /// The column from row `k` on.
+    fn from(self, k: usize) -> Self;
+}
+
+impl Col for &[f64] {
+    #[inline(always)]
+    fn at(self, j: usize) -> f64 {
+        self[j]
+    }
+    #[inline(always)]
+    fn from(self, k: usize) -> Self {
+        &self[k..]
+    }
+}
+
+/// One coefficient on every row (a [`Col`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Same(pub(crate) f64);
+
+impl Col for Same {
+    #[inline(always)]
+    fn at(self, _: usize) -> f64 {
+        self.0
+    }
+    #[inline(always)]
+    fn from(self, _: usize) -> Self {
+        self
+    }
+}
+
+/// `Some(x[0])` if every entry of `x` has the bits of `x[0]` (a nonempty `x`).
+fn same_bits(x: &[f64]) -> Option<Same> {
+    let first = *x.first()?;
+    x.iter().all(|v| v.to_bits() == first.to_bits()).then_some(Same(first))
+}
+
+/// The columns `(s_i, d_i, s_{i+1}, e_i)`, `i = first..n−1`, of a
+/// tridiagonal matrix `(d, s)` (`s[i] = A[i][i−1]`) and a diagonal `e`, as
+/// [`Same`] when each is one value (bit for bit) on every one of these
+/// rows (`first >= 1`; at least one row).
+fn uniform_interior(d: &[f64], s: &[f64], e: &[f64], first: usize) -> Option<[Same; 4]> {
+    let n = d.len();
+    if first == 0 || n < first + 2 || s.len() != n || e.len() != n {
+        return None;
+    }
+    let sides = same_bits(&s[first..])?;
+    Some([sides, same_bits(&d[first..n - 1])?, sides, same_bits(&e[first..n - 1])?])
 }
 
 impl LumpedTri {
     /// `Some` when `mf` is a tridiagonal factor with `L = I` and `k` is
     /// tridiagonal, of size 2 or more.
     pub(crate) fn new(mf: &BandLdlt, k: &signorini_fem::SymBand) -> Option<Self> {
+        Self::uniform_from(mf, k, 1)
+    }
+
+    /// [`new`](Self::new), [`uniform`](Self::uniform) judged on the rows
+    /// `first..n−1` (those the scheme's pass takes from the columns).
+    pub(crate) fn uniform_from(mf: &BandLdlt, k: &signorini_fem::SymBand, first: usize) -> Option<Self> {
         let (l, inv_d) = mf.tridiagonal_factors()?;
-        (k.half_bandwidth() == 1 && k.n() == l.len() && l.len() >= 2 && l.iter().all(|x| *x == 0.0)).then(|| LumpedTri {
-            kd: k.diagonal(0),
-            ks: k.diagonal(1),
-            inv_d: inv_d.to_vec(),
-            avx2: avx2_available(),
+        (k.half_bandwidth() == 1 && k.n() == l.len() && l.len() >= 2 && l.iter().all(|x| *x == 0.0)).then(|| {
+            let (kd, ks) = (k.diagonal(0), k.diagonal(1));
+            let uniform = uniform_interior(&kd, &ks, inv_d, first);
+            LumpedTri { kd, ks, inv_d: inv_d.to_vec(), avx2: avx2_available(), uniform }
         })
     }
 
@@ -458,6 +532,66 @@ impl LumpedTri {
         let n = u.len();
         let (kd, ks, inv_d) = (&self.kd[..n], &self.ks[..n], &self.inv_d[..n]);
         ([&ks[1..n - 1], &kd[1..n - 1], &ks[2..]], [&u[..n - 2], &u[1..n - 1], &u[2..]], &inv_d[1..n - 1])
+    }
+
+    /// [`interior`](Self::interior)'s coefficient columns `(K_{i,i−1},
+    /// K_ii, K_{i,i+1}, 1/D_i)` as slices, for `n` rows.
+    #[inline(always)]
+    pub(crate) fn columns(&self, n: usize) -> [&[f64]; 4] {
+        let (kd, ks, inv_d) = (&self.kd[..n], &self.ks[..n], &self.inv_d[..n]);
+        [&ks[1..n - 1], &kd[1..n - 1], &ks[2..], &inv_d[1..n - 1]]
+    }
+}
+
+/// `(Vᵀ M V, Uᵀ K W, Σ F_i c (U_i + W_i))` (or `c F_i U_i` with `W = None`)
+/// on tridiagonal `M = (md, ms)` and `K = (kd, ks)` (`ms[i] = M_{i,i−1}`;
+/// `n >= 2`) in one pass: the sums of `SymBand::quad_form` (`V`), of
+/// `SymBand::mul_vec`'s rows dotted with `U` (an iterator sum: from
+/// `−0.0`) — `SymBand::quad_form(U)` instead with `W = None` — and of the
+/// load's iterator sum, each with its own operations in its own order (so
+/// the same bits as the separate calls), their three loop-carried
+/// additions side by side instead of one pass (and a product) after
+/// another. The lumped explicit schemes' energy after every step.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn energy_sums_lumped(md: &[f64], ms: &[f64], kd: &[f64], ks: &[f64], v: &[f64], u: &[f64], w: Option<&[f64]>, load: &[f64], c: f64) -> (f64, f64, f64) {
+    let n = u.len();
+    let (md, ms, kd, ks, v, load) = (&md[..n], &ms[..n], &kd[..n], &ks[..n], &v[..n], &load[..n]);
+    // `quad_form`'s row i: `off = 0.0 + s_i x_{i−1}` (row 0: 0.0), `x_i (d_i x_i + 2 off)`.
+    let quad = |d: &[f64], s: &[f64], x: &[f64], i: usize| {
+        let off = if i == 0 { 0.0 } else { 0.0 + s[i] * x[i - 1] };
+        x[i] * (d[i] * x[i] + 2.0 * off)
+    };
+    let (mut kin, mut lw) = (0.0, -0.0);
+    match w {
+        Some(w) => {
+            let w = &w[..n];
+            let mut pot = -0.0;
+            // `mul_vec_tridiag`'s rows.
+            let ku = |i: usize| {
+                if i == 0 {
+                    kd[0] * w[0] + ks[1] * w[1]
+                } else if i == n - 1 {
+                    ks[n - 1] * w[n - 2] + kd[n - 1] * w[n - 1]
+                } else {
+                    ks[i] * w[i - 1] + kd[i] * w[i] + ks[i + 1] * w[i + 1]
+                }
+            };
+            for i in 0..n {
+                kin += quad(md, ms, v, i);
+                pot += u[i] * ku(i);
+                lw += load[i] * c * (u[i] + w[i]);
+            }
+            (kin, pot, lw)
+        }
+        None => {
+            let mut pot = 0.0;
+            for i in 0..n {
+                kin += quad(md, ms, v, i);
+                pot += quad(kd, ks, u, i);
+                lw += load[i] * u[i];
+            }
+            (kin, pot, lw)
+        }
     }
 }
 
@@ -497,7 +631,7 @@ pub(crate) use with_avx2;
 /// written).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn diagonal_step(inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
+fn diagonal_step<C: Col>([msl, mdc, msr, dc]: [C; 4], inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
     let n = u.len();
     let (inv_d, m_d, m_s, p, r, f, out) = (&inv_d[..n], &m_d[..n], &m_s[..n], &p[..n], &r[..n], &f[..n], &mut out[..n]);
     let extra = |i: usize| c[0] * p[i] + c[1] * r[i] + c[2] * f[i];
@@ -506,12 +640,13 @@ fn diagonal_step(inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], 
     let mut odd = not_plain(first) | not_plain(last);
     out[0] = first;
     out[n - 1] = last;
+    // The interior's `(M_{i,i−1}, M_ii, M_{i,i+1}, 1/D_i)`: slices or `Same`.
     let (ul, uc, ur) = (&u[..n - 2], &u[1..n - 1], &u[2..]);
-    let (msl, mdc, msr, pc, rc, fc, dc) = (&m_s[1..n - 1], &m_d[1..n - 1], &m_s[2..], &p[1..n - 1], &r[1..n - 1], &f[1..n - 1], &inv_d[1..n - 1]);
+    let (pc, rc, fc) = (&p[1..n - 1], &r[1..n - 1], &f[1..n - 1]);
     let oc = &mut out[1..n - 1];
     for j in 0..n - 2 {
-        let b = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * pc[j] + c[1] * rc[j] + c[2] * fc[j];
-        let x = b * dc[j];
+        let b = msl.at(j) * ul[j] + mdc.at(j) * uc[j] + msr.at(j) * ur[j] + c[0] * pc[j] + c[1] * rc[j] + c[2] * fc[j];
+        let x = b * dc.at(j);
         odd |= not_plain(x);
         oc[j] = x;
     }
@@ -521,19 +656,18 @@ fn diagonal_step(inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], 
 /// [`diagonal_step`] compiled with AVX2 when the CPU has it (no FMA: the
 /// same bits).
 #[allow(clippy::too_many_arguments)]
-fn diagonal_step_dispatch(avx2: bool, inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
-    #[cfg(target_arch = "x86_64")]
-    if avx2 {
-        #[target_feature(enable = "avx2")]
-        #[allow(clippy::too_many_arguments)]
-        unsafe fn with_avx2(inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
-            diagonal_step(inv_d, m_d, m_s, u, p, r, f, c, out)
+fn diagonal_step_dispatch(has_avx2: bool, uniform: Option<[Same; 4]>, inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
+    with_avx2!(has_avx2, fn(uniform: Option<[Same; 4]>, inv_d: &[f64], m_d: &[f64], m_s: &[f64], u: &[f64], p: &[f64], r: &[f64], f: &[f64], c: [f64; 3], out: &mut [f64]) -> bool {
+        // A uniform mesh's coefficients as scalars (the same values: the same bits).
+        match uniform {
+            Some(cols) => diagonal_step(cols, inv_d, m_d, m_s, u, p, r, f, c, out),
+            None => {
+                let n = u.len();
+                let cols = [&m_s[1..n - 1], &m_d[1..n - 1], &m_s[2..n], &inv_d[1..n - 1]];
+                diagonal_step(cols, inv_d, m_d, m_s, u, p, r, f, c, out)
+            }
         }
-        // SAFETY: `avx2` is set only when the CPU reports AVX2.
-        return unsafe { with_avx2(inv_d, m_d, m_s, u, p, r, f, c, out) };
-    }
-    let _ = avx2;
-    diagonal_step(inv_d, m_d, m_s, u, p, r, f, c, out)
+    })
 }
 
 /// `R ← F − K U`, `P ← P + dt((1−γ) R_old + γ R)` on the tridiagonal
@@ -542,7 +676,7 @@ fn diagonal_step_dispatch(avx2: bool, inv_d: &[f64], m_d: &[f64], m_s: &[f64], u
 /// row by row in the same order, so the same bits.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn update_momentum(kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
+fn update_momentum<C: Col>([ksl, kdc, ksr, _]: [C; 4], kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
     let n = u.len();
     let (kd, ks, f, mom, r) = (&kd[..n], &ks[..n], &f[..n], &mut mom[..n], &mut r[..n]);
     let row = |ku: f64, f: f64, p: &mut f64, r: &mut f64| {
@@ -553,11 +687,12 @@ fn update_momentum(kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64]
     row(kd[0] * u[0] + ks[1] * u[1], f[0], &mut mom[0], &mut r[0]);
     let l = n - 1;
     row(ks[l] * u[l - 1] + kd[l] * u[l], f[l], &mut mom[l], &mut r[l]);
+    // The interior's `(K_{i,i−1}, K_ii, K_{i,i+1})`: slices or `Same`.
     let (ul, uc, ur) = (&u[..n - 2], &u[1..n - 1], &u[2..]);
-    let (ksl, kdc, ksr, fc) = (&ks[1..n - 1], &kd[1..n - 1], &ks[2..], &f[1..n - 1]);
+    let fc = &f[1..n - 1];
     let (pc, rc) = (&mut mom[1..n - 1], &mut r[1..n - 1]);
     for j in 0..n - 2 {
-        let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
+        let rn = fc[j] - (ksl.at(j) * ul[j] + kdc.at(j) * uc[j] + ksr.at(j) * ur[j]);
         pc[j] += dt * ((1.0 - g) * rc[j] + g * rn);
         rc[j] = rn;
     }
@@ -565,19 +700,18 @@ fn update_momentum(kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64]
 
 /// [`update_momentum`] compiled with AVX2 when the CPU has it.
 #[allow(clippy::too_many_arguments)]
-fn update_momentum_dispatch(avx2: bool, kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
-    #[cfg(target_arch = "x86_64")]
-    if avx2 {
-        #[target_feature(enable = "avx2")]
-        #[allow(clippy::too_many_arguments)]
-        unsafe fn with_avx2(kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
-            update_momentum(kd, ks, u, f, mom, r, dt, g)
+fn update_momentum_dispatch(has_avx2: bool, uniform: Option<[Same; 4]>, kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) {
+    with_avx2!(has_avx2, fn(uniform: Option<[Same; 4]>, kd: &[f64], ks: &[f64], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], dt: f64, g: f64) -> () {
+        // A uniform mesh's coefficients as scalars (the same values: the same bits).
+        match uniform {
+            Some(cols) => update_momentum(cols, kd, ks, u, f, mom, r, dt, g),
+            None => {
+                let n = u.len();
+                let cols = [&ks[1..n - 1], &kd[1..n - 1], &ks[2..n], &kd[1..n - 1]];
+                update_momentum(cols, kd, ks, u, f, mom, r, dt, g)
+            }
         }
-        // SAFETY: `avx2` is set only when the CPU reports AVX2.
-        return unsafe { with_avx2(kd, ks, u, f, mom, r, dt, g) };
-    }
-    let _ = avx2;
-    update_momentum(kd, ks, u, f, mom, r, dt, g)
+    })
 }
 
 /// The backward sweep of the tridiagonal factor `(l, inv_d)` on a
@@ -751,13 +885,14 @@ impl OneStep {
                 (d.acc[ct.dof], d.vel[ct.dof]) = (0.0, 0.0);
             }
         }
-        let tri = (a.half_bandwidth() == 1 && n >= 2 && damp.is_none()).then(|| Tridiagonals {
-            md: dy.mass.diagonal(0),
-            ms: dy.mass.diagonal(1),
-            kd: dy.stiffness.diagonal(0),
-            ks: dy.stiffness.diagonal(1),
-            avx2: avx2_available(),
-            diagonal: a.tridiagonal_factors().is_some_and(|(l, _)| l.iter().all(|x| *x == 0.0)),
+        let tri = (a.half_bandwidth() == 1 && n >= 2 && damp.is_none()).then(|| {
+            let (md, ms, kd, ks) = (dy.mass.diagonal(0), dy.mass.diagonal(1), dy.stiffness.diagonal(0), dy.stiffness.diagonal(1));
+            let inv_d = a.tridiagonal_factors().filter(|(l, _)| l.iter().all(|x| *x == 0.0)).map(|(_, inv_d)| inv_d);
+            let (uniform_m, uniform_k) = match inv_d {
+                Some(inv_d) => (uniform_interior(&md, &ms, inv_d, 1), uniform_interior(&kd, &ks, inv_d, 1)),
+                None => (None, None),
+            };
+            Tridiagonals { md, ms, kd, ks, avx2: avx2_available(), diagonal: inv_d.is_some(), uniform_m, uniform_k }
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
         let mut loads = Loads::values(&dy, dt);
@@ -1029,7 +1164,7 @@ impl OneStep {
                 *r = rn;
             }
         } else if let Some(t) = self.tri.as_ref().filter(|t| t.diagonal) {
-            update_momentum_dispatch(t.avx2, &t.kd, &t.ks, &self.u, &self.f, &mut self.mom, &mut self.r, dt, g);
+            update_momentum_dispatch(t.avx2, t.uniform_k, &t.kd, &t.ks, &self.u, &self.f, &mut self.mom, &mut self.r, dt, g);
         } else if let Some(t) = &self.tri {
             let (mom, r, f) = (&mut self.mom[..], &mut self.r[..], &self.f[..]);
             tri_apply(&t.kd, &t.ks, &self.u, |i, ku| {
@@ -1125,7 +1260,7 @@ impl Stepper for OneStep {
             if std::mem::take(&mut self.ahead) {
                 // The step before assembled and forward-swept b (`fuse_energy`).
                 backward_sweep(l, inv_d, &mut self.rhs);
-            } else if !(t.diagonal && diagonal_step_dispatch(t.avx2, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs)) {
+            } else if !(t.diagonal && diagonal_step_dispatch(t.avx2, t.uniform_m, inv_d, &t.md, &t.ms, &self.u, &self.mom, &self.r, &self.f, [dt, ao, an], &mut self.rhs)) {
                 // Bar: b is assembled inside the forward sweep, whose loop-carried
                 // dependency leaves the core idle enough to do it for free.
                 // (A lumped `A = M` takes one pass instead, but where a

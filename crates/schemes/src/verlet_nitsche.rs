@@ -32,7 +32,7 @@
 //! `κ_max` of the two phases (θ ≠ 1 needs the lumped mass).
 
 use crate::nitsche::NitscheTerms;
-use crate::onestep::{not_plain, with_avx2, LumpedTri};
+use crate::onestep::{energy_sums_lumped, not_plain, with_avx2, Col, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
@@ -61,6 +61,9 @@ pub struct VerletNitsche {
     /// A lumped mass: `K_N` and `M`'s inverse pivots for the step's fused
     /// end ([`end_pass`]).
     lumped: Option<LumpedTri>,
+    /// With `lumped`: `M`'s diagonal and sub-diagonal (the energy's sums in
+    /// one pass, [`energy_sums_lumped`]).
+    mass_tri: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 /// The end of the step on a lumped mass in one vectorised pass: per row
@@ -71,7 +74,7 @@ pub struct VerletNitsche {
 /// if some product is infinite, NaN or `−0` (`v` untouched).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn end_pass(lt: &LumpedTri, u: &[f64], f: &[f64], v: &[f64], n0: f64, n1: f64, h: f64, acc: &mut [f64], v_new: &mut [f64]) -> bool {
+fn end_pass<C: Col>(lt: &LumpedTri, [ksl, kdc, ksr, dc]: [C; 4], u: &[f64], f: &[f64], v: &[f64], n0: f64, n1: f64, h: f64, acc: &mut [f64], v_new: &mut [f64]) -> bool {
     let n = u.len();
     let l = n - 1;
     let (f, v, acc, v_new, inv_d) = (&f[..n], &v[..n], &mut acc[..n], &mut v_new[..n], &lt.inv_d[..n]);
@@ -91,11 +94,12 @@ fn end_pass(lt: &LumpedTri, u: &[f64], f: &[f64], v: &[f64], n0: f64, n1: f64, h
         v_new[l] = v[l] + h * al;
     }
     if n > 3 {
-        let ([ksl, kdc, ksr], [um, uc, up], dc) = lt.interior(u);
-        let (ksl, kdc, ksr, um, uc, up, dc) = (&ksl[1..], &kdc[1..], &ksr[1..], &um[1..], &uc[1..], &up[1..], &dc[1..]);
+        // The coefficient columns (slices or `Same`): [`LumpedTri::columns`].
+        let (_, [um, uc, up], _) = lt.interior(u);
+        let (ksl, kdc, ksr, um, uc, up, dc) = (ksl.from(1), kdc.from(1), ksr.from(1), &um[1..], &uc[1..], &up[1..], dc.from(1));
         let (fc, vc, ac, vnc) = (&f[2..l], &v[2..l], &mut acc[2..l], &mut v_new[2..l]);
         for j in 0..n - 3 {
-            let x = (fc[j] - (ksl[j] * um[j] + kdc[j] * uc[j] + ksr[j] * up[j])) * dc[j];
+            let x = (fc[j] - (ksl.at(j) * um[j] + kdc.at(j) * uc[j] + ksr.at(j) * up[j])) * dc.at(j);
             odd |= not_plain(x);
             ac[j] = x;
             vnc[j] = vc[j] + h * x;
@@ -172,7 +176,8 @@ impl VerletNitsche {
         bar_end(&dy)?;
         let NitscheTerms { gamma_n, k_n, q, r } = NitscheTerms::new(&dy, gamma0, theta);
         let m = dy.mass.factor()?;
-        let lumped = LumpedTri::new(&m, &k_n);
+        // Its pass takes rows 2..n−1 from the columns (rows 0, 1 carry Nitsche's terms).
+        let lumped = LumpedTri::uniform_from(&m, &k_n, 2);
         let n = dy.n();
         let mut s = Self {
             label,
@@ -191,6 +196,7 @@ impl VerletNitsche {
             force: 0.0,
             lams: [0.0],
             acts: [Active::None],
+            mass_tri: (lumped.is_some() && dy.mass.half_bandwidth() == 1).then(|| (dy.mass.diagonal(0), dy.mass.diagonal(1))),
             lumped,
             dy,
         };
@@ -229,7 +235,11 @@ impl VerletNitsche {
         let (n0, n1) = (force * self.r[0], force * self.r[1]);
         let (u, f, v, acc, v_new) = (&self.u[..], &self.f[..], &self.v[..], &mut self.acc[..], &mut self.ku[..]);
         let done = with_avx2!(lt.avx2, fn(lt: &LumpedTri, u: &[f64], f: &[f64], v: &[f64], n0: f64, n1: f64, h: f64, acc: &mut [f64], v_new: &mut [f64]) -> bool {
-            end_pass(lt, u, f, v, n0, n1, h, acc, v_new)
+            // A uniform mesh's coefficients as scalars (the same values: the same bits).
+            match lt.uniform {
+                Some(c) => end_pass(lt, c, u, f, v, n0, n1, h, acc, v_new),
+                None => end_pass(lt, lt.columns(u.len()), u, f, v, n0, n1, h, acc, v_new),
+            }
         });
         if done {
             self.force = force;
@@ -280,9 +290,15 @@ impl Stepper for VerletNitsche {
 
     /// `½ VⁿᵀM Vⁿ + ½ UⁿᵀK_N Uⁿ − F(t_n)ᵀUⁿ` at `t_n`.
     fn energy(&mut self) -> Option<(f64, f64)> {
-        let kin = self.dy.mass.quad_form(&self.v);
-        let pot = self.k_n.quad_form(&self.u);
-        let load: f64 = self.f.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+        let (kin, pot, load) = if let (Some(lt), Some((md, ms))) = (&self.lumped, &self.mass_tri) {
+            // The three sums in one pass, the same bits (`lt` holds `K_N`'s diagonals).
+            energy_sums_lumped(md, ms, &lt.kd, &lt.ks, &self.v, &self.u, None, &self.f, 1.0)
+        } else {
+            let kin = self.dy.mass.quad_form(&self.v);
+            let pot = self.k_n.quad_form(&self.u);
+            let load: f64 = self.f.iter().zip(&self.u).map(|(f, u)| f * u).sum();
+            (kin, pot, load)
+        };
         Some((self.time(), 0.5 * kin + 0.5 * pot - load))
     }
 }

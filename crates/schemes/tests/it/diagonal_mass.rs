@@ -220,3 +220,82 @@ fn explicit_schemes_unforced_and_from_rest_are_the_old_code_bit_for_bit() {
     }
     assert!(wrong.is_empty(), "{wrong:?}");
 }
+
+/// A chain as [`chain`]'s whose interior is uniform: one mass on every
+/// node but the two ends (their own random masses), one spring everywhere,
+/// so that `K`'s diagonals and `M`'s inverse pivots are, bit for bit, one
+/// value on the interior rows — the explicit steps' passes then take them
+/// as scalars (`Same` columns) instead of arrays. `forced`: the sine
+/// forcing of [`chain`]; `rest`: `U⁰ = V⁰ = −0` and `−0` loads, as
+/// [`chain_unforced`]'s.
+fn chain_uniform(rng: &mut SplitMix64, n: usize, two: bool, two_sided: bool, forced: bool, rest: bool) -> (Dynamics, Initial) {
+    let (mut m, mut k) = (SymBand::zeros(n, 1), SymBand::zeros(n, 1));
+    let (mass, spring) = (0.5 + rng.next_f64(), 1.0 + 3.0 * rng.next_f64());
+    for i in 0..n {
+        m.set(i, i, if i == 0 || i == n - 1 { 0.5 + rng.next_f64() } else { mass });
+        k.set(i, i, 2.0 * spring);
+        if i > 0 {
+            k.set(i, i - 1, -spring);
+        }
+    }
+    let load: Vec<f64> = (0..n).map(|i| if rest && i % 3 != 1 { -0.0 } else { 0.3 * (rng.next_f64() - 0.7) }).collect();
+    let hi = if two_sided { 0.05 + 0.05 * rng.next_f64() } else { f64::INFINITY };
+    let mut contacts = vec![Contact::new(0, Bounds { lo: -0.03 * rng.next_f64(), hi }, false)];
+    if two && n > 1 {
+        contacts.push(Contact::new(n - 1, Bounds { lo: f64::NEG_INFINITY, hi: 0.02 * rng.next_f64() }, false));
+    }
+    let mut dy = Dynamics::new(m, k, load, contacts);
+    if forced {
+        let shape: Vec<f64> = (0..n).map(|_| rng.next_f64() - 0.5).collect();
+        dy = dy.with_forcing(vec![Forcing { shape, time: TimeProfile::Sine { amplitude: 0.8, omega: 3.0 } }]);
+    }
+    let (u, v) = if rest { (vec![-0.0; n], vec![-0.0; n]) } else { ((0..n).map(|_| 0.02 * (rng.next_f64() - 0.5)).collect(), (0..n).map(|_| 2.0 * rng.next_f64() - 1.0).collect()) };
+    (dy, Initial { u, v })
+}
+
+/// The old code's hashes (commit 904d0a4, before the uniform columns) of
+/// the runs of [`explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit`].
+const EXPECTED_UNIFORM: [(&str, u64); 7] = [
+    ("cd-lagrange(0)", 0xd9cc59afc43252cf),
+    ("cd-lagrange(0.7)", 0x7997608b3a69b0ff),
+    ("d1-minus-linear(0)", 0x537bab40d8a41bda),
+    ("d1-minus-linear-velocity(0)", 0x9ef18ff41bb61f6b),
+    ("d1-minus-linear-velocity(0.5)", 0x87b36022100e7744),
+    ("verlet-nitsche(10,1)", 0xe2879cb064b47835),
+    ("penalty-cd", 0x87cf654fed963720),
+];
+
+/// The explicit schemes on uniform chains ([`chain_uniform`]: the passes'
+/// scalar coefficients), forced, unforced and from rest, against the
+/// hashes of the code before the scalar coefficients (which streamed the
+/// same values from arrays).
+#[test]
+fn explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit() {
+    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
+    let mut wrong = Vec::new();
+    for (name, expected) in EXPECTED_UNIFORM {
+        let spec: SchemeSpec = name.parse().unwrap();
+        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        let mut rng = SplitMix64::new(37);
+        for (forced, rest) in [(true, false), (false, false), (false, true)] {
+            for (case, n) in [2usize, 3, 4, 5, 17, 64, 100].into_iter().enumerate() {
+                for two in [false, true] {
+                    if two && one_contact {
+                        continue;
+                    }
+                    let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
+                    let (dy, init) = chain_uniform(&mut rng, n, two, two_sided, forced, rest);
+                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
+                }
+            }
+        }
+        if print {
+            println!("    (\"{name}\", {:#x}),", h.0);
+        }
+        if h.0 != expected {
+            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:?}");
+}
