@@ -26,6 +26,7 @@ mod reuse;
 mod scale;
 mod section;
 mod shared;
+mod shifted_copy;
 mod slow_impact;
 mod start;
 mod store;
