@@ -8,8 +8,9 @@
 //! run) into a virtual environment this command creates while the Rust
 //! tests build (`target/py-venv`,
 //! with maturin, numpy, pytest, dask.distributed (the scale-out test) and
-//! matplotlib (the examples) from the package index), then its pytest suite
-//! (`python/tests`) and, beside it, the lints with warnings denied (`cargo
+//! matplotlib (the examples) from the package index), then, as soon as the
+//! wheel is built and beside the last Rust test binaries, its pytest suite
+//! (`python/tests`) and the lints with warnings denied (`cargo
 //! fmt --check`, `cargo clippy --workspace --all-targets -- -D warnings`,
 //! which also compiles the examples, `cargo doc --workspace --no-deps` with
 //! `RUSTDOCFLAGS=-D warnings`),
@@ -264,9 +265,10 @@ fn run_binaries(bins: std::sync::mpsc::Receiver<TestBinary>, jobs: usize) -> (Ve
 /// `cargo test --doc` in a thread of its own, with a signal once it has
 /// passed cargo's build phase (its first `Doc-tests` line on stderr, or
 /// its end), after which it holds no lock on the build directory. Its
-/// stdout is printed whole when it ends.
+/// stdout is printed whole when it ends; the thread returns its lines,
+/// whether it passed, and when it ended.
 #[allow(clippy::type_complexity)]
-fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandle<(Vec<String>, Result<(), String>)>, std::sync::mpsc::Receiver<()>) {
+fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandle<(Vec<String>, Result<(), String>, Instant)>, std::sync::mpsc::Receiver<()>) {
     let (tx, rx) = std::sync::mpsc::channel();
     let mut cmd = Command::new(cargo);
     cmd.current_dir(root).args(base).arg("--doc").stdout(Stdio::piped()).stderr(Stdio::piped());
@@ -275,7 +277,7 @@ fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandl
             Ok(c) => c,
             Err(e) => {
                 let _ = tx.send(());
-                return (Vec::new(), Err(format!("cargo test --doc: cannot start: {e}")));
+                return (Vec::new(), Err(format!("cargo test --doc: cannot start: {e}")), Instant::now());
             }
         };
         let err = child.stderr.take().map(|e| {
@@ -305,7 +307,7 @@ fn doc_tests(cargo: &str, root: &Path, base: &[&str]) -> (std::thread::JoinHandl
             Ok(s) => Err(format!("cargo test --doc failed ({s})")),
             Err(e) => Err(format!("cargo test --doc: {e}")),
         };
-        (lines, r)
+        (lines, r, Instant::now())
     });
     (handle, rx)
 }
@@ -388,8 +390,9 @@ fn count(line: &str, word: &str) -> u64 {
 /// What `--record` measures.
 #[derive(Default)]
 pub struct Record {
-    /// Each phase's name and wall time (s).
-    pub phases: Vec<(&'static str, f64)>,
+    /// Each phase's name, its start (s after the command's) and its wall
+    /// time (s): phases overlap.
+    pub phases: Vec<(&'static str, f64, f64)>,
     /// Rust tests passed, failed, ignored.
     pub rust: (u64, u64, u64),
     /// Python tests passed, failed, skipped.
@@ -397,12 +400,18 @@ pub struct Record {
 }
 
 impl Record {
-    fn time<T>(&mut self, name: &'static str, f: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
+    /// `f`, recorded as the phase `name` (`origin`: the command's start).
+    fn time<T>(&mut self, origin: Instant, name: &'static str, f: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
         let t = Instant::now();
         let r = f();
-        self.phases.push((name, t.elapsed().as_secs_f64()));
+        self.phases.push((name, since(origin, t), t.elapsed().as_secs_f64()));
         r
     }
+}
+
+/// Seconds from `origin` to `t`.
+fn since(origin: Instant, t: Instant) -> f64 {
+    t.duration_since(origin).as_secs_f64()
 }
 
 fn minutes(s: f64) -> String {
@@ -440,9 +449,9 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
     s.push_str("| | passed | failed | ignored / skipped |\n|---|---|---|---|\n");
     s.push_str(&format!("| Rust tests (`cargo test --workspace --release --tests`, the binaries two at a time, and `--doc`) | {} | {} | {} |\n", rec.rust.0, rec.rust.1, rec.rust.2));
     s.push_str(&format!("| Python tests (pytest, `python/tests`) | {} | {} | {} |\n\n", rec.python.0, rec.python.1, rec.python.2));
-    s.push_str("| phase of `cargo xtask test` | wall time |\n|---|---|\n");
-    for (name, t) in &rec.phases {
-        s.push_str(&format!("| {name} | {} |\n", minutes(*t)));
+    s.push_str("| phase of `cargo xtask test` | starts at | wall time |\n|---|---|---|\n");
+    for (name, at, t) in &rec.phases {
+        s.push_str(&format!("| {name} | {} | {} |\n", minutes(*at), minutes(*t)));
     }
     // The whole command: from the start of the `cargo` that built this
     // binary (on a fresh clone most of the workspace) and started it.
@@ -450,9 +459,9 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
     // `cargo xtask` binary (the workspace's libraries in release), so the
     // test command that follows it costs the phases above, this binary's
     // own run from its start.
-    s.push_str(&format!("| **after the main job's build** (the phases above: `cargo xtask convergence` builds the same `cargo xtask` binary first) | **{}** |\n", minutes(total)));
+    s.push_str(&format!("| **after the main job's build** (the phases above: `cargo xtask convergence` builds the same `cargo xtask` binary first) | | **{}** |\n", minutes(total)));
     if let Some(whole) = since_cargo_started() {
-        s.push_str(&format!("| **the whole `cargo xtask test`** (from the start of `cargo`: the `cargo xtask` binary's own build included) | **{}** |\n", minutes(whole)));
+        s.push_str(&format!("| **the whole `cargo xtask test`** (from the start of `cargo`: the `cargo xtask` binary's own build included) | | **{}** |\n", minutes(whole)));
     }
     let _ = cargo;
     let path = root().join("docs/generated/test-record.md");
@@ -593,57 +602,51 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
                 let env = env.join().unwrap_or_else(|_| (Err("the Python environment's thread panicked".into()), 0.0));
                 let t = Instant::now();
                 let wheel = env.0.clone().and_then(|()| build_wheel(&cargo, &root, &target, &venv, &py));
-                (env, wheel, t.elapsed().as_secs_f64())
+                (env, wheel, t.elapsed().as_secs_f64(), Instant::now())
             })
         }
     };
     let mut spawn_wheel = Some(spawn_wheel);
     let mut handle = None;
+    // The Rust tests under way: their start, the test runners, the doc
+    // tests and the build's error; joined after the lints, which start
+    // beside the last test binaries.
+    let mut rust = None;
     if !a.python_only {
-        let (lines, r) = rec.time("Rust: build the tests and run them: each test binary as soon as it is built (the CLI's and xtask's, packages with binaries of their own, once the build has ended), two at a time, then the doc tests and the wheel's build beside them", || {
-            // `--tests` (every library's, binary's and integration test's
-            // harness), then the doc tests: cargo's default selection would
-            // also build the examples, which test nothing; clippy
-            // (`--all-targets`, below) still compiles and lints them.
-            let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
-            // The test binaries run, two at a time, as cargo builds them.
-            let (tx, rx) = std::sync::mpsc::channel();
-            let runners = std::thread::spawn(move || run_binaries(rx, 2));
-            if let Err(e) = build_tests(&cargo, &root, &base, tx) {
-                handle = spawn_wheel.take().map(|f| f());
-                let (lines, r) = runners.join().unwrap_or_else(|_| (Vec::new(), Err("the test runners' thread panicked".into())));
-                return Ok((
-                    lines,
-                    Err(match r {
-                        Ok(()) => e,
-                        Err(r) => format!("{e}; {r}"),
-                    }),
-                ));
+        let t = Instant::now();
+        // `--tests` (every library's, binary's and integration test's
+        // harness), then the doc tests: cargo's default selection would
+        // also build the examples, which test nothing; clippy
+        // (`--all-targets`, below) still compiles and lints them.
+        let base = ["test", "--workspace", "--release", "--exclude", "signorini-py", "--no-fail-fast"];
+        // The test binaries run, two at a time, as cargo builds them.
+        let (tx, rx) = std::sync::mpsc::channel();
+        let runners = std::thread::spawn(move || {
+            let (lines, r) = run_binaries(rx, 2);
+            (lines, r, Instant::now())
+        });
+        let (build, doc) = match build_tests(&cargo, &root, &base, tx) {
+            Err(e) => (Err(e), None),
+            Ok(()) => {
+                // The doc tests first: cargo takes its build directory's
+                // lock only until they start, and the wheel's build holds
+                // it while it compiles. The test binaries need no lock at all.
+                let (doc, doc_started) = doc_tests(&cargo, &root, &base);
+                let _ = doc_started.recv();
+                (Ok(()), Some(doc))
             }
-            // The doc tests first: cargo takes its build directory's lock
-            // only until they start, and the wheel's build holds it while
-            // it compiles. The test binaries need no lock at all.
-            let (doc, doc_started) = doc_tests(&cargo, &root, &base);
-            let _ = doc_started.recv();
-            handle = spawn_wheel.take().map(|f| f());
-            let (mut lines, r) = runners.join().unwrap_or_else(|_| (Vec::new(), Err("the test runners' thread panicked".into())));
-            let (doc_lines, r_doc) = doc.join().unwrap_or_else(|_| (Vec::new(), Err("the doc tests' thread panicked".into())));
-            lines.extend(doc_lines);
-            Ok((lines, r.and(r_doc)))
-        })?;
-        rec.rust = rust_counts(&lines);
-        if let Err(e) = r {
-            failed.push((e, rec.rust.1 > 0));
-        }
+        };
+        handle = spawn_wheel.take().map(|f| f());
+        rust = Some((t, runners, doc, build));
     }
     let wheel_thread = handle.or_else(|| spawn_wheel.take().map(|f| f()));
     let wheel = match wheel_thread.map(|h| h.join()) {
         None => Err("the wheel's thread was not started".into()),
         Some(j) => match j {
-            Ok(((env, env_t), wheel, t)) => {
-                rec.phases.push(("Python: the environment and the packages (made while the Rust tests build and run)", env_t));
+            Ok(((env, env_t), wheel, t, t_end)) => {
+                rec.phases.push(("Python: the environment and the packages (made while the Rust tests build and run)", 0.0, env_t));
                 if env.is_ok() {
-                    rec.phases.push(("Python: build and install the wheel, build the command (beside the Rust test binaries)", t));
+                    rec.phases.push(("Python: build and install the wheel, build the command (beside the Rust test binaries)", since(start, t_end) - t, t));
                 }
                 wheel
             }
@@ -663,28 +666,56 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     // running binary's file (its features unified over the workspace), and
     // then /proc/self/exe names a deleted file: the path, when it is there.
     let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
-    // The Python tests and the lints side by side: pytest runs built
-    // programs and never cargo (which the lints hold), and on two cores
-    // each fills the other's gaps (clippy and rustdoc work through the
-    // workspace's crates largely one at a time).
+    // The Python tests and the lints side by side, started as soon as the
+    // wheel is built, beside the last Rust test binaries: pytest runs built
+    // programs and never cargo (which the lints hold), the test binaries
+    // need no lock on the build directory, and the wheel's build was the
+    // last to hold it. On two cores each fills the others' gaps (clippy
+    // and rustdoc work through the workspace's crates largely one at a
+    // time, and a test binary's last tests run on one thread).
     let pytest = python_ready.then(|| {
         let mut cmd = Command::new(&py);
         cmd.current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]);
         std::thread::spawn(move || {
             let t = Instant::now();
             let (lines, r) = run_capture(&mut cmd, "pytest");
-            (lines, r, t.elapsed().as_secs_f64())
+            (lines, r, t, t.elapsed().as_secs_f64())
         })
     });
     if !a.python_only {
-        if let Err(e) = rec.time("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (the Python tests run beside them)", || lints(&cargo, &root)) {
+        if let Err(e) = rec.time(
+            start,
+            "lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (once the wheel is built: beside the last Rust test binaries and the Python tests)",
+            || lints(&cargo, &root),
+        ) {
             failed.push((e, false));
+        }
+    }
+    if let Some((t, runners, doc, build)) = rust {
+        let (mut lines, r, mut end) = runners.join().unwrap_or_else(|_| (Vec::new(), Err("the test runners' thread panicked".into()), Instant::now()));
+        let mut r = match build {
+            Ok(()) => r,
+            Err(e) => Err(match r {
+                Ok(()) => e,
+                Err(r) => format!("{e}; {r}"),
+            }),
+        };
+        if let Some(doc) = doc {
+            let (doc_lines, r_doc, doc_end) = doc.join().unwrap_or_else(|_| (Vec::new(), Err("the doc tests' thread panicked".into()), Instant::now()));
+            lines.extend(doc_lines);
+            r = r.and(r_doc);
+            end = end.max(doc_end);
+        }
+        rec.phases.insert(0, ("Rust: build the tests and run them: each test binary as soon as it is built (the CLI's and xtask's, packages with binaries of their own, once the build has ended), two at a time, then the doc tests and the wheel's build beside them", since(start, t), end.duration_since(t).as_secs_f64()));
+        rec.rust = rust_counts(&lines);
+        if let Err(e) = r {
+            failed.push((e, rec.rust.1 > 0));
         }
     }
     if let Some(pytest) = pytest {
         match pytest.join() {
-            Ok((lines, r, t)) => {
-                rec.phases.push(("Python: the tests (beside the lints)", t));
+            Ok((lines, r, t, wall)) => {
+                rec.phases.push(("Python: the tests (once the wheel is built: beside the lints)", since(start, t), wall));
                 rec.python = python_counts(&lines);
                 if let Err(e) = r {
                     failed.push((e, rec.python.1 > 0));
@@ -700,7 +731,7 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             failed.push((e, false));
         }
     }
-    let guide = rec.time("the guide: generated tables checked, `mkdocs build --strict`", || {
+    let guide = rec.time(start, "the guide: generated tables checked, `mkdocs build --strict`", || {
         crate::docs::check(&root).map_err(|e| format!("cargo xtask docs --check:\n{e}"))?;
         if !python_ready {
             return Err("mkdocs build --strict not run: no Python environment".into());

@@ -7,6 +7,15 @@
 use faer::{Mat, Side};
 use signorini_fem::SymBand;
 
+/// The dense matrix of a `SymBand` read from its storage (`get`), the
+/// oracle the factorisation, the products and the eigenvalue bounds are
+/// checked against (matrices.rs, kappa_bound.rs); [`dense_operator`] reads
+/// the same matrix through `mul_vec` instead, and [`assert_matrix_eq`]
+/// checks both readings.
+pub fn dense(a: &SymBand) -> Mat<f64> {
+    Mat::from_fn(a.n(), a.n(), |i, j| a.get(i, j))
+}
+
 /// The dense matrix of a `SymBand`, read column by column through
 /// `mul_vec` on unit vectors (the operator, not the storage).
 pub fn dense_operator(a: &SymBand) -> Mat<f64> {

@@ -14,13 +14,8 @@
 
 use crate::common;
 
-use common::{close, generalized_eigenvalues};
-use faer::Mat;
+use common::{close, dense, generalized_eigenvalues};
 use signorini_fem::{lanczos_top, max_generalized_eigenvalue_bound, max_generalized_eigenvalue_lanczos, uniform_p1_max_eigenvalue, Bar, BarMass, Beam, RightEnd, SymBand};
-
-fn dense(a: &SymBand) -> Mat<f64> {
-    Mat::from_fn(a.n(), a.n(), |i, j| a.get(i, j))
-}
 
 fn dense_spectrum(k: &SymBand, m: &SymBand) -> Vec<f64> {
     generalized_eigenvalues(&dense(k), &dense(m))

@@ -13,7 +13,7 @@
 
 use crate::common;
 
-use common::{assert_matrix_eq, close, generalized_eigenvalues, trailing};
+use common::{assert_matrix_eq, close, dense, generalized_eigenvalues, trailing};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use proptest::prelude::*;
@@ -22,10 +22,6 @@ use std::f64::consts::PI;
 
 fn bar(m: usize, right_end: RightEnd) -> Bar {
     Bar::new(1.0, m, 1.0, right_end).unwrap()
-}
-
-fn dense(a: &SymBand) -> Mat<f64> {
-    Mat::from_fn(a.n(), a.n(), |i, j| a.get(i, j))
 }
 
 fn total(a: &SymBand) -> f64 {

@@ -120,16 +120,24 @@ pub fn flow_between(w: f64, start: f64, end: f64, x: [f64; 2], (lo, hi): (f64, f
 }
 
 /// The Jacobian of a map of the section state by central differences of
-/// step 1e-7 (`j[r][c]`: row `r` of the image, column `c` of the state).
+/// step 1e-7 ([`differences`]).
 pub fn jacobian(x: [f64; 2], map: impl Fn([f64; 2]) -> [f64; 2]) -> [[f64; 2]; 2] {
-    let mut j = [[0.0; 2]; 2];
-    for c in 0..2 {
+    differences(x, 1e-7, map)
+}
+
+/// The Jacobian of `map` at `x` by central differences of step `h`,
+/// `j[r][c] = (map(x + h e_c)[r] − map(x − h e_c)[r]) / 2h` (row `r` of
+/// the image, column `c` of the state): the one finite-difference
+/// Jacobian of these tests (chain.rs's shootings, the maps here).
+pub fn differences<const N: usize>(x: [f64; N], h: f64, map: impl Fn([f64; N]) -> [f64; N]) -> [[f64; N]; N] {
+    let mut j = [[0.0; N]; N];
+    for c in 0..N {
         let (mut a, mut b) = (x, x);
-        a[c] += 1e-7;
-        b[c] -= 1e-7;
+        a[c] += h;
+        b[c] -= h;
         let (ya, yb) = (map(a), map(b));
-        for r in 0..2 {
-            j[r][c] = (ya[r] - yb[r]) / 2e-7;
+        for r in 0..N {
+            j[r][c] = (ya[r] - yb[r]) / (2.0 * h);
         }
     }
     j

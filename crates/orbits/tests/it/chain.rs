@@ -5,6 +5,7 @@
 //! `M⁻¹`, the map's Jacobian by central differences), and the variational
 //! Jacobian against differences of the exact map.
 
+use crate::between::differences;
 use crate::continuation;
 use signorini_fem::SymBand;
 use signorini_orbits::{periodic_orbit, BifurcationKind, BranchPoint, ContinuationOptions, Family, Model, Newton, OrbitError};
@@ -122,19 +123,7 @@ fn rk_fixed_point(y: [f64; 4]) -> ([f64; 4], [[f64; 4]; 4]) {
 /// [`rk_fixed_point`] with the stop at `g`.
 fn rk_fixed_point_with(mut y: [f64; 4], g: f64) -> ([f64; 4], [[f64; 4]; 4]) {
     let rk_map = |y| rk_map_with(y, g);
-    let jac = |y: [f64; 4]| -> [[f64; 4]; 4] {
-        let mut j = [[0.0; 4]; 4];
-        for c in 0..4 {
-            let (mut p, mut m) = (y, y);
-            p[c] += 1e-6;
-            m[c] -= 1e-6;
-            let (fp, fm) = (rk_map(p), rk_map(m));
-            for r in 0..4 {
-                j[r][c] = (fp[r] - fm[r]) / 2e-6;
-            }
-        }
-        j
-    };
+    let jac = |y: [f64; 4]| differences(y, 1e-6, rk_map);
     for _ in 0..20 {
         let g: Vec<f64> = rk_map(y).iter().zip(&y).map(|(a, b)| a - b).collect();
         if g.iter().all(|x| x.abs() < 1e-12) {
@@ -194,16 +183,12 @@ fn jacobian_check(e: f64, p: f64, releases: usize) {
     let x = model.flow(0.0, &[0.0; 4], 200.0 * t, false).unwrap().x;
     let orbit = periodic_orbit(&model, 0.0, t, &x, &Newton::default()).unwrap();
     assert!(orbit.releases() >= releases, "{} held phases", orbit.releases());
-    let x = orbit.x;
+    let x: [f64; 4] = orbit.x.try_into().unwrap();
     let j = model.flow(0.0, &x, t, true).unwrap().jacobian.unwrap();
+    let fd = differences(x, 1e-6, |y| model.flow(0.0, &y, t, false).unwrap().x.try_into().unwrap());
     for c in 0..4 {
-        let h = 1e-6;
-        let (mut p, mut m) = (x.clone(), x.clone());
-        p[c] += h;
-        m[c] -= h;
-        let (fp, fm) = (model.flow(0.0, &p, t, false).unwrap().x, model.flow(0.0, &m, t, false).unwrap().x);
         for r in 0..4 {
-            let fd = (fp[r] - fm[r]) / (2.0 * h);
+            let fd = fd[r][c];
             assert!((fd - j[(r, c)]).abs() <= 1e-6 * (1.0 + fd.abs()), "J[{r},{c}] = {} vs {fd}", j[(r, c)]);
         }
     }
