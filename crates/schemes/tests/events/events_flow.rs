@@ -331,7 +331,34 @@ fn refusals_are_typed() {
     let r = repeated_planes(&jordan, w * w, 0.0, 2);
     assert!(matches!(r, Err(EventsError::Defective { condition }) if condition == f64::INFINITY), "{r:?}");
     let text = r.unwrap_err().to_string();
-    assert!(text.starts_with("damping:") && text.contains("condition number") && text.contains("1e8"), "{text}");
+    assert!(text.starts_with("damping:") && text.contains("condition number") && text.contains("up to 1e8") && text.contains("is inf,"), "{text}");
+    // And through the flow: `M = I`, `K = [5 −2; −2 4]`, `C = diag(2, 0)`,
+    // `det(λ² + λC + K) = (λ² + 2λ + 5)(λ² + 4) − 4 = (λ² + λ + 4)²` (a
+    // quartic equal to it at five points is it): `−½ ± i√15/2` twice,
+    // `λ² + λC + K` of rank 1 there (its `−2`), one eigenvector each, the
+    // pair defective. The first-order form has one invariant plane of the
+    // pair, not two: no basis, refused, the message naming its condition
+    // (measured: 4.9e8, round-off splitting the pair by ~1e-8; plants,
+    // each failing: the bound at 1e9 (taken), the message without the
+    // value or with another bound).
+    let (mut m, mut k, mut c) = (SymBand::zeros(2, 1), SymBand::zeros(2, 1), SymBand::zeros(2, 1));
+    m.set(0, 0, 1.0);
+    m.set(1, 1, 1.0);
+    k.set(0, 0, 5.0);
+    k.set(1, 1, 4.0);
+    k.set(1, 0, -2.0);
+    c.set(0, 0, 2.0);
+    let mut dy = Dynamics::new(m, k, vec![0.3, -0.2], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]);
+    dy.damping = Some(c);
+    for l in [-2.0, -1.0, 0.0, 1.0, 3.0] {
+        let q = l * l + l + 4.0;
+        assert!((char_poly(&dy, l).0 - q * q).abs() <= 1e-13 * q * q, "p({l})");
+    }
+    let r = ModalFlow::new(&forced(dy));
+    let Err(EventsError::Defective { condition }) = r else { panic!("a defective complex pair taken or refused untyped: {r:?}") };
+    assert!(condition > 1e8, "{condition:e}");
+    let text = EventsError::Defective { condition }.to_string();
+    assert!(text.contains(&format!("is {condition:e},")) && text.contains("up to 1e8"), "{text}");
     let mut dy = chain(3, false);
     dy.forcing = vec![Forcing { shape: vec![1.0; 3], time: TimeProfile::series(vec![0.0, 1.0], vec![0.0, 1.0]).unwrap() }];
     assert!(matches!(ModalFlow::new(&dy), Err(EventsError::Profile { index: 0 })));
