@@ -725,6 +725,14 @@ impl Basis {
     /// The basis of `M q'' + C q' + K q` (dense, any size, 0 included).
     pub(crate) fn new(m: Mat<f64>, k: Mat<f64>, c: Option<Mat<f64>>) -> Result<Self, EventsError> {
         let n = m.nrows();
+        // A NaN would pass the Cholesky factor and the eigensolver and be
+        // dropped by the largest-entry folds below: refused by name here.
+        for (matrix, a) in [("mass", Some(&m)), ("stiffness", Some(&k)), ("damping", c.as_ref())] {
+            let Some(a) = a else { continue };
+            if let Some((row, col)) = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).find(|&(i, j)| !a[(i, j)].is_finite()) {
+                return Err(EventsError::NotFinite { matrix, row, col, value: a[(row, col)] });
+            }
+        }
         if n == 0 {
             return Ok(Self { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: vec![], c: vec![], general: None });
         }

@@ -50,6 +50,18 @@ pub enum EventsError {
     /// The mass matrix is not positive definite.
     #[error("mass: not positive definite")]
     MassNotDefinite,
+    /// An entry of `M`, `K` or `C` that is NaN or infinite.
+    #[error("{matrix}[{row}][{col}] = {value}: allowed: finite")]
+    NotFinite {
+        /// `"mass"`, `"stiffness"` or `"damping"`.
+        matrix: &'static str,
+        /// The entry's row.
+        row: usize,
+        /// The entry's column.
+        col: usize,
+        /// The entry.
+        value: f64,
+    },
     /// A restitution other than 0 at a contact dof without mass (a
     /// reduced model's or mass redistribution's contact boundary): its
     /// force is static, it lands without an impact.

@@ -302,6 +302,23 @@ fn refusals_are_typed() {
     dy.mass.set(0, 0, 0.0);
     dy.mass.set(1, 0, 0.0);
     assert!(matches!(ModalFlow::new(&dy), Err(EventsError::MassNotDefinite)));
+    // A NaN or an infinite entry of M, K or C, refused by name (before, a NaN
+    // in K or C was taken: the flow's folds of the largest entry drop it).
+    for (matrix, (i, j), value) in [("stiffness", (1, 0), f64::NAN), ("damping", (2, 2), f64::NAN), ("mass", (1, 1), f64::INFINITY), ("stiffness", (0, 0), f64::NEG_INFINITY)] {
+        let mut dy = chain(3, false);
+        dy.damping = Some(dy.mass.lin_comb(0.1, &dy.stiffness, 0.01));
+        match matrix {
+            "mass" => dy.mass.set(i, j, value),
+            "stiffness" => dy.stiffness.set(i, j, value),
+            _ => dy.damping.as_mut().unwrap().set(i, j, value),
+        }
+        let r = ModalFlow::new(&dy);
+        assert!(matches!(&r, Err(EventsError::NotFinite { matrix: m, row, col, .. }) if *m == matrix && ((*row, *col) == (i, j) || (*row, *col) == (j, i))), "{matrix}: {r:?}");
+        let text = r.unwrap_err().to_string();
+        assert!(text.starts_with(matrix) && text.ends_with("allowed: finite"), "{text}");
+        let r = signorini_schemes::events::EventDriven::new(&dy, 0.0, &[0.0; 3], &[0.0; 3], 0.5);
+        assert!(matches!(&r, Err(EventsError::NotFinite { .. })), "{matrix}: the run {:?}", r.err());
+    }
     // Two equal modes (K = M = I) and C with eigenvalues 2 and 3: the
     // first one critically damped, a defective eigenvalue −1 of the
     // first-order form (C's off-diagonal makes the identity modes see it as
