@@ -238,6 +238,13 @@ impl Model {
     /// rejects such a trial whatever the rest of its run (on a map that
     /// chatters, the most of it).
     pub(crate) fn flow_within(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, impacts: usize) -> Result<Option<Image>, OrbitError> {
+        self.flow_from(t0, x0, tau, jacobian, impacts, &[], &mut Vec::new())
+    }
+
+    /// [`Model::flow_within`] with [`Model::flow_reading`]'s readings: the
+    /// checks of `x0` and `τ`, the start on the bounds, the run.
+    #[allow(clippy::too_many_arguments)]
+    fn flow_from(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, impacts: usize, reads: &[f64], states: &mut Vec<Vec<f64>>) -> Result<Option<Image>, OrbitError> {
         if x0.len() != self.dim() {
             return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
         }
@@ -251,7 +258,7 @@ impl Model {
         }
         let mut run = self.run_from(t0, &q0, &v0)?;
         run.set_interrupt(self.interrupt.clone());
-        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts, &[], &mut Vec::new());
+        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts, reads, states);
         self.done(run);
         out
     }
@@ -266,22 +273,9 @@ impl Model {
     /// the states of its orbits at the intermediate periods from the
     /// corrector's last flow, instead of flowing again to each.
     pub fn flow_reading(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, reads: &[f64]) -> Result<(Image, Vec<Vec<f64>>), OrbitError> {
-        if x0.len() != self.dim() {
-            return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
-        }
-        if !(tau.is_finite() && tau > 0.0) {
-            return Err(OrbitError::Model(format!("the flow's horizon {tau} is not allowed: > 0 and finite")));
-        }
-        let (mut q0, v0) = self.lin.unpack(x0);
-        for c in self.dy.contacts.iter().filter(|c| !c.massless) {
-            q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
-        }
-        let mut run = self.run_from(t0, &q0, &v0)?;
-        run.set_interrupt(self.interrupt.clone());
         let mut states = Vec::with_capacity(reads.len());
-        let out = self.flow_run(&mut run, t0, tau, jacobian, usize::MAX, reads, &mut states);
-        self.done(run);
-        Ok((out?.expect("no bound on the impacts"), states))
+        let image = self.flow_from(t0, x0, tau, jacobian, usize::MAX, reads, &mut states)?.expect("no bound on the impacts");
+        Ok((image, states))
     }
 
     /// The exact flow from `x0` at `t0` read at `t0 + k·step`, `k = 1, …,

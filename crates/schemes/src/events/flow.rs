@@ -1010,9 +1010,10 @@ impl ModalFlow {
                     let l = reals[i..end].iter().map(|r| r.0).sum::<f64>() / (end - i) as f64;
                     match repeated_line(&a, l, end - i) {
                         Ok(xs) => grouped.extend(xs.into_iter().map(|x| (l, unit(x)))),
-                        Err(e) => match critical_plane(&a, l * l, -2.0 * l, reals[end - 1].0 - reals[i].0) {
-                            Some(x) if end - i == 2 => modes.push((l * l, -2.0 * l, unit(x))),
-                            _ => return Err(e),
+                        // A pair only: a block of three or more stays refused (no plane's SVD for it).
+                        Err(e) => match (end - i == 2).then(|| critical_plane(&a, l * l, -2.0 * l, reals[end - 1].0 - reals[i].0)).flatten() {
+                            Some(x) => modes.push((l * l, -2.0 * l, unit(x))),
+                            None => return Err(e),
                         },
                     }
                 }
