@@ -566,19 +566,28 @@ fn beam_band_product<const ROWS: usize>(bencher: Bencher) {
 fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
     let m = 1000;
     let n = steps(m);
-    let setup = || {
-        let b = Benchmark::BarDirichlet;
-        let exact = b.exact(3.0).unwrap();
-        let p = b.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
-        let spec: SchemeSpec = scheme.parse().unwrap();
-        spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap()
-    };
+    let setup = || explicit_stepper(scheme, m, false);
     bencher.counter(ItemsCount::new(m * n)).with_inputs(setup).bench_local_values(|mut s| {
         for _ in 0..n {
             divan::black_box(s.step().unwrap());
         }
         s
     });
+}
+
+/// `scheme` on `bar-dirichlet` with `m` elements, lumped mass, dt = h/10,
+/// with its energy fused into every step if `energy`
+/// (`Stepper::fuse_energy`): the explicit benches' stepper.
+fn explicit_stepper(scheme: &str, m: usize, energy: bool) -> Box<dyn Stepper> {
+    let b = Benchmark::BarDirichlet;
+    let exact = b.exact(3.0).unwrap();
+    let p = b.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
+    let spec: SchemeSpec = scheme.parse().unwrap();
+    let mut s = spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap();
+    if energy {
+        s.fuse_energy(true);
+    }
+    s
 }
 
 /// `c_explicit_contact_step` with the energy after every step, as
@@ -588,15 +597,7 @@ fn c_explicit_contact_step(bencher: Bencher, scheme: &str) {
 fn d_explicit_step_with_energy(bencher: Bencher, scheme: &str) {
     let m = 1000;
     let n = steps(m);
-    let setup = || {
-        let b = Benchmark::BarDirichlet;
-        let exact = b.exact(3.0).unwrap();
-        let p = b.problem(exact.as_ref(), m, BarMass::Lumped).unwrap();
-        let spec: SchemeSpec = scheme.parse().unwrap();
-        let mut s = spec.build(p.dynamics(), p.bar.h() / 10.0, &p.initial).unwrap();
-        s.fuse_energy(true);
-        s
-    };
+    let setup = || explicit_stepper(scheme, m, true);
     bencher.counter(ItemsCount::new(m * n)).with_inputs(setup).bench_local_values(|mut s| {
         for _ in 0..n {
             divan::black_box(s.step().unwrap());

@@ -107,6 +107,42 @@ fn fold(h: &mut Fnv, rng: &mut SplitMix64, spec: &SchemeSpec, dy: Dynamics, init
     }
 }
 
+/// Each scheme of `expected` stepped on the chains `make` builds (for
+/// each variant, each size, with one contact and, but for the one-contact
+/// schemes, two; two-sided stops on the odd cases but for Verlet–Nitsche's
+/// one-sided one), its steps folded into one hash ([`fold`]) compared with
+/// the old code's (`SIGNORINI_PRINT_HASHES` prints them).
+fn against_old_hashes<V: Copy>(expected: &[(&str, u64)], seed: u64, variants: &[V], sizes: &[usize], make: impl Fn(&mut SplitMix64, usize, bool, bool, V) -> (Dynamics, Initial)) {
+    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
+    let mut wrong = Vec::new();
+    for &(name, expected) in expected {
+        let spec: SchemeSpec = name.parse().unwrap();
+        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        let mut rng = SplitMix64::new(seed);
+        for &variant in variants {
+            for (case, &n) in sizes.iter().enumerate() {
+                for two in [false, true] {
+                    if two && one_contact {
+                        continue;
+                    }
+                    // Verlet–Nitsche takes a one-sided stop.
+                    let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
+                    let (dy, init) = make(&mut rng, n, two, two_sided, variant);
+                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
+                }
+            }
+        }
+        if print {
+            println!("    (\"{name}\", {:#x}),", h.0);
+        }
+        if h.0 != expected {
+            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:?}");
+}
+
 /// The old code's hashes (commit 1679ea4).
 const EXPECTED: [(&str, u64); 6] = [
     ("cd-lagrange(0)", 0x2aeb211a36b8eb4a),
@@ -119,32 +155,7 @@ const EXPECTED: [(&str, u64); 6] = [
 
 #[test]
 fn explicit_schemes_on_a_lumped_mass_are_the_old_code_bit_for_bit() {
-    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
-    let mut wrong = Vec::new();
-    for (name, expected) in EXPECTED {
-        let spec: SchemeSpec = name.parse().unwrap();
-        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
-        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
-        let mut rng = SplitMix64::new(35);
-        for (case, n) in [2usize, 3, 5, 17, 64, 100].into_iter().enumerate() {
-            for two in [false, true] {
-                if two && one_contact {
-                    continue;
-                }
-                // Verlet–Nitsche takes a one-sided stop.
-                let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
-                let (dy, init) = chain(&mut rng, n, two, two_sided);
-                fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
-            }
-        }
-        if print {
-            println!("    (\"{name}\", {:#x}),", h.0);
-        }
-        if h.0 != expected {
-            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
-        }
-    }
-    assert!(wrong.is_empty(), "{wrong:?}");
+    against_old_hashes(&EXPECTED, 35, &[()], &[2, 3, 5, 17, 64, 100], |rng, n, two, two_sided, ()| chain(rng, n, two, two_sided));
 }
 
 /// A chain as [`chain`]'s without forcing (the explicit schemes' fused
@@ -192,33 +203,7 @@ const EXPECTED_UNFORCED: [(&str, u64); 7] = [
 /// of the code before them.
 #[test]
 fn explicit_schemes_unforced_and_from_rest_are_the_old_code_bit_for_bit() {
-    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
-    let mut wrong = Vec::new();
-    for (name, expected) in EXPECTED_UNFORCED {
-        let spec: SchemeSpec = name.parse().unwrap();
-        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
-        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
-        let mut rng = SplitMix64::new(36);
-        for rest in [false, true] {
-            for (case, n) in [2usize, 3, 4, 5, 17, 64, 100].into_iter().enumerate() {
-                for two in [false, true] {
-                    if two && one_contact {
-                        continue;
-                    }
-                    let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
-                    let (dy, init) = chain_unforced(&mut rng, n, two, two_sided, rest);
-                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
-                }
-            }
-        }
-        if print {
-            println!("    (\"{name}\", {:#x}),", h.0);
-        }
-        if h.0 != expected {
-            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
-        }
-    }
-    assert!(wrong.is_empty(), "{wrong:?}");
+    against_old_hashes(&EXPECTED_UNFORCED, 36, &[false, true], &[2, 3, 4, 5, 17, 64, 100], chain_unforced);
 }
 
 /// A chain as [`chain`]'s whose interior is uniform: one mass on every
@@ -271,31 +256,6 @@ const EXPECTED_UNIFORM: [(&str, u64); 7] = [
 /// same values from arrays).
 #[test]
 fn explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit() {
-    let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
-    let mut wrong = Vec::new();
-    for (name, expected) in EXPECTED_UNIFORM {
-        let spec: SchemeSpec = name.parse().unwrap();
-        let one_contact = name.starts_with("verlet-nitsche") || name.starts_with("penalty-cd");
-        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
-        let mut rng = SplitMix64::new(37);
-        for (forced, rest) in [(true, false), (false, false), (false, true)] {
-            for (case, n) in [2usize, 3, 4, 5, 17, 64, 100].into_iter().enumerate() {
-                for two in [false, true] {
-                    if two && one_contact {
-                        continue;
-                    }
-                    let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
-                    let (dy, init) = chain_uniform(&mut rng, n, two, two_sided, forced, rest);
-                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
-                }
-            }
-        }
-        if print {
-            println!("    (\"{name}\", {:#x}),", h.0);
-        }
-        if h.0 != expected {
-            wrong.push(format!("{name}: {:#x}, the old code's {expected:#x}", h.0));
-        }
-    }
-    assert!(wrong.is_empty(), "{wrong:?}");
+    let variants = [(true, false), (false, false), (false, true)];
+    against_old_hashes(&EXPECTED_UNIFORM, 37, &variants, &[2, 3, 4, 5, 17, 64, 100], |rng, n, two, two_sided, (forced, rest)| chain_uniform(rng, n, two, two_sided, forced, rest));
 }
