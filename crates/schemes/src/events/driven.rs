@@ -499,7 +499,7 @@ impl EventDriven {
             let full = ModalFlow::with_loads(&basis, &loads);
             let dofs: Vec<usize> = sites.iter().map(|s| s.dof).collect();
             let columns = dofs.iter().map(|&d| full.minv_column(d)).collect();
-            let delassus = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
+            let delassus = MultiProjection::new(dofs, columns)?;
             (full, delassus, Mat::zeros(0, 0))
         } else {
             let none = Loads { constant: Vec::new(), waves: Vec::new(), ramps: Vec::new() };
@@ -933,7 +933,7 @@ impl EventDriven {
                 None => {}
             }
         }
-        self.delassus.project(v, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        self.delassus.project(v, lo, hi)?;
         let mu = &mut w.mu;
         mu.clear();
         mu.extend_from_slice(self.delassus.multipliers());
@@ -1022,7 +1022,7 @@ impl EventDriven {
                 for &(j, ..) in due.iter() {
                     (lo[j], hi[j]) = (0.0, 0.0);
                 }
-                self.delassus.project(v, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+                self.delassus.project(v, lo, hi)?;
                 let joined = due.len();
                 let tail = due.iter().fold(t, |m, d| m.max(d.1)) - t;
                 for j in 0..kc {
@@ -1074,7 +1074,7 @@ impl EventDriven {
                     lo[j] = 0.0;
                 }
             }
-            self.delassus.project(a, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+            self.delassus.project(a, lo, hi)?;
             let r = self.delassus.multipliers();
             // The search's rule for a zero (docs/theory.md §9.2, "Zeros at
             // the time resolution"): an acceleration that the jerk moves by

@@ -55,7 +55,7 @@ pub(super) fn static_delassus(k: &Mat<f64>, zero: &[usize], sites: &[Site]) -> R
     let inv = spd_inverse(&kzz).ok_or_else(not_spd)?;
     let dofs: Vec<usize> = sites.iter().map(|s| zero.iter().position(|&z| z == s.dof).expect("a massless contact dof")).collect();
     let columns = dofs.iter().map(|&p| (0..nz).map(|r| inv[(r, p)]).collect()).collect();
-    let lcp = MultiProjection::new(dofs, columns).map_err(|e| EventsError::Contacts(e.to_string()))?;
+    let lcp = MultiProjection::new(dofs, columns)?;
     Ok((lcp, inv))
 }
 
@@ -179,7 +179,7 @@ impl EventDriven {
         lo.extend(self.sites.iter().map(|s| s.lo));
         hi.clear();
         hi.extend(self.sites.iter().map(|s| s.hi));
-        self.delassus.project(y, lo, hi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        self.delassus.project(y, lo, hi)?;
         let r0 = &mut w.mu;
         r0.clear();
         r0.extend_from_slice(self.delassus.multipliers());
@@ -223,7 +223,7 @@ impl EventDriven {
         let before = &mut w.vbefore;
         before.clear();
         before.extend(self.sites.iter().map(|s| v[s.dof]));
-        self.delassus.project(dy, rlo, rhi).map_err(|e| EventsError::Contacts(e.to_string()))?;
+        self.delassus.project(dy, rlo, rhi)?;
         let mu = self.delassus.multipliers();
         let dscale = dy.iter().fold(0.0f64, |a, x| a.max(x.abs())).max(f64::MIN_POSITIVE);
         let holds = &mut w.holds;

@@ -153,3 +153,10 @@ pub enum EventsError {
         hi: f64,
     },
 }
+
+/// The contacts' solver's error, as [`EventsError::Contacts`] (its message).
+impl From<signorini_contact::ContactError> for EventsError {
+    fn from(e: signorini_contact::ContactError) -> Self {
+        EventsError::Contacts(e.to_string())
+    }
+}
