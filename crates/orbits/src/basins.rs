@@ -594,6 +594,10 @@ impl BasinScene {
             if !(a.from.is_finite() && a.to.is_finite()) {
                 return Err(OrbitError::Option { option, message: format!("{} {} is not allowed: two finite numbers", a.from, a.to) });
             }
+            // Equal ends would give `count` copies of one cell.
+            if a.from == a.to && a.count > 1 {
+                return Err(OrbitError::Option { option, message: format!("{} {} is not allowed: two different numbers (or a count of 1 on this axis in --grid)", a.from, a.to) });
+            }
         }
         if x.count * v.count > MAX_CELLS {
             return Err(OrbitError::Option { option: "grid", message: format!("{} x {} is not allowed: at most {MAX_CELLS} cells (split a larger map into several grids)", x.count, v.count) });
@@ -606,7 +610,11 @@ impl BasinScene {
         for (i, j) in [(0, 0), (s.x.count - 1, 0), (0, s.v.count - 1), (s.x.count - 1, s.v.count - 1)] {
             s.build(i, j).map_err(|e| match e {
                 OrbitError::Scene(m) => {
-                    OrbitError::Option { option: "x-range", message: format!("a corner of the grid is not a valid scene ({m}); allowed: --x-range and --v-range within the scene's ranges") }
+                    // The axis to blame: `x` alone at this corner (`v` as the
+                    // scene writes it) builds, or it does not.
+                    let x_alone = s.family.build_with(&[("x", &s.x.path, s.x.value(i))]);
+                    let option = if x_alone.is_ok() { "v-range" } else { "x-range" };
+                    OrbitError::Option { option, message: format!("a corner of the grid is not a valid scene ({m}); allowed: --x-range and --v-range within the scene's ranges") }
                 }
                 other => other,
             })?;

@@ -232,6 +232,22 @@ fn bad_input_names_the_option() {
     let (code, err) = run(&scene, &a);
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("error: x-range:"), "{err}");
+    // A corner where only the second axis leaves its range (a negative
+    // damping ratio) names that axis.
+    let mut a = with(&["--grid", "2", "2"]);
+    (a[3], a[8], a[9]) = ("oscillator.damping_ratio", "0.05", "-0.05");
+    let (code, err) = run(&scene, &a);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("error: v-range:") && err.contains("damping_ratio: -0.05 is not allowed"), "{err}");
+    // Equal ends with more than one cell on that axis; one cell takes them.
+    let mut a = with(&["--grid", "3", "2"]);
+    a[6] = "-1";
+    let (code, err) = run(&scene, &a);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("error: x-range: -1 -1 is not allowed: two different numbers"), "{err}");
+    a[11] = "1";
+    let (code, err) = run(&scene, &a);
+    assert_eq!(code, Some(0), "{err}");
     // Tolerances.
     let (code, err) = run(&scene, &with(&["--grid", "2", "2", "--tol", "0"]));
     assert_eq!(code, Some(2), "{err}");
