@@ -854,6 +854,31 @@ fn continuation_until<F: Family>(
                 continue;
             }
         };
+        // A trial with other impacts than `cur` that lies on the branch
+        // traced so far, where the two arcs meet at no corner (the
+        // bracket's ends stay apart): the corrector fell onto an arc traced
+        // before, not onto this one's continuation. The step is halved, as
+        // for any trial fallen onto another arc (before, the branch ended
+        // there, "returned onto itself": the period-2 oscillator of
+        // `tests/it/period_two.rs` with `--param-scale 0.05` went down its
+        // 4-impact arc to Ω = 2.38496 and the trial fell onto the 2-impact
+        // orbits it began with, 0.02 away, a grazing 4 → 2 listed at
+        // 2.3847259 where there is none; that arc goes on down to 2.3806476).
+        if next.orbit.impacts() != cur.orbit.impacts() && retraces(&branch.points, &next, &cur) && !meets_at_corner(&ctx, &cur, &next, ds) {
+            ds *= 0.5;
+            if ds < opts.min_step {
+                branch.end = format!(
+                    "stopped at param = {}: trial steps down to the least step ({:e}) fall onto orbits the branch has traced (with {} impacts per period at param = {}, where this one has {})",
+                    cur.param,
+                    opts.min_step,
+                    next.orbit.impacts(),
+                    next.param,
+                    cur.orbit.impacts()
+                );
+                return Ok(branch);
+            }
+            continue;
+        }
         let next = if beyond(next.param) {
             // Land on `to` exactly: the corrector on the plane λ = to.
             let mut t = vec![0.0; n + 1];
@@ -1659,6 +1684,17 @@ fn retraces(points: &[BranchPoint], b: &Point, p1: &Point) -> bool {
     })
 }
 
+/// Whether the trial from `cur` (a step `ds` along its tangent) to `p`,
+/// with another number of impacts or held phases, crosses a corner of
+/// `cur`'s arc: the bisection on the arclength between them ends at two
+/// points that meet (within 1e-2 of the step), where an orbit fallen onto
+/// another arc leaves them as far apart as the two arcs are.
+fn meets_at_corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, p: &Point, ds: f64) -> bool {
+    let count = |q: &Point| (q.orbit.impacts(), q.orbit.releases());
+    let (at, far) = bracket(ctx, cur, ds, p, |q| (count(q).0 * 1000 + count(q).1) as f64, |a, b| count(a) != count(b));
+    arclength(ctx, &at, &far) <= 1e-2 * ds
+}
+
 /// At a corner of the branch (the corrector fails at every step): an orbit
 /// just beyond `cur` in the parameter with another number of impacts or
 /// held phases (natural-parameter Newton from `cur`'s state), the change
@@ -2424,7 +2460,9 @@ impl Returns {
             // Not the step's own segment, nor the one before (unshifted).
             let last = if shift == 0 { i.saturating_sub(1) } else { i };
             if let Some(on) = beside_a_segment(&points[..=last], next.orbit.impacts(), &sy, &sy0, &scaled) {
-                return Some(Returned::Copy { shift, on });
+                if traced_through(ctx, &points[on], &points[on + 1], y, next.param, &sy, &sy0) {
+                    return Some(Returned::Copy { shift, on });
+                }
             }
         }
         // Onto the mirror image of a traced segment (a symmetric
@@ -2472,6 +2510,40 @@ impl Returns {
             Ok((y, lam, _)) => (0..n).map(|k| ((y[k] - at.x[k]) / ctx.xs).abs()).fold(((lam - at.param) / ctx.ls).abs(), f64::max) <= 1e-6,
             Err(_) => false,
         }
+    }
+}
+
+/// Whether the arc traced from `a` to `b` passes through `(y, param)`
+/// (`sy` scaled; `sy0` the step's start, scaled): the corrector from
+/// `(y, param)`'s projection onto the chord, on the hyperplane through it
+/// normal to the chord, lands within 1e-2 of the shorter of the chord and
+/// the step of it. Near a fold, in the scaled coordinates of a small
+/// parameter's scale, the two arcs run side by side, nearer each other
+/// than a quarter of a step: with `--param-scale 0.01` the period-2
+/// oscillator of `tests/it/period_two.rs` ended past its 3-impact fold at
+/// 2.4010173, its orbit at 2.4004090 taken for one of the arc traced before
+/// the fold (3.6e-3 from it, scaled; the steps 2.3e-2), where the
+/// corrector lands on that arc's own orbit, 3.6e-3 away.
+fn traced_through<F: Family>(ctx: &Ctx<'_, F>, a: &BranchPoint, b: &BranchPoint, y: &[f64], param: f64, sy: &[f64], sy0: &[f64]) -> bool {
+    let n = ctx.n;
+    let scaled = |x: &[f64], l: f64| -> Vec<f64> { x.iter().map(|v| v / ctx.xs).chain(std::iter::once(l / ctx.ls)).collect() };
+    let (sa, sb) = (scaled(&a.orbit.x, a.param), scaled(&b.orbit.x, b.param));
+    let ab: Vec<f64> = sa.iter().zip(&sb).map(|(u, v)| v - u).collect();
+    let len = ab.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let step = sy.iter().zip(sy0).map(|(u, v)| (u - v).powi(2)).sum::<f64>().sqrt();
+    if !(len > 0.0) {
+        return false;
+    }
+    let t: Vec<f64> = ab.iter().map(|v| v / len).collect();
+    let w = sa.iter().zip(sy).zip(&t).map(|((u, v), d)| (v - u) * d).sum::<f64>();
+    let x: Vec<f64> = (0..n).map(|k| (sa[k] + w * t[k]) * ctx.xs).collect();
+    let l = (sa[n] + w * t[n]) * ctx.ls;
+    match ctx.correct(x, l, &t, None) {
+        Ok((z, lam, _)) => {
+            let d = (0..n).map(|k| ((z[k] - y[k]) / ctx.xs).powi(2)).sum::<f64>() + ((lam - param) / ctx.ls).powi(2);
+            d.sqrt() <= 1e-2 * len.min(step)
+        }
+        Err(_) => false,
     }
 }
 

@@ -178,3 +178,47 @@ fn the_branch_turns_back_at_the_vanishing_impact_onto_the_three_impact_orbits() 
         assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "{kind}s near the transcription's {at}: {near:?}");
     }
 }
+
+/// The same branch with the parameter's scale 0.05 and 0.01 (steps and
+/// searches as fractions of it). With 0.05 its 4-impact arc went down
+/// from its fold at 2.386056 to 2.38496, where a trial fell onto the
+/// 2-impact orbits the branch began with (0.02 away, scaled), a grazing
+/// 4 → 2 was listed at 2.3847259 where there is none, and the branch
+/// ended there, "returned onto itself"; the trial is now halved as one
+/// fallen onto another arc, and the branch turns back at the
+/// transcription's vanishing impact and lists the 3-impact orbits' fold,
+/// each once, to 1e-9. With 0.01, past the 3-impact fold at 2.4010173,
+/// its orbit at 2.4004090 was taken for one of the arc traced before the
+/// fold (3.6e-3 from it, scaled, where a quarter of a step is 5.9e-3) and
+/// the branch ended there; now the corrector from that arc is asked to
+/// land on the orbit, and the branch goes on to the 4-impact orbits, every
+/// point a fixed point of the 2-period map.
+#[test]
+fn a_period_two_branch_at_a_small_parameter_scale_goes_on_past_its_turns() {
+    let fam = SceneFamily::new(crate::oscillator(0.05, 0.2, 0.3, 2.42), "forcing.omega", 2).unwrap().0;
+    for scale in [0.05, 0.01] {
+        let doc = crate::oscillator(0.05, 0.2, 0.3, 2.42);
+        let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new(), param_scale: Some(scale) };
+        let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
+        eprintln!("scale {scale}: {}", done.lines[0]);
+        let file = |n: &str| &done.files.iter().find(|f| f.0 == n).unwrap().1;
+        let (head, pts) = rows(file("branch.csv"));
+        let col = |n: &str| head.iter().position(|h| h == n).unwrap();
+        let num = |r: &Vec<String>, n: &str| r[col(n)].parse::<f64>().unwrap();
+        for r in &pts {
+            let (w, x, mu) = (num(r, "param"), [num(r, "q0"), num(r, "v0")], num(r, "mu_max"));
+            let img = fam.model(w).unwrap().flow(0.0, &x, fam.period(w).unwrap(), false).unwrap();
+            let d = img.x.iter().zip(&x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+            assert!(d <= 1e-12 * mu.max(1.0) + 1e-10, "scale {scale}, Ω = {w}: |P(x) − x| = {d:e}");
+        }
+        assert!(pts.iter().any(|r| r[col("impacts_per_period")] == "4"), "scale {scale}: no 4-impact orbit: {}", done.lines[0]);
+        if scale == 0.05 {
+            let (bh, bifs) = rows(file("bifurcations.csv"));
+            let (cp, ck) = (bh.iter().position(|h| h == "param").unwrap(), bh.iter().position(|h| h == "kind").unwrap());
+            for (kind, at) in [("grazing", VANISHING), ("fold", FOLD_3)] {
+                let near: Vec<f64> = bifs.iter().filter(|b| b[ck] == kind && (b[cp].parse::<f64>().unwrap() - at).abs() <= 1e-4).map(|b| b[cp].parse().unwrap()).collect();
+                assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "scale {scale}: {kind}s near the transcription's {at}: {near:?}");
+            }
+        }
+    }
+}
