@@ -641,23 +641,23 @@ pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOpt
 /// display, an interrupt): when it returns `false` the branch ends there,
 /// its points so far kept, `end` saying so.
 pub fn continuation_watched<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions, watch: &mut dyn FnMut(&BranchPoint) -> bool) -> Result<Branch, OrbitError> {
-    continuation_until(family, guess, opts, watch, &mut |_| None, true)
+    continuation_until(family, guess, opts, watch, &mut |_| None)
 }
 
 /// [`continuation_watched`] that also ends the branch when `stop`, shown
 /// the branch so far after each step, returns why (the branch's `end`).
-/// `closing`: the branch ends where it returns onto itself, or onto the
-/// mirror image of its orbits on a symmetric structure ([`Returns`]);
-/// off for a period-doubled branch, whose copies [`doubled_branch`] cuts
-/// where the branch rejoins the one of half its period (there its orbits
-/// and their copies shifted by half the period meet).
+/// The branch ends where it returns onto itself, or onto the mirror image
+/// of its orbits on a symmetric structure ([`Returns`]: on a period-doubled
+/// branch the states of its 2p-period orbits after each of the 2p − 1
+/// forcing periods, and their mirror images); `stop` is asked first why
+/// (a period-doubled branch rejoining the branch of half its period:
+/// [`doubled_branch`]).
 fn continuation_until<F: Family>(
     family: &F,
     guess: &[f64],
     opts: &ContinuationOptions,
     watch: &mut dyn FnMut(&BranchPoint) -> bool,
     stop: &mut dyn FnMut(&Branch) -> Option<String>,
-    closing: bool,
 ) -> Result<Branch, OrbitError> {
     opts.validate()?;
     let model = family.model(opts.from)?;
@@ -694,8 +694,8 @@ fn continuation_until<F: Family>(
     let (lo, hi) = (opts.from.min(opts.to), opts.from.max(opts.to));
     let beyond = |p: f64| (p - opts.to) * dir > 0.0;
     let periods = family.periods().max(1);
-    let symmetric = closing && family.model_and_period(opts.from).is_ok_and(|(m, t)| mirror_symmetric(&m, 0.5 * t / periods as f64));
-    let mut returns = closing.then(|| Returns::new(periods, &cur, symmetric));
+    let symmetric = family.model_and_period(opts.from).is_ok_and(|(m, t)| mirror_symmetric(&m, 0.5 * t / periods as f64));
+    let mut returns = Returns::new(periods, &cur, symmetric);
     // The last point's asymmetry (its parameter and state, and the value).
     let mut asym: Option<(f64, Vec<f64>, f64)> = None;
     while branch.points.len() < opts.max_points {
@@ -892,51 +892,51 @@ fn continuation_until<F: Family>(
         };
         let i = branch.points.len() - 1;
         // Back at the first orbit (a closed branch: an isola, or a loop of
-        // copies shifted in phase), or onto orbits already traced.
-        match returns.as_mut().and_then(|r| r.check(&ctx, &branch.points, &cur, &next)) {
-            Some(Returned::Closed { at, shift }) => {
-                locate(&ctx, &cur, &at, i, &mut branch.bifurcations);
-                branch.points.push(BranchPoint { param: at.param, orbit: at.orbit.clone(), mark: at.mark });
-                let shifted = if shift == 0 { String::new() } else { format!(" shifted by {shift} forcing period{}", if shift == 1 { "" } else { "s" }) };
-                branch.end = format!(
-                    "closed: an isola/loop of {} points (the branch returned to its first orbit{shifted}, at param = {}; the last point repeats it): each bifurcation listed once",
-                    branch.points.len() - 1,
-                    at.param
-                );
-                return Ok(branch);
-            }
-            Some(Returned::Copy { shift, on }) => {
-                let shifted = if shift == 0 { String::new() } else { format!(", shifted by {shift} forcing period{},", if shift == 1 { "" } else { "s" }) };
-                branch.end = format!(
-                    "returned onto itself at param = {}: the next orbit (param = {}){shifted} is one the branch has traced (between param = {} and {}): not traced again",
-                    cur.param,
-                    next.param,
-                    branch.points[on].param,
-                    branch.points[on + 1].param
-                );
-                return Ok(branch);
-            }
-            // Onto the mirror image of the branch's own orbits (a turn
-            // where it meets a symmetric orbit): the step is the branch's,
-            // its bifurcations located (the branch point of the turn), and
-            // the branch ends at its end, the rest of it the traced one
-            // mirrored. A caller's stop (a crossing branch meeting the
-            // branch it crossed) says why first.
-            Some(Returned::Mirror { shift, on }) => {
-                locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
-                branch.points.push(BranchPoint { param: next.param, orbit: next.orbit.clone(), mark: next.mark });
-                let half = if shift == 0 { "half a forcing period".to_string() } else { format!("{shift}½ forcing periods") };
-                branch.end = stop(&branch).unwrap_or_else(|| {
-                    format!(
-                        "returned onto its mirror image at param = {}: the orbit there, mirrored (−x(t + τ), τ {half}), is one the branch has traced (between param = {} and {}): the branch beyond is the traced one mirrored, not traced again",
+        // copies shifted in phase), or onto orbits already traced: the
+        // step's bifurcations are located as on any step (a fold, a period
+        // doubling, the branch point of a turn onto a copy or a mirror
+        // image), the point where it returned kept, and the branch ends
+        // there; a caller's stop (a crossing branch meeting the branch it
+        // crossed, a doubled one rejoining the branch of half its period)
+        // says why first.
+        let returned = returns.check(&ctx, &branch.points, &cur, &next).map(|r| {
+            let periods = |k: usize| format!("{k} forcing period{}", if k == 1 { "" } else { "s" });
+            let segment = |on: usize| format!("between param = {} and {}", branch.points[on].param, branch.points[on + 1].param);
+            match r {
+                Returned::Closed { at, shift } => {
+                    let shifted = if shift == 0 { String::new() } else { format!(" shifted by {}", periods(shift)) };
+                    let why = format!(
+                        "closed: an isola/loop of {} points (the branch returned to its first orbit{shifted}, at param = {}; the last point repeats it): each bifurcation listed once",
+                        branch.points.len(),
+                        at.param
+                    );
+                    (*at, why)
+                }
+                // Onto a traced segment, or a copy of one shifted in phase.
+                Returned::Copy { shift, on } => {
+                    let shifted = if shift == 0 { String::new() } else { format!(", shifted by {},", periods(shift)) };
+                    let why = format!("returned onto itself at param = {}: the orbit there{shifted} is one the branch has traced ({}): not traced again", next.param, segment(on));
+                    (next.clone(), why)
+                }
+                // Onto the mirror image of the branch's own orbits (a turn
+                // where it meets a symmetric orbit): the rest of it the
+                // traced one mirrored.
+                Returned::Mirror { shift, on } => {
+                    let half = if shift == 0 { "half a forcing period".to_string() } else { format!("{shift}½ forcing periods") };
+                    let why = format!(
+                        "returned onto its mirror image at param = {}: the orbit there, mirrored (−x(t + τ), τ {half}), is one the branch has traced ({}): the branch beyond is the traced one mirrored, not traced again",
                         next.param,
-                        branch.points[on].param,
-                        branch.points[on + 1].param
-                    )
-                });
-                return Ok(branch);
+                        segment(on)
+                    );
+                    (next.clone(), why)
+                }
             }
-            None => {}
+        });
+        if let Some((last, why)) = returned {
+            locate(&ctx, &cur, &last, i, &mut branch.bifurcations);
+            branch.points.push(BranchPoint { param: last.param, orbit: last.orbit, mark: last.mark });
+            branch.end = stop(&branch).unwrap_or(why);
+            return Ok(branch);
         }
         let found = branch.bifurcations.len();
         locate(&ctx, &cur, &next, i, &mut branch.bifurcations);
@@ -1045,7 +1045,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
                 let mut o = *opts;
                 (o.from, o.to) = (param, end);
                 let mut copies = Copies { single, xs, ls: scale, images: Vec::new(), cut: None, copy: None };
-                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |b| copies.check(&b.points), false) {
+                match continuation_until(double, &orbit.x, &o, &mut |_| true, &mut |b| copies.check(&b.points)) {
                     Ok(mut b) => {
                         // The points the last step added (a branch that
                         // ended otherwise) are checked too.
@@ -1196,7 +1196,7 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
                     f.param
                 ))
             };
-            match continuation_until(family, &x, &o, &mut |_| true, stop, true) {
+            match continuation_until(family, &x, &o, &mut |_| true, stop) {
                 Ok(mut br) => {
                     br.rejoins = met;
                     return Ok(br);
