@@ -1813,8 +1813,8 @@ impl ModalFlow {
     /// `t0` (docs/theory.md §9.1), the driver at `(η₂, η₂')`: the response
     /// `s ∫₀^τ G(τ − u) e₂(u) du` and its derivative, `G(u) = Im e^{μu}/ω₁`
     /// the driven mode's impulse response (`μ = −α₁ + iω₁`) and `e₂(u) =
-    /// Re κ e^{νu}` the driver's remainder (`ν = −α₂ + iω₂`, `κ = e₂ − i (e₂'
-    /// + α₂ e₂)/ω₂`): `s/ω₁ Im[(κ I(μ, ν) + κ̄ I(μ, ν̄))/2]`, and with `μ`
+    /// Re κ e^{νu}` the driver's remainder (`ν = −α₂ + iω₂`, `κ = e₂ −
+    /// i (e₂' + α₂ e₂)/ω₂`): `s/ω₁ Im[(κ I(μ, ν) + κ̄ I(μ, ν̄))/2]`, and with `μ`
     /// inside the bracket for the derivative, `I(x, y) = ∫₀^τ e^{x(τ − u)}
     /// e^{yu} du` ([`divided`]). At a defective pair `ν = μ`, `I(μ, μ) = τ
     /// e^{μτ}`: the secular terms `τ e^{στ} (cos, sin)`; split, the same
