@@ -152,6 +152,8 @@ struct General {
     /// `(a_j, Ω_j, p_j)` of each load wave.
     waves: Vec<(f64, f64, f64)>,
     pr: Vec<Vec<f64>>,
+    /// [`GeneralBasis::drive`].
+    drive: Vec<f64>,
 }
 
 /// One harmonic load term in modal coordinates: `G_i a sin(Ω t + p)` for every mode `i`.
@@ -195,6 +197,28 @@ impl Harmonic {
             })
             .collect();
         Self { modal, amplitude, omega, phase, coef }
+    }
+
+    /// The coefficients of each driven mode `i` (a defective chain's,
+    /// `drive[i] = s ≠ 0`) for its load `g sin θ` plus `s` times its
+    /// driver's particular solution `a₂ sin θ + b₂ cos θ`, i.e. `G sin θ + H
+    /// cos θ`: `(G p − H q) sin θ + (G q + H p) cos θ`, with `p sin θ + q cos
+    /// θ` the response to `sin θ` (`p = δ/d`, `q = −cΩ/d`) and `cos θ =
+    /// sin(θ + π/2)`. A chain's modes are damped (`c > 0`): never resonant.
+    fn driven(mut self, k: &[f64], c: &[f64], drive: &[f64]) -> Self {
+        for (i, &s) in drive.iter().enumerate() {
+            if s == 0.0 {
+                continue;
+            }
+            let Coef::Steady(a2, b2) = self.coef[i + 1] else { continue };
+            let (g, h) = (self.modal[i] * self.amplitude + s * a2, s * b2);
+            let (k, c, w) = (k[i], c[i], self.omega);
+            let detune = k - w * w;
+            let d = detune * detune + (c * w) * (c * w);
+            let (p, q) = (detune / d, -c * w / d);
+            self.coef[i] = Coef::Steady(g * p - h * q, g * q + h * p);
+        }
+        self
     }
 }
 
@@ -309,6 +333,38 @@ fn phis(z: f64) -> [f64; 4] {
         let p2 = (p1 - 1.0) / z;
         let p3 = (p2 - 0.5) / z;
         [p1, p2, p3, (p3 - 1.0 / 6.0) / z]
+    }
+}
+
+/// Bounds of a free mode's `|e|` and `|e'|` over `[0, h]` from `(e₀, e₀')`
+/// ([`ModalFlow::jet_and_bounds`], docs/theory.md §9.2), and `S̄`.
+fn free_bounds(k: f64, c: f64, e0: f64, de0: f64, h: f64) -> (f64, f64, f64) {
+    let alpha = 0.5 * c;
+    let lambda = k - alpha * alpha;
+    let sbar = if lambda > 0.0 { h.min(1.0 / lambda.sqrt()) } else { h };
+    let b1 = de0 + alpha * e0;
+    let mut d0 = e0.abs() + b1.abs() * sbar;
+    if lambda > 0.0 {
+        d0 = d0.min((e0 * e0 + b1 * b1 / lambda).sqrt());
+    }
+    (d0, de0.abs() + (alpha * de0 + k * e0).abs() * sbar, sbar)
+}
+
+/// `(e^{yτ} − e^{xτ})/(y − x)` (`τ e^{xτ}` for `y = x`) without
+/// cancellation however close `x` and `y` are: `τ e^{xτ} φ₁((y − x)τ)`
+/// with `φ₁(z) = Σ z^j/(j + 1)!` for `|(y − x)τ| <= 1` (its 20th term below
+/// 1e-19), the quotient beyond (where it loses at most a few ulps).
+fn divided(x: faer::c64, y: faer::c64, tau: f64) -> faer::c64 {
+    let z = (y - x) * tau;
+    if z.norm() <= 1.0 {
+        let (mut term, mut sum) = (faer::c64::new(1.0, 0.0), faer::c64::new(1.0, 0.0));
+        for j in 1..=20 {
+            term = term * z / f64::from(j + 1);
+            sum += term;
+        }
+        (x * tau).exp() * sum * tau
+    } else {
+        ((y * tau).exp() - (x * tau).exp()) / (y - x)
     }
 }
 
@@ -537,6 +593,64 @@ pub fn critical_plane(a: &Mat<f64>, k: f64, c: f64, split: f64) -> Option<Vec<f6
     (sine > (10.0 * split / (0.5 * c).abs()).max(1e-6)).then_some(x)
 }
 
+/// The chain of a (nearly) defective complex pair: `σ₁ ± iω₁` and `σ₂ ±
+/// iω₂` of `a` split by `split` (`k_j = σ_j² + ω_j²`, `c_j = −2σ_j`; the
+/// same twice for a pair repeated to round-off) whose two planes are nearly
+/// one (docs/theory.md §9.1). A defective pair (a Jordan block of the
+/// first-order form) has one eigenvector each: round-off splits it by
+/// ~`√ε` of the radius into two pairs with eigenvectors parallel within
+/// that, and their planes' basis is refused (the example of
+/// events_flow.rs: condition 4.9e8). Its real invariant subspace is the
+/// null space of `Q₁ Q₂` (`Q_j = a² + c_j a + k_j`; right singular vectors
+/// of singular value ≤ 1e-10 of `‖Q₁‖_F ‖Q₂‖_F`), four-dimensional and known
+/// to round-off however close the pairs are; on it `Q₁ Q₂ = 0`. Of it,
+/// `x_b2` is the vector that `Q₂` stretches most, `x_b1 = Q₂ x_b2 / s` (`s`
+/// the stretch's largest entry) and `x_a_j = (a + c_j) x_b_j`: then `a x_a1
+/// = −k₁ x_b1` and `a x_a2 = s x_b1 − k₂ x_b2`, two companion blocks of
+/// which the first is driven by the second, `η₁'' + c₁ η₁' + k₁ η₁ = s η₂`
+/// ([`ModalFlow`]'s drive). Returns `(x_b1, x_b2, s)`, or `None` (the
+/// planes stay) unless the subspace is four-dimensional and `Q₂`'s stretch
+/// there, over `2ω₂ √k₂`, exceeds `10 split/√k₂` and 1e-6: a nearly
+/// repeated pair with two eigenvectors apart (two identical blocks, one
+/// detuned) has `Q₂` of `~split · 2ω₂` on the subspace.
+pub fn defective_chain(a: &Mat<f64>, (k1, c1): (f64, f64), (k2, c2): (f64, f64), split: f64) -> Option<(Vec<f64>, Vec<f64>, f64)> {
+    // Two damped oscillating pairs only (`c > 0`: a driven mode's
+    // particular solution is never resonant).
+    if !(c1 > 0.0 && c2 > 0.0 && k1 > 0.25 * c1 * c1 && k2 > 0.25 * c2 * c2) {
+        return None;
+    }
+    let nn = a.nrows();
+    let quad = |k: f64, c: f64| a * a + Mat::from_fn(nn, nn, |i, j| c * a[(i, j)] + if i == j { k } else { 0.0 });
+    let (q1, q2) = (quad(k1, c1), quad(k2, c2));
+    // Relative to its factors' sizes: where the subspace is the whole
+    // space (two dofs), `Q₁ Q₂` is round-off, its largest singular value too.
+    let frobenius = |q: &Mat<f64>| (0..nn).flat_map(|i| (0..nn).map(move |j| (i, j))).map(|(i, j)| q[(i, j)] * q[(i, j)]).sum::<f64>().sqrt();
+    let scale = frobenius(&q1) * frobenius(&q2);
+    let svd = (&q1 * &q2).svd().ok()?;
+    let s = svd.S().column_vector();
+    let null: Vec<usize> = (0..nn).filter(|&i| s[i] <= 1e-10 * scale).collect();
+    if null.len() != 4 {
+        return None;
+    }
+    let basis = Mat::from_fn(nn, 4, |r, j| svd.V()[(r, null[j])]);
+    let stretch = (&q2 * &basis).svd().ok()?;
+    let sv = stretch.S().column_vector();
+    let top = (0..4).fold(0, |b, j| if sv[j] > sv[b] { j } else { b });
+    let w2 = (k2 - 0.25 * c2 * c2).max(0.0).sqrt();
+    if !(sv[top] > (2.0 * w2 * k2.sqrt()) * (10.0 * split / k2.sqrt()).max(1e-6)) {
+        return None;
+    }
+    let xb2: Vec<f64> = (0..nn).map(|r| (0..4).map(|j| basis[(r, j)] * stretch.V()[(j, top)]).sum()).collect();
+    let size = |x: &[f64]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let xb2: Vec<f64> = {
+        let s = size(&xb2);
+        xb2.into_iter().map(|v| v / s).collect()
+    };
+    let xb1 = times(&q2, &xb2);
+    let drive = size(&xb1);
+    Some((xb1.into_iter().map(|v| v / drive).collect(), xb2, drive))
+}
+
 /// The invariant plane of a slow pair `λ₁, λ₂` of `a` (`k = λ₁λ₂`, `c = −λ₁
 /// − λ₂`; docs/theory.md §9.1), without its eigenvectors: the null space of
 /// `Q = a² + c a + k I = (a − λ₁)(a − λ₂)` (its right singular vectors of
@@ -719,6 +833,10 @@ struct GeneralBasis {
     t: Mat<f64>,
     tinv: Mat<f64>,
     minv: Mat<f64>,
+    /// Per mode `i`, the drive `s_i` of a defective chain
+    /// ([`defective_chain`]): `η_i'' + c_i η_i' + k_i η_i = … + s_i η_{i+1}`
+    /// (empty: no chain; 0: none for that mode).
+    drive: Vec<f64>,
 }
 
 impl Basis {
@@ -876,6 +994,10 @@ impl ModalFlow {
         let (u, sv) = (evd.U(), evd.S().column_vector());
         // (k, c, x_b) per mode.
         let mut modes: Vec<(f64, f64, Vec<f64>)> = Vec::with_capacity(n);
+        // Per defective chain, its pairs `(k₁, c₁)`, `(k₂, c₂)` and
+        // [`defective_chain`]'s `(x_b1, x_b2, s)`.
+        type Chain = ((f64, f64), (f64, f64), (Vec<f64>, Vec<f64>, f64));
+        let mut chains: Vec<Chain> = Vec::new();
         let mut reals: Vec<(f64, Vec<f64>)> = Vec::new();
         let size = |x: &[f64]| x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let unit = |x: Vec<f64>| -> Vec<f64> {
@@ -941,13 +1063,45 @@ impl ModalFlow {
                     let m = near.len() as f64;
                     let (re, im) = near.iter().fold((0.0, 0.0), |(a, b), &i| (a + sv[i].re / m, b + sv[i].im / m));
                     let (ki, ci) = (re * re + im * im, -2.0 * re);
-                    for x in repeated_planes(&a, ki, ci, near.len())? {
-                        modes.push((ki, ci, unit(x)));
+                    match repeated_planes(&a, ki, ci, near.len()) {
+                        Ok(xs) => modes.extend(xs.into_iter().map(|x| (ki, ci, unit(x)))),
+                        // A defective pair repeated to round-off: its chain.
+                        Err(e) => match (near.len() == 2).then(|| defective_chain(&a, (ki, ci), (ki, ci), 0.0)).flatten() {
+                            Some(chain) => chains.push(((ki, ci), (ki, ci), chain)),
+                            None => return Err(e),
+                        },
                     }
                     for i in near {
                         done[i] = true;
                     }
                     continue;
+                }
+                // A (nearly) defective pair (docs/theory.md §9.1): another
+                // pair within NEAR_CRITICAL whose eigenvector is nearly
+                // this one's (the cosine of their angle above ½: a cheap
+                // test before the chain's SVD), its chain from `Q₁ Q₂`.
+                if 2.0 * l.im > NEAR_CRITICAL * radius {
+                    let cosine = |p: usize| {
+                        let (mut d, mut n1, mut n2) = (faer::c64::new(0.0, 0.0), 0.0, 0.0);
+                        for r in 0..nn {
+                            d += u[(r, j)].conj() * u[(r, p)];
+                            (n1, n2) = (n1 + u[(r, j)].norm_sqr(), n2 + u[(r, p)].norm_sqr());
+                        }
+                        d.norm() / (n1 * n2).sqrt()
+                    };
+                    let partner = (0..nn)
+                        .filter(|&p| p > j && !done[p] && 2.0 * sv[p].im > NEAR_CRITICAL * radius)
+                        .map(|p| (p, (sv[p].re - l.re).hypot(sv[p].im - l.im)))
+                        .filter(|&(p, d)| d <= NEAR_CRITICAL * radius && cosine(p) >= 0.5)
+                        .min_by(|x, y| x.1.total_cmp(&y.1));
+                    if let Some((p, split)) = partner {
+                        let pair = |x: faer::c64| (x.re * x.re + x.im * x.im, -2.0 * x.re);
+                        if let Some(chain) = defective_chain(&a, pair(l), pair(sv[p]), split) {
+                            chains.push((pair(l), pair(sv[p]), chain));
+                            (done[j], done[p]) = (true, true);
+                            continue;
+                        }
+                    }
                 }
                 // A nearly critically damped mode split into `σ ± iω`
                 // (docs/theory.md §9.1): its plane from `(A − λ)(A − λ̄)`.
@@ -1037,10 +1191,26 @@ impl ModalFlow {
             let x = pair_vector(&a, c, u1, u2, x);
             modes.push((l1 * l2, c, x));
         }
+        modes.sort_by(|x, y| x.0.total_cmp(&y.0));
+        // Each chain's two modes side by side, the driven one first, in
+        // the order of its `k`.
+        let mut drive = Vec::new();
+        if !chains.is_empty() {
+            chains.sort_by(|x, y| x.0 .0.total_cmp(&y.0 .0));
+            let mut singles = std::mem::take(&mut modes).into_iter().peekable();
+            for ((k1, c1), (k2, c2), (xb1, xb2, s)) in chains {
+                modes.extend(std::iter::from_fn(|| singles.next_if(|m| m.0 <= k1)));
+                drive.resize(modes.len() + 2, 0.0);
+                drive[modes.len()] = s;
+                modes.push((k1, c1, xb1));
+                modes.push((k2, c2, xb2));
+            }
+            modes.extend(singles);
+            drive.resize(modes.len(), 0.0);
+        }
         if modes.len() != n {
             return Err(EventsError::Defective { condition: f64::INFINITY });
         }
-        modes.sort_by(|x, y| x.0.total_cmp(&y.0));
         // A damping of round-off sign is 0 (as the classical path does),
         // in the basis as in the equation.
         for m in &mut modes {
@@ -1076,14 +1246,20 @@ impl ModalFlow {
             let size = |col: usize| (0..nn).fold(0.0f64, |m, r| m.max(t[(r, col)].abs()));
             let scale = an * size(2 * i) + ki.abs() * size(2 * i + 1);
             let xa: Vec<f64> = (0..nn).map(|r| t[(r, 2 * i)]).collect();
-            let res = times(&a, &xa).iter().enumerate().map(|(r, ax)| (ax + ki * t[(r, 2 * i + 1)]).abs()).fold(0.0, f64::max);
+            // A chain's driving mode: `A x_a = s x_b' − k x_b` (`x_b'` the driven one's).
+            let s = if i > 0 { drive.get(i - 1).copied().unwrap_or(0.0) } else { 0.0 };
+            let res = if s == 0.0 {
+                times(&a, &xa).iter().enumerate().map(|(r, ax)| (ax + ki * t[(r, 2 * i + 1)]).abs()).fold(0.0, f64::max)
+            } else {
+                times(&a, &xa).iter().enumerate().map(|(r, ax)| (ax + ki * t[(r, 2 * i + 1)] - s * t[(r, 2 * i - 1)]).abs()).fold(0.0, f64::max)
+            };
             if !(res <= 1e-11 * scale) {
                 return Err(EventsError::Defective { condition: f64::INFINITY });
             }
         }
         let kv: Vec<f64> = modes.iter().map(|m| if m.0.abs() <= 1e-12 * kmax { 0.0 } else { m.0 }).collect();
         let cv: Vec<f64> = modes.iter().map(|m| m.1).collect();
-        Ok(Basis { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: kv, c: cv, general: Some(GeneralBasis { t, tinv, minv }) })
+        Ok(Basis { n, phi: Mat::zeros(0, 0), m_phi: Mat::zeros(0, 0), k: kv, c: cv, general: Some(GeneralBasis { t, tinv, minv, drive }) })
     }
 }
 
@@ -1109,20 +1285,20 @@ impl ModalFlow {
         let mut harmonics = Vec::new();
         let (mut ph, mut waves) = (Vec::new(), Vec::new());
         for (g, amp, w, ph0) in &loads.waves {
-            harmonics.push(Harmonic::new(load_of(g), *amp, *w, *ph0, kv, cv));
+            harmonics.push(Harmonic::new(load_of(g), *amp, *w, *ph0, kv, cv).driven(kv, cv, &gb.drive));
             // p' of a p ∝ a sin θ: a Ω cos θ = a Ω sin(θ + π/2).
             let pg = p_of(g);
-            harmonics.push(Harmonic::new(pg.clone(), amp * w, *w, ph0 + std::f64::consts::FRAC_PI_2, kv, cv));
+            harmonics.push(Harmonic::new(pg.clone(), amp * w, *w, ph0 + std::f64::consts::FRAC_PI_2, kv, cv).driven(kv, cv, &gb.drive));
             ph.push(pg);
             waves.push((*amp, *w, *ph0));
         }
         let ramp_modal = loads.ramps.iter().map(|(h, _, _)| load_of(h)).collect();
         let pr = loads.ramps.iter().map(|(h, _, _)| p_of(h)).collect();
         let pf0 = p_of(&loads.constant);
-        let general = General { t: t.clone(), tinv: tinv.clone(), minv: minv.clone(), pf0, ph, waves, pr };
+        let general = General { t: t.clone(), tinv: tinv.clone(), minv: minv.clone(), pf0, ph, waves, pr, drive: gb.drive.clone() };
         let (ga, gb) = (g0.clone(), vec![0.0; n]);
         let piece = vec![(0.0, 0.0); loads.ramps.len()];
-        Self {
+        let mut flow = Self {
             n,
             phi: Mat::zeros(0, 0),
             m_phi: Mat::zeros(0, 0),
@@ -1137,6 +1313,32 @@ impl ModalFlow {
             gb,
             tp: 0.0,
             time_dependent: loads.time_dependent(),
+        };
+        flow.drive_steady();
+        flow
+    }
+
+    /// The drive `s_i` of mode `i` by mode `i + 1` (a defective chain,
+    /// [`defective_chain`]: `η_i'' + c_i η_i' + k_i η_i = … + s_i η_{i+1}`;
+    /// 0: none).
+    #[inline]
+    fn drive(&self, i: usize) -> f64 {
+        self.general.as_ref().and_then(|g| g.drive.get(i).copied()).unwrap_or(0.0)
+    }
+
+    /// A driven mode's steady load (`ga`, `gb`) plus `s` times its driver's
+    /// particular solution of its own, `(a + b τ)/k − c b/k²` (docs/theory.md
+    /// §9.1): the driven mode's particular solution is then that of its
+    /// load, and its remainder obeys `e'' + c e' + k e = s e₂` (`e₂` the
+    /// driver's remainder). A driver's `k > 0` ([`defective_chain`]).
+    fn drive_steady(&mut self) {
+        let Some(g) = &self.general else { return };
+        for (i, &s) in g.drive.iter().enumerate() {
+            if s != 0.0 {
+                let (k, c, a, b) = (self.k[i + 1], self.c[i + 1], self.ga[i + 1], self.gb[i + 1]);
+                self.ga[i] += s * (a / k - c * b / (k * k));
+                self.gb[i] += s * b / k;
+            }
         }
     }
 
@@ -1223,6 +1425,7 @@ impl ModalFlow {
             }
             (self.ga[i], self.gb[i]) = (a, b);
         }
+        self.drive_steady();
     }
 
     /// Mode `i`'s constant and ramp load at `t_ref`: `a + b (t − t_ref)`.
@@ -1470,9 +1673,53 @@ impl ModalFlow {
     /// bounds of its derivatives over `[t, t + h]`
     /// ([`bounds_with`](Self::bounds_with)), from `(η_i, η_i')` at `t`: one
     /// evaluation of the particular solution for both (a search step's).
-    pub(crate) fn jet_and_bounds(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64, tr: &[(f64, f64)]) -> ([f64; JET], [f64; JET + 1]) {
+    pub(crate) fn jet_and_bounds(&self, i: usize, t: f64, eta: &[f64], deta: &[f64], h: f64, tr: &[(f64, f64)]) -> ([f64; JET], [f64; JET + 1]) {
         let p = self.particular_jet(i, t, t, tr);
-        (self.jet_with(i, eta, deta, &p), self.bounds_with(i, t, eta, deta, h, &p))
+        let s = self.drive(i);
+        if s == 0.0 {
+            return (self.jet_with(i, eta[i], deta[i], &p), self.bounds_with(i, t, eta[i], deta[i], h, &p));
+        }
+        // A driven mode (a defective chain, docs/theory.md §9.2): `e'' + c
+        // e' + k e = s e₂`, `e₂` its driver's remainder, whose jet and
+        // bounds (without its particular part) enter the recursions; its
+        // response `s ∫ G(τ − u) e₂(u) du` (`G` the impulse response, `|G|
+        // <= S̄`, `|G'| <= 1 + α S̄`) adds `s |e₂| h S̄` and `s |e₂| h (1 + α
+        // S̄)` to the free bounds of orders 0 and 1.
+        let p2 = self.particular_jet(i + 1, t, t, tr);
+        let (k2, c2) = (self.k[i + 1], self.c[i + 1]);
+        let mut e2 = [0.0; JET];
+        (e2[0], e2[1]) = (eta[i + 1] - p2[0], deta[i + 1] - p2[1]);
+        for m in 2..JET {
+            e2[m] = -c2 * e2[m - 1] - k2 * e2[m - 2];
+        }
+        let (b0, b1, _) = free_bounds(k2, c2, e2[0], e2[1], h);
+        let mut d2 = [0.0; JET + 1];
+        (d2[0], d2[1]) = (b0, b1);
+        for m in 2..=JET {
+            d2[m] = c2 * d2[m - 1] + k2 * d2[m - 2];
+        }
+        let (k, c) = (self.k[i], self.c[i]);
+        let mut e = [0.0; JET];
+        (e[0], e[1]) = (eta[i] - p[0], deta[i] - p[1]);
+        for m in 2..JET {
+            e[m] = -c * e[m - 1] - k * e[m - 2] + s * e2[m - 2];
+        }
+        let mut jet = [0.0; JET];
+        for m in 0..JET {
+            jet[m] = e[m] + p[m];
+        }
+        (jet[0], jet[1]) = (eta[i], deta[i]);
+        let (b0, b1, sbar) = free_bounds(k, c, e[0], e[1], h);
+        let mut d = [0.0; JET + 1];
+        (d[0], d[1]) = (b0 + s * d2[0] * h * sbar, b1 + s * d2[0] * h * (1.0 + 0.5 * c * sbar));
+        for m in 2..=JET {
+            d[m] = c * d[m - 1] + k * d[m - 2] + s * d2[m - 2];
+        }
+        let pb = self.particular_bounds(i, t, h);
+        for m in 0..=JET {
+            d[m] = (d[m] + pb[m]) * (1.0 + 1e-12);
+        }
+        (jet, d)
     }
 
     /// The derivatives `η_i⁽ᵐ⁾(t)`, `m = 0..JET`, from `(η_i, η_i')` at `t`
@@ -1501,16 +1748,8 @@ impl ModalFlow {
     fn bounds_with(&self, i: usize, t: f64, eta: f64, deta: f64, h: f64, p: &[f64; JET]) -> [f64; JET + 1] {
         let (e0, de0) = (eta - p[0], deta - p[1]);
         let (k, c) = (self.k[i], self.c[i]);
-        let alpha = 0.5 * c;
-        let lambda = k - alpha * alpha;
-        let sbar = if lambda > 0.0 { h.min(1.0 / lambda.sqrt()) } else { h };
-        let b1 = de0 + alpha * e0;
         let mut d = [0.0; JET + 1];
-        d[0] = e0.abs() + b1.abs() * sbar;
-        if lambda > 0.0 {
-            d[0] = d[0].min((e0 * e0 + b1 * b1 / lambda).sqrt());
-        }
-        d[1] = de0.abs() + (alpha * de0 + k * e0).abs() * sbar;
+        (d[0], d[1], _) = free_bounds(k, c, e0, de0, h);
         for m in 2..=JET {
             d[m] = c * d[m - 1] + k * d[m - 2];
         }
@@ -1568,6 +1807,27 @@ impl ModalFlow {
         let a = decay * cc1 + dm1;
         let b = decay * ss;
         (e0 * a + (de0 + alpha * e0) * b + dp[0], de0 * a - (alpha * de0 + k * e0) * b + dp[1])
+    }
+
+    /// What a driven mode `i`'s driver adds to its increments over `τ` from
+    /// `t0` (docs/theory.md §9.1), the driver at `(η₂, η₂')`: the response
+    /// `s ∫₀^τ G(τ − u) e₂(u) du` and its derivative, `G(u) = Im e^{μu}/ω₁`
+    /// the driven mode's impulse response (`μ = −α₁ + iω₁`) and `e₂(u) =
+    /// Re κ e^{νu}` the driver's remainder (`ν = −α₂ + iω₂`, `κ = e₂ −
+    /// i (e₂' + α₂ e₂)/ω₂`): `s/ω₁ Im[(κ I(μ, ν) + κ̄ I(μ, ν̄))/2]`, and with `μ`
+    /// inside the bracket for the derivative, `I(x, y) = ∫₀^τ e^{x(τ − u)}
+    /// e^{yu} du` ([`divided`]). At a defective pair `ν = μ`, `I(μ, μ) = τ
+    /// e^{μτ}`: the secular terms `τ e^{στ} (cos, sin)`; split, the same
+    /// formula to round-off however small the split.
+    fn driven_delta(&self, i: usize, t0: f64, (eta, deta): (f64, f64), tau: f64, tr0: &[(f64, f64)]) -> (f64, f64) {
+        let p = self.particular::<2>(i + 1, t0, t0, tr0);
+        let (e, de) = (eta - p[0], deta - p[1]);
+        let root = |k: f64, c: f64| faer::c64::new(-0.5 * c, (k - 0.25 * c * c).sqrt());
+        let (mu, nu) = (root(self.k[i], self.c[i]), root(self.k[i + 1], self.c[i + 1]));
+        let kappa = faer::c64::new(e, -(de + 0.5 * self.c[i + 1] * e) / nu.im);
+        let z = (kappa * divided(mu, nu, tau) + kappa.conj() * divided(mu, nu.conj(), tau)) * 0.5;
+        let f = self.drive(i) / mu.im;
+        (f * z.im, f * (mu * z).im)
     }
 
     /// `sin θ₁ − sin θ₀, cos θ₁ − cos θ₀` of every harmonic over `[t0, t0 + τ]`
@@ -1631,7 +1891,12 @@ impl ModalFlow {
         self.trig(t0, tr0);
         self.trig_increments(tau, tr0, dtr);
         for i in 0..self.n {
-            let (d, dd) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, dtr);
+            let (mut d, mut dd) = self.advance_mode(i, t0, (eta[i], deta[i]), tau, tr0, dtr);
+            // A driven mode's driver `i + 1` is still at `t0`.
+            if self.drive(i) != 0.0 {
+                let (x, y) = self.driven_delta(i, t0, (eta[i + 1], deta[i + 1]), tau, tr0);
+                (d, dd) = (d + x, dd + y);
+            }
             (eta[i], deta[i]) = (eta[i] + d, deta[i] + dd);
         }
     }
@@ -1654,12 +1919,17 @@ impl ModalFlow {
         self.trig_increments(tau, tr0, dtr);
         for i in 0..self.n {
             (d[i], dd[i]) = self.advance_mode(i, t0, (eta0[i], deta0[i]), tau, tr0, dtr);
+            if self.drive(i) != 0.0 {
+                let (x, y) = self.driven_delta(i, t0, (eta0[i + 1], deta0[i + 1]), tau, tr0);
+                (d[i], dd[i]) = (d[i] + x, dd[i] + y);
+            }
             (eta[i], deta[i]) = (eta0[i] + d[i], deta0[i] + dd[i]);
         }
     }
 
     /// `∫ η_i` over `[t0, t0 + tau]`, mode `i` from `(η, η')` at `t0` to `(η₁, η₁')`.
-    pub(crate) fn integral(&self, i: usize, t0: f64, (eta, deta): (f64, f64), (eta1, deta1): (f64, f64), tau: f64, tr: &[Vec<(f64, f64)>; 2]) -> f64 {
+    pub(crate) fn integral(&self, i: usize, t0: f64, start: (&[f64], &[f64]), end: (&[f64], &[f64]), tau: f64, tr: &[Vec<(f64, f64)>; 2]) -> f64 {
+        let ((eta, deta), (eta1, deta1)) = ((start.0[i], start.1[i]), (end.0[i], end.1[i]));
         let (k, c) = (self.k[i], self.c[i]);
         let (g0, b) = self.steady(i, t0);
         let t1 = t0 + tau;
@@ -1679,8 +1949,18 @@ impl ModalFlow {
         } else if k > 0.0 {
             let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
             let (e1, de1) = self.remainder(i, t1, t0, eta1, deta1, &tr[1]);
-            // The remainder: e'' + c e' + k e = 0.
-            -((de1 - de0) + c * (e1 - e0)) / k + g0 * tau / k
+            // The remainder: e'' + c e' + k e = 0 (a driven mode's: `s e₂`,
+            // its driver's remainder, whose integral is the same form's).
+            let s = self.drive(i);
+            if s == 0.0 {
+                -((de1 - de0) + c * (e1 - e0)) / k + g0 * tau / k
+            } else {
+                let (k2, c2) = (self.k[i + 1], self.c[i + 1]);
+                let (f0, df0) = self.remainder(i + 1, t0, t0, start.0[i + 1], start.1[i + 1], &tr[0]);
+                let (f1, df1) = self.remainder(i + 1, t1, t0, end.0[i + 1], end.1[i + 1], &tr[1]);
+                let driver = -((df1 - df0) + c2 * (f1 - f0)) / k2;
+                -((de1 - de0) + c * (e1 - e0) - s * driver) / k + g0 * tau / k
+            }
         } else {
             let (e0, de0) = self.remainder(i, t0, t0, eta, deta, &tr[0]);
             e0 * tau + 0.5 * de0 * tau * tau + g0 * tau * tau * tau / 6.0
@@ -1688,23 +1968,22 @@ impl ModalFlow {
         if b != 0.0 && !(k == 0.0 && c > 0.0) {
             s += if k > 0.0 { b * tau * tau / (2.0 * k) - c * b * tau / (k * k) } else { b * tau * tau * tau * tau / 24.0 };
         }
+        // From the particular solutions' coefficients (a driven mode's take
+        // its driver's in).
         for h in &self.harmonics {
-            let g = h.modal[i] * h.amplitude;
-            if g == 0.0 {
-                continue;
-            }
             let w = h.omega;
             let at = |t: f64| (w * t + h.phase).sin_cos();
-            let ((s0, c0), (s1, c1)) = (at(t0), at(t1));
-            if resonant(k, c, w) {
-                // ∫ (t − t0) U cos θ.
-                let u = -g / (2.0 * w);
-                s += u * (tau * s1 / w + (c1 - c0) / (w * w));
-            } else {
-                let detune = k - w * w;
-                let d = detune * detune + (c * w) * (c * w);
-                let (a, b) = (g * detune / d, -g * c * w / d);
-                s += (-a * (c1 - c0) + b * (s1 - s0)) / w;
+            match h.coef[i] {
+                Coef::Zero => {}
+                Coef::Resonant(u) => {
+                    // ∫ (t − t0) U cos θ.
+                    let ((_, c0), (s1, c1)) = (at(t0), at(t1));
+                    s += u * (tau * s1 / w + (c1 - c0) / (w * w));
+                }
+                Coef::Steady(a, b) => {
+                    let ((s0, c0), (s1, c1)) = (at(t0), at(t1));
+                    s += (-a * (c1 - c0) + b * (s1 - s0)) / w;
+                }
             }
         }
         s

@@ -53,7 +53,7 @@ mod stepper;
 
 pub use driven::{bases_built, EventDriven, FlowBases, Reached, MAX_EVENTS};
 #[doc(hidden)]
-pub use flow::{critical_plane, repeated_line, repeated_planes, slow_plane};
+pub use flow::{critical_plane, defective_chain, repeated_line, repeated_planes, slow_plane};
 pub use flow::{Event, ModalFlow};
 pub use record::{EventKind, EventRecord, EventsError};
 pub use stepper::EventStepper;

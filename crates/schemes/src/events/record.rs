@@ -74,13 +74,14 @@ pub enum EventsError {
     },
     /// A non-classical damping whose first-order form has no
     /// well-conditioned basis of real two-dimensional invariant subspaces
-    /// here: a repeated complex pair with fewer eigenvectors than its
-    /// multiplicity (a defective complex pair), a real eigenvalue repeated
-    /// more than twice without as many eigenvectors, an odd count of real
+    /// here: a complex pair repeated three or more times with fewer
+    /// eigenvectors than its multiplicity, a real eigenvalue repeated more
+    /// than twice without as many eigenvectors, an odd count of real
     /// eigenvalues left unpaired, or a basis whose condition exceeds 1e8
-    /// (a critically damped mode, a Jordan block of two, is taken:
+    /// (a critically damped mode, a Jordan block of two, and a defective
+    /// complex pair, a complex Jordan block of two, are taken:
     /// docs/theory.md §9.1).
-    #[error("damping: the first-order form of the non-classical damping C has no well-conditioned basis of real invariant planes (the condition number ‖T‖∞‖T⁻¹‖∞ of its modal basis is {condition:e}, allowed up to 1e8; inf: no basis, e.g. a defective repeated complex pair): no exact modal flow; allowed: classical damping (e.g. Rayleigh C = a M + b K) or a non-classical one whose eigenvalues are distinct, critically damped pairs (a Jordan block of two), or repeated with as many independent eigenvectors as their multiplicity")]
+    #[error("damping: the first-order form of the non-classical damping C has no well-conditioned basis of real invariant planes (the condition number ‖T‖∞‖T⁻¹‖∞ of its modal basis is {condition:e}, allowed up to 1e8; inf: no basis, e.g. a real Jordan block of three or more): no exact modal flow; allowed: classical damping (e.g. Rayleigh C = a M + b K) or a non-classical one whose eigenvalues are distinct, critically damped pairs (a Jordan block of two), defective complex pairs (a complex Jordan block of two), or repeated with as many independent eigenvectors as their multiplicity")]
     Defective {
         /// `‖T‖∞ ‖T⁻¹‖∞` of the modal basis (infinite: no basis).
         condition: f64,

@@ -142,7 +142,7 @@ impl Functional {
         }
         for i in 0..start.0.len() {
             if self.beta[i] != 0.0 {
-                s += self.beta[i] * flow.integral(i, t0, (start.0[i], start.1[i]), (end.0[i], end.1[i]), tau, tr);
+                s += self.beta[i] * flow.integral(i, t0, start, end, tau, tr);
             }
             s += self.alpha(i) * (end.0[i] - start.0[i]);
         }
@@ -303,7 +303,7 @@ impl Search {
             self.steps += 1;
             flow.trig(t, &mut self.tr[0]);
             for i in 0..n {
-                let (j, b) = flow.jet_and_bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
+                let (j, b) = flow.jet_and_bounds(i, t, eta, deta, h, &self.tr[0]);
                 self.jet[i] = [j[0], j[1], j[2]];
                 self.bnd[i] = [b[0], b[1], b[2], b[3]];
             }
@@ -439,7 +439,7 @@ impl Search {
             if b == 0.0 && a == 0.0 {
                 continue;
             }
-            let (j, bd) = flow.jet_and_bounds(i, t, eta[i], deta[i], h, &self.tr[0]);
+            let (j, bd) = flow.jet_and_bounds(i, t, eta, deta, h, &self.tr[0]);
             coef += b.abs() + a.abs();
             for m in 0..GJET {
                 gj[m] += b * j[m] + a * j[m + 1];
