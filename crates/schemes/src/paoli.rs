@@ -120,8 +120,9 @@ pub struct PaoliSchatzman {
     /// through the next step so its forcing work is summed beside the sweeps.
     old: Vec<f64>,
     /// The fused step leaves the forcing's work of the step just taken to
-    /// the next step, which sums it between its two sweeps (beside the
-    /// backward one, from `old`), unless [`Stepper::work`] is asked first:
+    /// the next step, which sums it from `old` beside its backward sweep
+    /// (the first term inside it, the others just before it), unless
+    /// [`Stepper::work`] is asked first:
     /// then `work` adds it.
     work_pending: Cell<bool>,
     /// `g_next` holds the next step's coefficients already (the fused step
@@ -258,13 +259,13 @@ impl Bands3 {
     /// `y = (1−2β) U^n + β U^{n−1}` ([`Levels`]), then [`forward_body`](Self::forward_body)
     /// and the factor's backward sweep, in one function compiled for AVX2
     /// where the CPU has it.
-    fn unconstrained(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], between: impl FnOnce()) {
+    fn unconstrained(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], work: Option<WorkSum<'_>>, between: impl FnOnce()) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is set only when the CPU reports AVX2.
-            return unsafe { self.unconstrained_avx2(fa, xy, a, out, between) };
+            return unsafe { self.unconstrained_avx2(fa, xy, a, out, work, between) };
         }
-        self.unconstrained_body(fa, xy, a, out, between)
+        self.unconstrained_body(fa, xy, a, out, work, between)
     }
 
     /// [`unconstrained_body`](Self::unconstrained_body) compiled with AVX2.
@@ -273,16 +274,19 @@ impl Bands3 {
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn unconstrained_avx2(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], between: impl FnOnce()) {
-        self.unconstrained_body(fa, xy, a, out, between)
+    unsafe fn unconstrained_avx2(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], work: Option<WorkSum<'_>>, between: impl FnOnce()) {
+        self.unconstrained_body(fa, xy, a, out, work, between)
     }
 
     /// `between` runs after the forward pass, before the backward sweep:
     /// work independent of the sweeps (the next step's forcing means),
     /// which there runs in the shadow of the sweep's chain instead of
-    /// between one step's backward sweep and the next step's forward one.
+    /// between one step's backward sweep and the next step's forward one;
+    /// `work`, a forcing term's work sum, runs inside the backward sweep
+    /// ([`backward_p3`]).
     #[inline(always)]
-    fn unconstrained_body(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], between: impl FnOnce()) {
+    #[allow(clippy::too_many_arguments)]
+    fn unconstrained_body(&self, fa: Forward<'_>, xy: Levels<'_>, a: &BandLdlt, out: &mut [f64], work: Option<WorkSum<'_>>, between: impl FnOnce()) {
         let Levels { beta, u, up, x, y } = xy;
         for (((t, k), u), up) in x.iter_mut().zip(y.iter_mut()).zip(u).zip(up) {
             *t = 2.0 * u - up;
@@ -291,7 +295,7 @@ impl Bands3 {
         self.forward_body(fa, x, y, out);
         between();
         let (_, lt, inv_d) = a.band_factors();
-        backward_p3(lt, inv_d, out);
+        backward_p3(lt, inv_d, out, work);
     }
 
     /// [`edge_row`](Self::edge_row) on the three first rows (`TAIL =
@@ -431,8 +435,8 @@ impl<'a> InteriorRows<'a> {
 
 /// What [`Bands3::forward_body`] reads besides the two levels: `M x + dt² (f − K y) + Σ_j w_j g_j`
 /// and the factor's `l` ([`BandLdlt::band_factors`]). (The last step's
-/// forcing work is summed between the sweeps, from a buffer the forward
-/// pass does not write: [`Bands3::unconstrained`]'s `between`.)
+/// forcing work is summed beside the backward sweep, from a buffer the
+/// forward pass does not write: [`WorkSum`] and [`Bands3::unconstrained`]'s `between`.)
 struct Forward<'a> {
     dt2: f64,
     f: &'a [f64],
@@ -492,23 +496,57 @@ fn sweep_p3(l: &[f64], out: &mut [f64], a: usize, len: usize, win: &mut (f64, f6
 
 /// `BandLdlt::backward_in_place`'s sweep at half-bandwidth 3 (`n > 3`),
 /// the same operations in the same order, inlined into the fused step (so
-/// compiled with it, for AVX2 where the CPU has it).
+/// compiled with it, for AVX2 where the CPU has it). With `work`, one
+/// forcing term's work sum ([`work_terms`]' operations, rows in order) is
+/// carried in the same loop, a row of it beside each row of the sweep:
+/// two independent chains, the sum's in the sweep's shadow, where before
+/// the sweep it held the sweep back (its 38 additions in a row, in the
+/// out-of-order window ahead of the sweep's first rows).
 #[inline(always)]
-fn backward_p3(lt: &[f64], inv_d: &[f64], b: &mut [f64]) {
+fn backward_p3(lt: &[f64], inv_d: &[f64], b: &mut [f64], work: Option<WorkSum<'_>>) {
     let n = b.len();
     let (lt, inv_d) = (&lt[..n * 3], &inv_d[..n]);
     // Rows n-3..n have fewer successors.
     b[n - 1] *= inv_d[n - 1];
     b[n - 2] = b[n - 2] * inv_d[n - 2] - lt[(n - 2) * 3] * b[n - 1];
     b[n - 3] = b[n - 3] * inv_d[n - 3] - lt[(n - 3) * 3 + 1] * b[n - 1] - lt[(n - 3) * 3] * b[n - 2];
-    let (mut x1, mut x2, mut x3) = (b[n - 3], b[n - 2], b[n - 1]);
-    for ((bi, col), di) in b[..n - 3].iter_mut().rev().zip(lt[..(n - 3) * 3].chunks_exact(3).rev()).zip(inv_d[..n - 3].iter().rev()) {
-        let s = (*bi * di - col[2] * x3 - col[1] * x2) - col[0] * x1;
-        x3 = x2;
-        x2 = x1;
-        x1 = s;
-        *bi = s;
+    let mut x = (b[n - 3], b[n - 2], b[n - 1]);
+    let rows = b[..n - 3].iter_mut().rev().zip(lt[..(n - 3) * 3].chunks_exact(3).rev()).zip(inv_d[..n - 3].iter().rev());
+    let Some(WorkSum { g, u, old, acc }) = work else {
+        for ((bi, col), di) in rows {
+            *bi = backward_row(*bi, col, *di, &mut x);
+        }
+        return;
+    };
+    // The sum's rows 0..3 here, rows 3..n beside the sweep's rows n−4..=0.
+    let (g, u, old) = (&g[..n], &u[..n], &old[..n]);
+    let mut sum = *acc;
+    for ((gi, ui), oi) in g[..3].iter().zip(&u[..3]).zip(&old[..3]) {
+        sum += gi * (ui - oi);
     }
+    for ((((bi, col), di), gi), (ui, oi)) in rows.zip(&g[3..]).zip(u[3..].iter().zip(&old[3..])) {
+        *bi = backward_row(*bi, col, *di, &mut x);
+        sum += gi * (ui - oi);
+    }
+    *acc = sum;
+}
+
+/// A row of [`backward_p3`]'s loop: `(b_i d_i⁻¹ − l₂ x₃ − l₁ x₂) − l₀ x₁`, the
+/// window `x = (x₁, x₂, x₃)` moved on by one row.
+#[inline(always)]
+fn backward_row(bi: f64, col: &[f64], di: f64, x: &mut (f64, f64, f64)) -> f64 {
+    let s = (bi * di - col[2] * x.2 - col[1] * x.1) - col[0] * x.0;
+    *x = (s, x.0, x.1);
+    s
+}
+
+/// One forcing term's work sum for [`backward_p3`]: `acc += g[i] (u[i] − old[i])`,
+/// rows in order ([`work_terms`] on one term).
+struct WorkSum<'a> {
+    g: &'a [f64],
+    u: &'a [f64],
+    old: &'a [f64],
+    acc: &'a mut f64,
 }
 
 /// The bar's β-step fused (`M`, `K` and the factor of `A` tridiagonal,
@@ -981,11 +1019,15 @@ impl PaoliSchatzman {
         // The next step's coefficients (a `sin` or a rotation per term) into
         // `g_ahead`: independent of the sweeps, found between them, where
         // they overlap the backward sweep's chain.
+        // The last step's work: the first term's sum inside the backward
+        // sweep, the others' before it.
         let (loads, means, ahead) = (&mut self.loads, &mut self.means, &mut self.g_ahead);
-        let (forcing, u, old, acc) = (&self.dy.forcing, &self.u, &self.old, &mut self.work_acc);
-        b3.unconstrained(fa, xy, &self.a, &mut self.rhs, || {
+        let (forcing, u, old) = (&self.dy.forcing, &self.u, &self.old);
+        let (first, rest) = self.work_acc.split_first_mut().map_or((None, &mut [][..]), |(a, r)| (Some(a), r));
+        let work = first.filter(|_| pending).map(|acc| WorkSum { g: &forcing[0].shape, u, old, acc });
+        b3.unconstrained(fa, xy, &self.a, &mut self.rhs, work, || {
             if pending {
-                work_terms(forcing, u, old, acc);
+                work_terms(forcing.get(1..).unwrap_or_default(), u, old, rest);
             }
             Self::roll_coefs(beta, loads, means, ahead)
         });
@@ -1249,7 +1291,7 @@ impl Stepper for PaoliSchatzman {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         // Work since t_{1/2}: U^{n+1} is now `u`, U^{n-1} is in `rhs` (the
-        // fused step adds the forcing's in the next step, between its sweeps).
+        // fused step adds the forcing's in the next step, beside its backward sweep).
         if self.fused.on {
             self.work_pending.set(true);
         } else {
