@@ -418,9 +418,14 @@ impl Search {
         // The size of the terms of each derivative (its round-off scale).
         let mut gs = [0.0; GJET];
         let mut gb = [0.0; GJET + 1];
+        // A wave's derivative is read from its phase `Ω t + p + m π/2`,
+        // whose round-off leaves an error of ε times its amplitude `c Ωᵐ`,
+        // not of the value: at a zero of the load's rate (a held force
+        // touching 0 at its minimum) the value itself is that round-off
+        // (`cos t − 1` at t = 0 had a rate of 6e-17 and was released).
         for (m, x) in gj.iter_mut().enumerate() {
             *x = f.wave(t, m);
-            gs[m] = x.abs() + if m == 0 { f.constant_abs(t) } else { 0.0 };
+            gs[m] = x.abs() + f.wave_bound(m) + if m == 0 { f.constant_abs(t) } else { 0.0 };
         }
         for (m, x) in gb.iter_mut().enumerate() {
             *x = if m == 0 { f.constant_abs(t) + f.now.1.abs() * h + f.wave_bound(0) } else { f.wave_bound(m) };
@@ -450,9 +455,12 @@ impl Search {
                 gb[m] += b.abs() * bd[m] + a.abs() * bd[m + 1];
             }
         }
-        // The jets of orders 1..=3 beyond their round-off (0 otherwise),
-        // and B bounding |g⁽⁴⁾| over the window. A derivative of order 2 or
-        // 3 is also zero if the next one moves it by more than itself
+        // The jets of orders 1..=4 beyond their round-off (0 otherwise),
+        // and B bounding |g⁽⁵⁾| over the window (order 4: a gap leaving at
+        // a double zero of the load, `1 − cos t` pulling from rest on the
+        // stop, is `t⁴/24`; read up to order 3 it was an approach, landed
+        // and released at t = 0 until the run stopped). A derivative of
+        // order 2 to 4 is also zero if the next one moves it by more than itself
         // within the time resolution (an event is located to
         // `time_resolution(t)`: at a release the held force is `r' δt`, not
         // 0, and the free phase's g'' ∝ r inherits it; the velocity is
@@ -464,15 +472,17 @@ impl Search {
             }
         }
         let dt_res = 4.0 * res;
-        let mut d = [0.0; 4];
-        for m in 1..4 {
-            let resolution = if m >= 2 { gj[m + 1].abs() * dt_res } else { 0.0 };
+        let mut d = [0.0; GJET];
+        for m in 1..GJET {
+            // The last order's next derivative: its bound over the window.
+            let next = if m + 1 < GJET { gj[m + 1].abs() } else { gb[GJET] };
+            let resolution = if m >= 2 { next * dt_res } else { 0.0 };
             if gj[m].abs() > 1e-12 * gs[m] + resolution {
                 d[m] = gj[m];
             }
         }
         d[0] = gj[0].max(0.0);
-        let Some(first) = (1..4).find(|&m| d[m] != 0.0) else {
+        let Some(first) = (1..GJET).find(|&m| d[m] != 0.0) else {
             return if quiet { Reach::Free(h) } else { Reach::Now };
         };
         if d[first] < 0.0 {
@@ -481,10 +491,10 @@ impl Search {
         // For each order j whose lower jets are all >= 0 and d_j > 0:
         // g(s) >= d_j s^j/j! − Σ_{k>j, d_k<0} |d_k| s^k/k! − B s⁴/4!, whose
         // bracket after s^j is decreasing: its root (bisection) is safe.
-        let b = gb[4];
-        let fact = [1.0, 1.0, 2.0, 6.0, 24.0];
+        let b = gb[GJET];
+        let fact = [1.0, 1.0, 2.0, 6.0, 24.0, 120.0];
         let mut best = 0.0f64;
-        for j in 0..4 {
+        for j in 0..GJET {
             if d[..j].iter().any(|&x| x < 0.0) {
                 break;
             }
@@ -493,12 +503,12 @@ impl Search {
             }
             let phi = |s: f64| -> f64 {
                 let mut v = d[j] / fact[j];
-                for k in j + 1..4 {
+                for k in j + 1..GJET {
                     if d[k] < 0.0 {
                         v += d[k] * s.powi((k - j) as i32) / fact[k];
                     }
                 }
-                v - b * s.powi((4 - j) as i32) / fact[4]
+                v - b * s.powi((GJET - j) as i32) / fact[GJET]
             };
             let root = if phi(h) > 0.0 {
                 h

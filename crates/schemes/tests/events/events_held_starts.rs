@@ -184,3 +184,43 @@ proptest! {
         check_order(r.events()).map_err(TestCaseError::fail)?;
     }
 }
+
+/// Held starts where the load is tangent to 0 at t = 0 (`x'' + x = f`,
+/// `x >= 0`, at rest on the stop). `f = cos t − 1` presses, its force
+/// `1 − cos t` touching 0 at t = 0 (a wave's rate read as 6e-17 there was
+/// a release: release → landing → release at t = 0 until `NoProgress`):
+/// held, `x ≡ 0`. `f = 1 − cos t` pulls from a double zero: the contact
+/// leaves as `x = 1 − cos t − (t/2) sin t ≈ t⁴/24` (read up to the third
+/// derivative the gap's start was an approach: the same cycle), lands at
+/// t = 2π at the speed −π, leaves at `e π`, and from the double zero there
+/// as before: `x = 1 − cos t − ((t − 2π)/2 − e π) sin t` (closed forms).
+#[test]
+fn held_starts_under_loads_tangent_to_zero_press_or_leave_as_the_closed_form() {
+    let one = |v: f64| {
+        let mut b = SymBand::zeros(1, 0);
+        b.set(0, 0, v);
+        b
+    };
+    for (sign, e) in [(-1.0, 0.0), (-1.0, 1.0), (1.0, 0.0), (1.0, 0.5), (1.0, 1.0)] {
+        // f = sign (1 − cos t).
+        let dy = Dynamics::new(one(1.0), one(1.0), vec![sign], vec![Contact::new(0, Bounds::obstacle(0.0), false)]).with_forcing(vec![Forcing { shape: vec![-sign], time: sine(1.0, 1.0, FRAC_PI_2) }]);
+        let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], e).expect("starts");
+        for k in 1..=30 {
+            let t = 0.25 * k as f64;
+            r.run_until(t, 1000).unwrap_or_else(|err| panic!("f = {sign} (1 − cos t), e = {e}: {err}"));
+            let (_, q, v) = r.state();
+            let (s, c) = t.sin_cos();
+            let b = if t < TAU { 0.5 * t } else { 0.5 * (t - TAU) - e * PI };
+            let (qx, vx) = if sign > 0.0 { (1.0 - c - b * s, 0.5 * s - b * c) } else { (0.0, 0.0) };
+            assert!((q[0] - qx).abs() <= 1e-13 && (v[0] - vx).abs() <= 1e-13, "f = {sign} (1 − cos t), e = {e}, t = {t}: ({}, {}) against ({qx}, {vx})", q[0], v[0]);
+        }
+        let ev = r.events();
+        check_order(ev).unwrap();
+        if sign > 0.0 {
+            // Released at 0; one impact, at 2π, at the speed −π.
+            assert!(ev.iter().all(|x| x.kind == EventKind::Release && (x.t == 0.0 || (x.t - TAU).abs() <= 1e-14) || x.kind == EventKind::Impact), "{ev:?}");
+            let imp: Vec<_> = ev.iter().filter(|x| x.kind == EventKind::Impact).collect();
+            assert!(imp.len() == 1 && (imp[0].t - TAU).abs() <= 1e-13 && (imp[0].velocity_before + PI).abs() <= 1e-13, "{ev:?}");
+        }
+    }
+}
