@@ -631,6 +631,17 @@ fn ns_test(p: &Point) -> f64 {
     p.orbit.multipliers.iter().filter(|m| !is_real(m)).map(|m| m.norm() - 1.0).max_by(f64::total_cmp).unwrap_or(-1.0)
 }
 
+/// `G_λ` of `family`'s map at `(x, param)` as the continuation takes it,
+/// the parameter's scale Λ = `scale` (for `tests/it/param_derivative.rs`).
+#[doc(hidden)]
+pub fn param_derivative<F: Family>(family: &F, x: &[f64], param: f64, scale: f64) -> Result<Vec<f64>, OrbitError> {
+    let opts = ContinuationOptions { scale: Some(scale), ..ContinuationOptions::new(param, param + scale) };
+    let ctx = Ctx { family, opts: &opts, xs: 1.0, ls: scale, n: x.len() };
+    let mut lin = ctx.image(x, param)?;
+    ctx.param_derivative(&mut lin, x, param)?;
+    Ok(lin.gl)
+}
+
 /// Continues the branch of the family's periodic orbits from `guess` (a
 /// state near an orbit at `opts.from`) toward `opts.to`.
 pub fn continuation<F: Family>(family: &F, guess: &[f64], opts: &ContinuationOptions) -> Result<Branch, OrbitError> {

@@ -22,6 +22,8 @@ mod scene;
 mod shoot;
 mod variational;
 
+#[doc(hidden)]
+pub use continuation::param_derivative;
 pub use continuation::{continuation, continuation_watched, crossing_branch, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family, Mark, Marker};
 pub use map::{Image, Model};
 pub use scene::{Built, SceneFamily};

@@ -18,6 +18,7 @@ mod marks;
 mod mirror;
 mod nonsmooth_fold;
 mod oscillator;
+mod param_derivative;
 mod period_two;
 mod reach;
 mod readings;
