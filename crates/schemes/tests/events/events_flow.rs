@@ -1091,6 +1091,28 @@ fn a_nearly_critical_mode_is_exact_either_side_of_the_threshold() {
     }
 }
 
+/// `dy` on a stop under dof 0 at `lo` (`e = 0.8`, from `([0.1, 0.1],
+/// [−0.8, 0.3])` to `t = 20`), run by the event-driven flow and by
+/// [`exponential_impacts`]: the impacts (at least five, as many in both),
+/// and the largest differences of their times, their speeds and the
+/// final state.
+fn on_a_stop_against_the_exponential(mut dy: Dynamics, lo: f64) -> (usize, f64, f64, f64) {
+    dy.contacts = vec![Contact::new(0, Bounds::obstacle(lo), false)];
+    let (q0, v0, e, t_end) = ([0.1, 0.1], [-0.8, 0.3], 0.8, 20.0);
+    let mut run = signorini_schemes::events::EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
+    run.run_until(t_end, 1000).unwrap();
+    let (_, q, v) = run.state();
+    let (rows, qw, vw) = exponential_impacts(&dy, lo, e, &q0, &v0, t_end, 0.01);
+    let got: Vec<(f64, f64)> = run.events().iter().map(|r| (r.t, r.velocity_before)).collect();
+    assert!(got.len() == rows.len() && rows.len() >= 5, "{} events against {}:\n{got:?}\n{rows:?}", got.len(), rows.len());
+    let (mut dt, mut dw) = (0.0f64, 0.0f64);
+    for (g, w) in got.iter().zip(&rows) {
+        (dt, dw) = (dt.max((g.0 - w.0).abs()), dw.max((g.1 - w.1).abs()));
+    }
+    let dz = q.iter().chain(&v).zip(qw.iter().chain(&vw)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    (rows.len(), dt, dw, dz)
+}
+
 /// An event-located exponential (written here): each flight by
 /// [`reference`] from the last event, the first crossing of `q₀ = lo`
 /// bracketed on a grid of `h` and bisected to round-off in time, Newton's
@@ -1150,21 +1172,9 @@ fn exponential_impacts(dy: &Dynamics, lo: f64, e: f64, q0: &[f64], v0: &[f64], t
 #[test]
 fn a_critically_damped_chain_meets_its_stop_as_the_exponential_does() {
     let (dy, _, _) = critical_chain(1.0, 0.5, 2.0, 0.0);
-    let mut dy = forced(dy);
+    let dy = forced(dy);
     let lo = 0.05;
-    dy.contacts = vec![Contact::new(0, Bounds::obstacle(lo), false)];
-    let (q0, v0, e, t_end) = ([0.1, 0.1], [-0.8, 0.3], 0.8, 20.0);
-    let mut run = signorini_schemes::events::EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
-    run.run_until(t_end, 1000).unwrap();
-    let (_, q, v) = run.state();
-    let (rows, qw, vw) = exponential_impacts(&dy, lo, e, &q0, &v0, t_end, 0.01);
-    let got: Vec<(f64, f64)> = run.events().iter().map(|r| (r.t, r.velocity_before)).collect();
-    assert!(got.len() == rows.len() && rows.len() >= 5, "{} events against {}:\n{got:?}\n{rows:?}", got.len(), rows.len());
-    let (mut dt, mut dw) = (0.0f64, 0.0f64);
-    for (g, w) in got.iter().zip(&rows) {
-        (dt, dw) = (dt.max((g.0 - w.0).abs()), dw.max((g.1 - w.1).abs()));
-    }
-    let dz = q.iter().chain(&v).zip(qw.iter().chain(&vw)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let (_, dt, dw, dz) = on_a_stop_against_the_exponential(dy, lo);
     assert!(dt <= 1e-12 && dw <= 1e-12 && dz <= 1e-12, "times {dt:e} s, speeds {dw:e}, state {dz:e}");
 }
 
@@ -1360,21 +1370,9 @@ fn a_nearly_defective_pair_is_exact_either_side_of_the_threshold() {
 /// refused); the driver's response dropped.
 #[test]
 fn a_defective_pair_meets_its_stop_as_the_exponential_does() {
-    let mut dy = forced_at_the_pair(defective_pair(0.0));
+    let dy = forced_at_the_pair(defective_pair(0.0));
     let lo = -0.05;
-    dy.contacts = vec![Contact::new(0, Bounds::obstacle(lo), false)];
-    let (q0, v0, e, t_end) = ([0.1, 0.1], [-0.8, 0.3], 0.8, 20.0);
-    let mut run = signorini_schemes::events::EventDriven::new(&dy, 0.0, &q0, &v0, e).unwrap();
-    run.run_until(t_end, 1000).unwrap();
-    let (_, q, v) = run.state();
-    let (rows, qw, vw) = exponential_impacts(&dy, lo, e, &q0, &v0, t_end, 0.01);
-    let got: Vec<(f64, f64)> = run.events().iter().map(|r| (r.t, r.velocity_before)).collect();
-    assert!(got.len() == rows.len() && rows.len() >= 5, "{} events against {}:\n{got:?}\n{rows:?}", got.len(), rows.len());
-    let (mut dt, mut dw) = (0.0f64, 0.0f64);
-    for (g, w) in got.iter().zip(&rows) {
-        (dt, dw) = (dt.max((g.0 - w.0).abs()), dw.max((g.1 - w.1).abs()));
-    }
-    let dz = q.iter().chain(&v).zip(qw.iter().chain(&vw)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-    println!("defective pair on a stop: {} impacts, times {dt:.1e} s, speeds {dw:.1e}, state {dz:.1e}", rows.len());
+    let (n, dt, dw, dz) = on_a_stop_against_the_exponential(dy, lo);
+    println!("defective pair on a stop: {n} impacts, times {dt:.1e} s, speeds {dw:.1e}, state {dz:.1e}");
     assert!(dt <= 1e-12 && dw <= 1e-12 && dz <= 1e-12, "times {dt:e} s, speeds {dw:e}, state {dz:e}");
 }
