@@ -482,19 +482,25 @@ impl Search {
             }
         }
         d[0] = gj[0].max(0.0);
-        let Some(first) = (1..GJET).find(|&m| d[m] != 0.0) else {
+        // The orders read: 1..=3 with B bounding |g⁽⁴⁾| wherever one of
+        // them is nonzero (every impact's departure: the windows, and so
+        // every run's bits, as before order 4 was read), 1..=4 with B
+        // bounding |g⁽⁵⁾| where all three are zero.
+        let top = if d[1..4].iter().any(|&x| x != 0.0) { 4 } else { GJET };
+        let Some(first) = (1..top).find(|&m| d[m] != 0.0) else {
             return if quiet { Reach::Free(h) } else { Reach::Now };
         };
         if d[first] < 0.0 {
             return Reach::Now;
         }
         // For each order j whose lower jets are all >= 0 and d_j > 0:
-        // g(s) >= d_j s^j/j! − Σ_{k>j, d_k<0} |d_k| s^k/k! − B s⁴/4!, whose
-        // bracket after s^j is decreasing: its root (bisection) is safe.
-        let b = gb[GJET];
+        // g(s) >= d_j s^j/j! − Σ_{k>j, d_k<0} |d_k| s^k/k! − B s^top/top!,
+        // whose bracket after s^j is decreasing: its root (bisection) is
+        // safe.
+        let b = gb[top];
         let fact = [1.0, 1.0, 2.0, 6.0, 24.0, 120.0];
         let mut best = 0.0f64;
-        for j in 0..GJET {
+        for j in 0..top {
             if d[..j].iter().any(|&x| x < 0.0) {
                 break;
             }
@@ -503,12 +509,12 @@ impl Search {
             }
             let phi = |s: f64| -> f64 {
                 let mut v = d[j] / fact[j];
-                for k in j + 1..GJET {
+                for k in j + 1..top {
                     if d[k] < 0.0 {
                         v += d[k] * s.powi((k - j) as i32) / fact[k];
                     }
                 }
-                v - b * s.powi((GJET - j) as i32) / fact[GJET]
+                v - b * s.powi((top - j) as i32) / fact[top]
             };
             let root = if phi(h) > 0.0 {
                 h
