@@ -456,7 +456,7 @@ impl Search {
             }
         }
         // The jets of orders 1..=4 beyond their round-off (0 otherwise),
-        // and B bounding |g⁽⁵⁾| over the window (order 4: a gap leaving at
+        // and the bounds of |g⁽⁴⁾| and |g⁽⁵⁾| over the window (order 4: a gap leaving at
         // a double zero of the load, `1 − cos t` pulling from rest on the
         // stop, is `t⁴/24`; read up to order 3 it was an approach, landed
         // and released at t = 0 until the run stopped). A derivative of
