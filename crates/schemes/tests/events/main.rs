@@ -29,3 +29,4 @@ mod events_silent;
 mod events_tail;
 mod events_tiny_restitution;
 mod events_two_stops;
+mod events_unresolved;
