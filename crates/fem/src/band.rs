@@ -39,6 +39,12 @@ impl SymBand {
         Self { n, p, data: vec![0.0; n * (p + 1)], diagonals: std::sync::OnceLock::new() }
     }
 
+    /// The diagonal matrix with `d` on its diagonal (half-bandwidth 0): a
+    /// lumped mass, or a one-dof structure's mass, stiffness or damping.
+    pub fn from_diagonal(d: &[f64]) -> Self {
+        Self { n: d.len(), p: 0, data: d.to_vec(), diagonals: std::sync::OnceLock::new() }
+    }
+
     /// The product by diagonals is stale after a change.
     fn changed(&mut self) {
         self.diagonals = std::sync::OnceLock::new();

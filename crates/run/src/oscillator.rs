@@ -96,16 +96,11 @@ impl Oscillator {
     /// The one-dof problem and its initial state.
     pub fn dynamics(&self) -> Result<(Dynamics, Initial), RunError> {
         self.validate()?;
-        let one = |v: f64| {
-            let mut b = SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
         let c = self.damping();
         let contact = Contact::new(0, Bounds { lo: self.lower.unwrap_or(f64::NEG_INFINITY), hi: self.stop }, false).with_restitution(Some(self.restitution));
-        let dy = Dynamics::new(one(self.mass), one(self.stiffness), vec![0.0], vec![contact])
+        let dy = Dynamics::new(SymBand::from_diagonal(&[self.mass]), SymBand::from_diagonal(&[self.stiffness]), vec![0.0], vec![contact])
             .with_forcing(self.load.iter().map(|p| Forcing { shape: vec![1.0], time: p.clone() }).collect())
-            .with_damping((c > 0.0).then(|| one(c)));
+            .with_damping((c > 0.0).then(|| SymBand::from_diagonal(&[c])));
         Ok((dy, Initial { u: vec![self.x0], v: vec![self.v0] }))
     }
 

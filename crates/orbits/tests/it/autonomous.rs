@@ -16,10 +16,7 @@ const OMEGA: f64 = 1.5;
 const D: f64 = 0.3;
 
 fn oscillator(stop: f64) -> Model {
-    let mut m = SymBand::zeros(1, 0);
-    m.set(0, 0, MASS);
-    let mut k = SymBand::zeros(1, 0);
-    k.set(0, 0, MASS * OMEGA * OMEGA);
+    let (m, k) = (SymBand::from_diagonal(&[MASS]), SymBand::from_diagonal(&[MASS * OMEGA * OMEGA]));
     Model::new(Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: stop }, false)]), 1.0).unwrap()
 }
 

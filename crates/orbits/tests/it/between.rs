@@ -17,14 +17,9 @@ pub const E: f64 = 0.8;
 
 /// The crate's model forced at Ω = `w`.
 pub fn model(w: f64) -> Result<Model, OrbitError> {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: F, omega: w } }])
-        .with_damping(Some(one(C)));
+        .with_damping(Some(SymBand::from_diagonal(&[C])));
     Model::new(dy, E)
 }
 

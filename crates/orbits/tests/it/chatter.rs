@@ -29,14 +29,9 @@ const G: f64 = 0.2;
 const R: f64 = 0.5;
 
 fn model(w: f64) -> Model {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: G }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: G }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: 1.0, omega: w, phase: FRAC_PI_2 }])) }])
-        .with_damping(Some(one(0.1)));
+        .with_damping(Some(SymBand::from_diagonal(&[0.1])));
     Model::new(dy, R).unwrap()
 }
 

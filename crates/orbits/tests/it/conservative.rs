@@ -170,12 +170,7 @@ struct Between;
 impl signorini_orbits::Family for Between {
     fn model(&self, w: f64) -> Result<signorini_orbits::Model, signorini_orbits::OrbitError> {
         use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
-        let one = |v: f64| {
-            let mut b = signorini_fem::SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+        let dy = Dynamics::new(signorini_fem::SymBand::from_diagonal(&[1.0]), signorini_fem::SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
             .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 1.5, omega: w } }]);
         signorini_orbits::Model::new(dy, 1.0)
     }

@@ -26,14 +26,9 @@ pub(crate) struct Isola(pub(crate) usize);
 
 impl Family for Isola {
     fn model(&self, w: f64) -> Result<Model, OrbitError> {
-        let one = |v: f64| {
-            let mut b = SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: LO, hi: HI }, false)])
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: LO, hi: HI }, false)])
             .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: crate::between::F, omega: w } }])
-            .with_damping(Some(one(crate::between::C)));
+            .with_damping(Some(SymBand::from_diagonal(&[crate::between::C])));
         Model::new(dy, E)
     }
     fn period(&self, w: f64) -> Result<f64, OrbitError> {

@@ -19,14 +19,9 @@ use std::f64::consts::TAU;
 
 /// `x'' + 0.1 x' + x = 2 sin Ωt`, `lo <= x <= hi`, restitution `e`.
 fn oscillator(w: f64, (lo, hi): (f64, f64), e: f64) -> Model {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: F, omega: w } }])
-        .with_damping(Some(one(C)));
+        .with_damping(Some(SymBand::from_diagonal(&[C])));
     Model::new(dy, e).unwrap()
 }
 

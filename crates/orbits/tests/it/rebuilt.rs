@@ -13,14 +13,10 @@ use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 use std::f64::consts::TAU;
 
 fn by_hand(w: f64) -> Model {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
     let contact = Contact::new(0, Bounds { lo: -1.0, hi: 0.5 }, false).with_restitution(Some(0.3));
-    let dy =
-        Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![contact]).with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 2.0, omega: w } }]).with_damping(Some(one(0.1)));
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![contact])
+        .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 2.0, omega: w } }])
+        .with_damping(Some(SymBand::from_diagonal(&[0.1])));
     Model::new(dy, 0.3).unwrap()
 }
 

@@ -29,12 +29,7 @@ struct Elastic;
 
 impl Family for Elastic {
     fn model(&self, w: f64) -> Result<Model, OrbitError> {
-        let one = |v: f64| {
-            let mut b = SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: -1.0, hi: 1.0 }, false)])
             .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 1.5, omega: w } }]);
         Model::new(dy, 1.0)
     }

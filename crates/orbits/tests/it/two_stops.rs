@@ -13,14 +13,9 @@ const W: f64 = 0.8;
 const G: f64 = 1.0;
 
 fn model() -> Model {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: -G, hi: G }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: -G, hi: G }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: 2.0, omega: W } }])
-        .with_damping(Some(one(0.1)));
+        .with_damping(Some(SymBand::from_diagonal(&[0.1])));
     Model::new(dy, 0.8).unwrap()
 }
 

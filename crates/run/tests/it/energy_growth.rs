@@ -64,10 +64,7 @@ impl Stepper for Scripted {
 }
 
 fn scripted(energy: fn(usize) -> f64, work: Option<fn(usize) -> (f64, f64)>) -> Scripted {
-    let mut mass = SymBand::zeros(1, 0);
-    mass.set(0, 0, 1.0);
-    let mut stiffness = SymBand::zeros(1, 0);
-    stiffness.set(0, 0, 1.0);
+    let (mass, stiffness) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]));
     let dy = Dynamics::new(mass, stiffness, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1.0), false)]);
     Scripted { dy, dt: 0.125, n: 0, u: vec![0.0], energy, work }
 }

@@ -20,8 +20,7 @@ use std::sync::Arc;
 const GAP: f64 = 1e-3;
 
 fn bouncing() -> EventStepper {
-    let (mut m, k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-    m.set(0, 0, 1.0);
+    let (m, k) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[0.0]));
     let dy = Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds { lo: -GAP, hi: GAP }, false)]);
     EventStepper::new("event-driven(1)".into(), dy, 1.0, 1.0, &Initial { u: vec![0.0], v: vec![1.0] }).expect("a valid problem")
 }

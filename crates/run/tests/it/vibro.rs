@@ -424,10 +424,7 @@ fn bad_config() {
 /// impact. Returns the impact, the recorded displacements and dt.
 fn falling_mass(k: f64, r: f64, dt: f64, t_end: f64) -> (signorini_run::Impact, Vec<f64>) {
     let (m, g, h) = (2.0, 9.81, 0.5);
-    let mut mass = SymBand::zeros(1, 0);
-    mass.set(0, 0, m);
-    let mut stiffness = SymBand::zeros(1, 0);
-    stiffness.set(0, 0, k);
+    let (mass, stiffness) = (SymBand::from_diagonal(&[m]), SymBand::from_diagonal(&[k]));
     let dy = Dynamics::new(mass, stiffness, vec![-m * g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let init = Initial { u: vec![h], v: vec![0.0] };
     let mut ps = PaoliSchatzman::new("ps".into(), dy.clone(), 0.25, r, dt, &init).unwrap();

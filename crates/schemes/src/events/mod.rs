@@ -17,9 +17,7 @@
 //! use signorini_schemes::events::ModalFlow;
 //! use signorini_schemes::{Bounds, Contact, Dynamics};
 //!
-//! let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-//! m.set(0, 0, 2.0);
-//! k.set(0, 0, 2.0);
+//! let (m, k) = (SymBand::from_diagonal(&[2.0]), SymBand::from_diagonal(&[2.0]));
 //! let dy = Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-10.0), false)]);
 //! let flow = ModalFlow::new(&dy)?;
 //! let (mut q, mut v) = (vec![0.0], vec![0.0]);

@@ -27,12 +27,6 @@ fn harmonics(terms: &[(f64, f64, f64)]) -> TimeProfile {
     TimeProfile::Harmonics(Arc::from(terms.iter().map(|&(amplitude, omega, phase)| Harmonic { amplitude, omega, phase }).collect::<Vec<_>>()))
 }
 
-fn one(v: f64) -> SymBand {
-    let mut b = SymBand::zeros(1, 0);
-    b.set(0, 0, v);
-    b
-}
-
 /// A free mass `x'' = sin t` above its stop `x >= lo`, from `x = lo + π`,
 /// `x' = −2` at `t = 0`: `x = lo + π − t − sin t` reaches the stop at `t = π`
 /// with `x' = −1 − cos π = 0` and `x'' = sin π = 0` (the gap is `−(t − π)³/6`
@@ -48,8 +42,8 @@ fn one(v: f64) -> SymBand {
 fn a_cubic_tangency_lands_at_zero_speed_and_is_released_where_the_load_turns() {
     for e in [0.0, 0.5, 1.0] {
         for lo in [0.0, 1.0, -3.0] {
-            let dy =
-                Dynamics::new(one(1.0), one(0.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(lo), false)]).with_forcing(vec![Forcing { shape: vec![1.0], time: harmonics(&[(1.0, 1.0, 0.0)]) }]);
+            let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[0.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(lo), false)])
+                .with_forcing(vec![Forcing { shape: vec![1.0], time: harmonics(&[(1.0, 1.0, 0.0)]) }]);
             let mut r = EventDriven::new(&dy, 0.0, &[lo + PI], &[-2.0], e).unwrap();
             let t_end = 10.0;
             r.run_until(t_end, 1000).unwrap_or_else(|err| panic!("e = {e}, lo = {lo}: {err}"));

@@ -11,17 +11,11 @@ use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 use std::f64::consts::PI;
 
-fn one(v: f64) -> SymBand {
-    let mut b = SymBand::zeros(1, 0);
-    b.set(0, 0, v);
-    b
-}
-
 /// `x'' + x = 0` from `x = 1` onto a stop at `−1/2` with `e = 1`: impacts at
 /// `2π/3 + k 4π/3` (the bounce mirrors the fall), the energy `1/2` kept.
 #[test]
 fn an_elastic_bounce_keeps_its_energy_over_ten_thousand_impacts() {
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-0.5), false)]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-0.5), false)]);
     let mut r = EventDriven::new(&dy, 0.0, &[1.0], &[0.0], 1.0).unwrap();
     let impacts = 10_000;
     let t_end = 2.0 * PI / 3.0 + (impacts as f64 - 0.5) * 4.0 * PI / 3.0;
@@ -47,7 +41,7 @@ fn an_elastic_bounce_keeps_its_energy_over_ten_thousand_impacts() {
 /// sampling (a sample reads the flow, it never re-bases it).
 #[test]
 fn an_elastic_bounce_does_not_drift_over_long_runs_at_any_sampling() {
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-0.5), false)]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-0.5), false)]);
     let t_end = 2e4;
     let run = |dt: f64| {
         let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[-1.0], 1.0).unwrap();
@@ -100,7 +94,7 @@ fn an_elastic_bounce_does_not_drift_over_long_runs_at_any_sampling() {
 #[test]
 fn chatter_under_a_steady_force_matches_its_closed_form() {
     for (f, r, v0) in [(1.0, 0.5, 1.0), (1.0, 0.8, 1.0), (0.3, 0.5, 2.0), (2.0, 0.3, 0.7)] {
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![-f], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![-f], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
         let mut run = EventDriven::new(&dy, 0.0, &[0.0], &[v0], r).unwrap();
         run.run_until(30.0, 10_000).unwrap();
         let ev = run.events();
@@ -189,7 +183,9 @@ fn period_one_orbits_of_the_impact_oscillator_close() {
     let c = 2.0 * p.damping_ratio * (p.stiffness * p.mass).sqrt();
     let cosine = TimeProfile::harmonics(vec![Harmonic { amplitude: p.force, omega: p.forcing_frequency, phase: PI / 2.0 }]).unwrap();
     let stop = Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: p.gap }, false).with_restitution(Some(p.restitution));
-    let dy = Dynamics::new(one(p.mass), one(p.stiffness), vec![0.0], vec![stop]).with_forcing(vec![Forcing { shape: vec![1.0], time: cosine }]).with_damping(Some(one(c)));
+    let dy = Dynamics::new(SymBand::from_diagonal(&[p.mass]), SymBand::from_diagonal(&[p.stiffness]), vec![0.0], vec![stop])
+        .with_forcing(vec![Forcing { shape: vec![1.0], time: cosine }])
+        .with_damping(Some(SymBand::from_diagonal(&[c])));
     let period = 2.0 * PI / p.forcing_frequency;
     for o in orbits {
         let tau = o.impact_time;
@@ -208,7 +204,7 @@ fn period_one_orbits_of_the_impact_oscillator_close() {
 fn a_bouncing_ball_accumulates_at_its_closed_form_time_and_rests() {
     let (g, h, m) = (9.81, 1.3, 2.0);
     for e in [0.3, 0.5, 0.8] {
-        let dy = Dynamics::new(one(m), one(0.0), vec![-m * g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+        let dy = Dynamics::new(SymBand::from_diagonal(&[m]), SymBand::from_diagonal(&[0.0]), vec![-m * g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
         let mut r = EventDriven::new(&dy, 0.0, &[h], &[0.0], e).unwrap();
         let v1 = (2.0 * g * h).sqrt();
         let t1 = (2.0 * h / g).sqrt();
@@ -240,7 +236,8 @@ fn a_bouncing_ball_accumulates_at_its_closed_form_time_and_rests() {
 #[test]
 fn a_held_oscillator_is_released_when_its_force_vanishes() {
     let sine2 = TimeProfile::Sine { amplitude: 2.0, omega: 2.0 };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![-1.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)]).with_forcing(vec![Forcing { shape: vec![1.0], time: sine2 }]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![-1.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0], time: sine2 }]);
     let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).unwrap();
     assert_eq!(r.held(), vec![(0, false)]);
     let tr = PI / 12.0;
@@ -320,7 +317,7 @@ fn simultaneous_impacts_are_one_lcp() {
 /// its event limit).
 #[test]
 fn a_mass_resting_on_its_stop_without_load_makes_no_event() {
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).unwrap().with_max_events(100);
     r.run_until(10.0, 100).unwrap();
     assert!(r.events().is_empty(), "{:?}", &r.events()[..r.events().len().min(3)]);

@@ -180,10 +180,7 @@ fn balance(p: &Prob, t_end: f64) -> (f64, usize) {
 /// The damped, harmonically forced oscillator `x'' + 2ζ x' + x = f₀ + A
 /// sin(Ω t)` between `stops`.
 fn oscillator(zeta: f64, f0: f64, wave: (f64, f64), stops: (f64, f64), e: f64) -> Prob {
-    let (mut m, mut k, mut c) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-    m.set(0, 0, 1.0);
-    k.set(0, 0, 1.0);
-    c.set(0, 0, 2.0 * zeta);
+    let (m, k, c) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[2.0 * zeta]));
     let contacts = vec![Contact::new(0, Bounds { lo: stops.0, hi: stops.1 }, false)];
     Prob::new(m, k, c, vec![f0], vec![1.0], wave, contacts, e, vec![0.05], 2.0)
 }

@@ -10,9 +10,7 @@ use signorini_schemes::events::{Bound, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
 fn oscillator() -> Dynamics {
-    let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-    m.set(0, 0, 1.0);
-    k.set(0, 0, 1.0);
+    let (m, k) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]));
     Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1.0), false)])
 }
 

@@ -865,9 +865,7 @@ fn a_damped_free_modes_integral_keeps_its_digits() {
         let want: Vec<f64> = cols[3..].iter().map(|x| x.parse().unwrap()).collect();
         let sine = TimeProfile::Sine { amplitude: 0.4, omega: 1.7 };
         let (dy, q0, v0) = if name == "one" {
-            let (mut m, k, mut d) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-            m.set(0, 0, 1.3);
-            d.set(0, 0, c);
+            let (m, k, d) = (SymBand::from_diagonal(&[1.3]), SymBand::from_diagonal(&[0.0]), SymBand::from_diagonal(&[c]));
             let mut dy = Dynamics::new(m, k, vec![0.7], vec![Contact::new(0, Bounds::obstacle(-1e9), false)]).with_damping(Some(d));
             dy.forcing = vec![Forcing { shape: vec![1.0], time: sine }];
             (dy, vec![0.3], vec![-0.2])

@@ -61,12 +61,7 @@ fn resonant(t0: f64, x0: f64, v0: f64) -> impl Fn(f64) -> (f64, f64) {
 /// again (plastic), for 15 periods.
 #[test]
 fn a_held_plastic_oscillator_is_released_once_per_forcing_period() {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: 0.2 }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: 0.2 }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: sine(1.0, 1.0, FRAC_PI_2) }]);
     let mut r = EventDriven::new(&dy, 0.0, &[0.2], &[0.0], 0.0).expect("starts");
     let periods = 15;
@@ -171,14 +166,9 @@ proptest! {
     /// in time order.
     #[test]
     fn plastic_impacts_into_held_phases_complete(omega in prop_oneof![Just(0.5), Just(1.0), Just(1.1), 0.3f64..3.0], zeta in prop_oneof![Just(0.0), 0.0f64..0.2]) {
-        let one = |v: f64| {
-            let mut b = SymBand::zeros(1, 0);
-            b.set(0, 0, v);
-            b
-        };
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: 0.2 }, false)])
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: 0.2 }, false)])
             .with_forcing(vec![Forcing { shape: vec![1.0], time: sine(1.0, omega, FRAC_PI_2) }])
-            .with_damping((zeta > 0.0).then(|| one(2.0 * zeta)));
+            .with_damping((zeta > 0.0).then(|| SymBand::from_diagonal(&[2.0 * zeta])));
         let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).expect("starts");
         r.run_until(30.0 * TAU / omega, 100_000).map_err(|e| TestCaseError::fail(e.to_string()))?;
         check_order(r.events()).map_err(TestCaseError::fail)?;
@@ -196,14 +186,10 @@ proptest! {
 /// as before: `x = 1 − cos t − ((t − 2π)/2 − e π) sin t` (closed forms).
 #[test]
 fn held_starts_under_loads_tangent_to_zero_press_or_leave_as_the_closed_form() {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
     for (sign, e) in [(-1.0, 0.0), (-1.0, 1.0), (1.0, 0.0), (1.0, 0.5), (1.0, 1.0)] {
         // f = sign (1 − cos t).
-        let dy = Dynamics::new(one(1.0), one(1.0), vec![sign], vec![Contact::new(0, Bounds::obstacle(0.0), false)]).with_forcing(vec![Forcing { shape: vec![-sign], time: sine(1.0, 1.0, FRAC_PI_2) }]);
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![sign], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
+            .with_forcing(vec![Forcing { shape: vec![-sign], time: sine(1.0, 1.0, FRAC_PI_2) }]);
         let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], e).expect("starts");
         for k in 1..=30 {
             let t = 0.25 * k as f64;

@@ -17,12 +17,6 @@ use signorini_fem::SymBand;
 use signorini_schemes::events::{Bound, EventDriven, EventKind, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 
-fn one(v: f64) -> SymBand {
-    let mut b = SymBand::zeros(1, 0);
-    b.set(0, 0, v);
-    b
-}
-
 /// A deterministic xorshift generator (the cases are fixed, not random).
 struct Rng(u64);
 
@@ -205,7 +199,8 @@ fn resonant_forcing_crossings_and_brief_dips_match_the_closed_form() {
         }
         checked += 1;
         let h = TimeProfile::harmonics(vec![Harmonic { amplitude: a, omega: w, phase: p }]).unwrap();
-        let dy = Dynamics::new(one(1.0), one(w * w), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)]).with_forcing(vec![Forcing { shape: vec![1.0], time: h }]);
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[w * w]), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)])
+            .with_forcing(vec![Forcing { shape: vec![1.0], time: h }]);
         let flow = ModalFlow::new(&dy).unwrap();
         let ctx = format!("case {case}: w = {w}, A = {a}, p = {p}, t0 = {t0}, x0 = {x0}, v0 = {v0}, [{lo}, {hi}], horizon {horizon}");
         let got = match flow.first_crossing(t0, &[x0], &[v0], 0, lo, hi, horizon) {
@@ -260,7 +255,7 @@ fn resonant_forcing_crossings_and_brief_dips_match_the_closed_form() {
 fn a_late_chatter_takes_every_impact_until_the_accumulation_is_due() {
     let (g, u, t0) = (1.0, 1.0, 1000.0);
     for e in [0.5, 0.9] {
-        let dy = Dynamics::new(one(1.0), one(0.0), vec![-g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+        let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[0.0]), vec![-g], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
         let mut r = EventDriven::new(&dy, t0, &[0.0], &[u], e).unwrap();
         let t_inf = t0 + 2.0 * u / (g * (1.0 - e));
         let t_k = |k: i32| t0 + 2.0 * u / g * (1.0 - e.powi(k)) / (1.0 - e);
@@ -379,7 +374,8 @@ fn a_resonant_crossing_near_the_window_end_starts_the_event_list() {
     let (lo, hi, e) = (-0.5335901577133362, 0.4205337389424564, 0.8);
     let t_end = t0 + 1.9035169948987518;
     let h = TimeProfile::harmonics(vec![Harmonic { amplitude: a, omega: w, phase: p }]).unwrap();
-    let dy = Dynamics::new(one(1.0), one(w * w), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)]).with_forcing(vec![Forcing { shape: vec![1.0], time: h }]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[w * w]), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0], time: h }]);
     // The closed-form flight from the start, and how briefly it is above hi.
     let first = Resonant::new(w, a, p, t0, x0, v0);
     let (Some((t1, Bound::Upper)), near) = first.first_crossing(lo, hi, t_end - t0) else { panic!("the closed form reaches the upper stop") };
@@ -421,7 +417,7 @@ fn a_resonant_crossing_near_the_window_end_starts_the_event_list() {
 #[test]
 fn a_fast_approach_with_a_tiny_curvature_is_located_at_its_root() {
     let a = 1e-9;
-    let dy = Dynamics::new(one(1.0), one(0.0), vec![-a], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[0.0]), vec![-a], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
     let flow = ModalFlow::new(&dy).unwrap();
     let ev = flow.first_crossing(0.0, &[1.0], &[-1.0], 0, 0.0, f64::INFINITY, 10.0).unwrap().unwrap();
     let want = 2.0 / (1.0 + (1.0 + 2.0 * a).sqrt());
@@ -443,7 +439,8 @@ fn a_slow_resonant_crossing_is_found() {
     // The search's first window (its steps, so whether it stalls, depend on it).
     let horizon = 14.773822929169047;
     let h = TimeProfile::harmonics(vec![Harmonic { amplitude: a, omega: w, phase: p }]).unwrap();
-    let dy = Dynamics::new(one(1.0), one(w * w), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)]).with_forcing(vec![Forcing { shape: vec![1.0], time: h }]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[w * w]), vec![0.0], vec![Contact::new(0, Bounds { lo, hi }, false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0], time: h }]);
     let flow = ModalFlow::new(&dy).unwrap();
     let (Some((want, Bound::Upper)), near) = Resonant::new(w, a, p, t0, x0, v0).first_crossing(lo, hi, horizon) else { panic!("a crossing") };
     assert!(near > 2e-3);

@@ -9,12 +9,6 @@ use signorini_fem::SymBand;
 use signorini_schemes::events::EventDriven;
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 
-fn one(v: f64) -> SymBand {
-    let mut b = SymBand::zeros(1, 0);
-    b.set(0, 0, v);
-    b
-}
-
 /// The response `(x, x')` of `m x'' + c x' + k x = τ₊` from rest.
 fn ramp_response(m: f64, c: f64, k: f64, tau: f64) -> (f64, f64) {
     if tau <= 0.0 {
@@ -53,9 +47,9 @@ fn one_mass_under_a_piecewise_linear_load_is_the_sum_of_its_ramp_responses() {
     }
     for (m, c, k) in [(2.0, 0.0, 8.0), (2.0, 0.6, 8.0), (1.5, 0.0, 0.0), (1.5, 0.9, 0.0)] {
         let series = TimeProfile::series(times.clone(), values.clone()).unwrap();
-        let dy = Dynamics::new(one(m), one(k), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e3), false)])
+        let dy = Dynamics::new(SymBand::from_diagonal(&[m]), SymBand::from_diagonal(&[k]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e3), false)])
             .with_forcing(vec![Forcing { shape: vec![1.0], time: series }])
-            .with_damping((c > 0.0).then(|| one(c)));
+            .with_damping((c > 0.0).then(|| SymBand::from_diagonal(&[c])));
         let mut run = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).unwrap();
         for j in 1..=130 {
             let t = 0.05 * j as f64;
@@ -81,7 +75,8 @@ fn a_pressed_mass_is_released_where_the_ramp_crosses_zero() {
     use signorini_schemes::events::EventKind;
     let m = 2.0;
     let series = TimeProfile::series(vec![0.0, 2.0, 5.0], vec![-1.0, -3.0, 1.5]).unwrap();
-    let dy = Dynamics::new(one(m), one(0.0), vec![0.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)]).with_forcing(vec![Forcing { shape: vec![1.0], time: series }]);
+    let dy = Dynamics::new(SymBand::from_diagonal(&[m]), SymBand::from_diagonal(&[0.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
+        .with_forcing(vec![Forcing { shape: vec![1.0], time: series }]);
     let mut run = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).unwrap();
     assert_eq!(run.held(), vec![(0, false)]);
     run.run_until(5.0, 10).unwrap();

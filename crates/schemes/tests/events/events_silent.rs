@@ -112,13 +112,8 @@ fn next_change_reports_the_events_and_ends_at_the_time_asked() {
 /// t = 10); they end as an accumulation now, for every restitution.
 #[test]
 fn a_landing_at_the_round_offs_speed_where_the_force_starts_to_press_is_held() {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
     let hi = 1f64.sin();
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: 1.0, omega: 0.5, phase: 0.0 }])) }]);
     // The start: the free solution through (hi, 0) at t = 2, at t = 0
     // (x = A cos t + B sin t + (4/3) sin(t/2), A and B from t = 2).

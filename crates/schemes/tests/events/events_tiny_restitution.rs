@@ -18,8 +18,7 @@ const STEPS: usize = 16;
 
 /// Levels `(x, v, λ)` of the run with restitution `e`, and its events.
 fn run(e: f64) -> (Vec<(f64, f64, f64)>, Vec<signorini_schemes::events::EventRecord>) {
-    let (mut m, k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-    m.set(0, 0, 1.0);
+    let (m, k) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[0.0]));
     let dy = Dynamics::new(m, k, vec![1.0], vec![Contact::new(0, Bounds { lo: f64::NEG_INFINITY, hi: 0.5 }, false)]);
     // At most 100 events: the run must not chatter either.
     let mut s = EventStepper::new(format!("event-driven({e})"), dy, e, DT, &Initial { u: vec![0.0], v: vec![0.0] }).unwrap().with_max_events(100);

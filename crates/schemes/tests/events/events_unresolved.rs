@@ -11,12 +11,7 @@ use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_schemes::{Bounds, Contact, Dynamics};
 
 fn pressed_oscillator() -> Dynamics {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    Dynamics::new(one(1.0), one(1.0), vec![-1.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
+    Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![-1.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
 }
 
 #[test]

@@ -17,14 +17,9 @@ use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Initial, MoreauJean,
 /// The 1-dof oscillator `m u'' + c u' + k u = amp sin(Ω t)` with a stop far
 /// below (never reached).
 fn oscillator(m: f64, c: f64, k: f64, forcing: Option<Sine>) -> Dynamics {
-    let band = |x: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, x);
-        b
-    };
-    Dynamics::new(band(m), band(k), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e6), false)])
+    Dynamics::new(SymBand::from_diagonal(&[m]), SymBand::from_diagonal(&[k]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e6), false)])
         .with_forcing(forcing.map(|s| Forcing { shape: vec![1.0], time: s.profile() }).into_iter().collect())
-        .with_damping(Some(band(c)))
+        .with_damping(Some(SymBand::from_diagonal(&[c])))
 }
 
 /// `A^n x` for a real 2×2 `A` with complex characteristic roots `r e^{±iφ}`,

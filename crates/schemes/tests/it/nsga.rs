@@ -409,9 +409,7 @@ fn held_starts_and_symmetric_contacts_follow_the_dense_transcription() {
 /// matrix of the state `(U, V, a)` column by column (`set_state`).
 fn amplification(rho: f64, omega_dt: f64) -> [[f64; 3]; 3] {
     let dt = 1.0;
-    let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-    m.set(0, 0, 1.0);
-    k.set(0, 0, omega_dt * omega_dt);
+    let (m, k) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[omega_dt * omega_dt]));
     let dy = Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e300), false)]);
     let mut s = SchemeSpec::nsga(rho, 0.0).build(dy, dt, &Initial { u: vec![0.0], v: vec![0.0] }).unwrap();
     let mut a = [[0.0; 3]; 3];
@@ -510,9 +508,7 @@ fn second_order_off_contact() {
         let errs: Vec<f64> = [0.02, 0.01, 0.005]
             .iter()
             .map(|&dt| {
-                let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-                m.set(0, 0, 1.0);
-                k.set(0, 0, w * w);
+                let (m, k) = (SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[w * w]));
                 let dy = Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(-1e3), false)])
                     .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: f, omega: om } }]);
                 let mut s = SchemeSpec::nsga(rho, 0.0).build(dy, dt, &Initial { u: vec![q0], v: vec![v0] }).unwrap();
