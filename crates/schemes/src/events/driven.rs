@@ -747,17 +747,48 @@ impl EventDriven {
         match watch {
             Watch::Gap { contact, bound } => self.settle(t, q, v, Some((contact, bound)))?,
             Watch::Release { contact } => {
-                self.streak[contact].clear();
-                self.events.push(EventRecord { t, kind: EventKind::Release, contact, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
                 let mut rest = std::mem::take(&mut self.work.holds);
                 rest.clear();
-                rest.extend(self.holds.iter().copied().filter(|h| h.contact != contact));
-                let entered = self.enter(&mut rest, &q, &v, t, false);
+                rest.extend_from_slice(&self.holds);
+                let mut entered = Ok(());
+                let mut next = Some(contact);
+                // Every held contact whose force reaches 0 within the time
+                // resolution of this release leaves with it, from this
+                // state: taken one by one, the first left with a velocity
+                // of round-off (1e-32) that read as an approach once the
+                // second left, landed, and both were held and released
+                // again at one instant until `NoProgress` (two equal
+                // masses under one load: docs/theory.md §9.3).
+                while let Some(c) = next {
+                    self.streak[c].clear();
+                    self.events.push(EventRecord { t, kind: EventKind::Release, contact: c, velocity_before: 0.0, velocity_after: 0.0, impulse: 0.0 });
+                    rest.retain(|h| h.contact != c);
+                    entered = self.enter(&mut rest, &q, &v, t, false);
+                    next = if entered.is_ok() && !rest.is_empty() { self.release_within(t) } else { None };
+                }
                 (self.work.holds, self.work.q, self.work.v) = (rest, q, v);
                 entered?;
             }
         }
         Ok(self.events.get(before).copied())
+    }
+
+    /// The held contact whose force the phase just entered at `t` finds at
+    /// its zero within `4 δ(t)` (§9.2's resolution), if any: the search
+    /// looks ahead from the base without moving the phase's cursor.
+    fn release_within(&mut self, t: f64) -> Option<usize> {
+        let sys = &self.systems[&self.holds];
+        let mut cursor = Cursor::start(&sys.flow);
+        let base = (self.base.0, &self.base.1[..], &self.base.2[..]);
+        let state = (&mut self.found.0[..], &mut self.found.1[..]);
+        let end = (t + 4.0 * time_resolution(t)).min(self.piece.next);
+        match self.search.resume(&sys.flow, base, &mut cursor, state, (&sys.fns, &sys.quiet, &self.base_zero), end, f64::INFINITY) {
+            Ok(Found::Event(_, which)) => match sys.watch[which] {
+                Watch::Release { contact } => Some(contact),
+                Watch::Gap { .. } => None,
+            },
+            _ => None,
+        }
     }
 
     /// The state at `t` in the current phase, read from its base (no
@@ -1111,7 +1142,12 @@ impl EventDriven {
     fn unresolved_rebound(&self, t: f64, q: &[f64], v: &[f64], j: usize, upper: bool) -> Option<f64> {
         let (w, a) = self.departure(t, q, v, j, upper)?;
         let tau = self.rebounds_last(w, a, j);
-        let below_time = self.sites[j].restitution < 1.0 && tau <= 4.0 * time_resolution(t);
+        // With `e = 1` each rebound lasts `2w/|a|` and none is shorter: a
+        // free mass pushed onto its stop (no stiffness, no length: the
+        // position band is 0) rebounded every 2e-17 s from `v₀ = 1e-17`
+        // until the event limit (docs/theory.md §9.3).
+        let flight = if self.sites[j].restitution < 1.0 { tau } else { 2.0 * w / a };
+        let below_time = flight <= 4.0 * time_resolution(t);
         let below_position = w * w / (2.0 * a) <= self.rest_band(j, a);
         (below_time || below_position).then_some(t + tau)
     }

@@ -491,6 +491,20 @@ impl Search {
             return if quiet { Reach::Free(h) } else { Reach::Now };
         };
         if d[first] < 0.0 {
+            // A held force at the bottom of a touch: falling (`d₁ < 0`) but
+            // curving up (`d₂ > 0`), its parabola's minimum `g − d₁²/(2d₂)`
+            // within the band where `g` counts as 0, less `|g'''|`'s share
+            // up to the mirror point `2|d₁|/d₂`. The contact does not leave
+            // (a release there logged a row at each tangent zero of
+            // `1 + cos t`, two at the first): step past the minimum
+            // (docs/theory.md §9.3, "Touches").
+            if quiet && first == 1 && d[2] > 0.0 {
+                let step = (-2.0 * d[1] / d[2]).min(h);
+                let dip = gj[0] - d[1] * d[1] / (2.0 * d[2]) - gb[3] * step.powi(3) / 6.0;
+                if dip >= -1e-13 * gs[0] {
+                    return Reach::Free(step);
+                }
+            }
             return Reach::Now;
         }
         // For each order j whose lower jets are all >= 0 and d_j > 0:

@@ -22,6 +22,7 @@ mod events_massless;
 mod events_massless_coupled;
 mod events_planted;
 mod events_proptest;
+mod events_releases;
 mod events_restart;
 mod events_rk4;
 mod events_series;

@@ -1,0 +1,277 @@
+//! Releases a user meets first (docs/theory.md §9.3, "Touches, releases
+//! together, rebounds without length"): a held force that touches 0
+//! without changing sign, two contacts released at one instant, and a free
+//! mass (no stiffness) pushed onto its stop.
+//!
+//! Oracles, written here: the touch `x'' + x = −(1 + cos t) + δ` held on 0
+//! (reaction `1 − δ + cos t`: never negative for `δ <= 0`; for `δ > 0`
+//! negative on `|t − π| < 2 asin √(δ/2)`, the flight `x(u) = ∫₀ᵘ sin(u − w)
+//! F(w) dw` by Simpson's rule, without cancellation); two equal masses
+//! coupled by a spring, each on its stop under `−cos t`, released at π/2
+//! into the symmetric mode `x'' + x = −cos t`; the free mass `x'' = −1`
+//! rebounding `v₀²/2` every `2v₀` (`e = 1`), its flights shrinking by `e`
+//! to `τ∞ = 2v₀/(1 − e)`.
+
+use signorini_fem::SymBand;
+use signorini_schemes::events::{EventDriven, EventKind, EventRecord};
+use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::sync::Arc;
+
+fn cosine(amplitude: f64, phase: f64) -> TimeProfile {
+    TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude, omega: 1.0, phase: FRAC_PI_2 + phase }]))
+}
+
+fn band(n: usize, entries: &[(usize, usize, f64)]) -> SymBand {
+    let mut b = SymBand::zeros(n, 1);
+    for &(i, j, v) in entries {
+        b.set(i, j, v);
+    }
+    b
+}
+
+/// The search's time resolution at `t` (docs/theory.md §9.2).
+fn resolution(t: f64) -> f64 {
+    (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0))
+}
+
+fn in_order(ev: &[EventRecord]) {
+    assert!(ev.windows(2).all(|w| w[0].t <= w[1].t), "out of time order: {ev:?}");
+}
+
+fn touch(delta: f64) -> Dynamics {
+    Dynamics::new(band(1, &[(0, 0, 1.0)]), band(1, &[(0, 0, 1.0)]), vec![-1.0 + delta], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
+        .with_forcing(vec![Forcing { shape: vec![-1.0], time: cosine(1.0, 0.0) }])
+}
+
+/// A held force that touches 0 (or dips by 1e-15, within its round-off)
+/// is no release: no row, the mass stays at 0.
+#[test]
+fn a_held_force_touching_zero_releases_nothing() {
+    for delta in [0.0, 1e-15, -1e-15, -1e-12, -1e-8] {
+        let mut r = EventDriven::new(&touch(delta), 0.0, &[0.0], &[0.0], 0.0).expect("starts");
+        for k in 1..=8 {
+            r.run_until(k as f64 * PI, 100).unwrap_or_else(|e| panic!("δ = {delta}: {e}"));
+            let (_, q, v) = r.state();
+            assert!(q[0] == 0.0 && v[0] == 0.0, "δ = {delta} at {k}π: ({}, {})", q[0], v[0]);
+        }
+        assert!(r.events().is_empty(), "δ = {delta}: {:?}", r.events());
+    }
+}
+
+/// `δ = 1e-8`: the force is negative for `|t − π| < a = 2 asin √(δ/2)`:
+/// one release at `π − a` and one landing (the flight's root) per period
+/// (measured: releases within 6e-13 s, landings 1e-11 s, their speed
+/// 7.5e-12 within 1e-7 of it).
+#[test]
+fn a_held_force_dipping_below_zero_releases_and_lands_once() {
+    let delta = 1e-8f64;
+    let a = 2.0 * (0.5 * delta).sqrt().asin();
+    // The flight from the release, `u` after it: the load `F(w) = δ − 2
+    // sin²((w − a)/2)` (0 at w = 0) against the spring, Duhamel's integral.
+    let flight = |u: f64| -> (f64, f64) {
+        let n = 4000;
+        let h = u / n as f64;
+        let (mut x, mut v) = (0.0, 0.0);
+        for i in 0..=n {
+            let w = i as f64 * h;
+            let f = delta - 2.0 * (0.5 * (w - a)).sin().powi(2);
+            let c = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            x += c * (u - w).sin() * f;
+            v += c * (u - w).cos() * f;
+        }
+        (x * h / 3.0, v * h / 3.0)
+    };
+    let (u_land, v_land) = landing(flight, (3.0 * a, 5.0 * a));
+    let mut r = EventDriven::new(&touch(delta), 0.0, &[0.0], &[0.0], 0.0).expect("starts");
+    r.run_until(8.0 * PI, 100).expect("completes");
+    let ev = r.events();
+    assert_eq!(ev.len(), 8, "{ev:?}");
+    for k in 0..4 {
+        let t_r = (2 * k + 1) as f64 * PI - a;
+        let (rel, imp) = (ev[2 * k], ev[2 * k + 1]);
+        assert_eq!((rel.kind, imp.kind), (EventKind::Release, EventKind::Impact), "period {k}");
+        // The force's round-off (2ε on terms of 1) over its rate `a`.
+        assert!((rel.t - t_r).abs() <= 8.0 * f64::EPSILON / a + 4.0 * resolution(t_r), "release {k}: {} against {t_r}", rel.t);
+        assert!((imp.t - (t_r + u_land)).abs() <= 5e-11, "landing {k}: {} against {}", imp.t, t_r + u_land);
+        assert!((imp.velocity_before - v_land).abs() <= 5e-7 * v_land.abs(), "landing {k}: {} against {v_land}", imp.velocity_before);
+    }
+}
+
+/// Two unit masses, each on a unit spring to the ground and a unit spring
+/// to the other, each on its own stop at 0, dof 1 loaded by `−cos(t + φ)`.
+fn twins(phi: f64) -> Dynamics {
+    let m = band(2, &[(0, 0, 1.0), (1, 1, 1.0)]);
+    let k = band(2, &[(0, 0, 2.0), (1, 1, 2.0), (1, 0, -1.0)]);
+    let stop = |d| Contact::new(d, Bounds::obstacle(0.0), false);
+    Dynamics::new(m, k, vec![0.0; 2], vec![stop(0), stop(1)]).with_forcing(vec![Forcing { shape: vec![-1.0, 0.0], time: cosine(1.0, 0.0) }, Forcing { shape: vec![0.0, -1.0], time: cosine(1.0, phi) }])
+}
+
+/// `x'' + x = −cos t` from `(t0, x0, v0)`: the symmetric mode's flight.
+fn symmetric(t0: f64, x0: f64, v0: f64) -> impl Fn(f64) -> (f64, f64) {
+    // x = A cos t + B sin t − (t/2) sin t.
+    let (s, c) = t0.sin_cos();
+    let (rx, rv) = (x0 + 0.5 * t0 * s, v0 + 0.5 * s + 0.5 * t0 * c);
+    let (a, b) = (rx * c - rv * s, rx * s + rv * c);
+    move |t: f64| {
+        let (s, c) = t.sin_cos();
+        (a * c + b * s - 0.5 * t * s, -a * s + b * c - 0.5 * s - 0.5 * t * c)
+    }
+}
+
+/// The first root of a flight's position in `(lo, hi)` (bisection),
+/// positive at `lo`, negative at `hi`.
+fn landing(x: impl Fn(f64) -> (f64, f64), (mut lo, mut hi): (f64, f64)) -> (f64, f64) {
+    assert!(x(lo).0 > 0.0 && x(hi).0 < 0.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if x(mid).0 > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo, x(lo).1)
+}
+
+/// Both released at π/2, together, then the symmetric mode: landings of
+/// both at once at its roots; with `e = 0` held and released again at
+/// 5π/2 (before: `NoProgress` there, each release re-landing the other).
+#[test]
+fn two_contacts_released_at_one_instant_leave_together() {
+    for e in [0.0, 0.5, 1.0] {
+        let mut r = EventDriven::new(&twins(0.0), 0.0, &[0.0; 2], &[0.0; 2], e).expect("starts");
+        let first = symmetric(FRAC_PI_2, 0.0, 0.0);
+        r.run_until(6.0, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
+        let (_, q, v) = r.state();
+        let (x, dx) = first(6.0);
+        assert!(q.iter().all(|q| (q - x).abs() <= 1e-13) && v.iter().all(|v| (v - dx).abs() <= 1e-13), "e = {e} at 6: {q:?} {v:?} against ({x}, {dx})");
+        r.run_until(4.0 * PI, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
+        let ev = r.events();
+        in_order(ev);
+        // Rows in pairs at one time, both contacts named.
+        assert!(ev.len() % 2 == 0 && ev.chunks(2).all(|p| p[0].t == p[1].t && p[0].kind == p[1].kind && p[0].contact + p[1].contact == 1), "e = {e}: {ev:?}");
+        assert!(ev[..2].iter().all(|r| r.kind == EventKind::Release && (r.t - FRAC_PI_2).abs() <= 4.0 * resolution(FRAC_PI_2)), "e = {e}: {ev:?}");
+        let (t1, v1) = landing(&first, (PI, TAU));
+        assert!(ev[2..4].iter().all(|r| r.kind == EventKind::Impact && (r.t - t1).abs() <= 1e-12 && (r.velocity_before - v1).abs() <= 1e-12), "e = {e}: {:?} against {t1}, {v1}", &ev[2..4]);
+        if e == 0.0 {
+            // Held from t1 (the reaction cos t >= 0) to 5π/2, the same flight again.
+            assert_eq!(ev.len(), 8, "{ev:?}");
+            assert!(ev[4..6].iter().all(|r| r.kind == EventKind::Release && (r.t - 5.0 * FRAC_PI_2).abs() <= 4.0 * resolution(5.0 * FRAC_PI_2)), "{ev:?}");
+            assert!(ev[6..].iter().all(|r| r.kind == EventKind::Impact && (r.t - t1 - TAU).abs() <= 1e-11 && (r.velocity_before - v1).abs() <= 1e-11), "{ev:?}");
+            let (_, q, v) = r.state();
+            assert!(q.iter().chain(&v).all(|x| *x == 0.0), "{q:?} {v:?}");
+        } else {
+            let (t2, v2) = landing(symmetric(t1, 0.0, -e * v1), (t1 + 0.5, t1 + PI));
+            assert!(ev[4..6].iter().all(|r| r.kind == EventKind::Impact && (r.t - t2).abs() <= 1e-11 && (r.velocity_before - v2).abs() <= 1e-11), "e = {e}: {:?} against {t2}, {v2}", &ev[4..6]);
+        }
+    }
+}
+
+/// Loads `φ` apart (1e-15 … 1e-9): dof 1 released at `π/2 − φ`, dof 0 at
+/// π/2 (within the resolution: 1e-15 apart they leave together), then on
+/// to 4π without error, in time order.
+#[test]
+fn releases_a_hair_apart_keep_their_times_and_order() {
+    for phi in [1e-15, 1e-13, 1e-12, 1e-9] {
+        let mut r = EventDriven::new(&twins(phi), 0.0, &[0.0; 2], &[0.0; 2], 0.0).expect("starts");
+        r.run_until(4.0 * PI, 100).unwrap_or_else(|err| panic!("φ = {phi}: {err}"));
+        let ev = r.events();
+        in_order(ev);
+        let tol = 4.0 * resolution(FRAC_PI_2);
+        for c in 0..2 {
+            let t_c = FRAC_PI_2 - if c == 1 { phi } else { 0.0 };
+            let rel = ev.iter().find(|r| r.contact == c).expect("released");
+            assert!(rel.kind == EventKind::Release && (rel.t - t_c).abs() <= tol, "φ = {phi}, contact {c}: {rel:?} against {t_c}");
+        }
+        assert_eq!(ev.iter().filter(|r| r.kind == EventKind::Release).count(), 4, "φ = {phi}: {ev:?}");
+    }
+}
+
+/// A free chain of three masses, a stop under each end, both ends pressed
+/// by `−cos t`: released together at π/2, mirror-symmetric after.
+#[test]
+fn a_chain_released_at_both_ends_by_symmetry_stays_symmetric() {
+    let m = band(3, &[(0, 0, 1.0), (1, 1, 2.0), (2, 2, 1.0)]);
+    let k = band(3, &[(0, 0, 1.0), (1, 1, 2.0), (2, 2, 1.0), (1, 0, -1.0), (2, 1, -1.0)]);
+    let stop = |d| Contact::new(d, Bounds::obstacle(0.0), false);
+    let dy = Dynamics::new(m, k, vec![0.0; 3], vec![stop(0), stop(2)]).with_forcing(vec![Forcing { shape: vec![-1.0, 0.0, -1.0], time: cosine(1.0, 0.0) }]);
+    for e in [0.0, 0.5, 1.0] {
+        let mut r = EventDriven::new(&dy, 0.0, &[0.0; 3], &[0.0; 3], e).expect("starts");
+        r.run_until(4.0 * PI, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
+        let ev = r.events();
+        in_order(ev);
+        assert!(ev.len() >= 2 && ev[0].t == ev[1].t && ev[0].contact + ev[1].contact == 1, "e = {e}: {ev:?}");
+        assert!(ev[..2].iter().all(|r| r.kind == EventKind::Release && (r.t - FRAC_PI_2).abs() <= 4.0 * resolution(FRAC_PI_2)), "e = {e}: {ev:?}");
+        let (_, q, v) = r.state();
+        let size = q.iter().chain(&v).fold(1.0f64, |m, x| m.max(x.abs()));
+        assert!((q[0] - q[2]).abs() <= 1e-12 * size && (v[0] - v[2]).abs() <= 1e-12 * size, "e = {e}: {q:?} {v:?}");
+    }
+}
+
+fn free_mass() -> Dynamics {
+    Dynamics::new(band(1, &[(0, 0, 1.0)]), band(1, &[(0, 0, 0.0)]), vec![-1.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)])
+}
+
+/// `x'' = −1` on a stop at 0 from `(0, v₀)`: no stiffness, no length.
+/// Flights of `2v₀` below the time resolution (1e-17, 1e-300) are at rest
+/// (an accumulation row at the first impact, 0 or `2v₀`); resolvable ones
+/// land as the closed form: every `2v₀` for `e = 1`; for `e < 1` at
+/// `2v₀ (1 + e + … + e^{k−1})`, accumulating at `2v₀/(1 − e)`.
+#[test]
+fn a_free_mass_pushed_onto_its_stop_rebounds_as_the_closed_form() {
+    for e in [0.0, 0.5, 1.0] {
+        for v0 in [0.0, 1e-300, -1e-300, 1e-17, -1e-17, 1e-9, -1e-9, 1e-6] {
+            let mut r = EventDriven::new(&free_mass(), 0.0, &[0.0], &[v0], e).expect("starts");
+            let w = v0.abs();
+            // Its first landing (at once for v₀ < 0), then flights of 2w eᵏ.
+            let t1 = if v0 > 0.0 { 2.0 * w } else { 0.0 };
+            let resolved = 2.0 * w > 4.0 * resolution(t1);
+            let end = if e == 1.0 && resolved { t1 + 40.5 * 2.0 * w } else { 1e-4 };
+            r.run_until(end, 1000).unwrap_or_else(|err| panic!("e = {e}, v₀ = {v0}: {err}"));
+            let ev = r.events();
+            in_order(ev);
+            let (_, q, v) = r.state();
+            let case = format!("e = {e}, v₀ = {v0}: {:?}", &ev[..ev.len().min(4)]);
+            if v0 == 0.0 {
+                assert!(ev.is_empty() && q[0] == 0.0 && v[0] == 0.0, "{case}");
+                continue;
+            }
+            if e == 1.0 && resolved {
+                assert_eq!(ev.len(), 41, "{case}");
+                for (k, x) in ev.iter().enumerate() {
+                    let t = t1 + 2.0 * w * k as f64;
+                    assert!(x.kind == EventKind::Impact && (x.t - t).abs() <= 1e-13 * t, "{case}: landing {k} at {} against {t}", x.t);
+                    assert!((x.velocity_before + w).abs() <= 1e-13 * w && (x.velocity_after - w).abs() <= 1e-13 * w, "{case}: landing {k}: {x:?}");
+                }
+                // Half a flight after the last: at its top, w²/2.
+                assert!((q[0] - 0.5 * w * w).abs() <= 1e-12 * w * w && v[0].abs() <= 1e-12 * w, "{case}: ({}, {})", q[0], v[0]);
+                continue;
+            }
+            // At rest from the limit on.
+            assert!(q[0] == 0.0 && v[0] == 0.0, "{case}: ({}, {})", q[0], v[0]);
+            let last = ev.last().expect("an event");
+            let t_inf = t1 + if e < 1.0 { 2.0 * e * w / (1.0 - e) } else { 0.0 };
+            if e == 0.0 {
+                // One landing, an impact (or at rest at once below the resolution).
+                assert!(ev.len() == 1 && (last.t - t1).abs() <= 1e-14 * t1, "{case}");
+            } else if !resolved {
+                // Logged at the limit, within the one flight it neglects.
+                assert!(ev.len() <= 2 && last.kind == EventKind::Accumulation && (last.t - t_inf).abs() <= 2.0 * w + 1e-15 * t_inf, "{case}");
+            } else {
+                // 0 < e < 1: the landings at t1 + 2ew(1 + … + e^{k−1}) at speed w eᵏ, then the limit.
+                for (k, x) in ev[..ev.len() - 1].iter().enumerate() {
+                    let t = t1 + 2.0 * e * w * (1.0 - e.powi(k as i32)) / (1.0 - e);
+                    assert!(x.kind == EventKind::Impact && (x.t - t).abs() <= 1e-14 * t && (x.velocity_before + w * e.powi(k as i32)).abs() <= 1e-14 * w, "{case}: landing {k}: {x:?} against {t}");
+                }
+                assert!(last.kind == EventKind::Accumulation && (last.t - t_inf).abs() <= 1e-13 * t_inf, "{case}: {last:?} against {t_inf}");
+            }
+        }
+    }
+}
