@@ -41,7 +41,7 @@
 //! Each is located by bisection on the arclength (the test function's sign,
 //! or the event count), every trial point corrected onto the branch.
 
-use crate::map::{Extremum, Model};
+use crate::map::{Extremum, Model, Stencil};
 use crate::shoot::{count_impacts, eigenvalues, periodic_orbit, periodic_orbit_keeping, periodic_orbit_least, periodic_orbit_strict, Newton, Orbit};
 use crate::OrbitError;
 use faer::linalg::solvers::Solve;
@@ -337,7 +337,7 @@ struct Point {
 impl<F: Family> Ctx<'_, F> {
     fn residual_and_jacobian(&self, x: &[f64], param: f64) -> Result<Linearised, OrbitError> {
         let mut lin = self.image(x, param)?;
-        self.param_derivative(&mut lin, x, param)?;
+        self.param_derivative(&mut lin, x, param, false)?;
         Ok(lin)
     }
 
@@ -386,10 +386,50 @@ impl<F: Family> Ctx<'_, F> {
         Ok(Linearised { g, jac: img.jacobian.expect("asked for"), gl: Vec::new(), image: img.x, events: img.events, period, model, marker, readings })
     }
 
-    /// `G_λ` at the point `lin` linearises, by a forward difference (a
-    /// second run of the map): it steers Newton and the tangent only; the
-    /// points themselves solve G = 0 to the tolerance.
-    fn param_derivative(&self, lin: &mut Linearised, x: &[f64], param: f64) -> Result<(), OrbitError> {
+    /// `G_λ` at the point `lin` linearises. `exact` (the corrector's
+    /// Newton converging only linearly: [`Ctx::correct`]): the map's
+    /// sensitivity to the parameter from the variational flow
+    /// ([`Model::param_sensitivity`]), its data's derivatives by the
+    /// central difference of step 1e-5 Λ (one-sided of second order,
+    /// `(−3g(λ) + 4g(λ ± h) − g(λ ± 2h))/(±2h)`, where `λ ∓ h` is no valid
+    /// scene: a restitution of 1); otherwise, and on a model with massless
+    /// contact dofs, [`Ctx::param_difference`]. It steers Newton and the
+    /// tangent only; the points themselves solve G = 0 to the tolerance.
+    fn param_derivative(&self, lin: &mut Linearised, x: &[f64], param: f64, exact: bool) -> Result<(), OrbitError> {
+        if !exact || lin.model.massless() {
+            return self.param_difference(lin, x, param);
+        }
+        let h = 1e-5 * self.ls;
+        let outside = |e: &OrbitError| matches!(e, OrbitError::Option { .. } | OrbitError::Scene(_) | OrbitError::Model(_));
+        let at = |p: f64| self.family.model_and_period(p);
+        let (plus, minus) = (at(param + h), at(param - h));
+        let (models, weights, periods): (Vec<Model>, Vec<f64>, Vec<f64>) = match (plus, minus) {
+            (Ok(a), Ok(b)) => (vec![a.0, b.0], vec![0.5 / h, -0.5 / h], vec![a.1, b.1]),
+            (plus, minus) => {
+                let d = match (&plus, &minus) {
+                    (Err(e), Ok(_)) if outside(e) => -h,
+                    (Ok(_), Err(e)) if outside(e) => h,
+                    _ => return Err(plus.err().or(minus.err()).expect("one failed")),
+                };
+                let (one, two) = (if d > 0.0 { plus? } else { minus? }, at(param + 2.0 * d)?);
+                (vec![one.0, two.0], vec![2.0 / d, -0.5 / d], vec![one.1, two.1])
+            }
+        };
+        let one_sided = (weights[1] + weights[0]) != 0.0;
+        let mut stencil: Vec<(&Model, f64)> = models.iter().zip(&weights).map(|(m, &w)| (m, w)).collect();
+        let mut horizon: f64 = periods.iter().zip(&weights).map(|(t, w)| w * t).sum();
+        if one_sided {
+            let w0 = -(weights[0] + weights[1]);
+            stencil.push((&lin.model, w0));
+            horizon += w0 * lin.period;
+        }
+        lin.gl = lin.model.param_sensitivity(0.0, x, lin.period, &Stencil { models: stencil, horizon })?;
+        Ok(())
+    }
+
+    /// `G_λ` by a forward difference of the map (a second run)
+    /// ([`Ctx::param_derivative`]).
+    fn param_difference(&self, lin: &mut Linearised, x: &[f64], param: f64) -> Result<(), OrbitError> {
         // Backward where the forward value is no valid scene (a range that
         // starts at the end of the parameter's domain: a restitution of 1).
         let mut h = 1e-7 * self.ls * slow_impact_scale(&lin.events);
@@ -465,20 +505,31 @@ impl<F: Family> Ctx<'_, F> {
         let (x0, p0) = (x.clone(), param);
         let nt = self.opts.newton;
         let mut last = f64::NAN;
+        // The forward difference's `G_λ` errs where the map's `G_λλ` is
+        // large (near a slow impact: 0.6 % at Ω = 0.7087 on the two-stop
+        // scene, where Newton fell by only 0.15 … 0.24 an iteration and the
+        // branch crept); from the third iteration on, a residual that fell
+        // by less than 10× switches it to the variational flow's — except
+        // where an impact is slower than 1e-2 of the fastest, where the
+        // difference's step is shrunk instead ([`slow_impact_scale`]: with
+        // the switch there too, `tests/it/slow_impact.rs`'s 50 points ended
+        // 5.7e-6 short of the fold they reach).
+        let mut exact = false;
         for k in 0..nt.max_iter.min(12) {
             let mut lin = self.image(&x, param)?;
             let res = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             let plane: f64 = (0..n).map(|i| t[i] * (x[i] - x0[i]) / self.xs).sum::<f64>() + t[n] * (param - p0) / self.ls;
             let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(nt.scale);
             if res <= nt.tol * xn && plane.abs() <= 1e-12 {
-                self.param_derivative(&mut lin, &x, param)?;
+                self.param_derivative(&mut lin, &x, param, exact)?;
                 return Ok((x, param, lin));
             }
             if k == 0 && trial.is_some_and(|from| count_impacts(&lin.events) > from) {
                 return Err(OrbitError::NoConvergence { residual: res, iterations: k, why: PAST_A_GRAZING.into() });
             }
+            exact |= k >= 2 && res > 0.1 * last && slow_impact_scale(&lin.events) == 1.0;
             last = res;
-            self.param_derivative(&mut lin, &x, param)?;
+            self.param_derivative(&mut lin, &x, param, exact)?;
             let (g, jac, gl) = (&lin.g, &lin.jac, &lin.gl);
             let a = Mat::from_fn(n + 1, n + 1, |r, c| {
                 if r < n {
@@ -632,13 +683,14 @@ fn ns_test(p: &Point) -> f64 {
 }
 
 /// `G_λ` of `family`'s map at `(x, param)` as the continuation takes it,
-/// the parameter's scale Λ = `scale` (for `tests/it/param_derivative.rs`).
+/// the parameter's scale Λ = `scale`, `exact`: the variational flow's
+/// (else the forward difference) (for `tests/it/param_derivative.rs`).
 #[doc(hidden)]
-pub fn param_derivative<F: Family>(family: &F, x: &[f64], param: f64, scale: f64) -> Result<Vec<f64>, OrbitError> {
+pub fn param_derivative<F: Family>(family: &F, x: &[f64], param: f64, scale: f64, exact: bool) -> Result<Vec<f64>, OrbitError> {
     let opts = ContinuationOptions { scale: Some(scale), ..ContinuationOptions::new(param, param + scale) };
     let ctx = Ctx { family, opts: &opts, xs: 1.0, ls: scale, n: x.len() };
     let mut lin = ctx.image(x, param)?;
-    ctx.param_derivative(&mut lin, x, param)?;
+    ctx.param_derivative(&mut lin, x, param, exact)?;
     Ok(lin.gl)
 }
 

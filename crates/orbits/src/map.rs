@@ -3,7 +3,7 @@
 use crate::variational::{Core, Linear};
 use crate::OrbitError;
 use faer::Mat;
-use signorini_schemes::events::{EventDriven, EventKind, EventRecord, FlowBases, Reached, MAX_EVENTS};
+use signorini_schemes::events::{EventDriven, EventKind, EventRecord, FlowBases, ModalFlow, Reached, MAX_EVENTS};
 use signorini_schemes::Dynamics;
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -25,6 +25,37 @@ pub struct Model {
     /// The flows' load-free bases, shared with the other models of the
     /// structure ([`Shared`]).
     bases: Arc<FlowBases>,
+    /// The flows of the held sets met by [`Model::phase_advance`].
+    phases: RefCell<Vec<PhaseFlow>>,
+}
+
+/// One held set's flow without events: the free dofs' exact flow
+/// ([`ModalFlow`]) with the held dofs on their bounds.
+struct PhaseFlow {
+    /// The held contacts, each with its side (`true`: the upper bound).
+    held: Vec<(usize, bool)>,
+    free: Vec<usize>,
+    /// The held dofs and their bounds.
+    fixed: Vec<(usize, f64)>,
+    /// `None`: no free dof.
+    flow: Option<ModalFlow>,
+}
+
+/// A parameter's stencil: the models at `λ_k` with weights `w_k`, so that
+/// `Σ w_k g(λ_k)` is the derivative in `λ` of any quantity `g` of a
+/// model's data (a central or one-sided difference: no event crosses it,
+/// the data are smooth in `λ`), and `horizon` = `Σ w_k T(λ_k)`, the map's
+/// horizon's derivative ([`Model::param_sensitivity`]).
+pub(crate) struct Stencil<'a> {
+    pub models: Vec<(&'a Model, f64)>,
+    pub horizon: f64,
+}
+
+impl Stencil<'_> {
+    /// The derivative of a quantity of the models.
+    fn diff(&self, g: impl Fn(&Model) -> f64) -> f64 {
+        self.models.iter().map(|&(m, w)| w * g(m)).sum()
+    }
 }
 
 /// What the models of one structure (the same matrices and contact dofs;
@@ -112,7 +143,7 @@ impl Model {
             })
             .into_iter()
             .collect();
-        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None, runs: RefCell::new(runs), bases })
+        Ok(Self { dy, e, lin, max_events: crate::MAX_EVENTS_PER_MAP, interrupt: None, runs: RefCell::new(runs), bases, phases: RefCell::new(Vec::new()) })
     }
 
     /// What this model shares with the others of its structure.
@@ -161,6 +192,11 @@ impl Model {
     pub fn with_interrupt(mut self, poll: Option<signorini_schemes::Interrupt>) -> Self {
         self.interrupt = poll;
         self
+    }
+
+    /// Whether a contact dof is massless (condensed: not in the state).
+    pub(crate) fn massless(&self) -> bool {
+        self.lin.massless()
     }
 
     /// The restitution of every contact without its own.
@@ -238,13 +274,25 @@ impl Model {
     /// rejects such a trial whatever the rest of its run (on a map that
     /// chatters, the most of it).
     pub(crate) fn flow_within(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, impacts: usize) -> Result<Option<Image>, OrbitError> {
-        self.flow_from(t0, x0, tau, jacobian, impacts, &[], &mut Vec::new())
+        self.flow_from(t0, x0, tau, jacobian, impacts, &[], &mut Vec::new(), None)
     }
 
     /// [`Model::flow_within`] with [`Model::flow_reading`]'s readings: the
     /// checks of `x0` and `τ`, the start on the bounds, the run.
+    /// With `sens`, the map's derivative in the stencil's parameter into
+    /// its vector ([`Model::param_sensitivity`]).
     #[allow(clippy::too_many_arguments)]
-    fn flow_from(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, impacts: usize, reads: &[f64], states: &mut Vec<Vec<f64>>) -> Result<Option<Image>, OrbitError> {
+    fn flow_from(
+        &self,
+        t0: f64,
+        x0: &[f64],
+        tau: f64,
+        jacobian: bool,
+        impacts: usize,
+        reads: &[f64],
+        states: &mut Vec<Vec<f64>>,
+        sens: Option<(&Stencil, &mut Vec<f64>)>,
+    ) -> Result<Option<Image>, OrbitError> {
         if x0.len() != self.dim() {
             return Err(OrbitError::Size { given: x0.len(), expected: self.dim() });
         }
@@ -252,13 +300,23 @@ impl Model {
             return Err(OrbitError::Model(format!("the flow's horizon {tau} is not allowed: > 0 and finite")));
         }
         let (mut q0, v0) = self.lin.unpack(x0);
-        // A start beyond a bound (a Newton iterate) is taken on it.
-        for c in self.dy.contacts.iter().filter(|c| !c.massless) {
+        // A start beyond a bound (a Newton iterate) is taken on it: there
+        // its derivative in a parameter is the bound's.
+        let mut s0 = vec![0.0; self.dim()];
+        for (j, c) in self.dy.contacts.iter().enumerate().filter(|(_, c)| !c.massless) {
+            let side = if q0[c.dof] < c.bounds.lo { Some(false) } else { (q0[c.dof] > c.bounds.hi).then_some(true) };
+            if let (Some(upper), Some((st, _)), Some(row)) = (side, sens.as_ref(), self.lin.state().iter().position(|&d| d == c.dof)) {
+                s0[row] = st.diff(|m| m.bound(j, upper));
+            }
             q0[c.dof] = q0[c.dof].clamp(c.bounds.lo, c.bounds.hi);
         }
         let mut run = self.run_from(t0, &q0, &v0)?;
         run.set_interrupt(self.interrupt.clone());
-        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts, reads, states);
+        let sens = sens.map(|(st, out)| {
+            *out = s0;
+            (st, out)
+        });
+        let out = self.flow_run(&mut run, t0, tau, jacobian, impacts, reads, states, sens);
         self.done(run);
         out
     }
@@ -274,7 +332,7 @@ impl Model {
     /// corrector's last flow, instead of flowing again to each.
     pub fn flow_reading(&self, t0: f64, x0: &[f64], tau: f64, jacobian: bool, reads: &[f64]) -> Result<(Image, Vec<Vec<f64>>), OrbitError> {
         let mut states = Vec::with_capacity(reads.len());
-        let image = self.flow_from(t0, x0, tau, jacobian, usize::MAX, reads, &mut states)?.expect("no bound on the impacts");
+        let image = self.flow_from(t0, x0, tau, jacobian, usize::MAX, reads, &mut states, None)?.expect("no bound on the impacts");
         Ok((image, states))
     }
 
@@ -331,17 +389,49 @@ impl Model {
     /// [`Model::flow_within`] on `run`, started at `t0`, its states at
     /// `t0 + r` (`r` in `reads`, increasing, below `τ`) into `states`
     /// ([`Model::flow_reading`]).
+    /// With `sens` (its vector holding the start's derivative), the map's
+    /// derivative in the stencil's parameter carried as one more column
+    /// of the Jacobian (the same transports and saltations), plus each
+    /// phase's own term ([`Model::phase_term`]), each impact's
+    /// ([`Model::linearise_event`]) and the horizon's, into the vector.
     #[allow(clippy::too_many_arguments)]
-    fn flow_run(&self, run: &mut EventDriven, t0: f64, tau: f64, jacobian: bool, impacts: usize, reads: &[f64], states: &mut Vec<Vec<f64>>) -> Result<Option<Image>, OrbitError> {
+    fn flow_run(
+        &self,
+        run: &mut EventDriven,
+        t0: f64,
+        tau: f64,
+        jacobian: bool,
+        impacts: usize,
+        reads: &[f64],
+        states: &mut Vec<Vec<f64>>,
+        sens: Option<(&Stencil, &mut Vec<f64>)>,
+    ) -> Result<Option<Image>, OrbitError> {
         let dim = self.dim();
-        let mut jac = jacobian.then(|| Mat::<f64>::identity(dim, dim));
+        let (st, sens_out) = match sens {
+            Some((st, out)) => (Some(st), Some(out)),
+            None => (None, None),
+        };
+        let mut jac = match (st, sens_out.as_ref()) {
+            (Some(_), Some(s0)) => Some(Mat::<f64>::from_fn(dim, dim + 1, |i, j| {
+                if j == dim {
+                    s0[i]
+                } else if i == j {
+                    1.0
+                } else {
+                    0.0
+                }
+            })),
+            _ => jacobian.then(|| Mat::<f64>::identity(dim, dim)),
+        };
         let mut seen = run.events().len();
         // The events of the start (a contact on its bound, approaching).
         if seen > 0 {
             if let Some(j) = jac.as_mut() {
-                self.linearise_event(run, run.events(), &[], &sorted_held(run), j)?;
+                self.linearise_event(run, run.events(), &[], &sorted_held(run), j, st)?;
             }
         }
+        // The state the phase under way started from (with `sens`).
+        let mut start = st.map(|_| run.state());
         let mut held = sorted_held(run);
         let mut t_prev = t0;
         let t_end = t0 + tau;
@@ -377,6 +467,9 @@ impl Model {
             if let Some(j) = jac.as_mut() {
                 if t_now > t_prev {
                     self.lin.transport(&held, t_now - t_prev, j)?;
+                    if let (Some(st), Some((ta, qa, va))) = (st, start.as_ref()) {
+                        self.phase_term(st, &held, *ta, qa, va, t_now - t_prev, j)?;
+                    }
                 }
             }
             t_prev = t_now;
@@ -391,13 +484,21 @@ impl Model {
                     // (nearby starts land with a speed, or fly on).
                     return Err(OrbitError::NoDerivative { t: t_now, why: "a contact landed on its bound at zero speed and is held there (grazing)".into() });
                 }
-                self.linearise_event(run, &run.events()[seen..], &held, &new_held, j)?;
+                self.linearise_event(run, &run.events()[seen..], &held, &new_held, j, st)?;
+            }
+            if st.is_some() {
+                start = Some(run.state());
             }
             seen = run.events().len();
             held = new_held;
         }
         let (t, q, v) = run.state();
         let field = if self.lin.massless() { self.lin.field(&self.dy, &[], t, &q, &v) } else { self.lin.field(&self.dy, &held, t, &q, &v) };
+        if let (Some(st), Some(out), Some(j)) = (st, sens_out, jac.as_mut()) {
+            // The horizon moves with the parameter: `f(x(T), T) dT/dλ`.
+            *out = (0..dim).map(|i| j[(i, dim)] + field[i] * st.horizon).collect();
+            jac = jacobian.then(|| j.subcols(0, dim).to_owned());
+        }
         Ok(Some(Image { x: self.lin.pack(&q, &v), jacobian: jac, events: run.events().to_vec(), held, field }))
     }
 
@@ -540,7 +641,122 @@ impl Model {
         Ok(Some((0..self.dim()).map(|c| j[(row, c)]).collect()))
     }
 
-    fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>) -> Result<(), OrbitError> {
+    /// The derivative of the map `x0 → x(t0 + τ)` in the parameter of
+    /// `st` at fixed `x0`, `s(t0 + τ)` with `s = ∂x/∂λ`, from this model's
+    /// exact run (`self` is the model at `λ`): within each phase `s' = A s
+    /// + ∂F/∂λ`, carried by the phase's transition and its own term
+    /// ([`Model::phase_term`]); at each impact the saltation and the
+    /// impact's own term; the horizon's `f(x(T)) dT/dλ` (docs/theory.md
+    /// §12.2). Exact to the stencil's differences of smooth data (no
+    /// event crosses them). Massive models (a massless contact dof's
+    /// condensed flow has no [`ModalFlow`]: [`OrbitError::Model`]).
+    pub(crate) fn param_sensitivity(&self, t0: f64, x0: &[f64], tau: f64, st: &Stencil) -> Result<Vec<f64>, OrbitError> {
+        if self.lin.massless() {
+            return Err(OrbitError::Model("the parameter's sensitivity takes a model whose dofs all have mass".into()));
+        }
+        let mut s = Vec::new();
+        self.flow_from(t0, x0, tau, false, usize::MAX, &[], &mut Vec::new(), Some((st, &mut s)))?;
+        Ok(s)
+    }
+
+    /// The bound of the contact `j` (`upper`: its upper one).
+    fn bound(&self, j: usize, upper: bool) -> f64 {
+        let b = self.dy.contacts[j].bounds;
+        if upper {
+            b.hi
+        } else {
+            b.lo
+        }
+    }
+
+    /// Whether the contact `j`, on a bound in `q`, is on its upper one.
+    fn upper(&self, j: usize, q: &[f64]) -> bool {
+        let c = &self.dy.contacts[j];
+        (c.bounds.hi - q[c.dof]).abs() < (q[c.dof] - c.bounds.lo).abs()
+    }
+
+    /// A phase's own term of the parameter's derivative, added to the
+    /// Jacobian's last column: `∫ Φ(t_a + τ, r) ∂F/∂λ(x(r), r) dr` over
+    /// the phase, which is the stencil's difference of the phase's flows
+    /// without events from its start `(q_a, v_a)` at `t_a` over `τ` (each
+    /// model's, its held dofs on its own bounds: a bound that moves with
+    /// `λ` holds them there).
+    #[allow(clippy::too_many_arguments)]
+    fn phase_term(&self, st: &Stencil, held: &[usize], ta: f64, qa: &[f64], va: &[f64], tau: f64, jac: &mut Mat<f64>) -> Result<(), OrbitError> {
+        let sides: Vec<(usize, bool)> = held.iter().map(|&j| (j, self.upper(j, qa))).collect();
+        let last = jac.ncols() - 1;
+        for &(m, w) in &st.models {
+            let x = m.phase_advance(&sides, ta, qa, va, tau)?;
+            for (i, xi) in x.iter().enumerate() {
+                jac[(i, last)] += w * xi;
+            }
+        }
+        Ok(())
+    }
+
+    /// The state after `τ` from `(q, v)` at `t` with the contacts `held`
+    /// (each with its side) on this model's bounds and no event.
+    fn phase_advance(&self, held: &[(usize, bool)], t: f64, q: &[f64], v: &[f64], tau: f64) -> Result<Vec<f64>, OrbitError> {
+        let mut phases = self.phases.borrow_mut();
+        let i = match phases.iter().position(|p| p.held == held) {
+            Some(i) => i,
+            None => {
+                phases.push(self.phase_flow(held)?);
+                phases.len() - 1
+            }
+        };
+        let p = &phases[i];
+        let (mut qo, mut vo) = (q.to_vec(), v.to_vec());
+        for &(d, b) in &p.fixed {
+            (qo[d], vo[d]) = (b, 0.0);
+        }
+        if let Some(flow) = &p.flow {
+            let nf = p.free.len();
+            let qf: Vec<f64> = p.free.iter().map(|&d| q[d]).collect();
+            let vf: Vec<f64> = p.free.iter().map(|&d| v[d]).collect();
+            let (mut qn, mut vn) = (vec![0.0; nf], vec![0.0; nf]);
+            flow.advance(t, &qf, &vf, tau, &mut qn, &mut vn);
+            for (k, &d) in p.free.iter().enumerate() {
+                (qo[d], vo[d]) = (qn[k], vn[k]);
+            }
+        }
+        Ok(self.lin.pack(&qo, &vo))
+    }
+
+    /// The flow of the free dofs with the contacts `held` on their bounds:
+    /// `M_ff q_f'' + C_ff q_f' + K_ff q_f = F_f − K_fh b_h` (a held dof
+    /// rests).
+    fn phase_flow(&self, held: &[(usize, bool)]) -> Result<PhaseFlow, OrbitError> {
+        let dy = &self.dy;
+        let n = dy.mass.n();
+        let fixed: Vec<(usize, f64)> = held.iter().map(|&(j, upper)| (dy.contacts[j].dof, self.bound(j, upper))).collect();
+        let free: Vec<usize> = (0..n).filter(|d| !fixed.iter().any(|f| f.0 == *d)).collect();
+        let flow = if free.is_empty() {
+            None
+        } else {
+            let sub = |b: &signorini_fem::SymBand| {
+                let p = b.half_bandwidth();
+                let mut out = signorini_fem::SymBand::zeros(free.len(), p);
+                for (a, &i) in free.iter().enumerate() {
+                    for (c, &j) in free.iter().enumerate().skip(a.saturating_sub(p)).take(a + 1 - a.saturating_sub(p)) {
+                        out.set(a, c, b.get(i, j));
+                    }
+                }
+                out
+            };
+            let load = free.iter().map(|&i| dy.load[i] - fixed.iter().map(|&(d, b)| dy.stiffness.get(i, d) * b).sum::<f64>()).collect();
+            let forcing = dy.forcing.iter().map(|f| signorini_schemes::Forcing { shape: free.iter().map(|&i| f.shape[i]).collect(), time: f.time.clone() }).collect();
+            let sub_dy = Dynamics::new(sub(&dy.mass), sub(&dy.stiffness), load, Vec::new()).with_forcing(forcing).with_damping(dy.damping.as_ref().map(sub));
+            Some(ModalFlow::new(&sub_dy)?)
+        };
+        Ok(PhaseFlow { held: held.to_vec(), free, fixed, flow })
+    }
+
+    /// With `st`, the impact's own term of the derivative in the
+    /// stencil's parameter into the Jacobian's last column: the guard's
+    /// bound `b` moves the impact's time, `(f⁺ − DJ f⁻)(−∂b/∂λ)/v_n`, and
+    /// the restitutions the jump, `∂v⁺/∂e ∂e/∂λ` (docs/theory.md §12.2).
+    fn linearise_event(&self, run: &EventDriven, recs: &[EventRecord], before: &[usize], after: &[usize], jac: &mut Mat<f64>, st: Option<&Stencil>) -> Result<(), OrbitError> {
         // Chattering to rest: the run ends an accumulation of impacts at
         // its last located impact, the contact put at rest there (then
         // held if pressed); the contacts that accumulate jump plastically.
@@ -598,7 +814,21 @@ impl Model {
         let f_minus = self.lin.field(&self.dy, before, t, &q, &vminus);
         let f_plus = self.lin.field(&self.dy, after, t, &q, &vplus);
         let active: Vec<(usize, f64)> = active.into_iter().map(|j| (j, if accumulated.contains(&j) { 0.0 } else { self.lin.sites[j].restitution })).collect();
-        self.lin.saltation(guard.contact, &active, &f_minus, &f_plus, vn, jac);
+        let column = self.lin.saltation(guard.contact, &active, &f_minus, &f_plus, vn, jac);
+        if let Some(st) = st {
+            let n = q.len();
+            let last = jac.ncols() - 1;
+            let db = st.diff(|m| m.bound(guard.contact, self.upper(guard.contact, &q)));
+            let (ids, de): (Vec<usize>, Vec<f64>) = active.iter().map(|&(j, _)| (j, if accumulated.contains(&j) { 0.0 } else { st.diff(|m| m.lin.sites[j].restitution) })).unzip();
+            let mut dv = vec![0.0; n];
+            self.lin.impact_change(&ids, &de, &vminus, &mut dv);
+            for (i, c) in column.iter().enumerate() {
+                jac[(i, last)] -= c * db;
+            }
+            for i in 0..n {
+                jac[(n + i, last)] += dv[i];
+            }
+        }
         Ok(())
     }
 }

@@ -409,50 +409,65 @@ impl Linear {
         out
     }
 
+    /// `out −= M⁻¹ E_A W_AA⁻¹ diag(coef) E_Aᵀ v` (`W = E_Aᵀ M⁻¹ E_A`): with
+    /// `coef` = `1 + e` per contact of `active` and `out` = `v`, the
+    /// velocity after the impact, `D v`; with `coef` = `∂e/∂λ` and `out` =
+    /// 0, the derivative of `v⁺` in the restitutions.
+    pub fn impact_change(&self, active: &[usize], coef: &[f64], v: &[f64], out: &mut [f64]) {
+        let n = self.core.n;
+        let minv = &self.core.minv;
+        let na = active.len();
+        if na == 0 {
+            return;
+        }
+        let dofs: Vec<usize> = active.iter().map(|&j| self.sites[j].dof).collect();
+        let winv = Mat::from_fn(na, na, |a, b| minv[(dofs[a], dofs[b])]).partial_piv_lu().inverse();
+        let ev: Vec<f64> = dofs.iter().zip(coef).map(|(&d, c)| c * v[d]).collect();
+        for a in 0..na {
+            let z: f64 = (0..na).map(|b| winv[(a, b)] * ev[b]).sum();
+            for i in 0..n {
+                out[i] -= minv[(i, dofs[a])] * z;
+            }
+        }
+    }
+
+    /// `(f⁺ − DJ f⁻) / v_n`, the saltation's rank-one column (module docs):
+    /// `S = DJ + this ∇hᵀ`.
+    fn saltation_column(&self, active: &[(usize, f64)], f_minus: &[f64], f_plus: &[f64], vn: f64) -> Vec<f64> {
+        let n = self.core.n;
+        let (ids, coef): (Vec<usize>, Vec<f64>) = active.iter().map(|&(j, e)| (j, 1.0 + e)).unzip();
+        let mut djf = f_minus.to_vec();
+        self.impact_change(&ids, &coef, &f_minus[n..], &mut djf[n..]);
+        (0..2 * n).map(|i| (f_plus[i] - djf[i]) / vn).collect()
+    }
+
     /// `jac ← S jac`, the saltation matrix of an impact located on the
     /// contact `guard` with the LCP's active contacts `active`, each with
     /// the restitution of its jump (its own; 0 where an accumulation of
     /// its impacts ends: docs/theory.md §12.1.1) (module docs); `f_minus`,
     /// `f_plus` the vector fields, `vn` the guard's velocity before.
-    pub fn saltation(&self, guard: usize, active: &[(usize, f64)], f_minus: &[f64], f_plus: &[f64], vn: f64, jac: &mut Mat<f64>) {
+    /// Returns the rank-one column `(f⁺ − DJ f⁻) / v_n`.
+    pub fn saltation(&self, guard: usize, active: &[(usize, f64)], f_minus: &[f64], f_plus: &[f64], vn: f64, jac: &mut Mat<f64>) -> Vec<f64> {
         let n = self.core.n;
-        let minv = &self.core.minv;
         let cols = jac.ncols();
-        // D = I − M⁻¹ E_A W_AA⁻¹ (I + diag e_A) E_Aᵀ on the velocity rows.
-        let na = active.len();
-        let dofs: Vec<usize> = active.iter().map(|&(j, _)| self.sites[j].dof).collect();
-        let w = Mat::from_fn(na, na, |a, b| minv[(dofs[a], dofs[b])]);
-        let winv = if na > 0 { w.partial_piv_lu().inverse() } else { Mat::zeros(0, 0) };
-        let apply_d = |v: &[f64]| -> Vec<f64> {
-            let ev: Vec<f64> = active.iter().map(|&(j, e)| (1.0 + e) * v[self.sites[j].dof]).collect();
-            let mut out = v.to_vec();
-            for a in 0..na {
-                let z: f64 = (0..na).map(|b| winv[(a, b)] * ev[b]).sum();
-                for i in 0..n {
-                    out[i] -= minv[(i, dofs[a])] * z;
-                }
-            }
-            out
-        };
-        let djf: Vec<f64> = {
-            let v = apply_d(&f_minus[n..]);
-            f_minus[..n].iter().copied().chain(v).collect()
-        };
+        let (ids, coef): (Vec<usize>, Vec<f64>) = active.iter().map(|&(j, e)| (j, 1.0 + e)).unzip();
         let row = self.sites[guard].dof;
         let gq: Vec<f64> = (0..cols).map(|j| jac[(row, j)]).collect();
         for j in 0..cols {
             let col: Vec<f64> = (0..n).map(|i| jac[(n + i, j)]).collect();
-            let dv = apply_d(&col);
+            let mut dv = col.clone();
+            self.impact_change(&ids, &coef, &col, &mut dv);
             for i in 0..n {
                 jac[(n + i, j)] = dv[i];
             }
         }
-        for i in 0..2 * n {
-            let s = (f_plus[i] - djf[i]) / vn;
+        let s = self.saltation_column(active, f_minus, f_plus, vn);
+        for (i, si) in s.iter().enumerate() {
             for j in 0..cols {
-                jac[(i, j)] += s * gq[j];
+                jac[(i, j)] += si * gq[j];
             }
         }
+        s
     }
 }
 
