@@ -30,15 +30,16 @@ fn exact(d: f64, t: f64) -> (f64, f64) {
     }
 }
 
-/// The bound of docs/theory.md §9.2: the gap near its minimum is `g = −d
-/// + s²/2` (`a = 1`), computed with an error `|η| <= ε` (the gap's terms
-/// are of size 1). The impact is located where `g + η = 0`, `√(2(d − η))`
-/// before the minimum instead of `√(2d)`: off by `Δs <= min(√(2ε), ε /
-/// √(2d))`, and the elastic mirror about it puts the state `2Δs` of phase
-/// off (speed 1). Measured (Euclidean error of `(x, v)` at `3π/2 + 2`):
-/// 7.5e-9 at `d = 0` (an impact at 3.7e-9, the exact speed 0), 1.1e-9 at
-/// 1e-15, 2.2e-10 at 1e-13, 4.9e-12 at 1e-9, 2.9e-13 at 1e-7: 0.15 to 0.5
-/// of the bound. A stop 1e-15 below the minimum is not hit.
+/// The bound of docs/theory.md §9.2: the gap near its minimum is
+/// `g = −d + s²/2` (`a = 1`), computed with an error `|η| <= ε` (the gap's
+/// terms are of size 1). The impact is located where `g + η = 0`,
+/// `√(2(d − η))` before the minimum instead of `√(2d)`: off by
+/// `Δs <= min(√(2ε), ε/√(2d))`, and the elastic mirror about it puts the
+/// state `2Δs` of phase off (speed 1). Measured (Euclidean error of
+/// `(x, v)` at `3π/2 + 2`): 7.5e-9 at `d = 0` (an impact at 3.7e-9, the
+/// exact speed 0), 1.1e-9 at `d = 1e-15`, 2.2e-10 at 1e-13, 4.9e-12 at
+/// 1e-9, 2.9e-13 at 1e-7: 0.15 to 0.5 of the bound. A stop 1e-15 below
+/// the minimum is not hit.
 #[test]
 fn a_grazing_impact_is_off_by_the_square_root_of_the_gaps_round_off() {
     let t = 1.5 * PI + 2.0;
