@@ -5,6 +5,7 @@ mod beam_src;
 mod chaos;
 mod energy_growth;
 mod event_interrupt;
+mod event_long;
 mod lockstep;
 mod pk;
 mod reduced;

@@ -17,6 +17,7 @@ mod events_driven;
 mod events_energy_balance;
 mod events_events;
 mod events_flow;
+mod events_grazing;
 mod events_held_starts;
 mod events_massless;
 mod events_massless_coupled;
