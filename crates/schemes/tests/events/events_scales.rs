@@ -75,17 +75,20 @@ fn osc(omega: f64, c: f64, gap: f64, s: f64) -> Dynamics {
     dy
 }
 
+/// A run's events `(t, v⁻, impulse)` and final `(q, v)`.
+type Run = (Vec<(f64, f64, f64)>, Vec<f64>, Vec<f64>);
+
 /// A forced chain of three on an obstacle, lengths scaled by `s` and
 /// frequencies by `r` (`K`, loads × `r²`, `C`, `Ω` × `r`, velocities × `s r`),
 /// run to `t_end / r`: its events `(t, v⁻, impulse)` and final state, scaled back.
-fn run(s: f64, r: f64, e: f64, damp: Option<f64>, t_end: f64) -> (Vec<(f64, f64, f64)>, Vec<f64>, Vec<f64>) {
+fn run(s: f64, r: f64, e: f64, damp: Option<f64>, t_end: f64) -> Run {
     let (m, k) = common::chain_matrices(3, false);
     let mut dy = Dynamics::new(m, k.lin_comb(r * r, &k, 0.0), vec![0.0, 0.1 * s * r * r, 0.0], vec![Contact::new(0, Bounds::obstacle(-0.2 * s), false)]);
     dy.forcing = vec![Forcing { shape: vec![0.0, 0.0, 0.5 * s * r * r], time: TimeProfile::Sine { amplitude: 1.0, omega: 1.7 * r } }];
     if let Some(a) = damp {
         dy.damping = Some(dy.mass.lin_comb(a * r, &dy.stiffness, 0.0));
     }
-    let mut ev = EventDriven::new(&dy, 0.0, &[0.05 * s, 0.0, 0.0], &[-1.0 * s * r, 0.3 * s * r, 0.0], e).unwrap();
+    let mut ev = EventDriven::new(&dy, 0.0, &[0.05 * s, 0.0, 0.0], &[-s * r, 0.3 * s * r, 0.0], e).unwrap();
     ev.run_until(t_end / r, 100_000).unwrap();
     let (_, q, v) = ev.state();
     (ev.events().iter().map(|x| (x.t * r, x.velocity_before / (s * r), x.impulse / (s * r))).collect(), q.iter().map(|x| x / s).collect(), v.iter().map(|x| x / (s * r)).collect())
@@ -162,7 +165,6 @@ fn impacts_near_resonance_replay_on_the_exponential() {
 /// 1); a power of two, bit for bit.
 #[test]
 fn a_run_scaled_in_length_or_time_is_the_scaled_run() {
-    type Run = (Vec<(f64, f64, f64)>, Vec<f64>, Vec<f64>);
     let worst = |a: &Run, b: &Run| {
         assert_eq!(a.0.len(), b.0.len());
         let events = a.0.iter().zip(&b.0).fold(0.0f64, |m, (x, y)| m.max((x.0 - y.0).abs()).max((x.1 - y.1).abs()).max((x.2 - y.2).abs()));
@@ -225,7 +227,7 @@ fn weak_damping_moves_a_run_by_the_order_of_the_damping() {
 }
 
 /// [`run`] unscaled with a damping `a`: Rayleigh `a M`, or a dashpot at dof 2.
-fn run_damped(e: f64, a: f64, dashpot: bool) -> (Vec<(f64, f64, f64)>, Vec<f64>, Vec<f64>) {
+fn run_damped(e: f64, a: f64, dashpot: bool) -> Run {
     if !dashpot {
         return run(1.0, 1.0, e, Some(a), 20.0);
     }
