@@ -12,8 +12,9 @@
 //!
 //! whose solution is a particular solution `P(t)` (one per load term:
 //! `g₀/k`; `A sin θ + B cos θ` with `(k − Ω²) A − cΩ B = G a`,
-//! `cΩ A + (k − Ω²) B = 0`; at resonance, `c = 0` and `k = Ω²`, the secular
-//! `−G a t cos θ / (2Ω)`; a free mode `k = 0` integrates the constant)
+//! `cΩ A + (k − Ω²) B = 0`; near resonance, `|k − Ω² + icΩ| <= 1e-2 k`,
+//! the response from rest at the step's start, the secular `−G a t cos θ /
+//! (2Ω)` at `c = 0`, `k = Ω²`; a free mode `k = 0` integrates the constant)
 //! plus the homogeneous flow of `e = η − P` over `τ`:
 //!
 //! ```text
@@ -170,14 +171,21 @@ pub(crate) struct Harmonic {
 }
 
 /// Mode `i`'s particular solution of a harmonic `g sin θ` (`g = G_i a`):
-/// none (`g = 0`), resonant `P = (t − t_ref) U cos θ` with `U = −g/(2Ω)`,
-/// or steady `a sin θ + b cos θ` with `a = g δ/d`, `b = −g c Ω/d` (`δ = k −
-/// Ω²`, `d = δ² + (cΩ)²`).
+/// none (`g = 0`), near resonance (`√d <= NEAR k`, [`near`]) the response
+/// from rest at `t_ref` ([`from_rest`]; `g` kept), or steady `a sin θ + b
+/// cos θ` with `a = g δ/d`, `b = −g c Ω/d` (`δ = k − Ω²`, `d = δ² + (cΩ)²`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Coef {
     Zero,
-    Resonant(f64),
+    Near(f64),
     Steady(f64, f64),
+}
+
+/// The steady coefficients `(g δ/d, −g c Ω/d)` of [`Coef::Steady`].
+fn steady_coef(k: f64, c: f64, g: f64, w: f64) -> Coef {
+    let detune = k - w * w;
+    let d = detune * detune + (c * w) * (c * w);
+    Coef::Steady(g * detune / d, -g * c * w / d)
 }
 
 impl Harmonic {
@@ -187,12 +195,10 @@ impl Harmonic {
                 let (k, c, g, w) = (k[i], c[i], modal[i] * amplitude, omega);
                 if g == 0.0 {
                     Coef::Zero
-                } else if resonant(k, c, w) {
-                    Coef::Resonant(-g / (2.0 * w))
+                } else if near(k, c, w) {
+                    Coef::Near(g)
                 } else {
-                    let detune = k - w * w;
-                    let d = detune * detune + (c * w) * (c * w);
-                    Coef::Steady(g * detune / d, -g * c * w / d)
+                    steady_coef(k, c, g, w)
                 }
             })
             .collect();
@@ -204,11 +210,17 @@ impl Harmonic {
     /// driver's particular solution `a₂ sin θ + b₂ cos θ`, i.e. `G sin θ + H
     /// cos θ`: `(G p − H q) sin θ + (G q + H p) cos θ`, with `p sin θ + q cos
     /// θ` the response to `sin θ` (`p = δ/d`, `q = −cΩ/d`) and `cos θ =
-    /// sin(θ + π/2)`. A chain's modes are damped (`c > 0`): never resonant.
+    /// sin(θ + π/2)`. A chain's modes are damped (`c > 0`): their steady
+    /// coefficients are finite, taken even near resonance.
     fn driven(mut self, k: &[f64], c: &[f64], drive: &[f64]) -> Self {
         for (i, &s) in drive.iter().enumerate() {
             if s == 0.0 {
                 continue;
+            }
+            for j in [i, i + 1] {
+                if let Coef::Near(g) = self.coef[j] {
+                    self.coef[j] = steady_coef(k[j], c[j], g, self.omega);
+                }
             }
             let Coef::Steady(a2, b2) = self.coef[i + 1] else { continue };
             let (g, h) = (self.modal[i] * self.amplitude + s * a2, s * b2);
@@ -376,9 +388,57 @@ fn overdamped(alpha: f64, beta: f64, tau: f64) -> (f64, f64) {
     (0.5 * (slow + fast), ds)
 }
 
-/// Whether a harmonic of frequency `w` resonates with an undamped mode `k`.
-fn resonant(k: f64, c: f64, w: f64) -> bool {
-    c == 0.0 && (k - w * w).abs() <= 1e-13 * w * w
+/// A harmonic of frequency `w` within this of a mode's resonance (`√d =
+/// |k − w² + i c w| <= NEAR k`) takes the response from rest ([`from_rest`]):
+/// the steady coefficients `g/√d` cancel against the homogeneous part to
+/// `ε k/√d` of the motion (docs/theory.md §9.1). Measured on a chain's
+/// mode, forced at `ω (1 + r)`: the state off the exponential by 4.6e-4
+/// at `r = 2e-13` (1e-13 above the secular form's old band), 1.7e-4 at
+/// `r = 1e-12`, 5e-8 at `1e-9`, 1.3e-10 at `1e-6`; with `c = 1e-14` at
+/// `r = 0`, 5.3e-3; event runs stalled (1e7 search steps). Here the
+/// steady form loses at most `100 ε`.
+const NEAR: f64 = 1e-2;
+
+/// Whether a harmonic of frequency `w` is near the resonance of the mode `(k, c)` ([`NEAR`]).
+fn near(k: f64, c: f64, w: f64) -> bool {
+    k > 0.0 && (k - w * w).hypot(c * w) <= NEAR * k
+}
+
+/// The response of a mode `(k, c)` (underdamped: [`near`] implies it) from
+/// rest at `τ = 0` to `g sin(θ₀ + Ω τ)` (`(sin θ₀, cos θ₀)`), and its
+/// derivative, at `τ`: with `G(u) = Im e^{μu}/β` the impulse response (`μ =
+/// −α + iβ`), `∫₀^τ G(τ − u) g sin(θ₀ + Ω u) du = g/(2β) Re[e^{−iθ₀} I(μ,
+/// −iΩ) − e^{iθ₀} I(μ, iΩ)]` and `μ` inside the bracket for the derivative,
+/// `I(x, y) = ∫₀^τ e^{x(τ − u)} e^{yu} du` ([`divided`]): the secular `τ
+/// e^{iωτ}` at `μ = iΩ`, to round-off however small the detuning.
+fn from_rest(k: f64, c: f64, g: f64, w: f64, (s0, c0): (f64, f64), tau: f64) -> (f64, f64) {
+    let mu = faer::c64::new(-0.5 * c, (k - 0.25 * c * c).sqrt());
+    let turn = faer::c64::new(c0, s0);
+    let z = turn.conj() * divided(mu, faer::c64::new(0.0, -w), tau) - turn * divided(mu, faer::c64::new(0.0, w), tau);
+    let f = g / (2.0 * mu.im);
+    (f * z.re, f * (mu * z).re)
+}
+
+/// [`from_rest`] at `st` from `t_ref = t − st` (`(s, co)`: `sin, cos θ` at
+/// `t`) and its derivatives up to order `N − 1` into `p` (added): `P⁽ᵐ⁾ =
+/// f⁽ᵐ⁻²⁾ − c P⁽ᵐ⁻¹⁾ − k P⁽ᵐ⁻²⁾`, `f = g sin θ`.
+fn add_from_rest<const N: usize>(k: f64, c: f64, g: f64, w: f64, (s, co): (f64, f64), st: f64, p: &mut [f64; N]) {
+    let mut q = [0.0; N];
+    if st != 0.0 {
+        let (sw, cw) = (w * st).sin_cos();
+        let (x, dx) = from_rest(k, c, g, w, (s * cw - co * sw, co * cw + s * sw), st);
+        q[0] = x;
+        if N > 1 {
+            q[1] = dx;
+        }
+    }
+    let mut wm = 1.0;
+    for m in 2..N {
+        let f = g * wm * [s, co, -s, -co][(m - 2) % 4];
+        q[m] = f - c * q[m - 1] - k * q[m - 2];
+        wm *= w;
+    }
+    p.iter_mut().zip(q).for_each(|(a, b)| *a += b);
 }
 
 /// Eigenvalues of the first-order form (complex or real) within this
@@ -1565,8 +1625,8 @@ impl ModalFlow {
 
     /// The particular solution of mode `i` and its derivatives (orders
     /// `0..JET`) at `t`. Where it grows with time (a free mode's constant
-    /// load, a resonant harmonic) it is the one that vanishes at `t_ref`
-    /// with its growth (`g₀ (t − t_ref)²/2`, `(t − t_ref) u(t)`: they
+    /// load, a harmonic near resonance) it is the one that vanishes at
+    /// `t_ref` with its growth (`g₀ (t − t_ref)²/2`, the response from rest: they
     /// differ from the others by homogeneous solutions), so that no
     /// absolute time multiplies it: round-off stays relative to the motion
     /// since `t_ref`, not to the time elapsed since 0.
@@ -1602,17 +1662,7 @@ impl ModalFlow {
             };
             match h.coef[i] {
                 Coef::Zero => {}
-                Coef::Resonant(u) => {
-                    // P = t u, u = U cos θ, U = −g/(2Ω): P⁽ᵐ⁾ = t u⁽ᵐ⁾ + m u⁽ᵐ⁻¹⁾.
-                    let mut wm = 1.0;
-                    let mut prev = 0.0;
-                    for (m, pm) in p.iter_mut().enumerate() {
-                        let um = wm * turn(0.0, u, m);
-                        *pm += st * um + m as f64 * prev;
-                        prev = um;
-                        wm *= w;
-                    }
-                }
+                Coef::Near(g) => add_from_rest(self.k[i], self.c[i], g, w, (s, co), st, p),
                 Coef::Steady(a, b) => {
                     let mut wm = 1.0;
                     for (m, pm) in p.iter_mut().enumerate() {
@@ -1638,16 +1688,23 @@ impl ModalFlow {
         for hm in &self.harmonics {
             let w = hm.omega;
             // From the coefficients: `|g| δ/d` is `g δ/d` up to its sign
-            // (rounding is symmetric), and so on; `|g|/(2Ω)` has Ω's sign.
+            // (rounding is symmetric), and so on.
             match hm.coef[i] {
                 Coef::Zero => {}
-                Coef::Resonant(u) => {
-                    let u = u.abs().copysign(w);
+                Coef::Near(g) => {
+                    // The response from rest over `[0, h]`: `|G| <= S̄ =
+                    // min(h, 1/β)`, `|G'| <= 1 + α S̄` (the impulse
+                    // response's), then the equation's recursion.
+                    let (g, alpha) = (g.abs(), 0.5 * c);
+                    let sbar = tt.min(1.0 / (k - alpha * alpha).sqrt());
+                    let mut q = [0.0; JET + 1];
+                    (q[0], q[1]) = (g * tt * sbar, g * tt * (1.0 + alpha * sbar));
                     let mut wm = 1.0;
-                    for (m, bm) in b.iter_mut().enumerate() {
-                        *bm += tt * u * wm + if m > 0 { m as f64 * u * wm / w } else { 0.0 };
-                        wm *= w;
+                    for m in 2..=JET {
+                        q[m] = g * wm + c * q[m - 1] + k * q[m - 2];
+                        wm *= w.abs();
                     }
+                    b.iter_mut().zip(q).for_each(|(x, y)| *x += y);
                 }
                 Coef::Steady(a, bb) => {
                     let amp = a.abs() + bb.abs();
@@ -1864,11 +1921,11 @@ impl ModalFlow {
             let w = h.omega;
             match h.coef[i] {
                 Coef::Zero => {}
-                Coef::Resonant(u) => {
-                    // P = (t − t0) U cos θ: P(t0) = 0, P'(t0) = U cos θ₀.
-                    let (s1, c1) = (s0 + ds, c0 + dc);
-                    d[0] += tau * u * c1;
-                    d[1] += -tau * u * w * s1 + u * dc;
+                Coef::Near(g) => {
+                    // From rest at t0: the increments are the response.
+                    let (x, dx) = from_rest(self.k[i], self.c[i], g, w, (s0, c0), tau);
+                    d[0] += x;
+                    d[1] += dx;
                 }
                 Coef::Steady(a, bb) => {
                     d[0] += a * ds + bb * dc;
@@ -1975,10 +2032,12 @@ impl ModalFlow {
             let at = |t: f64| (w * t + h.phase).sin_cos();
             match h.coef[i] {
                 Coef::Zero => {}
-                Coef::Resonant(u) => {
-                    // ∫ (t − t0) U cos θ.
-                    let ((_, c0), (s1, c1)) = (at(t0), at(t1));
-                    s += u * (tau * s1 / w + (c1 - c0) / (w * w));
+                Coef::Near(g) => {
+                    // The response from rest `x` obeys its equation: `k ∫ x
+                    // = ∫ g sin θ − x'(τ) − c x(τ)`.
+                    let ((s0, c0), (_, c1)) = (at(t0), at(t1));
+                    let (x, dx) = from_rest(k, c, g, w, (s0, c0), tau);
+                    s += (g * (c0 - c1) / w - dx - c * x) / k;
                 }
                 Coef::Steady(a, b) => {
                     let ((s0, c0), (s1, c1)) = (at(t0), at(t1));

@@ -99,7 +99,7 @@ fn terms(dy: &Dynamics) -> Vec<(Vec<f64>, f64, f64, f64)> {
 }
 
 /// The reference: `z(t0 + τ) = exp(A τ) z(t0)` for the augmented state.
-fn reference(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], tau: f64) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn reference(dy: &Dynamics, t0: f64, q0: &[f64], v0: &[f64], tau: f64) -> (Vec<f64>, Vec<f64>) {
     let n = dy.n();
     let h = terms(dy);
     let dim = 2 * n + 1 + 2 * h.len();

@@ -26,6 +26,7 @@ mod events_proptest;
 mod events_releases;
 mod events_restart;
 mod events_rk4;
+mod events_scales;
 mod events_series;
 mod events_silent;
 mod events_tail;
