@@ -72,14 +72,9 @@ fn the_parameter_derivative_is_the_transcriptions_derivative_in_omega() {
 /// The oscillator of `between.rs` with the stops `(lo, hi)` and the
 /// restitution `e`.
 fn oscillator(w: f64, stops: (f64, f64), e: f64) -> Result<Model, OrbitError> {
-    let one = |v: f64| {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, v);
-        b
-    };
-    let dy = Dynamics::new(one(1.0), one(1.0), vec![0.0], vec![Contact::new(0, Bounds { lo: stops.0, hi: stops.1 }, false)])
+    let dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds { lo: stops.0, hi: stops.1 }, false)])
         .with_forcing(vec![Forcing { shape: vec![1.0], time: TimeProfile::Sine { amplitude: F, omega: w } }])
-        .with_damping(Some(one(C)));
+        .with_damping(Some(SymBand::from_diagonal(&[C])));
     Model::new(dy, e)
 }
 

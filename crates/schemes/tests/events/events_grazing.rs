@@ -11,12 +11,7 @@ use signorini_schemes::{Bounds, Contact, Dynamics};
 use std::f64::consts::PI;
 
 fn oscillator(lo: f64) -> Dynamics {
-    let one = || {
-        let mut b = SymBand::zeros(1, 0);
-        b.set(0, 0, 1.0);
-        b
-    };
-    Dynamics::new(one(), one(), vec![0.0], vec![Contact::new(0, Bounds::obstacle(lo), false)])
+    Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(lo), false)])
 }
 
 /// The closed form at `t` (before the next impact): `(x, v)`.

@@ -62,15 +62,10 @@ fn chain3() -> Dynamics {
 
 /// `x'' + c x' + x = s sin(Ω t)` on an obstacle at `gap`.
 fn osc(omega: f64, c: f64, gap: f64, s: f64) -> Dynamics {
-    let (mut m, mut k) = (SymBand::zeros(1, 0), SymBand::zeros(1, 0));
-    m.set(0, 0, 1.0);
-    k.set(0, 0, 1.0);
-    let mut dy = Dynamics::new(m, k, vec![0.0], vec![Contact::new(0, Bounds::obstacle(gap), false)]);
+    let mut dy = Dynamics::new(SymBand::from_diagonal(&[1.0]), SymBand::from_diagonal(&[1.0]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(gap), false)]);
     dy.forcing = vec![Forcing { shape: vec![s], time: TimeProfile::Sine { amplitude: 1.0, omega } }];
     if c > 0.0 {
-        let mut cm = SymBand::zeros(1, 0);
-        cm.set(0, 0, c);
-        dy.damping = Some(cm);
+        dy.damping = Some(SymBand::from_diagonal(&[c]));
     }
     dy
 }
