@@ -45,7 +45,7 @@
 
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::onestep::{energy_sums_lumped, not_plain, with_avx2, Col, LumpedTri};
+use crate::onestep::{not_plain, with_avx2, Col, LumpedEnergy, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, OneDof};
 use signorini_fem::BandLdlt;
@@ -79,9 +79,8 @@ pub struct CdLagrange {
     acts: Vec<Active>,
     /// A lumped mass on the P1 bar: the step's fused pass ([`lumped_pass`]).
     lumped: Option<LumpedTri>,
-    /// With `lumped`: `M`'s diagonal and sub-diagonal (the energy's sums in
-    /// one pass, [`energy_sums_lumped`]).
-    mass_tri: Option<(Vec<f64>, Vec<f64>)>,
+    /// With `lumped`: the energy's sums in one pass.
+    mass_tri: Option<LumpedEnergy>,
 }
 
 /// The step on a lumped mass and a tridiagonal `K` in one vectorised pass
@@ -193,7 +192,7 @@ impl CdLagrange {
             impulses: vec![0.0; k],
             lams: vec![0.0; k],
             acts: vec![Active::None; k],
-            mass_tri: (lumped.is_some() && dy.mass.half_bandwidth() == 1).then(|| (dy.mass.diagonal(0), dy.mass.diagonal(1))),
+            mass_tri: lumped.as_ref().and_then(|lt| LumpedEnergy::new(&dy.mass, lt)),
             lumped,
             dy,
         })
@@ -329,9 +328,9 @@ impl Stepper for CdLagrange {
         if self.n == 0 {
             return None;
         }
-        let (kin, pot, load) = if let (Some(lt), Some((md, ms))) = (&self.lumped, &self.mass_tri) {
+        let (kin, pot, load) = if let (Some(lt), Some(me)) = (&self.lumped, &self.mass_tri) {
             // The three sums in one pass, the same bits (`acc`, scratch, is not written).
-            energy_sums_lumped(md, ms, &lt.kd, &lt.ks, &self.v, &self.u, Some(&self.u_prev), &self.dy.load, 0.5)
+            me.sums(lt, &self.v, &self.u, Some(&self.u_prev), &self.dy.load, 0.5)
         } else {
             let kin = self.dy.mass.quad_form(&self.v);
             self.dy.stiffness.mul_vec(&self.u_prev, &mut self.acc);

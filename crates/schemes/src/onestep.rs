@@ -174,6 +174,11 @@ struct Tridiagonals {
     /// columns.
     uniform_m: Option<[Same; 4]>,
     uniform_k: Option<[Same; 4]>,
+    /// The energy's rows `s+1..n−1` (`s` the massive start; the fused
+    /// forward sweep's too): `(L_A, L_M, 1/D_M, K_ii, K_{i,i−1})` — the step
+    /// matrix's and the massive block's factors, `K` — as [`Same`] when each
+    /// is one value there.
+    uniform_energy: Option<[Same; 5]>,
 }
 
 /// Rows per block of the fused end of a step ([`update_forward_energy`]):
@@ -303,7 +308,7 @@ fn update_forward_energy(
         } else {
             lo
         };
-        fe.rows(fa, rhs, mom, &t.kd, &t.ks, u, f, from, hi);
+        fe.rows(fa, t.uniform_energy, rhs, mom, &t.kd, &t.ks, u, f, from, hi);
         lo = hi;
     }
     (fe.kin, fe.pot, fe.lw)
@@ -348,25 +353,54 @@ impl ForwardEnergy {
         *self = ForwardEnergy { prev_a, prev, kin: prev * prev * fa.inv_d_m[0], pot, lw };
     }
 
-    /// Rows `lo..hi` (`lo > s`).
+    /// Rows `lo..hi` (`lo > s`): those before `n − 1` from the columns
+    /// (`cols`, a uniform mesh's coefficients as scalars: the same values,
+    /// the same bits; else the slices), row `n − 1` from the slices.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn rows(&mut self, fa: FusedFactors<'_>, b: &mut [f64], p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64], lo: usize, hi: usize) {
-        if lo >= hi {
-            return;
+    fn rows(&mut self, fa: FusedFactors<'_>, cols: Option<[Same; 5]>, b: &mut [f64], p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64], lo: usize, hi: usize) {
+        let (n, s) = (u.len(), fa.s);
+        let mid = hi.min(n - 1);
+        if lo < mid {
+            match cols {
+                Some(c) => self.rows_from(c, b, p, u, load, s, lo, mid),
+                None => {
+                    let c = [&fa.l_a[s + 1..n - 1], &fa.l_m[1..n - 1 - s], &fa.inv_d_m[1..n - 1 - s], &kd[s + 1..n - 1], &ks[s + 1..n - 1]];
+                    self.rows_from(c, b, p, u, load, s, lo, mid)
+                }
+            }
         }
-        let s = fa.s;
+        if hi == n && lo < n {
+            let i = n - 1;
+            let ForwardEnergy { mut prev_a, mut prev, mut kin, mut pot, mut lw } = *self;
+            prev_a = b[i] - fa.l_a[i] * prev_a;
+            b[i] = prev_a;
+            prev = p[i] - fa.l_m[i - s] * prev;
+            kin += prev * prev * fa.inv_d_m[i - s];
+            let off = 0.0 + ks[i] * u[i - 1];
+            pot += u[i] * (kd[i] * u[i] + 2.0 * off);
+            lw += load[i] * u[i];
+            *self = ForwardEnergy { prev_a, prev, kin, pot, lw };
+        }
+    }
+
+    /// Rows `lo..hi` (`s < lo < hi <= n − 1`), coefficients `(L_A, L_M,
+    /// 1/D_M, K_ii, K_{i,i−1})` as slices or [`Same`] (row `i` at
+    /// `i − s − 1`).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn rows_from<C: Col>(&mut self, cols: [C; 5], b: &mut [f64], p: &[f64], u: &[f64], load: &[f64], s: usize, lo: usize, hi: usize) {
+        let [lac, lmc, ldc, kdc, ksc] = cols.map(|c| c.from(lo - s - 1));
         let ForwardEnergy { mut prev_a, mut prev, mut kin, mut pot, mut lw } = *self;
-        let it = b[lo..hi].iter_mut().zip(&fa.l_a[lo..hi]).zip(&p[lo..hi]).zip(fa.l_m[lo - s..hi - s].iter().zip(&fa.inv_d_m[lo - s..hi - s]));
-        let it = it.zip(kd[lo..hi].iter().zip(&ks[lo..hi]).zip(&load[lo..hi]).zip(u[lo - 1..hi - 1].iter().zip(&u[lo..hi])));
-        for ((((bi, lai), pi), (li, ldi)), (((di, si), fi), (ul, ui))) in it {
-            prev_a = *bi - lai * prev_a;
-            *bi = prev_a;
-            prev = pi - li * prev;
-            kin += prev * prev * ldi;
-            let off = 0.0 + si * ul;
-            pot += ui * (di * ui + 2.0 * off);
-            lw += fi * ui;
+        let (bc, pc, ul, uc, fc) = (&mut b[lo..hi], &p[lo..hi], &u[lo - 1..hi - 1], &u[lo..hi], &load[lo..hi]);
+        for j in 0..bc.len() {
+            prev_a = bc[j] - lac.at(j) * prev_a;
+            bc[j] = prev_a;
+            prev = pc[j] - lmc.at(j) * prev;
+            kin += prev * prev * ldc.at(j);
+            let off = 0.0 + ksc.at(j) * ul[j];
+            pot += uc[j] * (kdc.at(j) * uc[j] + 2.0 * off);
+            lw += fc[j] * uc[j];
         }
         *self = ForwardEnergy { prev_a, prev, kin, pot, lw };
     }
@@ -480,7 +514,7 @@ impl Col for Same {
 }
 
 /// `Some(x[0])` if every entry of `x` has the bits of `x[0]` (a nonempty `x`).
-fn same_bits(x: &[f64]) -> Option<Same> {
+pub(crate) fn same_bits(x: &[f64]) -> Option<Same> {
     let first = *x.first()?;
     x.iter().all(|v| v.to_bits() == first.to_bits()).then_some(Same(first))
 }
@@ -489,7 +523,7 @@ fn same_bits(x: &[f64]) -> Option<Same> {
 /// tridiagonal matrix `(d, s)` (`s[i] = A[i][i−1]`) and a diagonal `e`, as
 /// [`Same`] when each is one value (bit for bit) on every one of these
 /// rows (`first >= 1`; at least one row).
-fn uniform_interior(d: &[f64], s: &[f64], e: &[f64], first: usize) -> Option<[Same; 4]> {
+pub(crate) fn uniform_interior(d: &[f64], s: &[f64], e: &[f64], first: usize) -> Option<[Same; 4]> {
     let n = d.len();
     if first == 0 || n < first + 2 || s.len() != n || e.len() != n {
         return None;
@@ -543,53 +577,101 @@ impl LumpedTri {
     }
 }
 
-/// `(Vᵀ M V, Uᵀ K W, Σ F_i c (U_i + W_i))` (or `c F_i U_i` with `W = None`)
-/// on tridiagonal `M = (md, ms)` and `K = (kd, ks)` (`ms[i] = M_{i,i−1}`;
-/// `n >= 2`) in one pass: the sums of `SymBand::quad_form` (`V`), of
-/// `SymBand::mul_vec`'s rows dotted with `U` (an iterator sum: from
-/// `−0.0`) — `SymBand::quad_form(U)` instead with `W = None` — and of the
-/// load's iterator sum, each with its own operations in its own order (so
-/// the same bits as the separate calls), their three loop-carried
-/// additions side by side instead of one pass (and a product) after
-/// another. The lumped explicit schemes' energy after every step.
+/// A lumped explicit scheme's energy sums ([`sums`](Self::sums)): `M`'s
+/// diagonal and sub-diagonal beside a [`LumpedTri`]'s `K`, and the rows
+/// `1..n−1`' `(M_{i,i−1}, M_ii, K_{i,i−1}, K_ii, K_{i,i+1})` as [`Same`]
+/// when each is one value there (a uniform mesh).
+pub(crate) struct LumpedEnergy {
+    md: Vec<f64>,
+    ms: Vec<f64>,
+    uniform: Option<[Same; 5]>,
+}
+
+impl LumpedEnergy {
+    /// `Some` when `mass` is tridiagonal (of `lt`'s size).
+    pub(crate) fn new(mass: &signorini_fem::SymBand, lt: &LumpedTri) -> Option<Self> {
+        let n = mass.n();
+        (mass.half_bandwidth() == 1 && n == lt.kd.len()).then(|| {
+            let (md, ms) = (mass.diagonal(0), mass.diagonal(1));
+            let inner = 1..n.max(2) - 1;
+            let uniform = (|| {
+                let ksides = same_bits(&lt.ks[1..])?;
+                Some([same_bits(&ms[inner.clone()])?, same_bits(&md[inner.clone()])?, ksides, same_bits(&lt.kd[inner.clone()])?, ksides])
+            })();
+            LumpedEnergy { md, ms, uniform: uniform.filter(|_| n >= 3) }
+        })
+    }
+
+    /// `(Vᵀ M V, Uᵀ K W, Σ F_i c (U_i + W_i))` (or `c F_i U_i` with `W =
+    /// None`) with `lt`'s `K` (`n >= 2`) in one pass: the sums of
+    /// `SymBand::quad_form` (`V`), of `SymBand::mul_vec`'s rows dotted with
+    /// `U` (an iterator sum: from `−0.0`) — `SymBand::quad_form(U)` instead
+    /// with `W = None` — and of the load's iterator sum, each with its own
+    /// operations in its own order (so the same bits as the separate
+    /// calls), their three loop-carried additions side by side instead of
+    /// one pass (and a product) after another. The lumped explicit schemes'
+    /// energy after every step.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn sums(&self, lt: &LumpedTri, v: &[f64], u: &[f64], w: Option<&[f64]>, load: &[f64], c: f64) -> (f64, f64, f64) {
+        let n = u.len();
+        let (md, ms, kd, ks) = (&self.md[..n], &self.ms[..n], &lt.kd[..n], &lt.ks[..n]);
+        // A uniform mesh's coefficients as scalars (the same values: the same bits).
+        match self.uniform {
+            Some(cols) => energy_sums_lumped(cols, md, ms, kd, ks, v, u, w, load, c),
+            None if n >= 3 => energy_sums_lumped([&ms[1..n - 1], &md[1..n - 1], &ks[1..n - 1], &kd[1..n - 1], &ks[2..n]], md, ms, kd, ks, v, u, w, load, c),
+            None => energy_sums_lumped([Same(0.0); 5], md, ms, kd, ks, v, u, w, load, c),
+        }
+    }
+}
+
+/// [`LumpedEnergy::sums`]: rows 0 and `n − 1` from the slices, the rows
+/// between from the columns `(M_{i,i−1}, M_ii, K_{i,i−1}, K_ii,
+/// K_{i,i+1})` (row `i` at `i − 1`; none when `n = 2`).
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn energy_sums_lumped(md: &[f64], ms: &[f64], kd: &[f64], ks: &[f64], v: &[f64], u: &[f64], w: Option<&[f64]>, load: &[f64], c: f64) -> (f64, f64, f64) {
+#[inline(always)]
+fn energy_sums_lumped<C: Col>([msl, mdc, ksl, kdc, ksr]: [C; 5], md: &[f64], ms: &[f64], kd: &[f64], ks: &[f64], v: &[f64], u: &[f64], w: Option<&[f64]>, load: &[f64], c: f64) -> (f64, f64, f64) {
     let n = u.len();
-    let (md, ms, kd, ks, v, load) = (&md[..n], &ms[..n], &kd[..n], &ks[..n], &v[..n], &load[..n]);
+    let (v, load, l) = (&v[..n], &load[..n], n - 1);
     // `quad_form`'s row i: `off = 0.0 + s_i x_{i−1}` (row 0: 0.0), `x_i (d_i x_i + 2 off)`.
     let quad = |d: &[f64], s: &[f64], x: &[f64], i: usize| {
         let off = if i == 0 { 0.0 } else { 0.0 + s[i] * x[i - 1] };
         x[i] * (d[i] * x[i] + 2.0 * off)
     };
     let (mut kin, mut lw) = (0.0, -0.0);
+    kin += quad(md, ms, v, 0);
+    let (vl, vc) = (&v[..l.saturating_sub(1)], &v[1..l.max(1)]);
     match w {
         Some(w) => {
             let w = &w[..n];
-            let mut pot = -0.0;
             // `mul_vec_tridiag`'s rows.
-            let ku = |i: usize| {
-                if i == 0 {
-                    kd[0] * w[0] + ks[1] * w[1]
-                } else if i == n - 1 {
-                    ks[n - 1] * w[n - 2] + kd[n - 1] * w[n - 1]
-                } else {
-                    ks[i] * w[i - 1] + kd[i] * w[i] + ks[i + 1] * w[i + 1]
-                }
-            };
-            for i in 0..n {
-                kin += quad(md, ms, v, i);
-                pot += u[i] * ku(i);
-                lw += load[i] * c * (u[i] + w[i]);
+            let mut pot = -0.0;
+            pot += u[0] * (kd[0] * w[0] + ks[1] * w[1]);
+            lw += load[0] * c * (u[0] + w[0]);
+            let (wl, wc, wr) = (&w[..l.saturating_sub(1)], &w[1..l.max(1)], &w[2.min(n)..]);
+            let (uc, fc) = (&u[1..l.max(1)], &load[1..l.max(1)]);
+            for j in 0..l.saturating_sub(1) {
+                kin += vc[j] * (mdc.at(j) * vc[j] + 2.0 * (0.0 + msl.at(j) * vl[j]));
+                pot += uc[j] * (ksl.at(j) * wl[j] + kdc.at(j) * wc[j] + ksr.at(j) * wr[j]);
+                lw += fc[j] * c * (uc[j] + wc[j]);
             }
+            kin += quad(md, ms, v, l);
+            pot += u[l] * (ks[l] * w[l - 1] + kd[l] * w[l]);
+            lw += load[l] * c * (u[l] + w[l]);
             (kin, pot, lw)
         }
         None => {
             let mut pot = 0.0;
-            for i in 0..n {
-                kin += quad(md, ms, v, i);
-                pot += quad(kd, ks, u, i);
-                lw += load[i] * u[i];
+            pot += quad(kd, ks, u, 0);
+            lw += load[0] * u[0];
+            let (ul, uc, fc) = (&u[..l.saturating_sub(1)], &u[1..l.max(1)], &load[1..l.max(1)]);
+            for j in 0..l.saturating_sub(1) {
+                kin += vc[j] * (mdc.at(j) * vc[j] + 2.0 * (0.0 + msl.at(j) * vl[j]));
+                pot += uc[j] * (kdc.at(j) * uc[j] + 2.0 * (0.0 + ksl.at(j) * ul[j]));
+                lw += fc[j] * uc[j];
             }
+            kin += quad(md, ms, v, l);
+            pot += quad(kd, ks, u, l);
+            lw += load[l] * u[l];
             (kin, pot, lw)
         }
     }
@@ -768,15 +850,12 @@ fn update_rows(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut 
     }
     let b = if hi == n { n - 1 } else { hi };
     if b > a {
-        let (ul, uc, ur) = (&u[a - 1..b - 1], &u[a..b], &u[a + 1..b + 1]);
-        let (kdc, ksl, ksr, mdc, msl, msr) = (&kd[a..b], &ks[a..b], &ks[a + 1..b + 1], &md[a..b], &ms[a..b], &ms[a + 1..b + 1]);
-        let (fc, pc, rc, bc) = (&f[a..b], &mut mom[a..b], &mut r[a..b], &mut rhs[a..b]);
-        for j in 0..b - a {
-            let rn = fc[j] - (ksl[j] * ul[j] + kdc[j] * uc[j] + ksr[j] * ur[j]);
-            let p = pc[j] + dt * ((1.0 - g) * rc[j] + g * rn);
-            pc[j] = p;
-            rc[j] = rn;
-            bc[j] = msl[j] * ul[j] + mdc[j] * uc[j] + msr[j] * ur[j] + c[0] * p + c[1] * rn + c[2] * fc[j];
+        // The interior's `(K_{i,i−1}, K_ii, K_{i,i+1})`, `(M_{i,i−1}, M_ii,
+        // M_{i,i+1})` from row 1: a uniform mesh's as scalars (the same
+        // values: the same bits), else the slices.
+        match (t.uniform_k, t.uniform_m) {
+            (Some([ksl, kdc, ksr, _]), Some([msl, mdc, msr, _])) => update_interior([ksl, kdc, ksr, msl, mdc, msr], u, f, mom, r, rhs, dt, g, c, a, b),
+            _ => update_interior([&ks[1..n - 1], &kd[1..n - 1], &ks[2..n], &ms[1..n - 1], &md[1..n - 1], &ms[2..n]], u, f, mom, r, rhs, dt, g, c, a, b),
         }
     }
     if hi == n {
@@ -785,6 +864,24 @@ fn update_rows(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut 
         mom[l] += dt * ((1.0 - g) * r[l] + g * rn);
         r[l] = rn;
         rhs[l] = ms[l] * u[l - 1] + md[l] * u[l] + (c[0] * mom[l] + c[1] * r[l] + c[2] * f[l]);
+    }
+}
+
+/// [`update_rows`]' interior rows `a..b` (`1 <= a < b <= n − 1`),
+/// coefficients `(K_{i,i−1}, K_ii, K_{i,i+1}, M_{i,i−1}, M_ii, M_{i,i+1})`
+/// as slices or [`Same`] (row `i` at `i − 1`).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn update_interior<C: Col>(cols: [C; 6], u: &[f64], f: &[f64], mom: &mut [f64], r: &mut [f64], rhs: &mut [f64], dt: f64, g: f64, c: [f64; 3], a: usize, b: usize) {
+    let [ksl, kdc, ksr, msl, mdc, msr] = cols.map(|x| x.from(a - 1));
+    let (ul, uc, ur) = (&u[a - 1..b - 1], &u[a..b], &u[a + 1..b + 1]);
+    let (fc, pc, rc, bc) = (&f[a..b], &mut mom[a..b], &mut r[a..b], &mut rhs[a..b]);
+    for j in 0..b - a {
+        let rn = fc[j] - (ksl.at(j) * ul[j] + kdc.at(j) * uc[j] + ksr.at(j) * ur[j]);
+        let p = pc[j] + dt * ((1.0 - g) * rc[j] + g * rn);
+        pc[j] = p;
+        rc[j] = rn;
+        bc[j] = msl.at(j) * ul[j] + mdc.at(j) * uc[j] + msr.at(j) * ur[j] + c[0] * p + c[1] * rn + c[2] * fc[j];
     }
 }
 
@@ -797,7 +894,7 @@ fn update_rows(t: &Tridiagonals, u: &[f64], f: &[f64], mom: &mut [f64], r: &mut 
 /// dependencies side by side instead of one after another
 /// (`benches/step.rs`, `parts_energy`).
 #[allow(clippy::too_many_arguments)]
-fn energy_sums_tri(l: &[f64], inv_d: &[f64], s: usize, p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
+fn energy_sums_tri(cols: Option<[Same; 5]>, l: &[f64], inv_d: &[f64], s: usize, p: &[f64], kd: &[f64], ks: &[f64], u: &[f64], load: &[f64]) -> (f64, f64, f64) {
     let n = u.len();
     let (p, kd, ks, load) = (&p[..n], &kd[..n], &ks[..n], &load[..n]);
     let (l, inv_d) = (&l[..n - s], &inv_d[..n - s]);
@@ -809,16 +906,43 @@ fn energy_sums_tri(l: &[f64], inv_d: &[f64], s: usize, p: &[f64], kd: &[f64], ks
         lw += load[i] * u[i];
     }
     let mut prev = p[s];
-    let mut kin = prev * prev * inv_d[0];
-    let it = u[s..n - 1].iter().zip(&u[s + 1..]).zip(&kd[s + 1..]).zip(&ks[s + 1..]).zip(&load[s + 1..]);
-    for ((((((ul, ui), di), si), fi), pi), (li, ldi)) in it.zip(&p[s + 1..]).zip(l[1..].iter().zip(&inv_d[1..])) {
-        prev = pi - li * prev;
-        kin += prev * prev * ldi;
-        let off = 0.0 + si * ul;
-        pot += ui * (di * ui + 2.0 * off);
-        lw += fi * ui;
+    let mut acc = [prev * prev * inv_d[0], pot, lw];
+    if n - 1 > s {
+        // Rows s+1..n−1 (a uniform mesh's coefficients as scalars: the same
+        // values, the same bits), then row n−1.
+        match cols {
+            Some([_, lc, dc, kdc, ksc]) => energy_rows_tri([lc, dc, kdc, ksc], p, u, load, s, &mut prev, &mut acc),
+            None => energy_rows_tri([&l[1..n - 1 - s], &inv_d[1..n - 1 - s], &kd[s + 1..n - 1], &ks[s + 1..n - 1]], p, u, load, s, &mut prev, &mut acc),
+        }
+        let i = n - 1;
+        prev = p[i] - l[i - s] * prev;
+        acc[0] += prev * prev * inv_d[i - s];
+        let off = 0.0 + ks[i] * u[i - 1];
+        acc[1] += u[i] * (kd[i] * u[i] + 2.0 * off);
+        acc[2] += load[i] * u[i];
     }
-    (kin, pot, lw)
+    (acc[0], acc[1], acc[2])
+}
+
+/// [`energy_sums_tri`]'s rows `s+1..n−1`, coefficients `(L_M, 1/D_M,
+/// K_ii, K_{i,i−1})` as slices or [`Same`] (row `i` at `i − s − 1`), the
+/// sums `(kin, pot, lw)` and the sweep's value carried.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn energy_rows_tri<C: Col>([lc, dc, kdc, ksc]: [C; 4], p: &[f64], u: &[f64], load: &[f64], s: usize, prev: &mut f64, acc: &mut [f64; 3]) {
+    let n = u.len();
+    let (pc, ul, uc, fc) = (&p[s + 1..n - 1], &u[s..n - 2], &u[s + 1..n - 1], &load[s + 1..n - 1]);
+    let [mut kin, mut pot, mut lw] = *acc;
+    let mut pr = *prev;
+    for j in 0..pc.len() {
+        pr = pc[j] - lc.at(j) * pr;
+        kin += pr * pr * dc.at(j);
+        let off = 0.0 + ksc.at(j) * ul[j];
+        pot += uc[j] * (kdc.at(j) * uc[j] + 2.0 * off);
+        lw += fc[j] * uc[j];
+    }
+    *acc = [kin, pot, lw];
+    *prev = pr;
 }
 
 impl OneStep {
@@ -892,7 +1016,15 @@ impl OneStep {
                 Some(inv_d) => (uniform_interior(&md, &ms, inv_d, 1), uniform_interior(&kd, &ks, inv_d, 1)),
                 None => (None, None),
             };
-            Tridiagonals { md, ms, kd, ks, avx2: avx2_available(), diagonal: inv_d.is_some(), uniform_m, uniform_k }
+            let s = dy.massive_start();
+            let uniform_energy = (|| {
+                let ((l_a, _), (l_m, inv_d_m)) = (a.tridiagonal_factors()?, m_massive.tridiagonal_factors()?);
+                // No rows between the massive start and the last (two dofs, a massless first).
+                (n >= s + 2).then_some(())?;
+                let (rows, block) = (s + 1..n - 1, 1..n - 1 - s);
+                Some([same_bits(&l_a[rows.clone()])?, same_bits(&l_m[block.clone()])?, same_bits(&inv_d_m[block])?, same_bits(&kd[rows.clone()])?, same_bits(&ks[rows])?])
+            })();
+            Tridiagonals { md, ms, kd, ks, avx2: avx2_available(), diagonal: inv_d.is_some(), uniform_m, uniform_k, uniform_energy }
         });
         // Each forcing term's values at n dt, n = 0, 1, …: s(0) now, then one per step.
         let mut loads = Loads::values(&dy, dt);
@@ -1348,7 +1480,7 @@ impl Stepper for OneStep {
         let s = self.dy.massive_start();
         let (kin, pot, load) = match (self.sums, &self.tri, self.m_massive.tridiagonal_factors()) {
             (Some(sums), _, _) => sums,
-            (None, Some(t), Some((l, inv_d))) => energy_sums_tri(l, inv_d, s, &self.mom, &t.kd, &t.ks, &self.u, &self.dy.load),
+            (None, Some(t), Some((l, inv_d))) => energy_sums_tri(t.uniform_energy, l, inv_d, s, &self.mom, &t.kd, &t.ks, &self.u, &self.dy.load),
             _ => (self.m_massive.inverse_quad_form(&self.mom[s..]), self.dy.stiffness.quad_form(&self.u), self.dy.load.iter().zip(&self.u).map(|(f, u)| f * u).sum()),
         };
         let spring = match self.law {

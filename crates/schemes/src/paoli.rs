@@ -46,7 +46,7 @@
 use crate::lanes::avx2_available;
 use crate::loads::{add_terms, Loads};
 use crate::multi::MultiSolve;
-use crate::onestep::{OneStep, OneStepParams};
+use crate::onestep::{same_bits, uniform_interior, with_avx2, Col, OneStep, OneStepParams, Same};
 use crate::stabilized::{neighbours, tridiagonal_forward_dispatch, TriRows};
 use crate::{Bounds, Dynamics, Forcing, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::{Active, Projection};
@@ -673,7 +673,10 @@ impl Release {
 /// `U^{n+1}_i = (M_ii (2U^n_i − U^{n−1}_i) + dt² (F_i − (K U^n)_i)) / M_ii`
 /// with `1/M_ii` the factor's own inverse pivot — the general path's
 /// operations in the same order (its products with the zero off-diagonals
-/// of `M` and of `L` add exact zeros), so the same numbers.
+/// of `M` and of `L` add exact zeros), so the same numbers. On a uniform
+/// mesh the interior rows' coefficients are scalars ([`Same`]: the same
+/// values in the same operations, the same bits), and the pass is
+/// compiled with AVX2 where the CPU has it (no FMA).
 struct ExplicitDiagonal {
     m: Vec<f64>,
     /// The sub-diagonal of `M` (zeros), kept so that the energy's sums are
@@ -682,6 +685,51 @@ struct ExplicitDiagonal {
     k_diag: Vec<f64>,
     k_sub: Vec<f64>,
     inv_d: Vec<f64>,
+    avx2: bool,
+    /// The step's interior rows' `(M_ii, K_{i,i−1}, K_ii, K_{i,i+1},
+    /// 1/D_i)`, `i = 1..n−1`, when each is one value on every such row.
+    uniform: Option<[Same; 5]>,
+    /// The energy's rows `1..n−1`' `(M_ii, M_{i,i−1}, K_ii, K_{i,i−1})`,
+    /// likewise.
+    uniform_energy: Option<[Same; 4]>,
+}
+
+/// The interior rows `1..n−1` of [`ExplicitDiagonal`]'s step, coefficients
+/// `(M_ii, K_{i,i−1}, K_ii, K_{i,i+1}, 1/D_i)` as slices or [`Same`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn explicit_interior<C: Col>([mc, ksl, kdc, ksr, dc]: [C; 5], dt2: f64, u: &[f64], up: &[f64], f: &[f64], out: &mut [f64]) {
+    let n = u.len();
+    let (ul, uc, ur) = (&u[..n - 2], &u[1..n - 1], &u[2..n]);
+    let (pc, fc, oc) = (&up[1..n - 1], &f[1..n - 1], &mut out[1..n - 1]);
+    for j in 0..n - 2 {
+        let ku = (ksl.at(j) * ul[j] + kdc.at(j) * uc[j]) + ksr.at(j) * ur[j];
+        oc[j] = (mc.at(j) * (2.0 * uc[j] - pc[j]) + dt2 * (fc[j] - ku)) * dc.at(j);
+    }
+}
+
+/// The four sums of [`ExplicitDiagonal::energy_sums`] over rows `1..n−1`,
+/// coefficients `(M_ii, M_{i,i−1}, K_ii, K_{i,i−1})` as slices or
+/// [`Same`], carried in `acc` (`kin`, `stiff_v`, `pot`, `load`) with the
+/// previous row's `(V, Ū)` in `prev`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn explicit_energy_rows<C: Col>([mc, msc, kdc, ksc]: [C; 4], dt: f64, u: &[f64], up: &[f64], f: &[f64], acc: &mut [f64; 4], prev: &mut (f64, f64)) {
+    let n = u.len();
+    let [mut kin, mut stiff_v, mut pot, mut load] = *acc;
+    let (mut pv, mut pu) = *prev;
+    let (uc, pc, fc) = (&u[1..n - 1], &up[1..n - 1], &f[1..n - 1]);
+    for j in 0..n - 2 {
+        let v = (uc[j] - pc[j]) / dt;
+        let ub = 0.5 * (uc[j] + pc[j]);
+        kin += v * (mc.at(j) * v + 2.0 * (0.0 + msc.at(j) * pv));
+        stiff_v += v * (kdc.at(j) * v + 2.0 * (0.0 + ksc.at(j) * pv));
+        pot += ub * (kdc.at(j) * ub + 2.0 * (0.0 + ksc.at(j) * pu));
+        load += fc[j] * ub;
+        (pv, pu) = (v, ub);
+    }
+    *acc = [kin, stiff_v, pot, load];
+    *prev = (pv, pu);
 }
 
 impl ExplicitDiagonal {
@@ -698,12 +746,12 @@ impl ExplicitDiagonal {
             && dy.stiffness.half_bandwidth() == 1
             && dy.mass.diagonal(1).iter().all(|x| *x == 0.0);
         let (l, inv_d) = a.tridiagonal_factors()?;
-        (applies && l.iter().all(|x| *x == 0.0)).then(|| ExplicitDiagonal {
-            m: dy.mass.diagonal(0),
-            m_sub: dy.mass.diagonal(1),
-            k_diag: dy.stiffness.diagonal(0),
-            k_sub: dy.stiffness.diagonal(1),
-            inv_d: inv_d.to_vec(),
+        (applies && l.iter().all(|x| *x == 0.0)).then(|| {
+            let (m, m_sub, k_diag, k_sub) = (dy.mass.diagonal(0), dy.mass.diagonal(1), dy.stiffness.diagonal(0), dy.stiffness.diagonal(1));
+            let inner = 1..n - 1;
+            let uniform = uniform_interior(&k_diag, &k_sub, inv_d, 1).and_then(|[sl, d, sr, e]| Some([same_bits(&m[inner.clone()])?, sl, d, sr, e]));
+            let uniform_energy = (|| Some([same_bits(&m[inner.clone()])?, same_bits(&m_sub[inner.clone()])?, same_bits(&k_diag[inner.clone()])?, same_bits(&k_sub[inner.clone()])?]))();
+            ExplicitDiagonal { m, m_sub, k_diag, k_sub, inv_d: inv_d.to_vec(), avx2: avx2_available(), uniform, uniform_energy }
         })
     }
 
@@ -714,35 +762,48 @@ impl ExplicitDiagonal {
         let (up, f, out) = (&up[..n], &f[..n], &mut out[..n]);
         let at = |i: usize, ku: f64| (m[i] * (2.0 * u[i] - up[i]) + dt2 * (f[i] - ku)) * inv_d[i];
         out[0] = at(0, kd[0] * u[0] + ks[1] * u[1]);
-        for i in 1..n - 1 {
-            out[i] = at(i, (ks[i] * u[i - 1] + kd[i] * u[i]) + ks[i + 1] * u[i + 1]);
-        }
         out[n - 1] = at(n - 1, ks[n - 1] * u[n - 2] + kd[n - 1] * u[n - 1]);
+        let e = self;
+        with_avx2!(self.avx2, fn(e: &ExplicitDiagonal, dt2: f64, u: &[f64], up: &[f64], f: &[f64], out: &mut [f64]) -> () {
+            // A uniform mesh's coefficients as scalars (the same values: the same bits).
+            match e.uniform {
+                Some(cols) => explicit_interior(cols, dt2, u, up, f, out),
+                None => {
+                    let n = u.len();
+                    let cols = [&e.m[1..n - 1], &e.k_sub[1..n - 1], &e.k_diag[1..n - 1], &e.k_sub[2..n], &e.inv_d[1..n - 1]];
+                    explicit_interior(cols, dt2, u, up, f, out)
+                }
+            }
+        });
     }
 
     /// The energy's four sums `(VᵀMV, VᵀKV, ŪᵀKŪ, FᵀŪ)` in one pass, each
     /// accumulated in the order of `SymBand::quad_form` and of the dot
-    /// product of the general path (`V = (U^n − U^{n−1})/dt`, `Ū` their mean).
+    /// product of the general path (`V = (U^n − U^{n−1})/dt`, `Ū` their
+    /// mean): row 0, the rows `1..n−1` ([`explicit_energy_rows`]), row `n−1`.
     fn energy_sums(&self, dt: f64, u: &[f64], up: &[f64], f: &[f64]) -> (f64, f64, f64, f64) {
         let n = u.len();
         let (m, ms, kd, ks, up, f) = (&self.m[..n], &self.m_sub[..n], &self.k_diag[..n], &self.k_sub[..n], &up[..n], &f[..n]);
+        let (v, ub) = ((u[0] - up[0]) / dt, 0.5 * (u[0] + up[0]));
         let (mut kin, mut stiff_v, mut pot, mut load) = (0.0, 0.0, 0.0, -0.0);
-        let (mut pv, mut pu) = (0.0, 0.0);
-        for i in 0..n {
-            let v = (u[i] - up[i]) / dt;
-            let ub = 0.5 * (u[i] + up[i]);
-            if i == 0 {
-                kin += v * (m[0] * v + 2.0 * 0.0);
-                stiff_v += v * (kd[0] * v + 2.0 * 0.0);
-                pot += ub * (kd[0] * ub + 2.0 * 0.0);
-            } else {
-                kin += v * (m[i] * v + 2.0 * (0.0 + ms[i] * pv));
-                stiff_v += v * (kd[i] * v + 2.0 * (0.0 + ks[i] * pv));
-                pot += ub * (kd[i] * ub + 2.0 * (0.0 + ks[i] * pu));
-            }
-            load += f[i] * ub;
-            (pv, pu) = (v, ub);
+        kin += v * (m[0] * v + 2.0 * 0.0);
+        stiff_v += v * (kd[0] * v + 2.0 * 0.0);
+        pot += ub * (kd[0] * ub + 2.0 * 0.0);
+        load += f[0] * ub;
+        let mut acc = [kin, stiff_v, pot, load];
+        let mut prev = (v, ub);
+        // A uniform mesh's coefficients as scalars (the same values: the same bits).
+        match self.uniform_energy {
+            Some(cols) => explicit_energy_rows(cols, dt, u, up, f, &mut acc, &mut prev),
+            None => explicit_energy_rows([&m[1..n - 1], &ms[1..n - 1], &kd[1..n - 1], &ks[1..n - 1]], dt, u, up, f, &mut acc, &mut prev),
         }
+        let [mut kin, mut stiff_v, mut pot, mut load] = acc;
+        let ((pv, pu), l) = (prev, n - 1);
+        let (v, ub) = ((u[l] - up[l]) / dt, 0.5 * (u[l] + up[l]));
+        kin += v * (m[l] * v + 2.0 * (0.0 + ms[l] * pv));
+        stiff_v += v * (kd[l] * v + 2.0 * (0.0 + ks[l] * pv));
+        pot += ub * (kd[l] * ub + 2.0 * (0.0 + ks[l] * pu));
+        load += f[l] * ub;
         (kin, stiff_v, pot, load)
     }
 }

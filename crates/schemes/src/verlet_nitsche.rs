@@ -32,7 +32,7 @@
 //! `κ_max` of the two phases (θ ≠ 1 needs the lumped mass).
 
 use crate::nitsche::NitscheTerms;
-use crate::onestep::{energy_sums_lumped, not_plain, with_avx2, Col, LumpedTri};
+use crate::onestep::{not_plain, with_avx2, Col, LumpedEnergy, LumpedTri};
 use crate::{Dynamics, Initial, SchemeError, StepReport, Stepper};
 use signorini_contact::Active;
 use signorini_fem::{BandLdlt, SymBand};
@@ -61,9 +61,8 @@ pub struct VerletNitsche {
     /// A lumped mass: `K_N` and `M`'s inverse pivots for the step's fused
     /// end ([`end_pass`]).
     lumped: Option<LumpedTri>,
-    /// With `lumped`: `M`'s diagonal and sub-diagonal (the energy's sums in
-    /// one pass, [`energy_sums_lumped`]).
-    mass_tri: Option<(Vec<f64>, Vec<f64>)>,
+    /// With `lumped`: the energy's sums in one pass.
+    mass_tri: Option<LumpedEnergy>,
 }
 
 /// The end of the step on a lumped mass in one vectorised pass: per row
@@ -196,7 +195,7 @@ impl VerletNitsche {
             force: 0.0,
             lams: [0.0],
             acts: [Active::None],
-            mass_tri: (lumped.is_some() && dy.mass.half_bandwidth() == 1).then(|| (dy.mass.diagonal(0), dy.mass.diagonal(1))),
+            mass_tri: lumped.as_ref().and_then(|lt| LumpedEnergy::new(&dy.mass, lt)),
             lumped,
             dy,
         };
@@ -290,9 +289,9 @@ impl Stepper for VerletNitsche {
 
     /// `½ VⁿᵀM Vⁿ + ½ UⁿᵀK_N Uⁿ − F(t_n)ᵀUⁿ` at `t_n`.
     fn energy(&mut self) -> Option<(f64, f64)> {
-        let (kin, pot, load) = if let (Some(lt), Some((md, ms))) = (&self.lumped, &self.mass_tri) {
+        let (kin, pot, load) = if let (Some(lt), Some(me)) = (&self.lumped, &self.mass_tri) {
             // The three sums in one pass, the same bits (`lt` holds `K_N`'s diagonals).
-            energy_sums_lumped(md, ms, &lt.kd, &lt.ks, &self.v, &self.u, None, &self.f, 1.0)
+            me.sums(lt, &self.v, &self.u, None, &self.f, 1.0)
         } else {
             let kin = self.dy.mass.quad_form(&self.v);
             let pot = self.k_n.quad_form(&self.u);

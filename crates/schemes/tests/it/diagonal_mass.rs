@@ -66,9 +66,12 @@ fn chain(rng: &mut SplitMix64, n: usize, two: bool, two_sided: bool) -> (Dynamic
 }
 
 /// One run of `spec` on `(dy, init)`, 80 steps (a random state set at
-/// step 40 where offered), folded into `h`.
-fn fold(h: &mut Fnv, rng: &mut SplitMix64, spec: &SchemeSpec, dy: Dynamics, init: &Initial, dt: f64) {
+/// step 40 where offered), folded into `h`; `fuse`: the energy asked for
+/// after every step ([`signorini_schemes::Stepper::fuse_energy`], as
+/// `signorini run` does).
+fn fold(h: &mut Fnv, rng: &mut SplitMix64, spec: &SchemeSpec, dy: Dynamics, init: &Initial, dt: f64, fuse: bool) {
     let mut s = spec.build(dy, dt, init).unwrap_or_else(|e| panic!("{spec}: {e}"));
+    s.fuse_energy(fuse);
     for step in 0..80 {
         if step == 40 {
             if let Some(st) = s.state() {
@@ -111,8 +114,9 @@ fn fold(h: &mut Fnv, rng: &mut SplitMix64, spec: &SchemeSpec, dy: Dynamics, init
 /// each variant, each size, with one contact and, but for the one-contact
 /// schemes, two; two-sided stops on the odd cases but for Verlet–Nitsche's
 /// one-sided one), its steps folded into one hash ([`fold`]) compared with
-/// the old code's (`SIGNORINI_PRINT_HASHES` prints them).
-fn against_old_hashes<V: Copy>(expected: &[(&str, u64)], seed: u64, variants: &[V], sizes: &[usize], make: impl Fn(&mut SplitMix64, usize, bool, bool, V) -> (Dynamics, Initial)) {
+/// the old code's (`SIGNORINI_PRINT_HASHES` prints them); `fuse` as
+/// [`fold`]'s.
+fn against_old_hashes<V: Copy>(expected: &[(&str, u64)], seed: u64, fuse: bool, variants: &[V], sizes: &[usize], make: impl Fn(&mut SplitMix64, usize, bool, bool, V) -> (Dynamics, Initial)) {
     let print = std::env::var_os("SIGNORINI_PRINT_HASHES").is_some();
     let mut wrong = Vec::new();
     for &(name, expected) in expected {
@@ -129,7 +133,7 @@ fn against_old_hashes<V: Copy>(expected: &[(&str, u64)], seed: u64, variants: &[
                     // Verlet–Nitsche takes a one-sided stop.
                     let two_sided = case % 2 == 1 && !name.starts_with("verlet-nitsche");
                     let (dy, init) = make(&mut rng, n, two, two_sided, variant);
-                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05);
+                    fold(&mut h, &mut rng, &spec, dy, &init, 0.05, fuse);
                 }
             }
         }
@@ -155,7 +159,7 @@ const EXPECTED: [(&str, u64); 6] = [
 
 #[test]
 fn explicit_schemes_on_a_lumped_mass_are_the_old_code_bit_for_bit() {
-    against_old_hashes(&EXPECTED, 35, &[()], &[2, 3, 5, 17, 64, 100], |rng, n, two, two_sided, ()| chain(rng, n, two, two_sided));
+    against_old_hashes(&EXPECTED, 35, false, &[()], &[2, 3, 5, 17, 64, 100], |rng, n, two, two_sided, ()| chain(rng, n, two, two_sided));
 }
 
 /// A chain as [`chain`]'s without forcing (the explicit schemes' fused
@@ -203,7 +207,7 @@ const EXPECTED_UNFORCED: [(&str, u64); 7] = [
 /// of the code before them.
 #[test]
 fn explicit_schemes_unforced_and_from_rest_are_the_old_code_bit_for_bit() {
-    against_old_hashes(&EXPECTED_UNFORCED, 36, &[false, true], &[2, 3, 4, 5, 17, 64, 100], chain_unforced);
+    against_old_hashes(&EXPECTED_UNFORCED, 36, false, &[false, true], &[2, 3, 4, 5, 17, 64, 100], chain_unforced);
 }
 
 /// A chain as [`chain`]'s whose interior is uniform: one mass on every
@@ -238,9 +242,13 @@ fn chain_uniform(rng: &mut SplitMix64, n: usize, two: bool, two_sided: bool, for
     (dy, Initial { u, v })
 }
 
-/// The old code's hashes (commit 904d0a4, before the uniform columns) of
-/// the runs of [`explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit`].
-const EXPECTED_UNIFORM: [(&str, u64); 7] = [
+/// The old code's hashes of the runs of
+/// [`explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit`]:
+/// commit 904d0a4 (before the uniform columns) for the first seven; the
+/// central difference's three (`paoli.rs`' explicit step, a uniform
+/// chain with one contact and no forcing) printed by this test at commit
+/// 3877503, before its uniform columns.
+const EXPECTED_UNIFORM: [(&str, u64); 10] = [
     ("cd-lagrange(0)", 0xd9cc59afc43252cf),
     ("cd-lagrange(0.7)", 0x7997608b3a69b0ff),
     ("d1-minus-linear(0)", 0x537bab40d8a41bda),
@@ -248,6 +256,9 @@ const EXPECTED_UNIFORM: [(&str, u64); 7] = [
     ("d1-minus-linear-velocity(0.5)", 0x87b36022100e7744),
     ("verlet-nitsche(10,1)", 0xe2879cb064b47835),
     ("penalty-cd", 0x87cf654fed963720),
+    ("taylor-flanagan", 0x2358cf6eb09c416e),
+    ("cd-taylor", 0x7a08ebc8efbfd6b4),
+    ("ps(0.5,0)", 0x8a1e7412d850114d),
 ];
 
 /// The explicit schemes on uniform chains ([`chain_uniform`]: the passes'
@@ -257,5 +268,21 @@ const EXPECTED_UNIFORM: [(&str, u64); 7] = [
 #[test]
 fn explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit() {
     let variants = [(true, false), (false, false), (false, true)];
-    against_old_hashes(&EXPECTED_UNIFORM, 37, &variants, &[2, 3, 4, 5, 17, 64, 100], |rng, n, two, two_sided, (forced, rest)| chain_uniform(rng, n, two, two_sided, forced, rest));
+    against_old_hashes(&EXPECTED_UNIFORM, 37, false, &variants, &[2, 3, 4, 5, 17, 64, 100], |rng, n, two, two_sided, (forced, rest)| chain_uniform(rng, n, two, two_sided, forced, rest));
+}
+
+/// The old code's hashes (commit 3877503, before the uniform energy
+/// passes; printed by this test there) of the runs of
+/// [`explicit_schemes_with_the_energy_fused_are_the_old_code_bit_for_bit`]:
+/// the same as without the fusion ([`EXPECTED_UNIFORM`]'s, commit 904d0a4).
+const EXPECTED_UNIFORM_FUSED: [(&str, u64); 1] = [("penalty-cd", 0x87cf654fed963720)];
+
+/// [`explicit_schemes_on_a_uniform_chain_are_the_old_code_bit_for_bit`]
+/// with the energy asked for after every step (`fuse_energy`, as
+/// `signorini run` asks): `penalty-cd`'s fused end of a step (the next
+/// step's right-hand side, its forward sweep and the energy's sums).
+#[test]
+fn explicit_schemes_with_the_energy_fused_are_the_old_code_bit_for_bit() {
+    let variants = [(true, false), (false, false), (false, true)];
+    against_old_hashes(&EXPECTED_UNIFORM_FUSED, 37, true, &variants, &[2, 3, 4, 5, 17, 64, 100], |rng, n, two, two_sided, (forced, rest)| chain_uniform(rng, n, two, two_sided, forced, rest));
 }
