@@ -145,17 +145,13 @@ fn chain(n: usize, free: bool) -> Dynamics {
 }
 
 fn check(dy: &Dynamics, t0: f64, tau: f64, tol: f64) {
-    let n = dy.n();
-    let q0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
-    let v0: Vec<f64> = (0..n).map(|i| 0.2 * (2.0 * i as f64 + 0.5).cos()).collect();
-    let flow = ModalFlow::new(dy).unwrap();
-    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-    flow.advance(t0, &q0, &v0, tau, &mut q, &mut v);
-    let (qr, vr) = reference(dy, t0, &q0, &v0, tau);
-    let scale = qr.iter().chain(&vr).fold(1.0f64, |a, x| a.max(x.abs()));
-    for (a, b) in q.iter().zip(&qr).chain(v.iter().zip(&vr)) {
-        assert!((a - b).abs() <= tol * scale, "t0 = {t0}, τ = {tau}: {a} against {b} (scale {scale})\nq {q:?}\nqr {qr:?}");
-    }
+    let err = flow_error(dy, t0, tau);
+    assert!(err <= tol, "t0 = {t0}, τ = {tau}: the flow {err:e} of the state's scale from the reference");
+}
+
+/// [`scaled_error`] of the problem's own flow.
+pub(crate) fn flow_error(dy: &Dynamics, t0: f64, tau: f64) -> f64 {
+    scaled_error(&ModalFlow::new(dy).unwrap(), dy, t0, tau)
 }
 
 /// The flow's largest error against [`reference`] over `τ` from `t0`, over

@@ -9,24 +9,10 @@
 //! against the exponential.
 
 use crate::events_common as common;
-use crate::events_flow::reference;
+use crate::events_flow::{flow_error, reference};
 use signorini_fem::SymBand;
 use signorini_schemes::events::{EventDriven, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
-
-/// The flow's largest error against [`reference`] over `τ` from `t0`, over
-/// the state's scale (at least 1).
-fn flow_error(dy: &Dynamics, t0: f64, tau: f64) -> f64 {
-    let n = dy.n();
-    let q0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
-    let v0: Vec<f64> = (0..n).map(|i| 0.2 * (2.0 * i as f64 + 0.5).cos()).collect();
-    let flow = ModalFlow::new(dy).unwrap();
-    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
-    flow.advance(t0, &q0, &v0, tau, &mut q, &mut v);
-    let (qr, vr) = reference(dy, t0, &q0, &v0, tau);
-    let scale = qr.iter().chain(&vr).fold(1.0f64, |a, x| a.max(x.abs()));
-    q.iter().zip(&qr).chain(v.iter().zip(&vr)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale
-}
 
 /// A run's impacts replayed on the exponential: each flight from the
 /// oracle's own state by [`reference`], Newton's law applied here. Returns
