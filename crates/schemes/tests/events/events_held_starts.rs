@@ -15,31 +15,13 @@ use crate::events_common as common;
 
 use proptest::prelude::*;
 use signorini_fem::SymBand;
-use signorini_schemes::events::{EventDriven, EventKind, EventRecord};
+use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::Arc;
 
 fn sine(amplitude: f64, omega: f64, phase: f64) -> TimeProfile {
     TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude, omega, phase }]))
-}
-
-/// Every event after the one before it in time, no event of a contact at
-/// the instant of its own release (the livelock's signature), and no impact
-/// row without speed and impulse (a landing at rest is no impact).
-fn check_order(events: &[EventRecord]) -> Result<(), String> {
-    if let Some(e) = events.iter().find(|e| e.kind == EventKind::Impact && e.velocity_before == 0.0 && e.impulse == 0.0) {
-        return Err(format!("an impact row without speed or impulse: {e:?}"));
-    }
-    for w in events.windows(2) {
-        if w[1].t < w[0].t {
-            return Err(format!("out of time order: {:?} then {:?}", w[0], w[1]));
-        }
-        if w[0].kind == EventKind::Release && w[1].t == w[0].t && w[1].contact == w[0].contact {
-            return Err(format!("an event at the instant of its own release: {:?} then {:?}", w[0], w[1]));
-        }
-    }
-    Ok(())
 }
 
 /// `x'' + x = cos t` from `(x, x') = (x0, v0)` at `t0`: the resonant closed form.
@@ -67,7 +49,7 @@ fn a_held_plastic_oscillator_is_released_once_per_forcing_period() {
     let periods = 15;
     r.run_until(periods as f64 * TAU, 1000).expect("completes");
     let ev = r.events();
-    check_order(ev).unwrap();
+    common::check_order(ev).unwrap();
     assert_eq!(ev.len(), 2 * periods, "{ev:?}");
     let t_r = 0.2f64.acos();
     // The flight after a release at t_r: x(t) = 0.2 again at the landing.
@@ -128,7 +110,7 @@ fn held_bars_under_minus_sin_t_are_released_at_pi() {
                 let mut r = EventDriven::new(&dy, 0.0, &vec![0.0; n], &vec![0.0; n], 0.0).expect("starts");
                 r.run_until(20.0, 10_000).unwrap_or_else(|e| panic!("n = {n}, free = {free}, lumped = {lumped}: {e}"));
                 let ev = r.events();
-                check_order(ev).unwrap_or_else(|e| panic!("n = {n}, free = {free}, lumped = {lumped}: {e}"));
+                common::check_order(ev).unwrap_or_else(|e| panic!("n = {n}, free = {free}, lumped = {lumped}: {e}"));
                 assert_eq!(ev[0].kind, EventKind::Release);
                 assert!((ev[0].t - PI).abs() <= 4.0 * f64::EPSILON * PI, "released at {}", ev[0].t);
             }
@@ -154,7 +136,7 @@ proptest! {
         let t_end = 3.0 * TAU / omega;
         r.run_until(t_end, 100_000).map_err(|e| TestCaseError::fail(e.to_string()))?;
         let ev = r.events();
-        check_order(ev).map_err(TestCaseError::fail)?;
+        common::check_order(ev).map_err(TestCaseError::fail)?;
         let t_r = (PI - phase) / omega;
         prop_assert_eq!(ev[0].kind, EventKind::Release);
         prop_assert!((ev[0].t - t_r).abs() <= 1e-12 * t_r.max(1.0), "released at {} against {}", ev[0].t, t_r);
@@ -171,7 +153,7 @@ proptest! {
             .with_damping((zeta > 0.0).then(|| SymBand::from_diagonal(&[2.0 * zeta])));
         let mut r = EventDriven::new(&dy, 0.0, &[0.0], &[0.0], 0.0).expect("starts");
         r.run_until(30.0 * TAU / omega, 100_000).map_err(|e| TestCaseError::fail(e.to_string()))?;
-        check_order(r.events()).map_err(TestCaseError::fail)?;
+        common::check_order(r.events()).map_err(TestCaseError::fail)?;
     }
 }
 
@@ -201,7 +183,7 @@ fn held_starts_under_loads_tangent_to_zero_press_or_leave_as_the_closed_form() {
             assert!((q[0] - qx).abs() <= 1e-13 && (v[0] - vx).abs() <= 1e-13, "f = {sign} (1 − cos t), e = {e}, t = {t}: ({}, {}) against ({qx}, {vx})", q[0], v[0]);
         }
         let ev = r.events();
-        check_order(ev).unwrap();
+        common::check_order(ev).unwrap();
         if sign > 0.0 {
             // Released at 0; one impact, at 2π, at the speed −π.
             assert!(ev.iter().all(|x| x.kind == EventKind::Release && (x.t == 0.0 || (x.t - TAU).abs() <= 1e-14) || x.kind == EventKind::Impact), "{ev:?}");

@@ -12,8 +12,9 @@
 //! rebounding `v₀²/2` every `2v₀` (`e = 1`), its flights shrinking by `e`
 //! to `τ∞ = 2v₀/(1 − e)`.
 
+use crate::events_common as common;
 use signorini_fem::SymBand;
-use signorini_schemes::events::{EventDriven, EventKind, EventRecord};
+use signorini_schemes::events::{EventDriven, EventKind};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, Harmonic, TimeProfile};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::Arc;
@@ -33,10 +34,6 @@ fn band(n: usize, entries: &[(usize, usize, f64)]) -> SymBand {
 /// The search's time resolution at `t` (docs/theory.md §9.2).
 fn resolution(t: f64) -> f64 {
     (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0))
-}
-
-fn in_order(ev: &[EventRecord]) {
-    assert!(ev.windows(2).all(|w| w[0].t <= w[1].t), "out of time order: {ev:?}");
 }
 
 fn touch(delta: f64) -> Dynamics {
@@ -154,7 +151,7 @@ fn two_contacts_released_at_one_instant_leave_together() {
         assert!(q.iter().all(|q| (q - x).abs() <= 1e-13) && v.iter().all(|v| (v - dx).abs() <= 1e-13), "e = {e} at 6: {q:?} {v:?} against ({x}, {dx})");
         r.run_until(4.0 * PI, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
         let ev = r.events();
-        in_order(ev);
+        common::check_order(ev).unwrap();
         // Rows in pairs at one time, both contacts named.
         assert!(ev.len() % 2 == 0 && ev.chunks(2).all(|p| p[0].t == p[1].t && p[0].kind == p[1].kind && p[0].contact + p[1].contact == 1), "e = {e}: {ev:?}");
         assert!(ev[..2].iter().all(|r| r.kind == EventKind::Release && (r.t - FRAC_PI_2).abs() <= 4.0 * resolution(FRAC_PI_2)), "e = {e}: {ev:?}");
@@ -183,7 +180,7 @@ fn releases_a_hair_apart_keep_their_times_and_order() {
         let mut r = EventDriven::new(&twins(phi), 0.0, &[0.0; 2], &[0.0; 2], 0.0).expect("starts");
         r.run_until(4.0 * PI, 100).unwrap_or_else(|err| panic!("φ = {phi}: {err}"));
         let ev = r.events();
-        in_order(ev);
+        common::check_order(ev).unwrap();
         let tol = 4.0 * resolution(FRAC_PI_2);
         for c in 0..2 {
             let t_c = FRAC_PI_2 - if c == 1 { phi } else { 0.0 };
@@ -206,7 +203,7 @@ fn a_chain_released_at_both_ends_by_symmetry_stays_symmetric() {
         let mut r = EventDriven::new(&dy, 0.0, &[0.0; 3], &[0.0; 3], e).expect("starts");
         r.run_until(4.0 * PI, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
         let ev = r.events();
-        in_order(ev);
+        common::check_order(ev).unwrap();
         assert!(ev.len() >= 2 && ev[0].t == ev[1].t && ev[0].contact + ev[1].contact == 1, "e = {e}: {ev:?}");
         assert!(ev[..2].iter().all(|r| r.kind == EventKind::Release && (r.t - FRAC_PI_2).abs() <= 4.0 * resolution(FRAC_PI_2)), "e = {e}: {ev:?}");
         let (_, q, v) = r.state();
@@ -236,7 +233,7 @@ fn a_free_mass_pushed_onto_its_stop_rebounds_as_the_closed_form() {
             let end = if e == 1.0 && resolved { t1 + 40.5 * 2.0 * w } else { 1e-4 };
             r.run_until(end, 1000).unwrap_or_else(|err| panic!("e = {e}, v₀ = {v0}: {err}"));
             let ev = r.events();
-            in_order(ev);
+            common::check_order(ev).unwrap();
             let (_, q, v) = r.state();
             let case = format!("e = {e}, v₀ = {v0}: {:?}", &ev[..ev.len().min(4)]);
             if v0 == 0.0 {

@@ -1,7 +1,8 @@
 //! Shared by the event tests: the chain of masses they run, and the
-//! oracles' dense inverse.
+//! oracles' dense inverse and the order every event record keeps.
 
 use signorini_fem::SymBand;
+use signorini_schemes::events::{EventKind, EventRecord};
 
 /// `(M, K)` of `n` masses in a chain: a P1-like consistent mass, unit
 /// springs, tied to a wall at the far end unless `free` (then both ends
@@ -141,4 +142,23 @@ pub fn cut_chain_matrices(n: usize, cuts: &[usize]) -> (SymBand, SymBand) {
         }
     }
     (m, k)
+}
+
+/// Every event after the one before it in time, no event of a contact at
+/// the instant of its own release (the livelock's signature), and no impact
+/// row without speed and impulse (a landing at rest is no impact).
+#[allow(dead_code)]
+pub fn check_order(events: &[EventRecord]) -> Result<(), String> {
+    if let Some(e) = events.iter().find(|e| e.kind == EventKind::Impact && e.velocity_before == 0.0 && e.impulse == 0.0) {
+        return Err(format!("an impact row without speed or impulse: {e:?}"));
+    }
+    for w in events.windows(2) {
+        if w[1].t < w[0].t {
+            return Err(format!("out of time order: {:?} then {:?}", w[0], w[1]));
+        }
+        if w[0].kind == EventKind::Release && w[1].t == w[0].t && w[1].contact == w[0].contact {
+            return Err(format!("an event at the instant of its own release: {:?} then {:?}", w[0], w[1]));
+        }
+    }
+    Ok(())
 }
