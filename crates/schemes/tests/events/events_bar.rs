@@ -53,7 +53,7 @@ enum Scene {
     Dirichlet,
     /// `bar-harmonic-load`: free, `u(0) >= 0`, `u0 = 0.05`, `v0 = 0`, at
     /// node `m` the scene's harmonics with their sign reversed (the scene's
-    /// own pull the bar off its stop: no impact in its 40 s).
+    /// own pulls the bar off its stop: no impact in its 40 s).
     Harmonic,
     /// `bar-two-walls`: free, `u(0) >= −0.02`, `u(1) <= 0`, `v0 = −0.5`.
     TwoWalls,
