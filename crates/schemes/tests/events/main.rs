@@ -8,6 +8,7 @@
 #[path = "../events_common/mod.rs"]
 mod events_common;
 
+mod events_bar;
 mod events_chatter;
 mod events_dashpot;
 mod events_dashpot_chatter;
