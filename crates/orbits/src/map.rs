@@ -639,8 +639,8 @@ impl Model {
 
     /// The derivative of the map `x0 → x(t0 + τ)` in the parameter of
     /// `st` at fixed `x0`, `s(t0 + τ)` with `s = ∂x/∂λ`, from this model's
-    /// exact run (`self` is the model at `λ`): within each phase `s' = A s
-    /// + ∂F/∂λ`, carried by the phase's transition and its own term
+    /// exact run (`self` is the model at `λ`): within each phase
+    /// `s' = A s + ∂F/∂λ`, carried by the phase's transition and its own term
     /// ([`Model::phase_term`]); at each impact the saltation and the
     /// impact's own term; the horizon's `f(x(T)) dT/dλ` (docs/theory.md
     /// §12.2). Exact to the stencil's differences of smooth data (no
