@@ -392,11 +392,11 @@ impl<F: Family> Ctx<'_, F> {
     /// ([`Model::param_sensitivity`]), its data's derivatives by the
     /// central difference of step 1e-5 Λ (one-sided of second order,
     /// `(−3g(λ) + 4g(λ ± h) − g(λ ± 2h))/(±2h)`, where `λ ∓ h` is no valid
-    /// scene: a restitution of 1); otherwise, and on a model with massless
-    /// contact dofs, [`Ctx::param_difference`]. It steers Newton and the
-    /// tangent only; the points themselves solve G = 0 to the tolerance.
+    /// scene: a restitution of 1); otherwise [`Ctx::param_difference`].
+    /// It steers Newton and the tangent only; the points themselves solve
+    /// G = 0 to the tolerance.
     fn param_derivative(&self, lin: &mut Linearised, x: &[f64], param: f64, exact: bool) -> Result<(), OrbitError> {
-        if !exact || lin.model.massless() {
+        if !exact {
             return self.param_difference(lin, x, param);
         }
         let h = 1e-5 * self.ls;

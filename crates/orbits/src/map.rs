@@ -2,6 +2,7 @@
 
 use crate::variational::{Core, Linear};
 use crate::OrbitError;
+use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use signorini_schemes::events::{EventDriven, EventKind, EventRecord, FlowBases, ModalFlow, Reached, MAX_EVENTS};
 use signorini_schemes::Dynamics;
@@ -192,11 +193,6 @@ impl Model {
     pub fn with_interrupt(mut self, poll: Option<signorini_schemes::Interrupt>) -> Self {
         self.interrupt = poll;
         self
-    }
-
-    /// Whether a contact dof is massless (condensed: not in the state).
-    pub(crate) fn massless(&self) -> bool {
-        self.lin.massless()
     }
 
     /// The restitution of every contact without its own.
@@ -643,17 +639,15 @@ impl Model {
 
     /// The derivative of the map `x0 → x(t0 + τ)` in the parameter of
     /// `st` at fixed `x0`, `s(t0 + τ)` with `s = ∂x/∂λ`, from this model's
-    /// exact run (`self` is the model at `λ`): within each phase `s' = A s
-    /// + ∂F/∂λ`, carried by the phase's transition and its own term
+    /// exact run (`self` is the model at `λ`): within each phase
+    /// `s' = A s + ∂F/∂λ`, carried by the phase's transition and its own term
     /// ([`Model::phase_term`]); at each impact the saltation and the
     /// impact's own term; the horizon's `f(x(T)) dT/dλ` (docs/theory.md
     /// §12.2). Exact to the stencil's differences of smooth data (no
-    /// event crosses them). Massive models (a massless contact dof's
-    /// condensed flow has no [`ModalFlow`]: [`OrbitError::Model`]).
+    /// event crosses them). With massless contact dofs each phase's flow
+    /// is the condensed one ([`Model::phase_flow`]) and no event adds a
+    /// term (the vector field is continuous at a landing and a lift-off).
     pub(crate) fn param_sensitivity(&self, t0: f64, x0: &[f64], tau: f64, st: &Stencil) -> Result<Vec<f64>, OrbitError> {
-        if self.lin.massless() {
-            return Err(OrbitError::Model("the parameter's sensitivity takes a model whose dofs all have mass".into()));
-        }
         let mut s = Vec::new();
         self.flow_from(t0, x0, tau, false, usize::MAX, &[], &mut Vec::new(), Some((st, &mut s)))?;
         Ok(s)
@@ -724,29 +718,53 @@ impl Model {
     }
 
     /// The flow of the free dofs with the contacts `held` on their bounds:
-    /// `M_ff q_f'' + C_ff q_f' + K_ff q_f = F_f − K_fh b_h` (a held dof
-    /// rests).
+    /// `M_ff q_f'' + C_ff q_f' + K_eff q_f = F_eff`, a held dof at rest,
+    /// the massless dofs not held statically condensed (`K_SS q_S = F_S −
+    /// K_Sf q_f − K_Sh b_h`): `K_eff = K_ff − K_fS K_SS⁻¹ K_Sf` and `F_eff`
+    /// the load `F − K_·h b_h` condensed the same way (`y_f − K_fS K_SS⁻¹
+    /// y_S`), as the run's own phase (docs/theory.md §9.3).
     fn phase_flow(&self, held: &[(usize, bool)]) -> Result<PhaseFlow, OrbitError> {
         let dy = &self.dy;
         let n = dy.mass.n();
         let fixed: Vec<(usize, f64)> = held.iter().map(|&(j, upper)| (dy.contacts[j].dof, self.bound(j, upper))).collect();
-        let free: Vec<usize> = (0..n).filter(|d| !fixed.iter().any(|f| f.0 == *d)).collect();
+        let is_fixed = |d: usize| fixed.iter().any(|f| f.0 == d);
+        let mut cond: Vec<usize> = dy.contacts.iter().filter(|c| c.massless && !is_fixed(c.dof)).map(|c| c.dof).collect();
+        cond.sort_unstable();
+        cond.dedup();
+        let free: Vec<usize> = (0..n).filter(|&d| !is_fixed(d) && cond.binary_search(&d).is_err()).collect();
         let flow = if free.is_empty() {
             None
         } else {
-            let sub = |b: &signorini_fem::SymBand| {
-                let p = b.half_bandwidth();
-                let mut out = signorini_fem::SymBand::zeros(free.len(), p);
-                for (a, &i) in free.iter().enumerate() {
-                    for (c, &j) in free.iter().enumerate().skip(a.saturating_sub(p)).take(a + 1 - a.saturating_sub(p)) {
-                        out.set(a, c, b.get(i, j));
+            let (nf, ns) = (free.len(), cond.len());
+            let k = |i: usize, j: usize| dy.stiffness.get(i, j);
+            // K_fS K_SS⁻¹.
+            let kfs_g = if ns == 0 {
+                Mat::zeros(nf, 0)
+            } else {
+                let kss = Mat::from_fn(ns, ns, |a, b| k(cond[a], cond[b]));
+                let g = kss.llt(faer::Side::Lower).map_err(|_| OrbitError::Model("the stiffness block of the massless contact dofs is not positive definite".into()))?.inverse();
+                Mat::from_fn(nf, ns, |r, j| (0..ns).map(|s| k(free[r], cond[s]) * g[(s, j)]).sum::<f64>())
+            };
+            let condense = |y: &[f64]| -> Vec<f64> { (0..nf).map(|r| y[free[r]] - (0..ns).map(|j| kfs_g[(r, j)] * y[cond[j]]).sum::<f64>()).collect() };
+            let keff = |a: usize, c: usize| {
+                let s = |a: usize, c: usize| k(free[a], free[c]) - (0..ns).map(|j| kfs_g[(a, j)] * k(cond[j], free[c])).sum::<f64>();
+                0.5 * (s(a, c) + s(c, a))
+            };
+            let band = |p: usize, at: &dyn Fn(usize, usize) -> f64| {
+                let mut out = signorini_fem::SymBand::zeros(nf, p);
+                for a in 0..nf {
+                    for c in a.saturating_sub(p)..=a {
+                        out.set(a, c, at(a, c));
                     }
                 }
                 out
             };
-            let load = free.iter().map(|&i| dy.load[i] - fixed.iter().map(|&(d, b)| dy.stiffness.get(i, d) * b).sum::<f64>()).collect();
-            let forcing = dy.forcing.iter().map(|f| signorini_schemes::Forcing { shape: free.iter().map(|&i| f.shape[i]).collect(), time: f.time.clone() }).collect();
-            let sub_dy = Dynamics::new(sub(&dy.mass), sub(&dy.stiffness), load, Vec::new()).with_forcing(forcing).with_damping(dy.damping.as_ref().map(sub));
+            let sub = |b: &signorini_fem::SymBand| band(b.half_bandwidth(), &|a, c| b.get(free[a], free[c]));
+            // The condensation fills the free dofs' stiffness.
+            let stiffness = band(if ns == 0 { dy.stiffness.half_bandwidth() } else { nf - 1 }, &keff);
+            let y: Vec<f64> = (0..n).map(|i| dy.load[i] - fixed.iter().map(|&(d, b)| k(i, d) * b).sum::<f64>()).collect();
+            let forcing = dy.forcing.iter().map(|f| signorini_schemes::Forcing { shape: condense(&f.shape), time: f.time.clone() }).collect();
+            let sub_dy = Dynamics::new(sub(&dy.mass), stiffness, condense(&y), Vec::new()).with_forcing(forcing).with_damping(dy.damping.as_ref().map(sub));
             Some(ModalFlow::new(&sub_dy)?)
         };
         Ok(PhaseFlow { held: held.to_vec(), free, fixed, flow })

@@ -66,7 +66,7 @@ fn check(scene: &str, path: &str, transient_periods: f64, tol: f64, steps: &[f64
 /// Perturbations (of the state's scale) tried in turn.
 const MILD: &[f64] = &[1e-7, 1e-8, 1e-9];
 
-const BAR: &str = r#"
+pub(crate) const BAR: &str = r#"
 [bar]
 length = 1.0
 wave_speed = 1.0
