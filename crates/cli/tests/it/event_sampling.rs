@@ -12,10 +12,18 @@ use signorini_run::{Observer, RunConfig, RunError, Sample};
 use std::path::Path;
 use std::process::Command;
 
-/// Every level as the observers see it, in bits: `t`, `u`, the energy,
-/// the forces and the statuses.
+/// A level as the observers see it, in bits.
+struct Level {
+    t: u64,
+    u: Vec<u64>,
+    energy: Option<u64>,
+    forces: Vec<u64>,
+    status: Vec<i8>,
+}
+
+/// Every level.
 #[derive(Default)]
-struct Levels(Vec<(u64, Vec<u64>, Option<u64>, Vec<u64>, Vec<i8>)>);
+struct Levels(Vec<Level>);
 
 impl Observer for Levels {
     fn wants_energy(&self) -> bool {
@@ -23,7 +31,13 @@ impl Observer for Levels {
     }
     fn observe(&mut self, s: &Sample<'_>) -> Result<(), RunError> {
         let bits = |x: &[f64]| x.iter().map(|x| x.to_bits()).collect();
-        self.0.push((s.t.to_bits(), bits(s.u), s.energy.map(|e| e.1.to_bits()), bits(s.forces), s.status.iter().map(|a| signorini_run::observers::active_code(*a)).collect()));
+        self.0.push(Level {
+            t: s.t.to_bits(),
+            u: bits(s.u),
+            energy: s.energy.map(|e| e.1.to_bits()),
+            forces: bits(s.forces),
+            status: s.status.iter().map(|a| signorini_run::observers::active_code(*a)).collect(),
+        });
         Ok(())
     }
 }
@@ -128,15 +142,15 @@ fn a_sample_at_an_impact_shows_the_state_after_it() {
     cli_is_library(dir.path(), "aligned", &text, &lib);
     assert_eq!(lib.events.lines().nth(1), coarse.events.lines().nth(1), "the first impact's row");
     let at = &lib.levels.0[1024];
-    assert_eq!(f64::from_bits(at.0), t1);
+    assert_eq!(f64::from_bits(at.t), t1);
     let (e, c) = (0.8, t1.cos());
-    let lambda = f64::from_bits(at.3[0]);
+    let lambda = f64::from_bits(at.forces[0]);
     assert!((lambda - (1.0 + e) * c / dt).abs() <= 1e-9 * lambda.abs(), "the row at t₁: mean force {lambda:e}, closed form {:e}", (1.0 + e) * c / dt);
-    assert_eq!(at.4, [1], "contact 0 at its upper bound in the step ending at t₁");
-    let energy = f64::from_bits(at.2.unwrap());
+    assert_eq!(at.status, [1], "contact 0 at its upper bound in the step ending at t₁");
+    let energy = f64::from_bits(at.energy.unwrap());
     let after = 0.5 * e * e * c * c + 0.5 * t1.sin().powi(2);
     assert!((energy - after).abs() <= 1e-14, "the energy at t₁: {energy}, after the impact {after}, before 0.5");
-    let before = f64::from_bits(lib.levels.0[1023].2.unwrap());
+    let before = f64::from_bits(lib.levels.0[1023].energy.unwrap());
     assert!((before - 0.5).abs() <= 1e-14, "{before}");
 
     let forced = library(&forced_oscillator(1e-3, 20.0));
@@ -201,11 +215,11 @@ fn a_tiny_dt_and_a_dt_beyond_the_events_spacing_give_the_same_run() {
     // The state (u and the energy: v) at the times the samplings share.
     let mut shared = 0;
     for (i, a) in runs.iter().enumerate() {
-        let at: std::collections::HashMap<u64, _> = a.levels.0.iter().map(|l| (l.0, (&l.1, l.2))).collect();
+        let at: std::collections::HashMap<u64, _> = a.levels.0.iter().map(|l| (l.t, (&l.u, l.energy))).collect();
         for b in &runs[i + 1..] {
             for l in &b.levels.0 {
-                if let Some(&(u, e)) = at.get(&l.0) {
-                    assert_eq!((u, e), (&l.1, l.2), "the state at t = {:e}", f64::from_bits(l.0));
+                if let Some(&(u, e)) = at.get(&l.t) {
+                    assert_eq!((u, e), (&l.u, l.energy), "the state at t = {:e}", f64::from_bits(l.t));
                     shared += 1;
                 }
             }
@@ -232,7 +246,7 @@ fn the_last_level_is_at_t_end_once_whatever_dt() {
         cli_is_library(dir.path(), &format!("h{i}"), &text, &lib);
         assert_eq!(lib.result, Ok(n));
         assert_eq!(lib.levels.0.len(), n + 1, "dt = {dt}: levels 0..={n}");
-        assert_eq!(f64::from_bits(lib.levels.0[n].0), 0.7, "dt = {dt}: the last level's time");
+        assert_eq!(f64::from_bits(lib.levels.0[n].t), 0.7, "dt = {dt}: the last level's time");
         let last = lib.series.lines().last().unwrap();
         assert!(last.starts_with(&format!("{n},7.000000000000e-1,")), "dt = {dt}: {last}");
         assert_eq!(lib.series.lines().filter(|l| l.split(',').nth(1) == Some("7.000000000000e-1")).count(), 1);
