@@ -270,6 +270,8 @@ pub struct RunSummary {
 /// returned.
 pub fn run(stepper: &mut dyn Stepper, u0: &[f64], cfg: &RunConfig, observers: &mut [&mut dyn Observer]) -> Result<RunSummary, RunError> {
     let start = Instant::now();
+    // An exact flow's last level is read at T itself.
+    stepper.set_end(cfg.steps(), cfg.t_end);
     // A step of unbounded work (the event-driven scheme) polls the token too.
     if let Some(cancel) = cfg.interrupt.clone() {
         stepper.set_interrupt(Some(std::sync::Arc::new(move || cancel.is_cancelled())));

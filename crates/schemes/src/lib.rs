@@ -793,6 +793,15 @@ pub trait Stepper: Send {
     fn set_interrupt(&mut self, poll: Option<Interrupt>) {
         let _ = poll;
     }
+    /// The run ends at level `n`, at the horizon `t_end` (the runner's,
+    /// within 1e-9 of `n dt`): a scheme that samples an exact flow (the
+    /// event-driven scheme) reads its level `n` at `t_end` itself, so that
+    /// the final state is the flow's at `t_end` whatever `dt` (0.1 × 3 is
+    /// 0.30000000000000004). Time-stepping schemes, whose level `n` is
+    /// `n dt` by construction, ignore it (the default).
+    fn set_end(&mut self, n: usize, t_end: f64) {
+        let _ = (n, t_end);
+    }
 }
 
 /// Checks a stepper's time step (finite, > 0) and its start: the initial

@@ -10,6 +10,7 @@ mod degree;
 mod energy_warn;
 mod event_driven;
 mod event_estimate;
+mod event_sampling;
 mod facts;
 mod follow;
 mod lockstep;

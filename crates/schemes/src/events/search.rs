@@ -218,8 +218,8 @@ impl Search {
     /// `(cursor.t, end]` (docs/theory.md §9.2), the state at every step
     /// evaluated from the phase's `base` `(t_b, η, η')` — never re-based —
     /// so the steps and the event found do not depend on where a caller
-    /// paused: it stops once the cursor reaches `pause` (no step is cut
-    /// there), at the event ([`Found::Event`], the state there in `state`)
+    /// paused: it stops once the cursor passes `pause` (no step is cut
+    /// there; a zero at `pause` itself is found first), at the event ([`Found::Event`], the state there in `state`)
     /// or at `end` ([`Found::End`], the state there in `state`). Each
     /// functional is read as its value at the base plus the terms of the
     /// state's increments; `zero` marks those exactly 0 at the base (a
@@ -281,7 +281,11 @@ impl Search {
             let tau = cursor.tau;
             let t = base.0 + tau;
             let h = cursor.window.min(end - t);
-            if h > 0.0 && t >= pause {
+            // Beyond the pause only: an event located at it (a step start
+            // on a zero) is taken before the sample there, as one located
+            // by a root step is — a sample at an event's time shows the
+            // state after it, however the search reached it.
+            if h > 0.0 && t > pause {
                 return Ok(Found::Paused);
             }
             // The state τ after the base (the same state whatever the pauses).
@@ -578,7 +582,7 @@ impl Cursor {
 pub(crate) enum Found {
     /// A zero of the functional at the time.
     Event(f64, usize),
-    /// The cursor reached the pause, no zero before it.
+    /// The cursor passed the pause, no zero up to it.
     Paused,
     /// The cursor reached the end, no zero before it.
     End,

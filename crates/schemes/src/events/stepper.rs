@@ -1,7 +1,10 @@
 //! The registry's `event-driven` scheme: an [`EventDriven`] run sampled at
 //! the levels `n dt` of the runner, so that every output of `signorini run`
 //! (series, snapshots, norms, energies) reads the exact semi-discrete
-//! solution. `dt` is only the sampling step: no error depends on it.
+//! solution. `dt` is only the sampling step: no error depends on it. The
+//! level `n` is read at `n dt`, the last one at the horizon itself
+//! ([`Stepper::set_end`]); an event located at a level's time is taken
+//! before that level is read (its row shows the state after the event).
 //!
 //! At each level the contact force reported is the mean force over the
 //! step, `λ = −(Σ impulses + ∫ r)/dt` with the held force's integral in
@@ -25,6 +28,8 @@ pub struct EventStepper {
     v: Vec<f64>,
     lams: Vec<f64>,
     acts: Vec<Active>,
+    /// The last level and its time ([`Stepper::set_end`]).
+    end: Option<(usize, f64)>,
 }
 
 impl EventStepper {
@@ -43,7 +48,7 @@ impl EventStepper {
         let run = EventDriven::new(&dy, 0.0, &init.u, &init.v, e)?;
         let k = dy.contacts.len();
         let (_, u, v) = run.state();
-        let mut s = Self { label, dt, n: 0, dy, run, u, v, lams: vec![0.0; k], acts: vec![Active::None; k] };
+        let mut s = Self { label, dt, n: 0, dy, run, u, v, lams: vec![0.0; k], acts: vec![Active::None; k], end: None };
         s.read();
         // The impulses at t = 0 (an approaching contact on its bound) are
         // not part of the first step's mean force.
@@ -66,6 +71,14 @@ impl EventStepper {
         self
     }
 
+    /// The time of level `n`: `n dt`, the horizon at the last level.
+    fn level_time(&self, n: usize) -> f64 {
+        match self.end {
+            Some((last, t_end)) if last == n => t_end,
+            _ => n as f64 * self.dt,
+        }
+    }
+
     /// The events so far.
     pub fn events(&self) -> &[EventRecord] {
         self.run.events()
@@ -81,7 +94,7 @@ impl Stepper for EventStepper {
     stepper_accessors!();
 
     fn step(&mut self) -> Result<StepReport, SchemeError> {
-        let t_next = (self.n + 1) as f64 * self.dt;
+        let t_next = self.level_time(self.n + 1);
         let result = self.run.advance_to(t_next);
         if let Err(super::EventsError::Interrupted { .. }) = result {
             // The level and its state stay; the run resumes inside the step.
@@ -106,6 +119,10 @@ impl Stepper for EventStepper {
             return Err(SchemeError::NonFinite { step: self.n, time: t });
         }
         Ok(StepReport { n: self.n, t, lambda: Some((t, self.lams[0])), active: self.acts[0] })
+    }
+
+    fn time(&self) -> f64 {
+        self.level_time(self.n)
     }
 
     fn energy(&mut self) -> Option<(f64, f64)> {
@@ -135,6 +152,10 @@ impl Stepper for EventStepper {
 
     fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
         self.run.set_interrupt(poll);
+    }
+
+    fn set_end(&mut self, n: usize, t_end: f64) {
+        self.end = Some((n, t_end));
     }
 }
 
