@@ -777,6 +777,8 @@ fn continuation_until<F: Family>(
             branch.end = format!("interrupted at param = {}", cur.param);
             return Ok(branch);
         }
+        // The trial taken as a corner (its bracket's ends meet).
+        let mut cornered = false;
         let next = match trial {
             // Not a trial whose corrector ran far along the hyperplane
             // (more than 3 steps from `cur`: a jump onto another arc; on
@@ -795,14 +797,18 @@ fn continuation_until<F: Family>(
             Ok(p) if ds <= 1e-3 && (p.orbit.impacts() != cur.orbit.impacts() || p.orbit.releases() != cur.orbit.releases()) => {
                 let i = branch.points.len() - 1;
                 let kind = if p.orbit.impacts() != cur.orbit.impacts() { BifurcationKind::Grazing } else { BifurcationKind::Sticking };
-                let count = |q: &Point| (q.orbit.impacts(), q.orbit.releases());
-                let (at, far) = bracket(&ctx, &cur, ds, &p, |q| (count(q).0 * 1000 + count(q).1) as f64, |a, b| count(a) != count(b));
-                // The bracket's ends further apart than the step: no
-                // corner (where the orbits on either side meet) but a
-                // trial fallen onto another arc of the branch: the two
-                // arcs of a grazing where the branch turns back
-                // ([`turned_back`]), or the step halved.
-                if arclength(&ctx, &at, &far) > ds {
+                let (at, meets) = corner_bracket(&ctx, &cur, &p, ds);
+                // The bracket's ends apart (the rule of [`corner_bracket`];
+                // before, further apart than the step, and a step whose
+                // ends lay within it, taken here, was then halved by that
+                // rule with its grazing left listed: the period-2
+                // oscillator with `--param-scale 0.01` listed its 4 → 3
+                // grazing near 2.38354 three times): no corner (where the
+                // orbits on either side meet) but a trial fallen onto
+                // another arc of the branch: the two arcs of a grazing
+                // where the branch turns back ([`turned_back`]), or the
+                // step halved.
+                if !meets {
                     if let Some((bif, across)) = turned_back(&ctx, &branch.points, &cur, &p, vref) {
                         branch.bifurcations.push(bif);
                         branch.points.push(BranchPoint { param: across.param, orbit: across.orbit.clone(), mark: across.mark });
@@ -839,6 +845,7 @@ fn continuation_until<F: Family>(
                     x: at.x.clone(),
                     mark: at.mark,
                 });
+                cornered = true;
                 p
             }
             other => {
@@ -917,17 +924,19 @@ fn continuation_until<F: Family>(
                 continue;
             }
         };
-        // A trial with other impacts than `cur` that lies on the branch
-        // traced so far, where the two arcs meet at no corner (the
-        // bracket's ends stay apart): the corrector fell onto an arc traced
-        // before, not onto this one's continuation. The step is halved, as
-        // for any trial fallen onto another arc (before, the branch ended
-        // there, "returned onto itself": the period-2 oscillator of
-        // `tests/it/period_two.rs` with `--param-scale 0.05` went down its
-        // 4-impact arc to Ω = 2.38496 and the trial fell onto the 2-impact
-        // orbits it began with, 0.02 away, a grazing 4 → 2 listed at
-        // 2.3847259 where there is none; that arc goes on down to 2.3806476).
-        if next.orbit.impacts() != cur.orbit.impacts() && retraces(&branch.points, &next, &cur) && !meets_at_corner(&ctx, &cur, &next, ds) {
+        // A trial with other impacts than `cur` where the two arcs meet at
+        // no corner (the bracket's ends stay apart): the corrector fell
+        // onto another arc, not onto this one's continuation. The step is
+        // halved, as for any trial fallen onto another arc. The period-2
+        // oscillator of `tests/it/period_two.rs` with `--param-scale 0.05`
+        // went down its 4-impact arc to Ω = 2.38496 and the trial fell onto
+        // the 2-impact orbits it began with, 0.02 away, a grazing 4 → 2
+        // listed at 2.3847259 where there is none (that arc goes on down to
+        // 2.3806476); further down, from the 3-impact orbit at 2.3728416, a
+        // trial of 1.6e-2 landed on the 2-impact arc that begins at
+        // 2.3678525 (1.3e-2 away, scaled, an arc not traced yet), a 3 → 2
+        // grazing listed at 2.372073 where there is none.
+        if next.orbit.impacts() != cur.orbit.impacts() && !cornered && !corner_bracket(&ctx, &cur, &next, ds).1 {
             ds *= 0.5;
             if ds < opts.min_step {
                 branch.end = format!(
@@ -1747,15 +1756,17 @@ fn retraces(points: &[BranchPoint], b: &Point, p1: &Point) -> bool {
     })
 }
 
-/// Whether the trial from `cur` (a step `ds` along its tangent) to `p`,
-/// with another number of impacts or held phases, crosses a corner of
-/// `cur`'s arc: the bisection on the arclength between them ends at two
-/// points that meet (within 1e-2 of the step), where an orbit fallen onto
-/// another arc leaves them as far apart as the two arcs are.
-fn meets_at_corner<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, p: &Point, ds: f64) -> bool {
+/// The change of the impacts or held phases between `cur` and the trial
+/// `p` (a step `ds` along `cur`'s tangent), located by bisection on the
+/// arclength (the bracket's end on `cur`'s side), and whether it is a
+/// corner of `cur`'s arc: the bracket's ends meet (within 1e-2 of the
+/// step), where an orbit fallen onto another arc leaves them as far apart
+/// as the two arcs are.
+fn corner_bracket<F: Family>(ctx: &Ctx<'_, F>, cur: &Point, p: &Point, ds: f64) -> (Point, bool) {
     let count = |q: &Point| (q.orbit.impacts(), q.orbit.releases());
     let (at, far) = bracket(ctx, cur, ds, p, |q| (count(q).0 * 1000 + count(q).1) as f64, |a, b| count(a) != count(b));
-    arclength(ctx, &at, &far) <= 1e-2 * ds
+    let meets = arclength(ctx, &at, &far) <= 1e-2 * ds;
+    (at, meets)
 }
 
 /// At a corner of the branch (the corrector fails at every step): an orbit
@@ -2778,11 +2789,17 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
     let det_sign = det_test(a) * det_test(b) < 0.0;
     let turns = fold_test(a) * fold_test(b) < 0.0;
     if smooth && det_sign && !turns {
-        let p = bisect(ctx, a, s_b, b, det_test, |p, q| det_test(p) * det_test(q) < 0.0);
+        let mut p = bisect(ctx, a, s_b, b, det_test, |p, q| det_test(p) * det_test(q) < 0.0);
         // The corrector is singular at a branch point (two branches cross
         // there), so the bisection ends at a bracket whose multiplier is
         // within about 1e-2 of +1 (0.0035 on the symmetric oscillator,
-        // its parameter to 1e-8): farther, the sign change is no crossing.
+        // its parameter 4.4e-9 and 1.3e-8 off at its two branch points):
+        // farther, the sign change is no crossing. On symmetric orbits the
+        // crossing is located on them alone, where nothing is singular
+        // (to 5e-12 there, `tests/it/symmetric.rs`).
+        if let Some((param, x, multipliers)) = symmetric_pitchfork(ctx, a, b) {
+            (p.param, p.x, p.orbit.multipliers, p.mark) = (param, x, multipliers, None);
+        }
         if (critical(BifurcationKind::BranchPoint, &p) - c64::new(1.0, 0.0)).norm() <= 1e-2 {
             found.push((BifurcationKind::BranchPoint, p));
         }
@@ -2856,6 +2873,83 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
         });
     }
     out.sort_by_key(|p| p.between);
+}
+
+/// The pitchfork between `a` and `b`, two symmetric orbits of a
+/// mirror-symmetric structure (`x(t + τ) = −x(t)`, `τ` half the map's
+/// period of an odd number `p` of forcing periods): the fixed points of
+/// the half map mirrored, `R(x) = −φ(x, τ)`, whose square is the map
+/// (`P' = R'²`). A multiplier of `P` passes +1 where one of `R'` passes
+/// −1, while `R' − I` stays regular: Newton on `R` at fixed `λ` converges
+/// through the pitchfork, and `det(R' + I)` changes sign there, its zero
+/// found by regula falsi (Illinois) in `λ` to 1e-13 of the parameter's
+/// scale. `None` where the structure is not symmetric, `a` or `b` is not a
+/// fixed point of `R` (within 1e-7 of the state's scale), or the test
+/// keeps its sign. Returns the parameter, the orbit's state and the
+/// multipliers of `P` there (by decreasing modulus).
+fn symmetric_pitchfork<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point) -> Option<(f64, Vec<f64>, Vec<c64>)> {
+    let p = ctx.family.periods().max(1);
+    if p % 2 == 0 {
+        return None;
+    }
+    let n = ctx.n;
+    // The fixed point of `R` at `param` from `guess`, `det(R' + I)` there
+    // and the half map's Jacobian `J` (`R' = −J`).
+    let solve = |param: f64, guess: &[f64]| -> Option<(Vec<f64>, f64, Mat<f64>)> {
+        let (model, period) = ctx.family.model_and_period(param).ok()?;
+        let half = 0.5 * period;
+        if !mirror_symmetric(&model, half / p as f64) {
+            return None;
+        }
+        let mut x = guess.to_vec();
+        for _ in 0..30 {
+            let img = model.flow(0.0, &x, half, true).ok()?;
+            let j = img.jacobian?;
+            let step = Mat::from_fn(n, n, |r, c| j[(r, c)] + if r == c { 1.0 } else { 0.0 }).partial_piv_lu().solve(Mat::from_fn(n, 1, |r, _| x[r] + img.x[r]));
+            let size = (0..n).fold(0.0f64, |m, i| m.max(step[(i, 0)].abs()));
+            if !size.is_finite() {
+                return None;
+            }
+            if size <= 1e-14 * ctx.xs {
+                let test = eigenvalues(&j).ok()?.iter().fold(c64::new(1.0, 0.0), |acc, m| acc * (c64::new(1.0, 0.0) - m)).re;
+                return Some((x, test, j));
+            }
+            (0..n).for_each(|i| x[i] -= step[(i, 0)]);
+        }
+        None
+    };
+    let near = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(u, v)| (u - v).abs() <= 1e-7 * ctx.xs);
+    let (mut xa, mut ga, _) = solve(a.param, &a.x).filter(|s| near(&s.0, &a.x))?;
+    let (mut xb, mut gb, mut jb) = solve(b.param, &b.x).filter(|s| near(&s.0, &b.x))?;
+    let (mut la, mut lb) = (a.param, b.param);
+    if ga * gb >= 0.0 {
+        return None;
+    }
+    // Illinois: the end kept twice in a row has its value halved.
+    let mut kept = 0i8;
+    for _ in 0..100 {
+        if (lb - la).abs() <= 1e-13 * ctx.ls {
+            break;
+        }
+        let w = ga / (ga - gb);
+        let l = la + w * (lb - la);
+        let guess: Vec<f64> = xa.iter().zip(&xb).map(|(u, v)| u + w * (v - u)).collect();
+        let (x, g, j) = solve(l, &guess)?;
+        if g * gb < 0.0 {
+            (la, xa, ga) = (lb, xb, gb);
+            kept = 0;
+        } else {
+            ga *= if kept < 0 { 0.5 } else { 1.0 };
+            kept = -1;
+        }
+        (lb, xb, gb, jb) = (l, x, g, j);
+        if g == 0.0 {
+            break;
+        }
+    }
+    let mut mu: Vec<c64> = eigenvalues(&jb).ok()?.iter().map(|m| m * m).collect();
+    mu.sort_by(|u, v| v.norm().total_cmp(&u.norm()));
+    Some((lb, xb, mu))
 }
 
 /// A multiplier at +1 at a located turn: within 1e-2 of it (as a branch

@@ -562,3 +562,56 @@ fn the_switched_branch_lists_its_grazing_where_the_flight_reaches_the_stop() {
     eprintln!("grazing: listed {}, the transcription's {want} ({:e} apart)", g.param, g.param - want);
     assert!((g.param - want).abs() <= 1e-8, "the grazing listed at {} is {:e} from the transcription's {want}", g.param, g.param - want);
 }
+
+/// The transcription's pitchfork near `w`: the symmetric orbit is the
+/// fixed point of the half-period map mirrored, `R(x) = −φ(x, T/2)`
+/// (`between.rs`'s closed-form flow; Newton on `R` stays regular where
+/// the full map's `P' − I` is singular), and a multiplier of the full
+/// map `P` (its central differences at that orbit, steps 1e-4 and 5e-5
+/// Richardson-extrapolated: truncation and round-off both below 1e-12)
+/// passes +1 where `det(P' − I)` changes sign: bisected in Ω from
+/// `w ∓ 1e-5` to round-off.
+fn transcribed_pitchfork(w: f64, x: [f64; 2]) -> f64 {
+    let map = |w: f64, x: [f64; 2], span: f64| crate::between::flow_between(w, 0.0, span * TAU / w, x, (-1.0, 1.0), E, 1000.0).0;
+    let orbit = |w: f64| {
+        let mut y = x;
+        for _ in 0..60 {
+            let r = map(w, y, 0.5);
+            let f = [y[0] + r[0], y[1] + r[1]];
+            let mut j = crate::between::differences(y, 1e-6, |z| map(w, z, 0.5));
+            j[0][0] += 1.0;
+            j[1][1] += 1.0;
+            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+            let step = [(j[1][1] * f[0] - j[0][1] * f[1]) / det, (-j[1][0] * f[0] + j[0][0] * f[1]) / det];
+            y = [y[0] - step[0], y[1] - step[1]];
+            if step[0].abs().max(step[1].abs()) <= 1e-15 {
+                break;
+            }
+        }
+        y
+    };
+    let det = |w: f64| {
+        let y = orbit(w);
+        let (j1, j2) = (crate::between::differences(y, 1e-4, |z| map(w, z, 1.0)), crate::between::differences(y, 5e-5, |z| map(w, z, 1.0)));
+        let j: Vec<Vec<f64>> = (0..2).map(|r| (0..2).map(|c| (4.0 * j2[r][c] - j1[r][c]) / 3.0).collect()).collect();
+        (j[0][0] - 1.0) * (j[1][1] - 1.0) - j[0][1] * j[1][0]
+    };
+    let (lo, hi) = (w - 1e-5, w + 1e-5);
+    assert!(det(lo) * det(hi) < 0.0, "no multiplier of the transcription through +1 within 1e-5 of {w}");
+    bisect_time(lo, hi, |m| det(m) > 0.0)
+}
+
+/// The symmetric branch's two pitchforks, where the corrector's extended
+/// system is singular (two branches cross): listed at the transcription's
+/// `det(P' − I)` zero to 1e-10 (the bisection on the arclength that
+/// located them ended where the corrector failed, 4.4e-9 and 1.3e-8 off).
+#[test]
+fn the_symmetric_branch_points_are_at_the_transcriptions_pitchforks() {
+    let branch = symmetric_branch();
+    let off: Vec<(f64, f64)> = branch.bifurcations.iter().map(|b| (b.param, transcribed_pitchfork(b.param, [b.x[0], b.x[1]]))).collect();
+    assert_eq!(off.len(), 2, "{off:?}");
+    eprintln!("(listed, transcription): {off:?}");
+    for (at, want) in off {
+        assert!((at - want).abs() <= 1e-10, "branch point at {at}: the transcription's pitchfork at {want}, {:e} off", at - want);
+    }
+}
