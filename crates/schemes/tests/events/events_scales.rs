@@ -14,13 +14,16 @@ use signorini_fem::SymBand;
 use signorini_schemes::events::{EventDriven, ModalFlow};
 use signorini_schemes::{Bounds, Contact, Dynamics, Forcing, TimeProfile};
 
+/// An oracle's flight `(t, q, v, τ) ↦ (q, v)` after `τ`.
+pub(crate) type Flight<'a> = dyn Fn(f64, &[f64], &[f64], f64) -> (Vec<f64>, Vec<f64>) + 'a;
+
 /// A run's impacts replayed on an oracle: each flight from the oracle's own
 /// state by `flight(t, q, v, τ)` ([`reference`], the exponential, or
 /// events_stiff.rs's modal oracle), Newton's law applied here. Returns
 /// the run's outcome, its search steps and the worst event-time error
 /// `|gap| / |v|` at the recorded times, the worst relative impact speed and
 /// the smallest gap over 49 samples of each flight (no crossing missed).
-pub(crate) fn replay(dy: &Dynamics, q0: &[f64], v0: &[f64], e: f64, t_end: f64, flight: &dyn Fn(f64, &[f64], &[f64], f64) -> (Vec<f64>, Vec<f64>)) -> (bool, u64, f64, f64, f64) {
+pub(crate) fn replay(dy: &Dynamics, q0: &[f64], v0: &[f64], e: f64, t_end: f64, flight: &Flight) -> (bool, u64, f64, f64, f64) {
     let n = dy.n();
     let (c, lo) = (dy.contacts[0].dof, dy.contacts[0].bounds.lo);
     let mut run = EventDriven::new(dy, 0.0, q0, v0, e).unwrap();

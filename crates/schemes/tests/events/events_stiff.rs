@@ -144,13 +144,14 @@ fn gauss16() -> [(f64, f64); 16] {
 }
 
 /// A mode `η'' + c η' + k η = g₀ + Σ g sin(Ω t)` from `(η₀, η₀')` at `t0`
-/// over `τ`: a textbook particular solution (`g₀/k`; `Im g e^{iΩt}/(k − Ω²
-/// + icΩ)`) plus the free motion from the remainder, in closed form; a
-/// rigid mode (`k = c = 0`) `η₀ + η₀' τ + g₀ τ²/2`; a harmonic within 10 %
-/// of resonance (`|k − Ω²| <= 0.1 max(k, Ω²)`, where the steady form
-/// cancels) by its Duhamel integral from rest, `∫₀^τ G(τ − u) g sin(Ω (t0 +
-/// u)) du` (`G = e^{−αs} S(s)`), Gauss–Legendre on panels of at most one
-/// radian, summed compensated.
+/// over `τ`: a textbook particular solution (`g₀/k`;
+/// `Im g e^{iΩt}/(k − Ω² + icΩ)`) plus the free motion from the remainder,
+/// in closed form; a
+/// rigid mode (`k = c = 0`) `η₀ + η₀' τ + g₀ τ²/2`; a harmonic within
+/// ten percent of resonance (`|k − Ω²| <= 0.1 max(k, Ω²)`, where the
+/// steady form cancels) by its Duhamel integral from rest, `∫₀^τ G(τ − u)
+/// g sin(Ω (t0 + u)) du` (`G = e^{−αs} S(s)`), Gauss–Legendre on panels of
+/// at most one radian, summed compensated.
 fn mode(k: f64, c: f64, (eta, deta): (f64, f64), t0: f64, tau: f64, g0: f64, waves: &[(f64, f64)]) -> (f64, f64) {
     let alpha = 0.5 * c;
     let lambda = k - alpha * alpha;
