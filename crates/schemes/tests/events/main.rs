@@ -30,6 +30,7 @@ mod events_rk4;
 mod events_scales;
 mod events_series;
 mod events_silent;
+mod events_stiff;
 mod events_tail;
 mod events_tiny_restitution;
 mod events_two_stops;
