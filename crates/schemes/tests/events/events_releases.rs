@@ -64,27 +64,7 @@ fn a_held_force_touching_zero_releases_nothing() {
 fn a_held_force_dipping_below_zero_releases_and_lands_once() {
     let delta = 1e-8f64;
     let a = 2.0 * (0.5 * delta).sqrt().asin();
-    // The flight from the release, `u` after it: the load `F(w) = δ − 2
-    // sin²((w − a)/2)` (0 at w = 0) against the spring, Duhamel's integral.
-    let flight = |u: f64| -> (f64, f64) {
-        let n = 4000;
-        let h = u / n as f64;
-        let (mut x, mut v) = (0.0, 0.0);
-        for i in 0..=n {
-            let w = i as f64 * h;
-            let f = delta - 2.0 * (0.5 * (w - a)).sin().powi(2);
-            let c = if i == 0 || i == n {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            x += c * (u - w).sin() * f;
-            v += c * (u - w).cos() * f;
-        }
-        (x * h / 3.0, v * h / 3.0)
-    };
+    let (flight, _) = dip_flight(delta);
     let (u_land, v_land) = landing(flight, (3.0 * a, 5.0 * a));
     let mut r = EventDriven::new(&touch(delta), 0.0, &[0.0], &[0.0], 0.0).expect("starts");
     r.run_until(8.0 * PI, 100).expect("completes");
