@@ -85,7 +85,7 @@
 
 use super::flow::{dense, Basis, Functional, Loads, ModalFlow, Piece};
 use super::record::{EventKind, EventRecord, EventsError};
-use super::search::{time_resolution, Cursor, Found, Search};
+use super::search::{time_resolution, AtBase, Cursor, Found, Search};
 use super::Bound;
 use crate::Dynamics;
 use faer::Mat;
@@ -364,8 +364,9 @@ pub struct EventDriven {
     /// Per functional of the phase: a gap exactly 0 at the base (a contact
     /// that the event starting the phase put on its bound, leaving it with
     /// a speed): its search takes it as 0, not as the modal state's
-    /// round-off of it.
-    base_zero: Vec<bool>,
+    /// round-off of it; or the gap of a contact released there, whose
+    /// acceleration is 0 (its force's zero), not its round-off.
+    base_zero: Vec<AtBase>,
     found: (Vec<f64>, Vec<f64>),
     /// Per held contact: its force's integral from the base to the last
     /// [`take_impulses`](Self::take_impulses).
@@ -825,7 +826,7 @@ impl EventDriven {
         self.cursor = Cursor::start(flow);
         self.pending = None;
         self.base_zero.clear();
-        self.base_zero.resize(self.systems[&self.holds].fns.len(), false);
+        self.base_zero.resize(self.systems[&self.holds].fns.len(), AtBase::Open);
         self.taken.iter_mut().for_each(|x| *x = 0.0);
         self.found.0.resize(self.eta.len(), 0.0);
         self.found.1.resize(self.eta.len(), 0.0);
@@ -924,6 +925,11 @@ impl EventDriven {
                 Some(h.upper)
             } else if let Some((_, b)) = primary.filter(|p| p.0 == j) {
                 Some(b == Bound::Upper)
+            } else if self.at_release(j, t) {
+                // Leaving: no impact, no hold (another contact's event a
+                // few ulps after this one's release landed it at a speed
+                // of round-off and released it again).
+                None
             } else if qc - s.lo <= tol {
                 Some(false)
             } else if s.hi - qc <= tol {
@@ -1294,18 +1300,38 @@ impl EventDriven {
         }
         self.t = t;
         self.start_phase();
+        let mut zero = std::mem::take(&mut self.base_zero);
         let sys = &self.systems[&self.holds];
-        for (z, w) in self.base_zero.iter_mut().zip(&sys.watch) {
+        for (z, w) in zero.iter_mut().zip(&sys.watch) {
             if let Watch::Gap { contact, bound } = *w {
                 let s = &self.sites[contact];
                 // Leaving it with a speed (a rebound): a contact left at
                 // rest there is decided by its derivatives' rules (§9.2),
                 // which read its round-off.
                 let leaving = if bound == Bound::Upper { v[s.dof] < 0.0 } else { v[s.dof] > 0.0 };
-                *z = leaving && q[s.dof] == if bound == Bound::Upper { s.hi } else { s.lo };
+                if leaving && q[s.dof] == if bound == Bound::Upper { s.hi } else { s.lo } {
+                    *z = AtBase::Leaving;
+                } else if self.at_release(contact, t) {
+                    *z = AtBase::Released;
+                }
             }
         }
+        self.base_zero = zero;
         Ok(())
+    }
+
+    /// Whether the massive contact `j`, free, is at its release at `t`:
+    /// its last row within `4 δ(t)` (§9.2's resolution) is a release. It
+    /// left at rest, its acceleration its force's share, 0 at the force's
+    /// zero: within the resolution its speed and acceleration are the
+    /// release time's round-off, not an approach (docs/theory.md §9.3,
+    /// "Touches"). A massless contact's position is its force's image,
+    /// not at rest.
+    fn at_release(&self, j: usize, t: f64) -> bool {
+        let window = 4.0 * time_resolution(t);
+        !self.sites[j].massless
+            && !self.holds.iter().any(|h| h.contact == j)
+            && self.events.iter().rev().take_while(|r| t - r.t <= window).find(|r| r.contact == j).is_some_and(|r| r.kind == EventKind::Release)
     }
 
     /// The flow, events and forces of an active set (module docs).

@@ -207,7 +207,7 @@ impl Search {
     pub fn first_zero(&mut self, flow: &ModalFlow, t0: f64, eta: &mut [f64], deta: &mut [f64], fns: &[Functional], quiet: &[bool], end: f64) -> Result<Option<(f64, usize)>, EventsError> {
         let base = (eta.to_vec(), deta.to_vec());
         let mut cursor = Cursor { tau: 0.0, window: end - t0 };
-        let zero = vec![false; fns.len()];
+        let zero = vec![AtBase::Open; fns.len()];
         match self.resume(flow, (t0, &base.0, &base.1), &mut cursor, (eta, deta), (fns, quiet, &zero), end, f64::INFINITY)? {
             Found::Event(t, f) => Ok(Some((t, f))),
             Found::End | Found::Paused => Ok(None),
@@ -223,7 +223,8 @@ impl Search {
     /// or at `end` ([`Found::End`], the state there in `state`). Each
     /// functional is read as its value at the base plus the terms of the
     /// state's increments; `zero` marks those exactly 0 at the base (a
-    /// contact that the event starting the phase put on its bound).
+    /// contact that the event starting the phase put on its bound, or
+    /// released: [`AtBase`]).
     #[allow(clippy::too_many_arguments)]
     pub fn resume(
         &mut self,
@@ -231,7 +232,7 @@ impl Search {
         base: (f64, &[f64], &[f64]),
         cursor: &mut Cursor,
         state: (&mut [f64], &mut [f64]),
-        (fns, quiet, zero): (&[Functional], &[bool], &[bool]),
+        (fns, quiet, zero): (&[Functional], &[bool], &[AtBase]),
         end: f64,
         pause: f64,
     ) -> Result<Found, EventsError> {
@@ -269,7 +270,7 @@ impl Search {
                 g += func.beta[i] * base.1[i] + func.alpha(i) * base.2[i];
                 self.prefix.push(g);
             }
-            if zero[f] {
+            if zero[f] == AtBase::Leaving {
                 *self.prefix.last_mut().expect("n + 1 sums") = 0.0;
             }
         }
@@ -315,7 +316,9 @@ impl Search {
             let (mut step, mut root) = (h, f64::INFINITY);
             let mut who = None;
             for (f, func) in fns.iter().enumerate() {
-                match self.safe_step(flow, (f, func), quiet[f], (t, res), eta, deta, h) {
+                // Within the resolution of its release (docs/theory.md §9.3, "Touches").
+                let released = zero[f] == AtBase::Released && tau <= 4.0 * time_resolution(t);
+                match self.safe_step(flow, (f, func), (quiet[f], released), (t, res), eta, deta, h) {
                     Reach::Now => return Ok(Found::Event(t, f)),
                     Reach::Free(s) => step = step.min(s),
                     Reach::Root(s) => {
@@ -350,7 +353,7 @@ impl Search {
 
     /// The safe step for one functional over the window `h` (module docs).
     #[allow(clippy::too_many_arguments)]
-    fn safe_step(&mut self, flow: &ModalFlow, (fi, f): (usize, &Functional), quiet: bool, (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
+    fn safe_step(&mut self, flow: &ModalFlow, (fi, f): (usize, &Functional), (quiet, released): (bool, bool), (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
         let n = eta.len();
         let (lv, ld, lc) = (f.wave(t, 0), f.wave(t, 1), f.wave_bound(2));
         // The functional split at mode `s`: its value at the base plus the
@@ -369,7 +372,7 @@ impl Search {
         }
         let g = prefix[n] + (0..n).fold(lv - self.load0[fi], |d, i| d + f.beta[i] * inc[i] + f.alpha(i) * dinc[i]);
         if g <= 1e-13 * scale {
-            match self.lift_off(flow, f, quiet, (t, res), eta, deta, h) {
+            match self.lift_off(flow, f, (quiet, released), (t, res), eta, deta, h) {
                 // Approaching from just above: the root steps below.
                 Reach::Now if g > 0.0 => {}
                 r => return r,
@@ -417,7 +420,7 @@ impl Search {
 
     /// At `g = 0`: the first nonzero derivative decides (module docs).
     #[allow(clippy::too_many_arguments)]
-    fn lift_off(&self, flow: &ModalFlow, f: &Functional, quiet: bool, (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
+    fn lift_off(&self, flow: &ModalFlow, f: &Functional, (quiet, released): (bool, bool), (t, res): (f64, f64), eta: &[f64], deta: &[f64], h: f64) -> Reach {
         let mut gj = [0.0; GJET];
         // The size of the terms of each derivative (its round-off scale).
         let mut gs = [0.0; GJET];
@@ -484,6 +487,17 @@ impl Search {
             if gj[m].abs() > 1e-12 * gs[m] + resolution {
                 d[m] = gj[m];
             }
+        }
+        // A contact at its release: at rest, its acceleration its force's
+        // share, 0 at the force's zero; what is left is the release
+        // time's round-off, `g''' Δt` for a release
+        // located `Δt` off (7e-11 s at a force's zero of rate 1.4e-6,
+        // far beyond `4 δ(t)`), read as an approach it landed the
+        // contact at once, at zero speed, and released it again
+        // (docs/theory.md §9.3, "Touches").
+        if released {
+            d[1] = 0.0;
+            d[2] = 0.0;
         }
         d[0] = gj[0].max(0.0);
         // The orders read: 1..=3 with B bounding |g⁽⁴⁾| wherever one of
@@ -559,6 +573,18 @@ impl Search {
 /// one rounding (`ε max(|t|, 1)`).
 pub(crate) fn time_resolution(t: f64) -> f64 {
     (1e-15 * t.abs()).max(f64::EPSILON * t.abs().max(1.0))
+}
+
+/// A functional at its phase's base ([`Search::resume`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum AtBase {
+    /// Read from the modal state.
+    Open,
+    /// A gap exactly 0, leaving its bound with a speed (a rebound).
+    Leaving,
+    /// The gap of a contact released at the base: on its bound, at rest,
+    /// its acceleration exactly 0 (its force's zero).
+    Released,
 }
 
 /// Where a search stands in its phase: the time it reached, `τ` after the

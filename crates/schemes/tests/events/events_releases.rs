@@ -64,27 +64,7 @@ fn a_held_force_touching_zero_releases_nothing() {
 fn a_held_force_dipping_below_zero_releases_and_lands_once() {
     let delta = 1e-8f64;
     let a = 2.0 * (0.5 * delta).sqrt().asin();
-    // The flight from the release, `u` after it: the load `F(w) = δ − 2
-    // sin²((w − a)/2)` (0 at w = 0) against the spring, Duhamel's integral.
-    let flight = |u: f64| -> (f64, f64) {
-        let n = 4000;
-        let h = u / n as f64;
-        let (mut x, mut v) = (0.0, 0.0);
-        for i in 0..=n {
-            let w = i as f64 * h;
-            let f = delta - 2.0 * (0.5 * (w - a)).sin().powi(2);
-            let c = if i == 0 || i == n {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            x += c * (u - w).sin() * f;
-            v += c * (u - w).cos() * f;
-        }
-        (x * h / 3.0, v * h / 3.0)
-    };
+    let (flight, _) = dip_flight(delta);
     let (u_land, v_land) = landing(flight, (3.0 * a, 5.0 * a));
     let mut r = EventDriven::new(&touch(delta), 0.0, &[0.0], &[0.0], 0.0).expect("starts");
     r.run_until(8.0 * PI, 100).expect("completes");
@@ -268,6 +248,129 @@ fn a_free_mass_pushed_onto_its_stop_rebounds_as_the_closed_form() {
                     assert!(x.kind == EventKind::Impact && (x.t - t).abs() <= 1e-14 * t && (x.velocity_before + w * e.powi(k as i32)).abs() <= 1e-14 * w, "{case}: landing {k}: {x:?} against {t}");
                 }
                 assert!(last.kind == EventKind::Accumulation && (last.t - t_inf).abs() <= 1e-13 * t_inf, "{case}: {last:?} against {t_inf}");
+            }
+        }
+    }
+}
+
+/// The flight of `touch(δ)` from its release, `u` after it: the load
+/// `F(w) = δ − 2 sin²((w − a)/2)` (0 at w = 0) against the spring,
+/// Duhamel's integral by Simpson's rule; and `F` itself.
+fn dip_flight(delta: f64) -> (impl Fn(f64) -> (f64, f64), impl Fn(f64) -> f64) {
+    let a = 2.0 * (0.5 * delta).sqrt().asin();
+    let load = move |w: f64| delta - 2.0 * (0.5 * (w - a)).sin().powi(2);
+    let flight = move |u: f64| -> (f64, f64) {
+        let n = 4000;
+        let h = u / n as f64;
+        let (mut x, mut v) = (0.0, 0.0);
+        for i in 0..=n {
+            let w = i as f64 * h;
+            let c = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            x += c * (u - w).sin() * load(w);
+            v += c * (u - w).cos() * load(w);
+        }
+        (x * h / 3.0, v * h / 3.0)
+    };
+    (flight, load)
+}
+
+/// `δ` on a log grid from 1e-16 to 1e-6, both signs: one release at
+/// `(2k+1)π − a` (within the force's round-off over its rate, `8ε/a`) and
+/// one landing per period at the flight's root, every change logged (no
+/// landing at zero speed: before, `δ = 1e-12` and `1e-10` logged two
+/// releases 7.9e-11 and 7.8e-12 s apart, the first one early by its
+/// round-off and landed at once); dips within the band (`δ <= 1e-14`) and
+/// `δ <= 0`: nothing, `x ≡ 0`.
+#[test]
+fn a_dip_of_any_depth_releases_once_per_period() {
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    for k in 12..=32 {
+        for sign in [1.0, -1.0] {
+            let delta = sign * 10f64.powf(-0.5 * k as f64);
+            let mut r = EventDriven::new(&touch(delta), 0.0, &[0.0], &[0.0], 0.0).expect("starts");
+            let mut changes = 0;
+            while let signorini_schemes::events::Reached::Event(e) = r.next_change(4.0 * PI).unwrap_or_else(|e| panic!("δ = {delta:e}: {e}")) {
+                assert!(e.is_some(), "δ = {delta:e}: a change without a row at {}", r.time());
+                changes += 1;
+            }
+            let ev = r.events();
+            common::check_order(ev).unwrap();
+            assert_eq!(changes, ev.len());
+            if ev.is_empty() {
+                assert!(delta < 1e-12, "δ = {delta:e}: no release");
+                let (_, q, v) = r.state();
+                assert!(q[0] == 0.0 && v[0] == 0.0, "δ = {delta:e}: ({}, {})", q[0], v[0]);
+                continue;
+            }
+            assert!(delta > 1e-14, "δ = {delta:e}: {ev:?}");
+            let a = 2.0 * (0.5 * delta).sqrt().asin();
+            let (flight, load) = dip_flight(delta);
+            let (u_land, v_land) = landing(&flight, (3.0 * a, 5.0 * a));
+            // The landing's speed `~8a³/3` against the flight's round-off:
+            // its time within `64ε/a` (measured: up to 1.4e-9 s at a = 1.4e-6).
+            let tol_land = 64.0 * f64::EPSILON / a;
+            let tol_v = 2.0 * load(u_land).abs() * tol_land + 5e-7 * v_land.abs();
+            assert_eq!(ev.len(), 4, "δ = {delta:e}: {ev:?}");
+            for p in 0..2 {
+                let t_r = (2 * p + 1) as f64 * PI - a;
+                let (rel, imp) = (ev[2 * p], ev[2 * p + 1]);
+                assert_eq!((rel.kind, imp.kind, rel.contact, imp.contact), (EventKind::Release, EventKind::Impact, 0, 0), "δ = {delta:e}, period {p}");
+                assert!((rel.t - t_r).abs() <= 8.0 * f64::EPSILON / a + 4.0 * resolution(t_r), "δ = {delta:e}, release {p}: {} against {t_r}", rel.t);
+                assert!((imp.t - (t_r + u_land)).abs() <= tol_land, "δ = {delta:e}, landing {p}: {} against {}", imp.t, t_r + u_land);
+                assert!((imp.velocity_before - v_land).abs() <= tol_v, "δ = {delta:e}, landing {p}: {} against {v_land}", imp.velocity_before);
+                worst.0 = worst.0.max((rel.t - t_r).abs() * a / f64::EPSILON);
+                worst.1 = worst.1.max((imp.t - t_r - u_land).abs() * a / f64::EPSILON);
+            }
+            let (_, q, v) = r.state();
+            assert!(q[0] == 0.0 && v[0] == 0.0, "δ = {delta:e}: ({}, {})", q[0], v[0]);
+        }
+    }
+    println!("worst release, landing errors in ε/a: {worst:?}");
+}
+
+/// Three unit oscillators on stops at 0, uncoupled: dofs 0 and 1 held
+/// under `−cos t` and `−cos(t − φ)` (released at π/2 and π/2 + φ), dof 2
+/// free, `x₂ = sin(t_g − t)`, arriving at `t_g` at speed −1; `φ` one ulp,
+/// `t_g` one to six ulps after π/2 (within the resolution 4δ = 28 ulps):
+/// the releases, then the impact, nothing else (before: the impact's LCP
+/// took the contacts just released, at rest on their stops with speeds of
+/// round-off, as impacts, held and released them again: rows `impact` of
+/// contacts 0 and 1, and with e = 1 an accumulation).
+#[test]
+fn an_impact_just_after_a_release_leaves_the_released_alone() {
+    let ulp = f64::EPSILON;
+    let cosine = |phase: f64| TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: 1.0, omega: 1.0, phase: FRAC_PI_2 - phase }]));
+    let stop = |d| Contact::new(d, Bounds::obstacle(0.0), false);
+    let dy = Dynamics::new(band(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]), band(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]), vec![0.0; 3], vec![stop(0), stop(1), stop(2)])
+        .with_forcing(vec![Forcing { shape: vec![-1.0, 0.0, 0.0], time: cosine(0.0) }, Forcing { shape: vec![0.0, -1.0, 0.0], time: cosine(ulp) }]);
+    let flight = symmetric(FRAC_PI_2, 0.0, 0.0);
+    for e in [0.0, 1.0] {
+        for k in [1.0, 2.0, 4.0, 6.0] {
+            let tg = FRAC_PI_2 + k * ulp;
+            let mut r = EventDriven::new(&dy, 0.0, &[0.0, 0.0, tg.sin()], &[0.0, 0.0, -tg.cos()], e).expect("starts");
+            r.run_until(3.0, 100).unwrap_or_else(|err| panic!("e = {e}, t_g = π/2 + {k} ulp: {err}"));
+            let ev = r.events();
+            let case = format!("e = {e}, t_g = π/2 + {k} ulp: {ev:?}");
+            common::check_order(ev).unwrap();
+            assert_eq!(ev.len(), 3, "{case}");
+            let tol = 4.0 * resolution(FRAC_PI_2);
+            for (row, c) in ev[..2].iter().zip([0, 1]) {
+                assert!(row.kind == EventKind::Release && row.contact == c && (row.t - FRAC_PI_2).abs() <= tol, "{case}");
+            }
+            let imp = ev[2];
+            assert!(imp.kind == EventKind::Impact && imp.contact == 2 && (imp.t - tg).abs() <= tol, "{case}");
+            assert!((imp.velocity_before + 1.0).abs() <= 1e-15 && (imp.velocity_after - e).abs() <= 1e-15, "{case}");
+            let (_, q, v) = r.state();
+            let (x, dx) = flight(3.0);
+            let (x2, v2) = (e * (3.0 - tg).sin(), e * (3.0 - tg).cos());
+            for (d, (xe, ve)) in [(x, dx), (x, dx), (x2, v2)].into_iter().enumerate() {
+                assert!((q[d] - xe).abs() <= 1e-13 && (v[d] - ve).abs() <= 1e-13, "{case}: dof {d} at 3: ({}, {}) against ({xe}, {ve})", q[d], v[d]);
             }
         }
     }
