@@ -597,9 +597,10 @@ impl EventDriven {
         self.found.0.clear();
         self.found.1.clear();
         self.taken.iter_mut().for_each(|x| *x = 0.0);
-        let interrupt = self.search.interrupt.take();
+        let (interrupt, at_pause) = (self.search.interrupt.take(), self.search.take_at_pause);
         self.search = Search::new(self.n);
         self.search.interrupt = interrupt;
+        self.search.take_at_pause = at_pause;
         self.events.clear();
         self.streak.iter_mut().for_each(Vec::clear);
         self.vmax.iter_mut().for_each(|x| *x = 0.0);
@@ -1582,6 +1583,17 @@ impl EventDriven {
     /// state whole there; the run can go on from it). `None` removes it.
     pub fn set_interrupt(&mut self, poll: Option<crate::Interrupt>) {
         self.search.interrupt = poll;
+    }
+
+    /// Whether an event found exactly at the time a call stops at (at a
+    /// search step's start there) is applied before the run stands there,
+    /// as one located inside a step always is: `true` for a sampler (a
+    /// row at an event's instant shows the state after it, however the
+    /// search reached it: docs/theory.md §9.4); `false`, the default, for
+    /// the orbits' section, which leaves an impact at the period's end to
+    /// the next period (docs/orbits.md).
+    pub fn take_events_at_pause(&mut self, on: bool) {
+        self.search.take_at_pause = on;
     }
 
     /// Shares `bases` ([`FlowBases`]) for the flows of the active sets this

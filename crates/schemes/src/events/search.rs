@@ -176,6 +176,9 @@ pub(crate) struct Search {
     /// Polled every [`POLL_EVERY`] steps: `true` stops the search with
     /// [`EventsError::Interrupted`], the flow at the time reached.
     pub interrupt: Option<crate::Interrupt>,
+    /// Whether a zero at a step's start exactly at the pause is found
+    /// before the search pauses there ([`EventDriven::take_events_at_pause`](super::EventDriven::take_events_at_pause)).
+    pub take_at_pause: bool,
 }
 
 /// Search steps between two polls of the interrupt (a step costs O(modes ×
@@ -195,6 +198,7 @@ impl Search {
             prefix: Vec::new(),
             load0: Vec::new(),
             interrupt: None,
+            take_at_pause: false,
         }
     }
 
@@ -282,11 +286,11 @@ impl Search {
             let tau = cursor.tau;
             let t = base.0 + tau;
             let h = cursor.window.min(end - t);
-            // Beyond the pause only: an event located at it (a step start
-            // on a zero) is taken before the sample there, as one located
-            // by a root step is — a sample at an event's time shows the
-            // state after it, however the search reached it.
-            if h > 0.0 && t > pause {
+            // At the pause itself a step start on a zero is taken first
+            // only when asked (a sampler: the state after the events at its
+            // instant, as a root step there gives); the orbits' section
+            // leaves it to the next period (docs/orbits.md).
+            if h > 0.0 && (t > pause || (t == pause && !self.take_at_pause)) {
                 return Ok(Found::Paused);
             }
             // The state τ after the base (the same state whatever the pauses).

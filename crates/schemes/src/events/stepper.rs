@@ -45,7 +45,8 @@ impl EventStepper {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(SchemeError::Invalid { field: "dt", value: dt, allowed: "> 0 and finite" });
         }
-        let run = EventDriven::new(&dy, 0.0, &init.u, &init.v, e)?;
+        let mut run = EventDriven::new(&dy, 0.0, &init.u, &init.v, e)?;
+        run.take_events_at_pause(true);
         let k = dy.contacts.len();
         let (_, u, v) = run.state();
         let mut s = Self { label, dt, n: 0, dy, run, u, v, lams: vec![0.0; k], acts: vec![Active::None; k], end: None };
