@@ -222,8 +222,9 @@ impl Search {
     /// `(cursor.t, end]` (docs/theory.md §9.2), the state at every step
     /// evaluated from the phase's `base` `(t_b, η, η')` — never re-based —
     /// so the steps and the event found do not depend on where a caller
-    /// paused: it stops once the cursor passes `pause` (no step is cut
-    /// there; a zero at `pause` itself is found first), at the event ([`Found::Event`], the state there in `state`)
+    /// paused: it stops once the cursor reaches `pause` (no step is cut
+    /// there; with `take_at_pause`, once it passes it: a zero at `pause`
+    /// itself is found first), at the event ([`Found::Event`], the state there in `state`)
     /// or at `end` ([`Found::End`], the state there in `state`). Each
     /// functional is read as its value at the base plus the terms of the
     /// state's increments; `zero` marks those exactly 0 at the base (a
