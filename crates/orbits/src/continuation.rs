@@ -1332,11 +1332,16 @@ impl<F: Family> Copies<'_, F> {
                 continue;
             }
             let y: Vec<f64> = p.orbit.x.iter().zip(&self.images[k]).map(|(x, d)| x + d).collect();
-            let Some(on) = (0..k - 1).find(|&j| self.near_segment(&points[j], &points[j + 1], &y, p.param)) else { continue };
+            // A step across the section (an impact moved from one side of
+            // the section's time to the other) is a jump of the section
+            // state by the impulse, not a piece of the curve: neither a
+            // segment to lie near nor a turn of `S(x) − x`.
+            let jump = |j: usize| section_jump(&points[j].orbit, &points[j + 1].orbit);
+            let Some(on) = (0..k - 1).find(|&j| !jump(j) && self.near_segment(&points[j], &points[j + 1], &y, p.param)) else { continue };
             let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| u * v).sum::<f64>();
             // Within the last four steps: the copy is seen within a step or
             // two of the crossing (the traced copy is there).
-            let flip = (k.saturating_sub(4)..k).rev().find(|&j| !self.images[j].is_empty() && dot(&self.images[j], &self.images[j + 1]) < 0.0);
+            let flip = (k.saturating_sub(4)..k).rev().find(|&j| !self.images[j].is_empty() && !jump(j) && dot(&self.images[j], &self.images[j + 1]) < 0.0);
             let (keep, rejoin) = match flip {
                 Some(j) => {
                     let (a, b) = (dot(&self.images[j], &self.images[j]).sqrt(), dot(&self.images[j + 1], &self.images[j + 1]).sqrt());
@@ -1375,6 +1380,24 @@ impl<F: Family> Copies<'_, F> {
         let d2: f64 = pa.iter().zip(&ab).zip(&py).map(|((u, d), v)| (u + w * d - v).powi(2)).sum();
         d2 <= 0.0625 * len2
     }
+}
+
+/// Whether the step from `a` to `b` crossed the section with an impact
+/// ([`across_section`]): one contact has fewer impacts within 1e-2 of a
+/// period after the section and more within 1e-2 before its end in one
+/// orbit than in the other (the impact moved across the section's time).
+fn section_jump(a: &Orbit, b: &Orbit) -> bool {
+    // A contact's impacts near the period's start and near its end.
+    let near = |o: &Orbit, c: usize| -> (usize, usize) {
+        o.events.iter().filter(|e| e.kind == EventKind::Impact && e.contact == c).fold((0, 0), |(s, f), e| {
+            let ph = (e.t - o.t0) / o.period;
+            (s + usize::from(ph < 1e-2), f + usize::from(ph > 1.0 - 1e-2))
+        })
+    };
+    a.events.iter().chain(&b.events).filter(|e| e.kind == EventKind::Impact).any(|e| {
+        let ((sa, fa), (sb, fb)) = (near(a, e.contact), near(b, e.contact));
+        (sa > sb && fa < fb) || (sa < sb && fa > fb)
+    })
 }
 
 /// Where a period-doubled branch rejoins the branch of half its period,

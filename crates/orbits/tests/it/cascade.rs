@@ -36,31 +36,31 @@ pub(crate) fn flow(omega: f64, t0: f64, x: f64, v: f64, t: f64) -> (f64, f64) {
     (h + xp(t), hv + vp(t))
 }
 
-/// The map over `periods` forcing periods: the flow sampled at 1/4000 of
-/// a period, each crossing of the stop bisected to round-off and its
-/// velocity reversed times `e`.
-pub(crate) fn map(omega: f64, x: [f64; 2], periods: usize) -> [f64; 2] {
+/// The map over `periods` forcing periods with the stop at `gap`: the flow
+/// sampled at 1/4000 of a period, each crossing of the stop bisected to
+/// round-off and its velocity reversed times `e`.
+pub(crate) fn map(gap: f64, omega: f64, x: [f64; 2], periods: usize) -> [f64; 2] {
     let end = periods as f64 * std::f64::consts::TAU / omega;
     let h = std::f64::consts::TAU / omega / 4000.0;
     let (mut t0, mut z) = (0.0, (x[0], x[1]));
     let mut t = 0.0;
     while t < end {
         let t1 = (t + h).min(end);
-        if flow(omega, t0, z.0, z.1, t1).0 > GAP {
+        if flow(omega, t0, z.0, z.1, t1).0 > gap {
             let (mut lo, mut hi) = (t, t1);
             for _ in 0..200 {
                 let m = 0.5 * (lo + hi);
                 if m <= lo || m >= hi {
                     break;
                 }
-                if flow(omega, t0, z.0, z.1, m).0 > GAP {
+                if flow(omega, t0, z.0, z.1, m).0 > gap {
                     hi = m;
                 } else {
                     lo = m;
                 }
             }
             let v = flow(omega, t0, z.0, z.1, lo).1;
-            (t0, z) = (lo, (GAP, -E * v));
+            (t0, z) = (lo, (gap, -E * v));
             t = lo;
             continue;
         }
@@ -75,14 +75,14 @@ fn off(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// The map's Jacobian over `periods` by central differences.
-fn jacobian(omega: f64, x: [f64; 2], periods: usize) -> [[f64; 2]; 2] {
+fn jacobian(gap: f64, omega: f64, x: [f64; 2], periods: usize) -> [[f64; 2]; 2] {
     let mut j = [[0.0; 2]; 2];
     for c in 0..2 {
         let h = 1e-6;
         let (mut p, mut q) = (x, x);
         p[c] += h;
         q[c] -= h;
-        let (fp, fq) = (map(omega, p, periods), map(omega, q, periods));
+        let (fp, fq) = (map(gap, omega, p, periods), map(gap, omega, q, periods));
         for r in 0..2 {
             j[r][c] = (fp[r] - fq[r]) / (2.0 * h);
         }
@@ -91,14 +91,14 @@ fn jacobian(omega: f64, x: [f64; 2], periods: usize) -> [[f64; 2]; 2] {
 }
 
 /// A fixed point of the map over `periods` by Newton from `x`.
-fn orbit(omega: f64, mut x: [f64; 2], periods: usize) -> [f64; 2] {
+fn orbit(gap: f64, omega: f64, mut x: [f64; 2], periods: usize) -> [f64; 2] {
     for _ in 0..30 {
-        let g = map(omega, x, periods);
+        let g = map(gap, omega, x, periods);
         let r = [g[0] - x[0], g[1] - x[1]];
         if r[0].abs().max(r[1].abs()) < 1e-13 {
             break;
         }
-        let j = jacobian(omega, x, periods);
+        let j = jacobian(gap, omega, x, periods);
         let a = [[j[0][0] - 1.0, j[0][1]], [j[1][0], j[1][1] - 1.0]];
         let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
         x[0] -= (a[1][1] * r[0] - a[0][1] * r[1]) / det;
@@ -108,10 +108,30 @@ fn orbit(omega: f64, mut x: [f64; 2], periods: usize) -> [f64; 2] {
 }
 
 /// `det(P' + I)` at the orbit of `periods` periods near `x`, and the orbit.
-fn pd_test(omega: f64, x: [f64; 2], periods: usize) -> (f64, [f64; 2]) {
-    let x = orbit(omega, x, periods);
-    let j = jacobian(omega, x, periods);
+fn pd_test(gap: f64, omega: f64, x: [f64; 2], periods: usize) -> (f64, [f64; 2]) {
+    let x = orbit(gap, omega, x, periods);
+    let j = jacobian(gap, omega, x, periods);
     ((j[0][0] + 1.0) * (j[1][1] + 1.0) - j[0][1] * j[1][0], x)
+}
+
+/// The period doubling of the orbits of `periods` periods between `lo`
+/// and `hi` (Newton from `x`): `det(P' + I)` bisected to 1e-12, its sign
+/// asserted to change.
+pub(crate) fn pd_between(gap: f64, mut lo: f64, mut hi: f64, x: [f64; 2], periods: usize) -> f64 {
+    let (mut flo, mut x) = pd_test(gap, lo, x, periods);
+    let (fhi, _) = pd_test(gap, hi, x, periods);
+    assert!(flo * fhi < 0.0, "det(P' + I) keeps its sign from {lo} to {hi}: {flo} {fhi}");
+    while hi - lo > 1e-12 {
+        let m = 0.5 * (lo + hi);
+        let (f, xm) = pd_test(gap, m, x, periods);
+        x = xm;
+        if f * flo > 0.0 {
+            (lo, flo) = (m, f);
+        } else {
+            hi = m;
+        }
+    }
+    lo
 }
 
 /// The rows of a CSV as (header, rows).
@@ -139,7 +159,7 @@ fn the_switch_follows_the_cascade_to_period_four() {
     // 4 periods, not over 2.
     for r in four.iter().step_by(5) {
         let (w, x) = (num(r, cp), [num(r, cq), num(r, cv)]);
-        let (two, four) = (off(map(w, x, 2), x), off(map(w, x, 4), x));
+        let (two, four) = (off(map(GAP, w, x, 2), x), off(map(GAP, w, x, 4), x));
         eprintln!("Ω = {w}: |P⁴(x) − x| {four:e}, |P²(x) − x| {two:e}");
         assert!(four <= 1e-8 && two >= 1e-4, "Ω = {w}: |P⁴(x) − x| {four:e}, |P²(x) − x| {two:e}");
     }
@@ -151,9 +171,9 @@ fn the_switch_follows_the_cascade_to_period_four() {
     let (w, x) = (num(r, cp), [num(r, cq), num(r, cv)]);
     let mut y = [x[0] + 1e-3, x[1] - 1e-3];
     for _ in 0..200 {
-        y = map(w, y, 4);
+        y = map(GAP, w, y, 4);
     }
-    let states: Vec<[f64; 2]> = (0..4).map(|k| map(w, x, k)).collect();
+    let states: Vec<[f64; 2]> = (0..4).map(|k| map(GAP, w, x, k)).collect();
     let d = states.iter().map(|s| off(y, *s)).fold(f64::INFINITY, f64::min);
     eprintln!("Ω = {w} (|μ|max {}): a run from beside the stable period-4 orbit ends {d:e} from it", num(r, cm));
     assert!(d <= 1e-8, "Ω = {w}: the run ends {d:e} from the orbit");
@@ -169,22 +189,7 @@ fn the_switch_follows_the_cascade_to_period_four() {
     for pd in pds {
         // The period-2 orbit listed nearest, as Newton's start.
         let r = twos.iter().min_by(|a, b| (num(a, cp) - pd).abs().total_cmp(&(num(b, cp) - pd).abs())).unwrap();
-        let mut x = [num(r, cq), num(r, cv)];
-        let (mut lo, mut hi) = (pd - 2e-4, pd + 2e-4);
-        let (mut flo, xl) = pd_test(lo, x, 2);
-        let (fhi, _) = pd_test(hi, xl, 2);
-        assert!(flo * fhi < 0.0, "det(P₂' + I) keeps its sign across {pd}: {flo} {fhi}");
-        x = xl;
-        while hi - lo > 1e-12 {
-            let m = 0.5 * (lo + hi);
-            let (f, xm) = pd_test(m, x, 2);
-            x = xm;
-            if f * flo > 0.0 {
-                (lo, flo) = (m, f);
-            } else {
-                hi = m;
-            }
-        }
+        let lo = pd_between(GAP, pd - 2e-4, pd + 2e-4, [num(r, cq), num(r, cv)], 2);
         eprintln!("period doubling of the period-2 branch at {pd} vs the transcription's {lo}: {:e}", (pd - lo).abs());
         assert!((pd - lo).abs() <= 1e-7, "period doubling at {pd} vs the transcription's {lo}");
     }

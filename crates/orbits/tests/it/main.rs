@@ -5,6 +5,7 @@ mod basins_branch;
 mod basins_stop;
 mod beam;
 mod between;
+mod bubble;
 mod cascade;
 mod chain;
 mod chatter;
