@@ -287,3 +287,81 @@ fn known_orbits_label_their_basins() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("error: orbits: no param column"), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// `--orbits` with orbits of two forcing periods, from two branches in one
+/// file: the oscillator with its stop at 0.2 at Ω = 1.11 has two period-2
+/// attractors (2 and 3 impacts over the period); a continuation from a
+/// state in each basin (`--period 2`, from the scene's Ω) and the two
+/// `branch.csv` joined (the second renumbered branch 1) label exactly the
+/// cells the unlabelled grid puts on `p2-i2` and `p2-i3`, each by the
+/// first point of its own branch (at the scene's Ω), whose period and
+/// impacts per period are the cells' (a known orbit of period p labels a
+/// cycle whose period divides p: its impacts scale with it).
+#[test]
+fn labels_of_period_two_orbits_agree_with_their_branch_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = |x0: f64, v0: f64| {
+        format!(
+            "[oscillator]\nmass = 1.0\nstiffness = 1.0\ndamping_ratio = 0.05\nstop = 0.2\nrestitution = 0.8\ninitial_displacement = {x0:?}\ninitial_velocity = {v0:?}\ndt = 1e-2\nt_end = 10.0\nscheme = \"event-driven\"\n[forcing]\namplitude = 1.0\nomega = 1.11\n"
+        )
+    };
+    let scene = dir.path().join("osc.toml");
+    std::fs::write(&scene, text(0.0, 0.0)).unwrap();
+    let grid = |out: &Path, extra: &[&str]| {
+        let mut c = bin();
+        c.args(["basins", scene.to_str().unwrap(), "--x", "oscillator.initial_displacement", "--v", "oscillator.initial_velocity"]);
+        c.args(["--grid", "12", "12", "--x-range", "-2", "0.15", "--v-range", "-2", "2", "--out", out.to_str().unwrap()]).args(extra);
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        rows(out)
+    };
+    let plain = grid(&dir.path().join("plain"), &[]);
+    // One continuation from a cell of each attractor.
+    let mut joined = String::new();
+    for (b, want) in ["p2-i2", "p2-i3"].into_iter().enumerate() {
+        let cell = plain.iter().find(|r| r[8] == want).unwrap_or_else(|| panic!("no {want} cell"));
+        let start = dir.path().join(format!("start{b}.toml"));
+        std::fs::write(&start, text(cell[2].parse().unwrap(), cell[3].parse().unwrap())).unwrap();
+        let out = dir.path().join(format!("c{b}"));
+        let o = bin().args(["continue", start.to_str().unwrap(), "--param", "forcing.omega", "--from", "1.11", "--to", "1.115", "--period", "2", "--out", out.to_str().unwrap()]).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let csv = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+        let mut lines = csv.lines();
+        let head = lines.next().unwrap();
+        if b == 0 {
+            joined = format!("{head}\n");
+        }
+        let cb = head.split(',').position(|h| h == "branch").unwrap();
+        for l in lines {
+            let mut f: Vec<&str> = l.split(',').collect();
+            let n = b.to_string();
+            f[cb] = &n;
+            joined += &(f.join(",") + "\n");
+        }
+    }
+    let file = dir.path().join("both.csv");
+    std::fs::write(&file, &joined).unwrap();
+    let labelled = grid(&dir.path().join("labelled"), &["--orbits", file.to_str().unwrap()]);
+    let mut lines = joined.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let branch_rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let c = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let mut seen = [0usize; 2];
+    for (p, l) in plain.iter().zip(&labelled) {
+        assert_eq!(p[..8], l[..8]);
+        let Some((b, n)) = l[8].strip_prefix("branch").and_then(|s| s.split_once(':')) else {
+            assert_eq!(l[8], p[8], "a cell off the two attractors keeps its description");
+            assert!(p[8] != "p2-i2" && p[8] != "p2-i3", "{p:?} not labelled");
+            continue;
+        };
+        let (b, n): (usize, usize) = (b.parse().unwrap(), n.parse().unwrap());
+        let row = branch_rows.iter().filter(|r| r[c("branch")] == b.to_string()).nth(n).unwrap_or_else(|| panic!("{} names no row", l[8]));
+        assert_eq!(row[c("param")].parse::<f64>().unwrap(), 1.11, "{} is not the branch's point at the scene's Ω", l[8]);
+        let (bp, bi): (usize, usize) = (row[c("period")].parse().unwrap(), row[c("impacts_per_period")].parse().unwrap());
+        let (cp, ci): (usize, usize) = (l[5].parse().unwrap(), l[6].parse().unwrap());
+        assert!(bp % cp == 0 && ci * (bp / cp) == bi, "cell {:?} (period {cp}, {ci} impacts) labelled {} (period {bp}, {bi} impacts)", &l[..4], l[8]);
+        assert_eq!(p[8], ["p2-i2", "p2-i3"][b], "{} labels a {} cell", l[8], p[8]);
+        seen[b] += 1;
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "cells labelled per branch: {seen:?}");
+}
