@@ -46,6 +46,19 @@ const GRAZING: f64 = 2.3678525327577;
 const VANISHING: f64 = 2.3806475600435;
 /// The transcription's fold of the 3-impact orbits that turn back there.
 const FOLD_3: f64 = 2.3927017995113;
+/// The transcription's period doubling of those 3-impact orbits, 1.3e-5
+/// past their fold (a scratch program of the same closed-form flow: its
+/// 2-period map's central-difference multipliers at its orbits Newton
+/// found from the branch's, the real one through −1 bisected in Ω: −0.87
+/// at 2.3926900, −1.03 at 2.3926880). Past the fold the multiplier goes
+/// from +1 through 0 to −1 and on to −3236 at the end grazing; before it,
+/// from the vanishing impact, it stays above 1 (755 at 2.3806498, 37.5 at
+/// 2.3898341): this is the arc's one period doubling.
+const PD_3: f64 = 2.3926883055155;
+/// The same transcription's period doubling of the 4-impact orbits, 1.8e-7
+/// past their fold at 2.386056 (−0.81 at 2.3860559273, −1.03 at
+/// 2.3860558882).
+const PD_4: f64 = 2.38605589385;
 
 fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = csv.lines();
@@ -228,8 +241,21 @@ fn a_period_two_branch_at_a_small_parameter_scale_goes_on_past_its_turns() {
         for (i, a) in grazings.iter().enumerate() {
             assert!(grazings[i + 1..].iter().all(|b| (a - b).abs() > 1e-4), "scale {scale}: grazings listed twice: {grazings:?}");
         }
+        // With 0.01 a trial up the 4-impact arc from 2.3855371 landed off
+        // it at 2.3858515 (its chord turned from the tangent: cosine 0.83)
+        // and was taken; a 4 → 3 grazing was listed there, where the
+        // transcription's orbit of the arc keeps its 4 impacts (the
+        // slowest at 5.1e-3), and the branch ended (162 points). Now it
+        // passes the 4-impact fold and lists the period doubling past it.
+        if scale == 0.01 {
+            let cb = bh.iter().position(|h| h == "impacts_before").unwrap();
+            let up: Vec<f64> = bifs.iter().filter(|b| b[ck] == "grazing" && b[cb] == "4").map(|b| b[cp].parse().unwrap()).filter(|w| *w > 2.3835124 && *w < 2.3860561).collect();
+            assert!(up.is_empty(), "scale {scale}: grazings listed on the 4-impact arc below its fold: {up:?}");
+            let near: Vec<f64> = bifs.iter().filter(|b| b[ck] == "period-doubling" && (b[cp].parse::<f64>().unwrap() - PD_4).abs() <= 1e-4).map(|b| b[cp].parse().unwrap()).collect();
+            assert!(near.len() == 1 && (near[0] - PD_4).abs() <= 1e-9, "scale {scale}: period doublings near the transcription's {PD_4}: {near:?}");
+        }
         if scale == 0.05 {
-            for (kind, at) in [("grazing", VANISHING), ("fold", FOLD_3), ("grazing", GRAZING), ("period-doubling", PD), ("fold", FOLD)] {
+            for (kind, at) in [("grazing", VANISHING), ("fold", FOLD_3), ("period-doubling", PD_3), ("grazing", GRAZING), ("period-doubling", PD), ("fold", FOLD)] {
                 let near: Vec<f64> = bifs.iter().filter(|b| b[ck] == kind && (b[cp].parse::<f64>().unwrap() - at).abs() <= 1e-4).map(|b| b[cp].parse().unwrap()).collect();
                 assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "scale {scale}: {kind}s near the transcription's {at}: {near:?}");
             }
