@@ -2,9 +2,8 @@
 
 use crate::variational::{Core, Linear};
 use crate::OrbitError;
-use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
-use signorini_schemes::events::{EventDriven, EventKind, EventRecord, FlowBases, ModalFlow, Reached, MAX_EVENTS};
+use signorini_schemes::events::{Condensation, EventDriven, EventKind, EventRecord, FlowBases, ModalFlow, Reached, MAX_EVENTS};
 use signorini_schemes::Dynamics;
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -719,55 +718,17 @@ impl Model {
 
     /// The flow of the free dofs with the contacts `held` on their bounds:
     /// `M_ff q_f'' + C_ff q_f' + K_eff q_f = F_eff`, a held dof at rest,
-    /// the massless dofs not held statically condensed (`K_SS q_S = F_S −
-    /// K_Sf q_f − K_Sh b_h`): `K_eff = K_ff − K_fS K_SS⁻¹ K_Sf` and `F_eff`
-    /// the load `F − K_·h b_h` condensed the same way (`y_f − K_fS K_SS⁻¹
-    /// y_S`), as the run's own phase (docs/theory.md §9.3).
+    /// the massless dofs not held statically condensed ([`Condensation`],
+    /// the run's own phase: docs/theory.md §9.3).
     fn phase_flow(&self, held: &[(usize, bool)]) -> Result<PhaseFlow, OrbitError> {
         let dy = &self.dy;
-        let n = dy.mass.n();
         let fixed: Vec<(usize, f64)> = held.iter().map(|&(j, upper)| (dy.contacts[j].dof, self.bound(j, upper))).collect();
-        let is_fixed = |d: usize| fixed.iter().any(|f| f.0 == d);
-        let mut cond: Vec<usize> = dy.contacts.iter().filter(|c| c.massless && !is_fixed(c.dof)).map(|c| c.dof).collect();
+        let mut cond: Vec<usize> = dy.contacts.iter().filter(|c| c.massless && !fixed.iter().any(|f| f.0 == c.dof)).map(|c| c.dof).collect();
         cond.sort_unstable();
         cond.dedup();
-        let free: Vec<usize> = (0..n).filter(|&d| !is_fixed(d) && cond.binary_search(&d).is_err()).collect();
-        let flow = if free.is_empty() {
-            None
-        } else {
-            let (nf, ns) = (free.len(), cond.len());
-            let k = |i: usize, j: usize| dy.stiffness.get(i, j);
-            // K_fS K_SS⁻¹.
-            let kfs_g = if ns == 0 {
-                Mat::zeros(nf, 0)
-            } else {
-                let kss = Mat::from_fn(ns, ns, |a, b| k(cond[a], cond[b]));
-                let g = kss.llt(faer::Side::Lower).map_err(|_| OrbitError::Model("the stiffness block of the massless contact dofs is not positive definite".into()))?.inverse();
-                Mat::from_fn(nf, ns, |r, j| (0..ns).map(|s| k(free[r], cond[s]) * g[(s, j)]).sum::<f64>())
-            };
-            let condense = |y: &[f64]| -> Vec<f64> { (0..nf).map(|r| y[free[r]] - (0..ns).map(|j| kfs_g[(r, j)] * y[cond[j]]).sum::<f64>()).collect() };
-            let keff = |a: usize, c: usize| {
-                let s = |a: usize, c: usize| k(free[a], free[c]) - (0..ns).map(|j| kfs_g[(a, j)] * k(cond[j], free[c])).sum::<f64>();
-                0.5 * (s(a, c) + s(c, a))
-            };
-            let band = |p: usize, at: &dyn Fn(usize, usize) -> f64| {
-                let mut out = signorini_fem::SymBand::zeros(nf, p);
-                for a in 0..nf {
-                    for c in a.saturating_sub(p)..=a {
-                        out.set(a, c, at(a, c));
-                    }
-                }
-                out
-            };
-            let sub = |b: &signorini_fem::SymBand| band(b.half_bandwidth(), &|a, c| b.get(free[a], free[c]));
-            // The condensation fills the free dofs' stiffness.
-            let stiffness = band(if ns == 0 { dy.stiffness.half_bandwidth() } else { nf - 1 }, &keff);
-            let y: Vec<f64> = (0..n).map(|i| dy.load[i] - fixed.iter().map(|&(d, b)| k(i, d) * b).sum::<f64>()).collect();
-            let forcing = dy.forcing.iter().map(|f| signorini_schemes::Forcing { shape: condense(&f.shape), time: f.time.clone() }).collect();
-            let sub_dy = Dynamics::new(sub(&dy.mass), stiffness, condense(&y), Vec::new()).with_forcing(forcing).with_damping(dy.damping.as_ref().map(sub));
-            Some(ModalFlow::new(&sub_dy)?)
-        };
-        Ok(PhaseFlow { held: held.to_vec(), free, fixed, flow })
+        let cd = Condensation::new(dy, &fixed, &cond)?;
+        let flow = if cd.free().is_empty() { None } else { Some(cd.flow(dy)?) };
+        Ok(PhaseFlow { held: held.to_vec(), free: cd.free().to_vec(), fixed, flow })
     }
 
     /// With `st`, the impact's own term of the derivative in the

@@ -96,6 +96,8 @@ use std::sync::{Arc, Mutex};
 #[path = "massless.rs"]
 mod massless;
 
+pub use massless::Condensation;
+
 /// An impact slower than this fraction of the contact's fastest impact so
 /// far ends its run of impacts as an accumulation (module docs).
 const MICRO: f64 = 1e-6;
@@ -1345,7 +1347,7 @@ impl EventDriven {
         let free: Vec<usize> = (0..n).filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
         let nf = free.len();
         let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
-        let loads = self.phase_loads(&held, |x| free.iter().map(|&d| x[d]).collect());
+        let loads = self.loads.held(|i, j| self.k[(i, j)], &held, |x| free.iter().map(|&d| x[d]).collect());
         let basis = self.basis(holds, || Basis::new(sub(&self.m), sub(&self.k), self.c.as_ref().map(sub)))?;
         let flow = ModalFlow::with_loads(&basis, &loads);
         let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
@@ -1375,24 +1377,6 @@ impl EventDriven {
     fn basis(&self, holds: &[Hold], build: impl FnOnce() -> Result<Basis, EventsError>) -> Result<Arc<Basis>, EventsError> {
         let key: Vec<usize> = holds.iter().map(|h| h.contact).collect();
         basis_of(self.bases.as_deref(), &key, build)
-    }
-
-    /// The loads of a phase's flow: `f − K_·A q_A` (the held dofs'
-    /// displacements load the others), the waves and the series, each
-    /// mapped onto the flow's dofs by `reduce` (the free dofs' entries; with
-    /// massless dofs, the static condensation's too).
-    fn phase_loads(&self, held: &[(usize, f64)], reduce: impl Fn(&[f64]) -> Vec<f64>) -> Loads {
-        let mut steady = self.loads.constant.clone();
-        for (d, x) in steady.iter_mut().enumerate() {
-            for &(a, xa) in held {
-                *x -= self.k[(d, a)] * xa;
-            }
-        }
-        Loads {
-            constant: reduce(&steady),
-            waves: self.loads.waves.iter().map(|(g, a, w, p)| (reduce(g), *a, *w, *p)).collect(),
-            ramps: self.loads.ramps.iter().map(|(h, s, index)| (reduce(h), s.clone(), *index)).collect(),
-        }
     }
 
     /// Adds `Σ_d coef_d f_d(t)` (steady, waves, series) to `f`.

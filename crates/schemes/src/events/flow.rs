@@ -108,6 +108,34 @@ impl Loads {
         Ok(Self { constant, waves, ramps })
     }
 
+    /// [`of`](Self::of), a piecewise-linear series refused (a flow that
+    /// takes no piece: [`EventsError::Profile`]).
+    pub fn without_series(dy: &Dynamics) -> Result<Self, EventsError> {
+        let loads = Self::of(dy)?;
+        if let Some((_, _, index)) = loads.ramps.first() {
+            return Err(EventsError::Profile { index: *index });
+        }
+        Ok(loads)
+    }
+
+    /// The loads of a phase's flow: `f − K_·A q_A` (the `held` dofs'
+    /// displacements, `K`'s entries `k(i, j)`, load the others), the waves
+    /// and the series, each mapped onto the flow's dofs by `reduce` (the
+    /// free dofs' entries; with massless dofs, the static condensation's).
+    pub fn held(&self, k: impl Fn(usize, usize) -> f64, held: &[(usize, f64)], reduce: impl Fn(&[f64]) -> Vec<f64>) -> Self {
+        let mut steady = self.constant.clone();
+        for (d, x) in steady.iter_mut().enumerate() {
+            for &(a, xa) in held {
+                *x -= k(d, a) * xa;
+            }
+        }
+        Self {
+            constant: reduce(&steady),
+            waves: self.waves.iter().map(|(g, a, w, p)| (reduce(g), *a, *w, *p)).collect(),
+            ramps: self.ramps.iter().map(|(h, s, index)| (reduce(h), s.clone(), *index)).collect(),
+        }
+    }
+
     /// `F'(t)_r` on `piece` (the series' slopes there).
     pub fn rate(&self, r: usize, t: f64, piece: &Piece) -> f64 {
         self.waves.iter().map(|(g, a, w, p)| g[r] * a * w * (w * t + p).cos()).sum::<f64>() + self.ramps.iter().enumerate().map(|(l, (h, _, _))| h[r] * piece.slopes[l]).sum::<f64>()
@@ -963,10 +991,7 @@ impl ModalFlow {
     /// harmonics (a piecewise-linear series is [`super::EventDriven`]'s:
     /// [`EventsError::Profile`] here).
     pub fn new(dy: &Dynamics) -> Result<Self, EventsError> {
-        let loads = Loads::of(dy)?;
-        if let Some((_, _, index)) = loads.ramps.first() {
-            return Err(EventsError::Profile { index: *index });
-        }
+        let loads = Loads::without_series(dy)?;
         Self::from_parts(dense(&dy.mass), dense(&dy.stiffness), dy.damping.as_ref().map(dense), &loads)
     }
 

@@ -24,9 +24,10 @@
 //! energy `½ vᵀ M v + ½ qᵀ K q − fᵀ q` is conserved under a steady load.
 
 use super::{EventDriven, Hold, Site, System, Work};
-use crate::events::flow::{Basis, ModalFlow, Piece};
+use crate::events::flow::{dense, Basis, Loads, ModalFlow, Piece};
 use crate::events::record::{EventKind, EventRecord, EventsError};
 use crate::events::Bound;
+use crate::Dynamics;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use signorini_contact::MultiProjection;
@@ -45,6 +46,111 @@ fn spd_inverse(a: &Mat<f64>) -> Option<Mat<f64>> {
 
 fn not_spd() -> EventsError {
     EventsError::Contacts("the stiffness block K_ZZ of the massless dofs is not positive definite (a massless dof without stiffness has no static position)".to_string())
+}
+
+/// The static condensation of a structure's massless dofs (module docs):
+/// the dofs `fixed` held at their values, the `condensed` ones (massless,
+/// not held) eliminated by their static equation `K_SS q_S = y_S − K_Sf
+/// q_f` with `y = f − K_·h b_h` (`b_h` the fixed values), and the others,
+/// the free dofs, left with
+///
+/// ```text
+/// M_ff q_f'' + C_ff q_f' + K_eff q_f = y_f − K_fS K_SS⁻¹ y_S,   K_eff = K_ff − K_fS K_SS⁻¹ K_Sf
+/// ```
+///
+/// (`K_eff` symmetrised: `½ (K_eff + K_effᵀ)`). The event-driven run's
+/// phases with massless contacts and the orbits' parameter sensitivity are
+/// built on it; the condensed dofs are recovered as `K_SS⁻¹ (f_S − K_S· q)`
+/// ([`inverse`](Self::inverse), the other dofs' entries of `q`).
+#[derive(Clone, Debug)]
+pub struct Condensation {
+    free: Vec<usize>,
+    cond: Vec<usize>,
+    fixed: Vec<(usize, f64)>,
+    /// `K_SS⁻¹`.
+    g: Mat<f64>,
+    /// `K_fS K_SS⁻¹`.
+    kfs_g: Mat<f64>,
+    keff: Mat<f64>,
+}
+
+impl Condensation {
+    /// The condensation of `dy`'s stiffness with the dofs `fixed` at their
+    /// values and the dofs `condensed` (in that order) eliminated; an
+    /// error if `K_SS` is not positive definite.
+    ///
+    /// # Panics
+    /// If a dof is out of range or both fixed and condensed (a programmer
+    /// error).
+    #[track_caller]
+    pub fn new(dy: &Dynamics, fixed: &[(usize, f64)], condensed: &[usize]) -> Result<Self, EventsError> {
+        let n = dy.n();
+        assert!(fixed.iter().map(|f| f.0).chain(condensed.iter().copied()).all(|d| d < n), "fixed and condensed dofs below {n}");
+        assert!(condensed.iter().all(|d| !fixed.iter().any(|f| f.0 == *d)), "a dof both fixed and condensed");
+        Self::of(&dense(&dy.stiffness), fixed.to_vec(), condensed.to_vec())
+    }
+
+    /// [`new`](Self::new) on the dense stiffness `k`.
+    fn of(k: &Mat<f64>, fixed: Vec<(usize, f64)>, cond: Vec<usize>) -> Result<Self, EventsError> {
+        let free: Vec<usize> = (0..k.nrows()).filter(|d| !cond.contains(d) && !fixed.iter().any(|f| f.0 == *d)).collect();
+        let (nf, ns) = (free.len(), cond.len());
+        let g = spd_inverse(&Mat::from_fn(ns, ns, |i, j| k[(cond[i], cond[j])])).ok_or_else(not_spd)?;
+        let kfs_g = Mat::from_fn(nf, ns, |r, j| (0..ns).map(|s| k[(free[r], cond[s])] * g[(s, j)]).sum::<f64>());
+        let keff = Mat::from_fn(nf, nf, |r, c| k[(free[r], free[c])] - (0..ns).map(|j| kfs_g[(r, j)] * k[(cond[j], free[c])]).sum::<f64>());
+        let keff = Mat::from_fn(nf, nf, |r, c| 0.5 * (keff[(r, c)] + keff[(c, r)]));
+        Ok(Self { free, cond, fixed, g, kfs_g, keff })
+    }
+
+    /// The free dofs, in order (the condensed system's rows).
+    pub fn free(&self) -> &[usize] {
+        &self.free
+    }
+
+    /// The condensed dofs, in the order given (`K_SS⁻¹`'s rows).
+    pub fn condensed(&self) -> &[usize] {
+        &self.cond
+    }
+
+    /// `K_eff`, on the free dofs.
+    pub fn stiffness(&self) -> &Mat<f64> {
+        &self.keff
+    }
+
+    /// `K_SS⁻¹`, on the condensed dofs.
+    pub fn inverse(&self) -> &Mat<f64> {
+        &self.g
+    }
+
+    /// The load map: `y_f − K_fS K_SS⁻¹ y_S` of `y` (every dof's entry).
+    ///
+    /// # Panics
+    /// If `y` has fewer entries than the structure (a programmer error).
+    pub fn load(&self, y: &[f64]) -> Vec<f64> {
+        let ns = self.cond.len();
+        (0..self.free.len()).map(|r| y[self.free[r]] - (0..ns).map(|j| self.kfs_g[(r, j)] * y[self.cond[j]]).sum::<f64>()).collect()
+    }
+
+    /// The free dofs' basis: `(M_ff, K_eff, C_ff)` of the dense `m`, `c`.
+    fn basis(&self, m: &Mat<f64>, c: Option<&Mat<f64>>) -> Result<Basis, EventsError> {
+        let nf = self.free.len();
+        let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(self.free[i], self.free[j])]);
+        Basis::new(sub(m), self.keff.clone(), c.map(sub))
+    }
+
+    /// The loads `loads` of the condensed system: `f − K_·h b_h`, each
+    /// mapped by [`load`](Self::load).
+    fn loads(&self, loads: &Loads, k: impl Fn(usize, usize) -> f64) -> Loads {
+        loads.held(k, &self.fixed, |x| self.load(x))
+    }
+
+    /// The free dofs' flow without events, `M_ff` and `C_ff` of `dy`, the
+    /// condensed stiffness and loads: as [`ModalFlow::new`] of that system
+    /// (a piecewise-linear series refused, [`EventsError::Profile`]).
+    pub fn flow(&self, dy: &Dynamics) -> Result<ModalFlow, EventsError> {
+        let loads = Loads::without_series(dy)?;
+        let basis = self.basis(&dense(&dy.mass), dy.damping.as_ref().map(dense).as_ref())?;
+        Ok(ModalFlow::with_loads(&basis, &self.loads(&loads, |i, j| dy.stiffness.get(i, j))))
+    }
 }
 
 /// The static LCP of the massless contacts: on `K_ZZ⁻¹`, in `Z`'s
@@ -66,21 +172,16 @@ impl EventDriven {
 
     /// The phase of `holds` with massless contacts (module docs).
     pub(super) fn build_static(&self, holds: &[Hold], piece: &Piece) -> Result<System, EventsError> {
-        let n = self.n;
-        let (k, m) = (&self.k, &self.m);
+        let (n, k) = (self.n, &self.k);
         let held = self.held_values(holds);
         let cond: Vec<usize> = self.zero.iter().copied().filter(|d| !held.iter().any(|h| h.0 == *d)).collect();
-        let free: Vec<usize> = (0..n).filter(|&d| !self.is_zero(d)).collect();
-        let (nf, ns) = (free.len(), cond.len());
-        let g = spd_inverse(&Mat::from_fn(ns, ns, |i, j| k[(cond[i], cond[j])])).ok_or_else(not_spd)?;
-        // K_RS K_SS⁻¹.
-        let krs_g = Mat::from_fn(nf, ns, |r, j| (0..ns).map(|s| k[(free[r], cond[s])] * g[(s, j)]).sum::<f64>());
-        let keff = Mat::from_fn(nf, nf, |r, c| k[(free[r], free[c])] - (0..ns).map(|j| krs_g[(r, j)] * k[(cond[j], free[c])]).sum::<f64>());
-        let keff = Mat::from_fn(nf, nf, |r, c| 0.5 * (keff[(r, c)] + keff[(c, r)]));
-        let loads = self.phase_loads(&held, |x| (0..nf).map(|r| x[free[r]] - (0..ns).map(|j| krs_g[(r, j)] * x[cond[j]]).sum::<f64>()).collect());
-        let sub = |a: &Mat<f64>| Mat::from_fn(nf, nf, |i, j| a[(free[i], free[j])]);
-        let basis = self.basis(holds, || Basis::new(sub(m), keff, self.c.as_ref().map(sub)))?;
+        // The held dofs are massless: the free ones are the massive dofs.
+        let cd = Condensation::of(k, held, cond)?;
+        let loads = cd.loads(&self.loads, |i, j| k[(i, j)]);
+        let basis = self.basis(holds, || cd.basis(&self.m, self.c.as_ref()))?;
         let flow = ModalFlow::with_loads(&basis, &loads);
+        let Condensation { free, cond, fixed: held, g, .. } = cd;
+        let (nf, ns) = (free.len(), cond.len());
         let zeros = vec![0.0; nf];
         let (mut fns, mut quiet, mut watch) = (Vec::new(), Vec::new(), Vec::new());
         for (j, s) in self.sites.iter().enumerate() {

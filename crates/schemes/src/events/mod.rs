@@ -49,7 +49,7 @@ mod record;
 mod search;
 mod stepper;
 
-pub use driven::{bases_built, EventDriven, FlowBases, Reached, MAX_EVENTS};
+pub use driven::{bases_built, Condensation, EventDriven, FlowBases, Reached, MAX_EVENTS};
 #[doc(hidden)]
 pub use flow::{critical_plane, defective_chain, repeated_line, repeated_planes, slow_plane};
 pub use flow::{Event, ModalFlow};

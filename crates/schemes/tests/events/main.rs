@@ -10,6 +10,7 @@ mod events_common;
 
 mod events_bar;
 mod events_chatter;
+mod events_condensation;
 mod events_dashpot;
 mod events_dashpot_chatter;
 mod events_dashpot_degenerate;
