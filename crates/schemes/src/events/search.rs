@@ -621,7 +621,8 @@ fn taylor_curvature(bl: f64, tj: [f64; 3], ts: [f64; 3], b5: f64, h: f64) -> f64
 /// How much tighter than the sum of the terms' bounds Taylor's bound of
 /// `|g''|` must be to be taken ([`taylor_curvature`]): both are bounds,
 /// either step is safe; below this gain the steps stay those of the
-/// terms' bounds, so every run without such a cancellation keeps its bits.
+/// terms' bounds (a run where Taylor's bound is taken changes its events'
+/// last bits: docs/theory.md §9.2, "Cancelled curvature").
 const TAYLOR_GAIN: f64 = 16.0;
 
 /// The time to which an event at `t` (or `τ` into its phase, for a flow
