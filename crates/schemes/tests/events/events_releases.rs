@@ -375,3 +375,47 @@ fn an_impact_just_after_a_release_leaves_the_released_alone() {
         }
     }
 }
+
+/// The case above with dof 1's load `φ` = 2 to 6 ulps later (released at
+/// `π/2 + φ`) and the impact at `t_g` from 3 ulps before π/2 to 9 after
+/// (before, between and after the releases): each contact named once, a
+/// release of 0 and of 1 and an impact of 2, in time order, the state at
+/// 3 as the closed forms (before: with the impact between the releases,
+/// a fourth row, contact 0 released again at contact 1's release, its gap
+/// 1e-48 there located by a root step of 2e-24 s).
+#[test]
+fn releases_ulps_apart_around_an_impact_log_each_contact_once() {
+    let ulp = f64::EPSILON;
+    let cosine = |phase: f64| TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: 1.0, omega: 1.0, phase: FRAC_PI_2 - phase }]));
+    let stop = |d| Contact::new(d, Bounds::obstacle(0.0), false);
+    let flight = symmetric(FRAC_PI_2, 0.0, 0.0);
+    let tol = 4.0 * resolution(FRAC_PI_2);
+    for phi in [2.0, 3.0, 4.0, 6.0] {
+        let dy = Dynamics::new(band(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]), band(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]), vec![0.0; 3], vec![stop(0), stop(1), stop(2)])
+            .with_forcing(vec![Forcing { shape: vec![-1.0, 0.0, 0.0], time: cosine(0.0) }, Forcing { shape: vec![0.0, -1.0, 0.0], time: cosine(phi * ulp) }]);
+        for e in [0.0, 1.0] {
+            for k in [-3.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 9.0] {
+                let tg = FRAC_PI_2 + k * ulp;
+                let mut r = EventDriven::new(&dy, 0.0, &[0.0, 0.0, tg.sin()], &[0.0, 0.0, -tg.cos()], e).expect("starts");
+                r.run_until(3.0, 100).unwrap_or_else(|err| panic!("φ = {phi} ulp, e = {e}, t_g = π/2 + {k} ulp: {err}"));
+                let ev = r.events();
+                let case = format!("φ = {phi} ulp, e = {e}, t_g = π/2 + {k} ulp: {ev:?}");
+                common::check_order(ev).unwrap();
+                assert_eq!(ev.len(), 3, "{case}");
+                for (c, kind, t_c) in [(0, EventKind::Release, FRAC_PI_2), (1, EventKind::Release, FRAC_PI_2 + phi * ulp), (2, EventKind::Impact, tg)] {
+                    let rows: Vec<_> = ev.iter().filter(|x| x.contact == c).collect();
+                    assert!(rows.len() == 1 && rows[0].kind == kind && (rows[0].t - t_c).abs() <= tol, "{case}: contact {c}");
+                }
+                let imp = ev.iter().find(|x| x.contact == 2).expect("the impact");
+                assert!((imp.velocity_before + 1.0).abs() <= 1e-15 && (imp.velocity_after - e).abs() <= 1e-15, "{case}");
+                let (_, q, v) = r.state();
+                let (x, dx) = flight(3.0);
+                let (x1, dx1) = flight(3.0 - phi * ulp);
+                let (x2, v2) = (e * (3.0 - tg).sin(), e * (3.0 - tg).cos());
+                for (d, (xe, ve)) in [(x, dx), (x1, dx1), (x2, v2)].into_iter().enumerate() {
+                    assert!((q[d] - xe).abs() <= 1e-13 && (v[d] - ve).abs() <= 1e-13, "{case}: dof {d} at 3: ({}, {}) against ({xe}, {ve})", q[d], v[d]);
+                }
+            }
+        }
+    }
+}
