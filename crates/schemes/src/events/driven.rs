@@ -686,7 +686,11 @@ impl EventDriven {
                 return Ok(Reached::End);
             }
             if let Some((te, which)) = self.pending {
-                if te > t_end {
+                // An event at `t_end` itself waits for the next call unless
+                // events at the pause are taken: the search's rule for a
+                // zero at a step's start, here for one located inside a
+                // step that ends there (docs/theory.md §9.4).
+                if te > t_end || (te == t_end && which.is_some() && !self.search.take_at_pause) {
                     // Beyond the time asked: the state there, read from the base.
                     self.read_at(t_end);
                     return Ok(Reached::End);
@@ -1138,6 +1142,17 @@ impl EventDriven {
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
         self.enter(holds, q, v, t, located)?;
+        // A held contact the event lets go (the acceleration LCP gives it
+        // no force, or another's impulse lifts it): its release, after the
+        // event's rows (before, it left the held set unlogged). Logged
+        // once the phase is entered: its force jumped, its gap does not
+        // leave from a force's zero (`at_release`).
+        for j in (0..kc).filter(|&j| w.held_before[j]) {
+            if !self.holds.iter().any(|h| h.contact == j) {
+                self.streak[j].clear();
+                self.events.push(EventRecord { t, kind: EventKind::Release, contact: j, velocity_before: 0.0, velocity_after: v[self.sites[j].dof], impulse: 0.0 });
+            }
+        }
         self.t = t;
         Ok(())
     }

@@ -397,3 +397,128 @@ fn a_dip_is_searched_at_the_flights_own_scale() {
         assert!(steps <= 1000, "δ = {delta:e}: {steps} search steps");
     }
 }
+
+/// The case above with dof 1's load `φ` = 2 to 6 ulps later (released at
+/// `π/2 + φ`) and the impact at `t_g` from 3 ulps before π/2 to 9 after
+/// (before, between and after the releases): each contact named once, a
+/// release of 0 and of 1 and an impact of 2, in time order, the state at
+/// 3 as the closed forms (before: with the impact between the releases,
+/// a fourth row, contact 0 released again at contact 1's release, its gap
+/// 1e-48 there located by a root step of 2e-24 s).
+#[test]
+fn releases_ulps_apart_around_an_impact_log_each_contact_once() {
+    let ulp = f64::EPSILON;
+    let cosine = |phase: f64| TimeProfile::Harmonics(Arc::from(vec![Harmonic { amplitude: 1.0, omega: 1.0, phase: FRAC_PI_2 - phase }]));
+    let stop = |d| Contact::new(d, Bounds::obstacle(0.0), false);
+    let flight = symmetric(FRAC_PI_2, 0.0, 0.0);
+    let tol = 4.0 * resolution(FRAC_PI_2);
+    for phi in [2.0, 3.0, 4.0, 6.0] {
+        let dy = Dynamics::new(band(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]), band(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]), vec![0.0; 3], vec![stop(0), stop(1), stop(2)])
+            .with_forcing(vec![Forcing { shape: vec![-1.0, 0.0, 0.0], time: cosine(0.0) }, Forcing { shape: vec![0.0, -1.0, 0.0], time: cosine(phi * ulp) }]);
+        for e in [0.0, 1.0] {
+            for k in [-3.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 9.0] {
+                let tg = FRAC_PI_2 + k * ulp;
+                let mut r = EventDriven::new(&dy, 0.0, &[0.0, 0.0, tg.sin()], &[0.0, 0.0, -tg.cos()], e).expect("starts");
+                r.run_until(3.0, 100).unwrap_or_else(|err| panic!("φ = {phi} ulp, e = {e}, t_g = π/2 + {k} ulp: {err}"));
+                let ev = r.events();
+                let case = format!("φ = {phi} ulp, e = {e}, t_g = π/2 + {k} ulp: {ev:?}");
+                common::check_order(ev).unwrap();
+                assert_eq!(ev.len(), 3, "{case}");
+                for (c, kind, t_c) in [(0, EventKind::Release, FRAC_PI_2), (1, EventKind::Release, FRAC_PI_2 + phi * ulp), (2, EventKind::Impact, tg)] {
+                    let rows: Vec<_> = ev.iter().filter(|x| x.contact == c).collect();
+                    assert!(rows.len() == 1 && rows[0].kind == kind && (rows[0].t - t_c).abs() <= tol, "{case}: contact {c}");
+                }
+                let imp = ev.iter().find(|x| x.contact == 2).expect("the impact");
+                assert!((imp.velocity_before + 1.0).abs() <= 1e-15 && (imp.velocity_after - e).abs() <= 1e-15, "{case}");
+                let (_, q, v) = r.state();
+                let (x, dx) = flight(3.0);
+                let (x1, dx1) = flight(3.0 - phi * ulp);
+                let (x2, v2) = (e * (3.0 - tg).sin(), e * (3.0 - tg).cos());
+                for (d, (xe, ve)) in [(x, dx), (x1, dx1), (x2, v2)].into_iter().enumerate() {
+                    assert!((q[d] - xe).abs() <= 1e-13 && (v[d] - ve).abs() <= 1e-13, "{case}: dof {d} at 3: ({}, {}) against ({xe}, {ve})", q[d], v[d]);
+                }
+            }
+        }
+    }
+}
+
+/// Two unit masses on unit springs, a dashpot `d` between them, each on a
+/// stop at 0; mass 0 pushed by `p` onto its stop and held, mass 1 from
+/// `(X, 0)`: `x'' + d x' + x = 0` (ζ = d/2, ω = √(1 − ζ²)) lands at
+/// `ω t_i = π − atan(ω/ζ)` at the speed `V = X e^{−ζ t_i} sin(ω t_i)/ω`.
+/// Mass 0's force `p − d v₁` jumps there to `p − d e V < 0`: it leaves at
+/// `t_i`, a release row after the impact row (before: no row, the held
+/// set left unlogged); then `s = (x₀ + x₁)/2`, `s'' + s = −p/2`, and
+/// `a = (x₀ − x₁)/2`, `a'' + 2d a' + a = −p/2`, from `(0, eV/2)`, `(0, −eV/2)`.
+#[test]
+fn a_held_contact_let_go_at_another_impact_logs_its_release() {
+    let (d, p, x0) = (0.5f64, 0.1f64, 1.0f64);
+    let stop = |c| Contact::new(c, Bounds::obstacle(0.0), false);
+    let dy = Dynamics::new(band(2, &[(0, 0, 1.0), (1, 1, 1.0)]), band(2, &[(0, 0, 1.0), (1, 1, 1.0)]), vec![-p, 0.0], vec![stop(0), stop(1)])
+        .with_damping(Some(band(2, &[(0, 0, d), (1, 1, d), (1, 0, -d)])));
+    let (z, w) = (0.5 * d, (1.0 - 0.25 * d * d).sqrt());
+    let ti = (PI - (w / z).atan()) / w;
+    let big_v = x0 * (-z * ti).exp() * (w * ti).sin() / w;
+    for e in [0.5, 1.0] {
+        assert!(p - d * e * big_v < 0.0, "the oracle's premise: the force reverses");
+        let w2 = (1.0 - d * d).sqrt();
+        let (a0, b0) = (0.5 * p, (-0.5 * e * big_v + d * 0.5 * p) / w2);
+        let after = |u: f64| -> [f64; 4] {
+            let (s, ds) = (-0.5 * p * (1.0 - u.cos()) + 0.5 * e * big_v * u.sin(), -0.5 * p * u.sin() + 0.5 * e * big_v * u.cos());
+            let (sn, cs, ex) = ((w2 * u).sin(), (w2 * u).cos(), (-d * u).exp());
+            let a = -0.5 * p + ex * (a0 * cs + b0 * sn);
+            let da = ex * ((-d * a0 + w2 * b0) * cs + (-d * b0 - w2 * a0) * sn);
+            [s + a, s - a, ds + da, ds - da]
+        };
+        let span = 0.3;
+        assert!((1..=300).all(|i| after(span * i as f64 / 300.0)[..2].iter().all(|x| *x > 0.0)), "the oracle's premise: both fly");
+        let mut r = EventDriven::new(&dy, 0.0, &[0.0, x0], &[0.0, 0.0], e).expect("starts");
+        assert_eq!(r.held(), vec![(0, false)]);
+        r.run_until(ti + span, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
+        let ev = r.events();
+        let case = format!("e = {e}: {ev:?} against t_i = {ti}, V = {big_v}");
+        common::check_order(ev).unwrap();
+        assert_eq!(ev.len(), 2, "{case}");
+        let (imp, rel) = (ev[0], ev[1]);
+        assert!(imp.kind == EventKind::Impact && imp.contact == 1 && (imp.t - ti).abs() <= 1e-13, "{case}");
+        assert!((imp.velocity_before + big_v).abs() <= 1e-13 && (imp.velocity_after - e * big_v).abs() <= 1e-13, "{case}");
+        assert!(rel.kind == EventKind::Release && rel.contact == 0 && rel.t == imp.t && rel.velocity_after == 0.0, "{case}");
+        assert!(r.held().is_empty(), "{case}");
+        let (_, q, v) = r.state();
+        let x = after(span);
+        assert!((0..2).all(|i| (q[i] - x[i]).abs() <= 1e-12 && (v[i] - x[2 + i]).abs() <= 1e-12), "{case}: {q:?} {v:?} against {x:?}");
+    }
+}
+
+/// `x'' + x = 0` from `(1, 0)` on a stop at 0, `e = 1/2`: the impact at
+/// π/2 (`v⁻ = −1`), asked for at its own located time `t_e` from a
+/// sample at 1.5 before it (the search's root step ends there, inside a
+/// step). Without events at the pause (the orbits' section) the run
+/// stands at `t_e` before it, `(cos t_e, −sin t_e)`, and takes it on the
+/// next call; with them (the sampler) after it, `(0, e sin t_e)`; the
+/// same row either way (before: applied in both modes, as a zero at a
+/// step's start is only with them).
+#[test]
+fn an_impact_at_the_pause_located_inside_a_step_follows_the_pause_rule() {
+    let e = 0.5;
+    let dy = Dynamics::new(band(1, &[(0, 0, 1.0)]), band(1, &[(0, 0, 1.0)]), vec![0.0], vec![Contact::new(0, Bounds::obstacle(0.0), false)]);
+    let mut whole = EventDriven::new(&dy, 0.0, &[1.0], &[0.0], e).expect("starts");
+    whole.run_until(3.0, 10).expect("runs");
+    let te = whole.events()[0].t;
+    assert!((te - FRAC_PI_2).abs() <= 4.0 * resolution(FRAC_PI_2), "{te}");
+    for at_pause in [false, true] {
+        let mut r = EventDriven::new(&dy, 0.0, &[1.0], &[0.0], e).expect("starts");
+        r.take_events_at_pause(at_pause);
+        r.run_until(1.5, 10).expect("runs");
+        r.run_until(te, 10).expect("runs");
+        let (t, q, v) = r.state();
+        let (xe, ve) = if at_pause { (0.0, e * te.sin()) } else { (te.cos(), -te.sin()) };
+        assert!(t == te && r.events().len() == usize::from(at_pause), "at pause {at_pause}: {:?}", r.events());
+        assert!((q[0] - xe).abs() <= 1e-15 && (v[0] - ve).abs() <= 1e-15, "at pause {at_pause}: ({}, {}) against ({xe}, {ve})", q[0], v[0]);
+        r.run_until(3.0, 10).expect("runs");
+        assert_eq!(r.events(), whole.events(), "at pause {at_pause}");
+        let (_, q, v) = r.state();
+        let (xe, ve) = (e * te.sin() * (3.0 - te).sin(), e * te.sin() * (3.0 - te).cos());
+        assert!((q[0] - xe).abs() <= 1e-14 && (v[0] - ve).abs() <= 1e-14, "at pause {at_pause}: ({}, {}) against ({xe}, {ve})", q[0], v[0]);
+    }
+}
