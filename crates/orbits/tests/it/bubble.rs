@@ -16,16 +16,10 @@
 //! doubling of its parent and returns at the other; its orbits are fixed
 //! points of the transcribed map over their period.
 
-use crate::cascade::{map, pd_between};
+use crate::cascade::{map, pd_between, rows};
 use signorini_orbits::front::{continue_scene, ContinueOptions};
 
 const GAP: f64 = 0.0;
-
-fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
-    let mut lines = csv.lines();
-    let head = lines.next().unwrap().split(',').map(String::from).collect();
-    (head, lines.map(|l| l.split(',').map(String::from).collect()).collect())
-}
 
 #[test]
 fn a_doubled_branch_returns_at_the_other_period_doubling() {

@@ -135,7 +135,7 @@ pub(crate) fn pd_between(gap: f64, mut lo: f64, mut hi: f64, x: [f64; 2], period
 }
 
 /// The rows of a CSV as (header, rows).
-fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
+pub(crate) fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = csv.lines();
     let head = lines.next().unwrap().split(',').map(String::from).collect();
     (head, lines.map(|l| l.split(',').map(String::from).collect()).collect())

@@ -1142,17 +1142,6 @@ impl EventDriven {
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
         self.enter(holds, q, v, t, located)?;
-        // A held contact the event lets go (the acceleration LCP gives it
-        // no force, or another's impulse lifts it): its release, after the
-        // event's rows (before, it left the held set unlogged). Logged
-        // once the phase is entered: its force jumped, its gap does not
-        // leave from a force's zero (`at_release`).
-        for j in (0..kc).filter(|&j| w.held_before[j]) {
-            if !self.holds.iter().any(|h| h.contact == j) {
-                self.streak[j].clear();
-                self.events.push(EventRecord { t, kind: EventKind::Release, contact: j, velocity_before: 0.0, velocity_after: v[self.sites[j].dof], impulse: 0.0 });
-            }
-        }
         self.t = t;
         Ok(())
     }

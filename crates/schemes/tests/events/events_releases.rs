@@ -420,54 +420,6 @@ fn releases_ulps_apart_around_an_impact_log_each_contact_once() {
     }
 }
 
-/// Two unit masses on unit springs, a dashpot `d` between them, each on a
-/// stop at 0; mass 0 pushed by `p` onto its stop and held, mass 1 from
-/// `(X, 0)`: `x'' + d x' + x = 0` (ζ = d/2, ω = √(1 − ζ²)) lands at
-/// `ω t_i = π − atan(ω/ζ)` at the speed `V = X e^{−ζ t_i} sin(ω t_i)/ω`.
-/// Mass 0's force `p − d v₁` jumps there to `p − d e V < 0`: it leaves at
-/// `t_i`, a release row after the impact row (before: no row, the held
-/// set left unlogged); then `s = (x₀ + x₁)/2`, `s'' + s = −p/2`, and
-/// `a = (x₀ − x₁)/2`, `a'' + 2d a' + a = −p/2`, from `(0, eV/2)`, `(0, −eV/2)`.
-#[test]
-fn a_held_contact_let_go_at_another_impact_logs_its_release() {
-    let (d, p, x0) = (0.5f64, 0.1f64, 1.0f64);
-    let stop = |c| Contact::new(c, Bounds::obstacle(0.0), false);
-    let dy = Dynamics::new(band(2, &[(0, 0, 1.0), (1, 1, 1.0)]), band(2, &[(0, 0, 1.0), (1, 1, 1.0)]), vec![-p, 0.0], vec![stop(0), stop(1)])
-        .with_damping(Some(band(2, &[(0, 0, d), (1, 1, d), (1, 0, -d)])));
-    let (z, w) = (0.5 * d, (1.0 - 0.25 * d * d).sqrt());
-    let ti = (PI - (w / z).atan()) / w;
-    let big_v = x0 * (-z * ti).exp() * (w * ti).sin() / w;
-    for e in [0.5, 1.0] {
-        assert!(p - d * e * big_v < 0.0, "the oracle's premise: the force reverses");
-        let w2 = (1.0 - d * d).sqrt();
-        let (a0, b0) = (0.5 * p, (-0.5 * e * big_v + d * 0.5 * p) / w2);
-        let after = |u: f64| -> [f64; 4] {
-            let (s, ds) = (-0.5 * p * (1.0 - u.cos()) + 0.5 * e * big_v * u.sin(), -0.5 * p * u.sin() + 0.5 * e * big_v * u.cos());
-            let (sn, cs, ex) = ((w2 * u).sin(), (w2 * u).cos(), (-d * u).exp());
-            let a = -0.5 * p + ex * (a0 * cs + b0 * sn);
-            let da = ex * ((-d * a0 + w2 * b0) * cs + (-d * b0 - w2 * a0) * sn);
-            [s + a, s - a, ds + da, ds - da]
-        };
-        let span = 0.3;
-        assert!((1..=300).all(|i| after(span * i as f64 / 300.0)[..2].iter().all(|x| *x > 0.0)), "the oracle's premise: both fly");
-        let mut r = EventDriven::new(&dy, 0.0, &[0.0, x0], &[0.0, 0.0], e).expect("starts");
-        assert_eq!(r.held(), vec![(0, false)]);
-        r.run_until(ti + span, 100).unwrap_or_else(|err| panic!("e = {e}: {err}"));
-        let ev = r.events();
-        let case = format!("e = {e}: {ev:?} against t_i = {ti}, V = {big_v}");
-        common::check_order(ev).unwrap();
-        assert_eq!(ev.len(), 2, "{case}");
-        let (imp, rel) = (ev[0], ev[1]);
-        assert!(imp.kind == EventKind::Impact && imp.contact == 1 && (imp.t - ti).abs() <= 1e-13, "{case}");
-        assert!((imp.velocity_before + big_v).abs() <= 1e-13 && (imp.velocity_after - e * big_v).abs() <= 1e-13, "{case}");
-        assert!(rel.kind == EventKind::Release && rel.contact == 0 && rel.t == imp.t && rel.velocity_after == 0.0, "{case}");
-        assert!(r.held().is_empty(), "{case}");
-        let (_, q, v) = r.state();
-        let x = after(span);
-        assert!((0..2).all(|i| (q[i] - x[i]).abs() <= 1e-12 && (v[i] - x[2 + i]).abs() <= 1e-12), "{case}: {q:?} {v:?} against {x:?}");
-    }
-}
-
 /// `x'' + x = 0` from `(1, 0)` on a stop at 0, `e = 1/2`: the impact at
 /// π/2 (`v⁻ = −1`), asked for at its own located time `t_e` from a
 /// sample at 1.5 before it (the search's root step ends there, inside a
