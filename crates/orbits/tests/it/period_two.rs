@@ -132,7 +132,9 @@ fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
     // changing sign, and the largest Ω of the family: both 2.4349363812961)
     // and the grazing where their flight reaches the stop (bisection on its
     // largest interior maximum), each listed once, to 1e-9.
-    for (kind, at) in [("period-doubling", PD), ("fold", FOLD), ("grazing", GRAZING)] {
+    // The period doublings beside the 3- and 4-impact folds too (crossed
+    // with their folds in one step, not listed before).
+    for (kind, at) in [("period-doubling", PD), ("fold", FOLD), ("grazing", GRAZING), ("period-doubling", PD_3), ("period-doubling", PD_4)] {
         let near: Vec<f64> = bifs.iter().filter(|b| b.1 == kind && (b.0 - at).abs() <= 1e-5).map(|b| b.0).collect();
         assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "{kind}s near the transcription's {at}: {near:?}");
     }
@@ -266,5 +268,30 @@ fn a_period_two_branch_at_a_small_parameter_scale_goes_on_past_its_turns() {
             let inside: Vec<f64> = bifs.iter().filter(|b| b[ck] == "grazing").map(|b| b[cp].parse().unwrap()).filter(|w| *w > GRAZING + 1e-6 && *w < VANISHING - 1e-6).collect();
             assert!(inside.is_empty(), "scale {scale}: grazings listed on the 3-impact arc: {inside:?}");
         }
+    }
+}
+
+/// With the parameter's scale 1 the branch crossed the 3-impact fold and
+/// the period doubling 1.3e-5 past it in one step (from 2.3925294, μ
+/// 8.18 and 5.3e-5, to 2.3926706, μ −2.05 and −2.1e-4: the multiplier
+/// through +1, 0 and −1), and the 4-impact fold and the period doubling
+/// 1.8e-7 past it likewise. The period-doubling test followed the real
+/// negative multiplier nearest −1, at the step's end the small one (0.9998
+/// from −1, the crossing one 1.05): it kept its sign and neither period
+/// doubling was listed (nor by the default scale). `det(P' + I)` changes
+/// sign (9.18 → −1.05): each is listed once, at the transcription's
+/// multiplier through −1 to 1e-9, beside its fold (the transcription's,
+/// to 1e-9).
+#[test]
+fn the_period_doublings_beside_the_folds_are_listed_at_scale_one() {
+    let doc = crate::oscillator(0.05, 0.2, 0.3, 2.42);
+    let opts = ContinueOptions { param: "forcing.omega".into(), from: 2.42, to: 2.2, period: 2, transient: 100.0, max_points: 400, switch: false, sweep: Vec::new(), param_scale: Some(1.0) };
+    let done = continue_scene(doc, &opts, signorini_scene::Limits::machine(), None, &mut |_, _, _| true).unwrap();
+    let (bh, bifs) = rows(&done.files.iter().find(|f| f.0 == "bifurcations.csv").unwrap().1);
+    let (cp, ck) = (bh.iter().position(|h| h == "param").unwrap(), bh.iter().position(|h| h == "kind").unwrap());
+    let bifs: Vec<(f64, &str)> = bifs.iter().map(|r| (r[cp].parse().unwrap(), r[ck].as_str())).collect();
+    for (kind, at) in [("period-doubling", PD_3), ("fold", FOLD_3), ("period-doubling", PD_4), ("period-doubling", PD), ("fold", FOLD)] {
+        let near: Vec<f64> = bifs.iter().filter(|b| b.1 == kind && (b.0 - at).abs() <= 1e-5).map(|b| b.0).collect();
+        assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "scale 1: {kind}s near the transcription's {at}: {near:?} (all: {bifs:?})");
     }
 }

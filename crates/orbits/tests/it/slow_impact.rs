@@ -18,7 +18,7 @@
 //! transcription's flight touches the stop, and the 3-impact orbits' fold
 //! (3.9627076) is where its central differences have a multiplier at +1.
 
-use crate::between::{map_between, E};
+use crate::between::{jacobian, map_between, E};
 use crate::continuation;
 use signorini_orbits::{periodic_orbit, BifurcationKind, ContinuationOptions, Family, Model, Newton, OrbitError};
 use std::f64::consts::TAU;
@@ -85,26 +85,36 @@ fn a_branch_follows_its_slow_impact_past_the_grazing() {
     // The grazing, where a flight of the transcribed 2-impact orbit comes
     // within 1e-6 of the stop, and the fold of the 3-impact orbits, where
     // the transcribed map's central differences have a multiplier at +1
-    // (to 1e-3); nothing else listed (no grazing where no impact vanishes).
+    // (to 1e-3), and the period doubling past it (below); nothing else
+    // listed (no grazing where no impact vanishes).
     let kinds: Vec<(&str, f64)> = branch.bifurcations.iter().map(|b| (b.kind.name(), b.param)).collect();
-    assert!(branch.bifurcations.iter().map(|b| b.kind).eq([BifurcationKind::Grazing, BifurcationKind::Fold]), "{kinds:?}");
-    let (g, f) = (&branch.bifurcations[0], &branch.bifurcations[1]);
+    let kind = |k: BifurcationKind| branch.bifurcations.iter().filter(|b| b.kind == k).collect::<Vec<_>>();
+    let [g, f, pd] = [BifurcationKind::Grazing, BifurcationKind::Fold, BifurcationKind::PeriodDoubling].map(|k| *kind(k).first().unwrap_or_else(|| panic!("no {k:?}: {kinds:?}")));
+    assert!(branch.bifurcations.len() == 3, "{kinds:?}");
     let (_, k, margin) = map(g.param, [g.x[0], g.x[1]]);
     assert!(k == 2 && margin < 1e-6, "at the grazing {}: {k} impacts, the flight {margin:e} from the stop", g.param);
-    let mut j = [[0.0; 2]; 2];
-    for c in 0..2 {
-        let (mut a, mut b) = ([f.x[0], f.x[1]], [f.x[0], f.x[1]]);
-        a[c] += 1e-7;
-        b[c] -= 1e-7;
-        let (ya, yb) = (map(f.param, a).0, map(f.param, b).0);
-        for r in 0..2 {
-            j[r][c] = (ya[r] - yb[r]) / 2e-7;
-        }
-    }
-    let (tr, det) = (j[0][0] + j[1][1], j[0][0] * j[1][1] - j[0][1] * j[1][0]);
-    let disc = (0.25 * tr * tr - det).max(0.0).sqrt();
-    let near_one = (0.5 * tr + disc - 1.0).abs().min((0.5 * tr - disc - 1.0).abs());
-    assert!(map(f.param, [f.x[0], f.x[1]]).1 == 3 && near_one < 1e-3, "at the fold {}: the transcription's multipliers {} ± {disc}", f.param, 0.5 * tr);
+    // The transcription's multipliers at `(w, x)` (central differences):
+    // half the trace, the discriminant's root and `det(P' + I)`.
+    let multipliers = |w: f64, x: [f64; 2]| {
+        let j = jacobian(x, |y| map(w, y).0);
+        let (tr, det) = (j[0][0] + j[1][1], j[0][0] * j[1][1] - j[0][1] * j[1][0]);
+        (0.5 * tr, (0.25 * tr * tr - det).max(0.0).sqrt(), det + tr + 1.0)
+    };
+    let (half, disc, _) = multipliers(f.param, [f.x[0], f.x[1]]);
+    let near_one = (half + disc - 1.0).abs().min((half - disc - 1.0).abs());
+    assert!(map(f.param, [f.x[0], f.x[1]]).1 == 3 && near_one < 1e-3, "at the fold {}: the transcription's multipliers {half} ± {disc}", f.param);
+    // The period doubling 1.2e-4 past the fold, crossed with it in one
+    // step (`det(P' − I)` and `det(P' + I)` both changing sign) and not
+    // listed before: the transcription's `det(P' + I)` changes sign between
+    // the branch's points around it, and its multiplier there is −1 (to
+    // 1e-3).
+    let st = |q: &signorini_orbits::BranchPoint| [q.orbit.x[0], q.orbit.x[1]];
+    let (a, b) = (&branch.points[pd.between.0], &branch.points[pd.between.1]);
+    let (da, db) = (multipliers(a.param, st(a)).2, multipliers(b.param, st(b)).2);
+    assert!(da * db < 0.0, "det(P' + I) of the transcription keeps its sign across the period doubling at {}: {da}, {db}", pd.param);
+    let (half, disc, _) = multipliers(pd.param, [pd.x[0], pd.x[1]]);
+    let near = (half + disc + 1.0).abs().min((half - disc + 1.0).abs());
+    assert!(map(pd.param, [pd.x[0], pd.x[1]]).1 == 3 && near < 1e-3, "at the period doubling {}: the transcription's multipliers {half} ± {disc}", pd.param);
     eprintln!("{checked} points checked against the transcription");
     assert!(checked >= 20, "{checked} points checked");
 }
