@@ -1098,6 +1098,7 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
     // (by default the range).
     let scale = opts.scale.unwrap_or(span);
     let mut last = None;
+    let mut guesses = Guesses::default();
     for delta in [1e-4, 1e-3, 1e-2] {
         for side in [1.0, -1.0] {
             let param = bif.param + side * delta * scale;
@@ -1107,12 +1108,19 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
             }
             for (eps, sign) in [0.3, 1.0, 3.0].iter().flat_map(|f| [(f * delta.sqrt() * xs, 1.0), (f * delta.sqrt() * xs, -1.0)]) {
                 let guess: Vec<f64> = (0..n).map(|i| bif.x[i] + sign * eps * w[i] / wn).collect();
-                let Ok(model) = double.model(param) else { continue };
-                let Ok(orbit) = periodic_orbit_strict(&model, 0.0, double.period(param)?, &guess, &opts.newton) else { continue };
+                guesses.tried += 1;
+                let orbit = match double.model(param).and_then(|model| periodic_orbit_strict(&model, 0.0, double.period(param)?, &guess, &opts.newton)) {
+                    Ok(orbit) => orbit,
+                    Err(e) => {
+                        guesses.failed(e);
+                        continue;
+                    }
+                };
                 // Not the p-periodic orbit: its image after p periods differs.
                 let half = single.model(param)?.flow(0.0, &orbit.x, single.period(param)?, false)?;
                 let gap = half.x.iter().zip(&orbit.x).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
                 if gap <= 1e-6 * xs {
+                    guesses.back += 1;
                     continue;
                 }
                 let mut o = *opts;
@@ -1161,7 +1169,40 @@ pub fn doubled_branch<F: Family>(single: &F, double: &F, bif: &Bifurcation, rang
             }
         }
     }
-    Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no period-doubled orbit found beside the period doubling at {}", bif.param) }))
+    Err(last.unwrap_or_else(|| {
+        guesses.error(format!("no period-doubled orbit found beside the period doubling at {}", bif.param), &format!("onto the branch's own orbit of {} period(s)", single.periods()))
+    }))
+}
+
+/// What the guesses for the first orbit of a branch beside a bifurcation
+/// came to, for the error when none of them starts a branch: how many fell
+/// back onto orbits that are not the branch's (the parent's own, another
+/// arc's) and the failed Newton search that came closest.
+#[derive(Default)]
+struct Guesses {
+    tried: usize,
+    back: usize,
+    closest: Option<OrbitError>,
+}
+
+impl Guesses {
+    fn failed(&mut self, e: OrbitError) {
+        let residual = |e: &OrbitError| match e {
+            OrbitError::NoConvergence { residual, .. } if residual.is_finite() => *residual,
+            _ => f64::INFINITY,
+        };
+        if self.closest.as_ref().is_none_or(|c| residual(&e) < residual(c)) {
+            self.closest = Some(e);
+        }
+    }
+
+    fn error(self, none: String, back: &str) -> OrbitError {
+        let mut why = format!("{none}: of {} guesses, {} converged {back}", self.tried, self.back);
+        if let Some(e) = self.closest {
+            why += &format!(", {} did not converge (the closest: {e})", self.tried - self.back);
+        }
+        OrbitError::NoBranch(why)
+    }
 }
 
 /// The branch that crosses `parent` at its branch point `bif` (a multiplier
@@ -1231,15 +1272,20 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
         return Err(OrbitError::Model(format!("no crossing direction at the branch point at {}", bif.param)));
     }
     let mut last = None;
+    let mut guesses = Guesses::default();
     for s in [1e-3, 1e-2, 3e-2] {
         for sign in [1.0, -1.0] {
             let x: Vec<f64> = (0..n).map(|i| bif.x[i] + sign * s * w[i] * xs).collect();
             let param = bif.param + sign * s * w[n] * scale;
+            guesses.tried += 1;
             let (x, param) = match ctx.correct(x.clone(), param, &w, None) {
                 Ok((y, l, _)) if ((0..n).map(|i| ((y[i] - x[i]) / xs).powi(2)).sum::<f64>() + ((l - param) / scale).powi(2)).sqrt() <= 3.0 * s => (y, l),
-                Ok(_) => continue,
+                Ok(_) => {
+                    guesses.back += 1;
+                    continue;
+                }
                 Err(e) => {
-                    last = Some(e);
+                    guesses.failed(e);
                     continue;
                 }
             };
@@ -1278,7 +1324,7 @@ pub fn crossing_branch<F: Family>(family: &F, parent: &Branch, bif: &Bifurcation
             }
         }
     }
-    Err(last.unwrap_or(OrbitError::NoConvergence { residual: f64::NAN, iterations: 0, why: format!("no crossing branch found beside the branch point at {}", bif.param) }))
+    Err(last.unwrap_or_else(|| guesses.error(format!("no crossing branch found beside the branch point at {}", bif.param), "onto another arc (more than 3 offsets from their prediction)")))
 }
 
 /// Recognises, on a period-doubled branch, the phase-shifted copy of an

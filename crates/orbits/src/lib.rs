@@ -68,6 +68,9 @@ pub enum OrbitError {
         /// Why, in words.
         why: String,
     },
+    /// No branch starts beside a bifurcation: what its guesses came to.
+    #[error("{0}")]
+    NoBranch(String),
     /// An option's value is not allowed.
     #[error("{option}: {message}")]
     Option {

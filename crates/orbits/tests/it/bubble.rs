@@ -64,4 +64,15 @@ fn a_doubled_branch_returns_at_the_other_period_doubling() {
             assert!(d <= 1e-8, "branch {child} at Ω = {w}: |P(x) − x| = {d:e} on the transcription");
         }
     }
+    // The period doubling at the grazing (1.0166) starts no branch: the
+    // note says what its guesses came to (each converged onto the period-1
+    // orbit or failed, the closest failure's residual), not a NaN residual
+    // "after 0 iterations".
+    let note = done.lines.iter().find(|l| l.starts_with("note: no period-doubled branch continued from 1.016")).expect("the grazing's period doubling");
+    let count = |after: &str| -> usize {
+        note.split(after).nth(1).and_then(|t| t.split(' ').next()).and_then(|t| t.trim_end_matches(',').parse().ok()).unwrap_or_else(|| panic!("no count after {after:?}: {note}"))
+    };
+    let (tried, back) = (count("of "), count("guesses, "));
+    let failed = if back < tried { count(&format!("{back} converged onto the branch's own orbit of 1 period(s), ")) } else { 0 };
+    assert!(tried > 0 && back + failed == tried && !note.contains("NaN"), "{note}");
 }
