@@ -515,6 +515,9 @@ impl<F: Family> Ctx<'_, F> {
         // the switch there too, `tests/it/slow_impact.rs`'s 50 points ended
         // 5.7e-6 short of the fold they reach).
         let mut exact = false;
+        // The last Newton step (scaled, ∞-norm): a step that does not
+        // halve it says Newton can do no better ([`at_floor`]).
+        let mut last_step = f64::INFINITY;
         for k in 0..nt.max_iter.min(12) {
             let mut lin = self.image(&x, param)?;
             let res = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -549,6 +552,11 @@ impl<F: Family> Ctx<'_, F> {
             if (0..=n).any(|i| !d[(i, 0)].is_finite()) {
                 break;
             }
+            let step = (0..n).map(|i| d[(i, 0)].abs() / self.xs).fold(d[(n, 0)].abs() / self.ls, f64::max);
+            if at_floor(res, step * self.xs, last_step * self.xs, nt.tol * xn, plane, &x, &lin) {
+                return Ok((x, param, lin));
+            }
+            last_step = step;
             for i in 0..n {
                 x[i] += d[(i, 0)];
             }
@@ -617,6 +625,32 @@ fn slow_impact_scale(events: &[signorini_schemes::events::EventRecord]) -> f64 {
     } else {
         1.0
     }
+}
+
+/// The map's round-off at `x`, `ε (‖x‖∞ + ‖P(x)‖∞)(1 + ‖P'‖∞)`: the
+/// rounding of the state and of its image, the state's carried through
+/// the map. `|P(x) − x|` cannot be computed much below it, whatever the
+/// tolerance: on the two-stop scene near its 4 → 2 grazing at Ω = 0.7010
+/// (`tests/it/floor.rs`, ‖P'‖∞ 6e4 … 5e7) Newton's residual stops at 0.1 …
+/// 2.7 times this, above the tolerance (1.7e-11) from Ω = 0.7026 down.
+fn floor(x: &[f64], lin: &Linearised) -> f64 {
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |a, u| a.max(u.abs()));
+    let n = x.len();
+    let jn = (0..n).map(|r| (0..n).map(|c| lin.jac[(r, c)].abs()).sum::<f64>()).fold(0.0, f64::max);
+    f64::EPSILON * (inf(x) + inf(&lin.image)) * (1.0 + jn)
+}
+
+/// The corrector has converged at the map's round-off ([`floor`]): its
+/// Newton step `step` (in the state's units) did not halve the last one
+/// (`last`: Newton makes no more progress), is itself within the
+/// tolerance `tol` (the distance it would still move the point), the
+/// point is on the hyperplane, and the residual is within 4 times the
+/// floor (measured 0.1 … 2.7 where this fires; where Newton wandered
+/// near a grazing without converging, steps 1e-9 that did not halve,
+/// 4.8 … 640). A point 1e-8 off the branch moves by 1e-8 on its first
+/// step and is not taken (`tests/it/floor.rs`).
+fn at_floor(res: f64, step: f64, last: f64, tol: f64, plane: f64, x: &[f64], lin: &Linearised) -> bool {
+    step > 0.5 * last && step <= tol && plane.abs() <= 1e-12 && res <= 4.0 * floor(x, lin)
 }
 
 /// How far the multipliers near the unit circle (modulus below 2) moved
@@ -692,6 +726,17 @@ pub fn param_derivative<F: Family>(family: &F, x: &[f64], param: f64, scale: f64
     let mut lin = ctx.image(x, param)?;
     ctx.param_derivative(&mut lin, x, param, exact)?;
     Ok(lin.gl)
+}
+
+/// The corrector's point from `(x, param)` on the plane of `param`
+/// (the parameter's scale 1; for `tests/it/floor.rs`): the fixed point
+/// it accepts, or why none.
+#[doc(hidden)]
+pub fn corrected<F: Family>(family: &F, x: &[f64], param: f64) -> Result<Vec<f64>, OrbitError> {
+    let opts = ContinuationOptions::new(param, param + 1.0);
+    let ctx = Ctx { family, opts: &opts, xs: 1.0, ls: 1.0, n: x.len() };
+    let plane: Vec<f64> = (0..=x.len()).map(|i| if i == x.len() { 1.0 } else { 0.0 }).collect();
+    ctx.correct(x.to_vec(), param, &plane, None).map(|p| p.0)
 }
 
 /// Continues the branch of the family's periodic orbits from `guess` (a

@@ -22,9 +22,9 @@ mod scene;
 mod shoot;
 mod variational;
 
-#[doc(hidden)]
-pub use continuation::param_derivative;
 pub use continuation::{continuation, continuation_watched, crossing_branch, doubled_branch, Bifurcation, BifurcationKind, Branch, BranchPoint, ContinuationOptions, Family, Mark, Marker};
+#[doc(hidden)]
+pub use continuation::{corrected, param_derivative};
 pub use map::{Image, Model};
 pub use scene::{Built, SceneFamily};
 pub use shoot::{autonomous_orbit, eigenvalues, periodic_orbit, Newton, Orbit};

@@ -11,6 +11,7 @@ mod chain;
 mod chatter;
 mod conservative;
 mod corrector;
+mod floor;
 mod free_grazing;
 mod further_impact;
 mod graze_approach;

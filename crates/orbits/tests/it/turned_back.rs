@@ -26,39 +26,35 @@ fn map(w: f64, x: [f64; 2]) -> ([f64; 2], usize, f64) {
 }
 
 /// The transcription's grazing of the 1-impact orbits from `(w, x)` on
-/// them: their fixed points (Newton on the transcribed map, each from the
-/// last) followed down in Ω by 40 equal steps toward 3.1239 (`isola.rs`
-/// puts the grazing at 3.1238) while their flight's margin to the stop
-/// stays positive, then the zero of that margin by secant steps.
+/// them: the zero in Ω of their flight's margin to the stop, by secant
+/// steps on their fixed points (Newton on the transcribed map, each from
+/// the last) from `w` and a fortieth of the way toward 3.1239 (`isola.rs`
+/// puts the grazing at 3.1238). Past the grazing there is no 1-impact
+/// orbit (the arc turns back): a step landing there marks the bracket's
+/// far end, and the next is the secant's clipped to the bracket's nearer
+/// half (a bisection at worst), so that each step past it costs one
+/// failed Newton, not a run of halvings.
 fn grazing(w: f64, x: [f64; 2]) -> f64 {
     let orbit = |w: f64, x: [f64; 2]| -> Option<([f64; 2], f64)> {
         let y = fixed_point(x, 60, |z| map(w, z).0)?;
         let (_, k, margin) = map(w, y);
         (k == 1 && margin > 0.0).then_some((y, margin))
     };
-    let h = (w - 3.1239) / 40.0;
     let (mut x1, mut m1) = orbit(w, x).expect("a 1-impact orbit at the start");
-    let (mut w0, mut m0, mut w1) = (f64::NAN, f64::NAN, w);
-    while let Some((y, m)) = orbit(w1 - h, x1) {
-        (w0, m0, w1, x1, m1) = (w1, m1, w1 - h, y, m);
-    }
-    // Secant steps, each shortened toward the last orbit while past the
-    // grazing (no 1-impact orbit there: the arc turns back).
-    for _ in 0..40 {
-        let mut next = w1 - m1 * (w1 - w0) / (m1 - m0);
+    let (mut w0, mut m0, mut w1) = (w, m1, w - (w - 3.1239) / 40.0);
+    (x1, m1) = orbit(w1, x1).expect("a 1-impact orbit a fortieth of the way on");
+    // The nearest Ω known past the grazing (none yet).
+    let mut past = f64::NEG_INFINITY;
+    for _ in 0..200 {
+        let secant = w1 - m1 * (w1 - w0) / (m1 - m0);
+        let next = if secant > past + 0.5 * (w1 - past) || past == f64::NEG_INFINITY { secant } else { past + 0.5 * (w1 - past) };
         if (next - w1).abs() <= 1e-14 {
             return next;
         }
-        let mut found = None;
-        for _ in 0..60 {
-            found = orbit(next, x1);
-            if found.is_some() || (next - w1).abs() <= 1e-14 {
-                break;
-            }
-            next = w1 + 0.5 * (next - w1);
+        match orbit(next, x1) {
+            Some((y, m)) => (w0, m0, w1, x1, m1) = (w1, m1, next, y, m),
+            None => past = next,
         }
-        let Some((y, m)) = found else { return w1 };
-        (w0, m0, w1, x1, m1) = (w1, m1, next, y, m);
     }
     w1
 }
