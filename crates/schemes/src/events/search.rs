@@ -386,12 +386,16 @@ impl Search {
         // bound of `|g''|` there ([`taylor_curvature`]).
         let (mut tj, mut ts) = (f.wave_jet(t), [2, 3, 4].map(|m| f.wave_bound(m)));
         let mut b5 = f.wave_bound(5);
+        // `g'(t)` and a bound of its terms over the window.
+        let (mut rate, mut rate_terms) = (ld, f.wave_bound(1));
         for i in (0..n).rev() {
             let (b, a) = (f.beta[i], f.alpha(i));
             let (jet, bnd) = (&self.jet[i], &self.bnd[i]);
             let amp = b.abs() * bnd[0] + a.abs() * bnd[1];
             self.suffix[i] = self.suffix[i + 1] + amp;
             scale += (b * jet[0]).abs() + (a * jet[1]).abs();
+            rate += b * jet[1] + a * jet[2];
+            rate_terms += b.abs() * bnd[1] + a.abs() * bnd[2];
             for m in 0..3 {
                 tj[m] += b * jet[m + 2] + a * jet[m + 3];
                 ts[m] += b.abs() * bnd[m + 2] + a.abs() * bnd[m + 3];
@@ -399,6 +403,13 @@ impl Search {
             b5 += b.abs() * bnd[5] + a.abs() * bnd[6];
         }
         let g = prefix[n] + (0..n).fold(lv - self.load0[fi], |d, i| d + f.beta[i] * inc[i] + f.alpha(i) * dinc[i]);
+        // Taylor's bound of `|g''|` is for a functional whose terms cancel
+        // as a whole, its value and rate too (the dip's flight), not for
+        // an ordinary one at an inflection or a slow impact, whose steps
+        // (so its events' bits) stay those of the terms' bounds
+        // ([`TAYLOR_GAIN`]).
+        let value_terms = f.constant_abs(t) + f.now.1.abs() * h + f.wave_bound(0) + self.suffix[0];
+        let cancelled = TAYLOR_GAIN * g.abs() < value_terms && TAYLOR_GAIN * rate.abs() < rate_terms;
         // A gap at its release is at its zero whatever its size against
         // its own terms: the gap of a contact with no load term (its scale
         // is its value alone) released a few ulps before the phase's base
@@ -413,7 +424,7 @@ impl Search {
             }
         }
         let mut best = 0.0f64;
-        let (mut dl, mut bl) = (ld, if n == 0 { taylor_curvature(lc, tj, ts, b5, h) } else { lc });
+        let (mut dl, mut bl) = (ld, if n == 0 && cancelled { taylor_curvature(lc, tj, ts, b5, h) } else { lc });
         // The increments' part of the split value, accumulated with `s`.
         let mut dsum = lv - self.load0[fi];
         for s in 0..=n {
@@ -441,7 +452,7 @@ impl Search {
                 dsum += b * inc[s] + a * dinc[s];
                 dl += b * self.jet[s][1] + a * self.jet[s][2];
                 bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
-                if s + 1 == n {
+                if s + 1 == n && cancelled {
                     bl = taylor_curvature(bl, tj, ts, b5, h);
                 }
             }
@@ -624,12 +635,16 @@ fn taylor_curvature(bl: f64, tj: [f64; 3], ts: [f64; 3], b5: f64, h: f64) -> f64
     }
 }
 
-/// How much tighter than the sum of the terms' bounds Taylor's bound of
-/// `|g''|` must be to be taken ([`taylor_curvature`]): both are bounds,
-/// either step is safe; below this gain the steps stay those of the
-/// terms' bounds (a run where Taylor's bound is taken changes its events'
-/// last bits: docs/theory.md §9.2, "Cancelled curvature").
-const TAYLOR_GAIN: f64 = 16.0;
+/// Taylor's bound of `|g''|` ([`taylor_curvature`]) is taken where it and
+/// the functional's value and rate are each this many times below the
+/// bounds of their terms. Both bounds are bounds, either step is safe (no
+/// gain can lose an event); the gain only decides which runs change their
+/// last bits: at 16 an ordinary slow impact (the two-stop oscillator's
+/// continuation near its grazing at 1.0383) took Taylor's and moved its
+/// branch point by 4e-12; from 100 up nothing ordinary does (docs/theory.md
+/// §9.2, "Cancelled curvature"), while the dip's curvature is `~1/δ`
+/// below its terms'.
+const TAYLOR_GAIN: f64 = 1e3;
 
 /// The time to which an event at `t` (or `τ` into its phase, for a flow
 /// without time-dependent loads) is located: a relative 1e-15, at least
