@@ -110,6 +110,20 @@ impl Functional {
         s
     }
 
+    /// The load part's derivatives of orders 2..=4 at `t` (one `sin_cos`
+    /// per wave: [`wave`](Self::wave)'s to a few ulps of `c Ωᵐ`).
+    fn wave_jet(&self, t: f64) -> [f64; 3] {
+        let mut j = [0.0; 3];
+        for &(c, w, p) in &self.waves {
+            let (s, co) = (w * t + p).sin_cos();
+            let w2 = c * w * w;
+            j[0] -= w2 * s;
+            j[1] -= w2 * w * co;
+            j[2] += w2 * w * w * s;
+        }
+        j
+    }
+
     /// A bound of the load part's derivative of order `m` (`m >= 1`; all
     /// times of the piece; `m = 0`: the waves' alone).
     fn wave_bound(&self, m: usize) -> f64 {
@@ -156,10 +170,10 @@ const MAX_STEPS: usize = 10_000_000;
 
 /// Work storage of the search (no allocation per step).
 pub(crate) struct Search {
-    /// Per mode: `η, η', η''` at the current time.
-    jet: Vec<[f64; 3]>,
-    /// Per mode: bounds of `|η⁽ᵐ⁾|`, `m = 0..=3`, over the window.
-    bnd: Vec<[f64; 4]>,
+    /// Per mode: `η⁽ᵐ⁾`, `m < JET`, at the current time.
+    jet: Vec<[f64; JET]>,
+    /// Per mode: bounds of `|η⁽ᵐ⁾|`, `m <= JET`, over the window.
+    bnd: Vec<[f64; JET + 1]>,
     suffix: Vec<f64>,
     /// The harmonics' `sin, cos` at the current time and at the next.
     tr: [Vec<(f64, f64)>; 2],
@@ -189,8 +203,8 @@ pub(crate) const POLL_EVERY: u64 = 256;
 impl Search {
     pub fn new(n: usize) -> Self {
         Self {
-            jet: vec![[0.0; 3]; n],
-            bnd: vec![[0.0; 4]; n],
+            jet: vec![[0.0; JET]; n],
+            bnd: vec![[0.0; JET + 1]; n],
             suffix: vec![0.0; n + 1],
             tr: [Vec::new(), Vec::new()],
             steps: 0,
@@ -251,9 +265,9 @@ impl Search {
                 x.resize(len, 0.0);
             };
             self.jet.clear();
-            self.jet.resize(n, [0.0; 3]);
+            self.jet.resize(n, [0.0; JET]);
             self.bnd.clear();
-            self.bnd.resize(n, [0.0; 4]);
+            self.bnd.resize(n, [0.0; JET + 1]);
             zeros(&mut self.suffix, n + 1);
             self.inc.iter_mut().for_each(|x| zeros(x, n));
             self.tr.iter_mut().for_each(Vec::clear);
@@ -313,9 +327,7 @@ impl Search {
             self.steps += 1;
             flow.trig(t, &mut self.tr[0]);
             for i in 0..n {
-                let (j, b) = flow.jet_and_bounds(i, t, eta, deta, h, &self.tr[0]);
-                self.jet[i] = [j[0], j[1], j[2]];
-                self.bnd[i] = [b[0], b[1], b[2], b[3]];
+                (self.jet[i], self.bnd[i]) = flow.jet_and_bounds(i, t, eta, deta, h, &self.tr[0]);
             }
             // The shortest root step and whose, and the shortest step of all.
             let (mut step, mut root) = (h, f64::INFINITY);
@@ -369,13 +381,35 @@ impl Search {
         self.suffix[n] = 0.0;
         // The size of the terms of g: its round-off is 1e-16 of it.
         let mut scale = f.constant_abs(t) + f.wave_bound(0);
+        // The whole functional's jet of orders 2..=4 at `t`, the sizes of
+        // their terms, and a bound of `|g⁽⁵⁾|` over the window: Taylor's
+        // bound of `|g''|` there ([`taylor_curvature`]).
+        let (mut tj, mut ts) = (f.wave_jet(t), [2, 3, 4].map(|m| f.wave_bound(m)));
+        let mut b5 = f.wave_bound(5);
+        // `g'(t)` and a bound of its terms over the window.
+        let (mut rate, mut rate_terms) = (ld, f.wave_bound(1));
         for i in (0..n).rev() {
             let (b, a) = (f.beta[i], f.alpha(i));
-            let amp = b.abs() * self.bnd[i][0] + a.abs() * self.bnd[i][1];
+            let (jet, bnd) = (&self.jet[i], &self.bnd[i]);
+            let amp = b.abs() * bnd[0] + a.abs() * bnd[1];
             self.suffix[i] = self.suffix[i + 1] + amp;
-            scale += (b * self.jet[i][0]).abs() + (a * self.jet[i][1]).abs();
+            scale += (b * jet[0]).abs() + (a * jet[1]).abs();
+            rate += b * jet[1] + a * jet[2];
+            rate_terms += b.abs() * bnd[1] + a.abs() * bnd[2];
+            for m in 0..3 {
+                tj[m] += b * jet[m + 2] + a * jet[m + 3];
+                ts[m] += b.abs() * bnd[m + 2] + a.abs() * bnd[m + 3];
+            }
+            b5 += b.abs() * bnd[5] + a.abs() * bnd[6];
         }
         let g = prefix[n] + (0..n).fold(lv - self.load0[fi], |d, i| d + f.beta[i] * inc[i] + f.alpha(i) * dinc[i]);
+        // Taylor's bound of `|g''|` is for a functional whose terms cancel
+        // as a whole, its value and rate too (the dip's flight), not for
+        // an ordinary one at an inflection or a slow impact, whose steps
+        // (so its events' bits) stay those of the terms' bounds
+        // ([`TAYLOR_GAIN`]).
+        let value_terms = f.constant_abs(t) + f.now.1.abs() * h + f.wave_bound(0) + self.suffix[0];
+        let cancelled = TAYLOR_GAIN * g.abs() < value_terms && TAYLOR_GAIN * rate.abs() < rate_terms;
         // A gap at its release is at its zero whatever its size against
         // its own terms: the gap of a contact with no load term (its scale
         // is its value alone) released a few ulps before the phase's base
@@ -390,7 +424,7 @@ impl Search {
             }
         }
         let mut best = 0.0f64;
-        let (mut dl, mut bl) = (ld, lc);
+        let (mut dl, mut bl) = (ld, if n == 0 && cancelled { taylor_curvature(lc, tj, ts, b5, h) } else { lc });
         // The increments' part of the split value, accumulated with `s`.
         let mut dsum = lv - self.load0[fi];
         for s in 0..=n {
@@ -418,6 +452,9 @@ impl Search {
                 dsum += b * inc[s] + a * dinc[s];
                 dl += b * self.jet[s][1] + a * self.jet[s][2];
                 bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
+                if s + 1 == n && cancelled {
+                    bl = taylor_curvature(bl, tj, ts, b5, h);
+                }
             }
         }
         // The root less 1e-12 of it (its own round-off is a few ulps): a
@@ -578,6 +615,36 @@ impl Search {
         Reach::Free(best.min(h))
     }
 }
+
+/// Where the terms of `g''` cancel (a resonant mode's static part, its
+/// particular solution `t sin t` and its homogeneous part, each O(1),
+/// summing to a flight 1e-20 high: docs/theory.md §9.2, "Cancelled
+/// curvature"), the sum of their bounds, `bl`, is far above `|g''|`:
+/// Taylor's bound over the window `[t, t + h]`,
+/// `Σ_{m=2..4} (|g⁽ᵐ⁾(t)| + e_m) h^{m−2}/(m−2)! + B₅ h³/6` (`tj`: the jet
+/// `g⁽ᵐ⁾(t)`, `ts`: the sizes of its terms, `e_m = 1e-14` of them its
+/// round-off; `b5 >= |g⁽⁵⁾|` over the window), in its place where it is
+/// [`TAYLOR_GAIN`] times tighter.
+fn taylor_curvature(bl: f64, tj: [f64; 3], ts: [f64; 3], b5: f64, h: f64) -> f64 {
+    let at = |m: usize| tj[m].abs() + 1e-14 * ts[m];
+    let taylor = (at(0) + h * (at(1) + 0.5 * h * (at(2) + b5 * h / 3.0))) * (1.0 + 1e-12);
+    if taylor * TAYLOR_GAIN < bl {
+        taylor
+    } else {
+        bl
+    }
+}
+
+/// Taylor's bound of `|g''|` ([`taylor_curvature`]) is taken where it and
+/// the functional's value and rate are each this many times below the
+/// bounds of their terms. Both bounds are bounds, either step is safe (no
+/// gain can lose an event); the gain only decides which runs change their
+/// last bits: at 16 an ordinary slow impact (the two-stop oscillator's
+/// continuation near its grazing at 1.0383) took Taylor's and moved its
+/// branch point by 4e-12; from 100 up nothing ordinary does (docs/theory.md
+/// §9.2, "Cancelled curvature"), while the dip's curvature is `~1/δ`
+/// below its terms'.
+const TAYLOR_GAIN: f64 = 1e3;
 
 /// The time to which an event at `t` (or `τ` into its phase, for a flow
 /// without time-dependent loads) is located: a relative 1e-15, at least

@@ -376,6 +376,28 @@ fn an_impact_just_after_a_release_leaves_the_released_alone() {
     }
 }
 
+/// The dip's flight, `δ a²` high (1e-20 at δ = 1e-10) while the gap's
+/// modal terms are O(1) (the static part, the resonant `t sin t`, the
+/// homogeneous part): the search's steps per 4π run, against the flight's
+/// own scale. The flight lasts `~4a` and is resolved by steps of a
+/// fraction of `a`; a search bounding the curvature by its O(1) terms
+/// steps `~√(δ a²)` instead and took 1.0e4 to 9.9e6 steps per run (δ =
+/// 1e-6 … 1e-12). Each run: its two releases and landings, located as
+/// [`a_dip_of_any_depth_releases_once_per_period`] checks.
+#[test]
+fn a_dip_is_searched_at_the_flights_own_scale() {
+    for k in [12, 16, 20, 24] {
+        let delta = 10f64.powf(-0.5 * k as f64);
+        let mut r = EventDriven::new(&touch(delta), 0.0, &[0.0], &[0.0], 0.0).expect("starts");
+        r.run_until(4.0 * PI, 100).unwrap_or_else(|e| panic!("δ = {delta:e}: {e}"));
+        let ev = r.events();
+        assert_eq!(ev.len(), 4, "δ = {delta:e}: {ev:?}");
+        let steps = r.search_steps();
+        println!("δ = {delta:e}: {steps} search steps");
+        assert!(steps <= 1000, "δ = {delta:e}: {steps} search steps");
+    }
+}
+
 /// The case above with dof 1's load `φ` = 2 to 6 ulps later (released at
 /// `π/2 + φ`) and the impact at `t_g` from 3 ulps before π/2 to 9 after
 /// (before, between and after the releases): each contact named once, a
