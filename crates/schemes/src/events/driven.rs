@@ -1151,10 +1151,11 @@ impl EventDriven {
         // and a row after them broke the time order (docs/theory.md §9.3).
         // Logged once the phase is entered: its force jumped, so its gap
         // does not leave from a force's zero (`at_release`).
-        let mut at_row = tail_rows + self.events[tail_rows..].partition_point(|r| r.t <= t);
-        for j in (0..kc).filter(|&j| w.held_before[j] && !self.holds.iter().any(|h| h.contact == j)) {
+        let first = tail_rows + self.events[tail_rows..].partition_point(|r| r.t <= t);
+        let held = &self.holds;
+        let let_go = (0..kc).filter(|&j| w.held_before[j] && !held.iter().any(|h| h.contact == j));
+        for (at_row, j) in (first..).zip(let_go) {
             self.events.insert(at_row, EventRecord { t, kind: EventKind::Release, contact: j, velocity_before: 0.0, velocity_after: v[self.sites[j].dof], impulse: 0.0 });
-            at_row += 1;
         }
         self.t = t;
         Ok(())
