@@ -690,7 +690,7 @@ impl EventDriven {
                 // events at the pause are taken: the search's rule for a
                 // zero at a step's start, here for one located inside a
                 // step that ends there (docs/theory.md §9.4).
-                if te > t_end || (te == t_end && which.is_some() && !self.search.take_at_pause) {
+                if self.search.beyond_pause(te, t_end) && (te > t_end || which.is_some()) {
                     // Beyond the time asked: the state there, read from the base.
                     self.read_at(t_end);
                     return Ok(Reached::End);
@@ -998,6 +998,8 @@ impl EventDriven {
         // Accumulation, per contact: each contact's run of impacts (two
         // contacts chattering together each have theirs), and micro-impacts
         // (module docs), end with the contact at rest.
+        // The accumulations' rows start here, in time order, at or after `t`.
+        let tail_rows = self.events.len();
         let due = &mut w.due;
         due.clear();
         for j in 0..kc {
@@ -1142,6 +1144,19 @@ impl EventDriven {
         // On an error (an active set without an exact flow) the state stays
         // the one before the event, whole.
         self.enter(holds, q, v, t, located)?;
+        // A held contact the event lets go (the acceleration LCP gives it
+        // no force, or an impulse lifts it) is released at `t`. Its row
+        // goes after this instant's rows and before the accumulations'
+        // rows logged at a later limit `t∞`: the held phase starts at `t`,
+        // and a row after them broke the time order (docs/theory.md §9.3).
+        // Logged once the phase is entered: its force jumped, so its gap
+        // does not leave from a force's zero (`at_release`).
+        let first = tail_rows + self.events[tail_rows..].partition_point(|r| r.t <= t);
+        let held = &self.holds;
+        let let_go = (0..kc).filter(|&j| w.held_before[j] && !held.iter().any(|h| h.contact == j));
+        for (at_row, j) in (first..).zip(let_go) {
+            self.events.insert(at_row, EventRecord { t, kind: EventKind::Release, contact: j, velocity_before: 0.0, velocity_after: v[self.sites[j].dof], impulse: 0.0 });
+        }
         self.t = t;
         Ok(())
     }

@@ -216,6 +216,13 @@ impl Search {
         }
     }
 
+    /// Whether `t` lies beyond the pause `pause`: after it, or at it unless
+    /// events at the pause are taken. The one rule for a zero at the pause,
+    /// read by the search's steps and by the run's located events.
+    pub(crate) fn beyond_pause(&self, t: f64, pause: f64) -> bool {
+        t > pause || (t == pause && !self.take_at_pause)
+    }
+
     /// The first time in `(t0, end]` at which one of `fns` reaches 0 from
     /// above, with its index; the modal state is advanced there (or to
     /// `end`, then `None`). `quiet[f]`: a functional that stays at 0 with
@@ -305,7 +312,7 @@ impl Search {
             // only when asked (a sampler: the state after the events at its
             // instant, as a root step there gives); the orbits' section
             // leaves it to the next period (docs/orbits.md).
-            if h > 0.0 && (t > pause || (t == pause && !self.take_at_pause)) {
+            if h > 0.0 && self.beyond_pause(t, pause) {
                 return Ok(Found::Paused);
             }
             // The state τ after the base (the same state whatever the pauses).

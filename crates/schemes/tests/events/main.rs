@@ -21,6 +21,7 @@ mod events_events;
 mod events_flow;
 mod events_grazing;
 mod events_held_starts;
+mod events_let_go;
 mod events_massless;
 mod events_massless_coupled;
 mod events_planted;
