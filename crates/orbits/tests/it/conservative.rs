@@ -190,9 +190,10 @@ impl signorini_orbits::Family for Between {
 /// bifurcation must lie between the two points it is listed between.
 /// The branch as the code now steps it no longer makes that trial: with
 /// the trial's acceptance guard off altogether this passes too (checked
-/// 2026-12-01 at steps 1e-3 … 5e-2 up to 400 points: no free orbit below
-/// √2.5, no bifurcation outside its points); it stands as a regression
-/// check, not as that guard's test.
+/// 2026-12-01 with first steps 1e-2 and 3e-2, 40 and 400 points: no free
+/// orbit below √2.5, no bifurcation outside its points, but at 3e-2 and
+/// 400 points the run ends in an error); it stands as a regression check,
+/// not as that guard's test.
 #[test]
 fn a_trial_that_runs_onto_another_arc_is_no_step() {
     // The 4-impact orbit through (0, 2.9719779338): a fixed point of the
