@@ -98,18 +98,7 @@ fn period_one_map(w: f64, x: [f64; 2]) -> ([f64; 2], [[f64; 2]; 2]) {
     while t < end {
         let t1 = (t + h).min(end);
         if flow(w, t0, z.0, z.1, t1).0 > gap {
-            let (mut lo, mut hi) = (t, t1);
-            for _ in 0..200 {
-                let m = 0.5 * (lo + hi);
-                if m <= lo || m >= hi {
-                    break;
-                }
-                if flow(w, t0, z.0, z.1, m).0 > gap {
-                    hi = m;
-                } else {
-                    lo = m;
-                }
-            }
+            let lo = crate::between::bisect(t, t1, |m| flow(w, t0, z.0, z.1, m).0 <= gap);
             let v = flow(w, t0, z.0, z.1, lo).1;
             let force = (w * lo).cos() - gap;
             let (before, after) = (force - 2.0 * ZETA * v, force + 2.0 * ZETA * e * v);
