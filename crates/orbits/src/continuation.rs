@@ -1506,18 +1506,30 @@ fn section_jump(a: &Orbit, b: &Orbit) -> bool {
 /// that distance lands beyond the crossing.) `None` when an orbit cannot be
 /// computed or the steps do not converge.
 fn rejoin_parameter<F: Family>(single: &F, a: &BranchPoint, b: &BranchPoint, newton: &Newton) -> Option<f64> {
-    // The p-periodic orbit at `param` from `guess` and its multiplier
-    // nearest −1 (real), plus 1.
-    let at = |param: f64, guess: &[f64]| -> Option<(Vec<f64>, f64)> {
-        let orbit = periodic_orbit_strict(&single.model(param).ok()?, 0.0, single.period(param).ok()?, guess, newton).ok()?;
+    period_doubling_of(|param| single.model_and_period(param), (a.param, &a.orbit.x), (b.param, &b.orbit.x), newton).map(|(param, _)| param)
+}
+
+/// The period doubling of the orbits of the map `map(λ)` (model and
+/// horizon) near `(λ_a, x_a)` and `(λ_b, x_b)`: the parameter where a
+/// real multiplier of its fixed point (Newton from the last orbit) is −1,
+/// by secant steps in the parameter (no bracket needed: the multiplier is
+/// smooth in it), to 1e-14 of the parameter. `None` when an orbit cannot
+/// be computed or the steps do not converge; else the parameter and the
+/// orbit there.
+fn period_doubling_of(map: impl Fn(f64) -> Result<(Model, f64), OrbitError>, a: (f64, &[f64]), b: (f64, &[f64]), newton: &Newton) -> Option<(f64, Orbit)> {
+    // The orbit at `param` from `guess` and its real multiplier nearest
+    // −1, plus 1.
+    let at = |param: f64, guess: &[f64]| -> Option<(Orbit, f64)> {
+        let (model, period) = map(param).ok()?;
+        let orbit = periodic_orbit_strict(&model, 0.0, period, guess, newton).ok()?;
         let mu = orbit.multipliers.iter().filter(|m| is_real(m) && m.re < 0.0).map(|m| m.re + 1.0).min_by(|u, v| u.abs().total_cmp(&v.abs()))?;
-        Some((orbit.x, mu))
+        Some((orbit, mu))
     };
-    let (mut l0, (_, mut f0)) = (a.param, at(a.param, &a.orbit.x)?);
-    let (mut l1, (mut x1, mut f1)) = (b.param, at(b.param, &b.orbit.x)?);
+    let (mut l0, (_, mut f0)) = (a.0, at(a.0, a.1)?);
+    let (mut l1, (mut o1, mut f1)) = (b.0, at(b.0, b.1)?);
     for _ in 0..40 {
         if f1 == 0.0 {
-            return Some(l1);
+            return Some((l1, o1));
         }
         if f0 == f1 {
             return None;
@@ -1526,10 +1538,10 @@ fn rejoin_parameter<F: Family>(single: &F, a: &BranchPoint, b: &BranchPoint, new
         if !next.is_finite() {
             return None;
         }
-        let (x, f) = at(next, &x1)?;
-        (l0, f0, l1, x1, f1) = (l1, f1, next, x, f);
+        let (o, f) = at(next, &o1.x)?;
+        (l0, f0, l1, o1, f1) = (l1, f1, next, o, f);
         if (l1 - l0).abs() <= 1e-14 * l1.abs().max(1.0) {
-            return Some(l1);
+            return Some((l1, o1));
         }
     }
     None
@@ -2966,7 +2978,7 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
             continue;
         }
         if smooth && f(a) * f(b) < 0.0 {
-            let p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
+            let mut p = bisect(ctx, a, s_b, b, f, |p, q| f(p) * f(q) < 0.0);
             let kind = if kind == BifurcationKind::Fold && !det_sign { BifurcationKind::BranchPoint } else { kind };
             // A turn in λ is a branch point only where a multiplier is at
             // +1 there: elsewhere the branch turns at a corner (a flight
@@ -2974,6 +2986,14 @@ fn locate<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, i: usize, out: &mut
             // nothing crosses. On the elastic oscillator between its stops
             // two such turns were named, their multipliers 0.73 ± 0.68i
             // (at a grazing) and a real pair near −0.1.
+            // At a turn of doubled orbits onto their shifted copies the
+            // bisection may end far from the multiplier +1 (the corrector
+            // singular there): located on the orbits of half the period.
+            if kind == BifurcationKind::BranchPoint {
+                if let Some((param, x, multipliers)) = doubled_turn(ctx, a, b, s_b) {
+                    (p.param, p.x, p.orbit.multipliers, p.mark) = (param, x, multipliers, None);
+                }
+            }
             if kind == BifurcationKind::BranchPoint && !at_plus_one(&p) {
                 continue;
             }
@@ -3089,6 +3109,39 @@ fn symmetric_pitchfork<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point) -> Opt
     let mut mu: Vec<c64> = eigenvalues(&jb).ok()?.iter().map(|m| m * m).collect();
     mu.sort_by(|u, v| v.norm().total_cmp(&u.norm()));
     Some((lb, xb, mu))
+}
+
+/// The branch point at a turn between `a` and `b` (`s_b` the step's
+/// scaled arclength) of a branch of orbits of an even number `2k` of
+/// forcing periods, where the doubled orbits meet their copies shifted by
+/// `k` periods: the period doubling of the orbits of `k` periods,
+/// `S = φ(·, T/2)`, whose fixed point is the doubled orbits' limit there.
+/// `S' − I` is regular where `P' − I` (`P = S²`) is singular, so Newton on
+/// `S` converges through the turn, and its multiplier −1 is located by
+/// secant steps in `λ` from `a`'s and `b`'s orbits ([`period_doubling_of`]:
+/// both ends lie on the same side of the turn, so no bracket). The
+/// bisection on the arclength ends where the corrector on the doubled
+/// branch fails: on the oscillator of `tests/it/period_two.rs` 5.8e-10 and
+/// 1.5e-5 off with the parameter scale 1 and the range, and with 0.05 at
+/// 2.2651105, off the step (2.2623958 … 2.2629370), its multiplier nearest
+/// +1 −0.034: no branch point listed. `None` for an odd number of periods,
+/// when Newton or the steps fail, or when the orbit found lies farther
+/// from `a` than the step's length in any scaled coordinate (another
+/// orbit's period doubling). Returns the parameter, the state and the
+/// multipliers of `P` there (by decreasing modulus).
+fn doubled_turn<F: Family>(ctx: &Ctx<'_, F>, a: &Point, b: &Point, s_b: f64) -> Option<(f64, Vec<f64>, Vec<c64>)> {
+    if ctx.family.periods() % 2 != 0 {
+        return None;
+    }
+    let half = |param: f64| ctx.family.model_and_period(param).map(|(model, period)| (model, 0.5 * period));
+    let (param, orbit) = period_doubling_of(half, (a.param, &a.x), (b.param, &b.x), &ctx.opts.newton)?;
+    let within = (param - a.param).abs() <= s_b * ctx.ls && orbit.x.iter().zip(&a.x).all(|(u, v)| (u - v).abs() <= s_b * ctx.xs);
+    if !within {
+        return None;
+    }
+    let mut mu: Vec<c64> = orbit.multipliers.iter().map(|m| m * m).collect();
+    mu.sort_by(|u, v| v.norm().total_cmp(&u.norm()));
+    Some((param, orbit.x, mu))
 }
 
 /// A multiplier at +1 at a located turn: within 1e-2 of it (as a branch

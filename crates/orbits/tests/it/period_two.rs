@@ -60,6 +60,97 @@ const PD_3: f64 = 2.3926883055155;
 /// 2.3860558882).
 const PD_4: f64 = 2.38605589385;
 
+/// The period-1 orbits' period doubling, where the period-2 orbits meet
+/// their copies shifted by one forcing period (the branch's turn onto
+/// them): [`period_one_doubling`]'s `det(J + I)` zero. The branch listed it
+/// 1.5e-5 apart with the parameter scales 1, 0.05 and the range (the
+/// bisection through the singular corrector: 2.262372856062, none,
+/// 2.262387955394).
+fn branch_point(bifs: &[(f64, &str)], scale: &str) {
+    let at = period_one_doubling();
+    let near: Vec<f64> = bifs.iter().filter(|b| b.1 == "branch-point" && (b.0 - at).abs() <= 1e-3).map(|b| b.0).collect();
+    eprintln!("scale {scale}: branch points {near:?}, the transcription's {at}");
+    assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-10, "scale {scale}: branch points near the transcription's period-1 period doubling {at}: {near:?}");
+}
+
+/// The transcribed one-period map (`cascade.rs`'s closed-form flow of
+/// `x'' + 0.1 x' + x = cos Ωt`, sampled at 1/4000 of a period, each
+/// crossing of the stop 0.2 bisected to round-off, the speed reversed
+/// times 0.3) and its Jacobian: the free flow's transition over each
+/// flight (the flow is affine in the state: its columns are images of the
+/// unit states less the image of 0, exactly) and at each impact the
+/// saltation `[[−e, 0], [(a⁺ + e a⁻)/v⁻, −e]]` (`a±` the accelerations
+/// just before and after, `v⁻` the speed), derived by hand.
+fn period_one_map(w: f64, x: [f64; 2]) -> ([f64; 2], [[f64; 2]; 2]) {
+    use crate::cascade::flow;
+    const ZETA: f64 = 0.05;
+    let (gap, e) = (0.2, 0.3);
+    let end = std::f64::consts::TAU / w;
+    let h = end / 4000.0;
+    let mul = |a: [[f64; 2]; 2], b: [[f64; 2]; 2]| {
+        [[a[0][0] * b[0][0] + a[0][1] * b[1][0], a[0][0] * b[0][1] + a[0][1] * b[1][1]], [a[1][0] * b[0][0] + a[1][1] * b[1][0], a[1][0] * b[0][1] + a[1][1] * b[1][1]]]
+    };
+    let transition = |t0: f64, t: f64| {
+        let (z, c0, c1) = (flow(w, t0, 0.0, 0.0, t), flow(w, t0, 1.0, 0.0, t), flow(w, t0, 0.0, 1.0, t));
+        [[c0.0 - z.0, c1.0 - z.0], [c0.1 - z.1, c1.1 - z.1]]
+    };
+    let (mut t0, mut z, mut t, mut j) = (0.0, (x[0], x[1]), 0.0, [[1.0, 0.0], [0.0, 1.0]]);
+    while t < end {
+        let t1 = (t + h).min(end);
+        if flow(w, t0, z.0, z.1, t1).0 > gap {
+            let lo = crate::between::bisect(t, t1, |m| flow(w, t0, z.0, z.1, m).0 <= gap);
+            let v = flow(w, t0, z.0, z.1, lo).1;
+            let force = (w * lo).cos() - gap;
+            let (before, after) = (force - 2.0 * ZETA * v, force + 2.0 * ZETA * e * v);
+            j = mul([[-e, 0.0], [(after + e * before) / v, -e]], mul(transition(t0, lo), j));
+            (t0, z, t) = (lo, (gap, -e * v), lo);
+            continue;
+        }
+        t = t1;
+    }
+    let y = flow(w, t0, z.0, z.1, end);
+    ([y.0, y.1], mul(transition(t0, end), j))
+}
+
+/// The transcription's period-1 orbit (Newton on [`period_one_map`] from
+/// `x`) and `det(J + I)` there.
+fn period_one_test(w: f64, mut x: [f64; 2]) -> ([f64; 2], f64) {
+    for _ in 0..50 {
+        let (y, j) = period_one_map(w, x);
+        let (r, a) = ([y[0] - x[0], y[1] - x[1]], [[j[0][0] - 1.0, j[0][1]], [j[1][0], j[1][1] - 1.0]]);
+        let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+        let dx = [(a[1][1] * r[0] - a[0][1] * r[1]) / det, (-a[1][0] * r[0] + a[0][0] * r[1]) / det];
+        x = [x[0] - dx[0], x[1] - dx[1]];
+        if dx[0].abs().max(dx[1].abs()) <= 1e-13 {
+            break;
+        }
+    }
+    let (y, j) = period_one_map(w, x);
+    assert!((y[0] - x[0]).abs().max((y[1] - x[1]).abs()) <= 1e-13, "Ω = {w}: no period-1 orbit from the seed");
+    // The hand-derived Jacobian against central differences of the map.
+    let d = crate::between::differences(x, 1e-6, |z| period_one_map(w, z).0);
+    assert!((0..2).all(|r| (0..2).all(|c| (d[r][c] - j[r][c]).abs() <= 1e-6 * (1.0 + j[r][c].abs()))), "Ω = {w}: J {j:?}, differences {d:?}");
+    (x, (j[0][0] + 1.0) * (j[1][1] + 1.0) - j[0][1] * j[1][0])
+}
+
+/// The zero of [`period_one_test`]'s `det(J + I)` in Ω near 2.2624
+/// (the orbit seeded at (−0.44, 0.06)), by secant steps to 1e-14, the
+/// sign change across it asserted.
+fn period_one_doubling() -> f64 {
+    let (mut l0, (mut x, mut f0)) = (2.26, period_one_test(2.26, [-0.44, 0.06]));
+    let (mut l1, mut f1) = (2.265, period_one_test(2.265, x).1);
+    assert!(f0 * f1 < 0.0, "det(J + I) keeps its sign: {f0} at {l0}, {f1} at {l1}");
+    for _ in 0..50 {
+        let next = l1 - f1 * (l1 - l0) / (f1 - f0);
+        let (y, f) = period_one_test(next, x);
+        (l0, f0, l1, f1, x) = (l1, f1, next, f, y);
+        if (l1 - l0).abs() <= 1e-14 || f == 0.0 {
+            break;
+        }
+    }
+    l1
+}
+
 fn rows(csv: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = csv.lines();
     let head = lines.next().unwrap().split(',').map(String::from).collect();
@@ -138,6 +229,7 @@ fn a_period_two_branch_does_not_go_back_along_an_arc_it_traced() {
         let near: Vec<f64> = bifs.iter().filter(|b| b.1 == kind && (b.0 - at).abs() <= 1e-5).map(|b| b.0).collect();
         assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "{kind}s near the transcription's {at}: {near:?}");
     }
+    branch_point(&bifs, "of the range");
     // The 4-impact arc reached, and the end says why the branch stops:
     // past the two turns back (the vanishing impact, the 2-impact orbits'
     // end grazing) it runs the 2-impact arc through its period doubling
@@ -267,6 +359,8 @@ fn a_period_two_branch_at_a_small_parameter_scale_goes_on_past_its_turns() {
             // 2.372073, where a trial landed on the 2-impact arc).
             let inside: Vec<f64> = bifs.iter().filter(|b| b[ck] == "grazing").map(|b| b[cp].parse().unwrap()).filter(|w| *w > GRAZING + 1e-6 && *w < VANISHING - 1e-6).collect();
             assert!(inside.is_empty(), "scale {scale}: grazings listed on the 3-impact arc: {inside:?}");
+            let bifs: Vec<(f64, &str)> = bifs.iter().map(|b| (b[cp].parse().unwrap(), b[ck].as_str())).collect();
+            branch_point(&bifs, "0.05");
         }
     }
 }
@@ -294,4 +388,5 @@ fn the_period_doublings_beside_the_folds_are_listed_at_scale_one() {
         let near: Vec<f64> = bifs.iter().filter(|b| b.1 == kind && (b.0 - at).abs() <= 1e-5).map(|b| b.0).collect();
         assert!(near.len() == 1 && (near[0] - at).abs() <= 1e-9, "scale 1: {kind}s near the transcription's {at}: {near:?} (all: {bifs:?})");
     }
+    branch_point(&bifs, "1");
 }
