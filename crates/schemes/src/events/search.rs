@@ -388,11 +388,6 @@ impl Search {
         self.suffix[n] = 0.0;
         // The size of the terms of g: its round-off is 1e-16 of it.
         let mut scale = f.constant_abs(t) + f.wave_bound(0);
-        // The whole functional's jet of orders 2..=4 at `t`, the sizes of
-        // their terms, and a bound of `|g⁽⁵⁾|` over the window: Taylor's
-        // bound of `|g''|` there ([`taylor_curvature`]).
-        let (mut tj, mut ts) = (f.wave_jet(t), [2, 3, 4].map(|m| f.wave_bound(m)));
-        let mut b5 = f.wave_bound(5);
         // `g'(t)` and a bound of its terms over the window.
         let (mut rate, mut rate_terms) = (ld, f.wave_bound(1));
         for i in (0..n).rev() {
@@ -403,11 +398,6 @@ impl Search {
             scale += (b * jet[0]).abs() + (a * jet[1]).abs();
             rate += b * jet[1] + a * jet[2];
             rate_terms += b.abs() * bnd[1] + a.abs() * bnd[2];
-            for m in 0..3 {
-                tj[m] += b * jet[m + 2] + a * jet[m + 3];
-                ts[m] += b.abs() * bnd[m + 2] + a.abs() * bnd[m + 3];
-            }
-            b5 += b.abs() * bnd[5] + a.abs() * bnd[6];
         }
         let g = prefix[n] + (0..n).fold(lv - self.load0[fi], |d, i| d + f.beta[i] * inc[i] + f.alpha(i) * dinc[i]);
         // Taylor's bound of `|g''|` is for a functional whose terms cancel
@@ -417,6 +407,8 @@ impl Search {
         // ([`TAYLOR_GAIN`]).
         let value_terms = f.constant_abs(t) + f.now.1.abs() * h + f.wave_bound(0) + self.suffix[0];
         let cancelled = TAYLOR_GAIN * g.abs() < value_terms && TAYLOR_GAIN * rate.abs() < rate_terms;
+        // Read only there: an ordinary step pays none of it.
+        let taylor = cancelled.then(|| self.taylor_jet(f, t, n));
         // A gap at its release is at its zero whatever its size against
         // its own terms: the gap of a contact with no load term (its scale
         // is its value alone) released a few ulps before the phase's base
@@ -431,7 +423,7 @@ impl Search {
             }
         }
         let mut best = 0.0f64;
-        let (mut dl, mut bl) = (ld, if n == 0 && cancelled { taylor_curvature(lc, tj, ts, b5, h) } else { lc });
+        let (mut dl, mut bl) = (ld, if n == 0 { taylor.map_or(lc, |j| taylor_curvature(lc, j, h)) } else { lc });
         // The increments' part of the split value, accumulated with `s`.
         let mut dsum = lv - self.load0[fi];
         for s in 0..=n {
@@ -459,8 +451,8 @@ impl Search {
                 dsum += b * inc[s] + a * dinc[s];
                 dl += b * self.jet[s][1] + a * self.jet[s][2];
                 bl += b.abs() * self.bnd[s][2] + a.abs() * self.bnd[s][3];
-                if s + 1 == n && cancelled {
-                    bl = taylor_curvature(bl, tj, ts, b5, h);
+                if let Some(j) = taylor.filter(|_| s + 1 == n) {
+                    bl = taylor_curvature(bl, j, h);
                 }
             }
         }
@@ -471,6 +463,24 @@ impl Search {
         // leaves g within its own round-off of 0, where the lift-off rule
         // declares the event (docs/theory.md §9.2, "The root's margin").
         Reach::Root(best * (1.0 - 1e-12))
+    }
+
+    /// The whole functional's jet of orders 2..=4 at `t`, the sizes of
+    /// their terms, and a bound of `|g⁽⁵⁾|` over the window: the inputs of
+    /// Taylor's bound of `|g''|` ([`taylor_curvature`]).
+    fn taylor_jet(&self, f: &Functional, t: f64, n: usize) -> TaylorJet {
+        let (mut tj, mut ts) = (f.wave_jet(t), [2, 3, 4].map(|m| f.wave_bound(m)));
+        let mut b5 = f.wave_bound(5);
+        for i in (0..n).rev() {
+            let (b, a) = (f.beta[i], f.alpha(i));
+            let (jet, bnd) = (&self.jet[i], &self.bnd[i]);
+            for m in 0..3 {
+                tj[m] += b * jet[m + 2] + a * jet[m + 3];
+                ts[m] += b.abs() * bnd[m + 2] + a.abs() * bnd[m + 3];
+            }
+            b5 += b.abs() * bnd[5] + a.abs() * bnd[6];
+        }
+        (tj, ts, b5)
     }
 
     /// At `g = 0`: the first nonzero derivative decides (module docs).
@@ -623,6 +633,10 @@ impl Search {
     }
 }
 
+/// The jet `g⁽ᵐ⁾(t)` (m = 2..=4), the sizes of its terms, and a bound of
+/// `|g⁽⁵⁾|` over the window ([`Search::taylor_jet`]).
+type TaylorJet = ([f64; 3], [f64; 3], f64);
+
 /// Where the terms of `g''` cancel (a resonant mode's static part, its
 /// particular solution `t sin t` and its homogeneous part, each O(1),
 /// summing to a flight 1e-20 high: docs/theory.md §9.2, "Cancelled
@@ -632,7 +646,7 @@ impl Search {
 /// `g⁽ᵐ⁾(t)`, `ts`: the sizes of its terms, `e_m = 1e-14` of them its
 /// round-off; `b5 >= |g⁽⁵⁾|` over the window), in its place where it is
 /// [`TAYLOR_GAIN`] times tighter.
-fn taylor_curvature(bl: f64, tj: [f64; 3], ts: [f64; 3], b5: f64, h: f64) -> f64 {
+fn taylor_curvature(bl: f64, (tj, ts, b5): TaylorJet, h: f64) -> f64 {
     let at = |m: usize| tj[m].abs() + 1e-14 * ts[m];
     let taylor = (at(0) + h * (at(1) + 0.5 * h * (at(2) + b5 * h / 3.0))) * (1.0 + 1e-12);
     if taylor * TAYLOR_GAIN < bl {
