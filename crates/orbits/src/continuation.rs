@@ -500,32 +500,7 @@ impl<F: Family> Ctx<'_, F> {
     /// prediction has more (the step crossed a grazing where an impact
     /// appears), the step is given up before any Newton step
     /// ([`PAST_A_GRAZING`]).
-    ///
-    /// A trial whose Newton stalled where the slow-impact rule of
-    /// [`Ctx::newton`] held the variational `G_λ` back, its slowest impact
-    /// between 1e-3 and 1e-2 of the fastest, is corrected once more from
-    /// its prediction with that `G_λ` allowed, and taken only with the
-    /// impacts it started from. There the forward difference's step is
-    /// shrunk by little (at most 100×): on the two-stop scene's 8-period
-    /// branch (‖P'‖ 1.6e6, the slowest impact at 0.99e-2 of the fastest)
-    /// it was 48 % off the variational `G_λ` and the branch stopped at
-    /// Ω = 1.2909156 (`tests/it/eight_periods.rs`). Nearer a vanishing
-    /// impact the retry took the period-4 branch's trials onto the arc
-    /// beyond its grazing (docs/orbits.md).
-    fn correct(&self, x: Vec<f64>, param: f64, t: &[f64], trial: Option<usize>) -> Result<(Vec<f64>, f64, Linearised), OrbitError> {
-        match (self.newton(x.clone(), param, t, trial, false), trial) {
-            (Err((e, true)), Some(from)) => match self.newton(x, param, t, trial, true) {
-                Ok(p) if count_impacts(&p.2.events) == from => Ok(p),
-                _ => Err(e),
-            },
-            (other, _) => other.map_err(|e| e.0),
-        }
-    }
-
-    /// One Newton run of [`Ctx::correct`]. `slow_exact`: the exact `G_λ`
-    /// also where an impact is slow. Its error says whether the run stalled
-    /// where the slow-impact rule held the exact `G_λ` back.
-    fn newton(&self, mut x: Vec<f64>, mut param: f64, t: &[f64], trial: Option<usize>, slow_exact: bool) -> Result<(Vec<f64>, f64, Linearised), (OrbitError, bool)> {
+    fn correct(&self, mut x: Vec<f64>, mut param: f64, t: &[f64], trial: Option<usize>) -> Result<(Vec<f64>, f64, Linearised), OrbitError> {
         let n = self.n;
         let (x0, p0) = (x.clone(), param);
         let nt = self.opts.newton;
@@ -538,33 +513,26 @@ impl<F: Family> Ctx<'_, F> {
         // where an impact is slower than 1e-2 of the fastest, where the
         // difference's step is shrunk instead ([`slow_impact_scale`]: with
         // the switch there too, `tests/it/slow_impact.rs`'s 50 points ended
-        // 5.7e-6 short of the fold they reach; `slow_exact`: a retry of
-        // [`Ctx::correct`]).
+        // 5.7e-6 short of the fold they reach).
         let mut exact = false;
-        // A stall where the slow-impact rule held the exact `G_λ` back.
-        let mut held = false;
-        let plain = |e| (e, false);
         // The last Newton step (scaled, ∞-norm): a step that does not
         // halve it says Newton can do no better ([`at_floor`]).
         let mut last_step = f64::INFINITY;
         for k in 0..nt.max_iter.min(12) {
-            let mut lin = self.image(&x, param).map_err(plain)?;
+            let mut lin = self.image(&x, param)?;
             let res = lin.g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             let plane: f64 = (0..n).map(|i| t[i] * (x[i] - x0[i]) / self.xs).sum::<f64>() + t[n] * (param - p0) / self.ls;
             let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(nt.scale);
             if res <= nt.tol * xn && plane.abs() <= 1e-12 {
-                self.param_derivative(&mut lin, &x, param, exact).map_err(plain)?;
+                self.param_derivative(&mut lin, &x, param, exact)?;
                 return Ok((x, param, lin));
             }
             if k == 0 && trial.is_some_and(|from| count_impacts(&lin.events) > from) {
-                return Err((OrbitError::NoConvergence { residual: res, iterations: k, why: PAST_A_GRAZING.into() }, false));
+                return Err(OrbitError::NoConvergence { residual: res, iterations: k, why: PAST_A_GRAZING.into() });
             }
-            let stalled = k >= 2 && res > 0.1 * last;
-            let scale = slow_impact_scale(&lin.events);
-            exact |= stalled && (slow_exact || scale == 1.0);
-            held |= stalled && (1e-2..1.0).contains(&scale) && !slow_exact;
+            exact |= k >= 2 && res > 0.1 * last && slow_impact_scale(&lin.events) == 1.0;
             last = res;
-            self.param_derivative(&mut lin, &x, param, exact).map_err(plain)?;
+            self.param_derivative(&mut lin, &x, param, exact)?;
             let (g, jac, gl) = (&lin.g, &lin.jac, &lin.gl);
             let a = Mat::from_fn(n + 1, n + 1, |r, c| {
                 if r < n {
@@ -594,7 +562,7 @@ impl<F: Family> Ctx<'_, F> {
             }
             param += d[(n, 0)];
         }
-        Err((OrbitError::NoConvergence { residual: last, iterations: nt.max_iter.min(12), why: "the corrector did not converge".into() }, held))
+        Err(OrbitError::NoConvergence { residual: last, iterations: nt.max_iter.min(12), why: "the corrector did not converge".into() })
     }
 
     fn point(&self, x: Vec<f64>, param: f64, prev_tangent: &[f64]) -> Result<Point, OrbitError> {

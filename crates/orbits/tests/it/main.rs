@@ -11,7 +11,6 @@ mod chain;
 mod chatter;
 mod conservative;
 mod corrector;
-mod eight_periods;
 mod floor;
 mod free_grazing;
 mod further_impact;
