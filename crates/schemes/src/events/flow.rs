@@ -51,6 +51,7 @@ use super::Bound;
 use crate::{Dynamics, Series, TimeProfile};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, Side};
+use signorini_fem::SymBand;
 
 /// Orders of a mode's jet: `η, η', …, η⁽⁵⁾`.
 pub(crate) const JET: usize = 6;
@@ -955,13 +956,14 @@ impl Basis {
         // Below a spread of 1e3 the eigensolver's ω² are already to a few
         // ulps (the oscillators, two equal dofs whose simultaneous events
         // need the solver's symmetric modes bit for bit): left as they are.
-        let (phi, w2) = if wmax > 1e3 * wmin { refine(&m, &k, linv.transpose() * evd.U()) } else { (linv.transpose() * evd.U(), (0..n).map(|i| w2[i]).collect()) };
+        let mb = band(&m);
+        let (phi, w2) = if wmax > 1e3 * wmin { refine(&m, &k, mb.as_ref().zip(band(&k).as_ref()), linv.transpose() * evd.U()) } else { (linv.transpose() * evd.U(), (0..n).map(|i| w2[i]).collect()) };
         // A rigid mode's ω² is round-off (±1e-16 of the largest): exactly 0,
         // so that its particular solution integrates the load instead of
         // dividing by the round-off.
         let kmax = w2.iter().fold(0.0, |a: f64, w| a.max(w.abs()));
         let kv: Vec<f64> = w2.iter().map(|&w2| if w2.abs() <= 1e-12 * kmax { 0.0 } else { w2 }).collect();
-        let m_phi = &m * &phi;
+        let m_phi = product(&m, mb.as_ref(), &phi);
         let cv = match &c {
             None => vec![0.0; n],
             Some(cm) => {
@@ -991,10 +993,50 @@ impl Basis {
     }
 }
 
+/// `a`'s symmetric band when a product with it by band is the cheaper:
+/// `a` exactly symmetric and its `2p + 1` diagonals at most an eighth of
+/// `n` (a bar's `p = 1`, a beam's 3). The set-up's products with `M` and
+/// `K` then cost `O(n² p)` where the dense ones cost `2n³` (the scalar
+/// band loop is ~8 times slower per flop than faer's product).
+fn band(a: &Mat<f64>) -> Option<SymBand> {
+    let n = a.nrows();
+    let p = (0..n).flat_map(|j| (0..n).map(move |i| (i, j))).filter(|&(i, j)| a[(i, j)] != 0.0).map(|(i, j)| i.abs_diff(j)).max()?;
+    if 8 * (2 * p + 1) > n || (0..n).any(|i| (i.saturating_sub(p)..i).any(|j| a[(i, j)] != a[(j, i)])) {
+        return None;
+    }
+    let mut b = SymBand::zeros(n, p);
+    for i in 0..n {
+        for j in i.saturating_sub(p)..=i {
+            b.set(i, j, a[(i, j)]);
+        }
+    }
+    Some(b)
+}
+
+/// `a x`, by `a`'s band when it has one ([`band`]).
+fn product(a: &Mat<f64>, band: Option<&SymBand>, x: &Mat<f64>) -> Mat<f64> {
+    let Some(b) = band else { return a * x };
+    let mut y = Mat::<f64>::zeros(x.nrows(), x.ncols());
+    for j in 0..x.ncols() {
+        let xj = x.col(j).try_as_col_major().expect("a dense matrix's column").as_slice();
+        b.mul_vec(xj, y.col_mut(j).try_as_col_major_mut().expect("a dense matrix's column").as_slice_mut());
+    }
+    y
+}
+
+/// The lower triangle (diagonal included) of `xᵀ y` (`xᵀ y` symmetric):
+/// half the dense product's cost.
+fn gram_lower(x: &Mat<f64>, y: &Mat<f64>) -> Mat<f64> {
+    use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+    let mut g = Mat::<f64>::zeros(x.ncols(), y.ncols());
+    matmul(g.as_mut(), BlockStructure::TriangularLower, faer::Accum::Replace, x.transpose(), BlockStructure::Rectangular, y, BlockStructure::Rectangular, 1.0, faer::Par::Seq);
+    g
+}
+
 /// One step of Ogita and Aishima's refinement of the modes `phi` of
 /// `(K, M)` (Numer. Algorithms 2018, RefSyEv, here with `M`'s inner
 /// product), in the original matrices: with `S = ΦᵀKΦ`, `G = ΦᵀMΦ`
-/// (symmetrised), `R = I − G`, `ω_i² = s_ii / g_ii` and `Φ ← Φ (I + E)`,
+/// (symmetric), `R = I − G`, `ω_i² = s_ii / g_ii` and `Φ ← Φ (I + E)`,
 /// `e_ij = (s_ij + ω_j² r_ij) / (ω_j² − ω_i²)`, `e_ii = r_ii / 2`, or
 /// `r_ij / 2` for a pair closer than `δ = 2 (‖S − diag S‖_F + max ω² ‖R‖_F)`.
 /// The eigensolver of `L⁻¹KL⁻ᵀ` is accurate to round-off of its largest
@@ -1004,11 +1046,19 @@ impl Basis {
 /// oracle's by 10–20 times its own round-off (docs/theory.md §9). One step
 /// brings both to the round-off of the products with `K` and `M`
 /// (5e-12 and 1e-13). The modes stay ascending (a pair within `δ`
-/// reordered by the step is put back).
-fn refine(m: &Mat<f64>, k: &Mat<f64>, phi: Mat<f64>) -> (Mat<f64>, Vec<f64>) {
+/// reordered by the step is put back). With `bands` (`M`'s, `K`'s:
+/// [`band`]) `KΦ`, `MΦ` go by band and only the lower triangles of `S`,
+/// `G` are formed ([`gram_lower`]), 4n³ flops where the dense step takes
+/// 10n³; without (a system too small or too wide for a band to pay: the
+/// beams, the chains) the products are dense and `S`, `G` symmetrised,
+/// their bits those of the step before the bands.
+fn refine(m: &Mat<f64>, k: &Mat<f64>, bands: Option<(&SymBand, &SymBand)>, phi: Mat<f64>) -> (Mat<f64>, Vec<f64>) {
     let n = phi.nrows();
-    let (s, g) = (phi.transpose() * (k * &phi), phi.transpose() * (m * &phi));
-    let sym = |a: &Mat<f64>, i: usize, j: usize| 0.5 * (a[(i, j)] + a[(j, i)]);
+    let (s, g) = match bands {
+        Some((mb, kb)) => (gram_lower(&phi, &product(k, Some(kb), &phi)), gram_lower(&phi, &product(m, Some(mb), &phi))),
+        None => (phi.transpose() * (k * &phi), phi.transpose() * (m * &phi)),
+    };
+    let sym = |a: &Mat<f64>, i: usize, j: usize| if bands.is_some() { a[(i.max(j), i.min(j))] } else { 0.5 * (a[(i, j)] + a[(j, i)]) };
     let r = |i: usize, j: usize| f64::from(u8::from(i == j)) - sym(&g, i, j);
     let w2: Vec<f64> = (0..n).map(|i| s[(i, i)] / g[(i, i)]).collect();
     let frobenius = |f: &dyn Fn(usize, usize) -> f64| (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).map(|(i, j)| f(i, j).powi(2)).sum::<f64>().sqrt();

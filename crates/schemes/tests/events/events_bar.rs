@@ -526,8 +526,9 @@ fn show(d: &Diff) -> String {
 /// within `max(floor, 1000 × the oracle's own h-vs-h/2 difference)`. The
 /// floors (relative; times absolute) are the reference's round-off, which
 /// with the modes refined in `(K, M)` stays at the oracle's own difference
-/// at m = 200 (e = 0: q 1.8e-12, v 8.4e-11, E 5.7e-13, t 1.1e-12, force
-/// 5.2e-11; speed 1.2e-11 and impulse 1.9e-11, 16 times the oracle's).
+/// at m = 200 (e = 0: q 1.5e-12, v 7.9e-11, E 8.9e-13, t 8.4e-13, force
+/// 5.0e-11, speed 5.5e-13, impulse 8.5e-13; with the refinement's dense
+/// products speed 1.2e-11 and impulse 1.9e-11, 16 times the oracle's).
 /// The elastic consistent-mass runs amplify every
 /// perturbation at their slow impacts, the oracle's own round-off alike
 /// (its h-vs-h/2 difference grows to 1e-7 in velocity): there the
