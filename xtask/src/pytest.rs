@@ -10,11 +10,10 @@
 //! with maturin, numpy, pytest, dask.distributed (the scale-out test) and
 //! matplotlib (the examples) from the package index), then, as soon as the
 //! wheel is built and beside the last Rust test binaries, its pytest suite
-//! (`python/tests`); the lints with warnings denied (`cargo
+//! (`python/tests`) and the lints with warnings denied (`cargo
 //! fmt --check`, `cargo clippy --workspace --all-targets -- -D warnings`,
 //! which also compiles the examples, `cargo doc --workspace --no-deps` with
-//! `RUSTDOCFLAGS=-D warnings`) from the start, in a build directory of
-//! their own (`target/lint`) at the lowest priority, beside all of these;
+//! `RUSTDOCFLAGS=-D warnings`),
 //! then the user guide: the
 //! generated tables checked against `data/reference` (`cargo xtask docs
 //! --check`) and `mkdocs build --strict` (MkDocs, the Material theme and
@@ -476,18 +475,11 @@ fn write_record(rec: &Record, cold: bool, total: f64, cargo: &str, py: &Path) ->
 /// are compiled here), and the API docs (broken intra-doc links, bad HTML).
 /// Their output is printed when one fails (the Python tests run beside
 /// them).
-fn lints(cargo: &str, root: &Path, dir: &Path) -> Result<(), String> {
-    let program = cargo;
-    let cargo = || {
-        let mut c = Command::new(program);
-        c.current_dir(root).env("CARGO_TARGET_DIR", dir);
-        lowest_priority(&mut c);
-        c
-    };
-    run_quiet(cargo().args(["fmt", "--all", "--check"]), "cargo fmt --check (run `cargo fmt --all`)")?;
-    run_quiet(cargo().args(["clippy", "--workspace", "--all-targets", "--release", "--"]).args(CLIPPY_ARGS), "cargo clippy -D warnings")?;
-    let mut doc = cargo();
-    doc.env("RUSTDOCFLAGS", "-D warnings").args(["doc", "--workspace", "--no-deps", "--release"]);
+fn lints(cargo: &str, root: &Path) -> Result<(), String> {
+    run_quiet(Command::new(cargo).current_dir(root).args(["fmt", "--all", "--check"]), "cargo fmt --check (run `cargo fmt --all`)")?;
+    run_quiet(Command::new(cargo).current_dir(root).args(["clippy", "--workspace", "--all-targets", "--release", "--"]).args(CLIPPY_ARGS), "cargo clippy -D warnings")?;
+    let mut doc = Command::new(cargo);
+    doc.current_dir(root).env("RUSTDOCFLAGS", "-D warnings").args(["doc", "--workspace", "--no-deps", "--release"]);
     // rustdoc reads the metadata of the workspace's libraries it documents
     // against, which cargo otherwise checks again: clippy's own checks of
     // them sit under other file names (cargo hashes the wrapper that `cargo
@@ -496,32 +488,11 @@ fn lints(cargo: &str, root: &Path, dir: &Path) -> Result<(), String> {
     // only documents (40.2, 40.7 -> 26.2, 31.1 CPU-s after a clippy run on
     // the workspace's crates). Without clippy's driver next to
     // cargo, the libraries are checked again: slower, the same checks.
-    if let Some(driver) = clippy_driver(program) {
+    if let Some(driver) = clippy_driver(cargo) {
         doc.env("RUSTC_WORKSPACE_WRAPPER", driver).env("CLIPPY_ARGS", clippy_env_args(&CLIPPY_ARGS));
     }
     run_quiet(&mut doc, "cargo doc (warnings denied)")
 }
-
-/// `cmd` started at the lowest scheduling priority (nice 19): the lints
-/// take the cores only when the tests' build, their binaries, the wheel
-/// and pytest leave one idle, and never lengthen that chain.
-#[cfg(unix)]
-pub fn lowest_priority(cmd: &mut Command) {
-    use std::os::unix::process::CommandExt;
-    // SAFETY: runs in the forked child before exec, where setpriority (one
-    // system call, on the child's own process) is async-signal-safe; its
-    // failure only leaves the priority as it was.
-    unsafe {
-        cmd.pre_exec(|| {
-            libc::setpriority(libc::PRIO_PROCESS, 0, 19);
-            Ok(())
-        });
-    }
-}
-
-/// `cmd` as it is: no portable priority outside unix.
-#[cfg(not(unix))]
-pub fn lowest_priority(_: &mut Command) {}
 
 /// The arguments the lints pass to clippy (after `--`).
 const CLIPPY_ARGS: [&str; 2] = ["-D", "warnings"];
@@ -543,7 +514,7 @@ pub fn clippy_env_args(args: &[&str]) -> String {
 }
 
 /// [`run`] with the output kept and printed only when the command fails
-/// (the lints run beside the tests, whose output stays readable).
+/// (the lints run beside the Python tests, whose output stays readable).
 fn run_quiet(cmd: &mut Command, what: &str) -> Result<(), String> {
     let out = cmd.output().map_err(|e| format!("{what}: cannot start: {e}"))?;
     if out.status.success() {
@@ -636,24 +607,10 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
         }
     };
     let mut spawn_wheel = Some(spawn_wheel);
-    // The lints in a build directory of their own, `target/lint`, from the
-    // start: in the shared one they waited for cargo's lock until the wheel
-    // was built, then ran alone at the end (clippy and rustdoc work through
-    // the crates largely one at a time). They compile nothing the other
-    // phases use (clippy checks every dependency again in either directory)
-    // but the build scripts and proc-macros; at the lowest priority they
-    // fill the cores the Rust tests' build leaves idle.
-    let lint = (!a.python_only).then(|| {
-        let (cargo, root, dir) = (cargo.clone(), root.clone(), target.join("lint"));
-        std::thread::spawn(move || {
-            let t = Instant::now();
-            let r = lints(&cargo, &root, &dir);
-            (r, t.elapsed().as_secs_f64())
-        })
-    });
     let mut handle = None;
     // The Rust tests under way: their start, the test runners, the doc
-    // tests and the build's error; joined after the lints.
+    // tests and the build's error; joined after the lints, which start
+    // beside the last test binaries.
     let mut rust = None;
     if !a.python_only {
         let t = Instant::now();
@@ -709,9 +666,13 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     // running binary's file (its features unified over the workspace), and
     // then /proc/self/exe names a deleted file: the path, when it is there.
     let xtask = Some(target.join("release/xtask")).filter(|p| p.exists()).unwrap_or_else(|| std::env::current_exe().unwrap_or_default());
-    // The Python tests, started as soon as the wheel is built, beside the
-    // last Rust test binaries and the lints: pytest runs built programs and
-    // never cargo, and the test binaries need no lock on the build directory.
+    // The Python tests and the lints side by side, started as soon as the
+    // wheel is built, beside the last Rust test binaries: pytest runs built
+    // programs and never cargo (which the lints hold), the test binaries
+    // need no lock on the build directory, and the wheel's build was the
+    // last to hold it. On two cores each fills the others' gaps (clippy
+    // and rustdoc work through the workspace's crates largely one at a
+    // time, and a test binary's last tests run on one thread).
     let pytest = python_ready.then(|| {
         let mut cmd = Command::new(&py);
         cmd.current_dir(&root).env("SIGNORINI_BIN", target.join("release/signorini")).env("SIGNORINI_XTASK", &xtask).args(["-m", "pytest", "-q", "python/tests"]);
@@ -721,15 +682,13 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
             (lines, r, t, t.elapsed().as_secs_f64())
         })
     });
-    if let Some(lint) = lint {
-        match lint.join() {
-            Ok((r, t)) => {
-                rec.phases.push(("lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (from the start, in `target/lint`, at the lowest priority: on the cores the other phases leave idle)", 0.0, t));
-                if let Err(e) = r {
-                    failed.push((e, false));
-                }
-            }
-            Err(_) => failed.push(("the lints' thread panicked".into(), false)),
+    if !a.python_only {
+        if let Err(e) = rec.time(
+            start,
+            "lints: `cargo fmt --check`, `cargo clippy -D warnings`, `cargo doc -D warnings` (once the wheel is built: beside the last Rust test binaries and the Python tests)",
+            || lints(&cargo, &root),
+        ) {
+            failed.push((e, false));
         }
     }
     if let Some((t, runners, doc, build)) = rust {
@@ -756,7 +715,7 @@ pub fn run_tests(a: Args) -> Result<(), crate::Failure> {
     if let Some(pytest) = pytest {
         match pytest.join() {
             Ok((lines, r, t, wall)) => {
-                rec.phases.push(("Python: the tests (once the wheel is built: beside the last Rust test binaries and the lints)", since(start, t), wall));
+                rec.phases.push(("Python: the tests (once the wheel is built: beside the lints)", since(start, t), wall));
                 rec.python = python_counts(&lines);
                 if let Err(e) = r {
                     failed.push((e, rec.python.1 > 0));

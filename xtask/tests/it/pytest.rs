@@ -185,15 +185,3 @@ fn the_docs_see_clippy_s_own_wrapper_and_arguments() {
     let want = format!("RUSTC_WORKSPACE_WRAPPER={}\nCLIPPY_ARGS={}\n", driver.display(), clippy_env_args(&["-D", "warnings"]));
     assert_eq!(text, want, "stderr: {}", String::from_utf8_lossy(&out.stderr));
 }
-
-/// The lints start beside the Rust tests' build and must only take the
-/// cores it leaves idle: a program started through `lowest_priority` runs
-/// at nice 19, as the system's own `nice` reports it.
-#[cfg(unix)]
-#[test]
-fn the_lints_run_at_the_lowest_priority() {
-    let mut cmd = Command::new("nice");
-    xtask::pytest::lowest_priority(&mut cmd);
-    let out = cmd.output().expect("nice runs");
-    assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), "19");
-}
